@@ -1,0 +1,42 @@
+#!/usr/bin/env bash
+# Installs every Debian 12 package Plimsoll builds, tests and runs with. Idempotent: packages
+# already present are left alone, and apt is not touched at all when nothing is missing.
+# Runs apt-get as root, or through sudo when not root.
+set -euo pipefail
+
+packages=(
+  # toolchain
+  build-essential cmake ninja-build pkg-config git
+  # engine
+  libeigen3-dev libassimp-dev nlohmann-json3-dev libstb-dev libopenexr-dev libcli11-dev
+  # OpenCL: ICD loader, C++ bindings, PoCL as the CPU device
+  ocl-icd-opencl-dev opencl-headers opencl-clhpp-headers pocl-opencl-icd clinfo
+  # water-graph segmentation
+  libcgal-dev
+  # editor: window, GL entry points, headless EGL, ImGui, UI tests under Xvfb
+  libglfw3-dev libepoxy-dev libegl-dev libgl-dev libimgui-dev libegl-mesa0 libgl1-mesa-dri xvfb xauth
+  # tests
+  googletest libgtest-dev
+)
+
+missing=()
+for p in "${packages[@]}"; do
+  if ! dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed"; then
+    missing+=("$p")
+  fi
+done
+
+if [ ${#missing[@]} -eq 0 ]; then
+  echo "install-deps: all ${#packages[@]} packages present"
+  exit 0
+fi
+
+sudo_cmd=()
+if [ "$(id -u)" -ne 0 ]; then
+  command -v sudo >/dev/null || { echo "install-deps: need root or sudo to install: ${missing[*]}" >&2; exit 1; }
+  sudo_cmd=(sudo)
+fi
+echo "install-deps: installing ${missing[*]}"
+export DEBIAN_FRONTEND=noninteractive
+"${sudo_cmd[@]}" apt-get update -qq
+"${sudo_cmd[@]}" apt-get install -y -qq --no-install-recommends "${missing[@]}"
