@@ -1,0 +1,293 @@
+#include "plimsoll/primitives.h"
+
+#include <algorithm>
+#include <cassert>
+#include <cmath>
+#include <numbers>
+#include <utility>
+
+namespace plimsoll {
+
+namespace {
+
+// Empty space between UV charts and around the texture's edge, in UV units. Charts 0.03 apart
+// keep bilinear and mip-mapped lookups from mixing charts down to ~64 texels per side; the
+// half-width margin gives the same gap across a wrapping texture's edge.
+constexpr double kGutter = 0.03;
+constexpr double kMargin = 0.5 * kGutter;
+
+/// cos and sin of 2 pi k / n. The angle is folded into the first octant before calling the
+/// library, so mirror-symmetric angles give bit-identical magnitudes and quarter turns give
+/// exact 0 and +-1: the meshes come out exactly symmetric and seams weld exactly.
+Eigen::Vector2d unitCircle(long k, long n) {
+    assert(n > 0);
+    k %= n;
+    if (k < 0) k += n;
+    // Work in units of 1/(8n) turn, so octant boundaries fall on integers.
+    long a = 8 * k;
+    double signCos = 1.0;
+    double signSin = 1.0;
+    bool swapped = false;
+    if (a > 4 * n) {  // lower half-plane: mirror in the x axis
+        a = 8 * n - a;
+        signSin = -1.0;
+    }
+    if (a > 2 * n) {  // left quadrant: mirror in the y axis
+        a = 4 * n - a;
+        signCos = -1.0;
+    }
+    if (a > n) {  // above the diagonal: mirror in it, exchanging cos and sin
+        a = 2 * n - a;
+        swapped = true;
+    }
+    const double angle = 0.25 * std::numbers::pi * static_cast<double>(a) / static_cast<double>(n);
+    double c = std::cos(angle);
+    double s = std::sin(angle);
+    if (swapped) std::swap(c, s);
+    // + 0.0 turns -0 into +0, so no "-0" reaches an OBJ file.
+    return {signCos * c + 0.0, signSin * s + 0.0};
+}
+
+/// Point at `angle` (as cos, sin) on the circle of radius r about the y axis at height y. The
+/// angle runs from +x towards -z, which makes (d/d angle) x (d/d y) point outward.
+Eigen::Vector3d onCircle(double r, double y, const Eigen::Vector2d& cs) {
+    return {r * cs.x() + 0.0, y, 0.0 - r * cs.y()};
+}
+
+std::uint32_t addVertex(TriangleMesh& mesh, const Eigen::Vector3d& p, const Eigen::Vector2d& uv) {
+    mesh.positions.push_back(p);
+    mesh.uvs.push_back(uv);
+    return static_cast<std::uint32_t>(mesh.positions.size() - 1);
+}
+
+/// Appends profile points on an arc about (cr, cy) of radius `radius` (m), from `fromDeg` to
+/// `toDeg` (whole degrees, counter-clockwise in the (r, y) plane) in `stepDeg` steps.
+void appendArc(std::vector<ProfilePoint>& profile, double cr, double cy, double radius,
+               int fromDeg, int toDeg, int stepDeg) {
+    for (int deg = fromDeg; deg <= toDeg; deg += stepDeg) {
+        const Eigen::Vector2d cs = unitCircle(deg, 360);
+        profile.push_back({cr + radius * cs.x(), cy + radius * cs.y()});
+    }
+}
+
+}  // namespace
+
+TriangleMesh makeLathe(const std::vector<ProfilePoint>& profile, int segments) {
+    assert(segments >= 3);
+    assert(profile.size() >= 3);
+    assert(profile.front().radius == 0.0 && profile.back().radius == 0.0);
+
+    TriangleMesh mesh;
+    mesh.source = "generated:lathe";
+
+    // v = arc length along the profile / total, so texels are square along the profile at the
+    // radius where the circumference equals the profile length.
+    const std::size_t n = profile.size();
+    std::vector<double> arc(n, 0.0);
+    for (std::size_t i = 1; i < n; ++i) {
+        arc[i] = arc[i - 1] + std::hypot(profile[i].radius - profile[i - 1].radius,
+                                         profile[i].y - profile[i - 1].y);
+    }
+    const double total = arc.back();
+    assert(total > 0.0);
+
+    std::vector<Eigen::Vector2d> circle(segments);
+    for (int j = 0; j < segments; ++j) circle[j] = unitCircle(j, segments);
+    const double du = 1.0 / segments;
+
+    // rowStart[i]: first vertex of profile point i. Poles have `segments` vertices (one per
+    // segment, at its mid-u, so the pole triangles have UV area); rings have segments + 1, the
+    // last a copy of the first's position with u = 1 (the seam).
+    std::vector<std::uint32_t> rowStart(n);
+    for (std::size_t i = 0; i < n; ++i) {
+        const ProfilePoint& p = profile[i];
+        const double v = arc[i] / total;
+        rowStart[i] = static_cast<std::uint32_t>(mesh.positions.size());
+        if (i == 0 || i + 1 == n) {
+            const Eigen::Vector3d pole(0.0, p.y, 0.0);
+            for (int j = 0; j < segments; ++j) addVertex(mesh, pole, {(j + 0.5) * du, v});
+        } else {
+            assert(p.radius > 0.0);
+            for (int j = 0; j < segments; ++j) {
+                addVertex(mesh, onCircle(p.radius, p.y, circle[j]), {j * du, v});
+            }
+            const Eigen::Vector3d seam = mesh.positions[rowStart[i]];
+            addVertex(mesh, seam, {1.0, v});
+        }
+    }
+
+    // u follows the angle and v climbs the profile, and the (u, v) -> 3D map keeps
+    // orientation, so triangles counter-clockwise in UV face outward.
+    for (std::size_t i = 0; i + 1 < n; ++i) {
+        const std::uint32_t lo = rowStart[i];
+        const std::uint32_t hi = rowStart[i + 1];
+        for (std::uint32_t j = 0; j < static_cast<std::uint32_t>(segments); ++j) {
+            if (i == 0) {
+                mesh.triangles.push_back({lo + j, hi + j + 1, hi + j});
+            } else if (i + 2 == n) {
+                mesh.triangles.push_back({lo + j, lo + j + 1, hi + j});
+            } else {
+                mesh.triangles.push_back({lo + j, lo + j + 1, hi + j + 1});
+                mesh.triangles.push_back({lo + j, hi + j + 1, hi + j});
+            }
+        }
+    }
+    return mesh;
+}
+
+TriangleMesh makeUvSphere(double radius, int segments, int rings) {
+    assert(rings >= 2);
+    // Semicircle from the south pole to the north pole: latitude pi i / rings - pi / 2, which
+    // is (2 i - rings) / (4 rings) of a turn.
+    std::vector<ProfilePoint> profile;
+    for (int i = 0; i <= rings; ++i) {
+        const Eigen::Vector2d cs = unitCircle(2 * i - rings, 4L * rings);
+        profile.push_back({radius * cs.x(), radius * cs.y()});
+    }
+    TriangleMesh mesh = makeLathe(profile, segments);
+    mesh.source = "generated:uv-sphere";
+    return mesh;
+}
+
+TriangleMesh makeBox(const Eigen::Vector3d& size) {
+    const Eigen::Vector3d half = 0.5 * size;
+
+    // Per face: outward normal axis and the 3D directions of u and v (u x v = normal), so each
+    // chart is counter-clockwise in UV seen from outside.
+    struct Face {
+        Eigen::Vector3d normal, u, v;
+    };
+    const Eigen::Vector3d X = Eigen::Vector3d::UnitX();
+    const Eigen::Vector3d Y = Eigen::Vector3d::UnitY();
+    const Eigen::Vector3d Z = Eigen::Vector3d::UnitZ();
+    // Top row of the grid: +x, +y, +z; bottom row: -x, -y, -z. A column holds one axis, so its
+    // two faces have the same size.
+    const Face faces[6] = {{X, -Z, Y}, {Y, X, -Z}, {Z, X, Y},
+                           {-X, Z, Y}, {-Y, X, Z}, {-Z, -X, Y}};
+
+    // One scale (UV units per metre) for all faces: uniform texel density.
+    double columnWidth[3];
+    double columnHeight[3];
+    double widthSum = 0.0;
+    double heightMax = 0.0;
+    for (int c = 0; c < 3; ++c) {
+        columnWidth[c] = faces[c].u.cwiseAbs().dot(size);
+        columnHeight[c] = faces[c].v.cwiseAbs().dot(size);
+        widthSum += columnWidth[c];
+        heightMax = std::max(heightMax, columnHeight[c]);
+    }
+    const double scale = std::min((1.0 - 2.0 * kMargin - 2.0 * kGutter) / widthSum,
+                                  (1.0 - 2.0 * kMargin - kGutter) / (2.0 * heightMax));
+
+    // Chart corners in (u, v) order, counter-clockwise.
+    constexpr std::pair<int, int> kCorners[4] = {{0, 0}, {1, 0}, {1, 1}, {0, 1}};
+    TriangleMesh mesh;
+    mesh.source = "generated:box";
+    double columnLeft = kMargin;
+    for (int c = 0; c < 3; ++c) {
+        for (int row = 0; row < 2; ++row) {
+            const Face& f = faces[c + 3 * row];
+            const Eigen::Vector2d origin(columnLeft,
+                                         row == 0 ? 1.0 - kMargin - scale * columnHeight[c]
+                                                  : kMargin);
+            const std::uint32_t first = static_cast<std::uint32_t>(mesh.positions.size());
+            for (const auto& [a, b] : kCorners) {
+                // Each coordinate is exactly +-half: corners shared by three faces weld.
+                const Eigen::Vector3d p =
+                    (f.normal + (2.0 * a - 1.0) * f.u + (2.0 * b - 1.0) * f.v).cwiseProduct(half);
+                const Eigen::Vector2d uv =
+                    origin + scale * Eigen::Vector2d(a * columnWidth[c], b * columnHeight[c]);
+                addVertex(mesh, p, uv);
+            }
+            mesh.triangles.push_back({first, first + 1, first + 2});
+            mesh.triangles.push_back({first, first + 2, first + 3});
+        }
+        columnLeft += scale * columnWidth[c] + kGutter;
+    }
+    return mesh;
+}
+
+TriangleMesh makeCylinder(double radius, double height, int segments) {
+    assert(segments >= 3 && radius > 0.0 && height > 0.0);
+    const double top = 0.5 * height;
+    const double bottom = -top;
+    std::vector<Eigen::Vector2d> circle(segments);
+    for (int j = 0; j < segments; ++j) circle[j] = unitCircle(j, segments);
+
+    // Layout: the unrolled side (prism perimeter x height) along the top, the two caps
+    // (polygons inscribed in a circle of `radius`, in 2r x 2r cells) side by side below it.
+    const double perimeter = segments * 2.0 * radius * std::sin(std::numbers::pi / segments);
+    const double diameter = 2.0 * radius;
+    const double usable = 1.0 - 2.0 * kMargin;
+    const double scale = std::min({usable / perimeter, (usable - kGutter) / (2.0 * diameter),
+                                   (usable - kGutter) / (height + diameter)});
+    const double sideBottom = 1.0 - kMargin - scale * height;
+    const double chord = perimeter / segments;
+
+    TriangleMesh mesh;
+    mesh.source = "generated:cylinder";
+
+    // Side: two rows of segments + 1 vertices; the last column repeats the first's positions.
+    const std::uint32_t lo = static_cast<std::uint32_t>(mesh.positions.size());
+    for (int row = 0; row < 2; ++row) {
+        const double y = row == 0 ? bottom : top;
+        const double v = row == 0 ? sideBottom : 1.0 - kMargin;
+        for (int j = 0; j <= segments; ++j) {
+            const Eigen::Vector2d uv(kMargin + scale * chord * j, v);
+            addVertex(mesh, onCircle(radius, y, circle[j % segments]), uv);
+        }
+    }
+    const std::uint32_t hi = lo + static_cast<std::uint32_t>(segments) + 1;
+    for (std::uint32_t j = 0; j < static_cast<std::uint32_t>(segments); ++j) {
+        mesh.triangles.push_back({lo + j, lo + j + 1, hi + j + 1});
+        mesh.triangles.push_back({lo + j, hi + j + 1, hi + j});
+    }
+
+    // Caps: fans around a centre vertex. Seen from outside, the top cap maps (x, -z) to UV and
+    // the bottom cap (x, z), so both are counter-clockwise in UV.
+    for (int cap = 0; cap < 2; ++cap) {
+        const bool isTop = cap == 1;
+        const double y = isTop ? top : bottom;
+        const Eigen::Vector2d centreUv(kMargin + scale * (radius + cap * diameter) + cap * kGutter,
+                                       kMargin + scale * radius);
+        const std::uint32_t centre = addVertex(mesh, {0.0, y, 0.0}, centreUv);
+        for (int j = 0; j < segments; ++j) {
+            const Eigen::Vector2d& cs = circle[j];
+            const Eigen::Vector2d offset(cs.x(), isTop ? cs.y() : -cs.y());
+            addVertex(mesh, onCircle(radius, y, cs), centreUv + scale * radius * offset);
+        }
+        for (std::uint32_t j = 0; j < static_cast<std::uint32_t>(segments); ++j) {
+            const std::uint32_t a = centre + 1 + j;
+            const std::uint32_t b = centre + 1 + (j + 1) % static_cast<std::uint32_t>(segments);
+            if (isTop) {
+                mesh.triangles.push_back({centre, a, b});
+            } else {
+                mesh.triangles.push_back({centre, b, a});
+            }
+        }
+    }
+    return mesh;
+}
+
+TriangleMesh makeBuoy() {
+    // Profile (m), bottom to top; y = 0 is the design waterline, a little above mid-can.
+    std::vector<ProfilePoint> profile;
+    // Ballast bulb: sphere of radius 0.13 m hanging 0.62 m below the waterline.
+    appendArc(profile, 0.0, -0.62, 0.13, -90, 60, 10);
+    // Stem up to the can.
+    profile.push_back({0.05, -0.47});
+    profile.push_back({0.05, -0.40});
+    // Can: flat bottom, rounded edges (radius 0.04 m), cylindrical body of radius 0.4 m.
+    appendArc(profile, 0.36, -0.36, 0.04, -90, 0, 15);
+    appendArc(profile, 0.36, 0.28, 0.04, 0, 90, 15);
+    // Deck, mast, and the conical top mark (base radius 0.2 m, apex 1.6 m above the keel).
+    profile.push_back({0.04, 0.32});
+    profile.push_back({0.04, 0.50});
+    profile.push_back({0.20, 0.50});
+    profile.push_back({0.0, 0.85});
+    TriangleMesh mesh = makeLathe(profile, 48);
+    mesh.source = "generated:buoy";
+    return mesh;
+}
+
+}  // namespace plimsoll
