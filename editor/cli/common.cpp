@@ -1,0 +1,55 @@
+#include "cli/common.h"
+
+#include "plimsoll/mesh_io.h"
+
+#include <cstdio>
+#include <iostream>
+#include <unistd.h>
+
+namespace plimsoll::cli {
+
+std::optional<TriangleMesh> loadCheckedMesh(const std::string& path, MeshUse use) {
+    Result<TriangleMesh> mesh = loadMesh(path);
+    if (!mesh) {
+        std::cerr << "error: " << mesh.error().message << "\n";
+        return std::nullopt;
+    }
+    const ValidationReport report = validateMesh(*mesh);
+    const bool usable = use == MeshUse::Texture ? report.usableForTexture() : report.closedSolid();
+    if (!usable) {
+        std::cerr << report.format();
+        std::cerr << "error: " << path
+                  << (use == MeshUse::Texture
+                          ? ": the mesh cannot be baked with its own UVs (see the errors above)\n"
+                          : ": the mesh is not a closed, consistently oriented solid\n");
+        return std::nullopt;
+    }
+    // Warnings (and, on the exact path, UV errors that do not matter there) stay visible.
+    if (!report.problems.empty()) std::cerr << report.format();
+    return std::move(*mesh);
+}
+
+ProgressCallback stderrProgress(const std::string& label) {
+    if (!::isatty(STDERR_FILENO)) return {};
+    return [label, last = -1](double fraction) mutable {
+        const int percent = static_cast<int>(fraction * 100.0);
+        if (percent == last) return;
+        last = percent;
+        std::fprintf(stderr, "\r%s %3d%%%s", label.c_str(), percent, percent >= 100 ? "\n" : "");
+        std::fflush(stderr);
+    };
+}
+
+std::optional<SurfaceTextures> bakeWithProgress(const TriangleMesh& mesh, int size) {
+    BakeSettings settings;
+    settings.size = size;
+    settings.progress = stderrProgress("baking " + std::to_string(size) + "^2");
+    Result<SurfaceTextures> baked = bakeSurfaceTextures(mesh, settings);
+    if (!baked) {
+        std::cerr << "error: " << baked.error().message << "\n";
+        return std::nullopt;
+    }
+    return std::move(*baked);
+}
+
+}  // namespace plimsoll::cli

@@ -1,0 +1,29 @@
+// Shared plumbing of the headless sub-commands: loading and checking a mesh with the messages
+// a user needs, and progress on stderr.
+#pragma once
+
+#include "plimsoll/bake.h"
+#include "plimsoll/mesh.h"
+#include "plimsoll/validate.h"
+
+#include <optional>
+#include <string>
+
+namespace plimsoll::cli {
+
+enum class MeshUse {
+    Texture,  ///< the mesh's UVs will be baked: every validation error refuses it
+    Exact,    ///< only the closed surface matters: UV problems are not errors here
+};
+
+/// Loads and validates; prints warnings (and, on refusal, the errors) to stderr. Returns the
+/// mesh only when it is fit for `use`.
+std::optional<TriangleMesh> loadCheckedMesh(const std::string& path, MeshUse use);
+
+/// Progress of long work on stderr: a live percentage on a terminal, nothing in logs.
+ProgressCallback stderrProgress(const std::string& label);
+
+/// Bakes with progress; prints the error and returns nothing on failure.
+std::optional<SurfaceTextures> bakeWithProgress(const TriangleMesh& mesh, int size);
+
+}  // namespace plimsoll::cli

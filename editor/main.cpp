@@ -1,0 +1,36 @@
+// plimsoll: the editor (no sub-command) and the headless command line (a sub-command), in one
+// executable like `blender -b`. Sub-commands live one per file in cli/.
+#include "cli/commands.h"
+
+#include <exception>
+#include <iostream>
+
+int main(int argc, char** argv) {
+    using namespace plimsoll::cli;
+    CLI::App app{"Plimsoll: real-time buoyancy from surface textures.\n"
+                 "Run a sub-command for headless work (plimsoll SUBCOMMAND --help).",
+                 "plimsoll"};
+    app.set_version_flag("--version", std::string("plimsoll ") + PLIMSOLL_VERSION);
+    app.require_subcommand(0, 1);
+    CommandRunner selected;
+    addValidateCommand(app, selected);
+    addBakeCommand(app, selected);
+    addMassPropsCommand(app, selected);
+    addSamplesCommand(app, selected);
+    try {
+        app.parse(argc, argv);
+    } catch (const CLI::ParseError& e) {
+        return app.exit(e);
+    }
+    if (!selected) {
+        // The editor window comes with the editor issue; until then, say what there is.
+        std::cout << app.help();
+        return kExitOk;
+    }
+    try {
+        return selected();
+    } catch (const std::exception& e) {
+        std::cerr << "error: " << e.what() << "\n";
+        return kExitFailure;
+    }
+}

@@ -1,0 +1,61 @@
+// The texture bake: from a mesh with a bijective UV map to the position texture (PT), the
+// area-vector texture (AVT) and the coverage mask, by exact clipping of every UV triangle
+// against the texel squares (DESIGN.md, "The textures"). Only covered texels are kept, in a
+// compact list ordered by texel index.
+#pragma once
+
+#include "plimsoll/mesh.h"
+#include "plimsoll/result.h"
+#include "plimsoll/uv_layout.h"
+
+#include <Eigen/Core>
+
+#include <cstdint>
+#include <functional>
+#include <vector>
+
+namespace plimsoll {
+
+/// Texture sizes the bake accepts (texels per side; any integer in range, not only powers of 2).
+inline constexpr int kMinTextureSize = 16;
+inline constexpr int kMaxTextureSize = 8192;
+
+/// Called with the fraction done (0..1), from the baking threads, serialised.
+using ProgressCallback = std::function<void(double fraction)>;
+
+struct BakeSettings {
+    int size = 512;          ///< texels per side, kMinTextureSize..kMaxTextureSize
+    unsigned threads = 0;    ///< worker threads; 0 = all hardware threads
+    ProgressCallback progress;
+};
+
+/// Texel (x, y) covers texture uv in [x/N, (x+1)/N] x [y/N, (y+1)/N]; its index is y * N + x
+/// (row 0 at v = 0, as glTexImage2D lays rows out).
+struct SurfaceTextures {
+    int size = 0;              ///< N, texels per side
+    UvPlacement placement;     ///< mesh uv -> texture uv used by the bake
+    std::vector<std::uint32_t> texelIndex;   ///< covered texels, ascending y * N + x
+    /// PT: area centroid of the surface that maps into the texel, object space, m.
+    std::vector<Eigen::Vector3d> position;
+    /// AVT: integral of n dS over that surface, m^2 (outward normal).
+    std::vector<Eigen::Vector3d> areaVector;
+    /// Surface area that maps into the texel, m^2 (>= |areaVector|; larger across creases).
+    std::vector<double> area;
+    /// Share of the texel's UV square covered by the atlas, 0..1.
+    std::vector<double> coverage;
+
+    std::size_t coveredCount() const { return texelIndex.size(); }
+    /// Covered UV area as a share of the whole texture.
+    double uvCoverage() const;
+    double surfaceArea() const;
+    /// |sum A_i| / sum |A_i|: zero for a closed surface up to rounding.
+    double closureError() const;
+    /// Mean of the positions weighted by area: the reference point for sums (keeps digits).
+    Eigen::Vector3d areaCentroid() const;
+};
+
+/// Bakes the mesh's own UVs, placed by fitUvsIntoUnitSquare. The mesh must have UVs; it
+/// should have passed validateMesh without errors (overlapping UVs would be counted twice).
+Result<SurfaceTextures> bakeSurfaceTextures(const TriangleMesh& mesh, const BakeSettings& settings);
+
+}  // namespace plimsoll

@@ -1,0 +1,76 @@
+#include "exr_io.h"
+
+#include "plimsoll/file_util.h"
+
+#include <OpenEXR/ImfChannelList.h>
+#include <OpenEXR/ImfFrameBuffer.h>
+#include <OpenEXR/ImfHeader.h>
+#include <OpenEXR/ImfInputFile.h>
+#include <OpenEXR/ImfOutputFile.h>
+
+#include <exception>
+
+namespace plimsoll::detail {
+
+namespace fs = std::filesystem;
+
+namespace {
+Imf::FrameBuffer frameBufferFor(FloatImage& image) {
+    Imf::FrameBuffer buffer;
+    const std::size_t stride = image.channels.size() * sizeof(float);
+    char* base = reinterpret_cast<char*>(image.pixels.data());
+    for (std::size_t c = 0; c < image.channels.size(); ++c) {
+        buffer.insert(image.channels[c],
+                      Imf::Slice(Imf::FLOAT, base + c * sizeof(float), stride,
+                                 stride * static_cast<std::size_t>(image.width)));
+    }
+    return buffer;
+}
+}  // namespace
+
+Status writeExr(const fs::path& path, const FloatImage& image) {
+    return replaceFileAtomically(path, [&](const fs::path& temp) -> Status {
+        try {
+            Imf::Header header(image.width, image.height);
+            header.compression() = Imf::ZIP_COMPRESSION;
+            for (const auto& name : image.channels) {
+                header.channels().insert(name, Imf::Channel(Imf::FLOAT));
+            }
+            Imf::OutputFile file(temp.c_str(), header);
+            FloatImage& writable = const_cast<FloatImage&>(image);  // Slice wants char*
+            file.setFrameBuffer(frameBufferFor(writable));
+            file.writePixels(image.height);
+        } catch (const std::exception& e) {
+            return makeError(path.string() + ": cannot write EXR: " + e.what());
+        }
+        return Ok{};
+    });
+}
+
+Result<FloatImage> readExr(const fs::path& path, const std::vector<std::string>& channels) {
+    try {
+        Imf::InputFile file(path.c_str());
+        const Imath::Box2i window = file.header().dataWindow();
+        FloatImage image;
+        image.width = window.max.x - window.min.x + 1;
+        image.height = window.max.y - window.min.y + 1;
+        image.channels = channels;
+        if (window.min.x != 0 || window.min.y != 0) {
+            return makeError(path.string() + ": EXR data window does not start at (0, 0)");
+        }
+        for (const auto& name : channels) {
+            if (!file.header().channels().findChannel(name)) {
+                return makeError(path.string() + ": EXR has no channel '" + name + "'");
+            }
+        }
+        image.pixels.assign(static_cast<std::size_t>(image.width) * image.height *
+                                channels.size(), 0.0f);
+        file.setFrameBuffer(frameBufferFor(image));
+        file.readPixels(window.min.y, window.max.y);
+        return image;
+    } catch (const std::exception& e) {
+        return makeError(path.string() + ": cannot read EXR: " + e.what());
+    }
+}
+
+}  // namespace plimsoll::detail

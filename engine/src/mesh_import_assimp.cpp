@@ -1,0 +1,66 @@
+// assimp adapter: the only file that includes assimp. Everything downstream sees TriangleMesh.
+#include "plimsoll/mesh_io.h"
+
+#include <assimp/Importer.hpp>
+#include <assimp/postprocess.h>
+#include <assimp/scene.h>
+
+#include <cmath>
+#include <system_error>
+
+namespace plimsoll {
+
+namespace fs = std::filesystem;
+
+Result<TriangleMesh> loadMesh(const fs::path& path) {
+    const std::string name = path.string();
+    std::error_code ec;
+    if (!fs::exists(path, ec)) return makeError(name + ": no such file");
+    if (fs::is_directory(path, ec)) return makeError(name + ": is a folder, not a mesh file");
+
+    Assimp::Importer importer;
+    // Points and lines carry no surface: drop them instead of failing on mixed files.
+    importer.SetPropertyInteger(AI_CONFIG_PP_SBP_REMOVE,
+                                aiPrimitiveType_POINT | aiPrimitiveType_LINE);
+    // No normal generation, no degenerate removal, no vertex welding beyond exact duplicates:
+    // validation must see the file as it is.
+    const unsigned flags = aiProcess_Triangulate | aiProcess_JoinIdenticalVertices |
+                           aiProcess_PreTransformVertices | aiProcess_SortByPType;
+    const aiScene* scene = importer.ReadFile(name, flags);
+    if (!scene || !scene->mRootNode) {
+        return makeError(name + ": cannot read mesh: " + importer.GetErrorString());
+    }
+
+    TriangleMesh mesh;
+    mesh.source = name;
+    bool allHaveUvs = true;
+    for (unsigned m = 0; m < scene->mNumMeshes; ++m) {
+        const aiMesh* part = scene->mMeshes[m];
+        if (!(part->mPrimitiveTypes & aiPrimitiveType_TRIANGLE)) continue;
+        allHaveUvs = allHaveUvs && part->HasTextureCoords(0);
+    }
+
+    for (unsigned m = 0; m < scene->mNumMeshes; ++m) {
+        const aiMesh* part = scene->mMeshes[m];
+        if (!(part->mPrimitiveTypes & aiPrimitiveType_TRIANGLE)) continue;
+        const auto base = static_cast<std::uint32_t>(mesh.positions.size());
+        for (unsigned v = 0; v < part->mNumVertices; ++v) {
+            const aiVector3D& p = part->mVertices[v];
+            mesh.positions.emplace_back(p.x, p.y, p.z);
+            if (allHaveUvs) {
+                const aiVector3D& t = part->mTextureCoords[0][v];
+                mesh.uvs.emplace_back(t.x, t.y);
+            }
+        }
+        for (unsigned f = 0; f < part->mNumFaces; ++f) {
+            const aiFace& face = part->mFaces[f];
+            if (face.mNumIndices != 3) continue;
+            mesh.triangles.push_back(
+                {base + face.mIndices[0], base + face.mIndices[1], base + face.mIndices[2]});
+        }
+    }
+    if (mesh.triangles.empty()) return makeError(name + ": the file holds no triangles");
+    return mesh;
+}
+
+}  // namespace plimsoll

@@ -1,0 +1,157 @@
+// The exact-clipping bake: conservation (closure, area, UV coverage), exactness on planes,
+// determinism, limits, and the EXR round trip.
+#include "plimsoll/bake.h"
+#include "plimsoll/bake_io.h"
+#include "plimsoll/mesh_io.h"
+#include "plimsoll/primitives.h"
+
+#include "test_support.h"
+
+#include <nlohmann/json.hpp>
+
+#include <fstream>
+
+namespace plimsoll {
+namespace {
+
+namespace fs = std::filesystem;
+
+SurfaceTextures bake(const TriangleMesh& mesh, int size, unsigned threads = 0) {
+    BakeSettings settings;
+    settings.size = size;
+    settings.threads = threads;
+    Result<SurfaceTextures> r = bakeSurfaceTextures(mesh, settings);
+    EXPECT_TRUE(r.ok()) << (r.ok() ? "" : r.error().message);
+    return std::move(r).value();
+}
+
+std::vector<TriangleMesh> sampleSolids() {
+    return {makeUvSphere(0.5, 48, 24), makeBox(Eigen::Vector3d(1.0, 0.5, 0.25)),
+            makeCylinder(0.3, 1.0, 40), makeBuoy()};
+}
+
+double meshArea(const TriangleMesh& mesh) {
+    double area = 0;
+    for (const auto& t : mesh.triangles) area += triangleAreaVector(mesh, t).norm();
+    return area;
+}
+
+double meshUvArea(const TriangleMesh& mesh) {
+    double area = 0;
+    for (const auto& t : mesh.triangles) area += std::abs(triangleUvArea(mesh, t));
+    return area;
+}
+
+TEST(Bake, ConservesAreaAndClosesForEverySampleAndOddSizes) {
+    for (const TriangleMesh& mesh : sampleSolids()) {
+        for (int size : {16, 100, 257, 512}) {
+            SCOPED_TRACE(mesh.source + " at " + std::to_string(size));
+            const SurfaceTextures t = bake(mesh, size);
+            EXPECT_LT(t.closureError(), 1e-12);
+            EXPECT_NEAR(t.surfaceArea(), meshArea(mesh), 1e-12 * meshArea(mesh));
+            EXPECT_NEAR(t.uvCoverage(), meshUvArea(mesh), 1e-12);
+            for (std::size_t i = 0; i < t.coveredCount(); ++i) {
+                ASSERT_GT(t.coverage[i], 0.0);
+                ASSERT_LE(t.coverage[i], 1.0 + 1e-12);
+                ASSERT_GE(t.area[i] * (1 + 1e-12), t.areaVector[i].norm());
+            }
+        }
+    }
+}
+
+// One planar quad mapped affinely onto the whole texture: every texel is fully covered, its
+// area vector is exactly the quad's divided by N^2 and its centroid the image of the texel
+// centre.
+TEST(Bake, PlanarQuadGivesExactTexels) {
+    TriangleMesh quad;
+    quad.source = "quad";
+    quad.positions = {{0, 0, 0}, {2, 0, 0}, {2, 0, -3}, {0, 0, -3}};
+    quad.uvs = {{0, 0}, {1, 0}, {1, 1}, {0, 1}};
+    quad.triangles = {{0, 1, 2}, {0, 2, 3}};
+    const int n = 37;
+    const SurfaceTextures t = bake(quad, n);
+    ASSERT_EQ(t.coveredCount(), static_cast<std::size_t>(n * n));
+    for (std::size_t i = 0; i < t.coveredCount(); ++i) {
+        const int x = t.texelIndex[i] % n, y = t.texelIndex[i] / n;
+        const Eigen::Vector3d centre(2.0 * (x + 0.5) / n, 0.0, -3.0 * (y + 0.5) / n);
+        EXPECT_LT((t.position[i] - centre).norm(), 1e-13);
+        EXPECT_LT((t.areaVector[i] - Eigen::Vector3d(0, 6.0 / (n * n), 0)).norm(), 1e-15);
+        EXPECT_NEAR(t.coverage[i], 1.0, 1e-12);
+    }
+}
+
+TEST(Bake, MirroredTrianglesCountWithTheirOwnOrientation) {
+    TriangleMesh box = makeBox(Eigen::Vector3d(1.0, 0.5, 0.25));
+    // Mirror every UV (u -> 1 - u): each triangle's UV orientation flips, the surface does not.
+    for (auto& uv : box.uvs) uv.x() = 1.0 - uv.x();
+    const SurfaceTextures t = bake(box, 64);
+    EXPECT_LT(t.closureError(), 1e-12);
+    EXPECT_NEAR(t.surfaceArea(), meshArea(box), 1e-12);
+    EXPECT_NEAR(textureSolidMassProperties(t, 1.0).volume, 0.125, 1e-12);
+}
+
+TEST(Bake, ResultDoesNotDependOnThreadCount) {
+    const TriangleMesh buoy = makeBuoy();
+    const SurfaceTextures one = bake(buoy, 300, 1), three = bake(buoy, 300, 3);
+    ASSERT_EQ(one.texelIndex, three.texelIndex);
+    for (std::size_t i = 0; i < one.coveredCount(); ++i) {
+        ASSERT_EQ(one.position[i], three.position[i]);
+        ASSERT_EQ(one.areaVector[i], three.areaVector[i]);
+    }
+}
+
+TEST(Bake, UvsOutsideTheUnitSquareAreRemappedNotRefused) {
+    TriangleMesh sphere = makeUvSphere(0.5, 32, 16);
+    for (auto& uv : sphere.uvs) uv = 3.0 * uv + Eigen::Vector2d(-4.0, 7.0);
+    const SurfaceTextures t = bake(sphere, 128);
+    EXPECT_NEAR(t.placement.scale, 1.0 / 3.0, 1e-15);
+    EXPECT_NEAR(t.uvCoverage(), 1.0, 1e-12);  // a lat-long sphere fills its square
+    EXPECT_LT(t.closureError(), 1e-12);
+}
+
+TEST(Bake, RefusesAbsurdSizesAndMissingUvs) {
+    TriangleMesh box = makeBox(Eigen::Vector3d::Ones());
+    box.source = "box.obj";
+    for (int size : {0, 15, 8193, -4}) {
+        BakeSettings settings;
+        settings.size = size;
+        Result<SurfaceTextures> r = bakeSurfaceTextures(box, settings);
+        ASSERT_FALSE(r.ok());
+        EXPECT_NE(r.error().message.find("box.obj"), std::string::npos);
+        EXPECT_NE(r.error().message.find(std::to_string(size)), std::string::npos);
+    }
+    box.uvs.clear();
+    EXPECT_FALSE(bakeSurfaceTextures(box, BakeSettings{}).ok());
+}
+
+TEST(Bake, ExrRoundTripKeepsFloatPrecision) {
+    const TriangleMesh buoy = makeBuoy();
+    const SurfaceTextures t = bake(buoy, 96);
+    const fs::path dir = fs::temp_directory_path() / "plimsoll_tests" / "bake_roundtrip";
+    fs::remove_all(dir);
+    ASSERT_TRUE(writeBakedTextures(t, dir, "buoy.obj").ok());
+    Result<SurfaceTextures> back = readBakedTextures(dir);
+    ASSERT_TRUE(back.ok()) << back.error().message;
+    ASSERT_EQ(back->texelIndex, t.texelIndex);
+    for (std::size_t i = 0; i < t.coveredCount(); ++i) {
+        ASSERT_LT((back->position[i] - t.position[i]).norm(), 1e-6);
+        ASSERT_LT((back->areaVector[i] - t.areaVector[i]).norm(), 1e-7 * t.area[i] + 1e-30);
+        ASSERT_NEAR(back->area[i], t.area[i], 1e-7 * t.area[i]);
+        ASSERT_NEAR(back->coverage[i], t.coverage[i], 1e-7);
+    }
+    std::ifstream in(dir / "manifest.json");
+    const nlohmann::json manifest = nlohmann::json::parse(in);
+    EXPECT_EQ(manifest.at("texture_size").get<int>(), 96);
+    EXPECT_EQ(manifest.at("covered_texels").get<std::size_t>(), t.coveredCount());
+    EXPECT_EQ(manifest.at("schema_version").get<int>(), kBakeSchemaVersion);
+
+    // A corrupt manifest is reported with the file name, and the images stay.
+    std::ofstream(dir / "manifest.json") << "{ not json";
+    Result<SurfaceTextures> broken = readBakedTextures(dir);
+    ASSERT_FALSE(broken.ok());
+    EXPECT_NE(broken.error().message.find("manifest.json"), std::string::npos);
+    EXPECT_TRUE(fs::exists(dir / "position.exr"));
+}
+
+}  // namespace
+}  // namespace plimsoll

@@ -1,0 +1,120 @@
+// The plimsoll executable end to end: sub-commands, JSON output, exit codes, error messages.
+#include "plimsoll/massprops.h"
+#include "plimsoll/mesh_io.h"
+
+#include "test_support.h"
+
+#include <nlohmann/json.hpp>
+
+#include <array>
+#include <cstdio>
+#include <fstream>
+#include <sstream>
+#include <sys/wait.h>
+
+namespace plimsoll {
+namespace {
+
+namespace fs = std::filesystem;
+
+struct CommandOutput {
+    int exitCode = -1;
+    std::string out;
+    std::string err;
+};
+
+CommandOutput runPlimsoll(const std::string& arguments) {
+    const fs::path errFile = fs::temp_directory_path() / "plimsoll_tests" / "stderr.txt";
+    fs::create_directories(errFile.parent_path());
+    const std::string command =
+        std::string("'") + PLIMSOLL_EXECUTABLE + "' " + arguments + " 2>'" + errFile.string() + "'";
+    CommandOutput result;
+    FILE* pipe = ::popen(command.c_str(), "r");
+    if (!pipe) return result;
+    std::array<char, 4096> buffer;
+    while (std::size_t n = std::fread(buffer.data(), 1, buffer.size(), pipe)) result.out.append(buffer.data(), n);
+    const int status = ::pclose(pipe);
+    result.exitCode = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+    std::ifstream err(errFile);
+    result.err.assign(std::istreambuf_iterator<char>(err), {});
+    return result;
+}
+
+const std::string kSphere = test::assetPath("sphere.obj").string();
+
+TEST(Cli, HelpOnEverySubcommand) {
+    for (const char* sub : {"", "validate", "bake", "massprops", "samples"}) {
+        const CommandOutput r = runPlimsoll(std::string(sub) + " --help");
+        EXPECT_EQ(r.exitCode, 0) << sub;
+        EXPECT_NE(r.out.find("Usage"), std::string::npos) << sub;
+    }
+}
+
+TEST(Cli, MassPropsJsonMatchesTheEngine) {
+    Result<TriangleMesh> mesh = loadMesh(kSphere);
+    ASSERT_TRUE(mesh.ok());
+    const MassProperties exact = exactSolidMassProperties(*mesh, 900.0);
+
+    const CommandOutput r = runPlimsoll("massprops '" + kSphere + "' --size 256 --density 900 --json");
+    ASSERT_EQ(r.exitCode, 0) << r.err;
+    const nlohmann::json j = nlohmann::json::parse(r.out);
+    EXPECT_EQ(j.at("method"), "texture");
+    EXPECT_EQ(j.at("texture_size"), 256);
+    EXPECT_GT(j.at("covered_texels").get<int>(), 256 * 200);
+    EXPECT_NEAR(j.at("volume").get<double>(), exact.volume, 1e-3 * exact.volume);
+    EXPECT_NEAR(j.at("mass").get<double>(), exact.mass, 1e-3 * exact.mass);
+    ASSERT_EQ(j.at("center_of_mass").size(), 3u);
+    ASSERT_EQ(j.at("inertia").size(), 3u);
+    for (int a = 0; a < 3; ++a)
+        for (int b = 0; b < 3; ++b)
+            EXPECT_NEAR(j["inertia"][a][b].get<double>(), exact.inertia(a, b), 3e-3 * exact.inertia.norm());
+
+    const CommandOutput e = runPlimsoll("massprops '" + kSphere + "' --exact --json");
+    ASSERT_EQ(e.exitCode, 0) << e.err;
+    const nlohmann::json je = nlohmann::json::parse(e.out);
+    EXPECT_EQ(je.at("method"), "exact");
+    EXPECT_NEAR(je.at("mass").get<double>(), 1000.0 * exact.volume, 1e-9 * exact.mass);
+}
+
+TEST(Cli, BakeWritesTexturesAndManifest) {
+    const fs::path out = fs::temp_directory_path() / "plimsoll_tests" / "cli_bake";
+    fs::remove_all(out);
+    const CommandOutput r = runPlimsoll("bake '" + kSphere + "' --size 64 --out '" + out.string() + "'");
+    ASSERT_EQ(r.exitCode, 0) << r.err;
+    for (const char* f : {"position.exr", "area_vector.exr", "coverage.exr", "manifest.json"})
+        EXPECT_TRUE(fs::exists(out / f)) << f;
+    EXPECT_NE(r.out.find("closure error"), std::string::npos);
+}
+
+TEST(Cli, BadInputGivesAClearErrorAndNonZeroExit) {
+    const CommandOutput missing = runPlimsoll("massprops /no/such/mesh.obj --json");
+    EXPECT_NE(missing.exitCode, 0);
+    EXPECT_NE(missing.err.find("/no/such/mesh.obj"), std::string::npos);
+    EXPECT_TRUE(missing.out.empty());
+
+    const CommandOutput tiny = runPlimsoll("bake '" + kSphere + "' --size 8 --out /tmp/x");
+    EXPECT_NE(tiny.exitCode, 0);
+    EXPECT_NE(tiny.err.find("--size"), std::string::npos);
+
+    const CommandOutput both = runPlimsoll("massprops '" + kSphere + "' --size 64 --exact");
+    EXPECT_NE(both.exitCode, 0);
+}
+
+TEST(Cli, ValidateExitCodes) {
+    EXPECT_EQ(runPlimsoll("validate '" + kSphere + "'").exitCode, 0);
+    const auto boat = test::sharedMesh("boat.obj");
+    if (!boat) GTEST_SKIP() << "../shared/meshes not present";
+    const CommandOutput r = runPlimsoll("validate '" + boat->string() + "'");
+    EXPECT_EQ(r.exitCode, 1);
+    EXPECT_NE(r.out.find("uv-overlap"), std::string::npos);
+    EXPECT_NE(r.out.find("uv-out-of-range"), std::string::npos);
+    EXPECT_NE(r.out.find("boat.obj"), std::string::npos);
+    // The texture path refuses it with the reason; the exact path accepts it.
+    const CommandOutput refused = runPlimsoll("massprops '" + boat->string() + "' --size 64 --json");
+    EXPECT_NE(refused.exitCode, 0);
+    EXPECT_NE(refused.err.find("uv-overlap"), std::string::npos);
+    EXPECT_EQ(runPlimsoll("massprops '" + boat->string() + "' --exact --json").exitCode, 0);
+}
+
+}  // namespace
+}  // namespace plimsoll
