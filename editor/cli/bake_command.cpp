@@ -30,7 +30,10 @@ int runBake(const BakeOptions& options) {
         return kExitFailure;
     }
     std::cout << options.mesh << ": baked " << options.size << "^2 in " << seconds << " s\n"
-              << "  covered texels  " << textures->coveredCount() << "\n"
+              << "  covered texels  " << textures->distinctTexelCount() << "\n"
+              << "  texel samples   " << textures->coveredCount()
+              << " (texels shared by UV islands or refined where the map squeezes surface "
+                 "hold several)\n"
               << "  uv coverage     " << textures->uvCoverage() << "\n"
               << "  surface area    " << textures->surfaceArea() << " m^2\n"
               << "  closure error   " << textures->closureError() << "\n"

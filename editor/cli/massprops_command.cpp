@@ -45,7 +45,8 @@ int runMassProps(const MassPropsOptions& o) {
         if (o.shellDensity > 0) props = props + textureShellMassProperties(*textures, o.shellDensity);
         out = {{"method", "texture"},
                {"texture_size", o.size},
-               {"covered_texels", textures->coveredCount()},
+               {"covered_texels", textures->distinctTexelCount()},
+               {"texel_samples", textures->coveredCount()},
                {"closure_error", textures->closureError()}};
     }
     out["mesh"] = o.mesh;

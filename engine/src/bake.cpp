@@ -7,6 +7,11 @@
 // the image of its UV centroid. Summed per texel this gives AVT (sum of area vectors), PT (area
 // centroid) and coverage; the area vectors of a closed surface then sum to zero up to rounding.
 //
+// A texel on the border between two UV islands can hold surface from both, and those pieces
+// may lie far apart on the body: one centroid cannot stand for them (the volume sum would use a
+// point between them, an error that does not shrink with N). Such a texel gets one entry per
+// island ("shared texels"), so every entry describes one connected piece of surface.
+//
 // The texture is processed in bands of rows, one band per task on a pool of threads; each task
 // owns a dense accumulator for its rows only (bounded memory at 8192^2), and bands are joined in
 // order, so the result does not depend on the thread count.
@@ -19,6 +24,8 @@
 #include <atomic>
 #include <cassert>
 #include <cmath>
+#include <map>
+#include <tuple>
 #include <mutex>
 #include <string>
 #include <thread>
@@ -28,6 +35,12 @@ namespace plimsoll {
 namespace {
 
 using Vec2 = Eigen::Vector2d;
+
+/// Largest ratio of a triangle's texel side length on the surface to the mesh's typical one
+/// before the triangle is cut on a finer grid.
+constexpr double kMaxTexelStretch = 2.0;
+/// Finest grid: this many cells per texel side.
+constexpr int kMaxSubdivision = 64;
 
 /// A convex polygon in texel coordinates. A triangle cut by two pairs of grid lines has at
 /// most 7 vertices; the capacity leaves room for points duplicated on the cut lines.
@@ -81,21 +94,43 @@ AreaCentroid areaAndCentroid(const Polygon& poly) {
     return out;
 }
 
-/// A triangle prepared for clipping: texel-space corners and the affine map back to 3D.
+/// A triangle prepared for clipping: grid-space corners and the affine map back to 3D. The
+/// grid is the texel grid, or a finer one (`subdivision` cells per texel side) for a triangle
+/// whose texels would span too much surface.
 struct PreparedTriangle {
-    std::array<Vec2, 3> corner;     ///< texel coordinates (uv * N)
+    std::array<Vec2, 3> corner;     ///< grid coordinates (uv * N * subdivision)
     Vec2 edge1, edge2;              ///< corner[1] - corner[0], corner[2] - corner[0]
-    double twiceUvArea = 0;         ///< signed, texel units
+    double twiceUvArea = 0;         ///< signed, grid units
     Eigen::Vector3d origin, side1, side2;  ///< p0, p1 - p0, p2 - p0
     Eigen::Vector3d areaVector;     ///< m^2
     double area = 0;                ///< m^2
-    int rowLo = 0, rowHi = -1;      ///< rows touched, clamped to the texture
+    int rowLo = 0, rowHi = -1;      ///< grid rows touched, clamped to the texture
+    std::uint32_t island = 0;       ///< UV island (see uvIslands)
+    int subdivision = 1;            ///< grid cells per texel side
 
     Eigen::Vector3d surfacePoint(const Vec2& q) const {
         const Vec2 d = q - corner[0];
         const double b1 = (d.x() * edge2.y() - d.y() * edge2.x()) / twiceUvArea;
         const double b2 = (edge1.x() * d.y() - edge1.y() * d.x()) / twiceUvArea;
         return origin + b1 * side1 + b2 * side2;
+    }
+
+    /// Corners, edges, area and rows scaled from texel units to a grid of `cellsPerTexel`.
+    PreparedTriangle onGrid(int cellsPerTexel, int textureSize) const {
+        PreparedTriangle fine = *this;
+        for (Vec2& c : fine.corner) c *= cellsPerTexel;
+        fine.edge1 *= cellsPerTexel;
+        fine.edge2 *= cellsPerTexel;
+        fine.twiceUvArea *= static_cast<double>(cellsPerTexel) * cellsPerTexel;
+        fine.setRows(textureSize * cellsPerTexel);
+        return fine;
+    }
+
+    void setRows(int gridSize) {
+        const double yLo = std::min({corner[0].y(), corner[1].y(), corner[2].y()});
+        const double yHi = std::max({corner[0].y(), corner[1].y(), corner[2].y()});
+        rowLo = std::clamp(static_cast<int>(std::floor(yLo)), 0, gridSize - 1);
+        rowHi = std::clamp(static_cast<int>(std::floor(yHi)), 0, gridSize - 1);
     }
 };
 
@@ -104,6 +139,17 @@ struct TexelAccumulator {
     Eigen::Vector3d weightedPosition = Eigen::Vector3d::Zero();  ///< sum of area * centroid
     double area = 0;
     double coverage = 0;  ///< texel units: 1 = the whole texel square
+    std::uint32_t island = kNoIsland;
+
+    static constexpr std::uint32_t kNoIsland = ~0u;
+
+    void add(const Eigen::Vector3d& pieceAreaVector, double pieceArea,
+             const Eigen::Vector3d& centroid, double pieceCoverage) {
+        areaVector += pieceAreaVector;
+        area += pieceArea;
+        weightedPosition += pieceArea * centroid;
+        coverage += pieceCoverage;
+    }
 };
 
 /// Compact output of one band, joined in band order.
@@ -121,11 +167,20 @@ public:
     BandResult bake(const std::vector<PreparedTriangle>& triangles,
                     const std::vector<std::uint32_t>& ids, int rowBegin, int rowEnd) {
         rowBegin_ = rowBegin;
-        for (std::uint32_t id : ids) clipTriangle(triangles[id], rowBegin, rowEnd);
+        for (std::uint32_t id : ids) {
+            const PreparedTriangle& tri = triangles[id];
+            const int k = tri.subdivision;
+            if (k == 1) {
+                clipTriangle(tri, rowBegin, rowEnd);
+            } else {
+                clipTriangle(tri.onGrid(k, size_), rowBegin * k, rowEnd * k);
+            }
+        }
         return collect();
     }
 
 private:
+    /// Cuts the triangle into grid rows within [rowBegin, rowEnd), then each row into cells.
     void clipTriangle(const PreparedTriangle& tri, int rowBegin, int rowEnd) {
         Polygon rest, row, above;
         for (const Vec2& c : tri.corner) rest.push(c);
@@ -153,8 +208,9 @@ private:
             xLo = std::min(xLo, row.v[i].x());
             xHi = std::max(xHi, row.v[i].x());
         }
-        const int colLo = std::clamp(static_cast<int>(std::floor(xLo)), 0, size_ - 1);
-        const int colHi = std::clamp(static_cast<int>(std::floor(xHi)), 0, size_ - 1);
+        const int gridSize = size_ * tri.subdivision;
+        const int colLo = std::clamp(static_cast<int>(std::floor(xLo)), 0, gridSize - 1);
+        const int colHi = std::clamp(static_cast<int>(std::floor(xHi)), 0, gridSize - 1);
         Polygon rest = row, cell, right;
         for (int c = colLo; c <= colHi; ++c) {
             if (c < colHi) {
@@ -167,42 +223,54 @@ private:
         }
     }
 
-    void addPiece(const PreparedTriangle& tri, const Polygon& cell, int r, int c) {
+    void addPiece(const PreparedTriangle& tri, const Polygon& cell, int gridRow, int gridCol) {
         const AreaCentroid piece = areaAndCentroid(cell);
         if (piece.twiceArea == 0) return;
         // Share of the triangle: both areas carry the triangle's UV orientation, so the ratio is
         // positive for mirrored triangles too.
         const double share = piece.twiceArea / tri.twiceUvArea;
-        const std::size_t local = static_cast<std::size_t>(r - rowBegin_) * size_ + c;
-        TexelAccumulator& acc = cells_[local];
+        const int k = tri.subdivision;
+        const std::uint32_t local = static_cast<std::uint32_t>(
+            static_cast<std::size_t>(gridRow / k - rowBegin_) * size_ + gridCol / k);
+        TexelAccumulator& dense = cells_[local];
         if (!touched_[local]) {
             touched_[local] = 1;
-            touchedList_.push_back(static_cast<std::uint32_t>(local));
+            touchedList_.push_back(local);
         }
-        const double pieceArea = share * tri.area;
-        acc.areaVector += share * tri.areaVector;
-        acc.area += pieceArea;
-        acc.weightedPosition += pieceArea * tri.surfacePoint(piece.centroid);
-        acc.coverage += 0.5 * std::abs(piece.twiceArea);
+        // The first island to reach a texel at texel resolution owns the dense cell; other
+        // islands and sub-texel cells are entries of their own in the side table.
+        if (k == 1 && dense.island == TexelAccumulator::kNoIsland) dense.island = tri.island;
+        const bool inDense = k == 1 && dense.island == tri.island;
+        const std::uint32_t subCell = static_cast<std::uint32_t>((gridRow % k) * k + gridCol % k);
+        TexelAccumulator& target =
+            inDense ? dense
+                    : sideEntries_[{local, tri.island, static_cast<std::uint32_t>(k), subCell}];
+        target.add(share * tri.areaVector, share * tri.area, tri.surfacePoint(piece.centroid),
+                   0.5 * std::abs(piece.twiceArea) / (static_cast<double>(k) * k));
     }
 
     BandResult collect() {
         std::sort(touchedList_.begin(), touchedList_.end());
         BandResult out;
+        auto emit = [&](std::uint32_t local, const TexelAccumulator& acc) {
+            if (acc.area <= 0) return;
+            out.texelIndex.push_back(
+                static_cast<std::uint32_t>(static_cast<std::size_t>(rowBegin_) * size_ + local));
+            out.position.push_back(acc.weightedPosition / acc.area);
+            out.areaVector.push_back(acc.areaVector);
+            out.area.push_back(acc.area);
+            out.coverage.push_back(acc.coverage);
+        };
+        auto side = sideEntries_.begin();
         for (std::uint32_t local : touchedList_) {
-            TexelAccumulator& acc = cells_[local];
-            if (acc.area > 0) {
-                out.texelIndex.push_back(static_cast<std::uint32_t>(
-                    static_cast<std::size_t>(rowBegin_) * size_ + local));
-                out.position.push_back(acc.weightedPosition / acc.area);
-                out.areaVector.push_back(acc.areaVector);
-                out.area.push_back(acc.area);
-                out.coverage.push_back(acc.coverage);
-            }
-            acc = TexelAccumulator{};
+            emit(local, cells_[local]);
+            for (; side != sideEntries_.end() && std::get<0>(side->first) == local; ++side)
+                emit(local, side->second);
+            cells_[local] = TexelAccumulator{};
             touched_[local] = 0;
         }
         touchedList_.clear();
+        sideEntries_.clear();
         return out;
     }
 
@@ -211,14 +279,23 @@ private:
     std::vector<TexelAccumulator> cells_;
     std::vector<std::uint8_t> touched_;
     std::vector<std::uint32_t> touchedList_;
+    /// Entries beyond a texel's first island at texel resolution, keyed (local texel, island,
+    /// cells per texel side, sub-cell): ordered, so they come out deterministically.
+    std::map<std::tuple<std::uint32_t, std::uint32_t, std::uint32_t, std::uint32_t>,
+             TexelAccumulator>
+        sideEntries_;
 };
 
 std::vector<PreparedTriangle> prepareTriangles(const TriangleMesh& mesh,
                                                const UvPlacement& placement, int size) {
+    const std::vector<std::uint32_t> islands = uvIslands(mesh);
     std::vector<PreparedTriangle> prepared;
     prepared.reserve(mesh.triangles.size());
-    for (const Triangle& t : mesh.triangles) {
+    double totalArea = 0, totalUvArea = 0;
+    for (std::size_t id = 0; id < mesh.triangles.size(); ++id) {
+        const Triangle& t = mesh.triangles[id];
         PreparedTriangle tri;
+        tri.island = islands[id];
         for (int k = 0; k < 3; ++k) tri.corner[k] = placement.apply(mesh.uvs[t[k]]) * size;
         tri.edge1 = tri.corner[1] - tri.corner[0];
         tri.edge2 = tri.corner[2] - tri.corner[0];
@@ -230,17 +307,38 @@ std::vector<PreparedTriangle> prepareTriangles(const TriangleMesh& mesh,
         tri.area = tri.areaVector.norm();
         // A triangle without UV area maps to nothing (validation reports it as an error).
         if (tri.twiceUvArea != 0 && std::isfinite(tri.twiceUvArea)) {
-            const double yLo = std::min({tri.corner[0].y(), tri.corner[1].y(), tri.corner[2].y()});
-            const double yHi = std::max({tri.corner[0].y(), tri.corner[1].y(), tri.corner[2].y()});
-            tri.rowLo = std::clamp(static_cast<int>(std::floor(yLo)), 0, size - 1);
-            tri.rowHi = std::clamp(static_cast<int>(std::floor(yHi)), 0, size - 1);
+            tri.setRows(size);
+            totalArea += tri.area;
+            totalUvArea += 0.5 * std::abs(tri.twiceUvArea);
         }
         prepared.push_back(tri);
+    }
+    // Where the map squeezes surface (a texel of this triangle spans more than
+    // kMaxTexelStretch times the mesh's typical texel length), the triangle is cut on a finer
+    // grid, so every entry stays a small piece of surface and the sums keep second-order
+    // accuracy. Typical UV maps need this nowhere or on a few triangles; a fin squeezed into
+    // one texel needs it badly.
+    if (totalUvArea > 0) {
+        const double typicalTexelArea = totalArea / totalUvArea;  // m^2 per texel
+        for (PreparedTriangle& tri : prepared) {
+            if (tri.rowHi < tri.rowLo || tri.area == 0) continue;
+            const double stretch =
+                std::sqrt(tri.area / (0.5 * std::abs(tri.twiceUvArea)) / typicalTexelArea);
+            tri.subdivision = std::clamp(static_cast<int>(std::ceil(stretch / kMaxTexelStretch)),
+                                         1, kMaxSubdivision);
+        }
     }
     return prepared;
 }
 
 }  // namespace
+
+std::size_t SurfaceTextures::distinctTexelCount() const {
+    std::size_t distinct = 0;
+    for (std::size_t i = 0; i < texelIndex.size(); ++i)
+        distinct += (i == 0 || texelIndex[i] != texelIndex[i - 1]);
+    return distinct;
+}
 
 double SurfaceTextures::uvCoverage() const {
     double covered = 0;
@@ -293,11 +391,12 @@ Result<SurfaceTextures> bakeSurfaceTextures(const TriangleMesh& mesh,
 
     const unsigned threads = std::max(1u, settings.threads ? settings.threads
                                                            : std::thread::hardware_concurrency());
-    // Enough bands to balance the threads, few enough rows that a band's accumulator stays
-    // near 64 MB at the largest size.
+    // Sixteen or more bands balance the threads; at most 2^20 texels a band keep an
+    // accumulator near 64 MB at the largest size. The split must not depend on the thread
+    // count: a triangle cut at a band edge rounds differently, and results are bit-identical
+    // on every machine.
     const int maxRowsForMemory = std::max(1, (1 << 20) / size);
-    const int rowsForBalance = (size + 4 * static_cast<int>(threads) - 1) / (4 * threads);
-    const int bandRows = std::max(1, std::min(maxRowsForMemory, rowsForBalance));
+    const int bandRows = std::clamp(size / 16, 1, maxRowsForMemory);
     const int bandCount = (size + bandRows - 1) / bandRows;
 
     std::vector<std::vector<std::uint32_t>> bandTriangles(bandCount);

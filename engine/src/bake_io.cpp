@@ -5,6 +5,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include <algorithm>
 #include <fstream>
 #include <system_error>
 
@@ -18,6 +19,11 @@ namespace {
 constexpr const char* kPositionFile = "position.exr";
 constexpr const char* kAreaVectorFile = "area_vector.exr";
 constexpr const char* kCoverageFile = "coverage.exr";
+constexpr const char* kSamplesFile = "samples.exr";
+// The sample list as an image: rows of kSamplesWidth entries, one channel per field.
+constexpr int kSamplesWidth = 1024;
+const std::vector<std::string> kSampleChannels = {"x", "y", "px", "py", "pz", "ax", "ay", "az",
+                                                  "area", "coverage"};
 constexpr const char* kManifestFile = "manifest.json";
 
 std::size_t pixelOf(std::uint32_t texel, int size) {
@@ -40,7 +46,8 @@ nlohmann::json manifestFor(const SurfaceTextures& t, const std::string& sourceMe
         {"generator", "plimsoll"},
         {"source_mesh", sourceMesh},
         {"texture_size", t.size},
-        {"covered_texels", t.coveredCount()},
+        {"covered_texels", t.distinctTexelCount()},
+        {"texel_samples", t.coveredCount()},
         {"uv_coverage", t.uvCoverage()},
         {"surface_area", t.surfaceArea()},
         {"closure_error", t.closureError()},
@@ -59,7 +66,13 @@ nlohmann::json manifestFor(const SurfaceTextures& t, const std::string& sourceMe
           {"area_vector", {{"path", kAreaVectorFile},
                            {"channels", "RGB = integral of n dS, A = surface area"}}},
           {"coverage", {{"path", kCoverageFile},
-                        {"channels", "Y = covered share of the texel's UV square"}}}}}};
+                        {"channels", "Y = covered share of the texel's UV square"}}},
+          {"samples", {{"path", kSamplesFile},
+                       {"channels", "x, y = texel; px, py, pz = point (m); ax, ay, az = area "
+                                    "vector (m^2); area (m^2); coverage. One entry per texel "
+                                    "and surface piece, rows of 1024, unused entries have "
+                                    "coverage 0: the exact list the physics sums run over; "
+                                    "the images above merge a texel's entries"}}}}}};
 }
 
 }  // namespace
@@ -70,22 +83,54 @@ Status writeBakedTextures(const SurfaceTextures& t, const fs::path& folder,
     fs::create_directories(folder, ec);
     if (ec) return makeError(folder.string() + ": cannot create folder: " + ec.message());
 
+    // Images: a texel's entries merged (sum of area vectors and areas, area-weighted point).
     FloatImage position = blankImage(t.size, {"R", "G", "B", "A"});
     FloatImage areaVector = blankImage(t.size, {"R", "G", "B", "A"});
     FloatImage coverage = blankImage(t.size, {"Y"});
-    for (std::size_t i = 0; i < t.coveredCount(); ++i) {
-        const std::size_t pixel = pixelOf(t.texelIndex[i], t.size);
+    for (std::size_t first = 0, last; first < t.coveredCount(); first = last) {
+        Eigen::Vector3d sumA = Eigen::Vector3d::Zero(), weighted = Eigen::Vector3d::Zero();
+        double area = 0, covered = 0;
+        for (last = first; last < t.coveredCount() && t.texelIndex[last] == t.texelIndex[first];
+             ++last) {
+            sumA += t.areaVector[last];
+            weighted += t.area[last] * t.position[last];
+            area += t.area[last];
+            covered += t.coverage[last];
+        }
+        const std::size_t pixel = pixelOf(t.texelIndex[first], t.size);
+        const Eigen::Vector3d point = weighted / area;
         for (int k = 0; k < 3; ++k) {
-            position.pixels[4 * pixel + k] = static_cast<float>(t.position[i][k]);
-            areaVector.pixels[4 * pixel + k] = static_cast<float>(t.areaVector[i][k]);
+            position.pixels[4 * pixel + k] = static_cast<float>(point[k]);
+            areaVector.pixels[4 * pixel + k] = static_cast<float>(sumA[k]);
         }
         position.pixels[4 * pixel + 3] = 1.0f;
-        areaVector.pixels[4 * pixel + 3] = static_cast<float>(t.area[i]);
-        coverage.pixels[pixel] = static_cast<float>(t.coverage[i]);
+        areaVector.pixels[4 * pixel + 3] = static_cast<float>(area);
+        coverage.pixels[pixel] = static_cast<float>(covered);
     }
+
+    FloatImage samples;
+    samples.width = kSamplesWidth;
+    samples.height = std::max<int>(1, static_cast<int>((t.coveredCount() + kSamplesWidth - 1) /
+                                                       kSamplesWidth));
+    samples.channels = kSampleChannels;
+    samples.pixels.assign(static_cast<std::size_t>(samples.width) * samples.height *
+                              kSampleChannels.size(), 0.0f);
+    for (std::size_t i = 0; i < t.coveredCount(); ++i) {
+        float* out = &samples.pixels[i * kSampleChannels.size()];
+        out[0] = static_cast<float>(t.texelIndex[i] % t.size);
+        out[1] = static_cast<float>(t.texelIndex[i] / t.size);
+        for (int k = 0; k < 3; ++k) {
+            out[2 + k] = static_cast<float>(t.position[i][k]);
+            out[5 + k] = static_cast<float>(t.areaVector[i][k]);
+        }
+        out[8] = static_cast<float>(t.area[i]);
+        out[9] = static_cast<float>(t.coverage[i]);
+    }
+
     for (const auto& [name, image] : {std::pair{kPositionFile, &position},
                                       std::pair{kAreaVectorFile, &areaVector},
-                                      std::pair{kCoverageFile, &coverage}}) {
+                                      std::pair{kCoverageFile, &coverage},
+                                      std::pair{kSamplesFile, &samples}}) {
         if (Status s = detail::writeExr(folder / name, *image); !s.ok()) return s;
     }
     const std::string manifest = manifestFor(t, sourceMesh).dump(2) + "\n";
@@ -122,29 +167,25 @@ Result<SurfaceTextures> readBakedTextures(const fs::path& folder) {
         return makeError(manifestPath.string() + ": texture_size out of range");
     }
 
-    auto position = detail::readExr(folder / kPositionFile, {"R", "G", "B", "A"});
-    if (!position) return position.error();
-    auto areaVector = detail::readExr(folder / kAreaVectorFile, {"R", "G", "B", "A"});
-    if (!areaVector) return areaVector.error();
-    auto coverage = detail::readExr(folder / kCoverageFile, {"Y"});
-    if (!coverage) return coverage.error();
-    for (const FloatImage* image : {&*position, &*areaVector, &*coverage}) {
-        if (image->width != t.size || image->height != t.size) {
-            return makeError(folder.string() + ": image size differs from the manifest's " +
-                             std::to_string(t.size));
-        }
+    auto samples = detail::readExr(folder / kSamplesFile, kSampleChannels);
+    if (!samples) return samples.error();
+    const std::size_t count = manifest.value("texel_samples", std::size_t{0});
+    if (count > static_cast<std::size_t>(samples->width) * samples->height) {
+        return makeError((folder / kSamplesFile).string() + ": holds fewer samples than the "
+                         "manifest's texel_samples (" + std::to_string(count) + ")");
     }
-    const std::uint32_t texels = static_cast<std::uint32_t>(t.size) * t.size;
-    for (std::uint32_t texel = 0; texel < texels; ++texel) {
-        const std::size_t pixel = pixelOf(texel, t.size);
-        if (position->pixels[4 * pixel + 3] == 0.0f) continue;
-        t.texelIndex.push_back(texel);
-        const float* p = &position->pixels[4 * pixel];
-        const float* a = &areaVector->pixels[4 * pixel];
-        t.position.emplace_back(p[0], p[1], p[2]);
-        t.areaVector.emplace_back(a[0], a[1], a[2]);
-        t.area.push_back(a[3]);
-        t.coverage.push_back(coverage->pixels[pixel]);
+    for (std::size_t i = 0; i < count; ++i) {
+        const float* in = &samples->pixels[i * kSampleChannels.size()];
+        const int x = static_cast<int>(in[0]), y = static_cast<int>(in[1]);
+        if (x < 0 || y < 0 || x >= t.size || y >= t.size || in[9] <= 0.0f) {
+            return makeError((folder / kSamplesFile).string() + ": sample " + std::to_string(i) +
+                             " is not a covered texel of the texture");
+        }
+        t.texelIndex.push_back(static_cast<std::uint32_t>(y) * t.size + x);
+        t.position.emplace_back(in[2], in[3], in[4]);
+        t.areaVector.emplace_back(in[5], in[6], in[7]);
+        t.area.push_back(in[8]);
+        t.coverage.push_back(in[9]);
     }
     return t;
 }

@@ -6,6 +6,8 @@
 // guarantee it).
 #include "plimsoll/validate.h"
 
+#include "plimsoll/uv_layout.h"
+
 #include <Eigen/Geometry>
 
 #include <algorithm>
@@ -501,66 +503,26 @@ void checkUvOverlap(const TriangleMesh& mesh, const TriangleFacts& facts,
 // ---------------------------------------------------------------------------------------------
 // Mirrored UV islands.
 
-// Vertex ids equal exactly when position and UV are equal: the triangles of one UV island then
-// share edges, while the two sides of a UV seam do not.
-std::vector<std::uint32_t> weldByPositionAndUv(const TriangleMesh& mesh) {
-    using Key = std::array<double, 5>;
-    std::vector<Key> keys(mesh.vertexCount());
-    for (std::size_t v = 0; v < keys.size(); ++v) {
-        const Eigen::Vector3d& p = mesh.positions[v];
-        const Eigen::Vector2d& uv = mesh.uvs[v];
-        keys[v] = {p.x(), p.y(), p.z(), uv.x(), uv.y()};
-    }
-    std::vector<std::uint32_t> order(keys.size());
-    std::iota(order.begin(), order.end(), 0u);
-    std::sort(order.begin(), order.end(),
-              [&](std::uint32_t a, std::uint32_t b) { return keys[a] < keys[b]; });
-    std::vector<std::uint32_t> id(keys.size());
-    for (std::size_t i = 0; i < order.size(); ++i) {
-        const bool sameAsPrevious = i > 0 && keys[order[i]] == keys[order[i - 1]];
-        id[order[i]] = sameAsPrevious ? id[order[i - 1]] : order[i];
-    }
-    return id;
-}
-
-class DisjointSets {
-public:
-    explicit DisjointSets(std::size_t n) : parent_(n) {
-        std::iota(parent_.begin(), parent_.end(), 0u);
-    }
-    std::uint32_t find(std::uint32_t x) {
-        while (parent_[x] != x) x = parent_[x] = parent_[parent_[x]];
-        return x;
-    }
-    void unite(std::uint32_t a, std::uint32_t b) { parent_[find(a)] = find(b); }
-
-private:
-    std::vector<std::uint32_t> parent_;
-};
-
 void checkUvMirrored(const TriangleMesh& mesh, const TriangleFacts& facts,
                      ValidationReport& report) {
-    DisjointSets islands(mesh.triangleCount());
-    forEachEdge(sortedEdgeUses(mesh, weldByPositionAndUv(mesh)), [&](std::span<const EdgeUse> e) {
-        for (const EdgeUse& use : e.subspan(1)) islands.unite(e[0].triangle, use.triangle);
-    });
+    const std::vector<std::uint32_t> island = uvIslands(mesh);
     std::vector<double> islandArea(mesh.triangleCount(), 0.0);
     double total = 0;
     for (std::uint32_t t = 0; t < mesh.triangleCount(); ++t) {
         const double area = triangleUvArea(mesh, mesh.triangles[t]);
-        islandArea[islands.find(t)] += area;
+        islandArea[island[t]] += area;
         total += area;
     }
     // The orientation holding the majority of the UV area is the intended one.
     const auto mirrored = [&](double area) { return area * total < 0; };
     std::size_t islandCount = 0;
     for (std::uint32_t t = 0; t < mesh.triangleCount(); ++t) {
-        if (islands.find(t) == t && mirrored(islandArea[t])) ++islandCount;
+        if (island[t] == t && mirrored(islandArea[t])) ++islandCount;
     }
     if (islandCount == 0) return;
     std::vector<bool> marked(mesh.triangleCount(), false);
     for (std::uint32_t t = 0; t < mesh.triangleCount(); ++t) {
-        marked[t] = mirrored(islandArea[islands.find(t)]);
+        marked[t] = mirrored(islandArea[island[t]]);
     }
     const std::size_t triangles = countMarked(marked);
     add(report, ProblemKind::UvMirrored, Severity::Warning, islandCount, areaShare(marked, facts),

@@ -31,10 +31,15 @@ struct BakeSettings {
 
 /// Texel (x, y) covers texture uv in [x/N, (x+1)/N] x [y/N, (y+1)/N]; its index is y * N + x
 /// (row 0 at v = 0, as glTexImage2D lays rows out).
+///
+/// One entry per covered texel and UV island: a texel on the border of two islands holds two
+/// pieces of surface that may lie far apart on the body, and gets one entry for each (in the
+/// order the islands reached it), so every entry's point and area vector describe one connected
+/// piece of surface. All per-entry vectors have the same length.
 struct SurfaceTextures {
     int size = 0;              ///< N, texels per side
     UvPlacement placement;     ///< mesh uv -> texture uv used by the bake
-    std::vector<std::uint32_t> texelIndex;   ///< covered texels, ascending y * N + x
+    std::vector<std::uint32_t> texelIndex;   ///< y * N + x, ascending (repeated for shared texels)
     /// PT: area centroid of the surface that maps into the texel, object space, m.
     std::vector<Eigen::Vector3d> position;
     /// AVT: integral of n dS over that surface, m^2 (outward normal).
@@ -44,7 +49,10 @@ struct SurfaceTextures {
     /// Share of the texel's UV square covered by the atlas, 0..1.
     std::vector<double> coverage;
 
+    /// Entries (what every per-texel sum runs over).
     std::size_t coveredCount() const { return texelIndex.size(); }
+    /// Distinct covered texels (entries minus the extra entries of shared texels).
+    std::size_t distinctTexelCount() const;
     /// Covered UV area as a share of the whole texture.
     double uvCoverage() const;
     double surfaceArea() const;

@@ -7,6 +7,9 @@
 
 #include <Eigen/Core>
 
+#include <cstdint>
+#include <vector>
+
 namespace plimsoll {
 
 /// texture uv = scale * mesh uv + offset.
@@ -21,5 +24,14 @@ struct UvPlacement {
 /// Identity when every UV lies in [0,1]^2; otherwise the uniform scale and offset that fit the
 /// UV bounding box into the unit square (anchored at the origin). Requires mesh.hasUvs().
 UvPlacement fitUvsIntoUnitSquare(const TriangleMesh& mesh);
+
+}  // namespace plimsoll
+
+namespace plimsoll {
+
+/// UV island (chart) of every triangle: triangles sharing an edge whose two vertices agree in
+/// position and UV belong to one island; the two sides of a UV seam do not. Ids are the
+/// smallest triangle index of each island. Requires mesh.hasUvs().
+std::vector<std::uint32_t> uvIslands(const TriangleMesh& mesh);
 
 }  // namespace plimsoll
