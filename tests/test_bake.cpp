@@ -2,14 +2,19 @@
 // determinism, limits, and the EXR round trip.
 #include "plimsoll/bake.h"
 #include "plimsoll/bake_io.h"
+#include "plimsoll/massprops.h"
 #include "plimsoll/mesh_io.h"
 #include "plimsoll/primitives.h"
+#include "plimsoll/uv_layout.h"
+#include "plimsoll/validate.h"
 
 #include "test_support.h"
 
 #include <nlohmann/json.hpp>
 
+#include <cmath>
 #include <fstream>
+#include <map>
 
 namespace plimsoll {
 namespace {
@@ -88,6 +93,61 @@ TEST(Bake, MirroredTrianglesCountWithTheirOwnOrientation) {
     EXPECT_LT(t.closureError(), 1e-12);
     EXPECT_NEAR(t.surfaceArea(), meshArea(box), 1e-12);
     EXPECT_NEAR(textureSolidMassProperties(t, 1.0).volume, 0.125, 1e-12);
+}
+
+// A box whose six face charts sit in a row 0.001 apart: at N = 16 most chart borders fall
+// inside a texel. A merged point between two faces would give a wrong volume; one entry per
+// island keeps even this coarse bake exact on a box.
+TEST(Bake, TexelsSharedByIslandsKeepOneEntryPerIsland) {
+    TriangleMesh box = makeBox(Eigen::Vector3d(1.0, 0.5, 0.25));
+    const std::vector<std::uint32_t> island = uvIslands(box);
+    std::map<std::uint32_t, int> slot;
+    for (std::uint32_t id : island) slot.try_emplace(id, static_cast<int>(slot.size()));
+    ASSERT_EQ(slot.size(), 6u);
+    for (auto& uv : box.uvs) uv *= 0.5;  // six charts in a row fit in the unit square
+    std::vector<int> slotOfVertex(box.vertexCount());
+    for (std::size_t t = 0; t < box.triangleCount(); ++t)
+        for (std::uint32_t v : box.triangles[t]) slotOfVertex[v] = slot[island[t]];
+    std::map<int, Eigen::Vector2d> lo, hi;
+    for (std::size_t v = 0; v < box.vertexCount(); ++v) {
+        auto [l, fresh] = lo.try_emplace(slotOfVertex[v], box.uvs[v]);
+        auto [h, unused] = hi.try_emplace(slotOfVertex[v], box.uvs[v]);
+        l->second = l->second.cwiseMin(box.uvs[v]);
+        h->second = h->second.cwiseMax(box.uvs[v]);
+    }
+    double cursor = 0.01;
+    std::vector<Eigen::Vector2d> shift(6);
+    for (int k = 0; k < 6; ++k) {
+        shift[k] = Eigen::Vector2d(cursor, 0.01) - lo[k];
+        cursor += hi[k].x() - lo[k].x() + 0.001;
+    }
+    ASSERT_LT(cursor, 1.0);
+    for (std::size_t v = 0; v < box.vertexCount(); ++v) box.uvs[v] += shift[slotOfVertex[v]];
+    ASSERT_TRUE(validateMesh(box).usableForTexture()) << validateMesh(box).format();
+    const SurfaceTextures t = bake(box, 16);
+    EXPECT_GT(t.coveredCount(), t.distinctTexelCount());
+    const MassProperties p = textureSolidMassProperties(t, 1.0);
+    EXPECT_NEAR(p.volume, 0.125, 1e-15);
+    EXPECT_LT(p.centerOfMass.norm(), 1e-15);
+}
+
+// v -> v^3 keeps the buoy's map bijective but squeezes its keel into a few rows of texels; the
+// squeezed triangles are cut on a finer grid, and the result stays within the bake's usual
+// error (without refinement the volume error here is 2e-2).
+TEST(Bake, SqueezedUvRegionsAreRefined) {
+    TriangleMesh buoy = makeBuoy();
+    const SurfaceTextures plain = bake(buoy, 256);
+    for (auto& uv : buoy.uvs) uv.y() = std::pow(uv.y(), 3.0);
+    const SurfaceTextures squeezed = bake(buoy, 256);
+    EXPECT_GT(squeezed.coveredCount(), 2 * squeezed.distinctTexelCount());
+    EXPECT_EQ(plain.coveredCount(), plain.distinctTexelCount());
+    EXPECT_LT(squeezed.closureError(), 1e-12);
+    const MassProperties exact = exactSolidMassProperties(buoy, 1.0);
+    const test::MassPropsError e = test::compare(textureSolidMassProperties(squeezed, 1.0), exact,
+                                                 computeBounds(buoy).diagonal());
+    EXPECT_LT(e.volume, 1e-3);
+    EXPECT_LT(e.centerOfMass, 2e-4);
+    EXPECT_LT(e.inertia, 3e-3);
 }
 
 TEST(Bake, ResultDoesNotDependOnThreadCount) {

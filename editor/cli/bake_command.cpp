@@ -11,17 +11,17 @@
 namespace plimsoll::cli {
 
 namespace {
-struct BakeOptions {
+struct BakeCommandOptions {
     std::string mesh;
-    int size = 512;
+    BakeOptions bake;
     std::string out;
 };
 
-int runBake(const BakeOptions& options) {
+int runBake(const BakeCommandOptions& options) {
     std::optional<TriangleMesh> mesh = loadCheckedMesh(options.mesh, MeshUse::Texture);
     if (!mesh) return kExitFailure;
     const auto start = std::chrono::steady_clock::now();
-    std::optional<SurfaceTextures> textures = bakeWithProgress(*mesh, options.size);
+    std::optional<SurfaceTextures> textures = bakeWithProgress(*mesh, options.bake);
     if (!textures) return kExitFailure;
     const double seconds =
         std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
@@ -29,7 +29,7 @@ int runBake(const BakeOptions& options) {
         std::cerr << "error: " << s.error().message << "\n";
         return kExitFailure;
     }
-    std::cout << options.mesh << ": baked " << options.size << "^2 in " << seconds << " s\n"
+    std::cout << options.mesh << ": baked " << options.bake.size << "^2 in " << seconds << " s\n"
               << "  covered texels  " << textures->distinctTexelCount() << "\n"
               << "  texel samples   " << textures->coveredCount()
               << " (texels shared by UV islands or refined where the map squeezes surface "
@@ -43,13 +43,11 @@ int runBake(const BakeOptions& options) {
 }  // namespace
 
 void addBakeCommand(CLI::App& root, CommandRunner& selected) {
-    auto options = std::make_shared<BakeOptions>();
+    auto options = std::make_shared<BakeCommandOptions>();
     CLI::App* cmd = root.add_subcommand(
         "bake", "Bake position, area-vector and coverage textures (float32 EXR + manifest.json)");
     cmd->add_option("MESH", options->mesh, "Mesh file with a bijective UV map")->required();
-    cmd->add_option("--size", options->size, "Texels per side")
-        ->check(CLI::Range(kMinTextureSize, kMaxTextureSize))
-        ->capture_default_str();
+    addBakeOptions(*cmd, options->bake);
     cmd->add_option("--out", options->out, "Output folder (created if missing)")->required();
     cmd->callback([options, &selected] { selected = [options] { return runBake(*options); }; });
 }

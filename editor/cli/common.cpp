@@ -40,10 +40,24 @@ ProgressCallback stderrProgress(const std::string& label) {
     };
 }
 
-std::optional<SurfaceTextures> bakeWithProgress(const TriangleMesh& mesh, int size) {
+CLI::Option* addBakeOptions(CLI::App& command, BakeOptions& options) {
+    command
+        .add_option("--max-texel-stretch", options.maxTexelStretch,
+                    "Sub-texel refinement where the UV map squeezes surface: cut triangles whose "
+                    "texels span more than this many typical texel sides (0 = off)")
+        ->check(CLI::NonNegativeNumber)
+        ->capture_default_str();
+    return command.add_option("--size", options.size, "Texels per side of the bake")
+        ->check(CLI::Range(kMinTextureSize, kMaxTextureSize))
+        ->capture_default_str();
+}
+
+std::optional<SurfaceTextures> bakeWithProgress(const TriangleMesh& mesh,
+                                                const BakeOptions& options) {
     BakeSettings settings;
-    settings.size = size;
-    settings.progress = stderrProgress("baking " + std::to_string(size) + "^2");
+    settings.size = options.size;
+    settings.maxTexelStretch = options.maxTexelStretch;
+    settings.progress = stderrProgress("baking " + std::to_string(options.size) + "^2");
     Result<SurfaceTextures> baked = bakeSurfaceTextures(mesh, settings);
     if (!baked) {
         std::cerr << "error: " << baked.error().message << "\n";

@@ -6,6 +6,8 @@
 #include "plimsoll/mesh.h"
 #include "plimsoll/validate.h"
 
+#include <CLI/CLI.hpp>
+
 #include <optional>
 #include <string>
 
@@ -23,7 +25,17 @@ std::optional<TriangleMesh> loadCheckedMesh(const std::string& path, MeshUse use
 /// Progress of long work on stderr: a live percentage on a terminal, nothing in logs.
 ProgressCallback stderrProgress(const std::string& label);
 
+/// The bake's accuracy options, shared by every sub-command that bakes.
+struct BakeOptions {
+    int size = 512;
+    double maxTexelStretch = BakeSettings{}.maxTexelStretch;
+};
+
+/// Adds --size and --max-texel-stretch to a sub-command; returns the --size option.
+CLI::Option* addBakeOptions(CLI::App& command, BakeOptions& options);
+
 /// Bakes with progress; prints the error and returns nothing on failure.
-std::optional<SurfaceTextures> bakeWithProgress(const TriangleMesh& mesh, int size);
+std::optional<SurfaceTextures> bakeWithProgress(const TriangleMesh& mesh,
+                                                const BakeOptions& options);
 
 }  // namespace plimsoll::cli

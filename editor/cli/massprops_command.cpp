@@ -15,7 +15,7 @@ namespace plimsoll::cli {
 namespace {
 struct MassPropsOptions {
     std::string mesh;
-    int size = 512;
+    BakeOptions bake;
     bool exact = false;
     double density = 1000.0;
     double shellDensity = 0.0;
@@ -39,12 +39,13 @@ int runMassProps(const MassPropsOptions& o) {
         if (o.shellDensity > 0) props = props + exactShellMassProperties(*mesh, o.shellDensity);
         out = {{"method", "exact"}, {"texture_size", nullptr}, {"covered_texels", nullptr}};
     } else {
-        std::optional<SurfaceTextures> textures = bakeWithProgress(*mesh, o.size);
+        std::optional<SurfaceTextures> textures = bakeWithProgress(*mesh, o.bake);
         if (!textures) return kExitFailure;
         props = textureSolidMassProperties(*textures, solidDensity);
         if (o.shellDensity > 0) props = props + textureShellMassProperties(*textures, o.shellDensity);
         out = {{"method", "texture"},
-               {"texture_size", o.size},
+               {"texture_size", o.bake.size},
+               {"max_texel_stretch", o.bake.maxTexelStretch},
                {"covered_texels", textures->distinctTexelCount()},
                {"texel_samples", textures->coveredCount()},
                {"closure_error", textures->closureError()}};
@@ -76,9 +77,7 @@ void addMassPropsCommand(CLI::App& root, CommandRunner& selected) {
     CLI::App* cmd = root.add_subcommand(
         "massprops", "Volume, mass, centre of mass and inertia, from textures or exactly");
     cmd->add_option("MESH", o->mesh, "Closed mesh file")->required();
-    auto* size = cmd->add_option("--size", o->size, "Texture size of the bake (texels per side)")
-                     ->check(CLI::Range(kMinTextureSize, kMaxTextureSize))
-                     ->capture_default_str();
+    CLI::Option* size = addBakeOptions(*cmd, o->bake);
     cmd->add_flag("--exact", o->exact, "Exact polyhedral integrals of the mesh (no textures)")
         ->excludes(size);
     cmd->add_option("--density", o->density, "Solid density, kg/m^3 (default 1000)")

@@ -18,6 +18,7 @@
 #include "plimsoll/bake.h"
 
 #include <Eigen/Geometry>
+#include <Eigen/LU>
 
 #include <algorithm>
 #include <array>
@@ -36,9 +37,6 @@ namespace {
 
 using Vec2 = Eigen::Vector2d;
 
-/// Largest ratio of a triangle's texel side length on the surface to the mesh's typical one
-/// before the triangle is cut on a finer grid.
-constexpr double kMaxTexelStretch = 2.0;
 /// Finest grid: this many cells per texel side.
 constexpr int kMaxSubdivision = 64;
 
@@ -286,8 +284,24 @@ private:
         sideEntries_;
 };
 
+/// Length on the surface of the longest texel-sized step in UV on this triangle (m): the
+/// largest singular value of the affine map's Jacobian from texel space to object space.
+double longestTexelSide(const PreparedTriangle& tri) {
+    Eigen::Matrix2d uvEdges;
+    uvEdges << tri.edge1, tri.edge2;
+    Eigen::Matrix<double, 3, 2> sides;
+    sides << tri.side1, tri.side2;
+    const Eigen::Matrix<double, 3, 2> jacobian = sides * uvEdges.inverse();
+    const Eigen::Matrix2d gram = jacobian.transpose() * jacobian;
+    // Largest eigenvalue of a symmetric 2x2 matrix.
+    const double mean = 0.5 * gram.trace();
+    const double spread = std::sqrt(std::max(0.0, mean * mean - gram.determinant()));
+    return std::sqrt(mean + spread);
+}
+
 std::vector<PreparedTriangle> prepareTriangles(const TriangleMesh& mesh,
-                                               const UvPlacement& placement, int size) {
+                                               const UvPlacement& placement, int size,
+                                               double maxTexelStretch) {
     const std::vector<std::uint32_t> islands = uvIslands(mesh);
     std::vector<PreparedTriangle> prepared;
     prepared.reserve(mesh.triangles.size());
@@ -313,18 +327,17 @@ std::vector<PreparedTriangle> prepareTriangles(const TriangleMesh& mesh,
         }
         prepared.push_back(tri);
     }
-    // Where the map squeezes surface (a texel of this triangle spans more than
-    // kMaxTexelStretch times the mesh's typical texel length), the triangle is cut on a finer
-    // grid, so every entry stays a small piece of surface and the sums keep second-order
-    // accuracy. Typical UV maps need this nowhere or on a few triangles; a fin squeezed into
+    // Where the map squeezes surface (a texel of this triangle spans, in its longest
+    // direction, more than maxTexelStretch times the mesh's typical texel side), the triangle
+    // is cut on a finer grid, so every entry stays a small piece of surface and the sums keep
+    // second-order accuracy. Typical UV maps need this on a few triangles; a fin squeezed into
     // one texel needs it badly.
-    if (totalUvArea > 0) {
-        const double typicalTexelArea = totalArea / totalUvArea;  // m^2 per texel
+    if (totalUvArea > 0 && maxTexelStretch > 0) {
+        const double typicalTexelSide = std::sqrt(totalArea / totalUvArea);  // m
         for (PreparedTriangle& tri : prepared) {
             if (tri.rowHi < tri.rowLo || tri.area == 0) continue;
-            const double stretch =
-                std::sqrt(tri.area / (0.5 * std::abs(tri.twiceUvArea)) / typicalTexelArea);
-            tri.subdivision = std::clamp(static_cast<int>(std::ceil(stretch / kMaxTexelStretch)),
+            const double stretch = longestTexelSide(tri) / typicalTexelSide;
+            tri.subdivision = std::clamp(static_cast<int>(std::ceil(stretch / maxTexelStretch)),
                                          1, kMaxSubdivision);
         }
     }
@@ -387,7 +400,7 @@ Result<SurfaceTextures> bakeSurfaceTextures(const TriangleMesh& mesh,
     SurfaceTextures out;
     out.size = size;
     out.placement = fitUvsIntoUnitSquare(mesh);
-    const std::vector<PreparedTriangle> triangles = prepareTriangles(mesh, out.placement, size);
+    const std::vector<PreparedTriangle> triangles = prepareTriangles(mesh, out.placement, size, settings.maxTexelStretch);
 
     const unsigned threads = std::max(1u, settings.threads ? settings.threads
                                                            : std::thread::hardware_concurrency());

@@ -26,6 +26,12 @@ using ProgressCallback = std::function<void(double fraction)>;
 struct BakeSettings {
     int size = 512;          ///< texels per side, kMinTextureSize..kMaxTextureSize
     unsigned threads = 0;    ///< worker threads; 0 = all hardware threads
+    /// Sub-texel refinement: a triangle whose texels span, in their longest direction on the
+    /// surface, more than this many times the mesh's typical texel side is cut on a finer grid
+    /// (up to 64 x 64 cells a texel), each cell its own entry. Lower is more accurate on
+    /// distorted UV maps and costs entries; 0 turns refinement off (one entry per texel and
+    /// island, the paper's method).
+    double maxTexelStretch = 4.0;
     ProgressCallback progress;
 };
 
