@@ -11,6 +11,7 @@
 #include <fstream>
 #include <sstream>
 #include <sys/wait.h>
+#include <unistd.h>
 
 namespace plimsoll {
 namespace {
@@ -24,7 +25,11 @@ struct CommandOutput {
 };
 
 CommandOutput runPlimsoll(const std::string& arguments) {
-    const fs::path errFile = fs::temp_directory_path() / "plimsoll_tests" / "stderr.txt";
+    // ctest runs tests as parallel processes: each gets its own stderr file.
+    static int calls = 0;
+    const fs::path errFile = fs::temp_directory_path() / "plimsoll_tests" /
+                             ("stderr_" + std::to_string(::getpid()) + "_" +
+                              std::to_string(calls++) + ".txt");
     fs::create_directories(errFile.parent_path());
     const std::string command =
         std::string("'") + PLIMSOLL_EXECUTABLE + "' " + arguments + " 2>'" + errFile.string() + "'";
@@ -35,8 +40,11 @@ CommandOutput runPlimsoll(const std::string& arguments) {
     while (std::size_t n = std::fread(buffer.data(), 1, buffer.size(), pipe)) result.out.append(buffer.data(), n);
     const int status = ::pclose(pipe);
     result.exitCode = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-    std::ifstream err(errFile);
-    result.err.assign(std::istreambuf_iterator<char>(err), {});
+    {
+        std::ifstream err(errFile);
+        result.err.assign(std::istreambuf_iterator<char>(err), {});
+    }
+    fs::remove(errFile);
     return result;
 }
 
@@ -98,6 +106,21 @@ TEST(Cli, BadInputGivesAClearErrorAndNonZeroExit) {
 
     const CommandOutput both = runPlimsoll("massprops '" + kSphere + "' --size 64 --exact");
     EXPECT_NE(both.exitCode, 0);
+
+    const fs::path dir = fs::temp_directory_path() / "plimsoll_tests";
+    const fs::path empty = dir / "empty.obj";
+    std::ofstream(empty).close();
+    const CommandOutput emptyRun = runPlimsoll("massprops '" + empty.string() + "' --exact");
+    EXPECT_EQ(emptyRun.exitCode, 1);
+    EXPECT_NE(emptyRun.err.find(empty.string()), std::string::npos);
+
+    const fs::path nan = dir / "nan.obj";
+    std::ofstream(nan) << "v 0 0 0\nv 1 0 0\nv 0 nan 0\nv 0 0 1\n"
+                          "f 1 3 2\nf 1 2 4\nf 1 4 3\nf 2 3 4\n";
+    const CommandOutput nanRun = runPlimsoll("massprops '" + nan.string() + "' --exact --json");
+    EXPECT_EQ(nanRun.exitCode, 1);
+    EXPECT_NE(nanRun.err.find("non-finite"), std::string::npos);
+    EXPECT_TRUE(nanRun.out.empty());
 }
 
 TEST(Cli, ValidateExitCodes) {

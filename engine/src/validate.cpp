@@ -552,6 +552,19 @@ const char* problemCode(ProblemKind kind) {
     return "unknown";
 }
 
+bool isUvProblem(ProblemKind kind) {
+    switch (kind) {
+        case ProblemKind::MissingUvs:
+        case ProblemKind::DegenerateUvTriangle:
+        case ProblemKind::UvOutOfRange:
+        case ProblemKind::UvOverlap:
+        case ProblemKind::UvMirrored:
+            return true;
+        default:
+            return false;
+    }
+}
+
 bool ValidationReport::has(ProblemKind kind) const {
     return std::any_of(problems.begin(), problems.end(),
                        [kind](const Problem& p) { return p.kind == kind; });

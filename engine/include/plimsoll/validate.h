@@ -31,6 +31,9 @@ enum class ProblemKind {
 
 const char* problemCode(ProblemKind kind);
 
+/// Problems of the UV map only (they matter to the bake, not to the exact mesh integrals).
+bool isUvProblem(ProblemKind kind);
+
 struct Problem {
     ProblemKind kind;
     Severity severity;
