@@ -2,11 +2,16 @@
 // transformations; shells and combined materials.
 #include "plimsoll/massprops.h"
 #include "plimsoll/mesh_io.h"
+#include "plimsoll/painted_map.h"
 #include "plimsoll/primitives.h"
 
 #include "test_support.h"
 
 #include <Eigen/Geometry>
+#include <stb_image_write.h>
+
+#include <numbers>
+#include <unistd.h>
 
 namespace plimsoll {
 namespace {
@@ -79,6 +84,31 @@ TEST(TextureMassProperties, PaintedShellDensityWeightsTheTexels) {
     const MassProperties painted = textureShellMassProperties(t, 0.0, sigma);
     EXPECT_NEAR(painted.mass, expectedMass, 1e-12 * expectedMass);
     EXPECT_GT(painted.centerOfMass.y(), 0.05);
+}
+
+// The upper half of a lat-long sphere painted white: a hemispherical shell, whose mass is half
+// the sphere's and whose centre sits at r/2 above the centre.
+TEST(TextureMassProperties, PaintedMapFileGivesAHemisphericalShell) {
+    const int w = 64, h = 256;
+    std::vector<std::uint8_t> pixels(w * h);
+    for (int row = 0; row < h; ++row)
+        for (int x = 0; x < w; ++x) pixels[row * w + x] = row < h / 2 ? 255 : 0;  // row 0: v = 1
+    const std::filesystem::path path =
+        std::filesystem::temp_directory_path() / ("hemisphere_" + std::to_string(::getpid()) + ".png");
+    ASSERT_TRUE(stbi_write_png(path.c_str(), w, h, 1, pixels.data(), w));
+    Result<PaintedMap> map = loadPaintedMap(path);
+    std::filesystem::remove(path);
+    ASSERT_TRUE(map.ok()) << map.error().message;
+
+    const double r = 0.5, sigma = 4.0;
+    const SurfaceTextures t = bakeOrFail(makeUvSphere(r, 128, 64), 256);
+    const MassProperties shell = textureShellMassProperties(t, 0.0, sampleAtTexels(*map, t, sigma));
+    const double sphereMass = sigma * 4 * std::numbers::pi * r * r;
+    EXPECT_NEAR(shell.mass, 0.5 * sphereMass, 5e-3 * sphereMass);
+    EXPECT_NEAR(shell.centerOfMass.y(), 0.5 * r, 5e-3 * r);
+    EXPECT_LT(std::hypot(shell.centerOfMass.x(), shell.centerOfMass.z()), 1e-9);
+
+    EXPECT_FALSE(loadPaintedMap("/no/such/map.png").ok());
 }
 
 TEST(TextureMassProperties, SolidPlusShellIsTheSumOfBoth) {

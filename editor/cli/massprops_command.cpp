@@ -1,8 +1,10 @@
-// plimsoll massprops MESH [--size N | --exact] [--density RHO] [--shell-density SIGMA] --json
+// plimsoll massprops MESH [--size N | --exact] [--density RHO] [--shell-density SIGMA
+//                    [--shell-density-map PNG]] --json
 #include "cli/commands.h"
 
 #include "cli/common.h"
 #include "plimsoll/massprops.h"
+#include "plimsoll/painted_map.h"
 
 #include <nlohmann/json.hpp>
 
@@ -19,6 +21,7 @@ struct MassPropsOptions {
     bool exact = false;
     double density = 1000.0;
     double shellDensity = 0.0;
+    std::string shellDensityMap;
     bool densityGiven = false;
     bool json = false;
 };
@@ -42,7 +45,17 @@ int runMassProps(const MassPropsOptions& o) {
         std::optional<SurfaceTextures> textures = bakeWithProgress(*mesh, o.bake);
         if (!textures) return kExitFailure;
         props = textureSolidMassProperties(*textures, solidDensity);
-        if (o.shellDensity > 0) props = props + textureShellMassProperties(*textures, o.shellDensity);
+        std::vector<double> painted;
+        if (!o.shellDensityMap.empty()) {
+            Result<PaintedMap> map = loadPaintedMap(o.shellDensityMap);
+            if (!map) {
+                std::cerr << "error: " << map.error().message << "\n";
+                return kExitFailure;
+            }
+            painted = sampleAtTexels(*map, *textures, o.shellDensity);
+        }
+        if (o.shellDensity > 0)
+            props = props + textureShellMassProperties(*textures, o.shellDensity, painted);
         out = {{"method", "texture"},
                {"texture_size", o.bake.size},
                {"max_texel_stretch", o.bake.maxTexelStretch},
@@ -78,8 +91,9 @@ void addMassPropsCommand(CLI::App& root, CommandRunner& selected) {
         "massprops", "Volume, mass, centre of mass and inertia, from textures or exactly");
     cmd->add_option("MESH", o->mesh, "Closed mesh file")->required();
     CLI::Option* size = addBakeOptions(*cmd, o->bake);
-    cmd->add_flag("--exact", o->exact, "Exact polyhedral integrals of the mesh (no textures)")
-        ->excludes(size);
+    CLI::Option* exact =
+        cmd->add_flag("--exact", o->exact, "Exact polyhedral integrals of the mesh (no textures)")
+            ->excludes(size);
     cmd->add_option("--density", o->density, "Solid density, kg/m^3 (default 1000)")
         ->check(CLI::NonNegativeNumber)
         ->each([o](const std::string&) { o->densityGiven = true; });
@@ -87,6 +101,12 @@ void addMassPropsCommand(CLI::App& root, CommandRunner& selected) {
                     "Thin-shell surface density, kg/m^2 (thickness x material density); "
                     "alone it gives a hollow shell, with --density both are added")
         ->check(CLI::NonNegativeNumber);
+    cmd->add_option("--shell-density-map", o->shellDensityMap,
+                    "Painted surface-density map (8/16-bit PNG over the mesh's UVs): white is "
+                    "--shell-density, black 0")
+        ->check(CLI::ExistingFile)
+        ->needs("--shell-density")
+        ->excludes(exact);
     cmd->add_flag("--json", o->json, "Print one JSON object");
     cmd->callback([o, &selected] { selected = [o] { return runMassProps(*o); }; });
 }
