@@ -1,0 +1,116 @@
+// Backend choice and the C++ reference backend.
+#include "plimsoll/bake.h"
+#include "plimsoll/compute.h"
+
+#include "opencl_backend.h"
+
+#include <chrono>
+#include <cstdlib>
+
+namespace plimsoll {
+
+namespace {
+
+class ReferenceBackend final : public BuoyancyBackend {
+public:
+    std::string deviceName() const override { return "reference (C++)"; }
+
+    std::size_t addBody(const SurfaceTextures& textures,
+                        const Eigen::Vector3d& centerOfMass) override {
+        bodies_.push_back({textures, centerOfMass});
+        return bodies_.size() - 1;
+    }
+
+    Status evaluate(std::span<const BodyRequest> requests, const WaterModel& water,
+                    std::span<BuoyancyResult> results) override {
+        const auto start = std::chrono::steady_clock::now();
+        for (std::size_t i = 0; i < requests.size(); ++i) {
+            const BodyRequest& request = requests[i];
+            if (request.body >= bodies_.size()) return makeError("evaluate: unknown body id");
+            BodyFrame frame = request.frame;
+            frame.centerOfMass = bodies_[request.body].centerOfMass;
+            results[i] = evaluateBuoyancyReference(bodies_[request.body].textures, frame, water,
+                                                   request.fluid);
+        }
+        timings_.totalMs = std::chrono::duration<double, std::milli>(
+                               std::chrono::steady_clock::now() - start)
+                               .count();
+        return Ok{};
+    }
+
+    FrameTimings lastTimings() const override { return timings_; }
+
+private:
+    struct Body {
+        SurfaceTextures textures;
+        Eigen::Vector3d centerOfMass;
+    };
+    std::vector<Body> bodies_;
+    FrameTimings timings_;
+};
+
+std::string lower(std::string s) {
+    for (char& ch : s) ch = static_cast<char>(std::tolower(static_cast<unsigned char>(ch)));
+    return s;
+}
+
+}  // namespace
+
+std::unique_ptr<BuoyancyBackend> createReferenceBackend() {
+    return std::make_unique<ReferenceBackend>();
+}
+
+Result<std::unique_ptr<BuoyancyBackend>> createBuoyancyBackend(const std::string& requested,
+                                                               std::string* notice) {
+    std::string spec = lower(requested);
+    if (spec.empty()) {
+        if (const char* env = std::getenv("PLIMSOLL_OPENCL_DEVICE")) spec = lower(env);
+    }
+    if (spec == "reference" || spec == "none") {
+        return std::unique_ptr<BuoyancyBackend>(createReferenceBackend());
+    }
+    const std::vector<ComputeDevice> devices = listComputeDevices();
+    if (devices.empty()) {
+        if (notice) {
+            *notice = "no OpenCL platform found: using the C++ reference path";
+        }
+        return std::unique_ptr<BuoyancyBackend>(createReferenceBackend());
+    }
+    auto describe = [&] {
+        std::string list;
+        for (const auto& d : devices)
+            list += "\n  " + std::to_string(d.index) + ": " + d.name + " (" + d.platform +
+                    (d.isGpu ? ", GPU" : ", CPU") + ")";
+        return list;
+    };
+    int index = -1;
+    if (spec.empty()) {
+        index = devices.front().index;
+        for (const auto& d : devices) {
+            if (d.isGpu) {
+                index = d.index;
+                break;
+            }
+        }
+    } else if (spec == "cpu" || spec == "gpu") {
+        for (const auto& d : devices) {
+            if (d.isGpu == (spec == "gpu")) {
+                index = d.index;
+                break;
+            }
+        }
+        if (index < 0) return makeError("no OpenCL " + spec + " device; devices:" + describe());
+    } else {
+        char* end = nullptr;
+        const long n = std::strtol(spec.c_str(), &end, 10);
+        if (end == spec.c_str() || *end != '\0' || n < 0 ||
+            n >= static_cast<long>(devices.size())) {
+            return makeError("unknown OpenCL device '" + requested +
+                             "' (cpu, gpu, reference, or an index); devices:" + describe());
+        }
+        index = static_cast<int>(n);
+    }
+    return detail::createOpenClBackend(index);
+}
+
+}  // namespace plimsoll

@@ -1,0 +1,474 @@
+// The OpenCL backend: device discovery, the embedded kernels (kernels/buoyancy.cl), buffers
+// built once per set of bodies, and one batch of two launches and one read per frame.
+#include "opencl_backend.h"
+
+#include "plimsoll/bake.h"
+
+#include "buoyancy_sums.h"
+#include "plimsoll_shared.h"
+
+#include <CL/opencl.hpp>
+
+#include <algorithm>
+#include <array>
+#include <chrono>
+#include <cmath>
+#include <numbers>
+
+namespace plimsoll::detail {
+extern const char* const kBuoyancyKernelSource;
+}  // namespace plimsoll::detail
+
+namespace plimsoll {
+
+namespace {
+
+using gpu::pl_float4;
+
+struct DeviceHandle {
+    cl::Platform platform;
+    cl::Device device;
+};
+
+std::vector<DeviceHandle> enumerateDevices() {
+    std::vector<DeviceHandle> out;
+    std::vector<cl::Platform> platforms;
+    try {
+        cl::Platform::get(&platforms);
+    } catch (const cl::Error&) {
+        return out;  // no ICD installed: CL_PLATFORM_NOT_FOUND_KHR
+    }
+    for (const cl::Platform& platform : platforms) {
+        std::vector<cl::Device> devices;
+        try {
+            platform.getDevices(CL_DEVICE_TYPE_ALL, &devices);
+        } catch (const cl::Error&) {
+            continue;  // a platform without devices
+        }
+        for (const cl::Device& device : devices) out.push_back({platform, device});
+    }
+    return out;
+}
+
+std::string clError(const cl::Error& e) {
+    return std::string("OpenCL error ") + std::to_string(e.err()) + " in " + e.what();
+}
+
+pl_float4 toFloat4(const Eigen::Vector3d& v, double w = 0.0) {
+    return {static_cast<float>(v.x()), static_cast<float>(v.y()), static_cast<float>(v.z()),
+            static_cast<float>(w)};
+}
+
+double eventMs(const cl::Event& event) {
+    const auto start = event.getProfilingInfo<CL_PROFILING_COMMAND_START>();
+    const auto end = event.getProfilingInfo<CL_PROFILING_COMMAND_END>();
+    return static_cast<double>(end - start) * 1e-6;
+}
+
+/// Compiles the embedded kernels for a device, with the build log in the error.
+Result<cl::Program> buildProgram(const cl::Context& context, const cl::Device& device,
+                                 bool fp64, int itemsPerThread) {
+    cl::Program program(context, detail::kBuoyancyKernelSource);
+    const std::string options = "-cl-std=CL1.2 -DPL_ITEMS_PER_THREAD=" +
+                                std::to_string(itemsPerThread) + (fp64 ? " -DPL_ACC_DOUBLE" : "");
+    try {
+        program.build({device}, options.c_str());
+    } catch (const cl::Error&) {
+        std::string log;
+        try {
+            log = program.getBuildInfo<CL_PROGRAM_BUILD_LOG>(device);
+        } catch (const cl::Error&) {
+        }
+        return makeError("OpenCL kernels failed to build on " +
+                         device.getInfo<CL_DEVICE_NAME>() + ":\n" + log);
+    }
+    return program;
+}
+
+class OpenClBackend final : public BuoyancyBackend {
+public:
+    OpenClBackend(const DeviceHandle& handle, cl::Context context, cl::Program program,
+                  bool fp64, std::size_t tileSize)
+        : device_(handle.device),
+          context_(std::move(context)),
+          queue_(context_, device_, CL_QUEUE_PROFILING_ENABLE),
+          program_(std::move(program)),
+          tilesKernels_{{{cl::Kernel(program_, "buoyancy_tiles_flat"),
+                          cl::Kernel(program_, "buoyancy_tiles_flat_still")},
+                         {cl::Kernel(program_, "buoyancy_tiles_gerstner"),
+                          cl::Kernel(program_, "buoyancy_tiles_gerstner_still")},
+                         {cl::Kernel(program_, "buoyancy_tiles_heightfield"),
+                          cl::Kernel(program_, "buoyancy_tiles_heightfield_still")}}},
+          reduceKernel_(program_, "reduce_bodies"),
+          fp64_(fp64),
+          tileSize_(tileSize),
+          name_("OpenCL: " + device_.getInfo<CL_DEVICE_NAME>() + " (" +
+                handle.platform.getInfo<CL_PLATFORM_NAME>() + ")") {}
+
+    std::string deviceName() const override { return name_; }
+
+    std::size_t addBody(const SurfaceTextures& textures,
+                        const Eigen::Vector3d& centerOfMass) override {
+        Body body;
+        body.centerOfMass = centerOfMass;
+        body.tileBegin = static_cast<std::uint32_t>(tiles_.size());
+        const std::size_t first = positions_.size();
+        for (std::size_t i = 0; i < textures.coveredCount(); ++i) {
+            positions_.push_back(toFloat4(textures.position[i] - centerOfMass, textures.area[i]));
+            areaVectors_.push_back(toFloat4(textures.areaVector[i]));
+        }
+        for (std::size_t begin = first; begin < positions_.size(); begin += tileSize_) {
+            const std::size_t end = std::min(positions_.size(), begin + tileSize_);
+            tiles_.push_back(tileOf(static_cast<std::uint32_t>(bodies_.size()), begin, end));
+        }
+        body.tileEnd = static_cast<std::uint32_t>(tiles_.size());
+        bodies_.push_back(body);
+        buffersStale_ = true;
+        return bodies_.size() - 1;
+    }
+
+    Status evaluate(std::span<const BodyRequest> requests, const WaterModel& water,
+                    std::span<BuoyancyResult> results) override {
+        const auto start = std::chrono::steady_clock::now();
+        try {
+            if (buffersStale_) rebuildBuffers();
+            if (Status s = prepareFrame(requests, water); !s.ok()) return s;
+            runFrame(tilesKernelFor(requests, water));
+            const std::size_t accSize = fp64_ ? sizeof(double) : sizeof(float);
+            for (std::size_t i = 0; i < requests.size(); ++i) {
+                detail::BuoyancySums sums{};
+                const unsigned char* base =
+                    totalsHost_.data() + requests[i].body * PL_SUM_SLOTS * accSize;
+                for (int s = 0; s < PL_SUM_SLOTS; ++s) {
+                    sums[s] = fp64_ ? reinterpret_cast<const double*>(base)[s]
+                                    : reinterpret_cast<const float*>(base)[s];
+                }
+                const Body& body = bodies_[requests[i].body];
+                results[i] = detail::finishBuoyancy(
+                    sums, requests[i].frame.pose.apply(body.centerOfMass), requests[i].fluid);
+            }
+        } catch (const cl::Error& e) {
+            return makeError(name_ + ": " + clError(e));
+        }
+        timings_.totalMs = std::chrono::duration<double, std::milli>(
+                               std::chrono::steady_clock::now() - start)
+                               .count();
+        return Ok{};
+    }
+
+    FrameTimings lastTimings() const override { return timings_; }
+
+private:
+    struct Body {
+        Eigen::Vector3d centerOfMass;
+        std::uint32_t tileBegin = 0, tileEnd = 0;
+    };
+
+    gpu::PlTile tileOf(std::uint32_t body, std::size_t begin, std::size_t end) const {
+        Eigen::Vector3f lo = Eigen::Vector3f::Constant(1e30f), hi = -lo;
+        for (std::size_t i = begin; i < end; ++i) {
+            const Eigen::Vector3f p(positions_[i].x, positions_[i].y, positions_[i].z);
+            lo = lo.cwiseMin(p);
+            hi = hi.cwiseMax(p);
+        }
+        const Eigen::Vector3f centre = 0.5f * (lo + hi);
+        // Entries count as partly wet up to half their extent above the surface (wetShare).
+        float radius = 0;
+        for (std::size_t i = begin; i < end; ++i) {
+            const Eigen::Vector3f p(positions_[i].x, positions_[i].y, positions_[i].z);
+            radius = std::max(radius, (p - centre).norm() + 0.5f * std::sqrt(positions_[i].w));
+        }
+        // Slack for the kernel's single-precision rotation of the centre.
+        radius = radius * (1.0f + 1e-5f) + 1e-6f * centre.norm();
+        gpu::PlTile tile{};
+        tile.body = body;
+        tile.begin = static_cast<std::uint32_t>(begin);
+        tile.end = static_cast<std::uint32_t>(end);
+        tile.sphere = {centre.x(), centre.y(), centre.z(), radius};
+        return tile;
+    }
+
+    template <class T>
+    cl::Buffer upload(const std::vector<T>& data) {
+        return cl::Buffer(context_, CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR,
+                          std::max<std::size_t>(1, data.size()) * sizeof(T),
+                          const_cast<T*>(data.data()));
+    }
+
+    /// Creates every buffer for the current set of bodies; evaluate() only writes into them.
+    void rebuildBuffers() {
+        const std::size_t accSize = fp64_ ? sizeof(double) : sizeof(float);
+        positionsBuffer_ = upload(positions_);
+        areaVectorsBuffer_ = upload(areaVectors_);
+        tilesBuffer_ = upload(tiles_);
+        bodyParams_.assign(bodies_.size(), gpu::PlBody{});
+        bodiesBuffer_ = cl::Buffer(context_, CL_MEM_READ_ONLY,
+                                   std::max<std::size_t>(1, bodies_.size()) * sizeof(gpu::PlBody));
+        wavesBuffer_ = cl::Buffer(context_, CL_MEM_READ_ONLY,
+                                  std::max<std::size_t>(1, bodies_.size()) * PL_MAX_WAVES *
+                                      sizeof(gpu::PlWave));
+        waveParams_.assign(bodies_.size() * PL_MAX_WAVES, gpu::PlWave{});
+        partialsBuffer_ = cl::Buffer(context_, CL_MEM_READ_WRITE,
+                                     std::max<std::size_t>(1, tiles_.size()) * PL_SUM_SLOTS * accSize);
+        totalsBuffer_ = cl::Buffer(context_, CL_MEM_WRITE_ONLY,
+                                   std::max<std::size_t>(1, bodies_.size()) * PL_SUM_SLOTS * accSize);
+        totalsHost_.assign(std::max<std::size_t>(1, bodies_.size()) * PL_SUM_SLOTS * accSize, 0);
+        gridHeights_.clear();
+        gridBuffer_ = cl::Buffer(context_, CL_MEM_READ_ONLY, sizeof(float));
+        buffersStale_ = false;
+    }
+
+    /// Fills the per-frame parameters: every body relative to its own centre of mass, in
+    /// double on the host, then rounded (so a body 1e5 m away keeps millimetres).
+    Status prepareFrame(std::span<const BodyRequest> requests, const WaterModel& water) {
+        for (std::size_t b = 0; b < bodies_.size(); ++b) {
+            gpu::PlBody& p = bodyParams_[b];
+            p = gpu::PlBody{};
+            p.water = {0.0f, -3e38f, 0.0f, 0.0f};  // not requested: every tile is culled
+            p.tileBegin = bodies_[b].tileBegin;
+            p.tileEnd = bodies_[b].tileEnd;
+        }
+        if (water.kind == WaterModel::Kind::HeightField) uploadGrid(water.grid);
+        for (const BodyRequest& request : requests) {
+            if (request.body >= bodies_.size()) return makeError("evaluate: unknown body id");
+            const Body& body = bodies_[request.body];
+            const BodyFrame& frame = request.frame;
+            const Eigen::Vector3d c = frame.pose.apply(body.centerOfMass);
+            gpu::PlBody& p = bodyParams_[request.body];
+            for (int k = 0; k < 3; ++k) p.rotation[k] = toFloat4(frame.pose.rotation.row(k).transpose());
+            p.velocity = toFloat4(frame.motion.linear);
+            p.spin = toFloat4(frame.motion.angular);
+            p.water = {static_cast<float>(water.level - c.y()),
+                       static_cast<float>(water.maxHeight() - c.y()), 0.0f, 0.0f};
+            const FluidSettings& fluid = request.fluid;
+            p.fluid = {static_cast<float>(fluid.density * fluid.gravity),
+                       static_cast<float>(0.5 * fluid.density * fluid.dragCoefficient),
+                       static_cast<float>(0.5 * fluid.density * fluid.frictionCoefficient),
+                       static_cast<float>(fluid.density)};
+            p.waveBegin = static_cast<gpu::pl_int>(request.body * PL_MAX_WAVES);
+            switch (water.kind) {
+                case WaterModel::Kind::Flat:
+                    p.waterModel = PL_WATER_FLAT;
+                    break;
+                case WaterModel::Kind::Gerstner:
+                    p.waterModel = PL_WATER_GERSTNER;
+                    p.waveCount = fillWaves(water, c, frame.time, p.waveBegin);
+                    break;
+                case WaterModel::Kind::HeightField: {
+                    p.waterModel = PL_WATER_HEIGHTFIELD;
+                    const double gx = (c.x() - water.grid.origin.x()) / water.grid.spacing;
+                    const double gz = (c.z() - water.grid.origin.y()) / water.grid.spacing;
+                    // Beyond the grid every cell index clamps to the edge anyway.
+                    const double cellX = std::clamp(std::floor(gx), -1e6, 1e6);
+                    const double cellZ = std::clamp(std::floor(gz), -1e6, 1e6);
+                    p.gridCellX = static_cast<gpu::pl_int>(cellX);
+                    p.gridCellZ = static_cast<gpu::pl_int>(cellZ);
+                    p.grid = {static_cast<float>(std::clamp(gx - cellX, -1e6, 1e6)),
+                              static_cast<float>(std::clamp(gz - cellZ, -1e6, 1e6)),
+                              static_cast<float>(1.0 / water.grid.spacing), 0.0f};
+                    break;
+                }
+            }
+        }
+        return Ok{};
+    }
+
+    int fillWaves(const WaterModel& water, const Eigen::Vector3d& c, double time, int first) {
+        const int count = std::min<int>(PL_MAX_WAVES, static_cast<int>(water.waves.size()));
+        for (int w = 0; w < count; ++w) {
+            const GerstnerWave& wave = water.waves[w];
+            const double k = 2.0 * std::numbers::pi / wave.wavelength;
+            const double omega = std::sqrt(water.gravity * k);
+            const double n = wave.direction.norm();
+            const Eigen::Vector2d d = n > 0 ? Eigen::Vector2d(wave.direction / n)
+                                            : Eigen::Vector2d(1.0, 0.0);
+            // The phase at the centre of mass, in double and reduced, so float keeps it.
+            const double phase = std::remainder(
+                k * (d.x() * c.x() + d.y() * c.z()) - omega * time + wave.phase,
+                2.0 * std::numbers::pi);
+            gpu::PlWave& out = waveParams_[first + w];
+            out.amplitude = static_cast<float>(wave.amplitude);
+            out.wavenumber = static_cast<float>(k);
+            out.omega = static_cast<float>(omega);
+            out.q = static_cast<float>(wave.amplitude > 0
+                                           ? wave.steepness / (k * wave.amplitude *
+                                                               static_cast<double>(water.waves.size()))
+                                           : 0.0);
+            out.directionX = static_cast<float>(d.x());
+            out.directionZ = static_cast<float>(d.y());
+            out.phase = static_cast<float>(phase);
+        }
+        return count;
+    }
+
+    void uploadGrid(const HeightGrid& grid) {
+        if (grid.heights == gridHeights_ && gridCountX_ == grid.countX) return;
+        gridHeights_ = grid.heights;
+        gridCountX_ = grid.countX;
+        gridCountZ_ = grid.countZ;
+        gridBuffer_ = upload(gridHeights_);
+    }
+
+    /// The kernel variant for this frame's water, without drag when nothing moves.
+    cl::Kernel& tilesKernelFor(std::span<const BodyRequest> requests, const WaterModel& water) {
+        const int model = water.kind == WaterModel::Kind::Gerstner      ? 1
+                          : water.kind == WaterModel::Kind::HeightField ? 2
+                                                                        : 0;
+        bool still = water.kind != WaterModel::Kind::Gerstner;
+        for (const BodyRequest& r : requests)
+            still = still && r.frame.motion.linear.isZero() && r.frame.motion.angular.isZero();
+        return tilesKernels_[model][still ? 1 : 0];
+    }
+
+    void runFrame(cl::Kernel& tilesKernel) {
+        cl::Event writeBodies, writeWaves, tilesDone, reduceDone, readTotals;
+        queue_.enqueueWriteBuffer(bodiesBuffer_, CL_FALSE, 0,
+                                  bodyParams_.size() * sizeof(gpu::PlBody), bodyParams_.data(),
+                                  nullptr, &writeBodies);
+        queue_.enqueueWriteBuffer(wavesBuffer_, CL_FALSE, 0,
+                                  waveParams_.size() * sizeof(gpu::PlWave), waveParams_.data(),
+                                  nullptr, &writeWaves);
+        tilesKernel.setArg(0, positionsBuffer_);
+        tilesKernel.setArg(1, areaVectorsBuffer_);
+        tilesKernel.setArg(2, tilesBuffer_);
+        tilesKernel.setArg(3, bodiesBuffer_);
+        tilesKernel.setArg(4, wavesBuffer_);
+        tilesKernel.setArg(5, gridBuffer_);
+        tilesKernel.setArg(6, static_cast<cl_int>(std::max(1, gridCountX_)));
+        tilesKernel.setArg(7, static_cast<cl_int>(std::max(1, gridCountZ_)));
+        tilesKernel.setArg(8, partialsBuffer_);
+        if (!tiles_.empty()) {
+            queue_.enqueueNDRangeKernel(tilesKernel, cl::NullRange,
+                                        cl::NDRange(tiles_.size() * PL_WORKGROUP_SIZE),
+                                        cl::NDRange(PL_WORKGROUP_SIZE), nullptr, &tilesDone);
+        }
+        reduceKernel_.setArg(0, partialsBuffer_);
+        reduceKernel_.setArg(1, bodiesBuffer_);
+        reduceKernel_.setArg(2, totalsBuffer_);
+        queue_.enqueueNDRangeKernel(reduceKernel_, cl::NullRange,
+                                    cl::NDRange(bodies_.size() * PL_WORKGROUP_SIZE),
+                                    cl::NDRange(PL_WORKGROUP_SIZE), nullptr, &reduceDone);
+        queue_.enqueueReadBuffer(totalsBuffer_, CL_TRUE, 0, totalsHost_.size(),
+                                 totalsHost_.data(), nullptr, &readTotals);
+        timings_.uploadMs = eventMs(writeBodies) + eventMs(writeWaves);
+        timings_.kernelMs = (tiles_.empty() ? 0.0 : eventMs(tilesDone)) + eventMs(reduceDone);
+        timings_.readbackMs = eventMs(readTotals);
+    }
+
+    cl::Device device_;
+    cl::Context context_;
+    cl::CommandQueue queue_;
+    cl::Program program_;
+    std::array<std::array<cl::Kernel, 2>, 3> tilesKernels_;  ///< [water model][still]
+    cl::Kernel reduceKernel_;
+    bool fp64_;
+    std::size_t tileSize_;  ///< entries per tile: PL_WORKGROUP_SIZE x items per thread
+    std::string name_;
+
+    std::vector<Body> bodies_;
+    std::vector<pl_float4> positions_, areaVectors_;
+    std::vector<gpu::PlTile> tiles_;
+    bool buffersStale_ = true;
+    cl::Buffer positionsBuffer_, areaVectorsBuffer_, tilesBuffer_, bodiesBuffer_, wavesBuffer_,
+        gridBuffer_, partialsBuffer_, totalsBuffer_;
+    std::vector<gpu::PlBody> bodyParams_;
+    std::vector<gpu::PlWave> waveParams_;
+    std::vector<unsigned char> totalsHost_;
+    std::vector<float> gridHeights_;
+    int gridCountX_ = 0, gridCountZ_ = 0;
+    FrameTimings timings_;
+};
+
+bool deviceHasFp64(const cl::Device& device) {
+    return device.getInfo<CL_DEVICE_EXTENSIONS>().find("cl_khr_fp64") != std::string::npos;
+}
+
+/// Entries per work-item: the group's reduction of all slots in local memory costs about as
+/// much as a few entries, so each work-item takes several. 8 was fastest on PoCL (2 cores:
+/// 3.0 ms against 10 ms with one entry per work-item, 1024^2 texels, 10 sums).
+int itemsPerThreadFor(const cl::Device&) { return 8; }
+
+}  // namespace
+
+std::vector<ComputeDevice> listComputeDevices() {
+    std::vector<ComputeDevice> out;
+    const std::vector<DeviceHandle> handles = enumerateDevices();
+    for (std::size_t i = 0; i < handles.size(); ++i) {
+        const cl::Device& d = handles[i].device;
+        ComputeDevice info;
+        info.index = static_cast<int>(i);
+        info.platform = handles[i].platform.getInfo<CL_PLATFORM_NAME>();
+        info.name = d.getInfo<CL_DEVICE_NAME>();
+        info.isGpu = (d.getInfo<CL_DEVICE_TYPE>() & CL_DEVICE_TYPE_GPU) != 0;
+        info.hasFp64 = deviceHasFp64(d);
+        info.globalMemory = d.getInfo<CL_DEVICE_GLOBAL_MEM_SIZE>();
+        out.push_back(info);
+    }
+    return out;
+}
+
+namespace detail {
+
+Result<std::unique_ptr<BuoyancyBackend>> createOpenClBackend(int index) {
+    const std::vector<DeviceHandle> handles = enumerateDevices();
+    if (index < 0 || index >= static_cast<int>(handles.size())) {
+        return makeError("no OpenCL device " + std::to_string(index));
+    }
+    try {
+        const DeviceHandle& handle = handles[index];
+        cl::Context context(handle.device);
+        const bool fp64 = deviceHasFp64(handle.device);
+        const int items = itemsPerThreadFor(handle.device);
+        Result<cl::Program> program = buildProgram(context, handle.device, fp64, items);
+        if (!program) return program.error();
+        return std::unique_ptr<BuoyancyBackend>(std::make_unique<OpenClBackend>(
+            handle, context, std::move(*program), fp64, items * PL_WORKGROUP_SIZE));
+    } catch (const cl::Error& e) {
+        return makeError(clError(e));
+    }
+}
+
+}  // namespace detail
+
+Result<double> measureCopyBandwidth(const std::string& spec, std::size_t bytes) {
+    std::vector<DeviceHandle> handles = enumerateDevices();
+    int index = -1;
+    for (std::size_t i = 0; i < handles.size(); ++i) {
+        const bool gpu = (handles[i].device.getInfo<CL_DEVICE_TYPE>() & CL_DEVICE_TYPE_GPU) != 0;
+        if (spec == std::to_string(i) || (spec == "gpu" && gpu) || (spec == "cpu" && !gpu)) {
+            index = static_cast<int>(i);
+            break;
+        }
+    }
+    if (index < 0) return makeError("no OpenCL device '" + spec + "' to measure");
+    try {
+        const cl::Device& device = handles[index].device;
+        cl::Context context(device);
+        Result<cl::Program> program =
+            buildProgram(context, device, deviceHasFp64(device), itemsPerThreadFor(device));
+        if (!program) return program.error();
+        cl::CommandQueue queue(context, device, CL_QUEUE_PROFILING_ENABLE);
+        cl::Kernel copy(*program, "copy_float4");
+        const std::size_t count = bytes / sizeof(pl_float4);
+        cl::Buffer source(context, CL_MEM_READ_WRITE, count * sizeof(pl_float4));
+        cl::Buffer target(context, CL_MEM_READ_WRITE, count * sizeof(pl_float4));
+        queue.enqueueFillBuffer(source, 1.0f, 0, count * sizeof(pl_float4));
+        copy.setArg(0, source);
+        copy.setArg(1, target);
+        std::vector<double> ms;
+        for (int run = 0; run < 12; ++run) {
+            cl::Event done;
+            queue.enqueueNDRangeKernel(copy, cl::NullRange, cl::NDRange(count), cl::NullRange,
+                                       nullptr, &done);
+            done.wait();
+            if (run >= 2) ms.push_back(eventMs(done));  // the first runs warm up
+        }
+        std::sort(ms.begin(), ms.end());
+        const double median = ms[ms.size() / 2];
+        return 2.0 * static_cast<double>(count * sizeof(pl_float4)) / (median * 1e-3) / 1e9;
+    } catch (const cl::Error& e) {
+        return makeError(clError(e));
+    }
+}
+
+}  // namespace plimsoll
