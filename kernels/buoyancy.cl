@@ -113,11 +113,71 @@ PL_INLINE float wetShare(float depth, float3 areaVector, float area) {
     return clamp(0.5f + depth / extent, 0.0f, 1.0f);
 }
 
+/// The sums of a tile lying wholly under flat water at height f (relative to c), from its
+/// moments: with r = R p and A = R a, Mw = sum A r^T = R M R^T and
+/// Tw[i][j] = sum A_i r_j r_y = (R U R^T)[i][j], U[a][b] = sum_c T[a][b][c] R[y][c]. Then
+///   V = Mw_yy - f Sw_y,  moments: Tw_yx - f Mw_yx, (Tw_yy - f^2 Sw_y)/2, Tw_yz - f Mw_yz,
+///   F_i = -rho g (f Sw_i - Mw_iy),  T_i = -rho g eps_ijk (f Mw_kj - Tw_kj).
+/// The same numbers the per-texel loop sums, up to rounding.
+PL_INLINE void submergedTileFromMoments(const PlBody* body, __global const PlTileMoments* m,
+                                        __global acc_t* out) {
+    float R[3][3];
+    for (int i = 0; i < 3; ++i) {
+        R[i][0] = body->rotation[i].x;
+        R[i][1] = body->rotation[i].y;
+        R[i][2] = body->rotation[i].z;
+    }
+    float S[3] = {m->sum.x, m->sum.y, m->sum.z};
+    float M[3][3], U[3][3];
+    for (int a = 0; a < 3; ++a) {
+        const float4 row = m->first[a];
+        M[a][0] = row.x;
+        M[a][1] = row.y;
+        M[a][2] = row.z;
+        for (int b = 0; b < 3; ++b) {
+            const float4 t = m->second[3 * a + b];
+            U[a][b] = t.x * R[1][0] + t.y * R[1][1] + t.z * R[1][2];
+        }
+    }
+    float Sw[3], Mw[3][3], Tw[3][3];
+    for (int i = 0; i < 3; ++i) {
+        Sw[i] = R[i][0] * S[0] + R[i][1] * S[1] + R[i][2] * S[2];
+        for (int j = 0; j < 3; ++j) {
+            float mw = 0.0f, tw = 0.0f;
+            for (int a = 0; a < 3; ++a)
+                for (int b = 0; b < 3; ++b) {
+                    mw += R[i][a] * M[a][b] * R[j][b];
+                    tw += R[i][a] * U[a][b] * R[j][b];
+                }
+            Mw[i][j] = mw;
+            Tw[i][j] = tw;
+        }
+    }
+    const float f = body->water.x;
+    const float rhoG = body->fluid.x;
+    out[PL_SUM_VOLUME] = Mw[1][1] - f * Sw[1];
+    out[PL_SUM_MOMENT + 0] = Tw[1][0] - f * Mw[1][0];
+    out[PL_SUM_MOMENT + 1] = 0.5f * (Tw[1][1] - f * f * Sw[1]);
+    out[PL_SUM_MOMENT + 2] = Tw[1][2] - f * Mw[1][2];
+    for (int i = 0; i < 3; ++i) {
+        out[PL_SUM_PRESSURE_F + i] = -rhoG * (f * Sw[i] - Mw[i][1]);
+        const int j = (i + 1) % 3, k = (i + 2) % 3;
+        // eps_ijk X_kj = X_kj - X_jk for cyclic (i, j, k).
+        out[PL_SUM_PRESSURE_T + i] =
+            -rhoG * (f * (Mw[k][j] - Mw[j][k]) - (Tw[k][j] - Tw[j][k]));
+        out[PL_SUM_DRAG_F + i] = 0;
+        out[PL_SUM_DRAG_T + i] = 0;
+    }
+    out[PL_SUM_WETTED_AREA] = m->sum.w;
+    out[PL_SUM_COUNT] = m->first[0].w;
+}
+
 /// The body of every buoyancy_tiles_* kernel. waterModel and withDrag are literal constants at
 /// each call: the compiler drops the branches of the other water models (half the time on
 /// PoCL) and, for bodies at rest in still water, the drag.
 PL_INLINE void buoyancyTiles(__global const float4* positions, __global const float4* areaVectors,
-                          __global const PlTile* tiles, __global const PlBody* bodies,
+                          __global const PlTile* tiles, __global const PlTileMoments* moments,
+                          __global const PlBody* bodies,
                           __global const PlWave* waves, __global const float* grid,
                           int gridCountX, int gridCountZ, __global acc_t* partials,
                           __local acc_t* scratch, const int waterModel, const int withDrag) {
@@ -130,6 +190,13 @@ PL_INLINE void buoyancyTiles(__global const float4* positions, __global const fl
     const float sphereBottom = dot(body.rotation[1].xyz, tile.sphere.xyz) - tile.sphere.w;
     if (sphereBottom > body.water.y) {
         if (lid < PL_SUM_SLOTS) partials[tileIndex * PL_SUM_SLOTS + lid] = 0;
+        return;
+    }
+    // Wholly under flat water and nothing moving: the tile's moments give every sum.
+    if (waterModel == PL_WATER_FLAT && !withDrag &&
+        sphereBottom + 2.0f * tile.sphere.w < body.water.x) {
+        if (lid == 0) submergedTileFromMoments(&body, &moments[tileIndex],
+                                               partials + tileIndex * PL_SUM_SLOTS);
         return;
     }
 
@@ -205,11 +272,12 @@ PL_INLINE void buoyancyTiles(__global const float4* positions, __global const fl
 #define PL_TILES_KERNEL(name, model, drag)                                                   \
     __kernel __attribute__((reqd_work_group_size(PL_WORKGROUP_SIZE, 1, 1))) void name(           \
         __global const float4* positions, __global const float4* areaVectors,                    \
-        __global const PlTile* tiles, __global const PlBody* bodies,                             \
+        __global const PlTile* tiles, __global const PlTileMoments* moments,                     \
+        __global const PlBody* bodies,                                                           \
         __global const PlWave* waves, __global const float* grid, int gridCountX,                \
         int gridCountZ, __global acc_t* partials) {                                              \
         __local acc_t scratch[PL_SUM_SLOTS * PL_WORKGROUP_SIZE];                                 \
-        buoyancyTiles(positions, areaVectors, tiles, bodies, waves, grid, gridCountX,           \
+        buoyancyTiles(positions, areaVectors, tiles, moments, bodies, waves, grid, gridCountX,  \
                       gridCountZ, partials, scratch, model, drag);                              \
     }
 

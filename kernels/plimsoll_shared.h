@@ -80,6 +80,15 @@ typedef struct {
     pl_float4 sphere;  /* xyz: centre relative to c, object space (m); w: radius (m) */
 } PlTile;
 
+/// Moments of a tile's entries (object space, relative to c), so that a tile lying wholly
+/// under flat water costs a few dozen operations instead of a pass over its texels: every
+/// hydrostatic sum is then a polynomial in the pose (DESIGN.md, performance notes).
+typedef struct {
+    pl_float4 sum;        /* xyz: sum a; w: sum of areas                                */
+    pl_float4 first[3];   /* [i].xyz: sum a_i p (x, y, z); [0].w: entry count            */
+    pl_float4 second[9];  /* [3 i + j].xyz: sum a_i p_j p (x, y, z)                      */
+} PlTileMoments;
+
 #ifndef __OPENCL_VERSION__
 }  // namespace plimsoll::gpu
 #endif

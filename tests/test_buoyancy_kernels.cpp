@@ -127,6 +127,23 @@ TEST(BuoyancyKernels, EveryDeviceMatchesTheReference) {
                 expectAgree(result, expected, body, fluid, speed, 1e-5);
             }
         }
+        // Bodies at rest on flat water: tiles wholly under water take the closed form from
+        // their moments, the others the per-texel loop.
+        for (int trial = 0; trial < 12; ++trial) {
+            const Body& body = bodies[trial % bodies.size()];
+            BodyRequest request;
+            request.body = ids[trial % bodies.size()];
+            request.frame.pose = Pose::fromEulerDegrees({0.1 * unit(random), 0, 0.1 * unit(random)},
+                                                        {180 * unit(random), 90 * unit(random), 0});
+            request.frame.centerOfMass = body.props.centerOfMass;
+            const WaterModel water = WaterModel::flat(0.1 * trial - 0.5);
+            BuoyancyResult result;
+            ASSERT_TRUE(backend->evaluate({&request, 1}, water, {&result, 1}).ok());
+            expectAgree(result, evaluateBuoyancyReference(body.textures, request.frame, water, {}),
+                        body, {}, 1.0, 1e-5);
+            EXPECT_EQ(result.submergedSamples,
+                      evaluateBuoyancyReference(body.textures, request.frame, water, {}).submergedSamples);
+        }
         // Texels exactly at the water surface: a flat level through entries' own heights.
         const Body& sphere = bodies[0];
         for (std::size_t entry : {0ul, 777ul, 2000ul}) {

@@ -120,6 +120,7 @@ public:
         for (std::size_t begin = first; begin < positions_.size(); begin += tileSize_) {
             const std::size_t end = std::min(positions_.size(), begin + tileSize_);
             tiles_.push_back(tileOf(static_cast<std::uint32_t>(bodies_.size()), begin, end));
+            tileMoments_.push_back(momentsOf(textures, centerOfMass, begin - first, end - first));
         }
         body.tileEnd = static_cast<std::uint32_t>(tiles_.size());
         bodies_.push_back(body);
@@ -188,6 +189,32 @@ private:
         return tile;
     }
 
+    /// Sums of a, a p^T and a_i p_j p^T over entries [begin, end) of `textures`, in double.
+    static gpu::PlTileMoments momentsOf(const SurfaceTextures& textures,
+                                        const Eigen::Vector3d& centerOfMass, std::size_t begin,
+                                        std::size_t end) {
+        Eigen::Vector3d sum = Eigen::Vector3d::Zero();
+        Eigen::Matrix3d first = Eigen::Matrix3d::Zero();
+        Eigen::Matrix3d second[9];
+        for (auto& m : second) m.setZero();
+        double area = 0;
+        for (std::size_t i = begin; i < end; ++i) {
+            const Eigen::Vector3d p = textures.position[i] - centerOfMass;
+            const Eigen::Vector3d& a = textures.areaVector[i];
+            sum += a;
+            area += textures.area[i];
+            first += a * p.transpose();
+            for (int k = 0; k < 3; ++k)
+                for (int j = 0; j < 3; ++j) second[3 * k + j].row(0) += a[k] * p[j] * p.transpose();
+        }
+        gpu::PlTileMoments m{};
+        m.sum = toFloat4(sum, area);
+        for (int k = 0; k < 3; ++k) m.first[k] = toFloat4(first.row(k).transpose());
+        m.first[0].w = static_cast<float>(end - begin);
+        for (int k = 0; k < 9; ++k) m.second[k] = toFloat4(second[k].row(0).transpose());
+        return m;
+    }
+
     template <class T>
     cl::Buffer upload(const std::vector<T>& data) {
         return cl::Buffer(context_, CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR,
@@ -201,6 +228,7 @@ private:
         positionsBuffer_ = upload(positions_);
         areaVectorsBuffer_ = upload(areaVectors_);
         tilesBuffer_ = upload(tiles_);
+        tileMomentsBuffer_ = upload(tileMoments_);
         bodyParams_.assign(bodies_.size(), gpu::PlBody{});
         bodiesBuffer_ = cl::Buffer(context_, CL_MEM_READ_ONLY,
                                    std::max<std::size_t>(1, bodies_.size()) * sizeof(gpu::PlBody));
@@ -331,12 +359,13 @@ private:
         tilesKernel.setArg(0, positionsBuffer_);
         tilesKernel.setArg(1, areaVectorsBuffer_);
         tilesKernel.setArg(2, tilesBuffer_);
-        tilesKernel.setArg(3, bodiesBuffer_);
-        tilesKernel.setArg(4, wavesBuffer_);
-        tilesKernel.setArg(5, gridBuffer_);
-        tilesKernel.setArg(6, static_cast<cl_int>(std::max(1, gridCountX_)));
-        tilesKernel.setArg(7, static_cast<cl_int>(std::max(1, gridCountZ_)));
-        tilesKernel.setArg(8, partialsBuffer_);
+        tilesKernel.setArg(3, tileMomentsBuffer_);
+        tilesKernel.setArg(4, bodiesBuffer_);
+        tilesKernel.setArg(5, wavesBuffer_);
+        tilesKernel.setArg(6, gridBuffer_);
+        tilesKernel.setArg(7, static_cast<cl_int>(std::max(1, gridCountX_)));
+        tilesKernel.setArg(8, static_cast<cl_int>(std::max(1, gridCountZ_)));
+        tilesKernel.setArg(9, partialsBuffer_);
         if (!tiles_.empty()) {
             queue_.enqueueNDRangeKernel(tilesKernel, cl::NullRange,
                                         cl::NDRange(tiles_.size() * PL_WORKGROUP_SIZE),
@@ -368,8 +397,9 @@ private:
     std::vector<Body> bodies_;
     std::vector<pl_float4> positions_, areaVectors_;
     std::vector<gpu::PlTile> tiles_;
+    std::vector<gpu::PlTileMoments> tileMoments_;
     bool buffersStale_ = true;
-    cl::Buffer positionsBuffer_, areaVectorsBuffer_, tilesBuffer_, bodiesBuffer_, wavesBuffer_,
+    cl::Buffer positionsBuffer_, areaVectorsBuffer_, tilesBuffer_, tileMomentsBuffer_, bodiesBuffer_, wavesBuffer_,
         gridBuffer_, partialsBuffer_, totalsBuffer_;
     std::vector<gpu::PlBody> bodyParams_;
     std::vector<gpu::PlWave> waveParams_;
