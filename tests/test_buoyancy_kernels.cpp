@@ -7,6 +7,7 @@
 #include "plimsoll/massprops.h"
 #include "plimsoll/primitives.h"
 
+#include "opencl_backend.h"
 #include "test_support.h"
 
 #include <Eigen/Geometry>
@@ -157,6 +158,31 @@ TEST(BuoyancyKernels, EveryDeviceMatchesTheReference) {
                         sphere, {}, 1.0, 1e-5);
         }
     }
+}
+
+// Jolt's deliberately failing shader: a kernel that does not compile is reported with the
+// device's build log, naming the offending identifier.
+TEST(BuoyancyKernels, ABrokenKernelIsReportedWithItsBuildLog) {
+    const std::vector<ComputeDevice> devices = listComputeDevices();
+    if (devices.empty()) GTEST_SKIP() << "no OpenCL device";
+    EXPECT_TRUE(detail::compileKernelSource(devices[0].index, "__kernel void fine(__global float* x) { x[0] = 1.0f; }").ok());
+    const Status broken = detail::compileKernelSource(
+        devices[0].index, "__kernel void broken(__global float* x) { x[0] = undeclared_thing; }");
+    ASSERT_FALSE(broken.ok());
+    EXPECT_NE(broken.error().message.find("failed to build"), std::string::npos);
+    EXPECT_NE(broken.error().message.find("undeclared_thing"), std::string::npos);
+}
+
+TEST(BuoyancyKernels, UnknownDeviceSpecsAreClearErrors) {
+    for (const char* spec : {"banana", "99", "-1"}) {
+        auto backend = createBuoyancyBackend(spec);
+        if (listComputeDevices().empty()) continue;  // no platform: the reference answers
+        ASSERT_FALSE(backend.ok()) << spec;
+        EXPECT_NE(backend.error().message.find(spec), std::string::npos);
+    }
+    auto reference = createBuoyancyBackend("reference");
+    ASSERT_TRUE(reference.ok());
+    EXPECT_EQ((*reference)->deviceName(), "reference (C++)");
 }
 
 TEST(BuoyancyKernels, ABatchGivesWhatSeparateCallsGive) {

@@ -67,8 +67,9 @@ double eventMs(const cl::Event& event) {
 
 /// Compiles the embedded kernels for a device, with the build log in the error.
 Result<cl::Program> buildProgram(const cl::Context& context, const cl::Device& device,
-                                 bool fp64, int itemsPerThread) {
-    cl::Program program(context, detail::kBuoyancyKernelSource);
+                                 bool fp64, int itemsPerThread,
+                                 const std::string& source = detail::kBuoyancyKernelSource) {
+    cl::Program program(context, source);
     const std::string options = "-cl-std=CL1.2 -DPL_ITEMS_PER_THREAD=" +
                                 std::to_string(itemsPerThread) + (fp64 ? " -DPL_ACC_DOUBLE" : "");
     try {
@@ -453,6 +454,23 @@ Result<std::unique_ptr<BuoyancyBackend>> createOpenClBackend(int index) {
         if (!program) return program.error();
         return std::unique_ptr<BuoyancyBackend>(std::make_unique<OpenClBackend>(
             handle, context, std::move(*program), fp64, items * PL_WORKGROUP_SIZE));
+    } catch (const cl::Error& e) {
+        return makeError(clError(e));
+    }
+}
+
+Status compileKernelSource(int index, const std::string& source) {
+    const std::vector<DeviceHandle> handles = enumerateDevices();
+    if (index < 0 || index >= static_cast<int>(handles.size())) {
+        return makeError("no OpenCL device " + std::to_string(index));
+    }
+    try {
+        const cl::Device& device = handles[index].device;
+        cl::Context context(device);
+        Result<cl::Program> program =
+            buildProgram(context, device, deviceHasFp64(device), itemsPerThreadFor(device), source);
+        if (!program) return program.error();
+        return Ok{};
     } catch (const cl::Error& e) {
         return makeError(clError(e));
     }
