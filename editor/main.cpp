@@ -17,6 +17,7 @@ int main(int argc, char** argv) {
     addBakeCommand(app, selected);
     addMassPropsCommand(app, selected);
     addSamplesCommand(app, selected);
+    addBenchCommand(app, selected);
     try {
         app.parse(argc, argv);
     } catch (const CLI::ParseError& e) {

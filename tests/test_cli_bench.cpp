@@ -1,0 +1,152 @@
+// plimsoll bench end to end: a --quick run writes a table, a CSV with one row per measurement
+// and an SVG plot; the errors it reports are finite and shrink as the textures grow. No timing
+// assertions: speed is what the benchmark prints, not what a test can hold a machine to.
+#include "plimsoll/compute.h"
+
+#include "test_support.h"
+
+#include <array>
+#include <cmath>
+#include <cstdio>
+#include <fstream>
+#include <map>
+#include <sstream>
+#include <sys/wait.h>
+#include <unistd.h>
+
+namespace plimsoll {
+namespace {
+
+namespace fs = std::filesystem;
+
+struct CommandOutput {
+    int exitCode = -1;
+    std::string out;
+    std::string err;
+};
+
+CommandOutput runPlimsoll(const std::string& arguments) {
+    // ctest runs tests as parallel processes: each gets its own stderr file.
+    static int calls = 0;
+    const fs::path errFile = fs::temp_directory_path() / "plimsoll_tests" /
+                             ("stderr_bench_" + std::to_string(::getpid()) + "_" +
+                              std::to_string(calls++) + ".txt");
+    fs::create_directories(errFile.parent_path());
+    const std::string command =
+        std::string("'") + PLIMSOLL_EXECUTABLE + "' " + arguments + " 2>'" + errFile.string() + "'";
+    CommandOutput result;
+    FILE* pipe = ::popen(command.c_str(), "r");
+    if (!pipe) return result;
+    std::array<char, 4096> buffer;
+    while (std::size_t n = std::fread(buffer.data(), 1, buffer.size(), pipe))
+        result.out.append(buffer.data(), n);
+    const int status = ::pclose(pipe);
+    result.exitCode = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+    {
+        std::ifstream err(errFile);
+        result.err.assign(std::istreambuf_iterator<char>(err), {});
+    }
+    fs::remove(errFile);
+    return result;
+}
+
+std::string readFile(const fs::path& path) {
+    std::ifstream in(path);
+    return std::string(std::istreambuf_iterator<char>(in), {});
+}
+
+/// One CSV line split into fields ("..." quoting with doubled quotes, as device names need).
+std::vector<std::string> splitCsvLine(const std::string& line) {
+    std::vector<std::string> fields(1);
+    bool quoted = false;
+    for (std::size_t i = 0; i < line.size(); ++i) {
+        const char c = line[i];
+        if (quoted && c == '"' && i + 1 < line.size() && line[i + 1] == '"') {
+            fields.back() += '"';
+            ++i;
+        } else if (c == '"') {
+            quoted = !quoted;
+        } else if (c == ',' && !quoted) {
+            fields.emplace_back();
+        } else {
+            fields.back() += c;
+        }
+    }
+    return fields;
+}
+
+using CsvRow = std::map<std::string, std::string>;
+
+std::vector<CsvRow> parseCsv(const std::string& text) {
+    std::istringstream in(text);
+    std::string line;
+    std::getline(in, line);
+    const std::vector<std::string> header = splitCsvLine(line);
+    std::vector<CsvRow> rows;
+    while (std::getline(in, line)) {
+        const std::vector<std::string> fields = splitCsvLine(line);
+        EXPECT_EQ(fields.size(), header.size()) << line;
+        CsvRow row;
+        for (std::size_t i = 0; i < std::min(fields.size(), header.size()); ++i)
+            row[header[i]] = fields[i];
+        rows.push_back(std::move(row));
+    }
+    return rows;
+}
+
+const char* const kErrorColumns[] = {"volume_error", "cob_error", "torque_error"};
+
+TEST(CliBench, QuickRunWritesTableCsvAndSvg) {
+    const fs::path out =
+        fs::temp_directory_path() / ("plimsoll_bench_" + std::to_string(::getpid()));
+    fs::remove_all(out);
+    const std::optional<fs::path> spot = test::sharedMesh("spot.obj");
+    const CommandOutput r = runPlimsoll("bench --quick --out '" + out.string() + "' --mesh '" +
+                                        PLIMSOLL_SHARED_DIR "/meshes/spot.obj'");
+    ASSERT_EQ(r.exitCode, 0) << r.err;
+    EXPECT_NE(r.out.find("vol err"), std::string::npos) << r.out;
+
+    const std::string csv = readFile(out / "bench.csv");
+    ASSERT_EQ(csv.rfind("kind,mesh,device,", 0), 0u) << csv.substr(0, 200);
+    const std::vector<CsvRow> rows = parseCsv(csv);
+
+    // One texture row per mesh, device and size (the reference included: --quick stays within
+    // its 512 limit), one exact row per mesh, one batch row per OpenCL device.
+    const std::size_t openClDevices = listComputeDevices().size();
+    const std::size_t meshes = spot ? 2 : 1;
+    const std::size_t quickSizes = 4;
+    std::map<std::string, std::size_t> kinds;
+    for (const CsvRow& row : rows) ++kinds[row.at("kind")];
+    EXPECT_EQ(kinds["texture"], meshes * (openClDevices + 1) * quickSizes);
+    EXPECT_EQ(kinds["exact"], meshes);
+    EXPECT_EQ(kinds["batch"], openClDevices);
+    EXPECT_EQ(rows.size(), kinds["texture"] + kinds["exact"] + kinds["batch"]);
+
+    // errors[device][size] of the sphere, to check that they shrink with the texture size.
+    std::map<std::string, std::map<int, CsvRow>> sphere;
+    for (const CsvRow& row : rows) {
+        if (row.at("kind") != "texture") continue;
+        for (const char* column : kErrorColumns) {
+            const double error = std::stod(row.at(column));
+            EXPECT_TRUE(std::isfinite(error) && error >= 0)
+                << column << " " << row.at("mesh") << " " << row.at("device") << " "
+                << row.at("size");
+        }
+        if (row.at("mesh") == "sphere") sphere[row.at("device")][std::stoi(row.at("size"))] = row;
+    }
+    EXPECT_EQ(sphere.size(), openClDevices + 1);
+    for (auto& [device, bySize] : sphere) {
+        ASSERT_TRUE(bySize.count(64) && bySize.count(256)) << device;
+        for (const char* column : kErrorColumns) {
+            EXPECT_LT(std::stod(bySize[256].at(column)), std::stod(bySize[64].at(column)))
+                << device << " " << column;
+        }
+    }
+
+    const std::string svg = readFile(out / "bench.svg");
+    EXPECT_EQ(svg.rfind("<svg", 0), 0u) << svg.substr(0, 200);
+    fs::remove_all(out);
+}
+
+}  // namespace
+}  // namespace plimsoll
