@@ -18,6 +18,7 @@ int main(int argc, char** argv) {
     addMassPropsCommand(app, selected);
     addSamplesCommand(app, selected);
     addBenchCommand(app, selected);
+    addBuoyancyCommand(app, selected);
     try {
         app.parse(argc, argv);
     } catch (const CLI::ParseError& e) {
