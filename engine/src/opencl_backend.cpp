@@ -14,6 +14,7 @@
 #include <chrono>
 #include <cmath>
 #include <numbers>
+#include <span>
 
 namespace plimsoll::detail {
 extern const char* const kBuoyancyKernelSource;
@@ -113,15 +114,29 @@ public:
         Body body;
         body.centerOfMass = centerOfMass;
         body.tileBegin = static_cast<std::uint32_t>(tiles_.size());
-        const std::size_t first = positions_.size();
-        for (std::size_t i = 0; i < textures.coveredCount(); ++i) {
-            positions_.push_back(toFloat4(textures.position[i] - centerOfMass, textures.area[i]));
-            areaVectors_.push_back(toFloat4(textures.areaVector[i]));
-        }
-        for (std::size_t begin = first; begin < positions_.size(); begin += tileSize_) {
-            const std::size_t end = std::min(positions_.size(), begin + tileSize_);
-            tiles_.push_back(tileOf(static_cast<std::uint32_t>(bodies_.size()), begin, end));
-            tileMoments_.push_back(momentsOf(textures, centerOfMass, begin - first, end - first));
+        // Tiles are square blocks of texels, not runs of rows: a block is a compact patch of
+        // surface, so its bounding sphere is small and whole blocks drop out (dry) or take
+        // the closed form (under flat water) in any orientation. Sums do not care about order.
+        const std::vector<std::uint32_t> order = blockOrder(textures);
+        const std::uint32_t blockSide = blockSideFor(tileSize_);
+        std::size_t begin = 0;
+        while (begin < order.size()) {
+            const std::uint32_t block = blockOf(textures.texelIndex[order[begin]], textures.size, blockSide);
+            std::size_t end = begin + 1;
+            while (end < order.size() && end - begin < tileSize_ &&
+                   blockOf(textures.texelIndex[order[end]], textures.size, blockSide) == block)
+                ++end;
+            const std::size_t first = positions_.size();
+            for (std::size_t k = begin; k < end; ++k) {
+                const std::uint32_t i = order[k];
+                positions_.push_back(toFloat4(textures.position[i] - centerOfMass, textures.area[i]));
+                areaVectors_.push_back(toFloat4(textures.areaVector[i]));
+            }
+            tiles_.push_back(tileOf(static_cast<std::uint32_t>(bodies_.size()), first,
+                                    positions_.size()));
+            tileMoments_.push_back(momentsOf(textures, centerOfMass,
+                                             std::span(order).subspan(begin, end - begin)));
+            begin = end;
         }
         body.tileEnd = static_cast<std::uint32_t>(tiles_.size());
         bodies_.push_back(body);
@@ -190,16 +205,39 @@ private:
         return tile;
     }
 
-    /// Sums of a, a p^T and a_i p_j p^T over entries [begin, end) of `textures`, in double.
+    /// Side of a square block of texels holding about one tile.
+    static std::uint32_t blockSideFor(std::size_t tileSize) {
+        return static_cast<std::uint32_t>(std::max(1.0, std::floor(std::sqrt(double(tileSize)))));
+    }
+
+    static std::uint32_t blockOf(std::uint32_t texel, int size, std::uint32_t side) {
+        const std::uint32_t n = static_cast<std::uint32_t>(size);
+        const std::uint32_t blocksPerRow = (n + side - 1) / side;
+        return (texel / n / side) * blocksPerRow + (texel % n) / side;
+    }
+
+    /// Entries sorted by block (stable: row-major within a block).
+    std::vector<std::uint32_t> blockOrder(const SurfaceTextures& textures) const {
+        std::vector<std::uint32_t> order(textures.coveredCount());
+        for (std::uint32_t i = 0; i < order.size(); ++i) order[i] = i;
+        const std::uint32_t side = blockSideFor(tileSize_);
+        std::stable_sort(order.begin(), order.end(), [&](std::uint32_t a, std::uint32_t b) {
+            return blockOf(textures.texelIndex[a], textures.size, side) <
+                   blockOf(textures.texelIndex[b], textures.size, side);
+        });
+        return order;
+    }
+
+    /// Sums of a, a p^T and a_i p_j p^T over the given entries of `textures`, in double.
     static gpu::PlTileMoments momentsOf(const SurfaceTextures& textures,
-                                        const Eigen::Vector3d& centerOfMass, std::size_t begin,
-                                        std::size_t end) {
+                                        const Eigen::Vector3d& centerOfMass,
+                                        std::span<const std::uint32_t> entries) {
         Eigen::Vector3d sum = Eigen::Vector3d::Zero();
         Eigen::Matrix3d first = Eigen::Matrix3d::Zero();
         Eigen::Matrix3d second[9];
         for (auto& m : second) m.setZero();
         double area = 0;
-        for (std::size_t i = begin; i < end; ++i) {
+        for (std::uint32_t i : entries) {
             const Eigen::Vector3d p = textures.position[i] - centerOfMass;
             const Eigen::Vector3d& a = textures.areaVector[i];
             sum += a;
@@ -211,7 +249,7 @@ private:
         gpu::PlTileMoments m{};
         m.sum = toFloat4(sum, area);
         for (int k = 0; k < 3; ++k) m.first[k] = toFloat4(first.row(k).transpose());
-        m.first[0].w = static_cast<float>(end - begin);
+        m.first[0].w = static_cast<float>(entries.size());
         for (int k = 0; k < 9; ++k) m.second[k] = toFloat4(second[k].row(0).transpose());
         return m;
     }
