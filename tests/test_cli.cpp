@@ -2,6 +2,7 @@
 #include "plimsoll/massprops.h"
 #include "plimsoll/mesh_io.h"
 
+#include "cli_runner.h"
 #include "test_support.h"
 
 #include <nlohmann/json.hpp>
@@ -18,35 +19,8 @@ namespace {
 
 namespace fs = std::filesystem;
 
-struct CommandOutput {
-    int exitCode = -1;
-    std::string out;
-    std::string err;
-};
-
-CommandOutput runPlimsoll(const std::string& arguments) {
-    // ctest runs tests as parallel processes: each gets its own stderr file.
-    static int calls = 0;
-    const fs::path errFile = fs::temp_directory_path() / "plimsoll_tests" /
-                             ("stderr_" + std::to_string(::getpid()) + "_" +
-                              std::to_string(calls++) + ".txt");
-    fs::create_directories(errFile.parent_path());
-    const std::string command =
-        std::string("'") + PLIMSOLL_EXECUTABLE + "' " + arguments + " 2>'" + errFile.string() + "'";
-    CommandOutput result;
-    FILE* pipe = ::popen(command.c_str(), "r");
-    if (!pipe) return result;
-    std::array<char, 4096> buffer;
-    while (std::size_t n = std::fread(buffer.data(), 1, buffer.size(), pipe)) result.out.append(buffer.data(), n);
-    const int status = ::pclose(pipe);
-    result.exitCode = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-    {
-        std::ifstream err(errFile);
-        result.err.assign(std::istreambuf_iterator<char>(err), {});
-    }
-    fs::remove(errFile);
-    return result;
-}
+using test::CommandOutput;
+using test::runPlimsoll;
 
 const std::string kSphere = test::assetPath("sphere.obj").string();
 

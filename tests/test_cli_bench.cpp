@@ -3,6 +3,7 @@
 // assertions: speed is what the benchmark prints, not what a test can hold a machine to.
 #include "plimsoll/compute.h"
 
+#include "cli_runner.h"
 #include "test_support.h"
 
 #include <array>
@@ -19,36 +20,8 @@ namespace {
 
 namespace fs = std::filesystem;
 
-struct CommandOutput {
-    int exitCode = -1;
-    std::string out;
-    std::string err;
-};
-
-CommandOutput runPlimsoll(const std::string& arguments) {
-    // ctest runs tests as parallel processes: each gets its own stderr file.
-    static int calls = 0;
-    const fs::path errFile = fs::temp_directory_path() / "plimsoll_tests" /
-                             ("stderr_bench_" + std::to_string(::getpid()) + "_" +
-                              std::to_string(calls++) + ".txt");
-    fs::create_directories(errFile.parent_path());
-    const std::string command =
-        std::string("'") + PLIMSOLL_EXECUTABLE + "' " + arguments + " 2>'" + errFile.string() + "'";
-    CommandOutput result;
-    FILE* pipe = ::popen(command.c_str(), "r");
-    if (!pipe) return result;
-    std::array<char, 4096> buffer;
-    while (std::size_t n = std::fread(buffer.data(), 1, buffer.size(), pipe))
-        result.out.append(buffer.data(), n);
-    const int status = ::pclose(pipe);
-    result.exitCode = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-    {
-        std::ifstream err(errFile);
-        result.err.assign(std::istreambuf_iterator<char>(err), {});
-    }
-    fs::remove(errFile);
-    return result;
-}
+using test::CommandOutput;
+using test::runPlimsoll;
 
 std::string readFile(const fs::path& path) {
     std::ifstream in(path);

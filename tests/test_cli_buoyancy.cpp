@@ -4,6 +4,7 @@
 #include "plimsoll/massprops.h"
 #include "plimsoll/mesh_io.h"
 
+#include "cli_runner.h"
 #include "test_support.h"
 
 #include <nlohmann/json.hpp>
@@ -22,36 +23,8 @@ namespace {
 
 namespace fs = std::filesystem;
 
-struct CommandOutput {
-    int exitCode = -1;
-    std::string out;
-    std::string err;
-};
-
-CommandOutput runPlimsoll(const std::string& arguments) {
-    // ctest runs tests as parallel processes: each call gets its own stderr file.
-    static int calls = 0;
-    const fs::path errFile = fs::temp_directory_path() / "plimsoll_tests" /
-                             ("stderr_buoyancy_" + std::to_string(::getpid()) + "_" +
-                              std::to_string(calls++) + ".txt");
-    fs::create_directories(errFile.parent_path());
-    const std::string command =
-        std::string("'") + PLIMSOLL_EXECUTABLE + "' " + arguments + " 2>'" + errFile.string() + "'";
-    CommandOutput result;
-    FILE* pipe = ::popen(command.c_str(), "r");
-    if (!pipe) return result;
-    std::array<char, 4096> buffer;
-    while (std::size_t n = std::fread(buffer.data(), 1, buffer.size(), pipe))
-        result.out.append(buffer.data(), n);
-    const int status = ::pclose(pipe);
-    result.exitCode = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-    {
-        std::ifstream err(errFile);
-        result.err.assign(std::istreambuf_iterator<char>(err), {});
-    }
-    fs::remove(errFile);
-    return result;
-}
+using test::CommandOutput;
+using test::runPlimsoll;
 
 const std::string kSphere = test::assetPath("sphere.obj").string();
 const std::string kBox = test::assetPath("box.obj").string();
@@ -143,6 +116,19 @@ TEST(CliBuoyancy, RotatedBoxFollowsThePoseConvention) {
         EXPECT_NEAR(submerged(j), 0.5 * volume, 1e-12);
         EXPECT_NEAR(j.at("center_of_buoyancy")[1].get<double>(), -0.25, 1e-12);
     }
+}
+
+// Where no OpenCL platform is installed at all, the C++ reference runs and says so.
+TEST(CliBuoyancy, WithoutAnOpenClPlatformTheReferenceRunsAndSaysSo) {
+    const fs::path noVendors = fs::temp_directory_path() / "plimsoll_tests" / "no_icd_vendors";
+    fs::create_directories(noVendors);
+    const CommandOutput r = runPlimsoll(
+        "buoyancy '" + kSphere + "' --size 64 --water-level=0 --position=0,0,0 "
+        "--rotation-deg=0,0,0 --json",
+        "OCL_ICD_VENDORS='" + noVendors.string() + "'");
+    ASSERT_EQ(r.exitCode, 0) << r.err;
+    EXPECT_NE(r.err.find("no OpenCL platform"), std::string::npos) << r.err;
+    EXPECT_EQ(nlohmann::json::parse(r.out).at("device"), "reference (C++)");
 }
 
 TEST(CliBuoyancy, JsonHasEveryKey) {
