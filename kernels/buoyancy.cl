@@ -113,6 +113,20 @@ PL_INLINE float wetShare(float depth, float3 areaVector, float area) {
     return clamp(0.5f + depth / extent, 0.0f, 1.0f);
 }
 
+/// Tree reduction of the group's PL_SUM_SLOTS rows of `scratch` (one value per work-item
+/// each, already stored) into out[0 .. PL_SUM_SLOTS).
+PL_INLINE void reduceGroup(__local acc_t* scratch, uint lid, __global acc_t* out) {
+    barrier(CLK_LOCAL_MEM_FENCE);
+    for (uint stride = PL_WORKGROUP_SIZE / 2; stride > 0; stride >>= 1) {
+        if (lid < stride) {
+            for (int s = 0; s < PL_SUM_SLOTS; ++s)
+                scratch[s * PL_WORKGROUP_SIZE + lid] += scratch[s * PL_WORKGROUP_SIZE + lid + stride];
+        }
+        barrier(CLK_LOCAL_MEM_FENCE);
+    }
+    if (lid < PL_SUM_SLOTS) out[lid] = scratch[lid * PL_WORKGROUP_SIZE];
+}
+
 /// The sums of a tile lying wholly under flat water at height f (relative to c), from its
 /// moments: with r = R p and A = R a, Mw = sum A r^T = R M R^T and
 /// Tw[i][j] = sum A_i r_j r_y = (R U R^T)[i][j], U[a][b] = sum_c T[a][b][c] R[y][c]. Then
@@ -258,15 +272,7 @@ PL_INLINE void buoyancyTiles(__global const float4* positions, __global const fl
     }
 
     for (int s = 0; s < PL_SUM_SLOTS; ++s) scratch[s * PL_WORKGROUP_SIZE + lid] = sum[s];
-    barrier(CLK_LOCAL_MEM_FENCE);
-    for (uint stride = PL_WORKGROUP_SIZE / 2; stride > 0; stride >>= 1) {
-        if (lid < stride) {
-            for (int s = 0; s < PL_SUM_SLOTS; ++s)
-                scratch[s * PL_WORKGROUP_SIZE + lid] += scratch[s * PL_WORKGROUP_SIZE + lid + stride];
-        }
-        barrier(CLK_LOCAL_MEM_FENCE);
-    }
-    if (lid < PL_SUM_SLOTS) partials[tileIndex * PL_SUM_SLOTS + lid] = scratch[lid * PL_WORKGROUP_SIZE];
+    reduceGroup(scratch, lid, partials + tileIndex * PL_SUM_SLOTS);
 }
 
 #define PL_TILES_KERNEL(name, model, drag)                                                   \
@@ -300,15 +306,7 @@ void reduce_bodies(__global const acc_t* partials, __global const PlBody* bodies
     for (uint t = body.tileBegin + lid; t < body.tileEnd; t += PL_WORKGROUP_SIZE)
         for (int s = 0; s < PL_SUM_SLOTS; ++s) sum[s] += partials[t * PL_SUM_SLOTS + s];
     for (int s = 0; s < PL_SUM_SLOTS; ++s) scratch[s * PL_WORKGROUP_SIZE + lid] = sum[s];
-    barrier(CLK_LOCAL_MEM_FENCE);
-    for (uint stride = PL_WORKGROUP_SIZE / 2; stride > 0; stride >>= 1) {
-        if (lid < stride) {
-            for (int s = 0; s < PL_SUM_SLOTS; ++s)
-                scratch[s * PL_WORKGROUP_SIZE + lid] += scratch[s * PL_WORKGROUP_SIZE + lid + stride];
-        }
-        barrier(CLK_LOCAL_MEM_FENCE);
-    }
-    if (lid < PL_SUM_SLOTS) totals[bodyIndex * PL_SUM_SLOTS + lid] = scratch[lid * PL_WORKGROUP_SIZE];
+    reduceGroup(scratch, lid, totals + bodyIndex * PL_SUM_SLOTS);
 }
 
 /// Plain copy, for measuring the device's memory bandwidth (plimsoll bench).
