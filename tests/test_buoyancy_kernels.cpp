@@ -185,6 +185,34 @@ TEST(BuoyancyKernels, UnknownDeviceSpecsAreClearErrors) {
     EXPECT_EQ((*reference)->deviceName(), "reference (C++)");
 }
 
+// Four million entries through the per-texel path (moving, so no closed form): single-
+// precision terms, summed per work-item over only a few entries and in double from the group
+// reduction on, keep the totals at 1e-6 relative.
+TEST(BuoyancyKernels, PrecisionHoldsOverMillionsOfEntries) {
+    auto backends = openClBackends();
+    if (backends.empty()) GTEST_SKIP() << "no OpenCL device";
+    const Body sphere = makeBody(makeUvSphere(0.5, 64, 32), 2048);
+    ASSERT_GT(sphere.textures.coveredCount(), 4000000u);
+    BodyRequest request;
+    request.frame.pose = Pose::fromEulerDegrees({0.0, -2.0, 0.0}, {10, 20, 30});
+    request.frame.motion.linear = {0.5, -0.2, 0.1};
+    request.frame.centerOfMass = sphere.props.centerOfMass;
+    const WaterModel water = WaterModel::flat(0.0);
+    const BuoyancyResult expected =
+        evaluateBuoyancyReference(sphere.textures, request.frame, water, {});
+    for (auto& backend : backends) {
+        SCOPED_TRACE(backend->deviceName());
+        request.body = backend->addBody(sphere.textures, sphere.props.centerOfMass);
+        BuoyancyResult result;
+        ASSERT_TRUE(backend->evaluate({&request, 1}, water, {&result, 1}).ok());
+        EXPECT_NEAR(result.submergedVolume, expected.submergedVolume, 1e-6 * expected.submergedVolume);
+        EXPECT_LT((result.pressureForce - expected.pressureForce).norm(),
+                  1e-6 * expected.pressureForce.norm());
+        EXPECT_LT((result.dragForce - expected.dragForce).norm(), 1e-6 * expected.dragForce.norm());
+        EXPECT_NEAR(result.wettedArea, expected.wettedArea, 1e-6 * expected.wettedArea);
+    }
+}
+
 TEST(BuoyancyKernels, ABatchGivesWhatSeparateCallsGive) {
     auto backends = openClBackends();
     backends.push_back(createReferenceBackend());
