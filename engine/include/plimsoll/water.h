@@ -20,6 +20,8 @@ struct GerstnerWave {
     Eigen::Vector2d direction{1.0, 0.0};         ///< (x, z), normalised on use
     double steepness = 0.5;                      ///< Q in 0..1: 0 = sine wave, 1 = sharp crests
     double phase = 0.0;                          ///< rad
+
+    bool operator==(const GerstnerWave&) const = default;
 };
 
 /// A regular grid of heights: height(i, j) at (origin.x + i spacing, origin.y + j spacing),
@@ -29,6 +31,8 @@ struct HeightGrid {
     double spacing = 1.0;                        ///< m
     Eigen::Vector2d origin = Eigen::Vector2d::Zero();  ///< (x, z) of sample (0, 0), m
     std::vector<float> heights;                  ///< countX * countZ, row j = fixed z, m
+
+    bool operator==(const HeightGrid&) const = default;
 };
 
 struct WaterModel {
@@ -40,6 +44,7 @@ struct WaterModel {
     double gravity = kStandardGravity;           ///< for the dispersion relation, m/s^2
 
     static WaterModel flat(double level) { return WaterModel{Kind::Flat, level, {}, {}}; }
+    bool operator==(const WaterModel&) const = default;
 
     /// Surface height f(x, z, t) (m). For Gerstner waves the surface point above (x, z) is
     /// found by a fixed-point search of the undisplaced position (the waves move water

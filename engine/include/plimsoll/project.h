@@ -1,0 +1,108 @@
+// A Plimsoll project (`*.plim.json`): the scene every tool works on — bodies with their meshes,
+// materials and starting state, the medium and its surface, gravity and the simulation
+// settings. Paths are stored as written in the file (relative to the project file's folder,
+// or absolute); resolvePath() makes them usable. The schema is versioned and written down in
+// docs/project-schema.md.
+#pragma once
+
+#include "plimsoll/result.h"
+#include "plimsoll/rigid_body.h"
+#include "plimsoll/water.h"
+
+#include <Eigen/Core>
+
+#include <filesystem>
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace plimsoll {
+
+inline constexpr int kProjectSchemaVersion = 1;
+
+/// How a body's mass is spread. Both parts are optional and add up.
+struct MaterialDesc {
+    /// Solid of uniform density filling the mesh, kg/m^3.
+    std::optional<double> density;
+    /// Thin shell on the surface: surface density in kg/m^2 ("surface_density"), or
+    /// thickness (m) times material density (kg/m^3) ("thickness", "material_density").
+    std::optional<double> shellSurfaceDensity;
+    /// Painted surface-density map (8/16-bit PNG over the mesh's UVs): white is
+    /// shellSurfaceDensity, black 0. Empty: uniform.
+    std::string shellDensityMap;
+
+    bool operator==(const MaterialDesc&) const = default;
+};
+
+struct BodyDesc {
+    std::string name;
+    /// Mesh file (any format assimp reads). For a deforming body, the first frame.
+    std::string mesh;
+    /// A deforming body: further frames of the same mesh (same vertices and UVs, OBJ sequence),
+    /// played at framesPerSecond and looped. Empty for a rigid body.
+    std::vector<std::string> meshFrames;
+    double framesPerSecond = 24.0;
+    int textureSize = 256;                 ///< physics texture, texels per side
+    double maxTexelStretch = 4.0;          ///< sub-texel refinement (BakeSettings)
+    MaterialDesc material;
+    Eigen::Vector3d position = Eigen::Vector3d::Zero();          ///< R p + t: t, m
+    Eigen::Vector3d rotationDegrees = Eigen::Vector3d::Zero();   ///< Rz Ry Rx, degrees
+    Eigen::Vector3d velocity = Eigen::Vector3d::Zero();          ///< centre of mass, m/s
+    Eigen::Vector3d angularVelocity = Eigen::Vector3d::Zero();   ///< world, rad/s
+    double dragCoefficient = 1.0;          ///< C_d
+    double frictionCoefficient = 0.0;      ///< C_f (0: no skin friction)
+
+    bool deforms() const { return !meshFrames.empty(); }
+    bool operator==(const BodyDesc&) const = default;
+};
+
+/// The fluid the bodies are in (below the surface) — water, or air for a balloon.
+struct MediumDesc {
+    std::string name = "water";            ///< "water" or "air" (informative)
+    double density = 1000.0;               ///< kg/m^3
+    double viscosity = 1.0e-3;             ///< dynamic viscosity, Pa s
+
+    bool operator==(const MediumDesc&) const = default;
+};
+
+struct SimulationDesc {
+    Eigen::Vector3d gravity{0.0, -9.81, 0.0};  ///< m/s^2
+    double timeStep = 1.0 / 60.0;          ///< s, one frame
+    int subSteps = 4;                      ///< integration steps per frame
+    Integrator integrator = Integrator::SemiImplicitEuler;
+    double duration = 10.0;                ///< s, for headless runs
+
+    bool operator==(const SimulationDesc&) const = default;
+};
+
+struct Project {
+    std::string name;
+    std::vector<BodyDesc> bodies;
+    MediumDesc medium;
+    /// The medium's surface (for air: a level far above everything).
+    WaterModel water;
+    SimulationDesc simulation;
+    /// Folder the relative paths are relative to (the project file's folder); not saved.
+    std::filesystem::path folder;
+
+    /// `path` as written in the project, made usable: absolute paths stay, relative ones are
+    /// taken from `folder`.
+    std::filesystem::path resolvePath(const std::string& path) const;
+    bool operator==(const Project& other) const;  ///< content, not `folder`
+};
+
+/// Reads and checks a project file. Every problem is reported, one per line, with its JSON
+/// path: "scene.plim.json: bodies[1].material.density: must be > 0".
+Result<Project> loadProject(const std::filesystem::path& path);
+
+/// Parses project JSON text (`source` names it in messages; `folder` as for Project).
+Result<Project> parseProject(const std::string& text, const std::string& source,
+                             const std::filesystem::path& folder);
+
+/// The project as JSON text (schema_version first, 2-space indent).
+std::string projectToJson(const Project& project);
+
+/// Writes atomically (temporary file + rename).
+Status saveProject(const Project& project, const std::filesystem::path& path);
+
+}  // namespace plimsoll
