@@ -37,44 +37,6 @@ struct BuoyancyOptions {
     bool json = false;
 };
 
-nlohmann::json vectorJson(const Eigen::Vector3d& v) { return {v.x(), v.y(), v.z()}; }
-
-/// Strict "x,y,z": three finite numbers, nothing else (no spaces, no trailing text).
-std::optional<Eigen::Vector3d> parseVector(const std::string& text) {
-    Eigen::Vector3d v;
-    const char* cursor = text.data();
-    const char* const end = text.data() + text.size();
-    for (int k = 0; k < 3; ++k) {
-        const char* const fieldEnd = k < 2 ? std::find(cursor, end, ',') : end;
-        if (fieldEnd == end && k < 2) return std::nullopt;
-        const auto [stop, ec] = std::from_chars(cursor, fieldEnd, v[k]);
-        if (ec != std::errc{} || stop != fieldEnd || !std::isfinite(v[k])) return std::nullopt;
-        cursor = fieldEnd + 1;
-    }
-    return v;
-}
-
-/// A vector option is one argument, X,Y,Z, split and checked here so that a malformed one is
-/// refused at parse time with the option's name.
-CLI::Option* addVectorOption(CLI::App& command, const std::string& name, Eigen::Vector3d& target,
-                             const std::string& description) {
-    return command
-        .add_option_function<std::string>(
-            name,
-            [name, &target](const std::string& text) {
-                std::optional<Eigen::Vector3d> v = parseVector(text);
-                if (!v) {
-                    throw CLI::ValidationError(
-                        name, "expected three finite numbers separated by commas, got '" + text +
-                                  "'");
-                }
-                target = *v;
-            },
-            description);
-}
-
-/// Evaluates through a buoyancy backend on the baked textures. The first evaluate uploads the
-/// body, so a second one is timed: that is what every later frame costs.
 std::optional<BuoyancyResult> evaluateTexture(const BuoyancyOptions& o, const BodyFrame& frame,
                                               std::string& deviceName, double& frameMs) {
     // The device first: a bad --device fails before the mesh work, which can take a while.

@@ -2,6 +2,9 @@
 
 #include "plimsoll/mesh_io.h"
 
+#include <algorithm>
+#include <charconv>
+#include <cmath>
 #include <cstdio>
 #include <iostream>
 #include <unistd.h>
@@ -32,6 +35,41 @@ std::optional<TriangleMesh> loadCheckedMesh(const std::string& path, MeshUse use
     return std::move(*mesh);
 }
 
+nlohmann::json vectorJson(const Eigen::Vector3d& v) { return {v.x(), v.y(), v.z()}; }
+
+std::optional<Eigen::Vector3d> parseVector(const std::string& text) {
+    Eigen::Vector3d v;
+    const char* cursor = text.data();
+    const char* const end = text.data() + text.size();
+    for (int k = 0; k < 3; ++k) {
+        const char* const fieldEnd = k < 2 ? std::find(cursor, end, ',') : end;
+        if (fieldEnd == end && k < 2) return std::nullopt;
+        const auto [stop, ec] = std::from_chars(cursor, fieldEnd, v[k]);
+        if (ec != std::errc{} || stop != fieldEnd || !std::isfinite(v[k])) return std::nullopt;
+        cursor = fieldEnd + 1;
+    }
+    return v;
+}
+
+CLI::Option* addVectorOption(CLI::App& command, const std::string& name, Eigen::Vector3d& target,
+                             const std::string& description) {
+    return command
+        .add_option_function<std::string>(
+            name,
+            [name, &target](const std::string& text) {
+                std::optional<Eigen::Vector3d> v = parseVector(text);
+                if (!v) {
+                    throw CLI::ValidationError(
+                        name, "expected three finite numbers separated by commas, got '" + text +
+                                  "'");
+                }
+                target = *v;
+            },
+            description);
+}
+
+/// Evaluates through a buoyancy backend on the baked textures. The first evaluate uploads the
+/// body, so a second one is timed: that is what every later frame costs.
 ProgressCallback stderrProgress(const std::string& label) {
     if (!::isatty(STDERR_FILENO)) return {};
     return [label, last = -1](double fraction) mutable {

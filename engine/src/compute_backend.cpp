@@ -21,6 +21,13 @@ public:
         return bodies_.size() - 1;
     }
 
+    Status updateBody(std::size_t id, const SurfaceTextures& textures,
+                      const Eigen::Vector3d& centerOfMass) override {
+        if (id >= bodies_.size()) return makeError("updateBody: unknown body id");
+        bodies_[id] = {textures, centerOfMass};
+        return Ok{};
+    }
+
     Status evaluate(std::span<const BodyRequest> requests, const WaterModel& water,
                     std::span<BuoyancyResult> results) override {
         const auto start = std::chrono::steady_clock::now();

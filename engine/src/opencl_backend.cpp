@@ -113,35 +113,65 @@ public:
                         const Eigen::Vector3d& centerOfMass) override {
         Body body;
         body.centerOfMass = centerOfMass;
+        body.firstEntry = positions_.size();
         body.tileBegin = static_cast<std::uint32_t>(tiles_.size());
         // Tiles are square blocks of texels, not runs of rows: a block is a compact patch of
         // surface, so its bounding sphere is small and whole blocks drop out (dry) or take
         // the closed form (under flat water) in any orientation. Sums do not care about order.
-        const std::vector<std::uint32_t> order = blockOrder(textures);
+        body.order = blockOrder(textures);
         const std::uint32_t blockSide = blockSideFor(tileSize_);
         std::size_t begin = 0;
-        while (begin < order.size()) {
-            const std::uint32_t block = blockOf(textures.texelIndex[order[begin]], textures.size, blockSide);
+        while (begin < body.order.size()) {
+            const std::uint32_t block =
+                blockOf(textures.texelIndex[body.order[begin]], textures.size, blockSide);
             std::size_t end = begin + 1;
-            while (end < order.size() && end - begin < tileSize_ &&
-                   blockOf(textures.texelIndex[order[end]], textures.size, blockSide) == block)
+            while (end < body.order.size() && end - begin < tileSize_ &&
+                   blockOf(textures.texelIndex[body.order[end]], textures.size, blockSide) == block)
                 ++end;
-            const std::size_t first = positions_.size();
-            for (std::size_t k = begin; k < end; ++k) {
-                const std::uint32_t i = order[k];
-                positions_.push_back(toFloat4(textures.position[i] - centerOfMass, textures.area[i]));
-                areaVectors_.push_back(toFloat4(textures.areaVector[i]));
-            }
-            tiles_.push_back(tileOf(static_cast<std::uint32_t>(bodies_.size()), first,
-                                    positions_.size()));
-            tileMoments_.push_back(momentsOf(textures, centerOfMass,
-                                             std::span(order).subspan(begin, end - begin)));
+            body.tileEnds.push_back(end);
+            tiles_.emplace_back();
+            tileMoments_.emplace_back();
             begin = end;
         }
+        positions_.resize(positions_.size() + body.order.size());
+        areaVectors_.resize(areaVectors_.size() + body.order.size());
         body.tileEnd = static_cast<std::uint32_t>(tiles_.size());
-        bodies_.push_back(body);
+        bodies_.push_back(std::move(body));
+        fillBody(bodies_.size() - 1, textures);
         buffersStale_ = true;
         return bodies_.size() - 1;
+    }
+
+    Status updateBody(std::size_t id, const SurfaceTextures& textures,
+                      const Eigen::Vector3d& centerOfMass) override {
+        if (id >= bodies_.size()) return makeError("updateBody: unknown body id");
+        Body& body = bodies_[id];
+        if (textures.coveredCount() != body.order.size()) {
+            return makeError("updateBody: the entry count changed (" +
+                             std::to_string(body.order.size()) + " -> " +
+                             std::to_string(textures.coveredCount()) + ")");
+        }
+        body.centerOfMass = centerOfMass;
+        fillBody(id, textures);
+        if (buffersStale_) return Ok{};
+        try {
+            const std::size_t entries = body.order.size();
+            const std::size_t tiles = body.tileEnd - body.tileBegin;
+            queue_.enqueueWriteBuffer(positionsBuffer_, CL_FALSE, body.firstEntry * sizeof(pl_float4),
+                                      entries * sizeof(pl_float4), &positions_[body.firstEntry]);
+            queue_.enqueueWriteBuffer(areaVectorsBuffer_, CL_FALSE,
+                                      body.firstEntry * sizeof(pl_float4),
+                                      entries * sizeof(pl_float4), &areaVectors_[body.firstEntry]);
+            queue_.enqueueWriteBuffer(tilesBuffer_, CL_FALSE, body.tileBegin * sizeof(gpu::PlTile),
+                                      tiles * sizeof(gpu::PlTile), &tiles_[body.tileBegin]);
+            queue_.enqueueWriteBuffer(tileMomentsBuffer_, CL_TRUE,
+                                      body.tileBegin * sizeof(gpu::PlTileMoments),
+                                      tiles * sizeof(gpu::PlTileMoments),
+                                      &tileMoments_[body.tileBegin]);
+        } catch (const cl::Error& e) {
+            return makeError(name_ + ": " + clError(e));
+        }
+        return Ok{};
     }
 
     Status evaluate(std::span<const BodyRequest> requests, const WaterModel& water,
@@ -178,8 +208,31 @@ public:
 private:
     struct Body {
         Eigen::Vector3d centerOfMass;
+        std::size_t firstEntry = 0;            ///< in positions_ / areaVectors_
+        std::vector<std::uint32_t> order;      ///< texture entry of each device entry
+        std::vector<std::size_t> tileEnds;     ///< end (in `order`) of each of its tiles
         std::uint32_t tileBegin = 0, tileEnd = 0;
     };
+
+    /// Writes a body's entries, tiles and tile moments into the host arrays.
+    void fillBody(std::size_t id, const SurfaceTextures& textures) {
+        const Body& body = bodies_[id];
+        for (std::size_t k = 0; k < body.order.size(); ++k) {
+            const std::uint32_t i = body.order[k];
+            positions_[body.firstEntry + k] =
+                toFloat4(textures.position[i] - body.centerOfMass, textures.area[i]);
+            areaVectors_[body.firstEntry + k] = toFloat4(textures.areaVector[i]);
+        }
+        std::size_t begin = 0;
+        for (std::size_t t = 0; t < body.tileEnds.size(); ++t) {
+            const std::size_t end = body.tileEnds[t];
+            tiles_[body.tileBegin + t] = tileOf(static_cast<std::uint32_t>(id),
+                                                body.firstEntry + begin, body.firstEntry + end);
+            tileMoments_[body.tileBegin + t] = momentsOf(
+                textures, body.centerOfMass, std::span(body.order).subspan(begin, end - begin));
+            begin = end;
+        }
+    }
 
     gpu::PlTile tileOf(std::uint32_t body, std::size_t begin, std::size_t end) const {
         Eigen::Vector3f lo = Eigen::Vector3f::Constant(1e30f), hi = -lo;

@@ -57,6 +57,11 @@ public:
     virtual std::size_t addBody(const SurfaceTextures& textures,
                                 const Eigen::Vector3d& centerOfMass) = 0;
 
+    /// Replaces a body's entries (a deforming body: same entry count, new positions and area
+    /// vectors). Writes only that body's part of the device buffers.
+    virtual Status updateBody(std::size_t id, const SurfaceTextures& textures,
+                              const Eigen::Vector3d& centerOfMass) = 0;
+
     /// Evaluates every request in one batch (a few launches however many bodies); bodies not
     /// requested are skipped. results.size() == requests.size().
     virtual Status evaluate(std::span<const BodyRequest> requests, const WaterModel& water,
