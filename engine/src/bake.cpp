@@ -12,6 +12,10 @@
 // point between them, an error that does not shrink with N). Such a texel gets one entry per
 // island ("shared texels"), so every entry describes one connected piece of surface.
 //
+// On request the bake also records every piece (triangle, barycentric centroid, share) with the
+// entry it went into, so a deforming mesh can regather the textures without clipping again
+// (deform.h).
+//
 // The texture is processed in bands of rows, one band per task on a pool of threads; each task
 // owns a dense accumulator for its rows only (bounded memory at 8192^2), and bands are joined in
 // order, so the result does not depend on the thread count.
@@ -25,11 +29,12 @@
 #include <atomic>
 #include <cassert>
 #include <cmath>
+#include <limits>
 #include <map>
-#include <tuple>
 #include <mutex>
 #include <string>
 #include <thread>
+#include <tuple>
 
 namespace plimsoll {
 
@@ -104,13 +109,19 @@ struct PreparedTriangle {
     double area = 0;                ///< m^2
     int rowLo = 0, rowHi = -1;      ///< grid rows touched, clamped to the texture
     std::uint32_t island = 0;       ///< UV island (see uvIslands)
+    std::uint32_t index = 0;        ///< in the mesh's triangles
     int subdivision = 1;            ///< grid cells per texel side
 
-    Eigen::Vector3d surfacePoint(const Vec2& q) const {
+    /// (b1, b2) of grid point q: q = corner0 + b1 edge1 + b2 edge2.
+    Vec2 barycentric(const Vec2& q) const {
         const Vec2 d = q - corner[0];
-        const double b1 = (d.x() * edge2.y() - d.y() * edge2.x()) / twiceUvArea;
-        const double b2 = (edge1.x() * d.y() - edge1.y() * d.x()) / twiceUvArea;
-        return origin + b1 * side1 + b2 * side2;
+        return {(d.x() * edge2.y() - d.y() * edge2.x()) / twiceUvArea,
+                (edge1.x() * d.y() - edge1.y() * d.x()) / twiceUvArea};
+    }
+
+    /// Same arithmetic as regatherSurface (deform.cpp), which reproduces the bake bit for bit.
+    Eigen::Vector3d surfacePoint(const Vec2& b) const {
+        return origin + b.x() * side1 + b.y() * side2;
     }
 
     /// Corners, edges, area and rows scaled from texel units to a grid of `cellsPerTexel`.
@@ -138,8 +149,10 @@ struct TexelAccumulator {
     double area = 0;
     double coverage = 0;  ///< texel units: 1 = the whole texel square
     std::uint32_t island = kNoIsland;
+    std::uint32_t record = kNone;  ///< id of its recorded pieces, when recording
 
     static constexpr std::uint32_t kNoIsland = ~0u;
+    static constexpr std::uint32_t kNone = ~0u;
 
     void add(const Eigen::Vector3d& pieceAreaVector, double pieceArea,
              const Eigen::Vector3d& centroid, double pieceCoverage) {
@@ -155,12 +168,15 @@ struct BandResult {
     std::vector<std::uint32_t> texelIndex;
     std::vector<Eigen::Vector3d> position, areaVector;
     std::vector<double> area, coverage;
+    std::vector<std::uint32_t> pieceCount;  ///< per entry, when recording
+    std::vector<SurfacePiece> pieces;       ///< grouped by entry, when recording
 };
 
 class BandBaker {
 public:
-    BandBaker(int size, int bandRows)
-        : size_(size), cells_(static_cast<std::size_t>(size) * bandRows), touched_(cells_.size()) {}
+    BandBaker(int size, int bandRows, bool recordPieces)
+        : size_(size), recordPieces_(recordPieces),
+          cells_(static_cast<std::size_t>(size) * bandRows), touched_(cells_.size()) {}
 
     BandResult bake(const std::vector<PreparedTriangle>& triangles,
                     const std::vector<std::uint32_t>& ids, int rowBegin, int rowEnd) {
@@ -243,15 +259,25 @@ private:
         TexelAccumulator& target =
             inDense ? dense
                     : sideEntries_[{local, tri.island, static_cast<std::uint32_t>(k), subCell}];
-        target.add(share * tri.areaVector, share * tri.area, tri.surfacePoint(piece.centroid),
+        const Vec2 barycentric = tri.barycentric(piece.centroid);
+        target.add(share * tri.areaVector, share * tri.area, tri.surfacePoint(barycentric),
                    0.5 * std::abs(piece.twiceArea) / (static_cast<double>(k) * k));
+        if (recordPieces_) {
+            if (target.record == TexelAccumulator::kNone) target.record = recordCount_++;
+            records_.push_back(
+                {target.record, {tri.index, {barycentric.x(), barycentric.y()}, share}});
+        }
     }
 
     BandResult collect() {
         std::sort(touchedList_.begin(), touchedList_.end());
         BandResult out;
+        if (recordPieces_) recordEntry_.assign(recordCount_, kDropped);
         auto emit = [&](std::uint32_t local, const TexelAccumulator& acc) {
             if (acc.area <= 0) return;
+            if (recordPieces_) {
+                recordEntry_[acc.record] = static_cast<std::uint32_t>(out.texelIndex.size());
+            }
             out.texelIndex.push_back(
                 static_cast<std::uint32_t>(static_cast<std::size_t>(rowBegin_) * size_ + local));
             out.position.push_back(acc.weightedPosition / acc.area);
@@ -269,10 +295,40 @@ private:
         }
         touchedList_.clear();
         sideEntries_.clear();
+        if (recordPieces_) collectPieces(out);
         return out;
     }
 
+    /// Groups the band's pieces by entry (a stable counting sort, so each entry keeps its
+    /// accumulation order); pieces of dropped entries (no surface area) go.
+    void collectPieces(BandResult& out) {
+        out.pieceCount.assign(out.texelIndex.size(), 0);
+        for (const PieceRecord& r : records_) {
+            if (recordEntry_[r.record] != kDropped) ++out.pieceCount[recordEntry_[r.record]];
+        }
+        cursor_.resize(out.pieceCount.size());
+        std::uint32_t next = 0;
+        for (std::size_t e = 0; e < cursor_.size(); ++e) {
+            cursor_[e] = next;
+            next += out.pieceCount[e];
+        }
+        out.pieces.resize(next);
+        for (const PieceRecord& r : records_) {
+            const std::uint32_t entry = recordEntry_[r.record];
+            if (entry != kDropped) out.pieces[cursor_[entry]++] = r.piece;
+        }
+        records_.clear();
+        recordCount_ = 0;
+    }
+
+    struct PieceRecord {
+        std::uint32_t record;  ///< TexelAccumulator::record of the entry it went into
+        SurfacePiece piece;
+    };
+    static constexpr std::uint32_t kDropped = ~0u;
+
     int size_;
+    bool recordPieces_;
     int rowBegin_ = 0;
     std::vector<TexelAccumulator> cells_;
     std::vector<std::uint8_t> touched_;
@@ -282,6 +338,10 @@ private:
     std::map<std::tuple<std::uint32_t, std::uint32_t, std::uint32_t, std::uint32_t>,
              TexelAccumulator>
         sideEntries_;
+    std::vector<PieceRecord> records_;         ///< in accumulation order
+    std::uint32_t recordCount_ = 0;
+    std::vector<std::uint32_t> recordEntry_;  ///< record -> entry in the band, or kDropped
+    std::vector<std::uint32_t> cursor_;
 };
 
 /// Length on the surface of the longest texel-sized step in UV on this triangle (m): the
@@ -310,6 +370,7 @@ std::vector<PreparedTriangle> prepareTriangles(const TriangleMesh& mesh,
         const Triangle& t = mesh.triangles[id];
         PreparedTriangle tri;
         tri.island = islands[id];
+        tri.index = static_cast<std::uint32_t>(id);
         for (int k = 0; k < 3; ++k) tri.corner[k] = placement.apply(mesh.uvs[t[k]]) * size;
         tri.edge1 = tri.corner[1] - tri.corner[0];
         tri.edge2 = tri.corner[2] - tri.corner[0];
@@ -385,8 +446,8 @@ Eigen::Vector3d SurfaceTextures::areaCentroid() const {
     return total > 0 ? Eigen::Vector3d(weighted / total) : Eigen::Vector3d::Zero();
 }
 
-Result<SurfaceTextures> bakeSurfaceTextures(const TriangleMesh& mesh,
-                                            const BakeSettings& settings) {
+Result<SurfaceTextures> bakeSurfaceTextures(const TriangleMesh& mesh, const BakeSettings& settings,
+                                            SurfacePieceTable* pieces) {
     const int size = settings.size;
     if (size < kMinTextureSize || size > kMaxTextureSize) {
         return makeError(mesh.source + ": texture size " + std::to_string(size) +
@@ -400,7 +461,8 @@ Result<SurfaceTextures> bakeSurfaceTextures(const TriangleMesh& mesh,
     SurfaceTextures out;
     out.size = size;
     out.placement = fitUvsIntoUnitSquare(mesh);
-    const std::vector<PreparedTriangle> triangles = prepareTriangles(mesh, out.placement, size, settings.maxTexelStretch);
+    const std::vector<PreparedTriangle> triangles =
+        prepareTriangles(mesh, out.placement, size, settings.maxTexelStretch);
 
     const unsigned threads = std::max(1u, settings.threads ? settings.threads
                                                            : std::thread::hardware_concurrency());
@@ -424,7 +486,7 @@ Result<SurfaceTextures> bakeSurfaceTextures(const TriangleMesh& mesh,
     std::atomic<int> bandsDone{0};
     std::mutex progressMutex;
     auto worker = [&] {
-        BandBaker baker(size, bandRows);
+        BandBaker baker(size, bandRows, pieces != nullptr);
         for (int b = nextBand++; b < bandCount; b = nextBand++) {
             bands[b] = baker.bake(triangles, bandTriangles[b], b * bandRows,
                                   std::min(size, (b + 1) * bandRows));
@@ -440,8 +502,23 @@ Result<SurfaceTextures> bakeSurfaceTextures(const TriangleMesh& mesh,
     worker();
     for (auto& t : pool) t.join();
 
-    std::size_t total = 0;
-    for (const auto& band : bands) total += band.texelIndex.size();
+    std::size_t total = 0, totalPieces = 0;
+    for (const auto& band : bands) {
+        total += band.texelIndex.size();
+        totalPieces += band.pieces.size();
+    }
+    if (totalPieces > std::numeric_limits<std::uint32_t>::max()) {
+        return makeError(mesh.source + ": " + std::to_string(totalPieces) +
+                         " surface pieces are too many to record; bake a smaller texture");
+    }
+    if (pieces) {
+        pieces->firstPiece.clear();
+        pieces->firstPiece.reserve(total + 1);
+        pieces->firstPiece.push_back(0);
+        pieces->pieces.clear();
+        pieces->pieces.reserve(totalPieces);
+        pieces->triangleCount = mesh.triangles.size();
+    }
     out.texelIndex.reserve(total);
     out.position.reserve(total);
     out.areaVector.reserve(total);
@@ -453,6 +530,11 @@ Result<SurfaceTextures> bakeSurfaceTextures(const TriangleMesh& mesh,
         out.areaVector.insert(out.areaVector.end(), band.areaVector.begin(), band.areaVector.end());
         out.area.insert(out.area.end(), band.area.begin(), band.area.end());
         out.coverage.insert(out.coverage.end(), band.coverage.begin(), band.coverage.end());
+        if (pieces) {
+            for (std::uint32_t count : band.pieceCount)
+                pieces->firstPiece.push_back(pieces->firstPiece.back() + count);
+            pieces->pieces.insert(pieces->pieces.end(), band.pieces.begin(), band.pieces.end());
+        }
         band = BandResult{};
     }
     return out;

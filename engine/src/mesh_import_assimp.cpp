@@ -12,7 +12,7 @@ namespace plimsoll {
 
 namespace fs = std::filesystem;
 
-Result<TriangleMesh> loadMesh(const fs::path& path) {
+Result<TriangleMesh> loadMesh(const fs::path& path, MeshLoadOptions options) {
     const std::string name = path.string();
     std::error_code ec;
     if (!fs::exists(path, ec)) return makeError(name + ": no such file");
@@ -22,10 +22,11 @@ Result<TriangleMesh> loadMesh(const fs::path& path) {
     // Points and lines carry no surface: drop them instead of failing on mixed files.
     importer.SetPropertyInteger(AI_CONFIG_PP_SBP_REMOVE,
                                 aiPrimitiveType_POINT | aiPrimitiveType_LINE);
-    // No normal generation, no degenerate removal, no vertex welding beyond exact duplicates:
-    // validation must see the file as it is.
-    const unsigned flags = aiProcess_Triangulate | aiProcess_JoinIdenticalVertices |
-                           aiProcess_PreTransformVertices | aiProcess_SortByPType;
+    // No normal generation, no degenerate removal, no vertex welding beyond exact duplicates
+    // (and none at all for the frames of a deforming mesh): validation must see the file as it
+    // is.
+    unsigned flags = aiProcess_Triangulate | aiProcess_PreTransformVertices | aiProcess_SortByPType;
+    if (options.joinIdenticalVertices) flags |= aiProcess_JoinIdenticalVertices;
     const aiScene* scene = importer.ReadFile(name, flags);
     if (!scene || !scene->mRootNode) {
         return makeError(name + ": cannot read mesh: " + importer.GetErrorString());

@@ -9,10 +9,19 @@
 
 namespace plimsoll {
 
+struct MeshLoadOptions {
+    /// Join identical vertices (same position, UV and every other attribute: OBJ files index
+    /// positions and UVs separately, so each face corner is a vertex of its own until joined).
+    /// Off for the frames of a deforming mesh: which vertices coincide differs between frames,
+    /// and so would the joined vertex count and indices.
+    bool joinIdenticalVertices = true;
+};
+
 /// Loads every mesh of the file's scene into one TriangleMesh (node transforms applied,
-/// polygons triangulated, identical vertices joined). Fails with the path and the reason for a
-/// missing or unreadable file, a file without triangles, or non-finite coordinates.
-Result<TriangleMesh> loadMesh(const std::filesystem::path& path);
+/// polygons triangulated, identical vertices joined unless options say not). Fails with the
+/// path and the reason for a missing or unreadable file, a file without triangles, or
+/// non-finite coordinates.
+Result<TriangleMesh> loadMesh(const std::filesystem::path& path, MeshLoadOptions options = {});
 
 /// Writes v / vt / f lines with 17 significant digits, so a reload gives the same doubles.
 Status writeObj(const TriangleMesh& mesh, const std::filesystem::path& path);
