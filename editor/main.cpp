@@ -19,6 +19,7 @@ int main(int argc, char** argv) {
     addSamplesCommand(app, selected);
     addBenchCommand(app, selected);
     addBuoyancyCommand(app, selected);
+    addSimulateCommand(app, selected);
     try {
         app.parse(argc, argv);
     } catch (const CLI::ParseError& e) {

@@ -385,7 +385,7 @@ private:
                           {"name", "mesh", "mesh_frames", "frames_per_second", "texture_size",
                            "max_texel_stretch", "material", "position", "rotation_deg",
                            "velocity", "angular_velocity", "drag_coefficient",
-                           "friction_coefficient"})) {
+                           "friction_coefficient", "linear_damping", "angular_damping"})) {
             return;
         }
         string(value, path, "name", body.name);
@@ -421,6 +421,8 @@ private:
         number(value, path, "drag_coefficient", body.dragCoefficient, Limit::NonNegative);
         number(value, path, "friction_coefficient", body.frictionCoefficient,
                Limit::NonNegative);
+        number(value, path, "linear_damping", body.linearDamping, Limit::NonNegative);
+        number(value, path, "angular_damping", body.angularDamping, Limit::NonNegative);
     }
 
     void readMaterial(const Json& value, const std::string& path, MaterialDesc& material) {
@@ -599,6 +601,8 @@ Json toJson(const BodyDesc& body) {
     json["angular_velocity"] = toJson(body.angularVelocity);
     json["drag_coefficient"] = body.dragCoefficient;
     json["friction_coefficient"] = body.frictionCoefficient;
+    json["linear_damping"] = body.linearDamping;
+    json["angular_damping"] = body.angularDamping;
     return json;
 }
 

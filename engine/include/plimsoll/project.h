@@ -51,6 +51,11 @@ struct BodyDesc {
     Eigen::Vector3d angularVelocity = Eigen::Vector3d::Zero();   ///< world, rad/s
     double dragCoefficient = 1.0;          ///< C_d
     double frictionCoefficient = 0.0;      ///< C_f (0: no skin friction)
+    /// Hydrodynamic damping standing in for wave radiation, which the pressure and drag terms
+    /// do not model: -m lambda v and -lambda I w, scaled by the submerged share of the volume
+    /// (1/s). Quadratic drag alone lets small bobbing die out only as 1/t; 0 turns it off.
+    double linearDamping = 0.5;
+    double angularDamping = 0.5;
 
     bool deforms() const { return !meshFrames.empty(); }
     bool operator==(const BodyDesc&) const = default;

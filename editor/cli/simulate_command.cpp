@@ -1,0 +1,245 @@
+// plimsoll simulate PROJECT | --mesh MESH --density RHO ...: runs a scene headless, writes the
+// trajectory (CSV or JSON by extension), prints a one-line summary or, with --json, the final
+// state of the first body.
+#include "cli/commands.h"
+
+#include "cli/common.h"
+#include "plimsoll/file_util.h"
+#include "plimsoll/project.h"
+#include "plimsoll/world.h"
+
+#include <nlohmann/json.hpp>
+
+#include <chrono>
+#include <cmath>
+#include <iostream>
+#include <memory>
+#include <sstream>
+
+namespace plimsoll::cli {
+
+namespace {
+
+struct SimulateOptions {
+    std::string project;
+    std::optional<double> seconds;
+    std::string out;
+    bool json = false;
+    std::string device;
+    std::string integrator;
+    // One-body scene from flags.
+    std::string mesh;
+    double density = 500.0;
+    int size = 128;
+    double fluidDensity = 1000.0;
+    double waterLevel = 0.0;
+    Eigen::Vector3d position = Eigen::Vector3d::Zero();
+    Eigen::Vector3d rotationDegrees = Eigen::Vector3d::Zero();
+};
+
+/// The one-body scene the flags describe.
+Project projectFromFlags(const SimulateOptions& o) {
+    Project project;
+    project.name = "command line";
+    project.folder = std::filesystem::current_path();
+    BodyDesc body;
+    body.name = std::filesystem::path(o.mesh).stem().string();
+    body.mesh = o.mesh;
+    body.textureSize = o.size;
+    body.material.density = o.density;
+    body.position = o.position;
+    body.rotationDegrees = o.rotationDegrees;
+    project.bodies.push_back(body);
+    project.medium.density = o.fluidDensity;
+    project.water = WaterModel::flat(o.waterLevel);
+    return project;
+}
+
+struct FrameRecord {
+    double time;
+    std::vector<SimulatedBody> bodies;
+};
+
+nlohmann::json bodyJson(const SimulatedBody& b, double time) {
+    const Eigen::Quaterniond& q = b.state.orientation;
+    return {{"name", b.name},
+            {"time", time},
+            {"position", vectorJson(b.state.position)},
+            {"orientation", {q.w(), q.x(), q.y(), q.z()}},
+            {"velocity", vectorJson(linearVelocity(b.state, b.mass))},
+            {"angular_velocity", vectorJson(angularVelocity(b.state, b.mass))},
+            {"submerged_volume", b.buoyancy.submergedVolume},
+            {"buoyant_force", vectorJson(b.buoyancy.pressureForce)},
+            {"mass", b.mass.mass},
+            {"center_of_mass", vectorJson(b.mass.centerOfMass)}};
+}
+
+/// One row per frame and body: time, body, centre of mass (world), quaternion (w, x, y, z),
+/// velocities, submerged volume, buoyant force, mass, centre of mass (object space).
+std::string trajectoryCsv(const std::vector<FrameRecord>& frames) {
+    std::ostringstream out;
+    out.precision(10);
+    out << "time,body,x,y,z,qw,qx,qy,qz,vx,vy,vz,wx,wy,wz,submerged_volume,fx,fy,fz,mass,"
+           "com_x,com_y,com_z\n";
+    for (const FrameRecord& f : frames) {
+        for (const SimulatedBody& b : f.bodies) {
+            const Eigen::Vector3d v = linearVelocity(b.state, b.mass);
+            const Eigen::Vector3d w = angularVelocity(b.state, b.mass);
+            const Eigen::Quaterniond& q = b.state.orientation;
+            const Eigen::Vector3d& x = b.state.position;
+            const Eigen::Vector3d& F = b.buoyancy.pressureForce;
+            const Eigen::Vector3d& c = b.mass.centerOfMass;
+            out << f.time << ',' << b.name << ',' << x.x() << ',' << x.y() << ',' << x.z() << ','
+                << q.w() << ',' << q.x() << ',' << q.y() << ',' << q.z() << ',' << v.x() << ','
+                << v.y() << ',' << v.z() << ',' << w.x() << ',' << w.y() << ',' << w.z() << ','
+                << b.buoyancy.submergedVolume << ',' << F.x() << ',' << F.y() << ',' << F.z()
+                << ',' << b.mass.mass << ',' << c.x() << ',' << c.y() << ',' << c.z() << '\n';
+        }
+    }
+    return out.str();
+}
+
+Status writeTrajectory(const std::vector<FrameRecord>& frames, const std::string& path) {
+    const bool json = std::filesystem::path(path).extension() == ".json";
+    std::string text;
+    if (json) {
+        nlohmann::json all = nlohmann::json::array();
+        for (const FrameRecord& f : frames)
+            for (const SimulatedBody& b : f.bodies) all.push_back(bodyJson(b, f.time));
+        text = all.dump(1) + "\n";
+    } else {
+        text = trajectoryCsv(frames);
+    }
+    return writeFileAtomically(path, [&](std::ostream& out) {
+        out << text;
+        return static_cast<bool>(out);
+    });
+}
+
+int runSimulate(const SimulateOptions& o) {
+    Project project;
+    if (!o.project.empty()) {
+        Result<Project> loaded = loadProject(o.project);
+        if (!loaded) {
+            std::cerr << "error: " << loaded.error().message << "\n";
+            return kExitFailure;
+        }
+        project = std::move(*loaded);
+    } else if (!o.mesh.empty()) {
+        project = projectFromFlags(o);
+    } else {
+        std::cerr << "error: give a PROJECT or --mesh\n";
+        return kExitUsage;
+    }
+    if (!o.integrator.empty()) {
+        std::optional<Integrator> integrator = integratorFromName(o.integrator);
+        if (!integrator) {
+            std::cerr << "error: --integrator: unknown '" << o.integrator
+                      << "' (explicit-euler, semi-implicit-euler, rk4)\n";
+            return kExitUsage;
+        }
+        project.simulation.integrator = *integrator;
+    }
+    const double seconds = o.seconds.value_or(project.simulation.duration);
+
+    std::string notice;
+    Result<std::unique_ptr<BuoyancyBackend>> backend = createBuoyancyBackend(o.device, &notice);
+    if (!backend) {
+        std::cerr << "error: " << backend.error().message << "\n";
+        return kExitFailure;
+    }
+    if (!notice.empty()) std::cerr << "note: " << notice << "\n";
+    const LogFunction log = [](const std::string& line) { std::cerr << line << "\n"; };
+    Result<std::unique_ptr<World>> created = World::create(project, std::move(*backend), log);
+    if (!created) {
+        std::cerr << "error: " << created.error().message << "\n";
+        return kExitFailure;
+    }
+    World& world = **created;
+
+    const auto frameCount =
+        static_cast<long>(std::ceil(seconds / project.simulation.timeStep - 1e-9));
+    const ProgressCallback progress = stderrProgress("simulating");
+    std::vector<FrameRecord> frames;
+    const auto start = std::chrono::steady_clock::now();
+    for (long frame = 0; frame < frameCount; ++frame) {
+        if (Status s = world.advanceFrame(); !s.ok()) {
+            std::cerr << "error: at t = " << world.time() << " s: " << s.error().message << "\n";
+            return kExitFailure;
+        }
+        for (const SimulatedBody& b : world.bodies()) {
+            if (!b.state.position.allFinite() || !b.state.orientation.coeffs().allFinite()) {
+                std::cerr << "error: body '" << b.name << "' left the finite numbers at t = "
+                          << world.time() << " s\n";
+                return kExitFailure;
+            }
+        }
+        if (!o.out.empty()) frames.push_back({world.time(), world.bodies()});
+        if (progress) progress(static_cast<double>(frame + 1) / frameCount);
+    }
+    const double wall =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    if (!o.out.empty()) {
+        if (Status s = writeTrajectory(frames, o.out); !s.ok()) {
+            std::cerr << "error: " << s.error().message << "\n";
+            return kExitFailure;
+        }
+    }
+    const WorldStatistics& stats = world.statistics();
+    if (o.json) {
+        nlohmann::json out = bodyJson(world.bodies().front(), world.time());
+        out["device"] = world.backend().deviceName();
+        out["steps"] = stats.steps;
+        out["wall_seconds"] = wall;
+        std::cout << out.dump(2) << "\n";
+    } else {
+        const SimulatedBody& b = world.bodies().front();
+        std::cout << (project.name.empty() ? "scene" : project.name) << ": " << world.time()
+                  << " s simulated in " << wall << " s (" << stats.steps << " steps, "
+                  << world.backend().deviceName() << "); " << b.name << " at "
+                  << b.state.position.transpose() << " m, submerged "
+                  << b.buoyancy.submergedVolume << " m^3; buoyancy evaluations "
+                  << stats.buoyancyEvaluations << ", skipped out of water "
+                  << stats.skippedOutOfWater << "\n";
+    }
+    return kExitOk;
+}
+
+}  // namespace
+
+void addSimulateCommand(CLI::App& root, CommandRunner& selected) {
+    auto o = std::make_shared<SimulateOptions>();
+    CLI::App* cmd = root.add_subcommand(
+        "simulate", "Run a scene headless and write its trajectory (a project, or one body "
+                    "given by flags)");
+    cmd->add_option("PROJECT", o->project, "Project file (*.plim.json)");
+    cmd->add_option("--seconds", o->seconds, "Simulated time, s (default: the project's duration)")
+        ->check(CLI::NonNegativeNumber);
+    cmd->add_option("--out", o->out, "Trajectory file: .csv (default) or .json, one row per frame");
+    cmd->add_flag("--json", o->json, "Print the final state of the first body as one JSON object");
+    cmd->add_option("--device", o->device, "Compute device: cpu, gpu, an index, or reference");
+    cmd->add_option("--integrator", o->integrator,
+                    "explicit-euler, semi-implicit-euler or rk4 (default: the project's)");
+    auto* mesh = cmd->add_option("--mesh", o->mesh, "One-body scene: the mesh");
+    cmd->add_option("--density", o->density, "One-body scene: solid density, kg/m^3")
+        ->check(CLI::PositiveNumber)
+        ->capture_default_str();
+    cmd->add_option("--size", o->size, "One-body scene: texture size")
+        ->check(CLI::Range(kMinTextureSize, kMaxTextureSize))
+        ->capture_default_str();
+    cmd->add_option("--fluid-density", o->fluidDensity, "One-body scene: fluid density, kg/m^3")
+        ->check(CLI::PositiveNumber)
+        ->capture_default_str();
+    cmd->add_option("--water-level", o->waterLevel, "One-body scene: flat water height, m")
+        ->capture_default_str();
+    addVectorOption(*cmd, "--position", o->position, "One-body scene: position t of the object "
+                                                     "origin (R p + t), m")
+        ->type_name("X,Y,Z");
+    addVectorOption(*cmd, "--rotation-deg", o->rotationDegrees,
+                    "One-body scene: rotation Rz Ry Rx, degrees")
+        ->type_name("RX,RY,RZ");
+    mesh->excludes(cmd->get_option("PROJECT"));
+    cmd->callback([o, &selected] { selected = [o] { return runSimulate(*o); }; });
+}
+
+}  // namespace plimsoll::cli

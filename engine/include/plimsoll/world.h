@@ -1,0 +1,104 @@
+// World: the bodies of a project stepped through time — gravity, buoyancy and drag from a
+// compute backend (all bodies in one batch per step where the integrator allows it), then the
+// rigid-body integrator (DESIGN.md "Rigid body"). Only what a scene needs is computed:
+//  - a rigid body with constant material gets its mass properties once, at creation;
+//  - a deforming body regathers its textures and recomputes its mass properties on the
+//    frames its mesh changes;
+//  - a body whose bounding sphere lies above the highest water surface skips the kernels;
+//  - (no water graph yet: the water-graph issue adds it only to bodies that have one).
+// The log callback is told what was skipped and why.
+#pragma once
+
+#include "plimsoll/bake.h"
+#include "plimsoll/buoyancy.h"
+#include "plimsoll/compute.h"
+#include "plimsoll/project.h"
+#include "plimsoll/result.h"
+#include "plimsoll/rigid_body.h"
+
+#include <functional>
+#include <memory>
+#include <string>
+#include <vector>
+
+namespace plimsoll {
+
+/// Called with one line of text for things a user should know (skips, recomputations).
+using LogFunction = std::function<void(const std::string&)>;
+
+/// A body as the simulation holds it.
+struct SimulatedBody {
+    std::string name;
+    MassDistribution mass;          ///< current (changes for deforming bodies)
+    double volume = 0;              ///< enclosed volume, m^3 (texture)
+    RigidBodyState state;
+    SurfaceTextures textures;       ///< current surface samples, object space
+    double boundingRadius = 0;      ///< about the centre of mass, m
+    FluidSettings fluid;
+    double linearDamping = 0;       ///< 1/s, at full submersion (BodyDesc)
+    double angularDamping = 0;      ///< 1/s
+    BuoyancyResult buoyancy;        ///< at the start of the last step
+    std::size_t backendId = 0;
+    bool deforms = false;
+
+    /// Object -> world placement now.
+    Pose pose() const { return poseOf(state, mass); }
+};
+
+/// Counters of what the world did and did not compute (for logs, tests and the editor).
+struct WorldStatistics {
+    std::size_t steps = 0;                 ///< integration steps (sub-steps)
+    std::size_t buoyancyEvaluations = 0;   ///< body evaluations sent to the backend
+    std::size_t skippedOutOfWater = 0;     ///< body-steps skipped by the bounding-sphere test
+    std::size_t massRecomputations = 0;    ///< mass properties computed after creation
+};
+
+class World {
+public:
+    /// Loads every body's mesh (paths through project.resolvePath), bakes it, computes its mass
+    /// properties and registers it with `backend`. Reports the first problem with the body's
+    /// name and file.
+    static Result<std::unique_ptr<World>> create(const Project& project,
+                                                 std::unique_ptr<BuoyancyBackend> backend,
+                                                 LogFunction log = {});
+
+    ~World();
+
+    /// Advances one frame: simulation.subSteps integration steps of timeStep / subSteps.
+    Status advanceFrame();
+
+    double time() const { return time_; }
+    const std::vector<SimulatedBody>& bodies() const { return bodies_; }
+    const WorldStatistics& statistics() const { return statistics_; }
+    const Project& project() const { return project_; }
+    const BuoyancyBackend& backend() const { return *backend_; }
+
+    /// Kinetic + gravitational potential energy of body i plus, on flat water, the
+    /// hydrostatic potential rho_f g V_s (h - y_B) of its displaced water (J). Conserved by
+    /// the exact dynamics without drag: the stability tests watch it.
+    double mechanicalEnergy(std::size_t body) const;
+
+private:
+    World(Project project, std::unique_ptr<BuoyancyBackend> backend, LogFunction log);
+
+    struct Deformation;  // frames and piece table of a deforming body
+    Status addBody(const BodyDesc& desc);
+    Status evaluateAll(double time);
+    Wrench wrenchOf(const SimulatedBody& body, const RigidBodyState& state,
+                    const BuoyancyResult& buoyancy) const;
+    Status updateDeformingBodies(double time);
+    bool outOfWater(const SimulatedBody& body) const;
+    void say(const std::string& line) const;
+
+    Project project_;
+    std::unique_ptr<BuoyancyBackend> backend_;
+    LogFunction log_;
+    std::vector<SimulatedBody> bodies_;
+    std::vector<std::unique_ptr<Deformation>> deformations_;  ///< per body, null if rigid
+    std::vector<MaterialDesc> materials_;
+    WorldStatistics statistics_;
+    double time_ = 0;
+    bool reportedSkip_ = false;
+};
+
+}  // namespace plimsoll

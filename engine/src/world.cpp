@@ -1,0 +1,307 @@
+// World stepping (world.h).
+#include "plimsoll/world.h"
+
+#include "plimsoll/deform.h"
+#include "plimsoll/massprops.h"
+#include "plimsoll/mesh_io.h"
+#include "plimsoll/painted_map.h"
+#include "plimsoll/validate.h"
+
+#include <algorithm>
+#include <cmath>
+#include <sstream>
+
+namespace plimsoll {
+
+/// The frames of a deforming body, baked once into a piece table (DESIGN.md, "The textures").
+struct World::Deformation {
+    std::vector<TriangleMesh> frames;
+    SurfacePieceTable pieces;
+    double framesPerSecond = 24.0;
+    std::size_t currentFrame = 0;
+};
+
+namespace {
+
+MassDistribution toDistribution(const MassProperties& p) {
+    MassDistribution m;
+    m.mass = p.mass;
+    m.inertia = p.inertia;
+    m.centerOfMass = p.centerOfMass;
+    return m;
+}
+
+double boundingRadiusAbout(const SurfaceTextures& textures, const Eigen::Vector3d& centre) {
+    double radius = 0;
+    for (std::size_t i = 0; i < textures.coveredCount(); ++i) {
+        // Half a texel's extent beyond its centroid: the surface it stands for.
+        radius = std::max(radius, (textures.position[i] - centre).norm() +
+                                      0.5 * std::sqrt(textures.area[i]));
+    }
+    return radius;
+}
+
+}  // namespace
+
+World::World(Project project, std::unique_ptr<BuoyancyBackend> backend, LogFunction log)
+    : project_(std::move(project)), backend_(std::move(backend)), log_(std::move(log)) {}
+
+World::~World() = default;
+
+void World::say(const std::string& line) const {
+    if (log_) log_(line);
+}
+
+Result<std::unique_ptr<World>> World::create(const Project& project,
+                                             std::unique_ptr<BuoyancyBackend> backend,
+                                             LogFunction log) {
+    std::unique_ptr<World> world(new World(project, std::move(backend), std::move(log)));
+    for (const BodyDesc& desc : project.bodies) {
+        if (Status s = world->addBody(desc); !s.ok()) return s.error();
+    }
+    return world;
+}
+
+/// Mass properties of `material` on `textures` (texture path, like the buoyancy it meets).
+static Result<MassProperties> materialMass(const SurfaceTextures& textures,
+                                           const MaterialDesc& material, const Project& project,
+                                           const std::string& body) {
+    MassProperties total;
+    bool any = false;
+    if (material.density) {
+        total = textureSolidMassProperties(textures, *material.density);
+        any = true;
+    }
+    if (material.shellSurfaceDensity) {
+        std::vector<double> painted;
+        if (!material.shellDensityMap.empty()) {
+            Result<PaintedMap> map = loadPaintedMap(project.resolvePath(material.shellDensityMap));
+            if (!map) return Error{body + ": " + map.error().message};
+            painted = sampleAtTexels(*map, textures, *material.shellSurfaceDensity);
+        }
+        const MassProperties shell =
+            textureShellMassProperties(textures, *material.shellSurfaceDensity, painted);
+        total = any ? total + shell : shell;
+        any = true;
+    }
+    if (!any || !(total.mass > 0) || !total.inertia.allFinite()) {
+        return makeError(body + ": the material gives no positive mass");
+    }
+    return total;
+}
+
+Status World::addBody(const BodyDesc& desc) {
+    const std::string label = "body '" + desc.name + "' (" + desc.mesh + ")";
+    const std::filesystem::path meshPath = project_.resolvePath(desc.mesh);
+    std::unique_ptr<Deformation> deformation;
+    TriangleMesh mesh;
+    if (desc.deforms()) {
+        std::vector<std::filesystem::path> paths{meshPath};
+        for (const std::string& frame : desc.meshFrames) paths.push_back(project_.resolvePath(frame));
+        Result<std::vector<TriangleMesh>> frames = loadMeshFrames(paths);
+        if (!frames) return Error{label + ": " + frames.error().message};
+        deformation = std::make_unique<Deformation>();
+        deformation->frames = std::move(*frames);
+        deformation->framesPerSecond = desc.framesPerSecond;
+        mesh = deformation->frames.front();
+    } else {
+        Result<TriangleMesh> loaded = loadMesh(meshPath);
+        if (!loaded) return Error{label + ": " + loaded.error().message};
+        mesh = std::move(*loaded);
+    }
+    const ValidationReport report = validateMesh(mesh);
+    if (!report.usableForTexture()) return Error{label + ":\n" + report.format()};
+
+    BakeSettings settings;
+    settings.size = desc.textureSize;
+    settings.maxTexelStretch = desc.maxTexelStretch;
+    Result<SurfaceTextures> textures =
+        bakeSurfaceTextures(mesh, settings, deformation ? &deformation->pieces : nullptr);
+    if (!textures) return Error{label + ": " + textures.error().message};
+
+    Result<MassProperties> props = materialMass(*textures, desc.material, project_, label);
+    if (!props) return props.error();
+
+    SimulatedBody body;
+    body.name = desc.name;
+    body.mass = toDistribution(*props);
+    body.volume = props->volume;
+    body.textures = std::move(*textures);
+    body.boundingRadius = boundingRadiusAbout(body.textures, body.mass.centerOfMass);
+    body.deforms = desc.deforms();
+    body.fluid.density = project_.medium.density;
+    body.fluid.gravity = project_.simulation.gravity.norm();
+    body.fluid.dragCoefficient = desc.dragCoefficient;
+    body.fluid.frictionCoefficient = desc.frictionCoefficient;
+    body.linearDamping = desc.linearDamping;
+    body.angularDamping = desc.angularDamping;
+    Motion motion;
+    motion.linear = desc.velocity;
+    motion.angular = desc.angularVelocity;
+    body.state = stateAt(Pose::fromEulerDegrees(desc.position, desc.rotationDegrees), body.mass,
+                         motion);
+    body.backendId = backend_->addBody(body.textures, body.mass.centerOfMass);
+    std::ostringstream line;
+    line << label << ": " << body.textures.coveredCount() << " samples at "
+         << desc.textureSize << "^2, mass " << body.mass.mass << " kg, volume " << body.volume
+         << " m^3" << (body.deforms ? ", deforming: mass recomputed as it changes"
+                                    : ", rigid: mass properties computed once");
+    say(line.str());
+    bodies_.push_back(std::move(body));
+    deformations_.push_back(std::move(deformation));
+    materials_.push_back(desc.material);
+    return Ok{};
+}
+
+bool World::outOfWater(const SimulatedBody& body) const {
+    return body.state.position.y() - body.boundingRadius > project_.water.maxHeight();
+}
+
+Status World::evaluateAll(double time) {
+    std::vector<BodyRequest> requests;
+    std::vector<std::size_t> which;
+    for (std::size_t i = 0; i < bodies_.size(); ++i) {
+        SimulatedBody& body = bodies_[i];
+        if (outOfWater(body)) {
+            body.buoyancy = BuoyancyResult{};
+            body.buoyancy.centerOfBuoyancy = body.state.position;
+            ++statistics_.skippedOutOfWater;
+            continue;
+        }
+        BodyRequest request;
+        request.body = body.backendId;
+        request.fluid = body.fluid;
+        request.frame.pose = body.pose();
+        request.frame.motion.linear = linearVelocity(body.state, body.mass);
+        request.frame.motion.angular = angularVelocity(body.state, body.mass);
+        request.frame.centerOfMass = body.mass.centerOfMass;
+        request.frame.time = time;
+        requests.push_back(request);
+        which.push_back(i);
+    }
+    if (requests.empty()) return Ok{};
+    std::vector<BuoyancyResult> results(requests.size());
+    if (Status s = backend_->evaluate(requests, project_.water, results); !s.ok()) return s;
+    for (std::size_t k = 0; k < which.size(); ++k) bodies_[which[k]].buoyancy = results[k];
+    statistics_.buoyancyEvaluations += requests.size();
+    return Ok{};
+}
+
+Wrench World::wrenchOf(const SimulatedBody& body, const RigidBodyState& state,
+                       const BuoyancyResult& buoyancy) const {
+    // On flat water Archimedes' form: exactly vertical, where the texel sum of the pressure
+    // leaves a horizontal residue of the discretisation error that makes a floating body
+    // creep sideways. On waves the pressure integral, which carries their horizontal push.
+    const bool flat = project_.water.kind == WaterModel::Kind::Flat;
+    Wrench w;
+    w.force = body.mass.mass * project_.simulation.gravity +
+              (flat ? buoyancy.force : buoyancy.pressureForce) + buoyancy.dragForce;
+    w.torque = (flat ? buoyancy.torque : buoyancy.pressureTorque) + buoyancy.dragTorque;
+    // Radiation-damping stand-in, in proportion to how much of the body is in the fluid.
+    const double wet = body.volume > 0
+                           ? std::clamp(buoyancy.submergedVolume / body.volume, 0.0, 1.0)
+                           : 0.0;
+    w.force -= wet * body.linearDamping * state.linearMomentum;
+    w.torque -= wet * body.angularDamping * state.angularMomentum;
+    return w;
+}
+
+Status World::updateDeformingBodies(double time) {
+    for (std::size_t i = 0; i < bodies_.size(); ++i) {
+        Deformation* d = deformations_[i].get();
+        if (!d) continue;
+        const auto frame = static_cast<std::size_t>(std::floor(time * d->framesPerSecond)) %
+                           d->frames.size();
+        if (frame == d->currentFrame) continue;
+        d->currentFrame = frame;
+        SimulatedBody& body = bodies_[i];
+        regatherSurface(d->pieces, d->frames[frame], body.textures);
+        Result<MassProperties> props = materialMass(body.textures, materials_[i], project_,
+                                                    "body '" + body.name + "'");
+        if (!props) return props.error();
+        // Keep the centre of mass where it is in the world and the momenta as they are: the
+        // mesh changed shape, the body did not jump.
+        const Pose pose = body.pose();
+        body.mass = toDistribution(*props);
+        body.volume = props->volume;
+        body.state.position = pose.apply(body.mass.centerOfMass);
+        body.boundingRadius = boundingRadiusAbout(body.textures, body.mass.centerOfMass);
+        if (Status s = backend_->updateBody(body.backendId, body.textures, body.mass.centerOfMass);
+            !s.ok())
+            return s;
+        ++statistics_.massRecomputations;
+    }
+    return Ok{};
+}
+
+Status World::advanceFrame() {
+    const SimulationDesc& sim = project_.simulation;
+    const double dt = sim.timeStep / sim.subSteps;
+    for (int sub = 0; sub < sim.subSteps; ++sub) {
+        if (Status s = updateDeformingBodies(time_); !s.ok()) return s;
+        const std::size_t skippedBefore = statistics_.skippedOutOfWater;
+        if (sim.integrator == Integrator::RK4) {
+            // RK4 needs the wrench at intermediate states: one evaluation per stage and body.
+            for (SimulatedBody& body : bodies_) {
+                Status failure = Ok{};
+                const WrenchFunction wrench = [&](const RigidBodyState& state, double t) {
+                    SimulatedBody probe = body;
+                    probe.state = state;
+                    if (outOfWater(probe)) return wrenchOf(probe, state, BuoyancyResult{});
+                    BodyRequest request;
+                    request.body = body.backendId;
+                    request.fluid = body.fluid;
+                    request.frame.pose = poseOf(state, body.mass);
+                    request.frame.motion.linear = linearVelocity(state, body.mass);
+                    request.frame.motion.angular = angularVelocity(state, body.mass);
+                    request.frame.centerOfMass = body.mass.centerOfMass;
+                    request.frame.time = t;
+                    BuoyancyResult result;
+                    if (Status s = backend_->evaluate({&request, 1}, project_.water, {&result, 1});
+                        !s.ok())
+                        failure = s;
+                    ++statistics_.buoyancyEvaluations;
+                    return wrenchOf(probe, state, result);
+                };
+                body.state = step(body.state, body.mass, wrench, time_, dt, sim.integrator);
+                if (!failure.ok()) return failure;
+            }
+        } else {
+            // Euler integrators take the wrench at the start of the step only: one batch for
+            // every body.
+            if (Status s = evaluateAll(time_); !s.ok()) return s;
+            for (SimulatedBody& body : bodies_) {
+                const Wrench w = wrenchOf(body, body.state, body.buoyancy);
+                body.state = step(body.state, body.mass,
+                                  [&](const RigidBodyState&, double) { return w; }, time_, dt,
+                                  sim.integrator);
+            }
+        }
+        if (statistics_.skippedOutOfWater > skippedBefore && !reportedSkip_) {
+            say("a body above the highest water surface skips the buoyancy kernels "
+                "(bounding-sphere test); counted in the statistics from now on");
+            reportedSkip_ = true;
+        }
+        ++statistics_.steps;
+        time_ += dt;
+    }
+    return Ok{};
+}
+
+double World::mechanicalEnergy(std::size_t i) const {
+    const SimulatedBody& body = bodies_[i];
+    const double g = project_.simulation.gravity.norm();
+    double energy = kineticEnergy(body.state, body.mass) + body.mass.mass * g * body.state.position.y();
+    if (project_.water.kind == WaterModel::Kind::Flat && !outOfWater(body)) {
+        BodyFrame frame;
+        frame.pose = body.pose();
+        frame.centerOfMass = body.mass.centerOfMass;
+        const BuoyancyResult r = evaluateBuoyancyReference(body.textures, frame, project_.water,
+                                                           body.fluid);
+        energy += body.fluid.density * g * r.submergedVolume *
+                  (project_.water.level - r.centerOfBuoyancy.y());
+    }
+    return energy;
+}
+
+}  // namespace plimsoll

@@ -1,0 +1,146 @@
+// The world stepped through time: equilibrium drafts against analytic answers, stability at
+// the extremes, what is skipped, deforming bodies.
+#include "plimsoll/buoyancy.h"
+#include "plimsoll/mesh_io.h"
+#include "plimsoll/primitives.h"
+#include "plimsoll/world.h"
+
+#include "test_support.h"
+
+#include <Eigen/Geometry>
+
+#include <cmath>
+#include <numbers>
+#include <unistd.h>
+
+namespace plimsoll {
+namespace {
+
+namespace fs = std::filesystem;
+
+/// Writes a generated mesh where the project can load it.
+std::string meshFile(const TriangleMesh& mesh, const std::string& name) {
+    const fs::path dir = fs::temp_directory_path() / "plimsoll_tests" /
+                         ("world_" + std::to_string(::getpid()));
+    fs::create_directories(dir);
+    const fs::path path = dir / (name + ".obj");
+    EXPECT_TRUE(writeObj(mesh, path).ok());
+    return path.string();
+}
+
+Project oneBody(const std::string& mesh, double density, double fluidDensity) {
+    Project project;
+    project.folder = fs::temp_directory_path();
+    BodyDesc body;
+    body.name = "body";
+    body.mesh = mesh;
+    body.textureSize = 96;
+    body.material.density = density;
+    // Strong damping so that 20 s settle to 1e-4 m/s from a start at the waterline.
+    body.linearDamping = 4.0;
+    body.angularDamping = 4.0;
+    project.bodies.push_back(body);
+    project.medium.density = fluidDensity;
+    project.water = WaterModel::flat(0.0);
+    return project;
+}
+
+std::unique_ptr<World> makeWorld(const Project& project) {
+    Result<std::unique_ptr<World>> world = World::create(project, createReferenceBackend());
+    EXPECT_TRUE(world.ok()) << (world.ok() ? "" : world.error().message);
+    return world.ok() ? std::move(*world) : nullptr;
+}
+
+void run(World& world, double seconds) {
+    const int frames = static_cast<int>(std::round(seconds / world.project().simulation.timeStep));
+    for (int i = 0; i < frames; ++i) ASSERT_TRUE(world.advanceFrame().ok());
+}
+
+/// Depth of the lowest point of the body's mesh below the water after settling.
+double settledDraft(const std::string& mesh, double density, const Eigen::Vector3d& rotationDeg,
+                    double seconds, double* speed) {
+    Project project = oneBody(mesh, density, 1000.0);
+    project.bodies[0].rotationDegrees = rotationDeg;
+    std::unique_ptr<World> world = makeWorld(project);
+    run(*world, seconds);
+    const SimulatedBody& body = world->bodies().front();
+    *speed = linearVelocity(body.state, body.mass).norm();
+    Result<TriangleMesh> loaded = loadMesh(mesh);
+    double lowest = 1e300;
+    for (const auto& p : loaded->positions) lowest = std::min(lowest, body.pose().apply(p).y());
+    return -lowest;
+}
+
+TEST(WorldEquilibrium, FlatBoxOfHalfDensityFloatsAtHalfItsHeight) {
+    const std::string box = meshFile(makeBox(Eigen::Vector3d(1.0, 0.25, 0.8)), "flat_box");
+    double speed = 0;
+    const double draft = settledDraft(box, 500.0, Eigen::Vector3d::Zero(), 20.0, &speed);
+    EXPECT_NEAR(draft, 0.125, 0.005 * 0.125);
+    EXPECT_LT(speed, 1e-4);
+}
+
+TEST(WorldEquilibrium, SphereAtQuarterAndThreeQuarterDensity) {
+    const TriangleMesh sphere = makeUvSphere(0.5, 48, 24);
+    const std::string path = meshFile(sphere, "sphere");
+    const double volume = exactSolidMassProperties(sphere, 1.0).volume;
+    for (double ratio : {0.25, 0.75}) {
+        // The draft at which the exact clip of this very mesh displaces ratio x volume.
+        double lo = 0.0, hi = 1.0;
+        for (int i = 0; i < 60; ++i) {
+            const double mid = 0.5 * (lo + hi);
+            BodyFrame frame;
+            frame.pose.translation = Eigen::Vector3d(0, 0.5 - mid, 0);
+            const double v = evaluateBuoyancyExact(sphere, frame, 0.0, {}).submergedVolume;
+            (v < ratio * volume ? lo : hi) = mid;
+        }
+        double speed = 0;
+        const double draft = settledDraft(path, 1000.0 * ratio, Eigen::Vector3d::Zero(), 20.0, &speed);
+        EXPECT_NEAR(draft, lo, 0.005 * lo) << ratio;
+        EXPECT_LT(speed, 1e-4) << ratio;
+    }
+}
+
+TEST(WorldEquilibrium, LyingCylinderAtItsSegmentDraft) {
+    // A horizontal cylinder: the submerged cross-section is a circular segment, area
+    // r^2 (theta - sin theta) / 2 with draft r (1 - cos(theta / 2)).
+    const double r = 0.3;
+    const std::string path = meshFile(makeCylinder(r, 1.0, 64), "cylinder");
+    const double n = 64;
+    const double section = 0.5 * n * r * r * std::sin(2 * std::numbers::pi / n);  // prism
+    for (double ratio : {0.25, 0.75}) {
+        double lo = 0, hi = 2 * std::numbers::pi;
+        for (int i = 0; i < 80; ++i) {
+            const double mid = 0.5 * (lo + hi);
+            (0.5 * r * r * (mid - std::sin(mid)) < ratio * section ? lo : hi) = mid;
+        }
+        const double expected = r * (1 - std::cos(lo / 2));
+        double speed = 0;
+        const double draft =
+            settledDraft(path, 1000.0 * ratio, Eigen::Vector3d(90, 0, 0), 20.0, &speed);
+        // The prism's cross-section is a 64-gon, not a circle: about 0.2% of slack on top.
+        EXPECT_NEAR(draft, expected, 0.007 * expected) << ratio;
+        EXPECT_LT(speed, 1e-4) << ratio;
+    }
+}
+
+TEST(WorldSkips, BodiesOutOfTheWaterSkipTheKernels) {
+    Project project = oneBody(meshFile(makeUvSphere(0.5, 24, 12), "high"), 500.0, 1000.0);
+    project.bodies[0].position = Eigen::Vector3d(0, 50, 0);
+    std::vector<std::string> log;
+    Result<std::unique_ptr<World>> world = World::create(
+        project, createReferenceBackend(), [&](const std::string& line) { log.push_back(line); });
+    ASSERT_TRUE(world.ok());
+    run(**world, 0.5);
+    EXPECT_EQ((*world)->statistics().buoyancyEvaluations, 0u);
+    EXPECT_EQ((*world)->statistics().skippedOutOfWater, (*world)->statistics().steps);
+    EXPECT_EQ((*world)->statistics().massRecomputations, 0u);  // rigid: computed once
+    bool said = false;
+    for (const auto& line : log) said = said || line.find("skips the buoyancy kernels") != std::string::npos;
+    EXPECT_TRUE(said);
+    // Free fall meanwhile: v = g t.
+    const SimulatedBody& body = (*world)->bodies().front();
+    EXPECT_NEAR(linearVelocity(body.state, body.mass).y(), -9.81 * (*world)->time(), 1e-9);
+}
+
+}  // namespace
+}  // namespace plimsoll
