@@ -121,5 +121,53 @@ TEST(CliBench, QuickRunWritesTableCsvAndSvg) {
     fs::remove_all(out);
 }
 
+/// bench --integrators: one row per integrator and time step; the symplectic and fourth-order
+/// integrators keep the energy finite, and explicit Euler (the paper's) gains energy at the
+/// coarse step where semi-implicit Euler does not.
+TEST(CliBench, IntegratorsQuickRunWritesDriftCsv) {
+    const fs::path out =
+        fs::temp_directory_path() / ("plimsoll_bench_int_" + std::to_string(::getpid()));
+    fs::remove_all(out);
+    const CommandOutput r = runPlimsoll("bench --integrators --quick --out '" + out.string() + "'");
+    ASSERT_EQ(r.exitCode, 0) << r.err;
+    EXPECT_NE(r.out.find("final drift"), std::string::npos) << r.out;
+
+    const std::string csv = readFile(out / "bench_integrators.csv");
+    ASSERT_EQ(csv.rfind("integrator,dt_s,", 0), 0u) << csv.substr(0, 200);
+    const std::vector<CsvRow> rows = parseCsv(csv);
+    ASSERT_EQ(rows.size(), 9u) << csv;
+
+    // Rows by integrator and steps per second (1 / dt).
+    std::map<std::string, std::map<int, CsvRow>> byIntegrator;
+    for (const CsvRow& row : rows) {
+        const int rate = static_cast<int>(std::lround(1.0 / std::stod(row.at("dt_s"))));
+        byIntegrator[row.at("integrator")][rate] = row;
+    }
+    ASSERT_EQ(byIntegrator.size(), 3u) << csv;
+    for (const auto& [integrator, byRate] : byIntegrator) {
+        EXPECT_EQ(byRate.size(), 3u) << integrator;
+        for (int rate : {240, 60, 15}) EXPECT_TRUE(byRate.count(rate)) << integrator << " " << rate;
+    }
+    for (const char* integrator : {"semi-implicit-euler", "rk4"}) {
+        for (const auto& [rate, row] : byIntegrator[integrator]) {
+            EXPECT_EQ(row.at("diverged"), "0") << integrator << " 1/" << rate;
+            for (const char* column : {"final_drift", "max_drift"}) {
+                ASSERT_FALSE(row.at(column).empty()) << integrator << " 1/" << rate << " " << column;
+                EXPECT_TRUE(std::isfinite(std::stod(row.at(column))))
+                    << integrator << " 1/" << rate << " " << column;
+            }
+        }
+    }
+
+    // At dt = 1/15 s explicit Euler gains energy: more than semi-implicit Euler drifts either
+    // way (or it diverged outright).
+    const CsvRow& explicitCoarse = byIntegrator["explicit-euler"][15];
+    const double semiDrift = std::stod(byIntegrator["semi-implicit-euler"][15].at("final_drift"));
+    if (explicitCoarse.at("diverged") != "1") {
+        EXPECT_GT(std::stod(explicitCoarse.at("final_drift")), std::abs(semiDrift)) << csv;
+    }
+    fs::remove_all(out);
+}
+
 }  // namespace
 }  // namespace plimsoll

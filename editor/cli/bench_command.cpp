@@ -3,6 +3,9 @@
 // time per frame of one body, and its largest error against the exact clip over a sweep of
 // depths and orientations; the exact method's own time per mesh; a batch of 1000 bodies. A
 // table on stdout, DIR/bench.csv, and DIR/bench.svg (error against time per frame, log-log).
+// plimsoll bench --integrators [--quick] [--out DIR]: instead, the integrators' speed against
+// accuracy trade: the energy drift of a floating box without dissipation and the time per step,
+// for each integrator and time step. A table on stdout and DIR/bench_integrators.csv.
 #include "cli/commands.h"
 
 #include "cli/common.h"
@@ -12,7 +15,10 @@
 #include "plimsoll/compute.h"
 #include "plimsoll/file_util.h"
 #include "plimsoll/massprops.h"
+#include "plimsoll/mesh_io.h"
 #include "plimsoll/primitives.h"
+#include "plimsoll/project.h"
+#include "plimsoll/world.h"
 
 #include <algorithm>
 #include <chrono>
@@ -21,10 +27,12 @@
 #include <filesystem>
 #include <functional>
 #include <iostream>
+#include <limits>
 #include <memory>
 #include <optional>
 #include <string>
 #include <system_error>
+#include <unistd.h>
 #include <vector>
 
 namespace plimsoll::cli {
@@ -51,6 +59,7 @@ struct BenchOptions {
     std::string mesh = "../shared/meshes/spot.obj";
     bool quick = false;
     bool sizesGiven = false;
+    bool integrators = false;  ///< only the integrators' energy drift table
 };
 
 double msSince(Clock::time_point start) {
@@ -398,6 +407,26 @@ std::vector<std::string> tableCells(const Row& r) {
             e ? format("%.2e", e->torque) : "-"};
 }
 
+/// Columns padded to their widest cell: the first `names` columns left-aligned (names), the
+/// others right-aligned so the digits of their numbers line up.
+void printAligned(const std::vector<std::vector<std::string>>& lines, std::size_t names) {
+    std::vector<std::size_t> width;
+    for (const auto& line : lines) {
+        width.resize(std::max(width.size(), line.size()), 0);
+        for (std::size_t c = 0; c < line.size(); ++c) width[c] = std::max(width[c], line[c].size());
+    }
+    for (const auto& line : lines) {
+        std::string text;
+        for (std::size_t c = 0; c < line.size(); ++c) {
+            const std::string pad(width[c] - line[c].size(), ' ');
+            text += c < names ? line[c] + pad : pad + line[c];
+            if (c + 1 < line.size()) text += "  ";
+        }
+        while (!text.empty() && text.back() == ' ') text.pop_back();
+        std::cout << text << "\n";
+    }
+}
+
 void printTable(const std::vector<Row>& rows) {
     const std::vector<std::string> header = {
         "mesh",    "device",   "N",          "entries",       "bake ms",
@@ -405,20 +434,7 @@ void printTable(const std::vector<Row>& rows) {
         "% bw",    "vol err",  "cob err",    "torque err"};
     std::vector<std::vector<std::string>> lines = {header};
     for (const Row& r : rows) lines.push_back(tableCells(r));
-    std::vector<std::size_t> width(header.size(), 0);
-    for (const auto& line : lines)
-        for (std::size_t c = 0; c < line.size(); ++c) width[c] = std::max(width[c], line[c].size());
-    for (const auto& line : lines) {
-        std::string text;
-        for (std::size_t c = 0; c < line.size(); ++c) {
-            const std::string pad(width[c] - line[c].size(), ' ');
-            // Names read left-aligned, numbers right-aligned so their digits line up.
-            text += c < 2 ? line[c] + pad : pad + line[c];
-            if (c + 1 < line.size()) text += "  ";
-        }
-        while (!text.empty() && text.back() == ' ') text.pop_back();
-        std::cout << text << "\n";
-    }
+    printAligned(lines, 2);
 }
 
 std::string csvField(const std::string& text) {
@@ -580,6 +596,248 @@ int runBench(const BenchOptions& o) {
     return kExitOk;
 }
 
+// --- Integrators: energy drift against time step -------------------------------------------
+//
+// A flat box (1 x 0.25 x 0.8 m, density 500) floating on flat water (1000), let go 0.05 m above
+// its equilibrium (the centre at the water line: it floats at half draft) and rolled 5 degrees
+// about x, so it both heaves and rolls. No drag, friction or damping: the exact dynamics keep
+// World::mechanicalEnergy constant, and whatever an integrator adds or loses is its error,
+// measured against the energy the start has above the box at rest at equilibrium.
+
+constexpr double kIntegratorLift = 0.05;          ///< m above equilibrium at the start
+constexpr double kIntegratorRollDegrees = 5.0;    ///< about x at the start
+constexpr int kIntegratorTextureSize = 64;
+constexpr double kIntegratorSeconds = 30.0;
+constexpr double kIntegratorQuickSeconds = 5.0;
+constexpr Integrator kIntegrators[] = {Integrator::ExplicitEuler, Integrator::SemiImplicitEuler,
+                                       Integrator::RK4};
+/// Frame rates: one integration step per frame (sub_steps 1), dt = 1 / rate.
+constexpr int kIntegratorRates[] = {240, 60, 15};
+
+Project integratorScene(const fs::path& mesh, Integrator integrator, int rate, bool displaced) {
+    Project project;
+    project.name = "bench --integrators";
+    project.folder = mesh.parent_path();
+    BodyDesc body;
+    body.name = "box";
+    body.mesh = mesh.string();
+    body.textureSize = kIntegratorTextureSize;
+    body.material.density = 500.0;
+    if (displaced) {
+        body.position = {0.0, kIntegratorLift, 0.0};
+        body.rotationDegrees = {kIntegratorRollDegrees, 0.0, 0.0};
+    }
+    // Nothing that dissipates: energy is the integrator's to keep.
+    body.dragCoefficient = 0.0;
+    body.frictionCoefficient = 0.0;
+    body.linearDamping = 0.0;
+    body.angularDamping = 0.0;
+    project.bodies.push_back(body);
+    project.medium.density = 1000.0;
+    project.water = WaterModel::flat(0.0);
+    project.simulation.timeStep = 1.0 / rate;
+    project.simulation.subSteps = 1;
+    project.simulation.integrator = integrator;
+    return project;
+}
+
+Result<std::unique_ptr<World>> createIntegratorWorld(const fs::path& mesh, Integrator integrator,
+                                                     int rate, bool displaced) {
+    return World::create(integratorScene(mesh, integrator, rate, displaced),
+                         createReferenceBackend());
+}
+
+struct IntegratorRow {
+    Integrator integrator = Integrator::SemiImplicitEuler;
+    int rate = 0;              ///< dt = 1 / rate s, the project's frame time step
+    long frames = 0;           ///< taken: fewer than planned when the state stopped being finite
+    /// Integration steps World took (WorldStatistics::steps): one a frame as the project asks,
+    /// more where World sub-steps on its own for stability.
+    std::size_t steps = 0;
+    double finalDrift = 0;     ///< (E_end - E_0) / (E_0 - E_eq)
+    double maxDrift = 0;       ///< largest |E(t) - E_0| / (E_0 - E_eq) over the run
+    double usPerStep = 0;      ///< wall clock of advanceFrame, microseconds per integration step
+    double finalVelocityY = 0; ///< vertical velocity of the centre of mass at the end, m/s
+
+    double dt() const { return 1.0 / rate; }
+    /// The step actually integrated (s): dt unless World sub-stepped.
+    double integratedStep() const {
+        return steps > 0 ? static_cast<double>(frames) * dt() / static_cast<double>(steps) : dt();
+    }
+    bool diverged() const {
+        return !std::isfinite(finalDrift) || !std::isfinite(maxDrift) ||
+               !std::isfinite(finalVelocityY);
+    }
+};
+
+bool finiteState(const RigidBodyState& s) {
+    return s.position.allFinite() && s.orientation.coeffs().allFinite() &&
+           s.linearMomentum.allFinite() && s.angularMomentum.allFinite();
+}
+
+/// Runs one integrator at one step for `seconds` of simulated time. Only advanceFrame is
+/// timed; the energy is read after every step (one reference evaluation, not timed).
+Result<IntegratorRow> measureIntegrator(const fs::path& mesh, Integrator integrator, int rate,
+                                        double seconds, double restEnergy) {
+    Result<std::unique_ptr<World>> created = createIntegratorWorld(mesh, integrator, rate, true);
+    if (!created) return created.error();
+    World& world = **created;
+    const double start = world.mechanicalEnergy(0);
+    const double excess = start - restEnergy;
+    if (!(excess > 0)) {
+        return makeError("bench: the displaced box has no energy above equilibrium (" +
+                         format("%.6g", excess) + " J)");
+    }
+    IntegratorRow row;
+    row.integrator = integrator;
+    row.rate = rate;
+    const long planned = std::lround(seconds * rate);
+    double energy = start;
+    double elapsedUs = 0;
+    while (row.frames < planned) {
+        const Clock::time_point t0 = Clock::now();
+        if (Status s = world.advanceFrame(); !s.ok()) return s.error();
+        elapsedUs += std::chrono::duration<double, std::micro>(Clock::now() - t0).count();
+        ++row.frames;
+        const RigidBodyState& state = world.bodies()[0].state;
+        // A state that is no longer finite stays so: stop and report the run as diverged.
+        energy = finiteState(state) ? world.mechanicalEnergy(0)
+                                    : std::numeric_limits<double>::quiet_NaN();
+        const double drift = std::abs(energy - start) / excess;
+        row.maxDrift = std::isfinite(drift) ? std::max(row.maxDrift, drift) : drift;
+        if (!std::isfinite(energy)) break;
+    }
+    const SimulatedBody& body = world.bodies()[0];
+    row.steps = world.statistics().steps;
+    row.finalDrift = (energy - start) / excess;
+    row.finalVelocityY = linearVelocity(body.state, body.mass).y();
+    row.usPerStep = row.steps > 0 ? elapsedUs / static_cast<double>(row.steps) : 0.0;
+    return row;
+}
+
+std::string rateCell(int rate) { return "1/" + std::to_string(rate); }
+
+/// A number of a run, or "diverged" where the run produced NaN or infinity.
+std::string finiteCell(const char* spec, double value) {
+    return std::isfinite(value) ? format(spec, value) : "diverged";
+}
+
+std::vector<std::string> integratorCells(const IntegratorRow& r) {
+    return {integratorName(r.integrator),
+            rateCell(r.rate),
+            std::to_string(r.steps),
+            format("%.3e", r.integratedStep()),
+            finiteCell("%+.3e", r.finalDrift),
+            finiteCell("%.3e", r.maxDrift),
+            format("%.2f", r.usPerStep),
+            finiteCell("%+.4f", r.finalVelocityY)};
+}
+
+void printIntegratorTable(const std::vector<IntegratorRow>& rows) {
+    std::vector<std::vector<std::string>> lines = {
+        {"integrator", "dt (s)", "steps", "step (s)", "final drift", "max |drift|", "us/step",
+         "final vy (m/s)"}};
+    for (const IntegratorRow& r : rows) lines.push_back(integratorCells(r));
+    printAligned(lines, 2);
+}
+
+/// Non-finite numbers are left empty, with diverged = 1.
+bool writeIntegratorCsv(const std::vector<IntegratorRow>& rows, std::ostream& out) {
+    const auto number = [](const char* spec, double value) {
+        return std::isfinite(value) ? format(spec, value) : std::string();
+    };
+    out << "integrator,dt_s,frames,steps,step_s,final_drift,max_drift,wall_us_per_step,"
+           "final_vy_m_s,diverged\n";
+    for (const IntegratorRow& r : rows) {
+        out << integratorName(r.integrator) << ',' << format("%.17g", r.dt()) << ',' << r.frames
+            << ',' << r.steps << ',' << format("%.9e", r.integratedStep()) << ',' << number("%.9e", r.finalDrift) << ',' << number("%.9e", r.maxDrift) << ','
+            << format("%.6g", r.usPerStep) << ',' << number("%.9e", r.finalVelocityY) << ','
+            << (r.diverged() ? 1 : 0) << '\n';
+    }
+    return static_cast<bool>(out);
+}
+
+int runIntegratorBench(const BenchOptions& o) {
+    const double seconds = o.quick ? kIntegratorQuickSeconds : kIntegratorSeconds;
+    auto fail = [](const Error& error) {
+        std::cerr << "error: " << error.message << "\n";
+        return kExitFailure;
+    };
+
+    // The box as a mesh file, as a project needs one; one name per process, so concurrent
+    // runs do not remove each other's file.
+    std::error_code ec;
+    const fs::path folder = fs::temp_directory_path(ec) / "plimsoll_bench";
+    if (!ec) fs::create_directories(folder, ec);
+    if (ec) {
+        std::cerr << "error: " << folder.string() << ": cannot create folder: " << ec.message()
+                  << "\n";
+        return kExitFailure;
+    }
+    const fs::path mesh = folder / ("integrator_box_" + std::to_string(::getpid()) + ".obj");
+    if (Status s = writeObj(makeBox({1.0, 0.25, 0.8}), mesh); !s.ok()) return fail(s.error());
+    struct RemoveMesh {
+        fs::path path;
+        ~RemoveMesh() {
+            std::error_code ignored;
+            fs::remove(path, ignored);
+        }
+    } removeMesh{mesh};
+
+    Result<std::unique_ptr<World>> rest =
+        createIntegratorWorld(mesh, Integrator::SemiImplicitEuler, kIntegratorRates[0], false);
+    if (!rest) return fail(rest.error());
+    const double restEnergy = (*rest)->mechanicalEnergy(0);
+    Result<std::unique_ptr<World>> displaced =
+        createIntegratorWorld(mesh, Integrator::SemiImplicitEuler, kIntegratorRates[0], true);
+    if (!displaced) return fail(displaced.error());
+    const double startEnergy = (*displaced)->mechanicalEnergy(0);
+    const SimulatedBody& box = (*displaced)->bodies()[0];
+
+    std::vector<IntegratorRow> rows;
+    for (Integrator integrator : kIntegrators) {
+        for (int rate : kIntegratorRates) {
+            Result<IntegratorRow> row = measureIntegrator(mesh, integrator, rate, seconds,
+                                                          restEnergy);
+            if (!row) return fail(row.error());
+            const std::vector<std::string> c = integratorCells(*row);
+            std::cerr << "bench: " << c[0] << " dt " << c[1] << " s: " << c[2]
+                      << " steps, final drift " << c[4] << ", " << c[6] << " us/step\n";
+            rows.push_back(std::move(*row));
+        }
+    }
+
+    std::cout << "integrators: box 1 x 0.25 x 0.8 m, density 500, on flat water of 1000, "
+              << kIntegratorTextureSize << "^2 textures, mass " << format("%.6g", box.mass.mass)
+              << " kg, volume " << format("%.6g", box.volume) << " m^3\n"
+              << "started " << kIntegratorLift << " m above equilibrium and rolled "
+              << kIntegratorRollDegrees << " degrees about x; no drag, friction or damping; "
+              << format("%g", seconds) << " s simulated, sub_steps 1, reference backend\n"
+              << "energy above equilibrium at the start: E_0 - E_eq = "
+              << format("%.6g", startEnergy - restEnergy)
+              << " J; drift = (E - E_0) / (E_0 - E_eq)\n\n";
+    printIntegratorTable(rows);
+    if (std::any_of(rows.begin(), rows.end(), [](const IntegratorRow& r) {
+            return r.steps != static_cast<std::size_t>(r.frames);
+        })) {
+        std::cout << "\nnote: World took more integration steps than the 1 a frame asked for "
+                     "(its own stability sub-stepping): 'step' is the step integrated\n";
+    }
+
+    fs::create_directories(o.out, ec);
+    if (ec) {
+        std::cerr << "error: " << o.out << ": cannot create folder: " << ec.message() << "\n";
+        return kExitFailure;
+    }
+    const fs::path csv = fs::path(o.out) / "bench_integrators.csv";
+    if (Status s = writeFileAtomically(
+            csv, [&](std::ostream& out) { return writeIntegratorCsv(rows, out); });
+        !s.ok())
+        return fail(s.error());
+    std::cout << "\nwritten: " << csv.string() << "\n";
+    return kExitOk;
+}
+
 }  // namespace
 
 void addBenchCommand(CLI::App& root, CommandRunner& selected) {
@@ -596,14 +854,20 @@ void addBenchCommand(CLI::App& root, CommandRunner& selected) {
     cmd->add_option("--frames", o->frames,
                     "Timed frames per row, after 5 warm-up frames (default 50, 10 with --quick)")
         ->check(CLI::PositiveNumber);
-    cmd->add_option("--out", o->out, "Folder for bench.csv and bench.svg")->capture_default_str();
+    cmd->add_option("--out", o->out, "Folder for bench.csv and bench.svg (bench_integrators.csv with --integrators)")->capture_default_str();
     cmd->add_option("--mesh", o->mesh,
                     "Mesh with UVs benchmarked beside the sample sphere (skipped when absent)")
         ->capture_default_str();
-    cmd->add_flag("--quick", o->quick, "Sizes 32 to 256 and 10 frames: a smoke test");
+    cmd->add_flag("--quick", o->quick,
+                  "Sizes 32 to 256 and 10 frames (with --integrators: 5 s simulated): a smoke "
+                  "test");
+    cmd->add_flag("--integrators", o->integrators,
+                  "Only the integrators' trade instead: energy drift of a floating box and time "
+                  "per step for each integrator at dt 1/240, 1/60, 1/15 s over 30 s "
+                  "(DIR/bench_integrators.csv)");
     cmd->callback([o, sizes, &selected] {
         o->sizesGiven = sizes->count() > 0;
-        selected = [o] { return runBench(*o); };
+        selected = [o] { return o->integrators ? runIntegratorBench(*o) : runBench(*o); };
     });
 }
 

@@ -345,12 +345,14 @@ private:
     void readSimulation(const Json& value, SimulationDesc& simulation) {
         const std::string path = "simulation";
         if (!expectObject(value, path,
-                          {"gravity", "time_step", "sub_steps", "integrator", "duration"})) {
+                          {"gravity", "time_step", "sub_steps", "max_phase_step", "integrator",
+                           "duration"})) {
             return;
         }
         vector(value, path, "gravity", simulation.gravity);
         number(value, path, "time_step", simulation.timeStep, Limit::Positive);
         integer(value, path, "sub_steps", simulation.subSteps, 1);
+        number(value, path, "max_phase_step", simulation.maxPhaseStep, Limit::Positive);
         std::string name;
         const Json* integratorValue = find(value, "integrator");
         if (integratorValue && stringValue(*integratorValue, member(path, "integrator"), name)) {
@@ -655,6 +657,7 @@ std::string projectToJson(const Project& project) {
     json["simulation"]["gravity"] = toJson(simulation.gravity);
     json["simulation"]["time_step"] = simulation.timeStep;
     json["simulation"]["sub_steps"] = simulation.subSteps;
+    json["simulation"]["max_phase_step"] = simulation.maxPhaseStep;
     json["simulation"]["integrator"] = integratorName(simulation.integrator);
     json["simulation"]["duration"] = simulation.duration;
     Json bodies = Json::array();

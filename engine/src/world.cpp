@@ -8,7 +8,10 @@
 #include "plimsoll/validate.h"
 
 #include <algorithm>
+#include <Eigen/Eigenvalues>
+
 #include <cmath>
+#include <numbers>
 #include <sstream>
 
 namespace plimsoll {
@@ -188,22 +191,55 @@ Status World::evaluateAll(double time) {
 }
 
 Wrench World::wrenchOf(const SimulatedBody& body, const RigidBodyState& state,
-                       const BuoyancyResult& buoyancy) const {
+                       const BuoyancyResult& buoyancy, double dt) const {
     // On flat water Archimedes' form: exactly vertical, where the texel sum of the pressure
     // leaves a horizontal residue of the discretisation error that makes a floating body
     // creep sideways. On waves the pressure integral, which carries their horizontal push.
     const bool flat = project_.water.kind == WaterModel::Kind::Flat;
     Wrench w;
     w.force = body.mass.mass * project_.simulation.gravity +
-              (flat ? buoyancy.force : buoyancy.pressureForce) + buoyancy.dragForce;
-    w.torque = (flat ? buoyancy.torque : buoyancy.pressureTorque) + buoyancy.dragTorque;
-    // Radiation-damping stand-in, in proportion to how much of the body is in the fluid.
+              (flat ? buoyancy.force : buoyancy.pressureForce);
+    w.torque = flat ? buoyancy.torque : buoyancy.pressureTorque;
+    // Dissipation (drag, and the radiation-damping stand-in in proportion to how much of the
+    // body is in the fluid) may at most stop the body within one step, never reverse it: an
+    // explicit step of a stiff drag (a fast, light or spinning body, a long step) would
+    // otherwise overshoot and blow up.
     const double wet = body.volume > 0
                            ? std::clamp(buoyancy.submergedVolume / body.volume, 0.0, 1.0)
                            : 0.0;
-    w.force -= wet * body.linearDamping * state.linearMomentum;
-    w.torque -= wet * body.angularDamping * state.angularMomentum;
+    auto limited = [dt](const Eigen::Vector3d& loss, const Eigen::Vector3d& momentum) {
+        const double impulse = loss.norm() * dt;
+        const double cap = momentum.norm();
+        return impulse > cap && impulse > 0 ? Eigen::Vector3d(loss * (cap / impulse)) : loss;
+    };
+    w.force += limited(buoyancy.dragForce - wet * body.linearDamping * state.linearMomentum,
+                       state.linearMomentum);
+    w.torque += limited(buoyancy.dragTorque - wet * body.angularDamping * state.angularMomentum,
+                        state.angularMomentum);
     return w;
+}
+
+double World::stiffestFrequency(const SimulatedBody& body) const {
+    // Hydrostatic restoring stiffness, bounded with the body's bounding sphere: heave
+    // rho g (pi R^2), and roll rho g (pi R^4 / 4) about the smallest principal inertia.
+    const double rhoG = body.fluid.density * body.fluid.gravity;
+    const double R = body.boundingRadius;
+    const double heave = rhoG * std::numbers::pi * R * R / body.mass.mass;
+    const double smallestInertia =
+        Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d>(body.mass.inertia).eigenvalues().minCoeff();
+    const double roll = rhoG * std::numbers::pi * std::pow(R, 4) / 4.0 / smallestInertia;
+    return std::sqrt(std::max(heave, roll));
+}
+
+int World::subStepsFor(double frameTime) const {
+    // Symplectic Euler is stable below omega dt = 2, and its energy error shrinks with
+    // omega dt: at least the project's sub-steps, and enough that omega dt stays under
+    // simulation.maxPhaseStep for the stiffest body.
+    double omega = 0;
+    for (const SimulatedBody& body : bodies_) omega = std::max(omega, stiffestFrequency(body));
+    const double needed = std::ceil(omega * frameTime / project_.simulation.maxPhaseStep);
+    return static_cast<int>(std::clamp(needed, static_cast<double>(project_.simulation.subSteps),
+                                       static_cast<double>(kMaxSubSteps)));
 }
 
 Status World::updateDeformingBodies(double time) {
@@ -236,8 +272,15 @@ Status World::updateDeformingBodies(double time) {
 
 Status World::advanceFrame() {
     const SimulationDesc& sim = project_.simulation;
-    const double dt = sim.timeStep / sim.subSteps;
-    for (int sub = 0; sub < sim.subSteps; ++sub) {
+    const int subSteps = subStepsFor(sim.timeStep);
+    if (subSteps > sim.subSteps && subSteps != reportedSubSteps_) {
+        say("taking " + std::to_string(subSteps) + " sub-steps a frame instead of " +
+            std::to_string(sim.subSteps) + ": a body's hydrostatic stiffness needs them for a "
+            "stable step");
+        reportedSubSteps_ = subSteps;
+    }
+    const double dt = sim.timeStep / subSteps;
+    for (int sub = 0; sub < subSteps; ++sub) {
         if (Status s = updateDeformingBodies(time_); !s.ok()) return s;
         const std::size_t skippedBefore = statistics_.skippedOutOfWater;
         if (sim.integrator == Integrator::RK4) {
@@ -247,7 +290,7 @@ Status World::advanceFrame() {
                 const WrenchFunction wrench = [&](const RigidBodyState& state, double t) {
                     SimulatedBody probe = body;
                     probe.state = state;
-                    if (outOfWater(probe)) return wrenchOf(probe, state, BuoyancyResult{});
+                    if (outOfWater(probe)) return wrenchOf(probe, state, BuoyancyResult{}, dt);
                     BodyRequest request;
                     request.body = body.backendId;
                     request.fluid = body.fluid;
@@ -261,7 +304,7 @@ Status World::advanceFrame() {
                         !s.ok())
                         failure = s;
                     ++statistics_.buoyancyEvaluations;
-                    return wrenchOf(probe, state, result);
+                    return wrenchOf(probe, state, result, dt);
                 };
                 body.state = step(body.state, body.mass, wrench, time_, dt, sim.integrator);
                 if (!failure.ok()) return failure;
@@ -271,7 +314,7 @@ Status World::advanceFrame() {
             // every body.
             if (Status s = evaluateAll(time_); !s.ok()) return s;
             for (SimulatedBody& body : bodies_) {
-                const Wrench w = wrenchOf(body, body.state, body.buoyancy);
+                const Wrench w = wrenchOf(body, body.state, body.buoyancy, dt);
                 body.state = step(body.state, body.mass,
                                   [&](const RigidBodyState&, double) { return w; }, time_, dt,
                                   sim.integrator);

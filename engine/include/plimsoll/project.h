@@ -73,7 +73,12 @@ struct MediumDesc {
 struct SimulationDesc {
     Eigen::Vector3d gravity{0.0, -9.81, 0.0};  ///< m/s^2
     double timeStep = 1.0 / 60.0;          ///< s, one frame
-    int subSteps = 4;                      ///< integration steps per frame
+    int subSteps = 4;                      ///< integration steps per frame (at least)
+    /// More sub-steps are taken where a body's hydrostatic natural frequency omega (bounded
+    /// from its bounding sphere) would make omega dt exceed this (rad). 0.5 keeps the
+    /// symplectic step stable and its energy error within several percent; 0.025 keeps it
+    /// within 1%, at 20 times the steps.
+    double maxPhaseStep = 0.5;
     Integrator integrator = Integrator::SemiImplicitEuler;
     double duration = 10.0;                ///< s, for headless runs
 

@@ -55,6 +55,9 @@ struct WorldStatistics {
 
 class World {
 public:
+    /// At most this many integration steps a frame, whatever the bodies' stiffness.
+    static constexpr int kMaxSubSteps = 20000;
+
     /// Loads every body's mesh (paths through project.resolvePath), bakes it, computes its mass
     /// properties and registers it with `backend`. Reports the first problem with the body's
     /// name and file.
@@ -64,7 +67,8 @@ public:
 
     ~World();
 
-    /// Advances one frame: simulation.subSteps integration steps of timeStep / subSteps.
+    /// Advances one frame: simulation.subSteps integration steps, or more where a body's
+    /// hydrostatic stiffness needs them (a 1 mm body, a long time step): the log says so.
     Status advanceFrame();
 
     double time() const { return time_; }
@@ -85,7 +89,11 @@ private:
     Status addBody(const BodyDesc& desc);
     Status evaluateAll(double time);
     Wrench wrenchOf(const SimulatedBody& body, const RigidBodyState& state,
-                    const BuoyancyResult& buoyancy) const;
+                    const BuoyancyResult& buoyancy, double dt) const;
+    /// Upper bound of the body's hydrostatic natural frequency (rad/s).
+    double stiffestFrequency(const SimulatedBody& body) const;
+    /// Sub-steps a frame needs for a stable step of every body.
+    int subStepsFor(double frameTime) const;
     Status updateDeformingBodies(double time);
     bool outOfWater(const SimulatedBody& body) const;
     void say(const std::string& line) const;
@@ -99,6 +107,7 @@ private:
     WorldStatistics statistics_;
     double time_ = 0;
     bool reportedSkip_ = false;
+    int reportedSubSteps_ = 0;
 };
 
 }  // namespace plimsoll
