@@ -97,6 +97,28 @@ TEST(Cli, BadInputGivesAClearErrorAndNonZeroExit) {
     EXPECT_TRUE(nanRun.out.empty());
 }
 
+TEST(Cli, SimulateOneBodyFromFlags) {
+    const std::string box = test::assetPath("box.obj").string();
+    const CommandOutput r = runPlimsoll("simulate --mesh '" + box +
+                                        "' --density 400 --size 48 --water-level=-0.5 "
+                                        "--position=0,3,0 --rotation-deg=0,0,0 --seconds 0.5 "
+                                        "--device reference --json");
+    ASSERT_EQ(r.exitCode, 0) << r.err;
+    const nlohmann::json j = nlohmann::json::parse(r.out);
+    for (const char* key : {"time", "position", "orientation", "velocity", "angular_velocity",
+                            "submerged_volume", "mass"})
+        EXPECT_TRUE(j.contains(key)) << key;
+    EXPECT_NEAR(j.at("time").get<double>(), 0.5, 1e-9);
+    // Half a second of free fall from 3 m: nowhere near the water yet.
+    EXPECT_NEAR(j.at("velocity")[1].get<double>(), -9.81 * 0.5, 1e-6);
+    EXPECT_NEAR(j.at("mass").get<double>(), 400 * 0.125, 1e-9);
+    EXPECT_NE(r.err.find("skips the buoyancy kernels"), std::string::npos);
+
+    const CommandOutput bad = runPlimsoll("simulate /no/such/scene.plim.json");
+    EXPECT_NE(bad.exitCode, 0);
+    EXPECT_NE(bad.err.find("/no/such/scene.plim.json"), std::string::npos);
+}
+
 TEST(Cli, ValidateExitCodes) {
     EXPECT_EQ(runPlimsoll("validate '" + kSphere + "'").exitCode, 0);
     const auto boat = test::sharedMesh("boat.obj");

@@ -142,5 +142,50 @@ TEST(WorldSkips, BodiesOutOfTheWaterSkipTheKernels) {
     EXPECT_NEAR(linearVelocity(body.state, body.mass).y(), -9.81 * (*world)->time(), 1e-9);
 }
 
+TEST(WorldMaterials, RepaintingRecomputesTheMassOnceAndTheBodyStaysPut) {
+    Project project = oneBody(meshFile(makeUvSphere(0.5, 24, 12), "repaint"), 500.0, 1000.0);
+    std::unique_ptr<World> world = makeWorld(project);
+    run(*world, 0.2);
+    EXPECT_EQ(world->statistics().massRecomputations, 0u);
+    const Eigen::Vector3d before = world->bodies()[0].state.position;
+    MaterialDesc heavier;
+    heavier.density = 800.0;
+    heavier.shellSurfaceDensity = 5.0;
+    ASSERT_TRUE(world->setMaterial(0, heavier).ok());
+    const SimulatedBody& body = world->bodies()[0];
+    EXPECT_EQ(world->statistics().massRecomputations, 1u);
+    const double expected = 800.0 * body.volume + 5.0 * body.textures.surfaceArea();
+    EXPECT_NEAR(body.mass.mass, expected, 1e-9 * expected);
+    EXPECT_LT((body.state.position - before).norm(), 1e-9);  // a uniform ball: same centre
+    run(*world, 0.2);
+    EXPECT_EQ(world->statistics().massRecomputations, 1u);  // not again while unchanged
+}
+
+TEST(WorldDeforming, TheBalloonRecomputesOnlyWhenItsFrameChanges) {
+    Project project;
+    project.folder = PLIMSOLL_ASSETS_DIR;
+    BodyDesc balloon;
+    balloon.name = "balloon";
+    balloon.mesh = "balloon/frame_000.obj";
+    for (int k = 1; k < 24; ++k) {
+        char name[64];
+        std::snprintf(name, sizeof name, "balloon/frame_%03d.obj", k);
+        balloon.meshFrames.push_back(name);
+    }
+    balloon.framesPerSecond = 12.0;
+    balloon.textureSize = 48;
+    balloon.material.shellSurfaceDensity = 0.05;
+    project.bodies.push_back(balloon);
+    project.medium.density = 1.225;
+    project.water = WaterModel::flat(100.0);
+    std::unique_ptr<World> world = makeWorld(project);
+    const double firstVolume = world->bodies()[0].volume;
+    run(*world, 1.0);  // steps start at t < 1 s: mesh frames 1 .. 11 were shown
+    EXPECT_EQ(world->statistics().massRecomputations, 11u);
+    // Frame 11 of 24: r = 0.3 * 2^(11/23); the texture volume follows the mesh's.
+    const double growth = std::pow(2.0, 3.0 * 11.0 / 23.0);
+    EXPECT_NEAR(world->bodies()[0].volume / firstVolume, growth, 1e-3 * growth);
+}
+
 }  // namespace
 }  // namespace plimsoll

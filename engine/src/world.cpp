@@ -252,22 +252,32 @@ Status World::updateDeformingBodies(double time) {
         d->currentFrame = frame;
         SimulatedBody& body = bodies_[i];
         regatherSurface(d->pieces, d->frames[frame], body.textures);
-        Result<MassProperties> props = materialMass(body.textures, materials_[i], project_,
-                                                    "body '" + body.name + "'");
-        if (!props) return props.error();
-        // Keep the centre of mass where it is in the world and the momenta as they are: the
-        // mesh changed shape, the body did not jump.
-        const Pose pose = body.pose();
-        body.mass = toDistribution(*props);
-        body.volume = props->volume;
-        body.state.position = pose.apply(body.mass.centerOfMass);
-        body.boundingRadius = boundingRadiusAbout(body.textures, body.mass.centerOfMass);
-        if (Status s = backend_->updateBody(body.backendId, body.textures, body.mass.centerOfMass);
-            !s.ok())
-            return s;
-        ++statistics_.massRecomputations;
+        if (Status s = recomputeMass(i); !s.ok()) return s;
     }
     return Ok{};
+}
+
+Status World::recomputeMass(std::size_t i) {
+    SimulatedBody& body = bodies_[i];
+    Result<MassProperties> props =
+        materialMass(body.textures, materials_[i], project_, "body '" + body.name + "'");
+    if (!props) return props.error();
+    // Keep the body where it is in the world and its momenta as they are: the mesh or the
+    // paint changed, the body did not jump.
+    const Pose pose = body.pose();
+    body.mass = toDistribution(*props);
+    body.volume = props->volume;
+    body.state.position = pose.apply(body.mass.centerOfMass);
+    body.boundingRadius = boundingRadiusAbout(body.textures, body.mass.centerOfMass);
+    ++statistics_.massRecomputations;
+    return backend_->updateBody(body.backendId, body.textures, body.mass.centerOfMass);
+}
+
+Status World::setMaterial(std::size_t i, const MaterialDesc& material) {
+    if (i >= bodies_.size()) return makeError("setMaterial: no body " + std::to_string(i));
+    materials_[i] = material;
+    say("body '" + bodies_[i].name + "': material changed, mass properties recomputed");
+    return recomputeMass(i);
 }
 
 Status World::advanceFrame() {

@@ -71,6 +71,10 @@ public:
     /// hydrostatic stiffness needs them (a 1 mm body, a long time step): the log says so.
     Status advanceFrame();
 
+    /// Changes a body's material (a repainted density map, a new density): its mass
+    /// properties are recomputed now, once, keeping its centre of mass's place and momenta.
+    Status setMaterial(std::size_t body, const MaterialDesc& material);
+
     double time() const { return time_; }
     const std::vector<SimulatedBody>& bodies() const { return bodies_; }
     const WorldStatistics& statistics() const { return statistics_; }
@@ -95,6 +99,8 @@ private:
     /// Sub-steps a frame needs for a stable step of every body.
     int subStepsFor(double frameTime) const;
     Status updateDeformingBodies(double time);
+    /// Recomputes body i's mass properties from its current textures and material.
+    Status recomputeMass(std::size_t i);
     bool outOfWater(const SimulatedBody& body) const;
     void say(const std::string& line) const;
 
