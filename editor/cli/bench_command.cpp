@@ -675,8 +675,8 @@ bool finiteState(const RigidBodyState& s) {
            s.linearMomentum.allFinite() && s.angularMomentum.allFinite();
 }
 
-/// Runs one integrator at one step for `seconds` of simulated time. Only advanceFrame is
-/// timed; the energy is read after every step (one reference evaluation, not timed).
+/// Runs one integrator at one frame time step for `seconds` of simulated time. Only
+/// advanceFrame is timed; the energy is read after every frame (one reference evaluation).
 Result<IntegratorRow> measureIntegrator(const fs::path& mesh, Integrator integrator, int rate,
                                         double seconds, double restEnergy) {
     Result<std::unique_ptr<World>> created = createIntegratorWorld(mesh, integrator, rate, true);
