@@ -77,6 +77,8 @@ TEST(WorldEquilibrium, FlatBoxOfHalfDensityFloatsAtHalfItsHeight) {
     const double draft = settledDraft(box, 500.0, Eigen::Vector3d::Zero(), 20.0, &speed);
     EXPECT_NEAR(draft, 0.125, 0.005 * 0.125);
     EXPECT_LT(speed, 1e-4);
+    std::printf("  flat box: draft %.6f m, analytic 0.125 m (%.2e), speed %.1e m/s\n", draft,
+                draft / 0.125 - 1, speed);
 }
 
 TEST(WorldEquilibrium, SphereAtQuarterAndThreeQuarterDensity) {
@@ -97,6 +99,8 @@ TEST(WorldEquilibrium, SphereAtQuarterAndThreeQuarterDensity) {
         const double draft = settledDraft(path, 1000.0 * ratio, Eigen::Vector3d::Zero(), 20.0, &speed);
         EXPECT_NEAR(draft, lo, 0.005 * lo) << ratio;
         EXPECT_LT(speed, 1e-4) << ratio;
+        std::printf("  sphere at %.2f: draft %.6f m, exact clip %.6f m (%.2e), speed %.1e m/s\n",
+                    ratio, draft, lo, draft / lo - 1, speed);
     }
 }
 
