@@ -25,9 +25,7 @@ SurfaceTextures bake(const TriangleMesh& mesh, int size, unsigned threads = 0) {
     BakeSettings settings;
     settings.size = size;
     settings.threads = threads;
-    Result<SurfaceTextures> r = bakeSurfaceTextures(mesh, settings);
-    EXPECT_TRUE(r.ok()) << (r.ok() ? "" : r.error().message);
-    return std::move(r).value();
+    return test::bakeOrFail(mesh, settings);
 }
 
 std::vector<TriangleMesh> sampleSolids() {

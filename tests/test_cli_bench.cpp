@@ -23,10 +23,6 @@ namespace fs = std::filesystem;
 using test::CommandOutput;
 using test::runPlimsoll;
 
-std::string readFile(const fs::path& path) {
-    std::ifstream in(path);
-    return std::string(std::istreambuf_iterator<char>(in), {});
-}
 
 /// One CSV line split into fields ("..." quoting with doubled quotes, as device names need).
 std::vector<std::string> splitCsvLine(const std::string& line) {
@@ -79,7 +75,7 @@ TEST(CliBench, QuickRunWritesTableCsvAndSvg) {
     ASSERT_EQ(r.exitCode, 0) << r.err;
     EXPECT_NE(r.out.find("vol err"), std::string::npos) << r.out;
 
-    const std::string csv = readFile(out / "bench.csv");
+    const std::string csv = test::readFile(out / "bench.csv");
     ASSERT_EQ(csv.rfind("kind,mesh,device,", 0), 0u) << csv.substr(0, 200);
     const std::vector<CsvRow> rows = parseCsv(csv);
 
@@ -116,7 +112,7 @@ TEST(CliBench, QuickRunWritesTableCsvAndSvg) {
         }
     }
 
-    const std::string svg = readFile(out / "bench.svg");
+    const std::string svg = test::readFile(out / "bench.svg");
     EXPECT_EQ(svg.rfind("<svg", 0), 0u) << svg.substr(0, 200);
     fs::remove_all(out);
 }
@@ -132,7 +128,7 @@ TEST(CliBench, IntegratorsQuickRunWritesDriftCsv) {
     ASSERT_EQ(r.exitCode, 0) << r.err;
     EXPECT_NE(r.out.find("final drift"), std::string::npos) << r.out;
 
-    const std::string csv = readFile(out / "bench_integrators.csv");
+    const std::string csv = test::readFile(out / "bench_integrators.csv");
     ASSERT_EQ(csv.rfind("integrator,dt_s,", 0), 0u) << csv.substr(0, 200);
     const std::vector<CsvRow> rows = parseCsv(csv);
     ASSERT_EQ(rows.size(), 9u) << csv;

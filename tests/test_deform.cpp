@@ -42,9 +42,7 @@ SurfaceTextures bakeWithout(const TriangleMesh& mesh, int size, double maxTexelS
     BakeSettings settings;
     settings.size = size;
     settings.maxTexelStretch = maxTexelStretch;
-    Result<SurfaceTextures> r = bakeSurfaceTextures(mesh, settings);
-    EXPECT_TRUE(r.ok()) << (r.ok() ? "" : r.error().message);
-    return r.ok() ? std::move(r).value() : SurfaceTextures{};
+    return test::bakeOrFail(mesh, settings);
 }
 
 /// Same entries in the same order, and every value within `tolerance`: positions relative to
@@ -98,18 +96,6 @@ std::vector<fs::path> balloonFramePaths() {
 /// Radius of balloon frame k, as `plimsoll samples` generates it.
 double balloonRadius(int k) { return 0.3 * std::pow(2.0, k / (kBalloonFrames - 1.0)); }
 
-std::string readFile(const fs::path& path) {
-    std::ifstream in(path, std::ios::binary);
-    std::ostringstream text;
-    text << in.rdbuf();
-    return text.str();
-}
-
-fs::path scratchFolder() {
-    const fs::path dir = fs::path(testing::TempDir()) / "plimsoll_test_deform";
-    fs::create_directories(dir);
-    return dir;
-}
 
 TEST(PieceTable, RecordingChangesNoEntry) {
     // Shared texels (box charts at N = 16), sub-texel cells (stretch limit 1) and the plain case.
@@ -209,11 +195,11 @@ TEST(Regather, BalloonVolumeFollowsTheFrames) {
 
 TEST(MeshFrames, BalloonFramesAreTheGeneratorOutput) {
     for (int k = 0; k < kBalloonFrames; ++k) {
-        const fs::path written = scratchFolder() / "frame.obj";
+        const fs::path written = test::scratchFolder("plimsoll_test_deform") / "frame.obj";
         ASSERT_TRUE(writeObj(makeUvSphere(balloonRadius(k), 32, 16), written).ok());
-        const std::string expected = readFile(test::assetPath(balloonFrameName(k)));
+        const std::string expected = test::readFile(test::assetPath(balloonFrameName(k)));
         ASSERT_FALSE(expected.empty()) << balloonFrameName(k) << " missing";
-        EXPECT_TRUE(readFile(written) == expected)
+        EXPECT_TRUE(test::readFile(written) == expected)
             << balloonFrameName(k)
             << " differs from the generator: run `plimsoll samples --out assets`";
     }
@@ -236,7 +222,7 @@ TEST(MeshFrames, BalloonFramesLoadWithOneTopology) {
 
 TEST(MeshFrames, OtherTopologyOrUvsAreRefusedNamingTheFile) {
     const fs::path first = test::assetPath(balloonFrameName(0));
-    const fs::path coarser = scratchFolder() / "coarser.obj";
+    const fs::path coarser = test::scratchFolder("plimsoll_test_deform") / "coarser.obj";
     ASSERT_TRUE(writeObj(makeUvSphere(0.4, 24, 16), coarser).ok());
     Result<std::vector<TriangleMesh>> frames = loadMeshFrames({first, coarser});
     ASSERT_FALSE(frames.ok());
@@ -249,7 +235,7 @@ TEST(MeshFrames, OtherTopologyOrUvsAreRefusedNamingTheFile) {
 
     TriangleMesh shifted = makeUvSphere(0.4, 32, 16);
     for (Eigen::Vector2d& uv : shifted.uvs) uv.x() = 0.5 * uv.x();
-    const fs::path otherUvs = scratchFolder() / "other_uvs.obj";
+    const fs::path otherUvs = test::scratchFolder("plimsoll_test_deform") / "other_uvs.obj";
     ASSERT_TRUE(writeObj(shifted, otherUvs).ok());
     frames = loadMeshFrames({first, otherUvs});
     ASSERT_FALSE(frames.ok());
@@ -258,7 +244,7 @@ TEST(MeshFrames, OtherTopologyOrUvsAreRefusedNamingTheFile) {
     EXPECT_NE(frames.error().message.find("texture coordinates"), std::string::npos)
         << frames.error().message;
 
-    frames = loadMeshFrames({first, scratchFolder() / "missing.obj"});
+    frames = loadMeshFrames({first, test::scratchFolder("plimsoll_test_deform") / "missing.obj"});
     ASSERT_FALSE(frames.ok());
     EXPECT_NE(frames.error().message.find("missing.obj"), std::string::npos);
 }

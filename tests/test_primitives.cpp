@@ -3,6 +3,8 @@
 #include "plimsoll/mesh_io.h"
 #include "plimsoll/primitives.h"
 
+#include "test_support.h"
+
 #include <gtest/gtest.h>
 
 #include <Eigen/Geometry>
@@ -204,26 +206,14 @@ void expectWellFormed(const TriangleMesh& mesh) {
     EXPECT_GT(signedVolume(mesh), 0.0) << mesh.source << ": normals point inward";
 }
 
-std::string readFile(const fs::path& path) {
-    std::ifstream in(path, std::ios::binary);
-    std::ostringstream text;
-    text << in.rdbuf();
-    return text.str();
-}
-
-fs::path scratchFolder() {
-    const fs::path dir = fs::path(testing::TempDir()) / "plimsoll_test_primitives";
-    fs::create_directories(dir);
-    return dir;
-}
 
 /// The committed asset equals what writeObj makes of the generated mesh, byte for byte.
 void expectMatchesAsset(const TriangleMesh& mesh, const std::string& file) {
-    const fs::path written = scratchFolder() / file;
+    const fs::path written = test::scratchFolder("plimsoll_test_primitives") / file;
     ASSERT_TRUE(writeObj(mesh, written).ok());
-    const std::string expected = readFile(fs::path(PLIMSOLL_ASSETS_DIR) / file);
+    const std::string expected = test::readFile(fs::path(PLIMSOLL_ASSETS_DIR) / file);
     ASSERT_FALSE(expected.empty()) << PLIMSOLL_ASSETS_DIR << "/" << file << " missing";
-    EXPECT_TRUE(readFile(written) == expected)
+    EXPECT_TRUE(test::readFile(written) == expected)
         << file << " differs from the generator: run `plimsoll samples --out assets`";
 }
 
@@ -329,9 +319,9 @@ TEST(ObjWriter, WritesFacesWithoutUvsAndFullPrecision) {
     TriangleMesh mesh;
     mesh.positions = {{0.1, 0.0, 0.0}, {1.0, 1.0 / 3.0, 0.0}, {0.0, 0.0, -1e-300 / 3.0}};
     mesh.triangles = {{0, 1, 2}};
-    const fs::path path = scratchFolder() / "no_uvs.obj";
+    const fs::path path = test::scratchFolder("plimsoll_test_primitives") / "no_uvs.obj";
     ASSERT_TRUE(writeObj(mesh, path).ok());
-    EXPECT_EQ(readFile(path),
+    EXPECT_EQ(test::readFile(path),
               "# written by Plimsoll\n"
               "v 0.10000000000000001 0 0\n"
               "v 1 0.33333333333333331 0\n"
@@ -341,7 +331,7 @@ TEST(ObjWriter, WritesFacesWithoutUvsAndFullPrecision) {
 
 TEST(ObjWriter, FailsForAMissingFolder) {
     const TriangleMesh box = makeBox({1.0, 1.0, 1.0});
-    const Status written = writeObj(box, scratchFolder() / "no such folder" / "box.obj");
+    const Status written = writeObj(box, test::scratchFolder("plimsoll_test_primitives") / "no such folder" / "box.obj");
     ASSERT_FALSE(written.ok());
     EXPECT_NE(written.error().message.find("box.obj"), std::string::npos);
 }
@@ -355,7 +345,7 @@ TEST(Assets, CommittedSamplesAreExactlyTheGeneratorsOutput) {
 
 TEST(Assets, SamplesHaveUvsAndNoNegativeZero) {
     for (const char* file : {"sphere.obj", "box.obj", "cylinder.obj", "buoy.obj"}) {
-        const std::string text = readFile(fs::path(PLIMSOLL_ASSETS_DIR) / file);
+        const std::string text = test::readFile(fs::path(PLIMSOLL_ASSETS_DIR) / file);
         EXPECT_NE(text.find("\nvt "), std::string::npos) << file;
         EXPECT_EQ(text.find(" -0 "), std::string::npos) << file;
         EXPECT_EQ(text.find(" -0\n"), std::string::npos) << file;

@@ -7,6 +7,8 @@
 #include <gtest/gtest.h>
 
 #include <filesystem>
+#include <fstream>
+#include <sstream>
 #include <optional>
 #include <string>
 
@@ -45,12 +47,30 @@ inline MassPropsError compare(const MassProperties& result, const MassProperties
 
 namespace plimsoll::test {
 
-inline SurfaceTextures bakeOrFail(const TriangleMesh& mesh, int size) {
-    BakeSettings settings;
-    settings.size = size;
+inline SurfaceTextures bakeOrFail(const TriangleMesh& mesh, const BakeSettings& settings) {
     Result<SurfaceTextures> r = bakeSurfaceTextures(mesh, settings);
     EXPECT_TRUE(r.ok()) << (r.ok() ? "" : r.error().message);
     return r.ok() ? std::move(r).value() : SurfaceTextures{};
+}
+
+inline SurfaceTextures bakeOrFail(const TriangleMesh& mesh, int size) {
+    BakeSettings settings;
+    settings.size = size;
+    return bakeOrFail(mesh, settings);
+}
+
+inline std::string readFile(const std::filesystem::path& path) {
+    std::ifstream in(path, std::ios::binary);
+    std::ostringstream text;
+    text << in.rdbuf();
+    return text.str();
+}
+
+/// A folder of the test's own under the temporary folder, created on first use.
+inline std::filesystem::path scratchFolder(const std::string& name) {
+    const std::filesystem::path dir = std::filesystem::path(testing::TempDir()) / name;
+    std::filesystem::create_directories(dir);
+    return dir;
 }
 
 /// The acceptance measure for texture mass properties: at N = 256 the volume within
