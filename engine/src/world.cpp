@@ -156,8 +156,8 @@ Status World::addBody(const BodyDesc& desc) {
     return Ok{};
 }
 
-bool World::outOfWater(const SimulatedBody& body) const {
-    return body.state.position.y() - body.boundingRadius > project_.water.maxHeight();
+bool World::outOfWater(const SimulatedBody& body, const RigidBodyState& state) const {
+    return state.position.y() - body.boundingRadius > project_.water.maxHeight();
 }
 
 Status World::evaluateAll(double time) {
@@ -165,7 +165,7 @@ Status World::evaluateAll(double time) {
     std::vector<std::size_t> which;
     for (std::size_t i = 0; i < bodies_.size(); ++i) {
         SimulatedBody& body = bodies_[i];
-        if (outOfWater(body)) {
+        if (outOfWater(body, body.state)) {
             body.buoyancy = BuoyancyResult{};
             body.buoyancy.centerOfBuoyancy = body.state.position;
             ++statistics_.skippedOutOfWater;
@@ -298,9 +298,7 @@ Status World::advanceFrame() {
             for (SimulatedBody& body : bodies_) {
                 Status failure = Ok{};
                 const WrenchFunction wrench = [&](const RigidBodyState& state, double t) {
-                    SimulatedBody probe = body;
-                    probe.state = state;
-                    if (outOfWater(probe)) return wrenchOf(probe, state, BuoyancyResult{}, dt);
+                    if (outOfWater(body, state)) return wrenchOf(body, state, BuoyancyResult{}, dt);
                     BodyRequest request;
                     request.body = body.backendId;
                     request.fluid = body.fluid;
@@ -314,7 +312,7 @@ Status World::advanceFrame() {
                         !s.ok())
                         failure = s;
                     ++statistics_.buoyancyEvaluations;
-                    return wrenchOf(probe, state, result, dt);
+                    return wrenchOf(body, state, result, dt);
                 };
                 body.state = step(body.state, body.mass, wrench, time_, dt, sim.integrator);
                 if (!failure.ok()) return failure;
@@ -345,7 +343,7 @@ double World::mechanicalEnergy(std::size_t i) const {
     const SimulatedBody& body = bodies_[i];
     const double g = project_.simulation.gravity.norm();
     double energy = kineticEnergy(body.state, body.mass) + body.mass.mass * g * body.state.position.y();
-    if (project_.water.kind == WaterModel::Kind::Flat && !outOfWater(body)) {
+    if (project_.water.kind == WaterModel::Kind::Flat && !outOfWater(body, body.state)) {
         BodyFrame frame;
         frame.pose = body.pose();
         frame.centerOfMass = body.mass.centerOfMass;

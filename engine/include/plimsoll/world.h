@@ -101,7 +101,8 @@ private:
     Status updateDeformingBodies(double time);
     /// Recomputes body i's mass properties from its current textures and material.
     Status recomputeMass(std::size_t i);
-    bool outOfWater(const SimulatedBody& body) const;
+    /// The bounding-sphere test: the body in `state` lies above the highest water surface.
+    bool outOfWater(const SimulatedBody& body, const RigidBodyState& state) const;
     void say(const std::string& line) const;
 
     Project project_;
