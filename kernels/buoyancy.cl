@@ -100,6 +100,13 @@ PL_INLINE float3 waterVelocity(const int waterModel, const PlBody* body,
     return u;
 }
 
+/// Adds a vector to three consecutive slots of a work-item's sums.
+PL_INLINE void addVector(float* sum, int slot, float3 v) {
+    sum[slot + 0] += v.x;
+    sum[slot + 1] += v.y;
+    sum[slot + 2] += v.z;
+}
+
 /// Share of an entry's surface under water, for drag and wetted area: the entry spans about
 /// sqrt(area) times the horizontal part of its normal in height, and is wet in proportion to
 /// how far the surface reaches up it. Continuous in the depth (a hard step would make drag
@@ -237,13 +244,8 @@ PL_INLINE void buoyancyTiles(__global const float4* positions, __global const fl
             sum[PL_SUM_MOMENT + 1] += a.y * 0.5f * (r.y * r.y - f * f);
             sum[PL_SUM_MOMENT + 2] -= a.y * r.z * depth;
             const float3 pressureForce = -(rhoG * depth) * a;
-            const float3 pressureTorque = cross(r, pressureForce);
-            sum[PL_SUM_PRESSURE_F + 0] += pressureForce.x;
-            sum[PL_SUM_PRESSURE_F + 1] += pressureForce.y;
-            sum[PL_SUM_PRESSURE_F + 2] += pressureForce.z;
-            sum[PL_SUM_PRESSURE_T + 0] += pressureTorque.x;
-            sum[PL_SUM_PRESSURE_T + 1] += pressureTorque.y;
-            sum[PL_SUM_PRESSURE_T + 2] += pressureTorque.z;
+            addVector(sum, PL_SUM_PRESSURE_F, pressureForce);
+            addVector(sum, PL_SUM_PRESSURE_T, cross(r, pressureForce));
             sum[PL_SUM_COUNT] += 1.0f;
         }
         sum[PL_SUM_WETTED_AREA] += wet * p.w;
@@ -262,13 +264,8 @@ PL_INLINE void buoyancyTiles(__global const float4* positions, __global const fl
                 drag -= (wet * halfRhoCf * p.w * length(tangential)) * tangential;
             }
         }
-        const float3 dragTorque = cross(r, drag);
-        sum[PL_SUM_DRAG_F + 0] += drag.x;
-        sum[PL_SUM_DRAG_F + 1] += drag.y;
-        sum[PL_SUM_DRAG_F + 2] += drag.z;
-        sum[PL_SUM_DRAG_T + 0] += dragTorque.x;
-        sum[PL_SUM_DRAG_T + 1] += dragTorque.y;
-        sum[PL_SUM_DRAG_T + 2] += dragTorque.z;
+        addVector(sum, PL_SUM_DRAG_F, drag);
+        addVector(sum, PL_SUM_DRAG_T, cross(r, drag));
     }
 
     for (int s = 0; s < PL_SUM_SLOTS; ++s) scratch[s * PL_WORKGROUP_SIZE + lid] = sum[s];

@@ -6,13 +6,11 @@
 #include "cli_runner.h"
 #include "test_support.h"
 
-#include <array>
 #include <cmath>
 #include <cstdio>
 #include <fstream>
 #include <map>
 #include <sstream>
-#include <sys/wait.h>
 #include <unistd.h>
 
 namespace plimsoll {

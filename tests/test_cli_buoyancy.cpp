@@ -9,14 +9,10 @@
 
 #include <nlohmann/json.hpp>
 
-#include <array>
 #include <cmath>
-#include <cstdio>
 #include <fstream>
 #include <numbers>
 #include <string>
-#include <sys/wait.h>
-#include <unistd.h>
 
 namespace plimsoll {
 namespace {

@@ -161,8 +161,11 @@ bool World::outOfWater(const SimulatedBody& body, const RigidBodyState& state) c
 }
 
 Status World::evaluateAll(double time) {
-    std::vector<BodyRequest> requests;
-    std::vector<std::size_t> which;
+    // Reused every step: no allocation once the first step has sized them.
+    std::vector<BodyRequest>& requests = scratchRequests_;
+    std::vector<std::size_t>& which = scratchBodies_;
+    requests.clear();
+    which.clear();
     for (std::size_t i = 0; i < bodies_.size(); ++i) {
         SimulatedBody& body = bodies_[i];
         if (outOfWater(body, body.state)) {
@@ -183,7 +186,8 @@ Status World::evaluateAll(double time) {
         which.push_back(i);
     }
     if (requests.empty()) return Ok{};
-    std::vector<BuoyancyResult> results(requests.size());
+    std::vector<BuoyancyResult>& results = scratchResults_;
+    results.resize(requests.size());
     if (Status s = backend_->evaluate(requests, project_.water, results); !s.ok()) return s;
     for (std::size_t k = 0; k < which.size(); ++k) bodies_[which[k]].buoyancy = results[k];
     statistics_.buoyancyEvaluations += requests.size();

@@ -115,6 +115,9 @@ private:
     double time_ = 0;
     bool reportedSkip_ = false;
     int reportedSubSteps_ = 0;
+    std::vector<BodyRequest> scratchRequests_;    ///< evaluateAll's per-step lists
+    std::vector<std::size_t> scratchBodies_;
+    std::vector<BuoyancyResult> scratchResults_;
 };
 
 }  // namespace plimsoll
