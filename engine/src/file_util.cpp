@@ -8,6 +8,17 @@ namespace plimsoll {
 
 namespace fs = std::filesystem;
 
+namespace {
+BeforeReplaceHook& beforeReplaceHook() {
+    static BeforeReplaceHook hook;
+    return hook;
+}
+}  // namespace
+
+void setBeforeReplaceHookForTesting(BeforeReplaceHook hook) {
+    beforeReplaceHook() = std::move(hook);
+}
+
 fs::path temporaryPathFor(const fs::path& target) {
     fs::path dir = target.parent_path();
     std::string name = "." + target.filename().string() + ".tmp" + std::to_string(::getpid());
@@ -23,6 +34,7 @@ Status replaceFileAtomically(const fs::path& target,
         fs::remove(temp, ec);
         return written;
     }
+    if (beforeReplaceHook()) beforeReplaceHook()(temp, target);
     fs::rename(temp, target, ec);
     if (ec) {
         fs::remove(temp, ec);

@@ -387,7 +387,8 @@ private:
                           {"name", "mesh", "mesh_frames", "frames_per_second", "texture_size",
                            "max_texel_stretch", "material", "position", "rotation_deg",
                            "velocity", "angular_velocity", "drag_coefficient",
-                           "friction_coefficient", "linear_damping", "angular_damping"})) {
+                           "friction_coefficient", "linear_damping", "angular_damping",
+                           "permeability_map"})) {
             return;
         }
         string(value, path, "name", body.name);
@@ -425,10 +426,11 @@ private:
                Limit::NonNegative);
         number(value, path, "linear_damping", body.linearDamping, Limit::NonNegative);
         number(value, path, "angular_damping", body.angularDamping, Limit::NonNegative);
+        string(value, path, "permeability_map", body.permeabilityMap);
     }
 
     void readMaterial(const Json& value, const std::string& path, MaterialDesc& material) {
-        if (!expectObject(value, path, {"density", "shell", "map"})) return;
+        if (!expectObject(value, path, {"density", "shell", "map", "thickness_map"})) return;
         double parsed = 0;
         const Json* density = find(value, "density");
         if (density && numberValue(*density, member(path, "density"), parsed, Limit::Positive)) {
@@ -441,6 +443,10 @@ private:
         // The map scales the shell's surface density; without a shell it would weigh nothing.
         if (!material.shellDensityMap.empty() && !shell) {
             problem(member(path, "map"), "needs a shell");
+        }
+        string(value, path, "thickness_map", material.shellThicknessMap);
+        if (!material.shellThicknessMap.empty() && !shell) {
+            problem(member(path, "thickness_map"), "needs a shell");
         }
     }
 
@@ -585,6 +591,7 @@ Json toJson(const MaterialDesc& material) {
         json["shell"]["surface_density"] = *material.shellSurfaceDensity;
     }
     if (!material.shellDensityMap.empty()) json["map"] = material.shellDensityMap;
+    if (!material.shellThicknessMap.empty()) json["thickness_map"] = material.shellThicknessMap;
     return json;
 }
 
@@ -605,6 +612,7 @@ Json toJson(const BodyDesc& body) {
     json["friction_coefficient"] = body.frictionCoefficient;
     json["linear_damping"] = body.linearDamping;
     json["angular_damping"] = body.angularDamping;
+    if (!body.permeabilityMap.empty()) json["permeability_map"] = body.permeabilityMap;
     return json;
 }
 

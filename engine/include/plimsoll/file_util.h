@@ -22,6 +22,13 @@ Status writeFileAtomically(const std::filesystem::path& target,
 Status replaceFileAtomically(const std::filesystem::path& target,
                              const std::function<Status(const std::filesystem::path&)>& write);
 
+/// Test hook: called after the temporary file is complete and before it is renamed over the
+/// target (a test can end the process there to prove that an interrupted save keeps the previous
+/// file). Empty by default; not for production use.
+using BeforeReplaceHook = std::function<void(const std::filesystem::path& temp,
+                                             const std::filesystem::path& target)>;
+void setBeforeReplaceHookForTesting(BeforeReplaceHook hook);
+
 /// Temporary path used for `target` (same folder, hidden, unique to this process).
 std::filesystem::path temporaryPathFor(const std::filesystem::path& target);
 

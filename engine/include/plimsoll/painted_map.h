@@ -6,6 +6,7 @@
 #include "plimsoll/result.h"
 
 #include <filesystem>
+#include <string>
 #include <vector>
 
 namespace plimsoll {
@@ -24,6 +25,13 @@ struct PaintedMap {
 
 /// Loads a PNG (grey or colour: the first channel is used), 8 or 16 bits per channel.
 Result<PaintedMap> loadPaintedMap(const std::filesystem::path& path);
+
+/// The map as a 16-bit greyscale PNG file image (values clamped to 0..1, rounded to 1/65535):
+/// loadPaintedMap of it gives back the same values after the same rounding.
+std::string encodePaintedMapPng16(const PaintedMap& map);
+
+/// Writes encodePaintedMapPng16 atomically (file_util.h).
+Status savePaintedMap(const PaintedMap& map, const std::filesystem::path& path);
 
 /// The map's value times `scale` at every entry of the textures (its texel centre, taken back
 /// to mesh uv through the bake's placement): e.g. surface density per entry for

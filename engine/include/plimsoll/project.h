@@ -30,6 +30,9 @@ struct MaterialDesc {
     /// Painted surface-density map (8/16-bit PNG over the mesh's UVs): white is
     /// shellSurfaceDensity, black 0. Empty: uniform.
     std::string shellDensityMap;
+    /// Painted relative shell thickness ("thickness_map", needs a shell): scales the shell's
+    /// surface density like shellDensityMap (both multiply). Empty: uniform.
+    std::string shellThicknessMap;
 
     bool operator==(const MaterialDesc&) const = default;
 };
@@ -56,6 +59,9 @@ struct BodyDesc {
     /// (1/s). Quadratic drag alone lets small bobbing die out only as 1/t; 0 turns it off.
     double linearDamping = 0.5;
     double angularDamping = 0.5;
+    /// Painted permeability map ("permeability_map", PNG over the mesh's UVs, 0..1: how much
+    /// of the water in contact flows in, for the water graph). Empty: impermeable.
+    std::string permeabilityMap;
 
     bool deforms() const { return !meshFrames.empty(); }
     bool operator==(const BodyDesc&) const = default;
