@@ -20,6 +20,7 @@ int main(int argc, char** argv) {
     addBenchCommand(app, selected);
     addBuoyancyCommand(app, selected);
     addSimulateCommand(app, selected);
+    addEditCommand(app, selected);
     try {
         app.parse(argc, argv);
     } catch (const CLI::ParseError& e) {

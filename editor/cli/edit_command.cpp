@@ -1,0 +1,87 @@
+// `plimsoll edit [PROJECT] [--script commands.json]`: with a script, runs its commands on the
+// project without a window and saves; without one, opens the editor window on the project.
+#include "cli/commands.h"
+
+#include "app/editor_app.h"
+#include "document/document.h"
+#include "document/script.h"
+
+#include <nlohmann/json.hpp>
+
+#include <fstream>
+#include <iostream>
+#include <memory>
+
+namespace plimsoll::cli {
+
+namespace {
+
+struct EditOptions {
+    std::string project;
+    std::string script;
+    std::string saveAs;
+    bool noSave = false;
+};
+
+int runEdit(const EditOptions& o) {
+    using namespace plimsoll::editor;
+    if (o.script.empty()) return runEditorWindow(o.project);
+    std::unique_ptr<Document> document;
+    if (o.project.empty()) {
+        document = std::make_unique<Document>();
+    } else {
+        Result<std::unique_ptr<Document>> opened = Document::open(o.project);
+        if (!opened) {
+            std::cerr << "error: " << opened.error().message << "\n";
+            return kExitFailure;
+        }
+        document = std::move(opened).value();
+    }
+    std::ifstream in(o.script);
+    if (!in) {
+        std::cerr << "error: " << o.script << ": cannot open\n";
+        return kExitFailure;
+    }
+    nlohmann::json script;
+    try {
+        script = nlohmann::json::parse(in);
+    } catch (const nlohmann::json::exception& e) {
+        std::cerr << "error: " << o.script << ": " << e.what() << "\n";
+        return kExitFailure;
+    }
+    Result<nlohmann::json> results = runEditScript(*document, script);
+    if (!results) {
+        std::cerr << "error: " << o.script << ": " << results.error().message << "\n";
+        return kExitFailure;
+    }
+    nlohmann::json report;
+    report["results"] = *results;
+    if (!o.noSave) {
+        Status saved = o.saveAs.empty() ? document->save() : document->saveAs(o.saveAs);
+        if (!saved) {
+            std::cerr << "error: " << saved.error().message << "\n";
+            return kExitFailure;
+        }
+        report["saved"] = document->path().string();
+    }
+    std::cout << report.dump(2) << "\n";
+    return kExitOk;
+}
+
+}  // namespace
+
+void addEditCommand(CLI::App& root, CommandRunner& selected) {
+    auto o = std::make_shared<EditOptions>();
+    CLI::App* cmd = root.add_subcommand(
+        "edit", "Open a project in the editor window, or with --script edit it headless");
+    cmd->add_option("project", o->project, "Project file (*.plim.json)");
+    cmd->add_option("--script", o->script,
+                    "JSON list of edit commands to run without a window (docs/edit-scripts.md); "
+                    "the project is saved afterwards")
+        ->check(CLI::ExistingFile);
+    cmd->add_option("--save-as", o->saveAs, "With --script: save under this name instead");
+    cmd->add_flag("--no-save", o->noSave, "With --script: do not save");
+    cmd->callback([o, &selected] { selected = [o] { return runEdit(*o); }; });
+}
+
+}  // namespace plimsoll::cli

@@ -1,0 +1,152 @@
+// The editor's document: a Project, the assets it names (meshes, painted maps) as loaded into
+// memory, and its edit history. Every edit is a Command (command.h) executed through the
+// document, so the window, `plimsoll edit --script` and the tests edit the same way and undo
+// the same way. Saving writes the maps (16-bit PNG) and then the project, each atomically; an
+// autosave side file holds the unsaved state for recovery after a crash.
+#pragma once
+
+#include "document/paint.h"
+
+#include "plimsoll/mesh.h"
+#include "plimsoll/painted_map.h"
+#include "plimsoll/project.h"
+#include "plimsoll/result.h"
+
+#include <array>
+#include <filesystem>
+#include <memory>
+#include <optional>
+#include <string>
+#include <string_view>
+#include <vector>
+
+namespace plimsoll::editor {
+
+/// The maps a body can have painted.
+enum class MapChannel { Permeability = 0, Density = 1, Thickness = 2 };
+inline constexpr int kMapChannelCount = 3;
+inline constexpr std::array<MapChannel, kMapChannelCount> kMapChannels{
+    MapChannel::Permeability, MapChannel::Density, MapChannel::Thickness};
+
+const char* channelName(MapChannel channel);  ///< "permeability", "density", "thickness"
+std::optional<MapChannel> parseChannel(std::string_view name);
+
+/// The project field that names a body's map of `channel` (permeability_map, material.map,
+/// material.thickness_map).
+std::string& channelPath(BodyDesc& body, MapChannel channel);
+const std::string& channelPath(const BodyDesc& body, MapChannel channel);
+
+/// Density and thickness maps scale a shell: a body without one cannot have them.
+bool channelNeedsShell(MapChannel channel);
+
+/// A body's files as loaded.
+struct BodyAssets {
+    std::filesystem::path meshPath;           ///< resolved path the mesh was loaded from
+    std::shared_ptr<const TriangleMesh> mesh;  ///< null when it failed to load
+    std::string meshError;
+    struct Map {
+        std::filesystem::path path;           ///< resolved path (what it was loaded from/for)
+        std::optional<PaintedMap> image;
+        bool dirty = false;                   ///< differs from the file
+        std::string error;
+    };
+    std::array<Map, kMapChannelCount> maps;
+    /// Paint surfaces, built on first use for the map's size.
+    std::array<std::shared_ptr<const PaintSurface>, kMapChannelCount> paintSurfaces;
+};
+
+class Document;
+
+/// One edit with its inverse. apply() is do and redo; revert() is undo. A command holds what
+/// it needs to go both ways (a paint stroke: the changed pixels before and after).
+class Command {
+public:
+    virtual ~Command() = default;
+    virtual std::string name() const = 0;
+    virtual Status apply(Document& document) = 0;
+    virtual void revert(Document& document) = 0;
+};
+
+class Document {
+public:
+    /// An empty, untitled project (folder: the current directory).
+    Document();
+    /// Loads the project and everything it names (a mesh or map that fails to load is recorded
+    /// in its BodyAssets, not fatal).
+    static Result<std::unique_ptr<Document>> open(const std::filesystem::path& path);
+
+    const Project& project() const { return project_; }
+    /// Path of the project file; empty while untitled.
+    const std::filesystem::path& path() const { return path_; }
+    std::string title() const;  ///< file name (or "untitled") with "*" when dirty
+
+    std::size_t bodyCount() const { return project_.bodies.size(); }
+    const BodyAssets& assets(std::size_t body) const { return assets_[body]; }
+
+    // --- editing: every change goes through execute -------------------------------------------
+    /// Applies the command and puts it on the undo stack (clearing redo). On failure nothing
+    /// changed and the stack is untouched.
+    Status execute(std::unique_ptr<Command> command);
+    bool canUndo() const { return !done_.empty(); }
+    bool canRedo() const { return !undone_.empty(); }
+    std::string undoName() const;
+    std::string redoName() const;
+    bool undo();
+    bool redo();
+
+    /// Unsaved changes (the state differs from the one last saved or opened).
+    bool dirty() const { return stateId() != savedState_; }
+
+    // --- files --------------------------------------------------------------------------------
+    /// Writes changed maps, then the project (each atomically), and removes the autosave.
+    Status save();
+    /// Saves under a new name; relative paths are rewritten for the new folder, and every loaded
+    /// map is written beside it where it was relative.
+    Status saveAs(const std::filesystem::path& path);
+
+    /// The autosave side file of a project path (".NAME.autosave" beside it).
+    static std::filesystem::path autosavePathFor(const std::filesystem::path& projectPath);
+    /// Writes the unsaved state (project and changed maps) to `autosavePath()`.
+    Status autosave() const;
+    std::filesystem::path autosavePath() const;
+    /// Removes the autosave (a clean close).
+    void discardAutosave() const;
+    /// A project whose autosave is still there was not closed cleanly: the autosave to offer.
+    static std::optional<std::filesystem::path> findAutosave(const std::filesystem::path& project);
+    /// The document as it was autosaved: same path as the project, dirty.
+    static Result<std::unique_ptr<Document>> recover(const std::filesystem::path& autosaveFile);
+
+    // --- what commands use ----------------------------------------------------------------------
+    /// Replaces the project; assets whose paths changed are reloaded (a map that is dirty and
+    /// still named keeps its pixels).
+    void setProject(Project project);
+    PaintedMap* map(std::size_t body, MapChannel channel);
+    const PaintedMap* map(std::size_t body, MapChannel channel) const;
+    /// Installs (or with nullopt removes) a body's map image; marks it dirty.
+    void setMap(std::size_t body, MapChannel channel, std::optional<PaintedMap> image);
+    void markMapDirty(std::size_t body, MapChannel channel);
+    /// The paint surface for the body's current map of `channel` (built and cached).
+    Result<std::shared_ptr<const PaintSurface>> paintSurface(std::size_t body, MapChannel channel);
+    /// Where a new map of `channel` for `body` goes: "maps/<project>_<body>_<channel>.png".
+    std::string defaultMapPath(std::size_t body, MapChannel channel) const;
+
+private:
+    std::uint64_t stateId() const { return done_.empty() ? 0 : done_.back().id; }
+    void syncAssets();
+    Status writeMaps(bool all);
+
+    struct Entry {
+        std::unique_ptr<Command> command;
+        std::uint64_t id;
+    };
+    Project project_;
+    std::filesystem::path path_;
+    std::vector<BodyAssets> assets_;
+    std::vector<Entry> done_;
+    std::vector<Entry> undone_;
+    std::uint64_t nextId_ = 1;
+    /// stateId() when last saved or opened; ~0 for "never" (recovered documents).
+    std::uint64_t savedState_ = 0;
+};
+
+}  // namespace plimsoll::editor

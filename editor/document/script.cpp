@@ -1,0 +1,191 @@
+#include "document/script.h"
+
+#include "document/command.h"
+
+namespace plimsoll::editor {
+
+namespace fs = std::filesystem;
+using Json = nlohmann::json;
+
+namespace {
+
+Eigen::Vector3d vec3(const Json& j) {
+    if (!j.is_array() || j.size() != 3) throw std::invalid_argument("expected [x, y, z]");
+    return {j[0].get<double>(), j[1].get<double>(), j[2].get<double>()};
+}
+
+Eigen::Vector2d vec2(const Json& j) {
+    if (!j.is_array() || j.size() != 2) throw std::invalid_argument("expected [u, v]");
+    return {j[0].get<double>(), j[1].get<double>()};
+}
+
+/// Brush fields present in `j` override `brush`.
+void readBrush(const Json& j, Brush& brush) {
+    if (j.contains("mode")) {
+        const std::string mode = j["mode"];
+        if (mode == "paint") brush.mode = BrushMode::Paint;
+        else if (mode == "erase") brush.mode = BrushMode::Erase;
+        else if (mode == "smooth") brush.mode = BrushMode::Smooth;
+        else throw std::invalid_argument("mode: paint, erase or smooth, not " + mode);
+    }
+    if (j.contains("falloff")) {
+        const std::string f = j["falloff"];
+        if (f == "smooth") brush.falloff = Falloff::Smooth;
+        else if (f == "linear") brush.falloff = Falloff::Linear;
+        else if (f == "constant") brush.falloff = Falloff::Constant;
+        else throw std::invalid_argument("falloff: smooth, linear or constant, not " + f);
+    }
+    brush.radius = j.value("radius", brush.radius);
+    brush.strength = j.value("strength", brush.strength);
+    brush.value = j.value("value", brush.value);
+    brush.mirrorX = j.value("mirror_x", brush.mirrorX);
+    if (!(brush.radius > 0)) throw std::invalid_argument("radius must be > 0 (m)");
+}
+
+MapChannel channelOf(const Json& j, MapChannel current) {
+    if (!j.contains("channel")) return current;
+    const std::string name = j["channel"];
+    const std::optional<MapChannel> c = parseChannel(name);
+    if (!c) throw std::invalid_argument("channel: permeability, density or thickness, not " + name);
+    return *c;
+}
+
+/// Object-space surface points of a stroke: "points", or "rays" hitting the mesh, or "uvs".
+std::vector<Eigen::Vector3d> strokePoints(const Document& document, std::size_t body,
+                                          const Json& j) {
+    std::vector<Eigen::Vector3d> points;
+    if (j.contains("points")) {
+        for (const Json& p : j["points"]) points.push_back(vec3(p));
+    }
+    if (j.contains("point")) points.push_back(vec3(j["point"]));
+    const auto& mesh = body < document.bodyCount() ? document.assets(body).mesh : nullptr;
+    if (j.contains("rays")) {
+        if (!mesh) throw std::invalid_argument("rays need the body's mesh");
+        for (const Json& ray : j["rays"]) {
+            const auto hit = raycast(*mesh, vec3(ray.at("origin")), vec3(ray.at("direction")));
+            if (hit) points.push_back(hit->point);
+        }
+    }
+    if (j.contains("uvs")) {
+        if (!mesh) throw std::invalid_argument("uvs need the body's mesh");
+        for (const Json& uv : j["uvs"]) {
+            if (const auto hit = surfaceAtUv(*mesh, vec2(uv))) points.push_back(hit->point);
+        }
+    }
+    return points;
+}
+
+}  // namespace
+
+Result<Json> runEditScript(Document& document, const Json& script) {
+    const Json* list = &script;
+    if (script.is_object() && script.contains("commands")) list = &script["commands"];
+    if (!list->is_array()) return makeError("script: expected a list of commands");
+    Json results = Json::array();
+    Brush brush;
+    MapChannel channel = MapChannel::Permeability;
+    std::size_t body = 0;
+    for (std::size_t i = 0; i < list->size(); ++i) {
+        const Json& c = (*list)[i];
+        const std::string where = "command " + std::to_string(i);
+        try {
+            const std::string op = c.at("op");
+            body = c.value("body", body);
+            channel = channelOf(c, channel);
+            Json result = {{"op", op}};
+            Result<std::unique_ptr<Command>> command = makeError("");
+            bool runs = true;
+            if (op == "brush") {
+                readBrush(c, brush);
+                runs = false;
+            } else if (op == "stroke" || op == "paint" || op == "erase" || op == "smooth") {
+                Brush b = brush;
+                if (op != "stroke") b.mode = op == "paint"   ? BrushMode::Paint
+                                             : op == "erase" ? BrushMode::Erase
+                                                             : BrushMode::Smooth;
+                readBrush(c, b);
+                const std::vector<Eigen::Vector3d> points = strokePoints(document, body, c);
+                if (points.empty()) return makeError(where + ": the stroke hits no surface");
+                command = makeStrokeCommand(document, body, channel, b, points);
+            } else if (op == "fill_island") {
+                const std::vector<Eigen::Vector3d> points = strokePoints(document, body, c);
+                if (points.empty()) return makeError(where + ": no surface point");
+                command = makeFillIslandCommand(document, body, channel, points.front(),
+                                                c.value("value", brush.value),
+                                                c.value("mirror_x", brush.mirrorX));
+            } else if (op == "fill_all") {
+                command = makeFillAllCommand(document, body, channel, c.value("value", brush.value));
+            } else if (op == "new_map") {
+                int w = kDefaultMapSize, h = kDefaultMapSize;
+                if (c.contains("size")) {
+                    if (c["size"].is_array()) {
+                        w = c["size"].at(0);
+                        h = c["size"].at(1);
+                    } else {
+                        w = h = c["size"].get<int>();
+                    }
+                }
+                command = makeNewMapCommand(document, body, channel, w, h, c.value("value", 0.0),
+                                            c.value("path", std::string()));
+            } else if (op == "set") {
+                command = makeSetPropertyCommand(document, c.at("pointer"), c.at("value"));
+            } else if (op == "import_mesh") {
+                std::optional<std::size_t> target;
+                if (c.contains("body")) target = c["body"].get<std::size_t>();
+                fs::path mesh = c.at("path").get<std::string>();
+                if (mesh.is_relative()) mesh = document.project().folder / mesh;
+                command = makeImportMeshCommand(document, mesh, target);
+            } else if (op == "pick") {
+                const std::vector<Eigen::Vector3d> points = strokePoints(document, body, c);
+                const PaintedMap* map = document.map(body, channel);
+                auto surface = document.paintSurface(body, channel);
+                if (points.empty() || !map || !surface) {
+                    return makeError(where + ": nothing to pick (no point or no map)");
+                }
+                const std::optional<double> v = pickValue(*map, **surface, points.front());
+                if (!v) return makeError(where + ": nothing to pick");
+                brush.value = *v;
+                result["value"] = *v;
+                runs = false;
+            } else if (op == "undo") {
+                result["done"] = document.undo();
+                runs = false;
+            } else if (op == "redo") {
+                result["done"] = document.redo();
+                runs = false;
+            } else if (op == "save") {
+                if (Status s = document.save(); !s) return makeError(where + ": " + s.error().message);
+                runs = false;
+            } else if (op == "save_as") {
+                fs::path target = c.at("path").get<std::string>();
+                if (Status s = document.saveAs(target); !s) {
+                    return makeError(where + ": " + s.error().message);
+                }
+                runs = false;
+            } else if (op == "autosave") {
+                if (Status s = document.autosave(); !s) {
+                    return makeError(where + ": " + s.error().message);
+                }
+                runs = false;
+            } else {
+                return makeError(where + ": unknown op \"" + op + "\"");
+            }
+            if (runs) {
+                if (!command) return makeError(where + " (" + op + "): " + command.error().message);
+                if (auto* paint = dynamic_cast<PaintCommand*>(command->get())) {
+                    result["pixels_changed"] = paint->change().pixels.size();
+                }
+                result["name"] = (*command)->name();
+                if (Status s = document.execute(std::move(command).value()); !s) {
+                    return makeError(where + " (" + op + "): " + s.error().message);
+                }
+            }
+            results.push_back(std::move(result));
+        } catch (const std::exception& e) {
+            return makeError(where + ": " + e.what());
+        }
+    }
+    return results;
+}
+
+}  // namespace plimsoll::editor
