@@ -21,6 +21,7 @@ int main(int argc, char** argv) {
     addBuoyancyCommand(app, selected);
     addSimulateCommand(app, selected);
     addEditCommand(app, selected);
+    addRenderCommand(app, selected);
     try {
         app.parse(argc, argv);
     } catch (const CLI::ParseError& e) {

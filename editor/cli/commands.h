@@ -19,6 +19,7 @@ void addBenchCommand(CLI::App& root, CommandRunner& selected);
 void addBuoyancyCommand(CLI::App& root, CommandRunner& selected);
 void addSimulateCommand(CLI::App& root, CommandRunner& selected);
 void addEditCommand(CLI::App& root, CommandRunner& selected);
+void addRenderCommand(CLI::App& root, CommandRunner& selected);
 
 /// Exit codes shared by all sub-commands.
 enum ExitCode : int { kExitOk = 0, kExitFailure = 1, kExitUsage = 2 };

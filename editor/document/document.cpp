@@ -164,12 +164,14 @@ void Document::syncAssets() {
             a.mesh.reset();
             a.meshError.clear();
             a.paintSurfaces = {};
+            a.physics.reset();
             if (!meshPath.empty()) {
                 Result<TriangleMesh> mesh = loadMesh(meshPath);
                 if (mesh) a.mesh = std::make_shared<const TriangleMesh>(std::move(mesh).value());
                 else a.meshError = mesh.error().message;
             }
         }
+        if (a.physics && (a.physics->size != body.textureSize)) a.physics.reset();
         for (MapChannel c : kMapChannels) {
             BodyAssets::Map& m = a.maps[static_cast<int>(c)];
             const std::string& written = channelPath(body, c);
@@ -240,6 +242,40 @@ Result<std::shared_ptr<const PaintSurface>> Document::paintSurface(std::size_t b
         }
     }
     return cached;
+}
+
+Pose Document::bodyPose(std::size_t body) const {
+    const BodyDesc& b = project_.bodies.at(body);
+    return Pose::fromEulerDegrees(b.position, b.rotationDegrees);
+}
+
+Bounds3 Document::worldBounds() const {
+    Bounds3 bounds;
+    for (std::size_t b = 0; b < assets_.size(); ++b) {
+        if (!assets_[b].mesh) continue;
+        const Pose pose = bodyPose(b);
+        for (const Eigen::Vector3d& p : assets_[b].mesh->positions) {
+            const Eigen::Vector3d w = pose.apply(p);
+            bounds.min = bounds.min.cwiseMin(w);
+            bounds.max = bounds.max.cwiseMax(w);
+        }
+    }
+    return bounds;
+}
+
+Result<std::shared_ptr<const SurfaceTextures>> Document::physicsTextures(std::size_t body) {
+    if (body >= assets_.size()) return makeError("no body " + std::to_string(body));
+    BodyAssets& a = assets_[body];
+    if (!a.mesh) return makeError("body " + std::to_string(body) + ": no mesh (" + a.meshError + ")");
+    if (!a.physics) {
+        BakeSettings settings;
+        settings.size = project_.bodies[body].textureSize;
+        settings.maxTexelStretch = project_.bodies[body].maxTexelStretch;
+        Result<SurfaceTextures> baked = bakeSurfaceTextures(*a.mesh, settings);
+        if (!baked) return baked.error();
+        a.physics = std::make_shared<const SurfaceTextures>(std::move(baked).value());
+    }
+    return a.physics;
 }
 
 std::string Document::defaultMapPath(std::size_t body, MapChannel channel) const {

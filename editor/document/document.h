@@ -7,8 +7,10 @@
 
 #include "document/paint.h"
 
+#include "plimsoll/bake.h"
 #include "plimsoll/mesh.h"
 #include "plimsoll/painted_map.h"
+#include "plimsoll/pose.h"
 #include "plimsoll/project.h"
 #include "plimsoll/result.h"
 
@@ -53,6 +55,8 @@ struct BodyAssets {
     std::array<Map, kMapChannelCount> maps;
     /// Paint surfaces, built on first use for the map's size.
     std::array<std::shared_ptr<const PaintSurface>, kMapChannelCount> paintSurfaces;
+    /// The physics bake (body.textureSize), built on first use.
+    std::shared_ptr<const SurfaceTextures> physics;
 };
 
 class Document;
@@ -127,6 +131,12 @@ public:
     void markMapDirty(std::size_t body, MapChannel channel);
     /// The paint surface for the body's current map of `channel` (built and cached).
     Result<std::shared_ptr<const PaintSurface>> paintSurface(std::size_t body, MapChannel channel);
+    /// Bounds of every loaded body at its starting pose, world, m.
+    Bounds3 worldBounds() const;
+    /// A body's starting pose (position, rotation_deg).
+    Pose bodyPose(std::size_t body) const;
+    /// The body's physics textures at its texture size (baked on first use, cached).
+    Result<std::shared_ptr<const SurfaceTextures>> physicsTextures(std::size_t body);
     /// Where a new map of `channel` for `body` goes: "maps/<project>_<body>_<channel>.png".
     std::string defaultMapPath(std::size_t body, MapChannel channel) const;
 

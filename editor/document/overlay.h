@@ -1,0 +1,47 @@
+// What the viewport paints over a mesh: a painted map, or one of the physics textures (coverage,
+// PT, AVT), as an RGBA8 image over the mesh's UVs. GL-free: the renderer uploads the image.
+#pragma once
+
+#include "document/document.h"
+
+#include "plimsoll/uv_layout.h"
+
+#include <Eigen/Core>
+
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace plimsoll::editor {
+
+enum class Overlay { None, Permeability, Density, Thickness, Coverage, Position, AreaVector };
+inline constexpr Overlay kOverlays[] = {Overlay::None,      Overlay::Permeability,
+                                        Overlay::Density,   Overlay::Thickness,
+                                        Overlay::Coverage,  Overlay::Position,
+                                        Overlay::AreaVector};
+
+/// "none", "permeability", "density", "thickness", "coverage", "position", "area".
+const char* overlayName(Overlay overlay);
+std::optional<Overlay> parseOverlay(const std::string& name);
+std::optional<MapChannel> overlayChannel(Overlay overlay);
+
+/// The colour ramp of scalar maps: 0 is blue (0.10, 0.25, 0.90), 1 is orange (0.95, 0.45, 0.05),
+/// linear between (red above blue exactly when the value is above 0.5).
+Eigen::Vector3f rampColour(double value);
+
+struct OverlayImage {
+    int width = 0;
+    int height = 0;
+    /// RGBA8, row 0 at v = 0 (OpenGL's order).
+    std::vector<std::uint8_t> rgba;
+    /// Image uv = scale * mesh uv + offset (identity for painted maps; the bake's placement
+    /// for physics textures).
+    UvPlacement placement;
+};
+
+/// The overlay image of a body (a body without a map of that channel shows its uniform value:
+/// 0 for permeability, 1 for density and thickness).
+Result<OverlayImage> buildOverlay(Document& document, std::size_t body, Overlay overlay);
+
+}  // namespace plimsoll::editor

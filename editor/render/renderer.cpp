@@ -1,0 +1,398 @@
+#include "render/renderer.h"
+
+#include <epoxy/gl.h>
+
+#include <algorithm>
+#include <cmath>
+#include <string>
+
+namespace plimsoll::editor {
+
+namespace {
+
+const char* kMeshVertex = R"(#version 450 core
+layout(location = 0) in vec3 aPosition;
+layout(location = 1) in vec2 aUv;
+uniform mat4 uModel;
+uniform mat4 uViewProj;
+out vec3 vWorld;
+out vec2 vUv;
+void main() {
+    vec4 world = uModel * vec4(aPosition, 1.0);
+    vWorld = world.xyz;
+    vUv = aUv;
+    gl_Position = uViewProj * world;
+})";
+
+// Flat shading from screen-space derivatives (no normals to upload), lit from the eye.
+const char* kMeshFragment = R"(#version 450 core
+in vec3 vWorld;
+in vec2 vUv;
+uniform vec3 uEye;
+uniform vec3 uViewDir;
+uniform int uOrtho;
+uniform int uHasOverlay;
+uniform sampler2D uOverlay;
+uniform vec2 uUvScale;
+uniform vec2 uUvOffset;
+uniform vec3 uBase;
+out vec4 oColour;
+void main() {
+    vec3 n = normalize(cross(dFdx(vWorld), dFdy(vWorld)));
+    vec3 v = uOrtho != 0 ? -uViewDir : normalize(uEye - vWorld);
+    float light = 0.35 + 0.65 * abs(dot(n, v));
+    vec3 c = uHasOverlay != 0 ? texture(uOverlay, vUv * uUvScale + uUvOffset).rgb : uBase;
+    oColour = vec4(c * light, 1.0);
+})";
+
+const char* kLineVertex = R"(#version 450 core
+layout(location = 0) in vec3 aPosition;
+layout(location = 1) in vec4 aColour;
+uniform mat4 uViewProj;
+out vec4 vColour;
+void main() { vColour = aColour; gl_Position = uViewProj * vec4(aPosition, 1.0); })";
+
+const char* kLineFragment = R"(#version 450 core
+in vec4 vColour;
+out vec4 oColour;
+void main() { oColour = vColour; })";
+
+const char* kWaterFragment = R"(#version 450 core
+in vec4 vColour;
+out vec4 oColour;
+void main() { oColour = vColour; })";
+
+Result<unsigned> compile(GLenum type, const char* source) {
+    const GLuint shader = glCreateShader(type);
+    glShaderSource(shader, 1, &source, nullptr);
+    glCompileShader(shader);
+    GLint ok = 0;
+    glGetShaderiv(shader, GL_COMPILE_STATUS, &ok);
+    if (!ok) {
+        char log[2048];
+        glGetShaderInfoLog(shader, sizeof log, nullptr, log);
+        glDeleteShader(shader);
+        return makeError(std::string("shader compile: ") + log);
+    }
+    return shader;
+}
+
+Result<unsigned> link(const char* vertex, const char* fragment) {
+    Result<unsigned> vs = compile(GL_VERTEX_SHADER, vertex);
+    if (!vs) return vs.error();
+    Result<unsigned> fs = compile(GL_FRAGMENT_SHADER, fragment);
+    if (!fs) return fs.error();
+    const GLuint program = glCreateProgram();
+    glAttachShader(program, *vs);
+    glAttachShader(program, *fs);
+    glLinkProgram(program);
+    glDeleteShader(*vs);
+    glDeleteShader(*fs);
+    GLint ok = 0;
+    glGetProgramiv(program, GL_LINK_STATUS, &ok);
+    if (!ok) {
+        char log[2048];
+        glGetProgramInfoLog(program, sizeof log, nullptr, log);
+        glDeleteProgram(program);
+        return makeError(std::string("shader link: ") + log);
+    }
+    return program;
+}
+
+void setMatrix(GLuint program, const char* name, const Eigen::Matrix4f& m) {
+    glUniformMatrix4fv(glGetUniformLocation(program, name), 1, GL_FALSE, m.data());
+}
+
+void pushLine(std::vector<float>& v, const Eigen::Vector3f& a, const Eigen::Vector3f& b,
+              const Eigen::Vector4f& c) {
+    for (const Eigen::Vector3f* p : {&a, &b}) {
+        v.insert(v.end(), {p->x(), p->y(), p->z(), c.x(), c.y(), c.z(), c.w()});
+    }
+}
+
+void setupPositionColourVao(GLuint vao, GLuint vbo) {
+    glBindVertexArray(vao);
+    glBindBuffer(GL_ARRAY_BUFFER, vbo);
+    glEnableVertexAttribArray(0);
+    glVertexAttribPointer(0, 3, GL_FLOAT, GL_FALSE, 7 * sizeof(float), nullptr);
+    glEnableVertexAttribArray(1);
+    glVertexAttribPointer(1, 4, GL_FLOAT, GL_FALSE, 7 * sizeof(float),
+                          reinterpret_cast<void*>(3 * sizeof(float)));
+    glBindVertexArray(0);
+}
+
+}  // namespace
+
+// --- OffscreenTarget -----------------------------------------------------------------------------
+
+Result<std::unique_ptr<OffscreenTarget>> OffscreenTarget::create(int width, int height) {
+    if (width < 1 || height < 1 || width > 16384 || height > 16384) {
+        return makeError("image size must be 1..16384 pixels a side");
+    }
+    std::unique_ptr<OffscreenTarget> t(new OffscreenTarget());
+    t->width_ = width;
+    t->height_ = height;
+    glGenFramebuffers(1, &t->framebuffer_);
+    glGenRenderbuffers(1, &t->colour_);
+    glGenRenderbuffers(1, &t->depth_);
+    glBindRenderbuffer(GL_RENDERBUFFER, t->colour_);
+    glRenderbufferStorage(GL_RENDERBUFFER, GL_RGBA8, width, height);
+    glBindRenderbuffer(GL_RENDERBUFFER, t->depth_);
+    glRenderbufferStorage(GL_RENDERBUFFER, GL_DEPTH_COMPONENT24, width, height);
+    glBindFramebuffer(GL_FRAMEBUFFER, t->framebuffer_);
+    glFramebufferRenderbuffer(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_RENDERBUFFER, t->colour_);
+    glFramebufferRenderbuffer(GL_FRAMEBUFFER, GL_DEPTH_ATTACHMENT, GL_RENDERBUFFER, t->depth_);
+    if (glCheckFramebufferStatus(GL_FRAMEBUFFER) != GL_FRAMEBUFFER_COMPLETE) {
+        return makeError("offscreen framebuffer incomplete");
+    }
+    return t;
+}
+
+OffscreenTarget::~OffscreenTarget() {
+    glDeleteFramebuffers(1, &framebuffer_);
+    glDeleteRenderbuffers(1, &colour_);
+    glDeleteRenderbuffers(1, &depth_);
+}
+
+void OffscreenTarget::bind() const { glBindFramebuffer(GL_FRAMEBUFFER, framebuffer_); }
+
+std::vector<std::uint8_t> OffscreenTarget::readRgba() const {
+    std::vector<std::uint8_t> pixels(static_cast<std::size_t>(width_) * height_ * 4);
+    glBindFramebuffer(GL_READ_FRAMEBUFFER, framebuffer_);
+    glPixelStorei(GL_PACK_ALIGNMENT, 1);
+    glReadPixels(0, 0, width_, height_, GL_RGBA, GL_UNSIGNED_BYTE, pixels.data());
+    // GL's row 0 is the bottom.
+    const std::size_t row = static_cast<std::size_t>(width_) * 4;
+    for (int y = 0; y < height_ / 2; ++y) {
+        std::swap_ranges(pixels.begin() + y * row, pixels.begin() + (y + 1) * row,
+                         pixels.begin() + (height_ - 1 - y) * row);
+    }
+    return pixels;
+}
+
+// --- Renderer ------------------------------------------------------------------------------------
+
+Result<std::unique_ptr<Renderer>> Renderer::create() {
+    std::unique_ptr<Renderer> r(new Renderer());
+    Result<unsigned> mesh = link(kMeshVertex, kMeshFragment);
+    if (!mesh) return mesh.error();
+    r->meshProgram_ = *mesh;
+    Result<unsigned> line = link(kLineVertex, kLineFragment);
+    if (!line) return line.error();
+    r->lineProgram_ = *line;
+    Result<unsigned> water = link(kLineVertex, kWaterFragment);
+    if (!water) return water.error();
+    r->waterProgram_ = *water;
+    glGenVertexArrays(1, &r->lineVao_);
+    glGenBuffers(1, &r->lineVbo_);
+    setupPositionColourVao(r->lineVao_, r->lineVbo_);
+    glGenVertexArrays(1, &r->waterVao_);
+    glGenBuffers(1, &r->waterVbo_);
+    setupPositionColourVao(r->waterVao_, r->waterVbo_);
+    return r;
+}
+
+Renderer::~Renderer() {
+    for (auto& [_, m] : meshes_) {
+        glDeleteVertexArrays(1, &m.vao);
+        glDeleteBuffers(1, &m.vbo);
+    }
+    for (auto& [_, o] : overlays_) glDeleteTextures(1, &o.texture);
+    glDeleteVertexArrays(1, &lineVao_);
+    glDeleteBuffers(1, &lineVbo_);
+    glDeleteVertexArrays(1, &waterVao_);
+    glDeleteBuffers(1, &waterVbo_);
+    glDeleteProgram(meshProgram_);
+    glDeleteProgram(lineProgram_);
+    glDeleteProgram(waterProgram_);
+}
+
+Renderer::MeshBuffers& Renderer::buffersFor(const std::shared_ptr<const TriangleMesh>& mesh) {
+    // Drop buffers of meshes that are gone.
+    for (auto it = meshes_.begin(); it != meshes_.end();) {
+        if (it->second.owner.expired()) {
+            glDeleteVertexArrays(1, &it->second.vao);
+            glDeleteBuffers(1, &it->second.vbo);
+            it = meshes_.erase(it);
+        } else {
+            ++it;
+        }
+    }
+    MeshBuffers& b = meshes_[mesh.get()];
+    if (b.vao) return b;
+    b.owner = mesh;
+    std::vector<float> vertices;
+    vertices.reserve(mesh->triangles.size() * 15);
+    const bool uvs = mesh->hasUvs();
+    for (const Triangle& t : mesh->triangles) {
+        for (std::uint32_t v : t) {
+            const Eigen::Vector3d& p = mesh->positions[v];
+            const Eigen::Vector2d uv = uvs ? mesh->uvs[v] : Eigen::Vector2d::Zero();
+            vertices.insert(vertices.end(), {float(p.x()), float(p.y()), float(p.z()),
+                                             float(uv.x()), float(uv.y())});
+        }
+    }
+    b.vertexCount = static_cast<int>(mesh->triangles.size() * 3);
+    glGenVertexArrays(1, &b.vao);
+    glGenBuffers(1, &b.vbo);
+    glBindVertexArray(b.vao);
+    glBindBuffer(GL_ARRAY_BUFFER, b.vbo);
+    glBufferData(GL_ARRAY_BUFFER, vertices.size() * sizeof(float), vertices.data(),
+                 GL_STATIC_DRAW);
+    glEnableVertexAttribArray(0);
+    glVertexAttribPointer(0, 3, GL_FLOAT, GL_FALSE, 5 * sizeof(float), nullptr);
+    glEnableVertexAttribArray(1);
+    glVertexAttribPointer(1, 2, GL_FLOAT, GL_FALSE, 5 * sizeof(float),
+                          reinterpret_cast<void*>(3 * sizeof(float)));
+    glBindVertexArray(0);
+    return b;
+}
+
+void Renderer::setOverlay(int slot, const OverlayImage& image) {
+    Overlay& o = overlays_[slot];
+    if (image.width == 0) {
+        glDeleteTextures(1, &o.texture);
+        overlays_.erase(slot);
+        return;
+    }
+    if (!o.texture) glGenTextures(1, &o.texture);
+    glBindTexture(GL_TEXTURE_2D, o.texture);
+    glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
+    glTexImage2D(GL_TEXTURE_2D, 0, GL_RGBA8, image.width, image.height, 0, GL_RGBA,
+                 GL_UNSIGNED_BYTE, image.rgba.data());
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_LINEAR);
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
+    o.scale = Eigen::Vector2f::Constant(static_cast<float>(image.placement.scale));
+    o.offset = image.placement.offset.cast<float>();
+}
+
+unsigned Renderer::overlayTexture(int slot) const {
+    auto it = overlays_.find(slot);
+    return it == overlays_.end() ? 0 : it->second.texture;
+}
+
+void Renderer::drawLines(const std::vector<float>& vertices, const Eigen::Matrix4f& viewProj) {
+    if (vertices.empty()) return;
+    glUseProgram(lineProgram_);
+    setMatrix(lineProgram_, "uViewProj", viewProj);
+    glBindVertexArray(lineVao_);
+    glBindBuffer(GL_ARRAY_BUFFER, lineVbo_);
+    glBufferData(GL_ARRAY_BUFFER, vertices.size() * sizeof(float), vertices.data(),
+                 GL_STREAM_DRAW);
+    glDrawArrays(GL_LINES, 0, static_cast<GLsizei>(vertices.size() / 7));
+}
+
+void Renderer::draw(const RenderScene& scene, const Camera& camera, int width, int height) {
+    glViewport(0, 0, width, height);
+    glClearColor(scene.background.x(), scene.background.y(), scene.background.z(), 1.0f);
+    glClearDepth(1.0);
+    glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
+    glEnable(GL_DEPTH_TEST);
+    glDepthFunc(GL_LEQUAL);
+    glDisable(GL_CULL_FACE);
+    glDisable(GL_BLEND);
+    const Eigen::Matrix4f viewProj =
+        (camera.projection(double(width) / std::max(height, 1)) * camera.view()).cast<float>();
+
+    // Bodies.
+    glUseProgram(meshProgram_);
+    setMatrix(meshProgram_, "uViewProj", viewProj);
+    const Eigen::Vector3f eye = camera.eye().cast<float>();
+    const Eigen::Vector3f viewDir = camera.forward().cast<float>();
+    glUniform3fv(glGetUniformLocation(meshProgram_, "uEye"), 1, eye.data());
+    glUniform3fv(glGetUniformLocation(meshProgram_, "uViewDir"), 1, viewDir.data());
+    glUniform1i(glGetUniformLocation(meshProgram_, "uOrtho"), camera.orthographic ? 1 : 0);
+    glUniform1i(glGetUniformLocation(meshProgram_, "uOverlay"), 0);
+    for (const RenderBody& body : scene.bodies) {
+        if (!body.mesh) continue;
+        Eigen::Matrix4f model = Eigen::Matrix4f::Identity();
+        model.block<3, 3>(0, 0) = body.pose.rotation.cast<float>();
+        model.block<3, 1>(0, 3) = body.pose.translation.cast<float>();
+        setMatrix(meshProgram_, "uModel", model);
+        auto overlay = overlays_.find(body.overlay);
+        const bool hasOverlay = overlay != overlays_.end() && body.mesh->hasUvs();
+        glUniform1i(glGetUniformLocation(meshProgram_, "uHasOverlay"), hasOverlay ? 1 : 0);
+        if (hasOverlay) {
+            glActiveTexture(GL_TEXTURE0);
+            glBindTexture(GL_TEXTURE_2D, overlay->second.texture);
+            glUniform2fv(glGetUniformLocation(meshProgram_, "uUvScale"), 1,
+                         overlay->second.scale.data());
+            glUniform2fv(glGetUniformLocation(meshProgram_, "uUvOffset"), 1,
+                         overlay->second.offset.data());
+        }
+        const Eigen::Vector3f base = body.selected ? Eigen::Vector3f(0.80f, 0.78f, 0.72f)
+                                                   : Eigen::Vector3f(0.70f, 0.70f, 0.70f);
+        glUniform3fv(glGetUniformLocation(meshProgram_, "uBase"), 1, base.data());
+        MeshBuffers& b = buffersFor(body.mesh);
+        glBindVertexArray(b.vao);
+        glDrawArrays(GL_TRIANGLES, 0, b.vertexCount);
+    }
+
+    // Grid (1 m, on y = 0) and axes.
+    std::vector<float> lines;
+    const float extent = static_cast<float>(
+        std::clamp(std::ceil(camera.distance * 2.0), 2.0, 200.0));
+    if (scene.grid) {
+        const Eigen::Vector4f grey(0.45f, 0.45f, 0.45f, 1.0f);
+        const int n = static_cast<int>(extent);
+        for (int i = -n; i <= n; ++i) {
+            if (i == 0 && scene.axes) continue;
+            pushLine(lines, {float(i), 0, -extent}, {float(i), 0, extent}, grey);
+            pushLine(lines, {-extent, 0, float(i)}, {extent, 0, float(i)}, grey);
+        }
+    }
+    if (scene.axes) {
+        pushLine(lines, {-extent, 0, 0}, {extent, 0, 0}, {0.85f, 0.25f, 0.25f, 1});
+        pushLine(lines, {0, 0, -extent}, {0, 0, extent}, {0.25f, 0.45f, 0.90f, 1});
+        pushLine(lines, {0, 0, 0}, {0, 1, 0}, {0.35f, 0.80f, 0.35f, 1});
+    }
+    drawLines(lines, viewProj);
+
+    // Water last: translucent, over everything, writing no depth.
+    if (scene.water) {
+        const int cells = 96;
+        const double half = std::max(10.0, camera.distance * 3.0);
+        const Eigen::Vector3d centre = camera.target;
+        const double step = 2 * half / cells;
+        std::vector<float> heights((cells + 1) * (cells + 1));
+        for (int j = 0; j <= cells; ++j) {
+            for (int i = 0; i <= cells; ++i) {
+                const double x = centre.x() - half + i * step, z = centre.z() - half + j * step;
+                heights[j * (cells + 1) + i] =
+                    static_cast<float>(scene.water->height(x, z, scene.time));
+            }
+        }
+        std::vector<float> tris;
+        tris.reserve(cells * cells * 6 * 7);
+        const Eigen::Vector4f colour(0.15f, 0.45f, 0.75f, 0.35f);
+        auto vertex = [&](int i, int j) {
+            tris.insert(tris.end(),
+                        {float(centre.x() - half + i * step), heights[j * (cells + 1) + i],
+                         float(centre.z() - half + j * step), colour.x(), colour.y(), colour.z(),
+                         colour.w()});
+        };
+        for (int j = 0; j < cells; ++j) {
+            for (int i = 0; i < cells; ++i) {
+                vertex(i, j), vertex(i + 1, j), vertex(i + 1, j + 1);
+                vertex(i, j), vertex(i + 1, j + 1), vertex(i, j + 1);
+            }
+        }
+        glEnable(GL_BLEND);
+        glBlendFunc(GL_SRC_ALPHA, GL_ONE_MINUS_SRC_ALPHA);
+        glDepthMask(GL_FALSE);
+        glUseProgram(waterProgram_);
+        setMatrix(waterProgram_, "uViewProj", viewProj);
+        glBindVertexArray(waterVao_);
+        glBindBuffer(GL_ARRAY_BUFFER, waterVbo_);
+        glBufferData(GL_ARRAY_BUFFER, tris.size() * sizeof(float), tris.data(), GL_STREAM_DRAW);
+        glDrawArrays(GL_TRIANGLES, 0, static_cast<GLsizei>(tris.size() / 7));
+        glDepthMask(GL_TRUE);
+        glDisable(GL_BLEND);
+    }
+    glBindVertexArray(0);
+    glUseProgram(0);
+}
+
+}  // namespace plimsoll::editor

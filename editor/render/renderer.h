@@ -1,0 +1,94 @@
+// The viewport renderer (OpenGL 4.5 core through libepoxy): meshes with a map overlay, the
+// water surface (translucent, flat or waves), grid and axes. The window draws it into its
+// framebuffer; `plimsoll render` into an OffscreenTarget of a headless EGL context. It needs a
+// current context and knows nothing of windows.
+#pragma once
+
+#include "document/overlay.h"
+#include "render/camera.h"
+
+#include "plimsoll/mesh.h"
+#include "plimsoll/pose.h"
+#include "plimsoll/result.h"
+#include "plimsoll/water.h"
+
+#include <Eigen/Core>
+
+#include <cstdint>
+#include <map>
+#include <memory>
+#include <vector>
+
+namespace plimsoll::editor {
+
+struct RenderBody {
+    std::shared_ptr<const TriangleMesh> mesh;
+    Pose pose;
+    /// Overlay texture slot (see Renderer::setOverlay); -1: plain grey.
+    int overlay = -1;
+    bool selected = false;
+};
+
+struct RenderScene {
+    std::vector<RenderBody> bodies;
+    const WaterModel* water = nullptr;  ///< nullptr: no water surface
+    double time = 0.0;                  ///< s, for waves
+    bool grid = true;
+    bool axes = true;
+    Eigen::Vector3f background{0.20f, 0.21f, 0.23f};
+};
+
+/// A framebuffer object with colour and depth, for rendering without a window.
+class OffscreenTarget {
+public:
+    static Result<std::unique_ptr<OffscreenTarget>> create(int width, int height);
+    ~OffscreenTarget();
+    void bind() const;
+    int width() const { return width_; }
+    int height() const { return height_; }
+    /// RGBA8, row 0 at the top of the image.
+    std::vector<std::uint8_t> readRgba() const;
+
+private:
+    OffscreenTarget() = default;
+    unsigned framebuffer_ = 0, colour_ = 0, depth_ = 0;
+    int width_ = 0, height_ = 0;
+};
+
+class Renderer {
+public:
+    /// Compiles the shaders; needs a current OpenGL 4.5 core context.
+    static Result<std::unique_ptr<Renderer>> create();
+    ~Renderer();
+    Renderer(const Renderer&) = delete;
+    Renderer& operator=(const Renderer&) = delete;
+
+    /// Uploads an overlay image into texture slot `slot` (replacing what was there).
+    void setOverlay(int slot, const OverlayImage& image);
+    /// The GL texture name of a slot (0 when empty), for ImGui::Image in the UV view.
+    unsigned overlayTexture(int slot) const;
+
+    /// Draws into the bound framebuffer, viewport (0, 0, width, height).
+    void draw(const RenderScene& scene, const Camera& camera, int width, int height);
+
+private:
+    Renderer() = default;
+    struct MeshBuffers {
+        unsigned vao = 0, vbo = 0;
+        int vertexCount = 0;
+        std::weak_ptr<const TriangleMesh> owner;
+    };
+    struct Overlay {
+        unsigned texture = 0;
+        Eigen::Vector2f scale{1, 1}, offset{0, 0};
+    };
+    MeshBuffers& buffersFor(const std::shared_ptr<const TriangleMesh>& mesh);
+    void drawLines(const std::vector<float>& vertices, const Eigen::Matrix4f& viewProj);
+
+    unsigned meshProgram_ = 0, lineProgram_ = 0, waterProgram_ = 0;
+    unsigned lineVao_ = 0, lineVbo_ = 0, waterVao_ = 0, waterVbo_ = 0;
+    std::map<const TriangleMesh*, MeshBuffers> meshes_;
+    std::map<int, Overlay> overlays_;
+};
+
+}  // namespace plimsoll::editor
