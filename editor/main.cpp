@@ -20,6 +20,7 @@ int main(int argc, char** argv) {
     addBenchCommand(app, selected);
     addBuoyancyCommand(app, selected);
     addSimulateCommand(app, selected);
+    addGraphCommand(app, selected);
     addEditCommand(app, selected);
     addRenderCommand(app, selected);
     try {

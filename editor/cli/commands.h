@@ -18,6 +18,7 @@ void addSamplesCommand(CLI::App& root, CommandRunner& selected);
 void addBenchCommand(CLI::App& root, CommandRunner& selected);
 void addBuoyancyCommand(CLI::App& root, CommandRunner& selected);
 void addSimulateCommand(CLI::App& root, CommandRunner& selected);
+void addGraphCommand(CLI::App& root, CommandRunner& selected);
 void addEditCommand(CLI::App& root, CommandRunner& selected);
 void addRenderCommand(CLI::App& root, CommandRunner& selected);
 

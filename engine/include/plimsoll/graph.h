@@ -302,11 +302,15 @@ int defaultSegmentCount(const TriangleMesh& mesh);
 struct AutoGraphReport {
     MeshSegmentation segmentation;  ///< after merging to k segments
     double enclosedVolume = 0;      ///< m^3 (exact, divergence theorem)
+    /// The interior grid points' volume (cells x cell volume), m^3: how well the grid that
+    /// shares the volume out covers it (an independent check of the inside test).
+    double sampledVolume = 0;
     double totalSeconds = 0;
 };
 
 /// Paper 4.1: segments (k of them: SDF segments merged, smallest into its longest-bordering
-/// neighbour, until k remain), one node per segment at the least-squares sphere centre of its
+/// neighbour, until k remain; where the SDF gives fewer, the largest cut in two across its
+/// longest axis until k), one node per segment at the least-squares sphere centre of its
 /// vertices (the centroid of its share of the volume when that centre lies outside the
 /// mesh), capacities from each segment's share of the enclosed volume (interior grid points
 /// go to the segment of their nearest vertex; the shares are scaled to sum to the enclosed
