@@ -1,5 +1,6 @@
 // plimsoll: the editor (no sub-command) and the headless command line (a sub-command), in one
 // executable like `blender -b`. Sub-commands live one per file in cli/.
+#include "app/editor_app.h"
 #include "cli/commands.h"
 
 #include <exception>
@@ -29,9 +30,8 @@ int main(int argc, char** argv) {
         return app.exit(e);
     }
     if (!selected) {
-        // The editor window comes with the editor issue; until then, say what there is.
-        std::cout << app.help();
-        return kExitOk;
+        // No sub-command: the editor window (`plimsoll edit` with no project).
+        return plimsoll::editor::runEditorWindow({});
     }
     try {
         return selected();

@@ -6,8 +6,19 @@
 
 namespace plimsoll::editor {
 
-/// Opens the window on `project` (empty: a new project, or the autosave to recover). Returns the
-/// process exit code.
-int runEditorWindow(const std::string& project);
+struct EditorLaunch {
+    std::string project;     ///< project to open (empty: a new one)
+    /// Run this many frames, then quit and print the frame times and the layout as JSON on
+    /// stdout (0: run until the user quits). For tests and measurements.
+    int frames = 0;
+    std::string screenshot;  ///< with frames: the window's last frame as PNG
+    std::string view;        ///< front, side, top or persp (default persp)
+    std::string overlay;     ///< initial overlay (default permeability)
+    int width = 0;           ///< window size (0: the saved one)
+    int height = 0;
+};
+
+/// Opens the window. Returns the process exit code.
+int runEditorWindow(const EditorLaunch& launch);
 
 }  // namespace plimsoll::editor

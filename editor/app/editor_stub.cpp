@@ -5,7 +5,7 @@
 
 namespace plimsoll::editor {
 
-int runEditorWindow(const std::string&) {
+int runEditorWindow(const EditorLaunch&) {
     std::cerr << "error: this plimsoll was built without the editor window "
                  "(PLIMSOLL_BUILD_EDITOR_GUI=OFF); use the sub-commands, or edit --script\n";
     return 1;

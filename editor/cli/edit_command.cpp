@@ -8,6 +8,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include <cstdio>
 #include <fstream>
 #include <iostream>
 #include <memory>
@@ -21,11 +22,25 @@ struct EditOptions {
     std::string script;
     std::string saveAs;
     bool noSave = false;
+    editor::EditorLaunch window;
+    std::string windowSize;
 };
 
 int runEdit(const EditOptions& o) {
     using namespace plimsoll::editor;
-    if (o.script.empty()) return runEditorWindow(o.project);
+    if (o.script.empty()) {
+        EditorLaunch launch = o.window;
+        launch.project = o.project;
+        if (!o.windowSize.empty()) {
+            char x = 0;
+            if (std::sscanf(o.windowSize.c_str(), "%d%c%d", &launch.width, &x, &launch.height) != 3 ||
+                x != 'x') {
+                std::cerr << "error: --window-size: expected WxH\n";
+                return kExitUsage;
+            }
+        }
+        return runEditorWindow(launch);
+    }
     std::unique_ptr<Document> document;
     if (o.project.empty()) {
         document = std::make_unique<Document>();
@@ -81,6 +96,17 @@ void addEditCommand(CLI::App& root, CommandRunner& selected) {
         ->check(CLI::ExistingFile);
     cmd->add_option("--save-as", o->saveAs, "With --script: save under this name instead");
     cmd->add_flag("--no-save", o->noSave, "With --script: do not save");
+    cmd->add_option("--frames", o->window.frames,
+                    "Window: run this many frames, print frame times and layout as JSON, quit");
+    cmd->add_option("--screenshot", o->window.screenshot,
+                    "Window: with --frames, write the last frame to this PNG");
+    cmd->add_option("--view", o->window.view, "Window: front, side, top or persp")
+        ->check(CLI::IsMember({"front", "side", "top", "persp"}));
+    cmd->add_option("--overlay", o->window.overlay,
+                    "Window: none, permeability, density, thickness, coverage, position, area")
+        ->check(CLI::IsMember(
+            {"none", "permeability", "density", "thickness", "coverage", "position", "area"}));
+    cmd->add_option("--window-size", o->windowSize, "Window: size WxH");
     cmd->callback([o, &selected] { selected = [o] { return runEdit(*o); }; });
 }
 

@@ -55,6 +55,24 @@ void put(OverlayImage& image, std::size_t pixel, const Eigen::Vector3f& c, doubl
 
 }  // namespace
 
+OverlayImage overlayOfMap(const PaintedMap& mapRef) {
+    OverlayImage image;
+    const PaintedMap* map = &mapRef;
+    {
+        image.width = map->width;
+        image.height = map->height;
+        image.rgba.assign(static_cast<std::size_t>(image.width) * image.height * 4, 0);
+        for (int y = 0; y < map->height; ++y) {
+            const int row = map->height - 1 - y;  // map row 0 is v = 1
+            for (int x = 0; x < map->width; ++x) {
+                put(image, static_cast<std::size_t>(row) * image.width + x,
+                    rampColour(map->values[static_cast<std::size_t>(y) * map->width + x]));
+            }
+        }
+    }
+    return image;
+}
+
 Result<OverlayImage> buildOverlay(Document& document, std::size_t body, Overlay overlay) {
     OverlayImage image;
     if (overlay == Overlay::None) return image;
@@ -66,17 +84,7 @@ Result<OverlayImage> buildOverlay(Document& document, std::size_t body, Overlay 
             put(image, 0, rampColour(*channel == MapChannel::Permeability ? 0.0 : 1.0));
             return image;
         }
-        image.width = map->width;
-        image.height = map->height;
-        image.rgba.assign(static_cast<std::size_t>(image.width) * image.height * 4, 0);
-        for (int y = 0; y < map->height; ++y) {
-            const int row = map->height - 1 - y;  // map row 0 is v = 1
-            for (int x = 0; x < map->width; ++x) {
-                put(image, static_cast<std::size_t>(row) * image.width + x,
-                    rampColour(map->values[static_cast<std::size_t>(y) * map->width + x]));
-            }
-        }
-        return image;
+        return overlayOfMap(*map);
     }
     Result<std::shared_ptr<const SurfaceTextures>> baked = document.physicsTextures(body);
     if (!baked) return baked.error();

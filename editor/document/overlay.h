@@ -40,6 +40,9 @@ struct OverlayImage {
     UvPlacement placement;
 };
 
+/// A painted map's overlay image (the ramp, rows flipped to OpenGL's order).
+OverlayImage overlayOfMap(const PaintedMap& map);
+
 /// The overlay image of a body (a body without a map of that channel shows its uniform value:
 /// 0 for permeability, 1 for density and thickness).
 Result<OverlayImage> buildOverlay(Document& document, std::size_t body, Overlay overlay);

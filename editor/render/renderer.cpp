@@ -284,10 +284,14 @@ void Renderer::drawLines(const std::vector<float>& vertices, const Eigen::Matrix
     glDrawArrays(GL_LINES, 0, static_cast<GLsizei>(vertices.size() / 7));
 }
 
-void Renderer::draw(const RenderScene& scene, const Camera& camera, int width, int height) {
-    glViewport(0, 0, width, height);
+void Renderer::draw(const RenderScene& scene, const Camera& camera, int width, int height, int x,
+                    int y) {
+    glViewport(x, y, width, height);
+    glScissor(x, y, width, height);
+    glEnable(GL_SCISSOR_TEST);
     glClearColor(scene.background.x(), scene.background.y(), scene.background.z(), 1.0f);
     glClearDepth(1.0);
+    glDepthMask(GL_TRUE);
     glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
     glEnable(GL_DEPTH_TEST);
     glDepthFunc(GL_LEQUAL);
@@ -393,6 +397,7 @@ void Renderer::draw(const RenderScene& scene, const Camera& camera, int width, i
     }
     glBindVertexArray(0);
     glUseProgram(0);
+    glDisable(GL_SCISSOR_TEST);
 }
 
 }  // namespace plimsoll::editor

@@ -68,8 +68,10 @@ public:
     /// The GL texture name of a slot (0 when empty), for ImGui::Image in the UV view.
     unsigned overlayTexture(int slot) const;
 
-    /// Draws into the bound framebuffer, viewport (0, 0, width, height).
-    void draw(const RenderScene& scene, const Camera& camera, int width, int height);
+    /// Draws into the bound framebuffer, in the viewport (x, y, width, height) (GL's
+    /// convention: x, y of the lower-left corner), clearing only that rectangle.
+    void draw(const RenderScene& scene, const Camera& camera, int width, int height, int x = 0,
+              int y = 0);
 
 private:
     Renderer() = default;

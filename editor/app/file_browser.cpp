@@ -1,0 +1,131 @@
+#include "app/file_browser.h"
+
+#include <imgui.h>
+
+#include <algorithm>
+#include <cstring>
+
+namespace plimsoll::editor {
+
+namespace fs = std::filesystem;
+
+namespace {
+
+const char* title(FileBrowser::Purpose p) {
+    switch (p) {
+        case FileBrowser::Purpose::OpenProject: return "Open project";
+        case FileBrowser::Purpose::SaveProjectAs: return "Save project as";
+        case FileBrowser::Purpose::ImportMesh: return "Import mesh";
+        case FileBrowser::Purpose::Export: return "Export to folder";
+    }
+    return "File";
+}
+
+bool endsWith(const std::string& s, const std::string& suffix) {
+    return s.size() >= suffix.size() && s.compare(s.size() - suffix.size(), suffix.size(), suffix) == 0;
+}
+
+}  // namespace
+
+void FileBrowser::open(Purpose purpose, const fs::path& folder) {
+    purpose_ = purpose;
+    folder_ = folder.empty() ? fs::current_path() : folder;
+    name_[0] = '\0';
+    if (purpose == Purpose::SaveProjectAs) std::strcpy(name_, "untitled.plim.json");
+    error_.clear();
+    requested_ = true;
+    list();
+}
+
+bool FileBrowser::accepts(const fs::path& file) const {
+    std::string name = file.filename().string();
+    std::transform(name.begin(), name.end(), name.begin(), ::tolower);
+    switch (purpose_) {
+        case Purpose::OpenProject:
+        case Purpose::SaveProjectAs: return endsWith(name, ".plim.json");
+        case Purpose::ImportMesh:
+            for (const char* ext : {".obj", ".fbx", ".gltf", ".glb", ".ply", ".stl", ".dae", ".3ds"}) {
+                if (endsWith(name, ext)) return true;
+            }
+            return false;
+        case Purpose::Export: return false;
+    }
+    return false;
+}
+
+void FileBrowser::list() {
+    entries_.clear();
+    std::error_code ec;
+    for (const fs::directory_entry& e : fs::directory_iterator(folder_, ec)) {
+        const std::string name = e.path().filename().string();
+        if (name.empty() || name[0] == '.') continue;
+        const bool folder = e.is_directory(ec);
+        if (folder || accepts(e.path())) entries_.push_back({name, folder});
+    }
+    if (ec) error_ = folder_.string() + ": " + ec.message();
+    std::sort(entries_.begin(), entries_.end(), [](const Entry& a, const Entry& b) {
+        return a.folder != b.folder ? a.folder : a.name < b.name;
+    });
+}
+
+std::optional<fs::path> FileBrowser::draw() {
+    const char* id = title(purpose_);
+    if (requested_) {
+        ImGui::OpenPopup(id);
+        requested_ = false;
+    }
+    std::optional<fs::path> chosen;
+    ImGui::SetNextWindowSize(ImVec2(640, 440), ImGuiCond_Appearing);
+    if (!ImGui::BeginPopupModal(id, nullptr)) return chosen;
+    ImGui::TextUnformatted(folder_.string().c_str());
+    if (ImGui::Button("Up") && folder_.has_parent_path()) {
+        folder_ = folder_.parent_path();
+        list();
+    }
+    ImGui::SameLine();
+    if (ImGui::Button("Home")) {
+        if (const char* home = std::getenv("HOME")) folder_ = home;
+        list();
+    }
+    ImGui::SameLine();
+    if (ImGui::Button("Current folder")) {
+        folder_ = fs::current_path();
+        list();
+    }
+    const float footer = ImGui::GetFrameHeightWithSpacing() * 2.2f;
+    ImGui::BeginChild("entries", ImVec2(0, -footer), true);
+    for (const Entry& e : entries_) {
+        const std::string label = (e.folder ? "[dir] " : "      ") + e.name;
+        if (ImGui::Selectable(label.c_str(), !e.folder && e.name == name_,
+                              ImGuiSelectableFlags_AllowDoubleClick)) {
+            if (e.folder) {
+                folder_ /= e.name;
+                list();
+                break;
+            }
+            std::snprintf(name_, sizeof name_, "%s", e.name.c_str());
+            if (ImGui::IsMouseDoubleClicked(0)) chosen = folder_ / e.name;
+        }
+    }
+    ImGui::EndChild();
+    if (!error_.empty()) ImGui::TextColored(ImVec4(1, 0.4f, 0.4f, 1), "%s", error_.c_str());
+    if (purpose_ != Purpose::Export) {
+        ImGui::SetNextItemWidth(-200);
+        ImGui::InputText("##name", name_, sizeof name_);
+        ImGui::SameLine();
+    }
+    const char* action = purpose_ == Purpose::SaveProjectAs ? "Save"
+                         : purpose_ == Purpose::Export      ? "Export here"
+                                                            : "Open";
+    if (ImGui::Button(action)) {
+        if (purpose_ == Purpose::Export) chosen = folder_;
+        else if (name_[0]) chosen = fs::path(name_).is_absolute() ? fs::path(name_) : folder_ / name_;
+    }
+    ImGui::SameLine();
+    if (ImGui::Button("Cancel") || ImGui::IsKeyPressed(ImGui::GetKeyIndex(ImGuiKey_Escape))) ImGui::CloseCurrentPopup();
+    if (chosen) ImGui::CloseCurrentPopup();
+    ImGui::EndPopup();
+    return chosen;
+}
+
+}  // namespace plimsoll::editor

@@ -1,0 +1,196 @@
+// The inspector: the project and the selected body — mesh validation, texture size and covered
+// texels, material fields (edited through commands), maps, and mass properties from the
+// textures against the exact ones.
+#include "app/panels.h"
+
+#include "document/command.h"
+
+#include "plimsoll/massprops.h"
+#include "plimsoll/painted_map.h"
+#include "plimsoll/validate.h"
+
+#include <imgui.h>
+
+#include <map>
+
+namespace plimsoll::editor {
+
+namespace {
+
+struct BodyInfo {
+    std::uint64_t revision = ~std::uint64_t{0};
+    const TriangleMesh* mesh = nullptr;
+    std::vector<std::string> warnings;
+    std::string bakeError;
+    std::size_t covered = 0, distinct = 0;
+    int size = 0;
+    std::optional<MassProperties> texture, exact;
+    bool exactApplies = true;  ///< false with a painted shell (no exact reference)
+};
+std::map<std::size_t, BodyInfo> infos;
+
+BodyInfo& infoFor(EditorState& s, std::size_t b) {
+    BodyInfo& info = infos[b];
+    const auto& mesh = s.document->assets(b).mesh;
+    if (info.revision == s.documentRevision && info.mesh == mesh.get()) return info;
+    const bool meshChanged = info.mesh != mesh.get();
+    info.revision = s.documentRevision;
+    info.mesh = mesh.get();
+    if (!mesh) return info;
+    if (meshChanged) {
+        info.warnings.clear();
+        const ValidationReport report = validateMesh(*mesh);
+        for (const Problem& p : report.problems) {
+            info.warnings.push_back(std::string(p.severity == Severity::Error ? "error: " : "warning: ") +
+                                    p.message);
+        }
+    }
+    const BodyDesc& body = s.document->project().bodies[b];
+    auto textures = s.document->physicsTextures(b);
+    if (!textures) {
+        info.bakeError = textures.error().message;
+        return info;
+    }
+    info.bakeError.clear();
+    const SurfaceTextures& t = **textures;
+    info.size = t.size;
+    info.covered = t.coveredCount();
+    info.distinct = t.distinctTexelCount();
+    MassProperties texture, exact;
+    bool any = false;
+    info.exactApplies = true;
+    if (body.material.density) {
+        texture = textureSolidMassProperties(t, *body.material.density);
+        exact = exactSolidMassProperties(*mesh, *body.material.density);
+        any = true;
+    }
+    if (body.material.shellSurfaceDensity) {
+        std::vector<double> sigma;
+        for (MapChannel c : {MapChannel::Density, MapChannel::Thickness}) {
+            if (const PaintedMap* map = s.document->map(b, c)) {
+                const std::vector<double> scaled = sampleAtTexels(*map, t, 1.0);
+                if (sigma.empty()) sigma.assign(scaled.size(), *body.material.shellSurfaceDensity);
+                for (std::size_t i = 0; i < sigma.size(); ++i) sigma[i] *= scaled[i];
+                info.exactApplies = false;
+            }
+        }
+        const MassProperties shellT =
+            textureShellMassProperties(t, *body.material.shellSurfaceDensity, sigma);
+        const MassProperties shellE = exactShellMassProperties(*mesh, *body.material.shellSurfaceDensity);
+        texture = any ? texture + shellT : shellT;
+        exact = any ? exact + shellE : shellE;
+        any = true;
+    }
+    if (any) {
+        info.texture = texture;
+        info.exact = exact;
+    }
+    return info;
+}
+
+/// A number field that edits the project through a command when the edit is done.
+void numberField(EditorState& s, const char* label, const std::string& pointer, double current,
+                 const char* format = "%.4g") {
+    static std::map<std::string, double> editing;
+    double& value = editing.try_emplace(pointer, current).first->second;
+    if (!ImGui::IsItemActive() && !ImGui::IsAnyItemActive()) value = current;
+    ImGui::InputDouble(label, &value, 0, 0, format);
+    if (ImGui::IsItemDeactivatedAfterEdit() && value != current) {
+        s.execute(makeSetPropertyCommand(*s.document, pointer, value));
+    }
+}
+
+}  // namespace
+
+void drawInspectorPanel(EditorState& s, const Rect& area) {
+    ImGui::SetNextWindowPos(ImVec2(area.x, area.y));
+    ImGui::SetNextWindowSize(ImVec2(area.w, area.h));
+    ImGui::Begin("Inspector", nullptr,
+                 ImGuiWindowFlags_NoMove | ImGuiWindowFlags_NoResize | ImGuiWindowFlags_NoCollapse);
+    const Project& project = s.document->project();
+    ImGui::Text("Project: %s", project.name.c_str());
+    ImGui::Text("Medium: %s, %.1f kg/m3", project.medium.name.c_str(), project.medium.density);
+    if (ImGui::BeginListBox("Bodies", ImVec2(-1, 3 * ImGui::GetTextLineHeightWithSpacing()))) {
+        for (std::size_t b = 0; b < project.bodies.size(); ++b) {
+            const std::string label = project.bodies[b].name.empty() ? "body " + std::to_string(b)
+                                                                     : project.bodies[b].name;
+            if (ImGui::Selectable((label + "##" + std::to_string(b)).c_str(),
+                                  s.selectedBody == static_cast<int>(b))) {
+                s.selectedBody = static_cast<int>(b);
+            }
+        }
+        ImGui::EndListBox();
+    }
+    if (s.selectedBody < 0 || static_cast<std::size_t>(s.selectedBody) >= project.bodies.size()) {
+        ImGui::TextDisabled("No body. File > Import Mesh adds one.");
+        ImGui::End();
+        return;
+    }
+    const std::size_t b = s.selectedBody;
+    const BodyDesc& body = project.bodies[b];
+    const BodyAssets& assets = s.document->assets(b);
+    const std::string base = "/bodies/" + std::to_string(b);
+    ImGui::Separator();
+    ImGui::TextWrapped("Mesh: %s", body.mesh.c_str());
+    if (!assets.mesh) {
+        ImGui::TextColored(ImVec4(1, 0.4f, 0.4f, 1), "%s", assets.meshError.c_str());
+        ImGui::End();
+        return;
+    }
+    BodyInfo& info = infoFor(s, b);
+    ImGui::Text("%zu vertices, %zu triangles", assets.mesh->vertexCount(), assets.mesh->triangleCount());
+    if (info.warnings.empty()) ImGui::TextColored(ImVec4(0.5f, 0.9f, 0.5f, 1), "Mesh valid");
+    for (const std::string& w : info.warnings) {
+        ImGui::TextColored(ImVec4(1, 0.75f, 0.3f, 1), "%s", w.c_str());
+    }
+    if (ImGui::CollapsingHeader("Texture", ImGuiTreeNodeFlags_DefaultOpen)) {
+        numberField(s, "Texture size", base + "/texture_size", body.textureSize, "%.0f");
+        if (!info.bakeError.empty()) ImGui::TextColored(ImVec4(1, 0.4f, 0.4f, 1), "%s", info.bakeError.c_str());
+        ImGui::Text("Covered texels: %zu entries, %zu texels (%.1f%%)", info.covered, info.distinct,
+                    info.size ? 100.0 * info.distinct / (double(info.size) * info.size) : 0.0);
+    }
+    if (ImGui::CollapsingHeader("Material", ImGuiTreeNodeFlags_DefaultOpen)) {
+        if (body.material.density) {
+            numberField(s, "Density (kg/m3)", base + "/material/density", *body.material.density);
+        }
+        if (body.material.shellSurfaceDensity) {
+            numberField(s, "Shell (kg/m2)", base + "/material/shell/surface_density",
+                        *body.material.shellSurfaceDensity);
+        } else if (ImGui::Button("Add shell (1 kg/m2)")) {
+            s.execute(makeSetPropertyCommand(*s.document, base + "/material/shell",
+                                             nlohmann::json{{"surface_density", 1.0}}));
+        }
+        numberField(s, "Drag Cd", base + "/drag_coefficient", body.dragCoefficient);
+        for (MapChannel c : kMapChannels) {
+            const std::string& path = channelPath(body, c);
+            const PaintedMap* map = s.document->map(b, c);
+            if (map) {
+                ImGui::Text("%s map: %s (%dx%d%s)", channelName(c), path.c_str(), map->width,
+                            map->height, assets.maps[int(c)].dirty ? ", unsaved" : "");
+            } else {
+                ImGui::TextDisabled("%s map: none", channelName(c));
+            }
+        }
+    }
+    if (ImGui::CollapsingHeader("Mass properties", ImGuiTreeNodeFlags_DefaultOpen) && info.texture) {
+        const MassProperties& t = *info.texture;
+        const MassProperties& e = *info.exact;
+        ImGui::Text("Volume  %.6f m3 (exact %.6f, %.2e rel)", t.volume, e.volume,
+                    std::abs(t.volume - e.volume) / std::max(e.volume, 1e-300));
+        ImGui::Text("Mass    %.4f kg", t.mass);
+        if (info.exactApplies) {
+            ImGui::Text("        exact %.4f kg (%.2e rel)", e.mass,
+                        std::abs(t.mass - e.mass) / std::max(e.mass, 1e-300));
+        } else {
+            ImGui::TextDisabled("        painted shell: no exact reference");
+        }
+        ImGui::Text("CoM     %.4f %.4f %.4f m", t.centerOfMass.x(), t.centerOfMass.y(), t.centerOfMass.z());
+        ImGui::Text("        exact %.4f %.4f %.4f (|d| %.2e m)", e.centerOfMass.x(), e.centerOfMass.y(),
+                    e.centerOfMass.z(), (t.centerOfMass - e.centerOfMass).norm());
+        ImGui::Text("Inertia diag %.4g %.4g %.4g kg m2", t.inertia(0, 0), t.inertia(1, 1), t.inertia(2, 2));
+        ImGui::Text("        rel. difference %.2e", (t.inertia - e.inertia).norm() / std::max(e.inertia.norm(), 1e-300));
+    }
+    ImGui::End();
+}
+
+}  // namespace plimsoll::editor
