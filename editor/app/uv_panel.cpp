@@ -4,6 +4,8 @@
 
 #include <imgui.h>
 
+#include <algorithm>
+
 namespace plimsoll::editor {
 
 void drawUvPanel(EditorState& s, const Rect& area) {
@@ -31,16 +33,12 @@ void drawUvPanel(EditorState& s, const Rect& area) {
                        ImVec2(p0.x + side, p0.y + side), ImVec2(0, 1), ImVec2(1, 0));
     }
     ImGui::InvisibleButton("uv", ImVec2(side, side));
-    auto toScreen = [&](const Eigen::Vector2d& uv) {
-        return ImVec2(p0.x + static_cast<float>(uv.x()) * side,
-                      p0.y + static_cast<float>(1.0 - uv.y()) * side);
-    };
-    if (mesh.hasUvs() && mesh.triangleCount() <= 40000) {
-        for (const Triangle& t : mesh.triangles) {
-            const ImVec2 a = toScreen(mesh.uvs[t[0]]), c = toScreen(mesh.uvs[t[1]]),
-                         d = toScreen(mesh.uvs[t[2]]);
-            draw->AddTriangle(a, c, d, IM_COL32(255, 255, 255, 40));
-        }
+    // The triangles' edges: drawn once into a texture (thousands of ImGui lines cost more
+    // than the whole 3D view on a software rasteriser).
+    const int wireSize = std::max(64, static_cast<int>(side + 0.5f));
+    if (const unsigned wire = s.renderer->uvWireframeTexture(s.document->assets(b).mesh, wireSize)) {
+        draw->AddImage(reinterpret_cast<ImTextureID>(static_cast<intptr_t>(wire)), p0,
+                       ImVec2(p0.x + side, p0.y + side), ImVec2(0, 1), ImVec2(1, 0));
     }
     // Painting in UV space: the surface point at the cursor's uv.
     if (s.tool == Tool::Brush && mesh.hasUvs() && ImGui::IsItemHovered()) {

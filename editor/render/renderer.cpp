@@ -198,6 +198,7 @@ Renderer::~Renderer() {
         glDeleteBuffers(1, &m.vbo);
     }
     for (auto& [_, o] : overlays_) glDeleteTextures(1, &o.texture);
+    for (auto& [_, w] : wireframes_) glDeleteTextures(1, &w.texture);
     glDeleteVertexArrays(1, &lineVao_);
     glDeleteBuffers(1, &lineVbo_);
     glDeleteVertexArrays(1, &waterVao_);
@@ -271,6 +272,57 @@ void Renderer::setOverlay(int slot, const OverlayImage& image) {
 unsigned Renderer::overlayTexture(int slot) const {
     auto it = overlays_.find(slot);
     return it == overlays_.end() ? 0 : it->second.texture;
+}
+
+unsigned Renderer::uvWireframeTexture(const std::shared_ptr<const TriangleMesh>& mesh, int size) {
+    if (!mesh || !mesh->hasUvs() || size < 1) return 0;
+    for (auto it = wireframes_.begin(); it != wireframes_.end();) {
+        if (it->second.owner.expired()) {
+            glDeleteTextures(1, &it->second.texture);
+            it = wireframes_.erase(it);
+        } else {
+            ++it;
+        }
+    }
+    Wireframe& w = wireframes_[mesh.get()];
+    if (w.texture && w.size == size) return w.texture;
+    w.owner = mesh;
+    w.size = size;
+    if (!w.texture) glGenTextures(1, &w.texture);
+    glBindTexture(GL_TEXTURE_2D, w.texture);
+    glTexImage2D(GL_TEXTURE_2D, 0, GL_RGBA8, size, size, 0, GL_RGBA, GL_UNSIGNED_BYTE, nullptr);
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_LINEAR);
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
+    GLint previous = 0;
+    glGetIntegerv(GL_FRAMEBUFFER_BINDING, &previous);
+    GLint viewport[4];
+    glGetIntegerv(GL_VIEWPORT, viewport);
+    GLuint framebuffer = 0;
+    glGenFramebuffers(1, &framebuffer);
+    glBindFramebuffer(GL_FRAMEBUFFER, framebuffer);
+    glFramebufferTexture2D(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_TEXTURE_2D, w.texture, 0);
+    glViewport(0, 0, size, size);
+    glDisable(GL_SCISSOR_TEST);
+    glDisable(GL_DEPTH_TEST);
+    glClearColor(0, 0, 0, 0);
+    glClear(GL_COLOR_BUFFER_BIT);
+    std::vector<float> lines;
+    lines.reserve(mesh->triangles.size() * 6 * 7);
+    const Eigen::Vector4f colour(1, 1, 1, 0.3f);
+    for (const Triangle& t : mesh->triangles) {
+        for (int e = 0; e < 3; ++e) {
+            const Eigen::Vector2d a = mesh->uvs[t[e]] * 2.0 - Eigen::Vector2d::Ones();
+            const Eigen::Vector2d b = mesh->uvs[t[(e + 1) % 3]] * 2.0 - Eigen::Vector2d::Ones();
+            pushLine(lines, {float(a.x()), float(a.y()), 0}, {float(b.x()), float(b.y()), 0}, colour);
+        }
+    }
+    drawLines(lines, Eigen::Matrix4f::Identity());
+    glBindVertexArray(0);
+    glUseProgram(0);
+    glBindFramebuffer(GL_FRAMEBUFFER, previous);
+    glDeleteFramebuffers(1, &framebuffer);
+    glViewport(viewport[0], viewport[1], viewport[2], viewport[3]);
+    return w.texture;
 }
 
 void Renderer::drawLines(const std::vector<float>& vertices, const Eigen::Matrix4f& viewProj) {
@@ -356,32 +408,43 @@ void Renderer::draw(const RenderScene& scene, const Camera& camera, int width, i
 
     // Water last: translucent, over everything, writing no depth.
     if (scene.water) {
-        const int cells = 96;
+        const int cells = 64;
         const double half = std::max(10.0, camera.distance * 3.0);
         const Eigen::Vector3d centre = camera.target;
-        const double step = 2 * half / cells;
-        std::vector<float> heights((cells + 1) * (cells + 1));
-        for (int j = 0; j <= cells; ++j) {
-            for (int i = 0; i <= cells; ++i) {
-                const double x = centre.x() - half + i * step, z = centre.z() - half + j * step;
-                heights[j * (cells + 1) + i] =
-                    static_cast<float>(scene.water->height(x, z, scene.time));
+        WaterCache& cache = waterCache_;
+        if (!cache.water || cache.time != scene.time || cache.half != half ||
+            cache.centre != centre || !(*cache.water == *scene.water)) {
+            cache.water = *scene.water;
+            cache.time = scene.time;
+            cache.half = half;
+            cache.centre = centre;
+            const double step = 2 * half / cells;
+            std::vector<float> heights((cells + 1) * (cells + 1));
+            for (int j = 0; j <= cells; ++j) {
+                for (int i = 0; i <= cells; ++i) {
+                    const double x = centre.x() - half + i * step, z = centre.z() - half + j * step;
+                    heights[j * (cells + 1) + i] =
+                        static_cast<float>(scene.water->height(x, z, scene.time));
+                }
             }
-        }
-        std::vector<float> tris;
-        tris.reserve(cells * cells * 6 * 7);
-        const Eigen::Vector4f colour(0.15f, 0.45f, 0.75f, 0.35f);
-        auto vertex = [&](int i, int j) {
-            tris.insert(tris.end(),
-                        {float(centre.x() - half + i * step), heights[j * (cells + 1) + i],
-                         float(centre.z() - half + j * step), colour.x(), colour.y(), colour.z(),
-                         colour.w()});
-        };
-        for (int j = 0; j < cells; ++j) {
-            for (int i = 0; i < cells; ++i) {
-                vertex(i, j), vertex(i + 1, j), vertex(i + 1, j + 1);
-                vertex(i, j), vertex(i + 1, j + 1), vertex(i, j + 1);
+            std::vector<float> tris;
+            tris.reserve(cells * cells * 6 * 7);
+            const Eigen::Vector4f colour(0.15f, 0.45f, 0.75f, 0.35f);
+            auto vertex = [&](int i, int j) {
+                tris.insert(tris.end(),
+                            {float(centre.x() - half + i * step), heights[j * (cells + 1) + i],
+                             float(centre.z() - half + j * step), colour.x(), colour.y(),
+                             colour.z(), colour.w()});
+            };
+            for (int j = 0; j < cells; ++j) {
+                for (int i = 0; i < cells; ++i) {
+                    vertex(i, j), vertex(i + 1, j), vertex(i + 1, j + 1);
+                    vertex(i, j), vertex(i + 1, j + 1), vertex(i, j + 1);
+                }
             }
+            glBindBuffer(GL_ARRAY_BUFFER, waterVbo_);
+            glBufferData(GL_ARRAY_BUFFER, tris.size() * sizeof(float), tris.data(), GL_DYNAMIC_DRAW);
+            cache.vertexCount = static_cast<int>(tris.size() / 7);
         }
         glEnable(GL_BLEND);
         glBlendFunc(GL_SRC_ALPHA, GL_ONE_MINUS_SRC_ALPHA);
@@ -389,9 +452,7 @@ void Renderer::draw(const RenderScene& scene, const Camera& camera, int width, i
         glUseProgram(waterProgram_);
         setMatrix(waterProgram_, "uViewProj", viewProj);
         glBindVertexArray(waterVao_);
-        glBindBuffer(GL_ARRAY_BUFFER, waterVbo_);
-        glBufferData(GL_ARRAY_BUFFER, tris.size() * sizeof(float), tris.data(), GL_STREAM_DRAW);
-        glDrawArrays(GL_TRIANGLES, 0, static_cast<GLsizei>(tris.size() / 7));
+        glDrawArrays(GL_TRIANGLES, 0, waterCache_.vertexCount);
         glDepthMask(GL_TRUE);
         glDisable(GL_BLEND);
     }

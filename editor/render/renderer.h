@@ -17,6 +17,7 @@
 #include <cstdint>
 #include <map>
 #include <memory>
+#include <optional>
 #include <vector>
 
 namespace plimsoll::editor {
@@ -68,6 +69,10 @@ public:
     /// The GL texture name of a slot (0 when empty), for ImGui::Image in the UV view.
     unsigned overlayTexture(int slot) const;
 
+    /// A size x size texture (RGBA8, transparent) with the mesh's UV triangles' edges drawn in
+    /// white, for the UV view; made once per mesh. Row 0 is v = 0. 0 when the mesh has no UVs.
+    unsigned uvWireframeTexture(const std::shared_ptr<const TriangleMesh>& mesh, int size);
+
     /// Draws into the bound framebuffer, in the viewport (x, y, width, height) (GL's
     /// convention: x, y of the lower-left corner), clearing only that rectangle.
     void draw(const RenderScene& scene, const Camera& camera, int width, int height, int x = 0,
@@ -91,6 +96,19 @@ private:
     unsigned lineVao_ = 0, lineVbo_ = 0, waterVao_ = 0, waterVbo_ = 0;
     std::map<const TriangleMesh*, MeshBuffers> meshes_;
     std::map<int, Overlay> overlays_;
+    struct Wireframe {
+        unsigned texture = 0;
+        int size = 0;
+        std::weak_ptr<const TriangleMesh> owner;
+    };
+    std::map<const TriangleMesh*, Wireframe> wireframes_;
+    /// The water surface's last vertices, rebuilt only when the time or the view moved.
+    struct WaterCache {
+        double time = -1, half = 0;
+        Eigen::Vector3d centre = Eigen::Vector3d::Constant(1e300);
+        std::optional<WaterModel> water;  ///< a copy: the document edits its own in place
+        int vertexCount = 0;
+    } waterCache_;
 };
 
 }  // namespace plimsoll::editor
