@@ -15,6 +15,7 @@
 #include <fstream>
 #include <map>
 #include <numbers>
+#include <numbers>
 #include <numeric>
 #include <set>
 #include <sstream>
@@ -307,6 +308,51 @@ TEST(Primitives, BuoyIsAClosedLatheAboutOnePointSixMetresTall) {
     EXPECT_GT(bounds.max.y(), 0.5);           // top mark well above it
 }
 
+TEST(Primitives, HullIsAClosedBoatWithADeckAndFourCharts) {
+    const HullShape shape;
+    const TriangleMesh hull = makeHull(shape);
+    expectWellFormed(hull);
+    expectGutters(hull, 4, 0.029);
+    const Bounds3 b = computeBounds(hull);
+    EXPECT_NEAR(b.min.x(), -1.0, 1e-12);
+    EXPECT_NEAR(b.max.x(), 1.0, 1e-12);
+    EXPECT_NEAR(b.min.y(), -0.5, 1e-12);
+    EXPECT_NEAR(b.max.y(), 0.5, 1e-12);
+    EXPECT_NEAR(b.min.z(), -3.0, 1e-12);
+    EXPECT_NEAR(b.max.z(), 3.0, 1e-12);
+    // Volume: the section (deck line over the curve x = w sqrt|cos t|, y = 0.5 - sqrt(sin t))
+    // scales with the half-beam, so station areas are w_i A_1; aft of amidships the hull is
+    // a prism (exact), forward the trapezoid rule over the stations is close.
+    double a1 = 0;
+    std::vector<Eigen::Vector2d> ring;
+    for (int j = 0; j <= shape.sectionSegments; ++j) {
+        const double t = std::numbers::pi * j / shape.sectionSegments;
+        const double c = std::cos(t), sn = std::max(0.0, std::sin(t));
+        ring.emplace_back(std::copysign(std::sqrt(std::abs(c)), c), 0.5 - std::sqrt(sn));
+    }
+    for (std::size_t i = 0; i < ring.size(); ++i) {
+        const Eigen::Vector2d& p = ring[i];
+        const Eigen::Vector2d& q = ring[(i + 1) % ring.size()];
+        a1 += 0.5 * (q.x() * p.y() - p.x() * q.y());
+    }
+    double volume = 0;
+    const double dz = shape.length / shape.stations;
+    for (int i = 0; i < shape.stations; ++i) {
+        const double z0 = -0.5 * shape.length + i * dz;
+        volume += 0.5 * (hullHalfBeam(shape, z0) + hullHalfBeam(shape, z0 + dz)) * a1 * dz;
+    }
+    EXPECT_NEAR(signedVolume(hull), volume, 2e-3 * volume);
+}
+
+TEST(Primitives, PlushIsAClosedLathe) {
+    const TriangleMesh plush = makePlush();
+    expectWellFormed(plush);
+    const Bounds3 b = computeBounds(plush);
+    EXPECT_NEAR(b.min.y(), 0.0, 1e-12);
+    EXPECT_NEAR(b.max.y(), 0.92, 1e-12);
+    EXPECT_NEAR(b.max.x(), 0.3, 1e-3);
+}
+
 TEST(Primitives, GenerationIsDeterministic) {
     const TriangleMesh a = makeBuoy();
     const TriangleMesh b = makeBuoy();
@@ -341,10 +387,13 @@ TEST(Assets, CommittedSamplesAreExactlyTheGeneratorsOutput) {
     expectMatchesAsset(makeBox({1.0, 0.5, 0.25}), "box.obj");
     expectMatchesAsset(makeCylinder(0.3, 1.0, 64), "cylinder.obj");
     expectMatchesAsset(makeBuoy(), "buoy.obj");
+    expectMatchesAsset(makeHull(), "hull.obj");
+    expectMatchesAsset(makePlush(), "plush.obj");
 }
 
 TEST(Assets, SamplesHaveUvsAndNoNegativeZero) {
-    for (const char* file : {"sphere.obj", "box.obj", "cylinder.obj", "buoy.obj"}) {
+    for (const char* file : {"sphere.obj", "box.obj", "cylinder.obj", "buoy.obj", "hull.obj",
+                             "plush.obj"}) {
         const std::string text = test::readFile(fs::path(PLIMSOLL_ASSETS_DIR) / file);
         EXPECT_NE(text.find("\nvt "), std::string::npos) << file;
         EXPECT_EQ(text.find(" -0 "), std::string::npos) << file;

@@ -67,9 +67,9 @@ int runAuto(const GraphOptions& o) {
     std::printf("%s: %zu nodes, %zu pipes from %s (k = %d%s)\n", o.out.c_str(),
                 graph->nodes.size(), graph->pipes.size(), o.mesh.c_str(),
                 static_cast<int>(graph->nodes.size()), o.segments > 0 ? "" : ", chosen from the mesh");
-    std::printf("  enclosed volume %.9g m^3, capacities sum to %.9g m^3 (%.2e relative)\n",
+    std::printf("  enclosed volume %.9g m^3, capacities sum to %.9g m^3%s\n",
                 report.enclosedVolume, graph->totalCapacity(),
-                std::abs(graph->totalCapacity() - report.enclosedVolume) / report.enclosedVolume);
+                o.thickness > 0 ? " (the enclosed volume less the shell's area x thickness)" : "");
     std::printf("  interior grid %.9g m^3 (%.2e relative to the enclosed volume)\n",
                 report.sampledVolume,
                 std::abs(report.sampledVolume - report.enclosedVolume) / report.enclosedVolume);

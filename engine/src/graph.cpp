@@ -5,7 +5,9 @@
 //     d_out = max(0, f(x, z) - y_i) the outside depth and d_in = max(0, level_n - y_i) the
 //     inside head, h = d_out - d_in drives q_i = rate k_i |A_i| h (or Torricelli's
 //     C_d k_i |A_i| sqrt(2 g |h|)); positive flows in, negative out (water leaves through
-//     texels above the outside water and below the inside level). Per node the gross inflow
+//     texels above the outside water and below the inside level). A full node passes what
+//     still pushes in on to a node it reaches through full nodes (as findDischargeNode
+//     searches, with the outside surface as the source's level). Per node the gross inflow
 //     and outflow are limited so the node stays in [0, capacity], and the amounts actually
 //     moved are what the bookkeeping adds: entered + initial = stored + left, to rounding.
 //  2. flow inside: every node in random order asks findDischargeNode (paper Algorithm 1) for a
@@ -389,11 +391,14 @@ bool WaterGraphSimulation::exchange(const Pose& pose, const WaterModel& water, d
         surface[i] = pose.translation.y() + level(i, pose.rotation);
     }
     const double g = settings_.gravity;
+    // Highest outside surface over each node's inflowing texels (world m).
+    std::vector<double> outsideTop(n, -std::numeric_limits<double>::infinity());
     for (const PermeableSample& s : samples_) {
         const GraphNode& node = graph_.nodes[s.node];
         if (node.sealed) continue;
         const Eigen::Vector3d p = pose.apply(s.position);
-        const double outside = std::max(0.0, water.height(p.x(), p.z(), time) - p.y());
+        const double f = water.height(p.x(), p.z(), time);
+        const double outside = std::max(0.0, f - p.y());
         const double inside = std::max(0.0, surface[s.node] - p.y());
         const double head = outside - inside;
         if (head == 0) continue;
@@ -402,12 +407,33 @@ bool WaterGraphSimulation::exchange(const Pose& pose, const WaterModel& water, d
                              : settings_.dischargeCoefficient * s.permeability * s.area *
                                    std::sqrt(2.0 * g * std::abs(head));
         (head > 0 ? in : out)[s.node] += q * dt;
+        if (head > 0) outsideTop[s.node] = std::max(outsideTop[s.node], f);
     }
+    std::vector<double> levels(n);
+    for (std::size_t i = 0; i < n; ++i) levels[i] = level(i, pose.rotation);
     bool moved = false;
     for (std::size_t i = 0; i < n; ++i) {
         GraphNode& node = graph_.nodes[i];
         double gain = in[i], loss = out[i];
         if (gain == 0 && loss == 0) continue;
+        // A full node passes what the outside pushes in on to the nodes it joins (through
+        // full nodes, as in findDischargeNode), as far as the outside surface reaches: water
+        // that enters a flooded stern compartment goes on into the holds.
+        double excess = node.water + gain - loss - node.capacity;
+        while (excess > 0) {
+            const Path path = findPath(static_cast<int>(i), pose.rotation, levels,
+                                       outsideTop[i] - pose.translation.y());
+            if (path.node < 0) break;
+            GraphNode& target = graph_.nodes[path.node];
+            const double before = target.water;
+            target.water = std::min(target.capacity, before + excess);
+            const double passed = target.water - before;
+            if (!(passed > 0)) break;
+            excess -= passed;
+            totals_.entered += passed;
+            levels[path.node] = level(path.node, pose.rotation);
+            moved = true;
+        }
         // Limits: the node stays within [0, capacity]; what is cut is what did not move.
         if (node.water + gain - loss > node.capacity) gain = node.capacity - node.water + loss;
         if (node.water + gain - loss < 0) loss = node.water + gain;
@@ -430,18 +456,22 @@ bool WaterGraphSimulation::exchange(const Pose& pose, const WaterModel& water, d
 std::uint64_t WaterGraphSimulation::randomBelow(std::uint64_t n) { return random() % n; }
 
 int WaterGraphSimulation::findDischargeNode(int source, const Eigen::Matrix3d& rotation) {
+    if (graph_.nodes[source].water <= 0) return -1;
     std::vector<double> levels(graph_.nodes.size());
     for (std::size_t i = 0; i < levels.size(); ++i) levels[i] = level(i, rotation);
-    return findPath(source, rotation, levels).node;
+    return findPath(source, rotation, levels, levels[source]).node;
 }
 
 WaterGraphSimulation::Path WaterGraphSimulation::findPath(int source,
                                                           const Eigen::Matrix3d& rotation,
-                                                          const std::vector<double>& levels) {
+                                                          const std::vector<double>& levels,
+                                                          double sourceLevel) {
     // Paper Algorithm 1, iteratively (an explicit stack) so deep graphs cannot overflow.
+    // sourceLevel: the height the water comes from (the source's level, or the outside
+    // surface pushing through a full node), relative to the body's origin.
     Path none;
     const GraphNode& s = graph_.nodes[source];
-    if (s.sealed || s.water <= 0) return none;
+    if (s.sealed) return none;
     std::vector<char> visited(graph_.nodes.size(), 0);
     visited[source] = 1;
     struct Frame {
@@ -474,13 +504,13 @@ WaterGraphSimulation::Path WaterGraphSimulation::findPath(int source,
         const GraphNode& candidate = graph_.nodes[m];
         const double bottom =
             nodeHeight(m, rotation) + levelRange(candidate, radius_[m], rotation).first;
-        if (bottom > levels[source]) continue;
+        if (bottom > sourceLevel) continue;
         const GraphPipe& pipe = graph_.pipes[link.pipe];
         const double radius = std::min(top.radius, pipe.radius);
         const double length = top.length + graph_.pipeLength(pipe);
         const GraphNode& node = graph_.nodes[m];
         const bool full = node.water >= node.capacity;
-        if (!full && levels[m] < levels[source]) return {m, radius, length};
+        if (!full && levels[m] < sourceLevel) return {m, radius, length};
         // Water passes on only through a full node (paper figure 7: A through B to C).
         if (full) stack.push_back({m, shuffled(m), 0, radius, length});
     }
@@ -497,7 +527,8 @@ bool WaterGraphSimulation::flowPoiseuille(const Eigen::Matrix3d& rotation, doubl
     const double rhoG = settings_.density * settings_.gravity;
     bool moved = false;
     for (std::size_t source : order) {
-        const Path path = findPath(static_cast<int>(source), rotation, levels);
+        if (graph_.nodes[source].water <= 0) continue;
+        const Path path = findPath(static_cast<int>(source), rotation, levels, levels[source]);
         if (path.node < 0) continue;
         const auto d = static_cast<std::size_t>(path.node);
         GraphNode& a = graph_.nodes[source];

@@ -1,5 +1,7 @@
 #include "plimsoll/primitives.h"
 
+#include <Eigen/Geometry>
+
 #include <algorithm>
 #include <cassert>
 #include <cmath>
@@ -287,6 +289,146 @@ TriangleMesh makeBuoy() {
     profile.push_back({0.0, 0.85});
     TriangleMesh mesh = makeLathe(profile, 48);
     mesh.source = "generated:buoy";
+    return mesh;
+}
+
+double hullHalfBeam(const HullShape& shape, double z) {
+    const double half = 0.5 * shape.beam;
+    if (z <= 0) return half;
+    const double f = z / (0.5 * shape.length);
+    return half * (1.0 - 0.8 * f * f);
+}
+
+TriangleMesh makeHull(const HullShape& shape) {
+    assert(shape.stations >= 2 && shape.sectionSegments >= 4 && shape.sectionSegments % 2 == 0);
+    TriangleMesh mesh;
+    mesh.source = "generated:hull";
+    const int S = shape.stations, M = shape.sectionSegments, K = 4;  // K: deck segments
+    const double deck = 0.5 * shape.depth;
+    auto zAt = [&](int i) { return -0.5 * shape.length + shape.length * i / S; };
+    // Section point j of station i: right deck edge (j = 0), keel (M / 2), left edge (M).
+    auto sectionPoint = [&](int i, int j) {
+        const double z = zAt(i), w = hullHalfBeam(shape, z);
+        const Eigen::Vector2d cs = unitCircle(j, 2 * M);  // angle pi j / M
+        const double x = w * (cs.x() < 0 ? -1.0 : 1.0) * std::sqrt(std::abs(cs.x()));
+        return Eigen::Vector3d(x, deck - shape.depth * std::sqrt(std::abs(cs.y())), z);
+    };
+    // Deck point k of station i, from the left edge (k = 0) to the right (K).
+    auto deckPoint = [&](int i, int k) {
+        const double z = zAt(i), w = hullHalfBeam(shape, z);
+        return Eigen::Vector3d(k == 0 ? -w : k == K ? w : w * (2.0 * k / K - 1.0), deck, z);
+    };
+    struct Chart {
+        Eigen::Vector2d lo, hi;
+        std::size_t firstTriangle;
+    };
+    std::vector<Chart> charts;
+    auto addVertex = [&](const Eigen::Vector3d& p, const Eigen::Vector2d& uv) {
+        mesh.positions.push_back(p);
+        mesh.uvs.push_back(uv);
+        return static_cast<std::uint32_t>(mesh.positions.size() - 1);
+    };
+    // Adds a triangle turned so that its normal points along `outward`.
+    auto addTriangle = [&](std::uint32_t a, std::uint32_t b, std::uint32_t c,
+                           const Eigen::Vector3d& outward) {
+        const Eigen::Vector3d n = (mesh.positions[b] - mesh.positions[a])
+                                      .cross(mesh.positions[c] - mesh.positions[a]);
+        if (n.dot(outward) < 0) std::swap(b, c);
+        mesh.triangles.push_back({a, b, c});
+    };
+    auto lerp = [](double a, double b, double t) { return a + (b - a) * t; };
+
+    // Bottom and sides: a grid over (section parameter, station).
+    charts.push_back({{0.015, 0.015}, {0.455, 0.985}, mesh.triangles.size()});
+    {
+        const Chart& c = charts.back();
+        const auto first = static_cast<std::uint32_t>(mesh.positions.size());
+        for (int i = 0; i <= S; ++i) {
+            for (int j = 0; j <= M; ++j) {
+                addVertex(sectionPoint(i, j), {lerp(c.lo.x(), c.hi.x(), double(j) / M),
+                                               lerp(c.lo.y(), c.hi.y(), double(i) / S)});
+            }
+        }
+        for (int i = 0; i < S; ++i) {
+            for (int j = 0; j < M; ++j) {
+                const std::uint32_t a = first + i * (M + 1) + j, b = a + 1, d = a + (M + 1),
+                                    e = d + 1;
+                const Eigen::Vector3d mid = 0.25 * (mesh.positions[a] + mesh.positions[b] +
+                                                    mesh.positions[d] + mesh.positions[e]);
+                const Eigen::Vector3d out(mid.x(), mid.y() - (deck - 0.5 * shape.depth), 0.0);
+                addTriangle(a, b, e, out);
+                addTriangle(a, e, d, out);
+            }
+        }
+    }
+    // Deck.
+    charts.push_back({{0.485, 0.015}, {0.70, 0.985}, mesh.triangles.size()});
+    {
+        const Chart& c = charts.back();
+        const auto first = static_cast<std::uint32_t>(mesh.positions.size());
+        for (int i = 0; i <= S; ++i) {
+            for (int k = 0; k <= K; ++k) {
+                addVertex(deckPoint(i, k), {lerp(c.lo.x(), c.hi.x(), double(k) / K),
+                                            lerp(c.lo.y(), c.hi.y(), double(i) / S)});
+            }
+        }
+        for (int i = 0; i < S; ++i) {
+            for (int k = 0; k < K; ++k) {
+                const std::uint32_t a = first + i * (K + 1) + k, b = a + 1, d = a + (K + 1),
+                                    e = d + 1;
+                addTriangle(a, b, e, Eigen::Vector3d::UnitY());
+                addTriangle(a, e, d, Eigen::Vector3d::UnitY());
+            }
+        }
+    }
+    // Transom (stern, i = 0) and bow (i = S): the section's ring fanned from a centre point,
+    // UVs the (x, y) projection.
+    for (const int i : {0, S}) {
+        charts.push_back(i == 0 ? Chart{{0.73, 0.015}, {0.985, 0.30}, mesh.triangles.size()}
+                                : Chart{{0.73, 0.33}, {0.985, 0.60}, mesh.triangles.size()});
+        const Chart& c = charts.back();
+        const double w = hullHalfBeam(shape, zAt(i));
+        auto uvOf = [&](const Eigen::Vector3d& p) {
+            return Eigen::Vector2d(lerp(c.lo.x(), c.hi.x(), (p.x() + w) / (2 * w)),
+                                   lerp(c.lo.y(), c.hi.y(), (p.y() + deck) / shape.depth));
+        };
+        std::vector<Eigen::Vector3d> ring;
+        for (int j = 0; j <= M; ++j) ring.push_back(sectionPoint(i, j));
+        for (int k = 1; k < K; ++k) ring.push_back(deckPoint(i, k));
+        const Eigen::Vector3d centre(0.0, deck - 0.45 * shape.depth, zAt(i));
+        const std::uint32_t hub = addVertex(centre, uvOf(centre));
+        const auto first = static_cast<std::uint32_t>(mesh.positions.size());
+        for (const Eigen::Vector3d& p : ring) addVertex(p, uvOf(p));
+        const Eigen::Vector3d out(0, 0, i == 0 ? -1.0 : 1.0);
+        const auto n = static_cast<std::uint32_t>(ring.size());
+        for (std::uint32_t r = 0; r < n; ++r) addTriangle(hub, first + r, first + (r + 1) % n, out);
+    }
+    // Every chart counter-clockwise in UV (not mirrored): mirror a chart's u where needed.
+    for (std::size_t k = 0; k < charts.size(); ++k) {
+        const std::size_t end = k + 1 < charts.size() ? charts[k + 1].firstTriangle
+                                                      : mesh.triangles.size();
+        if (triangleUvArea(mesh, mesh.triangles[charts[k].firstTriangle]) > 0) continue;
+        std::vector<char> flipped(mesh.positions.size(), 0);
+        for (std::size_t t = charts[k].firstTriangle; t < end; ++t) {
+            for (std::uint32_t v : mesh.triangles[t]) {
+                if (flipped[v]) continue;
+                flipped[v] = 1;
+                mesh.uvs[v].x() = charts[k].lo.x() + charts[k].hi.x() - mesh.uvs[v].x();
+            }
+        }
+    }
+    return mesh;
+}
+
+TriangleMesh makePlush() {
+    // Profile (m), bottom to top: a body of radius 0.3 m, a neck, a head of radius 0.2 m.
+    std::vector<ProfilePoint> profile;
+    appendArc(profile, 0.0, 0.3, 0.3, -90, 60, 10);
+    appendArc(profile, 0.0, 0.72, 0.2, -50, 90, 10);
+    profile.front().radius = 0.0;
+    profile.back().radius = 0.0;
+    TriangleMesh mesh = makeLathe(profile, 48);
+    mesh.source = "generated:plush";
     return mesh;
 }
 

@@ -388,7 +388,7 @@ private:
                            "max_texel_stretch", "material", "position", "rotation_deg",
                            "velocity", "angular_velocity", "drag_coefficient",
                            "friction_coefficient", "linear_damping", "angular_damping",
-                           "permeability_map"})) {
+                           "permeability_map", "water_graph"})) {
             return;
         }
         string(value, path, "name", body.name);
@@ -427,6 +427,58 @@ private:
         number(value, path, "linear_damping", body.linearDamping, Limit::NonNegative);
         number(value, path, "angular_damping", body.angularDamping, Limit::NonNegative);
         string(value, path, "permeability_map", body.permeabilityMap);
+        if (const Json* graph = find(value, "water_graph")) {
+            readWaterGraph(*graph, member(path, "water_graph"), body.waterGraph.emplace());
+        }
+    }
+
+    void readWaterGraph(const Json& value, const std::string& path, WaterGraphDesc& graph) {
+        if (!expectObject(value, path,
+                          {"graph", "permeability", "inflow", "inflow_rate",
+                           "discharge_coefficient", "flow", "diffusion_pressure",
+                           "free_surface", "seed"})) {
+            return;
+        }
+        if (const Json* file = find(value, "graph")) {
+            if (stringValue(*file, member(path, "graph"), graph.graph) && graph.graph.empty()) {
+                problem(member(path, "graph"), "must not be empty");
+            }
+        } else {
+            problem(member(path, "graph"), "required (a graph.json)");
+        }
+        number(value, path, "permeability", graph.permeability, Limit::Fraction);
+        std::string name;
+        const Json* inflow = find(value, "inflow");
+        if (inflow && stringValue(*inflow, member(path, "inflow"), name)) {
+            if (name == inflowModelName(InflowModel::Linear)) {
+                graph.inflow = InflowModel::Linear;
+            } else if (name == inflowModelName(InflowModel::Torricelli)) {
+                graph.inflow = InflowModel::Torricelli;
+            } else {
+                problem(member(path, "inflow"), "unknown '" + name + "' (linear, torricelli)");
+            }
+        }
+        number(value, path, "inflow_rate", graph.inflowRate, Limit::NonNegative);
+        number(value, path, "discharge_coefficient", graph.dischargeCoefficient, Limit::Fraction);
+        const Json* flow = find(value, "flow");
+        if (flow && stringValue(*flow, member(path, "flow"), name)) {
+            if (name == flowModelName(FlowMode::Poiseuille)) {
+                graph.flow = FlowMode::Poiseuille;
+            } else if (name == flowModelName(FlowMode::Diffusion)) {
+                graph.flow = FlowMode::Diffusion;
+            } else {
+                problem(member(path, "flow"), "unknown '" + name + "' (poiseuille, diffusion)");
+            }
+        }
+        number(value, path, "diffusion_pressure", graph.diffusionPressure, Limit::NonNegative);
+        if (const Json* free = find(value, "free_surface")) {
+            if (free->is_boolean()) {
+                graph.freeSurface = free->get<bool>();
+            } else {
+                problem(member(path, "free_surface"), "must be true or false");
+            }
+        }
+        integer(value, path, "seed", graph.seed, 0);
     }
 
     void readMaterial(const Json& value, const std::string& path, MaterialDesc& material) {
@@ -613,6 +665,20 @@ Json toJson(const BodyDesc& body) {
     json["linear_damping"] = body.linearDamping;
     json["angular_damping"] = body.angularDamping;
     if (!body.permeabilityMap.empty()) json["permeability_map"] = body.permeabilityMap;
+    if (body.waterGraph) {
+        const WaterGraphDesc& g = *body.waterGraph;
+        Json graph;
+        graph["graph"] = g.graph;
+        graph["permeability"] = g.permeability;
+        graph["inflow"] = inflowModelName(g.inflow);
+        graph["inflow_rate"] = g.inflowRate;
+        graph["discharge_coefficient"] = g.dischargeCoefficient;
+        graph["flow"] = flowModelName(g.flow);
+        graph["diffusion_pressure"] = g.diffusionPressure;
+        graph["free_surface"] = g.freeSurface;
+        graph["seed"] = g.seed;
+        json["water_graph"] = std::move(graph);
+    }
     return json;
 }
 

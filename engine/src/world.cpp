@@ -24,6 +24,14 @@ struct World::Deformation {
     std::size_t currentFrame = 0;
 };
 
+/// The water graph of a hollow or permeable body (graph.h) and the body's own mass without it.
+struct World::Flooding {
+    WaterGraphSimulation graph;
+    MassProperties hull;             ///< the body without its water
+    double hullRadius = 0;           ///< bounding radius about hull.centerOfMass, m
+    Eigen::Matrix3d composedAt = Eigen::Matrix3d::Identity();  ///< rotation last composed at
+};
+
 namespace {
 
 MassDistribution toDistribution(const MassProperties& p) {
@@ -129,8 +137,24 @@ Status World::addBody(const BodyDesc& desc) {
     body.name = desc.name;
     body.mass = toDistribution(*props);
     body.volume = props->volume;
+    body.backendCenter = props->centerOfMass;
+    body.boundingRadius = boundingRadiusAbout(*textures, body.mass.centerOfMass);
+    const Pose start = Pose::fromEulerDegrees(desc.position, desc.rotationDegrees);
+    std::unique_ptr<Flooding> flooding;
+    if (desc.waterGraph) {
+        Result<std::unique_ptr<Flooding>> made = makeFlooding(desc, mesh, *textures, *props, label);
+        if (!made) return made.error();
+        flooding = std::move(*made);
+        flooding->hullRadius = body.boundingRadius;
+        flooding->composedAt = start.rotation;
+        const MassProperties full = flooding->graph.compose(*props, start.rotation);
+        body.mass = toDistribution(full);
+        body.boundingRadius += (full.centerOfMass - props->centerOfMass).norm();
+        body.water = flooding->graph.storedWater();
+    } else if (!desc.permeabilityMap.empty()) {
+        say(label + ": has a permeability map but no water graph: sealed, no water enters");
+    }
     body.textures = std::move(*textures);
-    body.boundingRadius = boundingRadiusAbout(body.textures, body.mass.centerOfMass);
     body.deforms = desc.deforms();
     body.fluid.density = project_.medium.density;
     body.fluid.gravity = project_.simulation.gravity.norm();
@@ -141,9 +165,8 @@ Status World::addBody(const BodyDesc& desc) {
     Motion motion;
     motion.linear = desc.velocity;
     motion.angular = desc.angularVelocity;
-    body.state = stateAt(Pose::fromEulerDegrees(desc.position, desc.rotationDegrees), body.mass,
-                         motion);
-    body.backendId = backend_->addBody(body.textures, body.mass.centerOfMass);
+    body.state = stateAt(start, body.mass, motion);
+    body.backendId = backend_->addBody(body.textures, body.backendCenter);
     std::ostringstream line;
     line << label << ": " << body.textures.coveredCount() << " samples at "
          << desc.textureSize << "^2, mass " << body.mass.mass << " kg, volume " << body.volume
@@ -152,8 +175,118 @@ Status World::addBody(const BodyDesc& desc) {
     say(line.str());
     bodies_.push_back(std::move(body));
     deformations_.push_back(std::move(deformation));
+    floodings_.push_back(std::move(flooding));
     materials_.push_back(desc.material);
     return Ok{};
+}
+
+Result<std::unique_ptr<World::Flooding>> World::makeFlooding(const BodyDesc& desc,
+                                                             const TriangleMesh& mesh,
+                                                             const SurfaceTextures& textures,
+                                                             const MassProperties& hull,
+                                                             const std::string& label) const {
+    const WaterGraphDesc& g = *desc.waterGraph;
+    std::string warnings;
+    Result<WaterGraph> graph = loadGraph(project_.resolvePath(g.graph), &mesh, &warnings);
+    if (!graph) return Error{label + ": water graph: " + graph.error().message};
+    if (!warnings.empty()) say(warnings);
+    std::vector<double> permeability;
+    if (!desc.permeabilityMap.empty()) {
+        Result<PaintedMap> map = loadPaintedMap(project_.resolvePath(desc.permeabilityMap));
+        if (!map) return Error{label + ": " + map.error().message};
+        permeability = sampleAtTexels(*map, textures, g.permeability);
+    }
+    GraphSettings settings;
+    settings.inflow = g.inflow;
+    settings.inflowRate = g.inflowRate;
+    settings.dischargeCoefficient = g.dischargeCoefficient;
+    settings.flow = g.flow;
+    settings.diffusionPressure = g.diffusionPressure;
+    settings.freeSurface = g.freeSurface;
+    settings.seed = static_cast<std::uint64_t>(g.seed);
+    settings.density = project_.medium.density;
+    settings.viscosity = project_.medium.viscosity;
+    settings.gravity = project_.simulation.gravity.norm();
+    Result<WaterGraphSimulation> sim =
+        WaterGraphSimulation::create(*graph, textures, permeability, settings);
+    if (!sim) return Error{label + ": water graph: " + sim.error().message};
+    std::ostringstream line;
+    line << label << ": water graph " << g.graph << ": " << graph->nodes.size() << " nodes, "
+         << graph->pipes.size() << " pipes, capacity " << graph->totalCapacity() << " m^3, "
+         << sim->samples().size() << " permeable samples, " << flowModelName(settings.flow)
+         << " flow" << (settings.freeSurface ? ", free surface" : "");
+    say(line.str());
+    return std::make_unique<Flooding>(Flooding{std::move(*sim), hull, 0.0,
+                                               Eigen::Matrix3d::Identity()});
+}
+
+const WaterGraphSimulation* World::waterGraph(std::size_t body) const {
+    return body < floodings_.size() && floodings_[body] ? &floodings_[body]->graph : nullptr;
+}
+
+BodyRequest World::requestFor(const SimulatedBody& body, const RigidBodyState& state,
+                              double time) const {
+    BodyRequest request;
+    request.body = body.backendId;
+    request.fluid = body.fluid;
+    request.frame.pose = poseOf(state, body.mass);
+    request.frame.motion.linear = linearVelocity(state, body.mass);
+    request.frame.motion.angular = angularVelocity(state, body.mass);
+    request.frame.centerOfMass = body.backendCenter;
+    request.frame.time = time;
+    if (body.backendCenter != body.mass.centerOfMass) {
+        // The backend's centre is not the centre of mass (the body holds water): its velocity.
+        const Eigen::Vector3d r =
+            request.frame.pose.rotation * (body.backendCenter - body.mass.centerOfMass);
+        request.frame.motion.linear += request.frame.motion.angular.cross(r);
+    }
+    return request;
+}
+
+void World::toCenterOfMass(const SimulatedBody& body, const RigidBodyState& state,
+                           BuoyancyResult& result) const {
+    if (body.backendCenter == body.mass.centerOfMass) return;
+    // Torques about the backend's centre c moved to the centre of mass: + (c - com) x F.
+    const Eigen::Vector3d r =
+        poseOf(state, body.mass).rotation * (body.backendCenter - body.mass.centerOfMass);
+    result.torque += r.cross(result.force);
+    result.pressureTorque += r.cross(result.pressureForce);
+    result.dragTorque += r.cross(result.dragForce);
+}
+
+void World::replaceMass(std::size_t i, const MassProperties& props) {
+    SimulatedBody& body = bodies_[i];
+    // The pose stays; the velocities stay (the water moves with the body): the new centre of
+    // mass moves with v + w x (c_new - c_old).
+    const Pose pose = body.pose();
+    Motion motion;
+    motion.linear = linearVelocity(body.state, body.mass);
+    motion.angular = angularVelocity(body.state, body.mass);
+    const Eigen::Vector3d oldCenter = body.state.position;
+    body.mass = toDistribution(props);
+    const Eigen::Vector3d newCenter = pose.apply(body.mass.centerOfMass);
+    motion.linear += motion.angular.cross(newCenter - oldCenter);
+    body.state = stateAt(pose, body.mass, motion);
+}
+
+void World::stepWaterGraphs(double frameTime) {
+    for (std::size_t i = 0; i < bodies_.size(); ++i) {
+        Flooding* f = floodings_[i].get();
+        if (!f) continue;
+        SimulatedBody& body = bodies_[i];
+        const Pose pose = body.pose();
+        const bool moved = f->graph.step(pose, project_.water, time_, frameTime);
+        ++statistics_.graphSteps;
+        // With the free surface the water's centre of mass also moves when the body turns.
+        const bool turned = f->graph.settings().freeSurface && body.water > 0 &&
+                            !pose.rotation.isApprox(f->composedAt, 1e-12);
+        if (!moved && !turned) continue;
+        f->composedAt = pose.rotation;
+        replaceMass(i, f->graph.compose(f->hull, pose.rotation));
+        body.boundingRadius = f->hullRadius + (body.mass.centerOfMass - f->hull.centerOfMass).norm();
+        body.water = f->graph.storedWater();
+        ++statistics_.waterCompositions;
+    }
 }
 
 bool World::outOfWater(const SimulatedBody& body, const RigidBodyState& state) const {
@@ -174,22 +307,18 @@ Status World::evaluateAll(double time) {
             ++statistics_.skippedOutOfWater;
             continue;
         }
-        BodyRequest request;
-        request.body = body.backendId;
-        request.fluid = body.fluid;
-        request.frame.pose = body.pose();
-        request.frame.motion.linear = linearVelocity(body.state, body.mass);
-        request.frame.motion.angular = angularVelocity(body.state, body.mass);
-        request.frame.centerOfMass = body.mass.centerOfMass;
-        request.frame.time = time;
-        requests.push_back(request);
+        requests.push_back(requestFor(body, body.state, time));
         which.push_back(i);
     }
     if (requests.empty()) return Ok{};
     std::vector<BuoyancyResult>& results = scratchResults_;
     results.resize(requests.size());
     if (Status s = backend_->evaluate(requests, project_.water, results); !s.ok()) return s;
-    for (std::size_t k = 0; k < which.size(); ++k) bodies_[which[k]].buoyancy = results[k];
+    for (std::size_t k = 0; k < which.size(); ++k) {
+        SimulatedBody& body = bodies_[which[k]];
+        body.buoyancy = results[k];
+        toCenterOfMass(body, body.state, body.buoyancy);
+    }
     statistics_.buoyancyEvaluations += requests.size();
     return Ok{};
 }
@@ -269,12 +398,20 @@ Status World::recomputeMass(std::size_t i) {
     // Keep the body where it is in the world and its momenta as they are: the mesh or the
     // paint changed, the body did not jump.
     const Pose pose = body.pose();
-    body.mass = toDistribution(*props);
+    MassProperties full = *props;
+    body.boundingRadius = boundingRadiusAbout(body.textures, props->centerOfMass);
+    if (Flooding* f = floodings_[i].get()) {
+        f->hull = *props;
+        f->hullRadius = body.boundingRadius;
+        full = f->graph.compose(*props, pose.rotation);
+        body.boundingRadius += (full.centerOfMass - props->centerOfMass).norm();
+    }
+    body.mass = toDistribution(full);
     body.volume = props->volume;
+    body.backendCenter = props->centerOfMass;
     body.state.position = pose.apply(body.mass.centerOfMass);
-    body.boundingRadius = boundingRadiusAbout(body.textures, body.mass.centerOfMass);
     ++statistics_.massRecomputations;
-    return backend_->updateBody(body.backendId, body.textures, body.mass.centerOfMass);
+    return backend_->updateBody(body.backendId, body.textures, body.backendCenter);
 }
 
 Status World::setMaterial(std::size_t i, const MaterialDesc& material) {
@@ -303,18 +440,12 @@ Status World::advanceFrame() {
                 Status failure = Ok{};
                 const WrenchFunction wrench = [&](const RigidBodyState& state, double t) {
                     if (outOfWater(body, state)) return wrenchOf(body, state, BuoyancyResult{}, dt);
-                    BodyRequest request;
-                    request.body = body.backendId;
-                    request.fluid = body.fluid;
-                    request.frame.pose = poseOf(state, body.mass);
-                    request.frame.motion.linear = linearVelocity(state, body.mass);
-                    request.frame.motion.angular = angularVelocity(state, body.mass);
-                    request.frame.centerOfMass = body.mass.centerOfMass;
-                    request.frame.time = t;
+                    const BodyRequest request = requestFor(body, state, t);
                     BuoyancyResult result;
                     if (Status s = backend_->evaluate({&request, 1}, project_.water, {&result, 1});
                         !s.ok())
                         failure = s;
+                    toCenterOfMass(body, state, result);
                     ++statistics_.buoyancyEvaluations;
                     return wrenchOf(body, state, result, dt);
                 };
@@ -340,6 +471,7 @@ Status World::advanceFrame() {
         ++statistics_.steps;
         time_ += dt;
     }
+    stepWaterGraphs(sim.timeStep);
     return Ok{};
 }
 

@@ -250,7 +250,8 @@ private:
         double radius = 0;   ///< narrowest pipe on the way, m
         double length = 0;   ///< along the way, m
     };
-    Path findPath(int source, const Eigen::Matrix3d& rotation, const std::vector<double>& levels);
+    Path findPath(int source, const Eigen::Matrix3d& rotation, const std::vector<double>& levels,
+                  double sourceLevel);
     bool flowPoiseuille(const Eigen::Matrix3d& rotation, double dt);
     bool flowDiffusion(double dt);
 

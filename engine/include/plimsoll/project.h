@@ -5,6 +5,7 @@
 // docs/project-schema.md.
 #pragma once
 
+#include "plimsoll/graph.h"
 #include "plimsoll/result.h"
 #include "plimsoll/rigid_body.h"
 #include "plimsoll/water.h"
@@ -37,6 +38,23 @@ struct MaterialDesc {
     bool operator==(const MaterialDesc&) const = default;
 };
 
+/// The water graph of a hollow or permeable body (graph.h; "water_graph" in a body). A body
+/// without one is sealed: no graph is computed for it.
+struct WaterGraphDesc {
+    std::string graph;                     ///< graph.json ("graph"), required
+    /// Scale of the body's permeability_map ("permeability", 0..1): white is this value.
+    double permeability = 1.0;
+    InflowModel inflow = InflowModel::Linear;  ///< "inflow": "linear" or "torricelli"
+    double inflowRate = 1.0;               ///< "inflow_rate": linear factor, 1/s
+    double dischargeCoefficient = 0.6;     ///< "discharge_coefficient": Torricelli's C_d
+    FlowMode flow = FlowMode::Poiseuille;  ///< "flow": "poiseuille" or "diffusion"
+    double diffusionPressure = 1000.0;     ///< "diffusion_pressure": Pa at a full difference
+    bool freeSurface = false;              ///< "free_surface": water at each node's low side
+    int seed = 1;                          ///< "seed": findDischargeNode's neighbour order
+
+    bool operator==(const WaterGraphDesc&) const = default;
+};
+
 struct BodyDesc {
     std::string name;
     /// Mesh file (any format assimp reads). For a deforming body, the first frame.
@@ -62,6 +80,8 @@ struct BodyDesc {
     /// Painted permeability map ("permeability_map", PNG over the mesh's UVs, 0..1: how much
     /// of the water in contact flows in, for the water graph). Empty: impermeable.
     std::string permeabilityMap;
+    /// Water graph ("water_graph"); absent: a sealed body.
+    std::optional<WaterGraphDesc> waterGraph;
 
     bool deforms() const { return !meshFrames.empty(); }
     bool operator==(const BodyDesc&) const = default;

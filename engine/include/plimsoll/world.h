@@ -5,13 +5,17 @@
 //  - a deforming body regathers its textures and recomputes its mass properties on the
 //    frames its mesh changes;
 //  - a body whose bounding sphere lies above the highest water surface skips the kernels;
-//  - (no water graph yet: the water-graph issue adds it only to bodies that have one).
+//  - a body with a water graph (BodyDesc::waterGraph) steps it once a frame, after the
+//    frame's integration steps, and composes the water's mass properties with its own when
+//    water moved (or, with the free-surface model, when the body turned); a body without one
+//    computes no graph at all.
 // The log callback is told what was skipped and why.
 #pragma once
 
 #include "plimsoll/bake.h"
 #include "plimsoll/buoyancy.h"
 #include "plimsoll/compute.h"
+#include "plimsoll/graph.h"
 #include "plimsoll/project.h"
 #include "plimsoll/result.h"
 #include "plimsoll/rigid_body.h"
@@ -39,7 +43,11 @@ struct SimulatedBody {
     double angularDamping = 0;      ///< 1/s
     BuoyancyResult buoyancy;        ///< at the start of the last step
     std::size_t backendId = 0;
+    /// The object-space point the backend's entries are relative to: the centre of mass of
+    /// the body without its water (= mass.centerOfMass for a body without a water graph).
+    Eigen::Vector3d backendCenter = Eigen::Vector3d::Zero();
     bool deforms = false;
+    double water = 0;               ///< m^3 in the water graph now (0 without one)
 
     /// Object -> world placement now.
     Pose pose() const { return poseOf(state, mass); }
@@ -51,6 +59,8 @@ struct WorldStatistics {
     std::size_t buoyancyEvaluations = 0;   ///< body evaluations sent to the backend
     std::size_t skippedOutOfWater = 0;     ///< body-steps skipped by the bounding-sphere test
     std::size_t massRecomputations = 0;    ///< mass properties computed after creation
+    std::size_t graphSteps = 0;            ///< water-graph steps (body-frames)
+    std::size_t waterCompositions = 0;     ///< body + water mass properties composed again
 };
 
 class World {
@@ -75,6 +85,9 @@ public:
     /// properties are recomputed now, once, keeping its centre of mass's place and momenta.
     Status setMaterial(std::size_t body, const MaterialDesc& material);
 
+    /// Body i's water graph, or null for a sealed body.
+    const WaterGraphSimulation* waterGraph(std::size_t body) const;
+
     double time() const { return time_; }
     const std::vector<SimulatedBody>& bodies() const { return bodies_; }
     const WorldStatistics& statistics() const { return statistics_; }
@@ -90,6 +103,21 @@ private:
     World(Project project, std::unique_ptr<BuoyancyBackend> backend, LogFunction log);
 
     struct Deformation;  // frames and piece table of a deforming body
+    struct Flooding;     // water graph of a hollow or permeable body
+    /// The backend request for `body` in `state`, and the result's torques moved from the
+    /// backend's centre to the body's centre of mass (they differ when the body holds water).
+    BodyRequest requestFor(const SimulatedBody& body, const RigidBodyState& state,
+                           double time) const;
+    void toCenterOfMass(const SimulatedBody& body, const RigidBodyState& state,
+                        BuoyancyResult& result) const;
+    Result<std::unique_ptr<Flooding>> makeFlooding(const BodyDesc& desc, const TriangleMesh& mesh,
+                                                   const SurfaceTextures& textures,
+                                                   const MassProperties& hull,
+                                                   const std::string& label) const;
+    /// Steps every water graph by one frame and recomposes the mass where water moved.
+    void stepWaterGraphs(double frameTime);
+    /// Sets body i's mass to `mass`, keeping its pose and its velocities.
+    void replaceMass(std::size_t i, const MassProperties& mass);
     Status addBody(const BodyDesc& desc);
     Status evaluateAll(double time);
     Wrench wrenchOf(const SimulatedBody& body, const RigidBodyState& state,
@@ -110,6 +138,7 @@ private:
     LogFunction log_;
     std::vector<SimulatedBody> bodies_;
     std::vector<std::unique_ptr<Deformation>> deformations_;  ///< per body, null if rigid
+    std::vector<std::unique_ptr<Flooding>> floodings_;        ///< per body, null if sealed
     std::vector<MaterialDesc> materials_;
     WorldStatistics statistics_;
     double time_ = 0;
