@@ -124,10 +124,17 @@ TEST(Cli, ValidateExitCodes) {
     EXPECT_NE(r.out.find("uv-overlap"), std::string::npos);
     EXPECT_NE(r.out.find("uv-out-of-range"), std::string::npos);
     EXPECT_NE(r.out.find("boat.obj"), std::string::npos);
-    // The texture path refuses it with the reason; the exact path accepts it.
-    const CommandOutput refused = runPlimsoll("massprops '" + boat->string() + "' --size 64 --json");
+    // Its own UVs are refused with the reason; by default a physics atlas replaces them, and
+    // says so; the exact path accepts the mesh as it is.
+    const CommandOutput refused =
+        runPlimsoll("massprops '" + boat->string() + "' --size 64 --atlas mesh --json");
     EXPECT_NE(refused.exitCode, 0);
     EXPECT_NE(refused.err.find("uv-overlap"), std::string::npos);
+    const CommandOutput generated = runPlimsoll("massprops '" + boat->string() + "' --size 64 --json");
+    EXPECT_EQ(generated.exitCode, 0) << generated.err;
+    EXPECT_NE(generated.err.find("generated physics atlas"), std::string::npos) << generated.err;
+    EXPECT_EQ(nlohmann::json::parse(generated.out).at("atlas"), "generated");
+    EXPECT_NE(runPlimsoll("massprops '" + boat->string() + "' --atlas sideways").exitCode, 0);
     EXPECT_EQ(runPlimsoll("massprops '" + boat->string() + "' --exact --json").exitCode, 0);
 }
 

@@ -81,7 +81,9 @@ inline std::filesystem::path scratchFolder(const std::string& name) {
 /// cancel (the centre of mass of a symmetric body: the facets alias against the texel grid),
 /// and it halves or doubles with N at random (cylinder.obj: 5.7e-8, 3.1e-8, 2.9e-8, then
 /// 1e-10 at N = 4096).
-inline void expectTextureMatchesExact(const TriangleMesh& mesh) {
+/// `secondOrder` false leaves out the N = 512 convergence check (for atlases packed for N = 256,
+/// whose errors far below the tolerance scatter with N).
+inline void expectTextureMatchesExact(const TriangleMesh& mesh, bool secondOrder = true) {
     SCOPED_TRACE(mesh.source);
     const double diagonal = computeBounds(mesh).diagonal();
     const MassProperties exact = exactSolidMassProperties(mesh, 1000.0);
@@ -94,9 +96,9 @@ inline void expectTextureMatchesExact(const TriangleMesh& mesh) {
     EXPECT_LT(e256.volume, 1e-3);
     EXPECT_LT(e256.centerOfMass, 2e-4);
     EXPECT_LT(e256.inertia, 3e-3);
-    const auto expectSecondOrder = [](double coarse, double fine, double tolerance,
+    const auto expectSecondOrder = [secondOrder](double coarse, double fine, double tolerance,
                                       const char* what) {
-        if (coarse >= 0.01 * tolerance) EXPECT_LE(fine, 0.35 * coarse) << what;
+        if (secondOrder && coarse >= 0.01 * tolerance) EXPECT_LE(fine, 0.35 * coarse) << what;
     };
     expectSecondOrder(e256.volume, e512.volume, 1e-3, "volume");
     expectSecondOrder(e256.centerOfMass, e512.centerOfMass, 2e-4, "centre of mass");

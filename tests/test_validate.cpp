@@ -259,10 +259,45 @@ TEST(Validate, InwardNormalsFarFromOrigin) {
 TEST(Validate, UvOutOfRange) {
     TriangleMesh cube = makeTestCube();
     for (Eigen::Vector2d& uv : cube.uvs) uv.x() += 0.5;  // columns 1 and 2 pass u = 1
-    const Problem problem = only(validateMesh(cube), ProblemKind::UvOutOfRange);
+    const ValidationReport report = validateMesh(cube);
+    // Offset, not tiled: the map is still less than one unit wide.
+    const Problem problem = only(report, ProblemKind::UvOutOfRange);
     EXPECT_EQ(problem.severity, Severity::Warning);
     EXPECT_EQ(problem.count, 8u);
     EXPECT_NE(problem.message.find("remapped"), std::string::npos);
+    EXPECT_TRUE(report.usableForTexture());
+}
+
+TEST(Validate, UvsOverSeveralTilesAreCountedByTile) {
+    // Faces 0-2 stay in tile (0,0); faces 3 and 4 move one tile right, face 5 one tile up.
+    TriangleMesh cube = makeTestCube();
+    for (int face = 3; face < 6; ++face) {
+        const Eigen::Vector2d shift = face == 5 ? Eigen::Vector2d(0, 1) : Eigen::Vector2d(1, 0);
+        for (int corner = 0; corner < 4; ++corner) cube.uvs[faceVertex(face, corner)] += shift;
+    }
+    const ValidationReport report = validateMesh(cube);
+    ASSERT_TRUE(report.has(ProblemKind::UvMultipleTiles)) << report.format();
+    for (const Problem& p : report.problems) {
+        if (p.kind != ProblemKind::UvMultipleTiles) continue;
+        EXPECT_EQ(p.severity, Severity::Warning);
+        EXPECT_EQ(p.count, 3u);                       // tiles (0,0), (1,0), (0,1)
+        EXPECT_NEAR(p.surfaceFraction, 0.5, 1e-12);  // 3 of 6 faces outside tile (0,0)
+    }
+}
+
+TEST(Validate, UvAreaDistortionIsMeasuredAndReportedAboveTheLimit) {
+    TriangleMesh cube = makeTestCube();
+    EXPECT_NEAR(validateMesh(cube).uvAreaSpread, 1.0, 1e-9);  // every face alike
+    // Face 2's UVs shrunk to a fifth about its chart's corner: 25 times the world area per UV
+    // area of the other faces, on a sixth of the surface (far more than the 1% ignored).
+    for (int corner = 0; corner < 4; ++corner) {
+        Eigen::Vector2d& uv = cube.uvs[faceVertex(2, corner)];
+        uv = cellOrigin(2) + (uv - cellOrigin(2)) / 5.0;
+    }
+    const ValidationReport report = validateMesh(cube);
+    EXPECT_NEAR(report.uvAreaSpread, 25.0, 1e-6);
+    ASSERT_TRUE(report.has(ProblemKind::UvDistortion)) << report.format();
+    EXPECT_TRUE(report.usableForTexture());  // a warning: bakeable, less accurate
 }
 
 TEST(Validate, UvOverlapOfTwoWholeCharts) {
@@ -301,7 +336,11 @@ TEST(Validate, NegligibleUvFoldOverIsAWarning) {
     TriangleMesh cube = makeTestCube();
     cube.uvs[faceVertex(1, 3)] = cellOrigin(1) + Eigen::Vector2d(0.1 + 1e-7, 0.1 - 1e-7);
     const ValidationReport report = validateMesh(cube);
-    const Problem problem = only(report, ProblemKind::UvOverlap);
+    // The sliver also squeezes half a face into no UV area: a distortion warning beside it.
+    EXPECT_EQ(kinds(report), (std::vector<ProblemKind>{ProblemKind::UvOverlap,
+                                                       ProblemKind::UvDistortion}))
+        << report.format();
+    const Problem& problem = report.problems.front();
     EXPECT_EQ(problem.severity, Severity::Warning);
     EXPECT_EQ(problem.count, 2u);
     EXPECT_TRUE(report.usableForTexture());

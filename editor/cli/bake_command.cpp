@@ -3,6 +3,7 @@
 
 #include "cli/common.h"
 #include "plimsoll/bake_io.h"
+#include "plimsoll/mesh_io.h"
 
 #include <chrono>
 #include <iostream>
@@ -18,16 +19,24 @@ struct BakeCommandOptions {
 };
 
 int runBake(const BakeCommandOptions& options) {
-    std::optional<TriangleMesh> mesh = loadCheckedMesh(options.mesh, MeshUse::Texture);
+    std::optional<BakeableMesh> mesh = loadMeshForBake(options.mesh, options.bake);
     if (!mesh) return kExitFailure;
     const auto start = std::chrono::steady_clock::now();
-    std::optional<SurfaceTextures> textures = bakeWithProgress(*mesh, options.bake);
+    std::optional<SurfaceTextures> textures = bakeWithProgress(mesh->mesh, options.bake);
     if (!textures) return kExitFailure;
     const double seconds =
         std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     if (Status s = writeBakedTextures(*textures, options.out, options.mesh); !s.ok()) {
         std::cerr << "error: " << s.error().message << "\n";
         return kExitFailure;
+    }
+    // The textures are laid out on the generated atlas: painted maps and runtime engines need it.
+    const std::filesystem::path atlasFile = std::filesystem::path(options.out) / "atlas.obj";
+    if (mesh->generatedAtlas) {
+        if (Status s = writeObj(mesh->mesh, atlasFile); !s.ok()) {
+            std::cerr << "error: " << s.error().message << "\n";
+            return kExitFailure;
+        }
     }
     std::cout << options.mesh << ": baked " << options.bake.size << "^2 in " << seconds << " s\n"
               << "  covered texels  " << textures->distinctTexelCount() << "\n"
@@ -37,6 +46,12 @@ int runBake(const BakeCommandOptions& options) {
               << "  uv coverage     " << textures->uvCoverage() << "\n"
               << "  surface area    " << textures->surfaceArea() << " m^2\n"
               << "  closure error   " << textures->closureError() << "\n"
+              << "  texel area spread " << textures->texelAreaSpread()
+              << " (largest over smallest surface per texel, 1% extremes ignored)\n"
+              << "  atlas           "
+              << (mesh->generatedAtlas ? "generated, written to " + atlasFile.string()
+                                       : std::string("the mesh's own UVs"))
+              << "\n"
               << "  written to      " << options.out << "\n";
     return kExitOk;
 }
@@ -46,7 +61,7 @@ void addBakeCommand(CLI::App& root, CommandRunner& selected) {
     auto options = std::make_shared<BakeCommandOptions>();
     CLI::App* cmd = root.add_subcommand(
         "bake", "Bake position, area-vector and coverage textures (float32 EXR + manifest.json)");
-    cmd->add_option("MESH", options->mesh, "Mesh file with a bijective UV map")->required();
+    cmd->add_option("MESH", options->mesh, "Mesh file (closed; its UVs, or a generated atlas: see --atlas)")->required();
     addBakeOptions(*cmd, options->bake);
     cmd->add_option("--out", options->out, "Output folder (created if missing)")->required();
     cmd->callback([options, &selected] { selected = [options] { return runBake(*options); }; });

@@ -520,9 +520,12 @@ int runBench(const BenchOptions& o) {
     if (!fs::exists(o.mesh)) {
         std::cerr << "bench: " << o.mesh << " not found: benchmarking the sphere only\n";
     } else {
-        std::optional<TriangleMesh> mesh = loadCheckedMesh(o.mesh, MeshUse::Texture);
+        // Packed for the middle of the sizes (gutters are whole texels there).
+        BakeOptions atlas;
+        atlas.size = 256;
+        std::optional<BakeableMesh> mesh = loadMeshForBake(o.mesh, atlas);
         if (!mesh) return kExitFailure;
-        meshes.push_back(makeBenchMesh(fs::path(o.mesh).stem().string(), std::move(*mesh)));
+        meshes.push_back(makeBenchMesh(fs::path(o.mesh).stem().string(), std::move(mesh->mesh)));
     }
 
     auto fail = [](const Error& error) {

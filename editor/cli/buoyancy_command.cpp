@@ -47,9 +47,9 @@ std::optional<BuoyancyResult> evaluateTexture(const BuoyancyOptions& o, const Bo
         return std::nullopt;
     }
     if (!notice.empty()) std::cerr << "note: " << notice << "\n";
-    std::optional<TriangleMesh> mesh = loadCheckedMesh(o.mesh, MeshUse::Texture);
+    std::optional<BakeableMesh> mesh = loadMeshForBake(o.mesh, o.bake);
     if (!mesh) return std::nullopt;
-    std::optional<SurfaceTextures> textures = bakeWithProgress(*mesh, o.bake);
+    std::optional<SurfaceTextures> textures = bakeWithProgress(mesh->mesh, o.bake);
     if (!textures) return std::nullopt;
     // The centre of mass from the same textures, so that torques match what a simulation
     // running on this bake would apply. Any density gives the same centre.
@@ -72,7 +72,7 @@ std::optional<BuoyancyResult> evaluateTexture(const BuoyancyOptions& o, const Bo
 
 std::optional<BuoyancyResult> evaluateExact(const BuoyancyOptions& o, BodyFrame frame,
                                             double& frameMs) {
-    std::optional<TriangleMesh> mesh = loadCheckedMesh(o.mesh, MeshUse::Exact);
+    std::optional<TriangleMesh> mesh = loadClosedMesh(o.mesh);
     if (!mesh) return std::nullopt;
     frame.centerOfMass = exactSolidMassProperties(*mesh, 1.0).centerOfMass;
     const auto start = std::chrono::steady_clock::now();

@@ -11,28 +11,50 @@
 
 namespace plimsoll::cli {
 
-std::optional<TriangleMesh> loadCheckedMesh(const std::string& path, MeshUse use) {
+std::optional<TriangleMesh> loadClosedMesh(const std::string& path) {
     Result<TriangleMesh> mesh = loadMesh(path);
     if (!mesh) {
         std::cerr << "error: " << mesh.error().message << "\n";
         return std::nullopt;
     }
     ValidationReport report = validateMesh(*mesh);
-    if (use == MeshUse::Exact) {
-        // The exact integrals never look at UVs: their problems are noise here.
-        std::erase_if(report.problems, [](const Problem& p) { return isUvProblem(p.kind); });
-    }
-    const bool usable = use == MeshUse::Texture ? report.usableForTexture() : report.closedSolid();
-    if (!usable) {
-        std::cerr << report.format();
-        std::cerr << "error: " << path
-                  << (use == MeshUse::Texture
-                          ? ": the mesh cannot be baked with its own UVs (see the errors above)\n"
-                          : ": the mesh is not a closed, consistently oriented solid\n");
+    // The exact integrals never look at UVs: their problems are noise here.
+    std::erase_if(report.problems, [](const Problem& p) { return isUvProblem(p.kind); });
+    if (!report.problems.empty()) std::cerr << report.format();
+    if (!report.closedSolid()) {
+        std::cerr << "error: " << path << ": the mesh is not a closed, consistently oriented solid\n";
         return std::nullopt;
     }
-    if (!report.problems.empty()) std::cerr << report.format();
     return std::move(*mesh);
+}
+
+std::optional<BakeableMesh> loadMeshForBake(const std::string& path, const BakeOptions& options) {
+    Result<TriangleMesh> mesh = loadMesh(path);
+    if (!mesh) {
+        std::cerr << "error: " << mesh.error().message << "\n";
+        return std::nullopt;
+    }
+    const ValidationReport report = validateMesh(*mesh);
+    ValidationReport surface = report;  // what the atlas cannot fix
+    std::erase_if(surface.problems, [](const Problem& p) { return isUvProblem(p.kind); });
+    if (surface.hasErrors()) {
+        std::cerr << surface.format() << "error: " << path
+                  << ": the mesh is not a closed, consistently oriented solid\n";
+        return std::nullopt;
+    }
+    AtlasSettings atlas;
+    atlas.textureSize = options.size;
+    atlas.progress = stderrProgress("generating a physics atlas");
+    Result<AtlasChoice> choice = chooseAtlas(*mesh, report, options.atlas, atlas);
+    if (!choice) {
+        std::cerr << "error: " << choice.error().message << "\n";
+        return std::nullopt;
+    }
+    // The UV findings are moot when a generated atlas replaces the UVs; the rest is worth saying.
+    ValidationReport shown = choice->generated ? surface : report;
+    if (!shown.problems.empty()) std::cerr << shown.format();
+    if (!choice->notice.empty()) std::cerr << "note: " << choice->notice << "\n";
+    return BakeableMesh{std::move(choice->mesh), choice->generated};
 }
 
 nlohmann::json vectorJson(const Eigen::Vector3d& v) { return {v.x(), v.y(), v.z()}; }
@@ -88,6 +110,19 @@ CLI::Option* addBakeOptions(CLI::App& command, BakeOptions& options) {
                     "texels span more than this many typical texel sides (0 = off)")
         ->check(CLI::NonNegativeNumber)
         ->capture_default_str();
+    command
+        .add_option_function<std::string>(
+            "--atlas",
+            [&options](const std::string& text) {
+                std::optional<AtlasMode> mode = parseAtlasMode(text);
+                if (!mode) {
+                    throw CLI::ValidationError("--atlas", "expected mesh, auto or generate, got '" +
+                                                              text + "'");
+                }
+                options.atlas = *mode;
+            },
+            "UVs to bake: mesh (the mesh's own; refused when not bijective), auto (the mesh's "
+            "when bijective, else generated) or generate (a physics atlas) [auto]");
     return command.add_option("--size", options.size, "Texels per side of the bake")
         ->check(CLI::Range(kMinTextureSize, kMaxTextureSize))
         ->capture_default_str();

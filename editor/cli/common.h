@@ -2,6 +2,7 @@
 // a user needs, and progress on stderr.
 #pragma once
 
+#include "plimsoll/atlas.h"
 #include "plimsoll/bake.h"
 #include "plimsoll/mesh.h"
 #include "plimsoll/validate.h"
@@ -15,14 +16,9 @@
 
 namespace plimsoll::cli {
 
-enum class MeshUse {
-    Texture,  ///< the mesh's UVs will be baked: every validation error refuses it
-    Exact,    ///< only the closed surface matters: UV problems are not errors here
-};
-
-/// Loads and validates; prints warnings (and, on refusal, the errors) to stderr. Returns the
-/// mesh only when it is fit for `use`.
-std::optional<TriangleMesh> loadCheckedMesh(const std::string& path, MeshUse use);
+/// Loads and validates for the exact integrals, which need a closed solid and ignore UVs;
+/// prints the problems to stderr. Returns the mesh only when it is a closed solid.
+std::optional<TriangleMesh> loadClosedMesh(const std::string& path);
 
 /// [x, y, z] for JSON output.
 nlohmann::json vectorJson(const Eigen::Vector3d& v);
@@ -38,14 +34,23 @@ CLI::Option* addVectorOption(CLI::App& command, const std::string& name, Eigen::
 /// Progress of long work on stderr: a live percentage on a terminal, nothing in logs.
 ProgressCallback stderrProgress(const std::string& label);
 
-/// The bake's accuracy options, shared by every sub-command that bakes.
+/// The bake's options, shared by every sub-command that bakes.
 struct BakeOptions {
     int size = 512;
     double maxTexelStretch = BakeSettings{}.maxTexelStretch;
+    AtlasMode atlas = AtlasMode::Auto;
 };
 
-/// Adds --size and --max-texel-stretch to a sub-command; returns the --size option.
+/// Adds --size, --max-texel-stretch and --atlas to a sub-command; returns the --size option.
 CLI::Option* addBakeOptions(CLI::App& command, BakeOptions& options);
+
+/// A mesh ready to bake: loaded, validated (every non-UV error refuses it), with the UVs that
+/// --atlas chooses; says on stderr when a generated atlas replaces the mesh's UVs.
+struct BakeableMesh {
+    TriangleMesh mesh;  ///< with the UVs to bake
+    bool generatedAtlas = false;
+};
+std::optional<BakeableMesh> loadMeshForBake(const std::string& path, const BakeOptions& options);
 
 /// Bakes with progress; prints the error and returns nothing on failure.
 std::optional<SurfaceTextures> bakeWithProgress(const TriangleMesh& mesh,

@@ -29,8 +29,14 @@ struct MassPropsOptions {
 nlohmann::json vectorJson(const Eigen::Vector3d& v) { return {v.x(), v.y(), v.z()}; }
 
 int runMassProps(const MassPropsOptions& o) {
-    std::optional<TriangleMesh> mesh =
-        loadCheckedMesh(o.mesh, o.exact ? MeshUse::Exact : MeshUse::Texture);
+    std::optional<TriangleMesh> mesh;
+    bool generatedAtlas = false;
+    if (o.exact) {
+        mesh = loadClosedMesh(o.mesh);
+    } else if (std::optional<BakeableMesh> bakeable = loadMeshForBake(o.mesh, o.bake)) {
+        mesh = std::move(bakeable->mesh);
+        generatedAtlas = bakeable->generatedAtlas;
+    }
     if (!mesh) return kExitFailure;
     // A shell alone unless a solid density was asked for too.
     const double solidDensity = (o.shellDensity > 0 && !o.densityGiven) ? 0.0 : o.density;
@@ -59,6 +65,9 @@ int runMassProps(const MassPropsOptions& o) {
         out = {{"method", "texture"},
                {"texture_size", o.bake.size},
                {"max_texel_stretch", o.bake.maxTexelStretch},
+               {"atlas", generatedAtlas ? "generated" : "mesh"},
+               {"texel_area_spread", textures->texelAreaSpread()},
+               {"uv_coverage", textures->uvCoverage()},
                {"covered_texels", textures->distinctTexelCount()},
                {"texel_samples", textures->coveredCount()},
                {"closure_error", textures->closureError()}};

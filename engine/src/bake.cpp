@@ -414,6 +414,23 @@ std::size_t SurfaceTextures::distinctTexelCount() const {
     return distinct;
 }
 
+double SurfaceTextures::texelAreaSpread(double tail) const {
+    std::vector<double> density;
+    density.reserve(area.size());
+    for (std::size_t i = 0; i < area.size(); ++i) {
+        if (coverage[i] > 0 && area[i] > 0) density.push_back(area[i] / coverage[i]);
+    }
+    if (density.empty()) return 0;
+    const auto at = [&](double q) {
+        const auto k = static_cast<std::size_t>(q * static_cast<double>(density.size() - 1) + 0.5);
+        std::nth_element(density.begin(), density.begin() + static_cast<std::ptrdiff_t>(k),
+                         density.end());
+        return density[k];
+    };
+    const double low = at(tail), high = at(1.0 - tail);
+    return high / low;
+}
+
 double SurfaceTextures::uvCoverage() const {
     double covered = 0;
     for (double c : coverage) covered += c;

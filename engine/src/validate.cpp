@@ -8,6 +8,8 @@
 
 #include "plimsoll/uv_layout.h"
 
+#include "uv_clip.h"
+
 #include <Eigen/Geometry>
 
 #include <algorithm>
@@ -15,12 +17,17 @@
 #include <cmath>
 #include <cstdint>
 #include <cstdio>
+#include <limits>
 #include <numeric>
 #include <span>
 
 namespace plimsoll {
 
 namespace {
+
+using uvclip::Point2;
+using uvclip::UvTriangle;
+using uvclip::intersectionArea;
 
 // Zero 3D area, relative to the squared bounding-box diagonal: scale-free, and far above the
 // rounding of the cross product for any triangle that is not a sliver.
@@ -296,63 +303,6 @@ void checkUvRange(const TriangleMesh& mesh, const TriangleFacts& facts, Validati
 // Exact UV overlap: a uniform grid finds candidate pairs, and each pair's intersection area comes
 // from clipping one triangle against the other (Sutherland-Hodgman; both are convex).
 
-using Point2 = Eigen::Vector2d;
-
-// Twice the signed area of (a, b, c): > 0 when c lies left of the line a -> b.
-double orient(const Point2& a, const Point2& b, const Point2& c) {
-    const Point2 ab = b - a, ac = c - a;
-    return ab.x() * ac.y() - ab.y() * ac.x();
-}
-
-// A triangle clipped by three half-planes gains at most one vertex per plane.
-struct ClipPolygon {
-    std::array<Point2, 6> points;
-    int size = 0;
-    void push(const Point2& p) { points[static_cast<std::size_t>(size++)] = p; }
-};
-
-// Keeps the part of `polygon` left of the directed line a -> b.
-ClipPolygon clipLeftOf(const ClipPolygon& polygon, const Point2& a, const Point2& b) {
-    ClipPolygon out;
-    for (int i = 0; i < polygon.size; ++i) {
-        const Point2& current = polygon.points[static_cast<std::size_t>(i)];
-        const Point2& next = polygon.points[static_cast<std::size_t>((i + 1) % polygon.size)];
-        const double dc = orient(a, b, current), dn = orient(a, b, next);
-        if (dc >= 0) out.push(current);
-        if ((dc > 0 && dn < 0) || (dc < 0 && dn > 0)) {
-            out.push(current + (next - current) * (dc / (dc - dn)));
-        }
-    }
-    return out;
-}
-
-double polygonArea(const ClipPolygon& polygon) {
-    double twice = 0;
-    for (int i = 0; i < polygon.size; ++i) {
-        const Point2& p = polygon.points[static_cast<std::size_t>(i)];
-        const Point2& q = polygon.points[static_cast<std::size_t>((i + 1) % polygon.size)];
-        twice += p.x() * q.y() - p.y() * q.x();
-    }
-    return 0.5 * twice;
-}
-
-// A UV triangle in counter-clockwise order (mirrored ones are reversed: overlap does not
-// depend on orientation) with its bounding box.
-struct UvTriangle {
-    std::array<Point2, 3> corners;
-    Eigen::AlignedBox2d box;
-};
-
-double intersectionArea(const UvTriangle& subject, const UvTriangle& clip) {
-    ClipPolygon polygon;
-    for (const Point2& p : subject.corners) polygon.push(p);
-    for (int k = 0; k < 3 && polygon.size >= 3; ++k) {
-        polygon = clipLeftOf(polygon, clip.corners[static_cast<std::size_t>(k)],
-                             clip.corners[static_cast<std::size_t>((k + 1) % 3)]);
-    }
-    return polygon.size >= 3 ? polygonArea(polygon) : 0.0;
-}
-
 // Uniform grid over the UV bounding box; each cell lists the triangles whose box touches it
 // (compressed rows: cell c holds items[start[c] .. start[c + 1])).
 class UvGrid {
@@ -464,6 +414,19 @@ OverlapResult findUvOverlap(const std::vector<UvTriangle>& uv,
     return result;
 }
 
+// Triangles whose UV orientation is opposite to the one holding the majority of the UV area
+// (on a tie, the clockwise ones).
+std::vector<bool> mirroredTriangles(const TriangleMesh& mesh) {
+    double total = 0;
+    for (const Triangle& t : mesh.triangles) total += triangleUvArea(mesh, t);
+    std::vector<bool> mirrored(mesh.triangleCount(), false);
+    for (std::size_t t = 0; t < mesh.triangleCount(); ++t) {
+        const double area = triangleUvArea(mesh, mesh.triangles[t]);
+        mirrored[t] = total > 0 ? area < 0 : (total < 0 ? area > 0 : area < 0);
+    }
+    return mirrored;
+}
+
 void checkUvOverlap(const TriangleMesh& mesh, const TriangleFacts& facts,
                     ValidationReport& report) {
     const double threshold = kDegenerateUvArea * uvBoxArea(mesh);
@@ -494,10 +457,85 @@ void checkUvOverlap(const TriangleMesh& mesh, const TriangleFacts& facts,
         message += printed(" (at least: the search stopped after %zu overlapping candidate pairs)",
                            overlap.pairsClipped);
     }
+    // Mirrored triangles overlapping others: the usual cause (two halves of a model sharing
+    // one half of the texture), which a texel sum would silently count twice.
+    std::vector<bool> mirroredOverlap = overlap.overlapping;
+    const std::vector<bool> mirrored = mirroredTriangles(mesh);
+    for (std::size_t t = 0; t < mirroredOverlap.size(); ++t) {
+        mirroredOverlap[t] = mirroredOverlap[t] && mirrored[t];
+    }
+    message += printed(" (%.3g%% of the surface; %.3g%% of the surface is mirrored onto other UVs)",
+                       100.0 * areaShare(overlap.overlapping, facts),
+                       100.0 * areaShare(mirroredOverlap, facts));
     message += negligible ? "; negligible for baking (under a millionth of the UV area)"
                           : "; the map is not bijective";
     add(report, ProblemKind::UvOverlap, negligible ? Severity::Warning : Severity::Error, count,
         areaShare(overlap.overlapping, facts), std::move(message));
+}
+
+// ---------------------------------------------------------------------------------------------
+// UV tiles: a map spread over several unit squares (UDIM tiles, or a texture repeated along a
+// long part), so wider than one unit. One physics texture holds them all, each tile at a fraction of the resolution.
+
+void checkUvTiles(const TriangleMesh& mesh, const TriangleFacts& facts, ValidationReport& report) {
+    std::vector<std::pair<long long, long long>> tileOf(mesh.triangleCount());
+    std::vector<std::pair<long long, long long>> tiles;
+    for (std::size_t t = 0; t < mesh.triangleCount(); ++t) {
+        const Triangle& tri = mesh.triangles[t];
+        const Eigen::Vector2d centre = (mesh.uvs[tri[0]] + mesh.uvs[tri[1]] + mesh.uvs[tri[2]]) / 3.0;
+        tileOf[t] = {static_cast<long long>(std::floor(centre.x())),
+                     static_cast<long long>(std::floor(centre.y()))};
+        tiles.push_back(tileOf[t]);
+    }
+    std::sort(tiles.begin(), tiles.end());
+    tiles.erase(std::unique(tiles.begin(), tiles.end()), tiles.end());
+    // A map merely offset across a tile border (extent under one unit) is not tiled.
+    Eigen::AlignedBox2d box;
+    for (const Eigen::Vector2d& uv : mesh.uvs) box.extend(uv);
+    if (tiles.size() <= 1 || box.sizes().maxCoeff() <= 1.0) return;
+    std::vector<bool> outsideFirst(mesh.triangleCount(), false);
+    for (std::size_t t = 0; t < mesh.triangleCount(); ++t) outsideFirst[t] = tileOf[t] != std::pair<long long, long long>{0, 0};
+    add(report, ProblemKind::UvMultipleTiles, Severity::Warning, tiles.size(),
+        areaShare(outsideFirst, facts),
+        printed("the UVs spread over %zu unit tiles (%zu triangles outside tile 0,0): they share "
+                "one physics texture, each tile at a fraction of its resolution",
+                tiles.size(), countMarked(outsideFirst)));
+}
+
+// ---------------------------------------------------------------------------------------------
+// UV-area distortion: world area per UV area, area-weighted percentiles over the surface.
+
+double percentileRatio(std::vector<std::pair<double, double>> densityAndWeight, double tail) {
+    if (densityAndWeight.empty()) return 0;
+    std::sort(densityAndWeight.begin(), densityAndWeight.end());
+    double total = 0;
+    for (const auto& [d, w] : densityAndWeight) total += w;
+    const auto quantile = [&](double q) {
+        double running = 0;
+        for (const auto& [d, w] : densityAndWeight) {
+            running += w;
+            if (running >= q * total) return d;
+        }
+        return densityAndWeight.back().first;
+    };
+    const double low = quantile(tail), high = quantile(1.0 - tail);
+    return low > 0 ? high / low : std::numeric_limits<double>::infinity();
+}
+
+void checkUvDistortion(const TriangleMesh& mesh, const TriangleFacts& facts,
+                       ValidationReport& report) {
+    std::vector<std::pair<double, double>> densities;
+    for (std::size_t t = 0; t < mesh.triangleCount(); ++t) {
+        const double uvArea = std::abs(triangleUvArea(mesh, mesh.triangles[t]));
+        if (facts.degenerate[t] || uvArea <= 0) continue;
+        densities.emplace_back(facts.area[t] / uvArea, facts.area[t]);
+    }
+    report.uvAreaSpread = percentileRatio(densities, 0.01);
+    if (report.uvAreaSpread <= kMaxUvAreaSpread) return;
+    add(report, ProblemKind::UvDistortion, Severity::Warning, 0, 0,
+        printed("the world area per UV area varies by a factor of %.3g over the surface (99th over "
+                "1st percentile; above %.3g the coarsest texels limit the accuracy)",
+                report.uvAreaSpread, kMaxUvAreaSpread));
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -548,6 +586,8 @@ const char* problemCode(ProblemKind kind) {
         case ProblemKind::UvOutOfRange: return "uv-out-of-range";
         case ProblemKind::UvOverlap: return "uv-overlap";
         case ProblemKind::UvMirrored: return "uv-mirrored";
+        case ProblemKind::UvMultipleTiles: return "uv-multiple-tiles";
+        case ProblemKind::UvDistortion: return "uv-distortion";
     }
     return "unknown";
 }
@@ -559,6 +599,8 @@ bool isUvProblem(ProblemKind kind) {
         case ProblemKind::UvOutOfRange:
         case ProblemKind::UvOverlap:
         case ProblemKind::UvMirrored:
+        case ProblemKind::UvMultipleTiles:
+        case ProblemKind::UvDistortion:
             return true;
         default:
             return false;
@@ -608,8 +650,11 @@ ValidationReport validateMesh(const TriangleMesh& mesh) {
     if (!mesh.hasUvs()) return report;
     checkDegenerateUv(mesh, facts, report);
     checkUvRange(mesh, facts, report);
+    checkUvTiles(mesh, facts, report);
     checkUvOverlap(mesh, facts, report);
     checkUvMirrored(mesh, facts, report);
+    checkUvDistortion(mesh, facts, report);
+    report.mirroredSurfaceFraction = areaShare(mirroredTriangles(mesh), facts);
     return report;
 }
 

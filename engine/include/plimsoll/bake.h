@@ -66,6 +66,10 @@ struct SurfaceTextures {
     double closureError() const;
     /// Mean of the positions weighted by area: the reference point for sums (keeps digits).
     Eigen::Vector3d areaCentroid() const;
+    /// Texel world-area spread: surface area per covered texel area (area / coverage, so that
+    /// partly covered border texels count at their density), largest over smallest among the
+    /// entries, the `tail` share at either extreme ignored. 1 for a uniform atlas.
+    double texelAreaSpread(double tail = 0.01) const;
 };
 
 /// One piece of a triangle clipped to an entry's texel (or sub-texel cell). The map from UV to

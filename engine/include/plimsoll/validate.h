@@ -27,7 +27,13 @@ enum class ProblemKind {
     UvOutOfRange,            ///< UVs outside [0,1]: remapped into the texture        (warning)
     UvOverlap,               ///< UV triangles overlap: the map is not bijective      (error)
     UvMirrored,              ///< UV islands with flipped orientation (no overlap)    (warning)
+    UvMultipleTiles,         ///< UVs spread over several unit tiles (UDIM-like)       (warning)
+    UvDistortion,            ///< world area per UV area varies more than kMaxUvAreaSpread (warning)
 };
+
+/// Texel world-area spread above this is reported: a texel then stands for up to this many
+/// times the surface of another, and accuracy follows the coarsest texels.
+inline constexpr double kMaxUvAreaSpread = 4.0;
 
 const char* problemCode(ProblemKind kind);
 
@@ -45,6 +51,12 @@ struct Problem {
 struct ValidationReport {
     std::string source;  ///< the mesh's file, named in every formatted line
     std::vector<Problem> problems;
+    /// UV-area distortion of the mesh's own UVs: world area per UV area, 99th over 1st
+    /// percentile over the surface (area-weighted, so 1% of the surface at either extreme is
+    /// ignored). 1 for a map without distortion; 0 when there are no usable UVs.
+    double uvAreaSpread = 0;
+    /// Share of the surface (area) whose UVs are mirrored relative to the majority orientation.
+    double mirroredSurfaceFraction = 0;
 
     bool has(ProblemKind kind) const;
     bool hasErrors() const;
