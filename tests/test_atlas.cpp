@@ -5,6 +5,9 @@
 #include "plimsoll/atlas.h"
 #include "plimsoll/mesh_io.h"
 #include "plimsoll/primitives.h"
+#include "plimsoll/project.h"
+#include "plimsoll/world.h"
+#include "plimsoll/compute.h"
 #include "plimsoll/validate.h"
 
 #include "test_support.h"
@@ -248,6 +251,59 @@ TEST(Atlas, BadSettingsAndMeshesAreRefusedWithTheMeshNamed) {
     TriangleMesh broken = box;
     broken.positions[0].x() = std::nan("");
     EXPECT_FALSE(generatePhysicsAtlas(broken, {}).ok());
+}
+
+TEST(Atlas, ProjectBodiesChooseTheirAtlasAndCacheItBesideTheProject) {
+    // A box without UVs, in a project file: "auto" bakes a generated atlas and caches it;
+    // "mesh" refuses the body with the reason.
+    const std::filesystem::path folder = test::scratchFolder("atlas-project");
+    TriangleMesh box = makeBox({1.0, 0.5, 2.0});
+    box.uvs.clear();
+    ASSERT_TRUE(writeObj(box, folder / "box.obj").ok());
+    Project project;
+    project.name = "atlas";
+    BodyDesc body;
+    body.name = "box";
+    body.mesh = "box.obj";
+    body.textureSize = 64;
+    body.material.density = 500.0;
+    project.bodies.push_back(body);
+    project.water = WaterModel::flat(0.0);
+    const std::filesystem::path file = folder / "atlas.plim.json";
+    ASSERT_TRUE(saveProject(project, file).ok());
+    Result<Project> loaded = loadProject(file);
+    ASSERT_TRUE(loaded.ok()) << loaded.error().message;
+    EXPECT_EQ(loaded->bodies[0].atlas, AtlasMode::Auto);
+    const std::filesystem::path cache = loaded->atlasCacheFile(0);
+    EXPECT_EQ(cache, folder / "atlas.cache" / "atlas-0.json");
+    std::filesystem::remove(cache);
+
+    std::string log;
+    Result<std::unique_ptr<World>> world = World::create(
+        *loaded, createReferenceBackend(), [&](const std::string& line) { log += line + "\n"; });
+    ASSERT_TRUE(world.ok()) << world.error().message;
+    EXPECT_NE(log.find("generated physics atlas"), std::string::npos) << log;
+    EXPECT_TRUE(std::filesystem::exists(cache));
+    // The baked body is the box: exact volume through the generated atlas.
+    EXPECT_NEAR((*world)->bodies()[0].volume, 1.0, 1e-9);
+
+    loaded->bodies[0].atlas = AtlasMode::Mesh;
+    Result<std::unique_ptr<World>> refused = World::create(*loaded, createReferenceBackend());
+    ASSERT_FALSE(refused.ok());
+    EXPECT_NE(refused.error().message.find("missing-uvs"), std::string::npos)
+        << refused.error().message;
+
+    // The mode is saved and read back; an unknown one is refused with its JSON path.
+    ASSERT_TRUE(saveProject(*loaded, file).ok());
+    EXPECT_EQ(loadProject(file)->bodies[0].atlas, AtlasMode::Mesh);
+    std::string text = test::readFile(file);
+    const std::string mode = "\"atlas\": \"mesh\"";
+    ASSERT_NE(text.find(mode), std::string::npos) << text;
+    text.replace(text.find(mode), mode.size(), "\"atlas\": \"nope\"");
+    Result<Project> bad = parseProject(text, "bad.plim.json", folder);
+    ASSERT_FALSE(bad.ok());
+    EXPECT_NE(bad.error().message.find("bodies[0].atlas"), std::string::npos)
+        << bad.error().message;
 }
 
 }  // namespace

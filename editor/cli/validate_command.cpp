@@ -32,6 +32,8 @@ nlohmann::json toJson(const TriangleMesh& mesh, const ValidationReport& report) 
             {"has_uvs", mesh.hasUvs()},
             {"usable", report.usableForTexture()},
             {"closed_solid", report.closedSolid()},
+            {"uv_area_spread", report.uvAreaSpread},
+            {"mirrored_surface_fraction", report.mirroredSurfaceFraction},
             {"problems", problems}};
 }
 
@@ -49,6 +51,14 @@ int runValidate(const ValidateOptions& options) {
         std::cout << options.mesh << ": " << mesh->triangleCount() << " triangles, "
                   << mesh->vertexCount() << " vertices: "
                   << (report.usableForTexture() ? "usable" : "NOT usable") << "\n";
+        if (mesh->hasUvs()) {
+            std::cout << "  uv area spread " << report.uvAreaSpread
+                      << " (world area per UV area, 99th over 1st percentile), mirrored "
+                      << 100.0 * report.mirroredSurfaceFraction << "% of the surface\n";
+        }
+        if (!report.usableForTexture() && report.closedSolid()) {
+            std::cout << "  baking it generates a physics atlas (--atlas auto, the default)\n";
+        }
     }
     return report.usableForTexture() ? kExitOk : kExitFailure;
 }

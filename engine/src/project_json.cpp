@@ -388,7 +388,7 @@ private:
                            "max_texel_stretch", "material", "position", "rotation_deg",
                            "velocity", "angular_velocity", "drag_coefficient",
                            "friction_coefficient", "linear_damping", "angular_damping",
-                           "permeability_map", "water_graph"})) {
+                           "permeability_map", "water_graph", "atlas"})) {
             return;
         }
         string(value, path, "name", body.name);
@@ -412,6 +412,12 @@ private:
         number(value, path, "frames_per_second", body.framesPerSecond, Limit::Positive);
         integer(value, path, "texture_size", body.textureSize, kMinTextureSize, kMaxTextureSize);
         number(value, path, "max_texel_stretch", body.maxTexelStretch, Limit::NonNegative);
+        std::string atlas;
+        const Json* atlasValue = find(value, "atlas");
+        if (atlasValue && stringValue(*atlasValue, member(path, "atlas"), atlas)) {
+            if (const auto mode = parseAtlasMode(atlas)) body.atlas = *mode;
+            else problem(member(path, "atlas"), "unknown '" + atlas + "' (mesh, auto, generate)");
+        }
         if (const Json* material = find(value, "material")) {
             readMaterial(*material, member(path, "material"), body.material);
         } else {
@@ -655,6 +661,7 @@ Json toJson(const BodyDesc& body) {
     json["frames_per_second"] = body.framesPerSecond;
     json["texture_size"] = body.textureSize;
     json["max_texel_stretch"] = body.maxTexelStretch;
+    json["atlas"] = atlasModeName(body.atlas);
     json["material"] = toJson(body.material);
     json["position"] = toJson(body.position);
     json["rotation_deg"] = toJson(body.rotationDegrees);
@@ -689,6 +696,11 @@ fs::path Project::resolvePath(const std::string& path) const {
     return p.is_absolute() ? p : (folder / p).lexically_normal();
 }
 
+fs::path Project::atlasCacheFile(std::size_t index) const {
+    if (folder.empty()) return {};
+    return folder / (fileStem + ".cache") / ("atlas-" + std::to_string(index) + ".json");
+}
+
 bool Project::operator==(const Project& other) const {
     return name == other.name && bodies == other.bodies && medium == other.medium &&
            water == other.water && simulation == other.simulation;
@@ -716,7 +728,19 @@ Result<Project> loadProject(const fs::path& path) {
     if (in.bad()) return makeError(path.string() + ": cannot read");
     // Absolute, so that the project's paths stay valid if the working directory changes.
     const fs::path absolute = fs::absolute(path, ec);
-    return parseProject(text, path.string(), (ec ? path : absolute).parent_path());
+    Result<Project> project = parseProject(text, path.string(), (ec ? path : absolute).parent_path());
+    if (project) {
+        std::string stem = path.filename().string();
+        for (const char* suffix : {".plim.json", ".json"}) {
+            const std::string s(suffix);
+            if (stem.size() > s.size() && stem.ends_with(s)) {
+                stem.resize(stem.size() - s.size());
+                break;
+            }
+        }
+        project->fileStem = stem;
+    }
+    return project;
 }
 
 std::string projectToJson(const Project& project) {

@@ -121,7 +121,18 @@ Status World::addBody(const BodyDesc& desc) {
         mesh = std::move(*loaded);
     }
     const ValidationReport report = validateMesh(mesh);
-    if (!report.usableForTexture()) return Error{label + ":\n" + report.format()};
+    ValidationReport surface = report;  // what no atlas can fix
+    std::erase_if(surface.problems, [](const Problem& p) { return isUvProblem(p.kind); });
+    if (surface.hasErrors()) return Error{label + ":\n" + surface.format()};
+    AtlasSettings atlasSettings;
+    atlasSettings.textureSize = desc.textureSize;
+    Result<AtlasChoice> atlas = chooseAtlas(mesh, report, desc.atlas, atlasSettings,
+                                            project_.atlasCacheFile(bodies_.size()));
+    if (!atlas) return Error{label + ": " + atlas.error().message};
+    if (!atlas->notice.empty()) say(label + ": " + atlas->notice);
+    // A generated atlas keeps the triangles and their corner order, so a deforming body's
+    // frames regather the pieces baked on it unchanged.
+    mesh = std::move(atlas->mesh);
 
     BakeSettings settings;
     settings.size = desc.textureSize;

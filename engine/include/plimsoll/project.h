@@ -6,6 +6,7 @@
 #pragma once
 
 #include "plimsoll/graph.h"
+#include "plimsoll/atlas.h"
 #include "plimsoll/result.h"
 #include "plimsoll/rigid_body.h"
 #include "plimsoll/water.h"
@@ -65,6 +66,9 @@ struct BodyDesc {
     double framesPerSecond = 24.0;
     int textureSize = 256;                 ///< physics texture, texels per side
     double maxTexelStretch = 4.0;          ///< sub-texel refinement (BakeSettings)
+    /// Which UVs are baked ("atlas": "mesh", "auto" or "generate"). A generated atlas is
+    /// cached beside the project (atlasCacheFile), so maps painted on it stay attached.
+    AtlasMode atlas = AtlasMode::Auto;
     MaterialDesc material;
     Eigen::Vector3d position = Eigen::Vector3d::Zero();          ///< R p + t: t, m
     Eigen::Vector3d rotationDegrees = Eigen::Vector3d::Zero();   ///< Rz Ry Rx, degrees
@@ -124,6 +128,11 @@ struct Project {
     /// `path` as written in the project, made usable: absolute paths stay, relative ones are
     /// taken from `folder`.
     std::filesystem::path resolvePath(const std::string& path) const;
+    /// Where body `index`'s generated atlas is cached: `<project folder>/<project file
+    /// stem>.cache/atlas-<index>.json` (empty when the project has no folder: no cache).
+    std::filesystem::path atlasCacheFile(std::size_t index) const;
+    /// The project file's name without ".plim.json" (set by loadProject; "project" otherwise).
+    std::string fileStem = "project";
     bool operator==(const Project& other) const;  ///< content, not `folder`
 };
 
