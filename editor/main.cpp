@@ -22,6 +22,7 @@ int main(int argc, char** argv) {
     addBuoyancyCommand(app, selected);
     addSimulateCommand(app, selected);
     addGraphCommand(app, selected);
+    addAtlasCommand(app, selected);
     addEditCommand(app, selected);
     addRenderCommand(app, selected);
     try {

@@ -7,7 +7,10 @@
 #include "plimsoll/painted_map.h"
 #include "plimsoll/primitives.h"
 
+#include "cli_runner.h"
 #include "test_support.h"
+
+#include <nlohmann/json.hpp>
 
 #include <functional>
 #include <random>
@@ -16,6 +19,8 @@ namespace plimsoll {
 namespace {
 
 using Field = std::function<double(const Eigen::Vector3d&)>;
+using test::CommandOutput;
+using test::runPlimsoll;
 
 // Paints `field` into a width x height map over the mesh's UVs (independently of the engine's
 // transfer): every texel whose centre lies in a UV triangle takes the field at the surface
@@ -188,6 +193,42 @@ TEST(MapTransfer, BadInputIsRefused) {
     EXPECT_FALSE(transferPaintedMap(map, sphere, sphere, 100000, 64).ok());
     PaintedMap empty;
     EXPECT_FALSE(transferPaintedMap(empty, sphere, sphere, 64, 64).ok());
+}
+
+TEST(MapTransfer, CommandLineGeneratesAnAtlasAndMovesAMapOntoIt) {
+    const std::filesystem::path dir = test::scratchFolder("atlas-cli");
+    const std::string sphere = test::assetPath("sphere.obj").string();
+    const std::string atlas = (dir / "atlas.obj").string();
+    const CommandOutput made =
+        runPlimsoll("atlas generate '" + sphere + "' --out '" + atlas + "' --size 128 --json");
+    ASSERT_EQ(made.exitCode, 0) << made.err;
+    const nlohmann::json j = nlohmann::json::parse(made.out);
+    EXPECT_GE(j.at("uv_coverage").get<double>(), 0.55);
+    EXPECT_LE(j.at("uv_area_spread").get<double>(), kMaxUvAreaSpread);
+    // A map painted over the sphere's UVs (a gradient along v), moved onto the atlas: the
+    // surface integral survives; the map file is a 16-bit PNG of the requested size.
+    Result<TriangleMesh> mesh = loadMesh(sphere);
+    Result<TriangleMesh> atlasMesh = loadMesh(atlas);
+    ASSERT_TRUE(mesh.ok() && atlasMesh.ok());
+    const Field height = [](const Eigen::Vector3d& p) { return 0.5 + 0.9 * p.y(); };
+    const PaintedMap painted = paint(*mesh, height, 256);
+    ASSERT_TRUE(savePaintedMap(painted, dir / "height.png").ok());
+    const CommandOutput moved = runPlimsoll(
+        "atlas transfer-map '" + (dir / "height.png").string() + "' --from '" + sphere +
+        "' --to '" + atlas + "' --out '" + (dir / "height_atlas.png").string() + "' --width 200");
+    ASSERT_EQ(moved.exitCode, 0) << moved.err;
+    Result<PaintedMap> onAtlas = loadPaintedMap(dir / "height_atlas.png");
+    ASSERT_TRUE(onAtlas.ok());
+    EXPECT_EQ(onAtlas->width, 200);
+    EXPECT_EQ(onAtlas->height, 256);
+    const double before = surfaceIntegral(painted, *mesh);
+    EXPECT_NEAR(surfaceIntegral(*onAtlas, *atlasMesh), before, 0.01 * before);
+    // Bad input names the file.
+    const CommandOutput bad = runPlimsoll("atlas transfer-map /no/such.png --from '" + sphere +
+                                          "' --to '" + atlas + "' --out '" +
+                                          (dir / "x.png").string() + "'");
+    EXPECT_NE(bad.exitCode, 0);
+    EXPECT_NE(bad.err.find("/no/such.png"), std::string::npos) << bad.err;
 }
 
 }  // namespace

@@ -19,6 +19,7 @@ void addBenchCommand(CLI::App& root, CommandRunner& selected);
 void addBuoyancyCommand(CLI::App& root, CommandRunner& selected);
 void addSimulateCommand(CLI::App& root, CommandRunner& selected);
 void addGraphCommand(CLI::App& root, CommandRunner& selected);
+void addAtlasCommand(CLI::App& root, CommandRunner& selected);
 void addEditCommand(CLI::App& root, CommandRunner& selected);
 void addRenderCommand(CLI::App& root, CommandRunner& selected);
 
