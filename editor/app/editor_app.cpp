@@ -440,7 +440,14 @@ int runEditorWindow(const EditorLaunch& launch) {
         std::cerr << "error: " << s.status << "\n";
         if (!launch.project.empty()) return 1;
     }
-    if (launch.project.empty()) s.recoveryOffer = Document::findAutosave("");
+    if (launch.project.empty()) {
+        // Started with nothing to open: an autosave of the untitled document, or of the most
+        // recent project, means the last session did not end cleanly.
+        s.recoveryOffer = Document::findAutosave("");
+        if (!s.recoveryOffer && !s.settings.recentFiles.empty()) {
+            s.recoveryOffer = Document::findAutosave(s.settings.recentFiles.front());
+        }
+    }
     if (launch.frames > 0) s.recoveryOffer.reset();  // measurements answer no questions
     if (const auto view = parseViewPreset(launch.view.empty() ? "persp" : launch.view)) {
         s.setView(*view);
