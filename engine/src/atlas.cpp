@@ -12,6 +12,7 @@
 
 #include "plimsoll/file_util.h"
 
+#include "printed.h"
 #include "uv_clip.h"
 
 #include <nlohmann/json.hpp>
@@ -53,14 +54,6 @@ constexpr int kBisections = 10;
 constexpr int kMaxSplits = 12;
 // Bumped whenever the generator's output changes, so that cached atlases are regenerated.
 constexpr int kGeneratorVersion = 1;
-
-template <class... Args>
-std::string printed(const char* format, Args... args) {
-    const int length = std::snprintf(nullptr, 0, format, args...);
-    std::string text(static_cast<std::size_t>(std::max(length, 0)), '\0');
-    std::snprintf(text.data(), text.size() + 1, format, args...);
-    return text;
-}
 
 // ---------------------------------------------------------------------------------------------
 // Surface facts: unit normals, areas, and edge neighbours after welding by position.

@@ -8,6 +8,7 @@
 
 #include "plimsoll/uv_layout.h"
 
+#include "printed.h"
 #include "uv_clip.h"
 
 #include <Eigen/Geometry>
@@ -46,14 +47,6 @@ constexpr double kNegligibleOverlap = 1e-6;
 // would cost n^2 / 2.
 constexpr std::size_t kPairsPerTriangle = 64;
 constexpr std::size_t kPairAllowance = 1'000'000;
-
-template <class... Args>
-std::string printed(const char* format, Args... args) {
-    const int length = std::snprintf(nullptr, 0, format, args...);
-    std::string text(static_cast<std::size_t>(std::max(length, 0)), '\0');
-    std::snprintf(text.data(), text.size() + 1, format, args...);
-    return text;
-}
 
 void add(ValidationReport& report, ProblemKind kind, Severity severity, std::size_t count,
          double surfaceFraction, std::string message) {
