@@ -112,6 +112,18 @@ TEST(AutoGraph, RefusesAnOpenMesh) {
     EXPECT_FALSE(buildAutomaticGraph(open, AutoGraphSettings{2, 0, 24, {}}).ok());
 }
 
+TEST(GraphCli, HelpOnEverySubcommand) {
+    for (const char* sub : {"graph", "graph auto", "graph validate"}) {
+        const test::CommandOutput r = test::runPlimsoll(std::string(sub) + " --help");
+        EXPECT_EQ(r.exitCode, 0) << sub;
+        EXPECT_NE(r.out.find("Usage"), std::string::npos) << sub;
+    }
+    // A missing mesh: a failure naming it, no graph written.
+    const test::CommandOutput r = test::runPlimsoll("graph auto /no/such/mesh.obj --out /tmp/x.json");
+    EXPECT_EQ(r.exitCode, 1);
+    EXPECT_NE(r.err.find("/no/such/mesh.obj"), std::string::npos) << r.err;
+}
+
 TEST(GraphCli, AutoWritesAValidGraphAndValidateReadsIt) {
     const fs::path out = test::scratchFolder("plimsoll_test_graph_cli") / "sphere.graph.json";
     const std::string sphere = test::assetPath("sphere.obj").string();

@@ -47,12 +47,31 @@ public:
 
     FrameTimings lastTimings() const override { return timings_; }
 
+    std::size_t addExchangeSet(std::span<const ExchangeSample> samples,
+                               std::size_t nodes) override {
+        exchangeSets_.push_back({{samples.begin(), samples.end()}, nodes});
+        return exchangeSets_.size() - 1;
+    }
+
+    Status evaluateExchange(std::size_t set, const ExchangeFrame& frame, const WaterModel& water,
+                            ExchangeSums& sums) override {
+        if (set >= exchangeSets_.size()) return makeError("evaluateExchange: unknown set id");
+        evaluateExchangeReference(exchangeSets_[set].samples, exchangeSets_[set].nodes, frame,
+                                  water, sums);
+        return Ok{};
+    }
+
 private:
     struct Body {
         SurfaceTextures textures;
         Eigen::Vector3d centerOfMass;
     };
+    struct ExchangeSet {
+        std::vector<ExchangeSample> samples;
+        std::size_t nodes = 0;
+    };
     std::vector<Body> bodies_;
+    std::vector<ExchangeSet> exchangeSets_;
     FrameTimings timings_;
 };
 

@@ -286,10 +286,9 @@ Result<WaterGraphSimulation> WaterGraphSimulation::create(const WaterGraph& grap
     for (std::size_t i = 0; i < permeability.size(); ++i) {
         const double k = std::clamp(permeability[i], 0.0, 1.0);
         if (!(k > 0)) continue;
-        PermeableSample s;
+        ExchangeSample s;
         s.position = textures.position[i];
-        s.area = textures.area[i];
-        s.permeability = k;
+        s.weight = k * textures.area[i];
         double best = std::numeric_limits<double>::infinity();
         double bestCentre = best;
         for (std::size_t j = 0; j < n; ++j) {
@@ -301,10 +300,9 @@ Result<WaterGraphSimulation> WaterGraphSimulation::create(const WaterGraph& grap
                 s.node = static_cast<std::uint32_t>(j);
             }
         }
-        sim.samples_.push_back(s);
+        // A sealed node exchanges nothing: its texels are left out.
+        if (!graph.nodes[s.node].sealed) sim.samples_.push_back(s);
     }
-    sim.scratchInflow_.assign(n, 0.0);
-    sim.scratchOutflow_.assign(n, 0.0);
     return sim;
 }
 
@@ -375,46 +373,44 @@ double WaterGraphSimulation::level(std::size_t node, const Eigen::Matrix3d& rota
     return nodeHeight(node, rotation) + levelOffset(node, graph_.nodes[node].water, rotation);
 }
 
+ExchangeFrame WaterGraphSimulation::exchangeFrame(const Pose& pose, double time) {
+    // World height of every node's water surface (a node with no water has none).
+    const std::size_t n = graph_.nodes.size();
+    scratchSurface_.assign(n, -std::numeric_limits<double>::infinity());
+    for (std::size_t i = 0; i < n; ++i) {
+        if (graph_.nodes[i].sealed || graph_.nodes[i].water <= 0) continue;
+        scratchSurface_[i] = pose.translation.y() + level(i, pose.rotation);
+    }
+    ExchangeFrame frame;
+    frame.pose = pose;
+    frame.time = time;
+    frame.nodeSurface = scratchSurface_;
+    frame.torricelli = settings_.inflow == InflowModel::Torricelli;
+    frame.factor = frame.torricelli
+                       ? settings_.dischargeCoefficient * std::sqrt(2.0 * settings_.gravity)
+                       : settings_.inflowRate;
+    return frame;
+}
+
 bool WaterGraphSimulation::exchange(const Pose& pose, const WaterModel& water, double time,
                                     double dt) {
-    const std::size_t n = graph_.nodes.size();
-    std::vector<double>& in = scratchInflow_;
-    std::vector<double>& out = scratchOutflow_;
-    std::fill(in.begin(), in.end(), 0.0);
-    std::fill(out.begin(), out.end(), 0.0);
     if (samples_.empty()) return false;
-    // World height of every node's water surface (a node with no water has none).
-    std::vector<double> surface(n, -std::numeric_limits<double>::infinity());
-    for (std::size_t i = 0; i < n; ++i) {
-        const GraphNode& node = graph_.nodes[i];
-        if (node.sealed || node.water <= 0) continue;
-        surface[i] = pose.translation.y() + level(i, pose.rotation);
-    }
-    const double g = settings_.gravity;
-    // Highest outside surface over each node's inflowing texels (world m).
-    std::vector<double> outsideTop(n, -std::numeric_limits<double>::infinity());
-    for (const PermeableSample& s : samples_) {
-        const GraphNode& node = graph_.nodes[s.node];
-        if (node.sealed) continue;
-        const Eigen::Vector3d p = pose.apply(s.position);
-        const double f = water.height(p.x(), p.z(), time);
-        const double outside = std::max(0.0, f - p.y());
-        const double inside = std::max(0.0, surface[s.node] - p.y());
-        const double head = outside - inside;
-        if (head == 0) continue;
-        const double q = settings_.inflow == InflowModel::Linear
-                             ? settings_.inflowRate * s.permeability * s.area * std::abs(head)
-                             : settings_.dischargeCoefficient * s.permeability * s.area *
-                                   std::sqrt(2.0 * g * std::abs(head));
-        (head > 0 ? in : out)[s.node] += q * dt;
-        if (head > 0) outsideTop[s.node] = std::max(outsideTop[s.node], f);
-    }
-    std::vector<double> levels(n);
+    const ExchangeFrame frame = exchangeFrame(pose, time);
+    evaluateExchangeReference(samples_, graph_.nodes.size(), frame, water, scratchSums_);
+    return applyExchange(pose, dt, scratchSums_);
+}
+
+bool WaterGraphSimulation::applyExchange(const Pose& pose, double dt, const ExchangeSums& rates) {
+    const std::size_t n = graph_.nodes.size();
+    if (samples_.empty() || rates.inflow.size() != n) return false;
+    // Every node's level relative to the body's origin, for passing water on.
+    std::vector<double>& levels = scratchLevels_;
+    levels.resize(n);
     for (std::size_t i = 0; i < n; ++i) levels[i] = level(i, pose.rotation);
     bool moved = false;
     for (std::size_t i = 0; i < n; ++i) {
         GraphNode& node = graph_.nodes[i];
-        double gain = in[i], loss = out[i];
+        double gain = rates.inflow[i] * dt, loss = rates.outflow[i] * dt;
         if (gain == 0 && loss == 0) continue;
         // A full node passes what the outside pushes in on to the nodes it joins (through
         // full nodes, as in findDischargeNode), as far as the outside surface reaches: water
@@ -422,7 +418,7 @@ bool WaterGraphSimulation::exchange(const Pose& pose, const WaterModel& water, d
         double excess = node.water + gain - loss - node.capacity;
         while (excess > 0) {
             const Path path = findPath(static_cast<int>(i), pose.rotation, levels,
-                                       outsideTop[i] - pose.translation.y());
+                                       rates.outsideTop[i] - pose.translation.y());
             if (path.node < 0) break;
             GraphNode& target = graph_.nodes[path.node];
             const double before = target.water;

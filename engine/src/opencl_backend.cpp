@@ -13,6 +13,7 @@
 #include <array>
 #include <chrono>
 #include <cmath>
+#include <limits>
 #include <numbers>
 #include <span>
 
@@ -102,6 +103,9 @@ public:
                          {cl::Kernel(program_, "buoyancy_tiles_heightfield"),
                           cl::Kernel(program_, "buoyancy_tiles_heightfield_still")}}},
           reduceKernel_(program_, "reduce_bodies"),
+          exchangeKernels_{{cl::Kernel(program_, "graph_exchange_flat"),
+                            cl::Kernel(program_, "graph_exchange_gerstner"),
+                            cl::Kernel(program_, "graph_exchange_heightfield")}},
           fp64_(fp64),
           tileSize_(tileSize),
           name_("OpenCL: " + device_.getInfo<CL_DEVICE_NAME>() + " (" +
@@ -205,7 +209,128 @@ public:
 
     FrameTimings lastTimings() const override { return timings_; }
 
+    std::size_t addExchangeSet(std::span<const ExchangeSample> samples,
+                               std::size_t nodes) override {
+        // Sorted by node (a work-group then spans few nodes), positions relative to the
+        // samples' centroid so single precision keeps its digits.
+        ExchangeSet set;
+        set.nodes = nodes;
+        set.count = samples.size();
+        for (const ExchangeSample& x : samples) set.centre += x.position;
+        if (!samples.empty()) set.centre /= static_cast<double>(samples.size());
+        std::vector<std::size_t> order(samples.size());
+        for (std::size_t i = 0; i < order.size(); ++i) order[i] = i;
+        std::stable_sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) {
+            return samples[a].node < samples[b].node;
+        });
+        std::vector<pl_float4> points;
+        std::vector<cl_uint> nodeOf;
+        for (std::size_t i : order) {
+            points.push_back(toFloat4(samples[i].position - set.centre, samples[i].weight));
+            nodeOf.push_back(samples[i].node);
+        }
+        set.samples = upload(points);
+        set.nodeOf = upload(nodeOf);
+        const std::size_t groups = (set.count + PL_WORKGROUP_SIZE - 1) / PL_WORKGROUP_SIZE;
+        const std::size_t accSize = fp64_ ? sizeof(double) : sizeof(float);
+        set.partialsHost.assign(std::max<std::size_t>(1, groups * nodes * 3) * accSize, 0);
+        set.partials = cl::Buffer(context_, CL_MEM_WRITE_ONLY, set.partialsHost.size());
+        set.surfaces = cl::Buffer(context_, CL_MEM_READ_ONLY, std::max<std::size_t>(1, nodes) * sizeof(float));
+        exchangeSets_.push_back(std::move(set));
+        return exchangeSets_.size() - 1;
+    }
+
+    Status evaluateExchange(std::size_t id, const ExchangeFrame& frame, const WaterModel& water,
+                            ExchangeSums& sums) override {
+        if (id >= exchangeSets_.size()) return makeError("evaluateExchange: unknown set id");
+        ExchangeSet& set = exchangeSets_[id];
+        sums.inflow.assign(set.nodes, 0.0);
+        sums.outflow.assign(set.nodes, 0.0);
+        sums.outsideTop.assign(set.nodes, -std::numeric_limits<double>::infinity());
+        if (set.count == 0 || set.nodes == 0) return Ok{};
+        if (frame.nodeSurface.size() != set.nodes) {
+            return makeError("evaluateExchange: " + std::to_string(frame.nodeSurface.size()) +
+                             " node surfaces for " + std::to_string(set.nodes) + " nodes");
+        }
+        try {
+            // The frame relative to c, the samples' centre in the world.
+            const Eigen::Vector3d c = frame.pose.apply(set.centre);
+            gpu::PlBody p{};
+            for (int k = 0; k < 3; ++k) {
+                p.rotation[k] = toFloat4(frame.pose.rotation.row(k).transpose());
+            }
+            std::array<gpu::PlWave, PL_MAX_WAVES> waves{};
+            fillWater(p, water, c, frame.time, waves.data());
+            p.waveBegin = 0;
+            std::vector<float> surfaces(set.nodes);
+            for (std::size_t n = 0; n < set.nodes; ++n) {
+                const double s = frame.nodeSurface[n] - c.y();
+                surfaces[n] = std::isfinite(s) ? static_cast<float>(s) : -3e38f;
+            }
+            if (!exchangeFrame_()) {
+                exchangeFrame_ = cl::Buffer(context_, CL_MEM_READ_ONLY, sizeof(gpu::PlBody));
+                exchangeWaves_ = cl::Buffer(context_, CL_MEM_READ_ONLY,
+                                            PL_MAX_WAVES * sizeof(gpu::PlWave));
+            }
+            if (water.kind == WaterModel::Kind::HeightField) uploadGrid(water.grid);
+            else if (!gridBuffer_()) gridBuffer_ = cl::Buffer(context_, CL_MEM_READ_ONLY, sizeof(float));
+            queue_.enqueueWriteBuffer(exchangeFrame_, CL_FALSE, 0, sizeof(gpu::PlBody), &p);
+            queue_.enqueueWriteBuffer(exchangeWaves_, CL_FALSE, 0,
+                                      PL_MAX_WAVES * sizeof(gpu::PlWave), waves.data());
+            queue_.enqueueWriteBuffer(set.surfaces, CL_FALSE, 0, set.nodes * sizeof(float),
+                                      surfaces.data());
+            const int model = water.kind == WaterModel::Kind::Gerstner      ? 1
+                              : water.kind == WaterModel::Kind::HeightField ? 2
+                                                                            : 0;
+            cl::Kernel& kernel = exchangeKernels_[model];
+            kernel.setArg(0, set.samples);
+            kernel.setArg(1, set.nodeOf);
+            kernel.setArg(2, static_cast<cl_uint>(set.count));
+            kernel.setArg(3, exchangeFrame_);
+            kernel.setArg(4, exchangeWaves_);
+            kernel.setArg(5, gridBuffer_);
+            kernel.setArg(6, static_cast<cl_int>(std::max(1, gridCountX_)));
+            kernel.setArg(7, static_cast<cl_int>(std::max(1, gridCountZ_)));
+            kernel.setArg(8, set.surfaces);
+            kernel.setArg(9, static_cast<cl_float>(frame.factor));
+            kernel.setArg(10, static_cast<cl_int>(frame.torricelli ? 1 : 0));
+            kernel.setArg(11, static_cast<cl_uint>(set.nodes));
+            kernel.setArg(12, set.partials);
+            const std::size_t groups = (set.count + PL_WORKGROUP_SIZE - 1) / PL_WORKGROUP_SIZE;
+            queue_.enqueueNDRangeKernel(kernel, cl::NullRange,
+                                        cl::NDRange(groups * PL_WORKGROUP_SIZE),
+                                        cl::NDRange(PL_WORKGROUP_SIZE));
+            queue_.enqueueReadBuffer(set.partials, CL_TRUE, 0, set.partialsHost.size(),
+                                     set.partialsHost.data());
+            // The groups' partials, summed in double.
+            for (std::size_t g = 0; g < groups; ++g) {
+                for (std::size_t n = 0; n < set.nodes; ++n) {
+                    const std::size_t at = (g * set.nodes + n) * 3;
+                    auto value = [&](std::size_t k) {
+                        return fp64_ ? reinterpret_cast<const double*>(set.partialsHost.data())[at + k]
+                                     : static_cast<double>(
+                                           reinterpret_cast<const float*>(set.partialsHost.data())[at + k]);
+                    };
+                    sums.inflow[n] += value(0);
+                    sums.outflow[n] += value(1);
+                    if (value(0) > 0) sums.outsideTop[n] = std::max(sums.outsideTop[n], value(2) + c.y());
+                }
+            }
+        } catch (const cl::Error& e) {
+            return makeError(name_ + ": " + clError(e));
+        }
+        return Ok{};
+    }
+
 private:
+    /// A water graph's permeable samples on the device.
+    struct ExchangeSet {
+        Eigen::Vector3d centre = Eigen::Vector3d::Zero();  ///< object space, m
+        std::size_t count = 0, nodes = 0;
+        cl::Buffer samples, nodeOf, surfaces, partials;
+        std::vector<unsigned char> partialsHost;
+    };
+
     struct Body {
         Eigen::Vector3d centerOfMass;
         std::size_t firstEntry = 0;            ///< in positions_ / areaVectors_
@@ -358,42 +483,49 @@ private:
             for (int k = 0; k < 3; ++k) p.rotation[k] = toFloat4(frame.pose.rotation.row(k).transpose());
             p.velocity = toFloat4(frame.motion.linear);
             p.spin = toFloat4(frame.motion.angular);
-            p.water = {static_cast<float>(water.level - c.y()),
-                       static_cast<float>(water.maxHeight() - c.y()), 0.0f, 0.0f};
             const FluidSettings& fluid = request.fluid;
             p.fluid = {static_cast<float>(fluid.density * fluid.gravity),
                        static_cast<float>(0.5 * fluid.density * fluid.dragCoefficient),
                        static_cast<float>(0.5 * fluid.density * fluid.frictionCoefficient),
                        static_cast<float>(fluid.density)};
             p.waveBegin = static_cast<gpu::pl_int>(request.body * PL_MAX_WAVES);
-            switch (water.kind) {
-                case WaterModel::Kind::Flat:
-                    p.waterModel = PL_WATER_FLAT;
-                    break;
-                case WaterModel::Kind::Gerstner:
-                    p.waterModel = PL_WATER_GERSTNER;
-                    p.waveCount = fillWaves(water, c, frame.time, p.waveBegin);
-                    break;
-                case WaterModel::Kind::HeightField: {
-                    p.waterModel = PL_WATER_HEIGHTFIELD;
-                    const double gx = (c.x() - water.grid.origin.x()) / water.grid.spacing;
-                    const double gz = (c.z() - water.grid.origin.y()) / water.grid.spacing;
-                    // Beyond the grid every cell index clamps to the edge anyway.
-                    const double cellX = std::clamp(std::floor(gx), -1e6, 1e6);
-                    const double cellZ = std::clamp(std::floor(gz), -1e6, 1e6);
-                    p.gridCellX = static_cast<gpu::pl_int>(cellX);
-                    p.gridCellZ = static_cast<gpu::pl_int>(cellZ);
-                    p.grid = {static_cast<float>(std::clamp(gx - cellX, -1e6, 1e6)),
-                              static_cast<float>(std::clamp(gz - cellZ, -1e6, 1e6)),
-                              static_cast<float>(1.0 / water.grid.spacing), 0.0f};
-                    break;
-                }
-            }
+            fillWater(p, water, c, frame.time, &waveParams_[p.waveBegin]);
         }
         return Ok{};
     }
 
-    int fillWaves(const WaterModel& water, const Eigen::Vector3d& c, double time, int first) {
+    /// The water model as seen from a point c (world): model, level, waves or grid cell.
+    void fillWater(gpu::PlBody& p, const WaterModel& water, const Eigen::Vector3d& c,
+                   double time, gpu::PlWave* waves) {
+        p.water = {static_cast<float>(water.level - c.y()),
+                   static_cast<float>(water.maxHeight() - c.y()), 0.0f, 0.0f};
+        switch (water.kind) {
+            case WaterModel::Kind::Flat:
+                p.waterModel = PL_WATER_FLAT;
+                break;
+            case WaterModel::Kind::Gerstner:
+                p.waterModel = PL_WATER_GERSTNER;
+                p.waveCount = fillWaves(water, c, time, waves);
+                break;
+            case WaterModel::Kind::HeightField: {
+                p.waterModel = PL_WATER_HEIGHTFIELD;
+                const double gx = (c.x() - water.grid.origin.x()) / water.grid.spacing;
+                const double gz = (c.z() - water.grid.origin.y()) / water.grid.spacing;
+                // Beyond the grid every cell index clamps to the edge anyway.
+                const double cellX = std::clamp(std::floor(gx), -1e6, 1e6);
+                const double cellZ = std::clamp(std::floor(gz), -1e6, 1e6);
+                p.gridCellX = static_cast<gpu::pl_int>(cellX);
+                p.gridCellZ = static_cast<gpu::pl_int>(cellZ);
+                p.grid = {static_cast<float>(std::clamp(gx - cellX, -1e6, 1e6)),
+                          static_cast<float>(std::clamp(gz - cellZ, -1e6, 1e6)),
+                          static_cast<float>(1.0 / water.grid.spacing), 0.0f};
+                break;
+            }
+        }
+    }
+
+    int fillWaves(const WaterModel& water, const Eigen::Vector3d& c, double time,
+                  gpu::PlWave* waves) {
         const int count = std::min<int>(PL_MAX_WAVES, static_cast<int>(water.waves.size()));
         for (int w = 0; w < count; ++w) {
             const GerstnerWave& wave = water.waves[w];
@@ -406,7 +538,7 @@ private:
             const double phase = std::remainder(
                 k * (d.x() * c.x() + d.y() * c.z()) - omega * time + wave.phase,
                 2.0 * std::numbers::pi);
-            gpu::PlWave& out = waveParams_[first + w];
+            gpu::PlWave& out = waves[w];
             out.amplitude = static_cast<float>(wave.amplitude);
             out.wavenumber = static_cast<float>(k);
             out.omega = static_cast<float>(omega);
@@ -482,6 +614,7 @@ private:
     cl::Program program_;
     std::array<std::array<cl::Kernel, 2>, 3> tilesKernels_;  ///< [water model][still]
     cl::Kernel reduceKernel_;
+    std::array<cl::Kernel, 3> exchangeKernels_;  ///< [water model]
     bool fp64_;
     std::size_t tileSize_;  ///< entries per tile: PL_WORKGROUP_SIZE x items per thread
     std::string name_;
@@ -499,6 +632,8 @@ private:
     std::vector<float> gridHeights_;
     int gridCountX_ = 0, gridCountZ_ = 0;
     FrameTimings timings_;
+    std::vector<ExchangeSet> exchangeSets_;
+    cl::Buffer exchangeFrame_, exchangeWaves_;
 };
 
 bool deviceHasFp64(const cl::Device& device) {

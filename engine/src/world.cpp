@@ -30,6 +30,8 @@ struct World::Flooding {
     MassProperties hull;             ///< the body without its water
     double hullRadius = 0;           ///< bounding radius about hull.centerOfMass, m
     Eigen::Matrix3d composedAt = Eigen::Matrix3d::Identity();  ///< rotation last composed at
+    std::size_t exchangeSet = 0;     ///< the permeable samples' id in the backend
+    ExchangeSums rates;              ///< the last exchange pass, per node
 };
 
 namespace {
@@ -156,6 +158,8 @@ Status World::addBody(const BodyDesc& desc) {
         Result<std::unique_ptr<Flooding>> made = makeFlooding(desc, mesh, *textures, *props, label);
         if (!made) return made.error();
         flooding = std::move(*made);
+        flooding->exchangeSet = backend_->addExchangeSet(flooding->graph.samples(),
+                                                         flooding->graph.graph().nodes.size());
         flooding->hullRadius = body.boundingRadius;
         flooding->composedAt = start.rotation;
         const MassProperties full = flooding->graph.compose(*props, start.rotation);
@@ -227,8 +231,12 @@ Result<std::unique_ptr<World::Flooding>> World::makeFlooding(const BodyDesc& des
          << sim->samples().size() << " permeable samples, " << flowModelName(settings.flow)
          << " flow" << (settings.freeSurface ? ", free surface" : "");
     say(line.str());
+    if (graph->nodes.size() > kMaxExchangeNodes) {
+        return Error{label + ": water graph: " + std::to_string(graph->nodes.size()) +
+                     " nodes; at most " + std::to_string(kMaxExchangeNodes)};
+    }
     return std::make_unique<Flooding>(Flooding{std::move(*sim), hull, 0.0,
-                                               Eigen::Matrix3d::Identity()});
+                                               Eigen::Matrix3d::Identity(), 0, {}});
 }
 
 const WaterGraphSimulation* World::waterGraph(std::size_t body) const {
@@ -280,13 +288,24 @@ void World::replaceMass(std::size_t i, const MassProperties& props) {
     body.state = stateAt(pose, body.mass, motion);
 }
 
-void World::stepWaterGraphs(double frameTime) {
+Status World::stepWaterGraphs(double frameTime) {
     for (std::size_t i = 0; i < bodies_.size(); ++i) {
         Flooding* f = floodings_[i].get();
         if (!f) continue;
         SimulatedBody& body = bodies_[i];
         const Pose pose = body.pose();
-        const bool moved = f->graph.step(pose, project_.water, time_, frameTime);
+        // The exchange pass over the permeable texels runs on the backend (one kernel pass,
+        // summed per node); the graph applies it, then moves water inside.
+        bool moved = false;
+        if (!f->graph.samples().empty()) {
+            const ExchangeFrame frame = f->graph.exchangeFrame(pose, time_);
+            if (Status s = backend_->evaluateExchange(f->exchangeSet, frame, project_.water,
+                                                      f->rates);
+                !s.ok())
+                return s;
+            moved = f->graph.applyExchange(pose, frameTime, f->rates);
+        }
+        moved = f->graph.flowInside(pose.rotation, frameTime) || moved;
         ++statistics_.graphSteps;
         // With the free surface the water's centre of mass also moves when the body turns.
         const bool turned = f->graph.settings().freeSurface && body.water > 0 &&
@@ -298,6 +317,7 @@ void World::stepWaterGraphs(double frameTime) {
         body.water = f->graph.storedWater();
         ++statistics_.waterCompositions;
     }
+    return Ok{};
 }
 
 bool World::outOfWater(const SimulatedBody& body, const RigidBodyState& state) const {
@@ -482,8 +502,7 @@ Status World::advanceFrame() {
         ++statistics_.steps;
         time_ += dt;
     }
-    stepWaterGraphs(sim.timeStep);
-    return Ok{};
+    return stepWaterGraphs(sim.timeStep);
 }
 
 double World::mechanicalEnergy(std::size_t i) const {

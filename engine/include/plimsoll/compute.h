@@ -7,6 +7,7 @@
 #include "plimsoll/result.h"
 
 #include <cstddef>
+#include <cstdint>
 #include <memory>
 #include <span>
 #include <string>
@@ -35,6 +36,40 @@ struct BodyRequest {
     BodyFrame frame;
     FluidSettings fluid;
 };
+
+/// One permeable texel of a body with a water graph (graph.h, paper 4.2): where it is, how
+/// much passes through it, and the node it feeds.
+struct ExchangeSample {
+    Eigen::Vector3d position = Eigen::Vector3d::Zero();  ///< object space, m
+    double weight = 0;           ///< permeability (0..1) x area, m^2
+    std::uint32_t node = 0;      ///< the node it feeds
+};
+
+/// One body's exchange pass for one frame. At a sample with outside depth d_out (below the
+/// water surface, >= 0) and inside head d_in (below its node's water surface, >= 0), the head
+/// h = d_out - d_in drives |q| = factor w |h| (linear) or factor w sqrt|h| (Torricelli, factor
+/// = C_d sqrt(2 g)); h > 0 flows in, h < 0 out.
+struct ExchangeFrame {
+    Pose pose;                              ///< object -> world
+    double time = 0;                        ///< s, for moving water
+    std::span<const double> nodeSurface;    ///< world height of each node's water, m (-inf: none)
+    bool torricelli = false;
+    double factor = 1.0;                    ///< 1/s (linear) or m^0.5/s (Torricelli)
+};
+
+/// Per-node sums of an exchange pass.
+struct ExchangeSums {
+    std::vector<double> inflow;      ///< m^3/s into each node
+    std::vector<double> outflow;     ///< m^3/s out of each node
+    /// Highest outside surface over the samples flowing into the node (world m; -inf: none).
+    std::vector<double> outsideTop;
+};
+
+/// The C++ reference of the exchange pass (double precision, every sample): the oracle the
+/// OpenCL kernel (kernels/graph.cl) is tested against. `sums` is resized to `nodes`.
+void evaluateExchangeReference(std::span<const ExchangeSample> samples, std::size_t nodes,
+                               const ExchangeFrame& frame, const WaterModel& water,
+                               ExchangeSums& sums);
 
 /// Where the time of the last evaluate went (ms). Device timings come from OpenCL profiling
 /// events; the reference backend reports only the total.
@@ -68,7 +103,19 @@ public:
                             std::span<BuoyancyResult> results) = 0;
 
     virtual FrameTimings lastTimings() const = 0;
+
+    /// Registers the permeable samples of a body's water graph, feeding `nodes` nodes (at most
+    /// kMaxExchangeNodes). Returns the set's id for evaluateExchange.
+    virtual std::size_t addExchangeSet(std::span<const ExchangeSample> samples,
+                                       std::size_t nodes) = 0;
+
+    /// One pass over a set's samples, summed per node (paper 4.2: one kernel pass).
+    virtual Status evaluateExchange(std::size_t set, const ExchangeFrame& frame,
+                                    const WaterModel& water, ExchangeSums& sums) = 0;
 };
+
+/// Nodes one exchange set may feed (the kernel's per-node sums live in local memory).
+inline constexpr std::size_t kMaxExchangeNodes = 256;
 
 /// The C++ reference backend (double precision, every entry).
 std::unique_ptr<BuoyancyBackend> createReferenceBackend();

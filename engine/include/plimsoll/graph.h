@@ -7,6 +7,7 @@
 // with the body's (paper 4.4). Every volume is in m^3, every position object space in m.
 #pragma once
 
+#include "plimsoll/compute.h"
 #include "plimsoll/massprops.h"
 #include "plimsoll/mesh.h"
 #include "plimsoll/pose.h"
@@ -177,14 +178,6 @@ struct GraphTotals {
     double moved = 0;     ///< between nodes (not a balance term)
 };
 
-/// One permeable texel entry, and the node it feeds (its nearest node).
-struct PermeableSample {
-    Eigen::Vector3d position;  ///< object space, m
-    double area = 0;           ///< m^2
-    double permeability = 0;   ///< 0..1
-    std::uint32_t node = 0;
-};
-
 /// The water graph of one body, stepped with the body's pose.
 class WaterGraphSimulation {
 public:
@@ -200,9 +193,17 @@ public:
     /// mass properties then need composing again).
     bool step(const Pose& pose, const WaterModel& water, double time, double dt);
 
-    /// The two parts of step(), for tests: exchange through the surface, flow inside.
+    /// The two parts of step(): exchange through the surface (the C++ reference pass, then
+    /// applyExchange), flow inside.
     bool exchange(const Pose& pose, const WaterModel& water, double time, double dt);
     bool flowInside(const Eigen::Matrix3d& rotation, double dt);
+
+    /// The exchange split for a compute backend (World): the frame to evaluate (each node's
+    /// water surface at `pose`; valid until the next call), then the per-node sums of the pass
+    /// applied over dt: limited so every node stays in [0, capacity], a full node passing on
+    /// what still pushes in, and booked as entered and left.
+    ExchangeFrame exchangeFrame(const Pose& pose, double time);
+    bool applyExchange(const Pose& pose, double dt, const ExchangeSums& rates);
 
     /// The paper's findDischargeNode (Algorithm 1) for node `source` at `rotation`: a node
     /// reachable along open pipes, with room, whose water level is below the source's; the
@@ -224,7 +225,9 @@ public:
     const WaterGraph& graph() const { return graph_; }
     const GraphSettings& settings() const { return settings_; }
     const GraphTotals& totals() const { return totals_; }
-    const std::vector<PermeableSample>& samples() const { return samples_; }
+    /// The permeable texel entries (permeability > 0, feeding a node that is not sealed),
+    /// each with its nearest node.
+    const std::vector<ExchangeSample>& samples() const { return samples_; }
     double storedWater() const;
     /// |entered + initial - left - stored| / max(entered + initial, tiny): should be ~1e-15.
     double conservationError() const;
@@ -262,11 +265,12 @@ private:
     WaterGraph graph_;
     GraphSettings settings_;
     GraphTotals totals_;
-    std::vector<PermeableSample> samples_;
+    std::vector<ExchangeSample> samples_;
+    ExchangeSums scratchSums_;
     std::vector<std::vector<Link>> links_;   ///< open pipes per node
     std::vector<double> radius_;             ///< sphere radius per node (m)
     std::vector<TriangleMesh> boxes_;        ///< box nodes' compartments (scaled), else empty
-    std::vector<double> scratchInflow_, scratchOutflow_;
+    std::vector<double> scratchSurface_, scratchLevels_;  ///< per node, reused every step
     std::uint64_t rng_ = 0;
 };
 

@@ -115,7 +115,7 @@ private:
                                                    const MassProperties& hull,
                                                    const std::string& label) const;
     /// Steps every water graph by one frame and recomposes the mass where water moved.
-    void stepWaterGraphs(double frameTime);
+    Status stepWaterGraphs(double frameTime);
     /// Sets body i's mass to `mass`, keeping its pose and its velocities.
     void replaceMass(std::size_t i, const MassProperties& mass);
     Status addBody(const BodyDesc& desc);
