@@ -2,6 +2,7 @@
 
 #include "document/settings.h"
 
+#include "plimsoll/atlas.h"
 #include "plimsoll/file_util.h"
 #include "plimsoll/mesh_io.h"
 
@@ -159,16 +160,26 @@ void Document::syncAssets() {
         const BodyDesc& body = project_.bodies[b];
         BodyAssets& a = assets_[b];
         const fs::path meshPath = body.mesh.empty() ? fs::path() : project_.resolvePath(body.mesh);
-        if (meshPath != a.meshPath || (!a.mesh && a.meshError.empty())) {
+        if (meshPath != a.meshPath || body.atlas != a.atlas || (!a.mesh && a.meshError.empty())) {
             a.meshPath = meshPath;
+            a.atlas = body.atlas;
             a.mesh.reset();
             a.meshError.clear();
             a.paintSurfaces = {};
             a.physics.reset();
             if (!meshPath.empty()) {
                 Result<TriangleMesh> mesh = loadMesh(meshPath);
-                if (mesh) a.mesh = std::make_shared<const TriangleMesh>(std::move(mesh).value());
-                else a.meshError = mesh.error().message;
+                if (mesh) {
+                    // Painted maps lie over the UVs the body bakes: the same choice as World's
+                    // (the generated atlas comes from the project's cache once made).
+                    Result<AtlasChoice> choice = chooseAtlas(*mesh, validateMesh(*mesh), body.atlas,
+                                                             AtlasSettings{},
+                                                             project_.atlasCacheFile(b));
+                    if (choice) a.mesh = std::make_shared<const TriangleMesh>(std::move(choice->mesh));
+                    else a.meshError = choice.error().message;
+                } else {
+                    a.meshError = mesh.error().message;
+                }
             }
         }
         if (a.physics && (a.physics->size != body.textureSize)) a.physics.reset();

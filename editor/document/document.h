@@ -44,7 +44,10 @@ bool channelNeedsShell(MapChannel channel);
 /// A body's files as loaded.
 struct BodyAssets {
     std::filesystem::path meshPath;           ///< resolved path the mesh was loaded from
-    std::shared_ptr<const TriangleMesh> mesh;  ///< null when it failed to load
+    /// The mesh with the UVs the body bakes and is painted over: its own, or its generated
+    /// physics atlas (BodyDesc::atlas, as World chooses). Null when it failed to load.
+    std::shared_ptr<const TriangleMesh> mesh;
+    AtlasMode atlas = AtlasMode::Auto;        ///< the mode `mesh` was chosen with
     std::string meshError;
     struct Map {
         std::filesystem::path path;           ///< resolved path (what it was loaded from/for)

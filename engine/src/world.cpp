@@ -126,9 +126,9 @@ Status World::addBody(const BodyDesc& desc) {
     ValidationReport surface = report;  // what no atlas can fix
     std::erase_if(surface.problems, [](const Problem& p) { return isUvProblem(p.kind); });
     if (surface.hasErrors()) return Error{label + ":\n" + surface.format()};
-    AtlasSettings atlasSettings;
-    atlasSettings.textureSize = desc.textureSize;
-    Result<AtlasChoice> atlas = chooseAtlas(mesh, report, desc.atlas, atlasSettings,
+    // Default settings, not the physics texture size: the atlas (and the maps painted over
+    // it) must not change when the physics texture size does.
+    Result<AtlasChoice> atlas = chooseAtlas(mesh, report, desc.atlas, AtlasSettings{},
                                             project_.atlasCacheFile(bodies_.size()));
     if (!atlas) return Error{label + ": " + atlas.error().message};
     if (!atlas->notice.empty()) say(label + ": " + atlas->notice);

@@ -66,8 +66,9 @@ struct BodyDesc {
     double framesPerSecond = 24.0;
     int textureSize = 256;                 ///< physics texture, texels per side
     double maxTexelStretch = 4.0;          ///< sub-texel refinement (BakeSettings)
-    /// Which UVs are baked ("atlas": "mesh", "auto" or "generate"). A generated atlas is
-    /// cached beside the project (atlasCacheFile), so maps painted on it stay attached.
+    /// Which UVs are baked ("atlas": "mesh", "auto" or "generate"). A generated atlas has the
+    /// default AtlasSettings whatever textureSize is (so changing the physics texture size
+    /// keeps the maps painted over it) and is cached beside the project (atlasCacheFile).
     AtlasMode atlas = AtlasMode::Auto;
     MaterialDesc material;
     Eigen::Vector3d position = Eigen::Vector3d::Zero();          ///< R p + t: t, m
