@@ -23,6 +23,7 @@ int main(int argc, char** argv) {
     addSimulateCommand(app, selected);
     addGraphCommand(app, selected);
     addAtlasCommand(app, selected);
+    addExportCommand(app, selected);
     addEditCommand(app, selected);
     addRenderCommand(app, selected);
     try {

@@ -9,6 +9,8 @@ packages=(
   build-essential cmake ninja-build pkg-config git
   # engine
   libeigen3-dev libassimp-dev nlohmann-json3-dev libstb-dev libopenexr-dev libcli11-dev
+  # bundle export: SHA-256 (OpenSSL's libcrypto)
+  libssl-dev
   # OpenCL: ICD loader, C++ bindings, PoCL as the CPU device
   ocl-icd-opencl-dev opencl-headers opencl-clhpp-headers pocl-opencl-icd clinfo
   # water-graph segmentation
@@ -17,6 +19,8 @@ packages=(
   libglfw3-dev libepoxy-dev libegl-dev libgl-dev libimgui-dev libegl-mesa0 libgl1-mesa-dri xvfb xauth
   # tests
   googletest libgtest-dev
+  # tests: OpenEXR's own tools (exrheader) read the exported EXR files back
+  openexr
 )
 
 missing=()

@@ -20,6 +20,7 @@ void addBuoyancyCommand(CLI::App& root, CommandRunner& selected);
 void addSimulateCommand(CLI::App& root, CommandRunner& selected);
 void addGraphCommand(CLI::App& root, CommandRunner& selected);
 void addAtlasCommand(CLI::App& root, CommandRunner& selected);
+void addExportCommand(CLI::App& root, CommandRunner& selected);
 void addEditCommand(CLI::App& root, CommandRunner& selected);
 void addRenderCommand(CLI::App& root, CommandRunner& selected);
 

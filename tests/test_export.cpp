@@ -1,0 +1,316 @@
+// Runtime bundle export (bundle.h, plimsoll export): byte-identical repeats, checksums that
+// sha256sum confirms, --check naming a changed painted map or graph, a failed export leaving
+// the previous bundle as it was, and the EXR files read back by OpenEXR's own exrheader.
+#include "cli_runner.h"
+#include "test_support.h"
+
+#include "plimsoll/bake_io.h"
+#include "plimsoll/bundle.h"
+#include "plimsoll/graph.h"
+#include "plimsoll/painted_map.h"
+#include "plimsoll/world.h"
+
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+
+#include <array>
+#include <cstdio>
+#include <map>
+
+namespace plimsoll {
+namespace {
+
+namespace fs = std::filesystem;
+using test::readFile;
+using test::runPlimsoll;
+
+/// Output of a shell command (stdout), or nothing when it could not run.
+std::string shell(const std::string& command, int* exitCode = nullptr) {
+    std::string out;
+    FILE* pipe = ::popen(command.c_str(), "r");
+    if (!pipe) return out;
+    std::array<char, 4096> buffer;
+    while (std::size_t n = std::fread(buffer.data(), 1, buffer.size(), pipe)) out.append(buffer.data(), n);
+    const int status = ::pclose(pipe);
+    if (exitCode) *exitCode = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+    return out;
+}
+
+bool haveTool(const std::string& name) {
+    int rc = 1;
+    shell("command -v " + name + " >/dev/null 2>&1", &rc);
+    return rc == 0;
+}
+
+/// A private copy of a sample project with the files it names, laid out as in the repository
+/// (projects/ and assets/), so tests can change its sources and its atlas cache stays here.
+fs::path copyProject(const std::string& test, const std::string& stem) {
+    const fs::path root = test::scratchFolder("export_" + test);
+    fs::remove_all(root);
+    fs::create_directories(root / "projects");
+    const fs::path source = fs::path(PLIMSOLL_SOURCE_DIR);
+    fs::copy(source / "assets", root / "assets", fs::copy_options::recursive);
+    fs::copy(source / "projects" / "maps", root / "projects" / "maps", fs::copy_options::recursive);
+    for (const char* file : {"boat.graph.json", "plush.graph.json"})
+        fs::copy_file(source / "projects" / file, root / "projects" / file);
+    fs::copy_file(source / "projects" / (stem + ".plim.json"), root / "projects" / (stem + ".plim.json"));
+    return root;
+}
+
+/// Relative path -> content of every regular file under `folder`.
+std::map<std::string, std::string> contents(const fs::path& folder) {
+    std::map<std::string, std::string> files;
+    for (const auto& entry : fs::recursive_directory_iterator(folder)) {
+        if (entry.is_regular_file())
+            files[fs::relative(entry.path(), folder).generic_string()] = readFile(entry.path());
+    }
+    return files;
+}
+
+std::string quoted(const fs::path& path) { return "'" + path.string() + "'"; }
+
+TEST(Export, FolderNamesAreSanitizedAndUnique) {
+    Project project;
+    project.bodies.resize(4);
+    project.bodies[0].name = "boat hull";
+    project.bodies[1].name = "boat/hull";
+    project.bodies[2].name = "";
+    project.bodies[3].name = "..";
+    EXPECT_EQ(bundleFolderName(project, 0), "boat_hull");
+    EXPECT_EQ(bundleFolderName(project, 1), "boat_hull-1");
+    EXPECT_EQ(bundleFolderName(project, 2), "body2");
+    EXPECT_EQ(bundleFolderName(project, 3), "body3..");
+}
+
+TEST(Export, Sha256MatchesKnownDigests) {
+    // FIPS 180-2 examples.
+    EXPECT_EQ(sha256Hex(""), "e3b0c44298fc1c149afbf4c8996fb92427ae41e4649b934ca495991b7852b855");
+    EXPECT_EQ(sha256Hex("abc"), "ba7816bf8f01cfea414140de5dae2223b00361a396177a9cb410ff61f20015ad");
+}
+
+// The bundle bakes what World bakes (the same UVs, the same samples) and holds its mass.
+TEST(Export, BundleHoldsWhatWorldSimulates) {
+    for (const std::string stem : {"buoy", "damaged_boat"}) {
+        SCOPED_TRACE(stem);
+        const fs::path root = copyProject("world_" + stem, stem);
+        Result<Project> project = loadProject(root / "projects" / (stem + ".plim.json"));
+        ASSERT_TRUE(project.ok()) << project.error().message;
+        const fs::path folder = root / "out" / bundleFolderName(*project, 0);
+        Result<BundleReport> report = writeBodyBundle(*project, 0, folder);
+        ASSERT_TRUE(report.ok()) << report.error().message;
+        Result<std::unique_ptr<World>> world = World::create(*project, createReferenceBackend(), {});
+        ASSERT_TRUE(world.ok()) << world.error().message;
+        const SimulatedBody& body = (*world)->bodies().at(0);
+        const nlohmann::json manifest = nlohmann::json::parse(readFile(folder / "manifest.json"));
+        EXPECT_EQ(manifest.at("texel_samples").get<std::size_t>(), body.textures.coveredCount());
+        EXPECT_EQ(report->coveredTexels, body.textures.distinctTexelCount());
+        const nlohmann::json& mass = manifest["mass_properties"]["texture"];
+        if (stem == "buoy") {  // sealed: World's mass is the body's own
+            EXPECT_DOUBLE_EQ(mass["mass"].get<double>(), body.mass.mass);
+            for (int k = 0; k < 3; ++k)
+                EXPECT_DOUBLE_EQ(mass["center_of_mass"][k].get<double>(), body.mass.centerOfMass[k]);
+            EXPECT_TRUE(manifest["mass_properties"]["exact"].is_null());  // painted shell
+            EXPECT_EQ(manifest["material"]["shell_density_map"], "shell_density.png");
+        }
+        EXPECT_DOUBLE_EQ(mass["volume"].get<double>(), body.volume);
+        Result<SurfaceTextures> samples = readBakedTextures(folder);
+        ASSERT_TRUE(samples.ok()) << samples.error().message;
+        ASSERT_EQ(samples->texelIndex, body.textures.texelIndex);
+        for (std::size_t i = 0; i < body.textures.coveredCount(); i += 97) {
+            EXPECT_NEAR(samples->position[i].x(), body.textures.position[i].x(), 1e-6);
+            EXPECT_NEAR(samples->area[i], body.textures.area[i], 1e-6 * body.textures.area[i] + 1e-12);
+        }
+    }
+}
+
+TEST(ExportCli, DamagedBoatBundleIsCompleteDeterministicAndChecksummed) {
+    const fs::path root = copyProject("boat", "damaged_boat");
+    const fs::path project = root / "projects" / "damaged_boat.plim.json";
+    const fs::path outA = root / "outA", outB = root / "outB";
+    const test::CommandOutput a = runPlimsoll("export " + quoted(project) + " --out " + quoted(outA) +
+                                              " --summary " + quoted(root / "summary.json"));
+    ASSERT_EQ(a.exitCode, 0) << a.err;
+    const test::CommandOutput b = runPlimsoll("export " + quoted(project) + " --out " + quoted(outB) + " --quiet");
+    ASSERT_EQ(b.exitCode, 0) << b.err;
+    EXPECT_TRUE(b.err.empty()) << b.err;
+
+    const fs::path bundle = outA / "damaged_boat" / "boat";
+    const auto first = contents(bundle);
+    std::vector<std::string> names;
+    for (const auto& [name, bytes] : first) names.push_back(name);
+    EXPECT_EQ(names, (std::vector<std::string>{"area.exr", "coverage.exr", "graph.json",
+                                               "manifest.json", "permeability.png",
+                                               "position.exr", "samples.exr"}));
+    // Two exports into different folders, and a third over the first: byte-identical.
+    EXPECT_EQ(contents(outB / "damaged_boat" / "boat"), first);
+    ASSERT_EQ(runPlimsoll("export " + quoted(project) + " --out " + quoted(outA) + " --quiet").exitCode, 0);
+    EXPECT_EQ(contents(bundle), first);
+    // Nothing left beside the bundle (temporary or old folders).
+    std::vector<std::string> siblings;
+    for (const auto& e : fs::directory_iterator(outA / "damaged_boat")) siblings.push_back(e.path().filename());
+    EXPECT_EQ(siblings, std::vector<std::string>{"boat"});
+
+    // The summary: stdout and --summary agree; every body written.
+    const nlohmann::json summary = nlohmann::json::parse(a.out);
+    EXPECT_EQ(nlohmann::json::parse(readFile(root / "summary.json")), summary);
+    EXPECT_TRUE(summary.at("ok").get<bool>());
+    ASSERT_EQ(summary.at("bodies").size(), 1u);
+    EXPECT_EQ(summary["bodies"][0]["status"], "written");
+    EXPECT_EQ(summary["bodies"][0]["folder"], bundle.generic_string());
+
+    // The manifest lists every other file with a SHA-256 that sha256sum confirms.
+    const nlohmann::json manifest = nlohmann::json::parse(first.at("manifest.json"));
+    EXPECT_EQ(manifest.at("schema_version"), kBundleSchemaMajor);
+    EXPECT_EQ(manifest.at("schema_minor"), kBundleSchemaMinor);
+    EXPECT_EQ(manifest.at("texture_size"), 128);
+    EXPECT_EQ(manifest.at("units").at("length"), "m");
+    EXPECT_EQ(manifest.at("axes").at("up"), "+y");
+    EXPECT_EQ(manifest.at("material").at("model"), "shell");
+    EXPECT_EQ(manifest.at("atlas").at("mode"), "auto");
+    EXPECT_EQ(manifest.at("water_graph").at("path"), "graph.json");
+    EXPECT_GT(manifest.at("covered_texels").get<int>(), 1000);
+    const double textureMass = manifest["mass_properties"]["texture"]["mass"];
+    const double exactMass = manifest["mass_properties"]["exact"]["mass"];
+    EXPECT_NEAR(textureMass, exactMass, 1e-3 * exactMass);
+    ASSERT_EQ(manifest.at("files").size(), first.size() - 1);
+    for (const auto& f : manifest.at("files")) {
+        const std::string path = f.at("path");
+        ASSERT_TRUE(first.count(path)) << path;
+        EXPECT_EQ(f.at("bytes").get<std::size_t>(), first.at(path).size()) << path;
+        if (haveTool("sha256sum")) {
+            const std::string line = shell("sha256sum " + quoted(bundle / path));
+            EXPECT_EQ(line.substr(0, 64), f.at("sha256").get<std::string>()) << path;
+        }
+    }
+    EXPECT_EQ(summary["bodies"][0]["files"].back()["sha256"], sha256Hex(first.at("manifest.json")));
+
+    // The bundle's sample list reads back through the bake reader (float32).
+    Result<SurfaceTextures> samples = readBakedTextures(bundle);
+    ASSERT_TRUE(samples.ok()) << samples.error().message;
+    EXPECT_EQ(samples->coveredCount(), manifest.at("texel_samples").get<std::size_t>());
+    EXPECT_EQ(samples->distinctTexelCount(), manifest.at("covered_texels").get<std::size_t>());
+
+    // The painted map: 16-bit greyscale PNG as another decoder (file(1)) reads the header, and
+    // the values it holds equal the source map's after 16-bit rounding.
+    if (haveTool("file")) {
+        const std::string described = shell("file -b " + quoted(bundle / "permeability.png"));
+        EXPECT_NE(described.find("PNG image data"), std::string::npos) << described;
+        EXPECT_NE(described.find("16-bit grayscale"), std::string::npos) << described;
+    }
+    Result<PaintedMap> exported = loadPaintedMap(bundle / "permeability.png");
+    Result<PaintedMap> source = loadPaintedMap(root / "assets" / "hull_stern_damage.png");
+    ASSERT_TRUE(exported.ok() && source.ok());
+    ASSERT_EQ(exported->values.size(), source->values.size());
+    for (std::size_t i = 0; i < source->values.size(); ++i)
+        ASSERT_NEAR(exported->values[i], source->values[i], 0.5 / 65535.0 + 1e-7) << i;
+}
+
+TEST(ExportCli, ExrFilesReadBackWithOpenExrTools) {
+    if (!haveTool("exrheader")) GTEST_SKIP() << "exrheader (package openexr) is not installed";
+    const fs::path root = copyProject("exr", "box_half_draft");
+    const fs::path out = root / "out";
+    const test::CommandOutput r = runPlimsoll("export " + quoted(root / "projects" / "box_half_draft.plim.json") +
+                                              " --out " + quoted(out) + " --quiet");
+    ASSERT_EQ(r.exitCode, 0) << r.err;
+    const fs::path bundle = out / "box_half_draft" / "box";
+    for (const char* file : {"position.exr", "area.exr"}) {
+        int rc = 1;
+        const std::string header = shell("exrheader " + quoted(bundle / file) + " 2>&1", &rc);
+        EXPECT_EQ(rc, 0) << header;
+        for (const char* expected : {"R, 32-bit floating-point", "G, 32-bit floating-point",
+                                     "B, 32-bit floating-point", "A, 32-bit floating-point",
+                                     "zip, multi-scanline blocks", "(0 0) - (127 127)"}) {
+            EXPECT_NE(header.find(expected), std::string::npos) << file << ": " << expected << "\n" << header;
+        }
+    }
+    const std::string coverage = shell("exrheader " + quoted(bundle / "coverage.exr") + " 2>&1");
+    EXPECT_NE(coverage.find("Y, 32-bit floating-point"), std::string::npos) << coverage;
+}
+
+TEST(ExportCli, CheckNamesAChangedPaintedMapAndAChangedGraph) {
+    const fs::path root = copyProject("check", "damaged_boat");
+    const std::string project = quoted(root / "projects" / "damaged_boat.plim.json");
+    const fs::path out = root / "out";
+    const fs::path bundle = out / "damaged_boat" / "boat";
+    // No bundle yet: out of date.
+    test::CommandOutput r = runPlimsoll("export " + project + " --out " + quoted(out) + " --check --quiet");
+    EXPECT_EQ(r.exitCode, 1);
+    EXPECT_NE(r.err.find("out of date: " + (bundle / "manifest.json").generic_string()), std::string::npos) << r.err;
+    ASSERT_EQ(runPlimsoll("export " + project + " --out " + quoted(out) + " --quiet").exitCode, 0);
+    const auto exported = contents(bundle);
+    r = runPlimsoll("export " + project + " --out " + quoted(out) + " --check");
+    EXPECT_EQ(r.exitCode, 0) << r.err;
+    EXPECT_EQ(nlohmann::json::parse(r.out)["bodies"][0]["status"], "up_to_date");
+
+    // A painted map changed: the PNG (and the manifest) named, nothing written.
+    const fs::path mapPath = root / "assets" / "hull_stern_damage.png";
+    const std::string originalMap = readFile(mapPath);
+    Result<PaintedMap> map = loadPaintedMap(mapPath);
+    ASSERT_TRUE(map.ok());
+    map->values[map->values.size() / 2] = map->values[map->values.size() / 2] > 0.5f ? 0.0f : 1.0f;
+    ASSERT_TRUE(savePaintedMap(*map, mapPath).ok());
+    r = runPlimsoll("export " + project + " --out " + quoted(out) + " --check --quiet");
+    EXPECT_EQ(r.exitCode, 1);
+    EXPECT_NE(r.err.find("out of date: " + (bundle / "permeability.png").generic_string()), std::string::npos) << r.err;
+    EXPECT_EQ(r.err.find("graph.json"), std::string::npos) << r.err;
+    const nlohmann::json summary = nlohmann::json::parse(r.out);
+    EXPECT_FALSE(summary["ok"].get<bool>());
+    EXPECT_EQ(summary["bodies"][0]["out_of_date"],
+              (nlohmann::json{"manifest.json", "permeability.png"}));
+    EXPECT_EQ(contents(bundle), exported);
+    { std::ofstream(mapPath, std::ios::binary) << originalMap; }
+
+    // The graph changed: graph.json named.
+    const fs::path graphPath = root / "projects" / "boat.graph.json";
+    Result<WaterGraph> graph = loadGraph(graphPath);
+    ASSERT_TRUE(graph.ok());
+    graph->nodes.front().capacity *= 0.9;
+    ASSERT_TRUE(saveGraph(*graph, graphPath).ok());
+    r = runPlimsoll("export " + project + " --out " + quoted(out) + " --check --quiet");
+    EXPECT_EQ(r.exitCode, 1);
+    EXPECT_NE(r.err.find("out of date: " + (bundle / "graph.json").generic_string()), std::string::npos) << r.err;
+    EXPECT_EQ(r.err.find("permeability.png"), std::string::npos) << r.err;
+    EXPECT_EQ(contents(bundle), exported);
+
+    // Exported again: up to date once more.
+    ASSERT_EQ(runPlimsoll("export " + project + " --out " + quoted(out) + " --quiet").exitCode, 0);
+    EXPECT_EQ(runPlimsoll("export " + project + " --out " + quoted(out) + " --check --quiet").exitCode, 0);
+}
+
+TEST(ExportCli, FailedExportLeavesThePreviousBundle) {
+    const fs::path root = copyProject("failed", "damaged_boat");
+    const std::string project = quoted(root / "projects" / "damaged_boat.plim.json");
+    const fs::path out = root / "out";
+    ASSERT_EQ(runPlimsoll("export " + project + " --out " + quoted(out) + " --quiet").exitCode, 0);
+    const auto before = contents(out / "damaged_boat" / "boat");
+    // The graph now fails to load: the export fails, naming it, and the bundle stays.
+    { std::ofstream(root / "projects" / "boat.graph.json") << "{ not json"; }
+    const test::CommandOutput r = runPlimsoll("export " + project + " --out " + quoted(out) + " --quiet");
+    EXPECT_EQ(r.exitCode, 1);
+    EXPECT_NE(r.err.find("water graph"), std::string::npos) << r.err;
+    EXPECT_EQ(nlohmann::json::parse(r.out)["bodies"][0]["status"], "failed");
+    EXPECT_EQ(contents(out / "damaged_boat" / "boat"), before);
+    std::vector<std::string> siblings;
+    for (const auto& e : fs::directory_iterator(out / "damaged_boat")) siblings.push_back(e.path().filename());
+    EXPECT_EQ(siblings, std::vector<std::string>{"boat"});
+}
+
+TEST(ExportCli, SeveralProjectsInParallelMatchOneAtATime) {
+    const fs::path root = copyProject("jobs", "damaged_boat");
+    fs::copy_file(fs::path(PLIMSOLL_SOURCE_DIR) / "projects" / "box_half_draft.plim.json",
+                  root / "projects" / "box_half_draft.plim.json");
+    const std::string projects = quoted(root / "projects" / "damaged_boat.plim.json") + " " +
+                                 quoted(root / "projects" / "box_half_draft.plim.json");
+    const test::CommandOutput serial = runPlimsoll("export " + projects + " --out " + quoted(root / "serial") + " --quiet");
+    const test::CommandOutput parallel = runPlimsoll("export " + projects + " --out " + quoted(root / "parallel") + " --jobs 2 --quiet");
+    ASSERT_EQ(serial.exitCode, 0) << serial.err;
+    ASSERT_EQ(parallel.exitCode, 0) << parallel.err;
+    EXPECT_EQ(nlohmann::json::parse(parallel.out)["jobs"], 2);
+    const auto a = contents(root / "serial"), b = contents(root / "parallel");
+    EXPECT_EQ(a.size(), 7u + 5u);  // boat: 7 files; box: 4 images + manifest
+    EXPECT_EQ(a, b);
+    EXPECT_TRUE(a.count("box_half_draft/box/manifest.json"));
+}
+
+}  // namespace
+}  // namespace plimsoll
