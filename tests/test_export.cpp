@@ -226,6 +226,60 @@ TEST(ExportCli, DamagedBoatBundleIsCompleteDeterministicAndChecksummed) {
         ASSERT_NEAR(exported->values[i], source->values[i], 0.5 / 65535.0 + 1e-7) << i;
 }
 
+TEST(Export, VerifyAcceptsABundleAndNamesWhatIsWrongWithABadOne) {
+    const fs::path root = copyProject("verify", "box_half_draft");
+    Result<Project> project = loadProject(root / "projects" / "box_half_draft.plim.json");
+    ASSERT_TRUE(project.ok()) << project.error().message;
+    const fs::path good = root / "good";
+    ASSERT_TRUE(writeBodyBundle(*project, 0, good).ok());
+    Result<BundleManifestInfo> info = verifyBundle(good);
+    ASSERT_TRUE(info.ok()) << info.error().message;
+    EXPECT_EQ(info->schemaMajor, kBundleSchemaMajor);
+    EXPECT_EQ(info->body, "box");
+    EXPECT_EQ(info->files.size(), 4u);
+
+    auto broken = [&](const std::string& name, const std::function<void(const fs::path&)>& spoil) {
+        const fs::path folder = root / name;
+        fs::remove_all(folder);
+        fs::copy(good, folder, fs::copy_options::recursive);
+        spoil(folder);
+        Result<BundleManifestInfo> r = verifyBundle(folder);
+        EXPECT_FALSE(r.ok()) << name;
+        return r.ok() ? std::string() : r.error().message;
+    };
+    EXPECT_NE(broken("missing", [](const fs::path& f) { fs::remove(f / "area.exr"); })
+                  .find("area.exr: missing"), std::string::npos);
+    EXPECT_NE(broken("truncated", [](const fs::path& f) { fs::resize_file(f / "position.exr", 100); })
+                  .find("position.exr: 100 bytes, the manifest says"), std::string::npos);
+    EXPECT_NE(broken("changed", [](const fs::path& f) {
+                  std::string bytes = readFile(f / "samples.exr");
+                  bytes[bytes.size() / 2] ^= 1;
+                  std::ofstream(f / "samples.exr", std::ios::binary) << bytes;
+              }).find("samples.exr: SHA-256"), std::string::npos);
+    auto withManifest = [](const std::function<void(nlohmann::json&)>& edit) {
+        return [edit](const fs::path& f) {
+            nlohmann::json m = nlohmann::json::parse(readFile(f / "manifest.json"));
+            edit(m);
+            std::ofstream(f / "manifest.json") << m.dump(2);
+        };
+    };
+    EXPECT_NE(broken("newer_major", withManifest([](nlohmann::json& m) { m["schema_version"] = 2; }))
+                  .find("bundle schema 2.0 is newer than this reader's 1.x"), std::string::npos);
+    // A newer minor only adds: accepted.
+    {
+        const fs::path folder = root / "newer_minor";
+        fs::copy(good, folder, fs::copy_options::recursive);
+        withManifest([](nlohmann::json& m) { m["schema_minor"] = 7; m["a_later_field"] = true; })(folder);
+        Result<BundleManifestInfo> r = verifyBundle(folder);
+        ASSERT_TRUE(r.ok()) << r.error().message;
+        EXPECT_EQ(r->schemaMinor, 7);
+    }
+    EXPECT_NE(broken("escape", withManifest([](nlohmann::json& m) { m["files"][0]["path"] = "../x"; }))
+                  .find("leaves the bundle"), std::string::npos);
+    EXPECT_NE(broken("not_json", [](const fs::path& f) { std::ofstream(f / "manifest.json") << "{"; })
+                  .find("malformed manifest"), std::string::npos);
+}
+
 TEST(ExportCli, ExrFilesReadBackWithOpenExrTools) {
     if (!haveTool("exrheader")) GTEST_SKIP() << "exrheader (package openexr) is not installed";
     const fs::path root = copyProject("exr", "box_half_draft");

@@ -334,6 +334,59 @@ Result<BundleReport> writeBodyBundle(const Project& project, std::size_t index,
     return report;
 }
 
+Result<BundleManifestInfo> verifyBundle(const fs::path& folder) {
+    const fs::path manifestPath = folder / kManifestFile;
+    Result<std::string> text = readBytes(manifestPath);
+    if (!text) return text.error();
+    const std::string where = manifestPath.string() + ": ";
+    BundleManifestInfo info;
+    try {
+        const json manifest = json::parse(*text);
+        if (manifest.value("format", std::string()) != "plimsoll-runtime-bundle")
+            return makeError(where + "not a Plimsoll runtime bundle (\"format\" is not "
+                             "\"plimsoll-runtime-bundle\")");
+        info.schemaMajor = manifest.at("schema_version").get<int>();
+        info.schemaMinor = manifest.at("schema_minor").get<int>();
+        if (info.schemaMajor != kBundleSchemaMajor) {
+            return makeError(where + "bundle schema " + std::to_string(info.schemaMajor) + "." +
+                             std::to_string(info.schemaMinor) +
+                             (info.schemaMajor > kBundleSchemaMajor ? " is newer than" : " is older than") +
+                             " this reader's " + std::to_string(kBundleSchemaMajor) +
+                             ".x: export the bundle again with this version of plimsoll" +
+                             (info.schemaMajor > kBundleSchemaMajor ? " or update the reader" : ""));
+        }
+        info.body = manifest.value("body", std::string());
+        for (const json& f : manifest.at("files")) {
+            info.files.push_back({f.at("path").get<std::string>(), f.at("sha256").get<std::string>(),
+                                  f.at("bytes").get<std::uintmax_t>()});
+        }
+    } catch (const std::exception& e) {
+        return makeError(where + "malformed manifest: " + e.what());
+    }
+    for (const BundleFile& f : info.files) {
+        const fs::path path = folder / f.path;
+        const fs::path relative(f.path);
+        if (f.path.empty() || relative.is_absolute() ||
+            std::any_of(relative.begin(), relative.end(), [](const fs::path& c) { return c == ".."; }))
+            return makeError(where + "file path \"" + f.path + "\" leaves the bundle");
+        std::error_code ec;
+        if (!fs::is_regular_file(path, ec)) return makeError(path.string() + ": missing");
+        Result<std::string> bytes = readBytes(path);
+        if (!bytes) return bytes.error();
+        if (bytes->size() != f.bytes) {
+            return makeError(path.string() + ": " + std::to_string(bytes->size()) +
+                             " bytes, the manifest says " + std::to_string(f.bytes) +
+                             " (truncated or replaced)");
+        }
+        const std::string sha = sha256Hex(*bytes);
+        if (sha != f.sha256) {
+            return makeError(path.string() + ": SHA-256 " + sha + " does not match the manifest's " +
+                             f.sha256);
+        }
+    }
+    return info;
+}
+
 Result<BundleReport> checkBodyBundle(const Project& project, std::size_t index,
                                      const fs::path& folder) {
     if (index >= project.bodies.size()) return makeError("no body " + std::to_string(index));

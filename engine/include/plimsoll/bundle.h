@@ -73,4 +73,19 @@ Result<BundleReport> writeBodyBundle(const Project& project, std::size_t index,
 Result<BundleReport> checkBodyBundle(const Project& project, std::size_t index,
                                      const std::filesystem::path& folder);
 
+/// What verifyBundle found in a bundle folder.
+struct BundleManifestInfo {
+    int schemaMajor = 0;
+    int schemaMinor = 0;
+    std::string body;
+    std::vector<BundleFile> files;       ///< as the manifest lists them
+};
+
+/// Reads `folder`/manifest.json and checks it the way a runtime loader must: the format name,
+/// a major version this reader knows (kBundleSchemaMajor; any minor: newer minors only add),
+/// and every listed file present with its size and SHA-256. Errors name the file and what is
+/// wrong ("bundle schema 2.0 is newer than this reader's 1.x", "area.exr: missing",
+/// "area.exr: SHA-256 ... does not match the manifest's ...").
+Result<BundleManifestInfo> verifyBundle(const std::filesystem::path& folder);
+
 }  // namespace plimsoll
