@@ -16,7 +16,10 @@ Result<PreparedBodyMesh> prepareBodyMesh(const Project& project, std::size_t ind
     if (index >= project.bodies.size()) return makeError("no body " + std::to_string(index));
     const BodyDesc& desc = project.bodies[index];
     const std::string label = bodyLabel(desc);
-    Result<TriangleMesh> loaded = loadMesh(project.resolvePath(desc.mesh));
+    // A deforming body's frames are read without joining vertices (deform.h); its first frame
+    // is read the same way, so that its triangles are theirs.
+    Result<TriangleMesh> loaded = loadMesh(
+        project.resolvePath(desc.mesh), MeshLoadOptions{.joinIdenticalVertices = !desc.deforms()});
     if (!loaded) return Error{label + ": " + loaded.error().message};
     const ValidationReport report = validateMesh(*loaded);
     ValidationReport surface = report;  // what no atlas can fix

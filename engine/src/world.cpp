@@ -1,6 +1,7 @@
 // World stepping (world.h).
 #include "plimsoll/world.h"
 
+#include "plimsoll/body_setup.h"
 #include "plimsoll/deform.h"
 #include "plimsoll/massprops.h"
 #include "plimsoll/mesh_io.h"
@@ -75,66 +76,25 @@ Result<std::unique_ptr<World>> World::create(const Project& project,
     return world;
 }
 
-/// Mass properties of `material` on `textures` (texture path, like the buoyancy it meets).
-static Result<MassProperties> materialMass(const SurfaceTextures& textures,
-                                           const MaterialDesc& material, const Project& project,
-                                           const std::string& body) {
-    MassProperties total;
-    bool any = false;
-    if (material.density) {
-        total = textureSolidMassProperties(textures, *material.density);
-        any = true;
-    }
-    if (material.shellSurfaceDensity) {
-        std::vector<double> painted;
-        if (!material.shellDensityMap.empty()) {
-            Result<PaintedMap> map = loadPaintedMap(project.resolvePath(material.shellDensityMap));
-            if (!map) return Error{body + ": " + map.error().message};
-            painted = sampleAtTexels(*map, textures, *material.shellSurfaceDensity);
-        }
-        const MassProperties shell =
-            textureShellMassProperties(textures, *material.shellSurfaceDensity, painted);
-        total = any ? total + shell : shell;
-        any = true;
-    }
-    if (!any || !(total.mass > 0) || !total.inertia.allFinite()) {
-        return makeError(body + ": the material gives no positive mass");
-    }
-    return total;
-}
-
 Status World::addBody(const BodyDesc& desc) {
-    const std::string label = "body '" + desc.name + "' (" + desc.mesh + ")";
-    const std::filesystem::path meshPath = project_.resolvePath(desc.mesh);
+    // The same mesh, checks and UVs as the bundle export bakes (body_setup.h).
+    const std::string label = bodyLabel(desc);
+    Result<PreparedBodyMesh> prepared = prepareBodyMesh(project_, bodies_.size());
+    if (!prepared) return prepared.error();
+    if (!prepared->atlas.notice.empty()) say(label + ": " + prepared->atlas.notice);
+    TriangleMesh mesh = std::move(prepared->mesh);
     std::unique_ptr<Deformation> deformation;
-    TriangleMesh mesh;
     if (desc.deforms()) {
-        std::vector<std::filesystem::path> paths{meshPath};
+        // The frames keep the first frame's triangles and corner order, and so does a
+        // generated atlas: the pieces baked on it regather from every frame unchanged.
+        std::vector<std::filesystem::path> paths{project_.resolvePath(desc.mesh)};
         for (const std::string& frame : desc.meshFrames) paths.push_back(project_.resolvePath(frame));
         Result<std::vector<TriangleMesh>> frames = loadMeshFrames(paths);
         if (!frames) return Error{label + ": " + frames.error().message};
         deformation = std::make_unique<Deformation>();
         deformation->frames = std::move(*frames);
         deformation->framesPerSecond = desc.framesPerSecond;
-        mesh = deformation->frames.front();
-    } else {
-        Result<TriangleMesh> loaded = loadMesh(meshPath);
-        if (!loaded) return Error{label + ": " + loaded.error().message};
-        mesh = std::move(*loaded);
     }
-    const ValidationReport report = validateMesh(mesh);
-    ValidationReport surface = report;  // what no atlas can fix
-    std::erase_if(surface.problems, [](const Problem& p) { return isUvProblem(p.kind); });
-    if (surface.hasErrors()) return Error{label + ":\n" + surface.format()};
-    // Default settings, not the physics texture size: the atlas (and the maps painted over
-    // it) must not change when the physics texture size does.
-    Result<AtlasChoice> atlas = chooseAtlas(mesh, report, desc.atlas, AtlasSettings{},
-                                            project_.atlasCacheFile(bodies_.size()));
-    if (!atlas) return Error{label + ": " + atlas.error().message};
-    if (!atlas->notice.empty()) say(label + ": " + atlas->notice);
-    // A generated atlas keeps the triangles and their corner order, so a deforming body's
-    // frames regather the pieces baked on it unchanged.
-    mesh = std::move(atlas->mesh);
 
     BakeSettings settings;
     settings.size = desc.textureSize;
@@ -143,7 +103,7 @@ Status World::addBody(const BodyDesc& desc) {
         bakeSurfaceTextures(mesh, settings, deformation ? &deformation->pieces : nullptr);
     if (!textures) return Error{label + ": " + textures.error().message};
 
-    Result<MassProperties> props = materialMass(*textures, desc.material, project_, label);
+    Result<MassProperties> props = bodyMaterialMass(*textures, desc.material, project_, label);
     if (!props) return props.error();
 
     SimulatedBody body;
@@ -424,7 +384,7 @@ Status World::updateDeformingBodies(double time) {
 Status World::recomputeMass(std::size_t i) {
     SimulatedBody& body = bodies_[i];
     Result<MassProperties> props =
-        materialMass(body.textures, materials_[i], project_, "body '" + body.name + "'");
+        bodyMaterialMass(body.textures, materials_[i], project_, "body '" + body.name + "'");
     if (!props) return props.error();
     // Keep the body where it is in the world and its momenta as they are: the mesh or the
     // paint changed, the body did not jump.
