@@ -1,7 +1,8 @@
 // Water graph: validation and simulation (graph.h; paper section 4, DESIGN.md "Water graph").
 //
 // Step order, each step of dt (World steps it once a frame):
-//  1. exchange through the surface (paper 4.2): every permeable texel i feeds its node n; with
+//  1. exchange through the surface (paper 4.2; the per-texel pass is kernels/graph.cl or its
+//     C++ reference, exchange_reference.cpp): every permeable texel i feeds its node n; with
 //     d_out = max(0, f(x, z) - y_i) the outside depth and d_in = max(0, level_n - y_i) the
 //     inside head, h = d_out - d_in drives q_i = rate k_i |A_i| h (or Torricelli's
 //     C_d k_i |A_i| sqrt(2 g |h|)); positive flows in, negative out (water leaves through
@@ -16,8 +17,8 @@
 //     at most the amount that brings both levels together: two connected nodes never swap
 //     which one is higher, so nothing oscillates. Diffusion mode: along every open pipe from
 //     the fuller node to the emptier, at most until both are equally full.
-// The water's mass (paper eqs. 15-17) are point masses rho v_n at the nodes, or, with the
-// free-surface model, at the centroid of the water lying at the node's lowest side.
+// The water's mass properties (paper eqs. 15-17) are those of point masses rho v_n at the nodes,
+// or, with the free-surface model, at the centroid of the water lying at each node's lowest side.
 #include "plimsoll/graph.h"
 
 #include "plimsoll/bake.h"
