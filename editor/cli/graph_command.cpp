@@ -27,24 +27,8 @@ struct GraphOptions {
     int volumeSamples = AutoGraphSettings{}.volumeSamples;
 };
 
-/// The mesh, when it is closed and outward-oriented (UV problems do not matter here); the
-/// validation report on stderr otherwise.
-std::optional<TriangleMesh> loadSolid(const std::string& path) {
-    Result<TriangleMesh> mesh = loadMesh(path);
-    if (!mesh) {
-        std::cerr << "error: " << mesh.error().message << "\n";
-        return std::nullopt;
-    }
-    const ValidationReport report = validateMesh(*mesh);
-    if (!report.closedSolid()) {
-        std::cerr << report.format() << "\n" << path << ": not a closed solid\n";
-        return std::nullopt;
-    }
-    return std::move(*mesh);
-}
-
 int runAuto(const GraphOptions& o) {
-    std::optional<TriangleMesh> mesh = loadSolid(o.mesh);
+    std::optional<TriangleMesh> mesh = loadClosedMesh(o.mesh);
     if (!mesh) return kExitFailure;
     AutoGraphSettings settings;
     settings.segments = o.segments;
@@ -85,7 +69,7 @@ int runAuto(const GraphOptions& o) {
 int runValidate(const GraphOptions& o) {
     std::optional<TriangleMesh> mesh;
     if (!o.mesh.empty()) {
-        mesh = loadSolid(o.mesh);
+        mesh = loadClosedMesh(o.mesh);
         if (!mesh) return kExitFailure;
     }
     std::string warnings;
