@@ -39,17 +39,6 @@ Body makeBody(TriangleMesh mesh, int size) {
     return b;
 }
 
-/// Every OpenCL device the machine has (none is fine: the kernels then have nothing to check).
-std::vector<std::unique_ptr<BuoyancyBackend>> openClBackends() {
-    std::vector<std::unique_ptr<BuoyancyBackend>> out;
-    for (const ComputeDevice& device : listComputeDevices()) {
-        auto backend = createBuoyancyBackend(std::to_string(device.index));
-        EXPECT_TRUE(backend.ok()) << backend.error().message;
-        if (backend.ok()) out.push_back(std::move(*backend));
-    }
-    return out;
-}
-
 std::vector<WaterModel> waterModels() {
     WaterModel waves;
     waves.kind = WaterModel::Kind::Gerstner;
@@ -91,7 +80,7 @@ void expectAgree(const BuoyancyResult& a, const BuoyancyResult& b, const Body& b
 }
 
 TEST(BuoyancyKernels, EveryDeviceMatchesTheReference) {
-    auto backends = openClBackends();
+    auto backends = test::openClBackends();
     if (backends.empty()) GTEST_SKIP() << "no OpenCL device";
     // Entry counts that are not multiples of the work-group or tile size.
     std::vector<Body> bodies;
@@ -189,7 +178,7 @@ TEST(BuoyancyKernels, UnknownDeviceSpecsAreClearErrors) {
 // precision terms, summed per work-item over only a few entries and in double from the group
 // reduction on, keep the totals at 1e-6 relative.
 TEST(BuoyancyKernels, PrecisionHoldsOverMillionsOfEntries) {
-    auto backends = openClBackends();
+    auto backends = test::openClBackends();
     if (backends.empty()) GTEST_SKIP() << "no OpenCL device";
     const Body sphere = makeBody(makeUvSphere(0.5, 64, 32), 2048);
     ASSERT_GT(sphere.textures.coveredCount(), 4000000u);
@@ -214,7 +203,7 @@ TEST(BuoyancyKernels, PrecisionHoldsOverMillionsOfEntries) {
 }
 
 TEST(BuoyancyKernels, ABatchGivesWhatSeparateCallsGive) {
-    auto backends = openClBackends();
+    auto backends = test::openClBackends();
     backends.push_back(createReferenceBackend());
     const Body sphere = makeBody(makeUvSphere(0.5, 32, 16), 64);
     const Body buoy = makeBody(makeBuoy(), 48);
@@ -313,7 +302,7 @@ TEST(BuoyancyAccuracy, FullySubmergedGivesArchimedes) {
 }
 
 TEST(BuoyancyExtremes, ResultsStayFiniteAndContinuous) {
-    auto backends = openClBackends();
+    auto backends = test::openClBackends();
     backends.push_back(createReferenceBackend());
     for (auto& backend : backends) {
         SCOPED_TRACE(backend->deviceName());

@@ -20,16 +20,6 @@
 namespace plimsoll {
 namespace {
 
-std::vector<std::unique_ptr<BuoyancyBackend>> openClBackends() {
-    std::vector<std::unique_ptr<BuoyancyBackend>> out;
-    for (const ComputeDevice& device : listComputeDevices()) {
-        auto backend = createBuoyancyBackend(std::to_string(device.index));
-        EXPECT_TRUE(backend.ok()) << backend.error().message;
-        if (backend.ok()) out.push_back(std::move(*backend));
-    }
-    return out;
-}
-
 std::vector<WaterModel> waterModels() {
     WaterModel waves;
     waves.kind = WaterModel::Kind::Gerstner;
@@ -61,7 +51,7 @@ TEST(GraphKernels, ExchangeMatchesTheReferenceOnEveryDevice) {
     }
     ASSERT_NE(samples.size() % 128, 0u);  // not a multiple of the work-group size
     const double inf = std::numeric_limits<double>::infinity();
-    const std::vector<std::unique_ptr<BuoyancyBackend>> devices = openClBackends();
+    const std::vector<std::unique_ptr<BuoyancyBackend>> devices = test::openClBackends();
     if (devices.empty()) GTEST_SKIP() << "no OpenCL device";
     std::unique_ptr<BuoyancyBackend> reference = createReferenceBackend();
     const std::size_t refSet = reference->addExchangeSet(samples, 7);

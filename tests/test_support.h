@@ -110,3 +110,24 @@ inline void expectTextureMatchesExact(const TriangleMesh& mesh, bool secondOrder
 }
 
 }  // namespace plimsoll::test
+
+#include "plimsoll/compute.h"
+
+#include <memory>
+#include <vector>
+
+namespace plimsoll::test {
+
+/// A backend on every OpenCL device the machine has (none is fine: the kernels then have
+/// nothing to check).
+inline std::vector<std::unique_ptr<BuoyancyBackend>> openClBackends() {
+    std::vector<std::unique_ptr<BuoyancyBackend>> out;
+    for (const ComputeDevice& device : listComputeDevices()) {
+        auto backend = createBuoyancyBackend(std::to_string(device.index));
+        EXPECT_TRUE(backend.ok()) << backend.error().message;
+        if (backend.ok()) out.push_back(std::move(*backend));
+    }
+    return out;
+}
+
+}  // namespace plimsoll::test
