@@ -297,6 +297,11 @@ TEST(Validate, UvAreaDistortionIsMeasuredAndReportedAboveTheLimit) {
     const ValidationReport report = validateMesh(cube);
     EXPECT_NEAR(report.uvAreaSpread, 25.0, 1e-6);
     ASSERT_TRUE(report.has(ProblemKind::UvDistortion)) << report.format();
+    for (const Problem& p : report.problems) {
+        if (p.kind != ProblemKind::UvDistortion) continue;
+        EXPECT_EQ(p.count, 2u);  // face 2's two triangles, 25 times the median
+        EXPECT_NEAR(p.surfaceFraction, 1.0 / 6.0, 1e-12);
+    }
     EXPECT_TRUE(report.usableForTexture());  // a warning: bakeable, less accurate
 }
 

@@ -498,37 +498,49 @@ void checkUvTiles(const TriangleMesh& mesh, const TriangleFacts& facts, Validati
 // ---------------------------------------------------------------------------------------------
 // UV-area distortion: world area per UV area, area-weighted percentiles over the surface.
 
-double percentileRatio(std::vector<std::pair<double, double>> densityAndWeight, double tail) {
-    if (densityAndWeight.empty()) return 0;
-    std::sort(densityAndWeight.begin(), densityAndWeight.end());
-    double total = 0;
-    for (const auto& [d, w] : densityAndWeight) total += w;
-    const auto quantile = [&](double q) {
-        double running = 0;
-        for (const auto& [d, w] : densityAndWeight) {
-            running += w;
-            if (running >= q * total) return d;
-        }
-        return densityAndWeight.back().first;
-    };
-    const double low = quantile(tail), high = quantile(1.0 - tail);
-    return low > 0 ? high / low : std::numeric_limits<double>::infinity();
+// Area-weighted quantile q of (density, weight) pairs sorted by density.
+double weightedQuantile(const std::vector<std::pair<double, double>>& sorted, double total,
+                        double q) {
+    double running = 0;
+    for (const auto& [density, weight] : sorted) {
+        running += weight;
+        if (running >= q * total) return density;
+    }
+    return sorted.back().first;
 }
 
 void checkUvDistortion(const TriangleMesh& mesh, const TriangleFacts& facts,
                        ValidationReport& report) {
-    std::vector<std::pair<double, double>> densities;
+    std::vector<double> density(mesh.triangleCount(), 0.0);  // 0: no UV area
+    std::vector<std::pair<double, double>> sorted;
+    double total = 0;
     for (std::size_t t = 0; t < mesh.triangleCount(); ++t) {
         const double uvArea = std::abs(triangleUvArea(mesh, mesh.triangles[t]));
         if (facts.degenerate[t] || uvArea <= 0) continue;
-        densities.emplace_back(facts.area[t] / uvArea, facts.area[t]);
+        density[t] = facts.area[t] / uvArea;
+        sorted.emplace_back(density[t], facts.area[t]);
+        total += facts.area[t];
     }
-    report.uvAreaSpread = percentileRatio(densities, 0.01);
+    if (sorted.empty()) return;
+    std::sort(sorted.begin(), sorted.end());
+    const double low = weightedQuantile(sorted, total, 0.01);
+    const double high = weightedQuantile(sorted, total, 0.99);
+    report.uvAreaSpread = low > 0 ? high / low : std::numeric_limits<double>::infinity();
     if (report.uvAreaSpread <= kMaxUvAreaSpread) return;
-    add(report, ProblemKind::UvDistortion, Severity::Warning, 0, 0,
+    // Affected: triangles more than sqrt(limit) from the median either way (so that the rest
+    // spans at most the limit).
+    const double median = weightedQuantile(sorted, total, 0.5);
+    const double band = std::sqrt(kMaxUvAreaSpread);
+    std::vector<bool> affected(mesh.triangleCount(), false);
+    for (std::size_t t = 0; t < mesh.triangleCount(); ++t) {
+        affected[t] = density[t] > 0 && (density[t] > band * median || density[t] * band < median);
+    }
+    add(report, ProblemKind::UvDistortion, Severity::Warning, countMarked(affected),
+        areaShare(affected, facts),
         printed("the world area per UV area varies by a factor of %.3g over the surface (99th over "
-                "1st percentile; above %.3g the coarsest texels limit the accuracy)",
-                report.uvAreaSpread, kMaxUvAreaSpread));
+                "1st percentile; above %.3g the coarsest texels limit the accuracy); %zu "
+                "triangles lie more than %.3g times from the median",
+                report.uvAreaSpread, kMaxUvAreaSpread, countMarked(affected), band));
 }
 
 // ---------------------------------------------------------------------------------------------
