@@ -1,6 +1,7 @@
 #include "plimsoll/bake_io.h"
 
 #include "exr_io.h"
+#include "texture_facts_json.h"
 #include "plimsoll/file_util.h"
 
 #include <nlohmann/json.hpp>
@@ -41,18 +42,10 @@ FloatImage blankImage(int size, std::vector<std::string> channels) {
 
 nlohmann::json manifestFor(const SurfaceTextures& t, const std::string& sourceMesh) {
     using nlohmann::json;
-    return json{
+    json manifest{
         {"schema_version", kBakeSchemaVersion},
         {"generator", "plimsoll"},
         {"source_mesh", sourceMesh},
-        {"texture_size", t.size},
-        {"covered_texels", t.distinctTexelCount()},
-        {"texel_samples", t.coveredCount()},
-        {"uv_coverage", t.uvCoverage()},
-        {"surface_area", t.surfaceArea()},
-        {"closure_error", t.closureError()},
-        {"uv_placement", {{"scale", t.placement.scale},
-                          {"offset", {t.placement.offset.x(), t.placement.offset.y()}}}},
         {"conventions",
          {{"units", "SI: positions in m, area vectors and areas in m^2 (mesh units)"},
           {"space", "object space of the source mesh, y up"},
@@ -73,6 +66,8 @@ nlohmann::json manifestFor(const SurfaceTextures& t, const std::string& sourceMe
                                     "and surface piece, rows of 1024, unused entries have "
                                     "coverage 0: the exact list the physics sums run over; "
                                     "the images above merge a texel's entries"}}}}}};
+    manifest.update(textureFactsJson(t));
+    return manifest;
 }
 
 }  // namespace

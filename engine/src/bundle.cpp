@@ -8,6 +8,8 @@
 #include "plimsoll/massprops.h"
 #include "plimsoll/painted_map.h"
 
+#include "texture_facts_json.h"
+
 #include <nlohmann/json.hpp>
 #include <openssl/evp.h>
 
@@ -208,7 +210,7 @@ Result<BundleReport> buildBundle(const Project& project, std::size_t index, cons
                                           ? json("shell_thickness.png") : json(nullptr);
 
     const SurfaceTextures& t = *textures;
-    const json manifest = {
+    json manifest = {
         // bake_io.h reads these four: readBakedTextures() loads a bundle's sample list.
         {"schema_version", kBundleSchemaMajor},
         {"schema_minor", kBundleSchemaMinor},
@@ -221,14 +223,6 @@ Result<BundleReport> buildBundle(const Project& project, std::size_t index, cons
                    {"surface_density", "kg/m^2"}}},
         {"axes", {{"space", "object space of the source mesh"}, {"up", "+y"},
                   {"handedness", "right"}}},
-        {"texture_size", t.size},
-        {"covered_texels", t.distinctTexelCount()},
-        {"texel_samples", t.coveredCount()},
-        {"uv_coverage", t.uvCoverage()},
-        {"surface_area", t.surfaceArea()},
-        {"closure_error", t.closureError()},
-        {"uv_placement", {{"scale", t.placement.scale},
-                          {"offset", {t.placement.offset.x(), t.placement.offset.y()}}}},
         {"image_rows", "row 0 of each image is the top of the texture (v = 1): texel (x, y) is "
                        "pixel (x, N - 1 - y)"},
         {"atlas", {{"mode", atlasModeName(desc.atlas)},
@@ -247,6 +241,7 @@ Result<BundleReport> buildBundle(const Project& project, std::size_t index, cons
         {"water_graph", graphJson},
         {"sources", sources},
         {"files", files}};
+    manifest.update(textureFactsJson(t));
     const std::string text = manifest.dump(2) + "\n";
     if (Status s = writeBytes(staging / kManifestFile, text); !s.ok()) return s.error();
     report.files.push_back({kManifestFile, sha256Hex(text), text.size()});
