@@ -350,14 +350,7 @@ Status Document::writeMaps(bool all) {
 
 Status Document::save() {
     if (path_.empty()) return makeError("untitled: choose a file name (Save As)");
-    // Maps first: the project never names a map that is not on disk.
-    Status maps = writeMaps(false);
-    if (!maps) return maps;
-    Status saved = saveProject(project_, path_);
-    if (!saved) return saved;
-    savedState_ = stateId();
-    discardAutosave();
-    return Ok{};
+    return writeMapsAndProject(false);
 }
 
 Status Document::saveAs(const fs::path& target) {
@@ -396,7 +389,12 @@ Status Document::saveAs(const fs::path& target) {
         std::error_code ec;
         fs::remove(*oldAutosave, ec);
     }
-    Status maps = writeMaps(true);
+    return writeMapsAndProject(true);
+}
+
+Status Document::writeMapsAndProject(bool allMaps) {
+    // Maps first: the project never names a map that is not on disk.
+    Status maps = writeMaps(allMaps);
     if (!maps) return maps;
     Status saved = saveProject(project_, path_);
     if (!saved) return saved;

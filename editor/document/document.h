@@ -147,6 +147,8 @@ private:
     std::uint64_t stateId() const { return done_.empty() ? 0 : done_.back().id; }
     void syncAssets();
     Status writeMaps(bool all);
+    /// writeMaps(allMaps), then the project to path_; marks the document saved.
+    Status writeMapsAndProject(bool allMaps);
 
     struct Entry {
         std::unique_ptr<Command> command;
