@@ -373,6 +373,34 @@ TEST(GraphExchange, LinearAndTorricelliRatesMatchTheirFormulas) {
     }
 }
 
+TEST(GraphExchange, TexelNodeMapIsTheNearestNodeAndFeedsTheSamples) {
+    // Three nodes on a line; a sphere node and a box node: a texel goes to the nearest node
+    // (distance to the box, not its centre), and the simulation's samples follow the map,
+    // leaving out the sealed node's texels and those with no permeability.
+    WaterGraph g;
+    g.nodes = {node("a", {0, 0, 0}, 1.0), node("b", {4, 0, 0}, 1.0), node("c", {8, 0, 0}, 1.0)};
+    g.nodes[1].boxSize = {4.0, 0.5, 0.5};  // exactly 1 m^3: x from 2 to 6
+    g.nodes[2].sealed = true;
+    SurfaceTextures t;
+    t.size = 16;
+    for (double x : {0.5, 1.9, 2.1, 5.9, 6.9, 7.5, 9.0}) {
+        t.texelIndex.push_back(static_cast<std::uint32_t>(t.texelIndex.size()));
+        t.position.push_back({x, 0, 0});
+        t.areaVector.push_back({0, -0.01, 0});
+        t.area.push_back(0.01);
+        t.coverage.push_back(1.0);
+    }
+    const std::vector<std::int32_t> map = texelNodeMap(g, t);
+    EXPECT_EQ(map, (std::vector<std::int32_t>{0, 1, 1, 1, 1, 2, 2}));
+    EXPECT_EQ(nearestNode(WaterGraph{}, Eigen::Vector3d::Zero()), -1);
+    const std::vector<double> permeability = {1, 1, 0, 1, 1, 1, 1};
+    Result<WaterGraphSimulation> sim = WaterGraphSimulation::create(g, t, permeability, {});
+    ASSERT_TRUE(sim.ok()) << sim.error().message;
+    ASSERT_EQ(sim->samples().size(), 4u);  // the zero-permeability and the sealed texels out
+    const std::vector<std::uint32_t> expected = {0, 1, 1, 1};
+    for (std::size_t i = 0; i < 4; ++i) EXPECT_EQ(sim->samples()[i].node, expected[i]);
+}
+
 TEST(GraphExchange, WaterLeavesAboveTheOutsideWaterAndBelowTheInsideLevel) {
     // A full node whose texel is above the water: the water runs out through it.
     WaterGraph g;

@@ -247,6 +247,28 @@ Eigen::Vector3d scaledBox(const GraphNode& n) {
 
 }  // namespace
 
+int nearestNode(const WaterGraph& graph, const Eigen::Vector3d& point) {
+    int nearest = -1;
+    double best = std::numeric_limits<double>::infinity();
+    double bestCentre = best;
+    for (std::size_t j = 0; j < graph.nodes.size(); ++j) {
+        const double d = distanceToNode(graph.nodes[j], point);
+        const double centre = (graph.nodes[j].position - point).norm();
+        if (d < best || (d == best && centre < bestCentre)) {
+            best = d;
+            bestCentre = centre;
+            nearest = static_cast<int>(j);
+        }
+    }
+    return nearest;
+}
+
+std::vector<std::int32_t> texelNodeMap(const WaterGraph& graph, const SurfaceTextures& textures) {
+    std::vector<std::int32_t> nodes(textures.position.size());
+    for (std::size_t i = 0; i < nodes.size(); ++i) nodes[i] = nearestNode(graph, textures.position[i]);
+    return nodes;
+}
+
 Result<WaterGraphSimulation> WaterGraphSimulation::create(const WaterGraph& graph,
                                                           const SurfaceTextures& textures,
                                                           const std::vector<double>& permeability,
@@ -290,17 +312,7 @@ Result<WaterGraphSimulation> WaterGraphSimulation::create(const WaterGraph& grap
         ExchangeSample s;
         s.position = textures.position[i];
         s.weight = k * textures.area[i];
-        double best = std::numeric_limits<double>::infinity();
-        double bestCentre = best;
-        for (std::size_t j = 0; j < n; ++j) {
-            const double d = distanceToNode(graph.nodes[j], s.position);
-            const double centre = (graph.nodes[j].position - s.position).norm();
-            if (d < best || (d == best && centre < bestCentre)) {
-                best = d;
-                bestCentre = centre;
-                s.node = static_cast<std::uint32_t>(j);
-            }
-        }
+        s.node = static_cast<std::uint32_t>(nearestNode(graph, s.position));
         // A sealed node exchanges nothing: its texels are left out.
         if (!graph.nodes[s.node].sealed) sim.samples_.push_back(s);
     }

@@ -178,6 +178,16 @@ struct GraphTotals {
     double moved = 0;     ///< between nodes (not a balance term)
 };
 
+/// The node each surface point feeds (paper 4.2: a texel exchanges with its nearest node):
+/// the index into graph.nodes of the node closest to `point` (distance to a box node's box,
+/// else to its centre; ties go to the nearer centre, then the lower index). -1 for an empty
+/// graph. Sealed nodes are candidates too: their texels exchange nothing.
+int nearestNode(const WaterGraph& graph, const Eigen::Vector3d& point);
+
+/// The texel-to-node map: nearestNode for every texel entry of `textures` (bundle
+/// `texel_nodes`, the editor's feed colours, WaterGraphSimulation's samples).
+std::vector<std::int32_t> texelNodeMap(const WaterGraph& graph, const SurfaceTextures& textures);
+
 /// The water graph of one body, stepped with the body's pose.
 class WaterGraphSimulation {
 public:
