@@ -31,6 +31,10 @@
 #include <nlohmann/json.hpp>
 
 #include <Eigen/Geometry>
+#include <ImfChannelList.h>
+#include <ImfFrameBuffer.h>
+#include <ImfHeader.h>
+#include <ImfOutputFile.h>
 
 #include <algorithm>
 #include <cstdio>
@@ -484,6 +488,76 @@ TEST(RuntimeSha256, MatchesOpenSsl) {
         EXPECT_EQ(rt::sha256Hex(data.data(), data.size()), sha256Hex(data)) << n;
         data += static_cast<char>(rng() & 0xFF);
     }
+}
+
+}  // namespace
+}  // namespace plimsoll
+
+namespace plimsoll {
+namespace {
+
+/// Writes `folder`/texel_nodes.exr as docs/bundle.md describes it (one UINT channel `node`,
+/// N x N, 1 + node index for covered texels, row 0 = top) and lists it in the manifest.
+void addTexelNodes(const fs::path& folder, const std::vector<std::uint32_t>& pixels, int size) {
+    {
+        Imf::Header header(size, size);
+        header.channels().insert("node", Imf::Channel(Imf::UINT));
+        header.compression() = Imf::ZIP_COMPRESSION;
+        Imf::OutputFile file((folder / "texel_nodes.exr").c_str(), header);
+        Imf::FrameBuffer frame;
+        frame.insert("node", Imf::Slice(Imf::UINT, reinterpret_cast<char*>(const_cast<std::uint32_t*>(pixels.data())),
+                                        sizeof(std::uint32_t), sizeof(std::uint32_t) * size));
+        file.setFrameBuffer(frame);
+        file.writePixels(size);
+    }
+    const std::string bytes = test::readFile(folder / "texel_nodes.exr");
+    nlohmann::json manifest = nlohmann::json::parse(test::readFile(folder / "manifest.json"));
+    manifest["files"].push_back(
+        {{"path", "texel_nodes.exr"}, {"sha256", sha256Hex(bytes)}, {"bytes", bytes.size()}});
+    std::ofstream(folder / "manifest.json", std::ios::binary | std::ios::trunc) << manifest.dump(2);
+}
+
+// A bundle with texel_nodes.exr: the runtime takes the nodes from it (a texel with one sample)
+// and gets the engine's map; a covered texel mapped to no node is refused.
+TEST_F(RuntimeConformance, ReadsTheTexelNodeMap) {
+    const auto it = std::find_if(bundles_->begin(), bundles_->end(), [](const Exported& e) {
+        return e.label.rfind("damaged_boat/", 0) == 0;
+    });
+    ASSERT_NE(it, bundles_->end());
+    Result<SurfaceTextures> textures = readBakedTextures(it->folder);
+    ASSERT_TRUE(textures.ok());
+    Result<WaterGraph> graph = loadGraph(it->folder / "graph.json");
+    ASSERT_TRUE(graph.ok());
+    const std::vector<std::int32_t> nodes = texelNodeMap(*graph, *textures);
+    const int size = textures->size;
+    std::vector<std::uint32_t> pixels(static_cast<std::size_t>(size) * size, 0u);
+    for (std::size_t i = 0; i < nodes.size(); ++i) {
+        const std::uint32_t x = textures->texelIndex[i] % size, y = textures->texelIndex[i] / size;
+        pixels[(static_cast<std::size_t>(size) - 1 - y) * size + x] = static_cast<std::uint32_t>(nodes[i] + 1);
+    }
+    const fs::path good = copyBundle(it->folder, "texel_nodes");
+    addTexelNodes(good, pixels, size);
+    std::string error;
+    auto bundle = rt::loadBundle(good.string(), error);
+    ASSERT_TRUE(bundle) << error;
+    EXPECT_TRUE(bundle->texelNodesFromFile());
+    ASSERT_EQ(bundle->graph()->sampleNodes().size(), nodes.size());
+    for (std::size_t i = 0; i < nodes.size(); ++i) ASSERT_EQ(bundle->graph()->sampleNodes()[i], nodes[i]) << i;
+
+    const fs::path bad = copyBundle(it->folder, "texel_nodes_bad");
+    // A texel with one sample (the map decides it; shared texels follow the per-sample rule).
+    std::size_t single = 0;
+    while (single + 1 < nodes.size() &&
+           ((single > 0 && textures->texelIndex[single - 1] == textures->texelIndex[single]) ||
+            textures->texelIndex[single + 1] == textures->texelIndex[single]))
+        ++single;
+    const std::uint32_t x = textures->texelIndex[single] % size, y = textures->texelIndex[single] / size;
+    pixels[(static_cast<std::size_t>(size) - 1 - y) * size + x] = 0;
+    addTexelNodes(bad, pixels, size);
+    const std::string message = loadError(bad);
+    EXPECT_NE(message.find("texel_nodes.exr: texel (" + std::to_string(x) + ", " + std::to_string(y) +
+                           ") is covered but maps to 0"),
+              std::string::npos) << message;
 }
 
 }  // namespace
