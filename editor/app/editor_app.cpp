@@ -376,6 +376,7 @@ RenderScene sceneOf(EditorState& s) {
         body.overlay = s.renderer->overlayTexture(static_cast<int>(b)) ? static_cast<int>(b) : -1;
         scene.bodies.push_back(std::move(body));
     }
+    addGraphToScene(s, scene);
     return scene;
 }
 
@@ -512,6 +513,7 @@ int runEditorWindow(const EditorLaunch& launch) {
         drawUvPanel(s, Rect{display.x - column, display.y - status - uvSide, column, uvSide});
         drawPreviewPanel(s);
         drawPlotPanels(s);
+        drawGraphPanel(s);
         ImGui::SetNextWindowPos(ImVec2(0, display.y - status));
         ImGui::SetNextWindowSize(ImVec2(display.x, status));
         ImGui::Begin("##status", nullptr,
@@ -615,6 +617,7 @@ int runEditorWindow(const EditorLaunch& launch) {
     }
     callbackState = nullptr;
     s.preview.reset();
+    releaseGraphPanel();
     s.renderer.reset();
     ImGui_ImplOpenGL3_Shutdown();
     ImGui_ImplGlfw_Shutdown();
