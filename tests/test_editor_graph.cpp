@@ -373,6 +373,24 @@ TEST(EditorGraph, ScriptVerbsEditTheGraph) {
     EXPECT_EQ(doc->graph(0)->nodes.size(), 1u);
 }
 
+TEST(EditorGraph, AutoGenerateVerbReplacesTheGraphInOneUndoStep) {
+    const fs::path projectPath = copyDamagedBoat("auto");
+    auto doc = openOrFail(projectPath);
+    ASSERT_TRUE(doc);
+    const std::string original = graphToJson(*doc->graph(0));
+    Result<Json> done = runEditScript(*doc, Json::parse(R"([{"op": "graph_auto", "segments": 3}])"));
+    ASSERT_TRUE(done.ok()) << done.error().message;
+    const WaterGraph& g = *doc->graph(0);
+    EXPECT_EQ(g.nodes.size(), 3u);
+    // The same graph `plimsoll graph --auto` builds (buildAutomaticGraph on the body's mesh):
+    // its capacities share out the hull's enclosed volume.
+    const MassProperties exact = exactSolidMassProperties(*doc->assets(0).mesh, 1.0);
+    EXPECT_NEAR(g.totalCapacity(), exact.volume, 1e-6 * exact.volume);
+    EXPECT_FALSE(validateGraph(g, doc->assets(0).mesh.get()).hasErrors());
+    ASSERT_TRUE(doc->undo());
+    EXPECT_EQ(graphToJson(*doc->graph(0)), original);
+}
+
 // --- the 3D view's math, headless -----------------------------------------------------------
 
 TEST(EditorGraphPick, SphereRadiusAndCapHeightMatchTheVolumes) {
