@@ -512,7 +512,11 @@ void addTexelNodes(const fs::path& folder, const std::vector<std::uint32_t>& pix
     }
     const std::string bytes = test::readFile(folder / "texel_nodes.exr");
     nlohmann::json manifest = nlohmann::json::parse(test::readFile(folder / "manifest.json"));
-    manifest["files"].push_back(
+    // Bundles since 1.1 already list the exporter's own texel_nodes.exr: replace its entry.
+    nlohmann::json& files = manifest["files"];
+    for (auto f = files.begin(); f != files.end();)
+        f = (*f)["path"] == "texel_nodes.exr" ? files.erase(f) : f + 1;
+    files.push_back(
         {{"path", "texel_nodes.exr"}, {"sha256", sha256Hex(bytes)}, {"bytes", bytes.size()}});
     std::ofstream(folder / "manifest.json", std::ios::binary | std::ios::trunc) << manifest.dump(2);
 }

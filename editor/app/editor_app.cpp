@@ -7,6 +7,7 @@
 #include "app/editor_app.h"
 
 #include "app/editor_state.h"
+#include "app/export_dialog.h"
 #include "app/panels.h"
 #include "document/command.h"
 
@@ -77,32 +78,6 @@ void handleDrops(EditorState& s) {
     droppedPaths.clear();
 }
 
-void exportTo(EditorState& s, const fs::path& folder) {
-    int written = 0;
-    for (std::size_t b = 0; b < s.document->bodyCount(); ++b) {
-        auto textures = s.document->physicsTextures(b);
-        if (!textures) {
-            s.status = textures.error().message;
-            return;
-        }
-        std::string name = s.document->project().bodies[b].name;
-        if (name.empty()) name = "body" + std::to_string(b);
-        const fs::path out = folder / name;
-        Status st = writeBakedTextures(**textures, out, s.document->project().bodies[b].mesh);
-        if (!st) {
-            s.status = st.error().message;
-            return;
-        }
-        for (MapChannel c : kMapChannels) {
-            if (const PaintedMap* map = s.document->map(b, c)) {
-                (void)savePaintedMap(*map, out / (std::string(channelName(c)) + ".png"));
-            }
-        }
-        ++written;
-    }
-    s.status = "Exported " + std::to_string(written) + " bodies to " + folder.string();
-}
-
 // [SECTION] menus and shortcuts ----------------------------------------------------------------
 
 void frameSelected(EditorState& s) {
@@ -142,7 +117,7 @@ void drawMenus(EditorState& s) {
         if (ImGui::MenuItem("Save As...", "Ctrl+Shift+S")) {
             s.browser.open(FileBrowser::Purpose::SaveProjectAs, folder);
         }
-        if (ImGui::MenuItem("Export...")) s.browser.open(FileBrowser::Purpose::Export, folder);
+        if (ImGui::MenuItem("Export bundle...")) s.browser.open(FileBrowser::Purpose::Export, folder);
         ImGui::Separator();
         if (ImGui::MenuItem("Quit", "Ctrl+Q")) s.requestQuit = true;
         ImGui::EndMenu();
@@ -218,6 +193,7 @@ void handleShortcuts(EditorState& s) {
 // [SECTION] dialogs ----------------------------------------------------------------------------
 
 void drawDialogs(EditorState& s, GLFWwindow* window) {
+    drawBundleExport();
     if (auto chosen = s.browser.draw()) {
         switch (s.browser.purpose()) {
             case FileBrowser::Purpose::OpenProject: requestOpen(s, chosen->string(), false); break;
@@ -226,7 +202,9 @@ void drawDialogs(EditorState& s, GLFWwindow* window) {
                 s.execute(makeImportMeshCommand(*s.document, *chosen, std::nullopt));
                 s.frameAll();
                 break;
-            case FileBrowser::Purpose::Export: exportTo(s, *chosen); break;
+            case FileBrowser::Purpose::Export:
+                startBundleExport(s.document->project(), *chosen, s.document->dirty());
+                break;
         }
     }
     if (s.confirmDiscardOpen) {
