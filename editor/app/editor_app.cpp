@@ -9,6 +9,7 @@
 #include "app/editor_state.h"
 #include "app/export_dialog.h"
 #include "app/panels.h"
+#include "app/preview_panel.h"
 #include "document/command.h"
 
 #include "plimsoll/bake_io.h"
@@ -25,6 +26,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
+#include <cstdlib>
 #include <iostream>
 
 namespace plimsoll::editor {
@@ -144,6 +146,12 @@ void drawMenus(EditorState& s) {
         ImGui::MenuItem("Grid and axes", nullptr, &s.showGrid);
         ImGui::EndMenu();
     }
+    if (ImGui::BeginMenu("Simulate")) {
+        const bool running = s.preview && s.preview->session;
+        if (ImGui::MenuItem(running ? "Restart live preview" : "Live preview", "P")) startPreview(s, true);
+        if (ImGui::MenuItem("Stop live preview", nullptr, false, running)) stopPreview(s);
+        ImGui::EndMenu();
+    }
     if (ImGui::BeginMenu("Help")) {
         if (ImGui::MenuItem("Keyboard shortcuts", "F1")) s.showShortcuts = true;
         if (ImGui::MenuItem("About Plimsoll")) s.showAbout = true;
@@ -188,6 +196,7 @@ void handleShortcuts(EditorState& s) {
     if (pressed(GLFW_KEY_LEFT_BRACKET)) s.brush.radius /= 1.25;
     if (pressed(GLFW_KEY_RIGHT_BRACKET)) s.brush.radius *= 1.25;
     if (pressed(GLFW_KEY_F1)) s.showShortcuts = true;
+    if (pressed(GLFW_KEY_P)) startPreview(s, true);
 }
 
 // [SECTION] dialogs ----------------------------------------------------------------------------
@@ -435,6 +444,23 @@ int runEditorWindow(const EditorLaunch& launch) {
         if (const auto overlay = parseOverlay(launch.overlay)) s.overlay = *overlay;
     }
     s.lastAutosave = glfwGetTime();
+    s.preview = std::make_shared<PreviewUi>();
+    s.preview->fixedStep = launch.frames > 0;
+    std::vector<std::pair<int, std::string>> snapshots;
+    for (const std::string& spec : launch.snapshots) {
+        const auto colon = spec.find(':');
+        const int at = colon == std::string::npos ? 0 : std::atoi(spec.substr(0, colon).c_str());
+        if (at <= 0) {
+            std::cerr << "error: --snapshot " << spec << ": expected FRAME:PATH, FRAME > 0\n";
+            return 1;
+        }
+        snapshots.emplace_back(at, spec.substr(colon + 1));
+    }
+    if (launch.preview && !startPreview(s, true)) {
+        std::cerr << "error: " << s.status << "\n";
+        return 1;
+    }
+    nlohmann::json snapshotReports = nlohmann::json::array();
 
     std::vector<double> frameMs;
     std::string title;
@@ -463,6 +489,8 @@ int runEditorWindow(const EditorLaunch& launch) {
         drawInspectorPanel(s, Rect{display.x - column, menu + tools, column,
                                    below - tools - uvSide});
         drawUvPanel(s, Rect{display.x - column, display.y - status - uvSide, column, uvSide});
+        drawPreviewPanel(s);
+        drawPlotPanels(s);
         drawGraphPanel(s);
         ImGui::SetNextWindowPos(ImVec2(0, display.y - status));
         ImGui::SetNextWindowSize(ImVec2(display.x, status));
@@ -472,8 +500,10 @@ int runEditorWindow(const EditorLaunch& launch) {
         ImGui::Text("%s   |   %s", s.document->title().c_str(), s.status.c_str());
         ImGui::End();
         handleShortcuts(s);
-        viewportInput(s);
+        if (!previewInput(s)) viewportInput(s);
         drawViewportOverlay(s);
+        updatePreview(s, io.DeltaTime);
+        drawPreviewOverlay(s);
         drawDialogs(s, window);
         if (s.requestQuit && !s.document->dirty()) glfwSetWindowShouldClose(window, GLFW_TRUE);
         if (s.requestQuit && s.document->dirty() && !ImGui::IsPopupOpen("Unsaved changes")) {
@@ -492,13 +522,24 @@ int runEditorWindow(const EditorLaunch& launch) {
         glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
         const int vw = static_cast<int>(s.viewport.w * scale), vh = static_cast<int>(s.viewport.h * scale);
         if (vw > 0 && vh > 0) {
-            s.renderer->draw(sceneOf(s), s.camera, vw, vh, static_cast<int>(s.viewport.x * scale),
+            RenderScene scene = sceneOf(s);
+            applyPreviewToScene(s, scene);
+            s.renderer->draw(scene, s.camera, vw, vh, static_cast<int>(s.viewport.x * scale),
                              fbHeight - static_cast<int>((s.viewport.y + s.viewport.h) * scale));
         }
         glViewport(0, 0, fbWidth, fbHeight);
         ImGui_ImplOpenGL3_RenderDrawData(ImGui::GetDrawData());
         ++frame;
         const bool last = launch.frames > 0 && frame >= launch.frames;
+        for (const auto& [at, path] : snapshots) {
+            if (at != frame) continue;
+            glFinish();
+            screenshotOk = writeScreenshot(path, fbWidth, fbHeight) && screenshotOk;
+            nlohmann::json shot = previewReport(s);
+            shot["frame"] = frame;
+            shot["path"] = path;
+            snapshotReports.push_back(shot);
+        }
         if (last && !launch.screenshot.empty()) {
             glFinish();
             screenshotOk = writeScreenshot(launch.screenshot, fbWidth, fbHeight);
@@ -519,6 +560,7 @@ int runEditorWindow(const EditorLaunch& launch) {
         frameMs.push_back(std::chrono::duration<double, std::milli>(
                               std::chrono::steady_clock::now() - frameStart)
                               .count());
+        s.preview->uiFrameMs = frameMs.back();
         if (last) break;
     }
 
@@ -539,6 +581,8 @@ int runEditorWindow(const EditorLaunch& launch) {
         report["gl_renderer"] = reinterpret_cast<const char*>(glGetString(GL_RENDERER));
         report["title"] = title;
         if (!launch.screenshot.empty()) report["screenshot"] = launch.screenshot;
+        if (!snapshotReports.empty()) report["snapshots"] = snapshotReports;
+        if (s.preview->session) report["preview"] = previewReport(s);
         std::cout << report.dump(2) << std::endl;
     } else {
         // A clean close retires the autosave (unsaved changes were saved or discarded).
@@ -550,6 +594,7 @@ int runEditorWindow(const EditorLaunch& launch) {
         (void)s.settings.save();
     }
     callbackState = nullptr;
+    s.preview.reset();
     releaseGraphPanel();
     s.renderer.reset();
     ImGui_ImplOpenGL3_Shutdown();
