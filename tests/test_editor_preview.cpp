@@ -91,6 +91,9 @@ TEST(PreviewSession, PlayPauseStepResetAndTimeScaleCountFrames) {
     ASSERT_TRUE(session->step().ok());
     EXPECT_NEAR(session->world().time(), T, 1e-12);
     EXPECT_EQ(session->history().time.size(), 2u);  // the start and one frame
+    // The frame's sub-steps (at least the project's), each one evaluation of the backend.
+    EXPECT_GE(session->timings().subSteps, session->project().simulation.subSteps);
+    EXPECT_GE(session->timings().kernelMs, 0.0);
 
     // Playing: whole frames of the wall time, the remainder owed to the next update.
     session->play();

@@ -234,7 +234,8 @@ void drawPreviewPanel(EditorState& s) {
         }
         const PreviewTimings& t = session.timings();
         ImGui::Text("device: %s", session.deviceName().c_str());
-        ImGui::Text("kernel %.3f ms / frame, step %.3f ms / frame", t.kernelMs, t.frameMs);
+        ImGui::Text("kernel %.3f ms / frame, step %.3f ms / frame (%d sub-steps)", t.kernelMs,
+                    t.frameMs, t.subSteps);
         ImGui::Text("bodies %zu, texels %zu (texture %d^2)", session.world().bodies().size(),
                     session.coveredTexels(), session.textureSize());
         if (t.droppedFrames > 0) ImGui::Text("behind real time: %d frames dropped", t.droppedFrames);
@@ -430,6 +431,7 @@ nlohmann::json previewReport(const EditorState& s) {
     out["device"] = session.deviceName();
     out["kernel_ms"] = session.timings().kernelMs;
     out["step_ms"] = session.timings().frameMs;
+    out["sub_steps"] = session.timings().subSteps;
     out["texels"] = session.coveredTexels();
     std::vector<const TriangleMesh*> none(world.bodies().size(), nullptr);
     const ForceOverlay overlay = buildForceOverlay(world, none);

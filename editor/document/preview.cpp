@@ -89,11 +89,55 @@ PreviewSession::~PreviewSession() {
     if (pending_.valid()) pending_.wait();
 }
 
-Result<std::unique_ptr<World>> PreviewSession::build(const Project& project,
-                                                     const std::string& device) {
+namespace {
+
+/// Passes every call to the real backend and sums the kernel time of each evaluation: World
+/// evaluates once per sub-step (four times per RK4 step), and the backend keeps only the last.
+class KernelTimer final : public BuoyancyBackend {
+public:
+    KernelTimer(std::unique_ptr<BuoyancyBackend> inner, std::shared_ptr<double> total)
+        : inner_(std::move(inner)), total_(std::move(total)) {}
+    std::string deviceName() const override { return inner_->deviceName(); }
+    std::size_t addBody(const SurfaceTextures& textures, const Eigen::Vector3d& centre) override {
+        return inner_->addBody(textures, centre);
+    }
+    Status updateBody(std::size_t id, const SurfaceTextures& textures,
+                      const Eigen::Vector3d& centre) override {
+        return inner_->updateBody(id, textures, centre);
+    }
+    Status evaluate(std::span<const BodyRequest> requests, const WaterModel& water,
+                    std::span<BuoyancyResult> results) override {
+        Status s = inner_->evaluate(requests, water, results);
+        *total_ += inner_->lastTimings().kernelMs;
+        return s;
+    }
+    FrameTimings lastTimings() const override { return inner_->lastTimings(); }
+    std::size_t addExchangeSet(std::span<const ExchangeSample> samples, std::size_t nodes) override {
+        return inner_->addExchangeSet(samples, nodes);
+    }
+    Status evaluateExchange(std::size_t set, const ExchangeFrame& frame, const WaterModel& water,
+                            ExchangeSums& sums) override {
+        Status s = inner_->evaluateExchange(set, frame, water, sums);
+        *total_ += inner_->lastTimings().kernelMs;
+        return s;
+    }
+
+private:
+    std::unique_ptr<BuoyancyBackend> inner_;
+    std::shared_ptr<double> total_;
+};
+
+}  // namespace
+
+Result<PreviewSession::Built> PreviewSession::build(const Project& project,
+                                                    const std::string& device) {
     Result<std::unique_ptr<BuoyancyBackend>> backend = createBuoyancyBackend(device);
     if (!backend) return backend.error();
-    return World::create(project, std::move(*backend));
+    auto total = std::make_shared<double>(0.0);
+    Result<std::unique_ptr<World>> world =
+        World::create(project, std::make_unique<KernelTimer>(std::move(*backend), total));
+    if (!world) return world.error();
+    return Built{std::move(*world), std::move(total)};
 }
 
 Result<std::unique_ptr<PreviewSession>> PreviewSession::create(const Project& project,
@@ -102,9 +146,10 @@ Result<std::unique_ptr<PreviewSession>> PreviewSession::create(const Project& pr
     std::unique_ptr<PreviewSession> session(new PreviewSession());
     session->project_ = project;
     session->device_ = device;
-    Result<std::unique_ptr<World>> world = build(project, device);
-    if (!world) return world.error();
-    session->world_ = std::move(*world);
+    Result<Built> built = build(project, device);
+    if (!built) return built.error();
+    session->world_ = std::move(built->world);
+    session->kernelTotalMs_ = std::move(built->kernelTotalMs);
     session->record();
     return session;
 }
@@ -138,14 +183,15 @@ void PreviewSession::requestTextureSize(int size) {
     if (pending_.valid()) pending_.wait();
     pending_ = std::async(std::launch::async, [project = project_, device = device_] {
         Rebuilt out;
-        Result<std::unique_ptr<World>> built = build(project, device);
-        if (built) out.world = std::move(*built);
+        Result<Built> built = build(project, device);
+        if (built) out.built = std::move(*built);
         else out.error = built.error().message;
         return out;
     });
 }
 
-Status PreviewSession::swapIn(std::unique_ptr<World> next) {
+Status PreviewSession::swapIn(Built built) {
+    std::unique_ptr<World> next = std::move(built.world);
     // The new bake's centre of mass differs a little from the old one's: carry the place,
     // orientation and momenta, which keeps the motion going.
     for (std::size_t i = 0; i < next->bodies().size() && i < world_->bodies().size(); ++i) {
@@ -153,6 +199,7 @@ Status PreviewSession::swapIn(std::unique_ptr<World> next) {
     }
     next->setTime(world_->time());
     world_ = std::move(next);
+    kernelTotalMs_ = std::move(built.kernelTotalMs);
     checkBackend_.reset();
     checkIds_.clear();
     checkMeshes_.clear();
@@ -163,8 +210,8 @@ Status PreviewSession::swapIn(std::unique_ptr<World> next) {
 Status PreviewSession::finishRebuild() {
     if (!pending_.valid()) return Ok{};
     Rebuilt next = pending_.get();
-    if (!next.world) return makeError(next.error);
-    return swapIn(std::move(next.world));
+    if (!next.built.world) return makeError(next.error);
+    return swapIn(std::move(next.built));
 }
 
 Status PreviewSession::advance() {
@@ -173,18 +220,15 @@ Status PreviewSession::advance() {
         if (Status s = finishRebuild(); !s.ok()) return s;
     }
     const std::size_t stepsBefore = world_->statistics().steps;
-    const std::size_t evaluationsBefore = world_->statistics().buoyancyEvaluations;
+    const double kernelBefore = kernelTotalMs_ ? *kernelTotalMs_ : 0.0;
     const auto start = std::chrono::steady_clock::now();
-    double kernelMs = 0;
     grabForceSum_ = Eigen::Vector3d::Zero();
-    // advanceFrame evaluates once per sub-step; the backend keeps the last one's timings, so
-    // the frame's kernel time is that times the evaluations (they are alike within a frame).
     if (Status s = world_->advanceFrame(); !s.ok()) return s;
     timings_.frameMs =
         std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
-    const std::size_t evaluations = world_->statistics().buoyancyEvaluations - evaluationsBefore;
-    kernelMs = world_->backend().lastTimings().kernelMs * static_cast<double>(evaluations);
-    timings_.kernelMs = kernelMs;
+    // Every evaluation of the frame (one per sub-step, four per RK4 step), summed by World.
+    timings_.kernelMs = (kernelTotalMs_ ? *kernelTotalMs_ : 0.0) - kernelBefore;
+    timings_.subSteps = static_cast<int>(world_->statistics().steps - stepsBefore);
     // The spring's impulse: each sub-step applied the force it returned for dt.
     const std::size_t steps = world_->statistics().steps - stepsBefore;
     if (grabbedBody_ && steps > 0 && project_.simulation.integrator != Integrator::RK4) {
@@ -230,9 +274,10 @@ Status PreviewSession::reset() {
     // the starting states, time 0 and full water graphs as the file says.
     if (pending_.valid()) pending_.wait();
     pending_ = {};
-    Result<std::unique_ptr<World>> world = build(project_, device_);
-    if (!world) return world.error();
-    world_ = std::move(*world);
+    Result<Built> built = build(project_, device_);
+    if (!built) return built.error();
+    world_ = std::move(built->world);
+    kernelTotalMs_ = std::move(built->kernelTotalMs);
     checkBackend_.reset();
     checkIds_.clear();
     checkMeshes_.clear();

@@ -67,6 +67,7 @@ Status writeHistoryCsv(const PreviewHistory& history, const std::vector<std::str
 struct PreviewTimings {
     double frameMs = 0;        ///< wall clock of the last frame's advanceFrame
     double kernelMs = 0;       ///< backend kernel time of the last frame (all its sub-steps)
+    int subSteps = 0;          ///< integration steps of the last frame
     int framesLastUpdate = 0;  ///< frames the last update() took
     int droppedFrames = 0;     ///< frames dropped by the catch-up cap since the start
 };
@@ -141,22 +142,28 @@ public:
 
 private:
     PreviewSession() = default;
-    static Result<std::unique_ptr<World>> build(const Project& project, const std::string& device);
+    /// A world and the running sum of its backend's kernel time (ms).
+    struct Built {
+        std::unique_ptr<World> world;
+        std::shared_ptr<double> kernelTotalMs;
+    };
+    static Result<Built> build(const Project& project, const std::string& device);
     Status advance();
     void record();
     void installGrab();
-    Status swapIn(std::unique_ptr<World> next);
+    Status swapIn(Built built);
 
     Project project_;            ///< as the world was last built (settings changed since kept)
     std::string device_;
     std::unique_ptr<World> world_;
+    std::shared_ptr<double> kernelTotalMs_;  ///< summed by the world's backend wrapper
     bool playing_ = false;
     double timeScale_ = 1.0;
     double accumulator_ = 0.0;   ///< simulated seconds owed
     /// A rebuild on the worker thread (a plain struct: GCC 12 warns falsely on a Result
     /// crossing std::async).
     struct Rebuilt {
-        std::unique_ptr<World> world;
+        Built built;
         std::string error;
     };
     std::future<Rebuilt> pending_;
