@@ -5,6 +5,7 @@
 #include "plimsoll/mesh.h"
 
 #include <gtest/gtest.h>
+#include <unistd.h>
 
 #include <filesystem>
 #include <fstream>
@@ -68,7 +69,10 @@ inline std::string readFile(const std::filesystem::path& path) {
 
 /// A folder of the test's own under the temporary folder, created on first use.
 inline std::filesystem::path scratchFolder(const std::string& name) {
-    const std::filesystem::path dir = std::filesystem::path(testing::TempDir()) / name;
+    // One folder per process: ctest runs the suite's tests as parallel processes, and two
+    // checkouts' suites may run at once.
+    const std::filesystem::path dir =
+        std::filesystem::path(testing::TempDir()) / (name + "_" + std::to_string(::getpid()));
     std::filesystem::create_directories(dir);
     return dir;
 }
