@@ -28,23 +28,26 @@ Imf::FrameBuffer frameBufferFor(FloatImage& image) {
 }
 }  // namespace
 
-Status writeExr(const fs::path& path, const FloatImage& image) {
-    return replaceFileAtomically(path, [&](const fs::path& temp) -> Status {
-        try {
-            Imf::Header header(image.width, image.height);
-            header.compression() = Imf::ZIP_COMPRESSION;
-            for (const auto& name : image.channels) {
-                header.channels().insert(name, Imf::Channel(Imf::FLOAT));
-            }
-            Imf::OutputFile file(temp.c_str(), header);
-            FloatImage& writable = const_cast<FloatImage&>(image);  // Slice wants char*
-            file.setFrameBuffer(frameBufferFor(writable));
-            file.writePixels(image.height);
-        } catch (const std::exception& e) {
-            return makeError(path.string() + ": cannot write EXR: " + e.what());
+Status writeExrFile(const fs::path& file, const FloatImage& image, const fs::path& target) {
+    try {
+        Imf::Header header(image.width, image.height);
+        header.compression() = Imf::ZIP_COMPRESSION;
+        for (const auto& name : image.channels) {
+            header.channels().insert(name, Imf::Channel(Imf::FLOAT));
         }
-        return Ok{};
-    });
+        Imf::OutputFile out(file.c_str(), header);
+        FloatImage& writable = const_cast<FloatImage&>(image);  // Slice wants char*
+        out.setFrameBuffer(frameBufferFor(writable));
+        out.writePixels(image.height);
+    } catch (const std::exception& e) {
+        return makeError(target.string() + ": cannot write EXR: " + e.what());
+    }
+    return Ok{};
+}
+
+Status writeExr(const fs::path& path, const FloatImage& image) {
+    return replaceFileAtomically(
+        path, [&](const fs::path& temp) { return writeExrFile(temp, image, path); });
 }
 
 Result<FloatImage> readExr(const fs::path& path, const std::vector<std::string>& channels) {

@@ -20,6 +20,10 @@ struct FloatImage {
 
 /// Writes atomically (temporary file + rename).
 Status writeExr(const std::filesystem::path& path, const FloatImage& image);
+/// Writes `file` as it is (the caller made it a temporary: replaceFilesTogether); errors name
+/// `target`, the file the user knows.
+Status writeExrFile(const std::filesystem::path& file, const FloatImage& image,
+                    const std::filesystem::path& target);
 
 /// Reads the named channels (missing ones are an error naming the file and channel).
 Result<FloatImage> readExr(const std::filesystem::path& path,
