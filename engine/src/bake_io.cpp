@@ -171,7 +171,10 @@ Result<SurfaceTextures> readBakedTextures(const fs::path& folder) {
         return makeError(manifestPath.string() + ": " + e.what());
     }
     if (t.size < kMinTextureSize || t.size > kMaxTextureSize) {
-        return makeError(manifestPath.string() + ": texture_size out of range");
+        return makeError(manifestPath.string() + ": texture_size " + std::to_string(t.size) +
+                         " is outside " + std::to_string(kMinTextureSize) + ".." +
+                         std::to_string(kMaxTextureSize) +
+                         " (the limit kMaxTextureSize, limits.h)");
     }
 
     auto samples = detail::readExr(folder / kSamplesFile, kSampleChannels);

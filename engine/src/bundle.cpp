@@ -326,13 +326,12 @@ Result<BundleReport> writeBodyBundle(const Project& project, std::size_t index,
             return makeError(target.string() + ": cannot replace: " + ec.message());
         }
     }
-    if (Status step = fileStep("renaming", staging); !step.ok()) {
-        ec = std::make_error_code(std::errc::io_error);
-    } else {
-        fs::rename(staging, target, ec);
-    }
-    if (ec) {
-        const std::string message = target.string() + ": cannot replace: " + ec.message();
+    Status moved = fileStep("renaming", staging);
+    if (moved.ok()) fs::rename(staging, target, ec);
+    if (!moved.ok() || ec) {
+        const std::string message =
+            moved.ok() ? target.string() + ": cannot replace: " + ec.message()
+                       : moved.error().message;
         std::error_code ignored;
         if (hadOld) fs::rename(old, target, ignored);
         fs::remove_all(staging, ignored);

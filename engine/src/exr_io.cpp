@@ -1,5 +1,7 @@
 #include "exr_io.h"
 
+#include "plimsoll/limits.h"
+
 #include "plimsoll/file_util.h"
 
 #include <OpenEXR/ImfChannelList.h>
@@ -65,6 +67,17 @@ Result<FloatImage> readExr(const fs::path& path, const std::vector<std::string>&
             if (!file.header().channels().findChannel(name)) {
                 return makeError(path.string() + ": EXR has no channel '" + name + "'");
             }
+        }
+        // The header's size is checked before the pixels are allocated: a corrupt or hostile
+        // header could ask for terabytes. Baked images are N x N (N <= kMaxTextureSize) and the
+        // sample list holds a few entries per texel.
+        const std::uint64_t pixels = std::uint64_t(image.width) * std::uint64_t(image.height);
+        constexpr std::uint64_t kMaxPixels = 4ull * kMaxTextureSize * kMaxTextureSize;
+        if (image.width <= 0 || image.height <= 0 || pixels > kMaxPixels) {
+            return makeError(path.string() + ": EXR of " + std::to_string(image.width) + " x " +
+                             std::to_string(image.height) + " pixels: more than the limit of " +
+                             std::to_string(kMaxPixels) +
+                             " (4 x kMaxTextureSize^2, limits.h), or empty");
         }
         image.pixels.assign(static_cast<std::size_t>(image.width) * image.height *
                                 channels.size(), 0.0f);

@@ -5,11 +5,14 @@
 
 #include "plimsoll/limits.h"
 
+#include <algorithm>
+#include <cctype>
 #include <charconv>
 #include <cstdio>
 #include <fstream>
 #include <sstream>
 #include <system_error>
+#include <vector>
 
 namespace plimsoll::detail {
 
@@ -141,6 +144,19 @@ Status checkMeshHeader(const fs::path& path) {
     in.seekg(0);
     if (std::string(magic, 3) == "ply" && (magic[3] == '\n' || magic[3] == '\r'))
         return checkPly(file, in, bytes);
+    if (std::string(magic, 4) == "glTF") {
+        // Binary glTF: magic, version, total length (little-endian uint32). Assimp answers a
+        // cut-off file with "no suitable reader", which sends users looking in the wrong place.
+        unsigned char header[12] = {};
+        in.read(reinterpret_cast<char*>(header), sizeof header);
+        const std::uint64_t length = header[8] | (header[9] << 8) | (header[10] << 16) |
+                                     (std::uint64_t(header[11]) << 24);
+        if (!in || length > bytes) {
+            return makeError(file + ": GLB header says " + std::to_string(length) +
+                             " bytes, the file has " + std::to_string(bytes) + " (truncated?)");
+        }
+        return Ok{};
+    }
     std::string extension = path.extension().string();
     for (char& c : extension) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
     if (extension == ".stl") return checkBinaryStl(file, in, bytes);

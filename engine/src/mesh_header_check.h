@@ -8,8 +8,8 @@
 
 namespace plimsoll::detail {
 
-/// PLY (any extension, by its "ply" magic) and binary STL (.stl): Ok, or an error naming the
-/// file, the declared count and the limit (or the bytes missing). Other formats: Ok.
+/// PLY and GLB (any extension, by their magic) and binary STL (.stl): Ok, or an error naming
+/// the file, the declared count and the limit (or the bytes missing). Other formats: Ok.
 Status checkMeshHeader(const std::filesystem::path& path);
 
 }  // namespace plimsoll::detail
