@@ -367,6 +367,7 @@ RenderScene sceneOf(EditorState& s) {
         body.overlay = s.renderer->overlayTexture(static_cast<int>(b)) ? static_cast<int>(b) : -1;
         scene.bodies.push_back(std::move(body));
     }
+    addGraphToScene(s, scene);
     return scene;
 }
 
@@ -484,6 +485,7 @@ int runEditorWindow(const EditorLaunch& launch) {
         drawInspectorPanel(s, Rect{display.x - column, menu + tools, column,
                                    below - tools - uvSide});
         drawUvPanel(s, Rect{display.x - column, display.y - status - uvSide, column, uvSide});
+        drawGraphPanel(s);
         ImGui::SetNextWindowPos(ImVec2(0, display.y - status));
         ImGui::SetNextWindowSize(ImVec2(display.x, status));
         ImGui::Begin("##status", nullptr,
@@ -570,6 +572,7 @@ int runEditorWindow(const EditorLaunch& launch) {
         (void)s.settings.save();
     }
     callbackState = nullptr;
+    releaseGraphPanel();
     s.renderer.reset();
     ImGui_ImplOpenGL3_Shutdown();
     ImGui_ImplGlfw_Shutdown();

@@ -13,4 +13,14 @@ void drawBrushPanel(EditorState& state, const Rect& area);
 void drawInspectorPanel(EditorState& state, const Rect& area);
 void drawUvPanel(EditorState& state, const Rect& area);
 
+// The water graph (graph_panel.cpp): its floating panel; its mouse tools in the 3D view (true:
+// the graph took the mouse this frame); the box-select rectangle and drag readout over the
+// view; the graph inside the see-through hull and the feed / segment colours in the scene;
+// freeing its GL objects and waiting for its worker before the context goes.
+void drawGraphPanel(EditorState& state);
+bool graphViewportInput(EditorState& state);
+void drawGraphOverlay(EditorState& state);
+void addGraphToScene(EditorState& state, RenderScene& scene);
+void releaseGraphPanel();
+
 }  // namespace plimsoll::editor

@@ -68,8 +68,9 @@ void viewportInput(EditorState& s) {
     }
     if (hovered && io.MouseWheel != 0) s.camera.zoom(io.MouseWheel);
 
-    // Tools with the left mouse.
+    // Tools with the left mouse: the water graph's first when it is being edited in the view.
     if (drag.navigating || io.KeyAlt) return;
+    if (graphViewportInput(s)) return;
     if (s.tool == Tool::Brush) {
         if (hovered && ImGui::IsMouseClicked(0)) {
             if (auto hit = s.pick(mouse.x, mouse.y)) {
@@ -117,6 +118,7 @@ void drawViewportOverlay(EditorState& s) {
     const ImVec2 origin(s.viewport.x + 8, s.viewport.y + 6);
     std::string line = std::string(viewName(s.camera)) + "   overlay: " + overlayName(s.overlay);
     draw->AddText(origin, IM_COL32(230, 230, 230, 255), line.c_str());
+    drawGraphOverlay(s);
     // The brush circle: the radius at the surface under the cursor, projected.
     const ImVec2 mouse = ImGui::GetIO().MousePos;
     if ((s.tool == Tool::Brush) && s.viewport.contains(mouse.x, mouse.y) &&

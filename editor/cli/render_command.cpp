@@ -1,11 +1,12 @@
 // `plimsoll render PROJECT --out shot.png [--view front|side|top|persp] [--overlay MAP]
-// [--size WxH]`: the viewport's image with no display, through EGL (Mesa's surfaceless
+// [--size WxH] [--graph]`: the viewport's image with no display, through EGL (Mesa's surfaceless
 // llvmpipe on a machine without a GPU). For thumbnails and tests.
 #include "cli/commands.h"
 
 #include "document/document.h"
 #include "document/overlay.h"
 #include "render/camera.h"
+#include "render/graph_draw.h"
 #include "render/headless_context.h"
 #include "render/renderer.h"
 #include "render/scene.h"
@@ -33,6 +34,7 @@ struct RenderOptions {
     double time = 0.0;
     bool noWater = false;
     bool noGrid = false;
+    bool graph = false;
 };
 
 int runRender(const RenderOptions& o) {
@@ -83,6 +85,26 @@ int runRender(const RenderOptions& o) {
     scene.grid = scene.axes = !o.noGrid;
     scene.time = o.time;
     const Camera camera = Camera::preset(*view, (*document)->worldBounds());
+    // --graph: each body's water graph inside its hull, the hull see-through.
+    std::unique_ptr<GraphDrawer> graphDrawer;
+    std::vector<RenderGraph> graphs;
+    if (o.graph) {
+        Result<std::unique_ptr<GraphDrawer>> made = GraphDrawer::create();
+        if (!made) {
+            std::cerr << "error: " << made.error().message << "\n";
+            return kExitFailure;
+        }
+        graphDrawer = std::move(made).value();
+        for (std::size_t b = 0; b < (*document)->bodyCount(); ++b) {
+            if (const WaterGraph* graph = (*document)->graph(b)) {
+                graphs.push_back(RenderGraph{graph, (*document)->bodyPose(b), {}, -1, {}});
+                scene.bodies[b].alpha = 0.3f;
+            }
+        }
+        scene.drawInside = [&](const Eigen::Matrix4f& viewProj) {
+            for (const RenderGraph& g : graphs) graphDrawer->draw(g, viewProj, camera);
+        };
+    }
     (*target)->bind();
     (*renderer)->draw(scene, camera, width, height);
     const std::vector<std::uint8_t> pixels = (*target)->readRgba();
@@ -140,6 +162,9 @@ void addRenderCommand(CLI::App& root, CommandRunner& selected) {
     cmd->add_option("--time", o->time, "Time of the waves, s")->capture_default_str();
     cmd->add_flag("--no-water", o->noWater, "Leave out the water surface");
     cmd->add_flag("--no-grid", o->noGrid, "Leave out the grid and axes");
+    cmd->add_flag("--graph", o->graph,
+                  "Draw each body's water graph (nodes filled to their water, pipes) inside its "
+                  "hull, drawn see-through");
     cmd->callback([o, &selected] { selected = [o] { return runRender(*o); }; });
 }
 

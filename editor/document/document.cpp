@@ -58,6 +58,20 @@ std::map<fs::path, PaintedMap>& detachedMaps() {
     return maps;
 }
 
+/// Edited graphs whose path left the project (an undone path change brings them back).
+std::map<fs::path, WaterGraph>& detachedGraphs() {
+    static std::map<fs::path, WaterGraph> graphs;
+    return graphs;
+}
+
+/// A graph file parsed for editing: structure checked, validity not (validateGraph is the
+/// graph panel's and World's business).
+Result<WaterGraph> readGraphForEditing(const fs::path& path) {
+    std::ifstream in(path, std::ios::binary);
+    if (!in) return makeError(path.string() + ": cannot open");
+    return parseGraph(std::string(std::istreambuf_iterator<char>(in), {}), path.string());
+}
+
 std::string base64Encode(const std::string& bytes) {
     static const char* alphabet =
         "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
@@ -204,7 +218,51 @@ void Document::syncAssets() {
                 m.error = mapPath.string() + ": no such file (yet)";
             }
         }
+        BodyAssets::Graph& g = a.graph;
+        const fs::path graphPath = body.waterGraph && !body.waterGraph->graph.empty()
+                                       ? project_.resolvePath(body.waterGraph->graph)
+                                       : fs::path();
+        if (graphPath != g.path) {
+            if (g.dirty && g.graph && !g.path.empty()) detachedGraphs()[g.path] = *g.graph;
+            g = BodyAssets::Graph{};
+            g.path = graphPath;
+            if (graphPath.empty()) continue;
+            std::error_code ec;
+            if (auto it = detachedGraphs().find(graphPath); it != detachedGraphs().end()) {
+                g.graph = it->second;
+                g.dirty = true;
+            } else if (fs::exists(graphPath, ec)) {
+                Result<WaterGraph> read = readGraphForEditing(graphPath);
+                if (read) g.graph = std::move(read).value();
+                else g.error = read.error().message;
+            } else {
+                g.error = graphPath.string() + ": no such file (yet)";
+            }
+        }
     }
+}
+
+const WaterGraph* Document::graph(std::size_t body) const {
+    if (body >= assets_.size() || !assets_[body].graph.graph) return nullptr;
+    return &*assets_[body].graph.graph;
+}
+
+void Document::setGraph(std::size_t body, std::optional<WaterGraph> graph) {
+    BodyAssets::Graph& g = assets_.at(body).graph;
+    g.graph = std::move(graph);
+    g.dirty = true;
+    g.error.clear();
+}
+
+std::string Document::defaultGraphPath(std::size_t body) const {
+    std::string stem = path_.empty() ? "untitled" : path_.filename().string();
+    if (const auto dot = stem.find('.'); dot != std::string::npos) stem.resize(dot);
+    std::string bodyName = body < project_.bodies.size() ? project_.bodies[body].name : "";
+    if (bodyName.empty()) bodyName = "body" + std::to_string(body);
+    for (char& ch : bodyName) {
+        if (!std::isalnum(static_cast<unsigned char>(ch)) && ch != '-') ch = '_';
+    }
+    return stem + "_" + bodyName + ".graph.json";
 }
 
 PaintedMap* Document::map(std::size_t body, MapChannel channel) {
@@ -359,6 +417,15 @@ Status Document::writeMapsAndProjectFiles(bool allMaps, bool withProject) {
             });
             written.push_back(&m);
         }
+        BodyAssets::Graph& g = a.graph;
+        if (g.graph && !g.path.empty() && (g.dirty || all)) {
+            std::error_code ec;
+            fs::create_directories(g.path.parent_path(), ec);
+            Status saved = saveGraph(*g.graph, g.path);
+            if (!saved) return saved;
+            g.dirty = false;
+            g.error.clear();
+        }
     }
     if (withProject) {
         const std::string text = projectToJson(project_) + "\n";
@@ -402,6 +469,11 @@ Status Document::saveAs(const fs::path& target) {
             const BodyAssets::Map& m = assets_[&body - moved.bodies.data()].maps[static_cast<int>(c)];
             if (!p.empty() && !m.image) p = rebase(p, from, to);  // not loaded: keep pointing at it
         }
+        // So does the water graph, when it is loaded.
+        if (body.waterGraph && !fs::path(body.waterGraph->graph).is_absolute() &&
+            !assets_[&body - moved.bodies.data()].graph.graph) {
+            body.waterGraph->graph = rebase(body.waterGraph->graph, from, to);
+        }
     }
     moved.folder = to;
     project_ = std::move(moved);
@@ -417,6 +489,10 @@ Status Document::saveAs(const fs::path& target) {
             m.path = p.empty() ? fs::path() : project_.resolvePath(p);
             if (m.image) m.dirty = true;
         }
+        BodyAssets::Graph& g = assets_[b].graph;
+        const auto& desc = project_.bodies[b].waterGraph;
+        g.path = desc && !desc->graph.empty() ? project_.resolvePath(desc->graph) : fs::path();
+        if (g.graph) g.dirty = true;
     }
     if (oldAutosave) {
         std::error_code ec;
@@ -459,6 +535,12 @@ Status Document::autosave() const {
         }
     }
     root["maps"] = std::move(maps);
+    Json graphs = Json::array();
+    for (std::size_t b = 0; b < assets_.size(); ++b) {
+        const BodyAssets::Graph& g = assets_[b].graph;
+        if (g.graph && g.dirty) graphs.push_back({{"body", b}, {"graph", graphToJson(*g.graph)}});
+    }
+    root["graphs"] = std::move(graphs);
     const fs::path target = autosavePath();
     std::error_code ec;
     fs::create_directories(target.parent_path(), ec);
@@ -512,6 +594,14 @@ Result<std::unique_ptr<Document>> Document::recover(const fs::path& autosaveFile
             decodePng(base64Decode(m.value("png_base64", std::string())), autosaveFile.string());
         if (!image) return image.error();
         document->setMap(body, *channel, std::move(image).value());
+    }
+    for (const Json& g : root.value("graphs", Json::array())) {
+        const std::size_t body = g.value("body", std::size_t{0});
+        if (body >= document->bodyCount()) continue;
+        Result<WaterGraph> graph =
+            parseGraph(g.value("graph", std::string()), autosaveFile.string() + " (graph)");
+        if (!graph) return graph.error();
+        document->setGraph(body, std::move(graph).value());
     }
     document->savedState_ = ~std::uint64_t{0};  // differs from every state: dirty
     return document;

@@ -8,6 +8,7 @@
 #include "document/paint.h"
 
 #include "plimsoll/bake.h"
+#include "plimsoll/graph.h"
 #include "plimsoll/mesh.h"
 #include "plimsoll/painted_map.h"
 #include "plimsoll/pose.h"
@@ -60,6 +61,15 @@ struct BodyAssets {
     std::array<std::shared_ptr<const PaintSurface>, kMapChannelCount> paintSurfaces;
     /// The physics bake (body.textureSize), built on first use.
     std::shared_ptr<const SurfaceTextures> physics;
+    /// The body's water graph (the file BodyDesc::waterGraph names) as loaded and edited. It
+    /// is parsed but not validated: a graph with errors can still be opened and fixed.
+    struct Graph {
+        std::filesystem::path path;           ///< resolved path; empty: the body has none
+        std::optional<WaterGraph> graph;
+        bool dirty = false;                   ///< differs from the file
+        std::string error;
+    };
+    Graph graph;
 };
 
 class Document;
@@ -132,6 +142,13 @@ public:
     /// Installs (or with nullopt removes) a body's map image; marks it dirty.
     void setMap(std::size_t body, MapChannel channel, std::optional<PaintedMap> image);
     void markMapDirty(std::size_t body, MapChannel channel);
+    /// The body's water graph as edited (null: none, or its file failed to load).
+    const WaterGraph* graph(std::size_t body) const;
+    /// Installs (or with nullopt removes) the body's graph image; marks it dirty. The project's
+    /// water_graph entry names the file it is saved to (graph_edit.h changes both).
+    void setGraph(std::size_t body, std::optional<WaterGraph> graph);
+    /// Where a new graph for `body` goes: "<project>_<body>.graph.json" beside the project.
+    std::string defaultGraphPath(std::size_t body) const;
     /// The paint surface for the body's current map of `channel` (built and cached).
     Result<std::shared_ptr<const PaintSurface>> paintSurface(std::size_t body, MapChannel channel);
     /// Bounds of every loaded body at its starting pose, world, m.
@@ -146,6 +163,7 @@ public:
 private:
     std::uint64_t stateId() const { return done_.empty() ? 0 : done_.back().id; }
     void syncAssets();
+    /// Writes the changed (or all) maps and water graphs, each atomically.
     Status writeMaps(bool all);
     /// writeMaps(allMaps), then the project to path_; marks the document saved.
     Status writeMapsAndProject(bool allMaps);

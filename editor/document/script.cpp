@@ -1,6 +1,10 @@
 #include "document/script.h"
 
 #include "document/command.h"
+#include "document/graph_edit.h"
+
+#include <fstream>
+#include <iterator>
 
 namespace plimsoll::editor {
 
@@ -75,6 +79,106 @@ std::vector<Eigen::Vector3d> strokePoints(const Document& document, std::size_t 
     return points;
 }
 
+std::vector<std::string> nodeIds(const Json& j) {
+    std::vector<std::string> ids;
+    const Json& list = j.contains("nodes") ? j["nodes"] : j.at("node");
+    if (list.is_string()) ids.push_back(list.get<std::string>());
+    else for (const Json& id : list) ids.push_back(id.get<std::string>());
+    return ids;
+}
+
+NodeEdit readNodeEdit(const Json& j) {
+    NodeEdit e;
+    if (j.contains("name")) e.name = j["name"].get<std::string>();
+    if (j.contains("position")) e.position = vec3(j["position"]);
+    if (j.contains("capacity")) e.capacity = j["capacity"].get<double>();
+    if (j.contains("water")) e.water = j["water"].get<double>();
+    if (j.contains("sealed")) e.sealed = j["sealed"].get<bool>();
+    if (j.contains("box")) e.boxSize = vec3(j["box"]);
+    return e;
+}
+
+PipeEdit readPipeEdit(const Json& j) {
+    PipeEdit e;
+    if (j.contains("open")) e.open = j["open"].get<bool>();
+    if (j.contains("radius")) e.radius = j["radius"].get<double>();
+    if (j.contains("length")) e.length = j["length"].get<double>();
+    return e;
+}
+
+/// The water-graph ops (graph_*); nullopt when `op` is not one of them.
+std::optional<Result<std::unique_ptr<Command>>> graphCommand(Document& document, std::size_t body,
+                                                             const std::string& op, const Json& c) {
+    if (op == "graph_create") {
+        return makeCreateGraphCommand(document, body, c.value("path", std::string()));
+    }
+    if (op == "graph_add_node") {
+        GraphNode n;
+        n.id = c.value("id", std::string());
+        const NodeEdit e = readNodeEdit(c);
+        n.name = e.name.value_or("");
+        n.position = e.position.value_or(Eigen::Vector3d::Zero());
+        n.capacity = e.capacity.value_or(0.0);
+        n.water = e.water.value_or(0.0);
+        n.sealed = e.sealed.value_or(false);
+        n.boxSize = e.boxSize.value_or(Eigen::Vector3d::Zero());
+        return makeAddNodeCommand(document, body, std::move(n));
+    }
+    if (op == "graph_duplicate") {
+        return makeDuplicateNodesCommand(document, body, nodeIds(c),
+                                         c.contains("offset") ? vec3(c["offset"])
+                                                              : Eigen::Vector3d::Zero());
+    }
+    if (op == "graph_delete") return makeDeleteNodesCommand(document, body, nodeIds(c));
+    if (op == "graph_move") return makeMoveNodesCommand(document, body, nodeIds(c), vec3(c.at("offset")));
+    if (op == "graph_set_node") {
+        return makeSetNodeCommand(document, body, c.at("node").get<std::string>(), readNodeEdit(c));
+    }
+    if (op == "graph_connect") {
+        GraphPipe p;
+        p.a = c.at("a").get<std::string>();
+        p.b = c.at("b").get<std::string>();
+        const PipeEdit e = readPipeEdit(c);
+        p.radius = e.radius.value_or(p.radius);
+        p.length = e.length.value_or(p.length);
+        p.open = e.open.value_or(true);
+        return makeAddPipeCommand(document, body, std::move(p));
+    }
+    if (op == "graph_disconnect") return makeRemovePipeCommand(document, body, c.at("a"), c.at("b"));
+    if (op == "graph_set_pipe" || op == "graph_open" || op == "graph_close") {
+        PipeEdit e = readPipeEdit(c);
+        if (op != "graph_set_pipe") e.open = op == "graph_open";
+        return makeSetPipeCommand(document, body, c.at("a"), c.at("b"), e);
+    }
+    if (op == "graph_replace") {
+        Result<WaterGraph> graph = makeError("graph_replace needs \"graph\" or \"path\"");
+        if (c.contains("graph")) {
+            graph = parseGraph(c["graph"].dump(), "graph_replace");
+        } else if (c.contains("path")) {
+            fs::path file = c["path"].get<std::string>();
+            if (file.is_relative()) file = document.project().folder / file;
+            std::ifstream in(file, std::ios::binary);
+            if (!in) return makeError(file.string() + ": cannot open");
+            graph = parseGraph(std::string(std::istreambuf_iterator<char>(in), {}), file.string());
+        }
+        if (!graph) return graph.error();
+        return makeReplaceGraphCommand(document, body, std::move(graph).value());
+    }
+    if (op == "graph_auto") {
+        if (body >= document.bodyCount() || !document.assets(body).mesh) {
+            return makeError("graph_auto needs the body's mesh");
+        }
+        AutoGraphSettings settings;
+        settings.segments = c.value("segments", 0);
+        settings.shellThickness = c.value("shell_thickness", 0.0);
+        Result<WaterGraph> graph = buildAutomaticGraph(*document.assets(body).mesh, settings);
+        if (!graph) return graph.error();
+        return makeReplaceGraphCommand(document, body, std::move(graph).value(),
+                                       "Auto-generate water graph");
+    }
+    return std::nullopt;
+}
+
 }  // namespace
 
 Result<Json> runEditScript(Document& document, const Json& script) {
@@ -135,6 +239,8 @@ Result<Json> runEditScript(Document& document, const Json& script) {
                 fs::path mesh = c.at("path").get<std::string>();
                 if (mesh.is_relative()) mesh = document.project().folder / mesh;
                 command = makeImportMeshCommand(document, mesh, target);
+            } else if (auto graphEdit = graphCommand(document, body, op, c)) {
+                command = std::move(*graphEdit);
             } else if (op == "pick") {
                 const std::vector<Eigen::Vector3d> points = strokePoints(document, body, c);
                 const PaintedMap* map = document.map(body, channel);
@@ -176,6 +282,10 @@ Result<Json> runEditScript(Document& document, const Json& script) {
                     result["pixels_changed"] = paint->change().pixels.size();
                 }
                 result["name"] = (*command)->name();
+                if (auto* graph = dynamic_cast<GraphCommand*>(command->get());
+                    graph && op == "graph_add_node" && graph->after()) {
+                    result["id"] = graph->after()->nodes.back().id;
+                }
                 if (Status s = document.execute(std::move(command).value()); !s) {
                     return makeError(where + " (" + op + "): " + s.error().message);
                 }

@@ -36,13 +36,14 @@ uniform sampler2D uOverlay;
 uniform vec2 uUvScale;
 uniform vec2 uUvOffset;
 uniform vec3 uBase;
+uniform float uAlpha;
 out vec4 oColour;
 void main() {
     vec3 n = normalize(cross(dFdx(vWorld), dFdy(vWorld)));
     vec3 v = uOrtho != 0 ? -uViewDir : normalize(uEye - vWorld);
     float light = 0.35 + 0.65 * abs(dot(n, v));
     vec3 c = uHasOverlay != 0 ? texture(uOverlay, vUv * uUvScale + uUvOffset).rgb : uBase;
-    oColour = vec4(c * light, 1.0);
+    oColour = vec4(c * light, uAlpha);
 })";
 
 const char* kLineVertex = R"(#version 450 core
@@ -361,30 +362,45 @@ void Renderer::draw(const RenderScene& scene, const Camera& camera, int width, i
     glUniform3fv(glGetUniformLocation(meshProgram_, "uViewDir"), 1, viewDir.data());
     glUniform1i(glGetUniformLocation(meshProgram_, "uOrtho"), camera.orthographic ? 1 : 0);
     glUniform1i(glGetUniformLocation(meshProgram_, "uOverlay"), 0);
-    for (const RenderBody& body : scene.bodies) {
-        if (!body.mesh) continue;
-        Eigen::Matrix4f model = Eigen::Matrix4f::Identity();
-        model.block<3, 3>(0, 0) = body.pose.rotation.cast<float>();
-        model.block<3, 1>(0, 3) = body.pose.translation.cast<float>();
-        setMatrix(meshProgram_, "uModel", model);
-        auto overlay = overlays_.find(body.overlay);
-        const bool hasOverlay = overlay != overlays_.end() && body.mesh->hasUvs();
-        glUniform1i(glGetUniformLocation(meshProgram_, "uHasOverlay"), hasOverlay ? 1 : 0);
-        if (hasOverlay) {
-            glActiveTexture(GL_TEXTURE0);
-            glBindTexture(GL_TEXTURE_2D, overlay->second.texture);
-            glUniform2fv(glGetUniformLocation(meshProgram_, "uUvScale"), 1,
-                         overlay->second.scale.data());
-            glUniform2fv(glGetUniformLocation(meshProgram_, "uUvOffset"), 1,
-                         overlay->second.offset.data());
+    // Opaque bodies, then what is inside them, then the see-through ones over it.
+    auto drawBodies = [&](bool seeThrough) {
+        for (const RenderBody& body : scene.bodies) {
+            if (!body.mesh || (body.alpha < 1.0f) != seeThrough) continue;
+            glUniform1f(glGetUniformLocation(meshProgram_, "uAlpha"), body.alpha);
+            Eigen::Matrix4f model = Eigen::Matrix4f::Identity();
+            model.block<3, 3>(0, 0) = body.pose.rotation.cast<float>();
+            model.block<3, 1>(0, 3) = body.pose.translation.cast<float>();
+            setMatrix(meshProgram_, "uModel", model);
+            auto overlay = overlays_.find(body.overlay);
+            const bool hasOverlay = overlay != overlays_.end() && body.mesh->hasUvs();
+            glUniform1i(glGetUniformLocation(meshProgram_, "uHasOverlay"), hasOverlay ? 1 : 0);
+            if (hasOverlay) {
+                glActiveTexture(GL_TEXTURE0);
+                glBindTexture(GL_TEXTURE_2D, overlay->second.texture);
+                glUniform2fv(glGetUniformLocation(meshProgram_, "uUvScale"), 1,
+                             overlay->second.scale.data());
+                glUniform2fv(glGetUniformLocation(meshProgram_, "uUvOffset"), 1,
+                             overlay->second.offset.data());
+            }
+            const Eigen::Vector3f base = body.selected ? Eigen::Vector3f(0.80f, 0.78f, 0.72f)
+                                                       : Eigen::Vector3f(0.70f, 0.70f, 0.70f);
+            glUniform3fv(glGetUniformLocation(meshProgram_, "uBase"), 1, base.data());
+            MeshBuffers& b = buffersFor(body.mesh);
+            glBindVertexArray(b.vao);
+            glDrawArrays(GL_TRIANGLES, 0, b.vertexCount);
         }
-        const Eigen::Vector3f base = body.selected ? Eigen::Vector3f(0.80f, 0.78f, 0.72f)
-                                                   : Eigen::Vector3f(0.70f, 0.70f, 0.70f);
-        glUniform3fv(glGetUniformLocation(meshProgram_, "uBase"), 1, base.data());
-        MeshBuffers& b = buffersFor(body.mesh);
-        glBindVertexArray(b.vao);
-        glDrawArrays(GL_TRIANGLES, 0, b.vertexCount);
+    };
+    drawBodies(false);
+    if (scene.drawInside) {
+        scene.drawInside(viewProj);
+        glUseProgram(meshProgram_);
     }
+    glEnable(GL_BLEND);
+    glBlendFunc(GL_SRC_ALPHA, GL_ONE_MINUS_SRC_ALPHA);
+    glDepthMask(GL_FALSE);
+    drawBodies(true);
+    glDepthMask(GL_TRUE);
+    glDisable(GL_BLEND);
 
     // Grid (1 m, on y = 0) and axes.
     std::vector<float> lines;

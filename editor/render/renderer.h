@@ -15,6 +15,7 @@
 #include <Eigen/Core>
 
 #include <cstdint>
+#include <functional>
 #include <map>
 #include <memory>
 #include <optional>
@@ -28,6 +29,8 @@ struct RenderBody {
     /// Overlay texture slot (see Renderer::setOverlay); -1: plain grey.
     int overlay = -1;
     bool selected = false;
+    /// Below 1: see-through (drawn after RenderScene::drawInside, blended, depth not written).
+    float alpha = 1.0f;
 };
 
 struct RenderScene {
@@ -37,6 +40,9 @@ struct RenderScene {
     bool grid = true;
     bool axes = true;
     Eigen::Vector3f background{0.20f, 0.21f, 0.23f};
+    /// Drawn after the opaque bodies and before the see-through ones (what is inside a hull:
+    /// the water graph), with the view-projection matrix; depth testing on.
+    std::function<void(const Eigen::Matrix4f& viewProj)> drawInside;
 };
 
 /// A framebuffer object with colour and depth, for rendering without a window.

@@ -1,0 +1,568 @@
+// The "Water graph" panel and its tools in the 3D view: the selected body's graph drawn inside
+// its see-through hull (graph_draw.h), nodes and pipes picked with the mouse (click, shift-click
+// to add, drag a rectangle on empty space to box-select), selected nodes dragged (on the view
+// plane, a horizontal plane or the hull's surface; holding X, Y or Z keeps the drag on that
+// world axis), and the panel's buttons and inspector. Every change is a command of
+// graph_edit.h: one undo step per click, per drag, per edited field. "Auto-generate" builds a
+// graph on a worker thread (segmentation takes seconds) and shows its segments on the hull
+// before "Apply" replaces the graph.
+#include "app/panels.h"
+
+#include "document/graph_edit.h"
+#include "document/graph_view.h"
+#include "render/graph_draw.h"
+#include "render/graph_pick.h"
+
+#include <GLFW/glfw3.h>
+#include <imgui.h>
+
+#include <algorithm>
+#include <atomic>
+#include <cstring>
+#include <future>
+#include <set>
+
+namespace plimsoll::editor {
+
+namespace {
+
+/// Overlay slots of the feed / segment colours: past the bodies' own (slot = body index).
+constexpr int kGraphOverlaySlot = 1 << 20;
+
+enum class DragPlane { View = 0, Horizontal = 1, Surface = 2 };
+
+/// A finished automatic graph waiting for "Apply".
+struct AutoPreview {
+    std::size_t body = 0;
+    WaterGraph graph;
+    std::vector<int> texelSegment;
+    int segments = 0;
+    double seconds = 0;
+};
+
+struct AutoJob {
+    std::future<Result<AutoPreview>> result;
+    std::shared_ptr<std::atomic<double>> progress;
+    std::size_t body = 0;
+};
+
+struct GraphUi {
+    bool editInView = true;       ///< the left mouse edits the graph (else the paint tools)
+    bool showGraph = true;
+    bool showFeeds = false;
+    float hullAlpha = 0.3f;
+    DragPlane dragPlane = DragPlane::View;
+    std::set<std::string> selected;   ///< node ids (ids survive undo; indices do not)
+    std::optional<std::pair<std::string, std::string>> selectedPipe;
+    // Mouse in the view.
+    bool boxSelecting = false, dragging = false;
+    ImVec2 pressAt{0, 0}, mouseAt{0, 0};
+    Eigen::Vector3d anchor = Eigen::Vector3d::Zero();      ///< world, the grabbed node
+    Eigen::Vector3d dragOffset = Eigen::Vector3d::Zero();  ///< world, so far
+    // Auto-generate.
+    int segments = 4;
+    std::optional<AutoJob> job;
+    std::optional<AutoPreview> preview;
+    std::string autoError;
+    // Overlay upload cache.
+    std::uint64_t overlayRevision = ~std::uint64_t{0};
+    int overlayKind = -1;
+    std::size_t overlayBody = ~std::size_t{0};
+    std::unique_ptr<GraphDrawer> drawer;
+    std::vector<RenderGraph> drawn;   ///< this frame's, for the scene's drawInside
+    WaterGraph dragged;               ///< the graph with the drag applied (drawn while dragging)
+};
+GraphUi ui;
+
+std::size_t bodyOf(const EditorState& s) {
+    return static_cast<std::size_t>(std::max(0, s.selectedBody));
+}
+
+const WaterGraph* graphOf(const EditorState& s) {
+    if (!s.document || bodyOf(s) >= s.document->bodyCount()) return nullptr;
+    return s.document->graph(bodyOf(s));
+}
+
+std::vector<std::string> selectedIds(const WaterGraph& g) {
+    std::vector<std::string> ids;
+    for (const GraphNode& n : g.nodes) {
+        if (ui.selected.count(n.id)) ids.push_back(n.id);
+    }
+    return ids;
+}
+
+/// Drops selected ids the graph no longer has (after an undo or a delete).
+void pruneSelection(const WaterGraph* g) {
+    if (!g) {
+        ui.selected.clear();
+        ui.selectedPipe.reset();
+        return;
+    }
+    std::erase_if(ui.selected, [&](const std::string& id) { return g->indexOf(id) < 0; });
+    if (ui.selectedPipe && findPipe(*g, ui.selectedPipe->first, ui.selectedPipe->second) < 0) {
+        ui.selectedPipe.reset();
+    }
+}
+
+void ray(const EditorState& s, ImVec2 mouse, Eigen::Vector3d& origin, Eigen::Vector3d& direction) {
+    s.camera.rayThrough(mouse.x - s.viewport.x, mouse.y - s.viewport.y, int(s.viewport.w),
+                        int(s.viewport.h), origin, direction);
+}
+
+/// Where the drag puts the grabbed node now (world), from the mouse ray.
+std::optional<Eigen::Vector3d> dragTarget(const EditorState& s, ImVec2 mouse) {
+    Eigen::Vector3d o, d;
+    ray(s, mouse, o, d);
+    for (int axis = 0; axis < 3; ++axis) {
+        if (ImGui::IsKeyDown(GLFW_KEY_X + axis)) {
+            return closestOnAxis(ui.anchor, Eigen::Vector3d::Unit(axis), o, d);
+        }
+    }
+    switch (ui.dragPlane) {
+        case DragPlane::Surface: {
+            // Snap onto the hull under the mouse (the inner side is the same surface).
+            if (auto hit = s.pick(mouse.x, mouse.y); hit && hit->first == bodyOf(s)) {
+                return s.document->bodyPose(hit->first).apply(hit->second);
+            }
+            return std::nullopt;
+        }
+        case DragPlane::Horizontal: return rayPlane(o, d, ui.anchor, Eigen::Vector3d::UnitY());
+        case DragPlane::View: break;
+    }
+    return rayPlane(o, d, ui.anchor, -s.camera.forward());
+}
+
+void startAutoGenerate(EditorState& s) {
+    const std::size_t body = bodyOf(s);
+    auto mesh = s.document->assets(body).mesh;
+    auto textures = s.document->physicsTextures(body);
+    if (!mesh || !textures) {
+        ui.autoError = !mesh ? "the body has no mesh" : textures.error().message;
+        return;
+    }
+    auto progress = std::make_shared<std::atomic<double>>(0.0);
+    const int segments = ui.segments;
+    std::shared_ptr<const SurfaceTextures> baked = *textures;
+    // The worker owns shared pointers to what it reads: the document may change meanwhile.
+    ui.job = AutoJob{std::async(std::launch::async,
+                                [mesh, baked, segments, progress]() -> Result<AutoPreview> {
+                                    AutoGraphSettings settings;
+                                    settings.segments = segments;
+                                    settings.progress = [&](double p) { *progress = 0.9 * p; };
+                                    AutoGraphReport report;
+                                    Result<WaterGraph> graph =
+                                        buildAutomaticGraph(*mesh, settings, &report);
+                                    if (!graph) return graph.error();
+                                    AutoPreview preview;
+                                    preview.graph = std::move(graph).value();
+                                    preview.segments = report.segmentation.segmentCount;
+                                    preview.seconds = report.totalSeconds;
+                                    preview.texelSegment = texelSegments(
+                                        *mesh, report.segmentation, *baked,
+                                        [&](double p) { *progress = 0.9 + 0.1 * p; });
+                                    return preview;
+                                }),
+                     progress, body};
+    ui.preview.reset();
+    ui.autoError.clear();
+}
+
+void pollAutoGenerate() {
+    if (!ui.job) return;
+    if (ui.job->result.wait_for(std::chrono::seconds(0)) != std::future_status::ready) return;
+    Result<AutoPreview> done = ui.job->result.get();
+    const std::size_t body = ui.job->body;
+    ui.job.reset();
+    if (!done) {
+        ui.autoError = done.error().message;
+        return;
+    }
+    ui.preview = std::move(done).value();
+    ui.preview->body = body;
+    ui.overlayRevision = ~std::uint64_t{0};  // show the segments
+}
+
+bool inputDouble(const char* label, double& value, double step, const char* format = "%.4f") {
+    ImGui::InputDouble(label, &value, step, step * 10, format);
+    return ImGui::IsItemDeactivatedAfterEdit();
+}
+
+void nodeInspector(EditorState& s, const GraphNode& n) {
+    ImGui::Text("Node %s", n.id.c_str());
+    static char name[128];
+    static std::string editingFor;
+    static GraphNode shown;
+    if (editingFor != n.id || !ImGui::IsAnyItemActive()) {
+        editingFor = n.id;
+        shown = n;
+        std::snprintf(name, sizeof name, "%s", n.name.c_str());
+    }
+    NodeEdit e;
+    ImGui::InputText("name", name, sizeof name);
+    if (ImGui::IsItemDeactivatedAfterEdit()) e.name = std::string(name);
+    ImGui::DragScalarN("position", ImGuiDataType_Double, shown.position.data(), 3, 0.01f);
+    if (ImGui::IsItemDeactivatedAfterEdit()) e.position = shown.position;
+    if (inputDouble("capacity m^3", shown.capacity, 0.01)) e.capacity = shown.capacity;
+    if (inputDouble("water m^3", shown.water, 0.01)) e.water = shown.water;
+    if (ImGui::Checkbox("sealed", &shown.sealed)) e.sealed = shown.sealed;
+    bool box = shown.isBox();
+    if (ImGui::Checkbox("box", &box)) {
+        // A sphere becomes the cube of its capacity; a box a sphere (zero box size).
+        const double side = std::cbrt(shown.capacity);
+        e.boxSize = box ? Eigen::Vector3d::Constant(side) : Eigen::Vector3d::Zero();
+    }
+    if (box) {
+        ImGui::DragScalarN("box size m", ImGuiDataType_Double, shown.boxSize.data(), 3, 0.01f);
+        if (ImGui::IsItemDeactivatedAfterEdit()) e.boxSize = shown.boxSize;
+    }
+    if (e.name || e.position || e.capacity || e.water || e.sealed || e.boxSize) {
+        s.execute(makeSetNodeCommand(*s.document, bodyOf(s), n.id, e));
+    }
+}
+
+void pipeInspector(EditorState& s, const WaterGraph& g, const GraphPipe& p) {
+    ImGui::Text("Pipe %s - %s", p.a.c_str(), p.b.c_str());
+    static GraphPipe shown;
+    static std::pair<std::string, std::string> editingFor;
+    if (editingFor != std::pair(p.a, p.b) || !ImGui::IsAnyItemActive()) {
+        editingFor = {p.a, p.b};
+        shown = p;
+    }
+    PipeEdit e;
+    if (inputDouble("radius m", shown.radius, 0.001)) e.radius = shown.radius;
+    if (inputDouble("length m (0: distance)", shown.length, 0.01)) e.length = shown.length;
+    ImGui::Text("effective length %.3f m", g.pipeLength(p));
+    bool open = shown.open;
+    if (ImGui::Checkbox("open", &open)) e.open = open;
+    if (e.radius || e.length || e.open) s.execute(makeSetPipeCommand(*s.document, bodyOf(s), p.a, p.b, e));
+}
+
+/// Uploads the feed or segment colours of the selected body when what they show changed.
+void updateOverlay(EditorState& s) {
+    const std::size_t body = bodyOf(s);
+    const bool segments = ui.preview && ui.preview->body == body;
+    const int kind = segments ? 2 : ui.showFeeds ? 1 : 0;
+    if (kind == ui.overlayKind && s.documentRevision == ui.overlayRevision &&
+        body == ui.overlayBody) {
+        return;
+    }
+    ui.overlayKind = kind;
+    ui.overlayRevision = s.documentRevision;
+    ui.overlayBody = body;
+    OverlayImage none;
+    s.renderer->setOverlay(kGraphOverlaySlot, none);
+    if (kind == 0) return;
+    auto textures = s.document->physicsTextures(body);
+    if (!textures) return;
+    if (kind == 2) {
+        s.renderer->setOverlay(kGraphOverlaySlot, segmentOverlay(ui.preview->texelSegment, **textures));
+    } else if (const WaterGraph* g = graphOf(s)) {
+        s.renderer->setOverlay(kGraphOverlaySlot, feedOverlay(*g, **textures));
+    }
+}
+
+}  // namespace
+
+void drawGraphPanel(EditorState& s) {
+    pollAutoGenerate();
+    const std::size_t body = bodyOf(s);
+    const WaterGraph* g = graphOf(s);
+    pruneSelection(g);
+    const ImVec2 display = ImGui::GetIO().DisplaySize;
+    ImGui::SetNextWindowPos(ImVec2(display.x * 0.02f, display.y * 0.08f), ImGuiCond_FirstUseEver);
+    ImGui::SetNextWindowSize(ImVec2(340, 520), ImGuiCond_FirstUseEver);
+    // Collapsed at first: a title bar over the view's corner until someone opens it.
+    ImGui::SetNextWindowCollapsed(true, ImGuiCond_FirstUseEver);
+    if (!ImGui::Begin("Water graph")) {
+        ImGui::End();
+        return;
+    }
+    if (!s.document || body >= s.document->bodyCount()) {
+        ImGui::TextUnformatted("No body selected.");
+        ImGui::End();
+        return;
+    }
+    ImGui::Text("Body %zu: %s", body, s.document->project().bodies[body].name.c_str());
+    if (!s.document->project().bodies[body].waterGraph) {
+        ImGui::TextWrapped("This body has no water graph: it is sealed.");
+        if (ImGui::Button("Create water graph")) s.execute(makeCreateGraphCommand(*s.document, body));
+        ImGui::End();
+        return;
+    }
+    if (!g) {
+        ImGui::TextWrapped("Graph not loaded: %s", s.document->assets(body).graph.error.c_str());
+        ImGui::End();
+        return;
+    }
+    ImGui::Checkbox("Edit in view", &ui.editInView);
+    ImGui::SameLine();
+    ImGui::Checkbox("Show", &ui.showGraph);
+    ImGui::SameLine();
+    ImGui::Checkbox("Feed colours", &ui.showFeeds);
+    ImGui::SliderFloat("hull alpha", &ui.hullAlpha, 0.05f, 1.0f, "%.2f");
+    const char* planes[] = {"view plane", "horizontal plane", "hull surface"};
+    int plane = static_cast<int>(ui.dragPlane);
+    if (ImGui::Combo("drag on", &plane, planes, 3)) ui.dragPlane = static_cast<DragPlane>(plane);
+    ImGui::TextDisabled("hold X / Y / Z while dragging: along that axis");
+
+    // Buttons: each one command.
+    const std::vector<std::string> ids = selectedIds(*g);
+    if (ImGui::Button("Add node")) {
+        GraphNode n;
+        const Bounds3 bounds = computeBounds(*s.document->assets(body).mesh);
+        n.position = 0.5 * (bounds.min + bounds.max);
+        n.capacity = std::max(1e-6, 0.05 * (bounds.max - bounds.min).prod());
+        if (s.execute(makeAddNodeCommand(*s.document, body, n))) {
+            ui.selected = {graphOf(s)->nodes.back().id};
+        }
+    }
+    ImGui::SameLine();
+    ImGui::BeginDisabled(ids.empty());
+    if (ImGui::Button("Duplicate")) {
+        const double shift = 0.1 * std::cbrt(g->nodes[g->indexOf(ids.front())].capacity);
+        const std::size_t before = g->nodes.size();
+        if (s.execute(makeDuplicateNodesCommand(*s.document, body, ids, {shift, 0, 0}))) {
+            ui.selected.clear();
+            const WaterGraph& now = *graphOf(s);
+            for (std::size_t i = before; i < now.nodes.size(); ++i) ui.selected.insert(now.nodes[i].id);
+        }
+    }
+    ImGui::SameLine();
+    if (ImGui::Button("Delete")) s.execute(makeDeleteNodesCommand(*s.document, body, ids));
+    ImGui::EndDisabled();
+    ImGui::BeginDisabled(ids.size() != 2);
+    if (ImGui::Button("Connect")) {
+        GraphPipe p;
+        p.a = ids[0];
+        p.b = ids[1];
+        if (s.execute(makeAddPipeCommand(*s.document, body, p))) ui.selectedPipe = {p.a, p.b};
+    }
+    ImGui::EndDisabled();
+    ImGui::SameLine();
+    const bool pairJoined = ids.size() == 2 && findPipe(*g, ids[0], ids[1]) >= 0;
+    ImGui::BeginDisabled(!ui.selectedPipe && !pairJoined);
+    if (ImGui::Button("Disconnect")) {
+        const auto pair = ui.selectedPipe ? *ui.selectedPipe : std::pair(ids[0], ids[1]);
+        s.execute(makeRemovePipeCommand(*s.document, body, pair.first, pair.second));
+    }
+    ImGui::SameLine();
+    if (ImGui::Button("Open/Close")) {
+        const auto pair = ui.selectedPipe ? *ui.selectedPipe : std::pair(ids[0], ids[1]);
+        PipeEdit e;
+        e.open = !g->pipes[findPipe(*g, pair.first, pair.second)].open;
+        s.execute(makeSetPipeCommand(*s.document, body, pair.first, pair.second, e));
+    }
+    ImGui::EndDisabled();
+    g = graphOf(s);  // the buttons may have changed it
+    pruneSelection(g);
+    if (!g) {
+        ImGui::End();
+        return;
+    }
+
+    ImGui::Separator();
+    ImGui::Text("%zu nodes, %zu pipes, capacity %.4g m^3, water %.4g m^3", g->nodes.size(),
+                g->pipes.size(), g->totalCapacity(), g->totalWater());
+    const GraphReport report = validateGraph(*g, s.document->assets(body).mesh.get());
+    for (const GraphProblem& p : report.problems) {
+        ImGui::TextColored(p.error ? ImVec4(1, 0.4f, 0.4f, 1) : ImVec4(1, 0.8f, 0.3f, 1), "%s",
+                           p.message.c_str());
+    }
+    if (ImGui::BeginListBox("##nodes", ImVec2(-1, 110))) {
+        for (std::size_t i = 0; i < g->nodes.size(); ++i) {
+            const GraphNode& n = g->nodes[i];
+            const Eigen::Vector3f c = nodeColour(i);
+            ImGui::ColorButton(("##c" + n.id).c_str(), ImVec4(c.x(), c.y(), c.z(), 1),
+                               ImGuiColorEditFlags_NoTooltip, ImVec2(12, 12));
+            ImGui::SameLine();
+            const std::string label = n.id + (n.name.empty() ? "" : "  " + n.name);
+            if (ImGui::Selectable(label.c_str(), ui.selected.count(n.id) > 0)) {
+                if (!ImGui::GetIO().KeyShift && !ImGui::GetIO().KeyCtrl) ui.selected.clear();
+                if (!ui.selected.insert(n.id).second) ui.selected.erase(n.id);
+                ui.selectedPipe.reset();
+            }
+        }
+        for (const GraphPipe& p : g->pipes) {
+            const std::string label = "pipe " + p.a + " - " + p.b + (p.open ? "" : " (closed)");
+            if (ImGui::Selectable(label.c_str(), ui.selectedPipe == std::pair(p.a, p.b))) {
+                ui.selectedPipe = {p.a, p.b};
+                ui.selected.clear();
+            }
+        }
+        ImGui::EndListBox();
+    }
+    if (ui.selected.size() == 1) {
+        nodeInspector(s, g->nodes[g->indexOf(*ui.selected.begin())]);
+    } else if (ui.selectedPipe) {
+        pipeInspector(s, *g, g->pipes[findPipe(*g, ui.selectedPipe->first, ui.selectedPipe->second)]);
+    }
+
+    ImGui::Separator();
+    ImGui::TextUnformatted("Auto-generate (paper 4.1: SDF segments)");
+    ImGui::InputInt("segments", &ui.segments);
+    ui.segments = std::clamp(ui.segments, 1, 64);
+    if (ui.job) {
+        ImGui::ProgressBar(static_cast<float>(*ui.job->progress), ImVec2(-1, 0), "segmenting...");
+    } else {
+        if (ImGui::Button("Preview")) startAutoGenerate(s);
+        if (ui.preview) {
+            ImGui::SameLine();
+            if (ImGui::Button("Apply")) {
+                if (s.execute(makeReplaceGraphCommand(*s.document, ui.preview->body,
+                                                      ui.preview->graph,
+                                                      "Auto-generate water graph"))) {
+                    ui.preview.reset();
+                    ui.selected.clear();
+                }
+            }
+            ImGui::SameLine();
+            if (ImGui::Button("Cancel")) ui.preview.reset();
+            if (ui.preview) {
+                ImGui::Text("preview: %zu nodes, %zu pipes from %d segments (%.1f s)",
+                            ui.preview->graph.nodes.size(), ui.preview->graph.pipes.size(),
+                            ui.preview->segments, ui.preview->seconds);
+            }
+        }
+    }
+    if (!ui.autoError.empty()) ImGui::TextColored(ImVec4(1, 0.4f, 0.4f, 1), "%s", ui.autoError.c_str());
+    ImGui::End();
+}
+
+bool graphViewportInput(EditorState& s) {
+    const WaterGraph* g = graphOf(s);
+    if (!ui.editInView || !ui.showGraph || !g) return false;
+    ImGuiIO& io = ImGui::GetIO();
+    const ImVec2 mouse = io.MousePos;
+    ui.mouseAt = mouse;
+    const bool hovered = s.viewport.contains(mouse.x, mouse.y) && !io.WantCaptureMouse;
+    const Pose pose = s.document->bodyPose(bodyOf(s));
+    if (hovered && ImGui::IsKeyPressed(GLFW_KEY_DELETE, false) && !ui.selected.empty()) {
+        s.execute(makeDeleteNodesCommand(*s.document, bodyOf(s), selectedIds(*g)));
+        return true;
+    }
+    if (hovered && ImGui::IsMouseClicked(0)) {
+        Eigen::Vector3d o, d;
+        ray(s, mouse, o, d);
+        const auto node = pickNode(*g, pose, o, d);
+        const double tolerance = s.camera.distance * 0.01;
+        const auto pipeHit = pickPipe(*g, pose, o, d, tolerance);
+        ui.pressAt = mouse;
+        if (node && (!pipeHit || node->distance <= pipeHit->distance)) {
+            const std::string& id = g->nodes[node->index].id;
+            if (io.KeyShift) {
+                if (!ui.selected.insert(id).second) ui.selected.erase(id);
+            } else if (!ui.selected.count(id)) {
+                ui.selected = {id};
+            }
+            ui.selectedPipe.reset();
+            if (ui.selected.count(id)) {
+                ui.dragging = true;
+                ui.anchor = pose.apply(g->nodes[node->index].position);
+                ui.dragOffset.setZero();
+            }
+        } else if (pipeHit) {
+            ui.selectedPipe = {g->pipes[pipeHit->index].a, g->pipes[pipeHit->index].b};
+            ui.selected.clear();
+        } else {
+            if (!io.KeyShift) ui.selected.clear();
+            ui.selectedPipe.reset();
+            ui.boxSelecting = true;
+        }
+        return true;
+    }
+    if (ui.dragging) {
+        if (ImGui::IsMouseDown(0)) {
+            if (auto target = dragTarget(s, mouse)) ui.dragOffset = *target - ui.anchor;
+        } else {
+            ui.dragging = false;
+            // Object-space offset: the drag was in world space.
+            const Eigen::Vector3d offset = pose.rotation.transpose() * ui.dragOffset;
+            if (offset.norm() > 1e-9) {
+                s.execute(makeMoveNodesCommand(*s.document, bodyOf(s), selectedIds(*g), offset));
+            }
+            ui.dragOffset.setZero();
+        }
+        return true;
+    }
+    if (ui.boxSelecting) {
+        if (!ImGui::IsMouseDown(0)) {
+            ui.boxSelecting = false;
+            const auto inside = nodesInRect(*g, pose, s.camera, int(s.viewport.w), int(s.viewport.h),
+                                            ui.pressAt.x - s.viewport.x, ui.pressAt.y - s.viewport.y,
+                                            mouse.x - s.viewport.x, mouse.y - s.viewport.y);
+            for (std::size_t i : inside) ui.selected.insert(g->nodes[i].id);
+        }
+        return true;
+    }
+    return false;
+}
+
+void drawGraphOverlay(EditorState& s) {
+    ImDrawList* draw = ImGui::GetForegroundDrawList();
+    if (ui.boxSelecting) {
+        draw->AddRectFilled(ui.pressAt, ui.mouseAt, IM_COL32(120, 170, 255, 40));
+        draw->AddRect(ui.pressAt, ui.mouseAt, IM_COL32(120, 170, 255, 200));
+    }
+    if (ui.dragging) {
+        const char* axis = ImGui::IsKeyDown(GLFW_KEY_X)   ? "  along X"
+                           : ImGui::IsKeyDown(GLFW_KEY_Y) ? "  along Y"
+                           : ImGui::IsKeyDown(GLFW_KEY_Z) ? "  along Z"
+                                                          : "";
+        char line[160];
+        std::snprintf(line, sizeof line, "move %.3f %.3f %.3f m%s", ui.dragOffset.x(),
+                      ui.dragOffset.y(), ui.dragOffset.z(), axis);
+        draw->AddText(ImVec2(s.viewport.x + 8, s.viewport.y + 24), IM_COL32(255, 255, 160, 255), line);
+    }
+}
+
+void addGraphToScene(EditorState& s, RenderScene& scene) {
+    ui.drawn.clear();
+    const std::size_t body = bodyOf(s);
+    const WaterGraph* g = graphOf(s);
+    if (!ui.showGraph || body >= scene.bodies.size()) return;
+    if (!ui.drawer) {
+        Result<std::unique_ptr<GraphDrawer>> made = GraphDrawer::create();
+        if (!made) {
+            s.status = made.error().message;
+            ui.showGraph = false;
+            return;
+        }
+        ui.drawer = std::move(made).value();
+    }
+    updateOverlay(s);
+    if (s.renderer->overlayTexture(kGraphOverlaySlot)) scene.bodies[body].overlay = kGraphOverlaySlot;
+    const bool previewing = ui.preview && ui.preview->body == body;
+    if (!g && !previewing) return;
+    RenderGraph r;
+    r.pose = s.document->bodyPose(body);
+    if (previewing) {
+        r.graph = &ui.preview->graph;
+    } else if (ui.dragging) {
+        ui.dragged = *g;
+        const Eigen::Vector3d offset = r.pose.rotation.transpose() * ui.dragOffset;
+        for (GraphNode& n : ui.dragged.nodes) {
+            if (ui.selected.count(n.id)) n.position += offset;
+        }
+        r.graph = &ui.dragged;
+    } else {
+        r.graph = g;
+    }
+    if (!previewing) {
+        for (const GraphNode& n : r.graph->nodes) r.selectedNodes.push_back(ui.selected.count(n.id) > 0);
+        if (ui.selectedPipe) r.selectedPipe = findPipe(*r.graph, ui.selectedPipe->first, ui.selectedPipe->second);
+    }
+    ui.drawn.push_back(std::move(r));
+    scene.bodies[body].alpha = ui.hullAlpha;
+    const Camera camera = s.camera;
+    scene.drawInside = [camera](const Eigen::Matrix4f& viewProj) {
+        for (const RenderGraph& drawn : ui.drawn) ui.drawer->draw(drawn, viewProj, camera);
+    };
+}
+
+void releaseGraphPanel() {
+    if (ui.job) ui.job->result.wait();
+    ui.job.reset();
+    ui.drawer.reset();
+}
+
+}  // namespace plimsoll::editor
