@@ -396,11 +396,12 @@ Status Document::writeMaps(bool all) {
 }
 
 Status Document::writeMapsAndProjectFiles(bool allMaps, bool withProject) {
-    // The changed maps and the project are replaced as one (file_util.h): a failure at any
-    // step leaves every previous file as it was, so the project on disk never names a map of
-    // another save.
+    // The changed maps and water graphs and the project are replaced as one (file_util.h): a
+    // failure at any step leaves every previous file as it was, so the project on disk never
+    // names a map or graph of another save.
     std::vector<FileWriter> files;
     std::vector<BodyAssets::Map*> written;
+    std::vector<BodyAssets::Graph*> writtenGraphs;
     for (BodyAssets& a : assets_) {
         for (BodyAssets::Map& m : a.maps) {
             if (!m.image || m.path.empty() || !(m.dirty || allMaps)) continue;
@@ -418,13 +419,19 @@ Status Document::writeMapsAndProjectFiles(bool allMaps, bool withProject) {
             written.push_back(&m);
         }
         BodyAssets::Graph& g = a.graph;
-        if (g.graph && !g.path.empty() && (g.dirty || all)) {
+        if (g.graph && !g.path.empty() && (g.dirty || allMaps)) {
             std::error_code ec;
             fs::create_directories(g.path.parent_path(), ec);
-            Status saved = saveGraph(*g.graph, g.path);
-            if (!saved) return saved;
-            g.dirty = false;
-            g.error.clear();
+            const std::string text = graphToJson(*g.graph);
+            const fs::path target = g.path;
+            files.emplace_back(target, [text, target](const fs::path& temp) -> Status {
+                std::ofstream out(temp, std::ios::binary | std::ios::trunc);
+                out << text;
+                out.close();
+                if (!out) return makeError(target.string() + ": write failed (disk full?)");
+                return Ok{};
+            });
+            writtenGraphs.push_back(&g);
         }
     }
     if (withProject) {
@@ -444,6 +451,10 @@ Status Document::writeMapsAndProjectFiles(bool allMaps, bool withProject) {
     for (BodyAssets::Map* m : written) {
         m->dirty = false;
         m->error.clear();
+    }
+    for (BodyAssets::Graph* g : writtenGraphs) {
+        g->dirty = false;
+        g->error.clear();
     }
     return Ok{};
 }
