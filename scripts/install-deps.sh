@@ -11,6 +11,8 @@ packages=(
   libeigen3-dev libassimp-dev nlohmann-json3-dev libstb-dev libopenexr-dev libcli11-dev
   # bundle export: SHA-256 (OpenSSL's libcrypto)
   libssl-dev
+  # runtime library (engine/runtime): inflates the bundle's PNG maps (OpenEXR's own dependency)
+  zlib1g-dev
   # OpenCL: ICD loader, C++ bindings, PoCL as the CPU device
   ocl-icd-opencl-dev opencl-headers opencl-clhpp-headers pocl-opencl-icd clinfo
   # water-graph segmentation

@@ -294,6 +294,32 @@ TEST(EditorGraph, NewGraphOnABodyWithoutOneIsSavedAtomicallyAndUndoesAway) {
     EXPECT_EQ(doc->graph(0)->nodes.size(), 1u);
 }
 
+TEST(EditorGraph, EditedGraphSurvivesAutosaveRecoveryAndTravelsWithSaveAs) {
+    const fs::path projectPath = copyDamagedBoat("autosave");
+    auto doc = openOrFail(projectPath);
+    ASSERT_TRUE(doc);
+    const std::string original = test::readFile(projectPath.parent_path() / "boat.graph.json");
+    run(*doc, makeAddNodeCommand(*doc, 0, node("extra", {0, -0.3, 0}, 0.2)));
+    const std::string edited = graphToJson(*doc->graph(0));
+    ASSERT_TRUE(doc->autosave().ok());
+    // Not saved: the file on disk is untouched until the project is.
+    EXPECT_EQ(test::readFile(projectPath.parent_path() / "boat.graph.json"), original);
+    Result<std::unique_ptr<Document>> recovered = Document::recover(doc->autosavePath());
+    ASSERT_TRUE(recovered.ok()) << recovered.error().message;
+    ASSERT_NE((*recovered)->graph(0), nullptr);
+    EXPECT_EQ(graphToJson(*(*recovered)->graph(0)), edited);
+    EXPECT_TRUE((*recovered)->dirty());
+    // Save As into another folder: the graph is written there, the original stays.
+    const fs::path elsewhere = projectPath.parent_path().parent_path() / "copy" / "boat.plim.json";
+    fs::create_directories(elsewhere.parent_path());
+    ASSERT_TRUE(doc->saveAs(elsewhere).ok());
+    EXPECT_EQ(test::readFile(elsewhere.parent_path() / "boat.graph.json"), edited);
+    EXPECT_EQ(test::readFile(projectPath.parent_path() / "boat.graph.json"), original);
+    Result<Project> reread = loadProject(elsewhere);
+    ASSERT_TRUE(reread.ok()) << reread.error().message;
+    EXPECT_EQ(reread->bodies[0].waterGraph->graph, "boat.graph.json");
+}
+
 TEST(EditorGraph, ScriptVerbsEditTheGraph) {
     const fs::path projectPath = copyDamagedBoat("script");
     auto doc = openOrFail(projectPath);
@@ -345,6 +371,24 @@ TEST(EditorGraph, ScriptVerbsEditTheGraph) {
         {"schema_version": 1, "nodes": [{"id": "a", "position": [0, 0, 0], "capacity": 1}], "pipes": []}}])"));
     ASSERT_TRUE(replaced.ok()) << replaced.error().message;
     EXPECT_EQ(doc->graph(0)->nodes.size(), 1u);
+}
+
+TEST(EditorGraph, AutoGenerateVerbReplacesTheGraphInOneUndoStep) {
+    const fs::path projectPath = copyDamagedBoat("auto");
+    auto doc = openOrFail(projectPath);
+    ASSERT_TRUE(doc);
+    const std::string original = graphToJson(*doc->graph(0));
+    Result<Json> done = runEditScript(*doc, Json::parse(R"([{"op": "graph_auto", "segments": 3}])"));
+    ASSERT_TRUE(done.ok()) << done.error().message;
+    const WaterGraph& g = *doc->graph(0);
+    EXPECT_EQ(g.nodes.size(), 3u);
+    // The same graph `plimsoll graph --auto` builds (buildAutomaticGraph on the body's mesh):
+    // its capacities share out the hull's enclosed volume.
+    const MassProperties exact = exactSolidMassProperties(*doc->assets(0).mesh, 1.0);
+    EXPECT_NEAR(g.totalCapacity(), exact.volume, 1e-6 * exact.volume);
+    EXPECT_FALSE(validateGraph(g, doc->assets(0).mesh.get()).hasErrors());
+    ASSERT_TRUE(doc->undo());
+    EXPECT_EQ(graphToJson(*doc->graph(0)), original);
 }
 
 // --- the 3D view's math, headless -----------------------------------------------------------

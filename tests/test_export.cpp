@@ -4,9 +4,12 @@
 #include "cli_runner.h"
 #include "test_support.h"
 
+#include "exr_io.h"
 #include "plimsoll/bake_io.h"
 #include "plimsoll/bundle.h"
 #include "plimsoll/graph.h"
+#include "plimsoll/massprops.h"
+#include "plimsoll/mesh_io.h"
 #include "plimsoll/painted_map.h"
 #include "plimsoll/world.h"
 
@@ -144,6 +147,89 @@ TEST(Export, BundleHoldsWhatWorldSimulates) {
     }
 }
 
+// texel_nodes.exr (schema 1.1): every covered texel holds 1 + the node nearestNode gives for
+// its surface (WaterGraphSimulation's rule), uncovered texels 0; OpenEXR reads it back as UINT.
+TEST(Export, TexelNodeMapHoldsTheNearestNodeOfEveryCoveredTexel) {
+    std::size_t shared = 0;  // texels with several entries, over all cases
+    for (const std::string name : {"damaged_boat", "plush", "refined"}) {
+        SCOPED_TRACE(name);
+        // "refined": the boat cut into sub-texel cells wherever a texel stretches more than
+        // 1.2 times the typical one, so that many texels hold several entries.
+        const std::string stem = name == "refined" ? "damaged_boat" : name;
+        const fs::path root = copyProject("texel_nodes_" + name, stem);
+        if (name == "refined") {
+            const fs::path path = root / "projects" / (stem + ".plim.json");
+            std::string text = readFile(path);
+            const std::string key = "\"texture_size\": 128,";
+            ASSERT_NE(text.find(key), std::string::npos);
+            text.replace(text.find(key), key.size(), key + " \"max_texel_stretch\": 1.2,");
+            std::ofstream(path) << text;
+        }
+        Result<Project> project = loadProject(root / "projects" / (stem + ".plim.json"));
+        ASSERT_TRUE(project.ok()) << project.error().message;
+        const fs::path folder = root / "out" / bundleFolderName(*project, 0);
+        ASSERT_TRUE(writeBodyBundle(*project, 0, folder).ok());
+        Result<std::unique_ptr<World>> world = World::create(*project, createReferenceBackend(), {});
+        ASSERT_TRUE(world.ok()) << world.error().message;
+        const SurfaceTextures& t = (*world)->bodies().at(0).textures;
+        Result<WaterGraph> graph = loadGraph(project->resolvePath(project->bodies[0].waterGraph->graph));
+        ASSERT_TRUE(graph.ok()) << graph.error().message;
+        ASSERT_GE(graph->nodes.size(), 2u);
+
+        Result<detail::UintImage> map = detail::readExrUint(folder / "texel_nodes.exr", "node");
+        ASSERT_TRUE(map.ok()) << map.error().message;
+        ASSERT_EQ(map->width, t.size);
+        ASSERT_EQ(map->height, t.size);
+        // Covered where position.exr's alpha says so, and nowhere else.
+        Result<detail::FloatImage> position = detail::readExr(folder / "position.exr", {"A"});
+        ASSERT_TRUE(position.ok()) << position.error().message;
+        std::size_t nonzero = 0;
+        for (std::size_t p = 0; p < map->pixels.size(); ++p) {
+            ASSERT_EQ(map->pixels[p] != 0, position->pixels[p] == 1.0f) << p;
+            ASSERT_LE(map->pixels[p], graph->nodes.size()) << p;
+            nonzero += map->pixels[p] != 0;
+        }
+        EXPECT_EQ(nonzero, t.distinctTexelCount());
+        // Each texel's node is its nearest: the entry's own for a texel with one entry, the
+        // largest entry's where islands share the texel. Every node feeds some texels.
+        std::vector<std::size_t> fed(graph->nodes.size(), 0);
+        for (std::size_t first = 0, last; first < t.coveredCount(); first = last) {
+            std::size_t largest = first;
+            for (last = first; last < t.coveredCount() && t.texelIndex[last] == t.texelIndex[first]; ++last)
+                if (t.area[last] > t.area[largest]) largest = last;
+            shared += last - first > 1;
+            const std::size_t x = t.texelIndex[first] % t.size, y = t.texelIndex[first] / t.size;
+            const std::uint32_t value = map->pixels[(t.size - 1 - y) * t.size + x];
+            ASSERT_EQ(value, static_cast<std::uint32_t>(nearestNode(*graph, t.position[largest]) + 1))
+                << "texel " << x << ", " << y;
+            ++fed[value - 1];
+        }
+        for (std::size_t n = 0; n < fed.size(); ++n) EXPECT_GT(fed[n], 0u) << "node " << n;
+
+        const nlohmann::json manifest = nlohmann::json::parse(readFile(folder / "manifest.json"));
+        EXPECT_EQ(manifest["water_graph"]["texel_nodes"], "texel_nodes.exr");
+        EXPECT_EQ(manifest["schema_minor"], 1);
+        bool listed = false;
+        for (const auto& f : manifest["files"])
+            if (f["path"] == "texel_nodes.exr") {
+                listed = true;
+                EXPECT_EQ(f["sha256"], sha256Hex(readFile(folder / "texel_nodes.exr")));
+            }
+        EXPECT_TRUE(listed);
+
+        if (haveTool("exrheader")) {
+            int rc = 1;
+            const std::string header = shell("exrheader " + quoted(folder / "texel_nodes.exr") + " 2>&1", &rc);
+            EXPECT_EQ(rc, 0) << header;
+            EXPECT_NE(header.find("node, 32-bit unsigned integer"), std::string::npos) << header;
+            const std::string last = std::to_string(t.size - 1);
+            EXPECT_NE(header.find("(0 0) - (" + last + " " + last + ")"), std::string::npos) << header;
+        }
+    }
+    // The refined boat's texels hold several entries: the largest-entry rule is exercised.
+    EXPECT_GT(shared, 0u);
+}
+
 TEST(ExportCli, DamagedBoatBundleIsCompleteDeterministicAndChecksummed) {
     const fs::path root = copyProject("boat", "damaged_boat");
     const fs::path project = root / "projects" / "damaged_boat.plim.json";
@@ -159,9 +245,11 @@ TEST(ExportCli, DamagedBoatBundleIsCompleteDeterministicAndChecksummed) {
     const auto first = contents(bundle);
     std::vector<std::string> names;
     for (const auto& [name, bytes] : first) names.push_back(name);
-    EXPECT_EQ(names, (std::vector<std::string>{"area.exr", "coverage.exr", "graph.json",
+    EXPECT_EQ(names, (std::vector<std::string>{"area.exr", "boat.bin", "boat.gltf",
+                                               "coverage.exr", "graph.json",
                                                "manifest.json", "permeability.png",
-                                               "position.exr", "samples.exr"}));
+                                               "position.exr", "samples.exr",
+                                               "texel_nodes.exr"}));
     // Two exports into different folders, and a third over the first: byte-identical.
     EXPECT_EQ(contents(outB / "damaged_boat" / "boat"), first);
     ASSERT_EQ(runPlimsoll("export " + quoted(project) + " --out " + quoted(outA) + " --quiet").exitCode, 0);
@@ -236,7 +324,7 @@ TEST(Export, VerifyAcceptsABundleAndNamesWhatIsWrongWithABadOne) {
     ASSERT_TRUE(info.ok()) << info.error().message;
     EXPECT_EQ(info->schemaMajor, kBundleSchemaMajor);
     EXPECT_EQ(info->body, "box");
-    EXPECT_EQ(info->files.size(), 4u);
+    EXPECT_EQ(info->files.size(), 6u);  // 4 EXR, box.gltf, box.bin
 
     auto broken = [&](const std::string& name, const std::function<void(const fs::path&)>& spoil) {
         const fs::path folder = root / name;
@@ -263,7 +351,7 @@ TEST(Export, VerifyAcceptsABundleAndNamesWhatIsWrongWithABadOne) {
             std::ofstream(f / "manifest.json") << m.dump(2);
         };
     };
-    EXPECT_NE(broken("newer_major", withManifest([](nlohmann::json& m) { m["schema_version"] = 2; }))
+    EXPECT_NE(broken("newer_major", withManifest([](nlohmann::json& m) { m["schema_version"] = 2; m["schema_minor"] = 0; }))
                   .find("bundle schema 2.0 is newer than this reader's 1.x"), std::string::npos);
     // A newer minor only adds: accepted.
     {
@@ -278,6 +366,143 @@ TEST(Export, VerifyAcceptsABundleAndNamesWhatIsWrongWithABadOne) {
                   .find("leaves the bundle"), std::string::npos);
     EXPECT_NE(broken("not_json", [](const fs::path& f) { std::ofstream(f / "manifest.json") << "{"; })
                   .find("malformed manifest"), std::string::npos);
+}
+
+// Versions: this reader (1.1) reads 1.0 and 1.1 bundles and refuses 2.0 naming both versions.
+TEST(Export, VerifyAcceptsCurrentAndPreviousMinorsAndRefusesANewerMajor) {
+    ASSERT_EQ(kBundleSchemaMajor, 1);
+    ASSERT_EQ(kBundleSchemaMinor, 1);
+    const fs::path root = copyProject("versions", "box_half_draft");
+    Result<Project> project = loadProject(root / "projects" / "box_half_draft.plim.json");
+    ASSERT_TRUE(project.ok()) << project.error().message;
+    const fs::path good = root / "good";
+    ASSERT_TRUE(writeBodyBundle(*project, 0, good).ok());
+    for (const auto& [major, minor] : {std::pair{1, 0}, std::pair{1, 1}, std::pair{2, 0}}) {
+        const fs::path folder = root / ("v" + std::to_string(major) + "." + std::to_string(minor));
+        fs::copy(good, folder, fs::copy_options::recursive);
+        nlohmann::json m = nlohmann::json::parse(readFile(folder / "manifest.json"));
+        m["schema_version"] = major;
+        m["schema_minor"] = minor;
+        if (minor == 0) m.erase("gltf");  // 1.0 had no glTF
+        std::ofstream(folder / "manifest.json") << m.dump(2);
+        Result<BundleManifestInfo> r = verifyBundle(folder);
+        if (major == 1) {
+            ASSERT_TRUE(r.ok()) << r.error().message;
+            EXPECT_EQ(r->schemaMinor, minor);
+        } else {
+            ASSERT_FALSE(r.ok());
+            EXPECT_NE(r.error().message.find("bundle schema 2.0 is newer than this reader's 1.x"),
+                      std::string::npos) << r.error().message;
+            EXPECT_NE(r.error().message.find((folder / "manifest.json").string()), std::string::npos);
+        }
+    }
+}
+
+/// Cuts `file` of a bundle in half and rewrites the manifest's size and SHA-256 for it, so that
+/// only an EXR decoder can tell.
+void truncateKeepingManifestConsistent(const fs::path& bundle, const std::string& file) {
+    fs::resize_file(bundle / file, fs::file_size(bundle / file) / 2);
+    nlohmann::json m = nlohmann::json::parse(readFile(bundle / "manifest.json"));
+    for (auto& f : m["files"]) {
+        if (f["path"] != file) continue;
+        const std::string bytes = readFile(bundle / file);
+        f["bytes"] = bytes.size();
+        f["sha256"] = sha256Hex(bytes);
+    }
+    std::ofstream(bundle / "manifest.json") << m.dump(2);
+}
+
+// A truncated EXR that the manifest vouches for: the readers fail with the file's name, no
+// crash (and the sanitizer build runs this too).
+TEST(Export, TruncatedExrGivesAnErrorNamingTheFile) {
+    const fs::path root = copyProject("truncated", "damaged_boat");
+    Result<Project> project = loadProject(root / "projects" / "damaged_boat.plim.json");
+    ASSERT_TRUE(project.ok()) << project.error().message;
+    const fs::path good = root / "good";
+    ASSERT_TRUE(writeBodyBundle(*project, 0, good).ok());
+    ASSERT_TRUE(readBakedTextures(good).ok());
+
+    for (const std::string file : {"samples.exr", "position.exr", "area.exr", "texel_nodes.exr"}) {
+        SCOPED_TRACE(file);
+        const fs::path bundle = root / ("cut_" + file);
+        fs::copy(good, bundle, fs::copy_options::recursive);
+        truncateKeepingManifestConsistent(bundle, file);
+        ASSERT_TRUE(verifyBundle(bundle).ok());  // sizes and checksums agree: only decoding fails
+        std::string message;
+        if (file == "samples.exr") {
+            Result<SurfaceTextures> r = readBakedTextures(bundle);
+            ASSERT_FALSE(r.ok());
+            message = r.error().message;
+        } else if (file == "texel_nodes.exr") {
+            Result<detail::UintImage> r = detail::readExrUint(bundle / file, "node");
+            ASSERT_FALSE(r.ok());
+            message = r.error().message;
+        } else {
+            Result<detail::FloatImage> r = detail::readExr(bundle / file, {"R", "G", "B", "A"});
+            ASSERT_FALSE(r.ok());
+            message = r.error().message;
+        }
+        EXPECT_NE(message.find((bundle / file).string()), std::string::npos) << message;
+        EXPECT_NE(message.find("cannot read EXR"), std::string::npos) << message;
+    }
+}
+
+// A deforming body (the balloon, 24 frames): every frame's textures in frames/NNN/, regathered
+// from the bake; each frame's sample list encloses that frame mesh's exact volume, and the
+// manifest's per-frame mass properties say the same.
+TEST(Export, DeformingBodyExportsEveryFrame) {
+    const fs::path root = test::scratchFolder("export_deforming");
+    Result<Project> project = loadProject(fs::path(PLIMSOLL_SOURCE_DIR) / "projects" / "balloon.plim.json");
+    ASSERT_TRUE(project.ok()) << project.error().message;
+    const BodyDesc& desc = project->bodies.at(0);
+    ASSERT_TRUE(desc.deforms());
+    const fs::path folder = root / "balloon";
+    std::vector<std::string> notices;
+    Result<BundleReport> report =
+        writeBodyBundle(*project, 0, folder, [&](const std::string& line) { notices.push_back(line); });
+    ASSERT_TRUE(report.ok()) << report.error().message;
+    ASSERT_TRUE(verifyBundle(folder).ok());
+    const nlohmann::json manifest = nlohmann::json::parse(readFile(folder / "manifest.json"));
+    const nlohmann::json& deforming = manifest.at("deforming");
+    const std::size_t frames = desc.meshFrames.size() + 1;
+    EXPECT_EQ(deforming.at("frames").get<std::size_t>(), frames);
+    EXPECT_EQ(deforming.at("exported"), "all frames");
+    EXPECT_DOUBLE_EQ(deforming.at("frames_per_second").get<double>(), desc.framesPerSecond);
+    ASSERT_EQ(deforming.at("frame_mass_properties").size(), frames);
+    const std::size_t samples = manifest.at("texel_samples").get<std::size_t>();
+
+    double firstVolume = 0, lastVolume = 0;
+    for (std::size_t k = 0; k < frames; ++k) {
+        SCOPED_TRACE(k);
+        char name[8];
+        std::snprintf(name, sizeof name, "%03zu", k);
+        const fs::path frameFolder = folder / "frames" / name;
+        for (const char* file : {"position.exr", "area.exr", "samples.exr"})
+            EXPECT_TRUE(fs::is_regular_file(frameFolder / file)) << file;
+        // The exact volume of this frame's mesh (per triangle, Mirtich), not via textures.
+        Result<TriangleMesh> mesh = loadMesh(project->resolvePath(k == 0 ? desc.mesh : desc.meshFrames[k - 1]));
+        ASSERT_TRUE(mesh.ok()) << mesh.error().message;
+        const double exact = exactSolidMassProperties(*mesh, 1.0).volume;
+        // The frame's sample list (float32): V = sum A_y y about the first sample's point.
+        Result<detail::FloatImage> list = detail::readExr(frameFolder / "samples.exr", {"py", "ay"});
+        ASSERT_TRUE(list.ok()) << list.error().message;
+        ASSERT_GE(list->pixels.size(), 2 * samples);
+        double volume = 0;
+        const double y0 = list->pixels[0];
+        for (std::size_t i = 0; i < samples; ++i)
+            volume += double(list->pixels[2 * i + 1]) * (double(list->pixels[2 * i]) - y0);
+        EXPECT_NEAR(volume, exact, 1e-5 * exact);
+        const double listed = deforming["frame_mass_properties"][k]["volume"].get<double>();
+        EXPECT_NEAR(listed, exact, 1e-9 * exact);
+        if (k == 0) firstVolume = exact;
+        lastVolume = exact;
+    }
+    EXPECT_GT(lastVolume, 1.5 * firstVolume);  // the balloon inflates: the frames differ
+    EXPECT_NEAR(manifest["mass_properties"]["texture"]["volume"].get<double>(), firstVolume, 1e-9 * firstVolume);
+    const bool said = std::any_of(notices.begin(), notices.end(), [&](const std::string& line) {
+        return line.find(std::to_string(frames) + " frames exported") != std::string::npos;
+    });
+    EXPECT_TRUE(said);
 }
 
 TEST(ExportCli, ExrFilesReadBackWithOpenExrTools) {
@@ -382,7 +607,7 @@ TEST(ExportCli, SeveralProjectsInParallelMatchOneAtATime) {
     ASSERT_EQ(parallel.exitCode, 0) << parallel.err;
     EXPECT_EQ(nlohmann::json::parse(parallel.out)["jobs"], 2);
     const auto a = contents(root / "serial"), b = contents(root / "parallel");
-    EXPECT_EQ(a.size(), 7u + 5u);  // boat: 7 files; box: 4 images + manifest
+    EXPECT_EQ(a.size(), 10u + 7u);  // boat: 10 files; box: 4 images, glTF + bin, manifest
     EXPECT_EQ(a, b);
     EXPECT_TRUE(a.count("box_half_draft/box/manifest.json"));
 }

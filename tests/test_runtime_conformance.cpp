@@ -40,6 +40,7 @@
 #include <cstdio>
 #include <fstream>
 #include <random>
+#include <unistd.h>
 
 namespace plimsoll {
 namespace {
@@ -108,7 +109,9 @@ struct Exported {
 class RuntimeConformance : public testing::Test {
 protected:
     static void SetUpTestSuite() {
-        root_ = new fs::path(copyProjects("conformance"));
+        // One folder per process: ctest runs each test of the suite in its own process, in
+        // parallel, and every one exports (and at the end removes) its own bundles.
+        root_ = new fs::path(copyProjects("conformance-" + std::to_string(::getpid())));
         projects_ = new std::vector<std::unique_ptr<Project>>();
         bundles_ = new std::vector<Exported>();
         std::vector<fs::path> files;
@@ -134,6 +137,7 @@ protected:
         delete bundles_;
         delete projects_;
         fs::remove_all(*root_);
+        fs::remove_all(test::scratchFolder("runtime_bad-" + std::to_string(::getpid())));
         delete root_;
     }
     static fs::path* root_;
@@ -401,7 +405,7 @@ TEST_F(RuntimeConformance, CApiMatchesAndReportsErrors) {
 
 /// A copy of a bundle to damage.
 fs::path copyBundle(const fs::path& from, const std::string& name) {
-    const fs::path to = test::scratchFolder("runtime_bad") / name;
+    const fs::path to = test::scratchFolder("runtime_bad-" + std::to_string(::getpid())) / name;
     fs::remove_all(to);
     fs::copy(from, to, fs::copy_options::recursive);
     return to;
@@ -512,7 +516,11 @@ void addTexelNodes(const fs::path& folder, const std::vector<std::uint32_t>& pix
     }
     const std::string bytes = test::readFile(folder / "texel_nodes.exr");
     nlohmann::json manifest = nlohmann::json::parse(test::readFile(folder / "manifest.json"));
-    manifest["files"].push_back(
+    // Bundles since 1.1 already list the exporter's own texel_nodes.exr: replace its entry.
+    nlohmann::json& files = manifest["files"];
+    for (auto f = files.begin(); f != files.end();)
+        f = (*f)["path"] == "texel_nodes.exr" ? files.erase(f) : f + 1;
+    files.push_back(
         {{"path", "texel_nodes.exr"}, {"sha256", sha256Hex(bytes)}, {"bytes", bytes.size()}});
     std::ofstream(folder / "manifest.json", std::ios::binary | std::ios::trunc) << manifest.dump(2);
 }

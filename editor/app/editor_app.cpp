@@ -7,7 +7,9 @@
 #include "app/editor_app.h"
 
 #include "app/editor_state.h"
+#include "app/export_dialog.h"
 #include "app/panels.h"
+#include "app/preview_panel.h"
 #include "document/command.h"
 
 #include "plimsoll/bake_io.h"
@@ -24,6 +26,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
+#include <cstdlib>
 #include <iostream>
 
 namespace plimsoll::editor {
@@ -77,32 +80,6 @@ void handleDrops(EditorState& s) {
     droppedPaths.clear();
 }
 
-void exportTo(EditorState& s, const fs::path& folder) {
-    int written = 0;
-    for (std::size_t b = 0; b < s.document->bodyCount(); ++b) {
-        auto textures = s.document->physicsTextures(b);
-        if (!textures) {
-            s.status = textures.error().message;
-            return;
-        }
-        std::string name = s.document->project().bodies[b].name;
-        if (name.empty()) name = "body" + std::to_string(b);
-        const fs::path out = folder / name;
-        Status st = writeBakedTextures(**textures, out, s.document->project().bodies[b].mesh);
-        if (!st) {
-            s.status = st.error().message;
-            return;
-        }
-        for (MapChannel c : kMapChannels) {
-            if (const PaintedMap* map = s.document->map(b, c)) {
-                (void)savePaintedMap(*map, out / (std::string(channelName(c)) + ".png"));
-            }
-        }
-        ++written;
-    }
-    s.status = "Exported " + std::to_string(written) + " bodies to " + folder.string();
-}
-
 // [SECTION] menus and shortcuts ----------------------------------------------------------------
 
 void frameSelected(EditorState& s) {
@@ -142,7 +119,7 @@ void drawMenus(EditorState& s) {
         if (ImGui::MenuItem("Save As...", "Ctrl+Shift+S")) {
             s.browser.open(FileBrowser::Purpose::SaveProjectAs, folder);
         }
-        if (ImGui::MenuItem("Export...")) s.browser.open(FileBrowser::Purpose::Export, folder);
+        if (ImGui::MenuItem("Export bundle...")) s.browser.open(FileBrowser::Purpose::Export, folder);
         ImGui::Separator();
         if (ImGui::MenuItem("Quit", "Ctrl+Q")) s.requestQuit = true;
         ImGui::EndMenu();
@@ -167,6 +144,12 @@ void drawMenus(EditorState& s) {
         ImGui::Separator();
         ImGui::MenuItem("Water", nullptr, &s.showWater);
         ImGui::MenuItem("Grid and axes", nullptr, &s.showGrid);
+        ImGui::EndMenu();
+    }
+    if (ImGui::BeginMenu("Simulate")) {
+        const bool running = s.preview && s.preview->session;
+        if (ImGui::MenuItem(running ? "Restart live preview" : "Live preview", "P")) startPreview(s, true);
+        if (ImGui::MenuItem("Stop live preview", nullptr, false, running)) stopPreview(s);
         ImGui::EndMenu();
     }
     if (ImGui::BeginMenu("Help")) {
@@ -213,11 +196,13 @@ void handleShortcuts(EditorState& s) {
     if (pressed(GLFW_KEY_LEFT_BRACKET)) s.brush.radius /= 1.25;
     if (pressed(GLFW_KEY_RIGHT_BRACKET)) s.brush.radius *= 1.25;
     if (pressed(GLFW_KEY_F1)) s.showShortcuts = true;
+    if (pressed(GLFW_KEY_P)) startPreview(s, true);
 }
 
 // [SECTION] dialogs ----------------------------------------------------------------------------
 
 void drawDialogs(EditorState& s, GLFWwindow* window) {
+    drawBundleExport();
     if (auto chosen = s.browser.draw()) {
         switch (s.browser.purpose()) {
             case FileBrowser::Purpose::OpenProject: requestOpen(s, chosen->string(), false); break;
@@ -226,7 +211,9 @@ void drawDialogs(EditorState& s, GLFWwindow* window) {
                 s.execute(makeImportMeshCommand(*s.document, *chosen, std::nullopt));
                 s.frameAll();
                 break;
-            case FileBrowser::Purpose::Export: exportTo(s, *chosen); break;
+            case FileBrowser::Purpose::Export:
+                startBundleExport(s.document->project(), *chosen, s.document->dirty());
+                break;
         }
     }
     if (s.confirmDiscardOpen) {
@@ -457,6 +444,23 @@ int runEditorWindow(const EditorLaunch& launch) {
         if (const auto overlay = parseOverlay(launch.overlay)) s.overlay = *overlay;
     }
     s.lastAutosave = glfwGetTime();
+    s.preview = std::make_shared<PreviewUi>();
+    s.preview->fixedStep = launch.frames > 0;
+    std::vector<std::pair<int, std::string>> snapshots;
+    for (const std::string& spec : launch.snapshots) {
+        const auto colon = spec.find(':');
+        const int at = colon == std::string::npos ? 0 : std::atoi(spec.substr(0, colon).c_str());
+        if (at <= 0) {
+            std::cerr << "error: --snapshot " << spec << ": expected FRAME:PATH, FRAME > 0\n";
+            return 1;
+        }
+        snapshots.emplace_back(at, spec.substr(colon + 1));
+    }
+    if (launch.preview && !startPreview(s, true)) {
+        std::cerr << "error: " << s.status << "\n";
+        return 1;
+    }
+    nlohmann::json snapshotReports = nlohmann::json::array();
 
     std::vector<double> frameMs;
     std::string title;
@@ -485,6 +489,8 @@ int runEditorWindow(const EditorLaunch& launch) {
         drawInspectorPanel(s, Rect{display.x - column, menu + tools, column,
                                    below - tools - uvSide});
         drawUvPanel(s, Rect{display.x - column, display.y - status - uvSide, column, uvSide});
+        drawPreviewPanel(s);
+        drawPlotPanels(s);
         drawGraphPanel(s);
         ImGui::SetNextWindowPos(ImVec2(0, display.y - status));
         ImGui::SetNextWindowSize(ImVec2(display.x, status));
@@ -494,8 +500,10 @@ int runEditorWindow(const EditorLaunch& launch) {
         ImGui::Text("%s   |   %s", s.document->title().c_str(), s.status.c_str());
         ImGui::End();
         handleShortcuts(s);
-        viewportInput(s);
+        if (!previewInput(s)) viewportInput(s);
         drawViewportOverlay(s);
+        updatePreview(s, io.DeltaTime);
+        drawPreviewOverlay(s);
         drawDialogs(s, window);
         if (s.requestQuit && !s.document->dirty()) glfwSetWindowShouldClose(window, GLFW_TRUE);
         if (s.requestQuit && s.document->dirty() && !ImGui::IsPopupOpen("Unsaved changes")) {
@@ -514,13 +522,24 @@ int runEditorWindow(const EditorLaunch& launch) {
         glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
         const int vw = static_cast<int>(s.viewport.w * scale), vh = static_cast<int>(s.viewport.h * scale);
         if (vw > 0 && vh > 0) {
-            s.renderer->draw(sceneOf(s), s.camera, vw, vh, static_cast<int>(s.viewport.x * scale),
+            RenderScene scene = sceneOf(s);
+            applyPreviewToScene(s, scene);
+            s.renderer->draw(scene, s.camera, vw, vh, static_cast<int>(s.viewport.x * scale),
                              fbHeight - static_cast<int>((s.viewport.y + s.viewport.h) * scale));
         }
         glViewport(0, 0, fbWidth, fbHeight);
         ImGui_ImplOpenGL3_RenderDrawData(ImGui::GetDrawData());
         ++frame;
         const bool last = launch.frames > 0 && frame >= launch.frames;
+        for (const auto& [at, path] : snapshots) {
+            if (at != frame) continue;
+            glFinish();
+            screenshotOk = writeScreenshot(path, fbWidth, fbHeight) && screenshotOk;
+            nlohmann::json shot = previewReport(s);
+            shot["frame"] = frame;
+            shot["path"] = path;
+            snapshotReports.push_back(shot);
+        }
         if (last && !launch.screenshot.empty()) {
             glFinish();
             screenshotOk = writeScreenshot(launch.screenshot, fbWidth, fbHeight);
@@ -541,6 +560,7 @@ int runEditorWindow(const EditorLaunch& launch) {
         frameMs.push_back(std::chrono::duration<double, std::milli>(
                               std::chrono::steady_clock::now() - frameStart)
                               .count());
+        s.preview->uiFrameMs = frameMs.back();
         if (last) break;
     }
 
@@ -561,6 +581,8 @@ int runEditorWindow(const EditorLaunch& launch) {
         report["gl_renderer"] = reinterpret_cast<const char*>(glGetString(GL_RENDERER));
         report["title"] = title;
         if (!launch.screenshot.empty()) report["screenshot"] = launch.screenshot;
+        if (!snapshotReports.empty()) report["snapshots"] = snapshotReports;
+        if (s.preview->session) report["preview"] = previewReport(s);
         std::cout << report.dump(2) << std::endl;
     } else {
         // A clean close retires the autosave (unsaved changes were saved or discarded).
@@ -572,6 +594,7 @@ int runEditorWindow(const EditorLaunch& launch) {
         (void)s.settings.save();
     }
     callbackState = nullptr;
+    s.preview.reset();
     releaseGraphPanel();
     s.renderer.reset();
     ImGui_ImplOpenGL3_Shutdown();

@@ -3,6 +3,7 @@
 #pragma once
 
 #include <string>
+#include <vector>
 
 namespace plimsoll::editor {
 
@@ -14,6 +15,11 @@ struct EditorLaunch {
     std::string screenshot;  ///< with frames: the window's last frame as PNG
     std::string view;        ///< front, side, top or persp (default persp)
     std::string overlay;     ///< initial overlay (default permeability)
+    /// Start the live preview playing (with frames: one simulated frame per drawn frame).
+    bool preview = false;
+    /// With frames and preview: "FRAME:PATH" screenshots taken at those frames; the report
+    /// then lists the preview's bodies and force arrows at each.
+    std::vector<std::string> snapshots;
     int width = 0;           ///< window size (0: the saved one)
     int height = 0;
 };

@@ -17,6 +17,8 @@
 
 namespace plimsoll::editor {
 
+struct PreviewUi;  // app/preview_panel.h
+
 enum class Tool { Navigate, Brush, FillIsland, FillAll, Pick };
 
 struct ActiveStroke {
@@ -65,6 +67,9 @@ struct EditorState {
     bool showShortcuts = false;
     bool showAbout = false;
     std::optional<std::filesystem::path> recoveryOffer;  ///< autosave found at start
+
+    /// The live preview (app/preview_panel.h); made by the frame loop.
+    std::shared_ptr<PreviewUi> preview;
 
     /// Executes an edit, reports failures in the status line, marks views for refresh.
     bool execute(Result<std::unique_ptr<Command>> command);

@@ -48,6 +48,7 @@ struct AutoJob {
 
 struct GraphUi {
     bool editInView = true;       ///< the left mouse edits the graph (else the paint tools)
+    bool panelOpen = false;       ///< not collapsed: only then does the graph take the mouse
     bool showGraph = true;
     bool showFeeds = false;
     float hullAlpha = 0.3f;
@@ -182,8 +183,10 @@ void pollAutoGenerate() {
     ui.overlayRevision = ~std::uint64_t{0};  // show the segments
 }
 
-bool inputDouble(const char* label, double& value, double step, const char* format = "%.4f") {
-    ImGui::InputDouble(label, &value, step, step * 10, format);
+/// A number field that commits (true) once when editing ends: one command per edit, not one
+/// per keystroke. No step buttons: they are items of their own, outside that test.
+bool inputDouble(const char* label, double& value, const char* format = "%.4f") {
+    ImGui::InputDouble(label, &value, 0.0, 0.0, format);
     return ImGui::IsItemDeactivatedAfterEdit();
 }
 
@@ -202,8 +205,8 @@ void nodeInspector(EditorState& s, const GraphNode& n) {
     if (ImGui::IsItemDeactivatedAfterEdit()) e.name = std::string(name);
     ImGui::DragScalarN("position", ImGuiDataType_Double, shown.position.data(), 3, 0.01f);
     if (ImGui::IsItemDeactivatedAfterEdit()) e.position = shown.position;
-    if (inputDouble("capacity m^3", shown.capacity, 0.01)) e.capacity = shown.capacity;
-    if (inputDouble("water m^3", shown.water, 0.01)) e.water = shown.water;
+    if (inputDouble("capacity m^3", shown.capacity)) e.capacity = shown.capacity;
+    if (inputDouble("water m^3", shown.water)) e.water = shown.water;
     if (ImGui::Checkbox("sealed", &shown.sealed)) e.sealed = shown.sealed;
     bool box = shown.isBox();
     if (ImGui::Checkbox("box", &box)) {
@@ -229,8 +232,8 @@ void pipeInspector(EditorState& s, const WaterGraph& g, const GraphPipe& p) {
         shown = p;
     }
     PipeEdit e;
-    if (inputDouble("radius m", shown.radius, 0.001)) e.radius = shown.radius;
-    if (inputDouble("length m (0: distance)", shown.length, 0.01)) e.length = shown.length;
+    if (inputDouble("radius m", shown.radius)) e.radius = shown.radius;
+    if (inputDouble("length m (0: distance)", shown.length)) e.length = shown.length;
     ImGui::Text("effective length %.3f m", g.pipeLength(p));
     bool open = shown.open;
     if (ImGui::Checkbox("open", &open)) e.open = open;
@@ -273,7 +276,8 @@ void drawGraphPanel(EditorState& s) {
     ImGui::SetNextWindowSize(ImVec2(340, 520), ImGuiCond_FirstUseEver);
     // Collapsed at first: a title bar over the view's corner until someone opens it.
     ImGui::SetNextWindowCollapsed(true, ImGuiCond_FirstUseEver);
-    if (!ImGui::Begin("Water graph")) {
+    ui.panelOpen = ImGui::Begin("Water graph");
+    if (!ui.panelOpen) {
         ImGui::End();
         return;
     }
@@ -430,7 +434,7 @@ void drawGraphPanel(EditorState& s) {
 
 bool graphViewportInput(EditorState& s) {
     const WaterGraph* g = graphOf(s);
-    if (!ui.editInView || !ui.showGraph || !g) return false;
+    if (!ui.panelOpen || !ui.editInView || !ui.showGraph || !g) return false;
     ImGuiIO& io = ImGui::GetIO();
     const ImVec2 mouse = io.MousePos;
     ui.mouseAt = mouse;

@@ -47,6 +47,10 @@ void viewportInput(EditorState& s) {
     const double dx = io.MouseDelta.x / std::max(1.0f, s.viewport.h);
     const double dy = io.MouseDelta.y / std::max(1.0f, s.viewport.h);
 
+    // The water graph's tools take the left mouse first while its panel edits in the view
+    // (the middle mouse and Alt + left still navigate).
+    if (!drag.navigating && !io.KeyAlt && graphViewportInput(s)) return;
+
     // Navigation.
     const bool orbitButton = ImGui::IsMouseDown(2) || (io.KeyAlt && ImGui::IsMouseDown(0)) ||
                              (s.tool == Tool::Navigate && ImGui::IsMouseDown(0));
@@ -68,9 +72,8 @@ void viewportInput(EditorState& s) {
     }
     if (hovered && io.MouseWheel != 0) s.camera.zoom(io.MouseWheel);
 
-    // Tools with the left mouse: the water graph's first when it is being edited in the view.
+    // Tools with the left mouse.
     if (drag.navigating || io.KeyAlt) return;
-    if (graphViewportInput(s)) return;
     if (s.tool == Tool::Brush) {
         if (hovered && ImGui::IsMouseClicked(0)) {
             if (auto hit = s.pick(mouse.x, mouse.y)) {

@@ -1,13 +1,15 @@
 // plimsoll buoyancy MESH [--size N | --exact] --water-level H --position=X,Y,Z
 //                   --rotation-deg=RX,RY,RZ [--velocity=VX,VY,VZ] [--angular-velocity=WX,WY,WZ]
 //                   [--device cpu|gpu|N|reference] [--fluid-density RHO]
-//                   [--drag-coefficient CD] [--friction-coefficient CF] --json
+//                   [--drag-coefficient CD] [--friction-coefficient CF] [--compare-exact]
+//                   --json
 #include "cli/commands.h"
 
 #include "cli/common.h"
 #include "plimsoll/buoyancy.h"
 #include "plimsoll/compute.h"
 #include "plimsoll/massprops.h"
+#include "plimsoll/volume_check.h"
 
 #include <nlohmann/json.hpp>
 
@@ -34,11 +36,13 @@ struct BuoyancyOptions {
     Eigen::Vector3d rotationDegrees = Eigen::Vector3d::Zero();
     Motion motion;
     FluidSettings fluid;
+    bool compareExact = false;
     bool json = false;
 };
 
 std::optional<BuoyancyResult> evaluateTexture(const BuoyancyOptions& o, const BodyFrame& frame,
-                                              std::string& deviceName, double& frameMs) {
+                                              std::string& deviceName, double& frameMs,
+                                              std::optional<SubmergedVolumeCheck>& check) {
     // The device first: a bad --device fails before the mesh work, which can take a while.
     std::string notice;
     Result<std::unique_ptr<BuoyancyBackend>> backend = createBuoyancyBackend(o.device, &notice);
@@ -67,6 +71,20 @@ std::optional<BuoyancyResult> evaluateTexture(const BuoyancyOptions& o, const Bo
     }
     deviceName = engine.deviceName();
     frameMs = engine.lastTimings().totalMs;
+    if (o.compareExact) {
+        // The same function as the editor's live preview readout (volume_check.h).
+        std::optional<TriangleMesh> closed = loadClosedMesh(o.mesh);
+        if (!closed) return std::nullopt;
+        BodyFrame at = frame;
+        at.centerOfMass = centerOfMass;
+        Result<SubmergedVolumeCheck> checked =
+            checkSubmergedVolume(engine, request.body, *closed, at, o.waterLevel, o.fluid);
+        if (!checked) {
+            std::cerr << "error: " << checked.error().message << "\n";
+            return std::nullopt;
+        }
+        check = *checked;
+    }
     return result;
 }
 
@@ -88,8 +106,10 @@ int runBuoyancy(const BuoyancyOptions& o) {
     frame.motion = o.motion;
     std::string deviceName = "exact";
     double frameMs = 0;
+    std::optional<SubmergedVolumeCheck> check;
     std::optional<BuoyancyResult> evaluated =
-        o.exact ? evaluateExact(o, frame, frameMs) : evaluateTexture(o, frame, deviceName, frameMs);
+        o.exact ? evaluateExact(o, frame, frameMs)
+                : evaluateTexture(o, frame, deviceName, frameMs, check);
     if (!evaluated) return kExitFailure;
     const BuoyancyResult& r = *evaluated;
 
@@ -111,6 +131,11 @@ int runBuoyancy(const BuoyancyOptions& o) {
     out["submerged_samples"] =
         o.exact ? nlohmann::json(nullptr) : nlohmann::json(r.submergedSamples);
     out["timing_ms"] = frameMs;
+    if (check) {
+        out["exact_submerged_volume"] = check->exact;
+        out["submerged_volume_error"] = check->error;
+        out["submerged_volume_relative_error"] = check->relativeError;
+    }
     if (o.json) {
         std::cout << out.dump(2) << "\n";
         return kExitOk;
@@ -129,6 +154,11 @@ int runBuoyancy(const BuoyancyOptions& o) {
               << "  drag torque         " << r.dragTorque.transpose() << " N m\n"
               << "  wetted area         " << r.wettedArea << " m^2\n";
     if (!o.exact) std::cout << "  submerged samples   " << r.submergedSamples << "\n";
+    if (check) {
+        std::cout << "  exact volume        " << check->exact << " m^3\n"
+                  << "  volume error        " << check->error << " m^3 ("
+                  << 100.0 * check->relativeError << " %)\n";
+    }
     std::cout << "  time per frame      " << frameMs << " ms\n"
               << "  (world axes; torques about the centre of mass)\n";
     return kExitOk;
@@ -183,6 +213,10 @@ void addBuoyancyCommand(CLI::App& root, CommandRunner& selected) {
                     "Skin friction coefficient C_f (0 = off)")
         ->check(CLI::NonNegativeNumber)
         ->capture_default_str();
+    cmd->add_flag("--compare-exact", o->compareExact,
+                  "Also clip the mesh exactly at the same pose and print the texture's "
+                  "submerged-volume error (the editor's live preview shows the same figure)")
+        ->excludes(exact);
     cmd->add_flag("--json", o->json, "Print one JSON object");
     cmd->callback([o, &selected] { selected = [o] { return runBuoyancy(*o); }; });
 }

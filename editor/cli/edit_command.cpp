@@ -100,6 +100,12 @@ void addEditCommand(CLI::App& root, CommandRunner& selected) {
                     "Window: run this many frames, print frame times and layout as JSON, quit");
     cmd->add_option("--screenshot", o->window.screenshot,
                     "Window: with --frames, write the last frame to this PNG");
+    cmd->add_flag("--preview", o->window.preview,
+                  "Window: start the live preview playing (with --frames: one simulated frame "
+                  "per drawn frame)");
+    cmd->add_option("--snapshot", o->window.snapshots,
+                    "Window: with --frames and --preview, FRAME:PATH writes that frame to a PNG "
+                    "(repeatable); the JSON report lists the bodies and force arrows there");
     cmd->add_option("--view", o->window.view, "Window: front, side, top or persp")
         ->check(CLI::IsMember({"front", "side", "top", "persp"}));
     cmd->add_option("--overlay", o->window.overlay,

@@ -4,12 +4,15 @@
 #include "plimsoll/bake.h"
 #include "plimsoll/bake_io.h"
 #include "plimsoll/body_setup.h"
+#include "plimsoll/deform.h"
 #include "plimsoll/file_util.h"
 #include "plimsoll/limits.h"
 #include "plimsoll/graph.h"
 #include "plimsoll/massprops.h"
 #include "plimsoll/painted_map.h"
 
+#include "exr_io.h"
+#include "gltf_writer.h"
 #include "texture_facts_json.h"
 
 #include <nlohmann/json.hpp>
@@ -18,6 +21,7 @@
 #include <algorithm>
 #include <array>
 #include <atomic>
+#include <cstdio>
 #include <fstream>
 #include <iterator>
 #include <set>
@@ -96,6 +100,31 @@ fs::path siblingFor(const fs::path& folder, const std::string& kind) {
                                    std::to_string(counter++));
 }
 
+/// The texel-to-node map as an N x N image (row 0 at the top, as the other images): 1 + the
+/// node index (graph.json order) of each covered texel, 0 where nothing is covered. The node is
+/// plimsoll::texelNodeMap's (nearestNode of the entry's point, the rule WaterGraphSimulation
+/// feeds texels by); a texel with several entries (shared by two UV islands, or refined) takes
+/// the node of its largest-area entry, the first on a tie: one value a texel, so a runtime that
+/// wants the simulation's exact per-entry feed recomputes nearestNode over samples.exr there.
+detail::UintImage texelNodeImage(const WaterGraph& graph, const SurfaceTextures& t) {
+    const std::vector<std::int32_t> nodes = texelNodeMap(graph, t);
+    detail::UintImage image;
+    image.width = image.height = t.size;
+    image.channel = "node";
+    image.pixels.assign(static_cast<std::size_t>(t.size) * t.size, 0u);
+    for (std::size_t first = 0, last; first < t.coveredCount(); first = last) {
+        std::size_t largest = first;
+        for (last = first; last < t.coveredCount() && t.texelIndex[last] == t.texelIndex[first];
+             ++last) {
+            if (t.area[last] > t.area[largest]) largest = last;
+        }
+        const std::size_t x = t.texelIndex[first] % t.size, y = t.texelIndex[first] / t.size;
+        const std::size_t pixel = (static_cast<std::size_t>(t.size) - 1 - y) * t.size + x;
+        image.pixels[pixel] = static_cast<std::uint32_t>(nodes[largest] + 1);
+    }
+    return image;
+}
+
 /// Writes the whole bundle of body `index` into `staging` (an empty folder).
 Result<BundleReport> buildBundle(const Project& project, std::size_t index, const fs::path& staging,
                                  const std::function<void(const std::string&)>& log) {
@@ -107,13 +136,25 @@ Result<BundleReport> buildBundle(const Project& project, std::size_t index, cons
     Result<PreparedBodyMesh> prepared = prepareBodyMesh(project, index);
     if (!prepared) return prepared.error();
     if (!prepared->atlas.notice.empty()) say(label + ": " + prepared->atlas.notice);
-    if (desc.deforms()) say(label + ": deforming: exported at its first frame");
     const TriangleMesh& mesh = prepared->mesh;
+
+    // A deforming body: its frames as World loads them; the bake records its pieces so every
+    // frame's textures are regathered from them (deform.h), exactly as World steps them.
+    std::vector<TriangleMesh> frames;
+    SurfacePieceTable pieces;
+    if (desc.deforms()) {
+        std::vector<fs::path> paths{project.resolvePath(desc.mesh)};
+        for (const std::string& frame : desc.meshFrames) paths.push_back(project.resolvePath(frame));
+        Result<std::vector<TriangleMesh>> loaded = loadMeshFrames(paths);
+        if (!loaded) return Error{label + ": " + loaded.error().message};
+        frames = std::move(*loaded);
+    }
 
     BakeSettings settings;
     settings.size = desc.textureSize;
     settings.maxTexelStretch = desc.maxTexelStretch;
-    Result<SurfaceTextures> textures = bakeSurfaceTextures(mesh, settings);
+    Result<SurfaceTextures> textures =
+        bakeSurfaceTextures(mesh, settings, desc.deforms() ? &pieces : nullptr);
     if (!textures) return Error{label + ": " + textures.error().message};
     Result<MassProperties> textureMass = bodyMaterialMass(*textures, desc.material, project, label);
     if (!textureMass) return textureMass.error();
@@ -138,6 +179,36 @@ Result<BundleReport> buildBundle(const Project& project, std::size_t index, cons
     if (Status step = fileStep("renaming", staging / "area.exr"); !step.ok()) return step.error();
     fs::rename(staging / "area_vector.exr", staging / "area.exr", ec);
     if (ec) return makeError((staging / "area.exr").string() + ": " + ec.message());
+
+    // Frames of a deforming body: frames/NNN/ holds position.exr, area.exr and samples.exr
+    // (the texels, coverage and sample order are the bake's in every frame; only points and
+    // area vectors move), and the manifest each frame's mass properties.
+    json deforming = nullptr;
+    if (desc.deforms()) {
+        json frameMass = json::array();
+        SurfaceTextures frame = *textures;
+        for (std::size_t k = 0; k < frames.size(); ++k) {
+            regatherSurface(pieces, frames[k], frame);
+            char name[24];
+            std::snprintf(name, sizeof name, "%03zu", k);
+            const fs::path folder = staging / "frames" / name;
+            if (Status s = writeBakedTextures(frame, folder, desc.mesh); !s.ok()) return s.error();
+            fs::rename(folder / "area_vector.exr", folder / "area.exr", ec);
+            if (!ec) fs::remove(folder / "coverage.exr", ec);  // the bake's, every frame
+            if (!ec) fs::remove(folder / "manifest.json", ec);
+            if (ec) return makeError(folder.string() + ": " + ec.message());
+            Result<MassProperties> mass = bodyMaterialMass(frame, desc.material, project, label);
+            if (!mass) return mass.error();
+            frameMass.push_back(massJson(*mass));
+        }
+        deforming = {{"frames", frames.size()},
+                     {"frames_per_second", desc.framesPerSecond},
+                     {"exported", "all frames"},
+                     {"frame_folder", "frames/NNN (000 = the first frame)"},
+                     {"frame_files", json::array({"position.exr", "area.exr", "samples.exr"})},
+                     {"frame_mass_properties", frameMass}};
+        say(label + ": deforming: " + std::to_string(frames.size()) + " frames exported");
+    }
 
     json sources = json::object();
     auto addSource = [&](const std::string& role, const std::string& path) -> Status {
@@ -175,7 +246,11 @@ Result<BundleReport> buildBundle(const Project& project, std::size_t index, cons
         if (Status s = writeBytes(staging / "graph.json", graphToJson(*graph)); !s.ok())
             return s.error();
         if (Status s = addSource("water_graph", g.graph); !s.ok()) return s.error();
+        if (Status s = detail::writeExr(staging / "texel_nodes.exr", texelNodeImage(*graph, *textures));
+            !s.ok())
+            return s.error();
         graphJson = {{"path", "graph.json"},
+                     {"texel_nodes", "texel_nodes.exr"},
                      {"nodes", graph->nodes.size()},
                      {"pipes", graph->pipes.size()},
                      {"total_capacity", graph->totalCapacity()},
@@ -187,6 +262,28 @@ Result<BundleReport> buildBundle(const Project& project, std::size_t index, cons
                      {"diffusion_pressure", g.diffusionPressure},
                      {"free_surface", g.freeSurface},
                      {"seed", g.seed}};
+    }
+
+    // The mesh as glTF 2.0 over the baked UVs, its node pointing back at this manifest (the
+    // glTF lies in the bundle folder, so the path is the manifest's own name).
+    const std::string gltfStem = bundleFolderName(project, index);
+    {
+        json extras = {{"plimsoll_bundle",
+                        {{"manifest", kManifestFile},
+                         {"format", "plimsoll-runtime-bundle"},
+                         {"schema_version", kBundleSchemaMajor},
+                         {"schema_minor", kBundleSchemaMinor},
+                         {"body", desc.name},
+                         {"mass", textureMass->mass},
+                         {"texture_size", textures->size},
+                         {"texcoord", "TEXCOORD_0 = the UVs the bundle's textures were baked "
+                                      "over"}}}};
+        const detail::GltfFiles gltf = detail::encodeGltf(mesh, textures->placement,
+                                                          gltfStem + ".bin", desc.name, extras);
+        if (Status s = writeBytes(staging / (gltfStem + ".gltf"), gltf.gltf); !s.ok())
+            return s.error();
+        if (Status s = writeBytes(staging / (gltfStem + ".bin"), gltf.bin); !s.ok())
+            return s.error();
     }
 
     BundleReport report;
@@ -234,9 +331,7 @@ Result<BundleReport> buildBundle(const Project& project, std::size_t index, cons
         {"atlas", {{"mode", atlasModeName(desc.atlas)},
                    {"generated", prepared->atlas.generated},
                    {"charts", prepared->atlas.chartCount}}},
-        {"deforming", desc.deforms() ? json{{"frames", desc.meshFrames.size() + 1},
-                                            {"exported", "first frame"}}
-                                     : json(nullptr)},
+        {"deforming", deforming},
         {"material", material},
         {"mass_properties", {{"exact", exact}, {"texture", massJson(*textureMass)}}},
         {"hydrodynamics", {{"drag_coefficient", desc.dragCoefficient},
@@ -244,6 +339,7 @@ Result<BundleReport> buildBundle(const Project& project, std::size_t index, cons
                            {"linear_damping", desc.linearDamping},
                            {"angular_damping", desc.angularDamping}}},
         {"painted_maps", maps},
+        {"gltf", gltfStem + ".gltf"},
         {"water_graph", graphJson},
         {"sources", sources},
         {"files", files}};

@@ -52,6 +52,56 @@ Status writeExr(const fs::path& path, const FloatImage& image) {
         path, [&](const fs::path& temp) { return writeExrFile(temp, image, path); });
 }
 
+Status writeExr(const fs::path& path, const UintImage& image) {
+    return replaceFileAtomically(path, [&](const fs::path& temp) -> Status {
+        try {
+            Imf::Header header(image.width, image.height);
+            header.compression() = Imf::ZIP_COMPRESSION;
+            header.channels().insert(image.channel, Imf::Channel(Imf::UINT));
+            Imf::OutputFile file(temp.c_str(), header);
+            Imf::FrameBuffer buffer;
+            char* base = reinterpret_cast<char*>(const_cast<std::uint32_t*>(image.pixels.data()));
+            buffer.insert(image.channel,
+                          Imf::Slice(Imf::UINT, base, sizeof(std::uint32_t),
+                                     sizeof(std::uint32_t) * static_cast<std::size_t>(image.width)));
+            file.setFrameBuffer(buffer);
+            file.writePixels(image.height);
+        } catch (const std::exception& e) {
+            return makeError(path.string() + ": cannot write EXR: " + e.what());
+        }
+        return Ok{};
+    });
+}
+
+Result<UintImage> readExrUint(const fs::path& path, const std::string& channel) {
+    try {
+        Imf::InputFile file(path.c_str());
+        const Imath::Box2i window = file.header().dataWindow();
+        if (window.min.x != 0 || window.min.y != 0) {
+            return makeError(path.string() + ": EXR data window does not start at (0, 0)");
+        }
+        const Imf::Channel* found = file.header().channels().findChannel(channel);
+        if (!found) return makeError(path.string() + ": EXR has no channel '" + channel + "'");
+        if (found->type != Imf::UINT) {
+            return makeError(path.string() + ": EXR channel '" + channel + "' is not UINT");
+        }
+        UintImage image;
+        image.width = window.max.x - window.min.x + 1;
+        image.height = window.max.y - window.min.y + 1;
+        image.channel = channel;
+        image.pixels.assign(static_cast<std::size_t>(image.width) * image.height, 0u);
+        Imf::FrameBuffer buffer;
+        buffer.insert(channel, Imf::Slice(Imf::UINT, reinterpret_cast<char*>(image.pixels.data()),
+                                          sizeof(std::uint32_t),
+                                          sizeof(std::uint32_t) * static_cast<std::size_t>(image.width)));
+        file.setFrameBuffer(buffer);
+        file.readPixels(window.min.y, window.max.y);
+        return image;
+    } catch (const std::exception& e) {
+        return makeError(path.string() + ": cannot read EXR: " + e.what());
+    }
+}
+
 Result<FloatImage> readExr(const fs::path& path, const std::vector<std::string>& channels) {
     try {
         Imf::InputFile file(path.c_str());

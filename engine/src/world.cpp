@@ -362,6 +362,13 @@ Wrench World::wrenchOf(const SimulatedBody& body, const RigidBodyState& state,
                        state.linearMomentum);
     w.torque += limited(buoyancy.dragTorque - wet * body.angularDamping * state.angularMomentum,
                         state.angularMomentum);
+    // An outside push is neither dissipation nor capped: it is what the user asked for.
+    const auto index = static_cast<std::size_t>(&body - bodies_.data());
+    if (index < externalForces_.size() && externalForces_[index]) {
+        const Wrench external = externalForces_[index](body, state);
+        w.force += external.force;
+        w.torque += external.torque;
+    }
     return w;
 }
 
@@ -453,6 +460,7 @@ Status World::advanceFrame() {
             // RK4 needs the wrench at intermediate states: one evaluation per stage and body.
             for (SimulatedBody& body : bodies_) {
                 Status failure = Ok{};
+                bool firstStage = true;
                 const WrenchFunction wrench = [&](const RigidBodyState& state, double t) {
                     if (outOfWater(body, state)) return wrenchOf(body, state, BuoyancyResult{}, dt);
                     const BodyRequest request = requestFor(body, state, t);
@@ -463,6 +471,10 @@ Status World::advanceFrame() {
                         !s.ok())
                         failure = s;
                     toCenterOfMass(body, state, result);
+                    // The first stage is the state at the start of the step: what
+                    // SimulatedBody::buoyancy promises (drawn and plotted by the editor).
+                    if (firstStage) body.buoyancy = result;
+                    firstStage = false;
                     ++statistics_.buoyancyEvaluations;
                     return wrenchOf(body, state, result, dt);
                 };
@@ -489,6 +501,23 @@ Status World::advanceFrame() {
         time_ += dt;
     }
     return stepWaterGraphs(sim.timeStep);
+}
+
+Status World::setExternalForce(std::size_t i, ExternalForce force) {
+    if (i >= bodies_.size()) return makeError("setExternalForce: no body " + std::to_string(i));
+    externalForces_.resize(bodies_.size());
+    externalForces_[i] = std::move(force);
+    return Ok{};
+}
+
+void World::setWater(const WaterModel& water) { project_.water = water; }
+
+void World::setIntegrator(Integrator integrator) { project_.simulation.integrator = integrator; }
+
+Status World::setBodyState(std::size_t i, const RigidBodyState& state) {
+    if (i >= bodies_.size()) return makeError("setBodyState: no body " + std::to_string(i));
+    bodies_[i].state = state;
+    return Ok{};
 }
 
 double World::mechanicalEnergy(std::size_t i) const {

@@ -9,6 +9,8 @@
 //   samples.exr      the exact sample list the physics sums run over (bake_io.h)
 //   *.png            the painted maps, 16-bit greyscale, over the baked UVs
 //   graph.json       the water graph, when the body has one
+//   texel_nodes.exr  UINT "node": 1 + graph.json index of the node each texel feeds, 0 where
+//                    uncovered (with graph.json; schema 1.1)
 // Exporting twice gives byte-identical files; a bundle is replaced atomically (a failed export
 // leaves the previous one as it was). The manifest is a superset of a bake folder's, so
 // readBakedTextures() reads a bundle's sample list.
@@ -29,7 +31,7 @@ namespace plimsoll {
 /// Bundle schema: a reader accepts its own major version and any minor version (newer minors
 /// only add optional fields and files); a new major may change or remove anything.
 inline constexpr int kBundleSchemaMajor = 1;
-inline constexpr int kBundleSchemaMinor = 0;
+inline constexpr int kBundleSchemaMinor = 1;
 
 /// SHA-256 of `bytes` as 64 lowercase hex digits (OpenSSL's libcrypto).
 std::string sha256Hex(std::string_view bytes);

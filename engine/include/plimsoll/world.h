@@ -53,6 +53,12 @@ struct SimulatedBody {
     Pose pose() const { return poseOf(state, mass); }
 };
 
+/// A force from outside the simulation on one body (a user's mouse grab, a thruster): called at
+/// every integration step (every RK4 stage) with the body and its state there, it returns the
+/// wrench about the body's centre of mass, world axes (N, N m). Added to gravity, buoyancy and
+/// drag before the integrator uses them.
+using ExternalForce = std::function<Wrench(const SimulatedBody& body, const RigidBodyState& state)>;
+
 /// Counters of what the world did and did not compute (for logs, tests and the editor).
 struct WorldStatistics {
     std::size_t steps = 0;                 ///< integration steps (sub-steps)
@@ -84,6 +90,24 @@ public:
     /// Changes a body's material (a repainted density map, a new density): its mass
     /// properties are recomputed now, once, keeping its centre of mass's place and momenta.
     Status setMaterial(std::size_t body, const MaterialDesc& material);
+
+    /// Body i's external force (world.h ExternalForce); an empty function removes it.
+    Status setExternalForce(std::size_t body, ExternalForce force);
+
+    /// Replaces the medium's surface (level, waves) from the next step on: an editor changes
+    /// the water while the simulation runs.
+    void setWater(const WaterModel& water);
+
+    /// Changes the integrator from the next step on.
+    void setIntegrator(Integrator integrator);
+
+    /// Puts body i in `state` (its centre of mass's place, orientation and momenta): a reset,
+    /// or a state carried over from another world of the same project.
+    Status setBodyState(std::size_t body, const RigidBodyState& state);
+
+    /// Sets the simulated time (s; waves and deforming bodies follow it): a world rebuilt
+    /// from the same project carries on where the previous one was.
+    void setTime(double time) { time_ = time; }
 
     /// Body i's water graph, or null for a sealed body.
     const WaterGraphSimulation* waterGraph(std::size_t body) const;
@@ -145,6 +169,7 @@ private:
     std::vector<std::unique_ptr<Deformation>> deformations_;  ///< per body, null if rigid
     std::vector<std::unique_ptr<Flooding>> floodings_;        ///< per body, null if sealed
     std::vector<MaterialDesc> materials_;
+    std::vector<ExternalForce> externalForces_;               ///< per body, empty if none
     WorldStatistics statistics_;
     double time_ = 0;
     bool reportedSkip_ = false;

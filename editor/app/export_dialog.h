@@ -1,0 +1,21 @@
+// File > Export bundle...: runtime bundles of every body of the open project (docs/bundle.md),
+// written by the engine's writeBodyBundle on a worker thread while a window shows progress and
+// errors; the UI keeps drawing. The same bundles `plimsoll export PROJECT --out FOLDER` writes:
+// FOLDER/<project file stem>/<body>/.
+#pragma once
+
+#include "plimsoll/project.h"
+
+#include <filesystem>
+
+namespace plimsoll::editor {
+
+/// Starts exporting `project` (a copy is taken) into `folder`. `unsaved`: the document has
+/// changes not yet saved (the bundle is made from the project's files on disk, so the window
+/// says they are not in it). Ignored, with a note in the window, while an export runs.
+void startBundleExport(const Project& project, const std::filesystem::path& folder, bool unsaved);
+
+/// Draws the export window while an export runs or its result is shown; every frame.
+void drawBundleExport();
+
+}  // namespace plimsoll::editor

@@ -1,0 +1,458 @@
+// The live preview's controls, its input (grabbing a body) and what it draws over the 3D view
+// (preview_panel.h). Index:
+//   [SECTION] session start / update
+//   [SECTION] control window
+//   [SECTION] grabbing
+//   [SECTION] drawing over the view (arrows, waterline, performance)
+//   [SECTION] scene and report
+#include "app/preview_panel.h"
+
+#include <imgui.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+
+namespace plimsoll::editor {
+
+namespace {
+
+/// Overlay texture slots of the wet-texel images, clear of the document's (one per body).
+constexpr int kWetSlotBase = 1000;
+
+const char* const kIntegratorNames[] = {"explicit Euler", "semi-implicit Euler", "RK4"};
+constexpr Integrator kIntegrators[] = {Integrator::ExplicitEuler, Integrator::SemiImplicitEuler,
+                                       Integrator::RK4};
+constexpr int kTextureSizes[] = {32, 64, 128, 256, 512, 1024, 2048};
+
+PreviewUi& ui(EditorState& s) {
+    if (!s.preview) s.preview = std::make_shared<PreviewUi>();
+    return *s.preview;
+}
+
+ImU32 colourOf(const Eigen::Vector3f& c, int alpha = 255) {
+    return IM_COL32(int(255 * c.x()), int(255 * c.y()), int(255 * c.z()), alpha);
+}
+
+}  // namespace
+
+// [SECTION] session start / update -------------------------------------------------------------
+
+bool startPreview(EditorState& s, bool play) {
+    PreviewUi& p = ui(s);
+    p.open = true;
+    p.error.clear();
+    p.session.reset();
+    Result<std::unique_ptr<PreviewSession>> made =
+        PreviewSession::create(s.document->project(), p.device);
+    if (!made) {
+        p.error = made.error().message;
+        s.status = "Live preview: " + p.error;
+        return false;
+    }
+    p.session = std::move(*made);
+    p.textureSize = p.session->textureSize();
+    for (int i = 0; i < 3; ++i) {
+        if (kIntegrators[i] == p.session->project().simulation.integrator) p.integrator = i;
+    }
+    p.lastCheckTime = -1;
+    p.plotted.clear();
+    if (play) p.session->play();
+    s.status = "Live preview on " + p.session->deviceName();
+    return true;
+}
+
+void stopPreview(EditorState& s) {
+    PreviewUi& p = ui(s);
+    p.session.reset();
+    s.overlaysDirty = true;  // the document's overlays back on the bodies
+}
+
+void updatePreview(EditorState& s, double wallSeconds) {
+    if (!s.preview || !s.preview->session) return;
+    PreviewUi& p = *s.preview;
+    PreviewSession& session = *p.session;
+    Status done = Ok{};
+    if (p.fixedStep) {
+        if (session.playing()) done = session.step();
+    } else {
+        Result<int> frames = session.update(wallSeconds);
+        if (!frames) done = frames.error();
+    }
+    if (!done.ok()) {
+        session.pause();
+        p.error = done.error().message;
+        s.status = "Live preview stopped: " + p.error;
+    }
+    // The volume error, four times a simulated second (an exact clip of the mesh each time).
+    const double now = session.world().time();
+    if (p.lastCheckTime < 0 || std::abs(now - p.lastCheckTime) >= 0.25) {
+        p.lastCheckTime = now;
+        const std::size_t body =
+            std::clamp<std::size_t>(static_cast<std::size_t>(std::max(0, s.selectedBody)), 0,
+                                    session.world().bodies().size() - 1);
+        Result<SubmergedVolumeCheck> check = session.volumeCheck(body);
+        char line[256];
+        if (check) {
+            std::snprintf(line, sizeof line,
+                          "%s: texture %.6g m^3, exact %.6g m^3, error %+.3g m^3 (%+.3f %%)",
+                          session.world().bodies()[body].name.c_str(), check->texture,
+                          check->exact, check->error, 100.0 * check->relativeError);
+            p.lastCheck = line;
+        } else {
+            p.lastCheck = check.error().message;
+        }
+    }
+}
+
+// [SECTION] control window ---------------------------------------------------------------------
+
+namespace {
+
+/// The water model's controls; true when something changed.
+bool editWater(WaterModel& water) {
+    bool changed = false;
+    const char* kinds[] = {"flat", "Gerstner waves", "height field"};
+    int kind = static_cast<int>(water.kind);
+    // A height field needs its grid file: it can be kept, not chosen here.
+    if (ImGui::Combo("water", &kind, kinds, water.kind == WaterModel::Kind::HeightField ? 3 : 2)) {
+        water.kind = static_cast<WaterModel::Kind>(kind);
+        if (water.kind == WaterModel::Kind::Gerstner && water.waves.empty()) {
+            water.waves.push_back(GerstnerWave{});
+        }
+        changed = true;
+    }
+    float level = static_cast<float>(water.level);
+    if (ImGui::DragFloat("level (m)", &level, 0.01f)) {
+        water.level = level;
+        changed = true;
+    }
+    if (water.kind == WaterModel::Kind::Gerstner) {
+        for (std::size_t i = 0; i < water.waves.size(); ++i) {
+            GerstnerWave& w = water.waves[i];
+            ImGui::PushID(static_cast<int>(i));
+            ImGui::Text("wave %zu", i + 1);
+            float a = float(w.amplitude), l = float(w.wavelength), q = float(w.steepness);
+            if (ImGui::SliderFloat("amplitude (m)", &a, 0.0f, 2.0f)) w.amplitude = a, changed = true;
+            if (ImGui::SliderFloat("wavelength (m)", &l, 0.5f, 100.0f, "%.2f", ImGuiSliderFlags_Logarithmic)) {
+                w.wavelength = l;
+                changed = true;
+            }
+            if (ImGui::SliderFloat("steepness", &q, 0.0f, 1.0f)) w.steepness = q, changed = true;
+            ImGui::PopID();
+        }
+        if (ImGui::SmallButton("add wave")) {
+            water.waves.push_back(GerstnerWave{});
+            changed = true;
+        }
+        if (water.waves.size() > 1) {
+            ImGui::SameLine();
+            if (ImGui::SmallButton("remove last")) {
+                water.waves.pop_back();
+                changed = true;
+            }
+        }
+    }
+    return changed;
+}
+
+}  // namespace
+
+void drawPreviewPanel(EditorState& s) {
+    PreviewUi& p = ui(s);
+    if (!p.open) return;
+    // The view's lower-left corner at first, its sections folded: the bodies stay in sight.
+    ImGui::SetNextWindowPos(ImVec2(s.viewport.x + 8, s.viewport.y + s.viewport.h - 8),
+                            ImGuiCond_FirstUseEver, ImVec2(0, 1));
+    ImGui::SetNextWindowSize(ImVec2(340, 0), ImGuiCond_FirstUseEver);
+    if (!ImGui::Begin("Live preview", &p.open)) {
+        ImGui::End();
+        return;
+    }
+    if (!p.session) {
+        const char* devices[] = {"default", "reference", "cpu", "gpu"};
+        int device = 0;
+        for (int i = 1; i < 4; ++i) {
+            if (p.device == devices[i]) device = i;
+        }
+        if (ImGui::Combo("device", &device, devices, 4)) p.device = device == 0 ? "" : devices[device];
+        if (ImGui::Button("Start")) startPreview(s, true);
+        if (!p.error.empty()) ImGui::TextWrapped("%s", p.error.c_str());
+        ImGui::End();
+        return;
+    }
+    PreviewSession& session = *p.session;
+    if (ImGui::Button(session.playing() ? "Pause" : "Play")) {
+        session.playing() ? session.pause() : session.play();
+    }
+    ImGui::SameLine();
+    if (ImGui::Button("Step")) {
+        session.pause();
+        if (Status st = session.step(); !st.ok()) p.error = st.error().message;
+    }
+    ImGui::SameLine();
+    if (ImGui::Button("Reset")) {
+        if (Status st = session.reset(); !st.ok()) p.error = st.error().message;
+        p.lastCheckTime = -1;
+    }
+    ImGui::SameLine();
+    if (ImGui::Button("Stop")) {
+        stopPreview(s);
+        ImGui::End();
+        return;
+    }
+    ImGui::SameLine();
+    ImGui::Text("t = %.2f s", session.world().time());
+    float scale = static_cast<float>(session.timeScale());
+    if (ImGui::SliderFloat("time scale", &scale, 0.05f, 4.0f, "%.2fx", ImGuiSliderFlags_Logarithmic)) {
+        session.setTimeScale(scale);
+    }
+
+    if (ImGui::CollapsingHeader("Water")) {
+        WaterModel water = session.project().water;
+        if (editWater(water)) session.setWater(water);
+    }
+    if (ImGui::CollapsingHeader("Speed and accuracy")) {
+        if (ImGui::Combo("integrator", &p.integrator, kIntegratorNames, 3)) {
+            session.setIntegrator(kIntegrators[p.integrator]);
+        }
+        char label[16];
+        std::snprintf(label, sizeof label, "%d^2", p.textureSize);
+        if (ImGui::BeginCombo("physics texture", label)) {
+            for (int size : kTextureSizes) {
+                std::snprintf(label, sizeof label, "%d^2", size);
+                if (ImGui::Selectable(label, size == p.textureSize) && size != p.textureSize) {
+                    p.textureSize = size;
+                    session.requestTextureSize(size);  // baked off the UI thread
+                }
+            }
+            ImGui::EndCombo();
+        }
+        if (session.rebuilding()) {
+            ImGui::SameLine();
+            ImGui::TextUnformatted("baking...");
+        }
+        const PreviewTimings& t = session.timings();
+        ImGui::Text("device: %s", session.deviceName().c_str());
+        ImGui::Text("kernel %.3f ms / frame, step %.3f ms / frame (%d sub-steps)", t.kernelMs,
+                    t.frameMs, t.subSteps);
+        ImGui::Text("bodies %zu, texels %zu (texture %d^2)", session.world().bodies().size(),
+                    session.coveredTexels(), session.textureSize());
+        if (t.droppedFrames > 0) ImGui::Text("behind real time: %d frames dropped", t.droppedFrames);
+        ImGui::TextWrapped("submerged volume vs exact (flat water at the mean level): %s",
+                           p.lastCheck.c_str());
+    }
+    if (ImGui::CollapsingHeader("Show")) {
+        ImGui::Checkbox("forces", &p.showForces);
+        ImGui::SameLine();
+        ImGui::Checkbox("waterline", &p.showWaterline);
+        ImGui::SameLine();
+        ImGui::Checkbox("wet texels", &p.showWetTexels);
+        ImGui::Checkbox("performance", &p.showPerformance);
+        ImGui::SameLine();
+        ImGui::Checkbox("plots", &p.showPlots);
+    }
+    ImGui::TextDisabled("Left-drag a body to pull it (a spring).");
+    if (!p.error.empty()) ImGui::TextWrapped("%s", p.error.c_str());
+    ImGui::End();
+}
+
+// [SECTION] grabbing ---------------------------------------------------------------------------
+
+namespace {
+struct GrabDrag {
+    bool active = false;
+    Eigen::Vector3d planePoint = Eigen::Vector3d::Zero();
+};
+GrabDrag grabDrag;
+
+void mouseRay(const EditorState& s, Eigen::Vector3d& origin, Eigen::Vector3d& direction) {
+    const ImVec2 mouse = ImGui::GetIO().MousePos;
+    s.camera.rayThrough(mouse.x - s.viewport.x, mouse.y - s.viewport.y,
+                        static_cast<int>(s.viewport.w), static_cast<int>(s.viewport.h), origin,
+                        direction);
+}
+}  // namespace
+
+bool previewInput(EditorState& s) {
+    if (!s.preview || !s.preview->session) return false;
+    PreviewSession& session = *s.preview->session;
+    const ImGuiIO& io = ImGui::GetIO();
+    if (grabDrag.active) {
+        if (!ImGui::IsMouseDown(0) || !session.grabbing()) {
+            session.release();
+            grabDrag.active = false;
+            return true;
+        }
+        // The target: the mouse ray on the plane through the grab facing the camera.
+        Eigen::Vector3d origin, direction;
+        mouseRay(s, origin, direction);
+        const Eigen::Vector3d normal = s.camera.forward();
+        const double denom = direction.dot(normal);
+        if (std::abs(denom) > 1e-9) {
+            const double t = (grabDrag.planePoint - origin).dot(normal) / denom;
+            if (t > 0) session.moveGrab(origin + t * direction);
+        }
+        return true;
+    }
+    const ImVec2 mouse = io.MousePos;
+    if (io.WantCaptureMouse || io.KeyAlt || !s.viewport.contains(mouse.x, mouse.y) ||
+        !ImGui::IsMouseClicked(0) || s.tool != Tool::Navigate) {
+        return false;
+    }
+    Eigen::Vector3d origin, direction;
+    mouseRay(s, origin, direction);
+    std::optional<std::pair<std::size_t, Eigen::Vector3d>> best;
+    double bestDistance = 1e300;
+    const auto& bodies = session.world().bodies();
+    for (std::size_t b = 0; b < bodies.size() && b < s.document->bodyCount(); ++b) {
+        const auto& mesh = s.document->assets(b).mesh;
+        if (!mesh) continue;
+        const Pose pose = bodies[b].pose();
+        const Eigen::Vector3d o = pose.rotation.transpose() * (origin - pose.translation);
+        const Eigen::Vector3d d = pose.rotation.transpose() * direction;
+        if (auto hit = raycast(*mesh, o, d); hit && hit->distance < bestDistance) {
+            bestDistance = hit->distance;
+            best = std::make_pair(b, hit->point);
+        }
+    }
+    if (!best) return false;  // empty space: the view navigates
+    const Eigen::Vector3d world = bodies[best->first].pose().apply(best->second);
+    if (!session.grab(best->first, best->second, world).ok()) return false;
+    s.selectedBody = static_cast<int>(best->first);
+    grabDrag = {true, world};
+    return true;
+}
+
+// [SECTION] drawing over the view --------------------------------------------------------------
+
+void drawPreviewOverlay(EditorState& s) {
+    if (!s.preview || !s.preview->session) return;
+    PreviewUi& p = *s.preview;
+    PreviewSession& session = *p.session;
+    ImDrawList* draw = ImGui::GetForegroundDrawList();
+    const ImVec2 lo(s.viewport.x, s.viewport.y), hi(s.viewport.x + s.viewport.w, s.viewport.y + s.viewport.h);
+    draw->PushClipRect(lo, hi, true);
+    const int w = static_cast<int>(s.viewport.w), h = static_cast<int>(s.viewport.h);
+    auto screen = [&](const Eigen::Vector3d& world) -> std::optional<ImVec2> {
+        const auto px = s.camera.toPixel(world, w, h);
+        if (!px) return std::nullopt;
+        return ImVec2(s.viewport.x + float(px->x()), s.viewport.y + float(px->y()));
+    };
+    std::vector<const TriangleMesh*> meshes;
+    for (std::size_t b = 0; b < session.world().bodies().size(); ++b) {
+        meshes.push_back(b < s.document->bodyCount() && p.showWaterline
+                             ? s.document->assets(b).mesh.get()
+                             : nullptr);
+    }
+    const ForceOverlay overlay = buildForceOverlay(session.world(), meshes);
+    if (p.showWaterline) {
+        const ImU32 colour = colourOf(kWaterlineColour);
+        for (const OverlaySegment& seg : overlay.waterline) {
+            const auto a = screen(seg.a), b = screen(seg.b);
+            if (a && b) draw->AddLine(*a, *b, colour, 2.0f);
+        }
+    }
+    if (p.showForces) {
+        // On a symmetric body the arrows are collinear (front view): buoyancy widest at the
+        // bottom, drag on it, the weight thinnest on top, so that each stays visible.
+        const std::pair<Eigen::Vector3f, float> order[] = {
+            {kBuoyancyColour, 9.0f}, {kDragColour, 5.0f}, {kWeightColour, 3.0f}};
+        for (const auto& [kind, thickness] : order) {
+            for (const OverlayArrow& arrow : overlay.arrows) {
+                if (arrow.colour != kind) continue;
+                const auto a = screen(arrow.from), b = screen(arrow.to);
+                if (!a || !b) continue;
+                const ImU32 colour = colourOf(arrow.colour);
+                draw->AddLine(*a, *b, colour, thickness);
+                const float dx = b->x - a->x, dy = b->y - a->y;
+                const float length = std::sqrt(dx * dx + dy * dy);
+                if (length > 1.0f) {
+                    const float ux = dx / length, uy = dy / length,
+                                head = std::min(10.0f + thickness, 0.4f * length);
+                    draw->AddTriangleFilled(
+                        *b, ImVec2(b->x - ux * head - uy * head * 0.5f, b->y - uy * head + ux * head * 0.5f),
+                        ImVec2(b->x - ux * head + uy * head * 0.5f, b->y - uy * head - ux * head * 0.5f),
+                        colour);
+                }
+                draw->AddCircleFilled(*a, thickness, colour);
+            }
+        }
+    }
+    if (session.grabbing()) {
+        const auto a = screen(session.grabPoint()), b = screen(session.grabTarget());
+        if (a && b) {
+            draw->AddLine(*a, *b, IM_COL32(255, 255, 255, 220), 1.5f);
+            draw->AddCircleFilled(*b, 4.0f, IM_COL32(255, 255, 255, 220));
+        }
+    }
+    draw->PopClipRect();
+    if (p.showPerformance) {
+        const PreviewTimings& t = session.timings();
+        char text[256];
+        std::snprintf(text, sizeof text,
+                      "frame %.2f ms   kernel %.3f ms   step %.2f ms\nbodies %zu   texels %zu   %s",
+                      p.uiFrameMs, t.kernelMs, t.frameMs, session.world().bodies().size(),
+                      session.coveredTexels(), session.playing() ? "playing" : "paused");
+        const ImVec2 size = ImGui::CalcTextSize(text);
+        const ImVec2 at(hi.x - size.x - 10, lo.y + 6);
+        draw->AddRectFilled(ImVec2(at.x - 4, at.y - 2), ImVec2(at.x + size.x + 4, at.y + size.y + 2),
+                            IM_COL32(0, 0, 0, 140));
+        draw->AddText(at, IM_COL32(230, 230, 230, 255), text);
+    }
+}
+
+// [SECTION] scene and report -------------------------------------------------------------------
+
+void applyPreviewToScene(EditorState& s, RenderScene& scene) {
+    if (!s.preview || !s.preview->session) return;
+    PreviewUi& p = *s.preview;
+    const World& world = p.session->world();
+    scene.time = world.time();
+    scene.water = s.showWater ? &world.project().water : nullptr;
+    for (std::size_t b = 0; b < scene.bodies.size() && b < world.bodies().size(); ++b) {
+        scene.bodies[b].pose = world.bodies()[b].pose();
+        if (p.showWetTexels) {
+            const int slot = kWetSlotBase + static_cast<int>(b);
+            s.renderer->setOverlay(slot, wetTexelOverlay(world.bodies()[b], world.project().water,
+                                                         world.time()));
+            scene.bodies[b].overlay = slot;
+        }
+    }
+}
+
+nlohmann::json previewReport(const EditorState& s) {
+    nlohmann::json out;
+    if (!s.preview || !s.preview->session) return out;
+    const PreviewSession& session = *s.preview->session;
+    const World& world = session.world();
+    auto vec = [](const Eigen::Vector3d& v) { return nlohmann::json{v.x(), v.y(), v.z()}; };
+    out["time"] = world.time();
+    out["device"] = session.deviceName();
+    out["kernel_ms"] = session.timings().kernelMs;
+    out["step_ms"] = session.timings().frameMs;
+    out["sub_steps"] = session.timings().subSteps;
+    out["texels"] = session.coveredTexels();
+    std::vector<const TriangleMesh*> none(world.bodies().size(), nullptr);
+    const ForceOverlay overlay = buildForceOverlay(world, none);
+    nlohmann::json arrows = nlohmann::json::array();
+    for (const OverlayArrow& a : overlay.arrows) {
+        arrows.push_back({{"from", vec(a.from)}, {"to", vec(a.to)},
+                          {"colour", {a.colour.x(), a.colour.y(), a.colour.z()}}});
+    }
+    out["arrows"] = arrows;
+    nlohmann::json bodies = nlohmann::json::array();
+    for (const SimulatedBody& b : world.bodies()) {
+        bodies.push_back({{"name", b.name},
+                          {"center_of_mass", vec(b.state.position)},
+                          {"center_of_buoyancy", vec(b.buoyancy.centerOfBuoyancy)},
+                          {"submerged_volume", b.buoyancy.submergedVolume}});
+    }
+    out["bodies"] = bodies;
+    const Camera& c = s.camera;
+    out["camera"] = {{"target", vec(c.target)}, {"yaw", c.yaw},         {"pitch", c.pitch},
+                     {"distance", c.distance},  {"fov_y", c.fovY},      {"orthographic", c.orthographic}};
+    return out;
+}
+
+}  // namespace plimsoll::editor

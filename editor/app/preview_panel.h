@@ -1,0 +1,60 @@
+// The live preview in the window: the session's controls (preview_panel.cpp), the plots
+// (plot_panel.cpp), the force arrows / waterline / wet texels over the 3D view and the
+// performance overlay. The frame loop calls these hooks; the simulation itself is the GL-free
+// PreviewSession (document/preview.h).
+#pragma once
+
+#include "app/editor_state.h"
+#include "document/preview.h"
+#include "render/force_overlay.h"
+
+#include <nlohmann/json.hpp>
+
+#include <memory>
+#include <string>
+#include <vector>
+
+namespace plimsoll::editor {
+
+struct PreviewUi {
+    std::unique_ptr<PreviewSession> session;
+    bool open = false;            ///< the preview window is shown
+    std::string device;           ///< createBuoyancyBackend spec ("": the default device)
+    std::string error;            ///< why the session could not start or stopped
+    /// Scripted runs (--frames): one simulated frame per drawn frame, whatever the wall clock,
+    /// so that a screenshot at frame N shows simulated time N * timeStep.
+    bool fixedStep = false;
+    bool showForces = true, showWaterline = true, showWetTexels = true;
+    bool showPerformance = true, showPlots = true;
+    int textureSize = 0;          ///< the panel's choice (0: not chosen yet)
+    int integrator = 1;           ///< index into the panel's integrator list
+    std::string lastCheck;        ///< the volume-error line shown
+    double lastCheckTime = -1;    ///< simulated time it was computed at
+    double uiFrameMs = 0;         ///< the window's last frame, wall clock
+    std::vector<char> plotted;    ///< per history series: shown in the plot windows
+    std::string plotStatus;       ///< last CSV export result
+    unsigned overlayGeneration = 0;
+};
+
+/// Starts (or restarts) the session from the document's project; playing when `play`.
+bool startPreview(EditorState& s, bool play);
+void stopPreview(EditorState& s);
+
+/// Steps the session by the frame's wall time (or one frame in fixedStep mode).
+void updatePreview(EditorState& s, double wallSeconds);
+/// The control window (play, pause, step, reset, time scale, water, integrator, texture size,
+/// device, kernel time, volume error).
+void drawPreviewPanel(EditorState& s);
+/// The plot windows (movable, collapsible: Debian's ImGui 1.86 has no docking), "Export CSV".
+void drawPlotPanels(EditorState& s);
+/// Grabbing a body with the left mouse while the preview runs. True when it used the mouse
+/// this frame (the view's own navigation then leaves it alone).
+bool previewInput(EditorState& s);
+/// Arrows, waterline, grab spring and the performance overlay over the 3D view.
+void drawPreviewOverlay(EditorState& s);
+/// The simulated poses, wet-texel overlays and water time in the scene the renderer draws.
+void applyPreviewToScene(EditorState& s, RenderScene& scene);
+/// Facts for a scripted run's JSON report (bodies' centres of mass and buoyancy, world).
+nlohmann::json previewReport(const EditorState& s);
+
+}  // namespace plimsoll::editor

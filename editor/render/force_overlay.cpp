@@ -1,0 +1,83 @@
+// Force arrows, waterline and wet texels of the live preview (force_overlay.h).
+#include "render/force_overlay.h"
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+
+namespace plimsoll::editor {
+
+std::vector<OverlaySegment> waterlineOf(const TriangleMesh& mesh, const Pose& pose,
+                                        const WaterModel& water, double time) {
+    std::vector<Eigen::Vector3d> world(mesh.positions.size());
+    std::vector<double> above(mesh.positions.size());
+    for (std::size_t v = 0; v < mesh.positions.size(); ++v) {
+        world[v] = pose.apply(mesh.positions[v]);
+        above[v] = world[v].y() - water.height(world[v].x(), world[v].z(), time);
+    }
+    std::vector<OverlaySegment> segments;
+    for (const auto& t : mesh.triangles) {
+        std::array<Eigen::Vector3d, 2> crossing;
+        int found = 0;
+        for (int e = 0; e < 3 && found < 2; ++e) {
+            const auto i = static_cast<std::size_t>(t[e]), j = static_cast<std::size_t>(t[(e + 1) % 3]);
+            // A sign change along the edge (a vertex exactly on the surface counts as above).
+            if ((above[i] < 0) == (above[j] < 0)) continue;
+            const double s = above[i] / (above[i] - above[j]);
+            crossing[found++] = world[i] + s * (world[j] - world[i]);
+        }
+        if (found == 2) segments.push_back({crossing[0], crossing[1]});
+    }
+    return segments;
+}
+
+ForceOverlay buildForceOverlay(const World& world, const std::vector<const TriangleMesh*>& meshes) {
+    ForceOverlay overlay;
+    const Project& project = world.project();
+    const bool flat = project.water.kind == WaterModel::Kind::Flat;
+    for (std::size_t i = 0; i < world.bodies().size(); ++i) {
+        const SimulatedBody& body = world.bodies()[i];
+        const Eigen::Vector3d weight = body.mass.mass * project.simulation.gravity;
+        const double scale = weight.norm() > 0 ? 0.5 * body.boundingRadius / weight.norm() : 0.0;
+        auto add = [&](const Eigen::Vector3d& at, const Eigen::Vector3d& force,
+                       const Eigen::Vector3f& colour) {
+            if (force.norm() <= 1e-6 * weight.norm()) return;
+            overlay.arrows.push_back({at, at + scale * force, colour});
+        };
+        add(body.state.position, weight, kWeightColour);
+        // The force World applies: Archimedes' on flat water, the pressure integral on waves.
+        add(body.buoyancy.centerOfBuoyancy, flat ? body.buoyancy.force : body.buoyancy.pressureForce,
+            kBuoyancyColour);
+        add(body.buoyancy.centerOfBuoyancy, body.buoyancy.dragForce, kDragColour);
+        if (i < meshes.size() && meshes[i]) {
+            std::vector<OverlaySegment> line =
+                waterlineOf(*meshes[i], body.pose(), project.water, world.time());
+            overlay.waterline.insert(overlay.waterline.end(), line.begin(), line.end());
+        }
+    }
+    return overlay;
+}
+
+OverlayImage wetTexelOverlay(const SimulatedBody& body, const WaterModel& water, double time) {
+    const SurfaceTextures& t = body.textures;
+    OverlayImage image;
+    image.width = image.height = t.size;
+    image.placement = t.placement;
+    const auto texels = static_cast<std::size_t>(t.size) * t.size;
+    image.rgba.resize(texels * 4);
+    auto put = [&](std::size_t texel, const Eigen::Vector3f& c) {
+        for (int k = 0; k < 3; ++k) {
+            image.rgba[4 * texel + k] = static_cast<std::uint8_t>(std::lround(255.0f * c[k]));
+        }
+        image.rgba[4 * texel + 3] = 255;
+    };
+    for (std::size_t texel = 0; texel < texels; ++texel) put(texel, kDryColour);
+    const Pose pose = body.pose();
+    for (std::size_t i = 0; i < t.coveredCount(); ++i) {
+        const Eigen::Vector3d p = pose.apply(t.position[i]);
+        if (p.y() < water.height(p.x(), p.z(), time)) put(t.texelIndex[i], kWetColour);
+    }
+    return image;
+}
+
+}  // namespace plimsoll::editor
