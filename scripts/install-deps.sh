@@ -23,6 +23,8 @@ packages=(
   googletest libgtest-dev
   # tests: OpenEXR's own tools (exrheader) read the exported EXR files back
   openexr
+  # fuzzing (scripts/fuzz.sh): clang with libFuzzer and the sanitizer runtimes
+  clang libclang-rt-14-dev
 )
 
 missing=()

@@ -77,6 +77,7 @@ TEST(EditorGraph, ThreeNodeGraphBuiltByCommandsFloodsAndSinksTheBoatAndUndoesExa
     ASSERT_TRUE(doc);
     ASSERT_NE(doc->graph(0), nullptr) << doc->assets(0).graph.error;
     const std::string original = graphToJson(*doc->graph(0));
+    const std::string originalFile = test::readFile(projectPath.parent_path() / "boat.graph.json");
 
     // Clear the four compartments, then three nodes along the keel: stern (where the hull is
     // holed), midships, bow; two pipes; capacities set after adding.
@@ -105,13 +106,18 @@ TEST(EditorGraph, ThreeNodeGraphBuiltByCommandsFloodsAndSinksTheBoatAndUndoesExa
     EXPECT_FALSE(report.hasErrors()) << report.format();
     EXPECT_FALSE(report.has(GraphProblemKind::NodeOutsideMesh)) << report.format();
 
-    // World reads the project's files: save (the graph is written atomically beside it).
-    ASSERT_TRUE(doc->save().ok());
-    Result<WaterGraph> saved = loadGraph(projectPath.parent_path() / "boat.graph.json");
-    ASSERT_TRUE(saved.ok()) << saved.error().message;
-    EXPECT_EQ(*saved, *doc->graph(0));
+    // World reads files: the document's unsaved state goes to a scratch folder, as the live
+    // preview runs it; the project's own files stay as they were.
+    Result<Project> snapshot = doc->simulationSnapshot(projectPath.parent_path() / "snapshot");
+    ASSERT_TRUE(snapshot.ok()) << snapshot.error().message;
+    ASSERT_TRUE(snapshot->bodies[0].waterGraph);
+    Result<WaterGraph> written = loadGraph(snapshot->resolvePath(snapshot->bodies[0].waterGraph->graph));
+    ASSERT_TRUE(written.ok()) << written.error().message;
+    EXPECT_EQ(*written, *doc->graph(0));
+    EXPECT_DOUBLE_EQ(snapshot->bodies[0].waterGraph->inflowRate, 6.0);
+    EXPECT_EQ(test::readFile(projectPath.parent_path() / "boat.graph.json"), originalFile);
 
-    Result<std::unique_ptr<World>> made = World::create(doc->project(), createReferenceBackend());
+    Result<std::unique_ptr<World>> made = World::create(*snapshot, createReferenceBackend());
     ASSERT_TRUE(made.ok()) << made.error().message;
     World& world = **made;
     const double startHeight = world.bodies()[0].state.position.y();

@@ -8,6 +8,8 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <initializer_list>
+#include <vector>
 #include <unistd.h>
 
 namespace plimsoll {
@@ -74,73 +76,110 @@ Project projectFor(const Case& r) {
 /// 30 s of simulated time at every step.
 double durationFor(double) { return 30.0; }
 
-TEST(Stability, NothingBlowsUpAndBodiesEndWhereTheyShould) {
+// The grid is split into one test per (density ratio, time step), so that ctest runs the pieces
+// in parallel and each stays far under the per-test timeout (the dt = 1e-4 pieces dominate,
+// and run several times slower in the sanitizer build). Every piece checks every size and
+// start; together the pieces cover the whole grid, as the single test once did.
+struct GridPoint {
+    double ratio, step;
+};
+
+std::vector<GridPoint> grid(std::initializer_list<double> steps) {
+    std::vector<GridPoint> points;
     for (double ratio : kRatios)
-        for (double size : kSizes)
-            for (double step : kSteps)
-                for (Start start : {Start::OutOfWater, Start::AtSurface, Start::Deep}) {
-                    const Case run{ratio, size, step, start, true};
-                    SCOPED_TRACE(describe(run));
-                    Result<std::unique_ptr<World>> created =
-                        World::create(projectFor(run), createReferenceBackend());
-                    ASSERT_TRUE(created.ok()) << created.error().message;
-                    World& world = **created;
-                    const double startY = world.bodies()[0].state.position.y();
-                    const int frames = static_cast<int>(std::round(durationFor(step) / step));
-                    for (int f = 0; f < frames; ++f) {
-                        ASSERT_TRUE(world.advanceFrame().ok());
-                        const SimulatedBody& b = world.bodies()[0];
-                        ASSERT_TRUE(b.state.position.allFinite() && b.state.linearMomentum.allFinite() &&
-                                    b.state.angularMomentum.allFinite() &&
-                                    b.state.orientation.coeffs().allFinite())
-                            << "at t = " << world.time();
-                    }
-                    const SimulatedBody& b = world.bodies()[0];
-                    const double volume = b.volume;
-                    // A 1 km ball takes 14 s to fall through its own diameter and bobs with a
-                    // period of about a minute: its end state is checked only for sinking.
-                    const bool settles = size <= 1.0;
-                    if (ratio > 1) {
-                        // Denser than water: below where it started, and under the water.
-                        EXPECT_LT(b.state.position.y(), startY);
-                        if (settles) EXPECT_GT(b.buoyancy.submergedVolume, 0.99 * volume);
-                    } else if (settles) {
-                        // Lighter: floating at its draft.
-                        EXPECT_NEAR(b.buoyancy.submergedVolume, ratio * volume, 0.05 * volume);
-                    }
-                }
+        for (double step : steps) points.push_back({ratio, step});
+    return points;
 }
 
-TEST(Stability, WithoutDragEnergyNeverGrows) {
-    for (double ratio : kRatios)
-        for (double size : kSizes)
-            for (double step : {1.0 / 60, 1.0 / 15})
-                for (Start start : {Start::OutOfWater, Start::AtSurface, Start::Deep}) {
-                    const Case run{ratio, size, step, start, false};
-                    SCOPED_TRACE(describe(run));
-                    Result<std::unique_ptr<World>> created =
-                        World::create(projectFor(run), createReferenceBackend());
-                    ASSERT_TRUE(created.ok()) << created.error().message;
-                    World& world = **created;
-                    const SimulatedBody& b = world.bodies()[0];
-                    // Scale for "1%": the larger of the body's weight and its displaced
-                    // water's weight, times its radius, so that a start at height zero
-                    // (energy near zero) is not held to zero, nor a light body to its own
-                    // tiny weight when the water's potential dominates.
-                    const double scale =
-                        std::max(b.mass.mass, 1000.0 * b.volume) * 9.81 * 0.5 * size;
-                    const double initial = world.mechanicalEnergy(0);
-                    double worst = -1e300;
-                    const int frames = static_cast<int>(std::round(30.0 / step));
-                    for (int f = 0; f < frames; ++f) {
-                        ASSERT_TRUE(world.advanceFrame().ok());
-                        worst = std::max(worst, world.mechanicalEnergy(0) - initial);
-                    }
-                    EXPECT_LE(worst, 0.01 * (std::abs(initial) + scale));
-                    std::printf("  energy %-60s worst rise %.2e of scale\n", describe(run).c_str(),
-                                worst / (std::abs(initial) + scale));
-                }
+std::string gridName(const testing::TestParamInfo<GridPoint>& info) {
+    // ratio 1e-3 -> "ratio0_001", dt 1/60 -> "dt0_016667": gtest names allow [A-Za-z0-9_] only.
+    auto clean = [](double v) {
+        std::string s = std::to_string(v);
+        while (s.size() > 1 && s.back() == '0') s.pop_back();
+        if (s.back() == '.') s.pop_back();
+        for (char& c : s)
+            if (c == '.') c = '_';
+        return s;
+    };
+    return "ratio" + clean(info.param.ratio) + "_dt" + clean(info.param.step);
 }
+
+class StabilityGrid : public testing::TestWithParam<GridPoint> {};
+class StabilityEnergy : public testing::TestWithParam<GridPoint> {};
+
+TEST_P(StabilityGrid, NothingBlowsUpAndBodiesEndWhereTheyShould) {
+    const double ratio = GetParam().ratio;
+    const double step = GetParam().step;
+    for (double size : kSizes)
+        for (Start start : {Start::OutOfWater, Start::AtSurface, Start::Deep}) {
+            const Case run{ratio, size, step, start, true};
+            SCOPED_TRACE(describe(run));
+            Result<std::unique_ptr<World>> created =
+                World::create(projectFor(run), createReferenceBackend());
+            ASSERT_TRUE(created.ok()) << created.error().message;
+            World& world = **created;
+            const double startY = world.bodies()[0].state.position.y();
+            const int frames = static_cast<int>(std::round(durationFor(step) / step));
+            for (int f = 0; f < frames; ++f) {
+                ASSERT_TRUE(world.advanceFrame().ok());
+                const SimulatedBody& b = world.bodies()[0];
+                ASSERT_TRUE(b.state.position.allFinite() && b.state.linearMomentum.allFinite() &&
+                            b.state.angularMomentum.allFinite() &&
+                            b.state.orientation.coeffs().allFinite())
+                    << "at t = " << world.time();
+            }
+            const SimulatedBody& b = world.bodies()[0];
+            const double volume = b.volume;
+            // A 1 km ball takes 14 s to fall through its own diameter and bobs with a
+            // period of about a minute: its end state is checked only for sinking.
+            const bool settles = size <= 1.0;
+            if (ratio > 1) {
+                // Denser than water: below where it started, and under the water.
+                EXPECT_LT(b.state.position.y(), startY);
+                if (settles) EXPECT_GT(b.buoyancy.submergedVolume, 0.99 * volume);
+            } else if (settles) {
+                // Lighter: floating at its draft.
+                EXPECT_NEAR(b.buoyancy.submergedVolume, ratio * volume, 0.05 * volume);
+            }
+        }
+}
+
+INSTANTIATE_TEST_SUITE_P(Stability, StabilityGrid,
+                         testing::ValuesIn(grid({kSteps[0], kSteps[1], kSteps[2]})), gridName);
+
+TEST_P(StabilityEnergy, WithoutDragEnergyNeverGrows) {
+    const double ratio = GetParam().ratio;
+    const double step = GetParam().step;
+    for (double size : kSizes)
+        for (Start start : {Start::OutOfWater, Start::AtSurface, Start::Deep}) {
+            const Case run{ratio, size, step, start, false};
+            SCOPED_TRACE(describe(run));
+            Result<std::unique_ptr<World>> created =
+                World::create(projectFor(run), createReferenceBackend());
+            ASSERT_TRUE(created.ok()) << created.error().message;
+            World& world = **created;
+            const SimulatedBody& b = world.bodies()[0];
+            // Scale for "1%": the larger of the body's weight and its displaced
+            // water's weight, times its radius, so that a start at height zero
+            // (energy near zero) is not held to zero, nor a light body to its own
+            // tiny weight when the water's potential dominates.
+            const double scale =
+                std::max(b.mass.mass, 1000.0 * b.volume) * 9.81 * 0.5 * size;
+            const double initial = world.mechanicalEnergy(0);
+            double worst = -1e300;
+            const int frames = static_cast<int>(std::round(30.0 / step));
+            for (int f = 0; f < frames; ++f) {
+                ASSERT_TRUE(world.advanceFrame().ok());
+                worst = std::max(worst, world.mechanicalEnergy(0) - initial);
+            }
+            EXPECT_LE(worst, 0.01 * (std::abs(initial) + scale));
+            std::printf("  energy %-60s worst rise %.2e of scale\n", describe(run).c_str(),
+                        worst / (std::abs(initial) + scale));
+        }
+}
+
+INSTANTIATE_TEST_SUITE_P(Stability, StabilityEnergy, testing::ValuesIn(grid({1.0 / 60, 1.0 / 15})),
+                         gridName);
 
 }  // namespace
 }  // namespace plimsoll

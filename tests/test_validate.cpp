@@ -172,6 +172,32 @@ TEST(Validate, NaNPositionStopsGeometricChecks) {
     EXPECT_FALSE(report.closedSolid());
 }
 
+// Found by fuzz/fuzz_validate: an index past the last vertex was read out of bounds.
+TEST(Validate, IndexPastTheLastVertexIsAnErrorNotARead) {
+    TriangleMesh cube = makeTestCube();
+    cube.triangles[3][1] = static_cast<std::uint32_t>(cube.positions.size());
+    cube.triangles[7][2] = 4000000000u;
+    const ValidationReport report = validateMesh(cube);
+    const Problem problem = only(report, ProblemKind::IndexOutOfRange);
+    EXPECT_EQ(problem.severity, Severity::Error);
+    EXPECT_EQ(problem.count, 2u);
+    EXPECT_FALSE(report.closedSolid());
+    EXPECT_NE(report.format().find("[index-out-of-range]"), std::string::npos) << report.format();
+}
+
+// UVs near the double range: their sums and differences overflow to Inf inside the overlap grid
+// and the tile count, where converting them to integers was undefined behaviour (caught by
+// the sanitizer build and fuzz/fuzz_validate). The map is still checked and reported.
+TEST(Validate, UvsNearTheDoubleRangeAreReportedNotUndefined) {
+    TriangleMesh cube = makeTestCube();
+    for (std::size_t v = 0; v < cube.uvs.size(); ++v) {
+        cube.uvs[v] = (v % 2 ? 1.0 : -1.0) * 1.5e308 * Eigen::Vector2d(v % 3 ? 1.0 : -0.5, 1.0);
+    }
+    const ValidationReport report = validateMesh(cube);
+    EXPECT_TRUE(report.has(ProblemKind::UvOutOfRange)) << report.format();
+    EXPECT_TRUE(report.closedSolid()) << report.format();  // the geometry is untouched
+}
+
 TEST(Validate, InfiniteUv) {
     TriangleMesh cube = makeTestCube();
     cube.uvs[5].y() = std::numeric_limits<double>::infinity();
@@ -407,6 +433,7 @@ TEST(Validate, ProblemCodesAreKebabCase) {
     EXPECT_STREQ(problemCode(ProblemKind::UvOutOfRange), "uv-out-of-range");
     EXPECT_STREQ(problemCode(ProblemKind::UvOverlap), "uv-overlap");
     EXPECT_STREQ(problemCode(ProblemKind::UvMirrored), "uv-mirrored");
+    EXPECT_STREQ(problemCode(ProblemKind::IndexOutOfRange), "index-out-of-range");
 }
 
 // ---------------------------------------------------------------------------------------------

@@ -520,6 +520,31 @@ Status Document::writeMapsAndProject(bool allMaps) {
     return Ok{};
 }
 
+Result<Project> Document::simulationSnapshot(const fs::path& folder) const {
+    std::error_code ec;
+    fs::create_directories(folder, ec);
+    if (ec) return makeError(folder.string() + ": cannot create: " + ec.message());
+    Project project = project_;
+    for (std::size_t b = 0; b < assets_.size(); ++b) {
+        BodyDesc& body = project.bodies[b];
+        const BodyAssets::Graph& g = assets_[b].graph;
+        if (g.graph && body.waterGraph && (g.dirty || !fs::exists(g.path, ec))) {
+            const fs::path file = folder / ("body" + std::to_string(b) + ".graph.json");
+            if (Status s = saveGraph(*g.graph, file); !s) return s.error();
+            body.waterGraph->graph = fs::absolute(file).string();
+        }
+        for (MapChannel c : kMapChannels) {
+            const BodyAssets::Map& m = assets_[b].maps[static_cast<int>(c)];
+            if (!m.image || !(m.dirty || !fs::exists(m.path, ec))) continue;
+            const fs::path file =
+                folder / ("body" + std::to_string(b) + "_" + channelName(c) + ".png");
+            if (Status s = savePaintedMap(*m.image, file); !s) return s.error();
+            channelPath(body, c) = fs::absolute(file).string();
+        }
+    }
+    return project;
+}
+
 fs::path Document::autosavePathFor(const fs::path& projectPath) {
     return projectPath.parent_path() / ("." + projectPath.filename().string() + ".autosave");
 }

@@ -121,6 +121,12 @@ public:
     /// map is written beside it where it was relative.
     Status saveAs(const std::filesystem::path& path);
 
+    /// The project as it is being edited, for a simulation (World reads its files): every
+    /// edited water graph and painted map written (atomically) into `folder`, the project's
+    /// paths to them made absolute; all else as saved. Writes no project file and changes
+    /// nothing in the document: the live preview runs unsaved edits this way.
+    Result<Project> simulationSnapshot(const std::filesystem::path& folder) const;
+
     /// The autosave side file of a project path (".NAME.autosave" beside it).
     static std::filesystem::path autosavePathFor(const std::filesystem::path& projectPath);
     /// Writes the unsaved state (project and changed maps) to `autosavePath()`.

@@ -438,14 +438,19 @@ Result<BundleReport> writeBodyBundle(const Project& project, std::size_t index,
     return report;
 }
 
+<<<<<<< HEAD
 Result<BundleManifestInfo> verifyBundle(const fs::path& folder) {
     const fs::path manifestPath = folder / kManifestFile;
     Result<std::string> text = readWholeFile(manifestPath, kMaxJsonFileBytes, "kMaxJsonFileBytes");
     if (!text) return text.error();
     const std::string where = manifestPath.string() + ": ";
+=======
+Result<BundleManifestInfo> parseBundleManifest(const std::string& text, const std::string& source) {
+    const std::string where = source + ": ";
+>>>>>>> main
     BundleManifestInfo info;
     try {
-        const json manifest = json::parse(*text);
+        const json manifest = json::parse(text);
         if (manifest.value("format", std::string()) != "plimsoll-runtime-bundle")
             return makeError(where + "not a Plimsoll runtime bundle (\"format\" is not "
                              "\"plimsoll-runtime-bundle\")");
@@ -468,11 +473,22 @@ Result<BundleManifestInfo> verifyBundle(const fs::path& folder) {
         return makeError(where + "malformed manifest: " + e.what());
     }
     for (const BundleFile& f : info.files) {
-        const fs::path path = folder / f.path;
         const fs::path relative(f.path);
         if (f.path.empty() || relative.is_absolute() ||
             std::any_of(relative.begin(), relative.end(), [](const fs::path& c) { return c == ".."; }))
             return makeError(where + "file path \"" + f.path + "\" leaves the bundle");
+    }
+    return info;
+}
+
+Result<BundleManifestInfo> verifyBundle(const fs::path& folder) {
+    const fs::path manifestPath = folder / kManifestFile;
+    Result<std::string> text = readBytes(manifestPath);
+    if (!text) return text.error();
+    Result<BundleManifestInfo> info = parseBundleManifest(*text, manifestPath.string());
+    if (!info) return info.error();
+    for (const BundleFile& f : info->files) {
+        const fs::path path = folder / f.path;
         std::error_code ec;
         if (!fs::is_regular_file(path, ec)) return makeError(path.string() + ": missing");
         Result<std::string> bytes = readBytes(path);

@@ -15,24 +15,25 @@ namespace plimsoll {
 
 namespace fs = std::filesystem;
 
-Result<TriangleMesh> loadMesh(const fs::path& path, MeshLoadOptions options) {
-    const std::string name = path.string();
-    std::error_code ec;
-    if (!fs::exists(path, ec)) return makeError(name + ": no such file");
-    if (fs::is_directory(path, ec)) return makeError(name + ": is a folder, not a mesh file");
+namespace {
 
-    if (Status header = detail::checkMeshHeader(path); !header.ok()) return header.error();
-
-    Assimp::Importer importer;
+void configure(Assimp::Importer& importer) {
     // Points and lines carry no surface: drop them instead of failing on mixed files.
     importer.SetPropertyInteger(AI_CONFIG_PP_SBP_REMOVE,
                                 aiPrimitiveType_POINT | aiPrimitiveType_LINE);
+}
+
+unsigned importFlags(MeshLoadOptions options) {
     // No normal generation, no degenerate removal, no vertex welding beyond exact duplicates
     // (and none at all for the frames of a deforming mesh): validation must see the file as it
     // is.
     unsigned flags = aiProcess_Triangulate | aiProcess_PreTransformVertices | aiProcess_SortByPType;
     if (options.joinIdenticalVertices) flags |= aiProcess_JoinIdenticalVertices;
-    const aiScene* scene = importer.ReadFile(name, flags);
+    return flags;
+}
+
+Result<TriangleMesh> fromScene(const aiScene* scene, const Assimp::Importer& importer,
+                               const std::string& name) {
     if (!scene || !scene->mRootNode) {
         return makeError(name + ": cannot read mesh: " + importer.GetErrorString());
     }
@@ -82,6 +83,31 @@ Result<TriangleMesh> loadMesh(const fs::path& path, MeshLoadOptions options) {
     }
     if (mesh.triangles.empty()) return makeError(name + ": the file holds no triangles");
     return mesh;
+}
+
+}  // namespace
+
+Result<TriangleMesh> loadMesh(const fs::path& path, MeshLoadOptions options) {
+    const std::string name = path.string();
+    std::error_code ec;
+    if (!fs::exists(path, ec)) return makeError(name + ": no such file");
+    if (fs::is_directory(path, ec)) return makeError(name + ": is a folder, not a mesh file");
+    if (Status header = detail::checkMeshHeader(path); !header.ok()) return header.error();
+
+    Assimp::Importer importer;
+    configure(importer);
+    const aiScene* scene = importer.ReadFile(name, importFlags(options));
+    return fromScene(scene, importer, name);
+}
+
+Result<TriangleMesh> loadMeshFromMemory(std::string_view bytes, const std::string& format,
+                                        const std::string& source, MeshLoadOptions options) {
+    if (bytes.empty()) return makeError(source + ": empty file");
+    Assimp::Importer importer;
+    configure(importer);
+    const aiScene* scene =
+        importer.ReadFileFromMemory(bytes.data(), bytes.size(), importFlags(options), format.c_str());
+    return fromScene(scene, importer, source);
 }
 
 }  // namespace plimsoll

@@ -95,6 +95,22 @@ double areaShare(const std::vector<bool>& marked, const TriangleFacts& facts) {
 // ---------------------------------------------------------------------------------------------
 // Finiteness: NaN or Inf makes every geometric check meaningless, so it ends validation.
 
+// Every check below indexes the vertex arrays with the triangles' indices: a mesh built in
+// memory (not by the importer, which guarantees them) may name vertices it does not have.
+bool checkIndices(const TriangleMesh& mesh, ValidationReport& report) {
+    std::size_t bad = 0;
+    for (const Triangle& t : mesh.triangles) {
+        if (t[0] >= mesh.vertexCount() || t[1] >= mesh.vertexCount() || t[2] >= mesh.vertexCount())
+            ++bad;
+    }
+    if (bad == 0) return true;
+    add(report, ProblemKind::IndexOutOfRange, Severity::Error, bad, 0,
+        printed("%zu triangles name vertices past the last of the %zu vertices; other checks "
+                "skipped",
+                bad, mesh.vertexCount()));
+    return false;
+}
+
 bool checkFinite(const TriangleMesh& mesh, ValidationReport& report) {
     std::vector<bool> bad(mesh.vertexCount(), false);
     for (std::size_t v = 0; v < mesh.vertexCount(); ++v) {
@@ -298,6 +314,16 @@ void checkUvRange(const TriangleMesh& mesh, const TriangleFacts& facts, Validati
 
 // Uniform grid over the UV bounding box; each cell lists the triangles whose box touches it
 // (compressed rows: cell c holds items[start[c] .. start[c + 1])).
+
+// floor(x) clamped to 0..last, in floating point before the conversion: UVs near the double
+// range overflow differences and sums to Inf (and Inf / Inf to NaN), and converting either to
+// an integer is undefined behaviour.
+int clampedCell(double x, int last) {
+    if (!(x > 0)) return 0;  // NaN too
+    if (x >= last) return last;
+    return static_cast<int>(x);
+}
+
 class UvGrid {
 public:
     explicit UvGrid(const std::vector<UvTriangle>& triangles) {
@@ -315,8 +341,8 @@ public:
         const double n = static_cast<double>(triangles.size());
         cell_ = std::max(extentSum / n, std::sqrt(size.prod() / (4.0 * n)));
         cell_ = std::max(cell_, size.maxCoeff() / 4096.0);
-        nx_ = std::max(1, static_cast<int>(std::ceil(size.x() / cell_)));
-        ny_ = std::max(1, static_cast<int>(std::ceil(size.y() / cell_)));
+        nx_ = std::max(1, clampedCell(std::ceil(size.x() / cell_), 4096));
+        ny_ = std::max(1, clampedCell(std::ceil(size.y() / cell_), 4096));
         fill(triangles);
     }
 
@@ -330,10 +356,10 @@ public:
 
 private:
     int column(double u) const {
-        return std::clamp(static_cast<int>((u - origin_.x()) / cell_), 0, nx_ - 1);
+        return clampedCell((u - origin_.x()) / cell_, nx_ - 1);
     }
     int row(double v) const {
-        return std::clamp(static_cast<int>((v - origin_.y()) / cell_), 0, ny_ - 1);
+        return clampedCell((v - origin_.y()) / cell_, ny_ - 1);
     }
 
     template <class Visit>
@@ -476,8 +502,10 @@ void checkUvTiles(const TriangleMesh& mesh, const TriangleFacts& facts, Validati
     for (std::size_t t = 0; t < mesh.triangleCount(); ++t) {
         const Triangle& tri = mesh.triangles[t];
         const Eigen::Vector2d centre = (mesh.uvs[tri[0]] + mesh.uvs[tri[1]] + mesh.uvs[tri[2]]) / 3.0;
-        tileOf[t] = {static_cast<long long>(std::floor(centre.x())),
-                     static_cast<long long>(std::floor(centre.y()))};
+        // Clamped before the conversion (undefined beyond long long's range; a centre of
+        // UVs near 1e308 is Inf): every tile past 1e15 is "far away", which is all that counts.
+        auto tile = [](double c) { return static_cast<long long>(std::floor(std::clamp(c, -1e15, 1e15))); };
+        tileOf[t] = {tile(centre.x()), tile(centre.y())};
         tiles.push_back(tileOf[t]);
     }
     std::sort(tiles.begin(), tiles.end());
@@ -593,6 +621,7 @@ const char* problemCode(ProblemKind kind) {
         case ProblemKind::UvMirrored: return "uv-mirrored";
         case ProblemKind::UvMultipleTiles: return "uv-multiple-tiles";
         case ProblemKind::UvDistortion: return "uv-distortion";
+        case ProblemKind::IndexOutOfRange: return "index-out-of-range";
     }
     return "unknown";
 }
@@ -623,7 +652,8 @@ bool ValidationReport::hasErrors() const {
 }
 
 bool ValidationReport::closedSolid() const {
-    return !has(ProblemKind::EmptyMesh) && !has(ProblemKind::NonFinite) &&
+    return !has(ProblemKind::EmptyMesh) && !has(ProblemKind::IndexOutOfRange) &&
+           !has(ProblemKind::NonFinite) &&
            !has(ProblemKind::OpenSurface) && !has(ProblemKind::NonManifoldEdge) &&
            !has(ProblemKind::InconsistentOrientation) && !has(ProblemKind::InwardNormals);
 }
@@ -647,6 +677,7 @@ ValidationReport validateMesh(const TriangleMesh& mesh) {
         add(report, ProblemKind::EmptyMesh, Severity::Error, 0, 0, "the mesh has no triangles");
         return report;
     }
+    if (!checkIndices(mesh, report)) return report;
     checkUvsPresent(mesh, report);
     if (!checkFinite(mesh, report)) return report;
     const TriangleFacts facts = triangleFacts(mesh);

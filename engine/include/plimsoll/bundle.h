@@ -90,4 +90,8 @@ struct BundleManifestInfo {
 /// "area.exr: SHA-256 ... does not match the manifest's ...").
 Result<BundleManifestInfo> verifyBundle(const std::filesystem::path& folder);
 
+/// The manifest checks of verifyBundle that need no files: format, schema version, the file
+/// list, and every listed path inside the bundle. `source` names the manifest in messages.
+Result<BundleManifestInfo> parseBundleManifest(const std::string& text, const std::string& source);
+
 }  // namespace plimsoll

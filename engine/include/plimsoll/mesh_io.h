@@ -6,6 +6,8 @@
 #include "plimsoll/result.h"
 
 #include <filesystem>
+#include <string>
+#include <string_view>
 
 namespace plimsoll {
 
@@ -22,6 +24,12 @@ struct MeshLoadOptions {
 /// path and the reason for a missing or unreadable file, a file without triangles, or
 /// non-finite coordinates.
 Result<TriangleMesh> loadMesh(const std::filesystem::path& path, MeshLoadOptions options = {});
+
+/// As loadMesh, from the file's bytes: `format` is the extension assimp picks its reader by
+/// ("obj", "ply", ...), `source` names the mesh in messages. Files the mesh refers to (an OBJ's
+/// material library) are not read. The fuzz target reads meshes through this.
+Result<TriangleMesh> loadMeshFromMemory(std::string_view bytes, const std::string& format,
+                                        const std::string& source, MeshLoadOptions options = {});
 
 /// Writes v / vt / f lines with 17 significant digits, so a reload gives the same doubles.
 Status writeObj(const TriangleMesh& mesh, const std::filesystem::path& path);

@@ -29,6 +29,7 @@ enum class ProblemKind {
     UvMirrored,              ///< UV islands with flipped orientation (no overlap)    (warning)
     UvMultipleTiles,         ///< UVs spread over several unit tiles (UDIM-like)       (warning)
     UvDistortion,            ///< world area per UV area varies more than kMaxUvAreaSpread (warning)
+    IndexOutOfRange,         ///< a triangle names a vertex the mesh does not have    (error)
 };
 
 /// Texel world-area spread above this is reported: a texel then stands for up to this many

@@ -327,6 +327,7 @@ bool loadBundleImpl(const std::string& folderIn, Bundle& b, std::string& error, 
     if (!files) return false;
     if (!files->isArray()) return r.fail("$.files", "expected an array");
     bool hasTexelNodes = false;
+    std::vector<std::string> listed;
     for (std::size_t i = 0; i < files->array.size(); ++i) {
         const Value& f = files->array[i];
         const std::string at = "$.files[" + std::to_string(i) + "]";
@@ -344,6 +345,7 @@ bool loadBundleImpl(const std::string& folderIn, Bundle& b, std::string& error, 
         }
         if (escapes) return r.fail(at + ".path", "file path \"" + path + "\" leaves the bundle");
         if (path == "texel_nodes.exr") hasTexelNodes = true;
+        listed.push_back(path);
         if (!verify) continue;
         const std::string full = folder + "/" + path;
         std::string content;
@@ -454,9 +456,15 @@ bool loadBundleImpl(const std::string& folderIn, Bundle& b, std::string& error, 
         // The node each sample feeds: texel_nodes.exr where the bundle has it, for texels with
         // one entry (the map has one value per texel); the engine's rule for the rest.
         const std::size_t nodeCount = graph->nodes_.size();
+        // 1.1 names the file in water_graph.texel_nodes; it is also listed in `files`.
+        std::string texelNodesFile = hasTexelNodes ? "texel_nodes.exr" : "";
+        if (!r.string(*graphInfo, at, "texel_nodes", texelNodesFile, false)) return false;
         std::vector<std::uint32_t> texelNodes;
-        if (hasTexelNodes) {
-            const std::string path = folder + "/texel_nodes.exr";
+        if (!texelNodesFile.empty() &&
+            std::find(listed.begin(), listed.end(), texelNodesFile) == listed.end())
+            return r.fail(at + ".texel_nodes", "\"" + texelNodesFile + "\" is not in the manifest's files");
+        if (!texelNodesFile.empty()) {
+            const std::string path = folder + "/" + texelNodesFile;
             int w = 0, h = 0;
             if (!readExrUint(path, "node", w, h, texelNodes, error)) return false;
             if (w != size || h != size) {
@@ -476,7 +484,7 @@ bool loadBundleImpl(const std::string& folderIn, Bundle& b, std::string& error, 
                 const std::uint32_t x = s.texel % size, y = s.texel / size;
                 const std::uint32_t v = texelNodes[(static_cast<std::size_t>(size) - 1 - y) * size + x];
                 if (v == 0 || v > nodeCount) {
-                    error = folder + "/texel_nodes.exr: texel (" + std::to_string(x) + ", " +
+                    error = folder + "/" + texelNodesFile + ": texel (" + std::to_string(x) + ", " +
                             std::to_string(y) + ") is covered but maps to " + std::to_string(v) +
                             " (expected 1.." + std::to_string(nodeCount) + ")";
                     return false;
