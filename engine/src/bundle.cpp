@@ -438,16 +438,8 @@ Result<BundleReport> writeBodyBundle(const Project& project, std::size_t index,
     return report;
 }
 
-<<<<<<< HEAD
-Result<BundleManifestInfo> verifyBundle(const fs::path& folder) {
-    const fs::path manifestPath = folder / kManifestFile;
-    Result<std::string> text = readWholeFile(manifestPath, kMaxJsonFileBytes, "kMaxJsonFileBytes");
-    if (!text) return text.error();
-    const std::string where = manifestPath.string() + ": ";
-=======
 Result<BundleManifestInfo> parseBundleManifest(const std::string& text, const std::string& source) {
     const std::string where = source + ": ";
->>>>>>> main
     BundleManifestInfo info;
     try {
         const json manifest = json::parse(text);
@@ -483,7 +475,7 @@ Result<BundleManifestInfo> parseBundleManifest(const std::string& text, const st
 
 Result<BundleManifestInfo> verifyBundle(const fs::path& folder) {
     const fs::path manifestPath = folder / kManifestFile;
-    Result<std::string> text = readBytes(manifestPath);
+    Result<std::string> text = readWholeFile(manifestPath, kMaxJsonFileBytes, "kMaxJsonFileBytes");
     if (!text) return text.error();
     Result<BundleManifestInfo> info = parseBundleManifest(*text, manifestPath.string());
     if (!info) return info.error();
