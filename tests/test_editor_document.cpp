@@ -426,6 +426,36 @@ TEST(EditorProject, ImportMeshAndSaveAsRebasePaths) {
     EXPECT_EQ(d->bodyCount(), 1u);
 }
 
+TEST(EditorProject, SaveAsNeverWritesOutsideTheNewFolder) {
+    // A map beside the project's folder ("../maps/ball.png"): Save As into a sibling folder
+    // must not write the painted map back through "../" over the original project's file.
+    const fs::path dir = freshDir("saveas_outside");
+    fs::create_directories(dir / "a");
+    fs::create_directories(dir / "maps");
+    PaintedMap original;
+    original.width = original.height = 32;
+    original.values.assign(32 * 32, 0.5f);
+    ASSERT_TRUE(savePaintedMap(original, dir / "maps" / "ball.png").ok());
+    const std::string before = readAll(dir / "maps" / "ball.png");
+    const fs::path path = dir / "a" / "test.plim.json";
+    std::ofstream(path) << R"({"schema_version": 1, "name": "t", "bodies": [{"name": "ball", "mesh": ")"
+                        << test::assetPath("sphere.obj").string()
+                        << R"(", "permeability_map": "../maps/ball.png", "material": {"density": 500}}]})";
+    auto d = openOrFail(path);
+    ASSERT_TRUE(d);
+    executeOrFail(*d, makeFillAllCommand(*d, 0, MapChannel::Permeability, 0.25));
+    fs::create_directories(dir / "b");
+    ASSERT_TRUE(d->saveAs(dir / "b" / "copy.plim.json").ok());
+    EXPECT_EQ(readAll(dir / "maps" / "ball.png"), before);  // the original project's map
+    Result<Project> copy = loadProject(dir / "b" / "copy.plim.json");
+    ASSERT_TRUE(copy.ok()) << copy.error().message;
+    const fs::path written = copy->resolvePath(copy->bodies[0].permeabilityMap);
+    EXPECT_EQ(written.parent_path(), dir / "b");
+    Result<PaintedMap> back = loadPaintedMap(written);
+    ASSERT_TRUE(back.ok()) << back.error().message;
+    EXPECT_NEAR(back->values[7], 0.25f, 1e-4);
+}
+
 TEST(EditorSettings, RecentFilesPersistInTheConfigFolder) {
     const fs::path dir = freshDir("settings");
     Settings s;

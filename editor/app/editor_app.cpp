@@ -500,7 +500,7 @@ int runEditorWindow(const EditorLaunch& launch) {
         ImGui::Text("%s   |   %s", s.document->title().c_str(), s.status.c_str());
         ImGui::End();
         handleShortcuts(s);
-        if (!previewInput(s)) viewportInput(s);
+        if (graphEditsInView(s) || !previewInput(s)) viewportInput(s);
         drawViewportOverlay(s);
         updatePreview(s, io.DeltaTime);
         drawPreviewOverlay(s);

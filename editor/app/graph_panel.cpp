@@ -7,6 +7,7 @@
 // graph on a worker thread (segmentation takes seconds) and shows its segments on the hull
 // before "Apply" replaces the graph.
 #include "app/panels.h"
+#include "app/preview_panel.h"
 
 #include "document/graph_edit.h"
 #include "document/graph_view.h"
@@ -432,9 +433,13 @@ void drawGraphPanel(EditorState& s) {
     ImGui::End();
 }
 
+bool graphEditsInView(EditorState& s) {
+    return ui.panelOpen && ui.editInView && ui.showGraph && graphOf(s) != nullptr;
+}
+
 bool graphViewportInput(EditorState& s) {
+    if (!graphEditsInView(s)) return false;
     const WaterGraph* g = graphOf(s);
-    if (!ui.panelOpen || !ui.editInView || !ui.showGraph || !g) return false;
     ImGuiIO& io = ImGui::GetIO();
     const ImVec2 mouse = io.MousePos;
     ui.mouseAt = mouse;
@@ -554,6 +559,18 @@ void addGraphToScene(EditorState& s, RenderScene& scene) {
     if (!previewing) {
         for (const GraphNode& n : r.graph->nodes) r.selectedNodes.push_back(ui.selected.count(n.id) > 0);
         if (ui.selectedPipe) r.selectedPipe = findPipe(*r.graph, ui.selectedPipe->first, ui.selectedPipe->second);
+    }
+    // While the live preview runs, the graph rides with the simulated body and shows the
+    // simulation's water in each node.
+    if (s.preview && s.preview->session && !previewing) {
+        const World& world = s.preview->session->world();
+        if (body < world.bodies().size()) {
+            r.pose = world.bodies()[body].pose();
+            const WaterGraphSimulation* sim = world.waterGraph(body);
+            if (sim && sim->graph().nodes.size() == r.graph->nodes.size()) {
+                for (const GraphNode& n : sim->graph().nodes) r.water.push_back(n.water);
+            }
+        }
     }
     ui.drawn.push_back(std::move(r));
     scene.bodies[body].alpha = ui.hullAlpha;

@@ -19,6 +19,9 @@ void drawUvPanel(EditorState& state, const Rect& area);
 // freeing its GL objects and waiting for its worker before the context goes.
 void drawGraphPanel(EditorState& state);
 bool graphViewportInput(EditorState& state);
+/// Whether the graph panel edits in the view (its tools then have the left mouse before the
+/// live preview's grab).
+bool graphEditsInView(EditorState& state);
 void drawGraphOverlay(EditorState& state);
 void addGraphToScene(EditorState& state, RenderScene& scene);
 void releaseGraphPanel();

@@ -8,10 +8,13 @@
 #include "app/preview_panel.h"
 
 #include <imgui.h>
+#include <unistd.h>
 
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <filesystem>
+#include <string>
 
 namespace plimsoll::editor {
 
@@ -43,8 +46,17 @@ bool startPreview(EditorState& s, bool play) {
     p.open = true;
     p.error.clear();
     p.session.reset();
-    Result<std::unique_ptr<PreviewSession>> made =
-        PreviewSession::create(s.document->project(), p.device);
+    // The preview runs the document as edited, saved or not: unsaved graphs and maps are
+    // written to a scratch folder of this process (World reads files), the project untouched.
+    const std::filesystem::path scratch = std::filesystem::temp_directory_path() /
+                                          ("plimsoll-preview-" + std::to_string(::getpid()));
+    Result<Project> snapshot = s.document->simulationSnapshot(scratch);
+    if (!snapshot) {
+        p.error = snapshot.error().message;
+        s.status = "Live preview: " + p.error;
+        return false;
+    }
+    Result<std::unique_ptr<PreviewSession>> made = PreviewSession::create(*snapshot, p.device);
     if (!made) {
         p.error = made.error().message;
         s.status = "Live preview: " + p.error;

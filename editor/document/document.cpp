@@ -12,6 +12,7 @@
 #include <fstream>
 #include <iterator>
 #include <map>
+#include <set>
 #include <sstream>
 
 namespace plimsoll::editor {
@@ -470,20 +471,38 @@ Status Document::saveAs(const fs::path& target) {
     const std::optional<fs::path> oldAutosave =
         path_.empty() ? std::optional<fs::path>() : std::optional<fs::path>(autosavePath());
     Project moved = project_;
+    // Files that travel with the project keep their relative paths in the new folder, except
+    // those outside the old folder ("../assets/x.png"): written as they are, they would land
+    // outside the new folder and could overwrite another project's file. Those go into the
+    // new folder under their file name (made unique).
+    std::set<std::string> travelled;
+    auto travelling = [&](const std::string& path, std::size_t body) {
+        std::string kept = path;
+        const fs::path normal = fs::path(path).lexically_normal();
+        if (!normal.empty() && *normal.begin() == "..") kept = normal.filename().string();
+        if (!travelled.insert(kept).second) {
+            kept = "body" + std::to_string(body) + "_" + fs::path(kept).filename().string();
+            travelled.insert(kept);
+        }
+        return kept;
+    };
     for (BodyDesc& body : moved.bodies) {
+        const std::size_t index = static_cast<std::size_t>(&body - moved.bodies.data());
         body.mesh = rebase(body.mesh, from, to);
         for (std::string& frame : body.meshFrames) frame = rebase(frame, from, to);
-        // Maps travel with the project: relative map paths stay as written, in the new folder.
+        // Maps travel with the project when loaded; one not loaded keeps pointing at its file.
         for (MapChannel c : kMapChannels) {
             std::string& p = channelPath(body, c);
-            if (!p.empty() && fs::path(p).is_absolute()) continue;
-            const BodyAssets::Map& m = assets_[&body - moved.bodies.data()].maps[static_cast<int>(c)];
-            if (!p.empty() && !m.image) p = rebase(p, from, to);  // not loaded: keep pointing at it
+            if (p.empty() || fs::path(p).is_absolute()) continue;
+            const BodyAssets::Map& m = assets_[index].maps[static_cast<int>(c)];
+            p = m.image ? travelling(p, index) : rebase(p, from, to);
         }
-        // So does the water graph, when it is loaded.
-        if (body.waterGraph && !fs::path(body.waterGraph->graph).is_absolute() &&
-            !assets_[&body - moved.bodies.data()].graph.graph) {
-            body.waterGraph->graph = rebase(body.waterGraph->graph, from, to);
+        // So does the water graph.
+        if (body.waterGraph && !body.waterGraph->graph.empty() &&
+            !fs::path(body.waterGraph->graph).is_absolute()) {
+            body.waterGraph->graph = assets_[index].graph.graph
+                                         ? travelling(body.waterGraph->graph, index)
+                                         : rebase(body.waterGraph->graph, from, to);
         }
     }
     moved.folder = to;
