@@ -256,7 +256,8 @@ TEST(Project, ReportsValuesOutOfRange) {
                     "bodies[0].texture_size: must be in 16..8192",
                     "bodies[0].max_texel_stretch: must be >= 0",
                     "bodies[0].drag_coefficient: must be >= 0",
-                    "bodies[1].texture_size: must be in 16..8192",
+                    "bodies[1].texture_size: must be in 16..8192: 8193 is more than the limit "
+                    "kMaxTextureSize (limits.h); its texels would need up to 4.5 GB",
                     "bodies[1].material.density: must be > 0",
                     "bodies[1].material.shell.surface_density: must be > 0"});
 }

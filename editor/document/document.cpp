@@ -393,25 +393,69 @@ bool Document::redo() {
 // --- files ---------------------------------------------------------------------------------------
 
 Status Document::writeMaps(bool all) {
+    return writeMapsAndProjectFiles(all, false);
+}
+
+Status Document::writeMapsAndProjectFiles(bool allMaps, bool withProject) {
+    // The changed maps and water graphs and the project are replaced as one (file_util.h): a
+    // failure at any step leaves every previous file as it was, so the project on disk never
+    // names a map or graph of another save.
+    std::vector<FileWriter> files;
+    std::vector<BodyAssets::Map*> written;
+    std::vector<BodyAssets::Graph*> writtenGraphs;
     for (BodyAssets& a : assets_) {
         for (BodyAssets::Map& m : a.maps) {
-            if (!m.image || m.path.empty() || !(m.dirty || all)) continue;
+            if (!m.image || m.path.empty() || !(m.dirty || allMaps)) continue;
             std::error_code ec;
             fs::create_directories(m.path.parent_path(), ec);
-            Status saved = savePaintedMap(*m.image, m.path);
-            if (!saved) return saved;
-            m.dirty = false;
-            m.error.clear();
+            const std::string png = encodePaintedMapPng16(*m.image);
+            const fs::path target = m.path;
+            files.emplace_back(target, [png, target](const fs::path& temp) -> Status {
+                std::ofstream out(temp, std::ios::binary | std::ios::trunc);
+                out << png;
+                out.close();
+                if (!out) return makeError(target.string() + ": write failed (disk full?)");
+                return Ok{};
+            });
+            written.push_back(&m);
         }
         BodyAssets::Graph& g = a.graph;
-        if (g.graph && !g.path.empty() && (g.dirty || all)) {
+        if (g.graph && !g.path.empty() && (g.dirty || allMaps)) {
             std::error_code ec;
             fs::create_directories(g.path.parent_path(), ec);
-            Status saved = saveGraph(*g.graph, g.path);
-            if (!saved) return saved;
-            g.dirty = false;
-            g.error.clear();
+            const std::string text = graphToJson(*g.graph);
+            const fs::path target = g.path;
+            files.emplace_back(target, [text, target](const fs::path& temp) -> Status {
+                std::ofstream out(temp, std::ios::binary | std::ios::trunc);
+                out << text;
+                out.close();
+                if (!out) return makeError(target.string() + ": write failed (disk full?)");
+                return Ok{};
+            });
+            writtenGraphs.push_back(&g);
         }
+    }
+    if (withProject) {
+        const std::string text = projectToJson(project_) + "\n";
+        const fs::path target = path_;
+        files.emplace_back(target, [text, target](const fs::path& temp) -> Status {
+            std::ofstream out(temp, std::ios::binary | std::ios::trunc);
+            out << text;
+            out.close();
+            if (!out) return makeError(target.string() + ": write failed (disk full?)");
+            return Ok{};
+        });
+    }
+    if (files.empty()) return Ok{};
+    Status saved = replaceFilesTogether(files);
+    if (!saved) return saved;
+    for (BodyAssets::Map* m : written) {
+        m->dirty = false;
+        m->error.clear();
+    }
+    for (BodyAssets::Graph* g : writtenGraphs) {
+        g->dirty = false;
+        g->error.clear();
     }
     return Ok{};
 }
@@ -488,10 +532,7 @@ Status Document::saveAs(const fs::path& target) {
 }
 
 Status Document::writeMapsAndProject(bool allMaps) {
-    // Maps first: the project never names a map that is not on disk.
-    Status maps = writeMaps(allMaps);
-    if (!maps) return maps;
-    Status saved = saveProject(project_, path_);
+    Status saved = writeMapsAndProjectFiles(allMaps, true);
     if (!saved) return saved;
     savedState_ = stateId();
     discardAutosave();

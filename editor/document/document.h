@@ -173,6 +173,9 @@ private:
     Status writeMaps(bool all);
     /// writeMaps(allMaps), then the project to path_; marks the document saved.
     Status writeMapsAndProject(bool allMaps);
+    /// The changed maps and graphs (all loaded ones if `allMaps`) and, if `withProject`, the
+    /// project, replaced together (replaceFilesTogether).
+    Status writeMapsAndProjectFiles(bool allMaps, bool withProject);
 
     struct Entry {
         std::unique_ptr<Command> command;

@@ -122,17 +122,29 @@ Status writeBakedTextures(const SurfaceTextures& t, const fs::path& folder,
         out[9] = static_cast<float>(t.coverage[i]);
     }
 
+    // The images and the manifest are replaced together: a failure at any step leaves the
+    // previous bake as it was, never new images beside an old manifest.
+    const std::string manifest = manifestFor(t, sourceMesh).dump(2) + "\n";
+    std::vector<FileWriter> files;
     for (const auto& [name, image] : {std::pair{kPositionFile, &position},
                                       std::pair{kAreaVectorFile, &areaVector},
                                       std::pair{kCoverageFile, &coverage},
                                       std::pair{kSamplesFile, &samples}}) {
-        if (Status s = detail::writeExr(folder / name, *image); !s.ok()) return s;
+        const fs::path target = folder / name;
+        const detail::FloatImage* pixels = image;
+        files.emplace_back(target, [pixels, target](const fs::path& temp) {
+            return detail::writeExrFile(temp, *pixels, target);
+        });
     }
-    const std::string manifest = manifestFor(t, sourceMesh).dump(2) + "\n";
-    return writeFileAtomically(folder / kManifestFile, [&](std::ostream& out) {
+    const fs::path manifestPath = folder / kManifestFile;
+    files.emplace_back(manifestPath, [&](const fs::path& temp) -> Status {
+        std::ofstream out(temp, std::ios::binary | std::ios::trunc);
         out << manifest;
-        return static_cast<bool>(out);
+        out.close();
+        if (!out) return makeError(manifestPath.string() + ": write failed (disk full?)");
+        return Ok{};
     });
+    return replaceFilesTogether(files);
 }
 
 Result<SurfaceTextures> readBakedTextures(const fs::path& folder) {
@@ -159,7 +171,10 @@ Result<SurfaceTextures> readBakedTextures(const fs::path& folder) {
         return makeError(manifestPath.string() + ": " + e.what());
     }
     if (t.size < kMinTextureSize || t.size > kMaxTextureSize) {
-        return makeError(manifestPath.string() + ": texture_size out of range");
+        return makeError(manifestPath.string() + ": texture_size " + std::to_string(t.size) +
+                         " is outside " + std::to_string(kMinTextureSize) + ".." +
+                         std::to_string(kMaxTextureSize) +
+                         " (the limit kMaxTextureSize, limits.h)");
     }
 
     auto samples = detail::readExr(folder / kSamplesFile, kSampleChannels);

@@ -5,6 +5,8 @@
 #include "plimsoll/bake_io.h"
 #include "plimsoll/body_setup.h"
 #include "plimsoll/deform.h"
+#include "plimsoll/file_util.h"
+#include "plimsoll/limits.h"
 #include "plimsoll/graph.h"
 #include "plimsoll/massprops.h"
 #include "plimsoll/painted_map.h"
@@ -54,7 +56,10 @@ Result<std::string> readBytes(const fs::path& path) {
     return bytes;
 }
 
+// Files of the staging folder are written directly: the folder as a whole is renamed into
+// place only once complete (writeBodyBundle), which is what makes the export atomic.
 Status writeBytes(const fs::path& path, const std::string& bytes) {
+    if (Status step = fileStep("writing", path); !step.ok()) return step;
     std::ofstream out(path, std::ios::binary | std::ios::trunc);
     out.write(bytes.data(), static_cast<std::streamsize>(bytes.size()));
     out.close();
@@ -171,6 +176,7 @@ Result<BundleReport> buildBundle(const Project& project, std::size_t index, cons
     // Images and the sample list: the bake's own writer (float32, ZIP, lossless).
     if (Status s = writeBakedTextures(*textures, staging, desc.mesh); !s.ok()) return s.error();
     std::error_code ec;
+    if (Status step = fileStep("renaming", staging / "area.exr"); !step.ok()) return step.error();
     fs::rename(staging / "area_vector.exr", staging / "area.exr", ec);
     if (ec) return makeError((staging / "area.exr").string() + ": " + ec.message());
 
@@ -406,15 +412,22 @@ Result<BundleReport> writeBodyBundle(const Project& project, std::size_t index,
     const fs::path old = siblingFor(target, "old");
     const bool hadOld = fs::exists(target, ec);
     if (hadOld) {
+        if (Status step = fileStep("renaming", target); !step.ok()) {
+            fs::remove_all(staging, ec);
+            return step.error();
+        }
         fs::rename(target, old, ec);
         if (ec) {
             fs::remove_all(staging, ec);
             return makeError(target.string() + ": cannot replace: " + ec.message());
         }
     }
-    fs::rename(staging, target, ec);
-    if (ec) {
-        const std::string message = target.string() + ": cannot replace: " + ec.message();
+    Status moved = fileStep("renaming", staging);
+    if (moved.ok()) fs::rename(staging, target, ec);
+    if (!moved.ok() || ec) {
+        const std::string message =
+            moved.ok() ? target.string() + ": cannot replace: " + ec.message()
+                       : moved.error().message;
         std::error_code ignored;
         if (hadOld) fs::rename(old, target, ignored);
         fs::remove_all(staging, ignored);
@@ -462,7 +475,7 @@ Result<BundleManifestInfo> parseBundleManifest(const std::string& text, const st
 
 Result<BundleManifestInfo> verifyBundle(const fs::path& folder) {
     const fs::path manifestPath = folder / kManifestFile;
-    Result<std::string> text = readBytes(manifestPath);
+    Result<std::string> text = readWholeFile(manifestPath, kMaxJsonFileBytes, "kMaxJsonFileBytes");
     if (!text) return text.error();
     Result<BundleManifestInfo> info = parseBundleManifest(*text, manifestPath.string());
     if (!info) return info.error();

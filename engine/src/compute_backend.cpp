@@ -136,7 +136,15 @@ Result<std::unique_ptr<BuoyancyBackend>> createBuoyancyBackend(const std::string
         }
         index = static_cast<int>(n);
     }
-    return detail::createOpenClBackend(index);
+    Result<std::unique_ptr<BuoyancyBackend>> opencl = detail::createOpenClBackend(index);
+    // A device the user asked for by name must work; one chosen automatically may fail (a
+    // driver that cannot build the kernels, a device out of resources): the reference path
+    // gives the same results, slower, and the notice says why.
+    if (!opencl && spec.empty()) {
+        if (notice) *notice = opencl.error().message + "\nusing the C++ reference path";
+        return std::unique_ptr<BuoyancyBackend>(createReferenceBackend());
+    }
+    return opencl;
 }
 
 }  // namespace plimsoll

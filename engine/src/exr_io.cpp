@@ -1,5 +1,7 @@
 #include "exr_io.h"
 
+#include "plimsoll/limits.h"
+
 #include "plimsoll/file_util.h"
 
 #include <OpenEXR/ImfChannelList.h>
@@ -28,23 +30,26 @@ Imf::FrameBuffer frameBufferFor(FloatImage& image) {
 }
 }  // namespace
 
-Status writeExr(const fs::path& path, const FloatImage& image) {
-    return replaceFileAtomically(path, [&](const fs::path& temp) -> Status {
-        try {
-            Imf::Header header(image.width, image.height);
-            header.compression() = Imf::ZIP_COMPRESSION;
-            for (const auto& name : image.channels) {
-                header.channels().insert(name, Imf::Channel(Imf::FLOAT));
-            }
-            Imf::OutputFile file(temp.c_str(), header);
-            FloatImage& writable = const_cast<FloatImage&>(image);  // Slice wants char*
-            file.setFrameBuffer(frameBufferFor(writable));
-            file.writePixels(image.height);
-        } catch (const std::exception& e) {
-            return makeError(path.string() + ": cannot write EXR: " + e.what());
+Status writeExrFile(const fs::path& file, const FloatImage& image, const fs::path& target) {
+    try {
+        Imf::Header header(image.width, image.height);
+        header.compression() = Imf::ZIP_COMPRESSION;
+        for (const auto& name : image.channels) {
+            header.channels().insert(name, Imf::Channel(Imf::FLOAT));
         }
-        return Ok{};
-    });
+        Imf::OutputFile out(file.c_str(), header);
+        FloatImage& writable = const_cast<FloatImage&>(image);  // Slice wants char*
+        out.setFrameBuffer(frameBufferFor(writable));
+        out.writePixels(image.height);
+    } catch (const std::exception& e) {
+        return makeError(target.string() + ": cannot write EXR: " + e.what());
+    }
+    return Ok{};
+}
+
+Status writeExr(const fs::path& path, const FloatImage& image) {
+    return replaceFileAtomically(
+        path, [&](const fs::path& temp) { return writeExrFile(temp, image, path); });
 }
 
 Status writeExr(const fs::path& path, const UintImage& image) {
@@ -112,6 +117,17 @@ Result<FloatImage> readExr(const fs::path& path, const std::vector<std::string>&
             if (!file.header().channels().findChannel(name)) {
                 return makeError(path.string() + ": EXR has no channel '" + name + "'");
             }
+        }
+        // The header's size is checked before the pixels are allocated: a corrupt or hostile
+        // header could ask for terabytes. Baked images are N x N (N <= kMaxTextureSize) and the
+        // sample list holds a few entries per texel.
+        const std::uint64_t pixels = std::uint64_t(image.width) * std::uint64_t(image.height);
+        constexpr std::uint64_t kMaxPixels = 4ull * kMaxTextureSize * kMaxTextureSize;
+        if (image.width <= 0 || image.height <= 0 || pixels > kMaxPixels) {
+            return makeError(path.string() + ": EXR of " + std::to_string(image.width) + " x " +
+                             std::to_string(image.height) + " pixels: more than the limit of " +
+                             std::to_string(kMaxPixels) +
+                             " (4 x kMaxTextureSize^2, limits.h), or empty");
         }
         image.pixels.assign(static_cast<std::size_t>(image.width) * image.height *
                                 channels.size(), 0.0f);

@@ -30,6 +30,10 @@ struct UintImage {
 
 /// Writes atomically (temporary file + rename).
 Status writeExr(const std::filesystem::path& path, const FloatImage& image);
+/// Writes `file` as it is (the caller made it a temporary: replaceFilesTogether); errors name
+/// `target`, the file the user knows.
+Status writeExrFile(const std::filesystem::path& file, const FloatImage& image,
+                    const std::filesystem::path& target);
 
 /// Writes a UINT image atomically, ZIP-compressed (lossless).
 Status writeExr(const std::filesystem::path& path, const UintImage& image);

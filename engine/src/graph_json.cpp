@@ -4,6 +4,7 @@
 #include "plimsoll/graph.h"
 
 #include "plimsoll/file_util.h"
+#include "plimsoll/limits.h"
 
 #include <nlohmann/json.hpp>
 
@@ -43,6 +44,10 @@ public:
             problem("nodes", "required");
         } else if (!nodes->is_array()) {
             problem("nodes", "must be an array");
+        } else if (nodes->size() > kMaxGraphNodes) {
+            return makeError(source_ + ": nodes: " + std::to_string(nodes->size()) +
+                             ", more than the limit kMaxGraphNodes = " +
+                             std::to_string(kMaxGraphNodes) + " (limits.h)");
         } else {
             for (std::size_t i = 0; i < nodes->size(); ++i) {
                 readNode((*nodes)[i], "nodes[" + std::to_string(i) + "]", graph.nodes.emplace_back());
@@ -51,6 +56,10 @@ public:
         if (const auto pipes = root.find("pipes"); pipes != root.end()) {
             if (!pipes->is_array()) {
                 problem("pipes", "must be an array");
+            } else if (pipes->size() > kMaxGraphPipes) {
+                return makeError(source_ + ": pipes: " + std::to_string(pipes->size()) +
+                                 ", more than the limit kMaxGraphPipes = " +
+                                 std::to_string(kMaxGraphPipes) + " (limits.h)");
             } else {
                 for (std::size_t i = 0; i < pipes->size(); ++i) {
                     readPipe((*pipes)[i], "pipes[" + std::to_string(i) + "]",
@@ -184,14 +193,9 @@ Result<WaterGraph> parseGraph(const std::string& text, const std::string& source
 
 Result<WaterGraph> loadGraph(const std::filesystem::path& path, const TriangleMesh* mesh,
                              std::string* warnings) {
-    std::ifstream in(path, std::ios::binary);
-    if (!in) {
-        std::error_code ec;
-        return makeError(path.string() +
-                         (std::filesystem::exists(path, ec) ? ": cannot open" : ": no such file"));
-    }
-    const std::string text{std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
-    Result<WaterGraph> graph = parseGraph(text, path.string());
+    Result<std::string> text = readWholeFile(path, kMaxJsonFileBytes, "kMaxJsonFileBytes");
+    if (!text) return text.error();
+    Result<WaterGraph> graph = parseGraph(*text, path.string());
     if (!graph) return graph;
     const GraphReport report = validateGraph(*graph, mesh, path.string());
     if (report.hasErrors()) return makeError(report.format());

@@ -1,6 +1,9 @@
 // assimp adapter: the only file that includes assimp. Everything downstream sees TriangleMesh.
 #include "plimsoll/mesh_io.h"
 
+#include "mesh_header_check.h"
+#include "plimsoll/limits.h"
+
 #include <assimp/Importer.hpp>
 #include <assimp/postprocess.h>
 #include <assimp/scene.h>
@@ -33,6 +36,21 @@ Result<TriangleMesh> fromScene(const aiScene* scene, const Assimp::Importer& imp
                                const std::string& name) {
     if (!scene || !scene->mRootNode) {
         return makeError(name + ": cannot read mesh: " + importer.GetErrorString());
+    }
+
+    // Formats without a count in a header (OBJ, glTF) are counted once read, before copying.
+    std::uint64_t triangles = 0, vertices = 0;
+    for (unsigned m = 0; m < scene->mNumMeshes; ++m) {
+        triangles += scene->mMeshes[m]->mNumFaces;
+        vertices += scene->mMeshes[m]->mNumVertices;
+    }
+    if (triangles > kMaxTriangles || vertices > kMaxVertices) {
+        return makeError(name + ": " + std::to_string(triangles) + " triangles, " +
+                         std::to_string(vertices) + " vertices: more than the limit " +
+                         (triangles > kMaxTriangles
+                              ? "kMaxTriangles = " + std::to_string(kMaxTriangles)
+                              : "kMaxVertices = " + std::to_string(kMaxVertices)) +
+                         " (limits.h)");
     }
 
     TriangleMesh mesh;
@@ -74,6 +92,7 @@ Result<TriangleMesh> loadMesh(const fs::path& path, MeshLoadOptions options) {
     std::error_code ec;
     if (!fs::exists(path, ec)) return makeError(name + ": no such file");
     if (fs::is_directory(path, ec)) return makeError(name + ": is a folder, not a mesh file");
+    if (Status header = detail::checkMeshHeader(path); !header.ok()) return header.error();
 
     Assimp::Importer importer;
     configure(importer);

@@ -3,6 +3,7 @@
 #include "opencl_backend.h"
 
 #include "plimsoll/bake.h"
+#include "plimsoll/limits.h"
 
 #include "buoyancy_sums.h"
 #include "plimsoll_shared.h"
@@ -11,11 +12,13 @@
 
 #include <algorithm>
 #include <array>
+#include <atomic>
 #include <chrono>
 #include <cmath>
 #include <limits>
 #include <numbers>
 #include <span>
+#include <stdexcept>
 
 namespace plimsoll::detail {
 extern const char* const kBuoyancyKernelSource;
@@ -52,8 +55,78 @@ std::vector<DeviceHandle> enumerateDevices() {
     return out;
 }
 
+/// The CL_* name of an OpenCL error code (the numbers alone send users to the header).
+std::string clErrorName(cl_int code) {
+    switch (code) {
+#define PL_CL_CODE(name) \
+    case name:           \
+        return #name;
+        PL_CL_CODE(CL_DEVICE_NOT_FOUND)
+        PL_CL_CODE(CL_DEVICE_NOT_AVAILABLE)
+        PL_CL_CODE(CL_COMPILER_NOT_AVAILABLE)
+        PL_CL_CODE(CL_MEM_OBJECT_ALLOCATION_FAILURE)
+        PL_CL_CODE(CL_OUT_OF_RESOURCES)
+        PL_CL_CODE(CL_OUT_OF_HOST_MEMORY)
+        PL_CL_CODE(CL_PROFILING_INFO_NOT_AVAILABLE)
+        PL_CL_CODE(CL_BUILD_PROGRAM_FAILURE)
+        PL_CL_CODE(CL_EXEC_STATUS_ERROR_FOR_EVENTS_IN_WAIT_LIST)
+        PL_CL_CODE(CL_INVALID_VALUE)
+        PL_CL_CODE(CL_INVALID_DEVICE)
+        PL_CL_CODE(CL_INVALID_CONTEXT)
+        PL_CL_CODE(CL_INVALID_COMMAND_QUEUE)
+        PL_CL_CODE(CL_INVALID_MEM_OBJECT)
+        PL_CL_CODE(CL_INVALID_PROGRAM)
+        PL_CL_CODE(CL_INVALID_PROGRAM_EXECUTABLE)
+        PL_CL_CODE(CL_INVALID_KERNEL_NAME)
+        PL_CL_CODE(CL_INVALID_KERNEL)
+        PL_CL_CODE(CL_INVALID_ARG_INDEX)
+        PL_CL_CODE(CL_INVALID_ARG_VALUE)
+        PL_CL_CODE(CL_INVALID_ARG_SIZE)
+        PL_CL_CODE(CL_INVALID_KERNEL_ARGS)
+        PL_CL_CODE(CL_INVALID_WORK_DIMENSION)
+        PL_CL_CODE(CL_INVALID_WORK_GROUP_SIZE)
+        PL_CL_CODE(CL_INVALID_WORK_ITEM_SIZE)
+        PL_CL_CODE(CL_INVALID_GLOBAL_OFFSET)
+        PL_CL_CODE(CL_INVALID_EVENT)
+        PL_CL_CODE(CL_INVALID_OPERATION)
+        PL_CL_CODE(CL_INVALID_BUFFER_SIZE)
+        PL_CL_CODE(CL_INVALID_GLOBAL_WORK_SIZE)
+        PL_CL_CODE(CL_INVALID_BUILD_OPTIONS)
+#undef PL_CL_CODE
+        case -1001:
+            return "CL_PLATFORM_NOT_FOUND_KHR";
+        default:
+            return "unknown OpenCL error";
+    }
+}
+
+/// "clEnqueueNDRangeKernel failed: CL_OUT_OF_RESOURCES (-5)": the failing call and the code.
 std::string clError(const cl::Error& e) {
-    return std::string("OpenCL error ") + std::to_string(e.err()) + " in " + e.what();
+    return std::string(e.what() ? e.what() : "OpenCL call") + " failed: " + clErrorName(e.err()) +
+           " (" + std::to_string(e.err()) + ")";
+}
+
+/// Device limits replaced by a test (0: the device's own).
+std::atomic<cl_ulong> testMaxAlloc{0}, testGlobalMemory{0};
+
+/// Injected faults still to fire, per kind (detail::failOpenClCallsForTesting).
+std::array<std::atomic<int>, 4> injectedFaults{};
+
+/// Where a real device can fail in `kind`'s way: throws what the driver would while an
+/// injected fault of that kind is pending.
+void faultPoint(detail::OpenClFault kind, const char* call) {
+    std::atomic<int>& left = injectedFaults[static_cast<int>(kind)];
+    int n = left.load();
+    while (n > 0 && !left.compare_exchange_weak(n, n - 1)) {
+    }
+    if (n <= 0) return;
+    switch (kind) {
+        case detail::OpenClFault::BufferAllocation:
+            throw cl::Error(CL_MEM_OBJECT_ALLOCATION_FAILURE, call);
+        case detail::OpenClFault::Launch: throw cl::Error(CL_OUT_OF_RESOURCES, call);
+        case detail::OpenClFault::Build: throw cl::Error(CL_BUILD_PROGRAM_FAILURE, call);
+        case detail::OpenClFault::LostDevice: throw cl::Error(CL_DEVICE_NOT_AVAILABLE, call);
+    }
 }
 
 pl_float4 toFloat4(const Eigen::Vector3d& v, double w = 0.0) {
@@ -75,15 +148,16 @@ Result<cl::Program> buildProgram(const cl::Context& context, const cl::Device& d
     const std::string options = "-cl-std=CL1.2 -DPL_ITEMS_PER_THREAD=" +
                                 std::to_string(itemsPerThread) + (fp64 ? " -DPL_ACC_DOUBLE" : "");
     try {
+        faultPoint(detail::OpenClFault::Build, "clBuildProgram");
         program.build({device}, options.c_str());
-    } catch (const cl::Error&) {
+    } catch (const cl::Error& e) {
         std::string log;
         try {
             log = program.getBuildInfo<CL_PROGRAM_BUILD_LOG>(device);
         } catch (const cl::Error&) {
         }
         return makeError("OpenCL kernels failed to build on " +
-                         device.getInfo<CL_DEVICE_NAME>() + ":\n" + log);
+                         device.getInfo<CL_DEVICE_NAME>() + " (" + clError(e) + "):\n" + log);
     }
     return program;
 }
@@ -200,6 +274,8 @@ public:
             }
         } catch (const cl::Error& e) {
             return makeError(name_ + ": " + clError(e));
+        } catch (const std::length_error& e) {  // a buffer beyond the device's limits
+            return makeError(name_ + ": " + e.what());
         }
         timings_.totalMs = std::chrono::duration<double, std::milli>(
                                std::chrono::steady_clock::now() - start)
@@ -297,6 +373,7 @@ public:
             kernel.setArg(11, static_cast<cl_uint>(set.nodes));
             kernel.setArg(12, set.partials);
             const std::size_t groups = (set.count + PL_WORKGROUP_SIZE - 1) / PL_WORKGROUP_SIZE;
+            faultPoint(detail::OpenClFault::Launch, "clEnqueueNDRangeKernel");
             queue_.enqueueNDRangeKernel(kernel, cl::NullRange,
                                         cl::NDRange(groups * PL_WORKGROUP_SIZE),
                                         cl::NDRange(PL_WORKGROUP_SIZE));
@@ -432,20 +509,48 @@ private:
         return m;
     }
 
+    /// Every device buffer is made here: checked against the device's limits first, so an
+    /// oversized body is an error naming the buffer, its size and the limit, not a failure
+    /// deep in the driver.
+    cl::Buffer makeBuffer(cl_mem_flags flags, std::size_t bytes, void* host, const char* what) {
+        const cl_ulong maxAlloc = testMaxAlloc.load() ? testMaxAlloc.load()
+                                                    : device_.getInfo<CL_DEVICE_MAX_MEM_ALLOC_SIZE>();
+        if (bytes > maxAlloc) {
+            throw std::length_error(std::string(what) + " buffer of " + formatBytes(double(bytes)) +
+                                    " is more than the device's CL_DEVICE_MAX_MEM_ALLOC_SIZE (" +
+                                    formatBytes(double(maxAlloc)) + ")");
+        }
+        faultPoint(detail::OpenClFault::BufferAllocation, "clCreateBuffer");
+        return cl::Buffer(context_, flags, bytes, host);
+    }
+
     template <class T>
-    cl::Buffer upload(const std::vector<T>& data) {
-        return cl::Buffer(context_, CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR,
+    cl::Buffer upload(const std::vector<T>& data, const char* what = "input") {
+        return makeBuffer(CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR,
                           std::max<std::size_t>(1, data.size()) * sizeof(T),
-                          const_cast<T*>(data.data()));
+                          const_cast<T*>(data.data()), what);
     }
 
     /// Creates every buffer for the current set of bodies; evaluate() only writes into them.
     void rebuildBuffers() {
         const std::size_t accSize = fp64_ ? sizeof(double) : sizeof(float);
-        positionsBuffer_ = upload(positions_);
-        areaVectorsBuffer_ = upload(areaVectors_);
-        tilesBuffer_ = upload(tiles_);
-        tileMomentsBuffer_ = upload(tileMoments_);
+        // The whole set must fit the device's memory: checked before anything is allocated.
+        const double total = double(positions_.size() + areaVectors_.size()) * sizeof(pl_float4) +
+                             double(tiles_.size()) * (sizeof(gpu::PlTile) +
+                                                      sizeof(gpu::PlTileMoments) +
+                                                      PL_SUM_SLOTS * accSize);
+        const cl_ulong globalMemory = testGlobalMemory.load()
+                                          ? testGlobalMemory.load()
+                                          : device_.getInfo<CL_DEVICE_GLOBAL_MEM_SIZE>();
+        if (total > double(globalMemory)) {
+            throw std::length_error("the bodies' buffers need " + formatBytes(total) +
+                                    ", more than the device's CL_DEVICE_GLOBAL_MEM_SIZE (" +
+                                    formatBytes(double(globalMemory)) + ")");
+        }
+        positionsBuffer_ = upload(positions_, "positions");
+        areaVectorsBuffer_ = upload(areaVectors_, "area vectors");
+        tilesBuffer_ = upload(tiles_, "tiles");
+        tileMomentsBuffer_ = upload(tileMoments_, "tile moments");
         bodyParams_.assign(bodies_.size(), gpu::PlBody{});
         bodiesBuffer_ = cl::Buffer(context_, CL_MEM_READ_ONLY,
                                    std::max<std::size_t>(1, bodies_.size()) * sizeof(gpu::PlBody));
@@ -590,6 +695,7 @@ private:
         tilesKernel.setArg(7, static_cast<cl_int>(std::max(1, gridCountX_)));
         tilesKernel.setArg(8, static_cast<cl_int>(std::max(1, gridCountZ_)));
         tilesKernel.setArg(9, partialsBuffer_);
+        faultPoint(detail::OpenClFault::Launch, "clEnqueueNDRangeKernel");
         if (!tiles_.empty()) {
             queue_.enqueueNDRangeKernel(tilesKernel, cl::NullRange,
                                         cl::NDRange(tiles_.size() * PL_WORKGROUP_SIZE),
@@ -601,6 +707,7 @@ private:
         queue_.enqueueNDRangeKernel(reduceKernel_, cl::NullRange,
                                     cl::NDRange(bodies_.size() * PL_WORKGROUP_SIZE),
                                     cl::NDRange(PL_WORKGROUP_SIZE), nullptr, &reduceDone);
+        faultPoint(detail::OpenClFault::LostDevice, "clEnqueueReadBuffer");
         queue_.enqueueReadBuffer(totalsBuffer_, CL_TRUE, 0, totalsHost_.size(),
                                  totalsHost_.data(), nullptr, &readTotals);
         timings_.uploadMs = eventMs(writeBodies) + eventMs(writeWaves);
@@ -665,6 +772,15 @@ std::vector<ComputeDevice> listComputeDevices() {
 }
 
 namespace detail {
+
+void failOpenClCallsForTesting(OpenClFault kind, int count) {
+    injectedFaults[static_cast<int>(kind)] = std::max(0, count);
+}
+
+void setOpenClMemoryLimitsForTesting(std::uint64_t maxAllocation, std::uint64_t globalMemory) {
+    testMaxAlloc = maxAllocation;
+    testGlobalMemory = globalMemory;
+}
 
 Result<std::unique_ptr<BuoyancyBackend>> createOpenClBackend(int index) {
     const std::vector<DeviceHandle> handles = enumerateDevices();

@@ -3,6 +3,8 @@
 // fixing a hand-written file sees all of them in one go rather than one per run.
 #include "plimsoll/project.h"
 
+#include "plimsoll/limits.h"
+
 #include "plimsoll/bake.h"
 #include "plimsoll/file_util.h"
 
@@ -12,6 +14,7 @@
 #include <array>
 #include <charconv>
 #include <cmath>
+#include <cstdio>
 #include <fstream>
 #include <iterator>
 #include <initializer_list>
@@ -72,6 +75,12 @@ const char* brokenLimit(double value, Limit limit) {
 
 /// Reads a parsed document into a Project. Each reader leaves the default in place when its
 /// key is absent, records a problem and goes on when the value is wrong.
+std::string printedInteger(double n) {
+    char text[32];
+    std::snprintf(text, sizeof text, "%.0f", n);
+    return text;
+}
+
 class ProjectReader {
 public:
     explicit ProjectReader(std::string source) : source_(std::move(source)) {}
@@ -410,7 +419,20 @@ private:
             }
         }
         number(value, path, "frames_per_second", body.framesPerSecond, Limit::Positive);
-        integer(value, path, "texture_size", body.textureSize, kMinTextureSize, kMaxTextureSize);
+        if (const Json* size = find(value, "texture_size");
+            size && size->is_number() && size->get<double>() > kMaxTextureSize) {
+            // Name the limit and what was asked for: a texture this size is refused before any
+            // bake tries to allocate it (limits.h: ~72 bytes a covered texel).
+            const double n = std::floor(size->get<double>());
+            problem(member(path, "texture_size"),
+                    "must be in " + std::to_string(kMinTextureSize) + ".." +
+                        std::to_string(kMaxTextureSize) + ": " + printedInteger(n) +
+                        " is more than the limit kMaxTextureSize (limits.h); its texels would "
+                        "need up to " + formatBytes(n * n * 72.0));
+        } else {
+            integer(value, path, "texture_size", body.textureSize, kMinTextureSize,
+                    kMaxTextureSize);
+        }
         number(value, path, "max_texel_stretch", body.maxTexelStretch, Limit::NonNegative);
         std::string atlas;
         const Json* atlasValue = find(value, "atlas");
@@ -719,13 +741,9 @@ Result<Project> parseProject(const std::string& text, const std::string& source,
 
 Result<Project> loadProject(const fs::path& path) {
     std::error_code ec;
-    std::ifstream in(path, std::ios::binary);
-    if (!in) {
-        const bool exists = fs::exists(path, ec);
-        return makeError(path.string() + (exists ? ": cannot open" : ": no such file"));
-    }
-    const std::string text{std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
-    if (in.bad()) return makeError(path.string() + ": cannot read");
+    Result<std::string> read = readWholeFile(path, kMaxJsonFileBytes, "kMaxJsonFileBytes");
+    if (!read) return read.error();
+    const std::string& text = *read;
     // Absolute, so that the project's paths stay valid if the working directory changes.
     const fs::path absolute = fs::absolute(path, ec);
     Result<Project> project = parseProject(text, path.string(), (ec ? path : absolute).parent_path());

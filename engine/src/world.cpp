@@ -66,6 +66,23 @@ void World::say(const std::string& line) const {
     if (log_) log_(line);
 }
 
+Status World::withBackend(const std::function<Status(BuoyancyBackend&)>& call) {
+    Status status = call(*backend_);
+    if (status.ok() || fellBack_ || backend_->deviceName().rfind("OpenCL", 0) != 0) return status;
+    // The reference backend needs nothing from the device: every body's textures are here.
+    say(status.error().message + ": continuing on the C++ reference backend");
+    std::unique_ptr<BuoyancyBackend> reference = createReferenceBackend();
+    for (SimulatedBody& body : bodies_)
+        body.backendId = reference->addBody(body.textures, body.backendCenter);
+    for (const std::unique_ptr<Flooding>& f : floodings_) {
+        if (f) f->exchangeSet = reference->addExchangeSet(f->graph.samples(),
+                                                          f->graph.graph().nodes.size());
+    }
+    backend_ = std::move(reference);
+    fellBack_ = true;
+    return call(*backend_);
+}
+
 Result<std::unique_ptr<World>> World::create(const Project& project,
                                              std::unique_ptr<BuoyancyBackend> backend,
                                              LogFunction log) {
@@ -259,8 +276,9 @@ Status World::stepWaterGraphs(double frameTime) {
         bool moved = false;
         if (!f->graph.samples().empty()) {
             const ExchangeFrame frame = f->graph.exchangeFrame(pose, time_);
-            if (Status s = backend_->evaluateExchange(f->exchangeSet, frame, project_.water,
-                                                      f->rates);
+            if (Status s = withBackend([&](BuoyancyBackend& b) {
+                    return b.evaluateExchange(f->exchangeSet, frame, project_.water, f->rates);
+                });
                 !s.ok())
                 return s;
             moved = f->graph.applyExchange(pose, frameTime, f->rates);
@@ -304,7 +322,11 @@ Status World::evaluateAll(double time) {
     if (requests.empty()) return Ok{};
     std::vector<BuoyancyResult>& results = scratchResults_;
     results.resize(requests.size());
-    if (Status s = backend_->evaluate(requests, project_.water, results); !s.ok()) return s;
+    if (Status s = withBackend([&](BuoyancyBackend& b) {
+            return b.evaluate(requests, project_.water, results);
+        });
+        !s.ok())
+        return s;
     for (std::size_t k = 0; k < which.size(); ++k) {
         SimulatedBody& body = bodies_[which[k]];
         body.buoyancy = results[k];
@@ -409,7 +431,9 @@ Status World::recomputeMass(std::size_t i) {
     body.backendCenter = props->centerOfMass;
     body.state.position = pose.apply(body.mass.centerOfMass);
     ++statistics_.massRecomputations;
-    return backend_->updateBody(body.backendId, body.textures, body.backendCenter);
+    return withBackend([&](BuoyancyBackend& b) {
+        return b.updateBody(body.backendId, body.textures, body.backendCenter);
+    });
 }
 
 Status World::setMaterial(std::size_t i, const MaterialDesc& material) {
@@ -441,7 +465,9 @@ Status World::advanceFrame() {
                     if (outOfWater(body, state)) return wrenchOf(body, state, BuoyancyResult{}, dt);
                     const BodyRequest request = requestFor(body, state, t);
                     BuoyancyResult result;
-                    if (Status s = backend_->evaluate({&request, 1}, project_.water, {&result, 1});
+                    if (Status s = withBackend([&](BuoyancyBackend& b) {
+                            return b.evaluate({&request, 1}, project_.water, {&result, 1});
+                        });
                         !s.ok())
                         failure = s;
                     toCenterOfMass(body, state, result);

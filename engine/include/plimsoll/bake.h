@@ -4,6 +4,7 @@
 // compact list ordered by texel index.
 #pragma once
 
+#include "plimsoll/limits.h"
 #include "plimsoll/mesh.h"
 #include "plimsoll/result.h"
 #include "plimsoll/uv_layout.h"
@@ -16,9 +17,7 @@
 
 namespace plimsoll {
 
-/// Texture sizes the bake accepts (texels per side; any integer in range, not only powers of 2).
-inline constexpr int kMinTextureSize = 16;
-inline constexpr int kMaxTextureSize = 8192;
+// Texture sizes the bake accepts: kMinTextureSize..kMaxTextureSize (limits.h).
 
 /// Called with the fraction done (0..1), from the baking threads, serialised.
 using ProgressCallback = std::function<void(double fraction)>;

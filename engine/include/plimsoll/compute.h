@@ -122,8 +122,8 @@ std::unique_ptr<BuoyancyBackend> createReferenceBackend();
 
 /// Chooses a device: `spec` is "cpu", "gpu", a device index, "reference", or empty for the
 /// environment variable PLIMSOLL_OPENCL_DEVICE, else the first GPU, else the first device.
-/// Where no OpenCL platform exists at all, the reference backend is returned and `notice`
-/// says so. Errors: an unknown spec, a requested kind that is absent, a kernel that fails to
+/// Where no OpenCL platform exists at all, or the automatically chosen device fails (its
+/// kernels do not build), the reference backend is returned and `notice` says why. Errors: an unknown spec, a requested kind that is absent, a kernel that fails to
 /// build (with its build log).
 Result<std::unique_ptr<BuoyancyBackend>> createBuoyancyBackend(const std::string& spec,
                                                                std::string* notice = nullptr);

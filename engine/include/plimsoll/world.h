@@ -156,9 +156,14 @@ private:
     /// The bounding-sphere test: the body in `state` lies above the highest water surface.
     bool outOfWater(const SimulatedBody& body, const RigidBodyState& state) const;
     void say(const std::string& line) const;
+    /// Runs `call` on the backend. Where an OpenCL backend fails (out of resources, a lost
+    /// device), says so once on the log, moves every body to the C++ reference backend and
+    /// runs `call` again there: the run goes on, slower, with the reference's results.
+    Status withBackend(const std::function<Status(BuoyancyBackend&)>& call);
 
     Project project_;
     std::unique_ptr<BuoyancyBackend> backend_;
+    bool fellBack_ = false;  ///< withBackend replaced a failed OpenCL backend
     LogFunction log_;
     std::vector<SimulatedBody> bodies_;
     std::vector<std::unique_ptr<Deformation>> deformations_;  ///< per body, null if rigid
