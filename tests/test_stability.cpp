@@ -8,6 +8,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <ostream>
 #include <initializer_list>
 #include <vector>
 #include <unistd.h>
@@ -83,6 +84,11 @@ double durationFor(double) { return 30.0; }
 struct GridPoint {
     double ratio, step;
 };
+
+/// How ctest's listing shows a grid point (gtest prints a struct's bytes otherwise).
+void PrintTo(const GridPoint& p, std::ostream* out) {
+    *out << "density ratio " << p.ratio << ", dt " << p.step << " s";
+}
 
 std::vector<GridPoint> grid(std::initializer_list<double> steps) {
     std::vector<GridPoint> points;

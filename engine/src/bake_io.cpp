@@ -137,13 +137,7 @@ Status writeBakedTextures(const SurfaceTextures& t, const fs::path& folder,
         });
     }
     const fs::path manifestPath = folder / kManifestFile;
-    files.emplace_back(manifestPath, [&](const fs::path& temp) -> Status {
-        std::ofstream out(temp, std::ios::binary | std::ios::trunc);
-        out << manifest;
-        out.close();
-        if (!out) return makeError(manifestPath.string() + ": write failed (disk full?)");
-        return Ok{};
-    });
+    files.push_back(bytesFileWriter(manifestPath, manifest));
     return replaceFilesTogether(files);
 }
 

@@ -143,6 +143,17 @@ Status replaceFilesTogether(const std::vector<FileWriter>& files) {
     return Ok{};
 }
 
+FileWriter bytesFileWriter(const fs::path& target, std::string bytes) {
+    return {target, [target, bytes = std::move(bytes)](const fs::path& temp) -> Status {
+                std::ofstream out(temp, std::ios::binary | std::ios::trunc);
+                if (!out) return makeError(target.string() + ": cannot open for writing");
+                out << bytes;
+                out.close();
+                if (!out) return makeError(target.string() + ": write failed (disk full?)");
+                return Ok{};
+            }};
+}
+
 Status writeFileAtomically(const fs::path& target,
                            const std::function<bool(std::ostream&)>& write) {
     return replaceFileAtomically(target, [&](const fs::path& temp) -> Status {

@@ -131,6 +131,73 @@ Status checkBinaryStl(const std::string& file, std::ifstream& in, std::uintmax_t
 
 }  // namespace
 
+Result<std::string> objGeometry(std::istream& text, const std::string& file) {
+    std::string geometry;
+    // Running counts of positions, texture coordinates and normals; the largest positive
+    // reference to each (a positive index may name one defined further down the file).
+    std::uint64_t defined[3] = {0, 0, 0};
+    std::uint64_t largest[3] = {0, 0, 0};
+    std::uint64_t largestLine[3] = {0, 0, 0};
+    const char* const kinds[3] = {"vertex", "texture coordinate", "normal"};
+    std::string line;
+    std::uint64_t number = 0;
+    while (std::getline(text, line)) {
+        ++number;
+        std::size_t at = line.find_first_not_of(" \t");
+        if (at == std::string::npos) continue;
+        const std::size_t end = line.find_first_of(" \t\r", at);
+        const std::string keyword = line.substr(at, end == std::string::npos ? end : end - at);
+        if (keyword == "v") ++defined[0];
+        else if (keyword == "vt") ++defined[1];
+        else if (keyword == "vn") ++defined[2];
+        else if (keyword != "f") continue;
+        if (!line.empty() && line.back() == '\r') line.pop_back();
+        geometry += line;
+        geometry += '\n';
+        if (keyword != "f") continue;
+        std::istringstream refs(end == std::string::npos ? std::string() : line.substr(end));
+        std::string ref;
+        while (refs >> ref) {
+            // "v", "v/vt", "v//vn", "v/vt/vn".
+            std::size_t start = 0;
+            for (int kind = 0; kind < 3 && start <= ref.size(); ++kind) {
+                const std::size_t slash = std::min(ref.find('/', start), ref.size());
+                const std::string part = ref.substr(start, slash - start);
+                start = slash + 1;
+                if (part.empty() && kind > 0) continue;
+                long long index = 0;
+                const auto [ptr, error] =
+                    std::from_chars(part.data(), part.data() + part.size(), index);
+                if (error != std::errc() || ptr != part.data() + part.size() || index == 0) {
+                    return makeError(file + ": line " + std::to_string(number) + ": '" + ref +
+                                     "' is not a " + kinds[kind] + " index");
+                }
+                if (index < 0) {
+                    const std::uint64_t back = static_cast<std::uint64_t>(-(index + 1)) + 1;
+                    if (back > defined[kind]) {
+                        return makeError(file + ": line " + std::to_string(number) + ": " +
+                                         kinds[kind] + " index out of range: " +
+                                         std::to_string(index) + " (" +
+                                         std::to_string(defined[kind]) + " defined before it)");
+                    }
+                } else if (static_cast<std::uint64_t>(index) > largest[kind]) {
+                    largest[kind] = static_cast<std::uint64_t>(index);
+                    largestLine[kind] = number;
+                }
+            }
+        }
+    }
+    for (int kind = 0; kind < 3; ++kind) {
+        if (largest[kind] > defined[kind]) {
+            return makeError(file + ": line " + std::to_string(largestLine[kind]) + ": " +
+                             kinds[kind] + " index out of range: " +
+                             std::to_string(largest[kind]) + " (the file defines " +
+                             std::to_string(defined[kind]) + ")");
+        }
+    }
+    return geometry;
+}
+
 Status checkMeshHeader(const fs::path& path) {
     const std::string file = path.string();
     std::error_code ec;

@@ -8,7 +8,11 @@
 #include <assimp/postprocess.h>
 #include <assimp/scene.h>
 
+#include <cctype>
 #include <cmath>
+#include <fstream>
+#include <sstream>
+#include <string>
 #include <system_error>
 
 namespace plimsoll {
@@ -85,6 +89,17 @@ Result<TriangleMesh> fromScene(const aiScene* scene, const Assimp::Importer& imp
     return mesh;
 }
 
+/// OBJ geometry (detail::objGeometry: checked, v / vt / vn / f only) through assimp.
+Result<TriangleMesh> loadObjGeometry(const std::string& geometry, const std::string& source,
+                                     MeshLoadOptions options) {
+    if (geometry.empty()) return makeError(source + ": no triangles (no v or f lines)");
+    Assimp::Importer importer;
+    configure(importer);
+    const aiScene* scene = importer.ReadFileFromMemory(geometry.data(), geometry.size(),
+                                                       importFlags(options), "obj");
+    return fromScene(scene, importer, source);
+}
+
 }  // namespace
 
 Result<TriangleMesh> loadMesh(const fs::path& path, MeshLoadOptions options) {
@@ -93,6 +108,15 @@ Result<TriangleMesh> loadMesh(const fs::path& path, MeshLoadOptions options) {
     if (!fs::exists(path, ec)) return makeError(name + ": no such file");
     if (fs::is_directory(path, ec)) return makeError(name + ": is a folder, not a mesh file");
     if (Status header = detail::checkMeshHeader(path); !header.ok()) return header.error();
+    std::string extension = path.extension().string();
+    for (char& c : extension) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+    if (extension == ".obj") {
+        std::ifstream text(path, std::ios::binary);
+        if (!text) return makeError(name + ": cannot open");
+        Result<std::string> geometry = detail::objGeometry(text, name);
+        if (!geometry) return geometry.error();
+        return loadObjGeometry(*geometry, name, options);
+    }
 
     Assimp::Importer importer;
     configure(importer);
@@ -103,6 +127,12 @@ Result<TriangleMesh> loadMesh(const fs::path& path, MeshLoadOptions options) {
 Result<TriangleMesh> loadMeshFromMemory(std::string_view bytes, const std::string& format,
                                         const std::string& source, MeshLoadOptions options) {
     if (bytes.empty()) return makeError(source + ": empty file");
+    if (format == "obj") {
+        std::istringstream text{std::string(bytes)};
+        Result<std::string> geometry = detail::objGeometry(text, source);
+        if (!geometry) return geometry.error();
+        return loadObjGeometry(*geometry, source, options);
+    }
     Assimp::Importer importer;
     configure(importer);
     const aiScene* scene =

@@ -32,6 +32,8 @@ Status replaceFileAtomically(const std::filesystem::path& target,
 using FileWriter = std::pair<std::filesystem::path,
                              std::function<Status(const std::filesystem::path&)>>;
 Status replaceFilesTogether(const std::vector<FileWriter>& files);
+/// The writer of a file whose bytes are known up front (a PNG, a JSON text).
+FileWriter bytesFileWriter(const std::filesystem::path& target, std::string bytes);
 
 /// Reads a whole file (JSON read in one piece), refusing one larger than `maxBytes` before
 /// reading it: "PATH: 3.1 GB, more than the limit NAME = 256.0 MB (limits.h)".
