@@ -408,43 +408,19 @@ Status Document::writeMapsAndProjectFiles(bool allMaps, bool withProject) {
             if (!m.image || m.path.empty() || !(m.dirty || allMaps)) continue;
             std::error_code ec;
             fs::create_directories(m.path.parent_path(), ec);
-            const std::string png = encodePaintedMapPng16(*m.image);
-            const fs::path target = m.path;
-            files.emplace_back(target, [png, target](const fs::path& temp) -> Status {
-                std::ofstream out(temp, std::ios::binary | std::ios::trunc);
-                out << png;
-                out.close();
-                if (!out) return makeError(target.string() + ": write failed (disk full?)");
-                return Ok{};
-            });
+            files.push_back(bytesFileWriter(m.path, encodePaintedMapPng16(*m.image)));
             written.push_back(&m);
         }
         BodyAssets::Graph& g = a.graph;
         if (g.graph && !g.path.empty() && (g.dirty || allMaps)) {
             std::error_code ec;
             fs::create_directories(g.path.parent_path(), ec);
-            const std::string text = graphToJson(*g.graph);
-            const fs::path target = g.path;
-            files.emplace_back(target, [text, target](const fs::path& temp) -> Status {
-                std::ofstream out(temp, std::ios::binary | std::ios::trunc);
-                out << text;
-                out.close();
-                if (!out) return makeError(target.string() + ": write failed (disk full?)");
-                return Ok{};
-            });
+            files.push_back(bytesFileWriter(g.path, graphToJson(*g.graph)));
             writtenGraphs.push_back(&g);
         }
     }
     if (withProject) {
-        const std::string text = projectToJson(project_) + "\n";
-        const fs::path target = path_;
-        files.emplace_back(target, [text, target](const fs::path& temp) -> Status {
-            std::ofstream out(temp, std::ios::binary | std::ios::trunc);
-            out << text;
-            out.close();
-            if (!out) return makeError(target.string() + ": write failed (disk full?)");
-            return Ok{};
-        });
+        files.push_back(bytesFileWriter(path_, projectToJson(project_) + "\n"));
     }
     if (files.empty()) return Ok{};
     Status saved = replaceFilesTogether(files);
