@@ -1,6 +1,7 @@
 #include "render/graph_draw.h"
 
 #include "document/graph_view.h"
+#include "render/gl_program.h"
 #include "render/graph_pick.h"
 
 #include <epoxy/gl.h>
@@ -44,22 +45,6 @@ void main() {
     vec3 c = vWorld.y <= uLevel ? uWater : uColour;
     oColour = vec4(c * light, 1.0);
 })";
-
-unsigned compileStage(GLenum type, const char* source, std::string& log) {
-    const GLuint s = glCreateShader(type);
-    glShaderSource(s, 1, &source, nullptr);
-    glCompileShader(s);
-    GLint ok = 0;
-    glGetShaderiv(s, GL_COMPILE_STATUS, &ok);
-    if (!ok) {
-        char text[2048];
-        glGetShaderInfoLog(s, sizeof text, nullptr, text);
-        log = text;
-        glDeleteShader(s);
-        return 0;
-    }
-    return s;
-}
 
 /// Triangles of (position, normal) floats.
 using Vertices = std::vector<float>;
@@ -127,20 +112,9 @@ Eigen::Matrix4f affine(const Eigen::Matrix3d& linear, const Eigen::Vector3d& tra
 
 Result<std::unique_ptr<GraphDrawer>> GraphDrawer::create() {
     std::unique_ptr<GraphDrawer> d(new GraphDrawer());
-    std::string log;
-    const unsigned vs = compileStage(GL_VERTEX_SHADER, kVertex, log);
-    if (!vs) return makeError("graph shader: " + log);
-    const unsigned fs = compileStage(GL_FRAGMENT_SHADER, kFragment, log);
-    if (!fs) return makeError("graph shader: " + log);
-    d->program_ = glCreateProgram();
-    glAttachShader(d->program_, vs);
-    glAttachShader(d->program_, fs);
-    glLinkProgram(d->program_);
-    glDeleteShader(vs);
-    glDeleteShader(fs);
-    GLint ok = 0;
-    glGetProgramiv(d->program_, GL_LINK_STATUS, &ok);
-    if (!ok) return makeError("graph shader: link failed");
+    Result<unsigned> program = linkGlProgram(kVertex, kFragment);
+    if (!program) return makeError("graph " + program.error().message);
+    d->program_ = *program;
     auto upload = [](Shape& s, const Vertices& v) {
         glGenVertexArrays(1, &s.vao);
         glGenBuffers(1, &s.vbo);

@@ -1,5 +1,7 @@
 #include "render/renderer.h"
 
+#include "render/gl_program.h"
+
 #include <epoxy/gl.h>
 
 #include <algorithm>
@@ -62,43 +64,6 @@ const char* kWaterFragment = R"(#version 450 core
 in vec4 vColour;
 out vec4 oColour;
 void main() { oColour = vColour; })";
-
-Result<unsigned> compile(GLenum type, const char* source) {
-    const GLuint shader = glCreateShader(type);
-    glShaderSource(shader, 1, &source, nullptr);
-    glCompileShader(shader);
-    GLint ok = 0;
-    glGetShaderiv(shader, GL_COMPILE_STATUS, &ok);
-    if (!ok) {
-        char log[2048];
-        glGetShaderInfoLog(shader, sizeof log, nullptr, log);
-        glDeleteShader(shader);
-        return makeError(std::string("shader compile: ") + log);
-    }
-    return shader;
-}
-
-Result<unsigned> link(const char* vertex, const char* fragment) {
-    Result<unsigned> vs = compile(GL_VERTEX_SHADER, vertex);
-    if (!vs) return vs.error();
-    Result<unsigned> fs = compile(GL_FRAGMENT_SHADER, fragment);
-    if (!fs) return fs.error();
-    const GLuint program = glCreateProgram();
-    glAttachShader(program, *vs);
-    glAttachShader(program, *fs);
-    glLinkProgram(program);
-    glDeleteShader(*vs);
-    glDeleteShader(*fs);
-    GLint ok = 0;
-    glGetProgramiv(program, GL_LINK_STATUS, &ok);
-    if (!ok) {
-        char log[2048];
-        glGetProgramInfoLog(program, sizeof log, nullptr, log);
-        glDeleteProgram(program);
-        return makeError(std::string("shader link: ") + log);
-    }
-    return program;
-}
 
 void setMatrix(GLuint program, const char* name, const Eigen::Matrix4f& m) {
     glUniformMatrix4fv(glGetUniformLocation(program, name), 1, GL_FALSE, m.data());
@@ -175,13 +140,13 @@ std::vector<std::uint8_t> OffscreenTarget::readRgba() const {
 
 Result<std::unique_ptr<Renderer>> Renderer::create() {
     std::unique_ptr<Renderer> r(new Renderer());
-    Result<unsigned> mesh = link(kMeshVertex, kMeshFragment);
+    Result<unsigned> mesh = linkGlProgram(kMeshVertex, kMeshFragment);
     if (!mesh) return mesh.error();
     r->meshProgram_ = *mesh;
-    Result<unsigned> line = link(kLineVertex, kLineFragment);
+    Result<unsigned> line = linkGlProgram(kLineVertex, kLineFragment);
     if (!line) return line.error();
     r->lineProgram_ = *line;
-    Result<unsigned> water = link(kLineVertex, kWaterFragment);
+    Result<unsigned> water = linkGlProgram(kLineVertex, kWaterFragment);
     if (!water) return water.error();
     r->waterProgram_ = *water;
     glGenVertexArrays(1, &r->lineVao_);

@@ -185,6 +185,18 @@ public:
           name_("OpenCL: " + device_.getInfo<CL_DEVICE_NAME>() + " (" +
                 handle.platform.getInfo<CL_PLATFORM_NAME>() + ")") {}
 
+    // Writes are enqueued non-blocking from host vectors this backend owns: after a failed
+    // call, or before those vectors go, the queue is drained so the device never reads freed
+    // or rewritten memory (ASan saw PoCL read a freed vector after a fault-injected launch).
+    ~OpenClBackend() override { drainQueue(); }
+
+    void drainQueue() {
+        try {
+            queue_.finish();
+        } catch (const cl::Error&) {  // a lost device: nothing is in flight any more
+        }
+    }
+
     std::string deviceName() const override { return name_; }
 
     std::size_t addBody(const SurfaceTextures& textures,
@@ -247,6 +259,7 @@ public:
                                       tiles * sizeof(gpu::PlTileMoments),
                                       &tileMoments_[body.tileBegin]);
         } catch (const cl::Error& e) {
+            drainQueue();
             return makeError(name_ + ": " + clError(e));
         }
         return Ok{};
@@ -273,8 +286,10 @@ public:
                     sums, requests[i].frame.pose.apply(body.centerOfMass), requests[i].fluid);
             }
         } catch (const cl::Error& e) {
+            drainQueue();
             return makeError(name_ + ": " + clError(e));
         } catch (const std::length_error& e) {  // a buffer beyond the device's limits
+            drainQueue();
             return makeError(name_ + ": " + e.what());
         }
         timings_.totalMs = std::chrono::duration<double, std::milli>(
@@ -394,6 +409,7 @@ public:
                 }
             }
         } catch (const cl::Error& e) {
+            drainQueue();
             return makeError(name_ + ": " + clError(e));
         }
         return Ok{};
