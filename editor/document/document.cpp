@@ -255,7 +255,7 @@ void Document::setGraph(std::size_t body, std::optional<WaterGraph> graph) {
     g.error.clear();
 }
 
-std::string Document::defaultGraphPath(std::size_t body) const {
+std::string Document::assetFileStem(std::size_t body) const {
     std::string stem = path_.empty() ? "untitled" : path_.filename().string();
     if (const auto dot = stem.find('.'); dot != std::string::npos) stem.resize(dot);
     std::string bodyName = body < project_.bodies.size() ? project_.bodies[body].name : "";
@@ -263,7 +263,11 @@ std::string Document::defaultGraphPath(std::size_t body) const {
     for (char& ch : bodyName) {
         if (!std::isalnum(static_cast<unsigned char>(ch)) && ch != '-') ch = '_';
     }
-    return stem + "_" + bodyName + ".graph.json";
+    return stem + "_" + bodyName;
+}
+
+std::string Document::defaultGraphPath(std::size_t body) const {
+    return assetFileStem(body) + ".graph.json";
 }
 
 PaintedMap* Document::map(std::size_t body, MapChannel channel) {
@@ -349,14 +353,7 @@ Result<std::shared_ptr<const SurfaceTextures>> Document::physicsTextures(std::si
 }
 
 std::string Document::defaultMapPath(std::size_t body, MapChannel channel) const {
-    std::string stem = path_.empty() ? "untitled" : path_.filename().string();
-    if (const auto dot = stem.find('.'); dot != std::string::npos) stem.resize(dot);
-    std::string bodyName = body < project_.bodies.size() ? project_.bodies[body].name : "";
-    if (bodyName.empty()) bodyName = "body" + std::to_string(body);
-    for (char& ch : bodyName) {
-        if (!std::isalnum(static_cast<unsigned char>(ch)) && ch != '-') ch = '_';
-    }
-    return "maps/" + stem + "_" + bodyName + "_" + channelName(channel) + ".png";
+    return "maps/" + assetFileStem(body) + "_" + channelName(channel) + ".png";
 }
 
 // --- history ------------------------------------------------------------------------------------

@@ -165,6 +165,9 @@ public:
     Result<std::shared_ptr<const SurfaceTextures>> physicsTextures(std::size_t body);
     /// Where a new map of `channel` for `body` goes: "maps/<project>_<body>_<channel>.png".
     std::string defaultMapPath(std::size_t body, MapChannel channel) const;
+    /// "<project stem>_<body name>" with characters unsafe in file names replaced: the
+    /// stem of the files the document creates for a body (maps, water graph).
+    std::string assetFileStem(std::size_t body) const;
 
 private:
     std::uint64_t stateId() const { return done_.empty() ? 0 : done_.back().id; }
