@@ -235,6 +235,11 @@ struct OpenClFaultCase {
     const char* code;
 };
 
+// ctest lists the case by the call that fails, not by its bytes.
+void PrintTo(const OpenClFaultCase& faultCase, std::ostream* out) {
+    *out << faultCase.call << " fails with " << faultCase.code;
+}
+
 class OpenClFaults : public ::testing::TestWithParam<OpenClFaultCase> {};
 
 // A failure at the first evaluation (buffers, launch or read-back) moves the world to the
@@ -277,7 +282,10 @@ INSTANTIATE_TEST_SUITE_P(
         OpenClFaultCase{detail::OpenClFault::Launch, "clEnqueueNDRangeKernel",
                         "CL_OUT_OF_RESOURCES (-5)"},
         OpenClFaultCase{detail::OpenClFault::LostDevice, "clEnqueueReadBuffer",
-                        "CL_DEVICE_NOT_AVAILABLE (-2)"}));
+                        "CL_DEVICE_NOT_AVAILABLE (-2)"}),
+    [](const ::testing::TestParamInfo<OpenClFaultCase>& info) {
+        return std::string(info.param.call);
+    });
 
 TEST(OpenClFaultsBuild, BuildFailureNamesTheCallAndCodeAndAutomaticChoiceFallsBack) {
     const std::vector<ComputeDevice> devices = listComputeDevices();
