@@ -15,6 +15,15 @@
 
 namespace plimsoll::test {
 
+/// True in the ASan + UBSan build (PLIMSOLL_SANITIZE, scripts/test-sanitized.sh), where numeric
+/// loops run about twenty times slower: the few tests whose cost is simulated time use less of
+/// it there, and say what they check instead.
+#ifdef PLIMSOLL_SANITIZED_BUILD
+inline constexpr bool kSanitizedBuild = true;
+#else
+inline constexpr bool kSanitizedBuild = false;
+#endif
+
 /// A mesh in ../shared/meshes, or nothing when the folder is absent (a user's machine).
 inline std::optional<std::filesystem::path> sharedMesh(const std::string& name) {
     std::filesystem::path path = std::filesystem::path(PLIMSOLL_SHARED_DIR) / "meshes" / name;
