@@ -21,8 +21,9 @@ struct MeshLoadOptions {
 
 /// Loads every mesh of the file's scene into one TriangleMesh (node transforms applied,
 /// polygons triangulated, identical vertices joined unless options say not). Fails with the
-/// path and the reason for a missing or unreadable file, a file without triangles, or
-/// non-finite coordinates.
+/// path and the reason for a missing, unreadable or oversized file, or a file without
+/// triangles. NaN or Inf coordinates load as they are: validateMesh reports them
+/// (ProblemKind::NonFinite), so the user sees every problem of the mesh at once.
 Result<TriangleMesh> loadMesh(const std::filesystem::path& path, MeshLoadOptions options = {});
 
 /// As loadMesh, from the file's bytes: `format` is the extension assimp picks its reader by
