@@ -89,13 +89,16 @@ Result<TriangleMesh> fromScene(const aiScene* scene, const Assimp::Importer& imp
     return mesh;
 }
 
-/// OBJ geometry (detail::objGeometry: checked, v / vt / vn / f only) through assimp.
-Result<TriangleMesh> loadObjGeometry(const std::string& geometry, const std::string& source,
-                                     MeshLoadOptions options) {
-    if (geometry.empty()) return makeError(source + ": no triangles (no v or f lines)");
+/// An OBJ's text through detail::objGeometry (v / vt / vn / f only, every index checked), and
+/// only that checked geometry through assimp: its OBJ reader crashes on what the check refuses.
+Result<TriangleMesh> loadObj(std::istream& text, const std::string& source,
+                             MeshLoadOptions options) {
+    Result<std::string> geometry = detail::objGeometry(text, source);
+    if (!geometry) return geometry.error();
+    if (geometry->empty()) return makeError(source + ": no triangles (no v or f lines)");
     Assimp::Importer importer;
     configure(importer);
-    const aiScene* scene = importer.ReadFileFromMemory(geometry.data(), geometry.size(),
+    const aiScene* scene = importer.ReadFileFromMemory(geometry->data(), geometry->size(),
                                                        importFlags(options), "obj");
     return fromScene(scene, importer, source);
 }
@@ -113,9 +116,7 @@ Result<TriangleMesh> loadMesh(const fs::path& path, MeshLoadOptions options) {
     if (extension == ".obj") {
         std::ifstream text(path, std::ios::binary);
         if (!text) return makeError(name + ": cannot open");
-        Result<std::string> geometry = detail::objGeometry(text, name);
-        if (!geometry) return geometry.error();
-        return loadObjGeometry(*geometry, name, options);
+        return loadObj(text, name, options);
     }
 
     Assimp::Importer importer;
@@ -129,9 +130,7 @@ Result<TriangleMesh> loadMeshFromMemory(std::string_view bytes, const std::strin
     if (bytes.empty()) return makeError(source + ": empty file");
     if (format == "obj") {
         std::istringstream text{std::string(bytes)};
-        Result<std::string> geometry = detail::objGeometry(text, source);
-        if (!geometry) return geometry.error();
-        return loadObjGeometry(*geometry, source, options);
+        return loadObj(text, source, options);
     }
     Assimp::Importer importer;
     configure(importer);
