@@ -30,7 +30,10 @@ Result<unsigned> linkGlProgram(const char* vertex, const char* fragment) {
     Result<unsigned> vs = compileStage(GL_VERTEX_SHADER, vertex);
     if (!vs) return vs.error();
     Result<unsigned> fs = compileStage(GL_FRAGMENT_SHADER, fragment);
-    if (!fs) return fs.error();
+    if (!fs) {
+        glDeleteShader(*vs);
+        return fs.error();
+    }
     const GLuint program = glCreateProgram();
     glAttachShader(program, *vs);
     glAttachShader(program, *fs);
