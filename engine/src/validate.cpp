@@ -312,9 +312,6 @@ void checkUvRange(const TriangleMesh& mesh, const TriangleFacts& facts, Validati
 // Exact UV overlap: a uniform grid finds candidate pairs, and each pair's intersection area comes
 // from clipping one triangle against the other (Sutherland-Hodgman; both are convex).
 
-// Uniform grid over the UV bounding box; each cell lists the triangles whose box touches it
-// (compressed rows: cell c holds items[start[c] .. start[c + 1])).
-
 // floor(x) clamped to 0..last, in floating point before the conversion: UVs near the double
 // range overflow differences and sums to Inf (and Inf / Inf to NaN), and converting either to
 // an integer is undefined behaviour.
@@ -324,6 +321,8 @@ int clampedCell(double x, int last) {
     return static_cast<int>(x);
 }
 
+// Uniform grid over the UV bounding box; each cell lists the triangles whose box touches it
+// (compressed rows: cell c holds items[start[c] .. start[c + 1])).
 class UvGrid {
 public:
     explicit UvGrid(const std::vector<UvTriangle>& triangles) {
