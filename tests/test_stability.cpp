@@ -12,6 +12,7 @@
 #include <cmath>
 #include <ostream>
 #include <initializer_list>
+#include <memory>
 #include <vector>
 #include <unistd.h>
 
@@ -117,6 +118,15 @@ std::string gridName(const testing::TestParamInfo<GridPoint>& info) {
     return "ratio" + clean(info.param.ratio) + "_dt" + clean(info.param.step);
 }
 
+/// The world of one run, on the C++ reference backend; null (and a failure) if it cannot be made.
+std::unique_ptr<World> createWorld(const Case& run) {
+    Result<std::unique_ptr<World>> created = World::create(projectFor(run), createReferenceBackend());
+    EXPECT_TRUE(created.ok()) << created.error().message;
+    return created.ok() ? std::move(*created) : nullptr;
+}
+
+int framesFor(double step) { return static_cast<int>(std::round(kSimulatedSeconds / step)); }
+
 class StabilityGrid : public testing::TestWithParam<GridPoint> {};
 class StabilityEnergy : public testing::TestWithParam<GridPoint> {};
 
@@ -127,13 +137,11 @@ TEST_P(StabilityGrid, NothingBlowsUpAndBodiesEndWhereTheyShould) {
         for (Start start : {Start::OutOfWater, Start::AtSurface, Start::Deep}) {
             const Case run{ratio, size, step, start, true};
             SCOPED_TRACE(describe(run));
-            Result<std::unique_ptr<World>> created =
-                World::create(projectFor(run), createReferenceBackend());
-            ASSERT_TRUE(created.ok()) << created.error().message;
-            World& world = **created;
+            const std::unique_ptr<World> created = createWorld(run);
+            ASSERT_TRUE(created);
+            World& world = *created;
             const double startY = world.bodies()[0].state.position.y();
-            const int frames = static_cast<int>(std::round(kSimulatedSeconds / step));
-            for (int f = 0; f < frames; ++f) {
+            for (int f = 0; f < framesFor(step); ++f) {
                 ASSERT_TRUE(world.advanceFrame().ok());
                 const SimulatedBody& b = world.bodies()[0];
                 ASSERT_TRUE(b.state.position.allFinite() && b.state.linearMomentum.allFinite() &&
@@ -168,10 +176,9 @@ TEST_P(StabilityEnergy, WithoutDragEnergyNeverGrows) {
         for (Start start : {Start::OutOfWater, Start::AtSurface, Start::Deep}) {
             const Case run{ratio, size, step, start, false};
             SCOPED_TRACE(describe(run));
-            Result<std::unique_ptr<World>> created =
-                World::create(projectFor(run), createReferenceBackend());
-            ASSERT_TRUE(created.ok()) << created.error().message;
-            World& world = **created;
+            const std::unique_ptr<World> created = createWorld(run);
+            ASSERT_TRUE(created);
+            World& world = *created;
             const SimulatedBody& b = world.bodies()[0];
             // Scale for "1%": the larger of the body's weight and its displaced
             // water's weight, times its radius, so that a start at height zero
@@ -181,8 +188,7 @@ TEST_P(StabilityEnergy, WithoutDragEnergyNeverGrows) {
                 std::max(b.mass.mass, 1000.0 * b.volume) * 9.81 * 0.5 * size;
             const double initial = world.mechanicalEnergy(0);
             double worst = -1e300;
-            const int frames = static_cast<int>(std::round(kSimulatedSeconds / step));
-            for (int f = 0; f < frames; ++f) {
+            for (int f = 0; f < framesFor(step); ++f) {
                 ASSERT_TRUE(world.advanceFrame().ok());
                 worst = std::max(worst, world.mechanicalEnergy(0) - initial);
             }
