@@ -4,6 +4,7 @@
 #include "cli/commands.h"
 
 #include <exception>
+#include <new>
 #include <iostream>
 
 int main(int argc, char** argv) {
@@ -26,10 +27,13 @@ int main(int argc, char** argv) {
     addExportCommand(app, selected);
     addEditCommand(app, selected);
     addRenderCommand(app, selected);
+    addHydrostaticsCommand(app, selected);
+    addHydroCommand(app, selected);
     try {
         app.parse(argc, argv);
     } catch (const CLI::ParseError& e) {
-        return app.exit(e);
+        // CLI11's own codes (105 for a failed check, ...) are not the documented usage exit.
+        return app.exit(e) == 0 ? kExitOk : kExitUsage;
     }
     if (!selected) {
         // No sub-command: the editor window (`plimsoll edit` with no project).
@@ -37,6 +41,10 @@ int main(int argc, char** argv) {
     }
     try {
         return selected();
+    } catch (const std::bad_alloc&) {
+        std::cerr << "error: out of memory: the input needs more memory than this machine can "
+                     "give (std::bad_alloc)\n";
+        return kExitFailure;
     } catch (const std::exception& e) {
         std::cerr << "error: " << e.what() << "\n";
         return kExitFailure;

@@ -1,6 +1,6 @@
 // libFuzzer target: water-graph JSON text (parseGraph, then validateGraph as loadGraph does).
 // A graph that parses must survive graphToJson and parse back to the same JSON.
-#include "plimsoll/graph.h"
+#include "plimsoll/graph/graph.h"
 
 #include <cstdint>
 #include <cstdio>

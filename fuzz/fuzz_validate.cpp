@@ -2,7 +2,7 @@
 // header (vertex count, UV mode), raw doubles for positions and UVs (so NaN, Inf, denormals
 // and 1e308 all occur), then triangles of vertex indices that may repeat or point past the
 // last vertex.
-#include "plimsoll/validate.h"
+#include "plimsoll/geometry/validate.h"
 
 #include <cstdint>
 #include <cstdlib>

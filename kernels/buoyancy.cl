@@ -1,6 +1,6 @@
 // Per-frame buoyancy of a batch of bodies over their compacted texel entries.
 // plimsoll_shared.h is prepended at build time; PL_ACC_DOUBLE is defined when the device has
-// cl_khr_fp64. The C++ reference is engine/src/buoyancy_reference.cpp (same formulas, double
+// cl_khr_fp64. The C++ reference is engine/src/physics/buoyancy_reference.cpp (same formulas, double
 // precision, no culling); tests hold this file against it.
 //
 // Launch 1, buoyancy_tiles_<water model>[_still]: one work-group per tile of up to

@@ -1,7 +1,7 @@
 // Water-graph exchange through the permeable texels (paper 4.2): one pass over a body's
 // permeable samples, each work-group summing its samples per node. buoyancy.cl comes before
 // this file (PlBody, surfaceHeight, acc_t). The C++ reference is
-// engine/src/exchange_reference.cpp; tests hold this file against it.
+// engine/src/graph/exchange_reference.cpp; tests hold this file against it.
 //
 // Per sample (position relative to the frame's centre c, object axes; w = permeability x
 // area): r = R p, outside depth d_out = max(0, f(r) - r.y), inside head d_in = max(0, s_n -

@@ -82,7 +82,7 @@ typedef struct {
 
 /// Moments of a tile's entries (object space, relative to c), so that a tile lying wholly
 /// under flat water costs a few dozen operations instead of a pass over its texels: every
-/// hydrostatic sum is then a polynomial in the pose (DESIGN.md, performance notes).
+/// hydrostatic sum is then a polynomial in the pose (docs/design.md, "Compute backends").
 typedef struct {
     pl_float4 sum;        /* xyz: sum a; w: sum of areas                                */
     pl_float4 first[3];   /* [i].xyz: sum a_i p (x, y, z); [0].w: entry count            */

@@ -11,7 +11,8 @@ cd "$(dirname "$0")/.."
 seconds="${1:-30}"
 [ $# -gt 0 ] && shift
 targets=("$@")
-[ ${#targets[@]} -eq 0 ] && targets=(project graph manifest mesh_obj validate)
+[ ${#targets[@]} -eq 0 ] && targets=(project graph manifest mesh_obj validate mesh_ply mesh_stl
+                                      mesh_gltf mesh_glb runtime_bundle runtime_png)
 
 scripts/install-deps.sh
 start=$(date +%s)
@@ -29,12 +30,13 @@ mkdir -p build-fuzz/findings
 export ASAN_OPTIONS="detect_leaks=1:abort_on_error=1:strict_string_checks=1:detect_stack_use_after_return=1"
 export UBSAN_OPTIONS="print_stacktrace=1:halt_on_error=1"
 export LSAN_OPTIONS="suppressions=$PWD/fuzz/lsan.supp:print_suppressions=0"
-failed=()
-for t in "${targets[@]}"; do
+# Each libFuzzer run is one process on one core: the targets run $(nproc) at a time, each for
+# the same bounded time, and their reports are printed in order once all have finished.
+fuzz_one() {
+  local t=$1 log="$work/$1.log" t0 result runs corpus
+  local dict=()
   cp -r "fuzz/corpus/$t" "$work/$t"
-  dict=()
   [ -f "fuzz/$t.dict" ] && dict=("-dict=fuzz/$t.dict")
-  log="$work/$t.log"
   t0=$(date +%s)
   if "build-fuzz/fuzz/fuzz_$t" "$work/$t" "${dict[@]}" -max_total_time="$seconds" \
        -rss_limit_mb=2048 -malloc_limit_mb=2048 -timeout=30 -print_final_stats=1 \
@@ -42,16 +44,34 @@ for t in "${targets[@]}"; do
     result=ok
   else
     result=FAILED
-    failed+=("$t")
   fi
   runs=$(sed -n 's/^stat::number_of_executed_units: *//p' "$log" | tail -1)
   corpus=$(find "$work/$t" -type f | wc -l)
-  printf 'fuzz: %-9s %-6s %10s executions in %4d s, corpus %d inputs\n' "$t" "$result" \
-         "${runs:-?}" "$(( $(date +%s) - t0 ))" "$corpus"
-  if [ "$result" = FAILED ]; then
-    grep -E "ERROR|runtime error|SUMMARY|Test unit written|deadly signal" "$log" | head -20 || true
-    tail -60 "$log"
+  {
+    printf 'fuzz: %-14s %-6s %10s executions in %4d s, corpus %d inputs\n' "$t" "$result" \
+           "${runs:-?}" "$(( $(date +%s) - t0 ))" "$corpus"
+    if [ "$result" = FAILED ]; then
+      grep -E "ERROR|runtime error|SUMMARY|Test unit written|deadly signal" "$log" | head -20 || true
+      tail -60 "$log"
+    fi
+  } >"$work/$t.report"
+  [ "$result" = ok ]
+}
+jobs_at_once=$(nproc)
+running=0
+for t in "${targets[@]}"; do
+  if [ "$running" -ge "$jobs_at_once" ]; then
+    wait -n || true
+    running=$((running - 1))
   fi
+  fuzz_one "$t" &
+  running=$((running + 1))
+done
+wait || true
+failed=()
+for t in "${targets[@]}"; do
+  cat "$work/$t.report"
+  grep -q "^fuzz: $t *ok " "$work/$t.report" || failed+=("$t")
 done
 echo "fuzz: total $(( $(date +%s) - start )) s (build $((built - start)) s)"
 if [ ${#failed[@]} -gt 0 ]; then

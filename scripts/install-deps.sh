@@ -23,8 +23,21 @@ packages=(
   googletest libgtest-dev
   # tests: OpenEXR's own tools (exrheader) read the exported EXR files back
   openexr
+  # tests: key and mouse input sent to the editor window under Xvfb
+  xdotool
   # fuzzing (scripts/fuzz.sh): clang with libFuzzer and the sanitizer runtimes
   clang libclang-rt-14-dev
+  # CI: the minimal configuration (scripts/test-minimal.sh) reuses the full build's objects
+  ccache
+  # tests: xmllint checks plimsoll export --junit against a JUnit XML Schema
+  libxml2-utils
+  # Blender add-on tests (scripts/test-blender.sh): Blender's glTF importer needs numpy,
+  # which --no-install-recommends leaves out
+  blender python3-numpy
+  # the Bullet adapter (engine/adapters/bullet) and its tests; built only where present
+  libbullet-dev
+  # radiation (engine/src/physics/radiation.cpp): Boost.Math's Bessel functions, header-only
+  libboost-dev
 )
 
 missing=()

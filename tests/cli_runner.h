@@ -18,6 +18,28 @@ struct CommandOutput {
     std::string err;
 };
 
+/// The plimsoll executable of the build this test binary belongs to (build/tests/plimsoll_tests
+/// runs build/editor/plimsoll). Found at run time rather than compiled in, so that the test
+/// sources compile to the same objects in every build folder (ccache hits across them).
+inline std::filesystem::path plimsollExecutable() {
+    namespace fs = std::filesystem;
+    return fs::read_symlink("/proc/self/exe").parent_path().parent_path() / "editor" / "plimsoll";
+}
+
+/// A command prefix that caps the memory a plimsoll run may take at `bytes`. Normally an
+/// address-space limit (prlimit --as), which turns a runaway allocation into std::bad_alloc.
+/// AddressSanitizer reserves terabytes of address space for its shadow at start-up, so there
+/// an address-space limit stops every run before main; the sanitized build caps the resident
+/// set instead (ASan kills a run above hard_rss_limit_mb, which fails the test as a finding).
+/// Either way a command word, so that it may follow `timeout`.
+inline std::string memoryCap(unsigned long long bytes) {
+#ifdef PLIMSOLL_SANITIZED_BUILD
+    return "env \"ASAN_OPTIONS=${ASAN_OPTIONS}:hard_rss_limit_mb=" + std::to_string(bytes >> 20) + "\"";
+#else
+    return "prlimit --as=" + std::to_string(bytes) + " --";
+#endif
+}
+
 /// `environment` is prepended to the command line (e.g. "OCL_ICD_VENDORS=/none").
 inline CommandOutput runPlimsoll(const std::string& arguments, const std::string& environment = "") {
     namespace fs = std::filesystem;
@@ -27,8 +49,8 @@ inline CommandOutput runPlimsoll(const std::string& arguments, const std::string
                              ("stderr_" + std::to_string(::getpid()) + "_" +
                               std::to_string(calls++) + ".txt");
     fs::create_directories(errFile.parent_path());
-    const std::string command = environment + " '" + PLIMSOLL_EXECUTABLE + "' " + arguments +
-                                " 2>'" + errFile.string() + "'";
+    const std::string command = environment + " '" + plimsollExecutable().string() + "' " +
+                                arguments + " 2>'" + errFile.string() + "'";
     CommandOutput result;
     FILE* pipe = ::popen(command.c_str(), "r");
     if (!pipe) return result;

@@ -1,8 +1,8 @@
 // Helpers shared by the tests: where the data lives, and error measures.
 #pragma once
 
-#include "plimsoll/massprops.h"
-#include "plimsoll/mesh.h"
+#include "plimsoll/physics/massprops.h"
+#include "plimsoll/geometry/mesh.h"
 
 #include <gtest/gtest.h>
 #include <unistd.h>
@@ -53,7 +53,7 @@ inline MassPropsError compare(const MassProperties& result, const MassProperties
 
 }  // namespace plimsoll::test
 
-#include "plimsoll/bake.h"
+#include "plimsoll/bake/bake.h"
 
 namespace plimsoll::test {
 
@@ -124,12 +124,24 @@ inline void expectTextureMatchesExact(const TriangleMesh& mesh, bool secondOrder
 
 }  // namespace plimsoll::test
 
-#include "plimsoll/compute.h"
+#include "plimsoll/compute/compute.h"
+#include "plimsoll/graph/graph.h"
 
 #include <memory>
 #include <vector>
 
 namespace plimsoll::test {
+
+/// Why a test that needs an OpenCL device skips here: the machine has none, or the build.
+inline const char* noOpenClDeviceReason() {
+    return openClAvailable() ? "no OpenCL device"
+                             : "this build has no OpenCL (PLIMSOLL_WITH_OPENCL=OFF)";
+}
+
+/// Skips a test of automatic water graphs in a build without CGAL's segmentation.
+#define PLIMSOLL_SKIP_WITHOUT_CGAL()                \
+    if (!::plimsoll::meshSegmentationAvailable())   \
+        GTEST_SKIP() << "this build has no CGAL (PLIMSOLL_WITH_CGAL=OFF): no automatic graphs"
 
 /// A backend on every OpenCL device the machine has (none is fine: the kernels then have
 /// nothing to check).

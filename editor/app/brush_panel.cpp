@@ -5,7 +5,45 @@
 
 #include <imgui.h>
 
+#include <algorithm>
+#include <cstdio>
+#include <string>
+
 namespace plimsoll::editor {
+
+namespace {
+
+/// The brush's alpha / stencil image: a grey PNG whose values scale each dab's weight.
+void alphaControls(EditorState& s) {
+    static std::string typed;  // the path being typed (one Tools panel)
+    if (typed.empty() && !s.brush.alphaPath.empty()) typed = s.brush.alphaPath;
+    char buffer[512];
+    std::snprintf(buffer, sizeof buffer, "%s", typed.c_str());
+    ImGui::SetNextItemWidth(-110);
+    if (ImGui::InputText("##alpha", buffer, sizeof buffer)) typed = buffer;
+    tooltip("A grey PNG laid over each dab, upright on screen: white paints, black does not "
+            "(Painter's alpha, Blender's stencil)");
+    ImGui::SameLine();
+    if (ImGui::Button("Alpha")) {
+        if (Status loaded = loadBrushAlpha(s.brush, typed); loaded) {
+            s.status = "Brush alpha: " + typed;
+        } else {
+            s.status = loaded.error().message;
+        }
+    }
+    tooltip("Load the image named on the left as the brush's alpha");
+    ImGui::SameLine();
+    ImGui::BeginDisabled(!s.brush.alpha);
+    if (ImGui::Button("None")) {
+        s.brush.alpha.reset();
+        s.brush.alphaPath.clear();
+        typed.clear();
+    }
+    ImGui::EndDisabled();
+    tooltip("Paint without an alpha image");
+}
+
+}  // namespace
 
 void drawBrushPanel(EditorState& s, const Rect& area) {
     ImGui::SetNextWindowPos(ImVec2(area.x, area.y));
@@ -14,12 +52,16 @@ void drawBrushPanel(EditorState& s, const Rect& area) {
                  ImGuiWindowFlags_NoMove | ImGuiWindowFlags_NoResize | ImGuiWindowFlags_NoCollapse);
     int tool = static_cast<int>(s.tool);
     ImGui::RadioButton("Navigate", &tool, static_cast<int>(Tool::Navigate));
+    tooltip("Left mouse orbits the view (V)");
     ImGui::SameLine();
     ImGui::RadioButton("Brush", &tool, static_cast<int>(Tool::Brush));
+    tooltip("Left mouse paints the map; Shift-click draws a line from the last stroke (B)");
     ImGui::SameLine();
     ImGui::RadioButton("Fill island", &tool, static_cast<int>(Tool::FillIsland));
+    tooltip("Click fills the UV island under the cursor with Value (G)");
     ImGui::SameLine();
     ImGui::RadioButton("Pick", &tool, static_cast<int>(Tool::Pick));
+    tooltip("Click reads the map's value under the cursor into Value (I)");
     s.tool = static_cast<Tool>(tool);
 
     int channel = static_cast<int>(s.channel);
@@ -30,37 +72,97 @@ void drawBrushPanel(EditorState& s, const Rect& area) {
                                                           : Overlay::Thickness;
         s.overlaysDirty = true;
     }
+    tooltip("The map the tools change: permeability (water flow in), or the shell's density and "
+            "thickness scales");
     int mode = static_cast<int>(s.brush.mode);
     if (ImGui::Combo("Mode", &mode, "paint\0erase\0smooth\0")) s.brush.mode = static_cast<BrushMode>(mode);
+    tooltip("Paint toward Value, erase toward 0 (E), or smooth toward the mean under the brush (S)");
     float radius = static_cast<float>(s.brush.radius);
     if (ImGui::SliderFloat("Radius (m)", &radius, 0.001f, 5.0f, "%.3f", ImGuiSliderFlags_Logarithmic)) {
         s.brush.radius = radius;
     }
+    tooltip("Brush radius on the surface, in metres ([ and ] change it)");
     float strength = static_cast<float>(s.brush.strength);
     if (ImGui::SliderFloat("Strength", &strength, 0.0f, 1.0f)) s.brush.strength = strength;
+    tooltip("How far one stroke or fill moves a pixel toward Value (1: all the way)");
     float value = static_cast<float>(s.brush.value);
     if (ImGui::SliderFloat("Value", &value, 0.0f, 1.0f)) s.brush.value = value;
+    tooltip("The value painted (0..1; what 1 means depends on the map)");
     int falloff = static_cast<int>(s.brush.falloff);
-    if (ImGui::Combo("Falloff", &falloff, "smooth\0linear\0constant\0")) {
+    if (ImGui::Combo("Falloff", &falloff,
+                     [](void*, int i, const char** out) {
+                         *out = falloffName(static_cast<Falloff>(i));
+                         return true;
+                     },
+                     nullptr, kFalloffCount)) {
         s.brush.falloff = static_cast<Falloff>(falloff);
     }
+    tooltip("How the brush's weight falls from its centre to its rim (Blender's presets: sphere, "
+        "root, sharp, inverse-square)");
+    float spacing = static_cast<float>(s.brush.spacing);
+    if (ImGui::SliderFloat("Spacing", &spacing, 0.05f, 4.0f, "%.2f radii", ImGuiSliderFlags_Logarithmic)) {
+        s.brush.spacing = spacing;
+    }
+    tooltip("Dabs along a stroke at most this many radii apart (0.25: a solid line; above 2: dots)");
     ImGui::Checkbox("X mirror", &s.brush.mirrorX);
+    tooltip("Also paint at (-x, y, z) (X)");
     ImGui::SameLine();
+    ImGui::Checkbox("Y", &s.brush.mirrorY);
+    tooltip("Also paint at (x, -y, z)");
+    ImGui::SameLine();
+    ImGui::Checkbox("Z", &s.brush.mirrorZ);
+    tooltip("Also paint at (x, y, -z)");
+    ImGui::SameLine();
+    ImGui::SetNextItemWidth(70);
+    ImGui::InputInt("radial", &s.brush.radial, 1);
+    s.brush.radial = std::clamp(s.brush.radial, 1, kMaxRadialCopies);
+    tooltip("Radial symmetry about the body's y axis: copies of every dab, evenly turned (1: off)");
+    float lazy = static_cast<float>(s.brush.lazyRadius);
+    if (ImGui::SliderFloat("Lazy mouse", &lazy, 0.0f, static_cast<float>(kMaxLazyRadius), "%.0f px")) {
+        s.brush.lazyRadius = lazy;
+    }
+    tooltip("The brush trails the cursor on a string this long (0: off), for smooth lines. "
+            "Shift-click draws a straight line from the last stroke's end.");
+    alphaControls(s);
     const bool hasBody = s.selectedBody >= 0 &&
                          static_cast<std::size_t>(s.selectedBody) < s.document->bodyCount();
     if (ImGui::Button("Fill all") && hasBody) {
-        s.execute(makeFillAllCommand(*s.document, s.selectedBody, s.channel, s.brush.value));
+        s.execute(makeFillAllCommand(*s.document, s.selectedBody, s.channel, s.brush.value,
+                                     s.brush.strength, s.paintTarget()));
     }
+    if (ImGui::IsItemHovered()) ImGui::SetTooltip("Moves every pixel toward Value by Strength");
     ImGui::SameLine();
-    static int newSize = 1024;
-    if (ImGui::Button("New map") && hasBody) {
-        s.execute(makeNewMapCommand(*s.document, s.selectedBody, s.channel, newSize, newSize, 0.0,
-                                    ""));
+    auto newMap = [&] {
+        s.execute(makeNewMapCommand(*s.document, s.selectedBody, s.channel, s.newMapSize,
+                                    s.newMapSize, 0.0, ""));
+    };
+    const bool newMapClicked = ImGui::Button("New map");
+    tooltip("A blank map of this size for the channel (asks before replacing one)");
+    if (newMapClicked && hasBody) {
+        // Replacing a map (saved paint, layers) asks first; the undo brings it back either way.
+        if (s.document->map(s.selectedBody, s.channel)) s.confirmNewMap = true;
+        else newMap();
     }
     ImGui::SameLine();
     ImGui::SetNextItemWidth(80);
-    ImGui::InputInt("px", &newSize, 0);
-    newSize = std::clamp(newSize, 16, 8192);
+    ImGui::InputInt("px", &s.newMapSize, 0);
+    s.newMapSize = std::clamp(s.newMapSize, 16, 8192);
+    if (s.confirmNewMap) {
+        ImGui::OpenPopup("Replace map?");
+        s.confirmNewMap = false;
+    }
+    if (ImGui::BeginPopupModal("Replace map?", nullptr, ImGuiWindowFlags_AlwaysAutoResize)) {
+        ImGui::Text("Replace the body's %s map (and its layers) with a blank %d x %d map?",
+                    channelName(s.channel), s.newMapSize, s.newMapSize);
+        ImGui::TextDisabled("Undo gives the current map back.");
+        if (ImGui::Button("Replace")) {
+            newMap();
+            ImGui::CloseCurrentPopup();
+        }
+        ImGui::SameLine();
+        if (ImGui::Button("Cancel")) ImGui::CloseCurrentPopup();
+        ImGui::EndPopup();
+    }
 
     int overlay = static_cast<int>(s.overlay);
     if (ImGui::Combo("Overlay", &overlay,

@@ -12,12 +12,13 @@
 #include "app/preview_panel.h"
 #include "document/command.h"
 
-#include "plimsoll/bake_io.h"
-#include "plimsoll/file_util.h"
+#include "plimsoll/io/bake_io.h"
+#include "plimsoll/io/file_util.h"
 
 #include <epoxy/gl.h>
 #include <GLFW/glfw3.h>
 #include <imgui.h>
+#include <imgui_internal.h>  // BringWindowToDisplayFront: the splitters stay over the panels
 #include <imgui_impl_glfw.h>
 #include <imgui_impl_opengl3.h>
 #include <nlohmann/json.hpp>
@@ -28,6 +29,8 @@
 #include <cstdio>
 #include <cstdlib>
 #include <iostream>
+#include <sys/resource.h>
+#include <thread>
 
 namespace plimsoll::editor {
 
@@ -37,19 +40,146 @@ namespace {
 
 // [SECTION] window callbacks -------------------------------------------------------------------
 
-std::vector<std::string> droppedPaths;
-EditorState* callbackState = nullptr;
+// The window's user pointer is the EditorState: callbacks reach it without globals.
+EditorState& stateOf(GLFWwindow* window) {
+    return *static_cast<EditorState*>(glfwGetWindowUserPointer(window));
+}
 
-void onDrop(GLFWwindow*, int count, const char** paths) {
-    for (int i = 0; i < count; ++i) droppedPaths.emplace_back(paths[i]);
+void onDrop(GLFWwindow* window, int count, const char** paths) {
+    EditorState& s = stateOf(window);
+    for (int i = 0; i < count; ++i) s.droppedPaths.emplace_back(paths[i]);
+    ++s.inputEvents;
 }
 
 void onClose(GLFWwindow* window) {
-    if (callbackState && callbackState->document->dirty()) {
+    EditorState& s = stateOf(window);
+    if (s.document->dirty()) {
         glfwSetWindowShouldClose(window, GLFW_FALSE);
-        callbackState->requestQuit = true;
-        callbackState->confirmDiscardOpen = true;
+        s.requestQuit = true;
+        s.confirmDiscardOpen = true;
     }
+}
+
+// Installed before ImGui's backend, which calls them first and then does its own work.
+void onKey(GLFWwindow* window, int key, int, int action, int mods) {
+    EditorState& s = stateOf(window);
+    ++s.inputEvents;
+    if (action == GLFW_PRESS || (action == GLFW_REPEAT && (key == GLFW_KEY_LEFT_BRACKET ||
+                                                           key == GLFW_KEY_RIGHT_BRACKET))) {
+        s.keyPresses.emplace_back(key, mods);
+    }
+}
+void onChar(GLFWwindow* window, unsigned int) { ++stateOf(window).inputEvents; }
+void onMouseButton(GLFWwindow* window, int, int, int) { ++stateOf(window).inputEvents; }
+void onScroll(GLFWwindow* window, double, double) { ++stateOf(window).inputEvents; }
+void onCursor(GLFWwindow* window, double, double) { ++stateOf(window).inputEvents; }
+void onResize(GLFWwindow* window, int, int) { ++stateOf(window).inputEvents; }
+void onRefresh(GLFWwindow* window) { ++stateOf(window).inputEvents; }
+void onFocus(GLFWwindow* window, int) { ++stateOf(window).inputEvents; }
+void onEnter(GLFWwindow* window, int) { ++stateOf(window).inputEvents; }
+
+/// How long an idle editor sleeps between looks (autosave, background results), and how many
+/// frames it draws after an event.
+constexpr double kIdleWakeSeconds = 0.5;
+constexpr int kFramesAfterEvent = 3;
+constexpr double kBakeProgressSeconds = 0.25;
+
+/// Whether something moves on screen without input: the frame loop then draws continuously.
+bool animating(const EditorState& s) {
+    const bool previewMoving = s.preview && s.preview->session &&
+                               (s.preview->session->playing() || s.preview->session->rebuilding());
+    return previewMoving || s.animateWater || s.stroke.active || s.navigating ||
+           graphPanelBusy(s) || bundleExportRunning(*s.exportDialog);
+}
+
+/// The splitters: thin windows over the borders between the view and the column and between
+/// the column's panels, kept in front, dragged with the left mouse (ImGui 1.86 has no docking).
+void drawSplitters(EditorState& s, const WindowLayout& layout) {
+    constexpr float kGrip = 6.0f;
+    const ImGuiWindowFlags flags = ImGuiWindowFlags_NoDecoration | ImGuiWindowFlags_NoMove |
+                                   ImGuiWindowFlags_NoSavedSettings | ImGuiWindowFlags_NoBackground |
+                                   ImGuiWindowFlags_NoFocusOnAppearing | ImGuiWindowFlags_NoNav;
+    auto splitter = [&](const char* id, ImVec2 at, ImVec2 size, ImGuiMouseCursor cursor,
+                        const auto& drag) {
+        ImGui::SetNextWindowPos(at);
+        ImGui::SetNextWindowSize(size);
+        ImGui::PushStyleVar(ImGuiStyleVar_WindowPadding, ImVec2(0, 0));
+        ImGui::PushStyleVar(ImGuiStyleVar_WindowMinSize, ImVec2(1, 1));
+        ImGui::PushStyleVar(ImGuiStyleVar_WindowBorderSize, 0.0f);
+        ImGui::Begin(id, nullptr, flags);
+        ImGui::BringWindowToDisplayFront(ImGui::GetCurrentWindow());
+        ImGui::InvisibleButton("##grip", size);
+        const bool active = ImGui::IsItemActive();
+        if (active || ImGui::IsItemHovered()) {
+            ImGui::SetMouseCursor(cursor);
+            ImGui::GetWindowDrawList()->AddRectFilled(
+                at, ImVec2(at.x + size.x, at.y + size.y),
+                active ? IM_COL32(120, 160, 230, 200) : IM_COL32(120, 160, 230, 110));
+        }
+        if (active) drag(ImGui::GetIO().MouseDelta);
+        ImGui::End();
+        ImGui::PopStyleVar(3);
+    };
+    const PanelRect& view = layout.view;
+    const ImVec2 display = ImGui::GetIO().DisplaySize;
+    splitter("##split_column", ImVec2(view.x + view.w - kGrip / 2, view.y), ImVec2(kGrip, view.h),
+             ImGuiMouseCursor_ResizeEW,
+             [&](ImVec2 delta) { dragColumnSplitter(s.settings.layout, delta.x, display.x); });
+    for (int i = 0; i < 3; ++i) {
+        const PanelRect& p = layout.panels[i];
+        const std::string id = "##split_row" + std::to_string(i);
+        splitter(id.c_str(), ImVec2(p.x, p.y + p.h - kGrip / 2), ImVec2(p.w, kGrip),
+                 ImGuiMouseCursor_ResizeNS,
+                 [&](ImVec2 delta) { dragRowSplitter(s.settings.layout, i, delta.y, view.h); });
+    }
+}
+
+/// --frame-stats: where a frame's time goes. Each mark waits for the GL work queued so far
+/// (glFinish), so the GPU's (llvmpipe's) share is booked to the phase that queued it: the UI
+/// (events, panels, overlays; CPU), the preview's physics, the 3D scene, the panels' drawing
+/// and the present (swap). The waits cost a little: the frame times of such a run are a bit
+/// longer than a plain --frames run's.
+class FramePhases {
+public:
+    enum Phase { Ui, Preview, Scene, Panels, Present, Count };
+    explicit FramePhases(bool on) : on_(on) {}
+    void start(std::chrono::steady_clock::time_point at) {
+        if (!on_) return;
+        last_ = at;
+        for (auto& p : phases_) p.push_back(0.0);
+    }
+    void mark(Phase phase) {
+        if (!on_) return;
+        glFinish();
+        const auto now = std::chrono::steady_clock::now();
+        phases_[phase].back() += std::chrono::duration<double, std::milli>(now - last_).count();
+        last_ = now;
+    }
+    /// Each phase's median over the frames after the first `skip`, ms.
+    nlohmann::json report(std::size_t skip) const {
+        static constexpr const char* kNames[Count] = {"ui_ms", "preview_ms", "scene_ms", "panels_ms",
+                                                      "present_ms"};
+        nlohmann::json out;
+        for (int p = 0; p < Count; ++p) {
+            std::vector<double> v(phases_[p].begin() + std::min(skip, phases_[p].size()), phases_[p].end());
+            std::sort(v.begin(), v.end());
+            out[kNames[p]] = v.empty() ? 0.0 : v[v.size() / 2];
+        }
+        return out;
+    }
+
+private:
+    bool on_;
+    std::chrono::steady_clock::time_point last_;
+    std::vector<double> phases_[Count];
+};
+
+/// CPU time this process has used (user + system), s.
+double processCpuSeconds() {
+    rusage usage{};
+    getrusage(RUSAGE_SELF, &usage);
+    auto seconds = [](const timeval& t) { return t.tv_sec + t.tv_usec * 1e-6; };
+    return seconds(usage.ru_utime) + seconds(usage.ru_stime);
 }
 
 bool isProjectFile(const std::string& path) {
@@ -69,7 +199,7 @@ void requestOpen(EditorState& s, const std::string& path, bool isNew) {
 }
 
 void handleDrops(EditorState& s) {
-    for (const std::string& path : droppedPaths) {
+    for (const std::string& path : s.droppedPaths) {
         if (isProjectFile(path)) {
             requestOpen(s, path, false);
         } else {
@@ -77,7 +207,7 @@ void handleDrops(EditorState& s) {
             s.frameAll();
         }
     }
-    droppedPaths.clear();
+    s.droppedPaths.clear();
 }
 
 // [SECTION] menus and shortcuts ----------------------------------------------------------------
@@ -98,6 +228,66 @@ void frameSelected(EditorState& s) {
     s.camera.frame(bounds);
 }
 
+void togglePreview(EditorState& s) {
+    if (s.preview && s.preview->session) stopPreview(s);
+    else startPreview(s, true);
+}
+
+void playPause(EditorState& s) {
+    if (!s.preview || !s.preview->session) return;
+    PreviewSession& session = *s.preview->session;
+    session.playing() ? session.pause() : session.play();
+}
+
+void handleKey(EditorState& s, int key, bool ctrl, bool shift) {
+    if (ctrl) {
+        if (key == GLFW_KEY_Z) shift ? s.redo() : s.undo();
+        if (key == GLFW_KEY_Y) s.redo();
+        if (key == GLFW_KEY_H) {
+            s.showHistory = !s.showHistory;
+            s.historyScrollPending = true;
+        }
+        if (key == GLFW_KEY_S) {
+            if (shift) s.openSaveAs();
+            else s.save();
+        }
+        if (key == GLFW_KEY_O) s.browser.open(FileBrowser::Purpose::OpenProject, s.document->project().folder);
+        if (key == GLFW_KEY_N) requestOpen(s, "", true);
+        if (key == GLFW_KEY_Q) s.requestQuit = true;
+        return;
+    }
+    switch (key) {
+        case GLFW_KEY_1: case GLFW_KEY_KP_1: s.setView(ViewPreset::Front); break;
+        case GLFW_KEY_3: case GLFW_KEY_KP_3: s.setView(ViewPreset::Side); break;
+        case GLFW_KEY_7: case GLFW_KEY_KP_7: s.setView(ViewPreset::Top); break;
+        case GLFW_KEY_0: case GLFW_KEY_KP_0: s.setView(ViewPreset::Persp); break;
+        case GLFW_KEY_5: case GLFW_KEY_KP_5: s.camera.orthographic = !s.camera.orthographic; break;
+        case GLFW_KEY_HOME: s.frameAll(); break;
+        case GLFW_KEY_F: frameSelected(s); break;
+        case GLFW_KEY_V: s.tool = Tool::Navigate; break;
+        case GLFW_KEY_B: s.tool = Tool::Brush; break;
+        case GLFW_KEY_G: s.tool = Tool::FillIsland; break;
+        case GLFW_KEY_I: s.tool = Tool::Pick; break;
+        case GLFW_KEY_E:
+            s.brush.mode = s.brush.mode == BrushMode::Erase ? BrushMode::Paint : BrushMode::Erase;
+            break;
+        case GLFW_KEY_S:
+            s.brush.mode = s.brush.mode == BrushMode::Smooth ? BrushMode::Paint : BrushMode::Smooth;
+            break;
+        case GLFW_KEY_X:
+            // While the graph edits in the view, X (like Y and Z) holds a node drag on that
+            // axis: it does not also flip the brush's mirror.
+            if (!graphEditsInView(s)) s.brush.mirrorX = !s.brush.mirrorX;
+            break;
+        case GLFW_KEY_LEFT_BRACKET: s.brush.radius /= 1.25; break;
+        case GLFW_KEY_RIGHT_BRACKET: s.brush.radius *= 1.25; break;
+        case GLFW_KEY_F1: s.showShortcuts = true; break;
+        case GLFW_KEY_P: togglePreview(s); break;
+        case GLFW_KEY_SPACE: playPause(s); break;
+        default: break;
+    }
+}
+
 void drawMenus(EditorState& s) {
     if (!ImGui::BeginMainMenuBar()) return;
     const fs::path folder = s.document->project().folder;
@@ -116,9 +306,7 @@ void drawMenus(EditorState& s) {
         if (ImGui::MenuItem("Import Mesh...")) s.browser.open(FileBrowser::Purpose::ImportMesh, folder);
         ImGui::Separator();
         if (ImGui::MenuItem("Save", "Ctrl+S")) s.save();
-        if (ImGui::MenuItem("Save As...", "Ctrl+Shift+S")) {
-            s.browser.open(FileBrowser::Purpose::SaveProjectAs, folder);
-        }
+        if (ImGui::MenuItem("Save As...", "Ctrl+Shift+S")) s.openSaveAs();
         if (ImGui::MenuItem("Export bundle...")) s.browser.open(FileBrowser::Purpose::Export, folder);
         ImGui::Separator();
         if (ImGui::MenuItem("Quit", "Ctrl+Q")) s.requestQuit = true;
@@ -129,6 +317,11 @@ void drawMenus(EditorState& s) {
         const std::string redo = "Redo " + s.document->redoName();
         if (ImGui::MenuItem(undo.c_str(), "Ctrl+Z", false, s.document->canUndo())) s.undo();
         if (ImGui::MenuItem(redo.c_str(), "Ctrl+Shift+Z", false, s.document->canRedo())) s.redo();
+        ImGui::Separator();
+        if (ImGui::MenuItem("Undo history", "Ctrl+H", s.showHistory)) {
+            s.showHistory = !s.showHistory;
+            s.historyScrollPending = true;
+        }
         ImGui::EndMenu();
     }
     if (ImGui::BeginMenu("View")) {
@@ -148,8 +341,9 @@ void drawMenus(EditorState& s) {
     }
     if (ImGui::BeginMenu("Simulate")) {
         const bool running = s.preview && s.preview->session;
-        if (ImGui::MenuItem(running ? "Restart live preview" : "Live preview", "P")) startPreview(s, true);
-        if (ImGui::MenuItem("Stop live preview", nullptr, false, running)) stopPreview(s);
+        if (ImGui::MenuItem("Live preview", "P", running)) togglePreview(s);
+        if (ImGui::MenuItem("Restart live preview", nullptr, false, running)) startPreview(s, true);
+        if (ImGui::MenuItem("Play / pause", "Space", false, running)) playPause(s);
         ImGui::EndMenu();
     }
     if (ImGui::BeginMenu("Help")) {
@@ -161,48 +355,20 @@ void drawMenus(EditorState& s) {
 }
 
 void handleShortcuts(EditorState& s) {
+    // From the key callback's queue, not ImGui's key state: a tap shorter than a frame is
+    // pressed and released before the frame looks (ImGui 1.86 would miss it).
+    std::vector<std::pair<int, int>> presses;
+    presses.swap(s.keyPresses);
     const ImGuiIO& io = ImGui::GetIO();
     if (io.WantTextInput) return;
-    const bool ctrl = io.KeyCtrl, shift = io.KeyShift;
-    auto pressed = [](int key) { return ImGui::IsKeyPressed(key, false); };
-    if (ctrl && pressed(GLFW_KEY_Z)) shift ? s.redo() : s.undo();
-    if (ctrl && pressed(GLFW_KEY_Y)) s.redo();
-    if (ctrl && pressed(GLFW_KEY_S)) {
-        if (shift) s.browser.open(FileBrowser::Purpose::SaveProjectAs, s.document->project().folder);
-        else s.save();
-    }
-    if (ctrl && pressed(GLFW_KEY_O)) s.browser.open(FileBrowser::Purpose::OpenProject, s.document->project().folder);
-    if (ctrl && pressed(GLFW_KEY_N)) requestOpen(s, "", true);
-    if (ctrl && pressed(GLFW_KEY_Q)) s.requestQuit = true;
-    if (ctrl) return;
-    if (pressed(GLFW_KEY_1) || pressed(GLFW_KEY_KP_1)) s.setView(ViewPreset::Front);
-    if (pressed(GLFW_KEY_3) || pressed(GLFW_KEY_KP_3)) s.setView(ViewPreset::Side);
-    if (pressed(GLFW_KEY_7) || pressed(GLFW_KEY_KP_7)) s.setView(ViewPreset::Top);
-    if (pressed(GLFW_KEY_0) || pressed(GLFW_KEY_KP_0)) s.setView(ViewPreset::Persp);
-    if (pressed(GLFW_KEY_5) || pressed(GLFW_KEY_KP_5)) s.camera.orthographic = !s.camera.orthographic;
-    if (pressed(GLFW_KEY_HOME)) s.frameAll();
-    if (pressed(GLFW_KEY_F)) frameSelected(s);
-    if (pressed(GLFW_KEY_V)) s.tool = Tool::Navigate;
-    if (pressed(GLFW_KEY_B)) s.tool = Tool::Brush;
-    if (pressed(GLFW_KEY_G)) s.tool = Tool::FillIsland;
-    if (pressed(GLFW_KEY_I)) s.tool = Tool::Pick;
-    if (pressed(GLFW_KEY_E)) {
-        s.brush.mode = s.brush.mode == BrushMode::Erase ? BrushMode::Paint : BrushMode::Erase;
-    }
-    if (pressed(GLFW_KEY_S)) {
-        s.brush.mode = s.brush.mode == BrushMode::Smooth ? BrushMode::Paint : BrushMode::Smooth;
-    }
-    if (pressed(GLFW_KEY_X)) s.brush.mirrorX = !s.brush.mirrorX;
-    if (pressed(GLFW_KEY_LEFT_BRACKET)) s.brush.radius /= 1.25;
-    if (pressed(GLFW_KEY_RIGHT_BRACKET)) s.brush.radius *= 1.25;
-    if (pressed(GLFW_KEY_F1)) s.showShortcuts = true;
-    if (pressed(GLFW_KEY_P)) startPreview(s, true);
+    for (const auto& [key, mods] : presses) handleKey(s, key, (mods & GLFW_MOD_CONTROL) != 0,
+                                                      (mods & GLFW_MOD_SHIFT) != 0);
 }
 
 // [SECTION] dialogs ----------------------------------------------------------------------------
 
 void drawDialogs(EditorState& s, GLFWwindow* window) {
-    drawBundleExport();
+    drawBundleExport(*s.exportDialog);
     if (auto chosen = s.browser.draw()) {
         switch (s.browser.purpose()) {
             case FileBrowser::Purpose::OpenProject: requestOpen(s, chosen->string(), false); break;
@@ -212,9 +378,58 @@ void drawDialogs(EditorState& s, GLFWwindow* window) {
                 s.frameAll();
                 break;
             case FileBrowser::Purpose::Export:
-                startBundleExport(s.document->project(), *chosen, s.document->dirty());
+                // Bundles are made from the files on disk: with unsaved edits, ask first
+                // rather than export what is not on screen.
+                if (s.document->dirty()) {
+                    s.pendingExport = *chosen;
+                    ImGui::OpenPopup("Export unsaved changes?");
+                } else {
+                    startBundleExport(*s.exportDialog, s.document->project(), *chosen, false);
+                }
                 break;
         }
+    }
+    if (s.pendingSaveAs && !ImGui::IsPopupOpen("Replace existing files?")) ImGui::OpenPopup("Replace existing files?");
+    if (ImGui::BeginPopupModal("Replace existing files?", nullptr, ImGuiWindowFlags_AlwaysAutoResize)) {
+        ImGui::Text("Saving as %s replaces:", s.pendingSaveAs ? s.pendingSaveAs->filename().c_str() : "");
+        for (const std::filesystem::path& file : s.pendingSaveAsReplaces) ImGui::BulletText("%s", file.c_str());
+        if (ImGui::Button("Replace")) {
+            if (s.pendingSaveAs) s.saveAs(*s.pendingSaveAs, /*replace=*/true);
+            ImGui::CloseCurrentPopup();
+        }
+        ImGui::SameLine();
+        if (ImGui::Button("Cancel")) {
+            s.pendingSaveAs.reset();
+            s.status = "Not saved: nothing was replaced";
+            ImGui::CloseCurrentPopup();
+        }
+        ImGui::EndPopup();
+    }
+    if (ImGui::BeginPopupModal("Export unsaved changes?", nullptr, ImGuiWindowFlags_AlwaysAutoResize)) {
+        ImGui::Text("%s has unsaved changes; a bundle is made from the saved files.",
+                    s.document->title().c_str());
+        if (ImGui::Button("Save and export")) {
+            s.save();
+            if (!s.document->dirty() && s.pendingExport) {
+                startBundleExport(*s.exportDialog, s.document->project(), *s.pendingExport, false);
+            }
+            s.pendingExport.reset();
+            ImGui::CloseCurrentPopup();
+        }
+        ImGui::SameLine();
+        if (ImGui::Button("Export the last save")) {
+            if (s.pendingExport) {
+                startBundleExport(*s.exportDialog, s.document->project(), *s.pendingExport, true);
+            }
+            s.pendingExport.reset();
+            ImGui::CloseCurrentPopup();
+        }
+        ImGui::SameLine();
+        if (ImGui::Button("Cancel")) {
+            s.pendingExport.reset();
+            ImGui::CloseCurrentPopup();
+        }
+        ImGui::EndPopup();
     }
     if (s.confirmDiscardOpen) {
         ImGui::OpenPopup("Unsaved changes");
@@ -287,7 +502,8 @@ void drawDialogs(EditorState& s, GLFWwindow* window) {
             "Home: frame all   F: frame selected\n"
             "V: navigate   B: brush   G: fill island   I: pick value\n"
             "E: erase on/off   S: smooth on/off   X: X-mirror   [ ]: brush radius\n"
-            "Ctrl+Z: undo   Ctrl+Shift+Z / Ctrl+Y: redo\n"
+            "P: live preview on/off   Space: play / pause the preview\n"
+            "Ctrl+Z: undo   Ctrl+Shift+Z / Ctrl+Y: redo   Ctrl+H: undo history\n"
             "Ctrl+N / Ctrl+O / Ctrl+S / Ctrl+Shift+S: new / open / save / save as   Ctrl+Q: quit\n"
             "Drop a .plim.json to open it, a mesh to import it.");
         ImGui::End();
@@ -306,24 +522,25 @@ void updateStroke(EditorState& s) {
     if (!s.stroke.active) return;
     if (!ImGui::IsMouseDown(0)) {
         // Release: the whole stroke becomes one command (one undo step).
-        if (!s.stroke.points.empty()) {
+        if (!s.stroke.points.empty() &&
             s.execute(makeStrokeCommand(*s.document, s.stroke.body, s.channel, s.brush,
-                                        s.stroke.points));
+                                        s.stroke.points, s.paintTarget()))) {
+            s.lastStrokeEnd = {s.stroke.body, s.stroke.points.back()};
+            s.lastStrokePoints = s.stroke.points.size();
         }
         s.stroke = {};
         s.overlaysDirty = true;
         return;
     }
-    if (!s.stroke.previewDirty) return;
+    if (!s.stroke.previewDirty || s.stroke.points.empty()) return;
     s.stroke.previewDirty = false;
-    const PaintedMap* map = s.document->map(s.stroke.body, s.channel);
-    if (!map) return;  // the map is made when the stroke ends
-    auto surface = s.document->paintSurface(s.stroke.body, s.channel);
-    if (!surface) return;
-    const PixelChange change = strokeChange(*map, **surface, s.brush, s.stroke.points);
-    PaintedMap preview = *map;
-    applyValues(preview, change.pixels, change.after);
-    s.renderer->setOverlay(static_cast<int>(s.stroke.body), overlayOfMap(preview));
+    if (!s.document->map(s.stroke.body, s.channel)) return;  // the map is made when the stroke ends
+    auto command = makeStrokeCommand(*s.document, s.stroke.body, s.channel, s.brush,
+                                     s.stroke.points, s.paintTarget());
+    auto* paint = command ? dynamic_cast<PaintCommand*>(command->get()) : nullptr;
+    if (!paint) return;
+    s.renderer->setOverlay(static_cast<int>(s.stroke.body),
+                           overlayOfMap(paint->preview(*s.document)));
 }
 
 void uploadOverlays(EditorState& s) {
@@ -335,9 +552,15 @@ void uploadOverlays(EditorState& s) {
             s.renderer->setOverlay(static_cast<int>(b), none);
             continue;
         }
-        Result<OverlayImage> image = buildOverlay(*s.document, b, s.overlay);
-        s.renderer->setOverlay(static_cast<int>(b), image ? *image : none);
-        if (!image) s.status = image.error().message;
+        if (overlayChannel(s.overlay)) {
+            s.renderer->setOverlay(static_cast<int>(b), buildMapOverlay(*s.document, b, s.overlay));
+            continue;
+        }
+        // The physics overlays from the textures baked in the background (none until the
+        // first bake arrives; its poll marks the overlays for refresh).
+        const auto textures = s.physicsFor(b);
+        s.renderer->setOverlay(static_cast<int>(b), textures ? overlayOfTextures(*textures, s.overlay) : none);
+        if (const std::string error = s.physicsBakes->error(b); !error.empty()) s.status = error;
     }
 }
 
@@ -392,6 +615,12 @@ int runEditorWindow(const EditorLaunch& launch) {
     }
     EditorState s;
     s.settings = Settings::load();
+    s.brush = s.settings.brush;  // the brush as it was last used
+    if (!s.brush.alphaPath.empty()) {
+        const std::string alpha = s.brush.alphaPath;
+        s.brush.alphaPath.clear();
+        if (Status loaded = loadBrushAlpha(s.brush, alpha); !loaded) s.status = loaded.error().message;
+    }
     const int width = launch.width > 0 ? launch.width : s.settings.windowWidth;
     const int height = launch.height > 0 ? launch.height : s.settings.windowHeight;
     glfwWindowHint(GLFW_CONTEXT_VERSION_MAJOR, 4);
@@ -406,9 +635,18 @@ int runEditorWindow(const EditorLaunch& launch) {
     }
     glfwMakeContextCurrent(window);
     glfwSwapInterval(launch.frames > 0 ? 0 : 1);
-    callbackState = &s;
+    glfwSetWindowUserPointer(window, &s);
     glfwSetDropCallback(window, onDrop);
     glfwSetWindowCloseCallback(window, onClose);
+    glfwSetKeyCallback(window, onKey);
+    glfwSetCharCallback(window, onChar);
+    glfwSetMouseButtonCallback(window, onMouseButton);
+    glfwSetScrollCallback(window, onScroll);
+    glfwSetCursorPosCallback(window, onCursor);
+    glfwSetWindowSizeCallback(window, onResize);
+    glfwSetWindowRefreshCallback(window, onRefresh);
+    glfwSetWindowFocusCallback(window, onFocus);
+    glfwSetCursorEnterCallback(window, onEnter);
 
     IMGUI_CHECKVERSION();
     ImGui::CreateContext();
@@ -463,13 +701,70 @@ int runEditorWindow(const EditorLaunch& launch) {
     nlohmann::json snapshotReports = nlohmann::json::array();
 
     std::vector<double> frameMs;
+    FramePhases phases(launch.frameStats);
+    // CPU of every thread (UI, llvmpipe's rasteriser threads, workers) over the steady frames:
+    // a figure that a busy machine inflates far less than wall-clock frame times.
+    constexpr int kSteadyFrom = 10;
+    double cpuAtSteady = 0;
+    // --texture-size: the frames drawn while the new size baked, and the longest of them.
+    int bakingFrames = 0;
+    double bakingFrameMsMax = 0;
+    bool textureSizeRequested = false;
+    // The preview panel's request needs a running preview; the inspector's works either way.
+    auto rebakeRequested = [&] {
+        return (launch.textureSize > 0 && s.preview->session) ||
+               (launch.inspectorTextureSize > 0 && s.document->bodyCount() > 0);
+    };
+    auto rebaking = [&] {
+        return (s.preview->session && s.preview->session->rebuilding()) ||
+               (launch.inspectorTextureSize > 0 && s.physicsBakes->busy());
+    };
     std::string title;
     int frame = 0;
     bool screenshotOk = true;
+    std::uint64_t eventsSeen = 0;
+    int awakeFrames = 0;
+    // --run-seconds: the interactive loop, timed (CPU from one second in, after start-up).
+    const auto runStart = std::chrono::steady_clock::now();
+    std::optional<double> cpuAtOneSecond;
+    int framesAfterOneSecond = 0;
+    auto elapsed = [&] {
+        return std::chrono::duration<double>(std::chrono::steady_clock::now() - runStart).count();
+    };
     while (!glfwWindowShouldClose(window)) {
+        if (launch.runSeconds > 0) {
+            if (!cpuAtOneSecond && elapsed() >= 1.0) cpuAtOneSecond = processCpuSeconds();
+            if (elapsed() >= launch.runSeconds) break;
+        }
+        // Idle, the editor sleeps until an event (or the autosave's next look): nothing moves,
+        // so nothing needs drawing. A few frames follow each event, for ImGui to settle
+        // (hover, popups opening the frame after a click).
+        const bool idle = launch.frames == 0 && awakeFrames == 0 && !animating(s);
+        if (idle) {
+            // A new texture size baking: its progress bar moves four times a second.
+            double wait = s.physicsBakes->resizing() ? kBakeProgressSeconds : kIdleWakeSeconds;
+            if (launch.runSeconds > 0) wait = std::clamp(launch.runSeconds - elapsed(), 0.01, wait);
+            glfwWaitEventsTimeout(wait);
+            // Woken by the timeout alone: nothing to draw unless the autosave is due, a bake
+            // has finished or one shows its progress.
+            const bool autosaveDue = s.document->dirty() &&
+                                     glfwGetTime() - s.lastAutosave > s.settings.autosaveSeconds;
+            const bool bakeNews = s.physicsBakes->finishedWaiting() || s.physicsBakes->resizing();
+            if (s.inputEvents == eventsSeen && !autosaveDue && !bakeNews && !animating(s)) continue;
+        } else {
+            glfwPollEvents();
+        }
+        if (cpuAtOneSecond) ++framesAfterOneSecond;
+        if (s.inputEvents != eventsSeen) {
+            eventsSeen = s.inputEvents;
+            awakeFrames = kFramesAfterEvent;
+        } else if (awakeFrames > 0) {
+            --awakeFrames;
+        }
         const auto frameStart = std::chrono::steady_clock::now();
-        glfwPollEvents();
+        phases.start(frameStart);
         handleDrops(s);
+        s.pollPhysicsBakes();
         ImGui_ImplOpenGL3_NewFrame();
         ImGui_ImplGlfw_NewFrame();
         ImGui::NewFrame();
@@ -480,18 +775,20 @@ int runEditorWindow(const EditorLaunch& launch) {
         const ImVec2 display = io.DisplaySize;
         const float menu = ImGui::GetFrameHeight();
         const float status = ImGui::GetFrameHeight() + 4;
-        const float column = std::min(400.0f, display.x * 0.4f);
-        const float below = display.y - menu - status;
-        const float uvSide = std::min(column, below * 0.36f);
-        const float tools = std::min(250.0f, below * 0.3f);
-        s.viewport = Rect{0, menu, display.x - column, below};
-        drawBrushPanel(s, Rect{display.x - column, menu, column, tools});
-        drawInspectorPanel(s, Rect{display.x - column, menu + tools, column,
-                                   below - tools - uvSide});
-        drawUvPanel(s, Rect{display.x - column, display.y - status - uvSide, column, uvSide});
+        // Shares of the column, not pixels: a window that shrinks and grows gets its panels back.
+        const WindowLayout layout = windowLayout(s.settings.layout, display.x, display.y, menu, status);
+        auto rect = [](const PanelRect& r) { return Rect{r.x, r.y, r.w, r.h}; };
+        s.viewport = rect(layout.view);
+        drawBrushPanel(s, rect(layout.panels[0]));
+        drawLayersPanel(s, rect(layout.panels[1]));
+        drawInspectorPanel(s, rect(layout.panels[2]));
+        drawUvPanel(s, rect(layout.panels[3]));
+        drawSplitters(s, layout);
         drawPreviewPanel(s);
         drawPlotPanels(s);
         drawGraphPanel(s);
+        drawHydrostaticsPanel(s);
+        drawHistoryPanel(s);
         ImGui::SetNextWindowPos(ImVec2(0, display.y - status));
         ImGui::SetNextWindowSize(ImVec2(display.x, status));
         ImGui::Begin("##status", nullptr,
@@ -502,7 +799,9 @@ int runEditorWindow(const EditorLaunch& launch) {
         handleShortcuts(s);
         if (graphEditsInView(s) || !previewInput(s)) viewportInput(s);
         drawViewportOverlay(s);
+        phases.mark(FramePhases::Ui);
         updatePreview(s, io.DeltaTime);
+        phases.mark(FramePhases::Preview);
         drawPreviewOverlay(s);
         drawDialogs(s, window);
         if (s.requestQuit && !s.document->dirty()) glfwSetWindowShouldClose(window, GLFW_TRUE);
@@ -514,22 +813,31 @@ int runEditorWindow(const EditorLaunch& launch) {
         if (s.animateWater) s.waterTime += io.DeltaTime;
 
         ImGui::Render();
+        phases.mark(FramePhases::Ui);
         int fbWidth = 0, fbHeight = 0;
         glfwGetFramebufferSize(window, &fbWidth, &fbHeight);
         const float scale = display.x > 0 ? fbWidth / display.x : 1.0f;
         glViewport(0, 0, fbWidth, fbHeight);
-        glClearColor(0.1f, 0.1f, 0.1f, 1.0f);
+        // The whole window in the 3D view's background (the panels cover the rest): the
+        // renderer then need not clear its rectangle again.
+        RenderScene scene = sceneOf(s);
+        glClearColor(scene.background.x(), scene.background.y(), scene.background.z(), 1.0f);
+        glClearDepth(1.0);
+        glDepthMask(GL_TRUE);
         glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
         const int vw = static_cast<int>(s.viewport.w * scale), vh = static_cast<int>(s.viewport.h * scale);
         if (vw > 0 && vh > 0) {
-            RenderScene scene = sceneOf(s);
             applyPreviewToScene(s, scene);
             s.renderer->draw(scene, s.camera, vw, vh, static_cast<int>(s.viewport.x * scale),
-                             fbHeight - static_cast<int>((s.viewport.y + s.viewport.h) * scale));
+                             fbHeight - static_cast<int>((s.viewport.y + s.viewport.h) * scale),
+                             /*cleared=*/true);
         }
+        phases.mark(FramePhases::Scene);
         glViewport(0, 0, fbWidth, fbHeight);
         ImGui_ImplOpenGL3_RenderDrawData(ImGui::GetDrawData());
+        phases.mark(FramePhases::Panels);
         ++frame;
+        if (frame == kSteadyFrom) cpuAtSteady = processCpuSeconds();
         const bool last = launch.frames > 0 && frame >= launch.frames;
         for (const auto& [at, path] : snapshots) {
             if (at != frame) continue;
@@ -545,6 +853,7 @@ int runEditorWindow(const EditorLaunch& launch) {
             screenshotOk = writeScreenshot(launch.screenshot, fbWidth, fbHeight);
         }
         glfwSwapBuffers(window);
+        phases.mark(FramePhases::Present);
 
         const std::string wanted = s.document->title() + " - Plimsoll";
         if (wanted != title) {
@@ -561,10 +870,42 @@ int runEditorWindow(const EditorLaunch& launch) {
                               std::chrono::steady_clock::now() - frameStart)
                               .count());
         s.preview->uiFrameMs = frameMs.back();
+        if (rebakeRequested()) {
+            if (!textureSizeRequested && frame == 2) {
+                if (launch.inspectorTextureSize > 0) (void)s.setTextureSize(0, launch.inspectorTextureSize);
+                else s.preview->session->requestTextureSize(launch.textureSize);
+                textureSizeRequested = true;
+            } else if (textureSizeRequested && rebaking()) {
+                ++bakingFrames;
+                bakingFrameMsMax = std::max(bakingFrameMsMax, frameMs.back());
+            } else if (textureSizeRequested) {
+                break;  // swapped in (or failed): the frame after shows the new size
+            }
+        }
         if (last) break;
     }
 
-    if (launch.frames > 0) {
+    if (launch.runSeconds > 0) {
+        nlohmann::json report;
+        report["seconds"] = elapsed();
+        report["frames_after_first_second"] = framesAfterOneSecond;
+        report["cpu_seconds_after_first_second"] =
+            cpuAtOneSecond ? processCpuSeconds() - *cpuAtOneSecond : 0.0;
+        report["view"] = viewName(s.camera);
+        report["tool"] = static_cast<int>(s.tool);
+        report["mirror_x"] = s.brush.mirrorX;
+        report["preview_running"] = static_cast<bool>(s.preview->session);
+        report["preview_playing"] = s.preview->session && s.preview->session->playing();
+        report["title"] = title;
+        report["window"] = {io.DisplaySize.x, io.DisplaySize.y};
+        report["viewport"] = {s.viewport.x, s.viewport.y, s.viewport.w, s.viewport.h};
+        report["undo"] = s.document->undoName();
+        report["last_stroke_points"] = s.lastStrokePoints;
+        int steps = 0;  // the history's length (the run is over: undoing costs nothing now)
+        while (s.document->undo()) ++steps;
+        report["undo_steps"] = steps;
+        std::cout << report.dump(2) << std::endl;
+    } else if (launch.frames > 0) {
         // Frame times after the first few (shader compiles, first uploads).
         std::vector<double> steady(frameMs.begin() + std::min<std::size_t>(frameMs.size() / 4, 10),
                                    frameMs.end());
@@ -583,6 +924,35 @@ int runEditorWindow(const EditorLaunch& launch) {
         if (!launch.screenshot.empty()) report["screenshot"] = launch.screenshot;
         if (!snapshotReports.empty()) report["snapshots"] = snapshotReports;
         if (s.preview->session) report["preview"] = previewReport(s);
+        if (launch.frameStats) {
+            nlohmann::json stats = phases.report(std::min<std::size_t>(frameMs.size() / 4, 10));
+            if (frame > kSteadyFrom) {
+                stats["cpu_ms_per_frame"] = 1000.0 * (processCpuSeconds() - cpuAtSteady) / (frame - kSteadyFrom);
+            }
+            stats["scene_frames_drawn"] = s.renderer->framesDrawn();
+            stats["scene_frames_copied"] = s.renderer->framesCopied();
+            report["frame_stats"] = stats;
+        }
+        if (rebakeRequested()) {
+            nlohmann::json& rebake = report["rebake"];
+            rebake = {{"requested", std::max(launch.textureSize, launch.inspectorTextureSize)},
+                      {"frames_while_baking", bakingFrames},
+                      {"frame_ms_max_while_baking", bakingFrameMsMax}};
+            if (s.preview->session) {
+                rebake["texture_size"] = s.preview->session->textureSize();
+                rebake["error"] = s.preview->session->rebuildError();
+            }
+            if (launch.inspectorTextureSize > 0) {
+                // What the inspector shows: the document's size and the textures baked for it,
+                // by a thread that is not this (the frame loop's) one.
+                const auto baked = s.document->bakedPhysics(0);
+                rebake["document_texture_size"] = s.document->project().bodies[0].textureSize;
+                rebake["document_baked_size"] = baked ? baked->size : 0;
+                rebake["document_error"] = s.physicsBakes->error(0);
+                rebake["baked_on_worker"] = s.physicsBakes->lastWorker(0) != std::thread::id() &&
+                                            s.physicsBakes->lastWorker(0) != std::this_thread::get_id();
+            }
+        }
         std::cout << report.dump(2) << std::endl;
     } else {
         // A clean close retires the autosave (unsaved changes were saved or discarded).
@@ -591,11 +961,12 @@ int runEditorWindow(const EditorLaunch& launch) {
         glfwGetWindowSize(window, &w, &h);
         s.settings.windowWidth = w;
         s.settings.windowHeight = h;
+        s.settings.brush = s.brush;
         (void)s.settings.save();
     }
-    callbackState = nullptr;
+    glfwSetWindowUserPointer(window, nullptr);
     s.preview.reset();
-    releaseGraphPanel();
+    releaseGraphPanel(s);
     s.renderer.reset();
     ImGui_ImplOpenGL3_Shutdown();
     ImGui_ImplGlfw_Shutdown();

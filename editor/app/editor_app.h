@@ -20,6 +20,20 @@ struct EditorLaunch {
     /// With frames and preview: "FRAME:PATH" screenshots taken at those frames; the report
     /// then lists the preview's bodies and force arrows at each.
     std::vector<std::string> snapshots;
+    /// Run the interactive loop (idle waits included) for this long, then quit and print the
+    /// frames drawn, the CPU time used after the first second and the view as JSON (0: off).
+    /// For measuring the idle editor and for tests that send it input.
+    double runSeconds = 0;
+    /// With frames and preview: ask for this physics texture size at the second frame, as the
+    /// preview panel does; the run ends once it is in (or after `frames`) and the report says
+    /// how many frames were drawn while it baked and the longest of them (0: off).
+    int textureSize = 0;
+    /// With frames: set body 0's texture size at the second frame through the inspector's
+    /// field (the document's bake and, with preview, the session's); reported like textureSize.
+    int inspectorTextureSize = 0;
+    /// With frames: also time each phase of a frame (UI, preview physics, 3D scene, panels,
+    /// present; glFinish after each) and report their medians as "frame_stats".
+    bool frameStats = false;
     int width = 0;           ///< window size (0: the saved one)
     int height = 0;
 };

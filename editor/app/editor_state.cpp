@@ -1,8 +1,21 @@
 #include "app/editor_state.h"
 
+#include "app/preview_panel.h"
+#include "document/command.h"
+
 #include <algorithm>
 
 namespace plimsoll::editor {
+
+PaintTarget EditorState::paintTarget() const {
+    PaintTarget target;
+    if (selectedBody < 0 || !document->layers(static_cast<std::size_t>(selectedBody), channel)) {
+        return target;
+    }
+    target.layer = activeLayer;
+    if (paintMask) target.part = LayerPart::Mask;
+    return target;
+}
 
 bool EditorState::execute(Result<std::unique_ptr<Command>> command) {
     if (!command) {
@@ -39,6 +52,19 @@ void EditorState::redo() {
     }
 }
 
+void EditorState::jumpToHistory(std::size_t position) {
+    const std::size_t before = document->historyPosition();
+    const bool ok = document->jumpToHistory(position);
+    const std::size_t after = document->historyPosition();
+    if (after != before) {
+        overlaysDirty = true;
+        ++documentRevision;
+    }
+    const std::size_t steps = after > before ? after - before : before - after;
+    status = (after < before ? "Undid " : "Redid ") + std::to_string(steps) + " step" +
+             (steps == 1 ? "" : "s") + (ok ? "" : " (a redo failed: stopped there)");
+}
+
 bool EditorState::open(const std::string& path) {
     if (path.empty()) {
         document = std::make_unique<Document>();
@@ -53,7 +79,10 @@ bool EditorState::open(const std::string& path) {
         (void)settings.save();
         recoveryOffer = Document::findAutosave(path);
     }
+    physicsBakes = std::make_shared<PhysicsBakes>();  // the old document's bakes stop
     selectedBody = 0;
+    activeLayer = -1;
+    paintMask = false;
     stroke = {};
     overlaysDirty = true;
     ++documentRevision;
@@ -62,9 +91,49 @@ bool EditorState::open(const std::string& path) {
     return true;
 }
 
+std::shared_ptr<const SurfaceTextures> EditorState::physicsFor(std::size_t body) {
+    return physicsBakes->texturesFor(*document, body);
+}
+
+bool EditorState::setTextureSize(std::size_t body, int size) {
+    if (!execute(makeSetPropertyCommand(*document, "/bodies/" + std::to_string(body) + "/texture_size",
+                                        size))) {
+        return false;
+    }
+    (void)physicsFor(body);  // the bake starts now, not when a panel first looks
+    if (preview && preview->session) preview->session->requestTextureSize(size, body);
+    return true;
+}
+
+void EditorState::cancelTextureBake(std::size_t body) {
+    const int previous = physicsBakes->cancel(body);
+    if (preview && preview->session && preview->session->rebuilding()) preview->session->cancelRebuild();
+    if (previous > 0) {
+        (void)execute(makeSetPropertyCommand(*document, "/bodies/" + std::to_string(body) + "/texture_size",
+                                             previous));
+        (void)physicsFor(body);  // the textures still held: no bake
+    }
+}
+
+void EditorState::pollPhysicsBakes() {
+    if (physicsBakes->poll(*document)) {
+        // The panels cache what they show against the revision; the document's edits are the same.
+        overlaysDirty = true;
+        ++documentRevision;
+    }
+}
+
+void EditorState::openSaveAs() {
+    const std::string name = !document->path().empty() ? document->path().filename().string()
+                             : document->project().name.empty() || document->project().name == "untitled"
+                                 ? std::string("project.plim.json")
+                                 : document->project().name + ".plim.json";
+    browser.open(FileBrowser::Purpose::SaveProjectAs, document->project().folder, name);
+}
+
 void EditorState::save() {
     if (document->path().empty()) {
-        browser.open(FileBrowser::Purpose::SaveProjectAs, document->project().folder);
+        openSaveAs();
         return;
     }
     Status saved = document->save();
@@ -75,10 +144,24 @@ void EditorState::save() {
     }
 }
 
-void EditorState::saveAs(const std::filesystem::path& path) {
+void EditorState::saveAs(const std::filesystem::path& path, bool replace) {
     std::filesystem::path target = path;
     if (target.string().find(".plim.json") == std::string::npos) target += ".plim.json";
-    Status saved = document->saveAs(target);
+    pendingSaveAs.reset();
+    if (!replace) {
+        // Replacing another file is asked first; a file the project reads is refused at once.
+        Result<std::vector<std::filesystem::path>> replaces = document->replacedBySaveAs(target);
+        if (!replaces) {
+            status = replaces.error().message;
+            return;
+        }
+        if (!replaces->empty()) {
+            pendingSaveAs = target;
+            pendingSaveAsReplaces = std::move(*replaces);
+            return;
+        }
+    }
+    Status saved = document->saveAs(target, replace);
     status = saved ? "Saved " + target.string() : saved.error().message;
     if (saved) {
         settings.addRecent(target);

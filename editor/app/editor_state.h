@@ -6,6 +6,7 @@
 #include "document/document.h"
 #include "document/overlay.h"
 #include "document/paint.h"
+#include "document/physics_bakes.h"
 #include "document/settings.h"
 #include "render/camera.h"
 #include "render/renderer.h"
@@ -18,20 +19,36 @@
 namespace plimsoll::editor {
 
 struct PreviewUi;  // app/preview_panel.h
+struct GraphUi;    // app/graph_panel.cpp
+std::shared_ptr<GraphUi> makeGraphUi();
+class ExportDialog;     // app/export_dialog.h
+std::shared_ptr<ExportDialog> makeExportDialog();
+struct InspectorCache;  // app/inspector_panel.cpp
+std::shared_ptr<InspectorCache> makeInspectorCache();
 
 enum class Tool { Navigate, Brush, FillIsland, FillAll, Pick };
 
 struct ActiveStroke {
     bool active = false;
+    /// Whether the stroke has reached a body yet: one that starts off the mesh paints the body
+    /// it first crosses.
+    bool onBody = false;
     std::size_t body = 0;
     std::vector<Eigen::Vector3d> points;  ///< object space
     bool previewDirty = false;
+    LazyMouse lazy;                       ///< where the brush trails the cursor (window px)
 };
 
 /// A rectangle of the window, in window pixels (top-left origin).
 struct Rect {
     float x = 0, y = 0, w = 0, h = 0;
     bool contains(float px, float py) const { return px >= x && py >= y && px < x + w && py < y + h; }
+};
+
+/// The Layers panel's sliders while held (the value shown; the command comes on release).
+struct LayerSliders {
+    bool opacityHeld = false, fillHeld = false;
+    float opacity = 0, fill = 0;
 };
 
 struct EditorState {
@@ -51,10 +68,26 @@ struct EditorState {
     bool animateWater = false;
 
     ActiveStroke stroke;
+    /// Where the last stroke ended (body, object space): Shift-click draws a line from there.
+    std::optional<std::pair<std::size_t, Eigen::Vector3d>> lastStrokeEnd;
+    std::size_t lastStrokePoints = 0;   ///< surface points of the last stroke (reports)
+    /// The layer strokes and fills change on a map with layers (index from the bottom; -1: the
+    /// top paint layer), and whether they paint its mask.
+    int activeLayer = -1;
+    bool paintMask = false;
+    LayerSliders layerSliders;
+    int newMapSize = 1024;              ///< the Tools panel's "New map" size, px
+    bool confirmNewMap = false;         ///< "replace the map?" question to open
+    /// Key presses since the last frame, in order, from the key callback: a tap shorter than a
+    /// frame is still seen (ImGui 1.86 only keeps whether a key is down at the frame start).
+    std::vector<std::pair<int, int>> keyPresses;   ///< (GLFW key, modifier bits)
+    std::uint64_t inputEvents = 0;      ///< counts window events (the idle loop wakes on them)
+    std::vector<std::string> droppedPaths;  ///< files dropped on the window, to open or import
     bool overlaysDirty = true;          ///< re-upload overlay textures
     std::uint64_t documentRevision = 0; ///< bumps on every edit (panels cache against it)
 
     Rect viewport;                      ///< where the 3D view is drawn this frame
+    bool navigating = false;            ///< a mouse drag is moving the camera
     std::string status;                 ///< status bar line
     FileBrowser browser;
     double lastAutosave = 0.0;          ///< glfwGetTime of the last autosave
@@ -64,21 +97,55 @@ struct EditorState {
     bool confirmDiscardOpen = false;    ///< "unsaved changes" dialog visible
     std::string pendingOpen;            ///< project to open once unsaved changes are settled
     bool pendingNew = false;
+    std::optional<std::filesystem::path> pendingExport;  ///< export folder awaiting "save first?"
+    /// Save As target that would replace existing files, awaiting "replace them?" (its files).
+    std::optional<std::filesystem::path> pendingSaveAs;
+    std::vector<std::filesystem::path> pendingSaveAsReplaces;
     bool showShortcuts = false;
+    bool showHistory = false;           ///< Edit > Undo history
+    bool historyScrollPending = false;  ///< the history list scrolls to the current step
     bool showAbout = false;
     std::optional<std::filesystem::path> recoveryOffer;  ///< autosave found at start
 
     /// The live preview (app/preview_panel.h); made by the frame loop.
     std::shared_ptr<PreviewUi> preview;
+    /// The water graph panel's state (app/graph_panel.cpp).
+    std::shared_ptr<GraphUi> graphUi = makeGraphUi();
+    /// The inspector's per-body facts and fields being typed into (app/inspector_panel.cpp).
+    std::shared_ptr<InspectorCache> inspector = makeInspectorCache();
+    /// File > Export bundle's worker and window (app/export_dialog.h).
+    std::shared_ptr<ExportDialog> exportDialog = makeExportDialog();
+    /// The bodies' physics textures baked on workers for the panels (physics_bakes.h).
+    std::shared_ptr<PhysicsBakes> physicsBakes = std::make_shared<PhysicsBakes>();
 
+    /// The selected body's physics textures for this frame, never baked on this thread (null
+    /// while a first bake runs; during a new size's bake, the previous size's).
+    std::shared_ptr<const SurfaceTextures> physicsFor(std::size_t body);
+    /// Sets a body's texture size (one undo step) and bakes it in the background: the running
+    /// preview is asked for it too, and keeps the old size running until it is ready.
+    bool setTextureSize(std::size_t body, int size);
+    /// Stops the body's texture bake and sets its size back to the one still shown.
+    void cancelTextureBake(std::size_t body);
+    /// Each frame: moves finished bakes into the document (views refresh).
+    void pollPhysicsBakes();
+
+    /// What strokes and fills on the selected map change (paint.h, layers.h).
+    PaintTarget paintTarget() const;
     /// Executes an edit, reports failures in the status line, marks views for refresh.
     bool execute(Result<std::unique_ptr<Command>> command);
     void undo();
     void redo();
+    /// Undo or redo to `position` steps done (the history panel's click).
+    void jumpToHistory(std::size_t position);
     /// Opens a project (or a new document with an empty path), resetting the view.
     bool open(const std::string& path);
     void save();
-    void saveAs(const std::filesystem::path& path);
+    /// File > Save As: the browser in the project's folder, with the document's name.
+    void openSaveAs();
+    /// Saves under `path` (".plim.json" added). Files the project reads are never replaced;
+    /// other existing files only with `replace`: without it, pendingSaveAs is set for the
+    /// dialog to ask.
+    void saveAs(const std::filesystem::path& path, bool replace = false);
     void frameAll();
     void setView(ViewPreset view);
     /// The body and object-space point under window position (x, y) of the viewport.

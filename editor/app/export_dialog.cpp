@@ -2,7 +2,8 @@
 // touches nothing else of the editor; it reports through a mutex-guarded log the window reads.
 #include "app/export_dialog.h"
 
-#include "plimsoll/bundle.h"
+#include "plimsoll/io/bundle.h"
+#include "plimsoll/io/file_util.h"
 
 #include <imgui.h>
 
@@ -28,6 +29,8 @@ struct Progress {
     int failures = 0;
 };
 
+}  // namespace
+
 class ExportDialog {
 public:
     ~ExportDialog() {
@@ -44,7 +47,7 @@ public:
         if (worker_.joinable()) worker_.join();
         progress_ = std::make_shared<Progress>();
         progress_->total = project.bodies.size();
-        target_ = folder / project.fileStem;
+        target_ = folder / safeFileName(project.fileStem, "project");
         if (unsaved)
             progress_->lines.push_back("note: unsaved changes are not in the bundle (it is made "
                                        "from the saved project's files); save and export again "
@@ -146,17 +149,15 @@ private:
     std::chrono::steady_clock::time_point started_, finished_;
 };
 
-ExportDialog& dialog() {
-    static ExportDialog instance;
-    return instance;
+std::shared_ptr<ExportDialog> makeExportDialog() { return std::make_shared<ExportDialog>(); }
+
+void startBundleExport(ExportDialog& dialog, const Project& project, const fs::path& folder,
+                       bool unsaved) {
+    dialog.start(project, folder, unsaved);
 }
 
-}  // namespace
+void drawBundleExport(ExportDialog& dialog) { dialog.draw(); }
 
-void startBundleExport(const Project& project, const fs::path& folder, bool unsaved) {
-    dialog().start(project, folder, unsaved);
-}
-
-void drawBundleExport() { dialog().draw(); }
+bool bundleExportRunning(const ExportDialog& dialog) { return dialog.running(); }
 
 }  // namespace plimsoll::editor

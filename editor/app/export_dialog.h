@@ -4,18 +4,26 @@
 // FOLDER/<project file stem>/<body>/.
 #pragma once
 
-#include "plimsoll/project.h"
+#include "plimsoll/scene/project.h"
 
 #include <filesystem>
+#include <memory>
 
 namespace plimsoll::editor {
 
 /// Starts exporting `project` (a copy is taken) into `folder`. `unsaved`: the document has
 /// changes not yet saved (the bundle is made from the project's files on disk, so the window
 /// says they are not in it). Ignored, with a note in the window, while an export runs.
-void startBundleExport(const Project& project, const std::filesystem::path& folder, bool unsaved);
+class ExportDialog;
+std::shared_ptr<ExportDialog> makeExportDialog();
+
+void startBundleExport(ExportDialog& dialog, const Project& project,
+                       const std::filesystem::path& folder, bool unsaved);
 
 /// Draws the export window while an export runs or its result is shown; every frame.
-void drawBundleExport();
+void drawBundleExport(ExportDialog& dialog);
+
+/// Whether an export is running (the frame loop keeps drawing its progress).
+bool bundleExportRunning(const ExportDialog& dialog);
 
 }  // namespace plimsoll::editor

@@ -27,11 +27,11 @@ bool endsWith(const std::string& s, const std::string& suffix) {
 
 }  // namespace
 
-void FileBrowser::open(Purpose purpose, const fs::path& folder) {
+void FileBrowser::open(Purpose purpose, const fs::path& folder, const std::string& name) {
     purpose_ = purpose;
     folder_ = folder.empty() ? fs::current_path() : folder;
-    name_[0] = '\0';
-    if (purpose == Purpose::SaveProjectAs) std::strcpy(name_, "untitled.plim.json");
+    std::snprintf(name_, sizeof name_, "%s", name.c_str());
+    namingFolder_ = false;
     error_.clear();
     requested_ = true;
     list();
@@ -91,6 +91,28 @@ std::optional<fs::path> FileBrowser::draw() {
     if (ImGui::Button("Current folder")) {
         folder_ = fs::current_path();
         list();
+    }
+    ImGui::SameLine();
+    if (ImGui::Button("New folder")) {
+        namingFolder_ = true;
+        folderName_[0] = '\0';
+    }
+    if (namingFolder_) {
+        ImGui::SetNextItemWidth(240);
+        const bool entered = ImGui::InputText("##folder", folderName_, sizeof folderName_,
+                                              ImGuiInputTextFlags_EnterReturnsTrue);
+        ImGui::SameLine();
+        if ((ImGui::Button("Create") || entered) && folderName_[0]) {
+            std::error_code ec;
+            const fs::path made = folder_ / folderName_;
+            if (fs::create_directory(made, ec)) {
+                folder_ = made;
+                namingFolder_ = false;
+                list();
+            } else {
+                error_ = made.string() + ": cannot create" + (ec ? ": " + ec.message() : " (it exists)");
+            }
+        }
     }
     const float footer = ImGui::GetFrameHeightWithSpacing() * 2.2f;
     ImGui::BeginChild("entries", ImVec2(0, -footer), true);

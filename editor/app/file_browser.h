@@ -13,8 +13,9 @@ class FileBrowser {
 public:
     enum class Purpose { OpenProject, SaveProjectAs, ImportMesh, Export };
 
-    /// Shows the browser (as a modal popup) from the next frame, in `folder`.
-    void open(Purpose purpose, const std::filesystem::path& folder);
+    /// Shows the browser (as a modal popup) from the next frame, in `folder`, with `name` in
+    /// the name field (saving: the document's own name rather than a generic one).
+    void open(Purpose purpose, const std::filesystem::path& folder, const std::string& name = "");
     /// Draws it while open; returns the chosen path on the frame it is chosen.
     std::optional<std::filesystem::path> draw();
     Purpose purpose() const { return purpose_; }
@@ -33,6 +34,8 @@ private:
     std::vector<Entry> entries_;
     char name_[512] = {};
     std::string error_;
+    bool namingFolder_ = false;   ///< "New folder" is asking for a name
+    char folderName_[256] = {};
 };
 
 }  // namespace plimsoll::editor

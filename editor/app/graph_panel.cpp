@@ -47,6 +47,9 @@ struct AutoJob {
     std::size_t body = 0;
 };
 
+}  // namespace
+
+/// The panel's state (EditorState::graphUi): selection, tools, the automatic graph's job.
 struct GraphUi {
     bool editInView = true;       ///< the left mouse edits the graph (else the paint tools)
     bool panelOpen = false;       ///< not collapsed: only then does the graph take the mouse
@@ -73,8 +76,17 @@ struct GraphUi {
     std::unique_ptr<GraphDrawer> drawer;
     std::vector<RenderGraph> drawn;   ///< this frame's, for the scene's drawInside
     WaterGraph dragged;               ///< the graph with the drag applied (drawn while dragging)
+    // The inspector's fields while being edited (committed when editing ends).
+    char nodeName[128] = {};
+    std::string nodeEditingFor;
+    GraphNode nodeShown;
+    GraphPipe pipeShown;
+    std::pair<std::string, std::string> pipeEditingFor;
 };
-GraphUi ui;
+
+namespace {
+
+GraphUi& uiOf(const EditorState& s) { return *s.graphUi; }
 
 std::size_t bodyOf(const EditorState& s) {
     return static_cast<std::size_t>(std::max(0, s.selectedBody));
@@ -85,7 +97,7 @@ const WaterGraph* graphOf(const EditorState& s) {
     return s.document->graph(bodyOf(s));
 }
 
-std::vector<std::string> selectedIds(const WaterGraph& g) {
+std::vector<std::string> selectedIds(const GraphUi& ui, const WaterGraph& g) {
     std::vector<std::string> ids;
     for (const GraphNode& n : g.nodes) {
         if (ui.selected.count(n.id)) ids.push_back(n.id);
@@ -94,7 +106,7 @@ std::vector<std::string> selectedIds(const WaterGraph& g) {
 }
 
 /// Drops selected ids the graph no longer has (after an undo or a delete).
-void pruneSelection(const WaterGraph* g) {
+void pruneSelection(GraphUi& ui, const WaterGraph* g) {
     if (!g) {
         ui.selected.clear();
         ui.selectedPipe.reset();
@@ -113,6 +125,7 @@ void ray(const EditorState& s, ImVec2 mouse, Eigen::Vector3d& origin, Eigen::Vec
 
 /// Where the drag puts the grabbed node now (world), from the mouse ray.
 std::optional<Eigen::Vector3d> dragTarget(const EditorState& s, ImVec2 mouse) {
+    const GraphUi& ui = uiOf(s);
     Eigen::Vector3d o, d;
     ray(s, mouse, o, d);
     for (int axis = 0; axis < 3; ++axis) {
@@ -135,16 +148,21 @@ std::optional<Eigen::Vector3d> dragTarget(const EditorState& s, ImVec2 mouse) {
 }
 
 void startAutoGenerate(EditorState& s) {
+    GraphUi& ui = uiOf(s);
     const std::size_t body = bodyOf(s);
     auto mesh = s.document->assets(body).mesh;
-    auto textures = s.document->physicsTextures(body);
-    if (!mesh || !textures) {
-        ui.autoError = !mesh ? "the body has no mesh" : textures.error().message;
+    const std::shared_ptr<const SurfaceTextures> textures = s.physicsFor(body);
+    const bool current = textures && textures == s.document->bakedPhysics(body);
+    if (!mesh || !current) {
+        ui.autoError = !mesh ? "the body has no mesh"
+                     : !s.physicsBakes->error(body).empty()
+                         ? s.physicsBakes->error(body)
+                         : "the physics textures are baking (see the inspector); try again when done";
         return;
     }
     auto progress = std::make_shared<std::atomic<double>>(0.0);
     const int segments = ui.segments;
-    std::shared_ptr<const SurfaceTextures> baked = *textures;
+    std::shared_ptr<const SurfaceTextures> baked = textures;
     // The worker owns shared pointers to what it reads: the document may change meanwhile.
     ui.job = AutoJob{std::async(std::launch::async,
                                 [mesh, baked, segments, progress]() -> Result<AutoPreview> {
@@ -169,7 +187,7 @@ void startAutoGenerate(EditorState& s) {
     ui.autoError.clear();
 }
 
-void pollAutoGenerate() {
+void pollAutoGenerate(GraphUi& ui) {
     if (!ui.job) return;
     if (ui.job->result.wait_for(std::chrono::seconds(0)) != std::future_status::ready) return;
     Result<AutoPreview> done = ui.job->result.get();
@@ -193,9 +211,10 @@ bool inputDouble(const char* label, double& value, const char* format = "%.4f") 
 
 void nodeInspector(EditorState& s, const GraphNode& n) {
     ImGui::Text("Node %s", n.id.c_str());
-    static char name[128];
-    static std::string editingFor;
-    static GraphNode shown;
+    GraphUi& ui = uiOf(s);
+    char (&name)[128] = ui.nodeName;
+    std::string& editingFor = ui.nodeEditingFor;
+    GraphNode& shown = ui.nodeShown;
     if (editingFor != n.id || !ImGui::IsAnyItemActive()) {
         editingFor = n.id;
         shown = n;
@@ -226,8 +245,8 @@ void nodeInspector(EditorState& s, const GraphNode& n) {
 
 void pipeInspector(EditorState& s, const WaterGraph& g, const GraphPipe& p) {
     ImGui::Text("Pipe %s - %s", p.a.c_str(), p.b.c_str());
-    static GraphPipe shown;
-    static std::pair<std::string, std::string> editingFor;
+    GraphPipe& shown = uiOf(s).pipeShown;
+    std::pair<std::string, std::string>& editingFor = uiOf(s).pipeEditingFor;
     if (editingFor != std::pair(p.a, p.b) || !ImGui::IsAnyItemActive()) {
         editingFor = {p.a, p.b};
         shown = p;
@@ -243,6 +262,7 @@ void pipeInspector(EditorState& s, const WaterGraph& g, const GraphPipe& p) {
 
 /// Uploads the feed or segment colours of the selected body when what they show changed.
 void updateOverlay(EditorState& s) {
+    GraphUi& ui = uiOf(s);
     const std::size_t body = bodyOf(s);
     const bool segments = ui.preview && ui.preview->body == body;
     const int kind = segments ? 2 : ui.showFeeds ? 1 : 0;
@@ -256,22 +276,99 @@ void updateOverlay(EditorState& s) {
     OverlayImage none;
     s.renderer->setOverlay(kGraphOverlaySlot, none);
     if (kind == 0) return;
-    auto textures = s.document->physicsTextures(body);
-    if (!textures) return;
+    const std::shared_ptr<const SurfaceTextures> textures = s.physicsFor(body);
+    if (!textures) return;  // the bake's arrival bumps the revision: drawn then
     if (kind == 2) {
-        s.renderer->setOverlay(kGraphOverlaySlot, segmentOverlay(ui.preview->texelSegment, **textures));
+        s.renderer->setOverlay(kGraphOverlaySlot, segmentOverlay(ui.preview->texelSegment, *textures));
     } else if (const WaterGraph* g = graphOf(s)) {
-        s.renderer->setOverlay(kGraphOverlaySlot, feedOverlay(*g, **textures));
+        s.renderer->setOverlay(kGraphOverlaySlot, feedOverlay(*g, *textures));
+    }
+}
+
+}  // namespace
+
+namespace {
+
+/// The schematic beside the 3D view (graph_view.h): boxes at the nodes' profile places, filled
+/// to their water level, pipes between them (closed ones grey); click to select (shift adds),
+/// hover for the node's numbers.
+void drawSchematic(GraphUi& ui, const WaterGraph& g) {
+    const float width = std::max(120.0f, ImGui::GetContentRegionAvail().x);
+    const Eigen::Vector2f box(64, 26);
+    const SchematicLayout layout = schematicLayout(g, width, 200.0f, box);
+    // A crowded profile grows past the canvas: the canvas grows with it.
+    float right = width, bottom = 200.0f;
+    for (const Eigen::Vector2f& c : layout.centre) {
+        right = std::max(right, c.x() + 0.5f * box.x());
+        bottom = std::max(bottom, c.y() + 0.5f * box.y());
+    }
+    float left = 0, top = 0;
+    for (const Eigen::Vector2f& c : layout.centre) {
+        left = std::min(left, c.x() - 0.5f * box.x());
+        top = std::min(top, c.y() - 0.5f * box.y());
+    }
+    const ImVec2 origin = ImGui::GetCursorScreenPos();
+    const ImVec2 size(right - left, bottom - top);
+    ImGui::InvisibleButton("##schematic", size);
+    const bool hovered = ImGui::IsItemHovered();
+    const bool clicked = ImGui::IsItemClicked(0);
+    ImDrawList* draw = ImGui::GetWindowDrawList();
+    draw->AddRectFilled(origin, ImVec2(origin.x + size.x, origin.y + size.y), IM_COL32(30, 32, 36, 255));
+    auto at = [&](const Eigen::Vector2f& c) { return ImVec2(origin.x + c.x() - left, origin.y + c.y() - top); };
+    for (const GraphPipe& pipe : g.pipes) {
+        const int a = g.indexOf(pipe.a), b = g.indexOf(pipe.b);
+        if (a < 0 || b < 0) continue;
+        const bool selected = ui.selectedPipe == std::pair(pipe.a, pipe.b);
+        draw->AddLine(at(layout.centre[a]), at(layout.centre[b]),
+                      selected ? IM_COL32(255, 255, 255, 255)
+                      : pipe.open ? IM_COL32(90, 170, 255, 255) : IM_COL32(120, 120, 120, 255),
+                      selected ? 3.0f : 2.0f);
+    }
+    const ImVec2 mouse = ImGui::GetIO().MousePos;
+    const Eigen::Vector2f local(mouse.x - origin.x + left, mouse.y - origin.y + top);
+    const int under = hovered ? schematicNodeAt(layout, local) : -1;
+    for (std::size_t i = 0; i < g.nodes.size(); ++i) {
+        const GraphNode& node = g.nodes[i];
+        const ImVec2 c = at(layout.centre[i]);
+        const ImVec2 lo(c.x - 0.5f * box.x(), c.y - 0.5f * box.y()), hi(c.x + 0.5f * box.x(), c.y + 0.5f * box.y());
+        draw->AddRectFilled(lo, hi, IM_COL32(20, 22, 26, 255));
+        const float fill = node.capacity > 0 ? std::clamp(float(node.water / node.capacity), 0.0f, 1.0f) : 0.0f;
+        if (fill > 0) draw->AddRectFilled(ImVec2(lo.x, hi.y - fill * box.y()), hi, IM_COL32(40, 110, 200, 255));
+        const Eigen::Vector3f colour = nodeColour(i);
+        const bool selected = ui.selected.count(node.id) > 0;
+        draw->AddRect(lo, hi, selected ? IM_COL32(255, 255, 255, 255)
+                                       : IM_COL32(int(255 * colour.x()), int(255 * colour.y()),
+                                                  int(255 * colour.z()), 255),
+                      0.0f, 0, selected || int(i) == under ? 2.5f : 1.5f);
+        const std::string& label = node.name.empty() ? node.id : node.name;
+        draw->PushClipRect(lo, hi, true);
+        draw->AddText(ImVec2(lo.x + 3, lo.y + 5), IM_COL32(235, 235, 235, 255), label.c_str());
+        draw->PopClipRect();
+    }
+    if (under >= 0) {
+        const GraphNode& node = g.nodes[under];
+        ImGui::SetTooltip("%s%s%s\nwater %.4g of %.4g m^3%s", node.id.c_str(),
+                          node.name.empty() ? "" : ": ", node.name.c_str(), node.water,
+                          node.capacity, node.sealed ? "\nsealed" : "");
+        if (clicked) {
+            if (!ImGui::GetIO().KeyShift && !ImGui::GetIO().KeyCtrl) ui.selected.clear();
+            if (!ui.selected.insert(node.id).second) ui.selected.erase(node.id);
+            ui.selectedPipe.reset();
+        }
+    } else if (clicked && !ImGui::GetIO().KeyShift) {
+        ui.selected.clear();
+        ui.selectedPipe.reset();
     }
 }
 
 }  // namespace
 
 void drawGraphPanel(EditorState& s) {
-    pollAutoGenerate();
+    GraphUi& ui = uiOf(s);
+    pollAutoGenerate(ui);
     const std::size_t body = bodyOf(s);
     const WaterGraph* g = graphOf(s);
-    pruneSelection(g);
+    pruneSelection(ui, g);
     const ImVec2 display = ImGui::GetIO().DisplaySize;
     ImGui::SetNextWindowPos(ImVec2(display.x * 0.02f, display.y * 0.08f), ImGuiCond_FirstUseEver);
     ImGui::SetNextWindowSize(ImVec2(340, 520), ImGuiCond_FirstUseEver);
@@ -308,10 +405,12 @@ void drawGraphPanel(EditorState& s) {
     const char* planes[] = {"view plane", "horizontal plane", "hull surface"};
     int plane = static_cast<int>(ui.dragPlane);
     if (ImGui::Combo("drag on", &plane, planes, 3)) ui.dragPlane = static_cast<DragPlane>(plane);
+    ImGui::PushTextWrapPos(0.0f);
     ImGui::TextDisabled("hold X / Y / Z while dragging: along that axis");
+    ImGui::PopTextWrapPos();
 
     // Buttons: each one command.
-    const std::vector<std::string> ids = selectedIds(*g);
+    const std::vector<std::string> ids = selectedIds(ui, *g);
     if (ImGui::Button("Add node")) {
         GraphNode n;
         const Bounds3 bounds = computeBounds(*s.document->assets(body).mesh);
@@ -359,20 +458,23 @@ void drawGraphPanel(EditorState& s) {
     }
     ImGui::EndDisabled();
     g = graphOf(s);  // the buttons may have changed it
-    pruneSelection(g);
+    pruneSelection(ui, g);
     if (!g) {
         ImGui::End();
         return;
     }
 
     ImGui::Separator();
-    ImGui::Text("%zu nodes, %zu pipes, capacity %.4g m^3, water %.4g m^3", g->nodes.size(),
+    ImGui::TextWrapped("%zu nodes, %zu pipes, capacity %.4g m^3, water %.4g m^3", g->nodes.size(),
                 g->pipes.size(), g->totalCapacity(), g->totalWater());
     const GraphReport report = validateGraph(*g, s.document->assets(body).mesh.get());
+    // Wrapped: a problem names its node and says why, longer than the panel is wide.
+    ImGui::PushTextWrapPos(0.0f);
     for (const GraphProblem& p : report.problems) {
         ImGui::TextColored(p.error ? ImVec4(1, 0.4f, 0.4f, 1) : ImVec4(1, 0.8f, 0.3f, 1), "%s",
                            p.message.c_str());
     }
+    ImGui::PopTextWrapPos();
     if (ImGui::BeginListBox("##nodes", ImVec2(-1, 110))) {
         for (std::size_t i = 0; i < g->nodes.size(); ++i) {
             const GraphNode& n = g->nodes[i];
@@ -395,6 +497,9 @@ void drawGraphPanel(EditorState& s) {
             }
         }
         ImGui::EndListBox();
+    }
+    if (ImGui::CollapsingHeader("Schematic (side view)", ImGuiTreeNodeFlags_DefaultOpen)) {
+        drawSchematic(ui, *g);
     }
     if (ui.selected.size() == 1) {
         nodeInspector(s, g->nodes[g->indexOf(*ui.selected.begin())]);
@@ -434,10 +539,12 @@ void drawGraphPanel(EditorState& s) {
 }
 
 bool graphEditsInView(EditorState& s) {
+    GraphUi& ui = uiOf(s);
     return ui.panelOpen && ui.editInView && ui.showGraph && graphOf(s) != nullptr;
 }
 
 bool graphViewportInput(EditorState& s) {
+    GraphUi& ui = uiOf(s);
     if (!graphEditsInView(s)) return false;
     const WaterGraph* g = graphOf(s);
     ImGuiIO& io = ImGui::GetIO();
@@ -446,7 +553,7 @@ bool graphViewportInput(EditorState& s) {
     const bool hovered = s.viewport.contains(mouse.x, mouse.y) && !io.WantCaptureMouse;
     const Pose pose = s.document->bodyPose(bodyOf(s));
     if (hovered && ImGui::IsKeyPressed(GLFW_KEY_DELETE, false) && !ui.selected.empty()) {
-        s.execute(makeDeleteNodesCommand(*s.document, bodyOf(s), selectedIds(*g)));
+        s.execute(makeDeleteNodesCommand(*s.document, bodyOf(s), selectedIds(ui, *g)));
         return true;
     }
     if (hovered && ImGui::IsMouseClicked(0)) {
@@ -487,7 +594,7 @@ bool graphViewportInput(EditorState& s) {
             // Object-space offset: the drag was in world space.
             const Eigen::Vector3d offset = pose.rotation.transpose() * ui.dragOffset;
             if (offset.norm() > 1e-9) {
-                s.execute(makeMoveNodesCommand(*s.document, bodyOf(s), selectedIds(*g), offset));
+                s.execute(makeMoveNodesCommand(*s.document, bodyOf(s), selectedIds(ui, *g), offset));
             }
             ui.dragOffset.setZero();
         }
@@ -507,7 +614,8 @@ bool graphViewportInput(EditorState& s) {
 }
 
 void drawGraphOverlay(EditorState& s) {
-    ImDrawList* draw = ImGui::GetForegroundDrawList();
+    GraphUi& ui = uiOf(s);
+    ImDrawList* draw = ImGui::GetBackgroundDrawList();
     if (ui.boxSelecting) {
         draw->AddRectFilled(ui.pressAt, ui.mouseAt, IM_COL32(120, 170, 255, 40));
         draw->AddRect(ui.pressAt, ui.mouseAt, IM_COL32(120, 170, 255, 200));
@@ -525,10 +633,13 @@ void drawGraphOverlay(EditorState& s) {
 }
 
 void addGraphToScene(EditorState& s, RenderScene& scene) {
+    GraphUi& ui = uiOf(s);
     ui.drawn.clear();
     const std::size_t body = bodyOf(s);
     const WaterGraph* g = graphOf(s);
-    if (!ui.showGraph || body >= scene.bodies.size()) return;
+    // The graph (and the see-through hull it needs) only while its panel is open: collapsed,
+    // the boxes would hide the hull and its overlays for no purpose.
+    if (!ui.showGraph || !ui.panelOpen || body >= scene.bodies.size()) return;
     if (!ui.drawer) {
         Result<std::unique_ptr<GraphDrawer>> made = GraphDrawer::create();
         if (!made) {
@@ -575,12 +686,20 @@ void addGraphToScene(EditorState& s, RenderScene& scene) {
     ui.drawn.push_back(std::move(r));
     scene.bodies[body].alpha = ui.hullAlpha;
     const Camera camera = s.camera;
-    scene.drawInside = [camera](const Eigen::Matrix4f& viewProj) {
-        for (const RenderGraph& drawn : ui.drawn) ui.drawer->draw(drawn, viewProj, camera);
+    scene.drawInside = [camera, graph = s.graphUi](const Eigen::Matrix4f& viewProj) {
+        for (const RenderGraph& drawn : graph->drawn) graph->drawer->draw(drawn, viewProj, camera);
     };
 }
 
-void releaseGraphPanel() {
+std::shared_ptr<GraphUi> makeGraphUi() { return std::make_shared<GraphUi>(); }
+
+bool graphPanelBusy(const EditorState& s) {
+    const GraphUi& ui = uiOf(s);
+    return ui.job.has_value() || ui.dragging;
+}
+
+void releaseGraphPanel(EditorState& s) {
+    GraphUi& ui = uiOf(s);
     if (ui.job) ui.job->result.wait();
     ui.job.reset();
     ui.drawer.reset();

@@ -5,12 +5,14 @@
 
 #include "document/command.h"
 
-#include "plimsoll/massprops.h"
-#include "plimsoll/painted_map.h"
-#include "plimsoll/validate.h"
+#include "plimsoll/physics/massprops.h"
+#include "plimsoll/bake/painted_map.h"
+#include "plimsoll/geometry/validate.h"
 
 #include <imgui.h>
 
+#include <cmath>
+#include <functional>
 #include <map>
 
 namespace plimsoll::editor {
@@ -27,10 +29,20 @@ struct BodyInfo {
     std::optional<MassProperties> texture, exact;
     bool exactApplies = true;  ///< false with a painted shell (no exact reference)
 };
-std::map<std::size_t, BodyInfo> infos;
+}  // namespace
+
+/// What the inspector keeps between frames (EditorState::inspector).
+struct InspectorCache {
+    std::map<std::size_t, BodyInfo> infos;          ///< per body, recomputed on edits
+    std::map<std::string, double> editing;          ///< number fields being typed into
+};
+
+std::shared_ptr<InspectorCache> makeInspectorCache() { return std::make_shared<InspectorCache>(); }
+
+namespace {
 
 BodyInfo& infoFor(EditorState& s, std::size_t b) {
-    BodyInfo& info = infos[b];
+    BodyInfo& info = s.inspector->infos[b];
     const auto& mesh = s.document->assets(b).mesh;
     if (info.revision == s.documentRevision && info.mesh == mesh.get()) return info;
     const bool meshChanged = info.mesh != mesh.get();
@@ -46,13 +58,17 @@ BodyInfo& infoFor(EditorState& s, std::size_t b) {
         }
     }
     const BodyDesc& body = s.document->project().bodies[b];
-    auto textures = s.document->physicsTextures(b);
+    // Baked on a worker: during a new size's bake, the old size's figures (the poll that
+    // brings the new textures bumps the revision).
+    const std::shared_ptr<const SurfaceTextures> textures = s.physicsFor(b);
+    info.bakeError = s.physicsBakes->error(b);
     if (!textures) {
-        info.bakeError = textures.error().message;
+        info.size = 0;
+        info.texture.reset();
+        info.exact.reset();
         return info;
     }
-    info.bakeError.clear();
-    const SurfaceTextures& t = **textures;
+    const SurfaceTextures& t = *textures;
     info.size = t.size;
     info.covered = t.coveredCount();
     info.distinct = t.distinctTexelCount();
@@ -88,15 +104,36 @@ BodyInfo& infoFor(EditorState& s, std::size_t b) {
     return info;
 }
 
-/// A number field that edits the project through a command when the edit is done.
+/// A number field that edits the project when the edit is done: through `commit`, or a
+/// command that sets `pointer`.
 void numberField(EditorState& s, const char* label, const std::string& pointer, double current,
-                 const char* format = "%.4g") {
-    static std::map<std::string, double> editing;
-    double& value = editing.try_emplace(pointer, current).first->second;
+                 const char* format, const char* help,
+                 const std::function<void(double)>& commit = {}) {
+    double& value = s.inspector->editing.try_emplace(pointer, current).first->second;
     if (!ImGui::IsItemActive() && !ImGui::IsAnyItemActive()) value = current;
     ImGui::InputDouble(label, &value, 0, 0, format);
+    tooltip(help);
     if (ImGui::IsItemDeactivatedAfterEdit() && value != current) {
-        s.execute(makeSetPropertyCommand(*s.document, pointer, value));
+        if (commit) commit(value);
+        else s.execute(makeSetPropertyCommand(*s.document, pointer, value));
+    }
+}
+
+/// The texture size field, and while a new size bakes its progress and Cancel.
+void textureSizeField(EditorState& s, std::size_t b, const std::string& base, int current) {
+    numberField(s, "Texture size", base + "/texture_size", current, "%.0f",
+                "Texels per side of the physics textures (32 to the engine's limit). A new size "
+                "bakes in the background; the old one stays in use until it is ready.",
+                [&](double value) { s.setTextureSize(b, static_cast<int>(std::lround(value))); });
+    if (const auto baking = s.physicsBakes->progress(b)) {
+        const std::string label = "baking " + std::to_string(baking->size) + "^2";
+        ImGui::ProgressBar(static_cast<float>(baking->fraction), ImVec2(-80, 0), label.c_str());
+        ImGui::SameLine();
+        if (ImGui::Button("Cancel##texture_bake")) s.cancelTextureBake(b);
+        tooltip("Stop the bake and keep the size in use.");
+        if (baking->previousSize > 0) {
+            ImGui::TextDisabled("Figures below at %d^2 until the bake is done", baking->previousSize);
+        }
     }
 }
 
@@ -118,6 +155,7 @@ void drawInspectorPanel(EditorState& s, const Rect& area) {
                                   s.selectedBody == static_cast<int>(b))) {
                 s.selectedBody = static_cast<int>(b);
             }
+            tooltip("Select the body the tools and this panel work on");
         }
         ImGui::EndListBox();
     }
@@ -140,27 +178,41 @@ void drawInspectorPanel(EditorState& s, const Rect& area) {
     BodyInfo& info = infoFor(s, b);
     ImGui::Text("%zu vertices, %zu triangles", assets.mesh->vertexCount(), assets.mesh->triangleCount());
     if (info.warnings.empty()) ImGui::TextColored(ImVec4(0.5f, 0.9f, 0.5f, 1), "Mesh valid");
+    // Wrapped: a validation message is a sentence, wider than the panel.
     for (const std::string& w : info.warnings) {
-        ImGui::TextColored(ImVec4(1, 0.75f, 0.3f, 1), "%s", w.c_str());
+        ImGui::PushStyleColor(ImGuiCol_Text, ImVec4(1, 0.75f, 0.3f, 1));
+        ImGui::TextWrapped("%s", w.c_str());
+        ImGui::PopStyleColor();
     }
     if (ImGui::CollapsingHeader("Texture", ImGuiTreeNodeFlags_DefaultOpen)) {
-        numberField(s, "Texture size", base + "/texture_size", body.textureSize, "%.0f");
-        if (!info.bakeError.empty()) ImGui::TextColored(ImVec4(1, 0.4f, 0.4f, 1), "%s", info.bakeError.c_str());
+        textureSizeField(s, b, base, body.textureSize);
+        if (!info.bakeError.empty()) {
+            ImGui::PushStyleColor(ImGuiCol_Text, ImVec4(1, 0.4f, 0.4f, 1));
+            ImGui::TextWrapped("%s", info.bakeError.c_str());
+            ImGui::PopStyleColor();
+        }
         ImGui::Text("Covered texels: %zu entries, %zu texels (%.1f%%)", info.covered, info.distinct,
                     info.size ? 100.0 * info.distinct / (double(info.size) * info.size) : 0.0);
     }
     if (ImGui::CollapsingHeader("Material", ImGuiTreeNodeFlags_DefaultOpen)) {
         if (body.material.density) {
-            numberField(s, "Density (kg/m3)", base + "/material/density", *body.material.density);
+            numberField(s, "Density (kg/m3)", base + "/material/density", *body.material.density,
+                        "%.4g", "Mass per volume of the solid body.");
         }
         if (body.material.shellSurfaceDensity) {
             numberField(s, "Shell (kg/m2)", base + "/material/shell/surface_density",
-                        *body.material.shellSurfaceDensity);
-        } else if (ImGui::Button("Add shell (1 kg/m2)")) {
-            s.execute(makeSetPropertyCommand(*s.document, base + "/material/shell",
-                                             nlohmann::json{{"surface_density", 1.0}}));
+                        *body.material.shellSurfaceDensity, "%.4g",
+                        "Mass per area of the hull's skin (scaled by the density and thickness maps).");
+        } else {
+            const bool add = ImGui::Button("Add shell (1 kg/m2)");
+            tooltip("Give the body a hull skin of 1 kg/m2: its density and thickness maps can then be painted");
+            if (add) {
+                s.execute(makeSetPropertyCommand(*s.document, base + "/material/shell",
+                                                 nlohmann::json{{"surface_density", 1.0}}));
+            }
         }
-        numberField(s, "Drag Cd", base + "/drag_coefficient", body.dragCoefficient);
+        numberField(s, "Drag Cd", base + "/drag_coefficient", body.dragCoefficient, "%.4g",
+                    "Drag coefficient of the wetted surface (dimensionless).");
         for (MapChannel c : kMapChannels) {
             const std::string& path = channelPath(body, c);
             const PaintedMap* map = s.document->map(b, c);

@@ -3,6 +3,8 @@
 
 #include "app/editor_state.h"
 
+#include <imgui.h>
+
 namespace plimsoll::editor {
 
 /// 3D view input (navigation, painting) over state.viewport; the scene itself is drawn by the
@@ -10,6 +12,8 @@ namespace plimsoll::editor {
 void viewportInput(EditorState& state);
 void drawViewportOverlay(EditorState& state);  ///< view name, brush circle, hints
 void drawBrushPanel(EditorState& state, const Rect& area);
+/// The selected map's layers: add, remove, reorder, hide, opacity, blend mode, masks.
+void drawLayersPanel(EditorState& state, const Rect& area);
 void drawInspectorPanel(EditorState& state, const Rect& area);
 void drawUvPanel(EditorState& state, const Rect& area);
 
@@ -24,6 +28,21 @@ bool graphViewportInput(EditorState& state);
 bool graphEditsInView(EditorState& state);
 void drawGraphOverlay(EditorState& state);
 void addGraphToScene(EditorState& state, RenderScene& scene);
-void releaseGraphPanel();
+void releaseGraphPanel(EditorState& state);
+/// Whether the graph panel waits for a worker (automatic graph) or drags: the frame loop keeps
+/// drawing.
+bool graphPanelBusy(const EditorState& state);
+
+/// The preview's hydrostatics window for the selected body (hydrostatics_panel.cpp).
+void drawHydrostaticsPanel(EditorState& state);
+
+/// Edit > Undo history: every step by name, the current one marked; a click undoes or redoes
+/// to just after that step (history_panel.cpp).
+void drawHistoryPanel(EditorState& state);
+
+/// The last item's tooltip while it is hovered.
+inline void tooltip(const char* text) {
+    if (ImGui::IsItemHovered()) ImGui::SetTooltip("%s", text);
+}
 
 }  // namespace plimsoll::editor

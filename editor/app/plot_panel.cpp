@@ -76,13 +76,16 @@ void drawPlotPanels(EditorState& s) {
             const std::size_t rows = history.time.size();
             const std::size_t shown = std::min<std::size_t>(rows, 600);
             std::vector<float> values(shown);
+            // An explicit width: Debian's ImGui 1.86 sizes a plot of width -1 to nothing in a
+            // window whose height fits its content.
+            const float plotWidth = std::max(120.0f, ImGui::GetContentRegionAvail().x);
             for (const PlotSeries* series : group.series) {
                 for (std::size_t k = 0; k < shown; ++k) values[k] = float(series->values[rows - shown + k]);
                 char overlay[128];
                 std::snprintf(overlay, sizeof overlay, "%s %.4g %s", series->name.c_str() + body.size() + 1,
                               series->values.back(), series->unit.c_str());
                 ImGui::PlotLines(("##" + series->name).c_str(), values.data(), int(shown), 0, overlay,
-                                 FLT_MAX, FLT_MAX, ImVec2(-1, 60));
+                                 FLT_MAX, FLT_MAX, ImVec2(plotWidth, 60));
             }
             if (ImGui::Button("Export CSV")) {
                 std::vector<std::string> names;

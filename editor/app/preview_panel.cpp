@@ -7,8 +7,11 @@
 //   [SECTION] scene and report
 #include "app/preview_panel.h"
 
+#include "app/panels.h"  // tooltip
+
+#include "document/command.h"
+
 #include <imgui.h>
-#include <unistd.h>
 
 #include <algorithm>
 #include <cmath>
@@ -46,26 +49,24 @@ bool startPreview(EditorState& s, bool play) {
     p.open = true;
     p.error.clear();
     p.session.reset();
-    // The preview runs the document as edited, saved or not: unsaved graphs and maps are
-    // written to a scratch folder of this process (World reads files), the project untouched.
-    const std::filesystem::path scratch = std::filesystem::temp_directory_path() /
-                                          ("plimsoll-preview-" + std::to_string(::getpid()));
-    Result<Project> snapshot = s.document->simulationSnapshot(scratch);
-    if (!snapshot) {
-        p.error = snapshot.error().message;
+    // The preview runs the document as edited, saved or not: its meshes, graphs and maps in
+    // memory, the files untouched.
+    Result<Scene> scene = s.document->simulationScene();
+    if (!scene) {
+        p.error = scene.error().message;
         s.status = "Live preview: " + p.error;
         return false;
     }
-    Result<std::unique_ptr<PreviewSession>> made = PreviewSession::create(*snapshot, p.device);
+    Result<std::unique_ptr<PreviewSession>> made =
+        PreviewSession::create(std::move(*scene), p.device);
     if (!made) {
         p.error = made.error().message;
         s.status = "Live preview: " + p.error;
         return false;
     }
     p.session = std::move(*made);
-    p.textureSize = p.session->textureSize();
     for (int i = 0; i < 3; ++i) {
-        if (kIntegrators[i] == p.session->project().simulation.integrator) p.integrator = i;
+        if (kIntegrators[i] == p.session->scene().simulation.integrator) p.integrator = i;
     }
     p.lastCheckTime = -1;
     p.plotted.clear();
@@ -168,6 +169,42 @@ bool editWater(WaterModel& water) {
     return changed;
 }
 
+/// The physics texture size: the running one, or the one being baked with its progress and
+/// Cancel. The bake runs on a worker; the running size stays until the new one is ready.
+void drawTextureSizeChoice(PreviewSession& session) {
+    const int running = session.textureSize();
+    const int baking = session.rebuildingSize();
+    char label[32];
+    std::snprintf(label, sizeof label, "%d^2", running);
+    if (ImGui::BeginCombo("physics texture", label)) {
+        for (int size : kTextureSizes) {
+            std::snprintf(label, sizeof label, size == baking ? "%d^2 (baking)" : "%d^2", size);
+            if (ImGui::Selectable(label, size == running) && size != baking) {
+                // The running size again: just stop the bake of another.
+                if (size == running) session.cancelRebuild();
+                else session.requestTextureSize(size);
+            }
+        }
+        ImGui::EndCombo();
+    }
+    if (ImGui::IsItemHovered()) {
+        ImGui::SetTooltip("Texels per side of the physics textures the preview simulates with. A new "
+                          "size is baked in the background; the current one runs until it is ready.");
+    }
+    if (baking > 0) {
+        char overlay[48];
+        std::snprintf(overlay, sizeof overlay, "baking %d^2: %.0f %%", baking,
+                      100.0 * session.rebuildProgress());
+        ImGui::ProgressBar(static_cast<float>(session.rebuildProgress()),
+                           ImVec2(-70.0f, 0.0f), overlay);
+        ImGui::SameLine();
+        if (ImGui::Button("Cancel")) session.cancelRebuild();
+        ImGui::TextWrapped("Running at %d^2 until the new bake is ready.", running);
+    } else if (!session.rebuildError().empty()) {
+        ImGui::TextWrapped("The new size failed to bake: %s", session.rebuildError().c_str());
+    }
+}
+
 }  // namespace
 
 void drawPreviewPanel(EditorState& s) {
@@ -188,7 +225,9 @@ void drawPreviewPanel(EditorState& s) {
             if (p.device == devices[i]) device = i;
         }
         if (ImGui::Combo("device", &device, devices, 4)) p.device = device == 0 ? "" : devices[device];
+        tooltip("Where the buoyancy is computed: the default device, the reference code, the CPU or the GPU");
         if (ImGui::Button("Start")) startPreview(s, true);
+        tooltip("Simulate the project as it is now, unsaved edits included (P)");
         if (!p.error.empty()) ImGui::TextWrapped("%s", p.error.c_str());
         ImGui::End();
         return;
@@ -197,18 +236,23 @@ void drawPreviewPanel(EditorState& s) {
     if (ImGui::Button(session.playing() ? "Pause" : "Play")) {
         session.playing() ? session.pause() : session.play();
     }
+    tooltip("Play or pause the simulation (Space)");
     ImGui::SameLine();
     if (ImGui::Button("Step")) {
         session.pause();
         if (Status st = session.step(); !st.ok()) p.error = st.error().message;
     }
+    tooltip("Pause and advance one frame");
     ImGui::SameLine();
     if (ImGui::Button("Reset")) {
         if (Status st = session.reset(); !st.ok()) p.error = st.error().message;
         p.lastCheckTime = -1;
     }
+    tooltip("Back to the starting poses at t = 0, keeping the settings changed here");
     ImGui::SameLine();
-    if (ImGui::Button("Stop")) {
+    const bool stop = ImGui::Button("Stop");
+    tooltip("End the preview (P): the view shows the project's starting poses again");
+    if (stop) {
         stopPreview(s);
         ImGui::End();
         return;
@@ -219,31 +263,32 @@ void drawPreviewPanel(EditorState& s) {
     if (ImGui::SliderFloat("time scale", &scale, 0.05f, 4.0f, "%.2fx", ImGuiSliderFlags_Logarithmic)) {
         session.setTimeScale(scale);
     }
+    tooltip("Simulated seconds per wall-clock second");
 
     if (ImGui::CollapsingHeader("Water")) {
-        WaterModel water = session.project().water;
+        WaterModel water = session.scene().water;
         if (editWater(water)) session.setWater(water);
+        // The preview's water is its own until kept: one undoable project edit.
+        const bool differs = !(session.scene().water == s.document->project().water);
+        ImGui::BeginDisabled(!differs);
+        if (ImGui::Button("Keep in project")) {
+            Project after = s.document->project();
+            after.water = session.scene().water;
+            s.execute(std::unique_ptr<Command>(std::make_unique<ProjectCommand>(
+                "Keep the preview's water", s.document->project(), std::move(after))));
+        }
+        ImGui::EndDisabled();
+        if (ImGui::IsItemHovered(ImGuiHoveredFlags_AllowWhenDisabled)) {
+            ImGui::SetTooltip(differs ? "Write these water and wave settings into the project (undoable)"
+                                      : "The project's water is the same");
+        }
     }
     if (ImGui::CollapsingHeader("Speed and accuracy")) {
         if (ImGui::Combo("integrator", &p.integrator, kIntegratorNames, 3)) {
             session.setIntegrator(kIntegrators[p.integrator]);
         }
-        char label[16];
-        std::snprintf(label, sizeof label, "%d^2", p.textureSize);
-        if (ImGui::BeginCombo("physics texture", label)) {
-            for (int size : kTextureSizes) {
-                std::snprintf(label, sizeof label, "%d^2", size);
-                if (ImGui::Selectable(label, size == p.textureSize) && size != p.textureSize) {
-                    p.textureSize = size;
-                    session.requestTextureSize(size);  // baked off the UI thread
-                }
-            }
-            ImGui::EndCombo();
-        }
-        if (session.rebuilding()) {
-            ImGui::SameLine();
-            ImGui::TextUnformatted("baking...");
-        }
+        tooltip("How each step advances the bodies (the accuracy against cost trade-off)");
+        drawTextureSizeChoice(session);
         const PreviewTimings& t = session.timings();
         ImGui::Text("device: %s", session.deviceName().c_str());
         ImGui::Text("kernel %.3f ms / frame, step %.3f ms / frame (%d sub-steps)", t.kernelMs,
@@ -256,13 +301,18 @@ void drawPreviewPanel(EditorState& s) {
     }
     if (ImGui::CollapsingHeader("Show")) {
         ImGui::Checkbox("forces", &p.showForces);
+        tooltip("Weight (red, at the centre of mass) and buoyancy (green, at the centre of buoyancy)");
         ImGui::SameLine();
         ImGui::Checkbox("waterline", &p.showWaterline);
+        tooltip("Where the water surface cuts the hull");
         ImGui::SameLine();
         ImGui::Checkbox("wet texels", &p.showWetTexels);
+        tooltip("The texels under water this frame, over the hull");
         ImGui::Checkbox("performance", &p.showPerformance);
+        tooltip("Frame, step and kernel times over the view");
         ImGui::SameLine();
         ImGui::Checkbox("plots", &p.showPlots);
+        tooltip("The plot windows of the recorded quantities");
     }
     ImGui::TextDisabled("Left-drag a body to pull it (a spring).");
     if (!p.error.empty()) ImGui::TextWrapped("%s", p.error.c_str());
@@ -272,11 +322,6 @@ void drawPreviewPanel(EditorState& s) {
 // [SECTION] grabbing ---------------------------------------------------------------------------
 
 namespace {
-struct GrabDrag {
-    bool active = false;
-    Eigen::Vector3d planePoint = Eigen::Vector3d::Zero();
-};
-GrabDrag grabDrag;
 
 void mouseRay(const EditorState& s, Eigen::Vector3d& origin, Eigen::Vector3d& direction) {
     const ImVec2 mouse = ImGui::GetIO().MousePos;
@@ -290,6 +335,7 @@ bool previewInput(EditorState& s) {
     if (!s.preview || !s.preview->session) return false;
     PreviewSession& session = *s.preview->session;
     const ImGuiIO& io = ImGui::GetIO();
+    GrabDrag& grabDrag = s.preview->grabDrag;
     if (grabDrag.active) {
         if (!ImGui::IsMouseDown(0) || !session.grabbing()) {
             session.release();
@@ -309,7 +355,7 @@ bool previewInput(EditorState& s) {
     }
     const ImVec2 mouse = io.MousePos;
     if (io.WantCaptureMouse || io.KeyAlt || !s.viewport.contains(mouse.x, mouse.y) ||
-        !ImGui::IsMouseClicked(0) || s.tool != Tool::Navigate) {
+        !ImGui::IsMouseClicked(0)) {
         return false;
     }
     Eigen::Vector3d origin, direction;
@@ -421,12 +467,12 @@ void applyPreviewToScene(EditorState& s, RenderScene& scene) {
     PreviewUi& p = *s.preview;
     const World& world = p.session->world();
     scene.time = world.time();
-    scene.water = s.showWater ? &world.project().water : nullptr;
+    scene.water = s.showWater ? &world.scene().water : nullptr;
     for (std::size_t b = 0; b < scene.bodies.size() && b < world.bodies().size(); ++b) {
         scene.bodies[b].pose = world.bodies()[b].pose();
         if (p.showWetTexels) {
             const int slot = kWetSlotBase + static_cast<int>(b);
-            s.renderer->setOverlay(slot, wetTexelOverlay(world.bodies()[b], world.project().water,
+            s.renderer->setOverlay(slot, wetTexelOverlay(world.bodies()[b], world.scene().water,
                                                          world.time()));
             scene.bodies[b].overlay = slot;
         }

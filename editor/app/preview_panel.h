@@ -16,6 +16,12 @@
 
 namespace plimsoll::editor {
 
+/// A body held with the left mouse during the preview.
+struct GrabDrag {
+    bool active = false;
+    Eigen::Vector3d planePoint = Eigen::Vector3d::Zero();  ///< world, the drag plane's point
+};
+
 struct PreviewUi {
     std::unique_ptr<PreviewSession> session;
     bool open = false;            ///< the preview window is shown
@@ -26,7 +32,6 @@ struct PreviewUi {
     bool fixedStep = false;
     bool showForces = true, showWaterline = true, showWetTexels = true;
     bool showPerformance = true, showPlots = true;
-    int textureSize = 0;          ///< the panel's choice (0: not chosen yet)
     int integrator = 1;           ///< index into the panel's integrator list
     std::string lastCheck;        ///< the volume-error line shown
     double lastCheckTime = -1;    ///< simulated time it was computed at
@@ -34,6 +39,7 @@ struct PreviewUi {
     std::vector<char> plotted;    ///< per history series: shown in the plot windows
     std::string plotStatus;       ///< last CSV export result
     unsigned overlayGeneration = 0;
+    GrabDrag grabDrag;
 };
 
 /// Starts (or restarts) the session from the document's project; playing when `play`.

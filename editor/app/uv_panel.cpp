@@ -46,9 +46,10 @@ void drawUvPanel(EditorState& s, const Rect& area) {
         const Eigen::Vector2d uv((m.x - p0.x) / side, 1.0 - (m.y - p0.y) / side);
         const auto hit = surfaceAtUv(mesh, uv);
         if (ImGui::IsMouseClicked(0) && hit) {
-            s.stroke = ActiveStroke{true, b, {hit->point}, true};
+            s.stroke = ActiveStroke{true, true, b, {hit->point}, true, LazyMouse{}};
         } else if (s.stroke.active && s.stroke.body == b && ImGui::IsMouseDown(0) && hit &&
-                   (hit->point - s.stroke.points.back()).norm() >= s.brush.radius * 0.25) {
+                   (s.stroke.points.empty() ||
+                    (hit->point - s.stroke.points.back()).norm() >= s.brush.radius * 0.25)) {
             s.stroke.points.push_back(hit->point);
             s.stroke.previewDirty = true;
         }

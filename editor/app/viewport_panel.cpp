@@ -2,6 +2,7 @@
 // zooms; Alt + left mouse orbits too), painting with the left mouse, and what is drawn over the
 // scene (view name, brush circle).
 #include "app/panels.h"
+#include "app/preview_panel.h"
 
 #include "document/command.h"
 
@@ -9,25 +10,11 @@
 #include <imgui.h>
 
 #include <cmath>
+#include <cstdio>
 
 namespace plimsoll::editor {
 
 namespace {
-
-struct DragState {
-    bool navigating = false;
-    int button = -1;
-};
-DragState drag;
-
-const char* viewName(const Camera& c) {
-    const double halfPi = 1.5707963267948966;
-    if (!c.orthographic) return "Perspective";
-    if (std::abs(c.pitch - halfPi) < 1e-6) return "Top (orthographic)";
-    if (std::abs(c.pitch) < 1e-6 && std::abs(c.yaw) < 1e-6) return "Front (orthographic)";
-    if (std::abs(c.pitch) < 1e-6 && std::abs(c.yaw - halfPi) < 1e-6) return "Side (orthographic)";
-    return "User (orthographic)";
-}
 
 void addStrokePoint(EditorState& s, const Eigen::Vector3d& p) {
     if (!s.stroke.points.empty() &&
@@ -36,6 +23,34 @@ void addStrokePoint(EditorState& s, const Eigen::Vector3d& p) {
     }
     s.stroke.points.push_back(p);
     s.stroke.previewDirty = true;
+}
+
+/// The brush's image upright on screen: toward the viewer, in the body's object space.
+void orientAlpha(EditorState& s, std::size_t body) {
+    s.brush.alphaAxis = s.document->bodyPose(body).rotation.transpose() * -s.camera.forward();
+}
+
+/// Shift-click: a straight line on screen from the last stroke's end to the cursor, picked on
+/// the surface every few pixels and painted as one stroke (one undo step).
+void lineStroke(EditorState& s, const Eigen::Vector2d& to) {
+    const auto [body, end] = *s.lastStrokeEnd;
+    if (body >= s.document->bodyCount()) return;
+    const auto from = s.camera.toPixel(s.document->bodyPose(body).apply(end), int(s.viewport.w),
+                                       int(s.viewport.h));
+    if (!from) return;
+    const Eigen::Vector2d origin(s.viewport.x, s.viewport.y);
+    constexpr double kLineStepPixels = 3.0;
+    std::vector<Eigen::Vector3d> points{end};
+    for (const Eigen::Vector2d& p : lineSamples(origin + *from, to, kLineStepPixels)) {
+        auto hit = s.pick(static_cast<float>(p.x()), static_cast<float>(p.y()));
+        if (hit && hit->first == body) points.push_back(hit->second);
+    }
+    if (points.size() < 2) return;
+    orientAlpha(s, body);
+    if (s.execute(makeStrokeCommand(*s.document, body, s.channel, s.brush, points, s.paintTarget()))) {
+        s.lastStrokeEnd = {body, points.back()};
+        s.lastStrokePoints = points.size();
+    }
 }
 
 }  // namespace
@@ -49,18 +64,19 @@ void viewportInput(EditorState& s) {
 
     // The water graph's tools take the left mouse first while its panel edits in the view
     // (the middle mouse and Alt + left still navigate).
-    if (!drag.navigating && !io.KeyAlt && graphViewportInput(s)) return;
+    bool& navigating = s.navigating;
+    if (!navigating && !io.KeyAlt && graphViewportInput(s)) return;
 
     // Navigation.
     const bool orbitButton = ImGui::IsMouseDown(2) || (io.KeyAlt && ImGui::IsMouseDown(0)) ||
                              (s.tool == Tool::Navigate && ImGui::IsMouseDown(0));
     if (hovered && (ImGui::IsMouseClicked(2) || ImGui::IsMouseClicked(1) ||
                     (ImGui::IsMouseClicked(0) && (io.KeyAlt || s.tool == Tool::Navigate)))) {
-        drag.navigating = true;
+        navigating = true;
     }
-    if (drag.navigating) {
+    if (navigating) {
         if (!ImGui::IsMouseDown(0) && !ImGui::IsMouseDown(1) && !ImGui::IsMouseDown(2)) {
-            drag.navigating = false;
+            navigating = false;
         } else if (ImGui::IsMouseDown(1) || (io.KeyShift && orbitButton)) {
             s.camera.pan(dx, dy);
         } else if (io.KeyCtrl && orbitButton) {
@@ -72,12 +88,29 @@ void viewportInput(EditorState& s) {
     }
     if (hovered && io.MouseWheel != 0) s.camera.zoom(io.MouseWheel);
 
-    // Tools with the left mouse.
-    if (drag.navigating || io.KeyAlt) return;
+    // Tools with the left mouse. While the live preview runs the bodies shown are the
+    // simulated ones and the left mouse grabs them (previewInput): the paint tools rest.
+    if (navigating || io.KeyAlt) return;
+    if (s.preview && s.preview->session) return;
     if (s.tool == Tool::Brush) {
+        if (hovered && ImGui::IsMouseClicked(0) && io.KeyShift && s.lastStrokeEnd) {
+            lineStroke(s, Eigen::Vector2d(mouse.x, mouse.y));
+            return;
+        }
         if (hovered && ImGui::IsMouseClicked(0)) {
-            if (auto hit = s.pick(mouse.x, mouse.y)) {
-                s.stroke = ActiveStroke{true, hit->first, {}, false};
+            // The stroke starts even off the mesh: it paints from where it first crosses a body.
+            s.stroke = ActiveStroke{};
+            s.stroke.active = true;
+            s.stroke.lazy = LazyMouse(s.brush.lazyRadius);
+        }
+        if (s.stroke.active && ImGui::IsMouseDown(0)) {
+            // The lazy mouse: the brush trails the cursor (without it, the brush is the cursor).
+            const Eigen::Vector2d at = s.stroke.lazy.follow(Eigen::Vector2d(mouse.x, mouse.y));
+            auto hit = s.pick(static_cast<float>(at.x()), static_cast<float>(at.y()));
+            if (hit && !s.stroke.onBody) {
+                s.stroke.onBody = true;
+                s.stroke.body = hit->first;
+                orientAlpha(s, hit->first);
                 s.selectedBody = static_cast<int>(hit->first);
                 if (overlayChannel(s.overlay) != s.channel) {
                     s.overlay = s.channel == MapChannel::Permeability ? Overlay::Permeability
@@ -85,12 +118,8 @@ void viewportInput(EditorState& s) {
                                                                       : Overlay::Thickness;
                     s.overlaysDirty = true;
                 }
-                addStrokePoint(s, hit->second);
             }
-        } else if (s.stroke.active && ImGui::IsMouseDown(0)) {
-            if (auto hit = s.pick(mouse.x, mouse.y); hit && hit->first == s.stroke.body) {
-                addStrokePoint(s, hit->second);
-            }
+            if (hit && hit->first == s.stroke.body) addStrokePoint(s, hit->second);
         }
     } else if (hovered && ImGui::IsMouseClicked(0)) {
         auto hit = s.pick(mouse.x, mouse.y);
@@ -98,9 +127,11 @@ void viewportInput(EditorState& s) {
         s.selectedBody = static_cast<int>(hit->first);
         if (s.tool == Tool::FillIsland) {
             s.execute(makeFillIslandCommand(*s.document, hit->first, s.channel, hit->second,
-                                            s.brush.value, s.brush.mirrorX));
+                                            s.brush.value, s.brush.mirrorX, s.brush.strength,
+                                            s.paintTarget()));
         } else if (s.tool == Tool::FillAll) {
-            s.execute(makeFillAllCommand(*s.document, hit->first, s.channel, s.brush.value));
+            s.execute(makeFillAllCommand(*s.document, hit->first, s.channel, s.brush.value,
+                                         s.brush.strength, s.paintTarget()));
         } else if (s.tool == Tool::Pick) {
             const PaintedMap* map = s.document->map(hit->first, s.channel);
             auto surface = s.document->paintSurface(hit->first, s.channel);
@@ -117,27 +148,65 @@ void viewportInput(EditorState& s) {
 }
 
 void drawViewportOverlay(EditorState& s) {
-    ImDrawList* draw = ImGui::GetForegroundDrawList();
+    // Behind every ImGui window (menus, popups, panels) and above the 3D scene, which is drawn
+    // before ImGui: the view's labels never cover an open menu.
+    ImDrawList* draw = ImGui::GetBackgroundDrawList();
     const ImVec2 origin(s.viewport.x + 8, s.viewport.y + 6);
     std::string line = std::string(viewName(s.camera)) + "   overlay: " + overlayName(s.overlay);
     draw->AddText(origin, IM_COL32(230, 230, 230, 255), line.c_str());
     drawGraphOverlay(s);
-    // The brush circle: the radius at the surface under the cursor, projected.
-    const ImVec2 mouse = ImGui::GetIO().MousePos;
-    if ((s.tool == Tool::Brush) && s.viewport.contains(mouse.x, mouse.y) &&
-        !ImGui::GetIO().WantCaptureMouse) {
-        if (auto hit = s.pick(mouse.x, mouse.y)) {
-            const Pose pose = s.document->bodyPose(hit->first);
-            const Eigen::Vector3d centre = pose.apply(hit->second);
-            const auto a = s.camera.toPixel(centre, int(s.viewport.w), int(s.viewport.h));
-            const auto b = s.camera.toPixel(centre + s.camera.right() * s.brush.radius,
-                                            int(s.viewport.w), int(s.viewport.h));
-            if (a && b) {
-                draw->AddCircle(mouse, static_cast<float>((*b - *a).norm()),
-                                IM_COL32(255, 255, 255, 200), 48, 1.5f);
-            }
+    // The overlay's legend, bottom left of the view: what the colours mean, with units.
+    const BodyDesc* selected = s.selectedBody >= 0 &&
+                                       static_cast<std::size_t>(s.selectedBody) < s.document->bodyCount()
+                                   ? &s.document->project().bodies[static_cast<std::size_t>(s.selectedBody)]
+                                   : nullptr;
+    const OverlayLegend legend = overlayLegend(s.overlay, selected);
+    if (!legend.meaning.empty()) {
+        const float x = s.viewport.x + 10, y = s.viewport.y + s.viewport.h - 46;
+        const ImU32 white = IM_COL32(230, 230, 230, 255);
+        draw->AddText(ImVec2(x, y), white, legend.meaning.c_str());
+        if (legend.ramp) {
+            auto colour = [](double v) {
+                const Eigen::Vector3f c = rampColour(v);
+                return IM_COL32(int(c.x() * 255), int(c.y() * 255), int(c.z() * 255), 255);
+            };
+            const ImVec2 a(x, y + 18), b(x + 160, y + 32);
+            // The ramp is linear: two corner colours draw it exactly.
+            draw->AddRectFilledMultiColor(a, b, colour(0), colour(1), colour(1), colour(0));
+            draw->AddText(ImVec2(x, y + 34), white, legend.low.c_str());
+            const float w = ImGui::CalcTextSize(legend.high.c_str()).x;
+            draw->AddText(ImVec2(b.x - w, y + 34), white, legend.high.c_str());
         }
     }
+    const ImVec2 mouse = ImGui::GetIO().MousePos;
+    if (!s.viewport.contains(mouse.x, mouse.y) || ImGui::GetIO().WantCaptureMouse) return;
+    if (s.preview && s.preview->session) return;  // the bodies shown are the simulated ones
+    const auto hit = s.pick(mouse.x, mouse.y);
+    if (!hit) return;
+    // The brush circle: the radius at the surface under the cursor, projected.
+    if (s.tool == Tool::Brush) {
+        const Pose pose = s.document->bodyPose(hit->first);
+        const Eigen::Vector3d centre = pose.apply(hit->second);
+        const auto a = s.camera.toPixel(centre, int(s.viewport.w), int(s.viewport.h));
+        const auto b = s.camera.toPixel(centre + s.camera.right() * s.brush.radius,
+                                        int(s.viewport.w), int(s.viewport.h));
+        if (a && b) {
+            draw->AddCircle(mouse, static_cast<float>((*b - *a).norm()),
+                            IM_COL32(255, 255, 255, 200), 48, 1.5f);
+        }
+    }
+    // The hover readout: the map's value under the cursor (as the engine reads it, flattened).
+    const PaintedMap* map = s.document->map(hit->first, s.channel);
+    std::string readout = std::string(channelName(s.channel)) + ": ";
+    if (!map) {
+        readout += "no map";
+    } else if (auto surface = s.document->paintSurface(hit->first, s.channel); surface) {
+        const std::optional<double> value = pickValue(*map, **surface, hit->second);
+        char text[32];
+        std::snprintf(text, sizeof text, "%.3f", value.value_or(0.0));
+        readout += value ? text : "-";
+    }
+    draw->AddText(ImVec2(mouse.x + 16, mouse.y + 14), IM_COL32(255, 255, 255, 230), readout.c_str());
 }
 
 }  // namespace plimsoll::editor

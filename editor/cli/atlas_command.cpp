@@ -4,10 +4,10 @@
 #include "cli/commands.h"
 
 #include "cli/common.h"
-#include "plimsoll/atlas.h"
-#include "plimsoll/map_transfer.h"
-#include "plimsoll/mesh_io.h"
-#include "plimsoll/painted_map.h"
+#include "plimsoll/bake/atlas.h"
+#include "plimsoll/bake/map_transfer.h"
+#include "plimsoll/io/mesh_io.h"
+#include "plimsoll/bake/painted_map.h"
 
 #include <chrono>
 #include <iostream>
@@ -105,7 +105,7 @@ void addAtlasCommand(CLI::App& root, CommandRunner& selected) {
     CLI::App* g = atlas->add_subcommand(
         "generate", "Generate a physics atlas (charts without folds, packed with gutters)");
     g->add_option("MESH", generate->mesh, "Mesh file (its own UVs are ignored)")->required();
-    g->add_option("--out", generate->out, "The mesh with the atlas as its UVs (OBJ)")->required();
+    g->add_option("--out", generate->out, "The mesh with the atlas as its UVs (OBJ)")->required()->check(kNonEmptyPath);
     g->add_option("--size", generate->settings.textureSize, "Texels per side the atlas is packed for")
         ->check(CLI::Range(kMinTextureSize, kMaxTextureSize))
         ->capture_default_str();
@@ -126,7 +126,7 @@ void addAtlasCommand(CLI::App& root, CommandRunner& selected) {
     t->add_option("--from", transfer->from, "Mesh whose UVs the map is painted over")->required();
     t->add_option("--to", transfer->to, "Mesh (the same surface, other UVs) to move it onto")
         ->required();
-    t->add_option("--out", transfer->out, "The moved map (16-bit PNG)")->required();
+    t->add_option("--out", transfer->out, "The moved map (16-bit PNG)")->required()->check(kNonEmptyPath);
     t->add_option("--width", transfer->width, "Width of the result (default: the map's)")
         ->check(CLI::Range(1, 16384));
     t->add_option("--height", transfer->height, "Height of the result (default: the map's)")

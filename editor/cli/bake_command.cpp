@@ -2,8 +2,8 @@
 #include "cli/commands.h"
 
 #include "cli/common.h"
-#include "plimsoll/bake_io.h"
-#include "plimsoll/mesh_io.h"
+#include "plimsoll/io/bake_io.h"
+#include "plimsoll/io/mesh_io.h"
 
 #include <chrono>
 #include <iostream>
@@ -63,7 +63,7 @@ void addBakeCommand(CLI::App& root, CommandRunner& selected) {
         "bake", "Bake position, area-vector and coverage textures (float32 EXR + manifest.json)");
     cmd->add_option("MESH", options->mesh, "Mesh file (closed; its UVs, or a generated atlas: see --atlas)")->required();
     addBakeOptions(*cmd, options->bake);
-    cmd->add_option("--out", options->out, "Output folder (created if missing)")->required();
+    cmd->add_option("--out", options->out, "Output folder (created if missing)")->required()->check(kNonEmptyPath);
     cmd->callback([options, &selected] { selected = [options] { return runBake(*options); }; });
 }
 

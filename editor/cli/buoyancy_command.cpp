@@ -6,10 +6,10 @@
 #include "cli/commands.h"
 
 #include "cli/common.h"
-#include "plimsoll/buoyancy.h"
-#include "plimsoll/compute.h"
-#include "plimsoll/massprops.h"
-#include "plimsoll/volume_check.h"
+#include "plimsoll/physics/buoyancy.h"
+#include "plimsoll/compute/compute.h"
+#include "plimsoll/physics/massprops.h"
+#include "plimsoll/physics/volume_check.h"
 
 #include <nlohmann/json.hpp>
 
@@ -183,11 +183,12 @@ void addBuoyancyCommand(CLI::App& root, CommandRunner& selected) {
                       "Clip the mesh exactly against the water plane (no textures, no drag)")
             ->excludes(size);
     cmd->add_option("--device", o->device,
-                    "Compute device for the texture path: cpu, gpu, an OpenCL device index, or "
-                    "reference (C++); default: $PLIMSOLL_OPENCL_DEVICE, else the first GPU, else "
-                    "the first device")
+                    "Compute device for the texture path: fast (the fast CPU path), cpu, gpu, an "
+                    "OpenCL device index, or reference (C++); default: $PLIMSOLL_OPENCL_DEVICE, "
+                    "else the first GPU, else the fast CPU path")
         ->excludes(exact);
     cmd->add_option("--water-level", o->waterLevel, "Height of the flat water surface, m")
+        ->check(kFiniteNumber)
         ->required();
     addVectorOption(*cmd, "--position", o->position, "World position t of the object origin, m")
         ->type_name("X,Y,Z")
@@ -203,15 +204,15 @@ void addBuoyancyCommand(CLI::App& root, CommandRunner& selected) {
                     "Angular velocity, world axes, rad/s (default 0)")
         ->type_name("WX,WY,WZ");
     cmd->add_option("--fluid-density", o->fluid.density, "Fluid density, kg/m^3")
-        ->check(CLI::PositiveNumber)
+        ->check(kFinitePositive)
         ->capture_default_str();
     cmd->add_option("--drag-coefficient", o->fluid.dragCoefficient,
                     "Pressure drag coefficient C_d")
-        ->check(CLI::NonNegativeNumber)
+        ->check(kFiniteNonNegative)
         ->capture_default_str();
     cmd->add_option("--friction-coefficient", o->fluid.frictionCoefficient,
                     "Skin friction coefficient C_f (0 = off)")
-        ->check(CLI::NonNegativeNumber)
+        ->check(kFiniteNonNegative)
         ->capture_default_str();
     cmd->add_flag("--compare-exact", o->compareExact,
                   "Also clip the mesh exactly at the same pose and print the texture's "

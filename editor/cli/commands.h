@@ -23,6 +23,8 @@ void addAtlasCommand(CLI::App& root, CommandRunner& selected);
 void addExportCommand(CLI::App& root, CommandRunner& selected);
 void addEditCommand(CLI::App& root, CommandRunner& selected);
 void addRenderCommand(CLI::App& root, CommandRunner& selected);
+void addHydrostaticsCommand(CLI::App& root, CommandRunner& selected);
+void addHydroCommand(CLI::App& root, CommandRunner& selected);
 
 /// Exit codes shared by all sub-commands.
 enum ExitCode : int { kExitOk = 0, kExitFailure = 1, kExitUsage = 2 };

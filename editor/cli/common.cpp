@@ -1,6 +1,8 @@
 #include "cli/common.h"
 
-#include "plimsoll/mesh_io.h"
+#include "plimsoll/bake/bake_cost.h"
+#include "plimsoll/core/limits.h"
+#include "plimsoll/io/mesh_io.h"
 
 #include <algorithm>
 #include <charconv>
@@ -10,6 +12,36 @@
 #include <unistd.h>
 
 namespace plimsoll::cli {
+
+namespace {
+/// A validator that parses the whole argument as a double and applies `accept`.
+CLI::Validator finiteNumber(const char* name, bool (*accept)(double), const char* what) {
+    return CLI::Validator(
+        [accept, what](std::string& text) -> std::string {
+            double value = 0;
+            const auto [end, ec] = std::from_chars(text.data(), text.data() + text.size(), value);
+            if (ec != std::errc() || end != text.data() + text.size() || !std::isfinite(value) ||
+                !accept(value))
+                return "'" + text + "' is not " + what;
+            return {};
+        },
+        name);
+}
+}  // namespace
+
+const CLI::Validator kFiniteNumber =
+    finiteNumber("FINITE", [](double) { return true; }, "a finite number");
+const CLI::Validator kFinitePositive =
+    finiteNumber("POSITIVE", [](double v) { return v > 0; }, "a finite number > 0");
+const CLI::Validator kFiniteNonNegative =
+    finiteNumber("NONNEGATIVE", [](double v) { return v >= 0; }, "a finite number >= 0");
+const CLI::Validator kNonEmptyPath(
+    [](std::string& text) -> std::string {
+        if (text.empty()) return "an empty path (it would mean the current folder)";
+        if (text.find('\0') != std::string::npos) return "a path holding a NUL byte";
+        return {};
+    },
+    "PATH");
 
 std::optional<TriangleMesh> loadClosedMesh(const std::string& path) {
     Result<TriangleMesh> mesh = loadMesh(path);
@@ -90,6 +122,21 @@ CLI::Option* addVectorOption(CLI::App& command, const std::string& name, Eigen::
             description);
 }
 
+std::optional<std::size_t> bodyIndexByName(const Project& project, const std::string& name,
+                                           const std::string& projectPath) {
+    if (project.bodies.empty()) {
+        std::cerr << "error: " << projectPath << ": the project has no bodies\n";
+        return std::nullopt;
+    }
+    if (name.empty()) return 0;
+    for (std::size_t i = 0; i < project.bodies.size(); ++i)
+        if (project.bodies[i].name == name) return i;
+    std::string names;
+    for (const BodyDesc& b : project.bodies) names += (names.empty() ? "'" : ", '") + b.name + "'";
+    std::cerr << "error: " << projectPath << ": no body named '" << name << "' (the bodies: " << names << ")\n";
+    return std::nullopt;
+}
+
 /// Evaluates through a buoyancy backend on the baked textures. The first evaluate uploads the
 /// body, so a second one is timed: that is what every later frame costs.
 ProgressCallback stderrProgress(const std::string& label) {
@@ -108,7 +155,7 @@ CLI::Option* addBakeOptions(CLI::App& command, BakeOptions& options) {
         .add_option("--max-texel-stretch", options.maxTexelStretch,
                     "Sub-texel refinement where the UV map squeezes surface: cut triangles whose "
                     "texels span more than this many typical texel sides (0 = off)")
-        ->check(CLI::NonNegativeNumber)
+        ->check(kFiniteNonNegative)
         ->capture_default_str();
     command
         .add_option_function<std::string>(
@@ -133,6 +180,9 @@ std::optional<SurfaceTextures> bakeWithProgress(const TriangleMesh& mesh,
     BakeSettings settings;
     settings.size = options.size;
     settings.maxTexelStretch = options.maxTexelStretch;
+    // The cost is said before it is spent (bake_cost.h).
+    if (const std::string cost = describeBakeCost(mesh, options.size); !cost.empty())
+        std::cerr << "note: " << cost << "\n";
     settings.progress = stderrProgress("baking " + std::to_string(options.size) + "^2");
     Result<SurfaceTextures> baked = bakeSurfaceTextures(mesh, settings);
     if (!baked) {

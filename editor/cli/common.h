@@ -2,10 +2,11 @@
 // a user needs, and progress on stderr.
 #pragma once
 
-#include "plimsoll/atlas.h"
-#include "plimsoll/bake.h"
-#include "plimsoll/mesh.h"
-#include "plimsoll/validate.h"
+#include "plimsoll/bake/atlas.h"
+#include "plimsoll/bake/bake.h"
+#include "plimsoll/geometry/mesh.h"
+#include "plimsoll/geometry/validate.h"
+#include "plimsoll/scene/project.h"
 
 #include <CLI/CLI.hpp>
 #include <Eigen/Core>
@@ -20,6 +21,11 @@ namespace plimsoll::cli {
 /// prints the problems to stderr. Returns the mesh only when it is a closed solid.
 std::optional<TriangleMesh> loadClosedMesh(const std::string& path);
 
+/// The index of the body named `name` in `project` (empty name: the first body); prints what is
+/// wrong to stderr (no such body, listing the names; no bodies) and returns nothing.
+std::optional<std::size_t> bodyIndexByName(const Project& project, const std::string& name,
+                                           const std::string& projectPath);
+
 /// [x, y, z] for JSON output.
 nlohmann::json vectorJson(const Eigen::Vector3d& v);
 
@@ -30,6 +36,14 @@ std::optional<Eigen::Vector3d> parseVector(const std::string& text);
 /// refused at parse time with the option's name. Negative numbers work as --name=-1,2,-3.
 CLI::Option* addVectorOption(CLI::App& command, const std::string& name, Eigen::Vector3d& target,
                              const std::string& description);
+
+/// Number checks for options. CLI11's PositiveNumber and NonNegativeNumber let "nan" through
+/// (NaN <= 0 is false) and accept "inf"; these refuse both, at parse time, naming the option.
+extern const CLI::Validator kFiniteNumber;
+extern const CLI::Validator kFinitePositive;
+extern const CLI::Validator kFiniteNonNegative;
+/// A path option that is not empty: `--out ""` would write into the current folder.
+extern const CLI::Validator kNonEmptyPath;
 
 /// Progress of long work on stderr: a live percentage on a terminal, nothing in logs.
 ProgressCallback stderrProgress(const std::string& label);

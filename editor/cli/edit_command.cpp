@@ -5,6 +5,8 @@
 #include "app/editor_app.h"
 #include "document/document.h"
 #include "document/script.h"
+#include "plimsoll/core/limits.h"
+#include "plimsoll/io/file_util.h"
 
 #include <nlohmann/json.hpp>
 
@@ -21,6 +23,7 @@ struct EditOptions {
     std::string project;
     std::string script;
     std::string saveAs;
+    bool force = false;
     bool noSave = false;
     editor::EditorLaunch window;
     std::string windowSize;
@@ -52,14 +55,15 @@ int runEdit(const EditOptions& o) {
         }
         document = std::move(opened).value();
     }
-    std::ifstream in(o.script);
-    if (!in) {
-        std::cerr << "error: " << o.script << ": cannot open\n";
+    // A regular file of bounded size: a FIFO given as the script must not block.
+    Result<std::string> text = readWholeFile(o.script, kMaxJsonFileBytes, "kMaxJsonFileBytes");
+    if (!text) {
+        std::cerr << "error: " << text.error().message << "\n";
         return kExitFailure;
     }
     nlohmann::json script;
     try {
-        script = nlohmann::json::parse(in);
+        script = nlohmann::json::parse(*text);
     } catch (const nlohmann::json::exception& e) {
         std::cerr << "error: " << o.script << ": " << e.what() << "\n";
         return kExitFailure;
@@ -72,7 +76,7 @@ int runEdit(const EditOptions& o) {
     nlohmann::json report;
     report["results"] = *results;
     if (!o.noSave) {
-        Status saved = o.saveAs.empty() ? document->save() : document->saveAs(o.saveAs);
+        Status saved = o.saveAs.empty() ? document->save() : document->saveAs(o.saveAs, o.force);
         if (!saved) {
             std::cerr << "error: " << saved.error().message << "\n";
             return kExitFailure;
@@ -95,6 +99,8 @@ void addEditCommand(CLI::App& root, CommandRunner& selected) {
                     "the project is saved afterwards")
         ->check(CLI::ExistingFile);
     cmd->add_option("--save-as", o->saveAs, "With --script: save under this name instead");
+    cmd->add_flag("--force", o->force, "With --save-as: replace an existing file (never one the "
+                                       "project reads, such as its mesh)");
     cmd->add_flag("--no-save", o->noSave, "With --script: do not save");
     cmd->add_option("--frames", o->window.frames,
                     "Window: run this many frames, print frame times and layout as JSON, quit");
@@ -106,6 +112,18 @@ void addEditCommand(CLI::App& root, CommandRunner& selected) {
     cmd->add_option("--snapshot", o->window.snapshots,
                     "Window: with --frames and --preview, FRAME:PATH writes that frame to a PNG "
                     "(repeatable); the JSON report lists the bodies and force arrows there");
+    cmd->add_option("--texture-size", o->window.textureSize,
+                    "Window: with --frames and --preview, ask for this physics texture size at the "
+                    "second frame (baked in the background); the run ends once it is in")
+        ->check(CLI::Range(kMinTextureSize, kMaxTextureSize));
+    cmd->add_option("--inspector-texture-size", o->window.inspectorTextureSize,
+                    "Window: with --frames, set the first body's texture size at the second "
+                    "frame as the inspector does (baked in the background, the running preview "
+                    "too); the run ends once it is in")
+        ->check(CLI::Range(kMinTextureSize, kMaxTextureSize));
+    cmd->add_flag("--frame-stats", o->window.frameStats,
+                  "Window: with --frames, also report the median time of each phase of a frame "
+                  "(UI, preview physics, 3D scene, panels, present), waiting for the GL after each");
     cmd->add_option("--view", o->window.view, "Window: front, side, top or persp")
         ->check(CLI::IsMember({"front", "side", "top", "persp"}));
     cmd->add_option("--overlay", o->window.overlay,
@@ -113,6 +131,9 @@ void addEditCommand(CLI::App& root, CommandRunner& selected) {
         ->check(CLI::IsMember(
             {"none", "permeability", "density", "thickness", "coverage", "position", "area"}));
     cmd->add_option("--window-size", o->windowSize, "Window: size WxH");
+    cmd->add_option("--run-seconds", o->window.runSeconds,
+                    "Window: run interactively this long, then print frames drawn, CPU seconds "
+                    "after the first second and the view as JSON, and quit");
     cmd->callback([o, &selected] { selected = [o] { return runEdit(*o); }; });
 }
 

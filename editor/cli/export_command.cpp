@@ -1,22 +1,33 @@
-// plimsoll export PROJECT... --out DIR [--jobs N] [--check] [--quiet] [--summary FILE]:
+// plimsoll export PROJECT... --out DIR [--jobs N] [--check] [--force] [--shard K/N]
+//                 [--junit FILE] [--quiet] [--summary FILE] [--compact]:
 // runtime bundles (bundle.h, docs/bundle.md), one folder per body: DIR/<project>/<body>/.
-// With --check nothing is written: exits 1 naming every file an export would change.
-// The summary JSON goes to stdout (and to --summary FILE); progress and errors to stderr.
+// A body whose bundle on disk was made from the same inputs (manifest input_sha256) is kept
+// as it is, unless --force. With --check nothing is written: exits 1 naming every file an
+// export would change. --shard K/N exports only this CI shard's bodies; --junit writes one
+// test case per body. The summary JSON goes to stdout (and to --summary FILE); progress (on a
+// terminal, or with --progress) and errors to stderr. --compact stores the samples and images
+// as half floats (docs/bundle.md "Compact bundles").
 #include "cli/commands.h"
 
-#include "plimsoll/bundle.h"
-#include "plimsoll/file_util.h"
-#include "plimsoll/project.h"
+#include "cli/common.h"
+
+#include "plimsoll/io/bundle.h"
+#include "plimsoll/io/file_util.h"
+#include "plimsoll/scene/project.h"
 
 #include <nlohmann/json.hpp>
 
 #include <algorithm>
 #include <atomic>
 #include <chrono>
+#include <iomanip>
 #include <iostream>
 #include <memory>
 #include <mutex>
+#include <sstream>
 #include <thread>
+
+#include <unistd.h>
 
 namespace plimsoll::cli {
 
@@ -28,32 +39,173 @@ struct ExportOptions {
     std::vector<std::string> projects;
     std::string out;
     std::string summary;
+    std::string shard;  ///< "K/N" or empty
+    std::string junit;
     int jobs = 1;
     bool check = false;
+    bool force = false;
+    bool compact = false;
     bool quiet = false;
+    bool progress = false;
 };
 
 struct Task {
     std::size_t project = 0, body = 0;
     fs::path folder;
-    Result<BundleReport> result = makeError("not run");
+    std::string key;  ///< "<project folder>/<body folder>": what --shard splits by
+    Result<BundleReport> result = makeError(ErrorKind::invalidArgument, "not run");
     double seconds = 0;
 };
 
+/// Shard K of N (1 <= K <= N), parsed from "K/N".
+struct Shard {
+    std::uint64_t index = 1, count = 1;
+};
+
+Result<Shard> parseShard(const std::string& text) {
+    const std::string problem = "--shard \"" + text + "\": expected K/N with 1 <= K <= N";
+    const std::size_t slash = text.find('/');
+    if (slash == std::string::npos || slash == 0 || slash + 1 == text.size())
+        return makeError(ErrorKind::invalidArgument, problem);
+    auto number = [](const std::string& digits, std::uint64_t& value) {
+        if (digits.empty() || digits.size() > 6 ||
+            digits.find_first_not_of("0123456789") != std::string::npos)
+            return false;
+        value = std::stoull(digits);
+        return true;
+    };
+    Shard shard;
+    if (!number(text.substr(0, slash), shard.index) || !number(text.substr(slash + 1), shard.count) ||
+        shard.index < 1 || shard.index > shard.count)
+        return makeError(ErrorKind::invalidArgument, problem);
+    return shard;
+}
+
+/// The shard (1..count) a body belongs to: the first 8 bytes of the SHA-256 of its key, so a
+/// body stays in its shard whatever other bodies are added or removed, on every machine.
+std::uint64_t shardOf(const std::string& key, std::uint64_t count) {
+    const std::string hex = sha256Hex(key).substr(0, 16);
+    return std::stoull(hex, nullptr, 16) % count + 1;
+}
+
+/// Seconds as JUnit's `time` (xs:decimal: no exponent).
+std::string junitTime(double seconds) {
+    std::ostringstream out;
+    out << std::fixed << std::setprecision(3) << seconds;
+    return out.str();
+}
+
+std::string xmlEscaped(const std::string& text) {
+    std::string out;
+    for (const char c : text) {
+        switch (c) {
+            case '&': out += "&amp;"; break;
+            case '<': out += "&lt;"; break;
+            case '>': out += "&gt;"; break;
+            case '"': out += "&quot;"; break;
+            case '\'': out += "&apos;"; break;
+            default:
+                // XML 1.0 admits no control characters but tab, newline and carriage return.
+                if (static_cast<unsigned char>(c) < 0x20 && c != '\t' && c != '\n' && c != '\r')
+                    out += ' ';
+                else
+                    out += c;
+        }
+    }
+    return out;
+}
+
+/// JUnit XML as Jenkins, GitLab and GitHub's test reporters read it: one <testsuite> per
+/// project, one <testcase> per body (classname = the project's folder, name = the body's),
+/// a <failure> with the error message for a body that failed (or, with --check, is out of
+/// date).
+std::string junitXml(const std::vector<Task>& tasks, const std::vector<std::string>& folders,
+                     bool check, double seconds) {
+    std::ostringstream suites;
+    std::size_t allFailures = 0, allTests = 0;
+    for (std::size_t p = 0; p < folders.size(); ++p) {
+        std::ostringstream cases;
+        std::size_t tests = 0, failures = 0;
+        double time = 0;
+        for (const Task& t : tasks) {
+            if (t.project != p) continue;
+            ++tests;
+            time += t.seconds;
+            cases << "    <testcase classname=\"" << xmlEscaped(folders[p]) << "\" name=\""
+                  << xmlEscaped(t.folder.filename().string()) << "\" time=\"" << junitTime(t.seconds) << "\"";
+            std::string failure;
+            if (!t.result) failure = t.result.error().message;
+            else if (check && !t.result->outOfDate.empty()) {
+                failure = "out of date:";
+                for (const std::string& f : t.result->outOfDate) failure += " " + f;
+            }
+            if (failure.empty()) {
+                cases << "/>\n";
+            } else {
+                ++failures;
+                cases << ">\n      <failure message=\"" << xmlEscaped(failure) << "\" type=\""
+                      << (t.result ? "out_of_date" : errorKindName(t.result.error().kind)) << "\">"
+                      << xmlEscaped(failure) << "</failure>\n    </testcase>\n";
+            }
+        }
+        if (tests == 0) continue;  // another shard's project
+        allTests += tests;
+        allFailures += failures;
+        suites << "  <testsuite name=\"" << xmlEscaped(folders[p]) << "\" tests=\"" << tests
+               << "\" failures=\"" << failures << "\" errors=\"0\" skipped=\"0\" time=\"" << junitTime(time)
+               << "\">\n" << cases.str() << "  </testsuite>\n";
+    }
+    std::ostringstream xml;
+    xml << "<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n<testsuites name=\"plimsoll "
+        << (check ? "export --check" : "export") << "\" tests=\"" << allTests << "\" failures=\""
+        << allFailures << "\" errors=\"0\" time=\"" << junitTime(seconds) << "\">\n"
+        << suites.str() << "</testsuites>\n";
+    return xml.str();
+}
+
+Status writeTextFile(const std::string& path, const std::string& text) {
+    return writeFileAtomically(path, [&](std::ostream& out) {
+        out << text;
+        return static_cast<bool>(out);
+    });
+}
+
 int runExport(const ExportOptions& o) {
     const auto start = std::chrono::steady_clock::now();
+    Shard shard;
+    if (!o.shard.empty()) {
+        Result<Shard> parsed = parseShard(o.shard);
+        if (!parsed) {
+            std::cerr << "error: " << parsed.error().message << "\n";
+            return kExitUsage;
+        }
+        shard = *parsed;
+    }
     std::vector<Project> projects;
     std::vector<std::string> folders;
     for (const std::string& path : o.projects) {
         Result<Project> project = loadProject(path);
         if (!project) {
             std::cerr << "error: " << project.error().message << "\n";
+            if (!o.junit.empty()) {
+                // The dashboard still gets a report: one failed case, "project", for the
+                // file that stopped the export before any body ran.
+                Task failure;
+                failure.folder = "project";
+                failure.result = project.error();
+                const std::string stem = fs::path(path).filename().string();
+                const std::string xml = junitXml({failure}, {stem}, o.check, 0.0);
+                if (Status s = writeTextFile(o.junit, xml); !s.ok())
+                    std::cerr << "error: " << s.error().message << "\n";
+            }
             return kExitFailure;
         }
-        // Two projects with one file stem get "-2", "-3", ... in the order given.
-        std::string folder = project->fileStem;
+        // Two projects with one file stem get "-2", "-3", ... in the order given. The stem is
+        // made a safe name: a project named "...plim.json" must not export to OUT/.. .
+        const std::string stem = safeFileName(project->fileStem, "project");
+        std::string folder = stem;
         for (int k = 2; std::find(folders.begin(), folders.end(), folder) != folders.end(); ++k)
-            folder = project->fileStem + "-" + std::to_string(k);
+            folder = stem + "-" + std::to_string(k);
         folders.push_back(folder);
         projects.push_back(std::move(*project));
     }
@@ -64,29 +216,44 @@ int runExport(const ExportOptions& o) {
             task.project = p;
             task.body = b;
             task.folder = fs::path(o.out) / folders[p] / bundleFolderName(projects[p], b);
+            task.key = folders[p] + "/" + bundleFolderName(projects[p], b);
+            if (shardOf(task.key, shard.count) != shard.index) continue;
             tasks.push_back(std::move(task));
         }
     }
 
+    // Progress is for a person watching: on by default on a terminal, off in CI logs (where
+    // the summary and, with --junit, the JUnit file say what happened).
+    const bool progress = !o.quiet && (o.progress || ::isatty(STDERR_FILENO) == 1);
     std::mutex printing;
-    auto say = [&](const std::string& line) {
+    auto notice = [&](const std::string& line) {  // the bundle writer's notices and warnings
         if (o.quiet) return;
         std::lock_guard lock(printing);
         std::cerr << line << "\n";
+    };
+    auto say = [&](const std::string& line) {
+        if (progress) notice(line);
     };
     std::atomic<std::size_t> next{0}, done{0};
     auto work = [&] {
         for (std::size_t i; (i = next++) < tasks.size();) {
             Task& t = tasks[i];
             const auto begin = std::chrono::steady_clock::now();
-            t.result = o.check ? checkBodyBundle(projects[t.project], t.body, t.folder)
-                               : writeBodyBundle(projects[t.project], t.body, t.folder, say);
+            const Project& project = projects[t.project];
+            std::optional<BundleReport> kept;
+            const BundleOptions bundle{o.compact};
+            if (!o.check && !o.force) kept = unchangedBodyBundle(project, t.body, t.folder, bundle);
+            t.result = o.check ? checkBodyBundle(project, t.body, t.folder, bundle)
+                       : kept  ? Result<BundleReport>(std::move(*kept))
+                               : writeBodyBundle(project, t.body, t.folder, notice, bundle);
             t.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - begin).count();
             const std::string where = "[" + std::to_string(++done) + "/" +
                                       std::to_string(tasks.size()) + "] " + t.folder.string();
             if (!t.result) continue;  // reported below, unconditionally
             if (o.check) {
                 say(where + (t.result->outOfDate.empty() ? ": up to date" : ": out of date"));
+            } else if (t.result->unchanged) {
+                say(where + ": unchanged");
             } else {
                 say(where + ": " + std::to_string(t.result->files.size()) + " files, " +
                     std::to_string(t.result->totalBytes()) + " bytes, " +
@@ -101,6 +268,7 @@ int runExport(const ExportOptions& o) {
     for (std::thread& t : threads) t.join();
 
     bool failed = false, outOfDate = false;
+    std::size_t unchanged = 0;
     nlohmann::json bodies = nlohmann::json::array();
     for (const Task& t : tasks) {
         nlohmann::json entry = {{"project", o.projects[t.project]},
@@ -129,27 +297,42 @@ int runExport(const ExportOptions& o) {
                 }
                 outOfDate = outOfDate || !r.outOfDate.empty();
             } else {
-                entry["status"] = "written";
+                entry["status"] = r.unchanged ? "unchanged" : "written";
+                unchanged += r.unchanged;
             }
         }
         bodies.push_back(std::move(entry));
     }
+    const double seconds =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     const nlohmann::json summary = {
         {"command", o.check ? "check" : "export"},
         {"bundle_schema", {{"major", kBundleSchemaMajor}, {"minor", kBundleSchemaMinor}}},
         {"out", o.out},
         {"jobs", jobs},
         {"ok", !failed && !outOfDate},
-        {"seconds", std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count()},
+        {"shard", o.shard.empty() ? nlohmann::json(nullptr)
+                                  : nlohmann::json{{"index", shard.index}, {"count", shard.count}}},
+        {"unchanged", unchanged},
+        {"seconds", seconds},
         {"bodies", bodies}};
     const std::string text = summary.dump(2) + "\n";
     std::cout << text;
-    if (!o.summary.empty()) {
-        Status s = writeFileAtomically(o.summary, [&](std::ostream& out) {
-            out << text;
-            return static_cast<bool>(out);
-        });
-        if (!s.ok()) {
+    if (!o.check && !o.quiet) {
+        // Said even in CI: that a run rewrote nothing is the point of the skip.
+        std::cerr << (unchanged == tasks.size() && !tasks.empty()
+                          ? "export: all " + std::to_string(unchanged) +
+                                " bundles unchanged, nothing rewritten"
+                          : "export: " + std::to_string(tasks.size() - unchanged) + " of " +
+                                std::to_string(tasks.size()) + " bundles written, " +
+                                std::to_string(unchanged) + " unchanged")
+                  << "\n";
+    }
+    for (const auto& [path, content] : {std::pair{o.summary, text},
+                                        std::pair{o.junit, o.junit.empty() ? std::string()
+                                                                           : junitXml(tasks, folders, o.check, seconds)}}) {
+        if (path.empty()) continue;
+        if (Status s = writeTextFile(path, content); !s.ok()) {
             std::cerr << "error: " << s.error().message << "\n";
             return kExitFailure;
         }
@@ -164,14 +347,25 @@ void addExportCommand(CLI::App& root, CommandRunner& selected) {
     CLI::App* command = root.add_subcommand(
         "export", "Runtime bundles for game engines: one folder per body (docs/bundle.md)");
     command->add_option("PROJECT", o->projects, "Project files (*.plim.json)")->required();
-    command->add_option("--out", o->out, "Export folder: OUT/<project>/<body>/")->required();
+    command->add_option("--out", o->out, "Export folder: OUT/<project>/<body>/")->required()->check(kNonEmptyPath);
     command->add_option("--jobs", o->jobs, "Bodies exported in parallel")
         ->check(CLI::Range(1, 256))
         ->capture_default_str();
     command->add_flag("--check", o->check,
                       "Write nothing; exit 1 naming each file an export would change");
-    command->add_flag("--quiet", o->quiet, "No progress lines on stderr");
-    command->add_option("--summary", o->summary, "Also write the summary JSON to this file");
+    command->add_flag("--force", o->force,
+                      "Rewrite every bundle, even those made from unchanged inputs");
+    command->add_option("--shard", o->shard,
+                        "K/N: export only the bodies of CI shard K of N (a stable split by "
+                        "project and body name; the N shards together export every body once)");
+    command->add_option("--junit", o->junit, "Also write a JUnit XML report: one test case per body")->check(kNonEmptyPath);
+    command->add_flag("--compact", o->compact,
+                      "Half-float samples and images (about half the size; accuracy in "
+                      "docs/bundle.md \"Compact bundles\")");
+    command->add_flag("--quiet", o->quiet, "No progress lines or tally on stderr");
+    command->add_flag("--progress", o->progress,
+                      "Progress lines on stderr even when it is not a terminal");
+    command->add_option("--summary", o->summary, "Also write the summary JSON to this file")->check(kNonEmptyPath);
     command->callback([o, &selected] { selected = [o] { return runExport(*o); }; });
 }
 

@@ -5,10 +5,10 @@
 #include "cli/commands.h"
 
 #include "cli/common.h"
-#include "plimsoll/graph.h"
-#include "plimsoll/massprops.h"
-#include "plimsoll/mesh_io.h"
-#include "plimsoll/validate.h"
+#include "plimsoll/graph/graph.h"
+#include "plimsoll/physics/massprops.h"
+#include "plimsoll/io/mesh_io.h"
+#include "plimsoll/geometry/validate.h"
 
 #include <cstdio>
 #include <iostream>
@@ -100,11 +100,11 @@ void addGraphCommand(CLI::App& root, CommandRunner& selected) {
         ->check(CLI::Range(0, 64));
     autoCmd->add_option("--thickness", o->thickness,
                         "Shell thickness (m): capacities leave out the shell's own volume")
-        ->check(CLI::NonNegativeNumber);
+        ->check(kFiniteNonNegative);
     autoCmd->add_option("--volume-samples", o->volumeSamples,
                         "Grid cells along the longest side for the volume shares")
         ->check(CLI::Range(8, 256));
-    autoCmd->add_option("--out,-o", o->out, "graph.json to write")->required();
+    autoCmd->add_option("--out,-o", o->out, "graph.json to write")->required()->check(kNonEmptyPath);
     autoCmd->callback([&selected, o] { selected = [o] { return runAuto(*o); }; });
 
     CLI::App* validate = sub->add_subcommand("validate", "Check a graph.json (and its nodes against a mesh)");

@@ -3,8 +3,8 @@
 #include "cli/commands.h"
 
 #include "cli/common.h"
-#include "plimsoll/massprops.h"
-#include "plimsoll/painted_map.h"
+#include "plimsoll/physics/massprops.h"
+#include "plimsoll/bake/painted_map.h"
 
 #include <nlohmann/json.hpp>
 
@@ -104,12 +104,12 @@ void addMassPropsCommand(CLI::App& root, CommandRunner& selected) {
         cmd->add_flag("--exact", o->exact, "Exact polyhedral integrals of the mesh (no textures)")
             ->excludes(size);
     cmd->add_option("--density", o->density, "Solid density, kg/m^3 (default 1000)")
-        ->check(CLI::NonNegativeNumber)
+        ->check(kFiniteNonNegative)
         ->each([o](const std::string&) { o->densityGiven = true; });
     cmd->add_option("--shell-density", o->shellDensity,
                     "Thin-shell surface density, kg/m^2 (thickness x material density); "
                     "alone it gives a hollow shell, with --density both are added")
-        ->check(CLI::NonNegativeNumber);
+        ->check(kFiniteNonNegative);
     cmd->add_option("--shell-density-map", o->shellDensityMap,
                     "Painted surface-density map (8/16-bit PNG over the mesh's UVs): white is "
                     "--shell-density, black 0")

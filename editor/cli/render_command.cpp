@@ -3,6 +3,8 @@
 // llvmpipe on a machine without a GPU). For thumbnails and tests.
 #include "cli/commands.h"
 
+#include "cli/common.h"
+
 #include "document/document.h"
 #include "document/overlay.h"
 #include "render/camera.h"
@@ -11,7 +13,7 @@
 #include "render/renderer.h"
 #include "render/scene.h"
 
-#include "plimsoll/file_util.h"
+#include "plimsoll/io/file_util.h"
 
 #include <nlohmann/json.hpp>
 #include <stb_image_write.h>
@@ -148,7 +150,7 @@ void addRenderCommand(CLI::App& root, CommandRunner& selected) {
     cmd->add_option("project", o->project, "Project file (*.plim.json)")
         ->required()
         ->check(CLI::ExistingFile);
-    cmd->add_option("--out", o->out, "PNG file to write")->required();
+    cmd->add_option("--out", o->out, "PNG file to write")->required()->check(kNonEmptyPath);
     cmd->add_option("--view", o->view, "front, side, top (orthographic) or persp")
         ->check(CLI::IsMember({"front", "side", "top", "persp"}))
         ->capture_default_str();

@@ -1,8 +1,10 @@
 #include "cli/commands.h"
 
-#include "plimsoll/mesh_io.h"
-#include "plimsoll/painted_map.h"
-#include "plimsoll/primitives.h"
+#include "cli/common.h"
+
+#include "plimsoll/io/mesh_io.h"
+#include "plimsoll/bake/painted_map.h"
+#include "plimsoll/samples/primitives.h"
 
 #include <cmath>
 #include <cstdio>
@@ -122,7 +124,7 @@ int runSamples(const fs::path& outDir) {
         std::cerr << outDir.string() << ": cannot create folder: " << ec.message() << "\n";
         return kExitFailure;
     }
-    // The committed assets/ are exactly this output; tests/test_primitives.cpp holds them to it.
+    // The committed assets/ are exactly this output; tests/samples/test_primitives.cpp holds them to it.
     const struct {
         const char* file;
         TriangleMesh mesh;
@@ -158,7 +160,8 @@ void addSamplesCommand(CLI::App& root, CommandRunner& selected) {
     sub->add_option("--out", *outDir,
                     "Folder to write sphere.obj, box.obj, cylinder.obj, buoy.obj, hull.obj, "
                     "plush.obj, their painted maps and balloon/frame_000.obj .. frame_023.obj")
-        ->required();
+        ->required()
+        ->check(kNonEmptyPath);
     sub->callback([&selected, outDir] { selected = [outDir] { return runSamples(*outDir); }; });
 }
 

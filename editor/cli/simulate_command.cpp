@@ -4,9 +4,11 @@
 #include "cli/commands.h"
 
 #include "cli/common.h"
-#include "plimsoll/file_util.h"
-#include "plimsoll/project.h"
-#include "plimsoll/world.h"
+#include "plimsoll/core/limits.h"
+#include "plimsoll/io/file_util.h"
+#include "plimsoll/scene/project.h"
+#include "plimsoll/scene/scene_loader.h"
+#include "plimsoll/scene/world.h"
 
 #include <nlohmann/json.hpp>
 
@@ -14,7 +16,6 @@
 #include <cmath>
 #include <iostream>
 #include <memory>
-#include <sstream>
 
 namespace plimsoll::cli {
 
@@ -55,11 +56,6 @@ Project projectFromFlags(const SimulateOptions& o) {
     return project;
 }
 
-struct FrameRecord {
-    double time;
-    std::vector<SimulatedBody> bodies;
-};
-
 nlohmann::json bodyJson(const SimulatedBody& b, double time) {
     const Eigen::Quaterniond& q = b.state.orientation;
     return {{"name", b.name},
@@ -74,47 +70,56 @@ nlohmann::json bodyJson(const SimulatedBody& b, double time) {
             {"center_of_mass", vectorJson(b.mass.centerOfMass)}};
 }
 
-/// One row per frame and body: time, body, centre of mass (world), quaternion (w, x, y, z),
-/// velocities, submerged volume, buoyant force, mass, centre of mass (object space).
-std::string trajectoryCsv(const std::vector<FrameRecord>& frames) {
-    std::ostringstream out;
-    out.precision(10);
-    out << "time,body,x,y,z,qw,qx,qy,qz,vx,vy,vz,wx,wy,wz,submerged_volume,fx,fy,fz,mass,"
-           "com_x,com_y,com_z\n";
-    for (const FrameRecord& f : frames) {
-        for (const SimulatedBody& b : f.bodies) {
-            const Eigen::Vector3d v = linearVelocity(b.state, b.mass);
-            const Eigen::Vector3d w = angularVelocity(b.state, b.mass);
-            const Eigen::Quaterniond& q = b.state.orientation;
-            const Eigen::Vector3d& x = b.state.position;
-            const Eigen::Vector3d& F = b.buoyancy.pressureForce;
-            const Eigen::Vector3d& c = b.mass.centerOfMass;
-            out << f.time << ',' << b.name << ',' << x.x() << ',' << x.y() << ',' << x.z() << ','
-                << q.w() << ',' << q.x() << ',' << q.y() << ',' << q.z() << ',' << v.x() << ','
-                << v.y() << ',' << v.z() << ',' << w.x() << ',' << w.y() << ',' << w.z() << ','
-                << b.buoyancy.submergedVolume << ',' << F.x() << ',' << F.y() << ',' << F.z()
-                << ',' << b.mass.mass << ',' << c.x() << ',' << c.y() << ',' << c.z() << '\n';
-        }
+/// The trajectory file, written as the frames come (a long run must not hold every frame in
+/// memory): CSV, one row per frame and body: time, body, centre of mass (world), quaternion
+/// (w, x, y, z), velocities, submerged volume, buoyant force, mass, centre of mass (object
+/// space); or JSON (by the extension), an array of bodyJson objects.
+class TrajectoryWriter {
+public:
+    TrajectoryWriter(std::ostream& out, bool json) : out_(out), json_(json) {
+        out_.precision(10);
+        if (json_) out_ << "[";
+        else
+            out_ << "time,body,x,y,z,qw,qx,qy,qz,vx,vy,vz,wx,wy,wz,submerged_volume,fx,fy,fz,"
+                    "mass,com_x,com_y,com_z\n";
     }
-    return out.str();
-}
+    void frame(double time, const std::vector<SimulatedBody>& bodies) {
+        for (const SimulatedBody& b : bodies) json_ ? jsonRow(b, time) : csvRow(b, time);
+    }
+    bool finish() {
+        if (json_) out_ << (rows_ ? "\n]\n" : "]\n");
+        return static_cast<bool>(out_);
+    }
 
-Status writeTrajectory(const std::vector<FrameRecord>& frames, const std::string& path) {
-    const bool json = std::filesystem::path(path).extension() == ".json";
-    std::string text;
-    if (json) {
-        nlohmann::json all = nlohmann::json::array();
-        for (const FrameRecord& f : frames)
-            for (const SimulatedBody& b : f.bodies) all.push_back(bodyJson(b, f.time));
-        text = all.dump(1) + "\n";
-    } else {
-        text = trajectoryCsv(frames);
+private:
+    void csvRow(const SimulatedBody& b, double time) {
+        const Eigen::Vector3d v = linearVelocity(b.state, b.mass);
+        const Eigen::Vector3d w = angularVelocity(b.state, b.mass);
+        const Eigen::Quaterniond& q = b.state.orientation;
+        const Eigen::Vector3d& x = b.state.position;
+        const Eigen::Vector3d& F = b.buoyancy.pressureForce;
+        const Eigen::Vector3d& c = b.mass.centerOfMass;
+        out_ << time << ',' << b.name << ',' << x.x() << ',' << x.y() << ',' << x.z() << ','
+             << q.w() << ',' << q.x() << ',' << q.y() << ',' << q.z() << ',' << v.x() << ','
+             << v.y() << ',' << v.z() << ',' << w.x() << ',' << w.y() << ',' << w.z() << ','
+             << b.buoyancy.submergedVolume << ',' << F.x() << ',' << F.y() << ',' << F.z()
+             << ',' << b.mass.mass << ',' << c.x() << ',' << c.y() << ',' << c.z() << '\n';
     }
-    return writeFileAtomically(path, [&](std::ostream& out) {
-        out << text;
-        return static_cast<bool>(out);
-    });
-}
+    void jsonRow(const SimulatedBody& b, double time) {
+        // As the whole array's dump(1): each element one level in.
+        const std::string element = bodyJson(b, time).dump(1);
+        out_ << (rows_ ? ",\n " : "\n ");
+        for (char c : element) {
+            out_ << c;
+            if (c == '\n') out_ << ' ';
+        }
+        ++rows_;
+    }
+
+    std::ostream& out_;
+    bool json_;
+    std::size_t rows_ = 0;
+};
 
 int runSimulate(const SimulateOptions& o) {
     Project project;
@@ -141,6 +146,18 @@ int runSimulate(const SimulateOptions& o) {
         project.simulation.integrator = *integrator;
     }
     const double seconds = o.seconds.value_or(project.simulation.duration);
+    // Counted in double first: seconds / time_step can exceed every integer (1e300 s, a
+    // 1e-300 s step), and converting such a value to an integer is undefined.
+    const double frames = std::ceil(seconds / project.simulation.timeStep - 1e-9);
+    if (!(frames >= 0) || frames > double(kMaxSimulationFrames)) {
+        // Named by its project (or mesh), as every other error of the command is.
+        const std::string source = !o.project.empty() ? o.project : o.mesh;
+        std::cerr << "error: " << source << ": " << seconds << " s at a time step of "
+                  << project.simulation.timeStep
+                  << " s is " << frames << " frames, more than the limit kMaxSimulationFrames = "
+                  << kMaxSimulationFrames << " (limits.h)\n";
+        return kExitFailure;
+    }
 
     std::string notice;
     Result<std::unique_ptr<BuoyancyBackend>> backend = createBuoyancyBackend(o.device, &notice);
@@ -150,41 +167,60 @@ int runSimulate(const SimulateOptions& o) {
     }
     if (!notice.empty()) std::cerr << "note: " << notice << "\n";
     const LogFunction log = [](const std::string& line) { std::cerr << line << "\n"; };
-    Result<std::unique_ptr<World>> created = World::create(project, std::move(*backend), log);
+    Result<Scene> scene = loadScene(project, log, stderrProgress);
+    if (!scene) {
+        std::cerr << "error: " << scene.error().message << "\n";
+        return kExitFailure;
+    }
+    Result<std::unique_ptr<World>> created = World::create(std::move(*scene), std::move(*backend), log);
     if (!created) {
-        std::cerr << "error: " << created.error().message << "\n";
+        // The scene's own problems (a body no step resolves) name the file it came from.
+        const std::string source = o.project.empty() ? o.mesh : o.project;
+        std::cerr << "error: " << source << ": " << created.error().message << "\n";
         return kExitFailure;
     }
     World& world = **created;
 
-    const auto frameCount =
-        static_cast<long>(std::ceil(seconds / project.simulation.timeStep - 1e-9));
+    const auto frameCount = static_cast<long>(frames);
     const ProgressCallback progress = stderrProgress("simulating");
-    std::vector<FrameRecord> frames;
     const auto start = std::chrono::steady_clock::now();
-    for (long frame = 0; frame < frameCount; ++frame) {
-        if (Status s = world.advanceFrame(); !s.ok()) {
-            std::cerr << "error: at t = " << world.time() << " s: " << s.error().message << "\n";
+    // Each frame goes to the trajectory file (a temporary, renamed over --out when the run
+    // succeeds) as it is computed.
+    auto run = [&](TrajectoryWriter* trajectory) -> bool {
+        for (long frame = 0; frame < frameCount; ++frame) {
+            if (Status s = world.advanceFrame(); !s.ok()) {
+                std::cerr << "error: at t = " << world.time() << " s: " << s.error().message << "\n";
+                return false;
+            }
+            for (const SimulatedBody& b : world.bodies()) {
+                if (!b.state.position.allFinite() || !b.state.orientation.coeffs().allFinite()) {
+                    std::cerr << "error: body '" << b.name << "' left the finite numbers at t = "
+                              << world.time() << " s\n";
+                    return false;
+                }
+            }
+            if (trajectory) trajectory->frame(world.time(), world.bodies());
+            if (progress) progress(static_cast<double>(frame + 1) / frameCount);
+        }
+        return !trajectory || trajectory->finish();
+    };
+    if (o.out.empty()) {
+        if (!run(nullptr)) return kExitFailure;
+    } else {
+        bool simulated = true;
+        const Status written = writeFileAtomically(o.out, [&](std::ostream& out) {
+            TrajectoryWriter trajectory(out, std::filesystem::path(o.out).extension() == ".json");
+            simulated = run(&trajectory);
+            return simulated;
+        });
+        if (!simulated) return kExitFailure;
+        if (!written.ok()) {
+            std::cerr << "error: " << written.error().message << "\n";
             return kExitFailure;
         }
-        for (const SimulatedBody& b : world.bodies()) {
-            if (!b.state.position.allFinite() || !b.state.orientation.coeffs().allFinite()) {
-                std::cerr << "error: body '" << b.name << "' left the finite numbers at t = "
-                          << world.time() << " s\n";
-                return kExitFailure;
-            }
-        }
-        if (!o.out.empty()) frames.push_back({world.time(), world.bodies()});
-        if (progress) progress(static_cast<double>(frame + 1) / frameCount);
     }
     const double wall =
         std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-    if (!o.out.empty()) {
-        if (Status s = writeTrajectory(frames, o.out); !s.ok()) {
-            std::cerr << "error: " << s.error().message << "\n";
-            return kExitFailure;
-        }
-    }
     const WorldStatistics& stats = world.statistics();
     if (o.json) {
         nlohmann::json out = bodyJson(world.bodies().front(), world.time());
@@ -214,23 +250,25 @@ void addSimulateCommand(CLI::App& root, CommandRunner& selected) {
                     "given by flags)");
     cmd->add_option("PROJECT", o->project, "Project file (*.plim.json)");
     cmd->add_option("--seconds", o->seconds, "Simulated time, s (default: the project's duration)")
-        ->check(CLI::NonNegativeNumber);
-    cmd->add_option("--out", o->out, "Trajectory file: .csv (default) or .json, one row per frame");
+        ->check(kFiniteNonNegative);
+    cmd->add_option("--out", o->out, "Trajectory file: .csv (default) or .json, one row per frame")
+        ->check(kNonEmptyPath);
     cmd->add_flag("--json", o->json, "Print the final state of the first body as one JSON object");
-    cmd->add_option("--device", o->device, "Compute device: cpu, gpu, an index, or reference");
+    cmd->add_option("--device", o->device, "Compute device: fast (CPU), cpu, gpu, an OpenCL index, or reference; default: the first GPU, else fast");
     cmd->add_option("--integrator", o->integrator,
                     "explicit-euler, semi-implicit-euler or rk4 (default: the project's)");
     auto* mesh = cmd->add_option("--mesh", o->mesh, "One-body scene: the mesh");
     cmd->add_option("--density", o->density, "One-body scene: solid density, kg/m^3")
-        ->check(CLI::PositiveNumber)
+        ->check(kFinitePositive)
         ->capture_default_str();
     cmd->add_option("--size", o->size, "One-body scene: texture size")
         ->check(CLI::Range(kMinTextureSize, kMaxTextureSize))
         ->capture_default_str();
     cmd->add_option("--fluid-density", o->fluidDensity, "One-body scene: fluid density, kg/m^3")
-        ->check(CLI::PositiveNumber)
+        ->check(kFinitePositive)
         ->capture_default_str();
     cmd->add_option("--water-level", o->waterLevel, "One-body scene: flat water height, m")
+        ->check(kFiniteNumber)
         ->capture_default_str();
     addVectorOption(*cmd, "--position", o->position, "One-body scene: position t of the object "
                                                      "origin (R p + t), m")

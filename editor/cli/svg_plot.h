@@ -1,4 +1,5 @@
-// A small hand-written SVG line plot on log-log axes, for the benchmark's speed/accuracy chart:
+// Small hand-written SVG line plots: log-log axes for the benchmark's speed/accuracy chart,
+// linear axes for curves that cross zero (hydrostatics' righting arms);
 // no plotting library, one self-contained file any browser shows.
 #pragma once
 
@@ -38,5 +39,22 @@ struct LogLogPlot {
 /// Writes a complete SVG document; the axes span whole decades around every point and marker.
 /// Returns false only when the stream fails.
 bool writeSvg(const LogLogPlot& plot, std::ostream& out);
+
+}  // namespace plimsoll::cli
+
+namespace plimsoll::cli {
+
+/// The same plot on linear axes (curves that cross zero, such as a righting-arm curve): the
+/// series, markers and legend as on log-log axes, a grid at round steps and a line at y = 0.
+/// Points that are not finite are left out.
+struct LinearPlot {
+    std::string title;
+    std::string xLabel;
+    std::string yLabel;
+    std::vector<PlotSeries> series;
+    std::vector<PlotMarker> markers;
+};
+
+bool writeSvg(const LinearPlot& plot, std::ostream& out);
 
 }  // namespace plimsoll::cli

@@ -1,8 +1,8 @@
 // plimsoll validate MESH: lists every problem; exits 0 when the mesh can be baked as it is.
 #include "cli/commands.h"
 
-#include "plimsoll/mesh_io.h"
-#include "plimsoll/validate.h"
+#include "plimsoll/io/mesh_io.h"
+#include "plimsoll/geometry/validate.h"
 
 #include <nlohmann/json.hpp>
 

@@ -1,6 +1,9 @@
 #include "document/command.h"
 
-#include "plimsoll/mesh_io.h"
+#include "plimsoll/io/mesh_io.h"
+
+#include <functional>
+#include <set>
 
 namespace plimsoll::editor {
 
@@ -8,37 +11,81 @@ namespace fs = std::filesystem;
 using Json = nlohmann::json;
 
 PaintCommand::PaintCommand(std::string name, std::size_t body, MapChannel channel,
-                           PixelChange change, std::optional<PaintedMap> created,
+                           std::vector<PartChange> changes, std::optional<PaintedMap> created,
                            std::string createdPath)
-    : name_(std::move(name)), body_(body), channel_(channel), change_(std::move(change)),
+    : name_(std::move(name)), body_(body), channel_(channel), changes_(std::move(changes)),
       created_(std::move(created)), createdPath_(std::move(createdPath)) {}
 
+std::size_t PaintCommand::pixelsChanged() const {
+    std::size_t n = 0;
+    for (const PartChange& c : changes_) n += c.change.pixels.size();
+    return n;
+}
+
+PaintedMap PaintCommand::preview(const Document& document) const {
+    const LayerStack* layers = created_ ? nullptr : document.layers(body_, channel_);
+    if (!layers) {
+        PaintedMap map = created_ ? *created_ : PaintedMap{};
+        if (!created_) {
+            if (const PaintedMap* current = document.map(body_, channel_)) map = *current;
+        }
+        for (const PartChange& c : changes_) applyValues(map, c.change.pixels, c.change.after);
+        return map;
+    }
+    // The stack shares its pixels with the document: the parts painted are copied first.
+    LayerStack stack = *layers;
+    for (const PartChange& c : changes_) {
+        std::shared_ptr<PaintedMap>& part =
+            stack.layers.at(static_cast<std::size_t>(c.target.layer)).part(c.target.part);
+        if (!part) continue;
+        if (part == layers->layers[static_cast<std::size_t>(c.target.layer)].part(c.target.part)) {
+            part = std::make_shared<PaintedMap>(*part);
+        }
+        applyValues(*part, c.change.pixels, c.change.after);
+    }
+    return flattenLayers(stack);
+}
+
 Status PaintCommand::apply(Document& document) {
-    if (body_ >= document.bodyCount()) return makeError("no body " + std::to_string(body_));
+    if (body_ >= document.bodyCount()) {
+        return makeError(ErrorKind::invalidArgument, "no body " + std::to_string(body_));
+    }
     if (created_) {
+        // The made map replaces the channel's map, layers and all: kept for the undo.
+        replaced_ = document.mapState(body_, channel_);
         Project project = document.project();
         previousPath_ = channelPath(project.bodies[body_], channel_);
         channelPath(project.bodies[body_], channel_) = createdPath_;
-        document.setProject(std::move(project));
+        document.setProject(std::move(project), detached_);
+        document.setLayers(body_, channel_, std::nullopt);
         document.setMap(body_, channel_, *created_);
     }
-    PaintedMap* map = document.map(body_, channel_);
-    if (!map) return makeError(std::string("no ") + channelName(channel_) + " map to paint");
-    applyValues(*map, change_.pixels, change_.after);
-    document.markMapDirty(body_, channel_);
+    for (const PartChange& c : changes_) {
+        PaintedMap* pixels = document.paintPixels(body_, channel_, c.target);
+        if (!pixels) {
+            return makeError(ErrorKind::invalidArgument,
+                             std::string("no ") + channelName(channel_) + " map, layer or mask to paint");
+        }
+        applyValues(*pixels, c.change.pixels, c.change.after);
+    }
+    document.pixelsChanged(body_, channel_);
     return Ok{};
 }
 
 void PaintCommand::revert(Document& document) {
-    if (PaintedMap* map = document.map(body_, channel_)) {
-        applyValues(*map, change_.pixels, change_.before);
-        document.markMapDirty(body_, channel_);
+    for (auto c = changes_.rbegin(); c != changes_.rend(); ++c) {
+        if (PaintedMap* pixels = document.paintPixels(body_, channel_, c->target)) {
+            applyValues(*pixels, c->change.pixels, c->change.before);
+        }
     }
+    document.pixelsChanged(body_, channel_);
     if (created_) {
         Project project = document.project();
         channelPath(project.bodies[body_], channel_) = previousPath_;
         document.setMap(body_, channel_, std::nullopt);
-        document.setProject(std::move(project));
+        document.setProject(std::move(project), detached_);
+        if (replaced_) document.restoreMapState(body_, channel_, *replaced_);
+        replaced_.reset();
     }
 }
 
@@ -46,37 +93,126 @@ ProjectCommand::ProjectCommand(std::string name, Project before, Project after)
     : name_(std::move(name)), before_(std::move(before)), after_(std::move(after)) {}
 
 Status ProjectCommand::apply(Document& document) {
-    document.setProject(after_);
+    document.setProject(after_, detached_);
     return Ok{};
 }
 
-void ProjectCommand::revert(Document& document) { document.setProject(before_); }
+void ProjectCommand::revert(Document& document) { document.setProject(before_, detached_); }
+
+LayerCommand::LayerCommand(std::string name, std::size_t body, MapChannel channel,
+                           std::optional<LayerStack> before, LayerStack after)
+    : name_(std::move(name)), body_(body), channel_(channel), before_(std::move(before)),
+      after_(std::move(after)) {}
+
+Status LayerCommand::apply(Document& document) {
+    if (body_ >= document.bodyCount() || !document.map(body_, channel_)) {
+        return makeError(ErrorKind::invalidArgument,
+                         std::string("no ") + channelName(channel_) + " map for layers");
+    }
+    if (!before_) mapBefore_ = document.mapState(body_, channel_);
+    document.setLayers(body_, channel_, after_);
+    return Ok{};
+}
+
+void LayerCommand::revert(Document& document) {
+    if (mapBefore_) {
+        document.restoreMapState(body_, channel_, *mapBefore_);
+        mapBefore_.reset();
+    } else {
+        document.setLayers(body_, channel_, before_);
+    }
+}
 
 namespace {
 
 Status checkTarget(const Document& document, std::size_t body, MapChannel channel) {
     if (body >= document.bodyCount()) {
-        return makeError("no body " + std::to_string(body) + " (the project has " +
+        return makeError(ErrorKind::invalidArgument, "no body " + std::to_string(body) + " (the project has " +
                          std::to_string(document.bodyCount()) + ")");
     }
     if (!document.assets(body).mesh) {
-        return makeError("body " + std::to_string(body) + ": mesh not loaded: " +
+        return makeError(ErrorKind::io, "body " + std::to_string(body) + ": mesh not loaded: " +
                          document.assets(body).meshError);
     }
     if (channelNeedsShell(channel) &&
         !document.project().bodies[body].material.shellSurfaceDensity) {
-        return makeError("body " + std::to_string(body) + ": a " + channelName(channel) +
+        return makeError(ErrorKind::invalidArgument, "body " + std::to_string(body) + ": a " + channelName(channel) +
                          " map scales the shell, and the material has none (set material.shell)");
     }
     return Ok{};
 }
 
-/// Runs `edit` on the body's map, making a blank one first (as part of the same command) when
-/// there is none.
-template <class Edit>
+/// What a paint operation does to one buffer: moves pixels toward `value` (Paint), toward 0
+/// (Erase) or smooths them, by its own weights.
+using BufferEdit = std::function<PixelChange(const PaintedMap& buffer, BrushMode mode, double value)>;
+
+/// The changes of a paint operation on `target`. A layer with coverage is painted the way
+/// layers are in painting tools: paint sets the value and raises coverage by the same weights
+/// (where nothing was painted yet the value is set outright, so a half-strength stroke shows
+/// the colour at half opacity, not half the colour); erase lowers coverage; smooth smooths
+/// the values.
+std::vector<PaintCommand::PartChange> partChanges(const PaintedMap& pixels,
+                                                  const PaintedMap* coverage, PaintTarget target,
+                                                  BrushMode mode, double value,
+                                                  const BufferEdit& edit) {
+    std::vector<PaintCommand::PartChange> changes;
+    if (!coverage || target.part != LayerPart::Pixels) {
+        changes.push_back({target, edit(pixels, mode, value)});
+        return changes;
+    }
+    const PaintTarget coverageTarget{target.layer, LayerPart::Coverage};
+    if (mode == BrushMode::Paint) {
+        PixelChange values = edit(pixels, mode, value);
+        for (std::size_t k = 0; k < values.pixels.size(); ++k) {
+            if (coverage->values[values.pixels[k]] <= 0.0f) values.after[k] = static_cast<float>(value);
+        }
+        changes.push_back({target, std::move(values)});
+        changes.push_back({coverageTarget, edit(*coverage, BrushMode::Paint, 1.0)});
+    } else if (mode == BrushMode::Erase) {
+        changes.push_back({coverageTarget, edit(*coverage, BrushMode::Erase, 0.0)});
+    } else {
+        changes.push_back({target, edit(pixels, mode, value)});
+    }
+    return changes;
+}
+
+/// The layer (or its mask) a paint operation on a layered map changes: `target` checked, or
+/// the topmost paint layer when it names none.
+Result<PaintTarget> layerTarget(const LayerStack& stack, PaintTarget target) {
+    const int count = static_cast<int>(stack.layers.size());
+    if (target.layer < 0) {
+        if (target.part == LayerPart::Mask) {
+            return makeError(ErrorKind::invalidArgument, "painting a mask: name its layer");
+        }
+        for (int i = count - 1; i >= 0; --i) {
+            if (stack.layers[static_cast<std::size_t>(i)].kind == LayerKind::Paint) {
+                return PaintTarget{i, target.part};
+            }
+        }
+        return makeError(ErrorKind::invalidArgument, "the map has no paint layer to paint");
+    }
+    if (target.layer >= count) {
+        return makeError(ErrorKind::invalidArgument,
+                         "no layer " + std::to_string(target.layer) + " (the map has " +
+                             std::to_string(count) + ")");
+    }
+    const MapLayer& layer = stack.layers[static_cast<std::size_t>(target.layer)];
+    if (target.part == LayerPart::Mask && !layer.mask) {
+        return makeError(ErrorKind::invalidArgument, "layer '" + layer.name + "' has no mask (add one)");
+    }
+    if (target.part == LayerPart::Pixels && !layer.pixels) {
+        return makeError(ErrorKind::invalidArgument,
+                         "layer '" + layer.name + "' is a fill layer: paint its mask, or a paint layer");
+    }
+    return target;
+}
+
+/// Runs `edit` on the body's map (or on the layer `target` names), making a blank map first
+/// (as part of the same command) when there is none.
 Result<std::unique_ptr<Command>> paintEdit(Document& document, std::size_t body,
                                            MapChannel channel, const std::string& name,
-                                           Edit edit) {
+                                           BrushMode mode, double value, PaintTarget target,
+                                           const std::function<BufferEdit(const PaintSurface&)>& editOn) {
     if (Status ok = checkTarget(document, body, channel); !ok) return ok.error();
     std::optional<PaintedMap> created;
     std::string createdPath;
@@ -84,8 +220,11 @@ Result<std::unique_ptr<Command>> paintEdit(Document& document, std::size_t body,
     const PaintedMap* map = document.map(body, channel);
     std::shared_ptr<const PaintSurface> surface;
     if (!map) {
-        blank.width = blank.height = kDefaultMapSize;
-        blank.values.assign(static_cast<std::size_t>(kDefaultMapSize) * kDefaultMapSize, 0.0f);
+        if (target.layer >= 0 || target.part != LayerPart::Pixels) {
+            return makeError(ErrorKind::invalidArgument,
+                             std::string("body has no ") + channelName(channel) + " map (no layers)");
+        }
+        blank = uniformMap(kDefaultMapSize, kDefaultMapSize, 0.0f);
         created = blank;
         createdPath = channelPath(document.project().bodies[body], channel);
         if (createdPath.empty()) createdPath = document.defaultMapPath(body, channel);
@@ -99,40 +238,92 @@ Result<std::unique_ptr<Command>> paintEdit(Document& document, std::size_t body,
         if (!cached) return cached.error();
         surface = *cached;
     }
-    PixelChange change = edit(*map, *surface);
+    const PaintedMap* pixels = map;
+    const PaintedMap* coverage = nullptr;
+    if (const LayerStack* stack = document.layers(body, channel)) {
+        Result<PaintTarget> resolved = layerTarget(*stack, target);
+        if (!resolved) return resolved.error();
+        target = *resolved;
+        const MapLayer& layer = stack->layers[static_cast<std::size_t>(target.layer)];
+        pixels = (target.part == LayerPart::Mask ? layer.mask : layer.pixels).get();
+        coverage = layer.coverage.get();
+    } else if (target.layer >= 0 || target.part != LayerPart::Pixels) {
+        return makeError(ErrorKind::invalidArgument,
+                         std::string("the ") + channelName(channel) + " map has no layers");
+    }
+    std::vector<PaintCommand::PartChange> changes =
+        partChanges(*pixels, coverage, target, mode, value, editOn(*surface));
+    if (document.layers(body, channel)) {
+        for (PaintCommand::PartChange& c : changes) {
+            for (float& v : c.change.after) v = quantize16(v);
+        }
+    }
     return std::unique_ptr<Command>(std::make_unique<PaintCommand>(
-        name, body, channel, std::move(change), std::move(created), std::move(createdPath)));
+        name, body, channel, std::move(changes), std::move(created), std::move(createdPath)));
+}
+
+/// A change moved only `strength` of the way (1: all of it).
+PixelChange scaled(PixelChange change, double strength) {
+    const float k = static_cast<float>(std::clamp(strength, 0.0, 1.0));
+    for (std::size_t i = 0; i < change.after.size(); ++i) {
+        change.after[i] = change.before[i] + (change.after[i] - change.before[i]) * k;
+    }
+    return change;
+}
+
+std::size_t islandCount(const PaintSurface& surface) {
+    return std::set<std::uint32_t>(surface.island.begin(), surface.island.end()).size();
 }
 
 }  // namespace
 
 Result<std::unique_ptr<Command>> makeStrokeCommand(Document& document, std::size_t body,
                                                    MapChannel channel, const Brush& brush,
-                                                   std::span<const Eigen::Vector3d> points) {
+                                                   std::span<const Eigen::Vector3d> points,
+                                                   PaintTarget target) {
     const char* verb = brush.mode == BrushMode::Erase    ? "Erase"
                        : brush.mode == BrushMode::Smooth ? "Smooth"
                                                          : "Paint";
     return paintEdit(document, body, channel, std::string(verb) + " " + channelName(channel),
-                     [&](const PaintedMap& map, const PaintSurface& surface) {
-                         return strokeChange(map, surface, brush, points);
+                     brush.mode, brush.value, target, [&](const PaintSurface& surface) {
+                         return [&](const PaintedMap& buffer, BrushMode mode, double value) {
+                             Brush b = brush;
+                             b.mode = mode;
+                             b.value = value;
+                             return strokeChange(buffer, surface, b, points);
+                         };
                      });
 }
 
 Result<std::unique_ptr<Command>> makeFillIslandCommand(Document& document, std::size_t body,
                                                        MapChannel channel,
                                                        const Eigen::Vector3d& point, double value,
-                                                       bool mirrorX) {
-    return paintEdit(document, body, channel, std::string("Fill island ") + channelName(channel),
-                     [&](const PaintedMap& map, const PaintSurface& surface) {
-                         return fillIslandChange(map, surface, point, value, mirrorX);
+                                                       bool mirrorX, double strength,
+                                                       PaintTarget target) {
+    std::string name = std::string("Fill island ") + channelName(channel);
+    if (document.map(body, channel)) {
+        // A map whose mesh is one UV island fills everywhere: say so rather than surprise.
+        if (auto surface = document.paintSurface(body, channel); surface && islandCount(**surface) == 1) {
+            name += " (the mesh is one UV island: all of it)";
+        }
+    }
+    return paintEdit(document, body, channel, name, BrushMode::Paint, value, target,
+                     [&](const PaintSurface& surface) {
+                         return [&](const PaintedMap& buffer, BrushMode, double v) {
+                             return scaled(fillIslandChange(buffer, surface, point, v, mirrorX),
+                                           strength);
+                         };
                      });
 }
 
 Result<std::unique_ptr<Command>> makeFillAllCommand(Document& document, std::size_t body,
-                                                    MapChannel channel, double value) {
+                                                    MapChannel channel, double value,
+                                                    double strength, PaintTarget target) {
     return paintEdit(document, body, channel, std::string("Fill ") + channelName(channel),
-                     [&](const PaintedMap& map, const PaintSurface&) {
-                         return fillAllChange(map, value);
+                     BrushMode::Paint, value, target, [&](const PaintSurface&) {
+                         return [&](const PaintedMap& buffer, BrushMode, double v) {
+                             return scaled(fillAllChange(buffer, v), strength);
+                         };
                      });
 }
 
@@ -141,7 +332,7 @@ Result<std::unique_ptr<Command>> makeNewMapCommand(Document& document, std::size
                                                    double value, std::string path) {
     if (Status ok = checkTarget(document, body, channel); !ok) return ok.error();
     if (width < 1 || height < 1 || width > 16384 || height > 16384) {
-        return makeError("map size must be 1..16384 pixels a side");
+        return makeError(ErrorKind::invalidArgument, "map size must be 1..16384 pixels a side");
     }
     PaintedMap blank;
     blank.width = width;
@@ -150,8 +341,154 @@ Result<std::unique_ptr<Command>> makeNewMapCommand(Document& document, std::size
                         static_cast<float>(std::clamp(value, 0.0, 1.0)));
     if (path.empty()) path = document.defaultMapPath(body, channel);
     return std::unique_ptr<Command>(std::make_unique<PaintCommand>(
-        std::string("New ") + channelName(channel) + " map", body, channel, PixelChange{},
-        std::move(blank), std::move(path)));
+        std::string("New ") + channelName(channel) + " map", body, channel,
+        std::vector<PaintCommand::PartChange>{}, std::move(blank), std::move(path)));
+}
+
+namespace {
+
+/// A LayerCommand from `change` run on a copy of the map's stack (a map without layers: a
+/// stack of its one Base layer).
+Result<std::unique_ptr<Command>> layerEdit(const Document& document, std::size_t body,
+                                           MapChannel channel, std::string name,
+                                           const std::function<Status(LayerStack&)>& change) {
+    if (body >= document.bodyCount()) {
+        return makeError(ErrorKind::invalidArgument, "no body " + std::to_string(body));
+    }
+    const PaintedMap* map = document.map(body, channel);
+    if (!map) {
+        return makeError(ErrorKind::invalidArgument,
+                         "body " + std::to_string(body) + " has no " + channelName(channel) +
+                             " map (paint or make one first)");
+    }
+    const LayerStack* current = document.layers(body, channel);
+    std::optional<LayerStack> before;
+    if (current) before = *current;
+    LayerStack after = current ? *current : stackOfMap(*map);
+    if (Status ok = change(after); !ok) return ok.error();
+    if (Status ok = checkStack(after); !ok) return ok.error();
+    return std::unique_ptr<Command>(std::make_unique<LayerCommand>(
+        std::move(name), body, channel, std::move(before), std::move(after)));
+}
+
+Status checkLayerIndex(const LayerStack& stack, int layer) {
+    if (layer < 0 || static_cast<std::size_t>(layer) >= stack.layers.size()) {
+        return makeError(ErrorKind::invalidArgument,
+                         "no layer " + std::to_string(layer) + " (the map has " +
+                             std::to_string(stack.layers.size()) + ")");
+    }
+    return Ok{};
+}
+
+Status checkUnit(double value, const char* what) {
+    if (!(value >= 0.0 && value <= 1.0)) {
+        return makeError(ErrorKind::invalidArgument, std::string(what) + " must be 0..1");
+    }
+    return Ok{};
+}
+
+}  // namespace
+
+Result<std::unique_ptr<Command>> makeAddLayerCommand(const Document& document, std::size_t body,
+                                                     MapChannel channel, LayerKind kind,
+                                                     std::string name, double fillValue,
+                                                     int index) {
+    if (Status ok = checkUnit(fillValue, "a fill layer's value"); !ok) return ok.error();
+    return layerEdit(document, body, channel, std::string("Add ") + layerKindName(kind) + " layer",
+                     [&](LayerStack& stack) -> Status {
+                         MapLayer layer;
+                         layer.kind = kind;
+                         layer.name = name.empty() ? std::string(kind == LayerKind::Fill ? "Fill " : "Layer ") +
+                                                         std::to_string(stack.layers.size())
+                                                   : name;
+                         if (kind == LayerKind::Paint) {
+                             layer.pixels = std::make_shared<PaintedMap>(
+                                 uniformMap(stack.width, stack.height, 0.0f));
+                             layer.coverage = std::make_shared<PaintedMap>(
+                                 uniformMap(stack.width, stack.height, 0.0f));
+                         } else {
+                             layer.fillValue = static_cast<float>(fillValue);
+                         }
+                         const int count = static_cast<int>(stack.layers.size());
+                         const int at = index < 0 || index > count ? count : index;
+                         stack.layers.insert(stack.layers.begin() + at, std::move(layer));
+                         return Ok{};
+                     });
+}
+
+Result<std::unique_ptr<Command>> makeRemoveLayerCommand(const Document& document,
+                                                        std::size_t body, MapChannel channel,
+                                                        int layer) {
+    return layerEdit(document, body, channel, "Remove layer", [&](LayerStack& stack) -> Status {
+        if (Status ok = checkLayerIndex(stack, layer); !ok) return ok;
+        if (stack.layers.size() == 1) {
+            return makeError(ErrorKind::invalidArgument, "the map's last layer cannot go");
+        }
+        stack.layers.erase(stack.layers.begin() + layer);
+        return Ok{};
+    });
+}
+
+Result<std::unique_ptr<Command>> makeMoveLayerCommand(const Document& document, std::size_t body,
+                                                      MapChannel channel, int from, int to) {
+    return layerEdit(document, body, channel, "Move layer", [&](LayerStack& stack) -> Status {
+        if (Status ok = checkLayerIndex(stack, from); !ok) return ok;
+        if (Status ok = checkLayerIndex(stack, to); !ok) return ok;
+        MapLayer moved = std::move(stack.layers[static_cast<std::size_t>(from)]);
+        stack.layers.erase(stack.layers.begin() + from);
+        stack.layers.insert(stack.layers.begin() + to, std::move(moved));
+        return Ok{};
+    });
+}
+
+Result<std::unique_ptr<Command>> makeSetLayerCommand(const Document& document, std::size_t body,
+                                                     MapChannel channel, int layer,
+                                                     const LayerEdit& edit) {
+    return layerEdit(document, body, channel, "Layer settings", [&](LayerStack& stack) -> Status {
+        if (Status ok = checkLayerIndex(stack, layer); !ok) return ok;
+        MapLayer& l = stack.layers[static_cast<std::size_t>(layer)];
+        if (edit.opacity) {
+            if (Status ok = checkUnit(*edit.opacity, "opacity"); !ok) return ok;
+            l.opacity = static_cast<float>(*edit.opacity);
+        }
+        if (edit.fillValue) {
+            if (l.kind != LayerKind::Fill) {
+                return makeError(ErrorKind::invalidArgument,
+                                 "layer '" + l.name + "' is a paint layer: it has no fill value");
+            }
+            if (Status ok = checkUnit(*edit.fillValue, "a fill layer's value"); !ok) return ok;
+            l.fillValue = static_cast<float>(*edit.fillValue);
+        }
+        if (edit.name) l.name = *edit.name;
+        if (edit.blend) l.blend = *edit.blend;
+        if (edit.visible) l.visible = *edit.visible;
+        return Ok{};
+    });
+}
+
+Result<std::unique_ptr<Command>> makeAddMaskCommand(const Document& document, std::size_t body,
+                                                    MapChannel channel, int layer, double value) {
+    if (Status ok = checkUnit(value, "a mask's value"); !ok) return ok.error();
+    return layerEdit(document, body, channel, "Add mask", [&](LayerStack& stack) -> Status {
+        if (Status ok = checkLayerIndex(stack, layer); !ok) return ok;
+        MapLayer& l = stack.layers[static_cast<std::size_t>(layer)];
+        if (l.mask) return makeError(ErrorKind::invalidArgument, "layer '" + l.name + "' has a mask");
+        l.mask = std::make_shared<PaintedMap>(
+            uniformMap(stack.width, stack.height, quantize16(static_cast<float>(value))));
+        return Ok{};
+    });
+}
+
+Result<std::unique_ptr<Command>> makeRemoveMaskCommand(const Document& document,
+                                                       std::size_t body, MapChannel channel,
+                                                       int layer) {
+    return layerEdit(document, body, channel, "Remove mask", [&](LayerStack& stack) -> Status {
+        if (Status ok = checkLayerIndex(stack, layer); !ok) return ok;
+        MapLayer& l = stack.layers[static_cast<std::size_t>(layer)];
+        if (!l.mask) return makeError(ErrorKind::invalidArgument, "layer '" + l.name + "' has no mask");
+        l.mask.reset();
+        return Ok{};
+    });
 }
 
 Result<std::unique_ptr<Command>> makeSetPropertyCommand(const Document& document,
@@ -161,7 +498,7 @@ Result<std::unique_ptr<Command>> makeSetPropertyCommand(const Document& document
     try {
         json[Json::json_pointer(pointer)] = value;
     } catch (const Json::exception& e) {
-        return makeError(pointer + ": " + e.what());
+        return makeError(ErrorKind::schema, pointer + ": " + e.what());
     }
     Result<Project> edited = parseProject(json.dump(), "set " + pointer, document.project().folder);
     if (!edited) return edited.error();
@@ -179,7 +516,7 @@ Result<std::unique_ptr<Command>> makeImportMeshCommand(const Document& document,
     fs::path relative = absolute.lexically_relative(project.folder);
     const std::string written = relative.empty() ? absolute.string() : relative.generic_string();
     if (body) {
-        if (*body >= project.bodies.size()) return makeError("no body " + std::to_string(*body));
+        if (*body >= project.bodies.size()) return makeError(ErrorKind::invalidArgument, "no body " + std::to_string(*body));
         project.bodies[*body].mesh = written;
     } else {
         BodyDesc added;

@@ -12,24 +12,38 @@
 
 namespace plimsoll::editor {
 
-/// Pixels of one map, before and after, and (when the edit made the map) the map it made.
+/// Pixels of one map (or of one of its layers or masks), before and after, and (when the edit
+/// made the map) the map it made. A made map replaces whatever the channel had (a saved map,
+/// its layers): that is kept here and comes back on undo.
 class PaintCommand final : public Command {
 public:
-    PaintCommand(std::string name, std::size_t body, MapChannel channel, PixelChange change,
-                 std::optional<PaintedMap> created, std::string createdPath);
+    /// The pixels one stroke changed in one part (a stroke on a layer changes its pixels and
+    /// its coverage together).
+    struct PartChange {
+        PaintTarget target;
+        PixelChange change;
+    };
+    PaintCommand(std::string name, std::size_t body, MapChannel channel,
+                 std::vector<PartChange> changes, std::optional<PaintedMap> created,
+                 std::string createdPath);
     std::string name() const override { return name_; }
     Status apply(Document& document) override;
     void revert(Document& document) override;
-    const PixelChange& change() const { return change_; }
+    /// Pixels changed, over every part.
+    std::size_t pixelsChanged() const;
+    /// The map as it would be after apply(), the document unchanged (a stroke's live preview).
+    PaintedMap preview(const Document& document) const;
 
 private:
     std::string name_;
     std::size_t body_;
     MapChannel channel_;
-    PixelChange change_;
+    std::vector<PartChange> changes_;
     std::optional<PaintedMap> created_;  ///< the blank map the edit starts from, when new
     std::string createdPath_;
     std::string previousPath_;
+    std::optional<BodyAssets::Map> replaced_;  ///< the channel's map before a made one
+    DetachedAssets detached_;
 };
 
 /// Any change of the project's content (properties, import, paths): the project before and
@@ -45,6 +59,27 @@ private:
     std::string name_;
     Project before_;
     Project after_;
+    DetachedAssets detached_;  ///< edited maps and graphs a path change took out
+};
+
+/// A change of one map's layer stack (add, remove, move, settings, masks): the stack before and
+/// after (copies share layer pixels, layers.h). A map without layers gets a stack whose base
+/// layer is the map; its undo gives the map back as it was.
+class LayerCommand final : public Command {
+public:
+    LayerCommand(std::string name, std::size_t body, MapChannel channel,
+                 std::optional<LayerStack> before, LayerStack after);
+    std::string name() const override { return name_; }
+    Status apply(Document& document) override;
+    void revert(Document& document) override;
+
+private:
+    std::string name_;
+    std::size_t body_;
+    MapChannel channel_;
+    std::optional<LayerStack> before_;
+    LayerStack after_;
+    std::optional<BodyAssets::Map> mapBefore_;  ///< the map as it was, when it had no layers
 };
 
 /// Size of maps made for a first stroke on a body without one.
@@ -52,20 +87,60 @@ inline constexpr int kDefaultMapSize = 512;
 
 /// A paint / erase / smooth stroke through object-space points on body `body`. Makes the
 /// map (kDefaultMapSize, value 0) when the body has none.
+/// On a map with layers, `target` names the layer (or its mask) painted; a stroke that
+/// changes no pixel (it misses the mesh) is an error, not an empty undo step.
 Result<std::unique_ptr<Command>> makeStrokeCommand(Document& document, std::size_t body,
                                                    MapChannel channel, const Brush& brush,
-                                                   std::span<const Eigen::Vector3d> points);
+                                                   std::span<const Eigen::Vector3d> points,
+                                                   PaintTarget target = {});
+/// Fills move pixels toward `value` by `strength` (1: set).
 Result<std::unique_ptr<Command>> makeFillIslandCommand(Document& document, std::size_t body,
                                                        MapChannel channel,
                                                        const Eigen::Vector3d& point, double value,
-                                                       bool mirrorX);
+                                                       bool mirrorX, double strength = 1.0,
+                                                       PaintTarget target = {});
 Result<std::unique_ptr<Command>> makeFillAllCommand(Document& document, std::size_t body,
-                                                    MapChannel channel, double value);
+                                                    MapChannel channel, double value,
+                                                    double strength = 1.0, PaintTarget target = {});
 /// A new map of the given size filled with `value`, at `path` (relative to the project's
 /// folder; empty: defaultMapPath), replacing the body's map of that channel.
 Result<std::unique_ptr<Command>> makeNewMapCommand(Document& document, std::size_t body,
                                                    MapChannel channel, int width, int height,
                                                    double value, std::string path);
+// --- layers: each a LayerCommand; `layer` counts from the bottom (0) -------------------------
+
+/// A new layer at `index` (clamped; -1: on top). A map without layers first becomes a stack
+/// with the map as its "Base" layer. A paint layer starts transparent-black (value 0, and
+/// Normal blend at its opacity); a fill layer holds `fillValue`.
+Result<std::unique_ptr<Command>> makeAddLayerCommand(const Document& document, std::size_t body,
+                                                     MapChannel channel, LayerKind kind,
+                                                     std::string name, double fillValue = 1.0,
+                                                     int index = -1);
+Result<std::unique_ptr<Command>> makeRemoveLayerCommand(const Document& document,
+                                                        std::size_t body, MapChannel channel,
+                                                        int layer);
+/// Moves layer `from` to position `to` (the others keep their order).
+Result<std::unique_ptr<Command>> makeMoveLayerCommand(const Document& document, std::size_t body,
+                                                      MapChannel channel, int from, int to);
+/// Settings of a layer to change; unset ones stay.
+struct LayerEdit {
+    std::optional<std::string> name;
+    std::optional<double> opacity;
+    std::optional<BlendMode> blend;
+    std::optional<bool> visible;
+    std::optional<double> fillValue;   ///< fill layers only
+};
+Result<std::unique_ptr<Command>> makeSetLayerCommand(const Document& document, std::size_t body,
+                                                     MapChannel channel, int layer,
+                                                     const LayerEdit& edit);
+/// Gives the layer a mask of `value` everywhere (1: all shown), or removes its mask.
+Result<std::unique_ptr<Command>> makeAddMaskCommand(const Document& document, std::size_t body,
+                                                    MapChannel channel, int layer,
+                                                    double value = 1.0);
+Result<std::unique_ptr<Command>> makeRemoveMaskCommand(const Document& document,
+                                                       std::size_t body, MapChannel channel,
+                                                       int layer);
+
 /// Sets the value at a JSON pointer of the project's JSON ("/bodies/0/material/density"); the
 /// result must be a valid project.
 Result<std::unique_ptr<Command>> makeSetPropertyCommand(const Document& document,

@@ -2,13 +2,16 @@
 
 #include "document/settings.h"
 
-#include "plimsoll/atlas.h"
-#include "plimsoll/file_util.h"
-#include "plimsoll/mesh_io.h"
+#include "plimsoll/bake/atlas.h"
+#include "plimsoll/bake/painted_map.h"
+#include "plimsoll/core/limits.h"
+#include "plimsoll/io/file_util.h"
+#include "plimsoll/io/mesh_io.h"
+#include "plimsoll/scene/scene_loader.h"
 
 #include <nlohmann/json.hpp>
-#include <stb_image.h>
 
+#include <algorithm>
 #include <fstream>
 #include <iterator>
 #include <map>
@@ -53,82 +56,44 @@ bool channelNeedsShell(MapChannel channel) { return channel != MapChannel::Perme
 
 namespace {
 
-/// Images of dirty maps whose path left the project (an undone path change brings them back).
-std::map<fs::path, PaintedMap>& detachedMaps() {
-    static std::map<fs::path, PaintedMap> maps;
-    return maps;
-}
-
-/// Edited graphs whose path left the project (an undone path change brings them back).
-std::map<fs::path, WaterGraph>& detachedGraphs() {
-    static std::map<fs::path, WaterGraph> graphs;
-    return graphs;
-}
-
 /// A graph file parsed for editing: structure checked, validity not (validateGraph is the
 /// graph panel's and World's business).
 Result<WaterGraph> readGraphForEditing(const fs::path& path) {
-    std::ifstream in(path, std::ios::binary);
-    if (!in) return makeError(path.string() + ": cannot open");
-    return parseGraph(std::string(std::istreambuf_iterator<char>(in), {}), path.string());
+    Result<std::string> text = readWholeFile(path, kMaxJsonFileBytes, "kMaxJsonFileBytes");
+    if (!text) return text.error();
+    return parseGraph(*text, path.string());
 }
 
-std::string base64Encode(const std::string& bytes) {
-    static const char* alphabet =
-        "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
-    std::string out;
-    std::size_t i = 0;
-    for (; i + 2 < bytes.size(); i += 3) {
-        const unsigned v = (unsigned char)bytes[i] << 16 | (unsigned char)bytes[i + 1] << 8 |
-                           (unsigned char)bytes[i + 2];
-        for (int s = 18; s >= 0; s -= 6) out += alphabet[(v >> s) & 63];
+/// A map file and, when one is beside it, its layer stack. A side file that does not flatten
+/// to the map (the PNG was changed by another program) is set aside with a note: the PNG is
+/// what the engine reads.
+void loadMapFile(BodyAssets::Map& m) {
+    Result<PaintedMap> image = loadPaintedMap(m.path);
+    if (!image) {
+        m.error = image.error().message;
+        return;
     }
-    if (i < bytes.size()) {
-        unsigned v = (unsigned char)bytes[i] << 16;
-        if (i + 1 < bytes.size()) v |= (unsigned char)bytes[i + 1] << 8;
-        out += alphabet[(v >> 18) & 63];
-        out += alphabet[(v >> 12) & 63];
-        out += i + 1 < bytes.size() ? alphabet[(v >> 6) & 63] : '=';
-        out += '=';
+    m.image = std::move(image).value();
+    const fs::path side = layersPathFor(m.path);
+    std::error_code ec;
+    if (!fs::exists(side, ec)) return;
+    Result<std::string> text = readWholeFile(side, kMaxJsonFileBytes, "kMaxJsonFileBytes");
+    if (!text) {
+        m.error = text.error().message + " (layers not loaded)";
+        return;
     }
-    return out;
-}
-
-std::string base64Decode(const std::string& text) {
-    std::string out;
-    unsigned v = 0;
-    int bits = 0;
-    for (char c : text) {
-        int d;
-        if (c >= 'A' && c <= 'Z') d = c - 'A';
-        else if (c >= 'a' && c <= 'z') d = c - 'a' + 26;
-        else if (c >= '0' && c <= '9') d = c - '0' + 52;
-        else if (c == '+') d = 62;
-        else if (c == '/') d = 63;
-        else continue;
-        v = (v << 6) | d;
-        bits += 6;
-        if (bits >= 8) {
-            bits -= 8;
-            out += static_cast<char>((v >> bits) & 0xFF);
-        }
+    Result<LayerStack> stack = parseLayerStack(*text, side.string());
+    if (!stack) {
+        m.error = stack.error().message + " (layers not loaded)";
+        return;
     }
-    return out;
-}
-
-Result<PaintedMap> decodePng(const std::string& bytes, const std::string& source) {
-    int w = 0, h = 0, channels = 0;
-    stbi_us* pixels =
-        stbi_load_16_from_memory(reinterpret_cast<const stbi_uc*>(bytes.data()),
-                                 static_cast<int>(bytes.size()), &w, &h, &channels, 1);
-    if (!pixels) return makeError(source + ": cannot decode map: " + stbi_failure_reason());
-    PaintedMap map;
-    map.width = w;
-    map.height = h;
-    map.values.resize(static_cast<std::size_t>(w) * h);
-    for (std::size_t i = 0; i < map.values.size(); ++i) map.values[i] = pixels[i] / 65535.0f;
-    stbi_image_free(pixels);
-    return map;
+    if (stack->width != m.image->width || stack->height != m.image->height ||
+        encodePaintedMapPng16(flattenLayers(*stack)) != encodePaintedMapPng16(*m.image)) {
+        m.error = side.string() + ": its layers do not flatten to " + m.path.filename().string() +
+                  " (changed by another program?); layers not loaded";
+        return;
+    }
+    m.layers = std::move(stack).value();
 }
 
 /// `path` (as written, relative to `from`) rewritten relative to `to`.
@@ -154,7 +119,8 @@ Result<std::unique_ptr<Document>> Document::open(const fs::path& path) {
     document->path_ = fs::absolute(path).lexically_normal();
     document->project_ = std::move(project).value();
     document->project_.folder = document->path_.parent_path();
-    document->syncAssets();
+    DetachedAssets none;
+    document->syncAssets(none);
     return document;
 }
 
@@ -163,13 +129,13 @@ std::string Document::title() const {
     return (dirty() ? "*" : "") + name;
 }
 
-void Document::setProject(Project project) {
+void Document::setProject(Project project, DetachedAssets& detached) {
     project.folder = project_.folder;
     project_ = std::move(project);
-    syncAssets();
+    syncAssets(detached);
 }
 
-void Document::syncAssets() {
+void Document::syncAssets(DetachedAssets& detached) {
     assets_.resize(project_.bodies.size());
     for (std::size_t b = 0; b < assets_.size(); ++b) {
         const BodyDesc& body = project_.bodies[b];
@@ -203,18 +169,16 @@ void Document::syncAssets() {
             const std::string& written = channelPath(body, c);
             const fs::path mapPath = written.empty() ? fs::path() : project_.resolvePath(written);
             if (mapPath == m.path) continue;
-            if (m.dirty && m.image && !m.path.empty()) detachedMaps()[m.path] = *m.image;
+            if (m.dirty && m.image && !m.path.empty()) detached.maps[m.path] = std::move(m);
             m = BodyAssets::Map{};
             m.path = mapPath;
             a.paintSurfaces[static_cast<int>(c)].reset();
             if (mapPath.empty()) continue;
-            if (auto it = detachedMaps().find(mapPath); it != detachedMaps().end()) {
-                m.image = it->second;
-                m.dirty = true;
+            if (auto it = detached.maps.find(mapPath); it != detached.maps.end()) {
+                m = std::move(it->second);
+                detached.maps.erase(it);
             } else if (fs::exists(mapPath)) {
-                Result<PaintedMap> image = loadPaintedMap(mapPath);
-                if (image) m.image = std::move(image).value();
-                else m.error = image.error().message;
+                loadMapFile(m);
             } else {
                 m.error = mapPath.string() + ": no such file (yet)";
             }
@@ -224,14 +188,15 @@ void Document::syncAssets() {
                                        ? project_.resolvePath(body.waterGraph->graph)
                                        : fs::path();
         if (graphPath != g.path) {
-            if (g.dirty && g.graph && !g.path.empty()) detachedGraphs()[g.path] = *g.graph;
+            if (g.dirty && g.graph && !g.path.empty()) detached.graphs[g.path] = *g.graph;
             g = BodyAssets::Graph{};
             g.path = graphPath;
             if (graphPath.empty()) continue;
             std::error_code ec;
-            if (auto it = detachedGraphs().find(graphPath); it != detachedGraphs().end()) {
-                g.graph = it->second;
+            if (auto it = detached.graphs.find(graphPath); it != detached.graphs.end()) {
+                g.graph = std::move(it->second);
                 g.dirty = true;
+                detached.graphs.erase(it);
             } else if (fs::exists(graphPath, ec)) {
                 Result<WaterGraph> read = readGraphForEditing(graphPath);
                 if (read) g.graph = std::move(read).value();
@@ -294,13 +259,56 @@ void Document::markMapDirty(std::size_t body, MapChannel channel) {
     assets_.at(body).maps[static_cast<int>(channel)].dirty = true;
 }
 
+const LayerStack* Document::layers(std::size_t body, MapChannel channel) const {
+    if (body >= assets_.size()) return nullptr;
+    const auto& stack = assets_[body].maps[static_cast<int>(channel)].layers;
+    return stack ? &*stack : nullptr;
+}
+
+void Document::setLayers(std::size_t body, MapChannel channel, std::optional<LayerStack> stack) {
+    BodyAssets::Map& m = assets_.at(body).maps[static_cast<int>(channel)];
+    m.layers = std::move(stack);
+    if (m.layers) setMap(body, channel, flattenLayers(*m.layers));
+    else m.dirty = true;
+}
+
+PaintedMap* Document::paintPixels(std::size_t body, MapChannel channel, PaintTarget target) {
+    if (body >= assets_.size()) return nullptr;
+    BodyAssets::Map& m = assets_[body].maps[static_cast<int>(channel)];
+    if (!m.layers) {
+        return target.layer < 0 && target.part == LayerPart::Pixels && m.image ? &*m.image : nullptr;
+    }
+    if (target.layer < 0 || static_cast<std::size_t>(target.layer) >= m.layers->layers.size()) {
+        return nullptr;
+    }
+    return m.layers->layers[static_cast<std::size_t>(target.layer)].part(target.part).get();
+}
+
+void Document::pixelsChanged(std::size_t body, MapChannel channel) {
+    BodyAssets::Map& m = assets_.at(body).maps[static_cast<int>(channel)];
+    if (m.layers) m.image = flattenLayers(*m.layers);
+    m.dirty = true;
+}
+
+BodyAssets::Map Document::mapState(std::size_t body, MapChannel channel) const {
+    return assets_.at(body).maps[static_cast<int>(channel)];
+}
+
+void Document::restoreMapState(std::size_t body, MapChannel channel, BodyAssets::Map state) {
+    BodyAssets::Map& m = assets_.at(body).maps[static_cast<int>(channel)];
+    const bool sizeChanged = !state.image || !m.image || state.image->width != m.image->width ||
+                             state.image->height != m.image->height;
+    m = std::move(state);
+    if (sizeChanged) assets_[body].paintSurfaces[static_cast<int>(channel)].reset();
+}
+
 Result<std::shared_ptr<const PaintSurface>> Document::paintSurface(std::size_t body,
                                                                    MapChannel channel) {
-    if (body >= assets_.size()) return makeError("no body " + std::to_string(body));
+    if (body >= assets_.size()) return makeError(ErrorKind::invalidArgument, "no body " + std::to_string(body));
     BodyAssets& a = assets_[body];
-    if (!a.mesh) return makeError("body " + std::to_string(body) + ": no mesh (" + a.meshError + ")");
+    if (!a.mesh) return makeError(ErrorKind::invalidArgument, "body " + std::to_string(body) + ": no mesh (" + a.meshError + ")");
     const PaintedMap* image = map(body, channel);
-    if (!image) return makeError("body " + std::to_string(body) + ": no " + channelName(channel) + " map");
+    if (!image) return makeError(ErrorKind::invalidArgument, "body " + std::to_string(body) + ": no " + channelName(channel) + " map");
     auto& cached = a.paintSurfaces[static_cast<int>(channel)];
     if (!cached || cached->width != image->width || cached->height != image->height) {
         // Maps of the same size share one surface.
@@ -338,18 +346,38 @@ Bounds3 Document::worldBounds() const {
 }
 
 Result<std::shared_ptr<const SurfaceTextures>> Document::physicsTextures(std::size_t body) {
-    if (body >= assets_.size()) return makeError("no body " + std::to_string(body));
+    if (body >= assets_.size()) return makeError(ErrorKind::invalidArgument, "no body " + std::to_string(body));
     BodyAssets& a = assets_[body];
-    if (!a.mesh) return makeError("body " + std::to_string(body) + ": no mesh (" + a.meshError + ")");
+    if (!a.mesh) return makeError(ErrorKind::invalidArgument, "body " + std::to_string(body) + ": no mesh (" + a.meshError + ")");
     if (!a.physics) {
-        BakeSettings settings;
-        settings.size = project_.bodies[body].textureSize;
-        settings.maxTexelStretch = project_.bodies[body].maxTexelStretch;
-        Result<SurfaceTextures> baked = bakeSurfaceTextures(*a.mesh, settings);
+        Result<SurfaceTextures> baked = bakeSurfaceTextures(*a.mesh, physicsBakeSettings(body));
         if (!baked) return baked.error();
         a.physics = std::make_shared<const SurfaceTextures>(std::move(baked).value());
     }
     return a.physics;
+}
+
+BakeSettings Document::physicsBakeSettings(std::size_t body) const {
+    BakeSettings settings;
+    settings.size = project_.bodies[body].textureSize;
+    settings.maxTexelStretch = project_.bodies[body].maxTexelStretch;
+    return settings;
+}
+
+std::shared_ptr<const SurfaceTextures> Document::bakedPhysics(std::size_t body) const {
+    return body < assets_.size() ? assets_[body].physics : nullptr;
+}
+
+bool Document::adoptPhysics(std::size_t body, const TriangleMesh* mesh, const BakeSettings& settings,
+                            std::shared_ptr<const SurfaceTextures> textures) {
+    if (body >= assets_.size() || !textures || !mesh || assets_[body].mesh.get() != mesh) return false;
+    const BakeSettings now = physicsBakeSettings(body);
+    if (now.size != settings.size || now.maxTexelStretch != settings.maxTexelStretch ||
+        textures->size != settings.size) {
+        return false;
+    }
+    assets_[body].physics = std::move(textures);
+    return true;
 }
 
 std::string Document::defaultMapPath(std::size_t body, MapChannel channel) const {
@@ -387,6 +415,23 @@ bool Document::redo() {
     return true;
 }
 
+std::vector<std::string> Document::historyNames() const {
+    std::vector<std::string> names;
+    names.reserve(done_.size() + undone_.size());
+    for (const Entry& e : done_) names.push_back(e.command->name());
+    for (auto it = undone_.rbegin(); it != undone_.rend(); ++it) names.push_back(it->command->name());
+    return names;
+}
+
+bool Document::jumpToHistory(std::size_t position) {
+    position = std::min(position, done_.size() + undone_.size());
+    while (done_.size() > position) undo();
+    while (done_.size() < position) {
+        if (!redo()) return false;
+    }
+    return true;
+}
+
 // --- files ---------------------------------------------------------------------------------------
 
 Status Document::writeMaps(bool all) {
@@ -406,6 +451,7 @@ Status Document::writeMapsAndProjectFiles(bool allMaps, bool withProject) {
             std::error_code ec;
             fs::create_directories(m.path.parent_path(), ec);
             files.push_back(bytesFileWriter(m.path, encodePaintedMapPng16(*m.image)));
+            if (m.layers) files.push_back(bytesFileWriter(layersPathFor(m.path), layerStackToJson(*m.layers)));
             written.push_back(&m);
         }
         BodyAssets::Graph& g = a.graph;
@@ -434,15 +480,77 @@ Status Document::writeMapsAndProjectFiles(bool allMaps, bool withProject) {
 }
 
 Status Document::save() {
-    if (path_.empty()) return makeError("untitled: choose a file name (Save As)");
+    if (path_.empty()) return makeError(ErrorKind::invalidArgument, "untitled: choose a file name (Save As)");
     return writeMapsAndProject(false);
 }
 
-Status Document::saveAs(const fs::path& target) {
+Status Document::checkSaveAsTargets(const Project& moved, const fs::path& target,
+                                    std::vector<fs::path>& replaced) const {
+    auto same = [](const fs::path& a, const fs::path& b) {
+        std::error_code ec;
+        return fs::equivalent(a, b, ec) || a.lexically_normal() == b.lexically_normal();
+    };
+    // Every file the project reads and does not rewrite: meshes, and maps and graphs that are
+    // not loaded (they keep pointing at their files).
+    std::vector<std::pair<fs::path, std::string>> used;
+    for (std::size_t b = 0; b < project_.bodies.size(); ++b) {
+        const BodyDesc& body = project_.bodies[b];
+        const std::string of = " of body '" + body.name + "'";
+        if (!body.mesh.empty()) used.push_back({project_.resolvePath(body.mesh), "the mesh" + of});
+        for (const std::string& frame : body.meshFrames)
+            used.push_back({project_.resolvePath(frame), "a mesh frame" + of});
+        for (MapChannel c : kMapChannels) {
+            const std::string& p = channelPath(body, c);
+            if (!p.empty() && !assets_[b].maps[static_cast<int>(c)].image)
+                used.push_back({project_.resolvePath(p), "a painted map" + of});
+        }
+        if (body.waterGraph && !body.waterGraph->graph.empty() && !assets_[b].graph.graph)
+            used.push_back({project_.resolvePath(body.waterGraph->graph), "the water graph" + of});
+    }
+    // What the save writes: the project and every loaded map and graph, at their new paths.
+    std::vector<fs::path> written{target};
+    for (std::size_t b = 0; b < moved.bodies.size(); ++b) {
+        for (MapChannel c : kMapChannels) {
+            const std::string& p = channelPath(moved.bodies[b], c);
+            if (!p.empty() && assets_[b].maps[static_cast<int>(c)].image)
+                written.push_back(moved.resolvePath(p));
+        }
+        const auto& graph = moved.bodies[b].waterGraph;
+        if (graph && !graph->graph.empty() && assets_[b].graph.graph)
+            written.push_back(moved.resolvePath(graph->graph));
+    }
+    std::vector<fs::path> ours{path_};  // files this document wrote itself: saved over freely
+    for (const BodyAssets& a : assets_) {
+        for (const BodyAssets::Map& m : a.maps) ours.push_back(m.path);
+        ours.push_back(a.graph.path);
+    }
+    for (const fs::path& file : written) {
+        for (const auto& [input, what] : used) {
+            if (same(file, input))
+                return makeError(ErrorKind::invalidArgument,
+                                 file.string() + ": is " + what +
+                                     ": saving over it would lose it (choose another name)");
+        }
+        std::error_code ec;
+        const bool exists = fs::exists(fs::symlink_status(file, ec));
+        const bool own = std::any_of(ours.begin(), ours.end(), [&](const fs::path& p) {
+            return !p.empty() && same(file, p);
+        });
+        if (exists && !own) replaced.push_back(file);
+    }
+    return Ok{};
+}
+
+Result<std::vector<fs::path>> Document::replacedBySaveAs(const fs::path& target) const {
     const fs::path absolute = fs::absolute(target).lexically_normal();
+    std::vector<fs::path> replaced;
+    if (Status safe = checkSaveAsTargets(movedTo(absolute), absolute, replaced); !safe.ok())
+        return safe.error();
+    return replaced;
+}
+
+Project Document::movedTo(const fs::path& absolute) const {
     const fs::path from = project_.folder, to = absolute.parent_path();
-    const std::optional<fs::path> oldAutosave =
-        path_.empty() ? std::optional<fs::path>() : std::optional<fs::path>(autosavePath());
     Project moved = project_;
     // Files that travel with the project keep their relative paths in the new folder, except
     // those outside the old folder ("../assets/x.png"): written as they are, they would land
@@ -479,6 +587,19 @@ Status Document::saveAs(const fs::path& target) {
         }
     }
     moved.folder = to;
+    return moved;
+}
+
+Status Document::saveAs(const fs::path& target, bool overwrite) {
+    const fs::path absolute = fs::absolute(target).lexically_normal();
+    const std::optional<fs::path> oldAutosave =
+        path_.empty() ? std::optional<fs::path>() : std::optional<fs::path>(autosavePath());
+    Project moved = movedTo(absolute);
+    std::vector<fs::path> replaced;
+    if (Status safe = checkSaveAsTargets(moved, absolute, replaced); !safe.ok()) return safe;
+    if (!replaced.empty() && !overwrite)
+        return makeError(ErrorKind::invalidArgument,
+                         replaced.front().string() + ": already exists (save with force to replace it)");
     project_ = std::move(moved);
     path_ = absolute;
     // Re-point loaded maps at their new files and write them all there.
@@ -512,29 +633,70 @@ Status Document::writeMapsAndProject(bool allMaps) {
     return Ok{};
 }
 
-Result<Project> Document::simulationSnapshot(const fs::path& folder) const {
-    std::error_code ec;
-    fs::create_directories(folder, ec);
-    if (ec) return makeError(folder.string() + ": cannot create: " + ec.message());
-    Project project = project_;
+Result<Scene> Document::simulationScene(const LogFunction& log) const {
+    Scene scene;
+    scene.name = project_.name;
+    scene.medium = project_.medium;
+    scene.water = project_.water;
+    scene.simulation = project_.simulation;
     for (std::size_t b = 0; b < assets_.size(); ++b) {
-        BodyDesc& body = project.bodies[b];
-        const BodyAssets::Graph& g = assets_[b].graph;
-        if (g.graph && body.waterGraph && (g.dirty || !fs::exists(g.path, ec))) {
-            const fs::path file = folder / ("body" + std::to_string(b) + ".graph.json");
-            if (Status s = saveGraph(*g.graph, file); !s) return s.error();
-            body.waterGraph->graph = fs::absolute(file).string();
+        const BodyDesc& desc = project_.bodies[b];
+        const BodyAssets& a = assets_[b];
+        const std::string label = bodyLabel(desc);
+        BodyParts parts;
+        if (desc.deforms()) {
+            // The document reads a mesh joining its vertices; a deforming body's first frame
+            // must keep its frames' triangles: both come from the files, as a project run does.
+            Result<PreparedBodyMesh> prepared = prepareBodyMesh(project_, b);
+            if (!prepared) return prepared.error();
+            parts.mesh = std::make_shared<const TriangleMesh>(std::move(prepared->mesh));
+            Result<std::shared_ptr<const std::vector<TriangleMesh>>> frames =
+                loadBodyFrames(project_, b);
+            if (!frames) return frames.error();
+            parts.frames = std::move(*frames);
+        } else {
+            if (!a.mesh) {
+                return makeError(ErrorKind::io, label + ": " +
+                                                    (a.meshError.empty() ? "no mesh" : a.meshError));
+            }
+            if (Status s = checkBakeableSurface(validateMesh(*a.mesh), label); !s) return s.error();
+            parts.mesh = a.mesh;
+        }
+        if (desc.waterGraph) {
+            if (!a.graph.graph) {
+                return makeError(ErrorKind::io, label + ": water graph: " +
+                                                    (a.graph.error.empty() ? "not loaded"
+                                                                           : a.graph.error));
+            }
+            // Edited graphs are parsed, not validated: a simulation needs a valid one.
+            const GraphReport report = validateGraph(*a.graph.graph, parts.mesh.get(),
+                                                     a.graph.path.string());
+            if (report.hasErrors()) {
+                return makeError(ErrorKind::schema, label + ": water graph: " + report.format());
+            }
+            if (log && !report.problems.empty()) log(report.format());
+            parts.waterGraph = std::make_shared<const WaterGraph>(*a.graph.graph);
         }
         for (MapChannel c : kMapChannels) {
-            const BodyAssets::Map& m = assets_[b].maps[static_cast<int>(c)];
-            if (!m.image || !(m.dirty || !fs::exists(m.path, ec))) continue;
-            const fs::path file =
-                folder / ("body" + std::to_string(b) + "_" + channelName(c) + ".png");
-            if (Status s = savePaintedMap(*m.image, file); !s) return s.error();
-            channelPath(body, c) = fs::absolute(file).string();
+            const BodyAssets::Map& m = a.maps[static_cast<int>(c)];
+            std::shared_ptr<const PaintedMap> image;
+            if (m.image) {
+                image = std::make_shared<const PaintedMap>(*m.image);
+            } else if (!channelPath(desc, c).empty()) {
+                return makeError(ErrorKind::io, label + ": " + channelName(c) + " map: " +
+                                                    (m.error.empty() ? "not loaded" : m.error));
+            }
+            switch (c) {
+                case MapChannel::Permeability: parts.permeabilityMap = std::move(image); break;
+                case MapChannel::Density: parts.shellDensityMap = std::move(image); break;
+                case MapChannel::Thickness: parts.shellThicknessMap = std::move(image); break;
+            }
         }
+        Result<SceneBody> body = bakeSceneBody(desc, std::move(parts));
+        if (!body) return body.error();
+        scene.bodies.push_back(std::move(*body));
     }
-    return project;
+    return scene;
 }
 
 fs::path Document::autosavePathFor(const fs::path& projectPath) {
@@ -557,9 +719,11 @@ Status Document::autosave() const {
         for (MapChannel c : kMapChannels) {
             const BodyAssets::Map& m = assets_[b].maps[static_cast<int>(c)];
             if (!m.image || !m.dirty) continue;
-            maps.push_back({{"body", b},
-                            {"channel", channelName(c)},
-                            {"png_base64", base64Encode(encodePaintedMapPng16(*m.image))}});
+            Json entry = {{"body", b},
+                          {"channel", channelName(c)},
+                          {"png_base64", base64Encode(encodePaintedMapPng16(*m.image))}};
+            if (m.layers) entry["layers"] = Json::parse(layerStackToJson(*m.layers));
+            maps.push_back(std::move(entry));
         }
     }
     root["maps"] = std::move(maps);
@@ -594,16 +758,17 @@ std::optional<fs::path> Document::findAutosave(const fs::path& project) {
 }
 
 Result<std::unique_ptr<Document>> Document::recover(const fs::path& autosaveFile) {
-    std::ifstream in(autosaveFile, std::ios::binary);
-    if (!in) return makeError(autosaveFile.string() + ": cannot open");
+    // Its maps are inline PNGs, so it may outgrow a JSON file's limit.
+    Result<std::string> text = readWholeFile(autosaveFile, kMaxDataFileBytes, "kMaxDataFileBytes");
+    if (!text) return text.error();
     Json root;
     try {
-        root = Json::parse(std::string(std::istreambuf_iterator<char>(in), {}));
+        root = Json::parse(*text);
     } catch (const Json::exception& e) {
-        return makeError(autosaveFile.string() + ": not an autosave: " + e.what());
+        return makeError(ErrorKind::format, autosaveFile.string() + ": not an autosave: " + e.what());
     }
     if (!root.contains("plimsoll_autosave") || !root.contains("project")) {
-        return makeError(autosaveFile.string() + ": not an autosave");
+        return makeError(ErrorKind::format, autosaveFile.string() + ": not an autosave");
     }
     const fs::path folder = root.value("folder", std::string());
     Result<Project> project =
@@ -613,15 +778,22 @@ Result<std::unique_ptr<Document>> Document::recover(const fs::path& autosaveFile
     document->path_ = root.value("project_path", std::string());
     document->project_ = std::move(project).value();
     document->project_.folder = folder;
-    document->syncAssets();
+    DetachedAssets none;
+    document->syncAssets(none);
     for (const Json& m : root["maps"]) {
         const std::size_t body = m.value("body", std::size_t{0});
         const std::optional<MapChannel> channel = parseChannel(m.value("channel", std::string()));
         if (!channel || body >= document->bodyCount()) continue;
         Result<PaintedMap> image =
-            decodePng(base64Decode(m.value("png_base64", std::string())), autosaveFile.string());
+            decodePaintedMap(base64Decode(m.value("png_base64", std::string())), autosaveFile.string());
         if (!image) return image.error();
         document->setMap(body, *channel, std::move(image).value());
+        if (m.contains("layers")) {
+            Result<LayerStack> stack =
+                parseLayerStack(m["layers"].dump(), autosaveFile.string() + " (layers)");
+            if (!stack) return stack.error();
+            document->setLayers(body, *channel, std::move(stack).value());
+        }
     }
     for (const Json& g : root.value("graphs", Json::array())) {
         const std::size_t body = g.value("body", std::size_t{0});

@@ -5,17 +5,20 @@
 // autosave side file holds the unsaved state for recovery after a crash.
 #pragma once
 
+#include "document/layers.h"
 #include "document/paint.h"
 
-#include "plimsoll/bake.h"
-#include "plimsoll/graph.h"
-#include "plimsoll/mesh.h"
-#include "plimsoll/painted_map.h"
-#include "plimsoll/pose.h"
-#include "plimsoll/project.h"
-#include "plimsoll/result.h"
+#include "plimsoll/bake/bake.h"
+#include "plimsoll/graph/graph.h"
+#include "plimsoll/geometry/mesh.h"
+#include "plimsoll/bake/painted_map.h"
+#include "plimsoll/physics/pose.h"
+#include "plimsoll/scene/project.h"
+#include "plimsoll/scene/scene.h"
+#include "plimsoll/core/result.h"
 
 #include <array>
+#include <map>
 #include <filesystem>
 #include <memory>
 #include <optional>
@@ -52,7 +55,10 @@ struct BodyAssets {
     std::string meshError;
     struct Map {
         std::filesystem::path path;           ///< resolved path (what it was loaded from/for)
+        /// What the engine reads: with layers, always flattenLayers(*layers).
         std::optional<PaintedMap> image;
+        /// The map's layers (saved beside it, layersPathFor); none: the image is all there is.
+        std::optional<LayerStack> layers;
         bool dirty = false;                   ///< differs from the file
         std::string error;
     };
@@ -73,6 +79,13 @@ struct BodyAssets {
 };
 
 class Document;
+
+/// Edited maps and graphs whose paths left the project (a path changed): the command that
+/// changed the path keeps them, so that its undo brings them back unchanged.
+struct DetachedAssets {
+    std::map<std::filesystem::path, BodyAssets::Map> maps;
+    std::map<std::filesystem::path, WaterGraph> graphs;
+};
 
 /// One edit with its inverse. apply() is do and redo; revert() is undo. A command holds what
 /// it needs to go both ways (a paint stroke: the changed pixels before and after).
@@ -110,6 +123,14 @@ public:
     std::string redoName() const;
     bool undo();
     bool redo();
+    /// The history's steps by name, oldest first: the done ones, then the undone ones in the
+    /// order redo would bring them back.
+    std::vector<std::string> historyNames() const;
+    /// Steps done (0: the state as opened); historyNames()[0, position) are done.
+    std::size_t historyPosition() const { return done_.size(); }
+    /// Undoes or redoes step by step, as undo() and redo() do, until `position` steps are
+    /// done (clamped to the history). False if a redo failed (the history stops there).
+    bool jumpToHistory(std::size_t position);
 
     /// Unsaved changes (the state differs from the one last saved or opened).
     bool dirty() const { return stateId() != savedState_; }
@@ -118,14 +139,19 @@ public:
     /// Writes changed maps, then the project (each atomically), and removes the autosave.
     Status save();
     /// Saves under a new name; relative paths are rewritten for the new folder, and every loaded
-    /// map is written beside it where it was relative.
-    Status saveAs(const std::filesystem::path& path);
+    /// map is written beside it where it was relative. Never over a file the project reads (its
+    /// mesh, a map it does not rewrite); over another existing file only with `overwrite`.
+    Status saveAs(const std::filesystem::path& path, bool overwrite = false);
+    /// The existing files saveAs(path) would replace (so need `overwrite`, after asking); an
+    /// error where it would write over a file the project reads (refused whatever the answer).
+    Result<std::vector<std::filesystem::path>> replacedBySaveAs(const std::filesystem::path& path) const;
 
-    /// The project as it is being edited, for a simulation (World reads its files): every
-    /// edited water graph and painted map written (atomically) into `folder`, the project's
-    /// paths to them made absolute; all else as saved. Writes no project file and changes
-    /// nothing in the document: the live preview runs unsaved edits this way.
-    Result<Project> simulationSnapshot(const std::filesystem::path& folder) const;
+    /// The project as it is being edited, as a scene for World: every body baked from the
+    /// document's own mesh, water graph and painted maps, unsaved edits included (a deforming
+    /// body's frames, which the document does not hold, are read from their files). Writes
+    /// nothing and changes nothing in the document: the live preview runs this. The log hears
+    /// the graphs' warnings.
+    Result<Scene> simulationScene(const LogFunction& log = {}) const;
 
     /// The autosave side file of a project path (".NAME.autosave" beside it).
     static std::filesystem::path autosavePathFor(const std::filesystem::path& projectPath);
@@ -140,14 +166,28 @@ public:
     static Result<std::unique_ptr<Document>> recover(const std::filesystem::path& autosaveFile);
 
     // --- what commands use ----------------------------------------------------------------------
-    /// Replaces the project; assets whose paths changed are reloaded (a map that is dirty and
-    /// still named keeps its pixels).
-    void setProject(Project project);
+    /// Replaces the project; assets whose paths changed are reloaded. Edited maps and graphs
+    /// whose paths leave the project go into `detached`; those whose paths come back are taken
+    /// from it (a map that is dirty and still named keeps its pixels).
+    void setProject(Project project, DetachedAssets& detached);
     PaintedMap* map(std::size_t body, MapChannel channel);
     const PaintedMap* map(std::size_t body, MapChannel channel) const;
     /// Installs (or with nullopt removes) a body's map image; marks it dirty.
     void setMap(std::size_t body, MapChannel channel, std::optional<PaintedMap> image);
     void markMapDirty(std::size_t body, MapChannel channel);
+    /// The map's layers (null: it has none).
+    const LayerStack* layers(std::size_t body, MapChannel channel) const;
+    /// Installs (or with nullopt drops) the map's layer stack; with one, the map becomes its
+    /// flattening. Marks the map dirty.
+    void setLayers(std::size_t body, MapChannel channel, std::optional<LayerStack> stack);
+    /// The pixels `target` names (null: no such map, layer or mask).
+    PaintedMap* paintPixels(std::size_t body, MapChannel channel, PaintTarget target);
+    /// After pixels of paintPixels changed: re-flattens a layered map; marks the map dirty.
+    void pixelsChanged(std::size_t body, MapChannel channel);
+    /// Everything the document holds for one map (image, layers, dirty flag), and back: a
+    /// command that replaces a map keeps the old one this way for its undo.
+    BodyAssets::Map mapState(std::size_t body, MapChannel channel) const;
+    void restoreMapState(std::size_t body, MapChannel channel, BodyAssets::Map state);
     /// The body's water graph as edited (null: none, or its file failed to load).
     const WaterGraph* graph(std::size_t body) const;
     /// Installs (or with nullopt removes) the body's graph image; marks it dirty. The project's
@@ -163,6 +203,15 @@ public:
     Pose bodyPose(std::size_t body) const;
     /// The body's physics textures at its texture size (baked on first use, cached).
     Result<std::shared_ptr<const SurfaceTextures>> physicsTextures(std::size_t body);
+    /// What physicsTextures(body) would bake with (size, stretch limit).
+    BakeSettings physicsBakeSettings(std::size_t body) const;
+    /// The body's physics textures if they are baked at its current size (null: not yet;
+    /// never bakes). The window's panels read this and bake in the background (physics_bakes.h).
+    std::shared_ptr<const SurfaceTextures> bakedPhysics(std::size_t body) const;
+    /// Installs textures baked elsewhere from `mesh` with `settings`, when the body still has
+    /// that mesh and those settings (true); otherwise they are stale and nothing changes.
+    bool adoptPhysics(std::size_t body, const TriangleMesh* mesh, const BakeSettings& settings,
+                      std::shared_ptr<const SurfaceTextures> textures);
     /// Where a new map of `channel` for `body` goes: "maps/<project>_<body>_<channel>.png".
     std::string defaultMapPath(std::size_t body, MapChannel channel) const;
     /// "<project stem>_<body name>" with characters unsafe in file names replaced: the
@@ -171,10 +220,16 @@ public:
 
 private:
     std::uint64_t stateId() const { return done_.empty() ? 0 : done_.back().id; }
-    void syncAssets();
+    void syncAssets(DetachedAssets& detached);
     /// Writes the changed (or all) maps and water graphs, each atomically.
     Status writeMaps(bool all);
     /// writeMaps(allMaps), then the project to path_; marks the document saved.
+    /// The project as saveAs(absolute) would write it: relative paths rewritten for the new folder.
+    Project movedTo(const std::filesystem::path& absolute) const;
+    /// saveAs's refusals: `moved` (the project as it will be saved to `target`) must not write
+    /// over a file the project reads; the other existing files it writes over go to `replaced`.
+    Status checkSaveAsTargets(const Project& moved, const std::filesystem::path& target,
+                              std::vector<std::filesystem::path>& replaced) const;
     Status writeMapsAndProject(bool allMaps);
     /// The changed maps and graphs (all loaded ones if `allMaps`) and, if `withProject`, the
     /// project, replaced together (replaceFilesTogether).

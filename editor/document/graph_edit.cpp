@@ -14,16 +14,16 @@ GraphCommand::GraphCommand(std::string name, std::size_t body, std::optional<Wat
       projectBefore_(std::move(projectBefore)), projectAfter_(std::move(projectAfter)) {}
 
 Status GraphCommand::apply(Document& document) {
-    if (body_ >= document.bodyCount()) return makeError("no body " + std::to_string(body_));
+    if (body_ >= document.bodyCount()) return makeError(ErrorKind::invalidArgument, "no body " + std::to_string(body_));
     // The project first: it names the file the graph belongs to.
-    if (projectAfter_) document.setProject(*projectAfter_);
+    if (projectAfter_) document.setProject(*projectAfter_, detached_);
     document.setGraph(body_, after_);
     return Ok{};
 }
 
 void GraphCommand::revert(Document& document) {
     document.setGraph(body_, before_);
-    if (projectBefore_) document.setProject(*projectBefore_);
+    if (projectBefore_) document.setProject(*projectBefore_, detached_);
 }
 
 namespace {
@@ -33,16 +33,16 @@ bool finite(const Eigen::Vector3d& v) { return v.allFinite(); }
 /// The body's graph to edit, or why there is none.
 Result<WaterGraph> currentGraph(const Document& document, std::size_t body) {
     if (body >= document.bodyCount()) {
-        return makeError("no body " + std::to_string(body) + " (the project has " +
+        return makeError(ErrorKind::invalidArgument, "no body " + std::to_string(body) + " (the project has " +
                          std::to_string(document.bodyCount()) + ")");
     }
     if (!document.project().bodies[body].waterGraph) {
-        return makeError("body " + std::to_string(body) +
+        return makeError(ErrorKind::invalidArgument, "body " + std::to_string(body) +
                          " has no water graph (create one first: graph_create)");
     }
     const WaterGraph* graph = document.graph(body);
     if (!graph) {
-        return makeError("body " + std::to_string(body) + ": water graph not loaded: " +
+        return makeError(ErrorKind::io, "body " + std::to_string(body) + ": water graph not loaded: " +
                          document.assets(body).graph.error);
     }
     return *graph;
@@ -50,32 +50,32 @@ Result<WaterGraph> currentGraph(const Document& document, std::size_t body) {
 
 Status checkNode(const GraphNode& n) {
     if (!(n.capacity > 0) || !std::isfinite(n.capacity)) {
-        return makeError("node " + n.id + ": capacity must be > 0 (m^3)");
+        return makeError(ErrorKind::invalidArgument, "node " + n.id + ": capacity must be > 0 (m^3)");
     }
     if (!(n.water >= 0) || n.water > n.capacity) {
-        return makeError("node " + n.id + ": water must be within 0..capacity (m^3)");
+        return makeError(ErrorKind::invalidArgument, "node " + n.id + ": water must be within 0..capacity (m^3)");
     }
-    if (!finite(n.position)) return makeError("node " + n.id + ": position not finite");
+    if (!finite(n.position)) return makeError(ErrorKind::invalidArgument, "node " + n.id + ": position not finite");
     if (!finite(n.boxSize) || n.boxSize.minCoeff() < 0) {
-        return makeError("node " + n.id + ": box size must be >= 0 (m)");
+        return makeError(ErrorKind::invalidArgument, "node " + n.id + ": box size must be >= 0 (m)");
     }
     return Ok{};
 }
 
 Status checkPipe(const GraphPipe& p) {
     if (!(p.radius > 0) || !std::isfinite(p.radius)) {
-        return makeError("pipe " + p.a + "-" + p.b + ": radius must be > 0 (m)");
+        return makeError(ErrorKind::invalidArgument, "pipe " + p.a + "-" + p.b + ": radius must be > 0 (m)");
     }
     if (!(p.length >= 0) || !std::isfinite(p.length)) {
-        return makeError("pipe " + p.a + "-" + p.b + ": length must be >= 0 (m)");
+        return makeError(ErrorKind::invalidArgument, "pipe " + p.a + "-" + p.b + ": length must be >= 0 (m)");
     }
     return Ok{};
 }
 
 Status checkIds(const WaterGraph& graph, const std::vector<std::string>& ids) {
-    if (ids.empty()) return makeError("no nodes given");
+    if (ids.empty()) return makeError(ErrorKind::invalidArgument, "no nodes given");
     for (const std::string& id : ids) {
-        if (graph.indexOf(id) < 0) return makeError("no node \"" + id + "\"");
+        if (graph.indexOf(id) < 0) return makeError(ErrorKind::invalidArgument, "no node \"" + id + "\"");
     }
     return Ok{};
 }
@@ -109,9 +109,9 @@ int findPipe(const WaterGraph& graph, const std::string& a, const std::string& b
 
 Result<std::unique_ptr<Command>> makeCreateGraphCommand(const Document& document, std::size_t body,
                                                         std::string path) {
-    if (body >= document.bodyCount()) return makeError("no body " + std::to_string(body));
+    if (body >= document.bodyCount()) return makeError(ErrorKind::invalidArgument, "no body " + std::to_string(body));
     if (document.project().bodies[body].waterGraph) {
-        return makeError("body " + std::to_string(body) + " already has a water graph (" +
+        return makeError(ErrorKind::invalidArgument, "body " + std::to_string(body) + " already has a water graph (" +
                          document.project().bodies[body].waterGraph->graph + ")");
     }
     if (path.empty()) path = document.defaultGraphPath(body);
@@ -127,9 +127,9 @@ Result<std::unique_ptr<Command>> makeCreateGraphCommand(const Document& document
 
 Result<std::unique_ptr<Command>> makeReplaceGraphCommand(const Document& document, std::size_t body,
                                                          WaterGraph graph, std::string name) {
-    if (body >= document.bodyCount()) return makeError("no body " + std::to_string(body));
+    if (body >= document.bodyCount()) return makeError(ErrorKind::invalidArgument, "no body " + std::to_string(body));
     if (!document.project().bodies[body].waterGraph) {
-        return makeError("body " + std::to_string(body) + " has no water graph entry");
+        return makeError(ErrorKind::invalidArgument, "body " + std::to_string(body) + " has no water graph entry");
     }
     for (const GraphNode& n : graph.nodes) {
         if (Status s = checkNode(n); !s) return s.error();
@@ -147,7 +147,7 @@ Result<std::unique_ptr<Command>> makeAddNodeCommand(const Document& document, st
     Result<WaterGraph> graph = currentGraph(document, body);
     if (!graph) return graph.error();
     if (node.id.empty()) node.id = freshNodeId(*graph);
-    if (graph->indexOf(node.id) >= 0) return makeError("node id \"" + node.id + "\" is taken");
+    if (graph->indexOf(node.id) >= 0) return makeError(ErrorKind::invalidArgument, "node id \"" + node.id + "\" is taken");
     if (Status s = checkNode(node); !s) return s.error();
     const std::string name = "Add node " + node.id;
     graph->nodes.push_back(std::move(node));
@@ -161,7 +161,7 @@ Result<std::unique_ptr<Command>> makeDuplicateNodesCommand(const Document& docum
     Result<WaterGraph> graph = currentGraph(document, body);
     if (!graph) return graph.error();
     if (Status s = checkIds(*graph, ids); !s) return s.error();
-    if (!finite(offset)) return makeError("offset not finite");
+    if (!finite(offset)) return makeError(ErrorKind::invalidArgument, "offset not finite");
     std::map<std::string, std::string> copyOf;
     for (const std::string& id : ids) {
         if (copyOf.count(id)) continue;
@@ -205,7 +205,7 @@ Result<std::unique_ptr<Command>> makeMoveNodesCommand(const Document& document, 
     Result<WaterGraph> graph = currentGraph(document, body);
     if (!graph) return graph.error();
     if (Status s = checkIds(*graph, ids); !s) return s.error();
-    if (!finite(offset)) return makeError("offset not finite");
+    if (!finite(offset)) return makeError(ErrorKind::invalidArgument, "offset not finite");
     const std::set<std::string> moved(ids.begin(), ids.end());
     for (GraphNode& n : graph->nodes) {
         if (moved.count(n.id)) n.position += offset;
@@ -219,7 +219,7 @@ Result<std::unique_ptr<Command>> makeSetNodeCommand(const Document& document, st
     Result<WaterGraph> graph = currentGraph(document, body);
     if (!graph) return graph.error();
     const int index = graph->indexOf(id);
-    if (index < 0) return makeError("no node \"" + id + "\"");
+    if (index < 0) return makeError(ErrorKind::invalidArgument, "no node \"" + id + "\"");
     GraphNode& n = graph->nodes[index];
     if (edit.name) n.name = *edit.name;
     if (edit.position) n.position = *edit.position;
@@ -236,9 +236,9 @@ Result<std::unique_ptr<Command>> makeAddPipeCommand(const Document& document, st
     Result<WaterGraph> graph = currentGraph(document, body);
     if (!graph) return graph.error();
     if (Status s = checkIds(*graph, {pipe.a, pipe.b}); !s) return s.error();
-    if (pipe.a == pipe.b) return makeError("a pipe joins two different nodes, not " + pipe.a + " to itself");
+    if (pipe.a == pipe.b) return makeError(ErrorKind::invalidArgument, "a pipe joins two different nodes, not " + pipe.a + " to itself");
     if (findPipe(*graph, pipe.a, pipe.b) >= 0) {
-        return makeError("nodes " + pipe.a + " and " + pipe.b + " are already connected");
+        return makeError(ErrorKind::invalidArgument, "nodes " + pipe.a + " and " + pipe.b + " are already connected");
     }
     if (Status s = checkPipe(pipe); !s) return s.error();
     const std::string name = "Connect " + pipe.a + "-" + pipe.b;
@@ -251,7 +251,7 @@ Result<std::unique_ptr<Command>> makeRemovePipeCommand(const Document& document,
     Result<WaterGraph> graph = currentGraph(document, body);
     if (!graph) return graph.error();
     const int index = findPipe(*graph, a, b);
-    if (index < 0) return makeError("no pipe between " + a + " and " + b);
+    if (index < 0) return makeError(ErrorKind::invalidArgument, "no pipe between " + a + " and " + b);
     graph->pipes.erase(graph->pipes.begin() + index);
     return edited(document, body, "Disconnect " + a + "-" + b, std::move(graph).value());
 }
@@ -262,7 +262,7 @@ Result<std::unique_ptr<Command>> makeSetPipeCommand(const Document& document, st
     Result<WaterGraph> graph = currentGraph(document, body);
     if (!graph) return graph.error();
     const int index = findPipe(*graph, a, b);
-    if (index < 0) return makeError("no pipe between " + a + " and " + b);
+    if (index < 0) return makeError(ErrorKind::invalidArgument, "no pipe between " + a + " and " + b);
     GraphPipe& p = graph->pipes[index];
     if (edit.open) p.open = *edit.open;
     if (edit.radius) p.radius = *edit.radius;

@@ -33,6 +33,7 @@ private:
     std::size_t body_;
     std::optional<WaterGraph> before_, after_;
     std::optional<Project> projectBefore_, projectAfter_;
+    DetachedAssets detached_;  ///< what the project change took out, for the way back
 };
 
 /// Fields of a node to change; unset ones stay.

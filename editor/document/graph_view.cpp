@@ -116,4 +116,63 @@ OverlayImage segmentOverlay(const std::vector<int>& texelSegment, const SurfaceT
     return image;
 }
 
+SchematicLayout schematicLayout(const WaterGraph& graph, float width, float height,
+                                const Eigen::Vector2f& box) {
+    SchematicLayout layout;
+    layout.box = box;
+    const std::size_t n = graph.nodes.size();
+    if (n == 0) return layout;
+    // The profile's extent, mapped onto the canvas inside half a box of margin.
+    Eigen::Vector2d lo(std::numeric_limits<double>::max(), std::numeric_limits<double>::max());
+    Eigen::Vector2d hi = -lo;
+    for (const GraphNode& node : graph.nodes) {
+        const Eigen::Vector2d p(node.position.x(), node.position.y());
+        lo = lo.cwiseMin(p);
+        hi = hi.cwiseMax(p);
+    }
+    const Eigen::Vector2f min(0.5f * box.x(), 0.5f * box.y());
+    const Eigen::Vector2f max(std::max(min.x(), width - 0.5f * box.x()),
+                              std::max(min.y(), height - 0.5f * box.y()));
+    auto place = [&](double v, double a, double b, float to0, float to1) {
+        return b - a > 1e-12 ? to0 + static_cast<float>((v - a) / (b - a)) * (to1 - to0)
+                             : 0.5f * (to0 + to1);
+    };
+    for (const GraphNode& node : graph.nodes) {
+        // y up in the body, down on the canvas.
+        layout.centre.emplace_back(place(node.position.x(), lo.x(), hi.x(), min.x(), max.x()),
+                                   place(node.position.y(), lo.y(), hi.y(), max.y(), min.y()));
+    }
+    // Overlapping boxes pushed apart along the axis they overlap least on, half each way,
+    // the lower index to the left or top where they coincide; a few sweeps settle a graph of
+    // tanks (the canvas is not a bound while pushing: a crowded profile grows past it).
+    const float gap = 4.0f;
+    const Eigen::Vector2f need = box + Eigen::Vector2f(gap, gap);
+    for (int sweep = 0; sweep < 200; ++sweep) {
+        bool moved = false;
+        for (std::size_t i = 0; i < n; ++i) {
+            for (std::size_t j = i + 1; j < n; ++j) {
+                Eigen::Vector2f d = layout.centre[j] - layout.centre[i];
+                const Eigen::Vector2f overlap(need.x() - std::abs(d.x()), need.y() - std::abs(d.y()));
+                if (overlap.x() <= 0 || overlap.y() <= 0) continue;
+                const int axis = overlap.x() / need.x() <= overlap.y() / need.y() ? 0 : 1;
+                const float sign = d[axis] > 0 ? 1.0f : d[axis] < 0 ? -1.0f : 1.0f;
+                const float push = 0.5f * overlap[axis] + 0.01f;
+                layout.centre[i][axis] -= sign * push;
+                layout.centre[j][axis] += sign * push;
+                moved = true;
+            }
+        }
+        if (!moved) break;
+    }
+    return layout;
+}
+
+int schematicNodeAt(const SchematicLayout& layout, const Eigen::Vector2f& p) {
+    for (std::size_t k = layout.centre.size(); k-- > 0;) {
+        const Eigen::Vector2f d = (p - layout.centre[k]).cwiseAbs();
+        if (d.x() <= 0.5f * layout.box.x() && d.y() <= 0.5f * layout.box.y()) return static_cast<int>(k);
+    }
+    return -1;
+}
+
 }  // namespace plimsoll::editor

@@ -1,13 +1,13 @@
-// What the 3D view shows of a water graph on the hull, GL-free: a colour per node, the
-// surface coloured by the node each texel feeds (texelNodeMap, paper 4.2) and by the segment
-// of an automatic segmentation (its preview before "Apply"), as overlay images over the
-// physics texture (overlay.h).
+// What the views show of a water graph, GL-free: a colour per node, the surface coloured by
+// the node each texel feeds (texelNodeMap, paper 4.2) and by the segment of an automatic
+// segmentation (its preview before "Apply"), as overlay images over the physics texture
+// (overlay.h); and the 2D schematic of nodes and pipes beside the 3D view.
 #pragma once
 
 #include "document/overlay.h"
 
-#include "plimsoll/bake.h"
-#include "plimsoll/graph.h"
+#include "plimsoll/bake/bake.h"
+#include "plimsoll/graph/graph.h"
 
 #include <Eigen/Core>
 
@@ -31,5 +31,19 @@ std::vector<int> texelSegments(const TriangleMesh& mesh, const MeshSegmentation&
 
 /// The physics texture coloured by segment (nodeColour of the segment index).
 OverlayImage segmentOverlay(const std::vector<int>& texelSegment, const SurfaceTextures& textures);
+
+/// A schematic of a graph in a width x height canvas (pixels, y down): every node a box at its
+/// place in the body's profile (object x across, y up, as a side view draws a hull's tanks),
+/// then pushed apart until no two boxes overlap (nodes side by side in z get separate boxes,
+/// in index order); pipes join the box centres.
+struct SchematicLayout {
+    std::vector<Eigen::Vector2f> centre;  ///< per node, canvas pixels
+    Eigen::Vector2f box{0, 0};            ///< every box's width and height
+};
+SchematicLayout schematicLayout(const WaterGraph& graph, float width, float height,
+                                const Eigen::Vector2f& box);
+
+/// The node whose box holds canvas point `p` (the last drawn, on top, first), or -1.
+int schematicNodeAt(const SchematicLayout& layout, const Eigen::Vector2f& p);
 
 }  // namespace plimsoll::editor

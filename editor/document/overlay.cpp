@@ -1,5 +1,7 @@
 #include "document/overlay.h"
 
+#include <cstdio>
+
 #include <algorithm>
 #include <cmath>
 
@@ -74,21 +76,29 @@ OverlayImage overlayOfMap(const PaintedMap& mapRef) {
 }
 
 Result<OverlayImage> buildOverlay(Document& document, std::size_t body, Overlay overlay) {
-    OverlayImage image;
-    if (overlay == Overlay::None) return image;
-    if (const std::optional<MapChannel> channel = overlayChannel(overlay)) {
-        const PaintedMap* map = document.map(body, *channel);
-        if (!map) {
-            image.width = image.height = 1;
-            image.rgba.assign(4, 0);
-            put(image, 0, rampColour(*channel == MapChannel::Permeability ? 0.0 : 1.0));
-            return image;
-        }
-        return overlayOfMap(*map);
-    }
+    if (overlayChannel(overlay) || overlay == Overlay::None) return buildMapOverlay(document, body, overlay);
     Result<std::shared_ptr<const SurfaceTextures>> baked = document.physicsTextures(body);
     if (!baked) return baked.error();
-    const SurfaceTextures& t = **baked;
+    return overlayOfTextures(**baked, overlay);
+}
+
+OverlayImage buildMapOverlay(const Document& document, std::size_t body, Overlay overlay) {
+    OverlayImage image;
+    const std::optional<MapChannel> channel = overlayChannel(overlay);
+    if (!channel) return image;
+    const PaintedMap* map = document.map(body, *channel);
+    if (!map) {
+        image.width = image.height = 1;
+        image.rgba.assign(4, 0);
+        put(image, 0, rampColour(*channel == MapChannel::Permeability ? 0.0 : 1.0));
+        return image;
+    }
+    return overlayOfMap(*map);
+}
+
+OverlayImage overlayOfTextures(const SurfaceTextures& t, Overlay overlay) {
+    OverlayImage image;
+    if (overlay == Overlay::None || overlayChannel(overlay)) return image;
     image.width = image.height = t.size;
     image.placement = t.placement;
     image.rgba.assign(static_cast<std::size_t>(t.size) * t.size * 4, 0);
@@ -118,6 +128,44 @@ Result<OverlayImage> buildOverlay(Document& document, std::size_t body, Overlay 
         }
     }
     return image;
+}
+
+OverlayLegend overlayLegend(Overlay overlay, const BodyDesc* body) {
+    OverlayLegend legend;
+    legend.ramp = true;
+    legend.low = "0";
+    legend.high = "1";
+    switch (overlay) {
+        case Overlay::None: return OverlayLegend{};
+        case Overlay::Permeability:
+            legend.meaning = "permeability: share of the water in contact that flows in";
+            break;
+        case Overlay::Density: {
+            const std::optional<double> shell = body ? body->material.shellSurfaceDensity : std::nullopt;
+            char high[48];
+            if (shell) std::snprintf(high, sizeof high, "%.4g kg/m^2", *shell);
+            legend.high = shell ? high : "1 x shell (no shell set)";
+            legend.low = "0 kg/m^2";
+            legend.meaning = "shell surface density (white: the material's shell)";
+            break;
+        }
+        case Overlay::Thickness:
+            legend.high = "1 x shell thickness";
+            legend.meaning = "relative shell thickness (scales the surface density)";
+            break;
+        case Overlay::Coverage:
+            legend.meaning = "coverage: share of each physics texel covered by the surface";
+            break;
+        case Overlay::Position:
+            legend = OverlayLegend{};
+            legend.meaning = "position: red, green, blue = x, y, z across the body's bounds";
+            break;
+        case Overlay::AreaVector:
+            legend = OverlayLegend{};
+            legend.meaning = "area vector: red, green, blue = normal x, y, z (0.5 + n / 2)";
+            break;
+    }
+    return legend;
 }
 
 }  // namespace plimsoll::editor

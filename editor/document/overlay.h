@@ -4,7 +4,7 @@
 
 #include "document/document.h"
 
-#include "plimsoll/uv_layout.h"
+#include "plimsoll/geometry/uv_layout.h"
 
 #include <Eigen/Core>
 
@@ -40,11 +40,24 @@ struct OverlayImage {
     UvPlacement placement;
 };
 
+/// What an overlay's colours mean, for the view's legend.
+struct OverlayLegend {
+    bool ramp = false;          ///< the colours are rampColour from `low` (0) to `high` (1)
+    std::string low, high;      ///< the ends' values, with units
+    std::string meaning;        ///< one line: the quantity and its unit
+};
+/// The legend of `overlay` on `body` (its shell gives the density map's scale; null: none).
+OverlayLegend overlayLegend(Overlay overlay, const BodyDesc* body);
+
 /// A painted map's overlay image (the ramp, rows flipped to OpenGL's order).
 OverlayImage overlayOfMap(const PaintedMap& map);
 
 /// The overlay image of a body (a body without a map of that channel shows its uniform value:
 /// 0 for permeability, 1 for density and thickness).
 Result<OverlayImage> buildOverlay(Document& document, std::size_t body, Overlay overlay);
+/// The overlay of a painted channel (empty for the physics overlays and None).
+OverlayImage buildMapOverlay(const Document& document, std::size_t body, Overlay overlay);
+/// A physics overlay (coverage, position, area vector) of baked textures (empty otherwise).
+OverlayImage overlayOfTextures(const SurfaceTextures& textures, Overlay overlay);
 
 }  // namespace plimsoll::editor

@@ -1,19 +1,20 @@
 #include "document/paint.h"
 
-#include "plimsoll/bake.h"
-#include "plimsoll/uv_layout.h"
+#include "plimsoll/bake/bake.h"
+#include "plimsoll/geometry/uv_layout.h"
 
 #include <Eigen/Geometry>
 
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <numbers>
 
 namespace plimsoll::editor {
 
 Result<PaintSurface> buildPaintSurface(const TriangleMesh& mesh, int width, int height) {
-    if (!mesh.hasUvs()) return makeError(mesh.source + ": no UVs to paint on");
-    if (width < 1 || height < 1) return makeError("painted map has no pixels");
+    if (!mesh.hasUvs()) return makeError(ErrorKind::invalidArgument, mesh.source + ": no UVs to paint on");
+    if (width < 1 || height < 1) return makeError(ErrorKind::invalidArgument, "painted map has no pixels");
     BakeSettings settings;
     // At least kMinTextureSize: a smaller map still gets every pixel its points.
     settings.size = std::clamp(std::max(width, height), kMinTextureSize, kMaxTextureSize);
@@ -49,22 +50,112 @@ Result<PaintSurface> buildPaintSurface(const TriangleMesh& mesh, int width, int 
 double falloffWeight(Falloff falloff, double distance, double radius) {
     if (radius <= 0 || distance > radius) return 0.0;
     const double s = distance / radius;
+    const double p = 1.0 - s;
     switch (falloff) {
         case Falloff::Constant: return 1.0;
-        case Falloff::Linear: return 1.0 - s;
+        case Falloff::Linear: return p;
         case Falloff::Smooth: {
             const double a = 1.0 - s * s;
             return a * a;
         }
+        case Falloff::Sphere: return std::sqrt(std::max(0.0, 1.0 - s * s));
+        case Falloff::Root: return std::sqrt(p);
+        case Falloff::Sharp: return p * p;
+        case Falloff::InverseSquare: return p * (2.0 - p);
     }
     return 0.0;
 }
 
+Eigen::Vector2d LazyMouse::follow(const Eigen::Vector2d& cursor) {
+    if (!brush_) {
+        brush_ = cursor;
+        return *brush_;
+    }
+    const Eigen::Vector2d pull = cursor - *brush_;
+    const double length = pull.norm();
+    if (length > radius_) *brush_ += pull * ((length - radius_) / length);
+    return *brush_;
+}
+
+std::vector<Eigen::Vector2d> lineSamples(const Eigen::Vector2d& from, const Eigen::Vector2d& to,
+                                         double step) {
+    const double length = (to - from).norm();
+    const int n = std::isfinite(length) && step > 0
+                      ? std::clamp(static_cast<int>(std::ceil(length / step)), 1, 100000)
+                      : 1;
+    std::vector<Eigen::Vector2d> out;
+    out.reserve(n + 1);
+    for (int k = 0; k <= n; ++k) out.push_back(from + (to - from) * (double(k) / n));
+    return out;
+}
+
+Status loadBrushAlpha(Brush& brush, const std::filesystem::path& path) {
+    if (path.empty()) return makeError(ErrorKind::invalidArgument, "brush alpha: no file named");
+    Result<PaintedMap> image = loadPaintedMap(path);
+    if (!image) return withContext("brush alpha '" + path.string() + "': ", image.error());
+    brush.alpha = std::make_shared<const PaintedMap>(std::move(image).value());
+    brush.alphaPath = path.string();
+    return Ok{};
+}
+
+double dabWeight(const Brush& brush, const Eigen::Vector3d& offset) {
+    const double d = offset.norm();
+    const double w = falloffWeight(brush.falloff, d, brush.radius);
+    if (w <= 0 || !brush.alpha || brush.alpha->values.empty()) return w;
+    // The image's square over the dab, across the axis: u along one tangent, v along the other.
+    const Eigen::Vector3d axis = brush.alphaAxis.norm() > 0 ? brush.alphaAxis.normalized()
+                                                            : Eigen::Vector3d::UnitZ();
+    const Eigen::Vector3d helper = std::abs(axis.y()) < 0.9 ? Eigen::Vector3d::UnitY() : Eigen::Vector3d::UnitX();
+    const Eigen::Vector3d across = helper.cross(axis).normalized();  // image right
+    const Eigen::Vector3d up = axis.cross(across);                   // image up
+    const double u = 0.5 + offset.dot(across) / (2 * brush.radius);
+    const double v = 0.5 + offset.dot(up) / (2 * brush.radius);
+    return w * std::clamp(brush.alpha->sample(u, v), 0.0, 1.0);
+}
+
+namespace {
+constexpr const char* kFalloffNames[kFalloffCount] = {"smooth", "linear", "constant", "sphere",
+                                                      "root",   "sharp",  "inverse-square"};
+}  // namespace
+
+const char* falloffName(Falloff falloff) { return kFalloffNames[static_cast<int>(falloff)]; }
+
+std::optional<Falloff> parseFalloff(const std::string& name) {
+    for (int i = 0; i < kFalloffCount; ++i) {
+        if (name == kFalloffNames[i]) return static_cast<Falloff>(i);
+    }
+    return std::nullopt;
+}
+
+std::vector<Eigen::Vector3d> symmetricPoints(const Brush& brush, const Eigen::Vector3d& point) {
+    std::vector<Eigen::Vector3d> out{point};
+    const bool mirrors[3] = {brush.mirrorX, brush.mirrorY, brush.mirrorZ};
+    for (int axis = 0; axis < 3; ++axis) {
+        if (!mirrors[axis]) continue;
+        const std::size_t count = out.size();
+        for (std::size_t i = 0; i < count; ++i) {
+            Eigen::Vector3d m = out[i];
+            m[axis] = -m[axis];
+            out.push_back(m);
+        }
+    }
+    const int copies = std::clamp(brush.radial, 1, kMaxRadialCopies);
+    const std::size_t count = out.size();
+    for (int k = 1; k < copies; ++k) {
+        const Eigen::Matrix3d turn =
+            Eigen::AngleAxisd(2.0 * std::numbers::pi * k / copies, Eigen::Vector3d::UnitY())
+                .toRotationMatrix();
+        for (std::size_t i = 0; i < count; ++i) out.push_back(turn * out[i]);
+    }
+    return out;
+}
+
 namespace {
 
-/// Dab centres along the stroke: the points, joined by dabs at most spacing apart.
+/// Dab centres along the stroke: the points, joined by dabs at most spacing apart, each with
+/// its symmetric copies.
 std::vector<Eigen::Vector3d> dabCentres(std::span<const Eigen::Vector3d> points, double spacing,
-                                        bool mirrorX) {
+                                        const Brush& brush) {
     std::vector<Eigen::Vector3d> dabs;
     for (std::size_t i = 0; i < points.size(); ++i) {
         if (i > 0) {
@@ -75,13 +166,11 @@ std::vector<Eigen::Vector3d> dabCentres(std::span<const Eigen::Vector3d> points,
         }
         dabs.push_back(points[i]);
     }
-    if (mirrorX) {
-        const std::size_t count = dabs.size();
-        for (std::size_t i = 0; i < count; ++i) {
-            dabs.emplace_back(-dabs[i].x(), dabs[i].y(), dabs[i].z());
-        }
+    std::vector<Eigen::Vector3d> all;
+    for (const Eigen::Vector3d& dab : dabs) {
+        for (const Eigen::Vector3d& p : symmetricPoints(brush, dab)) all.push_back(p);
     }
-    return dabs;
+    return all;
 }
 
 PixelChange changeFrom(const PaintedMap& map, const std::vector<float>& values) {
@@ -105,7 +194,9 @@ PixelChange strokeChange(const PaintedMap& map, const PaintSurface& surface, con
         surface.height != map.height) {
         return {};
     }
-    const std::vector<Eigen::Vector3d> dabs = dabCentres(points, brush.radius / 4, brush.mirrorX);
+    // A spacing of 0 (or garbage) would be no spacing at all: the quarter radius then.
+    const double spacing = std::isfinite(brush.spacing) && brush.spacing > 0 ? brush.spacing : 0.25;
+    const std::vector<Eigen::Vector3d> dabs = dabCentres(points, brush.radius * spacing, brush);
     const double r2 = brush.radius * brush.radius;
     const double strength = std::clamp(brush.strength, 0.0, 1.0);
     if (brush.mode == BrushMode::Smooth) {
@@ -117,7 +208,7 @@ PixelChange strokeChange(const PaintedMap& map, const PaintSurface& surface, con
             for (std::size_t i = 0; i < surface.sampleCount(); ++i) {
                 const double d2 = (surface.position[i] - cf).squaredNorm();
                 if (d2 > r2) continue;
-                const double w = falloffWeight(brush.falloff, std::sqrt(d2), brush.radius);
+                const double w = dabWeight(brush, (surface.position[i] - cf).cast<double>());
                 under.emplace_back(surface.pixel[i], w);
                 sum += w * values[surface.pixel[i]];
                 weights += w;
@@ -137,8 +228,7 @@ PixelChange strokeChange(const PaintedMap& map, const PaintSurface& surface, con
         for (std::size_t i = 0; i < surface.sampleCount(); ++i) {
             const double d2 = (surface.position[i] - cf).squaredNorm();
             if (d2 > r2) continue;
-            const float w =
-                static_cast<float>(falloffWeight(brush.falloff, std::sqrt(d2), brush.radius));
+            const float w = static_cast<float>(dabWeight(brush, (surface.position[i] - cf).cast<double>()));
             float& slot = weight[surface.pixel[i]];
             slot = std::max(slot, w);
         }

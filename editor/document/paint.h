@@ -5,13 +5,16 @@
 // without a trace. No GL here: the editor, `plimsoll edit --script` and the tests share it.
 #pragma once
 
-#include "plimsoll/mesh.h"
-#include "plimsoll/painted_map.h"
-#include "plimsoll/result.h"
+#include "plimsoll/geometry/mesh.h"
+#include "plimsoll/bake/painted_map.h"
+#include "plimsoll/core/result.h"
 
 #include <Eigen/Core>
 
+#include <algorithm>
 #include <cstdint>
+#include <filesystem>
+#include <memory>
 #include <optional>
 #include <span>
 #include <string>
@@ -35,7 +38,20 @@ struct PaintSurface {
 Result<PaintSurface> buildPaintSurface(const TriangleMesh& mesh, int width, int height);
 
 enum class BrushMode { Paint, Erase, Smooth };
-enum class Falloff { Smooth, Linear, Constant };
+/// The weight's fall from the dab centre (s = distance / radius, p = 1 - s): Smooth (1 - s^2)^2,
+/// Linear p, Constant 1, and Blender's presets Sphere sqrt(1 - s^2), Root sqrt(p), Sharp p^2 and
+/// InverseSquare p (2 - p).
+enum class Falloff { Smooth, Linear, Constant, Sphere, Root, Sharp, InverseSquare };
+inline constexpr int kFalloffCount = 7;
+/// "smooth", "linear", ... (edit scripts and the brush panel); parseFalloff reads them back.
+const char* falloffName(Falloff falloff);
+std::optional<Falloff> parseFalloff(const std::string& name);
+
+/// Longest lazy-mouse string, screen pixels.
+inline constexpr double kMaxLazyRadius = 200.0;
+
+/// Most copies radial symmetry makes of a dab.
+inline constexpr int kMaxRadialCopies = 64;
 
 struct Brush {
     BrushMode mode = BrushMode::Paint;
@@ -43,11 +59,64 @@ struct Brush {
     double strength = 1.0;   ///< 0..1, how far a stroke moves a pixel toward its target
     double value = 1.0;      ///< 0..1, the paint mode's target
     Falloff falloff = Falloff::Smooth;
+    /// Dabs along a stroke at most this many radii apart (Blender's spacing; 0.25 paints a
+    /// solid line, above 2 leaves separate dots).
+    double spacing = 0.25;
     bool mirrorX = false;    ///< also paint at (-x, y, z)
+    bool mirrorY = false;    ///< also paint at (x, -y, z)
+    bool mirrorZ = false;    ///< also paint at (x, y, -z)
+    /// Radial symmetry about the object y axis (a buoy's or a hull's vertical): every dab and
+    /// its mirror images repeated this many times, evenly turned (1: off; at most
+    /// kMaxRadialCopies).
+    int radial = 1;
+    /// Lazy mouse (Blender's stabilise stroke): the brush trails the cursor on a string this
+    /// many screen pixels long (0: off). See LazyMouse.
+    double lazyRadius = 0;
+    /// An alpha (Painter) or stencil image: each dab's weight is also multiplied by this grey
+    /// image, laid square over the dab (side 2 radius) in the plane across `alphaAxis`, row 0
+    /// at the top. Null: none.
+    std::shared_ptr<const PaintedMap> alpha;
+    /// Object space, toward the viewer when the stroke starts: the image then lies upright on
+    /// screen (its right along y x axis, its top along axis x right).
+    Eigen::Vector3d alphaAxis = Eigen::Vector3d::UnitZ();
+    std::string alphaPath;   ///< the image's file, kept between sessions ("" : none)
 };
+
+/// The string of the lazy mouse: the brush stays put while the cursor moves within `radius`
+/// pixels of it, and is pulled along the string when the cursor goes further, so a shaky hand
+/// draws a smooth line and a sharp corner is rounded off.
+class LazyMouse {
+public:
+    LazyMouse() = default;
+    explicit LazyMouse(double radius) : radius_(std::max(0.0, radius)) {}
+    /// The brush after the cursor moved to `cursor` (the first call: the cursor itself).
+    Eigen::Vector2d follow(const Eigen::Vector2d& cursor);
+    const std::optional<Eigen::Vector2d>& brush() const { return brush_; }
+
+private:
+    double radius_ = 0;
+    std::optional<Eigen::Vector2d> brush_;
+};
+
+/// A line stroke's screen samples (Shift-click from the last stroke's end): `from` to `to`
+/// at most `step` pixels apart, both ends included; each is then picked on the surface.
+std::vector<Eigen::Vector2d> lineSamples(const Eigen::Vector2d& from, const Eigen::Vector2d& to,
+                                         double step);
+
+/// Loads a grey (or colour: its first channel) PNG as the brush's alpha image and keeps its
+/// path; on failure the brush is unchanged and the error names the file.
+Status loadBrushAlpha(Brush& brush, const std::filesystem::path& path);
+
+/// The brush's weight at `offset` (object space) from a dab's centre: the falloff times the
+/// alpha image's value there (1 without one); 0 outside the radius.
+double dabWeight(const Brush& brush, const Eigen::Vector3d& offset);
 
 /// Weight 0..1 of a point at distance d from the dab centre.
 double falloffWeight(Falloff falloff, double distance, double radius);
+
+/// Every place a dab at `point` (object space) paints under the brush's symmetry: the point,
+/// its mirror images in the chosen planes through the origin, and their radial copies.
+std::vector<Eigen::Vector3d> symmetricPoints(const Brush& brush, const Eigen::Vector3d& point);
 
 /// What a stroke changed: the pixels, their values before and after.
 struct PixelChange {
@@ -57,8 +126,8 @@ struct PixelChange {
     bool empty() const { return pixels.empty(); }
 };
 
-/// A stroke through `points` (object space; consecutive points are joined with dabs a quarter
-/// radius apart). Paint and erase move each pixel toward the target by strength times its
+/// A stroke through `points` (object space; consecutive points are joined with dabs
+/// brush.spacing radii apart at most, each repeated by the brush's symmetry). Paint and erase move each pixel toward the target by strength times its
 /// largest weight along the stroke (a stroke never builds up over itself); smooth blends each
 /// dab toward the weighted mean of the values under it. `map` is not modified.
 PixelChange strokeChange(const PaintedMap& map, const PaintSurface& surface, const Brush& brush,

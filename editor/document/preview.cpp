@@ -1,17 +1,21 @@
 // The live preview session (preview.h).
 #include "document/preview.h"
 
-#include "plimsoll/body_setup.h"
-#include "plimsoll/file_util.h"
+#include "document/physics_bakes.h"  // lowerThisThreadsPriority
+
+#include "plimsoll/io/file_util.h"
+#include "plimsoll/scene/controlled_bake.h"
 
 #include <Eigen/Geometry>
 
 #include <algorithm>
+#include <atomic>
 #include <chrono>
 #include <cmath>
 #include <iomanip>
 #include <numbers>
 #include <sstream>
+#include <thread>
 
 namespace plimsoll::editor {
 
@@ -63,7 +67,7 @@ Status writeHistoryCsv(const PreviewHistory& history, const std::vector<std::str
     }
     for (const std::string& name : names) {
         const PlotSeries* s = history.find(name);
-        if (!s) return makeError(path.string() + ": no plotted quantity named '" + name + "'");
+        if (!s) return makeError(ErrorKind::invalidArgument, path.string() + ": no plotted quantity named '" + name + "'");
         columns.push_back(s);
     }
     auto quoted = [](const std::string& text) {
@@ -84,9 +88,25 @@ Status writeHistoryCsv(const PreviewHistory& history, const std::vector<std::str
     });
 }
 
+/// One rebake at a new texture size on its own thread. The thread writes `scene`, `built` and
+/// `error` and then sets `done`; the session reads them only after seeing `done`.
+struct PreviewSession::RebuildJob {
+    int size = 0;
+    std::atomic<bool> cancel{false};
+    std::atomic<double> progress{0.0};
+    std::atomic<bool> done{false};
+    Scene scene;  ///< rebaked at `size`
+    Built built;
+    std::optional<Error> error;
+    std::thread thread;
+};
+
 PreviewSession::~PreviewSession() {
-    // A rebuild still baking finishes before the session goes (its world holds the backend).
-    if (pending_.valid()) pending_.wait();
+    // Rebuilds still baking stop and finish before the session goes (their worlds hold
+    // backends of the same device).
+    if (pending_) abandoned_.push_back(std::move(pending_));
+    for (auto& job : abandoned_) job->cancel = true;
+    for (auto& job : abandoned_) job->thread.join();
 }
 
 namespace {
@@ -97,6 +117,7 @@ class KernelTimer final : public BuoyancyBackend {
 public:
     KernelTimer(std::unique_ptr<BuoyancyBackend> inner, std::shared_ptr<double> total)
         : inner_(std::move(inner)), total_(std::move(total)) {}
+    BackendKind kind() const override { return inner_->kind(); }
     std::string deviceName() const override { return inner_->deviceName(); }
     std::size_t addBody(const SurfaceTextures& textures, const Eigen::Vector3d& centre) override {
         return inner_->addBody(textures, centre);
@@ -129,32 +150,37 @@ private:
 
 }  // namespace
 
-Result<PreviewSession::Built> PreviewSession::build(const Project& project,
+Result<PreviewSession::Built> PreviewSession::build(const Scene& scene,
                                                     const std::string& device) {
     Result<std::unique_ptr<BuoyancyBackend>> backend = createBuoyancyBackend(device);
     if (!backend) return backend.error();
     auto total = std::make_shared<double>(0.0);
     Result<std::unique_ptr<World>> world =
-        World::create(project, std::make_unique<KernelTimer>(std::move(*backend), total));
+        World::create(scene, std::make_unique<KernelTimer>(std::move(*backend), total));
     if (!world) return world.error();
     return Built{std::move(*world), std::move(total)};
 }
 
-Result<std::unique_ptr<PreviewSession>> PreviewSession::create(const Project& project,
+Result<std::unique_ptr<PreviewSession>> PreviewSession::create(Scene scene,
                                                                const std::string& device) {
-    if (project.bodies.empty()) return makeError("the live preview needs at least one body");
+    if (scene.bodies.empty()) {
+        return makeError(ErrorKind::invalidArgument, "the live preview needs at least one body");
+    }
     std::unique_ptr<PreviewSession> session(new PreviewSession());
-    session->project_ = project;
+    session->scene_ = std::move(scene);
     session->device_ = device;
-    Result<Built> built = build(project, device);
+    Result<Built> built = build(session->scene_, device);
     if (!built) return built.error();
     session->world_ = std::move(built->world);
     session->kernelTotalMs_ = std::move(built->kernelTotalMs);
-    session->record();
     return session;
 }
 
-int PreviewSession::textureSize() const { return project_.bodies.front().textureSize; }
+int PreviewSession::textureSize() const { return scene_.bodies.front().desc.textureSize; }
+
+int PreviewSession::rebuildingSize() const { return pending_ ? pending_->size : 0; }
+
+double PreviewSession::rebuildProgress() const { return pending_ ? pending_->progress.load() : 0.0; }
 
 std::size_t PreviewSession::coveredTexels() const {
     std::size_t n = 0;
@@ -167,26 +193,60 @@ void PreviewSession::setTimeScale(double scale) {
 }
 
 void PreviewSession::setWater(const WaterModel& water) {
-    project_.water = water;
+    scene_.water = water;
     world_->setWater(water);
 }
 
 void PreviewSession::setIntegrator(Integrator integrator) {
-    project_.simulation.integrator = integrator;
+    scene_.simulation.integrator = integrator;
     world_->setIntegrator(integrator);
 }
 
-void PreviewSession::requestTextureSize(int size) {
-    for (BodyDesc& body : project_.bodies) body.textureSize = size;
-    // A pending rebuild for another size is left to finish and dropped (std::future's
-    // destructor of an async result would block here: keep it until it is ready).
-    if (pending_.valid()) pending_.wait();
-    pending_ = std::async(std::launch::async, [project = project_, device = device_] {
-        Rebuilt out;
-        Result<Built> built = build(project, device);
-        if (built) out.built = std::move(*built);
-        else out.error = built.error().message;
-        return out;
+void PreviewSession::requestTextureSize(int size, std::optional<std::size_t> onlyBody) {
+    cancelRebuild();
+    auto job = std::make_unique<RebuildJob>();
+    job->size = size;
+    job->scene = scene_;
+    job->thread = std::thread([job = job.get(), device = device_, onlyBody] {
+        lowerThisThreadsPriority();
+        // The same parts (meshes, frames, graphs, maps) baked again at the new size; the
+        // progress is the bodies done plus the share of the one baking.
+        const std::size_t count = job->scene.bodies.size();
+        for (std::size_t b = 0; b < count && !job->error; ++b) {
+            if (onlyBody && b != *onlyBody) continue;  // kept as it runs
+            SceneBody& body = job->scene.bodies[b];
+            body.desc.textureSize = job->size;
+            BakeControl control;
+            control.progress = [job, b, count](double fraction) {
+                job->progress = (static_cast<double>(b) + fraction) / static_cast<double>(count);
+            };
+            control.cancelled = [job] { return job->cancel.load(); };
+            Result<SceneBody> rebaked = bakeSceneBody(body.desc, body.parts, control);
+            if (rebaked) body = std::move(*rebaked);
+            else job->error = rebaked.error();
+        }
+        if (!job->error && !job->cancel) {
+            Result<Built> built = build(job->scene, device);
+            if (built) job->built = std::move(*built);
+            else job->error = built.error();
+        }
+        job->done = true;
+    });
+    pending_ = std::move(job);
+}
+
+void PreviewSession::cancelRebuild() {
+    reapAbandoned();
+    if (!pending_) return;
+    pending_->cancel = true;
+    abandoned_.push_back(std::move(pending_));
+}
+
+void PreviewSession::reapAbandoned() {
+    std::erase_if(abandoned_, [](std::unique_ptr<RebuildJob>& job) {
+        if (!job->done) return false;
+        job->thread.join();  // finished: returns at once
+        return true;
     });
 }
 
@@ -202,23 +262,40 @@ Status PreviewSession::swapIn(Built built) {
     kernelTotalMs_ = std::move(built.kernelTotalMs);
     checkBackend_.reset();
     checkIds_.clear();
-    checkMeshes_.clear();
     if (grabbedBody_) installGrab();
     return Ok{};
 }
 
+Status PreviewSession::swapInRebuilt(RebuildJob& job) {
+    if (job.error) {
+        rebuildError_ = job.error->message;
+        return *job.error;
+    }
+    rebuildError_.clear();
+    // The rebaked bodies; the water and integrator as they are now (changed meanwhile or not).
+    scene_.bodies = std::move(job.scene.bodies);
+    job.built.world->setWater(scene_.water);
+    job.built.world->setIntegrator(scene_.simulation.integrator);
+    return swapIn(std::move(job.built));
+}
+
+void PreviewSession::pollRebuild() {
+    reapAbandoned();
+    if (!pending_ || !pending_->done) return;
+    std::unique_ptr<RebuildJob> job = std::move(pending_);
+    job->thread.join();
+    (void)swapInRebuilt(*job);  // a failure is kept in rebuildError_
+}
+
 Status PreviewSession::finishRebuild() {
-    if (!pending_.valid()) return Ok{};
-    Rebuilt next = pending_.get();
-    if (!next.built.world) return makeError(next.error);
-    return swapIn(std::move(next.built));
+    if (!pending_) return Ok{};
+    std::unique_ptr<RebuildJob> job = std::move(pending_);
+    job->thread.join();
+    return swapInRebuilt(*job);
 }
 
 Status PreviewSession::advance() {
-    if (pending_.valid() &&
-        pending_.wait_for(std::chrono::seconds(0)) == std::future_status::ready) {
-        if (Status s = finishRebuild(); !s.ok()) return s;
-    }
+    pollRebuild();
     const std::size_t stepsBefore = world_->statistics().steps;
     const double kernelBefore = kernelTotalMs_ ? *kernelTotalMs_ : 0.0;
     const auto start = std::chrono::steady_clock::now();
@@ -231,8 +308,8 @@ Status PreviewSession::advance() {
     timings_.subSteps = static_cast<int>(world_->statistics().steps - stepsBefore);
     // The spring's impulse: each sub-step applied the force it returned for dt.
     const std::size_t steps = world_->statistics().steps - stepsBefore;
-    if (grabbedBody_ && steps > 0 && project_.simulation.integrator != Integrator::RK4) {
-        grabImpulse_ += grabForceSum_ * (project_.simulation.timeStep / static_cast<double>(steps));
+    if (grabbedBody_ && steps > 0 && scene_.simulation.integrator != Integrator::RK4) {
+        grabImpulse_ += grabForceSum_ * (scene_.simulation.timeStep / static_cast<double>(steps));
     }
     record();
     return Ok{};
@@ -241,11 +318,12 @@ Status PreviewSession::advance() {
 Status PreviewSession::step() { return advance(); }
 
 Result<int> PreviewSession::update(double wallSeconds) {
+    pollRebuild();  // paused too: a new texture size arrives when it is baked, not on Play
     if (!playing_) {
         timings_.framesLastUpdate = 0;
         return 0;
     }
-    const double frame = project_.simulation.timeStep;
+    const double frame = scene_.simulation.timeStep;
     accumulator_ += std::max(0.0, wallSeconds) * timeScale_;
     // A frame owed to within rounding (2.5 + 0.5 frames of wall time) is a frame owed.
     const double due = frame * (1.0 - 1e-9);
@@ -257,7 +335,7 @@ Result<int> PreviewSession::update(double wallSeconds) {
         ++frames;
         // A slow device: one frame per update at least, then no more than the UI can spare.
         if (std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start)
-                .count() > kUpdateBudgetMs)
+                .count() > updateBudgetMs_)
             break;
     }
     if (accumulator_ >= due) {
@@ -270,30 +348,29 @@ Result<int> PreviewSession::update(double wallSeconds) {
 }
 
 Status PreviewSession::reset() {
-    // A fresh world from the project as it stands (with the settings changed while running):
-    // the starting states, time 0 and full water graphs as the file says.
-    if (pending_.valid()) pending_.wait();
-    pending_ = {};
-    Result<Built> built = build(project_, device_);
+    // A fresh world from the scene as it stands (with the settings changed while running):
+    // the starting states, time 0 and full water graphs. A pending rebake carries on and
+    // swaps in when done, as it would have without the reset.
+    Result<Built> built = build(scene_, device_);
     if (!built) return built.error();
     world_ = std::move(built->world);
     kernelTotalMs_ = std::move(built->kernelTotalMs);
     checkBackend_.reset();
     checkIds_.clear();
-    checkMeshes_.clear();
     accumulator_ = 0;
     grabbedBody_.reset();
     grabImpulse_ = Eigen::Vector3d::Zero();
     history_.time.clear();
     history_.series.clear();
     timings_ = {};
-    record();
     return Ok{};
 }
 
 Status PreviewSession::grab(std::size_t body, const Eigen::Vector3d& objectPoint,
                             const Eigen::Vector3d& target, double stiffness) {
-    if (body >= world_->bodies().size()) return makeError("grab: no body " + std::to_string(body));
+    if (body >= world_->bodies().size()) {
+        return makeError(ErrorKind::invalidArgument, "grab: no body " + std::to_string(body));
+    }
     const double mass = world_->bodies()[body].mass.mass;
     const double omega = 2.0 * std::numbers::pi * kGrabFrequencyHz;
     grabStiffness_ = stiffness > 0 ? stiffness : mass * omega * omega;
@@ -327,39 +404,38 @@ Eigen::Vector3d PreviewSession::grabPoint() const {
 }
 
 Result<SubmergedVolumeCheck> PreviewSession::volumeCheck(std::size_t i) {
-    if (i >= world_->bodies().size()) return makeError("volume check: no body " + std::to_string(i));
+    if (i >= world_->bodies().size()) {
+        return makeError(ErrorKind::invalidArgument, "volume check: no body " + std::to_string(i));
+    }
     if (!checkBackend_) {
         Result<std::unique_ptr<BuoyancyBackend>> backend = createBuoyancyBackend(device_);
         if (!backend) return backend.error();
         checkBackend_ = std::move(*backend);
         checkIds_.assign(world_->bodies().size(), SIZE_MAX);
-        checkMeshes_.assign(world_->bodies().size(), TriangleMesh{});
     }
     const SimulatedBody& body = world_->bodies()[i];
     if (checkIds_[i] == SIZE_MAX) {
-        // The mesh the world baked (its atlas applied: the same geometry as the file).
-        Result<PreparedBodyMesh> prepared = prepareBodyMesh(project_, i);
-        if (!prepared) return prepared.error();
-        checkMeshes_[i] = std::move(prepared->mesh);
         checkIds_[i] = checkBackend_->addBody(body.textures, body.backendCenter);
     }
+    // The exact clip of the mesh the world baked (its atlas applied).
+    const TriangleMesh& mesh = *world_->scene().bodies[i].parts.mesh;
     BodyFrame frame;
     frame.pose = body.pose();
     frame.centerOfMass = body.backendCenter;
     frame.time = world_->time();
-    return checkSubmergedVolume(*checkBackend_, checkIds_[i], checkMeshes_[i], frame,
-                                project_.water.level, body.fluid);
+    return checkSubmergedVolume(*checkBackend_, checkIds_[i], mesh, frame,
+                                scene_.water.level, body.fluid);
 }
 
 void PreviewSession::record() {
     const std::vector<SimulatedBody>& bodies = world_->bodies();
     std::vector<std::pair<std::string, std::pair<std::string, double>>> row;
-    const Eigen::Vector3d gravity = project_.simulation.gravity;
+    const Eigen::Vector3d gravity = scene_.simulation.gravity;
     for (std::size_t i = 0; i < bodies.size(); ++i) {
         const SimulatedBody& b = bodies[i];
         const std::string name = b.name.empty() ? "body " + std::to_string(i) : b.name;
         const Eigen::Vector2d ht = heelAndTrimDegrees(b.state.orientation.toRotationMatrix());
-        const bool flat = project_.water.kind == WaterModel::Kind::Flat;
+        const bool flat = scene_.water.kind == WaterModel::Kind::Flat;
         const Eigen::Vector3d buoyancy = flat ? b.buoyancy.force : b.buoyancy.pressureForce;
         row.push_back({name + " submerged volume", {"m^3", b.buoyancy.submergedVolume}});
         row.push_back({name + " heel", {"deg", ht.x()}});

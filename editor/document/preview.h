@@ -1,11 +1,12 @@
 // The editor's live preview: a simulation session over a World built from the document's
-// project (every body of it in one scene). No GL and no ImGui here: the panels drive it and the
+// scene in memory (Document::simulationScene: every body, unsaved edits included). No GL and no ImGui here: the panels drive it and the
 // tests run it headless.
 //  - play / pause / single step / reset, and a time scale; update() turns wall-clock time into
-//    whole frames of project.simulation.timeStep through an accumulator whose catch-up is
+//    whole frames of simulation.timeStep through an accumulator whose catch-up is
 //    capped, so a slow frame never freezes the UI in a spiral of ever more steps;
 //  - the water model and the integrator change while it runs; a new physics texture size is
-//    baked on a worker thread and swapped in (states and time carried over) when it is ready;
+//    baked on a worker thread (below the UI's priority, with progress and Cancel) and swapped
+//    in (states and time carried over) when it is ready, playing or paused: no frame waits;
 //  - a body can be grabbed: a spring from a point on the body to a target (the mouse ray),
 //    applied as World's external force;
 //  - a history of per-body quantities over time for the plots, exportable as CSV;
@@ -13,15 +14,15 @@
 //    `plimsoll buoyancy --compare-exact` uses (volume_check.h).
 #pragma once
 
-#include "plimsoll/project.h"
-#include "plimsoll/result.h"
-#include "plimsoll/volume_check.h"
-#include "plimsoll/world.h"
+#include "plimsoll/scene/project.h"
+#include "plimsoll/scene/scene.h"
+#include "plimsoll/core/result.h"
+#include "plimsoll/physics/volume_check.h"
+#include "plimsoll/scene/world.h"
 
 #include <Eigen/Core>
 
 #include <filesystem>
-#include <future>
 #include <memory>
 #include <optional>
 #include <string>
@@ -50,7 +51,9 @@ struct PlotSeries {
     std::vector<double> values;
 };
 
-/// The quantities recorded each frame, one row per frame; `time` is the simulated time (s).
+/// The quantities recorded each frame, one row per simulated frame; `time` is the simulated
+/// time (s). A world computes its forces while it steps, so the first row is the first frame's:
+/// a row before it would show a submerged volume and buoyancy of zero that no step computed.
 struct PreviewHistory {
     std::vector<double> time;
     std::vector<PlotSeries> series;
@@ -81,10 +84,10 @@ public:
     /// rest of the owed time is dropped too): the UI keeps its frame rate on a slow device.
     static constexpr double kUpdateBudgetMs = 25.0;
 
-    /// Builds the World (bakes every body) on this thread. `device` as createBuoyancyBackend
-    /// takes it ("reference", "cpu", "gpu", an index, or empty for the default).
-    static Result<std::unique_ptr<PreviewSession>> create(const Project& project,
-                                                          const std::string& device);
+    /// Builds the World of `scene` (its bodies baked already) on this thread. `device` as
+    /// createBuoyancyBackend takes it ("reference", "cpu", "gpu", an index, or empty for the
+    /// default).
+    static Result<std::unique_ptr<PreviewSession>> create(Scene scene, const std::string& device);
     ~PreviewSession();
 
     void play() { playing_ = true; }
@@ -92,26 +95,41 @@ public:
     bool playing() const { return playing_; }
     /// One frame now, playing or paused.
     Status step();
-    /// Back to the project's starting states at time 0; keeps the settings changed since
+    /// Back to the scene's starting states at time 0; keeps the settings changed since
     /// (water, integrator, texture size), clears the history and releases a grab.
     Status reset();
     /// Simulated seconds per wall-clock second (0.01 .. 10).
     void setTimeScale(double scale);
     double timeScale() const { return timeScale_; }
+    /// The wall-clock budget of one update() (kUpdateBudgetMs unless set; infinity lets the
+    /// frame count depend on the owed time alone, as the tests that count frames need).
+    void setUpdateBudgetMs(double milliseconds) { updateBudgetMs_ = milliseconds; }
     /// Advances by `wallSeconds` of wall-clock time times the time scale, in whole frames,
-    /// at most kMaxCatchUpFrames and within kUpdateBudgetMs; nothing while paused. Also swaps in a finished rebuild.
-    /// Returns the frames taken.
+    /// at most kMaxCatchUpFrames and within the update budget; nothing while paused. Swaps in a
+    /// finished rebuild first, paused or not. Returns the frames taken.
     Result<int> update(double wallSeconds);
 
     void setWater(const WaterModel& water);
     void setIntegrator(Integrator integrator);
     /// Rebakes every body at `size` texels a side on a worker thread; update() and step()
-    /// swap the new world in when it is done. A second request replaces a pending one.
-    void requestTextureSize(int size);
-    bool rebuilding() const { return pending_.valid(); }
-    /// Waits for a pending rebuild and swaps it in (tests, and before quitting).
+    /// swap the new world in when it is done, and until then the current one keeps running.
+    /// A second request cancels a pending one without waiting for it. Returns at once.
+    /// With `onlyBody`, that body alone is rebaked (the inspector's per-body size).
+    void requestTextureSize(int size, std::optional<std::size_t> onlyBody = std::nullopt);
+    bool rebuilding() const { return pending_ != nullptr; }
+    /// The size being baked (0: none) and how far its bake is, 0..1.
+    int rebuildingSize() const;
+    double rebuildProgress() const;
+    /// Stops the pending rebuild (its bake stops within a band of rows); the current size stays.
+    void cancelRebuild();
+    /// Swaps a finished rebuild in; returns at once while it runs. A failed one is dropped and
+    /// its message kept in rebuildError() (the current world keeps running).
+    void pollRebuild();
+    /// Waits for a pending rebuild and swaps it in (tests): its error, if it failed.
     Status finishRebuild();
-    /// The texture size the bodies have now (of body 0).
+    /// Why the last rebuild failed ("" when it did not).
+    const std::string& rebuildError() const { return rebuildError_; }
+    /// The texture size the running bodies have (of body 0).
     int textureSize() const;
 
     /// Grabs body `body` at `objectPoint` (object space) and pulls it toward `target` (world)
@@ -130,11 +148,12 @@ public:
     const Eigen::Vector3d& grabImpulse() const { return grabImpulse_; }
 
     /// Body i's submerged volume, texture against exact, at its pose now in flat water at the
-    /// project's mean level (volume_check.h; the same device kind as the simulation).
+    /// scene's mean level (volume_check.h; the same device kind as the simulation).
     Result<SubmergedVolumeCheck> volumeCheck(std::size_t body);
 
     const World& world() const { return *world_; }
-    const Project& project() const { return project_; }
+    /// The scene as the world was last built from (settings changed since kept).
+    const Scene& scene() const { return scene_; }
     const PreviewHistory& history() const { return history_; }
     const PreviewTimings& timings() const { return timings_; }
     std::string deviceName() const { return world_->backend().deviceName(); }
@@ -147,26 +166,29 @@ private:
         std::unique_ptr<World> world;
         std::shared_ptr<double> kernelTotalMs;
     };
-    static Result<Built> build(const Project& project, const std::string& device);
+    static Result<Built> build(const Scene& scene, const std::string& device);
     Status advance();
     void record();
     void installGrab();
     Status swapIn(Built built);
 
-    Project project_;            ///< as the world was last built (settings changed since kept)
+    Scene scene_;                ///< as the world was last built (settings changed since kept)
     std::string device_;
     std::unique_ptr<World> world_;
     std::shared_ptr<double> kernelTotalMs_;  ///< summed by the world's backend wrapper
     bool playing_ = false;
     double timeScale_ = 1.0;
+    double updateBudgetMs_ = kUpdateBudgetMs;
     double accumulator_ = 0.0;   ///< simulated seconds owed
-    /// A rebuild on the worker thread (a plain struct: GCC 12 warns falsely on a Result
-    /// crossing std::async).
-    struct Rebuilt {
-        Built built;
-        std::string error;
-    };
-    std::future<Rebuilt> pending_;
+    /// A rebuild on its worker thread (preview.cpp).
+    struct RebuildJob;
+    std::unique_ptr<RebuildJob> pending_;
+    /// Cancelled rebuilds still winding down: joined once finished (never waited for by the
+    /// UI), or in the destructor.
+    std::vector<std::unique_ptr<RebuildJob>> abandoned_;
+    std::string rebuildError_;
+    void reapAbandoned();
+    Status swapInRebuilt(RebuildJob& job);
     std::optional<std::size_t> grabbedBody_;
     Eigen::Vector3d grabObjectPoint_ = Eigen::Vector3d::Zero();
     Eigen::Vector3d grabTarget_ = Eigen::Vector3d::Zero();
@@ -175,11 +197,10 @@ private:
     Eigen::Vector3d grabForceSum_ = Eigen::Vector3d::Zero();  ///< this frame's spring calls
     PreviewHistory history_;
     PreviewTimings timings_;
-    /// The volume check's own backend and meshes (lazily, per body), so that the check never
-    /// disturbs the simulation backend's timings.
+    /// The volume check's own backend (lazily, per body), so that the check never disturbs
+    /// the simulation backend's timings.
     std::unique_ptr<BuoyancyBackend> checkBackend_;
     std::vector<std::size_t> checkIds_;
-    std::vector<TriangleMesh> checkMeshes_;
 };
 
 }  // namespace plimsoll::editor

@@ -2,7 +2,10 @@
 
 #include "document/command.h"
 #include "document/graph_edit.h"
+#include "plimsoll/core/limits.h"
+#include "plimsoll/io/file_util.h"
 
+#include <cmath>
 #include <fstream>
 #include <iterator>
 
@@ -12,6 +15,14 @@ namespace fs = std::filesystem;
 using Json = nlohmann::json;
 
 namespace {
+
+/// A map value or brush strength: 0..1 (a fill of 7 or a strength of 1e308 was taken as it came).
+double unitValue(const Json& j, const char* key, double fallback) {
+    const double v = j.value(key, fallback);
+    if (!(v >= 0.0 && v <= 1.0))
+        throw std::invalid_argument(std::string(key) + " must be in 0..1, not " + j.at(key).dump());
+    return v;
+}
 
 Eigen::Vector3d vec3(const Json& j) {
     if (!j.is_array() || j.size() != 3) throw std::invalid_argument("expected [x, y, z]");
@@ -34,16 +45,27 @@ void readBrush(const Json& j, Brush& brush) {
     }
     if (j.contains("falloff")) {
         const std::string f = j["falloff"];
-        if (f == "smooth") brush.falloff = Falloff::Smooth;
-        else if (f == "linear") brush.falloff = Falloff::Linear;
-        else if (f == "constant") brush.falloff = Falloff::Constant;
-        else throw std::invalid_argument("falloff: smooth, linear or constant, not " + f);
+        const std::optional<Falloff> falloff = parseFalloff(f);
+        if (!falloff) {
+            throw std::invalid_argument("falloff: smooth, linear, constant, sphere, root, sharp or "
+                                        "inverse-square, not " + f);
+        }
+        brush.falloff = *falloff;
     }
     brush.radius = j.value("radius", brush.radius);
-    brush.strength = j.value("strength", brush.strength);
-    brush.value = j.value("value", brush.value);
+    brush.strength = unitValue(j, "strength", brush.strength);
+    brush.value = unitValue(j, "value", brush.value);
+    brush.spacing = j.value("spacing", brush.spacing);
     brush.mirrorX = j.value("mirror_x", brush.mirrorX);
-    if (!(brush.radius > 0)) throw std::invalid_argument("radius must be > 0 (m)");
+    brush.mirrorY = j.value("mirror_y", brush.mirrorY);
+    brush.mirrorZ = j.value("mirror_z", brush.mirrorZ);
+    brush.radial = j.value("radial", brush.radial);
+    if (!(brush.radius > 0) || !std::isfinite(brush.radius))
+        throw std::invalid_argument("radius must be finite and > 0 (m)");
+    if (!(brush.spacing > 0) || !std::isfinite(brush.spacing) || brush.spacing > 100)
+        throw std::invalid_argument("spacing must be > 0 and at most 100 (radii)");
+    if (brush.radial < 1 || brush.radial > kMaxRadialCopies)
+        throw std::invalid_argument("radial must be 1.." + std::to_string(kMaxRadialCopies) + " copies");
 }
 
 MapChannel channelOf(const Json& j, MapChannel current) {
@@ -52,6 +74,50 @@ MapChannel channelOf(const Json& j, MapChannel current) {
     const std::optional<MapChannel> c = parseChannel(name);
     if (!c) throw std::invalid_argument("channel: permeability, density or thickness, not " + name);
     return *c;
+}
+
+/// The layer part a paint op changes: "layer" (index from the bottom) and "mask" (true: the
+/// layer's mask). Absent: the map itself, or the top paint layer of a layered map.
+PaintTarget targetOf(const Json& j) {
+    PaintTarget target;
+    target.layer = j.value("layer", -1);
+    if (j.value("mask", false)) target.part = LayerPart::Mask;
+    return target;
+}
+
+/// Layer ops ("layer_add", ...): their command, or nothing for another op.
+std::optional<Result<std::unique_ptr<Command>>> layerCommand(const Document& document,
+                                                             std::size_t body, MapChannel channel,
+                                                             const std::string& op, const Json& c) {
+    if (op == "layer_add") {
+        const std::string kindName = c.value("kind", std::string("paint"));
+        const std::optional<LayerKind> kind = parseLayerKind(kindName);
+        if (!kind) throw std::invalid_argument("kind: paint or fill, not " + kindName);
+        return makeAddLayerCommand(document, body, channel, *kind, c.value("name", std::string()),
+                                   c.value("value", 1.0), c.value("index", -1));
+    }
+    if (op == "layer_remove") return makeRemoveLayerCommand(document, body, channel, c.at("layer"));
+    if (op == "layer_move") {
+        return makeMoveLayerCommand(document, body, channel, c.at("layer"), c.at("to"));
+    }
+    if (op == "layer_set") {
+        LayerEdit e;
+        if (c.contains("name")) e.name = c["name"].get<std::string>();
+        if (c.contains("opacity")) e.opacity = c["opacity"].get<double>();
+        if (c.contains("visible")) e.visible = c["visible"].get<bool>();
+        if (c.contains("value")) e.fillValue = c["value"].get<double>();
+        if (c.contains("blend")) {
+            const std::string name = c["blend"];
+            e.blend = parseBlendMode(name);
+            if (!e.blend) throw std::invalid_argument("blend: unknown mode " + name);
+        }
+        return makeSetLayerCommand(document, body, channel, c.at("layer"), e);
+    }
+    if (op == "mask_add") {
+        return makeAddMaskCommand(document, body, channel, c.at("layer"), c.value("value", 1.0));
+    }
+    if (op == "mask_remove") return makeRemoveMaskCommand(document, body, channel, c.at("layer"));
+    return std::nullopt;
 }
 
 /// Object-space surface points of a stroke: "points", or "rays" hitting the mesh, or "uvs".
@@ -151,22 +217,22 @@ std::optional<Result<std::unique_ptr<Command>>> graphCommand(Document& document,
         return makeSetPipeCommand(document, body, c.at("a"), c.at("b"), e);
     }
     if (op == "graph_replace") {
-        Result<WaterGraph> graph = makeError("graph_replace needs \"graph\" or \"path\"");
+        Result<WaterGraph> graph = makeError(ErrorKind::schema, "graph_replace needs \"graph\" or \"path\"");
         if (c.contains("graph")) {
             graph = parseGraph(c["graph"].dump(), "graph_replace");
         } else if (c.contains("path")) {
             fs::path file = c["path"].get<std::string>();
             if (file.is_relative()) file = document.project().folder / file;
-            std::ifstream in(file, std::ios::binary);
-            if (!in) return makeError(file.string() + ": cannot open");
-            graph = parseGraph(std::string(std::istreambuf_iterator<char>(in), {}), file.string());
+            Result<std::string> text = readWholeFile(file, kMaxJsonFileBytes, "kMaxJsonFileBytes");
+            if (!text) return text.error();
+            graph = parseGraph(*text, file.string());
         }
         if (!graph) return graph.error();
         return makeReplaceGraphCommand(document, body, std::move(graph).value());
     }
     if (op == "graph_auto") {
         if (body >= document.bodyCount() || !document.assets(body).mesh) {
-            return makeError("graph_auto needs the body's mesh");
+            return makeError(ErrorKind::schema, "graph_auto needs the body's mesh");
         }
         AutoGraphSettings settings;
         settings.segments = c.value("segments", 0);
@@ -184,7 +250,7 @@ std::optional<Result<std::unique_ptr<Command>>> graphCommand(Document& document,
 Result<Json> runEditScript(Document& document, const Json& script) {
     const Json* list = &script;
     if (script.is_object() && script.contains("commands")) list = &script["commands"];
-    if (!list->is_array()) return makeError("script: expected a list of commands");
+    if (!list->is_array()) return makeError(ErrorKind::schema, "script: expected a list of commands");
     Json results = Json::array();
     Brush brush;
     MapChannel channel = MapChannel::Permeability;
@@ -197,7 +263,7 @@ Result<Json> runEditScript(Document& document, const Json& script) {
             body = c.value("body", body);
             channel = channelOf(c, channel);
             Json result = {{"op", op}};
-            Result<std::unique_ptr<Command>> command = makeError("");
+            Result<std::unique_ptr<Command>> command = makeError(ErrorKind::schema, "");
             bool runs = true;
             if (op == "brush") {
                 readBrush(c, brush);
@@ -209,16 +275,18 @@ Result<Json> runEditScript(Document& document, const Json& script) {
                                                              : BrushMode::Smooth;
                 readBrush(c, b);
                 const std::vector<Eigen::Vector3d> points = strokePoints(document, body, c);
-                if (points.empty()) return makeError(where + ": the stroke hits no surface");
-                command = makeStrokeCommand(document, body, channel, b, points);
+                if (points.empty()) return makeError(ErrorKind::schema, where + ": the stroke hits no surface");
+                command = makeStrokeCommand(document, body, channel, b, points, targetOf(c));
             } else if (op == "fill_island") {
                 const std::vector<Eigen::Vector3d> points = strokePoints(document, body, c);
-                if (points.empty()) return makeError(where + ": no surface point");
+                if (points.empty()) return makeError(ErrorKind::schema, where + ": no surface point");
                 command = makeFillIslandCommand(document, body, channel, points.front(),
-                                                c.value("value", brush.value),
-                                                c.value("mirror_x", brush.mirrorX));
+                                                unitValue(c, "value", brush.value),
+                                                c.value("mirror_x", brush.mirrorX),
+                                                unitValue(c, "strength", 1.0), targetOf(c));
             } else if (op == "fill_all") {
-                command = makeFillAllCommand(document, body, channel, c.value("value", brush.value));
+                command = makeFillAllCommand(document, body, channel, unitValue(c, "value", brush.value),
+                                             unitValue(c, "strength", 1.0), targetOf(c));
             } else if (op == "new_map") {
                 int w = kDefaultMapSize, h = kDefaultMapSize;
                 if (c.contains("size")) {
@@ -229,7 +297,11 @@ Result<Json> runEditScript(Document& document, const Json& script) {
                         w = h = c["size"].get<int>();
                     }
                 }
-                command = makeNewMapCommand(document, body, channel, w, h, c.value("value", 0.0),
+                if (w < 1 || h < 1 || w > kMaxPaintedMapSide || h > kMaxPaintedMapSide)
+                    return makeError(ErrorKind::limit, where + ": size " + std::to_string(w) + " x " +
+                                                           std::to_string(h) + " is outside 1..kMaxPaintedMapSide = " +
+                                                           std::to_string(kMaxPaintedMapSide) + " (limits.h)");
+                command = makeNewMapCommand(document, body, channel, w, h, unitValue(c, "value", 0.0),
                                             c.value("path", std::string()));
             } else if (op == "set") {
                 command = makeSetPropertyCommand(document, c.at("pointer"), c.at("value"));
@@ -241,15 +313,17 @@ Result<Json> runEditScript(Document& document, const Json& script) {
                 command = makeImportMeshCommand(document, mesh, target);
             } else if (auto graphEdit = graphCommand(document, body, op, c)) {
                 command = std::move(*graphEdit);
+            } else if (auto layerEdit = layerCommand(document, body, channel, op, c)) {
+                command = std::move(*layerEdit);
             } else if (op == "pick") {
                 const std::vector<Eigen::Vector3d> points = strokePoints(document, body, c);
                 const PaintedMap* map = document.map(body, channel);
                 auto surface = document.paintSurface(body, channel);
                 if (points.empty() || !map || !surface) {
-                    return makeError(where + ": nothing to pick (no point or no map)");
+                    return makeError(ErrorKind::schema, where + ": nothing to pick (no point or no map)");
                 }
                 const std::optional<double> v = pickValue(*map, **surface, points.front());
-                if (!v) return makeError(where + ": nothing to pick");
+                if (!v) return makeError(ErrorKind::schema, where + ": nothing to pick");
                 brush.value = *v;
                 result["value"] = *v;
                 runs = false;
@@ -260,26 +334,26 @@ Result<Json> runEditScript(Document& document, const Json& script) {
                 result["done"] = document.redo();
                 runs = false;
             } else if (op == "save") {
-                if (Status s = document.save(); !s) return makeError(where + ": " + s.error().message);
+                if (Status s = document.save(); !s) return withContext(where + ": ", s.error());
                 runs = false;
             } else if (op == "save_as") {
                 fs::path target = c.at("path").get<std::string>();
-                if (Status s = document.saveAs(target); !s) {
-                    return makeError(where + ": " + s.error().message);
+                if (Status s = document.saveAs(target, c.value("force", false)); !s) {
+                    return withContext(where + ": ", s.error());
                 }
                 runs = false;
             } else if (op == "autosave") {
                 if (Status s = document.autosave(); !s) {
-                    return makeError(where + ": " + s.error().message);
+                    return withContext(where + ": ", s.error());
                 }
                 runs = false;
             } else {
-                return makeError(where + ": unknown op \"" + op + "\"");
+                return makeError(ErrorKind::schema, where + ": unknown op \"" + op + "\"");
             }
             if (runs) {
-                if (!command) return makeError(where + " (" + op + "): " + command.error().message);
+                if (!command) return withContext(where + " (" + op + "): ", command.error());
                 if (auto* paint = dynamic_cast<PaintCommand*>(command->get())) {
-                    result["pixels_changed"] = paint->change().pixels.size();
+                    result["pixels_changed"] = paint->pixelsChanged();
                 }
                 result["name"] = (*command)->name();
                 if (auto* graph = dynamic_cast<GraphCommand*>(command->get());
@@ -287,12 +361,12 @@ Result<Json> runEditScript(Document& document, const Json& script) {
                     result["id"] = graph->after()->nodes.back().id;
                 }
                 if (Status s = document.execute(std::move(command).value()); !s) {
-                    return makeError(where + " (" + op + "): " + s.error().message);
+                    return withContext(where + " (" + op + "): ", s.error());
                 }
             }
             results.push_back(std::move(result));
         } catch (const std::exception& e) {
-            return makeError(where + ": " + e.what());
+            return makeError(ErrorKind::schema, where + ": " + e.what());
         }
     }
     return results;

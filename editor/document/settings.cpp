@@ -1,10 +1,11 @@
 #include "document/settings.h"
 
-#include "plimsoll/file_util.h"
+#include "plimsoll/io/file_util.h"
 
 #include <nlohmann/json.hpp>
 
 #include <algorithm>
+#include <cmath>
 #include <cstdlib>
 #include <fstream>
 
@@ -42,6 +43,36 @@ Settings Settings::load(const fs::path& folder) {
         settings.autosaveSeconds = j.value("autosave_seconds", settings.autosaveSeconds);
         settings.blenderNavigation = j.value("blender_navigation", settings.blenderNavigation);
         settings.uiScale = j.value("ui_scale", settings.uiScale);
+        if (j.contains("layout")) {
+            const nlohmann::json& l = j["layout"];
+            settings.layout.columnWidth = l.value("column_width", settings.layout.columnWidth);
+            settings.layout.shares = l.value("shares", settings.layout.shares);
+            settings.layout = sanitised(settings.layout);
+        }
+        if (j.contains("brush")) {
+            // Out-of-range numbers fall back to the defaults: a hand-edited file must not
+            // give a brush the panel cannot show.
+            const nlohmann::json& b = j["brush"];
+            Brush& brush = settings.brush;
+            const Brush defaults;
+            auto unit = [](double v, double fallback) { return v >= 0 && v <= 1 ? v : fallback; };
+            brush.radius = b.value("radius", brush.radius);
+            if (!(brush.radius > 0) || !std::isfinite(brush.radius)) brush.radius = defaults.radius;
+            brush.strength = unit(b.value("strength", brush.strength), defaults.strength);
+            brush.value = unit(b.value("value", brush.value), defaults.value);
+            brush.spacing = b.value("spacing", brush.spacing);
+            if (!(brush.spacing > 0) || !std::isfinite(brush.spacing)) brush.spacing = defaults.spacing;
+            brush.falloff = parseFalloff(b.value("falloff", std::string(falloffName(brush.falloff))))
+                                .value_or(defaults.falloff);
+            brush.mirrorX = b.value("mirror_x", brush.mirrorX);
+            brush.mirrorY = b.value("mirror_y", brush.mirrorY);
+            brush.mirrorZ = b.value("mirror_z", brush.mirrorZ);
+            brush.radial = std::clamp(b.value("radial", brush.radial), 1, kMaxRadialCopies);
+            brush.lazyRadius = b.value("lazy_radius", brush.lazyRadius);
+            if (!(brush.lazyRadius >= 0) || !(brush.lazyRadius <= kMaxLazyRadius)) brush.lazyRadius = defaults.lazyRadius;
+            // The image itself is loaded by the window (a missing file: no alpha).
+            brush.alphaPath = b.value("alpha", brush.alphaPath);
+        }
     } catch (const nlohmann::json::exception&) {
         return Settings{};  // a damaged settings file must not stop the editor
     }
@@ -56,6 +87,13 @@ Status Settings::save(const fs::path& folder) const {
     j["autosave_seconds"] = autosaveSeconds;
     j["blender_navigation"] = blenderNavigation;
     j["ui_scale"] = uiScale;
+    j["layout"] = {{"column_width", layout.columnWidth}, {"shares", layout.shares}};
+    j["brush"] = {{"radius", brush.radius},     {"strength", brush.strength},
+                  {"value", brush.value},       {"spacing", brush.spacing},
+                  {"falloff", falloffName(brush.falloff)},
+                  {"mirror_x", brush.mirrorX},  {"mirror_y", brush.mirrorY},
+                  {"mirror_z", brush.mirrorZ},  {"radial", brush.radial},
+                  {"lazy_radius", brush.lazyRadius}, {"alpha", brush.alphaPath}};
     std::error_code ec;
     fs::create_directories(folder, ec);
     const std::string text = j.dump(2) + "\n";

@@ -2,7 +2,9 @@
 // ($XDG_CONFIG_HOME/plimsoll, default ~/.config/plimsoll) as settings.json.
 #pragma once
 
-#include "plimsoll/result.h"
+#include "document/paint.h"
+#include "document/panel_layout.h"
+#include "plimsoll/core/result.h"
 
 #include <filesystem>
 #include <string>
@@ -20,6 +22,8 @@ struct Settings {
     double autosaveSeconds = 120.0;         ///< autosave period of a dirty document
     bool blenderNavigation = true;          ///< middle mouse orbits (else left + Alt)
     float uiScale = 1.0f;
+    PanelLayout layout;                     ///< the splitters' places
+    Brush brush;                            ///< the brush as last used
 
     static constexpr std::size_t kMaxRecent = 10;
     void addRecent(const std::filesystem::path& file);

@@ -113,4 +113,13 @@ Camera Camera::preset(ViewPreset view, const Bounds3& bounds) {
     return c;
 }
 
+const char* viewName(const Camera& c) {
+    const double halfPi = 1.5707963267948966;
+    if (!c.orthographic) return "Perspective";
+    if (std::abs(c.pitch - halfPi) < 1e-6) return "Top (orthographic)";
+    if (std::abs(c.pitch) < 1e-6 && std::abs(c.yaw) < 1e-6) return "Front (orthographic)";
+    if (std::abs(c.pitch) < 1e-6 && std::abs(c.yaw - halfPi) < 1e-6) return "Side (orthographic)";
+    return "User (orthographic)";
+}
+
 }  // namespace plimsoll::editor

@@ -2,7 +2,7 @@
 // matrices OpenGL uses. No GL here: tests use it to say where a point lands on the screen.
 #pragma once
 
-#include "plimsoll/mesh.h"
+#include "plimsoll/geometry/mesh.h"
 
 #include <Eigen/Core>
 
@@ -50,5 +50,8 @@ struct Camera {
     /// front (+z, ortho), side (+x, ortho), top (+y, ortho), persp (from front-right, above).
     static Camera preset(ViewPreset view, const Bounds3& bounds);
 };
+
+/// What the view shows, as the 3D view's label says it: "Front (orthographic)", "Perspective".
+const char* viewName(const Camera& camera);
 
 }  // namespace plimsoll::editor

@@ -33,11 +33,11 @@ std::vector<OverlaySegment> waterlineOf(const TriangleMesh& mesh, const Pose& po
 
 ForceOverlay buildForceOverlay(const World& world, const std::vector<const TriangleMesh*>& meshes) {
     ForceOverlay overlay;
-    const Project& project = world.project();
-    const bool flat = project.water.kind == WaterModel::Kind::Flat;
+    const Scene& scene = world.scene();
+    const bool flat = scene.water.kind == WaterModel::Kind::Flat;
     for (std::size_t i = 0; i < world.bodies().size(); ++i) {
         const SimulatedBody& body = world.bodies()[i];
-        const Eigen::Vector3d weight = body.mass.mass * project.simulation.gravity;
+        const Eigen::Vector3d weight = body.mass.mass * scene.simulation.gravity;
         const double scale = weight.norm() > 0 ? 0.5 * body.boundingRadius / weight.norm() : 0.0;
         auto add = [&](const Eigen::Vector3d& at, const Eigen::Vector3d& force,
                        const Eigen::Vector3f& colour) {
@@ -51,7 +51,7 @@ ForceOverlay buildForceOverlay(const World& world, const std::vector<const Trian
         add(body.buoyancy.centerOfBuoyancy, body.buoyancy.dragForce, kDragColour);
         if (i < meshes.size() && meshes[i]) {
             std::vector<OverlaySegment> line =
-                waterlineOf(*meshes[i], body.pose(), project.water, world.time());
+                waterlineOf(*meshes[i], body.pose(), scene.water, world.time());
             overlay.waterline.insert(overlay.waterline.end(), line.begin(), line.end());
         }
     }
@@ -61,21 +61,30 @@ ForceOverlay buildForceOverlay(const World& world, const std::vector<const Trian
 OverlayImage wetTexelOverlay(const SimulatedBody& body, const WaterModel& water, double time) {
     const SurfaceTextures& t = body.textures;
     OverlayImage image;
-    image.width = image.height = t.size;
+    const int shown = std::min(t.size, kWetOverlayMaxSize);
+    image.width = image.height = shown;
     image.placement = t.placement;
-    const auto texels = static_cast<std::size_t>(t.size) * t.size;
+    const auto texels = static_cast<std::size_t>(shown) * shown;
     image.rgba.resize(texels * 4);
-    auto put = [&](std::size_t texel, const Eigen::Vector3f& c) {
-        for (int k = 0; k < 3; ++k) {
-            image.rgba[4 * texel + k] = static_cast<std::uint8_t>(std::lround(255.0f * c[k]));
-        }
-        image.rgba[4 * texel + 3] = 255;
-    };
-    for (std::size_t texel = 0; texel < texels; ++texel) put(texel, kDryColour);
+    std::array<std::uint8_t, 4> dry{}, wet{};
+    for (int k = 0; k < 3; ++k) {
+        dry[k] = static_cast<std::uint8_t>(std::lround(255.0f * kDryColour[k]));
+        wet[k] = static_cast<std::uint8_t>(std::lround(255.0f * kWetColour[k]));
+    }
+    dry[3] = wet[3] = 255;
+    for (std::size_t texel = 0; texel < texels; ++texel) std::copy(dry.begin(), dry.end(), &image.rgba[4 * texel]);
+    std::vector<bool> tested(texels, false);
     const Pose pose = body.pose();
     for (std::size_t i = 0; i < t.coveredCount(); ++i) {
+        // The physics texel's place in the shown image (the same one when it is not smaller).
+        const std::uint32_t index = t.texelIndex[i];
+        const std::size_t x = static_cast<std::size_t>(index % t.size) * shown / t.size;
+        const std::size_t y = static_cast<std::size_t>(index / t.size) * shown / t.size;
+        const std::size_t texel = y * shown + x;
+        if (tested[texel]) continue;
+        tested[texel] = true;
         const Eigen::Vector3d p = pose.apply(t.position[i]);
-        if (p.y() < water.height(p.x(), p.z(), time)) put(t.texelIndex[i], kWetColour);
+        if (p.y() < water.height(p.x(), p.z(), time)) std::copy(wet.begin(), wet.end(), &image.rgba[4 * texel]);
     }
     return image;
 }

@@ -6,8 +6,8 @@
 
 #include "document/overlay.h"
 
-#include "plimsoll/mesh.h"
-#include "plimsoll/world.h"
+#include "plimsoll/geometry/mesh.h"
+#include "plimsoll/scene/world.h"
 
 #include <Eigen/Core>
 
@@ -45,8 +45,14 @@ ForceOverlay buildForceOverlay(const World& world, const std::vector<const Trian
 std::vector<OverlaySegment> waterlineOf(const TriangleMesh& mesh, const Pose& pose,
                                         const WaterModel& water, double time);
 
+/// Most texels a side of a wet-texel image: a larger physics texture is shown at this size,
+/// one water test per shown texel, so that a frame's cost does not grow with the physics
+/// texture (1024^2 took most of a frame on llvmpipe).
+inline constexpr int kWetOverlayMaxSize = 256;
+
 /// The body's texels under the water darker than the dry ones: an overlay image over its
-/// physics texture (texels nothing maps to keep the dry colour).
+/// physics texture, at its size or kWetOverlayMaxSize, whichever is smaller (texels nothing
+/// maps to keep the dry colour; a shown texel takes the first entry that falls in it).
 OverlayImage wetTexelOverlay(const SimulatedBody& body, const WaterModel& water, double time);
 
 /// The dry and wet colours of wetTexelOverlay (the body colour, and it darkened and blued).

@@ -19,7 +19,7 @@ Result<unsigned> compileStage(GLenum type, const char* source) {
         char log[2048];
         glGetShaderInfoLog(shader, sizeof log, nullptr, log);
         glDeleteShader(shader);
-        return makeError(std::string("shader compile: ") + log);
+        return makeError(ErrorKind::kernelBuild, std::string("shader compile: ") + log);
     }
     return shader;
 }
@@ -46,7 +46,7 @@ Result<unsigned> linkGlProgram(const char* vertex, const char* fragment) {
         char log[2048];
         glGetProgramInfoLog(program, sizeof log, nullptr, log);
         glDeleteProgram(program);
-        return makeError(std::string("shader link: ") + log);
+        return makeError(ErrorKind::kernelBuild, std::string("shader link: ") + log);
     }
     return program;
 }

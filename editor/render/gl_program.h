@@ -1,7 +1,7 @@
 // Shader programs for the editor's OpenGL 4.5 drawing (the renderer, the water graph).
 #pragma once
 
-#include "plimsoll/result.h"
+#include "plimsoll/core/result.h"
 
 namespace plimsoll::editor {
 

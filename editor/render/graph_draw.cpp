@@ -3,6 +3,7 @@
 #include "document/graph_view.h"
 #include "render/gl_program.h"
 #include "render/graph_pick.h"
+#include "render/shaders.h"
 
 #include <epoxy/gl.h>
 
@@ -10,41 +11,11 @@
 #include <cmath>
 #include <numbers>
 #include <string>
+#include <unordered_map>
 
 namespace plimsoll::editor {
 
 namespace {
-
-const char* kVertex = R"(#version 450 core
-layout(location = 0) in vec3 aPosition;
-layout(location = 1) in vec3 aNormal;
-uniform mat4 uModel;
-uniform mat4 uViewProj;
-out vec3 vWorld;
-out vec3 vNormal;
-void main() {
-    vec4 world = uModel * vec4(aPosition, 1.0);
-    vWorld = world.xyz;
-    vNormal = mat3(transpose(inverse(uModel))) * aNormal;
-    gl_Position = uViewProj * world;
-})";
-
-// Below the world height uLevel the water's colour, above it the node's: a node filled to its
-// water level, whatever the body's heel (the water surface stays level).
-const char* kFragment = R"(#version 450 core
-in vec3 vWorld;
-in vec3 vNormal;
-uniform vec3 uColour;
-uniform vec3 uWater;
-uniform float uLevel;
-uniform vec3 uEye;
-out vec4 oColour;
-void main() {
-    vec3 n = normalize(vNormal);
-    float light = 0.45 + 0.55 * abs(dot(n, normalize(uEye - vWorld)));
-    vec3 c = vWorld.y <= uLevel ? uWater : uColour;
-    oColour = vec4(c * light, 1.0);
-})";
 
 /// Triangles of (position, normal) floats.
 using Vertices = std::vector<float>;
@@ -112,8 +83,8 @@ Eigen::Matrix4f affine(const Eigen::Matrix3d& linear, const Eigen::Vector3d& tra
 
 Result<std::unique_ptr<GraphDrawer>> GraphDrawer::create() {
     std::unique_ptr<GraphDrawer> d(new GraphDrawer());
-    Result<unsigned> program = linkGlProgram(kVertex, kFragment);
-    if (!program) return makeError("graph " + program.error().message);
+    Result<unsigned> program = linkGlProgram(shaders::graph_node_vert, shaders::graph_node_frag);
+    if (!program) return withContext("graph ", program.error());
     d->program_ = *program;
     auto upload = [](Shape& s, const Vertices& v) {
         glGenVertexArrays(1, &s.vao);
@@ -192,10 +163,14 @@ void GraphDrawer::draw(const RenderGraph& r, const Eigen::Matrix4f& viewProj, co
             drawShape(sphere_, model, colour, water, float(level));
         }
     }
+    // Pipe ends by hash: indexOf scans the nodes, and a frame drew every pipe.
+    std::unordered_map<std::string, int> indexById;
+    for (std::size_t n = 0; n < g.nodes.size(); ++n) indexById.emplace(g.nodes[n].id, static_cast<int>(n));
     for (std::size_t i = 0; i < g.pipes.size(); ++i) {
         const GraphPipe& p = g.pipes[i];
-        const int a = g.indexOf(p.a), b = g.indexOf(p.b);
-        if (a < 0 || b < 0) continue;
+        const auto ia = indexById.find(p.a), ib = indexById.find(p.b);
+        if (ia == indexById.end() || ib == indexById.end()) continue;
+        const int a = ia->second, b = ib->second;
         const Eigen::Vector3d pa = r.pose.apply(g.nodes[a].position);
         const Eigen::Vector3d pb = r.pose.apply(g.nodes[b].position);
         const Eigen::Vector3d axis = pb - pa;

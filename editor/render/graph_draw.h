@@ -8,9 +8,9 @@
 
 #include "render/camera.h"
 
-#include "plimsoll/graph.h"
-#include "plimsoll/pose.h"
-#include "plimsoll/result.h"
+#include "plimsoll/graph/graph.h"
+#include "plimsoll/physics/pose.h"
+#include "plimsoll/core/result.h"
 
 #include <Eigen/Core>
 

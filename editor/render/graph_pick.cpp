@@ -4,6 +4,7 @@
 #include <cmath>
 #include <limits>
 #include <numbers>
+#include <unordered_map>
 
 namespace plimsoll::editor {
 
@@ -88,9 +89,13 @@ std::optional<GraphHit> pickPipe(const WaterGraph& graph, const Pose& pose,
     Eigen::Vector3d o, d;
     toObject(pose, origin, direction, o, d);
     std::optional<GraphHit> best;
+    // Pipe ends by hash: indexOf scans the nodes, and a frame drew every pipe.
+    std::unordered_map<std::string, int> indexById;
+    for (std::size_t n = 0; n < graph.nodes.size(); ++n) indexById.emplace(graph.nodes[n].id, static_cast<int>(n));
     for (std::size_t i = 0; i < graph.pipes.size(); ++i) {
-        const int a = graph.indexOf(graph.pipes[i].a), b = graph.indexOf(graph.pipes[i].b);
-        if (a < 0 || b < 0) continue;
+        const auto ia = indexById.find(graph.pipes[i].a), ib = indexById.find(graph.pipes[i].b);
+        if (ia == indexById.end() || ib == indexById.end()) continue;
+        const int a = ia->second, b = ib->second;
         const Eigen::Vector3d p = graph.nodes[a].position, q = graph.nodes[b].position;
         // Closest points of the ray o + t d (t >= 0) and the segment p + s (q - p), s in 0..1.
         const Eigen::Vector3d u = q - p, w = o - p;

@@ -6,8 +6,8 @@
 
 #include "render/camera.h"
 
-#include "plimsoll/graph.h"
-#include "plimsoll/pose.h"
+#include "plimsoll/graph/graph.h"
+#include "plimsoll/physics/pose.h"
 
 #include <Eigen/Core>
 

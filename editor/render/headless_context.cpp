@@ -86,6 +86,7 @@ Result<std::unique_ptr<HeadlessContext>> HeadlessContext::create() {
         return result;
     }
     return makeError(
+        ErrorKind::device,
         "no OpenGL 4.5 context through EGL (tried Mesa surfaceless, EGL devices and the default "
         "display); install Mesa's EGL (libegl-mesa0, libgl1-mesa-dri) or a GPU driver");
 }

@@ -3,7 +3,7 @@
 // default display. Rendering goes into a framebuffer object (renderer.h, OffscreenTarget).
 #pragma once
 
-#include "plimsoll/result.h"
+#include "plimsoll/core/result.h"
 
 #include <memory>
 #include <string>

@@ -1,6 +1,7 @@
 #include "render/renderer.h"
 
 #include "render/gl_program.h"
+#include "render/shaders.h"
 
 #include <epoxy/gl.h>
 
@@ -11,59 +12,6 @@
 namespace plimsoll::editor {
 
 namespace {
-
-const char* kMeshVertex = R"(#version 450 core
-layout(location = 0) in vec3 aPosition;
-layout(location = 1) in vec2 aUv;
-uniform mat4 uModel;
-uniform mat4 uViewProj;
-out vec3 vWorld;
-out vec2 vUv;
-void main() {
-    vec4 world = uModel * vec4(aPosition, 1.0);
-    vWorld = world.xyz;
-    vUv = aUv;
-    gl_Position = uViewProj * world;
-})";
-
-// Flat shading from screen-space derivatives (no normals to upload), lit from the eye.
-const char* kMeshFragment = R"(#version 450 core
-in vec3 vWorld;
-in vec2 vUv;
-uniform vec3 uEye;
-uniform vec3 uViewDir;
-uniform int uOrtho;
-uniform int uHasOverlay;
-uniform sampler2D uOverlay;
-uniform vec2 uUvScale;
-uniform vec2 uUvOffset;
-uniform vec3 uBase;
-uniform float uAlpha;
-out vec4 oColour;
-void main() {
-    vec3 n = normalize(cross(dFdx(vWorld), dFdy(vWorld)));
-    vec3 v = uOrtho != 0 ? -uViewDir : normalize(uEye - vWorld);
-    float light = 0.35 + 0.65 * abs(dot(n, v));
-    vec3 c = uHasOverlay != 0 ? texture(uOverlay, vUv * uUvScale + uUvOffset).rgb : uBase;
-    oColour = vec4(c * light, uAlpha);
-})";
-
-const char* kLineVertex = R"(#version 450 core
-layout(location = 0) in vec3 aPosition;
-layout(location = 1) in vec4 aColour;
-uniform mat4 uViewProj;
-out vec4 vColour;
-void main() { vColour = aColour; gl_Position = uViewProj * vec4(aPosition, 1.0); })";
-
-const char* kLineFragment = R"(#version 450 core
-in vec4 vColour;
-out vec4 oColour;
-void main() { oColour = vColour; })";
-
-const char* kWaterFragment = R"(#version 450 core
-in vec4 vColour;
-out vec4 oColour;
-void main() { oColour = vColour; })";
 
 void setMatrix(GLuint program, const char* name, const Eigen::Matrix4f& m) {
     glUniformMatrix4fv(glGetUniformLocation(program, name), 1, GL_FALSE, m.data());
@@ -93,7 +41,7 @@ void setupPositionColourVao(GLuint vao, GLuint vbo) {
 
 Result<std::unique_ptr<OffscreenTarget>> OffscreenTarget::create(int width, int height) {
     if (width < 1 || height < 1 || width > 16384 || height > 16384) {
-        return makeError("image size must be 1..16384 pixels a side");
+        return makeError(ErrorKind::invalidArgument, "image size must be 1..16384 pixels a side");
     }
     std::unique_ptr<OffscreenTarget> t(new OffscreenTarget());
     t->width_ = width;
@@ -109,7 +57,7 @@ Result<std::unique_ptr<OffscreenTarget>> OffscreenTarget::create(int width, int 
     glFramebufferRenderbuffer(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_RENDERBUFFER, t->colour_);
     glFramebufferRenderbuffer(GL_FRAMEBUFFER, GL_DEPTH_ATTACHMENT, GL_RENDERBUFFER, t->depth_);
     if (glCheckFramebufferStatus(GL_FRAMEBUFFER) != GL_FRAMEBUFFER_COMPLETE) {
-        return makeError("offscreen framebuffer incomplete");
+        return makeError(ErrorKind::device, "offscreen framebuffer incomplete");
     }
     return t;
 }
@@ -140,13 +88,13 @@ std::vector<std::uint8_t> OffscreenTarget::readRgba() const {
 
 Result<std::unique_ptr<Renderer>> Renderer::create() {
     std::unique_ptr<Renderer> r(new Renderer());
-    Result<unsigned> mesh = linkGlProgram(kMeshVertex, kMeshFragment);
+    Result<unsigned> mesh = linkGlProgram(shaders::mesh_vert, shaders::mesh_frag);
     if (!mesh) return mesh.error();
     r->meshProgram_ = *mesh;
-    Result<unsigned> line = linkGlProgram(kLineVertex, kLineFragment);
+    Result<unsigned> line = linkGlProgram(shaders::line_vert, shaders::line_frag);
     if (!line) return line.error();
     r->lineProgram_ = *line;
-    Result<unsigned> water = linkGlProgram(kLineVertex, kWaterFragment);
+    Result<unsigned> water = linkGlProgram(shaders::line_vert, shaders::line_frag);
     if (!water) return water.error();
     r->waterProgram_ = *water;
     glGenVertexArrays(1, &r->lineVao_);
@@ -172,6 +120,9 @@ Renderer::~Renderer() {
     glDeleteProgram(meshProgram_);
     glDeleteProgram(lineProgram_);
     glDeleteProgram(waterProgram_);
+    glDeleteFramebuffers(1, &cache_.framebuffer);
+    glDeleteTextures(1, &cache_.colour);
+    glDeleteRenderbuffers(1, &cache_.depth);
 }
 
 Renderer::MeshBuffers& Renderer::buffersFor(const std::shared_ptr<const TriangleMesh>& mesh) {
@@ -216,6 +167,7 @@ Renderer::MeshBuffers& Renderer::buffersFor(const std::shared_ptr<const Triangle
 }
 
 void Renderer::setOverlay(int slot, const OverlayImage& image) {
+    ++overlayGeneration_;
     Overlay& o = overlays_[slot];
     if (image.width == 0) {
         glDeleteTextures(1, &o.texture);
@@ -302,15 +254,108 @@ void Renderer::drawLines(const std::vector<float>& vertices, const Eigen::Matrix
     glDrawArrays(GL_LINES, 0, static_cast<GLsizei>(vertices.size() / 7));
 }
 
+Renderer::SceneKey Renderer::keyOf(const RenderScene& scene, const Camera& camera, int width,
+                                   int height) {
+    SceneKey key;
+    std::vector<double>& n = key.numbers;
+    n.reserve(32 + scene.bodies.size() * 16);
+    n.insert(n.end(), {double(width), double(height), camera.target.x(), camera.target.y(),
+                       camera.target.z(), camera.yaw, camera.pitch, camera.distance, camera.fovY,
+                       double(camera.orthographic), scene.time, double(scene.grid),
+                       double(scene.axes), scene.background.x(), scene.background.y(),
+                       scene.background.z(), double(overlayGeneration_)});
+    // The water by content (the document edits its own in place), counted by generation.
+    if (scene.water && !(cache_.water && *cache_.water == *scene.water)) {
+        cache_.water = *scene.water;
+        ++cache_.waterGeneration;
+    }
+    n.push_back(scene.water ? double(cache_.waterGeneration) : -1.0);
+    for (const RenderBody& body : scene.bodies) {
+        key.meshes.push_back(body.mesh.get());
+        n.insert(n.end(), body.pose.rotation.data(), body.pose.rotation.data() + 9);
+        n.insert(n.end(), body.pose.translation.data(), body.pose.translation.data() + 3);
+        n.insert(n.end(), {double(body.overlay), double(body.selected), double(body.alpha)});
+    }
+    return key;
+}
+
 void Renderer::draw(const RenderScene& scene, const Camera& camera, int width, int height, int x,
-                    int y) {
-    glViewport(x, y, width, height);
-    glScissor(x, y, width, height);
-    glEnable(GL_SCISSOR_TEST);
-    glClearColor(scene.background.x(), scene.background.y(), scene.background.z(), 1.0f);
-    glClearDepth(1.0);
-    glDepthMask(GL_TRUE);
-    glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
+                    int y, bool cleared) {
+    auto clearRect = [&] {
+        glClearColor(scene.background.x(), scene.background.y(), scene.background.z(), 1.0f);
+        glClearDepth(1.0);
+        glDepthMask(GL_TRUE);
+        glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
+    };
+    std::optional<SceneKey> key;
+    if (!scene.drawInside) key = keyOf(scene, camera, width, height);
+    const bool copy = key && cache_.kept && *cache_.kept == *key;
+    // The same scene as last frame: draw it once more into the kept texture, then copy.
+    const bool keep = key && !copy && cache_.previous && *cache_.previous == *key;
+    cache_.previous = key;
+    auto drawDirectly = [&] {
+        ++framesDrawn_;
+        glViewport(x, y, width, height);
+        glScissor(x, y, width, height);
+        glEnable(GL_SCISSOR_TEST);
+        // A scissored clear is a quad drawn over the rectangle on llvmpipe (a whole-target
+        // clear is not): callers that clear the whole target skip it.
+        if (!cleared) clearRect();
+        drawScene(scene, camera, width, height);
+    };
+    if (!copy && !keep) {
+        cache_.kept.reset();
+        drawDirectly();
+        return;
+    }
+    GLint target = 0, read = 0;
+    glGetIntegerv(GL_DRAW_FRAMEBUFFER_BINDING, &target);
+    glGetIntegerv(GL_READ_FRAMEBUFFER_BINDING, &read);
+    if (keep) {
+        if (cache_.width != width || cache_.height != height || !cache_.framebuffer) {
+            if (!cache_.framebuffer) {
+                glGenFramebuffers(1, &cache_.framebuffer);
+                glGenTextures(1, &cache_.colour);
+                glGenRenderbuffers(1, &cache_.depth);
+            }
+            glBindTexture(GL_TEXTURE_2D, cache_.colour);
+            glTexImage2D(GL_TEXTURE_2D, 0, GL_RGBA8, width, height, 0, GL_RGBA, GL_UNSIGNED_BYTE, nullptr);
+            glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
+            glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
+            glBindRenderbuffer(GL_RENDERBUFFER, cache_.depth);
+            glRenderbufferStorage(GL_RENDERBUFFER, GL_DEPTH_COMPONENT24, width, height);
+            glBindFramebuffer(GL_FRAMEBUFFER, cache_.framebuffer);
+            glFramebufferTexture2D(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_TEXTURE_2D, cache_.colour, 0);
+            glFramebufferRenderbuffer(GL_FRAMEBUFFER, GL_DEPTH_ATTACHMENT, GL_RENDERBUFFER, cache_.depth);
+            cache_.width = width;
+            cache_.height = height;
+        }
+        glBindFramebuffer(GL_FRAMEBUFFER, cache_.framebuffer);
+        if (glCheckFramebufferStatus(GL_FRAMEBUFFER) != GL_FRAMEBUFFER_COMPLETE) {
+            // No kept scene on this driver: draw it as before.
+            glBindFramebuffer(GL_DRAW_FRAMEBUFFER, target);
+            glBindFramebuffer(GL_READ_FRAMEBUFFER, read);
+            cache_.previous.reset();
+            drawDirectly();
+            return;
+        }
+        ++framesDrawn_;
+        glViewport(0, 0, width, height);
+        glDisable(GL_SCISSOR_TEST);
+        clearRect();
+        drawScene(scene, camera, width, height);
+        cache_.kept = key;
+    } else {
+        ++framesCopied_;
+    }
+    glBindFramebuffer(GL_READ_FRAMEBUFFER, cache_.framebuffer);
+    glBindFramebuffer(GL_DRAW_FRAMEBUFFER, target);
+    glDisable(GL_SCISSOR_TEST);
+    glBlitFramebuffer(0, 0, width, height, x, y, x + width, y + height, GL_COLOR_BUFFER_BIT, GL_NEAREST);
+    glBindFramebuffer(GL_READ_FRAMEBUFFER, read);
+}
+
+void Renderer::drawScene(const RenderScene& scene, const Camera& camera, int width, int height) {
     glEnable(GL_DEPTH_TEST);
     glDepthFunc(GL_LEQUAL);
     glDisable(GL_CULL_FACE);
@@ -389,7 +434,9 @@ void Renderer::draw(const RenderScene& scene, const Camera& camera, int width, i
 
     // Water last: translucent, over everything, writing no depth.
     if (scene.water) {
-        const int cells = 64;
+        // 32 cells a side: a 4 m wave still gets six samples at the closest zoom, and a frame
+        // with waves evaluates 1089 heights (64 cells: 4225, and 8192 triangles to set up).
+        const int cells = 32;
         const double half = std::max(10.0, camera.distance * 3.0);
         const Eigen::Vector3d centre = camera.target;
         WaterCache& cache = waterCache_;

@@ -7,10 +7,10 @@
 #include "document/overlay.h"
 #include "render/camera.h"
 
-#include "plimsoll/mesh.h"
-#include "plimsoll/pose.h"
-#include "plimsoll/result.h"
-#include "plimsoll/water.h"
+#include "plimsoll/geometry/mesh.h"
+#include "plimsoll/physics/pose.h"
+#include "plimsoll/core/result.h"
+#include "plimsoll/physics/water.h"
 
 #include <Eigen/Core>
 
@@ -80,9 +80,17 @@ public:
     unsigned uvWireframeTexture(const std::shared_ptr<const TriangleMesh>& mesh, int size);
 
     /// Draws into the bound framebuffer, in the viewport (x, y, width, height) (GL's
-    /// convention: x, y of the lower-left corner), clearing only that rectangle.
+    /// convention: x, y of the lower-left corner), clearing only that rectangle unless the
+    /// caller has `cleared` the whole target (colour scene.background, depth 1) this frame.
+    /// A scene drawn the same two frames running (camera, size, bodies, poses, overlays,
+    /// water, time) is kept in a texture and copied from it while it stays the same: a frame
+    /// that only changes the panels or the cursor does not raster the 3D view again. Scenes
+    /// with drawInside (the water graph) are always drawn.
     void draw(const RenderScene& scene, const Camera& camera, int width, int height, int x = 0,
-              int y = 0);
+              int y = 0, bool cleared = false);
+    /// Frames copied from the kept scene, and frames drawn, since the start (tests, reports).
+    std::uint64_t framesCopied() const { return framesCopied_; }
+    std::uint64_t framesDrawn() const { return framesDrawn_; }
 
 private:
     Renderer() = default;
@@ -96,6 +104,26 @@ private:
         Eigen::Vector2f scale{1, 1}, offset{0, 0};
     };
     MeshBuffers& buffersFor(const std::shared_ptr<const TriangleMesh>& mesh);
+    /// The scene at (0, 0, width, height) of the bound framebuffer, its rectangle cleared
+    /// already (the body of draw()).
+    void drawScene(const RenderScene& scene, const Camera& camera, int width, int height);
+    /// Everything a drawn scene depends on.
+    struct SceneKey {
+        std::vector<double> numbers;        ///< size, camera, time, flags, poses, overlays
+        std::vector<const void*> meshes;
+        bool operator==(const SceneKey&) const = default;
+    };
+    SceneKey keyOf(const RenderScene& scene, const Camera& camera, int width, int height);
+    /// The kept scene: a framebuffer of its size, and the key it was drawn for.
+    struct SceneCache {
+        unsigned framebuffer = 0, colour = 0, depth = 0;
+        int width = 0, height = 0;
+        std::optional<SceneKey> kept, previous;
+        std::optional<WaterModel> water;    ///< a copy of the last scene's, to compare
+        std::uint64_t waterGeneration = 0;
+    } cache_;
+    std::uint64_t overlayGeneration_ = 0;   ///< bumps on every setOverlay
+    std::uint64_t framesCopied_ = 0, framesDrawn_ = 0;
     void drawLines(const std::vector<float>& vertices, const Eigen::Matrix4f& viewProj);
 
     unsigned meshProgram_ = 0, lineProgram_ = 0, waterProgram_ = 0;

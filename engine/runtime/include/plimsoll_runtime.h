@@ -3,6 +3,9 @@
  * library"). Opaque handles; no C++ exception crosses this boundary: a function that can fail
  * returns 0 (or NULL) and plimsoll_runtime_last_error() says why (per thread).
  *
+ * The ABI rules (what a minor version may change, struct_size fields, threads) are in
+ * docs/c-abi.md.
+ *
  * Conventions: SI units, +y up, right-handed. A pose is the world position of the object's
  * origin and a unit quaternion (w, x, y, z), object -> world. Velocities are of the centre of
  * mass, world axes. Forces in world axes, torques about the centre of mass. */
@@ -10,6 +13,7 @@
 #define PLIMSOLL_RUNTIME_H
 
 #include <stddef.h>
+#include <stdint.h>
 
 #ifdef __cplusplus
 extern "C" {
@@ -33,11 +37,22 @@ typedef double (*plimsoll_height_fn)(void* user, double x, double z, double time
 typedef void (*plimsoll_water_velocity_fn)(void* user, const double point[3], double time,
                                            double velocity[3]);
 
+/* Many water heights in one call: out[i] = height at (x[i], z[i]) for i < n. */
+typedef void (*plimsoll_heights_fn)(void* user, size_t n, const double* x, const double* z,
+                                    double time, double* out);
+
 typedef struct plimsoll_water {
     double level;                        /* flat water height when height is NULL, m */
     plimsoll_height_fn height;           /* may be NULL */
     plimsoll_water_velocity_fn velocity; /* may be NULL: still water */
-    void* user;                          /* passed to both callbacks */
+    void* user;                          /* passed to the callbacks */
+    /* Since 1.2 (a zero-initialised tail keeps the 1.1 meaning). An evaluation asks for a small
+     * grid of heights per body: `heights` answers them in one call and is used instead of
+     * `height` when set. With has_bounds != 0 the surface stays within min_height..max_height
+     * and a body wholly above max_height costs nothing. */
+    plimsoll_heights_fn heights;
+    int has_bounds;
+    double min_height, max_height;       /* m */
 } plimsoll_water;
 
 typedef struct plimsoll_fluid {
@@ -72,10 +87,60 @@ const char* plimsoll_runtime_last_error(void);
 /* "major.minor" of the bundle schema this runtime reads. */
 const char* plimsoll_runtime_schema_version(void);
 
+/* Versions. The library's: semantic versioning (docs/c-abi.md). The bundle schema's: a
+ * bundle of another major is refused; minor is the newest this library knows (older minors
+ * and newer ones, which only add, are read). Any pointer may be NULL. */
+void plimsoll_runtime_version(int* major, int* minor, int* patch);
+void plimsoll_runtime_bundle_schema(int* major, int* minor);
+
 /* Loads a bundle folder, checking every file's size and SHA-256 when verify_checksums != 0.
  * NULL on failure. */
 plimsoll_bundle* plimsoll_bundle_load(const char* folder, int verify_checksums);
 void plimsoll_bundle_free(plimsoll_bundle* bundle);
+
+/* One file of a bundle in memory: its path inside the bundle ("samples.exr") and bytes,
+ * which need outlive only the load call. */
+typedef struct plimsoll_memory_file {
+    const char* path;
+    const void* data;
+    size_t size;
+} plimsoll_memory_file;
+
+/* Loads a bundle from `count` files in memory with the checks of plimsoll_bundle_load (paths
+ * inside the bundle, size limits, checksums, non-finite data refused). `name` (may be NULL:
+ * "memory") prefixes error messages as the folder does. */
+plimsoll_bundle* plimsoll_bundle_load_memory(const plimsoll_memory_file* files, size_t count,
+                                             const char* name, int verify_checksums);
+
+/* A bundle's files read through the caller (a pak file, the engine's file system). The
+ * loader asks only for paths inside the bundle ('/'-separated, no "..", not absolute), checks
+ * the size before it allocates and closes every file it opened. Set struct_size to
+ * sizeof(plimsoll_file_callbacks). */
+typedef struct plimsoll_file_callbacks {
+    size_t struct_size;
+    /* A handle for `path`, or NULL when there is no such file. */
+    void* (*open)(void* user, const char* path);
+    /* Size of an open file in bytes; negative when unknown. */
+    int64_t (*size)(void* user, void* file);
+    /* Reads up to `bytes` bytes at `offset`: how many were read, 0 at the end, < 0 on error. */
+    int64_t (*read)(void* user, void* file, uint64_t offset, void* buffer, size_t bytes);
+    void (*close)(void* user, void* file);
+    void* user;
+} plimsoll_file_callbacks;
+
+plimsoll_bundle* plimsoll_bundle_load_callbacks(const plimsoll_file_callbacks* callbacks,
+                                                const char* name, int verify_checksums);
+
+/* What one body costs. Set struct_size to sizeof(plimsoll_bundle_size) before the call. */
+typedef struct plimsoll_bundle_size {
+    size_t struct_size;
+    uint64_t file_bytes;    /* what ships: the manifest and every file it lists */
+    uint64_t memory_bytes;  /* what the loaded body holds: sample list and water graph */
+    size_t samples;         /* entries of the sample list */
+    size_t graph_nodes;     /* water graph nodes (0: none) */
+} plimsoll_bundle_size;
+
+int plimsoll_bundle_size_query(const plimsoll_bundle* bundle, plimsoll_bundle_size* out);
 
 const char* plimsoll_bundle_body(const plimsoll_bundle* bundle);
 size_t plimsoll_bundle_sample_count(const plimsoll_bundle* bundle);
@@ -110,6 +175,86 @@ int plimsoll_graph_step(plimsoll_bundle* bundle, const plimsoll_pose* pose,
                         const plimsoll_water* water, double time, double dt);
 /* The water's mass properties at this orientation (w, x, y, z). */
 plimsoll_mass plimsoll_graph_water_mass(const plimsoll_bundle* bundle, const double orientation[4]);
+
+/* The object-space box around the sample list (a default collider, a broad-phase bound). */
+int plimsoll_bundle_bounds(const plimsoll_bundle* bundle, double min[3], double max[3]);
+
+/* ---------------------------------------------------------------------------------------
+ * Motion. What a physics engine applies to the body each step, on top of its own gravity:
+ * buoyancy and its torque, drag, the manifest's damping (scaled by the submerged fraction and
+ * at most what stops the body within dt) and the weight of the water inside, at the water's
+ * centre of mass. Forces at the centre of mass, world axes; torques about it. */
+typedef struct plimsoll_load {
+    double force[3];          /* N */
+    double torque[3];         /* N m */
+    double water_mass;        /* kg of water inside (its weight is in force) */
+    plimsoll_forces forces;   /* the evaluation the load was made of */
+} plimsoll_load;
+
+int plimsoll_bundle_water_load(const plimsoll_bundle* bundle, const plimsoll_pose* pose,
+                               const plimsoll_velocity* velocity, const plimsoll_water* water,
+                               const plimsoll_fluid* fluid, double time, double dt,
+                               plimsoll_load* out);
+
+/* A body on its own (no contacts). */
+typedef struct plimsoll_body_state {
+    plimsoll_pose pose;          /* the object origin's world pose */
+    plimsoll_velocity velocity;  /* of the centre of mass */
+} plimsoll_body_state;
+
+/* One semi-implicit Euler step of dt: the water graph steps, then gravity (fluid->gravity
+ * along -y) and the water load change the momenta, then position and orientation move with
+ * the new velocities (angular momentum is what is integrated). For engines without physics,
+ * and the reference the adapters are tested against. */
+int plimsoll_body_step(plimsoll_bundle* bundle, plimsoll_body_state* state,
+                       const plimsoll_water* water, const plimsoll_fluid* fluid, double time,
+                       double dt);
+
+/* ---------------------------------------------------------------------------------------
+ * Many bodies in one call. A plimsoll_batch owns a thread pool, or runs on the caller's task
+ * system (as Box2D's enqueueTask / finishTask): enqueue starts `task` over `item_count` items
+ * in ranges of at least `min_range` and returns a handle finish() waits on (or runs it at once
+ * and returns NULL: finish is then not called). Water callbacks are then called from several
+ * threads at once and must be thread-safe. A batch serialises the calls made on it. */
+typedef void plimsoll_task_fn(int begin, int end, uint32_t worker, void* task_context);
+
+typedef struct plimsoll_batch_desc {
+    size_t struct_size;     /* sizeof(plimsoll_batch_desc) */
+    int thread_count;       /* own pool: 0 = the machine's hardware threads, 1 = the caller only */
+    void* (*enqueue)(plimsoll_task_fn* task, int item_count, int min_range, void* task_context,
+                     void* user_context);       /* NULL: the own pool */
+    void (*finish)(void* user_task, void* user_context);
+    void* user_context;
+    int worker_count;       /* workers the caller's task system may run at once */
+} plimsoll_batch_desc;
+
+typedef struct plimsoll_batch plimsoll_batch;
+
+/* desc may be NULL: an own pool of the hardware threads. */
+plimsoll_batch* plimsoll_batch_create(const plimsoll_batch_desc* desc);
+void plimsoll_batch_free(plimsoll_batch* batch);
+
+/* plimsoll_bundle_evaluate for bodies[i] at poses[i] into out[i], i < count. velocities may be
+ * NULL (all at rest), fluid may be NULL (each body's default fluid); one water for all. Every
+ * argument is checked before any work starts; returns 1, or 0 with the error naming the first
+ * body that failed ("body 3: ..."). A bundle may appear more than once. */
+int plimsoll_batch_evaluate(plimsoll_batch* batch, size_t count,
+                            const plimsoll_bundle* const* bodies, const plimsoll_pose* poses,
+                            const plimsoll_velocity* velocities, const plimsoll_water* water,
+                            const plimsoll_fluid* fluid, double time, plimsoll_forces* out);
+
+/* plimsoll_bundle_water_load for every body: what a physics engine applies, for all its
+ * floating bodies in one call. Arguments and errors as plimsoll_batch_evaluate. */
+int plimsoll_batch_water_load(plimsoll_batch* batch, size_t count,
+                              const plimsoll_bundle* const* bodies, const plimsoll_pose* poses,
+                              const plimsoll_velocity* velocities, const plimsoll_water* water,
+                              const plimsoll_fluid* fluid, double time, double dt, plimsoll_load* out);
+
+/* plimsoll_graph_step for every body (each once: a graph's state is its own); moved[i] (may
+ * be NULL) is 1 where water moved. Bodies without a water graph are skipped (moved 0). */
+int plimsoll_batch_graph_step(plimsoll_batch* batch, size_t count, plimsoll_bundle* const* bodies,
+                              const plimsoll_pose* poses, const plimsoll_water* water, double time,
+                              double dt, int* moved);
 
 #ifdef __cplusplus
 }

@@ -2,38 +2,247 @@
 // verifyBundle, then the sample list, the water graph, its permeability and texel-to-node map.
 #include "plimsoll_runtime/runtime.hpp"
 
+#include "plimsoll_eval/format.hpp"
+
 #include "json.hpp"
 #include "png.hpp"
 #include "vec.hpp"
 
+#include "plimsoll_eval/nearest_node.hpp"
+
 #include <ImfChannelList.h>
 #include <ImfFrameBuffer.h>
 #include <ImfHeader.h>
+#include <ImfIO.h>
 #include <ImfInputFile.h>
 
 #include <algorithm>
+#include <cerrno>
 #include <cmath>
-#include <fstream>
+#include <cstring>
+#include <fcntl.h>
 #include <iterator>
 #include <limits>
+#include <map>
+#include <set>
+#include <stdexcept>
+#include <sys/stat.h>
+#include <unistd.h>
+#include <unordered_map>
 
 namespace plimsoll_runtime {
+
+/// Where the loader gets a bundle's files: a folder, memory or the caller's callbacks. `read`
+/// is given a path already checked to stay inside the bundle; it fills `bytes` with the whole
+/// file when it is at most `maxBytes`, else sets `error` to "name/path: the problem".
+struct BundleSource {
+    std::string name;
+    std::function<bool(const std::string& relative, std::uint64_t maxBytes, std::string& bytes,
+                       std::string& error)>
+        read;
+};
 
 namespace {
 
 using json::Value;
+namespace format = plimsoll_eval;
 
-bool readFile(const std::string& path, std::string& bytes, std::string& error) {
-    std::ifstream in(path, std::ios::binary);
-    if (!in) {
-        error = path + ": missing or cannot be opened";
+// What the loader reads, at most (the engine's limits.h, restated: the runtime builds alone).
+constexpr std::uint64_t kMaxJsonBytes = 256ull << 20;  ///< kMaxJsonFileBytes
+constexpr std::uint64_t kMaxFileBytes = 1ull << 30;    ///< kMaxDataFileBytes
+constexpr long long kMaxTextureSide = 8192;            ///< kMaxTextureSize
+constexpr std::uint64_t kMaxGraphNodes = 100000;       ///< kMaxGraphNodes
+constexpr std::uint64_t kMaxGraphPipes = 16 * kMaxGraphNodes;
+
+/// A path a manifest names, inside the bundle: not empty, not absolute, no "..", no backslash,
+/// no NUL byte (which would cut the path short and open another file).
+bool staysInside(const std::string& path) {
+    if (path.empty() || path.front() == '/' || path.find('\\') != std::string::npos ||
+        path.find('\0') != std::string::npos)
+        return false;
+    for (std::size_t start = 0; start <= path.size();) {
+        const std::size_t end = std::min(path.find('/', start), path.size());
+        if (end - start == 2 && path.compare(start, 2, "..") == 0) return false;
+        start = end + 1;
+    }
+    return true;
+}
+
+std::string tooLarge(const std::string& full, std::uint64_t bytes, std::uint64_t maxBytes) {
+    return full + ": " + std::to_string(bytes) + " bytes, more than the " + std::to_string(maxBytes) +
+           " a bundle file may have";
+}
+const char* const kShrank = ": read error (the file shrank while read?)";
+
+/// Reads `relative` inside `folder`: every component opened without following links (a link
+/// could name any file of the system), the file opened without blocking (a FIFO) and read only
+/// if it is a regular file of at most `maxBytes`.
+bool readInside(const std::string& folder, const std::string& relative, std::uint64_t maxBytes,
+                std::string& bytes, std::string& error) {
+    const std::string full = folder + "/" + relative;
+    if (!staysInside(relative)) {
+        error = full + ": the path leaves the bundle";
         return false;
     }
-    bytes.assign(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
-    if (in.bad()) {
-        error = path + ": read error";
+    int dir = ::open(folder.c_str(), O_RDONLY | O_DIRECTORY | O_CLOEXEC);
+    if (dir < 0) {
+        error = errno == ENOENT ? full + ": missing (there is no folder " + folder + ")"
+                                : folder + ": cannot open the bundle folder: " + std::strerror(errno);
         return false;
     }
+    int fd = -1;
+    for (std::size_t start = 0;;) {
+        const std::size_t slash = relative.find('/', start);
+        const std::string part = relative.substr(start, slash == std::string::npos ? slash : slash - start);
+        const bool last = slash == std::string::npos;
+        const int next = ::openat(dir, part.c_str(),
+                                  last ? O_RDONLY | O_NONBLOCK | O_NOFOLLOW | O_CLOEXEC | O_NOCTTY
+                                       : O_RDONLY | O_DIRECTORY | O_NOFOLLOW | O_CLOEXEC);
+        const int openError = errno;
+        ::close(dir);
+        if (next < 0) {
+            error = full + (openError == ENOENT ? ": missing"
+                            : openError == ELOOP || openError == ENOTDIR
+                                ? ": is (or passes through) a symbolic link, not a file of the bundle"
+                                : std::string(": cannot be opened: ") + std::strerror(openError));
+            return false;
+        }
+        if (last) {
+            fd = next;
+            break;
+        }
+        dir = next;
+        start = slash + 1;
+    }
+    struct stat st {};
+    if (::fstat(fd, &st) != 0 || !S_ISREG(st.st_mode)) {
+        ::close(fd);
+        error = full + ": not a regular file (a FIFO, a device or a folder)";
+        return false;
+    }
+    if (static_cast<std::uint64_t>(st.st_size) > maxBytes) {
+        ::close(fd);
+        error = tooLarge(full, static_cast<std::uint64_t>(st.st_size), maxBytes);
+        return false;
+    }
+    bytes.assign(static_cast<std::size_t>(st.st_size), '\0');
+    std::size_t done = 0;
+    while (done < bytes.size()) {
+        const ssize_t n = ::read(fd, &bytes[done], bytes.size() - done);
+        if (n < 0 && errno == EINTR) continue;
+        if (n <= 0) break;
+        done += static_cast<std::size_t>(n);
+    }
+    ::close(fd);
+    if (done != bytes.size()) {
+        error = full + kShrank;
+        return false;
+    }
+    return true;
+}
+
+BundleSource folderSource(std::string folder) {
+    while (folder.size() > 1 && folder.back() == '/') folder.pop_back();
+    BundleSource source;
+    source.name = folder;
+    source.read = [folder](const std::string& relative, std::uint64_t maxBytes, std::string& bytes,
+                           std::string& error) { return readInside(folder, relative, maxBytes, bytes, error); };
+    return source;
+}
+
+/// The caller's files: sizes checked before anything is allocated, exactly `size` bytes read.
+BundleSource callbackSource(const FileCallbacks& callbacks, const std::string& name) {
+    BundleSource source;
+    source.name = name;
+    source.read = [&callbacks, name](const std::string& relative, std::uint64_t maxBytes,
+                                     std::string& bytes, std::string& error) {
+        const std::string full = name + "/" + relative;
+        void* file = callbacks.open(relative);
+        if (!file) {
+            error = full + ": missing";
+            return false;
+        }
+        struct Closer {
+            const FileCallbacks& callbacks;
+            void* file;
+            ~Closer() { callbacks.close(file); }
+        } closer{callbacks, file};
+        const long long size = callbacks.size(file);
+        if (size < 0) {
+            error = full + ": the file callbacks cannot give its size";
+            return false;
+        }
+        if (static_cast<std::uint64_t>(size) > maxBytes) {
+            error = tooLarge(full, static_cast<std::uint64_t>(size), maxBytes);
+            return false;
+        }
+        bytes.assign(static_cast<std::size_t>(size), '\0');
+        std::size_t done = 0;
+        while (done < bytes.size()) {
+            const long long n = callbacks.read(file, done, &bytes[done], bytes.size() - done);
+            if (n < 0) {
+                error = full + ": the file callbacks report a read error";
+                return false;
+            }
+            if (n == 0) break;
+            if (static_cast<std::uint64_t>(n) > bytes.size() - done) {
+                error = full + ": the read callback returned more bytes than asked for";
+                return false;
+            }
+            done += static_cast<std::size_t>(n);
+        }
+        if (done != bytes.size()) {
+            error = full + kShrank;
+            return false;
+        }
+        return true;
+    };
+    return source;
+}
+
+/// An EXR file's bytes for OpenEXR, which otherwise opens the path itself.
+class MemoryStream : public Imf::IStream {
+public:
+    MemoryStream(const std::string& name, const std::string& bytes) : Imf::IStream(name.c_str()), bytes_(bytes) {}
+    bool read(char c[], int n) override {
+        if (n < 0 || static_cast<std::size_t>(n) > bytes_.size() - at_)
+            throw std::runtime_error("unexpected end of file");
+        std::memcpy(c, bytes_.data() + at_, static_cast<std::size_t>(n));
+        at_ += static_cast<std::size_t>(n);
+        return at_ < bytes_.size();
+    }
+    std::uint64_t tellg() override { return at_; }
+    void seekg(std::uint64_t pos) override {
+        if (pos > bytes_.size()) throw std::runtime_error("seek past the end of file");
+        at_ = static_cast<std::size_t>(pos);
+    }
+
+private:
+    const std::string& bytes_;
+    std::size_t at_ = 0;
+};
+
+/// The data window of an EXR checked before its pixels are allocated: at (0, 0), at most
+/// `maxPixels`, and no more float data than its compressed bytes can hold (ZIP shrinks at most
+/// ~1000:1, so a 1 KB file declaring gigabytes is a bomb, refused).
+bool checkWindow(const std::string& path, const Imath::Box2i& window, std::size_t channels,
+                 std::uint64_t maxPixels, std::size_t fileBytes, int& width, int& height,
+                 std::string& error) {
+    const long long w = static_cast<long long>(window.max.x) - window.min.x + 1;
+    const long long h = static_cast<long long>(window.max.y) - window.min.y + 1;
+    if (window.min.x != 0 || window.min.y != 0 || w <= 0 || h <= 0) {
+        error = path + ": EXR data window does not start at (0, 0)";
+        return false;
+    }
+    const double pixels = double(w) * double(h);
+    if (pixels > double(maxPixels) || pixels * double(channels) * 4.0 > 1100.0 * double(fileBytes) + 65536.0) {
+        error = path + ": EXR declares " + std::to_string(w) + " x " + std::to_string(h) +
+                " pixels, more than the bundle needs or its " + std::to_string(fileBytes) +
+                " bytes can hold";
+        return false;
+    }
+    width = static_cast<int>(w);
+    height = static_cast<int>(h);
     return true;
 }
 
@@ -120,34 +329,41 @@ bool readMass(Reader& r, const Value& v, const std::string& path, MassProperties
         }
     }
     if (!(out.mass > 0) || !std::isfinite(out.mass)) return r.fail(path + ".mass", "must be > 0");
+    bool finiteInertia = std::isfinite(out.volume) && finite(out.centerOfMass);
+    for (const auto& row : out.inertia)
+        for (const double v : row) finiteInertia = finiteInertia && std::isfinite(v);
+    if (!finiteInertia) return r.fail(path, "volume, center_of_mass and inertia must be finite");
     return true;
 }
 
-/// Reads float channels of an EXR file into one interleaved buffer.
-bool readExrFloat(const std::string& path, const std::vector<std::string>& channels, int& width,
-                  int& height, std::vector<float>& pixels, std::string& error) {
+/// Reads channels of an EXR file's bytes into one interleaved float buffer: channel c must be
+/// stored as HALF where `half[c]`, else as float32 (`half` empty: all float32).
+bool readExrFloat(const std::string& path, const std::string& bytes,
+                  const std::vector<std::string>& channels, const std::vector<bool>& half,
+                  std::uint64_t maxPixels, int& width, int& height, std::vector<float>& pixels,
+                  std::string& error) {
     try {
-        Imf::InputFile file(path.c_str());
+        MemoryStream stream(path, bytes);
+        Imf::InputFile file(stream);
         const Imath::Box2i window = file.header().dataWindow();
-        width = window.max.x - window.min.x + 1;
-        height = window.max.y - window.min.y + 1;
-        if (window.min.x != 0 || window.min.y != 0 || width <= 0 || height <= 0) {
-            error = path + ": EXR data window does not start at (0, 0)";
-            return false;
-        }
         const std::size_t n = channels.size();
-        pixels.assign(static_cast<std::size_t>(width) * height * n, 0.0f);
-        Imf::FrameBuffer frame;
+        if (!checkWindow(path, window, n, maxPixels, bytes.size(), width, height, error)) return false;
         for (std::size_t c = 0; c < n; ++c) {
             const Imf::Channel* channel = file.header().channels().findChannel(channels[c]);
             if (!channel) {
                 error = path + ": EXR has no channel '" + channels[c] + "'";
                 return false;
             }
-            if (channel->type != Imf::FLOAT) {
-                error = path + ": EXR channel '" + channels[c] + "' is not float32";
+            const bool wantHalf = c < half.size() && half[c];
+            if (channel->type != (wantHalf ? Imf::HALF : Imf::FLOAT)) {
+                error = path + ": EXR channel '" + channels[c] + "' is not " +
+                        (wantHalf ? "half" : "float32");
                 return false;
             }
+        }
+        pixels.assign(static_cast<std::size_t>(width) * height * n, 0.0f);
+        Imf::FrameBuffer frame;
+        for (std::size_t c = 0; c < n; ++c) {
             frame.insert(channels[c], Imf::Slice(Imf::FLOAT, reinterpret_cast<char*>(pixels.data() + c),
                                                  sizeof(float) * n, sizeof(float) * n * width));
         }
@@ -160,17 +376,14 @@ bool readExrFloat(const std::string& path, const std::vector<std::string>& chann
     }
 }
 
-bool readExrUint(const std::string& path, const std::string& channelName, int& width, int& height,
+bool readExrUint(const std::string& path, const std::string& bytes, const std::string& channelName,
+                 std::uint64_t maxPixels, int& width, int& height,
                  std::vector<std::uint32_t>& pixels, std::string& error) {
     try {
-        Imf::InputFile file(path.c_str());
+        MemoryStream stream(path, bytes);
+        Imf::InputFile file(stream);
         const Imath::Box2i window = file.header().dataWindow();
-        width = window.max.x - window.min.x + 1;
-        height = window.max.y - window.min.y + 1;
-        if (window.min.x != 0 || window.min.y != 0 || width <= 0 || height <= 0) {
-            error = path + ": EXR data window does not start at (0, 0)";
-            return false;
-        }
+        if (!checkWindow(path, window, 1, maxPixels, bytes.size(), width, height, error)) return false;
         const Imf::Channel* channel = file.header().channels().findChannel(channelName);
         if (!channel || channel->type != Imf::UINT) {
             error = path + ": EXR has no UINT channel '" + channelName + "'";
@@ -189,37 +402,8 @@ bool readExrUint(const std::string& path, const std::string& channelName, int& w
     }
 }
 
-/// The engine's nearestNode (graph.h): distance to a box node's box, else to its centre; ties
-/// to the nearer centre, then the lower index.
-int nearestNode(const std::vector<GraphNode>& nodes, const Vec3& p) {
-    int nearest = -1;
-    double best = std::numeric_limits<double>::infinity(), bestCentre = best;
-    for (std::size_t j = 0; j < nodes.size(); ++j) {
-        const GraphNode& n = nodes[j];
-        double d;
-        if (n.isBox()) {
-            const Vec3 q = p - n.position;
-            const Vec3 e{std::max(0.0, std::abs(q.x) - 0.5 * n.box.x),
-                         std::max(0.0, std::abs(q.y) - 0.5 * n.box.y),
-                         std::max(0.0, std::abs(q.z) - 0.5 * n.box.z)};
-            d = norm(e);
-        } else {
-            d = norm(p - n.position);
-        }
-        const double centre = norm(n.position - p);
-        if (d < best || (d == best && centre < bestCentre)) {
-            best = d;
-            bestCentre = centre;
-            nearest = static_cast<int>(j);
-        }
-    }
-    return nearest;
-}
-
-bool readGraph(const std::string& path, WaterGraph& graph, std::vector<GraphNode>& nodes,
-               std::vector<GraphPipe>& pipes, std::string& error) {
-    std::string text;
-    if (!readFile(path, text, error)) return false;
+bool readGraph(const std::string& path, const std::string& text, WaterGraph& graph,
+               std::vector<GraphNode>& nodes, std::vector<GraphPipe>& pipes, std::string& error) {
     Value root;
     std::string parseError;
     if (!json::parse(text, root, parseError)) {
@@ -238,6 +422,13 @@ bool readGraph(const std::string& path, WaterGraph& graph, std::vector<GraphNode
     if (!nodeList || !pipeList) return false;
     if (!nodeList->isArray() || nodeList->array.empty()) return r.fail("$.nodes", "expected a non-empty array");
     if (!pipeList->isArray()) return r.fail("$.pipes", "expected an array");
+    if (nodeList->array.size() > kMaxGraphNodes || pipeList->array.size() > kMaxGraphPipes)
+        return r.fail("$", std::to_string(nodeList->array.size()) + " nodes and " +
+                               std::to_string(pipeList->array.size()) + " pipes, more than the " +
+                               std::to_string(kMaxGraphNodes) + " and " + std::to_string(kMaxGraphPipes) +
+                               " a graph may have");
+    // Ids to indices: a lookup per pipe, not a scan (100000 nodes must load in seconds).
+    std::unordered_map<std::string, int> index;
     for (std::size_t i = 0; i < nodeList->array.size(); ++i) {
         const Value& v = nodeList->array[i];
         const std::string at = "$.nodes[" + std::to_string(i) + "]";
@@ -249,11 +440,10 @@ bool readGraph(const std::string& path, WaterGraph& graph, std::vector<GraphNode
             !r.vec3(v, at, "box", n.box, false))
             return false;
         if (n.id.empty()) return r.fail(at + ".id", "must not be empty");
-        for (const GraphNode& other : nodes) {
-            if (other.id == n.id) return r.fail(at + ".id", "\"" + n.id + "\" is used twice");
-        }
+        if (!index.emplace(n.id, static_cast<int>(nodes.size())).second)
+            return r.fail(at + ".id", "\"" + n.id + "\" is used twice");
         if (!(n.capacity > 0) || !std::isfinite(n.capacity)) return r.fail(at + ".capacity", "must be > 0");
-        if (!(n.water >= 0) || n.water > n.capacity) return r.fail(at + ".water", "must be in 0..capacity");
+        if (!(n.water >= 0) || !(n.water <= n.capacity)) return r.fail(at + ".water", "must be in 0..capacity");
         if (!finite(n.position)) return r.fail(at + ".position", "must be finite");
         const bool zeroBox = n.box.x == 0 && n.box.y == 0 && n.box.z == 0;
         if (!zeroBox && !(n.isBox() && finite(n.box))) return r.fail(at + ".box", "edges must all be > 0");
@@ -268,10 +458,8 @@ bool readGraph(const std::string& path, WaterGraph& graph, std::vector<GraphNode
             !r.number(v, at, "radius", p.radius, false) || !r.number(v, at, "length", p.length, false) ||
             !r.boolean(v, at, "open", p.open, false))
             return false;
-        for (std::size_t j = 0; j < nodes.size(); ++j) {
-            if (nodes[j].id == p.a && p.nodeA < 0) p.nodeA = static_cast<int>(j);
-            if (nodes[j].id == p.b && p.nodeB < 0) p.nodeB = static_cast<int>(j);
-        }
+        if (const auto a = index.find(p.a); a != index.end()) p.nodeA = a->second;
+        if (const auto b = index.find(p.b); b != index.end()) p.nodeB = b->second;
         if (p.nodeA < 0 || p.nodeB < 0)
             return r.fail(at, "no node \"" + (p.nodeA < 0 ? p.a : p.b) + "\"");
         if (p.nodeA == p.nodeB) return r.fail(at, "joins a node to itself");
@@ -287,13 +475,26 @@ bool readGraph(const std::string& path, WaterGraph& graph, std::vector<GraphNode
 
 }  // namespace
 
-bool loadBundleImpl(const std::string& folderIn, Bundle& b, std::string& error, bool verify) {
-    std::string folder = folderIn;
-    while (folder.size() > 1 && folder.back() == '/') folder.pop_back();
+bool loadBundleImpl(const BundleSource& source, Bundle& b, std::string& error, bool verify) {
+    const std::string& folder = source.name;
     b.folder_ = folder;
-    const std::string manifestPath = folder + "/manifest.json";
+    const std::string manifestPath = folder + "/" + format::kManifestFile;
     std::string text;
-    if (!readFile(manifestPath, text, error)) return false;
+    if (!source.read(format::kManifestFile, kMaxJsonBytes, text, error)) return false;
+    b.fileBytes_ = text.size();
+    // Each file is read once, through readInside, and what was checked is what is decoded.
+    std::map<std::string, std::string> contents;
+    auto read = [&](const std::string& relative, std::uint64_t maxBytes) -> const std::string* {
+        const auto known = contents.find(relative);
+        if (known != contents.end()) return &known->second;
+        std::string bytes;
+        if (!staysInside(relative)) {
+            error = folder + "/" + relative + ": the path leaves the bundle";
+            return nullptr;
+        }
+        if (!source.read(relative, maxBytes, bytes, error)) return nullptr;
+        return &contents.emplace(relative, std::move(bytes)).first->second;
+    };
     Value m;
     std::string parseError;
     if (!json::parse(text, m, parseError)) {
@@ -302,10 +503,10 @@ bool loadBundleImpl(const std::string& folderIn, Bundle& b, std::string& error, 
     }
     Reader r(manifestPath, error);
     if (!m.isObject()) return r.fail("$", "malformed manifest: expected an object");
-    const Value* format = m.find("format");
-    if (!format || !format->isString() || format->string != "plimsoll-runtime-bundle") {
-        error = manifestPath + ": not a Plimsoll runtime bundle (\"format\" is not "
-                               "\"plimsoll-runtime-bundle\")";
+    const Value* formatName = m.find("format");
+    if (!formatName || !formatName->isString() || formatName->string != format::kBundleFormat) {
+        error = manifestPath + ": not a Plimsoll runtime bundle (\"format\" is not \"" +
+                format::kBundleFormat + "\")";
         return false;
     }
     long long major = 0, minor = 0;
@@ -313,15 +514,29 @@ bool loadBundleImpl(const std::string& folderIn, Bundle& b, std::string& error, 
         return false;
     b.schemaMajor_ = static_cast<int>(major);
     b.schemaMinor_ = static_cast<int>(minor);
-    if (major != kSchemaMajor) {
+    constexpr int kMajor = format::kBundleSchemaMajor;
+    if (major != kMajor) {
         const std::string version = std::to_string(major) + "." + std::to_string(minor);
         error = manifestPath + ": bundle schema " + version +
-                (major > kSchemaMajor ? " is newer than" : " is older than") + " this reader's " +
-                std::to_string(kSchemaMajor) + ".x: export the bundle again with this version of plimsoll" +
-                (major > kSchemaMajor ? " or update the runtime" : "");
+                (major > kMajor ? " is newer than" : " is older than") + " this reader's " +
+                std::to_string(kMajor) + ".x: export the bundle again with this version of plimsoll" +
+                (major > kMajor ? " or update the runtime" : "");
         return false;
     }
 
+    // The files decoded below stay in memory once verified; the others are only checked.
+    std::vector<std::string> decoded = {format::kSamplesFile, format::kTexelNodesFile};
+    if (const Value* g = m.find("water_graph"); g && g->isObject()) {
+        for (const char* key : {"path", "texel_nodes"}) {
+            if (const Value* v = g->find(key); v && v->isString()) decoded.push_back(v->string);
+        }
+    }
+    if (const Value* maps = m.find("painted_maps"); maps && maps->isObject()) {
+        for (const auto& entry : maps->object) {
+            const Value* v = entry.second.isObject() ? entry.second.find("path") : nullptr;
+            if (v && v->isString()) decoded.push_back(v->string);
+        }
+    }
     // Files: every one inside the folder, with its size and checksum.
     const Value* files = r.member(m, "$", "files");
     if (!files) return false;
@@ -337,19 +552,17 @@ bool loadBundleImpl(const std::string& folderIn, Bundle& b, std::string& error, 
         if (!r.string(f, at, "path", path) || !r.string(f, at, "sha256", sha) ||
             !r.integer(f, at, "bytes", bytes))
             return false;
-        bool escapes = path.empty() || path.front() == '/' || path.find('\\') != std::string::npos;
-        for (std::size_t start = 0; !escapes && start <= path.size();) {
-            const std::size_t end = std::min(path.find('/', start), path.size());
-            if (path.compare(start, end - start, "..") == 0 && end - start == 2) escapes = true;
-            start = end + 1;
-        }
-        if (escapes) return r.fail(at + ".path", "file path \"" + path + "\" leaves the bundle");
-        if (path == "texel_nodes.exr") hasTexelNodes = true;
+        if (!staysInside(path))
+            return r.fail(at + ".path", "file path \"" + std::string(path.c_str()) + "\" leaves the bundle");
+        if (path == format::kTexelNodesFile) hasTexelNodes = true;
         listed.push_back(path);
+        if (bytes < 0) return r.fail(at + ".bytes", "must be >= 0");
+        b.fileBytes_ += static_cast<std::uint64_t>(bytes);
         if (!verify) continue;
         const std::string full = folder + "/" + path;
-        std::string content;
-        if (!readFile(full, content, error)) return false;
+        const std::string* read_ = read(path, kMaxFileBytes);
+        if (!read_) return false;
+        const std::string& content = *read_;
         if (static_cast<long long>(content.size()) != bytes) {
             error = full + ": " + std::to_string(content.size()) + " bytes, the manifest says " +
                     std::to_string(bytes) + " (truncated or replaced)";
@@ -360,14 +573,33 @@ bool loadBundleImpl(const std::string& folderIn, Bundle& b, std::string& error, 
             error = full + ": SHA-256 " + actual + " does not match the manifest's " + sha;
             return false;
         }
+        if (std::find(decoded.begin(), decoded.end(), path) == decoded.end()) contents.erase(path);
     }
 
+    // Every other path the manifest names, checked before anything is read.
+    if (const Value* g = m.find("water_graph"); g && g->isObject()) {
+        const Value* path = g->find("path");
+        if (path && path->isString() && !staysInside(path->string))
+            return r.fail("$.water_graph.path",
+                          "\"" + std::string(path->string.c_str()) + "\" leaves the bundle");
+    }
+    if (const Value* maps = m.find("painted_maps"); maps && maps->isObject()) {
+        for (const auto& [role, map] : maps->object) {
+            const Value* path = map.isObject() ? map.find("path") : nullptr;
+            if (path && path->isString() && !staysInside(path->string))
+                return r.fail("$.painted_maps." + role + ".path",
+                              "\"" + std::string(path->string.c_str()) + "\" leaves the bundle");
+        }
+    }
     r.string(m, "$", "body", b.body_, false);
     long long size = 0, count = 0;
     if (!r.integer(m, "$", "texture_size", size) || !r.integer(m, "$", "texel_samples", count))
         return false;
-    if (size < 1 || size > 65536) return r.fail("$.texture_size", "out of range");
-    if (count < 0) return r.fail("$.texel_samples", "must be >= 0");
+    if (size < 1 || size > kMaxTextureSide)
+        return r.fail("$.texture_size", "out of range 1.." + std::to_string(kMaxTextureSide));
+    // A texel holds a few entries (UV islands sharing it, refinement): 4 per texel at most.
+    if (count < 0 || count > 4 * size * size)
+        return r.fail("$.texel_samples", "must be in 0..4 x texture_size^2");
     b.textureSize_ = static_cast<int>(size);
     const Value* placement = r.member(m, "$", "uv_placement");
     if (!placement) return false;
@@ -381,7 +613,8 @@ bool loadBundleImpl(const std::string& folderIn, Bundle& b, std::string& error, 
             !offset->array[1].isNumber())
             return r.fail("$.uv_placement.offset", "expected an array of 2 numbers");
         uvOffset = {offset->array[0].number, offset->array[1].number, 0};
-        if (!(uvScale > 0)) return r.fail("$.uv_placement.scale", "must be > 0");
+        if (!(uvScale > 0) || !std::isfinite(uvScale)) return r.fail("$.uv_placement.scale", "must be finite and > 0");
+        if (!finite(uvOffset)) return r.fail("$.uv_placement.offset", "must be finite");
     }
     const Value* massProps = r.member(m, "$", "mass_properties");
     if (!massProps) return false;
@@ -393,15 +626,55 @@ bool loadBundleImpl(const std::string& folderIn, Bundle& b, std::string& error, 
             !r.number(*hydro, "$.hydrodynamics", "linear_damping", b.linearDamping_, false) ||
             !r.number(*hydro, "$.hydrodynamics", "angular_damping", b.angularDamping_, false))
             return false;
+        for (const double v : {b.fluid_.dragCoefficient, b.fluid_.frictionCoefficient,
+                               b.linearDamping_, b.angularDamping_}) {
+            if (!(v >= 0) || !std::isfinite(v))
+                return r.fail("$.hydrodynamics", "coefficients and damping must be finite and >= 0");
+        }
     }
 
-    // The sample list (bake_io.cpp's layout: channels x y px py pz ax ay az area coverage).
-    const std::string samplesPath = folder + "/samples.exr";
+    // The sample list (bake_io.cpp's layout: channels x y px py pz ax ay az area coverage),
+    // or its compact encoding (sample_encoding: half floats over an origin and two scales).
+    const std::string samplesPath = folder + "/" + format::kSamplesFile;
     static const std::vector<std::string> kChannels = {"x",  "y",  "px",   "py",      "pz",
                                                       "ax", "ay", "az", "area", "coverage"};
+    static const std::vector<std::string> kCompactChannels(std::begin(format::kCompactSampleChannels),
+                                                           std::end(format::kCompactSampleChannels));
+    bool compact = false;
+    Vec3 origin;
+    double positionScale = 1, areaScale = 1;
+    if (const Value* encoding = m.find("sample_encoding"); encoding && !encoding->isNull()) {
+        const std::string at = "$.sample_encoding";
+        std::string type;
+        if (!encoding->isObject()) return r.fail(at, "expected an object or null");
+        if (!r.string(*encoding, at, "type", type)) return false;
+        if (type != format::kCompactSampleEncoding)
+            return r.fail(at + ".type", "unknown sample encoding \"" + std::string(type.c_str()) +
+                                            "\" (this runtime knows " + format::kCompactSampleEncoding + ")");
+        if (!r.vec3(*encoding, at, "position_origin", origin) ||
+            !r.number(*encoding, at, "position_scale", positionScale) ||
+            !r.number(*encoding, at, "area_scale", areaScale))
+            return false;
+        if (!finite(origin)) return r.fail(at + ".position_origin", "must be finite");
+        for (const auto& [key, scale] : {std::pair{"position_scale", positionScale}, std::pair{"area_scale", areaScale}}) {
+            if (!(scale > 0) || !std::isfinite(scale)) return r.fail(at + "." + key, "must be finite and > 0");
+        }
+        compact = true;
+    }
+    const std::string* samplesBytes = read(format::kSamplesFile, kMaxFileBytes);
+    if (!samplesBytes) return false;
     int width = 0, height = 0;
     std::vector<float> px;
-    if (!readExrFloat(samplesPath, kChannels, width, height, px, error)) return false;
+    // The exporter's layout: rows of a fixed width, as many as the samples need (one spare).
+    const std::uint64_t samplePixels = static_cast<std::uint64_t>(count) + 2 * 8192;
+    std::vector<bool> half;
+    if (compact) {
+        half.assign(kCompactChannels.size(), true);
+        half[0] = half[1] = false;  // texel indices: float32
+    }
+    if (!readExrFloat(samplesPath, *samplesBytes, compact ? kCompactChannels : kChannels, half,
+                      samplePixels, width, height, px, error))
+        return false;
     if (static_cast<std::size_t>(count) > static_cast<std::size_t>(width) * height) {
         error = samplesPath + ": holds fewer samples than the manifest's texel_samples (" +
                 std::to_string(count) + ")";
@@ -417,10 +690,33 @@ bool loadBundleImpl(const std::string& folderIn, Bundle& b, std::string& error, 
         }
         Sample& s = b.samples_[i];
         s.texel = static_cast<std::uint32_t>(y) * static_cast<std::uint32_t>(size) + static_cast<std::uint32_t>(x);
-        s.position = {in[2], in[3], in[4]};
-        s.areaVector = {in[5], in[6], in[7]};
-        s.area = in[8];
+        if (compact) {
+            // A NaN or infinite half would pass through the scales as one: named as such.
+            for (int k = 2; k < 10; ++k) {
+                if (!std::isfinite(in[k])) {
+                    error = samplesPath + ": sample " + std::to_string(i) + " holds a NaN or infinite half in '" +
+                            kCompactChannels[k] + "'";
+                    return false;
+                }
+            }
+            const Vec3 q{in[2], in[3], in[4]}, a{in[5], in[6], in[7]};
+            s.position = origin + positionScale * q;
+            s.areaVector = areaScale * a;
+            s.area = areaScale * in[8];
+        } else {
+            s.position = {in[2], in[3], in[4]};
+            s.areaVector = {in[5], in[6], in[7]};
+            s.area = in[8];
+        }
         s.coverage = in[9];
+        // NaN, Inf or a negative area would turn every force into garbage, silently.
+        if (!finite(s.position) || !finite(s.areaVector) || !std::isfinite(s.area) || !(s.area >= 0) ||
+            !std::isfinite(s.coverage) || s.coverage > 1.0f + 1e-6f) {
+            error = samplesPath + ": sample " + std::to_string(i) +
+                    " has a non-finite position or area vector, a negative area or a coverage "
+                    "outside 0..1";
+            return false;
+        }
     }
 
     // The water graph.
@@ -446,18 +742,27 @@ bool loadBundleImpl(const std::string& folderIn, Bundle& b, std::string& error, 
             return r.fail(at + ".inflow", "unknown inflow model \"" + inflow + "\"");
         if (flow != "poiseuille" && flow != "diffusion")
             return r.fail(at + ".flow", "unknown flow model \"" + flow + "\"");
-        if (!(seed >= 0)) return r.fail(at + ".seed", "must be >= 0");
+        if (!(seed >= 0) || !(seed <= 9.0e15)) return r.fail(at + ".seed", "must be an integer in 0..9e15");
+        for (const double v : {gs.permeability, gs.inflowRate, gs.dischargeCoefficient, gs.diffusionPressure}) {
+            if (!(v >= 0) || !std::isfinite(v))
+                return r.fail(at, "permeability, inflow_rate, discharge_coefficient and "
+                                  "diffusion_pressure must be finite and >= 0");
+        }
         gs.torricelli = inflow == "torricelli";
         gs.diffusion = flow == "diffusion";
         gs.seed = static_cast<std::uint64_t>(seed);
-        if (!readGraph(folder + "/" + graphFile, *graph, graph->nodes_, graph->pipes_, error))
+        if (!staysInside(graphFile))
+            return r.fail(at + ".path", "\"" + std::string(graphFile.c_str()) + "\" leaves the bundle");
+        const std::string* graphText = read(graphFile, kMaxJsonBytes);
+        if (!graphText) return false;
+        if (!readGraph(folder + "/" + graphFile, *graphText, *graph, graph->nodes_, graph->pipes_, error))
             return false;
 
         // The node each sample feeds: texel_nodes.exr where the bundle has it, for texels with
         // one entry (the map has one value per texel); the engine's rule for the rest.
         const std::size_t nodeCount = graph->nodes_.size();
         // 1.1 names the file in water_graph.texel_nodes; it is also listed in `files`.
-        std::string texelNodesFile = hasTexelNodes ? "texel_nodes.exr" : "";
+        std::string texelNodesFile = hasTexelNodes ? format::kTexelNodesFile : "";
         if (!r.string(*graphInfo, at, "texel_nodes", texelNodesFile, false)) return false;
         std::vector<std::uint32_t> texelNodes;
         if (!texelNodesFile.empty() &&
@@ -466,7 +771,11 @@ bool loadBundleImpl(const std::string& folderIn, Bundle& b, std::string& error, 
         if (!texelNodesFile.empty()) {
             const std::string path = folder + "/" + texelNodesFile;
             int w = 0, h = 0;
-            if (!readExrUint(path, "node", w, h, texelNodes, error)) return false;
+            const std::string* nodesBytes = read(texelNodesFile, kMaxFileBytes);
+            if (!nodesBytes) return false;
+            if (!readExrUint(path, *nodesBytes, "node", static_cast<std::uint64_t>(size) * size, w, h,
+                             texelNodes, error))
+                return false;
             if (w != size || h != size) {
                 error = path + ": " + std::to_string(w) + " x " + std::to_string(h) +
                         ", the texture is " + std::to_string(size) + " x " + std::to_string(size);
@@ -474,6 +783,11 @@ bool loadBundleImpl(const std::string& folderIn, Bundle& b, std::string& error, 
             }
             b.texelNodesFromFile_ = true;
         }
+        // The engine's rule for the node a point feeds, from the code the engine runs.
+        std::vector<plimsoll_eval::NodeShape> shapes;
+        for (const GraphNode& n : graph->nodes_)
+            shapes.push_back({{n.position.x, n.position.y, n.position.z}, {n.box.x, n.box.y, n.box.z}});
+        const plimsoll_eval::NearestNodeIndex nearest(std::move(shapes));
         graph->sampleNodes_.resize(b.samples_.size());
         for (std::size_t i = 0; i < b.samples_.size(); ++i) {
             const Sample& s = b.samples_[i];
@@ -491,7 +805,7 @@ bool loadBundleImpl(const std::string& folderIn, Bundle& b, std::string& error, 
                 }
                 node = static_cast<int>(v) - 1;
             } else {
-                node = nearestNode(graph->nodes_, s.position);
+                node = nearest.nearest({s.position.x, s.position.y, s.position.z});
             }
             graph->sampleNodes_[i] = node;
         }
@@ -503,11 +817,15 @@ bool loadBundleImpl(const std::string& folderIn, Bundle& b, std::string& error, 
         if (perm && !perm->isNull()) {
             std::string mapFile;
             if (!r.string(*perm, "$.painted_maps.permeability", "path", mapFile)) return false;
+            if (!staysInside(mapFile))
+                return r.fail("$.painted_maps.permeability.path",
+                              "\"" + std::string(mapFile.c_str()) + "\" leaves the bundle");
             const std::string path = folder + "/" + mapFile;
-            std::string bytes, pngError;
-            if (!readFile(path, bytes, error)) return false;
+            const std::string* bytes = read(mapFile, kMaxFileBytes);
+            if (!bytes) return false;
+            std::string pngError;
             GreyImage map;
-            if (!decodePng(bytes, map, pngError)) {
+            if (!decodePng(*bytes, map, pngError)) {
                 error = path + ": cannot read painted map: " + pngError;
                 return false;
             }
@@ -540,17 +858,95 @@ bool loadBundleImpl(const std::string& folderIn, Bundle& b, std::string& error, 
     return true;
 }
 
-std::unique_ptr<Bundle> loadBundle(const std::string& folder, std::string& error,
-                                   const LoadOptions& options) {
+namespace {
+
+std::unique_ptr<Bundle> loadFrom(const BundleSource& source, std::string& error, const LoadOptions& options) {
     auto bundle = std::make_unique<Bundle>();
     error.clear();
     try {
-        if (!loadBundleImpl(folder, *bundle, error, options.verifyChecksums)) return nullptr;
+        if (!loadBundleImpl(source, *bundle, error, options.verifyChecksums)) return nullptr;
     } catch (const std::exception& e) {
-        error = folder + ": " + e.what();
+        error = source.name + ": " + e.what();
         return nullptr;
     }
     return bundle;
+}
+
+}  // namespace
+
+std::unique_ptr<Bundle> loadBundle(const std::string& folder, std::string& error,
+                                   const LoadOptions& options) {
+    return loadFrom(folderSource(folder), error, options);
+}
+
+std::unique_ptr<Bundle> loadBundleWithCallbacks(const FileCallbacks& callbacks,
+                                                const std::string& name, std::string& error,
+                                                const LoadOptions& options) {
+    if (!callbacks.open || !callbacks.size || !callbacks.read || !callbacks.close) {
+        error = name + ": the file callbacks need open, size, read and close";
+        return nullptr;
+    }
+    return loadFrom(callbackSource(callbacks, name), error, options);
+}
+
+std::unique_ptr<Bundle> loadBundleFromMemory(const std::vector<MemoryFile>& files,
+                                             const std::string& name, std::string& error,
+                                             const LoadOptions& options) {
+    // The list itself is checked first: a path that leaves the bundle or comes twice is the
+    // caller's mistake, named before any file is looked at.
+    std::map<std::string, const MemoryFile*> byPath;
+    for (std::size_t i = 0; i < files.size(); ++i) {
+        const MemoryFile& f = files[i];
+        const std::string at = name + ": memory file " + std::to_string(i) + " (\"" +
+                               std::string(f.path.c_str()) + "\")";
+        if (!staysInside(f.path)) {
+            error = at + ": the path leaves the bundle";
+            return nullptr;
+        }
+        if (!f.data && f.size > 0) {
+            error = at + ": no bytes (data is null)";
+            return nullptr;
+        }
+        if (!byPath.emplace(f.path, &f).second) {
+            error = at + ": the path comes twice";
+            return nullptr;
+        }
+    }
+    struct Cursor {
+        const MemoryFile* file;
+    };
+    FileCallbacks callbacks;
+    callbacks.open = [&byPath](const std::string& path) -> void* {
+        const auto found = byPath.find(path);
+        return found == byPath.end() ? nullptr : new Cursor{found->second};
+    };
+    callbacks.size = [](void* c) { return static_cast<long long>(static_cast<Cursor*>(c)->file->size); };
+    callbacks.read = [](void* c, std::uint64_t offset, void* buffer, std::size_t bytes) -> long long {
+        const MemoryFile& f = *static_cast<Cursor*>(c)->file;
+        if (offset >= f.size) return 0;
+        const std::size_t n = std::min<std::uint64_t>(bytes, f.size - offset);
+        std::memcpy(buffer, static_cast<const char*>(f.data) + offset, n);
+        return static_cast<long long>(n);
+    };
+    callbacks.close = [](void* c) { delete static_cast<Cursor*>(c); };
+    return loadFrom(callbackSource(callbacks, name), error, options);
+}
+
+std::uint64_t Bundle::memoryBytes() const {
+    std::uint64_t bytes = sizeof(Bundle) + samples_.capacity() * sizeof(Sample);
+    if (graph_) {
+        const WaterGraph& g = *graph_;
+        bytes += sizeof(WaterGraph) + g.nodes_.capacity() * sizeof(GraphNode) +
+                 g.pipes_.capacity() * sizeof(GraphPipe) + g.sampleNodes_.capacity() * sizeof(int) +
+                 g.exchange_.capacity() * sizeof(WaterGraph::Exchange) + g.stepBytes();
+    }
+    return bytes;
+}
+
+Version bundleSchemaVersion() { return {format::kBundleSchemaMajor, format::kBundleSchemaMinor, 0}; }
+
+Version runtimeVersion() {
+    return {PLIMSOLL_RUNTIME_VERSION_MAJOR, PLIMSOLL_RUNTIME_VERSION_MINOR, PLIMSOLL_RUNTIME_VERSION_PATCH};
 }
 
 }  // namespace plimsoll_runtime

@@ -4,12 +4,26 @@
 
 #include "plimsoll_runtime/runtime.hpp"
 
+#include "plimsoll_eval/tasks.hpp"
+
+#include <algorithm>
+#include <atomic>
+#include <cmath>
 #include <cstring>
 #include <memory>
+#include <mutex>
 #include <string>
+#include <thread>
+#include <vector>
 
 struct plimsoll_bundle {
     std::unique_ptr<plimsoll_runtime::Bundle> bundle;
+};
+
+struct plimsoll_batch {
+    plimsoll_eval::TaskSystem tasks;
+    std::unique_ptr<plimsoll_eval::ThreadPool> pool;
+    std::mutex busy;  // the pool runs one task at a time
 };
 
 namespace {
@@ -27,22 +41,44 @@ Pose toPose(const plimsoll_pose& p) {
     return pose;
 }
 
-Water toWater(const plimsoll_water* w) {
+/// The caller's water. A callback that returns NaN or Inf is noted in `nonFinite` (the physics
+/// would otherwise see no water there and report a finite, wrong force).
+Water toWater(const plimsoll_water* w, bool* nonFinite = nullptr) {
     Water water;
     if (!w) return water;
     water.level = w->level;
     if (w->height) {
         const plimsoll_height_fn fn = w->height;
         void* user = w->user;
-        water.height = [fn, user](double x, double z, double t) { return fn(user, x, z, t); };
+        water.height = [fn, user, nonFinite](double x, double z, double t) {
+            const double h = fn(user, x, z, t);
+            if (!std::isfinite(h) && nonFinite) *nonFinite = true;
+            return h;
+        };
+    }
+    if (w->heights) {
+        const plimsoll_heights_fn fn = w->heights;
+        void* user = w->user;
+        water.heights = [fn, user, nonFinite](std::size_t n, const double* x, const double* z, double t, double* out) {
+            fn(user, n, x, z, t, out);
+            for (std::size_t i = 0; i < n && nonFinite; ++i) {
+                if (!std::isfinite(out[i])) *nonFinite = true;
+            }
+        };
+    }
+    if (w->has_bounds) {
+        water.minHeight = w->min_height;
+        water.maxHeight = w->max_height;
     }
     if (w->velocity) {
         const plimsoll_water_velocity_fn fn = w->velocity;
         void* user = w->user;
-        water.velocity = [fn, user](const Vec3& p, double t) {
+        water.velocity = [fn, user, nonFinite](const Vec3& p, double t) {
             const double point[3] = {p.x, p.y, p.z};
             double v[3] = {0, 0, 0};
             fn(user, point, t, v);
+            if (nonFinite && !(std::isfinite(v[0]) && std::isfinite(v[1]) && std::isfinite(v[2])))
+                *nonFinite = true;
             return Vec3{v[0], v[1], v[2]};
         };
     }
@@ -64,7 +100,189 @@ plimsoll_mass toC(const MassProperties& m) {
     return out;
 }
 
+Velocity toVelocity(const plimsoll_velocity* velocity) {
+    Velocity v;
+    if (velocity) {
+        v.linear = {velocity->linear[0], velocity->linear[1], velocity->linear[2]};
+        v.angular = {velocity->angular[0], velocity->angular[1], velocity->angular[2]};
+    }
+    return v;
+}
+
+Fluid toFluid(const plimsoll_fluid& fluid) {
+    Fluid f;
+    f.density = fluid.density;
+    f.gravity = fluid.gravity;
+    f.dragCoefficient = fluid.drag_coefficient;
+    f.frictionCoefficient = fluid.friction_coefficient;
+    return f;
+}
+
+void toC(const Forces& r, plimsoll_forces& out) {
+    out.submerged_volume = r.submergedVolume;
+    copy(r.centerOfBuoyancy, out.center_of_buoyancy);
+    copy(r.force, out.force);
+    copy(r.torque, out.torque);
+    copy(r.pressureForce, out.pressure_force);
+    copy(r.pressureTorque, out.pressure_torque);
+    copy(r.dragForce, out.drag_force);
+    copy(r.dragTorque, out.drag_torque);
+    out.wetted_area = r.wettedArea;
+    out.submerged_samples = r.submergedSamples;
+}
+
 bool hasGraph(const plimsoll_bundle* b) { return b && b->bundle && b->bundle->graph(); }
+
+// Argument checks: a NaN, an Inf or a zero quaternion would flow through the physics and come
+// back as a "successful" NaN force. Each sets the error naming the call and the argument.
+bool allFinite(const double* v, int n) {
+    for (int i = 0; i < n; ++i) {
+        if (!std::isfinite(v[i])) return false;
+    }
+    return true;
+}
+bool refuse(const char* call, const std::string& what) {
+    setError(std::string(call) + ": " + what);
+    return false;
+}
+bool checkOrientation(const char* call, const double q[4]) {
+    if (!allFinite(q, 4)) return refuse(call, "orientation has a NaN or Inf component");
+    const double norm2 = q[0] * q[0] + q[1] * q[1] + q[2] * q[2] + q[3] * q[3];
+    if (!(norm2 > 1e-12)) return refuse(call, "orientation is a zero quaternion");
+    return true;
+}
+bool checkPose(const char* call, const plimsoll_pose* pose) {
+    if (!pose) return refuse(call, "pose is NULL");
+    if (!allFinite(pose->position, 3)) return refuse(call, "pose position has a NaN or Inf component");
+    return checkOrientation(call, pose->orientation);
+}
+bool checkWater(const char* call, const plimsoll_water* water) {
+    if (water && !std::isfinite(water->level)) return refuse(call, "water level is NaN or Inf");
+    if (water && water->has_bounds &&
+        !(std::isfinite(water->min_height) && std::isfinite(water->max_height) &&
+          water->min_height <= water->max_height))
+        return refuse(call, "water bounds must be finite with min_height <= max_height");
+    return true;
+}
+bool checkTime(const char* call, double time) {
+    if (!std::isfinite(time)) return refuse(call, "time is NaN or Inf");
+    return true;
+}
+
+bool checkFluid(const char* call, const plimsoll_fluid* fluid) {
+    if (fluid && (!(fluid->density > 0) || !std::isfinite(fluid->density) || !(fluid->gravity >= 0) ||
+                  !std::isfinite(fluid->gravity) || !(fluid->drag_coefficient >= 0) ||
+                  !std::isfinite(fluid->drag_coefficient) || !(fluid->friction_coefficient >= 0) ||
+                  !std::isfinite(fluid->friction_coefficient)))
+        return refuse(call, "fluid: density must be finite and > 0, gravity and the "
+                            "coefficients finite and >= 0");
+    return true;
+}
+
+bool checkEvaluation(const char* call, const plimsoll_pose* pose, const plimsoll_velocity* velocity,
+                     const plimsoll_fluid* fluid) {
+    if (!checkPose(call, pose)) return false;
+    if (velocity && (!allFinite(velocity->linear, 3) || !allFinite(velocity->angular, 3)))
+        return refuse(call, "velocity has a NaN or Inf component");
+    return checkFluid(call, fluid);
+}
+
+plimsoll_fluid defaultFluid(const Bundle& bundle) {
+    return {1000.0, 9.81, bundle.fluid().dragCoefficient, bundle.fluid().frictionCoefficient};
+}
+
+/// Forces for checked arguments into `out`: null, or why the result is refused. Sets no
+/// error, so that batch workers on other threads can call it.
+const char* computeForces(const Bundle& bundle, const plimsoll_pose& pose, const plimsoll_velocity* velocity,
+                          const plimsoll_water* water, const plimsoll_fluid& fluid, double time,
+                          plimsoll_forces& out) {
+    bool nonFiniteWater = false;
+    const Forces r = bundle.evaluate(toPose(pose), toVelocity(velocity), toWater(water, &nonFiniteWater),
+                                     toFluid(fluid), time);
+    if (nonFiniteWater) return "the water height or velocity callback returned NaN or Inf";
+    toC(r, out);
+    const double* sums[] = {out.center_of_buoyancy, out.force, out.torque};
+    for (const double* s : sums) {
+        if (!allFinite(s, 3) || !std::isfinite(out.submerged_volume))
+            return "the result is not finite (did the water height or velocity callback return "
+                   "NaN or Inf?)";
+    }
+    return nullptr;
+}
+
+/// plimsoll_bundle_water_load for checked arguments: null, or why the result is refused.
+const char* computeLoad(const Bundle& bundle, const plimsoll_pose& pose, const plimsoll_velocity* velocity,
+                        const plimsoll_water* water, const plimsoll_fluid& fluid, double time, double dt,
+                        plimsoll_load& out) {
+    bool nonFiniteWater = false;
+    const WaterLoad load = waterLoad(bundle, toPose(pose), toVelocity(velocity), toWater(water, &nonFiniteWater),
+                                     toFluid(fluid), time, dt);
+    if (nonFiniteWater) return "the water height or velocity callback returned NaN or Inf";
+    copy(load.force, out.force);
+    copy(load.torque, out.torque);
+    out.water_mass = load.waterMass;
+    toC(load.forces, out.forces);
+    if (!allFinite(out.force, 3) || !allFinite(out.torque, 3)) return "the result is not finite";
+    return nullptr;
+}
+
+/// Each body of a batch call: a bundle, a finite pose with a non-zero quaternion, a finite
+/// velocity. The message, naming the body, is only built for one that fails.
+bool checkBodies(const char* call, std::size_t count, const plimsoll_bundle* const* bodies,
+                 const plimsoll_pose* poses, const plimsoll_velocity* velocities) {
+    for (std::size_t i = 0; i < count; ++i) {
+        const plimsoll_velocity* velocity = velocities ? &velocities[i] : nullptr;
+        const double* q = poses[i].orientation;
+        const bool fine = bodies[i] && bodies[i]->bundle && allFinite(poses[i].position, 3) && allFinite(q, 4) &&
+                          q[0] * q[0] + q[1] * q[1] + q[2] * q[2] + q[3] * q[3] > 1e-12 &&
+                          (!velocity || (allFinite(velocity->linear, 3) && allFinite(velocity->angular, 3)));
+        if (fine) continue;
+        const std::string item = std::string(call) + ": body " + std::to_string(i);
+        if (!bodies[i] || !bodies[i]->bundle) return refuse(item.c_str(), "bundle is NULL");
+        return checkEvaluation(item.c_str(), &poses[i], velocity, nullptr);
+    }
+    return true;
+}
+
+/// The arguments every batch evaluation shares, checked on the calling thread.
+bool checkBatch(const char* call, const plimsoll_batch* batch, std::size_t count,
+                const plimsoll_bundle* const* bodies, const plimsoll_pose* poses,
+                const plimsoll_velocity* velocities, const void* out, const plimsoll_water* water,
+                const plimsoll_fluid* fluid, double time) {
+    if (!batch || (count > 0 && (!bodies || !poses || !out)))
+        return refuse(call, "batch, bodies, poses or out is NULL");
+    if (count > static_cast<std::size_t>(INT32_MAX)) return refuse(call, "more than 2^31 - 1 bodies");
+    if (!checkWater(call, water) || !checkTime(call, time) || !checkFluid(call, fluid)) return false;
+    return checkBodies(call, count, bodies, poses, velocities);
+}
+
+/// Runs body(i) for i < count on the batch's task system or pool; each failure is kept with
+/// its index and the lowest one is reported, as a single call would have reported it.
+template <class Body>
+bool runBatch(plimsoll_batch& batch, const char* call, std::size_t count, Body&& body) {
+    if (count == 0) return true;
+    std::atomic<std::size_t> firstFailure{count};
+    std::vector<const char*> failures(count, nullptr);
+    auto item = [&](int i, std::uint32_t) {
+        try {
+            failures[i] = body(static_cast<std::size_t>(i));
+        } catch (const std::exception&) {
+            failures[i] = "internal error (an exception in the runtime)";
+        }
+        if (failures[i]) {
+            std::size_t seen = firstFailure.load();
+            while (static_cast<std::size_t>(i) < seen && !firstFailure.compare_exchange_weak(seen, i)) {
+            }
+        }
+    };
+    {
+        std::lock_guard<std::mutex> lock(batch.busy);
+        plimsoll_eval::parallelFor(static_cast<int>(count), 1, batch.tasks, *batch.pool, item);
+    }
+    const std::size_t first = firstFailure.load();
+    if (first == count) return true;
+    return refuse(call, "body " + std::to_string(first) + ": " + failures[first]);
+}
 
 }  // namespace
 
@@ -73,20 +291,34 @@ extern "C" {
 const char* plimsoll_runtime_last_error(void) { return lastError.c_str(); }
 
 const char* plimsoll_runtime_schema_version(void) {
-    static const std::string version = std::to_string(kSchemaMajor) + "." + std::to_string(kSchemaMinor);
+    static const std::string version = std::to_string(bundleSchemaVersion().major) + "." +
+                                       std::to_string(bundleSchemaVersion().minor);
     return version.c_str();
 }
 
-plimsoll_bundle* plimsoll_bundle_load(const char* folder, int verify_checksums) {
+void plimsoll_runtime_version(int* major, int* minor, int* patch) {
+    const Version v = runtimeVersion();
+    if (major) *major = v.major;
+    if (minor) *minor = v.minor;
+    if (patch) *patch = v.patch;
+}
+
+void plimsoll_runtime_bundle_schema(int* major, int* minor) {
+    const Version v = bundleSchemaVersion();
+    if (major) *major = v.major;
+    if (minor) *minor = v.minor;
+}
+
+}  // extern "C"
+
+namespace {
+
+/// The handle for what a loader returned, or null with the loader's error.
+template <class Load>
+plimsoll_bundle* loadHandle(const char* call, Load&& load) {
     try {
-        if (!folder) {
-            setError("plimsoll_bundle_load: folder is NULL");
-            return nullptr;
-        }
         std::string error;
-        LoadOptions options;
-        options.verifyChecksums = verify_checksums != 0;
-        auto bundle = loadBundle(folder, error, options);
+        auto bundle = load(error);
         if (!bundle) {
             setError(error);
             return nullptr;
@@ -96,15 +328,89 @@ plimsoll_bundle* plimsoll_bundle_load(const char* folder, int verify_checksums) 
         lastError.clear();
         return handle;
     } catch (const std::exception& e) {
-        setError(std::string("plimsoll_bundle_load: ") + e.what());
+        setError(std::string(call) + ": " + e.what());
         return nullptr;
     }
+}
+
+LoadOptions loadOptions(int verifyChecksums) {
+    LoadOptions options;
+    options.verifyChecksums = verifyChecksums != 0;
+    return options;
+}
+
+}  // namespace
+
+extern "C" {
+
+plimsoll_bundle* plimsoll_bundle_load(const char* folder, int verify_checksums) {
+    if (!folder) {
+        setError("plimsoll_bundle_load: folder is NULL");
+        return nullptr;
+    }
+    return loadHandle("plimsoll_bundle_load", [&](std::string& error) {
+        return loadBundle(folder, error, loadOptions(verify_checksums));
+    });
+}
+
+plimsoll_bundle* plimsoll_bundle_load_memory(const plimsoll_memory_file* files, size_t count,
+                                             const char* name, int verify_checksums) {
+    constexpr const char* kCall = "plimsoll_bundle_load_memory";
+    if (!files && count > 0) {
+        refuse(kCall, "files is NULL");
+        return nullptr;
+    }
+    std::vector<MemoryFile> list(count);
+    for (std::size_t i = 0; i < count; ++i) {
+        if (!files[i].path) {
+            refuse(kCall, "file " + std::to_string(i) + ": path is NULL");
+            return nullptr;
+        }
+        list[i] = {files[i].path, files[i].data, files[i].size};
+    }
+    return loadHandle(kCall, [&](std::string& error) {
+        return loadBundleFromMemory(list, name ? name : "memory", error, loadOptions(verify_checksums));
+    });
+}
+
+plimsoll_bundle* plimsoll_bundle_load_callbacks(const plimsoll_file_callbacks* callbacks,
+                                                const char* name, int verify_checksums) {
+    constexpr const char* kCall = "plimsoll_bundle_load_callbacks";
+    if (!callbacks || callbacks->struct_size < sizeof(plimsoll_file_callbacks) || !callbacks->open ||
+        !callbacks->size || !callbacks->read || !callbacks->close) {
+        refuse(kCall, "callbacks is NULL, its struct_size is not sizeof(plimsoll_file_callbacks) "
+                      "or open, size, read or close is NULL");
+        return nullptr;
+    }
+    const plimsoll_file_callbacks c = *callbacks;
+    FileCallbacks cpp;
+    cpp.open = [c](const std::string& path) { return c.open(c.user, path.c_str()); };
+    cpp.size = [c](void* file) { return static_cast<long long>(c.size(c.user, file)); };
+    cpp.read = [c](void* file, std::uint64_t offset, void* buffer, std::size_t bytes) {
+        return static_cast<long long>(c.read(c.user, file, offset, buffer, bytes));
+    };
+    cpp.close = [c](void* file) { c.close(c.user, file); };
+    return loadHandle(kCall, [&](std::string& error) {
+        return loadBundleWithCallbacks(cpp, name ? name : "callbacks", error, loadOptions(verify_checksums));
+    });
+}
+
+int plimsoll_bundle_size_query(const plimsoll_bundle* bundle, plimsoll_bundle_size* out) {
+    if (!bundle || !out || out->struct_size < sizeof(plimsoll_bundle_size))
+        return refuse("plimsoll_bundle_size_query",
+                      "bundle or out is NULL, or out->struct_size is not sizeof(plimsoll_bundle_size)");
+    const Bundle& b = *bundle->bundle;
+    out->file_bytes = b.fileBytes();
+    out->memory_bytes = b.memoryBytes();
+    out->samples = b.samples().size();
+    out->graph_nodes = b.graph() ? b.graph()->nodes().size() : 0;
+    return 1;
 }
 
 void plimsoll_bundle_free(plimsoll_bundle* bundle) { delete bundle; }
 
 const char* plimsoll_bundle_body(const plimsoll_bundle* bundle) {
-    return bundle ? bundle->bundle->body().c_str() : "";
+    return bundle && bundle->bundle ? bundle->bundle->body().c_str() : "";
 }
 
 size_t plimsoll_bundle_sample_count(const plimsoll_bundle* bundle) {
@@ -116,12 +422,7 @@ plimsoll_mass plimsoll_bundle_mass(const plimsoll_bundle* bundle) {
 }
 
 plimsoll_fluid plimsoll_bundle_default_fluid(const plimsoll_bundle* bundle) {
-    plimsoll_fluid out{1000.0, 9.81, 1.0, 0.0};
-    if (bundle) {
-        out.drag_coefficient = bundle->bundle->fluid().dragCoefficient;
-        out.friction_coefficient = bundle->bundle->fluid().frictionCoefficient;
-    }
-    return out;
+    return bundle ? defaultFluid(*bundle->bundle) : plimsoll_fluid{1000.0, 9.81, 1.0, 0.0};
 }
 
 void plimsoll_bundle_damping(const plimsoll_bundle* bundle, double* linear, double* angular) {
@@ -133,32 +434,16 @@ int plimsoll_bundle_evaluate(const plimsoll_bundle* bundle, const plimsoll_pose*
                              const plimsoll_velocity* velocity, const plimsoll_water* water,
                              const plimsoll_fluid* fluid, double time, plimsoll_forces* out) {
     try {
+        constexpr const char* kCall = "plimsoll_bundle_evaluate";
         if (!bundle || !pose || !fluid || !out) {
             setError("plimsoll_bundle_evaluate: a required argument is NULL");
             return 0;
         }
-        Velocity v;
-        if (velocity) {
-            v.linear = {velocity->linear[0], velocity->linear[1], velocity->linear[2]};
-            v.angular = {velocity->angular[0], velocity->angular[1], velocity->angular[2]};
-        }
-        Fluid f;
-        f.density = fluid->density;
-        f.gravity = fluid->gravity;
-        f.dragCoefficient = fluid->drag_coefficient;
-        f.frictionCoefficient = fluid->friction_coefficient;
-        const Forces r = bundle->bundle->evaluate(toPose(*pose), v, toWater(water), f, time);
-        out->submerged_volume = r.submergedVolume;
-        copy(r.centerOfBuoyancy, out->center_of_buoyancy);
-        copy(r.force, out->force);
-        copy(r.torque, out->torque);
-        copy(r.pressureForce, out->pressure_force);
-        copy(r.pressureTorque, out->pressure_torque);
-        copy(r.dragForce, out->drag_force);
-        copy(r.dragTorque, out->drag_torque);
-        out->wetted_area = r.wettedArea;
-        out->submerged_samples = r.submergedSamples;
-        return 1;
+        if (!checkEvaluation(kCall, pose, velocity, fluid) || !checkWater(kCall, water) ||
+            !checkTime(kCall, time))
+            return 0;
+        const char* failure = computeForces(*bundle->bundle, *pose, velocity, water, *fluid, time, *out);
+        return failure ? refuse(kCall, failure) : 1;
     } catch (const std::exception& e) {
         setError(std::string("plimsoll_bundle_evaluate: ") + e.what());
         return 0;
@@ -184,6 +469,8 @@ int plimsoll_graph_set_node_water(plimsoll_bundle* bundle, size_t node, double w
         setError("plimsoll_graph_set_node_water: no such node");
         return 0;
     }
+    if (!(water >= 0) || !(water <= plimsoll_graph_node_capacity(bundle, node)))
+        return refuse("plimsoll_graph_set_node_water", "water must be in 0..the node's capacity");
     bundle->bundle->graph()->setWater(node, water);
     return 1;
 }
@@ -194,7 +481,8 @@ int plimsoll_graph_set_medium(plimsoll_bundle* bundle, double density, double vi
         setError("plimsoll_graph_set_medium: the body has no water graph");
         return 0;
     }
-    if (!(density > 0) || !(viscosity > 0) || !(gravity >= 0)) {
+    if (!(density > 0) || !(viscosity > 0) || !(gravity >= 0) || !std::isfinite(density) ||
+        !std::isfinite(viscosity) || !std::isfinite(gravity)) {
         setError("plimsoll_graph_set_medium: density and viscosity must be > 0, gravity >= 0");
         return 0;
     }
@@ -213,6 +501,8 @@ int plimsoll_graph_inflow(const plimsoll_bundle* bundle, const plimsoll_pose* po
             setError("plimsoll_graph_inflow: no water graph or no pose");
             return 0;
         }
+        constexpr const char* kCall = "plimsoll_graph_inflow";
+        if (!checkPose(kCall, pose) || !checkWater(kCall, water) || !checkTime(kCall, time)) return 0;
         const NodeInflow r = bundle->bundle->graph()->inflow(toPose(*pose), toWater(water), time);
         for (std::size_t i = 0; i < r.inflow.size(); ++i) {
             if (inflow) inflow[i] = r.inflow[i];
@@ -228,10 +518,12 @@ int plimsoll_graph_inflow(const plimsoll_bundle* bundle, const plimsoll_pose* po
 int plimsoll_graph_step(plimsoll_bundle* bundle, const plimsoll_pose* pose,
                         const plimsoll_water* water, double time, double dt) {
     try {
-        if (!hasGraph(bundle) || !pose || !(dt >= 0)) {
-            setError("plimsoll_graph_step: no water graph, no pose or dt < 0");
+        if (!hasGraph(bundle) || !pose || !(dt >= 0) || !std::isfinite(dt)) {
+            setError("plimsoll_graph_step: no water graph, no pose, or dt not finite and >= 0");
             return -1;
         }
+        constexpr const char* kCall = "plimsoll_graph_step";
+        if (!checkPose(kCall, pose) || !checkWater(kCall, water) || !checkTime(kCall, time)) return -1;
         return bundle->bundle->graph()->step(toPose(*pose), toWater(water), time, dt) ? 1 : 0;
     } catch (const std::exception& e) {
         setError(std::string("plimsoll_graph_step: ") + e.what());
@@ -240,12 +532,178 @@ int plimsoll_graph_step(plimsoll_bundle* bundle, const plimsoll_pose* pose,
 }
 
 plimsoll_mass plimsoll_graph_water_mass(const plimsoll_bundle* bundle, const double orientation[4]) {
-    if (!hasGraph(bundle) || !orientation) return plimsoll_mass{};
+    if (!hasGraph(bundle) || !orientation) {
+        setError("plimsoll_graph_water_mass: no water graph or orientation is NULL");
+        return plimsoll_mass{};
+    }
+    if (!checkOrientation("plimsoll_graph_water_mass", orientation)) return plimsoll_mass{};
     try {
         return toC(bundle->bundle->graph()->waterMass(
             {orientation[0], orientation[1], orientation[2], orientation[3]}));
     } catch (const std::exception&) {
         return plimsoll_mass{};
+    }
+}
+
+int plimsoll_bundle_bounds(const plimsoll_bundle* bundle, double min[3], double max[3]) {
+    if (!bundle || !min || !max) return refuse("plimsoll_bundle_bounds", "an argument is NULL");
+    const auto& samples = bundle->bundle->samples();
+    if (samples.empty()) return refuse("plimsoll_bundle_bounds", "the bundle has no samples");
+    Vec3 lo = samples.front().position, hi = lo;
+    for (const Sample& s : samples) {
+        lo = {std::min(lo.x, s.position.x), std::min(lo.y, s.position.y), std::min(lo.z, s.position.z)};
+        hi = {std::max(hi.x, s.position.x), std::max(hi.y, s.position.y), std::max(hi.z, s.position.z)};
+    }
+    copy(lo, min);
+    copy(hi, max);
+    return 1;
+}
+
+int plimsoll_bundle_water_load(const plimsoll_bundle* bundle, const plimsoll_pose* pose,
+                               const plimsoll_velocity* velocity, const plimsoll_water* water,
+                               const plimsoll_fluid* fluid, double time, double dt,
+                               plimsoll_load* out) {
+    constexpr const char* kCall = "plimsoll_bundle_water_load";
+    try {
+        if (!bundle || !pose || !fluid || !out) return refuse(kCall, "a required argument is NULL");
+        if (!checkEvaluation(kCall, pose, velocity, fluid) || !checkWater(kCall, water) ||
+            !checkTime(kCall, time))
+            return 0;
+        if (!(dt > 0) || !std::isfinite(dt)) return refuse(kCall, "dt must be finite and > 0");
+        const char* failure = computeLoad(*bundle->bundle, *pose, velocity, water, *fluid, time, dt, *out);
+        if (failure) return refuse(kCall, failure);
+        return 1;
+    } catch (const std::exception& e) {
+        return refuse(kCall, e.what());
+    }
+}
+
+int plimsoll_body_step(plimsoll_bundle* bundle, plimsoll_body_state* state,
+                       const plimsoll_water* water, const plimsoll_fluid* fluid, double time,
+                       double dt) {
+    constexpr const char* kCall = "plimsoll_body_step";
+    try {
+        if (!bundle || !state || !fluid) return refuse(kCall, "a required argument is NULL");
+        if (!checkEvaluation(kCall, &state->pose, &state->velocity, fluid) || !checkWater(kCall, water) ||
+            !checkTime(kCall, time))
+            return 0;
+        if (!(dt > 0) || !std::isfinite(dt)) return refuse(kCall, "dt must be finite and > 0");
+        BodyState s{toPose(state->pose), toVelocity(&state->velocity)};
+        bool nonFiniteWater = false;
+        stepBody(*bundle->bundle, s, toWater(water, &nonFiniteWater), toFluid(*fluid), time, dt);
+        if (nonFiniteWater) return refuse(kCall, "the water height or velocity callback returned NaN or Inf");
+        const double next[13] = {s.pose.position.x, s.pose.position.y, s.pose.position.z,
+                                 s.pose.orientation.w, s.pose.orientation.x, s.pose.orientation.y,
+                                 s.pose.orientation.z, s.velocity.linear.x, s.velocity.linear.y,
+                                 s.velocity.linear.z, s.velocity.angular.x, s.velocity.angular.y,
+                                 s.velocity.angular.z};
+        if (!allFinite(next, 13)) return refuse(kCall, "the new state is not finite (state left as it was)");
+        copy(s.pose.position, state->pose.position);
+        state->pose.orientation[0] = s.pose.orientation.w;
+        state->pose.orientation[1] = s.pose.orientation.x;
+        state->pose.orientation[2] = s.pose.orientation.y;
+        state->pose.orientation[3] = s.pose.orientation.z;
+        copy(s.velocity.linear, state->velocity.linear);
+        copy(s.velocity.angular, state->velocity.angular);
+        return 1;
+    } catch (const std::exception& e) {
+        return refuse(kCall, e.what());
+    }
+}
+
+plimsoll_batch* plimsoll_batch_create(const plimsoll_batch_desc* desc) {
+    try {
+        if (desc && desc->struct_size < sizeof(plimsoll_batch_desc)) {
+            setError("plimsoll_batch_create: desc->struct_size is not sizeof(plimsoll_batch_desc)");
+            return nullptr;
+        }
+        if (desc && (desc->enqueue != nullptr) != (desc->finish != nullptr)) {
+            setError("plimsoll_batch_create: give both enqueue and finish, or neither");
+            return nullptr;
+        }
+        if (desc && desc->thread_count < 0) {
+            setError("plimsoll_batch_create: thread_count must be >= 0");
+            return nullptr;
+        }
+        auto batch = std::make_unique<plimsoll_batch>();
+        int threads = desc ? desc->thread_count : 0;
+        if (desc && desc->enqueue) {
+            batch->tasks.enqueue = desc->enqueue;
+            batch->tasks.finish = desc->finish;
+            batch->tasks.userContext = desc->user_context;
+            batch->tasks.workerCount = std::max(1, desc->worker_count);
+            threads = 1;  // the pool is not used
+        }
+        if (threads == 0) threads = static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
+        batch->pool = std::make_unique<plimsoll_eval::ThreadPool>(threads);
+        return batch.release();
+    } catch (const std::exception& e) {
+        setError(std::string("plimsoll_batch_create: ") + e.what());
+        return nullptr;
+    }
+}
+
+void plimsoll_batch_free(plimsoll_batch* batch) { delete batch; }
+
+int plimsoll_batch_evaluate(plimsoll_batch* batch, size_t count,
+                            const plimsoll_bundle* const* bodies, const plimsoll_pose* poses,
+                            const plimsoll_velocity* velocities, const plimsoll_water* water,
+                            const plimsoll_fluid* fluid, double time, plimsoll_forces* out) {
+    constexpr const char* kCall = "plimsoll_batch_evaluate";
+    try {
+        if (!checkBatch(kCall, batch, count, bodies, poses, velocities, out, water, fluid, time)) return 0;
+        return runBatch(*batch, kCall, count, [&](std::size_t i) {
+            const Bundle& b = *bodies[i]->bundle;
+            const plimsoll_fluid f = fluid ? *fluid : defaultFluid(b);
+            return computeForces(b, poses[i], velocities ? &velocities[i] : nullptr, water, f, time, out[i]);
+        }) ? 1 : 0;
+    } catch (const std::exception& e) {
+        return refuse(kCall, e.what());
+    }
+}
+
+int plimsoll_batch_water_load(plimsoll_batch* batch, size_t count,
+                              const plimsoll_bundle* const* bodies, const plimsoll_pose* poses,
+                              const plimsoll_velocity* velocities, const plimsoll_water* water,
+                              const plimsoll_fluid* fluid, double time, double dt, plimsoll_load* out) {
+    constexpr const char* kCall = "plimsoll_batch_water_load";
+    try {
+        if (!checkBatch(kCall, batch, count, bodies, poses, velocities, out, water, fluid, time)) return 0;
+        if (!(dt > 0) || !std::isfinite(dt)) return refuse(kCall, "dt must be finite and > 0");
+        return runBatch(*batch, kCall, count, [&](std::size_t i) {
+            const Bundle& b = *bodies[i]->bundle;
+            const plimsoll_fluid f = fluid ? *fluid : defaultFluid(b);
+            return computeLoad(b, poses[i], velocities ? &velocities[i] : nullptr, water, f, time, dt, out[i]);
+        }) ? 1 : 0;
+    } catch (const std::exception& e) {
+        return refuse(kCall, e.what());
+    }
+}
+
+int plimsoll_batch_graph_step(plimsoll_batch* batch, size_t count, plimsoll_bundle* const* bodies,
+                              const plimsoll_pose* poses, const plimsoll_water* water, double time,
+                              double dt, int* moved) {
+    constexpr const char* kCall = "plimsoll_batch_graph_step";
+    try {
+        if (!batch || (count > 0 && (!bodies || !poses)))
+            return refuse(kCall, "batch, bodies or poses is NULL");
+        if (count > static_cast<size_t>(INT32_MAX)) return refuse(kCall, "more than 2^31 - 1 bodies");
+        if (!checkWater(kCall, water) || !checkTime(kCall, time)) return 0;
+        if (!(dt >= 0) || !std::isfinite(dt)) return refuse(kCall, "dt must be finite and >= 0");
+        if (!checkBodies(kCall, count, bodies, poses, nullptr)) return 0;
+        // Two items stepping one graph would race on its state.
+        std::vector<const plimsoll_bundle*> sorted(bodies, bodies + count);
+        std::sort(sorted.begin(), sorted.end());
+        if (std::adjacent_find(sorted.begin(), sorted.end()) != sorted.end())
+            return refuse(kCall, "a bundle appears twice (each graph steps once per call)");
+        return runBatch(*batch, kCall, count, [&](std::size_t i) -> const char* {
+            WaterGraph* graph = bodies[i]->bundle->graph();
+            const bool changed = graph && graph->step(toPose(poses[i]), toWater(water), time, dt);
+            if (moved) moved[i] = changed ? 1 : 0;
+            return nullptr;
+        }) ? 1 : 0;
+    } catch (const std::exception& e) {
+        return refuse(kCall, e.what());
     }
 }
 

@@ -1,110 +1,93 @@
-// Buoyancy, pressure and drag over the bundle's sample list: a line-for-line port of the
-// engine's evaluateBuoyancyReference (engine/src/buoyancy_reference.cpp) and finishBuoyancy,
-// so the conformance test can hold the two to rounding (tests/test_runtime_conformance.cpp).
+// Buoyancy, pressure and drag over the bundle's sample list: the engine's fast CPU path,
+// compiled from the shared evaluation core (plimsoll_eval/fast.hpp), so that a bundle floats
+// here exactly as in the engine (tests/runtime/test_runtime_conformance.cpp holds the two
+// equal).
 #include "plimsoll_runtime/runtime.hpp"
 
 #include "vec.hpp"
 
-#include <algorithm>
-#include <cmath>
+#include "plimsoll_eval/entry.hpp"
+#include "plimsoll_eval/fast.hpp"
 
 namespace plimsoll_runtime {
 
-void rotationMatrix(const Quat& q, double R[3][3]) {
-    // Eigen's QuaternionBase::toRotationMatrix, term for term.
-    const double tx = 2 * q.x, ty = 2 * q.y, tz = 2 * q.z;
-    const double twx = tx * q.w, twy = ty * q.w, twz = tz * q.w;
-    const double txx = tx * q.x, txy = ty * q.x, txz = tz * q.x;
-    const double tyy = ty * q.y, tyz = tz * q.y, tzz = tz * q.z;
-    R[0][0] = 1 - (tyy + tzz);
-    R[0][1] = txy - twz;
-    R[0][2] = txz + twy;
-    R[1][0] = txy + twz;
-    R[1][1] = 1 - (txx + tzz);
-    R[1][2] = tyz - twx;
-    R[2][0] = txz - twy;
-    R[2][1] = tyz + twx;
-    R[2][2] = 1 - (txx + tyy);
-}
+namespace ev = plimsoll_eval;
 
 namespace {
 
-/// The share of an entry under water, for drag and wetted area (kernels/buoyancy.cl wetShare).
-double wetShare(double depth, const Vec3& a, double area) {
-    const double length2 = dot(a, a);
-    const double upright = length2 > 0 ? a.y * a.y / length2 : 1.0;
-    const double extent = std::sqrt(area * std::max(0.0, 1.0 - upright));
-    if (extent <= 0) return depth > 0 ? 1.0 : 0.0;
-    return std::clamp(0.5 + depth / extent, 0.0, 1.0);
+void callerHeights(const void* context, std::size_t n, const double* x, const double* z,
+                   double time, double* out) {
+    const Water& water = *static_cast<const Water*>(context);
+    if (water.heights) return water.heights(n, x, z, time, out);
+    for (std::size_t i = 0; i < n; ++i) out[i] = water.height(x[i], z[i], time);
+}
+
+ev::Vec3 callerVelocity(const void* context, const ev::Vec3& point, double time) {
+    return toEval(static_cast<const Water*>(context)->velocity(fromEval(point), time));
 }
 
 }  // namespace
 
+void rotationMatrix(const Quat& q, double R[3][3]) {
+    const ev::Mat3 m = ev::rotationMatrix({q.w, q.x, q.y, q.z});
+    for (int i = 0; i < 3; ++i)
+        for (int j = 0; j < 3; ++j) R[i][j] = m.m[i][j];
+}
+
+const ev::FastBody& Bundle::fastBody() const {
+    std::call_once(fastOnce_, [this] {
+        auto body = std::make_shared<ev::FastBody>();
+        body->build(
+            samples_.size(),
+            [this](std::size_t i, ev::Vec3& p, ev::Vec3& a, double& area) {
+                p = toEval(samples_[i].position);
+                a = toEval(samples_[i].areaVector);
+                area = samples_[i].area;
+            },
+            toEval(mass_.centerOfMass));
+        fast_ = std::move(body);
+    });
+    return *fast_;
+}
+
 Forces Bundle::evaluate(const Pose& pose, const Velocity& velocity, const Water& water,
                         const Fluid& fluid, double time) const {
-    double R[3][3];
-    rotationMatrix(pose.orientation, R);
-    const Vec3 com = mass_.centerOfMass;
-    const Vec3 c = mul(R, com) + pose.position;
-    const double rhoG = fluid.density * fluid.gravity;
-    const double halfRhoCd = 0.5 * fluid.density * fluid.dragCoefficient;
-    const double halfRhoCf = 0.5 * fluid.density * fluid.frictionCoefficient;
-    double volume = 0;
-    Vec3 moment, pressureF, pressureT, dragF, dragT;
-    double wetted = 0;
-    std::size_t count = 0;
-    for (const Sample& s : samples_) {
-        const Vec3 r = mul(R, s.position - com);
-        const Vec3 world = c + r;
-        const double f = water.heightAt(world.x, world.z, time) - c.y;
-        const double depth = f - r.y;
-        const Vec3 a = mul(R, s.areaVector);
-        const double wet = wetShare(depth, a, s.area);
-        if (wet <= 0) continue;
-        if (depth > 0) {
-            volume -= a.y * depth;
-            moment.x -= a.y * r.x * depth;
-            moment.y += a.y * 0.5 * (r.y * r.y - f * f);
-            moment.z -= a.y * r.z * depth;
-            const Vec3 force = -(rhoG * depth) * a;
-            pressureF += force;
-            pressureT += cross(r, force);
-            ++count;
-        }
-        wetted += wet * s.area;
-        Vec3 v = velocity.linear + cross(velocity.angular, r);
-        if (water.velocity) v -= water.velocity(world, time);
-        const double speed = norm(v);
-        Vec3 drag;
-        if (speed > 0) {
-            const double facing = dot(a, v) / speed;
-            if (facing > 0) drag -= (wet * halfRhoCd * facing * speed) * v;
-            if (halfRhoCf > 0 && s.area > 0) {
-                const Vec3 n = (1.0 / std::max(norm(a), 1e-30)) * a;
-                const Vec3 tangential = v - dot(v, n) * n;
-                drag -= (wet * halfRhoCf * s.area * norm(tangential)) * tangential;
-            }
-        }
-        dragF += drag;
-        dragT += cross(r, drag);
+    ev::BodyState state;
+    state.rotation = ev::rotationMatrix(
+        {pose.orientation.w, pose.orientation.x, pose.orientation.y, pose.orientation.z});
+    state.center = state.rotation * toEval(mass_.centerOfMass) + toEval(pose.position);
+    state.linear = toEval(velocity.linear);
+    state.angular = toEval(velocity.angular);
+    state.time = time;
+    ev::WaterSurface surface = ev::WaterSurface::flat(water.level);
+    if (water.height || water.heights) {
+        surface.context = &water;
+        surface.heights = callerHeights;
+        surface.minHeight = water.minHeight;
+        surface.maxHeight = water.maxHeight;
     }
+    if (water.velocity) {
+        surface.context = &water;
+        surface.velocity = callerVelocity;
+    }
+    ev::Coefficients k;
+    k.rhoG = fluid.density * fluid.gravity;
+    k.halfRhoCd = 0.5 * fluid.density * fluid.dragCoefficient;
+    k.halfRhoCf = 0.5 * fluid.density * fluid.frictionCoefficient;
+    // Per thread: sized on a thread's first call, reused after.
+    thread_local ev::FastScratch scratch;
+    const ev::Forces f = ev::finish(fastBody().evaluate(state, surface, k, scratch), state.center, k.rhoG);
     Forces out;
-    out.submergedVolume = volume;
-    out.centerOfBuoyancy = c;
-    // A body that only grazes the water can sum to a volume of zero or slightly below: no
-    // Archimedes force then, and no division by it (as the engine).
-    if (volume > 0 && std::isfinite(volume)) {
-        const Vec3 offset{moment.x / volume, moment.y / volume, moment.z / volume};
-        if (finite(offset)) out.centerOfBuoyancy = c + offset;
-        out.force = {0, fluid.density * fluid.gravity * volume, 0};
-        out.torque = cross(out.centerOfBuoyancy - c, out.force);
-    }
-    out.pressureForce = pressureF;
-    out.pressureTorque = pressureT;
-    out.dragForce = dragF;
-    out.dragTorque = dragT;
-    out.wettedArea = wetted;
-    out.submergedSamples = count;
+    out.submergedVolume = f.submergedVolume;
+    out.centerOfBuoyancy = fromEval(f.centerOfBuoyancy);
+    out.force = fromEval(f.force);
+    out.torque = fromEval(f.torque);
+    out.pressureForce = fromEval(f.pressureForce);
+    out.pressureTorque = fromEval(f.pressureTorque);
+    out.dragForce = fromEval(f.dragForce);
+    out.dragTorque = fromEval(f.dragTorque);
+    out.wettedArea = f.wettedArea;
+    out.submergedSamples = f.submergedSamples;
     return out;
 }
 

@@ -1,8 +1,10 @@
 #include "json.hpp"
 
+#include <algorithm>
 #include <charconv>
 #include <cmath>
 #include <cstdint>
+#include <unordered_set>
 
 namespace plimsoll_runtime::json {
 
@@ -30,6 +32,8 @@ namespace {
 
 /// Nesting deeper than this is refused: a hostile file cannot overflow the stack.
 constexpr int kMaxDepth = 256;
+/// Objects with fewer members than this look for a repeated name by a scan (no allocation).
+constexpr std::size_t kScanMembers = 16;
 
 class Parser {
 public:
@@ -104,14 +108,26 @@ private:
             ++pos_;
             return true;
         }
+        std::unordered_set<std::string> seen;
         for (;;) {
             skipSpace();
             if (pos_ >= s_.size() || s_[pos_] != '"') return fail("expected a member name");
             std::string key;
             if (!string(key)) return false;
-            for (const auto& member : out.object) {
-                if (member.first == key) return fail("duplicate member \"" + key + "\"");
+            // A scan of the members so far for small objects; past a few, a set (a scan per
+            // member made an object of a million members cost 5e11 comparisons).
+            bool repeated = false;
+            if (out.object.size() < kScanMembers) {
+                repeated = std::any_of(out.object.begin(), out.object.end(),
+                                       [&](const auto& m) { return m.first == key; });
+                if (!repeated && out.object.size() + 1 == kScanMembers) {
+                    for (const auto& m : out.object) seen.insert(m.first);
+                    seen.insert(key);
+                }
+            } else {
+                repeated = !seen.insert(key).second;
             }
+            if (repeated) return fail("duplicate member \"" + key + "\"");
             skipSpace();
             if (pos_ >= s_.size() || s_[pos_] != ':') return fail("expected ':'");
             ++pos_;

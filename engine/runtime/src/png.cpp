@@ -16,6 +16,21 @@ std::uint32_t be32(const std::string& s, std::size_t at) {
            std::uint32_t(static_cast<unsigned char>(s[at + 3]));
 }
 
+/// A chunk type for messages: its four letters, or hex where a byte is not a letter (a cut or
+/// corrupt "IEND" once printed as "IEN").
+std::string chunkName(const std::string& type) {
+    static const char kHex[] = "0123456789abcdef";
+    bool letters = type.size() == 4;
+    for (char c : type) letters = letters && ((c >= 'A' && c <= 'Z') || (c >= 'a' && c <= 'z'));
+    if (letters) return type;
+    std::string hex = "0x";
+    for (char c : type) {
+        hex += kHex[static_cast<unsigned char>(c) >> 4];
+        hex += kHex[static_cast<unsigned char>(c) & 15];
+    }
+    return hex;
+}
+
 int paeth(int a, int b, int c) {
     const int p = a + b - c;
     const int pa = std::abs(p - a), pb = std::abs(p - b), pc = std::abs(p - c);
@@ -38,7 +53,7 @@ bool decodePng(const std::string& bytes, GreyImage& out, std::string& error) {
     bool sawEnd = false;
     while (at + 12 <= bytes.size()) {
         const std::uint32_t length = be32(bytes, at);
-        const std::string type = bytes.substr(at + 4, 4);
+        const std::string type = chunkName(bytes.substr(at + 4, 4));
         if (length > bytes.size() - at - 12) {
             error = "PNG chunk " + type + " runs past the end of the file (truncated)";
             return false;
@@ -51,7 +66,11 @@ bool decodePng(const std::string& bytes, GreyImage& out, std::string& error) {
             error = "PNG chunk " + type + " fails its CRC (corrupt)";
             return false;
         }
-        if (type == "IHDR" && length >= 13) {
+        if ((at == 8) != (type == "IHDR") || (type == "IHDR" && length != 13)) {
+            error = "PNG does not start with its 13-byte IHDR chunk (found " + type + ")";
+            return false;
+        }
+        if (type == "IHDR") {
             width = be32(bytes, data);
             height = be32(bytes, data + 4);
             depth = static_cast<unsigned char>(bytes[data + 8]);
@@ -81,26 +100,49 @@ bool decodePng(const std::string& bytes, GreyImage& out, std::string& error) {
             return false;
     }
     if ((depth != 8 && depth != 16) || interlace != 0 || width == 0 || height == 0 ||
-        width > 32768 || height > 32768) {
-        error = "PNG must be non-interlaced, 8 or 16 bits, at most 32768 x 32768";
+        width > kMaxPngSide || height > kMaxPngSide) {
+        error = "PNG is " + std::to_string(width) + " x " + std::to_string(height) + ", " +
+                std::to_string(depth) + " bits" + (interlace ? ", interlaced" : "") +
+                ": it must be non-interlaced, 8 or 16 bits, at most " + std::to_string(kMaxPngSide) +
+                " x " + std::to_string(kMaxPngSide);
         return false;
     }
     const std::size_t bpp = static_cast<std::size_t>(channels) * (depth / 8);
     const std::size_t stride = bpp * width;
-    std::vector<unsigned char> raw((stride + 1) * height);
-    uLongf rawSize = static_cast<uLongf>(raw.size());
-    const int z = uncompress(raw.data(), &rawSize, reinterpret_cast<const Bytef*>(idat.data()),
-                             static_cast<uLong>(idat.size()));
-    if (z != Z_OK || rawSize != raw.size()) {
-        error = "PNG image data does not inflate to " + std::to_string(raw.size()) + " bytes";
+    // Deflate shrinks at most ~1032:1, so compressed data too short for the declared image is
+    // refused before anything of the image's size is allocated (a 0.5 MB file declaring
+    // gigabytes). Rows are inflated one at a time: no buffer of the whole raw image.
+    const double rawBytes = double(stride + 1) * height;
+    if (rawBytes > 1100.0 * double(idat.size()) + 1024.0) {
+        error = "PNG declares " + std::to_string(width) + " x " + std::to_string(height) +
+                " pixels, more than its " + std::to_string(idat.size()) +
+                " bytes of image data can hold (corrupt or a decompression bomb)";
         return false;
     }
-    std::vector<unsigned char> previous(stride, 0), row(stride);
+    z_stream z{};
+    if (inflateInit(&z) != Z_OK) {
+        error = "PNG: cannot start inflating";
+        return false;
+    }
+    z.next_in = reinterpret_cast<Bytef*>(idat.data());
+    z.avail_in = static_cast<uInt>(idat.size());
+    std::vector<unsigned char> line(stride + 1), previous(stride, 0), row(stride);
     out.width = static_cast<int>(width);
     out.height = static_cast<int>(height);
     out.values.resize(static_cast<std::size_t>(width) * height);
-    for (std::uint32_t y = 0; y < height; ++y) {
-        const unsigned char* line = raw.data() + y * (stride + 1);
+    bool ok = true;
+    for (std::uint32_t y = 0; y < height && ok; ++y) {
+        z.next_out = line.data();
+        z.avail_out = static_cast<uInt>(line.size());
+        while (z.avail_out > 0) {
+            const int status = inflate(&z, Z_NO_FLUSH);
+            if (status == Z_OK || (status == Z_STREAM_END && z.avail_out == 0)) continue;
+            error = "PNG image data ends or breaks at row " + std::to_string(y) + " of " +
+                    std::to_string(height) + " (truncated or corrupt)";
+            ok = false;
+            break;
+        }
+        if (!ok) break;
         const int filter = line[0];
         for (std::size_t i = 0; i < stride; ++i) {
             const int x = line[1 + i];
@@ -117,10 +159,12 @@ bool decodePng(const std::string& bytes, GreyImage& out, std::string& error) {
                 default:
                     error = "PNG row " + std::to_string(y) + " has an unknown filter " +
                             std::to_string(filter);
-                    return false;
+                    ok = false;
             }
+            if (!ok) break;
             row[i] = static_cast<unsigned char>(v & 0xFF);
         }
+        if (!ok) break;
         for (std::uint32_t x = 0; x < width; ++x) {
             const unsigned char* p = row.data() + x * bpp;
             // 8-bit values widen to 16 bits as v * 257 (stb's stbi_load_16 does the same).
@@ -129,7 +173,9 @@ bool decodePng(const std::string& bytes, GreyImage& out, std::string& error) {
         }
         previous.swap(row);
     }
-    return true;
+    inflateEnd(&z);
+    if (!ok) out.values.clear();
+    return ok;
 }
 
 }  // namespace plimsoll_runtime

@@ -8,6 +8,9 @@
 
 namespace plimsoll_runtime {
 
+/// Largest side read: the engine's kMaxPaintedMapSide (limits.h), which its exporter keeps to.
+constexpr unsigned kMaxPngSide = 8192;
+
 struct GreyImage {
     int width = 0, height = 0;
     std::vector<float> values;   ///< row 0 at the top (v = 1), 0..1 (v / 65535 or v / 255)

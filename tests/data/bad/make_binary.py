@@ -25,3 +25,26 @@ with open("ply_binary_truncated.ply", "wb") as f:
 # GLB whose header says 4000 bytes, cut after its 12-byte header and a partial chunk header.
 with open("glb_truncated.glb", "wb") as f:
     f.write(b"glTF" + struct.pack("<II", 2, 4000) + struct.pack("<I", 3000) + b"JS")
+
+# Binary PLY of a tetrahedron whose second face names vertex 1000000 (assimp: SIGSEGV).
+with open("ply_binary_index_past_end.ply", "wb") as f:
+    f.write(b"ply\nformat binary_little_endian 1.0\ncomment bad-input corpus: index past the end\n"
+            b"element vertex 4\nproperty float x\nproperty float y\nproperty float z\n"
+            b"element face 2\nproperty list uchar int vertex_indices\nend_header\n")
+    f.write(struct.pack("<12f", 0, 0, 0, 1, 0, 0, 0, 1, 0, 0, 0, 1))
+    f.write(struct.pack("<B3i", 3, 0, 2, 1) + struct.pack("<B3i", 3, 0, 1, 1_000_000))
+
+# GLB of 60 bytes whose JSON chunk claims 4 GB (assimp allocated it, then gave up).
+with open("glb_huge_chunk.glb", "wb") as f:
+    body = b'{"asset":{"version":"2.0"}}    '
+    f.write(b"glTF" + struct.pack("<II", 2, 12 + 8 + len(body)))
+    f.write(struct.pack("<II", 0xFFFFFFF0, 0x4E4F534A) + body)
+
+# A 16-bit grey PNG of 16 x 16 pixels whose header declares 16384 x 16384 (512 MB decoded).
+import zlib
+def png_chunk(kind, data):
+    return struct.pack(">I", len(data)) + kind + data + struct.pack(">I", zlib.crc32(kind + data))
+with open("png_huge_declared.png", "wb") as f:
+    raw = b"".join(b"\0" + b"\x80\x00" * 16 for _ in range(16))
+    f.write(b"\x89PNG\r\n\x1a\n" + png_chunk(b"IHDR", struct.pack(">IIBBBBB", 16384, 16384, 16, 0, 0, 0, 0))
+            + png_chunk(b"IDAT", zlib.compress(raw)) + png_chunk(b"IEND", b""))

@@ -10,17 +10,30 @@
 // Errors: functions that can fail return bool and fill an std::string; nothing throws.
 #pragma once
 
+#include <cmath>
 #include <cstddef>
 #include <cstdint>
 #include <functional>
 #include <memory>
+#include <mutex>
 #include <string>
 #include <vector>
 
+namespace plimsoll_eval {
+class FastBody;
+}
+
 namespace plimsoll_runtime {
 
-inline constexpr int kSchemaMajor = 1;   ///< bundle schema this reader knows
-inline constexpr int kSchemaMinor = 1;   ///< newest minor it was written for (older: read too)
+/// A version: the library's own (semantic versioning: a minor only adds) or the bundle schema's
+/// (major: readers refuse any other; minor: the newest this reader knows, older ones are read).
+struct Version {
+    int major = 0, minor = 0, patch = 0;
+};
+/// The version of this library (its CMake project version).
+Version runtimeVersion();
+/// The bundle schema this library reads (plimsoll_eval/format.hpp, the exporter's source).
+Version bundleSchemaVersion();
 
 struct Vec3 {
     double x = 0, y = 0, z = 0;
@@ -48,8 +61,19 @@ struct Water {
     double level = 0.0;
     std::function<double(double x, double z, double time)> height;
     std::function<Vec3(const Vec3& point, double time)> velocity;
+    /// Bounds of `height` (m), if known: a body wholly above maxHeight costs nothing.
+    double minHeight = -HUGE_VAL, maxHeight = HUGE_VAL;
+    /// Many heights in one call, out[i] = f(x[i], z[i], time): evaluate() asks for a small grid
+    /// of points per body at once. When set it is used instead of `height`.
+    std::function<void(std::size_t n, const double* x, const double* z, double time, double* out)>
+        heights;
 
     double heightAt(double x, double z, double time) const {
+        if (heights) {
+            double out = level;
+            heights(1, &x, &z, time, &out);
+            return out;
+        }
         return height ? height(x, z, time) : level;
     }
 };
@@ -63,7 +87,7 @@ struct Fluid {
     double frictionCoefficient = 0.0;    ///< C_f of skin friction (0 = off)
 };
 
-/// What evaluate() returns: the engine's BuoyancyResult (plimsoll/buoyancy.h).
+/// What evaluate() returns: the engine's BuoyancyResult (plimsoll/physics/buoyancy.h).
 struct Forces {
     double submergedVolume = 0;          ///< m^3
     Vec3 centerOfBuoyancy;               ///< world, m (the centre of mass when dry)
@@ -140,10 +164,17 @@ struct NodeInflow {
 };
 
 class Bundle;
+struct BundleSource;
 
-/// The water graph of one body and its state (the engine's WaterGraphSimulation).
+/// The water graph of one body and its state: the engine's WaterGraphSimulation, whose step
+/// (plimsoll_eval/graph.hpp) this library compiles too.
 class WaterGraph {
 public:
+    WaterGraph();
+    ~WaterGraph();
+    WaterGraph(const WaterGraph&) = delete;
+    WaterGraph& operator=(const WaterGraph&) = delete;
+
     const std::vector<GraphNode>& nodes() const { return nodes_; }
     const std::vector<GraphPipe>& pipes() const { return pipes_; }
     GraphSettings& settings() { return settings_; }
@@ -163,8 +194,8 @@ public:
 
     void setWater(std::size_t node, double water);
     double storedWater() const;
-    double entered() const { return entered_; }
-    double left() const { return left_; }
+    double entered() const;
+    double left() const;
     /// The water's mass properties (point masses rho v at the nodes, or with freeSurface at
     /// the water's centroid) at this orientation, object space.
     MassProperties waterMass(const Quat& orientation) const;
@@ -173,47 +204,26 @@ public:
 
 private:
     friend class Bundle;
-    friend bool loadBundleImpl(const std::string&, Bundle&, std::string&, bool);
+    friend bool loadBundleImpl(const BundleSource&, Bundle&, std::string&, bool);
     struct Exchange {
         Vec3 position;
         double weight = 0;
         std::uint32_t node = 0;
     };
-    struct Link {
-        std::uint32_t node, pipe;
-    };
-    struct Path {
-        int node = -1;
-        double radius = 0, length = 0;
-    };
+    /// Hands the loaded nodes, pipes and permeable samples to the step (after loading).
     void prepare();
-    double pipeLength(const GraphPipe& pipe) const;
-    double nodeHeight(std::size_t node, const double R[3][3]) const;
-    double level(std::size_t node, const double R[3][3]) const;
-    double volumeAtLevel(std::size_t node, double offset, const double R[3][3]) const;
-    double levelOffsetR(std::size_t node, double water, const double R[3][3]) const;
-    void levelRange(std::size_t node, const double R[3][3], double& lo, double& hi) const;
-    Vec3 waterCentroid(std::size_t node, double water, const double R[3][3]) const;
-    NodeInflow inflowAt(const Pose& pose, const Water& water, double time,
-                        const std::vector<double>& surface) const;
-    bool applyExchange(const Pose& pose, double dt, const NodeInflow& rates);
-    Path findPath(int source, const double R[3][3], const std::vector<double>& levels,
-                  double sourceLevel);
-    bool flowPoiseuille(const double R[3][3], double dt);
-    bool flowDiffusion(double dt);
-    std::uint64_t random();
-    std::uint64_t randomBelow(std::uint64_t n) { return random() % n; }
+    /// Copies the step's water into nodes_ (nodes() reports it).
+    void syncWater();
+    /// Bytes the step's own state holds (for Bundle::memoryBytes).
+    std::uint64_t stepBytes() const;
 
     std::vector<GraphNode> nodes_;
     std::vector<GraphPipe> pipes_;
     GraphSettings settings_;
     std::vector<int> sampleNodes_;
     std::vector<Exchange> exchange_;
-    std::vector<std::vector<Link>> links_;
-    std::vector<double> radius_;
-    std::vector<Vec3> scaledBox_;
-    double entered_ = 0, left_ = 0, initial_ = 0;
-    std::uint64_t rng_ = 1;
+    struct Step;                  ///< the evaluation core's state (graph.cpp)
+    std::unique_ptr<Step> step_;
 };
 
 // ---------------------------------------------------------------------------------------
@@ -243,15 +253,22 @@ public:
     const WaterGraph* graph() const { return graph_.get(); }
     /// Whether the node of each sample came from texel_nodes.exr (else computed).
     bool texelNodesFromFile() const { return texelNodesFromFile_; }
+    /// What the body's bundle ships: the manifest plus every file it lists, in bytes.
+    std::uint64_t fileBytes() const { return fileBytes_; }
+    /// What the loaded body holds in memory after load: the sample list and the water graph
+    /// (not the evaluation tiles the first evaluate() builds).
+    std::uint64_t memoryBytes() const;
 
-    /// Buoyancy, pressure and drag for the body at `pose` moving with `velocity` (the engine's
-    /// evaluateBuoyancyReference, summed over samples.exr).
+    /// Buoyancy, pressure and drag for the body at `pose` moving with `velocity`: the engine's
+    /// fast CPU path over samples.exr (the same code: plimsoll_eval/fast.hpp), whose tiles are
+    /// built on the first call. Thread-safe.
     Forces evaluate(const Pose& pose, const Velocity& velocity, const Water& water,
                     const Fluid& fluid, double time = 0.0) const;
 
 private:
-    friend bool loadBundleImpl(const std::string&, Bundle&, std::string&, bool);
+    friend bool loadBundleImpl(const BundleSource&, Bundle&, std::string&, bool);
     std::string folder_, body_;
+    std::uint64_t fileBytes_ = 0;
     int schemaMajor_ = 0, schemaMinor_ = 0, textureSize_ = 0;
     std::vector<Sample> samples_;
     MassProperties mass_;
@@ -259,14 +276,86 @@ private:
     double linearDamping_ = 0, angularDamping_ = 0;
     std::unique_ptr<WaterGraph> graph_;
     bool texelNodesFromFile_ = false;
+    const plimsoll_eval::FastBody& fastBody() const;
+    mutable std::once_flag fastOnce_;
+    mutable std::shared_ptr<const plimsoll_eval::FastBody> fast_;
 };
 
-/// Loads and checks a bundle folder: the manifest (format, schema major = kSchemaMajor, any
-/// minor), every listed file's size and SHA-256, samples.exr, graph.json, the permeability map
-/// and texel_nodes.exr when present. On failure returns null and sets `error` to a message
-/// naming the file and the problem.
+/// Loads and checks a bundle folder: the manifest (format, schema major =
+/// bundleSchemaVersion().major, any minor), every listed file's size and SHA-256, samples.exr,
+/// graph.json, the permeability map and texel_nodes.exr when present. On failure returns null
+/// and sets `error` to a message naming the file and the problem.
 std::unique_ptr<Bundle> loadBundle(const std::string& folder, std::string& error,
                                    const LoadOptions& options = {});
+
+/// One file of a bundle held in memory: its path inside the bundle ("samples.exr",
+/// "maps/permeability.png") and its bytes, which must outlive the load call only.
+struct MemoryFile {
+    std::string path;
+    const void* data = nullptr;
+    std::size_t size = 0;
+};
+
+/// Loads a bundle whose files are in memory, with the checks of loadBundle: every path inside
+/// the bundle, the same size limits, checksums, non-finite data refused. `name` prefixes the
+/// messages ("name/samples.exr: missing") as the folder does for loadBundle.
+std::unique_ptr<Bundle> loadBundleFromMemory(const std::vector<MemoryFile>& files,
+                                             const std::string& name, std::string& error,
+                                             const LoadOptions& options = {});
+
+/// A bundle's files read through the caller: a pak file, an archive, the engine's own file
+/// system. The loader asks only for paths that stay inside the bundle ('/'-separated, no "..",
+/// not absolute) and checks the size before it allocates.
+struct FileCallbacks {
+    /// Opens `path`; null when there is no such file.
+    std::function<void*(const std::string& path)> open;
+    /// Size of an open file in bytes; negative when it cannot be known.
+    std::function<long long(void* file)> size;
+    /// Reads up to `bytes` bytes at `offset` into `buffer`: how many were read, 0 at the end,
+    /// negative on an error.
+    std::function<long long(void* file, std::uint64_t offset, void* buffer, std::size_t bytes)> read;
+    /// Closes a file open() returned (called once for each).
+    std::function<void(void* file)> close;
+};
+
+/// Loads a bundle through `callbacks`, with the checks of loadBundle.
+std::unique_ptr<Bundle> loadBundleWithCallbacks(const FileCallbacks& callbacks,
+                                                const std::string& name, std::string& error,
+                                                const LoadOptions& options = {});
+
+// ---------------------------------------------------------------------------------------
+// Motion: what a physics engine applies each step, and an integrator for a body on its own
+
+/// What the water does to a body in one step, to add to the physics engine's gravity: forces
+/// at the centre of mass (world axes) and torques about it.
+struct WaterLoad {
+    Vec3 force;        ///< buoyancy + drag + damping + the weight of water inside, N
+    Vec3 torque;       ///< N m
+    Forces forces;     ///< evaluate()'s result the load was made of
+    double waterMass = 0;  ///< kg of water inside (its weight is in `force`)
+};
+
+/// The load on the body at `pose` moving with `velocity`: Archimedes' force and torque,
+/// drag, the manifest's linear and angular damping (scaled by the submerged fraction, at most
+/// what stops the body within `dt`, as the engine's World limits dissipation) and, for a body
+/// with a water graph, the weight of its water at the water's centre of mass. The body's own
+/// weight is not in it (the physics engine's gravity gives that).
+WaterLoad waterLoad(const Bundle& bundle, const Pose& pose, const Velocity& velocity,
+                    const Water& water, const Fluid& fluid, double time, double dt);
+
+/// A body on its own: the world pose of its object origin and the velocity of its centre of mass.
+struct BodyState {
+    Pose pose;
+    Velocity velocity;
+};
+
+/// One semi-implicit Euler step of `dt` for a body with no contacts (gravity along -y of
+/// fluid.gravity, then waterLoad; the water graph, if any, steps first): momenta first, then
+/// position and orientation with the new velocities (angular momentum integrated, so a
+/// tumbling body keeps it). For engines without a physics engine, and the reference adapters
+/// are tested against.
+void stepBody(Bundle& bundle, BodyState& state, const Water& water, const Fluid& fluid,
+              double time, double dt);
 
 /// SHA-256 of `size` bytes as 64 lowercase hex digits (FIPS 180-4).
 std::string sha256Hex(const void* data, std::size_t size);

@@ -1,0 +1,100 @@
+# Fails when a source of the simulation core includes, directly or through any header, a
+# header of assimp, OpenEXR/Imath, nlohmann-json, CGAL, OpenCL, OpenSSL or stb. Each source
+# is preprocessed with its own compile command (compile_commands.json) and -M, which lists
+# every header it really reads; the project headers among them are also scanned line by line,
+# so that an include behind a preprocessor condition that is off in this build counts too.
+# Usage: cmake -DCOMPILE_COMMANDS=build/compile_commands.json -DSOURCE_DIR=engine
+#              -DSOURCES="src/a.cpp|src/b.cpp" -DPROJECT_DIR=. -P check_core_includes.cmake
+set(forbidden_header
+  "(^|/)(assimp|OpenEXR|Imath|nlohmann|CGAL|CL|openssl)/|(^|/)stb_[a-z_]*\\.h$|(^|/)opencl\\.h(pp)?$")
+set(forbidden_include_line
+  "^[ \t]*#[ \t]*include[ \t]*[<\"](assimp|OpenEXR|Imath|nlohmann|CGAL|CL|openssl)/|^[ \t]*#[ \t]*include[ \t]*[<\"]stb_")
+
+if(NOT EXISTS "${COMPILE_COMMANDS}")
+  message(FATAL_ERROR "${COMPILE_COMMANDS} is missing: configure with Ninja or Makefiles and "
+    "CMAKE_EXPORT_COMPILE_COMMANDS=ON")
+endif()
+file(READ "${COMPILE_COMMANDS}" database)
+string(JSON entries LENGTH "${database}")
+math(EXPR last "${entries} - 1")
+foreach(i RANGE ${last})
+  string(JSON file GET "${database}" ${i} file)
+  file(REAL_PATH "${file}" file)
+  string(MD5 key "${file}")
+  set(command_${key} ${i})
+endforeach()
+
+string(REPLACE "|" ";" SOURCES "${SOURCES}")
+set(problems "")
+set(project_headers "")
+set(checked 0)
+foreach(source IN LISTS SOURCES)
+  if(NOT source MATCHES "\\.cpp$")
+    continue()
+  endif()
+  file(REAL_PATH "${source}" path BASE_DIRECTORY "${SOURCE_DIR}")
+  string(MD5 key "${path}")
+  if(NOT DEFINED command_${key})
+    list(APPEND problems "${path}: not in ${COMPILE_COMMANDS}")
+    continue()
+  endif()
+  set(i ${command_${key}})
+  string(JSON directory GET "${database}" ${i} directory)
+  string(JSON command ERROR_VARIABLE no_command GET "${database}" ${i} command)
+  if(no_command)
+    message(FATAL_ERROR "${COMPILE_COMMANDS}: entry ${i} has no \"command\"")
+  endif()
+  separate_arguments(arguments UNIX_COMMAND "${command}")
+  # Keep the compiler and its flags; drop the output and depfile options, list the headers.
+  set(preprocess "")
+  set(skip_next FALSE)
+  foreach(argument IN LISTS arguments)
+    if(skip_next)
+      set(skip_next FALSE)
+    elseif(argument MATCHES "^-(o|MF|MT|MQ)$")
+      set(skip_next TRUE)
+    elseif(NOT argument MATCHES "^-(c|MD|MMD)$")
+      list(APPEND preprocess "${argument}")
+    endif()
+  endforeach()
+  execute_process(COMMAND ${preprocess} -M
+    WORKING_DIRECTORY "${directory}" OUTPUT_VARIABLE dependencies ERROR_VARIABLE errors
+    RESULT_VARIABLE rc)
+  if(NOT rc EQUAL 0)
+    list(APPEND problems "${path}: preprocessing failed: ${errors}")
+    continue()
+  endif()
+  math(EXPR checked "${checked} + 1")
+  string(REPLACE "\\\n" " " dependencies "${dependencies}")
+  string(REGEX REPLACE "^[^:]*:" "" dependencies "${dependencies}")
+  separate_arguments(headers UNIX_COMMAND "${dependencies}")
+  set(reported FALSE)
+  foreach(header IN LISTS headers)
+    # The first forbidden header names the way in; the ones it includes in turn add nothing.
+    if(NOT reported AND header MATCHES "${forbidden_header}")
+      list(APPEND problems "${path} includes ${header}")
+      set(reported TRUE)
+    endif()
+    file(REAL_PATH "${header}" header BASE_DIRECTORY "${directory}")
+    cmake_path(IS_PREFIX PROJECT_DIR "${header}" NORMALIZE inside)
+    if(inside)
+      list(APPEND project_headers "${header}")
+    endif()
+  endforeach()
+endforeach()
+
+list(REMOVE_DUPLICATES project_headers)
+foreach(file IN LISTS project_headers)
+  file(STRINGS "${file}" lines REGEX "${forbidden_include_line}")
+  foreach(line IN LISTS lines)
+    list(APPEND problems "${file}: ${line}")
+  endforeach()
+endforeach()
+
+if(problems)
+  list(JOIN problems "\n  " text)
+  message(FATAL_ERROR "the simulation core (plimsoll_core) reaches headers it must not:\n  ${text}")
+endif()
+list(LENGTH project_headers scanned)
+message(STATUS "plimsoll_core: ${checked} sources and ${scanned} project files include none of "
+  "assimp, OpenEXR, nlohmann-json, CGAL, OpenCL, OpenSSL, stb")

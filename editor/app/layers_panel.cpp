@@ -1,0 +1,159 @@
+// The Layers panel: the selected body's map of the current channel as a stack, top layer first
+// as painting tools list them. Every change is a command of command.h (one undo step each; a
+// slider is one step when it is let go). The active layer (or its mask) is what strokes and
+// fills change.
+#include "app/panels.h"
+
+#include "document/command.h"
+
+#include <imgui.h>
+
+#include <string>
+
+namespace plimsoll::editor {
+
+void drawLayersPanel(EditorState& s, const Rect& area) {
+    ImGui::SetNextWindowPos(ImVec2(area.x, area.y));
+    ImGui::SetNextWindowSize(ImVec2(area.w, area.h));
+    ImGui::Begin("Layers", nullptr,
+                 ImGuiWindowFlags_NoMove | ImGuiWindowFlags_NoResize | ImGuiWindowFlags_NoCollapse);
+    const bool hasBody = s.selectedBody >= 0 &&
+                         static_cast<std::size_t>(s.selectedBody) < s.document->bodyCount();
+    const std::size_t body = hasBody ? static_cast<std::size_t>(s.selectedBody) : 0;
+    if (!hasBody || !s.document->map(body, s.channel)) {
+        ImGui::TextWrapped("No %s map on this body yet: paint on it, or use \"New map\".",
+                           channelName(s.channel));
+        ImGui::End();
+        return;
+    }
+    const LayerStack* stack = s.document->layers(body, s.channel);
+    const int count = stack ? static_cast<int>(stack->layers.size()) : 1;
+    if (s.activeLayer >= count || s.activeLayer < 0) s.activeLayer = count - 1;
+    const int active = s.activeLayer;
+
+    if (ImGui::Button("+ Paint")) {
+        if (s.execute(makeAddLayerCommand(*s.document, body, s.channel, LayerKind::Paint, "", 1.0,
+                                          active + 1))) {
+            s.activeLayer = active + 1;
+            s.paintMask = false;
+        }
+    }
+    if (ImGui::IsItemHovered()) ImGui::SetTooltip("A new paint layer above the active one: clear until painted");
+    ImGui::SameLine();
+    if (ImGui::Button("+ Fill")) {
+        if (s.execute(makeAddLayerCommand(*s.document, body, s.channel, LayerKind::Fill, "",
+                                          s.brush.value, active + 1))) {
+            s.activeLayer = active + 1;
+        }
+    }
+    if (ImGui::IsItemHovered()) ImGui::SetTooltip("A layer of one value (the brush value); give it a mask to place it");
+    ImGui::SameLine();
+    ImGui::BeginDisabled(count < 2);
+    if (ImGui::Button("Delete")) {
+        if (s.execute(makeRemoveLayerCommand(*s.document, body, s.channel, active))) {
+            s.activeLayer = std::max(0, active - 1);
+        }
+    }
+    ImGui::EndDisabled();
+    ImGui::SameLine();
+    ImGui::BeginDisabled(!stack || active + 1 >= count);
+    if (ImGui::ArrowButton("##up", ImGuiDir_Up)) {
+        if (s.execute(makeMoveLayerCommand(*s.document, body, s.channel, active, active + 1))) {
+            s.activeLayer = active + 1;
+        }
+    }
+    ImGui::EndDisabled();
+    ImGui::SameLine();
+    ImGui::BeginDisabled(!stack || active <= 0);
+    if (ImGui::ArrowButton("##down", ImGuiDir_Down)) {
+        if (s.execute(makeMoveLayerCommand(*s.document, body, s.channel, active, active - 1))) {
+            s.activeLayer = active - 1;
+        }
+    }
+    ImGui::EndDisabled();
+
+    if (!stack) {
+        ImGui::TextDisabled("Base (the map; add a layer to stack more)");
+        ImGui::End();
+        return;
+    }
+    // The list, top first.
+    const MapLayer& activeLayer = stack->layers[static_cast<std::size_t>(active)];
+    const float settingRows = activeLayer.kind == LayerKind::Fill ? 3.0f : 2.0f;
+    const float listHeight = std::max(40.0f, ImGui::GetContentRegionAvail().y -
+                                                 settingRows * ImGui::GetFrameHeightWithSpacing());
+    ImGui::BeginChild("##layers", ImVec2(0, listHeight), true);
+    for (int i = count - 1; i >= 0; --i) {
+        const MapLayer& layer = stack->layers[static_cast<std::size_t>(i)];
+        ImGui::PushID(i);
+        bool visible = layer.visible;
+        if (ImGui::Checkbox("##visible", &visible)) {
+            LayerEdit e;
+            e.visible = visible;
+            s.execute(makeSetLayerCommand(*s.document, body, s.channel, i, e));
+        }
+        if (ImGui::IsItemHovered()) ImGui::SetTooltip("Show or hide the layer");
+        ImGui::SameLine();
+        const std::string label = layer.name + "  (" + layerKindName(layer.kind) + ", " +
+                                  blendModeName(layer.blend) + ", " +
+                                  std::to_string(static_cast<int>(layer.opacity * 100 + 0.5f)) + "%" +
+                                  (layer.mask ? ", mask" : "") + ")";
+        if (ImGui::Selectable(label.c_str(), i == active)) {
+            s.activeLayer = i;
+            if (!layer.mask) s.paintMask = false;
+        }
+        ImGui::PopID();
+    }
+    ImGui::EndChild();
+
+    // The active layer's settings.
+    const MapLayer& layer = activeLayer;
+    static_assert(kBlendModeCount == 7);
+    int blend = static_cast<int>(layer.blend);
+    ImGui::SetNextItemWidth(area.w * 0.3f);
+    if (ImGui::Combo("Blend", &blend, "normal\0multiply\0add\0subtract\0screen\0lighten\0darken\0")) {
+        LayerEdit e;
+        e.blend = static_cast<BlendMode>(blend);
+        s.execute(makeSetLayerCommand(*s.document, body, s.channel, active, e));
+    }
+    ImGui::SameLine();
+    LayerSliders& held = s.layerSliders;
+    // A 0..1 slider that shows the value while held and edits the layer once let go.
+    auto slider = [&](const char* label, const char* format, float current, bool& isHeld,
+                      float& heldValue, std::optional<double> LayerEdit::*field) {
+        float value = isHeld ? heldValue : current;
+        ImGui::SetNextItemWidth(area.w * 0.3f);
+        ImGui::SliderFloat(label, &value, 0.0f, 1.0f, format);
+        isHeld = ImGui::IsItemActive();
+        heldValue = value;
+        if (ImGui::IsItemDeactivatedAfterEdit()) {
+            LayerEdit e;
+            e.*field = value;
+            s.execute(makeSetLayerCommand(*s.document, body, s.channel, active, e));
+        }
+    };
+    slider("Opacity", "%.2f", layer.opacity, held.opacityHeld, held.opacity, &LayerEdit::opacity);
+    if (layer.kind == LayerKind::Fill) {
+        slider("Fill value", "%.3f", layer.fillValue, held.fillHeld, held.fill, &LayerEdit::fillValue);
+    }
+    if (!layer.mask) {
+        if (ImGui::Button("Add mask")) {
+            // A fill layer's mask starts empty (nothing shows until painted), a paint layer's
+            // full (it hides nothing until painted out).
+            const double start = layer.kind == LayerKind::Fill ? 0.0 : 1.0;
+            if (s.execute(makeAddMaskCommand(*s.document, body, s.channel, active, start))) {
+                s.paintMask = true;
+            }
+        }
+    } else {
+        ImGui::Checkbox("Paint the mask", &s.paintMask);
+        if (ImGui::IsItemHovered()) ImGui::SetTooltip("Strokes and fills change the mask (1 shows the layer, 0 hides it)");
+        ImGui::SameLine();
+        if (ImGui::Button("Remove mask")) {
+            if (s.execute(makeRemoveMaskCommand(*s.document, body, s.channel, active))) s.paintMask = false;
+        }
+    }
+    ImGui::End();
+}
+
+}  // namespace plimsoll::editor

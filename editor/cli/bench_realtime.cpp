@@ -1,0 +1,474 @@
+// plimsoll bench --realtime: what a body costs per evaluation in the cases users run, with the
+// error beside the time. Scenarios: at rest on flat water, moving (heaving, rolling, drifting)
+// on flat water, moving on the buoy project's two Gerstner waves. Methods: the double-
+// precision reference, the fast CPU path, each OpenCL device, the exact clip against the water
+// plane (flat water only) and the per-triangle clip against each triangle's own water plane
+// through its vertices' heights (Kerner 2015: what a user would pick instead on waves). Bodies:
+// one, and batches of 100 and 1000 on the fast path (1 and 2 threads) and OpenCL.
+//
+// Errors are the largest over the timed poses of max(|dV| / V, |dF| / (rho g V),
+// |dT| / (rho g V R)), F and T the pressure force and torque, against the best reference
+// available: the exact clip on flat water, the reference at the largest size of the run on
+// waves (the exact clip has no wave form).
+#include "cli/bench_realtime.h"
+
+#include "cli/commands.h"
+#include "cli/svg_plot.h"
+#include "plimsoll/bake/bake.h"
+#include "plimsoll/compute/compute.h"
+#include "plimsoll/compute/fast_backend.h"
+#include "plimsoll/io/file_util.h"
+#include "plimsoll/physics/buoyancy.h"
+#include "plimsoll/physics/massprops.h"
+#include "plimsoll/samples/primitives.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <functional>
+#include <iostream>
+#include <map>
+#include <optional>
+#include <vector>
+
+namespace plimsoll::cli {
+
+namespace {
+
+namespace fs = std::filesystem;
+using Clock = std::chrono::steady_clock;
+
+constexpr int kPoses = 24;           ///< distinct poses per scenario, cycled by the timed frames
+constexpr int kReferenceMaxSize = 512;
+constexpr int kBatchSize = 64;
+
+enum class Scenario { RestFlat, MovingFlat, MovingWaves };
+const char* scenarioName(Scenario s) {
+    switch (s) {
+        case Scenario::RestFlat: return "rest, flat";
+        case Scenario::MovingFlat: return "moving, flat";
+        case Scenario::MovingWaves: return "moving, waves";
+    }
+    return "";
+}
+
+const char* scenarioKey(Scenario s) {
+    switch (s) {
+        case Scenario::RestFlat: return "rest";
+        case Scenario::MovingFlat: return "moving";
+        case Scenario::MovingWaves: return "waves";
+    }
+    return "";
+}
+
+/// Whether a filter of the command line lets `value` through (an empty filter lets all).
+bool selected(const std::vector<std::string>& filter, const std::string& value, bool prefix = false) {
+    if (filter.empty()) return true;
+    return std::any_of(filter.begin(), filter.end(), [&](const std::string& f) {
+        return prefix ? value.rfind(f, 0) == 0 : value == f;
+    });
+}
+
+WaterModel scenarioWater(Scenario s) {
+    if (s != Scenario::MovingWaves) return WaterModel::flat(0.0);
+    WaterModel water;  // projects/buoy.plim.json
+    water.kind = WaterModel::Kind::Gerstner;
+    water.waves = {{0.12, 9.0, {1.0, 0.2}, 0.5, 0.0}, {0.05, 4.0, {0.3, 1.0}, 0.4, 1.3}};
+    return water;
+}
+
+/// The body floating about half under (its centre of mass at the mean level), at rest or
+/// heaving, rolling and drifting; pose k of the scenario's cycle.
+BodyFrame scenarioFrame(Scenario s, const Eigen::Vector3d& centerOfMass, int k) {
+    const double t = 0.1 * k;
+    BodyFrame frame;
+    frame.centerOfMass = centerOfMass;
+    const bool moving = s != Scenario::RestFlat;
+    const Eigen::Vector3d degrees = moving ? Eigen::Vector3d(12 * std::sin(1.3 * t), 25 * t, 8 * std::cos(0.9 * t))
+                                           : Eigen::Vector3d(3, 0, 2);
+    frame.pose = Pose::fromEulerDegrees(Eigen::Vector3d::Zero(), degrees);
+    const Eigen::Vector3d center(moving ? 0.4 * t : 0.0, moving ? 0.08 * std::sin(2.1 * t) : 0.0, 0.0);
+    frame.pose.translation = center - frame.pose.rotation * centerOfMass;
+    if (moving) {
+        frame.motion.linear = {0.4, 0.17 * std::cos(2.1 * t), 0.1};
+        frame.motion.angular = {0.3 * std::cos(1.3 * t), 0.44, -0.2 * std::sin(0.9 * t)};
+    }
+    frame.time = t;
+    return frame;
+}
+
+struct Case {
+    std::string mesh;
+    TriangleMesh triangles;
+    MassProperties exact;
+    double radius = 0;
+};
+
+struct Row {
+    Scenario scenario = Scenario::RestFlat;
+    std::string mesh, method;
+    int size = 0;  ///< 0 for the mesh methods
+    int bodies = 1;
+    double usPerBody = 0;   ///< best median over the repeats, microseconds per body
+    double msPerFrame = 0;  ///< all bodies
+    std::optional<double> error;
+};
+
+Row makeRow(Scenario scenario, const std::string& mesh, const std::string& method, int size, int bodies) {
+    Row row;
+    row.scenario = scenario;
+    row.mesh = mesh;
+    row.method = method;
+    row.size = size;
+    row.bodies = bodies;
+    return row;
+}
+
+FastBackendOptions fastOn(int threads) {
+    FastBackendOptions options;
+    options.threads = threads;
+    return options;
+}
+
+struct Answer {
+    double volume = 0;
+    Eigen::Vector3d force = Eigen::Vector3d::Zero(), torque = Eigen::Vector3d::Zero();
+};
+
+Answer answerOf(const BuoyancyResult& r) { return {r.submergedVolume, r.pressureForce, r.pressureTorque}; }
+
+double errorOf(const std::vector<Answer>& got, const std::vector<Answer>& truth, const Case& c) {
+    const double V = c.exact.volume, W = FluidSettings{}.density * FluidSettings{}.gravity * V;
+    double e = 0;
+    for (std::size_t i = 0; i < got.size(); ++i) {
+        e = std::max({e, std::abs(got[i].volume - truth[i].volume) / V,
+                      (got[i].force - truth[i].force).norm() / W,
+                      (got[i].torque - truth[i].torque).norm() / (W * c.radius)});
+    }
+    return e;
+}
+
+/// Median microseconds of `call` over `frames` calls, best of three rounds (the machine is
+/// shared: the best round is the one least disturbed).
+double timeCalls(int frames, const std::function<void(int)>& call) {
+    for (int i = 0; i < 3; ++i) call(i);  // warm-up
+    double best = 1e300;
+    for (int round = 0; round < 3; ++round) {
+        std::vector<double> us;
+        for (int f = 0; f < frames; ++f) {
+            const Clock::time_point start = Clock::now();
+            call(f);
+            us.push_back(std::chrono::duration<double, std::micro>(Clock::now() - start).count());
+        }
+        std::nth_element(us.begin(), us.begin() + us.size() / 2, us.end());
+        best = std::min(best, us[us.size() / 2]);
+    }
+    return best;
+}
+
+/// The per-triangle wave clip: each triangle against the plane through its vertices' water
+/// heights, the pressure integrated exactly over the wet part (linear depth), the torque taken
+/// at each wet piece's centroid.
+Answer clipPerTriangle(const TriangleMesh& mesh, const BodyFrame& frame, const WaterModel& water,
+                       std::vector<Eigen::Vector3d>& world, std::vector<double>& depth) {
+    const FluidSettings fluid;
+    const double rhoG = fluid.density * fluid.gravity;
+    const Eigen::Vector3d c = frame.pose.apply(frame.centerOfMass);
+    world.resize(mesh.positions.size());
+    depth.resize(mesh.positions.size());
+    for (std::size_t i = 0; i < mesh.positions.size(); ++i) {
+        world[i] = frame.pose.apply(mesh.positions[i]);
+        depth[i] = water.height(world[i].x(), world[i].z(), frame.time) - world[i].y();
+    }
+    Answer a;
+    auto piece = [&](const Eigen::Vector3d& p0, const Eigen::Vector3d& p1, const Eigen::Vector3d& p2,
+                     double d0, double d1, double d2) {
+        const Eigen::Vector3d area = 0.5 * (p1 - p0).cross(p2 - p0);
+        const double mean = (d0 + d1 + d2) / 3.0;
+        const Eigen::Vector3d force = -rhoG * mean * area;
+        a.volume -= area.y() * mean;
+        a.force += force;
+        a.torque += ((p0 + p1 + p2) / 3.0 - c).cross(force);
+    };
+    for (const auto& t : mesh.triangles) {
+        const Eigen::Vector3d p[3] = {world[t[0]], world[t[1]], world[t[2]]};
+        const double d[3] = {depth[t[0]], depth[t[1]], depth[t[2]]};
+        const int wet = (d[0] > 0) + (d[1] > 0) + (d[2] > 0);
+        if (wet == 0) continue;
+        if (wet == 3) {
+            piece(p[0], p[1], p[2], d[0], d[1], d[2]);
+            continue;
+        }
+        // Rotate so that vertex 0 is the odd one (alone wet, or alone dry), keeping the winding.
+        int odd = 0;
+        for (int i = 0; i < 3; ++i)
+            if ((d[i] > 0) == (wet == 1)) odd = i;
+        const int i1 = (odd + 1) % 3, i2 = (odd + 2) % 3;
+        auto cut = [&](int u, int v) { return p[u] + (d[u] / (d[u] - d[v])) * (p[v] - p[u]); };
+        const Eigen::Vector3d q1 = cut(odd, i1), q2 = cut(odd, i2);
+        if (wet == 1) {
+            piece(p[odd], q1, q2, d[odd], 0, 0);
+        } else {
+            piece(q1, p[i1], p[i2], 0, d[i1], d[i2]);
+            piece(q1, p[i2], q2, 0, d[i2], 0);
+        }
+    }
+    return a;
+}
+
+struct Method {
+    std::string label;
+    std::string spec;  ///< for createBuoyancyBackend
+    int threads = 1;
+};
+
+void printRows(const std::vector<Row>& rows) {
+    std::printf("%-14s %-7s %-22s %6s %6s %12s %12s %10s\n", "scenario", "mesh", "method", "size",
+                "bodies", "us/body", "ms/frame", "error");
+    for (const Row& r : rows) {
+        char error[32] = "-";
+        if (r.error) std::snprintf(error, sizeof error, "%.2e", *r.error);
+        const std::string size = r.size ? std::to_string(r.size) : "mesh";
+        std::printf("%-14s %-7s %-22s %6s %6d %12.2f %12.4f %10s\n", scenarioName(r.scenario),
+                    r.mesh.c_str(), r.method.c_str(), size.c_str(), r.bodies, r.usPerBody,
+                    r.msPerFrame, error);
+    }
+}
+
+bool writeCsv(const std::vector<Row>& rows, std::ostream& out) {
+    out << "scenario,mesh,method,size,bodies,us_per_body,ms_per_frame,error\n";
+    for (const Row& r : rows) {
+        out << '"' << scenarioName(r.scenario) << "\"," << r.mesh << ",\"" << r.method << "\","
+            << r.size << ',' << r.bodies << ',' << r.usPerBody << ',' << r.msPerFrame << ',';
+        if (r.error) out << *r.error;
+        out << '\n';
+    }
+    return bool(out);
+}
+
+/// One sentence per scenario: the fastest single-body method within each tolerance.
+void printVerdicts(const std::vector<Row>& rows) {
+    for (Scenario s : {Scenario::RestFlat, Scenario::MovingFlat, Scenario::MovingWaves}) {
+        for (const std::string& mesh : {std::string("sphere"), std::string("buoy")}) {
+            std::string sentence = std::string(scenarioName(s)) + ", " + mesh + ":";
+            for (double tolerance : {1e-2, 1e-3, 1e-4}) {
+                const Row* best = nullptr;
+                for (const Row& r : rows)
+                    if (r.scenario == s && r.mesh == mesh && r.bodies == 1 && r.error &&
+                        *r.error <= tolerance && (!best || r.usPerBody < best->usPerBody))
+                        best = &r;
+                char part[160];
+                if (best)
+                    std::snprintf(part, sizeof part, " within %.0e the %s%s wins (%.1f us);", tolerance,
+                                  best->method.c_str(),
+                                  best->size ? (" at " + std::to_string(best->size) + "^2").c_str() : "",
+                                  best->usPerBody);
+                else
+                    std::snprintf(part, sizeof part, " nothing measured reaches %.0e;", tolerance);
+                sentence += part;
+            }
+            std::cout << sentence << "\n";
+        }
+    }
+}
+
+}  // namespace
+
+int runRealtimeBench(const RealtimeBenchOptions& o) {
+    const int frames = o.frames > 0 ? o.frames : o.quick ? 30 : 200;
+    const std::vector<int> allSizes = o.quick ? std::vector<int>{32, 64, 128}
+                                              : std::vector<int>{32, 64, 128, 256, 512, 1024, 2048};
+    const std::vector<int> sizes = o.sizes.empty() ? allSizes : o.sizes;
+    // The waves' truth: the reference at the largest size of the unfiltered run, so that a
+    // narrowed run reports the same errors.
+    int truthSize = 0;
+    for (int size : allSizes)
+        if (size <= kReferenceMaxSize) truthSize = std::max(truthSize, size);
+    auto bodiesSelected = [&](int n) {
+        return o.bodies.empty() || std::find(o.bodies.begin(), o.bodies.end(), n) != o.bodies.end();
+    };
+    std::vector<Method> methods = {{"reference", "reference", 1}, {"fast CPU", "", 1}};
+    for (const ComputeDevice& d : listComputeDevices())
+        methods.push_back({"OpenCL " + std::to_string(d.index) + (d.isGpu ? " GPU" : " CPU"),
+                           std::to_string(d.index), 1});
+    std::vector<Case> cases;
+    for (auto [name, mesh] : {std::pair{std::string("sphere"), makeUvSphere(0.5, 64, 32)},
+                              std::pair{std::string("buoy"), makeBuoy()}}) {
+        if (!selected(o.meshes, name)) continue;
+        Case c;
+        c.mesh = name;
+        c.exact = exactSolidMassProperties(mesh, 1.0);
+        for (const auto& p : mesh.positions) c.radius = std::max(c.radius, (p - c.exact.centerOfMass).norm());
+        c.triangles = std::move(mesh);
+        cases.push_back(std::move(c));
+    }
+    auto fail = [](const Error& e) {
+        std::cerr << "error: " << e.message << "\n";
+        return kExitFailure;
+    };
+    std::vector<Row> rows;
+    std::vector<Eigen::Vector3d> worldScratch;
+    std::vector<double> depthScratch;
+    for (const Case& c : cases) {
+        std::map<int, SurfaceTextures> baked;
+        std::vector<int> bakedSizes = sizes;
+        bakedSizes.push_back(truthSize);
+        bakedSizes.push_back(kBatchSize);
+        for (int size : bakedSizes) {
+            if (baked.count(size)) continue;
+            BakeSettings settings;
+            settings.size = size;
+            Result<SurfaceTextures> t = bakeSurfaceTextures(c.triangles, settings);
+            if (!t) return fail(t.error());
+            baked[size] = std::move(*t);
+        }
+        for (Scenario s : {Scenario::RestFlat, Scenario::MovingFlat, Scenario::MovingWaves}) {
+            if (!selected(o.scenarios, scenarioKey(s))) continue;
+            const WaterModel water = scenarioWater(s);
+            std::vector<BodyFrame> poses;
+            for (int k = 0; k < kPoses; ++k) poses.push_back(scenarioFrame(s, c.exact.centerOfMass, k));
+            // The truth for the errors (see the file comment).
+            std::vector<Answer> truth;
+            for (const BodyFrame& f : poses) {
+                if (s == Scenario::MovingWaves) {
+                    truth.push_back(answerOf(evaluateBuoyancyReference(baked[truthSize], f, water, {})));
+                } else {
+                    truth.push_back(answerOf(evaluateBuoyancyExact(c.triangles, f, 0.0, {})));
+                }
+            }
+            auto meshRow = [&](const std::string& method, const std::function<Answer(const BodyFrame&)>& run) {
+                if (!bodiesSelected(1) || !selected(o.methods, method, true)) return;
+                Row row = makeRow(s, c.mesh, method, 0, 1);
+                std::vector<Answer> got;
+                for (const BodyFrame& f : poses) got.push_back(run(f));
+                row.error = errorOf(got, truth, c);
+                row.usPerBody = timeCalls(frames, [&](int f) { run(poses[f % kPoses]); });
+                row.msPerFrame = row.usPerBody * 1e-3;
+                std::cerr << "bench: " << scenarioName(s) << " " << c.mesh << " " << method << ": "
+                          << row.usPerBody << " us\n";
+                rows.push_back(row);
+            };
+            if (s != Scenario::MovingWaves)
+                meshRow("exact plane clip", [&](const BodyFrame& f) {
+                    return answerOf(evaluateBuoyancyExact(c.triangles, f, 0.0, {}));
+                });
+            meshRow("per-triangle wave clip", [&](const BodyFrame& f) {
+                return clipPerTriangle(c.triangles, f, water, worldScratch, depthScratch);
+            });
+            for (const Method& m : methods) {
+                if (!bodiesSelected(1) || !selected(o.methods, m.label, true)) continue;
+                for (int size : sizes) {
+                    if (m.spec == "reference" && size > kReferenceMaxSize) continue;
+                    Result<std::unique_ptr<BuoyancyBackend>> made =
+                        m.spec.empty() ? Result<std::unique_ptr<BuoyancyBackend>>(createFastBackend(fastOn(1)))
+                                       : createBuoyancyBackend(m.spec);
+                    if (!made) return fail(made.error());
+                    BuoyancyBackend& backend = **made;
+                    const std::size_t id = backend.addBody(baked[size], c.exact.centerOfMass);
+                    std::vector<Answer> got;
+                    BuoyancyResult result;
+                    Status status = Ok{};
+                    auto run = [&](const BodyFrame& f) {
+                        BodyRequest request;
+                        request.body = id;
+                        request.frame = f;
+                        status = backend.evaluate({&request, 1}, water, {&result, 1});
+                        return answerOf(result);
+                    };
+                    for (const BodyFrame& f : poses) got.push_back(run(f));
+                    if (!status.ok()) return fail(status.error());
+                    Row row = makeRow(s, c.mesh, m.label, size, 1);
+                    row.error = errorOf(got, truth, c);
+                    row.usPerBody = timeCalls(frames, [&](int f) { run(poses[f % kPoses]); });
+                    row.msPerFrame = row.usPerBody * 1e-3;
+                    std::cerr << "bench: " << scenarioName(s) << " " << c.mesh << " " << m.label << " "
+                              << size << "^2: " << row.usPerBody << " us";
+                    if (m.spec.empty()) {
+                        // Where the fast path's time goes: its tiles at the first pose.
+                        plimsoll_eval::FastScratch scratch;
+                        plimsoll_eval::FastStats stats;
+                        evaluateBuoyancyFast(makeFastBody(baked[size], c.exact.centerOfMass), poses[0],
+                                             water, {}, scratch, &stats);
+                        std::cerr << " (nodes dry " << stats.dry << ", closed form " << stats.closedForm
+                                  << ", per entry " << stats.perEntry << "; water samples "
+                                  << stats.waterSamples << ")";
+                    }
+                    std::cerr << "\n";
+                    rows.push_back(row);
+                }
+            }
+            // Batches: the sphere only, at one size, on the fast path (1 and 2 threads) and OpenCL.
+            if (c.mesh != "sphere") continue;
+            for (int bodies : {100, 1000}) {
+                if (!bodiesSelected(bodies)) continue;
+                std::vector<Method> batchMethods = {{"fast CPU, 1 thread", "", 1}, {"fast CPU, 2 threads", "", 2}};
+                for (const Method& m : methods)
+                    if (m.label.rfind("OpenCL", 0) == 0) batchMethods.push_back(m);
+                for (const Method& m : batchMethods) {
+                    if (!selected(o.methods, m.label, true)) continue;
+                    Result<std::unique_ptr<BuoyancyBackend>> made =
+                        m.spec.empty() ? Result<std::unique_ptr<BuoyancyBackend>>(createFastBackend(fastOn(m.threads)))
+                                       : createBuoyancyBackend(m.spec);
+                    if (!made) return fail(made.error());
+                    BuoyancyBackend& backend = **made;
+                    std::vector<BodyRequest> requests(bodies);
+                    for (int b = 0; b < bodies; ++b) {
+                        requests[b].body = backend.addBody(baked[kBatchSize], c.exact.centerOfMass);
+                        requests[b].frame = poses[b % kPoses];
+                        // Spread out (the same water everywhere on flat water; other waves on waves).
+                        requests[b].frame.pose.translation.x() += 3.0 * (b % 32);
+                        requests[b].frame.pose.translation.z() += 3.0 * (b / 32);
+                    }
+                    std::vector<BuoyancyResult> results(bodies);
+                    Status status = Ok{};
+                    const double us = timeCalls(std::max(5, frames / 10), [&](int) {
+                        status = backend.evaluate(requests, water, results);
+                    });
+                    if (!status.ok()) return fail(status.error());
+                    Row row = makeRow(s, c.mesh, m.label, kBatchSize, bodies);
+                    row.msPerFrame = us * 1e-3;
+                    row.usPerBody = us / bodies;
+                    std::cerr << "bench: " << scenarioName(s) << " " << bodies << " x " << m.label << ": "
+                              << row.msPerFrame << " ms/frame\n";
+                    rows.push_back(row);
+                }
+            }
+        }
+    }
+    std::cout << "Per evaluation, best of 3 rounds of the median of " << frames
+              << " calls; errors against the exact clip (flat) or the reference at the largest size "
+                 "(waves); machine shared with other work.\n\n";
+    printRows(rows);
+    std::cout << "\n";
+    printVerdicts(rows);
+
+    std::error_code ec;
+    fs::create_directories(o.out, ec);
+    if (ec) {
+        std::cerr << "error: " << o.out << ": cannot create folder: " << ec.message() << "\n";
+        return kExitFailure;
+    }
+    const fs::path csv = fs::path(o.out) / "realtime.csv", svg = fs::path(o.out) / "realtime.svg";
+    if (Status st = writeFileAtomically(csv, [&](std::ostream& out) { return writeCsv(rows, out); }); !st.ok())
+        return fail(st.error());
+    LogLogPlot plot;
+    plot.title = "Plimsoll: error against time per body (one body)";
+    plot.xLabel = "time per evaluation (us)";
+    plot.yLabel = "largest error (volume, force, torque; relative)";
+    for (const Row& r : rows) {
+        if (r.bodies != 1 || !r.error) continue;
+        const std::string name = std::string(scenarioName(r.scenario)) + ", " + r.mesh + ", " + r.method;
+        auto series = std::find_if(plot.series.begin(), plot.series.end(),
+                                   [&](const PlotSeries& p) { return p.name == name; });
+        if (series == plot.series.end()) series = plot.series.insert(series, {name, {}});
+        series->points.push_back({r.usPerBody, std::max(*r.error, 1e-12), r.size ? std::to_string(r.size) : "mesh"});
+    }
+    if (Status st = writeFileAtomically(svg, [&](std::ostream& out) { return writeSvg(plot, out); }); !st.ok())
+        return fail(st.error());
+    std::cout << "\nwritten: " << csv.string() << ", " << svg.string() << "\n";
+    return kExitOk;
+}
+
+}  // namespace plimsoll::cli

@@ -1,0 +1,250 @@
+// plimsoll hydrostatics PROJECT [--body NAME] [--json] [--svg FILE] [--exact] [--step DEG]:
+// equilibrium, waterplane, metacentric heights and the righting-arm curve of one body of a
+// project (physics/hydrostatics.h), from the textures and from the exact clip side by side.
+#include "cli/commands.h"
+
+#include "cli/common.h"
+#include "cli/svg_plot.h"
+#include "plimsoll/io/file_util.h"
+#include "plimsoll/physics/hydrostatics.h"
+#include "plimsoll/scene/project.h"
+#include "plimsoll/scene/scene_hydrostatics.h"
+#include "plimsoll/scene/scene_loader.h"
+
+#include <nlohmann/json.hpp>
+
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <iostream>
+#include <memory>
+#include <optional>
+#include <string>
+
+namespace plimsoll::cli {
+
+namespace {
+
+struct HydrostaticsOptions {
+    std::string project;
+    std::string body;
+    bool json = false;
+    bool exact = false;
+    std::string svg;
+    double stepDegrees = 5.0;
+};
+
+/// One method's figures and how long they took.
+struct Measured {
+    HydrostaticsResult result;
+    double seconds = 0;
+};
+
+nlohmann::json resultJson(const Measured& m) {
+    const HydrostaticsResult& r = m.result;
+    nlohmann::json gz = nlohmann::json::array();
+    for (const RightingArm& p : r.gz) gz.push_back({p.heelDegrees, p.arm});
+    return {{"method", hydrostaticsMethodName(r.method)},
+            {"draft", r.draft},
+            {"trim_deg", r.trimDegrees},
+            {"heel_deg", r.heelDegrees},
+            {"displacement", r.displacement},
+            {"waterplane_area", r.waterplaneArea},
+            {"center_of_flotation", vectorJson(r.centerOfFlotation)},
+            {"kb", r.kb},
+            {"kg", r.kg},
+            {"bm_transverse", r.bmTransverse},
+            {"bm_longitudinal", r.bmLongitudinal},
+            {"gm_transverse", r.gmTransverse},
+            {"gm_longitudinal", r.gmLongitudinal},
+            {"free_surface_loss_transverse", r.freeSurfaceLossTransverse},
+            {"free_surface_loss_longitudinal", r.freeSurfaceLossLongitudinal},
+            {"gm_transverse_effective", r.gmTransverse - r.freeSurfaceLossTransverse},
+            {"gm_longitudinal_effective", r.gmLongitudinal - r.freeSurfaceLossLongitudinal},
+            {"gz", gz},
+            {"vanishing_stability_deg", r.vanishingStabilityDegrees},
+            {"seconds", m.seconds}};
+}
+
+/// The figures the table shows, by name, unit and how to read them off a result.
+struct Row {
+    const char* name;
+    double (*value)(const HydrostaticsResult&);
+};
+const Row kRows[] = {
+    {"draft (m)", [](const HydrostaticsResult& r) { return r.draft; }},
+    {"trim (deg)", [](const HydrostaticsResult& r) { return r.trimDegrees; }},
+    {"heel (deg)", [](const HydrostaticsResult& r) { return r.heelDegrees; }},
+    {"displacement (m^3)", [](const HydrostaticsResult& r) { return r.displacement; }},
+    {"waterplane area (m^2)", [](const HydrostaticsResult& r) { return r.waterplaneArea; }},
+    {"flotation centre x (m)", [](const HydrostaticsResult& r) { return r.centerOfFlotation.x(); }},
+    {"flotation centre z (m)", [](const HydrostaticsResult& r) { return r.centerOfFlotation.z(); }},
+    {"KB (m)", [](const HydrostaticsResult& r) { return r.kb; }},
+    {"KG (m)", [](const HydrostaticsResult& r) { return r.kg; }},
+    {"BM transverse (m)", [](const HydrostaticsResult& r) { return r.bmTransverse; }},
+    {"BM longitudinal (m)", [](const HydrostaticsResult& r) { return r.bmLongitudinal; }},
+    {"GM transverse (m)", [](const HydrostaticsResult& r) { return r.gmTransverse; }},
+    {"GM longitudinal (m)", [](const HydrostaticsResult& r) { return r.gmLongitudinal; }},
+    {"free-surface loss T (m)",
+     [](const HydrostaticsResult& r) { return r.freeSurfaceLossTransverse; }},
+    {"free-surface loss L (m)",
+     [](const HydrostaticsResult& r) { return r.freeSurfaceLossLongitudinal; }},
+    {"effective GM T (m)",
+     [](const HydrostaticsResult& r) { return r.gmTransverse - r.freeSurfaceLossTransverse; }},
+    {"vanishing stability (deg)",
+     [](const HydrostaticsResult& r) { return r.vanishingStabilityDegrees; }},
+};
+
+void printRow(const std::string& name, const std::vector<double>& values) {
+    std::printf("  %-27s", name.c_str());
+    for (double v : values) std::printf(" %14.7g", v);
+    std::printf("\n");
+}
+
+void printTable(const std::vector<Measured>& methods) {
+    const bool both = methods.size() == 2;
+    std::printf("  %-27s", "");
+    for (const Measured& m : methods) std::printf(" %14s", hydrostaticsMethodName(m.result.method));
+    if (both) std::printf(" %14s", "difference");
+    std::printf("\n");
+    auto values = [&](auto&& of) {
+        std::vector<double> v;
+        for (const Measured& m : methods) v.push_back(of(m.result));
+        if (both) v.push_back(v[0] - v[1]);
+        return v;
+    };
+    for (const Row& row : kRows) printRow(row.name, values(row.value));
+    printRow("seconds", [&] {
+        std::vector<double> v;
+        for (const Measured& m : methods) v.push_back(m.seconds);
+        return v;
+    }());
+    std::printf("\n  %-27s\n", "GZ (m) at heel (deg)");
+    const std::vector<RightingArm>& first = methods[0].result.gz;
+    for (std::size_t i = 0; i < first.size(); ++i) {
+        char heel[32];
+        std::snprintf(heel, sizeof heel, "%g", first[i].heelDegrees);
+        printRow(heel, values([&](const HydrostaticsResult& r) { return r.gz[i].arm; }));
+    }
+}
+
+bool writeGzSvg(const std::string& path, const std::string& label,
+                const std::vector<Measured>& methods) {
+    LinearPlot plot;
+    plot.title = "Righting arm GZ of " + label;
+    plot.xLabel = "heel (degrees)";
+    plot.yLabel = "GZ (m)";
+    for (const Measured& m : methods) {
+        PlotSeries s;
+        s.name = hydrostaticsMethodName(m.result.method);
+        for (const RightingArm& p : m.result.gz) s.points.push_back({p.heelDegrees, p.arm, ""});
+        plot.series.push_back(std::move(s));
+    }
+    char text[64];
+    std::snprintf(text, sizeof text, "vanishing stability %.1f deg",
+                  methods[0].result.vanishingStabilityDegrees);
+    plot.markers.push_back({methods[0].result.vanishingStabilityDegrees, text});
+    const Status written =
+        writeFileAtomically(path, [&](std::ostream& out) { return writeSvg(plot, out); });
+    if (!written) {
+        std::cerr << "error: " << written.error().message << "\n";
+        return false;
+    }
+    return true;
+}
+
+int runHydrostatics(const HydrostaticsOptions& o) {
+    Result<Project> project = loadProject(o.project);
+    if (!project) {
+        std::cerr << "error: " << project.error().message << "\n";
+        return kExitFailure;
+    }
+    const std::optional<std::size_t> found = bodyIndexByName(*project, o.body, o.project);
+    if (!found) return kExitFailure;
+    const std::size_t index = *found;
+    Result<HydrostaticsSettings> settings =
+        hydrostaticsSettingsOf(project->medium, project->simulation.gravity);
+    if (!settings) {
+        std::cerr << "error: " << o.project << ": " << settings.error().message << "\n";
+        return kExitFailure;
+    }
+    settings->gzStepDegrees = o.stepDegrees;
+    Result<SceneBody> body = loadSceneBody(*project, index, [](const std::string& line) {
+        std::cerr << "note: " << line << "\n";
+    });
+    if (!body) {
+        std::cerr << "error: " << body.error().message << "\n";
+        return kExitFailure;
+    }
+
+    Result<FloatingBody> floating = floatingBodyOf(*body, project->medium);
+    if (!floating) {
+        std::cerr << "error: " << floating.error().message << "\n";
+        return kExitFailure;
+    }
+
+    std::vector<Measured> methods;
+    auto measure = [&](auto&& compute) {
+        const auto start = std::chrono::steady_clock::now();
+        Result<HydrostaticsResult> r = compute();
+        if (!r) {
+            std::cerr << "error: " << body->label << ": " << r.error().message << "\n";
+            return false;
+        }
+        methods.push_back({std::move(*r), std::chrono::duration<double>(
+                                              std::chrono::steady_clock::now() - start)
+                                              .count()});
+        return true;
+    };
+    const bool texturesMeasured = o.exact || measure([&] {
+        return hydrostaticsFromTextures(*body->textures, floating->body, *settings);
+    });
+    if (!texturesMeasured) return kExitFailure;
+    if (!measure([&] { return hydrostaticsExact(*body->parts.mesh, floating->body, *settings); }))
+        return kExitFailure;
+
+    if (!o.svg.empty() && !writeGzSvg(o.svg, body->label, methods)) return kExitFailure;
+    if (o.json) {
+        nlohmann::json out = resultJson(methods[0]);
+        out["body"] = body->desc.name;
+        out["texture_size"] =
+            o.exact ? nlohmann::json(nullptr) : nlohmann::json(body->desc.textureSize);
+        out["mass"] = floating->body.mass;
+        out["center_of_mass"] = vectorJson(floating->body.centerOfMass);
+        out["graph_water"] = floating->graphWater;
+        out["water_density"] = settings->density;
+        if (methods.size() == 2) out["exact"] = resultJson(methods[1]);
+        std::cout << out.dump(2) << "\n";
+        return kExitOk;
+    }
+    std::printf("%s: calm water of %g kg/m^3 at the mean level, mass %g kg (%g m^3 of it graph "
+                "water), centre of mass %g %g %g m; heel about x, trim about z, y up\n",
+                body->label.c_str(), settings->density, floating->body.mass, floating->graphWater,
+                floating->body.centerOfMass.x(), floating->body.centerOfMass.y(),
+                floating->body.centerOfMass.z());
+    if (!o.exact) std::printf("textures at %d^2\n", body->desc.textureSize);
+    printTable(methods);
+    return kExitOk;
+}
+
+}  // namespace
+
+void addHydrostaticsCommand(CLI::App& root, CommandRunner& selected) {
+    auto o = std::make_shared<HydrostaticsOptions>();
+    CLI::App* cmd = root.add_subcommand(
+        "hydrostatics",
+        "Equilibrium draft, trim and heel, KB, BM, GM and the righting-arm curve of a body, "
+        "from the textures and the exact clip");
+    cmd->add_option("PROJECT", o->project, "Project file (.plim.json)")->required();
+    cmd->add_option("--body", o->body, "Body name (default: the first body)");
+    cmd->add_flag("--json", o->json, "Print one JSON object (with --exact: the exact clip only; "
+                                     "otherwise the textures', the exact one under \"exact\")");
+    cmd->add_flag("--exact", o->exact, "The exact clip of the mesh only");
+    cmd->add_option("--svg", o->svg, "Write the GZ curve as an SVG plot")->check(kNonEmptyPath);
+    cmd->add_option("--step", o->stepDegrees, "Heel step of the GZ curve, degrees (default 5)")
+        ->check(kFinitePositive)
+        ->check(CLI::Range(0.01, 90.0));
+    cmd->callback([o, &selected] { selected = [o] { return runHydrostatics(*o); }; });
+}
+
+}  // namespace plimsoll::cli

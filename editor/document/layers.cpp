@@ -1,0 +1,239 @@
+#include "document/layers.h"
+
+#include <nlohmann/json.hpp>
+#include <stb_image.h>
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+
+namespace plimsoll::editor {
+
+using Json = nlohmann::json;
+
+namespace {
+
+constexpr std::array<const char*, kBlendModeCount> kBlendNames{
+    "normal", "multiply", "add", "subtract", "screen", "lighten", "darken"};
+
+bool sameMap(const std::shared_ptr<PaintedMap>& a, const std::shared_ptr<PaintedMap>& b) {
+    if (!a || !b) return !a && !b;
+    return a->width == b->width && a->height == b->height && a->values == b->values;
+}
+
+}  // namespace
+
+const char* layerKindName(LayerKind kind) { return kind == LayerKind::Fill ? "fill" : "paint"; }
+
+std::optional<LayerKind> parseLayerKind(std::string_view name) {
+    if (name == "paint") return LayerKind::Paint;
+    if (name == "fill") return LayerKind::Fill;
+    return std::nullopt;
+}
+
+const char* blendModeName(BlendMode mode) { return kBlendNames[static_cast<int>(mode)]; }
+
+std::optional<BlendMode> parseBlendMode(std::string_view name) {
+    for (int i = 0; i < kBlendModeCount; ++i) {
+        if (name == kBlendNames[i]) return static_cast<BlendMode>(i);
+    }
+    return std::nullopt;
+}
+
+float blendValue(BlendMode mode, float c, float v) {
+    float out = v;
+    switch (mode) {
+        case BlendMode::Normal: out = v; break;
+        case BlendMode::Multiply: out = c * v; break;
+        case BlendMode::Add: out = c + v; break;
+        case BlendMode::Subtract: out = c - v; break;
+        case BlendMode::Screen: out = 1.0f - (1.0f - c) * (1.0f - v); break;
+        case BlendMode::Lighten: out = std::max(c, v); break;
+        case BlendMode::Darken: out = std::min(c, v); break;
+    }
+    return std::clamp(out, 0.0f, 1.0f);
+}
+
+bool MapLayer::operator==(const MapLayer& o) const {
+    return name == o.name && kind == o.kind && fillValue == o.fillValue &&
+           opacity == o.opacity && blend == o.blend && visible == o.visible &&
+           sameMap(pixels, o.pixels) && sameMap(mask, o.mask) && sameMap(coverage, o.coverage);
+}
+
+float quantize16(float value) {
+    // As encodePaintedMapPng16 rounds and loadPaintedMap divides.
+    return static_cast<float>(std::lround(std::clamp(value, 0.0f, 1.0f) * 65535.0f)) / 65535.0f;
+}
+
+PaintedMap uniformMap(int width, int height, float value) {
+    PaintedMap map;
+    map.width = width;
+    map.height = height;
+    map.values.assign(static_cast<std::size_t>(width) * height, value);
+    return map;
+}
+
+LayerStack stackOfMap(const PaintedMap& map) {
+    LayerStack stack;
+    stack.width = map.width;
+    stack.height = map.height;
+    MapLayer base;
+    base.name = "Base";
+    base.pixels = std::make_shared<PaintedMap>(map);
+    for (float& v : base.pixels->values) v = quantize16(v);
+    stack.layers.push_back(std::move(base));
+    return stack;
+}
+
+PaintedMap flattenLayers(const LayerStack& stack) {
+    PaintedMap out = uniformMap(stack.width, stack.height, 0.0f);
+    for (const MapLayer& layer : stack.layers) {
+        if (!layer.visible || layer.opacity <= 0.0f) continue;
+        for (std::size_t i = 0; i < out.values.size(); ++i) {
+            const float a = layer.alphaAt(i);
+            const float c = out.values[i];
+            out.values[i] = c + (blendValue(layer.blend, c, layer.valueAt(i)) - c) * a;
+        }
+    }
+    return out;
+}
+
+Status checkStack(const LayerStack& stack) {
+    if (stack.width < 1 || stack.height < 1) return makeError(ErrorKind::format, "layers: no size");
+    if (stack.layers.empty()) return makeError(ErrorKind::format, "layers: the stack is empty");
+    auto sized = [&](const PaintedMap& m) { return m.width == stack.width && m.height == stack.height; };
+    for (std::size_t i = 0; i < stack.layers.size(); ++i) {
+        const MapLayer& l = stack.layers[i];
+        const std::string where = "layer " + std::to_string(i) + " '" + l.name + "': ";
+        if ((l.kind == LayerKind::Paint) != static_cast<bool>(l.pixels)) {
+            return makeError(ErrorKind::format, where + "a paint layer has pixels, a fill layer none");
+        }
+        if (l.pixels && !sized(*l.pixels)) {
+            return makeError(ErrorKind::format, where + "pixels are not the map's size");
+        }
+        if (l.mask && !sized(*l.mask)) {
+            return makeError(ErrorKind::format, where + "mask is not the map's size");
+        }
+        if (l.coverage && (!l.pixels || !sized(*l.coverage))) {
+            return makeError(ErrorKind::format, where + "coverage is a paint layer's, of the map's size");
+        }
+        if (!(l.opacity >= 0.0f && l.opacity <= 1.0f) || !(l.fillValue >= 0.0f && l.fillValue <= 1.0f)) {
+            return makeError(ErrorKind::schema, where + "opacity and value must be 0..1");
+        }
+    }
+    return Ok{};
+}
+
+std::string layerStackToJson(const LayerStack& stack) {
+    Json layers = Json::array();
+    for (const MapLayer& l : stack.layers) {
+        Json j = {{"name", l.name},
+                  {"kind", layerKindName(l.kind)},
+                  {"opacity", l.opacity},
+                  {"blend", blendModeName(l.blend)},
+                  {"visible", l.visible}};
+        if (l.pixels) j["pixels_png_base64"] = base64Encode(encodePaintedMapPng16(*l.pixels));
+        else j["value"] = l.fillValue;
+        if (l.mask) j["mask_png_base64"] = base64Encode(encodePaintedMapPng16(*l.mask));
+        if (l.coverage) j["coverage_png_base64"] = base64Encode(encodePaintedMapPng16(*l.coverage));
+        layers.push_back(std::move(j));
+    }
+    const Json root = {{"plimsoll_map_layers", 1},
+                       {"width", stack.width},
+                       {"height", stack.height},
+                       {"layers", std::move(layers)}};
+    return root.dump(1) + "\n";
+}
+
+Result<LayerStack> parseLayerStack(const std::string& text, const std::string& source) {
+    LayerStack stack;
+    try {
+        const Json root = Json::parse(text);
+        if (root.value("plimsoll_map_layers", 0) != 1) {
+            return makeError(ErrorKind::format, source + ": not a map layers file (plimsoll_map_layers: 1)");
+        }
+        stack.width = root.at("width").get<int>();
+        stack.height = root.at("height").get<int>();
+        for (const Json& j : root.at("layers")) {
+            MapLayer l;
+            l.name = j.value("name", std::string());
+            const auto kind = parseLayerKind(j.value("kind", std::string("paint")));
+            const auto blend = parseBlendMode(j.value("blend", std::string("normal")));
+            if (!kind || !blend) {
+                return makeError(ErrorKind::format, source + ": layer '" + l.name +
+                                                        "': unknown kind or blend mode");
+            }
+            l.kind = *kind;
+            l.blend = *blend;
+            l.opacity = j.value("opacity", 1.0f);
+            l.visible = j.value("visible", true);
+            l.fillValue = j.value("value", 1.0f);
+            for (auto [key, target] : {std::pair{"pixels_png_base64", &l.pixels},
+                                       std::pair{"mask_png_base64", &l.mask},
+                                       std::pair{"coverage_png_base64", &l.coverage}}) {
+                if (!j.contains(key)) continue;
+                Result<PaintedMap> image =
+                    decodePaintedMap(base64Decode(j[key].get<std::string>()),
+                                        source + ": layer '" + l.name + "'");
+                if (!image) return image.error();
+                *target = std::make_shared<PaintedMap>(std::move(image).value());
+            }
+            stack.layers.push_back(std::move(l));
+        }
+    } catch (const Json::exception& e) {
+        return makeError(ErrorKind::format, source + ": " + e.what());
+    }
+    if (Status ok = checkStack(stack); !ok) return withContext(source + ": ", ok.error());
+    return stack;
+}
+
+std::filesystem::path layersPathFor(const std::filesystem::path& mapPath) {
+    std::filesystem::path p = mapPath;
+    return p.replace_extension(".layers.json");
+}
+
+std::string base64Encode(const std::string& bytes) {
+    static const char* alphabet =
+        "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
+    std::string out;
+    std::size_t i = 0;
+    for (; i + 2 < bytes.size(); i += 3) {
+        const unsigned v = (unsigned char)bytes[i] << 16 | (unsigned char)bytes[i + 1] << 8 |
+                           (unsigned char)bytes[i + 2];
+        for (int s = 18; s >= 0; s -= 6) out += alphabet[(v >> s) & 63];
+    }
+    if (i < bytes.size()) {
+        unsigned v = (unsigned char)bytes[i] << 16;
+        if (i + 1 < bytes.size()) v |= (unsigned char)bytes[i + 1] << 8;
+        out += alphabet[(v >> 18) & 63];
+        out += alphabet[(v >> 12) & 63];
+        out += i + 1 < bytes.size() ? alphabet[(v >> 6) & 63] : '=';
+        out += '=';
+    }
+    return out;
+}
+
+std::string base64Decode(const std::string& text) {
+    std::string out;
+    unsigned v = 0;
+    int bits = 0;
+    for (char c : text) {
+        int d;
+        if (c >= 'A' && c <= 'Z') d = c - 'A';
+        else if (c >= 'a' && c <= 'z') d = c - 'a' + 26;
+        else if (c >= '0' && c <= '9') d = c - '0' + 52;
+        else if (c == '+') d = 62;
+        else if (c == '/') d = 63;
+        else continue;
+        v = (v << 6) | d;
+        bits += 6;
+        if (bits >= 8) {
+            bits -= 8;
+            out += static_cast<char>((v >> bits) & 0xFF);
+        }
+    }
+    return out;
+}
+
+
+}  // namespace plimsoll::editor

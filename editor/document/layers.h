@@ -1,0 +1,113 @@
+// Layers and masks of a painted map, as texture artists know them from their painting tools:
+// paint layers (their own pixels) and fill layers (one value), each with an opacity, a blend
+// mode, an optional mask and a visibility, stacked bottom first. The engine never sees layers:
+// it reads the flattened map (the map's PNG), which the document keeps equal to
+// flattenLayers of the stack. The stack is saved beside the map in a "<map>.layers.json" side
+// file (docs/project-schema.md, "Map layers"). No GL, no files here: the document does the I/O.
+#pragma once
+
+#include "plimsoll/bake/painted_map.h"
+#include "plimsoll/core/result.h"
+
+#include <memory>
+#include <optional>
+#include <string>
+#include <string_view>
+#include <vector>
+
+namespace plimsoll::editor {
+
+enum class LayerKind { Paint, Fill };
+/// How a layer's value v combines with the value c below it (before opacity and mask).
+enum class BlendMode { Normal, Multiply, Add, Subtract, Screen, Lighten, Darken };
+inline constexpr int kBlendModeCount = 7;
+
+const char* layerKindName(LayerKind kind);  ///< "paint", "fill"
+std::optional<LayerKind> parseLayerKind(std::string_view name);
+const char* blendModeName(BlendMode mode);  ///< "normal", "multiply", ...
+std::optional<BlendMode> parseBlendMode(std::string_view name);
+
+/// The blend of layer value `layer` over `below`, clamped to 0..1.
+float blendValue(BlendMode mode, float below, float layer);
+
+/// The parts of a layer a stroke can change.
+enum class LayerPart { Pixels, Mask, Coverage };
+
+/// What a stroke or fill changes: the map itself (layer < 0; a map with layers has none of its
+/// own pixels), or a part of a layer.
+struct PaintTarget {
+    int layer = -1;
+    LayerPart part = LayerPart::Pixels;
+};
+
+struct MapLayer {
+    std::string name;
+    LayerKind kind = LayerKind::Paint;
+    /// A paint layer's pixels (the stack's size). Copies of a stack share them: the history
+    /// keeps copies, and only strokes change pixels, undone in the order they were made, so
+    /// a copy always sees the pixels its own state had.
+    std::shared_ptr<PaintedMap> pixels;
+    float fillValue = 1.0f;         ///< a fill layer's value, 0..1
+    float opacity = 1.0f;           ///< 0..1
+    BlendMode blend = BlendMode::Normal;
+    bool visible = true;
+    /// 0..1 per pixel (1: the layer shows, 0: hidden); null: no mask (all 1).
+    std::shared_ptr<PaintedMap> mask;
+    /// A paint layer's own transparency, 0..1 per pixel: painting raises it, erasing lowers it,
+    /// so a new layer is clear until painted. Null: covered everywhere (a map's base layer).
+    std::shared_ptr<PaintedMap> coverage;
+
+    /// The layer's own value at pixel `i` (its pixel, or its fill value).
+    float valueAt(std::size_t i) const { return pixels ? pixels->values[i] : fillValue; }
+    /// How much of the layer shows at pixel `i`: opacity x mask x coverage.
+    float alphaAt(std::size_t i) const {
+        return opacity * (mask ? mask->values[i] : 1.0f) * (coverage ? coverage->values[i] : 1.0f);
+    }
+    /// The part's pixels (null: the layer has none).
+    std::shared_ptr<PaintedMap>& part(LayerPart which) {
+        return which == LayerPart::Mask ? mask : which == LayerPart::Coverage ? coverage : pixels;
+    }
+    const std::shared_ptr<PaintedMap>& part(LayerPart which) const {
+        return const_cast<MapLayer*>(this)->part(which);
+    }
+    bool operator==(const MapLayer& other) const;  ///< same settings and same pixel values
+};
+
+struct LayerStack {
+    int width = 0;
+    int height = 0;
+    std::vector<MapLayer> layers;   ///< bottom first
+
+    bool operator==(const LayerStack& other) const = default;
+};
+
+/// `value` (clamped to 0..1) at the 16 bits of the map files: layer pixels are kept this way,
+/// so that a saved stack reads back exactly and flattens to exactly the saved map.
+float quantize16(float value);
+
+/// A w x h map with every value `value`.
+PaintedMap uniformMap(int width, int height, float value);
+
+/// A stack of one paint layer "Base" holding `map` at 16 bits (what a map without layers is).
+LayerStack stackOfMap(const PaintedMap& map);
+
+/// The map the engine reads: starting from 0, each visible layer bottom to top moves every
+/// pixel from c to blend(c, v) by its alpha (opacity x mask x coverage).
+PaintedMap flattenLayers(const LayerStack& stack);
+
+/// Why the stack is not well formed (sizes, pixels of paint layers, ranges), or nothing.
+Status checkStack(const LayerStack& stack);
+
+/// The stack as the side file's JSON text (pixels as base64 16-bit PNG).
+std::string layerStackToJson(const LayerStack& stack);
+/// Parses a side file; `source` names it in messages.
+Result<LayerStack> parseLayerStack(const std::string& text, const std::string& source);
+
+/// The side file of a map: "maps/x.png" -> "maps/x.layers.json".
+std::filesystem::path layersPathFor(const std::filesystem::path& mapPath);
+
+/// Base64 of bytes and back (the side file and the autosave embed PNGs this way).
+std::string base64Encode(const std::string& bytes);
+std::string base64Decode(const std::string& text);
+
+}  // namespace plimsoll::editor

@@ -1,0 +1,49 @@
+// The editor window's layout, GL-free: the 3D view on the left, a column of panels (Tools,
+// Layers, Inspector, UV view) on the right, their sizes set by splitters the user drags. The
+// layout keeps shares, not pixels, so a window that shrinks and grows again gets every panel
+// back where it was; the settings keep it between sessions.
+#pragma once
+
+#include <array>
+
+namespace plimsoll::editor {
+
+/// What the splitters set.
+struct PanelLayout {
+    /// The right column, px (at most kMaxColumnShare of the window: the view keeps most of it).
+    float columnWidth = 400.0f;
+    /// Shares of the column's height: Tools, Layers, Inspector and UV view; they sum to 1.
+    std::array<float, 4> shares{0.26f, 0.22f, 0.22f, 0.30f};
+};
+
+/// Panels never shrink below this many pixels while the window has room for them.
+inline constexpr float kMinPanelHeight = 48.0f;
+inline constexpr float kMinColumnWidth = 180.0f;
+inline constexpr float kMaxColumnShare = 0.4f;
+
+struct PanelRect {
+    float x = 0, y = 0, w = 0, h = 0;
+};
+
+/// Where everything goes in a window of `width` x `height` with a menu bar and status line of
+/// those heights: the view and the column's four panels top to bottom, tiling the space.
+struct WindowLayout {
+    PanelRect view;
+    std::array<PanelRect, 4> panels;  ///< Tools, Layers, Inspector, UV view
+};
+WindowLayout windowLayout(const PanelLayout& layout, float width, float height, float menu,
+                          float status);
+
+/// Moves the splitter below panel `above` (0..2) by `dy` pixels in a column `columnHeight`
+/// high: the panels either side trade height, each keeping kMinPanelHeight where it can.
+void dragRowSplitter(PanelLayout& layout, int above, float dy, float columnHeight);
+
+/// Moves the splitter between the view and the column by `dx` pixels (left widens the column)
+/// in a window `width` wide.
+void dragColumnSplitter(PanelLayout& layout, float dx, float width);
+
+/// The layout with its numbers brought into range (a settings file edited by hand): a finite
+/// width of at least kMinColumnWidth, positive shares normalised to a sum of 1.
+PanelLayout sanitised(PanelLayout layout);
+
+}  // namespace plimsoll::editor

@@ -1,0 +1,16 @@
+#version 450 core
+// Below the world height uLevel the water's colour, above it the node's: a node filled to its
+// water level, whatever the body's heel (the water surface stays level).
+in vec3 vWorld;
+in vec3 vNormal;
+uniform vec3 uColour;
+uniform vec3 uWater;
+uniform float uLevel;
+uniform vec3 uEye;
+out vec4 oColour;
+void main() {
+    vec3 n = normalize(vNormal);
+    float light = 0.45 + 0.55 * abs(dot(n, normalize(uEye - vWorld)));
+    vec3 c = vWorld.y <= uLevel ? uWater : uColour;
+    oColour = vec4(c * light, 1.0);
+}

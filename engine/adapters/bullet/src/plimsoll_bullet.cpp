@@ -1,0 +1,154 @@
+// The Bullet adapter (plimsoll_bullet.hpp).
+#include "plimsoll_bullet.hpp"
+
+#include <algorithm>
+
+namespace plimsoll_bullet {
+
+namespace {
+
+btVector3 vec(const double v[3]) { return btVector3(btScalar(v[0]), btScalar(v[1]), btScalar(v[2])); }
+
+/// The centre of mass and the principal axes of inertia (a proper rotation) in object space,
+/// and the principal moments.
+btTransform principalFrame(const plimsoll_mass& m, btVector3& moments) {
+    btMatrix3x3 inertia(btScalar(m.inertia[0][0]), btScalar(m.inertia[0][1]), btScalar(m.inertia[0][2]),
+                        btScalar(m.inertia[1][0]), btScalar(m.inertia[1][1]), btScalar(m.inertia[1][2]),
+                        btScalar(m.inertia[2][0]), btScalar(m.inertia[2][1]), btScalar(m.inertia[2][2]));
+    btMatrix3x3 axes;
+    // inertia becomes diag(moments) with original = axes * diag * axes^T.
+    inertia.diagonalize(axes, btScalar(1e-12), 32);
+    if (axes.determinant() < 0) {
+        for (int row = 0; row < 3; ++row) axes[row][2] = -axes[row][2];
+    }
+    moments = btVector3(inertia[0][0], inertia[1][1], inertia[2][2]);
+    return btTransform(axes, vec(m.center_of_mass));
+}
+
+}  // namespace
+
+FloatingBody::FloatingBody(plimsoll_bundle* bundle, const btTransform& objectPose, btCollisionShape* objectShape)
+    : bundle_(bundle) {
+    const plimsoll_mass m = plimsoll_bundle_mass(bundle);
+    btVector3 moments;
+    bodyInObject_ = principalFrame(m, moments);
+    if (!objectShape) {
+        double lo[3] = {0, 0, 0}, hi[3] = {0, 0, 0};
+        plimsoll_bundle_bounds(bundle, lo, hi);
+        const double half[3] = {0.5 * (hi[0] - lo[0]), 0.5 * (hi[1] - lo[1]), 0.5 * (hi[2] - lo[2])};
+        const double mid[3] = {0.5 * (hi[0] + lo[0]), 0.5 * (hi[1] + lo[1]), 0.5 * (hi[2] + lo[2])};
+        defaultShape_ = std::make_unique<btBoxShape>(vec(half));
+        defaultShape_->setMargin(0);
+        objectShape = defaultShape_.get();
+        // The box's own frame sits at its middle.
+        shape_ = std::make_unique<btCompoundShape>();
+        shape_->addChildShape(bodyInObject_.inverse() * btTransform(btMatrix3x3::getIdentity(), vec(mid)), objectShape);
+    } else {
+        shape_ = std::make_unique<btCompoundShape>();
+        shape_->addChildShape(bodyInObject_.inverse(), objectShape);
+    }
+    motion_ = std::make_unique<btDefaultMotionState>(objectPose * bodyInObject_);
+    btRigidBody::btRigidBodyConstructionInfo info(btScalar(m.mass), motion_.get(), shape_.get(), moments);
+    body_ = std::make_unique<btRigidBody>(info);
+    // Angular momentum, not angular velocity, is what a free body keeps.
+    body_->setFlags(body_->getFlags() | BT_ENABLE_GYROSCOPIC_FORCE_IMPLICIT_BODY);
+    // A floating body at rest still floods, and the water may move under it.
+    body_->setActivationState(DISABLE_DEACTIVATION);
+}
+
+FloatingBody::~FloatingBody() {
+    if (harbour_) harbour_->remove(this);
+}
+
+plimsoll_pose FloatingBody::pose() const {
+    const btTransform object = body_->getCenterOfMassTransform() * bodyInObject_.inverse();
+    const btQuaternion q = object.getRotation();
+    const btVector3& p = object.getOrigin();
+    return {{p.x(), p.y(), p.z()}, {q.w(), q.x(), q.y(), q.z()}};
+}
+
+plimsoll_velocity FloatingBody::velocity() const {
+    const btVector3& v = body_->getLinearVelocity();
+    const btVector3& w = body_->getAngularVelocity();
+    return {{v.x(), v.y(), v.z()}, {w.x(), w.y(), w.z()}};
+}
+
+Harbour::Harbour(btDiscreteDynamicsWorld* world, const plimsoll_water& water, const plimsoll_fluid& fluid,
+                 const plimsoll_batch_desc* batch)
+    : world_(world), water_(water), fluid_(fluid), batch_(plimsoll_batch_create(batch)) {
+    if (!batch_) error_ = plimsoll_runtime_last_error();
+    world_->setInternalTickCallback(&Harbour::preTick, this, true);
+}
+
+Harbour::~Harbour() {
+    world_->setInternalTickCallback(nullptr, nullptr, true);
+    for (FloatingBody* body : bodies_) {
+        world_->removeRigidBody(body->rigidBody());
+        body->harbour_ = nullptr;
+    }
+    plimsoll_batch_free(batch_);
+}
+
+void Harbour::add(FloatingBody* body) {
+    if (body->harbour_) body->harbour_->remove(body);
+    world_->addRigidBody(body->rigidBody());
+    bodies_.push_back(body);
+    body->harbour_ = this;
+}
+
+void Harbour::remove(FloatingBody* body) {
+    const auto found = std::find(bodies_.begin(), bodies_.end(), body);
+    if (found == bodies_.end()) return;
+    world_->removeRigidBody(body->rigidBody());
+    bodies_.erase(found);
+    body->harbour_ = nullptr;
+}
+
+void Harbour::preTick(btDynamicsWorld* world, btScalar step) {
+    static_cast<Harbour*>(world->getWorldUserInfo())->applyLoads(step);
+}
+
+void Harbour::applyLoads(double dt) {
+    const std::size_t n = bodies_.size();
+    bundles_.resize(n);
+    poses_.resize(n);
+    velocities_.resize(n);
+    loads_.assign(n, plimsoll_load{});
+    flooding_.clear();
+    floodingPoses_.clear();
+    for (std::size_t i = 0; i < n; ++i) {
+        bundles_[i] = bodies_[i]->bundle();
+        poses_[i] = bodies_[i]->pose();
+        velocities_[i] = bodies_[i]->velocity();
+        if (plimsoll_graph_node_count(bodies_[i]->bundle()) > 0) {
+            flooding_.push_back(bodies_[i]->bundle());
+            floodingPoses_.push_back(poses_[i]);
+        }
+    }
+    auto failed = [this] {
+        if (error_.empty()) error_ = plimsoll_runtime_last_error();
+    };
+    if (batch_ && !flooding_.empty() &&
+        !plimsoll_batch_graph_step(batch_, flooding_.size(), flooding_.data(), floodingPoses_.data(), &water_,
+                                   time_, dt, nullptr))
+        failed();
+    if (batch_ && n > 0 &&
+        !plimsoll_batch_water_load(batch_, n, bundles_.data(), poses_.data(), velocities_.data(), &water_, &fluid_,
+                                   time_, dt, loads_.data())) {
+        failed();
+        loads_.assign(n, plimsoll_load{});
+    }
+    for (std::size_t i = 0; i < n; ++i) {
+        btRigidBody* rb = bodies_[i]->rigidBody();
+        // Bullet applies gravity once per stepSimulation and clears forces after its last
+        // substep: the water's load changes every substep, so it is set afresh each time.
+        rb->clearForces();
+        rb->applyGravity();
+        bodies_[i]->load_ = loads_[i];
+        rb->applyCentralForce(vec(loads_[i].force));
+        rb->applyTorque(vec(loads_[i].torque));
+    }
+    time_ += dt;
+}
+
+}  // namespace plimsoll_bullet

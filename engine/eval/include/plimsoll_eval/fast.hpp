@@ -1,0 +1,726 @@
+// The fast CPU evaluation of a body's buoyancy, pressure and drag: the same sums as entry.hpp,
+// with a cost that follows the waterline rather than the surface.
+//
+// The entries are grouped into tiles that are compact in object space (consecutive runs of
+// the entries sorted along a Morton curve). Each tile keeps a bounding sphere, the spread of
+// its normals and the moments of its area vectors b about its centre (FastMoments),
+//   N0 = sum b,  N1 = sum b s^T,  N2 = sum b s s,  N3 = sum b s s s     (s = q - centre),
+// q = p - c the entry's position about the body's centre c, so that per frame a tile is one of:
+//   dry        every entry above the water by more than its half extent: it adds nothing;
+//   submerged  every entry fully wet under a water plane: the hydrostatic sums are
+//              polynomials of degree two in q (volume, pressure force and torque, moments) and
+//              the drag sum one of degree three when the sign of A.v is the same over the tile
+//              (normal cone against the velocity spread), so they come from the moments;
+//   waterline  anything else: per-entry work (addEntry, in single precision).
+// On waves the water is sampled once per call on a small grid over the body's footprint
+// (one batched height query); each tile takes the quadratic through its nearest 3 x 3
+// stencil, and a submerged tile's closed form takes the depth as that quadratic expanded about
+// the tile's centre (moments about the tile up to third order), so curved water costs no
+// per-entry work either; waterline tiles give their entries the quadratic's heights. The
+// water's own velocity (drag) is taken at the tile's centre.
+#pragma once
+
+#include "plimsoll_eval/entry.hpp"
+#include "plimsoll_eval/vec.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <cstddef>
+#include <cstdint>
+#include <numeric>
+#include <vector>
+
+namespace plimsoll_eval {
+
+struct FastOptions {
+    std::size_t tileSize = 32;        ///< entries per tile (rounded up to a power of two, 8 to 64)
+    int waveGrid = 9;                 ///< water samples per side of the footprint grid (>= 3)
+};
+
+/// The water as the fast path sees it: flat at `level` when `heights` is null.
+struct WaterSurface {
+    double level = 0;
+    double minHeight = 0, maxHeight = 0;  ///< bounds of the surface (whole-body culling)
+    const void* context = nullptr;
+    /// n heights f(x[i], z[i], time) into out[i].
+    void (*heights)(const void* context, std::size_t n, const double* x, const double* z,
+                    double time, double* out) = nullptr;
+    /// The water's own velocity at a point; null: still water.
+    Vec3 (*velocity)(const void* context, const Vec3& point, double time) = nullptr;
+
+    static WaterSurface flat(double level) {
+        WaterSurface w;
+        w.level = w.minHeight = w.maxHeight = level;
+        return w;
+    }
+};
+
+/// One body for one evaluation. `center` is the body's centre c in world coordinates (the
+/// point its entries were given relative to), `linear` the velocity of c.
+struct BodyState {
+    Mat3 rotation;
+    Vec3 center;
+    Vec3 linear;
+    Vec3 angular;
+    double time = 0;
+};
+
+/// How the tiles of the last evaluation were treated (for the benchmark and tests).
+struct FastStats {
+    std::size_t dry = 0, closedForm = 0, perEntry = 0, waterSamples = 0;
+    std::size_t dragPerEntry = 0;  ///< leaves of submerged nodes whose drag alone is per entry
+};
+
+/// What the traversal reads at every node it visits (the moments, read only where a node is
+/// summed in closed form, live apart in FastMoments: a thousand bodies' nodes then stay in cache).
+struct FastTile {
+    std::uint32_t begin = 0, end = 0;
+    std::uint32_t firstChild = 0, children = 0;  ///< sub-tiles of kLanes entries (top tiles)
+    Vec3 center;               ///< object space, relative to c
+    Vec3 halfSize;             ///< of the box of the entry positions about center
+    double radius = 0;         ///< of the entry positions about center
+    double halfExtent = 0;     ///< half the largest entry's side sqrt(area)
+    Vec3 axis;                 ///< mean normal direction
+    double cosSpread = -1;     ///< cosine of the largest angle of a normal from axis
+    double areaSum = 0;
+    double count = 0;          ///< entries (padding left out)
+};
+
+/// Slot of the symmetric index pair (j, l) and triple (j, l, m) in FastMoments' packed arrays.
+inline constexpr int kPair[3][3] = {{0, 1, 2}, {1, 3, 4}, {2, 4, 5}};
+inline constexpr int kTriple[3][3][3] = {{{0, 1, 2}, {1, 3, 4}, {2, 4, 5}},
+                                         {{1, 3, 4}, {3, 6, 7}, {4, 7, 8}},
+                                         {{2, 4, 5}, {4, 7, 8}, {5, 8, 9}}};
+
+/// A node's moments of its area vectors b about its centre (s = q - center, object axes):
+/// n0 = sum b, n1 = sum b s^T, n2 = sum b s s, n3 = sum b s s s, the last two symmetric in
+/// the s indices and stored once per index set (kPair, kTriple). The hydrostatic closed form
+/// expands the depth about the node, where it is small; the drag closed form takes the
+/// velocity about it too.
+struct FastMoments {
+    double n0[3] = {};
+    double n1[3][3] = {};
+    double n2[3][6] = {};
+    double n3[3][10] = {};
+};
+
+/// Reusable per-call buffers: sized on the first call, reused after (no allocation per call).
+/// A leaf of kLanes entries left to per-entry work, with its water in single precision: the
+/// surface's quadratic f + g.d + d^T H d / 2 (hxx, hzz halved) about (cx, cz) relative to c,
+/// and the body's velocity relative to the water there.
+struct FastLeafWork {
+    std::uint32_t begin = 0;
+    float cx = 0, cz = 0, f = 0, gx = 0, gz = 0, hxx = 0, hxz = 0, hzz = 0;
+    float ux = 0, uy = 0, uz = 0;
+};
+
+struct FastScratch {
+    std::vector<double> x, z, h;
+    std::vector<FastLeafWork> leaves;
+    std::vector<FastLeafWork> dragLeaves;  ///< wholly wet: only begin and the velocity are set
+};
+
+/// A body's entries in tile order (single precision, structure of arrays) and its tiles.
+class FastBody {
+public:
+    /// `entry(i, p, a, area)` fills entry i's position and area vector (object space) and area;
+    /// `center` is the body's centre c.
+    template <class Entry>
+    void build(std::size_t count, Entry entry, const Vec3& center, const FastOptions& options = {}) {
+        options_ = options;
+        center_ = center;
+        std::vector<Vec3> p(count), a(count);
+        std::vector<double> area(count);
+        Vec3 lo{1e300, 1e300, 1e300}, hi{-1e300, -1e300, -1e300};
+        for (std::size_t i = 0; i < count; ++i) {
+            entry(i, p[i], a[i], area[i]);
+            p[i] -= center;
+            lo = {std::min(lo.x, p[i].x), std::min(lo.y, p[i].y), std::min(lo.z, p[i].z)};
+            hi = {std::max(hi.x, p[i].x), std::max(hi.y, p[i].y), std::max(hi.z, p[i].z)};
+        }
+        // Morton order: tiles of consecutive entries are then compact in object space.
+        const double span = std::max({hi.x - lo.x, hi.y - lo.y, hi.z - lo.z, 1e-30});
+        std::vector<std::uint64_t> key(count);
+        for (std::size_t i = 0; i < count; ++i) {
+            auto cell = [&](double v, double l) {
+                return static_cast<std::uint64_t>(std::clamp((v - l) / span, 0.0, 1.0) * 1023.0);
+            };
+            key[i] = interleave(cell(p[i].x, lo.x)) | interleave(cell(p[i].y, lo.y)) << 1 |
+                     interleave(cell(p[i].z, lo.z)) << 2;
+        }
+        std::vector<std::uint32_t> order(count);
+        std::iota(order.begin(), order.end(), 0u);
+        std::stable_sort(order.begin(), order.end(),
+                         [&](std::uint32_t u, std::uint32_t v) { return key[u] < key[v]; });
+        // Tiles of a power of two of entries, the last padded with entries that weigh nothing
+        // (valid 0, zero area).
+        std::size_t size = kLanes;
+        while (size < std::min(options.tileSize, kMaxTile)) size *= 2;
+        const std::size_t padded = (count + size - 1) / size * size;
+        for (auto* column : {&qx_, &qy_, &qz_, &bx_, &by_, &bz_, &area_, &inverseLength2_,
+                             &inverseLength_, &valid_})
+            column->assign(padded, 0.0f);
+        for (std::size_t i = 0; i < count; ++i) {
+            const std::uint32_t k = order[i];
+            qx_[i] = static_cast<float>(p[k].x);
+            qy_[i] = static_cast<float>(p[k].y);
+            qz_[i] = static_cast<float>(p[k].z);
+            bx_[i] = static_cast<float>(a[k].x);
+            by_[i] = static_cast<float>(a[k].y);
+            bz_[i] = static_cast<float>(a[k].z);
+            area_[i] = static_cast<float>(area[k]);
+            const float length2 = bx_[i] * bx_[i] + by_[i] * by_[i] + bz_[i] * bz_[i];
+            inverseLength2_[i] = length2 > 0 ? 1.0f / length2 : 0.0f;
+            inverseLength_[i] = 1.0f / std::max(std::sqrt(length2), 1e-30f);
+            valid_[i] = 1.0f;
+        }
+        // Three levels, all compact in object space along the Morton order: groups of
+        // kGroupTiles tiles, tiles of `size` entries, leaves of kLanes entries. A node that is
+        // neither dry nor summable in closed form is looked at again in its children; only
+        // leaves are evaluated per entry.
+        std::vector<FastTile> groups, tiles, leaves;
+        std::vector<FastMoments> groupMoments, tileMoments, leafMoments;
+        for (std::size_t begin = 0; begin < padded; begin += size * kGroupTiles) {
+            FastTile g = makeTile(begin, std::min(padded, begin + size * kGroupTiles), groupMoments);
+            g.firstChild = static_cast<std::uint32_t>(tiles.size());
+            for (std::size_t t0 = g.begin; t0 < g.end; t0 += size) {
+                FastTile t = makeTile(t0, t0 + size, tileMoments);
+                t.firstChild = static_cast<std::uint32_t>(leaves.size());
+                if (size > kLanes)
+                    for (std::size_t sub = t0; sub < t0 + size; sub += kLanes)
+                        if (valid_[sub] != 0) leaves.push_back(makeTile(sub, sub + kLanes, leafMoments));
+                t.children = static_cast<std::uint32_t>(leaves.size()) - t.firstChild;
+                tiles.push_back(t);
+            }
+            g.children = static_cast<std::uint32_t>(tiles.size()) - g.firstChild;
+            groups.push_back(g);
+        }
+        roots_ = static_cast<std::uint32_t>(groups.size());
+        tileCount_ = tiles.size();
+        nodes_ = groups;
+        for (FastTile& g : nodes_) g.firstChild += roots_;
+        const std::uint32_t leafOffset = roots_ + static_cast<std::uint32_t>(tiles.size());
+        for (FastTile& t : tiles) {
+            if (t.children > 0) t.firstChild += leafOffset;
+            nodes_.push_back(t);
+        }
+        nodes_.insert(nodes_.end(), leaves.begin(), leaves.end());
+        moments_ = std::move(groupMoments);
+        moments_.insert(moments_.end(), tileMoments.begin(), tileMoments.end());
+        moments_.insert(moments_.end(), leafMoments.begin(), leafMoments.end());
+        radius_ = 0;
+        for (const FastTile& t : tiles) radius_ = std::max(radius_, norm(t.center) + t.radius + t.halfExtent);
+    }
+
+    std::size_t size() const { return qx_.size(); }  ///< entries, padded to whole lanes
+    /// Every node of the three levels (groups first; see build), and their moments (same index).
+    const std::vector<FastTile>& nodes() const { return nodes_; }
+    const std::vector<FastMoments>& moments() const { return moments_; }
+    /// Tiles of FastOptions::tileSize entries (the middle level).
+    std::size_t tileCount() const { return tileCount_; }
+    const Vec3& center() const { return center_; }
+    /// Largest distance of an entry (with its half extent) from c.
+    double radius() const { return radius_; }
+    const FastOptions& options() const { return options_; }
+
+    /// The body's sums about c for one state (see the file comment).
+    Sums evaluate(const BodyState& state, const WaterSurface& water, const Coefficients& k,
+                  FastScratch& scratch, FastStats* stats = nullptr) const;
+
+private:
+    static constexpr std::size_t kLanes = 8;     ///< partial sums per column of the per-entry sums
+    static constexpr std::size_t kMaxTile = 64;  ///< entries per tile at most
+    static constexpr std::size_t kGroupTiles = 8;  ///< tiles per group
+
+    static std::uint64_t interleave(std::uint64_t v) {
+        v &= 0x3ff;
+        v = (v | v << 16) & 0x30000ff;
+        v = (v | v << 8) & 0x300f00f;
+        v = (v | v << 4) & 0x30c30c3;
+        v = (v | v << 2) & 0x9249249;
+        return v;
+    }
+
+    /// The node over entries [begin, end); its moments are appended to `moments`.
+    FastTile makeTile(std::size_t begin, std::size_t end, std::vector<FastMoments>& moments) const {
+        FastTile t;
+        FastMoments& mo = moments.emplace_back();
+        t.begin = static_cast<std::uint32_t>(begin);
+        t.end = static_cast<std::uint32_t>(end);
+        Vec3 lo{1e300, 1e300, 1e300}, hi{-1e300, -1e300, -1e300}, normals;
+        double largest = 0;
+        // Bounds and moments of what the per-entry path sees: the single-precision entries.
+        auto position = [&](std::size_t i) { return Vec3{qx_[i], qy_[i], qz_[i]}; };
+        auto areaVector = [&](std::size_t i) { return Vec3{bx_[i], by_[i], bz_[i]}; };
+        for (std::size_t i = begin; i < end; ++i) {
+            if (valid_[i] == 0) continue;
+            const Vec3 q = position(i), b = areaVector(i);
+            lo = {std::min(lo.x, q.x), std::min(lo.y, q.y), std::min(lo.z, q.z)};
+            hi = {std::max(hi.x, q.x), std::max(hi.y, q.y), std::max(hi.z, q.z)};
+            const double length = norm(b);
+            if (length > 0) normals += (1.0 / length) * b;
+            largest = std::max(largest, double(area_[i]));
+        }
+        t.center = 0.5 * (lo + hi);
+        t.halfSize = 0.5 * (hi - lo);
+        t.halfExtent = 0.5 * std::sqrt(largest);
+        const double axisLength = norm(normals);
+        t.axis = axisLength > 0 ? (1.0 / axisLength) * normals : Vec3{0, 1, 0};
+        t.cosSpread = axisLength > 0 ? 1.0 : -1.0;
+        for (std::size_t i = begin; i < end; ++i) {
+            if (valid_[i] == 0) continue;
+            const Vec3 qv = position(i), bv = areaVector(i);
+            const double q[3] = {qv.x, qv.y, qv.z}, b[3] = {bv.x, bv.y, bv.z};
+            t.radius = std::max(t.radius, norm(qv - t.center));
+            const double length = norm(bv);
+            if (length > 0 && axisLength > 0) t.cosSpread = std::min(t.cosSpread, dot(bv, t.axis) / length);
+            t.areaSum += area_[i];
+            t.count += 1;
+            const double d[3] = {q[0] - t.center.x, q[1] - t.center.y, q[2] - t.center.z};
+            for (int u = 0; u < 3; ++u) {
+                mo.n0[u] += b[u];
+                for (int j = 0; j < 3; ++j) {
+                    mo.n1[u][j] += b[u] * d[j];
+                    for (int l = j; l < 3; ++l) {
+                        mo.n2[u][kPair[j][l]] += b[u] * d[j] * d[l];
+                        for (int n = l; n < 3; ++n) mo.n3[u][kTriple[j][l][n]] += b[u] * d[j] * d[l] * d[n];
+                    }
+                }
+            }
+        }
+        // Rounding may make the widest normal or the farthest entry a hair wider than measured.
+        t.cosSpread = std::max(-1.0, t.cosSpread - 1e-6);
+        t.radius *= 1.0 + 1e-6;
+        t.halfSize = (1.0 + 1e-6) * t.halfSize;
+        return t;
+    }
+
+    /// The water over one tile: f(d) = f + g.d + d^T H d / 2 relative to c.y, d the horizontal
+    /// offset from the tile's centre (world axes), and the water's velocity there.
+    struct TileWater {
+        double f = 0, gx = 0, gz = 0, hxx = 0, hxz = 0, hzz = 0;
+        Vec3 velocity;
+    };
+
+    bool closedFormDrag(const FastTile& t, const FastMoments& mo, const Vec3& uo, const Vec3& wo,
+                        const Coefficients& k, Vec3& force, Vec3& torque) const;
+    /// The per-entry sums of every leaf in `leaves` (one pass, the call's constants set once).
+    void perEntry(const std::vector<FastLeafWork>& leaves, const Mat3& R, const BodyState& s,
+                  const Coefficients& k, Sums& sum) const;
+    /// The drag of every leaf in `leaves`, all of whose entries are wholly wet.
+    void dragPerEntry(const std::vector<FastLeafWork>& leaves, const Mat3& R, const BodyState& s,
+                      const Coefficients& k, Sums& sum) const;
+    template <bool Friction>
+    void dragLeaves(const std::vector<FastLeafWork>& leaves, const Mat3& R, const BodyState& s,
+                    const Coefficients& k, Sums& sum) const;
+    template <bool Friction>
+    void perEntryLeaves(const std::vector<FastLeafWork>& leaves, const Mat3& R, const BodyState& s,
+                        const Coefficients& k, Sums& sum) const;
+
+    FastOptions options_;
+    Vec3 center_;
+    double radius_ = 0;
+    std::vector<float> qx_, qy_, qz_, bx_, by_, bz_, area_, inverseLength2_, inverseLength_, valid_;
+    std::vector<FastTile> nodes_;
+    std::vector<FastMoments> moments_;
+    std::uint32_t roots_ = 0;
+    std::size_t tileCount_ = 0;
+};
+
+inline bool FastBody::closedFormDrag(const FastTile& t, const FastMoments& mo, const Vec3& uo,
+                                     const Vec3& wo, const Coefficients& k, Vec3& force,
+                                     Vec3& torque) const {
+    force = torque = Vec3{};
+    if (k.halfRhoCf > 0) return false;  // skin friction has no polynomial form
+    // t_i = b_i.v_i with v_i = vc + wo x s_i (vc the velocity at the node's centre): its sign
+    // over the node from the normal cone against vc, widened by the spin over the radius.
+    const Vec3 vc = uo + cross(wo, t.center);
+    const double speed = norm(vc);
+    const double spread = norm(wo) * t.radius;
+    if (speed == 0 && spread == 0) return true;  // at rest in still water: no drag
+    // cos(phi -+ theta), phi the angle of the flow from the cone's axis, theta the cone's
+    // half-angle: the largest and smallest cosine of the flow with a normal of the tile.
+    const double cosPhi = speed > 0 ? std::clamp(dot(t.axis, vc) / speed, -1.0, 1.0) : 1.0;
+    const double sinPhi = std::sqrt(std::max(0.0, 1.0 - cosPhi * cosPhi));
+    const double cosTheta = t.cosSpread, sinTheta = std::sqrt(std::max(0.0, 1.0 - cosTheta * cosTheta));
+    const double lowest = speed * (cosTheta + cosPhi < 0 ? -1.0 : cosPhi * cosTheta - sinPhi * sinTheta);
+    const double highest = speed * (cosPhi > cosTheta ? 1.0 : cosPhi * cosTheta + sinPhi * sinTheta);
+    if (highest + spread <= 0) return true;  // no entry faces the flow: no pressure drag
+    if (lowest <= spread) return false;       // the sign changes inside the tile
+    // A leaf's few entries cost less one by one (and vectorised) than its cubic moments.
+    if (t.children == 0 && t.end - t.begin <= kLanes) return false;
+    // Every entry faces the flow: D = -k sum (b.v) v, a polynomial in s (file comment), with
+    // E[u][j] such that sum_{u,j} E[u][j] b_u s_j = (s x b).wo.
+    const double E[3][3] = {{0, -wo.z, wo.y}, {wo.z, 0, -wo.x}, {-wo.y, wo.x, 0}};
+    double sumT = 0;
+    for (int u = 0; u < 3; ++u) {
+        sumT += mo.n0[u] * vc[u];
+        for (int j = 0; j < 3; ++j) sumT += E[u][j] * mo.n1[u][j];
+    }
+    double St[3] = {};
+    double T[3][3] = {};
+    for (int l = 0; l < 3; ++l) {
+        for (int u = 0; u < 3; ++u) {
+            St[l] += mo.n1[u][l] * vc[u];
+            for (int j = 0; j < 3; ++j) St[l] += E[u][j] * mo.n2[u][kPair[j][l]];
+        }
+        for (int n = 0; n < 3; ++n) {
+            for (int u = 0; u < 3; ++u) {
+                T[l][n] += vc[u] * mo.n2[u][kPair[l][n]];
+                for (int j = 0; j < 3; ++j) T[l][n] += E[u][j] * mo.n3[u][kTriple[j][l][n]];
+            }
+        }
+    }
+    const Vec3 st{St[0], St[1], St[2]};
+    const Vec3 Tw{T[0][0] * wo.x + T[0][1] * wo.y + T[0][2] * wo.z,
+                  T[1][0] * wo.x + T[1][1] * wo.y + T[1][2] * wo.z,
+                  T[2][0] * wo.x + T[2][1] * wo.y + T[2][2] * wo.z};
+    const double trace = T[0][0] + T[1][1] + T[2][2];
+    force = -k.halfRhoCd * (sumT * vc + cross(wo, st));
+    // About the node's centre, then about c.
+    torque = -k.halfRhoCd * (cross(st, vc) + trace * wo - Tw) + cross(t.center, force);
+    return true;
+}
+
+inline void FastBody::perEntry(const std::vector<FastLeafWork>& leaves, const Mat3& R,
+                               const BodyState& s, const Coefficients& k, Sums& sum) const {
+    if (leaves.empty()) return;
+    if (k.halfRhoCf > 0)
+        perEntryLeaves<true>(leaves, R, s, k, sum);
+    else
+        perEntryLeaves<false>(leaves, R, s, k, sum);
+}
+
+/// Per-entry sums of the leaves: each leaf's Lanes entries add into Lanes single-precision
+/// lanes per sum (a loop without a carried dependency across entries, so that it vectorises);
+/// the lanes go to double every kFlush leaves, so that a lane adds few terms in single precision.
+template <int Slots, std::size_t Lanes>
+struct LeafLaneSums {
+    static constexpr std::size_t kFlush = 8;
+    alignas(32) float lanes[Slots][Lanes] = {};
+    double total[Slots] = {};
+    void flush() {
+        for (int slot = 0; slot < Slots; ++slot)
+            for (std::size_t l = 0; l < Lanes; ++l) {
+                total[slot] += lanes[slot][l];
+                lanes[slot][l] = 0;
+            }
+    }
+    /// After leaf n (counted from 0).
+    void leafDone(std::size_t n) {
+        if ((n + 1) % kFlush == 0) flush();
+    }
+};
+
+/// The body's rotation and angular velocity in single precision, for the per-entry loops.
+struct FloatRotation {
+    float R[3][3];
+    float wx, wy, wz;
+    FloatRotation(const Mat3& rotation, const Vec3& angular)
+        : wx(static_cast<float>(angular.x)), wy(static_cast<float>(angular.y)), wz(static_cast<float>(angular.z)) {
+        for (int i = 0; i < 3; ++i)
+            for (int j = 0; j < 3; ++j) R[i][j] = static_cast<float>(rotation.m[i][j]);
+    }    /// An entry's position and area vector in the water's frame.
+    void rotate(const float q[3], const float b[3], float r[3], float a[3]) const {
+        for (int m = 0; m < 3; ++m) {
+            r[m] = R[m][0] * q[0] + R[m][1] * q[1] + R[m][2] * q[2];
+            a[m] = R[m][0] * b[0] + R[m][1] * b[1] + R[m][2] * b[2];
+        }
+    }
+};
+
+template <bool Friction>
+inline void FastBody::perEntryLeaves(const std::vector<FastLeafWork>& leaves, const Mat3& R,
+                                     const BodyState& s, const Coefficients& k, Sums& sum) const {
+    const FloatRotation rotation(R, s.angular);
+    const float wx = rotation.wx, wy = rotation.wy, wz = rotation.wz;
+    const float rhoG = static_cast<float>(k.rhoG), halfRhoCd = static_cast<float>(k.halfRhoCd),
+                halfRhoCf = static_cast<float>(k.halfRhoCf);
+    LeafLaneSums<18, kLanes> sums;
+    auto& lanes = sums.lanes;
+    const double* total = sums.total;
+    for (std::size_t n = 0; n < leaves.size(); ++n) {
+        const FastLeafWork& w = leaves[n];
+        const float* qx = qx_.data() + w.begin;
+        const float* qy = qy_.data() + w.begin;
+        const float* qz = qz_.data() + w.begin;
+        const float* bx = bx_.data() + w.begin;
+        const float* by = by_.data() + w.begin;
+        const float* bz = bz_.data() + w.begin;
+        const float* area = area_.data() + w.begin;
+        const float* inverseLength2 = inverseLength2_.data() + w.begin;
+        const float* inverseLength = inverseLength_.data() + w.begin;
+        const float* valid = valid_.data() + w.begin;
+        for (std::size_t i = 0; i < kLanes; ++i) {
+            const float q[3] = {qx[i], qy[i], qz[i]};
+            const float b[3] = {bx[i], by[i], bz[i]};
+            float r[3], a[3];
+            rotation.rotate(q, b, r, a);
+            const float dx = r[0] - w.cx, dz = r[2] - w.cz;
+            const float f = w.f + w.gx * dx + w.gz * dz + w.hxx * dx * dx + w.hxz * dx * dz + w.hzz * dz * dz;
+            const float v[3] = {w.ux + wy * r[2] - wz * r[1], w.uy + wz * r[0] - wx * r[2],
+                                w.uz + wx * r[1] - wy * r[0]};
+            const EntryTerms<float> e = entryTerms<float, Friction>(
+                r, a, area[i], inverseLength2[i], inverseLength[i], f, v, rhoG, halfRhoCd, halfRhoCf);
+            lanes[0][i] += e.volume;
+            for (int m = 0; m < 3; ++m) {
+                lanes[1 + m][i] += e.moment[m];
+                lanes[4 + m][i] += e.pressureForce[m];
+                lanes[7 + m][i] += e.pressureTorque[m];
+                lanes[10 + m][i] += e.dragForce[m];
+                lanes[13 + m][i] += e.dragTorque[m];
+            }
+            lanes[16][i] += e.wettedArea;
+            lanes[17][i] += valid[i] * e.count;
+        }
+        sums.leafDone(n);
+    }
+    sums.flush();
+    sum.volume += total[0];
+    sum.moment += Vec3{total[1], total[2], total[3]};
+    sum.pressureForce += Vec3{total[4], total[5], total[6]};
+    sum.pressureTorque += Vec3{total[7], total[8], total[9]};
+    sum.dragForce += Vec3{total[10], total[11], total[12]};
+    sum.dragTorque += Vec3{total[13], total[14], total[15]};
+    sum.wettedArea += total[16];
+    sum.count += total[17];
+}
+
+inline void FastBody::dragPerEntry(const std::vector<FastLeafWork>& leaves, const Mat3& R,
+                                   const BodyState& s, const Coefficients& k, Sums& sum) const {
+    if (leaves.empty()) return;
+    if (k.halfRhoCf > 0)
+        dragLeaves<true>(leaves, R, s, k, sum);
+    else
+        dragLeaves<false>(leaves, R, s, k, sum);
+}
+
+template <bool Friction>
+inline void FastBody::dragLeaves(const std::vector<FastLeafWork>& leaves, const Mat3& R,
+                                 const BodyState& s, const Coefficients& k, Sums& sum) const {
+    const FloatRotation rotation(R, s.angular);
+    const float wx = rotation.wx, wy = rotation.wy, wz = rotation.wz;
+    const float halfRhoCd = static_cast<float>(k.halfRhoCd), halfRhoCf = static_cast<float>(k.halfRhoCf);
+    LeafLaneSums<6, kLanes> sums;
+    auto& lanes = sums.lanes;
+    const double* total = sums.total;
+    for (std::size_t n = 0; n < leaves.size(); ++n) {
+        const FastLeafWork& w = leaves[n];
+        const float* qx = qx_.data() + w.begin;
+        const float* qy = qy_.data() + w.begin;
+        const float* qz = qz_.data() + w.begin;
+        const float* bx = bx_.data() + w.begin;
+        const float* by = by_.data() + w.begin;
+        const float* bz = bz_.data() + w.begin;
+        const float* area = area_.data() + w.begin;
+        const float* inverseLength = inverseLength_.data() + w.begin;
+        const float* valid = valid_.data() + w.begin;
+        for (std::size_t i = 0; i < kLanes; ++i) {
+            const float q[3] = {qx[i], qy[i], qz[i]};
+            const float b[3] = {bx[i], by[i], bz[i]};
+            float r[3], a[3];
+            rotation.rotate(q, b, r, a);
+            const float v[3] = {w.ux + wy * r[2] - wz * r[1], w.uy + wz * r[0] - wx * r[2],
+                                w.uz + wx * r[1] - wy * r[0]};
+            float force[3], torque[3];
+            entryDrag<float, Friction>(r, a, area[i], inverseLength[i], valid[i], v, halfRhoCd,
+                                       halfRhoCf, force, torque);
+            for (int m = 0; m < 3; ++m) {
+                lanes[m][i] += force[m];
+                lanes[3 + m][i] += torque[m];
+            }
+        }
+        sums.leafDone(n);
+    }
+    sums.flush();
+    sum.dragForce += Vec3{total[0], total[1], total[2]};
+    sum.dragTorque += Vec3{total[3], total[4], total[5]};
+}
+
+inline Sums FastBody::evaluate(const BodyState& s, const WaterSurface& water, const Coefficients& k,
+                               FastScratch& scratch, FastStats* stats) const {
+    FastStats counted;
+    Sums sum;
+    const Mat3& R = s.rotation;
+    const double cy = s.center.y;
+    if (roots_ == 0 || cy - radius_ >= water.maxHeight) {
+        counted.dry = roots_;
+        if (stats) *stats = counted;
+        return sum;
+    }
+    // Waves: one batched query on a grid over the footprint (spacing h), heights relative to c.y.
+    const bool waves = water.heights != nullptr;
+    const int G = std::max(3, options_.waveGrid);
+    const double half = radius_, h = 2 * half / (G - 1);
+    const double x0 = s.center.x - half, z0 = s.center.z - half;
+    if (waves) {
+        const std::size_t n = static_cast<std::size_t>(G) * G;
+        scratch.x.resize(n);
+        scratch.z.resize(n);
+        scratch.h.resize(n);
+        for (int j = 0; j < G; ++j)
+            for (int i = 0; i < G; ++i) {
+                scratch.x[j * G + i] = x0 + i * h;
+                scratch.z[j * G + i] = z0 + j * h;
+            }
+        water.heights(water.context, n, scratch.x.data(), scratch.z.data(), s.time, scratch.h.data());
+        counted.waterSamples = n;
+    }
+    const Vec3 rowY = R.row(1);
+    // `inherited`: the water's velocity at the parent's centre, reused by its children (the
+    // velocity callback is the costly part of a Gerstner query).
+    auto visit = [&](const FastTile& t, const Vec3* inherited, auto& self) -> void {
+        const Vec3 rc = R * t.center;
+        TileWater w;
+        double variation = 0;  // bound of the water's departure from w.f over the tile
+        if (waves) {
+            const double fx = (s.center.x + rc.x - x0) / h, fz = (s.center.z + rc.z - z0) / h;
+            const int i = std::clamp(static_cast<int>(std::lround(fx)), 1, G - 2);
+            const int j = std::clamp(static_cast<int>(std::lround(fz)), 1, G - 2);
+            auto H = [&](int di, int dj) { return scratch.h[(j + dj) * G + (i + di)] - cy; };
+            const double c0 = H(0, 0);
+            const double hx = (H(1, 0) - H(-1, 0)) / (2 * h), hz = (H(0, 1) - H(0, -1)) / (2 * h);
+            w.hxx = (H(1, 0) - 2 * c0 + H(-1, 0)) / (h * h);
+            w.hzz = (H(0, 1) - 2 * c0 + H(0, -1)) / (h * h);
+            w.hxz = (H(1, 1) - H(1, -1) - H(-1, 1) + H(-1, -1)) / (4 * h * h);
+            const double dx = (fx - i) * h, dz = (fz - j) * h;  // tile centre from the node
+            w.f = c0 + hx * dx + hz * dz + 0.5 * w.hxx * dx * dx + w.hxz * dx * dz +
+                  0.5 * w.hzz * dz * dz;
+            w.gx = hx + w.hxx * dx + w.hxz * dz;
+            w.gz = hz + w.hxz * dx + w.hzz * dz;
+            const double frobenius = std::sqrt(w.hxx * w.hxx + w.hzz * w.hzz + 2 * w.hxz * w.hxz);
+            variation = std::sqrt(w.gx * w.gx + w.gz * w.gz) * t.radius + 0.5 * frobenius * t.radius * t.radius;
+        } else {
+            w.f = water.level - cy;
+        }
+        // The tile's vertical reach: its box seen through R, or its sphere if that is smaller.
+        const double reach = std::min(t.radius, std::abs(R.m[1][0]) * t.halfSize.x +
+                                                    std::abs(R.m[1][1]) * t.halfSize.y +
+                                                    std::abs(R.m[1][2]) * t.halfSize.z);
+        const double top = rc.y + reach + t.halfExtent, bottom = rc.y - reach - t.halfExtent;
+        if (bottom >= w.f + variation) {
+            ++counted.dry;
+            return;
+        }
+        // On waves a group spans too much of the surface for one quadratic: its tiles decide.
+        const bool submerged = top < w.f - variation && !(waves && &t < nodes_.data() + roots_);
+        auto descend = [&](const Vec3* velocity) {
+            for (std::uint32_t c = 0; c < t.children; ++c) self(nodes_[t.firstChild + c], velocity, self);
+        };
+        if (!submerged && t.children > 0) return descend(inherited);
+        if (inherited)
+            w.velocity = *inherited;
+        else if (water.velocity)
+            w.velocity = water.velocity(water.context, s.center + rc, s.time);
+        if (!submerged) {
+            if (t.children > 0) return descend(water.velocity ? &w.velocity : nullptr);
+            ++counted.perEntry;
+            // Every per-entry node is a leaf of kLanes entries (build).
+            FastLeafWork& leaf = scratch.leaves.emplace_back();
+            leaf.begin = t.begin;
+            leaf.cx = static_cast<float>(rc.x);
+            leaf.cz = static_cast<float>(rc.z);
+            leaf.f = static_cast<float>(w.f);
+            leaf.gx = static_cast<float>(w.gx);
+            leaf.gz = static_cast<float>(w.gz);
+            leaf.hxx = static_cast<float>(0.5 * w.hxx);
+            leaf.hxz = static_cast<float>(w.hxz);
+            leaf.hzz = static_cast<float>(0.5 * w.hzz);
+            const Vec3 u = s.linear - w.velocity;
+            leaf.ux = static_cast<float>(u.x);
+            leaf.uy = static_cast<float>(u.y);
+            leaf.uz = static_cast<float>(u.z);
+            return;
+        }
+        ++counted.closedForm;
+        // Drag in closed form over the largest nodes whose entries all face the flow or all
+        // turn away from it; per entry (drag alone: every entry is wholly wet) in the leaves
+        // where the sign changes.
+        const Vec3 uo = transposeTimes(R, s.linear - w.velocity), wo = transposeTimes(R, s.angular);
+        auto drag = [&](const FastTile& node, auto& again) -> void {
+            Vec3 force, torque;
+            if (closedFormDrag(node, moments_[static_cast<std::size_t>(&node - nodes_.data())], uo, wo,
+                               k, force, torque)) {
+                sum.dragForce += R * force;
+                sum.dragTorque += R * torque;
+                return;
+            }
+            if (node.children > 0) {
+                for (std::uint32_t c = 0; c < node.children; ++c) again(nodes_[node.firstChild + c], again);
+                return;
+            }
+            ++counted.dragPerEntry;
+            FastLeafWork& leaf = scratch.dragLeaves.emplace_back();
+            leaf.begin = node.begin;
+            const Vec3 u = s.linear - w.velocity;
+            leaf.ux = static_cast<float>(u.x);
+            leaf.uy = static_cast<float>(u.y);
+            leaf.uz = static_cast<float>(u.z);
+        };
+        drag(t, drag);
+        const FastMoments& mo = moments_[static_cast<std::size_t>(&t - nodes_.data())];
+        // The depth about the tile's centre, s = q - center (object axes):
+        // depth = alpha + beta.s + s^T H s / 2, from the water's quadratic over the tile.
+        const double alpha = w.f - rc.y;
+        const Vec3 beta = transposeTimes(R, Vec3{w.gx, -1.0, w.gz});
+        const bool curved = w.hxx != 0 || w.hxz != 0 || w.hzz != 0;
+        double H[3][3] = {};
+        if (curved) {
+            // R^T H3 R with H3 the horizontal Hessian in world axes: its y row and column are
+            // zero, so only the x and z rows of R enter.
+            for (int i = 0; i < 3; ++i)
+                for (int j = 0; j < 3; ++j)
+                    H[i][j] = R.m[0][i] * w.hxx * R.m[0][j] + R.m[0][i] * w.hxz * R.m[2][j] +
+                              R.m[2][i] * w.hxz * R.m[0][j] + R.m[2][i] * w.hzz * R.m[2][j];
+        }
+        // D0 = sum depth b, D1 = sum depth b q^T (about c), E = sum depth^2 b (its term in
+        // (s^T H s)^2 / 4 left out: of the order of the curvature's squared departure).
+        double D0[3], D1[3][3], E[3];
+        for (int u = 0; u < 3; ++u) {
+            double n1b = 0, n2bb = 0, n2H = 0, n3bH = 0;
+            double D1s[3];
+            for (int j = 0; j < 3; ++j) {
+                n1b += mo.n1[u][j] * beta[j];
+                double n2b = 0, n3H = 0;
+                for (int l = 0; l < 3; ++l) {
+                    n2b += mo.n2[u][kPair[j][l]] * beta[l];
+                    if (curved) {
+                        n2H += mo.n2[u][kPair[j][l]] * H[j][l];
+                        for (int m = 0; m < 3; ++m) n3H += mo.n3[u][kTriple[j][l][m]] * H[l][m];
+                    }
+                }
+                D1s[j] = alpha * mo.n1[u][j] + n2b + 0.5 * n3H;
+                n2bb += n2b * beta[j];
+                n3bH += n3H * beta[j];
+            }
+            D0[u] = alpha * mo.n0[u] + n1b + 0.5 * n2H;
+            for (int j = 0; j < 3; ++j) D1[u][j] = D0[u] * t.center[j] + D1s[j];
+            E[u] = alpha * alpha * mo.n0[u] + 2 * alpha * n1b + n2bb + alpha * n2H + n3bH;
+        }
+        const Vec3 d0{D0[0], D0[1], D0[2]};
+        const Vec3 torque{D1[2][1] - D1[1][2], D1[0][2] - D1[2][0], D1[1][0] - D1[0][1]};
+        auto sandwich = [&](const Vec3& left, const Vec3& right) {
+            double v = 0;
+            for (int u = 0; u < 3; ++u)
+                for (int j = 0; j < 3; ++j) v += left[u] * D1[u][j] * right[j];
+            return v;
+        };
+        sum.volume -= dot(rowY, d0);
+        sum.moment.x -= sandwich(rowY, R.row(0));
+        sum.moment.y -= sandwich(rowY, rowY) + 0.5 * dot(rowY, Vec3{E[0], E[1], E[2]});
+        sum.moment.z -= sandwich(rowY, R.row(2));
+        sum.pressureForce -= k.rhoG * (R * d0);
+        sum.pressureTorque -= k.rhoG * (R * torque);
+        sum.wettedArea += t.areaSum;
+        sum.count += t.count;
+    };
+    scratch.leaves.clear();
+    scratch.dragLeaves.clear();
+    for (std::uint32_t g = 0; g < roots_; ++g) visit(nodes_[g], nullptr, visit);
+    perEntry(scratch.leaves, R, s, k, sum);
+    dragPerEntry(scratch.dragLeaves, R, s, k, sum);
+    if (stats) *stats = counted;
+    return sum;
+}
+
+}  // namespace plimsoll_eval

@@ -1,0 +1,636 @@
+// The water graph's step (docs/design.md, "Water graph"): the state of a body's compartments
+// and pipes, and what one step does to it: exchange through the permeable surface, then flow
+// between nodes (findDischargeNode and Poiseuille's law, or diffusion), plus the water's mass
+// properties. The engine (plimsoll::WaterGraphSimulation, engine/src/graph/graph.cpp) and the
+// runtime library (plimsoll_runtime::WaterGraph) both compile this header, so the two step
+// the same water. The engine's per-texel exchange pass keeps its own double-precision
+// reference (exchange_reference.cpp, the oracle of the OpenCL kernel); exchangePass below is
+// the same rule for the runtime, and tests/runtime holds the two together.
+//
+// Rounding: the engine computed these sums with Eigen before they moved here, and its
+// trajectories are pinned (tests/scene/test_determinism.cpp). So every product below
+// associates as Eigen's does for 3-vectors on x86-64 (SSE2): a strided row's dot product as
+// a0 b0 + (a1 b1 + a2 b2), a matrix-vector product's rows 0 and 1 as (a0 b0 + a1 b1) + a2 b2
+// and row 2 as a strided dot, R^T v and norms as (a0 b0 + a1 b1) + a2 b2.
+#pragma once
+
+#include "plimsoll_eval/vec.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <cstddef>
+#include <cstdint>
+#include <limits>
+#include <utility>
+#include <vector>
+
+namespace plimsoll_eval {
+
+namespace graph_detail {
+
+inline constexpr double kPi = 3.14159265358979323846;
+
+/// Row i of R dotted with v, associated as Eigen's strided row dot product.
+inline double rowDot(const Mat3& R, int i, const Vec3& v) {
+    return R.m[i][0] * v.x + (R.m[i][1] * v.y + R.m[i][2] * v.z);
+}
+
+/// R v, associated as Eigen's Matrix3d * Vector3d (rows 0 and 1 as packets, row 2 scalar).
+inline Vec3 rotate(const Mat3& R, const Vec3& v) {
+    return {R.m[0][0] * v.x + R.m[0][1] * v.y + R.m[0][2] * v.z,
+            R.m[1][0] * v.x + R.m[1][1] * v.y + R.m[1][2] * v.z, rowDot(R, 2, v)};
+}
+
+}  // namespace graph_detail
+
+/// One compartment as the step sees it (object space, m and m^3).
+struct GraphNodeState {
+    Vec3 position;
+    double capacity = 0;
+    double water = 0;
+    bool sealed = false;   ///< takes and passes no water
+    Vec3 box;              ///< box edges; all zero: a sphere of the capacity
+    bool isBox() const { return box.x > 0 && box.y > 0 && box.z > 0; }
+};
+
+/// One pipe, its ends as node indices.
+struct GraphPipeState {
+    std::uint32_t a = 0, b = 0;
+    double radius = 0.01;  ///< m
+    double length = 0;     ///< m; 0 = the distance between the nodes
+    bool open = true;
+};
+
+/// The step's settings (inflow and flow models, and the medium).
+struct GraphFlowSettings {
+    bool torricelli = false;            ///< inflow: false = linear, rate k |A| h
+    double inflowRate = 1.0;            ///< linear: 1/s
+    double dischargeCoefficient = 0.6;  ///< Torricelli: C_d
+    bool diffusion = false;             ///< flow: false = Poiseuille along the downhill path
+    double diffusionPressure = 1000.0;  ///< diffusion: Pa at a full fill difference
+    bool freeSurface = false;           ///< water at each node's lowest side, not its position
+    double density = 1000.0;            ///< kg/m^3
+    double viscosity = 1.0e-3;          ///< Pa s
+    double gravity = 9.81;              ///< m/s^2, along -y
+
+    /// The exchange's factor: 1/s (linear) or C_d sqrt(2 g) in m^0.5/s (Torricelli).
+    double exchangeFactor() const {
+        return torricelli ? dischargeCoefficient * std::sqrt(2.0 * gravity) : inflowRate;
+    }
+};
+
+/// Volume and first moment (about the box centre, world axes) of the part of a box below the
+/// plane y = h.
+struct ClippedVolume {
+    double volume = 0;
+    Vec3 moment;
+};
+
+namespace graph_detail {
+
+/// Volume and first moment of the wetted triangle (a, b, c), all at or below y = h: the
+/// divergence theorem with fields that vanish on the plane, by the edge-midpoint rule (exact
+/// for these quadratic integrands).
+inline void addWettedPiece(const Vec3& a, const Vec3& b, const Vec3& c, double h,
+                           ClippedVolume& sums) {
+    const Vec3 area = 0.5 * cross(b - a, c - a);
+    const Vec3 mids[3] = {0.5 * (a + b), 0.5 * (b + c), 0.5 * (c + a)};
+    double height = 0;
+    Vec3 field;
+    for (const Vec3& m : mids) {
+        const double below = m.y - h;
+        height += below;
+        // (y^2 - h^2)/2 factored, so no digits are lost when y and h are close.
+        field += Vec3{m.x * below, 0.5 * below * (m.y + h), m.z * below};
+    }
+    height /= 3.0;
+    field = {field.x / 3.0, field.y / 3.0, field.z / 3.0};
+    sums.volume += area.y * height;
+    sums.moment += area.y * field;
+}
+
+/// Clips the triangle to y <= h and adds the kept part (a triangle or a quadrilateral split
+/// in two, same winding).
+inline void addClippedTriangle(const Vec3& p0, const Vec3& p1, const Vec3& p2, double h,
+                               ClippedVolume& sums) {
+    const Vec3 p[3] = {p0, p1, p2};
+    Vec3 polygon[4];
+    int count = 0;
+    for (int i = 0; i < 3; ++i) {
+        const Vec3& a = p[i];
+        const Vec3& b = p[(i + 1) % 3];
+        const double da = a.y - h, db = b.y - h;
+        if (da <= 0.0) polygon[count++] = a;
+        // Only where the ends lie strictly on opposite sides (the division is then safe), from
+        // the submerged end so that two triangles sharing the edge get the same point.
+        if ((da < 0.0 && db > 0.0) || (da > 0.0 && db < 0.0)) {
+            const Vec3& wet = da < 0.0 ? a : b;
+            const Vec3& dry = da < 0.0 ? b : a;
+            const double dWet = wet.y - h, dDry = dry.y - h;
+            Vec3 crossing = wet + (dWet / (dWet - dDry)) * (dry - wet);
+            crossing.y = h;  // on the plane exactly, where the fields vanish
+            polygon[count++] = crossing;
+        }
+    }
+    if (count >= 3) addWettedPiece(polygon[0], polygon[1], polygon[2], h, sums);
+    if (count == 4) addWettedPiece(polygon[0], polygon[2], polygon[3], h, sums);
+}
+
+}  // namespace graph_detail
+
+/// The part of a box of edges `size`, centred at the origin and rotated by R, below y = h.
+/// Its twelve triangles in the engine's box mesh order (plimsoll::makeBox: faces +x, -x, +y,
+/// -y, +z, -z, each split along its first diagonal), so the sums add in the same order.
+inline ClippedVolume clipBoxBelow(const Vec3& size, const Mat3& R, double h) {
+    // Per face: outward normal, u, v (u x v = normal), as signs per axis.
+    struct Face {
+        int n[3], u[3], v[3];
+    };
+    static constexpr Face kFaces[6] = {
+        {{1, 0, 0}, {0, 0, -1}, {0, 1, 0}},  {{-1, 0, 0}, {0, 0, 1}, {0, 1, 0}},
+        {{0, 1, 0}, {1, 0, 0}, {0, 0, -1}},  {{0, -1, 0}, {1, 0, 0}, {0, 0, 1}},
+        {{0, 0, 1}, {1, 0, 0}, {0, 1, 0}},   {{0, 0, -1}, {-1, 0, 0}, {0, 1, 0}}};
+    static constexpr int kCorners[4][2] = {{0, 0}, {1, 0}, {1, 1}, {0, 1}};
+    const Vec3 half = 0.5 * size;
+    ClippedVolume sums;
+    for (const Face& f : kFaces) {
+        Vec3 corner[4];
+        for (int k = 0; k < 4; ++k) {
+            const int su = 2 * kCorners[k][0] - 1, sv = 2 * kCorners[k][1] - 1;
+            const Vec3 p{(f.n[0] + su * f.u[0] + sv * f.v[0]) * half.x,
+                         (f.n[1] + su * f.u[1] + sv * f.v[1]) * half.y,
+                         (f.n[2] + su * f.u[2] + sv * f.v[2]) * half.z};
+            corner[k] = graph_detail::rotate(R, p);
+        }
+        graph_detail::addClippedTriangle(corner[0], corner[1], corner[2], h, sums);
+        graph_detail::addClippedTriangle(corner[0], corner[2], corner[3], h, sums);
+    }
+    return sums;
+}
+
+/// The node a surface point feeds (paper 4.2): plimsoll_eval/nearest_node.hpp.
+
+/// A permeable surface point: where it is (object space), permeability x area (m^2) and the
+/// node it feeds.
+struct ExchangePoint {
+    Vec3 position;
+    double weight = 0;
+    std::uint32_t node = 0;
+};
+
+/// Per-node rates of one exchange pass (m^3/s) and the highest outside surface feeding each
+/// node (world m; -inf: none).
+struct ExchangeRates {
+    std::vector<double> inflow, outflow, outsideTop;
+};
+
+/// The exchange pass over `points` for the body at (R, origin) at `time`: the outside depth
+/// d_out = max(0, f(x, z) - y) against the inside head d_in = max(0, surface_n - y) drives
+/// |q| = factor w |h| (linear) or factor w sqrt|h| (Torricelli), h = d_out - d_in > 0 in.
+/// height(x, z, time) is the water surface.
+template <class Height>
+void exchangePass(const std::vector<ExchangePoint>& points, std::size_t nodes, const Mat3& R,
+                  const Vec3& origin, double time, const double* nodeSurface, bool torricelli,
+                  double factor, const Height& height, ExchangeRates& rates) {
+    rates.inflow.assign(nodes, 0.0);
+    rates.outflow.assign(nodes, 0.0);
+    rates.outsideTop.assign(nodes, -std::numeric_limits<double>::infinity());
+    for (const ExchangePoint& s : points) {
+        const Vec3 p = graph_detail::rotate(R, s.position) + origin;
+        const double f = height(p.x, p.z, time);
+        const double outside = std::max(0.0, f - p.y);
+        const double inside = std::max(0.0, nodeSurface[s.node] - p.y);
+        const double head = outside - inside;
+        if (head == 0) continue;
+        const double q = torricelli ? factor * s.weight * std::sqrt(std::abs(head))
+                                    : factor * s.weight * std::abs(head);
+        if (head > 0) {
+            rates.inflow[s.node] += q;
+            rates.outsideTop[s.node] = std::max(rates.outsideTop[s.node], f);
+        } else {
+            rates.outflow[s.node] += q;
+        }
+    }
+}
+
+/// Mass properties of the water (object space; inertia about its centre of mass, products
+/// with the minus sign).
+struct WaterMass {
+    double mass = 0;     ///< kg
+    double volume = 0;   ///< m^3
+    Vec3 centerOfMass;
+    double inertia[3][3] = {{0, 0, 0}, {0, 0, 0}, {0, 0, 0}};
+};
+
+/// Water bookkeeping since the start (m^3): entered + initial = stored + left, to rounding.
+struct GraphFlowTotals {
+    double entered = 0;   ///< through the surface, into nodes
+    double left = 0;      ///< through the surface, out of nodes
+    double initial = 0;   ///< in the nodes at the start
+    double moved = 0;     ///< between nodes (not a balance term)
+};
+
+/// A body's water graph and its state, stepped with the body's rotation R (object -> world).
+class GraphFlow {
+public:
+    /// Takes the nodes and pipes (valid: capacities > 0, pipes between distinct nodes) and
+    /// starts the random sequence (splitmix64) at `seed`. Pipes that are closed or touch a
+    /// sealed node pass nothing.
+    void reset(std::vector<GraphNodeState> nodes, std::vector<GraphPipeState> pipes,
+               std::uint64_t seed) {
+        nodes_ = std::move(nodes);
+        pipes_ = std::move(pipes);
+        rng_ = seed;
+        totals_ = {};
+        const std::size_t n = nodes_.size();
+        links_.assign(n, {});
+        radius_.assign(n, 0.0);
+        scaledBox_.assign(n, Vec3{});
+        for (std::size_t i = 0; i < n; ++i) {
+            const GraphNodeState& node = nodes_[i];
+            radius_[i] = std::cbrt(3.0 * node.capacity / (4.0 * graph_detail::kPi));
+            if (node.isBox()) {
+                // The box scaled to hold exactly the node's capacity.
+                const double volume = node.box.x * node.box.y * node.box.z;
+                scaledBox_[i] = std::cbrt(node.capacity / volume) * node.box;
+            }
+            totals_.initial += node.water;
+        }
+        length_.assign(pipes_.size(), 0.0);
+        for (std::size_t p = 0; p < pipes_.size(); ++p) {
+            const GraphPipeState& pipe = pipes_[p];
+            length_[p] = pipe.length > 0 ? pipe.length
+                                         : norm(nodes_[pipe.a].position - nodes_[pipe.b].position);
+            if (!pipe.open || nodes_[pipe.a].sealed || nodes_[pipe.b].sealed) continue;
+            links_[pipe.a].push_back({pipe.b, static_cast<std::uint32_t>(p)});
+            links_[pipe.b].push_back({pipe.a, static_cast<std::uint32_t>(p)});
+        }
+    }
+
+    const std::vector<GraphNodeState>& nodes() const { return nodes_; }
+    const GraphFlowTotals& totals() const { return totals_; }
+    /// Heap bytes the state holds beyond sizeof(GraphFlow).
+    std::size_t memoryBytes() const {
+        std::size_t bytes = nodes_.capacity() * sizeof(GraphNodeState) +
+                            pipes_.capacity() * sizeof(GraphPipeState) +
+                            (length_.capacity() + radius_.capacity() + levels_.capacity()) * sizeof(double) +
+                            scaledBox_.capacity() * sizeof(Vec3) +
+                            links_.capacity() * sizeof(std::vector<Link>);
+        for (const std::vector<Link>& links : links_) bytes += links.capacity() * sizeof(Link);
+        return bytes;
+    }
+    double storedWater() const {
+        double sum = 0;
+        for (const GraphNodeState& n : nodes_) sum += n.water;
+        return sum;
+    }
+    /// Sets a node's water (clamped to 0..capacity), booked as initial water.
+    void setWater(std::size_t node, double water) {
+        GraphNodeState& n = nodes_[node];
+        const double clamped = std::clamp(water, 0.0, n.capacity);
+        totals_.initial += clamped - n.water;
+        n.water = clamped;
+    }
+
+    /// Poiseuille's law: pi dp r^4 / (8 mu L), m^3/s.
+    static double poiseuilleRate(double dp, double radius, double viscosity, double length) {
+        return graph_detail::kPi * dp * std::pow(radius, 4) / (8.0 * viscosity * length);
+    }
+
+    /// World height of node i's position above the body's origin.
+    double nodeHeight(std::size_t node, const Mat3& R) const {
+        return graph_detail::rowDot(R, 1, nodes_[node].position);
+    }
+
+    /// Water volume of node i up to a world level `offset` above its position (0..capacity).
+    double volumeAtLevel(std::size_t node, double offset, const Mat3& R) const {
+        const GraphNodeState& n = nodes_[node];
+        if (!n.isBox()) {
+            const double r = radius_[node];
+            const double h = std::clamp(offset + r, 0.0, 2.0 * r);
+            return std::clamp(graph_detail::kPi * h * h * (3.0 * r - h) / 3.0, 0.0, n.capacity);
+        }
+        const ClippedVolume c = clipBoxBelow(scaledBox_[node], R, offset);
+        const double v = std::isfinite(c.volume) && c.volume > 0 ? c.volume : 0.0;
+        return std::clamp(v, 0.0, n.capacity);
+    }
+
+    /// Lowest and highest world offsets of node i's compartment about its position.
+    std::pair<double, double> levelRange(std::size_t node, const Mat3& R) const {
+        if (!nodes_[node].isBox()) return {-radius_[node], radius_[node]};
+        const Vec3 half = 0.5 * scaledBox_[node];
+        const double reach = std::abs(R.m[1][0]) * half.x +
+                             (std::abs(R.m[1][1]) * half.y + std::abs(R.m[1][2]) * half.z);
+        return {-reach, reach};
+    }
+
+    /// Level of `water` in node i: world height above its position (bisection on
+    /// volumeAtLevel). An empty node's level is its lowest point.
+    double levelOffset(std::size_t node, double water, const Mat3& R) const {
+        auto [lo, hi] = levelRange(node, R);
+        if (water <= 0) return lo;
+        if (water >= nodes_[node].capacity) return hi;
+        for (int it = 0; it < 50 && hi - lo > 1e-12 * (1.0 + std::abs(hi)); ++it) {
+            const double mid = 0.5 * (lo + hi);
+            (volumeAtLevel(node, mid, R) < water ? lo : hi) = mid;
+        }
+        return 0.5 * (lo + hi);
+    }
+
+    /// Node i's water surface relative to the body's origin (world axes).
+    double level(std::size_t node, const Mat3& R) const {
+        return nodeHeight(node, R) + levelOffset(node, nodes_[node].water, R);
+    }
+
+    /// World height of every node's water surface for the body's origin at height originY
+    /// (-inf for a sealed or empty node): the inside heads of the exchange pass.
+    void nodeSurfaces(double originY, const Mat3& R, std::vector<double>& out) const {
+        out.assign(nodes_.size(), -std::numeric_limits<double>::infinity());
+        for (std::size_t i = 0; i < nodes_.size(); ++i) {
+            if (nodes_[i].sealed || nodes_[i].water <= 0) continue;
+            out[i] = originY + level(i, R);
+        }
+    }
+
+    /// Applies an exchange pass's rates over dt: every node stays in [0, capacity], a full
+    /// node passes what still pushes in on to the nodes it reaches through full nodes (as far
+    /// as the outside surface reaches), and the amounts actually moved are booked.
+    bool applyExchange(double originY, const Mat3& R, double dt, const double* inflow,
+                       const double* outflow, const double* outsideTop) {
+        const std::size_t n = nodes_.size();
+        levels_.resize(n);
+        for (std::size_t i = 0; i < n; ++i) levels_[i] = level(i, R);
+        bool moved = false;
+        for (std::size_t i = 0; i < n; ++i) {
+            GraphNodeState& node = nodes_[i];
+            double gain = inflow[i] * dt, loss = outflow[i] * dt;
+            if (gain == 0 && loss == 0) continue;
+            // Water entering a flooded stern compartment goes on into the holds.
+            double excess = node.water + gain - loss - node.capacity;
+            while (excess > 0) {
+                const Path path = findPath(static_cast<int>(i), R, levels_, outsideTop[i] - originY);
+                if (path.node < 0) break;
+                GraphNodeState& target = nodes_[path.node];
+                const double before = target.water;
+                target.water = std::min(target.capacity, before + excess);
+                const double passed = target.water - before;
+                if (!(passed > 0)) break;
+                excess -= passed;
+                totals_.entered += passed;
+                levels_[path.node] = level(path.node, R);
+                moved = true;
+            }
+            // Limits: the node stays within [0, capacity]; what is cut is what did not move.
+            if (node.water + gain - loss > node.capacity) gain = node.capacity - node.water + loss;
+            if (node.water + gain - loss < 0) loss = node.water + gain;
+            const double before = node.water;
+            node.water = std::clamp(before + gain - loss, 0.0, node.capacity);
+            // Book what the node actually changed by, split as gain and loss.
+            const double change = node.water - before;
+            const double booked = gain - loss;
+            if (change != booked) {
+                if (change > booked) gain += change - booked;
+                else loss += booked - change;
+            }
+            totals_.entered += gain;
+            totals_.left += loss;
+            moved = moved || change != 0 || gain != 0;
+        }
+        return moved;
+    }
+
+    /// The paper's findDischargeNode (Algorithm 1) for node `source`: a node reachable along
+    /// open pipes, with room, whose level is below the source's; the search passes only
+    /// through full nodes and never through a node higher than the source. -1: none.
+    int findDischargeNode(int source, const Mat3& R) {
+        if (nodes_[source].water <= 0) return -1;
+        std::vector<double> levels(nodes_.size());
+        for (std::size_t i = 0; i < levels.size(); ++i) levels[i] = level(i, R);
+        return findPath(source, R, levels, levels[source]).node;
+    }
+
+    /// Flow between nodes over dt (Poiseuille along the downhill path, or diffusion).
+    bool flowInside(const Mat3& R, double dt, const GraphFlowSettings& s) {
+        return s.diffusion ? flowDiffusion(dt, s) : flowPoiseuille(R, dt, s);
+    }
+
+    /// Where node i's water sits (object space): its position, or with the free-surface model
+    /// the centroid of the water at its lowest side along gravity.
+    Vec3 waterCentroid(std::size_t node, double water, const Mat3& R,
+                       const GraphFlowSettings& s) const {
+        const GraphNodeState& n = nodes_[node];
+        if (!s.freeSurface || water >= n.capacity) return n.position;
+        if (!n.isBox()) {
+            // Sphere cap of height h: centroid 3 (2R - h)^2 / (4 (3R - h)) below the centre.
+            const double r = radius_[node];
+            const double h = std::clamp(levelOffset(node, water, R) + r, 0.0, 2.0 * r);
+            const double below =
+                h > 0 ? 3.0 * (2.0 * r - h) * (2.0 * r - h) / (4.0 * (3.0 * r - h)) : r;
+            return n.position - below * R.row(1);
+        }
+        const ClippedVolume c = clipBoxBelow(scaledBox_[node], R, levelOffset(node, water, R));
+        if (!(c.volume > 0) || !std::isfinite(c.volume)) return n.position;
+        const Vec3 centroid{0.0 + c.moment.x / c.volume, 0.0 + c.moment.y / c.volume,
+                            0.0 + c.moment.z / c.volume};
+        return n.position + transposeTimes(R, centroid);
+    }
+
+    /// The water's mass properties (paper eqs. 15-17: point masses rho v at waterCentroid).
+    WaterMass waterMass(const Mat3& R, const GraphFlowSettings& s) const {
+        WaterMass p;
+        Vec3 moment;
+        std::vector<std::pair<double, Vec3>> points;
+        for (std::size_t i = 0; i < nodes_.size(); ++i) {
+            const double w = nodes_[i].water;
+            if (!(w > 0)) continue;
+            const double m = s.density * w;
+            const Vec3 c = waterCentroid(i, w, R, s);
+            points.emplace_back(m, c);
+            p.mass += m;
+            p.volume += w;
+            moment += m * c;
+        }
+        if (!(p.mass > 0)) return p;
+        p.centerOfMass = {moment.x / p.mass, moment.y / p.mass, moment.z / p.mass};
+        for (const auto& point : points) {  // about the centre of mass (parallel axes)
+            const double m = point.first;
+            const Vec3 d = point.second - p.centerOfMass;
+            const double dv[3] = {d.x, d.y, d.z};
+            const double squared = dot(d, d);
+            for (int r = 0; r < 3; ++r) {
+                for (int k = 0; k < 3; ++k) {
+                    p.inertia[r][k] += m * ((r == k ? squared : 0.0) - dv[r] * dv[k]);
+                }
+            }
+        }
+        return p;
+    }
+
+private:
+    struct Link {
+        std::uint32_t node, pipe;
+    };
+    struct Path {
+        int node = -1;
+        double radius = 0;   ///< narrowest pipe on the way, m
+        double length = 0;   ///< along the way, m
+    };
+
+    std::uint64_t random() {
+        // splitmix64: the same sequence on every platform and standard library.
+        std::uint64_t z = (rng_ += 0x9E3779B97F4A7C15ull);
+        z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ull;
+        z = (z ^ (z >> 27)) * 0x94D049BB133111EBull;
+        return z ^ (z >> 31);
+    }
+    std::uint64_t randomBelow(std::uint64_t n) { return random() % n; }
+
+    /// Algorithm 1 with an explicit stack (deep graphs cannot overflow). sourceLevel: the
+    /// height the water comes from (the source's level, or the outside surface pushing
+    /// through a full node), relative to the body's origin.
+    Path findPath(int source, const Mat3& R, const std::vector<double>& levels, double sourceLevel) {
+        Path none;
+        if (nodes_[source].sealed) return none;
+        // Visited marks by epoch: no O(nodes) clear per search (a Poiseuille step searches
+        // from every node, which made it quadratic in the node count).
+        if (visitMark_.size() != nodes_.size() || ++visitEpoch_ == 0) {
+            visitMark_.assign(nodes_.size(), 0);
+            visitEpoch_ = 1;
+        }
+        visitMark_[source] = visitEpoch_;
+        struct Frame {
+            int node;
+            std::vector<Link> order;
+            std::size_t next;
+            double radius, length;
+        };
+        auto shuffled = [&](int node) {
+            std::vector<Link> order = links_[node];
+            for (std::size_t i = order.size(); i > 1; --i) std::swap(order[i - 1], order[randomBelow(i)]);
+            return order;
+        };
+        std::vector<Frame> stack;
+        stack.push_back({source, shuffled(source), 0, std::numeric_limits<double>::infinity(), 0.0});
+        while (!stack.empty()) {
+            Frame& top = stack.back();
+            if (top.next == top.order.size()) {
+                stack.pop_back();
+                continue;
+            }
+            const Link link = top.order[top.next++];
+            const int m = static_cast<int>(link.node);
+            if (visitMark_[m] == visitEpoch_) continue;
+            visitMark_[m] = visitEpoch_;
+            // A node whose lowest point lies above the source's level is an energy barrier.
+            if (nodeHeight(m, R) + levelRange(m, R).first > sourceLevel) continue;
+            const double radius = std::min(top.radius, pipes_[link.pipe].radius);
+            const double length = top.length + length_[link.pipe];
+            const GraphNodeState& node = nodes_[m];
+            const bool full = node.water >= node.capacity;
+            if (!full && levels[m] < sourceLevel) return {m, radius, length};
+            // Water passes on only through a full node (paper figure 7: A through B to C).
+            if (full) stack.push_back({m, shuffled(m), 0, radius, length});
+        }
+        return none;
+    }
+
+    /// Every node in random order sends Q dt (Q = pi rho g dh r^4 / (8 mu L)) to its discharge
+    /// node, at most what brings both levels together, so that nothing oscillates.
+    bool flowPoiseuille(const Mat3& R, double dt, const GraphFlowSettings& s) {
+        const std::size_t n = nodes_.size();
+        std::vector<double>& levels = flowLevels_;
+        levels.resize(n);
+        for (std::size_t i = 0; i < n; ++i) levels[i] = level(i, R);
+        std::vector<std::size_t>& order = order_;
+        order.resize(n);
+        for (std::size_t i = 0; i < n; ++i) order[i] = i;
+        for (std::size_t i = n; i > 1; --i) std::swap(order[i - 1], order[randomBelow(i)]);
+        const double rhoG = s.density * s.gravity;
+        bool moved = false;
+        for (std::size_t source : order) {
+            if (nodes_[source].water <= 0) continue;
+            const Path path = findPath(static_cast<int>(source), R, levels, levels[source]);
+            if (path.node < 0) continue;
+            const auto d = static_cast<std::size_t>(path.node);
+            GraphNodeState& a = nodes_[source];
+            GraphNodeState& b = nodes_[d];
+            const double dh = levels[source] - levels[d];
+            const double rate =
+                poiseuilleRate(rhoG * dh, path.radius, s.viscosity, std::max(path.length, 1e-9));
+            // The common level L with vol_a(L) + vol_b(L) = water_a + water_b (bisection; the
+            // bracket's upper end keeps the move on the safe side).
+            const double ha = nodeHeight(source, R), hb = nodeHeight(d, R);
+            const double total = a.water + b.water;
+            double lo = levels[d], hi = levels[source];
+            for (int it = 0; it < 60 && hi - lo > 1e-13 * (1.0 + std::abs(hi)); ++it) {
+                const double mid = 0.5 * (lo + hi);
+                const double v = volumeAtLevel(source, mid - ha, R) + volumeAtLevel(d, mid - hb, R);
+                (v < total ? lo : hi) = mid;
+            }
+            const double equalise = std::max(0.0, a.water - volumeAtLevel(source, hi - ha, R));
+            double amount = std::min({rate * dt, equalise, a.water, b.capacity - b.water});
+            if (!(amount > 0)) continue;
+            const double before = b.water;
+            b.water = std::min(b.capacity, b.water + amount);
+            amount = b.water - before;
+            a.water = std::max(0.0, a.water - amount);
+            totals_.moved += amount;
+            levels[source] = level(source, R);
+            levels[d] = level(d, R);
+            moved = true;
+        }
+        return moved;
+    }
+
+    /// Along every open pipe, in random order, from the fuller node (water / capacity) to the
+    /// emptier, at most until both are equally full.
+    bool flowDiffusion(double dt, const GraphFlowSettings& s) {
+        const std::size_t count = pipes_.size();
+        std::vector<std::size_t>& order = order_;
+        order.resize(count);
+        for (std::size_t i = 0; i < count; ++i) order[i] = i;
+        for (std::size_t i = count; i > 1; --i) std::swap(order[i - 1], order[randomBelow(i)]);
+        bool moved = false;
+        for (std::size_t p : order) {
+            const GraphPipeState& pipe = pipes_[p];
+            if (!pipe.open) continue;
+            if (nodes_[pipe.a].sealed || nodes_[pipe.b].sealed) continue;
+            GraphNodeState* full = &nodes_[pipe.a];
+            GraphNodeState* empty = &nodes_[pipe.b];
+            double ca = full->water / full->capacity, cb = empty->water / empty->capacity;
+            if (ca < cb) {
+                std::swap(full, empty);
+                std::swap(ca, cb);
+            }
+            if (!(ca > cb)) continue;
+            const double rate = poiseuilleRate(s.diffusionPressure * (ca - cb), pipe.radius,
+                                               s.viscosity, std::max(length_[p], 1e-9));
+            const double equalise = (ca - cb) / (1.0 / full->capacity + 1.0 / empty->capacity);
+            double amount = std::min({rate * dt, equalise, full->water, empty->capacity - empty->water});
+            if (!(amount > 0)) continue;
+            const double before = empty->water;
+            empty->water = std::min(empty->capacity, empty->water + amount);
+            amount = empty->water - before;
+            full->water = std::max(0.0, full->water - amount);
+            totals_.moved += amount;
+            moved = true;
+        }
+        return moved;
+    }
+
+    std::vector<GraphNodeState> nodes_;
+    std::vector<GraphPipeState> pipes_;
+    std::vector<double> length_;                ///< per pipe, m (resolved)
+    std::vector<std::vector<Link>> links_;      ///< open pipes per node
+    std::vector<double> radius_;                ///< sphere radius per node, m
+    std::vector<Vec3> scaledBox_;               ///< box nodes' edges scaled to the capacity
+    std::vector<double> levels_;                ///< per node, reused by applyExchange
+    std::vector<double> flowLevels_;            ///< per node, reused by flowPoiseuille
+    std::vector<std::size_t> order_;            ///< random visiting order, reused by the flows
+    std::vector<std::uint32_t> visitMark_;      ///< findPath's visited marks (== visitEpoch_)
+    std::uint32_t visitEpoch_ = 0;
+    GraphFlowTotals totals_;
+    std::uint64_t rng_ = 1;
+};
+
+}  // namespace plimsoll_eval

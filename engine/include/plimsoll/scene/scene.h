@@ -1,0 +1,103 @@
+// A scene in memory: what World simulates. Every body already holds what it is made of (mesh,
+// frames, water graph, painted maps) and what the bake made of it (textures, mass properties),
+// each immutable and shared, so that a rebuilt world, the editor's document and an export can
+// hold the very same data. The scene has one gravity vector. Nothing here reads or writes a
+// file: scene_loader.h turns a project on disk into a Scene, the editor turns its document into
+// one, tests and the benchmark build one from generated meshes.
+#pragma once
+
+#include "plimsoll/bake/bake.h"
+#include "plimsoll/bake/painted_map.h"
+#include "plimsoll/core/result.h"
+#include "plimsoll/geometry/mesh.h"
+#include "plimsoll/geometry/validate.h"
+#include "plimsoll/graph/graph.h"
+#include "plimsoll/physics/massprops.h"
+#include "plimsoll/physics/water.h"
+#include "plimsoll/scene/project.h"
+
+#include <Eigen/Core>
+
+#include <functional>
+#include <memory>
+#include <string>
+#include <vector>
+
+namespace plimsoll {
+
+/// Called with one line of text for things a user should know (skips, recomputations, notices).
+using LogFunction = std::function<void(const std::string&)>;
+
+/// What a body is made of, before baking. The BodyDesc it goes with says how to use it; the
+/// file names in that BodyDesc are names only (for messages): what is here is what is used.
+struct BodyParts {
+    /// The surface with the UVs it is baked with (its atlas applied); for a deforming body its
+    /// first frame. Required.
+    std::shared_ptr<const TriangleMesh> mesh;
+    /// Whether `mesh`'s UVs are a generated physics atlas, and of how many charts (manifests
+    /// say so).
+    bool generatedAtlas = false;
+    std::size_t atlasCharts = 0;
+    /// A deforming body's frames, the first included, all with `mesh`'s triangles and UVs
+    /// (loadMeshFrames checks files); null for a rigid body.
+    std::shared_ptr<const std::vector<TriangleMesh>> frames;
+    /// Required when the BodyDesc has a waterGraph; null otherwise.
+    std::shared_ptr<const WaterGraph> waterGraph;
+    /// Painted maps over `mesh`'s UVs; null: not painted (uniform, or impermeable).
+    std::shared_ptr<const PaintedMap> permeabilityMap;
+    std::shared_ptr<const PaintedMap> shellDensityMap;
+    std::shared_ptr<const PaintedMap> shellThicknessMap;
+};
+
+struct BodyRadiation;  // scene_radiation.h
+
+/// A body ready to simulate: its settings, its parts, and their bake.
+struct SceneBody {
+    BodyDesc desc;
+    std::string label;  ///< how messages name the body: "body 'NAME' (MESH)"
+    BodyParts parts;
+    std::shared_ptr<const SurfaceTextures> textures;  ///< at desc.textureSize
+    /// The bake's pieces, from which a deforming body's frames are regathered; null if rigid.
+    std::shared_ptr<const SurfacePieceTable> pieces;
+    std::shared_ptr<const MassProperties> mass;       ///< of desc.material on `textures`
+    /// Its wave radiation (scene_radiation.h), required when desc.radiates(); null otherwise.
+    std::shared_ptr<const BodyRadiation> radiation;
+};
+
+struct Scene {
+    std::string name;
+    std::vector<SceneBody> bodies;
+    MediumDesc medium;
+    /// The medium's surface. Its `gravity` (the waves' dispersion relation) is not a second
+    /// gravity: World takes it from simulation.gravity.
+    WaterModel water;
+    /// simulation.gravity is the scene's one gravity vector (checkGravity).
+    SimulationDesc simulation;
+};
+
+/// Bakes `desc`'s textures over parts.mesh (recording the pieces of a deforming body) and
+/// computes the mass properties of its material: what World, the editor's preview and the
+/// bundle export all simulate or write. Refuses parts that do not fit `desc` (no mesh, frames
+/// without mesh_frames or the reverse, a water graph missing). Errors start with the label.
+Result<SceneBody> bakeSceneBody(BodyDesc desc, BodyParts parts);
+
+/// Mass properties of `material` on `textures`: a solid of uniform density (V = sum A_y y) and
+/// a shell of point masses, its surface density scaled by `shellDensityMap` where one is given
+/// (null: uniform). `label` starts messages.
+Result<MassProperties> materialMassProperties(const SurfaceTextures& textures,
+                                              const MaterialDesc& material,
+                                              const PaintedMap* shellDensityMap,
+                                              const std::string& label);
+
+/// Refuses a surface with errors no atlas can fix (holes, bad orientation, ...: every problem
+/// of `report` that is not about UVs, one a line after "LABEL:").
+Status checkBakeableSurface(const ValidationReport& report, const std::string& label);
+
+/// Gravity as World can simulate it: straight down (-y) or zero. Buoyancy takes the water
+/// surface as horizontal with y up, so a tilted or upward gravity is refused (unsupported).
+Status checkGravity(const Eigen::Vector3d& gravity);
+
+/// "body 'NAME' (MESH)": how messages name a body.
+std::string bodyLabel(const BodyDesc& body);
+
+}  // namespace plimsoll

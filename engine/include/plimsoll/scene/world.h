@@ -1,0 +1,200 @@
+// World: the bodies of a scene stepped through time — gravity, buoyancy and drag from a
+// compute backend (all bodies in one batch per step where the integrator allows it), then the
+// rigid-body integrator (docs/design.md, "Rigid body"). World reads no files: it takes a Scene
+// (scene.h) whose bodies already hold their meshes, textures, mass properties, water graphs and
+// painted maps. Only what a scene needs is computed:
+//  - a rigid body with constant material keeps the mass properties its scene body brought;
+//  - a deforming body regathers its textures and recomputes its mass properties on the
+//    frames its mesh changes;
+//  - a body whose bounding sphere lies above the highest water surface skips the kernels;
+//  - a body with a water graph (BodyDesc::waterGraph) steps it once a frame, after the
+//    frame's integration steps, and composes the water's mass properties with its own when
+//    water moved (or, with the free-surface model, when the body turned); a body without one
+//    computes no graph at all;
+//  - a body with radiation (BodyDesc::radiates, SceneBody::radiation) carries its added mass in
+//    its mass matrix and integrates the radiation memory with it (Cummins' equation,
+//    docs/radiation.md); a body without it runs exactly as it would without the feature.
+// The log callback is told what was skipped and why.
+#pragma once
+
+#include "plimsoll/bake/bake.h"
+#include "plimsoll/physics/buoyancy.h"
+#include "plimsoll/compute/compute.h"
+#include "plimsoll/graph/graph.h"
+#include "plimsoll/scene/project.h"
+#include "plimsoll/scene/scene.h"
+#include "plimsoll/core/result.h"
+#include "plimsoll/physics/rigid_body.h"
+
+#include <functional>
+#include <memory>
+#include <string>
+#include <vector>
+
+namespace plimsoll {
+
+/// A body as the simulation holds it.
+struct SimulatedBody {
+    std::string name;
+    MassDistribution mass;          ///< current (changes for deforming bodies)
+    double volume = 0;              ///< enclosed volume, m^3 (texture)
+    RigidBodyState state;
+    SurfaceTextures textures;       ///< current surface samples, object space
+    double boundingRadius = 0;      ///< about the centre of mass, m
+    FluidSettings fluid;
+    double linearDamping = 0;       ///< 1/s, at full submersion (BodyDesc)
+    double angularDamping = 0;      ///< 1/s
+    BuoyancyResult buoyancy;        ///< at the start of the last step
+    std::size_t backendId = 0;
+    /// The object-space point the backend's entries are relative to: the centre of mass of
+    /// the body without its water (= mass.centerOfMass for a body without a water graph).
+    Eigen::Vector3d backendCenter = Eigen::Vector3d::Zero();
+    bool deforms = false;
+    double water = 0;               ///< m^3 in the water graph now (0 without one)
+
+    /// Object -> world placement now.
+    Pose pose() const { return poseOf(state, mass); }
+};
+
+/// A force from outside the simulation on one body (a user's mouse grab, a thruster): called at
+/// every integration step (every RK4 stage) with the body and its state there, it returns the
+/// wrench about the body's centre of mass, world axes (N, N m). Added to gravity, buoyancy and
+/// drag before the integrator uses them.
+using ExternalForce = std::function<Wrench(const SimulatedBody& body, const RigidBodyState& state)>;
+
+/// Counters of what the world did and did not compute (for logs, tests and the editor).
+struct WorldStatistics {
+    std::size_t steps = 0;                 ///< integration steps (sub-steps)
+    std::size_t buoyancyEvaluations = 0;   ///< body evaluations sent to the backend
+    std::size_t skippedOutOfWater = 0;     ///< body-steps skipped by the bounding-sphere test
+    std::size_t massRecomputations = 0;    ///< mass properties computed after creation
+    std::size_t graphSteps = 0;            ///< water-graph steps (body-frames)
+    std::size_t waterCompositions = 0;     ///< body + water mass properties composed again
+};
+
+class World {
+public:
+    /// At most this many integration steps a frame. A body whose stiffness or spin needs more
+    /// for a stable step (a 1e-40 m body, a spin of 1e50 rad/s) is refused, not stepped too
+    /// coarsely into garbage.
+    static constexpr int kMaxSubSteps = 20000;
+
+    /// Registers every body of `scene` with `backend` (the scene's bodies are shared, not
+    /// copied). Refuses a gravity checkGravity refuses and a water graph it cannot step, naming
+    /// the body.
+    static Result<std::unique_ptr<World>> create(Scene scene,
+                                                 std::unique_ptr<BuoyancyBackend> backend,
+                                                 LogFunction log = {});
+
+    ~World();
+
+    /// Advances one frame: simulation.subSteps integration steps, or more where a body's
+    /// hydrostatic stiffness needs them (a 1 mm body, a long time step): the log says so.
+    Status advanceFrame();
+
+    /// Changes a body's material (a repainted density map, a new density): its mass
+    /// properties are recomputed now, once, keeping its centre of mass's place and momenta.
+    /// `shellDensityMap` is the painted shell density (null: uniform).
+    Status setMaterial(std::size_t body, const MaterialDesc& material,
+                       std::shared_ptr<const PaintedMap> shellDensityMap = nullptr);
+
+    /// Body i's external force (world.h ExternalForce); an empty function removes it.
+    Status setExternalForce(std::size_t body, ExternalForce force);
+
+    /// Replaces the medium's surface (level, waves) from the next step on: an editor changes
+    /// the water while the simulation runs.
+    void setWater(const WaterModel& water);
+
+    /// Changes the integrator from the next step on.
+    void setIntegrator(Integrator integrator);
+
+    /// Puts body i in `state` (its centre of mass's place, orientation and momenta): a reset,
+    /// or a state carried over from another world of the same scene.
+    Status setBodyState(std::size_t body, const RigidBodyState& state);
+
+    /// Sets the simulated time (s; waves and deforming bodies follow it): a world rebuilt
+    /// from the same scene carries on where the previous one was.
+    void setTime(double time) { time_ = time; }
+
+    /// Body i's radiation, or null for a body without.
+    const BodyRadiation* radiation(std::size_t body) const;
+
+    /// Body i's water graph, or null for a sealed body.
+    const WaterGraphSimulation* waterGraph(std::size_t body) const;
+
+    double time() const { return time_; }
+    const std::vector<SimulatedBody>& bodies() const { return bodies_; }
+    const WorldStatistics& statistics() const { return statistics_; }
+    /// The scene as it runs now (water and integrator as last set).
+    const Scene& scene() const { return scene_; }
+    const BuoyancyBackend& backend() const { return *backend_; }
+
+    /// Kinetic + gravitational potential energy of body i plus, on flat water, the
+    /// hydrostatic potential rho_f g V_s (h - y_B) of its displaced water (J). Conserved by
+    /// the exact dynamics without drag: the stability tests watch it. With radiation, plus the
+    /// energy held in the radiation memory (body and water together never gain energy).
+    double mechanicalEnergy(std::size_t body) const;
+
+private:
+    World(Scene scene, std::unique_ptr<BuoyancyBackend> backend, LogFunction log);
+
+    struct Deformation;  // frames and piece table of a deforming body
+    struct Flooding;     // water graph of a hollow or permeable body
+    struct Radiating;    // radiation model and memory state of a body with radiation
+    /// Before body i's step: its entrained share, added mass and memory wrench from
+    /// `submergedVolume` (m^3); nothing for a body without radiation.
+    void startRadiationStep(std::size_t i, double submergedVolume);
+    /// After body i's step: the memory advanced by dt with the body's new velocity.
+    void finishRadiationStep(std::size_t i, double dt);
+    /// The backend request for `body` in `state`, and the result's torques moved from the
+    /// backend's centre to the body's centre of mass (they differ when the body holds water).
+    BodyRequest requestFor(const SimulatedBody& body, const RigidBodyState& state,
+                           double time) const;
+    void toCenterOfMass(const SimulatedBody& body, const RigidBodyState& state,
+                        BuoyancyResult& result) const;
+    Result<std::unique_ptr<Flooding>> makeFlooding(const SceneBody& body) const;
+    /// Steps every water graph by one frame and recomposes the mass where water moved.
+    Status stepWaterGraphs(double frameTime);
+    /// Sets body i's mass to `mass`, keeping its pose and its velocities.
+    void replaceMass(std::size_t i, const MassProperties& mass);
+    Status addBody(const SceneBody& desc);
+    Status evaluateAll(double time);
+    Wrench wrenchOf(const SimulatedBody& body, const RigidBodyState& state,
+                    const BuoyancyResult& buoyancy, double dt) const;
+    /// Upper bound of the body's hydrostatic natural frequency (rad/s).
+    double stiffestFrequency(const SimulatedBody& body) const;
+    /// Sub-steps a frame needs for a stable step of every body; an error naming the body when
+    /// that is more than kMaxSubSteps.
+    Result<int> subStepsFor(double frameTime) const;
+    Status updateDeformingBodies(double time);
+    /// Recomputes body i's mass properties from its current textures and material.
+    Status recomputeMass(std::size_t i);
+    /// The bounding-sphere test: the body in `state` lies above the highest water surface.
+    bool outOfWater(const SimulatedBody& body, const RigidBodyState& state) const;
+    void say(const std::string& line) const;
+    /// Runs `call` on the backend. Where an OpenCL backend fails (out of resources, a lost
+    /// device), says so once on the log, moves every body to the C++ reference backend and
+    /// runs `call` again there: the run goes on, slower, with the reference's results.
+    Status withBackend(const std::function<Status(BuoyancyBackend&)>& call);
+
+    Scene scene_;
+    std::unique_ptr<BuoyancyBackend> backend_;
+    bool fellBack_ = false;  ///< withBackend replaced a failed OpenCL backend
+    LogFunction log_;
+    std::vector<SimulatedBody> bodies_;
+    std::vector<std::unique_ptr<Deformation>> deformations_;  ///< per body, null if rigid
+    std::vector<std::unique_ptr<Flooding>> floodings_;        ///< per body, null if sealed
+    std::vector<std::unique_ptr<Radiating>> radiatings_;      ///< per body, null without radiation
+    std::vector<MaterialDesc> materials_;
+    std::vector<std::shared_ptr<const PaintedMap>> shellDensityMaps_;  ///< per body, null: uniform
+    std::vector<ExternalForce> externalForces_;               ///< per body, empty if none
+    WorldStatistics statistics_;
+    double time_ = 0;
+    bool reportedSkip_ = false;
+    int reportedSubSteps_ = 0;
+    std::vector<BodyRequest> scratchRequests_;    ///< evaluateAll's per-step lists
+    std::vector<std::size_t> scratchBodies_;
+    std::vector<BuoyancyResult> scratchResults_;
+};
+
+}  // namespace plimsoll

@@ -1,0 +1,226 @@
+// assimp adapter: the only file that includes assimp. Everything downstream sees TriangleMesh.
+#include "plimsoll/io/mesh_io.h"
+
+#include "io/mesh_header_check.h"
+#include "plimsoll/core/limits.h"
+#include "plimsoll/io/file_util.h"
+
+#include <assimp/IOStream.hpp>
+#include <assimp/IOSystem.hpp>
+#include <assimp/Importer.hpp>
+#include <assimp/postprocess.h>
+#include <assimp/scene.h>
+
+#include <algorithm>
+#include <cctype>
+#include <cmath>
+#include <cstring>
+#include <optional>
+#include <sstream>
+#include <string>
+
+namespace plimsoll {
+
+namespace fs = std::filesystem;
+
+namespace {
+
+/// A file's bytes, for assimp to read.
+class BytesStream : public Assimp::IOStream {
+public:
+    explicit BytesStream(std::string bytes) : bytes_(std::move(bytes)) {}
+    size_t Read(void* buffer, size_t size, size_t count) override {
+        if (size == 0) return 0;
+        const size_t items = std::min(count, (bytes_.size() - at_) / size);
+        std::memcpy(buffer, bytes_.data() + at_, items * size);
+        at_ += items * size;
+        return items;
+    }
+    size_t Write(const void*, size_t, size_t) override { return 0; }
+    aiReturn Seek(size_t offset, aiOrigin origin) override {
+        const size_t base = origin == aiOrigin_SET ? 0 : origin == aiOrigin_CUR ? at_ : bytes_.size();
+        if (offset > bytes_.size() - base) return aiReturn_FAILURE;
+        at_ = base + offset;
+        return aiReturn_SUCCESS;
+    }
+    size_t Tell() const override { return at_; }
+    size_t FileSize() const override { return bytes_.size(); }
+    void Flush() override {}
+
+private:
+    std::string bytes_;
+    size_t at_ = 0;
+};
+
+/// Every file assimp opens besides the mesh itself (glTF buffers, an OBJ's materials) goes
+/// through here: only inside the mesh's folder (a buffer URI "../../x" or "/dev/zero" is
+/// refused), only regular files, at most kMaxMeshFileBytes, read-only. Without a folder (a mesh
+/// from memory) nothing is opened. The first refusal is kept for the error message, since
+/// assimp's own says only "could not open".
+class ConfinedFileSystem : public Assimp::IOSystem {
+public:
+    ConfinedFileSystem(std::optional<fs::path> folder, std::string mesh)
+        : folder_(std::move(folder)), mesh_(std::move(mesh)) {}
+
+    bool Exists(const char* file) const override {
+        const Result<fs::path> path = resolve(file);
+        return path && checkRegularFile(*path).ok();
+    }
+    char getOsSeparator() const override { return '/'; }
+    Assimp::IOStream* Open(const char* file, const char* mode) override {
+        if (mode && std::strpbrk(mode, "wa+")) return refuse(file, "assimp asked to write it");
+        Result<fs::path> path = resolve(file);
+        if (!path) return remember(path.error().message);
+        Result<std::string> bytes = readWholeFile(*path, kMaxMeshFileBytes, "kMaxMeshFileBytes");
+        if (!bytes) return remember(mesh_ + ": a file it refers to: " + bytes.error().message);
+        return new BytesStream(std::move(bytes).value());
+    }
+    void Close(Assimp::IOStream* stream) override { delete stream; }
+
+    const std::string& refusal() const { return refusal_; }
+
+private:
+    Result<fs::path> resolve(const char* file) const {
+        if (!folder_) return makeError(ErrorKind::io, mesh_ + ": refers to \"" + std::string(file) +
+                                                          "\", which is not read from memory");
+        return pathInside(*folder_, file, mesh_ + ": a file it refers to");
+    }
+    Assimp::IOStream* refuse(const char* file, const std::string& why) {
+        return remember(mesh_ + ": \"" + std::string(file) + "\": " + why);
+    }
+    Assimp::IOStream* remember(const std::string& message) {
+        if (refusal_.empty()) refusal_ = message;
+        return nullptr;
+    }
+
+    std::optional<fs::path> folder_;
+    std::string mesh_;
+    std::string refusal_;
+};
+
+void configure(Assimp::Importer& importer) {
+    // Points and lines carry no surface: drop them instead of failing on mixed files.
+    importer.SetPropertyInteger(AI_CONFIG_PP_SBP_REMOVE,
+                                aiPrimitiveType_POINT | aiPrimitiveType_LINE);
+}
+
+unsigned importFlags(MeshLoadOptions options) {
+    // No normal generation, no degenerate removal, no vertex welding beyond exact duplicates
+    // (and none at all for the frames of a deforming mesh): validation must see the file as it
+    // is.
+    unsigned flags = aiProcess_Triangulate | aiProcess_PreTransformVertices | aiProcess_SortByPType;
+    if (options.joinIdenticalVertices) flags |= aiProcess_JoinIdenticalVertices;
+    return flags;
+}
+
+Result<TriangleMesh> fromScene(const aiScene* scene, const Assimp::Importer& importer,
+                               const std::string& name, const std::string& refusal = {}) {
+    if (!scene || !scene->mRootNode) {
+        if (!refusal.empty()) return makeError(ErrorKind::io, refusal);
+        return makeError(ErrorKind::format, name + ": cannot read mesh: " + importer.GetErrorString());
+    }
+
+    // Formats without a count in a header (OBJ, glTF) are counted once read, before copying.
+    std::uint64_t triangles = 0, vertices = 0;
+    for (unsigned m = 0; m < scene->mNumMeshes; ++m) {
+        triangles += scene->mMeshes[m]->mNumFaces;
+        vertices += scene->mMeshes[m]->mNumVertices;
+    }
+    if (triangles > kMaxTriangles || vertices > kMaxVertices) {
+        return makeError(ErrorKind::limit, name + ": " + std::to_string(triangles) + " triangles, " +
+                         std::to_string(vertices) + " vertices: more than the limit " +
+                         (triangles > kMaxTriangles
+                              ? "kMaxTriangles = " + std::to_string(kMaxTriangles)
+                              : "kMaxVertices = " + std::to_string(kMaxVertices)) +
+                         " (limits.h)");
+    }
+
+    TriangleMesh mesh;
+    mesh.source = name;
+    bool allHaveUvs = true;
+    for (unsigned m = 0; m < scene->mNumMeshes; ++m) {
+        const aiMesh* part = scene->mMeshes[m];
+        if (!(part->mPrimitiveTypes & aiPrimitiveType_TRIANGLE)) continue;
+        allHaveUvs = allHaveUvs && part->HasTextureCoords(0);
+    }
+
+    for (unsigned m = 0; m < scene->mNumMeshes; ++m) {
+        const aiMesh* part = scene->mMeshes[m];
+        if (!(part->mPrimitiveTypes & aiPrimitiveType_TRIANGLE)) continue;
+        const auto base = static_cast<std::uint32_t>(mesh.positions.size());
+        for (unsigned v = 0; v < part->mNumVertices; ++v) {
+            const aiVector3D& p = part->mVertices[v];
+            mesh.positions.emplace_back(p.x, p.y, p.z);
+            if (allHaveUvs) {
+                const aiVector3D& t = part->mTextureCoords[0][v];
+                mesh.uvs.emplace_back(t.x, t.y);
+            }
+        }
+        for (unsigned f = 0; f < part->mNumFaces; ++f) {
+            const aiFace& face = part->mFaces[f];
+            if (face.mNumIndices != 3) continue;
+            mesh.triangles.push_back(
+                {base + face.mIndices[0], base + face.mIndices[1], base + face.mIndices[2]});
+        }
+    }
+    if (mesh.triangles.empty()) return makeError(ErrorKind::format, name + ": the file holds no triangles");
+    return mesh;
+}
+
+/// An OBJ's text through detail::objGeometry (v / vt / vn / f only, every index checked), and
+/// only that checked geometry through assimp: its OBJ reader crashes on what the check refuses.
+Result<TriangleMesh> loadObj(std::istream& text, const std::string& source,
+                             MeshLoadOptions options) {
+    Result<std::string> geometry = detail::objGeometry(text, source);
+    if (!geometry) return geometry.error();
+    if (geometry->empty()) return makeError(ErrorKind::format, source + ": no triangles (no v or f lines)");
+    Assimp::Importer importer;
+    configure(importer);
+    const aiScene* scene = importer.ReadFileFromMemory(geometry->data(), geometry->size(),
+                                                       importFlags(options), "obj");
+    return fromScene(scene, importer, source);
+}
+
+/// A mesh file's bytes through the checks assimp needs and then assimp; `folder` is where the
+/// files it refers to may be read from (none for a mesh from memory).
+Result<TriangleMesh> importBytes(std::string_view bytes, std::string format, const std::string& source,
+                                 std::optional<fs::path> folder, MeshLoadOptions options) {
+    for (char& c : format) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+    if (bytes.empty()) return makeError(ErrorKind::format, source + ": empty file");
+    if (format == "obj") {
+        std::istringstream text{std::string(bytes)};
+        return loadObj(text, source, options);
+    }
+    if (Status checked = detail::checkMeshBytes(bytes, source, format); !checked.ok())
+        return checked.error();
+    Assimp::Importer importer;
+    configure(importer);
+    auto* files = new ConfinedFileSystem(std::move(folder), source);
+    importer.SetIOHandler(files);  // the importer owns it
+    const aiScene* scene =
+        importer.ReadFileFromMemory(bytes.data(), bytes.size(), importFlags(options), format.c_str());
+    return fromScene(scene, importer, source, files->refusal());
+}
+
+}  // namespace
+
+Result<TriangleMesh> loadMesh(const fs::path& path, MeshLoadOptions options) {
+    Result<std::string> bytes = readWholeFile(path, kMaxMeshFileBytes, "kMaxMeshFileBytes");
+    if (!bytes) {
+        if (bytes.error().message.ends_with("is a folder, not a file"))
+            return makeError(ErrorKind::io, path.string() + ": is a folder, not a mesh file");
+        return bytes.error();
+    }
+    std::string extension = path.extension().string();
+    if (!extension.empty()) extension.erase(0, 1);
+    fs::path folder = path.parent_path();
+    if (folder.empty()) folder = ".";
+    return importBytes(*bytes, extension, path.string(), folder, options);
+}
+
+Result<TriangleMesh> loadMeshFromMemory(std::string_view bytes, const std::string& format,
+                                        const std::string& source, MeshLoadOptions options) {
+    return importBytes(bytes, format, source, std::nullopt, options);
+}
+
+}  // namespace plimsoll

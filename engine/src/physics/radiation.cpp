@@ -1,0 +1,623 @@
+// Radiation panel method (radiation.h). Formulation (docs/radiation.md):
+//
+//   phi(x) = int_S sigma(s) G(x, s) dS   (the 1/(4 pi) of the source strength folded into sigma)
+//   d phi/dn (x_i) = sum_j sigma_j D_ij = n_i . (mode velocity)   at every centroid x_i,
+//
+// with D_ii carrying the flat panel's own limit -2 pi (seen from the water, the normal pointing
+// into it) and G = 1/r + 1/r' + G_wave. Then A and B follow from the pressure -rho d phi/dt
+// integrated over the panels: with time dependence e^{i omega t},
+//   -(i omega A + B) = i omega rho int phi_j n_k dS.
+//
+// The wave part (Wehausen & Laitone 1960, eq. 13.17; Newman 1985, J. Eng. Math. 19):
+//   G_wave = 2 K PV int_0^inf e^{k (y + eta)} J0(k R) / (k - K) dk - i 2 pi K e^{K (y + eta)} J0(K R),
+// the imaginary sign being the outgoing wave for e^{i omega t}. With X = K R, Y = -K (y + eta),
+// F(X, Y) = PV int e^{-m Y} J0(m X) / (m - 1) dm obeys dF/dY + F = -1 / sqrt(X^2 + Y^2), so
+//   F(X, Y) = -(pi/2) e^{-Y} (H0(X) + Y0(X)) - int_0^Y e^{t - Y} / sqrt(X^2 + t^2) dt
+// (the value at Y = 0 is the classical PV int J0(m X) / (m - 1) dm = -(pi/2)(H0 + Y0)), and
+//   dF/dX = e^{-Y} ((pi/2)(H1(X) + Y1(X)) - 1) + int_0^Y e^{t - Y} X / (X^2 + t^2)^{3/2} dt.
+// Both remaining integrals are smooth and short; they are done by Gauss-Legendre pieces.
+#include "plimsoll/physics/radiation.h"
+
+#include <Eigen/Dense>
+#include <boost/math/special_functions/bessel.hpp>
+
+#include <algorithm>
+#include <cassert>
+#include <cmath>
+#include <numbers>
+
+namespace plimsoll {
+
+namespace {
+
+constexpr double kPi = std::numbers::pi;
+
+// Bessel functions of integer order from Boost.Math (rational approximations), kept in double:
+// about ten times faster than std::cyl_bessel_j and std::cyl_neumann, the same to 1e-12. They
+// are most of the cost of the wave part.
+using DoublePolicy = boost::math::policies::policy<boost::math::policies::promote_double<false>>;
+double besselJ(int order, double x) { return boost::math::cyl_bessel_j(order, x, DoublePolicy()); }
+double besselY(int order, double x) { return boost::math::cyl_neumann(order, x, DoublePolicy()); }
+
+// 8-point Gauss-Legendre on [-1, 1].
+constexpr std::array<double, 8> kGaussNodes = {
+    -0.9602898564975363, -0.7966664774136267, -0.5255324099163290, -0.1834346424956498,
+    0.1834346424956498,  0.5255324099163290,  0.7966664774136267,  0.9602898564975363};
+constexpr std::array<double, 8> kGaussWeights = {
+    0.1012285362903763, 0.2223810344533745, 0.3137066458778873, 0.3626837833783620,
+    0.3626837833783620, 0.3137066458778873, 0.2223810344533745, 0.1012285362903763};
+
+template <class F>
+void gaussPiece(double a, double b, F&& f) {
+    const double half = 0.5 * (b - a);
+    const double mid = 0.5 * (a + b);
+    for (std::size_t q = 0; q < kGaussNodes.size(); ++q) f(mid + half * kGaussNodes[q], half * kGaussWeights[q]);
+}
+
+// (H_nu - Y_nu)(x) for large x (Abramowitz & Stegun 12.1.29):
+// (1/pi) sum_k Gamma(k + 1/2) / Gamma(nu + 1/2 - k) (x/2)^(nu - 2k - 1), stopped at its
+// smallest term.
+double struveMinusNeumannAsymptotic(int nu, double x) {
+    double term = nu == 0 ? 2.0 / x : 2.0;
+    double sum = term;
+    const double q = 4.0 / (x * x);
+    for (int k = 0; k < 40; ++k) {
+        const double next = term * (k + 0.5) * (nu - 0.5 - k) * q;
+        if (std::abs(next) >= std::abs(term) || std::abs(next) < 1e-17 * std::abs(sum)) break;
+        sum += next;
+        term = next;
+    }
+    return sum / kPi;
+}
+
+constexpr double kStruveSeriesLimit = 16.0;
+
+double struveSeries(int nu, double x) {
+    // H0 = (2/pi) sum (-1)^k x^(2k+1) / ((2k+1)!!)^2 ;
+    // H1 = (2/pi) sum (-1)^k x^(2k+2) / ((2k+1)!! (2k+3)!!)   (A&S 12.1.3)
+    const double x2 = x * x;
+    double term = nu == 0 ? x : x2 / 3.0;
+    double sum = term;
+    for (int k = 0; k < 200; ++k) {
+        term *= nu == 0 ? -x2 / ((2.0 * k + 3) * (2.0 * k + 3)) : -x2 / ((2.0 * k + 3) * (2.0 * k + 5));
+        sum += term;
+        if (std::abs(term) < 1e-17 * std::abs(sum) && k > x) break;
+    }
+    return 2.0 / kPi * sum;
+}
+
+// int_{t0}^{Y} e^{t-Y} / sqrt(X^2 + t^2) dt and int e^{t-Y} X / (X^2 + t^2)^{3/2} dt.
+// Below e^{-40} the integrand is dropped; pieces of length 2 in t keep the exponential smooth
+// on each, and the first piece near t = 0 goes through t = X sinh u when X is small, which
+// takes out the near-singularity 1/sqrt(X^2 + t^2).
+void tailIntegrals(double X, double Y, double& t0Integral, double& t1Integral) {
+    t0Integral = 0;
+    t1Integral = 0;
+    if (Y <= 0) return;
+    const double start = std::max(0.0, Y - 40.0);
+    const double firstEnd = std::min(Y, start + 2.0);
+    // The integrands in t, where 1/sqrt(X^2 + t^2) is smooth.
+    auto inT = [&](double t, double w) {
+        const double e = std::exp(t - Y);
+        const double r2 = X * X + t * t;
+        const double r = std::sqrt(r2);
+        t0Integral += w * e / r;
+        t1Integral += w * e * X / (r2 * r);
+    };
+    if (start == 0.0 && X < firstEnd) {
+        const double uEnd = std::asinh(firstEnd / X);
+        const int pieces = std::max(1, static_cast<int>(std::ceil(uEnd / 1.5)));
+        for (int p = 0; p < pieces; ++p) {
+            gaussPiece(uEnd * p / pieces, uEnd * (p + 1) / pieces, [&](double u, double w) {
+                const double e = std::exp(X * std::sinh(u) - Y);
+                const double c = std::cosh(u);
+                t0Integral += w * e;
+                t1Integral += w * e / (X * c * c);
+            });
+        }
+    } else {
+        gaussPiece(start, firstEnd, inT);
+    }
+    const int rest = static_cast<int>(std::ceil((Y - firstEnd) / 2.0 - 1e-12));
+    for (int p = 0; p < rest; ++p) {
+        const double a = firstEnd + (Y - firstEnd) * p / rest;
+        const double b = firstEnd + (Y - firstEnd) * (p + 1) / rest;
+        gaussPiece(a, b, inT);
+    }
+}
+
+Eigen::Vector3d mirrored(const Eigen::Vector3d& p) { return {p.x(), -p.y(), p.z()}; }
+
+double longestEdge(const RadiationPanel& panel) {
+    const auto& v = panel.vertices;
+    return std::max({(v[1] - v[0]).norm(), (v[2] - v[1]).norm(), (v[0] - v[2]).norm()});
+}
+
+// Three-point rule (degree 2) on a triangle: points at (2/3, 1/6, 1/6) and permutations.
+std::array<Eigen::Vector3d, 3> threePoints(const RadiationPanel& panel) {
+    const auto& v = panel.vertices;
+    return {(4.0 * v[0] + v[1] + v[2]) / 6.0, (v[0] + 4.0 * v[1] + v[2]) / 6.0,
+            (v[0] + v[1] + 4.0 * v[2]) / 6.0};
+}
+
+// Calls f(triangle, area) on the 4^levels triangles of a midpoint subdivision.
+template <class F>
+void subdivide(const std::array<Eigen::Vector3d, 3>& t, int levels, F&& f) {
+    if (levels == 0) {
+        f(t, 0.5 * (t[1] - t[0]).cross(t[2] - t[0]).norm());
+        return;
+    }
+    const Eigen::Vector3d m01 = 0.5 * (t[0] + t[1]), m12 = 0.5 * (t[1] + t[2]), m20 = 0.5 * (t[2] + t[0]);
+    subdivide({t[0], m01, m20}, levels - 1, f);
+    subdivide({m01, t[1], m12}, levels - 1, f);
+    subdivide({m20, m12, t[2]}, levels - 1, f);
+    subdivide({m01, m12, m20}, levels - 1, f);
+}
+
+}  // namespace
+
+double struveH0(double x) {
+    if (x < kStruveSeriesLimit) return struveSeries(0, x);
+    return struveMinusNeumannAsymptotic(0, x) + besselY(0, x);
+}
+
+double struveH1(double x) {
+    if (x < kStruveSeriesLimit) return struveSeries(1, x);
+    return struveMinusNeumannAsymptotic(1, x) + besselY(1, x);
+}
+
+WaveGreen waveGreen(double X, double Y) {
+    assert(Y >= 0);
+    // On the vertical through the source Y0 and the integral both diverge like ln X and cancel;
+    // a tiny floor keeps them finite (d/dX vanishes there by symmetry and is not used).
+    X = std::max(X, 1e-9);
+    const double y0 = besselY(0, X);
+    const double y1 = besselY(1, X);
+    double hy0, hy1;  // H0 + Y0, H1 + Y1
+    if (X < kStruveSeriesLimit) {
+        hy0 = struveSeries(0, X) + y0;
+        hy1 = struveSeries(1, X) + y1;
+    } else {
+        hy0 = struveMinusNeumannAsymptotic(0, X) + 2.0 * y0;
+        hy1 = struveMinusNeumannAsymptotic(1, X) + 2.0 * y1;
+    }
+    double t0, t1;
+    tailIntegrals(X, Y, t0, t1);
+    const double eY = std::exp(-Y);
+    WaveGreen g;
+    g.value = -0.5 * kPi * eY * hy0 - t0;
+    g.dX = eY * (0.5 * kPi * hy1 - 1.0) + t1;
+    g.dY = -1.0 / std::sqrt(X * X + Y * Y) - g.value;
+    return g;
+}
+
+RankineIntegral rankineTriangle(const std::array<Eigen::Vector3d, 3>& triangle,
+                                const Eigen::Vector3d& r) {
+    // Wilton, Rao, Glisson, Schaubert, Al-Bundak & Butler (1984), eqs. (4) and (6): per edge,
+    // with the point projected onto the plane, s-/s+ the edge ends along the edge, t0 the
+    // signed distance to the edge line (positive inside), R-/R+ the distances to the ends.
+    const Eigen::Vector3d areaVector = (triangle[1] - triangle[0]).cross(triangle[2] - triangle[0]);
+    const Eigen::Vector3d n = areaVector.normalized();
+    const double h = (r - triangle[0]).dot(n);
+    const Eigen::Vector3d rho = r - h * n;
+    const double absH = std::abs(h);
+    RankineIntegral out;
+    double solidAngle = 0;
+    Eigen::Vector3d inPlane = Eigen::Vector3d::Zero();
+    for (int e = 0; e < 3; ++e) {
+        const Eigen::Vector3d& a = triangle[e];
+        const Eigen::Vector3d& b = triangle[(e + 1) % 3];
+        const Eigen::Vector3d l = (b - a).normalized();
+        const Eigen::Vector3d u = l.cross(n);
+        const double sMinus = (a - rho).dot(l);
+        const double sPlus = (b - rho).dot(l);
+        const double t0 = (a - rho).dot(u);
+        const double rMinus = (r - a).norm();
+        const double rPlus = (r - b).norm();
+        const double r0Squared = t0 * t0 + h * h;
+        // ln((R+ + s+)/(R- + s-)) = ln((R- - s-)/(R+ - s+)); take the better-conditioned form.
+        const double logTerm = (sMinus + sPlus >= 0) ? std::log((rPlus + sPlus) / (rMinus + sMinus))
+                                                     : std::log((rMinus - sMinus) / (rPlus - sPlus));
+        // On the edge's line (t0 = 0) the edge subtends no solid angle; the guard keeps a
+        // point in the panel's plane (coplanar neighbours) from dividing 0 by 0.
+        const double beta = t0 == 0.0 ? 0.0
+                                      : std::atan(t0 * sPlus / (r0Squared + absH * rPlus)) -
+                                            std::atan(t0 * sMinus / (r0Squared + absH * rMinus));
+        out.potential += t0 * logTerm;
+        solidAngle += beta;
+        inPlane -= u * logTerm;
+    }
+    out.potential -= absH * solidAngle;
+    const double side = h > 0 ? 1.0 : (h < 0 ? -1.0 : 0.0);
+    out.gradient = inPlane - side * solidAngle * n;
+    return out;
+}
+
+std::vector<RadiationPanel> wettedPanels(const TriangleMesh& surface, const Eigen::Affine3d& toWater,
+                                         double minArea) {
+    std::vector<RadiationPanel> panels;
+    auto emit = [&](const Eigen::Vector3d& a, const Eigen::Vector3d& b, const Eigen::Vector3d& c) {
+        const Eigen::Vector3d areaVector = 0.5 * (b - a).cross(c - a);
+        const double area = areaVector.norm();
+        if (area <= minArea) return;
+        panels.push_back({{a, b, c}, (a + b + c) / 3.0, areaVector / area, area});
+    };
+    // Vertices within rounding of the surface count as on it: no sliver panels at a vertex
+    // ring on the waterline.
+    std::vector<Eigen::Vector3d> placed(surface.positions.size());
+    double extent = 0;
+    for (std::size_t k = 0; k < placed.size(); ++k) {
+        placed[k] = toWater * surface.positions[k];
+        extent = std::max(extent, placed[k].cwiseAbs().maxCoeff());
+    }
+    for (Eigen::Vector3d& p : placed) {
+        if (std::abs(p.y()) <= 1e-12 * extent) p.y() = 0;
+    }
+    for (const Triangle& t : surface.triangles) {
+        const std::array<Eigen::Vector3d, 3> v = {placed[t[0]], placed[t[1]], placed[t[2]]};
+        // Sutherland-Hodgman against the half-space y <= 0: at most four vertices come out.
+        std::array<Eigen::Vector3d, 4> polygon;
+        int count = 0;
+        for (int k = 0; k < 3; ++k) {
+            const Eigen::Vector3d& p = v[k];
+            const Eigen::Vector3d& q = v[(k + 1) % 3];
+            const bool pIn = p.y() <= 0;
+            const bool qIn = q.y() <= 0;
+            if (pIn) polygon[count++] = p;
+            if (pIn != qIn) {
+                const double s = p.y() / (p.y() - q.y());
+                Eigen::Vector3d cut = p + s * (q - p);
+                cut.y() = 0;
+                polygon[count++] = cut;
+            }
+        }
+        if (count >= 3) emit(polygon[0], polygon[1], polygon[2]);
+        if (count == 4) emit(polygon[0], polygon[2], polygon[3]);
+    }
+    return panels;
+}
+
+std::vector<RadiationPanel> refinedPanels(const std::vector<RadiationPanel>& panels, double maxEdge) {
+    std::vector<RadiationPanel> out;
+    for (const RadiationPanel& p : panels) {
+        const int levels = maxEdge > 0 ? std::max(0, static_cast<int>(std::ceil(std::log2(longestEdge(p) / maxEdge))))
+                                       : 0;
+        subdivide(p.vertices, std::min(levels, 8), [&](const std::array<Eigen::Vector3d, 3>& t, double area) {
+            out.push_back({t, (t[0] + t[1] + t[2]) / 3.0, p.normal, area});
+        });
+    }
+    return out;
+}
+
+namespace {
+
+// Signed area of a closed polygon in the (x, z) plane: positive when it turns from x towards z.
+double signedAreaXz(const std::vector<Eigen::Vector3d>& loop) {
+    double twice = 0;
+    for (std::size_t k = 0; k < loop.size(); ++k) {
+        const Eigen::Vector3d& a = loop[k];
+        const Eigen::Vector3d& b = loop[(k + 1) % loop.size()];
+        twice += a.x() * b.z() - b.x() * a.z();
+    }
+    return 0.5 * twice;
+}
+
+double crossXz(const Eigen::Vector3d& a, const Eigen::Vector3d& b, const Eigen::Vector3d& c) {
+    return (b.x() - a.x()) * (c.z() - a.z()) - (b.z() - a.z()) * (c.x() - a.x());
+}
+
+// The waterline of the wetted panels as closed loops of points on y = 0: the panel edges with
+// both ends on the surface, chained end to start. Ends match within `tolerance` (clipping cuts
+// a shared edge from both of its triangles, not always to the same last bit).
+std::vector<std::vector<Eigen::Vector3d>> waterlineLoops(const std::vector<RadiationPanel>& wetted,
+                                                         double tolerance) {
+    std::vector<std::array<Eigen::Vector3d, 2>> edges;
+    for (const RadiationPanel& p : wetted) {
+        const auto& v = p.vertices;
+        if (v[0].y() == 0 && v[1].y() == 0 && v[2].y() == 0) continue;  // a panel in the surface
+        for (int e = 0; e < 3; ++e) {
+            const Eigen::Vector3d& a = v[e];
+            const Eigen::Vector3d& b = v[(e + 1) % 3];
+            if (a.y() == 0 && b.y() == 0 && (a - b).norm() > tolerance) edges.push_back({a, b});
+        }
+    }
+    std::vector<bool> used(edges.size(), false);
+    std::vector<std::vector<Eigen::Vector3d>> loops;
+    for (std::size_t first = 0; first < edges.size(); ++first) {
+        if (used[first]) continue;
+        used[first] = true;
+        std::vector<Eigen::Vector3d> loop = {edges[first][0]};
+        Eigen::Vector3d end = edges[first][1];
+        bool closed = false;
+        while (true) {
+            if ((end - loop.front()).norm() <= tolerance) {
+                closed = true;
+                break;
+            }
+            std::size_t next = edges.size();
+            for (std::size_t e = 0; e < edges.size(); ++e) {
+                if (!used[e] && (edges[e][0] - end).norm() <= tolerance) {
+                    next = e;
+                    break;
+                }
+            }
+            if (next == edges.size()) break;  // an open chain: not a waterline
+            used[next] = true;
+            loop.push_back(edges[next][0]);
+            end = edges[next][1];
+        }
+        if (closed && loop.size() >= 3) loops.push_back(std::move(loop));
+    }
+    return loops;
+}
+
+// Triangles covering a loop of positive orientation: rings about its centroid when every fan
+// triangle from there turns the right way (a star-shaped loop), else ear clipping.
+std::vector<std::array<Eigen::Vector3d, 3>> coverLoop(const std::vector<Eigen::Vector3d>& loop, double edge,
+                                                      double gap, int maxRings, bool& star) {
+    const std::size_t m = loop.size();
+    const double area = signedAreaXz(loop);
+    Eigen::Vector3d centroid = Eigen::Vector3d::Zero();
+    for (std::size_t k = 0; k < m; ++k) {
+        const Eigen::Vector3d& a = loop[k];
+        const Eigen::Vector3d& b = loop[(k + 1) % m];
+        centroid += (a + b) * (a.x() * b.z() - b.x() * a.z());
+    }
+    centroid /= 6.0 * area;
+    centroid.y() = 0;
+    star = true;
+    double reach = 0;
+    for (std::size_t k = 0; k < m; ++k) {
+        star = star && crossXz(centroid, loop[k], loop[(k + 1) % m]) > 1e-9 * area;
+        reach = std::max(reach, (loop[k] - centroid).norm());
+    }
+    std::vector<std::array<Eigen::Vector3d, 3>> out;
+    if (star) {
+        const int rings = std::clamp(static_cast<int>(std::ceil((reach - gap) / edge)), 1, std::max(1, maxRings));
+        // Each ray from the centroid stops `gap` short of the waterline (at most halfway).
+        auto ring = [&](int l, std::size_t k) -> Eigen::Vector3d {
+            const Eigen::Vector3d ray = loop[k % m] - centroid;
+            const double reachHere = std::max(0.5, 1.0 - gap / ray.norm());
+            return centroid + reachHere * (static_cast<double>(l) / rings) * ray;
+        };
+        for (std::size_t k = 0; k < m; ++k) {
+            out.push_back({centroid, ring(1, k), ring(1, k + 1)});
+            for (int l = 1; l < rings; ++l) {
+                out.push_back({ring(l, k), ring(l + 1, k), ring(l + 1, k + 1)});
+                out.push_back({ring(l, k), ring(l + 1, k + 1), ring(l, k + 1)});
+            }
+        }
+        return out;
+    }
+    std::vector<Eigen::Vector3d> rest = loop;
+    while (rest.size() > 3) {
+        bool clipped = false;
+        for (std::size_t k = 0; k < rest.size() && !clipped; ++k) {
+            const Eigen::Vector3d& a = rest[(k + rest.size() - 1) % rest.size()];
+            const Eigen::Vector3d& b = rest[k];
+            const Eigen::Vector3d& c = rest[(k + 1) % rest.size()];
+            if (crossXz(a, b, c) <= 0) continue;  // reflex or flat
+            bool empty = true;
+            for (const Eigen::Vector3d& p : rest) {
+                if (&p == &a || &p == &b || &p == &c) continue;
+                if (crossXz(a, b, p) >= 0 && crossXz(b, c, p) >= 0 && crossXz(c, a, p) >= 0) empty = false;
+            }
+            if (!empty) continue;
+            out.push_back({a, b, c});
+            rest.erase(rest.begin() + static_cast<std::ptrdiff_t>(k));
+            clipped = true;
+        }
+        if (!clipped) break;  // self-intersecting: leave the remainder open
+    }
+    if (rest.size() == 3) out.push_back({rest[0], rest[1], rest[2]});
+    return out;
+}
+
+}  // namespace
+
+std::vector<RadiationPanel> waterplaneLid(const std::vector<RadiationPanel>& wetted, double maxEdge) {
+    double extent = 0;
+    for (const RadiationPanel& p : wetted) {
+        for (const Eigen::Vector3d& v : p.vertices) extent = std::max(extent, v.cwiseAbs().maxCoeff());
+    }
+    const auto loops = waterlineLoops(wetted, 1e-9 * std::max(extent, 1e-300));
+    std::vector<RadiationPanel> lid;
+    for (const auto& loop : loops) {
+        if (signedAreaXz(loop) <= 0) continue;  // an opening in the waterplane
+        double perimeter = 0;
+        for (std::size_t k = 0; k < loop.size(); ++k) perimeter += (loop[(k + 1) % loop.size()] - loop[k]).norm();
+        const double meanEdge = perimeter / static_cast<double>(loop.size());
+        const double edge = maxEdge > 0 ? maxEdge : 1.5 * meanEdge;
+        std::vector<RadiationPanel> cover;
+        bool star = false;
+        // Every ring repeats the loop's vertices (2 rings - 1 triangles per loop edge): at most
+        // half as many lid panels as the body has, so that a long, finely cut waterline (a
+        // hull's) does not multiply the unknowns.
+        const int maxRings = static_cast<int>((0.5 * static_cast<double>(wetted.size()) / loop.size() + 1) / 2);
+        for (const auto& t : coverLoop(loop, edge, 0.5 * meanEdge, std::min(maxRings, 16), star)) {
+            // Reordered so that the normal points up.
+            const std::array<Eigen::Vector3d, 3> up = {t[0], t[2], t[1]};
+            const double area = 0.5 * (up[1] - up[0]).cross(up[2] - up[0]).norm();
+            if (area > 0) cover.push_back({up, (up[0] + up[1] + up[2]) / 3.0, Eigen::Vector3d::UnitY(), area});
+        }
+        if (!star) cover = refinedPanels(cover, edge);  // the rings are sized already
+        lid.insert(lid.end(), cover.begin(), cover.end());
+    }
+    return lid;
+}
+
+double wettedVolume(const std::vector<RadiationPanel>& panels) {
+    double volume = 0;
+    for (const RadiationPanel& p : panels) volume += p.centroid.y() * p.normal.y() * p.area;
+    return volume;
+}
+
+double equilibriumHeight(const TriangleMesh& surface, const Eigen::Affine3d& toWater, double volume) {
+    const Bounds3 bounds = [&] {
+        Bounds3 b;
+        for (const Eigen::Vector3d& p : surface.positions) {
+            const Eigen::Vector3d q = toWater * p;
+            b.min = b.min.cwiseMin(q);
+            b.max = b.max.cwiseMax(q);
+        }
+        return b;
+    }();
+    // Raised by `high` the body is out of the water, by `low` under it.
+    double high = -bounds.min.y(), low = -bounds.max.y();
+    for (int iteration = 0; iteration < 60; ++iteration) {
+        const double mid = 0.5 * (low + high);
+        const Eigen::Affine3d raised = Eigen::Translation3d(0, mid, 0) * toWater;
+        if (wettedVolume(wettedPanels(surface, raised)) > volume) low = mid;
+        else high = mid;
+    }
+    return 0.5 * (low + high);
+}
+
+RadiationSolver::RadiationSolver(std::vector<RadiationPanel> panels, const Eigen::Vector3d& reference,
+                                 RadiationSettings settings)
+    : panels_(std::move(panels)), settings_(settings) {
+    if (settings_.irregularFrequencyLid) lid_ = waterplaneLid(panels_);
+    sources_ = panels_;
+    sources_.insert(sources_.end(), lid_.begin(), lid_.end());
+    const auto bodyCount = static_cast<Eigen::Index>(panels_.size());
+    const auto n = static_cast<Eigen::Index>(sources_.size());
+    modeNormals_.resize(bodyCount, 6);
+    directPotential_.resize(n, n);
+    directNormal_.resize(n, n);
+    imagePotential_.resize(n, n);
+    imageNormal_.resize(n, n);
+    for (Eigen::Index j = 0; j < bodyCount; ++j) {
+        const RadiationPanel& p = panels_[j];
+        modeNormals_.row(j).head<3>() = p.normal.transpose();
+        modeNormals_.row(j).tail<3>() = (p.centroid - reference).cross(p.normal).transpose();
+    }
+    std::vector<std::array<Eigen::Vector3d, 3>> images(sources_.size());
+    for (Eigen::Index j = 0; j < n; ++j) {
+        const RadiationPanel& p = sources_[j];
+        // Mirrored and reordered, so that the image keeps a consistent orientation.
+        images[j] = {mirrored(p.vertices[0]), mirrored(p.vertices[2]), mirrored(p.vertices[1])};
+    }
+    // Averaged over the field panel (three points): the flux through it and its mean potential,
+    // where the centroid alone misses the first-order variation across a triangle.
+    for (Eigen::Index i = 0; i < n; ++i) {
+        const Eigen::Vector3d& ni = sources_[i].normal;
+        const std::array<Eigen::Vector3d, 3> points = threePoints(sources_[i]);
+        for (Eigen::Index j = 0; j < n; ++j) {
+            double dp = 0, dn = 0, ip = 0, in = 0;
+            for (const Eigen::Vector3d& x : points) {
+                const RankineIntegral direct = rankineTriangle(sources_[j].vertices, x);
+                const RankineIntegral image = rankineTriangle(images[j], x);
+                dp += direct.potential;
+                dn += ni.dot(direct.gradient);
+                ip += image.potential;
+                in += ni.dot(image.gradient);
+            }
+            directPotential_(i, j) = dp / 3.0;
+            // On its own flat panel, seen from the water: the solid-angle limit -2 pi.
+            directNormal_(i, j) = i == j ? -2.0 * kPi : dn / 3.0;
+            imagePotential_(i, j) = ip / 3.0;
+            imageNormal_(i, j) = in / 3.0;
+        }
+    }
+}
+
+Eigen::Matrix<std::complex<double>, 6, 6> RadiationSolver::forces(const Eigen::MatrixXcd& potential,
+                                                                  const Eigen::MatrixXcd& system) const {
+    const auto bodyCount = static_cast<Eigen::Index>(panels_.size());
+    Eigen::MatrixXcd rhs = Eigen::MatrixXcd::Zero(system.rows(), 6);
+    rhs.topRows(bodyCount) = modeNormals_.cast<std::complex<double>>();
+    const Eigen::MatrixXcd sources = system.partialPivLu().solve(rhs);
+    const Eigen::MatrixXcd phi = potential * sources;  // body panels x 6: potential of each mode
+    Eigen::Matrix<double, Eigen::Dynamic, 6> weighted = modeNormals_;
+    for (Eigen::Index i = 0; i < weighted.rows(); ++i) weighted.row(i) *= panels_[i].area;
+    // F(k, j) = int phi_j n_k dS
+    return weighted.cast<std::complex<double>>().transpose() * phi;
+}
+
+RadiationCoefficients RadiationSolver::at(double omega) const {
+    assert(omega > 0);
+    const double K = omega * omega / settings_.gravity;
+    const auto bodyCount = static_cast<Eigen::Index>(panels_.size());
+    const auto n = static_cast<Eigen::Index>(sources_.size());
+    Eigen::MatrixXcd potential = (directPotential_ + imagePotential_).cast<std::complex<double>>();
+    Eigen::MatrixXcd system(n, n);
+    system.topRows(bodyCount) = (directNormal_ + imageNormal_).topRows(bodyCount).cast<std::complex<double>>();
+    // The wave part at the field panel's centroid: smooth on the panel's scale there (averaging
+    // it over three points, like the Rankine part, changed the hemisphere's A and B by < 0.3%).
+    for (Eigen::Index i = 0; i < n; ++i) {
+        const Eigen::Vector3d& x = sources_[i].centroid;
+        const Eigen::Vector3d& ni = sources_[i].normal;
+        const bool onBody = i < bodyCount;
+        for (Eigen::Index j = 0; j < n; ++j) {
+            const RadiationPanel& source = sources_[j];
+            std::complex<double> g = 0;
+            Eigen::Vector3cd gradient = Eigen::Vector3cd::Zero();
+            auto addPoint = [&](const Eigen::Vector3d& s, double weight) {
+                const double dx = x.x() - s.x();
+                const double dz = x.z() - s.z();
+                const double horizontal = std::hypot(dx, dz);
+                const double X = K * horizontal;
+                const double Y = std::max(0.0, -K * (x.y() + s.y()));
+                const WaveGreen w = waveGreen(X, Y);
+                const double decay = std::exp(-Y);
+                const double j0 = besselJ(0, X);
+                g += weight * std::complex<double>(2.0 * K * w.value, -2.0 * kPi * K * decay * j0);
+                if (!onBody) return;  // the lid's rows need the potential only
+                const double j1 = besselJ(1, X);
+                const std::complex<double> dR(2.0 * K * K * w.dX, 2.0 * kPi * K * K * decay * j1);
+                const std::complex<double> dy(-2.0 * K * K * w.dY, -2.0 * kPi * K * K * decay * j0);
+                const double ex = horizontal > 0 ? dx / horizontal : 0.0;
+                const double ez = horizontal > 0 ? dz / horizontal : 0.0;
+                gradient += weight * Eigen::Vector3cd(dR * ex, dy, dR * ez);
+            };
+            // The wave part is singular like ln r' and 1/r' at the image point (Newman 1985):
+            // one point far away, subdivided 3-point rules as the image comes close.
+            const double size = longestEdge(source);
+            const double imageDistance = (x - mirrored(source.centroid)).norm();
+            if (imageDistance >= settings_.nearFactor * size &&
+                (x - source.centroid).norm() >= settings_.nearFactor * size) {
+                addPoint(source.centroid, source.area);
+            } else {
+                const int levels = std::clamp(
+                    static_cast<int>(std::ceil(std::log2(2.0 * size / std::max(imageDistance, 1e-12 * size)))), 0, 4);
+                subdivide(source.vertices, levels, [&](const std::array<Eigen::Vector3d, 3>& t, double area) {
+                    RadiationPanel piece{t, {}, {}, area};
+                    for (const Eigen::Vector3d& s : threePoints(piece)) addPoint(s, area / 3.0);
+                });
+            }
+            potential(i, j) += g;
+            if (onBody) system(i, j) += ni.cast<std::complex<double>>().dot(gradient);
+        }
+    }
+    // The lid's rows: the interior flow has no vertical velocity under the lid,
+    // d phi/dy = 4 pi sigma + K phi = 0 (4 pi: the jump of a source layer on the free surface,
+    // whose image doubles it; K phi: d G/dy = K G there, the free-surface condition).
+    for (Eigen::Index i = bodyCount; i < n; ++i) {
+        system.row(i) = K * potential.row(i);
+        system(i, i) += 4.0 * kPi;
+    }
+    const auto f = forces(potential.topRows(bodyCount), system);
+    RadiationCoefficients out;
+    out.omega = omega;
+    out.addedMass = -settings_.density * f.real();
+    out.damping = settings_.density * omega * f.imag();
+    return out;
+}
+
+// Both limits have no irregular frequencies (the interior problem is a Dirichlet problem, or the
+// lid's rows degenerate): the body's panels alone.
+Matrix6d RadiationSolver::infiniteFrequencyAddedMass() const {
+    const auto b = static_cast<Eigen::Index>(panels_.size());
+    const auto f = forces((directPotential_ - imagePotential_).topLeftCorner(b, b).cast<std::complex<double>>(),
+                          (directNormal_ - imageNormal_).topLeftCorner(b, b).cast<std::complex<double>>());
+    return -settings_.density * f.real();
+}
+
+Matrix6d RadiationSolver::zeroFrequencyAddedMass() const {
+    const auto b = static_cast<Eigen::Index>(panels_.size());
+    const auto f = forces((directPotential_ + imagePotential_).topLeftCorner(b, b).cast<std::complex<double>>(),
+                          (directNormal_ + imageNormal_).topLeftCorner(b, b).cast<std::complex<double>>());
+    return -settings_.density * f.real();
+}
+
+}  // namespace plimsoll

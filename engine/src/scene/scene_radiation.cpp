@@ -1,0 +1,152 @@
+// Radiation of a scene body (scene_radiation.h).
+#include "plimsoll/scene/scene_radiation.h"
+
+#include "plimsoll/core/hash.h"
+#include "plimsoll/scene/scene_hydrostatics.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <sstream>
+
+namespace plimsoll {
+
+namespace {
+
+/// Bumped when the computation changes what it produces from the same inputs.
+constexpr int kRadiationVersion = 2;
+
+/// The mesh as the panel method takes it, and the mass that floats.
+struct RestInput {
+    const TriangleMesh* mesh = nullptr;
+    double mass = 0;
+    Eigen::Vector3d centerOfMass = Eigen::Vector3d::Zero();
+};
+
+Result<RestInput> restInput(const SceneBody& body, const MediumDesc& medium) {
+    Result<FloatingBody> floating = floatingBodyOf(body, medium);
+    if (!floating) return floating.error();
+    return RestInput{body.parts.mesh.get(), floating->body.mass, floating->body.centerOfMass};
+}
+
+/// Panels refinedPanels makes of `panels` (its rule: split at edge midpoints, up to 8 levels),
+/// counted before any is made: a tiny panel_edge must be refused, not allocated.
+std::size_t refinedCount(const std::vector<RadiationPanel>& panels, double maxEdge) {
+    std::size_t count = 0;
+    for (const RadiationPanel& p : panels) {
+        double longest = 0;
+        for (int k = 0; k < 3; ++k) longest = std::max(longest, (p.vertices[k] - p.vertices[(k + 1) % 3]).norm());
+        const int levels = std::clamp(static_cast<int>(std::ceil(std::log2(longest / maxEdge))), 0, 8);
+        count += std::size_t{1} << (2 * levels);
+    }
+    return count;
+}
+
+}  // namespace
+
+RadiationDesc resolvedRadiationDesc(const RadiationDesc& desc, double restVolume, double gravity) {
+    RadiationDesc r = desc;
+    const double size = std::cbrt(std::max(restVolume, 0.0));
+    if (!(r.panelEdge > 0)) r.panelEdge = size / 2.5;
+    if (!(r.minFrequency > 0) || !(r.maxFrequency > 0)) {
+        const double length = size / 2;
+        r.minFrequency = std::sqrt(0.05 * gravity / length);
+        r.maxFrequency = std::sqrt(5.0 * gravity / length);
+    }
+    return r;
+}
+
+std::string radiationKey(const SceneBody& body, const RadiationDesc& desc, const MediumDesc& medium,
+                         const Eigen::Vector3d& gravity) {
+    std::uint64_t h = kFnv1aBasis;
+    auto add = [&h](double v) { h = fnv1a(h, &v, sizeof v); };
+    add(kRadiationVersion);
+    if (body.parts.mesh) {
+        for (const Eigen::Vector3d& p : body.parts.mesh->positions) h = fnv1a(h, p.data(), 3 * sizeof(double));
+        for (const Triangle& t : body.parts.mesh->triangles) h = fnv1a(h, t.data(), sizeof(Triangle));
+    }
+    if (Result<RestInput> rest = restInput(body, medium)) {
+        add(rest->mass);
+        for (int k = 0; k < 3; ++k) add(rest->centerOfMass[k]);
+    }
+    add(desc.panelEdge);
+    add(desc.frequencies);
+    add(desc.minFrequency);
+    add(desc.maxFrequency);
+    add(medium.density);
+    add(gravity.norm());
+    return hashText(h);
+}
+
+Result<RestRadiationSurface> restRadiationSurface(const SceneBody& body, const RadiationDesc& desc,
+                                                  const MediumDesc& medium, const Eigen::Vector3d& gravity) {
+    const std::string label = body.label + ": radiation: ";
+    const double g = gravity.norm();
+    if (!(g > 0)) return makeError(ErrorKind::invalidArgument, label + "without gravity nothing floats");
+    Result<RestInput> rest = restInput(body, medium);
+    if (!rest) return withContext(label, rest.error());
+    RestRadiationSurface out;
+    out.restVolume = rest->mass / medium.density;
+    const TriangleMesh& mesh = *rest->mesh;
+    // The enclosed volume: the wetted volume with the whole body under water.
+    double highest = -std::numeric_limits<double>::infinity();
+    for (const Eigen::Vector3d& p : mesh.positions) highest = std::max(highest, p.y());
+    const double enclosed =
+        wettedVolume(wettedPanels(mesh, Eigen::Affine3d(Eigen::Translation3d(0, -highest - 1.0, 0))));
+    if (!(out.restVolume > 0) || !(out.restVolume < enclosed)) {
+        std::ostringstream m;
+        m << label << "the body does not float (displacement at rest " << out.restVolume
+          << " m^3, enclosed volume " << enclosed << " m^3): no waterline to radiate from";
+        return makeError(ErrorKind::invalidArgument, m.str());
+    }
+    out.resolved = resolvedRadiationDesc(desc, out.restVolume, g);
+    out.restHeight = equilibriumHeight(mesh, Eigen::Affine3d::Identity(), out.restVolume);
+    const Eigen::Affine3d atRest(Eigen::Translation3d(0, out.restHeight, 0));
+    // Slivers the waterline cuts off a triangle carry no force and spoil the collocation (a
+    // sphere's equator row 0.1 mm under water made 16 of them and moved its heave damping 5%).
+    const double minArea = 1e-4 * std::pow(out.restVolume, 2.0 / 3.0);
+    const std::vector<RadiationPanel> wetted = wettedPanels(mesh, atRest, minArea);
+    const double edge = out.resolved.panelEdge;
+    const std::size_t count = refinedCount(wetted, edge);
+    if (count > kMaxRadiationPanels) {
+        std::ostringstream m;
+        m << label << "the wetted surface makes " << count << " panels at panel_edge " << edge
+          << " m, more than the limit kMaxRadiationPanels = " << kMaxRadiationPanels
+          << ": give a longer panel_edge" << (wetted.size() > kMaxRadiationPanels ? " and a coarser mesh" : "");
+        return makeError(ErrorKind::limit, m.str());
+    }
+    out.solver.emplace(refinedPanels(wetted, edge), atRest * rest->centerOfMass,
+                       RadiationSettings{g, medium.density});
+    return out;
+}
+
+Result<BodyRadiation> computeBodyRadiation(const SceneBody& body, const RadiationDesc& desc,
+                                           const MediumDesc& medium, const Eigen::Vector3d& gravity,
+                                           const ProgressCallback& progress) {
+    Result<RestRadiationSurface> surface = restRadiationSurface(body, desc, medium, gravity);
+    if (!surface) return surface.error();
+    const RadiationSolver& solver = *surface->solver;
+    const RadiationDesc& resolved = surface->resolved;
+    BodyRadiation out;
+    out.restVolume = surface->restVolume;
+    out.restHeight = surface->restHeight;
+    out.panelEdge = resolved.panelEdge;
+    out.panelCount = solver.panelCount();
+    const int n = resolved.frequencies;
+    for (int k = 0; k < n; ++k) {
+        const double omega =
+            resolved.minFrequency * std::pow(resolved.maxFrequency / resolved.minFrequency, k / double(n - 1));
+        out.coefficients.push_back(solver.at(omega));
+        if (progress) progress((k + 1.0) / (n + 1.0));
+    }
+    out.addedMassInfinity = solver.infiniteFrequencyAddedMass();
+    if (progress) progress(1.0);
+    fitRadiationModel(out);
+    return out;
+}
+
+void fitRadiationModel(BodyRadiation& radiation) {
+    radiation.model = cumminsModel(radiation.coefficients, radiation.addedMassInfinity);
+}
+
+}  // namespace plimsoll

@@ -1,0 +1,142 @@
+// The plimsoll executable end to end: sub-commands, JSON output, exit codes, error messages.
+#include "plimsoll/physics/massprops.h"
+#include "plimsoll/io/mesh_io.h"
+
+#include "cli_runner.h"
+#include "test_support.h"
+
+#include <nlohmann/json.hpp>
+
+#include <fstream>
+#include <sstream>
+
+namespace plimsoll {
+namespace {
+
+namespace fs = std::filesystem;
+
+using test::CommandOutput;
+using test::runPlimsoll;
+
+const std::string kSphere = test::assetPath("sphere.obj").string();
+
+TEST(Cli, HelpOnEverySubcommand) {
+    for (const char* sub : {"", "validate", "bake", "massprops", "samples"}) {
+        const CommandOutput r = runPlimsoll(std::string(sub) + " --help");
+        EXPECT_EQ(r.exitCode, 0) << sub;
+        EXPECT_NE(r.out.find("Usage"), std::string::npos) << sub;
+    }
+}
+
+TEST(Cli, MassPropsJsonMatchesTheEngine) {
+    Result<TriangleMesh> mesh = loadMesh(kSphere);
+    ASSERT_TRUE(mesh.ok());
+    const MassProperties exact = exactSolidMassProperties(*mesh, 900.0);
+
+    const CommandOutput r = runPlimsoll("massprops '" + kSphere + "' --size 256 --density 900 --json");
+    ASSERT_EQ(r.exitCode, 0) << r.err;
+    const nlohmann::json j = nlohmann::json::parse(r.out);
+    EXPECT_EQ(j.at("method"), "texture");
+    EXPECT_EQ(j.at("texture_size"), 256);
+    EXPECT_GT(j.at("covered_texels").get<int>(), 256 * 200);
+    EXPECT_NEAR(j.at("volume").get<double>(), exact.volume, 1e-3 * exact.volume);
+    EXPECT_NEAR(j.at("mass").get<double>(), exact.mass, 1e-3 * exact.mass);
+    ASSERT_EQ(j.at("center_of_mass").size(), 3u);
+    ASSERT_EQ(j.at("inertia").size(), 3u);
+    for (int a = 0; a < 3; ++a)
+        for (int b = 0; b < 3; ++b)
+            EXPECT_NEAR(j["inertia"][a][b].get<double>(), exact.inertia(a, b), 3e-3 * exact.inertia.norm());
+
+    const CommandOutput e = runPlimsoll("massprops '" + kSphere + "' --exact --json");
+    ASSERT_EQ(e.exitCode, 0) << e.err;
+    const nlohmann::json je = nlohmann::json::parse(e.out);
+    EXPECT_EQ(je.at("method"), "exact");
+    EXPECT_NEAR(je.at("mass").get<double>(), 1000.0 * exact.volume, 1e-9 * exact.mass);
+}
+
+TEST(Cli, BakeWritesTexturesAndManifest) {
+    const fs::path out = fs::temp_directory_path() / "plimsoll_tests" / "cli_bake";
+    fs::remove_all(out);
+    const CommandOutput r = runPlimsoll("bake '" + kSphere + "' --size 64 --out '" + out.string() + "'");
+    ASSERT_EQ(r.exitCode, 0) << r.err;
+    for (const char* f : {"position.exr", "area_vector.exr", "coverage.exr", "manifest.json"})
+        EXPECT_TRUE(fs::exists(out / f)) << f;
+    EXPECT_NE(r.out.find("closure error"), std::string::npos);
+}
+
+TEST(Cli, BadInputGivesAClearErrorAndNonZeroExit) {
+    const CommandOutput missing = runPlimsoll("massprops /no/such/mesh.obj --json");
+    EXPECT_NE(missing.exitCode, 0);
+    EXPECT_NE(missing.err.find("/no/such/mesh.obj"), std::string::npos);
+    EXPECT_TRUE(missing.out.empty());
+
+    const CommandOutput tiny = runPlimsoll("bake '" + kSphere + "' --size 8 --out /tmp/x");
+    EXPECT_NE(tiny.exitCode, 0);
+    EXPECT_NE(tiny.err.find("--size"), std::string::npos);
+
+    const CommandOutput both = runPlimsoll("massprops '" + kSphere + "' --size 64 --exact");
+    EXPECT_NE(both.exitCode, 0);
+
+    const fs::path dir = fs::temp_directory_path() / "plimsoll_tests";
+    const fs::path empty = dir / "empty.obj";
+    std::ofstream(empty).close();
+    const CommandOutput emptyRun = runPlimsoll("massprops '" + empty.string() + "' --exact");
+    EXPECT_EQ(emptyRun.exitCode, 1);
+    EXPECT_NE(emptyRun.err.find(empty.string()), std::string::npos);
+
+    const fs::path nan = dir / "nan.obj";
+    std::ofstream(nan) << "v 0 0 0\nv 1 0 0\nv 0 nan 0\nv 0 0 1\n"
+                          "f 1 3 2\nf 1 2 4\nf 1 4 3\nf 2 3 4\n";
+    const CommandOutput nanRun = runPlimsoll("massprops '" + nan.string() + "' --exact --json");
+    EXPECT_EQ(nanRun.exitCode, 1);
+    EXPECT_NE(nanRun.err.find("non-finite"), std::string::npos);
+    EXPECT_TRUE(nanRun.out.empty());
+}
+
+TEST(Cli, SimulateOneBodyFromFlags) {
+    const std::string box = test::assetPath("box.obj").string();
+    const CommandOutput r = runPlimsoll("simulate --mesh '" + box +
+                                        "' --density 400 --size 48 --water-level=-0.5 "
+                                        "--position=0,3,0 --rotation-deg=0,0,0 --seconds 0.5 "
+                                        "--device reference --json");
+    ASSERT_EQ(r.exitCode, 0) << r.err;
+    const nlohmann::json j = nlohmann::json::parse(r.out);
+    for (const char* key : {"time", "position", "orientation", "velocity", "angular_velocity",
+                            "submerged_volume", "mass"})
+        EXPECT_TRUE(j.contains(key)) << key;
+    EXPECT_NEAR(j.at("time").get<double>(), 0.5, 1e-9);
+    // Half a second of free fall from 3 m: nowhere near the water yet.
+    EXPECT_NEAR(j.at("velocity")[1].get<double>(), -9.81 * 0.5, 1e-6);
+    EXPECT_NEAR(j.at("mass").get<double>(), 400 * 0.125, 1e-9);
+    EXPECT_NE(r.err.find("skips the buoyancy kernels"), std::string::npos);
+
+    const CommandOutput bad = runPlimsoll("simulate /no/such/scene.plim.json");
+    EXPECT_NE(bad.exitCode, 0);
+    EXPECT_NE(bad.err.find("/no/such/scene.plim.json"), std::string::npos);
+}
+
+TEST(Cli, ValidateExitCodes) {
+    EXPECT_EQ(runPlimsoll("validate '" + kSphere + "'").exitCode, 0);
+    const auto boat = test::sharedMesh("boat.obj");
+    if (!boat) GTEST_SKIP() << "../shared/meshes not present";
+    const CommandOutput r = runPlimsoll("validate '" + boat->string() + "'");
+    EXPECT_EQ(r.exitCode, 1);
+    EXPECT_NE(r.out.find("uv-overlap"), std::string::npos);
+    EXPECT_NE(r.out.find("uv-out-of-range"), std::string::npos);
+    EXPECT_NE(r.out.find("boat.obj"), std::string::npos);
+    // Its own UVs are refused with the reason; by default a physics atlas replaces them, and
+    // says so; the exact path accepts the mesh as it is.
+    const CommandOutput refused =
+        runPlimsoll("massprops '" + boat->string() + "' --size 64 --atlas mesh --json");
+    EXPECT_NE(refused.exitCode, 0);
+    EXPECT_NE(refused.err.find("uv-overlap"), std::string::npos);
+    const CommandOutput generated = runPlimsoll("massprops '" + boat->string() + "' --size 64 --json");
+    EXPECT_EQ(generated.exitCode, 0) << generated.err;
+    EXPECT_NE(generated.err.find("generated physics atlas"), std::string::npos) << generated.err;
+    EXPECT_EQ(nlohmann::json::parse(generated.out).at("atlas"), "generated");
+    EXPECT_NE(runPlimsoll("massprops '" + boat->string() + "' --atlas sideways").exitCode, 0);
+    EXPECT_EQ(runPlimsoll("massprops '" + boat->string() + "' --exact --json").exitCode, 0);
+}
+
+}  // namespace
+}  // namespace plimsoll

@@ -1,0 +1,180 @@
+// plimsoll bench end to end: a --quick run writes a table, a CSV with one row per measurement
+// and an SVG plot; the errors it reports are finite and shrink as the textures grow. No timing
+// assertions: speed is what the benchmark prints, not what a test can hold a machine to.
+#include "plimsoll/compute/compute.h"
+
+#include "cli_runner.h"
+#include "test_support.h"
+
+#include <cmath>
+#include <cstdio>
+#include <fstream>
+#include <map>
+#include <sstream>
+#include <unistd.h>
+
+namespace plimsoll {
+namespace {
+
+namespace fs = std::filesystem;
+
+using test::CommandOutput;
+using test::runPlimsoll;
+
+
+/// One CSV line split into fields ("..." quoting with doubled quotes, as device names need).
+std::vector<std::string> splitCsvLine(const std::string& line) {
+    std::vector<std::string> fields(1);
+    bool quoted = false;
+    for (std::size_t i = 0; i < line.size(); ++i) {
+        const char c = line[i];
+        if (quoted && c == '"' && i + 1 < line.size() && line[i + 1] == '"') {
+            fields.back() += '"';
+            ++i;
+        } else if (c == '"') {
+            quoted = !quoted;
+        } else if (c == ',' && !quoted) {
+            fields.emplace_back();
+        } else {
+            fields.back() += c;
+        }
+    }
+    return fields;
+}
+
+using CsvRow = std::map<std::string, std::string>;
+
+std::vector<CsvRow> parseCsv(const std::string& text) {
+    std::istringstream in(text);
+    std::string line;
+    std::getline(in, line);
+    const std::vector<std::string> header = splitCsvLine(line);
+    std::vector<CsvRow> rows;
+    while (std::getline(in, line)) {
+        const std::vector<std::string> fields = splitCsvLine(line);
+        EXPECT_EQ(fields.size(), header.size()) << line;
+        CsvRow row;
+        for (std::size_t i = 0; i < std::min(fields.size(), header.size()); ++i)
+            row[header[i]] = fields[i];
+        rows.push_back(std::move(row));
+    }
+    return rows;
+}
+
+const char* const kErrorColumns[] = {"volume_error", "cob_error", "torque_error"};
+
+TEST(CliBench, QuickRunWritesTableCsvAndSvg) {
+    const fs::path out =
+        fs::temp_directory_path() / ("plimsoll_bench_" + std::to_string(::getpid()));
+    fs::remove_all(out);
+    const std::optional<fs::path> spot = test::sharedMesh("spot.obj");
+    const CommandOutput r = runPlimsoll("bench --quick --out '" + out.string() + "' --mesh '" +
+                                        PLIMSOLL_SHARED_DIR "/meshes/spot.obj'");
+    ASSERT_EQ(r.exitCode, 0) << r.err;
+    EXPECT_NE(r.out.find("vol err"), std::string::npos) << r.out;
+
+    const std::string csv = test::readFile(out / "bench.csv");
+    ASSERT_EQ(csv.rfind("kind,mesh,device,", 0), 0u) << csv.substr(0, 200);
+    const std::vector<CsvRow> rows = parseCsv(csv);
+
+    // One texture row per mesh, device and size (the reference included: --quick stays within
+    // its 512 limit), one exact row per mesh, one batch row per OpenCL device.
+    const std::size_t openClDevices = listComputeDevices().size();
+    const std::size_t meshes = spot ? 2 : 1;
+    const std::size_t quickSizes = 4;
+    std::map<std::string, std::size_t> kinds;
+    for (const CsvRow& row : rows) ++kinds[row.at("kind")];
+    EXPECT_EQ(kinds["texture"], meshes * (openClDevices + 1) * quickSizes);
+    EXPECT_EQ(kinds["exact"], meshes);
+    EXPECT_EQ(kinds["batch"], openClDevices);
+    EXPECT_EQ(rows.size(), kinds["texture"] + kinds["exact"] + kinds["batch"]);
+
+    // errors[device][size] of the sphere, to check that they shrink with the texture size.
+    std::map<std::string, std::map<int, CsvRow>> sphere;
+    for (const CsvRow& row : rows) {
+        if (row.at("kind") != "texture") continue;
+        for (const char* column : kErrorColumns) {
+            const double error = std::stod(row.at(column));
+            EXPECT_TRUE(std::isfinite(error) && error >= 0)
+                << column << " " << row.at("mesh") << " " << row.at("device") << " "
+                << row.at("size");
+        }
+        if (row.at("mesh") == "sphere") sphere[row.at("device")][std::stoi(row.at("size"))] = row;
+    }
+    EXPECT_EQ(sphere.size(), openClDevices + 1);
+    for (auto& [device, bySize] : sphere) {
+        ASSERT_TRUE(bySize.count(64) && bySize.count(256)) << device;
+        for (const char* column : kErrorColumns) {
+            EXPECT_LT(std::stod(bySize[256].at(column)), std::stod(bySize[64].at(column)))
+                << device << " " << column;
+        }
+    }
+
+    const std::string svg = test::readFile(out / "bench.svg");
+    EXPECT_EQ(svg.rfind("<svg", 0), 0u) << svg.substr(0, 200);
+    fs::remove_all(out);
+}
+
+/// bench --integrators: one row per integrator and time step; the symplectic and fourth-order
+/// integrators keep the energy finite, and explicit Euler (the paper's) gains energy at the
+/// coarse step where semi-implicit Euler does not.
+TEST(CliBench, RadiationQuickRunWritesCostWithAndWithout) {
+    const fs::path out = fs::temp_directory_path() / ("plimsoll_bench_rad_" + std::to_string(::getpid()));
+    fs::remove_all(out);
+    const CommandOutput r = runPlimsoll("bench --radiation --quick --out '" + out.string() + "'");
+    ASSERT_EQ(r.exitCode, 0) << r.err;
+    EXPECT_NE(r.out.find("panels"), std::string::npos) << r.out;
+    const std::vector<CsvRow> rows = parseCsv(test::readFile(out / "bench_radiation.csv"));
+    ASSERT_EQ(rows.size(), 2u);
+    EXPECT_EQ(rows[0].at("run"), "without");
+    EXPECT_EQ(rows[1].at("run"), "with");
+    for (const CsvRow& row : rows) EXPECT_GT(std::stod(row.at("seconds_per_step")), 0.0) << row.at("run");
+}
+
+TEST(CliBench, IntegratorsQuickRunWritesDriftCsv) {
+    const fs::path out =
+        fs::temp_directory_path() / ("plimsoll_bench_int_" + std::to_string(::getpid()));
+    fs::remove_all(out);
+    const CommandOutput r = runPlimsoll("bench --integrators --quick --out '" + out.string() + "'");
+    ASSERT_EQ(r.exitCode, 0) << r.err;
+    EXPECT_NE(r.out.find("final drift"), std::string::npos) << r.out;
+
+    const std::string csv = test::readFile(out / "bench_integrators.csv");
+    ASSERT_EQ(csv.rfind("integrator,dt_s,", 0), 0u) << csv.substr(0, 200);
+    const std::vector<CsvRow> rows = parseCsv(csv);
+    ASSERT_EQ(rows.size(), 9u) << csv;
+
+    // Rows by integrator and steps per second (1 / dt).
+    std::map<std::string, std::map<int, CsvRow>> byIntegrator;
+    for (const CsvRow& row : rows) {
+        const int rate = static_cast<int>(std::lround(1.0 / std::stod(row.at("dt_s"))));
+        byIntegrator[row.at("integrator")][rate] = row;
+    }
+    ASSERT_EQ(byIntegrator.size(), 3u) << csv;
+    for (const auto& [integrator, byRate] : byIntegrator) {
+        EXPECT_EQ(byRate.size(), 3u) << integrator;
+        for (int rate : {240, 60, 15}) EXPECT_TRUE(byRate.count(rate)) << integrator << " " << rate;
+    }
+    for (const char* integrator : {"semi-implicit-euler", "rk4"}) {
+        for (const auto& [rate, row] : byIntegrator[integrator]) {
+            EXPECT_EQ(row.at("diverged"), "0") << integrator << " 1/" << rate;
+            for (const char* column : {"final_drift", "max_drift"}) {
+                ASSERT_FALSE(row.at(column).empty()) << integrator << " 1/" << rate << " " << column;
+                EXPECT_TRUE(std::isfinite(std::stod(row.at(column))))
+                    << integrator << " 1/" << rate << " " << column;
+            }
+        }
+    }
+
+    // At dt = 1/15 s explicit Euler gains energy: more than semi-implicit Euler drifts either
+    // way (or it diverged outright).
+    const CsvRow& explicitCoarse = byIntegrator["explicit-euler"][15];
+    const double semiDrift = std::stod(byIntegrator["semi-implicit-euler"][15].at("final_drift"));
+    if (explicitCoarse.at("diverged") != "1") {
+        EXPECT_GT(std::stod(explicitCoarse.at("final_drift")), std::abs(semiDrift)) << csv;
+    }
+    fs::remove_all(out);
+}
+
+}  // namespace
+}  // namespace plimsoll

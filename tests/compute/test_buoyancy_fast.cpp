@@ -1,0 +1,278 @@
+// The fast CPU path (plimsoll_eval/fast.hpp through the fast backend) against the C++
+// reference: every quantity within 1e-5 of its natural scale on flat water over random poses
+// (at rest, moving, spinning, with and without skin friction), within the stated error on the
+// sample projects' waves; the tile classes do what they claim (dry costs nothing, submerged
+// tiles take the closed form and conserve the volume); the batch call gives the same numbers
+// on the caller's task system as on the default pool.
+#include "plimsoll/bake/bake.h"
+#include "plimsoll/compute/fast_backend.h"
+#include "plimsoll/physics/buoyancy.h"
+#include "plimsoll/physics/massprops.h"
+#include "plimsoll/samples/primitives.h"
+
+#include "test_support.h"
+
+#include <gtest/gtest.h>
+
+#include <atomic>
+#include <random>
+
+namespace plimsoll {
+namespace {
+
+namespace ev = plimsoll_eval;
+
+struct Body {
+    SurfaceTextures textures;
+    MassProperties props;
+    double radius = 0;  ///< largest distance of an entry from the centre of mass
+    ev::FastBody fast;
+};
+
+Body makeBody(const TriangleMesh& mesh, int size) {
+    Body b;
+    b.textures = test::bakeOrFail(mesh, size);
+    b.props = textureSolidMassProperties(b.textures, 1.0);
+    for (const auto& p : b.textures.position) b.radius = std::max(b.radius, (p - b.props.centerOfMass).norm());
+    b.fast = makeFastBody(b.textures, b.props.centerOfMass);
+    return b;
+}
+
+/// The largest error of each quantity over its natural scale: volume V, forces rho g V,
+/// torques rho g V R, drag rho u^2 S (u the fastest entry's speed), its torque times R.
+struct Errors {
+    double volume = 0, force = 0, torque = 0, drag = 0, dragTorque = 0, wetted = 0, center = 0;
+    void add(const BuoyancyResult& got, const BuoyancyResult& ref, const Body& body,
+             const FluidSettings& fluid, double speed) {
+        const double V = body.props.volume, R = body.radius, F = fluid.density * fluid.gravity * V;
+        const double S = body.textures.surfaceArea();
+        const double D = fluid.density * std::max(speed * speed, 1e-12) * S;
+        volume = std::max(volume, std::abs(got.submergedVolume - ref.submergedVolume) / V);
+        force = std::max({force, (got.force - ref.force).norm() / F,
+                          (got.pressureForce - ref.pressureForce).norm() / F});
+        torque = std::max({torque, (got.torque - ref.torque).norm() / (F * R),
+                           (got.pressureTorque - ref.pressureTorque).norm() / (F * R)});
+        drag = std::max(drag, (got.dragForce - ref.dragForce).norm() / D);
+        dragTorque = std::max(dragTorque, (got.dragTorque - ref.dragTorque).norm() / (D * R));
+        wetted = std::max(wetted, std::abs(got.wettedArea - ref.wettedArea) / S);
+        // The centre of buoyancy weighed by the volume (it is undefined when nothing is wet).
+        center = std::max(center, ((got.centerOfBuoyancy - ref.centerOfBuoyancy) * ref.submergedVolume).norm() / (V * R));
+    }
+    double worst() const { return std::max({volume, force, torque, drag, dragTorque, wetted, center}); }
+};
+
+BodyFrame randomFrame(std::mt19937& random, const Body& body, int kind) {
+    std::uniform_real_distribution<double> unit(-1.0, 1.0);
+    BodyFrame frame;
+    frame.centerOfMass = body.props.centerOfMass;
+    frame.pose = Pose::fromEulerDegrees({2 * unit(random), 1.2 * body.radius * unit(random), 2 * unit(random)},
+                                        {180 * unit(random), 90 * unit(random), 180 * unit(random)});
+    if (kind >= 1) frame.motion.linear = {unit(random), 0.5 * unit(random), unit(random)};
+    if (kind >= 2) frame.motion.angular = {2 * unit(random), 2 * unit(random), unit(random)};
+    frame.time = 5.0 * (1.0 + unit(random));
+    return frame;
+}
+
+double speedOf(const BodyFrame& frame, const Body& body) {
+    return frame.motion.linear.norm() + frame.motion.angular.norm() * body.radius;
+}
+
+WaterModel buoyWaves() {  // projects/buoy.plim.json
+    WaterModel water;
+    water.kind = WaterModel::Kind::Gerstner;
+    water.waves = {{0.12, 9.0, {1.0, 0.2}, 0.5, 0.0}, {0.05, 4.0, {0.3, 1.0}, 0.4, 1.3}};
+    return water;
+}
+
+TEST(FastPath, MatchesTheReferenceOnFlatWaterOverRandomPoses) {
+    std::vector<Body> bodies;
+    bodies.push_back(makeBody(makeUvSphere(0.5, 48, 24), 64));
+    bodies.push_back(makeBody(makeBuoy(), 100));
+    bodies.push_back(makeBody(makeBox({1.0, 0.4, 0.6}), 48));
+    std::mt19937 random(20261201);
+    ev::FastScratch scratch;
+    for (const double friction : {0.0, 0.004}) {
+        FluidSettings fluid;
+        fluid.frictionCoefficient = friction;
+        for (const Body& body : bodies) {
+            Errors errors;
+            int wet = 0;
+            for (int trial = 0; trial < 150; ++trial) {
+                const BodyFrame frame = randomFrame(random, body, trial % 3);
+                const WaterModel water = WaterModel::flat(0.3 * std::sin(trial));
+                const BuoyancyResult ref = evaluateBuoyancyReference(body.textures, frame, water, fluid);
+                const BuoyancyResult got = evaluateBuoyancyFast(body.fast, frame, water, fluid, scratch);
+                errors.add(got, ref, body, fluid, speedOf(frame, body));
+                // A count differs only where an entry sits within rounding of the surface.
+                EXPECT_NEAR(double(got.submergedSamples), double(ref.submergedSamples), 2.0);
+                wet += ref.submergedVolume > 0 && ref.submergedVolume < body.props.volume;
+            }
+            EXPECT_GT(wet, 50);  // the poses cross the waterline
+            EXPECT_LE(errors.worst(), 1e-5)
+                << "volume " << errors.volume << " force " << errors.force << " torque " << errors.torque
+                << " drag " << errors.drag << " drag torque " << errors.dragTorque << " wetted "
+                << errors.wetted << " centre " << errors.center;
+        }
+    }
+}
+
+// On waves the fast path takes the water from a 9 x 9 grid of heights over the body's
+// footprint (a quadratic per tile) and the water's velocity at each tile's centre: measured
+// here on the buoy project's two Gerstner waves against the reference's per-entry heights.
+TEST(FastPath, OnTheSampleWavesStaysWithinTheStatedError) {
+    std::vector<Body> bodies;
+    bodies.push_back(makeBody(makeBuoy(), 128));
+    bodies.push_back(makeBody(makeUvSphere(0.5, 48, 24), 64));
+    const WaterModel water = buoyWaves();
+    std::mt19937 random(7);
+    ev::FastScratch scratch;
+    const FluidSettings fluid;
+    for (const Body& body : bodies) {
+        Errors errors;
+        for (int trial = 0; trial < 120; ++trial) {
+            const BodyFrame frame = randomFrame(random, body, trial % 3);
+            errors.add(evaluateBuoyancyFast(body.fast, frame, water, fluid, scratch),
+                       evaluateBuoyancyReference(body.textures, frame, water, fluid), body, fluid,
+                       speedOf(frame, body) + 1.0);
+        }
+        std::printf("  waves, %zu entries: volume %.1e, force %.1e, torque %.1e, drag %.1e, "
+                    "drag torque %.1e of scale\n",
+                    body.textures.coveredCount(), errors.volume, errors.force, errors.torque,
+                    errors.drag, errors.dragTorque);
+        EXPECT_LE(errors.force, 1e-3);
+        EXPECT_LE(errors.volume, 1e-3);
+        EXPECT_LE(errors.torque, 1e-3);
+        // The water's velocity taken at each tile's centre: drag is the coarser quantity.
+        EXPECT_LE(errors.drag, 1e-2);
+        EXPECT_LE(errors.dragTorque, 1e-2);
+    }
+}
+
+TEST(FastPath, DryTilesCostNothingAndSubmergedTilesTakeTheClosedForm) {
+    const Body sphere = makeBody(makeUvSphere(0.5, 48, 24), 64);
+    ev::FastScratch scratch;
+    ev::FastStats stats;
+    BodyFrame frame;
+    frame.centerOfMass = sphere.props.centerOfMass;
+    frame.pose = Pose::fromEulerDegrees({0, 0, 0}, {20, 30, 40});
+    const FluidSettings fluid;
+    // Clear of the water: nothing at all.
+    BuoyancyResult r = evaluateBuoyancyFast(sphere.fast, frame, WaterModel::flat(-1.0), fluid, scratch, &stats);
+    EXPECT_EQ(r.submergedVolume, 0.0);
+    EXPECT_EQ(stats.perEntry + stats.closedForm, 0u);
+    // Deep under, at rest: every tile in closed form, equal to the per-entry sums in double,
+    // and the volume the body's (to the texture's discretisation).
+    r = evaluateBuoyancyFast(sphere.fast, frame, WaterModel::flat(5.0), fluid, scratch, &stats);
+    EXPECT_EQ(stats.perEntry, 0u);
+    EXPECT_GT(stats.closedForm, 0u);
+    const BuoyancyResult deep = evaluateBuoyancyReference(sphere.textures, frame, WaterModel::flat(5.0), fluid);
+    EXPECT_NEAR(r.submergedVolume, deep.submergedVolume, 1e-6 * sphere.props.volume);
+    EXPECT_LT((r.pressureForce - deep.pressureForce).norm(), 1e-6 * r.force.norm());
+    EXPECT_LT((r.pressureTorque - deep.pressureTorque).norm(), 1e-6 * r.force.norm() * sphere.radius);
+    EXPECT_LT((r.centerOfBuoyancy - deep.centerOfBuoyancy).norm(), 1e-6 * sphere.radius);
+    EXPECT_EQ(r.submergedSamples, sphere.textures.coveredCount());
+    EXPECT_NEAR(r.submergedVolume, sphere.props.volume, 1e-3 * sphere.props.volume);
+    // Deep under waves: the closed form takes the curved surface too; only tiles across which
+    // the sign of A.u changes (u the water's orbital velocity, small down there) go per entry.
+    WaterModel deepWaves = buoyWaves();
+    deepWaves.level = 5.0;
+    r = evaluateBuoyancyFast(sphere.fast, frame, deepWaves, fluid, scratch, &stats);
+    EXPECT_GT(stats.closedForm, stats.perEntry);
+    EXPECT_GT(stats.waterSamples, 0u);
+    const BuoyancyResult underWaves = evaluateBuoyancyReference(sphere.textures, frame, deepWaves, fluid);
+    EXPECT_LT((r.pressureForce - underWaves.pressureForce).norm(), 1e-4 * r.force.norm());
+    // Moving and spinning deep under: the drag of tiles whose normals keep their sign against
+    // the flow is summed from the moments, and equals the reference's per-entry sum.
+    frame.motion.linear = {0.8, -0.3, 0.2};
+    frame.motion.angular = {0.1, 0.2, -0.1};
+    r = evaluateBuoyancyFast(sphere.fast, frame, WaterModel::flat(5.0), fluid, scratch, &stats);
+    EXPECT_GT(stats.closedForm, stats.perEntry);
+    const BuoyancyResult ref = evaluateBuoyancyReference(sphere.textures, frame, WaterModel::flat(5.0), fluid);
+    EXPECT_LT((r.dragForce - ref.dragForce).norm(), 1e-5 * ref.dragForce.norm());
+    EXPECT_LT((r.dragTorque - ref.dragTorque).norm(), 1e-5 * ref.dragForce.norm() * sphere.radius);
+    // Half under at rest: only leaves (8 entries) near the waterline take per-entry work.
+    r = evaluateBuoyancyFast(sphere.fast, {frame.pose, {}, frame.centerOfMass, 0.0},
+                             WaterModel::flat(frame.pose.apply(sphere.props.centerOfMass).y()), fluid,
+                             scratch, &stats);
+    EXPECT_LT(stats.perEntry * 8, sphere.textures.coveredCount() / 4);
+    EXPECT_GT(stats.dry, 0u);
+    EXPECT_GT(stats.closedForm, 0u);
+}
+
+/// A task system of the caller's that runs every range at once on the calling thread and
+/// counts its calls.
+struct CountingTasks {
+    std::atomic<int> enqueued{0}, finished{0};
+    static void* enqueue(ev::TaskCallback* task, int count, int minRange, void* context, void* user) {
+        auto* self = static_cast<CountingTasks*>(user);
+        ++self->enqueued;
+        for (int begin = 0; begin < count; begin += std::max(1, minRange))
+            task(begin, std::min(count, begin + std::max(1, minRange)), 0, context);
+        return self;
+    }
+    static void finish(void* handle, void* user) {
+        EXPECT_EQ(handle, user);
+        ++static_cast<CountingTasks*>(user)->finished;
+    }
+};
+
+TEST(FastBackend, BatchesOnTheCallersTaskSystemAsOnItsOwnPool) {
+    const Body sphere = makeBody(makeUvSphere(0.5, 32, 16), 48);
+    const Body buoy = makeBody(makeBuoy(), 48);
+    CountingTasks counting;
+    FastBackendOptions callers;
+    callers.tasks.enqueue = CountingTasks::enqueue;
+    callers.tasks.finish = CountingTasks::finish;
+    callers.tasks.userContext = &counting;
+    FastBackendOptions pool;
+    pool.threads = 2;
+    auto a = createFastBackend(callers), b = createFastBackend(pool);
+    std::vector<BodyRequest> requests;
+    std::mt19937 random(3);
+    for (int i = 0; i < 64; ++i) {
+        const Body& body = i % 2 ? buoy : sphere;
+        BodyRequest request;
+        request.body = a->addBody(body.textures, body.props.centerOfMass);
+        EXPECT_EQ(b->addBody(body.textures, body.props.centerOfMass), request.body);
+        request.frame = randomFrame(random, body, i % 3);
+        requests.push_back(request);
+    }
+    const WaterModel water = buoyWaves();
+    std::vector<BuoyancyResult> ra(requests.size()), rb(requests.size());
+    ASSERT_TRUE(a->evaluate(requests, water, ra).ok());
+    ASSERT_TRUE(b->evaluate(requests, water, rb).ok());
+    EXPECT_EQ(counting.enqueued.load(), 1);
+    EXPECT_EQ(counting.finished.load(), 1);
+    ev::FastScratch scratch;
+    for (std::size_t i = 0; i < requests.size(); ++i) {
+        const Body& body = i % 2 ? buoy : sphere;
+        BodyFrame frame = requests[i].frame;
+        frame.centerOfMass = body.props.centerOfMass;
+        const BuoyancyResult one = evaluateBuoyancyFast(body.fast, frame, water, {}, scratch);
+        EXPECT_EQ(ra[i].submergedVolume, one.submergedVolume) << i;
+        EXPECT_EQ(rb[i].submergedVolume, one.submergedVolume) << i;
+        EXPECT_EQ(ra[i].dragTorque, one.dragTorque) << i;
+        EXPECT_EQ(rb[i].pressureTorque, one.pressureTorque) << i;
+    }
+    BodyRequest unknown;
+    unknown.body = 999;
+    BuoyancyResult out;
+    const Status refused = a->evaluate({&unknown, 1}, water, {&out, 1});
+    ASSERT_FALSE(refused.ok());
+    EXPECT_EQ(refused.error().kind, ErrorKind::invalidArgument);
+}
+
+TEST(FastBackend, IsTheDefaultWhereNoGpuIsFound) {
+    if (std::getenv("PLIMSOLL_OPENCL_DEVICE")) GTEST_SKIP() << "device chosen by the environment";
+    for (const ComputeDevice& d : listComputeDevices())
+        if (d.isGpu) GTEST_SKIP() << "a GPU is the default here";
+    auto backend = createBuoyancyBackend("");
+    ASSERT_TRUE(backend.ok()) << backend.error().message;
+    EXPECT_EQ((*backend)->kind(), BackendKind::fastCpu) << (*backend)->deviceName();
+    auto named = createBuoyancyBackend("fast");
+    ASSERT_TRUE(named.ok());
+    EXPECT_EQ((*named)->kind(), BackendKind::fastCpu);
+}
+
+}  // namespace
+}  // namespace plimsoll

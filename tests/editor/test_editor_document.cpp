@@ -1,0 +1,969 @@
+// The editor's GL-free core: painting (3D brush in world distance across UV seams), the command
+// layer (one undo step per stroke, byte-exact undo), projects (atomic save under an injected
+// interruption, autosave and recovery) and headless edit scripts.
+#include "cli_runner.h"
+#include "test_support.h"
+#include "editor/document_test_support.h"
+
+#include "document/command.h"
+#include "document/document.h"
+#include "document/overlay.h"
+#include "document/paint.h"
+#include "document/panel_layout.h"
+#include "document/script.h"
+#include "document/settings.h"
+
+#include "plimsoll/io/file_util.h"
+
+#include "io/test_hooks.h"
+#include "plimsoll/io/mesh_io.h"
+#include "plimsoll/bake/painted_map.h"
+
+#include <gtest/gtest.h>
+
+#include <cstring>
+#include <fstream>
+#include <iterator>
+#include <sys/wait.h>
+#include <unistd.h>
+
+namespace plimsoll::editor {
+namespace {
+
+namespace fs = std::filesystem;
+using test::executeOrFail;
+using test::openOrFail;
+
+fs::path freshDir(const std::string& name) {
+    const fs::path dir = fs::temp_directory_path() / "plimsoll_tests" /
+                         (name + "_" + std::to_string(::getpid()));
+    fs::remove_all(dir);
+    fs::create_directories(dir);
+    return dir;
+}
+
+std::string readAll(const fs::path& p) {
+    std::ifstream in(p, std::ios::binary);
+    return std::string(std::istreambuf_iterator<char>(in), {});
+}
+
+/// A project with one body on `mesh` (solid + shell, so every channel can be painted).
+fs::path writeProject(const fs::path& dir, const std::string& mesh) {
+    const fs::path path = dir / "test.plim.json";
+    std::ofstream(path) << R"({"schema_version": 1, "name": "t", "bodies": [{"name": "ball", "mesh": ")"
+                        << test::assetPath(mesh).string()
+                        << R"(", "material": {"density": 500, "shell": {"surface_density": 10}}}]})";
+    return path;
+}
+
+/// The surface point at every pixel centre, found from the mesh alone (not the paint surface).
+struct PixelPoint {
+    std::size_t pixel;
+    Eigen::Vector2d uv;
+    Eigen::Vector3d point;
+};
+std::vector<PixelPoint> pixelPoints(const TriangleMesh& mesh, int w, int h) {
+    std::vector<PixelPoint> out;
+    for (int y = 0; y < h; ++y) {
+        for (int x = 0; x < w; ++x) {
+            const Eigen::Vector2d uv((x + 0.5) / w, 1.0 - (y + 0.5) / h);
+            if (auto hit = surfaceAtUv(mesh, uv)) {
+                out.push_back({static_cast<std::size_t>(y) * w + x, uv, hit->point});
+            }
+        }
+    }
+    return out;
+}
+
+/// A point on the sphere's UV seam (the vertex with the smallest u near the equator).
+Eigen::Vector3d seamPoint(const TriangleMesh& mesh) {
+    std::size_t best = 0;
+    for (std::size_t i = 0; i < mesh.vertexCount(); ++i) {
+        const double score = mesh.uvs[i].x() + std::abs(mesh.uvs[i].y() - 0.5);
+        if (score < mesh.uvs[best].x() + std::abs(mesh.uvs[best].y() - 0.5)) best = i;
+    }
+    return mesh.positions[best];
+}
+
+constexpr int kMap = 128;
+
+/// The ball in a fresh folder `name` with a blank kMap x kMap map on `channel` (null, with a
+/// failure, when it cannot be made).
+std::unique_ptr<Document> ballWithBlankMap(const std::string& name, MapChannel channel) {
+    auto d = openOrFail(writeProject(freshDir(name), "sphere.obj"));
+    if (!d) return nullptr;
+    Result<std::unique_ptr<Command>> blank = makeNewMapCommand(*d, 0, channel, kMap, kMap, 0.0, "");
+    if (!blank || !d->execute(std::move(blank).value())) {
+        ADD_FAILURE() << "no blank map";
+        return nullptr;
+    }
+    return d;
+}
+
+TEST(EditorPaint, StrokeRaisesOnlyWithinWorldRadiusAcrossUvSeam) {
+    auto d = ballWithBlankMap("paint_seam", MapChannel::Permeability);
+    ASSERT_TRUE(d);
+    const TriangleMesh& mesh = *d->assets(0).mesh;
+    const Eigen::Vector3d centre = seamPoint(mesh);
+    Brush brush;
+    brush.radius = 0.1;
+    brush.falloff = Falloff::Constant;
+    const std::vector<float> before = d->map(0, MapChannel::Permeability)->values;
+    const std::vector<Eigen::Vector3d> points{centre};
+    executeOrFail(*d, makeStrokeCommand(*d, 0, MapChannel::Permeability, brush, points));
+    const std::vector<float> after = d->map(0, MapChannel::Permeability)->values;
+
+    // One pixel of this map spans about 2 pi 0.5 / (0.97 * 128) = 0.025 m of the equator: a
+    // pixel's value comes from the surface inside it, so its centre may be that far off.
+    const double slack = 0.03;
+    int inside = 0, left = 0, right = 0;
+    for (const PixelPoint& p : pixelPoints(mesh, kMap, kMap)) {
+        const double distance = (p.point - centre).norm();
+        if (distance > brush.radius + slack) {
+            EXPECT_EQ(after[p.pixel], 0.0f) << "outside the brush at " << distance << " m";
+        } else if (distance < brush.radius - slack) {
+            EXPECT_EQ(after[p.pixel], 1.0f) << "inside the brush at " << distance << " m";
+            ++inside;
+            if (p.uv.x() < 0.2) ++left;
+            if (p.uv.x() > 0.8) ++right;
+        }
+    }
+    EXPECT_GT(inside, 20);
+    // Both sides of the seam, which lie at opposite ends of the UV square.
+    EXPECT_GT(left, 5);
+    EXPECT_GT(right, 5);
+
+    // One undo step restores the map byte for byte; redo re-applies it.
+    ASSERT_TRUE(d->undo());
+    const std::vector<float>& undone = d->map(0, MapChannel::Permeability)->values;
+    ASSERT_EQ(undone.size(), before.size());
+    EXPECT_EQ(std::memcmp(undone.data(), before.data(), before.size() * sizeof(float)), 0);
+    ASSERT_TRUE(d->redo());
+    EXPECT_EQ(d->map(0, MapChannel::Permeability)->values, after);
+}
+
+TEST(EditorPaint, StrokeAlongPointsIsOneUndoStepAndMirrorPaintsTheOtherSide) {
+    const fs::path dir = freshDir("paint_mirror");
+    auto d = openOrFail(writeProject(dir, "sphere.obj"));
+    ASSERT_TRUE(d);
+    executeOrFail(*d, makeNewMapCommand(*d, 0, MapChannel::Density, kMap, kMap, 0.0, ""));
+    const TriangleMesh& mesh = *d->assets(0).mesh;
+    Brush brush;
+    brush.radius = 0.06;
+    brush.falloff = Falloff::Constant;
+    brush.mirrorX = true;
+    brush.value = 0.75;
+    const double s = std::sqrt(0.5);
+    // A short stroke on the +x side; a ray from far out finds the surface.
+    auto hitA = raycast(mesh, {2, 0.1, 0.3}, {-1, 0, 0});
+    auto hitB = raycast(mesh, {2, 0.2, 0.1}, {-1, 0, 0});
+    ASSERT_TRUE(hitA && hitB);
+    const std::vector<Eigen::Vector3d> points{hitA->point, hitB->point};
+    executeOrFail(*d, makeStrokeCommand(*d, 0, MapChannel::Density, brush, points));
+    (void)s;
+    const std::vector<float>& v = d->map(0, MapChannel::Density)->values;
+    int mirrored = 0, direct = 0;
+    for (const PixelPoint& p : pixelPoints(mesh, kMap, kMap)) {
+        // Distance to the stroke segment and to its mirror image.
+        auto segDist = [](const Eigen::Vector3d& q, Eigen::Vector3d a, Eigen::Vector3d b) {
+            const double t = std::clamp((q - a).dot(b - a) / (b - a).squaredNorm(), 0.0, 1.0);
+            return (q - (a + t * (b - a))).norm();
+        };
+        const Eigen::Vector3d m(-1, 1, 1);
+        const double d1 = segDist(p.point, hitA->point, hitB->point);
+        const double d2 = segDist(p.point, hitA->point.cwiseProduct(m), hitB->point.cwiseProduct(m));
+        const double d = std::min(d1, d2);
+        if (d > brush.radius + 0.03) EXPECT_EQ(v[p.pixel], 0.0f);
+        if (d < brush.radius - 0.03) {
+            EXPECT_FLOAT_EQ(v[p.pixel], 0.75f);
+            (d1 < d2 ? direct : mirrored)++;
+        }
+    }
+    EXPECT_GT(direct, 5);
+    EXPECT_GT(mirrored, 5);
+    EXPECT_EQ(d->undoName(), "Paint density");
+    ASSERT_TRUE(d->undo());  // the whole stroke
+    for (float x : d->map(0, MapChannel::Density)->values) ASSERT_EQ(x, 0.0f);
+}
+
+TEST(EditorPaint, FalloffPresetsFollowBlendersCurves) {
+    // s = d / r, p = 1 - s; at the centre every curve is 1, at the rim 0 (Constant: 1 to the
+    // rim), and they never rise outward.
+    const double r = 2.0;
+    for (int i = 0; i < kFalloffCount; ++i) {
+        const Falloff f = static_cast<Falloff>(i);
+        EXPECT_EQ(parseFalloff(falloffName(f)), f);
+        EXPECT_DOUBLE_EQ(falloffWeight(f, 0.0, r), 1.0) << falloffName(f);
+        EXPECT_DOUBLE_EQ(falloffWeight(f, r, r), f == Falloff::Constant ? 1.0 : 0.0) << falloffName(f);
+        EXPECT_EQ(falloffWeight(f, 1.01 * r, r), 0.0);
+        for (double d = 0.05; d <= r; d += 0.05) {
+            EXPECT_LE(falloffWeight(f, d, r), falloffWeight(f, d - 0.05, r) + 1e-15) << falloffName(f);
+        }
+    }
+    EXPECT_FALSE(parseFalloff("gaussian"));
+    // Values with exact answers: a 3-4-5 triangle for the sphere, squares for the rest.
+    EXPECT_NEAR(falloffWeight(Falloff::Sphere, 0.6 * r, r), 0.8, 1e-15);
+    EXPECT_NEAR(falloffWeight(Falloff::Root, 0.75 * r, r), 0.5, 1e-15);
+    EXPECT_NEAR(falloffWeight(Falloff::Sharp, 0.5 * r, r), 0.25, 1e-15);
+    EXPECT_NEAR(falloffWeight(Falloff::InverseSquare, 0.5 * r, r), 0.75, 1e-15);
+    EXPECT_NEAR(falloffWeight(Falloff::Linear, 0.25 * r, r), 0.75, 1e-15);
+}
+
+TEST(EditorPaint, SymmetryPaintsEveryMirrorImageAndRadialCopy) {
+    // Radial 4 about y with a Y mirror: one dab paints 8 places, each a quarter turn
+    // ((x, y, z) -> (z, y, -x)) or a flip of y from another; nothing else changes.
+    auto d = ballWithBlankMap("paint_symmetry", MapChannel::Permeability);
+    ASSERT_TRUE(d);
+    const TriangleMesh& mesh = *d->assets(0).mesh;
+    auto hit = raycast(mesh, {2, 0.2, 0.3}, {-1, 0, 0});
+    ASSERT_TRUE(hit);
+    Brush brush;
+    brush.radius = 0.08;
+    brush.falloff = Falloff::Constant;
+    brush.mirrorY = true;
+    brush.radial = 4;
+    std::vector<Eigen::Vector3d> expected;
+    Eigen::Vector3d q = hit->point;
+    for (int k = 0; k < 4; ++k) {
+        expected.push_back(q);
+        expected.emplace_back(q.x(), -q.y(), q.z());
+        q = Eigen::Vector3d(q.z(), q.y(), -q.x());
+    }
+    const std::vector<Eigen::Vector3d> copies = symmetricPoints(brush, hit->point);
+    ASSERT_EQ(copies.size(), 8u);
+    for (const Eigen::Vector3d& e : expected) {
+        double nearest = 1e9;
+        for (const Eigen::Vector3d& c : copies) nearest = std::min(nearest, (c - e).norm());
+        EXPECT_LT(nearest, 1e-12) << e.transpose();
+    }
+    const std::vector<Eigen::Vector3d> points{hit->point};
+    executeOrFail(*d, makeStrokeCommand(*d, 0, MapChannel::Permeability, brush, points));
+    const std::vector<float>& v = d->map(0, MapChannel::Permeability)->values;
+    std::vector<int> inside(expected.size(), 0);
+    for (const PixelPoint& p : pixelPoints(mesh, kMap, kMap)) {
+        double nearest = 1e9;
+        for (std::size_t k = 0; k < expected.size(); ++k) {
+            const double distance = (p.point - expected[k]).norm();
+            nearest = std::min(nearest, distance);
+            if (distance < brush.radius - 0.03) {
+                EXPECT_EQ(v[p.pixel], 1.0f) << "copy " << k;
+                ++inside[k];
+            }
+        }
+        if (nearest > brush.radius + 0.03) EXPECT_EQ(v[p.pixel], 0.0f);
+    }
+    for (std::size_t k = 0; k < expected.size(); ++k) EXPECT_GT(inside[k], 2) << "copy " << k;
+    EXPECT_EQ(d->undoName(), "Paint permeability");  // one step for all eight
+}
+
+TEST(EditorPaint, SpacingLeavesGapsBetweenDabsOrJoinsThem) {
+    // A 0.15 m stroke with a 0.015 m constant brush. At 4.5 radii the dabs may be 0.0675 m
+    // apart: ceil(0.15 / 0.0675) = 3 gaps of 0.05 m, so a pixel is painted exactly when one of
+    // its surface samples lies within the radius of one of the four dabs, and the surface
+    // between them stays bare. At the default quarter radius the line is solid.
+    const fs::path dir = freshDir("paint_spacing");
+    auto d = openOrFail(writeProject(dir, "sphere.obj"));
+    ASSERT_TRUE(d);
+    const TriangleMesh& mesh = *d->assets(0).mesh;
+    constexpr int kFine = 512;  // 3 to 6 mm pixels on the ball's equator
+    Result<PaintSurface> surface = buildPaintSurface(mesh, kFine, kFine);
+    ASSERT_TRUE(surface.ok());
+    PaintedMap blank;
+    blank.width = blank.height = kFine;
+    blank.values.assign(std::size_t(kFine) * kFine, 0.0f);
+    auto a = raycast(mesh, {2, 0.0, -0.075}, {-1, 0, 0});
+    auto b = raycast(mesh, {2, 0.0, 0.075}, {-1, 0, 0});
+    ASSERT_TRUE(a && b);
+    const std::vector<Eigen::Vector3d> points{a->point, b->point};
+    Brush brush;
+    brush.radius = 0.015;
+    brush.falloff = Falloff::Constant;
+    auto paintedPixels = [&](const PixelChange& change) {
+        std::vector<char> painted(blank.values.size(), 0);
+        for (std::size_t i = 0; i < change.pixels.size(); ++i) painted[change.pixels[i]] = change.after[i] > 0;
+        return painted;
+    };
+    auto segmentDistance = [&](const Eigen::Vector3d& q) {
+        const Eigen::Vector3d ab = b->point - a->point;
+        const double t = std::clamp((q - a->point).dot(ab) / ab.squaredNorm(), 0.0, 1.0);
+        return (q - (a->point + t * ab)).norm();
+    };
+
+    brush.spacing = 4.5;
+    const std::vector<char> dotted = paintedPixels(strokeChange(blank, *surface, brush, points));
+    // Per pixel, its samples' nearest distance to a dab.
+    std::vector<double> nearest(blank.values.size(), 1e9);
+    for (std::size_t i = 0; i < surface->sampleCount(); ++i) {
+        const Eigen::Vector3d q = surface->position[i].cast<double>();
+        for (int k = 0; k <= 3; ++k) {
+            const Eigen::Vector3d dab = a->point + (b->point - a->point) * (k / 3.0);
+            double& n = nearest[surface->pixel[i]];
+            n = std::min(n, (q - dab).norm());
+        }
+    }
+    int bareOnTheLine = 0, paintedCount = 0;
+    for (std::size_t i = 0; i < surface->sampleCount(); ++i) {
+        const std::uint32_t pixel = surface->pixel[i];
+        if (std::abs(nearest[pixel] - brush.radius) < 1e-4) continue;  // float rounding
+        EXPECT_EQ(dotted[pixel] != 0, nearest[pixel] < brush.radius) << "pixel " << pixel;
+        paintedCount += dotted[pixel] != 0;
+        const Eigen::Vector3d q = surface->position[i].cast<double>();
+        bareOnTheLine += !dotted[pixel] && segmentDistance(q) < 0.5 * brush.radius;
+    }
+    EXPECT_GT(paintedCount, 20);
+    EXPECT_GT(bareOnTheLine, 10) << "gaps expected between the dabs";
+
+    brush.spacing = 0.25;  // dabs at most 3.75 mm apart: 1.9 mm from the line at most
+    const std::vector<char> solid = paintedPixels(strokeChange(blank, *surface, brush, points));
+    int onTheLine = 0;
+    for (std::size_t i = 0; i < surface->sampleCount(); ++i) {
+        const Eigen::Vector3d q = surface->position[i].cast<double>();
+        if (segmentDistance(q) >= brush.radius - 0.002) continue;
+        EXPECT_TRUE(solid[surface->pixel[i]]) << "a gap in a solid line at " << q.transpose();
+        ++onTheLine;
+    }
+    EXPECT_GT(onTheLine, 50);
+}
+
+TEST(EditorPaint, LazyMouseTrailsTheCursorOnItsString) {
+    // Blender's stabilised stroke: the brush stays while the cursor is within the string's
+    // length, then follows it at exactly that length behind.
+    LazyMouse lazy(20.0);
+    EXPECT_EQ(lazy.follow({100, 100}), Eigen::Vector2d(100, 100));  // starts under the cursor
+    // A shaky hand within 20 px: the brush does not move.
+    for (const Eigen::Vector2d& jitter : {Eigen::Vector2d(110, 95), Eigen::Vector2d(88, 104),
+                                          Eigen::Vector2d(100, 119.5)}) {
+        EXPECT_EQ(lazy.follow(jitter), Eigen::Vector2d(100, 100));
+    }
+    // Pulled 50 px right: 30 px along, 20 behind the cursor; then on along the string.
+    const Eigen::Vector2d a = lazy.follow({150, 100});
+    EXPECT_NEAR(a.x(), 130, 1e-12);
+    EXPECT_NEAR(a.y(), 100, 1e-12);
+    const Eigen::Vector2d b = lazy.follow({130, 160});
+    EXPECT_NEAR((Eigen::Vector2d(130, 160) - b).norm(), 20.0, 1e-9);
+    EXPECT_NEAR(b.x(), 130, 1e-12);  // straight down the string
+    // A zero-length string: the brush is the cursor.
+    LazyMouse off(0.0);
+    off.follow({0, 0});
+    EXPECT_EQ(off.follow({3, 4}), Eigen::Vector2d(3, 4));
+}
+
+TEST(EditorPaint, LineStrokeSamplesTheScreenLineAndPaintsAlongIt) {
+    // Shift-click's line: samples at most `step` apart, both ends included.
+    const std::vector<Eigen::Vector2d> samples = lineSamples({10, 20}, {40, 60}, 3.0);  // 50 px
+    ASSERT_EQ(samples.size(), 18u);  // ceil(50 / 3) = 17 steps
+    EXPECT_EQ(samples.front(), Eigen::Vector2d(10, 20));
+    EXPECT_EQ(samples.back(), Eigen::Vector2d(40, 60));
+    for (std::size_t i = 1; i < samples.size(); ++i) {
+        EXPECT_NEAR((samples[i] - samples[i - 1]).norm(), 50.0 / 17, 1e-9);
+    }
+    EXPECT_EQ(lineSamples({5, 5}, {5, 5}, 3.0).size(), 2u);  // a click on the end itself
+
+    // Picked on the sphere by an orthographic front view (pixel = 100 px per metre), the line
+    // paints a band from one end to the other, one undo step.
+    const fs::path dir = freshDir("paint_line");
+    auto d = openOrFail(writeProject(dir, "sphere.obj"));
+    ASSERT_TRUE(d);
+    executeOrFail(*d, makeNewMapCommand(*d, 0, MapChannel::Density, kMap, kMap, 0.0, ""));
+    const TriangleMesh& mesh = *d->assets(0).mesh;
+    std::vector<Eigen::Vector3d> points;
+    for (const Eigen::Vector2d& p : lineSamples({-30, 10}, {35, -20}, 3.0)) {
+        if (auto hit = raycast(mesh, {p.x() / 100, p.y() / 100, 2}, {0, 0, -1})) points.push_back(hit->point);
+    }
+    ASSERT_GT(points.size(), 20u);
+    Brush brush;
+    brush.radius = 0.05;
+    brush.falloff = Falloff::Constant;
+    brush.value = 1.0;
+    executeOrFail(*d, makeStrokeCommand(*d, 0, MapChannel::Density, brush, points));
+    const std::vector<float>& v = d->map(0, MapChannel::Density)->values;
+    // The band along the picked path (a curve on the sphere: the samples 3 cm apart).
+    auto distanceToPath = [&](const Eigen::Vector3d& q) {
+        double best = 1e300;
+        for (std::size_t i = 1; i < points.size(); ++i) {
+            const Eigen::Vector3d a = points[i - 1], b = points[i];
+            const double t = std::clamp((q - a).dot(b - a) / std::max((b - a).squaredNorm(), 1e-30), 0.0, 1.0);
+            best = std::min(best, (q - (a + t * (b - a))).norm());
+        }
+        return best;
+    };
+    int inside = 0;
+    for (const PixelPoint& p : pixelPoints(mesh, kMap, kMap)) {
+        const double dist = distanceToPath(p.point);
+        if (dist < brush.radius - 0.02) {
+            EXPECT_EQ(v[p.pixel], 1.0f) << p.point.transpose();
+            ++inside;
+        }
+        if (dist > brush.radius + 0.02) EXPECT_EQ(v[p.pixel], 0.0f) << p.point.transpose();
+    }
+    EXPECT_GT(inside, 20);
+    EXPECT_EQ(d->undoName(), "Paint density");
+}
+
+TEST(EditorPaint, AlphaImageScalesEachDabAndIsUprightAcrossItsAxis) {
+    // A 2 x 2 alpha: left column white, right column black; across +z, image right is +x.
+    Brush brush;
+    brush.radius = 0.1;
+    brush.falloff = Falloff::Constant;
+    auto alpha = std::make_shared<PaintedMap>();
+    alpha->width = alpha->height = 2;
+    alpha->values = {1, 0, 1, 0};
+    brush.alpha = alpha;
+    brush.alphaAxis = Eigen::Vector3d::UnitZ();
+    // The left edge's value is 1, the right edge's 0, the middle half way (bilinear).
+    EXPECT_NEAR(dabWeight(brush, {-0.099, 0, 0}), 1.0, 1e-9);
+    EXPECT_NEAR(dabWeight(brush, {0.099, 0, 0}), 0.0, 1e-9);
+    EXPECT_NEAR(dabWeight(brush, {0, 0.05, 0}), 0.5, 1e-9);
+    EXPECT_NEAR(dabWeight(brush, {0, 0, 0.05}), 0.5, 1e-9);  // along the axis: the centre column
+    EXPECT_EQ(dabWeight(brush, {-0.11, 0, 0}), 0.0);           // outside the radius
+    // Top white, bottom black: up is +y across +z.
+    alpha->values = {1, 1, 0, 0};
+    EXPECT_NEAR(dabWeight(brush, {0, 0.099, 0}), 1.0, 1e-9);
+    EXPECT_NEAR(dabWeight(brush, {0, -0.099, 0}), 0.0, 1e-9);
+    // Times the falloff.
+    // Times the falloff: at a quarter radius up, linear 0.75 and the image 0.75 (a quarter of
+    // the way from the top row's centre to the bottom one's).
+    brush.falloff = Falloff::Linear;
+    EXPECT_NEAR(dabWeight(brush, {0, 0.025, 0}), 0.75 * 0.75, 1e-9);
+    // Without an image the falloff alone.
+    brush.alpha.reset();
+    EXPECT_NEAR(dabWeight(brush, {0, 0.025, 0}), 0.75, 1e-9);
+
+    // A stroke with the left-white alpha on the sphere's front paints only left of the dab.
+    const fs::path dir = freshDir("paint_alpha");
+    auto d = openOrFail(writeProject(dir, "sphere.obj"));
+    ASSERT_TRUE(d);
+    executeOrFail(*d, makeNewMapCommand(*d, 0, MapChannel::Density, kMap, kMap, 0.0, ""));
+    const TriangleMesh& mesh = *d->assets(0).mesh;
+    auto hit = raycast(mesh, {0.05, 0.1, 2}, {0, 0, -1});
+    ASSERT_TRUE(hit);
+    alpha->values = {1, 0, 1, 0};
+    brush.alpha = alpha;
+    brush.falloff = Falloff::Constant;
+    brush.radius = 0.15;
+    executeOrFail(*d, makeStrokeCommand(*d, 0, MapChannel::Density, brush, std::vector<Eigen::Vector3d>{hit->point}));
+    const std::vector<float>& v = d->map(0, MapChannel::Density)->values;
+    int left = 0, right = 0;
+    for (const PixelPoint& p : pixelPoints(mesh, kMap, kMap)) {
+        const Eigen::Vector3d offset = p.point - hit->point;
+        if (offset.norm() > brush.radius - 0.02 || p.point.z() < 0) continue;
+        if (offset.x() < -0.04) left += v[p.pixel] > 0.6f;
+        if (offset.x() > 0.04) right += v[p.pixel] > 0.4f;
+    }
+    EXPECT_GT(left, 10);
+    EXPECT_EQ(right, 0);
+    // A file that is not an image: a clear error naming it, the brush unchanged.
+    const fs::path bogus = dir / "not_an_image.png";
+    std::ofstream(bogus) << "hello";
+    const Status bad = loadBrushAlpha(brush, bogus);
+    ASSERT_FALSE(bad.ok());
+    EXPECT_NE(bad.error().message.find("not_an_image.png"), std::string::npos) << bad.error().message;
+    EXPECT_EQ(brush.alpha, alpha);
+}
+
+TEST(EditorPaint, FillAllEraseAndSmooth) {
+    const fs::path dir = freshDir("paint_fill");
+    auto d = openOrFail(writeProject(dir, "sphere.obj"));
+    ASSERT_TRUE(d);
+    const TriangleMesh& mesh = *d->assets(0).mesh;
+    // The first edit on a body without a map makes one (same undo step).
+    executeOrFail(*d, makeFillAllCommand(*d, 0, MapChannel::Thickness, 0.5));
+    const PaintedMap* map = d->map(0, MapChannel::Thickness);
+    ASSERT_TRUE(map);
+    EXPECT_EQ(map->width, kDefaultMapSize);
+    for (float x : map->values) ASSERT_EQ(x, 0.5f);
+    EXPECT_FALSE(d->project().bodies[0].material.shellThicknessMap.empty());
+
+    Brush erase;
+    erase.mode = BrushMode::Erase;
+    erase.radius = 0.08;
+    erase.falloff = Falloff::Linear;
+    const Eigen::Vector3d top(0, 0.5, 0);
+    const std::vector<Eigen::Vector3d> points{top};
+    const std::vector<float> filled = map->values;
+    executeOrFail(*d, makeStrokeCommand(*d, 0, MapChannel::Thickness, erase, points));
+    int lowered = 0;
+    for (const PixelPoint& p : pixelPoints(mesh, 64, 64)) {
+        // Sample the 512 map at this pixel centre's own pixel.
+        const int x = static_cast<int>(p.uv.x() * 512), y = static_cast<int>((1 - p.uv.y()) * 512);
+        const float value = map->values[static_cast<std::size_t>(y) * 512 + x];
+        const double distance = (p.point - top).norm();
+        if (distance > erase.radius + 0.01) EXPECT_EQ(value, 0.5f);
+        if (distance < 0.5 * erase.radius) {
+            EXPECT_LT(value, 0.5f * 0.6f);  // linear falloff: weight > 0.5 in the inner half
+            ++lowered;
+        }
+    }
+    EXPECT_GT(lowered, 0);
+
+    // Smooth pulls values toward their neighbourhood's mean: the edge of the erased spot rises
+    // or falls toward it, nothing leaves 0..0.5, nothing far away moves.
+    Brush smooth;
+    smooth.mode = BrushMode::Smooth;
+    smooth.radius = 0.1;
+    const std::vector<float> erased = map->values;
+    executeOrFail(*d, makeStrokeCommand(*d, 0, MapChannel::Thickness, smooth, points));
+    bool changed = false;
+    for (std::size_t i = 0; i < erased.size(); ++i) {
+        ASSERT_GE(map->values[i], 0.0f);
+        ASSERT_LE(map->values[i], 0.5f + 1e-6f);
+        changed |= map->values[i] != erased[i];
+    }
+    EXPECT_TRUE(changed);
+    ASSERT_TRUE(d->undo());
+    EXPECT_EQ(map->values, erased);
+    ASSERT_TRUE(d->undo());
+    EXPECT_EQ(map->values, filled);
+    ASSERT_TRUE(d->undo());  // the fill, and the map it made
+    EXPECT_EQ(d->map(0, MapChannel::Thickness), nullptr);
+    EXPECT_TRUE(d->project().bodies[0].material.shellThicknessMap.empty());
+    EXPECT_FALSE(d->dirty());
+}
+
+TEST(EditorPaint, FillIslandFillsOnlyTheChartUnderThePoint) {
+    const fs::path dir = freshDir("paint_island");
+    auto d = openOrFail(writeProject(dir, "box.obj"));
+    ASSERT_TRUE(d);
+    executeOrFail(*d, makeNewMapCommand(*d, 0, MapChannel::Permeability, 96, 64, 0.0, ""));
+    const TriangleMesh& mesh = *d->assets(0).mesh;
+    // The box is 1.0 x 0.5 x 0.25: the +x face is at x = 0.5.
+    executeOrFail(*d, makeFillIslandCommand(*d, 0, MapChannel::Permeability, {0.5, 0.1, 0.05},
+                                            1.0, /*mirrorX=*/false));
+    const PaintedMap* map = d->map(0, MapChannel::Permeability);
+    int onFace = 0;
+    for (const PixelPoint& p : pixelPoints(mesh, 96, 64)) {
+        const bool plusX = std::abs(p.point.x() - 0.5) < 1e-9;
+        const bool minusX = std::abs(p.point.x() + 0.5) < 1e-9;
+        if (plusX) {
+            EXPECT_EQ(map->values[p.pixel], 1.0f);
+            ++onFace;
+        } else if (!minusX) {
+            EXPECT_EQ(map->values[p.pixel], 0.0f) << p.point.transpose();
+        }
+    }
+    EXPECT_GT(onFace, 10);
+    // Mirrored, the -x face fills too.
+    executeOrFail(*d, makeFillIslandCommand(*d, 0, MapChannel::Permeability, {0.5, 0.1, 0.05},
+                                            0.25, /*mirrorX=*/true));
+    for (const PixelPoint& p : pixelPoints(mesh, 96, 64)) {
+        if (std::abs(std::abs(p.point.x()) - 0.5) < 1e-9) {
+            EXPECT_EQ(map->values[p.pixel], 0.25f);
+        }
+    }
+}
+
+TEST(EditorPaint, PickReadsTheValueUnderThePoint) {
+    const fs::path dir = freshDir("paint_pick");
+    auto d = openOrFail(writeProject(dir, "sphere.obj"));
+    ASSERT_TRUE(d);
+    executeOrFail(*d, makeNewMapCommand(*d, 0, MapChannel::Permeability, 64, 64, 0.3, ""));
+    auto surface = d->paintSurface(0, MapChannel::Permeability);
+    ASSERT_TRUE(surface.ok());
+    auto v = pickValue(*d->map(0, MapChannel::Permeability), **surface, {0, 0.5, 0});
+    ASSERT_TRUE(v);
+    EXPECT_FLOAT_EQ(*v, 0.3f);
+}
+
+TEST(EditorMaps, SixteenBitPngRoundTrips) {
+    PaintedMap map;
+    map.width = 37;
+    map.height = 5;
+    for (int i = 0; i < map.width * map.height; ++i) map.values.push_back(i / 184.0f);
+    const fs::path dir = freshDir("png16");
+    ASSERT_TRUE(savePaintedMap(map, dir / "m.png").ok());
+    const std::string bytes = readAll(dir / "m.png");
+    ASSERT_GT(bytes.size(), 33u);
+    EXPECT_EQ(static_cast<unsigned char>(bytes[24]), 16);  // IHDR bit depth
+    Result<PaintedMap> back = loadPaintedMap(dir / "m.png");
+    ASSERT_TRUE(back.ok()) << back.error().message;
+    EXPECT_EQ(back->width, 37);
+    EXPECT_EQ(back->height, 5);
+    for (std::size_t i = 0; i < map.values.size(); ++i) {
+        EXPECT_NEAR(back->values[i], map.values[i], 0.5 / 65535 + 1e-7);
+    }
+    // Loading what was saved and saving it again gives the same bytes.
+    ASSERT_TRUE(savePaintedMap(*back, dir / "m2.png").ok());
+    EXPECT_EQ(readAll(dir / "m2.png"), bytes);
+}
+
+TEST(EditorProject, DirtyMarkerFollowsTheHistory) {
+    const fs::path dir = freshDir("dirty");
+    auto d = openOrFail(writeProject(dir, "box.obj"));
+    ASSERT_TRUE(d);
+    EXPECT_FALSE(d->dirty());
+    EXPECT_EQ(d->title(), "test.plim.json");
+    executeOrFail(*d, makeSetPropertyCommand(*d, "/bodies/0/material/density", 700.0));
+    EXPECT_TRUE(d->dirty());
+    EXPECT_EQ(d->title(), "*test.plim.json");
+    EXPECT_EQ(*d->project().bodies[0].material.density, 700.0);
+    d->undo();
+    EXPECT_FALSE(d->dirty());
+    EXPECT_EQ(*d->project().bodies[0].material.density, 500.0);
+    d->redo();
+    ASSERT_TRUE(d->save().ok());
+    EXPECT_FALSE(d->dirty());
+    d->undo();
+    EXPECT_TRUE(d->dirty());
+    // An invalid value is refused, with the project's own message.
+    auto bad = makeSetPropertyCommand(*d, "/bodies/0/material/density", -1.0);
+    ASSERT_FALSE(bad.ok());
+    EXPECT_NE(bad.error().message.find("material.density"), std::string::npos);
+}
+
+TEST(EditorProject, HistoryJumpsUndoAndRedoToExactlyEachStepsState) {
+    // The undo-history panel's click: to any step and back, each state byte for byte as it
+    // was after that step; a new edit after a jump back drops the steps past it.
+    const fs::path dir = freshDir("history");
+    auto d = openOrFail(writeProject(dir, "sphere.obj"));
+    ASSERT_TRUE(d);
+    const TriangleMesh& mesh = *d->assets(0).mesh;
+    struct State {
+        std::optional<std::vector<float>> map;
+        double density;
+    };
+    auto now = [&] {
+        const PaintedMap* map = d->map(0, MapChannel::Density);
+        return State{map ? std::optional(map->values) : std::nullopt, *d->project().bodies[0].material.density};
+    };
+    std::vector<State> states{now()};
+    std::vector<std::string> names;
+    auto step = [&](Result<std::unique_ptr<Command>> command) {
+        executeOrFail(*d, std::move(command));
+        states.push_back(now());
+        names.push_back(d->undoName());
+    };
+    Brush brush;
+    brush.radius = 0.1;
+    auto hitA = raycast(mesh, {2, 0.1, 0.3}, {-1, 0, 0});
+    auto hitB = raycast(mesh, {0.1, 2, 0.2}, {0, -1, 0});
+    ASSERT_TRUE(hitA && hitB);
+    step(makeNewMapCommand(*d, 0, MapChannel::Density, kMap, kMap, 0.0, ""));
+    brush.value = 0.75;
+    step(makeStrokeCommand(*d, 0, MapChannel::Density, brush, std::vector<Eigen::Vector3d>{hitA->point}));
+    step(makeSetPropertyCommand(*d, "/bodies/0/material/density", 700.0));
+    brush.value = 0.3;
+    step(makeStrokeCommand(*d, 0, MapChannel::Density, brush,
+                           std::vector<Eigen::Vector3d>{hitB->point, hitA->point}));
+    EXPECT_EQ(d->historyNames(), names);
+    EXPECT_EQ(d->historyPosition(), 4u);
+    auto expectState = [&](std::size_t i) {
+        const State s = now();
+        EXPECT_EQ(s.map.has_value(), states[i].map.has_value()) << "step " << i;
+        if (s.map && states[i].map) EXPECT_TRUE(*s.map == *states[i].map) << "step " << i;
+        EXPECT_EQ(s.density, states[i].density) << "step " << i;
+    };
+    for (std::size_t to : {1u, 4u, 0u, 2u, 3u, 1u}) {
+        ASSERT_TRUE(d->jumpToHistory(to));
+        EXPECT_EQ(d->historyPosition(), to);
+        EXPECT_EQ(d->historyNames(), names) << "a jump keeps every step";
+        expectState(to);
+    }
+    EXPECT_TRUE(d->dirty());
+    ASSERT_TRUE(d->jumpToHistory(0));
+    EXPECT_FALSE(d->dirty()) << "the state as opened";
+    ASSERT_TRUE(d->jumpToHistory(99));  // clamped to the last step
+    EXPECT_EQ(d->historyPosition(), 4u);
+    // Back to step 2 and a new edit: steps 3 and 4 are gone.
+    ASSERT_TRUE(d->jumpToHistory(2));
+    executeOrFail(*d, makeSetPropertyCommand(*d, "/bodies/0/material/density", 650.0));
+    ASSERT_EQ(d->historyNames().size(), 3u);
+    EXPECT_EQ(d->historyNames()[1], names[1]);
+    ASSERT_TRUE(d->jumpToHistory(2));
+    expectState(2);
+}
+
+TEST(EditorProject, InterruptedSaveLeavesThePreviousFileIntact) {
+    const fs::path dir = freshDir("atomic");
+    const fs::path path = writeProject(dir, "sphere.obj");
+    auto d = openOrFail(path);
+    ASSERT_TRUE(d);
+    executeOrFail(*d, makeFillAllCommand(*d, 0, MapChannel::Permeability, 0.5));
+    ASSERT_TRUE(d->save().ok());
+    const std::string savedProject = readAll(path);
+    const fs::path mapPath = d->assets(0).maps[0].path;
+    const std::string savedMap = readAll(mapPath);
+    ASSERT_FALSE(savedMap.empty());
+
+    executeOrFail(*d, makeFillAllCommand(*d, 0, MapChannel::Permeability, 1.0));
+    executeOrFail(*d, makeSetPropertyCommand(*d, "/name", "changed"));
+    // The save dies (as in a crash or a power cut) after writing a file and before renaming
+    // it over the old one.
+    const pid_t child = ::fork();
+    ASSERT_GE(child, 0);
+    if (child == 0) {
+        setBeforeReplaceHookForTesting([](const fs::path&, const fs::path&) { ::_exit(42); });
+        (void)d->save();
+        ::_exit(0);
+    }
+    int status = 0;
+    ::waitpid(child, &status, 0);
+    ASSERT_TRUE(WIFEXITED(status));
+    EXPECT_EQ(WEXITSTATUS(status), 42);  // it did die inside the save
+    EXPECT_EQ(readAll(path), savedProject);
+    EXPECT_EQ(readAll(mapPath), savedMap);
+    EXPECT_TRUE(loadProject(path).ok());
+    // And a save that is not interrupted goes through.
+    ASSERT_TRUE(d->save().ok());
+    EXPECT_EQ(loadProject(path)->name, "changed");
+    EXPECT_NEAR(loadPaintedMap(mapPath)->values[0], 1.0f, 1e-6);
+}
+
+TEST(EditorProject, AutosaveIsOfferedAfterACrashAndRecoversTheEdits) {
+    const fs::path dir = freshDir("autosave");
+    const fs::path path = writeProject(dir, "sphere.obj");
+    std::vector<float> painted;
+    {
+        auto d = openOrFail(path);
+        ASSERT_TRUE(d);
+        EXPECT_FALSE(Document::findAutosave(path));
+        executeOrFail(*d, makeNewMapCommand(*d, 0, MapChannel::Permeability, 64, 64, 0.0, ""));
+        Brush brush;
+        brush.radius = 0.2;
+        brush.value = 0.8;
+        const std::vector<Eigen::Vector3d> points{{0, 0.5, 0}};
+        executeOrFail(*d, makeStrokeCommand(*d, 0, MapChannel::Permeability, brush, points));
+        executeOrFail(*d, makeSetPropertyCommand(*d, "/bodies/0/drag_coefficient", 0.7));
+        painted = d->map(0, MapChannel::Permeability)->values;
+        ASSERT_TRUE(d->autosave().ok());
+        // The editor "crashes": the document goes away without save or discardAutosave.
+    }
+    const std::optional<fs::path> offered = Document::findAutosave(path);
+    ASSERT_TRUE(offered);
+    // The project on disk is the old one.
+    EXPECT_EQ(loadProject(path)->bodies[0].dragCoefficient, 1.0);
+    Result<std::unique_ptr<Document>> recovered = Document::recover(*offered);
+    ASSERT_TRUE(recovered.ok()) << recovered.error().message;
+    Document& r = **recovered;
+    EXPECT_TRUE(r.dirty());
+    EXPECT_EQ(fs::absolute(r.path()), fs::absolute(path).lexically_normal());
+    EXPECT_EQ(r.project().bodies[0].dragCoefficient, 0.7);
+    const PaintedMap* map = r.map(0, MapChannel::Permeability);
+    ASSERT_TRUE(map);
+    ASSERT_EQ(map->values.size(), painted.size());
+    for (std::size_t i = 0; i < painted.size(); ++i) {
+        ASSERT_NEAR(map->values[i], painted[i], 0.5 / 65535 + 1e-7);
+    }
+    ASSERT_TRUE(r.save().ok());
+    EXPECT_FALSE(Document::findAutosave(path));  // a clean save retires it
+    EXPECT_EQ(loadProject(path)->bodies[0].dragCoefficient, 0.7);
+    EXPECT_TRUE(fs::exists(r.assets(0).maps[0].path));
+}
+
+TEST(EditorProject, ImportMeshAndSaveAsRebasePaths) {
+    const fs::path dir = freshDir("saveas");
+    auto d = openOrFail(writeProject(dir, "sphere.obj"));
+    ASSERT_TRUE(d);
+    executeOrFail(*d, makeImportMeshCommand(*d, test::assetPath("box.obj"), std::nullopt));
+    ASSERT_EQ(d->bodyCount(), 2u);
+    ASSERT_TRUE(d->assets(1).mesh);
+    executeOrFail(*d, makeFillAllCommand(*d, 1, MapChannel::Permeability, 0.25));
+    ASSERT_TRUE(d->saveAs(dir / "sub" / "moved.plim.json").ok());
+    Result<Project> moved = loadProject(dir / "sub" / "moved.plim.json");
+    ASSERT_TRUE(moved.ok()) << moved.error().message;
+    EXPECT_TRUE(fs::exists(moved->resolvePath(moved->bodies[1].mesh)));
+    EXPECT_TRUE(fs::exists(moved->resolvePath(moved->bodies[1].permeabilityMap)));
+    EXPECT_NEAR(loadPaintedMap(moved->resolvePath(moved->bodies[1].permeabilityMap))->values[7],
+                0.25f, 1e-4);
+    d->undo();
+    d->undo();
+    EXPECT_EQ(d->bodyCount(), 1u);
+}
+
+TEST(EditorProject, SaveAsNeverWritesOutsideTheNewFolder) {
+    // A map beside the project's folder ("../maps/ball.png"): Save As into a sibling folder
+    // must not write the painted map back through "../" over the original project's file.
+    const fs::path dir = freshDir("saveas_outside");
+    fs::create_directories(dir / "a");
+    fs::create_directories(dir / "maps");
+    PaintedMap original;
+    original.width = original.height = 32;
+    original.values.assign(32 * 32, 0.5f);
+    ASSERT_TRUE(savePaintedMap(original, dir / "maps" / "ball.png").ok());
+    const std::string before = readAll(dir / "maps" / "ball.png");
+    const fs::path path = dir / "a" / "test.plim.json";
+    std::ofstream(path) << R"({"schema_version": 1, "name": "t", "bodies": [{"name": "ball", "mesh": ")"
+                        << test::assetPath("sphere.obj").string()
+                        << R"(", "permeability_map": "../maps/ball.png", "material": {"density": 500}}]})";
+    auto d = openOrFail(path);
+    ASSERT_TRUE(d);
+    executeOrFail(*d, makeFillAllCommand(*d, 0, MapChannel::Permeability, 0.25));
+    fs::create_directories(dir / "b");
+    ASSERT_TRUE(d->saveAs(dir / "b" / "copy.plim.json").ok());
+    EXPECT_EQ(readAll(dir / "maps" / "ball.png"), before);  // the original project's map
+    Result<Project> copy = loadProject(dir / "b" / "copy.plim.json");
+    ASSERT_TRUE(copy.ok()) << copy.error().message;
+    const fs::path written = copy->resolvePath(copy->bodies[0].permeabilityMap);
+    EXPECT_EQ(written.parent_path(), dir / "b");
+    Result<PaintedMap> back = loadPaintedMap(written);
+    ASSERT_TRUE(back.ok()) << back.error().message;
+    EXPECT_NEAR(back->values[7], 0.25f, 1e-4);
+}
+
+TEST(EditorLayout, PanelsTileTheWindowAndComeBackAfterItShrinksAndGrows) {
+    // Issue 19 bug 12: panels did not come back after the window shrank and grew again. The
+    // layout is shares of the column, so the same window size gives the same panels.
+    const PanelLayout layout;
+    auto check = [](const WindowLayout& l, float width, float height, float menu, float status) {
+        EXPECT_FLOAT_EQ(l.view.x, 0);
+        EXPECT_FLOAT_EQ(l.view.y, menu);
+        EXPECT_FLOAT_EQ(l.view.w + l.panels[0].w, width);
+        float y = menu;
+        for (const PanelRect& p : l.panels) {
+            EXPECT_FLOAT_EQ(p.x, l.view.w);
+            EXPECT_NEAR(p.y, y, 1e-3);
+            y += p.h;
+        }
+        EXPECT_NEAR(y, height - status, 1e-3);  // down to the status line, no gap
+    };
+    const WindowLayout big = windowLayout(layout, 1024, 640, 19, 23);
+    check(big, 1024, 640, 19, 23);
+    EXPECT_FLOAT_EQ(big.panels[0].w, 400);  // min(400, 0.4 of the width)
+    for (const PanelRect& p : big.panels) EXPECT_GE(p.h, kMinPanelHeight);
+    const WindowLayout small = windowLayout(layout, 300, 200, 19, 23);
+    check(small, 300, 200, 19, 23);
+    EXPECT_FLOAT_EQ(small.panels[0].w, 180);
+    for (const PanelRect& p : small.panels) EXPECT_GE(p.h, std::min(kMinPanelHeight, 158.0f / 4) - 1e-3);
+    const WindowLayout again = windowLayout(layout, 1024, 640, 19, 23);
+    for (int i = 0; i < 4; ++i) {
+        EXPECT_EQ(again.panels[i].y, big.panels[i].y);
+        EXPECT_EQ(again.panels[i].h, big.panels[i].h);
+    }
+    // A window with no room at all: nothing negative.
+    const WindowLayout none = windowLayout(layout, 40, 30, 19, 23);
+    for (const PanelRect& p : none.panels) EXPECT_GE(p.h, 0);
+    EXPECT_GE(none.view.w, 0);
+}
+
+TEST(EditorLayout, SplittersTradeHeightBetweenNeighboursDownToTheMinimum) {
+    PanelLayout layout;
+    const float column = 598;
+    const WindowLayout before = windowLayout(layout, 1024, 640, 19, 23);
+    dragRowSplitter(layout, 1, 50, column);  // Layers grows, the Inspector gives it up
+    const WindowLayout after = windowLayout(layout, 1024, 640, 19, 23);
+    EXPECT_NEAR(after.panels[0].h, before.panels[0].h, 1e-3);
+    EXPECT_NEAR(after.panels[1].h, before.panels[1].h + 50, 1e-3);
+    EXPECT_NEAR(after.panels[2].h, before.panels[2].h - 50, 1e-3);
+    EXPECT_NEAR(after.panels[3].h, before.panels[3].h, 1e-3);
+    // Far past the Inspector: it keeps its minimum.
+    dragRowSplitter(layout, 1, 10000, column);
+    EXPECT_NEAR(windowLayout(layout, 1024, 640, 19, 23).panels[2].h, kMinPanelHeight, 1e-2);
+    float sum = 0;
+    for (float share : layout.shares) sum += share;
+    EXPECT_NEAR(sum, 1.0f, 1e-6);
+    // The column: dragged left it widens, up to 0.4 of the window; right, down to its minimum.
+    dragColumnSplitter(layout, -100, 1600);
+    EXPECT_FLOAT_EQ(layout.columnWidth, 500);
+    dragColumnSplitter(layout, -1000, 1600);
+    EXPECT_FLOAT_EQ(layout.columnWidth, 640);
+    dragColumnSplitter(layout, 5000, 1600);
+    EXPECT_FLOAT_EQ(layout.columnWidth, kMinColumnWidth);
+    // A width kept from a bigger window: the drag starts from the 320 px shown at 800.
+    layout.columnWidth = 400;
+    dragColumnSplitter(layout, 100, 800);
+    EXPECT_FLOAT_EQ(layout.columnWidth, 220);
+    // A hand-edited settings file's nonsense comes back in range.
+    PanelLayout odd;
+    odd.columnWidth = std::nanf("");
+    odd.shares = {-1.0f, 0.0f, 2.0f, 2.0f};
+    const PanelLayout fixed = sanitised(odd);
+    EXPECT_FLOAT_EQ(fixed.columnWidth, 400);
+    for (float share : fixed.shares) EXPECT_GT(share, 0);
+}
+
+TEST(EditorSettings, LayoutAndBrushAreKeptBetweenSessions) {
+    const fs::path dir = freshDir("settings_brush");
+    Settings s;
+    s.layout.columnWidth = 321;
+    s.layout.shares = {0.1f, 0.2f, 0.3f, 0.4f};
+    s.brush.radius = 0.2;
+    s.brush.falloff = Falloff::Sharp;
+    s.brush.spacing = 1.5;
+    s.brush.mirrorZ = true;
+    s.brush.radial = 6;
+    ASSERT_TRUE(s.save(dir).ok());
+    const Settings back = Settings::load(dir);
+    EXPECT_FLOAT_EQ(back.layout.columnWidth, 321);
+    for (int i = 0; i < 4; ++i) EXPECT_NEAR(back.layout.shares[i], 0.1f * (i + 1), 1e-6);
+    EXPECT_EQ(back.brush.radius, 0.2);
+    EXPECT_EQ(back.brush.falloff, Falloff::Sharp);
+    EXPECT_EQ(back.brush.spacing, 1.5);
+    EXPECT_TRUE(back.brush.mirrorZ);
+    EXPECT_FALSE(back.brush.mirrorY);
+    EXPECT_EQ(back.brush.radial, 6);
+    // Nonsense in the file: the defaults for those fields, not a brush the panel cannot show.
+    std::ofstream(dir / "settings.json") << R"({"brush": {"radius": -1, "strength": 7, "radial": 900,
+        "falloff": "wobbly"}})";
+    const Settings odd = Settings::load(dir);
+    EXPECT_EQ(odd.brush.radius, Brush{}.radius);
+    EXPECT_EQ(odd.brush.strength, Brush{}.strength);
+    EXPECT_EQ(odd.brush.radial, kMaxRadialCopies);
+    EXPECT_EQ(odd.brush.falloff, Brush{}.falloff);
+}
+
+TEST(EditorSettings, RecentFilesPersistInTheConfigFolder) {
+    const fs::path dir = freshDir("settings");
+    Settings s;
+    s.addRecent(dir / "a.plim.json");
+    s.addRecent(dir / "b.plim.json");
+    s.addRecent(dir / "a.plim.json");
+    ASSERT_TRUE(s.save(dir).ok());
+    const Settings back = Settings::load(dir);
+    ASSERT_EQ(back.recentFiles.size(), 2u);
+    EXPECT_EQ(fs::path(back.recentFiles[0]).filename(), "a.plim.json");
+}
+
+TEST(EditorScript, HeadlessEditScriptPaintsUndoesAndSaves) {
+    const fs::path dir = freshDir("script");
+    const fs::path project = writeProject(dir, "sphere.obj");
+    const fs::path script = dir / "commands.json";
+    std::ofstream(script) << R"([
+      {"op": "new_map", "channel": "permeability", "size": 64, "value": 0},
+      {"op": "brush", "radius": 0.15, "falloff": "constant", "value": 1},
+      {"op": "paint", "rays": [{"origin": [0, 3, 0], "direction": [0, -1, 0]}]},
+      {"op": "paint", "points": [[0, -0.5, 0]]},
+      {"op": "undo"},
+      {"op": "pick", "points": [[0, 0.5, 0]]},
+      {"op": "set", "pointer": "/bodies/0/drag_coefficient", "value": 0.9}
+    ])";
+    const test::CommandOutput run =
+        test::runPlimsoll("edit '" + project.string() + "' --script '" + script.string() + "'");
+    ASSERT_EQ(run.exitCode, 0) << run.err;
+    const nlohmann::json report = nlohmann::json::parse(run.out);
+    EXPECT_EQ(report["results"][5]["value"], 1.0);
+    Result<Project> saved = loadProject(project);
+    ASSERT_TRUE(saved.ok()) << saved.error().message;
+    EXPECT_EQ(saved->bodies[0].dragCoefficient, 0.9);
+    Result<PaintedMap> map = loadPaintedMap(saved->resolvePath(saved->bodies[0].permeabilityMap));
+    ASSERT_TRUE(map.ok()) << map.error().message;
+    // Top (v near 1: row 0) painted, bottom (undone) not.
+    auto sphere = loadMesh(test::assetPath("sphere.obj"));
+    ASSERT_TRUE(sphere.ok());
+    for (const PixelPoint& p : pixelPoints(*sphere, 64, 64)) {
+        if (p.point.y() > 0.495) EXPECT_EQ(map->values[p.pixel], 1.0f);
+        if (p.point.y() < 0.3) EXPECT_EQ(map->values[p.pixel], 0.0f);
+    }
+    // A failing command is named.
+    std::ofstream(script) << R"([{"op": "paint", "channel": "colour", "points": [[0, 0, 0]]}])";
+    const test::CommandOutput bad =
+        test::runPlimsoll("edit '" + project.string() + "' --script '" + script.string() + "'");
+    EXPECT_EQ(bad.exitCode, 1);
+    EXPECT_NE(bad.err.find("command 0"), std::string::npos) << bad.err;
+}
+
+TEST(EditorOverlay, LegendGivesTheDensityMapItsShellScale) {
+    BodyDesc body;
+    body.material.shellSurfaceDensity = 12.5;
+    const OverlayLegend density = overlayLegend(Overlay::Density, &body);
+    EXPECT_TRUE(density.ramp);
+    EXPECT_EQ(density.low, "0 kg/m^2");
+    EXPECT_EQ(density.high, "12.5 kg/m^2");
+    EXPECT_NE(overlayLegend(Overlay::Density, nullptr).high.find("no shell"), std::string::npos);
+    EXPECT_FALSE(overlayLegend(Overlay::Position, &body).ramp);
+    EXPECT_TRUE(overlayLegend(Overlay::None, &body).meaning.empty());
+    for (Overlay o : kOverlays) {
+        if (o != Overlay::None) EXPECT_FALSE(overlayLegend(o, &body).meaning.empty()) << overlayName(o);
+    }
+}
+
+}  // namespace
+}  // namespace plimsoll::editor

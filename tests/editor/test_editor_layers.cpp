@@ -1,0 +1,371 @@
+// Layers and masks of painted maps (document/layers.h): the flattening against blends computed
+// by hand, every layer operation undone and redone byte for byte, strokes on layers and masks,
+// the stack saved beside the map and read back, the map file equal to the flattening, and the
+// same operations from an edit script. Also the "New map" data-loss regression: replacing a
+// saved map is undone back to the saved pixels.
+#include "test_support.h"
+#include "editor/document_test_support.h"
+
+#include "document/command.h"
+#include "document/document.h"
+#include "document/layers.h"
+#include "document/script.h"
+
+#include "plimsoll/bake/painted_map.h"
+
+#include <gtest/gtest.h>
+
+#include <fstream>
+
+namespace plimsoll::editor {
+namespace {
+
+namespace fs = std::filesystem;
+using test::executeOrFail;
+using test::openOrFail;
+
+constexpr int kSize = 64;
+
+/// A project with one body (the unit sphere, solid + shell) in a fresh folder.
+fs::path sphereProject(const std::string& name) {
+    const fs::path dir = test::scratchFolder("layers_" + name);
+    fs::remove_all(dir);
+    fs::create_directories(dir);
+    const fs::path path = dir / "layers.plim.json";
+    std::ofstream(path) << R"({"schema_version": 1, "name": "t", "bodies": [{"name": "ball", "mesh": ")"
+                        << test::assetPath("sphere.obj").string()
+                        << R"(", "material": {"density": 500, "shell": {"surface_density": 10}}}]})";
+    return path;
+}
+
+constexpr MapChannel kPerm = MapChannel::Permeability;
+
+/// The document's map and layers as bytes: what "byte for byte" compares.
+std::string snapshot(const Document& d) {
+    std::string bytes;
+    if (const PaintedMap* map = d.map(0, kPerm)) bytes += encodePaintedMapPng16(*map);
+    bytes += "|";
+    if (const LayerStack* stack = d.layers(0, kPerm)) bytes += layerStackToJson(*stack);
+    return bytes;
+}
+
+/// A stroke on the sphere (radius 0.5) through its +x pole (object space).
+std::vector<Eigen::Vector3d> poleStroke() {
+    return {{0.5, 0, 0}, Eigen::Vector3d(0.95, 0.3, 0).normalized() * 0.5};
+}
+
+TEST(EditorLayers, BlendModesMatchTheirFormulas) {
+    // below c = 0.6, layer v = 0.5, computed by hand.
+    const float c = 0.6f, v = 0.5f;
+    EXPECT_FLOAT_EQ(blendValue(BlendMode::Normal, c, v), 0.5f);
+    EXPECT_FLOAT_EQ(blendValue(BlendMode::Multiply, c, v), 0.3f);
+    EXPECT_FLOAT_EQ(blendValue(BlendMode::Add, c, v), 1.0f);        // 1.1 clamped
+    EXPECT_FLOAT_EQ(blendValue(BlendMode::Subtract, c, v), 0.1f);
+    EXPECT_FLOAT_EQ(blendValue(BlendMode::Screen, c, v), 0.8f);     // 1 - 0.4 * 0.5
+    EXPECT_FLOAT_EQ(blendValue(BlendMode::Lighten, c, v), 0.6f);
+    EXPECT_FLOAT_EQ(blendValue(BlendMode::Darken, c, v), 0.5f);
+    EXPECT_FLOAT_EQ(blendValue(BlendMode::Subtract, 0.2f, 0.5f), 0.0f);  // clamped
+    for (int i = 0; i < kBlendModeCount; ++i) {
+        const auto mode = static_cast<BlendMode>(i);
+        EXPECT_EQ(parseBlendMode(blendModeName(mode)), mode);
+    }
+}
+
+TEST(EditorLayers, FlattenEqualsHandComputedStack) {
+    // Two pixels. Base paint layer [0.2, 0.8]; a fill 0.5 multiply at opacity 0.5; a paint
+    // layer [1, 1] screen with coverage [1, 0.25] and a mask [0.5, 1]; a hidden fill 0.
+    LayerStack stack;
+    stack.width = 2;
+    stack.height = 1;
+    MapLayer base;
+    base.name = "Base";
+    base.pixels = std::make_shared<PaintedMap>(uniformMap(2, 1, 0));
+    base.pixels->values = {0.2f, 0.8f};
+    MapLayer fill;
+    fill.kind = LayerKind::Fill;
+    fill.fillValue = 0.5f;
+    fill.blend = BlendMode::Multiply;
+    fill.opacity = 0.5f;
+    MapLayer top;
+    top.pixels = std::make_shared<PaintedMap>(uniformMap(2, 1, 1));
+    top.blend = BlendMode::Screen;
+    top.coverage = std::make_shared<PaintedMap>(uniformMap(2, 1, 0));
+    top.coverage->values = {1.0f, 0.25f};
+    top.mask = std::make_shared<PaintedMap>(uniformMap(2, 1, 0));
+    top.mask->values = {0.5f, 1.0f};
+    MapLayer hidden;
+    hidden.kind = LayerKind::Fill;
+    hidden.fillValue = 0.0f;
+    hidden.visible = false;
+    stack.layers = {base, fill, top, hidden};
+    ASSERT_TRUE(checkStack(stack).ok());
+    // Pixel 0: 0.2 -> multiply 0.1, half way: 0.15 -> screen(0.15, 1) = 1 at alpha 0.5: 0.575.
+    // Pixel 1: 0.8 -> multiply 0.4, half way: 0.6 -> screen 1 at alpha 0.25: 0.7.
+    const PaintedMap flat = flattenLayers(stack);
+    ASSERT_EQ(flat.values.size(), 2u);
+    EXPECT_NEAR(flat.values[0], 0.575f, 1e-6);
+    EXPECT_NEAR(flat.values[1], 0.7f, 1e-6);
+}
+
+TEST(EditorLayers, EveryOperationUndoesAndRedoesByteForByte) {
+    auto d = openOrFail(sphereProject("undo"));
+    ASSERT_TRUE(d);
+    executeOrFail(*d, makeNewMapCommand(*d, 0, kPerm, kSize, kSize, 0.25, ""));
+    std::vector<std::string> states{snapshot(*d)};
+    auto step = [&](Result<std::unique_ptr<Command>> command) {
+        executeOrFail(*d, std::move(command));
+        states.push_back(snapshot(*d));
+        EXPECT_TRUE(states.back() != states[states.size() - 2]) << d->undoName() << " changed nothing";
+    };
+    Brush brush;
+    brush.radius = 0.3;
+    brush.value = 0.9;
+    step(makeAddLayerCommand(*d, 0, kPerm, LayerKind::Fill, "wet", 0.75));        // 2 layers
+    step(makeAddMaskCommand(*d, 0, kPerm, 1, 0.0));                               // fill hidden
+    step(makeStrokeCommand(*d, 0, kPerm, brush, poleStroke(), {1, LayerPart::Mask}));
+    step(makeAddLayerCommand(*d, 0, kPerm, LayerKind::Paint, "", 1.0));            // clear: same map
+    step(makeStrokeCommand(*d, 0, kPerm, brush, poleStroke(), {2, LayerPart::Pixels}));
+    LayerEdit edit;
+    edit.opacity = 0.5;
+    edit.blend = BlendMode::Multiply;
+    step(makeSetLayerCommand(*d, 0, kPerm, 2, edit));
+    step(makeMoveLayerCommand(*d, 0, kPerm, 2, 0));
+    LayerEdit hide;
+    hide.visible = false;
+    step(makeSetLayerCommand(*d, 0, kPerm, 1, hide));
+    step(makeRemoveMaskCommand(*d, 0, kPerm, 2));
+    step(makeRemoveLayerCommand(*d, 0, kPerm, 0));
+    // The map is always the flattening of its stack.
+    ASSERT_TRUE(d->layers(0, kPerm));
+    EXPECT_EQ(encodePaintedMapPng16(*d->map(0, kPerm)),
+              encodePaintedMapPng16(flattenLayers(*d->layers(0, kPerm))));
+
+    for (std::size_t i = states.size() - 1; i > 0; --i) {
+        ASSERT_TRUE(d->undo());
+        EXPECT_TRUE(snapshot(*d) == states[i - 1]) << "undo to state " << i - 1;
+    }
+    EXPECT_FALSE(d->layers(0, kPerm)) << "the first layer's undo gives back the plain map";
+    for (std::size_t i = 1; i < states.size(); ++i) {
+        ASSERT_TRUE(d->redo());
+        EXPECT_TRUE(snapshot(*d) == states[i]) << "redo to state " << i;
+    }
+}
+
+TEST(EditorLayers, PaintLayerIsClearUntilPaintedAndMasksHide) {
+    auto d = openOrFail(sphereProject("paint"));
+    ASSERT_TRUE(d);
+    executeOrFail(*d, makeNewMapCommand(*d, 0, kPerm, kSize, kSize, 0.25, ""));
+    executeOrFail(*d, makeAddLayerCommand(*d, 0, kPerm, LayerKind::Paint, "top", 1.0));
+    // The map became the Base layer, at the 16 bits of the files.
+    const float base = quantize16(0.25f);
+    const std::vector<float> plain(static_cast<std::size_t>(kSize) * kSize, base);
+    EXPECT_EQ(d->map(0, kPerm)->values, plain) << "a new paint layer is clear";
+
+    Brush brush;
+    brush.radius = 0.3;
+    brush.value = 1.0;
+    brush.strength = 0.5;
+    brush.falloff = Falloff::Constant;
+    // Without a layer named, strokes go to the top paint layer.
+    executeOrFail(*d, makeStrokeCommand(*d, 0, kPerm, brush, poleStroke()));
+    const LayerStack& stack = *d->layers(0, kPerm);
+    std::size_t painted = 0;
+    for (std::size_t i = 0; i < plain.size(); ++i) {
+        const float coverage = stack.layers[1].coverage->values[i];
+        const float expected = base + (1.0f - base) * coverage;
+        ASSERT_NEAR(d->map(0, kPerm)->values[i], expected, 1e-6);
+        if (coverage > 0) {
+            // Half strength on an empty pixel: the full value at half coverage.
+            EXPECT_EQ(coverage, quantize16(0.5f));
+            EXPECT_FLOAT_EQ(stack.layers[1].pixels->values[i], 1.0f);
+            ++painted;
+        }
+    }
+    EXPECT_GT(painted, 10u);
+
+    // Erasing a layer lowers its coverage back to clear.
+    Brush erase = brush;
+    erase.mode = BrushMode::Erase;
+    erase.strength = 1.0;
+    erase.radius = 0.6;
+    executeOrFail(*d, makeStrokeCommand(*d, 0, kPerm, erase, poleStroke()));
+    EXPECT_EQ(d->map(0, kPerm)->values, plain);
+
+    // A fill layer cannot be painted, only its mask; a mask of 0 hides it.
+    executeOrFail(*d, makeAddLayerCommand(*d, 0, kPerm, LayerKind::Fill, "", 0.5));
+    EXPECT_FALSE(makeStrokeCommand(*d, 0, kPerm, brush, poleStroke(), {2, LayerPart::Pixels}).ok());
+    EXPECT_FALSE(makeStrokeCommand(*d, 0, kPerm, brush, poleStroke(), {2, LayerPart::Mask}).ok());
+    executeOrFail(*d, makeAddMaskCommand(*d, 0, kPerm, 2, 0.0));
+    EXPECT_EQ(d->map(0, kPerm)->values, plain);
+    executeOrFail(*d, makeFillAllCommand(*d, 0, kPerm, 1.0, 0.5, {2, LayerPart::Mask}));
+    const float mask = quantize16(0.5f);
+    for (std::size_t i = 0; i < plain.size(); ++i) {
+        ASSERT_NEAR(d->map(0, kPerm)->values[i], base + (0.5f - base) * mask, 1e-6);
+    }
+}
+
+TEST(EditorLayers, SaveAndReopenRestoreTheStackAndTheMapIsItsFlattening) {
+    const fs::path project = sphereProject("save");
+    auto d = openOrFail(project);
+    ASSERT_TRUE(d);
+    executeOrFail(*d, makeNewMapCommand(*d, 0, kPerm, kSize, kSize, 0.1, ""));
+    Brush brush;
+    brush.radius = 0.4;
+    brush.value = 0.7;
+    brush.strength = 0.6;
+    executeOrFail(*d, makeAddLayerCommand(*d, 0, kPerm, LayerKind::Paint, "stain", 1.0));
+    executeOrFail(*d, makeStrokeCommand(*d, 0, kPerm, brush, poleStroke()));
+    executeOrFail(*d, makeAddLayerCommand(*d, 0, kPerm, LayerKind::Fill, "tint", 0.9));
+    executeOrFail(*d, makeAddMaskCommand(*d, 0, kPerm, 2, 0.0));
+    executeOrFail(*d, makeStrokeCommand(*d, 0, kPerm, brush, poleStroke(), {2, LayerPart::Mask}));
+    LayerEdit edit;
+    edit.blend = BlendMode::Screen;
+    edit.opacity = 0.8;
+    executeOrFail(*d, makeSetLayerCommand(*d, 0, kPerm, 2, edit));
+    ASSERT_TRUE(d->save().ok());
+
+    const fs::path mapFile = d->assets(0).maps[0].path;
+    const fs::path sideFile = layersPathFor(mapFile);
+    ASSERT_TRUE(fs::exists(sideFile));
+    const std::string savedSide = test::readFile(sideFile);
+
+    auto reopened = openOrFail(project);
+    ASSERT_TRUE(reopened);
+    const LayerStack* stack = reopened->layers(0, kPerm);
+    ASSERT_TRUE(stack) << reopened->assets(0).maps[0].error;
+    ASSERT_EQ(stack->layers.size(), 3u);
+    EXPECT_EQ(stack->layers[1].name, "stain");
+    EXPECT_EQ(stack->layers[2].blend, BlendMode::Screen);
+    EXPECT_FLOAT_EQ(stack->layers[2].opacity, 0.8f);
+    EXPECT_TRUE(stack->layers[2].mask);
+    // The reopened stack is the saved one, value for value (layer pixels are kept at the
+    // file's 16 bits), and writes the same bytes.
+    EXPECT_TRUE(*stack == *d->layers(0, kPerm));
+    EXPECT_TRUE(layerStackToJson(*stack) == savedSide);
+    // The map the engine reads is the stack's flattening.
+    Result<PaintedMap> onDisk = loadPaintedMap(mapFile);
+    ASSERT_TRUE(onDisk.ok());
+    EXPECT_EQ(encodePaintedMapPng16(*onDisk), encodePaintedMapPng16(flattenLayers(*stack)));
+
+    // A map changed by another program no longer matches its side file: the PNG wins.
+    ASSERT_TRUE(savePaintedMap(uniformMap(kSize, kSize, 0.5f), mapFile).ok());
+    auto changed = openOrFail(project);
+    ASSERT_TRUE(changed);
+    EXPECT_FALSE(changed->layers(0, kPerm));
+    EXPECT_NE(changed->assets(0).maps[0].error.find("do not flatten"), std::string::npos);
+    EXPECT_NEAR(changed->map(0, kPerm)->values[0], 0.5f, 1.0 / 65535);
+}
+
+TEST(EditorLayers, AutosaveRecoversTheStack) {
+    auto d = openOrFail(sphereProject("autosave"));
+    ASSERT_TRUE(d);
+    executeOrFail(*d, makeNewMapCommand(*d, 0, kPerm, kSize, kSize, 0.3, ""));
+    executeOrFail(*d, makeAddLayerCommand(*d, 0, kPerm, LayerKind::Fill, "f", 0.6));
+    ASSERT_TRUE(d->autosave().ok());
+    Result<std::unique_ptr<Document>> recovered = Document::recover(d->autosavePath());
+    ASSERT_TRUE(recovered.ok()) << recovered.error().message;
+    ASSERT_TRUE((*recovered)->layers(0, kPerm));
+    EXPECT_EQ(layerStackToJson(*(*recovered)->layers(0, kPerm)), layerStackToJson(*d->layers(0, kPerm)));
+    d->discardAutosave();
+}
+
+TEST(EditorLayers, EditScriptRunsLayerOps) {
+    auto d = openOrFail(sphereProject("script"));
+    ASSERT_TRUE(d);
+    const nlohmann::json script = nlohmann::json::parse(R"([
+        {"op": "new_map", "size": 32, "value": 0.5},
+        {"op": "layer_add", "kind": "fill", "name": "dry", "value": 0.0},
+        {"op": "layer_set", "layer": 1, "opacity": 0.5, "blend": "darken"},
+        {"op": "layer_add", "kind": "paint", "name": "top"},
+        {"op": "layer_move", "layer": 2, "to": 1},
+        {"op": "mask_add", "layer": 2, "value": 1.0},
+        {"op": "fill_all", "layer": 2, "mask": true, "value": 0.0, "strength": 0.5},
+        {"op": "layer_set", "layer": 1, "visible": false}
+    ])");
+    Result<nlohmann::json> ran = runEditScript(*d, script);
+    ASSERT_TRUE(ran.ok()) << ran.error().message;
+    const LayerStack* stack = d->layers(0, kPerm);
+    ASSERT_TRUE(stack);
+    ASSERT_EQ(stack->layers.size(), 3u);
+    EXPECT_EQ(stack->layers[1].name, "top");
+    EXPECT_FALSE(stack->layers[1].visible);
+    EXPECT_EQ(stack->layers[2].name, "dry");
+    EXPECT_EQ(stack->layers[2].blend, BlendMode::Darken);
+    // 0.5, then darken toward 0 at opacity 0.5 x mask 0.5: 0.5 - 0.5 * 0.25 = 0.375 (with the
+    // base and the mask at 16 bits).
+    const float base = quantize16(0.5f), alpha = 0.5f * quantize16(0.5f);
+    for (float v : d->map(0, kPerm)->values) ASSERT_NEAR(v, base - base * alpha, 1e-6);
+
+    const nlohmann::json bad = nlohmann::json::parse(R"([{"op": "layer_remove", "layer": 7}])");
+    Result<nlohmann::json> refused = runEditScript(*d, bad);
+    ASSERT_FALSE(refused.ok());
+    EXPECT_NE(refused.error().message.find("no layer 7"), std::string::npos) << refused.error().message;
+}
+
+TEST(EditorLayers, NewMapOverSavedPaintIsUndoneToTheSavedMap) {
+    // The data loss of the window's "New map": replacing a saved map, then undo, lost it, and
+    // the next save wrote a blank map.
+    const fs::path project = sphereProject("newmap");
+    const fs::path mapFile = project.parent_path() / "saved.png";
+    PaintedMap saved = uniformMap(kSize, kSize, 0.0f);
+    for (std::size_t i = 0; i < saved.values.size(); ++i) saved.values[i] = float(i % 7) / 6.0f;
+    ASSERT_TRUE(savePaintedMap(saved, mapFile).ok());
+    {
+        auto d = openOrFail(project);
+        ASSERT_TRUE(d);
+        Result<std::unique_ptr<Command>> set =
+            makeSetPropertyCommand(*d, "/bodies/0/permeability_map", "saved.png");
+        executeOrFail(*d, std::move(set));
+        ASSERT_TRUE(d->save().ok());
+    }
+    const std::string savedBytes = test::readFile(mapFile);
+    auto d = openOrFail(project);
+    ASSERT_TRUE(d);
+    ASSERT_TRUE(d->map(0, kPerm));
+    const std::string before = snapshot(*d);
+
+    executeOrFail(*d, makeNewMapCommand(*d, 0, kPerm, kSize, kSize, 0.0, "saved.png"));
+    EXPECT_EQ(d->map(0, kPerm)->values[1], 0.0f);
+    ASSERT_TRUE(d->undo());
+    ASSERT_TRUE(d->map(0, kPerm)) << "the undo of New map gives the saved map back";
+    EXPECT_TRUE(snapshot(*d) == before);
+    EXPECT_FALSE(d->dirty());
+    ASSERT_TRUE(d->redo());
+    ASSERT_TRUE(d->undo());
+    EXPECT_TRUE(snapshot(*d) == before);
+
+    // A stroke now paints over the saved pixels, and saving keeps them.
+    Brush brush;
+    brush.radius = 0.2;
+    brush.falloff = Falloff::Constant;
+    executeOrFail(*d, makeStrokeCommand(*d, 0, kPerm, brush, poleStroke()));
+    ASSERT_TRUE(d->save().ok());
+    Result<PaintedMap> written = loadPaintedMap(mapFile);
+    ASSERT_TRUE(written.ok());
+    std::size_t kept = 0;
+    for (std::size_t i = 0; i < saved.values.size(); ++i) {
+        if (written->values[i] != 1.0f) {
+            ASSERT_NEAR(written->values[i], saved.values[i], 1.0 / 65535) << "pixel " << i;
+            ++kept;
+        }
+    }
+    EXPECT_GT(kept, saved.values.size() / 2);
+    EXPECT_TRUE(test::readFile(mapFile) != savedBytes);  // the stroke is in it too
+}
+
+TEST(EditorLayers, FillsMoveByStrengthAndSayWhenTheMeshIsOneIsland) {
+    auto d = openOrFail(sphereProject("fill"));
+    ASSERT_TRUE(d);
+    executeOrFail(*d, makeNewMapCommand(*d, 0, kPerm, kSize, kSize, 0.2, ""));
+    executeOrFail(*d, makeFillAllCommand(*d, 0, kPerm, 1.0, 0.25));  // 0.2 + (1 - 0.2) / 4
+    for (float v : d->map(0, kPerm)->values) ASSERT_FLOAT_EQ(v, 0.4f);
+    // The unit sphere's UVs are one island: fill island covers every pixel with a sample, and
+    // its name says why.
+    Result<std::unique_ptr<Command>> island =
+        makeFillIslandCommand(*d, 0, kPerm, {0.5, 0, 0}, 0.0, false, 1.0);
+    ASSERT_TRUE(island.ok()) << island.error().message;
+    EXPECT_NE((*island)->name().find("one UV island"), std::string::npos) << (*island)->name();
+}
+
+}  // namespace
+}  // namespace plimsoll::editor

@@ -1,0 +1,533 @@
+// The editor's live preview session, headless: World's external-force hook against the
+// momentum it must add, play / pause / step / reset and the time scale in frames, the grab
+// spring (the body moves toward the target; momentum change = gravity's impulse + the spring's),
+// settings changed while running, CSV export read back, and the live submerged-volume error
+// against what `plimsoll buoyancy --compare-exact` prints for the same pose.
+#include "document/document.h"
+#include "document/preview.h"
+#include "render/force_overlay.h"
+
+#include "cli_runner.h"
+#include "test_support.h"
+#include "world_support.h"
+
+#include "plimsoll/samples/primitives.h"
+#include "plimsoll/scene/world.h"
+
+#include <limits>
+#include <Eigen/Geometry>
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <fstream>
+#include <numbers>
+#include <thread>
+#include <unistd.h>
+
+namespace plimsoll::editor {
+namespace {
+
+namespace fs = std::filesystem;
+
+/// A ball of density 500 in fresh water; `waterLevel` far below keeps it in the air.
+Project ballProject(double waterLevel, const Eigen::Vector3d& gravity) {
+    Project project;
+    project.folder = fs::temp_directory_path();
+    BodyDesc body;
+    body.name = "ball";
+    body.mesh = test::assetPath("sphere.obj").string();
+    body.textureSize = 64;
+    body.material.density = 500.0;
+    body.position = Eigen::Vector3d(0.2, 0.3, -0.1);
+    project.bodies.push_back(body);
+    project.water = WaterModel::flat(waterLevel);
+    project.simulation.gravity = gravity;
+    return project;
+}
+
+std::unique_ptr<PreviewSession> makeSession(const Project& project) {
+    Result<std::unique_ptr<PreviewSession>> s = PreviewSession::create(test::sceneOrFail(project), "reference");
+    EXPECT_TRUE(s.ok()) << (s.ok() ? "" : s.error().message);
+    return s.ok() ? std::move(*s) : nullptr;
+}
+
+TEST(WorldExternalForce, AddsItsImpulseToTheMomentaAndCanBeRemoved) {
+    const Eigen::Vector3d g(0, -9.81, 0);
+    Result<std::unique_ptr<World>> made =
+        World::create(test::sceneOrFail(ballProject(-100.0, g)), createReferenceBackend());
+    ASSERT_TRUE(made.ok()) << made.error().message;
+    World& world = **made;
+    const double m = world.bodies()[0].mass.mass;
+    const double T = world.scene().simulation.timeStep;
+    const Eigen::Vector3d force(3.0, 40.0, -7.0), torque(0.5, -0.25, 2.0);
+    int calls = 0;
+    ASSERT_TRUE(world.setExternalForce(0, [&](const SimulatedBody&, const RigidBodyState&) {
+        ++calls;
+        return Wrench{force, torque};
+    }).ok());
+    const RigidBodyState before = world.bodies()[0].state;
+    ASSERT_TRUE(world.advanceFrame().ok());
+    const RigidBodyState after = world.bodies()[0].state;
+    EXPECT_EQ(static_cast<std::size_t>(calls), world.statistics().steps);  // once a step
+    // Out of the water: gravity and the external force are all there is.
+    EXPECT_LT((after.linearMomentum - before.linearMomentum - (m * g + force) * T).norm(), 1e-9);
+    EXPECT_LT((after.angularMomentum - before.angularMomentum - torque * T).norm(), 1e-9);
+
+    ASSERT_TRUE(world.setExternalForce(0, {}).ok());
+    const RigidBodyState again = world.bodies()[0].state;
+    ASSERT_TRUE(world.advanceFrame().ok());
+    EXPECT_LT((world.bodies()[0].state.linearMomentum - again.linearMomentum - m * g * T).norm(), 1e-9);
+    EXPECT_FALSE(world.setExternalForce(5, {}).ok());
+}
+
+TEST(PreviewSession, PlayPauseStepResetAndTimeScaleCountFrames) {
+    auto session = makeSession(ballProject(0.0, Eigen::Vector3d(0, -9.81, 0)));
+    ASSERT_TRUE(session);
+    const double T = session->scene().simulation.timeStep;
+    const RigidBodyState start = session->world().bodies()[0].state;
+
+    // Paused: wall time passes, nothing moves.
+    EXPECT_FALSE(session->playing());
+    ASSERT_TRUE(session->update(1.0).ok());
+    EXPECT_EQ(session->world().time(), 0.0);
+    // A single step is one frame, paused or not.
+    ASSERT_TRUE(session->step().ok());
+    EXPECT_NEAR(session->world().time(), T, 1e-12);
+    EXPECT_EQ(session->history().time.size(), 1u);  // the frame (none before it)
+    // The frame's sub-steps (at least the project's), each one evaluation of the backend.
+    EXPECT_GE(session->timings().subSteps, session->scene().simulation.subSteps);
+    EXPECT_GE(session->timings().kernelMs, 0.0);
+
+    // Playing: whole frames of the wall time, the remainder owed to the next update. No
+    // wall-clock budget while frames are counted (a slow build would stop a catch-up early);
+    // the budget is checked on its own below.
+    session->setUpdateBudgetMs(std::numeric_limits<double>::infinity());
+    session->play();
+    Result<int> frames = session->update(2.5 * T);
+    ASSERT_TRUE(frames.ok());
+    EXPECT_EQ(*frames, 2);
+    frames = session->update(0.5 * T);
+    EXPECT_EQ(*frames, 1);
+    EXPECT_NEAR(session->world().time(), 4 * T, 1e-12);
+    // Half speed: four frames of wall time are two simulated frames.
+    session->setTimeScale(0.5);
+    frames = session->update(4 * T);
+    EXPECT_EQ(*frames, 2);
+    // A long stall catches up at most kMaxCatchUpFrames and drops the rest.
+    session->setTimeScale(1.0);
+    frames = session->update(1.0);
+    EXPECT_EQ(*frames, PreviewSession::kMaxCatchUpFrames);
+    EXPECT_GT(session->timings().droppedFrames, 40);
+    const double played = session->world().time();
+    EXPECT_NEAR(played, (6 + PreviewSession::kMaxCatchUpFrames) * T, 1e-12);
+    EXPECT_NE(session->world().bodies()[0].state.position, start.position);
+    // A budget already spent after the first frame: one frame however much time is owed.
+    session->setUpdateBudgetMs(0.0);
+    EXPECT_EQ(*session->update(1.0), 1);
+    EXPECT_NEAR(session->world().time(), played + T, 1e-12);
+    session->setUpdateBudgetMs(PreviewSession::kUpdateBudgetMs);
+    session->pause();
+    EXPECT_EQ(*session->update(1.0), 0);
+
+    // Reset: the starting state at time 0, the history started over.
+    ASSERT_TRUE(session->reset().ok());
+    EXPECT_EQ(session->world().time(), 0.0);
+    EXPECT_LT((session->world().bodies()[0].state.position - start.position).norm(), 1e-12);
+    EXPECT_LT((session->world().bodies()[0].state.linearMomentum - start.linearMomentum).norm(), 1e-12);
+    EXPECT_TRUE(session->history().time.empty());
+}
+
+TEST(PreviewSession, GrabSpringPullsTheBodyTowardTheTargetAndItsImpulseIsTheMomentumChange) {
+    const Eigen::Vector3d g(0, -9.81, 0);
+    auto session = makeSession(ballProject(-100.0, g));
+    ASSERT_TRUE(session);
+    const SimulatedBody& body = session->world().bodies()[0];
+    const double m = body.mass.mass;
+    const Eigen::Vector3d centre = body.mass.centerOfMass;  // object space
+    const Eigen::Vector3d startPosition = body.state.position;
+    const Eigen::Vector3d startMomentum = body.state.linearMomentum;
+    const Eigen::Vector3d target = startPosition + Eigen::Vector3d(1.0, 0.5, 0.0);
+    // Grabbed at the centre of mass: a pure force (the default stiffness, a 1.5 Hz spring for
+    // the body's mass, critically damped).
+    ASSERT_TRUE(session->grab(0, centre, target).ok());
+    EXPECT_LT((session->grabPoint() - startPosition).norm(), 1e-12);
+    const int frames = 30;
+    for (int i = 0; i < frames; ++i) ASSERT_TRUE(session->step().ok());
+    const SimulatedBody& moved = session->world().bodies()[0];
+    // It moved toward the target (against gravity too: the spring is much stronger).
+    EXPECT_LT((moved.state.position - target).norm(), 0.5 * (startPosition - target).norm());
+    const double T = frames * session->scene().simulation.timeStep;
+    const Eigen::Vector3d expected = m * g * T + session->grabImpulse();
+    EXPECT_LT((moved.state.linearMomentum - startMomentum - expected).norm(),
+              1e-9 * std::max(1.0, expected.norm()));
+    EXPECT_GT(session->grabImpulse().norm(), 1.0);
+    // The spring alone, by hand, at the end state: k (target - p) - c v.
+    const Wrench w = springWrench(moved, moved.state, centre, target, 2000.0, 0.0);
+    EXPECT_LT((w.force - 2000.0 * (target - moved.state.position)).norm(), 1e-9);
+    EXPECT_LT(w.torque.norm(), 1e-9);
+
+    // Released: gravity alone again.
+    session->release();
+    const Eigen::Vector3d p0 = session->world().bodies()[0].state.linearMomentum;
+    ASSERT_TRUE(session->step().ok());
+    EXPECT_LT((session->world().bodies()[0].state.linearMomentum - p0 -
+               m * g * session->scene().simulation.timeStep).norm(), 1e-9);
+}
+
+TEST(PreviewSession, OffCentreGrabTurnsTheBody) {
+    auto session = makeSession(ballProject(-100.0, Eigen::Vector3d::Zero()));
+    ASSERT_TRUE(session);
+    const SimulatedBody& body = session->world().bodies()[0];
+    const Eigen::Vector3d point = body.mass.centerOfMass + Eigen::Vector3d(0, 0.4, 0);
+    const Eigen::Vector3d grabbed = body.pose().apply(point);
+    ASSERT_TRUE(session->grab(0, point, grabbed + Eigen::Vector3d(0.5, 0, 0)).ok());
+    ASSERT_TRUE(session->step().ok());
+    // A pull along +x above the centre: torque (0, 0.4, 0) x (F, 0, 0) = -0.4 F z.
+    EXPECT_LT(session->world().bodies()[0].state.angularMomentum.z(), 0.0);
+    EXPECT_GT(session->world().bodies()[0].state.linearMomentum.x(), 0.0);
+}
+
+TEST(PreviewSession, WaterIntegratorAndTextureSizeChangeWhileRunning) {
+    auto session = makeSession(ballProject(0.0, Eigen::Vector3d(0, -9.81, 0)));
+    ASSERT_TRUE(session);
+    ASSERT_TRUE(session->step().ok());
+    const double wet = session->world().bodies()[0].buoyancy.submergedVolume;
+    EXPECT_GT(wet, 0.0);
+    // The water raised above the ball: the next frame sees it fully under.
+    session->setWater(WaterModel::flat(5.0));
+    ASSERT_TRUE(session->step().ok());
+    EXPECT_GT(session->world().bodies()[0].buoyancy.submergedVolume, 1.5 * wet);
+    EXPECT_EQ(session->world().scene().water.level, 5.0);
+
+    session->setIntegrator(Integrator::RK4);
+    ASSERT_TRUE(session->step().ok());
+    EXPECT_EQ(session->world().scene().simulation.integrator, Integrator::RK4);
+    EXPECT_GT(session->world().bodies()[0].buoyancy.submergedVolume, 0.0);  // RK4 fills it too
+
+    const std::size_t texels = session->coveredTexels();
+    const Eigen::Vector3d position = session->world().bodies()[0].state.position;
+    const double time = session->world().time();
+    session->requestTextureSize(32);
+    EXPECT_TRUE(session->rebuilding());
+    ASSERT_TRUE(session->finishRebuild().ok());
+    EXPECT_FALSE(session->rebuilding());
+    EXPECT_EQ(session->textureSize(), 32);
+    EXPECT_LT(session->coveredTexels(), texels);
+    EXPECT_EQ(session->world().time(), time);  // carried over
+    EXPECT_EQ(session->world().bodies()[0].state.position, position);
+    EXPECT_EQ(session->world().scene().water.level, 5.0);  // settings kept
+    EXPECT_EQ(session->world().scene().simulation.integrator, Integrator::RK4);
+    ASSERT_TRUE(session->step().ok());
+}
+
+/// Calls `poll` every few milliseconds until `done` holds or 60 s have passed; whether it held.
+template <class Poll, class Done>
+bool pollUntil(Poll poll, Done done) {
+    const auto give_up = std::chrono::steady_clock::now() + std::chrono::seconds(60);
+    while (!done()) {
+        if (std::chrono::steady_clock::now() > give_up) return false;
+        poll();
+        std::this_thread::sleep_for(std::chrono::milliseconds(5));
+    }
+    return true;
+}
+
+TEST(PreviewSession, NewTextureSizeBakesBehindTheRunningOneWithProgressAndCancel) {
+    // Issue 19 bug 3: 1024^2 froze the editor; paused, the new size only arrived on Play; no
+    // progress, no cancel. The request returns at once, the running size keeps stepping, the
+    // bake reports progress and Cancel drops it; paused, a finished bake swaps in.
+    auto session = makeSession(ballProject(0.0, Eigen::Vector3d(0, -9.81, 0)));
+    ASSERT_TRUE(session);
+    const double T = session->scene().simulation.timeStep;
+    session->requestTextureSize(2048);  // seconds of baking
+    EXPECT_TRUE(session->rebuilding());
+    EXPECT_EQ(session->rebuildingSize(), 2048);
+    EXPECT_EQ(session->textureSize(), 64);  // the running size until the new one is ready
+    int frames = 0;
+    ASSERT_TRUE(pollUntil(
+        [&] {
+            ASSERT_TRUE(session->step().ok());
+            ++frames;
+        },
+        [&] { return session->rebuildProgress() > 0.0 || !session->rebuilding(); }));
+    ASSERT_TRUE(session->rebuilding()) << "baked 2048^2 before a band was reported";
+    EXPECT_GT(session->rebuildProgress(), 0.0);
+    EXPECT_LE(session->rebuildProgress(), 1.0);
+    EXPECT_EQ(session->textureSize(), 64);
+    EXPECT_NEAR(session->world().time(), frames * T, 1e-9);  // stepping all along
+    session->cancelRebuild();
+    EXPECT_FALSE(session->rebuilding());
+    EXPECT_EQ(session->rebuildingSize(), 0);
+    for (int i = 0; i < 20; ++i) ASSERT_TRUE(session->update(T).ok());
+    EXPECT_EQ(session->textureSize(), 64);  // the cancelled bake never swaps in
+
+    // Paused: a new size swaps in as soon as it is baked, the time standing still. A request
+    // made while another bakes replaces it without waiting for it.
+    session->pause();
+    const double paused = session->world().time();
+    const Eigen::Vector3d position = session->world().bodies()[0].state.position;
+    session->requestTextureSize(2048);
+    session->requestTextureSize(32);
+    EXPECT_EQ(session->rebuildingSize(), 32);
+    ASSERT_TRUE(pollUntil([&] { ASSERT_TRUE(session->update(T).ok()); },
+                          [&] { return !session->rebuilding(); }));
+    EXPECT_EQ(session->textureSize(), 32);
+    EXPECT_EQ(session->world().bodies()[0].textures.size, 32);
+    EXPECT_TRUE(session->rebuildError().empty()) << session->rebuildError();
+    EXPECT_EQ(session->world().time(), paused);
+    EXPECT_EQ(session->world().bodies()[0].state.position, position);
+    EXPECT_FALSE(session->playing());
+}
+
+TEST(PreviewSession, FirstHistoryRowHoldsTheFirstFramesBuoyancyNotZero) {
+    // Issue 19 bug 14: the exported CSV started with a submerged volume of 0 at t = 0 (a row
+    // written before any step computed a force). The ball (r = 0.5 m) with its centre 0.3 m
+    // above the water: a cap of height h = 0.2 m, V = pi h^2 (3 r - h) / 3 = 0.0544 m^3.
+    auto session = makeSession(ballProject(0.0, Eigen::Vector3d(0, -9.81, 0)));
+    ASSERT_TRUE(session);
+    EXPECT_TRUE(session->history().time.empty());
+    ASSERT_TRUE(session->step().ok());
+    const PreviewHistory& h = session->history();
+    ASSERT_EQ(h.time.size(), 1u);
+    const double cap = std::numbers::pi * 0.04 * (1.5 - 0.2) / 3.0;
+    const PlotSeries* volume = h.find("ball submerged volume");
+    ASSERT_TRUE(volume);
+    // Within a frame the ball sinks ~1 mm; the faceted sphere and the 64^2 bake a few %.
+    EXPECT_NEAR(volume->values[0], cap, 0.06 * cap);
+    EXPECT_GT(h.find("ball buoyancy")->values[0], 0.5 * 1000 * 9.81 * cap);
+    const fs::path path = fs::temp_directory_path() / ("first_row_" + std::to_string(::getpid()) + ".csv");
+    ASSERT_TRUE(writeHistoryCsv(h, {"ball submerged volume"}, path).ok());
+    std::ifstream in(path);
+    std::string header, first;
+    std::getline(in, header);
+    std::getline(in, first);
+    double t = -1, v = -1;
+    ASSERT_EQ(std::sscanf(first.c_str(), "%lf,%lf", &t, &v), 2) << first;
+    EXPECT_NEAR(t, session->scene().simulation.timeStep, 1e-12);
+    EXPECT_EQ(v, volume->values[0]);
+    fs::remove(path);
+    // A reset starts the history over, again without a row of zeros.
+    ASSERT_TRUE(session->reset().ok());
+    EXPECT_TRUE(session->history().time.empty());
+}
+
+TEST(PreviewSession, HistoryExportsAsCsvThatReadsBack) {
+    auto session = makeSession(ballProject(0.0, Eigen::Vector3d(0, -9.81, 0)));
+    ASSERT_TRUE(session);
+    for (int i = 0; i < 12; ++i) ASSERT_TRUE(session->step().ok());
+    const PreviewHistory& h = session->history();
+    ASSERT_EQ(h.time.size(), 12u);
+    const PlotSeries* volume = h.find("ball submerged volume");
+    ASSERT_TRUE(volume);
+    ASSERT_TRUE(h.find("ball heel") && h.find("ball trim") && h.find("ball buoyancy"));
+    const fs::path path = fs::temp_directory_path() / ("preview_" + std::to_string(::getpid()) + ".csv");
+    ASSERT_TRUE(writeHistoryCsv(h, {"ball submerged volume", "ball height"}, path).ok());
+    std::ifstream in(path);
+    std::string line;
+    std::getline(in, line);
+    EXPECT_EQ(line, "time (s),\"ball submerged volume (m^3)\",\"ball height (m)\"");
+    std::size_t rows = 0;
+    while (std::getline(in, line)) {
+        double t = 0, v = 0, y = 0;
+        ASSERT_EQ(std::sscanf(line.c_str(), "%lf,%lf,%lf", &t, &v, &y), 3) << line;
+        EXPECT_EQ(t, h.time[rows]);
+        EXPECT_EQ(v, volume->values[rows]);
+        EXPECT_EQ(y, h.find("ball height")->values[rows]);
+        ++rows;
+    }
+    EXPECT_EQ(rows, h.time.size());
+    const Status bad = writeHistoryCsv(h, {"no such thing"}, path);
+    ASSERT_FALSE(bad.ok());
+    EXPECT_NE(bad.error().message.find("no such thing"), std::string::npos);
+    fs::remove(path);
+}
+
+TEST(PreviewSession, HeelAndTrimOfKnownRotations) {
+    using Eigen::AngleAxisd;
+    using Eigen::Vector3d;
+    const Eigen::Vector2d heel =
+        heelAndTrimDegrees(AngleAxisd(0.3, Vector3d::UnitX()).toRotationMatrix());
+    EXPECT_NEAR(heel.x(), 0.3 * 180 / M_PI, 1e-9);
+    EXPECT_NEAR(heel.y(), 0.0, 1e-9);
+    const Eigen::Vector2d trim =
+        heelAndTrimDegrees(AngleAxisd(0.2, Vector3d::UnitZ()).toRotationMatrix());
+    EXPECT_NEAR(trim.x(), 0.0, 1e-9);
+    EXPECT_NEAR(trim.y(), 0.2 * 180 / M_PI, 1e-9);
+    const Vector3d degrees(10, -20, 30);
+    const Pose pose = Pose::fromEulerDegrees(Vector3d::Zero(), degrees);
+    EXPECT_LT((eulerDegrees(pose.rotation) - degrees).norm(), 1e-9);
+}
+
+TEST(PreviewSession, LiveVolumeErrorEqualsWhatPlimsollBuoyancyPrints) {
+    Result<Project> project = loadProject(fs::path(PLIMSOLL_SOURCE_DIR) / "projects/buoy.plim.json");
+    ASSERT_TRUE(project.ok()) << project.error().message;
+    // Dropped from above and tilted: a pose out of equilibrium, partly submerged.
+    project->bodies[0].position = Eigen::Vector3d(0.1, 0.6, -0.2);
+    project->bodies[0].rotationDegrees = Eigen::Vector3d(12, 0, 5);
+    auto session = makeSession(*project);
+    ASSERT_TRUE(session);
+    for (int i = 0; i < 20; ++i) ASSERT_TRUE(session->step().ok());
+    Result<SubmergedVolumeCheck> live = session->volumeCheck(0);
+    ASSERT_TRUE(live.ok()) << live.error().message;
+    ASSERT_GT(live->exact, 0.0);
+
+    const Pose pose = session->world().bodies()[0].pose();
+    const Eigen::Vector3d degrees = eulerDegrees(pose.rotation);
+    char args[512];
+    std::snprintf(args, sizeof args,
+                  "buoyancy '%s' --size %d --device reference --water-level=%.17g "
+                  "--position=%.17g,%.17g,%.17g --rotation-deg=%.17g,%.17g,%.17g "
+                  "--fluid-density %.17g --compare-exact --json",
+                  (fs::path(PLIMSOLL_SOURCE_DIR) / "assets/buoy.obj").c_str(),
+                  project->bodies[0].textureSize, project->water.level,
+                  pose.translation.x(), pose.translation.y(), pose.translation.z(), degrees.x(),
+                  degrees.y(), degrees.z(), project->medium.density);
+    const test::CommandOutput cli = test::runPlimsoll(args);
+    ASSERT_EQ(cli.exitCode, 0) << cli.err;
+    const nlohmann::json printed = nlohmann::json::parse(cli.out);
+    const double tolerance = 1e-9 * live->exact;
+    EXPECT_NEAR(printed["submerged_volume"].get<double>(), live->texture, tolerance);
+    EXPECT_NEAR(printed["exact_submerged_volume"].get<double>(), live->exact, tolerance);
+    EXPECT_NEAR(printed["submerged_volume_error"].get<double>(), live->error, tolerance);
+    EXPECT_NEAR(printed["submerged_volume_relative_error"].get<double>(), live->relativeError, 1e-9);
+    // And the figure means something: a 128^2 bake is within a few percent of exact.
+    EXPECT_LT(std::abs(live->relativeError), 0.05);
+    std::cout << "buoy 128^2 submerged volume " << live->texture << " m^3, exact " << live->exact
+              << ", error " << 100 * live->relativeError << " %\n";
+}
+
+TEST(PreviewSession, TheDocumentAsEditedGoesToTheWorldInMemory) {
+    const fs::path path = fs::path(PLIMSOLL_SOURCE_DIR) / "projects/buoy.plim.json";
+    const fs::path mapFile = fs::path(PLIMSOLL_SOURCE_DIR) / "projects/maps/buoy_ballast.png";
+    const std::string mapBefore = test::readFile(mapFile);
+    Result<std::unique_ptr<Document>> doc = Document::open(path);
+    ASSERT_TRUE(doc.ok()) << doc.error().message;
+    // As saved: the scene the project file gives.
+    Result<Scene> saved = (*doc)->simulationScene();
+    ASSERT_TRUE(saved.ok()) << saved.error().message;
+    Result<Project> project = loadProject(path);
+    ASSERT_TRUE(project.ok()) << project.error().message;
+    const Scene fromDisk = test::sceneOrFail(*project);
+    ASSERT_EQ(saved->bodies.size(), 1u);
+    ASSERT_EQ(fromDisk.bodies.size(), 1u);
+    EXPECT_EQ(saved->bodies[0].textures->position, fromDisk.bodies[0].textures->position);
+    EXPECT_EQ(saved->bodies[0].mass->mass, fromDisk.bodies[0].mass->mass);
+
+    // The shell density map painted white all over and not saved: the scene holds the painted
+    // map, the mass is the uniform shell's (solid + sigma A), and the file is as it was.
+    const PaintedMap* painted = (*doc)->map(0, MapChannel::Density);
+    ASSERT_NE(painted, nullptr);
+    PaintedMap white = *painted;
+    std::fill(white.values.begin(), white.values.end(), 1.0f);
+    (*doc)->setMap(0, MapChannel::Density, white);
+    Result<Scene> edited = (*doc)->simulationScene();
+    ASSERT_TRUE(edited.ok()) << edited.error().message;
+    const SceneBody& body = edited->bodies[0];
+    ASSERT_TRUE(body.parts.shellDensityMap);
+    EXPECT_EQ(body.parts.shellDensityMap->values, white.values);
+    const MaterialDesc& m = body.desc.material;
+    ASSERT_TRUE(m.density && m.shellSurfaceDensity);
+    const double expected =
+        *m.density * body.mass->volume + *m.shellSurfaceDensity * body.textures->surfaceArea();
+    EXPECT_NEAR(body.mass->mass, expected, 1e-9 * expected);
+    EXPECT_GT(body.mass->mass, fromDisk.bodies[0].mass->mass);  // the ballast was partial
+    EXPECT_EQ(test::readFile(mapFile), mapBefore);
+
+    Result<std::unique_ptr<PreviewSession>> session =
+        PreviewSession::create(std::move(*edited), "reference");
+    ASSERT_TRUE(session.ok()) << session.error().message;
+    ASSERT_TRUE((*session)->step().ok());
+    EXPECT_NEAR((*session)->world().bodies()[0].mass.mass, expected, 1e-9 * expected);
+}
+
+TEST(ForceOverlay, WaterlineOfABoxIsItsPerimeterAtTheWaterHeight) {
+    const TriangleMesh box = makeBox(Eigen::Vector3d(1.0, 0.6, 2.0));
+    // Turned about y (the waterline stays a 1 x 2 rectangle), raised so the water at 0.1 cuts it.
+    const Pose pose = Pose::fromEulerDegrees(Eigen::Vector3d(3, 0.05, -1), Eigen::Vector3d(0, 35, 0));
+    const std::vector<OverlaySegment> line = waterlineOf(box, pose, WaterModel::flat(0.1), 0.0);
+    double length = 0;
+    for (const OverlaySegment& s : line) {
+        EXPECT_NEAR(s.a.y(), 0.1, 1e-12);
+        EXPECT_NEAR(s.b.y(), 0.1, 1e-12);
+        length += (s.b - s.a).norm();
+    }
+    EXPECT_NEAR(length, 2 * (1.0 + 2.0), 1e-9);
+    // Out of the water: no line.
+    EXPECT_TRUE(waterlineOf(box, pose, WaterModel::flat(-5.0), 0.0).empty());
+}
+
+TEST(ForceOverlay, ArrowsAreWeightAtTheCentreOfMassAndBuoyancyInProportion) {
+    auto session = makeSession(ballProject(0.0, Eigen::Vector3d(0, -9.81, 0)));
+    ASSERT_TRUE(session);
+    ASSERT_TRUE(session->step().ok());
+    const World& world = session->world();
+    const SimulatedBody& body = world.bodies()[0];
+    const ForceOverlay overlay = buildForceOverlay(world, {nullptr});
+    const OverlayArrow* weight = nullptr;
+    const OverlayArrow* buoyancy = nullptr;
+    for (const OverlayArrow& a : overlay.arrows) {
+        if (a.colour == kWeightColour) weight = &a;
+        if (a.colour == kBuoyancyColour) buoyancy = &a;
+    }
+    ASSERT_TRUE(weight && buoyancy);
+    EXPECT_LT((weight->from - body.state.position).norm(), 1e-12);
+    // The weight's arrow is half the bounding radius long, straight down.
+    EXPECT_LT((weight->to - weight->from - Eigen::Vector3d(0, -0.5 * body.boundingRadius, 0)).norm(), 1e-9);
+    EXPECT_LT((buoyancy->from - body.buoyancy.centerOfBuoyancy).norm(), 1e-12);
+    const double ratio = body.buoyancy.force.norm() / (body.mass.mass * 9.81);
+    EXPECT_NEAR((buoyancy->to - buoyancy->from).norm(), 0.5 * ratio * body.boundingRadius, 1e-9);
+    EXPECT_GT((buoyancy->to - buoyancy->from).y(), 0.0);
+}
+
+TEST(ForceOverlay, WetTexelsAreTheSubmergedShareOfTheSurface) {
+    // The ball with its centre on flat water.
+    auto session = makeSession(ballProject(0.0, Eigen::Vector3d(0, -9.81, 0)));
+    ASSERT_TRUE(session);
+    SimulatedBody body = session->world().bodies()[0];  // a copy to place by hand
+    body.state.position = body.mass.centerOfMass;      // the sphere's centre on the water
+    body.state.orientation = Eigen::Quaterniond::Identity();
+    const OverlayImage image = wetTexelOverlay(body, WaterModel::flat(0.0), 0.0);
+    ASSERT_EQ(image.width, body.textures.size);
+    double wet = 0, total = 0;
+    const Eigen::Vector3i wetColour = (kWetColour * 255.0f).array().round().cast<int>();
+    for (std::size_t i = 0; i < body.textures.coveredCount(); ++i) {
+        const std::size_t texel = body.textures.texelIndex[i];
+        const bool isWet = image.rgba[4 * texel] == wetColour.x() &&
+                           image.rgba[4 * texel + 1] == wetColour.y();
+        total += body.textures.area[i];
+        wet += isWet ? body.textures.area[i] : 0.0;
+    }
+    // A sphere cut through its centre: half its surface below (texels straddling the line
+    // count whole, on either side).
+    EXPECT_NEAR(wet / total, 0.5, 0.03);
+}
+
+TEST(ForceOverlay, WetTexelsOfALargeTextureAreShownAtTheCappedSize) {
+    // A 512^2 bake shown at 256^2 (each shown texel one water test): the same half.
+    Project project = ballProject(0.0, Eigen::Vector3d(0, -9.81, 0));
+    project.bodies[0].textureSize = 512;
+    auto session = makeSession(project);
+    ASSERT_TRUE(session);
+    SimulatedBody body = session->world().bodies()[0];
+    body.state.position = body.mass.centerOfMass;
+    body.state.orientation = Eigen::Quaterniond::Identity();
+    const OverlayImage image = wetTexelOverlay(body, WaterModel::flat(0.0), 0.0);
+    ASSERT_EQ(image.width, kWetOverlayMaxSize);
+    ASSERT_EQ(image.rgba.size(), 4u * kWetOverlayMaxSize * kWetOverlayMaxSize);
+    const Eigen::Vector3i wetColour = (kWetColour * 255.0f).array().round().cast<int>();
+    double wet = 0, total = 0;
+    for (std::size_t i = 0; i < body.textures.coveredCount(); ++i) {
+        const std::size_t index = body.textures.texelIndex[i];
+        const std::size_t texel = (index / 512 / 2) * kWetOverlayMaxSize + (index % 512) / 2;
+        total += body.textures.area[i];
+        wet += image.rgba[4 * texel] == wetColour.x() ? body.textures.area[i] : 0.0;
+    }
+    EXPECT_NEAR(wet / total, 0.5, 0.03);
+}
+
+}  // namespace
+}  // namespace plimsoll::editor

@@ -1,0 +1,266 @@
+// The editor window under Xvfb: it starts, opens a sample project, and its screenshot shows the
+// UI and the mesh where the camera puts it (pixel positions computed from the camera, not a
+// stored image). Skipped where xvfb-run is missing or the build has no window.
+#include "cli_runner.h"
+#include "test_support.h"
+
+#include "render/camera.h"
+
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+#include <stb_image.h>
+
+#include <cstdlib>
+#include <fstream>
+#include <unistd.h>
+
+namespace plimsoll::editor {
+namespace {
+
+namespace fs = std::filesystem;
+
+TEST(EditorWindow, ScreenshotUnderXvfbShowsUiAndMeshWhereTheCameraPutsIt) {
+    if (std::system("command -v xvfb-run >/dev/null 2>&1") != 0) {
+        GTEST_SKIP() << "xvfb-run is not installed";
+    }
+    const fs::path dir = fs::temp_directory_path() / "plimsoll_tests" /
+                         ("window_" + std::to_string(::getpid()));
+    fs::remove_all(dir);
+    fs::create_directories(dir);
+    const fs::path project = dir / "window.plim.json";
+    // The water far below, so that the front view sees it edge-on outside the picture.
+    std::ofstream(project) << R"({"schema_version": 1, "name": "window",
+        "water": {"model": "flat", "level": -5},
+        "bodies": [{"name": "ball", "mesh": ")" << test::assetPath("sphere.obj").string()
+                           << R"(", "material": {"density": 500}, "position": [0.3, 1.0, 0]}]})";
+    const fs::path shot = dir / "window.png";
+    // Its own config folder: no recent files or autosaves of the user's.
+    const std::string environment = "XDG_CONFIG_HOME='" + (dir / "config").string() + "' xvfb-run -a -s '-screen 0 1280x800x24'";
+    const test::CommandOutput run = test::runPlimsoll(
+        "edit '" + project.string() + "' --frames 20 --screenshot '" + shot.string() +
+            "' --window-size 1024x640 --view front --overlay none",
+        environment);
+    if (run.exitCode != 0 && run.err.find("built without the editor window") != std::string::npos) {
+        GTEST_SKIP() << run.err;
+    }
+    ASSERT_EQ(run.exitCode, 0) << run.err << run.out;
+    const nlohmann::json report = nlohmann::json::parse(run.out);
+    EXPECT_EQ(report["title"], "window.plim.json - Plimsoll");  // not dirty: no '*'
+    std::cout << "editor frame time under Xvfb: " << report["frame_ms_median"] << " ms (median), "
+              << report["gl_renderer"] << "\n";
+
+    int width = 0, height = 0, channels = 0;
+    unsigned char* data = stbi_load(shot.c_str(), &width, &height, &channels, 3);
+    ASSERT_TRUE(data) << stbi_failure_reason();
+    std::vector<unsigned char> rgb(data, data + 3 * width * height);
+    stbi_image_free(data);
+    ASSERT_EQ(width, 1024);
+    ASSERT_EQ(height, 640);
+    auto at = [&](double x, double y) {
+        const std::size_t i = 3 * (static_cast<std::size_t>(y) * width + static_cast<std::size_t>(x));
+        return Eigen::Vector3i(rgb[i], rgb[i + 1], rgb[i + 2]);
+    };
+
+    // Where the 3D view is, and its camera: the front preset framing the body.
+    const auto& vp = report["viewport"];
+    const double vx = vp[0], vy = vp[1], vw = vp[2], vh = vp[3];
+    ASSERT_GT(vw, 100);
+    ASSERT_GT(vh, 100);
+    Bounds3 bounds;
+    bounds.min = Eigen::Vector3d(0.3 - 0.5, 1.0 - 0.5, -0.5);
+    bounds.max = Eigen::Vector3d(0.3 + 0.5, 1.0 + 0.5, 0.5);
+    const Camera camera = Camera::preset(ViewPreset::Front, bounds);
+    auto pixelOf = [&](const Eigen::Vector3d& world) {
+        const auto p = camera.toPixel(world, static_cast<int>(vw), static_cast<int>(vh));
+        EXPECT_TRUE(p);
+        return Eigen::Vector2d(vx + p->x(), vy + p->y());
+    };
+    const Eigen::Vector3d centre(0.3, 1.0, 0.0);
+    // On the ball (inside its outline, 0.4 m from the centre at most): the selected body's
+    // colour (0.80, 0.78, 0.72) times its lighting.
+    for (const Eigen::Vector3d& offset :
+         {Eigen::Vector3d(0, 0, 0.5), Eigen::Vector3d(0.35, 0.2, 0.3), Eigen::Vector3d(-0.3, -0.25, 0.3),
+          Eigen::Vector3d(0.1, 0.4, 0.25), Eigen::Vector3d(-0.4, 0.0, 0.3)}) {
+        const Eigen::Vector2d p = pixelOf(centre + offset);
+        const Eigen::Vector3i c = at(p.x(), p.y());
+        EXPECT_GT(c.x(), 85) << "mesh expected at " << p.transpose() << ", colour " << c.transpose();
+        EXPECT_NEAR(c.y(), c.x() * 0.78 / 0.80, 4);
+        EXPECT_NEAR(c.z(), c.x() * 0.72 / 0.80, 4);
+    }
+    // Just outside its outline (0.6 m from the centre, off the grid line and the y axis): the
+    // view's background.
+    for (const Eigen::Vector3d& offset : {Eigen::Vector3d(0.62, 0.0, 0), Eigen::Vector3d(-0.62, 0.1, 0),
+                                          Eigen::Vector3d(0.0, 0.62, 0), Eigen::Vector3d(0.45, -0.45, 0)}) {
+        const Eigen::Vector2d p = pixelOf(centre + offset);
+        const Eigen::Vector3i c = at(p.x(), p.y());
+        EXPECT_NEAR(c.x(), 51, 3) << "background expected at " << p.transpose();
+        EXPECT_NEAR(c.y(), 54, 3);
+        EXPECT_NEAR(c.z(), 59, 3);
+    }
+    // The UI: the menu bar's text above the view, and panels to its right.
+    int bright = 0;
+    for (int y = 0; y < static_cast<int>(vy); ++y) {
+        for (int x = 0; x < 200; ++x) bright += at(x, y).x() > 180;
+    }
+    EXPECT_GT(bright, 20) << "no menu text";
+    int panelPixels = 0, samples = 0;
+    for (int y = static_cast<int>(vy) + 10; y < static_cast<int>(vy + vh); y += 7) {
+        for (int x = static_cast<int>(vx + vw) + 5; x < width; x += 7) {
+            const Eigen::Vector3i c = at(x, y);
+            ++samples;
+            panelPixels += !(std::abs(c.x() - 51) <= 3 && std::abs(c.y() - 54) <= 3 &&
+                             std::abs(c.z() - 59) <= 3);
+        }
+    }
+    EXPECT_GT(panelPixels, samples * 9 / 10) << "the panels beside the view are missing";
+}
+
+/// A project of one ball in a fresh folder, for the interactive runs below.
+fs::path ballProject(const std::string& name) {
+    const fs::path dir = fs::temp_directory_path() / "plimsoll_tests" /
+                         (name + "_" + std::to_string(::getpid()));
+    fs::remove_all(dir);
+    fs::create_directories(dir);
+    const fs::path project = dir / "ball.plim.json";
+    std::ofstream(project) << R"({"schema_version": 1, "name": "ball",
+        "bodies": [{"name": "ball", "mesh": ")" << test::assetPath("sphere.obj").string()
+                           << R"(", "material": {"density": 500}}]})";
+    return project;
+}
+
+/// Runs `script` (sh) under its own Xvfb with $PLIMSOLL set; its stdout.
+std::string runUnderXvfb(const fs::path& dir, const std::string& script) {
+    const std::string command = "cd '" + dir.string() + "' && PLIMSOLL='" +
+                                test::plimsollExecutable().string() +
+                                "' XDG_CONFIG_HOME='" + (dir / "config").string() +
+                                "' xvfb-run -a -s '-screen 0 1280x800x24' sh -c '" + script + "' 2>/dev/null";
+    std::string out;
+    if (FILE* pipe = ::popen(command.c_str(), "r")) {
+        char buffer[4096];
+        while (std::size_t n = std::fread(buffer, 1, sizeof buffer, pipe)) out.append(buffer, n);
+        ::pclose(pipe);
+    }
+    return out;
+}
+
+bool haveWindowTools(bool needInput) {
+    if (std::system("command -v xvfb-run >/dev/null 2>&1") != 0) return false;
+    return !needInput || std::system("command -v xdotool >/dev/null 2>&1") == 0;
+}
+
+TEST(EditorWindow, IdleEditorSleepsInsteadOfRedrawing) {
+    // Issue 19 bug 8: 97-165% of a core with nothing happening. Idle, the loop now waits for
+    // events: over 2 s after start-up it draws no frame and uses next to no CPU.
+    if (!haveWindowTools(false)) GTEST_SKIP() << "xvfb-run is not installed";
+    const fs::path project = ballProject("window_idle");
+    const std::string out = runUnderXvfb(project.parent_path(),
+                                         "$PLIMSOLL edit ball.plim.json --run-seconds 3 --window-size 800x500");
+    if (out.empty()) GTEST_SKIP() << "no editor window in this build or no X server";
+    const nlohmann::json report = nlohmann::json::parse(out);
+    EXPECT_LE(report["frames_after_first_second"].get<int>(), 2);
+    // Below 5% of one core (the issue's bound) over the 2 s.
+    EXPECT_LT(report["cpu_seconds_after_first_second"].get<double>(), 0.05 * 2.0);
+}
+
+TEST(EditorWindow, KeyTapsShorterThanAFrameAllCount) {
+    // Issue 19 bugs 10, 11 and 9: taps sent back to back (xdotool: press and release with no
+    // delay, all within one frame) were lost about half the time; P restarted a running
+    // preview and Space did nothing. Each tap below must take effect, in order.
+    if (!haveWindowTools(true)) GTEST_SKIP() << "xvfb-run or xdotool is not installed";
+    const fs::path project = ballProject("window_keys");
+    const std::string out = runUnderXvfb(
+        project.parent_path(),
+        "$PLIMSOLL edit ball.plim.json --run-seconds 30 --window-size 800x500 --view front & "
+        "for i in $(seq 100); do w=$(xdotool search --name Plimsoll | head -1); "
+        "[ -n \"$w\" ] && break; sleep 0.1; done; sleep 0.5; "
+        "xdotool key --window $w --delay 0 3 b x p space; sleep 1; "
+        "xdotool key --window $w ctrl+q; wait");
+    if (out.empty()) GTEST_SKIP() << "no editor window in this build or no X server";
+    const nlohmann::json report = nlohmann::json::parse(out);
+    EXPECT_LT(report["seconds"].get<double>(), 29.0) << "Ctrl+Q was not seen";
+    EXPECT_EQ(report["view"], "Side (orthographic)");   // 3
+    EXPECT_EQ(report["tool"], 1);                       // b: Brush
+    EXPECT_EQ(report["mirror_x"], true);                // x (the graph panel is closed)
+    EXPECT_EQ(report["preview_running"], true);         // p: started
+    EXPECT_EQ(report["preview_playing"], false);        // space: paused
+}
+
+TEST(EditorWindow, StrokeFromOffTheMeshPaintsAndThePreviewGrabDoesNot) {
+    // Issue 19 bugs 5 and 4: a stroke that started off the mesh and crossed it painted nothing;
+    // the Brush painted the hull during a preview that promises "left-drag a body to pull it".
+    // Here a drag across the ball during the preview pulls it (no edit); after the preview
+    // stops, the same drag from empty space paints: one undo step.
+    if (!haveWindowTools(true)) GTEST_SKIP() << "xvfb-run or xdotool is not installed";
+    const fs::path project = ballProject("window_stroke");
+    // 800 x 500: the 3D view is the left 480 px; the ball (front view, framed) at its centre.
+    const std::string drag =
+        "xdotool mousemove --window $w 15 250 mousedown 1; sleep 0.2; "
+        "for x in 60 120 180 240 280; do xdotool mousemove --window $w $x 250; sleep 0.1; done; "
+        "xdotool mouseup 1; sleep 0.5; ";
+    const std::string out = runUnderXvfb(
+        project.parent_path(),
+        "$PLIMSOLL edit ball.plim.json --run-seconds 9 --window-size 800x500 --view front & "
+        "for i in $(seq 100); do w=$(xdotool search --name Plimsoll | head -1); "
+        "[ -n \"$w\" ] && break; sleep 0.1; done; sleep 0.5; "
+        "xdotool key --window $w b p; sleep 1.5; " + drag +
+        "xdotool key --window $w p; sleep 0.5; " + drag + "wait");
+    if (out.empty()) GTEST_SKIP() << "no editor window in this build or no X server";
+    const nlohmann::json report = nlohmann::json::parse(out);
+    EXPECT_EQ(report["tool"], 1);
+    EXPECT_EQ(report["preview_running"], false);
+    EXPECT_EQ(report["undo"], "Paint permeability");
+    EXPECT_EQ(report["undo_steps"], 1) << "the drag during the preview painted too";
+    EXPECT_EQ(report["title"], "*ball.plim.json - Plimsoll");
+}
+
+TEST(EditorWindow, ShiftClickDrawsALineStrokeFromTheLastStrokesEnd) {
+    // Issue 19, brushes: a short stroke on the ball, then Shift-click elsewhere on it draws a
+    // straight line from the stroke's end there (Blender and Painter): a second undo step made
+    // of many surface points, not one dab.
+    if (!haveWindowTools(true)) GTEST_SKIP() << "xvfb-run or xdotool is not installed";
+    const fs::path project = ballProject("window_line");
+    const std::string out = runUnderXvfb(
+        project.parent_path(),
+        "$PLIMSOLL edit ball.plim.json --run-seconds 9 --window-size 800x500 --view front & "
+        "for i in $(seq 100); do w=$(xdotool search --name Plimsoll | head -1); "
+        "[ -n \"$w\" ] && break; sleep 0.1; done; sleep 0.8; "
+        "xdotool key --window $w b; sleep 0.3; "
+        "xdotool mousemove --window $w 220 250 mousedown 1; sleep 0.2; "
+        "for x in 230 240 250 260; do xdotool mousemove --window $w $x 250; sleep 0.1; done; "
+        "xdotool mouseup 1; sleep 0.5; "
+        "xdotool mousemove --window $w 240 190; sleep 0.3; xdotool keydown shift; sleep 0.3; "
+        "xdotool click 1; sleep 0.3; xdotool keyup shift; sleep 0.5; wait");
+    if (out.empty()) GTEST_SKIP() << "no editor window in this build or no X server";
+    const nlohmann::json report = nlohmann::json::parse(out);
+    EXPECT_EQ(report["undo"], "Paint permeability");
+    EXPECT_EQ(report["undo_steps"], 2) << "the stroke and the line";
+    // 60 px from (260, 250) to (240, 190), picked every 3 px: about 20 points.
+    EXPECT_GE(report["last_stroke_points"].get<int>(), 12);
+}
+
+TEST(EditorWindow, ColumnSplitterDragsAndPanelsComeBackAfterShrinkAndGrow) {
+    // Issue 19 bug 12 and the layout's splitters: the border between the 3D view and the
+    // panels (x = 480 at 800 x 500: the column is 0.4 of the width), dragged 100 px right,
+    // narrows the column to 220 px; the window shrunk to 300 x 200 and grown back to 800 x 500
+    // gets that same layout back.
+    if (!haveWindowTools(true)) GTEST_SKIP() << "xvfb-run or xdotool is not installed";
+    const fs::path project = ballProject("window_splitter");
+    const std::string out = runUnderXvfb(
+        project.parent_path(),
+        "$PLIMSOLL edit ball.plim.json --run-seconds 12 --window-size 800x500 & "
+        "for i in $(seq 300); do w=$(xdotool search --name Plimsoll | head -1); "
+        "[ -n \"$w\" ] && break; sleep 0.1; done; sleep 0.8; "
+        "xdotool mousemove --window $w 480 300; sleep 0.3; xdotool mousedown 1; sleep 0.3; "
+        "for x in 500 530 560 580; do xdotool mousemove --window $w $x 300; sleep 0.15; done; "
+        "sleep 0.2; xdotool mouseup 1; sleep 0.3; "
+        "xdotool windowsize $w 300 200; sleep 1; xdotool windowsize $w 800 500; sleep 1; wait");
+    if (out.empty()) GTEST_SKIP() << "no editor window in this build or no X server";
+    const nlohmann::json report = nlohmann::json::parse(out);
+    ASSERT_EQ(report["window"][0].get<double>(), 800);
+    ASSERT_EQ(report["window"][1].get<double>(), 500);
+    EXPECT_NEAR(report["viewport"][2].get<double>(), 580, 2) << "the splitter did not move";
+    EXPECT_EQ(report["undo_steps"], 0);  // the drag edited nothing
+}
+
+}  // namespace
+}  // namespace plimsoll::editor

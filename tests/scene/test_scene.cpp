@@ -1,0 +1,240 @@
+// Scenes in memory and the adapter that reads them from a project: World takes bodies that hold
+// their data (no file behind a generated mesh), the adapter names the file and the JSON path
+// of every problem, and gravity is one vector that World follows in magnitude and refuses in a
+// direction buoyancy does not model.
+#include "plimsoll/samples/primitives.h"
+#include "plimsoll/scene/scene.h"
+#include "plimsoll/scene/scene_loader.h"
+#include "plimsoll/scene/world.h"
+
+#include "test_support.h"
+#include "world_support.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <sstream>
+
+namespace plimsoll {
+namespace {
+
+namespace fs = std::filesystem;
+
+/// A 1 m cube of density 500 in still water, its centre `depth` below the surface.
+Scene cubeScene(double depth, const Eigen::Vector3d& gravity) {
+    BodyDesc desc;
+    desc.name = "cube";
+    desc.mesh = "cube (generated)";
+    desc.textureSize = 32;
+    desc.material.density = 500.0;
+    desc.position = Eigen::Vector3d(0, -depth, 0);
+    desc.dragCoefficient = 0;
+    desc.linearDamping = desc.angularDamping = 0;
+    Scene scene;
+    scene.bodies.push_back(test::bodyOrFail(desc, makeBox(Eigen::Vector3d(1, 1, 1))));
+    scene.water = WaterModel::flat(0.0);
+    scene.simulation.gravity = gravity;
+    return scene;
+}
+
+TEST(SceneGravity, BuoyancyAndWeightFollowItsMagnitude) {
+    // Fully under water at rest: buoyancy rho |g| V up, weight m g down, whatever |g| is (a
+    // Mars-like 3.71 m/s^2 against Earth's): the first step's velocity is (rho V - m) g dt / m.
+    for (double g : {9.81, 3.71}) {
+        SCOPED_TRACE(g);
+        std::unique_ptr<World> world = test::worldOrFail(cubeScene(2.0, Eigen::Vector3d(0, -g, 0)));
+        ASSERT_TRUE(world);
+        ASSERT_TRUE(world->advanceFrame().ok());
+        const SimulatedBody& cube = world->bodies()[0];
+        EXPECT_NEAR(cube.buoyancy.submergedVolume, 1.0, 1e-9);
+        EXPECT_NEAR(cube.buoyancy.force.y(), 1000.0 * g * 1.0, 1e-6 * 1000.0 * g);
+        EXPECT_DOUBLE_EQ(cube.fluid.gravity, g);
+        // Net upward force (1000 - 500) g: after the frame, v = 500 g T / 500 = g T.
+        const double T = world->scene().simulation.timeStep;
+        EXPECT_NEAR(linearVelocity(cube.state, cube.mass).y(), g * T, 1e-6 * g * T);
+    }
+}
+
+TEST(SceneGravity, ZeroGravityIsAllowedAndLeavesABodyAtRest) {
+    std::unique_ptr<World> world = test::worldOrFail(cubeScene(2.0, Eigen::Vector3d::Zero()));
+    ASSERT_TRUE(world);
+    const Eigen::Vector3d start = world->bodies()[0].state.position;
+    for (int f = 0; f < 10; ++f) ASSERT_TRUE(world->advanceFrame().ok());
+    EXPECT_NEAR(world->bodies()[0].buoyancy.submergedVolume, 1.0, 1e-9);
+    EXPECT_EQ(world->bodies()[0].buoyancy.force.norm(), 0.0);
+    EXPECT_EQ(world->bodies()[0].state.position, start);
+}
+
+TEST(SceneGravity, ATiltedOrUpwardGravityIsRefusedClearly) {
+    for (const Eigen::Vector3d g : {Eigen::Vector3d(0.5, -9.8, 0), Eigen::Vector3d(0, -9.8, 1e-3),
+                                    Eigen::Vector3d(0, 9.81, 0),
+                                    Eigen::Vector3d(0, -std::nan(""), 0)}) {
+        SCOPED_TRACE(g.transpose());
+        Result<std::unique_ptr<World>> world =
+            World::create(cubeScene(2.0, g), createReferenceBackend());
+        ASSERT_FALSE(world.ok());
+        EXPECT_EQ(world.error().kind, ErrorKind::unsupported);
+        EXPECT_NE(world.error().message.find("does not point straight down (-y)"), std::string::npos)
+            << world.error().message;
+    }
+    // From a project, the adapter names the file and the JSON path.
+    Project project;
+    project.fileStem = "tilted";
+    project.simulation.gravity = Eigen::Vector3d(1, -9.81, 0);
+    Result<Scene> scene = loadScene(project);
+    ASSERT_FALSE(scene.ok());
+    EXPECT_EQ(scene.error().kind, ErrorKind::unsupported);
+    EXPECT_EQ(scene.error().message.rfind("tilted.plim.json: simulation.gravity: gravity (1, -9.81, 0)", 0),
+              0u)
+        << scene.error().message;
+}
+
+TEST(SceneGravity, WavesUnderAnotherGravityThanTheScenesAreRefused) {
+    Project project;
+    project.fileStem = "waves";
+    project.water.kind = WaterModel::Kind::Gerstner;
+    project.water.waves.push_back(GerstnerWave{});
+    project.water.gravity = 9.5;
+    Result<Scene> scene = loadScene(project);
+    ASSERT_FALSE(scene.ok());
+    EXPECT_EQ(scene.error().kind, ErrorKind::schema);
+    EXPECT_EQ(scene.error().message.rfind("waves.plim.json: water.gravity: 9.5 m/s^2", 0), 0u)
+        << scene.error().message;
+    // Agreeing, the scene loads (no bodies), and World gives the waves the scene's gravity.
+    project.water.gravity = 9.81;
+    EXPECT_TRUE(loadScene(project).ok());
+    Scene moon = cubeScene(2.0, Eigen::Vector3d(0, -1.62, 0));
+    moon.water = project.water;
+    std::unique_ptr<World> world = test::worldOrFail(std::move(moon));
+    ASSERT_TRUE(world);
+    EXPECT_DOUBLE_EQ(world->scene().water.gravity, 1.62);
+    WaterModel calm = WaterModel::flat(0.0);
+    calm.gravity = 20.0;
+    world->setWater(calm);
+    EXPECT_DOUBLE_EQ(world->scene().water.gravity, 1.62);
+}
+
+TEST(SceneLoader, NamesTheFileAndTheJsonPathOfEveryBodysProblem) {
+    const fs::path folder = test::scratchFolder("scene_loader");
+    Project project;
+    project.folder = folder;
+    project.fileStem = "harbour";
+    BodyDesc missingMesh;
+    missingMesh.name = "ghost";
+    missingMesh.mesh = "no_such_mesh.obj";
+    missingMesh.material.density = 500.0;
+    BodyDesc missingMap;
+    missingMap.name = "ball";
+    missingMap.mesh = test::assetPath("sphere.obj").string();
+    missingMap.textureSize = 32;
+    missingMap.material.shellSurfaceDensity = 2.0;
+    missingMap.material.shellDensityMap = "no_such_map.png";
+    BodyDesc missingGraph = missingMap;
+    missingGraph.name = "hull";
+    missingGraph.material.shellDensityMap.clear();
+    missingGraph.waterGraph = WaterGraphDesc{};
+    missingGraph.waterGraph->graph = "no_such.graph.json";
+    project.bodies = {missingMesh, missingMap, missingGraph};
+    Result<Scene> scene = loadScene(project);
+    ASSERT_FALSE(scene.ok());
+    const std::string& message = scene.error().message;
+    std::istringstream lines(message);
+    std::vector<std::string> starts;
+    for (std::string line; std::getline(lines, line);) starts.push_back(line);
+    ASSERT_EQ(starts.size(), 3u) << message;
+    EXPECT_EQ(starts[0].rfind("harbour.plim.json: bodies[0].mesh: body 'ghost' (no_such_mesh.obj): ", 0), 0u)
+        << message;
+    EXPECT_NE(starts[0].find("no_such_mesh.obj"), std::string::npos) << message;
+    EXPECT_EQ(starts[1].rfind("harbour.plim.json: bodies[1].material.map: body 'ball' (", 0), 0u)
+        << message;
+    EXPECT_NE(starts[1].find("no_such_map.png"), std::string::npos) << message;
+    EXPECT_EQ(starts[2].rfind("harbour.plim.json: bodies[2].water_graph.graph: body 'hull' (", 0),
+              0u)
+        << message;
+    EXPECT_NE(starts[2].find("no_such.graph.json"), std::string::npos) << message;
+}
+
+TEST(SceneLoader, ASceneFromDiskEqualsTheSameBodyBakedInMemory) {
+    // The adapter only reads: baking the mesh it read, in memory, gives the same textures and
+    // mass properties, and two worlds of one scene share the bodies' data instead of copying it.
+    Result<Project> project =
+        loadProject(fs::path(PLIMSOLL_SOURCE_DIR) / "projects" / "neutral_ball.plim.json");
+    ASSERT_TRUE(project.ok()) << project.error().message;
+    const Scene scene = test::sceneOrFail(*project);
+    ASSERT_EQ(scene.bodies.size(), 1u);
+    const SceneBody& loaded = scene.bodies[0];
+    const SceneBody again = test::bodyOrFail(loaded.desc, *loaded.parts.mesh);
+    EXPECT_EQ(again.textures->position, loaded.textures->position);
+    EXPECT_EQ(again.textures->areaVector, loaded.textures->areaVector);
+    EXPECT_EQ(again.mass->mass, loaded.mass->mass);
+    EXPECT_EQ(again.mass->inertia, loaded.mass->inertia);
+
+    std::unique_ptr<World> first = test::worldOrFail(scene);
+    std::unique_ptr<World> second = test::worldOrFail(scene);
+    ASSERT_TRUE(first && second);
+    EXPECT_EQ(first->scene().bodies[0].textures.get(), loaded.textures.get());
+    EXPECT_EQ(second->scene().bodies[0].parts.mesh.get(), loaded.parts.mesh.get());
+}
+
+TEST(SceneLoader, AWorldRunsOnWithItsProjectsFilesGone) {
+    // The sample projects with frames (balloon), a painted map (buoy) and a water graph with a
+    // permeability map (damaged boat), copied, read into scenes, and the copies removed: World
+    // reads nothing, so it runs on, frame for frame as a world of the files still there.
+    const fs::path root = test::scratchFolder("scene_files_gone");
+    const fs::path source = PLIMSOLL_SOURCE_DIR;
+    for (const char* name : {"balloon", "buoy", "damaged_boat"}) {
+        SCOPED_TRACE(name);
+        fs::remove_all(root);
+        fs::create_directories(root);
+        fs::copy(source / "assets", root / "assets", fs::copy_options::recursive);
+        fs::copy(source / "projects", root / "projects", fs::copy_options::recursive);
+        const std::string file = std::string(name) + ".plim.json";
+        Result<Project> copy = loadProject(root / "projects" / file);
+        Result<Project> original = loadProject(source / "projects" / file);
+        ASSERT_TRUE(copy.ok() && original.ok());
+        Scene scene = test::sceneOrFail(*copy);
+        fs::remove_all(root);
+        ASSERT_FALSE(fs::exists(root));
+        std::unique_ptr<World> orphan = test::worldOrFail(std::move(scene));
+        std::unique_ptr<World> reference = test::worldOrFail(test::sceneOrFail(*original));
+        ASSERT_TRUE(orphan && reference);
+        const Eigen::Vector3d start = orphan->bodies()[0].state.position;
+        for (int f = 0; f < 30; ++f) {
+            ASSERT_TRUE(orphan->advanceFrame().ok());
+            ASSERT_TRUE(reference->advanceFrame().ok());
+        }
+        const RigidBodyState& a = orphan->bodies()[0].state;
+        const RigidBodyState& b = reference->bodies()[0].state;
+        EXPECT_EQ(a.position, b.position);
+        EXPECT_EQ(a.orientation.coeffs(), b.orientation.coeffs());
+        EXPECT_EQ(a.linearMomentum, b.linearMomentum);
+        EXPECT_GT((a.position - start).norm(), 1e-4);  // it moved
+    }
+}
+
+TEST(SceneBodies, PartsThatDoNotFitTheDescriptionAreRefused) {
+    BodyDesc desc;
+    desc.name = "odd";
+    desc.mesh = "odd.obj";
+    desc.textureSize = 16;
+    desc.material.density = 500.0;
+    Result<SceneBody> noMesh = bakeSceneBody(desc, {});
+    ASSERT_FALSE(noMesh.ok());
+    EXPECT_EQ(noMesh.error().kind, ErrorKind::invalidArgument);
+    EXPECT_EQ(noMesh.error().message, "body 'odd' (odd.obj): no mesh");
+
+    const auto box = std::make_shared<const TriangleMesh>(makeBox(Eigen::Vector3d(1, 1, 1)));
+    desc.waterGraph = WaterGraphDesc{};
+    Result<SceneBody> noGraph = bakeSceneBody(desc, {.mesh = box});
+    ASSERT_FALSE(noGraph.ok());
+    EXPECT_EQ(noGraph.error().message, "body 'odd' (odd.obj): water graph named but none given");
+
+    desc.waterGraph.reset();
+    desc.meshFrames = {"odd_001.obj"};
+    Result<SceneBody> noFrames = bakeSceneBody(desc, {.mesh = box});
+    ASSERT_FALSE(noFrames.ok());
+    EXPECT_EQ(noFrames.error().message, "body 'odd' (odd.obj): mesh_frames named but no frames given");
+}
+
+}  // namespace
+}  // namespace plimsoll

@@ -1,0 +1,40 @@
+// Building scenes and worlds in tests: a project on disk through the adapter (scene_loader.h),
+// or a generated mesh handed to the bake in memory, as the editor and the benchmark do.
+#pragma once
+
+#include "plimsoll/compute/compute.h"
+#include "plimsoll/scene/scene.h"
+#include "plimsoll/scene/scene_loader.h"
+#include "plimsoll/scene/world.h"
+
+#include <gtest/gtest.h>
+
+#include <memory>
+#include <utility>
+
+namespace plimsoll::test {
+
+/// `project` read and baked; an empty scene (and a failure) if it cannot be.
+inline Scene sceneOrFail(const Project& project, const LogFunction& log = {}) {
+    Result<Scene> scene = loadScene(project, log);
+    EXPECT_TRUE(scene.ok()) << (scene.ok() ? "" : scene.error().message);
+    return scene.ok() ? std::move(scene).value() : Scene{};
+}
+
+/// A rigid body `desc` made of `mesh` (with its own UVs), baked; a failure if it cannot be.
+inline SceneBody bodyOrFail(const BodyDesc& desc, TriangleMesh mesh) {
+    Result<SceneBody> body =
+        bakeSceneBody(desc, {.mesh = std::make_shared<const TriangleMesh>(std::move(mesh))});
+    EXPECT_TRUE(body.ok()) << (body.ok() ? "" : body.error().message);
+    return body.ok() ? std::move(body).value() : SceneBody{};
+}
+
+/// The world of `scene` on the C++ reference backend; null (and a failure) if it cannot be made.
+inline std::unique_ptr<World> worldOrFail(Scene scene, LogFunction log = {}) {
+    Result<std::unique_ptr<World>> world =
+        World::create(std::move(scene), createReferenceBackend(), std::move(log));
+    EXPECT_TRUE(world.ok()) << (world.ok() ? "" : world.error().message);
+    return world.ok() ? std::move(world).value() : nullptr;
+}
+
+}  // namespace plimsoll::test
