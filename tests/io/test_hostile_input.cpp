@@ -285,6 +285,97 @@ TEST(AssimpGuards, PlyFacesAreCheckedBeforeAssimpReadsThem) {
     }
 }
 
+/// A big-endian scalar of a binary PLY body.
+template <class T>
+void appendBigEndian(std::string& out, T value) {
+    char bytes[sizeof(T)];
+    std::memcpy(bytes, &value, sizeof(T));
+    for (std::size_t b = sizeof(T); b-- > 0;) out += bytes[b];
+}
+
+TEST(AssimpGuards, APlyReachesAssimpOnlyAsTheCanonicalPlyItsReaderWrites) {
+    const fs::path dir = fresh("ply_canonical");
+    // A unit square of two quads (a 2 x 1 strip) with colours, normals and texture
+    // coordinates named s, t, written three ways: ASCII, big-endian doubles with the faces
+    // before the vertices, and with an edge element and a face property besides the corners.
+    const double xyz[6][3] = {{0, 0, 0}, {0.5, 0, 0}, {1, 0, 0}, {0, 1, 0}, {0.5, 1, 0}, {1, 1, 0}};
+    const double st[6][2] = {{0, 0}, {0.25, 0}, {0.5, 0}, {0, 0.75}, {0.25, 0.75}, {0.5, 0.75}};
+    const int quads[2][4] = {{0, 1, 4, 3}, {1, 2, 5, 4}};
+
+    std::string ascii = "ply\nformat ascii 1.0\ncomment made by hand\nelement vertex 6\n"
+                        "property float x\nproperty float y\nproperty float z\nproperty uchar red\n"
+                        "property float nx\nproperty float s\nproperty float t\nelement edge 1\n"
+                        "property int vertex1\nproperty int vertex2\nelement face 2\n"
+                        "property uchar flags\nproperty list uchar int vertex_indices\nend_header\n";
+    for (int v = 0; v < 6; ++v)
+        ascii += std::to_string(xyz[v][0]) + " " + std::to_string(xyz[v][1]) + " 0 200 1 " +
+                 std::to_string(st[v][0]) + " " + std::to_string(st[v][1]) + "\n";
+    ascii += "0 1\n";
+    for (const auto& q : quads)
+        ascii += "7 4 " + std::to_string(q[0]) + " " + std::to_string(q[1]) + " " +
+                 std::to_string(q[2]) + " " + std::to_string(q[3]) + "\n";
+
+    std::string big = "ply\nformat binary_big_endian 1.0\nelement face 2\n"
+                      "property list ushort uint vertex_index\nelement vertex 6\nproperty double x\n"
+                      "property double y\nproperty double z\nproperty list uchar float extra\n"
+                      "property double texture_u\nproperty double texture_v\nend_header\n";
+    for (const auto& q : quads) {
+        appendBigEndian<std::uint16_t>(big, 4);
+        for (int c : q) appendBigEndian<std::uint32_t>(big, static_cast<std::uint32_t>(c));
+    }
+    for (int v = 0; v < 6; ++v) {
+        for (double c : xyz[v]) appendBigEndian(big, c);
+        big += '\x01';
+        appendBigEndian(big, 9.0f);
+        appendBigEndian(big, st[v][0]);
+        appendBigEndian(big, st[v][1]);
+    }
+
+    for (const auto& [name, bytes] : {std::pair<std::string, std::string>{"ascii.ply", ascii}, {"big.ply", big}}) {
+        writeBytes(dir / name, bytes);
+        Result<TriangleMesh> mesh = loadMesh(dir / name, {.joinIdenticalVertices = false});
+        ASSERT_TRUE(mesh.ok()) << mesh.error().message;
+        ASSERT_EQ(mesh->positions.size(), 6u) << name;
+        ASSERT_EQ(mesh->uvs.size(), 6u) << name;
+        ASSERT_EQ(mesh->triangles.size(), 4u) << name;
+        for (int v = 0; v < 6; ++v) {
+            EXPECT_EQ(mesh->positions[v], Eigen::Vector3d(xyz[v][0], xyz[v][1], xyz[v][2])) << name << " " << v;
+            EXPECT_EQ(mesh->uvs[v], Eigen::Vector2d(st[v][0], st[v][1])) << name << " " << v;
+        }
+        // The quads' triangles cover the square once: their areas add up to 1.
+        double area = 0;
+        for (const Triangle& t : mesh->triangles)
+            area += 0.5 * (mesh->positions[t[1]] - mesh->positions[t[0]])
+                              .cross(mesh->positions[t[2]] - mesh->positions[t[0]])
+                              .norm();
+        EXPECT_DOUBLE_EQ(area, 1.0) << name;
+    }
+
+    const std::pair<std::string, std::string> refused[] = {
+        // The PLY fuzzer's eighth finding: no vertex element, a corner list under another
+        // name; assimp allocated 15 GB for it.
+        {"ply\nformat ascii 1.0\nelement vex 3\nproperty float x\nproperty float y\nproperty float z\n"
+         "element face 1\nproperty list uint uint vertex_i~dices\nend_header\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n",
+         "PLY header has no vertex element"},
+        {asciiPly("", 0), "PLY file has no faces (a point cloud is not a surface)"},
+        {"ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\nproperty float z\n"
+         "element face 1\nproperty list uchar int corners\nend_header\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n",
+         "PLY face element has no vertex_indices list"},
+        {"ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\nproperty float z\n"
+         "element tristrips 1\nproperty list int int vertex_indices\nend_header\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n",
+         "triangle strips (element tristrips) are not read"},
+        {"ply\nformat ascii 1.0\nelement vertex 1\nproperty float x\nproperty float y\nproperty float z\n"
+         "element vertex 1\nproperty float x\nend_header\n0 0 0\n0\n",
+         "a second vertex element"},
+    };
+    for (const auto& [bytes, expected] : refused) {
+        writeBytes(dir / "bad.ply", bytes);
+        const std::string message = messageOf(loadMesh(dir / "bad.ply"));
+        EXPECT_CONTAINS(message, (dir / "bad.ply").string());
+        EXPECT_CONTAINS(message, expected);
+    }
+}
+
 TEST(AssimpGuards, AGlbWithoutItsMagicNeverReachesAssimp) {
     // The GLB fuzzer's first finding: OBJ-like bytes named .glb overflowed a buffer in assimp.
     const fs::path dir = fresh("glb_magic");

@@ -11,13 +11,25 @@
 
 namespace plimsoll::detail {
 
-/// What assimp's importers trust, checked on a mesh file's bytes before they see it. PLY and
-/// GLB (any extension, by their magic): declared counts against the limits and the file's size,
-/// a PLY's whole body (face indices in range, polygon sizes, one element per ASCII line), a
-/// GLB's chunk sizes; glTF (format "gltf" or a GLB's JSON chunk): the node tree's depth and
-/// cycles; binary STL (format "stl"): the triangle count. Ok, or an error naming the file and
-/// the problem. Other formats (OBJ goes through objGeometry): Ok.
+/// What assimp's importers trust, checked on a mesh file's bytes before they see it. GLB (any
+/// extension, by its magic): the declared chunk sizes against the file's size; glTF (format
+/// "gltf" or a GLB's JSON chunk): the node tree's depth and cycles; binary STL (format "stl"):
+/// the triangle count. Ok, or an error naming the file and the problem. PLY goes through
+/// plyGeometry and OBJ through objGeometry instead: Ok.
 Status checkMeshBytes(std::string_view bytes, const std::string& file, const std::string& format);
+
+/// Whether a mesh file is read as PLY: format "ply", or bytes that start "ply" whatever the
+/// extension (assimp would pick its PLY reader by that signature).
+bool isPly(std::string_view bytes, const std::string& format);
+
+/// A PLY file read strictly (ASCII or binary, either byte order) and written back as the
+/// canonical PLY that is all assimp's PLY reader ever sees: binary little-endian, float x, y,
+/// z (and u, v where the file has a texture coordinate) and the faces' vertex_indices; colours,
+/// normals and other elements are left out, as the physics uses none of them. Declared counts
+/// are checked against limits.h and the file's size before anything is allocated for them,
+/// every face index against the vertex count, every ASCII element against its line. Errors
+/// name the file, the element and (ASCII) the line.
+Result<std::string> plyGeometry(std::string_view bytes, const std::string& file);
 
 /// The geometry of an OBJ text, checked, for assimp: only its v, vt, vn and f lines, every
 /// index of an f line naming a v / vt / vn the file defines (1..count, or -1..-count relative

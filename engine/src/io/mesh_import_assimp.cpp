@@ -181,6 +181,17 @@ Result<TriangleMesh> loadObj(std::istream& text, const std::string& source,
     return fromScene(scene, importer, source);
 }
 
+/// A PLY file through detail::plyGeometry, and only the canonical PLY it writes through assimp.
+Result<TriangleMesh> loadPly(std::string_view bytes, const std::string& source, MeshLoadOptions options) {
+    Result<std::string> geometry = detail::plyGeometry(bytes, source);
+    if (!geometry) return geometry.error();
+    Assimp::Importer importer;
+    configure(importer);
+    const aiScene* scene = importer.ReadFileFromMemory(geometry->data(), geometry->size(),
+                                                       importFlags(options), "ply");
+    return fromScene(scene, importer, source);
+}
+
 /// A mesh file's bytes through the checks assimp needs and then assimp; `folder` is where the
 /// files it refers to may be read from (none for a mesh from memory).
 Result<TriangleMesh> importBytes(std::string_view bytes, std::string format, const std::string& source,
@@ -191,6 +202,7 @@ Result<TriangleMesh> importBytes(std::string_view bytes, std::string format, con
         std::istringstream text{std::string(bytes)};
         return loadObj(text, source, options);
     }
+    if (detail::isPly(bytes, format)) return loadPly(bytes, source, options);
     if (Status checked = detail::checkMeshBytes(bytes, source, format); !checked.ok())
         return checked.error();
     Assimp::Importer importer;
