@@ -146,6 +146,7 @@ void drawBrushPanel(EditorState& s, const Rect& area) {
     ImGui::SameLine();
     ImGui::SetNextItemWidth(80);
     ImGui::InputInt("px", &s.newMapSize, 0);
+    tooltip("The new map's texels per side, 16 to 8192.");
     s.newMapSize = std::clamp(s.newMapSize, 16, 8192);
     if (s.confirmNewMap) {
         ImGui::OpenPopup("Replace map?");
@@ -159,8 +160,10 @@ void drawBrushPanel(EditorState& s, const Rect& area) {
             newMap();
             ImGui::CloseCurrentPopup();
         }
+        tooltip("Replaces the map with a blank one (one undo step).");
         ImGui::SameLine();
         if (ImGui::Button("Cancel")) ImGui::CloseCurrentPopup();
+        tooltip("Keeps the map as it is.");
         ImGui::EndPopup();
     }
 
@@ -170,11 +173,16 @@ void drawBrushPanel(EditorState& s, const Rect& area) {
         s.overlay = static_cast<Overlay>(overlay);
         s.overlaysDirty = true;
     }
+    tooltip("What the hull shows: a painted map, the physics coverage, or the baked position\n"
+            "and area textures; the legend in the view gives its units.");
     ImGui::Checkbox("Water", &s.showWater);
+    tooltip("Draw the water surface.");
     ImGui::SameLine();
     ImGui::Checkbox("Waves move", &s.animateWater);
+    tooltip("Animate the project's waves in edit mode (off: the surface at t = 0).");
     ImGui::SameLine();
     ImGui::Checkbox("Grid", &s.showGrid);
+    tooltip("Draw the ground grid and the axes.");
     ImGui::End();
 }
 

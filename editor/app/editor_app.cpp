@@ -397,12 +397,14 @@ void drawDialogs(EditorState& s, GLFWwindow* window) {
             if (s.pendingSaveAs) s.saveAs(*s.pendingSaveAs, /*replace=*/true);
             ImGui::CloseCurrentPopup();
         }
+        tooltip("Saves over the files listed (each replaced whole, never half-written).");
         ImGui::SameLine();
         if (ImGui::Button("Cancel")) {
             s.pendingSaveAs.reset();
             s.status = "Not saved: nothing was replaced";
             ImGui::CloseCurrentPopup();
         }
+        tooltip("Saves nothing; the files stay as they are.");
         ImGui::EndPopup();
     }
     if (ImGui::BeginPopupModal("Export unsaved changes?", nullptr, ImGuiWindowFlags_AlwaysAutoResize)) {
@@ -416,6 +418,7 @@ void drawDialogs(EditorState& s, GLFWwindow* window) {
             s.pendingExport.reset();
             ImGui::CloseCurrentPopup();
         }
+        tooltip("Saves the project, then exports what is on screen.");
         ImGui::SameLine();
         if (ImGui::Button("Export the last save")) {
             if (s.pendingExport) {
@@ -424,11 +427,13 @@ void drawDialogs(EditorState& s, GLFWwindow* window) {
             s.pendingExport.reset();
             ImGui::CloseCurrentPopup();
         }
+        tooltip("Exports the files as last saved; the unsaved changes stay in the editor only.");
         ImGui::SameLine();
         if (ImGui::Button("Cancel")) {
             s.pendingExport.reset();
             ImGui::CloseCurrentPopup();
         }
+        tooltip("Exports nothing.");
         ImGui::EndPopup();
     }
     if (s.confirmDiscardOpen) {
@@ -451,11 +456,13 @@ void drawDialogs(EditorState& s, GLFWwindow* window) {
             s.save();
             if (!s.document->dirty()) proceed();
         }
+        tooltip("Saves the changes first, then goes on.");
         ImGui::SameLine();
         if (ImGui::Button("Discard")) {
             s.document->discardAutosave();
             proceed();
         }
+        tooltip("Goes on without saving: the changes since the last save are lost.");
         ImGui::SameLine();
         if (ImGui::Button("Cancel")) {
             s.requestQuit = false;
@@ -463,6 +470,7 @@ void drawDialogs(EditorState& s, GLFWwindow* window) {
             s.pendingNew = false;
             ImGui::CloseCurrentPopup();
         }
+        tooltip("Stays with this project, changes kept.");
         ImGui::EndPopup();
     }
     if (s.recoveryOffer) {
@@ -484,6 +492,7 @@ void drawDialogs(EditorState& s, GLFWwindow* window) {
             s.recoveryOffer.reset();
             ImGui::CloseCurrentPopup();
         }
+        tooltip("Opens the autosaved edits (unsaved until you save them).");
         ImGui::SameLine();
         if (ImGui::Button("Discard it")) {
             std::error_code ec;
@@ -491,6 +500,7 @@ void drawDialogs(EditorState& s, GLFWwindow* window) {
             s.recoveryOffer.reset();
             ImGui::CloseCurrentPopup();
         }
+        tooltip("Deletes the autosave; the saved project is untouched.");
         ImGui::EndPopup();
     }
     if (s.showShortcuts) {

@@ -5,6 +5,8 @@
 #include "plimsoll/io/bundle.h"
 #include "plimsoll/io/file_util.h"
 
+#include "app/tooltip.h"
+
 #include <imgui.h>
 
 #include <chrono>
@@ -135,6 +137,7 @@ public:
         ImGui::EndChild();
         ImGui::BeginDisabled(!p.finished);
         if (ImGui::Button("Close")) open = false;
+        tooltip("Closes the log (once the export has finished).");
         ImGui::EndDisabled();
         ImGui::End();
         if (!open && p.finished) visible_ = false;

@@ -1,5 +1,7 @@
 #include "app/file_browser.h"
 
+#include "app/tooltip.h"
+
 #include <imgui.h>
 
 #include <algorithm>
@@ -78,22 +80,30 @@ std::optional<fs::path> FileBrowser::draw() {
     ImGui::SetNextWindowSize(ImVec2(640, 440), ImGuiCond_Appearing);
     if (!ImGui::BeginPopupModal(id, nullptr)) return chosen;
     ImGui::TextUnformatted(folder_.string().c_str());
-    if (ImGui::Button("Up") && folder_.has_parent_path()) {
+    const bool up = ImGui::Button("Up");
+    tooltip("The folder that holds this one.");
+    if (up && folder_.has_parent_path()) {
         folder_ = folder_.parent_path();
         list();
     }
     ImGui::SameLine();
-    if (ImGui::Button("Home")) {
+    const bool home = ImGui::Button("Home");
+    tooltip("Your home folder ($HOME).");
+    if (home) {
         if (const char* home = std::getenv("HOME")) folder_ = home;
         list();
     }
     ImGui::SameLine();
-    if (ImGui::Button("Current folder")) {
+    const bool current = ImGui::Button("Current folder");
+    tooltip("The folder the editor was started in.");
+    if (current) {
         folder_ = fs::current_path();
         list();
     }
     ImGui::SameLine();
-    if (ImGui::Button("New folder")) {
+    const bool newFolder = ImGui::Button("New folder");
+    tooltip("Makes a folder here: type its name, then Create or Enter.");
+    if (newFolder) {
         namingFolder_ = true;
         folderName_[0] = '\0';
     }
@@ -102,7 +112,9 @@ std::optional<fs::path> FileBrowser::draw() {
         const bool entered = ImGui::InputText("##folder", folderName_, sizeof folderName_,
                                               ImGuiInputTextFlags_EnterReturnsTrue);
         ImGui::SameLine();
-        if ((ImGui::Button("Create") || entered) && folderName_[0]) {
+        const bool create = ImGui::Button("Create");
+        tooltip("Creates the folder and opens it.");
+        if ((create || entered) && folderName_[0]) {
             std::error_code ec;
             const fs::path made = folder_ / folderName_;
             if (fs::create_directory(made, ec)) {
@@ -118,8 +130,10 @@ std::optional<fs::path> FileBrowser::draw() {
     ImGui::BeginChild("entries", ImVec2(0, -footer), true);
     for (const Entry& e : entries_) {
         const std::string label = (e.folder ? "[dir] " : "      ") + e.name;
-        if (ImGui::Selectable(label.c_str(), !e.folder && e.name == name_,
-                              ImGuiSelectableFlags_AllowDoubleClick)) {
+        const bool picked = ImGui::Selectable(label.c_str(), !e.folder && e.name == name_,
+                                              ImGuiSelectableFlags_AllowDoubleClick);
+        tooltip(e.folder ? "Click to open the folder." : "Click to choose the file, double-click to take it.");
+        if (picked) {
             if (e.folder) {
                 folder_ /= e.name;
                 list();
@@ -134,17 +148,24 @@ std::optional<fs::path> FileBrowser::draw() {
     if (purpose_ != Purpose::Export) {
         ImGui::SetNextItemWidth(-200);
         ImGui::InputText("##name", name_, sizeof name_);
+        tooltip("The file's name in this folder, or a whole path.");
         ImGui::SameLine();
     }
     const char* action = purpose_ == Purpose::SaveProjectAs ? "Save"
                          : purpose_ == Purpose::Export      ? "Export here"
                                                             : "Open";
-    if (ImGui::Button(action)) {
+    const bool act = ImGui::Button(action);
+    tooltip(purpose_ == Purpose::SaveProjectAs ? "Saves the project under this name (its maps and graphs beside it)."
+            : purpose_ == Purpose::Export      ? "Exports the bundle into the folder shown above."
+                                               : "Opens the chosen file.");
+    if (act) {
         if (purpose_ == Purpose::Export) chosen = folder_;
         else if (name_[0]) chosen = fs::path(name_).is_absolute() ? fs::path(name_) : folder_ / name_;
     }
     ImGui::SameLine();
-    if (ImGui::Button("Cancel") || ImGui::IsKeyPressed(ImGui::GetKeyIndex(ImGuiKey_Escape))) ImGui::CloseCurrentPopup();
+    const bool cancel = ImGui::Button("Cancel");
+    tooltip("Closes the dialog; nothing is written (Esc).");
+    if (cancel || ImGui::IsKeyPressed(ImGui::GetKeyIndex(ImGuiKey_Escape))) ImGui::CloseCurrentPopup();
     if (chosen) ImGui::CloseCurrentPopup();
     ImGui::EndPopup();
     return chosen;

@@ -222,20 +222,29 @@ void nodeInspector(EditorState& s, const GraphNode& n) {
     }
     NodeEdit e;
     ImGui::InputText("name", name, sizeof name);
+    tooltip("A label for the compartment, shown in the 3D view and the schematic.");
     if (ImGui::IsItemDeactivatedAfterEdit()) e.name = std::string(name);
     ImGui::DragScalarN("position", ImGuiDataType_Double, shown.position.data(), 3, 0.01f);
+    tooltip("The node's centre in the body's frame, metres (drag, or Ctrl+click to type).");
     if (ImGui::IsItemDeactivatedAfterEdit()) e.position = shown.position;
     if (inputDouble("capacity m^3", shown.capacity)) e.capacity = shown.capacity;
+    tooltip("How much water the compartment holds when full, cubic metres.");
     if (inputDouble("water m^3", shown.water)) e.water = shown.water;
+    tooltip("The water in it at the start of a run, cubic metres (0 to capacity).");
     if (ImGui::Checkbox("sealed", &shown.sealed)) e.sealed = shown.sealed;
+    tooltip("A sealed compartment takes no water through the hull, only through its pipes.");
     bool box = shown.isBox();
-    if (ImGui::Checkbox("box", &box)) {
+    const bool boxClicked = ImGui::Checkbox("box", &box);
+    tooltip("A box compartment: its water fills an upright box and levels as the body heels.\n"
+            "Off: a sphere-like node whose level follows its volume alone.");
+    if (boxClicked) {
         // A sphere becomes the cube of its capacity; a box a sphere (zero box size).
         const double side = std::cbrt(shown.capacity);
         e.boxSize = box ? Eigen::Vector3d::Constant(side) : Eigen::Vector3d::Zero();
     }
     if (box) {
         ImGui::DragScalarN("box size m", ImGuiDataType_Double, shown.boxSize.data(), 3, 0.01f);
+        tooltip("The box's edge lengths along the body's x, y and z, metres.");
         if (ImGui::IsItemDeactivatedAfterEdit()) e.boxSize = shown.boxSize;
     }
     if (e.name || e.position || e.capacity || e.water || e.sealed || e.boxSize) {
@@ -253,10 +262,13 @@ void pipeInspector(EditorState& s, const WaterGraph& g, const GraphPipe& p) {
     }
     PipeEdit e;
     if (inputDouble("radius m", shown.radius)) e.radius = shown.radius;
+    tooltip("The pipe's inner radius, metres: flow grows with its fourth power (Poiseuille).");
     if (inputDouble("length m (0: distance)", shown.length)) e.length = shown.length;
+    tooltip("The pipe's length, metres; 0 uses the distance between its two nodes.");
     ImGui::Text("effective length %.3f m", g.pipeLength(p));
     bool open = shown.open;
     if (ImGui::Checkbox("open", &open)) e.open = open;
+    tooltip("A closed pipe passes no water (a shut valve or a closed door).");
     if (e.radius || e.length || e.open) s.execute(makeSetPipeCommand(*s.document, bodyOf(s), p.a, p.b, e));
 }
 
@@ -388,6 +400,7 @@ void drawGraphPanel(EditorState& s) {
     if (!s.document->project().bodies[body].waterGraph) {
         ImGui::TextWrapped("This body has no water graph: it is sealed.");
         if (ImGui::Button("Create water graph")) s.execute(makeCreateGraphCommand(*s.document, body));
+        tooltip("Gives the body an empty water graph: add nodes by hand or auto-generate them below.");
         ImGui::End();
         return;
     }
@@ -397,21 +410,29 @@ void drawGraphPanel(EditorState& s) {
         return;
     }
     ImGui::Checkbox("Edit in view", &ui.editInView);
+    tooltip("Click nodes in the 3D view to select them and drag to move them; painting pauses.");
     ImGui::SameLine();
     ImGui::Checkbox("Show", &ui.showGraph);
+    tooltip("Draw the nodes, boxes and pipes in the 3D view.");
     ImGui::SameLine();
     ImGui::Checkbox("Feed colours", &ui.showFeeds);
+    tooltip("Colour the hull by the node each texel's water flows into.");
     ImGui::SliderFloat("hull alpha", &ui.hullAlpha, 0.05f, 1.0f, "%.2f");
+    tooltip("How opaque the hull is drawn while the graph shows (Ctrl+click to type).");
     const char* planes[] = {"view plane", "horizontal plane", "hull surface"};
     int plane = static_cast<int>(ui.dragPlane);
     if (ImGui::Combo("drag on", &plane, planes, 3)) ui.dragPlane = static_cast<DragPlane>(plane);
+    tooltip("Where a dragged node moves: in the plane facing the camera, at its height, or along\n"
+            "the hull's surface.");
     ImGui::PushTextWrapPos(0.0f);
     ImGui::TextDisabled("hold X / Y / Z while dragging: along that axis");
     ImGui::PopTextWrapPos();
 
     // Buttons: each one command.
     const std::vector<std::string> ids = selectedIds(ui, *g);
-    if (ImGui::Button("Add node")) {
+    const bool addNode = ImGui::Button("Add node");
+    tooltip("A new node at the middle of the body's bounds.");
+    if (addNode) {
         GraphNode n;
         const Bounds3 bounds = computeBounds(*s.document->assets(body).mesh);
         n.position = 0.5 * (bounds.min + bounds.max);
@@ -422,7 +443,9 @@ void drawGraphPanel(EditorState& s) {
     }
     ImGui::SameLine();
     ImGui::BeginDisabled(ids.empty());
-    if (ImGui::Button("Duplicate")) {
+    const bool duplicate = ImGui::Button("Duplicate");
+    tooltip("Copies of the selected nodes, shifted along x (select nodes first).");
+    if (duplicate) {
         const double shift = 0.1 * std::cbrt(g->nodes[g->indexOf(ids.front())].capacity);
         const std::size_t before = g->nodes.size();
         if (s.execute(makeDuplicateNodesCommand(*s.document, body, ids, {shift, 0, 0}))) {
@@ -433,9 +456,12 @@ void drawGraphPanel(EditorState& s) {
     }
     ImGui::SameLine();
     if (ImGui::Button("Delete")) s.execute(makeDeleteNodesCommand(*s.document, body, ids));
+    tooltip("Removes the selected nodes and their pipes (Delete).");
     ImGui::EndDisabled();
     ImGui::BeginDisabled(ids.size() != 2);
-    if (ImGui::Button("Connect")) {
+    const bool connect = ImGui::Button("Connect");
+    tooltip("A pipe between the two selected nodes (select exactly two).");
+    if (connect) {
         GraphPipe p;
         p.a = ids[0];
         p.b = ids[1];
@@ -445,12 +471,16 @@ void drawGraphPanel(EditorState& s) {
     ImGui::SameLine();
     const bool pairJoined = ids.size() == 2 && findPipe(*g, ids[0], ids[1]) >= 0;
     ImGui::BeginDisabled(!ui.selectedPipe && !pairJoined);
-    if (ImGui::Button("Disconnect")) {
+    const bool disconnect = ImGui::Button("Disconnect");
+    tooltip("Removes the selected pipe, or the one between the two selected nodes.");
+    if (disconnect) {
         const auto pair = ui.selectedPipe ? *ui.selectedPipe : std::pair(ids[0], ids[1]);
         s.execute(makeRemovePipeCommand(*s.document, body, pair.first, pair.second));
     }
     ImGui::SameLine();
-    if (ImGui::Button("Open/Close")) {
+    const bool toggle = ImGui::Button("Open/Close");
+    tooltip("Opens a closed pipe or closes an open one.");
+    if (toggle) {
         const auto pair = ui.selectedPipe ? *ui.selectedPipe : std::pair(ids[0], ids[1]);
         PipeEdit e;
         e.open = !g->pipes[findPipe(*g, pair.first, pair.second)].open;
@@ -510,14 +540,18 @@ void drawGraphPanel(EditorState& s) {
     ImGui::Separator();
     ImGui::TextUnformatted("Auto-generate (paper 4.1: SDF segments)");
     ImGui::InputInt("segments", &ui.segments);
+    tooltip("How many compartments the shape diameter function splits the body into (1 to 64).");
     ui.segments = std::clamp(ui.segments, 1, 64);
     if (ui.job) {
         ImGui::ProgressBar(static_cast<float>(*ui.job->progress), ImVec2(-1, 0), "segmenting...");
     } else {
         if (ImGui::Button("Preview")) startAutoGenerate(s);
+        tooltip("Segments the mesh on a worker and shows the graph it would make; nothing changes yet.");
         if (ui.preview) {
             ImGui::SameLine();
-            if (ImGui::Button("Apply")) {
+            const bool apply = ImGui::Button("Apply");
+            tooltip("Replaces the body's water graph with the previewed one (one undo step).");
+            if (apply) {
                 if (s.execute(makeReplaceGraphCommand(*s.document, ui.preview->body,
                                                       ui.preview->graph,
                                                       "Auto-generate water graph"))) {
@@ -527,6 +561,7 @@ void drawGraphPanel(EditorState& s) {
             }
             ImGui::SameLine();
             if (ImGui::Button("Cancel")) ui.preview.reset();
+            tooltip("Drops the preview; the graph stays as it was.");
             if (ui.preview) {
                 ImGui::Text("preview: %zu nodes, %zu pipes from %d segments (%.1f s)",
                             ui.preview->graph.nodes.size(), ui.preview->graph.pipes.size(),

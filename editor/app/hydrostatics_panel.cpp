@@ -107,6 +107,8 @@ void drawHydrostaticsPanel(EditorState& s) {
     }
     ImGui::TextWrapped("%s: calm water, heel about x, trim about z", body.label.c_str());
     if (ImGui::Button("Compute")) compute(body, scene);
+    tooltip("Finds the body's equilibrium in calm water and its righting-arm curve, from the\n"
+            "textures and from the exact clip side by side.");
     if (gFigures.body == body.label) {
         if (!gFigures.error.empty()) ImGui::TextWrapped("error: %s", gFigures.error.c_str());
         if (gFigures.textures && gFigures.exact) drawFigures(*gFigures.textures, *gFigures.exact);

@@ -38,7 +38,7 @@ void drawLayersPanel(EditorState& s, const Rect& area) {
             s.paintMask = false;
         }
     }
-    if (ImGui::IsItemHovered()) ImGui::SetTooltip("A new paint layer above the active one: clear until painted");
+    tooltip("A new paint layer above the active one: clear until painted.");
     ImGui::SameLine();
     if (ImGui::Button("+ Fill")) {
         if (s.execute(makeAddLayerCommand(*s.document, body, s.channel, LayerKind::Fill, "",
@@ -46,7 +46,7 @@ void drawLayersPanel(EditorState& s, const Rect& area) {
             s.activeLayer = active + 1;
         }
     }
-    if (ImGui::IsItemHovered()) ImGui::SetTooltip("A layer of one value (the brush value); give it a mask to place it");
+    tooltip("A layer of one value (the brush value); give it a mask to place it.");
     ImGui::SameLine();
     ImGui::BeginDisabled(count < 2);
     if (ImGui::Button("Delete")) {
@@ -54,6 +54,7 @@ void drawLayersPanel(EditorState& s, const Rect& area) {
             s.activeLayer = std::max(0, active - 1);
         }
     }
+    tooltip("Removes the active layer (the bottom one stays: a map has at least one).");
     ImGui::EndDisabled();
     ImGui::SameLine();
     ImGui::BeginDisabled(!stack || active + 1 >= count);
@@ -62,6 +63,7 @@ void drawLayersPanel(EditorState& s, const Rect& area) {
             s.activeLayer = active + 1;
         }
     }
+    tooltip("Moves the active layer up, over the one above it.");
     ImGui::EndDisabled();
     ImGui::SameLine();
     ImGui::BeginDisabled(!stack || active <= 0);
@@ -70,6 +72,7 @@ void drawLayersPanel(EditorState& s, const Rect& area) {
             s.activeLayer = active - 1;
         }
     }
+    tooltip("Moves the active layer down, under the one below it.");
     ImGui::EndDisabled();
 
     if (!stack) {
@@ -92,7 +95,7 @@ void drawLayersPanel(EditorState& s, const Rect& area) {
             e.visible = visible;
             s.execute(makeSetLayerCommand(*s.document, body, s.channel, i, e));
         }
-        if (ImGui::IsItemHovered()) ImGui::SetTooltip("Show or hide the layer");
+        tooltip("Show or hide the layer.");
         ImGui::SameLine();
         const std::string label = layer.name + "  (" + layerKindName(layer.kind) + ", " +
                                   blendModeName(layer.blend) + ", " +
@@ -102,6 +105,7 @@ void drawLayersPanel(EditorState& s, const Rect& area) {
             s.activeLayer = i;
             if (!layer.mask) s.paintMask = false;
         }
+        tooltip("Click to make it the active layer: strokes, fills and the settings below act on it.");
         ImGui::PopID();
     }
     ImGui::EndChild();
@@ -116,14 +120,17 @@ void drawLayersPanel(EditorState& s, const Rect& area) {
         e.blend = static_cast<BlendMode>(blend);
         s.execute(makeSetLayerCommand(*s.document, body, s.channel, active, e));
     }
+    tooltip("How the layer meets what is below it: normal replaces, multiply scales, add and\n"
+            "subtract offset, screen brightens, lighten and darken keep the larger or smaller.");
     ImGui::SameLine();
     LayerSliders& held = s.layerSliders;
     // A 0..1 slider that shows the value while held and edits the layer once let go.
-    auto slider = [&](const char* label, const char* format, float current, bool& isHeld,
+    auto slider = [&](const char* label, const char* help, const char* format, float current, bool& isHeld,
                       float& heldValue, std::optional<double> LayerEdit::*field) {
         float value = isHeld ? heldValue : current;
         ImGui::SetNextItemWidth(area.w * 0.3f);
         ImGui::SliderFloat(label, &value, 0.0f, 1.0f, format);
+        tooltip(help);
         isHeld = ImGui::IsItemActive();
         heldValue = value;
         if (ImGui::IsItemDeactivatedAfterEdit()) {
@@ -132,9 +139,9 @@ void drawLayersPanel(EditorState& s, const Rect& area) {
             s.execute(makeSetLayerCommand(*s.document, body, s.channel, active, e));
         }
     };
-    slider("Opacity", "%.2f", layer.opacity, held.opacityHeld, held.opacity, &LayerEdit::opacity);
+    slider("Opacity", "How much of the layer shows over what is below it (Ctrl+click to type).", "%.2f", layer.opacity, held.opacityHeld, held.opacity, &LayerEdit::opacity);
     if (layer.kind == LayerKind::Fill) {
-        slider("Fill value", "%.3f", layer.fillValue, held.fillHeld, held.fill, &LayerEdit::fillValue);
+        slider("Fill value", "The one value the fill layer holds, 0 to 1 (Ctrl+click to type).", "%.3f", layer.fillValue, held.fillHeld, held.fill, &LayerEdit::fillValue);
     }
     if (!layer.mask) {
         if (ImGui::Button("Add mask")) {
@@ -145,13 +152,15 @@ void drawLayersPanel(EditorState& s, const Rect& area) {
                 s.paintMask = true;
             }
         }
+        tooltip("A mask for the layer: paint it to show (white) or hide (black) the layer in places.");
     } else {
         ImGui::Checkbox("Paint the mask", &s.paintMask);
-        if (ImGui::IsItemHovered()) ImGui::SetTooltip("Strokes and fills change the mask (1 shows the layer, 0 hides it)");
+        tooltip("Strokes and fills change the mask (1 shows the layer, 0 hides it).");
         ImGui::SameLine();
         if (ImGui::Button("Remove mask")) {
             if (s.execute(makeRemoveMaskCommand(*s.document, body, s.channel, active))) s.paintMask = false;
         }
+        tooltip("Removes the mask: the whole layer shows again.");
     }
     ImGui::End();
 }

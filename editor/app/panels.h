@@ -2,6 +2,7 @@
 #pragma once
 
 #include "app/editor_state.h"
+#include "app/tooltip.h"
 
 #include <imgui.h>
 
@@ -39,10 +40,5 @@ void drawHydrostaticsPanel(EditorState& state);
 /// Edit > Undo history: every step by name, the current one marked; a click undoes or redoes
 /// to just after that step (history_panel.cpp).
 void drawHistoryPanel(EditorState& state);
-
-/// The last item's tooltip while it is hovered.
-inline void tooltip(const char* text) {
-    if (ImGui::IsItemHovered()) ImGui::SetTooltip("%s", text);
-}
 
 }  // namespace plimsoll::editor

@@ -3,6 +3,8 @@
 // Debian's Dear ImGui 1.86 is built without the docking branch, so the windows float.
 #include "app/preview_panel.h"
 
+#include "app/tooltip.h"
+
 #include <imgui.h>
 
 #include <algorithm>
@@ -87,7 +89,9 @@ void drawPlotPanels(EditorState& s) {
                 ImGui::PlotLines(("##" + series->name).c_str(), values.data(), int(shown), 0, overlay,
                                  FLT_MAX, FLT_MAX, ImVec2(plotWidth, 60));
             }
-            if (ImGui::Button("Export CSV")) {
+            const bool exportCsv = ImGui::Button("Export CSV");
+            tooltip("Writes these series, one row per frame, to a CSV file in the project's folder.");
+            if (exportCsv) {
                 std::vector<std::string> names;
                 for (const PlotSeries* series : group.series) names.push_back(series->name);
                 const std::filesystem::path folder = s.document->project().folder.empty()

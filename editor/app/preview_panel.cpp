@@ -135,11 +135,13 @@ bool editWater(WaterModel& water) {
         }
         changed = true;
     }
+    tooltip("Flat water, or a sum of Gerstner waves; a height field comes from the project.");
     float level = static_cast<float>(water.level);
     if (ImGui::DragFloat("level (m)", &level, 0.01f)) {
         water.level = level;
         changed = true;
     }
+    tooltip("The still-water height, metres (drag, or Ctrl+click to type).");
     if (water.kind == WaterModel::Kind::Gerstner) {
         for (std::size_t i = 0; i < water.waves.size(); ++i) {
             GerstnerWave& w = water.waves[i];
@@ -147,23 +149,28 @@ bool editWater(WaterModel& water) {
             ImGui::Text("wave %zu", i + 1);
             float a = float(w.amplitude), l = float(w.wavelength), q = float(w.steepness);
             if (ImGui::SliderFloat("amplitude (m)", &a, 0.0f, 2.0f)) w.amplitude = a, changed = true;
+            tooltip("Half the wave's height from trough to crest, metres.");
             if (ImGui::SliderFloat("wavelength (m)", &l, 0.5f, 100.0f, "%.2f", ImGuiSliderFlags_Logarithmic)) {
                 w.wavelength = l;
                 changed = true;
             }
+            tooltip("Crest to crest, metres; the period follows from deep-water dispersion.");
             if (ImGui::SliderFloat("steepness", &q, 0.0f, 1.0f)) w.steepness = q, changed = true;
+            tooltip("Gerstner's Q: 0 is a sine wave, 1 sharp crests (above 1 the surface would loop).");
             ImGui::PopID();
         }
         if (ImGui::SmallButton("add wave")) {
             water.waves.push_back(GerstnerWave{});
             changed = true;
         }
+        tooltip("Adds another wave to the sum.");
         if (water.waves.size() > 1) {
             ImGui::SameLine();
             if (ImGui::SmallButton("remove last")) {
                 water.waves.pop_back();
                 changed = true;
             }
+            tooltip("Removes the last wave of the sum.");
         }
     }
     return changed;
@@ -199,6 +206,7 @@ void drawTextureSizeChoice(PreviewSession& session) {
                            ImVec2(-70.0f, 0.0f), overlay);
         ImGui::SameLine();
         if (ImGui::Button("Cancel")) session.cancelRebuild();
+        tooltip("Stops the bake; the preview keeps its current size.");
         ImGui::TextWrapped("Running at %d^2 until the new bake is ready.", running);
     } else if (!session.rebuildError().empty()) {
         ImGui::TextWrapped("The new size failed to bake: %s", session.rebuildError().c_str());
