@@ -5,6 +5,7 @@
 #include <cassert>
 #include <cmath>
 #include <complex>
+#include <iterator>
 
 namespace plimsoll {
 
@@ -26,7 +27,7 @@ double fittedDamping(const std::vector<MemoryTerm>& terms, double omega) {
 
 double fittedAddedMass(const std::vector<MemoryTerm>& terms, double omega) {
     double a = 0;
-    for (const MemoryTerm& t : terms) a -= response(t, omega).imag() / omega;
+    for (const MemoryTerm& t : terms) a += response(t, omega).imag() / omega;
     return a;
 }
 
@@ -60,9 +61,11 @@ std::vector<MemoryTerm> fitMemory(const std::vector<double>& omega, const std::v
     const auto [lowIt, highIt] = std::minmax_element(omega.begin(), omega.end());
     const double low = *lowIt, high = *highIt;
     constexpr int kFrequencies = 12;
+    constexpr double kDampingRatios[] = {0.25, 0.5, 1.0};
+    static_assert(kFrequencies * std::size(kDampingRatios) == plimsoll_eval::kMaxMemoryTerms);
     for (int k = 0; k < kFrequencies; ++k) {
         const double w = low * std::pow(high / low, k / double(kFrequencies - 1));
-        for (const double zeta : {0.25, 0.5, 1.0}) basis.push_back({1.0, w, zeta});
+        for (const double zeta : kDampingRatios) basis.push_back({1.0, w, zeta});
     }
     const auto samples = static_cast<Eigen::Index>(omega.size());
     const Eigen::VectorXd target = Eigen::Map<const Eigen::VectorXd>(damping.data(), samples);
@@ -107,8 +110,7 @@ CumminsModel cumminsModel(const std::vector<RadiationCoefficients>& coefficients
 
 MemoryState memoryStateFor(const CumminsModel& model) {
     MemoryState state;
-    for (int mode = 0; mode < 6; ++mode)
-        state.filters[mode].assign(model.memory[mode].size(), Eigen::Vector2d::Zero());
+    for (int mode = 0; mode < 6; ++mode) state.filters[mode].assign(model.memory[mode].size(), {});
     return state;
 }
 
@@ -116,38 +118,26 @@ Vector6d memoryForce(const CumminsModel& model, const MemoryState& state) {
     Vector6d force = Vector6d::Zero();
     for (int mode = 0; mode < 6; ++mode)
         for (std::size_t m = 0; m < model.memory[mode].size(); ++m)
-            force(mode) -= model.memory[mode][m].gain * state.filters[mode][m].y();
+            force(mode) += plimsoll_eval::filterForce(model.memory[mode][m], state.filters[mode][m]);
     return force;
 }
 
 void advanceMemory(const CumminsModel& model, MemoryState& state, const Vector6d& velocity, double dt) {
-    for (int mode = 0; mode < 6; ++mode) {
-        for (std::size_t m = 0; m < model.memory[mode].size(); ++m) {
-            const MemoryTerm& t = model.memory[mode][m];
-            Eigen::Vector2d& x = state.filters[mode][m];
-            // x'' + 2 zeta w x' + w^2 x = v, backward Euler on (x, x').
-            const double w2 = t.frequency * t.frequency;
-            const double rate = (x.y() + dt * (velocity(mode) - w2 * x.x())) /
-                                (1.0 + 2.0 * t.dampingRatio * t.frequency * dt + w2 * dt * dt);
-            x = {x.x() + dt * rate, rate};
-        }
-    }
+    for (int mode = 0; mode < 6; ++mode)
+        for (std::size_t m = 0; m < model.memory[mode].size(); ++m)
+            plimsoll_eval::advanceFilter(model.memory[mode][m], state.filters[mode][m], velocity(mode), dt);
 }
 
 double memoryEnergy(const CumminsModel& model, const MemoryState& state) {
     double e = 0;
-    for (int mode = 0; mode < 6; ++mode) {
-        for (std::size_t m = 0; m < model.memory[mode].size(); ++m) {
-            const MemoryTerm& t = model.memory[mode][m];
-            const Eigen::Vector2d& x = state.filters[mode][m];
-            e += 0.5 * t.gain * (x.y() * x.y() + t.frequency * t.frequency * x.x() * x.x());
-        }
-    }
+    for (int mode = 0; mode < 6; ++mode)
+        for (std::size_t m = 0; m < model.memory[mode].size(); ++m)
+            e += plimsoll_eval::filterEnergy(model.memory[mode][m], state.filters[mode][m]);
     return e;
 }
 
 double entrainedShare(double submergedVolume, double restVolume) {
-    return restVolume > 0 ? std::clamp(2.0 * submergedVolume / restVolume, 0.0, 1.0) : 0.0;
+    return plimsoll_eval::entrainedShare(submergedVolume, restVolume);
 }
 
 void applyAddedMass(const CumminsModel& model, double share, MassDistribution& mass, RigidBodyState& state) {

@@ -15,6 +15,7 @@
 #pragma once
 
 #include "plimsoll/physics/radiation.h"
+#include "plimsoll_eval/cummins.hpp"
 #include "plimsoll/physics/rigid_body.h"
 
 #include <array>
@@ -24,16 +25,13 @@ namespace plimsoll {
 
 using Vector6d = Eigen::Matrix<double, 6, 1>;
 
-/// One filter of the memory fit.
-struct MemoryTerm {
-    double gain = 0;          ///< c_m >= 0 (kg/s^2 for translations)
-    double frequency = 0;     ///< w_m > 0, rad/s
-    double dampingRatio = 0;  ///< zeta_m > 0
-};
+/// One filter of the memory fit (c_m, w_m, zeta_m), the evaluation core's type.
+using MemoryTerm = plimsoll_eval::MemoryTerm;
 
 /// B(w) of a fit (the real part of K(i w)).
 double fittedDamping(const std::vector<MemoryTerm>& terms, double omega);
-/// A(w) - A_inf of a fit (-Im K(i w) / w).
+/// A(w) - A_inf of a fit (Im K(i w) / w: a filter's slow limit adds c / w_m^2, as a body that
+/// drags water along; the sign the panel method's A(w) - A_inf has).
 double fittedAddedMass(const std::vector<MemoryTerm>& terms, double omega);
 
 /// Non-negative least-squares fit of the damping samples (omega rad/s, B > 0 expected) on a
@@ -53,7 +51,7 @@ CumminsModel cumminsModel(const std::vector<RadiationCoefficients>& coefficients
 
 /// The filters' states: (x, x') of each term of each mode.
 struct MemoryState {
-    std::array<std::vector<Eigen::Vector2d>, 6> filters;
+    std::array<std::vector<plimsoll_eval::MemoryFilter>, 6> filters;
 };
 MemoryState memoryStateFor(const CumminsModel& model);
 
