@@ -8,6 +8,8 @@
 
 #include <cmath>
 #include <complex>
+#include <functional>
+#include <utility>
 #include <numbers>
 #include <vector>
 
@@ -18,27 +20,30 @@ struct DecayFigures {
     double logDecrement = 0;  ///< ln of the ratio of peaks one period apart
 };
 
+/// Heave added mass and damping at a frequency (rad/s): {A, B}.
+using HeaveCoefficients = std::function<std::pair<double, double>(double omega)>;
+
 /// The damped period and log decrement that A and B predict for a body of `mass` (kg) on a
 /// heave stiffness `stiffness` (N/m): the root of
 ///   C - w^2 (m + A(w)) + i w B(w) = 0
 /// near the natural frequency, A and B continued into complex w by their slopes there (central
-/// differences of the panel solution). The slope matters: the decaying oscillation samples A
-/// and B a little off the real axis, and for the hemisphere that adds 13% to the damping that
-/// B(w_n) alone would give. `naturalFrequency`, if given, receives w_n (rad/s).
-inline DecayFigures predictedHeaveDecay(const RadiationSolver& solver, double mass, double stiffness,
+/// differences). The slope matters: the decaying oscillation samples A and B a little off the
+/// real axis, and for the hemisphere that adds 13% to the damping that B(w_n) alone would give.
+/// `naturalFrequency`, if given, receives w_n (rad/s).
+inline DecayFigures predictedHeaveDecay(const HeaveCoefficients& coefficients, double mass, double stiffness,
                                         double* naturalFrequency = nullptr) {
     double omega = std::sqrt(stiffness / mass);
-    RadiationCoefficients at;
+    std::pair<double, double> at;
     for (int iteration = 0; iteration < 6; ++iteration) {
-        at = solver.at(omega);
-        omega = std::sqrt(stiffness / (mass + at.addedMass(kHeaveY, kHeaveY)));
+        at = coefficients(omega);
+        omega = std::sqrt(stiffness / (mass + at.first));
     }
     if (naturalFrequency) *naturalFrequency = omega;
     const double h = 0.03 * omega;
-    const RadiationCoefficients below = solver.at(omega - h), above = solver.at(omega + h);
-    const double a0 = at.addedMass(kHeaveY, kHeaveY), b0 = at.damping(kHeaveY, kHeaveY);
-    const double a1 = (above.addedMass(kHeaveY, kHeaveY) - below.addedMass(kHeaveY, kHeaveY)) / (2 * h);
-    const double b1 = (above.damping(kHeaveY, kHeaveY) - below.damping(kHeaveY, kHeaveY)) / (2 * h);
+    const std::pair<double, double> below = coefficients(omega - h), above = coefficients(omega + h);
+    const double a0 = at.first, b0 = at.second;
+    const double a1 = (above.first - below.first) / (2 * h);
+    const double b1 = (above.second - below.second) / (2 * h);
     using Complex = std::complex<double>;
     auto residual = [&](Complex w) {
         return stiffness - w * w * (mass + a0 + a1 * (w - omega)) + Complex(0, 1) * w * (b0 + b1 * (w - omega));
@@ -52,6 +57,16 @@ inline DecayFigures predictedHeaveDecay(const RadiationSolver& solver, double ma
     }
     constexpr double kTwoPi = 2 * std::numbers::pi;
     return {kTwoPi / root.real(), kTwoPi * root.imag() / root.real()};
+}
+
+/// The same from the panel solution itself.
+inline DecayFigures predictedHeaveDecay(const RadiationSolver& solver, double mass, double stiffness,
+                                        double* naturalFrequency = nullptr) {
+    const HeaveCoefficients panels = [&](double omega) {
+        const RadiationCoefficients c = solver.at(omega);
+        return std::pair{c.addedMass(kHeaveY, kHeaveY), c.damping(kHeaveY, kHeaveY)};
+    };
+    return predictedHeaveDecay(panels, mass, stiffness, naturalFrequency);
 }
 
 /// Period and decrement of a sampled heave record (offsets from rest at equal steps dt): the

@@ -211,6 +211,53 @@ int plimsoll_body_step(plimsoll_bundle* bundle, plimsoll_body_state* state,
                        double dt);
 
 /* ---------------------------------------------------------------------------------------
+ * Wave radiation (bundle schema 1.3; docs/bundle.md "Radiation"): Cummins' equation, the
+ * infinite-frequency added mass in the mass matrix and the memory of the radiated waves as
+ * filters per mode. Body axes about the centre of mass; modes surge x, heave y, sway z, roll x,
+ * yaw y, pitch z. */
+typedef struct plimsoll_radiation_info {
+    double rest_volume;                /* m^3 displaced at rest */
+    double added_mass_infinity[6][6];  /* kg, kg m, kg m^2 */
+    int memory_terms[6];               /* filters per mode */
+} plimsoll_radiation_info;
+
+/* 1 and `out` filled when the body was exported with radiation; 0 otherwise (the last error
+ * says why). */
+int plimsoll_bundle_radiation(const plimsoll_bundle* bundle, plimsoll_radiation_info* out);
+
+/* A radiating body's memory between steps: one per body, used with the bundle it was made for
+ * (which must outlive it). NULL when the body has no radiation. */
+typedef struct plimsoll_radiation_memory plimsoll_radiation_memory;
+plimsoll_radiation_memory* plimsoll_radiation_memory_create(const plimsoll_bundle* bundle);
+void plimsoll_radiation_memory_destroy(plimsoll_radiation_memory* memory);
+
+/* For an engine with its own integrator: before its step, begin() gives the share of the added
+ * mass (add added_mass to the body's mass matrix and added_inertia to its inertia, body axes;
+ * never apply them as forces) and the memory's force and torque (world axes, about the centre
+ * of mass) to apply; when share > previous_share keep the body's momentum across the change,
+ * otherwise its velocity. After the step, advance() with the new pose and velocity. */
+typedef struct plimsoll_radiation_load {
+    double share;                /* 0..1: 1 while half the resting displacement is under water */
+    double previous_share;       /* the previous begin()'s share; -1 on the first call */
+    double added_mass[3][3];     /* kg, body axes */
+    double added_inertia[3][3];  /* kg m^2, body axes */
+    double force[3];             /* N, world axes */
+    double torque[3];            /* N m, world axes */
+} plimsoll_radiation_load;
+int plimsoll_radiation_memory_begin(plimsoll_radiation_memory* memory, const plimsoll_pose* pose,
+                                    double submerged_volume, plimsoll_radiation_load* out);
+int plimsoll_radiation_memory_advance(plimsoll_radiation_memory* memory, const plimsoll_pose* pose,
+                                      const plimsoll_velocity* velocity, double dt);
+/* Energy the filters hold, J: the body's mechanical energy plus this never grows. */
+double plimsoll_radiation_memory_energy(const plimsoll_radiation_memory* memory);
+
+/* plimsoll_body_step with radiation: the added mass in the mass matrix and the memory's load
+ * added. */
+int plimsoll_body_step_radiating(plimsoll_bundle* bundle, plimsoll_body_state* state,
+                                 plimsoll_radiation_memory* memory, const plimsoll_water* water,
+                                 const plimsoll_fluid* fluid, double time, double dt);
+
+/* ---------------------------------------------------------------------------------------
  * Many bodies in one call. A plimsoll_batch owns a thread pool, or runs on the caller's task
  * system (as Box2D's enqueueTask / finishTask): enqueue starts `task` over `item_count` items
  * in ranges of at least `min_range` and returns a handle finish() waits on (or runs it at once

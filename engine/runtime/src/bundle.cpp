@@ -2,6 +2,7 @@
 // verifyBundle, then the sample list, the water graph, its permeability and texel-to-node map.
 #include "plimsoll_runtime/runtime.hpp"
 
+#include "plimsoll_eval/cummins.hpp"
 #include "plimsoll_eval/format.hpp"
 
 #include "json.hpp"
@@ -309,6 +310,71 @@ private:
     std::string file_;
     std::string& error_;
 };
+
+/// The manifest's "radiation" (schema 1.3): every number finite, the rest volume > 0, A_inf
+/// symmetric with a diagonal >= 0, at most format::kMaxMemoryTerms filters per mode, each with a
+/// gain >= 0 and a frequency and damping ratio > 0 (what keeps the memory passive and stable).
+bool readRadiation(Reader& r, const Value& v, const std::string& path, Radiation& out) {
+    if (!v.isObject()) return r.fail(path, "expected an object or null");
+    if (!r.number(v, path, "rest_volume", out.restVolume)) return false;
+    if (!(out.restVolume > 0) || !std::isfinite(out.restVolume))
+        return r.fail(path + ".rest_volume", "must be finite and > 0");
+    const Value* added = r.member(v, path, "added_mass_infinity");
+    if (!added) return false;
+    const std::string addedPath = path + ".added_mass_infinity";
+    if (!added->isArray() || added->array.size() != 6) return r.fail(addedPath, "expected 6 rows of 6 numbers");
+    for (int i = 0; i < 6; ++i) {
+        const Value& row = added->array[i];
+        if (!row.isArray() || row.array.size() != 6) return r.fail(addedPath, "expected 6 rows of 6 numbers");
+        for (int j = 0; j < 6; ++j) {
+            if (!row.array[j].isNumber() || !std::isfinite(row.array[j].number))
+                return r.fail(addedPath + "[" + std::to_string(i) + "][" + std::to_string(j) + "]",
+                              "expected a finite number");
+            out.addedMassInfinity[i][j] = row.array[j].number;
+        }
+    }
+    // A mode with no added mass (a sphere's yaw) comes out of the panel method as a tiny
+    // number of either sign: only a diagonal clearly below zero is wrong.
+    double largest = 0;
+    for (int i = 0; i < 6; ++i) largest = std::max(largest, std::abs(out.addedMassInfinity[i][i]));
+    for (int i = 0; i < 6; ++i) {
+        if (out.addedMassInfinity[i][i] < -1e-6 * largest)
+            return r.fail(addedPath + "[" + std::to_string(i) + "][" + std::to_string(i) + "]", "must be >= 0");
+        for (int j = 0; j < i; ++j) {
+            const double a = out.addedMassInfinity[i][j], b = out.addedMassInfinity[j][i];
+            if (std::abs(a - b) > 1e-9 * (std::abs(a) + std::abs(b)) + 1e-300)
+                return r.fail(addedPath, "is not symmetric");
+        }
+    }
+    const Value* memory = r.member(v, path, "memory");
+    if (!memory) return false;
+    if (!memory->isArray() || memory->array.size() != 6)
+        return r.fail(path + ".memory", "expected 6 lists of filters (one per mode)");
+    for (int mode = 0; mode < 6; ++mode) {
+        const std::string modePath = path + ".memory[" + std::to_string(mode) + "]";
+        const Value& terms = memory->array[mode];
+        if (!terms.isArray()) return r.fail(modePath, "expected a list of filters");
+        if (terms.array.size() > format::kMaxMemoryTerms)
+            return r.fail(modePath, std::to_string(terms.array.size()) + " filters, more than the limit " +
+                                        std::to_string(format::kMaxMemoryTerms));
+        for (std::size_t k = 0; k < terms.array.size(); ++k) {
+            const std::string termPath = modePath + "[" + std::to_string(k) + "]";
+            const Value& term = terms.array[k];
+            if (!term.isObject()) return r.fail(termPath, "expected an object");
+            RadiationTerm t;
+            if (!r.number(term, termPath, "gain", t.gain) || !r.number(term, termPath, "frequency", t.frequency) ||
+                !r.number(term, termPath, "damping_ratio", t.dampingRatio))
+                return false;
+            if (!(t.gain >= 0) || !std::isfinite(t.gain)) return r.fail(termPath + ".gain", "must be finite and >= 0");
+            if (!(t.frequency > 0) || !std::isfinite(t.frequency))
+                return r.fail(termPath + ".frequency", "must be finite and > 0");
+            if (!(t.dampingRatio > 0) || !std::isfinite(t.dampingRatio))
+                return r.fail(termPath + ".damping_ratio", "must be finite and > 0");
+            out.memory[mode].push_back(t);
+        }
+    }
+    return true;
+}
 
 bool readMass(Reader& r, const Value& v, const std::string& path, MassProperties& out) {
     if (!v.isObject()) return r.fail(path, "expected an object");
@@ -631,6 +697,12 @@ bool loadBundleImpl(const BundleSource& source, Bundle& b, std::string& error, b
             if (!(v >= 0) || !std::isfinite(v))
                 return r.fail("$.hydrodynamics", "coefficients and damping must be finite and >= 0");
         }
+    }
+
+    if (const Value* radiation = m.find("radiation"); radiation && !radiation->isNull()) {
+        auto model = std::make_unique<Radiation>();
+        if (!readRadiation(r, *radiation, "$.radiation", *model)) return false;
+        b.radiation_ = std::move(model);
     }
 
     // The sample list (bake_io.cpp's layout: channels x y px py pz ax ay az area coverage),

@@ -12,12 +12,18 @@
 #include <cstring>
 #include <memory>
 #include <mutex>
+#include <optional>
 #include <string>
 #include <thread>
 #include <vector>
 
 struct plimsoll_bundle {
     std::unique_ptr<plimsoll_runtime::Bundle> bundle;
+};
+
+struct plimsoll_radiation_memory {
+    const plimsoll_runtime::Bundle* bundle;  ///< the bundle whose radiation it steps
+    plimsoll_runtime::RadiationMemory memory;
 };
 
 struct plimsoll_batch {
@@ -578,26 +584,42 @@ int plimsoll_bundle_water_load(const plimsoll_bundle* bundle, const plimsoll_pos
     }
 }
 
-int plimsoll_body_step(plimsoll_bundle* bundle, plimsoll_body_state* state,
-                       const plimsoll_water* water, const plimsoll_fluid* fluid, double time,
-                       double dt) {
-    constexpr const char* kCall = "plimsoll_body_step";
+namespace {
+
+/// plimsoll_body_step and plimsoll_body_step_radiating: one step, with the memory's radiation
+/// when `memory` is given. The state changes only when the step's result is finite.
+int stepChecked(const char* call, plimsoll_bundle* bundle, plimsoll_body_state* state,
+                plimsoll_radiation_memory* memory, const plimsoll_water* water,
+                const plimsoll_fluid* fluid, double time, double dt) {
     try {
-        if (!bundle || !state || !fluid) return refuse(kCall, "a required argument is NULL");
-        if (!checkEvaluation(kCall, &state->pose, &state->velocity, fluid) || !checkWater(kCall, water) ||
-            !checkTime(kCall, time))
+        if (!bundle || !state || !fluid) return refuse(call, "a required argument is NULL");
+        if (!checkEvaluation(call, &state->pose, &state->velocity, fluid) || !checkWater(call, water) ||
+            !checkTime(call, time))
             return 0;
-        if (!(dt > 0) || !std::isfinite(dt)) return refuse(kCall, "dt must be finite and > 0");
+        if (!(dt > 0) || !std::isfinite(dt)) return refuse(call, "dt must be finite and > 0");
         BodyState s{toPose(state->pose), toVelocity(&state->velocity)};
         bool nonFiniteWater = false;
-        stepBody(*bundle->bundle, s, toWater(water, &nonFiniteWater), toFluid(*fluid), time, dt);
-        if (nonFiniteWater) return refuse(kCall, "the water height or velocity callback returned NaN or Inf");
+        std::optional<RadiationMemory> before;
+        if (memory) {
+            if (memory->bundle != bundle->bundle.get())
+                return refuse(call, "the radiation memory was made for another bundle");
+            before = memory->memory;  // put back if the step is refused
+            stepBody(*bundle->bundle, s, memory->memory, toWater(water, &nonFiniteWater), toFluid(*fluid), time, dt);
+        } else {
+            stepBody(*bundle->bundle, s, toWater(water, &nonFiniteWater), toFluid(*fluid), time, dt);
+        }
         const double next[13] = {s.pose.position.x, s.pose.position.y, s.pose.position.z,
                                  s.pose.orientation.w, s.pose.orientation.x, s.pose.orientation.y,
                                  s.pose.orientation.z, s.velocity.linear.x, s.velocity.linear.y,
                                  s.velocity.linear.z, s.velocity.angular.x, s.velocity.angular.y,
                                  s.velocity.angular.z};
-        if (!allFinite(next, 13)) return refuse(kCall, "the new state is not finite (state left as it was)");
+        const char* refused = nonFiniteWater ? "the water height or velocity callback returned NaN or Inf"
+                              : !allFinite(next, 13) ? "the new state is not finite (state left as it was)"
+                                                     : nullptr;
+        if (refused) {
+            if (before) memory->memory = *before;
+            return refuse(call, refused);
+        }
         copy(s.pose.position, state->pose.position);
         state->pose.orientation[0] = s.pose.orientation.w;
         state->pose.orientation[1] = s.pose.orientation.x;
@@ -607,8 +629,95 @@ int plimsoll_body_step(plimsoll_bundle* bundle, plimsoll_body_state* state,
         copy(s.velocity.angular, state->velocity.angular);
         return 1;
     } catch (const std::exception& e) {
-        return refuse(kCall, e.what());
+        return refuse(call, e.what());
     }
+}
+
+}  // namespace
+
+int plimsoll_body_step(plimsoll_bundle* bundle, plimsoll_body_state* state,
+                       const plimsoll_water* water, const plimsoll_fluid* fluid, double time,
+                       double dt) {
+    return stepChecked("plimsoll_body_step", bundle, state, nullptr, water, fluid, time, dt);
+}
+
+int plimsoll_body_step_radiating(plimsoll_bundle* bundle, plimsoll_body_state* state,
+                                 plimsoll_radiation_memory* memory, const plimsoll_water* water,
+                                 const plimsoll_fluid* fluid, double time, double dt) {
+    constexpr const char* kCall = "plimsoll_body_step_radiating";
+    if (!memory) return refuse(kCall, "memory is NULL");
+    return stepChecked(kCall, bundle, state, memory, water, fluid, time, dt);
+}
+
+int plimsoll_bundle_radiation(const plimsoll_bundle* bundle, plimsoll_radiation_info* out) {
+    constexpr const char* kCall = "plimsoll_bundle_radiation";
+    if (!bundle || !bundle->bundle || !out) return refuse(kCall, "a required argument is NULL");
+    const Radiation* r = bundle->bundle->radiation();
+    if (!r) return refuse(kCall, "the body was exported without radiation");
+    out->rest_volume = r->restVolume;
+    for (int i = 0; i < 6; ++i) {
+        for (int j = 0; j < 6; ++j) out->added_mass_infinity[i][j] = r->addedMassInfinity[i][j];
+        out->memory_terms[i] = static_cast<int>(r->memory[i].size());
+    }
+    return 1;
+}
+
+plimsoll_radiation_memory* plimsoll_radiation_memory_create(const plimsoll_bundle* bundle) {
+    constexpr const char* kCall = "plimsoll_radiation_memory_create";
+    try {
+        if (!bundle || !bundle->bundle) {
+            refuse(kCall, "bundle is NULL");
+            return nullptr;
+        }
+        const Radiation* r = bundle->bundle->radiation();
+        if (!r) {
+            refuse(kCall, "the body was exported without radiation");
+            return nullptr;
+        }
+        return new plimsoll_radiation_memory{bundle->bundle.get(), RadiationMemory(r)};
+    } catch (const std::exception& e) {
+        refuse(kCall, e.what());
+        return nullptr;
+    }
+}
+
+void plimsoll_radiation_memory_destroy(plimsoll_radiation_memory* memory) { delete memory; }
+
+int plimsoll_radiation_memory_begin(plimsoll_radiation_memory* memory, const plimsoll_pose* pose,
+                                    double submerged_volume, plimsoll_radiation_load* out) {
+    constexpr const char* kCall = "plimsoll_radiation_memory_begin";
+    if (!memory || !out) return refuse(kCall, "a required argument is NULL");
+    if (!checkPose(kCall, pose)) return 0;
+    if (!(submerged_volume >= 0) || !std::isfinite(submerged_volume))
+        return refuse(kCall, "submerged_volume must be finite and >= 0");
+    const RadiationLoad load = memory->memory.begin(toPose(*pose), submerged_volume);
+    out->share = load.share;
+    out->previous_share = load.previousShare;
+    for (int i = 0; i < 3; ++i) {
+        for (int j = 0; j < 3; ++j) {
+            out->added_mass[i][j] = load.addedMass[i][j];
+            out->added_inertia[i][j] = load.addedInertia[i][j];
+        }
+    }
+    copy(load.force, out->force);
+    copy(load.torque, out->torque);
+    return 1;
+}
+
+int plimsoll_radiation_memory_advance(plimsoll_radiation_memory* memory, const plimsoll_pose* pose,
+                                      const plimsoll_velocity* velocity, double dt) {
+    constexpr const char* kCall = "plimsoll_radiation_memory_advance";
+    if (!memory || !velocity) return refuse(kCall, "a required argument is NULL");
+    if (!checkPose(kCall, pose)) return 0;
+    if (!allFinite(velocity->linear, 3) || !allFinite(velocity->angular, 3))
+        return refuse(kCall, "velocity has a NaN or Inf component");
+    if (!(dt > 0) || !std::isfinite(dt)) return refuse(kCall, "dt must be finite and > 0");
+    memory->memory.advance(toPose(*pose), toVelocity(velocity), dt);
+    return 1;
+}
+
+double plimsoll_radiation_memory_energy(const plimsoll_radiation_memory* memory) {
+    return memory ? memory->memory.energy() : 0.0;
 }
 
 plimsoll_batch* plimsoll_batch_create(const plimsoll_batch_desc* desc) {

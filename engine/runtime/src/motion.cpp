@@ -5,6 +5,8 @@
 
 #include "vec.hpp"
 
+#include "plimsoll_eval/cummins.hpp"
+
 #include <algorithm>
 
 namespace plimsoll_runtime {
@@ -37,6 +39,20 @@ Vec3 worldInertiaSolve(const double R[3][3], const double I[3][3], const Vec3& v
 Vec3 limited(const Vec3& loss, const Vec3& momentum, double dt) {
     const double impulse = norm(loss) * dt, cap = norm(momentum);
     return impulse > cap && impulse > 0 ? (cap / impulse) * loss : loss;
+}
+
+/// Semi-implicit Euler's second half: the orientation turns with `w` and the centre of mass at
+/// `center` moves with `v` for dt; R becomes the new orientation's matrix.
+void moveWith(Pose& pose, const Vec3& center, const Vec3& v, const Vec3& w, const Vec3& centerOfMass,
+              double dt, double R[3][3]) {
+    Quat& q = pose.orientation;
+    const Quat dq{-w.x * q.x - w.y * q.y - w.z * q.z, w.x * q.w + w.y * q.z - w.z * q.y,
+                  w.y * q.w + w.z * q.x - w.x * q.z, w.z * q.w + w.x * q.y - w.y * q.x};
+    q = {q.w + 0.5 * dt * dq.w, q.x + 0.5 * dt * dq.x, q.y + 0.5 * dt * dq.y, q.z + 0.5 * dt * dq.z};
+    const double n = std::sqrt(q.w * q.w + q.x * q.x + q.y * q.y + q.z * q.z);
+    q = {q.w / n, q.x / n, q.y / n, q.z / n};
+    rotationMatrix(q, R);
+    pose.position = center + dt * v - mul(R, centerOfMass);
 }
 
 }  // namespace
@@ -82,17 +98,117 @@ void stepBody(Bundle& bundle, BodyState& state, const Water& water, const Fluid&
     const Vec3 v = (1.0 / body.mass) * P;
     const Vec3 w = worldInertiaSolve(R, body.inertia, L);
     // ... then position and orientation with the new velocities.
-    Quat& q = state.pose.orientation;
-    const Quat dq{-w.x * q.x - w.y * q.y - w.z * q.z, w.x * q.w + w.y * q.z - w.z * q.y,
-                  w.y * q.w + w.z * q.x - w.x * q.z, w.z * q.w + w.x * q.y - w.y * q.x};
-    q = {q.w + 0.5 * dt * dq.w, q.x + 0.5 * dt * dq.x, q.y + 0.5 * dt * dq.y, q.z + 0.5 * dt * dq.z};
-    const double n = std::sqrt(q.w * q.w + q.x * q.x + q.y * q.y + q.z * q.z);
-    q = {q.w / n, q.x / n, q.y / n, q.z / n};
-    rotationMatrix(q, R);
-    state.pose.position = center + dt * v - mul(R, body.centerOfMass);
+    moveWith(state.pose, center, v, w, body.centerOfMass, dt, R);
     state.velocity.linear = v;
     // The angular velocity that carries L at the new orientation: L is what is conserved.
     state.velocity.angular = worldInertiaSolve(R, body.inertia, L);
+}
+
+RadiationMemory::RadiationMemory(const Radiation* radiation) : radiation_(radiation) {
+    if (!radiation_) return;
+    for (int mode = 0; mode < 6; ++mode) filters_[mode].assign(radiation_->memory[mode].size(), Filter{});
+}
+
+namespace {
+plimsoll_eval::MemoryTerm coreTerm(const RadiationTerm& t) { return {t.gain, t.frequency, t.dampingRatio}; }
+}  // namespace
+
+RadiationLoad RadiationMemory::begin(const Pose& pose, double submergedVolume) {
+    RadiationLoad load;
+    load.previousShare = started_ ? share_ : -1.0;
+    started_ = true;
+    if (!radiation_) {
+        share_ = 0;
+        return load;
+    }
+    share_ = plimsoll_eval::entrainedShare(submergedVolume, radiation_->restVolume);
+    load.share = share_;
+    const auto& a = radiation_->addedMassInfinity;
+    for (int i = 0; i < 3; ++i) {
+        for (int j = 0; j < 3; ++j) {
+            load.addedMass[i][j] = share_ * a[i][j];
+            load.addedInertia[i][j] = share_ * a[i + 3][j + 3];
+        }
+    }
+    // The memory's generalised force (body axes), scaled by the share like its input.
+    double f[6] = {0, 0, 0, 0, 0, 0};
+    for (int mode = 0; mode < 6; ++mode) {
+        for (std::size_t k = 0; k < filters_[mode].size(); ++k) {
+            const plimsoll_eval::MemoryFilter filter{filters_[mode][k].x, filters_[mode][k].rate};
+            f[mode] += plimsoll_eval::filterForce(coreTerm(radiation_->memory[mode][k]), filter);
+        }
+    }
+    double R[3][3];
+    rotationMatrix(pose.orientation, R);
+    load.force = mul(R, Vec3{share_ * f[0], share_ * f[1], share_ * f[2]});
+    load.torque = mul(R, Vec3{share_ * f[3], share_ * f[4], share_ * f[5]});
+    return load;
+}
+
+void RadiationMemory::advance(const Pose& pose, const Velocity& velocity, double dt) {
+    if (!radiation_) return;
+    double R[3][3];
+    rotationMatrix(pose.orientation, R);
+    const Vec3 linear = mulT(R, velocity.linear), angular = mulT(R, velocity.angular);
+    const double v[6] = {linear.x, linear.y, linear.z, angular.x, angular.y, angular.z};
+    for (int mode = 0; mode < 6; ++mode) {
+        for (std::size_t k = 0; k < filters_[mode].size(); ++k) {
+            plimsoll_eval::MemoryFilter filter{filters_[mode][k].x, filters_[mode][k].rate};
+            plimsoll_eval::advanceFilter(coreTerm(radiation_->memory[mode][k]), filter, share_ * v[mode], dt);
+            filters_[mode][k] = {filter.x, filter.rate};
+        }
+    }
+}
+
+double RadiationMemory::energy() const {
+    if (!radiation_) return 0;
+    double e = 0;
+    for (int mode = 0; mode < 6; ++mode) {
+        for (std::size_t k = 0; k < filters_[mode].size(); ++k) {
+            const plimsoll_eval::MemoryFilter filter{filters_[mode][k].x, filters_[mode][k].rate};
+            e += plimsoll_eval::filterEnergy(coreTerm(radiation_->memory[mode][k]), filter);
+        }
+    }
+    return e;
+}
+
+void stepBody(Bundle& bundle, BodyState& state, RadiationMemory& memory, const Water& water,
+              const Fluid& fluid, double time, double dt) {
+    if (WaterGraph* graph = bundle.graph()) graph->step(state.pose, water, time, dt);
+    const WaterLoad load = waterLoad(bundle, state.pose, state.velocity, water, fluid, time, dt);
+    const RadiationLoad radiation = memory.begin(state.pose, load.forces.submergedVolume);
+    const MassProperties& body = bundle.mass();
+    // The mass matrices with the share of the added mass, body axes (translations, rotations).
+    auto withShare = [&](double share, double translational[3][3], double rotational[3][3]) {
+        const Radiation* r = bundle.radiation();
+        for (int i = 0; i < 3; ++i) {
+            for (int j = 0; j < 3; ++j) {
+                translational[i][j] = (i == j ? body.mass : 0.0) + (r ? share * r->addedMassInfinity[i][j] : 0.0);
+                rotational[i][j] = body.inertia[i][j] + (r ? share * r->addedMassInfinity[i + 3][j + 3] : 0.0);
+            }
+        }
+    };
+    double M[3][3], I[3][3];
+    withShare(radiation.share, M, I);
+    double R[3][3];
+    rotationMatrix(state.pose.orientation, R);
+    Vec3 v = state.velocity.linear, w = state.velocity.angular;
+    if (radiation.previousShare >= 0 && radiation.share > radiation.previousShare) {
+        // More water entrained: the momentum is kept (the velocity falls).
+        double Mp[3][3], Ip[3][3];
+        withShare(radiation.previousShare, Mp, Ip);
+        v = worldInertiaSolve(R, M, worldInertiaTimes(R, Mp, v));
+        w = worldInertiaSolve(R, I, worldInertiaTimes(R, Ip, w));
+    }
+    const Vec3 center = mul(R, body.centerOfMass) + state.pose.position;
+    const Vec3 P = worldInertiaTimes(R, M, v) +
+                   dt * (load.force + radiation.force + Vec3{0, -body.mass * fluid.gravity, 0});
+    const Vec3 L = worldInertiaTimes(R, I, w) + dt * (load.torque + radiation.torque);
+    const Vec3 vNext = worldInertiaSolve(R, M, P);
+    moveWith(state.pose, center, vNext, worldInertiaSolve(R, I, L), body.centerOfMass, dt, R);
+    state.velocity.linear = vNext;
+    state.velocity.angular = worldInertiaSolve(R, I, L);
+    memory.advance(state.pose, state.velocity, dt);
 }
 
 }  // namespace plimsoll_runtime

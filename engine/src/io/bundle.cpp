@@ -4,6 +4,7 @@
 #include "plimsoll/bake/bake.h"
 #include "plimsoll/io/bake_io.h"
 #include "plimsoll/scene/scene_loader.h"
+#include "plimsoll/scene/scene_radiation.h"
 #include "plimsoll/bake/deform.h"
 #include "plimsoll/io/file_util.h"
 #include "plimsoll/core/limits.h"
@@ -79,6 +80,32 @@ json massJson(const MassProperties& p) {
                 {"volume", p.volume},
                 {"center_of_mass", vec3(p.centerOfMass)},
                 {"inertia", inertia}};
+}
+
+/// A radiating body's Cummins model for the runtime (docs/bundle.md "Radiation"): the
+/// infinite-frequency added mass and the memory filters of each mode, body axes about the
+/// centre of mass of mass_properties.texture; null for a body that does not radiate.
+json radiationJson(const SceneBody& body) {
+    if (!body.desc.radiates() || !body.radiation) return nullptr;
+    const CumminsModel& model = body.radiation->model;
+    json added = json::array();
+    for (int r = 0; r < 6; ++r) {
+        json row = json::array();
+        for (int c = 0; c < 6; ++c) row.push_back(model.addedMassInfinity(r, c));
+        added.push_back(row);
+    }
+    json memory = json::array();
+    for (const std::vector<MemoryTerm>& mode : model.memory) {
+        json terms = json::array();
+        for (const MemoryTerm& t : mode)
+            terms.push_back({{"gain", t.gain}, {"frequency", t.frequency}, {"damping_ratio", t.dampingRatio}});
+        memory.push_back(terms);
+    }
+    return {{"modes", {"surge_x", "heave_y", "sway_z", "roll_x", "yaw_y", "pitch_z"}},
+            {"rest_volume", body.radiation->restVolume},
+            {"panels", body.radiation->panelCount},
+            {"added_mass_infinity", added},
+            {"memory", memory}};
 }
 
 /// Relative paths of the regular files under `folder`, sorted.
@@ -353,6 +380,7 @@ Result<BundleReport> buildBundle(const Project& project, std::size_t index, cons
                            {"friction_coefficient", desc.frictionCoefficient},
                            {"linear_damping", desc.linearDamping},
                            {"angular_damping", desc.angularDamping}}},
+        {"radiation", radiationJson(*body)},
         {"painted_maps", maps},
         {"gltf", gltfStem + ".gltf"},
         {"water_graph", graphJson},

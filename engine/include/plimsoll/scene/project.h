@@ -56,9 +56,11 @@ struct WaterGraphDesc {
     bool operator==(const WaterGraphDesc&) const = default;
 };
 
-/// Wave radiation of a body ("radiation" in a body; physics/body_radiation.h): added mass and
-/// radiation damping computed at load time from its wetted surface at rest, integrated with
-/// Cummins' equation. A body without it runs without (and with its linear_damping stand-in).
+/// Wave radiation of a body ("radiation" in a body; scene/scene_radiation.h computes it,
+/// physics/cummins.h steps it): added mass and radiation damping computed at load time (or
+/// read from the project's cache) from its wetted surface at rest, integrated with Cummins'
+/// equation, and exported in the body's bundle for the runtime (docs/bundle.md "Radiation").
+/// A body without it runs without (and with its linear_damping stand-in).
 struct RadiationDesc {
     bool enabled = true;          ///< "enabled": false keeps the settings but runs without
     /// "panel_edge": longest panel edge of the wetted surface, m (0: the cube root of the rest

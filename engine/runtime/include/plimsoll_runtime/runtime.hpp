@@ -229,6 +229,24 @@ private:
 // ---------------------------------------------------------------------------------------
 // Bundle
 
+/// One filter of a mode's radiation memory: the damped oscillator x'' + 2 zeta w x' + w^2 x = v
+/// driven by the body's velocity in the mode, pushing back with -gain x'.
+struct RadiationTerm {
+    double gain = 0;          ///< >= 0 (kg/s^2 for translations, kg m^2/s^2 for rotations)
+    double frequency = 0;     ///< w > 0, rad/s
+    double dampingRatio = 0;  ///< zeta > 0
+};
+
+/// A body's wave radiation (manifest "radiation", schema 1.3; docs/bundle.md "Radiation"):
+/// Cummins' equation with the infinite-frequency added mass in the mass matrix and the memory
+/// of the radiated waves as filters per mode. Body axes about the centre of mass of mass();
+/// modes surge x, heave y, sway z, roll x, yaw y, pitch z.
+struct Radiation {
+    double restVolume = 0;                ///< displaced at rest, m^3
+    double addedMassInfinity[6][6] = {};  ///< kg, kg m, kg m^2 (symmetric)
+    std::vector<RadiationTerm> memory[6];
+};
+
 struct LoadOptions {
     /// Check every file's size and SHA-256 against the manifest (a few ms per MB).
     bool verifyChecksums = true;
@@ -248,6 +266,8 @@ public:
     const Fluid& fluid() const { return fluid_; }
     double linearDamping() const { return linearDamping_; }
     double angularDamping() const { return angularDamping_; }
+    /// The body's wave radiation, or null (a body exported without it, or a bundle before 1.3).
+    const Radiation* radiation() const { return radiation_.get(); }
     /// The body's water graph, or null.
     WaterGraph* graph() { return graph_.get(); }
     const WaterGraph* graph() const { return graph_.get(); }
@@ -274,6 +294,7 @@ private:
     MassProperties mass_;
     Fluid fluid_;
     double linearDamping_ = 0, angularDamping_ = 0;
+    std::unique_ptr<const Radiation> radiation_;
     std::unique_ptr<WaterGraph> graph_;
     bool texelNodesFromFile_ = false;
     const plimsoll_eval::FastBody& fastBody() const;
@@ -356,6 +377,57 @@ struct BodyState {
 /// are tested against.
 void stepBody(Bundle& bundle, BodyState& state, const Water& water, const Fluid& fluid,
               double time, double dt);
+
+/// What radiation adds to a step, from RadiationMemory::begin.
+struct RadiationLoad {
+    /// The share of the equilibrium added mass and memory the body has now: 1 while at least
+    /// half its resting displacement is under water, falling to 0 as it leaves the water.
+    double share = 0;
+    /// The share of the call before (-1 on the first): when the share grows, an integrator
+    /// keeps the body's momentum (the body drags the water along); when it shrinks, the
+    /// velocity. Either way the kinetic energy can only fall.
+    double previousShare = -1;
+    double addedMass[3][3] = {};     ///< share x the translational block of A_inf, body axes
+    double addedInertia[3][3] = {};  ///< share x the rotational block, body axes
+    Vec3 force;                      ///< the memory's force, world axes, N
+    Vec3 torque;                     ///< its torque about the centre of mass, N m
+};
+
+/// A radiating body's memory between steps: its filters and the share it last had. An engine
+/// with its own integrator calls begin() before its step (adds the added mass to the body's
+/// mass and inertia, applies force and torque) and advance() after it; stepBody(..., memory,
+/// ...) does both. One per body; not thread-safe.
+class RadiationMemory {
+public:
+    /// For the bundle's radiation (null: a body without it, which then gets nothing).
+    explicit RadiationMemory(const Radiation* radiation);
+    /// The share, added mass and memory load at `pose` with `submergedVolume` under water
+    /// (evaluate()'s submergedVolume), and remembers the share for advance().
+    RadiationLoad begin(const Pose& pose, double submergedVolume);
+    /// Advances the filters by dt with the body's velocity after the step (centre of mass,
+    /// world axes), scaled by the share begin() found.
+    void advance(const Pose& pose, const Velocity& velocity, double dt);
+    /// The share begin() found last (0 before the first call).
+    double share() const { return share_; }
+    /// The energy the filters hold, J (the body's mechanical energy plus this never grows).
+    double energy() const;
+
+private:
+    struct Filter {
+        double x = 0, rate = 0;
+    };
+    const Radiation* radiation_;
+    std::vector<Filter> filters_[6];
+    double share_ = 0;
+    bool started_ = false;
+};
+
+/// stepBody for a radiating body: the same step with the share of the added mass in the mass
+/// matrix (never applied as a force) and the memory's load added; when the share grows the
+/// momentum is kept, when it shrinks the velocity (the kinetic energy can only fall), as the
+/// engine's World does.
+void stepBody(Bundle& bundle, BodyState& state, RadiationMemory& memory, const Water& water,
+              const Fluid& fluid, double time, double dt);
 
 /// SHA-256 of `size` bytes as 64 lowercase hex digits (FIPS 180-4).
 std::string sha256Hex(const void* data, std::size_t size);
