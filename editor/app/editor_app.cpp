@@ -910,6 +910,7 @@ int runEditorWindow(const EditorLaunch& launch) {
         report["window"] = {io.DisplaySize.x, io.DisplaySize.y};
         report["viewport"] = {s.viewport.x, s.viewport.y, s.viewport.w, s.viewport.h};
         report["undo"] = s.document->undoName();
+        report["status"] = s.status;
         report["last_stroke_points"] = s.lastStrokePoints;
         int steps = 0;  // the history's length (the run is over: undoing costs nothing now)
         while (s.document->undo()) ++steps;

@@ -145,10 +145,15 @@ std::optional<fs::path> FileBrowser::draw() {
     }
     ImGui::EndChild();
     if (!error_.empty()) ImGui::TextColored(ImVec4(1, 0.4f, 0.4f, 1), "%s", error_.c_str());
+    bool entered = false;
     if (purpose_ != Purpose::Export) {
+        // The name has the keys when the dialog opens, as in Blender's and the desktop's file
+        // dialogs: type a name, Enter saves or opens.
+        if (ImGui::IsWindowAppearing()) ImGui::SetKeyboardFocusHere();
         ImGui::SetNextItemWidth(-200);
-        ImGui::InputText("##name", name_, sizeof name_);
-        tooltip("The file's name in this folder, or a whole path.");
+        entered = ImGui::InputText("##name", name_, sizeof name_, ImGuiInputTextFlags_EnterReturnsTrue |
+                                                                     ImGuiInputTextFlags_AutoSelectAll);
+        tooltip("The file's name in this folder, or a whole path; Enter takes it.");
         ImGui::SameLine();
     }
     const char* action = purpose_ == Purpose::SaveProjectAs ? "Save"
@@ -158,7 +163,7 @@ std::optional<fs::path> FileBrowser::draw() {
     tooltip(purpose_ == Purpose::SaveProjectAs ? "Saves the project under this name (its maps and graphs beside it)."
             : purpose_ == Purpose::Export      ? "Exports the bundle into the folder shown above."
                                                : "Opens the chosen file.");
-    if (act) {
+    if (act || entered) {
         if (purpose_ == Purpose::Export) chosen = folder_;
         else if (name_[0]) chosen = fs::path(name_).is_absolute() ? fs::path(name_) : folder_ / name_;
     }

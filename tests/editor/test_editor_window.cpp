@@ -6,6 +6,8 @@
 
 #include "render/camera.h"
 
+#include "plimsoll/scene/project.h"
+
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 #include <stb_image.h>
@@ -260,6 +262,35 @@ TEST(EditorWindow, ColumnSplitterDragsAndPanelsComeBackAfterShrinkAndGrow) {
     ASSERT_EQ(report["window"][1].get<double>(), 500);
     EXPECT_NEAR(report["viewport"][2].get<double>(), 580, 2) << "the splitter did not move";
     EXPECT_EQ(report["undo_steps"], 0);  // the drag edited nothing
+}
+
+TEST(EditorWindow, SaveAsTakesATypedNameAndLeavesTheOriginalAsItWas) {
+    // Issue 19 bug 15 and issue 18 item 14, through the window: Ctrl+Shift+S opens Save As with
+    // the name field holding the keys and the project's own name in it, selected (not
+    // "untitled"); typing replaces it and Enter saves there. The title follows the new file;
+    // the original is untouched.
+    if (!haveWindowTools(true)) GTEST_SKIP() << "xvfb-run or xdotool is not installed";
+    const fs::path project = ballProject("window_save_as");
+    const std::string original = test::readFile(project);
+    const std::string out = runUnderXvfb(
+        project.parent_path(),
+        "$PLIMSOLL edit ball.plim.json --run-seconds 9 --window-size 800x500 & "
+        "for i in $(seq 300); do w=$(xdotool search --name Plimsoll | head -1); "
+        "[ -n \"$w\" ] && break; sleep 0.1; done; sleep 0.8; "
+        "xdotool key --window $w ctrl+shift+s; sleep 0.8; "
+        "xdotool type --window $w --delay 40 copy.plim.json; sleep 0.3; "
+        "xdotool key --window $w Return; sleep 1; wait");
+    if (out.empty()) GTEST_SKIP() << "no editor window in this build or no X server";
+    const nlohmann::json report = nlohmann::json::parse(out);
+    const fs::path copy = project.parent_path() / "copy.plim.json";
+    EXPECT_EQ(report["title"], "copy.plim.json - Plimsoll") << report.dump();
+    EXPECT_NE(report["status"].get<std::string>().find("Saved"), std::string::npos) << report["status"];
+    ASSERT_TRUE(fs::exists(copy)) << report.dump();
+    Result<Project> saved = loadProject(copy);
+    ASSERT_TRUE(saved.ok()) << saved.error().message;
+    ASSERT_EQ(saved->bodies.size(), 1u);
+    EXPECT_EQ(saved->bodies[0].name, "ball");
+    EXPECT_EQ(test::readFile(project), original);
 }
 
 }  // namespace
