@@ -4,6 +4,7 @@
 // that never grows, a dropped light box that settles, and a body without radiation untouched.
 #include "plimsoll/geometry/box.h"
 #include "plimsoll/samples/primitives.h"
+#include "plimsoll/scene/radiation_decay.h"
 #include "plimsoll/scene/scene_radiation.h"
 #include "plimsoll/scene/world.h"
 
@@ -137,6 +138,39 @@ TEST(WorldRadiation, HemisphereHeaveDecayFollowsAAndB) {
 
 TEST(WorldRadiation, BoxHeaveDecayFollowsAAndB) {
     expectWorldDecayFollowsCoefficients("box", makeBox({1, 1, 1}), kDensity / 2, 1.0, kCoarseBox);
+}
+
+TEST(WorldRadiation, TheDecayTestButtonsRunMeasuresWhatAAndBPredict) {
+    // runHeaveDecayTest (the editor's "Decay test"): the box above, from the scene as loaded
+    // (released from wherever the project puts it), predicted from its stored coefficients.
+    Floating f = floating(makeBox({1, 1, 1}), kDensity / 2, true, kCoarseBox);
+    f.scene.bodies[0].desc.position = {3, 2, -1};
+    f.scene.bodies[0].desc.dragCoefficient = 1;  // the test turns drag and damping off itself
+    f.scene.bodies[0].desc.linearDamping = 0.5;
+    Result<HeaveDecayTest> decay = runHeaveDecayTest(f.scene, 0, 0.02, 3);
+    ASSERT_TRUE(decay.ok()) << decay.error().message;
+    EXPECT_NEAR(decay->stiffness, kDensity * kGravity, 0.01 * kDensity * kGravity);
+    // Interpolated in 12 stored frequencies against the panel solution itself.
+    Result<RestRadiationSurface> surface =
+        restRadiationSurface(f.scene.bodies[0], kCoarseBox, f.scene.medium, f.scene.simulation.gravity);
+    ASSERT_TRUE(surface.ok());
+    const test::DecayFigures panels =
+        test::predictedHeaveDecay(*surface->solver, f.radiation->restVolume * kDensity, decay->stiffness);
+    std::printf("  decay test: period %.4f s (predicted %.4f, panels %.4f), log decrement %.4f (predicted %.4f, "
+                "panels %.4f)\n",
+                decay->measured.period, decay->predicted.period, panels.period, decay->measured.logDecrement,
+                decay->predicted.logDecrement, panels.logDecrement);
+    EXPECT_NEAR(decay->predicted.period, panels.period, 0.01 * panels.period);
+    EXPECT_NEAR(decay->predicted.logDecrement, panels.logDecrement, 0.05 * panels.logDecrement);
+    EXPECT_NEAR(decay->measured.period, decay->predicted.period, 0.05 * decay->predicted.period);
+    EXPECT_NEAR(decay->measured.logDecrement, decay->predicted.logDecrement, 0.06 * decay->predicted.logDecrement);
+    EXPECT_NEAR(decay->offset.front(), -0.02, 1e-3);  // released 2 cm below rest
+
+    Scene plain = f.scene;
+    plain.bodies[0].radiation.reset();
+    Result<HeaveDecayTest> refused = runHeaveDecayTest(plain, 0);
+    ASSERT_FALSE(refused.ok());
+    EXPECT_NE(refused.error().message.find("no radiation computed"), std::string::npos) << refused.error().message;
 }
 
 TEST(WorldRadiation, DroppedLightBoxSettlesSoonerThanWithoutIt) {
