@@ -9,6 +9,8 @@ packages=(
   build-essential cmake ninja-build pkg-config git
   # engine
   libeigen3-dev libassimp-dev nlohmann-json3-dev libstb-dev libopenexr-dev libcli11-dev
+  # fast CPU path: vectorised sin, cos and exp of Gerstner waves (header-only)
+  libxsimd-dev
   # bundle export: SHA-256 (OpenSSL's libcrypto)
   libssl-dev
   # runtime library (engine/runtime): inflates the bundle's PNG maps (OpenEXR's own dependency)

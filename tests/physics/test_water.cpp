@@ -6,6 +6,7 @@
 
 #include <cmath>
 #include <numbers>
+#include <vector>
 
 namespace plimsoll {
 namespace {
@@ -96,6 +97,61 @@ TEST(Water, HeightGridIsBilinearAndClampedAtItsEdges) {
     EXPECT_NEAR(water.height(1e6, 1e6, 0), 1.0 + 0.3 + 0.4, 1e-6);  // corner (3, 2)
     EXPECT_NEAR(water.maxHeight(), 1.7, 1e-6);
     EXPECT_NEAR(water.minHeight(), 1.0, 1e-6);
+}
+
+}  // namespace
+}  // namespace plimsoll
+
+namespace plimsoll {
+namespace {
+
+// The batched queries the fast path makes equal the one-point reference within the precision
+// of their single-precision sines and cosines: far from the origin, late in time, above and
+// below the mean level, for any count (whole blocks of points and a partial last one), and
+// for more waves than the inline table holds. A dropped or misplaced lane, or a phase not
+// reduced before the single-precision trigonometry, shows as an error of order the amplitude.
+TEST(Water, BatchedHeightsAndVelocitiesEqualTheOnePointReference) {
+    WaterModel water = twoWaves();
+    for (int waves : {2, kMaxGerstnerWaves + 1}) {
+        while (static_cast<int>(water.waves.size()) < waves)
+            water.waves.push_back({0.02, 1.5 + 0.3 * static_cast<double>(water.waves.size()),
+                                   {std::cos(1.0 * water.waves.size()), std::sin(1.0 * water.waves.size())},
+                                   0.3, 0.1 * static_cast<double>(water.waves.size())});
+        double amplitudes = 0, speeds = 0;
+        for (const GerstnerWave& w : water.waves) {
+            amplitudes += w.amplitude;
+            speeds += w.amplitude * std::sqrt(water.gravity * 2 * std::numbers::pi / w.wavelength);
+        }
+        for (std::size_t n : {std::size_t(1), std::size_t(7), std::size_t(8), std::size_t(37)}) {
+            for (double offset : {0.0, 2500.0}) {
+                for (double t : {0.0, 1.3, 86400.0}) {
+                    std::vector<double> x(n), y(n), z(n), h(n), v(3 * n);
+                    for (std::size_t i = 0; i < n; ++i) {
+                        x[i] = offset + 0.37 * static_cast<double>(i) - 3.0;
+                        z[i] = -offset + 0.21 * static_cast<double>(i * i % 11);
+                        y[i] = water.level + 0.8 - 0.2 * static_cast<double>(i % 9);
+                    }
+                    water.heights(n, x.data(), z.data(), t, h.data());
+                    water.velocities(n, x.data(), y.data(), z.data(), t, v.data());
+                    for (std::size_t i = 0; i < n; ++i) {
+                        EXPECT_NEAR(h[i], water.height(x[i], z[i], t), 2e-6 * amplitudes)
+                            << "point " << i << " of " << n << ", t " << t << ", offset " << offset;
+                        const Eigen::Vector3d reference = water.velocity({x[i], y[i], z[i]}, t);
+                        EXPECT_LT((Eigen::Vector3d(v[3 * i], v[3 * i + 1], v[3 * i + 2]) - reference).norm(),
+                                  2e-6 * speeds)
+                            << "point " << i << " of " << n << ", t " << t << ", offset " << offset;
+                    }
+                }
+            }
+        }
+    }
+    // Flat water: the plane and no motion, through the same calls.
+    const WaterModel flat = WaterModel::flat(-0.4);
+    double x = 3, z = 4, y = -2, h = 0, v[3] = {1, 1, 1};
+    flat.heights(1, &x, &z, 0.0, &h);
+    flat.velocities(1, &x, &y, &z, 0.0, v);
+    EXPECT_EQ(h, -0.4);
+    EXPECT_EQ(Eigen::Vector3d(v[0], v[1], v[2]), Eigen::Vector3d::Zero());
 }
 
 }  // namespace

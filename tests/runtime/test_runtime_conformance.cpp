@@ -80,6 +80,13 @@ rt::Water runtimeWater(const WaterModel& water) {
         const Eigen::Vector3d v = water.velocity({p.x, p.y, p.z}, t);
         return rt::Vec3{v.x(), v.y(), v.z()};
     };
+    // The batched queries the engine's fast path makes (WaterModel::heights, ::velocities):
+    // the same water to the bit on both sides.
+    w.heights = [&water](std::size_t n, const double* x, const double* z, double t, double* out) {
+        water.heights(n, x, z, t, out);
+    };
+    w.velocities = [&water](std::size_t n, const double* x, const double* y, const double* z, double t,
+                            double* out) { water.velocities(n, x, y, z, t, out); };
     return w;
 }
 
@@ -190,7 +197,8 @@ TEST_F(RuntimeConformance, ForcesEqualTheEngineBitForBit) {
             // the closed-form drag of submerged tiles is compared too.
             const WaterModel water = k % 2 ? waves : WaterModel::flat(0.1 * uniform(rng));
             rt::Water rtWater = runtimeWater(water);
-            if (water.kind == WaterModel::Kind::Flat) rtWater.height = nullptr, rtWater.velocity = nullptr;
+            if (water.kind == WaterModel::Kind::Flat)
+                rtWater.height = nullptr, rtWater.velocity = nullptr, rtWater.heights = nullptr, rtWater.velocities = nullptr;
             rtWater.minHeight = water.minHeight();
             rtWater.maxHeight = water.maxHeight();
             fluid.frictionCoefficient = rtFluid.frictionCoefficient = k % 3 ? 0.01 : 0.0;
@@ -230,13 +238,24 @@ TEST_F(RuntimeConformance, ForcesEqualTheEngineBitForBit) {
             EXPECT_EQ(got.submergedSamples, ref.submergedSamples) << k;
             wetPoses += ref.submergedVolume > 0;
             if (k % 10 == 1) {
-                // The batched height callback gives the same heights, so the same forces.
-                rt::Water batched = rtWater;
-                batched.height = nullptr;
-                batched.heights = [&water](std::size_t n, const double* x, const double* z, double t, double* out) {
-                    for (std::size_t i = 0; i < n; ++i) out[i] = water.height(x[i], z[i], t);
-                };
-                const rt::Forces again = bundle->evaluate(pose, velocity, batched, rtFluid, frame.time);
+                // One point per call gives the same heights and velocities as the batches, so
+                // the same forces.
+                rt::Water single = rtWater;
+                single.heights = nullptr;
+                single.velocities = nullptr;
+                if (water.kind != WaterModel::Kind::Flat) {
+                    single.height = [&water](double x, double z, double t) {
+                        double out = 0;
+                        water.heights(1, &x, &z, t, &out);
+                        return out;
+                    };
+                    single.velocity = [&water](const rt::Vec3& p, double t) {
+                        double out[3];
+                        water.velocities(1, &p.x, &p.y, &p.z, t, out);
+                        return rt::Vec3{out[0], out[1], out[2]};
+                    };
+                }
+                const rt::Forces again = bundle->evaluate(pose, velocity, single, rtFluid, frame.time);
                 EXPECT_EQ(again.submergedVolume, got.submergedVolume) << k;
                 EXPECT_EQ(eig(again.dragTorque), eig(got.dragTorque)) << k;
             }

@@ -22,8 +22,16 @@ void callerHeights(const void* context, std::size_t n, const double* x, const do
     for (std::size_t i = 0; i < n; ++i) out[i] = water.height(x[i], z[i], time);
 }
 
-ev::Vec3 callerVelocity(const void* context, const ev::Vec3& point, double time) {
-    return toEval(static_cast<const Water*>(context)->velocity(fromEval(point), time));
+void callerVelocities(const void* context, std::size_t n, const double* x, const double* y,
+                      const double* z, double time, double* out) {
+    const Water& water = *static_cast<const Water*>(context);
+    if (water.velocities) return water.velocities(n, x, y, z, time, out);
+    for (std::size_t i = 0; i < n; ++i) {
+        const Vec3 v = water.velocity(Vec3{x[i], y[i], z[i]}, time);
+        out[3 * i] = v.x;
+        out[3 * i + 1] = v.y;
+        out[3 * i + 2] = v.z;
+    }
 }
 
 }  // namespace
@@ -66,9 +74,9 @@ Forces Bundle::evaluate(const Pose& pose, const Velocity& velocity, const Water&
         surface.minHeight = water.minHeight;
         surface.maxHeight = water.maxHeight;
     }
-    if (water.velocity) {
+    if (water.velocity || water.velocities) {
         surface.context = &water;
-        surface.velocity = callerVelocity;
+        surface.velocities = callerVelocities;
     }
     ev::Coefficients k;
     k.rhoG = fluid.density * fluid.gravity;

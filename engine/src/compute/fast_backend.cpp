@@ -17,12 +17,12 @@ Eigen::Vector3d toEigen(const ev::Vec3& v) { return {v.x, v.y, v.z}; }
 
 void waterHeights(const void* context, std::size_t n, const double* x, const double* z,
                   double time, double* out) {
-    const WaterModel& water = *static_cast<const WaterModel*>(context);
-    for (std::size_t i = 0; i < n; ++i) out[i] = water.height(x[i], z[i], time);
+    static_cast<const WaterModel*>(context)->heights(n, x, z, time, out);
 }
 
-ev::Vec3 waterVelocity(const void* context, const ev::Vec3& p, double time) {
-    return toEval(static_cast<const WaterModel*>(context)->velocity(toEigen(p), time));
+void waterVelocities(const void* context, std::size_t n, const double* x, const double* y,
+                     const double* z, double time, double* out) {
+    static_cast<const WaterModel*>(context)->velocities(n, x, y, z, time, out);
 }
 
 class FastBackend final : public BuoyancyBackend {
@@ -128,7 +128,7 @@ ev::WaterSurface fastWaterSurface(const WaterModel& water) {
     surface.minHeight = water.minHeight();
     surface.maxHeight = water.maxHeight();
     // Only Gerstner water moves (water.h); the grid is still.
-    if (water.kind == WaterModel::Kind::Gerstner) surface.velocity = waterVelocity;
+    if (water.kind == WaterModel::Kind::Gerstner) surface.velocities = waterVelocities;
     return surface;
 }
 

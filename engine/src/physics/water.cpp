@@ -2,6 +2,8 @@
 // the kernels are tested against this file.
 #include "plimsoll/physics/water.h"
 
+#include "gerstner_batch.h"
+
 #include <algorithm>
 #include <cmath>
 #include <numbers>
@@ -122,6 +124,62 @@ Eigen::Vector3d WaterModel::velocity(const Eigen::Vector3d& point, double time) 
                              horizontal * t.direction.y());
     }
     return v;
+}
+
+namespace {
+
+/// The waves' constants for one batched call at `time` (gerstner_batch.h); no allocation for
+/// up to kMaxGerstnerWaves waves.
+class BatchWaves {
+public:
+    BatchWaves(const WaterModel& water, double time) : count_(water.waves.size()) {
+        if (count_ > kMaxGerstnerWaves) spill_.resize(count_);
+        const WaveTable terms(water);
+        for (std::size_t i = 0; i < count_; ++i) {
+            const WaveTerms& t = terms[i];
+            const GerstnerWave& w = water.waves[i];
+            // phase - omega t to [-pi, pi] in double: the single-precision sines see small angles.
+            const double phase0 = std::remainder(w.phase - t.omega * time, 2.0 * std::numbers::pi);
+            data()[i] = {w.amplitude, t.k, t.omega, t.q * w.amplitude, t.direction.x(), t.direction.y(), phase0};
+        }
+    }
+    detail::GerstnerBatch batch(double level) const { return {data(), count_, level}; }
+
+private:
+    detail::GerstnerBatchWave* data() { return count_ > kMaxGerstnerWaves ? spill_.data() : inline_; }
+    const detail::GerstnerBatchWave* data() const { return count_ > kMaxGerstnerWaves ? spill_.data() : inline_; }
+    std::size_t count_;
+    detail::GerstnerBatchWave inline_[kMaxGerstnerWaves];
+    std::vector<detail::GerstnerBatchWave> spill_;
+};
+
+}  // namespace
+
+void WaterModel::heights(std::size_t n, const double* x, const double* z, double time, double* out) const {
+    if (kind != Kind::Gerstner || waves.empty()) {
+        for (std::size_t i = 0; i < n; ++i) out[i] = height(x[i], z[i], time);
+        return;
+    }
+    const BatchWaves w(*this, time);
+    const detail::GerstnerBatch batch = w.batch(level);
+#ifdef PLIMSOLL_GERSTNER_AVX2
+    if (detail::gerstnerBatchUsesAvx2()) return detail::gerstnerHeightsAvx2(batch, n, x, z, out);
+#endif
+    detail::gerstnerHeightsBaseline(batch, n, x, z, out);
+}
+
+void WaterModel::velocities(std::size_t n, const double* x, const double* y, const double* z, double time,
+                            double* out) const {
+    if (kind != Kind::Gerstner || waves.empty()) {
+        for (std::size_t i = 0; i < 3 * n; ++i) out[i] = 0.0;
+        return;
+    }
+    const BatchWaves w(*this, time);
+    const detail::GerstnerBatch batch = w.batch(level);
+#ifdef PLIMSOLL_GERSTNER_AVX2
+    if (detail::gerstnerBatchUsesAvx2()) return detail::gerstnerVelocitiesAvx2(batch, n, x, y, z, out);
+#endif
+    detail::gerstnerVelocitiesBaseline(batch, n, x, y, z, out);
 }
 
 double WaterModel::maxHeight() const {

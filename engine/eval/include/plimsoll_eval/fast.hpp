@@ -30,7 +30,26 @@
 #include <numeric>
 #include <vector>
 
+// The per-entry loops are compiled twice: for the target's baseline and, on x86-64 with GCC or
+// Clang, for AVX2 with FMA (a function attribute, so that nothing else is built for it), and
+// the second runs where the processor has them (cpuHasAvx2Fma). Lane sums then round
+// differently (fused multiply-adds), within single precision.
+#if (defined(__x86_64__) || defined(_M_X64)) && (defined(__GNUC__) || defined(__clang__))
+#define PLIMSOLL_EVAL_AVX2_LOOPS 1
+#define PLIMSOLL_EVAL_AVX2_TARGET __attribute__((target("avx2,fma"), flatten))
+#endif
+
 namespace plimsoll_eval {
+
+/// Whether this processor runs the AVX2 builds of the per-entry loops (checked once).
+inline bool cpuHasAvx2Fma() {
+#ifdef PLIMSOLL_EVAL_AVX2_LOOPS
+    static const bool has = __builtin_cpu_supports("avx2") && __builtin_cpu_supports("fma");
+    return has;
+#else
+    return false;
+#endif
+}
 
 struct FastOptions {
     std::size_t tileSize = 32;        ///< entries per tile (rounded up to a power of two, 8 to 64)
@@ -45,8 +64,14 @@ struct WaterSurface {
     /// n heights f(x[i], z[i], time) into out[i].
     void (*heights)(const void* context, std::size_t n, const double* x, const double* z,
                     double time, double* out) = nullptr;
-    /// The water's own velocity at a point; null: still water.
+    /// The water's own velocity at a point; null: still water (unless `velocities` is set).
     Vec3 (*velocity)(const void* context, const Vec3& point, double time) = nullptr;
+    /// The same at n points in one call (out[3 i + 0..2] for point i): game engines' water
+    /// queries are batched and costly, and a batch vectorises. Preferred over `velocity`.
+    void (*velocities)(const void* context, std::size_t n, const double* x, const double* y,
+                       const double* z, double time, double* out) = nullptr;
+
+    bool moving() const { return velocity != nullptr || velocities != nullptr; }
 
     static WaterSurface flat(double level) {
         WaterSurface w;
@@ -69,6 +94,7 @@ struct BodyState {
 struct FastStats {
     std::size_t dry = 0, closedForm = 0, perEntry = 0, waterSamples = 0;
     std::size_t dragPerEntry = 0;  ///< leaves of submerged nodes whose drag alone is per entry
+    std::size_t velocitySamples = 0;  ///< points of the water-velocity batch
 };
 
 /// What the traversal reads at every node it visits (the moments, read only where a node is
@@ -102,6 +128,16 @@ struct FastMoments {
     double n1[3][3] = {};
     double n2[3][6] = {};
     double n3[3][10] = {};
+
+    /// Adds another node's moments taken about the same point: orders 0 to 2 (the first 30
+    /// numbers, hydrostatics under a plane) or 0 to 3 (all 60, drag), as one flat loop.
+    void add(const FastMoments& o, int order = 3) {
+        static_assert(sizeof(FastMoments) == 60 * sizeof(double), "the four orders are contiguous");
+        double* to = &n0[0];
+        const double* from = &o.n0[0];
+        const int count = order < 3 ? 30 : 60;
+        for (int i = 0; i < count; ++i) to[i] += from[i];
+    }
 };
 
 /// Reusable per-call buffers: sized on the first call, reused after (no allocation per call).
@@ -114,10 +150,31 @@ struct FastLeafWork {
     float ux = 0, uy = 0, uz = 0;
 };
 
+/// A submerged node whose drag waits for the water's velocity (one batched query per call).
+struct FastDeferredDrag {
+    std::uint32_t node = 0;
+    std::int32_t slot = -1;  ///< its point in FastScratch's velocity batch; -1: still water
+};
+
+/// Closed-form work summed over many nodes before it is evaluated once: their moments about
+/// the body's centre c add up, and a polynomial in q evaluated on the sum is the sum of its
+/// values. Hydrostatics under one water plane (flat water) and the drag of the nodes that
+/// share one water velocity (a slot) are each one such bucket.
+struct FastBucket {
+    FastMoments moments;
+    std::int32_t slot = -1;
+};
+
 struct FastScratch {
     std::vector<double> x, z, h;
     std::vector<FastLeafWork> leaves;
     std::vector<FastLeafWork> dragLeaves;  ///< wholly wet: only begin and the velocity are set
+    std::vector<std::int32_t> leafSlots;   ///< velocity slot of each of `leaves`
+    std::vector<FastDeferredDrag> drags;
+    std::vector<double> px, py, pz, velocity;  ///< the velocity batch: points, then 3 per point
+    FastMoments flatHydrostatics;              ///< flat water: every submerged node's moments
+    std::vector<FastBucket> dragBuckets;       ///< one per velocity slot in use
+    std::vector<std::int32_t> bucketOfSlot;    ///< index into dragBuckets by slot + 1; -1: none
 };
 
 /// A body's entries in tile order (single precision, structure of arrays) and its tiles.
@@ -208,6 +265,8 @@ public:
         moments_ = std::move(groupMoments);
         moments_.insert(moments_.end(), tileMoments.begin(), tileMoments.end());
         moments_.insert(moments_.end(), leafMoments.begin(), leafMoments.end());
+        centerMoments_.clear();
+        for (const FastTile& t : nodes_) momentsAbout(t.begin, t.end, Vec3{}, centerMoments_.emplace_back());
         radius_ = 0;
         for (const FastTile& t : tiles) radius_ = std::max(radius_, norm(t.center) + t.radius + t.halfExtent);
     }
@@ -216,6 +275,8 @@ public:
     /// Every node of the three levels (groups first; see build), and their moments (same index).
     const std::vector<FastTile>& nodes() const { return nodes_; }
     const std::vector<FastMoments>& moments() const { return moments_; }
+    /// The same moments about the body's centre c (s = q): what buckets sum.
+    const std::vector<FastMoments>& centerMoments() const { return centerMoments_; }
     /// Tiles of FastOptions::tileSize entries (the middle level).
     std::size_t tileCount() const { return tileCount_; }
     const Vec3& center() const { return center_; }
@@ -239,6 +300,25 @@ private:
         v = (v | v << 4) & 0x30c30c3;
         v = (v | v << 2) & 0x9249249;
         return v;
+    }
+
+    /// The moments of entries [begin, end) about `point` (object space, relative to c).
+    void momentsAbout(std::size_t begin, std::size_t end, const Vec3& point, FastMoments& mo) const {
+        for (std::size_t i = begin; i < end; ++i) {
+            if (valid_[i] == 0) continue;
+            const double b[3] = {bx_[i], by_[i], bz_[i]};
+            const double d[3] = {qx_[i] - point.x, qy_[i] - point.y, qz_[i] - point.z};
+            for (int u = 0; u < 3; ++u) {
+                mo.n0[u] += b[u];
+                for (int j = 0; j < 3; ++j) {
+                    mo.n1[u][j] += b[u] * d[j];
+                    for (int l = j; l < 3; ++l) {
+                        mo.n2[u][kPair[j][l]] += b[u] * d[j] * d[l];
+                        for (int n = l; n < 3; ++n) mo.n3[u][kTriple[j][l][n]] += b[u] * d[j] * d[l] * d[n];
+                    }
+                }
+            }
+        }
     }
 
     /// The node over entries [begin, end); its moments are appended to `moments`.
@@ -270,24 +350,13 @@ private:
         for (std::size_t i = begin; i < end; ++i) {
             if (valid_[i] == 0) continue;
             const Vec3 qv = position(i), bv = areaVector(i);
-            const double q[3] = {qv.x, qv.y, qv.z}, b[3] = {bv.x, bv.y, bv.z};
             t.radius = std::max(t.radius, norm(qv - t.center));
             const double length = norm(bv);
             if (length > 0 && axisLength > 0) t.cosSpread = std::min(t.cosSpread, dot(bv, t.axis) / length);
             t.areaSum += area_[i];
             t.count += 1;
-            const double d[3] = {q[0] - t.center.x, q[1] - t.center.y, q[2] - t.center.z};
-            for (int u = 0; u < 3; ++u) {
-                mo.n0[u] += b[u];
-                for (int j = 0; j < 3; ++j) {
-                    mo.n1[u][j] += b[u] * d[j];
-                    for (int l = j; l < 3; ++l) {
-                        mo.n2[u][kPair[j][l]] += b[u] * d[j] * d[l];
-                        for (int n = l; n < 3; ++n) mo.n3[u][kTriple[j][l][n]] += b[u] * d[j] * d[l] * d[n];
-                    }
-                }
-            }
         }
+        momentsAbout(begin, end, t.center, mo);
         // Rounding may make the widest normal or the farthest entry a hair wider than measured.
         t.cosSpread = std::max(-1.0, t.cosSpread - 1e-6);
         t.radius *= 1.0 + 1e-6;
@@ -302,8 +371,19 @@ private:
         Vec3 velocity;
     };
 
-    bool closedFormDrag(const FastTile& t, const FastMoments& mo, const Vec3& uo, const Vec3& wo,
-                        const Coefficients& k, Vec3& force, Vec3& torque) const;
+    /// How the entries of node t meet the flow (object axes: uo the body's velocity relative to
+    /// the water at c, wo its spin): all turned away (no pressure drag), all facing it (the drag
+    /// is a polynomial of their moments), or mixed (its children decide).
+    enum class DragSign { away, facing, mixed };
+    DragSign dragSign(const FastTile& t, const Vec3& uo, const Vec3& wo, const Coefficients& k) const;
+    /// The pressure drag of entries that all face the flow, from their moments about `center`
+    /// (object axes; torque about c).
+    static void dragFromMoments(const FastMoments& mo, const Vec3& center, const Vec3& uo, const Vec3& wo,
+                                const Coefficients& k, Vec3& force, Vec3& torque);
+    /// The hydrostatic sums of wholly wet entries from their moments about `center` (object
+    /// axes; rc = R center), under the water's quadratic `w` over them.
+    static void hydrostaticsFromMoments(const FastMoments& mo, const Vec3& center, const Vec3& rc,
+                                        const TileWater& w, const Mat3& R, const Coefficients& k, Sums& sum);
     /// The per-entry sums of every leaf in `leaves` (one pass, the call's constants set once).
     void perEntry(const std::vector<FastLeafWork>& leaves, const Mat3& R, const BodyState& s,
                   const Coefficients& k, Sums& sum) const;
@@ -316,6 +396,18 @@ private:
     template <bool Friction>
     void perEntryLeaves(const std::vector<FastLeafWork>& leaves, const Mat3& R, const BodyState& s,
                         const Coefficients& k, Sums& sum) const;
+#ifdef PLIMSOLL_EVAL_AVX2_LOOPS
+    template <bool Friction>
+    PLIMSOLL_EVAL_AVX2_TARGET void dragLeavesAvx2(const std::vector<FastLeafWork>& leaves, const Mat3& R,
+                                                  const BodyState& s, const Coefficients& k, Sums& sum) const {
+        dragLeaves<Friction>(leaves, R, s, k, sum);
+    }
+    template <bool Friction>
+    PLIMSOLL_EVAL_AVX2_TARGET void perEntryLeavesAvx2(const std::vector<FastLeafWork>& leaves, const Mat3& R,
+                                                      const BodyState& s, const Coefficients& k, Sums& sum) const {
+        perEntryLeaves<Friction>(leaves, R, s, k, sum);
+    }
+#endif
 
     FastOptions options_;
     Vec3 center_;
@@ -323,21 +415,20 @@ private:
     std::vector<float> qx_, qy_, qz_, bx_, by_, bz_, area_, inverseLength2_, inverseLength_, valid_;
     std::vector<FastTile> nodes_;
     std::vector<FastMoments> moments_;
+    std::vector<FastMoments> centerMoments_;
     std::uint32_t roots_ = 0;
     std::size_t tileCount_ = 0;
 };
 
-inline bool FastBody::closedFormDrag(const FastTile& t, const FastMoments& mo, const Vec3& uo,
-                                     const Vec3& wo, const Coefficients& k, Vec3& force,
-                                     Vec3& torque) const {
-    force = torque = Vec3{};
-    if (k.halfRhoCf > 0) return false;  // skin friction has no polynomial form
+inline FastBody::DragSign FastBody::dragSign(const FastTile& t, const Vec3& uo, const Vec3& wo,
+                                             const Coefficients& k) const {
+    if (k.halfRhoCf > 0) return DragSign::mixed;  // skin friction has no polynomial form
     // t_i = b_i.v_i with v_i = vc + wo x s_i (vc the velocity at the node's centre): its sign
     // over the node from the normal cone against vc, widened by the spin over the radius.
     const Vec3 vc = uo + cross(wo, t.center);
     const double speed = norm(vc);
     const double spread = norm(wo) * t.radius;
-    if (speed == 0 && spread == 0) return true;  // at rest in still water: no drag
+    if (speed == 0 && spread == 0) return DragSign::away;  // at rest in still water: no drag
     // cos(phi -+ theta), phi the angle of the flow from the cone's axis, theta the cone's
     // half-angle: the largest and smallest cosine of the flow with a normal of the tile.
     const double cosPhi = speed > 0 ? std::clamp(dot(t.axis, vc) / speed, -1.0, 1.0) : 1.0;
@@ -345,12 +436,16 @@ inline bool FastBody::closedFormDrag(const FastTile& t, const FastMoments& mo, c
     const double cosTheta = t.cosSpread, sinTheta = std::sqrt(std::max(0.0, 1.0 - cosTheta * cosTheta));
     const double lowest = speed * (cosTheta + cosPhi < 0 ? -1.0 : cosPhi * cosTheta - sinPhi * sinTheta);
     const double highest = speed * (cosPhi > cosTheta ? 1.0 : cosPhi * cosTheta + sinPhi * sinTheta);
-    if (highest + spread <= 0) return true;  // no entry faces the flow: no pressure drag
-    if (lowest <= spread) return false;       // the sign changes inside the tile
-    // A leaf's few entries cost less one by one (and vectorised) than its cubic moments.
-    if (t.children == 0 && t.end - t.begin <= kLanes) return false;
-    // Every entry faces the flow: D = -k sum (b.v) v, a polynomial in s (file comment), with
-    // E[u][j] such that sum_{u,j} E[u][j] b_u s_j = (s x b).wo.
+    if (highest + spread <= 0) return DragSign::away;  // no entry faces the flow
+    if (lowest <= spread) return DragSign::mixed;       // the sign changes inside the node
+    return DragSign::facing;
+}
+
+inline void FastBody::dragFromMoments(const FastMoments& mo, const Vec3& center, const Vec3& uo,
+                                      const Vec3& wo, const Coefficients& k, Vec3& force, Vec3& torque) {
+    // Every entry faces the flow: D = -k sum (b.v) v with v = vc + wo x s, a polynomial in s
+    // (file comment), with E[u][j] such that sum_{u,j} E[u][j] b_u s_j = (s x b).wo.
+    const Vec3 vc = uo + cross(wo, center);
     const double E[3][3] = {{0, -wo.z, wo.y}, {wo.z, 0, -wo.x}, {-wo.y, wo.x, 0}};
     double sumT = 0;
     for (int u = 0; u < 3; ++u) {
@@ -377,15 +472,76 @@ inline bool FastBody::closedFormDrag(const FastTile& t, const FastMoments& mo, c
                   T[2][0] * wo.x + T[2][1] * wo.y + T[2][2] * wo.z};
     const double trace = T[0][0] + T[1][1] + T[2][2];
     force = -k.halfRhoCd * (sumT * vc + cross(wo, st));
-    // About the node's centre, then about c.
-    torque = -k.halfRhoCd * (cross(st, vc) + trace * wo - Tw) + cross(t.center, force);
-    return true;
+    // About `center`, then about c.
+    torque = -k.halfRhoCd * (cross(st, vc) + trace * wo - Tw) + cross(center, force);
+}
+
+inline void FastBody::hydrostaticsFromMoments(const FastMoments& mo, const Vec3& center, const Vec3& rc,
+                                              const TileWater& w, const Mat3& R, const Coefficients& k,
+                                              Sums& sum) {
+    // The depth about `center`, s = q - center (object axes):
+    // depth = alpha + beta.s + s^T H s / 2, from the water's quadratic over the entries.
+    const double alpha = w.f - rc.y;
+    const Vec3 beta = transposeTimes(R, Vec3{w.gx, -1.0, w.gz});
+    const bool curved = w.hxx != 0 || w.hxz != 0 || w.hzz != 0;
+    double H[3][3] = {};
+    if (curved) {
+        // R^T H3 R with H3 the horizontal Hessian in world axes: its y row and column are
+        // zero, so only the x and z rows of R enter.
+        for (int i = 0; i < 3; ++i)
+            for (int j = 0; j < 3; ++j)
+                H[i][j] = R.m[0][i] * w.hxx * R.m[0][j] + R.m[0][i] * w.hxz * R.m[2][j] +
+                          R.m[2][i] * w.hxz * R.m[0][j] + R.m[2][i] * w.hzz * R.m[2][j];
+    }
+    // D0 = sum depth b, D1 = sum depth b q^T (about c), E = sum depth^2 b (its term in
+    // (s^T H s)^2 / 4 left out: of the order of the curvature's squared departure).
+    double D0[3], D1[3][3], E[3];
+    for (int u = 0; u < 3; ++u) {
+        double n1b = 0, n2bb = 0, n2H = 0, n3bH = 0;
+        double D1s[3];
+        for (int j = 0; j < 3; ++j) {
+            n1b += mo.n1[u][j] * beta[j];
+            double n2b = 0, n3H = 0;
+            for (int l = 0; l < 3; ++l) {
+                n2b += mo.n2[u][kPair[j][l]] * beta[l];
+                if (curved) {
+                    n2H += mo.n2[u][kPair[j][l]] * H[j][l];
+                    for (int m = 0; m < 3; ++m) n3H += mo.n3[u][kTriple[j][l][m]] * H[l][m];
+                }
+            }
+            D1s[j] = alpha * mo.n1[u][j] + n2b + 0.5 * n3H;
+            n2bb += n2b * beta[j];
+            n3bH += n3H * beta[j];
+        }
+        D0[u] = alpha * mo.n0[u] + n1b + 0.5 * n2H;
+        for (int j = 0; j < 3; ++j) D1[u][j] = D0[u] * center[j] + D1s[j];
+        E[u] = alpha * alpha * mo.n0[u] + 2 * alpha * n1b + n2bb + alpha * n2H + n3bH;
+    }
+    const Vec3 rowY = R.row(1);
+    const Vec3 d0{D0[0], D0[1], D0[2]};
+    const Vec3 torque{D1[2][1] - D1[1][2], D1[0][2] - D1[2][0], D1[1][0] - D1[0][1]};
+    // rowY^T D1, then against each row of R.
+    double y[3];
+    for (int j = 0; j < 3; ++j) y[j] = rowY.x * D1[0][j] + rowY.y * D1[1][j] + rowY.z * D1[2][j];
+    const Vec3 yD1{y[0], y[1], y[2]};
+    sum.volume -= dot(rowY, d0);
+    sum.moment.x -= dot(yD1, R.row(0));
+    sum.moment.y -= dot(yD1, rowY) + 0.5 * dot(rowY, Vec3{E[0], E[1], E[2]});
+    sum.moment.z -= dot(yD1, R.row(2));
+    sum.pressureForce -= k.rhoG * (R * d0);
+    sum.pressureTorque -= k.rhoG * (R * torque);
 }
 
 inline void FastBody::perEntry(const std::vector<FastLeafWork>& leaves, const Mat3& R,
                                const BodyState& s, const Coefficients& k, Sums& sum) const {
     if (leaves.empty()) return;
-    if (k.halfRhoCf > 0)
+    const bool friction = k.halfRhoCf > 0;
+#ifdef PLIMSOLL_EVAL_AVX2_LOOPS
+    if (cpuHasAvx2Fma())
+        return friction ? perEntryLeavesAvx2<true>(leaves, R, s, k, sum)
+                        : perEntryLeavesAvx2<false>(leaves, R, s, k, sum);
+#endif
+    if (friction)
         perEntryLeaves<true>(leaves, R, s, k, sum);
     else
         perEntryLeaves<false>(leaves, R, s, k, sum);
@@ -489,7 +645,12 @@ inline void FastBody::perEntryLeaves(const std::vector<FastLeafWork>& leaves, co
 inline void FastBody::dragPerEntry(const std::vector<FastLeafWork>& leaves, const Mat3& R,
                                    const BodyState& s, const Coefficients& k, Sums& sum) const {
     if (leaves.empty()) return;
-    if (k.halfRhoCf > 0)
+    const bool friction = k.halfRhoCf > 0;
+#ifdef PLIMSOLL_EVAL_AVX2_LOOPS
+    if (cpuHasAvx2Fma())
+        return friction ? dragLeavesAvx2<true>(leaves, R, s, k, sum) : dragLeavesAvx2<false>(leaves, R, s, k, sum);
+#endif
+    if (friction)
         dragLeaves<true>(leaves, R, s, k, sum);
     else
         dragLeaves<false>(leaves, R, s, k, sum);
@@ -566,10 +727,18 @@ inline Sums FastBody::evaluate(const BodyState& s, const WaterSurface& water, co
         water.heights(water.context, n, scratch.x.data(), scratch.z.data(), s.time, scratch.h.data());
         counted.waterSamples = n;
     }
-    const Vec3 rowY = R.row(1);
-    // `inherited`: the water's velocity at the parent's centre, reused by its children (the
-    // velocity callback is the costly part of a Gerstner query).
-    auto visit = [&](const FastTile& t, const Vec3* inherited, auto& self) -> void {
+    // The water's velocity is asked for once per call, in one batch, after the traversal: a
+    // node that needs it takes a slot (a point of the batch) and its work on velocity waits.
+    // `inherited`: the slot of the parent's centre, reused by its children (as before the
+    // batch: a Gerstner velocity is the costly part of a query).
+    const bool moving = water.moving();
+    auto velocitySlot = [&](const Vec3& point) -> std::int32_t {
+        scratch.px.push_back(point.x);
+        scratch.py.push_back(point.y);
+        scratch.pz.push_back(point.z);
+        return static_cast<std::int32_t>(scratch.px.size() - 1);
+    };
+    auto visit = [&](const FastTile& t, std::int32_t inherited, auto& self) -> void {
         const Vec3 rc = R * t.center;
         TileWater w;
         double variation = 0;  // bound of the water's departure from w.f over the tile
@@ -604,16 +773,13 @@ inline Sums FastBody::evaluate(const BodyState& s, const WaterSurface& water, co
         }
         // On waves a group spans too much of the surface for one quadratic: its tiles decide.
         const bool submerged = top < w.f - variation && !(waves && &t < nodes_.data() + roots_);
-        auto descend = [&](const Vec3* velocity) {
-            for (std::uint32_t c = 0; c < t.children; ++c) self(nodes_[t.firstChild + c], velocity, self);
+        auto descend = [&](std::int32_t slot) {
+            for (std::uint32_t c = 0; c < t.children; ++c) self(nodes_[t.firstChild + c], slot, self);
         };
         if (!submerged && t.children > 0) return descend(inherited);
-        if (inherited)
-            w.velocity = *inherited;
-        else if (water.velocity)
-            w.velocity = water.velocity(water.context, s.center + rc, s.time);
+        const std::int32_t slot = inherited >= 0 ? inherited : (moving ? velocitySlot(s.center + rc) : -1);
         if (!submerged) {
-            if (t.children > 0) return descend(water.velocity ? &w.velocity : nullptr);
+            if (t.children > 0) return descend(slot);
             ++counted.perEntry;
             // Every per-entry node is a leaf of kLanes entries (build).
             FastLeafWork& leaf = scratch.leaves.emplace_back();
@@ -626,24 +792,90 @@ inline Sums FastBody::evaluate(const BodyState& s, const WaterSurface& water, co
             leaf.hxx = static_cast<float>(0.5 * w.hxx);
             leaf.hxz = static_cast<float>(w.hxz);
             leaf.hzz = static_cast<float>(0.5 * w.hzz);
-            const Vec3 u = s.linear - w.velocity;
-            leaf.ux = static_cast<float>(u.x);
-            leaf.uy = static_cast<float>(u.y);
-            leaf.uz = static_cast<float>(u.z);
+            scratch.leafSlots.push_back(slot);  // the relative velocity comes after the batch
             return;
         }
         ++counted.closedForm;
-        // Drag in closed form over the largest nodes whose entries all face the flow or all
-        // turn away from it; per entry (drag alone: every entry is wholly wet) in the leaves
-        // where the sign changes.
-        const Vec3 uo = transposeTimes(R, s.linear - w.velocity), wo = transposeTimes(R, s.angular);
+        // Drag waits for the water's velocity (below).
+        const std::size_t index = static_cast<std::size_t>(&t - nodes_.data());
+        scratch.drags.push_back({static_cast<std::uint32_t>(index), slot});
+        // Under one water plane every submerged node's polynomial is the same: their moments
+        // about c add up and are evaluated once (below). On waves each tile has its own
+        // quadratic, expanded about its centre.
+        if (waves)
+            hydrostaticsFromMoments(moments_[index], t.center, rc, w, R, k, sum);
+        else
+            scratch.flatHydrostatics.add(centerMoments_[index], 2);
+        sum.wettedArea += t.areaSum;
+        sum.count += t.count;
+    };
+    scratch.leaves.clear();
+    scratch.dragLeaves.clear();
+    scratch.leafSlots.clear();
+    scratch.drags.clear();
+    scratch.px.clear();
+    scratch.py.clear();
+    scratch.pz.clear();
+    scratch.flatHydrostatics = FastMoments{};
+    for (std::uint32_t g = 0; g < roots_; ++g) visit(nodes_[g], -1, visit);
+    if (!waves && !scratch.drags.empty()) {
+        TileWater flat;
+        flat.f = water.level - cy;
+        hydrostaticsFromMoments(scratch.flatHydrostatics, Vec3{}, Vec3{}, flat, R, k, sum);
+    }
+    // The water's velocity at every slot, in one batch.
+    const std::size_t points = scratch.px.size();
+    scratch.velocity.assign(3 * points, 0.0);
+    if (points > 0) {
+        if (water.velocities) {
+            water.velocities(water.context, points, scratch.px.data(), scratch.py.data(), scratch.pz.data(),
+                             s.time, scratch.velocity.data());
+        } else {
+            for (std::size_t i = 0; i < points; ++i) {
+                const Vec3 v = water.velocity(water.context, {scratch.px[i], scratch.py[i], scratch.pz[i]}, s.time);
+                scratch.velocity[3 * i] = v.x;
+                scratch.velocity[3 * i + 1] = v.y;
+                scratch.velocity[3 * i + 2] = v.z;
+            }
+        }
+        counted.velocitySamples = points;
+    }
+    auto waterVelocityAt = [&](std::int32_t slot) {
+        if (slot < 0) return Vec3{};
+        const double* v = scratch.velocity.data() + 3 * static_cast<std::size_t>(slot);
+        return Vec3{v[0], v[1], v[2]};
+    };
+    for (std::size_t i = 0; i < scratch.leaves.size(); ++i) {
+        const Vec3 u = s.linear - waterVelocityAt(scratch.leafSlots[i]);
+        scratch.leaves[i].ux = static_cast<float>(u.x);
+        scratch.leaves[i].uy = static_cast<float>(u.y);
+        scratch.leaves[i].uz = static_cast<float>(u.z);
+    }
+    // Drag: the largest nodes whose entries all face the flow add their moments to the bucket
+    // of their water velocity (one per slot; one in all on still water); per entry (drag alone:
+    // every entry is wholly wet) in the leaves where the sign changes.
+    scratch.bucketOfSlot.assign(points + 1, -1);
+    scratch.dragBuckets.clear();
+    const Vec3 wo = transposeTimes(R, s.angular);
+    for (const FastDeferredDrag& deferred : scratch.drags) {
+        const Vec3 waterVelocity = waterVelocityAt(deferred.slot);
+        const Vec3 uo = transposeTimes(R, s.linear - waterVelocity);
         auto drag = [&](const FastTile& node, auto& again) -> void {
-            Vec3 force, torque;
-            if (closedFormDrag(node, moments_[static_cast<std::size_t>(&node - nodes_.data())], uo, wo,
-                               k, force, torque)) {
-                sum.dragForce += R * force;
-                sum.dragTorque += R * torque;
-                return;
+            const std::size_t index = static_cast<std::size_t>(&node - nodes_.data());
+            switch (dragSign(node, uo, wo, k)) {
+                case DragSign::away:
+                    return;
+                case DragSign::facing: {
+                    std::int32_t& bucket = scratch.bucketOfSlot[static_cast<std::size_t>(deferred.slot + 1)];
+                    if (bucket < 0) {
+                        bucket = static_cast<std::int32_t>(scratch.dragBuckets.size());
+                        scratch.dragBuckets.push_back({FastMoments{}, deferred.slot});
+                    }
+                    scratch.dragBuckets[static_cast<std::size_t>(bucket)].moments.add(centerMoments_[index]);
+                    return;
+                }
+                case DragSign::mixed:
+                    break;
             }
             if (node.children > 0) {
                 for (std::uint32_t c = 0; c < node.children; ++c) again(nodes_[node.firstChild + c], again);
@@ -652,71 +884,20 @@ inline Sums FastBody::evaluate(const BodyState& s, const WaterSurface& water, co
             ++counted.dragPerEntry;
             FastLeafWork& leaf = scratch.dragLeaves.emplace_back();
             leaf.begin = node.begin;
-            const Vec3 u = s.linear - w.velocity;
+            const Vec3 u = s.linear - waterVelocity;
             leaf.ux = static_cast<float>(u.x);
             leaf.uy = static_cast<float>(u.y);
             leaf.uz = static_cast<float>(u.z);
         };
-        drag(t, drag);
-        const FastMoments& mo = moments_[static_cast<std::size_t>(&t - nodes_.data())];
-        // The depth about the tile's centre, s = q - center (object axes):
-        // depth = alpha + beta.s + s^T H s / 2, from the water's quadratic over the tile.
-        const double alpha = w.f - rc.y;
-        const Vec3 beta = transposeTimes(R, Vec3{w.gx, -1.0, w.gz});
-        const bool curved = w.hxx != 0 || w.hxz != 0 || w.hzz != 0;
-        double H[3][3] = {};
-        if (curved) {
-            // R^T H3 R with H3 the horizontal Hessian in world axes: its y row and column are
-            // zero, so only the x and z rows of R enter.
-            for (int i = 0; i < 3; ++i)
-                for (int j = 0; j < 3; ++j)
-                    H[i][j] = R.m[0][i] * w.hxx * R.m[0][j] + R.m[0][i] * w.hxz * R.m[2][j] +
-                              R.m[2][i] * w.hxz * R.m[0][j] + R.m[2][i] * w.hzz * R.m[2][j];
-        }
-        // D0 = sum depth b, D1 = sum depth b q^T (about c), E = sum depth^2 b (its term in
-        // (s^T H s)^2 / 4 left out: of the order of the curvature's squared departure).
-        double D0[3], D1[3][3], E[3];
-        for (int u = 0; u < 3; ++u) {
-            double n1b = 0, n2bb = 0, n2H = 0, n3bH = 0;
-            double D1s[3];
-            for (int j = 0; j < 3; ++j) {
-                n1b += mo.n1[u][j] * beta[j];
-                double n2b = 0, n3H = 0;
-                for (int l = 0; l < 3; ++l) {
-                    n2b += mo.n2[u][kPair[j][l]] * beta[l];
-                    if (curved) {
-                        n2H += mo.n2[u][kPair[j][l]] * H[j][l];
-                        for (int m = 0; m < 3; ++m) n3H += mo.n3[u][kTriple[j][l][m]] * H[l][m];
-                    }
-                }
-                D1s[j] = alpha * mo.n1[u][j] + n2b + 0.5 * n3H;
-                n2bb += n2b * beta[j];
-                n3bH += n3H * beta[j];
-            }
-            D0[u] = alpha * mo.n0[u] + n1b + 0.5 * n2H;
-            for (int j = 0; j < 3; ++j) D1[u][j] = D0[u] * t.center[j] + D1s[j];
-            E[u] = alpha * alpha * mo.n0[u] + 2 * alpha * n1b + n2bb + alpha * n2H + n3bH;
-        }
-        const Vec3 d0{D0[0], D0[1], D0[2]};
-        const Vec3 torque{D1[2][1] - D1[1][2], D1[0][2] - D1[2][0], D1[1][0] - D1[0][1]};
-        auto sandwich = [&](const Vec3& left, const Vec3& right) {
-            double v = 0;
-            for (int u = 0; u < 3; ++u)
-                for (int j = 0; j < 3; ++j) v += left[u] * D1[u][j] * right[j];
-            return v;
-        };
-        sum.volume -= dot(rowY, d0);
-        sum.moment.x -= sandwich(rowY, R.row(0));
-        sum.moment.y -= sandwich(rowY, rowY) + 0.5 * dot(rowY, Vec3{E[0], E[1], E[2]});
-        sum.moment.z -= sandwich(rowY, R.row(2));
-        sum.pressureForce -= k.rhoG * (R * d0);
-        sum.pressureTorque -= k.rhoG * (R * torque);
-        sum.wettedArea += t.areaSum;
-        sum.count += t.count;
-    };
-    scratch.leaves.clear();
-    scratch.dragLeaves.clear();
-    for (std::uint32_t g = 0; g < roots_; ++g) visit(nodes_[g], nullptr, visit);
+        drag(nodes_[deferred.node], drag);
+    }
+    for (const FastBucket& bucket : scratch.dragBuckets) {
+        const Vec3 uo = transposeTimes(R, s.linear - waterVelocityAt(bucket.slot));
+        Vec3 force, torque;
+        dragFromMoments(bucket.moments, Vec3{}, uo, wo, k, force, torque);
+        sum.dragForce += R * force;
+        sum.dragTorque += R * torque;
+    }
     perEntry(scratch.leaves, R, s, k, sum);
     dragPerEntry(scratch.dragLeaves, R, s, k, sum);
     if (stats) *stats = counted;

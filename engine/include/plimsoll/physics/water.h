@@ -54,6 +54,13 @@ struct WaterModel {
     /// Velocity of the water at a point (m/s): Gerstner orbital velocity, decaying as e^(k d)
     /// with depth d below the mean level; zero for the flat plane and the grid.
     Eigen::Vector3d velocity(const Eigen::Vector3d& point, double time) const;
+    /// height() at n points in one call (out[i]); for Gerstner waves vectorised, with the
+    /// phases' sines and cosines in single precision (a few 1e-7 of the amplitudes from
+    /// height(); src/physics/gerstner_batch.h). What the fast CPU path samples.
+    void heights(std::size_t n, const double* x, const double* z, double time, double* out) const;
+    /// velocity() at n points in one call (out[3 i + 0..2]), vectorised as heights().
+    void velocities(std::size_t n, const double* x, const double* y, const double* z, double time,
+                    double* out) const;
 
     /// Highest and lowest possible surface height (bounds for culling whole tiles).
     double maxHeight() const;

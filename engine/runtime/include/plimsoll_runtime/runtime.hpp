@@ -67,6 +67,12 @@ struct Water {
     /// of points per body at once. When set it is used instead of `height`.
     std::function<void(std::size_t n, const double* x, const double* z, double time, double* out)>
         heights;
+    /// Many velocities in one call, out[3 i + 0..2] the water's velocity at (x[i], y[i], z[i]):
+    /// evaluate() asks for every point it needs (one per wet tile) at once. When set it is used
+    /// instead of `velocity`.
+    std::function<void(std::size_t n, const double* x, const double* y, const double* z, double time,
+                       double* out)>
+        velocities;
 
     double heightAt(double x, double z, double time) const {
         if (heights) {

@@ -1,0 +1,31 @@
+// The batched Gerstner evaluation for the x86-64 baseline (gerstner_batch.h).
+#include "gerstner_batch.h"
+
+#include <xsimd/xsimd.hpp>
+
+#include <algorithm>
+
+namespace plimsoll::detail {
+namespace {
+#include "gerstner_batch_impl.h"
+}  // namespace
+
+void gerstnerHeightsBaseline(const GerstnerBatch& g, std::size_t n, const double* x, const double* z, double* out) {
+    heightsImpl(g, n, x, z, out);
+}
+
+void gerstnerVelocitiesBaseline(const GerstnerBatch& g, std::size_t n, const double* x, const double* y,
+                                const double* z, double* out) {
+    velocitiesImpl(g, n, x, y, z, out);
+}
+
+bool gerstnerBatchUsesAvx2() {
+#if defined(__x86_64__) && (defined(__GNUC__) || defined(__clang__))
+    static const bool avx2 = __builtin_cpu_supports("avx2") && __builtin_cpu_supports("fma");
+    return avx2;
+#else
+    return false;
+#endif
+}
+
+}  // namespace plimsoll::detail
