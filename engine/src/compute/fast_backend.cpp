@@ -4,6 +4,8 @@
 #include "plimsoll/bake/bake.h"
 
 #include <chrono>
+#include <cstring>
+#include <memory>
 #include <thread>
 
 namespace plimsoll {
@@ -46,7 +48,7 @@ public:
 
     std::size_t addBody(const SurfaceTextures& textures,
                         const Eigen::Vector3d& centerOfMass) override {
-        bodies_.push_back(makeFastBody(textures, centerOfMass, options_.evaluation));
+        bodies_.push_back(sharedBody(textures, centerOfMass));
         centers_.push_back(centerOfMass);
         return bodies_.size() - 1;
     }
@@ -55,7 +57,7 @@ public:
                       const Eigen::Vector3d& centerOfMass) override {
         if (id >= bodies_.size())
             return makeError(ErrorKind::invalidArgument, "updateBody: unknown body id");
-        bodies_[id] = makeFastBody(textures, centerOfMass, options_.evaluation);
+        bodies_[id] = sharedBody(textures, centerOfMass);
         centers_[id] = centerOfMass;
         return Ok{};
     }
@@ -71,7 +73,7 @@ public:
             BodyFrame frame = request.frame;
             frame.centerOfMass = centers_[request.body];
             results[static_cast<std::size_t>(i)] =
-                evaluateBuoyancyFast(bodies_[request.body], frame, water, request.fluid,
+                evaluateBuoyancyFast(*bodies_[request.body], frame, water, request.fluid,
                                      scratch_[worker % scratch_.size()]);
         };
         ev::parallelFor(static_cast<int>(requests.size()), 4, options_.tasks, pool_, one);
@@ -95,9 +97,45 @@ public:
     }
 
 private:
+    /// Bodies baked from the same textures about the same centre (a thousand crates of one
+    /// asset) share one FastBody: its entries and nodes are then read from cache by every
+    /// instance, where a copy each made a frame of many bodies a stream from memory (1000
+    /// spheres at 64^2: 0.7 GB, 30-40 us a body on one thread or two, against 8 us alone).
+    /// Found by a 64-bit hash of the entries' bytes and the centre (shared only on an equal
+    /// hash and count).
+    std::shared_ptr<const ev::FastBody> sharedBody(const SurfaceTextures& textures,
+                                                   const Eigen::Vector3d& centerOfMass) {
+        std::uint64_t key = 0x9e3779b97f4a7c15ull ^ textures.coveredCount();
+        auto mix = [&key](const void* data, std::size_t bytes) {
+            const auto* p = static_cast<const unsigned char*>(data);
+            for (std::size_t i = 0; i + 8 <= bytes; i += 8) {
+                std::uint64_t word;
+                std::memcpy(&word, p + i, 8);
+                key = (key ^ word) * 0xff51afd7ed558ccdull;
+                key ^= key >> 32;
+            }
+        };
+        mix(textures.position.data(), textures.position.size() * sizeof(Eigen::Vector3d));
+        mix(textures.areaVector.data(), textures.areaVector.size() * sizeof(Eigen::Vector3d));
+        mix(textures.area.data(), textures.area.size() * sizeof(double));
+        mix(centerOfMass.data(), sizeof(double) * 3);
+        for (const SharedBody& shared : shared_)
+            if (shared.key == key && shared.count == textures.coveredCount()) return shared.body;
+        auto body = std::make_shared<const ev::FastBody>(makeFastBody(textures, centerOfMass, options_.evaluation));
+        shared_.push_back({key, textures.coveredCount(), body});
+        return body;
+    }
+
+    struct SharedBody {
+        std::uint64_t key;
+        std::size_t count;
+        std::shared_ptr<const ev::FastBody> body;
+    };
+
     FastBackendOptions options_;
     ev::ThreadPool pool_;
-    std::vector<ev::FastBody> bodies_;
+    std::vector<SharedBody> shared_;
+    std::vector<std::shared_ptr<const ev::FastBody>> bodies_;
     std::vector<Eigen::Vector3d> centers_;
     std::vector<ev::FastScratch> scratch_;  // one per worker
     std::unique_ptr<BuoyancyBackend> exchange_ = createReferenceBackend();
