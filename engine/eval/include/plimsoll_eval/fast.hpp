@@ -156,6 +156,30 @@ struct FastDeferredDrag {
     std::int32_t slot = -1;  ///< its point in FastScratch's velocity batch; -1: still water
 };
 
+/// Moments about c taken about the point p instead (s' = s - p; object axes): each order
+/// from the orders up to it.
+inline FastMoments shifted(const FastMoments& m, const Vec3& p) {
+    FastMoments o;
+    const double q[3] = {p.x, p.y, p.z};
+    for (int u = 0; u < 3; ++u) {
+        o.n0[u] = m.n0[u];
+        for (int j = 0; j < 3; ++j) o.n1[u][j] = m.n1[u][j] - m.n0[u] * q[j];
+        for (int j = 0; j < 3; ++j)
+            for (int l = j; l < 3; ++l)
+                o.n2[u][kPair[j][l]] = m.n2[u][kPair[j][l]] - m.n1[u][j] * q[l] - m.n1[u][l] * q[j] +
+                                       m.n0[u] * q[j] * q[l];
+        for (int j = 0; j < 3; ++j)
+            for (int l = j; l < 3; ++l)
+                for (int n = l; n < 3; ++n)
+                    o.n3[u][kTriple[j][l][n]] =
+                        m.n3[u][kTriple[j][l][n]] -
+                        (m.n2[u][kPair[j][l]] * q[n] + m.n2[u][kPair[j][n]] * q[l] + m.n2[u][kPair[l][n]] * q[j]) +
+                        (m.n1[u][j] * q[l] * q[n] + m.n1[u][l] * q[j] * q[n] + m.n1[u][n] * q[j] * q[l]) -
+                        m.n0[u] * q[j] * q[l] * q[n];
+    }
+    return o;
+}
+
 /// Closed-form work summed over many nodes before it is evaluated once: their moments about
 /// the body's centre c add up, and a polynomial in q evaluated on the sum is the sum of its
 /// values. Hydrostatics under one water plane (flat water) and the drag of the nodes that
@@ -173,6 +197,9 @@ struct FastScratch {
     std::vector<FastDeferredDrag> drags;
     std::vector<double> px, py, pz, velocity;  ///< the velocity batch: points, then 3 per point
     FastMoments flatHydrostatics;              ///< flat water: every submerged node's moments
+    std::vector<FastBucket> stencils;          ///< waves: submerged nodes' moments per grid node (slot)
+    std::vector<double> stencilHeight, stencilWeight;  ///< their centres' mean height, weighed by entries
+    std::vector<std::int32_t> stencilBucket;   ///< index into stencils by grid node; -1: none
     std::vector<FastBucket> dragBuckets;       ///< one per velocity slot in use
     std::vector<std::int32_t> bucketOfSlot;    ///< index into dragBuckets by slot + 1; -1: none
 };
@@ -742,6 +769,7 @@ inline Sums FastBody::evaluate(const BodyState& s, const WaterSurface& water, co
         const Vec3 rc = R * t.center;
         TileWater w;
         double variation = 0;  // bound of the water's departure from w.f over the tile
+        int stencil = -1;      // on waves: the grid node whose 3 x 3 quadratic the node takes
         if (waves) {
             const double fx = (s.center.x + rc.x - x0) / h, fz = (s.center.z + rc.z - z0) / h;
             const int i = std::clamp(static_cast<int>(std::lround(fx)), 1, G - 2);
@@ -752,6 +780,7 @@ inline Sums FastBody::evaluate(const BodyState& s, const WaterSurface& water, co
             w.hxx = (H(1, 0) - 2 * c0 + H(-1, 0)) / (h * h);
             w.hzz = (H(0, 1) - 2 * c0 + H(0, -1)) / (h * h);
             w.hxz = (H(1, 1) - H(1, -1) - H(-1, 1) + H(-1, -1)) / (4 * h * h);
+            stencil = j * G + i;
             const double dx = (fx - i) * h, dz = (fz - j) * h;  // tile centre from the node
             w.f = c0 + hx * dx + hz * dz + 0.5 * w.hxx * dx * dx + w.hxz * dx * dz +
                   0.5 * w.hzz * dz * dz;
@@ -802,10 +831,22 @@ inline Sums FastBody::evaluate(const BodyState& s, const WaterSurface& water, co
         // Under one water plane every submerged node's polynomial is the same: their moments
         // about c add up and are evaluated once (below). On waves each tile has its own
         // quadratic, expanded about its centre.
-        if (waves)
-            hydrostaticsFromMoments(moments_[index], t.center, rc, w, R, k, sum);
-        else
+        if (waves) {
+            // Every node of one stencil has the same quadratic: their moments about c add up
+            // in the stencil's bucket, shifted once to the stencil's point (below).
+            std::int32_t& bucket = scratch.stencilBucket[static_cast<std::size_t>(stencil)];
+            if (bucket < 0) {
+                bucket = static_cast<std::int32_t>(scratch.stencils.size());
+                scratch.stencils.push_back({FastMoments{}, stencil});
+                scratch.stencilHeight.push_back(0.0);
+                scratch.stencilWeight.push_back(0.0);
+            }
+            scratch.stencils[static_cast<std::size_t>(bucket)].moments.add(centerMoments_[index]);
+            scratch.stencilHeight[static_cast<std::size_t>(bucket)] += t.count * rc.y;
+            scratch.stencilWeight[static_cast<std::size_t>(bucket)] += t.count;
+        } else {
             scratch.flatHydrostatics.add(centerMoments_[index], 2);
+        }
         sum.wettedArea += t.areaSum;
         sum.count += t.count;
     };
@@ -817,7 +858,29 @@ inline Sums FastBody::evaluate(const BodyState& s, const WaterSurface& water, co
     scratch.py.clear();
     scratch.pz.clear();
     scratch.flatHydrostatics = FastMoments{};
+    scratch.stencils.clear();
+    scratch.stencilHeight.clear();
+    scratch.stencilWeight.clear();
+    if (waves) scratch.stencilBucket.assign(static_cast<std::size_t>(G) * G, -1);
     for (std::uint32_t g = 0; g < roots_; ++g) visit(nodes_[g], -1, visit);
+    // Waves: each stencil's bucket about the point above its grid node (at the mean height of
+    // its nodes' centres, where the moments are smallest), under the stencil's quadratic.
+    for (std::size_t b = 0; b < scratch.stencils.size(); ++b) {
+        const int node = scratch.stencils[b].slot;
+        const int i = node % G, j = node / G;
+        auto H = [&](int di, int dj) { return scratch.h[(j + dj) * G + (i + di)] - cy; };
+        TileWater w;
+        w.f = H(0, 0);
+        w.gx = (H(1, 0) - H(-1, 0)) / (2 * h);
+        w.gz = (H(0, 1) - H(0, -1)) / (2 * h);
+        w.hxx = (H(1, 0) - 2 * w.f + H(-1, 0)) / (h * h);
+        w.hzz = (H(0, 1) - 2 * w.f + H(0, -1)) / (h * h);
+        w.hxz = (H(1, 1) - H(1, -1) - H(-1, 1) + H(-1, -1)) / (4 * h * h);
+        const Vec3 rp{x0 + i * h - s.center.x, scratch.stencilHeight[b] / scratch.stencilWeight[b],
+                      z0 + j * h - s.center.z};
+        const Vec3 p = transposeTimes(R, rp);
+        hydrostaticsFromMoments(shifted(scratch.stencils[b].moments, p), p, rp, w, R, k, sum);
+    }
     if (!waves && !scratch.drags.empty()) {
         TileWater flat;
         flat.f = water.level - cy;
