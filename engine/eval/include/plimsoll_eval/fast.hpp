@@ -923,6 +923,7 @@ inline Sums FastBody::evaluate(const BodyState& s, const WaterSurface& water, co
     for (const FastDeferredDrag& deferred : scratch.drags) {
         const Vec3 waterVelocity = waterVelocityAt(deferred.slot);
         const Vec3 uo = transposeTimes(R, s.linear - waterVelocity);
+        if (dot(uo, uo) == 0 && dot(wo, wo) == 0) continue;  // no flow: no drag (nor friction)
         auto drag = [&](const FastTile& node, auto& again) -> void {
             const std::size_t index = static_cast<std::size_t>(&node - nodes_.data());
             // A leaf's 8 entries, one by one in one vectorised pass, cost less than its sign
