@@ -8,17 +8,9 @@
 #include <algorithm>
 
 namespace plimsoll::detail {
-namespace {
+
 #include "gerstner_batch_impl.h"
-}  // namespace
 
-void gerstnerHeightsAvx2(const GerstnerBatch& g, std::size_t n, const double* x, const double* z, double* out) {
-    heightsImpl(g, n, x, z, out);
-}
-
-void gerstnerVelocitiesAvx2(const GerstnerBatch& g, std::size_t n, const double* x, const double* y,
-                            const double* z, double* out) {
-    velocitiesImpl(g, n, x, y, z, out);
-}
+PLIMSOLL_GERSTNER_BATCH_ENTRY_POINTS(Avx2)
 
 }  // namespace plimsoll::detail

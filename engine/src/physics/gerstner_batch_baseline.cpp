@@ -6,18 +6,10 @@
 #include <algorithm>
 
 namespace plimsoll::detail {
-namespace {
+
 #include "gerstner_batch_impl.h"
-}  // namespace
 
-void gerstnerHeightsBaseline(const GerstnerBatch& g, std::size_t n, const double* x, const double* z, double* out) {
-    heightsImpl(g, n, x, z, out);
-}
-
-void gerstnerVelocitiesBaseline(const GerstnerBatch& g, std::size_t n, const double* x, const double* y,
-                                const double* z, double* out) {
-    velocitiesImpl(g, n, x, y, z, out);
-}
+PLIMSOLL_GERSTNER_BATCH_ENTRY_POINTS(Baseline)
 
 bool gerstnerBatchUsesAvx2() {
 #if defined(__x86_64__) && (defined(__GNUC__) || defined(__clang__))

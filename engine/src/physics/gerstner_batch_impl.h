@@ -1,7 +1,8 @@
 // The body of the batched Gerstner evaluation (gerstner_batch.h), compiled once per
-// instruction set: gerstner_batch_baseline.cpp and gerstner_batch_avx2.cpp include it inside an
-// anonymous namespace, so that nothing compiled here for AVX2 can be linked into baseline code.
-// Included only by those two files.
+// instruction set: gerstner_batch_baseline.cpp and gerstner_batch_avx2.cpp include it inside
+// namespace plimsoll::detail; its helpers are in an anonymous namespace, so that nothing
+// compiled here for AVX2 can be linked into baseline code. Included only by those two files.
+namespace {
 
 /// Points per block: one single-precision batch of this build's widest registers.
 using Lanes = xsimd::batch<float>;
@@ -118,3 +119,17 @@ inline void velocitiesImpl(const GerstnerBatch& g, std::size_t n, const double* 
             for (int c = 0; c < 3; ++c) out[3 * (first + l) + c] = v[c][l];
     });
 }
+
+}  // namespace
+
+/// The exported entry points of one build (Suffix: Baseline or Avx2), outside the anonymous
+/// namespace the body above lives in.
+#define PLIMSOLL_GERSTNER_BATCH_ENTRY_POINTS(Suffix)                                                     \
+    void gerstnerHeights##Suffix(const GerstnerBatch& g, std::size_t n, const double* x, const double* z, \
+                                 double* out) {                                                         \
+        heightsImpl(g, n, x, z, out);                                                                   \
+    }                                                                                                   \
+    void gerstnerVelocities##Suffix(const GerstnerBatch& g, std::size_t n, const double* x,              \
+                                    const double* y, const double* z, double* out) {                    \
+        velocitiesImpl(g, n, x, y, z, out);                                                             \
+    }
