@@ -129,14 +129,17 @@ struct FastMoments {
     double n2[3][6] = {};
     double n3[3][10] = {};
 
-    /// Adds another node's moments taken about the same point: orders 0 to 2 (the first 30
-    /// numbers, hydrostatics under a plane) or 0 to 3 (all 60, drag), as one flat loop.
+    /// Adds another node's moments taken about the same point: orders 0 to 2 (hydrostatics
+    /// under a plane) or 0 to 3 (drag).
     void add(const FastMoments& o, int order = 3) {
-        static_assert(sizeof(FastMoments) == 60 * sizeof(double), "the four orders are contiguous");
-        double* to = &n0[0];
-        const double* from = &o.n0[0];
-        const int count = order < 3 ? 30 : 60;
-        for (int i = 0; i < count; ++i) to[i] += from[i];
+        for (int u = 0; u < 3; ++u) {
+            n0[u] += o.n0[u];
+            for (int j = 0; j < 3; ++j) n1[u][j] += o.n1[u][j];
+            for (int j = 0; j < 6; ++j) n2[u][j] += o.n2[u][j];
+        }
+        if (order < 3) return;
+        for (int u = 0; u < 3; ++u)
+            for (int j = 0; j < 10; ++j) n3[u][j] += o.n3[u][j];
     }
 };
 
