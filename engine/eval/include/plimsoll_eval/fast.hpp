@@ -192,8 +192,16 @@ struct FastBucket {
     std::int32_t slot = -1;
 };
 
+/// The water's quadratic through the 3 x 3 grid points about one grid node (heights relative to
+/// c.y): f + g.d + d^T H d / 2, d the horizontal offset from the node.
+struct FastStencil {
+    double f = 0, gx = 0, gz = 0, hxx = 0, hxz = 0, hzz = 0;
+    double frobenius = 0;  ///< |H|_F
+};
+
 struct FastScratch {
     std::vector<double> x, z, h;
+    std::vector<FastStencil> stencilQuadratics;  ///< per grid node (inner nodes only)
     std::vector<FastLeafWork> leaves;
     std::vector<FastLeafWork> dragLeaves;  ///< wholly wet: only begin and the velocity are set
     std::vector<std::int32_t> leafSlots;   ///< velocity slot of each of `leaves`
@@ -756,6 +764,20 @@ inline Sums FastBody::evaluate(const BodyState& s, const WaterSurface& water, co
             }
         water.heights(water.context, n, scratch.x.data(), scratch.z.data(), s.time, scratch.h.data());
         counted.waterSamples = n;
+        // Each inner node's quadratic once, rather than once per node of the body that takes it.
+        scratch.stencilQuadratics.resize(n);
+        for (int j = 1; j < G - 1; ++j)
+            for (int i = 1; i < G - 1; ++i) {
+                auto H = [&](int di, int dj) { return scratch.h[(j + dj) * G + (i + di)] - cy; };
+                FastStencil& q = scratch.stencilQuadratics[j * G + i];
+                q.f = H(0, 0);
+                q.gx = (H(1, 0) - H(-1, 0)) / (2 * h);
+                q.gz = (H(0, 1) - H(0, -1)) / (2 * h);
+                q.hxx = (H(1, 0) - 2 * q.f + H(-1, 0)) / (h * h);
+                q.hzz = (H(0, 1) - 2 * q.f + H(0, -1)) / (h * h);
+                q.hxz = (H(1, 1) - H(1, -1) - H(-1, 1) + H(-1, -1)) / (4 * h * h);
+                q.frobenius = std::sqrt(q.hxx * q.hxx + q.hzz * q.hzz + 2 * q.hxz * q.hxz);
+            }
     }
     // The water's velocity is asked for once per call, in one batch, after the traversal: a
     // node that needs it takes a slot (a point of the batch) and its work on velocity waits.
@@ -777,20 +799,17 @@ inline Sums FastBody::evaluate(const BodyState& s, const WaterSurface& water, co
             const double fx = (s.center.x + rc.x - x0) / h, fz = (s.center.z + rc.z - z0) / h;
             const int i = std::clamp(static_cast<int>(std::lround(fx)), 1, G - 2);
             const int j = std::clamp(static_cast<int>(std::lround(fz)), 1, G - 2);
-            auto H = [&](int di, int dj) { return scratch.h[(j + dj) * G + (i + di)] - cy; };
-            const double c0 = H(0, 0);
-            const double hx = (H(1, 0) - H(-1, 0)) / (2 * h), hz = (H(0, 1) - H(0, -1)) / (2 * h);
-            w.hxx = (H(1, 0) - 2 * c0 + H(-1, 0)) / (h * h);
-            w.hzz = (H(0, 1) - 2 * c0 + H(0, -1)) / (h * h);
-            w.hxz = (H(1, 1) - H(1, -1) - H(-1, 1) + H(-1, -1)) / (4 * h * h);
             stencil = j * G + i;
+            const FastStencil& q = scratch.stencilQuadratics[static_cast<std::size_t>(stencil)];
+            w.hxx = q.hxx;
+            w.hzz = q.hzz;
+            w.hxz = q.hxz;
             const double dx = (fx - i) * h, dz = (fz - j) * h;  // tile centre from the node
-            w.f = c0 + hx * dx + hz * dz + 0.5 * w.hxx * dx * dx + w.hxz * dx * dz +
+            w.f = q.f + q.gx * dx + q.gz * dz + 0.5 * w.hxx * dx * dx + w.hxz * dx * dz +
                   0.5 * w.hzz * dz * dz;
-            w.gx = hx + w.hxx * dx + w.hxz * dz;
-            w.gz = hz + w.hxz * dx + w.hzz * dz;
-            const double frobenius = std::sqrt(w.hxx * w.hxx + w.hzz * w.hzz + 2 * w.hxz * w.hxz);
-            variation = std::sqrt(w.gx * w.gx + w.gz * w.gz) * t.radius + 0.5 * frobenius * t.radius * t.radius;
+            w.gx = q.gx + w.hxx * dx + w.hxz * dz;
+            w.gz = q.gz + w.hxz * dx + w.hzz * dz;
+            variation = std::sqrt(w.gx * w.gx + w.gz * w.gz) * t.radius + 0.5 * q.frobenius * t.radius * t.radius;
         } else {
             w.f = water.level - cy;
         }
@@ -871,14 +890,14 @@ inline Sums FastBody::evaluate(const BodyState& s, const WaterSurface& water, co
     for (std::size_t b = 0; b < scratch.stencils.size(); ++b) {
         const int node = scratch.stencils[b].slot;
         const int i = node % G, j = node / G;
-        auto H = [&](int di, int dj) { return scratch.h[(j + dj) * G + (i + di)] - cy; };
+        const FastStencil& q = scratch.stencilQuadratics[static_cast<std::size_t>(node)];
         TileWater w;
-        w.f = H(0, 0);
-        w.gx = (H(1, 0) - H(-1, 0)) / (2 * h);
-        w.gz = (H(0, 1) - H(0, -1)) / (2 * h);
-        w.hxx = (H(1, 0) - 2 * w.f + H(-1, 0)) / (h * h);
-        w.hzz = (H(0, 1) - 2 * w.f + H(0, -1)) / (h * h);
-        w.hxz = (H(1, 1) - H(1, -1) - H(-1, 1) + H(-1, -1)) / (4 * h * h);
+        w.f = q.f;
+        w.gx = q.gx;
+        w.gz = q.gz;
+        w.hxx = q.hxx;
+        w.hzz = q.hzz;
+        w.hxz = q.hxz;
         const Vec3 rp{x0 + i * h - s.center.x, scratch.stencilHeight[b] / scratch.stencilWeight[b],
                       z0 + j * h - s.center.z};
         const Vec3 p = transposeTimes(R, rp);
