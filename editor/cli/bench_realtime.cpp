@@ -126,9 +126,10 @@ Row makeRow(Scenario scenario, const std::string& mesh, const std::string& metho
     return row;
 }
 
-FastBackendOptions fastOn(int threads) {
+FastBackendOptions fastOn(int threads, int waveGrid = 0) {
     FastBackendOptions options;
     options.threads = threads;
+    if (waveGrid > 0) options.evaluation.waveGrid = waveGrid;
     return options;
 }
 
@@ -222,6 +223,7 @@ struct Method {
     std::string label;
     std::string spec;  ///< for createBuoyancyBackend
     int threads = 1;
+    int waveGrid = 0;  ///< fast path only: water samples per side of its grid (0: the default)
 };
 
 void printRows(const std::vector<Row>& rows) {
@@ -290,6 +292,10 @@ int runRealtimeBench(const RealtimeBenchOptions& o) {
         return o.bodies.empty() || std::find(o.bodies.begin(), o.bodies.end(), n) != o.bodies.end();
     };
     std::vector<Method> methods = {{"reference", "reference", 1}, {"fast CPU", "", 1}};
+    // The fast path's accuracy knob on waves: how many water samples per side of its grid over
+    // the body (the default, 9, is the "fast CPU" row).
+    for (int grid : {5, 7, 13})
+        methods.push_back({"fast CPU (wave grid " + std::to_string(grid) + ")", "", 1, grid});
     for (const ComputeDevice& d : listComputeDevices())
         methods.push_back({"OpenCL " + std::to_string(d.index) + (d.isGpu ? " GPU" : " CPU"),
                            std::to_string(d.index), 1});
@@ -359,11 +365,13 @@ int runRealtimeBench(const RealtimeBenchOptions& o) {
             });
             for (const Method& m : methods) {
                 if (!bodiesSelected(1) || !selected(o.methods, m.label, true)) continue;
+                if (m.waveGrid > 0 && s != Scenario::MovingWaves) continue;  // flat water has no grid
                 for (int size : sizes) {
                     if (m.spec == "reference" && size > kReferenceMaxSize) continue;
                     Result<std::unique_ptr<BuoyancyBackend>> made =
-                        m.spec.empty() ? Result<std::unique_ptr<BuoyancyBackend>>(createFastBackend(fastOn(1)))
-                                       : createBuoyancyBackend(m.spec);
+                        m.spec.empty()
+                            ? Result<std::unique_ptr<BuoyancyBackend>>(createFastBackend(fastOn(1, m.waveGrid)))
+                            : createBuoyancyBackend(m.spec);
                     if (!made) return fail(made.error());
                     BuoyancyBackend& backend = **made;
                     const std::size_t id = backend.addBody(baked[size], c.exact.centerOfMass);
@@ -385,7 +393,7 @@ int runRealtimeBench(const RealtimeBenchOptions& o) {
                     row.msPerFrame = row.usPerBody * 1e-3;
                     std::cerr << "bench: " << scenarioName(s) << " " << c.mesh << " " << m.label << " "
                               << size << "^2: " << row.usPerBody << " us";
-                    if (m.spec.empty()) {
+                    if (m.spec.empty() && m.waveGrid == 0) {
                         // Where the fast path's time goes: its tiles at the first pose.
                         plimsoll_eval::FastScratch scratch;
                         plimsoll_eval::FastStats stats;

@@ -115,6 +115,33 @@ TEST(CliBench, QuickRunWritesTableCsvAndSvg) {
     fs::remove_all(out);
 }
 
+/// bench --realtime narrowed to the fast path on waves: the default grid of water samples and
+/// the knob's other settings each get a row, and a coarser grid interpolates the waves less
+/// well (errors against the reference at 128^2, measured 4.2e-4, 1.8e-4 and 7.5e-5 for 5, 7
+/// and 9 samples a side at 64^2).
+TEST(CliBench, RealtimeWavesRowsShowTheWaveGridTrade) {
+    const fs::path out = fs::temp_directory_path() / ("plimsoll_bench_rt_" + std::to_string(::getpid()));
+    fs::remove_all(out);
+    const CommandOutput r = runPlimsoll("bench --realtime --quick --frames 3 --scenario waves --method 'fast CPU' "
+                                        "--bench-mesh sphere --sizes 64 --bodies 1 --out '" + out.string() + "'");
+    ASSERT_EQ(r.exitCode, 0) << r.err;
+    std::map<std::string, double> errorOf;
+    for (const CsvRow& row : parseCsv(test::readFile(out / "realtime.csv"))) {
+        EXPECT_EQ(row.at("scenario"), "moving, waves");
+        EXPECT_EQ(row.at("size"), "64");
+        EXPECT_GT(std::stod(row.at("us_per_body")), 0.0) << row.at("method");
+        errorOf[row.at("method")] = std::stod(row.at("error"));
+    }
+    ASSERT_EQ(errorOf.size(), 4u);
+    const double e5 = errorOf.at("fast CPU (wave grid 5)"), e7 = errorOf.at("fast CPU (wave grid 7)"),
+                 e9 = errorOf.at("fast CPU"), e13 = errorOf.at("fast CPU (wave grid 13)");
+    for (double e : {e5, e7, e9, e13}) EXPECT_TRUE(std::isfinite(e) && e > 0 && e < 1e-3) << e;
+    EXPECT_GT(e5, e7);
+    EXPECT_GT(e7, e9);
+    EXPECT_NE(r.out.find("moving, waves, sphere: within"), std::string::npos) << r.out;
+    fs::remove_all(out);
+}
+
 /// bench --integrators: one row per integrator and time step; the symplectic and fourth-order
 /// integrators keep the energy finite, and explicit Euler (the paper's) gains energy at the
 /// coarse step where semi-implicit Euler does not.
