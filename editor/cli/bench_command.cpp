@@ -46,8 +46,9 @@ void addBenchCommand(CLI::App& root, CommandRunner& selected) {
         ->check(CLI::IsMember({"rest", "moving", "waves"}));
     cmd->add_option("--method", o->methods,
                     "With --realtime: only the methods whose name starts with one of these "
-                    "(reference, fast CPU, fast CPU (wave grid N): the fast path on another "
-                    "water grid, OpenCL, exact plane clip, per-triangle wave clip), "
+                    "(reference, fast CPU, fast CPU (wave grid N) and fast CPU (tiles N): the "
+                    "fast path with another water grid or tile size, OpenCL, exact plane clip, "
+                    "per-triangle wave clip), "
                     "comma separated")
         ->delimiter(',');
     cmd->add_option("--bench-mesh", o->meshes,

@@ -126,10 +126,11 @@ Row makeRow(Scenario scenario, const std::string& mesh, const std::string& metho
     return row;
 }
 
-FastBackendOptions fastOn(int threads, int waveGrid = 0) {
+FastBackendOptions fastOn(int threads, int waveGrid = 0, int tileSize = 0) {
     FastBackendOptions options;
     options.threads = threads;
     if (waveGrid > 0) options.evaluation.waveGrid = waveGrid;
+    if (tileSize > 0) options.evaluation.tileSize = static_cast<std::size_t>(tileSize);
     return options;
 }
 
@@ -224,6 +225,7 @@ struct Method {
     std::string spec;  ///< for createBuoyancyBackend
     int threads = 1;
     int waveGrid = 0;  ///< fast path only: water samples per side of its grid (0: the default)
+    int tileSize = 0;  ///< fast path only: entries per tile (0: the default)
 };
 
 void printRows(const std::vector<Row>& rows) {
@@ -296,6 +298,10 @@ int runRealtimeBench(const RealtimeBenchOptions& o) {
     // the body (the default, 9, is the "fast CPU" row).
     for (int grid : {5, 7, 13})
         methods.push_back({"fast CPU (wave grid " + std::to_string(grid) + ")", "", 1, grid});
+    // And the size of its tiles (the default, 32, is the "fast CPU" row): a speed knob, the
+    // closed forms being exact on flat water.
+    for (int tile : {16, 64})
+        methods.push_back({"fast CPU (tiles " + std::to_string(tile) + ")", "", 1, 0, tile});
     for (const ComputeDevice& d : listComputeDevices())
         methods.push_back({"OpenCL " + std::to_string(d.index) + (d.isGpu ? " GPU" : " CPU"),
                            std::to_string(d.index), 1});
@@ -370,7 +376,7 @@ int runRealtimeBench(const RealtimeBenchOptions& o) {
                     if (m.spec == "reference" && size > kReferenceMaxSize) continue;
                     Result<std::unique_ptr<BuoyancyBackend>> made =
                         m.spec.empty()
-                            ? Result<std::unique_ptr<BuoyancyBackend>>(createFastBackend(fastOn(1, m.waveGrid)))
+                            ? Result<std::unique_ptr<BuoyancyBackend>>(createFastBackend(fastOn(1, m.waveGrid, m.tileSize)))
                             : createBuoyancyBackend(m.spec);
                     if (!made) return fail(made.error());
                     BuoyancyBackend& backend = **made;
@@ -393,7 +399,7 @@ int runRealtimeBench(const RealtimeBenchOptions& o) {
                     row.msPerFrame = row.usPerBody * 1e-3;
                     std::cerr << "bench: " << scenarioName(s) << " " << c.mesh << " " << m.label << " "
                               << size << "^2: " << row.usPerBody << " us";
-                    if (m.spec.empty() && m.waveGrid == 0) {
+                    if (m.spec.empty() && m.waveGrid == 0 && m.tileSize == 0) {
                         // Where the fast path's time goes: its tiles at the first pose.
                         plimsoll_eval::FastScratch scratch;
                         plimsoll_eval::FastStats stats;
