@@ -16,7 +16,9 @@ inline double reducedPhase(double theta) {
     constexpr double kInverseTwoPi = 0.15915494309189533576888376337251;
     constexpr double kRound = 6755399441055744.0;  // 1.5 * 2^52
     const double turns = (theta * kInverseTwoPi + kRound) - kRound;
-    return theta - turns * kTwoPi;
+    // Beyond that range (a point some 1e15 m away) the angle is meaningless anyway; the clamp
+    // keeps it convertible to single precision.
+    return std::clamp(theta - turns * kTwoPi, -4.0, 4.0);
 }
 
 /// sin and cos (as requested) of each wave's phase at the block's undisplaced points.
@@ -105,8 +107,10 @@ inline void velocitiesImpl(const GerstnerBatch& g, std::size_t n, const double* 
             sine.store_aligned(p.sine);
             cosine.store_aligned(p.cosine);
             // Orbital motion decays as e^(k d) below the mean level (none above it).
+            // (Clamped before the conversion: e^-80 is already 0 in single precision, and a
+            // point far below would not fit a float.)
             for (std::size_t l = 0; l < kBlock; ++l)
-                depthScale[l] = static_cast<float>(w.k * std::min(0.0, by[l] - g.level));
+                depthScale[l] = static_cast<float>(std::max(-80.0, w.k * std::min(0.0, by[l] - g.level)));
             xsimd::exp(Lanes::load_aligned(depthScale)).store_aligned(decay);
             for (std::size_t l = 0; l < kBlock; ++l) {
                 const double horizontal = w.qa * w.omega * p.cosine[l] * decay[l];
