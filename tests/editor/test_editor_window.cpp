@@ -12,6 +12,7 @@
 #include <nlohmann/json.hpp>
 #include <stb_image.h>
 
+#include <algorithm>
 #include <cstdlib>
 #include <fstream>
 #include <unistd.h>
@@ -240,28 +241,120 @@ TEST(EditorWindow, ShiftClickDrawsALineStrokeFromTheLastStrokesEnd) {
     EXPECT_GE(report["last_stroke_points"].get<int>(), 12);
 }
 
+/// Shell lines that start a script driving the editor run with `--state-file state.json`: `w`
+/// is its window once it has drawn a frame, and `waitfor TEXT` waits until the state the
+/// editor wrote after its latest frame holds TEXT (up to 30 s, then goes on and the test's
+/// checks fail). Each step waits for the editor to have seen the last one, not a fixed time: a
+/// slow X server or a loaded machine makes the run slower, not different.
+const std::string kWaitForState =
+    "waitfor() { i=0; until grep -qF \"$1\" state.json 2>/dev/null; do i=$((i+1)); "
+    "[ $i -gt 600 ] && echo \"timed out waiting for $1\" >&2 && break; sleep 0.05; done; }; "
+    "for i in $(seq 600); do [ -s state.json ] && break; sleep 0.05; done; "
+    "w=$(xdotool search --name Plimsoll | head -1); ";
+
+/// `waitfor` of a piece of the state's JSON (its quotes escaped for the shell's double quotes).
+std::string waitFor(const std::string& json) {
+    std::string escaped;
+    for (char c : json) {
+        if (c == '"') escaped += '\\';
+        escaped += c;
+    }
+    return "waitfor \"" + escaped + "\"; ";
+}
+
+/// Moves the pointer to (x, y) of the window and waits until a frame has seen it there.
+std::string moveTo(int x, int y) {
+    const std::string at = std::to_string(x) + " " + std::to_string(y);
+    return "xdotool mousemove --window $w " + at + "; " +
+           waitFor("\"mouse\":[" + std::to_string(x) + "," + std::to_string(y) + "]");
+}
+
 TEST(EditorWindow, ColumnSplitterDragsAndPanelsComeBackAfterShrinkAndGrow) {
     // Issue 19 bug 12 and the layout's splitters: the border between the 3D view and the
     // panels (x = 480 at 800 x 500: the column is 0.4 of the width), dragged 100 px right,
     // narrows the column to 220 px; the window shrunk to 300 x 200 and grown back to 800 x 500
-    // gets that same layout back.
+    // gets that same layout back. Each step waits until the editor has drawn a frame after it
+    // (the drag held, each move seen, the new size): under load, fixed sleeps let the release
+    // come in the same frame as the last move, or the run end before the window grew back.
     if (!haveWindowTools(true)) GTEST_SKIP() << "xvfb-run or xdotool is not installed";
     const fs::path project = ballProject("window_splitter");
+    std::string drag = moveTo(480, 300) + "xdotool mousedown 1; " + waitFor("\"held\":\"##split_column\"");
+    for (int x : {500, 530, 560, 580}) drag += moveTo(x, 300);
+    drag += "xdotool mouseup 1; " + waitFor("\"held\":\"\"");
     const std::string out = runUnderXvfb(
         project.parent_path(),
-        "$PLIMSOLL edit ball.plim.json --run-seconds 12 --window-size 800x500 & "
-        "for i in $(seq 300); do w=$(xdotool search --name Plimsoll | head -1); "
-        "[ -n \"$w\" ] && break; sleep 0.1; done; sleep 0.8; "
-        "xdotool mousemove --window $w 480 300; sleep 0.3; xdotool mousedown 1; sleep 0.3; "
-        "for x in 500 530 560 580; do xdotool mousemove --window $w $x 300; sleep 0.15; done; "
-        "sleep 0.2; xdotool mouseup 1; sleep 0.3; "
-        "xdotool windowsize $w 300 200; sleep 1; xdotool windowsize $w 800 500; sleep 1; wait");
+        "$PLIMSOLL edit ball.plim.json --run-seconds 90 --window-size 800x500 --state-file state.json & " +
+            kWaitForState + drag + "xdotool windowsize $w 300 200; " + waitFor("\"window\":[300,200]") +
+            "xdotool windowsize $w 800 500; " + waitFor("\"window\":[800,500]") +
+            "xdotool key --window $w ctrl+q; wait");
     if (out.empty()) GTEST_SKIP() << "no editor window in this build or no X server";
     const nlohmann::json report = nlohmann::json::parse(out);
+    EXPECT_LT(report["seconds"].get<double>(), 89.0) << "Ctrl+Q was not seen";
     ASSERT_EQ(report["window"][0].get<double>(), 800);
     ASSERT_EQ(report["window"][1].get<double>(), 500);
     EXPECT_NEAR(report["viewport"][2].get<double>(), 580, 2) << "the splitter did not move";
     EXPECT_EQ(report["undo_steps"], 0);  // the drag edited nothing
+}
+
+TEST(EditorWindow, HoveringAControlShowsItsTooltip) {
+    // Issue 19, layout: tooltips on every control. The pointer rests on the Tools panel's
+    // "Navigate" button through the real window; the frame then shows that button's tooltip:
+    // its text (reported by the tooltip helper) and its window in the last frame's picture,
+    // an outlined box at the place ImGui reports, with text in it. In the 3D view before, none.
+    if (!haveWindowTools(true)) GTEST_SKIP() << "xvfb-run or xdotool is not installed";
+    const fs::path project = ballProject("window_tooltip");
+    const fs::path dir = project.parent_path();
+    const std::string out = runUnderXvfb(
+        dir, "$PLIMSOLL edit ball.plim.json --run-seconds 90 --window-size 800x500 "
+             "--state-file state.json --screenshot shot.png & " +
+                 kWaitForState + moveTo(200, 250) + "cp state.json before.json; " + moveTo(504, 52) +
+                 waitFor("\"tooltip_rect\"") + "xdotool key --window $w ctrl+q; wait");
+    if (out.empty()) GTEST_SKIP() << "no editor window in this build or no X server";
+    const nlohmann::json report = nlohmann::json::parse(out);
+    const nlohmann::json before = nlohmann::json::parse(test::readFile(dir / "before.json"));
+    EXPECT_EQ(before["tooltip"], "") << before.dump();
+    EXPECT_FALSE(before.contains("tooltip_rect"));
+    const nlohmann::json& last = report["last_frame"];
+    EXPECT_EQ(last["tooltip"], "Left mouse orbits the view (V)") << last.dump();
+    ASSERT_TRUE(last.contains("tooltip_rect")) << last.dump();
+
+    int width = 0, height = 0, channels = 0;
+    unsigned char* data = stbi_load((dir / "shot.png").c_str(), &width, &height, &channels, 3);
+    ASSERT_TRUE(data) << stbi_failure_reason();
+    std::vector<unsigned char> rgb(data, data + 3 * width * height);
+    stbi_image_free(data);
+    ASSERT_EQ(width, 800);
+    auto at = [&](int x, int y) {
+        x = std::clamp(x, 0, width - 1);
+        y = std::clamp(y, 0, height - 1);
+        const std::size_t i = 3 * (static_cast<std::size_t>(y) * width + x);
+        return Eigen::Vector3i(rgb[i], rgb[i + 1], rgb[i + 2]);
+    };
+    const int x0 = last["tooltip_rect"][0], y0 = last["tooltip_rect"][1];
+    const int w = last["tooltip_rect"][2], h = last["tooltip_rect"][3];
+    EXPECT_GT(w, 150) << "the tooltip holds one line of about 30 characters";
+    EXPECT_GT(h, 10);
+    // Beside the pointer (ImGui puts it below and right of the cursor), on screen.
+    EXPECT_NEAR(x0, 504, 40);
+    EXPECT_NEAR(y0, 52, 40);
+    // The outline: ImGui's window border (a grey-blue) along the box's top and bottom edges.
+    auto border = [&](const Eigen::Vector3i& c) {
+        return c.z() >= c.x() && c.x() > 40 && c.x() < 120 && std::abs(c.x() - c.y()) <= 3;
+    };
+    int outline = 0, outlineSamples = 0;
+    for (int x = x0 + 4; x < x0 + w - 4; ++x) {
+        for (int y : {y0, y0 + h - 1}) {
+            ++outlineSamples;
+            outline += border(at(x, y));
+        }
+    }
+    EXPECT_GT(outline, outlineSamples * 9 / 10) << "no tooltip box where ImGui put it";
+    // Its text: white pixels inside the box.
+    int bright = 0;
+    for (int y = y0 + 2; y < y0 + h - 2; ++y) {
+        for (int x = x0 + 2; x < x0 + w - 2; ++x) bright += at(x, y).minCoeff() > 200;
+    }
+    EXPECT_GT(bright, 100) << "no text in the tooltip";
 }
 
 TEST(EditorWindow, SaveAsTakesATypedNameAndLeavesTheOriginalAsItWas) {
