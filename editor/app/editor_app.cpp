@@ -708,6 +708,7 @@ int runEditorWindow(const EditorLaunch& launch) {
         return 1;
     }
     s.renderer = std::move(renderer).value();
+    s.renderer->warmUpOnFirstDraw();  // the first frame pays the kept scene's start-up cost
     if (!s.open(launch.project)) {
         std::cerr << "error: " << s.status << "\n";
         if (!launch.project.empty()) return 1;
