@@ -30,6 +30,8 @@ struct PreviewUi {
     /// Scripted runs (--frames): one simulated frame per drawn frame, whatever the wall clock,
     /// so that a screenshot at frame N shows simulated time N * timeStep.
     bool fixedStep = false;
+    /// Per body, which texels the wet-texel image tests (found again when the textures change).
+    std::vector<WetTexelSamples> wetSamples;
     bool showForces = true, showWaterline = true, showWetTexels = true;
     bool showPerformance = true, showPlots = true;
     int integrator = 1;           ///< index into the panel's integrator list
