@@ -102,6 +102,24 @@ TEST(EditorGraphSchematic, BoxesKeepTheProfilesOrderAndNeverOverlap) {
         EXPECT_EQ(schematicNodeAt(layout, c[i] + Eigen::Vector2f(30, -12)), int(i)) << g.nodes[i].id;
     }
     EXPECT_EQ(schematicNodeAt(layout, Eigen::Vector2f(200, 190)), -1);
+    // A hull modelled along z (the sample damaged boat's four tanks, stern at -z): the side
+    // view runs along z, stern to bow left to right, all on one level.
+    WaterGraph boat;
+    for (const auto& [id, z] : {std::pair{"stern", -2.25}, {"aft", -0.75}, {"fore", 0.75}, {"bow", 2.25}}) {
+        GraphNode n;
+        n.id = id;
+        n.position = Eigen::Vector3d(0.0, 0.0, z);
+        n.capacity = 1;
+        boat.nodes.push_back(n);
+    }
+    const SchematicLayout along = schematicLayout(boat, 400, 200, box);
+    ASSERT_EQ(along.centre.size(), 4u);
+    EXPECT_NEAR(along.centre[0].x(), 32, 1e-3);
+    EXPECT_NEAR(along.centre[3].x(), 400 - 32, 1e-3);
+    for (std::size_t i = 1; i < 4; ++i) {
+        EXPECT_GT(along.centre[i].x(), along.centre[i - 1].x() + box.x()) << boat.nodes[i].id;
+        EXPECT_NEAR(along.centre[i].y(), 100, 1e-3);
+    }
     // One node: the canvas's centre.
     g.nodes.resize(1);
     const SchematicLayout one = schematicLayout(g, 400, 200, box);
