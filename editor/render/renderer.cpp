@@ -436,7 +436,13 @@ void Renderer::drawScene(const RenderScene& scene, const Camera& camera, int wid
     glEnable(GL_BLEND);
     glBlendFunc(GL_SRC_ALPHA, GL_ONE_MINUS_SRC_ALPHA);
     glDepthMask(GL_FALSE);
+    // Pulled a little toward the eye: where what is inside touches the hull (a compartment's
+    // box top in the deck's plane), the see-through hull lies over it everywhere instead of
+    // in a speckle of the pixels that happen to round nearer (issue 19 bug 7's z-fighting).
+    glEnable(GL_POLYGON_OFFSET_FILL);
+    glPolygonOffset(-1.0f, -4.0f);
     drawBodies(true);
+    glDisable(GL_POLYGON_OFFSET_FILL);
     glDepthMask(GL_TRUE);
     glDisable(GL_BLEND);
 
