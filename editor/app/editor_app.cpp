@@ -215,6 +215,18 @@ nlohmann::json windowState(const EditorState& s, int frame) {
         j["tooltip_rect"] = {static_cast<int>(tip->Pos.x), static_cast<int>(tip->Pos.y),
                              static_cast<int>(tip->Size.x), static_cast<int>(tip->Size.y)};
     }
+    // The windows on screen and open (not collapsed), by title, where they are: a test opens a
+    // plot window and waits for it, then looks there in the picture.
+    nlohmann::json windows = nlohmann::json::array();
+    for (const ImGuiWindow* w : g.Windows) {
+        constexpr ImGuiWindowFlags kNotPanels =
+            ImGuiWindowFlags_ChildWindow | ImGuiWindowFlags_Tooltip | ImGuiWindowFlags_Popup;
+        if (!w->Active || w->Hidden || w->Collapsed || (w->Flags & kNotPanels) || w->Name[0] == '#') continue;
+        windows.push_back({{"name", w->Name},
+                           {"rect", {static_cast<int>(w->Pos.x), static_cast<int>(w->Pos.y),
+                                     static_cast<int>(w->Size.x), static_cast<int>(w->Size.y)}}});
+    }
+    j["windows"] = windows;
     return j;
 }
 

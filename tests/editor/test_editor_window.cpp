@@ -15,6 +15,7 @@
 #include <algorithm>
 #include <cstdlib>
 #include <fstream>
+#include <optional>
 #include <unistd.h>
 
 namespace plimsoll::editor {
@@ -118,8 +119,9 @@ TEST(EditorWindow, ScreenshotUnderXvfbShowsUiAndMeshWhereTheCameraPutsIt) {
     EXPECT_GT(panelPixels, samples * 9 / 10) << "the panels beside the view are missing";
 }
 
-/// A project of one ball in a fresh folder, for the interactive runs below.
-fs::path ballProject(const std::string& name) {
+/// A project of one ball in a fresh folder, for the interactive runs below; `height` above its
+/// floating place (it falls and bobs in a preview).
+fs::path ballProject(const std::string& name, double height = 0.0) {
     const fs::path dir = fs::temp_directory_path() / "plimsoll_tests" /
                          (name + "_" + std::to_string(::getpid()));
     fs::remove_all(dir);
@@ -127,7 +129,8 @@ fs::path ballProject(const std::string& name) {
     const fs::path project = dir / "ball.plim.json";
     std::ofstream(project) << R"({"schema_version": 1, "name": "ball",
         "bodies": [{"name": "ball", "mesh": ")" << test::assetPath("sphere.obj").string()
-                           << R"(", "material": {"density": 500}}]})";
+                           << R"(", "material": {"density": 500}, "position": [0, )" << height
+                           << R"(, 0]}]})";
     return project;
 }
 
@@ -355,6 +358,63 @@ TEST(EditorWindow, HoveringAControlShowsItsTooltip) {
         for (int x = x0 + 2; x < x0 + w - 2; ++x) bright += at(x, y).minCoeff() > 200;
     }
     EXPECT_GT(bright, 100) << "no text in the tooltip";
+}
+
+TEST(EditorWindow, AnOpenedPlotWindowDrawsItsCurveAcrossItsWidth) {
+    // Issue 19 bug 2: the plot windows drew no curve, only a 1-pixel line above "Export CSV"
+    // (a plot of width -1, which Debian's ImGui 1.86 sizes to nothing here). The ball, dropped
+    // from 0.3 m, bobs in the live preview; its "Submerged volume" window, opened by a click on
+    // its title bar's arrow, shows the curve in ImGui's plot-line grey over most of its width,
+    // rising and falling by more than a few pixels.
+    if (!haveWindowTools(true)) GTEST_SKIP() << "xvfb-run or xdotool is not installed";
+    const fs::path project = ballProject("window_plot", 0.3);
+    const fs::path dir = project.parent_path();
+    // 800 x 500: the plot windows stack, collapsed, from (150, 49) down the view's right edge.
+    const std::string frameNow = "$(sed \"s/.*\\\"frame\\\":\\([0-9]*\\).*/\\1/\" state.json)";
+    const std::string out = runUnderXvfb(
+        dir, "$PLIMSOLL edit ball.plim.json --preview --run-seconds 90 --window-size 800x500 "
+             "--state-file state.json --screenshot shot.png & " +
+                 kWaitForState + waitFor("\"name\":\"Live preview\"") + moveTo(162, 58) +
+                 "xdotool mousedown 1; " + waitFor("\"mouse_down\":true") + "xdotool mouseup 1; " +
+                 waitFor("\"name\":\"Submerged volume: ball\"") + moveTo(700, 480) +
+                 // 90 more frames (one simulated frame each, at most): rows for the curve.
+                 "f0=" + frameNow + "; i=0; until [ " + frameNow + " -ge $((f0 + 90)) ] || [ $i -gt 600 ]; "
+                 "do i=$((i+1)); sleep 0.05; done; xdotool key --window $w ctrl+q; wait");
+    if (out.empty()) GTEST_SKIP() << "no editor window in this build or no X server";
+    const nlohmann::json report = nlohmann::json::parse(out);
+    EXPECT_TRUE(report["preview_running"].get<bool>());
+    std::optional<nlohmann::json> rect;
+    for (const nlohmann::json& w : report["last_frame"]["windows"]) {
+        if (w["name"] == "Submerged volume: ball") rect = w["rect"];
+    }
+    ASSERT_TRUE(rect) << "the plot window is not open: " << report["last_frame"].dump();
+    int width = 0, height = 0, channels = 0;
+    unsigned char* data = stbi_load((dir / "shot.png").c_str(), &width, &height, &channels, 3);
+    ASSERT_TRUE(data) << stbi_failure_reason();
+    std::vector<unsigned char> rgb(data, data + 3 * width * height);
+    stbi_image_free(data);
+    const int x0 = (*rect)[0], y0 = (*rect)[1], w = (*rect)[2], h = (*rect)[3];
+    ASSERT_GT(w, 200);
+    // The plot (60 px high, below the 19 px title bar and 8 px of padding) is dark blue; its
+    // curve, a light grey 1-pixel line, brightens every column it crosses. Looked for below
+    // the value's white text at the plot's top (18 px), where a peak may pass out of sight.
+    const int bandTop = y0 + 19 + 8 + 18, bandBottom = y0 + 19 + 8 + 60;
+    int columns = 0, top = height, bottom = 0;
+    for (int x = std::max(0, x0 + 8); x < std::min(width, x0 + w - 8); ++x) {
+        bool line = false;
+        for (int y = std::max(0, bandTop); y < std::min(height, bandBottom); ++y) {
+            const std::size_t i = 3 * (static_cast<std::size_t>(y) * width + x);
+            if (rgb[i] + rgb[i + 1] + rgb[i + 2] > 250) {  // the plot's own blue: about 150
+                line = true;
+                top = std::min(top, y);
+                bottom = std::max(bottom, y);
+            }
+        }
+        columns += line;
+    }
+    // 187 of 304 columns when written (the peaks above the band); a 1-pixel plot: 1 or 2.
+    EXPECT_GT(columns, w / 3) << "the curve should run across the window";
+    EXPECT_GT(bottom - top, 5) << "a bobbing ball's submerged volume rises and falls";
 }
 
 TEST(EditorWindow, SaveAsTakesATypedNameAndLeavesTheOriginalAsItWas) {
