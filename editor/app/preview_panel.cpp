@@ -14,6 +14,7 @@
 #include <imgui.h>
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -482,14 +483,28 @@ void applyPreviewToScene(EditorState& s, RenderScene& scene) {
             const int slot = kWetSlotBase + static_cast<int>(b);
             const SimulatedBody& body = world.bodies()[b];
             if (p.wetSamples.size() <= b) p.wetSamples.resize(b + 1);
-            // Found again only for other textures (a new size swapped in, a restart): the
-            // walk over every covered texel took 15 ms a frame at 1024^2, the key 1 ms.
-            if (p.wetSamples[b].key != texturesKey(body.textures) || p.wetSamples[b].shown == 0) {
-                p.wetSamples[b] = wetTexelSamples(body.textures);
+            PreviewUi::WetSamples& wet = p.wetSamples[b];
+            const std::uint64_t key = texturesKey(body.textures);  // 1 ms at 1024^2
+            if (wet.finding.valid() &&
+                wet.finding.wait_for(std::chrono::seconds(0)) == std::future_status::ready) {
+                wet.ready = wet.finding.get();
             }
-            s.renderer->setOverlay(slot, wetTexelOverlay(body, world.scene().water, world.time(),
-                                                         p.wetSamples[b]));
-            scene.bodies[b].overlay = slot;
+            if (wet.ready.key != key && !(wet.finding.valid() && wet.findingKey == key)) {
+                // Other textures: their samples found on a worker, from a copy of where the
+                // covered texels are (the world may be swapped again meanwhile).
+                wet.findingKey = key;
+                wet.finding = std::async(std::launch::async,
+                                         [size = body.textures.size, index = body.textures.texelIndex] {
+                                             lowerThisThreadsPriority();
+                                             return wetTexelSamples(size, index);
+                                         });
+            }
+            // Until they arrive the last image stays (a frame or two; none at the start).
+            if (wet.ready.key == key && wet.ready.shown > 0) {
+                s.renderer->setOverlay(slot, wetTexelOverlay(body, world.scene().water, world.time(),
+                                                             wet.ready));
+            }
+            if (s.renderer->overlayTexture(slot)) scene.bodies[b].overlay = slot;
         }
     }
 }

@@ -58,30 +58,34 @@ ForceOverlay buildForceOverlay(const World& world, const std::vector<const Trian
     return overlay;
 }
 
-std::uint64_t texturesKey(const SurfaceTextures& t) {
+std::uint64_t texturesKey(int size, const std::vector<std::uint32_t>& texelIndex) {
     // FNV-1a over the size and the covered texels' places (about 1 ms at 1024^2).
     std::uint64_t h = 1469598103934665603ull;
     auto mix = [&h](std::uint64_t v) {
         h ^= v;
         h *= 1099511628211ull;
     };
-    mix(static_cast<std::uint64_t>(t.size));
-    mix(t.coveredCount());
-    for (std::uint32_t index : t.texelIndex) mix(index);
+    mix(static_cast<std::uint64_t>(size));
+    mix(texelIndex.size());
+    for (std::uint32_t index : texelIndex) mix(index);
     return h;
 }
 
-WetTexelSamples wetTexelSamples(const SurfaceTextures& t) {
+std::uint64_t texturesKey(const SurfaceTextures& t) { return texturesKey(t.size, t.texelIndex); }
+
+WetTexelSamples wetTexelSamples(const SurfaceTextures& t) { return wetTexelSamples(t.size, t.texelIndex); }
+
+WetTexelSamples wetTexelSamples(int size, const std::vector<std::uint32_t>& texelIndex) {
     WetTexelSamples samples;
-    samples.shown = std::min(t.size, kWetOverlayMaxSize);
-    samples.key = texturesKey(t);
+    samples.shown = std::min(size, kWetOverlayMaxSize);
+    samples.key = texturesKey(size, texelIndex);
     const auto shown = static_cast<std::size_t>(samples.shown);
     std::vector<bool> taken(shown * shown, false);
-    for (std::size_t i = 0; i < t.coveredCount(); ++i) {
+    for (std::size_t i = 0; i < texelIndex.size(); ++i) {
         // The physics texel's place in the shown image (the same one when it is not smaller).
-        const std::uint32_t index = t.texelIndex[i];
-        const std::size_t x = static_cast<std::size_t>(index % t.size) * shown / t.size;
-        const std::size_t y = static_cast<std::size_t>(index / t.size) * shown / t.size;
+        const std::uint32_t index = texelIndex[i];
+        const std::size_t x = static_cast<std::size_t>(index % size) * shown / size;
+        const std::size_t y = static_cast<std::size_t>(index / size) * shown / size;
         const std::size_t texel = y * shown + x;
         if (taken[texel]) continue;
         taken[texel] = true;

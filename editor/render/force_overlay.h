@@ -62,9 +62,12 @@ struct WetTexelSamples {
     std::uint64_t key = 0;                 ///< texturesKey of the textures they were found for
 };
 WetTexelSamples wetTexelSamples(const SurfaceTextures& textures);
+/// The same from the textures' size and covered texels' places alone (a worker's copy).
+WetTexelSamples wetTexelSamples(int size, const std::vector<std::uint32_t>& texelIndex);
 /// A fingerprint of the textures' layout (size and covered texels' places): samples found for
 /// one set of textures serve another with the same key.
 std::uint64_t texturesKey(const SurfaceTextures& textures);
+std::uint64_t texturesKey(int size, const std::vector<std::uint32_t>& texelIndex);
 
 /// The body's texels under the water darker than the dry ones: an overlay image over its
 /// physics texture, at its size or kWetOverlayMaxSize, whichever is smaller (texels nothing
