@@ -209,6 +209,8 @@ nlohmann::json windowState(const EditorState& s, int frame) {
     // The window of the control the mouse holds (a splitter's "##split_column"; "" when none).
     j["held"] = g.ActiveId != 0 && g.ActiveIdWindow ? g.ActiveIdWindow->Name : "";
     j["tooltip"] = tooltipShownThisFrame();
+    j["uv_zoom"] = s.uvZoom;
+    if (s.uvUnderMouse) j["uv_under_mouse"] = {s.uvUnderMouse->x(), s.uvUnderMouse->y()};
     // Where the tooltip was drawn, only when it was: ImGui hides a tooltip in the first frame
     // it appears (it measures itself), so the text alone does not mean it is on screen.
     if (const ImGuiWindow* tip = ImGui::FindWindowByName("##Tooltip_00"); tip && tip->Active && !tip->Hidden) {
@@ -558,6 +560,7 @@ void drawDialogs(EditorState& s, GLFWwindow* window) {
             "Alt+left mouse: orbit   Right mouse: pan\n"
             "1 / 3 / 7: front / side / top   0: perspective   5: orthographic on/off\n"
             "Home: frame all   F: frame selected\n"
+            "UV view: wheel zooms at the cursor, middle mouse pans, middle double-click: all\n"
             "V: navigate   B: brush   G: fill island   I: pick value\n"
             "E: erase on/off   S: smooth on/off   X: X-mirror   [ ]: brush radius\n"
             "P: live preview on/off   Space: play / pause the preview\n"

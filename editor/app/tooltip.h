@@ -17,10 +17,15 @@ inline std::string& tooltipShownThisFrame() {
 }
 
 /// The last item's tooltip while it is hovered, also while it is disabled (where the text says
-/// what would enable it).
+/// what would enable it). Wrapped at 35 characters' widths: one long line ran off an 800 px
+/// window.
 inline void tooltip(const char* text) {
     if (ImGui::IsItemHovered(ImGuiHoveredFlags_AllowWhenDisabled)) {
-        ImGui::SetTooltip("%s", text);
+        ImGui::BeginTooltip();
+        ImGui::PushTextWrapPos(ImGui::GetFontSize() * 35.0f);
+        ImGui::TextUnformatted(text);
+        ImGui::PopTextWrapPos();
+        ImGui::EndTooltip();
         tooltipShownThisFrame() = text;
     }
 }

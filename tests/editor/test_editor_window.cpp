@@ -417,6 +417,44 @@ TEST(EditorWindow, AnOpenedPlotWindowDrawsItsCurveAcrossItsWidth) {
     EXPECT_GT(bottom - top, 5) << "a bobbing ball's submerged volume rises and falls";
 }
 
+TEST(EditorWindow, UvViewZoomsAtTheCursorAndPans) {
+    // Issue 19, layout: a UV view that zooms and pans. At 800 x 500 the UV view's square starts
+    // at (488, 366), 102 px a side. Two wheel steps up over a point a quarter in from its top
+    // left zoom by 1.25^2 with the uv under the cursor staying put; a middle-mouse drag 40 px
+    // left then moves the layout with the mouse: the uv at that point grows by 40 / (102 zoom).
+    if (!haveWindowTools(true)) GTEST_SKIP() << "xvfb-run or xdotool is not installed";
+    const fs::path project = ballProject("window_uv");
+    const fs::path dir = project.parent_path();
+    const std::string out = runUnderXvfb(
+        dir, "$PLIMSOLL edit ball.plim.json --run-seconds 90 --window-size 800x500 --state-file state.json & " +
+                 kWaitForState + moveTo(513, 391) + "cp state.json before.json; " +
+                 "xdotool click 4; " + waitFor("\"uv_zoom\":1.25") + "xdotool click 4; " +
+                 waitFor("\"uv_zoom\":1.5625") + "cp state.json zoomed.json; " +
+                 "xdotool mousedown 2; " + moveTo(493, 391) + moveTo(473, 391) + "xdotool mouseup 2; " +
+                 moveTo(513, 391) + "cp state.json panned.json; xdotool key --window $w ctrl+q; wait");
+    if (out.empty()) GTEST_SKIP() << "no editor window in this build or no X server";
+    const nlohmann::json report = nlohmann::json::parse(out);
+    EXPECT_LT(report["seconds"].get<double>(), 89.0) << "Ctrl+Q was not seen";
+    const nlohmann::json before = nlohmann::json::parse(test::readFile(dir / "before.json"));
+    const nlohmann::json zoomed = nlohmann::json::parse(test::readFile(dir / "zoomed.json"));
+    const nlohmann::json panned = nlohmann::json::parse(test::readFile(dir / "panned.json"));
+    ASSERT_TRUE(before.contains("uv_under_mouse")) << "the point is not over the UV view: " << before.dump();
+    EXPECT_EQ(before["uv_zoom"].get<double>(), 1.0);
+    // The view's long tooltip is up, wrapped inside the window (one line of it was 1109 px).
+    ASSERT_TRUE(before.contains("tooltip_rect")) << before.dump();
+    EXPECT_GE(before["tooltip_rect"][0].get<int>(), 0);
+    EXPECT_LE(before["tooltip_rect"][0].get<int>() + before["tooltip_rect"][2].get<int>(), 800);
+    EXPECT_NEAR(before["uv_under_mouse"][0].get<double>(), 25.0 / 102, 0.02);
+    EXPECT_NEAR(before["uv_under_mouse"][1].get<double>(), 1 - 25.0 / 102, 0.02);
+    EXPECT_EQ(zoomed["uv_zoom"].get<double>(), 1.5625);
+    EXPECT_NEAR(zoomed["uv_under_mouse"][0].get<double>(), before["uv_under_mouse"][0].get<double>(), 1e-4);
+    EXPECT_NEAR(zoomed["uv_under_mouse"][1].get<double>(), before["uv_under_mouse"][1].get<double>(), 1e-4);
+    EXPECT_NEAR(panned["uv_under_mouse"][0].get<double>(),
+                before["uv_under_mouse"][0].get<double>() + 40.0 / (102 * 1.5625), 0.01);
+    EXPECT_NEAR(panned["uv_under_mouse"][1].get<double>(), before["uv_under_mouse"][1].get<double>(), 1e-4);
+    EXPECT_EQ(report["undo_steps"], 0);  // navigation edits nothing
+}
+
 TEST(EditorWindow, SaveAsTakesATypedNameAndLeavesTheOriginalAsItWas) {
     // Issue 19 bug 15 and issue 18 item 14, through the window: Ctrl+Shift+S opens Save As with
     // the name field holding the keys and the project's own name in it, selected (not
