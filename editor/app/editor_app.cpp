@@ -209,6 +209,7 @@ nlohmann::json windowState(const EditorState& s, int frame) {
     // The window of the control the mouse holds (a splitter's "##split_column"; "" when none).
     j["held"] = g.ActiveId != 0 && g.ActiveIdWindow ? g.ActiveIdWindow->Name : "";
     j["tooltip"] = tooltipShownThisFrame();
+    j["camera_target"] = {s.camera.target.x(), s.camera.target.y(), s.camera.target.z()};
     j["uv_zoom"] = s.uvZoom;
     if (s.uvUnderMouse) j["uv_under_mouse"] = {s.uvUnderMouse->x(), s.uvUnderMouse->y()};
     // Where the tooltip was drawn, only when it was: ImGui hides a tooltip in the first frame
@@ -334,6 +335,9 @@ void handleKey(EditorState& s, int key, bool ctrl, bool shift) {
         case GLFW_KEY_F1: s.showShortcuts = true; break;
         case GLFW_KEY_P: togglePreview(s); break;
         case GLFW_KEY_SPACE: playPause(s); break;
+        case GLFW_KEY_C:
+            if (s.preview) s.preview->followBody = !s.preview->followBody;
+            break;
         default: break;
     }
 }
@@ -563,7 +567,7 @@ void drawDialogs(EditorState& s, GLFWwindow* window) {
             "UV view: wheel zooms at the cursor, middle mouse pans, middle double-click: all\n"
             "V: navigate   B: brush   G: fill island   I: pick value\n"
             "E: erase on/off   S: smooth on/off   X: X-mirror   [ ]: brush radius\n"
-            "P: live preview on/off   Space: play / pause the preview\n"
+            "P: live preview on/off   Space: play / pause the preview   C: camera follows the body\n"
             "Ctrl+Z: undo   Ctrl+Shift+Z / Ctrl+Y: redo   Ctrl+H: undo history\n"
             "Ctrl+N / Ctrl+O / Ctrl+S / Ctrl+Shift+S: new / open / save / save as   Ctrl+Q: quit\n"
             "Drop a .plim.json to open it, a mesh to import it.");
@@ -990,6 +994,7 @@ int runEditorWindow(const EditorLaunch& launch) {
         report["status"] = s.status;
         report["last_stroke_points"] = s.lastStrokePoints;
         report["last_frame"] = windowState(s, frame);
+        if (s.preview->session) report["preview"] = previewReport(s);
         int steps = 0;  // the history's length (the run is over: undoing costs nothing now)
         while (s.document->undo()) ++steps;
         report["undo_steps"] = steps;

@@ -322,6 +322,8 @@ void drawPreviewPanel(EditorState& s) {
         ImGui::SameLine();
         ImGui::Checkbox("plots", &p.showPlots);
         tooltip("The plot windows of the recorded quantities");
+        ImGui::Checkbox("camera follows the body", &p.followBody);
+        tooltip("The view's centre stays on the selected body's centre of mass as it moves (C)");
     }
     ImGui::TextDisabled("Left-drag a body to pull it (a spring).");
     if (!p.error.empty()) ImGui::TextWrapped("%s", p.error.c_str());
@@ -477,6 +479,10 @@ void applyPreviewToScene(EditorState& s, RenderScene& scene) {
     const World& world = p.session->world();
     scene.time = world.time();
     scene.water = s.showWater ? &world.scene().water : nullptr;
+    if (p.followBody && s.selectedBody >= 0 && static_cast<std::size_t>(s.selectedBody) < world.bodies().size()) {
+        // Before the scene is drawn: the camera looks at where the body is this frame.
+        s.camera.target = world.bodies()[static_cast<std::size_t>(s.selectedBody)].state.position;
+    }
     for (std::size_t b = 0; b < scene.bodies.size() && b < world.bodies().size(); ++b) {
         scene.bodies[b].pose = world.bodies()[b].pose();
         if (p.showWetTexels) {

@@ -42,6 +42,8 @@ struct PreviewUi {
     std::vector<WetSamples> wetSamples;
     bool showForces = true, showWaterline = true, showWetTexels = true;
     bool showPerformance = true, showPlots = true;
+    /// The camera's target stays on the selected body's centre of mass (C toggles it).
+    bool followBody = false;
     int integrator = 1;           ///< index into the panel's integrator list
     std::string lastCheck;        ///< the volume-error line shown
     double lastCheckTime = -1;    ///< simulated time it was computed at

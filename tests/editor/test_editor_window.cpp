@@ -455,6 +455,34 @@ TEST(EditorWindow, UvViewZoomsAtTheCursorAndPans) {
     EXPECT_EQ(report["undo_steps"], 0);  // navigation edits nothing
 }
 
+TEST(EditorWindow, CameraFollowsTheBodyInThePreview) {
+    // Issue 19, preview: the camera can follow a body. The ball, dropped from 0.3 m, bobs;
+    // with C pressed the view's centre is the ball's centre of mass in every frame after, the
+    // last one included (the report's camera and body are that frame's).
+    if (!haveWindowTools(true)) GTEST_SKIP() << "xvfb-run or xdotool is not installed";
+    const fs::path project = ballProject("window_follow", 0.3);
+    const fs::path dir = project.parent_path();
+    const std::string frameNow = "$(sed \"s/.*\\\"frame\\\":\\([0-9]*\\).*/\\1/\" state.json)";
+    const std::string out = runUnderXvfb(
+        dir, "$PLIMSOLL edit ball.plim.json --preview --run-seconds 90 --window-size 800x500 "
+             "--state-file state.json & " +
+                 kWaitForState + waitFor("\"name\":\"Live preview\"") + "cp state.json before.json; " +
+                 "xdotool key --window $w c; f0=" + frameNow + "; i=0; until [ " + frameNow +
+                 " -ge $((f0 + 30)) ] || [ $i -gt 600 ]; do i=$((i+1)); sleep 0.05; done; "
+                 "xdotool key --window $w ctrl+q; wait");
+    if (out.empty()) GTEST_SKIP() << "no editor window in this build or no X server";
+    const nlohmann::json report = nlohmann::json::parse(out);
+    EXPECT_LT(report["seconds"].get<double>(), 89.0) << "Ctrl+Q was not seen";
+    ASSERT_TRUE(report.contains("preview")) << report.dump();
+    const nlohmann::json before = nlohmann::json::parse(test::readFile(dir / "before.json"));
+    const nlohmann::json& target = report["preview"]["camera"]["target"];
+    const nlohmann::json& com = report["preview"]["bodies"][0]["center_of_mass"];
+    for (int k = 0; k < 3; ++k) EXPECT_DOUBLE_EQ(target[k].get<double>(), com[k].get<double>()) << k;
+    // Framed before (the ball's place in the project, 0.3 m up), on the moving ball after.
+    EXPECT_NEAR(before["camera_target"][1].get<double>(), 0.3, 1e-6);
+    EXPECT_GT(std::abs(com[1].get<double>() - 0.3), 1e-3) << "the ball should have moved";
+}
+
 TEST(EditorWindow, SaveAsTakesATypedNameAndLeavesTheOriginalAsItWas) {
     // Issue 19 bug 15 and issue 18 item 14, through the window: Ctrl+Shift+S opens Save As with
     // the name field holding the keys and the project's own name in it, selected (not
