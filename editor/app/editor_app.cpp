@@ -209,6 +209,8 @@ nlohmann::json windowState(const EditorState& s, int frame) {
     // The window of the control the mouse holds (a splitter's "##split_column"; "" when none).
     j["held"] = g.ActiveId != 0 && g.ActiveIdWindow ? g.ActiveIdWindow->Name : "";
     j["tooltip"] = tooltipShownThisFrame();
+    j["undo"] = s.document->undoName();
+    j["dirty"] = s.document->dirty();
     j["camera_target"] = {s.camera.target.x(), s.camera.target.y(), s.camera.target.z()};
     j["uv_zoom"] = s.uvZoom;
     if (s.uvUnderMouse) j["uv_under_mouse"] = {s.uvUnderMouse->x(), s.uvUnderMouse->y()};

@@ -287,10 +287,8 @@ void drawPreviewPanel(EditorState& s) {
                 "Keep the preview's water", s.document->project(), std::move(after))));
         }
         ImGui::EndDisabled();
-        if (ImGui::IsItemHovered(ImGuiHoveredFlags_AllowWhenDisabled)) {
-            ImGui::SetTooltip(differs ? "Write these water and wave settings into the project (undoable)"
-                                      : "The project's water is the same");
-        }
+        tooltip(differs ? "Write these water and wave settings into the project (undoable)"
+                        : "The project's water is the same");
     }
     if (ImGui::CollapsingHeader("Speed and accuracy")) {
         if (ImGui::Combo("integrator", &p.integrator, kIntegratorNames, 3)) {

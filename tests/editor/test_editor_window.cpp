@@ -483,6 +483,39 @@ TEST(EditorWindow, CameraFollowsTheBodyInThePreview) {
     EXPECT_GT(std::abs(com[1].get<double>() - 0.3), 1e-3) << "the ball should have moved";
 }
 
+TEST(EditorWindow, WaterChangedInThePreviewIsKeptInTheProject) {
+    // Issue 19 bug 16: water and wave edits made in the preview could not be kept. At 800 x 500
+    // the Live preview window's Water section opens at (60, 388); its "level (m)" field, dragged
+    // 20 px right (0.01 m a pixel), raises the preview's water 0.2 m; "Keep in project" makes
+    // that one undoable project edit, and Ctrl+S saves it. (The script's text has no
+    // apostrophe: it runs inside sh -c '...'.)
+    if (!haveWindowTools(true)) GTEST_SKIP() << "xvfb-run or xdotool is not installed";
+    const fs::path project = ballProject("window_keep_water", 0.3);
+    const fs::path dir = project.parent_path();
+    auto click = [](int x, int y) {
+        return moveTo(x, y) + "xdotool mousedown 1; " + waitFor("\"mouse_down\":true") +
+               "xdotool mouseup 1; " + waitFor("\"mouse_down\":false");
+    };
+    const std::string out = runUnderXvfb(
+        dir, "$PLIMSOLL edit ball.plim.json --preview --run-seconds 90 --window-size 800x500 "
+             "--state-file state.json & " +
+                 kWaitForState + waitFor("\"name\":\"Live preview\"") + click(60, 388) +
+                 moveTo(125, 434) + waitFor("\"tooltip\":\"The still-water height") +
+                 "xdotool mousedown 1; " + waitFor("\"held\":\"Live preview\"") + moveTo(135, 434) +
+                 moveTo(145, 434) + "xdotool mouseup 1; " + waitFor("\"held\":\"\"") +
+                 moveTo(72, 457) + waitFor("\"tooltip\":\"Write these water") + click(72, 457) +
+                 waitFor("\"undo\":\"Keep the preview") + "xdotool key --window $w ctrl+s; " +
+                 waitFor("\"dirty\":false") + "xdotool key --window $w ctrl+q; wait");
+    if (out.empty()) GTEST_SKIP() << "no editor window in this build or no X server";
+    const nlohmann::json report = nlohmann::json::parse(out);
+    EXPECT_LT(report["seconds"].get<double>(), 89.0) << "Ctrl+Q was not seen (unsaved?)";
+    EXPECT_EQ(report["undo"], "Keep the preview's water");
+    EXPECT_EQ(report["undo_steps"], 1);
+    Result<Project> saved = loadProject(project);
+    ASSERT_TRUE(saved.ok()) << saved.error().message;
+    EXPECT_NEAR(saved->water.level, 0.2, 1e-6);
+}
+
 TEST(EditorWindow, SaveAsTakesATypedNameAndLeavesTheOriginalAsItWas) {
     // Issue 19 bug 15 and issue 18 item 14, through the window: Ctrl+Shift+S opens Save As with
     // the name field holding the keys and the project's own name in it, selected (not
