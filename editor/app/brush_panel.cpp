@@ -130,7 +130,7 @@ void drawBrushPanel(EditorState& s, const Rect& area) {
         s.execute(makeFillAllCommand(*s.document, s.selectedBody, s.channel, s.brush.value,
                                      s.brush.strength, s.paintTarget()));
     }
-    if (ImGui::IsItemHovered()) ImGui::SetTooltip("Moves every pixel toward Value by Strength");
+    tooltip("Moves every pixel toward Value by Strength");
     ImGui::SameLine();
     auto newMap = [&] {
         s.execute(makeNewMapCommand(*s.document, s.selectedBody, s.channel, s.newMapSize,

@@ -155,10 +155,16 @@ public:
         phases_[phase].back() += std::chrono::duration<double, std::milli>(now - last_).count();
         last_ = now;
     }
+    /// Each phase's time in frame `i` (counted from 0), ms: where one long frame's time went.
+    nlohmann::json frame(std::size_t i) const {
+        nlohmann::json out;
+        for (int p = 0; p < Count; ++p) {
+            out[kNames[p]] = i < phases_[p].size() ? phases_[p][i] : 0.0;
+        }
+        return out;
+    }
     /// Each phase's median over the frames after the first `skip`, ms.
     nlohmann::json report(std::size_t skip) const {
-        static constexpr const char* kNames[Count] = {"ui_ms", "preview_ms", "scene_ms", "panels_ms",
-                                                      "present_ms"};
         nlohmann::json out;
         for (int p = 0; p < Count; ++p) {
             std::vector<double> v(phases_[p].begin() + std::min(skip, phases_[p].size()), phases_[p].end());
@@ -169,6 +175,8 @@ public:
     }
 
 private:
+    static constexpr const char* kNames[Count] = {"ui_ms", "preview_ms", "scene_ms", "panels_ms",
+                                                  "present_ms"};
     bool on_;
     std::chrono::steady_clock::time_point last_;
     std::vector<double> phases_[Count];
@@ -180,6 +188,51 @@ double processCpuSeconds() {
     getrusage(RUSAGE_SELF, &usage);
     auto seconds = [](const timeval& t) { return t.tv_sec + t.tv_usec * 1e-6; };
     return seconds(usage.ru_utime) + seconds(usage.ru_stime);
+}
+
+/// --state-file and --run-seconds' report: the window as the frame just drawn left it, for
+/// window tests to wait on and check (integer pixels, so that a test can look for an exact
+/// position in the text).
+nlohmann::json windowState(const EditorState& s, int frame) {
+    const ImGuiIO& io = ImGui::GetIO();
+    const ImGuiContext& g = *ImGui::GetCurrentContext();
+    nlohmann::json j;
+    j["frame"] = frame;
+    j["window"] = {static_cast<int>(io.DisplaySize.x), static_cast<int>(io.DisplaySize.y)};
+    j["viewport"] = {static_cast<int>(s.viewport.x), static_cast<int>(s.viewport.y),
+                     static_cast<int>(s.viewport.w), static_cast<int>(s.viewport.h)};
+    // ImGui's mouse is -FLT_MAX while the pointer is outside the window.
+    j["mouse"] = ImGui::IsMousePosValid(&io.MousePos)
+                     ? nlohmann::json{static_cast<int>(io.MousePos.x), static_cast<int>(io.MousePos.y)}
+                     : nlohmann::json{-1, -1};
+    j["mouse_down"] = io.MouseDown[0];
+    // The window of the control the mouse holds (a splitter's "##split_column"; "" when none).
+    j["held"] = g.ActiveId != 0 && g.ActiveIdWindow ? g.ActiveIdWindow->Name : "";
+    j["tooltip"] = tooltipShownThisFrame();
+    j["undo"] = s.document->undoName();
+    j["dirty"] = s.document->dirty();
+    j["camera_target"] = {s.camera.target.x(), s.camera.target.y(), s.camera.target.z()};
+    j["uv_zoom"] = s.uvZoom;
+    if (s.uvUnderMouse) j["uv_under_mouse"] = {s.uvUnderMouse->x(), s.uvUnderMouse->y()};
+    // Where the tooltip was drawn, only when it was: ImGui hides a tooltip in the first frame
+    // it appears (it measures itself), so the text alone does not mean it is on screen.
+    if (const ImGuiWindow* tip = ImGui::FindWindowByName("##Tooltip_00"); tip && tip->Active && !tip->Hidden) {
+        j["tooltip_rect"] = {static_cast<int>(tip->Pos.x), static_cast<int>(tip->Pos.y),
+                             static_cast<int>(tip->Size.x), static_cast<int>(tip->Size.y)};
+    }
+    // The windows on screen and open (not collapsed), by title, where they are: a test opens a
+    // plot window and waits for it, then looks there in the picture.
+    nlohmann::json windows = nlohmann::json::array();
+    for (const ImGuiWindow* w : g.Windows) {
+        constexpr ImGuiWindowFlags kNotPanels =
+            ImGuiWindowFlags_ChildWindow | ImGuiWindowFlags_Tooltip | ImGuiWindowFlags_Popup;
+        if (!w->Active || w->Hidden || w->Collapsed || (w->Flags & kNotPanels) || w->Name[0] == '#') continue;
+        windows.push_back({{"name", w->Name},
+                           {"rect", {static_cast<int>(w->Pos.x), static_cast<int>(w->Pos.y),
+                                     static_cast<int>(w->Size.x), static_cast<int>(w->Size.y)}}});
+    }
+    j["windows"] = windows;
+    return j;
 }
 
 bool isProjectFile(const std::string& path) {
@@ -284,6 +337,9 @@ void handleKey(EditorState& s, int key, bool ctrl, bool shift) {
         case GLFW_KEY_F1: s.showShortcuts = true; break;
         case GLFW_KEY_P: togglePreview(s); break;
         case GLFW_KEY_SPACE: playPause(s); break;
+        case GLFW_KEY_C:
+            if (s.preview) s.preview->followBody = !s.preview->followBody;
+            break;
         default: break;
     }
 }
@@ -510,9 +566,10 @@ void drawDialogs(EditorState& s, GLFWwindow* window) {
             "Alt+left mouse: orbit   Right mouse: pan\n"
             "1 / 3 / 7: front / side / top   0: perspective   5: orthographic on/off\n"
             "Home: frame all   F: frame selected\n"
+            "UV view: wheel zooms at the cursor, middle mouse pans, middle double-click: all\n"
             "V: navigate   B: brush   G: fill island   I: pick value\n"
             "E: erase on/off   S: smooth on/off   X: X-mirror   [ ]: brush radius\n"
-            "P: live preview on/off   Space: play / pause the preview\n"
+            "P: live preview on/off   Space: play / pause the preview   C: camera follows the body\n"
             "Ctrl+Z: undo   Ctrl+Shift+Z / Ctrl+Y: redo   Ctrl+H: undo history\n"
             "Ctrl+N / Ctrl+O / Ctrl+S / Ctrl+Shift+S: new / open / save / save as   Ctrl+Q: quit\n"
             "Drop a .plim.json to open it, a mesh to import it.");
@@ -672,6 +729,7 @@ int runEditorWindow(const EditorLaunch& launch) {
         return 1;
     }
     s.renderer = std::move(renderer).value();
+    s.renderer->warmUpOnFirstDraw();  // the first frame pays the kept scene's start-up cost
     if (!s.open(launch.project)) {
         std::cerr << "error: " << s.status << "\n";
         if (!launch.project.empty()) return 1;
@@ -719,6 +777,7 @@ int runEditorWindow(const EditorLaunch& launch) {
     // --texture-size: the frames drawn while the new size baked, and the longest of them.
     int bakingFrames = 0;
     double bakingFrameMsMax = 0;
+    std::size_t bakingFrameLongest = 0;  ///< its index in frameMs (--frame-stats: its phases)
     double arrivalFrameMs = 0;  ///< the frame in which the new size was taken in
     bool textureSizeRequested = false;
     // The preview panel's request needs a running preview; the inspector's works either way.
@@ -739,18 +798,24 @@ int runEditorWindow(const EditorLaunch& launch) {
     const auto runStart = std::chrono::steady_clock::now();
     std::optional<double> cpuAtOneSecond;
     int framesAfterOneSecond = 0;
+    // --run-seconds with --screenshot: once the time is up, one more frame is drawn (an idle
+    // loop may have drawn none lately) and written.
+    bool finalFrame = false;
     auto elapsed = [&] {
         return std::chrono::duration<double>(std::chrono::steady_clock::now() - runStart).count();
     };
     while (!glfwWindowShouldClose(window)) {
         if (launch.runSeconds > 0) {
             if (!cpuAtOneSecond && elapsed() >= 1.0) cpuAtOneSecond = processCpuSeconds();
-            if (elapsed() >= launch.runSeconds) break;
+            if (elapsed() >= launch.runSeconds) {
+                if (launch.screenshot.empty()) break;
+                finalFrame = true;
+            }
         }
         // Idle, the editor sleeps until an event (or the autosave's next look): nothing moves,
         // so nothing needs drawing. A few frames follow each event, for ImGui to settle
         // (hover, popups opening the frame after a click).
-        const bool idle = launch.frames == 0 && awakeFrames == 0 && !animating(s);
+        const bool idle = launch.frames == 0 && awakeFrames == 0 && !animating(s) && !finalFrame;
         if (idle) {
             // A new texture size baking: its progress bar moves four times a second.
             double wait = s.physicsBakes->resizing() ? kBakeProgressSeconds : kIdleWakeSeconds;
@@ -774,6 +839,7 @@ int runEditorWindow(const EditorLaunch& launch) {
         }
         const auto frameStart = std::chrono::steady_clock::now();
         phases.start(frameStart);
+        tooltipShownThisFrame().clear();
         handleDrops(s);
         s.pollPhysicsBakes();
         ImGui_ImplOpenGL3_NewFrame();
@@ -859,12 +925,21 @@ int runEditorWindow(const EditorLaunch& launch) {
             shot["path"] = path;
             snapshotReports.push_back(shot);
         }
-        if (last && !launch.screenshot.empty()) {
+        // --run-seconds: the frame drawn when the time is up, or as the window closes (Ctrl+Q).
+        const bool lastInteractive = launch.runSeconds > 0 && (finalFrame || glfwWindowShouldClose(window));
+        if ((last || lastInteractive) && !launch.screenshot.empty()) {
             glFinish();
             screenshotOk = writeScreenshot(launch.screenshot, fbWidth, fbHeight);
         }
         glfwSwapBuffers(window);
         phases.mark(FramePhases::Present);
+        if (!launch.stateFile.empty()) {
+            const std::string line = windowState(s, frame).dump() + "\n";
+            (void)writeFileAtomically(launch.stateFile, [&](std::ostream& out) {
+                out << line;
+                return static_cast<bool>(out);
+            });
+        }
 
         const std::string wanted = s.document->title() + " - Plimsoll";
         if (wanted != title) {
@@ -886,19 +961,21 @@ int runEditorWindow(const EditorLaunch& launch) {
                 if (launch.inspectorTextureSize > 0) (void)s.setTextureSize(0, launch.inspectorTextureSize);
                 else s.preview->session->requestTextureSize(launch.textureSize);
                 textureSizeRequested = true;
-            } else if (textureSizeRequested && rebaking()) {
-                ++bakingFrames;
-                bakingFrameMsMax = std::max(bakingFrameMsMax, frameMs.back());
             } else if (textureSizeRequested) {
-                // Swapped in (or failed) during this frame: its cost (the new textures taken in)
-                // counts too. The frame after shows the new size.
+                // While it bakes, and the frame it was swapped in (or failed) in: that frame's
+                // cost (the new textures taken in) counts too. The frame after shows the new size.
                 ++bakingFrames;
-                bakingFrameMsMax = std::max(bakingFrameMsMax, frameMs.back());
-                arrivalFrameMs = frameMs.back();
-                break;
+                if (frameMs.back() > bakingFrameMsMax) {
+                    bakingFrameMsMax = frameMs.back();
+                    bakingFrameLongest = frameMs.size() - 1;
+                }
+                if (!rebaking()) {
+                    arrivalFrameMs = frameMs.back();
+                    break;
+                }
             }
         }
-        if (last) break;
+        if (last || finalFrame) break;
     }
 
     if (launch.runSeconds > 0) {
@@ -918,6 +995,8 @@ int runEditorWindow(const EditorLaunch& launch) {
         report["undo"] = s.document->undoName();
         report["status"] = s.status;
         report["last_stroke_points"] = s.lastStrokePoints;
+        report["last_frame"] = windowState(s, frame);
+        if (s.preview->session) report["preview"] = previewReport(s);
         int steps = 0;  // the history's length (the run is over: undoing costs nothing now)
         while (s.document->undo()) ++steps;
         report["undo_steps"] = steps;
@@ -955,7 +1034,10 @@ int runEditorWindow(const EditorLaunch& launch) {
             rebake = {{"requested", std::max(launch.textureSize, launch.inspectorTextureSize)},
                       {"frames_while_baking", bakingFrames},
                       {"frame_ms_max_while_baking", bakingFrameMsMax},
-                      {"frame_ms_arrival", arrivalFrameMs}};
+                      {"frame_ms_arrival", arrivalFrameMs},
+                      {"longest_frame", static_cast<int>(bakingFrameLongest) + 1}};
+            // Where the longest frame's time went (the frame-stats phases of that one frame).
+            if (launch.frameStats) rebake["longest_frame_phases"] = phases.frame(bakingFrameLongest);
             if (s.preview->session) {
                 rebake["texture_size"] = s.preview->session->textureSize();
                 rebake["error"] = s.preview->session->rebuildError();

@@ -12,7 +12,9 @@ struct EditorLaunch {
     /// Run this many frames, then quit and print the frame times and the layout as JSON on
     /// stdout (0: run until the user quits). For tests and measurements.
     int frames = 0;
-    std::string screenshot;  ///< with frames: the window's last frame as PNG
+    /// With frames or runSeconds: the window's last frame as PNG (with runSeconds, the frame
+    /// drawn when the time is up or the window closes).
+    std::string screenshot;
     std::string view;        ///< front, side, top or persp (default persp)
     std::string overlay;     ///< initial overlay (default permeability)
     /// Start the live preview playing (with frames: one simulated frame per drawn frame).
@@ -34,6 +36,11 @@ struct EditorLaunch {
     /// With frames: also time each phase of a frame (UI, preview physics, 3D scene, panels,
     /// present; glFinish after each) and report their medians as "frame_stats".
     bool frameStats = false;
+    /// After every drawn frame, this file (replaced whole, never half-written) holds the
+    /// window's state as one line of JSON: frame, window and view size, the mouse, the ImGui
+    /// window whose item is held, the tooltip shown. Window tests wait on it ("until the drag
+    /// has begun") instead of sleeping a fixed time ("" : off).
+    std::string stateFile;
     int width = 0;           ///< window size (0: the saved one)
     int height = 0;
 };

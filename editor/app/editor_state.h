@@ -86,6 +86,11 @@ struct EditorState {
     bool overlaysDirty = true;          ///< re-upload overlay textures
     std::uint64_t documentRevision = 0; ///< bumps on every edit (panels cache against it)
 
+    /// The UV view's zoom (1: the whole 0..1 square fits) and the uv at its centre.
+    float uvZoom = 1.0f;
+    Eigen::Vector2f uvCentre{0.5f, 0.5f};
+    /// The uv under the mouse in the UV view this frame (reports; none when not over it).
+    std::optional<Eigen::Vector2f> uvUnderMouse;
     Rect viewport;                      ///< where the 3D view is drawn this frame
     bool navigating = false;            ///< a mouse drag is moving the camera
     std::string status;                 ///< status bar line

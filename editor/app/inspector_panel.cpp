@@ -136,6 +136,9 @@ BodyInfo& infoFor(EditorState& s, std::size_t b) {
     auto job = std::make_shared<FiguresJob>();
     info.job = job;
     std::thread([job, textures, mesh, material = body.material, maps = std::move(shellMaps)] {
+        // Below the UI's priority, as the bakes are: at 1024^2 this is tens of ms of one core,
+        // started in the frame a new size arrives, beside llvmpipe drawing that frame.
+        lowerThisThreadsPriority();
         job->figures = figuresOf(*textures, *mesh, material, maps);
         job->done.store(true, std::memory_order_release);
         glfwPostEmptyEvent();  // an idle frame loop draws the figures

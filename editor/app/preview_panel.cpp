@@ -14,6 +14,7 @@
 #include <imgui.h>
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -286,10 +287,8 @@ void drawPreviewPanel(EditorState& s) {
                 "Keep the preview's water", s.document->project(), std::move(after))));
         }
         ImGui::EndDisabled();
-        if (ImGui::IsItemHovered(ImGuiHoveredFlags_AllowWhenDisabled)) {
-            ImGui::SetTooltip(differs ? "Write these water and wave settings into the project (undoable)"
-                                      : "The project's water is the same");
-        }
+        tooltip(differs ? "Write these water and wave settings into the project (undoable)"
+                        : "The project's water is the same");
     }
     if (ImGui::CollapsingHeader("Speed and accuracy")) {
         if (ImGui::Combo("integrator", &p.integrator, kIntegratorNames, 3)) {
@@ -321,6 +320,8 @@ void drawPreviewPanel(EditorState& s) {
         ImGui::SameLine();
         ImGui::Checkbox("plots", &p.showPlots);
         tooltip("The plot windows of the recorded quantities");
+        ImGui::Checkbox("camera follows the body", &p.followBody);
+        tooltip("The view's centre stays on the selected body's centre of mass as it moves (C)");
     }
     ImGui::TextDisabled("Left-drag a body to pull it (a spring).");
     if (!p.error.empty()) ImGui::TextWrapped("%s", p.error.c_str());
@@ -476,13 +477,38 @@ void applyPreviewToScene(EditorState& s, RenderScene& scene) {
     const World& world = p.session->world();
     scene.time = world.time();
     scene.water = s.showWater ? &world.scene().water : nullptr;
+    if (p.followBody && s.selectedBody >= 0 && static_cast<std::size_t>(s.selectedBody) < world.bodies().size()) {
+        // Before the scene is drawn: the camera looks at where the body is this frame.
+        s.camera.target = world.bodies()[static_cast<std::size_t>(s.selectedBody)].state.position;
+    }
     for (std::size_t b = 0; b < scene.bodies.size() && b < world.bodies().size(); ++b) {
         scene.bodies[b].pose = world.bodies()[b].pose();
         if (p.showWetTexels) {
             const int slot = kWetSlotBase + static_cast<int>(b);
-            s.renderer->setOverlay(slot, wetTexelOverlay(world.bodies()[b], world.scene().water,
-                                                         world.time()));
-            scene.bodies[b].overlay = slot;
+            const SimulatedBody& body = world.bodies()[b];
+            if (p.wetSamples.size() <= b) p.wetSamples.resize(b + 1);
+            PreviewUi::WetSamples& wet = p.wetSamples[b];
+            const std::uint64_t key = texturesKey(body.textures);  // 1 ms at 1024^2
+            if (wet.finding.valid() &&
+                wet.finding.wait_for(std::chrono::seconds(0)) == std::future_status::ready) {
+                wet.ready = wet.finding.get();
+            }
+            if (wet.ready.key != key && !(wet.finding.valid() && wet.findingKey == key)) {
+                // Other textures: their samples found on a worker, from a copy of where the
+                // covered texels are (the world may be swapped again meanwhile).
+                wet.findingKey = key;
+                wet.finding = std::async(std::launch::async,
+                                         [size = body.textures.size, index = body.textures.texelIndex] {
+                                             lowerThisThreadsPriority();
+                                             return wetTexelSamples(size, index);
+                                         });
+            }
+            // Until they arrive the last image stays (a frame or two; none at the start).
+            if (wet.ready.key == key && wet.ready.shown > 0) {
+                s.renderer->setOverlay(slot, wetTexelOverlay(body, world.scene().water, world.time(),
+                                                             wet.ready));
+            }
+            if (s.renderer->overlayTexture(slot)) scene.bodies[b].overlay = slot;
         }
     }
 }

@@ -10,6 +10,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include <future>
 #include <memory>
 #include <string>
 #include <vector>
@@ -30,8 +31,19 @@ struct PreviewUi {
     /// Scripted runs (--frames): one simulated frame per drawn frame, whatever the wall clock,
     /// so that a screenshot at frame N shows simulated time N * timeStep.
     bool fixedStep = false;
+    /// Per body, which texels the wet-texel image tests; for new textures (a new size swapped
+    /// in) found on a worker while the last image stays up (the walk over every covered texel
+    /// took 15 ms at 1024^2, in the very frame the size arrived).
+    struct WetSamples {
+        WetTexelSamples ready;
+        std::future<WetTexelSamples> finding;
+        std::uint64_t findingKey = 0;
+    };
+    std::vector<WetSamples> wetSamples;
     bool showForces = true, showWaterline = true, showWetTexels = true;
     bool showPerformance = true, showPlots = true;
+    /// The camera's target stays on the selected body's centre of mass (C toggles it).
+    bool followBody = false;
     int integrator = 1;           ///< index into the panel's integrator list
     std::string lastCheck;        ///< the volume-error line shown
     double lastCheckTime = -1;    ///< simulated time it was computed at

@@ -206,7 +206,12 @@ void drawViewportOverlay(EditorState& s) {
         std::snprintf(text, sizeof text, "%.3f", value.value_or(0.0));
         readout += value ? text : "-";
     }
-    draw->AddText(ImVec2(mouse.x + 16, mouse.y + 14), IM_COL32(255, 255, 255, 230), readout.c_str());
+    readout += "\n" + surfacePointPhysics(*s.document, hit->first, hit->second, s.waterTime);
+    // Right of the cursor, or left of it where it would run under the panels.
+    const float textWidth = ImGui::CalcTextSize(readout.c_str()).x;
+    const float x = mouse.x + 16 + textWidth > s.viewport.x + s.viewport.w ? mouse.x - 16 - textWidth
+                                                                            : mouse.x + 16;
+    draw->AddText(ImVec2(x, mouse.y + 14), IM_COL32(255, 255, 255, 230), readout.c_str());
 }
 
 }  // namespace plimsoll::editor

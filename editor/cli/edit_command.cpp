@@ -105,7 +105,7 @@ void addEditCommand(CLI::App& root, CommandRunner& selected) {
     cmd->add_option("--frames", o->window.frames,
                     "Window: run this many frames, print frame times and layout as JSON, quit");
     cmd->add_option("--screenshot", o->window.screenshot,
-                    "Window: with --frames, write the last frame to this PNG");
+                    "Window: with --frames or --run-seconds, write the last frame to this PNG");
     cmd->add_flag("--preview", o->window.preview,
                   "Window: start the live preview playing (with --frames: one simulated frame "
                   "per drawn frame)");
@@ -124,6 +124,9 @@ void addEditCommand(CLI::App& root, CommandRunner& selected) {
     cmd->add_flag("--frame-stats", o->window.frameStats,
                   "Window: with --frames, also report the median time of each phase of a frame "
                   "(UI, preview physics, 3D scene, panels, present), waiting for the GL after each");
+    cmd->add_option("--state-file", o->window.stateFile,
+                    "Window: after each frame, replace this file with the window's state as one "
+                    "line of JSON (frame, window, view, mouse, held control, tooltip); for tests");
     cmd->add_option("--view", o->window.view, "Window: front, side, top or persp")
         ->check(CLI::IsMember({"front", "side", "top", "persp"}));
     cmd->add_option("--overlay", o->window.overlay,

@@ -122,13 +122,26 @@ SchematicLayout schematicLayout(const WaterGraph& graph, float width, float heig
     layout.box = box;
     const std::size_t n = graph.nodes.size();
     if (n == 0) return layout;
+    // The side view looks across the hull's length: along object x or z, whichever the nodes
+    // spread over more (hulls are modelled either way; with x alone, a boat built along z had
+    // all its tanks at one place, pushed apart out of order).
+    double xLo = std::numeric_limits<double>::max(), xHi = -xLo, zLo = xLo, zHi = -xLo;
+    for (const GraphNode& node : graph.nodes) {
+        xLo = std::min(xLo, node.position.x());
+        xHi = std::max(xHi, node.position.x());
+        zLo = std::min(zLo, node.position.z());
+        zHi = std::max(zHi, node.position.z());
+    }
+    const int along = zHi - zLo > xHi - xLo ? 2 : 0;
+    auto profile = [along](const GraphNode& node) {
+        return Eigen::Vector2d(node.position[along], node.position.y());
+    };
     // The profile's extent, mapped onto the canvas inside half a box of margin.
     Eigen::Vector2d lo(std::numeric_limits<double>::max(), std::numeric_limits<double>::max());
     Eigen::Vector2d hi = -lo;
     for (const GraphNode& node : graph.nodes) {
-        const Eigen::Vector2d p(node.position.x(), node.position.y());
-        lo = lo.cwiseMin(p);
-        hi = hi.cwiseMax(p);
+        lo = lo.cwiseMin(profile(node));
+        hi = hi.cwiseMax(profile(node));
     }
     const Eigen::Vector2f min(0.5f * box.x(), 0.5f * box.y());
     const Eigen::Vector2f max(std::max(min.x(), width - 0.5f * box.x()),
@@ -139,8 +152,9 @@ SchematicLayout schematicLayout(const WaterGraph& graph, float width, float heig
     };
     for (const GraphNode& node : graph.nodes) {
         // y up in the body, down on the canvas.
-        layout.centre.emplace_back(place(node.position.x(), lo.x(), hi.x(), min.x(), max.x()),
-                                   place(node.position.y(), lo.y(), hi.y(), max.y(), min.y()));
+        const Eigen::Vector2d p = profile(node);
+        layout.centre.emplace_back(place(p.x(), lo.x(), hi.x(), min.x(), max.x()),
+                                   place(p.y(), lo.y(), hi.y(), max.y(), min.y()));
     }
     // Overlapping boxes pushed apart along the axis they overlap least on, half each way,
     // the lower index to the left or top where they coincide; a few sweeps settle a graph of

@@ -33,9 +33,10 @@ std::vector<int> texelSegments(const TriangleMesh& mesh, const MeshSegmentation&
 OverlayImage segmentOverlay(const std::vector<int>& texelSegment, const SurfaceTextures& textures);
 
 /// A schematic of a graph in a width x height canvas (pixels, y down): every node a box at its
-/// place in the body's profile (object x across, y up, as a side view draws a hull's tanks),
-/// then pushed apart until no two boxes overlap (nodes side by side in z get separate boxes,
-/// in index order); pipes join the box centres.
+/// place in the body's profile (y up; across, object x or z, whichever the nodes spread over
+/// more: the hull's length, as a side view draws its tanks), then pushed apart until no two
+/// boxes overlap (nodes side by side across the profile get separate boxes, in index order);
+/// pipes join the box centres.
 struct SchematicLayout {
     std::vector<Eigen::Vector2f> centre;  ///< per node, canvas pixels
     Eigen::Vector2f box{0, 0};            ///< every box's width and height

@@ -1,5 +1,7 @@
 #include "document/overlay.h"
 
+#include "plimsoll/graph/graph.h"
+
 #include <cstdio>
 
 #include <algorithm>
@@ -166,6 +168,28 @@ OverlayLegend overlayLegend(Overlay overlay, const BodyDesc* body) {
             break;
     }
     return legend;
+}
+
+std::string surfacePointPhysics(const Document& document, std::size_t body,
+                                const Eigen::Vector3d& object, double time) {
+    const Project& project = document.project();
+    const Eigen::Vector3d p = document.bodyPose(body).apply(object);
+    const double depth = project.water.height(p.x(), p.z(), time) - p.y();
+    char line[160];
+    if (depth > 0) {
+        const double pascals = project.medium.density * project.simulation.gravity.norm() * depth;
+        std::snprintf(line, sizeof line, "submerged %.3f m: %.2f kPa", depth, pascals / 1000.0);
+    } else {
+        std::snprintf(line, sizeof line, "dry: %.3f m above the %s", -depth, project.medium.name.c_str());
+    }
+    std::string out = line;
+    if (const WaterGraph* graph = document.graph(body)) {
+        if (const int node = nearestNode(*graph, object); node >= 0) {
+            const GraphNode& n = graph->nodes[static_cast<std::size_t>(node)];
+            out += "\nfeeds " + n.id + (n.name.empty() || n.name == n.id ? "" : " (" + n.name + ")");
+        }
+    }
+    return out;
 }
 
 }  // namespace plimsoll::editor

@@ -49,6 +49,13 @@ struct OverlayLegend {
 /// The legend of `overlay` on `body` (its shell gives the density map's scale; null: none).
 OverlayLegend overlayLegend(Overlay overlay, const BodyDesc* body);
 
+/// The hover readout's physics at a surface point of `body` (object space), at the body's pose
+/// in the project: how deep under the surface it lies (the project's water at `time`) and the
+/// medium's hydrostatic pressure there (rho |g| depth), or how far above it; and, when the body
+/// has a water graph, the node its texel feeds (the engine's rule, nearestNode). One line each.
+std::string surfacePointPhysics(const Document& document, std::size_t body,
+                                const Eigen::Vector3d& object, double time);
+
 /// A painted map's overlay image (the ramp, rows flipped to OpenGL's order).
 OverlayImage overlayOfMap(const PaintedMap& map);
 

@@ -58,13 +58,54 @@ ForceOverlay buildForceOverlay(const World& world, const std::vector<const Trian
     return overlay;
 }
 
+std::uint64_t texturesKey(int size, const std::vector<std::uint32_t>& texelIndex) {
+    // FNV-1a over the size and the covered texels' places (about 1 ms at 1024^2).
+    std::uint64_t h = 1469598103934665603ull;
+    auto mix = [&h](std::uint64_t v) {
+        h ^= v;
+        h *= 1099511628211ull;
+    };
+    mix(static_cast<std::uint64_t>(size));
+    mix(texelIndex.size());
+    for (std::uint32_t index : texelIndex) mix(index);
+    return h;
+}
+
+std::uint64_t texturesKey(const SurfaceTextures& t) { return texturesKey(t.size, t.texelIndex); }
+
+WetTexelSamples wetTexelSamples(const SurfaceTextures& t) { return wetTexelSamples(t.size, t.texelIndex); }
+
+WetTexelSamples wetTexelSamples(int size, const std::vector<std::uint32_t>& texelIndex) {
+    WetTexelSamples samples;
+    samples.shown = std::min(size, kWetOverlayMaxSize);
+    samples.key = texturesKey(size, texelIndex);
+    const auto shown = static_cast<std::size_t>(samples.shown);
+    std::vector<bool> taken(shown * shown, false);
+    for (std::size_t i = 0; i < texelIndex.size(); ++i) {
+        // The physics texel's place in the shown image (the same one when it is not smaller).
+        const std::uint32_t index = texelIndex[i];
+        const std::size_t x = static_cast<std::size_t>(index % size) * shown / size;
+        const std::size_t y = static_cast<std::size_t>(index / size) * shown / size;
+        const std::size_t texel = y * shown + x;
+        if (taken[texel]) continue;
+        taken[texel] = true;
+        samples.entries.push_back(static_cast<std::uint32_t>(i));
+        samples.texels.push_back(static_cast<std::uint32_t>(texel));
+    }
+    return samples;
+}
+
 OverlayImage wetTexelOverlay(const SimulatedBody& body, const WaterModel& water, double time) {
+    return wetTexelOverlay(body, water, time, wetTexelSamples(body.textures));
+}
+
+OverlayImage wetTexelOverlay(const SimulatedBody& body, const WaterModel& water, double time,
+                             const WetTexelSamples& samples) {
     const SurfaceTextures& t = body.textures;
     OverlayImage image;
-    const int shown = std::min(t.size, kWetOverlayMaxSize);
-    image.width = image.height = shown;
+    image.width = image.height = samples.shown;
     image.placement = t.placement;
-    const auto texels = static_cast<std::size_t>(shown) * shown;
+    const auto texels = static_cast<std::size_t>(samples.shown) * samples.shown;
     image.rgba.resize(texels * 4);
     std::array<std::uint8_t, 4> dry{}, wet{};
     for (int k = 0; k < 3; ++k) {
@@ -73,18 +114,12 @@ OverlayImage wetTexelOverlay(const SimulatedBody& body, const WaterModel& water,
     }
     dry[3] = wet[3] = 255;
     for (std::size_t texel = 0; texel < texels; ++texel) std::copy(dry.begin(), dry.end(), &image.rgba[4 * texel]);
-    std::vector<bool> tested(texels, false);
     const Pose pose = body.pose();
-    for (std::size_t i = 0; i < t.coveredCount(); ++i) {
-        // The physics texel's place in the shown image (the same one when it is not smaller).
-        const std::uint32_t index = t.texelIndex[i];
-        const std::size_t x = static_cast<std::size_t>(index % t.size) * shown / t.size;
-        const std::size_t y = static_cast<std::size_t>(index / t.size) * shown / t.size;
-        const std::size_t texel = y * shown + x;
-        if (tested[texel]) continue;
-        tested[texel] = true;
-        const Eigen::Vector3d p = pose.apply(t.position[i]);
-        if (p.y() < water.height(p.x(), p.z(), time)) std::copy(wet.begin(), wet.end(), &image.rgba[4 * texel]);
+    for (std::size_t k = 0; k < samples.entries.size(); ++k) {
+        const Eigen::Vector3d p = pose.apply(t.position[samples.entries[k]]);
+        if (p.y() < water.height(p.x(), p.z(), time)) {
+            std::copy(wet.begin(), wet.end(), &image.rgba[4 * std::size_t{samples.texels[k]}]);
+        }
     }
     return image;
 }

@@ -11,6 +11,7 @@
 
 #include <Eigen/Core>
 
+#include <cstdint>
 #include <vector>
 
 namespace plimsoll::editor {
@@ -50,10 +51,31 @@ std::vector<OverlaySegment> waterlineOf(const TriangleMesh& mesh, const Pose& po
 /// texture (1024^2 took most of a frame on llvmpipe).
 inline constexpr int kWetOverlayMaxSize = 256;
 
+/// Which physics texels wetTexelOverlay tests: for each shown texel that any covered texel
+/// falls in, the first such entry. Found once per set of textures (a walk over every covered
+/// texel, 15 ms at 1024^2 on the test machine), then each frame tests at most
+/// kWetOverlayMaxSize^2 entries.
+struct WetTexelSamples {
+    int shown = 0;                         ///< the image's texels a side
+    std::vector<std::uint32_t> entries;    ///< covered-texel index into the textures
+    std::vector<std::uint32_t> texels;     ///< its texel in the shown image (y * shown + x)
+    std::uint64_t key = 0;                 ///< texturesKey of the textures they were found for
+};
+WetTexelSamples wetTexelSamples(const SurfaceTextures& textures);
+/// The same from the textures' size and covered texels' places alone (a worker's copy).
+WetTexelSamples wetTexelSamples(int size, const std::vector<std::uint32_t>& texelIndex);
+/// A fingerprint of the textures' layout (size and covered texels' places): samples found for
+/// one set of textures serve another with the same key.
+std::uint64_t texturesKey(const SurfaceTextures& textures);
+std::uint64_t texturesKey(int size, const std::vector<std::uint32_t>& texelIndex);
+
 /// The body's texels under the water darker than the dry ones: an overlay image over its
 /// physics texture, at its size or kWetOverlayMaxSize, whichever is smaller (texels nothing
 /// maps to keep the dry colour; a shown texel takes the first entry that falls in it).
 OverlayImage wetTexelOverlay(const SimulatedBody& body, const WaterModel& water, double time);
+/// The same with the samples found before (wetTexelSamples of the body's textures).
+OverlayImage wetTexelOverlay(const SimulatedBody& body, const WaterModel& water, double time,
+                             const WetTexelSamples& samples);
 
 /// The dry and wet colours of wetTexelOverlay (the body colour, and it darkened and blued).
 inline const Eigen::Vector3f kDryColour{0.80f, 0.78f, 0.72f};

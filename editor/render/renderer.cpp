@@ -279,20 +279,52 @@ Renderer::SceneKey Renderer::keyOf(const RenderScene& scene, const Camera& camer
     return key;
 }
 
+bool Renderer::drawIntoCache(const RenderScene& scene, const Camera& camera, int width, int height) {
+    if (cache_.width != width || cache_.height != height || !cache_.framebuffer) {
+        if (!cache_.framebuffer) {
+            glGenFramebuffers(1, &cache_.framebuffer);
+            glGenTextures(1, &cache_.colour);
+            glGenRenderbuffers(1, &cache_.depth);
+        }
+        glBindTexture(GL_TEXTURE_2D, cache_.colour);
+        glTexImage2D(GL_TEXTURE_2D, 0, GL_RGBA8, width, height, 0, GL_RGBA, GL_UNSIGNED_BYTE, nullptr);
+        glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
+        glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
+        glBindRenderbuffer(GL_RENDERBUFFER, cache_.depth);
+        glRenderbufferStorage(GL_RENDERBUFFER, GL_DEPTH_COMPONENT24, width, height);
+        glBindFramebuffer(GL_FRAMEBUFFER, cache_.framebuffer);
+        glFramebufferTexture2D(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_TEXTURE_2D, cache_.colour, 0);
+        glFramebufferRenderbuffer(GL_FRAMEBUFFER, GL_DEPTH_ATTACHMENT, GL_RENDERBUFFER, cache_.depth);
+        cache_.width = width;
+        cache_.height = height;
+    }
+    glBindFramebuffer(GL_FRAMEBUFFER, cache_.framebuffer);
+    if (glCheckFramebufferStatus(GL_FRAMEBUFFER) != GL_FRAMEBUFFER_COMPLETE) return false;
+    glViewport(0, 0, width, height);
+    glDisable(GL_SCISSOR_TEST);
+    glClearColor(scene.background.x(), scene.background.y(), scene.background.z(), 1.0f);
+    glClearDepth(1.0);
+    glDepthMask(GL_TRUE);
+    glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
+    drawScene(scene, camera, width, height);
+    return true;
+}
+
 void Renderer::draw(const RenderScene& scene, const Camera& camera, int width, int height, int x,
                     int y, bool cleared) {
-    auto clearRect = [&] {
-        glClearColor(scene.background.x(), scene.background.y(), scene.background.z(), 1.0f);
-        glClearDepth(1.0);
-        glDepthMask(GL_TRUE);
-        glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
-    };
     std::optional<SceneKey> key;
     if (!scene.drawInside) key = keyOf(scene, camera, width, height);
     const bool copy = key && cache_.kept && *cache_.kept == *key;
     // The same scene as last frame: draw it once more into the kept texture, then copy.
     const bool keep = key && !copy && cache_.previous && *cache_.previous == *key;
     cache_.previous = key;
+    GLint target = 0, read = 0;
+    glGetIntegerv(GL_DRAW_FRAMEBUFFER_BINDING, &target);
+    glGetIntegerv(GL_READ_FRAMEBUFFER_BINDING, &read);
+    auto restoreTargets = [&] {
+        glBindFramebuffer(GL_DRAW_FRAMEBUFFER, target);
+        glBindFramebuffer(GL_READ_FRAMEBUFFER, read);
+    };
     auto drawDirectly = [&] {
         ++framesDrawn_;
         glViewport(x, y, width, height);
@@ -300,50 +332,46 @@ void Renderer::draw(const RenderScene& scene, const Camera& camera, int width, i
         glEnable(GL_SCISSOR_TEST);
         // A scissored clear is a quad drawn over the rectangle on llvmpipe (a whole-target
         // clear is not): callers that clear the whole target skip it.
-        if (!cleared) clearRect();
+        if (!cleared) {
+            glClearColor(scene.background.x(), scene.background.y(), scene.background.z(), 1.0f);
+            glClearDepth(1.0);
+            glDepthMask(GL_TRUE);
+            glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
+        }
         drawScene(scene, camera, width, height);
     };
     if (!copy && !keep) {
         cache_.kept.reset();
         drawDirectly();
+        if (key && cache_.warmUp) {
+            // Once, at the first scene: the same scene into the kept texture as well, and
+            // copied over the one just drawn (the same pixels). llvmpipe compiles shaders for
+            // the texture as a target and for the copy the first time each is used: 60-160 ms
+            // of one frame on 2 busy cores. Paid here, at start-up, it is not paid in the
+            // first frame the view stands still after an edit (issue 19: a new texture size
+            // must never block a frame for more than 50 ms).
+            cache_.warmUp = false;
+            if (drawIntoCache(scene, camera, width, height)) {
+                cache_.kept = key;
+                glBindFramebuffer(GL_READ_FRAMEBUFFER, cache_.framebuffer);
+                glBindFramebuffer(GL_DRAW_FRAMEBUFFER, target);
+                glBlitFramebuffer(0, 0, width, height, x, y, x + width, y + height,
+                                  GL_COLOR_BUFFER_BIT, GL_NEAREST);
+            }
+            restoreTargets();
+            glViewport(x, y, width, height);
+        }
         return;
     }
-    GLint target = 0, read = 0;
-    glGetIntegerv(GL_DRAW_FRAMEBUFFER_BINDING, &target);
-    glGetIntegerv(GL_READ_FRAMEBUFFER_BINDING, &read);
     if (keep) {
-        if (cache_.width != width || cache_.height != height || !cache_.framebuffer) {
-            if (!cache_.framebuffer) {
-                glGenFramebuffers(1, &cache_.framebuffer);
-                glGenTextures(1, &cache_.colour);
-                glGenRenderbuffers(1, &cache_.depth);
-            }
-            glBindTexture(GL_TEXTURE_2D, cache_.colour);
-            glTexImage2D(GL_TEXTURE_2D, 0, GL_RGBA8, width, height, 0, GL_RGBA, GL_UNSIGNED_BYTE, nullptr);
-            glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
-            glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
-            glBindRenderbuffer(GL_RENDERBUFFER, cache_.depth);
-            glRenderbufferStorage(GL_RENDERBUFFER, GL_DEPTH_COMPONENT24, width, height);
-            glBindFramebuffer(GL_FRAMEBUFFER, cache_.framebuffer);
-            glFramebufferTexture2D(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_TEXTURE_2D, cache_.colour, 0);
-            glFramebufferRenderbuffer(GL_FRAMEBUFFER, GL_DEPTH_ATTACHMENT, GL_RENDERBUFFER, cache_.depth);
-            cache_.width = width;
-            cache_.height = height;
-        }
-        glBindFramebuffer(GL_FRAMEBUFFER, cache_.framebuffer);
-        if (glCheckFramebufferStatus(GL_FRAMEBUFFER) != GL_FRAMEBUFFER_COMPLETE) {
+        if (!drawIntoCache(scene, camera, width, height)) {
             // No kept scene on this driver: draw it as before.
-            glBindFramebuffer(GL_DRAW_FRAMEBUFFER, target);
-            glBindFramebuffer(GL_READ_FRAMEBUFFER, read);
+            restoreTargets();
             cache_.previous.reset();
             drawDirectly();
             return;
         }
         ++framesDrawn_;
-        glViewport(0, 0, width, height);
-        glDisable(GL_SCISSOR_TEST);
-        clearRect();
-        drawScene(scene, camera, width, height);
         cache_.kept = key;
     } else {
         ++framesCopied_;
@@ -408,7 +436,13 @@ void Renderer::drawScene(const RenderScene& scene, const Camera& camera, int wid
     glEnable(GL_BLEND);
     glBlendFunc(GL_SRC_ALPHA, GL_ONE_MINUS_SRC_ALPHA);
     glDepthMask(GL_FALSE);
+    // Pulled a little toward the eye: where what is inside touches the hull (a compartment's
+    // box top in the deck's plane), the see-through hull lies over it everywhere instead of
+    // in a speckle of the pixels that happen to round nearer (issue 19 bug 7's z-fighting).
+    glEnable(GL_POLYGON_OFFSET_FILL);
+    glPolygonOffset(-1.0f, -4.0f);
     drawBodies(true);
+    glDisable(GL_POLYGON_OFFSET_FILL);
     glDepthMask(GL_TRUE);
     glDisable(GL_BLEND);
 

@@ -88,6 +88,11 @@ public:
     /// with drawInside (the water graph) are always drawn.
     void draw(const RenderScene& scene, const Camera& camera, int width, int height, int x = 0,
               int y = 0, bool cleared = false);
+    /// The next scene drawn (directly) is also drawn into the kept texture and copied from it,
+    /// unseen, so that the driver's first use of both (llvmpipe compiles shaders for each)
+    /// falls in that frame and not in a later one. For a window (its first frame); a one-off
+    /// image has no later frame to spare.
+    void warmUpOnFirstDraw() { cache_.warmUp = true; }
     /// Frames copied from the kept scene, and frames drawn, since the start (tests, reports).
     std::uint64_t framesCopied() const { return framesCopied_; }
     std::uint64_t framesDrawn() const { return framesDrawn_; }
@@ -107,6 +112,9 @@ private:
     /// The scene at (0, 0, width, height) of the bound framebuffer, its rectangle cleared
     /// already (the body of draw()).
     void drawScene(const RenderScene& scene, const Camera& camera, int width, int height);
+    /// The scene into the kept texture (made or resized to width x height), which stays bound
+    /// as the framebuffer; false where this driver cannot draw into it.
+    bool drawIntoCache(const RenderScene& scene, const Camera& camera, int width, int height);
     /// Everything a drawn scene depends on.
     struct SceneKey {
         std::vector<double> numbers;        ///< size, camera, time, flags, poses, overlays
@@ -121,6 +129,7 @@ private:
         std::optional<SceneKey> kept, previous;
         std::optional<WaterModel> water;    ///< a copy of the last scene's, to compare
         std::uint64_t waterGeneration = 0;
+        bool warmUp = false;                ///< see warmUpOnFirstDraw
     } cache_;
     std::uint64_t overlayGeneration_ = 0;   ///< bumps on every setOverlay
     std::uint64_t framesCopied_ = 0, framesDrawn_ = 0;

@@ -965,5 +965,26 @@ TEST(EditorOverlay, LegendGivesTheDensityMapItsShellScale) {
     }
 }
 
+TEST(EditorOverlay, HoverReadoutGivesDepthPressureAndTheNodeFed) {
+    // Issue 19, reading values: beside the map's value, the physics at the point under the
+    // cursor. The damaged boat floats 0.15 m up, unrotated, on flat water at 0, in fresh water;
+    // its four compartments run along z (stern at -2.25, forepeak at +2.25).
+    Result<std::unique_ptr<Document>> opened =
+        Document::open(std::filesystem::path(PLIMSOLL_SOURCE_DIR) / "projects" / "damaged_boat.plim.json");
+    ASSERT_TRUE(opened.ok()) << opened.error().message;
+    const Document& boat = **opened;
+    // 0.35 m below the body's origin: 0.2 m under water, rho g h = 1000 * 9.81 * 0.2 Pa.
+    EXPECT_EQ(surfacePointPhysics(boat, 0, Eigen::Vector3d(0, -0.35, -2.2), 0.0),
+              "submerged 0.200 m: 1.96 kPa\nfeeds stern (stern compartment (engine room))");
+    EXPECT_EQ(surfacePointPhysics(boat, 0, Eigen::Vector3d(0, 0.5, 2.2), 0.0),
+              "dry: 0.650 m above the water\nfeeds bow (forepeak)");
+    // A body without a graph: the depth line alone.
+    Document plain;
+    executeOrFail(plain, makeImportMeshCommand(plain, test::assetPath("box.obj"), std::nullopt));
+    const std::string line = surfacePointPhysics(plain, 0, Eigen::Vector3d(0, 0, 0), 0.0);
+    EXPECT_EQ(line.find('\n'), std::string::npos) << line;
+    EXPECT_EQ(line.find("feeds"), std::string::npos) << line;
+}
+
 }  // namespace
 }  // namespace plimsoll::editor

@@ -102,6 +102,24 @@ TEST(EditorGraphSchematic, BoxesKeepTheProfilesOrderAndNeverOverlap) {
         EXPECT_EQ(schematicNodeAt(layout, c[i] + Eigen::Vector2f(30, -12)), int(i)) << g.nodes[i].id;
     }
     EXPECT_EQ(schematicNodeAt(layout, Eigen::Vector2f(200, 190)), -1);
+    // A hull modelled along z (the sample damaged boat's four tanks, stern at -z): the side
+    // view runs along z, stern to bow left to right, all on one level.
+    WaterGraph boat;
+    for (const auto& [id, z] : {std::pair{"stern", -2.25}, {"aft", -0.75}, {"fore", 0.75}, {"bow", 2.25}}) {
+        GraphNode n;
+        n.id = id;
+        n.position = Eigen::Vector3d(0.0, 0.0, z);
+        n.capacity = 1;
+        boat.nodes.push_back(n);
+    }
+    const SchematicLayout along = schematicLayout(boat, 400, 200, box);
+    ASSERT_EQ(along.centre.size(), 4u);
+    EXPECT_NEAR(along.centre[0].x(), 32, 1e-3);
+    EXPECT_NEAR(along.centre[3].x(), 400 - 32, 1e-3);
+    for (std::size_t i = 1; i < 4; ++i) {
+        EXPECT_GT(along.centre[i].x(), along.centre[i - 1].x() + box.x()) << boat.nodes[i].id;
+        EXPECT_NEAR(along.centre[i].y(), 100, 1e-3);
+    }
     // One node: the canvas's centre.
     g.nodes.resize(1);
     const SchematicLayout one = schematicLayout(g, 400, 200, box);
@@ -645,6 +663,55 @@ TEST(EditorGraphView, RenderedGraphShowsNodeColoursWhereNodesProject) {
     nodeColour(1).maxCoeff(&expected);
     empty.maxCoeff(&got);
     EXPECT_EQ(got, expected) << empty.transpose();
+}
+
+// Issue 19 bug 7: the compartment boxes z-fought with the deck, their tops (in the deck's
+// plane) a speckle of box and see-through hull. Drawn in perspective over the deck, each top is
+// now one even colour: the hull over it everywhere.
+TEST(EditorGraphView, BoxTopsInTheDecksPlaneShowNoZFighting) {
+    const fs::path projectPath = copyDamagedBoat("zfight");
+    const fs::path shot = projectPath.parent_path() / "persp.png";
+    const int w = 640, h = 400;
+    const test::CommandOutput r = test::runPlimsoll(
+        "render '" + projectPath.string() + "' --out '" + shot.string() +
+        "' --graph --view persp --size 640x400 --no-water --no-grid --overlay none");
+    if (cannotRender(r)) GTEST_SKIP() << "no EGL OpenGL 4.5 here: " << r.err;
+    ASSERT_EQ(r.exitCode, 0) << r.err;
+    int iw = 0, ih = 0, ch = 0;
+    unsigned char* data = stbi_load(shot.c_str(), &iw, &ih, &ch, 3);
+    ASSERT_TRUE(data && iw == w && ih == h);
+    const std::vector<unsigned char> img(data, data + 3 * iw * ih);
+    stbi_image_free(data);
+    auto doc = openOrFail(projectPath);
+    ASSERT_TRUE(doc);
+    const Camera camera = Camera::preset(ViewPreset::Persp, doc->worldBounds());
+    const Pose pose = doc->bodyPose(0);
+    const WaterGraph& g = *doc->graph(0);
+    for (std::size_t n = 0; n < g.nodes.size(); ++n) {
+        const GraphNode& node = g.nodes[n];
+        ASSERT_TRUE(node.isBox()) << node.id;
+        const Eigen::Vector3d half = 0.5 * node.boxSize;
+        // The top's inner 60 % (clear of its edges' lines), sampled on a 9 x 9 grid.
+        Eigen::Vector3i lo = Eigen::Vector3i::Constant(255), hi = Eigen::Vector3i::Zero();
+        int samples = 0;
+        for (int i = 0; i < 9; ++i) {
+            for (int j = 0; j < 9; ++j) {
+                const Eigen::Vector3d object =
+                    node.position + Eigen::Vector3d((-0.6 + 0.15 * i) * half.x(), half.y(),
+                                                    (-0.6 + 0.15 * j) * half.z());
+                const auto p = camera.toPixel(pose.apply(object), w, h);
+                if (!p || p->x() < 0 || p->y() < 0 || p->x() >= w || p->y() >= h) continue;
+                const std::size_t k = 3 * (std::size_t(p->y()) * w + std::size_t(p->x()));
+                const Eigen::Vector3i c(img[k], img[k + 1], img[k + 2]);
+                lo = lo.cwiseMin(c);
+                hi = hi.cwiseMax(c);
+                ++samples;
+            }
+        }
+        ASSERT_GT(samples, 40) << node.id << ": its top should be in the picture";
+        EXPECT_LE((hi - lo).maxCoeff(), 12) << node.id << ": top from " << lo.transpose() << " to "
+                                            << hi.transpose();
+    }
 }
 
 }  // namespace

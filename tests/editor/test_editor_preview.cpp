@@ -527,6 +527,29 @@ TEST(ForceOverlay, WetTexelsOfALargeTextureAreShownAtTheCappedSize) {
         wet += image.rgba[4 * texel] == wetColour.x() ? body.textures.area[i] : 0.0;
     }
     EXPECT_NEAR(wet / total, 0.5, 0.03);
+
+    // The samples found once serve every frame: one entry per shown texel that any covered
+    // texel falls in, each the first of them (what the walk over every entry above tested).
+    const WetTexelSamples samples = wetTexelSamples(body.textures);
+    std::vector<int> firstEntry(kWetOverlayMaxSize * kWetOverlayMaxSize, -1);
+    for (std::size_t i = 0; i < body.textures.coveredCount(); ++i) {
+        const std::size_t index = body.textures.texelIndex[i];
+        const std::size_t texel = (index / 512 / 2) * kWetOverlayMaxSize + (index % 512) / 2;
+        if (firstEntry[texel] < 0) firstEntry[texel] = static_cast<int>(i);
+    }
+    const auto shownTexels = static_cast<std::size_t>(std::count_if(
+        firstEntry.begin(), firstEntry.end(), [](int e) { return e >= 0; }));
+    ASSERT_EQ(samples.entries.size(), shownTexels);
+    ASSERT_EQ(samples.texels.size(), shownTexels);
+    for (std::size_t k = 0; k < samples.entries.size(); ++k) {
+        EXPECT_EQ(firstEntry[samples.texels[k]], static_cast<int>(samples.entries[k]));
+    }
+    // Other textures have another key (the preview finds their samples again).
+    project.bodies[0].textureSize = 256;
+    auto smaller = makeSession(project);
+    ASSERT_TRUE(smaller);
+    EXPECT_NE(texturesKey(smaller->world().bodies()[0].textures), samples.key);
+    EXPECT_EQ(texturesKey(body.textures), samples.key);
 }
 
 }  // namespace
