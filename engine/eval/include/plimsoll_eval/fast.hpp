@@ -17,7 +17,12 @@
 // stencil, and a submerged tile's closed form takes the depth as that quadratic expanded about
 // the tile's centre (moments about the tile up to third order), so curved water costs no
 // per-entry work either; waterline tiles give their entries the quadratic's heights. The
-// water's own velocity (drag) is taken at the tile's centre.
+// water's own velocity (drag) is taken at the tile's centre, asked for in one batch after the
+// traversal.
+// Closed forms are linear in the moments, so nodes that share one polynomial add their moments
+// about c (FastBody::centerMoments) and the polynomial is evaluated once: every submerged node
+// under a flat plane, every submerged node of one stencil on waves (shifted to the stencil's
+// point), every facing node of one water velocity for drag (docs/fast-path.md).
 #pragma once
 
 #include "plimsoll_eval/entry.hpp"
@@ -891,13 +896,7 @@ inline Sums FastBody::evaluate(const BodyState& s, const WaterSurface& water, co
         const int node = scratch.stencils[b].slot;
         const int i = node % G, j = node / G;
         const FastStencil& q = scratch.stencilQuadratics[static_cast<std::size_t>(node)];
-        TileWater w;
-        w.f = q.f;
-        w.gx = q.gx;
-        w.gz = q.gz;
-        w.hxx = q.hxx;
-        w.hzz = q.hzz;
-        w.hxz = q.hxz;
+        const TileWater w{q.f, q.gx, q.gz, q.hxx, q.hxz, q.hzz, Vec3{}};  // about the node itself
         const Vec3 rp{x0 + i * h - s.center.x, scratch.stencilHeight[b] / scratch.stencilWeight[b],
                       z0 + j * h - s.center.z};
         const Vec3 p = transposeTimes(R, rp);
