@@ -583,8 +583,8 @@ RadiationCoefficients RadiationSolver::at(double omega) const {
         if (needGradient) k.j1 = besselJ(1, X);
         return k;
     };
-    // Adds `weight` times the kernel at (x, s) to the potential (and, on a body row, to the
-    // normal velocity along ni) of one matrix element.
+    // Adds `weight` times the kernel at (x, s) to one matrix element's potential `g` and, on a
+    // body row, to the gradient at x that its normal-velocity entry takes.
     auto accumulate = [&](const Kernel& k, const Eigen::Vector3d& x, const Eigen::Vector3d& s, double weight,
                           bool onBody, std::complex<double>& g, Eigen::Vector3cd& gradient) {
         g += weight * std::complex<double>(2.0 * K * k.w.value, -2.0 * kPi * K * k.decay * k.j0);
