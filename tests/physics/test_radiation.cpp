@@ -337,5 +337,25 @@ TEST(RadiationHemisphere, SymmetricMatricesAndPositiveDamping) {
     EXPECT_NEAR(c.addedMass(kSurgeX, kHeaveY), 0.0, 0.01 * scale);
 }
 
+// The influence matrices are assembled by rows on several threads, and each far pair's wave
+// kernel is evaluated once for both of its elements: the coefficients must not depend on the
+// thread count, to the last bit (a cache key does not include it).
+TEST(RadiationSolver, SameCoefficientsOnAnyThreadCount) {
+    const auto panels = wettedPanels(gradedSphere(12, 5, 1.3), Eigen::Affine3d::Identity());
+    RadiationSettings one{kGravity, kDensity};
+    one.threads = 1;
+    RadiationSettings three = one;
+    three.threads = 3;
+    const RadiationSolver a(panels, Eigen::Vector3d(0, -0.2, 0.1), one);
+    const RadiationSolver b(panels, Eigen::Vector3d(0, -0.2, 0.1), three);
+    for (const double omega : {1.0, 4.0}) {
+        const RadiationCoefficients ca = a.at(omega);
+        const RadiationCoefficients cb = b.at(omega);
+        EXPECT_EQ(ca.addedMass, cb.addedMass) << "omega " << omega;
+        EXPECT_EQ(ca.damping, cb.damping) << "omega " << omega;
+    }
+    EXPECT_EQ(a.infiniteFrequencyAddedMass(), b.infiniteFrequencyAddedMass());
+}
+
 }  // namespace
 }  // namespace plimsoll

@@ -22,9 +22,12 @@
 #include <boost/math/special_functions/bessel.hpp>
 
 #include <algorithm>
+#include <atomic>
 #include <cassert>
 #include <cmath>
 #include <numbers>
+#include <thread>
+#include <vector>
 
 namespace plimsoll {
 
@@ -152,6 +155,23 @@ void subdivide(const std::array<Eigen::Vector3d, 3>& t, int levels, F&& f) {
     subdivide({m01, t[1], m12}, levels - 1, f);
     subdivide({m20, m12, t[2]}, levels - 1, f);
     subdivide({m01, m12, m20}, levels - 1, f);
+}
+
+// Calls rowWork(i) for every i in [0, n) on up to settings' threads (0: the hardware's), rows
+// handed out one at a time. Each row's results do not depend on which thread computes it, so
+// the matrices are bit-identical for any thread count.
+template <class F>
+void forEachRow(Eigen::Index n, unsigned threads, F&& rowWork) {
+    const unsigned available = threads ? threads : std::max(1u, std::thread::hardware_concurrency());
+    const unsigned count = static_cast<unsigned>(std::min<Eigen::Index>(available, std::max<Eigen::Index>(n, 1)));
+    std::atomic<Eigen::Index> next{0};
+    auto worker = [&] {
+        for (Eigen::Index i = next++; i < n; i = next++) rowWork(i);
+    };
+    std::vector<std::thread> pool;
+    for (unsigned t = 1; t < count; ++t) pool.emplace_back(worker);
+    worker();
+    for (auto& t : pool) t.join();
 }
 
 }  // namespace
@@ -499,7 +519,7 @@ RadiationSolver::RadiationSolver(std::vector<RadiationPanel> panels, const Eigen
     }
     // Averaged over the field panel (three points): the flux through it and its mean potential,
     // where the centroid alone misses the first-order variation across a triangle.
-    for (Eigen::Index i = 0; i < n; ++i) {
+    forEachRow(n, settings_.threads, [&](Eigen::Index i) {
         const Eigen::Vector3d& ni = sources_[i].normal;
         const std::array<Eigen::Vector3d, 3> points = threePoints(sources_[i]);
         for (Eigen::Index j = 0; j < n; ++j) {
@@ -518,7 +538,7 @@ RadiationSolver::RadiationSolver(std::vector<RadiationPanel> panels, const Eigen
             imagePotential_(i, j) = ip / 3.0;
             imageNormal_(i, j) = in / 3.0;
         }
-    }
+    });
 }
 
 Eigen::Matrix<std::complex<double>, 6, 6> RadiationSolver::forces(const Eigen::MatrixXcd& potential,
@@ -544,51 +564,95 @@ RadiationCoefficients RadiationSolver::at(double omega) const {
     system.topRows(bodyCount) = (directNormal_ + imageNormal_).topRows(bodyCount).cast<std::complex<double>>();
     // The wave part at the field panel's centroid: smooth on the panel's scale there (averaging
     // it over three points, like the Rankine part, changed the hemisphere's A and B by < 0.3%).
-    for (Eigen::Index i = 0; i < n; ++i) {
+    //
+    // The wave part between two points, nondimensional: G_wave(x, s) = 2 K (value + i pi e^{-Y}
+    // J0(X)) etc. It depends on the pair only through X (horizontal distance) and Y (depths
+    // added), both symmetric in x and s; evaluating it (Struve and Bessel functions, the tail
+    // integrals) is most of the cost of a frequency.
+    struct Kernel {
+        WaveGreen w;
+        double decay = 0, j0 = 0, j1 = 0;
+    };
+    auto kernel = [&](const Eigen::Vector3d& x, const Eigen::Vector3d& s, bool needGradient) {
+        Kernel k;
+        const double X = K * std::hypot(x.x() - s.x(), x.z() - s.z());
+        const double Y = std::max(0.0, -K * (x.y() + s.y()));
+        k.w = waveGreen(X, Y);
+        k.decay = std::exp(-Y);
+        k.j0 = besselJ(0, X);
+        if (needGradient) k.j1 = besselJ(1, X);
+        return k;
+    };
+    // Adds `weight` times the kernel at (x, s) to one matrix element's potential `g` and, on a
+    // body row, to the gradient at x that its normal-velocity entry takes.
+    auto accumulate = [&](const Kernel& k, const Eigen::Vector3d& x, const Eigen::Vector3d& s, double weight,
+                          bool onBody, std::complex<double>& g, Eigen::Vector3cd& gradient) {
+        g += weight * std::complex<double>(2.0 * K * k.w.value, -2.0 * kPi * K * k.decay * k.j0);
+        if (!onBody) return;  // the lid's rows need the potential only
+        const double dx = x.x() - s.x();
+        const double dz = x.z() - s.z();
+        const double horizontal = std::hypot(dx, dz);
+        const std::complex<double> dR(2.0 * K * K * k.w.dX, 2.0 * kPi * K * K * k.decay * k.j1);
+        const std::complex<double> dy(-2.0 * K * K * k.w.dY, -2.0 * kPi * K * K * k.decay * k.j0);
+        const double ex = horizontal > 0 ? dx / horizontal : 0.0;
+        const double ez = horizontal > 0 ? dz / horizontal : 0.0;
+        gradient += weight * Eigen::Vector3cd(dR * ex, dy, dR * ez);
+    };
+    // The wave part is singular like ln r' and 1/r' at the image point (Newman 1985): one point
+    // far away, subdivided 3-point rules as the image comes close.
+    auto isFar = [&](Eigen::Index i, Eigen::Index j) {
+        const RadiationPanel& source = sources_[j];
         const Eigen::Vector3d& x = sources_[i].centroid;
-        const Eigen::Vector3d& ni = sources_[i].normal;
+        const double size = longestEdge(source);
+        return (x - mirrored(source.centroid)).norm() >= settings_.nearFactor * size &&
+               (x - source.centroid).norm() >= settings_.nearFactor * size;
+    };
+    auto store = [&](Eigen::Index i, Eigen::Index j, const std::complex<double>& g, const Eigen::Vector3cd& gradient) {
+        potential(i, j) += g;
+        if (i < bodyCount) system(i, j) += sources_[i].normal.cast<std::complex<double>>().dot(gradient);
+    };
+    // Two far panels use one point each, their centroids, whichever is the field point: the
+    // kernel is evaluated once per pair for both elements (i, j) and (j, i), which is exact (X
+    // and Y are the same numbers either way). Every element is written by one row only: (j, i)
+    // with j < i by row j when both directions are far, else by row i.
+    forEachRow(n, settings_.threads, [&](Eigen::Index i) {
+        const Eigen::Vector3d& x = sources_[i].centroid;
         const bool onBody = i < bodyCount;
         for (Eigen::Index j = 0; j < n; ++j) {
             const RadiationPanel& source = sources_[j];
+            const bool far = isFar(i, j);
+            if (far) {
+                const bool farBack = j != i && isFar(j, i);
+                if (j < i && farBack) continue;  // row j wrote this element
+                const bool backOnBody = j < bodyCount;
+                const Kernel k = kernel(x, source.centroid, onBody || (farBack && j > i && backOnBody));
+                std::complex<double> g = 0;
+                Eigen::Vector3cd gradient = Eigen::Vector3cd::Zero();
+                accumulate(k, x, source.centroid, source.area, onBody, g, gradient);
+                store(i, j, g, gradient);
+                if (j > i && farBack) {
+                    std::complex<double> gBack = 0;
+                    Eigen::Vector3cd gradientBack = Eigen::Vector3cd::Zero();
+                    accumulate(k, source.centroid, x, sources_[i].area, backOnBody, gBack, gradientBack);
+                    store(j, i, gBack, gradientBack);
+                }
+                continue;
+            }
             std::complex<double> g = 0;
             Eigen::Vector3cd gradient = Eigen::Vector3cd::Zero();
-            auto addPoint = [&](const Eigen::Vector3d& s, double weight) {
-                const double dx = x.x() - s.x();
-                const double dz = x.z() - s.z();
-                const double horizontal = std::hypot(dx, dz);
-                const double X = K * horizontal;
-                const double Y = std::max(0.0, -K * (x.y() + s.y()));
-                const WaveGreen w = waveGreen(X, Y);
-                const double decay = std::exp(-Y);
-                const double j0 = besselJ(0, X);
-                g += weight * std::complex<double>(2.0 * K * w.value, -2.0 * kPi * K * decay * j0);
-                if (!onBody) return;  // the lid's rows need the potential only
-                const double j1 = besselJ(1, X);
-                const std::complex<double> dR(2.0 * K * K * w.dX, 2.0 * kPi * K * K * decay * j1);
-                const std::complex<double> dy(-2.0 * K * K * w.dY, -2.0 * kPi * K * K * decay * j0);
-                const double ex = horizontal > 0 ? dx / horizontal : 0.0;
-                const double ez = horizontal > 0 ? dz / horizontal : 0.0;
-                gradient += weight * Eigen::Vector3cd(dR * ex, dy, dR * ez);
-            };
-            // The wave part is singular like ln r' and 1/r' at the image point (Newman 1985):
-            // one point far away, subdivided 3-point rules as the image comes close.
             const double size = longestEdge(source);
             const double imageDistance = (x - mirrored(source.centroid)).norm();
-            if (imageDistance >= settings_.nearFactor * size &&
-                (x - source.centroid).norm() >= settings_.nearFactor * size) {
-                addPoint(source.centroid, source.area);
-            } else {
-                const int levels = std::clamp(
-                    static_cast<int>(std::ceil(std::log2(2.0 * size / std::max(imageDistance, 1e-12 * size)))), 0, 4);
-                subdivide(source.vertices, levels, [&](const std::array<Eigen::Vector3d, 3>& t, double area) {
-                    RadiationPanel piece{t, {}, {}, area};
-                    for (const Eigen::Vector3d& s : threePoints(piece)) addPoint(s, area / 3.0);
-                });
-            }
-            potential(i, j) += g;
-            if (onBody) system(i, j) += ni.cast<std::complex<double>>().dot(gradient);
+            const int levels = std::clamp(
+                static_cast<int>(std::ceil(std::log2(2.0 * size / std::max(imageDistance, 1e-12 * size)))), 0, 4);
+            subdivide(source.vertices, levels, [&](const std::array<Eigen::Vector3d, 3>& t, double area) {
+                RadiationPanel piece{t, {}, {}, area};
+                for (const Eigen::Vector3d& s : threePoints(piece)) {
+                    accumulate(kernel(x, s, onBody), x, s, area / 3.0, onBody, g, gradient);
+                }
+            });
+            store(i, j, g, gradient);
         }
-    }
+    });
     // The lid's rows: the interior flow has no vertical velocity under the lid,
     // d phi/dy = 4 pi sigma + K phi = 0 (4 pi: the jump of a source layer on the free surface,
     // whose image doubles it; K phi: d G/dy = K G there, the free-surface condition).

@@ -14,7 +14,7 @@ namespace plimsoll {
 namespace {
 
 /// Bumped when the computation changes what it produces from the same inputs.
-constexpr int kRadiationVersion = 2;
+constexpr int kRadiationVersion = 3;
 
 /// The mesh as the panel method takes it, and the mass that floats.
 struct RestInput {
@@ -47,7 +47,10 @@ std::size_t refinedCount(const std::vector<RadiationPanel>& panels, double maxEd
 RadiationDesc resolvedRadiationDesc(const RadiationDesc& desc, double restVolume, double gravity) {
     RadiationDesc r = desc;
     const double size = std::cbrt(std::max(restVolume, 0.0));
-    if (!(r.panelEdge > 0)) r.panelEdge = size / 2.5;
+    // cbrt(V) / 2: a 1 m cube of density 250 gets 272 panels (+120 on the lid), within 2% of the
+    // 1088-panel solution where its A and B matter (docs/radiation.md, "The default panel edge");
+    // cbrt(V) / 2.5 made 656 and took four times as long for no better agreement.
+    if (!(r.panelEdge > 0)) r.panelEdge = size / 2.0;
     if (!(r.minFrequency > 0) || !(r.maxFrequency > 0)) {
         const double length = size / 2;
         r.minFrequency = std::sqrt(0.05 * gravity / length);

@@ -79,6 +79,9 @@ struct RadiationSettings {
     /// Sources on the interior waterplane (waterplaneLid) that remove the irregular frequencies
     /// at finite frequency; off, the body's panels alone.
     bool irregularFrequencyLid = true;
+    /// Threads that assemble the influence matrices (rows handed out one at a time; the results
+    /// are the same for any count). 0: std::thread::hardware_concurrency().
+    unsigned threads = 0;
 };
 
 /// A(omega) and B(omega) at one frequency. Units: kg, kg m, kg m^2 (A); kg/s, kg m/s,

@@ -41,7 +41,7 @@ struct BodyRadiation {
 };
 
 /// The settings with their automatic values filled in for a body that displaces `restVolume`:
-/// panel edge cbrt(V) / 2.5, frequencies from K L = 0.05 to 5 with L = cbrt(V) / 2.
+/// panel edge cbrt(V) / 2, frequencies from K L = 0.05 to 5 with L = cbrt(V) / 2.
 RadiationDesc resolvedRadiationDesc(const RadiationDesc& desc, double restVolume, double gravity);
 
 /// A hash of everything the coefficients depend on (the mesh's vertices and triangles, the
