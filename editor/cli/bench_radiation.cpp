@@ -77,8 +77,8 @@ int runRadiationBench(const BenchOptions& o) {
         std::cerr << "error: " << body.error().message << "\n";
         return kExitFailure;
     }
-    // Faces split to 16 panels each: the default panel edge (cbrt(V) / 2.5) would make several
-    // hundred, seconds a frequency.
+    // Faces split to 16 panels each: the default panel edge (cbrt(V) / 2, docs/radiation.md)
+    // would make a few hundred with the lid, a bake several times longer.
     const RadiationDesc settings{.panelEdge = 0.5, .frequencies = 12};
     const Clock::time_point bakeStart = Clock::now();
     Result<BodyRadiation> radiation =

@@ -24,8 +24,8 @@ namespace {
 constexpr double kPi = std::numbers::pi;
 constexpr double kGravity = 9.81, kDensity = 1025;
 
-/// A 1 m cube's faces split to 16 panels each (the default panel edge would make several hundred,
-/// seconds a frequency).
+/// A 1 m cube's faces split to 16 panels each (the default panel edge, cbrt(V) / 2, makes a
+/// few hundred with the lid: a bake several times longer).
 const RadiationDesc kCoarseBox{.panelEdge = 0.5, .frequencies = 12};
 
 /// One body of `mesh` and `density` in still water, with radiation `radiation` (null: none),
