@@ -178,12 +178,18 @@ Answer clipPerTriangle(const TriangleMesh& mesh, const BodyFrame& frame, const W
     const FluidSettings fluid;
     const double rhoG = fluid.density * fluid.gravity;
     const Eigen::Vector3d c = frame.pose.apply(frame.centerOfMass);
-    world.resize(mesh.positions.size());
-    depth.resize(mesh.positions.size());
-    for (std::size_t i = 0; i < mesh.positions.size(); ++i) {
+    const std::size_t n = mesh.positions.size();
+    world.resize(n);
+    depth.resize(3 * n);  // the vertices' x, then z, then their depths
+    for (std::size_t i = 0; i < n; ++i) {
         world[i] = frame.pose.apply(mesh.positions[i]);
-        depth[i] = water.height(world[i].x(), world[i].z(), frame.time) - world[i].y();
+        depth[i] = world[i].x();
+        depth[n + i] = world[i].z();
     }
+    // The heights in one batched query, as the fast path takes its grid: the peer gets the
+    // same vectorised water.
+    water.heights(n, depth.data(), depth.data() + n, frame.time, depth.data() + 2 * n);
+    for (std::size_t i = 0; i < n; ++i) depth[i] = depth[2 * n + i] - world[i].y();
     Answer a;
     auto piece = [&](const Eigen::Vector3d& p0, const Eigen::Vector3d& p1, const Eigen::Vector3d& p2,
                      double d0, double d1, double d2) {
