@@ -21,7 +21,10 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <cmath>
 #include <cstring>
+#include <numbers>
 #include <fstream>
 #include <iterator>
 #include <sys/wait.h>
@@ -984,6 +987,143 @@ TEST(EditorOverlay, HoverReadoutGivesDepthPressureAndTheNodeFed) {
     const std::string line = surfacePointPhysics(plain, 0, Eigen::Vector3d(0, 0, 0), 0.0);
     EXPECT_EQ(line.find('\n'), std::string::npos) << line;
     EXPECT_EQ(line.find("feeds"), std::string::npos) << line;
+}
+
+
+/// Two bodies (ball on sphere.obj, box on box.obj at x = 3), each with a blank kMap map of
+/// permeability and then a stroke on it, unsaved: what a remove or an insert must carry along.
+std::unique_ptr<Document> twoPaintedBodies(const std::string& name) {
+    const fs::path dir = freshDir(name);
+    const fs::path path = dir / "two.plim.json";
+    std::ofstream(path) << R"({"schema_version": 1, "name": "two", "bodies": [)"
+                        << R"({"name": "ball", "mesh": ")" << test::assetPath("sphere.obj").string()
+                        << R"(", "material": {"density": 500}},)"
+                        << R"({"name": "box", "mesh": ")" << test::assetPath("box.obj").string()
+                        << R"(", "material": {"density": 400}, "position": [3, 0, 0]}]})";
+    auto d = openOrFail(path);
+    if (!d) return nullptr;
+    Brush brush;
+    brush.radius = 0.2;
+    for (std::size_t b = 0; b < 2; ++b) {
+        executeOrFail(*d, makeNewMapCommand(*d, b, MapChannel::Permeability, kMap, kMap, 0.0, ""));
+        const TriangleMesh& mesh = *d->assets(b).mesh;
+        executeOrFail(*d, makeStrokeCommand(*d, b, MapChannel::Permeability, brush,
+                                            std::vector<Eigen::Vector3d>{mesh.positions[b * 7]}));
+        const std::vector<float>& v = d->map(b, MapChannel::Permeability)->values;
+        EXPECT_GT(std::count_if(v.begin(), v.end(), [](float x) { return x > 0.5f; }), 0) << "body " << b;
+    }
+    return d;
+}
+
+/// What a body edit must give back exactly: the project's JSON and every body's map pixels.
+struct DocumentState {
+    std::string project;
+    std::vector<std::optional<std::vector<float>>> maps;
+    bool operator==(const DocumentState&) const = default;
+};
+DocumentState stateOf(const Document& d) {
+    DocumentState s{projectToJson(d.project()), {}};
+    for (std::size_t b = 0; b < d.bodyCount(); ++b) {
+        const PaintedMap* map = d.map(b, MapChannel::Permeability);
+        s.maps.push_back(map ? std::optional(map->values) : std::nullopt);
+    }
+    return s;
+}
+
+TEST(EditorBodies, RemoveTakesTheBodyOutAndUndoRedoRestoreEveryBodysUnsavedPaint) {
+    // Issue 19, preview: remove bodies as one undoable step. Removing the first of two painted
+    // (unsaved) bodies leaves the second at index 0 with its own paint; undo gives both back
+    // byte for byte (project and pixels), redo removes it again the same way.
+    auto d = twoPaintedBodies("bodies_remove");
+    ASSERT_TRUE(d);
+    const DocumentState before = stateOf(*d);
+    const std::vector<float> boxPaint = *before.maps[1];
+    executeOrFail(*d, makeRemoveBodyCommand(*d, 0));
+    EXPECT_EQ(d->undoName(), "Remove ball");
+    ASSERT_EQ(d->bodyCount(), 1u);
+    EXPECT_EQ(d->project().bodies[0].name, "box");
+    ASSERT_TRUE(d->map(0, MapChannel::Permeability)) << "the box's unsaved map was lost";
+    EXPECT_TRUE(d->map(0, MapChannel::Permeability)->values == boxPaint);
+    EXPECT_EQ(d->assets(0).meshPath, test::assetPath("box.obj"));
+    const DocumentState removed = stateOf(*d);
+    d->undo();
+    EXPECT_TRUE(stateOf(*d) == before) << "undo of a remove";
+    d->redo();
+    EXPECT_TRUE(stateOf(*d) == removed) << "redo of a remove";
+    // Removing the last body: the box's paint also comes back.
+    executeOrFail(*d, makeRemoveBodyCommand(*d, 0));
+    EXPECT_EQ(d->bodyCount(), 0u);
+    d->undo();
+    EXPECT_TRUE(stateOf(*d) == removed);
+    // Bad input: a clear error naming the index.
+    auto bad = makeRemoveBodyCommand(*d, 5);
+    ASSERT_FALSE(bad.ok());
+    EXPECT_NE(bad.error().message.find("no body 5"), std::string::npos) << bad.error().message;
+}
+
+TEST(EditorBodies, DuplicatePutsAUniquelyNamedCopyBesideTheOriginal) {
+    // A copy of the ball after it, named "ball copy" (then "ball copy 2"), one mesh width and
+    // a tenth along x, with the ball's material and none of its map files (two bodies saving
+    // their edits over one file would lose one's); the box after it keeps its unsaved paint.
+    auto d = twoPaintedBodies("bodies_duplicate");
+    ASSERT_TRUE(d);
+    const DocumentState before = stateOf(*d);
+    executeOrFail(*d, makeDuplicateBodyCommand(*d, 0));
+    EXPECT_EQ(d->undoName(), "Duplicate ball");
+    ASSERT_EQ(d->bodyCount(), 3u);
+    const BodyDesc& copy = d->project().bodies[1];
+    EXPECT_EQ(copy.name, "ball copy");
+    EXPECT_EQ(copy.mesh, d->project().bodies[0].mesh);
+    EXPECT_EQ(*copy.material.density, 500.0);
+    EXPECT_TRUE(copy.permeabilityMap.empty());
+    // The unit sphere's mesh spans about 1 m along x (a faceted sphere of radius 0.5).
+    EXPECT_NEAR(copy.position.x(), 1.1, 0.02);
+    EXPECT_EQ(copy.position.y(), 0.0);
+    EXPECT_EQ(d->project().bodies[2].name, "box");
+    ASSERT_TRUE(d->map(2, MapChannel::Permeability));
+    EXPECT_TRUE(d->map(2, MapChannel::Permeability)->values == *before.maps[1]);
+    EXPECT_FALSE(d->map(1, MapChannel::Permeability));
+    const DocumentState duplicated = stateOf(*d);
+    d->undo();
+    EXPECT_TRUE(stateOf(*d) == before) << "undo of a duplicate";
+    d->redo();
+    EXPECT_TRUE(stateOf(*d) == duplicated) << "redo of a duplicate";
+    executeOrFail(*d, makeDuplicateBodyCommand(*d, 0));
+    EXPECT_EQ(d->project().bodies[1].name, "ball copy 2");
+    // Saved with the project: the reopened file has the copies.
+    ASSERT_TRUE(d->save().ok());
+    auto reopened = openOrFail(d->path());
+    ASSERT_TRUE(reopened);
+    EXPECT_EQ(projectToJson(reopened->project()), projectToJson(d->project()));
+}
+
+TEST(EditorBodies, TransformEditMovesAndRotatesTheBodyAsOneStep) {
+    // Issue 19, preview: body transforms editable in the inspector. One step sets position and
+    // rotation, named after what changed; undo and redo give each project back byte for byte;
+    // the saved project has the new place; a non-finite value is refused.
+    auto d = twoPaintedBodies("bodies_transform");
+    ASSERT_TRUE(d);
+    const DocumentState before = stateOf(*d);
+    executeOrFail(*d, makeSetBodyTransformCommand(*d, 1, Eigen::Vector3d(3, 0.25, -1), Eigen::Vector3d::Zero()));
+    EXPECT_EQ(d->undoName(), "Move box");
+    executeOrFail(*d, makeSetBodyTransformCommand(*d, 1, Eigen::Vector3d(3, 0.25, -1), Eigen::Vector3d(0, 90, 0)));
+    EXPECT_EQ(d->undoName(), "Rotate box");
+    const DocumentState after = stateOf(*d);
+    EXPECT_NEAR(d->bodyPose(1).apply(Eigen::Vector3d(1, 0, 0)).z(), -1 - 1.0, 1e-9) << "Ry(90) turns +x to -z";
+    d->undo();
+    d->undo();
+    EXPECT_TRUE(stateOf(*d) == before);
+    d->redo();
+    d->redo();
+    EXPECT_TRUE(stateOf(*d) == after);
+    ASSERT_TRUE(d->save().ok());
+    Result<Project> saved = loadProject(d->path());
+    ASSERT_TRUE(saved.ok()) << saved.error().message;
+    EXPECT_EQ(saved->bodies[1].position, Eigen::Vector3d(3, 0.25, -1));
+    EXPECT_EQ(saved->bodies[1].rotationDegrees, Eigen::Vector3d(0, 90, 0));
+    auto bad = makeSetBodyTransformCommand(*d, 1, Eigen::Vector3d(std::nan(""), 0, 0), Eigen::Vector3d::Zero());
+    ASSERT_FALSE(bad.ok());
+    EXPECT_NE(bad.error().message.find("finite"), std::string::npos);
 }
 
 }  // namespace
