@@ -31,6 +31,7 @@ Result<PaintSurface> buildPaintSurface(const TriangleMesh& mesh, int width, int 
     surface.pixel.reserve(t.coveredCount());
     surface.position.reserve(t.coveredCount());
     surface.island.reserve(t.coveredCount());
+    surface.normal.reserve(t.coveredCount());
     const double n = t.size;
     for (std::size_t i = 0; i < t.coveredCount(); ++i) {
         const std::uint32_t texel = t.texelIndex[i];
@@ -43,8 +44,22 @@ Result<PaintSurface> buildPaintSurface(const TriangleMesh& mesh, int width, int 
         surface.position.push_back(t.position[i].cast<float>());
         const std::uint32_t triangle = pieces.pieces[pieces.firstPiece[i]].triangle;
         surface.island.push_back(islands[triangle]);
+        const Eigen::Vector3d& areaVector = t.areaVector[i];
+        surface.normal.push_back(areaVector.norm() > 0 ? Eigen::Vector3f(areaVector.normalized().cast<float>())
+                                                       : Eigen::Vector3f::Zero());
     }
     return surface;
+}
+
+double facingWeight(const Brush& brush, const Eigen::Vector3d& normal, const Eigen::Vector3d& towardViewer) {
+    const double c = normal.dot(towardViewer);
+    if (brush.frontFacesOnly && c <= 0) return 0.0;
+    if (!(brush.normalAngle < 180.0)) return 1.0;  // off (and NaN: off)
+    const double angle = std::acos(std::clamp(c, -1.0, 1.0)) * 180.0 / std::numbers::pi;
+    const double outer = std::max(brush.normalAngle, 0.0), inner = outer / 2;
+    if (angle <= inner) return 1.0;
+    if (angle >= outer) return 0.0;
+    return (outer - angle) / (outer - inner);
 }
 
 double falloffWeight(Falloff falloff, double distance, double radius) {
@@ -198,17 +213,30 @@ PixelChange strokeChange(const PaintedMap& map, const PaintSurface& surface, con
     const double spacing = std::isfinite(brush.spacing) && brush.spacing > 0 ? brush.spacing : 0.25;
     const std::vector<Eigen::Vector3d> dabs = dabCentres(points, brush.radius * spacing, brush);
     const double r2 = brush.radius * brush.radius;
+    // Each dab's direction toward the viewer: the symmetric copies are linear maps (mirrors
+    // and turns about y) applied in the same order to every stroke point, so the same copies
+    // of the view direction go with them (a mirrored dab on the far side faces a mirrored
+    // viewer, as in Blender).
+    const bool facing = brush.frontFacesOnly || brush.normalAngle < 180.0;
+    const Eigen::Vector3d view = brush.alphaAxis.norm() > 0 ? brush.alphaAxis.normalized()
+                                                             : Eigen::Vector3d::UnitZ();
+    const std::vector<Eigen::Vector3d> views = symmetricPoints(brush, view);
+    auto facingOf = [&](std::size_t dab, std::size_t sample) {
+        if (!facing || sample >= surface.normal.size()) return 1.0;
+        return facingWeight(brush, surface.normal[sample].cast<double>(), views[dab % views.size()]);
+    };
     const double strength = std::clamp(brush.strength, 0.0, 1.0);
     if (brush.mode == BrushMode::Smooth) {
         std::vector<std::pair<std::uint32_t, double>> under;
-        for (const Eigen::Vector3d& c : dabs) {
-            const Eigen::Vector3f cf = c.cast<float>();
+        for (std::size_t k = 0; k < dabs.size(); ++k) {
+            const Eigen::Vector3f cf = dabs[k].cast<float>();
             under.clear();
             double sum = 0, weights = 0;
             for (std::size_t i = 0; i < surface.sampleCount(); ++i) {
                 const double d2 = (surface.position[i] - cf).squaredNorm();
                 if (d2 > r2) continue;
-                const double w = dabWeight(brush, (surface.position[i] - cf).cast<double>());
+                const double w = dabWeight(brush, (surface.position[i] - cf).cast<double>()) * facingOf(k, i);
+                if (w <= 0) continue;
                 under.emplace_back(surface.pixel[i], w);
                 sum += w * values[surface.pixel[i]];
                 weights += w;
@@ -223,12 +251,13 @@ PixelChange strokeChange(const PaintedMap& map, const PaintSurface& surface, con
     }
     // Paint / erase: the largest weight each pixel sees along the stroke.
     std::vector<float> weight(values.size(), 0.0f);
-    for (const Eigen::Vector3d& c : dabs) {
-        const Eigen::Vector3f cf = c.cast<float>();
+    for (std::size_t k = 0; k < dabs.size(); ++k) {
+        const Eigen::Vector3f cf = dabs[k].cast<float>();
         for (std::size_t i = 0; i < surface.sampleCount(); ++i) {
             const double d2 = (surface.position[i] - cf).squaredNorm();
             if (d2 > r2) continue;
-            const float w = static_cast<float>(dabWeight(brush, (surface.position[i] - cf).cast<double>()));
+            const float w = static_cast<float>(dabWeight(brush, (surface.position[i] - cf).cast<double>()) *
+                                               facingOf(k, i));
             float& slot = weight[surface.pixel[i]];
             slot = std::max(slot, w);
         }

@@ -1126,5 +1126,106 @@ TEST(EditorBodies, TransformEditMovesAndRotatesTheBodyAsOneStep) {
     EXPECT_NE(bad.error().message.find("finite"), std::string::npos);
 }
 
+/// One dab of a brush 1.2 m across at the front of the unit sphere, (0, 0, 0.5), the viewer
+/// toward +z: every texel of the sphere is within reach. Per pixel: the value painted (0..1,
+/// from a blank map toward 1 at full strength, constant falloff) and the largest z of its
+/// samples' normals (the side of the sphere it lies on).
+struct FacingCase {
+    PaintSurface surface;
+    std::vector<float> painted;
+    std::vector<float> maxNormalZ;
+    std::vector<int> samples;
+};
+FacingCase paintFacing(const Brush& settings) {
+    FacingCase out;
+    Result<TriangleMesh> sphere = loadMesh(test::assetPath("sphere.obj"));
+    EXPECT_TRUE(sphere.ok());
+    Result<PaintSurface> surface = buildPaintSurface(*sphere, 64, 64);
+    EXPECT_TRUE(surface.ok()) << surface.error().message;
+    out.surface = *surface;
+    EXPECT_EQ(out.surface.normal.size(), out.surface.sampleCount());
+    PaintedMap blank;
+    blank.width = blank.height = 64;
+    blank.values.assign(64 * 64, 0.0f);
+    Brush brush = settings;
+    brush.radius = 1.2;
+    brush.falloff = Falloff::Constant;
+    brush.value = 1.0;
+    brush.alphaAxis = Eigen::Vector3d::UnitZ();
+    const std::vector<Eigen::Vector3d> dab{Eigen::Vector3d(0, 0, 0.5)};
+    const PixelChange change = strokeChange(blank, out.surface, brush, dab);
+    out.painted = blank.values;
+    for (std::size_t k = 0; k < change.pixels.size(); ++k) out.painted[change.pixels[k]] = change.after[k];
+    out.maxNormalZ.assign(64 * 64, -2.0f);
+    out.samples.assign(64 * 64, 0);
+    for (std::size_t i = 0; i < out.surface.sampleCount(); ++i) {
+        float& z = out.maxNormalZ[out.surface.pixel[i]];
+        z = std::max(z, out.surface.normal[i].z());
+        ++out.samples[out.surface.pixel[i]];
+        EXPECT_NEAR(out.surface.normal[i].norm(), 1.0f, 1e-4f) << "sample " << i;
+    }
+    return out;
+}
+
+TEST(EditorPaint, FrontFacesOnlyLeavesTheFarSideOfTheBodyUnpainted) {
+    // Issue 19, brushes: backface culling. A dab that reaches the whole sphere paints all of
+    // it without the option, and with it only the texels facing the viewer (+z): the far
+    // hemisphere stays blank. With Z mirror on, the mirrored dab on the far side faces a
+    // mirrored viewer and paints that side too.
+    Brush brush;
+    const FacingCase all = paintFacing(brush);
+    brush.frontFacesOnly = true;
+    const FacingCase front = paintFacing(brush);
+    int facing = 0, away = 0;
+    for (std::size_t p = 0; p < front.painted.size(); ++p) {
+        if (front.samples[p] == 0) continue;
+        EXPECT_EQ(all.painted[p], 1.0f) << "pixel " << p << " out of reach without culling";
+        if (front.maxNormalZ[p] > 0.01f) {
+            ++facing;
+            EXPECT_EQ(front.painted[p], 1.0f) << "pixel " << p << " faces the viewer";
+        } else if (front.maxNormalZ[p] < -0.01f) {
+            ++away;
+            EXPECT_EQ(front.painted[p], 0.0f) << "pixel " << p << " faces away (normal z " << front.maxNormalZ[p] << ")";
+        }
+    }
+    EXPECT_GT(facing, 500);
+    EXPECT_GT(away, 500);
+    brush.mirrorZ = true;
+    const FacingCase mirrored = paintFacing(brush);
+    for (std::size_t p = 0; p < mirrored.painted.size(); ++p) {
+        if (mirrored.samples[p] > 0 && std::abs(mirrored.maxNormalZ[p]) > 0.01f) {
+            EXPECT_EQ(mirrored.painted[p], 1.0f) << "pixel " << p;
+        }
+    }
+}
+
+TEST(EditorPaint, NormalFalloffFadesTexelsTurnedFromTheView) {
+    // Blender's normal falloff at 60 degrees: texels within 30 degrees of the view direction
+    // take the full weight, beyond 60 none, linearly between (45 degrees: half). Checked per
+    // single-sample pixel against the angle of its own normal; at 180 the option is off.
+    Brush brush;
+    brush.normalAngle = 60.0;
+    const FacingCase c = paintFacing(brush);
+    int full = 0, partial = 0, none = 0;
+    for (std::size_t p = 0; p < c.painted.size(); ++p) {
+        if (c.samples[p] != 1) continue;
+        const double angle = std::acos(std::clamp<double>(c.maxNormalZ[p], -1, 1)) * 180 / std::numbers::pi;
+        const double expected = angle <= 30 ? 1.0 : angle >= 60 ? 0.0 : (60 - angle) / 30;
+        EXPECT_NEAR(c.painted[p], expected, 1e-5) << "pixel " << p << " at " << angle << " degrees";
+        full += expected == 1.0;
+        none += expected == 0.0;
+        partial += expected > 0 && expected < 1;
+    }
+    EXPECT_GT(full, 50);
+    EXPECT_GT(partial, 50);
+    EXPECT_GT(none, 500);
+    EXPECT_DOUBLE_EQ(facingWeight(Brush{}, Eigen::Vector3d(0, 0, -1), Eigen::Vector3d::UnitZ()), 1.0);
+    brush.normalAngle = 60.0;
+    EXPECT_NEAR(facingWeight(brush, Eigen::Vector3d(std::sin(0.25 * std::numbers::pi), 0,
+                                                    std::cos(0.25 * std::numbers::pi)),
+                             Eigen::Vector3d::UnitZ()),
+                0.5, 1e-12);
+}
+
 }  // namespace
 }  // namespace plimsoll::editor
