@@ -179,6 +179,65 @@ void textureSizeField(EditorState& s, std::size_t b, const std::string& base, in
     }
 }
 
+/// Add, duplicate and remove: each one undoable step (command.h).
+void bodyButtons(EditorState& s) {
+    const std::size_t count = s.document->bodyCount();
+    const bool hasBody = s.selectedBody >= 0 && static_cast<std::size_t>(s.selectedBody) < count;
+    if (ImGui::Button("Add body...")) {
+        s.browser.open(FileBrowser::Purpose::ImportMesh, s.document->project().folder);
+    }
+    tooltip("Adds a body on a mesh file you choose (as File > Import Mesh); Ctrl+Z takes it out.");
+    ImGui::SameLine();
+    ImGui::BeginDisabled(!hasBody);
+    if (ImGui::Button("Duplicate") && hasBody) {
+        if (s.execute(makeDuplicateBodyCommand(*s.document, s.selectedBody))) ++s.selectedBody;
+    }
+    tooltip(hasBody ? "A copy of the selected body beside it (its maps and water graph are not "
+                      "copied: a file is painted by one body only)."
+                    : "Select a body to duplicate.");
+    ImGui::SameLine();
+    if (ImGui::Button("Remove") && hasBody) {
+        if (s.execute(makeRemoveBodyCommand(*s.document, s.selectedBody))) {
+            s.selectedBody = std::min(s.selectedBody, static_cast<int>(s.document->bodyCount()) - 1);
+        }
+    }
+    tooltip(hasBody ? "Takes the selected body out of the project (Ctrl+Z brings it back, unsaved "
+                      "paint and all)."
+                    : "Select a body to remove.");
+    ImGui::EndDisabled();
+}
+
+/// The body's starting position and rotation: three numbers each, one undo step when a field
+/// is left after an edit.
+void transformFields(EditorState& s, std::size_t b, const BodyDesc& body) {
+    const std::string base = "/bodies/" + std::to_string(b);
+    auto field = [&](const char* label, const std::string& key, const Eigen::Vector3d& current,
+                     const char* format, const char* help) -> std::optional<Eigen::Vector3d> {
+        double values[3];
+        for (int k = 0; k < 3; ++k) {
+            double& v = s.inspector->editing.try_emplace(key + "/" + std::to_string(k), current[k]).first->second;
+            if (!ImGui::IsAnyItemActive()) v = current[k];
+            values[k] = v;
+        }
+        ImGui::InputScalarN(label, ImGuiDataType_Double, values, 3, nullptr, nullptr, format);
+        tooltip(help);
+        for (int k = 0; k < 3; ++k) s.inspector->editing[key + "/" + std::to_string(k)] = values[k];
+        const Eigen::Vector3d edited(values[0], values[1], values[2]);
+        if (ImGui::IsItemDeactivatedAfterEdit() && edited != current) return edited;
+        return std::nullopt;
+    };
+    if (auto p = field("Position (m)", base + "/position", body.position, "%.4g",
+                       "Where the body starts: x, y (up), z in metres.")) {
+        // The command replaces the project: `body` is not read after it.
+        s.execute(makeSetBodyTransformCommand(*s.document, b, *p, body.rotationDegrees));
+        return;
+    }
+    if (auto r = field("Rotation (deg)", base + "/rotation_deg", body.rotationDegrees, "%.4g",
+                       "The body's starting turn about x, y and z, degrees (turned about x first, then y, then z).")) {
+        s.execute(makeSetBodyTransformCommand(*s.document, b, body.position, *r));
+    }
+}
+
 }  // namespace
 
 void drawInspectorPanel(EditorState& s, const Rect& area) {
@@ -201,12 +260,15 @@ void drawInspectorPanel(EditorState& s, const Rect& area) {
         }
         ImGui::EndListBox();
     }
+    bodyButtons(s);
     if (s.selectedBody < 0 || static_cast<std::size_t>(s.selectedBody) >= project.bodies.size()) {
-        ImGui::TextDisabled("No body. File > Import Mesh adds one.");
+        ImGui::TextDisabled("No body. Add body... (or File > Import Mesh) adds one.");
         ImGui::End();
         return;
     }
     const std::size_t b = s.selectedBody;
+    // Before `body` below is taken: an edit here replaces the project's bodies.
+    transformFields(s, b, project.bodies[b]);
     const BodyDesc& body = project.bodies[b];
     const BodyAssets& assets = s.document->assets(b);
     const std::string base = "/bodies/" + std::to_string(b);
