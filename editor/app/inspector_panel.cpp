@@ -18,6 +18,7 @@
 #include <map>
 #include <memory>
 #include <thread>
+#include <vector>
 
 namespace plimsoll::editor {
 
@@ -91,6 +92,10 @@ struct BodyInfo {
 struct InspectorCache {
     std::map<std::size_t, BodyInfo> infos;          ///< per body, recomputed on edits
     std::map<std::string, double> editing;          ///< number fields being typed into
+    /// Edits made in the last frame's panel, run at the start of the next one: an edit
+    /// replaces the project's bodies, and the panel goes on reading the body it drew from
+    /// (a reference into them) after the field that made it.
+    std::vector<std::function<void()>> deferred;
 };
 
 std::shared_ptr<InspectorCache> makeInspectorCache() { return std::make_shared<InspectorCache>(); }
@@ -156,8 +161,10 @@ void numberField(EditorState& s, const char* label, const std::string& pointer, 
     ImGui::InputDouble(label, &value, 0, 0, format);
     tooltip(help);
     if (ImGui::IsItemDeactivatedAfterEdit() && value != current) {
-        if (commit) commit(value);
-        else s.execute(makeSetPropertyCommand(*s.document, pointer, value));
+        s.inspector->deferred.push_back([&s, pointer, commit, edited = value] {
+            if (commit) commit(edited);
+            else s.execute(makeSetPropertyCommand(*s.document, pointer, edited));
+        });
     }
 }
 
@@ -166,7 +173,7 @@ void textureSizeField(EditorState& s, std::size_t b, const std::string& base, in
     numberField(s, "Texture size", base + "/texture_size", current, "%.0f",
                 "Texels per side of the physics textures (32 to the engine's limit). A new size "
                 "bakes in the background; the old one stays in use until it is ready.",
-                [&](double value) { s.setTextureSize(b, static_cast<int>(std::lround(value))); });
+                [&s, b](double value) { s.setTextureSize(b, static_cast<int>(std::lround(value))); });
     if (const auto baking = s.physicsBakes->progress(b)) {
         const std::string label = "baking " + std::to_string(baking->size) + "^2";
         ImGui::ProgressBar(static_cast<float>(baking->fraction), ImVec2(-80, 0), label.c_str());
@@ -243,6 +250,14 @@ void transformFields(EditorState& s, std::size_t b, const BodyDesc& body) {
 void drawInspectorPanel(EditorState& s, const Rect& area) {
     ImGui::SetNextWindowPos(ImVec2(area.x, area.y));
     ImGui::SetNextWindowSize(ImVec2(area.w, area.h));
+    // Last frame's edits, before anything below reads the project.
+    std::vector<std::function<void()>> edits;
+    edits.swap(s.inspector->deferred);
+    for (const auto& edit : edits) edit();
+    // An undo of an added body can leave the selection past the end: the last body then.
+    if (s.selectedBody >= static_cast<int>(s.document->bodyCount())) {
+        s.selectedBody = static_cast<int>(s.document->bodyCount()) - 1;
+    }
     ImGui::Begin("Inspector", nullptr,
                  ImGuiWindowFlags_NoMove | ImGuiWindowFlags_NoResize | ImGuiWindowFlags_NoCollapse);
     const Project& project = s.document->project();
@@ -317,8 +332,10 @@ void drawInspectorPanel(EditorState& s, const Rect& area) {
             const bool add = ImGui::Button("Add shell (1 kg/m2)");
             tooltip("Give the body a hull skin of 1 kg/m2: its density and thickness maps can then be painted");
             if (add) {
-                s.execute(makeSetPropertyCommand(*s.document, base + "/material/shell",
-                                                 nlohmann::json{{"surface_density", 1.0}}));
+                s.inspector->deferred.push_back([&s, base] {
+                    s.execute(makeSetPropertyCommand(*s.document, base + "/material/shell",
+                                                     nlohmann::json{{"surface_density", 1.0}}));
+                });
             }
         }
         numberField(s, "Drag Cd", base + "/drag_coefficient", body.dragCoefficient, "%.4g",
