@@ -132,6 +132,10 @@ void drawBrushPanel(EditorState& s, const Rect& area) {
     ImGui::Checkbox("Front faces only", &s.brush.frontFacesOnly);
     tooltip("Backface culling: texels facing away from the view get no paint (the far side of a thin "
             "hull under the brush stays as it is)");
+    ImGui::SameLine();
+    ImGui::Checkbox("Occlusion", &s.brush.occlusion);
+    tooltip("Texels hidden from the view behind other parts of the body get no paint (a deck "
+            "under a superstructure, the inside of a hull seen through an opening)");
     alphaControls(s);
     const bool hasBody = s.selectedBody >= 0 &&
                          static_cast<std::size_t>(s.selectedBody) < s.document->bodyCount();

@@ -9,6 +9,7 @@
 #include <cmath>
 #include <limits>
 #include <numbers>
+#include <unordered_map>
 
 namespace plimsoll::editor {
 
@@ -202,6 +203,35 @@ PixelChange changeFrom(const PaintedMap& map, const std::vector<float>& values) 
 
 }  // namespace
 
+namespace {
+
+/// Which samples the viewer toward `view` (unit) sees: the surface's samples dropped into a
+/// grid across the view, cells `cell` wide, each keeping its nearest depth; a sample more than
+/// two cells behind its cell's nearest is hidden (two cells: a surface turned up to 63 degrees
+/// from the view still sees itself within one cell).
+std::vector<bool> visibleSamples(const PaintSurface& surface, const Eigen::Vector3d& view, double cell) {
+    const Eigen::Vector3d helper = std::abs(view.y()) < 0.9 ? Eigen::Vector3d::UnitY() : Eigen::Vector3d::UnitX();
+    const Eigen::Vector3d u = helper.cross(view).normalized(), v = view.cross(u);
+    auto key = [&](const Eigen::Vector3f& p) {
+        const auto a = static_cast<std::int64_t>(std::floor(p.cast<double>().dot(u) / cell));
+        const auto b = static_cast<std::int64_t>(std::floor(p.cast<double>().dot(v) / cell));
+        return (a << 32) ^ (b & 0xffffffff);
+    };
+    std::unordered_map<std::int64_t, double> nearest;  // larger depth: nearer the viewer
+    for (const Eigen::Vector3f& p : surface.position) {
+        const double depth = p.cast<double>().dot(view);
+        auto [it, added] = nearest.try_emplace(key(p), depth);
+        if (!added) it->second = std::max(it->second, depth);
+    }
+    std::vector<bool> visible(surface.sampleCount());
+    for (std::size_t i = 0; i < surface.sampleCount(); ++i) {
+        visible[i] = surface.position[i].cast<double>().dot(view) >= nearest[key(surface.position[i])] - 2 * cell;
+    }
+    return visible;
+}
+
+}  // namespace
+
 PixelChange strokeChange(const PaintedMap& map, const PaintSurface& surface, const Brush& brush,
                          std::span<const Eigen::Vector3d> points) {
     std::vector<float> values = map.values;
@@ -221,7 +251,13 @@ PixelChange strokeChange(const PaintedMap& map, const PaintSurface& surface, con
     const Eigen::Vector3d view = brush.alphaAxis.norm() > 0 ? brush.alphaAxis.normalized()
                                                              : Eigen::Vector3d::UnitZ();
     const std::vector<Eigen::Vector3d> views = symmetricPoints(brush, view);
+    // Occlusion: one visibility per symmetric view, for the whole stroke.
+    std::vector<std::vector<bool>> visible;
+    if (brush.occlusion) {
+        for (const Eigen::Vector3d& w : views) visible.push_back(visibleSamples(surface, w.normalized(), brush.radius / 4));
+    }
     auto facingOf = [&](std::size_t dab, std::size_t sample) {
+        if (!visible.empty() && !visible[dab % views.size()][sample]) return 0.0;
         if (!facing || sample >= surface.normal.size()) return 1.0;
         return facingWeight(brush, surface.normal[sample].cast<double>(), views[dab % views.size()]);
     };

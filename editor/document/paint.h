@@ -91,6 +91,10 @@ struct Brush {
     /// Backface culling: texels facing away from the viewer (normal . toward viewer <= 0) get
     /// no paint, whatever normalAngle says.
     bool frontFacesOnly = false;
+    /// Occlusion: texels hidden from the viewer behind other parts of the surface get no
+    /// paint. Seen along the view direction (orthographic), through a depth grid of the
+    /// surface's samples with cells a quarter of the radius across.
+    bool occlusion = false;
 };
 
 /// The weight a texel of normal `normal` keeps under the brush's normal falloff and front-

@@ -73,6 +73,7 @@ Settings Settings::load(const fs::path& folder) {
             brush.normalAngle = b.value("normal_angle", brush.normalAngle);
             if (!(brush.normalAngle >= 0) || !(brush.normalAngle <= 180)) brush.normalAngle = defaults.normalAngle;
             brush.frontFacesOnly = b.value("front_faces_only", brush.frontFacesOnly);
+            brush.occlusion = b.value("occlusion", brush.occlusion);
             // The image itself is loaded by the window (a missing file: no alpha).
             brush.alphaPath = b.value("alpha", brush.alphaPath);
         }
@@ -97,7 +98,8 @@ Status Settings::save(const fs::path& folder) const {
                   {"mirror_x", brush.mirrorX},  {"mirror_y", brush.mirrorY},
                   {"mirror_z", brush.mirrorZ},  {"radial", brush.radial},
                   {"lazy_radius", brush.lazyRadius}, {"alpha", brush.alphaPath},
-                  {"normal_angle", brush.normalAngle}, {"front_faces_only", brush.frontFacesOnly}};
+                  {"normal_angle", brush.normalAngle}, {"front_faces_only", brush.frontFacesOnly},
+                  {"occlusion", brush.occlusion}};
     std::error_code ec;
     fs::create_directories(folder, ec);
     const std::string text = j.dump(2) + "\n";

@@ -1227,5 +1227,66 @@ TEST(EditorPaint, NormalFalloffFadesTexelsTurnedFromTheView) {
                 0.5, 1e-12);
 }
 
+TEST(EditorPaint, OcclusionLeavesTexelsHiddenBehindOtherSurfaceUnpainted) {
+    // Issue 19, brushes: occlusion. Two plates face the viewer (+z): A at z = 0 over
+    // x in [-0.5, 0.5], B 0.5 m behind it over x in [0, 1] (u: A left half, B right half). A dab
+    // of radius 0.4 at (0.5, 0, -0.25) reaches both. Without occlusion it paints B also where A
+    // hides it (x < 0.5); with it, B only where it shows (x > 0.5), and A as before.
+    TriangleMesh plates;
+    plates.source = "two plates";
+    auto quad = [&](double x0, double x1, double z, double u0, double u1) {
+        const auto first = static_cast<std::uint32_t>(plates.positions.size());
+        for (auto [x, y, u, v] : {std::array{x0, -0.5, u0, 0.0}, std::array{x1, -0.5, u1, 0.0},
+                                  std::array{x1, 0.5, u1, 1.0}, std::array{x0, 0.5, u0, 1.0}}) {
+            plates.positions.emplace_back(x, y, z);
+            plates.uvs.emplace_back(u, v);
+        }
+        plates.triangles.push_back({first, first + 1, first + 2});
+        plates.triangles.push_back({first, first + 2, first + 3});
+    };
+    quad(-0.5, 0.5, 0.0, 0.0, 0.5);
+    quad(0.0, 1.0, -0.5, 0.5, 1.0);
+    Result<PaintSurface> surface = buildPaintSurface(plates, 64, 64);
+    ASSERT_TRUE(surface.ok()) << surface.error().message;
+    PaintedMap blank;
+    blank.width = blank.height = 64;
+    blank.values.assign(64 * 64, 0.0f);
+    Brush brush;
+    brush.radius = 0.4;
+    brush.falloff = Falloff::Constant;
+    brush.alphaAxis = Eigen::Vector3d::UnitZ();
+    const Eigen::Vector3d centre(0.5, 0, -0.25);
+    const std::vector<Eigen::Vector3d> dab{centre};
+    auto paint = [&] {
+        std::vector<float> values = blank.values;
+        const PixelChange change = strokeChange(blank, *surface, brush, dab);
+        for (std::size_t k = 0; k < change.pixels.size(); ++k) values[change.pixels[k]] = change.after[k];
+        return values;
+    };
+    const std::vector<float> open = paint();
+    brush.occlusion = true;
+    const std::vector<float> occluded = paint();
+    int hiddenB = 0, shownB = 0, onA = 0;
+    for (std::size_t i = 0; i < surface->sampleCount(); ++i) {
+        const Eigen::Vector3d p = surface->position[i].cast<double>();
+        if ((p - centre).norm() > 0.37) continue;  // clearly inside the dab
+        const std::uint32_t px = surface->pixel[i];
+        if (p.z() > -0.25) {
+            ++onA;
+            EXPECT_EQ(occluded[px], 1.0f) << "A at x " << p.x();
+        } else if (p.x() < 0.45) {
+            ++hiddenB;
+            EXPECT_EQ(open[px], 1.0f) << "B at x " << p.x() << " without occlusion";
+            EXPECT_EQ(occluded[px], 0.0f) << "B at x " << p.x() << " is behind A";
+        } else if (p.x() > 0.55) {
+            ++shownB;
+            EXPECT_EQ(occluded[px], 1.0f) << "B at x " << p.x() << " shows beside A";
+        }
+    }
+    EXPECT_GT(onA, 20);
+    EXPECT_GT(hiddenB, 20);
+    EXPECT_GT(shownB, 20);
+}
+
 }  // namespace
 }  // namespace plimsoll::editor
