@@ -123,6 +123,19 @@ void drawBrushPanel(EditorState& s, const Rect& area) {
     }
     tooltip("The brush trails the cursor on a string this long (0: off), for smooth lines. "
             "Shift-click draws a straight line from the last stroke's end.");
+    float normalAngle = static_cast<float>(s.brush.normalAngle);
+    if (ImGui::SliderFloat("Normal falloff", &normalAngle, 1.0f, 180.0f, "%.0f deg")) {
+        s.brush.normalAngle = normalAngle;
+    }
+    tooltip("Texels turned more than this from the view get no paint, fading from half the angle "
+            "(Blender's normal falloff; 180: off)");
+    ImGui::Checkbox("Front faces only", &s.brush.frontFacesOnly);
+    tooltip("Backface culling: texels facing away from the view get no paint (the far side of a thin "
+            "hull under the brush stays as it is)");
+    ImGui::SameLine();
+    ImGui::Checkbox("Occlusion", &s.brush.occlusion);
+    tooltip("Texels hidden from the view behind other parts of the body get no paint (a deck "
+            "under a superstructure, the inside of a hull seen through an opening)");
     alphaControls(s);
     const bool hasBody = s.selectedBody >= 0 &&
                          static_cast<std::size_t>(s.selectedBody) < s.document->bodyCount();

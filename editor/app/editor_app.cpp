@@ -211,6 +211,12 @@ nlohmann::json windowState(const EditorState& s, int frame) {
     j["tooltip"] = tooltipShownThisFrame();
     j["undo"] = s.document->undoName();
     j["dirty"] = s.document->dirty();
+    j["tool"] = static_cast<int>(s.tool);  // a test waits for B or G to have been seen
+    j["bodies"] = s.document->bodyCount();
+    j["radial_control"] = !s.radialControl ? "" : s.radialControl->strength ? "strength" : "radius";
+    j["brush_radius"] = s.brush.radius;
+    j["brush_strength"] = s.brush.strength;
+    j["selected_body"] = s.selectedBody;
     j["camera_target"] = {s.camera.target.x(), s.camera.target.y(), s.camera.target.z()};
     j["uv_zoom"] = s.uvZoom;
     if (s.uvUnderMouse) j["uv_under_mouse"] = {s.uvUnderMouse->x(), s.uvUnderMouse->y()};
@@ -232,6 +238,16 @@ nlohmann::json windowState(const EditorState& s, int frame) {
                                      static_cast<int>(w->Size.x), static_cast<int>(w->Size.y)}}});
     }
     j["windows"] = windows;
+    // The modal or popup on top ("" when none) and where it is: a test waits for a question
+    // ("Replace map?", "Export unsaved changes?") before it answers it.
+    j["popup"] = "";
+    if (!g.OpenPopupStack.empty()) {
+        if (const ImGuiWindow* popup = g.OpenPopupStack.back().Window; popup && popup->Active) {
+            j["popup"] = popup->Name;
+            j["popup_rect"] = {static_cast<int>(popup->Pos.x), static_cast<int>(popup->Pos.y),
+                               static_cast<int>(popup->Size.x), static_cast<int>(popup->Size.y)};
+        }
+    }
     return j;
 }
 
@@ -309,6 +325,7 @@ void handleKey(EditorState& s, int key, bool ctrl, bool shift) {
         if (key == GLFW_KEY_Q) s.requestQuit = true;
         return;
     }
+    if (radialControlKey(s, key, shift)) return;  // F / Shift+F with the Brush, and its keys
     switch (key) {
         case GLFW_KEY_1: case GLFW_KEY_KP_1: s.setView(ViewPreset::Front); break;
         case GLFW_KEY_3: case GLFW_KEY_KP_3: s.setView(ViewPreset::Side); break;
@@ -430,7 +447,10 @@ void drawDialogs(EditorState& s, GLFWwindow* window) {
             case FileBrowser::Purpose::OpenProject: requestOpen(s, chosen->string(), false); break;
             case FileBrowser::Purpose::SaveProjectAs: s.saveAs(*chosen); break;
             case FileBrowser::Purpose::ImportMesh:
-                s.execute(makeImportMeshCommand(*s.document, *chosen, std::nullopt));
+                // The new body is the last: selected, so that the inspector shows it.
+                if (s.execute(makeImportMeshCommand(*s.document, *chosen, std::nullopt))) {
+                    s.selectedBody = static_cast<int>(s.document->bodyCount()) - 1;
+                }
                 s.frameAll();
                 break;
             case FileBrowser::Purpose::Export:
@@ -565,7 +585,8 @@ void drawDialogs(EditorState& s, GLFWwindow* window) {
             "Middle mouse: orbit   Shift+middle: pan   Ctrl+middle / wheel: zoom\n"
             "Alt+left mouse: orbit   Right mouse: pan\n"
             "1 / 3 / 7: front / side / top   0: perspective   5: orthographic on/off\n"
-            "Home: frame all   F: frame selected\n"
+            "Home: frame all   F: frame selected (with the Brush: F drags its radius,\n"
+            "  Shift+F its strength; click or Enter keeps, Esc or right mouse cancels)\n"
             "UV view: wheel zooms at the cursor, middle mouse pans, middle double-click: all\n"
             "V: navigate   B: brush   G: fill island   I: pick value\n"
             "E: erase on/off   S: smooth on/off   X: X-mirror   [ ]: brush radius\n"

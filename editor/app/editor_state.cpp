@@ -193,6 +193,35 @@ void EditorState::setView(ViewPreset view) {
     camera = Camera::preset(view, bounds);
 }
 
+std::optional<EditorState::SurfacePick> EditorState::pickSurface(float x, float y) const {
+    const auto hit = pick(x, y);
+    if (!hit) return std::nullopt;
+    const auto& mesh = document->assets(hit->first).mesh;
+    if (!mesh) return std::nullopt;
+    // The hit triangle again (pick keeps the point only): the one nearest the point.
+    Eigen::Vector3d normal = Eigen::Vector3d::UnitY();
+    double best = 1e300;
+    for (const Triangle& t : mesh->triangles) {
+        const Eigen::Vector3d& a = mesh->positions[t[0]];
+        const Eigen::Vector3d& b = mesh->positions[t[1]];
+        const Eigen::Vector3d& c = mesh->positions[t[2]];
+        const Eigen::Vector3d n = (b - a).cross(c - a);
+        if (n.norm() <= 0) continue;
+        const Eigen::Vector3d unit = n.normalized();
+        // Distance from the plane, plus how far outside the triangle's bounding sphere.
+        const Eigen::Vector3d centre = (a + b + c) / 3.0;
+        const double reach = std::max({(a - centre).norm(), (b - centre).norm(), (c - centre).norm()});
+        const double d = std::abs((hit->second - a).dot(unit)) +
+                         std::max(0.0, (hit->second - centre).norm() - reach);
+        if (d < best) {
+            best = d;
+            normal = unit;
+        }
+    }
+    const Pose pose = document->bodyPose(hit->first);
+    return SurfacePick{hit->first, pose.apply(hit->second), pose.rotation * normal};
+}
+
 std::optional<std::pair<std::size_t, Eigen::Vector3d>> EditorState::pick(float x, float y) const {
     if (viewport.w < 1 || viewport.h < 1) return std::nullopt;
     Eigen::Vector3d origin, direction;

@@ -68,6 +68,15 @@ struct EditorState {
     bool animateWater = false;
 
     ActiveStroke stroke;
+    /// F / Shift+F with the Brush, as Blender's radial control: while it is up, the mouse's
+    /// distance from `centre` (px) sets the brush radius or strength; a left click or Enter
+    /// keeps the value, Esc or the right button puts `start` back.
+    struct RadialControl {
+        bool strength = false;          ///< Shift+F: strength; F: radius
+        double start = 0.0;             ///< the value before, for a cancel
+        Eigen::Vector2d centre{0, 0};   ///< screen px
+    };
+    std::optional<RadialControl> radialControl;
     /// Where the last stroke ended (body, object space): Shift-click draws a line from there.
     std::optional<std::pair<std::size_t, Eigen::Vector3d>> lastStrokeEnd;
     std::size_t lastStrokePoints = 0;   ///< surface points of the last stroke (reports)
@@ -155,6 +164,14 @@ struct EditorState {
     void setView(ViewPreset view);
     /// The body and object-space point under window position (x, y) of the viewport.
     std::optional<std::pair<std::size_t, Eigen::Vector3d>> pick(float x, float y) const;
+    /// pick's hit with the hit triangle's outward unit normal, both in world space (the brush
+    /// cursor lies in the surface's tangent plane).
+    struct SurfacePick {
+        std::size_t body = 0;
+        Eigen::Vector3d point;    ///< world
+        Eigen::Vector3d normal;   ///< world, unit
+    };
+    std::optional<SurfacePick> pickSurface(float x, float y) const;
 };
 
 }  // namespace plimsoll::editor

@@ -18,6 +18,7 @@
 #include <map>
 #include <memory>
 #include <thread>
+#include <vector>
 
 namespace plimsoll::editor {
 
@@ -91,6 +92,10 @@ struct BodyInfo {
 struct InspectorCache {
     std::map<std::size_t, BodyInfo> infos;          ///< per body, recomputed on edits
     std::map<std::string, double> editing;          ///< number fields being typed into
+    /// Edits made in the last frame's panel, run at the start of the next one: an edit
+    /// replaces the project's bodies, and the panel goes on reading the body it drew from
+    /// (a reference into them) after the field that made it.
+    std::vector<std::function<void()>> deferred;
 };
 
 std::shared_ptr<InspectorCache> makeInspectorCache() { return std::make_shared<InspectorCache>(); }
@@ -156,8 +161,10 @@ void numberField(EditorState& s, const char* label, const std::string& pointer, 
     ImGui::InputDouble(label, &value, 0, 0, format);
     tooltip(help);
     if (ImGui::IsItemDeactivatedAfterEdit() && value != current) {
-        if (commit) commit(value);
-        else s.execute(makeSetPropertyCommand(*s.document, pointer, value));
+        s.inspector->deferred.push_back([&s, pointer, commit, edited = value] {
+            if (commit) commit(edited);
+            else s.execute(makeSetPropertyCommand(*s.document, pointer, edited));
+        });
     }
 }
 
@@ -166,7 +173,7 @@ void textureSizeField(EditorState& s, std::size_t b, const std::string& base, in
     numberField(s, "Texture size", base + "/texture_size", current, "%.0f",
                 "Texels per side of the physics textures (32 to the engine's limit). A new size "
                 "bakes in the background; the old one stays in use until it is ready.",
-                [&](double value) { s.setTextureSize(b, static_cast<int>(std::lround(value))); });
+                [&s, b](double value) { s.setTextureSize(b, static_cast<int>(std::lround(value))); });
     if (const auto baking = s.physicsBakes->progress(b)) {
         const std::string label = "baking " + std::to_string(baking->size) + "^2";
         ImGui::ProgressBar(static_cast<float>(baking->fraction), ImVec2(-80, 0), label.c_str());
@@ -179,11 +186,78 @@ void textureSizeField(EditorState& s, std::size_t b, const std::string& base, in
     }
 }
 
+/// Add, duplicate and remove: each one undoable step (command.h).
+void bodyButtons(EditorState& s) {
+    const std::size_t count = s.document->bodyCount();
+    const bool hasBody = s.selectedBody >= 0 && static_cast<std::size_t>(s.selectedBody) < count;
+    if (ImGui::Button("Add body...")) {
+        s.browser.open(FileBrowser::Purpose::ImportMesh, s.document->project().folder);
+    }
+    tooltip("Adds a body on a mesh file you choose (as File > Import Mesh); Ctrl+Z takes it out.");
+    ImGui::SameLine();
+    ImGui::BeginDisabled(!hasBody);
+    if (ImGui::Button("Duplicate") && hasBody) {
+        if (s.execute(makeDuplicateBodyCommand(*s.document, s.selectedBody))) ++s.selectedBody;
+    }
+    tooltip(hasBody ? "A copy of the selected body beside it (its maps and water graph are not "
+                      "copied: a file is painted by one body only)."
+                    : "Select a body to duplicate.");
+    ImGui::SameLine();
+    if (ImGui::Button("Remove") && hasBody) {
+        if (s.execute(makeRemoveBodyCommand(*s.document, s.selectedBody))) {
+            s.selectedBody = std::min(s.selectedBody, static_cast<int>(s.document->bodyCount()) - 1);
+        }
+    }
+    tooltip(hasBody ? "Takes the selected body out of the project (Ctrl+Z brings it back, unsaved "
+                      "paint and all)."
+                    : "Select a body to remove.");
+    ImGui::EndDisabled();
+}
+
+/// The body's starting position and rotation: three numbers each, one undo step when a field
+/// is left after an edit.
+void transformFields(EditorState& s, std::size_t b, const BodyDesc& body) {
+    const std::string base = "/bodies/" + std::to_string(b);
+    auto field = [&](const char* label, const std::string& key, const Eigen::Vector3d& current,
+                     const char* format, const char* help) -> std::optional<Eigen::Vector3d> {
+        double values[3];
+        for (int k = 0; k < 3; ++k) {
+            double& v = s.inspector->editing.try_emplace(key + "/" + std::to_string(k), current[k]).first->second;
+            if (!ImGui::IsAnyItemActive()) v = current[k];
+            values[k] = v;
+        }
+        ImGui::InputScalarN(label, ImGuiDataType_Double, values, 3, nullptr, nullptr, format);
+        tooltip(help);
+        for (int k = 0; k < 3; ++k) s.inspector->editing[key + "/" + std::to_string(k)] = values[k];
+        const Eigen::Vector3d edited(values[0], values[1], values[2]);
+        if (ImGui::IsItemDeactivatedAfterEdit() && edited != current) return edited;
+        return std::nullopt;
+    };
+    if (auto p = field("Position (m)", base + "/position", body.position, "%.4g",
+                       "Where the body starts: x, y (up), z in metres.")) {
+        // The command replaces the project: `body` is not read after it.
+        s.execute(makeSetBodyTransformCommand(*s.document, b, *p, body.rotationDegrees));
+        return;
+    }
+    if (auto r = field("Rotation (deg)", base + "/rotation_deg", body.rotationDegrees, "%.4g",
+                       "The body's starting turn about x, y and z, degrees (turned about x first, then y, then z).")) {
+        s.execute(makeSetBodyTransformCommand(*s.document, b, body.position, *r));
+    }
+}
+
 }  // namespace
 
 void drawInspectorPanel(EditorState& s, const Rect& area) {
     ImGui::SetNextWindowPos(ImVec2(area.x, area.y));
     ImGui::SetNextWindowSize(ImVec2(area.w, area.h));
+    // Last frame's edits, before anything below reads the project.
+    std::vector<std::function<void()>> edits;
+    edits.swap(s.inspector->deferred);
+    for (const auto& edit : edits) edit();
+    // An undo of an added body can leave the selection past the end: the last body then.
+    if (s.selectedBody >= static_cast<int>(s.document->bodyCount())) {
+        s.selectedBody = static_cast<int>(s.document->bodyCount()) - 1;
+    }
     ImGui::Begin("Inspector", nullptr,
                  ImGuiWindowFlags_NoMove | ImGuiWindowFlags_NoResize | ImGuiWindowFlags_NoCollapse);
     const Project& project = s.document->project();
@@ -201,12 +275,15 @@ void drawInspectorPanel(EditorState& s, const Rect& area) {
         }
         ImGui::EndListBox();
     }
+    bodyButtons(s);
     if (s.selectedBody < 0 || static_cast<std::size_t>(s.selectedBody) >= project.bodies.size()) {
-        ImGui::TextDisabled("No body. File > Import Mesh adds one.");
+        ImGui::TextDisabled("No body. Add body... (or File > Import Mesh) adds one.");
         ImGui::End();
         return;
     }
     const std::size_t b = s.selectedBody;
+    // Before `body` below is taken: an edit here replaces the project's bodies.
+    transformFields(s, b, project.bodies[b]);
     const BodyDesc& body = project.bodies[b];
     const BodyAssets& assets = s.document->assets(b);
     const std::string base = "/bodies/" + std::to_string(b);
@@ -255,8 +332,10 @@ void drawInspectorPanel(EditorState& s, const Rect& area) {
             const bool add = ImGui::Button("Add shell (1 kg/m2)");
             tooltip("Give the body a hull skin of 1 kg/m2: its density and thickness maps can then be painted");
             if (add) {
-                s.execute(makeSetPropertyCommand(*s.document, base + "/material/shell",
-                                                 nlohmann::json{{"surface_density", 1.0}}));
+                s.inspector->deferred.push_back([&s, base] {
+                    s.execute(makeSetPropertyCommand(*s.document, base + "/material/shell",
+                                                     nlohmann::json{{"surface_density", 1.0}}));
+                });
             }
         }
         numberField(s, "Drag Cd", base + "/drag_coefficient", body.dragCoefficient, "%.4g",

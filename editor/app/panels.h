@@ -11,6 +11,9 @@ namespace plimsoll::editor {
 /// 3D view input (navigation, painting) over state.viewport; the scene itself is drawn by the
 /// frame loop before ImGui, into that rectangle.
 void viewportInput(EditorState& state);
+/// F / Shift+F's radial control (EditorState::RadialControl): starts it at the mouse, and its
+/// keys (Enter keeps, Escape cancels). True when the key was the control's.
+bool radialControlKey(EditorState& state, int key, bool shift);
 void drawViewportOverlay(EditorState& state);  ///< view name, brush circle, hints
 void drawBrushPanel(EditorState& state, const Rect& area);
 /// The selected map's layers: add, remove, reorder, hide, opacity, blend mode, masks.

@@ -9,8 +9,11 @@
 #include <GLFW/glfw3.h>
 #include <imgui.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <numbers>
+#include <string>
 
 namespace plimsoll::editor {
 
@@ -53,9 +56,71 @@ void lineStroke(EditorState& s, const Eigen::Vector2d& to) {
     }
 }
 
+/// The radial control's scale: the radius in use is this many px from the centre, and full
+/// strength twice as far.
+constexpr double kRadialRadiusPx = 100.0;
+constexpr double kRadialStrengthPx = 200.0;
+constexpr double kMinBrushRadius = 0.001, kMaxBrushRadius = 5.0;  // the Radius slider's range
+
+/// The value the mouse's distance from the centre gives.
+double radialValue(const EditorState::RadialControl& control, const ImVec2& mouse) {
+    const double d = (Eigen::Vector2d(mouse.x, mouse.y) - control.centre).norm();
+    if (control.strength) return std::clamp(d / kRadialStrengthPx, 0.0, 1.0);
+    return std::clamp(control.start * d / kRadialRadiusPx, kMinBrushRadius, kMaxBrushRadius);
+}
+
+void endRadialControl(EditorState& s, bool keep) {
+    if (!s.radialControl) return;
+    if (!keep) {
+        (s.radialControl->strength ? s.brush.strength : s.brush.radius) = s.radialControl->start;
+    }
+    s.status = keep ? (s.radialControl->strength ? "Brush strength " + std::to_string(s.brush.strength)
+                                                 : "Brush radius " + std::to_string(s.brush.radius) + " m")
+                    : std::string("Brush unchanged");
+    s.radialControl.reset();
+}
+
+/// While the radial control is up it has the mouse: moves set the value, the left button
+/// keeps it (without starting a stroke), the right one cancels. True while it is up.
+bool radialControlInput(EditorState& s) {
+    if (!s.radialControl) return false;
+    const ImGuiIO& io = ImGui::GetIO();
+    if (ImGui::IsMousePosValid(&io.MousePos)) {
+        (s.radialControl->strength ? s.brush.strength : s.brush.radius) = radialValue(*s.radialControl, io.MousePos);
+    }
+    if (ImGui::IsMouseClicked(0)) endRadialControl(s, true);
+    else if (ImGui::IsMouseClicked(1)) endRadialControl(s, false);
+    return true;
+}
+
 }  // namespace
 
+bool radialControlKey(EditorState& s, int key, bool shift) {
+    if (s.radialControl) {
+        if (key == GLFW_KEY_ENTER || key == GLFW_KEY_KP_ENTER) endRadialControl(s, true);
+        else if (key == GLFW_KEY_ESCAPE) endRadialControl(s, false);
+        else return false;
+        return true;
+    }
+    // F in paint mode (the Brush, no preview grabbing the mouse); elsewhere F frames.
+    if (key != GLFW_KEY_F || s.tool != Tool::Brush || (s.preview && s.preview->session)) return false;
+    const ImGuiIO& io = ImGui::GetIO();
+    const Eigen::Vector2d mouse = ImGui::IsMousePosValid(&io.MousePos)
+                                      ? Eigen::Vector2d(io.MousePos.x, io.MousePos.y)
+                                      : Eigen::Vector2d(s.viewport.x + s.viewport.w / 2, s.viewport.y + s.viewport.h / 2);
+    EditorState::RadialControl control;
+    control.strength = shift;
+    control.start = shift ? s.brush.strength : s.brush.radius;
+    // The centre left of the mouse, as far as the value in use: the value does not jump.
+    const double offset = shift ? s.brush.strength * kRadialStrengthPx : kRadialRadiusPx;
+    control.centre = mouse - Eigen::Vector2d(offset, 0);
+    s.radialControl = control;
+    s.stroke = {};
+    return true;
+}
+
 void viewportInput(EditorState& s) {
+    if (radialControlInput(s)) return;
     ImGuiIO& io = ImGui::GetIO();
     const ImVec2 mouse = io.MousePos;
     const bool hovered = s.viewport.contains(mouse.x, mouse.y) && !io.WantCaptureMouse;
@@ -179,20 +244,55 @@ void drawViewportOverlay(EditorState& s) {
         }
     }
     const ImVec2 mouse = ImGui::GetIO().MousePos;
+    if (s.radialControl) {
+        // Blender's look: a circle about the centre through the mouse, and the value.
+        const ImVec2 centre(static_cast<float>(s.radialControl->centre.x()),
+                            static_cast<float>(s.radialControl->centre.y()));
+        const float d = std::hypot(mouse.x - centre.x, mouse.y - centre.y);
+        draw->AddCircle(centre, d, IM_COL32(255, 255, 255, 220), 64, 1.5f);
+        draw->AddCircleFilled(centre, 3.0f, IM_COL32(255, 255, 255, 220));
+        char text[96];
+        if (s.radialControl->strength) {
+            std::snprintf(text, sizeof text, "Strength %.3f  (click / Enter: keep, Esc / right: cancel)", s.brush.strength);
+        } else {
+            std::snprintf(text, sizeof text, "Radius %.4g m  (click / Enter: keep, Esc / right: cancel)", s.brush.radius);
+        }
+        draw->AddText(ImVec2(centre.x - 40, centre.y + 8), IM_COL32(255, 255, 255, 230), text);
+        return;
+    }
     if (!s.viewport.contains(mouse.x, mouse.y) || ImGui::GetIO().WantCaptureMouse) return;
     if (s.preview && s.preview->session) return;  // the bodies shown are the simulated ones
     const auto hit = s.pick(mouse.x, mouse.y);
     if (!hit) return;
-    // The brush circle: the radius at the surface under the cursor, projected.
+    // The brush cursor, as Blender and Painter draw it: a circle of the brush's radius lying
+    // on the surface under the cursor (in its tangent plane, around the hit triangle's
+    // normal), projected, with a short tick along the normal; a glancing surface shows an
+    // ellipse, the way the dab will land.
     if (s.tool == Tool::Brush) {
-        const Pose pose = s.document->bodyPose(hit->first);
-        const Eigen::Vector3d centre = pose.apply(hit->second);
-        const auto a = s.camera.toPixel(centre, int(s.viewport.w), int(s.viewport.h));
-        const auto b = s.camera.toPixel(centre + s.camera.right() * s.brush.radius,
-                                        int(s.viewport.w), int(s.viewport.h));
-        if (a && b) {
-            draw->AddCircle(mouse, static_cast<float>((*b - *a).norm()),
-                            IM_COL32(255, 255, 255, 200), 48, 1.5f);
+        if (const auto surface = s.pickSurface(mouse.x, mouse.y)) {
+            const Eigen::Vector3d n = surface->normal;
+            const Eigen::Vector3d helper = std::abs(n.y()) < 0.9 ? Eigen::Vector3d::UnitY() : Eigen::Vector3d::UnitX();
+            const Eigen::Vector3d u = helper.cross(n).normalized(), v = n.cross(u);
+            const ImVec2 offset(s.viewport.x, s.viewport.y);
+            constexpr int kSegments = 48;
+            ImVec2 ring[kSegments];
+            int shown = 0;
+            for (int k = 0; k < kSegments; ++k) {
+                const double t = 2.0 * std::numbers::pi * k / kSegments;
+                const Eigen::Vector3d p = surface->point + s.brush.radius * (std::cos(t) * u + std::sin(t) * v);
+                if (const auto px = s.camera.toPixel(p, int(s.viewport.w), int(s.viewport.h))) {
+                    ring[shown++] = ImVec2(offset.x + float(px->x()), offset.y + float(px->y()));
+                }
+            }
+            if (shown == kSegments) draw->AddPolyline(ring, kSegments, IM_COL32(255, 255, 255, 200), ImDrawFlags_Closed, 1.5f);
+            const auto base = s.camera.toPixel(surface->point, int(s.viewport.w), int(s.viewport.h));
+            const auto tip = s.camera.toPixel(surface->point + n * s.brush.radius * 0.5, int(s.viewport.w),
+                                              int(s.viewport.h));
+            if (base && tip) {
+                draw->AddLine(ImVec2(offset.x + float(base->x()), offset.y + float(base->y())),
+                              ImVec2(offset.x + float(tip->x()), offset.y + float(tip->y())),
+                              IM_COL32(255, 255, 255, 200), 1.5f);
+            }
         }
     }
     // The hover readout: the map's value under the cursor (as the engine reads it, flattened).

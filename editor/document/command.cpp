@@ -2,7 +2,9 @@
 
 #include "plimsoll/io/mesh_io.h"
 
+#include <algorithm>
 #include <functional>
+#include <limits>
 #include <set>
 
 namespace plimsoll::editor {
@@ -527,6 +529,80 @@ Result<std::unique_ptr<Command>> makeImportMeshCommand(const Document& document,
     }
     return std::unique_ptr<Command>(std::make_unique<ProjectCommand>(
         "Import " + mesh.filename().string(), document.project(), std::move(project)));
+}
+
+
+namespace {
+
+Status checkBody(const Document& document, std::size_t body) {
+    if (body >= document.bodyCount()) {
+        return makeError(ErrorKind::invalidArgument, "no body " + std::to_string(body) + " (the project has " +
+                                                         std::to_string(document.bodyCount()) + ")");
+    }
+    return Ok{};
+}
+
+std::string bodyLabel(const BodyDesc& body, std::size_t index) {
+    return body.name.empty() ? "body " + std::to_string(index) : body.name;
+}
+
+}  // namespace
+
+Result<std::unique_ptr<Command>> makeDuplicateBodyCommand(const Document& document, std::size_t body) {
+    if (Status ok = checkBody(document, body); !ok) return ok.error();
+    Project project = document.project();
+    BodyDesc copy = project.bodies[body];
+    const std::string stem = bodyLabel(copy, body) + " copy";
+    auto taken = [&](const std::string& name) {
+        return std::any_of(project.bodies.begin(), project.bodies.end(),
+                           [&](const BodyDesc& b) { return b.name == name; });
+    };
+    copy.name = stem;
+    for (int k = 2; taken(copy.name); ++k) copy.name = stem + " " + std::to_string(k);
+    // Beside the original, not inside it: its width along x (as posed) and a tenth more.
+    double width = 1.0;
+    if (const auto& mesh = document.assets(body).mesh; mesh && !mesh->positions.empty()) {
+        const Pose pose = document.bodyPose(body);
+        double lo = std::numeric_limits<double>::infinity(), hi = -lo;
+        for (const Eigen::Vector3d& p : mesh->positions) {
+            const double x = pose.apply(p).x();
+            lo = std::min(lo, x);
+            hi = std::max(hi, x);
+        }
+        if (hi > lo) width = hi - lo;
+    }
+    copy.position.x() += 1.1 * width;
+    for (MapChannel c : kMapChannels) channelPath(copy, c).clear();
+    copy.waterGraph.reset();
+    project.bodies.insert(project.bodies.begin() + static_cast<std::ptrdiff_t>(body) + 1, copy);
+    return std::unique_ptr<Command>(std::make_unique<ProjectCommand>(
+        "Duplicate " + bodyLabel(project.bodies[body], body), document.project(), std::move(project)));
+}
+
+Result<std::unique_ptr<Command>> makeRemoveBodyCommand(const Document& document, std::size_t body) {
+    if (Status ok = checkBody(document, body); !ok) return ok.error();
+    Project project = document.project();
+    const std::string name = bodyLabel(project.bodies[body], body);
+    project.bodies.erase(project.bodies.begin() + static_cast<std::ptrdiff_t>(body));
+    return std::unique_ptr<Command>(
+        std::make_unique<ProjectCommand>("Remove " + name, document.project(), std::move(project)));
+}
+
+Result<std::unique_ptr<Command>> makeSetBodyTransformCommand(const Document& document, std::size_t body,
+                                                             const Eigen::Vector3d& position,
+                                                             const Eigen::Vector3d& rotationDegrees) {
+    if (Status ok = checkBody(document, body); !ok) return ok.error();
+    if (!position.allFinite() || !rotationDegrees.allFinite()) {
+        return makeError(ErrorKind::invalidArgument, "a body's position and rotation must be finite numbers");
+    }
+    Project project = document.project();
+    BodyDesc& b = project.bodies[body];
+    const bool moved = b.position != position, turned = b.rotationDegrees != rotationDegrees;
+    b.position = position;
+    b.rotationDegrees = rotationDegrees;
+    const std::string verb = moved && turned ? "Move and rotate " : turned ? "Rotate " : "Move ";
+    return std::unique_ptr<Command>(std::make_unique<ProjectCommand>(
+        verb + bodyLabel(b, body), document.project(), std::move(project)));
 }
 
 }  // namespace plimsoll::editor

@@ -152,4 +152,16 @@ Result<std::unique_ptr<Command>> makeImportMeshCommand(const Document& document,
                                                        const std::filesystem::path& mesh,
                                                        std::optional<std::size_t> body);
 
+/// A copy of the body beside it: a unique name ("ball copy", "ball copy 2", ...), moved along
+/// x by its mesh's width and a tenth so that the two do not overlap. Its maps and water graph
+/// are not copied: two bodies naming one file would each save their own edits over it.
+Result<std::unique_ptr<Command>> makeDuplicateBodyCommand(const Document& document, std::size_t body);
+/// Takes the body out of the project; the undo brings it back with its unsaved paint.
+Result<std::unique_ptr<Command>> makeRemoveBodyCommand(const Document& document, std::size_t body);
+/// Sets the body's starting place: position (m) and rotation (degrees, Rz Ry Rx as the
+/// project's rotation_deg). Finite values only.
+Result<std::unique_ptr<Command>> makeSetBodyTransformCommand(const Document& document, std::size_t body,
+                                                             const Eigen::Vector3d& position,
+                                                             const Eigen::Vector3d& rotationDegrees);
+
 }  // namespace plimsoll::editor

@@ -136,6 +136,29 @@ void Document::setProject(Project project, DetachedAssets& detached) {
 }
 
 void Document::syncAssets(DetachedAssets& detached) {
+    // Bodies removed or shifted (a body removed or inserted before them): their unsaved maps
+    // and graphs are set aside by path first, before the resize drops the last ones, so that
+    // the body's new index (or the undo that brings it back) finds them below.
+    for (std::size_t b = 0; b < assets_.size(); ++b) {
+        const BodyDesc* now = b < project_.bodies.size() ? &project_.bodies[b] : nullptr;
+        for (MapChannel c : kMapChannels) {
+            BodyAssets::Map& m = assets_[b].maps[static_cast<int>(c)];
+            const std::string written = now ? channelPath(*now, c) : std::string();
+            const fs::path mapPath = written.empty() ? fs::path() : project_.resolvePath(written);
+            if (mapPath == m.path || !m.dirty || !m.image || m.path.empty()) continue;
+            detached.maps[m.path] = std::move(m);
+            m = BodyAssets::Map{};
+            assets_[b].paintSurfaces[static_cast<int>(c)].reset();
+        }
+        BodyAssets::Graph& g = assets_[b].graph;
+        const fs::path graphPath = now && now->waterGraph && !now->waterGraph->graph.empty()
+                                       ? project_.resolvePath(now->waterGraph->graph)
+                                       : fs::path();
+        if (graphPath != g.path && g.dirty && g.graph && !g.path.empty()) {
+            detached.graphs[g.path] = *g.graph;
+            g = BodyAssets::Graph{};
+        }
+    }
     assets_.resize(project_.bodies.size());
     for (std::size_t b = 0; b < assets_.size(); ++b) {
         const BodyDesc& body = project_.bodies[b];

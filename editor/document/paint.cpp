@@ -9,6 +9,7 @@
 #include <cmath>
 #include <limits>
 #include <numbers>
+#include <unordered_map>
 
 namespace plimsoll::editor {
 
@@ -31,6 +32,7 @@ Result<PaintSurface> buildPaintSurface(const TriangleMesh& mesh, int width, int 
     surface.pixel.reserve(t.coveredCount());
     surface.position.reserve(t.coveredCount());
     surface.island.reserve(t.coveredCount());
+    surface.normal.reserve(t.coveredCount());
     const double n = t.size;
     for (std::size_t i = 0; i < t.coveredCount(); ++i) {
         const std::uint32_t texel = t.texelIndex[i];
@@ -43,8 +45,22 @@ Result<PaintSurface> buildPaintSurface(const TriangleMesh& mesh, int width, int 
         surface.position.push_back(t.position[i].cast<float>());
         const std::uint32_t triangle = pieces.pieces[pieces.firstPiece[i]].triangle;
         surface.island.push_back(islands[triangle]);
+        const Eigen::Vector3d& areaVector = t.areaVector[i];
+        surface.normal.push_back(areaVector.norm() > 0 ? Eigen::Vector3f(areaVector.normalized().cast<float>())
+                                                       : Eigen::Vector3f::Zero());
     }
     return surface;
+}
+
+double facingWeight(const Brush& brush, const Eigen::Vector3d& normal, const Eigen::Vector3d& towardViewer) {
+    const double c = normal.dot(towardViewer);
+    if (brush.frontFacesOnly && c <= 0) return 0.0;
+    if (!(brush.normalAngle < 180.0)) return 1.0;  // off (and NaN: off)
+    const double angle = std::acos(std::clamp(c, -1.0, 1.0)) * 180.0 / std::numbers::pi;
+    const double outer = std::max(brush.normalAngle, 0.0), inner = outer / 2;
+    if (angle <= inner) return 1.0;
+    if (angle >= outer) return 0.0;
+    return (outer - angle) / (outer - inner);
 }
 
 double falloffWeight(Falloff falloff, double distance, double radius) {
@@ -187,6 +203,35 @@ PixelChange changeFrom(const PaintedMap& map, const std::vector<float>& values) 
 
 }  // namespace
 
+namespace {
+
+/// Which samples the viewer toward `view` (unit) sees: the surface's samples dropped into a
+/// grid across the view, cells `cell` wide, each keeping its nearest depth; a sample more than
+/// two cells behind its cell's nearest is hidden (two cells: a surface turned up to 63 degrees
+/// from the view still sees itself within one cell).
+std::vector<bool> visibleSamples(const PaintSurface& surface, const Eigen::Vector3d& view, double cell) {
+    const Eigen::Vector3d helper = std::abs(view.y()) < 0.9 ? Eigen::Vector3d::UnitY() : Eigen::Vector3d::UnitX();
+    const Eigen::Vector3d u = helper.cross(view).normalized(), v = view.cross(u);
+    auto key = [&](const Eigen::Vector3f& p) {
+        const auto a = static_cast<std::int64_t>(std::floor(p.cast<double>().dot(u) / cell));
+        const auto b = static_cast<std::int64_t>(std::floor(p.cast<double>().dot(v) / cell));
+        return (a << 32) ^ (b & 0xffffffff);
+    };
+    std::unordered_map<std::int64_t, double> nearest;  // larger depth: nearer the viewer
+    for (const Eigen::Vector3f& p : surface.position) {
+        const double depth = p.cast<double>().dot(view);
+        auto [it, added] = nearest.try_emplace(key(p), depth);
+        if (!added) it->second = std::max(it->second, depth);
+    }
+    std::vector<bool> visible(surface.sampleCount());
+    for (std::size_t i = 0; i < surface.sampleCount(); ++i) {
+        visible[i] = surface.position[i].cast<double>().dot(view) >= nearest[key(surface.position[i])] - 2 * cell;
+    }
+    return visible;
+}
+
+}  // namespace
+
 PixelChange strokeChange(const PaintedMap& map, const PaintSurface& surface, const Brush& brush,
                          std::span<const Eigen::Vector3d> points) {
     std::vector<float> values = map.values;
@@ -198,17 +243,36 @@ PixelChange strokeChange(const PaintedMap& map, const PaintSurface& surface, con
     const double spacing = std::isfinite(brush.spacing) && brush.spacing > 0 ? brush.spacing : 0.25;
     const std::vector<Eigen::Vector3d> dabs = dabCentres(points, brush.radius * spacing, brush);
     const double r2 = brush.radius * brush.radius;
+    // Each dab's direction toward the viewer: the symmetric copies are linear maps (mirrors
+    // and turns about y) applied in the same order to every stroke point, so the same copies
+    // of the view direction go with them (a mirrored dab on the far side faces a mirrored
+    // viewer, as in Blender).
+    const bool facing = brush.frontFacesOnly || brush.normalAngle < 180.0;
+    const Eigen::Vector3d view = brush.alphaAxis.norm() > 0 ? brush.alphaAxis.normalized()
+                                                             : Eigen::Vector3d::UnitZ();
+    const std::vector<Eigen::Vector3d> views = symmetricPoints(brush, view);
+    // Occlusion: one visibility per symmetric view, for the whole stroke.
+    std::vector<std::vector<bool>> visible;
+    if (brush.occlusion) {
+        for (const Eigen::Vector3d& w : views) visible.push_back(visibleSamples(surface, w.normalized(), brush.radius / 4));
+    }
+    auto facingOf = [&](std::size_t dab, std::size_t sample) {
+        if (!visible.empty() && !visible[dab % views.size()][sample]) return 0.0;
+        if (!facing || sample >= surface.normal.size()) return 1.0;
+        return facingWeight(brush, surface.normal[sample].cast<double>(), views[dab % views.size()]);
+    };
     const double strength = std::clamp(brush.strength, 0.0, 1.0);
     if (brush.mode == BrushMode::Smooth) {
         std::vector<std::pair<std::uint32_t, double>> under;
-        for (const Eigen::Vector3d& c : dabs) {
-            const Eigen::Vector3f cf = c.cast<float>();
+        for (std::size_t k = 0; k < dabs.size(); ++k) {
+            const Eigen::Vector3f cf = dabs[k].cast<float>();
             under.clear();
             double sum = 0, weights = 0;
             for (std::size_t i = 0; i < surface.sampleCount(); ++i) {
                 const double d2 = (surface.position[i] - cf).squaredNorm();
                 if (d2 > r2) continue;
-                const double w = dabWeight(brush, (surface.position[i] - cf).cast<double>());
+                const double w = dabWeight(brush, (surface.position[i] - cf).cast<double>()) * facingOf(k, i);
+                if (w <= 0) continue;
                 under.emplace_back(surface.pixel[i], w);
                 sum += w * values[surface.pixel[i]];
                 weights += w;
@@ -223,12 +287,13 @@ PixelChange strokeChange(const PaintedMap& map, const PaintSurface& surface, con
     }
     // Paint / erase: the largest weight each pixel sees along the stroke.
     std::vector<float> weight(values.size(), 0.0f);
-    for (const Eigen::Vector3d& c : dabs) {
-        const Eigen::Vector3f cf = c.cast<float>();
+    for (std::size_t k = 0; k < dabs.size(); ++k) {
+        const Eigen::Vector3f cf = dabs[k].cast<float>();
         for (std::size_t i = 0; i < surface.sampleCount(); ++i) {
             const double d2 = (surface.position[i] - cf).squaredNorm();
             if (d2 > r2) continue;
-            const float w = static_cast<float>(dabWeight(brush, (surface.position[i] - cf).cast<double>()));
+            const float w = static_cast<float>(dabWeight(brush, (surface.position[i] - cf).cast<double>()) *
+                                               facingOf(k, i));
             float& slot = weight[surface.pixel[i]];
             slot = std::max(slot, w);
         }

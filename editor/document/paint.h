@@ -30,6 +30,9 @@ struct PaintSurface {
     std::vector<std::uint32_t> pixel;        ///< y * width + x, row 0 at the top (v = 1)
     std::vector<Eigen::Vector3f> position;   ///< object space, m
     std::vector<std::uint32_t> island;       ///< UV island id (uvIslands)
+    /// Outward unit normal of the surface in the texel (its area vector's direction), object
+    /// space: the brush's normal falloff and front-faces-only test it against the view.
+    std::vector<Eigen::Vector3f> normal;
     std::size_t sampleCount() const { return pixel.size(); }
 };
 
@@ -80,7 +83,23 @@ struct Brush {
     /// screen (its right along y x axis, its top along axis x right).
     Eigen::Vector3d alphaAxis = Eigen::Vector3d::UnitZ();
     std::string alphaPath;   ///< the image's file, kept between sessions ("" : none)
+    /// Blender's normal falloff: a texel whose normal turns more than this from the direction
+    /// toward the viewer (alphaAxis, set at the stroke's start; mirrored and turned with each
+    /// symmetric dab) gets no paint; full weight up to half the angle, fading linearly between.
+    /// Degrees; 180 (or more): off.
+    double normalAngle = 180.0;
+    /// Backface culling: texels facing away from the viewer (normal . toward viewer <= 0) get
+    /// no paint, whatever normalAngle says.
+    bool frontFacesOnly = false;
+    /// Occlusion: texels hidden from the viewer behind other parts of the surface get no
+    /// paint. Seen along the view direction (orthographic), through a depth grid of the
+    /// surface's samples with cells a quarter of the radius across.
+    bool occlusion = false;
 };
+
+/// The weight a texel of normal `normal` keeps under the brush's normal falloff and front-
+/// faces-only, the viewer in direction `towardViewer` (both unit, object space): 0..1.
+double facingWeight(const Brush& brush, const Eigen::Vector3d& normal, const Eigen::Vector3d& towardViewer);
 
 /// The string of the lazy mouse: the brush stays put while the cursor moves within `radius`
 /// pixels of it, and is pulled along the string when the cursor goes further, so a shaky hand

@@ -70,6 +70,10 @@ Settings Settings::load(const fs::path& folder) {
             brush.radial = std::clamp(b.value("radial", brush.radial), 1, kMaxRadialCopies);
             brush.lazyRadius = b.value("lazy_radius", brush.lazyRadius);
             if (!(brush.lazyRadius >= 0) || !(brush.lazyRadius <= kMaxLazyRadius)) brush.lazyRadius = defaults.lazyRadius;
+            brush.normalAngle = b.value("normal_angle", brush.normalAngle);
+            if (!(brush.normalAngle >= 0) || !(brush.normalAngle <= 180)) brush.normalAngle = defaults.normalAngle;
+            brush.frontFacesOnly = b.value("front_faces_only", brush.frontFacesOnly);
+            brush.occlusion = b.value("occlusion", brush.occlusion);
             // The image itself is loaded by the window (a missing file: no alpha).
             brush.alphaPath = b.value("alpha", brush.alphaPath);
         }
@@ -93,7 +97,9 @@ Status Settings::save(const fs::path& folder) const {
                   {"falloff", falloffName(brush.falloff)},
                   {"mirror_x", brush.mirrorX},  {"mirror_y", brush.mirrorY},
                   {"mirror_z", brush.mirrorZ},  {"radial", brush.radial},
-                  {"lazy_radius", brush.lazyRadius}, {"alpha", brush.alphaPath}};
+                  {"lazy_radius", brush.lazyRadius}, {"alpha", brush.alphaPath},
+                  {"normal_angle", brush.normalAngle}, {"front_faces_only", brush.frontFacesOnly},
+                  {"occlusion", brush.occlusion}};
     std::error_code ec;
     fs::create_directories(folder, ec);
     const std::string text = j.dump(2) + "\n";

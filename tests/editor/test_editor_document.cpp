@@ -21,7 +21,10 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <cmath>
 #include <cstring>
+#include <numbers>
 #include <fstream>
 #include <iterator>
 #include <sys/wait.h>
@@ -984,6 +987,305 @@ TEST(EditorOverlay, HoverReadoutGivesDepthPressureAndTheNodeFed) {
     const std::string line = surfacePointPhysics(plain, 0, Eigen::Vector3d(0, 0, 0), 0.0);
     EXPECT_EQ(line.find('\n'), std::string::npos) << line;
     EXPECT_EQ(line.find("feeds"), std::string::npos) << line;
+}
+
+
+/// Two bodies (ball on sphere.obj, box on box.obj at x = 3), each with a blank kMap map of
+/// permeability and then a stroke on it, unsaved: what a remove or an insert must carry along.
+std::unique_ptr<Document> twoPaintedBodies(const std::string& name) {
+    const fs::path dir = freshDir(name);
+    const fs::path path = dir / "two.plim.json";
+    std::ofstream(path) << R"({"schema_version": 1, "name": "two", "bodies": [)"
+                        << R"({"name": "ball", "mesh": ")" << test::assetPath("sphere.obj").string()
+                        << R"(", "material": {"density": 500}},)"
+                        << R"({"name": "box", "mesh": ")" << test::assetPath("box.obj").string()
+                        << R"(", "material": {"density": 400}, "position": [3, 0, 0]}]})";
+    auto d = openOrFail(path);
+    if (!d) return nullptr;
+    Brush brush;
+    brush.radius = 0.2;
+    for (std::size_t b = 0; b < 2; ++b) {
+        executeOrFail(*d, makeNewMapCommand(*d, b, MapChannel::Permeability, kMap, kMap, 0.0, ""));
+        const TriangleMesh& mesh = *d->assets(b).mesh;
+        executeOrFail(*d, makeStrokeCommand(*d, b, MapChannel::Permeability, brush,
+                                            std::vector<Eigen::Vector3d>{mesh.positions[b * 7]}));
+        const std::vector<float>& v = d->map(b, MapChannel::Permeability)->values;
+        EXPECT_GT(std::count_if(v.begin(), v.end(), [](float x) { return x > 0.5f; }), 0) << "body " << b;
+    }
+    return d;
+}
+
+/// What a body edit must give back exactly: the project's JSON and every body's map pixels.
+struct DocumentState {
+    std::string project;
+    std::vector<std::optional<std::vector<float>>> maps;
+    bool operator==(const DocumentState&) const = default;
+};
+DocumentState stateOf(const Document& d) {
+    DocumentState s{projectToJson(d.project()), {}};
+    for (std::size_t b = 0; b < d.bodyCount(); ++b) {
+        const PaintedMap* map = d.map(b, MapChannel::Permeability);
+        s.maps.push_back(map ? std::optional(map->values) : std::nullopt);
+    }
+    return s;
+}
+
+TEST(EditorBodies, RemoveTakesTheBodyOutAndUndoRedoRestoreEveryBodysUnsavedPaint) {
+    // Issue 19, preview: remove bodies as one undoable step. Removing the first of two painted
+    // (unsaved) bodies leaves the second at index 0 with its own paint; undo gives both back
+    // byte for byte (project and pixels), redo removes it again the same way.
+    auto d = twoPaintedBodies("bodies_remove");
+    ASSERT_TRUE(d);
+    const DocumentState before = stateOf(*d);
+    const std::vector<float> boxPaint = *before.maps[1];
+    executeOrFail(*d, makeRemoveBodyCommand(*d, 0));
+    EXPECT_EQ(d->undoName(), "Remove ball");
+    ASSERT_EQ(d->bodyCount(), 1u);
+    EXPECT_EQ(d->project().bodies[0].name, "box");
+    ASSERT_TRUE(d->map(0, MapChannel::Permeability)) << "the box's unsaved map was lost";
+    EXPECT_TRUE(d->map(0, MapChannel::Permeability)->values == boxPaint);
+    EXPECT_EQ(d->assets(0).meshPath, test::assetPath("box.obj"));
+    const DocumentState removed = stateOf(*d);
+    d->undo();
+    EXPECT_TRUE(stateOf(*d) == before) << "undo of a remove";
+    d->redo();
+    EXPECT_TRUE(stateOf(*d) == removed) << "redo of a remove";
+    // Removing the last body: the box's paint also comes back.
+    executeOrFail(*d, makeRemoveBodyCommand(*d, 0));
+    EXPECT_EQ(d->bodyCount(), 0u);
+    d->undo();
+    EXPECT_TRUE(stateOf(*d) == removed);
+    // Bad input: a clear error naming the index.
+    auto bad = makeRemoveBodyCommand(*d, 5);
+    ASSERT_FALSE(bad.ok());
+    EXPECT_NE(bad.error().message.find("no body 5"), std::string::npos) << bad.error().message;
+}
+
+TEST(EditorBodies, DuplicatePutsAUniquelyNamedCopyBesideTheOriginal) {
+    // A copy of the ball after it, named "ball copy" (then "ball copy 2"), one mesh width and
+    // a tenth along x, with the ball's material and none of its map files (two bodies saving
+    // their edits over one file would lose one's); the box after it keeps its unsaved paint.
+    auto d = twoPaintedBodies("bodies_duplicate");
+    ASSERT_TRUE(d);
+    const DocumentState before = stateOf(*d);
+    executeOrFail(*d, makeDuplicateBodyCommand(*d, 0));
+    EXPECT_EQ(d->undoName(), "Duplicate ball");
+    ASSERT_EQ(d->bodyCount(), 3u);
+    const BodyDesc& copy = d->project().bodies[1];
+    EXPECT_EQ(copy.name, "ball copy");
+    EXPECT_EQ(copy.mesh, d->project().bodies[0].mesh);
+    EXPECT_EQ(*copy.material.density, 500.0);
+    EXPECT_TRUE(copy.permeabilityMap.empty());
+    // The unit sphere's mesh spans about 1 m along x (a faceted sphere of radius 0.5).
+    EXPECT_NEAR(copy.position.x(), 1.1, 0.02);
+    EXPECT_EQ(copy.position.y(), 0.0);
+    EXPECT_EQ(d->project().bodies[2].name, "box");
+    ASSERT_TRUE(d->map(2, MapChannel::Permeability));
+    EXPECT_TRUE(d->map(2, MapChannel::Permeability)->values == *before.maps[1]);
+    EXPECT_FALSE(d->map(1, MapChannel::Permeability));
+    const DocumentState duplicated = stateOf(*d);
+    d->undo();
+    EXPECT_TRUE(stateOf(*d) == before) << "undo of a duplicate";
+    d->redo();
+    EXPECT_TRUE(stateOf(*d) == duplicated) << "redo of a duplicate";
+    executeOrFail(*d, makeDuplicateBodyCommand(*d, 0));
+    EXPECT_EQ(d->project().bodies[1].name, "ball copy 2");
+    // Saved with the project: the reopened file has the copies.
+    ASSERT_TRUE(d->save().ok());
+    auto reopened = openOrFail(d->path());
+    ASSERT_TRUE(reopened);
+    EXPECT_EQ(projectToJson(reopened->project()), projectToJson(d->project()));
+}
+
+TEST(EditorBodies, TransformEditMovesAndRotatesTheBodyAsOneStep) {
+    // Issue 19, preview: body transforms editable in the inspector. One step sets position and
+    // rotation, named after what changed; undo and redo give each project back byte for byte;
+    // the saved project has the new place; a non-finite value is refused.
+    auto d = twoPaintedBodies("bodies_transform");
+    ASSERT_TRUE(d);
+    const DocumentState before = stateOf(*d);
+    executeOrFail(*d, makeSetBodyTransformCommand(*d, 1, Eigen::Vector3d(3, 0.25, -1), Eigen::Vector3d::Zero()));
+    EXPECT_EQ(d->undoName(), "Move box");
+    executeOrFail(*d, makeSetBodyTransformCommand(*d, 1, Eigen::Vector3d(3, 0.25, -1), Eigen::Vector3d(0, 90, 0)));
+    EXPECT_EQ(d->undoName(), "Rotate box");
+    const DocumentState after = stateOf(*d);
+    EXPECT_NEAR(d->bodyPose(1).apply(Eigen::Vector3d(1, 0, 0)).z(), -1 - 1.0, 1e-9) << "Ry(90) turns +x to -z";
+    d->undo();
+    d->undo();
+    EXPECT_TRUE(stateOf(*d) == before);
+    d->redo();
+    d->redo();
+    EXPECT_TRUE(stateOf(*d) == after);
+    ASSERT_TRUE(d->save().ok());
+    Result<Project> saved = loadProject(d->path());
+    ASSERT_TRUE(saved.ok()) << saved.error().message;
+    EXPECT_EQ(saved->bodies[1].position, Eigen::Vector3d(3, 0.25, -1));
+    EXPECT_EQ(saved->bodies[1].rotationDegrees, Eigen::Vector3d(0, 90, 0));
+    auto bad = makeSetBodyTransformCommand(*d, 1, Eigen::Vector3d(std::nan(""), 0, 0), Eigen::Vector3d::Zero());
+    ASSERT_FALSE(bad.ok());
+    EXPECT_NE(bad.error().message.find("finite"), std::string::npos);
+}
+
+/// One dab of a brush 1.2 m across at the front of the unit sphere, (0, 0, 0.5), the viewer
+/// toward +z: every texel of the sphere is within reach. Per pixel: the value painted (0..1,
+/// from a blank map toward 1 at full strength, constant falloff) and the largest z of its
+/// samples' normals (the side of the sphere it lies on).
+struct FacingCase {
+    PaintSurface surface;
+    std::vector<float> painted;
+    std::vector<float> maxNormalZ;
+    std::vector<int> samples;
+};
+FacingCase paintFacing(const Brush& settings) {
+    FacingCase out;
+    Result<TriangleMesh> sphere = loadMesh(test::assetPath("sphere.obj"));
+    EXPECT_TRUE(sphere.ok());
+    Result<PaintSurface> surface = buildPaintSurface(*sphere, 64, 64);
+    EXPECT_TRUE(surface.ok()) << surface.error().message;
+    out.surface = *surface;
+    EXPECT_EQ(out.surface.normal.size(), out.surface.sampleCount());
+    PaintedMap blank;
+    blank.width = blank.height = 64;
+    blank.values.assign(64 * 64, 0.0f);
+    Brush brush = settings;
+    brush.radius = 1.2;
+    brush.falloff = Falloff::Constant;
+    brush.value = 1.0;
+    brush.alphaAxis = Eigen::Vector3d::UnitZ();
+    const std::vector<Eigen::Vector3d> dab{Eigen::Vector3d(0, 0, 0.5)};
+    const PixelChange change = strokeChange(blank, out.surface, brush, dab);
+    out.painted = blank.values;
+    for (std::size_t k = 0; k < change.pixels.size(); ++k) out.painted[change.pixels[k]] = change.after[k];
+    out.maxNormalZ.assign(64 * 64, -2.0f);
+    out.samples.assign(64 * 64, 0);
+    for (std::size_t i = 0; i < out.surface.sampleCount(); ++i) {
+        float& z = out.maxNormalZ[out.surface.pixel[i]];
+        z = std::max(z, out.surface.normal[i].z());
+        ++out.samples[out.surface.pixel[i]];
+        EXPECT_NEAR(out.surface.normal[i].norm(), 1.0f, 1e-4f) << "sample " << i;
+    }
+    return out;
+}
+
+TEST(EditorPaint, FrontFacesOnlyLeavesTheFarSideOfTheBodyUnpainted) {
+    // Issue 19, brushes: backface culling. A dab that reaches the whole sphere paints all of
+    // it without the option, and with it only the texels facing the viewer (+z): the far
+    // hemisphere stays blank. With Z mirror on, the mirrored dab on the far side faces a
+    // mirrored viewer and paints that side too.
+    Brush brush;
+    const FacingCase all = paintFacing(brush);
+    brush.frontFacesOnly = true;
+    const FacingCase front = paintFacing(brush);
+    int facing = 0, away = 0;
+    for (std::size_t p = 0; p < front.painted.size(); ++p) {
+        if (front.samples[p] == 0) continue;
+        EXPECT_EQ(all.painted[p], 1.0f) << "pixel " << p << " out of reach without culling";
+        if (front.maxNormalZ[p] > 0.01f) {
+            ++facing;
+            EXPECT_EQ(front.painted[p], 1.0f) << "pixel " << p << " faces the viewer";
+        } else if (front.maxNormalZ[p] < -0.01f) {
+            ++away;
+            EXPECT_EQ(front.painted[p], 0.0f) << "pixel " << p << " faces away (normal z " << front.maxNormalZ[p] << ")";
+        }
+    }
+    EXPECT_GT(facing, 500);
+    EXPECT_GT(away, 500);
+    brush.mirrorZ = true;
+    const FacingCase mirrored = paintFacing(brush);
+    for (std::size_t p = 0; p < mirrored.painted.size(); ++p) {
+        if (mirrored.samples[p] > 0 && std::abs(mirrored.maxNormalZ[p]) > 0.01f) {
+            EXPECT_EQ(mirrored.painted[p], 1.0f) << "pixel " << p;
+        }
+    }
+}
+
+TEST(EditorPaint, NormalFalloffFadesTexelsTurnedFromTheView) {
+    // Blender's normal falloff at 60 degrees: texels within 30 degrees of the view direction
+    // take the full weight, beyond 60 none, linearly between (45 degrees: half). Checked per
+    // single-sample pixel against the angle of its own normal; at 180 the option is off.
+    Brush brush;
+    brush.normalAngle = 60.0;
+    const FacingCase c = paintFacing(brush);
+    int full = 0, partial = 0, none = 0;
+    for (std::size_t p = 0; p < c.painted.size(); ++p) {
+        if (c.samples[p] != 1) continue;
+        const double angle = std::acos(std::clamp<double>(c.maxNormalZ[p], -1, 1)) * 180 / std::numbers::pi;
+        const double expected = angle <= 30 ? 1.0 : angle >= 60 ? 0.0 : (60 - angle) / 30;
+        EXPECT_NEAR(c.painted[p], expected, 1e-5) << "pixel " << p << " at " << angle << " degrees";
+        full += expected == 1.0;
+        none += expected == 0.0;
+        partial += expected > 0 && expected < 1;
+    }
+    EXPECT_GT(full, 50);
+    EXPECT_GT(partial, 50);
+    EXPECT_GT(none, 500);
+    EXPECT_DOUBLE_EQ(facingWeight(Brush{}, Eigen::Vector3d(0, 0, -1), Eigen::Vector3d::UnitZ()), 1.0);
+    brush.normalAngle = 60.0;
+    EXPECT_NEAR(facingWeight(brush, Eigen::Vector3d(std::sin(0.25 * std::numbers::pi), 0,
+                                                    std::cos(0.25 * std::numbers::pi)),
+                             Eigen::Vector3d::UnitZ()),
+                0.5, 1e-12);
+}
+
+TEST(EditorPaint, OcclusionLeavesTexelsHiddenBehindOtherSurfaceUnpainted) {
+    // Issue 19, brushes: occlusion. Two plates face the viewer (+z): A at z = 0 over
+    // x in [-0.5, 0.5], B 0.5 m behind it over x in [0, 1] (u: A left half, B right half). A dab
+    // of radius 0.4 at (0.5, 0, -0.25) reaches both. Without occlusion it paints B also where A
+    // hides it (x < 0.5); with it, B only where it shows (x > 0.5), and A as before.
+    TriangleMesh plates;
+    plates.source = "two plates";
+    auto quad = [&](double x0, double x1, double z, double u0, double u1) {
+        const auto first = static_cast<std::uint32_t>(plates.positions.size());
+        for (auto [x, y, u, v] : {std::array{x0, -0.5, u0, 0.0}, std::array{x1, -0.5, u1, 0.0},
+                                  std::array{x1, 0.5, u1, 1.0}, std::array{x0, 0.5, u0, 1.0}}) {
+            plates.positions.emplace_back(x, y, z);
+            plates.uvs.emplace_back(u, v);
+        }
+        plates.triangles.push_back({first, first + 1, first + 2});
+        plates.triangles.push_back({first, first + 2, first + 3});
+    };
+    quad(-0.5, 0.5, 0.0, 0.0, 0.5);
+    quad(0.0, 1.0, -0.5, 0.5, 1.0);
+    Result<PaintSurface> surface = buildPaintSurface(plates, 64, 64);
+    ASSERT_TRUE(surface.ok()) << surface.error().message;
+    PaintedMap blank;
+    blank.width = blank.height = 64;
+    blank.values.assign(64 * 64, 0.0f);
+    Brush brush;
+    brush.radius = 0.4;
+    brush.falloff = Falloff::Constant;
+    brush.alphaAxis = Eigen::Vector3d::UnitZ();
+    const Eigen::Vector3d centre(0.5, 0, -0.25);
+    const std::vector<Eigen::Vector3d> dab{centre};
+    auto paint = [&] {
+        std::vector<float> values = blank.values;
+        const PixelChange change = strokeChange(blank, *surface, brush, dab);
+        for (std::size_t k = 0; k < change.pixels.size(); ++k) values[change.pixels[k]] = change.after[k];
+        return values;
+    };
+    const std::vector<float> open = paint();
+    brush.occlusion = true;
+    const std::vector<float> occluded = paint();
+    int hiddenB = 0, shownB = 0, onA = 0;
+    for (std::size_t i = 0; i < surface->sampleCount(); ++i) {
+        const Eigen::Vector3d p = surface->position[i].cast<double>();
+        if ((p - centre).norm() > 0.37) continue;  // clearly inside the dab
+        const std::uint32_t px = surface->pixel[i];
+        if (p.z() > -0.25) {
+            ++onA;
+            EXPECT_EQ(occluded[px], 1.0f) << "A at x " << p.x();
+        } else if (p.x() < 0.45) {
+            ++hiddenB;
+            EXPECT_EQ(open[px], 1.0f) << "B at x " << p.x() << " without occlusion";
+            EXPECT_EQ(occluded[px], 0.0f) << "B at x " << p.x() << " is behind A";
+        } else if (p.x() > 0.55) {
+            ++shownB;
+            EXPECT_EQ(occluded[px], 1.0f) << "B at x " << p.x() << " shows beside A";
+        }
+    }
+    EXPECT_GT(onA, 20);
+    EXPECT_GT(hiddenB, 20);
+    EXPECT_GT(shownB, 20);
 }
 
 }  // namespace
