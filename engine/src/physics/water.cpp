@@ -30,23 +30,35 @@ WaveTerms termsOf(const GerstnerWave& w, double gravity, std::size_t count) {
     return t;
 }
 
+/// One value per wave without allocating for up to kMaxGerstnerWaves waves (a query's tables).
+template <class T>
+class PerWave {
+public:
+    explicit PerWave(std::size_t count) : count_(count) {
+        if (count_ > kMaxGerstnerWaves) spill_.resize(count_);  // more waves than the kernels take
+    }
+    T* data() { return count_ > kMaxGerstnerWaves ? spill_.data() : inline_; }
+    const T* data() const { return count_ > kMaxGerstnerWaves ? spill_.data() : inline_; }
+    std::size_t size() const { return count_; }
+
+private:
+    std::size_t count_;
+    T inline_[kMaxGerstnerWaves];
+    std::vector<T> spill_;
+};
+
 /// Every wave's constants (termsOf), worked out once per query rather than once per wave and
 /// fixed-point step: the same values, so the same heights.
 class WaveTable {
 public:
-    explicit WaveTable(const WaterModel& water) : count_(water.waves.size()) {
-        if (count_ > kMaxGerstnerWaves) spill_.resize(count_);
-        WaveTerms* t = data();
-        for (std::size_t i = 0; i < count_; ++i) t[i] = termsOf(water.waves[i], water.gravity, count_);
+    explicit WaveTable(const WaterModel& water) : terms_(water.waves.size()) {
+        for (std::size_t i = 0; i < terms_.size(); ++i)
+            terms_.data()[i] = termsOf(water.waves[i], water.gravity, terms_.size());
     }
-    const WaveTerms& operator[](std::size_t i) const { return data()[i]; }
+    const WaveTerms& operator[](std::size_t i) const { return terms_.data()[i]; }
 
 private:
-    WaveTerms* data() { return count_ > kMaxGerstnerWaves ? spill_.data() : inline_; }
-    const WaveTerms* data() const { return count_ > kMaxGerstnerWaves ? spill_.data() : inline_; }
-    std::size_t count_;
-    WaveTerms inline_[kMaxGerstnerWaves];
-    std::vector<WaveTerms> spill_;  // more waves than the kernels take (validated elsewhere)
+    PerWave<WaveTerms> terms_;
 };
 
 /// The undisplaced horizontal position whose Gerstner surface point lies above (x, z): three
@@ -132,25 +144,20 @@ namespace {
 /// up to kMaxGerstnerWaves waves.
 class BatchWaves {
 public:
-    BatchWaves(const WaterModel& water, double time) : count_(water.waves.size()) {
-        if (count_ > kMaxGerstnerWaves) spill_.resize(count_);
+    BatchWaves(const WaterModel& water, double time) : waves_(water.waves.size()) {
         const WaveTable terms(water);
-        for (std::size_t i = 0; i < count_; ++i) {
+        for (std::size_t i = 0; i < waves_.size(); ++i) {
             const WaveTerms& t = terms[i];
             const GerstnerWave& w = water.waves[i];
             // phase - omega t to [-pi, pi] in double: the single-precision sines see small angles.
             const double phase0 = std::remainder(w.phase - t.omega * time, 2.0 * std::numbers::pi);
-            data()[i] = {w.amplitude, t.k, t.omega, t.q * w.amplitude, t.direction.x(), t.direction.y(), phase0};
+            waves_.data()[i] = {w.amplitude, t.k, t.omega, t.q * w.amplitude, t.direction.x(), t.direction.y(), phase0};
         }
     }
-    detail::GerstnerBatch batch(double level) const { return {data(), count_, level}; }
+    detail::GerstnerBatch batch(double level) const { return {waves_.data(), waves_.size(), level}; }
 
 private:
-    detail::GerstnerBatchWave* data() { return count_ > kMaxGerstnerWaves ? spill_.data() : inline_; }
-    const detail::GerstnerBatchWave* data() const { return count_ > kMaxGerstnerWaves ? spill_.data() : inline_; }
-    std::size_t count_;
-    detail::GerstnerBatchWave inline_[kMaxGerstnerWaves];
-    std::vector<detail::GerstnerBatchWave> spill_;
+    PerWave<detail::GerstnerBatchWave> waves_;
 };
 
 }  // namespace

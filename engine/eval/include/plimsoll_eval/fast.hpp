@@ -190,8 +190,9 @@ inline FastMoments shifted(const FastMoments& m, const Vec3& p) {
 
 /// Closed-form work summed over many nodes before it is evaluated once: their moments about
 /// the body's centre c add up, and a polynomial in q evaluated on the sum is the sum of its
-/// values. Hydrostatics under one water plane (flat water) and the drag of the nodes that
-/// share one water velocity (a slot) are each one such bucket.
+/// values. This one holds the drag of the nodes that share one water velocity (a slot); the
+/// hydrostatics under a flat plane are FastScratch::flatHydrostatics, those of a wave stencil
+/// a FastStencilBucket.
 struct FastBucket {
     FastMoments moments;
     std::int32_t slot = -1;
@@ -204,6 +205,14 @@ struct FastStencil {
     double frobenius = 0;  ///< |H|_F
 };
 
+/// Waves: the submerged nodes of one grid node's stencil (they share its quadratic), with the
+/// sum of their centres' heights weighed by their entries, for the point they are expanded about.
+struct FastStencilBucket {
+    FastMoments moments;
+    int node = 0;               ///< j * G + i
+    double heightSum = 0, entries = 0;
+};
+
 struct FastScratch {
     std::vector<double> x, z, h;
     std::vector<FastStencil> stencilQuadratics;  ///< per grid node (inner nodes only)
@@ -213,8 +222,7 @@ struct FastScratch {
     std::vector<FastDeferredDrag> drags;
     std::vector<double> px, py, pz, velocity;  ///< the velocity batch: points, then 3 per point
     FastMoments flatHydrostatics;              ///< flat water: every submerged node's moments
-    std::vector<FastBucket> stencils;          ///< waves: submerged nodes' moments per grid node (slot)
-    std::vector<double> stencilHeight, stencilWeight;  ///< their centres' mean height, weighed by entries
+    std::vector<FastStencilBucket> stencils;   ///< waves: submerged nodes' moments per grid node
     std::vector<std::int32_t> stencilBucket;   ///< index into stencils by grid node; -1: none
     std::vector<FastBucket> dragBuckets;       ///< one per velocity slot in use
     std::vector<std::int32_t> bucketOfSlot;    ///< index into dragBuckets by slot + 1; -1: none
@@ -864,13 +872,12 @@ inline Sums FastBody::evaluate(const BodyState& s, const WaterSurface& water, co
             std::int32_t& bucket = scratch.stencilBucket[static_cast<std::size_t>(stencil)];
             if (bucket < 0) {
                 bucket = static_cast<std::int32_t>(scratch.stencils.size());
-                scratch.stencils.push_back({FastMoments{}, stencil});
-                scratch.stencilHeight.push_back(0.0);
-                scratch.stencilWeight.push_back(0.0);
+                scratch.stencils.push_back({FastMoments{}, stencil, 0.0, 0.0});
             }
-            scratch.stencils[static_cast<std::size_t>(bucket)].moments.add(centerMoments_[index]);
-            scratch.stencilHeight[static_cast<std::size_t>(bucket)] += t.count * rc.y;
-            scratch.stencilWeight[static_cast<std::size_t>(bucket)] += t.count;
+            FastStencilBucket& into = scratch.stencils[static_cast<std::size_t>(bucket)];
+            into.moments.add(centerMoments_[index]);
+            into.heightSum += t.count * rc.y;
+            into.entries += t.count;
         } else {
             scratch.flatHydrostatics.add(centerMoments_[index], 2);
         }
@@ -886,21 +893,19 @@ inline Sums FastBody::evaluate(const BodyState& s, const WaterSurface& water, co
     scratch.pz.clear();
     scratch.flatHydrostatics = FastMoments{};
     scratch.stencils.clear();
-    scratch.stencilHeight.clear();
-    scratch.stencilWeight.clear();
     if (waves) scratch.stencilBucket.assign(static_cast<std::size_t>(G) * G, -1);
     for (std::uint32_t g = 0; g < roots_; ++g) visit(nodes_[g], -1, visit);
     // Waves: each stencil's bucket about the point above its grid node (at the mean height of
     // its nodes' centres, where the moments are smallest), under the stencil's quadratic.
-    for (std::size_t b = 0; b < scratch.stencils.size(); ++b) {
-        const int node = scratch.stencils[b].slot;
+    for (const FastStencilBucket& bucket : scratch.stencils) {
+        const int node = bucket.node;
         const int i = node % G, j = node / G;
         const FastStencil& q = scratch.stencilQuadratics[static_cast<std::size_t>(node)];
         const TileWater w{q.f, q.gx, q.gz, q.hxx, q.hxz, q.hzz, Vec3{}};  // about the node itself
-        const Vec3 rp{x0 + i * h - s.center.x, scratch.stencilHeight[b] / scratch.stencilWeight[b],
+        const Vec3 rp{x0 + i * h - s.center.x, bucket.heightSum / bucket.entries,
                       z0 + j * h - s.center.z};
         const Vec3 p = transposeTimes(R, rp);
-        hydrostaticsFromMoments(shifted(scratch.stencils[b].moments, p), p, rp, w, R, k, sum);
+        hydrostaticsFromMoments(shifted(bucket.moments, p), p, rp, w, R, k, sum);
     }
     if (!waves && !scratch.drags.empty()) {
         TileWater flat;
