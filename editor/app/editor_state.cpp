@@ -194,40 +194,30 @@ void EditorState::setView(ViewPreset view) {
 }
 
 std::optional<EditorState::SurfacePick> EditorState::pickSurface(float x, float y) const {
-    const auto hit = pick(x, y);
+    const auto hit = pickHit(x, y);
     if (!hit) return std::nullopt;
-    const auto& mesh = document->assets(hit->first).mesh;
-    if (!mesh) return std::nullopt;
-    // The hit triangle again (pick keeps the point only): the one nearest the point.
-    Eigen::Vector3d normal = Eigen::Vector3d::UnitY();
-    double best = 1e300;
-    for (const Triangle& t : mesh->triangles) {
-        const Eigen::Vector3d& a = mesh->positions[t[0]];
-        const Eigen::Vector3d& b = mesh->positions[t[1]];
-        const Eigen::Vector3d& c = mesh->positions[t[2]];
-        const Eigen::Vector3d n = (b - a).cross(c - a);
-        if (n.norm() <= 0) continue;
-        const Eigen::Vector3d unit = n.normalized();
-        // Distance from the plane, plus how far outside the triangle's bounding sphere.
-        const Eigen::Vector3d centre = (a + b + c) / 3.0;
-        const double reach = std::max({(a - centre).norm(), (b - centre).norm(), (c - centre).norm()});
-        const double d = std::abs((hit->second - a).dot(unit)) +
-                         std::max(0.0, (hit->second - centre).norm() - reach);
-        if (d < best) {
-            best = d;
-            normal = unit;
-        }
-    }
+    const TriangleMesh& mesh = *document->assets(hit->first).mesh;
+    // The hit triangle's outward normal (the ray cast names the triangle it hit).
+    const Triangle& t = mesh.triangles[hit->second.triangle];
+    const Eigen::Vector3d n =
+        (mesh.positions[t[1]] - mesh.positions[t[0]]).cross(mesh.positions[t[2]] - mesh.positions[t[0]]);
+    const Eigen::Vector3d normal = n.norm() > 0 ? Eigen::Vector3d(n.normalized()) : Eigen::Vector3d::UnitY();
     const Pose pose = document->bodyPose(hit->first);
-    return SurfacePick{hit->first, pose.apply(hit->second), pose.rotation * normal};
+    return SurfacePick{hit->first, pose.apply(hit->second.point), pose.rotation * normal};
 }
 
 std::optional<std::pair<std::size_t, Eigen::Vector3d>> EditorState::pick(float x, float y) const {
+    const auto hit = pickHit(x, y);
+    if (!hit) return std::nullopt;
+    return std::make_pair(hit->first, hit->second.point);
+}
+
+std::optional<std::pair<std::size_t, SurfaceHit>> EditorState::pickHit(float x, float y) const {
     if (viewport.w < 1 || viewport.h < 1) return std::nullopt;
     Eigen::Vector3d origin, direction;
     camera.rayThrough(x - viewport.x, y - viewport.y, static_cast<int>(viewport.w),
                       static_cast<int>(viewport.h), origin, direction);
-    std::optional<std::pair<std::size_t, Eigen::Vector3d>> best;
+    std::optional<std::pair<std::size_t, SurfaceHit>> best;
     double bestDistance = 1e300;
     for (std::size_t b = 0; b < document->bodyCount(); ++b) {
         const auto& mesh = document->assets(b).mesh;
@@ -238,7 +228,7 @@ std::optional<std::pair<std::size_t, Eigen::Vector3d>> EditorState::pick(float x
         const Eigen::Vector3d d = pose.rotation.transpose() * direction;
         if (auto hit = raycast(*mesh, o, d); hit && hit->distance < bestDistance) {
             bestDistance = hit->distance;
-            best = std::make_pair(b, hit->point);
+            best = std::make_pair(b, *hit);
         }
     }
     return best;

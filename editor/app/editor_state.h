@@ -172,6 +172,12 @@ struct EditorState {
         Eigen::Vector3d normal;   ///< world, unit
     };
     std::optional<SurfacePick> pickSurface(float x, float y) const;
+
+private:
+    /// The body and the ray's hit (object space, with its triangle) under (x, y).
+    std::optional<std::pair<std::size_t, SurfaceHit>> pickHit(float x, float y) const;
+
+public:
 };
 
 }  // namespace plimsoll::editor
