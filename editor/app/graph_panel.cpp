@@ -252,6 +252,58 @@ void nodeInspector(EditorState& s, const GraphNode& n) {
     }
 }
 
+/// Several nodes selected: the fields they can share (capacity, water, sealed, box size), set
+/// on all of them as one step. Each field shows the first node's value and says when the
+/// selection differs in it.
+void nodesInspector(EditorState& s, const WaterGraph& g, const std::set<std::string>& selected) {
+    GraphUi& ui = uiOf(s);
+    std::vector<std::string> ids;
+    std::vector<const GraphNode*> nodes;
+    for (const std::string& id : selected) {
+        if (const int i = g.indexOf(id); i >= 0) {
+            ids.push_back(id);
+            nodes.push_back(&g.nodes[static_cast<std::size_t>(i)]);
+        }
+    }
+    if (nodes.empty()) return;
+    ImGui::Text("%zu nodes selected", ids.size());
+    std::string key;
+    for (const std::string& id : ids) key += id + '\n';
+    GraphNode& shown = ui.nodeShown;
+    if (ui.nodeEditingFor != key || !ImGui::IsAnyItemActive()) {
+        ui.nodeEditingFor = key;
+        shown = *nodes.front();
+    }
+    auto mixed = [&](auto field) {
+        const bool differ = std::any_of(nodes.begin(), nodes.end(), [&](const GraphNode* n) {
+            return field(*n) != field(*nodes.front());
+        });
+        if (differ) {
+            ImGui::SameLine();
+            ImGui::TextDisabled("(mixed)");
+        }
+    };
+    NodeEdit e;
+    if (inputDouble("capacity m^3", shown.capacity)) e.capacity = shown.capacity;
+    tooltip("Set every selected compartment's capacity, cubic metres.");
+    mixed([](const GraphNode& n) { return n.capacity; });
+    if (inputDouble("water m^3", shown.water)) e.water = shown.water;
+    tooltip("Set the water every selected compartment starts with, cubic metres.");
+    mixed([](const GraphNode& n) { return n.water; });
+    if (ImGui::Checkbox("sealed", &shown.sealed)) e.sealed = shown.sealed;
+    tooltip("Seal (or open) every selected compartment to the hull.");
+    mixed([](const GraphNode& n) { return n.sealed; });
+    if (shown.isBox()) {
+        ImGui::DragScalarN("box size m", ImGuiDataType_Double, shown.boxSize.data(), 3, 0.01f);
+        tooltip("Give every selected compartment this box, metres along the body's x, y and z.");
+        if (ImGui::IsItemDeactivatedAfterEdit()) e.boxSize = shown.boxSize;
+        mixed([](const GraphNode& n) { return n.boxSize; });
+    }
+    if (e.capacity || e.water || e.sealed || e.boxSize) {
+        s.execute(makeSetNodesCommand(*s.document, bodyOf(s), ids, e));
+    }
+}
+
 void pipeInspector(EditorState& s, const WaterGraph& g, const GraphPipe& p) {
     ImGui::Text("Pipe %s - %s", p.a.c_str(), p.b.c_str());
     GraphPipe& shown = uiOf(s).pipeShown;
@@ -533,6 +585,8 @@ void drawGraphPanel(EditorState& s) {
     }
     if (ui.selected.size() == 1) {
         nodeInspector(s, g->nodes[g->indexOf(*ui.selected.begin())]);
+    } else if (ui.selected.size() > 1) {
+        nodesInspector(s, *g, ui.selected);
     } else if (ui.selectedPipe) {
         pipeInspector(s, *g, g->pipes[findPipe(*g, ui.selectedPipe->first, ui.selectedPipe->second)]);
     }

@@ -91,8 +91,10 @@ void PaintCommand::revert(Document& document) {
     }
 }
 
-ProjectCommand::ProjectCommand(std::string name, Project before, Project after)
-    : name_(std::move(name)), before_(std::move(before)), after_(std::move(after)) {}
+ProjectCommand::ProjectCommand(std::string name, Project before, Project after,
+                               DetachedAssets detached)
+    : name_(std::move(name)), before_(std::move(before)), after_(std::move(after)),
+      detached_(std::move(detached)) {}
 
 Status ProjectCommand::apply(Document& document) {
     document.setProject(after_, detached_);
@@ -572,11 +574,61 @@ Result<std::unique_ptr<Command>> makeDuplicateBodyCommand(const Document& docume
         if (hi > lo) width = hi - lo;
     }
     copy.position.x() += 1.1 * width;
-    for (MapChannel c : kMapChannels) channelPath(copy, c).clear();
-    copy.waterGraph.reset();
+    // The copy's maps and graph: the original's as edited (unsaved paint included), under
+    // files of the copy's own (two bodies saving their edits over one file would lose one's),
+    // written at the next save. A map or graph that failed to load has nothing to copy.
+    std::set<fs::path> used;
+    for (const BodyDesc& b : project.bodies) {
+        for (MapChannel c : kMapChannels) {
+            if (!channelPath(b, c).empty()) used.insert(project.resolvePath(channelPath(b, c)));
+        }
+        if (b.waterGraph) used.insert(project.resolvePath(b.waterGraph->graph));
+    }
+    auto freePath = [&](const std::string& wanted) {
+        const fs::path w(wanted);
+        std::string path = wanted;
+        for (int k = 2;; ++k) {
+            std::error_code ec;
+            const fs::path resolved = project.resolvePath(path);
+            if (!used.count(resolved) && !fs::exists(resolved, ec)) {
+                used.insert(resolved);
+                return path;
+            }
+            const std::string name = w.filename().string();
+            const auto dot = name.find('.');
+            path = (w.parent_path() / (name.substr(0, dot) + "_" + std::to_string(k) +
+                                       (dot == std::string::npos ? "" : name.substr(dot))))
+                       .generic_string();
+        }
+    };
+    DetachedAssets copies;
+    const BodyAssets& source = document.assets(body);
+    for (MapChannel c : kMapChannels) {
+        std::string& path = channelPath(copy, c);
+        const BodyAssets::Map& original = source.maps[static_cast<int>(c)];
+        if (path.empty()) continue;
+        if (!original.image) {
+            path.clear();
+            continue;
+        }
+        path = freePath(document.defaultMapPath(copy.name, c));
+        BodyAssets::Map map = original;
+        map.path = project.resolvePath(path);
+        map.dirty = true;
+        copies.maps[map.path] = std::move(map);
+    }
+    if (copy.waterGraph) {
+        if (const WaterGraph* graph = document.graph(body)) {
+            copy.waterGraph->graph = freePath(document.defaultGraphPath(copy.name));
+            copies.graphs[project.resolvePath(copy.waterGraph->graph)] = *graph;
+        } else {
+            copy.waterGraph.reset();
+        }
+    }
     project.bodies.insert(project.bodies.begin() + static_cast<std::ptrdiff_t>(body) + 1, copy);
     return std::unique_ptr<Command>(std::make_unique<ProjectCommand>(
-        "Duplicate " + bodyLabel(project.bodies[body], body), document.project(), std::move(project)));
+        "Duplicate " + bodyLabel(project.bodies[body], body), document.project(), std::move(project),
+        std::move(copies)));
 }
 
 Result<std::unique_ptr<Command>> makeRemoveBodyCommand(const Document& document, std::size_t body) {

@@ -50,7 +50,9 @@ private:
 /// after. Assets follow the paths (document.h, setProject).
 class ProjectCommand final : public Command {
 public:
-    ProjectCommand(std::string name, Project before, Project after);
+    /// `detached`: maps and graphs the new project's paths name that are in no file yet (a
+    /// duplicated body's copies); the first apply installs them.
+    ProjectCommand(std::string name, Project before, Project after, DetachedAssets detached = {});
     std::string name() const override { return name_; }
     Status apply(Document& document) override;
     void revert(Document& document) override;

@@ -244,10 +244,13 @@ void Document::setGraph(std::size_t body, std::optional<WaterGraph> graph) {
 }
 
 std::string Document::assetFileStem(std::size_t body) const {
+    std::string bodyName = body < project_.bodies.size() ? project_.bodies[body].name : "";
+    return assetFileStem(bodyName.empty() ? "body" + std::to_string(body) : bodyName);
+}
+
+std::string Document::assetFileStem(std::string bodyName) const {
     std::string stem = path_.empty() ? "untitled" : path_.filename().string();
     if (const auto dot = stem.find('.'); dot != std::string::npos) stem.resize(dot);
-    std::string bodyName = body < project_.bodies.size() ? project_.bodies[body].name : "";
-    if (bodyName.empty()) bodyName = "body" + std::to_string(body);
     for (char& ch : bodyName) {
         if (!std::isalnum(static_cast<unsigned char>(ch)) && ch != '-') ch = '_';
     }
@@ -256,6 +259,10 @@ std::string Document::assetFileStem(std::size_t body) const {
 
 std::string Document::defaultGraphPath(std::size_t body) const {
     return assetFileStem(body) + ".graph.json";
+}
+
+std::string Document::defaultGraphPath(const std::string& bodyName) const {
+    return assetFileStem(bodyName) + ".graph.json";
 }
 
 PaintedMap* Document::map(std::size_t body, MapChannel channel) {
@@ -405,6 +412,10 @@ bool Document::adoptPhysics(std::size_t body, const TriangleMesh* mesh, const Ba
 
 std::string Document::defaultMapPath(std::size_t body, MapChannel channel) const {
     return "maps/" + assetFileStem(body) + "_" + channelName(channel) + ".png";
+}
+
+std::string Document::defaultMapPath(const std::string& bodyName, MapChannel channel) const {
+    return "maps/" + assetFileStem(bodyName) + "_" + channelName(channel) + ".png";
 }
 
 // --- history ------------------------------------------------------------------------------------

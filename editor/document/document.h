@@ -195,6 +195,8 @@ public:
     void setGraph(std::size_t body, std::optional<WaterGraph> graph);
     /// Where a new graph for `body` goes: "<project>_<body>.graph.json" beside the project.
     std::string defaultGraphPath(std::size_t body) const;
+    /// The same for a body named `bodyName` (one not in the project yet: a duplicate).
+    std::string defaultGraphPath(const std::string& bodyName) const;
     /// The paint surface for the body's current map of `channel` (built and cached).
     Result<std::shared_ptr<const PaintSurface>> paintSurface(std::size_t body, MapChannel channel);
     /// Bounds of every loaded body at its starting pose, world, m.
@@ -214,9 +216,11 @@ public:
                       std::shared_ptr<const SurfaceTextures> textures);
     /// Where a new map of `channel` for `body` goes: "maps/<project>_<body>_<channel>.png".
     std::string defaultMapPath(std::size_t body, MapChannel channel) const;
+    std::string defaultMapPath(const std::string& bodyName, MapChannel channel) const;
     /// "<project stem>_<body name>" with characters unsafe in file names replaced: the
     /// stem of the files the document creates for a body (maps, water graph).
     std::string assetFileStem(std::size_t body) const;
+    std::string assetFileStem(std::string bodyName) const;
 
 private:
     std::uint64_t stateId() const { return done_.empty() ? 0 : done_.back().id; }

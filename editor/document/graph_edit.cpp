@@ -216,19 +216,32 @@ Result<std::unique_ptr<Command>> makeMoveNodesCommand(const Document& document, 
 
 Result<std::unique_ptr<Command>> makeSetNodeCommand(const Document& document, std::size_t body,
                                                     const std::string& id, const NodeEdit& edit) {
+    return makeSetNodesCommand(document, body, {id}, edit);
+}
+
+Result<std::unique_ptr<Command>> makeSetNodesCommand(const Document& document, std::size_t body,
+                                                     const std::vector<std::string>& ids,
+                                                     const NodeEdit& edit) {
+    if (ids.size() > 1 && (edit.name || edit.position)) {
+        return makeError(ErrorKind::invalidArgument,
+                         "a name or a position is given to one node at a time (" +
+                             std::to_string(ids.size()) + " selected)");
+    }
     Result<WaterGraph> graph = currentGraph(document, body);
     if (!graph) return graph.error();
-    const int index = graph->indexOf(id);
-    if (index < 0) return makeError(ErrorKind::invalidArgument, "no node \"" + id + "\"");
-    GraphNode& n = graph->nodes[index];
-    if (edit.name) n.name = *edit.name;
-    if (edit.position) n.position = *edit.position;
-    if (edit.capacity) n.capacity = *edit.capacity;
-    if (edit.water) n.water = *edit.water;
-    if (edit.sealed) n.sealed = *edit.sealed;
-    if (edit.boxSize) n.boxSize = *edit.boxSize;
-    if (Status s = checkNode(n); !s) return s.error();
-    return edited(document, body, "Edit node " + id, std::move(graph).value());
+    if (Status s = checkIds(*graph, ids); !s) return s.error();
+    for (const std::string& id : ids) {
+        GraphNode& n = graph->nodes[graph->indexOf(id)];
+        if (edit.name) n.name = *edit.name;
+        if (edit.position) n.position = *edit.position;
+        if (edit.capacity) n.capacity = *edit.capacity;
+        if (edit.water) n.water = *edit.water;
+        if (edit.sealed) n.sealed = *edit.sealed;
+        if (edit.boxSize) n.boxSize = *edit.boxSize;
+        if (Status s = checkNode(n); !s) return s.error();
+    }
+    const std::string name = ids.size() == 1 ? "Edit node " + ids[0] : "Edit " + plural(ids.size(), "node");
+    return edited(document, body, name, std::move(graph).value());
 }
 
 Result<std::unique_ptr<Command>> makeAddPipeCommand(const Document& document, std::size_t body,

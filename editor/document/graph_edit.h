@@ -82,6 +82,12 @@ Result<std::unique_ptr<Command>> makeMoveNodesCommand(const Document& document, 
                                                       const Eigen::Vector3d& offset);
 Result<std::unique_ptr<Command>> makeSetNodeCommand(const Document& document, std::size_t body,
                                                     const std::string& id, const NodeEdit& edit);
+/// The same fields set on several nodes as one step ("Edit 3 nodes"): capacity, water, sealed,
+/// box size (a name or a position goes to one node at a time). Every node is checked as one
+/// node's edit is; any failure leaves the graph as it was.
+Result<std::unique_ptr<Command>> makeSetNodesCommand(const Document& document, std::size_t body,
+                                                     const std::vector<std::string>& ids,
+                                                     const NodeEdit& edit);
 /// Connects two different existing nodes not yet connected (radius > 0, length >= 0).
 Result<std::unique_ptr<Command>> makeAddPipeCommand(const Document& document, std::size_t body,
                                                     GraphPipe pipe);

@@ -198,7 +198,7 @@ std::optional<Result<std::unique_ptr<Command>>> graphCommand(Document& document,
     if (op == "graph_delete") return makeDeleteNodesCommand(document, body, nodeIds(c));
     if (op == "graph_move") return makeMoveNodesCommand(document, body, nodeIds(c), vec3(c.at("offset")));
     if (op == "graph_set_node") {
-        return makeSetNodeCommand(document, body, c.at("node").get<std::string>(), readNodeEdit(c));
+        return makeSetNodesCommand(document, body, nodeIds(c), readNodeEdit(c));
     }
     if (op == "graph_connect") {
         GraphPipe p;

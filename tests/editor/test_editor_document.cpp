@@ -7,6 +7,7 @@
 
 #include "document/command.h"
 #include "document/document.h"
+#include "document/graph_edit.h"
 #include "document/overlay.h"
 #include "document/paint.h"
 #include "document/panel_layout.h"
@@ -1063,38 +1064,78 @@ TEST(EditorBodies, RemoveTakesTheBodyOutAndUndoRedoRestoreEveryBodysUnsavedPaint
 
 TEST(EditorBodies, DuplicatePutsAUniquelyNamedCopyBesideTheOriginal) {
     // A copy of the ball after it, named "ball copy" (then "ball copy 2"), one mesh width and
-    // a tenth along x, with the ball's material and none of its map files (two bodies saving
-    // their edits over one file would lose one's); the box after it keeps its unsaved paint.
+    // a tenth along x, with the ball's material, its unsaved paint and its water graph under
+    // files of its own (two bodies saving their edits over one file would lose one's); the
+    // box after it keeps its unsaved paint.
     auto d = twoPaintedBodies("bodies_duplicate");
     ASSERT_TRUE(d);
+    executeOrFail(*d, makeCreateGraphCommand(*d, 0, ""));
+    GraphNode hold;
+    hold.id = "hold";
+    hold.position = Eigen::Vector3d(0, -0.2, 0);
+    hold.capacity = 0.05;
+    executeOrFail(*d, makeAddNodeCommand(*d, 0, hold));
     const DocumentState before = stateOf(*d);
     executeOrFail(*d, makeDuplicateBodyCommand(*d, 0));
     EXPECT_EQ(d->undoName(), "Duplicate ball");
     ASSERT_EQ(d->bodyCount(), 3u);
+    const BodyDesc& original = d->project().bodies[0];
     const BodyDesc& copy = d->project().bodies[1];
     EXPECT_EQ(copy.name, "ball copy");
-    EXPECT_EQ(copy.mesh, d->project().bodies[0].mesh);
+    EXPECT_EQ(copy.mesh, original.mesh);
     EXPECT_EQ(*copy.material.density, 500.0);
-    EXPECT_TRUE(copy.permeabilityMap.empty());
     // The unit sphere's mesh spans about 1 m along x (a faceted sphere of radius 0.5).
     EXPECT_NEAR(copy.position.x(), 1.1, 0.02);
     EXPECT_EQ(copy.position.y(), 0.0);
+    EXPECT_EQ(copy.permeabilityMap, "maps/two_ball_copy_permeability.png");
+    ASSERT_TRUE(d->map(1, MapChannel::Permeability));
+    EXPECT_TRUE(d->map(1, MapChannel::Permeability)->values == *before.maps[0]) << "the ball's paint";
+    ASSERT_TRUE(copy.waterGraph);
+    EXPECT_EQ(copy.waterGraph->graph, "two_ball_copy.graph.json");
+    ASSERT_TRUE(d->graph(1));
+    ASSERT_EQ(d->graph(1)->nodes.size(), 1u);
+    EXPECT_EQ(d->graph(1)->nodes[0].id, "hold");
     EXPECT_EQ(d->project().bodies[2].name, "box");
     ASSERT_TRUE(d->map(2, MapChannel::Permeability));
     EXPECT_TRUE(d->map(2, MapChannel::Permeability)->values == *before.maps[1]);
-    EXPECT_FALSE(d->map(1, MapChannel::Permeability));
     const DocumentState duplicated = stateOf(*d);
     d->undo();
     EXPECT_TRUE(stateOf(*d) == before) << "undo of a duplicate";
     d->redo();
     EXPECT_TRUE(stateOf(*d) == duplicated) << "redo of a duplicate";
+    ASSERT_TRUE(d->graph(1));
+    EXPECT_EQ(d->graph(1)->nodes.size(), 1u) << "the copy's graph after redo";
+    // Painting the copy (opposite the ball's stroke) leaves the original as it was.
+    const std::vector<Eigen::Vector3d>& vertices = d->assets(1).mesh->positions;
+    const Eigen::Vector3d far = *std::max_element(
+        vertices.begin(), vertices.end(), [&](const Eigen::Vector3d& a, const Eigen::Vector3d& b) {
+            return (a - vertices[0]).norm() < (b - vertices[0]).norm();
+        });
+    Brush brush;
+    brush.radius = 0.2;
+    executeOrFail(*d, makeStrokeCommand(*d, 1, MapChannel::Permeability, brush,
+                                        std::vector<Eigen::Vector3d>{far}));
+    EXPECT_TRUE(d->map(0, MapChannel::Permeability)->values == *before.maps[0]);
+    EXPECT_FALSE(d->map(1, MapChannel::Permeability)->values == *before.maps[0]);
     executeOrFail(*d, makeDuplicateBodyCommand(*d, 0));
     EXPECT_EQ(d->project().bodies[1].name, "ball copy 2");
-    // Saved with the project: the reopened file has the copies.
+    EXPECT_EQ(d->project().bodies[1].permeabilityMap, "maps/two_ball_copy_2_permeability.png");
+    // Saved with the project: each copy's files are written, and the reopened project has
+    // the copies with their own paint and graphs.
     ASSERT_TRUE(d->save().ok());
     auto reopened = openOrFail(d->path());
     ASSERT_TRUE(reopened);
     EXPECT_EQ(projectToJson(reopened->project()), projectToJson(d->project()));
+    for (std::size_t b = 0; b < 3; ++b) {
+        SCOPED_TRACE("body " + std::to_string(b));
+        ASSERT_TRUE(reopened->map(b, MapChannel::Permeability));
+        ASSERT_TRUE(reopened->graph(b));
+        EXPECT_EQ(reopened->graph(b)->nodes.size(), 1u);
+    }
+    EXPECT_TRUE(reopened->map(1, MapChannel::Permeability)->values ==
+                reopened->map(0, MapChannel::Permeability)->values);
+    EXPECT_FALSE(reopened->map(2, MapChannel::Permeability)->values ==
+                 reopened->map(0, MapChannel::Permeability)->values) << "the painted copy";
 }
 
 TEST(EditorBodies, TransformEditMovesAndRotatesTheBodyAsOneStep) {

@@ -282,6 +282,35 @@ TEST(EditorGraph, EveryCommandUndoesAndRedoesExactly) {
     EXPECT_EQ(doc->graph(0)->nodes[1].name, "renamed");
     EXPECT_TRUE(doc->graph(0)->nodes[1].sealed);
     EXPECT_FALSE(doc->graph(0)->nodes[1].isBox());
+    // Several nodes at once: one step sets the shared fields on each, leaving the rest.
+    {
+        NodeEdit shared;
+        shared.capacity = 0.75;
+        shared.sealed = false;
+        const GraphNode sternBefore = doc->graph(0)->nodes[doc->graph(0)->indexOf("stern")];
+        roundTrip(*doc, makeSetNodesCommand(*doc, 0, {"stern", "aft", added}, shared));
+        EXPECT_EQ(doc->undoName(), "Edit 3 nodes");
+        for (const std::string id : {"stern", "aft", added.c_str()}) {
+            const GraphNode& n = doc->graph(0)->nodes[doc->graph(0)->indexOf(id)];
+            EXPECT_DOUBLE_EQ(n.capacity, 0.75) << id;
+            EXPECT_FALSE(n.sealed) << id;
+        }
+        const GraphNode& stern = doc->graph(0)->nodes[doc->graph(0)->indexOf("stern")];
+        EXPECT_EQ(stern.position, sternBefore.position);
+        EXPECT_EQ(stern.boxSize, sternBefore.boxSize);
+        EXPECT_EQ(stern.name, sternBefore.name);
+        // A name or a position is one node's; one bad node refuses the whole edit.
+        NodeEdit named;
+        named.name = "same";
+        EXPECT_FALSE(makeSetNodesCommand(*doc, 0, {"stern", "aft"}, named).ok());
+        NodeEdit overfull;
+        overfull.water = 0.8;
+        const auto refused = makeSetNodesCommand(*doc, 0, {"stern", "aft"}, overfull);
+        ASSERT_FALSE(refused.ok());
+        EXPECT_NE(refused.error().message.find("water must be within"), std::string::npos)
+            << refused.error().message;
+        EXPECT_FALSE(makeSetNodesCommand(*doc, 0, {"stern", "ghost"}, shared).ok());
+    }
     roundTrip(*doc, makeAddPipeCommand(*doc, 0, pipe("stern", added, 0.04)));
     PipeEdit close;
     close.open = false;
