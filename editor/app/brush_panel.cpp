@@ -6,12 +6,92 @@
 #include <imgui.h>
 
 #include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <string>
 
 namespace plimsoll::editor {
 
 namespace {
+
+/// Blender's custom falloff curve: the weight (up) against the distance from the dab's centre
+/// over the radius (across, centre at the left). Drag a point to move it (the end points
+/// move up and down only), click empty space to add one, right-click a point to remove it;
+/// the buttons below start from a preset's shape.
+void falloffCurveEditor(FalloffCurve& curve) {
+    static int dragged = -1;  // the point being dragged (one Tools panel)
+    const float side = std::clamp(ImGui::GetContentRegionAvail().x, 120.0f, 320.0f);
+    const ImVec2 size(side, side * 0.55f);
+    const ImVec2 origin = ImGui::GetCursorScreenPos();
+    ImGui::InvisibleButton("##falloff_curve", size, ImGuiButtonFlags_MouseButtonLeft |
+                                                        ImGuiButtonFlags_MouseButtonRight);
+    tooltip("The custom falloff: weight up, distance from the centre across (rim at the right).\n"
+            "Drag a point, click to add one, right-click to remove one.");
+    const float pad = 6.0f;
+    auto toScreen = [&](const Eigen::Vector2d& p) {
+        return ImVec2(origin.x + pad + float(p.x()) * (size.x - 2 * pad),
+                      origin.y + pad + float(1.0 - p.y()) * (size.y - 2 * pad));
+    };
+    auto toCurve = [&](const ImVec2& m) {
+        return Eigen::Vector2d(std::clamp((m.x - origin.x - pad) / (size.x - 2 * pad), 0.0f, 1.0f),
+                               std::clamp(1.0f - (m.y - origin.y - pad) / (size.y - 2 * pad), 0.0f, 1.0f));
+    };
+    const ImVec2 mouse = ImGui::GetIO().MousePos;
+    int hovered = -1;
+    for (std::size_t i = 0; i < curve.points.size(); ++i) {
+        const ImVec2 p = toScreen(curve.points[i]);
+        if (std::hypot(p.x - mouse.x, p.y - mouse.y) < 7.0f) hovered = static_cast<int>(i);
+    }
+    if (ImGui::IsItemActivated() && ImGui::IsMouseClicked(ImGuiMouseButton_Left)) {
+        dragged = hovered;
+        if (dragged < 0 && curve.points.size() < static_cast<std::size_t>(kMaxFalloffPoints)) {
+            const Eigen::Vector2d at = toCurve(mouse);
+            const auto it = std::upper_bound(curve.points.begin(), curve.points.end(), at.x(),
+                                             [](double x, const Eigen::Vector2d& p) { return x < p.x(); });
+            dragged = static_cast<int>(curve.points.insert(it, at) - curve.points.begin());
+        }
+    }
+    if (dragged >= 0 && ImGui::IsItemActive() && ImGui::IsMouseDown(ImGuiMouseButton_Left)) {
+        const std::size_t i = static_cast<std::size_t>(dragged);
+        Eigen::Vector2d at = toCurve(mouse);
+        // Points keep their order; the ends stay at the centre and the rim.
+        if (i == 0) at.x() = 0;
+        else if (i + 1 == curve.points.size()) at.x() = 1;
+        else at.x() = std::clamp(at.x(), curve.points[i - 1].x() + 0.01, curve.points[i + 1].x() - 0.01);
+        curve.points[i] = at;
+    }
+    if (!ImGui::IsMouseDown(ImGuiMouseButton_Left)) dragged = -1;
+    if (ImGui::IsItemHovered() && ImGui::IsMouseClicked(ImGuiMouseButton_Right) && hovered > 0 &&
+        hovered + 1 < static_cast<int>(curve.points.size())) {
+        curve.points.erase(curve.points.begin() + hovered);
+    }
+    ImDrawList* draw = ImGui::GetWindowDrawList();
+    draw->AddRectFilled(origin, ImVec2(origin.x + size.x, origin.y + size.y), IM_COL32(30, 32, 36, 255));
+    for (int g = 1; g < 4; ++g) {
+        const float f = g / 4.0f;
+        draw->AddLine(toScreen({f, 0}), toScreen({f, 1}), IM_COL32(60, 62, 68, 255));
+        draw->AddLine(toScreen({0, f}), toScreen({1, f}), IM_COL32(60, 62, 68, 255));
+    }
+    ImVec2 previous = toScreen({0, curve(0)});
+    for (int k = 1; k <= 64; ++k) {
+        const double x = k / 64.0;
+        const ImVec2 next = toScreen({x, curve(x)});
+        draw->AddLine(previous, next, IM_COL32(235, 200, 90, 255), 2.0f);
+        previous = next;
+    }
+    for (std::size_t i = 0; i < curve.points.size(); ++i) {
+        const bool hot = static_cast<int>(i) == hovered || static_cast<int>(i) == dragged;
+        draw->AddCircleFilled(toScreen(curve.points[i]), hot ? 5.0f : 4.0f,
+                              hot ? IM_COL32(255, 255, 255, 255) : IM_COL32(200, 200, 200, 255));
+    }
+    // Blender's presets as starting shapes.
+    for (int i = 0; i < kFalloffPresetCount; ++i) {
+        const Falloff f = static_cast<Falloff>(i);
+        if (i % 4 != 0) ImGui::SameLine();
+        if (ImGui::SmallButton(falloffName(f))) curve = FalloffCurve::preset(f);
+        tooltip("Start the curve from this preset's shape");
+    }
+}
 
 /// The brush's alpha / stencil image: a grey PNG whose values scale each dab's weight.
 void alphaControls(EditorState& s) {
@@ -98,7 +178,8 @@ void drawBrushPanel(EditorState& s, const Rect& area) {
         s.brush.falloff = static_cast<Falloff>(falloff);
     }
     tooltip("How the brush's weight falls from its centre to its rim (Blender's presets: sphere, "
-        "root, sharp, inverse-square)");
+        "root, sharp, inverse-square; custom: a curve you draw)");
+    if (s.brush.falloff == Falloff::Custom) falloffCurveEditor(s.brush.curve);
     float spacing = static_cast<float>(s.brush.spacing);
     if (ImGui::SliderFloat("Spacing", &spacing, 0.05f, 4.0f, "%.2f radii", ImGuiSliderFlags_Logarithmic)) {
         s.brush.spacing = spacing;

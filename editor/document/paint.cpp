@@ -63,11 +63,12 @@ double facingWeight(const Brush& brush, const Eigen::Vector3d& normal, const Eig
     return (outer - angle) / (outer - inner);
 }
 
-double falloffWeight(Falloff falloff, double distance, double radius) {
+double falloffWeight(Falloff falloff, double distance, double radius, const FalloffCurve* curve) {
     if (radius <= 0 || distance > radius) return 0.0;
     const double s = distance / radius;
     const double p = 1.0 - s;
     switch (falloff) {
+        case Falloff::Custom: return curve ? (*curve)(s) : FalloffCurve{}(s);
         case Falloff::Constant: return 1.0;
         case Falloff::Linear: return p;
         case Falloff::Smooth: {
@@ -80,6 +81,89 @@ double falloffWeight(Falloff falloff, double distance, double radius) {
         case Falloff::InverseSquare: return p * (2.0 - p);
     }
     return 0.0;
+}
+
+double FalloffCurve::operator()(double s) const {
+    if (points.empty()) return 0.0;
+    if (points.size() == 1) return std::clamp(points[0].y(), 0.0, 1.0);
+    s = std::clamp(s, points.front().x(), points.back().x());
+    const std::size_t n = points.size();
+    // The segment holding s, and the secant slopes either side of its ends.
+    std::size_t k = 0;
+    while (k + 2 < n && s > points[k + 1].x()) ++k;
+    auto secant = [&](std::size_t i) {
+        const Eigen::Vector2d d = points[i + 1] - points[i];
+        return d.x() > 0 ? d.y() / d.x() : 0.0;
+    };
+    // Fritsch-Carlson tangents: the mean of the secants, 0 at a local extremum or flat
+    // stretch, then scaled into the circle of radius 3 that keeps the segment monotone.
+    auto tangent = [&](std::size_t i) {
+        if (i == 0) return secant(0);
+        if (i == n - 1) return secant(n - 2);
+        const double a = secant(i - 1), b = secant(i);
+        return a * b > 0 ? 0.5 * (a + b) : 0.0;
+    };
+    const double d = secant(k);
+    double m0 = tangent(k), m1 = tangent(k + 1);
+    if (d == 0) {
+        m0 = m1 = 0;
+    } else {
+        const double a = m0 / d, b = m1 / d, r = a * a + b * b;
+        if (r > 9) {
+            const double t = 3 / std::sqrt(r);
+            m0 = t * a * d;
+            m1 = t * b * d;
+        }
+    }
+    const double h = points[k + 1].x() - points[k].x();
+    if (!(h > 0)) return std::clamp(points[k].y(), 0.0, 1.0);
+    const double t = (s - points[k].x()) / h, t2 = t * t, t3 = t2 * t;
+    const double y = (2 * t3 - 3 * t2 + 1) * points[k].y() + (t3 - 2 * t2 + t) * h * m0 +
+                     (-2 * t3 + 3 * t2) * points[k + 1].y() + (t3 - t2) * h * m1;
+    return std::clamp(y, 0.0, 1.0);
+}
+
+FalloffCurve FalloffCurve::preset(Falloff falloff, int count) {
+    count = std::clamp(count, 2, kMaxFalloffPoints);
+    FalloffCurve curve;
+    curve.points.clear();
+    for (int i = 0; i < count; ++i) {
+        const double s = double(i) / (count - 1);
+        curve.points.emplace_back(s, falloff == Falloff::Custom ? 1.0 - s : falloffWeight(falloff, s, 1.0));
+    }
+    return curve;
+}
+
+FalloffCurve FalloffCurve::sanitised(std::vector<Eigen::Vector2d> points) {
+    std::erase_if(points, [](const Eigen::Vector2d& p) { return !p.allFinite(); });
+    for (Eigen::Vector2d& p : points) p = p.cwiseMax(0.0).cwiseMin(1.0);
+    std::stable_sort(points.begin(), points.end(),
+                     [](const Eigen::Vector2d& a, const Eigen::Vector2d& b) { return a.x() < b.x(); });
+    FalloffCurve curve;
+    curve.points.clear();
+    for (const Eigen::Vector2d& p : points) {
+        if (!curve.points.empty() && p.x() - curve.points.back().x() < 0.01) continue;
+        curve.points.push_back(p);
+    }
+    if (curve.points.empty()) return FalloffCurve{};
+    if (curve.points.front().x() > 0) {
+        if (curve.points.front().x() < 0.01) curve.points.front().x() = 0;
+        else curve.points.insert(curve.points.begin(), Eigen::Vector2d(0, curve.points.front().y()));
+    }
+    if (curve.points.back().x() < 1) {
+        if (curve.points.back().x() > 0.99) curve.points.back().x() = 1;
+        else curve.points.emplace_back(1, curve.points.back().y());
+    }
+    if (curve.points.size() == 1) curve.points.emplace_back(1, curve.points[0].y());
+    if (curve.points.size() > static_cast<std::size_t>(kMaxFalloffPoints)) {
+        // Keep the ends and an even pick of the points between.
+        std::vector<Eigen::Vector2d> kept;
+        const std::size_t n = curve.points.size();
+        for (int i = 0; i < kMaxFalloffPoints; ++i)
+            kept.push_back(curve.points[i * (n - 1) / (kMaxFalloffPoints - 1)]);
+        curve.points = std::move(kept);
+    }
+    return curve;
 }
 
 Eigen::Vector2d LazyMouse::follow(const Eigen::Vector2d& cursor) {
@@ -116,7 +200,7 @@ Status loadBrushAlpha(Brush& brush, const std::filesystem::path& path) {
 
 double dabWeight(const Brush& brush, const Eigen::Vector3d& offset) {
     const double d = offset.norm();
-    const double w = falloffWeight(brush.falloff, d, brush.radius);
+    const double w = falloffWeight(brush.falloff, d, brush.radius, &brush.curve);
     if (w <= 0 || !brush.alpha || brush.alpha->values.empty()) return w;
     // The image's square over the dab, across the axis: u along one tangent, v along the other.
     const Eigen::Vector3d axis = brush.alphaAxis.norm() > 0 ? brush.alphaAxis.normalized()
@@ -131,7 +215,8 @@ double dabWeight(const Brush& brush, const Eigen::Vector3d& offset) {
 
 namespace {
 constexpr const char* kFalloffNames[kFalloffCount] = {"smooth", "linear", "constant", "sphere",
-                                                      "root",   "sharp",  "inverse-square"};
+                                                      "root",   "sharp",  "inverse-square",
+                                                      "custom"};
 }  // namespace
 
 const char* falloffName(Falloff falloff) { return kFalloffNames[static_cast<int>(falloff)]; }

@@ -43,12 +43,37 @@ Result<PaintSurface> buildPaintSurface(const TriangleMesh& mesh, int width, int 
 enum class BrushMode { Paint, Erase, Smooth };
 /// The weight's fall from the dab centre (s = distance / radius, p = 1 - s): Smooth (1 - s^2)^2,
 /// Linear p, Constant 1, and Blender's presets Sphere sqrt(1 - s^2), Root sqrt(p), Sharp p^2 and
-/// InverseSquare p (2 - p).
-enum class Falloff { Smooth, Linear, Constant, Sphere, Root, Sharp, InverseSquare };
-inline constexpr int kFalloffCount = 7;
+/// InverseSquare p (2 - p); Custom: the brush's own curve (FalloffCurve, Blender's "Custom").
+enum class Falloff { Smooth, Linear, Constant, Sphere, Root, Sharp, InverseSquare, Custom };
+inline constexpr int kFalloffCount = 8;
+inline constexpr int kFalloffPresetCount = 7;  ///< the ones with a formula: all but Custom
 /// "smooth", "linear", ... (edit scripts and the brush panel); parseFalloff reads them back.
 const char* falloffName(Falloff falloff);
 std::optional<Falloff> parseFalloff(const std::string& name);
+
+/// Most control points of a falloff curve.
+inline constexpr int kMaxFalloffPoints = 32;
+
+/// A falloff drawn by hand (Blender's custom brush curve): control points (s, weight), s the
+/// distance over the radius from 0 (centre) to 1 (rim), weight 0..1, s increasing, the first at
+/// s = 0 and the last at s = 1. Between points a monotone cubic (Fritsch and Carlson 1980): it
+/// passes through every point and never overshoots them, so a curve drawn falling never rises
+/// and a flat stretch stays flat.
+struct FalloffCurve {
+    std::vector<Eigen::Vector2d> points{Eigen::Vector2d(0, 1), Eigen::Vector2d(1, 0)};
+
+    /// The weight at s (clamped to 0..1).
+    double operator()(double s) const;
+    /// `count` points (2..kMaxFalloffPoints) on a preset's formula, evenly spaced in s: the
+    /// curve editor's starting shapes. Sphere and Root rise without bound at the rim, which
+    /// a cubic through nine points follows only to about 0.1.
+    static FalloffCurve preset(Falloff falloff, int count = 9);
+    /// Any list of points made valid: non-finite ones dropped, each clamped to the unit
+    /// square, sorted by s, points closer than 0.01 in s merged, ends added at s = 0 and 1
+    /// (keeping the nearest point's weight), at most kMaxFalloffPoints.
+    static FalloffCurve sanitised(std::vector<Eigen::Vector2d> points);
+    bool operator==(const FalloffCurve&) const = default;
+};
 
 /// Longest lazy-mouse string, screen pixels.
 inline constexpr double kMaxLazyRadius = 200.0;
@@ -62,6 +87,7 @@ struct Brush {
     double strength = 1.0;   ///< 0..1, how far a stroke moves a pixel toward its target
     double value = 1.0;      ///< 0..1, the paint mode's target
     Falloff falloff = Falloff::Smooth;
+    FalloffCurve curve = FalloffCurve::preset(Falloff::Smooth);  ///< used when falloff is Custom
     /// Dabs along a stroke at most this many radii apart (Blender's spacing; 0.25 paints a
     /// solid line, above 2 leaves separate dots).
     double spacing = 0.25;
@@ -130,8 +156,10 @@ Status loadBrushAlpha(Brush& brush, const std::filesystem::path& path);
 /// alpha image's value there (1 without one); 0 outside the radius.
 double dabWeight(const Brush& brush, const Eigen::Vector3d& offset);
 
-/// Weight 0..1 of a point at distance d from the dab centre.
-double falloffWeight(Falloff falloff, double distance, double radius);
+/// Weight 0..1 of a point at distance d from the dab centre; Custom reads `curve` (the
+/// default FalloffCurve, linear, when none is given).
+double falloffWeight(Falloff falloff, double distance, double radius,
+                     const FalloffCurve* curve = nullptr);
 
 /// Every place a dab at `point` (object space) paints under the brush's symmetry: the point,
 /// its mirror images in the chosen planes through the origin, and their radial copies.

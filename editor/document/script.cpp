@@ -1,4 +1,5 @@
 #include "document/script.h"
+#include "document/settings.h"
 
 #include "document/command.h"
 #include "document/graph_edit.h"
@@ -47,10 +48,17 @@ void readBrush(const Json& j, Brush& brush) {
         const std::string f = j["falloff"];
         const std::optional<Falloff> falloff = parseFalloff(f);
         if (!falloff) {
-            throw std::invalid_argument("falloff: smooth, linear, constant, sphere, root, sharp or "
-                                        "inverse-square, not " + f);
+            throw std::invalid_argument("falloff: smooth, linear, constant, sphere, root, sharp, "
+                                        "inverse-square or custom, not " + f);
         }
         brush.falloff = *falloff;
+    }
+    if (j.contains("curve")) {
+        if (!j["curve"].is_array() || j["curve"].size() > kMaxFalloffPoints) {
+            throw std::invalid_argument("curve: at most " + std::to_string(kMaxFalloffPoints) +
+                                        " [distance / radius, weight] points");
+        }
+        brush.curve = readFalloffCurve(j["curve"]);
     }
     brush.radius = j.value("radius", brush.radius);
     brush.strength = unitValue(j, "strength", brush.strength);

@@ -23,6 +23,24 @@ fs::path userConfigDir() {
     return fs::temp_directory_path() / "plimsoll-config";
 }
 
+nlohmann::json falloffCurveJson(const FalloffCurve& curve) {
+    nlohmann::json points = nlohmann::json::array();
+    for (const Eigen::Vector2d& p : curve.points) points.push_back({p.x(), p.y()});
+    return points;
+}
+
+FalloffCurve readFalloffCurve(const nlohmann::json& points) {
+    std::vector<Eigen::Vector2d> read;
+    if (points.is_array()) {
+        for (const nlohmann::json& p : points) {
+            if (p.is_array() && p.size() == 2 && p[0].is_number() && p[1].is_number())
+                read.emplace_back(p[0].get<double>(), p[1].get<double>());
+            if (read.size() > 4 * static_cast<std::size_t>(kMaxFalloffPoints)) break;
+        }
+    }
+    return FalloffCurve::sanitised(std::move(read));
+}
+
 void Settings::addRecent(const fs::path& file) {
     const std::string absolute = fs::absolute(file).lexically_normal().string();
     recentFiles.erase(std::remove(recentFiles.begin(), recentFiles.end(), absolute),
@@ -64,6 +82,7 @@ Settings Settings::load(const fs::path& folder) {
             if (!(brush.spacing > 0) || !std::isfinite(brush.spacing)) brush.spacing = defaults.spacing;
             brush.falloff = parseFalloff(b.value("falloff", std::string(falloffName(brush.falloff))))
                                 .value_or(defaults.falloff);
+            if (b.contains("falloff_curve")) brush.curve = readFalloffCurve(b["falloff_curve"]);
             brush.mirrorX = b.value("mirror_x", brush.mirrorX);
             brush.mirrorY = b.value("mirror_y", brush.mirrorY);
             brush.mirrorZ = b.value("mirror_z", brush.mirrorZ);
@@ -99,7 +118,8 @@ Status Settings::save(const fs::path& folder) const {
                   {"mirror_z", brush.mirrorZ},  {"radial", brush.radial},
                   {"lazy_radius", brush.lazyRadius}, {"alpha", brush.alphaPath},
                   {"normal_angle", brush.normalAngle}, {"front_faces_only", brush.frontFacesOnly},
-                  {"occlusion", brush.occlusion}};
+                  {"occlusion", brush.occlusion},
+                  {"falloff_curve", falloffCurveJson(brush.curve)}};
     std::error_code ec;
     fs::create_directories(folder, ec);
     const std::string text = j.dump(2) + "\n";

@@ -6,11 +6,18 @@
 #include "document/panel_layout.h"
 #include "plimsoll/core/result.h"
 
+#include <nlohmann/json_fwd.hpp>
+
 #include <filesystem>
 #include <string>
 #include <vector>
 
 namespace plimsoll::editor {
+
+/// A falloff curve as JSON, [[distance / radius, weight], ...], and back through
+/// FalloffCurve::sanitised (malformed entries skipped): the settings file and edit scripts.
+nlohmann::json falloffCurveJson(const FalloffCurve& curve);
+FalloffCurve readFalloffCurve(const nlohmann::json& points);
 
 /// $XDG_CONFIG_HOME/plimsoll, or $HOME/.config/plimsoll (created on first write).
 std::filesystem::path userConfigDir();

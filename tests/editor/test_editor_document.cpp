@@ -194,7 +194,8 @@ TEST(EditorPaint, FalloffPresetsFollowBlendersCurves) {
     // s = d / r, p = 1 - s; at the centre every curve is 1, at the rim 0 (Constant: 1 to the
     // rim), and they never rise outward.
     const double r = 2.0;
-    for (int i = 0; i < kFalloffCount; ++i) {
+    EXPECT_EQ(parseFalloff("custom"), Falloff::Custom);
+    for (int i = 0; i < kFalloffPresetCount; ++i) {
         const Falloff f = static_cast<Falloff>(i);
         EXPECT_EQ(parseFalloff(falloffName(f)), f);
         EXPECT_DOUBLE_EQ(falloffWeight(f, 0.0, r), 1.0) << falloffName(f);
@@ -211,6 +212,55 @@ TEST(EditorPaint, FalloffPresetsFollowBlendersCurves) {
     EXPECT_NEAR(falloffWeight(Falloff::Sharp, 0.5 * r, r), 0.25, 1e-15);
     EXPECT_NEAR(falloffWeight(Falloff::InverseSquare, 0.5 * r, r), 0.75, 1e-15);
     EXPECT_NEAR(falloffWeight(Falloff::Linear, 0.25 * r, r), 0.75, 1e-15);
+}
+
+TEST(EditorPaint, CustomFalloffCurvePassesThroughItsPointsAndNeverOvershoots) {
+    // Blender's custom curve, interpolated by a monotone cubic (Fritsch-Carlson): through every
+    // control point, within the range of each segment's two ends (a falling curve never rises,
+    // a flat stretch stays flat), 0 past the rim.
+    const FalloffCurve shoulder = FalloffCurve::sanitised({{0, 1}, {0.5, 1}, {0.6, 0.2}, {1, 0}});
+    ASSERT_EQ(shoulder.points.size(), 4u);
+    for (const Eigen::Vector2d& p : shoulder.points) EXPECT_NEAR(shoulder(p.x()), p.y(), 1e-12);
+    double previous = 1.0;
+    for (int k = 0; k <= 1000; ++k) {
+        const double s = k / 1000.0, w = shoulder(s);
+        if (s <= 0.5) EXPECT_NEAR(w, 1.0, 1e-15) << "s = " << s;
+        if (s >= 0.5 && s <= 0.6) EXPECT_TRUE(w <= 1.0 && w >= 0.2) << "s = " << s;
+        EXPECT_LE(w, previous + 1e-15) << "s = " << s;
+        previous = w;
+    }
+    Brush brush;
+    brush.radius = 2.0;
+    brush.falloff = Falloff::Custom;
+    brush.curve = shoulder;
+    EXPECT_NEAR(dabWeight(brush, Eigen::Vector3d(1.2, 0, 0)), 0.2, 1e-12);
+    EXPECT_EQ(dabWeight(brush, Eigen::Vector3d(2.01, 0, 0)), 0.0);
+    // A preset's starting shape: nine points on its formula, the cubic between them within
+    // 0.01 of the formula for the presets of finite slope (Sphere and Root are vertical at the
+    // rim: only through their points).
+    for (int i = 0; i < kFalloffPresetCount; ++i) {
+        const Falloff f = static_cast<Falloff>(i);
+        const FalloffCurve curve = FalloffCurve::preset(f);
+        ASSERT_EQ(curve.points.size(), 9u);
+        double worst = 0;
+        for (int k = 0; k <= 1000; ++k) {
+            const double s = k / 1000.0;
+            worst = std::max(worst, std::abs(curve(s) - falloffWeight(f, s, 1.0)));
+        }
+        for (const Eigen::Vector2d& p : curve.points)
+            EXPECT_NEAR(curve(p.x()), falloffWeight(f, p.x(), 1.0), 1e-12) << falloffName(f);
+        if (f != Falloff::Sphere && f != Falloff::Root) EXPECT_LT(worst, 0.01) << falloffName(f);
+    }
+    // Anything made valid: sorted, clamped, NaN dropped, near-duplicates merged, ends added.
+    const FalloffCurve odd = FalloffCurve::sanitised(
+        {{0.8, -3}, {std::nan(""), 0.5}, {0.2, 0.9}, {0.205, 0.1}, {0.5, 2}});
+    ASSERT_EQ(odd.points.size(), 5u);
+    EXPECT_EQ(odd.points[0], Eigen::Vector2d(0, 0.9));
+    EXPECT_EQ(odd.points[1], Eigen::Vector2d(0.2, 0.9));
+    EXPECT_EQ(odd.points[2], Eigen::Vector2d(0.5, 1));
+    EXPECT_EQ(odd.points[3], Eigen::Vector2d(0.8, 0));
+    EXPECT_EQ(odd.points[4], Eigen::Vector2d(1, 0));
+    EXPECT_TRUE(FalloffCurve::sanitised({}) == FalloffCurve{});
 }
 
 TEST(EditorPaint, SymmetryPaintsEveryMirrorImageAndRadialCopy) {
@@ -884,8 +934,10 @@ TEST(EditorSettings, LayoutAndBrushAreKeptBetweenSessions) {
     s.brush.spacing = 1.5;
     s.brush.mirrorZ = true;
     s.brush.radial = 6;
+    s.brush.curve = FalloffCurve::sanitised({{0, 1}, {0.3, 0.9}, {0.7, 0.2}, {1, 0}});
     ASSERT_TRUE(s.save(dir).ok());
     const Settings back = Settings::load(dir);
+    EXPECT_TRUE(back.brush.curve == s.brush.curve);
     EXPECT_FLOAT_EQ(back.layout.columnWidth, 321);
     for (int i = 0; i < 4; ++i) EXPECT_NEAR(back.layout.shares[i], 0.1f * (i + 1), 1e-6);
     EXPECT_EQ(back.brush.radius, 0.2);
