@@ -28,9 +28,14 @@ void addStrokePoint(EditorState& s, const Eigen::Vector3d& p) {
     s.stroke.previewDirty = true;
 }
 
-/// The brush's image upright on screen: toward the viewer, in the body's object space.
+/// The brush's image upright on screen: toward the viewer, in the body's object space; and
+/// in a perspective view the camera's place there, which occlusion and the normal falloff
+/// see from.
 void orientAlpha(EditorState& s, std::size_t body) {
-    s.brush.alphaAxis = s.document->bodyPose(body).rotation.transpose() * -s.camera.forward();
+    const auto& pose = s.document->bodyPose(body);
+    s.brush.alphaAxis = pose.rotation.transpose() * -s.camera.forward();
+    s.brush.eye.reset();
+    if (!s.camera.orthographic) s.brush.eye = pose.rotation.transpose() * (s.camera.eye() - pose.translation);
 }
 
 /// Shift-click: a straight line on screen from the last stroke's end to the cursor, picked on

@@ -290,27 +290,56 @@ PixelChange changeFrom(const PaintedMap& map, const std::vector<float>& values) 
 
 namespace {
 
-/// Which samples the viewer toward `view` (unit) sees: the surface's samples dropped into a
-/// grid across the view, cells `cell` wide, each keeping its nearest depth; a sample more than
-/// two cells behind its cell's nearest is hidden (two cells: a surface turned up to 63 degrees
-/// from the view still sees itself within one cell).
-std::vector<bool> visibleSamples(const PaintSurface& surface, const Eigen::Vector3d& view, double cell) {
+/// Which samples a viewer sees: the surface's samples dropped into a grid across the view,
+/// each cell keeping its nearest depth; a sample more than two cells behind its cell's nearest
+/// is hidden (two cells: a surface turned up to 63 degrees from the view still sees itself
+/// within one cell). `view` (unit) points toward the viewer. Orthographic (no `eye`): cells
+/// `cell` wide across the view. Perspective: cells of the angle `cell` spans at `reference`
+/// (the stroke's first dab), so `cell` wide there and wider further away; samples behind the
+/// eye are hidden.
+std::vector<bool> visibleSamples(const PaintSurface& surface, const Eigen::Vector3d& view, double cell,
+                                 const std::optional<Eigen::Vector3d>& eye,
+                                 const Eigen::Vector3d& reference) {
     const Eigen::Vector3d helper = std::abs(view.y()) < 0.9 ? Eigen::Vector3d::UnitY() : Eigen::Vector3d::UnitX();
     const Eigen::Vector3d u = helper.cross(view).normalized(), v = view.cross(u);
-    auto key = [&](const Eigen::Vector3f& p) {
-        const auto a = static_cast<std::int64_t>(std::floor(p.cast<double>().dot(u) / cell));
-        const auto b = static_cast<std::int64_t>(std::floor(p.cast<double>().dot(v) / cell));
+    const std::size_t count = surface.sampleCount();
+    // Each sample's place across the view (in cells) and its depth toward the viewer (larger:
+    // nearer), and how deep two cells reach at that sample.
+    std::vector<Eigen::Vector2d> across(count);
+    std::vector<double> depth(count), slack(count);
+    std::vector<bool> visible(count, true);
+    const double referenceDistance = eye ? std::max((*eye - reference).dot(view), cell) : 1.0;
+    for (std::size_t i = 0; i < count; ++i) {
+        const Eigen::Vector3d p = surface.position[i].cast<double>();
+        if (!eye) {
+            across[i] = {p.dot(u) / cell, p.dot(v) / cell};
+            depth[i] = p.dot(view);
+            slack[i] = 2 * cell;
+            continue;
+        }
+        const Eigen::Vector3d d = p - *eye;
+        const double distance = -d.dot(view);  // along the view axis, in front of the eye
+        if (!(distance > 1e-9 * referenceDistance)) {
+            visible[i] = false;
+            continue;
+        }
+        across[i] = Eigen::Vector2d(d.dot(u), d.dot(v)) * (referenceDistance / (distance * cell));
+        depth[i] = -distance;
+        slack[i] = 2 * cell * distance / referenceDistance;
+    }
+    auto key = [&](std::size_t i) {
+        const auto a = static_cast<std::int64_t>(std::floor(across[i].x()));
+        const auto b = static_cast<std::int64_t>(std::floor(across[i].y()));
         return (a << 32) ^ (b & 0xffffffff);
     };
-    std::unordered_map<std::int64_t, double> nearest;  // larger depth: nearer the viewer
-    for (const Eigen::Vector3f& p : surface.position) {
-        const double depth = p.cast<double>().dot(view);
-        auto [it, added] = nearest.try_emplace(key(p), depth);
-        if (!added) it->second = std::max(it->second, depth);
+    std::unordered_map<std::int64_t, double> nearest;
+    for (std::size_t i = 0; i < count; ++i) {
+        if (!visible[i]) continue;
+        auto [it, added] = nearest.try_emplace(key(i), depth[i]);
+        if (!added) it->second = std::max(it->second, depth[i]);
     }
-    std::vector<bool> visible(surface.sampleCount());
-    for (std::size_t i = 0; i < surface.sampleCount(); ++i) {
-        visible[i] = surface.position[i].cast<double>().dot(view) >= nearest[key(surface.position[i])] - 2 * cell;
+    for (std::size_t i = 0; i < count; ++i) {
+        if (visible[i]) visible[i] = depth[i] >= nearest[key(i)] - slack[i];
     }
     return visible;
 }
@@ -336,15 +365,29 @@ PixelChange strokeChange(const PaintedMap& map, const PaintSurface& surface, con
     const Eigen::Vector3d view = brush.alphaAxis.norm() > 0 ? brush.alphaAxis.normalized()
                                                              : Eigen::Vector3d::UnitZ();
     const std::vector<Eigen::Vector3d> views = symmetricPoints(brush, view);
+    std::vector<std::optional<Eigen::Vector3d>> eyes(views.size());
+    if (brush.eye && brush.eye->allFinite()) {
+        const std::vector<Eigen::Vector3d> mirrored = symmetricPoints(brush, *brush.eye);
+        std::copy(mirrored.begin(), mirrored.end(), eyes.begin());
+    }
     // Occlusion: one visibility per symmetric view, for the whole stroke.
     std::vector<std::vector<bool>> visible;
     if (brush.occlusion) {
-        for (const Eigen::Vector3d& w : views) visible.push_back(visibleSamples(surface, w.normalized(), brush.radius / 4));
+        for (std::size_t c = 0; c < views.size(); ++c) {
+            visible.push_back(visibleSamples(surface, views[c].normalized(), brush.radius / 4, eyes[c], dabs[c]));
+        }
     }
     auto facingOf = [&](std::size_t dab, std::size_t sample) {
-        if (!visible.empty() && !visible[dab % views.size()][sample]) return 0.0;
+        const std::size_t copy = dab % views.size();
+        if (!visible.empty() && !visible[copy][sample]) return 0.0;
         if (!facing || sample >= surface.normal.size()) return 1.0;
-        return facingWeight(brush, surface.normal[sample].cast<double>(), views[dab % views.size()]);
+        Eigen::Vector3d toward = views[copy];
+        if (eyes[copy]) {
+            toward = *eyes[copy] - surface.position[sample].cast<double>();
+            if (toward.norm() <= 0) return 0.0;
+            toward.normalize();
+        }
+        return facingWeight(brush, surface.normal[sample].cast<double>(), toward);
     };
     const double strength = std::clamp(brush.strength, 0.0, 1.0);
     if (brush.mode == BrushMode::Smooth) {

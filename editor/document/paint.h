@@ -118,9 +118,14 @@ struct Brush {
     /// no paint, whatever normalAngle says.
     bool frontFacesOnly = false;
     /// Occlusion: texels hidden from the viewer behind other parts of the surface get no
-    /// paint. Seen along the view direction (orthographic), through a depth grid of the
-    /// surface's samples with cells a quarter of the radius across.
+    /// paint. Seen through a depth grid of the surface's samples with cells a quarter of the
+    /// radius across at the stroke: along alphaAxis (orthographic), or from `eye`.
     bool occlusion = false;
+    /// A perspective view's camera, object space (set with alphaAxis at the stroke's start;
+    /// none: orthographic). Occlusion then sees the surface from this point, and the normal
+    /// falloff and front-faces-only take each texel's own direction toward it, as Blender does
+    /// in a perspective view. Mirrored and turned with each symmetric dab.
+    std::optional<Eigen::Vector3d> eye;
 };
 
 /// The weight a texel of normal `normal` keeps under the brush's normal falloff and front-

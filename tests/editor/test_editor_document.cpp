@@ -1379,6 +1379,48 @@ TEST(EditorPaint, OcclusionLeavesTexelsHiddenBehindOtherSurfaceUnpainted) {
     EXPECT_GT(onA, 20);
     EXPECT_GT(hiddenB, 20);
     EXPECT_GT(shownB, 20);
+
+    // Perspective: from an eye 0.5 m in front of A, every ray to B's part in the dab crosses
+    // A (a point (x, y) of B is seen through A's (x/2, y/2)), so none of B gets paint, while
+    // the orthographic view showed its right half. An eye far away sees as the orthographic
+    // view does.
+    brush.eye = Eigen::Vector3d(0, 0, 0.5);
+    const std::vector<float> near = paint();
+    brush.eye = Eigen::Vector3d(0, 0, 1e4);
+    const std::vector<float> far = paint();
+    int seenNear = 0;
+    for (std::size_t i = 0; i < surface->sampleCount(); ++i) {
+        const Eigen::Vector3d p = surface->position[i].cast<double>();
+        if ((p - centre).norm() > 0.37) continue;
+        const std::uint32_t px = surface->pixel[i];
+        EXPECT_EQ(far[px], occluded[px]) << "at " << p.transpose() << " seen from far away";
+        if (p.z() > -0.25) {
+            EXPECT_EQ(near[px], 1.0f) << "A at x " << p.x() << " in perspective";
+        } else {
+            ++seenNear;
+            EXPECT_EQ(near[px], 0.0f) << "B at x " << p.x() << " is behind A in perspective";
+        }
+    }
+    EXPECT_GT(seenNear, 40);
+
+    // The normal falloff in perspective takes each texel's own direction toward the eye: A's
+    // texel at (x, y, 0) sees the eye at (0, 0, 0.5) at atan(|(x, y)| / 0.5) from its normal,
+    // so a 60 degree falloff leaves it (60 - angle) / 30 of full weight from 30 degrees on
+    // (the orthographic view, straight on, gave all of A full weight).
+    brush.occlusion = false;
+    brush.normalAngle = 60;
+    brush.eye = Eigen::Vector3d(0, 0, 0.5);
+    const std::vector<float> faded = paint();
+    int fading = 0;
+    for (std::size_t i = 0; i < surface->sampleCount(); ++i) {
+        const Eigen::Vector3d p = surface->position[i].cast<double>();
+        if ((p - centre).norm() > 0.37 || p.z() < -0.25) continue;
+        const double angle = std::atan2(std::hypot(p.x(), p.y()), 0.5) * 180 / std::numbers::pi;
+        const double expected = std::clamp((60 - angle) / 30, 0.0, 1.0);
+        if (expected > 0 && expected < 1) ++fading;
+        EXPECT_NEAR(faded[surface->pixel[i]], expected, 1e-5) << "A at " << p.transpose();
+    }
+    EXPECT_GT(fading, 20);
 }
 
 }  // namespace
