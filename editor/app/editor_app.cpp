@@ -206,6 +206,7 @@ nlohmann::json windowState(const EditorState& s, int frame) {
                      ? nlohmann::json{static_cast<int>(io.MousePos.x), static_cast<int>(io.MousePos.y)}
                      : nlohmann::json{-1, -1};
     j["mouse_down"] = io.MouseDown[0];
+    j["shift"] = io.KeyShift;  // a test waits for a held Shift to have been seen
     // The window of the control the mouse holds (a splitter's "##split_column"; "" when none).
     j["held"] = g.ActiveId != 0 && g.ActiveIdWindow ? g.ActiveIdWindow->Name : "";
     j["tooltip"] = tooltipShownThisFrame();
