@@ -282,7 +282,8 @@ TEST(EditorWindow, ShiftClickDrawsALineStrokeFromTheLastStrokesEnd) {
     const std::string out = runUnderXvfb(
         project.parent_path(),
         "$PLIMSOLL edit ball.plim.json --run-seconds 90 --window-size 800x500 --view front "
-        "--state-file state.json & " + kWaitForState + stroke + line + "xdotool key --window $w ctrl+q; wait");
+        "--state-file state.json & " + kWaitForState + stroke + line + "xdotool key --window $w ctrl+s; " +
+            waitFor("\"dirty\":false") + "xdotool key --window $w ctrl+q; wait");
     if (out.empty()) GTEST_SKIP() << "no editor window in this build or no X server";
     const nlohmann::json report = nlohmann::json::parse(out);
     EXPECT_LT(report["seconds"].get<double>(), 89.0) << "Ctrl+Q was not seen";
