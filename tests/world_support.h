@@ -29,10 +29,13 @@ inline SceneBody bodyOrFail(const BodyDesc& desc, TriangleMesh mesh) {
     return body.ok() ? std::move(body).value() : SceneBody{};
 }
 
-/// The world of `scene` on the C++ reference backend; null (and a failure) if it cannot be made.
-inline std::unique_ptr<World> worldOrFail(Scene scene, LogFunction log = {}) {
+/// The world of `scene` on `backend` (none: the C++ reference backend); null (and a failure)
+/// if it cannot be made.
+inline std::unique_ptr<World> worldOrFail(Scene scene, LogFunction log = {},
+                                          std::unique_ptr<BuoyancyBackend> backend = nullptr) {
+    if (!backend) backend = createReferenceBackend();
     Result<std::unique_ptr<World>> world =
-        World::create(std::move(scene), createReferenceBackend(), std::move(log));
+        World::create(std::move(scene), std::move(backend), std::move(log));
     EXPECT_TRUE(world.ok()) << (world.ok() ? "" : world.error().message);
     return world.ok() ? std::move(world).value() : nullptr;
 }

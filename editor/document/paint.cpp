@@ -304,9 +304,9 @@ std::vector<bool> visibleSamples(const PaintSurface& surface, const Eigen::Vecto
     const Eigen::Vector3d u = helper.cross(view).normalized(), v = view.cross(u);
     const std::size_t count = surface.sampleCount();
     // Each sample's place across the view (in cells) and its depth toward the viewer (larger:
-    // nearer), and how deep two cells reach at that sample.
+    // nearer; in perspective minus its distance along the view axis).
     std::vector<Eigen::Vector2d> across(count);
-    std::vector<double> depth(count), slack(count);
+    std::vector<double> depth(count);
     std::vector<bool> visible(count, true);
     const double referenceDistance = eye ? std::max((*eye - reference).dot(view), cell) : 1.0;
     for (std::size_t i = 0; i < count; ++i) {
@@ -314,7 +314,6 @@ std::vector<bool> visibleSamples(const PaintSurface& surface, const Eigen::Vecto
         if (!eye) {
             across[i] = {p.dot(u) / cell, p.dot(v) / cell};
             depth[i] = p.dot(view);
-            slack[i] = 2 * cell;
             continue;
         }
         const Eigen::Vector3d d = p - *eye;
@@ -325,8 +324,9 @@ std::vector<bool> visibleSamples(const PaintSurface& surface, const Eigen::Vecto
         }
         across[i] = Eigen::Vector2d(d.dot(u), d.dot(v)) * (referenceDistance / (distance * cell));
         depth[i] = -distance;
-        slack[i] = 2 * cell * distance / referenceDistance;
     }
+    // Two cells deep at the sample: in perspective a cell widens with the distance.
+    auto slack = [&](std::size_t i) { return 2 * cell * (eye ? -depth[i] / referenceDistance : 1.0); };
     auto key = [&](std::size_t i) {
         const auto a = static_cast<std::int64_t>(std::floor(across[i].x()));
         const auto b = static_cast<std::int64_t>(std::floor(across[i].y()));
@@ -339,7 +339,7 @@ std::vector<bool> visibleSamples(const PaintSurface& surface, const Eigen::Vecto
         if (!added) it->second = std::max(it->second, depth[i]);
     }
     for (std::size_t i = 0; i < count; ++i) {
-        if (visible[i]) visible[i] = depth[i] >= nearest[key(i)] - slack[i];
+        if (visible[i]) visible[i] = depth[i] >= nearest[key(i)] - slack(i);
     }
     return visible;
 }

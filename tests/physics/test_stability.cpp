@@ -124,9 +124,7 @@ std::unique_ptr<World> createWorld(const Case& run) {
     Result<std::unique_ptr<BuoyancyBackend>> fast = createBuoyancyBackend("fast");
     EXPECT_TRUE(fast.ok()) << (fast.ok() ? "" : fast.error().message);
     if (!fast) return nullptr;
-    Result<std::unique_ptr<World>> world = World::create(sceneFor(run), std::move(*fast));
-    EXPECT_TRUE(world.ok()) << (world.ok() ? "" : world.error().message);
-    return world.ok() ? std::move(world).value() : nullptr;
+    return test::worldOrFail(sceneFor(run), {}, std::move(*fast));
 }
 
 int framesFor(double step) { return static_cast<int>(std::round(kSimulatedSeconds / step)); }
