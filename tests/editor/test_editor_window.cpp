@@ -448,7 +448,7 @@ TEST(EditorWindow, UvViewZoomsAtTheCursorAndPans) {
     const fs::path dir = project.parent_path();
     const std::string out = runUnderXvfb(
         dir, "$PLIMSOLL edit ball.plim.json --run-seconds 90 --window-size 800x500 --state-file state.json & " +
-                 kWaitForState + moveTo(513, 391) + "cp state.json before.json; " +
+                 kWaitForState + moveTo(513, 391) + waitFor("\"tooltip_rect\"") + "cp state.json before.json; " +
                  "xdotool click 4; " + waitFor("\"uv_zoom\":1.25") + "xdotool click 4; " +
                  waitFor("\"uv_zoom\":1.5625") + "cp state.json zoomed.json; " +
                  "xdotool mousedown 2; " + moveTo(493, 391) + moveTo(473, 391) + "xdotool mouseup 2; " +
