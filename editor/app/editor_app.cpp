@@ -213,6 +213,12 @@ nlohmann::json windowState(const EditorState& s, int frame) {
     j["undo"] = s.document->undoName();
     j["dirty"] = s.document->dirty();
     j["tool"] = static_cast<int>(s.tool);  // a test waits for B or G to have been seen
+    j["view"] = viewName(s.camera);
+    j["mirror_x"] = s.brush.mirrorX;
+    j["preview_running"] = static_cast<bool>(s.preview->session);
+    j["preview_playing"] = s.preview->session && s.preview->session->playing();
+    j["title"] = s.document->title() + " - Plimsoll";
+    j["status"] = s.status;
     j["bodies"] = s.document->bodyCount();
     j["radial_control"] = !s.radialControl ? "" : s.radialControl->strength ? "strength" : "radius";
     j["brush_radius"] = s.brush.radius;

@@ -5,6 +5,7 @@
 // window.
 #include "cli_runner.h"
 #include "test_support.h"
+#include "editor/xvfb_support.h"
 
 #include "render/camera.h"
 
@@ -67,11 +68,6 @@ fs::path buoyProject(const std::string& name) {
     return file;
 }
 
-/// xvfb-run with a config folder of its own (no recent files or autosaves of the user's).
-std::string xvfbEnvironment(const fs::path& dir) {
-    return "XDG_CONFIG_HOME='" + (dir / "config").string() + "' xvfb-run -a -s '-screen 0 1280x800x24'";
-}
-
 /// The buoy's preview with `option` 1024 given (a new texture size asked for at the second
 /// frame); the run ends once it is in. Its report, or nothing with `skip` saying why the window
 /// could not run. Frames must keep coming while it bakes: a loop that waited for the bake would
@@ -86,7 +82,7 @@ std::optional<nlohmann::json> rebakeRun(const std::string& name, const std::stri
     const test::CommandOutput run = test::runPlimsoll(
         "edit '" + file.string() + "' --frames 5000 --preview " + option + " 1024 "
         "--window-size 1024x640 --view front --overlay coverage",
-        xvfbEnvironment(file.parent_path()));
+        test::xvfbRun(file.parent_path()));
     if (run.exitCode != 0 && run.err.find("built without the editor window") != std::string::npos) {
         skip = run.err;
         return std::nullopt;
@@ -133,7 +129,7 @@ TEST(EditorPreviewWindow, BuoyMovesAndForceArrowsShowUnderXvfb) {
     }
     const fs::path file = buoyProject("preview_window");
     const fs::path dir = file.parent_path();
-    const std::string environment = xvfbEnvironment(dir);
+    const std::string environment = test::xvfbRun(dir);
     const std::string early = (dir / "early.png").string(), late = (dir / "late.png").string();
     const test::CommandOutput run = test::runPlimsoll(
         "edit '" + file.string() + "' --frames 300 --preview --snapshot 30:'" + early +

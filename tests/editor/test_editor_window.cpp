@@ -3,6 +3,7 @@
 // stored image). Skipped where xvfb-run is missing or the build has no window.
 #include "cli_runner.h"
 #include "test_support.h"
+#include "editor/xvfb_support.h"
 
 #include "render/camera.h"
 
@@ -39,8 +40,7 @@ TEST(EditorWindow, ScreenshotUnderXvfbShowsUiAndMeshWhereTheCameraPutsIt) {
         "bodies": [{"name": "ball", "mesh": ")" << test::assetPath("sphere.obj").string()
                            << R"(", "material": {"density": 500}, "position": [0.3, 1.0, 0]}]})";
     const fs::path shot = dir / "window.png";
-    // Its own config folder: no recent files or autosaves of the user's.
-    const std::string environment = "XDG_CONFIG_HOME='" + (dir / "config").string() + "' xvfb-run -a -s '-screen 0 1280x800x24'";
+    const std::string environment = test::xvfbRun(dir);
     const test::CommandOutput run = test::runPlimsoll(
         "edit '" + project.string() + "' --frames 20 --screenshot '" + shot.string() +
             "' --window-size 1024x640 --view front --overlay none",
@@ -138,9 +138,8 @@ fs::path ballProject(const std::string& name, double height = 0.0) {
 /// Runs `script` (sh) under its own Xvfb with $PLIMSOLL set; its stdout.
 std::string runUnderXvfb(const fs::path& dir, const std::string& script) {
     const std::string command = "cd '" + dir.string() + "' && PLIMSOLL='" +
-                                test::plimsollExecutable().string() +
-                                "' XDG_CONFIG_HOME='" + (dir / "config").string() +
-                                "' xvfb-run -a -s '-screen 0 1280x800x24' sh -c '" + script + "' 2>/dev/null";
+                                test::plimsollExecutable().string() + "' " + test::xvfbRun(dir) +
+                                " sh -c '" + script + "' 2>/dev/null";
     std::string out;
     if (FILE* pipe = ::popen(command.c_str(), "r")) {
         char buffer[4096];
@@ -185,57 +184,6 @@ TEST(EditorWindow, IdleEditorSleepsInsteadOfRedrawing) {
     EXPECT_LT(report["cpu_seconds_after_first_second"].get<double>(), 0.05 * 2.0);
 }
 
-TEST(EditorWindow, KeyTapsShorterThanAFrameAllCount) {
-    // Issue 19 bugs 10, 11 and 9: taps sent back to back (xdotool: press and release with no
-    // delay, all within one frame) were lost about half the time; P restarted a running
-    // preview and Space did nothing. Each tap below must take effect, in order.
-    if (!haveWindowTools(true)) GTEST_SKIP() << "xvfb-run or xdotool is not installed";
-    const fs::path project = ballProject("window_keys");
-    const std::string out = runUnderXvfb(
-        project.parent_path(),
-        "$PLIMSOLL edit ball.plim.json --run-seconds 30 --window-size 800x500 --view front & "
-        "for i in $(seq 100); do w=$(xdotool search --name Plimsoll | head -1); "
-        "[ -n \"$w\" ] && break; sleep 0.1; done; sleep 0.5; "
-        "xdotool key --window $w --delay 0 3 b x p space; sleep 1; "
-        "xdotool key --window $w ctrl+q; wait");
-    if (out.empty()) GTEST_SKIP() << "no editor window in this build or no X server";
-    const nlohmann::json report = nlohmann::json::parse(out);
-    EXPECT_LT(report["seconds"].get<double>(), 29.0) << "Ctrl+Q was not seen";
-    EXPECT_EQ(report["view"], "Side (orthographic)");   // 3
-    EXPECT_EQ(report["tool"], 1);                       // b: Brush
-    EXPECT_EQ(report["mirror_x"], true);                // x (the graph panel is closed)
-    EXPECT_EQ(report["preview_running"], true);         // p: started
-    EXPECT_EQ(report["preview_playing"], false);        // space: paused
-}
-
-TEST(EditorWindow, StrokeFromOffTheMeshPaintsAndThePreviewGrabDoesNot) {
-    // Issue 19 bugs 5 and 4: a stroke that started off the mesh and crossed it painted nothing;
-    // the Brush painted the hull during a preview that promises "left-drag a body to pull it".
-    // Here a drag across the ball during the preview pulls it (no edit); after the preview
-    // stops, the same drag from empty space paints: one undo step.
-    if (!haveWindowTools(true)) GTEST_SKIP() << "xvfb-run or xdotool is not installed";
-    const fs::path project = ballProject("window_stroke");
-    // 800 x 500: the 3D view is the left 480 px; the ball (front view, framed) at its centre.
-    const std::string drag =
-        "xdotool mousemove --window $w 15 250 mousedown 1; sleep 0.2; "
-        "for x in 60 120 180 240 280; do xdotool mousemove --window $w $x 250; sleep 0.1; done; "
-        "xdotool mouseup 1; sleep 0.5; ";
-    const std::string out = runUnderXvfb(
-        project.parent_path(),
-        "$PLIMSOLL edit ball.plim.json --run-seconds 9 --window-size 800x500 --view front & "
-        "for i in $(seq 100); do w=$(xdotool search --name Plimsoll | head -1); "
-        "[ -n \"$w\" ] && break; sleep 0.1; done; sleep 0.5; "
-        "xdotool key --window $w b p; sleep 1.5; " + drag +
-        "xdotool key --window $w p; sleep 0.5; " + drag + "wait");
-    if (out.empty()) GTEST_SKIP() << "no editor window in this build or no X server";
-    const nlohmann::json report = nlohmann::json::parse(out);
-    EXPECT_EQ(report["tool"], 1);
-    EXPECT_EQ(report["preview_running"], false);
-    EXPECT_EQ(report["undo"], "Paint permeability");
-    EXPECT_EQ(report["undo_steps"], 1) << "the drag during the preview painted too";
-    EXPECT_EQ(report["title"], "*ball.plim.json - Plimsoll");
-}
-
 /// Shell lines that start a script driving the editor run with `--state-file state.json`: `w`
 /// is its window once it has drawn a frame, and `waitfor TEXT` waits until the state the
 /// editor wrote after its latest frame holds TEXT (up to 30 s, then goes on and the test's
@@ -262,6 +210,62 @@ std::string moveTo(int x, int y) {
     const std::string at = std::to_string(x) + " " + std::to_string(y);
     return "xdotool mousemove --window $w " + at + "; " +
            waitFor("\"mouse\":[" + std::to_string(x) + "," + std::to_string(y) + "]");
+}
+
+TEST(EditorWindow, KeyTapsShorterThanAFrameAllCount) {
+    // Issue 19 bugs 10, 11 and 9: taps sent back to back (xdotool: press and release with no
+    // delay, all within one frame) were lost about half the time; P restarted a running
+    // preview and Space did nothing. Each tap below must take effect, in order.
+    if (!haveWindowTools(true)) GTEST_SKIP() << "xvfb-run or xdotool is not installed";
+    const fs::path project = ballProject("window_keys");
+    const std::string out = runUnderXvfb(
+        project.parent_path(),
+        "$PLIMSOLL edit ball.plim.json --run-seconds 30 --window-size 800x500 --view front "
+        "--state-file state.json & " +
+            kWaitForState + "xdotool key --window $w --delay 0 3 b x p space; " +
+            waitFor("\"preview_playing\":false,\"preview_running\":true") +
+            waitFor("\"view\":\"Side (orthographic)\"") + "xdotool key --window $w ctrl+q; wait");
+    if (out.empty()) GTEST_SKIP() << "no editor window in this build or no X server";
+    const nlohmann::json report = nlohmann::json::parse(out);
+    EXPECT_LT(report["seconds"].get<double>(), 29.0) << "Ctrl+Q was not seen";
+    EXPECT_EQ(report["view"], "Side (orthographic)");   // 3
+    EXPECT_EQ(report["tool"], 1);                       // b: Brush
+    EXPECT_EQ(report["mirror_x"], true);                // x (the graph panel is closed)
+    EXPECT_EQ(report["preview_running"], true);         // p: started
+    EXPECT_EQ(report["preview_playing"], false);        // space: paused
+}
+
+TEST(EditorWindow, StrokeFromOffTheMeshPaintsAndThePreviewGrabDoesNot) {
+    // Issue 19 bugs 5 and 4: a stroke that started off the mesh and crossed it painted nothing;
+    // the Brush painted the hull during a preview that promises "left-drag a body to pull it".
+    // Here a drag across the ball during the preview pulls it (no edit); after the preview
+    // stops, the same drag from empty space paints: one undo step.
+    if (!haveWindowTools(true)) GTEST_SKIP() << "xvfb-run or xdotool is not installed";
+    const fs::path project = ballProject("window_stroke");
+    // 800 x 500: the 3D view is the left 480 px; the ball (front view, framed) at its centre.
+    // Each step waits for a frame to have seen it (the state file), not a fixed time.
+    std::string drag = moveTo(15, 250) + "xdotool mousedown 1; " + waitFor("\"mouse_down\":true");
+    for (int x : {60, 120, 180, 240, 280}) drag += moveTo(x, 250);
+    drag += "xdotool mouseup 1; " + waitFor("\"mouse_down\":false");
+    const std::string out = runUnderXvfb(
+        project.parent_path(),
+        "$PLIMSOLL edit ball.plim.json --run-seconds 60 --window-size 800x500 --view front "
+        "--state-file state.json & " +
+            kWaitForState + "xdotool key --window $w b p; " + waitFor("\"preview_running\":true") +
+            waitFor("\"tool\":1") + drag + "xdotool key --window $w p; " +
+            waitFor("\"preview_running\":false") + drag + waitFor("\"undo\":\"Paint permeability\"") +
+            // Saved before Ctrl+Q, which would otherwise ask about the unsaved paint.
+            "cp state.json painted.json; xdotool key --window $w ctrl+s; " + waitFor("\"dirty\":false") +
+            "xdotool key --window $w ctrl+q; wait");
+    if (out.empty()) GTEST_SKIP() << "no editor window in this build or no X server";
+    const nlohmann::json report = nlohmann::json::parse(out);
+    EXPECT_LT(report["seconds"].get<double>(), 59.0) << "Ctrl+Q was not seen";
+    EXPECT_EQ(report["tool"], 1);
+    EXPECT_EQ(report["preview_running"], false);
+    EXPECT_EQ(report["undo"], "Paint permeability");
+    EXPECT_EQ(report["undo_steps"], 1) << "the drag during the preview painted too";
+    const nlohmann::json painted = nlohmann::json::parse(test::readFile(project.parent_path() / "painted.json"));
+    EXPECT_EQ(painted["title"], "*ball.plim.json - Plimsoll");
 }
 
 TEST(EditorWindow, ShiftClickDrawsALineStrokeFromTheLastStrokesEnd) {
@@ -547,12 +551,14 @@ TEST(EditorWindow, SaveAsTakesATypedNameAndLeavesTheOriginalAsItWas) {
     const std::string original = test::readFile(project);
     const std::string out = runUnderXvfb(
         project.parent_path(),
-        "$PLIMSOLL edit ball.plim.json --run-seconds 9 --window-size 800x500 & "
-        "for i in $(seq 300); do w=$(xdotool search --name Plimsoll | head -1); "
-        "[ -n \"$w\" ] && break; sleep 0.1; done; sleep 0.8; "
-        "xdotool key --window $w ctrl+shift+s; sleep 0.8; "
-        "xdotool type --window $w --delay 40 copy.plim.json; sleep 0.3; "
-        "xdotool key --window $w Return; sleep 1; wait");
+        "$PLIMSOLL edit ball.plim.json --run-seconds 60 --window-size 800x500 --state-file state.json & " +
+            kWaitForState + "xdotool key --window $w ctrl+shift+s; " +
+            waitFor("\"popup\":\"Save project as\"") +
+            // ImGui 1.86 has no input queue (a frame sees all its keys and characters at once):
+            // a pause lets the last letters reach the field in a frame before Enter's.
+            "xdotool type --window $w --delay 40 copy.plim.json; sleep 0.3; "
+            "xdotool key --window $w Return; " +
+            waitFor("\"title\":\"copy.plim.json - Plimsoll\"") + "xdotool key --window $w ctrl+q; wait");
     if (out.empty()) GTEST_SKIP() << "no editor window in this build or no X server";
     const nlohmann::json report = nlohmann::json::parse(out);
     const fs::path copy = project.parent_path() / "copy.plim.json";
