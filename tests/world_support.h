@@ -40,4 +40,15 @@ inline std::unique_ptr<World> worldOrFail(Scene scene, LogFunction log = {},
     return world.ok() ? std::move(world).value() : nullptr;
 }
 
+/// The world of `scene` on the fast CPU path: the backend simulate, the editor and the runtime
+/// use when no device is named, held within 1e-5 of the reference's forces on flat water
+/// (FastPath tests). For tests whose cost is simulated time: the reference costs about ten
+/// times as much per evaluation.
+inline std::unique_ptr<World> fastWorldOrFail(Scene scene, LogFunction log = {}) {
+    Result<std::unique_ptr<BuoyancyBackend>> fast = createBuoyancyBackend("fast");
+    EXPECT_TRUE(fast.ok()) << (fast.ok() ? "" : fast.error().message);
+    if (!fast) return nullptr;
+    return worldOrFail(std::move(scene), std::move(log), std::move(*fast));
+}
+
 }  // namespace plimsoll::test

@@ -301,12 +301,14 @@ double sphereSweepError(int size) {
 }
 
 TEST(BuoyancyAccuracy, SphereSweepAgainstTheExactClip) {
+    // The 1024^2 sweep is left to the normal build in the sanitized one, where it took most of
+    // this test's minute: 256 and 512 run the same code.
     const double e256 = sphereSweepError(256), e512 = sphereSweepError(512),
-                 e1024 = sphereSweepError(1024);
+                 e1024 = test::kSanitizedBuild ? 0.0 : sphereSweepError(1024);
     std::printf("  sphere sweep, worst |V_s error| / V: N=256 %.2e, 512 %.2e, 1024 %.2e\n", e256,
                 e512, e1024);
     EXPECT_LT(e256, 1e-3);
-    EXPECT_LT(e1024, 2e-4);
+    if (!test::kSanitizedBuild) EXPECT_LT(e1024, 2e-4);
     EXPECT_GE(e256 / e512, 2.5);
 }
 

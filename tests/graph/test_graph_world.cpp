@@ -29,8 +29,11 @@ Project sampleProject(const std::string& name) {
     return p.ok() ? std::move(p).value() : Project{};
 }
 
+/// On the fast CPU path (the default users get): these runs are tens of seconds of simulated
+/// time, and what they check (flooding, trim, sinking, soaking) is the graph's and the
+/// world's, not the buoyancy backend's.
 std::unique_ptr<World> makeWorld(const Project& project) {
-    return test::worldOrFail(test::sceneOrFail(project));
+    return test::fastWorldOrFail(test::sceneOrFail(project));
 }
 
 /// y of the body's bow direction (object +z) in the world: > 0 when trimmed by the stern.

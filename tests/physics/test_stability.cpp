@@ -115,17 +115,10 @@ std::string gridName(const testing::TestParamInfo<GridPoint>& info) {
     return "ratio" + clean(info.param.ratio) + "_dt" + clean(info.param.step);
 }
 
-/// The world of one run, on the fast CPU path: what simulate, the editor and the runtime use by
-/// default, held within 1e-5 of the reference's forces on flat water (FastPath tests). The
-/// reference costs ten times as much per evaluation, and the dt = 1e-4 pieces make 2.7
-/// million each: about 140 s a piece on it, which CI's time cannot spare. Null (and a
-/// failure) if it cannot be made.
-std::unique_ptr<World> createWorld(const Case& run) {
-    Result<std::unique_ptr<BuoyancyBackend>> fast = createBuoyancyBackend("fast");
-    EXPECT_TRUE(fast.ok()) << (fast.ok() ? "" : fast.error().message);
-    if (!fast) return nullptr;
-    return test::worldOrFail(sceneFor(run), {}, std::move(*fast));
-}
+/// The world of one run, on the fast CPU path (test::fastWorldOrFail). The dt = 1e-4 pieces
+/// make 2.7 million evaluations each: about 140 s a piece on the reference, which CI's time
+/// cannot spare.
+std::unique_ptr<World> createWorld(const Case& run) { return test::fastWorldOrFail(sceneFor(run)); }
 
 int framesFor(double step) { return static_cast<int>(std::round(kSimulatedSeconds / step)); }
 

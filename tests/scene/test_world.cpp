@@ -44,7 +44,7 @@ void run(World& world, double seconds) {
 /// Depth of the lowest point of the body's mesh below the water after settling.
 double settledDraft(const TriangleMesh& mesh, double density, const Eigen::Vector3d& rotationDeg,
                     double seconds, double* speed) {
-    std::unique_ptr<World> world = test::worldOrFail(oneBody(mesh, density, 1000.0, rotationDeg));
+    std::unique_ptr<World> world = test::fastWorldOrFail(oneBody(mesh, density, 1000.0, rotationDeg));
     run(*world, seconds);
     const SimulatedBody& body = world->bodies().front();
     *speed = linearVelocity(body.state, body.mass).norm();

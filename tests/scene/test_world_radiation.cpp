@@ -113,7 +113,7 @@ void expectWorldDecayFollowsCoefficients(const char* name, const TriangleMesh& m
     EXPECT_NEAR(stiffness, kDensity * kGravity * waterplaneArea, 0.03 * kDensity * kGravity * waterplaneArea);
     double omega = 0;
     const test::DecayFigures predicted = test::predictedHeaveDecay(solver, mass, stiffness, &omega);
-    std::unique_ptr<World> world = test::worldOrFail(f.scene);
+    std::unique_ptr<World> world = test::fastWorldOrFail(f.scene);
     ASSERT_TRUE(world);
     // Three periods in the sanitized build (about twenty times slower): still the two periods the
     // measured period and decrement need.
@@ -189,8 +189,8 @@ TEST(WorldRadiation, DroppedLightBoxSettlesSoonerThanWithoutIt) {
     without.scene.bodies[0].desc.radiation.reset();
     without.scene.bodies[0].radiation = nullptr;
     const double rest = with.radiation->restHeight;
-    std::unique_ptr<World> radiating = test::worldOrFail(with.scene);
-    std::unique_ptr<World> bare = test::worldOrFail(without.scene);
+    std::unique_ptr<World> radiating = test::fastWorldOrFail(with.scene);
+    std::unique_ptr<World> bare = test::fastWorldOrFail(without.scene);
     ASSERT_TRUE(radiating && bare);
     const double scale = 250 * kGravity * 0.35;
     // The sanitized build (about twenty times slower) runs the drop for 5 s with radiation and
@@ -225,7 +225,7 @@ TEST(WorldRadiation, AddedMassIsInTheMassMatrixAndOffWithoutIt) {
         f.scene.bodies[0].desc.radiation = desc;
         f.scene.bodies[0].desc.position = {0, f.radiation->restHeight, 0};
         f.scene.bodies[0].desc.velocity = {0.1, -0.2, 0.05};
-        std::unique_ptr<World> world = test::worldOrFail(f.scene);
+        std::unique_ptr<World> world = test::fastWorldOrFail(f.scene);
         ASSERT_TRUE(world);
         const SimulatedBody& b = world->bodies()[0];
         EXPECT_LT((linearVelocity(b.state, b.mass) - Eigen::Vector3d(0.1, -0.2, 0.05)).norm(), 1e-12);
