@@ -50,7 +50,7 @@ struct HeaveDecayTest {
 /// Body `body` of `scene` alone in calm water (flat at the scene's water level), upright at
 /// its rest waterline, released `release` m below it at rest, with its radiation on
 /// (body.radiation must be computed) and drag and the damping stand-ins off so that radiation
-/// alone damps it; `periods` predicted periods at 1 ms steps on the C++ reference backend.
+/// alone damps it; `periods` predicted periods at 1 ms steps on the fast CPU path.
 Result<HeaveDecayTest> runHeaveDecayTest(const Scene& scene, std::size_t body, double release = 0.02,
                                          double periods = 6);
 
