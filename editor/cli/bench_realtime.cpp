@@ -412,7 +412,8 @@ int runRealtimeBench(const RealtimeBenchOptions& o) {
                         evaluateBuoyancyFast(makeFastBody(baked[size], c.exact.centerOfMass), poses[0],
                                              water, {}, scratch, &stats);
                         std::cerr << " (nodes dry " << stats.dry << ", closed form " << stats.closedForm
-                                  << ", per entry " << stats.perEntry << "; water samples "
+                                  << ", per entry " << stats.perEntry << ", drag per entry "
+                                  << stats.dragPerEntry << "; water samples "
                                   << stats.waterSamples << ")";
                     }
                     std::cerr << "\n";

@@ -835,8 +835,14 @@ inline Sums FastBody::evaluate(const BodyState& s, const WaterSurface& water, co
             ++counted.dry;
             return;
         }
-        // On waves a group spans too much of the surface for one quadratic: its tiles decide.
-        const bool submerged = top < w.f - variation && !(waves && &t < nodes_.data() + roots_);
+        // On waves a node is summed under the quadratic of the grid node nearest its centre. A
+        // group is, only where it is small against the grid: its reach at most half the
+        // spacing, so that every entry lies within the 3 x 3 nodes that quadratic was fitted
+        // to (on a large texture most groups are; on a small one they span too much of the
+        // surface, and their tiles decide, as tiles always do).
+        const bool group = &t < nodes_.data() + roots_;
+        const bool submerged =
+            top < w.f - variation && !(waves && group && t.radius + t.halfExtent > 0.5 * h);
         auto descend = [&](std::int32_t slot) {
             for (std::uint32_t c = 0; c < t.children; ++c) self(nodes_[t.firstChild + c], slot, self);
         };
