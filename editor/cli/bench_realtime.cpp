@@ -414,7 +414,7 @@ int runRealtimeBench(const RealtimeBenchOptions& o) {
                         std::cerr << " (nodes dry " << stats.dry << ", closed form " << stats.closedForm
                                   << ", per entry " << stats.perEntry << ", drag per entry "
                                   << stats.dragPerEntry << "; water samples "
-                                  << stats.waterSamples << ")";
+                                  << stats.waterSamples << ", water velocities " << stats.velocitySamples << ")";
                     }
                     std::cerr << "\n";
                     rows.push_back(row);
