@@ -846,7 +846,12 @@ inline Sums FastBody::evaluate(const BodyState& s, const WaterSurface& water, co
         auto descend = [&](std::int32_t slot) {
             for (std::uint32_t c = 0; c < t.children; ++c) self(nodes_[t.firstChild + c], slot, self);
         };
-        if (!submerged && t.children > 0) return descend(inherited);
+        if (!submerged && t.children > 0) {
+            // A waterline tile's leaves take the water's velocity at the tile's centre
+            // (docs/fast-path.md): one query for all of them rather than one each.
+            if (group || inherited >= 0 || !moving) return descend(inherited);
+            return descend(velocitySlot(s.center + rc));
+        }
         const std::int32_t slot = inherited >= 0 ? inherited : (moving ? velocitySlot(s.center + rc) : -1);
         if (!submerged) {
             if (t.children > 0) return descend(slot);
