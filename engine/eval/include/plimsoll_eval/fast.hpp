@@ -854,9 +854,9 @@ inline Sums FastBody::evaluate(const BodyState& s, const WaterSurface& water, co
         }
         const std::int32_t slot = inherited >= 0 ? inherited : (moving ? velocitySlot(s.center + rc) : -1);
         if (!submerged) {
-            if (t.children > 0) return descend(slot);
             ++counted.perEntry;
-            // Every per-entry node is a leaf of kLanes entries (build).
+            // Every per-entry node is a leaf of kLanes entries (nodes with children descended
+            // above).
             FastLeafWork& leaf = scratch.leaves.emplace_back();
             leaf.begin = t.begin;
             leaf.cx = static_cast<float>(rc.x);
