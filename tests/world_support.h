@@ -3,6 +3,7 @@
 #pragma once
 
 #include "plimsoll/compute/compute.h"
+#include "plimsoll/compute/fast_backend.h"
 #include "plimsoll/scene/scene.h"
 #include "plimsoll/scene/scene_loader.h"
 #include "plimsoll/scene/world.h"
@@ -45,10 +46,7 @@ inline std::unique_ptr<World> worldOrFail(Scene scene, LogFunction log = {},
 /// (FastPath tests). For tests whose cost is simulated time: the reference costs about ten
 /// times as much per evaluation.
 inline std::unique_ptr<World> fastWorldOrFail(Scene scene, LogFunction log = {}) {
-    Result<std::unique_ptr<BuoyancyBackend>> fast = createBuoyancyBackend("fast");
-    EXPECT_TRUE(fast.ok()) << (fast.ok() ? "" : fast.error().message);
-    if (!fast) return nullptr;
-    return worldOrFail(std::move(scene), std::move(log), std::move(*fast));
+    return worldOrFail(std::move(scene), std::move(log), createFastBackend());
 }
 
 }  // namespace plimsoll::test

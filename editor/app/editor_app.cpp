@@ -190,6 +190,9 @@ double processCpuSeconds() {
     return seconds(usage.ru_utime) + seconds(usage.ru_stime);
 }
 
+/// The window's title: the document's (with its unsaved mark) and the program's name.
+std::string windowTitle(const EditorState& s) { return s.document->title() + " - Plimsoll"; }
+
 /// --state-file and --run-seconds' report: the window as the frame just drawn left it, for
 /// window tests to wait on and check (integer pixels, so that a test can look for an exact
 /// position in the text).
@@ -217,7 +220,7 @@ nlohmann::json windowState(const EditorState& s, int frame) {
     j["mirror_x"] = s.brush.mirrorX;
     j["preview_running"] = static_cast<bool>(s.preview->session);
     j["preview_playing"] = s.preview->session && s.preview->session->playing();
-    j["title"] = s.document->title() + " - Plimsoll";
+    j["title"] = windowTitle(s);
     j["status"] = s.status;
     j["bodies"] = s.document->bodyCount();
     j["radial_control"] = !s.radialControl ? "" : s.radialControl->strength ? "strength" : "radius";
@@ -969,7 +972,7 @@ int runEditorWindow(const EditorLaunch& launch) {
             });
         }
 
-        const std::string wanted = s.document->title() + " - Plimsoll";
+        const std::string wanted = windowTitle(s);
         if (wanted != title) {
             title = wanted;
             glfwSetWindowTitle(window, title.c_str());

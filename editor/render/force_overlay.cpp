@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <vector>
 
 namespace plimsoll::editor {
 
@@ -116,18 +117,24 @@ OverlayImage wetTexelOverlay(const SimulatedBody& body, const WaterModel& water,
     for (std::size_t texel = 0; texel < texels; ++texel) std::copy(dry.begin(), dry.end(), &image.rgba[4 * texel]);
     // The water's heights in one batch (vectorised for Gerstner waves, as the fast path asks
     // for them): one point at a time, the waves took most of a 256^2 image's time each frame.
+    // The points' arrays are kept between calls (one a preview frame): sized once, not
+    // allocated each frame.
+    thread_local struct {
+        std::vector<double> x, y, z, height;
+    } points;
     const Pose pose = body.pose();
     const std::size_t n = samples.entries.size();
-    std::vector<double> x(n), y(n), z(n), height(n);
+    for (std::vector<double>* column : {&points.x, &points.y, &points.z, &points.height}) column->resize(n);
     for (std::size_t k = 0; k < n; ++k) {
         const Eigen::Vector3d p = pose.apply(t.position[samples.entries[k]]);
-        x[k] = p.x();
-        y[k] = p.y();
-        z[k] = p.z();
+        points.x[k] = p.x();
+        points.y[k] = p.y();
+        points.z[k] = p.z();
     }
-    water.heights(n, x.data(), z.data(), time, height.data());
+    water.heights(n, points.x.data(), points.z.data(), time, points.height.data());
     for (std::size_t k = 0; k < n; ++k) {
-        if (y[k] < height[k]) std::copy(wet.begin(), wet.end(), &image.rgba[4 * std::size_t{samples.texels[k]}]);
+        if (points.y[k] < points.height[k])
+            std::copy(wet.begin(), wet.end(), &image.rgba[4 * std::size_t{samples.texels[k]}]);
     }
     return image;
 }

@@ -17,6 +17,7 @@
 #include <algorithm>
 #include <cstdlib>
 #include <fstream>
+#include <initializer_list>
 #include <optional>
 #include <unistd.h>
 
@@ -212,6 +213,24 @@ std::string moveTo(int x, int y) {
            waitFor("\"mouse\":[" + std::to_string(x) + "," + std::to_string(y) + "]");
 }
 
+/// Moves to (x, y) and presses the left button, each step seen by a frame.
+std::string pressAt(int x, int y) {
+    return moveTo(x, y) + "xdotool mousedown 1; " + waitFor("\"mouse_down\":true");
+}
+
+/// Moves to (x, y), then presses and releases the left button, each step seen by a frame.
+std::string clickAt(int x, int y) {
+    return pressAt(x, y) + "xdotool mouseup 1; " + waitFor("\"mouse_down\":false");
+}
+
+/// A left-button drag along the row y through the columns xs (pressed at the first, each move
+/// seen by a frame), released at the last; the caller waits for what the release does.
+std::string dragAlong(int y, std::initializer_list<int> xs) {
+    std::string drag = pressAt(*xs.begin(), y);
+    for (auto x = xs.begin() + 1; x != xs.end(); ++x) drag += moveTo(*x, y);
+    return drag + "xdotool mouseup 1; ";
+}
+
 TEST(EditorWindow, KeyTapsShorterThanAFrameAllCount) {
     // Issue 19 bugs 10, 11 and 9: taps sent back to back (xdotool: press and release with no
     // delay, all within one frame) were lost about half the time; P restarted a running
@@ -244,9 +263,7 @@ TEST(EditorWindow, StrokeFromOffTheMeshPaintsAndThePreviewGrabDoesNot) {
     const fs::path project = ballProject("window_stroke");
     // 800 x 500: the 3D view is the left 480 px; the ball (front view, framed) at its centre.
     // Each step waits for a frame to have seen it (the state file), not a fixed time.
-    std::string drag = moveTo(15, 250) + "xdotool mousedown 1; " + waitFor("\"mouse_down\":true");
-    for (int x : {60, 120, 180, 240, 280}) drag += moveTo(x, 250);
-    drag += "xdotool mouseup 1; " + waitFor("\"mouse_down\":false");
+    const std::string drag = dragAlong(250, {15, 60, 120, 180, 240, 280}) + waitFor("\"mouse_down\":false");
     const std::string out = runUnderXvfb(
         project.parent_path(),
         "$PLIMSOLL edit ball.plim.json --run-seconds 60 --window-size 800x500 --view front "
@@ -275,10 +292,8 @@ TEST(EditorWindow, ShiftClickDrawsALineStrokeFromTheLastStrokesEnd) {
     // one (fixed sleeps lost the Shift under a slow sanitizer build).
     if (!haveWindowTools(true)) GTEST_SKIP() << "xvfb-run or xdotool is not installed";
     const fs::path project = ballProject("window_line");
-    std::string stroke = "xdotool key --window $w b; " + waitFor("\"tool\":1") + moveTo(220, 250) +
-                         "xdotool mousedown 1; " + waitFor("\"mouse_down\":true");
-    for (int x : {230, 240, 250, 260}) stroke += moveTo(x, 250);
-    stroke += "xdotool mouseup 1; " + waitFor("\"undo\":\"Paint permeability\"");
+    const std::string stroke = "xdotool key --window $w b; " + waitFor("\"tool\":1") +
+                               dragAlong(250, {220, 230, 240, 250, 260}) + waitFor("\"undo\":\"Paint permeability\"");
     const std::string line = moveTo(240, 190) + "xdotool keydown shift; " + waitFor("\"shift\":true") +
                              "xdotool mousedown 1; " + waitFor("\"mouse_down\":true") +
                              "xdotool mouseup 1; " + waitFor("\"mouse_down\":false") +
@@ -399,8 +414,7 @@ TEST(EditorWindow, AnOpenedPlotWindowDrawsItsCurveAcrossItsWidth) {
     const std::string out = runUnderXvfb(
         dir, "$PLIMSOLL edit ball.plim.json --preview --run-seconds 90 --window-size 800x500 "
              "--state-file state.json --screenshot shot.png & " +
-                 kWaitForState + waitFor("\"name\":\"Live preview\"") + moveTo(162, 58) +
-                 "xdotool mousedown 1; " + waitFor("\"mouse_down\":true") + "xdotool mouseup 1; " +
+                 kWaitForState + waitFor("\"name\":\"Live preview\"") + clickAt(162, 58) +
                  waitFor("\"name\":\"Submerged volume: ball\"") + moveTo(700, 480) +
                  // 90 more frames (one simulated frame each, at most): rows for the curve.
                  "f0=" + frameNow + "; i=0; until [ " + frameNow + " -ge $((f0 + 90)) ] || [ $i -gt 600 ]; "
@@ -517,18 +531,14 @@ TEST(EditorWindow, WaterChangedInThePreviewIsKeptInTheProject) {
     if (!haveWindowTools(true)) GTEST_SKIP() << "xvfb-run or xdotool is not installed";
     const fs::path project = ballProject("window_keep_water", 0.3);
     const fs::path dir = project.parent_path();
-    auto click = [](int x, int y) {
-        return moveTo(x, y) + "xdotool mousedown 1; " + waitFor("\"mouse_down\":true") +
-               "xdotool mouseup 1; " + waitFor("\"mouse_down\":false");
-    };
     const std::string out = runUnderXvfb(
         dir, "$PLIMSOLL edit ball.plim.json --preview --run-seconds 90 --window-size 800x500 "
              "--state-file state.json & " +
-                 kWaitForState + waitFor("\"name\":\"Live preview\"") + click(60, 388) +
+                 kWaitForState + waitFor("\"name\":\"Live preview\"") + clickAt(60, 388) +
                  moveTo(125, 434) + waitFor("\"tooltip\":\"The still-water height") +
                  "xdotool mousedown 1; " + waitFor("\"held\":\"Live preview\"") + moveTo(135, 434) +
                  moveTo(145, 434) + "xdotool mouseup 1; " + waitFor("\"held\":\"\"") +
-                 moveTo(72, 457) + waitFor("\"tooltip\":\"Write these water") + click(72, 457) +
+                 moveTo(72, 457) + waitFor("\"tooltip\":\"Write these water") + clickAt(72, 457) +
                  waitFor("\"undo\":\"Keep the preview") + "xdotool key --window $w ctrl+s; " +
                  waitFor("\"dirty\":false") + "xdotool key --window $w ctrl+q; wait");
     if (out.empty()) GTEST_SKIP() << "no editor window in this build or no X server";
@@ -572,12 +582,6 @@ TEST(EditorWindow, SaveAsTakesATypedNameAndLeavesTheOriginalAsItWas) {
     EXPECT_EQ(test::readFile(project), original);
 }
 
-
-/// Moves to (x, y), then presses and releases the left button, each step seen by a frame.
-std::string clickAt(int x, int y) {
-    return moveTo(x, y) + "xdotool mousedown 1; " + waitFor("\"mouse_down\":true") +
-           "xdotool mouseup 1; " + waitFor("\"mouse_down\":false");
-}
 
 /// The ball's project with a saved permeability map of `value` everywhere (64 x 64, written by
 /// a headless edit script, as a user's earlier session would have), and a settings file whose
@@ -627,10 +631,8 @@ TEST(EditorWindow, NewMapOverSavedPaintAsksAndUndoBringsTheSavedPaintBack) {
     ASSERT_EQ(countNear(savedPermeability(project), 0.6, 0.003), 64u * 64u);
     // The ball's centre is at (400, 388) of the 1200 x 780 window in the front view, 178 px
     // across its radius: the stroke runs over its middle.
-    std::string stroke = "xdotool key --window $w b; " + waitFor("\"tool\":1") + moveTo(340, 388) +
-                         "xdotool mousedown 1; " + waitFor("\"mouse_down\":true");
-    for (int x : {370, 400, 430, 460}) stroke += moveTo(x, 388);
-    stroke += "xdotool mouseup 1; " + waitFor("\"undo\":\"Paint permeability\"");
+    const std::string stroke = "xdotool key --window $w b; " + waitFor("\"tool\":1") +
+                               dragAlong(388, {340, 370, 400, 430, 460}) + waitFor("\"undo\":\"Paint permeability\"");
     const std::string out = runUnderXvfb(
         dir, "$PLIMSOLL edit ball.plim.json --run-seconds 90 --window-size 1200x780 --view front "
              "--state-file state.json & " +
@@ -715,10 +717,8 @@ TEST(EditorWindow, ExportWithUnsavedPaintAsksAndSaveAndExportWritesWhatIsOnScree
     const fs::path dir = project.parent_path();
     fs::remove(dir / "config" / "plimsoll" / "settings.json");  // the default layout
     // The ball at (240, 248) of the 800 x 500 front view, about 110 px across its radius.
-    std::string stroke = "xdotool key --window $w b; " + waitFor("\"tool\":1") + moveTo(200, 248) +
-                         "xdotool mousedown 1; " + waitFor("\"mouse_down\":true");
-    for (int x : {220, 240, 260, 280}) stroke += moveTo(x, 248);
-    stroke += "xdotool mouseup 1; " + waitFor("\"undo\":\"Paint permeability\"");
+    const std::string stroke = "xdotool key --window $w b; " + waitFor("\"tool\":1") +
+                               dragAlong(248, {200, 220, 240, 260, 280}) + waitFor("\"undo\":\"Paint permeability\"");
     const std::string out = runUnderXvfb(
         dir, "$PLIMSOLL edit ball.plim.json --run-seconds 90 --window-size 800x500 --view front "
              "--state-file state.json & " +

@@ -129,7 +129,7 @@ Result<HeaveDecayTest> runHeaveDecayTest(const Scene& scene, std::size_t index, 
         return makeError(ErrorKind::invalidArgument, source.label + ": decay test: no heave oscillation to test");
 
     // The fast CPU path, the default simulate and the editor use (within 1e-5 of the reference
-    // on flat water): a third of the reference's time for the same periods and decrement.
+    // on flat water): the same period and decrement as the reference's, in less time.
     Result<std::unique_ptr<World>> world = World::create(std::move(tank), createFastBackend());
     if (!world) return world.error();
     const double rest = level + radiation.restHeight + source.mass->centerOfMass.y();

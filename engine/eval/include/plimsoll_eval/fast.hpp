@@ -846,13 +846,12 @@ inline Sums FastBody::evaluate(const BodyState& s, const WaterSurface& water, co
         auto descend = [&](std::int32_t slot) {
             for (std::uint32_t c = 0; c < t.children; ++c) self(nodes_[t.firstChild + c], slot, self);
         };
-        if (!submerged && t.children > 0) {
-            // A waterline tile's leaves take the water's velocity at the tile's centre
-            // (docs/fast-path.md): one query for all of them rather than one each.
-            if (group || inherited >= 0 || !moving) return descend(inherited);
-            return descend(velocitySlot(s.center + rc));
-        }
-        const std::int32_t slot = inherited >= 0 ? inherited : (moving ? velocitySlot(s.center + rc) : -1);
+        // The node's water-velocity sample: its parent's, or one at its centre.
+        auto ownSlot = [&] { return inherited >= 0 ? inherited : moving ? velocitySlot(s.center + rc) : -1; };
+        // A waterline tile's leaves take the sample at the tile's centre (docs/fast-path.md):
+        // one query for all of them rather than one each. A group's tiles take their own.
+        if (!submerged && t.children > 0) return descend(group ? inherited : ownSlot());
+        const std::int32_t slot = ownSlot();
         if (!submerged) {
             ++counted.perEntry;
             // Every per-entry node is a leaf of kLanes entries (nodes with children descended
