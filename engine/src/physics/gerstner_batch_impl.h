@@ -21,39 +21,60 @@ inline double reducedPhase(double theta) {
     return std::clamp(theta - turns * kTwoPi, -4.0, 4.0);
 }
 
-/// sin and cos (as requested) of each wave's phase at the block's undisplaced points.
-struct BlockPhases {
-    alignas(64) float angle[kBlock];
-    alignas(64) float sine[kBlock];
-    alignas(64) float cosine[kBlock];
-};
+/// Waves whose phases a block keeps between the steps of its search (the phases of any
+/// further ones are formed again at each step).
+constexpr std::size_t kKeptWaves = 16;
 
-inline void phasesOf(const GerstnerBatchWave& w, const double* x0, const double* z0, BlockPhases& p) {
+/// Each wave's phase at the block's points, k D.x + phase0, formed and reduced in double.
+inline void basePhases(const GerstnerBatchWave& w, const double* x, const double* z, float* out) {
     for (std::size_t l = 0; l < kBlock; ++l)
-        p.angle[l] = static_cast<float>(reducedPhase(w.k * (w.dx * x0[l] + w.dz * z0[l]) + w.phase0));
+        out[l] = static_cast<float>(reducedPhase(w.k * (w.dx * x[l] + w.dz * z[l]) + w.phase0));
 }
 
-/// The undisplaced points of a block (WaterModel's undisplaced: three fixed-point steps).
-inline void undisplacedBlock(const GerstnerBatch& g, const double* x, const double* z, double* x0, double* z0) {
-    for (std::size_t l = 0; l < kBlock; ++l) {
-        x0[l] = x[l];
-        z0[l] = z[l];
+/// A block's undisplaced points x0 = x + s: the shift s (at most the sum of the waves' Q A, so
+/// single precision holds it to 1e-8 m) and each wave's phase at x, from which the phase at x0
+/// is that plus k D.s. The double-precision phase, the costly part, is formed once a point
+/// rather than once a step.
+struct BlockSearch {
+    alignas(64) float sx[kBlock];
+    alignas(64) float sz[kBlock];
+    alignas(64) float base[kKeptWaves][kBlock];
+    alignas(64) float spare[kBlock];  // the phase of a wave beyond kKeptWaves, formed when asked
+
+    /// Wave i's phase at the undisplaced points, into `angle`.
+    void angleAt(const GerstnerBatch& g, std::size_t i, const double* x, const double* z, float* angle) {
+        const GerstnerBatchWave& w = g.waves[i];
+        const float* phase = base[std::min(i, kKeptWaves - 1)];
+        if (i >= kKeptWaves) {
+            basePhases(w, x, z, spare);
+            phase = spare;
+        }
+        const float kdx = static_cast<float>(w.k * w.dx), kdz = static_cast<float>(w.k * w.dz);
+        for (std::size_t l = 0; l < kBlock; ++l) angle[l] = phase[l] + kdx * sx[l] + kdz * sz[l];
     }
-    BlockPhases p;
+};
+
+/// The undisplaced points of a block (WaterModel's undisplaced: three fixed-point steps
+/// x0 <- x + sum Q A D sin(theta(x0))).
+inline void undisplacedBlock(const GerstnerBatch& g, const double* x, const double* z, BlockSearch& search) {
+    for (std::size_t i = 0; i < std::min(g.count, kKeptWaves); ++i) basePhases(g.waves[i], x, z, search.base[i]);
+    for (std::size_t l = 0; l < kBlock; ++l) search.sx[l] = search.sz[l] = 0.0f;
+    alignas(64) float angle[kBlock], sine[kBlock];
     for (int iteration = 0; iteration < 3; ++iteration) {
-        alignas(64) double sx[kBlock] = {}, sz[kBlock] = {};
+        alignas(64) float sx[kBlock] = {}, sz[kBlock] = {};
         for (std::size_t i = 0; i < g.count; ++i) {
             const GerstnerBatchWave& w = g.waves[i];
-            phasesOf(w, x0, z0, p);
-            xsimd::sin(Lanes::load_aligned(p.angle)).store_aligned(p.sine);
+            search.angleAt(g, i, x, z, angle);
+            xsimd::sin(Lanes::load_aligned(angle)).store_aligned(sine);
+            const float qdx = static_cast<float>(w.qa * w.dx), qdz = static_cast<float>(w.qa * w.dz);
             for (std::size_t l = 0; l < kBlock; ++l) {
-                sx[l] += w.qa * p.sine[l] * w.dx;
-                sz[l] += w.qa * p.sine[l] * w.dz;
+                sx[l] += qdx * sine[l];
+                sz[l] += qdz * sine[l];
             }
         }
         for (std::size_t l = 0; l < kBlock; ++l) {
-            x0[l] = x[l] + sx[l];
-            z0[l] = z[l] + sz[l];
+            search.sx[l] = sx[l];
+            search.sz[l] = sz[l];
         }
     }
 }
@@ -78,15 +99,15 @@ void forBlocks(std::size_t n, const double* x, const double* y, const double* z,
 inline void heightsImpl(const GerstnerBatch& g, std::size_t n, const double* x, const double* z, double* out) {
     forBlocks(n, x, nullptr, z, [&](std::size_t first, std::size_t count, const double* bx, const double*,
                                     const double* bz) {
-        alignas(64) double x0[kBlock], z0[kBlock], height[kBlock];
-        undisplacedBlock(g, bx, bz, x0, z0);
+        BlockSearch search;
+        undisplacedBlock(g, bx, bz, search);
+        alignas(64) double height[kBlock];
+        alignas(64) float angle[kBlock], cosine[kBlock];
         for (std::size_t l = 0; l < kBlock; ++l) height[l] = g.level;
-        BlockPhases p;
         for (std::size_t i = 0; i < g.count; ++i) {
-            const GerstnerBatchWave& w = g.waves[i];
-            phasesOf(w, x0, z0, p);
-            xsimd::cos(Lanes::load_aligned(p.angle)).store_aligned(p.cosine);
-            for (std::size_t l = 0; l < kBlock; ++l) height[l] += w.amplitude * p.cosine[l];
+            search.angleAt(g, i, bx, bz, angle);
+            xsimd::cos(Lanes::load_aligned(angle)).store_aligned(cosine);
+            for (std::size_t l = 0; l < kBlock; ++l) height[l] += g.waves[i].amplitude * cosine[l];
         }
         for (std::size_t l = 0; l < count; ++l) out[first + l] = height[l];
     });
@@ -96,16 +117,17 @@ inline void velocitiesImpl(const GerstnerBatch& g, std::size_t n, const double* 
                            const double* z, double* out) {
     forBlocks(n, x, y, z, [&](std::size_t first, std::size_t count, const double* bx, const double* by,
                               const double* bz) {
-        alignas(64) double x0[kBlock], z0[kBlock], v[3][kBlock] = {};
-        undisplacedBlock(g, bx, bz, x0, z0);
-        BlockPhases p;
+        BlockSearch search;
+        undisplacedBlock(g, bx, bz, search);
+        alignas(64) double v[3][kBlock] = {};
+        alignas(64) float angle[kBlock], sineOf[kBlock], cosineOf[kBlock];
         alignas(64) float depthScale[kBlock], decay[kBlock];
         for (std::size_t i = 0; i < g.count; ++i) {
             const GerstnerBatchWave& w = g.waves[i];
-            phasesOf(w, x0, z0, p);
-            const auto [sine, cosine] = xsimd::sincos(Lanes::load_aligned(p.angle));
-            sine.store_aligned(p.sine);
-            cosine.store_aligned(p.cosine);
+            search.angleAt(g, i, bx, bz, angle);
+            const auto [sine, cosine] = xsimd::sincos(Lanes::load_aligned(angle));
+            sine.store_aligned(sineOf);
+            cosine.store_aligned(cosineOf);
             // Orbital motion decays as e^(k d) below the mean level (none above it).
             // (Clamped before the conversion: e^-80 is already 0 in single precision, and a
             // point far below would not fit a float.)
@@ -113,9 +135,9 @@ inline void velocitiesImpl(const GerstnerBatch& g, std::size_t n, const double* 
                 depthScale[l] = static_cast<float>(std::max(-80.0, w.k * std::min(0.0, by[l] - g.level)));
             xsimd::exp(Lanes::load_aligned(depthScale)).store_aligned(decay);
             for (std::size_t l = 0; l < kBlock; ++l) {
-                const double horizontal = w.qa * w.omega * p.cosine[l] * decay[l];
+                const double horizontal = w.qa * w.omega * cosineOf[l] * decay[l];
                 v[0][l] += horizontal * w.dx;
-                v[1][l] += w.amplitude * w.omega * p.sine[l] * decay[l];
+                v[1][l] += w.amplitude * w.omega * sineOf[l] * decay[l];
                 v[2][l] += horizontal * w.dz;
             }
         }

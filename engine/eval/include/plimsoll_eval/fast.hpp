@@ -803,17 +803,28 @@ inline Sums FastBody::evaluate(const BodyState& s, const WaterSurface& water, co
         scratch.pz.push_back(point.z);
         return static_cast<std::int32_t>(scratch.px.size() - 1);
     };
-    auto visit = [&](const FastTile& t, std::int32_t inherited, auto& self) -> void {
-        const Vec3 rc = R * t.center;
-        TileWater w;
+    // What a node's bounds say of it against the water, decided before anything is done with
+    // it (below).
+    enum class Wetness : std::uint8_t { dry, submerged, waterline };
+    struct NodeWater {
+        Vec3 rc;       // its centre about c, world axes
+        TileWater w;   // the water over it, about its centre
+        int stencil;   // on waves: the grid node whose 3 x 3 quadratic it takes
+        Wetness wetness;
+    };
+    const double inverseH = 1 / h;
+    auto classify = [&](const FastTile& t, NodeWater& n) {
+        n.rc = R * t.center;
+        TileWater& w = n.w;
         double variation = 0;  // bound of the water's departure from w.f over the tile
-        int stencil = -1;      // on waves: the grid node whose 3 x 3 quadratic the node takes
+        n.stencil = -1;
         if (waves) {
-            const double fx = (s.center.x + rc.x - x0) / h, fz = (s.center.z + rc.z - z0) / h;
-            const int i = std::clamp(static_cast<int>(std::lround(fx)), 1, G - 2);
-            const int j = std::clamp(static_cast<int>(std::lround(fz)), 1, G - 2);
-            stencil = j * G + i;
-            const FastStencil& q = scratch.stencilQuadratics[static_cast<std::size_t>(stencil)];
+            const double fx = (s.center.x + n.rc.x - x0) * inverseH, fz = (s.center.z + n.rc.z - z0) * inverseH;
+            // The nearest inner grid node (clamped before the conversion; a NaN goes to the edge).
+            const int i = static_cast<int>(std::max(1.0, std::min(fx, G - 2.0)) + 0.5);
+            const int j = static_cast<int>(std::max(1.0, std::min(fz, G - 2.0)) + 0.5);
+            n.stencil = j * G + i;
+            const FastStencil& q = scratch.stencilQuadratics[static_cast<std::size_t>(n.stencil)];
             w.hxx = q.hxx;
             w.hzz = q.hzz;
             w.hxz = q.hxz;
@@ -830,69 +841,90 @@ inline Sums FastBody::evaluate(const BodyState& s, const WaterSurface& water, co
         const double reach = std::min(t.radius, std::abs(R.m[1][0]) * t.halfSize.x +
                                                     std::abs(R.m[1][1]) * t.halfSize.y +
                                                     std::abs(R.m[1][2]) * t.halfSize.z);
-        const double top = rc.y + reach + t.halfExtent, bottom = rc.y - reach - t.halfExtent;
-        if (bottom >= w.f + variation) {
-            ++counted.dry;
-            return;
-        }
+        const double top = n.rc.y + reach + t.halfExtent, bottom = n.rc.y - reach - t.halfExtent;
         // On waves a node is summed under the quadratic of the grid node nearest its centre. A
         // group is, only where it is small against the grid: its reach at most half the
         // spacing, so that every entry lies within the 3 x 3 nodes that quadratic was fitted
         // to (on a large texture most groups are; on a small one they span too much of the
         // surface, and their tiles decide, as tiles always do).
         const bool group = &t < nodes_.data() + roots_;
-        const bool submerged =
-            top < w.f - variation && !(waves && group && t.radius + t.halfExtent > 0.5 * h);
-        auto descend = [&](std::int32_t slot) {
-            for (std::uint32_t c = 0; c < t.children; ++c) self(nodes_[t.firstChild + c], slot, self);
-        };
-        // The node's water-velocity sample: its parent's, or one at its centre.
-        auto ownSlot = [&] { return inherited >= 0 ? inherited : moving ? velocitySlot(s.center + rc) : -1; };
-        // A waterline tile's leaves take the sample at the tile's centre (docs/fast-path.md):
-        // one query for all of them rather than one each. A group's tiles take their own.
-        if (!submerged && t.children > 0) return descend(group ? inherited : ownSlot());
-        const std::int32_t slot = ownSlot();
-        if (!submerged) {
-            ++counted.perEntry;
-            // Every per-entry node is a leaf of kLanes entries (nodes with children descended
-            // above).
-            FastLeafWork& leaf = scratch.leaves.emplace_back();
-            leaf.begin = t.begin;
-            leaf.cx = static_cast<float>(rc.x);
-            leaf.cz = static_cast<float>(rc.z);
-            leaf.f = static_cast<float>(w.f);
-            leaf.gx = static_cast<float>(w.gx);
-            leaf.gz = static_cast<float>(w.gz);
-            leaf.hxx = static_cast<float>(0.5 * w.hxx);
-            leaf.hxz = static_cast<float>(w.hxz);
-            leaf.hzz = static_cast<float>(0.5 * w.hzz);
-            scratch.leafSlots.push_back(slot);  // the relative velocity comes after the batch
-            return;
-        }
-        ++counted.closedForm;
-        // Drag waits for the water's velocity (below).
-        const std::size_t index = static_cast<std::size_t>(&t - nodes_.data());
-        scratch.drags.push_back({static_cast<std::uint32_t>(index), slot});
-        // Under one water plane every submerged node's polynomial is the same: their moments
-        // about c add up and are evaluated once (below). On waves each tile has its own
-        // quadratic, expanded about its centre.
-        if (waves) {
-            // Every node of one stencil has the same quadratic: their moments about c add up
-            // in the stencil's bucket, shifted once to the stencil's point (below).
-            std::int32_t& bucket = scratch.stencilBucket[static_cast<std::size_t>(stencil)];
-            if (bucket < 0) {
-                bucket = static_cast<std::int32_t>(scratch.stencils.size());
-                scratch.stencils.push_back({FastMoments{}, stencil, 0.0, 0.0});
+        n.wetness = bottom >= w.f + variation ? Wetness::dry
+                    : top < w.f - variation && !(waves && group && t.radius + t.halfExtent > 0.5 * h)
+                        ? Wetness::submerged
+                        : Wetness::waterline;
+    };
+    // Nodes are looked at a few siblings at a time: all classified first, then acted on. Their
+    // classifications are independent chains of arithmetic that the processor overlaps; one
+    // node at a time, each waited for the last (the traversal took a third of the call).
+    constexpr std::uint32_t kSiblings = 8;
+    auto visit = [&](std::uint32_t first, std::uint32_t count, std::int32_t inherited, auto& self) -> void {
+        for (std::uint32_t from = first; from < first + count; from += kSiblings) {
+            const std::uint32_t m = std::min(kSiblings, first + count - from);
+            NodeWater found[kSiblings];
+            for (std::uint32_t c = 0; c < m; ++c) classify(nodes_[from + c], found[c]);
+            for (std::uint32_t c = 0; c < m; ++c) {
+                const FastTile& t = nodes_[from + c];
+                const NodeWater& n = found[c];
+                if (n.wetness == Wetness::dry) {
+                    ++counted.dry;
+                    continue;
+                }
+                const bool group = &t < nodes_.data() + roots_;
+                // The node's water-velocity sample: its parent's, or one at its centre.
+                auto ownSlot = [&] {
+                    return inherited >= 0 ? inherited : moving ? velocitySlot(s.center + n.rc) : -1;
+                };
+                if (n.wetness == Wetness::waterline) {
+                    // A waterline tile's leaves take the sample at the tile's centre
+                    // (docs/fast-path.md): one query for all of them rather than one each. A
+                    // group's tiles take their own.
+                    if (t.children > 0) {
+                        self(t.firstChild, t.children, group ? inherited : ownSlot(), self);
+                        continue;
+                    }
+                    ++counted.perEntry;
+                    // Every per-entry node is a leaf of kLanes entries (nodes with children
+                    // descended above).
+                    const TileWater& w = n.w;
+                    FastLeafWork& leaf = scratch.leaves.emplace_back();
+                    leaf.begin = t.begin;
+                    leaf.cx = static_cast<float>(n.rc.x);
+                    leaf.cz = static_cast<float>(n.rc.z);
+                    leaf.f = static_cast<float>(w.f);
+                    leaf.gx = static_cast<float>(w.gx);
+                    leaf.gz = static_cast<float>(w.gz);
+                    leaf.hxx = static_cast<float>(0.5 * w.hxx);
+                    leaf.hxz = static_cast<float>(w.hxz);
+                    leaf.hzz = static_cast<float>(0.5 * w.hzz);
+                    scratch.leafSlots.push_back(ownSlot());  // the relative velocity comes after the batch
+                    continue;
+                }
+                ++counted.closedForm;
+                // Drag waits for the water's velocity (below).
+                const std::size_t index = static_cast<std::size_t>(&t - nodes_.data());
+                scratch.drags.push_back({static_cast<std::uint32_t>(index), ownSlot()});
+                // Under one water plane every submerged node's polynomial is the same: their
+                // moments about c add up and are evaluated once (below). On waves each tile has
+                // its own quadratic, expanded about its centre.
+                if (waves) {
+                    // Every node of one stencil has the same quadratic: their moments about c add
+                    // up in the stencil's bucket, shifted once to the stencil's point (below).
+                    std::int32_t& bucket = scratch.stencilBucket[static_cast<std::size_t>(n.stencil)];
+                    if (bucket < 0) {
+                        bucket = static_cast<std::int32_t>(scratch.stencils.size());
+                        scratch.stencils.push_back({FastMoments{}, n.stencil, 0.0, 0.0});
+                    }
+                    FastStencilBucket& into = scratch.stencils[static_cast<std::size_t>(bucket)];
+                    into.moments.add(centerMoments_[index]);
+                    into.heightSum += t.count * n.rc.y;
+                    into.entries += t.count;
+                } else {
+                    scratch.flatHydrostatics.add(centerMoments_[index], 2);
+                }
+                sum.wettedArea += t.areaSum;
+                sum.count += t.count;
             }
-            FastStencilBucket& into = scratch.stencils[static_cast<std::size_t>(bucket)];
-            into.moments.add(centerMoments_[index]);
-            into.heightSum += t.count * rc.y;
-            into.entries += t.count;
-        } else {
-            scratch.flatHydrostatics.add(centerMoments_[index], 2);
         }
-        sum.wettedArea += t.areaSum;
-        sum.count += t.count;
     };
     scratch.leaves.clear();
     scratch.dragLeaves.clear();
@@ -904,7 +936,7 @@ inline Sums FastBody::evaluate(const BodyState& s, const WaterSurface& water, co
     scratch.flatHydrostatics = FastMoments{};
     scratch.stencils.clear();
     if (waves) scratch.stencilBucket.assign(static_cast<std::size_t>(G) * G, -1);
-    for (std::uint32_t g = 0; g < roots_; ++g) visit(nodes_[g], -1, visit);
+    visit(0, roots_, -1, visit);
     // Waves: each stencil's bucket about the point above its grid node (at the mean height of
     // its nodes' centres, where the moments are smallest), under the stencil's quadratic.
     for (const FastStencilBucket& bucket : scratch.stencils) {
