@@ -878,25 +878,32 @@ inline Sums FastBody::evaluate(const BodyState& s, const WaterSurface& water, co
                     // A waterline tile's leaves take the sample at the tile's centre
                     // (docs/fast-path.md): one query for all of them rather than one each. A
                     // group's tiles take their own.
-                    if (t.children > 0) {
+                    if (t.children > 0 && (group || !waves)) {
                         self(t.firstChild, t.children, group ? inherited : ownSlot(), self);
                         continue;
                     }
-                    ++counted.perEntry;
-                    // Every per-entry node is a leaf of kLanes entries (nodes with children
-                    // descended above).
+                    // On waves a waterline tile's leaves are all evaluated entry by entry, under
+                    // the tile's water: sorting them into dry, submerged and waterline (each
+                    // placed on the wave grid) cost more than evaluating them. On flat water
+                    // sorting is cheap and the leaves decide (sphere at 64^2 moving on waves:
+                    // 30 -> 26 us a call; at rest on flat water, all leaves cost 7.5 -> 9.9 us).
                     const TileWater& w = n.w;
-                    FastLeafWork& leaf = scratch.leaves.emplace_back();
-                    leaf.begin = t.begin;
-                    leaf.cx = static_cast<float>(n.rc.x);
-                    leaf.cz = static_cast<float>(n.rc.z);
-                    leaf.f = static_cast<float>(w.f);
-                    leaf.gx = static_cast<float>(w.gx);
-                    leaf.gz = static_cast<float>(w.gz);
-                    leaf.hxx = static_cast<float>(0.5 * w.hxx);
-                    leaf.hxz = static_cast<float>(w.hxz);
-                    leaf.hzz = static_cast<float>(0.5 * w.hzz);
-                    scratch.leafSlots.push_back(ownSlot());  // the relative velocity comes after the batch
+                    const std::int32_t slot = ownSlot();
+                    const std::uint32_t leaves = std::max<std::uint32_t>(1, t.children);
+                    for (std::uint32_t c = 0; c < leaves; ++c) {
+                        ++counted.perEntry;
+                        FastLeafWork& leaf = scratch.leaves.emplace_back();
+                        leaf.begin = t.children > 0 ? nodes_[t.firstChild + c].begin : t.begin;
+                        leaf.cx = static_cast<float>(n.rc.x);
+                        leaf.cz = static_cast<float>(n.rc.z);
+                        leaf.f = static_cast<float>(w.f);
+                        leaf.gx = static_cast<float>(w.gx);
+                        leaf.gz = static_cast<float>(w.gz);
+                        leaf.hxx = static_cast<float>(0.5 * w.hxx);
+                        leaf.hxz = static_cast<float>(w.hxz);
+                        leaf.hzz = static_cast<float>(0.5 * w.hzz);
+                        scratch.leafSlots.push_back(slot);  // the relative velocity comes after the batch
+                    }
                     continue;
                 }
                 ++counted.closedForm;
