@@ -136,9 +136,12 @@ TEST(CliBench, RealtimeWavesRowsShowTheWaveGridTrade) {
     const double e5 = errorOf.at("fast CPU (wave grid 5)"), e7 = errorOf.at("fast CPU (wave grid 7)"),
                  e9 = errorOf.at("fast CPU"), e13 = errorOf.at("fast CPU (wave grid 13)");
     for (double e : {e5, e7, e9, e13}) EXPECT_TRUE(std::isfinite(e) && e > 0 && e < 1e-3) << e;
-    // The tile size moves where the closed forms apply, not how well the water is sampled.
-    for (const char* tiles : {"fast CPU (tiles 16)", "fast CPU (tiles 64)"})
-        EXPECT_NEAR(errorOf.at(tiles), e9, 0.5 * e9) << tiles;
+    // On waves a tile at the waterline takes one quadratic over all its entries: smaller
+    // tiles sample the water more finely (16, 32, 64 entries: 8.9e-5, 1.3e-4, 2.1e-4 when
+    // this was written).
+    const double e16 = errorOf.at("fast CPU (tiles 16)"), e64 = errorOf.at("fast CPU (tiles 64)");
+    EXPECT_LT(e16, e9);
+    EXPECT_LT(e9, e64);
     EXPECT_GT(e5, e7);
     EXPECT_GT(e7, e9);
     EXPECT_NE(r.out.find("moving, waves, sphere: within"), std::string::npos) << r.out;
