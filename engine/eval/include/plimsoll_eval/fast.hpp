@@ -2,27 +2,29 @@
 // with a cost that follows the waterline rather than the surface.
 //
 // The entries are grouped into tiles that are compact in object space (consecutive runs of
-// the entries sorted along a Morton curve). Each tile keeps a bounding sphere, the spread of
-// its normals and the moments of its area vectors b about its centre (FastMoments),
-//   N0 = sum b,  N1 = sum b s^T,  N2 = sum b s s,  N3 = sum b s s s     (s = q - centre),
-// q = p - c the entry's position about the body's centre c, so that per frame a tile is one of:
+// the entries sorted along a Morton curve). Each node (group, tile, leaf) keeps a bounding box
+// and sphere, the spread of its normals and the moments of its area vectors b about the
+// body's centre c (FastMoments, FastBody::centerMoments),
+//   N0 = sum b,  N1 = sum b q^T,  N2 = sum b q q,  N3 = sum b q q q,
+// q = p - c the entry's position about c, so that per frame a node is one of:
 //   dry        every entry above the water by more than its half extent: it adds nothing;
 //   submerged  every entry fully wet under a water plane: the hydrostatic sums are
 //              polynomials of degree two in q (volume, pressure force and torque, moments) and
-//              the drag sum one of degree three when the sign of A.v is the same over the tile
+//              the drag sum one of degree three when the sign of A.v is the same over the node
 //              (normal cone against the velocity spread), so they come from the moments;
-//   waterline  anything else: per-entry work (addEntry, in single precision).
+//   waterline  anything else: its children decide; a leaf's entries are evaluated one by one
+//              (entryTerms, in single precision).
 // On waves the water is sampled once per call on a small grid over the body's footprint
-// (one batched height query); each tile takes the quadratic through its nearest 3 x 3
-// stencil, and a submerged tile's closed form takes the depth as that quadratic expanded about
-// the tile's centre (moments about the tile up to third order), so curved water costs no
-// per-entry work either; waterline tiles give their entries the quadratic's heights. The
-// water's own velocity (drag) is taken at the tile's centre, asked for in one batch after the
-// traversal.
+// (one batched height query); each node takes the quadratic through its nearest 3 x 3
+// stencil, so curved water costs no per-entry work under it either: the submerged nodes of
+// one stencil add their moments, which are shifted once to the stencil's point (shifted)
+// where the depth is that quadratic. A waterline tile gives all its entries its quadratic's
+// heights. The water's own velocity (drag) is taken at a tile's centre, asked for in one
+// batch after the traversal.
 // Closed forms are linear in the moments, so nodes that share one polynomial add their moments
-// about c (FastBody::centerMoments) and the polynomial is evaluated once: every submerged node
-// under a flat plane, every submerged node of one stencil on waves (shifted to the stencil's
-// point), every facing node of one water velocity for drag (docs/fast-path.md).
+// and the polynomial is evaluated once: every submerged node under a flat plane, every
+// submerged node of one stencil on waves, every facing node of one water velocity for drag
+// (docs/fast-path.md).
 #pragma once
 
 #include "plimsoll_eval/entry.hpp"
@@ -123,11 +125,11 @@ inline constexpr int kTriple[3][3][3] = {{{0, 1, 2}, {1, 3, 4}, {2, 4, 5}},
                                          {{1, 3, 4}, {3, 6, 7}, {4, 7, 8}},
                                          {{2, 4, 5}, {4, 7, 8}, {5, 8, 9}}};
 
-/// A node's moments of its area vectors b about its centre (s = q - center, object axes):
-/// n0 = sum b, n1 = sum b s^T, n2 = sum b s s, n3 = sum b s s s, the last two symmetric in
-/// the s indices and stored once per index set (kPair, kTriple). The hydrostatic closed form
-/// expands the depth about the node, where it is small; the drag closed form takes the
-/// velocity about it too.
+/// Moments of area vectors b about a point (s their positions from it, object axes): n0 =
+/// sum b, n1 = sum b s^T, n2 = sum b s s, n3 = sum b s s s, the last two symmetric in the s
+/// indices and stored once per index set (kPair, kTriple). A node's are about the body's
+/// centre c; on waves a stencil's sum is shifted to the stencil's point, where its depth is
+/// expanded and small.
 struct FastMoments {
     double n0[3] = {};
     double n1[3][3] = {};
@@ -287,16 +289,15 @@ public:
         // neither dry nor summable in closed form is looked at again in its children; only
         // leaves are evaluated per entry.
         std::vector<FastTile> groups, tiles, leaves;
-        std::vector<FastMoments> groupMoments, tileMoments, leafMoments;
         for (std::size_t begin = 0; begin < padded; begin += size * kGroupTiles) {
-            FastTile g = makeTile(begin, std::min(padded, begin + size * kGroupTiles), groupMoments);
+            FastTile g = makeTile(begin, std::min(padded, begin + size * kGroupTiles));
             g.firstChild = static_cast<std::uint32_t>(tiles.size());
             for (std::size_t t0 = g.begin; t0 < g.end; t0 += size) {
-                FastTile t = makeTile(t0, t0 + size, tileMoments);
+                FastTile t = makeTile(t0, t0 + size);
                 t.firstChild = static_cast<std::uint32_t>(leaves.size());
                 if (size > kLanes)
                     for (std::size_t sub = t0; sub < t0 + size; sub += kLanes)
-                        if (valid_[sub] != 0) leaves.push_back(makeTile(sub, sub + kLanes, leafMoments));
+                        if (valid_[sub] != 0) leaves.push_back(makeTile(sub, sub + kLanes));
                 t.children = static_cast<std::uint32_t>(leaves.size()) - t.firstChild;
                 tiles.push_back(t);
             }
@@ -313,9 +314,6 @@ public:
             nodes_.push_back(t);
         }
         nodes_.insert(nodes_.end(), leaves.begin(), leaves.end());
-        moments_ = std::move(groupMoments);
-        moments_.insert(moments_.end(), tileMoments.begin(), tileMoments.end());
-        moments_.insert(moments_.end(), leafMoments.begin(), leafMoments.end());
         centerMoments_.clear();
         for (const FastTile& t : nodes_) momentsAbout(t.begin, t.end, Vec3{}, centerMoments_.emplace_back());
         radius_ = 0;
@@ -323,10 +321,10 @@ public:
     }
 
     std::size_t size() const { return qx_.size(); }  ///< entries, padded to whole lanes
-    /// Every node of the three levels (groups first; see build), and their moments (same index).
+    /// Every node of the three levels (groups first; see build).
     const std::vector<FastTile>& nodes() const { return nodes_; }
-    const std::vector<FastMoments>& moments() const { return moments_; }
-    /// The same moments about the body's centre c (s = q): what buckets sum.
+    /// Their moments (same index) about the body's centre c (s = q): what buckets sum, and
+    /// shift to a wave stencil's point where the depth is expanded about it.
     const std::vector<FastMoments>& centerMoments() const { return centerMoments_; }
     /// Tiles of FastOptions::tileSize entries (the middle level).
     std::size_t tileCount() const { return tileCount_; }
@@ -372,15 +370,14 @@ private:
         }
     }
 
-    /// The node over entries [begin, end); its moments are appended to `moments`.
-    FastTile makeTile(std::size_t begin, std::size_t end, std::vector<FastMoments>& moments) const {
+    /// The node over entries [begin, end).
+    FastTile makeTile(std::size_t begin, std::size_t end) const {
         FastTile t;
-        FastMoments& mo = moments.emplace_back();
         t.begin = static_cast<std::uint32_t>(begin);
         t.end = static_cast<std::uint32_t>(end);
         Vec3 lo{1e300, 1e300, 1e300}, hi{-1e300, -1e300, -1e300}, normals;
         double largest = 0;
-        // Bounds and moments of what the per-entry path sees: the single-precision entries.
+        // Bounds of what the per-entry path sees: the single-precision entries.
         auto position = [&](std::size_t i) { return Vec3{qx_[i], qy_[i], qz_[i]}; };
         auto areaVector = [&](std::size_t i) { return Vec3{bx_[i], by_[i], bz_[i]}; };
         for (std::size_t i = begin; i < end; ++i) {
@@ -407,7 +404,6 @@ private:
             t.areaSum += area_[i];
             t.count += 1;
         }
-        momentsAbout(begin, end, t.center, mo);
         // Rounding may make the widest normal or the farthest entry a hair wider than measured.
         t.cosSpread = std::max(-1.0, t.cosSpread - 1e-6);
         t.radius *= 1.0 + 1e-6;
@@ -465,7 +461,6 @@ private:
     double radius_ = 0;
     std::vector<float> qx_, qy_, qz_, bx_, by_, bz_, area_, inverseLength2_, inverseLength_, valid_;
     std::vector<FastTile> nodes_;
-    std::vector<FastMoments> moments_;
     std::vector<FastMoments> centerMoments_;
     std::uint32_t roots_ = 0;
     std::size_t tileCount_ = 0;
