@@ -44,11 +44,8 @@ struct BlockSearch {
     /// Wave i's phase at the undisplaced points, into `angle`.
     void angleAt(const GerstnerBatch& g, std::size_t i, const double* x, const double* z, float* angle) {
         const GerstnerBatchWave& w = g.waves[i];
-        const float* phase = base[std::min(i, kKeptWaves - 1)];
-        if (i >= kKeptWaves) {
-            basePhases(w, x, z, spare);
-            phase = spare;
-        }
+        if (i >= kKeptWaves) basePhases(w, x, z, spare);
+        const float* phase = i < kKeptWaves ? base[i] : spare;
         const float kdx = static_cast<float>(w.k * w.dx), kdz = static_cast<float>(w.k * w.dz);
         for (std::size_t l = 0; l < kBlock; ++l) angle[l] = phase[l] + kdx * sx[l] + kdz * sz[l];
     }

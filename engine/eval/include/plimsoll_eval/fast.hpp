@@ -412,11 +412,13 @@ private:
     }
 
     /// The water over one tile: f(d) = f + g.d + d^T H d / 2 relative to c.y, d the horizontal
-    /// offset from the tile's centre (world axes), and the water's velocity there.
+    /// offset from the tile's centre (world axes). (Its velocity is a slot of the call's batch.)
     struct TileWater {
         double f = 0, gx = 0, gz = 0, hxx = 0, hxz = 0, hzz = 0;
-        Vec3 velocity;
     };
+
+    /// Whether t is a group (the top level; groups come first in nodes_).
+    bool isGroup(const FastTile& t) const { return &t < nodes_.data() + roots_; }
 
     /// How the entries of node t meet the flow (object axes: uo the body's velocity relative to
     /// the water at c, wo its spin): all turned away (no pressure drag), all facing it (the drag
@@ -759,7 +761,7 @@ inline Sums FastBody::evaluate(const BodyState& s, const WaterSurface& water, co
     const bool waves = water.heights != nullptr;
     const int G = std::max(3, options_.waveGrid);
     const double half = radius_, h = 2 * half / (G - 1);
-    const double x0 = s.center.x - half, z0 = s.center.z - half;
+    const double x0 = s.center.x - half, z0 = s.center.z - half, inverseH = 1 / h;
     if (waves) {
         const std::size_t n = static_cast<std::size_t>(G) * G;
         scratch.x.resize(n);
@@ -807,7 +809,6 @@ inline Sums FastBody::evaluate(const BodyState& s, const WaterSurface& water, co
         int stencil;   // on waves: the grid node whose 3 x 3 quadratic it takes
         Wetness wetness;
     };
-    const double inverseH = 1 / h;
     auto classify = [&](const FastTile& t, NodeWater& n) {
         n.rc = R * t.center;
         TileWater& w = n.w;
@@ -842,9 +843,8 @@ inline Sums FastBody::evaluate(const BodyState& s, const WaterSurface& water, co
         // spacing, so that every entry lies within the 3 x 3 nodes that quadratic was fitted
         // to (on a large texture most groups are; on a small one they span too much of the
         // surface, and their tiles decide, as tiles always do).
-        const bool group = &t < nodes_.data() + roots_;
         n.wetness = bottom >= w.f + variation ? Wetness::dry
-                    : top < w.f - variation && !(waves && group && t.radius + t.halfExtent > 0.5 * h)
+                    : top < w.f - variation && !(waves && isGroup(t) && t.radius + t.halfExtent > 0.5 * h)
                         ? Wetness::submerged
                         : Wetness::waterline;
     };
@@ -864,7 +864,7 @@ inline Sums FastBody::evaluate(const BodyState& s, const WaterSurface& water, co
                     ++counted.dry;
                     continue;
                 }
-                const bool group = &t < nodes_.data() + roots_;
+                const bool group = isGroup(t);
                 // The node's water-velocity sample: its parent's, or one at its centre.
                 auto ownSlot = [&] {
                     return inherited >= 0 ? inherited : moving ? velocitySlot(s.center + n.rc) : -1;
@@ -882,13 +882,15 @@ inline Sums FastBody::evaluate(const BodyState& s, const WaterSurface& water, co
                     // placed on the wave grid) cost more than evaluating them. On flat water
                     // sorting is cheap and the leaves decide (sphere at 64^2 moving on waves:
                     // 30 -> 26 us a call; at rest on flat water, all leaves cost 7.5 -> 9.9 us).
+                    // A leaf reached here is its own one leaf.
                     const TileWater& w = n.w;
                     const std::int32_t slot = ownSlot();
-                    const std::uint32_t leaves = std::max<std::uint32_t>(1, t.children);
-                    for (std::uint32_t c = 0; c < leaves; ++c) {
+                    const FastTile* leaves = t.children > 0 ? &nodes_[t.firstChild] : &t;
+                    const std::uint32_t leafCount = t.children > 0 ? t.children : 1;
+                    for (std::uint32_t c = 0; c < leafCount; ++c) {
                         ++counted.perEntry;
                         FastLeafWork& leaf = scratch.leaves.emplace_back();
-                        leaf.begin = t.children > 0 ? nodes_[t.firstChild + c].begin : t.begin;
+                        leaf.begin = leaves[c].begin;
                         leaf.cx = static_cast<float>(n.rc.x);
                         leaf.cz = static_cast<float>(n.rc.z);
                         leaf.f = static_cast<float>(w.f);
@@ -906,8 +908,7 @@ inline Sums FastBody::evaluate(const BodyState& s, const WaterSurface& water, co
                 const std::size_t index = static_cast<std::size_t>(&t - nodes_.data());
                 scratch.drags.push_back({static_cast<std::uint32_t>(index), ownSlot()});
                 // Under one water plane every submerged node's polynomial is the same: their
-                // moments about c add up and are evaluated once (below). On waves each tile has
-                // its own quadratic, expanded about its centre.
+                // moments about c add up and are evaluated once (below).
                 if (waves) {
                     // Every node of one stencil has the same quadratic: their moments about c add
                     // up in the stencil's bucket, shifted once to the stencil's point (below).
@@ -945,7 +946,7 @@ inline Sums FastBody::evaluate(const BodyState& s, const WaterSurface& water, co
         const int node = bucket.node;
         const int i = node % G, j = node / G;
         const FastStencil& q = scratch.stencilQuadratics[static_cast<std::size_t>(node)];
-        const TileWater w{q.f, q.gx, q.gz, q.hxx, q.hxz, q.hzz, Vec3{}};  // about the node itself
+        const TileWater w{q.f, q.gx, q.gz, q.hxx, q.hxz, q.hzz};  // about the node itself
         const Vec3 rp{x0 + i * h - s.center.x, bucket.heightSum / bucket.entries,
                       z0 + j * h - s.center.z};
         const Vec3 p = transposeTimes(R, rp);
