@@ -927,12 +927,11 @@ int runEditorWindow(const EditorLaunch& launch) {
         const float scale = display.x > 0 ? fbWidth / display.x : 1.0f;
         glViewport(0, 0, fbWidth, fbHeight);
         // The whole window in the 3D view's background (the panels cover the rest): the
-        // renderer then need not clear its rectangle again.
+        // renderer then need not clear its rectangle again, and clears depth only in a frame
+        // in which it draws the scene (a copied scene needs none).
         RenderScene scene = sceneOf(s);
         glClearColor(scene.background.x(), scene.background.y(), scene.background.z(), 1.0f);
-        glClearDepth(1.0);
-        glDepthMask(GL_TRUE);
-        glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
+        glClear(GL_COLOR_BUFFER_BIT);
         const int vw = static_cast<int>(s.viewport.w * scale), vh = static_cast<int>(s.viewport.h * scale);
         if (vw > 0 && vh > 0) {
             applyPreviewToScene(s, scene);

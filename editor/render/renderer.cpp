@@ -287,7 +287,10 @@ bool Renderer::drawIntoCache(const RenderScene& scene, const Camera& camera, int
             glGenRenderbuffers(1, &cache_.depth);
         }
         glBindTexture(GL_TEXTURE_2D, cache_.colour);
-        glTexImage2D(GL_TEXTURE_2D, 0, GL_RGBA8, width, height, 0, GL_RGBA, GL_UNSIGNED_BYTE, nullptr);
+        // Unsized GL_RGBA with BGRA bytes: Mesa then stores the texture as B8G8R8A8, the
+        // window's own layout, which the copy to the window needs to be a plain row copy
+        // (see copyKeptScene). GL_RGBA8 is stored R8G8B8A8 there.
+        glTexImage2D(GL_TEXTURE_2D, 0, GL_RGBA, width, height, 0, GL_BGRA, GL_UNSIGNED_BYTE, nullptr);
         glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
         glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
         glBindRenderbuffer(GL_RENDERBUFFER, cache_.depth);
@@ -306,8 +309,21 @@ bool Renderer::drawIntoCache(const RenderScene& scene, const Camera& camera, int
     glClearDepth(1.0);
     glDepthMask(GL_TRUE);
     glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
-    drawScene(scene, camera, width, height);
+    drawScene(scene, camera, width, height, /*upsideDown=*/true);
     return true;
+}
+
+void Renderer::copyKeptScene(int x, int y, int width, int height, int target) {
+    glBindFramebuffer(GL_READ_FRAMEBUFFER, cache_.framebuffer);
+    glBindFramebuffer(GL_DRAW_FRAMEBUFFER, target);
+    glDisable(GL_SCISSOR_TEST);
+    // Mesa keeps a window's rows top first and a texture's bottom first, so a plain copy
+    // from one to the other turns the rows over, and llvmpipe does that with a textured
+    // quad: 4.6 ms for a 1200 x 858 view on 2 cores. The kept scene is drawn upside down
+    // and read here with its rows reversed: the two flips cancel, the formats match
+    // (drawIntoCache), and llvmpipe copies rows (0.8 ms).
+    glBlitFramebuffer(0, height, width, 0, x, y, x + width, y + height, GL_COLOR_BUFFER_BIT,
+                      GL_NEAREST);
 }
 
 void Renderer::draw(const RenderScene& scene, const Camera& camera, int width, int height, int x,
@@ -328,14 +344,23 @@ void Renderer::draw(const RenderScene& scene, const Camera& camera, int width, i
     auto drawDirectly = [&] {
         ++framesDrawn_;
         glViewport(x, y, width, height);
+        glClearDepth(1.0);
+        glDepthMask(GL_TRUE);
+        if (cleared) {
+            // The depth of the whole target (no one else reads it), with the stencil: a
+            // depth-only clear of a depth-stencil buffer rewrites each pixel's depth bits
+            // and keeps its stencil bits, 2.4 ms at 1600 x 900 on llvmpipe; the two
+            // together are one fill.
+            glDisable(GL_SCISSOR_TEST);
+            glClearStencil(0);
+            glClear(GL_DEPTH_BUFFER_BIT | GL_STENCIL_BUFFER_BIT);
+        }
         glScissor(x, y, width, height);
         glEnable(GL_SCISSOR_TEST);
         // A scissored clear is a quad drawn over the rectangle on llvmpipe (a whole-target
         // clear is not): callers that clear the whole target skip it.
         if (!cleared) {
             glClearColor(scene.background.x(), scene.background.y(), scene.background.z(), 1.0f);
-            glClearDepth(1.0);
-            glDepthMask(GL_TRUE);
             glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
         }
         drawScene(scene, camera, width, height);
@@ -353,10 +378,7 @@ void Renderer::draw(const RenderScene& scene, const Camera& camera, int width, i
             cache_.warmUp = false;
             if (drawIntoCache(scene, camera, width, height)) {
                 cache_.kept = key;
-                glBindFramebuffer(GL_READ_FRAMEBUFFER, cache_.framebuffer);
-                glBindFramebuffer(GL_DRAW_FRAMEBUFFER, target);
-                glBlitFramebuffer(0, 0, width, height, x, y, x + width, y + height,
-                                  GL_COLOR_BUFFER_BIT, GL_NEAREST);
+                copyKeptScene(x, y, width, height, target);
             }
             restoreTargets();
             glViewport(x, y, width, height);
@@ -376,20 +398,19 @@ void Renderer::draw(const RenderScene& scene, const Camera& camera, int width, i
     } else {
         ++framesCopied_;
     }
-    glBindFramebuffer(GL_READ_FRAMEBUFFER, cache_.framebuffer);
-    glBindFramebuffer(GL_DRAW_FRAMEBUFFER, target);
-    glDisable(GL_SCISSOR_TEST);
-    glBlitFramebuffer(0, 0, width, height, x, y, x + width, y + height, GL_COLOR_BUFFER_BIT, GL_NEAREST);
+    copyKeptScene(x, y, width, height, target);
     glBindFramebuffer(GL_READ_FRAMEBUFFER, read);
 }
 
-void Renderer::drawScene(const RenderScene& scene, const Camera& camera, int width, int height) {
+void Renderer::drawScene(const RenderScene& scene, const Camera& camera, int width, int height,
+                         bool upsideDown) {
     glEnable(GL_DEPTH_TEST);
     glDepthFunc(GL_LEQUAL);
-    glDisable(GL_CULL_FACE);
+    glDisable(GL_CULL_FACE);  // so a mirrored image needs no change of winding
     glDisable(GL_BLEND);
-    const Eigen::Matrix4f viewProj =
+    Eigen::Matrix4f viewProj =
         (camera.projection(double(width) / std::max(height, 1)) * camera.view()).cast<float>();
+    if (upsideDown) viewProj.row(1) *= -1.0f;  // clip y reversed; shading uses |n.v|
 
     // Bodies.
     glUseProgram(meshProgram_);

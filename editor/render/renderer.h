@@ -81,7 +81,9 @@ public:
 
     /// Draws into the bound framebuffer, in the viewport (x, y, width, height) (GL's
     /// convention: x, y of the lower-left corner), clearing only that rectangle unless the
-    /// caller has `cleared` the whole target (colour scene.background, depth 1) this frame.
+    /// caller has `cleared` the whole target's colour to scene.background this frame; then
+    /// the renderer clears the whole target's depth and stencil, and only in a frame in
+    /// which it rasters the scene.
     /// A scene drawn the same two frames running (camera, size, bodies, poses, overlays,
     /// water, time) is kept in a texture and copied from it while it stays the same: a frame
     /// that only changes the panels or the cursor does not raster the 3D view again. Scenes
@@ -110,11 +112,14 @@ private:
     };
     MeshBuffers& buffersFor(const std::shared_ptr<const TriangleMesh>& mesh);
     /// The scene at (0, 0, width, height) of the bound framebuffer, its rectangle cleared
-    /// already (the body of draw()).
-    void drawScene(const RenderScene& scene, const Camera& camera, int width, int height);
-    /// The scene into the kept texture (made or resized to width x height), which stays bound
-    /// as the framebuffer; false where this driver cannot draw into it.
+    /// already (the body of draw()); upsideDown mirrors it top to bottom.
+    void drawScene(const RenderScene& scene, const Camera& camera, int width, int height,
+                   bool upsideDown = false);
+    /// The scene into the kept texture (made or resized to width x height), upside down,
+    /// which stays bound as the framebuffer; false where this driver cannot draw into it.
     bool drawIntoCache(const RenderScene& scene, const Camera& camera, int width, int height);
+    /// The kept scene, the right way up, into (x, y, width, height) of framebuffer target.
+    void copyKeptScene(int x, int y, int width, int height, int target);
     /// Everything a drawn scene depends on.
     struct SceneKey {
         std::vector<double> numbers;        ///< size, camera, time, flags, poses, overlays
