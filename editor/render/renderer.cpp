@@ -139,15 +139,21 @@ Renderer::MeshBuffers& Renderer::buffersFor(const std::shared_ptr<const Triangle
     MeshBuffers& b = meshes_[mesh.get()];
     if (b.vao) return b;
     b.owner = mesh;
+    // Position, uv and the triangle's unit normal for each of its three vertices.
+    constexpr int kFloats = 8;
     std::vector<float> vertices;
-    vertices.reserve(mesh->triangles.size() * 15);
+    vertices.reserve(mesh->triangles.size() * 3 * kFloats);
     const bool uvs = mesh->hasUvs();
     for (const Triangle& t : mesh->triangles) {
+        const Eigen::Vector3d& a = mesh->positions[t[0]];
+        const Eigen::Vector3d normal =
+            (mesh->positions[t[1]] - a).cross(mesh->positions[t[2]] - a).normalized();
         for (std::uint32_t v : t) {
             const Eigen::Vector3d& p = mesh->positions[v];
             const Eigen::Vector2d uv = uvs ? mesh->uvs[v] : Eigen::Vector2d::Zero();
             vertices.insert(vertices.end(), {float(p.x()), float(p.y()), float(p.z()),
-                                             float(uv.x()), float(uv.y())});
+                                             float(uv.x()), float(uv.y()), float(normal.x()),
+                                             float(normal.y()), float(normal.z())});
         }
     }
     b.vertexCount = static_cast<int>(mesh->triangles.size() * 3);
@@ -157,11 +163,15 @@ Renderer::MeshBuffers& Renderer::buffersFor(const std::shared_ptr<const Triangle
     glBindBuffer(GL_ARRAY_BUFFER, b.vbo);
     glBufferData(GL_ARRAY_BUFFER, vertices.size() * sizeof(float), vertices.data(),
                  GL_STATIC_DRAW);
+    const GLsizei stride = kFloats * sizeof(float);
     glEnableVertexAttribArray(0);
-    glVertexAttribPointer(0, 3, GL_FLOAT, GL_FALSE, 5 * sizeof(float), nullptr);
+    glVertexAttribPointer(0, 3, GL_FLOAT, GL_FALSE, stride, nullptr);
     glEnableVertexAttribArray(1);
-    glVertexAttribPointer(1, 2, GL_FLOAT, GL_FALSE, 5 * sizeof(float),
+    glVertexAttribPointer(1, 2, GL_FLOAT, GL_FALSE, stride,
                           reinterpret_cast<void*>(3 * sizeof(float)));
+    glEnableVertexAttribArray(2);
+    glVertexAttribPointer(2, 3, GL_FLOAT, GL_FALSE, stride,
+                          reinterpret_cast<void*>(5 * sizeof(float)));
     glBindVertexArray(0);
     return b;
 }
