@@ -7,6 +7,7 @@
 #include "app/editor_app.h"
 
 #include "app/editor_state.h"
+#include "app/panel_cache.h"
 #include "app/export_dialog.h"
 #include "app/panels.h"
 #include "app/preview_panel.h"
@@ -761,6 +762,7 @@ int runEditorWindow(const EditorLaunch& launch) {
     }
     s.renderer = std::move(renderer).value();
     s.renderer->warmUpOnFirstDraw();  // the first frame pays the kept scene's start-up cost
+    auto panelCache = std::make_unique<PanelCache>();
     if (!s.open(launch.project)) {
         std::cerr << "error: " << s.status << "\n";
         if (!launch.project.empty()) return 1;
@@ -887,10 +889,15 @@ int runEditorWindow(const EditorLaunch& launch) {
         const WindowLayout layout = windowLayout(s.settings.layout, display.x, display.y, menu, status);
         auto rect = [](const PanelRect& r) { return Rect{r.x, r.y, r.w, r.h}; };
         s.viewport = rect(layout.view);
+        // No border on the column's panels (their title bars and the splitters part them): a
+        // border's anti-aliased edge reaches a pixel past the panel, into the 3D view, which
+        // the kept panels (PanelCache) cannot hold.
+        ImGui::PushStyleVar(ImGuiStyleVar_WindowBorderSize, 0.0f);
         drawBrushPanel(s, rect(layout.panels[0]));
         drawLayersPanel(s, rect(layout.panels[1]));
         drawInspectorPanel(s, rect(layout.panels[2]));
         drawUvPanel(s, rect(layout.panels[3]));
+        ImGui::PopStyleVar();
         drawSplitters(s, layout);
         drawPreviewPanel(s);
         drawPlotPanels(s);
@@ -941,7 +948,20 @@ int runEditorWindow(const EditorLaunch& launch) {
         }
         phases.mark(FramePhases::Scene);
         glViewport(0, 0, fbWidth, fbHeight);
-        ImGui_ImplOpenGL3_RenderDrawData(ImGui::GetDrawData());
+        // The column's panels from their kept image while they stay the same.
+        ImVec4 column(display.x, display.y, 0, 0);
+        for (const PanelRect& p : layout.panels) {
+            column = ImVec4(std::min(column.x, p.x), std::min(column.y, p.y),
+                            std::max(column.z, p.x + p.w), std::max(column.w, p.y + p.h));
+        }
+        const ImTextureID fontAtlas = io.Fonts->TexID;
+        panelCache->render(*ImGui::GetDrawData(), column,
+                           ImVec4(scene.background.x(), scene.background.y(), scene.background.z(), 1.0f),
+                           [&](ImTextureID texture) -> std::optional<std::uint64_t> {
+                               if (texture == fontAtlas) return 0;  // made once
+                               return s.renderer->textureVersion(static_cast<unsigned>(
+                                   reinterpret_cast<std::uintptr_t>(texture)));
+                           });
         phases.mark(FramePhases::Panels);
         ++frame;
         if (frame == kSteadyFrom) cpuAtSteady = processCpuSeconds();
@@ -1057,6 +1077,8 @@ int runEditorWindow(const EditorLaunch& launch) {
             }
             stats["scene_frames_drawn"] = s.renderer->framesDrawn();
             stats["scene_frames_copied"] = s.renderer->framesCopied();
+            stats["panel_frames_kept"] = panelCache->framesKept();
+            stats["panel_frames_copied"] = panelCache->framesCopied();
             report["frame_stats"] = stats;
         }
         if (rebakeRequested()) {
@@ -1098,6 +1120,7 @@ int runEditorWindow(const EditorLaunch& launch) {
     s.preview.reset();
     releaseGraphPanel(s);
     s.renderer.reset();
+    panelCache.reset();  // its GL objects go while the context is current
     ImGui_ImplOpenGL3_Shutdown();
     ImGui_ImplGlfw_Shutdown();
     ImGui::DestroyContext();

@@ -180,11 +180,13 @@ void Renderer::setOverlay(int slot, const OverlayImage& image) {
     ++overlayGeneration_;
     Overlay& o = overlays_[slot];
     if (image.width == 0) {
+        textureVersions_.erase(o.texture);
         glDeleteTextures(1, &o.texture);
         overlays_.erase(slot);
         return;
     }
     if (!o.texture) glGenTextures(1, &o.texture);
+    textureVersions_[o.texture] = ++textureUploads_;
     glBindTexture(GL_TEXTURE_2D, o.texture);
     glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
     glTexImage2D(GL_TEXTURE_2D, 0, GL_RGBA8, image.width, image.height, 0, GL_RGBA,
@@ -202,10 +204,17 @@ unsigned Renderer::overlayTexture(int slot) const {
     return it == overlays_.end() ? 0 : it->second.texture;
 }
 
+std::optional<std::uint64_t> Renderer::textureVersion(unsigned texture) const {
+    auto it = textureVersions_.find(texture);
+    if (it == textureVersions_.end()) return std::nullopt;
+    return it->second;
+}
+
 unsigned Renderer::uvWireframeTexture(const std::shared_ptr<const TriangleMesh>& mesh, int size) {
     if (!mesh || !mesh->hasUvs() || size < 1) return 0;
     for (auto it = wireframes_.begin(); it != wireframes_.end();) {
         if (it->second.owner.expired()) {
+            textureVersions_.erase(it->second.texture);
             glDeleteTextures(1, &it->second.texture);
             it = wireframes_.erase(it);
         } else {
@@ -217,6 +226,7 @@ unsigned Renderer::uvWireframeTexture(const std::shared_ptr<const TriangleMesh>&
     w.owner = mesh;
     w.size = size;
     if (!w.texture) glGenTextures(1, &w.texture);
+    textureVersions_[w.texture] = ++textureUploads_;
     glBindTexture(GL_TEXTURE_2D, w.texture);
     glTexImage2D(GL_TEXTURE_2D, 0, GL_RGBA8, size, size, 0, GL_RGBA, GL_UNSIGNED_BYTE, nullptr);
     glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_LINEAR);

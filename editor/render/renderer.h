@@ -78,6 +78,9 @@ public:
     /// A size x size texture (RGBA8, transparent) with the mesh's UV triangles' edges drawn in
     /// white, for the UV view; made once per mesh. Row 0 is v = 0. 0 when the mesh has no UVs.
     unsigned uvWireframeTexture(const std::shared_ptr<const TriangleMesh>& mesh, int size);
+    /// Which upload of its contents a texture of this renderer's (an overlay's or a
+    /// wireframe's) holds: it changes whenever they change. nullopt for any other texture.
+    std::optional<std::uint64_t> textureVersion(unsigned texture) const;
 
     /// Draws into the bound framebuffer, in the viewport (x, y, width, height) (GL's
     /// convention: x, y of the lower-left corner), clearing only that rectangle unless the
@@ -137,6 +140,8 @@ private:
         bool warmUp = false;                ///< see warmUpOnFirstDraw
     } cache_;
     std::uint64_t overlayGeneration_ = 0;   ///< bumps on every setOverlay
+    std::uint64_t textureUploads_ = 0;      ///< bumps on every texture upload
+    std::map<unsigned, std::uint64_t> textureVersions_;  ///< see textureVersion
     std::uint64_t framesCopied_ = 0, framesDrawn_ = 0;
     void drawLines(const std::vector<float>& vertices, const Eigen::Matrix4f& viewProj);
 

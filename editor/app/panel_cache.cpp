@@ -1,0 +1,212 @@
+#include "app/panel_cache.h"
+
+#include <epoxy/gl.h>
+#include <imgui_impl_opengl3.h>
+
+#include <algorithm>
+#include <climits>
+#include <cmath>
+#include <limits>
+
+namespace plimsoll::editor {
+namespace {
+
+struct Box {
+    float x0 = std::numeric_limits<float>::infinity(), y0 = std::numeric_limits<float>::infinity();
+    float x1 = -std::numeric_limits<float>::infinity(), y1 = -std::numeric_limits<float>::infinity();
+    bool empty() const { return !(x0 < x1 && y0 < y1); }
+};
+
+/// Where a list can put pixels: each command's vertices' box cut to its clip rectangle.
+/// nullopt where a command is a callback, whose drawing cannot be known.
+std::optional<Box> coverage(const ImDrawList& list) {
+    Box box;
+    for (const ImDrawCmd& cmd : list.CmdBuffer) {
+        if (cmd.UserCallback) return std::nullopt;
+        Box c;
+        for (unsigned i = 0; i < cmd.ElemCount; ++i) {
+            const ImVec2 p = list.VtxBuffer[static_cast<int>(cmd.VtxOffset + list.IdxBuffer[static_cast<int>(cmd.IdxOffset + i)])].pos;
+            c.x0 = std::min(c.x0, p.x);
+            c.y0 = std::min(c.y0, p.y);
+            c.x1 = std::max(c.x1, p.x);
+            c.y1 = std::max(c.y1, p.y);
+        }
+        c.x0 = std::max(c.x0, cmd.ClipRect.x);
+        c.y0 = std::max(c.y0, cmd.ClipRect.y);
+        c.x1 = std::min(c.x1, cmd.ClipRect.z);
+        c.y1 = std::min(c.y1, cmd.ClipRect.w);
+        if (c.empty()) continue;
+        box.x0 = std::min(box.x0, c.x0);
+        box.y0 = std::min(box.y0, c.y0);
+        box.x1 = std::max(box.x1, c.x1);
+        box.y1 = std::max(box.y1, c.y1);
+    }
+    return box;
+}
+
+bool within(const Box& b, const ImVec4& r) { return b.x0 >= r.x && b.y0 >= r.y && b.x1 <= r.z && b.y1 <= r.w; }
+bool meets(const Box& b, const ImVec4& r) { return b.x0 < r.z && r.x < b.x1 && b.y0 < r.w && r.y < b.y1; }
+
+template <class T>
+void append(std::vector<std::uint8_t>& out, const T* data, std::size_t count) {
+    const auto* bytes = reinterpret_cast<const std::uint8_t*>(data);
+    out.insert(out.end(), bytes, bytes + count * sizeof(T));
+}
+
+/// `data` with only `lists` (same display and scale).
+ImDrawData subset(const ImDrawData& data, ImVector<ImDrawList*>& lists) {
+    ImDrawData out = data;
+    out.CmdLists = lists.Data;
+    out.CmdListsCount = lists.Size;
+    out.TotalVtxCount = out.TotalIdxCount = 0;
+    for (const ImDrawList* list : lists) {
+        out.TotalVtxCount += list->VtxBuffer.Size;
+        out.TotalIdxCount += list->IdxBuffer.Size;
+    }
+    return out;
+}
+
+}  // namespace
+
+PanelCache::~PanelCache() {
+    if (framebuffer_) glDeleteFramebuffers(1, &framebuffer_);
+    if (colour_) glDeleteTextures(1, &colour_);
+}
+
+void PanelCache::render(ImDrawData& data, const ImVec4& column, const ImVec4& background,
+                        const TextureVersion& textureVersion) {
+    auto drawAll = [&] {
+        previous_.reset();
+        ImGui_ImplOpenGL3_RenderDrawData(&data);
+    };
+    // The column must cover whole framebuffer pixels: the kept region, rounded out to whole
+    // pixels, then holds no pixel of the 3D view beside it (not an ImGui list: not in the key).
+    const ImVec2 scale = data.FramebufferScale;
+    auto whole = [](float v) { return std::abs(v - std::round(v)) < 1e-3f; };
+    if (data.DisplayPos.x != 0 || data.DisplayPos.y != 0 || !whole(column.x * scale.x) ||
+        !whole(column.y * scale.y) || !whole(column.z * scale.x) || !whole(column.w * scale.y)) {
+        return drawAll();
+    }
+    // The column's lists: those that draw only inside it. The kept region: where they draw.
+    std::vector<std::optional<Box>> boxes(static_cast<std::size_t>(data.CmdListsCount));
+    std::vector<bool> inColumn(boxes.size(), false);
+    Box region;
+    int lastInColumn = -1;
+    for (int i = 0; i < data.CmdListsCount; ++i) {
+        const std::optional<Box> box = coverage(*data.CmdLists[i]);
+        if (!box) return drawAll();
+        boxes[static_cast<std::size_t>(i)] = box;
+        if (box->empty() || !within(*box, column)) continue;
+        inColumn[static_cast<std::size_t>(i)] = true;
+        lastInColumn = i;
+        region.x0 = std::min(region.x0, std::floor(box->x0 * scale.x));
+        region.y0 = std::min(region.y0, std::floor(box->y0 * scale.y));
+        region.x1 = std::max(region.x1, std::ceil(box->x1 * scale.x));
+        region.y1 = std::max(region.y1, std::ceil(box->y1 * scale.y));
+    }
+    if (lastInColumn < 0) return drawAll();
+    const ImVec4 regionInDisplay(region.x0 / scale.x, region.y0 / scale.y, region.x1 / scale.x,
+                                 region.y1 / scale.y);
+
+    // What the kept pixels depend on, exactly: the column's lists and every list drawn before
+    // the last of them that reaches into the region (the menu bar's edge under the first
+    // panel's title), with each texture's version.
+    std::vector<std::uint8_t> key;
+    const float head[] = {region.x0, region.y0, region.x1, region.y1,
+                          background.x, background.y, background.z, background.w,
+                          data.DisplaySize.x, data.DisplaySize.y, scale.x, scale.y};
+    append(key, head, std::size(head));
+    for (int i = 0; i <= lastInColumn; ++i) {
+        const Box& box = *boxes[static_cast<std::size_t>(i)];
+        if (!inColumn[static_cast<std::size_t>(i)] && (box.empty() || !meets(box, regionInDisplay))) continue;
+        const ImDrawList* list = data.CmdLists[i];
+        const int sizes[] = {i, list->VtxBuffer.Size, list->IdxBuffer.Size, list->CmdBuffer.Size};
+        append(key, sizes, std::size(sizes));
+        append(key, list->VtxBuffer.Data, static_cast<std::size_t>(list->VtxBuffer.Size));
+        append(key, list->IdxBuffer.Data, static_cast<std::size_t>(list->IdxBuffer.Size));
+        for (const ImDrawCmd& cmd : list->CmdBuffer) {
+            const std::optional<std::uint64_t> version = textureVersion(cmd.TextureId);
+            if (!version) return drawAll();
+            append(key, &cmd.ClipRect, 1);
+            const std::uint64_t numbers[] = {reinterpret_cast<std::uintptr_t>(cmd.TextureId), *version,
+                                             cmd.VtxOffset, cmd.IdxOffset, cmd.ElemCount};
+            append(key, numbers, std::size(numbers));
+        }
+    }
+
+    GLint target = 0;
+    glGetIntegerv(GL_DRAW_FRAMEBUFFER_BINDING, &target);
+    const int fbHeight = static_cast<int>(std::lround(data.DisplaySize.y * scale.y));
+    const int x = static_cast<int>(region.x0), width = static_cast<int>(region.x1) - x;
+    const int height = static_cast<int>(region.y1 - region.y0);
+    const int y = fbHeight - static_cast<int>(region.y1);  // GL's: the lower edge
+    // Lists up to the last column list, then (after the region is copied or kept) the rest:
+    // the order ImGui gives, as nothing after that list is under a panel.
+    ImVector<ImDrawList*> before, after;
+    const bool copying = kept_ && *kept_ == key;
+    for (int i = 0; i < data.CmdListsCount; ++i) {
+        // A copied region replaces what the column's lists would draw.
+        if (copying && inColumn[static_cast<std::size_t>(i)]) continue;
+        (i <= lastInColumn ? before : after).push_back(data.CmdLists[i]);
+    }
+    ImDrawData beforeData = subset(data, before);
+    ImGui_ImplOpenGL3_RenderDrawData(&beforeData);
+    if (copying) {
+        copy(/*intoKept=*/false, target, x, y, width, height);
+        ++framesCopied_;
+    } else if (previous_ && *previous_ == key && copy(/*intoKept=*/true, target, x, y, width, height)) {
+        // The same two frames running: kept from now on.
+        kept_ = key;
+        ++framesKept_;
+    }
+    previous_ = std::move(key);
+    ImDrawData afterData = subset(data, after);
+    ImGui_ImplOpenGL3_RenderDrawData(&afterData);
+}
+
+bool PanelCache::copy(bool intoKept, int target, int x, int y, int width, int height) {
+    if (intoKept && (width != width_ || height != height_ || !framebuffer_)) {
+        if (!framebuffer_) {
+            glGenFramebuffers(1, &framebuffer_);
+            glGenTextures(1, &colour_);
+        }
+        // As Renderer's kept scene: unsized GL_RGBA with BGRA bytes is stored in the window's
+        // own layout (B8G8R8A8), so that the copies are row copies.
+        glBindTexture(GL_TEXTURE_2D, colour_);
+        glTexImage2D(GL_TEXTURE_2D, 0, GL_RGBA, width, height, 0, GL_BGRA, GL_UNSIGNED_BYTE, nullptr);
+        glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
+        glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
+        glBindFramebuffer(GL_DRAW_FRAMEBUFFER, framebuffer_);
+        glFramebufferTexture2D(GL_DRAW_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_TEXTURE_2D, colour_, 0);
+        const bool complete = glCheckFramebufferStatus(GL_DRAW_FRAMEBUFFER) == GL_FRAMEBUFFER_COMPLETE;
+        glBindFramebuffer(GL_DRAW_FRAMEBUFFER, target);
+        width_ = complete ? width : 0;
+        height_ = complete ? height : 0;
+        if (!complete) {
+            kept_.reset();
+            return false;
+        }
+    }
+    GLint read = 0;
+    glGetIntegerv(GL_READ_FRAMEBUFFER_BINDING, &read);
+    const bool scissor = glIsEnabled(GL_SCISSOR_TEST);
+    glDisable(GL_SCISSOR_TEST);
+    // The kept image holds the window's rows in the window's order (top first), the reverse
+    // of a texture's: each copy reads or writes it with its rows reversed, Mesa's own flip of
+    // the window cancels that, and llvmpipe copies rows.
+    if (intoKept) {
+        glBindFramebuffer(GL_READ_FRAMEBUFFER, target);
+        glBindFramebuffer(GL_DRAW_FRAMEBUFFER, framebuffer_);
+        glBlitFramebuffer(x, y, x + width, y + height, 0, height, width, 0, GL_COLOR_BUFFER_BIT, GL_NEAREST);
+    } else {
+        glBindFramebuffer(GL_READ_FRAMEBUFFER, framebuffer_);
+        glBindFramebuffer(GL_DRAW_FRAMEBUFFER, target);
+        glBlitFramebuffer(0, height, width, 0, x, y, x + width, y + height, GL_COLOR_BUFFER_BIT, GL_NEAREST);
+    }
+    glBindFramebuffer(GL_READ_FRAMEBUFFER, read);
+    glBindFramebuffer(GL_DRAW_FRAMEBUFFER, target);
+    if (scissor) glEnable(GL_SCISSOR_TEST);
+    return true;
+}
+
+}  // namespace plimsoll::editor

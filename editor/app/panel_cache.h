@@ -1,0 +1,58 @@
+// The column's panels (Tools, Layers, Inspector, UV view) kept as an image while what they draw
+// stays the same, as Renderer keeps a still 3D view: on llvmpipe drawing them costs about 5 ms
+// of a frame at 1600 x 900, copying their rows back 0.3 ms.
+//
+// Each frame ImGui's draw lists are split by where they draw: the column's lists draw only
+// inside the column; the kept region is where they draw. Lists are drawn in ImGui's order up to
+// the last column list, the region is then kept (or, in a frame that copies, the copy replaces
+// the column's lists), and the remaining lists are drawn over it. The kept pixels depend on the
+// column's lists and on every earlier list that reaches into the region (a floating window
+// behind a panel, the menu bar's edge): all of them are compared byte for byte (vertices,
+// indices, commands, each texture's version), never hashed, so a kept image is only shown for
+// exactly the panels it was taken of.
+#pragma once
+
+#include <imgui.h>
+
+#include <cstdint>
+#include <functional>
+#include <optional>
+#include <vector>
+
+namespace plimsoll::editor {
+
+class PanelCache {
+public:
+    /// Which version of a texture's contents ImGui draws with; nullopt for a texture whose
+    /// changes are not tracked (a list that shows one is then always drawn).
+    using TextureVersion = std::function<std::optional<std::uint64_t>(ImTextureID)>;
+
+    PanelCache() = default;
+    ~PanelCache();
+    PanelCache(const PanelCache&) = delete;
+    PanelCache& operator=(const PanelCache&) = delete;
+
+    /// Draws `data` into the bound framebuffer, whose pixels in the column were cleared to
+    /// `background` this frame and hold nothing else drawn outside ImGui. `column` is the
+    /// column's rectangle in display coordinates (min x, min y, max x, max y). Needs ImGui's
+    /// OpenGL 3 backend initialised.
+    void render(ImDrawData& data, const ImVec4& column, const ImVec4& background,
+                const TextureVersion& textureVersion);
+
+    /// Frames whose column was copied from the kept image, and frames whose column was drawn
+    /// and kept, since the start (tests, reports).
+    std::uint64_t framesCopied() const { return framesCopied_; }
+    std::uint64_t framesKept() const { return framesKept_; }
+
+private:
+    /// Copies the column's pixels between the bound framebuffer `target` and the kept
+    /// texture, in either direction; false where the texture cannot be drawn into.
+    bool copy(bool intoKept, int target, int x, int y, int width, int height);
+
+    unsigned framebuffer_ = 0, colour_ = 0;
+    int width_ = 0, height_ = 0;
+    std::optional<std::vector<std::uint8_t>> kept_, previous_;
+    std::uint64_t framesCopied_ = 0, framesKept_ = 0;
+};
+
+}  // namespace plimsoll::editor
