@@ -68,11 +68,6 @@ ImDrawData subset(const ImDrawData& data, ImVector<ImDrawList*>& lists) {
 
 }  // namespace
 
-PanelCache::~PanelCache() {
-    if (framebuffer_) glDeleteFramebuffers(1, &framebuffer_);
-    if (colour_) glDeleteTextures(1, &colour_);
-}
-
 void PanelCache::render(ImDrawData& data, const ImVec4& column, const ImVec4& background,
                         const TextureVersion& textureVersion) {
     auto drawAll = [&] {
@@ -104,7 +99,12 @@ void PanelCache::render(ImDrawData& data, const ImVec4& column, const ImVec4& ba
         region.x1 = std::max(region.x1, std::ceil(box->x1 * scale.x));
         region.y1 = std::max(region.y1, std::ceil(box->y1 * scale.y));
     }
-    if (lastInColumn < 0) return drawAll();
+    // Within the framebuffer (a column reaching past the window's edge).
+    region.x0 = std::max(region.x0, 0.0f);
+    region.y0 = std::max(region.y0, 0.0f);
+    region.x1 = std::min(region.x1, std::round(data.DisplaySize.x * scale.x));
+    region.y1 = std::min(region.y1, std::round(data.DisplaySize.y * scale.y));
+    if (lastInColumn < 0 || region.empty()) return drawAll();
     const ImVec4 regionInDisplay(region.x0 / scale.x, region.y0 / scale.y, region.x1 / scale.x,
                                  region.y1 / scale.y);
 
@@ -152,61 +152,21 @@ void PanelCache::render(ImDrawData& data, const ImVec4& column, const ImVec4& ba
     ImDrawData beforeData = subset(data, before);
     ImGui_ImplOpenGL3_RenderDrawData(&beforeData);
     if (copying) {
-        copy(/*intoKept=*/false, target, x, y, width, height);
+        image_.copyTo(target, x, y);
         ++framesCopied_;
-    } else if (previous_ && *previous_ == key && copy(/*intoKept=*/true, target, x, y, width, height)) {
+    } else if (previous_ && *previous_ == key) {
         // The same two frames running: kept from now on.
-        kept_ = key;
-        ++framesKept_;
+        kept_.reset();
+        if ((image_.width() == width && image_.height() == height) ||
+            image_.resize(width, height, /*depth=*/false)) {
+            image_.copyFrom(target, x, y);
+            kept_ = key;
+            ++framesKept_;
+        }
     }
     previous_ = std::move(key);
     ImDrawData afterData = subset(data, after);
     ImGui_ImplOpenGL3_RenderDrawData(&afterData);
-}
-
-bool PanelCache::copy(bool intoKept, int target, int x, int y, int width, int height) {
-    if (intoKept && (width != width_ || height != height_ || !framebuffer_)) {
-        if (!framebuffer_) {
-            glGenFramebuffers(1, &framebuffer_);
-            glGenTextures(1, &colour_);
-        }
-        // As Renderer's kept scene: unsized GL_RGBA with BGRA bytes is stored in the window's
-        // own layout (B8G8R8A8), so that the copies are row copies.
-        glBindTexture(GL_TEXTURE_2D, colour_);
-        glTexImage2D(GL_TEXTURE_2D, 0, GL_RGBA, width, height, 0, GL_BGRA, GL_UNSIGNED_BYTE, nullptr);
-        glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
-        glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
-        glBindFramebuffer(GL_DRAW_FRAMEBUFFER, framebuffer_);
-        glFramebufferTexture2D(GL_DRAW_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_TEXTURE_2D, colour_, 0);
-        const bool complete = glCheckFramebufferStatus(GL_DRAW_FRAMEBUFFER) == GL_FRAMEBUFFER_COMPLETE;
-        glBindFramebuffer(GL_DRAW_FRAMEBUFFER, target);
-        width_ = complete ? width : 0;
-        height_ = complete ? height : 0;
-        if (!complete) {
-            kept_.reset();
-            return false;
-        }
-    }
-    GLint read = 0;
-    glGetIntegerv(GL_READ_FRAMEBUFFER_BINDING, &read);
-    const bool scissor = glIsEnabled(GL_SCISSOR_TEST);
-    glDisable(GL_SCISSOR_TEST);
-    // The kept image holds the window's rows in the window's order (top first), the reverse
-    // of a texture's: each copy reads or writes it with its rows reversed, Mesa's own flip of
-    // the window cancels that, and llvmpipe copies rows.
-    if (intoKept) {
-        glBindFramebuffer(GL_READ_FRAMEBUFFER, target);
-        glBindFramebuffer(GL_DRAW_FRAMEBUFFER, framebuffer_);
-        glBlitFramebuffer(x, y, x + width, y + height, 0, height, width, 0, GL_COLOR_BUFFER_BIT, GL_NEAREST);
-    } else {
-        glBindFramebuffer(GL_READ_FRAMEBUFFER, framebuffer_);
-        glBindFramebuffer(GL_DRAW_FRAMEBUFFER, target);
-        glBlitFramebuffer(0, height, width, 0, x, y, x + width, y + height, GL_COLOR_BUFFER_BIT, GL_NEAREST);
-    }
-    glBindFramebuffer(GL_READ_FRAMEBUFFER, read);
-    glBindFramebuffer(GL_DRAW_FRAMEBUFFER, target);
-    if (scissor) glEnable(GL_SCISSOR_TEST);
-    return true;
 }
 
 }  // namespace plimsoll::editor

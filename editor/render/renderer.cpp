@@ -120,9 +120,6 @@ Renderer::~Renderer() {
     glDeleteProgram(meshProgram_);
     glDeleteProgram(lineProgram_);
     glDeleteProgram(waterProgram_);
-    glDeleteFramebuffers(1, &cache_.framebuffer);
-    glDeleteTextures(1, &cache_.colour);
-    glDeleteRenderbuffers(1, &cache_.depth);
 }
 
 Renderer::MeshBuffers& Renderer::buffersFor(const std::shared_ptr<const TriangleMesh>& mesh) {
@@ -300,50 +297,20 @@ Renderer::SceneKey Renderer::keyOf(const RenderScene& scene, const Camera& camer
 }
 
 bool Renderer::drawIntoCache(const RenderScene& scene, const Camera& camera, int width, int height) {
-    if (cache_.width != width || cache_.height != height || !cache_.framebuffer) {
-        if (!cache_.framebuffer) {
-            glGenFramebuffers(1, &cache_.framebuffer);
-            glGenTextures(1, &cache_.colour);
-            glGenRenderbuffers(1, &cache_.depth);
-        }
-        glBindTexture(GL_TEXTURE_2D, cache_.colour);
-        // Unsized GL_RGBA with BGRA bytes: Mesa then stores the texture as B8G8R8A8, the
-        // window's own layout, which the copy to the window needs to be a plain row copy
-        // (see copyKeptScene). GL_RGBA8 is stored R8G8B8A8 there.
-        glTexImage2D(GL_TEXTURE_2D, 0, GL_RGBA, width, height, 0, GL_BGRA, GL_UNSIGNED_BYTE, nullptr);
-        glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
-        glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
-        glBindRenderbuffer(GL_RENDERBUFFER, cache_.depth);
-        glRenderbufferStorage(GL_RENDERBUFFER, GL_DEPTH_COMPONENT24, width, height);
-        glBindFramebuffer(GL_FRAMEBUFFER, cache_.framebuffer);
-        glFramebufferTexture2D(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_TEXTURE_2D, cache_.colour, 0);
-        glFramebufferRenderbuffer(GL_FRAMEBUFFER, GL_DEPTH_ATTACHMENT, GL_RENDERBUFFER, cache_.depth);
-        cache_.width = width;
-        cache_.height = height;
+    if ((cache_.image.width() != width || cache_.image.height() != height) &&
+        !cache_.image.resize(width, height, /*depth=*/true)) {
+        return false;
     }
-    glBindFramebuffer(GL_FRAMEBUFFER, cache_.framebuffer);
-    if (glCheckFramebufferStatus(GL_FRAMEBUFFER) != GL_FRAMEBUFFER_COMPLETE) return false;
+    glBindFramebuffer(GL_FRAMEBUFFER, cache_.image.framebuffer());
     glViewport(0, 0, width, height);
     glDisable(GL_SCISSOR_TEST);
     glClearColor(scene.background.x(), scene.background.y(), scene.background.z(), 1.0f);
     glClearDepth(1.0);
     glDepthMask(GL_TRUE);
     glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
+    // Upside down: the kept image holds the window's rows in the window's order (WindowImage).
     drawScene(scene, camera, width, height, /*upsideDown=*/true);
     return true;
-}
-
-void Renderer::copyKeptScene(int x, int y, int width, int height, int target) {
-    glBindFramebuffer(GL_READ_FRAMEBUFFER, cache_.framebuffer);
-    glBindFramebuffer(GL_DRAW_FRAMEBUFFER, target);
-    glDisable(GL_SCISSOR_TEST);
-    // Mesa keeps a window's rows top first and a texture's bottom first, so a plain copy
-    // from one to the other turns the rows over, and llvmpipe does that with a textured
-    // quad: 4.6 ms for a 1200 x 858 view on 2 cores. The kept scene is drawn upside down
-    // and read here with its rows reversed: the two flips cancel, the formats match
-    // (drawIntoCache), and llvmpipe copies rows (0.8 ms).
-    glBlitFramebuffer(0, height, width, 0, x, y, x + width, y + height, GL_COLOR_BUFFER_BIT,
-                      GL_NEAREST);
 }
 
 void Renderer::draw(const RenderScene& scene, const Camera& camera, int width, int height, int x,
@@ -398,7 +365,7 @@ void Renderer::draw(const RenderScene& scene, const Camera& camera, int width, i
             cache_.warmUp = false;
             if (drawIntoCache(scene, camera, width, height)) {
                 cache_.kept = key;
-                copyKeptScene(x, y, width, height, target);
+                cache_.image.copyTo(target, x, y);
             }
             restoreTargets();
             glViewport(x, y, width, height);
@@ -418,7 +385,7 @@ void Renderer::draw(const RenderScene& scene, const Camera& camera, int width, i
     } else {
         ++framesCopied_;
     }
-    copyKeptScene(x, y, width, height, target);
+    cache_.image.copyTo(target, x, y);
     glBindFramebuffer(GL_READ_FRAMEBUFFER, read);
 }
 

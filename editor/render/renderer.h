@@ -6,6 +6,7 @@
 
 #include "document/overlay.h"
 #include "render/camera.h"
+#include "render/window_image.h"
 
 #include "plimsoll/geometry/mesh.h"
 #include "plimsoll/physics/pose.h"
@@ -118,11 +119,9 @@ private:
     /// already (the body of draw()); upsideDown mirrors it top to bottom.
     void drawScene(const RenderScene& scene, const Camera& camera, int width, int height,
                    bool upsideDown = false);
-    /// The scene into the kept texture (made or resized to width x height), upside down,
-    /// which stays bound as the framebuffer; false where this driver cannot draw into it.
+    /// The scene into the kept image (made or resized to width x height), upside down, which
+    /// stays bound as the framebuffer; false where this driver cannot draw into it.
     bool drawIntoCache(const RenderScene& scene, const Camera& camera, int width, int height);
-    /// The kept scene, the right way up, into (x, y, width, height) of framebuffer target.
-    void copyKeptScene(int x, int y, int width, int height, int target);
     /// Everything a drawn scene depends on.
     struct SceneKey {
         std::vector<double> numbers;        ///< size, camera, time, flags, poses, overlays
@@ -132,8 +131,7 @@ private:
     SceneKey keyOf(const RenderScene& scene, const Camera& camera, int width, int height);
     /// The kept scene: a framebuffer of its size, and the key it was drawn for.
     struct SceneCache {
-        unsigned framebuffer = 0, colour = 0, depth = 0;
-        int width = 0, height = 0;
+        WindowImage image;
         std::optional<SceneKey> kept, previous;
         std::optional<WaterModel> water;    ///< a copy of the last scene's, to compare
         std::uint64_t waterGeneration = 0;
