@@ -948,7 +948,9 @@ int runEditorWindow(const EditorLaunch& launch) {
         }
         phases.mark(FramePhases::Scene);
         glViewport(0, 0, fbWidth, fbHeight);
-        // The column's panels from their kept image while they stay the same.
+        // The column's panels from their kept image while they stay the same. The 3D view is
+        // drawn over the whole pixels of its width (vw above), so no pixel the column touches
+        // is the view's.
         ImVec4 column(display.x, display.y, 0, 0);
         for (const PanelRect& p : layout.panels) {
             column = ImVec4(std::min(column.x, p.x), std::min(column.y, p.y),

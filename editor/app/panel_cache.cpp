@@ -74,14 +74,15 @@ void PanelCache::render(ImDrawData& data, const ImVec4& column, const ImVec4& ba
         previous_.reset();
         ImGui_ImplOpenGL3_RenderDrawData(&data);
     };
-    // The column must cover whole framebuffer pixels: the kept region, rounded out to whole
-    // pixels, then holds no pixel of the 3D view beside it (not an ImGui list: not in the key).
+    // The column's whole framebuffer pixels, rounded out (the caller's promise covers them).
     const ImVec2 scale = data.FramebufferScale;
-    auto whole = [](float v) { return std::abs(v - std::round(v)) < 1e-3f; };
-    if (data.DisplayPos.x != 0 || data.DisplayPos.y != 0 || !whole(column.x * scale.x) ||
-        !whole(column.y * scale.y) || !whole(column.z * scale.x) || !whole(column.w * scale.y)) {
+    if (data.DisplayPos.x != 0 || data.DisplayPos.y != 0 || !(scale.x > 0) || !(scale.y > 0)) {
         return drawAll();
     }
+    const ImVec4 columnPixels(std::floor(column.x * scale.x), std::floor(column.y * scale.y),
+                              std::ceil(column.z * scale.x), std::ceil(column.w * scale.y));
+    const ImVec4 columnRounded(columnPixels.x / scale.x, columnPixels.y / scale.y,
+                               columnPixels.z / scale.x, columnPixels.w / scale.y);
     // The column's lists: those that draw only inside it. The kept region: where they draw.
     std::vector<std::optional<Box>> boxes(static_cast<std::size_t>(data.CmdListsCount));
     std::vector<bool> inColumn(boxes.size(), false);
@@ -91,7 +92,7 @@ void PanelCache::render(ImDrawData& data, const ImVec4& column, const ImVec4& ba
         const std::optional<Box> box = coverage(*data.CmdLists[i]);
         if (!box) return drawAll();
         boxes[static_cast<std::size_t>(i)] = box;
-        if (box->empty() || !within(*box, column)) continue;
+        if (box->empty() || !within(*box, columnRounded)) continue;
         inColumn[static_cast<std::size_t>(i)] = true;
         lastInColumn = i;
         region.x0 = std::min(region.x0, std::floor(box->x0 * scale.x));

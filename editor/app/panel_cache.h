@@ -33,10 +33,10 @@ public:
     PanelCache(const PanelCache&) = delete;
     PanelCache& operator=(const PanelCache&) = delete;
 
-    /// Draws `data` into the bound framebuffer, whose pixels in the column were cleared to
-    /// `background` this frame and hold nothing else drawn outside ImGui. `column` is the
-    /// column's rectangle in display coordinates (min x, min y, max x, max y). Needs ImGui's
-    /// OpenGL 3 backend initialised.
+    /// Draws `data` into the bound framebuffer. `column` is the column's rectangle in display
+    /// coordinates (min x, min y, max x, max y); every framebuffer pixel it touches must have
+    /// been cleared to `background` this frame and hold nothing else drawn outside ImGui.
+    /// Needs ImGui's OpenGL 3 backend initialised.
     void render(ImDrawData& data, const ImVec4& column, const ImVec4& background,
                 const TextureVersion& textureVersion);
 

@@ -18,7 +18,6 @@ namespace plimsoll::editor {
 namespace {
 
 constexpr int kWidth = 320, kHeight = 240;
-const ImVec4 kColumn(200, 0, 320, 240);
 const ImVec4 kBackground(0.20f, 0.21f, 0.23f, 1.0f);
 
 /// What one frame shows: the column's two panels and a floating window.
@@ -82,14 +81,14 @@ protected:
         ImGui::TextUnformatted(frame.floatingText.c_str());
         ImGui::End();
         ImGui::PushStyleVar(ImGuiStyleVar_WindowBorderSize, 0.0f);
-        ImGui::SetNextWindowPos(ImVec2(kColumn.x, 0));
-        ImGui::SetNextWindowSize(ImVec2(kColumn.z - kColumn.x, 120));
+        ImGui::SetNextWindowPos(ImVec2(column_.x, 0));
+        ImGui::SetNextWindowSize(ImVec2(column_.z - column_.x, 120.5f));
         ImGui::Begin("Tools", nullptr, fixed);
         ImGui::TextUnformatted(frame.panelText.c_str());
         ImGui::Button("Apply");
         ImGui::End();
-        ImGui::SetNextWindowPos(ImVec2(kColumn.x, 120));
-        ImGui::SetNextWindowSize(ImVec2(kColumn.z - kColumn.x, 120));
+        ImGui::SetNextWindowPos(ImVec2(column_.x, 120.5f));
+        ImGui::SetNextWindowSize(ImVec2(column_.z - column_.x, 119.5f));
         ImGui::Begin("UV view", nullptr, fixed);
         ImGui::Image(reinterpret_cast<ImTextureID>(static_cast<std::intptr_t>(image_)), ImVec2(64, 64));
         ImGui::End();
@@ -114,7 +113,7 @@ protected:
         };
         cached_->bind();
         clear();
-        cache_->render(*ImGui::GetDrawData(), kColumn, kBackground, version);
+        cache_->render(*ImGui::GetDrawData(), column_, kBackground, version);
         const std::vector<std::uint8_t> viaCache = cached_->readRgba();
         direct_->bind();
         clear();
@@ -126,6 +125,8 @@ protected:
         return ::testing::AssertionFailure() << differing << " bytes differ";
     }
 
+    /// The column: whole pixels, or (a column split at a fraction of the window) not.
+    ImVec4 column_{200, 0, 320, 240};
     std::unique_ptr<HeadlessContext> context_;
     std::unique_ptr<OffscreenTarget> cached_, direct_;
     std::unique_ptr<PanelCache> cache_;
@@ -177,6 +178,17 @@ TEST_F(PanelCacheTest, CopiesTheColumnOnlyWhileItStaysTheSameAndAlwaysDrawsWhatI
         frame.floatingText = "behind " + std::to_string(i);
         ASSERT_TRUE(drawsAsImGuiDoes(frame));
     }
+}
+
+TEST_F(PanelCacheTest, AColumnAtAFractionOfAPixelIsKeptToo) {
+    column_.x = 200.4f;
+    Frame frame;
+    for (int i = 0; i < 5; ++i) {
+        frame.floatingText = "t = " + std::to_string(i);
+        ASSERT_TRUE(drawsAsImGuiDoes(frame));
+    }
+    EXPECT_EQ(cache_->framesKept(), 1u);
+    EXPECT_GE(cache_->framesCopied(), 2u);
 }
 
 }  // namespace
