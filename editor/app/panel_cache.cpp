@@ -25,7 +25,8 @@ std::optional<Box> coverage(const ImDrawList& list) {
         if (cmd.UserCallback) return std::nullopt;
         Box c;
         for (unsigned i = 0; i < cmd.ElemCount; ++i) {
-            const ImVec2 p = list.VtxBuffer[static_cast<int>(cmd.VtxOffset + list.IdxBuffer[static_cast<int>(cmd.IdxOffset + i)])].pos;
+            const unsigned index = cmd.VtxOffset + list.IdxBuffer[static_cast<int>(cmd.IdxOffset + i)];
+            const ImVec2 p = list.VtxBuffer[static_cast<int>(index)].pos;
             c.x0 = std::min(c.x0, p.x);
             c.y0 = std::min(c.y0, p.y);
             c.x1 = std::max(c.x1, p.x);
