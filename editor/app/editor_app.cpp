@@ -951,13 +951,9 @@ int runEditorWindow(const EditorLaunch& launch) {
         // The column's panels from their kept image while they stay the same. The 3D view is
         // drawn over the whole pixels of its width (vw above), so no pixel the column touches
         // is the view's.
-        ImVec4 column(display.x, display.y, 0, 0);
-        for (const PanelRect& p : layout.panels) {
-            column = ImVec4(std::min(column.x, p.x), std::min(column.y, p.y),
-                            std::max(column.z, p.x + p.w), std::max(column.w, p.y + p.h));
-        }
+        const PanelRect& c = layout.column;
         const ImTextureID fontAtlas = io.Fonts->TexID;
-        panelCache->render(*ImGui::GetDrawData(), column,
+        panelCache->render(*ImGui::GetDrawData(), ImVec4(c.x, c.y, c.x + c.w, c.y + c.h),
                            ImVec4(scene.background.x(), scene.background.y(), scene.background.z(), 1.0f),
                            [&](ImTextureID texture) -> std::optional<std::uint64_t> {
                                if (texture == fontAtlas) return 0;  // made once

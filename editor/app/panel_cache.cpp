@@ -72,7 +72,7 @@ ImDrawData subset(const ImDrawData& data, ImVector<ImDrawList*>& lists) {
 void PanelCache::render(ImDrawData& data, const ImVec4& column, const ImVec4& background,
                         const TextureVersion& textureVersion) {
     auto drawAll = [&] {
-        previous_.reset();
+        previous_.clear();
         ImGui_ImplOpenGL3_RenderDrawData(&data);
     };
     // The column's whole framebuffer pixels, rounded out (the caller's promise covers them).
@@ -85,14 +85,14 @@ void PanelCache::render(ImDrawData& data, const ImVec4& column, const ImVec4& ba
     const ImVec4 columnRounded(columnPixels.x / scale.x, columnPixels.y / scale.y,
                                columnPixels.z / scale.x, columnPixels.w / scale.y);
     // The column's lists: those that draw only inside it. The kept region: where they draw.
-    std::vector<std::optional<Box>> boxes(static_cast<std::size_t>(data.CmdListsCount));
+    std::vector<Box> boxes(static_cast<std::size_t>(data.CmdListsCount));
     std::vector<bool> inColumn(boxes.size(), false);
     Box region;
     int lastInColumn = -1;
     for (int i = 0; i < data.CmdListsCount; ++i) {
         const std::optional<Box> box = coverage(*data.CmdLists[i]);
         if (!box) return drawAll();
-        boxes[static_cast<std::size_t>(i)] = box;
+        boxes[static_cast<std::size_t>(i)] = *box;
         if (box->empty() || !within(*box, columnRounded)) continue;
         inColumn[static_cast<std::size_t>(i)] = true;
         lastInColumn = i;
@@ -113,13 +113,15 @@ void PanelCache::render(ImDrawData& data, const ImVec4& column, const ImVec4& ba
     // What the kept pixels depend on, exactly: the column's lists and every list drawn before
     // the last of them that reaches into the region (the menu bar's edge under the first
     // panel's title), with each texture's version.
-    std::vector<std::uint8_t> key;
+    // Built in a buffer kept between frames: the key is some 100 kB a frame.
+    std::vector<std::uint8_t>& key = key_;
+    key.clear();
     const float head[] = {region.x0, region.y0, region.x1, region.y1,
                           background.x, background.y, background.z, background.w,
                           data.DisplaySize.x, data.DisplaySize.y, scale.x, scale.y};
     append(key, head, std::size(head));
     for (int i = 0; i <= lastInColumn; ++i) {
-        const Box& box = *boxes[static_cast<std::size_t>(i)];
+        const Box& box = boxes[static_cast<std::size_t>(i)];
         if (!inColumn[static_cast<std::size_t>(i)] && (box.empty() || !meets(box, regionInDisplay))) continue;
         const ImDrawList* list = data.CmdLists[i];
         const int sizes[] = {i, list->VtxBuffer.Size, list->IdxBuffer.Size, list->CmdBuffer.Size};
@@ -145,7 +147,7 @@ void PanelCache::render(ImDrawData& data, const ImVec4& column, const ImVec4& ba
     // Lists up to the last column list, then (after the region is copied or kept) the rest:
     // the order ImGui gives, as nothing after that list is under a panel.
     ImVector<ImDrawList*> before, after;
-    const bool copying = kept_ && *kept_ == key;
+    const bool copying = kept_ == key;
     for (int i = 0; i < data.CmdListsCount; ++i) {
         // A copied region replaces what the column's lists would draw.
         if (copying && inColumn[static_cast<std::size_t>(i)]) continue;
@@ -156,9 +158,9 @@ void PanelCache::render(ImDrawData& data, const ImVec4& column, const ImVec4& ba
     if (copying) {
         image_.copyTo(target, x, y);
         ++framesCopied_;
-    } else if (previous_ && *previous_ == key) {
+    } else if (previous_ == key) {
         // The same two frames running: kept from now on.
-        kept_.reset();
+        kept_.clear();
         if ((image_.width() == width && image_.height() == height) ||
             image_.resize(width, height, /*depth=*/false)) {
             image_.copyFrom(target, x, y);
@@ -166,7 +168,7 @@ void PanelCache::render(ImDrawData& data, const ImVec4& column, const ImVec4& ba
             ++framesKept_;
         }
     }
-    previous_ = std::move(key);
+    std::swap(previous_, key_);  // the old buffer is next frame's to fill
     ImDrawData afterData = subset(data, after);
     ImGui_ImplOpenGL3_RenderDrawData(&afterData);
 }

@@ -47,7 +47,9 @@ public:
 
 private:
     WindowImage image_;  ///< the kept region's pixels
-    std::optional<std::vector<std::uint8_t>> kept_, previous_;
+    /// Keys (never empty: a key starts with the region and the display): the one kept, last
+    /// frame's, and this frame's being built. Empty: none.
+    std::vector<std::uint8_t> kept_, previous_, key_;
     std::uint64_t framesCopied_ = 0, framesKept_ = 0;
 };
 

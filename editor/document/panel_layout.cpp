@@ -26,6 +26,7 @@ WindowLayout windowLayout(const PanelLayout& wanted, float width, float height, 
                                     std::max(std::min(kMinColumnWidth, width), kMaxColumnShare * width));
     const float below = std::max(0.0f, height - menu - status);
     out.view = {0, menu, std::max(0.0f, width - column), below};
+    out.column = {width - column, menu, column, below};
     // Each panel its share, raised to the minimum where the column has room for all four,
     // the others giving up height in proportion to what they have above it.
     std::array<float, 4> h{};

@@ -29,6 +29,7 @@ struct PanelRect {
 /// those heights: the view and the column's four panels top to bottom, tiling the space.
 struct WindowLayout {
     PanelRect view;
+    PanelRect column;                 ///< right of the view: the four panels together
     std::array<PanelRect, 4> panels;  ///< Tools, Layers, Inspector, UV view
 };
 WindowLayout windowLayout(const PanelLayout& layout, float width, float height, float menu,

@@ -174,7 +174,6 @@ Renderer::MeshBuffers& Renderer::buffersFor(const std::shared_ptr<const Triangle
 }
 
 void Renderer::setOverlay(int slot, const OverlayImage& image) {
-    ++overlayGeneration_;
     Overlay& o = overlays_[slot];
     if (image.width == 0) {
         textureVersions_.erase(o.texture);
@@ -280,7 +279,7 @@ Renderer::SceneKey Renderer::keyOf(const RenderScene& scene, const Camera& camer
                        camera.target.z(), camera.yaw, camera.pitch, camera.distance, camera.fovY,
                        double(camera.orthographic), scene.time, double(scene.grid),
                        double(scene.axes), scene.background.x(), scene.background.y(),
-                       scene.background.z(), double(overlayGeneration_)});
+                       scene.background.z()});
     // The water by content (the document edits its own in place), counted by generation.
     if (scene.water && !(cache_.water && *cache_.water == *scene.water)) {
         cache_.water = *scene.water;
@@ -291,7 +290,11 @@ Renderer::SceneKey Renderer::keyOf(const RenderScene& scene, const Camera& camer
         key.meshes.push_back(body.mesh.get());
         n.insert(n.end(), body.pose.rotation.data(), body.pose.rotation.data() + 9);
         n.insert(n.end(), body.pose.translation.data(), body.pose.translation.data() + 3);
-        n.insert(n.end(), {double(body.overlay), double(body.selected), double(body.alpha)});
+        // The overlay the body shows, by its slot and what its texture holds.
+        const unsigned overlay = overlayTexture(body.overlay);
+        const std::optional<std::uint64_t> version = overlay ? textureVersion(overlay) : std::nullopt;
+        n.insert(n.end(), {double(body.overlay), version ? double(*version) : -1.0,
+                           double(body.selected), double(body.alpha)});
     }
     return key;
 }

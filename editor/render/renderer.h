@@ -137,7 +137,6 @@ private:
         std::uint64_t waterGeneration = 0;
         bool warmUp = false;                ///< see warmUpOnFirstDraw
     } cache_;
-    std::uint64_t overlayGeneration_ = 0;   ///< bumps on every setOverlay
     std::uint64_t textureUploads_ = 0;      ///< bumps on every texture upload
     std::map<unsigned, std::uint64_t> textureVersions_;  ///< see textureVersion
     std::uint64_t framesCopied_ = 0, framesDrawn_ = 0;

@@ -868,6 +868,11 @@ TEST(EditorLayout, PanelsTileTheWindowAndComeBackAfterItShrinksAndGrows) {
             y += p.h;
         }
         EXPECT_NEAR(y, height - status, 1e-3);  // down to the status line, no gap
+        // The column is the four panels together, right of the view.
+        EXPECT_FLOAT_EQ(l.column.x, l.view.w);
+        EXPECT_FLOAT_EQ(l.column.y, l.panels[0].y);
+        EXPECT_FLOAT_EQ(l.column.w, l.panels[0].w);
+        EXPECT_NEAR(l.column.y + l.column.h, l.panels[3].y + l.panels[3].h, 1e-3);
     };
     const WindowLayout big = windowLayout(layout, 1024, 640, 19, 23);
     check(big, 1024, 640, 19, 23);
