@@ -3,6 +3,8 @@
 #include "render/gl_program.h"
 #include "render/shaders.h"
 
+#include "plimsoll/geometry/validate.h"
+
 #include <epoxy/gl.h>
 
 #include <algorithm>
@@ -154,6 +156,7 @@ Renderer::MeshBuffers& Renderer::buffersFor(const std::shared_ptr<const Triangle
         }
     }
     b.vertexCount = static_cast<int>(mesh->triangles.size() * 3);
+    b.closedSolid = validateSurface(*mesh).closedSolid();
     glGenVertexArrays(1, &b.vao);
     glGenBuffers(1, &b.vbo);
     glBindVertexArray(b.vao);
@@ -396,7 +399,10 @@ void Renderer::drawScene(const RenderScene& scene, const Camera& camera, int wid
                          bool upsideDown) {
     glEnable(GL_DEPTH_TEST);
     glDepthFunc(GL_LEQUAL);
-    glDisable(GL_CULL_FACE);  // so a mirrored image needs no change of winding
+    // Only opaque closed solids are culled (drawBodies); a mirrored image turns the winding
+    // the eye sees.
+    glDisable(GL_CULL_FACE);
+    glFrontFace(upsideDown ? GL_CW : GL_CCW);
     glDisable(GL_BLEND);
     Eigen::Matrix4f viewProj =
         (camera.projection(double(width) / std::max(height, 1)) * camera.view()).cast<float>();
@@ -435,8 +441,11 @@ void Renderer::drawScene(const RenderScene& scene, const Camera& camera, int wid
                                                        : Eigen::Vector3f(0.70f, 0.70f, 0.70f);
             glUniform3fv(glGetUniformLocation(meshProgram_, "uBase"), 1, base.data());
             MeshBuffers& b = buffersFor(body.mesh);
+            // A see-through body shows its far side through the near one: nothing is culled.
+            if (b.closedSolid && !seeThrough) glEnable(GL_CULL_FACE);
             glBindVertexArray(b.vao);
             glDrawArrays(GL_TRIANGLES, 0, b.vertexCount);
+            glDisable(GL_CULL_FACE);
         }
     };
     drawBodies(false);
@@ -532,6 +541,7 @@ void Renderer::drawScene(const RenderScene& scene, const Camera& camera, int wid
     glBindVertexArray(0);
     glUseProgram(0);
     glDisable(GL_SCISSOR_TEST);
+    glFrontFace(GL_CCW);
 }
 
 }  // namespace plimsoll::editor

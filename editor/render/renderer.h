@@ -108,6 +108,10 @@ private:
     struct MeshBuffers {
         unsigned vao = 0, vbo = 0;
         int vertexCount = 0;
+        /// A closed, outward-wound surface: drawn opaque, its back faces are never seen from
+        /// outside and are culled (on llvmpipe they cost as much as the front: ~2.5 ms of the
+        /// buoy preview's 3D view at 1600 x 900).
+        bool closedSolid = false;
         std::weak_ptr<const TriangleMesh> owner;
     };
     struct Overlay {

@@ -9,11 +9,13 @@
 #include "render/headless_context.h"
 #include "render/renderer.h"
 
+#include "plimsoll/geometry/validate.h"
 #include "plimsoll/io/mesh_io.h"
 
 #include <epoxy/gl.h>
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cstdlib>
 
 namespace plimsoll::editor {
@@ -97,6 +99,82 @@ TEST(EditorRenderer, KeptSceneCopiesTheSamePixelsTheRightWayUp) {
                     flipped.begin() + std::ptrdiff_t((height - 1 - y) * row));
     }
     EXPECT_GT(compare(flipped, direct, 8).pixels, std::size_t(width * height / 20));
+}
+
+// An opaque closed solid is drawn with its back faces culled (they are never seen from
+// outside). From outside, it looks the same as the same surface with a hidden triangle of its
+// far side missing, which is open and so drawn whole; from inside, the closed one shows
+// nothing of itself and the open one shows its inside.
+TEST(EditorRenderer, OpaqueClosedSolidsLoseOnlyTheBackFacesNoOneSees) {
+    Result<std::unique_ptr<HeadlessContext>> context = HeadlessContext::create();
+    if (!context) GTEST_SKIP() << "no headless OpenGL 4.5 here: " << context.error().message;
+    Result<std::unique_ptr<Renderer>> renderer = Renderer::create();
+    ASSERT_TRUE(renderer.ok()) << renderer.error().message;
+    const int width = 160, height = 120;
+    Result<std::unique_ptr<OffscreenTarget>> target = OffscreenTarget::create(width, height);
+    ASSERT_TRUE(target.ok()) << target.error().message;
+
+    Result<TriangleMesh> sphere = loadMesh(test::assetPath("sphere.obj"));  // radius 0.5
+    ASSERT_TRUE(sphere.ok()) << sphere.error().message;
+    Camera camera;
+    camera.distance = 3.0;
+    camera.pitch = 0.35;
+    camera.yaw = 0.4;
+    // The open copy: the triangle farthest from the eye gone (behind the sphere's front).
+    TriangleMesh open = *sphere;
+    const Eigen::Vector3d eye = camera.eye();
+    auto centroidDistance = [&](const Triangle& t) {
+        return ((open.positions[t[0]] + open.positions[t[1]] + open.positions[t[2]]) / 3.0 - eye)
+            .norm();
+    };
+    open.triangles.erase(std::max_element(open.triangles.begin(), open.triangles.end(),
+                                          [&](const Triangle& a, const Triangle& b) {
+                                              return centroidDistance(a) < centroidDistance(b);
+                                          }));
+    ASSERT_TRUE(validateSurface(*sphere).closedSolid());
+    ASSERT_FALSE(validateSurface(open).closedSolid());
+
+    auto draw = [&](const TriangleMesh& mesh, bool upsideDownToo) {
+        RenderScene scene;  // no water, no grid: the body on its background
+        scene.grid = scene.axes = false;
+        RenderBody body;
+        body.mesh = std::make_shared<const TriangleMesh>(mesh);
+        scene.bodies.push_back(body);
+        (*target)->bind();
+        (*renderer)->draw(scene, camera, width, height);
+        std::vector<std::uint8_t> image = (*target)->readRgba();
+        if (upsideDownToo) {
+            // The same scene again is kept: drawn upside down, where the winding turns.
+            (*target)->bind();
+            (*renderer)->draw(scene, camera, width, height);
+            EXPECT_LT(compare((*target)->readRgba(), image, 8).pixels, std::size_t(width * height / 200));
+        }
+        return image;
+    };
+    const std::vector<std::uint8_t> closedOutside = draw(*sphere, true);
+    const std::vector<std::uint8_t> openOutside = draw(open, true);
+    const std::vector<std::uint8_t> background = [&] {
+        RenderScene scene;
+        scene.grid = scene.axes = false;
+        (*target)->bind();
+        (*renderer)->draw(scene, camera, width, height);
+        return (*target)->readRgba();
+    }();
+    EXPECT_GT(compare(closedOutside, background, 30).pixels, std::size_t(width * height / 20));
+    EXPECT_EQ(compare(closedOutside, openOutside, 0).pixels, 0u);
+
+    camera.distance = 0.2;  // the eye inside the sphere, 0.2 from its centre
+    const std::vector<std::uint8_t> closedInside = draw(*sphere, false);
+    const std::vector<std::uint8_t> openInside = draw(open, false);
+    const std::vector<std::uint8_t> backgroundInside = [&] {
+        RenderScene scene;
+        scene.grid = scene.axes = false;
+        (*target)->bind();
+        (*renderer)->draw(scene, camera, width, height);
+        return (*target)->readRgba();
+    }();
+    EXPECT_EQ(compare(closedInside, backgroundInside, 0).pixels, 0u);
+    EXPECT_GT(compare(openInside, backgroundInside, 30).pixels, std::size_t(width * height / 2));
 }
 
 }  // namespace

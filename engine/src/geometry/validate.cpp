@@ -20,6 +20,7 @@
 #include <cstdio>
 #include <limits>
 #include <numeric>
+#include <optional>
 #include <span>
 
 namespace plimsoll {
@@ -669,20 +670,38 @@ std::string ValidationReport::format() const {
     return out;
 }
 
-ValidationReport validateMesh(const TriangleMesh& mesh) {
-    ValidationReport report;
+namespace {
+
+/// The checks of the surface itself, in validateMesh's order; the facts for the UV checks, or
+/// none where the mesh is too broken for them.
+std::optional<TriangleFacts> checkSurface(const TriangleMesh& mesh, ValidationReport& report) {
     report.source = mesh.source;
     if (mesh.triangles.empty()) {
         add(report, ProblemKind::EmptyMesh, Severity::Error, 0, 0, "the mesh has no triangles");
-        return report;
+        return std::nullopt;
     }
-    if (!checkIndices(mesh, report)) return report;
+    if (!checkIndices(mesh, report)) return std::nullopt;
     checkUvsPresent(mesh, report);
-    if (!checkFinite(mesh, report)) return report;
-    const TriangleFacts facts = triangleFacts(mesh);
+    if (!checkFinite(mesh, report)) return std::nullopt;
+    TriangleFacts facts = triangleFacts(mesh);
     checkDegenerate(facts, report);
     checkTopology(mesh, facts, report);
-    if (!mesh.hasUvs()) return report;
+    return facts;
+}
+
+}  // namespace
+
+ValidationReport validateSurface(const TriangleMesh& mesh) {
+    ValidationReport report;
+    checkSurface(mesh, report);
+    return report;
+}
+
+ValidationReport validateMesh(const TriangleMesh& mesh) {
+    ValidationReport report;
+    const std::optional<TriangleFacts> surface = checkSurface(mesh, report);
+    if (!surface || !mesh.hasUvs()) return report;
+    const TriangleFacts& facts = *surface;
     checkDegenerateUv(mesh, facts, report);
     checkUvRange(mesh, facts, report);
     checkUvTiles(mesh, facts, report);

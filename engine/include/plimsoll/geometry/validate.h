@@ -71,4 +71,8 @@ struct ValidationReport {
 
 ValidationReport validateMesh(const TriangleMesh& mesh);
 
+/// validateMesh without the checks of the UV map: enough to know whether the mesh is a closed
+/// solid (ValidationReport::closedSolid), e.g. to draw only its front faces.
+ValidationReport validateSurface(const TriangleMesh& mesh);
+
 }  // namespace plimsoll
