@@ -937,11 +937,12 @@ int runEditorWindow(const EditorLaunch& launch) {
         // renderer then need not clear its rectangle again, and clears depth only in a frame
         // in which it draws the scene (a copied scene needs none).
         RenderScene scene = sceneOf(s);
-        glClearColor(scene.background.x(), scene.background.y(), scene.background.z(), 1.0f);
-        glClear(GL_COLOR_BUFFER_BIT);
         const int vw = static_cast<int>(s.viewport.w * scale), vh = static_cast<int>(s.viewport.h * scale);
+        applyPreviewToScene(s, scene);
+        const Eigen::Vector3f clear = s.renderer->clearColour(scene, s.camera, std::max(vw, 1), std::max(vh, 1));
+        glClearColor(clear.x(), clear.y(), clear.z(), 1.0f);
+        glClear(GL_COLOR_BUFFER_BIT);
         if (vw > 0 && vh > 0) {
-            applyPreviewToScene(s, scene);
             s.renderer->draw(scene, s.camera, vw, vh, static_cast<int>(s.viewport.x * scale),
                              fbHeight - static_cast<int>((s.viewport.y + s.viewport.h) * scale),
                              /*cleared=*/true);
@@ -954,7 +955,7 @@ int runEditorWindow(const EditorLaunch& launch) {
         const PanelRect& c = layout.column;
         const ImTextureID fontAtlas = io.Fonts->TexID;
         panelCache->render(*ImGui::GetDrawData(), ImVec4(c.x, c.y, c.x + c.w, c.y + c.h),
-                           ImVec4(scene.background.x(), scene.background.y(), scene.background.z(), 1.0f),
+                           ImVec4(clear.x(), clear.y(), clear.z(), 1.0f),
                            [&](ImTextureID texture) -> std::optional<std::uint64_t> {
                                if (texture == fontAtlas) return 0;  // made once
                                return s.renderer->textureVersion(static_cast<unsigned>(

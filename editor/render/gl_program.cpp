@@ -4,6 +4,7 @@
 #include <epoxy/gl.h>
 
 #include <string>
+#include <vector>
 
 namespace plimsoll::editor {
 
@@ -26,20 +27,26 @@ Result<unsigned> compileStage(GLenum type, const char* source) {
 
 }  // namespace
 
-Result<unsigned> linkGlProgram(const char* vertex, const char* fragment) {
+Result<unsigned> linkGlProgram(const char* vertex, std::initializer_list<const char*> fragments) {
+    std::vector<GLuint> stages;
+    auto deleteStages = [&] {
+        for (GLuint s : stages) glDeleteShader(s);
+    };
     Result<unsigned> vs = compileStage(GL_VERTEX_SHADER, vertex);
     if (!vs) return vs.error();
-    Result<unsigned> fs = compileStage(GL_FRAGMENT_SHADER, fragment);
-    if (!fs) {
-        glDeleteShader(*vs);
-        return fs.error();
+    stages.push_back(*vs);
+    for (const char* fragment : fragments) {
+        Result<unsigned> fs = compileStage(GL_FRAGMENT_SHADER, fragment);
+        if (!fs) {
+            deleteStages();
+            return fs.error();
+        }
+        stages.push_back(*fs);
     }
     const GLuint program = glCreateProgram();
-    glAttachShader(program, *vs);
-    glAttachShader(program, *fs);
+    for (GLuint s : stages) glAttachShader(program, s);
     glLinkProgram(program);
-    glDeleteShader(*vs);
-    glDeleteShader(*fs);
+    deleteStages();
     GLint ok = 0;
     glGetProgramiv(program, GL_LINK_STATUS, &ok);
     if (!ok) {

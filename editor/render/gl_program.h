@@ -3,10 +3,15 @@
 
 #include "plimsoll/core/result.h"
 
+#include <initializer_list>
+
 namespace plimsoll::editor {
 
-/// Compiles a vertex and a fragment shader and links them; needs a current context. The
-/// error carries the driver's log ("shader compile: ..." / "shader link: ...").
-Result<unsigned> linkGlProgram(const char* vertexSource, const char* fragmentSource);
+/// Compiles a vertex shader and one or more fragment shaders (the main one, then the
+/// functions it declares and others define, such as water_view.frag's) and links them;
+/// needs a current context. The error carries the driver's log ("shader compile: ..." /
+/// "shader link: ...").
+Result<unsigned> linkGlProgram(const char* vertexSource,
+                               std::initializer_list<const char*> fragmentSources);
 
 }  // namespace plimsoll::editor

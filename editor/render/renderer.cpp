@@ -2,6 +2,7 @@
 
 #include "render/gl_program.h"
 #include "render/shaders.h"
+#include "render/water_view.h"
 
 #include "plimsoll/geometry/validate.h"
 
@@ -90,21 +91,26 @@ std::vector<std::uint8_t> OffscreenTarget::readRgba() const {
 
 Result<std::unique_ptr<Renderer>> Renderer::create() {
     std::unique_ptr<Renderer> r(new Renderer());
-    Result<unsigned> mesh = linkGlProgram(shaders::mesh_vert, shaders::mesh_frag);
+    Result<unsigned> mesh = linkGlProgram(shaders::mesh_vert, {shaders::mesh_frag, shaders::water_view_frag});
     if (!mesh) return mesh.error();
     r->meshProgram_ = *mesh;
-    Result<unsigned> line = linkGlProgram(shaders::line_vert, shaders::line_frag);
+    Result<unsigned> line = linkGlProgram(shaders::line_vert, {shaders::line_frag, shaders::water_view_frag});
     if (!line) return line.error();
     r->lineProgram_ = *line;
-    Result<unsigned> water = linkGlProgram(shaders::line_vert, shaders::line_frag);
-    if (!water) return water.error();
-    r->waterProgram_ = *water;
     glGenVertexArrays(1, &r->lineVao_);
     glGenBuffers(1, &r->lineVbo_);
     setupPositionColourVao(r->lineVao_, r->lineVbo_);
-    glGenVertexArrays(1, &r->waterVao_);
-    glGenBuffers(1, &r->waterVbo_);
-    setupPositionColourVao(r->waterVao_, r->waterVbo_);
+    // water_view.frag's block and heights; no water until a scene with water is drawn.
+    glGenBuffers(1, &r->waterBlock_);
+    glBindBuffer(GL_UNIFORM_BUFFER, r->waterBlock_);
+    glBufferData(GL_UNIFORM_BUFFER, sizeof(WaterBlock), nullptr, GL_DYNAMIC_DRAW);
+    glBindBuffer(GL_UNIFORM_BUFFER, 0);
+    r->setWaterBlock(nullptr);
+    glGenTextures(1, &r->waterHeights_);
+    glBindTexture(GL_TEXTURE_2D, r->waterHeights_);
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
+    glBindTexture(GL_TEXTURE_2D, 0);
     return r;
 }
 
@@ -117,11 +123,53 @@ Renderer::~Renderer() {
     for (auto& [_, w] : wireframes_) glDeleteTextures(1, &w.texture);
     glDeleteVertexArrays(1, &lineVao_);
     glDeleteBuffers(1, &lineVbo_);
-    glDeleteVertexArrays(1, &waterVao_);
-    glDeleteBuffers(1, &waterVbo_);
+    glDeleteBuffers(1, &waterBlock_);
+    glDeleteTextures(1, &waterHeights_);
     glDeleteProgram(meshProgram_);
     glDeleteProgram(lineProgram_);
-    glDeleteProgram(waterProgram_);
+}
+
+const WaterView* Renderer::waterViewOf(const RenderScene& scene, const Camera& camera) {
+    if (!scene.water) return nullptr;
+    WaterCache& c = waterCache_;
+    if (!c.water || c.time != scene.time || c.view.camera.target != camera.target ||
+        c.view.camera.distance != camera.distance || !(*c.water == *scene.water)) {
+        c.water = *scene.water;
+        c.time = scene.time;
+        c.view = WaterView::of(*scene.water, scene.time, camera);
+        c.uploaded = false;
+    }
+    c.view.camera = camera;  // the heights follow only the target and the distance
+    return &c.view;
+}
+
+Eigen::Vector3f Renderer::backdropColour(const RenderScene& scene, bool seenThroughWater) {
+    return seenThroughWater ? throughWater(scene.background, kWaterColour, kWaterOpacity)
+                            : scene.background;
+}
+
+Eigen::Vector3f Renderer::clearColour(const RenderScene& scene, const Camera& camera, int width,
+                                      int height) {
+    const WaterView* view = waterViewOf(scene, camera);
+    if (!view) return scene.background;
+    const WaterView::Backdrop b = view->backdrop(width, height);
+    const bool topLarger = 2 * b.split >= height;
+    return backdropColour(scene, topLarger == b.topSeenThrough);
+}
+
+void Renderer::setWaterBlock(const WaterView* view) {
+    WaterBlock block{};
+    if (view) {
+        const Eigen::Vector3d eye = view->camera.eye(), forward = view->camera.forward();
+        block = {{kWaterColour.x(), kWaterColour.y(), kWaterColour.z(), kWaterOpacity},
+                 {float(view->x0), float(view->z0), float(view->step), float(WaterView::kCells)},
+                 {float(eye.x()), float(eye.y()), float(eye.z()), view->camera.orthographic ? 1.0f : 0.0f},
+                 {float(forward.x()), float(forward.y()), float(forward.z()), 0.0f}};
+    }
+    glBindBuffer(GL_UNIFORM_BUFFER, waterBlock_);
+    glBufferSubData(GL_UNIFORM_BUFFER, 0, sizeof block, &block);
+    glBindBuffer(GL_UNIFORM_BUFFER, 0);
+    glBindBufferBase(GL_UNIFORM_BUFFER, kWaterBlockBinding, waterBlock_);
 }
 
 Renderer::MeshBuffers& Renderer::buffersFor(const std::shared_ptr<const TriangleMesh>& mesh) {
@@ -310,7 +358,8 @@ bool Renderer::drawIntoCache(const RenderScene& scene, const Camera& camera, int
     glBindFramebuffer(GL_FRAMEBUFFER, cache_.image.framebuffer());
     glViewport(0, 0, width, height);
     glDisable(GL_SCISSOR_TEST);
-    glClearColor(scene.background.x(), scene.background.y(), scene.background.z(), 1.0f);
+    const Eigen::Vector3f clear = clearColour(scene, camera, width, height);
+    glClearColor(clear.x(), clear.y(), clear.z(), 1.0f);
     glClearDepth(1.0);
     glDepthMask(GL_TRUE);
     glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
@@ -353,7 +402,8 @@ void Renderer::draw(const RenderScene& scene, const Camera& camera, int width, i
         // A scissored clear is a quad drawn over the rectangle on llvmpipe (a whole-target
         // clear is not): callers that clear the whole target skip it.
         if (!cleared) {
-            glClearColor(scene.background.x(), scene.background.y(), scene.background.z(), 1.0f);
+            const Eigen::Vector3f clear = clearColour(scene, camera, width, height);
+            glClearColor(clear.x(), clear.y(), clear.z(), 1.0f);
             glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
         }
         drawScene(scene, camera, width, height);
@@ -407,6 +457,42 @@ void Renderer::drawScene(const RenderScene& scene, const Camera& camera, int wid
     Eigen::Matrix4f viewProj =
         (camera.projection(double(width) / std::max(height, 1)) * camera.view()).cast<float>();
     if (upsideDown) viewProj.row(1) *= -1.0f;  // clip y reversed; shading uses |n.v|
+
+    // The water: the smaller part of the background (the larger is the clear), and what the
+    // shaders need to tint what is seen through it (water_view.h).
+    const WaterView* water = waterViewOf(scene, camera);
+    setWaterBlock(water);
+    if (water) {
+        if (!waterCache_.uploaded) {
+            glBindTexture(GL_TEXTURE_2D, waterHeights_);
+            glPixelStorei(GL_UNPACK_ALIGNMENT, 4);
+            glTexImage2D(GL_TEXTURE_2D, 0, GL_R32F, WaterView::kCells + 1, WaterView::kCells + 1,
+                         0, GL_RED, GL_FLOAT, water->heights.data());
+            waterCache_.uploaded = true;
+        }
+        glActiveTexture(GL_TEXTURE0 + kWaterHeightsUnit);
+        glBindTexture(GL_TEXTURE_2D, waterHeights_);
+        glActiveTexture(GL_TEXTURE0);
+        const WaterView::Backdrop b = water->backdrop(width, height);
+        const bool topLarger = 2 * b.split >= height;
+        // The smaller part's rows, counted from the top, then in GL's rows from the bottom
+        // (the upside-down image has the top at the bottom).
+        const int first = topLarger ? b.split : 0, rows = topLarger ? height - b.split : b.split;
+        if (rows > 0) {
+            GLint viewport[4], scissor[4];
+            glGetIntegerv(GL_VIEWPORT, viewport);
+            glGetIntegerv(GL_SCISSOR_BOX, scissor);
+            const GLboolean scissored = glIsEnabled(GL_SCISSOR_TEST);
+            const int bottom = upsideDown ? first : height - first - rows;
+            glEnable(GL_SCISSOR_TEST);
+            glScissor(viewport[0], viewport[1] + bottom, width, rows);
+            const Eigen::Vector3f colour = backdropColour(scene, topLarger != b.topSeenThrough);
+            glClearColor(colour.x(), colour.y(), colour.z(), 1.0f);
+            glClear(GL_COLOR_BUFFER_BIT);
+            glScissor(scissor[0], scissor[1], scissor[2], scissor[3]);
+            if (!scissored) glDisable(GL_SCISSOR_TEST);
+        }
+    }
 
     // Bodies.
     glUseProgram(meshProgram_);
@@ -486,62 +572,11 @@ void Renderer::drawScene(const RenderScene& scene, const Camera& camera, int wid
     }
     drawLines(lines, viewProj);
 
-    // Water last: translucent, over everything, writing no depth.
-    if (scene.water) {
-        // 32 cells a side: a 4 m wave still gets six samples at the closest zoom, and a frame
-        // with waves evaluates 1089 heights (64 cells: 4225, and 8192 triangles to set up).
-        const int cells = 32;
-        const double half = std::max(10.0, camera.distance * 3.0);
-        const Eigen::Vector3d centre = camera.target;
-        WaterCache& cache = waterCache_;
-        if (!cache.water || cache.time != scene.time || cache.half != half ||
-            cache.centre != centre || !(*cache.water == *scene.water)) {
-            cache.water = *scene.water;
-            cache.time = scene.time;
-            cache.half = half;
-            cache.centre = centre;
-            const double step = 2 * half / cells;
-            std::vector<float> heights((cells + 1) * (cells + 1));
-            for (int j = 0; j <= cells; ++j) {
-                for (int i = 0; i <= cells; ++i) {
-                    const double x = centre.x() - half + i * step, z = centre.z() - half + j * step;
-                    heights[j * (cells + 1) + i] =
-                        static_cast<float>(scene.water->height(x, z, scene.time));
-                }
-            }
-            std::vector<float> tris;
-            tris.reserve(cells * cells * 6 * 7);
-            const Eigen::Vector4f colour(0.15f, 0.45f, 0.75f, 0.35f);
-            auto vertex = [&](int i, int j) {
-                tris.insert(tris.end(),
-                            {float(centre.x() - half + i * step), heights[j * (cells + 1) + i],
-                             float(centre.z() - half + j * step), colour.x(), colour.y(),
-                             colour.z(), colour.w()});
-            };
-            for (int j = 0; j < cells; ++j) {
-                for (int i = 0; i < cells; ++i) {
-                    vertex(i, j), vertex(i + 1, j), vertex(i + 1, j + 1);
-                    vertex(i, j), vertex(i + 1, j + 1), vertex(i, j + 1);
-                }
-            }
-            glBindBuffer(GL_ARRAY_BUFFER, waterVbo_);
-            glBufferData(GL_ARRAY_BUFFER, tris.size() * sizeof(float), tris.data(), GL_DYNAMIC_DRAW);
-            cache.vertexCount = static_cast<int>(tris.size() / 7);
-        }
-        glEnable(GL_BLEND);
-        glBlendFunc(GL_SRC_ALPHA, GL_ONE_MINUS_SRC_ALPHA);
-        glDepthMask(GL_FALSE);
-        glUseProgram(waterProgram_);
-        setMatrix(waterProgram_, "uViewProj", viewProj);
-        glBindVertexArray(waterVao_);
-        glDrawArrays(GL_TRIANGLES, 0, waterCache_.vertexCount);
-        glDepthMask(GL_TRUE);
-        glDisable(GL_BLEND);
-    }
     glBindVertexArray(0);
     glUseProgram(0);
     glDisable(GL_SCISSOR_TEST);
     glFrontFace(GL_CCW);
+    setWaterBlock(nullptr);  // the line program also draws the UV wireframe
 }
 
 }  // namespace plimsoll::editor

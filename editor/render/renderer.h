@@ -1,11 +1,12 @@
 // The viewport renderer (OpenGL 4.5 core through libepoxy): meshes with a map overlay, the
-// water surface (translucent, flat or waves), grid and axes. The window draws it into its
+// water (flat or waves, seen as a translucent sheet: water_view.h), grid and axes. The window draws it into its
 // framebuffer; `plimsoll render` into an OffscreenTarget of a headless EGL context. It needs a
 // current context and knows nothing of windows.
 #pragma once
 
 #include "document/overlay.h"
 #include "render/camera.h"
+#include "render/water_view.h"
 #include "render/window_image.h"
 
 #include "plimsoll/geometry/mesh.h"
@@ -94,6 +95,12 @@ public:
     /// with drawInside (the water graph) are always drawn.
     void draw(const RenderScene& scene, const Camera& camera, int width, int height, int x = 0,
               int y = 0, bool cleared = false);
+    /// The colour a caller that clears the whole target (draw's `cleared`) clears it with: the
+    /// larger part of the view's background, the water's or the plain one (water_view.h).
+    Eigen::Vector3f clearColour(const RenderScene& scene, const Camera& camera, int width, int height);
+    /// The water's look: its colour and the opacity of a sheet of it.
+    static inline const Eigen::Vector3f kWaterColour{0.15f, 0.45f, 0.75f};
+    static constexpr float kWaterOpacity = 0.35f;
     /// The next scene drawn (directly) is also drawn into the kept texture and copied from it,
     /// unseen, so that the driver's first use of both (llvmpipe compiles shaders for each)
     /// falls in that frame and not in a later one. For a window (its first frame); a one-off
@@ -146,8 +153,20 @@ private:
     std::uint64_t framesCopied_ = 0, framesDrawn_ = 0;
     void drawLines(const std::vector<float>& vertices, const Eigen::Matrix4f& viewProj);
 
-    unsigned meshProgram_ = 0, lineProgram_ = 0, waterProgram_ = 0;
-    unsigned lineVao_ = 0, lineVbo_ = 0, waterVao_ = 0, waterVbo_ = 0;
+    unsigned meshProgram_ = 0, lineProgram_ = 0;
+    unsigned lineVao_ = 0, lineVbo_ = 0;
+    /// water_view.frag's uniform block (std140) and heights, at these binding points.
+    struct WaterBlock {
+        float tint[4], grid[4], eye[4], forward[4];
+    };
+    static constexpr unsigned kWaterBlockBinding = 2, kWaterHeightsUnit = 3;
+    unsigned waterBlock_ = 0, waterHeights_ = 0;
+    /// Fills the block for `view`, or says "no water" (nullptr).
+    void setWaterBlock(const WaterView* view);
+    /// The scene's water as the view shows it (nullptr: none), its heights kept while the
+    /// water, the time, the target and the distance stay.
+    const WaterView* waterViewOf(const RenderScene& scene, const Camera& camera);
+    static Eigen::Vector3f backdropColour(const RenderScene& scene, bool seenThroughWater);
     std::map<const TriangleMesh*, MeshBuffers> meshes_;
     std::map<int, Overlay> overlays_;
     struct Wireframe {
@@ -156,12 +175,11 @@ private:
         std::weak_ptr<const TriangleMesh> owner;
     };
     std::map<const TriangleMesh*, Wireframe> wireframes_;
-    /// The water surface's last vertices, rebuilt only when the time or the view moved.
     struct WaterCache {
-        double time = -1, half = 0;
-        Eigen::Vector3d centre = Eigen::Vector3d::Constant(1e300);
+        double time = -1;
         std::optional<WaterModel> water;  ///< a copy: the document edits its own in place
-        int vertexCount = 0;
+        WaterView view;
+        bool uploaded = false;            ///< view.heights are in waterHeights_
     } waterCache_;
 };
 

@@ -8,6 +8,7 @@
 #include "render/camera.h"
 #include "render/headless_context.h"
 #include "render/renderer.h"
+#include "render/water_view.h"
 
 #include "plimsoll/geometry/validate.h"
 #include "plimsoll/io/mesh_io.h"
@@ -16,6 +17,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cmath>
 #include <cstdlib>
 
 namespace plimsoll::editor {
@@ -175,6 +177,106 @@ TEST(EditorRenderer, OpaqueClosedSolidsLoseOnlyTheBackFacesNoOneSees) {
     }();
     EXPECT_EQ(compare(closedInside, backgroundInside, 0).pixels, 0u);
     EXPECT_GT(compare(openInside, backgroundInside, 30).pixels, std::size_t(width * height / 2));
+}
+
+// The water is not drawn as a surface: the background is split at the horizon and whatever is
+// seen through the water tints itself (water_view.h). Each pixel, cast as a ray at the exact
+// sphere and the sky, must be what the C++ twin (WaterView) says: the image without water
+// tinted as a sheet of water would tint it, or left as it is. Pixels next to a change of
+// answer (the sphere's outline, its waterline, the horizon) are left out: the drawn sphere is
+// a polyhedron.
+TEST(EditorRenderer, WaterTintsExactlyWhatTheCppTwinSeesThroughIt) {
+    Result<std::unique_ptr<HeadlessContext>> context = HeadlessContext::create();
+    if (!context) GTEST_SKIP() << "no headless OpenGL 4.5 here: " << context.error().message;
+    Result<std::unique_ptr<Renderer>> renderer = Renderer::create();
+    ASSERT_TRUE(renderer.ok()) << renderer.error().message;
+    const int width = 240, height = 160;
+    Result<std::unique_ptr<OffscreenTarget>> target = OffscreenTarget::create(width, height);
+    ASSERT_TRUE(target.ok()) << target.error().message;
+    Result<TriangleMesh> mesh = loadMesh(test::assetPath("sphere.obj"));  // radius 0.5
+    ASSERT_TRUE(mesh.ok()) << mesh.error().message;
+    const Eigen::Vector3d centre(0.2, -0.05, 0.1);
+    RenderBody body;
+    body.mesh = std::make_shared<const TriangleMesh>(std::move(mesh).value());
+    body.pose.translation = centre;
+
+    WaterModel flat = WaterModel::flat(0.1);
+    WaterModel waves;
+    waves.kind = WaterModel::Kind::Gerstner;
+    waves.waves = {GerstnerWave{0.12, 2.5, {1.0, 0.3}, 0.5, 0.0}};
+    struct Case {
+        const char* name;
+        const WaterModel* water;
+        double pitch, targetY;
+    };
+    for (const Case& c : {Case{"flat, from above", &flat, 0.2, 0.0}, Case{"waves, from above", &waves, 0.25, 0.0},
+                          Case{"waves, from below", &waves, -0.2, -0.6}}) {
+        SCOPED_TRACE(c.name);
+        Camera camera;
+        camera.distance = 3.0;
+        camera.pitch = c.pitch;
+        camera.yaw = 0.4;
+        camera.target = Eigen::Vector3d(0.2, c.targetY, 0.1);
+        RenderScene scene;
+        scene.grid = scene.axes = false;
+        scene.bodies.push_back(body);
+        scene.time = 0.8;
+        auto draw = [&](const WaterModel* water) {
+            scene.water = water;
+            (*target)->bind();
+            (*renderer)->draw(scene, camera, width, height);
+            return (*target)->readRgba();
+        };
+        const std::vector<std::uint8_t> dry = draw(nullptr), wet = draw(c.water);
+
+        const WaterView view = WaterView::of(*c.water, scene.time, camera);
+        enum Answer { SkyPlain, SkyThrough, BodyPlain, BodyThrough };
+        std::vector<Answer> answer(std::size_t(width) * height);
+        for (int y = 0; y < height; ++y) {
+            for (int x = 0; x < width; ++x) {
+                Eigen::Vector3d origin, direction;
+                camera.rayThrough(x + 0.5, y + 0.5, width, height, origin, direction);
+                const Eigen::Vector3d o = origin - centre;
+                const double b = o.dot(direction), disc = b * b - (o.squaredNorm() - 0.25);
+                Answer& a = answer[std::size_t(y) * width + x];
+                if (disc >= 0 && -b - std::sqrt(disc) > 0) {
+                    a = view.seenThrough(origin + direction * (-b - std::sqrt(disc))) ? BodyThrough : BodyPlain;
+                } else {
+                    a = view.backgroundSeenThrough(origin, direction) ? SkyThrough : SkyPlain;
+                }
+            }
+        }
+        std::size_t counted[4] = {}, wrong = 0;
+        for (int y = 1; y + 1 < height; ++y) {
+            for (int x = 1; x + 1 < width; ++x) {
+                const Answer a = answer[std::size_t(y) * width + x];
+                bool settled = true;
+                for (int dy = -1; dy <= 1; ++dy) {
+                    for (int dx = -1; dx <= 1; ++dx) {
+                        settled = settled && answer[std::size_t(y + dy) * width + x + dx] == a;
+                    }
+                }
+                if (!settled) continue;
+                ++counted[a];
+                const std::size_t p = (std::size_t(y) * width + x) * 4;
+                const Eigen::Vector3f plain(dry[p] / 255.0f, dry[p + 1] / 255.0f, dry[p + 2] / 255.0f);
+                const Eigen::Vector3f expected =
+                    (a == SkyThrough || a == BodyThrough)
+                        ? throughWater(plain, Renderer::kWaterColour, Renderer::kWaterOpacity)
+                        : plain;
+                for (int ch = 0; ch < 3; ++ch) {
+                    if (std::abs(int(wet[p + ch]) - int(std::lround(expected[ch] * 255.0f))) > 2) {
+                        ++wrong;
+                        break;
+                    }
+                }
+            }
+        }
+        EXPECT_EQ(wrong, 0u);
+        // Each answer is in the picture: the sphere on both sides of its waterline, the
+        // background on both sides of the horizon.
+        for (std::size_t n : counted) EXPECT_GT(n, std::size_t(200));
+    }
 }
 
 }  // namespace

@@ -1,7 +1,12 @@
 #version 450 core
-// Lines and the water surface: a colour per vertex.
+// Lines (grid, axes, the UV wireframe): a colour per vertex.
 layout(location = 0) in vec3 aPosition;
 layout(location = 1) in vec4 aColour;
 uniform mat4 uViewProj;
 out vec4 vColour;
-void main() { vColour = aColour; gl_Position = uViewProj * vec4(aPosition, 1.0); }
+out vec3 vWorld;
+void main() {
+    vColour = aColour;
+    vWorld = aPosition;
+    gl_Position = uViewProj * vec4(aPosition, 1.0);
+}
