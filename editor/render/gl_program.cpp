@@ -4,6 +4,7 @@
 #include <epoxy/gl.h>
 
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace plimsoll::editor {
@@ -27,21 +28,21 @@ Result<unsigned> compileStage(GLenum type, const char* source) {
 
 }  // namespace
 
-Result<unsigned> linkGlProgram(const char* vertex, std::initializer_list<const char*> fragments) {
+Result<unsigned> linkGlProgram(std::initializer_list<const char*> vertices,
+                               std::initializer_list<const char*> fragments) {
     std::vector<GLuint> stages;
     auto deleteStages = [&] {
         for (GLuint s : stages) glDeleteShader(s);
     };
-    Result<unsigned> vs = compileStage(GL_VERTEX_SHADER, vertex);
-    if (!vs) return vs.error();
-    stages.push_back(*vs);
-    for (const char* fragment : fragments) {
-        Result<unsigned> fs = compileStage(GL_FRAGMENT_SHADER, fragment);
-        if (!fs) {
-            deleteStages();
-            return fs.error();
+    for (auto [type, sources] : {std::pair{GL_VERTEX_SHADER, vertices}, std::pair{GL_FRAGMENT_SHADER, fragments}}) {
+        for (const char* source : sources) {
+            Result<unsigned> stage = compileStage(type, source);
+            if (!stage) {
+                deleteStages();
+                return stage.error();
+            }
+            stages.push_back(*stage);
         }
-        stages.push_back(*fs);
     }
     const GLuint program = glCreateProgram();
     for (GLuint s : stages) glAttachShader(program, s);

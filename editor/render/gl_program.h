@@ -7,11 +7,11 @@
 
 namespace plimsoll::editor {
 
-/// Compiles a vertex shader and one or more fragment shaders (the main one, then the
-/// functions it declares and others define, such as water_view.frag's) and links them;
-/// needs a current context. The error carries the driver's log ("shader compile: ..." /
+/// Compiles the vertex and the fragment shaders (of each stage the main one, then the
+/// functions it declares and others define, such as water_view.vert's and .frag's) and links
+/// them; needs a current context. The error carries the driver's log ("shader compile: ..." /
 /// "shader link: ...").
-Result<unsigned> linkGlProgram(const char* vertexSource,
+Result<unsigned> linkGlProgram(std::initializer_list<const char*> vertexSources,
                                std::initializer_list<const char*> fragmentSources);
 
 }  // namespace plimsoll::editor

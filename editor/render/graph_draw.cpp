@@ -83,7 +83,7 @@ Eigen::Matrix4f affine(const Eigen::Matrix3d& linear, const Eigen::Vector3d& tra
 
 Result<std::unique_ptr<GraphDrawer>> GraphDrawer::create() {
     std::unique_ptr<GraphDrawer> d(new GraphDrawer());
-    Result<unsigned> program = linkGlProgram(shaders::graph_node_vert,
+    Result<unsigned> program = linkGlProgram({shaders::graph_node_vert, shaders::water_view_vert},
                                              {shaders::graph_node_frag, shaders::water_view_frag});
     if (!program) return withContext("graph ", program.error());
     d->program_ = *program;

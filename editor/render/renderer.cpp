@@ -91,10 +91,12 @@ std::vector<std::uint8_t> OffscreenTarget::readRgba() const {
 
 Result<std::unique_ptr<Renderer>> Renderer::create() {
     std::unique_ptr<Renderer> r(new Renderer());
-    Result<unsigned> mesh = linkGlProgram(shaders::mesh_vert, {shaders::mesh_frag, shaders::water_view_frag});
+    Result<unsigned> mesh = linkGlProgram({shaders::mesh_vert, shaders::water_view_vert},
+                                          {shaders::mesh_frag, shaders::water_view_frag});
     if (!mesh) return mesh.error();
     r->meshProgram_ = *mesh;
-    Result<unsigned> line = linkGlProgram(shaders::line_vert, {shaders::line_frag, shaders::water_view_frag});
+    Result<unsigned> line = linkGlProgram({shaders::line_vert, shaders::water_view_vert},
+                                          {shaders::line_frag, shaders::water_view_frag});
     if (!line) return line.error();
     r->lineProgram_ = *line;
     glGenVertexArrays(1, &r->lineVao_);
@@ -552,23 +554,33 @@ void Renderer::drawScene(const RenderScene& scene, const Camera& camera, int wid
     glDepthMask(GL_TRUE);
     glDisable(GL_BLEND);
 
-    // Grid (1 m, on y = 0) and axes.
+    // Grid (1 m, on y = 0) and axes. On waves, in pieces of at most a cell of the water's
+    // heights: a line's side of the water is worked out at its vertices (water_view.vert).
     std::vector<float> lines;
     const float extent = static_cast<float>(
         std::clamp(std::ceil(camera.distance * 2.0), 2.0, 200.0));
+    const float piece = water && scene.water->kind != WaterModel::Kind::Flat
+                            ? static_cast<float>(water->step)
+                            : 2 * extent;
+    auto pushPieces = [&](const Eigen::Vector3f& a, const Eigen::Vector3f& b, const Eigen::Vector4f& colour) {
+        const int pieces = std::max(1, static_cast<int>(std::ceil((b - a).norm() / piece)));
+        for (int k = 0; k < pieces; ++k) {
+            pushLine(lines, a + (b - a) * (float(k) / pieces), a + (b - a) * (float(k + 1) / pieces), colour);
+        }
+    };
     if (scene.grid) {
         const Eigen::Vector4f grey(0.45f, 0.45f, 0.45f, 1.0f);
         const int n = static_cast<int>(extent);
         for (int i = -n; i <= n; ++i) {
             if (i == 0 && scene.axes) continue;
-            pushLine(lines, {float(i), 0, -extent}, {float(i), 0, extent}, grey);
-            pushLine(lines, {-extent, 0, float(i)}, {extent, 0, float(i)}, grey);
+            pushPieces({float(i), 0, -extent}, {float(i), 0, extent}, grey);
+            pushPieces({-extent, 0, float(i)}, {extent, 0, float(i)}, grey);
         }
     }
     if (scene.axes) {
-        pushLine(lines, {-extent, 0, 0}, {extent, 0, 0}, {0.85f, 0.25f, 0.25f, 1});
-        pushLine(lines, {0, 0, -extent}, {0, 0, extent}, {0.25f, 0.45f, 0.90f, 1});
-        pushLine(lines, {0, 0, 0}, {0, 1, 0}, {0.35f, 0.80f, 0.35f, 1});
+        pushPieces({-extent, 0, 0}, {extent, 0, 0}, {0.85f, 0.25f, 0.25f, 1});
+        pushPieces({0, 0, -extent}, {0, 0, extent}, {0.25f, 0.45f, 0.90f, 1});
+        pushPieces({0, 0, 0}, {0, 1, 0}, {0.35f, 0.80f, 0.35f, 1});
     }
     drawLines(lines, viewProj);
 

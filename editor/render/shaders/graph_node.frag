@@ -4,15 +4,16 @@
 // seen through the water outside.
 in vec3 vWorld;
 in vec3 vNormal;
+in vec2 vWaterSides;
 uniform vec3 uColour;
 uniform vec3 uWater;
 uniform float uLevel;
 uniform vec3 uEye;
 out vec4 oColour;
-vec3 throughWater(vec3 colour, vec3 world);  // water_view.frag
+vec3 throughWater(vec3 colour, vec2 sides);  // water_view.frag
 void main() {
     vec3 n = normalize(vNormal);
     float light = 0.45 + 0.55 * abs(dot(n, normalize(uEye - vWorld)));
     vec3 c = vWorld.y <= uLevel ? uWater : uColour;
-    oColour = vec4(throughWater(c * light, vWorld), 1.0);
+    oColour = vec4(throughWater(c * light, vWaterSides), 1.0);
 }

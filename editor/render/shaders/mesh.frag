@@ -4,7 +4,7 @@
 // through the water.
 in vec2 vUv;
 in float vLight;
-in vec3 vWorld;
+in vec2 vWaterSides;
 uniform int uHasOverlay;
 uniform sampler2D uOverlay;
 uniform vec2 uUvScale;
@@ -12,8 +12,8 @@ uniform vec2 uUvOffset;
 uniform vec3 uBase;
 uniform float uAlpha;
 out vec4 oColour;
-vec3 throughWater(vec3 colour, vec3 world);  // water_view.frag
+vec3 throughWater(vec3 colour, vec2 sides);  // water_view.frag
 void main() {
     vec3 c = uHasOverlay != 0 ? texture(uOverlay, vUv * uUvScale + uUvOffset).rgb : uBase;
-    oColour = vec4(throughWater(c * vLight, vWorld), uAlpha);
+    oColour = vec4(throughWater(c * vLight, vWaterSides), uAlpha);
 }

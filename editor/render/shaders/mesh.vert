@@ -14,13 +14,14 @@ uniform vec3 uViewDir;
 uniform int uOrtho;
 out vec2 vUv;
 out float vLight;
-out vec3 vWorld;
+out vec2 vWaterSides;
+vec2 waterSides(vec3 world);  // water_view.vert
 void main() {
     vec4 world = uModel * vec4(aPosition, 1.0);
     vec3 n = mat3(uModel) * aNormal;  // uModel: a rotation and a translation
     vec3 v = uOrtho != 0 ? -uViewDir : normalize(uEye - world.xyz);
     vLight = 0.35 + 0.65 * abs(dot(n, v));  // lit from the eye, both faces alike
     vUv = aUv;
-    vWorld = world.xyz;
+    vWaterSides = waterSides(world.xyz);
     gl_Position = uViewProj * world;
 }

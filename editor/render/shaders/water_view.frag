@@ -1,40 +1,16 @@
 #version 450 core
-// The water as the view shows it (render/water_view.h, whose C++ twin this is): a fragment
-// across the water from the eye is tinted as a translucent sheet over it would tint it. Linked
-// into every program that draws into the 3D view (bodies, lines, the water graph); the renderer
-// fills the block and binds the heights for each scene, and sets uWaterTint.a to 0 (no water)
-// otherwise.
+// The water as the view shows it, the fragment half (water_view.vert): a fragment on the
+// other side of the surface from its line of sight's eye end is tinted as a translucent
+// sheet of water over it would tint it.
 layout(std140, binding = 2) uniform WaterView {
     vec4 uWaterTint;     // rgb: the water's colour; a: its opacity, 0 for no water
-    vec4 uWaterGrid;     // x0, z0 of the first sample, the step (m), the cells a side
-    vec4 uWaterEye;      // the eye; w: 1 for an orthographic view
-    vec4 uWaterForward;  // the view direction (unit)
+    vec4 uWaterGrid;
+    vec4 uWaterEye;
+    vec4 uWaterForward;
 };
-layout(binding = 3) uniform sampler2D uWaterHeights;  // (cells + 1)^2, R32F, texel (i, j)
 
-float waterHeightAt(vec2 xz) {
-    float cells = uWaterGrid.w;
-    vec2 g = clamp((xz - uWaterGrid.xy) / uWaterGrid.z, vec2(0.0), vec2(cells));
-    ivec2 c = min(ivec2(floor(g)), ivec2(int(cells) - 1));
-    vec2 f = g - vec2(c);
-    float h00 = texelFetch(uWaterHeights, c, 0).r;
-    float h11 = texelFetch(uWaterHeights, c + ivec2(1, 1), 0).r;
-    // The cell's two triangles, split along its diagonal from (i, j) to (i + 1, j + 1).
-    if (f.x >= f.y) {
-        float h10 = texelFetch(uWaterHeights, c + ivec2(1, 0), 0).r;
-        return h00 + f.x * (h10 - h00) + f.y * (h11 - h10);
-    }
-    float h01 = texelFetch(uWaterHeights, c + ivec2(0, 1), 0).r;
-    return h00 + f.y * (h01 - h00) + f.x * (h11 - h01);
-}
-
-bool waterBelow(vec3 p) { return p.y < waterHeightAt(p.xz); }
-
-vec3 throughWater(vec3 colour, vec3 world) {
-    if (uWaterTint.a <= 0.0) return colour;
-    vec3 start = uWaterEye.w > 0.5
-                     ? world - uWaterForward.xyz * dot(world - uWaterEye.xyz, uWaterForward.xyz)
-                     : uWaterEye.xyz;
-    return waterBelow(world) != waterBelow(start) ? mix(colour, uWaterTint.rgb, uWaterTint.a)
-                                                   : colour;
+vec3 throughWater(vec3 colour, vec2 sides) {
+    return uWaterTint.a > 0.0 && (sides.x > 0.0) != (sides.y > 0.0)
+               ? mix(colour, uWaterTint.rgb, uWaterTint.a)
+               : colour;
 }
