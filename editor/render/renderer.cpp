@@ -104,9 +104,6 @@ Result<std::unique_ptr<Renderer>> Renderer::create() {
     setupPositionColourVao(r->lineVao_, r->lineVbo_);
     // water_view.frag's block and heights; no water until a scene with water is drawn.
     glGenBuffers(1, &r->waterBlock_);
-    glBindBuffer(GL_UNIFORM_BUFFER, r->waterBlock_);
-    glBufferData(GL_UNIFORM_BUFFER, sizeof(WaterBlock), nullptr, GL_DYNAMIC_DRAW);
-    glBindBuffer(GL_UNIFORM_BUFFER, 0);
     r->setWaterBlock(nullptr);
     glGenTextures(1, &r->waterHeights_);
     glBindTexture(GL_TEXTURE_2D, r->waterHeights_);
@@ -168,8 +165,10 @@ void Renderer::setWaterBlock(const WaterView* view) {
                  {float(eye.x()), float(eye.y()), float(eye.z()), view->camera.orthographic ? 1.0f : 0.0f},
                  {float(forward.x()), float(forward.y()), float(forward.z()), 0.0f}};
     }
+    // New storage each time (64 bytes), not a write into the old: llvmpipe would first wait
+    // for the draws still queued that read it.
     glBindBuffer(GL_UNIFORM_BUFFER, waterBlock_);
-    glBufferSubData(GL_UNIFORM_BUFFER, 0, sizeof block, &block);
+    glBufferData(GL_UNIFORM_BUFFER, sizeof block, &block, GL_STREAM_DRAW);
     glBindBuffer(GL_UNIFORM_BUFFER, 0);
     glBindBufferBase(GL_UNIFORM_BUFFER, kWaterBlockBinding, waterBlock_);
 }
@@ -303,6 +302,7 @@ unsigned Renderer::uvWireframeTexture(const std::shared_ptr<const TriangleMesh>&
             pushLine(lines, {float(a.x()), float(a.y()), 0}, {float(b.x()), float(b.y()), 0}, colour);
         }
     }
+    setWaterBlock(nullptr);  // UVs, not the world: nothing is seen through water here
     drawLines(lines, Eigen::Matrix4f::Identity());
     glBindVertexArray(0);
     glUseProgram(0);
@@ -588,7 +588,6 @@ void Renderer::drawScene(const RenderScene& scene, const Camera& camera, int wid
     glUseProgram(0);
     glDisable(GL_SCISSOR_TEST);
     glFrontFace(GL_CCW);
-    setWaterBlock(nullptr);  // the line program also draws the UV wireframe
 }
 
 }  // namespace plimsoll::editor

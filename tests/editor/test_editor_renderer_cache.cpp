@@ -277,6 +277,22 @@ TEST(EditorRenderer, WaterTintsExactlyWhatTheCppTwinSeesThroughIt) {
         // background on both sides of the horizon.
         for (std::size_t n : counted) EXPECT_GT(n, std::size_t(200));
     }
+    // Drawn after a scene with water, the UV view's wireframe (the same line program, in UV
+    // space, half of it below the water's height) is still plain white.
+    const unsigned wireframe = (*renderer)->uvWireframeTexture(body.mesh, 64);
+    ASSERT_NE(wireframe, 0u);
+    std::vector<std::uint8_t> texels(64 * 64 * 4);
+    glBindTexture(GL_TEXTURE_2D, wireframe);
+    glPixelStorei(GL_PACK_ALIGNMENT, 1);
+    glGetTexImage(GL_TEXTURE_2D, 0, GL_RGBA, GL_UNSIGNED_BYTE, texels.data());
+    std::size_t drawn = 0, tinted = 0;
+    for (std::size_t p = 0; p < texels.size(); p += 4) {
+        if (texels[p + 3] == 0) continue;
+        ++drawn;
+        if (texels[p] != texels[p + 2]) ++tinted;
+    }
+    EXPECT_GT(drawn, std::size_t(100));
+    EXPECT_EQ(tinted, 0u);
 }
 
 }  // namespace
