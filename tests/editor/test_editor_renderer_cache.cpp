@@ -1,8 +1,10 @@
-// The renderer's kept scene (Renderer::draw): a scene that stands still is drawn once more into
-// a texture, upside down, and copied from it with its rows reversed, so that llvmpipe copies
-// rows instead of drawing a textured quad. What reaches the target must be the scene as drawn
-// directly: the same way up and the same pixels. Built only with the GUI (plimsoll_render);
-// skipped where no headless OpenGL 4.5 context can be made.
+// The renderer's ways of drawing less, each against the image drawn without it. The kept scene
+// (Renderer::draw): a scene that stands still is drawn once more into a texture, upside down,
+// and copied from it with its rows reversed, so that llvmpipe copies rows instead of drawing a
+// textured quad; what reaches the target must be the scene as drawn directly. Opaque closed
+// solids lose their back faces, and the water is a tint, not a drawn surface (water_view.h).
+// Built only with the GUI (plimsoll_render); skipped where no headless OpenGL 4.5 context can
+// be made.
 #include "test_support.h"
 
 #include "render/camera.h"
@@ -40,15 +42,31 @@ Difference compare(const std::vector<std::uint8_t>& a, const std::vector<std::ui
     return d;
 }
 
-TEST(EditorRenderer, KeptSceneCopiesTheSamePixelsTheRightWayUp) {
-    Result<std::unique_ptr<HeadlessContext>> context = HeadlessContext::create();
-    if (!context) GTEST_SKIP() << "no headless OpenGL 4.5 here: " << context.error().message;
-    Result<std::unique_ptr<Renderer>> renderer = Renderer::create();
-    ASSERT_TRUE(renderer.ok()) << renderer.error().message;
+/// A headless OpenGL 4.5 context and a renderer in it; the test is skipped where there is none.
+class EditorRenderer : public ::testing::Test {
+protected:
+    void SetUp() override {
+        Result<std::unique_ptr<HeadlessContext>> made = HeadlessContext::create();
+        if (!made) GTEST_SKIP() << "no headless OpenGL 4.5 here: " << made.error().message;
+        context = std::move(made).value();
+        Result<std::unique_ptr<Renderer>> r = Renderer::create();
+        ASSERT_TRUE(r.ok()) << r.error().message;
+        renderer = std::move(r).value();
+    }
+    std::unique_ptr<OffscreenTarget> makeTarget(int width, int height) {
+        Result<std::unique_ptr<OffscreenTarget>> t = OffscreenTarget::create(width, height);
+        EXPECT_TRUE(t.ok()) << t.error().message;
+        return t ? std::move(t).value() : nullptr;
+    }
+    std::unique_ptr<HeadlessContext> context;  // first made, last gone
+    std::unique_ptr<Renderer> renderer;
+};
+
+TEST_F(EditorRenderer, KeptSceneCopiesTheSamePixelsTheRightWayUp) {
     // Not a multiple of the rasteriser's 64-pixel tiles, and taller than wide.
     const int width = 200, height = 250;
-    Result<std::unique_ptr<OffscreenTarget>> target = OffscreenTarget::create(width, height);
-    ASSERT_TRUE(target.ok()) << target.error().message;
+    const std::unique_ptr<OffscreenTarget> target = makeTarget(width, height);
+    ASSERT_TRUE(target);
 
     Result<TriangleMesh> mesh = loadMesh(test::assetPath("sphere.obj"));
     ASSERT_TRUE(mesh.ok()) << mesh.error().message;
@@ -69,17 +87,17 @@ TEST(EditorRenderer, KeptSceneCopiesTheSamePixelsTheRightWayUp) {
     camera.yaw = 0.4;
 
     auto drawOnce = [&] {
-        (*target)->bind();
+        target->bind();
         glClearColor(0.0f, 0.0f, 0.0f, 1.0f);  // not the scene's background
         glClear(GL_COLOR_BUFFER_BIT);
-        (*renderer)->draw(scene, camera, width, height);
-        return (*target)->readRgba();
+        renderer->draw(scene, camera, width, height);
+        return target->readRgba();
     };
     const std::vector<std::uint8_t> direct = drawOnce();   // a new scene: drawn
     const std::vector<std::uint8_t> kept = drawOnce();     // the same again: kept and copied
     const std::vector<std::uint8_t> copied = drawOnce();   // and again: copied only
-    EXPECT_EQ((*renderer)->framesDrawn(), 2u);
-    EXPECT_EQ((*renderer)->framesCopied(), 1u);
+    EXPECT_EQ(renderer->framesDrawn(), 2u);
+    EXPECT_EQ(renderer->framesCopied(), 1u);
 
     // The image has content: the body and the water differ from the background.
     const Difference fromBackground =
@@ -107,14 +125,10 @@ TEST(EditorRenderer, KeptSceneCopiesTheSamePixelsTheRightWayUp) {
 // outside). From outside, it looks the same as the same surface with a hidden triangle of its
 // far side missing, which is open and so drawn whole; from inside, the closed one shows
 // nothing of itself and the open one shows its inside.
-TEST(EditorRenderer, OpaqueClosedSolidsLoseOnlyTheBackFacesNoOneSees) {
-    Result<std::unique_ptr<HeadlessContext>> context = HeadlessContext::create();
-    if (!context) GTEST_SKIP() << "no headless OpenGL 4.5 here: " << context.error().message;
-    Result<std::unique_ptr<Renderer>> renderer = Renderer::create();
-    ASSERT_TRUE(renderer.ok()) << renderer.error().message;
+TEST_F(EditorRenderer, OpaqueClosedSolidsLoseOnlyTheBackFacesNoOneSees) {
     const int width = 160, height = 120;
-    Result<std::unique_ptr<OffscreenTarget>> target = OffscreenTarget::create(width, height);
-    ASSERT_TRUE(target.ok()) << target.error().message;
+    const std::unique_ptr<OffscreenTarget> target = makeTarget(width, height);
+    ASSERT_TRUE(target);
 
     Result<TriangleMesh> sphere = loadMesh(test::assetPath("sphere.obj"));  // radius 0.5
     ASSERT_TRUE(sphere.ok()) << sphere.error().message;
@@ -142,14 +156,14 @@ TEST(EditorRenderer, OpaqueClosedSolidsLoseOnlyTheBackFacesNoOneSees) {
         RenderBody body;
         body.mesh = std::make_shared<const TriangleMesh>(mesh);
         scene.bodies.push_back(body);
-        (*target)->bind();
-        (*renderer)->draw(scene, camera, width, height);
-        std::vector<std::uint8_t> image = (*target)->readRgba();
+        target->bind();
+        renderer->draw(scene, camera, width, height);
+        std::vector<std::uint8_t> image = target->readRgba();
         if (upsideDownToo) {
             // The same scene again is kept: drawn upside down, where the winding turns.
-            (*target)->bind();
-            (*renderer)->draw(scene, camera, width, height);
-            EXPECT_LT(compare((*target)->readRgba(), image, 8).pixels, std::size_t(width * height / 200));
+            target->bind();
+            renderer->draw(scene, camera, width, height);
+            EXPECT_LT(compare(target->readRgba(), image, 8).pixels, std::size_t(width * height / 200));
         }
         return image;
     };
@@ -158,9 +172,9 @@ TEST(EditorRenderer, OpaqueClosedSolidsLoseOnlyTheBackFacesNoOneSees) {
     const std::vector<std::uint8_t> background = [&] {
         RenderScene scene;
         scene.grid = scene.axes = false;
-        (*target)->bind();
-        (*renderer)->draw(scene, camera, width, height);
-        return (*target)->readRgba();
+        target->bind();
+        renderer->draw(scene, camera, width, height);
+        return target->readRgba();
     }();
     EXPECT_GT(compare(closedOutside, background, 30).pixels, std::size_t(width * height / 20));
     EXPECT_EQ(compare(closedOutside, openOutside, 0).pixels, 0u);
@@ -171,9 +185,9 @@ TEST(EditorRenderer, OpaqueClosedSolidsLoseOnlyTheBackFacesNoOneSees) {
     const std::vector<std::uint8_t> backgroundInside = [&] {
         RenderScene scene;
         scene.grid = scene.axes = false;
-        (*target)->bind();
-        (*renderer)->draw(scene, camera, width, height);
-        return (*target)->readRgba();
+        target->bind();
+        renderer->draw(scene, camera, width, height);
+        return target->readRgba();
     }();
     EXPECT_EQ(compare(closedInside, backgroundInside, 0).pixels, 0u);
     EXPECT_GT(compare(openInside, backgroundInside, 30).pixels, std::size_t(width * height / 2));
@@ -185,14 +199,10 @@ TEST(EditorRenderer, OpaqueClosedSolidsLoseOnlyTheBackFacesNoOneSees) {
 // tinted as a sheet of water would tint it, or left as it is. Pixels next to a change of
 // answer (the sphere's outline, its waterline, the horizon) are left out: the drawn sphere is
 // a polyhedron.
-TEST(EditorRenderer, WaterTintsExactlyWhatTheCppTwinSeesThroughIt) {
-    Result<std::unique_ptr<HeadlessContext>> context = HeadlessContext::create();
-    if (!context) GTEST_SKIP() << "no headless OpenGL 4.5 here: " << context.error().message;
-    Result<std::unique_ptr<Renderer>> renderer = Renderer::create();
-    ASSERT_TRUE(renderer.ok()) << renderer.error().message;
+TEST_F(EditorRenderer, WaterTintsExactlyWhatTheCppTwinSeesThroughIt) {
     const int width = 240, height = 160;
-    Result<std::unique_ptr<OffscreenTarget>> target = OffscreenTarget::create(width, height);
-    ASSERT_TRUE(target.ok()) << target.error().message;
+    const std::unique_ptr<OffscreenTarget> target = makeTarget(width, height);
+    ASSERT_TRUE(target);
     Result<TriangleMesh> mesh = loadMesh(test::assetPath("sphere.obj"));  // radius 0.5
     ASSERT_TRUE(mesh.ok()) << mesh.error().message;
     const Eigen::Vector3d centre(0.2, -0.05, 0.1);
@@ -223,9 +233,9 @@ TEST(EditorRenderer, WaterTintsExactlyWhatTheCppTwinSeesThroughIt) {
         scene.time = 0.8;
         auto draw = [&](const WaterModel* water) {
             scene.water = water;
-            (*target)->bind();
-            (*renderer)->draw(scene, camera, width, height);
-            return (*target)->readRgba();
+            target->bind();
+            renderer->draw(scene, camera, width, height);
+            return target->readRgba();
         };
         const std::vector<std::uint8_t> dry = draw(nullptr), wet = draw(c.water);
 
@@ -279,7 +289,7 @@ TEST(EditorRenderer, WaterTintsExactlyWhatTheCppTwinSeesThroughIt) {
     }
     // Drawn after a scene with water, the UV view's wireframe (the same line program, in UV
     // space, half of it below the water's height) is still plain white.
-    const unsigned wireframe = (*renderer)->uvWireframeTexture(body.mesh, 64);
+    const unsigned wireframe = renderer->uvWireframeTexture(body.mesh, 64);
     ASSERT_NE(wireframe, 0u);
     std::vector<std::uint8_t> texels(64 * 64 * 4);
     glBindTexture(GL_TEXTURE_2D, wireframe);
