@@ -167,28 +167,23 @@ TEST_F(EditorRenderer, OpaqueClosedSolidsLoseOnlyTheBackFacesNoOneSees) {
         }
         return image;
     };
-    const std::vector<std::uint8_t> closedOutside = draw(*sphere, true);
-    const std::vector<std::uint8_t> openOutside = draw(open, true);
-    const std::vector<std::uint8_t> background = [&] {
+    auto drawBackground = [&] {
         RenderScene scene;
         scene.grid = scene.axes = false;
         target->bind();
         renderer->draw(scene, camera, width, height);
         return target->readRgba();
-    }();
+    };
+    const std::vector<std::uint8_t> closedOutside = draw(*sphere, true);
+    const std::vector<std::uint8_t> openOutside = draw(open, true);
+    const std::vector<std::uint8_t> background = drawBackground();
     EXPECT_GT(compare(closedOutside, background, 30).pixels, std::size_t(width * height / 20));
     EXPECT_EQ(compare(closedOutside, openOutside, 0).pixels, 0u);
 
     camera.distance = 0.2;  // the eye inside the sphere, 0.2 from its centre
     const std::vector<std::uint8_t> closedInside = draw(*sphere, false);
     const std::vector<std::uint8_t> openInside = draw(open, false);
-    const std::vector<std::uint8_t> backgroundInside = [&] {
-        RenderScene scene;
-        scene.grid = scene.axes = false;
-        target->bind();
-        renderer->draw(scene, camera, width, height);
-        return target->readRgba();
-    }();
+    const std::vector<std::uint8_t> backgroundInside = drawBackground();
     EXPECT_EQ(compare(closedInside, backgroundInside, 0).pixels, 0u);
     EXPECT_GT(compare(openInside, backgroundInside, 30).pixels, std::size_t(width * height / 2));
 }
