@@ -231,6 +231,38 @@ std::string dragAlong(int y, std::initializer_list<int> xs) {
     return drag + "xdotool mouseup 1; ";
 }
 
+TEST(EditorWindow, XWithTheWaterGraphOpenLeavesTheBrushMirrorAlone) {
+    // Issue 19 bug 9: holding X to constrain a node drag also toggled the brush's X mirror.
+    // X toggles the mirror only while the paint tools have the view (KeyTapsShorterThanAFrame-
+    // AllCount: the graph panel closed); here the damaged boat's Water graph panel is opened
+    // by a click on its title bar's arrow, and X then B are tapped: B is seen (so X was), the
+    // mirror stays off.
+    if (!haveWindowTools(true)) GTEST_SKIP() << "xvfb-run or xdotool is not installed";
+    const fs::path root = fs::temp_directory_path() / "plimsoll_tests" /
+                          ("window_graph_x_" + std::to_string(::getpid()));
+    fs::remove_all(root);
+    const fs::path source = PLIMSOLL_SOURCE_DIR;
+    fs::create_directories(root / "assets");
+    fs::create_directories(root / "projects");
+    for (const char* file : {"hull.obj", "hull_stern_damage.png"})
+        fs::copy_file(source / "assets" / file, root / "assets" / file);
+    for (const char* file : {"damaged_boat.plim.json", "boat.graph.json"})
+        fs::copy_file(source / "projects" / file, root / "projects" / file);
+    // 800 x 500: the Water graph panel's title bar, collapsed, spans (17..355, 41..57).
+    const std::string out = runUnderXvfb(
+        root / "projects",
+        "$PLIMSOLL edit damaged_boat.plim.json --run-seconds 60 --window-size 800x500 "
+        "--state-file state.json & " +
+            kWaitForState + clickAt(28, 49) + waitFor("\"name\":\"Water graph\"") +
+            "xdotool key --window $w --delay 0 x b; " + waitFor("\"tool\":1") +
+            "xdotool key --window $w ctrl+q; wait");
+    if (out.empty()) GTEST_SKIP() << "no editor window in this build or no X server";
+    const nlohmann::json report = nlohmann::json::parse(out);
+    EXPECT_LT(report["seconds"].get<double>(), 59.0) << "Ctrl+Q was not seen";
+    EXPECT_EQ(report["tool"], 1);           // b: Brush, after x
+    EXPECT_EQ(report["mirror_x"], false);   // x went to the graph
+}
+
 TEST(EditorWindow, KeyTapsShorterThanAFrameAllCount) {
     // Issue 19 bugs 10, 11 and 9: taps sent back to back (xdotool: press and release with no
     // delay, all within one frame) were lost about half the time; P restarted a running
