@@ -6,8 +6,13 @@
 // across the water from the eye. On llvmpipe a surface drawn over the buoy preview's view
 // (about 900k pixels) cost 5 ms of a 21 ms frame.
 //
-// This is the C++ twin of render/shaders/water_view.frag: the same heights, the same
-// triangles between them and the same test, for the background split and for tests.
+// This is the C++ twin of render/shaders/water_view.vert and .frag: the same heights, the same
+// triangles between them and the same test, for the background split and for tests. The
+// shaders take the test's two depths at the vertices and interpolate them across a triangle
+// (per fragment, six fetches of the heights cost llvmpipe more than the sheet this replaces):
+// exact on flat water and at the vertices; on waves, where a triangle spans a bend of the
+// surface, the drawn waterline may stand off the twin's by the bend's height over the
+// triangle (lines are drawn in pieces of at most a cell, so that it is at most one cell's).
 #pragma once
 
 #include "render/camera.h"
