@@ -86,7 +86,7 @@ public:
 
     /// Draws into the bound framebuffer, in the viewport (x, y, width, height) (GL's
     /// convention: x, y of the lower-left corner), clearing only that rectangle unless the
-    /// caller has `cleared` the whole target's colour to scene.background this frame; then
+    /// caller has `cleared` the whole target's colour to clearColour() this frame; then
     /// the renderer clears the whole target's depth and stencil, and only in a frame in
     /// which it rasters the scene.
     /// A scene drawn the same two frames running (camera, size, bodies, poses, overlays,
