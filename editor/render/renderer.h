@@ -1,7 +1,7 @@
 // The viewport renderer (OpenGL 4.5 core through libepoxy): meshes with a map overlay, the
-// water (flat or waves, seen as a translucent sheet: water_view.h), grid and axes. The window draws it into its
-// framebuffer; `plimsoll render` into an OffscreenTarget of a headless EGL context. It needs a
-// current context and knows nothing of windows.
+// water (flat or waves, seen as through a translucent sheet: water_view.h), grid and axes. The
+// window draws it into its framebuffer; `plimsoll render` into an OffscreenTarget of a headless
+// EGL context. It needs a current context and knows nothing of windows.
 #pragma once
 
 #include "document/overlay.h"
@@ -155,7 +155,8 @@ private:
 
     unsigned meshProgram_ = 0, lineProgram_ = 0;
     unsigned lineVao_ = 0, lineVbo_ = 0;
-    /// water_view.frag's uniform block (std140) and heights, at these binding points.
+    /// The uniform block (std140) and the heights of water_view.vert and .frag, at these
+    /// binding points.
     struct WaterBlock {
         float tint[4], grid[4], eye[4], forward[4];
     };

@@ -411,6 +411,24 @@ TEST(Validate, UvMirroredIsland) {
 // ---------------------------------------------------------------------------------------------
 // Report
 
+// validateSurface: validateMesh's problems less the UV map's, on a mesh with both kinds.
+TEST(Validate, SurfaceChecksAreTheMeshChecksWithoutTheUvOnes) {
+    TriangleMesh cube = makeTestCube();
+    moveFaceUvs(cube, 1, 0);    // two charts on each other: uv-overlap
+    cube.triangles.resize(10);  // the +z face gone: open-surface
+    const ValidationReport all = validateMesh(cube), surface = validateSurface(cube);
+    ASSERT_TRUE(all.has(ProblemKind::UvOverlap));
+    std::vector<ProblemKind> expected;
+    for (const Problem& p : all.problems) {
+        if (!isUvProblem(p.kind)) expected.push_back(p.kind);
+    }
+    EXPECT_EQ(kinds(surface), expected);
+    EXPECT_EQ(expected, std::vector<ProblemKind>{ProblemKind::OpenSurface});
+    EXPECT_FALSE(surface.closedSolid());
+    EXPECT_TRUE(validateSurface(makeTestCube()).closedSolid());
+    EXPECT_TRUE(validateSurface(makeTestCube()).problems.empty());
+}
+
 TEST(Validate, FormatPutsErrorsFirst) {
     TriangleMesh cube = makeTestCube();
     for (Eigen::Vector2d& uv : cube.uvs) uv.x() += 0.5;
