@@ -131,15 +131,24 @@ Renderer::~Renderer() {
 const WaterView* Renderer::waterViewOf(const RenderScene& scene, const Camera& camera) {
     if (!scene.water) return nullptr;
     WaterCache& c = waterCache_;
-    if (!c.water || c.time != scene.time || c.view.camera.target != camera.target ||
-        c.view.camera.distance != camera.distance || !(*c.water == *scene.water)) {
-        c.water = *scene.water;
+    const std::uint64_t generation = waterGeneration(*scene.water);
+    if (c.generation != generation || c.time != scene.time || c.view.camera.target != camera.target ||
+        c.view.camera.distance != camera.distance) {
+        c.generation = generation;
         c.time = scene.time;
         c.view = WaterView::of(*scene.water, scene.time, camera);
         c.uploaded = false;
     }
     c.view.camera = camera;  // the heights follow only the target and the distance
     return &c.view;
+}
+
+std::uint64_t Renderer::waterGeneration(const WaterModel& water) {
+    if (!(lastWater_ && *lastWater_ == water)) {
+        lastWater_ = water;
+        ++waterGeneration_;
+    }
+    return waterGeneration_;
 }
 
 Eigen::Vector3f Renderer::backdropColour(const RenderScene& scene, bool seenThroughWater) {
@@ -151,9 +160,7 @@ Eigen::Vector3f Renderer::clearColour(const RenderScene& scene, const Camera& ca
                                       int height) {
     const WaterView* view = waterViewOf(scene, camera);
     if (!view) return scene.background;
-    const WaterView::Backdrop b = view->backdrop(width, height);
-    const bool topLarger = 2 * b.split >= height;
-    return backdropColour(scene, topLarger == b.topSeenThrough);
+    return backdropColour(scene, view->backdrop(width, height).largerSeenThrough());
 }
 
 void Renderer::setWaterBlock(const WaterView* view) {
@@ -333,12 +340,7 @@ Renderer::SceneKey Renderer::keyOf(const RenderScene& scene, const Camera& camer
                        double(camera.orthographic), scene.time, double(scene.grid),
                        double(scene.axes), scene.background.x(), scene.background.y(),
                        scene.background.z()});
-    // The water by content (the document edits its own in place), counted by generation.
-    if (scene.water && !(cache_.water && *cache_.water == *scene.water)) {
-        cache_.water = *scene.water;
-        ++cache_.waterGeneration;
-    }
-    n.push_back(scene.water ? double(cache_.waterGeneration) : -1.0);
+    n.push_back(scene.water ? double(waterGeneration(*scene.water)) : -1.0);
     for (const RenderBody& body : scene.bodies) {
         key.meshes.push_back(body.mesh.get());
         n.insert(n.end(), body.pose.rotation.data(), body.pose.rotation.data() + 9);
@@ -475,11 +477,10 @@ void Renderer::drawScene(const RenderScene& scene, const Camera& camera, int wid
         glActiveTexture(GL_TEXTURE0 + kWaterHeightsUnit);
         glBindTexture(GL_TEXTURE_2D, waterHeights_);
         glActiveTexture(GL_TEXTURE0);
-        const WaterView::Backdrop b = water->backdrop(width, height);
-        const bool topLarger = 2 * b.split >= height;
         // The smaller part's rows, counted from the top, then in GL's rows from the bottom
         // (the upside-down image has the top at the bottom).
-        const int first = topLarger ? b.split : 0, rows = topLarger ? height - b.split : b.split;
+        const WaterView::Backdrop b = water->backdrop(width, height);
+        const int first = b.smallerFirstRow(), rows = b.smallerRows();
         if (rows > 0) {
             GLint viewport[4], scissor[4];
             glGetIntegerv(GL_VIEWPORT, viewport);
@@ -488,7 +489,7 @@ void Renderer::drawScene(const RenderScene& scene, const Camera& camera, int wid
             const int bottom = upsideDown ? first : height - first - rows;
             glEnable(GL_SCISSOR_TEST);
             glScissor(viewport[0], viewport[1] + bottom, width, rows);
-            const Eigen::Vector3f colour = backdropColour(scene, topLarger != b.topSeenThrough);
+            const Eigen::Vector3f colour = backdropColour(scene, !b.largerSeenThrough());
             glClearColor(colour.x(), colour.y(), colour.z(), 1.0f);
             glClear(GL_COLOR_BUFFER_BIT);
             glScissor(scissor[0], scissor[1], scissor[2], scissor[3]);

@@ -144,8 +144,6 @@ private:
     struct SceneCache {
         WindowImage image;
         std::optional<SceneKey> kept, previous;
-        std::optional<WaterModel> water;    ///< a copy of the last scene's, to compare
-        std::uint64_t waterGeneration = 0;
         bool warmUp = false;                ///< see warmUpOnFirstDraw
     } cache_;
     std::uint64_t textureUploads_ = 0;      ///< bumps on every texture upload
@@ -176,9 +174,15 @@ private:
         std::weak_ptr<const TriangleMesh> owner;
     };
     std::map<const TriangleMesh*, Wireframe> wireframes_;
+    /// The water by content, counted: bumps whenever the water drawn differs from the last
+    /// (the document edits its own in place, so the pointer says nothing). The scene key and
+    /// the water view both go by it.
+    std::uint64_t waterGeneration(const WaterModel& water);
+    std::optional<WaterModel> lastWater_;  ///< a copy of the last water drawn, to compare
+    std::uint64_t waterGeneration_ = 0;
     struct WaterCache {
+        std::uint64_t generation = 0;     ///< waterGeneration() of the water sampled
         double time = -1;
-        std::optional<WaterModel> water;  ///< a copy: the document edits its own in place
         WaterView view;
         bool uploaded = false;            ///< view.heights are in waterHeights_
     } waterCache_;

@@ -56,6 +56,7 @@ WaterView::Backdrop WaterView::backdrop(int width, int height) const {
         return backgroundSeenThrough(origin, direction);
     };
     Backdrop b;
+    b.height = std::max(height, 0);
     b.topSeenThrough = seenThroughAtRow(0);
     // The first row that differs from the top one (one change at most: no roll). Bisection:
     // rows [0, lo) are the top's, rows [hi, height) are not, or hi = height.

@@ -51,6 +51,13 @@ public:
     struct Backdrop {
         int split = 0;
         bool topSeenThrough = false;
+        int height = 0;
+        /// The larger part (the one a caller clears the whole image to) and the other part's
+        /// rows, counted from the top (none when the image is all one part).
+        bool largerTop() const { return 2 * split >= height; }
+        bool largerSeenThrough() const { return largerTop() == topSeenThrough; }
+        int smallerFirstRow() const { return largerTop() ? split : 0; }
+        int smallerRows() const { return largerTop() ? height - split : split; }
     };
     Backdrop backdrop(int width, int height) const;
 
