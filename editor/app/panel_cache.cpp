@@ -4,18 +4,12 @@
 #include <imgui_impl_opengl3.h>
 
 #include <algorithm>
-#include <climits>
 #include <cmath>
-#include <limits>
 
 namespace plimsoll::editor {
 namespace {
 
-struct Box {
-    float x0 = std::numeric_limits<float>::infinity(), y0 = std::numeric_limits<float>::infinity();
-    float x1 = -std::numeric_limits<float>::infinity(), y1 = -std::numeric_limits<float>::infinity();
-    bool empty() const { return !(x0 < x1 && y0 < y1); }
-};
+using Box = PanelCache::Box;
 
 /// Where a list can put pixels: each command's vertices' box cut to its clip rectangle.
 /// nullopt where a command is a callback, whose drawing cannot be known.
@@ -85,8 +79,10 @@ void PanelCache::render(ImDrawData& data, const ImVec4& column, const ImVec4& ba
     const ImVec4 columnRounded(columnPixels.x / scale.x, columnPixels.y / scale.y,
                                columnPixels.z / scale.x, columnPixels.w / scale.y);
     // The column's lists: those that draw only inside it. The kept region: where they draw.
-    std::vector<Box> boxes(static_cast<std::size_t>(data.CmdListsCount));
-    std::vector<bool> inColumn(boxes.size(), false);
+    std::vector<Box>& boxes = boxes_;
+    std::vector<char>& inColumn = inColumn_;
+    boxes.assign(static_cast<std::size_t>(data.CmdListsCount), Box{});
+    inColumn.assign(boxes.size(), false);
     Box region;
     int lastInColumn = -1;
     for (int i = 0; i < data.CmdListsCount; ++i) {
@@ -146,7 +142,10 @@ void PanelCache::render(ImDrawData& data, const ImVec4& column, const ImVec4& ba
     const int y = fbHeight - static_cast<int>(region.y1);  // GL's: the lower edge
     // Lists up to the last column list, then (after the region is copied or kept) the rest:
     // the order ImGui gives, as nothing after that list is under a panel.
-    ImVector<ImDrawList*> before, after;
+    ImVector<ImDrawList*>& before = before_;
+    ImVector<ImDrawList*>& after = after_;
+    before.resize(0);
+    after.resize(0);
     const bool copying = kept_ == key;
     for (int i = 0; i < data.CmdListsCount; ++i) {
         // A copied region replaces what the column's lists would draw.

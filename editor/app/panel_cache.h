@@ -18,6 +18,7 @@
 
 #include <cstdint>
 #include <functional>
+#include <limits>
 #include <optional>
 #include <vector>
 
@@ -45,8 +46,20 @@ public:
     std::uint64_t framesCopied() const { return framesCopied_; }
     std::uint64_t framesKept() const { return framesKept_; }
 
+    /// Where a list draws: its pixels' box in display coordinates (empty: nowhere).
+    struct Box {
+        float x0 = std::numeric_limits<float>::infinity(), y0 = std::numeric_limits<float>::infinity();
+        float x1 = -std::numeric_limits<float>::infinity(), y1 = -std::numeric_limits<float>::infinity();
+        bool empty() const { return !(x0 < x1 && y0 < y1); }
+    };
+
 private:
     WindowImage image_;  ///< the kept region's pixels
+    /// This frame's boxes and column lists by list, and the lists drawn before and after the
+    /// region: kept between frames (no allocation a frame).
+    std::vector<Box> boxes_;
+    std::vector<char> inColumn_;
+    ImVector<ImDrawList*> before_, after_;
     /// Keys (never empty: a key starts with the region and the display): the one kept, last
     /// frame's, and this frame's being built. Empty: none.
     std::vector<std::uint8_t> kept_, previous_, key_;
