@@ -4,7 +4,7 @@
 // outside the column, a window behind the panels reaching into the column, one in front of
 // them. Headless (EGL); skipped where no OpenGL 4.5 context can be made.
 #include "app/panel_cache.h"
-#include "render/headless_context.h"
+#include "headless_gl_test.h"
 #include "render/renderer.h"
 
 #include <epoxy/gl.h>
@@ -29,12 +29,11 @@ struct Frame {
     bool tooltipOverColumn = false;
 };
 
-class PanelCacheTest : public ::testing::Test {
+class PanelCacheTest : public test::HeadlessGlTest {
 protected:
     void SetUp() override {
-        Result<std::unique_ptr<HeadlessContext>> made = HeadlessContext::create();
-        if (!made) GTEST_SKIP() << "no headless OpenGL 4.5 here: " << made.error().message;
-        context_ = std::move(made).value();
+        HeadlessGlTest::SetUp();
+        if (IsSkipped()) return;
         ImGui::CreateContext();
         ImGuiIO& io = ImGui::GetIO();
         io.IniFilename = nullptr;
@@ -127,7 +126,6 @@ protected:
 
     /// The column: whole pixels, or (a column split at a fraction of the window) not.
     ImVec4 column_{200, 0, 320, 240};
-    std::unique_ptr<HeadlessContext> context_;
     std::unique_ptr<OffscreenTarget> cached_, direct_;
     std::unique_ptr<PanelCache> cache_;
     unsigned image_ = 0;

@@ -8,7 +8,7 @@
 #include "test_support.h"
 
 #include "render/camera.h"
-#include "render/headless_context.h"
+#include "headless_gl_test.h"
 #include "render/renderer.h"
 #include "render/water_view.h"
 
@@ -42,13 +42,12 @@ Difference compare(const std::vector<std::uint8_t>& a, const std::vector<std::ui
     return d;
 }
 
-/// A headless OpenGL 4.5 context and a renderer in it; the test is skipped where there is none.
-class EditorRenderer : public ::testing::Test {
+/// A renderer in a headless OpenGL 4.5 context; the test is skipped where there is none.
+class EditorRenderer : public test::HeadlessGlTest {
 protected:
     void SetUp() override {
-        Result<std::unique_ptr<HeadlessContext>> made = HeadlessContext::create();
-        if (!made) GTEST_SKIP() << "no headless OpenGL 4.5 here: " << made.error().message;
-        context = std::move(made).value();
+        HeadlessGlTest::SetUp();
+        if (IsSkipped()) return;
         Result<std::unique_ptr<Renderer>> r = Renderer::create();
         ASSERT_TRUE(r.ok()) << r.error().message;
         renderer = std::move(r).value();
@@ -58,7 +57,12 @@ protected:
         EXPECT_TRUE(t.ok()) << t.error().message;
         return t ? std::move(t).value() : nullptr;
     }
-    std::unique_ptr<HeadlessContext> context;  // first made, last gone
+    /// The sample sphere, radius 0.5 about the origin (nullptr, with a failure, if unreadable).
+    static std::shared_ptr<const TriangleMesh> sphere() {
+        Result<TriangleMesh> mesh = loadMesh(test::assetPath("sphere.obj"));
+        EXPECT_TRUE(mesh.ok()) << mesh.error().message;
+        return mesh ? std::make_shared<const TriangleMesh>(std::move(mesh).value()) : nullptr;
+    }
     std::unique_ptr<Renderer> renderer;
 };
 
@@ -68,11 +72,10 @@ TEST_F(EditorRenderer, KeptSceneCopiesTheSamePixelsTheRightWayUp) {
     const std::unique_ptr<OffscreenTarget> target = makeTarget(width, height);
     ASSERT_TRUE(target);
 
-    Result<TriangleMesh> mesh = loadMesh(test::assetPath("sphere.obj"));
-    ASSERT_TRUE(mesh.ok()) << mesh.error().message;
     RenderScene scene;
     RenderBody body;
-    body.mesh = std::make_shared<const TriangleMesh>(std::move(mesh).value());
+    body.mesh = sphere();
+    ASSERT_TRUE(body.mesh);
     // Off centre and high: the image is nothing like itself turned over.
     body.pose.translation = Eigen::Vector3d(0.3, 0.6, 0.0);
     scene.bodies.push_back(body);
@@ -130,14 +133,14 @@ TEST_F(EditorRenderer, OpaqueClosedSolidsLoseOnlyTheBackFacesNoOneSees) {
     const std::unique_ptr<OffscreenTarget> target = makeTarget(width, height);
     ASSERT_TRUE(target);
 
-    Result<TriangleMesh> sphere = loadMesh(test::assetPath("sphere.obj"));  // radius 0.5
-    ASSERT_TRUE(sphere.ok()) << sphere.error().message;
+    const std::shared_ptr<const TriangleMesh> ball = sphere();
+    ASSERT_TRUE(ball);
     Camera camera;
     camera.distance = 3.0;
     camera.pitch = 0.35;
     camera.yaw = 0.4;
     // The open copy: the triangle farthest from the eye gone (behind the sphere's front).
-    TriangleMesh open = *sphere;
+    TriangleMesh open = *ball;
     const Eigen::Vector3d eye = camera.eye();
     auto centroidDistance = [&](const Triangle& t) {
         return ((open.positions[t[0]] + open.positions[t[1]] + open.positions[t[2]]) / 3.0 - eye)
@@ -147,7 +150,7 @@ TEST_F(EditorRenderer, OpaqueClosedSolidsLoseOnlyTheBackFacesNoOneSees) {
                                           [&](const Triangle& a, const Triangle& b) {
                                               return centroidDistance(a) < centroidDistance(b);
                                           }));
-    ASSERT_TRUE(validateSurface(*sphere).closedSolid());
+    ASSERT_TRUE(validateSurface(*ball).closedSolid());
     ASSERT_FALSE(validateSurface(open).closedSolid());
 
     auto draw = [&](const TriangleMesh& mesh, bool upsideDownToo) {
@@ -174,14 +177,14 @@ TEST_F(EditorRenderer, OpaqueClosedSolidsLoseOnlyTheBackFacesNoOneSees) {
         renderer->draw(scene, camera, width, height);
         return target->readRgba();
     };
-    const std::vector<std::uint8_t> closedOutside = draw(*sphere, true);
+    const std::vector<std::uint8_t> closedOutside = draw(*ball, true);
     const std::vector<std::uint8_t> openOutside = draw(open, true);
     const std::vector<std::uint8_t> background = drawBackground();
     EXPECT_GT(compare(closedOutside, background, 30).pixels, std::size_t(width * height / 20));
     EXPECT_EQ(compare(closedOutside, openOutside, 0).pixels, 0u);
 
     camera.distance = 0.2;  // the eye inside the sphere, 0.2 from its centre
-    const std::vector<std::uint8_t> closedInside = draw(*sphere, false);
+    const std::vector<std::uint8_t> closedInside = draw(*ball, false);
     const std::vector<std::uint8_t> openInside = draw(open, false);
     const std::vector<std::uint8_t> backgroundInside = drawBackground();
     EXPECT_EQ(compare(closedInside, backgroundInside, 0).pixels, 0u);
@@ -198,11 +201,10 @@ TEST_F(EditorRenderer, WaterTintsExactlyWhatTheCppTwinSeesThroughIt) {
     const int width = 240, height = 160;
     const std::unique_ptr<OffscreenTarget> target = makeTarget(width, height);
     ASSERT_TRUE(target);
-    Result<TriangleMesh> mesh = loadMesh(test::assetPath("sphere.obj"));  // radius 0.5
-    ASSERT_TRUE(mesh.ok()) << mesh.error().message;
     const Eigen::Vector3d centre(0.2, -0.05, 0.1);
     RenderBody body;
-    body.mesh = std::make_shared<const TriangleMesh>(std::move(mesh).value());
+    body.mesh = sphere();
+    ASSERT_TRUE(body.mesh);
     body.pose.translation = centre;
 
     WaterModel flat = WaterModel::flat(0.1);
