@@ -150,6 +150,36 @@ struct FastMoments {
     }
 };
 
+/// A sum of nodes' moments formed only when it has two terms: while a bucket holds one node it
+/// reads that node's moments in place. On waves nearly every bucket holds one node (each wet
+/// tile has its own water velocity, and most stencils one submerged tile), and zeroing and
+/// copying 480 bytes a bucket cost more than its closed form. The moments added must outlive
+/// the sum (a body's centerMoments do, for the call).
+class FastMomentSum {
+public:
+    void clear() {
+        only_ = nullptr;
+        terms_ = 0;
+    }
+    /// Orders 0 to `order` of m (as FastMoments::add); the first term's higher orders are kept.
+    void add(const FastMoments& m, int order = 3) {
+        if (terms_ == 0) {
+            only_ = &m;
+        } else {
+            if (terms_ == 1) sum_ = *only_;
+            sum_.add(m, order);
+        }
+        ++terms_;
+    }
+    const FastMoments& moments() const { return terms_ == 1 ? *only_ : sum_; }
+    bool empty() const { return terms_ == 0; }
+
+private:
+    FastMoments sum_;
+    const FastMoments* only_ = nullptr;
+    int terms_ = 0;
+};
+
 /// Reusable per-call buffers: sized on the first call, reused after (no allocation per call).
 /// A leaf of kLanes entries left to per-entry work, with its water in single precision: the
 /// surface's quadratic f + g.d + d^T H d / 2 (hxx, hzz halved) about (cx, cz) relative to c,
@@ -196,7 +226,7 @@ inline FastMoments shifted(const FastMoments& m, const Vec3& p) {
 /// hydrostatics under a flat plane are FastScratch::flatHydrostatics, those of a wave stencil
 /// a FastStencilBucket.
 struct FastBucket {
-    FastMoments moments;
+    FastMomentSum moments;
     std::int32_t slot = -1;
 };
 
@@ -210,7 +240,7 @@ struct FastStencil {
 /// Waves: the submerged nodes of one grid node's stencil (they share its quadratic), with the
 /// sum of their centres' heights weighed by their entries, for the point they are expanded about.
 struct FastStencilBucket {
-    FastMoments moments;
+    FastMomentSum moments;
     int node = 0;               ///< j * G + i
     double heightSum = 0, entries = 0;
 };
@@ -223,10 +253,15 @@ struct FastScratch {
     std::vector<std::int32_t> leafSlots;   ///< velocity slot of each of `leaves`
     std::vector<FastDeferredDrag> drags;
     std::vector<double> px, py, pz, velocity;  ///< the velocity batch: points, then 3 per point
-    FastMoments flatHydrostatics;              ///< flat water: every submerged node's moments
-    std::vector<FastStencilBucket> stencils;   ///< waves: submerged nodes' moments per grid node
+    FastMomentSum flatHydrostatics;            ///< flat water: every submerged node's moments
+    /// Waves: submerged nodes' moments per grid node; the first `stencilCount` are this call's
+    /// (entries are reused, not cleared, from call to call).
+    std::vector<FastStencilBucket> stencils;
+    std::size_t stencilCount = 0;
     std::vector<std::int32_t> stencilBucket;   ///< index into stencils by grid node; -1: none
-    std::vector<FastBucket> dragBuckets;       ///< one per velocity slot in use
+    /// One per velocity slot in use: the first `dragBucketCount` (reused as `stencils`).
+    std::vector<FastBucket> dragBuckets;
+    std::size_t dragBucketCount = 0;
     std::vector<std::int32_t> bucketOfSlot;    ///< index into dragBuckets by slot + 1; -1: none
 };
 
@@ -776,16 +811,17 @@ inline Sums FastBody::evaluate(const BodyState& s, const WaterSurface& water, co
         counted.waterSamples = n;
         // Each inner node's quadratic once, rather than once per node of the body that takes it.
         scratch.stencilQuadratics.resize(n);
+        const double halfInverseH = 0.5 * inverseH, inverseH2 = inverseH * inverseH;
         for (int j = 1; j < G - 1; ++j)
             for (int i = 1; i < G - 1; ++i) {
                 auto H = [&](int di, int dj) { return scratch.h[(j + dj) * G + (i + di)] - cy; };
                 FastStencil& q = scratch.stencilQuadratics[j * G + i];
                 q.f = H(0, 0);
-                q.gx = (H(1, 0) - H(-1, 0)) / (2 * h);
-                q.gz = (H(0, 1) - H(0, -1)) / (2 * h);
-                q.hxx = (H(1, 0) - 2 * q.f + H(-1, 0)) / (h * h);
-                q.hzz = (H(0, 1) - 2 * q.f + H(0, -1)) / (h * h);
-                q.hxz = (H(1, 1) - H(1, -1) - H(-1, 1) + H(-1, -1)) / (4 * h * h);
+                q.gx = (H(1, 0) - H(-1, 0)) * halfInverseH;
+                q.gz = (H(0, 1) - H(0, -1)) * halfInverseH;
+                q.hxx = (H(1, 0) - 2 * q.f + H(-1, 0)) * inverseH2;
+                q.hzz = (H(0, 1) - 2 * q.f + H(0, -1)) * inverseH2;
+                q.hxz = (H(1, 1) - H(1, -1) - H(-1, 1) + H(-1, -1)) * (0.25 * inverseH2);
                 q.frobenius = std::sqrt(q.hxx * q.hxx + q.hzz * q.hzz + 2 * q.hxz * q.hxz);
             }
     }
@@ -812,7 +848,9 @@ inline Sums FastBody::evaluate(const BodyState& s, const WaterSurface& water, co
     auto classify = [&](const FastTile& t, NodeWater& n) {
         n.rc = R * t.center;
         TileWater& w = n.w;
-        double variation = 0;  // bound of the water's departure from w.f over the tile
+        // Bound of the water's departure from w.f over the tile: |g| r + |H|_F r^2 / 2, its
+        // slope part kept squared (no square root on the traversal's critical path).
+        double curvature = 0, slope2 = 0;
         n.stencil = -1;
         if (waves) {
             const double fx = (s.center.x + n.rc.x - x0) * inverseH, fz = (s.center.z + n.rc.z - z0) * inverseH;
@@ -829,7 +867,8 @@ inline Sums FastBody::evaluate(const BodyState& s, const WaterSurface& water, co
                   0.5 * w.hzz * dz * dz;
             w.gx = q.gx + w.hxx * dx + w.hxz * dz;
             w.gz = q.gz + w.hxz * dx + w.hzz * dz;
-            variation = std::sqrt(w.gx * w.gx + w.gz * w.gz) * t.radius + 0.5 * q.frobenius * t.radius * t.radius;
+            slope2 = (w.gx * w.gx + w.gz * w.gz) * t.radius * t.radius;
+            curvature = 0.5 * q.frobenius * t.radius * t.radius;
         } else {
             w.f = water.level - cy;
         }
@@ -843,8 +882,11 @@ inline Sums FastBody::evaluate(const BodyState& s, const WaterSurface& water, co
         // spacing, so that every entry lies within the 3 x 3 nodes that quadratic was fitted
         // to (on a large texture most groups are; on a small one they span too much of the
         // surface, and their tiles decide, as tiles always do).
-        n.wetness = bottom >= w.f + variation ? Wetness::dry
-                    : top < w.f - variation && !(waves && isGroup(t) && t.radius + t.halfExtent > 0.5 * h)
+        // above: bottom >= w.f + variation; below: top < w.f - variation.
+        const double clearAbove = bottom - w.f - curvature, clearBelow = w.f - curvature - top;
+        n.wetness = clearAbove >= 0 && clearAbove * clearAbove >= slope2 ? Wetness::dry
+                    : clearBelow > 0 && clearBelow * clearBelow > slope2 &&
+                            !(waves && isGroup(t) && t.radius + t.halfExtent > 0.5 * h)
                         ? Wetness::submerged
                         : Wetness::waterline;
     };
@@ -914,8 +956,12 @@ inline Sums FastBody::evaluate(const BodyState& s, const WaterSurface& water, co
                     // up in the stencil's bucket, shifted once to the stencil's point (below).
                     std::int32_t& bucket = scratch.stencilBucket[static_cast<std::size_t>(n.stencil)];
                     if (bucket < 0) {
-                        bucket = static_cast<std::int32_t>(scratch.stencils.size());
-                        scratch.stencils.push_back({FastMoments{}, n.stencil, 0.0, 0.0});
+                        bucket = static_cast<std::int32_t>(scratch.stencilCount++);
+                        if (scratch.stencils.size() < scratch.stencilCount) scratch.stencils.emplace_back();
+                        FastStencilBucket& fresh = scratch.stencils[static_cast<std::size_t>(bucket)];
+                        fresh.moments.clear();
+                        fresh.node = n.stencil;
+                        fresh.heightSum = fresh.entries = 0;
                     }
                     FastStencilBucket& into = scratch.stencils[static_cast<std::size_t>(bucket)];
                     into.moments.add(centerMoments_[index]);
@@ -936,13 +982,14 @@ inline Sums FastBody::evaluate(const BodyState& s, const WaterSurface& water, co
     scratch.px.clear();
     scratch.py.clear();
     scratch.pz.clear();
-    scratch.flatHydrostatics = FastMoments{};
-    scratch.stencils.clear();
+    scratch.flatHydrostatics.clear();
+    scratch.stencilCount = 0;
     if (waves) scratch.stencilBucket.assign(static_cast<std::size_t>(G) * G, -1);
     visit(0, roots_, -1, visit);
     // Waves: each stencil's bucket about the point above its grid node (at the mean height of
     // its nodes' centres, where the moments are smallest), under the stencil's quadratic.
-    for (const FastStencilBucket& bucket : scratch.stencils) {
+    for (std::size_t b = 0; b < scratch.stencilCount; ++b) {
+        const FastStencilBucket& bucket = scratch.stencils[b];
         const int node = bucket.node;
         const int i = node % G, j = node / G;
         const FastStencil& q = scratch.stencilQuadratics[static_cast<std::size_t>(node)];
@@ -950,12 +997,12 @@ inline Sums FastBody::evaluate(const BodyState& s, const WaterSurface& water, co
         const Vec3 rp{x0 + i * h - s.center.x, bucket.heightSum / bucket.entries,
                       z0 + j * h - s.center.z};
         const Vec3 p = transposeTimes(R, rp);
-        hydrostaticsFromMoments(shifted(bucket.moments, p), p, rp, w, R, k, sum);
+        hydrostaticsFromMoments(shifted(bucket.moments.moments(), p), p, rp, w, R, k, sum);
     }
     if (!waves && !scratch.drags.empty()) {
         TileWater flat;
         flat.f = water.level - cy;
-        hydrostaticsFromMoments(scratch.flatHydrostatics, Vec3{}, Vec3{}, flat, R, k, sum);
+        hydrostaticsFromMoments(scratch.flatHydrostatics.moments(), Vec3{}, Vec3{}, flat, R, k, sum);
     }
     // The water's velocity at every slot, in one batch.
     const std::size_t points = scratch.px.size();
@@ -989,7 +1036,7 @@ inline Sums FastBody::evaluate(const BodyState& s, const WaterSurface& water, co
     // of their water velocity (one per slot; one in all on still water); per entry (drag alone:
     // every entry is wholly wet) in the leaves where the sign changes.
     scratch.bucketOfSlot.assign(points + 1, -1);
-    scratch.dragBuckets.clear();
+    scratch.dragBucketCount = 0;
     const Vec3 wo = transposeTimes(R, s.angular);
     for (const FastDeferredDrag& deferred : scratch.drags) {
         const Vec3 waterVelocity = waterVelocityAt(deferred.slot);
@@ -1005,8 +1052,11 @@ inline Sums FastBody::evaluate(const BodyState& s, const WaterSurface& water, co
                 case DragSign::facing: {
                     std::int32_t& bucket = scratch.bucketOfSlot[static_cast<std::size_t>(deferred.slot + 1)];
                     if (bucket < 0) {
-                        bucket = static_cast<std::int32_t>(scratch.dragBuckets.size());
-                        scratch.dragBuckets.push_back({FastMoments{}, deferred.slot});
+                        bucket = static_cast<std::int32_t>(scratch.dragBucketCount++);
+                        if (scratch.dragBuckets.size() < scratch.dragBucketCount) scratch.dragBuckets.emplace_back();
+                        FastBucket& fresh = scratch.dragBuckets[static_cast<std::size_t>(bucket)];
+                        fresh.moments.clear();
+                        fresh.slot = deferred.slot;
                     }
                     scratch.dragBuckets[static_cast<std::size_t>(bucket)].moments.add(centerMoments_[index]);
                     return;
@@ -1028,10 +1078,11 @@ inline Sums FastBody::evaluate(const BodyState& s, const WaterSurface& water, co
         };
         drag(nodes_[deferred.node], drag);
     }
-    for (const FastBucket& bucket : scratch.dragBuckets) {
+    for (std::size_t b = 0; b < scratch.dragBucketCount; ++b) {
+        const FastBucket& bucket = scratch.dragBuckets[b];
         const Vec3 uo = transposeTimes(R, s.linear - waterVelocityAt(bucket.slot));
         Vec3 force, torque;
-        dragFromMoments(bucket.moments, Vec3{}, uo, wo, k, force, torque);
+        dragFromMoments(bucket.moments.moments(), Vec3{}, uo, wo, k, force, torque);
         sum.dragForce += R * force;
         sum.dragTorque += R * torque;
     }
