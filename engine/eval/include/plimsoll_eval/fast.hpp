@@ -17,7 +17,7 @@
 // On waves the water is sampled once per call on a small grid over the body's footprint
 // (one batched height query); each node takes the quadratic through its nearest 3 x 3
 // stencil, so curved water costs no per-entry work under it either: the submerged nodes of
-// one stencil add their moments, which are shifted once to the stencil's point (shifted)
+// one stencil add their moments, which are shifted once to the stencil's point (hydrostaticMomentsAbout)
 // where the depth is that quadratic. A waterline tile gives all its entries its quadratic's
 // heights. The water's own velocity (drag) is taken at a tile's centre, asked for in one
 // batch after the traversal.
@@ -196,11 +196,41 @@ struct FastDeferredDrag {
     std::int32_t slot = -1;  ///< its point in FastScratch's velocity batch; -1: still water
 };
 
-/// Moments about c taken about the point p instead (s' = s - p; object axes): each order
-/// from the orders up to it.
-inline FastMoments shifted(const FastMoments& m, const Vec3& p) {
-    FastMoments o;
+/// What the hydrostatic closed form reads of moments about a point: orders 0 to 2, and the
+/// third contracted with the water's Hessian H in object axes, n3H[u][j] = sum_lm n3[u][jlm] H[l][m]
+/// (the depth's quadratic term; zero under a plane). Formed from moments about c: 30 third-order
+/// moments shifted and then contracted cost twice the contraction of the shift (below).
+struct FastHydrostaticMoments {
+    double n0[3] = {};
+    double n1[3][3] = {};
+    double n2[3][6] = {};
+    double n3H[3][3] = {};
+};
+
+/// The water's Hessian in object axes, R^T H3 R, H3 the horizontal Hessian (hxx, hxz, hzz) in
+/// world axes: its y row and column are zero, so only the x and z rows of R enter.
+inline void objectHessian(const Mat3& R, double hxx, double hxz, double hzz, double H[3][3]) {
+    for (int i = 0; i < 3; ++i)
+        for (int j = 0; j < 3; ++j)
+            H[i][j] = R.m[0][i] * hxx * R.m[0][j] + R.m[0][i] * hxz * R.m[2][j] + R.m[2][i] * hxz * R.m[0][j] +
+                      R.m[2][i] * hzz * R.m[2][j];
+}
+
+/// Moments about c taken about the point p instead (s' = s - p; object axes), the third order
+/// contracted with H (`curved`: H is not zero). With q = p, the shifted third moment
+///   n3'_jlm = n3_jlm - (n2_jl q_m + n2_jm q_l + n2_lm q_j) + (n1_j q_l q_m + n1_l q_j q_m
+///             + n1_m q_j q_l) - n0 q_j q_l q_m
+/// contracts, H symmetric, to
+///   n3H'_j = (n3:H)_j - 2 (n2 H q)_j - q_j (n2:H) + n1_j (q.Hq) + 2 q_j (n1.Hq) - n0 q_j (q.Hq).
+inline FastHydrostaticMoments hydrostaticMomentsAbout(const FastMoments& m, const Vec3& p, const double H[3][3],
+                                                      bool curved) {
+    FastHydrostaticMoments o;
     const double q[3] = {p.x, p.y, p.z};
+    double Hq[3] = {}, qHq = 0;
+    if (curved) {
+        for (int l = 0; l < 3; ++l) Hq[l] = H[l][0] * q[0] + H[l][1] * q[1] + H[l][2] * q[2];
+        qHq = q[0] * Hq[0] + q[1] * Hq[1] + q[2] * Hq[2];
+    }
     for (int u = 0; u < 3; ++u) {
         o.n0[u] = m.n0[u];
         for (int j = 0; j < 3; ++j) o.n1[u][j] = m.n1[u][j] - m.n0[u] * q[j];
@@ -208,14 +238,21 @@ inline FastMoments shifted(const FastMoments& m, const Vec3& p) {
             for (int l = j; l < 3; ++l)
                 o.n2[u][kPair[j][l]] = m.n2[u][kPair[j][l]] - m.n1[u][j] * q[l] - m.n1[u][l] * q[j] +
                                        m.n0[u] * q[j] * q[l];
-        for (int j = 0; j < 3; ++j)
-            for (int l = j; l < 3; ++l)
-                for (int n = l; n < 3; ++n)
-                    o.n3[u][kTriple[j][l][n]] =
-                        m.n3[u][kTriple[j][l][n]] -
-                        (m.n2[u][kPair[j][l]] * q[n] + m.n2[u][kPair[j][n]] * q[l] + m.n2[u][kPair[l][n]] * q[j]) +
-                        (m.n1[u][j] * q[l] * q[n] + m.n1[u][l] * q[j] * q[n] + m.n1[u][n] * q[j] * q[l]) -
-                        m.n0[u] * q[j] * q[l] * q[n];
+        if (!curved) continue;
+        double n2H = 0, n1Hq = 0;
+        for (int l = 0; l < 3; ++l) {
+            n1Hq += m.n1[u][l] * Hq[l];
+            for (int n = 0; n < 3; ++n) n2H += m.n2[u][kPair[l][n]] * H[l][n];
+        }
+        for (int j = 0; j < 3; ++j) {
+            double n3H = 0, n2Hq = 0;
+            for (int l = 0; l < 3; ++l) {
+                n2Hq += m.n2[u][kPair[j][l]] * Hq[l];
+                for (int n = 0; n < 3; ++n) n3H += m.n3[u][kTriple[j][l][n]] * H[l][n];
+            }
+            o.n3H[u][j] = n3H - 2 * n2Hq - q[j] * n2H + m.n1[u][j] * qHq + 2 * q[j] * n1Hq -
+                          m.n0[u] * q[j] * qHq;
+        }
     }
     return o;
 }
@@ -466,8 +503,9 @@ private:
                                 const Coefficients& k, Vec3& force, Vec3& torque);
     /// The hydrostatic sums of wholly wet entries from their moments about `center` (object
     /// axes; rc = R center), under the water's quadratic `w` over them.
-    static void hydrostaticsFromMoments(const FastMoments& mo, const Vec3& center, const Vec3& rc,
-                                        const TileWater& w, const Mat3& R, const Coefficients& k, Sums& sum);
+    static void hydrostaticsFromMoments(const FastHydrostaticMoments& mo, const Vec3& center, const Vec3& rc,
+                                        const TileWater& w, const double H[3][3], const Mat3& R,
+                                        const Coefficients& k, Sums& sum);
     /// The per-entry sums of every leaf in `leaves` (one pass, the call's constants set once).
     void perEntry(const std::vector<FastLeafWork>& leaves, const Mat3& R, const BodyState& s,
                   const Coefficients& k, Sums& sum) const;
@@ -559,23 +597,15 @@ inline void FastBody::dragFromMoments(const FastMoments& mo, const Vec3& center,
     torque = -k.halfRhoCd * (cross(st, vc) + trace * wo - Tw) + cross(center, force);
 }
 
-inline void FastBody::hydrostaticsFromMoments(const FastMoments& mo, const Vec3& center, const Vec3& rc,
-                                              const TileWater& w, const Mat3& R, const Coefficients& k,
-                                              Sums& sum) {
+inline void FastBody::hydrostaticsFromMoments(const FastHydrostaticMoments& mo, const Vec3& center,
+                                              const Vec3& rc, const TileWater& w, const double H[3][3],
+                                              const Mat3& R, const Coefficients& k, Sums& sum) {
     // The depth about `center`, s = q - center (object axes):
-    // depth = alpha + beta.s + s^T H s / 2, from the water's quadratic over the entries.
+    // depth = alpha + beta.s + s^T H s / 2, from the water's quadratic over the entries (H in
+    // object axes, objectHessian; mo.n3H carries its contraction with the third moments).
     const double alpha = w.f - rc.y;
     const Vec3 beta = transposeTimes(R, Vec3{w.gx, -1.0, w.gz});
     const bool curved = w.hxx != 0 || w.hxz != 0 || w.hzz != 0;
-    double H[3][3] = {};
-    if (curved) {
-        // R^T H3 R with H3 the horizontal Hessian in world axes: its y row and column are
-        // zero, so only the x and z rows of R enter.
-        for (int i = 0; i < 3; ++i)
-            for (int j = 0; j < 3; ++j)
-                H[i][j] = R.m[0][i] * w.hxx * R.m[0][j] + R.m[0][i] * w.hxz * R.m[2][j] +
-                          R.m[2][i] * w.hxz * R.m[0][j] + R.m[2][i] * w.hzz * R.m[2][j];
-    }
     // D0 = sum depth b, D1 = sum depth b q^T (about c), E = sum depth^2 b (its term in
     // (s^T H s)^2 / 4 left out: of the order of the curvature's squared departure).
     double D0[3], D1[3][3], E[3];
@@ -584,13 +614,11 @@ inline void FastBody::hydrostaticsFromMoments(const FastMoments& mo, const Vec3&
         double D1s[3];
         for (int j = 0; j < 3; ++j) {
             n1b += mo.n1[u][j] * beta[j];
-            double n2b = 0, n3H = 0;
+            double n2b = 0;
+            const double n3H = mo.n3H[u][j];
             for (int l = 0; l < 3; ++l) {
                 n2b += mo.n2[u][kPair[j][l]] * beta[l];
-                if (curved) {
-                    n2H += mo.n2[u][kPair[j][l]] * H[j][l];
-                    for (int m = 0; m < 3; ++m) n3H += mo.n3[u][kTriple[j][l][m]] * H[l][m];
-                }
+                if (curved) n2H += mo.n2[u][kPair[j][l]] * H[j][l];
             }
             D1s[j] = alpha * mo.n1[u][j] + n2b + 0.5 * n3H;
             n2bb += n2b * beta[j];
@@ -997,12 +1025,17 @@ inline Sums FastBody::evaluate(const BodyState& s, const WaterSurface& water, co
         const Vec3 rp{x0 + i * h - s.center.x, bucket.heightSum / bucket.entries,
                       z0 + j * h - s.center.z};
         const Vec3 p = transposeTimes(R, rp);
-        hydrostaticsFromMoments(shifted(bucket.moments.moments(), p), p, rp, w, R, k, sum);
+        double H[3][3];
+        objectHessian(R, w.hxx, w.hxz, w.hzz, H);
+        hydrostaticsFromMoments(hydrostaticMomentsAbout(bucket.moments.moments(), p, H, true), p, rp, w, H, R, k,
+                                sum);
     }
     if (!waves && !scratch.drags.empty()) {
         TileWater flat;
         flat.f = water.level - cy;
-        hydrostaticsFromMoments(scratch.flatHydrostatics.moments(), Vec3{}, Vec3{}, flat, R, k, sum);
+        const double none[3][3] = {};
+        hydrostaticsFromMoments(hydrostaticMomentsAbout(scratch.flatHydrostatics.moments(), Vec3{}, none, false),
+                                Vec3{}, Vec3{}, flat, none, R, k, sum);
     }
     // The water's velocity at every slot, in one batch.
     const std::size_t points = scratch.px.size();
