@@ -148,6 +148,19 @@ struct FastMoments {
         for (int u = 0; u < 3; ++u)
             for (int j = 0; j < 10; ++j) n3[u][j] += o.n3[u][j];
     }
+
+    /// Becomes a + b (orders 0 to `order`; higher ones are left as they were), in one pass
+    /// rather than a copy and an add.
+    void setSum(const FastMoments& a, const FastMoments& b, int order = 3) {
+        for (int u = 0; u < 3; ++u) {
+            n0[u] = a.n0[u] + b.n0[u];
+            for (int j = 0; j < 3; ++j) n1[u][j] = a.n1[u][j] + b.n1[u][j];
+            for (int j = 0; j < 6; ++j) n2[u][j] = a.n2[u][j] + b.n2[u][j];
+        }
+        if (order < 3) return;
+        for (int u = 0; u < 3; ++u)
+            for (int j = 0; j < 10; ++j) n3[u][j] = a.n3[u][j] + b.n3[u][j];
+    }
 };
 
 /// A sum of nodes' moments formed only when it has two terms: while a bucket holds one node it
@@ -161,14 +174,15 @@ public:
         only_ = nullptr;
         terms_ = 0;
     }
-    /// Orders 0 to `order` of m (as FastMoments::add); the first term's higher orders are kept.
+    /// Orders 0 to `order` of m (as FastMoments::add; higher orders of the sum are only
+    /// meaningful where every term added them).
     void add(const FastMoments& m, int order = 3) {
-        if (terms_ == 0) {
+        if (terms_ == 0)
             only_ = &m;
-        } else {
-            if (terms_ == 1) sum_ = *only_;
+        else if (terms_ == 1)
+            sum_.setSum(*only_, m, order);
+        else
             sum_.add(m, order);
-        }
         ++terms_;
     }
     const FastMoments& moments() const { return terms_ == 1 ? *only_ : sum_; }
