@@ -12,6 +12,7 @@
 
 #include "test_support.h"
 
+#include <Eigen/Geometry>
 #include <gtest/gtest.h>
 
 #include <atomic>
@@ -215,6 +216,63 @@ struct CountingTasks {
         ++static_cast<CountingTasks*>(user)->finished;
     }
 };
+
+// The wave stencils' shift: the contraction of the third moments with the water's Hessian,
+// formed from moments about c (hydrostaticMomentsAbout), equals the same contraction of the
+// moments summed directly about the stencil's point; orders 0 to 2 equal the direct moments.
+TEST(FastPath, StencilShiftEqualsTheMomentsTakenAboutThePoint) {
+    std::mt19937 rng(17);
+    std::uniform_real_distribution<double> u(-1.0, 1.0);
+    auto momentsAbout = [](const std::vector<ev::Vec3>& q, const std::vector<ev::Vec3>& b, const ev::Vec3& p) {
+        ev::FastMoments m;
+        for (std::size_t i = 0; i < q.size(); ++i) {
+            const double s[3] = {q[i].x - p.x, q[i].y - p.y, q[i].z - p.z}, a[3] = {b[i].x, b[i].y, b[i].z};
+            for (int k = 0; k < 3; ++k) {
+                m.n0[k] += a[k];
+                for (int j = 0; j < 3; ++j) {
+                    m.n1[k][j] += a[k] * s[j];
+                    for (int l = j; l < 3; ++l) {
+                        m.n2[k][ev::kPair[j][l]] += a[k] * s[j] * s[l];
+                        for (int n = l; n < 3; ++n) m.n3[k][ev::kTriple[j][l][n]] += a[k] * s[j] * s[l] * s[n];
+                    }
+                }
+            }
+        }
+        return m;
+    };
+    std::vector<ev::Vec3> q(40), b(40);
+    for (std::size_t i = 0; i < q.size(); ++i) {
+        q[i] = {u(rng), u(rng), u(rng)};
+        b[i] = {u(rng), u(rng), u(rng)};
+    }
+    const ev::Vec3 p{0.3, -0.7, 0.45};
+    const Eigen::Matrix3d R = Eigen::AngleAxisd(0.8, Eigen::Vector3d(1, 2, -1).normalized()).toRotationMatrix();
+    ev::Mat3 r;
+    for (int i = 0; i < 3; ++i)
+        for (int j = 0; j < 3; ++j) r.m[i][j] = R(i, j);
+    double H[3][3];
+    ev::objectHessian(r, 0.4, -0.25, 0.9, H);
+    const ev::FastHydrostaticMoments got = ev::hydrostaticMomentsAbout(momentsAbout(q, b, {}), p, H, true);
+    const ev::FastMoments direct = momentsAbout(q, b, p);
+    for (int k = 0; k < 3; ++k) {
+        EXPECT_NEAR(got.n0[k], direct.n0[k], 1e-12);
+        for (int j = 0; j < 3; ++j) EXPECT_NEAR(got.n1[k][j], direct.n1[k][j], 1e-12);
+        for (int j = 0; j < 6; ++j) EXPECT_NEAR(got.n2[k][j], direct.n2[k][j], 1e-12);
+        for (int j = 0; j < 3; ++j) {
+            double contracted = 0;
+            for (int l = 0; l < 3; ++l)
+                for (int n = 0; n < 3; ++n) contracted += direct.n3[k][ev::kTriple[j][l][n]] * H[l][n];
+            EXPECT_NEAR(got.n3H[k][j], contracted, 1e-12) << "u " << k << ", j " << j;
+        }
+    }
+    // The object-axes Hessian R^T H3 R, H3's y row and column zero: symmetric, and the world's
+    // vertical in object axes (R^T e_y) in its null space.
+    const ev::Vec3 up{R(1, 0), R(1, 1), R(1, 2)};
+    for (int i = 0; i < 3; ++i) {
+        EXPECT_NEAR(H[i][0] * up.x + H[i][1] * up.y + H[i][2] * up.z, 0.0, 1e-12);
+        for (int j = 0; j < 3; ++j) EXPECT_NEAR(H[i][j], H[j][i], 1e-12);
+    }
+}
 
 TEST(FastBackend, BatchesOnTheCallersTaskSystemAsOnItsOwnPool) {
     const Body sphere = makeBody(makeUvSphere(0.5, 32, 16), 48);

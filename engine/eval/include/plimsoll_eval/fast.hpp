@@ -17,8 +17,8 @@
 // On waves the water is sampled once per call on a small grid over the body's footprint
 // (one batched height query); each node takes the quadratic through its nearest 3 x 3
 // stencil, so curved water costs no per-entry work under it either: the submerged nodes of
-// one stencil add their moments, which are shifted once to the stencil's point (hydrostaticMomentsAbout)
-// where the depth is that quadratic. A waterline tile gives all its entries its quadratic's
+// one stencil add their moments, which are shifted once to the stencil's point
+// (hydrostaticMomentsAbout) where the depth is that quadratic. A waterline tile gives all its entries its quadratic's
 // heights. The water's own velocity (drag) is taken at a tile's centre, asked for in one
 // batch after the traversal.
 // Closed forms are linear in the moments, so nodes that share one polynomial add their moments
@@ -185,8 +185,10 @@ public:
             sum_.add(m, order);
         ++terms_;
     }
-    const FastMoments& moments() const { return terms_ == 1 ? *only_ : sum_; }
-    bool empty() const { return terms_ == 0; }
+    const FastMoments& moments() const {
+        static const FastMoments none;
+        return terms_ == 0 ? none : terms_ == 1 ? *only_ : sum_;
+    }
 
 private:
     FastMoments sum_;
@@ -212,8 +214,8 @@ struct FastDeferredDrag {
 
 /// What the hydrostatic closed form reads of moments about a point: orders 0 to 2, and the
 /// third contracted with the water's Hessian H in object axes, n3H[u][j] = sum_lm n3[u][jlm] H[l][m]
-/// (the depth's quadratic term; zero under a plane). Formed from moments about c: 30 third-order
-/// moments shifted and then contracted cost twice the contraction of the shift (below).
+/// (the depth's quadratic term; zero under a plane). Formed from moments about c by contracting
+/// the shift (below) rather than shifting all 30 third moments and contracting them after.
 struct FastHydrostaticMoments {
     double n0[3] = {};
     double n1[3][3] = {};
