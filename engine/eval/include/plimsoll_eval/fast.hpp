@@ -509,10 +509,11 @@ private:
     bool isGroup(const FastTile& t) const { return &t < nodes_.data() + roots_; }
 
     /// How the entries of node t meet the flow (object axes: uo the body's velocity relative to
-    /// the water at c, wo its spin): all turned away (no pressure drag), all facing it (the drag
-    /// is a polynomial of their moments), or mixed (its children decide).
+    /// the water at c, wo its spin, spinRate = |wo|): all turned away (no pressure drag), all
+    /// facing it (the drag is a polynomial of their moments), or mixed (its children decide).
     enum class DragSign { away, facing, mixed };
-    DragSign dragSign(const FastTile& t, const Vec3& uo, const Vec3& wo, const Coefficients& k) const;
+    DragSign dragSign(const FastTile& t, const Vec3& uo, const Vec3& wo, double spinRate,
+                      const Coefficients& k) const;
     /// The pressure drag of entries that all face the flow, from their moments about `center`
     /// (object axes; torque about c).
     static void dragFromMoments(const FastMoments& mo, const Vec3& center, const Vec3& uo, const Vec3& wo,
@@ -558,21 +559,23 @@ private:
 };
 
 inline FastBody::DragSign FastBody::dragSign(const FastTile& t, const Vec3& uo, const Vec3& wo,
-                                             const Coefficients& k) const {
+                                             double spinRate, const Coefficients& k) const {
     if (k.halfRhoCf > 0) return DragSign::mixed;  // skin friction has no polynomial form
     // t_i = b_i.v_i with v_i = vc + wo x s_i (vc the velocity at the node's centre): its sign
     // over the node from the normal cone against vc, widened by the spin over the radius.
     const Vec3 vc = uo + cross(wo, t.center);
-    const double speed = norm(vc);
-    const double spread = norm(wo) * t.radius;
-    if (speed == 0 && spread == 0) return DragSign::away;  // at rest in still water: no drag
-    // cos(phi -+ theta), phi the angle of the flow from the cone's axis, theta the cone's
-    // half-angle: the largest and smallest cosine of the flow with a normal of the tile.
-    const double cosPhi = speed > 0 ? std::clamp(dot(t.axis, vc) / speed, -1.0, 1.0) : 1.0;
-    const double sinPhi = std::sqrt(std::max(0.0, 1.0 - cosPhi * cosPhi));
+    const double speed2 = dot(vc, vc);
+    const double spread = spinRate * t.radius;
+    if (speed2 == 0 && spread == 0) return DragSign::away;  // at rest in still water: no drag
+    // speed cos(phi -+ theta), phi the angle of the flow from the cone's axis, theta the cone's
+    // half-angle: the largest and smallest component of the flow along a normal of the tile.
+    // speed cos(phi) and speed sin(phi) come without a division.
+    const double speed = std::sqrt(speed2);
+    const double along = std::clamp(dot(t.axis, vc), -speed, speed);
+    const double across = std::sqrt(std::max(0.0, speed2 - along * along));
     const double cosTheta = t.cosSpread, sinTheta = std::sqrt(std::max(0.0, 1.0 - cosTheta * cosTheta));
-    const double lowest = speed * (cosTheta + cosPhi < 0 ? -1.0 : cosPhi * cosTheta - sinPhi * sinTheta);
-    const double highest = speed * (cosPhi > cosTheta ? 1.0 : cosPhi * cosTheta + sinPhi * sinTheta);
+    const double lowest = speed * cosTheta + along < 0 ? -speed : along * cosTheta - across * sinTheta;
+    const double highest = along > speed * cosTheta ? speed : along * cosTheta + across * sinTheta;
     if (highest + spread <= 0) return DragSign::away;  // no entry faces the flow
     if (lowest <= spread) return DragSign::mixed;       // the sign changes inside the node
     return DragSign::facing;
@@ -1087,6 +1090,7 @@ inline Sums FastBody::evaluate(const BodyState& s, const WaterSurface& water, co
     scratch.bucketOfSlot.assign(points + 1, -1);
     scratch.dragBucketCount = 0;
     const Vec3 wo = transposeTimes(R, s.angular);
+    const double spinRate = norm(wo);
     for (const FastDeferredDrag& deferred : scratch.drags) {
         const Vec3 waterVelocity = waterVelocityAt(deferred.slot);
         const Vec3 uo = transposeTimes(R, s.linear - waterVelocity);
@@ -1095,7 +1099,7 @@ inline Sums FastBody::evaluate(const BodyState& s, const WaterSurface& water, co
             const std::size_t index = static_cast<std::size_t>(&node - nodes_.data());
             // A leaf's 8 entries, one by one in one vectorised pass, cost less than its sign
             // test (and than adding its moments): leaves never take the test.
-            switch (node.children == 0 ? DragSign::mixed : dragSign(node, uo, wo, k)) {
+            switch (node.children == 0 ? DragSign::mixed : dragSign(node, uo, wo, spinRate, k)) {
                 case DragSign::away:
                     return;
                 case DragSign::facing: {
