@@ -929,7 +929,8 @@ inline Sums FastBody::evaluate(const BodyState& s, const WaterSurface& water, co
         // spacing, so that every entry lies within the 3 x 3 nodes that quadratic was fitted
         // to (on a large texture most groups are; on a small one they span too much of the
         // surface, and their tiles decide, as tiles always do).
-        // above: bottom >= w.f + variation; below: top < w.f - variation.
+        // Dry: bottom >= w.f + variation; submerged: top < w.f - variation, with variation =
+        // |g| r + curvature and the |g| r part compared squared.
         const double clearAbove = bottom - w.f - curvature, clearBelow = w.f - curvature - top;
         n.wetness = clearAbove >= 0 && clearAbove * clearAbove >= slope2 ? Wetness::dry
                     : clearBelow > 0 && clearBelow * clearBelow > slope2 &&
