@@ -535,6 +535,16 @@ private:
     template <bool Friction>
     void perEntryLeaves(const std::vector<FastLeafWork>& leaves, const Mat3& R, const BodyState& s,
                         const Coefficients& k, Sums& sum) const;
+    /// evaluate's body, compiled for the baseline and (evaluateAvx2) for AVX2 with FMA.
+    Sums evaluateOn(const BodyState& state, const WaterSurface& water, const Coefficients& k,
+                    FastScratch& scratch, FastStats* stats) const;
+#ifdef PLIMSOLL_EVAL_AVX2_LOOPS
+    PLIMSOLL_EVAL_AVX2_TARGET Sums evaluateAvx2(const BodyState& state, const WaterSurface& water,
+                                                const Coefficients& k, FastScratch& scratch,
+                                                FastStats* stats) const {
+        return evaluateOn(state, water, k, scratch, stats);
+    }
+#endif
 #ifdef PLIMSOLL_EVAL_AVX2_LOOPS
     template <bool Friction>
     PLIMSOLL_EVAL_AVX2_TARGET void dragLeavesAvx2(const std::vector<FastLeafWork>& leaves, const Mat3& R,
@@ -830,6 +840,14 @@ inline void FastBody::dragLeaves(const std::vector<FastLeafWork>& leaves, const 
 
 inline Sums FastBody::evaluate(const BodyState& s, const WaterSurface& water, const Coefficients& k,
                                FastScratch& scratch, FastStats* stats) const {
+#ifdef PLIMSOLL_EVAL_AVX2_LOOPS
+    if (cpuHasAvx2Fma()) return evaluateAvx2(s, water, k, scratch, stats);
+#endif
+    return evaluateOn(s, water, k, scratch, stats);
+}
+
+inline Sums FastBody::evaluateOn(const BodyState& s, const WaterSurface& water, const Coefficients& k,
+                                 FastScratch& scratch, FastStats* stats) const {
     FastStats counted;
     Sums sum;
     const Mat3& R = s.rotation;
