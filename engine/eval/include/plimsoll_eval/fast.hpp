@@ -37,10 +37,11 @@
 #include <numeric>
 #include <vector>
 
-// The per-entry loops are compiled twice: for the target's baseline and, on x86-64 with GCC or
-// Clang, for AVX2 with FMA (a function attribute, so that nothing else is built for it), and
-// the second runs where the processor has them (cpuHasAvx2Fma). Lane sums then round
-// differently (fused multiply-adds), within single precision.
+// The evaluation is compiled twice: for the target's baseline and, on x86-64 with GCC or Clang,
+// for AVX2 with FMA (a function attribute that inlines everything the evaluation calls, so that
+// nothing outside it is built for AVX2), and the second runs where the processor has them
+// (cpuHasAvx2Fma). The per-entry loops' lane sums then round differently (fused multiply-adds),
+// within single precision.
 #if (defined(__x86_64__) || defined(_M_X64)) && (defined(__GNUC__) || defined(__clang__))
 #define PLIMSOLL_EVAL_AVX2_LOOPS 1
 #define PLIMSOLL_EVAL_AVX2_TARGET __attribute__((target("avx2,fma"), flatten))
