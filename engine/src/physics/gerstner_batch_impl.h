@@ -10,51 +10,46 @@ constexpr std::size_t kBlock = Lanes::size;
 
 /// Sines and cosines in single precision for the phases here (already reduced to [-pi, pi] in
 /// double, then shifted by k D.s, a few tenths of a radian): one reduction by the nearest
-/// multiple of 2 pi, a fold to [-pi/2, pi/2] (sin x = sin(pi - x), cos x = -cos(pi - x), pi in
-/// two parts so that the fold rounds once) and a polynomial there (least-squares fits on
+/// multiple of 2 pi, a fold of |x| to [0, pi/2] (sin and -cos of pi - |x| beyond pi/2, pi in
+/// two parts so that the fold rounds once), shared by the sine and the cosine of one angle, and
+/// a polynomial there (least-squares fits on
 /// Chebyshev nodes: sine to x^9 within 4.6e-9, cosine to x^10 within 2.4e-10). xsimd's sin and
 /// cos, made for any angle, reduce in three steps and evaluate both polynomials: a third of a
 /// batch's time. Over [-8, 8] both are within 1.2e-7 of the double-precision functions,
 /// measured on a 1e-5 rad grid.
-struct PhaseFold {
-    static Lanes reduced(Lanes x) {
+struct FoldedPhase {
+    Lanes y, y2;                             ///< |x| reduced and folded to [0, pi/2], and y^2
+    xsimd::batch_bool<float> negative, far;  ///< x < 0 (the sine's sign); |x| > pi/2 (the cosine's)
+
+    explicit FoldedPhase(Lanes x) {
         const Lanes turns = xsimd::nearbyint(x * Lanes(0.159154943f));
         x = xsimd::fnma(turns, Lanes(6.28318548f), x);
-        return xsimd::fnma(turns, Lanes(-1.74845553e-7f), x);  // 2 pi - 6.28318548f
+        x = xsimd::fnma(turns, Lanes(-1.74845553e-7f), x);  // 2 pi - 6.28318548f
+        negative = x < Lanes(0.0f);
+        y = xsimd::abs(x);
+        far = y > Lanes(1.57079637f);
+        // pi - y, pi in two parts: exact up to the one rounding of the sum.
+        y = xsimd::select(far, (Lanes(3.14159274f) - y) + Lanes(-8.74227801e-8f), y);
+        y2 = y * y;
     }
-    /// pi - x, for x in [pi/2, pi + 0.1]: exact up to the one rounding of the sum.
-    static Lanes fromPi(Lanes x) { return (Lanes(3.14159274f) - x) + Lanes(-8.74227801e-8f); }
+    Lanes sin() const {
+        Lanes p(2.60005397e-6f);
+        p = xsimd::fma(p, y2, Lanes(-1.98066148e-4f));
+        p = xsimd::fma(p, y2, Lanes(8.33301728e-3f));
+        p = xsimd::fma(p, y2, Lanes(-1.66666571e-1f));
+        const Lanes sine = xsimd::fma(p * y2, y, y);
+        return xsimd::select(negative, -sine, sine);
+    }
+    Lanes cos() const {
+        Lanes p(-2.60771016e-7f);
+        p = xsimd::fma(p, y2, Lanes(2.47618860e-5f));
+        p = xsimd::fma(p, y2, Lanes(-1.38884035e-3f));
+        p = xsimd::fma(p, y2, Lanes(4.16666407e-2f));
+        p = xsimd::fma(p, y2, Lanes(-4.99999995e-1f));
+        const Lanes cosine = xsimd::fma(p, y2, Lanes(1.0f));
+        return xsimd::select(far, -cosine, cosine);
+    }
 };
-
-inline Lanes phaseSin(Lanes x) {
-    x = PhaseFold::reduced(x);
-    const Lanes halfPi(1.57079637f);
-    const auto negative = x < Lanes(0.0f);
-    Lanes y = xsimd::abs(x);
-    y = xsimd::select(y > halfPi, PhaseFold::fromPi(y), y);
-    const Lanes y2 = y * y;
-    Lanes p(2.60005397e-6f);
-    p = xsimd::fma(p, y2, Lanes(-1.98066148e-4f));
-    p = xsimd::fma(p, y2, Lanes(8.33301728e-3f));
-    p = xsimd::fma(p, y2, Lanes(-1.66666571e-1f));
-    const Lanes sine = xsimd::fma(p * y2, y, y);
-    return xsimd::select(negative, -sine, sine);
-}
-
-inline Lanes phaseCos(Lanes x) {
-    const Lanes halfPi(1.57079637f);
-    Lanes y = xsimd::abs(PhaseFold::reduced(x));
-    const auto far = y > halfPi;
-    y = xsimd::select(far, PhaseFold::fromPi(y), y);
-    const Lanes y2 = y * y;
-    Lanes p(-2.60771016e-7f);
-    p = xsimd::fma(p, y2, Lanes(2.47618860e-5f));
-    p = xsimd::fma(p, y2, Lanes(-1.38884035e-3f));
-    p = xsimd::fma(p, y2, Lanes(4.16666407e-2f));
-    p = xsimd::fma(p, y2, Lanes(-4.99999995e-1f));
-    const Lanes cosine = xsimd::fma(p, y2, Lanes(1.0f));
-    return xsimd::select(far, -cosine, cosine);
-}
 
 /// theta reduced to [-pi, pi] (by the nearest multiple of 2 pi; the magic constant rounds to
 /// an integer without a library call, so that the loop vectorises; exact while
@@ -110,7 +105,7 @@ inline void undisplacedBlock(const GerstnerBatch& g, const double* x, const doub
         for (std::size_t i = 0; i < g.count; ++i) {
             const GerstnerBatchWave& w = g.waves[i];
             search.angleAt(g, i, x, z, angle);
-            phaseSin(Lanes::load_aligned(angle)).store_aligned(sine);
+            FoldedPhase(Lanes::load_aligned(angle)).sin().store_aligned(sine);
             const float qdx = static_cast<float>(w.qa * w.dx), qdz = static_cast<float>(w.qa * w.dz);
             for (std::size_t l = 0; l < kBlock; ++l) {
                 sx[l] += qdx * sine[l];
@@ -151,7 +146,7 @@ inline void heightsImpl(const GerstnerBatch& g, std::size_t n, const double* x, 
         for (std::size_t l = 0; l < kBlock; ++l) height[l] = g.level;
         for (std::size_t i = 0; i < g.count; ++i) {
             search.angleAt(g, i, bx, bz, angle);
-            phaseCos(Lanes::load_aligned(angle)).store_aligned(cosine);
+            FoldedPhase(Lanes::load_aligned(angle)).cos().store_aligned(cosine);
             for (std::size_t l = 0; l < kBlock; ++l) height[l] += g.waves[i].amplitude * cosine[l];
         }
         for (std::size_t l = 0; l < count; ++l) out[first + l] = height[l];
@@ -170,9 +165,9 @@ inline void velocitiesImpl(const GerstnerBatch& g, std::size_t n, const double* 
         for (std::size_t i = 0; i < g.count; ++i) {
             const GerstnerBatchWave& w = g.waves[i];
             search.angleAt(g, i, bx, bz, angle);
-            const Lanes phase = Lanes::load_aligned(angle);
-            phaseSin(phase).store_aligned(sineOf);
-            phaseCos(phase).store_aligned(cosineOf);
+            const FoldedPhase phase(Lanes::load_aligned(angle));  // folded once for both
+            phase.sin().store_aligned(sineOf);
+            phase.cos().store_aligned(cosineOf);
             // Orbital motion decays as e^(k d) below the mean level (none above it).
             // (Clamped before the conversion: e^-80 is already 0 in single precision, and a
             // point far below would not fit a float.)

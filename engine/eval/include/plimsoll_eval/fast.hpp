@@ -18,9 +18,9 @@
 // (one batched height query); each node takes the quadratic through its nearest 3 x 3
 // stencil, so curved water costs no per-entry work under it either: the submerged nodes of
 // one stencil add their moments, which are shifted once to the stencil's point
-// (hydrostaticMomentsAbout) where the depth is that quadratic. A waterline tile gives all its entries its quadratic's
-// heights. The water's own velocity (drag) is taken at a tile's centre, asked for in one
-// batch after the traversal.
+// (hydrostaticMomentsAbout) where the depth is that quadratic. A waterline tile gives all its
+// entries its quadratic's heights. The water's own velocity (drag) is taken at a tile's centre,
+// asked for in one batch after the traversal.
 // Closed forms are linear in the moments, so nodes that share one polynomial add their moments
 // and the polynomial is evaluated once: every submerged node under a flat plane, every
 // submerged node of one stencil on waves, every facing node of one water velocity for drag
@@ -139,16 +139,7 @@ struct FastMoments {
 
     /// Adds another node's moments taken about the same point: orders 0 to 2 (hydrostatics
     /// under a plane) or 0 to 3 (drag).
-    void add(const FastMoments& o, int order = 3) {
-        for (int u = 0; u < 3; ++u) {
-            n0[u] += o.n0[u];
-            for (int j = 0; j < 3; ++j) n1[u][j] += o.n1[u][j];
-            for (int j = 0; j < 6; ++j) n2[u][j] += o.n2[u][j];
-        }
-        if (order < 3) return;
-        for (int u = 0; u < 3; ++u)
-            for (int j = 0; j < 10; ++j) n3[u][j] += o.n3[u][j];
-    }
+    void add(const FastMoments& o, int order = 3) { setSum(*this, o, order); }
 
     /// Becomes a + b (orders 0 to `order`; higher ones are left as they were), in one pass
     /// rather than a copy and an add.
@@ -197,6 +188,15 @@ private:
     int terms_ = 0;
 };
 
+/// The next of a call's buckets in `pool`, whose first `used` are taken: entries are reused
+/// from call to call (not cleared), so the caller sets every field; the pool grows only on the
+/// first calls.
+template <class Bucket>
+inline Bucket& nextBucket(std::vector<Bucket>& pool, std::size_t& used) {
+    if (pool.size() <= used) pool.emplace_back();
+    return pool[used++];
+}
+
 /// Reusable per-call buffers: sized on the first call, reused after (no allocation per call).
 /// A leaf of kLanes entries left to per-entry work, with its water in single precision: the
 /// surface's quadratic f + g.d + d^T H d / 2 (hxx, hzz halved) about (cx, cz) relative to c,
@@ -234,14 +234,16 @@ inline void objectHessian(const Mat3& R, double hxx, double hxz, double hzz, dou
 }
 
 /// Moments about c taken about the point p instead (s' = s - p; object axes), the third order
-/// contracted with H (`curved`: H is not zero). With q = p, the shifted third moment
+/// contracted with H (left zero where H is). With q = p, the shifted third moment
 ///   n3'_jlm = n3_jlm - (n2_jl q_m + n2_jm q_l + n2_lm q_j) + (n1_j q_l q_m + n1_l q_j q_m
 ///             + n1_m q_j q_l) - n0 q_j q_l q_m
 /// contracts, H symmetric, to
 ///   n3H'_j = (n3:H)_j - 2 (n2 H q)_j - q_j (n2:H) + n1_j (q.Hq) + 2 q_j (n1.Hq) - n0 q_j (q.Hq).
-inline FastHydrostaticMoments hydrostaticMomentsAbout(const FastMoments& m, const Vec3& p, const double H[3][3],
-                                                      bool curved) {
+inline FastHydrostaticMoments hydrostaticMomentsAbout(const FastMoments& m, const Vec3& p, const double H[3][3]) {
     FastHydrostaticMoments o;
+    bool curved = false;
+    for (int i = 0; i < 3; ++i)
+        for (int j = 0; j < 3; ++j) curved = curved || H[i][j] != 0;
     const double q[3] = {p.x, p.y, p.z};
     double Hq[3] = {}, qHq = 0;
     if (curved) {
@@ -545,8 +547,6 @@ private:
                                                 FastStats* stats) const {
         return evaluateOn(state, water, k, scratch, stats);
     }
-#endif
-#ifdef PLIMSOLL_EVAL_AVX2_LOOPS
     template <bool Friction>
     PLIMSOLL_EVAL_AVX2_TARGET void dragLeavesAvx2(const std::vector<FastLeafWork>& leaves, const Mat3& R,
                                                   const BodyState& s, const Coefficients& k, Sums& sum) const {
@@ -1023,9 +1023,8 @@ inline Sums FastBody::evaluateOn(const BodyState& s, const WaterSurface& water, 
                     // up in the stencil's bucket, shifted once to the stencil's point (below).
                     std::int32_t& bucket = scratch.stencilBucket[static_cast<std::size_t>(n.stencil)];
                     if (bucket < 0) {
-                        bucket = static_cast<std::int32_t>(scratch.stencilCount++);
-                        if (scratch.stencils.size() < scratch.stencilCount) scratch.stencils.emplace_back();
-                        FastStencilBucket& fresh = scratch.stencils[static_cast<std::size_t>(bucket)];
+                        bucket = static_cast<std::int32_t>(scratch.stencilCount);
+                        FastStencilBucket& fresh = nextBucket(scratch.stencils, scratch.stencilCount);
                         fresh.moments.clear();
                         fresh.node = n.stencil;
                         fresh.heightSum = fresh.entries = 0;
@@ -1066,14 +1065,13 @@ inline Sums FastBody::evaluateOn(const BodyState& s, const WaterSurface& water, 
         const Vec3 p = transposeTimes(R, rp);
         double H[3][3];
         objectHessian(R, w.hxx, w.hxz, w.hzz, H);
-        hydrostaticsFromMoments(hydrostaticMomentsAbout(bucket.moments.moments(), p, H, true), p, rp, w, H, R, k,
-                                sum);
+        hydrostaticsFromMoments(hydrostaticMomentsAbout(bucket.moments.moments(), p, H), p, rp, w, H, R, k, sum);
     }
     if (!waves && !scratch.drags.empty()) {
         TileWater flat;
         flat.f = water.level - cy;
         const double none[3][3] = {};
-        hydrostaticsFromMoments(hydrostaticMomentsAbout(scratch.flatHydrostatics.moments(), Vec3{}, none, false),
+        hydrostaticsFromMoments(hydrostaticMomentsAbout(scratch.flatHydrostatics.moments(), Vec3{}, none),
                                 Vec3{}, Vec3{}, flat, none, R, k, sum);
     }
     // The water's velocity at every slot, in one batch.
@@ -1125,9 +1123,8 @@ inline Sums FastBody::evaluateOn(const BodyState& s, const WaterSurface& water, 
                 case DragSign::facing: {
                     std::int32_t& bucket = scratch.bucketOfSlot[static_cast<std::size_t>(deferred.slot + 1)];
                     if (bucket < 0) {
-                        bucket = static_cast<std::int32_t>(scratch.dragBucketCount++);
-                        if (scratch.dragBuckets.size() < scratch.dragBucketCount) scratch.dragBuckets.emplace_back();
-                        FastBucket& fresh = scratch.dragBuckets[static_cast<std::size_t>(bucket)];
+                        bucket = static_cast<std::int32_t>(scratch.dragBucketCount);
+                        FastBucket& fresh = nextBucket(scratch.dragBuckets, scratch.dragBucketCount);
                         fresh.moments.clear();
                         fresh.slot = deferred.slot;
                     }
