@@ -197,12 +197,13 @@ inline Bucket& nextBucket(std::vector<Bucket>& pool, std::size_t& used) {
     return pool[used++];
 }
 
-/// Reusable per-call buffers: sized on the first call, reused after (no allocation per call).
-/// A leaf of kLanes entries left to per-entry work, with its water in single precision: the
-/// surface's quadratic f + g.d + d^T H d / 2 (hxx, hzz halved) about (cx, cz) relative to c,
-/// and the body's velocity relative to the water there.
+/// Consecutive leaves of kLanes entries (a tile's, or one leaf) left to per-entry work, with
+/// their water in single precision: the surface's quadratic f + g.d + d^T H d / 2 (hxx, hzz
+/// halved) about (cx, cz) relative to c, and the body's velocity relative to the water there.
+/// One record a tile rather than one a leaf: its leaves share the tile's water.
 struct FastLeafWork {
     std::uint32_t begin = 0;
+    std::uint32_t leaves = 1;
     float cx = 0, cz = 0, f = 0, gx = 0, gz = 0, hxx = 0, hxz = 0, hzz = 0;
     float ux = 0, uy = 0, uz = 0;
 };
@@ -305,7 +306,7 @@ struct FastScratch {
     std::vector<double> x, z, h;
     std::vector<FastStencil> stencilQuadratics;  ///< per grid node (inner nodes only)
     std::vector<FastLeafWork> leaves;
-    std::vector<FastLeafWork> dragLeaves;  ///< wholly wet: only begin and the velocity are set
+    std::vector<FastLeafWork> dragLeaves;  ///< wholly wet: only the entries and the velocity are set
     std::vector<std::int32_t> leafSlots;   ///< velocity slot of each of `leaves`
     std::vector<FastDeferredDrag> drags;
     std::vector<double> px, py, pz, velocity;  ///< the velocity batch: points, then 3 per point
@@ -703,9 +704,11 @@ struct LeafLaneSums {
                 lanes[slot][l] = 0;
             }
     }
-    /// After leaf n (counted from 0).
-    void leafDone(std::size_t n) {
-        if ((n + 1) % kFlush == 0) flush();
+    /// After `leaves` more leaves, n of them done before.
+    void leavesDone(std::size_t& n, std::size_t leaves) {
+        const std::size_t before = n / kFlush;
+        n += leaves;
+        if (n / kFlush != before) flush();
     }
 };
 
@@ -736,18 +739,19 @@ inline void FastBody::perEntryLeaves(const std::vector<FastLeafWork>& leaves, co
     LeafLaneSums<18, kLanes> sums;
     auto& lanes = sums.lanes;
     const double* total = sums.total;
-    for (std::size_t n = 0; n < leaves.size(); ++n) {
-        const FastLeafWork& w = leaves[n];
-        const float* qx = qx_.data() + w.begin;
-        const float* qy = qy_.data() + w.begin;
-        const float* qz = qz_.data() + w.begin;
-        const float* bx = bx_.data() + w.begin;
-        const float* by = by_.data() + w.begin;
-        const float* bz = bz_.data() + w.begin;
-        const float* area = area_.data() + w.begin;
-        const float* inverseLength2 = inverseLength2_.data() + w.begin;
-        const float* inverseLength = inverseLength_.data() + w.begin;
-        const float* valid = valid_.data() + w.begin;
+    std::size_t done = 0;
+    for (const FastLeafWork& w : leaves) {
+      for (std::size_t first = w.begin; first < w.begin + w.leaves * kLanes; first += kLanes) {
+        const float* qx = qx_.data() + first;
+        const float* qy = qy_.data() + first;
+        const float* qz = qz_.data() + first;
+        const float* bx = bx_.data() + first;
+        const float* by = by_.data() + first;
+        const float* bz = bz_.data() + first;
+        const float* area = area_.data() + first;
+        const float* inverseLength2 = inverseLength2_.data() + first;
+        const float* inverseLength = inverseLength_.data() + first;
+        const float* valid = valid_.data() + first;
         for (std::size_t i = 0; i < kLanes; ++i) {
             const float q[3] = {qx[i], qy[i], qz[i]};
             const float b[3] = {bx[i], by[i], bz[i]};
@@ -770,7 +774,8 @@ inline void FastBody::perEntryLeaves(const std::vector<FastLeafWork>& leaves, co
             lanes[16][i] += e.wettedArea;
             lanes[17][i] += valid[i] * e.count;
         }
-        sums.leafDone(n);
+      }
+      sums.leavesDone(done, w.leaves);
     }
     sums.flush();
     sum.volume += total[0];
@@ -806,17 +811,18 @@ inline void FastBody::dragLeaves(const std::vector<FastLeafWork>& leaves, const 
     LeafLaneSums<6, kLanes> sums;
     auto& lanes = sums.lanes;
     const double* total = sums.total;
-    for (std::size_t n = 0; n < leaves.size(); ++n) {
-        const FastLeafWork& w = leaves[n];
-        const float* qx = qx_.data() + w.begin;
-        const float* qy = qy_.data() + w.begin;
-        const float* qz = qz_.data() + w.begin;
-        const float* bx = bx_.data() + w.begin;
-        const float* by = by_.data() + w.begin;
-        const float* bz = bz_.data() + w.begin;
-        const float* area = area_.data() + w.begin;
-        const float* inverseLength = inverseLength_.data() + w.begin;
-        const float* valid = valid_.data() + w.begin;
+    std::size_t done = 0;
+    for (const FastLeafWork& w : leaves) {
+      for (std::size_t first = w.begin; first < w.begin + w.leaves * kLanes; first += kLanes) {
+        const float* qx = qx_.data() + first;
+        const float* qy = qy_.data() + first;
+        const float* qz = qz_.data() + first;
+        const float* bx = bx_.data() + first;
+        const float* by = by_.data() + first;
+        const float* bz = bz_.data() + first;
+        const float* area = area_.data() + first;
+        const float* inverseLength = inverseLength_.data() + first;
+        const float* valid = valid_.data() + first;
         for (std::size_t i = 0; i < kLanes; ++i) {
             const float q[3] = {qx[i], qy[i], qz[i]};
             const float b[3] = {bx[i], by[i], bz[i]};
@@ -832,7 +838,8 @@ inline void FastBody::dragLeaves(const std::vector<FastLeafWork>& leaves, const 
                 lanes[3 + m][i] += torque[m];
             }
         }
-        sums.leafDone(n);
+      }
+      sums.leavesDone(done, w.leaves);
     }
     sums.flush();
     sum.dragForce += Vec3{total[0], total[1], total[2]};
@@ -994,22 +1001,21 @@ inline Sums FastBody::evaluateOn(const BodyState& s, const WaterSurface& water, 
                     // A leaf reached here is its own one leaf.
                     const TileWater& w = n.w;
                     const std::int32_t slot = ownSlot();
-                    const FastTile* leaves = t.children > 0 ? &nodes_[t.firstChild] : &t;
+                    // One record for the tile's leaves (consecutive entries from its first).
                     const std::uint32_t leafCount = t.children > 0 ? t.children : 1;
-                    for (std::uint32_t c = 0; c < leafCount; ++c) {
-                        ++counted.perEntry;
-                        FastLeafWork& leaf = scratch.leaves.emplace_back();
-                        leaf.begin = leaves[c].begin;
-                        leaf.cx = static_cast<float>(n.rc.x);
-                        leaf.cz = static_cast<float>(n.rc.z);
-                        leaf.f = static_cast<float>(w.f);
-                        leaf.gx = static_cast<float>(w.gx);
-                        leaf.gz = static_cast<float>(w.gz);
-                        leaf.hxx = static_cast<float>(0.5 * w.hxx);
-                        leaf.hxz = static_cast<float>(w.hxz);
-                        leaf.hzz = static_cast<float>(0.5 * w.hzz);
-                        scratch.leafSlots.push_back(slot);  // the relative velocity comes after the batch
-                    }
+                    counted.perEntry += leafCount;
+                    FastLeafWork& leaf = scratch.leaves.emplace_back();
+                    leaf.begin = t.begin;
+                    leaf.leaves = leafCount;
+                    leaf.cx = static_cast<float>(n.rc.x);
+                    leaf.cz = static_cast<float>(n.rc.z);
+                    leaf.f = static_cast<float>(w.f);
+                    leaf.gx = static_cast<float>(w.gx);
+                    leaf.gz = static_cast<float>(w.gz);
+                    leaf.hxx = static_cast<float>(0.5 * w.hxx);
+                    leaf.hxz = static_cast<float>(w.hxz);
+                    leaf.hzz = static_cast<float>(0.5 * w.hzz);
+                    scratch.leafSlots.push_back(slot);  // the relative velocity comes after the batch
                     continue;
                 }
                 ++counted.closedForm;
@@ -1134,13 +1140,16 @@ inline Sums FastBody::evaluateOn(const BodyState& s, const WaterSurface& water, 
                 case DragSign::mixed:
                     break;
             }
-            if (node.children > 0) {
+            if (isGroup(node)) {
                 for (std::uint32_t c = 0; c < node.children; ++c) again(nodes_[node.firstChild + c], again);
                 return;
             }
-            ++counted.dragPerEntry;
+            // A tile's leaves (or a leaf) in one record: their entries are consecutive.
+            const std::uint32_t leafCount = node.children > 0 ? node.children : 1;
+            counted.dragPerEntry += leafCount;
             FastLeafWork& leaf = scratch.dragLeaves.emplace_back();
             leaf.begin = node.begin;
+            leaf.leaves = leafCount;
             const Vec3 u = s.linear - waterVelocity;
             leaf.ux = static_cast<float>(u.x);
             leaf.uy = static_cast<float>(u.y);
