@@ -217,60 +217,72 @@ struct CountingTasks {
     }
 };
 
-// The wave stencils' shift: the contraction of the third moments with the water's Hessian,
-// formed from moments about c (hydrostaticMomentsAbout), equals the same contraction of the
-// moments summed directly about the stencil's point; orders 0 to 2 equal the direct moments.
-TEST(FastPath, StencilShiftEqualsTheMomentsTakenAboutThePoint) {
+// The closed form of a wave stencil's bucket (depthIntegrals), from moments about c, equals the
+// same integrals summed entry by entry: the depth d = alpha + beta.s + s^T H s / 2 about the
+// stencil's point p (s = q - p), sum d b, sum d b q^T about c, and sum (d^2 - (s^T H s)^2 / 4) b;
+// on curved water and, with orders 0 to 2 only, under a plane.
+TEST(FastPath, DepthIntegralsEqualTheSumsOverEntries) {
     std::mt19937 rng(17);
     std::uniform_real_distribution<double> u(-1.0, 1.0);
-    auto momentsAbout = [](const std::vector<ev::Vec3>& q, const std::vector<ev::Vec3>& b, const ev::Vec3& p) {
-        ev::FastMoments m;
-        for (std::size_t i = 0; i < q.size(); ++i) {
-            const double s[3] = {q[i].x - p.x, q[i].y - p.y, q[i].z - p.z}, a[3] = {b[i].x, b[i].y, b[i].z};
-            for (int k = 0; k < 3; ++k) {
-                m.n0[k] += a[k];
-                for (int j = 0; j < 3; ++j) {
-                    m.n1[k][j] += a[k] * s[j];
-                    for (int l = j; l < 3; ++l) {
-                        m.n2[k][ev::kPair[j][l]] += a[k] * s[j] * s[l];
-                        for (int n = l; n < 3; ++n) m.n3[k][ev::kTriple[j][l][n]] += a[k] * s[j] * s[l] * s[n];
-                    }
-                }
-            }
-        }
-        return m;
-    };
     std::vector<ev::Vec3> q(40), b(40);
+    ev::FastMoments moments;  // about c, as FastBody keeps them
     for (std::size_t i = 0; i < q.size(); ++i) {
         q[i] = {u(rng), u(rng), u(rng)};
         b[i] = {u(rng), u(rng), u(rng)};
+        const double s[3] = {q[i].x, q[i].y, q[i].z}, a[3] = {b[i].x, b[i].y, b[i].z};
+        for (int k = 0; k < 3; ++k) {
+            moments.n0[k] += a[k];
+            for (int j = 0; j < 3; ++j) {
+                moments.n1[k][j] += a[k] * s[j];
+                for (int l = j; l < 3; ++l) {
+                    moments.n2[k][ev::kPair[j][l]] += a[k] * s[j] * s[l];
+                    for (int n = l; n < 3; ++n) moments.n3[k][ev::kTriple[j][l][n]] += a[k] * s[j] * s[l] * s[n];
+                }
+            }
+        }
     }
     const ev::Vec3 p{0.3, -0.7, 0.45};
     const Eigen::Matrix3d R = Eigen::AngleAxisd(0.8, Eigen::Vector3d(1, 2, -1).normalized()).toRotationMatrix();
     ev::Mat3 r;
     for (int i = 0; i < 3; ++i)
         for (int j = 0; j < 3; ++j) r.m[i][j] = R(i, j);
-    double H[3][3];
-    ev::objectHessian(r, 0.4, -0.25, 0.9, H);
-    const ev::FastHydrostaticMoments got = ev::hydrostaticMomentsAbout(momentsAbout(q, b, {}), p, H);
-    const ev::FastMoments direct = momentsAbout(q, b, p);
-    for (int k = 0; k < 3; ++k) {
-        EXPECT_NEAR(got.n0[k], direct.n0[k], 1e-12);
-        for (int j = 0; j < 3; ++j) EXPECT_NEAR(got.n1[k][j], direct.n1[k][j], 1e-12);
-        for (int j = 0; j < 6; ++j) EXPECT_NEAR(got.n2[k][j], direct.n2[k][j], 1e-12);
-        for (int j = 0; j < 3; ++j) {
-            double contracted = 0;
-            for (int l = 0; l < 3; ++l)
-                for (int n = 0; n < 3; ++n) contracted += direct.n3[k][ev::kTriple[j][l][n]] * H[l][n];
-            EXPECT_NEAR(got.n3H[k][j], contracted, 1e-12) << "u " << k << ", j " << j;
+    const double alpha = 0.37;
+    const ev::Vec3 beta{0.21, -0.93, 0.08};
+    for (const bool curved : {true, false}) {
+        double H[3][3] = {};
+        if (curved) ev::objectHessian(r, 0.4, -0.25, 0.9, H);
+        ev::FastMoments given = moments;
+        if (!curved)  // a flat bucket sums orders 0 to 2 only: the third must not be read
+            for (auto& row : given.n3)
+                for (double& v : row) v = std::nan("");
+        const ev::FastDepthIntegrals got = ev::depthIntegrals(given, p, alpha, beta, H);
+        ev::FastDepthIntegrals direct;
+        for (std::size_t i = 0; i < q.size(); ++i) {
+            const double s[3] = {q[i].x - p.x, q[i].y - p.y, q[i].z - p.z};
+            double sHs = 0;
+            for (int j = 0; j < 3; ++j)
+                for (int l = 0; l < 3; ++l) sHs += s[j] * H[j][l] * s[l];
+            const double d = alpha + beta.x * s[0] + beta.y * s[1] + beta.z * s[2] + 0.5 * sHs;
+            const double a[3] = {b[i].x, b[i].y, b[i].z}, qc[3] = {q[i].x, q[i].y, q[i].z};
+            for (int k = 0; k < 3; ++k) {
+                direct.d0[k] += d * a[k];
+                for (int j = 0; j < 3; ++j) direct.d1[k][j] += d * a[k] * qc[j];
+                direct.e[k] += (d * d - 0.25 * sHs * sHs) * a[k];
+            }
         }
-    }
-    // The object-axes Hessian R^T H3 R, H3's y row and column zero: symmetric, and the world's
-    // vertical in object axes (R^T e_y) in its null space.
-    const ev::Vec3 up{R(1, 0), R(1, 1), R(1, 2)};
-    for (int i = 0; i < 3; ++i) {
-        EXPECT_NEAR(H[i][0] * up.x + H[i][1] * up.y + H[i][2] * up.z, 0.0, 1e-12);
-        for (int j = 0; j < 3; ++j) EXPECT_NEAR(H[i][j], H[j][i], 1e-12);
+        for (int k = 0; k < 3; ++k) {
+            EXPECT_NEAR(got.d0[k], direct.d0[k], 1e-12) << "curved " << curved << ", u " << k;
+            for (int j = 0; j < 3; ++j) EXPECT_NEAR(got.d1[k][j], direct.d1[k][j], 1e-12) << "u " << k << ", j " << j;
+            EXPECT_NEAR(got.e[k], direct.e[k], 1e-12) << "curved " << curved << ", u " << k;
+        }
+        if (!curved) continue;
+        // The object-axes Hessian R^T H3 R, H3's y row and column zero: symmetric, and the
+        // world's vertical in object axes (R^T e_y) in its null space.
+        const ev::Vec3 up{R(1, 0), R(1, 1), R(1, 2)};
+        for (int i = 0; i < 3; ++i) {
+            EXPECT_NEAR(H[i][0] * up.x + H[i][1] * up.y + H[i][2] * up.z, 0.0, 1e-12);
+            for (int j = 0; j < 3; ++j) EXPECT_NEAR(H[i][j], H[j][i], 1e-12);
+        }
     }
 }
 

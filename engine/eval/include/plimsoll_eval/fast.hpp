@@ -122,6 +122,9 @@ struct FastTile {
 
 /// Slot of the symmetric index pair (j, l) and triple (j, l, m) in FastMoments' packed arrays.
 inline constexpr int kPair[3][3] = {{0, 1, 2}, {1, 3, 4}, {2, 4, 5}};
+/// The index pair of each of kPair's slots.
+inline constexpr int kPairFirst[6] = {0, 0, 0, 1, 1, 2};
+inline constexpr int kPairSecond[6] = {0, 1, 2, 1, 2, 2};
 inline constexpr int kTriple[3][3][3] = {{{0, 1, 2}, {1, 3, 4}, {2, 4, 5}},
                                          {{1, 3, 4}, {3, 6, 7}, {4, 7, 8}},
                                          {{2, 4, 5}, {4, 7, 8}, {5, 8, 9}}};
@@ -214,15 +217,16 @@ struct FastDeferredDrag {
     std::int32_t slot = -1;  ///< its point in FastScratch's velocity batch; -1: still water
 };
 
-/// What the hydrostatic closed form reads of moments about a point: orders 0 to 2, and the
-/// third contracted with the water's Hessian H in object axes, n3H[u][j] = sum_lm n3[u][jlm] H[l][m]
-/// (the depth's quadratic term; zero under a plane). Formed from moments about c by contracting
-/// the shift (below) rather than shifting all 30 third moments and contracting them after.
-struct FastHydrostaticMoments {
-    double n0[3] = {};
-    double n1[3][3] = {};
-    double n2[3][6] = {};
-    double n3H[3][3] = {};
+/// What the hydrostatic sums need of wholly wet entries under a water quadratic: with the depth
+/// (object axes) d(s) = alpha + beta.s + s^T H s / 2 about a point p (s = q - p),
+///   d0 = sum d b,   d1 = sum d b q^T (about c),   e = sum d^2 b less sum (s^T H s)^2 b / 4,
+/// the one term the moments do not reach (fourth order; of the order of the curvature's squared
+/// departure over the entries, smallest about a point among them: FastBody::evaluate takes p
+/// above the stencil's grid node at the mean height of its nodes' centres).
+struct FastDepthIntegrals {
+    double d0[3] = {};
+    double d1[3][3] = {};
+    double e[3] = {};
 };
 
 /// The water's Hessian in object axes, R^T H3 R, H3 the horizontal Hessian (hxx, hxz, hzz) in
@@ -234,47 +238,67 @@ inline void objectHessian(const Mat3& R, double hxx, double hxz, double hzz, dou
                       R.m[2][i] * hzz * R.m[2][j];
 }
 
-/// Moments about c taken about the point p instead (s' = s - p; object axes), the third order
-/// contracted with H (left zero where H is). With q = p, the shifted third moment
-///   n3'_jlm = n3_jlm - (n2_jl q_m + n2_jm q_l + n2_lm q_j) + (n1_j q_l q_m + n1_l q_j q_m
-///             + n1_m q_j q_l) - n0 q_j q_l q_m
-/// contracts, H symmetric, to
-///   n3H'_j = (n3:H)_j - 2 (n2 H q)_j - q_j (n2:H) + n1_j (q.Hq) + 2 q_j (n1.Hq) - n0 q_j (q.Hq).
-inline FastHydrostaticMoments hydrostaticMomentsAbout(const FastMoments& m, const Vec3& p, const double H[3][3]) {
-    FastHydrostaticMoments o;
+/// The depth integrals of entries whose moments about c are m (orders 0 to 2, and 3 where H is
+/// not zero). d0 and d1 take the depth expanded about c, where it is the same quadratic with
+///   alpha' = alpha - beta.p + p^T H p / 2,   beta' = beta - H p,
+/// so that they are exact in the moments about c without shifting them. e is taken about p (its
+/// left-out term is smallest there), its moments about p written through those about c:
+///   e = alpha^2 n0 + 2 alpha (n1 beta)' + (beta n2 beta)' + alpha (n2:H)' + (beta.(n3:H))'
+///   (n1 beta)'      = n1 beta - n0 (p.beta)
+///   (beta n2 beta)' = beta n2 beta - 2 (n1 beta)(p.beta) + n0 (p.beta)^2
+///   (n2:H)'         = n2:H - 2 n1 Hp + n0 pHp
+///   (beta.(n3:H))'  = beta.(n3:H) - 2 beta.(n2 Hp) - (p.beta)(n2:H) + (n1 beta) pHp
+///                     + 2 (p.beta)(n1 Hp) - n0 (p.beta) pHp
+/// (the contraction with beta of n3 shifted by p, its terms the binomial expansion of
+/// (s + p)(s + p)(s + p) against H). One pass over the moments: what a stencil's bucket costs.
+inline FastDepthIntegrals depthIntegrals(const FastMoments& m, const Vec3& p, double alpha, const Vec3& beta,
+                                         const double H[3][3]) {
     bool curved = false;
     for (int i = 0; i < 3; ++i)
         for (int j = 0; j < 3; ++j) curved = curved || H[i][j] != 0;
-    const double q[3] = {p.x, p.y, p.z};
-    double Hq[3] = {}, qHq = 0;
+    const double pv[3] = {p.x, p.y, p.z}, bv[3] = {beta.x, beta.y, beta.z};
+    double Hp[3] = {}, pHp = 0;
+    // H packed as kPair's slots, its off-diagonal terms doubled: n:H over 6 slots, not 9.
+    double Hs[6] = {};
     if (curved) {
-        for (int l = 0; l < 3; ++l) Hq[l] = H[l][0] * q[0] + H[l][1] * q[1] + H[l][2] * q[2];
-        qHq = q[0] * Hq[0] + q[1] * Hq[1] + q[2] * Hq[2];
-    }
-    for (int u = 0; u < 3; ++u) {
-        o.n0[u] = m.n0[u];
-        for (int j = 0; j < 3; ++j) o.n1[u][j] = m.n1[u][j] - m.n0[u] * q[j];
+        for (int l = 0; l < 3; ++l) Hp[l] = H[l][0] * pv[0] + H[l][1] * pv[1] + H[l][2] * pv[2];
+        pHp = pv[0] * Hp[0] + pv[1] * Hp[1] + pv[2] * Hp[2];
         for (int j = 0; j < 3; ++j)
-            for (int l = j; l < 3; ++l)
-                o.n2[u][kPair[j][l]] = m.n2[u][kPair[j][l]] - m.n1[u][j] * q[l] - m.n1[u][l] * q[j] +
-                                       m.n0[u] * q[j] * q[l];
-        if (!curved) continue;
-        double n2H = 0, n1Hq = 0;
-        for (int l = 0; l < 3; ++l) {
-            n1Hq += m.n1[u][l] * Hq[l];
-            for (int n = 0; n < 3; ++n) n2H += m.n2[u][kPair[l][n]] * H[l][n];
-        }
-        for (int j = 0; j < 3; ++j) {
-            double n3H = 0, n2Hq = 0;
-            for (int l = 0; l < 3; ++l) {
-                n2Hq += m.n2[u][kPair[j][l]] * Hq[l];
-                for (int n = 0; n < 3; ++n) n3H += m.n3[u][kTriple[j][l][n]] * H[l][n];
-            }
-            o.n3H[u][j] = n3H - 2 * n2Hq - q[j] * n2H + m.n1[u][j] * qHq + 2 * q[j] * n1Hq -
-                          m.n0[u] * q[j] * qHq;
-        }
+            for (int l = j; l < 3; ++l) Hs[kPair[j][l]] = (j == l ? 1.0 : 2.0) * H[j][l];
     }
-    return o;
+    const double pb = pv[0] * bv[0] + pv[1] * bv[1] + pv[2] * bv[2];
+    const double alphaC = alpha - pb + 0.5 * pHp;
+    FastDepthIntegrals out;
+    for (int u = 0; u < 3; ++u) {
+        const double n0 = m.n0[u];
+        double n1b = 0, n1Hp = 0, n2H = 0, n2bb = 0, n2bHp = 0, bn3H = 0;
+        double n2b[3], n2Hp[3] = {}, n3H[3] = {};
+        for (int j = 0; j < 3; ++j) {
+            n1b += m.n1[u][j] * bv[j];
+            n2b[j] = m.n2[u][kPair[j][0]] * bv[0] + m.n2[u][kPair[j][1]] * bv[1] + m.n2[u][kPair[j][2]] * bv[2];
+            n2bb += n2b[j] * bv[j];
+        }
+        if (curved) {
+            for (int j = 0; j < 3; ++j) {
+                n1Hp += m.n1[u][j] * Hp[j];
+                n2Hp[j] = m.n2[u][kPair[j][0]] * Hp[0] + m.n2[u][kPair[j][1]] * Hp[1] + m.n2[u][kPair[j][2]] * Hp[2];
+                n2bHp += bv[j] * n2Hp[j];
+                double c = 0;
+                for (int l = 0; l < 6; ++l) c += m.n3[u][kTriple[j][kPairFirst[l]][kPairSecond[l]]] * Hs[l];
+                n3H[j] = c;
+                bn3H += bv[j] * c;
+            }
+            for (int l = 0; l < 6; ++l) n2H += m.n2[u][l] * Hs[l];
+        }
+        out.d0[u] = alphaC * n0 + n1b - n1Hp + 0.5 * n2H;
+        for (int j = 0; j < 3; ++j) out.d1[u][j] = alphaC * m.n1[u][j] + n2b[j] - n2Hp[j] + 0.5 * n3H[j];
+        const double n1bP = n1b - n0 * pb;
+        const double n2bbP = n2bb - 2 * n1b * pb + n0 * pb * pb;
+        const double n2HP = n2H - 2 * n1Hp + n0 * pHp;
+        const double bn3HP = bn3H - 2 * n2bHp - pb * n2H + n1b * pHp + 2 * pb * n1Hp - n0 * pb * pHp;
+        out.e[u] = alpha * alpha * n0 + 2 * alpha * n1bP + n2bbP + alpha * n2HP + bn3HP;
+    }
+    return out;
 }
 
 /// Closed-form work summed over many nodes before it is evaluated once: their moments about
@@ -522,11 +546,9 @@ private:
     /// (object axes; torque about c).
     static void dragFromMoments(const FastMoments& mo, const Vec3& center, const Vec3& uo, const Vec3& wo,
                                 const Coefficients& k, Vec3& force, Vec3& torque);
-    /// The hydrostatic sums of wholly wet entries from their moments about `center` (object
-    /// axes; rc = R center), under the water's quadratic `w` over them.
-    static void hydrostaticsFromMoments(const FastHydrostaticMoments& mo, const Vec3& center, const Vec3& rc,
-                                        const TileWater& w, const double H[3][3], const Mat3& R,
-                                        const Coefficients& k, Sums& sum);
+    /// The hydrostatic sums of wholly wet entries from their depth integrals.
+    static void hydrostaticsFromMoments(const FastDepthIntegrals& in, const Mat3& R, const Coefficients& k,
+                                        Sums& sum);
     /// The per-entry sums of every leaf in `leaves` (one pass, the call's constants set once).
     void perEntry(const std::vector<FastLeafWork>& leaves, const Mat3& R, const BodyState& s,
                   const Coefficients& k, Sums& sum) const;
@@ -628,47 +650,20 @@ inline void FastBody::dragFromMoments(const FastMoments& mo, const Vec3& center,
     torque = -k.halfRhoCd * (cross(st, vc) + trace * wo - Tw) + cross(center, force);
 }
 
-inline void FastBody::hydrostaticsFromMoments(const FastHydrostaticMoments& mo, const Vec3& center,
-                                              const Vec3& rc, const TileWater& w, const double H[3][3],
-                                              const Mat3& R, const Coefficients& k, Sums& sum) {
-    // The depth about `center`, s = q - center (object axes):
-    // depth = alpha + beta.s + s^T H s / 2, from the water's quadratic over the entries (H in
-    // object axes, objectHessian; mo.n3H carries its contraction with the third moments).
-    const double alpha = w.f - rc.y;
-    const Vec3 beta = transposeTimes(R, Vec3{w.gx, -1.0, w.gz});
-    const bool curved = w.hxx != 0 || w.hxz != 0 || w.hzz != 0;
-    // D0 = sum depth b, D1 = sum depth b q^T (about c), E = sum depth^2 b (its term in
-    // (s^T H s)^2 / 4 left out: of the order of the curvature's squared departure).
-    double D0[3], D1[3][3], E[3];
-    for (int u = 0; u < 3; ++u) {
-        double n1b = 0, n2bb = 0, n2H = 0, n3bH = 0;
-        double D1s[3];
-        for (int j = 0; j < 3; ++j) {
-            n1b += mo.n1[u][j] * beta[j];
-            double n2b = 0;
-            const double n3H = mo.n3H[u][j];
-            for (int l = 0; l < 3; ++l) {
-                n2b += mo.n2[u][kPair[j][l]] * beta[l];
-                if (curved) n2H += mo.n2[u][kPair[j][l]] * H[j][l];
-            }
-            D1s[j] = alpha * mo.n1[u][j] + n2b + 0.5 * n3H;
-            n2bb += n2b * beta[j];
-            n3bH += n3H * beta[j];
-        }
-        D0[u] = alpha * mo.n0[u] + n1b + 0.5 * n2H;
-        for (int j = 0; j < 3; ++j) D1[u][j] = D0[u] * center[j] + D1s[j];
-        E[u] = alpha * alpha * mo.n0[u] + 2 * alpha * n1b + n2bb + alpha * n2H + n3bH;
-    }
+inline void FastBody::hydrostaticsFromMoments(const FastDepthIntegrals& in, const Mat3& R,
+                                              const Coefficients& k, Sums& sum) {
+    // The world's vertical is R's row y: the volume is -sum d b.y, the first moments -sum d b.y q
+    // and, vertically, -sum (d q.y + d^2 / 2) b.y in world axes; pressure -rho g d b.
     const Vec3 rowY = R.row(1);
-    const Vec3 d0{D0[0], D0[1], D0[2]};
-    const Vec3 torque{D1[2][1] - D1[1][2], D1[0][2] - D1[2][0], D1[1][0] - D1[0][1]};
-    // rowY^T D1, then against each row of R.
+    const Vec3 d0{in.d0[0], in.d0[1], in.d0[2]};
+    const Vec3 torque{in.d1[2][1] - in.d1[1][2], in.d1[0][2] - in.d1[2][0], in.d1[1][0] - in.d1[0][1]};
+    // rowY^T d1, then against each row of R.
     double y[3];
-    for (int j = 0; j < 3; ++j) y[j] = rowY.x * D1[0][j] + rowY.y * D1[1][j] + rowY.z * D1[2][j];
+    for (int j = 0; j < 3; ++j) y[j] = rowY.x * in.d1[0][j] + rowY.y * in.d1[1][j] + rowY.z * in.d1[2][j];
     const Vec3 yD1{y[0], y[1], y[2]};
     sum.volume -= dot(rowY, d0);
     sum.moment.x -= dot(yD1, R.row(0));
-    sum.moment.y -= dot(yD1, rowY) + 0.5 * dot(rowY, Vec3{E[0], E[1], E[2]});
+    sum.moment.y -= dot(yD1, rowY) + 0.5 * dot(rowY, Vec3{in.e[0], in.e[1], in.e[2]});
     sum.moment.z -= dot(yD1, R.row(2));
     sum.pressureForce -= k.rhoG * (R * d0);
     sum.pressureTorque -= k.rhoG * (R * torque);
@@ -1071,14 +1066,15 @@ inline Sums FastBody::evaluateOn(const BodyState& s, const WaterSurface& water, 
         const Vec3 p = transposeTimes(R, rp);
         double H[3][3];
         objectHessian(R, w.hxx, w.hxz, w.hzz, H);
-        hydrostaticsFromMoments(hydrostaticMomentsAbout(bucket.moments.moments(), p, H), p, rp, w, H, R, k, sum);
+        // The depth about p: the height above the node less p's, falling with the slope.
+        const Vec3 beta = transposeTimes(R, Vec3{w.gx, -1.0, w.gz});
+        hydrostaticsFromMoments(depthIntegrals(bucket.moments.moments(), p, w.f - rp.y, beta, H), R, k, sum);
     }
     if (!waves && !scratch.drags.empty()) {
-        TileWater flat;
-        flat.f = water.level - cy;
         const double none[3][3] = {};
-        hydrostaticsFromMoments(hydrostaticMomentsAbout(scratch.flatHydrostatics.moments(), Vec3{}, none),
-                                Vec3{}, Vec3{}, flat, none, R, k, sum);
+        hydrostaticsFromMoments(depthIntegrals(scratch.flatHydrostatics.moments(), Vec3{}, water.level - cy,
+                                               transposeTimes(R, Vec3{0, -1, 0}), none),
+                                R, k, sum);
     }
     // The water's velocity at every slot, in one batch.
     const std::size_t points = scratch.px.size();
