@@ -618,33 +618,30 @@ inline FastBody::DragSign FastBody::dragSign(const FastTile& t, const Vec3& uo, 
 inline void FastBody::dragFromMoments(const FastMoments& mo, const Vec3& center, const Vec3& uo,
                                       const Vec3& wo, const Coefficients& k, Vec3& force, Vec3& torque) {
     // Every entry faces the flow: D = -k sum (b.v) v with v = vc + wo x s, a polynomial in s
-    // (file comment), with E[u][j] such that sum_{u,j} E[u][j] b_u s_j = (s x b).wo.
+    // (file comment). b.(wo x s) = wo.(s x b), so a moment X[u][...] (u the area vector's axis,
+    // the first index s's) contracts with the spin as spin(X) = wo.x (X[z][y] - X[y][z]) +
+    // wo.y (X[x][z] - X[z][x]) + wo.z (X[y][x] - X[x][y]).
     const Vec3 vc = uo + cross(wo, center);
-    const double E[3][3] = {{0, -wo.z, wo.y}, {wo.z, 0, -wo.x}, {-wo.y, wo.x, 0}};
-    double sumT = 0;
-    for (int u = 0; u < 3; ++u) {
-        sumT += mo.n0[u] * vc[u];
-        for (int j = 0; j < 3; ++j) sumT += E[u][j] * mo.n1[u][j];
-    }
-    double St[3] = {};
-    double T[3][3] = {};
-    for (int l = 0; l < 3; ++l) {
-        for (int u = 0; u < 3; ++u) {
-            St[l] += mo.n1[u][l] * vc[u];
-            for (int j = 0; j < 3; ++j) St[l] += E[u][j] * mo.n2[u][kPair[j][l]];
-        }
-        for (int n = 0; n < 3; ++n) {
-            for (int u = 0; u < 3; ++u) {
-                T[l][n] += vc[u] * mo.n2[u][kPair[l][n]];
-                for (int j = 0; j < 3; ++j) T[l][n] += E[u][j] * mo.n3[u][kTriple[j][l][n]];
-            }
-        }
+    const double v[3] = {vc.x, vc.y, vc.z};
+    auto spin = [&](auto&& X) {
+        return wo.x * (X(2, 1) - X(1, 2)) + wo.y * (X(0, 2) - X(2, 0)) + wo.z * (X(1, 0) - X(0, 1));
+    };
+    // sumT = sum b.v, St = sum (b.v) s, T = sum (b.v) s s^T (symmetric: its 6 slots).
+    double sumT = mo.n0[0] * v[0] + mo.n0[1] * v[1] + mo.n0[2] * v[2] +
+                  spin([&](int u, int j) { return mo.n1[u][j]; });
+    double St[3], T[6];
+    for (int l = 0; l < 3; ++l)
+        St[l] = mo.n1[0][l] * v[0] + mo.n1[1][l] * v[1] + mo.n1[2][l] * v[2] +
+                spin([&](int u, int j) { return mo.n2[u][kPair[j][l]]; });
+    for (int slot = 0; slot < 6; ++slot) {
+        const int l = kPairFirst[slot], n = kPairSecond[slot];
+        T[slot] = mo.n2[0][slot] * v[0] + mo.n2[1][slot] * v[1] + mo.n2[2][slot] * v[2] +
+                  spin([&](int u, int j) { return mo.n3[u][kTriple[j][l][n]]; });
     }
     const Vec3 st{St[0], St[1], St[2]};
-    const Vec3 Tw{T[0][0] * wo.x + T[0][1] * wo.y + T[0][2] * wo.z,
-                  T[1][0] * wo.x + T[1][1] * wo.y + T[1][2] * wo.z,
-                  T[2][0] * wo.x + T[2][1] * wo.y + T[2][2] * wo.z};
-    const double trace = T[0][0] + T[1][1] + T[2][2];
+    const Vec3 Tw{T[0] * wo.x + T[1] * wo.y + T[2] * wo.z, T[1] * wo.x + T[3] * wo.y + T[4] * wo.z,
+                  T[2] * wo.x + T[4] * wo.y + T[5] * wo.z};
+    const double trace = T[0] + T[3] + T[5];
     force = -k.halfRhoCd * (sumT * vc + cross(wo, st));
     // About `center`, then about c.
     torque = -k.halfRhoCd * (cross(st, vc) + trace * wo - Tw) + cross(center, force);
