@@ -209,6 +209,9 @@ struct FastLeafWork {
     std::uint32_t leaves = 1;
     float cx = 0, cz = 0, f = 0, gx = 0, gz = 0, hxx = 0, hxz = 0, hzz = 0;
     float ux = 0, uy = 0, uz = 0;
+    /// An entry this far above the water (or more) adds nothing: half the largest entry's side,
+    /// with a margin for rounding (perEntryLeaves skips leaves whose entries all are).
+    float dryAbove = 0;
 };
 
 /// A submerged node whose drag waits for the water's velocity (one batched query per call).
@@ -550,15 +553,17 @@ private:
     static void hydrostaticsFromMoments(const FastDepthIntegrals& in, const Mat3& R, const Coefficients& k,
                                         Sums& sum);
     /// The per-entry sums of every leaf in `leaves` (one pass, the call's constants set once).
+    /// `skipDry`: leaves may come whole from a tile (waves), and those clear of the water are
+    /// skipped after a first pass over their places.
     void perEntry(const std::vector<FastLeafWork>& leaves, const Mat3& R, const BodyState& s,
-                  const Coefficients& k, Sums& sum) const;
+                  const Coefficients& k, bool skipDry, Sums& sum) const;
     /// The drag of every leaf in `leaves`, all of whose entries are wholly wet.
     void dragPerEntry(const std::vector<FastLeafWork>& leaves, const Mat3& R, const BodyState& s,
                       const Coefficients& k, Sums& sum) const;
     template <bool Friction>
     void dragLeaves(const std::vector<FastLeafWork>& leaves, const Mat3& R, const BodyState& s,
                     const Coefficients& k, Sums& sum) const;
-    template <bool Friction>
+    template <bool Friction, bool SkipDry>
     void perEntryLeaves(const std::vector<FastLeafWork>& leaves, const Mat3& R, const BodyState& s,
                         const Coefficients& k, Sums& sum) const;
     /// evaluate's body, compiled for the baseline and (evaluateAvx2) for AVX2 with FMA.
@@ -575,10 +580,10 @@ private:
                                                   const BodyState& s, const Coefficients& k, Sums& sum) const {
         dragLeaves<Friction>(leaves, R, s, k, sum);
     }
-    template <bool Friction>
+    template <bool Friction, bool SkipDry>
     PLIMSOLL_EVAL_AVX2_TARGET void perEntryLeavesAvx2(const std::vector<FastLeafWork>& leaves, const Mat3& R,
                                                       const BodyState& s, const Coefficients& k, Sums& sum) const {
-        perEntryLeaves<Friction>(leaves, R, s, k, sum);
+        perEntryLeaves<Friction, SkipDry>(leaves, R, s, k, sum);
     }
 #endif
 
@@ -667,18 +672,23 @@ inline void FastBody::hydrostaticsFromMoments(const FastDepthIntegrals& in, cons
 }
 
 inline void FastBody::perEntry(const std::vector<FastLeafWork>& leaves, const Mat3& R,
-                               const BodyState& s, const Coefficients& k, Sums& sum) const {
+                               const BodyState& s, const Coefficients& k, bool skipDry, Sums& sum) const {
     if (leaves.empty()) return;
     const bool friction = k.halfRhoCf > 0;
 #ifdef PLIMSOLL_EVAL_AVX2_LOOPS
-    if (cpuHasAvx2Fma())
-        return friction ? perEntryLeavesAvx2<true>(leaves, R, s, k, sum)
-                        : perEntryLeavesAvx2<false>(leaves, R, s, k, sum);
+    if (cpuHasAvx2Fma()) {
+        if (skipDry)
+            return friction ? perEntryLeavesAvx2<true, true>(leaves, R, s, k, sum)
+                            : perEntryLeavesAvx2<false, true>(leaves, R, s, k, sum);
+        return friction ? perEntryLeavesAvx2<true, false>(leaves, R, s, k, sum)
+                        : perEntryLeavesAvx2<false, false>(leaves, R, s, k, sum);
+    }
 #endif
-    if (friction)
-        perEntryLeaves<true>(leaves, R, s, k, sum);
-    else
-        perEntryLeaves<false>(leaves, R, s, k, sum);
+    if (skipDry)
+        return friction ? perEntryLeaves<true, true>(leaves, R, s, k, sum)
+                        : perEntryLeaves<false, true>(leaves, R, s, k, sum);
+    return friction ? perEntryLeaves<true, false>(leaves, R, s, k, sum)
+                    : perEntryLeaves<false, false>(leaves, R, s, k, sum);
 }
 
 /// Per-entry sums of the leaves: each leaf's Lanes entries add into Lanes single-precision
@@ -712,16 +722,19 @@ struct FloatRotation {
         : wx(static_cast<float>(angular.x)), wy(static_cast<float>(angular.y)), wz(static_cast<float>(angular.z)) {
         for (int i = 0; i < 3; ++i)
             for (int j = 0; j < 3; ++j) R[i][j] = static_cast<float>(rotation.m[i][j]);
-    }    /// An entry's position and area vector in the water's frame.
+    }
+    /// An entry's position and area vector in the water's frame.
     void rotate(const float q[3], const float b[3], float r[3], float a[3]) const {
-        for (int m = 0; m < 3; ++m) {
-            r[m] = R[m][0] * q[0] + R[m][1] * q[1] + R[m][2] * q[2];
-            a[m] = R[m][0] * b[0] + R[m][1] * b[1] + R[m][2] * b[2];
-        }
+        place(q, r);
+        place(b, a);
+    }
+    /// One of them.
+    void place(const float q[3], float r[3]) const {
+        for (int m = 0; m < 3; ++m) r[m] = R[m][0] * q[0] + R[m][1] * q[1] + R[m][2] * q[2];
     }
 };
 
-template <bool Friction>
+template <bool Friction, bool SkipDry>
 inline void FastBody::perEntryLeaves(const std::vector<FastLeafWork>& leaves, const Mat3& R,
                                      const BodyState& s, const Coefficients& k, Sums& sum) const {
     const FloatRotation rotation(R, s.angular);
@@ -744,13 +757,44 @@ inline void FastBody::perEntryLeaves(const std::vector<FastLeafWork>& leaves, co
         const float* inverseLength2 = inverseLength2_.data() + first;
         const float* inverseLength = inverseLength_.data() + first;
         const float* valid = valid_.data() + first;
-        for (std::size_t i = 0; i < kLanes; ++i) {
-            const float q[3] = {qx[i], qy[i], qz[i]};
-            const float b[3] = {bx[i], by[i], bz[i]};
-            float r[3], a[3];
-            rotation.rotate(q, b, r, a);
+        // First the entries' places and the water over them: a leaf whose entries are all
+        // clear above the water adds nothing (no depth, no wetted share) and is skipped. At
+        // the waterline of a tile on waves a quarter of the leaves are.
+        // (On flat water the leaves were sorted before: none comes here dry, and one pass is
+        // faster.)
+        auto waterAt = [&](const float q[3], float r[3]) {
+            rotation.place(q, r);
             const float dx = r[0] - w.cx, dz = r[2] - w.cz;
-            const float f = w.f + w.gx * dx + w.gz * dz + w.hxx * dx * dx + w.hxz * dx * dz + w.hzz * dz * dz;
+            return w.f + w.gx * dx + w.gz * dz + w.hxx * dx * dx + w.hxz * dx * dz + w.hzz * dz * dz;
+        };
+        alignas(32) float rx[kLanes], ry[kLanes], rz[kLanes], height[kLanes];
+        if constexpr (SkipDry) {
+            int wet = 0;
+            for (std::size_t i = 0; i < kLanes; ++i) {
+                const float q[3] = {qx[i], qy[i], qz[i]};
+                float r[3];
+                height[i] = waterAt(q, r);
+                rx[i] = r[0];
+                ry[i] = r[1];
+                rz[i] = r[2];
+                wet |= r[1] - height[i] < w.dryAbove ? 1 : 0;
+            }
+            if (wet == 0) continue;
+        }
+        for (std::size_t i = 0; i < kLanes; ++i) {
+            float r[3], f;
+            if constexpr (SkipDry) {
+                r[0] = rx[i];
+                r[1] = ry[i];
+                r[2] = rz[i];
+                f = height[i];
+            } else {
+                const float q[3] = {qx[i], qy[i], qz[i]};
+                f = waterAt(q, r);
+            }
+            const float b[3] = {bx[i], by[i], bz[i]};
+            float a[3];
+            rotation.place(b, a);
             const float v[3] = {w.ux + wy * r[2] - wz * r[1], w.uy + wz * r[0] - wx * r[2],
                                 w.uz + wx * r[1] - wy * r[0]};
             const EntryTerms<float> e = entryTerms<float, Friction>(
@@ -1007,6 +1051,7 @@ inline Sums FastBody::evaluateOn(const BodyState& s, const WaterSurface& water, 
                     leaf.hxx = static_cast<float>(0.5 * w.hxx);
                     leaf.hxz = static_cast<float>(w.hxz);
                     leaf.hzz = static_cast<float>(0.5 * w.hzz);
+                    leaf.dryAbove = static_cast<float>(t.halfExtent * (1 + 1e-3) + 1e-6);
                     scratch.leafSlots.push_back(slot);  // the relative velocity comes after the batch
                     continue;
                 }
@@ -1158,7 +1203,7 @@ inline Sums FastBody::evaluateOn(const BodyState& s, const WaterSurface& water, 
         sum.dragForce += R * force;
         sum.dragTorque += R * torque;
     }
-    perEntry(scratch.leaves, R, s, k, sum);
+    perEntry(scratch.leaves, R, s, k, waves, sum);
     dragPerEntry(scratch.dragLeaves, R, s, k, sum);
     if (stats) *stats = counted;
     return sum;
