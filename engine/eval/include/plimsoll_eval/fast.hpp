@@ -434,7 +434,11 @@ public:
         }
         nodes_.insert(nodes_.end(), leaves.begin(), leaves.end());
         centerMoments_.clear();
-        for (const FastTile& t : nodes_) momentsAbout(t.begin, t.end, Vec3{}, centerMoments_.emplace_back());
+        sinSpread_.clear();
+        for (const FastTile& t : nodes_) {
+            momentsAbout(t.begin, t.end, Vec3{}, centerMoments_.emplace_back());
+            sinSpread_.push_back(std::sqrt(std::max(0.0, 1.0 - t.cosSpread * t.cosSpread)));
+        }
         radius_ = 0;
         for (const FastTile& t : tiles) radius_ = std::max(radius_, norm(t.center) + t.radius + t.halfExtent);
     }
@@ -543,7 +547,7 @@ private:
     /// the water at c, wo its spin, spinRate = |wo|): all turned away (no pressure drag), all
     /// facing it (the drag is a polynomial of their moments), or mixed (its children decide).
     enum class DragSign { away, facing, mixed };
-    DragSign dragSign(const FastTile& t, const Vec3& uo, const Vec3& wo, double spinRate,
+    DragSign dragSign(const FastTile& t, double sinSpread, const Vec3& uo, const Vec3& wo, double spinRate,
                       const Coefficients& k) const;
     /// The pressure drag of entries that all face the flow, from their moments about `center`
     /// (object axes; torque about c).
@@ -593,12 +597,13 @@ private:
     std::vector<float> qx_, qy_, qz_, bx_, by_, bz_, area_, inverseLength2_, inverseLength_, valid_;
     std::vector<FastTile> nodes_;
     std::vector<FastMoments> centerMoments_;
+    std::vector<double> sinSpread_;  ///< sine of each node's cosSpread (same index; the drag's sign)
     std::uint32_t roots_ = 0;
     std::size_t tileCount_ = 0;
 };
 
-inline FastBody::DragSign FastBody::dragSign(const FastTile& t, const Vec3& uo, const Vec3& wo,
-                                             double spinRate, const Coefficients& k) const {
+inline FastBody::DragSign FastBody::dragSign(const FastTile& t, double sinSpread, const Vec3& uo,
+                                             const Vec3& wo, double spinRate, const Coefficients& k) const {
     if (k.halfRhoCf > 0) return DragSign::mixed;  // skin friction has no polynomial form
     // t_i = b_i.v_i with v_i = vc + wo x s_i (vc the velocity at the node's centre): its sign
     // over the node from the normal cone against vc, widened by the spin over the radius.
@@ -606,18 +611,29 @@ inline FastBody::DragSign FastBody::dragSign(const FastTile& t, const Vec3& uo, 
     const double speed2 = dot(vc, vc);
     const double spread = spinRate * t.radius;
     if (speed2 == 0 && spread == 0) return DragSign::away;  // at rest in still water: no drag
-    // speed cos(phi -+ theta), phi the angle of the flow from the cone's axis, theta the cone's
-    // half-angle: the largest and smallest component of the flow along a normal of the tile.
-    // speed cos(phi) and speed sin(phi) come without a division.
-    const double speed = std::sqrt(speed2);
-    const double along = std::clamp(dot(t.axis, vc), -speed, speed);
-    const double across = std::sqrt(std::max(0.0, speed2 - along * along));
-    const double cosTheta = t.cosSpread, sinTheta = std::sqrt(std::max(0.0, 1.0 - cosTheta * cosTheta));
-    const double lowest = speed * cosTheta + along < 0 ? -speed : along * cosTheta - across * sinTheta;
-    const double highest = along > speed * cosTheta ? speed : along * cosTheta + across * sinTheta;
-    if (highest + spread <= 0) return DragSign::away;  // no entry faces the flow
-    if (lowest <= spread) return DragSign::mixed;       // the sign changes inside the node
-    return DragSign::facing;
+    // The largest and smallest component of the flow along a normal of the cone: with phi the
+    // flow's angle from the axis and theta the cone's half-angle, V cos(phi - theta) (V itself
+    // where phi <= theta) and V cos(phi + theta) (-V where phi + theta >= pi), V = |vc|. With
+    // along = V cos(phi) and across = V sin(phi) they are along c +- across s (c, s the cosine
+    // and sine of theta), compared squared: no square root (three were a fifth of the drag's
+    // traversal).
+    const double c = t.cosSpread, along = dot(t.axis, vc);
+    const double across2 = std::max(0.0, speed2 - along * along), s2 = sinSpread * sinSpread;
+    // x >= V y, V known only squared.
+    auto atLeastSpeedTimes = [&](double x, double y) {
+        return y >= 0 ? x >= 0 && x * x >= speed2 * y * y : x >= 0 || x * x <= speed2 * y * y;
+    };
+    // Away: the largest component at most -spread (never where the flow is inside the cone).
+    if (!atLeastSpeedTimes(along, c)) {
+        const double room = -(spread + along * c);  // -spread - along c >= across s
+        if (room >= 0 && across2 * s2 <= room * room) return DragSign::away;
+    }
+    // Facing: the smallest above spread (never where the flow is against the cone).
+    if (!atLeastSpeedTimes(-along, c)) {
+        const double room = along * c - spread;  // along c - spread > across s
+        if (room > 0 && room * room > across2 * s2) return DragSign::facing;
+    }
+    return DragSign::mixed;
 }
 
 inline void FastBody::dragFromMoments(const FastMoments& mo, const Vec3& center, const Vec3& uo,
@@ -1161,7 +1177,7 @@ inline Sums FastBody::evaluateOn(const BodyState& s, const WaterSurface& water, 
             const std::size_t index = static_cast<std::size_t>(&node - nodes_.data());
             // A leaf's 8 entries, one by one in one vectorised pass, cost less than its sign
             // test (and than adding its moments): leaves never take the test.
-            switch (node.children == 0 ? DragSign::mixed : dragSign(node, uo, wo, spinRate, k)) {
+            switch (node.children == 0 ? DragSign::mixed : dragSign(node, sinSpread_[index], uo, wo, spinRate, k)) {
                 case DragSign::away:
                     return;
                 case DragSign::facing: {
