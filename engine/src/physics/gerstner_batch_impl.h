@@ -51,27 +51,28 @@ struct FoldedPhase {
     }
 };
 
-/// theta reduced to [-pi, pi] (by the nearest multiple of 2 pi; the magic constant rounds to
-/// an integer without a library call, so that the loop vectorises; exact while
-/// |theta| < 2^51 * 2 pi).
-inline double reducedPhase(double theta) {
-    constexpr double kTwoPi = 6.283185307179586476925286766559;
-    constexpr double kInverseTwoPi = 0.15915494309189533576888376337251;
-    constexpr double kRound = 6755399441055744.0;  // 1.5 * 2^52
-    const double turns = (theta * kInverseTwoPi + kRound) - kRound;
-    // Beyond that range (a point some 1e15 m away) the angle is meaningless anyway; the clamp
-    // keeps it convertible to single precision.
-    return std::clamp(theta - turns * kTwoPi, -4.0, 4.0);
-}
-
 /// Waves whose phases a block keeps between the steps of its search (the phases of any
 /// further ones are formed again at each step).
 constexpr std::size_t kKeptWaves = 16;
 
-/// Each wave's phase at the block's points, k D.x + phase0, formed and reduced in double.
+/// Each wave's phase at the block's points, k D.x + phase0, formed and reduced to [-pi, pi] in
+/// double (by the nearest multiple of 2 pi; the magic constant 1.5 * 2^52 rounds to an integer
+/// without a library call; exact while |theta| < 2^51 * 2 pi; beyond that, a point some 1e15 m
+/// away, the angle is meaningless anyway and the clamp to [-4, 4] keeps it convertible to
+/// single precision). In double batches: written as a loop over the block's points, GCC
+/// unrolled it into scalar code with branches.
 inline void basePhases(const GerstnerBatchWave& w, const double* x, const double* z, float* out) {
-    for (std::size_t l = 0; l < kBlock; ++l)
-        out[l] = static_cast<float>(reducedPhase(w.k * (w.dx * x[l] + w.dz * z[l]) + w.phase0));
+    using Doubles = xsimd::batch<double>;
+    alignas(64) double reduced[kBlock];
+    const Doubles kdx(w.k * w.dx), kdz(w.k * w.dz), phase0(w.phase0);
+    for (std::size_t l = 0; l < kBlock; l += Doubles::size) {
+        const Doubles theta = xsimd::fma(kdx, Doubles::load_aligned(x + l), xsimd::fma(kdz, Doubles::load_aligned(z + l), phase0));
+        const Doubles turns = (theta * Doubles(0.15915494309189533576888376337251) + Doubles(6755399441055744.0)) -
+                              Doubles(6755399441055744.0);
+        const Doubles angle = xsimd::fnma(turns, Doubles(6.283185307179586476925286766559), theta);
+        xsimd::min(Doubles(4.0), xsimd::max(Doubles(-4.0), angle)).store_aligned(reduced + l);
+    }
+    for (std::size_t l = 0; l < kBlock; ++l) out[l] = static_cast<float>(reduced[l]);
 }
 
 /// A block's undisplaced points x0 = x + s: the shift s (at most the sum of the waves' Q A, so
@@ -84,13 +85,13 @@ struct BlockSearch {
     alignas(64) float base[kKeptWaves][kBlock];
     alignas(64) float spare[kBlock];  // the phase of a wave beyond kKeptWaves, formed when asked
 
-    /// Wave i's phase at the undisplaced points, into `angle`.
-    void angleAt(const GerstnerBatch& g, std::size_t i, const double* x, const double* z, float* angle) {
+    /// Wave i's phase at the undisplaced points.
+    Lanes angleAt(const GerstnerBatch& g, std::size_t i, const double* x, const double* z) {
         const GerstnerBatchWave& w = g.waves[i];
         if (i >= kKeptWaves) basePhases(w, x, z, spare);
         const float* phase = i < kKeptWaves ? base[i] : spare;
-        const float kdx = static_cast<float>(w.k * w.dx), kdz = static_cast<float>(w.k * w.dz);
-        for (std::size_t l = 0; l < kBlock; ++l) angle[l] = phase[l] + kdx * sx[l] + kdz * sz[l];
+        const Lanes kdx(static_cast<float>(w.k * w.dx)), kdz(static_cast<float>(w.k * w.dz));
+        return xsimd::fma(kdx, Lanes::load_aligned(sx), xsimd::fma(kdz, Lanes::load_aligned(sz), Lanes::load_aligned(phase)));
     }
 };
 
@@ -98,24 +99,18 @@ struct BlockSearch {
 /// x0 <- x + sum Q A D sin(theta(x0))).
 inline void undisplacedBlock(const GerstnerBatch& g, const double* x, const double* z, BlockSearch& search) {
     for (std::size_t i = 0; i < std::min(g.count, kKeptWaves); ++i) basePhases(g.waves[i], x, z, search.base[i]);
-    for (std::size_t l = 0; l < kBlock; ++l) search.sx[l] = search.sz[l] = 0.0f;
-    alignas(64) float angle[kBlock], sine[kBlock];
+    Lanes(0.0f).store_aligned(search.sx);
+    Lanes(0.0f).store_aligned(search.sz);
     for (int iteration = 0; iteration < 3; ++iteration) {
-        alignas(64) float sx[kBlock] = {}, sz[kBlock] = {};
+        Lanes sx(0.0f), sz(0.0f);
         for (std::size_t i = 0; i < g.count; ++i) {
             const GerstnerBatchWave& w = g.waves[i];
-            search.angleAt(g, i, x, z, angle);
-            FoldedPhase(Lanes::load_aligned(angle)).sin().store_aligned(sine);
-            const float qdx = static_cast<float>(w.qa * w.dx), qdz = static_cast<float>(w.qa * w.dz);
-            for (std::size_t l = 0; l < kBlock; ++l) {
-                sx[l] += qdx * sine[l];
-                sz[l] += qdz * sine[l];
-            }
+            const Lanes sine = FoldedPhase(search.angleAt(g, i, x, z)).sin();
+            sx = xsimd::fma(Lanes(static_cast<float>(w.qa * w.dx)), sine, sx);
+            sz = xsimd::fma(Lanes(static_cast<float>(w.qa * w.dz)), sine, sz);
         }
-        for (std::size_t l = 0; l < kBlock; ++l) {
-            search.sx[l] = sx[l];
-            search.sz[l] = sz[l];
-        }
+        sx.store_aligned(search.sx);
+        sz.store_aligned(search.sz);
     }
 }
 
@@ -141,15 +136,15 @@ inline void heightsImpl(const GerstnerBatch& g, std::size_t n, const double* x, 
                                     const double* bz) {
         BlockSearch search;
         undisplacedBlock(g, bx, bz, search);
-        alignas(64) double height[kBlock];
-        alignas(64) float angle[kBlock], cosine[kBlock];
-        for (std::size_t l = 0; l < kBlock; ++l) height[l] = g.level;
-        for (std::size_t i = 0; i < g.count; ++i) {
-            search.angleAt(g, i, bx, bz, angle);
-            FoldedPhase(Lanes::load_aligned(angle)).cos().store_aligned(cosine);
-            for (std::size_t l = 0; l < kBlock; ++l) height[l] += g.waves[i].amplitude * cosine[l];
-        }
-        for (std::size_t l = 0; l < count; ++l) out[first + l] = height[l];
+        // The height about the level in single precision (the waves' sum, a few metres at most,
+        // to 1e-7 of it), the level added in double.
+        Lanes height(0.0f);
+        alignas(64) float above[kBlock];
+        for (std::size_t i = 0; i < g.count; ++i)
+            height = xsimd::fma(Lanes(static_cast<float>(g.waves[i].amplitude)),
+                                FoldedPhase(search.angleAt(g, i, bx, bz)).cos(), height);
+        height.store_aligned(above);
+        for (std::size_t l = 0; l < count; ++l) out[first + l] = g.level + above[l];
     });
 }
 
@@ -159,28 +154,28 @@ inline void velocitiesImpl(const GerstnerBatch& g, std::size_t n, const double* 
                               const double* bz) {
         BlockSearch search;
         undisplacedBlock(g, bx, bz, search);
-        alignas(64) double v[3][kBlock] = {};
-        alignas(64) float angle[kBlock], sineOf[kBlock], cosineOf[kBlock];
-        alignas(64) float depthScale[kBlock], decay[kBlock];
+        // The depth below the level (none above it), in single precision: clamped first, as a
+        // point far below would not fit a float (e^(k d) is 0 in single precision long before).
+        alignas(64) float depth[kBlock];
+        for (std::size_t l = 0; l < kBlock; ++l)
+            depth[l] = static_cast<float>(std::max(-1e6, std::min(0.0, by[l] - g.level)));
+        const Lanes below = Lanes::load_aligned(depth);
+        // The velocity in single precision (the waves' sum, a few m/s, to 1e-7 of it).
+        Lanes vx(0.0f), vy(0.0f), vz(0.0f);
         for (std::size_t i = 0; i < g.count; ++i) {
             const GerstnerBatchWave& w = g.waves[i];
-            search.angleAt(g, i, bx, bz, angle);
-            const FoldedPhase phase(Lanes::load_aligned(angle));  // folded once for both
-            phase.sin().store_aligned(sineOf);
-            phase.cos().store_aligned(cosineOf);
-            // Orbital motion decays as e^(k d) below the mean level (none above it).
-            // (Clamped before the conversion: e^-80 is already 0 in single precision, and a
-            // point far below would not fit a float.)
-            for (std::size_t l = 0; l < kBlock; ++l)
-                depthScale[l] = static_cast<float>(std::max(-80.0, w.k * std::min(0.0, by[l] - g.level)));
-            xsimd::exp(Lanes::load_aligned(depthScale)).store_aligned(decay);
-            for (std::size_t l = 0; l < kBlock; ++l) {
-                const double horizontal = w.qa * w.omega * cosineOf[l] * decay[l];
-                v[0][l] += horizontal * w.dx;
-                v[1][l] += w.amplitude * w.omega * sineOf[l] * decay[l];
-                v[2][l] += horizontal * w.dz;
-            }
+            const FoldedPhase phase(search.angleAt(g, i, bx, bz));  // folded once for both
+            // Orbital motion decays as e^(k d) below the mean level.
+            const Lanes decay = xsimd::exp(xsimd::max(Lanes(-80.0f), Lanes(static_cast<float>(w.k)) * below));
+            const Lanes horizontal = Lanes(static_cast<float>(w.qa * w.omega)) * phase.cos() * decay;
+            vx = xsimd::fma(horizontal, Lanes(static_cast<float>(w.dx)), vx);
+            vy = xsimd::fma(Lanes(static_cast<float>(w.amplitude * w.omega)) * phase.sin(), decay, vy);
+            vz = xsimd::fma(horizontal, Lanes(static_cast<float>(w.dz)), vz);
         }
+        alignas(64) float v[3][kBlock];
+        vx.store_aligned(v[0]);
+        vy.store_aligned(v[1]);
+        vz.store_aligned(v[2]);
         for (std::size_t l = 0; l < count; ++l)
             for (int c = 0; c < 3; ++c) out[3 * (first + l) + c] = v[c][l];
     });
