@@ -132,63 +132,72 @@ inline constexpr int kTriple[3][3][3] = {{{0, 1, 2}, {1, 3, 4}, {2, 4, 5}},
 /// Moments of area vectors b about a point (s their positions from it, object axes): n0 =
 /// sum b, n1 = sum b s^T, n2 = sum b s s, n3 = sum b s s s, the last two symmetric in the s
 /// indices and stored once per index set (kPair, kTriple). A node's are about the body's
-/// centre c; on waves a stencil's sum is shifted to the stencil's point, where its depth is
-/// expanded and small.
+/// centre c (on waves a stencil's sum is evaluated about the stencil's point: depthIntegrals).
 struct FastMoments {
     double n0[3] = {};
     double n1[3][3] = {};
     double n2[3][6] = {};
     double n3[3][10] = {};
 
-    /// Adds another node's moments taken about the same point: orders 0 to 2 (hydrostatics
-    /// under a plane) or 0 to 3 (drag).
-    void add(const FastMoments& o, int order = 3) { setSum(*this, o, order); }
+    /// Becomes the sum of the moments `terms[0..count)` point to (orders 0 to `order`; higher
+    /// ones are left as they were), all taken about the same point. Member by member, each an
+    /// outer loop over the terms, so that its running sum stays in registers and every term is
+    /// read once (adding them two at a time into memory read and wrote the sum once a term).
+    void setSum(const FastMoments* const* terms, std::size_t count, int order = 3) {
+        sumOf(terms, count, [](const FastMoments& m) -> const auto& { return m.n0; }, n0);
+        sumOf(terms, count, [](const FastMoments& m) -> const auto& { return m.n1; }, n1);
+        sumOf(terms, count, [](const FastMoments& m) -> const auto& { return m.n2; }, n2);
+        if (order >= 3) sumOf(terms, count, [](const FastMoments& m) -> const auto& { return m.n3; }, n3);
+    }
 
-    /// Becomes a + b (orders 0 to `order`; higher ones are left as they were), in one pass
-    /// rather than a copy and an add.
-    void setSum(const FastMoments& a, const FastMoments& b, int order = 3) {
-        for (int u = 0; u < 3; ++u) {
-            n0[u] = a.n0[u] + b.n0[u];
-            for (int j = 0; j < 3; ++j) n1[u][j] = a.n1[u][j] + b.n1[u][j];
-            for (int j = 0; j < 6; ++j) n2[u][j] = a.n2[u][j] + b.n2[u][j];
+private:
+    template <class Member, std::size_t Rows, std::size_t Columns>
+    static void sumOf(const FastMoments* const* terms, std::size_t count, Member member,
+                      double (&out)[Rows][Columns]) {
+        double sum[Rows * Columns];
+        const auto& first = member(*terms[0]);
+        for (std::size_t r = 0; r < Rows; ++r)
+            for (std::size_t c = 0; c < Columns; ++c) sum[r * Columns + c] = first[r][c];
+        for (std::size_t t = 1; t < count; ++t) {
+            const auto& next = member(*terms[t]);
+            for (std::size_t r = 0; r < Rows; ++r)
+                for (std::size_t c = 0; c < Columns; ++c) sum[r * Columns + c] += next[r][c];
         }
-        if (order < 3) return;
-        for (int u = 0; u < 3; ++u)
-            for (int j = 0; j < 10; ++j) n3[u][j] = a.n3[u][j] + b.n3[u][j];
+        for (std::size_t r = 0; r < Rows; ++r)
+            for (std::size_t c = 0; c < Columns; ++c) out[r][c] = sum[r * Columns + c];
+    }
+    template <class Member, std::size_t Rows>
+    static void sumOf(const FastMoments* const* terms, std::size_t count, Member member, double (&out)[Rows]) {
+        double sum[Rows];
+        for (std::size_t r = 0; r < Rows; ++r) sum[r] = member(*terms[0])[r];
+        for (std::size_t t = 1; t < count; ++t)
+            for (std::size_t r = 0; r < Rows; ++r) sum[r] += member(*terms[t])[r];
+        for (std::size_t r = 0; r < Rows; ++r) out[r] = sum[r];
     }
 };
 
-/// A sum of nodes' moments formed only when it has two terms: while a bucket holds one node it
-/// reads that node's moments in place. On waves nearly every bucket holds one node (each wet
-/// tile has its own water velocity, and most stencils one submerged tile), and zeroing and
-/// copying 480 bytes a bucket cost more than its closed form. The moments added must outlive
-/// the sum (a body's centerMoments do, for the call).
+/// A sum of nodes' moments formed when it is read, in one pass over its terms (setSum), and only
+/// where it has two: while a bucket holds one node it reads that node's moments in place. On
+/// waves nearly every drag bucket holds one node (each wet tile has its own water velocity) and
+/// a stencil's a few, and zeroing and adding 480 bytes a node cost more than its closed form. The
+/// moments added must outlive the sum (a body's centerMoments do, for the call); the list of
+/// terms keeps its capacity from call to call.
 class FastMomentSum {
 public:
-    void clear() {
-        only_ = nullptr;
-        terms_ = 0;
-    }
-    /// Orders 0 to `order` of m (as FastMoments::add; higher orders of the sum are only
-    /// meaningful where every term added them).
-    void add(const FastMoments& m, int order = 3) {
-        if (terms_ == 0)
-            only_ = &m;
-        else if (terms_ == 1)
-            sum_.setSum(*only_, m, order);
-        else
-            sum_.add(m, order);
-        ++terms_;
-    }
-    const FastMoments& moments() const {
+    void clear() { terms_.clear(); }
+    void add(const FastMoments& m) { terms_.push_back(&m); }
+    /// The sum, orders 0 to `order` (the higher ones only meaningful where every term has them).
+    const FastMoments& moments(int order = 3) {
         static const FastMoments none;
-        return terms_ == 0 ? none : terms_ == 1 ? *only_ : sum_;
+        if (terms_.empty()) return none;
+        if (terms_.size() == 1) return *terms_[0];
+        sum_.setSum(terms_.data(), terms_.size(), order);
+        return sum_;
     }
 
 private:
     FastMoments sum_;
-    const FastMoments* only_ = nullptr;
-    int terms_ = 0;
+    std::vector<const FastMoments*> terms_;
 };
 
 /// The next of a call's buckets in `pool`, whose first `used` are taken: entries are reused
@@ -1093,7 +1102,7 @@ inline Sums FastBody::evaluateOn(const BodyState& s, const WaterSurface& water, 
                     into.heightSum += t.count * n.rc.y;
                     into.entries += t.count;
                 } else {
-                    scratch.flatHydrostatics.add(centerMoments_[index], 2);
+                    scratch.flatHydrostatics.add(centerMoments_[index]);
                 }
                 sum.wettedArea += t.areaSum;
                 sum.count += t.count;
@@ -1114,7 +1123,7 @@ inline Sums FastBody::evaluateOn(const BodyState& s, const WaterSurface& water, 
     // Waves: each stencil's bucket about the point above its grid node (at the mean height of
     // its nodes' centres, where the moments are smallest), under the stencil's quadratic.
     for (std::size_t b = 0; b < scratch.stencilCount; ++b) {
-        const FastStencilBucket& bucket = scratch.stencils[b];
+        FastStencilBucket& bucket = scratch.stencils[b];
         const int node = bucket.node;
         const int i = node % G, j = node / G;
         const FastStencil& q = scratch.stencilQuadratics[static_cast<std::size_t>(node)];
@@ -1130,7 +1139,7 @@ inline Sums FastBody::evaluateOn(const BodyState& s, const WaterSurface& water, 
     }
     if (!waves && !scratch.drags.empty()) {
         const double none[3][3] = {};
-        hydrostaticsFromMoments(depthIntegrals(scratch.flatHydrostatics.moments(), Vec3{}, water.level - cy,
+        hydrostaticsFromMoments(depthIntegrals(scratch.flatHydrostatics.moments(2), Vec3{}, water.level - cy,
                                                transposeTimes(R, Vec3{0, -1, 0}), none),
                                 R, k, sum);
     }
@@ -1212,7 +1221,7 @@ inline Sums FastBody::evaluateOn(const BodyState& s, const WaterSurface& water, 
         drag(nodes_[deferred.node], drag);
     }
     for (std::size_t b = 0; b < scratch.dragBucketCount; ++b) {
-        const FastBucket& bucket = scratch.dragBuckets[b];
+        FastBucket& bucket = scratch.dragBuckets[b];
         const Vec3 uo = transposeTimes(R, s.linear - waterVelocityAt(bucket.slot));
         Vec3 force, torque;
         dragFromMoments(bucket.moments.moments(), Vec3{}, uo, wo, k, force, torque);
