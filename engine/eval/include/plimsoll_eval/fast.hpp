@@ -17,8 +17,8 @@
 // On waves the water is sampled once per call on a small grid over the body's footprint
 // (one batched height query); each node takes the quadratic through its nearest 3 x 3
 // stencil, so curved water costs no per-entry work under it either: the submerged nodes of
-// one stencil add their moments, which are shifted once to the stencil's point
-// (hydrostaticMomentsAbout) where the depth is that quadratic. A waterline tile gives all its
+// one stencil add their moments, evaluated once under that quadratic about the stencil's
+// point (depthIntegrals). A waterline tile gives all its
 // entries its quadratic's heights. The water's own velocity (drag) is taken at a tile's centre,
 // asked for in one batch after the traversal.
 // Closed forms are linear in the moments, so nodes that share one polynomial add their moments
@@ -1091,7 +1091,7 @@ inline Sums FastBody::evaluateOn(const BodyState& s, const WaterSurface& water, 
                 // moments about c add up and are evaluated once (below).
                 if (waves) {
                     // Every node of one stencil has the same quadratic: their moments about c add
-                    // up in the stencil's bucket, shifted once to the stencil's point (below).
+                    // up in the stencil's bucket, evaluated once about the stencil's point (below).
                     std::int32_t& bucket = scratch.stencilBucket[static_cast<std::size_t>(n.stencil)];
                     if (bucket < 0) {
                         bucket = static_cast<std::int32_t>(scratch.stencilCount);
@@ -1123,8 +1123,9 @@ inline Sums FastBody::evaluateOn(const BodyState& s, const WaterSurface& water, 
     scratch.stencilCount = 0;
     if (waves) scratch.stencilBucket.assign(static_cast<std::size_t>(G) * G, -1);
     visit(0, roots_, -1, visit);
-    // Waves: each stencil's bucket about the point above its grid node (at the mean height of
-    // its nodes' centres, where the moments are smallest), under the stencil's quadratic.
+    // Waves: each stencil's bucket under the stencil's quadratic, about the point above its grid
+    // node at the mean height of its nodes' centres (where depthIntegrals' left-out term is
+    // smallest).
     for (std::size_t b = 0; b < scratch.stencilCount; ++b) {
         FastStencilBucket& bucket = scratch.stencils[b];
         const int node = bucket.node;
