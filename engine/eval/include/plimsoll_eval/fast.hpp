@@ -565,6 +565,25 @@ private:
     /// The hydrostatic sums of wholly wet entries from their depth integrals.
     static void hydrostaticsFromMoments(const FastDepthIntegrals& in, const Mat3& R, const Coefficients& k,
                                         Sums& sum);
+    /// The columns of the kLanes entries of one leaf.
+    struct LeafColumns {
+        const float *qx, *qy, *qz, *bx, *by, *bz, *area, *inverseLength2, *inverseLength, *valid;
+    };
+    /// Calls leaf(record, columns) for every leaf of every record in turn, flushing the lanes of
+    /// `sums` (a LeafLaneSums) as the leaves add up, and last of all.
+    template <class LaneSums, class Leaf>
+    void forEachLeaf(const std::vector<FastLeafWork>& records, LaneSums& sums, Leaf leaf) const {
+        std::size_t done = 0;
+        for (const FastLeafWork& w : records) {
+            for (std::size_t first = w.begin; first < w.begin + w.leaves * kLanes; first += kLanes)
+                leaf(w, LeafColumns{qx_.data() + first, qy_.data() + first, qz_.data() + first, bx_.data() + first,
+                                    by_.data() + first, bz_.data() + first, area_.data() + first,
+                                    inverseLength2_.data() + first, inverseLength_.data() + first,
+                                    valid_.data() + first});
+            sums.leavesDone(done, w.leaves);
+        }
+        sums.flush();
+    }
     /// The per-entry sums of every leaf in `leaves` (one pass, the call's constants set once).
     /// `skipDry`: leaves may come whole from a tile (waves), and those clear of the water are
     /// skipped after a first pass over their places.
@@ -772,19 +791,10 @@ inline void FastBody::perEntryLeaves(const std::vector<FastLeafWork>& leaves, co
     LeafLaneSums<18, kLanes> sums;
     auto& lanes = sums.lanes;
     const double* total = sums.total;
-    std::size_t done = 0;
-    for (const FastLeafWork& w : leaves) {
-      for (std::size_t first = w.begin; first < w.begin + w.leaves * kLanes; first += kLanes) {
-        const float* qx = qx_.data() + first;
-        const float* qy = qy_.data() + first;
-        const float* qz = qz_.data() + first;
-        const float* bx = bx_.data() + first;
-        const float* by = by_.data() + first;
-        const float* bz = bz_.data() + first;
-        const float* area = area_.data() + first;
-        const float* inverseLength2 = inverseLength2_.data() + first;
-        const float* inverseLength = inverseLength_.data() + first;
-        const float* valid = valid_.data() + first;
+    forEachLeaf(leaves, sums, [&](const FastLeafWork& w, const LeafColumns& column) {
+        const float *qx = column.qx, *qy = column.qy, *qz = column.qz, *bx = column.bx, *by = column.by,
+                    *bz = column.bz, *area = column.area, *inverseLength2 = column.inverseLength2,
+                    *inverseLength = column.inverseLength, *valid = column.valid;
         // First the entries' places and the water over them: a leaf whose entries are all
         // clear above the water adds nothing (no depth, no wetted share) and is skipped. At
         // the waterline of a tile on waves a quarter of the leaves are.
@@ -807,7 +817,7 @@ inline void FastBody::perEntryLeaves(const std::vector<FastLeafWork>& leaves, co
                 rz[i] = r[2];
                 wet |= r[1] - height[i] < w.dryAbove ? 1 : 0;
             }
-            if (wet == 0) continue;
+            if (wet == 0) return;
         }
         for (std::size_t i = 0; i < kLanes; ++i) {
             float r[3], f;
@@ -838,10 +848,7 @@ inline void FastBody::perEntryLeaves(const std::vector<FastLeafWork>& leaves, co
             lanes[16][i] += e.wettedArea;
             lanes[17][i] += valid[i] * e.count;
         }
-      }
-      sums.leavesDone(done, w.leaves);
-    }
-    sums.flush();
+    });
     sum.volume += total[0];
     sum.moment += Vec3{total[1], total[2], total[3]};
     sum.pressureForce += Vec3{total[4], total[5], total[6]};
@@ -875,18 +882,10 @@ inline void FastBody::dragLeaves(const std::vector<FastLeafWork>& leaves, const 
     LeafLaneSums<6, kLanes> sums;
     auto& lanes = sums.lanes;
     const double* total = sums.total;
-    std::size_t done = 0;
-    for (const FastLeafWork& w : leaves) {
-      for (std::size_t first = w.begin; first < w.begin + w.leaves * kLanes; first += kLanes) {
-        const float* qx = qx_.data() + first;
-        const float* qy = qy_.data() + first;
-        const float* qz = qz_.data() + first;
-        const float* bx = bx_.data() + first;
-        const float* by = by_.data() + first;
-        const float* bz = bz_.data() + first;
-        const float* area = area_.data() + first;
-        const float* inverseLength = inverseLength_.data() + first;
-        const float* valid = valid_.data() + first;
+    forEachLeaf(leaves, sums, [&](const FastLeafWork& w, const LeafColumns& column) {
+        const float *qx = column.qx, *qy = column.qy, *qz = column.qz, *bx = column.bx, *by = column.by,
+                    *bz = column.bz, *area = column.area, *inverseLength = column.inverseLength,
+                    *valid = column.valid;
         for (std::size_t i = 0; i < kLanes; ++i) {
             const float q[3] = {qx[i], qy[i], qz[i]};
             const float b[3] = {bx[i], by[i], bz[i]};
@@ -902,10 +901,7 @@ inline void FastBody::dragLeaves(const std::vector<FastLeafWork>& leaves, const 
                 lanes[3 + m][i] += torque[m];
             }
         }
-      }
-      sums.leavesDone(done, w.leaves);
-    }
-    sums.flush();
+    });
     sum.dragForce += Vec3{total[0], total[1], total[2]};
     sum.dragTorque += Vec3{total[3], total[4], total[5]};
 }
