@@ -35,6 +35,7 @@
 #include <cstddef>
 #include <cstdint>
 #include <numeric>
+#include <type_traits>
 #include <vector>
 
 // The evaluation is compiled twice: for the target's baseline and, on x86-64 with GCC or Clang,
@@ -218,6 +219,9 @@ struct FastLeafWork {
     std::uint32_t leaves = 1;
     float cx = 0, cz = 0, f = 0, gx = 0, gz = 0, hxx = 0, hxz = 0, hzz = 0;
     float ux = 0, uy = 0, uz = 0;
+    /// The point of the call's velocity batch the relative velocity is taken at (-1: still
+    /// water); u is filled in after the batch.
+    std::int32_t slot = -1;
     /// An entry this far above the water (or more) adds nothing: half the largest entry's side,
     /// with a margin for rounding (perEntryLeaves skips leaves whose entries all are).
     float dryAbove = 0;
@@ -343,7 +347,6 @@ struct FastScratch {
     std::vector<FastStencil> stencilQuadratics;  ///< per grid node (inner nodes only)
     std::vector<FastLeafWork> leaves;
     std::vector<FastLeafWork> dragLeaves;  ///< wholly wet: only the entries and the velocity are set
-    std::vector<std::int32_t> leafSlots;   ///< velocity slot of each of `leaves`
     std::vector<FastDeferredDrag> drags;
     std::vector<double> px, py, pz, velocity;  ///< the velocity batch: points, then 3 per point
     FastMomentSum flatHydrostatics;            ///< flat water: every submerged node's moments
@@ -715,24 +718,28 @@ inline void FastBody::hydrostaticsFromMoments(const FastDepthIntegrals& in, cons
     sum.pressureTorque -= k.rhoG * (R * torque);
 }
 
+/// Calls f with `flag` as a compile-time constant (std::true_type or std::false_type), so that
+/// a run-time choice picks one of a template's instances without writing each call out.
+template <class F>
+inline void withFlag(bool flag, F f) {
+    if (flag)
+        f(std::true_type{});
+    else
+        f(std::false_type{});
+}
+
 inline void FastBody::perEntry(const std::vector<FastLeafWork>& leaves, const Mat3& R,
                                const BodyState& s, const Coefficients& k, bool skipDry, Sums& sum) const {
     if (leaves.empty()) return;
-    const bool friction = k.halfRhoCf > 0;
+    withFlag(k.halfRhoCf > 0, [&](auto friction) {
+        withFlag(skipDry, [&](auto skip) {
+            constexpr bool Friction = decltype(friction)::value, SkipDry = decltype(skip)::value;
 #ifdef PLIMSOLL_EVAL_AVX2_LOOPS
-    if (cpuHasAvx2Fma()) {
-        if (skipDry)
-            return friction ? perEntryLeavesAvx2<true, true>(leaves, R, s, k, sum)
-                            : perEntryLeavesAvx2<false, true>(leaves, R, s, k, sum);
-        return friction ? perEntryLeavesAvx2<true, false>(leaves, R, s, k, sum)
-                        : perEntryLeavesAvx2<false, false>(leaves, R, s, k, sum);
-    }
+            if (cpuHasAvx2Fma()) return perEntryLeavesAvx2<Friction, SkipDry>(leaves, R, s, k, sum);
 #endif
-    if (skipDry)
-        return friction ? perEntryLeaves<true, true>(leaves, R, s, k, sum)
-                        : perEntryLeaves<false, true>(leaves, R, s, k, sum);
-    return friction ? perEntryLeaves<true, false>(leaves, R, s, k, sum)
-                    : perEntryLeaves<false, false>(leaves, R, s, k, sum);
+            perEntryLeaves<Friction, SkipDry>(leaves, R, s, k, sum);
+        });
+    });
 }
 
 /// Per-entry sums of the leaves: each leaf's Lanes entries add into Lanes single-precision
@@ -862,15 +869,13 @@ inline void FastBody::perEntryLeaves(const std::vector<FastLeafWork>& leaves, co
 inline void FastBody::dragPerEntry(const std::vector<FastLeafWork>& leaves, const Mat3& R,
                                    const BodyState& s, const Coefficients& k, Sums& sum) const {
     if (leaves.empty()) return;
-    const bool friction = k.halfRhoCf > 0;
+    withFlag(k.halfRhoCf > 0, [&](auto friction) {
+        constexpr bool Friction = decltype(friction)::value;
 #ifdef PLIMSOLL_EVAL_AVX2_LOOPS
-    if (cpuHasAvx2Fma())
-        return friction ? dragLeavesAvx2<true>(leaves, R, s, k, sum) : dragLeavesAvx2<false>(leaves, R, s, k, sum);
+        if (cpuHasAvx2Fma()) return dragLeavesAvx2<Friction>(leaves, R, s, k, sum);
 #endif
-    if (friction)
-        dragLeaves<true>(leaves, R, s, k, sum);
-    else
-        dragLeaves<false>(leaves, R, s, k, sum);
+        dragLeaves<Friction>(leaves, R, s, k, sum);
+    });
 }
 
 template <bool Friction>
@@ -1076,7 +1081,7 @@ inline Sums FastBody::evaluateOn(const BodyState& s, const WaterSurface& water, 
                     leaf.hxz = static_cast<float>(w.hxz);
                     leaf.hzz = static_cast<float>(0.5 * w.hzz);
                     leaf.dryAbove = static_cast<float>(t.halfExtent * (1 + 1e-3) + 1e-6);
-                    scratch.leafSlots.push_back(slot);  // the relative velocity comes after the batch
+                    leaf.slot = slot;  // the relative velocity comes after the batch
                     continue;
                 }
                 ++counted.closedForm;
@@ -1110,7 +1115,6 @@ inline Sums FastBody::evaluateOn(const BodyState& s, const WaterSurface& water, 
     };
     scratch.leaves.clear();
     scratch.dragLeaves.clear();
-    scratch.leafSlots.clear();
     scratch.drags.clear();
     scratch.px.clear();
     scratch.py.clear();
@@ -1165,11 +1169,11 @@ inline Sums FastBody::evaluateOn(const BodyState& s, const WaterSurface& water, 
         const double* v = scratch.velocity.data() + 3 * static_cast<std::size_t>(slot);
         return Vec3{v[0], v[1], v[2]};
     };
-    for (std::size_t i = 0; i < scratch.leaves.size(); ++i) {
-        const Vec3 u = s.linear - waterVelocityAt(scratch.leafSlots[i]);
-        scratch.leaves[i].ux = static_cast<float>(u.x);
-        scratch.leaves[i].uy = static_cast<float>(u.y);
-        scratch.leaves[i].uz = static_cast<float>(u.z);
+    for (FastLeafWork& leaf : scratch.leaves) {
+        const Vec3 u = s.linear - waterVelocityAt(leaf.slot);
+        leaf.ux = static_cast<float>(u.x);
+        leaf.uy = static_cast<float>(u.y);
+        leaf.uz = static_cast<float>(u.z);
     }
     // Drag: the largest nodes whose entries all face the flow add their moments to the bucket
     // of their water velocity (one per slot; one in all on still water); per entry (drag alone:
