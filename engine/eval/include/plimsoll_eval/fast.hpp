@@ -566,8 +566,8 @@ private:
     static void dragFromMoments(const FastMoments& mo, const Vec3& center, const Vec3& uo, const Vec3& wo,
                                 const Coefficients& k, Vec3& force, Vec3& torque);
     /// The hydrostatic sums of wholly wet entries from their depth integrals.
-    static void hydrostaticsFromMoments(const FastDepthIntegrals& in, const Mat3& R, const Coefficients& k,
-                                        Sums& sum);
+    static void hydrostaticsFromDepthIntegrals(const FastDepthIntegrals& in, const Mat3& R,
+                                               const Coefficients& k, Sums& sum);
     /// The columns of the kLanes entries of one leaf.
     struct LeafColumns {
         const float *qx, *qy, *qz, *bx, *by, *bz, *area, *inverseLength2, *inverseLength, *valid;
@@ -699,8 +699,8 @@ inline void FastBody::dragFromMoments(const FastMoments& mo, const Vec3& center,
     torque = -k.halfRhoCd * (cross(st, vc) + trace * wo - Tw) + cross(center, force);
 }
 
-inline void FastBody::hydrostaticsFromMoments(const FastDepthIntegrals& in, const Mat3& R,
-                                              const Coefficients& k, Sums& sum) {
+inline void FastBody::hydrostaticsFromDepthIntegrals(const FastDepthIntegrals& in, const Mat3& R,
+                                                     const Coefficients& k, Sums& sum) {
     // The world's vertical is R's row y: the volume is -sum d b.y, the first moments -sum d b.y q
     // and, vertically, -sum (d q.y + d^2 / 2) b.y in world axes; pressure -rho g d b.
     const Vec3 rowY = R.row(1);
@@ -1139,13 +1139,13 @@ inline Sums FastBody::evaluateOn(const BodyState& s, const WaterSurface& water, 
         objectHessian(R, w.hxx, w.hxz, w.hzz, H);
         // The depth about p: the height above the node less p's, falling with the slope.
         const Vec3 beta = transposeTimes(R, Vec3{w.gx, -1.0, w.gz});
-        hydrostaticsFromMoments(depthIntegrals(bucket.moments.moments(), p, w.f - rp.y, beta, H), R, k, sum);
+        hydrostaticsFromDepthIntegrals(depthIntegrals(bucket.moments.moments(), p, w.f - rp.y, beta, H), R, k, sum);
     }
     if (!waves && !scratch.drags.empty()) {
         const double none[3][3] = {};
-        hydrostaticsFromMoments(depthIntegrals(scratch.flatHydrostatics.moments(2), Vec3{}, water.level - cy,
-                                               transposeTimes(R, Vec3{0, -1, 0}), none),
-                                R, k, sum);
+        const FastDepthIntegrals flat = depthIntegrals(scratch.flatHydrostatics.moments(2), Vec3{}, water.level - cy,
+                                                       transposeTimes(R, Vec3{0, -1, 0}), none);
+        hydrostaticsFromDepthIntegrals(flat, R, k, sum);
     }
     // The water's velocity at every slot, in one batch.
     const std::size_t points = scratch.px.size();
