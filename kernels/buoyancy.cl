@@ -134,125 +134,318 @@ PL_INLINE void reduceGroup(__local acc_t* scratch, uint lid, __global acc_t* out
     if (lid < PL_SUM_SLOTS) out[lid] = scratch[lid * PL_WORKGROUP_SIZE];
 }
 
-/// The sums of a tile lying wholly under flat water at height f (relative to c), from its
-/// moments: with r = R p and A = R a, Mw = sum A r^T = R M R^T and
-/// Tw[i][j] = sum A_i r_j r_y = (R U R^T)[i][j], U[a][b] = sum_c T[a][b][c] R[y][c]. Then
-///   V = Mw_yy - f Sw_y,  moments: Tw_yx - f Mw_yx, (Tw_yy - f^2 Sw_y)/2, Tw_yz - f Mw_yz,
-///   F_i = -rho g (f Sw_i - Mw_iy),  T_i = -rho g eps_ijk (f Mw_kj - Tw_kj).
-/// The same numbers the per-texel loop sums, up to rounding.
+/// Slots of the symmetric index pairs and triples in PlTileMoments (plimsoll_shared.h).
+__constant int PL_PAIR[3][3] = {{0, 1, 2}, {1, 3, 4}, {2, 4, 5}};
+__constant int PL_TRIPLE[3][3][3] = {{{0, 1, 2}, {1, 3, 4}, {2, 4, 5}},
+                                     {{1, 3, 4}, {3, 6, 7}, {4, 7, 8}},
+                                     {{2, 4, 5}, {4, 7, 8}, {5, 8, 9}}};
+__constant int PL_PAIR_FIRST[6] = {0, 0, 0, 1, 1, 2};
+__constant int PL_PAIR_SECOND[6] = {0, 1, 2, 1, 2, 2};
+
+PL_INLINE float secondMoment(__global const PlTileMoments* m, int i, int j, int k) {
+    return m->second[6 * i + PL_PAIR[j][k]];
+}
+PL_INLINE float thirdMoment(__global const PlTileMoments* m, int i, int j, int k, int l) {
+    return m->third[10 * i + PL_TRIPLE[j][k][l]];
+}
+
+/// The water over one tile, about the tile's centre rt (world axes, relative to c): the
+/// quadratic f + g.x + x^T H x / 2 through the 3 x 3 heights at spacing rho (the tile's radius)
+/// about rt.xz, and how far that quadratic misses the true surface at 16 points between them;
+/// on Gerstner waves the water's velocity at rt and its gradient (central differences at
+/// +-rho/2), so that over the tile u(r) = u + J (r - rt).
+typedef struct {
+    float f, gx, gz, hxx, hxz, hzz;
+    float misfit;
+    float3 u;
+    float3 J[3];  /* rows: J[i] = grad u_i */
+} PlTileWater;
+
+/// Work-items 0..24 sample the surface on a 5 x 5 grid at spacing rho/2 about rt.xz, 25..31 the
+/// velocity at rt and at +-rho/2 along each axis (Gerstner only): one round of the group, in
+/// parallel. After the barrier every work-item forms the same quadratic from the samples.
+PL_INLINE PlTileWater sampleTileWater(const int waterModel, const PlBody* body,
+                                      __global const PlWave* waves, __global const float* grid,
+                                      int gridCountX, int gridCountZ, float3 rt, float rho,
+                                      uint lid, __local float* heights, __local float4* velocities) {
+    const float halfStep = 0.5f * rho;
+    if (lid < 25) {
+        const float3 r = rt + (float3)(((int)(lid % 5) - 2) * halfStep, 0.0f, ((int)(lid / 5) - 2) * halfStep);
+        heights[lid] = surfaceHeight(waterModel, body, waves, grid, gridCountX, gridCountZ, r);
+    } else if (waterModel == PL_WATER_GERSTNER && lid < 32) {
+        const int k = (int)lid - 25;  // 0: centre; 1 + 2 axis (+ 1): -+ along axis
+        float3 r = rt;
+        if (k > 0) {
+            const float offset = (k % 2 == 1) ? -halfStep : halfStep;
+            const int axis = (k - 1) / 2;
+            if (axis == 0) r.x += offset;
+            else if (axis == 1) r.y += offset;
+            else r.z += offset;
+        }
+        velocities[k] = (float4)(waterVelocity(waterModel, body, waves, r), 0.0f);
+    }
+    barrier(CLK_LOCAL_MEM_FENCE);
+    PlTileWater w;
+#define PL_H(i, j) heights[(2 + (j)) * 5 + 2 + (i)]
+    const float inverse = 1.0f / rho, inverse2 = inverse * inverse;
+    w.f = PL_H(0, 0);
+    w.gx = (PL_H(2, 0) - PL_H(-2, 0)) * 0.5f * inverse;
+    w.gz = (PL_H(0, 2) - PL_H(0, -2)) * 0.5f * inverse;
+    w.hxx = (PL_H(2, 0) - 2.0f * w.f + PL_H(-2, 0)) * inverse2;
+    w.hzz = (PL_H(0, 2) - 2.0f * w.f + PL_H(0, -2)) * inverse2;
+    w.hxz = (PL_H(2, 2) - PL_H(2, -2) - PL_H(-2, 2) + PL_H(-2, -2)) * 0.25f * inverse2;
+    float misfit = 0.0f;
+    for (int j = -2; j <= 2; ++j)
+        for (int i = -2; i <= 2; ++i) {
+            const float x = i * halfStep, z = j * halfStep;
+            const float q = w.f + w.gx * x + w.gz * z +
+                            0.5f * (w.hxx * x * x + 2.0f * w.hxz * x * z + w.hzz * z * z);
+            misfit = fmax(misfit, fabs(PL_H(i, j) - q));
+        }
+#undef PL_H
+    w.misfit = misfit;
+    w.u = (float3)(0.0f, 0.0f, 0.0f);
+    for (int i = 0; i < 3; ++i) w.J[i] = (float3)(0.0f, 0.0f, 0.0f);
+    if (waterModel == PL_WATER_GERSTNER) {
+        w.u = velocities[0].xyz;
+        const float3 dx = (velocities[2].xyz - velocities[1].xyz) * inverse;
+        const float3 dy = (velocities[4].xyz - velocities[3].xyz) * inverse;
+        const float3 dz = (velocities[6].xyz - velocities[5].xyz) * inverse;
+        w.J[0] = (float3)(dx.x, dy.x, dz.x);
+        w.J[1] = (float3)(dx.y, dy.y, dz.y);
+        w.J[2] = (float3)(dx.z, dy.z, dz.z);
+    }
+    return w;
+}
+
+/// R^T v (world -> object) with R's rows in body->rotation.
+PL_INLINE float3 rotateToObject(const PlBody* body, float3 v) {
+    return v.x * body->rotation[0].xyz + v.y * body->rotation[1].xyz + v.z * body->rotation[2].xyz;
+}
+
+/// Adds to `sum` what the per-entry loop sums over a tile whose entries all lie under the
+/// water, fully wet, from the tile's moments: with the depth in object axes about the tile's
+/// centre, d(s) = alpha + beta.s + s^T K s / 2 (alpha = f - rt.y, beta = R^T (gx, -1, gz),
+/// K = R^T H R), the depth integrals
+///   D0 = sum a d,  D1 = sum a s^T d,  E = sum a d^2 (less sum a (s^T K s)^2 / 4, fourth order),
+/// turned to world axes (W0 = R D0, W1 = R D1 R^T, WE = R E), give
+///   V = -W0_y,  moments -(rt_x W0_y + W1_yx), -(rt_y W0_y + W1_yy + WE_y / 2), -(rt_z W0_y + W1_yz),
+///   F = -rho g W0,  T_i = -rho g (rt x W0 + eps_ijk W1_kj)_i.
+/// Under flat water (g = H = 0) they are exact: the same numbers the loop sums, up to rounding.
 PL_INLINE void submergedTileFromMoments(const PlBody* body, __global const PlTileMoments* m,
-                                        __global acc_t* out) {
+                                        float3 rt, const PlTileWater* w, float* sum) {
     float R[3][3];
     for (int i = 0; i < 3; ++i) {
         R[i][0] = body->rotation[i].x;
         R[i][1] = body->rotation[i].y;
         R[i][2] = body->rotation[i].z;
     }
-    float S[3] = {m->sum.x, m->sum.y, m->sum.z};
-    float M[3][3], U[3][3];
-    for (int a = 0; a < 3; ++a) {
-        const float4 row = m->first[a];
-        M[a][0] = row.x;
-        M[a][1] = row.y;
-        M[a][2] = row.z;
-        for (int b = 0; b < 3; ++b) {
-            const float4 t = m->second[3 * a + b];
-            U[a][b] = t.x * R[1][0] + t.y * R[1][1] + t.z * R[1][2];
-        }
+    const float alpha = w->f - rt.y;
+    const float3 beta3 = rotateToObject(body, (float3)(w->gx, -1.0f, w->gz));
+    const float beta[3] = {beta3.x, beta3.y, beta3.z};
+    // K = R^T H R, H's y row and column zero; packed as pair slots, off-diagonals doubled.
+    float Ks[6];
+    for (int slot = 0; slot < 6; ++slot) {
+        const int a = PL_PAIR_FIRST[slot], b = PL_PAIR_SECOND[slot];
+        const float k = R[0][a] * w->hxx * R[0][b] + R[0][a] * w->hxz * R[2][b] +
+                        R[2][a] * w->hxz * R[0][b] + R[2][a] * w->hzz * R[2][b];
+        Ks[slot] = a == b ? k : 2.0f * k;
     }
-    float Sw[3], Mw[3][3], Tw[3][3];
+    const float N0[3] = {m->sum.x, m->sum.y, m->sum.z};
+    float D0[3], D1[3][3], E[3];
     for (int i = 0; i < 3; ++i) {
-        Sw[i] = R[i][0] * S[0] + R[i][1] * S[1] + R[i][2] * S[2];
+        const float N1[3] = {m->first[i].x, m->first[i].y, m->first[i].z};
+        float n1b = 0.0f, n2K = 0.0f, n2bb = 0.0f, bn3K = 0.0f;
+        float n2b[3], n3K[3];
         for (int j = 0; j < 3; ++j) {
-            float mw = 0.0f, tw = 0.0f;
-            for (int a = 0; a < 3; ++a)
-                for (int b = 0; b < 3; ++b) {
-                    mw += R[i][a] * M[a][b] * R[j][b];
-                    tw += R[i][a] * U[a][b] * R[j][b];
-                }
-            Mw[i][j] = mw;
-            Tw[i][j] = tw;
+            n1b += N1[j] * beta[j];
+            n2b[j] = secondMoment(m, i, j, 0) * beta[0] + secondMoment(m, i, j, 1) * beta[1] +
+                     secondMoment(m, i, j, 2) * beta[2];
+            n2bb += n2b[j] * beta[j];
+            float c = 0.0f;
+            for (int slot = 0; slot < 6; ++slot)
+                c += thirdMoment(m, i, j, PL_PAIR_FIRST[slot], PL_PAIR_SECOND[slot]) * Ks[slot];
+            n3K[j] = c;
+            bn3K += beta[j] * c;
         }
+        for (int slot = 0; slot < 6; ++slot) n2K += m->second[6 * i + slot] * Ks[slot];
+        D0[i] = alpha * N0[i] + n1b + 0.5f * n2K;
+        for (int j = 0; j < 3; ++j) D1[i][j] = alpha * N1[j] + n2b[j] + 0.5f * n3K[j];
+        E[i] = alpha * alpha * N0[i] + 2.0f * alpha * n1b + n2bb + alpha * n2K + bn3K;
     }
-    const float f = body->water.x;
-    const float rhoG = body->fluid.x;
-    out[PL_SUM_VOLUME] = Mw[1][1] - f * Sw[1];
-    out[PL_SUM_MOMENT + 0] = Tw[1][0] - f * Mw[1][0];
-    out[PL_SUM_MOMENT + 1] = 0.5f * (Tw[1][1] - f * f * Sw[1]);
-    out[PL_SUM_MOMENT + 2] = Tw[1][2] - f * Mw[1][2];
+    float W0[3], WE[3], RD1[3][3], W1[3][3];
     for (int i = 0; i < 3; ++i) {
-        out[PL_SUM_PRESSURE_F + i] = -rhoG * (f * Sw[i] - Mw[i][1]);
-        const int j = (i + 1) % 3, k = (i + 2) % 3;
-        // eps_ijk X_kj = X_kj - X_jk for cyclic (i, j, k).
-        out[PL_SUM_PRESSURE_T + i] =
-            -rhoG * (f * (Mw[k][j] - Mw[j][k]) - (Tw[k][j] - Tw[j][k]));
-        out[PL_SUM_DRAG_F + i] = 0;
-        out[PL_SUM_DRAG_T + i] = 0;
+        W0[i] = R[i][0] * D0[0] + R[i][1] * D0[1] + R[i][2] * D0[2];
+        WE[i] = R[i][0] * E[0] + R[i][1] * E[1] + R[i][2] * E[2];
+        for (int j = 0; j < 3; ++j) RD1[i][j] = R[i][0] * D1[0][j] + R[i][1] * D1[1][j] + R[i][2] * D1[2][j];
     }
-    out[PL_SUM_WETTED_AREA] = m->sum.w;
-    out[PL_SUM_COUNT] = m->first[0].w;
+    for (int i = 0; i < 3; ++i)
+        for (int j = 0; j < 3; ++j)
+            W1[i][j] = RD1[i][0] * R[j][0] + RD1[i][1] * R[j][1] + RD1[i][2] * R[j][2];
+    const float rhoG = body->fluid.x;
+    const float r[3] = {rt.x, rt.y, rt.z};
+    sum[PL_SUM_VOLUME] -= W0[1];
+    sum[PL_SUM_MOMENT + 0] -= r[0] * W0[1] + W1[1][0];
+    sum[PL_SUM_MOMENT + 1] -= r[1] * W0[1] + W1[1][1] + 0.5f * WE[1];
+    sum[PL_SUM_MOMENT + 2] -= r[2] * W0[1] + W1[1][2];
+    for (int i = 0; i < 3; ++i) {
+        const int j = (i + 1) % 3, k = (i + 2) % 3;
+        sum[PL_SUM_PRESSURE_F + i] -= rhoG * W0[i];
+        // (rt x W0)_i + eps_ijk W1_kj, with eps_ijk X_kj = X_kj - X_jk for cyclic (i, j, k).
+        sum[PL_SUM_PRESSURE_T + i] -=
+            rhoG * (r[j] * W0[k] - r[k] * W0[j] + W1[k][j] - W1[j][k]);
+    }
+    sum[PL_SUM_WETTED_AREA] += m->sum.w;
+    sum[PL_SUM_COUNT] += m->first[0].w;
+    sum[PL_SUM_TILES_CLOSED] += 1.0f;
 }
 
-/// The body of every buoyancy_tiles_* kernel. waterModel and withDrag are literal constants at
-/// each call: the compiler drops the branches of the other water models (half the time on
-/// PoCL) and, for bodies at rest in still water, the drag.
-PL_INLINE void buoyancyTiles(__global const float4* positions, __global const float4* areaVectors,
-                          __global const PlTile* tiles, __global const PlTileMoments* moments,
-                          __global const PlBody* bodies,
-                          __global const PlWave* waves, __global const float* grid,
-                          int gridCountX, int gridCountZ, __global acc_t* partials,
-                          __local acc_t* scratch, const int waterModel, const int withDrag) {
-    const uint tileIndex = get_group_id(0);
-    const uint lid = get_local_id(0);
-    const PlTile tile = tiles[tileIndex];
-    const PlBody body = bodies[tile.body];
-
-    // Uniform per group: either every work-item returns here or none does.
-    const float sphereBottom = dot(body.rotation[1].xyz, tile.sphere.xyz) - tile.sphere.w;
-    if (sphereBottom > body.water.y) {
-        if (lid < PL_SUM_SLOTS) partials[tileIndex * PL_SUM_SLOTS + lid] = 0;
-        return;
+/// The pressure drag of a wholly wet tile whose entries all keep one sign of A.v, added to
+/// `sum` from its moments (no skin friction: its |v_t| is not a polynomial). With the
+/// relative velocity linear over the tile, v = vt + L (r - rt) (L = [spin]x - J, J the water
+/// velocity's gradient), in object axes v(s) = u + B s (u = R^T vt, B = R^T L R), each facing
+/// entry adds -k (a.v) v (k = rho C_d / 2):
+///   F = -k R [(N0.u) u + B P + (B:N1) u + B X],  P = N1^T u,  X_m = sum_ij B_ij N2_i,jm,
+///   T = rt x F + R t,  t_i = -k eps_ijl Y_jl,  Y_jl = u_l (P_j + X_j) + sum_m B_lm (Q_jm + Z_jm),
+///   Q_jm = sum_i u_i N2_i,jm,  Z_jm = sum_ip B_ip N3_i,pjm.
+/// Returns false, adding nothing, where the sign of a.v may change over the tile: the cone of
+/// its normals (axis e, cosine ca) against u, widened by |B|_F times its radius. Adds nothing
+/// either unless `accumulate` (the group's other work-items only take the decision).
+PL_INLINE bool facingDragFromMoments(const PlBody* body, const PlTile* tile,
+                                     __global const PlTileMoments* m, float3 rt,
+                                     const PlTileWater* w, bool accumulate, float* sum) {
+    const float ca = tile->cone.w;
+    if (ca <= 0.0f) return false;
+    const float3 spin = body->spin.xyz;
+    const float3 vt = body->velocity.xyz + cross(spin, rt) - w->u;
+    // L = [spin]x - J, by rows; then B = R^T L R.
+    const float3 L[3] = {(float3)(0.0f, -spin.z, spin.y) - w->J[0],
+                         (float3)(spin.z, 0.0f, -spin.x) - w->J[1],
+                         (float3)(-spin.y, spin.x, 0.0f) - w->J[2]};
+    float R[3][3];
+    for (int i = 0; i < 3; ++i) {
+        R[i][0] = body->rotation[i].x;
+        R[i][1] = body->rotation[i].y;
+        R[i][2] = body->rotation[i].z;
     }
-    // Wholly under flat water and nothing moving: the tile's moments give every sum.
-    if (waterModel == PL_WATER_FLAT && !withDrag &&
-        sphereBottom + 2.0f * tile.sphere.w < body.water.x) {
-        if (lid == 0) submergedTileFromMoments(&body, &moments[tileIndex],
-                                               partials + tileIndex * PL_SUM_SLOTS);
-        return;
+    float LR[3][3], B[3][3];
+    for (int i = 0; i < 3; ++i) {
+        const float Li[3] = {L[i].x, L[i].y, L[i].z};
+        for (int j = 0; j < 3; ++j) LR[i][j] = Li[0] * R[0][j] + Li[1] * R[1][j] + Li[2] * R[2][j];
     }
+    float bNorm2 = 0.0f;
+    for (int i = 0; i < 3; ++i)
+        for (int j = 0; j < 3; ++j) {
+            B[i][j] = R[0][i] * LR[0][j] + R[1][i] * LR[1][j] + R[2][i] * LR[2][j];
+            bNorm2 += B[i][j] * B[i][j];
+        }
+    const float3 u3 = rotateToObject(body, vt);
+    const float speed = length(u3);
+    if (!(speed > 0.0f)) return false;
+    const float spread = sqrt(bNorm2) * tile->sphere.w;
+    const float cosTheta = dot(tile->cone.xyz, u3) / speed;
+    const float sinTheta = sqrt(fmax(0.0f, 1.0f - cosTheta * cosTheta));
+    const float sa = sqrt(fmax(0.0f, 1.0f - ca * ca));
+    const bool facing = speed * (cosTheta * ca - sinTheta * sa) > spread;
+    const bool trailing = speed * (cosTheta * ca + sinTheta * sa) < -spread;
+    if (!facing && !trailing) return false;
+    if (!accumulate) return true;
+    sum[PL_SUM_TILES_DRAG_CLOSED] += 1.0f;
+    if (trailing) return true;  // no entry faces the flow: no pressure drag
+    const float u[3] = {u3.x, u3.y, u3.z};
+    const float N0[3] = {m->sum.x, m->sum.y, m->sum.z};
+    float N1[3][3];
+    for (int i = 0; i < 3; ++i) {
+        N1[i][0] = m->first[i].x;
+        N1[i][1] = m->first[i].y;
+        N1[i][2] = m->first[i].z;
+    }
+    float P[3], X[3], BN1 = 0.0f;
+    for (int j = 0; j < 3; ++j) {
+        P[j] = u[0] * N1[0][j] + u[1] * N1[1][j] + u[2] * N1[2][j];
+        float x = 0.0f;
+        for (int i = 0; i < 3; ++i)
+            for (int k = 0; k < 3; ++k) x += B[i][k] * secondMoment(m, i, k, j);
+        X[j] = x;
+        for (int i = 0; i < 3; ++i) BN1 += B[i][j] * N1[i][j];
+    }
+    const float N0u = N0[0] * u[0] + N0[1] * u[1] + N0[2] * u[2];
+    const float k = body->fluid.y;
+    float Fo[3];
+    for (int i = 0; i < 3; ++i) {
+        Fo[i] = -k * (N0u * u[i] + B[i][0] * (P[0] + X[0]) + B[i][1] * (P[1] + X[1]) +
+                      B[i][2] * (P[2] + X[2]) + BN1 * u[i]);
+    }
+    // Y_jl = u_l (P_j + X_j) + sum_m B_lm (Q_jm + Z_jm), QZ symmetric in (j, m).
+    float QZ[6];
+    for (int slot = 0; slot < 6; ++slot) {
+        const int j = PL_PAIR_FIRST[slot], mm = PL_PAIR_SECOND[slot];
+        float q = 0.0f;
+        for (int i = 0; i < 3; ++i) {
+            q += u[i] * secondMoment(m, i, j, mm);
+            for (int p = 0; p < 3; ++p) q += B[i][p] * thirdMoment(m, i, p, j, mm);
+        }
+        QZ[slot] = q;
+    }
+    float Y[3][3];
+    for (int j = 0; j < 3; ++j)
+        for (int l = 0; l < 3; ++l)
+            Y[j][l] = u[l] * (P[j] + X[j]) + B[l][0] * QZ[PL_PAIR[j][0]] +
+                      B[l][1] * QZ[PL_PAIR[j][1]] + B[l][2] * QZ[PL_PAIR[j][2]];
+    float to[3];
+    for (int i = 0; i < 3; ++i) {
+        const int j = (i + 1) % 3, l = (i + 2) % 3;
+        to[i] = -k * (Y[j][l] - Y[l][j]);
+    }
+    const float3 F = (float3)(R[0][0] * Fo[0] + R[0][1] * Fo[1] + R[0][2] * Fo[2],
+                              R[1][0] * Fo[0] + R[1][1] * Fo[1] + R[1][2] * Fo[2],
+                              R[2][0] * Fo[0] + R[2][1] * Fo[1] + R[2][2] * Fo[2]);
+    const float3 T = cross(rt, F) + (float3)(R[0][0] * to[0] + R[0][1] * to[1] + R[0][2] * to[2],
+                                             R[1][0] * to[0] + R[1][1] * to[1] + R[1][2] * to[2],
+                                             R[2][0] * to[0] + R[2][1] * to[1] + R[2][2] * to[2]);
+    addVector(sum, PL_SUM_DRAG_F, F);
+    addVector(sum, PL_SUM_DRAG_T, T);
+    return true;
+}
 
-    float sum[PL_SUM_SLOTS];
-    for (int s = 0; s < PL_SUM_SLOTS; ++s) sum[s] = 0.0f;
-    const float rhoG = body.fluid.x;
-    const float halfRhoCd = body.fluid.y;
-    const float halfRhoCf = body.fluid.z;
+/// Adds a work-item's share of a tile's entries to `sum`: the hydrostatics and wetted area
+/// where `hydroSums`, the drag where `dragSums`.
+PL_INLINE void entrySums(__global const float4* positions, __global const float4* areaVectors,
+                         const PlTile* tile, const PlBody* body, __global const PlWave* waves,
+                         __global const float* grid, int gridCountX, int gridCountZ, uint lid,
+                         const int waterModel, const bool hydroSums, const bool dragSums, float* sum) {
+    const float rhoG = body->fluid.x;
+    const float halfRhoCd = body->fluid.y;
+    const float halfRhoCf = body->fluid.z;
     // A fixed trip count (PL_ITEMS_PER_THREAD, set at build time) that the compiler unrolls.
     for (int k = 0; k < PL_ITEMS_PER_THREAD; ++k) {
-        const uint i = tile.begin + k * PL_WORKGROUP_SIZE + lid;
-        if (i >= tile.end) break;
+        const uint i = tile->begin + k * PL_WORKGROUP_SIZE + lid;
+        if (i >= tile->end) break;
         const float4 p = positions[i];
-        const float3 r = rotateToWorld(&body, p.xyz);
-        const float f = surfaceHeight(waterModel, &body, waves, grid, gridCountX, gridCountZ, r);
+        const float3 r = rotateToWorld(body, p.xyz);
+        const float f = surfaceHeight(waterModel, body, waves, grid, gridCountX, gridCountZ, r);
         const float depth = f - r.y;
-        const float3 a = rotateToWorld(&body, areaVectors[i].xyz);
+        const float3 a = rotateToWorld(body, areaVectors[i].xyz);
         const float wet = wetShare(depth, a, p.w);
         if (wet <= 0.0f) continue;
-        if (depth > 0.0f) {
-            // Hydrostatics with fields that vanish on the surface (exact for any height field).
-            sum[PL_SUM_VOLUME] -= a.y * depth;
-            sum[PL_SUM_MOMENT + 0] -= a.y * r.x * depth;
-            sum[PL_SUM_MOMENT + 1] += a.y * 0.5f * (r.y * r.y - f * f);
-            sum[PL_SUM_MOMENT + 2] -= a.y * r.z * depth;
-            const float3 pressureForce = -(rhoG * depth) * a;
-            addVector(sum, PL_SUM_PRESSURE_F, pressureForce);
-            addVector(sum, PL_SUM_PRESSURE_T, cross(r, pressureForce));
-            sum[PL_SUM_COUNT] += 1.0f;
+        if (hydroSums) {
+            if (depth > 0.0f) {
+                // Hydrostatics with fields that vanish on the surface (exact for any height field).
+                sum[PL_SUM_VOLUME] -= a.y * depth;
+                sum[PL_SUM_MOMENT + 0] -= a.y * r.x * depth;
+                sum[PL_SUM_MOMENT + 1] += a.y * 0.5f * (r.y * r.y - f * f);
+                sum[PL_SUM_MOMENT + 2] -= a.y * r.z * depth;
+                const float3 pressureForce = -(rhoG * depth) * a;
+                addVector(sum, PL_SUM_PRESSURE_F, pressureForce);
+                addVector(sum, PL_SUM_PRESSURE_T, cross(r, pressureForce));
+                sum[PL_SUM_COUNT] += 1.0f;
+            }
+            sum[PL_SUM_WETTED_AREA] += wet * p.w;
         }
-        sum[PL_SUM_WETTED_AREA] += wet * p.w;
-        if (!withDrag) continue;
+        if (!dragSums) continue;
         // Drag: pressure drag on the side facing the relative flow, optional skin friction.
-        const float3 v = body.velocity.xyz + cross(body.spin.xyz, r) -
-                         waterVelocity(waterModel, &body, waves, r);
+        const float3 v = body->velocity.xyz + cross(body->spin.xyz, r) -
+                         waterVelocity(waterModel, body, waves, r);
         const float speed = length(v);
         float3 drag = (float3)(0.0f, 0.0f, 0.0f);
         if (speed > 0.0f) {
@@ -267,9 +460,77 @@ PL_INLINE void buoyancyTiles(__global const float4* positions, __global const fl
         addVector(sum, PL_SUM_DRAG_F, drag);
         addVector(sum, PL_SUM_DRAG_T, cross(r, drag));
     }
+}
 
+/// The body of every buoyancy_tiles_* kernel. waterModel and withDrag are literal constants at
+/// each call: the compiler drops the branches of the other water models (half the time on
+/// PoCL) and, for bodies at rest in still water, the drag.
+///
+/// Each tile is first placed against the water, uniformly across its group: dry (nothing to
+/// add), wholly wet (its hydrostatics, and its drag where a.v keeps one sign, from its moments:
+/// submergedTileFromMoments, facingDragFromMoments) or at the waterline (entry by entry). On
+/// flat water the plane is exact; on waves the water over the tile is the quadratic of
+/// sampleTileWater, and a tile takes it only where that quadratic misses the surface by at most
+/// body.water.z at its check points (0: never; every wet tile on waves goes entry by entry).
+PL_INLINE void buoyancyTiles(__global const float4* positions, __global const float4* areaVectors,
+                          __global const PlTile* tiles, __global const PlTileMoments* moments,
+                          __global const PlBody* bodies,
+                          __global const PlWave* waves, __global const float* grid,
+                          int gridCountX, int gridCountZ, __global acc_t* partials,
+                          __local acc_t* scratch, __local float* heights,
+                          __local float4* velocities, const int waterModel, const int withDrag) {
+    const uint tileIndex = get_group_id(0);
+    const uint lid = get_local_id(0);
+    const PlTile tile = tiles[tileIndex];
+    const PlBody body = bodies[tile.body];
+    __global acc_t* partial = partials + tileIndex * PL_SUM_SLOTS;
+
+    // Uniform per group: either every work-item returns here or none does.
+    const float3 rt = rotateToWorld(&body, tile.sphere.xyz);
+    const float rho = tile.sphere.w;
+    if (rt.y - rho > body.water.y) {
+        if (lid < PL_SUM_SLOTS) partial[lid] = lid == PL_SUM_TILES_DRY ? 1 : 0;
+        return;
+    }
+    PlTileWater w;
+    bool quadraticHolds = true;
+    if (waterModel == PL_WATER_FLAT) {
+        w.f = body.water.x;
+        w.gx = w.gz = w.hxx = w.hxz = w.hzz = w.misfit = 0.0f;
+        w.u = (float3)(0.0f, 0.0f, 0.0f);
+        for (int i = 0; i < 3; ++i) w.J[i] = (float3)(0.0f, 0.0f, 0.0f);
+    } else {
+        w = sampleTileWater(waterModel, &body, waves, grid, gridCountX, gridCountZ, rt, rho, lid,
+                            heights, velocities);
+        quadraticHolds = body.water.z > 0.0f && w.misfit <= body.water.z;
+    }
+    // The quadratic's departure from f over the tile's disc, and the tile's vertical reach.
+    const float departure = sqrt(w.gx * w.gx + w.gz * w.gz) * rho +
+                            0.5f * sqrt(w.hxx * w.hxx + w.hzz * w.hzz + 2.0f * w.hxz * w.hxz) * rho * rho +
+                            w.misfit;
+    const bool dry = quadraticHolds && rt.y - rho > w.f + departure;
+    const bool submerged = quadraticHolds && rt.y + rho < w.f - departure;
+
+    float sum[PL_SUM_SLOTS];
+    for (int s = 0; s < PL_SUM_SLOTS; ++s) sum[s] = 0.0f;
+    bool hydroPerEntry = !dry, dragPerEntry = withDrag && !dry;
+    if (dry && lid == 0) sum[PL_SUM_TILES_DRY] = 1.0f;
+    if (submerged) {
+        hydroPerEntry = false;
+        if (lid == 0) submergedTileFromMoments(&body, &moments[tileIndex], rt, &w, sum);
+        // Every work-item decides alike; work-item 0 alone adds the sums.
+        if (withDrag && !(body.fluid.z > 0.0f))  // skin friction goes entry by entry
+            dragPerEntry = !facingDragFromMoments(&body, &tile, &moments[tileIndex], rt, &w,
+                                                  lid == 0, sum);
+    }
+    if (hydroPerEntry || dragPerEntry)
+        entrySums(positions, areaVectors, &tile, &body, waves, grid, gridCountX, gridCountZ,
+                  lid, waterModel, hydroPerEntry, dragPerEntry, sum);
+    // Every case after the water's barrier ends in the one reduction, work-item 0 holding the
+    // closed forms' sums: PoCL 3.1 wrote past the partials where the group left by a branch
+    // after that barrier (a return, or the reduction on one side only), uniform as it was.
     for (int s = 0; s < PL_SUM_SLOTS; ++s) scratch[s * PL_WORKGROUP_SIZE + lid] = sum[s];
-    reduceGroup(scratch, lid, partials + tileIndex * PL_SUM_SLOTS);
+    reduceGroup(scratch, lid, partial);
 }
 
 #define PL_TILES_KERNEL(name, model, drag)                                                   \
@@ -280,8 +541,10 @@ PL_INLINE void buoyancyTiles(__global const float4* positions, __global const fl
         __global const PlWave* waves, __global const float* grid, int gridCountX,                \
         int gridCountZ, __global acc_t* partials) {                                              \
         __local acc_t scratch[PL_SUM_SLOTS * PL_WORKGROUP_SIZE];                                 \
+        __local float heights[25];                                                               \
+        __local float4 velocities[7];                                                            \
         buoyancyTiles(positions, areaVectors, tiles, moments, bodies, waves, grid, gridCountX,  \
-                      gridCountZ, partials, scratch, model, drag);                              \
+                      gridCountZ, partials, scratch, heights, velocities, model, drag);         \
     }
 
 PL_TILES_KERNEL(buoyancy_tiles_flat, PL_WATER_FLAT, 1)

@@ -276,6 +276,116 @@ TEST(BuoyancyKernels, ABatchGivesWhatSeparateCallsGive) {
     }
 }
 
+/// A sphere of 512^2 texels (about 200 tiles on the device) moving and spinning, its centre at
+/// `depth` under the mean level.
+BodyRequest movingRequest(std::size_t id, const Body& body, double depth, int trial) {
+    BodyRequest request;
+    request.body = id;
+    request.frame.pose = Pose::fromEulerDegrees({0.1 * trial, -depth, -0.05 * trial},
+                                                {17.0 * trial, 31.0 * trial, -11.0 * trial});
+    request.frame.motion.linear = {1.2, -0.3, 0.5};
+    request.frame.motion.angular = {0.4, -0.7, 0.3};
+    request.frame.time = 1.7 * trial;
+    request.frame.centerOfMass = body.props.centerOfMass;
+    return request;
+}
+
+// Under flat water the tiles' closed forms are exact: a body wholly under water takes every
+// tile's hydrostatics from its moments, and the drag of every tile whose normals keep one
+// sign against the flow, and agrees with the reference as the per-entry sums do (1e-5).
+TEST(BuoyancyKernels, TilesUnderFlatWaterTakeExactClosedForms) {
+    auto backends = test::openClBackends();
+    if (backends.empty()) GTEST_SKIP() << test::noOpenClDeviceReason();
+    const Body sphere = makeBody(makeUvSphere(0.5, 48, 24), 512);
+    const double speed = 1.3 + 0.9 * 0.5 + 1.0;
+    for (auto& backend : backends) {
+        SCOPED_TRACE(backend->deviceName());
+        const std::size_t id = backend->addBody(sphere.textures, sphere.props.centerOfMass);
+        for (double depth : {2.0, 0.2}) {
+            for (int trial = 0; trial < 3; ++trial) {
+                const BodyRequest request = movingRequest(id, sphere, depth, trial);
+                const WaterModel water = WaterModel::flat(0.0);
+                BuoyancyResult result;
+                ASSERT_TRUE(backend->evaluate({&request, 1}, water, {&result, 1}).ok());
+                const TileCounts counts = backend->lastTileCounts();
+                expectAgree(result,
+                            evaluateBuoyancyReference(sphere.textures, request.frame, water, request.fluid),
+                            sphere, request.fluid, speed, 1e-5);
+                EXPECT_EQ(result.submergedSamples,
+                          evaluateBuoyancyReference(sphere.textures, request.frame, water, {}).submergedSamples);
+                if (depth > 1) {
+                    EXPECT_EQ(counts.closedForm, counts.tiles);
+                    EXPECT_GT(counts.dragClosedForm, counts.tiles / 2);
+                } else {
+                    EXPECT_GT(counts.closedForm, 0u);
+                    EXPECT_GT(counts.perEntry(), 0u);
+                }
+            }
+        }
+    }
+}
+
+// On waves a tile takes the water's quadratic over it where that quadratic misses the surface
+// by at most OpenClOptions::waveTolerance of the body's radius: its depths are then off by about
+// that much, so the pressure force by about rho g (tolerance x radius) x the wetted area. With
+// the tolerance at 0 every tile that reaches the water goes entry by entry (1e-5 as everywhere).
+TEST(BuoyancyKernels, TilesUnderWavesStayWithinTheirStatedError) {
+    if (listComputeDevices().empty()) GTEST_SKIP() << test::noOpenClDeviceReason();
+    const Body sphere = makeBody(makeUvSphere(0.5, 48, 24), 512);
+    const double radius = sphere.boundingRadius;
+    const double speed = 1.3 + 0.9 * 0.5 + 1.0;
+    const FluidSettings fluid;
+    const double F = fluid.density * fluid.gravity * sphere.props.volume;
+    const double D = fluid.density * speed * speed * sphere.textures.surfaceArea();
+    const std::vector<WaterModel> waters = {waterModels()[1], waterModels()[2]};
+    for (double tolerance : {0.0, 1e-4, OpenClOptions{}.waveTolerance, 1e-2}) {
+        SCOPED_TRACE(tolerance);
+        OpenClOptions options;
+        options.waveTolerance = tolerance;
+        auto backend = createBuoyancyBackend("0", nullptr, options);
+        ASSERT_TRUE(backend.ok()) << backend.error().message;
+        const std::size_t id = (*backend)->addBody(sphere.textures, sphere.props.centerOfMass);
+        for (std::size_t model = 0; model < waters.size(); ++model) {
+            const WaterModel& water = waters[model];
+            std::size_t closed = 0, dragClosed = 0, dry = 0, tiles = 0;
+            double worstForce = 0, worstDrag = 0;
+            for (int trial = 0; trial < 4; ++trial) {
+                const BodyRequest request = movingRequest(id, sphere, trial % 2 ? 0.1 : 0.4, trial);
+                BuoyancyResult result;
+                ASSERT_TRUE((*backend)->evaluate({&request, 1}, water, {&result, 1}).ok());
+                const TileCounts counts = (*backend)->lastTileCounts();
+                closed += counts.closedForm;
+                dragClosed += counts.dragClosedForm;
+                dry += counts.dry;
+                tiles += counts.tiles;
+                const BuoyancyResult expected =
+                    evaluateBuoyancyReference(sphere.textures, request.frame, water, fluid);
+                const double wetted = expected.wettedArea;
+                const double bound = fluid.density * fluid.gravity * tolerance * radius * wetted + 1e-5 * F;
+                EXPECT_LT((result.pressureForce - expected.pressureForce).norm(), bound);
+                EXPECT_LT((result.pressureTorque - expected.pressureTorque).norm(), bound * radius);
+                EXPECT_NEAR(result.submergedVolume, expected.submergedVolume, bound / (fluid.density * fluid.gravity));
+                EXPECT_NEAR(result.wettedArea, expected.wettedArea, 1e-5 * sphere.textures.surfaceArea());
+                worstForce = std::max(worstForce, (result.pressureForce - expected.pressureForce).norm() / F);
+                worstDrag = std::max(worstDrag, (result.dragForce - expected.dragForce).norm() / D);
+                // The drag of a closed-form tile takes the water's velocity as linear over it.
+                EXPECT_LT((result.dragForce - expected.dragForce).norm(), (tolerance > 0 ? 1e-3 : 1e-5) * D);
+                EXPECT_LT((result.dragTorque - expected.dragTorque).norm(), (tolerance > 0 ? 1e-3 : 1e-5) * D * radius);
+            }
+            std::printf("  %s, tolerance %.0e: of %zu tiles in 4 frames %zu dry, %zu closed-form "
+                        "(%zu with drag); pressure force error %.2e of rho g V, drag %.2e of rho u^2 S\n",
+                        model == 0 ? "Gerstner" : "height field", tolerance, tiles, dry, closed,
+                        dragClosed, worstForce, worstDrag);
+            if (tolerance == 0) {
+                EXPECT_EQ(closed, 0u);
+            } else if (model == 0) {
+                EXPECT_GT(closed, 0u);  // the sample waves are smooth over a tile
+                EXPECT_GT(dragClosed, 0u);
+            }
+        }
+    }
+}
+
 /// Largest submerged-volume error over the paper's figure 9 sweep (depth -0.5 .. 0.5 of the
 /// sample sphere, three orientations), as a share of the sphere's volume.
 double sphereSweepError(int size) {

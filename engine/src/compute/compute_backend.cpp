@@ -92,7 +92,8 @@ std::unique_ptr<BuoyancyBackend> createReferenceBackend() {
 }
 
 Result<std::unique_ptr<BuoyancyBackend>> createBuoyancyBackend(const std::string& requested,
-                                                               std::string* notice) {
+                                                               std::string* notice,
+                                                               const OpenClOptions& openCl) {
     std::string spec = lower(requested);
     if (spec.empty()) {
         if (const char* env = std::getenv("PLIMSOLL_OPENCL_DEVICE")) spec = lower(env);
@@ -158,7 +159,7 @@ Result<std::unique_ptr<BuoyancyBackend>> createBuoyancyBackend(const std::string
         }
         index = static_cast<int>(n);
     }
-    Result<std::unique_ptr<BuoyancyBackend>> opencl = detail::createOpenClBackend(index);
+    Result<std::unique_ptr<BuoyancyBackend>> opencl = detail::createOpenClBackend(index, openCl);
     // A device the user asked for by name must work; one chosen automatically may fail (a
     // driver that cannot build the kernels, a device out of resources): the fast CPU path
     // gives the same results within its stated error, and the notice says why.

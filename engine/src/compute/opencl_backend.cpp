@@ -129,6 +129,10 @@ void faultPoint(detail::OpenClFault kind, const char* call) {
     }
 }
 
+// The kernels read these structs as the C++ side lays them out (plimsoll_shared.h).
+static_assert(sizeof(gpu::PlTile) == 48 && sizeof(gpu::PlTileMoments) == 256 &&
+              sizeof(gpu::PlBody) == 160);
+
 pl_float4 toFloat4(const Eigen::Vector3d& v, double w = 0.0) {
     return {static_cast<float>(v.x()), static_cast<float>(v.y()), static_cast<float>(v.z()),
             static_cast<float>(w)};
@@ -166,7 +170,7 @@ Result<cl::Program> buildProgram(const cl::Context& context, const cl::Device& d
 class OpenClBackend final : public BuoyancyBackend {
 public:
     OpenClBackend(const DeviceHandle& handle, cl::Context context, cl::Program program,
-                  bool fp64, std::size_t tileSize)
+                  bool fp64, std::size_t tileSize, const OpenClOptions& options)
         : device_(handle.device),
           context_(std::move(context)),
           queue_(context_, device_, CL_QUEUE_PROFILING_ENABLE),
@@ -183,6 +187,7 @@ public:
                             cl::Kernel(program_, "graph_exchange_heightfield")}},
           fp64_(fp64),
           tileSize_(tileSize),
+          options_(options),
           name_("OpenCL: " + device_.getInfo<CL_DEVICE_NAME>() + " (" +
                 handle.platform.getInfo<CL_PLATFORM_NAME>() + ")"),
           // Asked once: a lost device answers no more queries.
@@ -281,6 +286,7 @@ public:
             if (buffersStale_) rebuildBuffers();
             if (Status s = prepareFrame(requests, water); !s.ok()) return s;
             runFrame(tilesKernelFor(requests, water));
+            tileCounts_ = {};
             const std::size_t accSize = fp64_ ? sizeof(double) : sizeof(float);
             for (std::size_t i = 0; i < requests.size(); ++i) {
                 detail::BuoyancySums sums{};
@@ -291,6 +297,12 @@ public:
                                     : reinterpret_cast<const float*>(base)[s];
                 }
                 const Body& body = bodies_[requests[i].body];
+                tileCounts_.tiles += body.tileEnd - body.tileBegin;
+                tileCounts_.dry += static_cast<std::size_t>(std::llround(sums[PL_SUM_TILES_DRY]));
+                tileCounts_.closedForm +=
+                    static_cast<std::size_t>(std::llround(sums[PL_SUM_TILES_CLOSED]));
+                tileCounts_.dragClosedForm +=
+                    static_cast<std::size_t>(std::llround(sums[PL_SUM_TILES_DRAG_CLOSED]));
                 results[i] = detail::finishBuoyancy(
                     sums, requests[i].frame.pose.apply(body.centerOfMass), requests[i].fluid);
             }
@@ -308,6 +320,8 @@ public:
     }
 
     FrameTimings lastTimings() const override { return timings_; }
+
+    TileCounts lastTileCounts() const override { return tileCounts_; }
 
     std::size_t addExchangeSet(std::span<const ExchangeSample> samples,
                                std::size_t nodes) override {
@@ -441,24 +455,30 @@ private:
         std::vector<std::uint32_t> order;      ///< texture entry of each device entry
         std::vector<std::size_t> tileEnds;     ///< end (in `order`) of each of its tiles
         std::uint32_t tileBegin = 0, tileEnd = 0;
+        double radius = 0;  ///< largest distance of an entry from c (m): the tolerances' scale
     };
 
     /// Writes a body's entries, tiles and tile moments into the host arrays.
     void fillBody(std::size_t id, const SurfaceTextures& textures) {
-        const Body& body = bodies_[id];
+        Body& body = bodies_[id];
+        body.radius = 0;
         for (std::size_t k = 0; k < body.order.size(); ++k) {
             const std::uint32_t i = body.order[k];
             positions_[body.firstEntry + k] =
                 toFloat4(textures.position[i] - body.centerOfMass, textures.area[i]);
             areaVectors_[body.firstEntry + k] = toFloat4(textures.areaVector[i]);
+            body.radius = std::max(body.radius, (textures.position[i] - body.centerOfMass).norm());
         }
         std::size_t begin = 0;
         for (std::size_t t = 0; t < body.tileEnds.size(); ++t) {
             const std::size_t end = body.tileEnds[t];
-            tiles_[body.tileBegin + t] = tileOf(static_cast<std::uint32_t>(id),
-                                                body.firstEntry + begin, body.firstEntry + end);
-            tileMoments_[body.tileBegin + t] = momentsOf(
-                textures, body.centerOfMass, std::span(body.order).subspan(begin, end - begin));
+            gpu::PlTile& tile = tiles_[body.tileBegin + t];
+            tile = tileOf(static_cast<std::uint32_t>(id), body.firstEntry + begin,
+                          body.firstEntry + end);
+            const Eigen::Vector3d centre(tile.sphere.x, tile.sphere.y, tile.sphere.z);
+            tileMoments_[body.tileBegin + t] =
+                momentsOf(textures, body.centerOfMass + centre,
+                          std::span(body.order).subspan(begin, end - begin));
             begin = end;
         }
     }
@@ -479,11 +499,30 @@ private:
         }
         // Slack for the kernel's single-precision rotation of the centre.
         radius = radius * (1.0f + 1e-5f) + 1e-6f * centre.norm();
+        // The cone of the normals: about their mean direction, its cosine the smallest over
+        // the entries (shaved by a rounding margin, so that the kernel's sign test holds).
+        Eigen::Vector3d axis = Eigen::Vector3d::Zero();
+        for (std::size_t i = begin; i < end; ++i) {
+            const Eigen::Vector3d a(areaVectors_[i].x, areaVectors_[i].y, areaVectors_[i].z);
+            if (a.norm() > 0) axis += a.normalized();
+        }
+        double cosSpread = -1;
+        if (axis.norm() > 0) {
+            axis.normalize();
+            cosSpread = 1;
+            for (std::size_t i = begin; i < end; ++i) {
+                const Eigen::Vector3d a(areaVectors_[i].x, areaVectors_[i].y, areaVectors_[i].z);
+                if (a.norm() > 0) cosSpread = std::min(cosSpread, axis.dot(a.normalized()));
+            }
+            cosSpread -= 1e-5;
+        }
         gpu::PlTile tile{};
         tile.body = body;
         tile.begin = static_cast<std::uint32_t>(begin);
         tile.end = static_cast<std::uint32_t>(end);
         tile.sphere = {centre.x(), centre.y(), centre.z(), radius};
+        tile.cone = {static_cast<float>(axis.x()), static_cast<float>(axis.y()),
+                     static_cast<float>(axis.z()), static_cast<float>(cosSpread)};
         return tile;
     }
 
@@ -510,29 +549,37 @@ private:
         return order;
     }
 
-    /// Sums of a, a p^T and a_i p_j p^T over the given entries of `textures`, in double.
+    /// The moments of the given entries' area vectors about `centre` (world units, the same
+    /// frame as textures.position), in double, rounded once: PlTileMoments.
     static gpu::PlTileMoments momentsOf(const SurfaceTextures& textures,
-                                        const Eigen::Vector3d& centerOfMass,
+                                        const Eigen::Vector3d& centre,
                                         std::span<const std::uint32_t> entries) {
-        Eigen::Vector3d sum = Eigen::Vector3d::Zero();
-        Eigen::Matrix3d first = Eigen::Matrix3d::Zero();
-        Eigen::Matrix3d second[9];
-        for (auto& m : second) m.setZero();
+        double n0[3] = {}, n1[3][3] = {}, n2[3][6] = {}, n3[3][10] = {};
         double area = 0;
-        for (std::uint32_t i : entries) {
-            const Eigen::Vector3d p = textures.position[i] - centerOfMass;
-            const Eigen::Vector3d& a = textures.areaVector[i];
-            sum += a;
-            area += textures.area[i];
-            first += a * p.transpose();
-            for (int k = 0; k < 3; ++k)
-                for (int j = 0; j < 3; ++j) second[3 * k + j].row(0) += a[k] * p[j] * p.transpose();
+        for (std::uint32_t e : entries) {
+            const Eigen::Vector3d s = textures.position[e] - centre;
+            const Eigen::Vector3d& a = textures.areaVector[e];
+            area += textures.area[e];
+            for (int i = 0; i < 3; ++i) {
+                n0[i] += a[i];
+                int pair = 0, triple = 0;
+                for (int j = 0; j < 3; ++j) {
+                    n1[i][j] += a[i] * s[j];
+                    for (int k = j; k < 3; ++k) {
+                        n2[i][pair++] += a[i] * s[j] * s[k];
+                        for (int l = k; l < 3; ++l) n3[i][triple++] += a[i] * s[j] * s[k] * s[l];
+                    }
+                }
+            }
         }
         gpu::PlTileMoments m{};
-        m.sum = toFloat4(sum, area);
-        for (int k = 0; k < 3; ++k) m.first[k] = toFloat4(first.row(k).transpose());
+        m.sum = toFloat4(Eigen::Vector3d(n0[0], n0[1], n0[2]), area);
+        for (int i = 0; i < 3; ++i) m.first[i] = toFloat4(Eigen::Vector3d(n1[i][0], n1[i][1], n1[i][2]));
         m.first[0].w = static_cast<float>(entries.size());
-        for (int k = 0; k < 9; ++k) m.second[k] = toFloat4(second[k].row(0).transpose());
+        for (int i = 0; i < 3; ++i) {
+            for (int k = 0; k < 6; ++k) m.second[6 * i + k] = static_cast<float>(n2[i][k]);
+            for (int k = 0; k < 10; ++k) m.third[10 * i + k] = static_cast<float>(n3[i][k]);
+        }
         return m;
     }
 
@@ -623,6 +670,8 @@ private:
                        static_cast<float>(fluid.density)};
             p.waveBegin = static_cast<gpu::pl_int>(request.body * PL_MAX_WAVES);
             fillWater(p, water, c, frame.time, &waveParams_[p.waveBegin]);
+            if (water.kind != WaterModel::Kind::Flat)
+                p.water.z = static_cast<float>(options_.waveTolerance * body.radius);
         }
         return Ok{};
     }
@@ -752,6 +801,8 @@ private:
     std::array<cl::Kernel, 3> exchangeKernels_;  ///< [water model]
     bool fp64_;
     std::size_t tileSize_;  ///< entries per tile: PL_WORKGROUP_SIZE x items per thread
+    OpenClOptions options_;
+    TileCounts tileCounts_;
     std::string name_;
     BackendKind kind_;
 
@@ -813,7 +864,7 @@ void setOpenClMemoryLimitsForTesting(std::uint64_t maxAllocation, std::uint64_t 
     testGlobalMemory = globalMemory;
 }
 
-Result<std::unique_ptr<BuoyancyBackend>> createOpenClBackend(int index) {
+Result<std::unique_ptr<BuoyancyBackend>> createOpenClBackend(int index, const OpenClOptions& options) {
     const std::vector<DeviceHandle> handles = enumerateDevices();
     if (index < 0 || index >= static_cast<int>(handles.size())) {
         return makeError(ErrorKind::device, "no OpenCL device " + std::to_string(index));
@@ -826,7 +877,7 @@ Result<std::unique_ptr<BuoyancyBackend>> createOpenClBackend(int index) {
         Result<cl::Program> program = buildProgram(context, handle.device, fp64, items);
         if (!program) return program.error();
         return std::unique_ptr<BuoyancyBackend>(std::make_unique<OpenClBackend>(
-            handle, context, std::move(*program), fp64, items * PL_WORKGROUP_SIZE));
+            handle, context, std::move(*program), fp64, items * PL_WORKGROUP_SIZE, options));
     } catch (const cl::Error& e) {
         return makeError(ErrorKind::device, clError(e));
     }

@@ -24,7 +24,7 @@ Result<double> measureCopyBandwidth(const std::string& spec, std::size_t) {
 
 namespace detail {
 
-Result<std::unique_ptr<BuoyancyBackend>> createOpenClBackend(int index) {
+Result<std::unique_ptr<BuoyancyBackend>> createOpenClBackend(int index, const OpenClOptions&) {
     return noOpenCl("OpenCL device " + std::to_string(index));
 }
 

@@ -84,6 +84,27 @@ struct FrameTimings {
     double totalMs = 0;     ///< wall clock of evaluate()
 };
 
+/// How the tiles of the last evaluate were treated, summed over the bodies asked for: what the
+/// tile scheme saved (the OpenCL path; the others report none).
+struct TileCounts {
+    std::size_t tiles = 0;           ///< of the bodies asked for
+    std::size_t dry = 0;             ///< nothing read
+    std::size_t closedForm = 0;      ///< hydrostatics from the tile's moments
+    std::size_t dragClosedForm = 0;  ///< drag from the tile's moments too
+    std::size_t perEntry() const { return tiles - dry - closedForm; }
+};
+
+/// The OpenCL path's accuracy knob (measured beside the default by plimsoll bench --realtime).
+struct OpenClOptions {
+    /// On waves a tile is summed from its moments (or found dry) under the water's quadratic
+    /// over it only where that quadratic misses the surface, at 16 points between the 9 it was
+    /// fitted to, by at most this fraction of the body's radius; else entry by entry under the
+    /// true surface. 0: every tile that reaches the water on waves is summed entry by entry.
+    /// The closed forms' depth error is then about this misfit, so the pressure force's is
+    /// about rho g (waveTolerance x radius) x the wetted area. Flat water is exact either way.
+    double waveTolerance = 1e-3;
+};
+
 /// What computes a backend's sums: what callers branch on (falling back from a failed
 /// device, labelling results), where the device name is only for people.
 enum class BackendKind {
@@ -135,6 +156,8 @@ public:
 
     virtual FrameTimings lastTimings() const = 0;
 
+    virtual TileCounts lastTileCounts() const { return {}; }
+
     /// Registers the permeable samples of a body's water graph, feeding `nodes` nodes (at most
     /// kMaxExchangeNodes). Returns the set's id for evaluateExchange.
     virtual std::size_t addExchangeSet(std::span<const ExchangeSample> samples,
@@ -157,7 +180,8 @@ std::unique_ptr<BuoyancyBackend> createReferenceBackend();
 /// build), the fast CPU path is returned and `notice` says why. Errors: an unknown spec, a
 /// requested kind that is absent, a kernel that fails to build (with its build log).
 Result<std::unique_ptr<BuoyancyBackend>> createBuoyancyBackend(const std::string& spec,
-                                                               std::string* notice = nullptr);
+                                                               std::string* notice = nullptr,
+                                                               const OpenClOptions& openCl = {});
 
 /// Measures the device's copy bandwidth with a plain copy kernel (GB/s, read + write), for
 /// the benchmark; `bytes` per buffer.
