@@ -5,10 +5,12 @@
 //
 // Launch 1, buoyancy_tiles_<water model>[_still]: one work-group per tile of up to
 // PL_WORKGROUP_SIZE x PL_ITEMS_PER_THREAD entries ("_still": no drag, for bodies at rest in
-// still water). A tile whose
-// bounding sphere lies entirely above the highest possible water surface adds nothing and reads
-// no texel (a floating body skips most of its dry half). Each work-item accumulates its entries
-// in acc_t, then the group reduces all slots at once in local memory and writes one partial.
+// still water). A tile whose bounding sphere lies entirely above the highest possible water
+// surface adds nothing and reads no texel (a floating body skips most of its dry half). Any
+// other tile is placed against the water over it (exact on flat water; a quadratic sampled by
+// the group on waves): dry, wholly wet (summed from its moments by one work-item), or at the
+// waterline (buoyancyTiles). Each work-item accumulates its entries in float, then the group
+// reduces all slots at once in local memory and writes one partial.
 // Launch 2, reduce_bodies: one work-group per body sums that body's tile partials.
 
 // Each work-item sums its few entries in float; the group's reduction and everything after it

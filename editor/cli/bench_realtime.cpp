@@ -232,7 +232,17 @@ struct Method {
     int threads = 1;
     int waveGrid = 0;  ///< fast path only: water samples per side of its grid (0: the default)
     int tileSize = 0;  ///< fast path only: entries per tile (0: the default)
+    double waveTolerance = -1;  ///< OpenCL only: OpenClOptions::waveTolerance (< 0: the default)
+    bool defaultKnobs() const { return waveGrid == 0 && tileSize == 0 && waveTolerance < 0; }
 };
+
+/// The backend a method names: the fast path with its knobs, or createBuoyancyBackend's spec.
+Result<std::unique_ptr<BuoyancyBackend>> backendFor(const Method& m, const FastBackendOptions& fast) {
+    if (m.spec.empty()) return std::unique_ptr<BuoyancyBackend>(createFastBackend(fast));
+    OpenClOptions openCl;
+    if (m.waveTolerance >= 0) openCl.waveTolerance = m.waveTolerance;
+    return createBuoyancyBackend(m.spec, nullptr, openCl);
+}
 
 void printRows(const std::vector<Row>& rows) {
     std::printf("%-14s %-7s %-22s %6s %6s %12s %12s %10s\n", "scenario", "mesh", "method", "size",
@@ -308,9 +318,17 @@ int runRealtimeBench(const RealtimeBenchOptions& o) {
     // closed forms being exact on flat water.
     for (int tile : {16, 64})
         methods.push_back({"fast CPU (tiles " + std::to_string(tile) + ")", "", 1, 0, tile});
-    for (const ComputeDevice& d : listComputeDevices())
-        methods.push_back({"OpenCL " + std::to_string(d.index) + (d.isGpu ? " GPU" : " CPU"),
-                           std::to_string(d.index), 1});
+    for (const ComputeDevice& d : listComputeDevices()) {
+        const std::string label = "OpenCL " + std::to_string(d.index) + (d.isGpu ? " GPU" : " CPU");
+        methods.push_back({label, std::to_string(d.index), 1});
+        // Its accuracy knob on waves (the default, OpenClOptions::waveTolerance, is the plain
+        // row): 0 sums every tile at the waterline entry by entry.
+        for (double tolerance : {0.0, 1e-2}) {
+            char name[64];
+            std::snprintf(name, sizeof name, "%s (wave tol %g)", label.c_str(), tolerance);
+            methods.push_back({name, std::to_string(d.index), 1, 0, 0, tolerance});
+        }
+    }
     std::vector<Case> cases;
     for (auto [name, mesh] : {std::pair{std::string("sphere"), makeUvSphere(0.5, 64, 32)},
                               std::pair{std::string("buoy"), makeBuoy()}}) {
@@ -377,13 +395,12 @@ int runRealtimeBench(const RealtimeBenchOptions& o) {
             });
             for (const Method& m : methods) {
                 if (!bodiesSelected(1) || !selected(o.methods, m.label, true)) continue;
-                if (m.waveGrid > 0 && s != Scenario::MovingWaves) continue;  // flat water has no grid
+                // Flat water has no grid, and no wave tolerance.
+                if ((m.waveGrid > 0 || m.waveTolerance >= 0) && s != Scenario::MovingWaves) continue;
                 for (int size : sizes) {
                     if (m.spec == "reference" && size > kReferenceMaxSize) continue;
                     Result<std::unique_ptr<BuoyancyBackend>> made =
-                        m.spec.empty()
-                            ? Result<std::unique_ptr<BuoyancyBackend>>(createFastBackend(fastOn(1, m.waveGrid, m.tileSize)))
-                            : createBuoyancyBackend(m.spec);
+                        backendFor(m, fastOn(1, m.waveGrid, m.tileSize));
                     if (!made) return fail(made.error());
                     BuoyancyBackend& backend = **made;
                     const std::size_t id = backend.addBody(baked[size], c.exact.centerOfMass);
@@ -405,7 +422,13 @@ int runRealtimeBench(const RealtimeBenchOptions& o) {
                     row.msPerFrame = row.usPerBody * 1e-3;
                     std::cerr << "bench: " << scenarioName(s) << " " << c.mesh << " " << m.label << " "
                               << size << "^2: " << row.usPerBody << " us";
-                    if (m.spec.empty() && m.waveGrid == 0 && m.tileSize == 0) {
+                    if (const TileCounts counts = backend.lastTileCounts(); counts.tiles > 0) {
+                        // Where the device's time goes: its tiles at the last pose.
+                        std::cerr << " (tiles " << counts.tiles << ": dry " << counts.dry
+                                  << ", closed form " << counts.closedForm << " (drag too "
+                                  << counts.dragClosedForm << "), per entry " << counts.perEntry() << ")";
+                    }
+                    if (m.spec.empty() && m.defaultKnobs()) {
                         // Where the fast path's time goes: its tiles at the first pose.
                         plimsoll_eval::FastScratch scratch;
                         plimsoll_eval::FastStats stats;
@@ -426,12 +449,11 @@ int runRealtimeBench(const RealtimeBenchOptions& o) {
                 if (!bodiesSelected(bodies)) continue;
                 std::vector<Method> batchMethods = {{"fast CPU, 1 thread", "", 1}, {"fast CPU, 2 threads", "", 2}};
                 for (const Method& m : methods)
-                    if (m.label.rfind("OpenCL", 0) == 0) batchMethods.push_back(m);
+                    if (m.label.rfind("OpenCL", 0) == 0 && m.defaultKnobs()) batchMethods.push_back(m);
                 for (const Method& m : batchMethods) {
                     if (!selected(o.methods, m.label, true)) continue;
                     Result<std::unique_ptr<BuoyancyBackend>> made =
-                        m.spec.empty() ? Result<std::unique_ptr<BuoyancyBackend>>(createFastBackend(fastOn(m.threads)))
-                                       : createBuoyancyBackend(m.spec);
+                        backendFor(m, fastOn(m.threads));
                     if (!made) return fail(made.error());
                     BuoyancyBackend& backend = **made;
                     std::vector<BodyRequest> requests(bodies);
