@@ -123,11 +123,15 @@ PL_INLINE float wetShare(float depth, float3 areaVector, float area) {
 }
 
 /// Tree reduction of the group's PL_SUM_SLOTS rows of `scratch` (one value per work-item
-/// each, already stored) into out[0 .. PL_SUM_SLOTS).
-PL_INLINE void reduceGroup(__local acc_t* scratch, uint lid, __global acc_t* out) {
+/// each, already stored) into out[0 .. PL_SUM_SLOTS). Where `onlyFirst` (uniform over the
+/// group) only work-item 0's row holds anything (it must be stored; the others need not be),
+/// and the adds are skipped; the barriers are not, so that every work-item runs the same
+/// barriers whatever the tile (PoCL 3.1 wrote past the partials where a group left by a
+/// uniform branch after a barrier).
+PL_INLINE void reduceGroup(__local acc_t* scratch, uint lid, __global acc_t* out, bool onlyFirst) {
     barrier(CLK_LOCAL_MEM_FENCE);
     for (uint stride = PL_WORKGROUP_SIZE / 2; stride > 0; stride >>= 1) {
-        if (lid < stride) {
+        if (!onlyFirst && lid < stride) {
             for (int s = 0; s < PL_SUM_SLOTS; ++s)
                 scratch[s * PL_WORKGROUP_SIZE + lid] += scratch[s * PL_WORKGROUP_SIZE + lid + stride];
         }
@@ -232,10 +236,11 @@ PL_INLINE float3 rotateToObject(const PlBody* body, float3 v) {
 ///   D0 = sum a d,  D1 = sum a s^T d,  E = sum a d^2 (less sum a (s^T K s)^2 / 4, fourth order),
 /// turned to world axes (W0 = R D0, W1 = R D1 R^T, WE = R E), give
 ///   V = -W0_y,  moments -(rt_x W0_y + W1_yx), -(rt_y W0_y + W1_yy + WE_y / 2), -(rt_z W0_y + W1_yz),
-///   F = -rho g W0,  T_i = -rho g (rt x W0 + eps_ijk W1_kj)_i.
+///   F = -rho g W0,  T = -rho g (rt x W0 + R xi),  xi_i = eps_ijk D1_kj = (sum d s x a)_i.
 /// Under flat water (g = H = 0) they are exact: the same numbers the loop sums, up to rounding.
 PL_INLINE void submergedTileFromMoments(const PlBody* body, __global const PlTileMoments* m,
-                                        float3 rt, const PlTileWater* w, float* sum) {
+                                        float3 rt, const PlTileWater* w, const bool curved,
+                                        float* sum) {
     float R[3][3];
     for (int i = 0; i < 3; ++i) {
         R[i][0] = body->rotation[i].x;
@@ -265,37 +270,42 @@ PL_INLINE void submergedTileFromMoments(const PlBody* body, __global const PlTil
                      secondMoment(m, i, j, 2) * beta[2];
             n2bb += n2b[j] * beta[j];
             float c = 0.0f;
-            for (int slot = 0; slot < 6; ++slot)
-                c += thirdMoment(m, i, j, PL_PAIR_FIRST[slot], PL_PAIR_SECOND[slot]) * Ks[slot];
+            if (curved)  // a literal at the call: flat water skips the third moments
+                for (int slot = 0; slot < 6; ++slot)
+                    c += thirdMoment(m, i, j, PL_PAIR_FIRST[slot], PL_PAIR_SECOND[slot]) * Ks[slot];
             n3K[j] = c;
             bn3K += beta[j] * c;
         }
-        for (int slot = 0; slot < 6; ++slot) n2K += m->second[6 * i + slot] * Ks[slot];
+        if (curved)
+            for (int slot = 0; slot < 6; ++slot) n2K += m->second[6 * i + slot] * Ks[slot];
         D0[i] = alpha * N0[i] + n1b + 0.5f * n2K;
         for (int j = 0; j < 3; ++j) D1[i][j] = alpha * N1[j] + n2b[j] + 0.5f * n3K[j];
         E[i] = alpha * alpha * N0[i] + 2.0f * alpha * n1b + n2bb + alpha * n2K + bn3K;
     }
-    float W0[3], WE[3], RD1[3][3], W1[3][3];
+    // World axes: W0 = R D0; of W1 = R D1 R^T only its y row, and its antisymmetric part through
+    // the axial vector, eps_ijk W1_kj = (R xi)_i with xi_i = eps_ijk D1_kj (sum d s x a).
+    float W0[3], RD1y[3], W1y[3], xi[3], Rxi[3];
     for (int i = 0; i < 3; ++i) {
         W0[i] = R[i][0] * D0[0] + R[i][1] * D0[1] + R[i][2] * D0[2];
-        WE[i] = R[i][0] * E[0] + R[i][1] * E[1] + R[i][2] * E[2];
-        for (int j = 0; j < 3; ++j) RD1[i][j] = R[i][0] * D1[0][j] + R[i][1] * D1[1][j] + R[i][2] * D1[2][j];
+        RD1y[i] = R[1][0] * D1[0][i] + R[1][1] * D1[1][i] + R[1][2] * D1[2][i];
+        const int j = (i + 1) % 3, k = (i + 2) % 3;
+        xi[i] = D1[k][j] - D1[j][k];
     }
-    for (int i = 0; i < 3; ++i)
-        for (int j = 0; j < 3; ++j)
-            W1[i][j] = RD1[i][0] * R[j][0] + RD1[i][1] * R[j][1] + RD1[i][2] * R[j][2];
+    for (int i = 0; i < 3; ++i) {
+        W1y[i] = RD1y[0] * R[i][0] + RD1y[1] * R[i][1] + RD1y[2] * R[i][2];
+        Rxi[i] = R[i][0] * xi[0] + R[i][1] * xi[1] + R[i][2] * xi[2];
+    }
+    const float WEy = R[1][0] * E[0] + R[1][1] * E[1] + R[1][2] * E[2];
     const float rhoG = body->fluid.x;
     const float r[3] = {rt.x, rt.y, rt.z};
     sum[PL_SUM_VOLUME] -= W0[1];
-    sum[PL_SUM_MOMENT + 0] -= r[0] * W0[1] + W1[1][0];
-    sum[PL_SUM_MOMENT + 1] -= r[1] * W0[1] + W1[1][1] + 0.5f * WE[1];
-    sum[PL_SUM_MOMENT + 2] -= r[2] * W0[1] + W1[1][2];
+    sum[PL_SUM_MOMENT + 0] -= r[0] * W0[1] + W1y[0];
+    sum[PL_SUM_MOMENT + 1] -= r[1] * W0[1] + W1y[1] + 0.5f * WEy;
+    sum[PL_SUM_MOMENT + 2] -= r[2] * W0[1] + W1y[2];
     for (int i = 0; i < 3; ++i) {
         const int j = (i + 1) % 3, k = (i + 2) % 3;
         sum[PL_SUM_PRESSURE_F + i] -= rhoG * W0[i];
-        // (rt x W0)_i + eps_ijk W1_kj, with eps_ijk X_kj = X_kj - X_jk for cyclic (i, j, k).
-        sum[PL_SUM_PRESSURE_T + i] -=
-            rhoG * (r[j] * W0[k] - r[k] * W0[j] + W1[k][j] - W1[j][k]);
+        sum[PL_SUM_PRESSURE_T + i] -= rhoG * (r[j] * W0[k] - r[k] * W0[j] + Rxi[i]);
     }
     sum[PL_SUM_WETTED_AREA] += m->sum.w;
     sum[PL_SUM_COUNT] += m->first[0].w;
@@ -494,6 +504,23 @@ PL_INLINE void buoyancyTiles(__global const float4* positions, __global const fl
         if (lid < PL_SUM_SLOTS) partial[lid] = lid == PL_SUM_TILES_DRY ? 1 : 0;
         return;
     }
+    // Wholly under still flat water: the tile's moments give every sum. The group leaves here,
+    // before any barrier, as the kernel did before waves had the scheme; the same return
+    // further down (after the tile was placed, with the tile's sums in `sum`) corrupted PoCL
+    // 3.1's heap, so only this case has it (rest at 1024^2 on PoCL: ... ms without it, 1.00 ms
+    // with every closed-form tile through the reduction's barriers).
+    if (waterModel == PL_WATER_FLAT && !withDrag && rt.y + rho < body.water.x) {
+        if (lid == 0) {
+            float tileSum[PL_SUM_SLOTS];
+            for (int s = 0; s < PL_SUM_SLOTS; ++s) tileSum[s] = 0.0f;
+            PlTileWater flat;
+            flat.f = body.water.x;
+            flat.gx = flat.gz = flat.hxx = flat.hxz = flat.hzz = flat.misfit = 0.0f;
+            submergedTileFromMoments(&body, &moments[tileIndex], rt, &flat, false, tileSum);
+            for (int s = 0; s < PL_SUM_SLOTS; ++s) partial[s] = tileSum[s];
+        }
+        return;
+    }
     PlTileWater w;
     bool quadraticHolds = true;
     if (waterModel == PL_WATER_FLAT) {
@@ -519,20 +546,32 @@ PL_INLINE void buoyancyTiles(__global const float4* positions, __global const fl
     if (dry && lid == 0) sum[PL_SUM_TILES_DRY] = 1.0f;
     if (submerged) {
         hydroPerEntry = false;
-        if (lid == 0) submergedTileFromMoments(&body, &moments[tileIndex], rt, &w, sum);
+        if (lid == 0) submergedTileFromMoments(&body, &moments[tileIndex], rt, &w,
+                                                     waterModel != PL_WATER_FLAT, sum);
         // Every work-item decides alike; work-item 0 alone adds the sums.
         if (withDrag && !(body.fluid.z > 0.0f))  // skin friction goes entry by entry
             dragPerEntry = !facingDragFromMoments(&body, &tile, &moments[tileIndex], rt, &w,
                                                   lid == 0, sum);
     }
-    if (hydroPerEntry || dragPerEntry)
+    // Literal flags where they are known (the entries of a tile at the waterline, and every
+    // tile of a still kernel): PoCL vectorises the loop over work-items only without the
+    // run-time branches.
+    if (!withDrag || (hydroPerEntry && dragPerEntry)) {
+        if (hydroPerEntry)
+            entrySums(positions, areaVectors, &tile, &body, waves, grid, gridCountX, gridCountZ,
+                      lid, waterModel, true, withDrag, sum);
+    } else if (dragPerEntry) {
         entrySums(positions, areaVectors, &tile, &body, waves, grid, gridCountX, gridCountZ,
-                  lid, waterModel, hydroPerEntry, dragPerEntry, sum);
+                  lid, waterModel, false, true, sum);
+    }
     // Every case after the water's barrier ends in the one reduction, work-item 0 holding the
-    // closed forms' sums: PoCL 3.1 wrote past the partials where the group left by a branch
-    // after that barrier (a return, or the reduction on one side only), uniform as it was.
-    for (int s = 0; s < PL_SUM_SLOTS; ++s) scratch[s * PL_WORKGROUP_SIZE + lid] = sum[s];
-    reduceGroup(scratch, lid, partial);
+    // closed forms' sums (alone, where no entry was visited): PoCL 3.1 wrote past the partials
+    // where the group left by a branch after that barrier (a return, or the reduction on one
+    // side only), uniform as it was.
+    const bool entries = hydroPerEntry || dragPerEntry;
+    if (entries || lid == 0)
+        for (int s = 0; s < PL_SUM_SLOTS; ++s) scratch[s * PL_WORKGROUP_SIZE + lid] = sum[s];
+    reduceGroup(scratch, lid, partial, !entries);
 }
 
 #define PL_TILES_KERNEL(name, model, drag)                                                   \
@@ -568,7 +607,7 @@ void reduce_bodies(__global const acc_t* partials, __global const PlBody* bodies
     for (uint t = body.tileBegin + lid; t < body.tileEnd; t += PL_WORKGROUP_SIZE)
         for (int s = 0; s < PL_SUM_SLOTS; ++s) sum[s] += partials[t * PL_SUM_SLOTS + s];
     for (int s = 0; s < PL_SUM_SLOTS; ++s) scratch[s * PL_WORKGROUP_SIZE + lid] = sum[s];
-    reduceGroup(scratch, lid, totals + bodyIndex * PL_SUM_SLOTS);
+    reduceGroup(scratch, lid, totals + bodyIndex * PL_SUM_SLOTS, false);
 }
 
 /// Plain copy, for measuring the device's memory bandwidth (plimsoll bench).
