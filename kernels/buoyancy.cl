@@ -84,22 +84,32 @@ PL_INLINE float surfaceHeight(const int waterModel, const PlBody* body,
     return level;
 }
 
-/// Orbital velocity of the water at r (Gerstner only), decaying below the mean level.
-PL_INLINE float3 waterVelocity(const int waterModel, const PlBody* body,
-                               __global const PlWave* waves, float3 r) {
-    float3 u = (float3)(0.0f, 0.0f, 0.0f);
-    if (waterModel != PL_WATER_GERSTNER) return u;
+/// The Gerstner surface's height above (r.x, r.z) and the water's orbital velocity at r
+/// (decaying below the mean level) with its derivative along y, from one solve for the
+/// undisplaced point: the height and velocity of one entry, or of one sample of a tile's water.
+PL_INLINE void gerstnerSample(const PlBody* body, __global const PlWave* waves, float3 r,
+                              float* height, float3* velocity, float3* velocityDy) {
     const float2 x0 = gerstnerUndisplaced(body, waves, r.xz);
+    float y = body->water.x;
+    float3 u = (float3)(0.0f, 0.0f, 0.0f), dudy = (float3)(0.0f, 0.0f, 0.0f);
+    const bool below = r.y < body->water.x;
     for (int w = 0; w < body->waveCount; ++w) {
         const PlWave wave = waves[body->waveBegin + w];
         const float2 d = (float2)(wave.directionX, wave.directionZ);
         const float theta = wave.wavenumber * dot(d, x0) + wave.phase;
+        float cosTheta;
+        const float sinTheta = sincos(theta, &cosTheta);
+        y += wave.amplitude * cosTheta;
         const float decay = exp(wave.wavenumber * fmin(0.0f, r.y - body->water.x));
-        const float horizontal = wave.q * wave.amplitude * wave.omega * cos(theta) * decay;
-        u += (float3)(horizontal * d.x, wave.amplitude * wave.omega * sin(theta) * decay,
-                      horizontal * d.y);
+        const float horizontal = wave.q * wave.amplitude * wave.omega * cosTheta * decay;
+        const float3 uw = (float3)(horizontal * d.x, wave.amplitude * wave.omega * sinTheta * decay,
+                                   horizontal * d.y);
+        u += uw;
+        if (below) dudy += wave.wavenumber * uw;
     }
-    return u;
+    *height = y;
+    *velocity = u;
+    *velocityDy = dudy;
 }
 
 /// Adds a vector to three consecutive slots of a work-item's sums.
@@ -159,7 +169,7 @@ PL_INLINE float thirdMoment(__global const PlTileMoments* m, int i, int j, int k
 /// quadratic f + g.x + x^T H x / 2 through the 3 x 3 heights at spacing rho (the tile's radius)
 /// about rt.xz, and how far that quadratic misses the true surface at 16 points between them;
 /// on Gerstner waves the water's velocity at rt and its gradient (central differences at
-/// +-rho/2), so that over the tile u(r) = u + J (r - rt).
+/// +-rho/2 across, the decay's derivative along y), so that over the tile u(r) = u + J (r - rt).
 typedef struct {
     float f, gx, gz, hxx, hxz, hzz;
     float misfit;
@@ -167,9 +177,10 @@ typedef struct {
     float3 J[3];  /* rows: J[i] = grad u_i */
 } PlTileWater;
 
-/// Work-items 0..24 sample the surface on a 5 x 5 grid at spacing rho/2 about rt.xz, 25..31 the
-/// velocity at rt and at +-rho/2 along each axis (Gerstner only): one round of the group, in
-/// parallel. After the barrier every work-item forms the same quadratic from the samples.
+/// Work-items 0..24 sample the surface on a 5 x 5 grid at spacing rho/2 about rt.xz, on Gerstner
+/// waves the water's velocity at the same points at the height of rt too (from the same solve;
+/// its y derivative at the centre in closed form): one round of the group, in parallel. After
+/// the barrier every work-item forms the same quadratic and velocity gradient from the samples.
 PL_INLINE PlTileWater sampleTileWater(const int waterModel, const PlBody* body,
                                       __global const PlWave* waves, __global const float* grid,
                                       int gridCountX, int gridCountZ, float3 rt, float rho,
@@ -177,18 +188,16 @@ PL_INLINE PlTileWater sampleTileWater(const int waterModel, const PlBody* body,
     const float halfStep = 0.5f * rho;
     if (lid < 25) {
         const float3 r = rt + (float3)(((int)(lid % 5) - 2) * halfStep, 0.0f, ((int)(lid / 5) - 2) * halfStep);
-        heights[lid] = surfaceHeight(waterModel, body, waves, grid, gridCountX, gridCountZ, r);
-    } else if (waterModel == PL_WATER_GERSTNER && lid < 32) {
-        const int k = (int)lid - 25;  // 0: centre; 1 + 2 axis (+ 1): -+ along axis
-        float3 r = rt;
-        if (k > 0) {
-            const float offset = (k % 2 == 1) ? -halfStep : halfStep;
-            const int axis = (k - 1) / 2;
-            if (axis == 0) r.x += offset;
-            else if (axis == 1) r.y += offset;
-            else r.z += offset;
+        if (waterModel == PL_WATER_GERSTNER) {
+            float height;
+            float3 u, dudy;
+            gerstnerSample(body, waves, r, &height, &u, &dudy);
+            heights[lid] = height;
+            velocities[lid] = (float4)(u, 0.0f);
+            if (lid == 12) velocities[25] = (float4)(dudy, 0.0f);
+        } else {
+            heights[lid] = surfaceHeight(waterModel, body, waves, grid, gridCountX, gridCountZ, r);
         }
-        velocities[k] = (float4)(waterVelocity(waterModel, body, waves, r), 0.0f);
     }
     barrier(CLK_LOCAL_MEM_FENCE);
     PlTileWater w;
@@ -213,10 +222,11 @@ PL_INLINE PlTileWater sampleTileWater(const int waterModel, const PlBody* body,
     w.u = (float3)(0.0f, 0.0f, 0.0f);
     for (int i = 0; i < 3; ++i) w.J[i] = (float3)(0.0f, 0.0f, 0.0f);
     if (waterModel == PL_WATER_GERSTNER) {
-        w.u = velocities[0].xyz;
-        const float3 dx = (velocities[2].xyz - velocities[1].xyz) * inverse;
-        const float3 dy = (velocities[4].xyz - velocities[3].xyz) * inverse;
-        const float3 dz = (velocities[6].xyz - velocities[5].xyz) * inverse;
+        // The samples at +-rho/2 along x (11, 13) and z (7, 17) about the centre (12).
+        w.u = velocities[12].xyz;
+        const float3 dx = (velocities[13].xyz - velocities[11].xyz) * inverse;
+        const float3 dy = velocities[25].xyz;
+        const float3 dz = (velocities[17].xyz - velocities[7].xyz) * inverse;
         w.J[0] = (float3)(dx.x, dy.x, dz.x);
         w.J[1] = (float3)(dx.y, dy.y, dz.y);
         w.J[2] = (float3)(dx.z, dy.z, dz.z);
@@ -435,7 +445,13 @@ PL_INLINE void entrySums(__global const float4* positions, __global const float4
         if (i >= tile->end) break;
         const float4 p = positions[i];
         const float3 r = rotateToWorld(body, p.xyz);
-        const float f = surfaceHeight(waterModel, body, waves, grid, gridCountX, gridCountZ, r);
+        // On Gerstner waves with drag the height and the water's velocity share one solve.
+        float f;
+        float3 waterVelocity = (float3)(0.0f, 0.0f, 0.0f), unused;
+        if (waterModel == PL_WATER_GERSTNER && dragSums)
+            gerstnerSample(body, waves, r, &f, &waterVelocity, &unused);
+        else
+            f = surfaceHeight(waterModel, body, waves, grid, gridCountX, gridCountZ, r);
         const float depth = f - r.y;
         const float3 a = rotateToWorld(body, areaVectors[i].xyz);
         const float wet = wetShare(depth, a, p.w);
@@ -456,8 +472,7 @@ PL_INLINE void entrySums(__global const float4* positions, __global const float4
         }
         if (!dragSums) continue;
         // Drag: pressure drag on the side facing the relative flow, optional skin friction.
-        const float3 v = body->velocity.xyz + cross(body->spin.xyz, r) -
-                         waterVelocity(waterModel, body, waves, r);
+        const float3 v = body->velocity.xyz + cross(body->spin.xyz, r) - waterVelocity;
         const float speed = length(v);
         float3 drag = (float3)(0.0f, 0.0f, 0.0f);
         if (speed > 0.0f) {
@@ -583,7 +598,7 @@ PL_INLINE void buoyancyTiles(__global const float4* positions, __global const fl
         int gridCountZ, __global acc_t* partials) {                                              \
         __local acc_t scratch[PL_SUM_SLOTS * PL_WORKGROUP_SIZE];                                 \
         __local float heights[25];                                                               \
-        __local float4 velocities[7];                                                            \
+        __local float4 velocities[26];                                                            \
         buoyancyTiles(positions, areaVectors, tiles, moments, bodies, waves, grid, gridCountX,  \
                       gridCountZ, partials, scratch, heights, velocities, model, drag);         \
     }
