@@ -177,6 +177,16 @@ typedef struct {
     float3 J[3];  /* rows: J[i] = grad u_i */
 } PlTileWater;
 
+/// Still flat water at `level` over a tile: exact.
+PL_INLINE PlTileWater flatTileWater(float level) {
+    PlTileWater w;
+    w.f = level;
+    w.gx = w.gz = w.hxx = w.hxz = w.hzz = w.misfit = 0.0f;
+    w.u = (float3)(0.0f, 0.0f, 0.0f);
+    for (int i = 0; i < 3; ++i) w.J[i] = (float3)(0.0f, 0.0f, 0.0f);
+    return w;
+}
+
 /// Work-items 0..24 sample the surface on a 5 x 5 grid at spacing rho/2 about rt.xz, on Gerstner
 /// waves the water's velocity at the same points at the height of rt too (from the same solve;
 /// its y derivative at the centre in closed form): one round of the group, in parallel. After
@@ -528,22 +538,15 @@ PL_INLINE void buoyancyTiles(__global const float4* positions, __global const fl
         if (lid == 0) {
             float tileSum[PL_SUM_SLOTS];
             for (int s = 0; s < PL_SUM_SLOTS; ++s) tileSum[s] = 0.0f;
-            PlTileWater flat;
-            flat.f = body.water.x;
-            flat.gx = flat.gz = flat.hxx = flat.hxz = flat.hzz = flat.misfit = 0.0f;
+            const PlTileWater flat = flatTileWater(body.water.x);
             submergedTileFromMoments(&body, &moments[tileIndex], rt, &flat, false, tileSum);
             for (int s = 0; s < PL_SUM_SLOTS; ++s) partial[s] = tileSum[s];
         }
         return;
     }
-    PlTileWater w;
+    PlTileWater w = flatTileWater(body.water.x);
     bool quadraticHolds = true;
-    if (waterModel == PL_WATER_FLAT) {
-        w.f = body.water.x;
-        w.gx = w.gz = w.hxx = w.hxz = w.hzz = w.misfit = 0.0f;
-        w.u = (float3)(0.0f, 0.0f, 0.0f);
-        for (int i = 0; i < 3; ++i) w.J[i] = (float3)(0.0f, 0.0f, 0.0f);
-    } else {
+    if (waterModel != PL_WATER_FLAT) {
         w = sampleTileWater(waterModel, &body, waves, grid, gridCountX, gridCountZ, rt, rho, lid,
                             heights, velocities);
         quadraticHolds = body.water.z > 0.0f && w.misfit <= body.water.z;

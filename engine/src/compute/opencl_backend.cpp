@@ -549,8 +549,8 @@ private:
         return order;
     }
 
-    /// The moments of the given entries' area vectors about `centre` (world units, the same
-    /// frame as textures.position), in double, rounded once: PlTileMoments.
+    /// The moments of the given entries' area vectors about `centre` (object space, as
+    /// textures.position), in double, rounded once: PlTileMoments.
     static gpu::PlTileMoments momentsOf(const SurfaceTextures& textures,
                                         const Eigen::Vector3d& centre,
                                         std::span<const std::uint32_t> entries) {
