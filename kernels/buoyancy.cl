@@ -49,41 +49,6 @@ PL_INLINE float2 gerstnerUndisplaced(const PlBody* body, __global const PlWave* 
     return x0;
 }
 
-/// Surface height above (r.x, r.z), relative to the body's centre of mass. `waterModel` is a
-/// literal at every call, so each kernel variant keeps only its own branch.
-PL_INLINE float surfaceHeight(const int waterModel, const PlBody* body,
-                              __global const PlWave* waves, __global const float* grid,
-                              int gridCountX, int gridCountZ, float3 r) {
-    const float level = body->water.x;
-    if (waterModel == PL_WATER_GERSTNER) {
-        const float2 x0 = gerstnerUndisplaced(body, waves, r.xz);
-        float y = level;
-        for (int w = 0; w < body->waveCount; ++w) {
-            const PlWave wave = waves[body->waveBegin + w];
-            const float2 d = (float2)(wave.directionX, wave.directionZ);
-            y += wave.amplitude * cos(wave.wavenumber * dot(d, x0) + wave.phase);
-        }
-        return y;
-    }
-    if (waterModel == PL_WATER_HEIGHTFIELD) {
-        // Cell coordinates as an integer cell of c plus a small float offset: exact far away.
-        const float gx = body->grid.x + r.x * body->grid.z;
-        const float gz = body->grid.y + r.z * body->grid.z;
-        const float cx = floor(gx), cz = floor(gz);
-        const float fx = gx - cx, fz = gz - cz;
-        const int i0 = clamp(body->gridCellX + (int)cx, 0, gridCountX - 1);
-        const int i1 = clamp(body->gridCellX + (int)cx + 1, 0, gridCountX - 1);
-        const int j0 = clamp(body->gridCellZ + (int)cz, 0, gridCountZ - 1);
-        const int j1 = clamp(body->gridCellZ + (int)cz + 1, 0, gridCountZ - 1);
-        const float h = (1.0f - fz) * ((1.0f - fx) * grid[j0 * gridCountX + i0] +
-                                       fx * grid[j0 * gridCountX + i1]) +
-                        fz * ((1.0f - fx) * grid[j1 * gridCountX + i0] +
-                              fx * grid[j1 * gridCountX + i1]);
-        return level + h;
-    }
-    return level;
-}
-
 /// The Gerstner surface's height above (r.x, r.z) and the water's orbital velocity at r
 /// (decaying below the mean level) with its derivative along y, from one solve for the
 /// undisplaced point: the height and velocity of one entry, or of one sample of a tile's water.
@@ -110,6 +75,37 @@ PL_INLINE void gerstnerSample(const PlBody* body, __global const PlWave* waves, 
     *height = y;
     *velocity = u;
     *velocityDy = dudy;
+}
+
+/// Surface height above (r.x, r.z), relative to the body's centre of mass. `waterModel` is a
+/// literal at every call, so each kernel variant keeps only its own branch.
+PL_INLINE float surfaceHeight(const int waterModel, const PlBody* body,
+                              __global const PlWave* waves, __global const float* grid,
+                              int gridCountX, int gridCountZ, float3 r) {
+    const float level = body->water.x;
+    if (waterModel == PL_WATER_GERSTNER) {  // the velocity, unused, is compiled away
+        float y;
+        float3 unusedVelocity, unusedDy;
+        gerstnerSample(body, waves, r, &y, &unusedVelocity, &unusedDy);
+        return y;
+    }
+    if (waterModel == PL_WATER_HEIGHTFIELD) {
+        // Cell coordinates as an integer cell of c plus a small float offset: exact far away.
+        const float gx = body->grid.x + r.x * body->grid.z;
+        const float gz = body->grid.y + r.z * body->grid.z;
+        const float cx = floor(gx), cz = floor(gz);
+        const float fx = gx - cx, fz = gz - cz;
+        const int i0 = clamp(body->gridCellX + (int)cx, 0, gridCountX - 1);
+        const int i1 = clamp(body->gridCellX + (int)cx + 1, 0, gridCountX - 1);
+        const int j0 = clamp(body->gridCellZ + (int)cz, 0, gridCountZ - 1);
+        const int j1 = clamp(body->gridCellZ + (int)cz + 1, 0, gridCountZ - 1);
+        const float h = (1.0f - fz) * ((1.0f - fx) * grid[j0 * gridCountX + i0] +
+                                       fx * grid[j0 * gridCountX + i1]) +
+                        fz * ((1.0f - fx) * grid[j1 * gridCountX + i0] +
+                              fx * grid[j1 * gridCountX + i1]);
+        return level + h;
+    }
+    return level;
 }
 
 /// Adds a vector to three consecutive slots of a work-item's sums.
@@ -210,7 +206,7 @@ PL_INLINE PlTileWater sampleTileWater(const int waterModel, const PlBody* body,
         }
     }
     barrier(CLK_LOCAL_MEM_FENCE);
-    PlTileWater w;
+    PlTileWater w = flatTileWater(0.0f);  // still water unless Gerstner (below)
 #define PL_H(i, j) heights[(2 + (j)) * 5 + 2 + (i)]
     const float inverse = 1.0f / rho, inverse2 = inverse * inverse;
     w.f = PL_H(0, 0);
@@ -229,8 +225,6 @@ PL_INLINE PlTileWater sampleTileWater(const int waterModel, const PlBody* body,
         }
 #undef PL_H
     w.misfit = misfit;
-    w.u = (float3)(0.0f, 0.0f, 0.0f);
-    for (int i = 0; i < 3; ++i) w.J[i] = (float3)(0.0f, 0.0f, 0.0f);
     if (waterModel == PL_WATER_GERSTNER) {
         // The samples at +-rho/2 along x (11, 13) and z (7, 17) about the centre (12).
         w.u = velocities[12].xyz;
@@ -242,6 +236,15 @@ PL_INLINE PlTileWater sampleTileWater(const int waterModel, const PlBody* body,
         w.J[2] = (float3)(dx.z, dy.z, dz.z);
     }
     return w;
+}
+
+/// R (object -> world) as a matrix, from its rows in body->rotation.
+PL_INLINE void rotationOf(const PlBody* body, float R[3][3]) {
+    for (int i = 0; i < 3; ++i) {
+        R[i][0] = body->rotation[i].x;
+        R[i][1] = body->rotation[i].y;
+        R[i][2] = body->rotation[i].z;
+    }
 }
 
 /// R^T v (world -> object) with R's rows in body->rotation.
@@ -262,11 +265,7 @@ PL_INLINE void submergedTileFromMoments(const PlBody* body, __global const PlTil
                                         float3 rt, const PlTileWater* w, const bool curved,
                                         float* sum) {
     float R[3][3];
-    for (int i = 0; i < 3; ++i) {
-        R[i][0] = body->rotation[i].x;
-        R[i][1] = body->rotation[i].y;
-        R[i][2] = body->rotation[i].z;
-    }
+    rotationOf(body, R);
     const float alpha = w->f - rt.y;
     const float3 beta3 = rotateToObject(body, (float3)(w->gx, -1.0f, w->gz));
     const float beta[3] = {beta3.x, beta3.y, beta3.z};
@@ -304,29 +303,21 @@ PL_INLINE void submergedTileFromMoments(const PlBody* body, __global const PlTil
     }
     // World axes: W0 = R D0; of W1 = R D1 R^T only its y row, and its antisymmetric part through
     // the axial vector, eps_ijk W1_kj = (R xi)_i with xi_i = eps_ijk D1_kj (sum d s x a).
-    float W0[3], RD1y[3], W1y[3], xi[3], Rxi[3];
-    for (int i = 0; i < 3; ++i) {
-        W0[i] = R[i][0] * D0[0] + R[i][1] * D0[1] + R[i][2] * D0[2];
-        RD1y[i] = R[1][0] * D1[0][i] + R[1][1] * D1[1][i] + R[1][2] * D1[2][i];
-        const int j = (i + 1) % 3, k = (i + 2) % 3;
-        xi[i] = D1[k][j] - D1[j][k];
-    }
-    for (int i = 0; i < 3; ++i) {
-        W1y[i] = RD1y[0] * R[i][0] + RD1y[1] * R[i][1] + RD1y[2] * R[i][2];
-        Rxi[i] = R[i][0] * xi[0] + R[i][1] * xi[1] + R[i][2] * xi[2];
-    }
-    const float WEy = R[1][0] * E[0] + R[1][1] * E[1] + R[1][2] * E[2];
+    const float3 yRow = body->rotation[1].xyz;
+    const float3 W0 = rotateToWorld(body, (float3)(D0[0], D0[1], D0[2]));
+    const float3 RD1y = yRow.x * (float3)(D1[0][0], D1[0][1], D1[0][2]) +
+                        yRow.y * (float3)(D1[1][0], D1[1][1], D1[1][2]) +
+                        yRow.z * (float3)(D1[2][0], D1[2][1], D1[2][2]);
+    const float3 W1y = rotateToWorld(body, RD1y);
+    const float3 xi = (float3)(D1[2][1] - D1[1][2], D1[0][2] - D1[2][0], D1[1][0] - D1[0][1]);
+    const float WEy = dot(yRow, (float3)(E[0], E[1], E[2]));
     const float rhoG = body->fluid.x;
-    const float r[3] = {rt.x, rt.y, rt.z};
-    sum[PL_SUM_VOLUME] -= W0[1];
-    sum[PL_SUM_MOMENT + 0] -= r[0] * W0[1] + W1y[0];
-    sum[PL_SUM_MOMENT + 1] -= r[1] * W0[1] + W1y[1] + 0.5f * WEy;
-    sum[PL_SUM_MOMENT + 2] -= r[2] * W0[1] + W1y[2];
-    for (int i = 0; i < 3; ++i) {
-        const int j = (i + 1) % 3, k = (i + 2) % 3;
-        sum[PL_SUM_PRESSURE_F + i] -= rhoG * W0[i];
-        sum[PL_SUM_PRESSURE_T + i] -= rhoG * (r[j] * W0[k] - r[k] * W0[j] + Rxi[i]);
-    }
+    sum[PL_SUM_VOLUME] -= W0.y;
+    sum[PL_SUM_MOMENT + 0] -= rt.x * W0.y + W1y.x;
+    sum[PL_SUM_MOMENT + 1] -= rt.y * W0.y + W1y.y + 0.5f * WEy;
+    sum[PL_SUM_MOMENT + 2] -= rt.z * W0.y + W1y.z;
+    addVector(sum, PL_SUM_PRESSURE_F, -rhoG * W0);
+    addVector(sum, PL_SUM_PRESSURE_T, -rhoG * (cross(rt, W0) + rotateToWorld(body, xi)));
     sum[PL_SUM_WETTED_AREA] += m->sum.w;
     sum[PL_SUM_COUNT] += m->first[0].w;
     sum[PL_SUM_TILES_CLOSED] += 1.0f;
@@ -355,11 +346,7 @@ PL_INLINE bool facingDragFromMoments(const PlBody* body, const PlTile* tile,
                          (float3)(spin.z, 0.0f, -spin.x) - w->J[1],
                          (float3)(-spin.y, spin.x, 0.0f) - w->J[2]};
     float R[3][3];
-    for (int i = 0; i < 3; ++i) {
-        R[i][0] = body->rotation[i].x;
-        R[i][1] = body->rotation[i].y;
-        R[i][2] = body->rotation[i].z;
-    }
+    rotationOf(body, R);
     float LR[3][3], B[3][3];
     for (int i = 0; i < 3; ++i) {
         const float Li[3] = {L[i].x, L[i].y, L[i].z};
@@ -429,12 +416,8 @@ PL_INLINE bool facingDragFromMoments(const PlBody* body, const PlTile* tile,
         const int j = (i + 1) % 3, l = (i + 2) % 3;
         to[i] = -k * (Y[j][l] - Y[l][j]);
     }
-    const float3 F = (float3)(R[0][0] * Fo[0] + R[0][1] * Fo[1] + R[0][2] * Fo[2],
-                              R[1][0] * Fo[0] + R[1][1] * Fo[1] + R[1][2] * Fo[2],
-                              R[2][0] * Fo[0] + R[2][1] * Fo[1] + R[2][2] * Fo[2]);
-    const float3 T = cross(rt, F) + (float3)(R[0][0] * to[0] + R[0][1] * to[1] + R[0][2] * to[2],
-                                             R[1][0] * to[0] + R[1][1] * to[1] + R[1][2] * to[2],
-                                             R[2][0] * to[0] + R[2][1] * to[1] + R[2][2] * to[2]);
+    const float3 F = rotateToWorld(body, (float3)(Fo[0], Fo[1], Fo[2]));
+    const float3 T = cross(rt, F) + rotateToWorld(body, (float3)(to[0], to[1], to[2]));
     addVector(sum, PL_SUM_DRAG_F, F);
     addVector(sum, PL_SUM_DRAG_T, T);
     return true;
@@ -533,7 +516,8 @@ PL_INLINE void buoyancyTiles(__global const float4* positions, __global const fl
     // before any barrier, as the kernel did before waves had the scheme; the same return
     // further down (after the tile was placed, with the tile's sums in `sum`) corrupted PoCL
     // 3.1's heap, so only this case has it (sphere at rest at 1024^2 on PoCL, 474 tiles in
-    // closed form: 0.95 ms a call with it, 1.08 ms with them all through the reduction).
+    // closed form: 0.95 ms a call with it, 1.08 ms with them all through the reduction, both
+    // before the closed form took its world sums as float3 rotations).
     if (waterModel == PL_WATER_FLAT && !withDrag && rt.y + rho < body.water.x) {
         if (lid == 0) {
             float tileSum[PL_SUM_SLOTS];
@@ -571,17 +555,9 @@ PL_INLINE void buoyancyTiles(__global const float4* positions, __global const fl
             dragPerEntry = !facingDragFromMoments(&body, &tile, &moments[tileIndex], rt, &w,
                                                   lid == 0, sum);
     }
-    // Literal flags where they are known (the entries of a tile at the waterline, and every
-    // tile of a still kernel): PoCL vectorises the loop over work-items only without the
-    // run-time branches.
-    if (!withDrag || (hydroPerEntry && dragPerEntry)) {
-        if (hydroPerEntry)
-            entrySums(positions, areaVectors, &tile, &body, waves, grid, gridCountX, gridCountZ,
-                      lid, waterModel, true, withDrag, sum);
-    } else if (dragPerEntry) {
+    if (hydroPerEntry || dragPerEntry)
         entrySums(positions, areaVectors, &tile, &body, waves, grid, gridCountX, gridCountZ,
-                  lid, waterModel, false, true, sum);
-    }
+                  lid, waterModel, hydroPerEntry, dragPerEntry, sum);
     // Every case after the water's barrier ends in the one reduction, work-item 0 holding the
     // closed forms' sums (alone, where no entry was visited): PoCL 3.1 wrote past the partials
     // where the group left by a branch after that barrier (a return, or the reduction on one

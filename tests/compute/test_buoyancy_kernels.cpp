@@ -276,8 +276,8 @@ TEST(BuoyancyKernels, ABatchGivesWhatSeparateCallsGive) {
     }
 }
 
-/// A sphere of 512^2 texels (about 200 tiles on the device) moving and spinning, its centre at
-/// `depth` under the mean level.
+/// The request for body `id`, moving and spinning, its centre `depth` under the mean level,
+/// turned differently for each `trial`.
 BodyRequest movingRequest(std::size_t id, const Body& body, double depth, int trial) {
     BodyRequest request;
     request.body = id;
@@ -296,7 +296,7 @@ BodyRequest movingRequest(std::size_t id, const Body& body, double depth, int tr
 TEST(BuoyancyKernels, TilesUnderFlatWaterTakeExactClosedForms) {
     auto backends = test::openClBackends();
     if (backends.empty()) GTEST_SKIP() << test::noOpenClDeviceReason();
-    const Body sphere = makeBody(makeUvSphere(0.5, 48, 24), 512);
+    const Body sphere = makeBody(makeUvSphere(0.5, 48, 24), 512);  // 256 tiles on the device
     const double speed = 1.3 + 0.9 * 0.5 + 1.0;
     for (auto& backend : backends) {
         SCOPED_TRACE(backend->deviceName());

@@ -7,6 +7,7 @@
 
 #include "physics/buoyancy_sums.h"
 #include "plimsoll_shared.h"
+#include "plimsoll_eval/fast.hpp"  // kPair, kTriple: PlTileMoments' slots
 
 #include <CL/opencl.hpp>
 
@@ -562,12 +563,12 @@ private:
             area += textures.area[e];
             for (int i = 0; i < 3; ++i) {
                 n0[i] += a[i];
-                int pair = 0, triple = 0;
                 for (int j = 0; j < 3; ++j) {
                     n1[i][j] += a[i] * s[j];
                     for (int k = j; k < 3; ++k) {
-                        n2[i][pair++] += a[i] * s[j] * s[k];
-                        for (int l = k; l < 3; ++l) n3[i][triple++] += a[i] * s[j] * s[k] * s[l];
+                        n2[i][plimsoll_eval::kPair[j][k]] += a[i] * s[j] * s[k];
+                        for (int l = k; l < 3; ++l)
+                            n3[i][plimsoll_eval::kTriple[j][k][l]] += a[i] * s[j] * s[k] * s[l];
                     }
                 }
             }
