@@ -516,8 +516,7 @@ PL_INLINE void buoyancyTiles(__global const float4* positions, __global const fl
     // before any barrier, as the kernel did before waves had the scheme; the same return
     // further down (after the tile was placed, with the tile's sums in `sum`) corrupted PoCL
     // 3.1's heap, so only this case has it (sphere at rest at 1024^2 on PoCL, 474 tiles in
-    // closed form: 0.95 ms a call with it, 1.08 ms with them all through the reduction, both
-    // before the closed form took its world sums as float3 rotations).
+    // closed form: 0.77 ms a call with it, 0.93-1.31 ms with them all through the reduction).
     if (waterModel == PL_WATER_FLAT && !withDrag && rt.y + rho < body.water.x) {
         if (lid == 0) {
             float tileSum[PL_SUM_SLOTS];
