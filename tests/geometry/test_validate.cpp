@@ -2,6 +2,7 @@
 // problems, and the shared public meshes with their known defects.
 #include "plimsoll/io/mesh_io.h"
 #include "plimsoll/geometry/validate.h"
+#include "geometry/uv_clip.h"
 
 #include <gtest/gtest.h>
 
@@ -349,6 +350,30 @@ TEST(Validate, UvOverlapAreaIsExact) {
     moveFaceUvs(cube, 5, 0, {kChart / 2, 0});
     const Problem problem = only(validateMesh(cube), ProblemKind::UvOverlap);
     EXPECT_NE(problem.message.find("8.33%"), std::string::npos) << problem.message;
+}
+
+TEST(UvClip, CornersWithinRoundingOfAClipLineKeepTheExactArea) {
+    // Found by fuzz_validate: two corners of the clip triangle sit at y = 3e-294 and 3e-289,
+    // where the orientation products underflow. The clip then crosses the same line several
+    // times and the polygon grows past the six vertices that exact arithmetic allows (seven
+    // here; it used to write past its array). Its area must be that of the same clip with
+    // those y set to exactly 0, the perturbation being far below rounding, either way round.
+    const auto triangle = [](Eigen::Vector2d a, Eigen::Vector2d b, Eigen::Vector2d c) {
+        uvclip::UvTriangle t;
+        t.corners = {a, b, c};
+        if (uvclip::orient(a, b, c) < 0) std::swap(t.corners[1], t.corners[2]);
+        for (const auto& p : t.corners) t.box.extend(p);
+        return t;
+    };
+    const uvclip::UvTriangle subject = triangle({-1.0, 1.5}, {-0.5, 0.0}, {0.0, 1.0});
+    const uvclip::UvTriangle nearlyFlat =
+        triangle({0.5, 2.5}, {-0.5, 3.133809643456172e-294}, {-1.0, 2.821876933372013e-289});
+    const uvclip::UvTriangle flat = triangle({0.5, 2.5}, {-0.5, 0.0}, {-1.0, 0.0});
+    const double reference = uvclip::intersectionArea(subject, flat);
+    EXPECT_GT(reference, 0.25);
+    EXPECT_NEAR(uvclip::intersectionArea(subject, nearlyFlat), reference, 1e-12);
+    EXPECT_NEAR(uvclip::intersectionArea(nearlyFlat, subject), reference, 1e-12);
+    EXPECT_NEAR(uvclip::intersectionArea(flat, subject), reference, 1e-12);
 }
 
 TEST(Validate, UvFoldOverInsideAnIslandIsOverlapNotMirroring) {

@@ -17,9 +17,14 @@ inline double orient(const Point2& a, const Point2& b, const Point2& c) {
     return ab.x() * ac.y() - ab.y() * ac.x();
 }
 
-// A triangle clipped by three half-planes gains at most one vertex per plane.
+// In exact arithmetic a triangle clipped by three half-planes gains at most one vertex per
+// plane. In floating point it can gain more: where corners lie within rounding of a clip line
+// (degenerate or nearly collinear triangles), the orientation signs along the polygon can change
+// more than twice, and each crossing adds a vertex. One clip emits at most two points per input
+// vertex (the vertex and one crossing), so three clips of a triangle stay within 3 * 2^3.
 struct ClipPolygon {
-    std::array<Point2, 6> points;
+    static constexpr int kCapacity = 24;
+    std::array<Point2, kCapacity> points;
     int size = 0;
     void push(const Point2& p) { points[static_cast<std::size_t>(size++)] = p; }
 };
