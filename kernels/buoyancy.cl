@@ -10,7 +10,7 @@
 // other tile is placed against the water over it (exact on flat water; a quadratic sampled by
 // the group on waves): dry, wholly wet (summed from its moments by one work-item), or at the
 // waterline (buoyancyTiles). Each work-item accumulates its entries in float, then the group
-// reduces all slots at once in local memory and writes one partial.
+// reduces all slots at once in local memory (reduceGroup) and writes one partial.
 // Launch 2, reduce_bodies: one work-group per body sums that body's tile partials.
 
 // Each work-item sums its few entries in float; the group's reduction and everything after it
@@ -128,22 +128,44 @@ PL_INLINE float wetShare(float depth, float3 areaVector, float area) {
     return clamp(0.5f + depth / extent, 0.0f, 1.0f);
 }
 
-/// Tree reduction of the group's PL_SUM_SLOTS rows of `scratch` (one value per work-item
-/// each, already stored) into out[0 .. PL_SUM_SLOTS). Where `onlyFirst` (uniform over the
+/// Work-items that take part in summing the slots: PL_SLOT_PARTS of them per slot. Work-item j
+/// sums slot j % PL_SUM_SLOTS of every PL_SLOT_PARTS-th row from row j / PL_SUM_SLOTS, so the
+/// first stage runs on PL_SLOT_PARTS x PL_SUM_SLOTS work-items at once, reading consecutive
+/// addresses, and the second adds PL_SLOT_PARTS values per slot: two local barriers where a
+/// tree over the work-items takes log2(PL_WORKGROUP_SIZE) + 1.
+#define PL_SLOT_PARTS (PL_WORKGROUP_SIZE / PL_SUM_SLOTS)
+#define PL_SLOT_WORKERS (PL_SLOT_PARTS * PL_SUM_SLOTS)
+
+/// Adds each summing work-item's `part` (its share of slot lid % PL_SUM_SLOTS) into
+/// out[0 .. PL_SUM_SLOTS), through scratch[0 .. PL_SLOT_WORKERS). Called by every work-item of
+/// the group, after a barrier that ends every read of scratch.
+PL_INLINE void addSlotParts(__local acc_t* scratch, uint lid, acc_t part, __global acc_t* out) {
+    if (lid < PL_SLOT_WORKERS) scratch[lid] = part;
+    barrier(CLK_LOCAL_MEM_FENCE);
+    if (lid < PL_SUM_SLOTS) {
+        acc_t total = 0;
+        for (uint q = 0; q < PL_SLOT_PARTS; ++q) total += scratch[q * PL_SUM_SLOTS + lid];
+        out[lid] = total;
+    }
+}
+
+/// Reduction of the group's rows of sums (scratch[row * PL_SUM_SLOTS + slot], one row per
+/// work-item, already stored) into out[0 .. PL_SUM_SLOTS). Where `onlyFirst` (uniform over the
 /// group) only work-item 0's row holds anything (it must be stored; the others need not be),
-/// and the adds are skipped; the barriers are not, so that every work-item runs the same
-/// barriers whatever the tile (PoCL 3.1 wrote past the partials where a group left by a
+/// and only that row is read; the barriers are not skipped, so that every work-item runs the
+/// same barriers whatever the tile (PoCL 3.1 wrote past the partials where a group left by a
 /// uniform branch after a barrier).
 PL_INLINE void reduceGroup(__local acc_t* scratch, uint lid, __global acc_t* out, bool onlyFirst) {
     barrier(CLK_LOCAL_MEM_FENCE);
-    for (uint stride = PL_WORKGROUP_SIZE / 2; stride > 0; stride >>= 1) {
-        if (!onlyFirst && lid < stride) {
-            for (int s = 0; s < PL_SUM_SLOTS; ++s)
-                scratch[s * PL_WORKGROUP_SIZE + lid] += scratch[s * PL_WORKGROUP_SIZE + lid + stride];
-        }
-        barrier(CLK_LOCAL_MEM_FENCE);
+    acc_t part = 0;
+    if (lid < PL_SLOT_WORKERS) {
+        const uint slot = lid % PL_SUM_SLOTS;
+        const uint rows = onlyFirst ? 1 : PL_WORKGROUP_SIZE;
+        for (uint row = lid / PL_SUM_SLOTS; row < rows; row += PL_SLOT_PARTS)
+            part += scratch[row * PL_SUM_SLOTS + slot];
     }
-    if (lid < PL_SUM_SLOTS) out[lid] = scratch[lid * PL_WORKGROUP_SIZE];
+    barrier(CLK_LOCAL_MEM_FENCE);
+    addSlotParts(scratch, lid, part, out);
 }
 
 /// Slots of the symmetric index pairs and triples in PlTileMoments (plimsoll_shared.h).
@@ -563,7 +585,7 @@ PL_INLINE void buoyancyTiles(__global const float4* positions, __global const fl
     // side only), uniform as it was.
     const bool entries = hydroPerEntry || dragPerEntry;
     if (entries || lid == 0)
-        for (int s = 0; s < PL_SUM_SLOTS; ++s) scratch[s * PL_WORKGROUP_SIZE + lid] = sum[s];
+        for (int s = 0; s < PL_SUM_SLOTS; ++s) scratch[lid * PL_SUM_SLOTS + s] = sum[s];
     reduceGroup(scratch, lid, partial, !entries);
 }
 
@@ -588,19 +610,23 @@ PL_TILES_KERNEL(buoyancy_tiles_gerstner_still, PL_WATER_GERSTNER, 0)
 PL_TILES_KERNEL(buoyancy_tiles_heightfield, PL_WATER_HEIGHTFIELD, 1)
 PL_TILES_KERNEL(buoyancy_tiles_heightfield_still, PL_WATER_HEIGHTFIELD, 0)
 
+/// The body's tile partials lie one after another (tile-major, PL_SUM_SLOTS each), so the
+/// summing work-items walk them in strides of PL_SLOT_WORKERS, a multiple of PL_SUM_SLOTS: each
+/// stays on its slot and together they read consecutive addresses.
 __kernel __attribute__((reqd_work_group_size(PL_WORKGROUP_SIZE, 1, 1)))
 void reduce_bodies(__global const acc_t* partials, __global const PlBody* bodies,
                    __global acc_t* totals) {
-    __local acc_t scratch[PL_SUM_SLOTS * PL_WORKGROUP_SIZE];
+    __local acc_t scratch[PL_SLOT_WORKERS];
     const uint bodyIndex = get_group_id(0);
     const uint lid = get_local_id(0);
     const PlBody body = bodies[bodyIndex];
-    acc_t sum[PL_SUM_SLOTS];
-    for (int s = 0; s < PL_SUM_SLOTS; ++s) sum[s] = 0;
-    for (uint t = body.tileBegin + lid; t < body.tileEnd; t += PL_WORKGROUP_SIZE)
-        for (int s = 0; s < PL_SUM_SLOTS; ++s) sum[s] += partials[t * PL_SUM_SLOTS + s];
-    for (int s = 0; s < PL_SUM_SLOTS; ++s) scratch[s * PL_WORKGROUP_SIZE + lid] = sum[s];
-    reduceGroup(scratch, lid, totals + bodyIndex * PL_SUM_SLOTS, false);
+    acc_t part = 0;
+    if (lid < PL_SLOT_WORKERS) {
+        const uint end = body.tileEnd * PL_SUM_SLOTS;
+        for (uint i = body.tileBegin * PL_SUM_SLOTS + lid; i < end; i += PL_SLOT_WORKERS)
+            part += partials[i];
+    }
+    addSlotParts(scratch, lid, part, totals + bodyIndex * PL_SUM_SLOTS);
 }
 
 /// Plain copy, for measuring the device's memory bandwidth (plimsoll bench).

@@ -7,6 +7,8 @@
 # $OUT (or device_out/): accuracy/bench.csv, realtime/realtime.csv, and one log per bench.
 # A copy of ../shared/meshes/spot.obj at build-device/spot.obj (device-prepare.sh makes it; the
 # shared folder does not travel) is benchmarked beside the sphere.
+# BIN names another build of the CLI (default build-device/editor/plimsoll), METHODS the
+# realtime bench's methods (default "OpenCL,fast CPU").
 #   scripts/device-bench.sh [bench sizes, default 128,2048,4096] [realtime sizes, default
 #                            128,2048] [realtime frames, default 20]
 set -uo pipefail
@@ -16,7 +18,8 @@ realtimeSizes=${2:-128,2048}
 frames=${3:-20}
 out=${OUT:-device_out}
 mkdir -p "$out"
-bin=build-device/editor/plimsoll
+bin=${BIN:-build-device/editor/plimsoll}
+methods=${METHODS:-OpenCL,fast CPU}
 export LD_LIBRARY_PATH=$PWD/build-device/devlibs${LD_LIBRARY_PATH:+:$LD_LIBRARY_PATH}
 # The loader: the machine's own when it has one, else ours.
 ldconfig -p 2>/dev/null | grep -q 'libOpenCL.so.1 ' ||
@@ -37,6 +40,6 @@ start=$(date +%s)
 timeout 150 "$bin" bench --sizes "$sizes" --frames 20 --mesh build-device/spot.obj --out "$out/accuracy" 2>&1 | tee "$out/accuracy.log"
 echo "device-bench: bench took $(( $(date +%s) - start )) s"
 start=$(date +%s)
-timeout 240 "$bin" bench --realtime --bench-mesh sphere --method "OpenCL,fast CPU" --sizes "$realtimeSizes" \
+timeout 240 "$bin" bench --realtime --bench-mesh sphere --method "$methods" --sizes "$realtimeSizes" \
   --bodies 1,1000 --frames "$frames" --out "$out/realtime" 2>&1 | tee "$out/realtime.log"
 echo "device-bench: bench --realtime took $(( $(date +%s) - start )) s"

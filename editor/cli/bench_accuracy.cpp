@@ -198,6 +198,7 @@ struct Row {
     std::optional<double> bakeMs;
     Spread frame;            ///< ms per frame (evaluate's wall clock)
     std::optional<double> kernelMs, transferMs;  ///< medians, from the device's profiling events
+    std::optional<double> reduceMs;              ///< of kernelMs, the per-body sums (median)
     std::optional<double> bandwidthShare;        ///< of the measured copy bandwidth
     std::optional<Errors> errors;
 };
@@ -218,19 +219,21 @@ using FrameFunction = std::function<Result<FrameTimings>(int frame)>;
 
 /// Runs kWarmupFrames + frames frames and fills the row's timings from all but the warm-up.
 Status timeFrames(int frames, const FrameFunction& run, const Device* device, Row& row) {
-    std::vector<double> total, kernel, transfer;
+    std::vector<double> total, kernel, reduce, transfer;
     for (int f = 0; f < kWarmupFrames + frames; ++f) {
         Result<FrameTimings> t = run(f);
         if (!t) return t.error();
         if (f < kWarmupFrames) continue;
         total.push_back(t->totalMs);
         kernel.push_back(t->kernelMs);
+        reduce.push_back(t->reduceMs);
         transfer.push_back(t->uploadMs + t->readbackMs);
     }
     row.frame = spreadOf(total);
     // Only OpenCL devices report where the time went; the reference knows only the total.
     if (device && !device->isReference()) {
         row.kernelMs = quantile(kernel, 0.5);
+        row.reduceMs = quantile(reduce, 0.5);
         row.transferMs = quantile(transfer, 0.5);
         if (device->bandwidthGBs && *row.kernelMs > 0) {
             const double gbPerS =
@@ -385,6 +388,7 @@ std::vector<std::string> tableCells(const Row& r) {
             format("%.4g", r.frame.p10),
             format("%.4g", r.frame.p90),
             format("%.4g", r.kernelMs),
+            format("%.4g", r.reduceMs),
             format("%.4g", r.transferMs),
             format("%.1f", percent),
             e ? format("%.2e", e->volume) : "-",
@@ -396,7 +400,7 @@ std::vector<std::string> tableCells(const Row& r) {
 void printTable(const std::vector<Row>& rows) {
     const std::vector<std::string> header = {
         "mesh",    "device",   "N",          "entries",       "bake ms",
-        "frame ms", "p10 ms",  "p90 ms",     "kernel ms",     "transfer ms",
+        "frame ms", "p10 ms",  "p90 ms",     "kernel ms",     "of which sums", "transfer ms",
         "% bw",    "vol err",  "cob err",    "torque err"};
     std::vector<std::vector<std::string>> lines = {header};
     for (const Row& r : rows) lines.push_back(tableCells(r));
@@ -416,7 +420,7 @@ std::string csvNumber(const char* spec, const std::optional<double>& value) {
 
 bool writeCsv(const std::vector<Row>& rows, std::ostream& out) {
     out << "kind,mesh,device,device_name,size,bodies,entries,bake_ms,frame_median_ms,"
-           "frame_p10_ms,frame_p90_ms,kernel_ms,transfer_ms,bandwidth_fraction,volume_error,"
+           "frame_p10_ms,frame_p90_ms,kernel_ms,reduce_ms,transfer_ms,bandwidth_fraction,volume_error,"
            "cob_error,torque_error\n";
     for (const Row& r : rows) {
         const std::optional<Errors>& e = r.errors;
@@ -429,7 +433,8 @@ bool writeCsv(const std::vector<Row>& rows, std::ostream& out) {
             << (r.kind == RowKind::Exact ? "" : std::to_string(r.entries)) << ','
             << csvNumber("%.6g", r.bakeMs) << ',' << format("%.6g", r.frame.median) << ','
             << format("%.6g", r.frame.p10) << ',' << format("%.6g", r.frame.p90) << ','
-            << csvNumber("%.6g", r.kernelMs) << ',' << csvNumber("%.6g", r.transferMs) << ','
+            << csvNumber("%.6g", r.kernelMs) << ',' << csvNumber("%.6g", r.reduceMs) << ','
+            << csvNumber("%.6g", r.transferMs) << ','
             << csvNumber("%.6g", r.bandwidthShare) << ',' << error(&Errors::volume) << ','
             << error(&Errors::centerOfBuoyancy) << ',' << error(&Errors::torque) << '\n';
     }

@@ -286,7 +286,7 @@ public:
         try {
             if (buffersStale_) rebuildBuffers();
             if (Status s = prepareFrame(requests, water); !s.ok()) return s;
-            runFrame(tilesKernelFor(requests, water));
+            runFrame(tilesKernelFor(requests, water), water.kind == WaterModel::Kind::Gerstner);
             tileCounts_ = {};
             const std::size_t accSize = fp64_ ? sizeof(double) : sizeof(float);
             for (std::size_t i = 0; i < requests.size(); ++i) {
@@ -755,14 +755,18 @@ private:
         return tilesKernels_[model][still ? 1 : 0];
     }
 
-    void runFrame(cl::Kernel& tilesKernel) {
+    /// One frame: the bodies' parameters (and the waves, which only the Gerstner kernels read:
+    /// PL_MAX_WAVES per body, 256 kB a frame for 1000 bodies) up, the two launches, the totals
+    /// back.
+    void runFrame(cl::Kernel& tilesKernel, bool withWaves) {
         cl::Event writeBodies, writeWaves, tilesDone, reduceDone, readTotals;
         queue_.enqueueWriteBuffer(bodiesBuffer_, CL_FALSE, 0,
                                   bodyParams_.size() * sizeof(gpu::PlBody), bodyParams_.data(),
                                   nullptr, &writeBodies);
-        queue_.enqueueWriteBuffer(wavesBuffer_, CL_FALSE, 0,
-                                  waveParams_.size() * sizeof(gpu::PlWave), waveParams_.data(),
-                                  nullptr, &writeWaves);
+        if (withWaves)
+            queue_.enqueueWriteBuffer(wavesBuffer_, CL_FALSE, 0,
+                                      waveParams_.size() * sizeof(gpu::PlWave), waveParams_.data(),
+                                      nullptr, &writeWaves);
         tilesKernel.setArg(0, positionsBuffer_);
         tilesKernel.setArg(1, areaVectorsBuffer_);
         tilesKernel.setArg(2, tilesBuffer_);
@@ -788,8 +792,9 @@ private:
         faultPoint(detail::OpenClFault::LostDevice, "clEnqueueReadBuffer");
         queue_.enqueueReadBuffer(totalsBuffer_, CL_TRUE, 0, totalsHost_.size(),
                                  totalsHost_.data(), nullptr, &readTotals);
-        timings_.uploadMs = eventMs(writeBodies) + eventMs(writeWaves);
-        timings_.kernelMs = (tiles_.empty() ? 0.0 : eventMs(tilesDone)) + eventMs(reduceDone);
+        timings_.uploadMs = eventMs(writeBodies) + (withWaves ? eventMs(writeWaves) : 0.0);
+        timings_.reduceMs = eventMs(reduceDone);
+        timings_.kernelMs = (tiles_.empty() ? 0.0 : eventMs(tilesDone)) + timings_.reduceMs;
         timings_.readbackMs = eventMs(readTotals);
     }
 

@@ -80,6 +80,7 @@ void evaluateExchangeReference(std::span<const ExchangeSample> samples, std::siz
 struct FrameTimings {
     double uploadMs = 0;    ///< poses, velocities, water to the device
     double kernelMs = 0;    ///< both reduction launches
+    double reduceMs = 0;    ///< of kernelMs, the second launch: the per-body sums of the tiles
     double readbackMs = 0;  ///< totals back to the host
     double totalMs = 0;     ///< wall clock of evaluate()
 };
