@@ -11,7 +11,8 @@
 // the group on waves): dry, wholly wet (summed from its moments by one work-item), or at the
 // waterline (buoyancyTiles). Each work-item accumulates its entries in float, then the group
 // reduces all slots at once in local memory (reduceGroup) and writes one partial.
-// Launch 2, reduce_bodies: one work-group per body sums that body's tile partials.
+// Launch 2, reduce_chunks: one work-group per chunk of a body's tiles sums their partials; the
+// host adds a body's chunks.
 
 // Each work-item sums its few entries in float; the group's reduction and everything after it
 // run in acc_t (double where the device has it), so a body of 8192^2 texels keeps 1e-6
@@ -610,23 +611,24 @@ PL_TILES_KERNEL(buoyancy_tiles_gerstner_still, PL_WATER_GERSTNER, 0)
 PL_TILES_KERNEL(buoyancy_tiles_heightfield, PL_WATER_HEIGHTFIELD, 1)
 PL_TILES_KERNEL(buoyancy_tiles_heightfield_still, PL_WATER_HEIGHTFIELD, 0)
 
-/// The body's tile partials lie one after another (tile-major, PL_SUM_SLOTS each), so the
-/// summing work-items walk them in strides of PL_SLOT_WORKERS, a multiple of PL_SUM_SLOTS: each
-/// stays on its slot and together they read consecutive addresses.
+/// One work-group per chunk: a range [chunk.x, chunk.y) of one body's tiles, whose partials
+/// lie one after another (tile-major, PL_SUM_SLOTS each). The summing work-items walk them in
+/// strides of PL_SLOT_WORKERS, a multiple of PL_SUM_SLOTS: each stays on its slot and together
+/// they read consecutive addresses. The host adds a body's chunks.
 __kernel __attribute__((reqd_work_group_size(PL_WORKGROUP_SIZE, 1, 1)))
-void reduce_bodies(__global const acc_t* partials, __global const PlBody* bodies,
+void reduce_chunks(__global const acc_t* partials, __global const uint2* chunks,
                    __global acc_t* totals) {
     __local acc_t scratch[PL_SLOT_WORKERS];
-    const uint bodyIndex = get_group_id(0);
+    const uint chunkIndex = get_group_id(0);
     const uint lid = get_local_id(0);
-    const PlBody body = bodies[bodyIndex];
+    const uint2 chunk = chunks[chunkIndex];
     acc_t part = 0;
     if (lid < PL_SLOT_WORKERS) {
-        const uint end = body.tileEnd * PL_SUM_SLOTS;
-        for (uint i = body.tileBegin * PL_SUM_SLOTS + lid; i < end; i += PL_SLOT_WORKERS)
+        const uint end = chunk.y * PL_SUM_SLOTS;
+        for (uint i = chunk.x * PL_SUM_SLOTS + lid; i < end; i += PL_SLOT_WORKERS)
             part += partials[i];
     }
-    addSlotParts(scratch, lid, part, totals + bodyIndex * PL_SUM_SLOTS);
+    addSlotParts(scratch, lid, part, totals + chunkIndex * PL_SUM_SLOTS);
 }
 
 /// Plain copy, for measuring the device's memory bandwidth (plimsoll bench).

@@ -139,6 +139,10 @@ pl_float4 toFloat4(const Eigen::Vector3d& v, double w = 0.0) {
             static_cast<float>(w)};
 }
 
+/// Tiles per work-group of the second launch (reduce_chunks): 128 tiles of 21 sums are 21
+/// loads per summing work-item. A 2048^2 body has 4096 tiles, 32 chunks.
+constexpr std::uint32_t kTilesPerChunk = 128;
+
 double eventMs(const cl::Event& event) {
     const auto start = event.getProfilingInfo<CL_PROFILING_COMMAND_START>();
     const auto end = event.getProfilingInfo<CL_PROFILING_COMMAND_END>();
@@ -182,7 +186,7 @@ public:
                           cl::Kernel(program_, "buoyancy_tiles_gerstner_still")},
                          {cl::Kernel(program_, "buoyancy_tiles_heightfield"),
                           cl::Kernel(program_, "buoyancy_tiles_heightfield_still")}}},
-          reduceKernel_(program_, "reduce_bodies"),
+          reduceKernel_(program_, "reduce_chunks"),
           exchangeKernels_{{cl::Kernel(program_, "graph_exchange_flat"),
                             cl::Kernel(program_, "graph_exchange_gerstner"),
                             cl::Kernel(program_, "graph_exchange_heightfield")}},
@@ -290,14 +294,15 @@ public:
             tileCounts_ = {};
             const std::size_t accSize = fp64_ ? sizeof(double) : sizeof(float);
             for (std::size_t i = 0; i < requests.size(); ++i) {
-                detail::BuoyancySums sums{};
-                const unsigned char* base =
-                    totalsHost_.data() + requests[i].body * PL_SUM_SLOTS * accSize;
-                for (int s = 0; s < PL_SUM_SLOTS; ++s) {
-                    sums[s] = fp64_ ? reinterpret_cast<const double*>(base)[s]
-                                    : reinterpret_cast<const float*>(base)[s];
-                }
                 const Body& body = bodies_[requests[i].body];
+                detail::BuoyancySums sums{};
+                for (std::uint32_t c = body.chunkBegin; c < body.chunkEnd; ++c) {
+                    const unsigned char* base = totalsHost_.data() + c * PL_SUM_SLOTS * accSize;
+                    for (int s = 0; s < PL_SUM_SLOTS; ++s) {
+                        sums[s] += fp64_ ? reinterpret_cast<const double*>(base)[s]
+                                         : reinterpret_cast<const float*>(base)[s];
+                    }
+                }
                 tileCounts_.tiles += body.tileEnd - body.tileBegin;
                 tileCounts_.dry += static_cast<std::size_t>(std::llround(sums[PL_SUM_TILES_DRY]));
                 tileCounts_.closedForm +=
@@ -456,6 +461,7 @@ private:
         std::vector<std::uint32_t> order;      ///< texture entry of each device entry
         std::vector<std::size_t> tileEnds;     ///< end (in `order`) of each of its tiles
         std::uint32_t tileBegin = 0, tileEnd = 0;
+        std::uint32_t chunkBegin = 0, chunkEnd = 0;  ///< in chunks_: its tiles' sums
         double radius = 0;  ///< largest distance of an entry from c (m): the tolerances' scale
     };
 
@@ -635,9 +641,24 @@ private:
         waveParams_.assign(bodies_.size() * PL_MAX_WAVES, gpu::PlWave{});
         partialsBuffer_ = cl::Buffer(context_, CL_MEM_READ_WRITE,
                                      std::max<std::size_t>(1, tiles_.size()) * PL_SUM_SLOTS * accSize);
+        // The second launch sums each body's tile partials in chunks of kTilesPerChunk, one
+        // work-group each, and the host adds a body's chunks: one group for all of a 2048^2
+        // body's 4096 tiles took 43 us on an H200, most of a frame.
+        chunks_.clear();
+        for (Body& body : bodies_) {
+            body.chunkBegin = static_cast<std::uint32_t>(chunks_.size());
+            std::uint32_t t = body.tileBegin;
+            do {
+                const std::uint32_t end = std::min<std::uint32_t>(body.tileEnd, t + kTilesPerChunk);
+                chunks_.push_back({{t, end}});
+                t = end;
+            } while (t < body.tileEnd);
+            body.chunkEnd = static_cast<std::uint32_t>(chunks_.size());
+        }
+        chunksBuffer_ = upload(chunks_, "chunks");
         totalsBuffer_ = cl::Buffer(context_, CL_MEM_WRITE_ONLY,
-                                   std::max<std::size_t>(1, bodies_.size()) * PL_SUM_SLOTS * accSize);
-        totalsHost_.assign(std::max<std::size_t>(1, bodies_.size()) * PL_SUM_SLOTS * accSize, 0);
+                                   std::max<std::size_t>(1, chunks_.size()) * PL_SUM_SLOTS * accSize);
+        totalsHost_.assign(std::max<std::size_t>(1, chunks_.size()) * PL_SUM_SLOTS * accSize, 0);
         gridHeights_.clear();
         gridBuffer_ = cl::Buffer(context_, CL_MEM_READ_ONLY, sizeof(float));
         buffersStale_ = false;
@@ -784,10 +805,10 @@ private:
                                         cl::NDRange(PL_WORKGROUP_SIZE), nullptr, &tilesDone);
         }
         reduceKernel_.setArg(0, partialsBuffer_);
-        reduceKernel_.setArg(1, bodiesBuffer_);
+        reduceKernel_.setArg(1, chunksBuffer_);
         reduceKernel_.setArg(2, totalsBuffer_);
         queue_.enqueueNDRangeKernel(reduceKernel_, cl::NullRange,
-                                    cl::NDRange(bodies_.size() * PL_WORKGROUP_SIZE),
+                                    cl::NDRange(chunks_.size() * PL_WORKGROUP_SIZE),
                                     cl::NDRange(PL_WORKGROUP_SIZE), nullptr, &reduceDone);
         faultPoint(detail::OpenClFault::LostDevice, "clEnqueueReadBuffer");
         queue_.enqueueReadBuffer(totalsBuffer_, CL_TRUE, 0, totalsHost_.size(),
@@ -818,7 +839,8 @@ private:
     std::vector<gpu::PlTileMoments> tileMoments_;
     bool buffersStale_ = true;
     cl::Buffer positionsBuffer_, areaVectorsBuffer_, tilesBuffer_, tileMomentsBuffer_, bodiesBuffer_, wavesBuffer_,
-        gridBuffer_, partialsBuffer_, totalsBuffer_;
+        gridBuffer_, partialsBuffer_, totalsBuffer_, chunksBuffer_;
+    std::vector<cl_uint2> chunks_;  ///< tile ranges [s[0], s[1]) the second launch sums
     std::vector<gpu::PlBody> bodyParams_;
     std::vector<gpu::PlWave> waveParams_;
     std::vector<unsigned char> totalsHost_;
