@@ -251,9 +251,13 @@ BodyRequest requestFor(std::size_t body, const Pose& pose) {
     return request;
 }
 
+/// The sweep reports where a device's frame goes (kernel_ms, reduce_ms, transfer_ms), from
+/// profiling events; plimsoll bench --realtime times the frames without them.
+const OpenClOptions kTimedDevice{.deviceTimings = true};
+
 /// One body on one device: the accuracy sweep, then the timed frames cycling through it.
 Result<Row> measureTexture(const BenchMesh& m, const Baked& b, const Device& device, int frames) {
-    Result<std::unique_ptr<BuoyancyBackend>> created = createBuoyancyBackend(device.spec);
+    Result<std::unique_ptr<BuoyancyBackend>> created = createBuoyancyBackend(device.spec, nullptr, kTimedDevice);
     if (!created) return created.error();
     BuoyancyBackend& backend = **created;
     const std::size_t body = backend.addBody(b.textures, b.centerOfMass);
@@ -302,7 +306,7 @@ Row measureExact(const BenchMesh& m, int frames) {
 /// kBatchBodies copies of one body in one evaluate per frame, each at its own pose of the
 /// sweep (the water level moved into the pose, as all bodies share one water).
 Result<Row> measureBatch(const BenchMesh& m, const Baked& b, const Device& device, int frames) {
-    Result<std::unique_ptr<BuoyancyBackend>> created = createBuoyancyBackend(device.spec);
+    Result<std::unique_ptr<BuoyancyBackend>> created = createBuoyancyBackend(device.spec, nullptr, kTimedDevice);
     if (!created) return created.error();
     BuoyancyBackend& backend = **created;
     for (int i = 0; i < kBatchBodies; ++i) backend.addBody(b.textures, b.centerOfMass);

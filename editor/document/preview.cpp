@@ -152,7 +152,9 @@ private:
 
 Result<PreviewSession::Built> PreviewSession::build(const Scene& scene,
                                                     const std::string& device) {
-    Result<std::unique_ptr<BuoyancyBackend>> backend = createBuoyancyBackend(device);
+    // The preview panel shows the device's kernel time, which needs the profiling events.
+    Result<std::unique_ptr<BuoyancyBackend>> backend =
+        createBuoyancyBackend(device, nullptr, OpenClOptions{.deviceTimings = true});
     if (!backend) return backend.error();
     auto total = std::make_shared<double>(0.0);
     Result<std::unique_ptr<World>> world =

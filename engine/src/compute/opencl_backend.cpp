@@ -178,7 +178,8 @@ public:
                   bool fp64, std::size_t tileSize, const OpenClOptions& options)
         : device_(handle.device),
           context_(std::move(context)),
-          queue_(context_, device_, CL_QUEUE_PROFILING_ENABLE),
+          queue_(context_, device_,
+                 options.deviceTimings ? cl_command_queue_properties{CL_QUEUE_PROFILING_ENABLE} : 0),
           program_(std::move(program)),
           tilesKernels_{{{cl::Kernel(program_, "buoyancy_tiles_flat"),
                           cl::Kernel(program_, "buoyancy_tiles_flat_still")},
@@ -198,7 +199,9 @@ public:
           // Asked once: a lost device answers no more queries.
           kind_((device_.getInfo<CL_DEVICE_TYPE>() & CL_DEVICE_TYPE_GPU) != 0
                     ? BackendKind::openClGpu
-                    : BackendKind::openClCpu) {}
+                    : BackendKind::openClCpu),
+          spinWait_(options.wait == OpenClWait::spin ||
+                    (options.wait == OpenClWait::automatic && kind_ == BackendKind::openClGpu)) {}
 
     // Writes are enqueued non-blocking from host vectors this backend owns: after a failed
     // call, or before those vectors go, the queue is drained so the device never reads freed
@@ -778,16 +781,18 @@ private:
 
     /// One frame: the bodies' parameters (and the waves, which only the Gerstner kernels read:
     /// PL_MAX_WAVES per body, 256 kB a frame for 1000 bodies) up, the two launches, the totals
-    /// back.
+    /// back. Events are asked for only where they are read: for the timings, and for the read
+    /// when the wait spins.
     void runFrame(cl::Kernel& tilesKernel, bool withWaves) {
+        const bool timed = options_.deviceTimings;
         cl::Event writeBodies, writeWaves, tilesDone, reduceDone, readTotals;
         queue_.enqueueWriteBuffer(bodiesBuffer_, CL_FALSE, 0,
                                   bodyParams_.size() * sizeof(gpu::PlBody), bodyParams_.data(),
-                                  nullptr, &writeBodies);
+                                  nullptr, timed ? &writeBodies : nullptr);
         if (withWaves)
             queue_.enqueueWriteBuffer(wavesBuffer_, CL_FALSE, 0,
                                       waveParams_.size() * sizeof(gpu::PlWave), waveParams_.data(),
-                                      nullptr, &writeWaves);
+                                      nullptr, timed ? &writeWaves : nullptr);
         tilesKernel.setArg(0, positionsBuffer_);
         tilesKernel.setArg(1, areaVectorsBuffer_);
         tilesKernel.setArg(2, tilesBuffer_);
@@ -802,21 +807,40 @@ private:
         if (!tiles_.empty()) {
             queue_.enqueueNDRangeKernel(tilesKernel, cl::NullRange,
                                         cl::NDRange(tiles_.size() * PL_WORKGROUP_SIZE),
-                                        cl::NDRange(PL_WORKGROUP_SIZE), nullptr, &tilesDone);
+                                        cl::NDRange(PL_WORKGROUP_SIZE), nullptr,
+                                        timed ? &tilesDone : nullptr);
         }
         reduceKernel_.setArg(0, partialsBuffer_);
         reduceKernel_.setArg(1, chunksBuffer_);
         reduceKernel_.setArg(2, totalsBuffer_);
         queue_.enqueueNDRangeKernel(reduceKernel_, cl::NullRange,
                                     cl::NDRange(chunks_.size() * PL_WORKGROUP_SIZE),
-                                    cl::NDRange(PL_WORKGROUP_SIZE), nullptr, &reduceDone);
+                                    cl::NDRange(PL_WORKGROUP_SIZE), nullptr,
+                                    timed ? &reduceDone : nullptr);
         faultPoint(detail::OpenClFault::LostDevice, "clEnqueueReadBuffer");
-        queue_.enqueueReadBuffer(totalsBuffer_, CL_TRUE, 0, totalsHost_.size(),
-                                 totalsHost_.data(), nullptr, &readTotals);
+        queue_.enqueueReadBuffer(totalsBuffer_, spinWait_ ? CL_FALSE : CL_TRUE, 0,
+                                 totalsHost_.size(), totalsHost_.data(), nullptr,
+                                 timed || spinWait_ ? &readTotals : nullptr);
+        if (spinWait_) spinUntilComplete(readTotals);
+        if (!timed) return;
         timings_.uploadMs = eventMs(writeBodies) + (withWaves ? eventMs(writeWaves) : 0.0);
         timings_.reduceMs = eventMs(reduceDone);
         timings_.kernelMs = (tiles_.empty() ? 0.0 : eventMs(tilesDone)) + timings_.reduceMs;
         timings_.readbackMs = eventMs(readTotals);
+    }
+
+    /// OpenClWait::spin: the queue is flushed and the read's status polled until it is
+    /// complete (or failed), so the thread never sleeps on the driver; then one clWaitForEvents,
+    /// which returns at once but is the synchronisation point that the status query is not
+    /// (and throws where the read failed).
+    void spinUntilComplete(const cl::Event& read) {
+        queue_.flush();
+        while (read.getInfo<CL_EVENT_COMMAND_EXECUTION_STATUS>() > CL_COMPLETE) {
+#if defined(__x86_64__) || defined(__i386__)
+            __builtin_ia32_pause();
+#endif
+        }
+        read.wait();
     }
 
     cl::Device device_;
@@ -832,6 +856,7 @@ private:
     TileCounts tileCounts_;
     std::string name_;
     BackendKind kind_;
+    bool spinWait_;  ///< OpenClOptions::wait, resolved for this device
 
     std::vector<Body> bodies_;
     std::vector<pl_float4> positions_, areaVectors_;

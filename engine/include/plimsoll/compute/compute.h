@@ -76,7 +76,8 @@ void evaluateExchangeReference(std::span<const ExchangeSample> samples, std::siz
                                ExchangeSums& sums);
 
 /// Where the time of the last evaluate went (ms). Device timings come from OpenCL profiling
-/// events; the reference backend reports only the total.
+/// events, where OpenClOptions::deviceTimings asks for them; the CPU backends report only the
+/// total.
 struct FrameTimings {
     double uploadMs = 0;    ///< poses, velocities, water to the device
     double kernelMs = 0;    ///< both reduction launches
@@ -95,7 +96,14 @@ struct TileCounts {
     std::size_t perEntry() const { return tiles - dry - closedForm; }
 };
 
-/// The OpenCL path's accuracy knob (measured beside the default by plimsoll bench --realtime).
+/// How the OpenCL path's evaluate() waits for the device's totals.
+enum class OpenClWait {
+    automatic,  ///< spin on a GPU, block on a CPU device (PoCL's workers need the cores)
+    block,      ///< a blocking read: the driver puts the thread to sleep and wakes it
+    spin,       ///< the read is queued and its event polled: the thread keeps its core
+};
+
+/// The OpenCL path's knobs (each measured beside the default by plimsoll bench --realtime).
 struct OpenClOptions {
     /// On waves a tile is summed from its moments (or found dry) under the water's quadratic
     /// over it only where that quadratic misses the surface, at 16 points between the 9 it was
@@ -104,6 +112,11 @@ struct OpenClOptions {
     /// The closed forms' depth error is then about this misfit, so the pressure force's is
     /// about rho g (waveTolerance x radius) x the wetted area. Flat water is exact either way.
     double waveTolerance = 1e-3;
+    /// How evaluate() waits for the totals: a speed knob, the sums are the same.
+    OpenClWait wait = OpenClWait::automatic;
+    /// Fill lastTimings()' upload, kernel and read-back times from profiling events (the
+    /// benchmark's split). Off, the queue records no timestamps and only totalMs is filled.
+    bool deviceTimings = false;
 };
 
 /// What computes a backend's sums: what callers branch on (falling back from a failed
