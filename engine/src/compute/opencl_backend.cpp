@@ -172,6 +172,48 @@ Result<cl::Program> buildProgram(const cl::Context& context, const cl::Device& d
     return program;
 }
 
+/// Host memory the driver copies to and from directly: a CL_MEM_ALLOC_HOST_PTR buffer, mapped
+/// once for its whole life. NVIDIA's OpenCL best-practices guide gives this as the way to
+/// pinned memory; from ordinary (pageable) memory the driver goes through a staging copy of
+/// its own. The frame's parameters go up from, and its totals come back into, these.
+template <class T>
+class PinnedArray {
+public:
+    /// `count` zeroed elements; the old block is unmapped first.
+    void allocate(const cl::Context& context, cl::CommandQueue& queue, std::size_t count) {
+        release(queue);
+        const std::size_t bytes = std::max<std::size_t>(1, count) * sizeof(T);
+        buffer_ = cl::Buffer(context, CL_MEM_ALLOC_HOST_PTR | CL_MEM_READ_WRITE, bytes);
+        data_ = static_cast<T*>(queue.enqueueMapBuffer(buffer_, CL_TRUE, CL_MAP_READ | CL_MAP_WRITE, 0, bytes));
+        size_ = count;
+        std::fill_n(data_, size_, T{});
+    }
+
+    /// Unmaps and lets the buffer go (a lost device: the buffer goes anyway).
+    void release(cl::CommandQueue& queue) noexcept {
+        if (data_) {
+            try {
+                queue.enqueueUnmapMemObject(buffer_, data_);
+                queue.finish();
+            } catch (const cl::Error&) {
+            }
+        }
+        buffer_ = cl::Buffer();
+        data_ = nullptr;
+        size_ = 0;
+    }
+
+    T* data() { return data_; }
+    std::size_t size() const { return size_; }
+    std::size_t bytes() const { return size_ * sizeof(T); }
+    T& operator[](std::size_t i) { return data_[i]; }
+
+private:
+    cl::Buffer buffer_;
+    T* data_ = nullptr;
+    std::size_t size_ = 0;
+};
+
 class OpenClBackend final : public BuoyancyBackend {
 public:
     OpenClBackend(const DeviceHandle& handle, cl::Context context, cl::Program program,
@@ -206,7 +248,12 @@ public:
     // Writes are enqueued non-blocking from host vectors this backend owns: after a failed
     // call, or before those vectors go, the queue is drained so the device never reads freed
     // or rewritten memory (ASan saw PoCL read a freed vector after a fault-injected launch).
-    ~OpenClBackend() override { drainQueue(); }
+    ~OpenClBackend() override {
+        drainQueue();
+        bodyParams_.release(queue_);
+        waveParams_.release(queue_);
+        totalsHost_.release(queue_);
+    }
 
     void drainQueue() {
         try {
@@ -635,13 +682,13 @@ private:
         areaVectorsBuffer_ = upload(areaVectors_, "area vectors");
         tilesBuffer_ = upload(tiles_, "tiles");
         tileMomentsBuffer_ = upload(tileMoments_, "tile moments");
-        bodyParams_.assign(bodies_.size(), gpu::PlBody{});
+        bodyParams_.allocate(context_, queue_, bodies_.size());
         bodiesBuffer_ = cl::Buffer(context_, CL_MEM_READ_ONLY,
                                    std::max<std::size_t>(1, bodies_.size()) * sizeof(gpu::PlBody));
         wavesBuffer_ = cl::Buffer(context_, CL_MEM_READ_ONLY,
                                   std::max<std::size_t>(1, bodies_.size()) * PL_MAX_WAVES *
                                       sizeof(gpu::PlWave));
-        waveParams_.assign(bodies_.size() * PL_MAX_WAVES, gpu::PlWave{});
+        waveParams_.allocate(context_, queue_, bodies_.size() * PL_MAX_WAVES);
         partialsBuffer_ = cl::Buffer(context_, CL_MEM_READ_WRITE,
                                      std::max<std::size_t>(1, tiles_.size()) * PL_SUM_SLOTS * accSize);
         // The second launch sums each body's tile partials in chunks of kTilesPerChunk, one
@@ -661,7 +708,7 @@ private:
         chunksBuffer_ = upload(chunks_, "chunks");
         totalsBuffer_ = cl::Buffer(context_, CL_MEM_WRITE_ONLY,
                                    std::max<std::size_t>(1, chunks_.size()) * PL_SUM_SLOTS * accSize);
-        totalsHost_.assign(std::max<std::size_t>(1, chunks_.size()) * PL_SUM_SLOTS * accSize, 0);
+        totalsHost_.allocate(context_, queue_, std::max<std::size_t>(1, chunks_.size()) * PL_SUM_SLOTS * accSize);
         gridHeights_.clear();
         gridBuffer_ = cl::Buffer(context_, CL_MEM_READ_ONLY, sizeof(float));
         buffersStale_ = false;
@@ -866,9 +913,9 @@ private:
     cl::Buffer positionsBuffer_, areaVectorsBuffer_, tilesBuffer_, tileMomentsBuffer_, bodiesBuffer_, wavesBuffer_,
         gridBuffer_, partialsBuffer_, totalsBuffer_, chunksBuffer_;
     std::vector<cl_uint2> chunks_;  ///< tile ranges [s[0], s[1]) the second launch sums
-    std::vector<gpu::PlBody> bodyParams_;
-    std::vector<gpu::PlWave> waveParams_;
-    std::vector<unsigned char> totalsHost_;
+    PinnedArray<gpu::PlBody> bodyParams_;
+    PinnedArray<gpu::PlWave> waveParams_;
+    PinnedArray<unsigned char> totalsHost_;
     std::vector<float> gridHeights_;
     int gridCountX_ = 0, gridCountZ_ = 0;
     FrameTimings timings_;
