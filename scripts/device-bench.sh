@@ -7,8 +7,10 @@
 # $OUT (or device_out/): accuracy/bench.csv, realtime/realtime.csv, and one log per bench.
 # A copy of ../shared/meshes/spot.obj at build-device/spot.obj (device-prepare.sh makes it; the
 # shared folder does not travel) is benchmarked beside the sphere.
-# BIN names another build of the CLI (default build-device/editor/plimsoll), METHODS the
-# realtime bench's methods (default "OpenCL,fast CPU").
+# BIN names the build of the CLI (default build-device/editor/plimsoll); where
+# build-device/before/plimsoll was carried too (device-prepare.sh's BEFORE=), both run, this
+# build's benches then the other's, under $OUT/now and $OUT/before. METHODS: the realtime
+# bench's methods (default "OpenCL,fast CPU").
 #   scripts/device-bench.sh [bench sizes, default 128,2048,4096] [realtime sizes, default
 #                            128,2048] [realtime frames, default 20]
 set -uo pipefail
@@ -36,10 +38,20 @@ ls /etc/OpenCL/vendors/*.icd >/dev/null 2>&1 && cp /etc/OpenCL/vendors/*.icd "$v
 export OCL_ICD_VENDORS=$vendors
 nvidia-smi -L 2>&1 | head -2
 nproc
-start=$(date +%s)
-timeout 150 "$bin" bench --sizes "$sizes" --frames 20 --mesh build-device/spot.obj --out "$out/accuracy" 2>&1 | tee "$out/accuracy.log"
-echo "device-bench: bench took $(( $(date +%s) - start )) s"
-start=$(date +%s)
-timeout 240 "$bin" bench --realtime --bench-mesh sphere --method "$methods" --sizes "$realtimeSizes" \
-  --bodies 1,1000 --frames "$frames" --out "$out/realtime" 2>&1 | tee "$out/realtime.log"
-echo "device-bench: bench --realtime took $(( $(date +%s) - start )) s"
+benches() {  # binary, output folder
+  mkdir -p "$2"
+  local start=$(date +%s)
+  timeout 150 "$1" bench --sizes "$sizes" --frames 20 --mesh build-device/spot.obj --out "$2/accuracy" 2>&1 | tee "$2/accuracy.log"
+  echo "device-bench: $1: bench took $(( $(date +%s) - start )) s"
+  start=$(date +%s)
+  timeout 240 "$1" bench --realtime --bench-mesh sphere --method "$methods" --sizes "$realtimeSizes" \
+    --bodies 1,1000 --frames "$frames" --out "$2/realtime" 2>&1 | tee "$2/realtime.log"
+  echo "device-bench: $1: bench --realtime took $(( $(date +%s) - start )) s"
+}
+if [ -x build-device/before/plimsoll ] && [ -z "${BIN:-}" ]; then
+  echo "device-bench: beside the build of $(cat build-device/before/revision 2>/dev/null || echo '?')"
+  benches "$bin" "$out/now"
+  benches build-device/before/plimsoll "$out/before"
+else
+  benches "$bin" "$out"
+fi

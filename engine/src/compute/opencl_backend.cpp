@@ -179,6 +179,10 @@ Result<cl::Program> buildProgram(const cl::Context& context, const cl::Device& d
 template <class T>
 class PinnedArray {
 public:
+    PinnedArray() = default;
+    PinnedArray(const PinnedArray&) = delete;  // one mapping, unmapped once
+    PinnedArray& operator=(const PinnedArray&) = delete;
+
     /// `count` zeroed elements; the old block is unmapped first.
     void allocate(const cl::Context& context, cl::CommandQueue& queue, std::size_t count) {
         release(queue);
@@ -205,7 +209,6 @@ public:
 
     T* data() { return data_; }
     std::size_t size() const { return size_; }
-    std::size_t bytes() const { return size_ * sizeof(T); }
     T& operator[](std::size_t i) { return data_[i]; }
 
 private:
@@ -245,8 +248,8 @@ public:
           spinWait_(options.wait == OpenClWait::spin ||
                     (options.wait == OpenClWait::automatic && kind_ == BackendKind::openClGpu)) {}
 
-    // Writes are enqueued non-blocking from host vectors this backend owns: after a failed
-    // call, or before those vectors go, the queue is drained so the device never reads freed
+    // Writes are enqueued non-blocking from host memory this backend owns: after a failed
+    // call, or before that memory goes, the queue is drained so the device never reads freed
     // or rewritten memory (ASan saw PoCL read a freed vector after a fault-injected launch).
     ~OpenClBackend() override {
         drainQueue();
