@@ -59,9 +59,7 @@ typedef struct {
     pl_int waveCount;
     pl_int gridCellX;       /* height field: integer cell of c                         */
     pl_int gridCellZ;
-    pl_uint tileBegin;      /* this body's tiles: [tileBegin, tileEnd)                 */
-    pl_uint tileEnd;
-    pl_int padding;
+    pl_int padding[3];      /* to a multiple of 16 bytes, as the float4s align it      */
 } PlBody;
 
 /// One Gerstner wave as seen from one body: phase = k D.c_xz - omega t + phi (mod 2 pi).

@@ -233,7 +233,8 @@ struct Method {
     int waveGrid = 0;  ///< fast path only: water samples per side of its grid (0: the default)
     int tileSize = 0;  ///< fast path only: entries per tile (0: the default)
     double waveTolerance = -1;  ///< OpenCL only: OpenClOptions::waveTolerance (< 0: the default)
-    OpenClWait wait = OpenClWait::automatic;  ///< OpenCL only: OpenClOptions::wait
+    OpenClWait wait = OpenClWait::automatic;  ///< OpenCL only: OpenClOptions::wait (speed alone)
+    /// The accuracy knobs at their defaults (the wait may differ: it changes no result).
     bool defaultKnobs() const { return waveGrid == 0 && tileSize == 0 && waveTolerance < 0; }
 };
 

@@ -697,6 +697,8 @@ private:
         // The second launch sums each body's tile partials in chunks of kTilesPerChunk, one
         // work-group each, and the host adds a body's chunks: one group for all of a 2048^2
         // body's 4096 tiles took 43 us on an H200, most of a frame.
+        // Every body gets at least one chunk (an empty one, summing to 0, where it has no
+        // tiles): the second launch is never of size 0, which OpenCL refuses, while a body is.
         chunks_.clear();
         for (Body& body : bodies_) {
             body.chunkBegin = static_cast<std::uint32_t>(chunks_.size());
@@ -724,8 +726,6 @@ private:
             gpu::PlBody& p = bodyParams_[b];
             p = gpu::PlBody{};
             p.water = {0.0f, -3e38f, 0.0f, 0.0f};  // not requested: every tile is culled
-            p.tileBegin = bodies_[b].tileBegin;
-            p.tileEnd = bodies_[b].tileEnd;
         }
         if (water.kind == WaterModel::Kind::HeightField) uploadGrid(water.grid);
         for (const BodyRequest& request : requests) {
