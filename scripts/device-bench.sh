@@ -10,7 +10,9 @@
 # BIN names the build of the CLI (default build-device/editor/plimsoll); where
 # build-device/before/plimsoll was carried too (device-prepare.sh's BEFORE=), both run, this
 # build's benches then the other's, under $OUT/now and $OUT/before. METHODS: the realtime
-# bench's methods (default "OpenCL,fast CPU").
+# bench's methods (default "OpenCL,fast CPU"). BENCHES: which benches (default "accuracy
+# realtime"). ROUNDS: how many times the whole A/B runs, the builds' order swapped each round
+# (default 1; round r > 1 writes under $OUT/r<r>/): a second reading of the noise, same call.
 #   scripts/device-bench.sh [bench sizes, default 128,2048,4096] [realtime sizes, default
 #                            128,2048] [realtime frames, default 20]
 set -uo pipefail
@@ -38,20 +40,36 @@ ls /etc/OpenCL/vendors/*.icd >/dev/null 2>&1 && cp /etc/OpenCL/vendors/*.icd "$v
 export OCL_ICD_VENDORS=$vendors
 nvidia-smi -L 2>&1 | head -2
 nproc
+which=${BENCHES:-accuracy realtime}
+rounds=${ROUNDS:-1}
 benches() {  # binary, output folder
   mkdir -p "$2"
-  local start=$(date +%s)
-  timeout 150 "$1" bench --sizes "$sizes" --frames 20 --mesh build-device/spot.obj --out "$2/accuracy" 2>&1 | tee "$2/accuracy.log"
-  echo "device-bench: $1: bench took $(( $(date +%s) - start )) s"
-  start=$(date +%s)
-  timeout 240 "$1" bench --realtime --bench-mesh sphere --method "$methods" --sizes "$realtimeSizes" \
-    --bodies 1,1000 --frames "$frames" --out "$2/realtime" 2>&1 | tee "$2/realtime.log"
-  echo "device-bench: $1: bench --realtime took $(( $(date +%s) - start )) s"
+  local start
+  if [[ " $which " == *" accuracy "* ]]; then
+    start=$(date +%s)
+    timeout 150 "$1" bench --sizes "$sizes" --frames 20 --mesh build-device/spot.obj --out "$2/accuracy" 2>&1 | tee "$2/accuracy.log"
+    echo "device-bench: $1: bench took $(( $(date +%s) - start )) s"
+  fi
+  if [[ " $which " == *" realtime "* ]]; then
+    start=$(date +%s)
+    timeout 240 "$1" bench --realtime --bench-mesh sphere --method "$methods" --sizes "$realtimeSizes" \
+      --bodies 1,1000 --frames "$frames" --out "$2/realtime" 2>&1 | tee "$2/realtime.log"
+    echo "device-bench: $1: bench --realtime took $(( $(date +%s) - start )) s"
+  fi
 }
-if [ -x build-device/before/plimsoll ] && [ -z "${BIN:-}" ]; then
-  echo "device-bench: beside the build of $(cat build-device/before/revision 2>/dev/null || echo '?')"
-  benches "$bin" "$out/now"
-  benches build-device/before/plimsoll "$out/before"
-else
-  benches "$bin" "$out"
-fi
+for round in $(seq 1 "$rounds"); do
+  dir=$out
+  [ "$round" -gt 1 ] && dir=$out/r$round
+  if [ -x build-device/before/plimsoll ] && [ -z "${BIN:-}" ]; then
+    echo "device-bench: round $round, beside the build of $(cat build-device/before/revision 2>/dev/null || echo '?')"
+    if (( round % 2 )); then
+      benches "$bin" "$dir/now"
+      benches build-device/before/plimsoll "$dir/before"
+    else  # the other order, so a drift in the machine does not favour one build
+      benches build-device/before/plimsoll "$dir/before"
+      benches "$bin" "$dir/now"
+    fi
+  else
+    benches "$bin" "$dir"
+  fi
+done

@@ -48,9 +48,9 @@ void addBenchCommand(CLI::App& root, CommandRunner& selected) {
                     "With --realtime: only the methods whose name starts with one of these "
                     "(reference, fast CPU, fast CPU (wave grid N) and fast CPU (tiles N): the "
                     "fast path with another water grid or tile size, OpenCL N CPU or GPU, OpenCL "
-                    "N ... (wave tol T): the device with another wave tolerance, OpenCL N GPU "
-                    "(blocking wait) and OpenCL N CPU (spin wait): the device waiting the other "
-                    "way, exact plane clip, per-triangle wave clip), "
+                    "N ... (wave tol T): the device with another wave tolerance, OpenCL N ... "
+                    "(spin wait): the device polling for its totals instead of blocking, exact "
+                    "plane clip, per-triangle wave clip), "
                     "comma separated")
         ->delimiter(',');
     cmd->add_option("--bench-mesh", o->meshes,

@@ -245,16 +245,14 @@ public:
           kind_((device_.getInfo<CL_DEVICE_TYPE>() & CL_DEVICE_TYPE_GPU) != 0
                     ? BackendKind::openClGpu
                     : BackendKind::openClCpu),
-          spinWait_(options.wait == OpenClWait::spin ||
-                    (options.wait == OpenClWait::automatic && kind_ == BackendKind::openClGpu)) {}
+          spinWait_(options.wait == OpenClWait::spin) {}
 
     // Writes are enqueued non-blocking from host memory this backend owns: after a failed
     // call, or before that memory goes, the queue is drained so the device never reads freed
     // or rewritten memory (ASan saw PoCL read a freed vector after a fault-injected launch).
     ~OpenClBackend() override {
         drainQueue();
-        bodyParams_.release(queue_);
-        waveParams_.release(queue_);
+        frameParams_.release(queue_);
         totalsHost_.release(queue_);
     }
 
@@ -685,13 +683,7 @@ private:
         areaVectorsBuffer_ = upload(areaVectors_, "area vectors");
         tilesBuffer_ = upload(tiles_, "tiles");
         tileMomentsBuffer_ = upload(tileMoments_, "tile moments");
-        bodyParams_.allocate(context_, queue_, bodies_.size());
-        bodiesBuffer_ = cl::Buffer(context_, CL_MEM_READ_ONLY,
-                                   std::max<std::size_t>(1, bodies_.size()) * sizeof(gpu::PlBody));
-        wavesBuffer_ = cl::Buffer(context_, CL_MEM_READ_ONLY,
-                                  std::max<std::size_t>(1, bodies_.size()) * PL_MAX_WAVES *
-                                      sizeof(gpu::PlWave));
-        waveParams_.allocate(context_, queue_, bodies_.size() * PL_MAX_WAVES);
+        allocateFrameParams();
         partialsBuffer_ = cl::Buffer(context_, CL_MEM_READ_WRITE,
                                      std::max<std::size_t>(1, tiles_.size()) * PL_SUM_SLOTS * accSize);
         // The second launch sums each body's tile partials in chunks of kTilesPerChunk, one
@@ -719,11 +711,34 @@ private:
         buffersStale_ = false;
     }
 
+    /// The frame's parameter block and its device buffer, for bodies_.size() bodies. The waves'
+    /// offset is a multiple of CL_DEVICE_MEM_BASE_ADDR_ALIGN, where a sub-buffer may begin.
+    /// One write instead of two saves a command on every frame on waves: on an H200 each
+    /// command of the frame's chain costs microseconds of a 0.05 ms budget.
+    void allocateFrameParams() {
+        const std::size_t count = std::max<std::size_t>(1, bodies_.size());
+        const std::size_t align =
+            std::max<std::size_t>(alignof(gpu::PlWave), device_.getInfo<CL_DEVICE_MEM_BASE_ADDR_ALIGN>() / 8);
+        bodiesBytes_ = count * sizeof(gpu::PlBody);
+        wavesOffset_ = (bodiesBytes_ + align - 1) / align * align;
+        const std::size_t wavesBytes = count * PL_MAX_WAVES * sizeof(gpu::PlWave);
+        frameParams_.allocate(context_, queue_, wavesOffset_ + wavesBytes);
+        frameBuffer_ = cl::Buffer(context_, CL_MEM_READ_ONLY, frameParams_.size());
+        cl_buffer_region bodies{0, bodiesBytes_}, waves{wavesOffset_, wavesBytes};
+        bodiesBuffer_ = frameBuffer_.createSubBuffer(CL_MEM_READ_ONLY, CL_BUFFER_CREATE_TYPE_REGION, &bodies);
+        wavesBuffer_ = frameBuffer_.createSubBuffer(CL_MEM_READ_ONLY, CL_BUFFER_CREATE_TYPE_REGION, &waves);
+    }
+
+    gpu::PlBody* bodyParams() { return reinterpret_cast<gpu::PlBody*>(frameParams_.data()); }
+    gpu::PlWave* waveParams() {
+        return reinterpret_cast<gpu::PlWave*>(frameParams_.data() + wavesOffset_);
+    }
+
     /// Fills the per-frame parameters: every body relative to its own centre of mass, in
     /// double on the host, then rounded (so a body 1e5 m away keeps millimetres).
     Status prepareFrame(std::span<const BodyRequest> requests, const WaterModel& water) {
         for (std::size_t b = 0; b < bodies_.size(); ++b) {
-            gpu::PlBody& p = bodyParams_[b];
+            gpu::PlBody& p = bodyParams()[b];
             p = gpu::PlBody{};
             p.water = {0.0f, -3e38f, 0.0f, 0.0f};  // not requested: every tile is culled
         }
@@ -734,7 +749,7 @@ private:
             const Body& body = bodies_[request.body];
             const BodyFrame& frame = request.frame;
             const Eigen::Vector3d c = frame.pose.apply(body.centerOfMass);
-            gpu::PlBody& p = bodyParams_[request.body];
+            gpu::PlBody& p = bodyParams()[request.body];
             for (int k = 0; k < 3; ++k) p.rotation[k] = toFloat4(frame.pose.rotation.row(k).transpose());
             p.velocity = toFloat4(frame.motion.linear);
             p.spin = toFloat4(frame.motion.angular);
@@ -744,7 +759,7 @@ private:
                        static_cast<float>(0.5 * fluid.density * fluid.frictionCoefficient),
                        static_cast<float>(fluid.density)};
             p.waveBegin = static_cast<gpu::pl_int>(request.body * PL_MAX_WAVES);
-            fillWater(p, water, c, frame.time, &waveParams_[p.waveBegin]);
+            fillWater(p, water, c, frame.time, &waveParams()[p.waveBegin]);
             if (water.kind != WaterModel::Kind::Flat)
                 p.water.z = static_cast<float>(options_.waveTolerance * body.radius);
         }
@@ -835,14 +850,11 @@ private:
     /// when the wait spins.
     void runFrame(cl::Kernel& tilesKernel, bool withWaves) {
         const bool timed = options_.deviceTimings;
-        cl::Event writeBodies, writeWaves, tilesDone, reduceDone, readTotals;
-        queue_.enqueueWriteBuffer(bodiesBuffer_, CL_FALSE, 0,
-                                  bodyParams_.size() * sizeof(gpu::PlBody), bodyParams_.data(),
-                                  nullptr, timed ? &writeBodies : nullptr);
-        if (withWaves)
-            queue_.enqueueWriteBuffer(wavesBuffer_, CL_FALSE, 0,
-                                      waveParams_.size() * sizeof(gpu::PlWave), waveParams_.data(),
-                                      nullptr, timed ? &writeWaves : nullptr);
+        cl::Event writeParams, tilesDone, reduceDone, readTotals;
+        // One write, of the waves too where the kernel reads them (they lie after the bodies).
+        queue_.enqueueWriteBuffer(frameBuffer_, CL_FALSE, 0,
+                                  withWaves ? frameParams_.size() : bodiesBytes_,
+                                  frameParams_.data(), nullptr, timed ? &writeParams : nullptr);
         tilesKernel.setArg(0, positionsBuffer_);
         tilesKernel.setArg(1, areaVectorsBuffer_);
         tilesKernel.setArg(2, tilesBuffer_);
@@ -873,7 +885,7 @@ private:
                                  timed || spinWait_ ? &readTotals : nullptr);
         if (spinWait_) spinUntilComplete(readTotals);
         if (!timed) return;
-        timings_.uploadMs = eventMs(writeBodies) + (withWaves ? eventMs(writeWaves) : 0.0);
+        timings_.uploadMs = eventMs(writeParams);
         timings_.reduceMs = eventMs(reduceDone);
         timings_.kernelMs = (tiles_.empty() ? 0.0 : eventMs(tilesDone)) + timings_.reduceMs;
         timings_.readbackMs = eventMs(readTotals);
@@ -916,8 +928,13 @@ private:
     cl::Buffer positionsBuffer_, areaVectorsBuffer_, tilesBuffer_, tileMomentsBuffer_, bodiesBuffer_, wavesBuffer_,
         gridBuffer_, partialsBuffer_, totalsBuffer_, chunksBuffer_;
     std::vector<cl_uint2> chunks_;  ///< tile ranges [s[0], s[1]) the second launch sums
-    PinnedArray<gpu::PlBody> bodyParams_;
-    PinnedArray<gpu::PlWave> waveParams_;
+    /// The frame's parameters, in one block so that a frame uploads them in one write: the
+    /// bodies from 0, then the waves (PL_MAX_WAVES a body) from wavesOffset_. frameBuffer_ is
+    /// its device copy; bodiesBuffer_ and wavesBuffer_ are sub-buffers of it, what the
+    /// kernels take.
+    PinnedArray<unsigned char> frameParams_;
+    cl::Buffer frameBuffer_;
+    std::size_t bodiesBytes_ = 0, wavesOffset_ = 0;
     PinnedArray<unsigned char> totalsHost_;
     std::vector<float> gridHeights_;
     int gridCountX_ = 0, gridCountZ_ = 0;
