@@ -49,8 +49,9 @@ void addBenchCommand(CLI::App& root, CommandRunner& selected) {
                     "(reference, fast CPU, fast CPU (wave grid N) and fast CPU (tiles N): the "
                     "fast path with another water grid or tile size, OpenCL N CPU or GPU, OpenCL "
                     "N ... (wave tol T): the device with another wave tolerance, OpenCL N ... "
-                    "(spin wait): the device polling for its totals instead of blocking, exact "
-                    "plane clip, per-triangle wave clip), "
+                    "(spin wait): the device polling for its totals instead of blocking, OpenCL N "
+                    "GPU (items K): K entries a work-item instead of 8, exact plane clip, "
+                    "per-triangle wave clip), "
                     "comma separated")
         ->delimiter(',');
     cmd->add_option("--bench-mesh", o->meshes,

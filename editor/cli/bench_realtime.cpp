@@ -234,7 +234,9 @@ struct Method {
     int tileSize = 0;  ///< fast path only: entries per tile (0: the default)
     double waveTolerance = -1;  ///< OpenCL only: OpenClOptions::waveTolerance (< 0: the default)
     OpenClWait wait = OpenClWait::automatic;  ///< OpenCL only: OpenClOptions::wait (speed alone)
-    /// The accuracy knobs at their defaults (the wait may differ: it changes no result).
+    int itemsPerThread = 0;  ///< OpenCL only: OpenClOptions::itemsPerThread (0: the default)
+    /// The accuracy knobs at their defaults (the wait and the items per thread may differ:
+    /// speed knobs, whose rows join the 1000-body batches).
     bool defaultKnobs() const { return waveGrid == 0 && tileSize == 0 && waveTolerance < 0; }
 };
 
@@ -244,6 +246,7 @@ Result<std::unique_ptr<BuoyancyBackend>> backendFor(const Method& m, const FastB
     OpenClOptions openCl;
     if (m.waveTolerance >= 0) openCl.waveTolerance = m.waveTolerance;
     openCl.wait = m.wait;
+    openCl.itemsPerThread = m.itemsPerThread;
     return createBuoyancyBackend(m.spec, nullptr, openCl);
 }
 
@@ -340,6 +343,17 @@ int runRealtimeBench(const RealtimeBenchOptions& o) {
         Method spinWait{label + " (spin wait)", std::to_string(d.index), 1};
         spinWait.wait = OpenClWait::spin;
         methods.push_back(spinWait);
+        // And the tile size on a GPU (the default, 8 entries a work-item, is the plain row):
+        // a lone body's tiles fill a few of a GPU's groups, so a shorter chain per work-item
+        // may pay for more tiles. Not on CPU devices: PoCL pays per group (docs/design.md).
+        if (d.isGpu) {
+            for (int items : {1, 2, 4}) {
+                Method smaller{label + " (items " + std::to_string(items) + ")",
+                               std::to_string(d.index), 1};
+                smaller.itemsPerThread = items;
+                methods.push_back(smaller);
+            }
+        }
     }
     std::vector<Case> cases;
     for (auto [name, mesh] : {std::pair{std::string("sphere"), makeUvSphere(0.5, 64, 32)},

@@ -344,6 +344,52 @@ TEST(BuoyancyKernels, WaitAndTimingsLeaveTheSumsAlone) {
     }
 }
 
+// The items per work-item set the tiles' size: more, smaller tiles at 1, 2 and 4 than at the
+// default 8, and on every water model the same answer as the reference (waves entry by entry,
+// waveTolerance 0, so that no tile's closed form under the water's quadratic differs).
+TEST(BuoyancyKernels, ItemsPerThreadChangeTheTilesNotTheAnswer) {
+    const Body sphere = makeBody(makeUvSphere(0.5, 48, 24), 200);
+    FluidSettings fluid;
+    fluid.frictionCoefficient = 0.004;
+    for (const ComputeDevice& device : listComputeDevices()) {
+        SCOPED_TRACE(device.name);
+        std::size_t tilesBefore = 0;
+        for (int items : {8, 4, 2, 1}) {
+            SCOPED_TRACE(items);
+            auto made = createBuoyancyBackend(std::to_string(device.index), nullptr,
+                                              OpenClOptions{.waveTolerance = 0.0, .itemsPerThread = items});
+            ASSERT_TRUE(made.ok()) << made.error().message;
+            BuoyancyBackend& backend = **made;
+            const std::size_t id = backend.addBody(sphere.textures, sphere.props.centerOfMass);
+            for (const WaterModel& water : waterModels()) {
+                for (int trial = 1; trial <= 2; ++trial) {
+                    BodyRequest request = movingRequest(id, sphere, 0.15 * trial, trial);
+                    request.fluid = fluid;
+                    BuoyancyResult result;
+                    ASSERT_TRUE(backend.evaluate({&request, 1}, water, {&result, 1}).ok());
+                    const double speed = request.frame.motion.linear.norm() +
+                                         request.frame.motion.angular.norm() * sphere.boundingRadius + 1.0;
+                    expectAgree(result, evaluateBuoyancyReference(sphere.textures, request.frame, water, fluid),
+                                sphere, fluid, speed, 1e-5);
+                }
+            }
+            // At most PL_WORKGROUP_SIZE x items entries a tile, in blocks of the texture: halving
+            // the items at least doubles the tiles, less the blocks' ragged edges.
+            const std::size_t tiles = backend.lastTileCounts().tiles;
+            const std::size_t floor = sphere.textures.coveredCount() / (128 * items);  // PL_WORKGROUP_SIZE
+            EXPECT_GE(tiles, floor);
+            if (tilesBefore) EXPECT_GT(tiles, tilesBefore * 3 / 2);
+            tilesBefore = tiles;
+        }
+    }
+    for (int items : {-1, kMaxOpenClItemsPerThread + 1}) {
+        auto made = createBuoyancyBackend("0", nullptr, OpenClOptions{.itemsPerThread = items});
+        if (listComputeDevices().empty()) continue;
+        ASSERT_FALSE(made.ok());
+        EXPECT_NE(made.error().message.find("items per thread"), std::string::npos) << made.error().message;
+    }
+}
+
 // Under flat water the tiles' closed forms are exact: a body wholly under water takes every
 // tile's hydrostatics from its moments, and the drag of every tile whose normals keep one
 // sign against the flow, and agrees with the reference as the per-entry sums do (1e-5).

@@ -993,7 +993,14 @@ Result<std::unique_ptr<BuoyancyBackend>> createOpenClBackend(int index, const Op
         const DeviceHandle& handle = handles[index];
         cl::Context context(handle.device);
         const bool fp64 = deviceHasFp64(handle.device);
-        const int items = itemsPerThreadFor(handle.device);
+        if (options.itemsPerThread < 0 || options.itemsPerThread > kMaxOpenClItemsPerThread) {
+            return makeError(ErrorKind::invalidArgument,
+                             "OpenCL items per thread must be 0 (the device's default) to " +
+                                 std::to_string(kMaxOpenClItemsPerThread) + ", not " +
+                                 std::to_string(options.itemsPerThread));
+        }
+        const int items = options.itemsPerThread > 0 ? options.itemsPerThread
+                                                     : itemsPerThreadFor(handle.device);
         Result<cl::Program> program = buildProgram(context, handle.device, fp64, items);
         if (!program) return program.error();
         return std::unique_ptr<BuoyancyBackend>(std::make_unique<OpenClBackend>(

@@ -119,8 +119,17 @@ struct OpenClOptions {
     OpenClWait wait = OpenClWait::automatic;
     /// Fill lastTimings()' upload, kernel and read-back times from profiling events (the
     /// benchmark's split). Off, the queue records no timestamps and only totalMs is filled.
+    /// On an H200 the events cost about 25 us of a 2048^2 frame's 60 (docs/design.md).
     bool deviceTimings = false;
+    /// Entries each work-item sums per tile, 1 to kMaxOpenClItemsPerThread; a tile is
+    /// PL_WORKGROUP_SIZE (128) times as many entries. 0: the device's default, 8 (fastest on
+    /// PoCL, whose cost is per group). Fewer, smaller tiles shorten the longest group's chain on
+    /// a GPU, whose lone body leaves most of it idle. A speed knob: on flat water the sums agree
+    /// to rounding; on waves a tile's closed form under the water's quadratic is taken where
+    /// that tile passes the tolerance, so smaller tiles pass more often.
+    int itemsPerThread = 0;
 };
+inline constexpr int kMaxOpenClItemsPerThread = 64;
 
 /// What computes a backend's sums: what callers branch on (falling back from a failed
 /// device, labelling results), where the device name is only for people.
