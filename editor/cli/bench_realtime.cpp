@@ -347,7 +347,7 @@ int runRealtimeBench(const RealtimeBenchOptions& o) {
         // a lone body's tiles fill a few of a GPU's groups, so a shorter chain per work-item
         // may pay for more tiles. Not on CPU devices: PoCL pays per group (docs/design.md).
         if (d.isGpu) {
-            for (int items : {1, 2, 4}) {
+            for (int items : {1, 2, 4, 16, 32}) {
                 Method smaller{label + " (items " + std::to_string(items) + ")",
                                std::to_string(d.index), 1};
                 smaller.itemsPerThread = items;

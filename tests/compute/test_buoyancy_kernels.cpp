@@ -354,7 +354,7 @@ TEST(BuoyancyKernels, ItemsPerThreadChangeTheTilesNotTheAnswer) {
     for (const ComputeDevice& device : listComputeDevices()) {
         SCOPED_TRACE(device.name);
         std::size_t tilesBefore = 0;
-        for (int items : {8, 4, 2, 1}) {
+        for (int items : {16, 8, 4, 2, 1}) {
             SCOPED_TRACE(items);
             auto made = createBuoyancyBackend(std::to_string(device.index), nullptr,
                                               OpenClOptions{.waveTolerance = 0.0, .itemsPerThread = items});
