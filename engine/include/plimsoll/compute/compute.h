@@ -97,9 +97,9 @@ struct TileCounts {
 };
 
 /// How the OpenCL path's evaluate() waits for the device's totals.
-/// Measured (docs/design.md, "Waiting for the totals"): spinning saves at most 1 us a frame for
-/// one body on an H200 and costs 15-35% on 1000-body batches there, and 1.3-2x on PoCL, whose
-/// workers need the cores; so every device blocks unless asked.
+/// Measured (docs/design.md, "Waiting for the totals"): on an H200 the two are within the noise
+/// (the spin the less steady on waves); on PoCL spinning costs 1.3-2x, its workers needing the
+/// cores. So every device blocks unless asked.
 enum class OpenClWait {
     automatic,  ///< the measured best for the device: block, on GPUs and CPU devices alike
     block,      ///< a blocking read: the driver puts the thread to sleep and wakes it
@@ -119,7 +119,7 @@ struct OpenClOptions {
     OpenClWait wait = OpenClWait::automatic;
     /// Fill lastTimings()' upload, kernel and read-back times from profiling events (the
     /// benchmark's split). Off, the queue records no timestamps and only totalMs is filled.
-    /// On an H200 the events cost about 25 us of a 2048^2 frame's 60 (docs/design.md).
+    /// On an H200 the events cost 25-30 us a frame, half of a 2048^2 frame (docs/design.md).
     bool deviceTimings = false;
     /// Entries each work-item sums per tile, 1 to kMaxOpenClItemsPerThread; a tile is
     /// PL_WORKGROUP_SIZE (128) times as many entries. 0: the device's default, 8 (fastest on
