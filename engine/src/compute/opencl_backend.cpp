@@ -130,7 +130,9 @@ void faultPoint(detail::OpenClFault kind, const char* call) {
     }
 }
 
-// The kernels read these structs as the C++ side lays them out (plimsoll_shared.h).
+// The kernels read these structs as the C++ side lays them out (plimsoll_shared.h), and the
+// public header states their group size.
+static_assert(PL_WORKGROUP_SIZE == kOpenClWorkGroupSize);
 static_assert(sizeof(gpu::PlTile) == 48 && sizeof(gpu::PlTileMoments) == 256 &&
               sizeof(gpu::PlBody) == 160);
 
@@ -175,22 +177,23 @@ Result<cl::Program> buildProgram(const cl::Context& context, const cl::Device& d
 /// Host memory the driver copies to and from directly: a CL_MEM_ALLOC_HOST_PTR buffer, mapped
 /// once for its whole life. NVIDIA's OpenCL best-practices guide gives this as the way to
 /// pinned memory; from ordinary (pageable) memory the driver goes through a staging copy of
-/// its own. The frame's parameters go up from, and its totals come back into, these.
-template <class T>
-class PinnedArray {
+/// its own. The frame's parameters go up from, and its totals come back into, these (bytes:
+/// the parameters hold two kinds of record, the totals floats or doubles by device).
+class PinnedBytes {
 public:
-    PinnedArray() = default;
-    PinnedArray(const PinnedArray&) = delete;  // one mapping, unmapped once
-    PinnedArray& operator=(const PinnedArray&) = delete;
+    PinnedBytes() = default;
+    PinnedBytes(const PinnedBytes&) = delete;  // one mapping, unmapped once
+    PinnedBytes& operator=(const PinnedBytes&) = delete;
 
-    /// `count` zeroed elements; the old block is unmapped first.
-    void allocate(const cl::Context& context, cl::CommandQueue& queue, std::size_t count) {
+    /// `size` zeroed bytes; the old block is unmapped first.
+    void allocate(const cl::Context& context, cl::CommandQueue& queue, std::size_t size) {
         release(queue);
-        const std::size_t bytes = std::max<std::size_t>(1, count) * sizeof(T);
+        const std::size_t bytes = std::max<std::size_t>(1, size);
         buffer_ = cl::Buffer(context, CL_MEM_ALLOC_HOST_PTR | CL_MEM_READ_WRITE, bytes);
-        data_ = static_cast<T*>(queue.enqueueMapBuffer(buffer_, CL_TRUE, CL_MAP_READ | CL_MAP_WRITE, 0, bytes));
-        size_ = count;
-        std::fill_n(data_, size_, T{});
+        data_ = static_cast<unsigned char*>(
+            queue.enqueueMapBuffer(buffer_, CL_TRUE, CL_MAP_READ | CL_MAP_WRITE, 0, bytes));
+        size_ = size;
+        std::fill_n(data_, size_, 0);
     }
 
     /// Unmaps and lets the buffer go (a lost device: the buffer goes anyway).
@@ -207,13 +210,12 @@ public:
         size_ = 0;
     }
 
-    T* data() { return data_; }
+    unsigned char* data() { return data_; }
     std::size_t size() const { return size_; }
-    T& operator[](std::size_t i) { return data_[i]; }
 
 private:
     cl::Buffer buffer_;
-    T* data_ = nullptr;
+    unsigned char* data_ = nullptr;
     std::size_t size_ = 0;
 };
 
@@ -932,10 +934,10 @@ private:
     /// bodies from 0, then the waves (PL_MAX_WAVES a body) from wavesOffset_. frameBuffer_ is
     /// its device copy; bodiesBuffer_ and wavesBuffer_ are sub-buffers of it, what the
     /// kernels take.
-    PinnedArray<unsigned char> frameParams_;
+    PinnedBytes frameParams_;
     cl::Buffer frameBuffer_;
     std::size_t bodiesBytes_ = 0, wavesOffset_ = 0;
-    PinnedArray<unsigned char> totalsHost_;
+    PinnedBytes totalsHost_;
     std::vector<float> gridHeights_;
     int gridCountX_ = 0, gridCountZ_ = 0;
     FrameTimings timings_;

@@ -122,7 +122,7 @@ struct OpenClOptions {
     /// On an H200 the events cost 25-30 us a frame, half of a 2048^2 frame (docs/design.md).
     bool deviceTimings = false;
     /// Entries each work-item sums per tile, 1 to kMaxOpenClItemsPerThread; a tile is
-    /// PL_WORKGROUP_SIZE (128) times as many entries. 0: the device's default, 8 (fastest on
+    /// kOpenClWorkGroupSize times as many entries. 0: the device's default, 8 (fastest on
     /// PoCL, whose cost is per group). Fewer, smaller tiles shorten the longest group's chain on
     /// a GPU, whose lone body leaves most of it idle. A speed knob: on flat water the sums agree
     /// to rounding; on waves a tile's closed form under the water's quadratic is taken where
@@ -130,6 +130,9 @@ struct OpenClOptions {
     int itemsPerThread = 0;
 };
 inline constexpr int kMaxOpenClItemsPerThread = 64;
+/// Work-items in each of the OpenCL kernels' groups (PL_WORKGROUP_SIZE in the kernels' shared
+/// header, which the backend checks against this).
+inline constexpr int kOpenClWorkGroupSize = 128;
 
 /// What computes a backend's sums: what callers branch on (falling back from a failed
 /// device, labelling results), where the device name is only for people.
