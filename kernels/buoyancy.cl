@@ -446,12 +446,28 @@ PL_INLINE bool facingDragFromMoments(const PlBody* body, const PlTile* tile,
     return true;
 }
 
+/// The water over an entry at r from its tile's water `w` (sampled about rt): the quadratic's
+/// height and the velocity linear over the tile. The velocity's y derivative holds below the
+/// mean level `level` only (the orbital motion is not continued above it), so the offset along
+/// y is taken between the two points' heights clamped to the level.
+PL_INLINE float tileWaterAt(const PlTileWater* w, float3 rt, float level, float3 r, float3* velocity) {
+    const float dx = r.x - rt.x, dz = r.z - rt.z;
+    const float dy = fmin(r.y, level) - fmin(rt.y, level);
+    const float3 d = (float3)(dx, dy, dz);
+    *velocity = w->u + (float3)(dot(w->J[0], d), dot(w->J[1], d), dot(w->J[2], d));
+    return w->f + w->gx * dx + w->gz * dz + 0.5f * (w->hxx * dx * dx + 2.0f * w->hxz * dx * dz + w->hzz * dz * dz);
+}
+
 /// Adds a work-item's share of a tile's entries to `sum`: the hydrostatics and wetted area
-/// where `hydroSums`, the drag where `dragSums`.
+/// where `hydroSums`, the drag where `dragSums`. Where `fromTileWater` (Gerstner waves whose
+/// quadratic holds over the tile) the entries take the tile's water (tileWaterAt) rather than a
+/// Gerstner solve each: at the waterline, as the fast CPU path does, a work-item's chain of
+/// entries is then arithmetic alone; elsewhere each entry solves for its undisplaced point.
 PL_INLINE void entrySums(__global const float4* positions, __global const float4* areaVectors,
                          const PlTile* tile, const PlBody* body, __global const PlWave* waves,
                          __global const float* grid, int gridCountX, int gridCountZ, uint lid,
-                         const int waterModel, const bool hydroSums, const bool dragSums, float* sum) {
+                         const int waterModel, const bool hydroSums, const bool dragSums,
+                         const PlTileWater* w, float3 rt, const bool fromTileWater, float* sum) {
     const float rhoG = body->fluid.x;
     const float halfRhoCd = body->fluid.y;
     const float halfRhoCf = body->fluid.z;
@@ -464,7 +480,9 @@ PL_INLINE void entrySums(__global const float4* positions, __global const float4
         // On Gerstner waves with drag the height and the water's velocity share one solve.
         float f;
         float3 waterVelocity = (float3)(0.0f, 0.0f, 0.0f), unused;
-        if (waterModel == PL_WATER_GERSTNER && dragSums)
+        if (waterModel == PL_WATER_GERSTNER && fromTileWater)
+            f = tileWaterAt(w, rt, body->water.x, r, &waterVelocity);
+        else if (waterModel == PL_WATER_GERSTNER && dragSums)
             gerstnerSample(body, waves, r, &f, &waterVelocity, &unused);
         else
             f = surfaceHeight(waterModel, body, waves, grid, gridCountX, gridCountZ, r);
@@ -579,7 +597,8 @@ PL_INLINE void buoyancyTiles(__global const float4* positions, __global const fl
     }
     if (hydroPerEntry || dragPerEntry)
         entrySums(positions, areaVectors, &tile, &body, waves, grid, gridCountX, gridCountZ,
-                  lid, waterModel, hydroPerEntry, dragPerEntry, sum);
+                  lid, waterModel, hydroPerEntry, dragPerEntry, &w, rt,
+                  waterModel == PL_WATER_GERSTNER && quadraticHolds, sum);
     // Every case after the water's barrier ends in the one reduction, work-item 0 holding the
     // closed forms' sums (alone, where no entry was visited): PoCL 3.1 wrote past the partials
     // where the group left by a branch after that barrier (a return, or the reduction on one
