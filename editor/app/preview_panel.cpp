@@ -218,12 +218,17 @@ void drawTextureSizeChoice(PreviewSession& session) {
 
 void drawPreviewPanel(EditorState& s) {
     PreviewUi& p = ui(s);
+    s.previewWindow.setEmpty();
     if (!p.open) return;
     // The view's lower-left corner at first, its sections folded: the bodies stay in sight.
     ImGui::SetNextWindowPos(ImVec2(s.viewport.x + 8, s.viewport.y + s.viewport.h - 8),
                             ImGuiCond_FirstUseEver, ImVec2(0, 1));
     ImGui::SetNextWindowSize(ImVec2(340, 0), ImGuiCond_FirstUseEver);
-    if (!ImGui::Begin("Live preview", &p.open)) {
+    const bool expanded = ImGui::Begin("Live preview", &p.open);
+    // Its rectangle, folded to its title bar or not: the view's legend moves out from under it.
+    const ImVec2 at = ImGui::GetWindowPos(), size = ImGui::GetWindowSize();
+    s.previewWindow = Eigen::AlignedBox2f(Eigen::Vector2f(at.x, at.y), Eigen::Vector2f(at.x + size.x, at.y + size.y));
+    if (!expanded) {
         ImGui::End();
         return;
     }

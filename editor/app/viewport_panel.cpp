@@ -225,14 +225,22 @@ void drawViewportOverlay(EditorState& s) {
     std::string line = std::string(viewName(s.camera)) + "   overlay: " + overlayName(s.overlay);
     draw->AddText(origin, IM_COL32(230, 230, 230, 255), line.c_str());
     drawGraphOverlay(s);
-    // The overlay's legend, bottom left of the view: what the colours mean, with units.
+    // The overlay's legend, bottom left of the view (clear of the Live preview window): what the
+    // colours mean, with units.
     const BodyDesc* selected = s.selectedBody >= 0 &&
                                        static_cast<std::size_t>(s.selectedBody) < s.document->bodyCount()
                                    ? &s.document->project().bodies[static_cast<std::size_t>(s.selectedBody)]
                                    : nullptr;
     const OverlayLegend legend = overlayLegend(s.overlay, selected);
     if (!legend.meaning.empty()) {
-        const float x = s.viewport.x + 10, y = s.viewport.y + s.viewport.h - 46;
+        constexpr float kRampWidth = 160;
+        const float textWidth = ImGui::CalcTextSize(legend.meaning.c_str()).x;
+        const Eigen::Vector2f size(legend.ramp ? std::max(textWidth, kRampWidth) : textWidth,
+                                   legend.ramp ? 34 + ImGui::GetTextLineHeight() : ImGui::GetTextLineHeight());
+        const Eigen::AlignedBox2f view(Eigen::Vector2f(s.viewport.x, s.viewport.y),
+                                       Eigen::Vector2f(s.viewport.x + s.viewport.w, s.viewport.y + s.viewport.h));
+        const Eigen::Vector2f place = legendPlace(view, size, s.previewWindow);
+        const float x = place.x(), y = place.y();
         const ImU32 white = IM_COL32(230, 230, 230, 255);
         draw->AddText(ImVec2(x, y), white, legend.meaning.c_str());
         if (legend.ramp) {
@@ -240,7 +248,7 @@ void drawViewportOverlay(EditorState& s) {
                 const Eigen::Vector3f c = rampColour(v);
                 return IM_COL32(int(c.x() * 255), int(c.y() * 255), int(c.z() * 255), 255);
             };
-            const ImVec2 a(x, y + 18), b(x + 160, y + 32);
+            const ImVec2 a(x, y + 18), b(x + kRampWidth, y + 32);
             // The ramp is linear: two corner colours draw it exactly.
             draw->AddRectFilledMultiColor(a, b, colour(0), colour(1), colour(1), colour(0));
             draw->AddText(ImVec2(x, y + 34), white, legend.low.c_str());

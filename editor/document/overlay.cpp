@@ -170,6 +170,19 @@ OverlayLegend overlayLegend(Overlay overlay, const BodyDesc* body) {
     return legend;
 }
 
+Eigen::Vector2f legendPlace(const Eigen::AlignedBox2f& view, const Eigen::Vector2f& size,
+                            const Eigen::AlignedBox2f& window, float topMargin) {
+    constexpr float kInset = 10, kGap = 6;
+    const Eigen::Vector2f corner(view.min().x() + kInset, view.max().y() - kInset - size.y());
+    auto covered = [&](const Eigen::Vector2f& at) { return window.intersects(Eigen::AlignedBox2f(at, at + size)); };
+    if (window.isEmpty() || !covered(corner)) return corner;
+    const Eigen::Vector2f above(corner.x(), window.min().y() - kGap - size.y());
+    if (above.y() >= view.min().y() + topMargin && !covered(above)) return above;
+    const Eigen::Vector2f right(window.max().x() + kGap, corner.y());
+    if (right.x() + size.x() <= view.max().x() && !covered(right)) return right;
+    return corner;
+}
+
 std::string surfacePointPhysics(const Document& document, std::size_t body,
                                 const Eigen::Vector3d& object, double time) {
     const Project& project = document.project();

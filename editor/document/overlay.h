@@ -7,6 +7,7 @@
 #include "plimsoll/geometry/uv_layout.h"
 
 #include <Eigen/Core>
+#include <Eigen/Geometry>
 
 #include <cstdint>
 #include <optional>
@@ -48,6 +49,14 @@ struct OverlayLegend {
 };
 /// The legend of `overlay` on `body` (its shell gives the density map's scale; null: none).
 OverlayLegend overlayLegend(Overlay overlay, const BodyDesc* body);
+
+/// Where the view's legend goes: the top-left corner (window pixels, y down) of a legend of
+/// `size` in `view`. Its place is the view's lower-left corner, unless `window` (a floating
+/// window over the view; empty: none) covers it, as the Live preview does where it opens: then
+/// just above that window, or right of it where there is no room above (the view's first
+/// `topMargin` pixels keep the view's name), and back in the corner where neither fits.
+Eigen::Vector2f legendPlace(const Eigen::AlignedBox2f& view, const Eigen::Vector2f& size,
+                            const Eigen::AlignedBox2f& window, float topMargin = 24);
 
 /// The hover readout's physics at a surface point of `body` (object space), at the body's pose
 /// in the project: how deep under the surface it lies (the project's water at `time`) and the

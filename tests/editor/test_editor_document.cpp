@@ -1011,6 +1011,38 @@ TEST(EditorScript, HeadlessEditScriptPaintsUndoesAndSaves) {
     EXPECT_NE(bad.err.find("command 0"), std::string::npos) << bad.err;
 }
 
+// The legend's place in a 1024 x 640 view: its lower-left corner; above the Live preview
+// window where that window opens there; right of a window too tall to go above; the corner
+// again where the window leaves room neither above nor right. Never under the window when a
+// place clear of it exists, never outside the view.
+TEST(EditorOverlay, LegendKeepsClearOfTheLivePreviewWindow) {
+    const Eigen::AlignedBox2f view(Eigen::Vector2f(0, 20), Eigen::Vector2f(1024, 660));
+    const Eigen::Vector2f size(200, 48);
+    auto box = [](float x0, float y0, float x1, float y1) {
+        return Eigen::AlignedBox2f(Eigen::Vector2f(x0, y0), Eigen::Vector2f(x1, y1));
+    };
+    auto clear = [&](const Eigen::Vector2f& at, const Eigen::AlignedBox2f& window) {
+        return !window.intersects(Eigen::AlignedBox2f(at, at + size)) &&
+               view.contains(Eigen::AlignedBox2f(at, at + size));
+    };
+    const Eigen::Vector2f corner = legendPlace(view, size, Eigen::AlignedBox2f());
+    EXPECT_EQ(corner, Eigen::Vector2f(10, 660 - 10 - 48));
+    // A window elsewhere leaves it there.
+    EXPECT_EQ(legendPlace(view, size, box(700, 300, 1000, 650)), corner);
+    // The preview's first place: the view's lower-left corner, 340 wide, 260 high.
+    const Eigen::AlignedBox2f preview = box(8, 392, 348, 652);
+    const Eigen::Vector2f above = legendPlace(view, size, preview);
+    EXPECT_EQ(above, Eigen::Vector2f(10, 392 - 6 - 48));
+    EXPECT_TRUE(clear(above, preview));
+    // Unfolded to nearly the view's height: to its right.
+    const Eigen::AlignedBox2f tall = box(8, 40, 348, 652);
+    const Eigen::Vector2f right = legendPlace(view, size, tall);
+    EXPECT_EQ(right, Eigen::Vector2f(348 + 6, corner.y()));
+    EXPECT_TRUE(clear(right, tall));
+    // Across the whole view: nowhere is clear, the corner stays.
+    EXPECT_EQ(legendPlace(view, size, box(0, 40, 1024, 660)), corner);
+}
+
 TEST(EditorOverlay, LegendGivesTheDensityMapItsShellScale) {
     BodyDesc body;
     body.material.shellSurfaceDensity = 12.5;
