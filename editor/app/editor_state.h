@@ -101,9 +101,9 @@ struct EditorState {
     /// The uv under the mouse in the UV view this frame (reports; none when not over it).
     std::optional<Eigen::Vector2f> uvUnderMouse;
     Rect viewport;                      ///< where the 3D view is drawn this frame
-    /// The Live preview window's rectangle this frame (empty: closed), which the view's legend
-    /// keeps clear of (legendPlace).
-    Eigen::AlignedBox2f previewWindow;
+    /// The Live preview window's rectangle this frame (empty: closed) and the view's legend's
+    /// (empty: none), which the labels drawn over the view keep clear of (overlayPlace).
+    Eigen::AlignedBox2f previewWindow, legendBox;
     bool navigating = false;            ///< a mouse drag is moving the camera
     std::string status;                 ///< status bar line
     FileBrowser browser;

@@ -463,14 +463,23 @@ void drawPreviewOverlay(EditorState& s) {
         const PreviewTimings& t = session.timings();
         char text[256];
         std::snprintf(text, sizeof text,
-                      "frame %.2f ms   kernel %.3f ms   step %.2f ms\nbodies %zu   texels %zu   %s",
-                      p.uiFrameMs, t.kernelMs, t.frameMs, session.world().bodies().size(),
+                      "frame %.2f ms   step %.2f ms\nkernel %.3f ms\nbodies %zu, texels %zu, %s",
+                      p.uiFrameMs, t.frameMs, t.kernelMs, session.world().bodies().size(),
                       session.coveredTexels(), session.playing() ? "playing" : "paused");
-        const ImVec2 size = ImGui::CalcTextSize(text);
-        const ImVec2 at(hi.x - size.x - 10, lo.y + 6);
-        draw->AddRectFilled(ImVec2(at.x - 4, at.y - 2), ImVec2(at.x + size.x + 4, at.y + size.y + 2),
-                            IM_COL32(0, 0, 0, 140));
-        draw->AddText(at, IM_COL32(230, 230, 230, 255), text);
+        // Bottom right of the view, the corner no window opens in (the title line is top left,
+        // the plots top right, the Live preview bottom left), clear of the Live preview and the
+        // legend where a narrow view brings them near; behind the floating windows, as the
+        // title is, so that a window moved over it stays whole.
+        const ImVec2 textSize = ImGui::CalcTextSize(text);
+        const Eigen::Vector2f size(textSize.x + 8, textSize.y + 4);  // with its backing's margin
+        const Eigen::AlignedBox2f view(Eigen::Vector2f(lo.x, lo.y), Eigen::Vector2f(hi.x, hi.y));
+        const Eigen::AlignedBox2f avoid[] = {s.previewWindow, s.legendBox};
+        const Eigen::Vector2f place = overlayPlace(view, size, avoid, ViewCorner::LowerRight);
+        const ImVec2 at(place.x() + 4, place.y() + 2);
+        ImDrawList* behind = ImGui::GetBackgroundDrawList();
+        behind->AddRectFilled(ImVec2(place.x(), place.y()), ImVec2(place.x() + size.x(), place.y() + size.y()),
+                              IM_COL32(0, 0, 0, 140));
+        behind->AddText(at, IM_COL32(230, 230, 230, 255), text);
     }
 }
 

@@ -232,6 +232,7 @@ void drawViewportOverlay(EditorState& s) {
                                    ? &s.document->project().bodies[static_cast<std::size_t>(s.selectedBody)]
                                    : nullptr;
     const OverlayLegend legend = overlayLegend(s.overlay, selected);
+    s.legendBox.setEmpty();
     if (!legend.meaning.empty()) {
         constexpr float kRampWidth = 160;
         const float textWidth = ImGui::CalcTextSize(legend.meaning.c_str()).x;
@@ -239,7 +240,8 @@ void drawViewportOverlay(EditorState& s) {
                                    legend.ramp ? 34 + ImGui::GetTextLineHeight() : ImGui::GetTextLineHeight());
         const Eigen::AlignedBox2f view(Eigen::Vector2f(s.viewport.x, s.viewport.y),
                                        Eigen::Vector2f(s.viewport.x + s.viewport.w, s.viewport.y + s.viewport.h));
-        const Eigen::Vector2f place = legendPlace(view, size, s.previewWindow);
+        const Eigen::Vector2f place = overlayPlace(view, size, {&s.previewWindow, 1}, ViewCorner::LowerLeft);
+        s.legendBox = Eigen::AlignedBox2f(place, place + size);
         const float x = place.x(), y = place.y();
         const ImU32 white = IM_COL32(230, 230, 230, 255);
         draw->AddText(ImVec2(x, y), white, legend.meaning.c_str());

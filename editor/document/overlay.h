@@ -11,6 +11,7 @@
 
 #include <cstdint>
 #include <optional>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -50,13 +51,18 @@ struct OverlayLegend {
 /// The legend of `overlay` on `body` (its shell gives the density map's scale; null: none).
 OverlayLegend overlayLegend(Overlay overlay, const BodyDesc* body);
 
-/// Where the view's legend goes: the top-left corner (window pixels, y down) of a legend of
-/// `size` in `view`. Its place is the view's lower-left corner, unless `window` (a floating
-/// window over the view; empty: none) covers it, as the Live preview does where it opens: then
-/// just above that window, or right of it where there is no room above (the view's first
-/// `topMargin` pixels keep the view's name), and back in the corner where neither fits.
-Eigen::Vector2f legendPlace(const Eigen::AlignedBox2f& view, const Eigen::Vector2f& size,
-                            const Eigen::AlignedBox2f& window, float topMargin = 24);
+/// A corner of the view for a label drawn over it.
+enum class ViewCorner { LowerLeft, LowerRight };
+/// Where a label of `size` drawn over `view` goes (its top-left corner, window pixels, y down):
+/// in `corner`, unless one of the `avoid` rectangles (floating windows, other labels) covers
+/// it; then just above one of them, or beside it (away from the corner's side) where there is
+/// no room above (the view's first `topMargin` pixels keep the view's title line); the first
+/// such place clear of them all, in the order given, and the corner itself where none is.
+/// The view's legend keeps clear of the Live preview window this way, which opens in the
+/// lower-left corner, and the preview's performance readout of both.
+Eigen::Vector2f overlayPlace(const Eigen::AlignedBox2f& view, const Eigen::Vector2f& size,
+                             std::span<const Eigen::AlignedBox2f> avoid, ViewCorner corner,
+                             float topMargin = 24);
 
 /// The hover readout's physics at a surface point of `body` (object space), at the body's pose
 /// in the project: how deep under the surface it lies (the project's water at `time`) and the

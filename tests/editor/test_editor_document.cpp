@@ -1011,36 +1011,59 @@ TEST(EditorScript, HeadlessEditScriptPaintsUndoesAndSaves) {
     EXPECT_NE(bad.err.find("command 0"), std::string::npos) << bad.err;
 }
 
-// The legend's place in a 1024 x 640 view: its lower-left corner; above the Live preview
-// window where that window opens there; right of a window too tall to go above; the corner
-// again where the window leaves room neither above nor right. Never under the window when a
-// place clear of it exists, never outside the view.
-TEST(EditorOverlay, LegendKeepsClearOfTheLivePreviewWindow) {
+// Labels over a 1024 x 640 view (from y = 20): the legend in the lower-left corner; above the
+// Live preview window where that window opens there; right of a window too tall to go above;
+// the corner again where nothing is clear. The performance readout in the lower-right corner,
+// the mirror image: left of a window too tall, above the window and the legend together when
+// both reach its corner. Never under what it avoids when a clear place exists, never outside
+// the view or in its title line.
+TEST(EditorOverlay, LabelsKeepClearOfTheLivePreviewWindowAndEachOther) {
     const Eigen::AlignedBox2f view(Eigen::Vector2f(0, 20), Eigen::Vector2f(1024, 660));
     const Eigen::Vector2f size(200, 48);
     auto box = [](float x0, float y0, float x1, float y1) {
         return Eigen::AlignedBox2f(Eigen::Vector2f(x0, y0), Eigen::Vector2f(x1, y1));
     };
-    auto clear = [&](const Eigen::Vector2f& at, const Eigen::AlignedBox2f& window) {
-        return !window.intersects(Eigen::AlignedBox2f(at, at + size)) &&
-               view.contains(Eigen::AlignedBox2f(at, at + size));
+    auto clear = [&](const Eigen::Vector2f& at, std::initializer_list<Eigen::AlignedBox2f> avoid) {
+        const Eigen::AlignedBox2f label(at, at + size);
+        for (const auto& b : avoid)
+            if (b.intersects(label)) return false;
+        return view.contains(label) && at.y() >= 20 + 24;
     };
-    const Eigen::Vector2f corner = legendPlace(view, size, Eigen::AlignedBox2f());
+    auto place = [&](std::initializer_list<Eigen::AlignedBox2f> avoid, ViewCorner corner) {
+        const std::vector<Eigen::AlignedBox2f> boxes(avoid);
+        return overlayPlace(view, size, boxes, corner);
+    };
+    const Eigen::Vector2f corner = place({}, ViewCorner::LowerLeft);
     EXPECT_EQ(corner, Eigen::Vector2f(10, 660 - 10 - 48));
+    EXPECT_EQ(place({Eigen::AlignedBox2f()}, ViewCorner::LowerLeft), corner);  // empty: nothing
     // A window elsewhere leaves it there.
-    EXPECT_EQ(legendPlace(view, size, box(700, 300, 1000, 650)), corner);
+    EXPECT_EQ(place({box(700, 300, 1000, 650)}, ViewCorner::LowerLeft), corner);
     // The preview's first place: the view's lower-left corner, 340 wide, 260 high.
     const Eigen::AlignedBox2f preview = box(8, 392, 348, 652);
-    const Eigen::Vector2f above = legendPlace(view, size, preview);
+    const Eigen::Vector2f above = place({preview}, ViewCorner::LowerLeft);
     EXPECT_EQ(above, Eigen::Vector2f(10, 392 - 6 - 48));
-    EXPECT_TRUE(clear(above, preview));
+    EXPECT_TRUE(clear(above, {preview}));
     // Unfolded to nearly the view's height: to its right.
     const Eigen::AlignedBox2f tall = box(8, 40, 348, 652);
-    const Eigen::Vector2f right = legendPlace(view, size, tall);
+    const Eigen::Vector2f right = place({tall}, ViewCorner::LowerLeft);
     EXPECT_EQ(right, Eigen::Vector2f(348 + 6, corner.y()));
-    EXPECT_TRUE(clear(right, tall));
+    EXPECT_TRUE(clear(right, {tall}));
     // Across the whole view: nowhere is clear, the corner stays.
-    EXPECT_EQ(legendPlace(view, size, box(0, 40, 1024, 660)), corner);
+    EXPECT_EQ(place({box(0, 40, 1024, 660)}, ViewCorner::LowerLeft), corner);
+
+    // The lower-right corner mirrors it.
+    EXPECT_EQ(place({}, ViewCorner::LowerRight), Eigen::Vector2f(1024 - 10 - 200, corner.y()));
+    const Eigen::AlignedBox2f tallRight = box(700, 40, 1016, 652);
+    EXPECT_EQ(place({tallRight}, ViewCorner::LowerRight), Eigen::Vector2f(700 - 6 - 200, corner.y()));
+    // A narrow view (300 wide) with the preview and the legend above it both in its corner:
+    // above the two, clear of both.
+    const Eigen::AlignedBox2f narrow(Eigen::Vector2f(0, 20), Eigen::Vector2f(300, 660));
+    const Eigen::AlignedBox2f legend(above, above + size);
+    const std::vector<Eigen::AlignedBox2f> both = {preview, legend};
+    const Eigen::Vector2f readout = overlayPlace(narrow, size, both, ViewCorner::LowerRight);
+    EXPECT_EQ(readout, Eigen::Vector2f(300 - 10 - 200, legend.min().y() - 6 - 48));
+    EXPECT_FALSE(preview.intersects(Eigen::AlignedBox2f(readout, readout + size)));
+    EXPECT_FALSE(legend.intersects(Eigen::AlignedBox2f(readout, readout + size)));
 }
 
 TEST(EditorOverlay, LegendGivesTheDensityMapItsShellScale) {
