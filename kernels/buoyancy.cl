@@ -196,6 +196,11 @@ typedef struct {
     float3 J[3];  /* rows: J[i] = grad u_i */
 } PlTileWater;
 
+/// The tile's quadratic at the horizontal offset (dx, dz) from its centre.
+PL_INLINE float tileQuadraticAt(const PlTileWater* w, float dx, float dz) {
+    return w->f + w->gx * dx + w->gz * dz + 0.5f * (w->hxx * dx * dx + 2.0f * w->hxz * dx * dz + w->hzz * dz * dz);
+}
+
 /// Still flat water at `level` over a tile: exact.
 PL_INLINE PlTileWater flatTileWater(float level) {
     PlTileWater w;
@@ -241,10 +246,7 @@ PL_INLINE PlTileWater sampleTileWater(const int waterModel, const PlBody* body,
     float misfit = 0.0f;
     for (int j = -2; j <= 2; ++j)
         for (int i = -2; i <= 2; ++i) {
-            const float x = i * halfStep, z = j * halfStep;
-            const float q = w.f + w.gx * x + w.gz * z +
-                            0.5f * (w.hxx * x * x + 2.0f * w.hxz * x * z + w.hzz * z * z);
-            misfit = fmax(misfit, fabs(PL_H(i, j) - q));
+            misfit = fmax(misfit, fabs(PL_H(i, j) - tileQuadraticAt(&w, i * halfStep, j * halfStep)));
         }
 #undef PL_H
     w.misfit = misfit;
@@ -455,7 +457,7 @@ PL_INLINE float tileWaterAt(const PlTileWater* w, float3 rt, float level, float3
     const float dy = fmin(r.y, level) - fmin(rt.y, level);
     const float3 d = (float3)(dx, dy, dz);
     *velocity = w->u + (float3)(dot(w->J[0], d), dot(w->J[1], d), dot(w->J[2], d));
-    return w->f + w->gx * dx + w->gz * dz + 0.5f * (w->hxx * dx * dx + 2.0f * w->hxz * dx * dz + w->hzz * dz * dz);
+    return tileQuadraticAt(w, dx, dz);
 }
 
 /// Adds a work-item's share of a tile's entries to `sum`: the hydrostatics and wetted area

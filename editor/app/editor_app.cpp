@@ -701,6 +701,18 @@ bool writeScreenshot(const std::string& path, int width, int height) {
            }).ok();
 }
 
+/// One refresh of the fastest display (so that a window on a 144 Hz display is not held to 60),
+/// or of 60 Hz where no display gives its rate.
+std::chrono::steady_clock::duration displayFramePeriod() {
+    int refreshRate = 0, monitorCount = 0;
+    if (GLFWmonitor** monitors = glfwGetMonitors(&monitorCount)) {
+        for (int m = 0; m < monitorCount; ++m)
+            if (const GLFWvidmode* mode = glfwGetVideoMode(monitors[m])) refreshRate = std::max(refreshRate, mode->refreshRate);
+    }
+    return std::chrono::duration_cast<std::chrono::steady_clock::duration>(
+        std::chrono::duration<double>(1.0 / (refreshRate > 0 ? refreshRate : 60)));
+}
+
 }  // namespace
 
 int runEditorWindow(const EditorLaunch& launch) {
@@ -734,22 +746,13 @@ int runEditorWindow(const EditorLaunch& launch) {
     }
     glfwMakeContextCurrent(window);
     glfwSwapInterval(launch.frames > 0 ? 0 : 1);
-    // Interactive frames are paced to the displays' refresh rate (the fastest display's, so that
-    // a window on a 144 Hz one is not held to 60; 60 Hz where none gives a rate).
-    // Where the swap does not wait for the display (a virtual or remote display, llvmpipe under
-    // Xvfb, vsync turned off in the driver) an animating view redrew as fast as the processor
-    // allowed: the ball's live preview under Xvfb drew 217 frames a second on 1.4 cores, taken
-    // from the bakes and the physics for frames no display shows. With vsync the swap has
-    // already waited and the pacing sleeps nothing. Scripted runs (--frames) are not paced.
-    int refreshRate = 0;
-    int monitorCount = 0;
-    if (GLFWmonitor** monitors = glfwGetMonitors(&monitorCount)) {
-        for (int m = 0; m < monitorCount; ++m)
-            if (const GLFWvidmode* mode = glfwGetVideoMode(monitors[m])) refreshRate = std::max(refreshRate, mode->refreshRate);
-    }
-    if (refreshRate <= 0) refreshRate = 60;
-    const auto framePeriod = std::chrono::duration_cast<std::chrono::steady_clock::duration>(
-        std::chrono::duration<double>(1.0 / refreshRate));
+    // Interactive frames are paced to the displays (displayFramePeriod). Where the swap does not
+    // wait for the display (a virtual or remote display, llvmpipe under Xvfb, vsync turned off
+    // in the driver) an animating view redrew as fast as the processor allowed: the ball's live
+    // preview under Xvfb drew 217 frames a second on 1.4 cores, taken from the bakes and the
+    // physics for frames no display shows. With vsync the swap has already waited and the
+    // pacing sleeps nothing. Scripted runs (--frames) are not paced.
+    const std::chrono::steady_clock::duration framePeriod = displayFramePeriod();
     glfwSetWindowUserPointer(window, &s);
     glfwSetDropCallback(window, onDrop);
     glfwSetWindowCloseCallback(window, onClose);

@@ -43,6 +43,7 @@ struct ActiveStroke {
 struct Rect {
     float x = 0, y = 0, w = 0, h = 0;
     bool contains(float px, float py) const { return px >= x && py >= y && px < x + w && py < y + h; }
+    Eigen::AlignedBox2f box() const { return {Eigen::Vector2f(x, y), Eigen::Vector2f(x + w, y + h)}; }
 };
 
 /// The Layers panel's sliders while held (the value shown; the command comes on release).

@@ -472,9 +472,8 @@ void drawPreviewOverlay(EditorState& s) {
         // title is, so that a window moved over it stays whole.
         const ImVec2 textSize = ImGui::CalcTextSize(text);
         const Eigen::Vector2f size(textSize.x + 8, textSize.y + 4);  // with its backing's margin
-        const Eigen::AlignedBox2f view(Eigen::Vector2f(lo.x, lo.y), Eigen::Vector2f(hi.x, hi.y));
         const Eigen::AlignedBox2f avoid[] = {s.previewWindow, s.legendBox};
-        const Eigen::Vector2f place = overlayPlace(view, size, avoid, ViewCorner::LowerRight);
+        const Eigen::Vector2f place = overlayPlace(s.viewport.box(), size, avoid, ViewCorner::LowerRight);
         const ImVec2 at(place.x() + 4, place.y() + 2);
         ImDrawList* behind = ImGui::GetBackgroundDrawList();
         behind->AddRectFilled(ImVec2(place.x(), place.y()), ImVec2(place.x() + size.x(), place.y() + size.y()),

@@ -238,9 +238,7 @@ void drawViewportOverlay(EditorState& s) {
         const float textWidth = ImGui::CalcTextSize(legend.meaning.c_str()).x;
         const Eigen::Vector2f size(legend.ramp ? std::max(textWidth, kRampWidth) : textWidth,
                                    legend.ramp ? 34 + ImGui::GetTextLineHeight() : ImGui::GetTextLineHeight());
-        const Eigen::AlignedBox2f view(Eigen::Vector2f(s.viewport.x, s.viewport.y),
-                                       Eigen::Vector2f(s.viewport.x + s.viewport.w, s.viewport.y + s.viewport.h));
-        const Eigen::Vector2f place = overlayPlace(view, size, {&s.previewWindow, 1}, ViewCorner::LowerLeft);
+        const Eigen::Vector2f place = overlayPlace(s.viewport.box(), size, {&s.previewWindow, 1}, ViewCorner::LowerLeft);
         s.legendBox = Eigen::AlignedBox2f(place, place + size);
         const float x = place.x(), y = place.y();
         const ImU32 white = IM_COL32(230, 230, 230, 255);

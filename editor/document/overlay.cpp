@@ -173,45 +173,27 @@ OverlayLegend overlayLegend(Overlay overlay, const BodyDesc* body) {
 Eigen::Vector2f overlayPlace(const Eigen::AlignedBox2f& view, const Eigen::Vector2f& size,
                              std::span<const Eigen::AlignedBox2f> avoid, ViewCorner corner, float topMargin) {
     constexpr float kInset = 10, kGap = 6;
-    // Worked out for the lower-left corner; the lower-right one is its mirror image about the
-    // view's vertical centre line (x -> left + right - x, a box's ends swapped).
-    const bool mirrored = corner == ViewCorner::LowerRight;
-    const float mirrorSum = view.min().x() + view.max().x();
-    auto mirror = [&](const Eigen::AlignedBox2f& box) {
-        if (!mirrored || box.isEmpty()) return box;
-        return Eigen::AlignedBox2f(Eigen::Vector2f(mirrorSum - box.max().x(), box.min().y()),
-                                   Eigen::Vector2f(mirrorSum - box.min().x(), box.max().y()));
-    };
-    std::vector<Eigen::AlignedBox2f> obstacles;
-    for (const Eigen::AlignedBox2f& box : avoid)
-        if (!box.isEmpty()) obstacles.push_back(mirror(box));
+    const bool left = corner == ViewCorner::LowerLeft;
     auto clear = [&](const Eigen::Vector2f& at) {
         const Eigen::AlignedBox2f label(at, at + size);
         if (at.y() < view.min().y() + topMargin || at.x() < view.min().x() || label.max().x() > view.max().x())
             return false;
-        for (const Eigen::AlignedBox2f& box : obstacles)
-            if (box.intersects(label)) return false;
+        for (const Eigen::AlignedBox2f& box : avoid)
+            if (!box.isEmpty() && box.intersects(label)) return false;
         return true;
     };
-    const Eigen::Vector2f home(view.min().x() + kInset, view.max().y() - kInset - size.y());
-    Eigen::Vector2f place = home;
-    if (!clear(home)) {
-        for (const Eigen::AlignedBox2f& box : obstacles) {
-            const Eigen::Vector2f above(home.x(), box.min().y() - kGap - size.y());
-            const Eigen::Vector2f beside(box.max().x() + kGap, home.y());
-            if (clear(above)) {
-                place = above;
-                break;
-            }
-            if (clear(beside)) {
-                place = beside;
-                break;
-            }
-        }
+    const Eigen::Vector2f home(left ? view.min().x() + kInset : view.max().x() - kInset - size.x(),
+                               view.max().y() - kInset - size.y());
+    if (clear(home)) return home;
+    for (const Eigen::AlignedBox2f& box : avoid) {
+        if (box.isEmpty()) continue;
+        const Eigen::Vector2f above(home.x(), box.min().y() - kGap - size.y());
+        if (clear(above)) return above;
+        // Beside it, away from the corner's side of the view.
+        const Eigen::Vector2f beside(left ? box.max().x() + kGap : box.min().x() - kGap - size.x(), home.y());
+        if (clear(beside)) return beside;
     }
-    // Back from the mirror: the label's left edge is the mirror of its right one.
-    if (mirrored) place.x() = mirrorSum - (place.x() + size.x());
-    return place;
+    return home;
 }
 
 std::string surfacePointPhysics(const Document& document, std::size_t body,

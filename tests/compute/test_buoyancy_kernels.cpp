@@ -290,6 +290,26 @@ BodyRequest movingRequest(std::size_t id, const Body& body, double depth, int tr
     return request;
 }
 
+/// The speed the drag of a movingRequest is measured against, on the sample sphere (radius
+/// 0.5): about |linear| + |angular| x radius, and 1 m/s of the water's own.
+constexpr double kMovingSphereSpeed = 1.3 + 0.9 * 0.5 + 1.0;
+
+/// The largest errors over several results, each in its natural scale: the pressure force of
+/// rho g V, its torque of rho g V R, the drag of rho u^2 S, the wetted area of S.
+struct WorstErrors {
+    double pressureForce = 0, pressureTorque = 0, drag = 0, wetted = 0;
+    void add(const BuoyancyResult& got, const BuoyancyResult& want, const Body& body,
+             const FluidSettings& fluid, double speed) {
+        const double F = fluid.density * fluid.gravity * body.props.volume;
+        const double S = body.textures.surfaceArea(), D = fluid.density * speed * speed * S;
+        pressureForce = std::max(pressureForce, (got.pressureForce - want.pressureForce).norm() / F);
+        pressureTorque = std::max(pressureTorque,
+                                  (got.pressureTorque - want.pressureTorque).norm() / (F * body.boundingRadius));
+        drag = std::max(drag, (got.dragForce - want.dragForce).norm() / D);
+        wetted = std::max(wetted, std::abs(got.wettedArea - want.wettedArea) / S);
+    }
+};
+
 // How the host waits for the totals, and whether the queue records timestamps, changes when
 // evaluate() returns, never what it returns: every combination gives the same bits on every
 // water model, and the timings are there exactly where they were asked for.
@@ -397,7 +417,7 @@ TEST(BuoyancyKernels, TilesUnderFlatWaterTakeExactClosedForms) {
     auto backends = test::openClBackends();
     if (backends.empty()) GTEST_SKIP() << test::noOpenClDeviceReason();
     const Body sphere = makeBody(makeUvSphere(0.5, 48, 24), 512);  // 256 tiles on the device
-    const double speed = 1.3 + 0.9 * 0.5 + 1.0;
+    const double speed = kMovingSphereSpeed;
     for (auto& backend : backends) {
         SCOPED_TRACE(backend->deviceName());
         const std::size_t id = backend->addBody(sphere.textures, sphere.props.centerOfMass);
@@ -436,7 +456,7 @@ TEST(BuoyancyKernels, TilesUnderWavesStayWithinTheirStatedError) {
     if (listComputeDevices().empty()) GTEST_SKIP() << test::noOpenClDeviceReason();
     const Body sphere = makeBody(makeUvSphere(0.5, 48, 24), 512);
     const double radius = sphere.boundingRadius;
-    const double speed = 1.3 + 0.9 * 0.5 + 1.0;
+    const double speed = kMovingSphereSpeed;
     const FluidSettings fluid;
     const double F = fluid.density * fluid.gravity * sphere.props.volume;
     const double D = fluid.density * speed * speed * sphere.textures.surfaceArea();
@@ -451,7 +471,7 @@ TEST(BuoyancyKernels, TilesUnderWavesStayWithinTheirStatedError) {
         for (std::size_t model = 0; model < waters.size(); ++model) {
             const WaterModel& water = waters[model];
             std::size_t closed = 0, dragClosed = 0, dry = 0, tiles = 0;
-            double worstForce = 0, worstDrag = 0, worstWetted = 0;
+            WorstErrors worst;
             for (int trial = 0; trial < 4; ++trial) {
                 const BodyRequest request = movingRequest(id, sphere, trial % 2 ? 0.1 : 0.4, trial);
                 BuoyancyResult result;
@@ -470,10 +490,7 @@ TEST(BuoyancyKernels, TilesUnderWavesStayWithinTheirStatedError) {
                 EXPECT_NEAR(result.submergedVolume, expected.submergedVolume, bound / (fluid.density * fluid.gravity));
                 EXPECT_NEAR(result.wettedArea, expected.wettedArea,
                             (tolerance + 1e-5) * sphere.textures.surfaceArea());
-                worstForce = std::max(worstForce, (result.pressureForce - expected.pressureForce).norm() / F);
-                worstDrag = std::max(worstDrag, (result.dragForce - expected.dragForce).norm() / D);
-                worstWetted = std::max(worstWetted, std::abs(result.wettedArea - expected.wettedArea) /
-                                                        sphere.textures.surfaceArea());
+                worst.add(result, expected, sphere, fluid, speed);
                 // The drag of a closed-form tile takes the water's velocity as linear over it.
                 EXPECT_LT((result.dragForce - expected.dragForce).norm(), (tolerance > 0 ? 1e-3 : 1e-5) * D);
                 EXPECT_LT((result.dragTorque - expected.dragTorque).norm(), (tolerance > 0 ? 1e-3 : 1e-5) * D * radius);
@@ -482,7 +499,7 @@ TEST(BuoyancyKernels, TilesUnderWavesStayWithinTheirStatedError) {
                         "(%zu with drag); pressure force error %.2e of rho g V, drag %.2e of rho u^2 S, wetted "
                         "area %.2e of S\n",
                         model == 0 ? "Gerstner" : "height field", tolerance, tiles, dry, closed,
-                        dragClosed, worstForce, worstDrag, worstWetted);
+                        dragClosed, worst.pressureForce, worst.drag, worst.wetted);
             if (tolerance == 0) {
                 EXPECT_EQ(closed, 0u);
             } else if (model == 0) {
@@ -512,7 +529,7 @@ TEST(BuoyancyKernels, WhereTheWaterIsNearlyQuadraticTilesGiveTheReferencesAnswer
     };
     const Case cases[] = {{"swell", {0.9, 80.0, {1.0, 0.4}, 0.6, 0.3}, 1.0},
                           {"16 m wave, no drag", {0.3, 16.0, {-0.3, 1.0}, 0.6, 1.1}, 0.0}};
-    const double speed = 1.3 + 0.9 * 0.5 + 1.0;
+    const double speed = kMovingSphereSpeed;
     auto backend = createBuoyancyBackend("0", nullptr, OpenClOptions{});
     ASSERT_TRUE(backend.ok()) << backend.error().message;
     const std::size_t id = (*backend)->addBody(sphere.textures, sphere.props.centerOfMass);
@@ -524,11 +541,8 @@ TEST(BuoyancyKernels, WhereTheWaterIsNearlyQuadraticTilesGiveTheReferencesAnswer
         water.waves = {c.wave};
         FluidSettings fluid;
         fluid.dragCoefficient = c.dragCoefficient;
-        const double F = fluid.density * fluid.gravity * sphere.props.volume;
-        const double D = fluid.density * speed * speed * sphere.textures.surfaceArea();
-        const double S = sphere.textures.surfaceArea();
         std::size_t closed = 0, perEntry = 0;
-        double worstForce = 0, worstTorque = 0, worstDrag = 0, worstWetted = 0;
+        WorstErrors worst;
         for (int trial = 0; trial < 6; ++trial) {
             BodyRequest request = movingRequest(id, sphere, trial % 2 ? 0.1 : 0.4, trial);
             request.fluid = fluid;
@@ -537,21 +551,17 @@ TEST(BuoyancyKernels, WhereTheWaterIsNearlyQuadraticTilesGiveTheReferencesAnswer
             closed += (*backend)->lastTileCounts().closedForm;
             perEntry += (*backend)->lastTileCounts().perEntry();
             const BuoyancyResult expected = evaluateBuoyancyReference(sphere.textures, request.frame, water, fluid);
-            worstForce = std::max(worstForce, (result.pressureForce - expected.pressureForce).norm() / F);
-            worstTorque = std::max(worstTorque, (result.pressureTorque - expected.pressureTorque).norm() /
-                                                    (F * sphere.boundingRadius));
-            worstDrag = std::max(worstDrag, (result.dragForce - expected.dragForce).norm() / D);
-            worstWetted = std::max(worstWetted, std::abs(result.wettedArea - expected.wettedArea) / S);
+            worst.add(result, expected, sphere, fluid, speed);
         }
         std::printf("  %s: %zu tiles closed-form, %zu entry by entry; pressure force error %.2e of rho g V, "
                     "torque %.2e, drag %.2e of rho u^2 S, wetted area %.2e of S\n",
-                    c.name, closed, perEntry, worstForce, worstTorque, worstDrag, worstWetted);
+                    c.name, closed, perEntry, worst.pressureForce, worst.pressureTorque, worst.drag, worst.wetted);
         EXPECT_GT(closed, 0u);
         EXPECT_GT(perEntry, 0u);
-        EXPECT_LT(worstForce, 1e-5);
-        EXPECT_LT(worstTorque, 1e-5);
-        EXPECT_LT(worstDrag, 1e-5);
-        EXPECT_LT(worstWetted, 1e-6);
+        EXPECT_LT(worst.pressureForce, 1e-5);
+        EXPECT_LT(worst.pressureTorque, 1e-5);
+        EXPECT_LT(worst.drag, 1e-5);
+        EXPECT_LT(worst.wetted, 1e-6);
     }
 }
 
