@@ -103,33 +103,48 @@ inline void entryDrag(const T r[3], const T a[3], T area, T inverseLength, T wet
     torque[2] = r[0] * force[1] - r[1] * force[0];
 }
 
-/// One entry: r and a its position (relative to c) and area vector in world axes, `area` its
-/// surface area, f the water height above it (relative to c.y), v its velocity relative to the
-/// water. `inverseLength2` = 1 / |a|^2 and `inverseLength` = 1 / max(|a|, 1e-30) are
-/// properties of the entry (a rotation keeps them). Branch-free: every term is selected.
+/// One entry seen in two frames: the water's (world axes: r its position relative to c, ay its
+/// area vector's vertical component), which decides its depth, wetted share, volume and
+/// moments; and any one frame for the rest (q, b its position and area vector, v its velocity
+/// relative to the water), in which its pressure and drag forces and torques come out. `area`
+/// is its surface area, f the water height above it (relative to c.y). `inverseLength2` = 1 /
+/// |b|^2 and `inverseLength` = 1 / max(|b|, 1e-30) are properties of the entry (a rotation
+/// keeps them). The fast path takes the body's own axes for the second frame: a per-entry loop
+/// then rotates the position alone (the forces' sums are turned once, after the loop).
+/// Branch-free: every term is selected.
+template <class T, bool Friction>
+inline EntryTerms<T> entryTermsInFrames(const T r[3], T ay, const T q[3], const T b[3], T area,
+                                        T inverseLength2, T inverseLength, T f, const T v[3], T rhoG,
+                                        T halfRhoCd, T halfRhoCf) {
+    EntryTerms<T> e;
+    const T depth = f - r[1];
+    const T wet = wetShare(depth, ay, area, inverseLength2);
+    const T under = depth > 0 ? T(1) : T(0);
+    const T d = under * depth;
+    e.volume = -ay * d;
+    e.moment[0] = -ay * r[0] * d;
+    e.moment[1] = under * ay * T(0.5) * (r[1] * r[1] - f * f);
+    e.moment[2] = -ay * r[2] * d;
+    const T p = rhoG * d;
+    for (int i = 0; i < 3; ++i) e.pressureForce[i] = -p * b[i];
+    e.pressureTorque[0] = q[1] * e.pressureForce[2] - q[2] * e.pressureForce[1];
+    e.pressureTorque[1] = q[2] * e.pressureForce[0] - q[0] * e.pressureForce[2];
+    e.pressureTorque[2] = q[0] * e.pressureForce[1] - q[1] * e.pressureForce[0];
+    e.count = under;
+    e.wettedArea = wet * area;
+    entryDrag<T, Friction>(q, b, area, inverseLength, wet, v, halfRhoCd, halfRhoCf, e.dragForce,
+                           e.dragTorque);
+    return e;
+}
+
+/// One entry in world axes: r and a its position (relative to c) and area vector, v its
+/// velocity relative to the water (see entryTermsInFrames).
 template <class T, bool Friction>
 inline EntryTerms<T> entryTerms(const T r[3], const T a[3], T area, T inverseLength2,
                                 T inverseLength, T f, const T v[3], T rhoG, T halfRhoCd,
                                 T halfRhoCf) {
-    EntryTerms<T> e;
-    const T depth = f - r[1];
-    const T wet = wetShare(depth, a[1], area, inverseLength2);
-    const T under = depth > 0 ? T(1) : T(0);
-    const T d = under * depth;
-    e.volume = -a[1] * d;
-    e.moment[0] = -a[1] * r[0] * d;
-    e.moment[1] = under * a[1] * T(0.5) * (r[1] * r[1] - f * f);
-    e.moment[2] = -a[1] * r[2] * d;
-    const T p = rhoG * d;
-    for (int i = 0; i < 3; ++i) e.pressureForce[i] = -p * a[i];
-    e.pressureTorque[0] = r[1] * e.pressureForce[2] - r[2] * e.pressureForce[1];
-    e.pressureTorque[1] = r[2] * e.pressureForce[0] - r[0] * e.pressureForce[2];
-    e.pressureTorque[2] = r[0] * e.pressureForce[1] - r[1] * e.pressureForce[0];
-    e.count = under;
-    e.wettedArea = wet * area;
-    entryDrag<T, Friction>(r, a, area, inverseLength, wet, v, halfRhoCd, halfRhoCf, e.dragForce,
-                           e.dragTorque);
-    return e;
+    return entryTermsInFrames<T, Friction>(r, a[1], r, a, area, inverseLength2, inverseLength, f, v, rhoG,
+                                           halfRhoCd, halfRhoCf);
 }
 
 /// Adds one entry to a body's sums in precision T (see entryTerms).

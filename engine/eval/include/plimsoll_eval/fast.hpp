@@ -212,7 +212,8 @@ inline Bucket& nextBucket(std::vector<Bucket>& pool, std::size_t& used) {
 
 /// Consecutive leaves of kLanes entries (a tile's, or one leaf) left to per-entry work, with
 /// their water in single precision: the surface's quadratic f + g.d + d^T H d / 2 (hxx, hzz
-/// halved) about (cx, cz) relative to c, and the body's velocity relative to the water there.
+/// halved) about (cx, cz) relative to c, and the body's velocity relative to the water there
+/// (in the body's axes, as the per-entry loops work: FloatRotation).
 /// One record a tile rather than one a leaf: its leaves share the tile's water.
 struct FastLeafWork {
     std::uint32_t begin = 0;
@@ -768,31 +769,39 @@ struct LeafLaneSums {
     }
 };
 
-/// The body's rotation and angular velocity in single precision, for the per-entry loops.
+/// The body's rotation and its angular velocity in the body's own axes, in single precision,
+/// for the per-entry loops. The loops work in the body's axes: an entry's forces and torques
+/// and its velocity relative to the water need no rotation there (their sums are turned into
+/// world axes once, after the loop), and only what the water decides (an entry's height, the
+/// vertical part of its area vector) is taken in world axes.
 struct FloatRotation {
     float R[3][3];
     float wx, wy, wz;
-    FloatRotation(const Mat3& rotation, const Vec3& angular)
-        : wx(static_cast<float>(angular.x)), wy(static_cast<float>(angular.y)), wz(static_cast<float>(angular.z)) {
+    FloatRotation(const Mat3& rotation, const Vec3& bodyAngular)
+        : wx(static_cast<float>(bodyAngular.x)), wy(static_cast<float>(bodyAngular.y)),
+          wz(static_cast<float>(bodyAngular.z)) {
         for (int i = 0; i < 3; ++i)
             for (int j = 0; j < 3; ++j) R[i][j] = static_cast<float>(rotation.m[i][j]);
     }
-    /// An entry's position and area vector in the water's frame.
-    void rotate(const float q[3], const float b[3], float r[3], float a[3]) const {
-        place(q, r);
-        place(b, a);
-    }
-    /// One of them.
+    /// An entry's position in world axes (relative to c).
     void place(const float q[3], float r[3]) const {
         for (int m = 0; m < 3; ++m) r[m] = R[m][0] * q[0] + R[m][1] * q[1] + R[m][2] * q[2];
+    }
+    /// The vertical (world y) component of a vector given in the body's axes.
+    float vertical(const float b[3]) const { return R[1][0] * b[0] + R[1][1] * b[1] + R[1][2] * b[2]; }
+    /// An entry's velocity relative to the water, body axes: u (the body's, at c, relative to
+    /// the water; body axes) plus the spin's part at q.
+    void velocity(float ux, float uy, float uz, const float q[3], float v[3]) const {
+        v[0] = ux + wy * q[2] - wz * q[1];
+        v[1] = uy + wz * q[0] - wx * q[2];
+        v[2] = uz + wx * q[1] - wy * q[0];
     }
 };
 
 template <bool Friction, bool SkipDry>
 inline void FastBody::perEntryLeaves(const std::vector<FastLeafWork>& leaves, const Mat3& R,
                                      const BodyState& s, const Coefficients& k, Sums& sum) const {
-    const FloatRotation rotation(R, s.angular);
-    const float wx = rotation.wx, wy = rotation.wy, wz = rotation.wz;
+    const FloatRotation rotation(R, transposeTimes(R, s.angular));
     const float rhoG = static_cast<float>(k.rhoG), halfRhoCd = static_cast<float>(k.halfRhoCd),
                 halfRhoCf = static_cast<float>(k.halfRhoCf);
     LeafLaneSums<18, kLanes> sums;
@@ -837,13 +846,13 @@ inline void FastBody::perEntryLeaves(const std::vector<FastLeafWork>& leaves, co
                 const float q[3] = {qx[i], qy[i], qz[i]};
                 f = waterAt(q, r);
             }
-            const float b[3] = {bx[i], by[i], bz[i]};
-            float a[3];
-            rotation.place(b, a);
-            const float v[3] = {w.ux + wy * r[2] - wz * r[1], w.uy + wz * r[0] - wx * r[2],
-                                w.uz + wx * r[1] - wy * r[0]};
-            const EntryTerms<float> e = entryTerms<float, Friction>(
-                r, a, area[i], inverseLength2[i], inverseLength[i], f, v, rhoG, halfRhoCd, halfRhoCf);
+            const float q[3] = {qx[i], qy[i], qz[i]}, b[3] = {bx[i], by[i], bz[i]};
+            float v[3];
+            rotation.velocity(w.ux, w.uy, w.uz, q, v);
+            // Depth, volume and moments in world axes; forces and torques in the body's.
+            const EntryTerms<float> e = entryTermsInFrames<float, Friction>(
+                r, rotation.vertical(b), q, b, area[i], inverseLength2[i], inverseLength[i], f, v, rhoG,
+                halfRhoCd, halfRhoCf);
             lanes[0][i] += e.volume;
             for (int m = 0; m < 3; ++m) {
                 lanes[1 + m][i] += e.moment[m];
@@ -858,10 +867,10 @@ inline void FastBody::perEntryLeaves(const std::vector<FastLeafWork>& leaves, co
     });
     sum.volume += total[0];
     sum.moment += Vec3{total[1], total[2], total[3]};
-    sum.pressureForce += Vec3{total[4], total[5], total[6]};
-    sum.pressureTorque += Vec3{total[7], total[8], total[9]};
-    sum.dragForce += Vec3{total[10], total[11], total[12]};
-    sum.dragTorque += Vec3{total[13], total[14], total[15]};
+    sum.pressureForce += R * Vec3{total[4], total[5], total[6]};
+    sum.pressureTorque += R * Vec3{total[7], total[8], total[9]};
+    sum.dragForce += R * Vec3{total[10], total[11], total[12]};
+    sum.dragTorque += R * Vec3{total[13], total[14], total[15]};
     sum.wettedArea += total[16];
     sum.count += total[17];
 }
@@ -881,8 +890,8 @@ inline void FastBody::dragPerEntry(const std::vector<FastLeafWork>& leaves, cons
 template <bool Friction>
 inline void FastBody::dragLeaves(const std::vector<FastLeafWork>& leaves, const Mat3& R,
                                  const BodyState& s, const Coefficients& k, Sums& sum) const {
-    const FloatRotation rotation(R, s.angular);
-    const float wx = rotation.wx, wy = rotation.wy, wz = rotation.wz;
+    // All in the body's axes (FloatRotation): no entry is rotated.
+    const FloatRotation rotation(R, transposeTimes(R, s.angular));
     const float halfRhoCd = static_cast<float>(k.halfRhoCd), halfRhoCf = static_cast<float>(k.halfRhoCf);
     LeafLaneSums<6, kLanes> sums;
     auto& lanes = sums.lanes;
@@ -894,12 +903,10 @@ inline void FastBody::dragLeaves(const std::vector<FastLeafWork>& leaves, const 
         for (std::size_t i = 0; i < kLanes; ++i) {
             const float q[3] = {qx[i], qy[i], qz[i]};
             const float b[3] = {bx[i], by[i], bz[i]};
-            float r[3], a[3];
-            rotation.rotate(q, b, r, a);
-            const float v[3] = {w.ux + wy * r[2] - wz * r[1], w.uy + wz * r[0] - wx * r[2],
-                                w.uz + wx * r[1] - wy * r[0]};
+            float v[3];
+            rotation.velocity(w.ux, w.uy, w.uz, q, v);
             float force[3], torque[3];
-            entryDrag<float, Friction>(r, a, area[i], inverseLength[i], valid[i], v, halfRhoCd,
+            entryDrag<float, Friction>(q, b, area[i], inverseLength[i], valid[i], v, halfRhoCd,
                                        halfRhoCf, force, torque);
             for (int m = 0; m < 3; ++m) {
                 lanes[m][i] += force[m];
@@ -907,8 +914,8 @@ inline void FastBody::dragLeaves(const std::vector<FastLeafWork>& leaves, const 
             }
         }
     });
-    sum.dragForce += Vec3{total[0], total[1], total[2]};
-    sum.dragTorque += Vec3{total[3], total[4], total[5]};
+    sum.dragForce += R * Vec3{total[0], total[1], total[2]};
+    sum.dragTorque += R * Vec3{total[3], total[4], total[5]};
 }
 
 inline Sums FastBody::evaluate(const BodyState& s, const WaterSurface& water, const Coefficients& k,
@@ -1170,7 +1177,7 @@ inline Sums FastBody::evaluateOn(const BodyState& s, const WaterSurface& water, 
         return Vec3{v[0], v[1], v[2]};
     };
     for (FastLeafWork& leaf : scratch.leaves) {
-        const Vec3 u = s.linear - waterVelocityAt(leaf.slot);
+        const Vec3 u = transposeTimes(R, s.linear - waterVelocityAt(leaf.slot));
         leaf.ux = static_cast<float>(u.x);
         leaf.uy = static_cast<float>(u.y);
         leaf.uz = static_cast<float>(u.z);
@@ -1217,10 +1224,9 @@ inline Sums FastBody::evaluateOn(const BodyState& s, const WaterSurface& water, 
             FastLeafWork& leaf = scratch.dragLeaves.emplace_back();
             leaf.begin = node.begin;
             leaf.leaves = leafCount;
-            const Vec3 u = s.linear - waterVelocity;
-            leaf.ux = static_cast<float>(u.x);
-            leaf.uy = static_cast<float>(u.y);
-            leaf.uz = static_cast<float>(u.z);
+            leaf.ux = static_cast<float>(uo.x);
+            leaf.uy = static_cast<float>(uo.y);
+            leaf.uz = static_cast<float>(uo.z);
         };
         drag(nodes_[deferred.node], drag);
     }
