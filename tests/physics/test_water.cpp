@@ -1,6 +1,7 @@
 // Water models: flat, Gerstner (dispersion, the fixed-point surface search, orbital velocity),
 // and the sampled grid.
 #include "plimsoll/physics/water.h"
+#include "physics/gerstner_batch.h"
 
 #include <gtest/gtest.h>
 
@@ -105,12 +106,8 @@ TEST(Water, HeightGridIsBilinearAndClampedAtItsEdges) {
 namespace plimsoll {
 namespace {
 
-// The batched queries the fast path makes equal the one-point reference within the precision
-// of their single-precision sines and cosines: far from the origin, late in time, above and
-// below the mean level, for any count (whole blocks of points and a partial last one), and
-// for more waves than the inline table holds. A dropped or misplaced lane, or a phase not
-// reduced before the single-precision trigonometry, shows as an error of order the amplitude.
-TEST(Water, BatchedHeightsAndVelocitiesEqualTheOnePointReference) {
+/// The batched heights and velocities against the one-point reference (the test below).
+void expectBatchesEqualTheReference() {
     WaterModel water = twoWaves();
     for (int waves : {2, kMaxGerstnerWaves + 1}) {
         while (static_cast<int>(water.waves.size()) < waves)
@@ -122,7 +119,7 @@ TEST(Water, BatchedHeightsAndVelocitiesEqualTheOnePointReference) {
             amplitudes += w.amplitude;
             speeds += w.amplitude * std::sqrt(water.gravity * 2 * std::numbers::pi / w.wavelength);
         }
-        for (std::size_t n : {std::size_t(1), std::size_t(7), std::size_t(8), std::size_t(37)}) {
+        for (std::size_t n : {std::size_t(1), std::size_t(7), std::size_t(8), std::size_t(16), std::size_t(37)}) {
             for (double offset : {0.0, 2500.0}) {
                 for (double t : {0.0, 1.3, 86400.0}) {
                     std::vector<double> x(n), y(n), z(n), h(n), v(3 * n);
@@ -145,6 +142,22 @@ TEST(Water, BatchedHeightsAndVelocitiesEqualTheOnePointReference) {
             }
         }
     }
+}
+
+// The batched queries the fast path makes equal the one-point reference within the precision
+// of their single-precision sines and cosines, in every build this processor runs (baseline,
+// AVX2, AVX-512: blocks of 4, 8 and 16 points): far from the origin, late in time, above and
+// below the mean level, for any count (whole blocks of points and a partial last one), and
+// for more waves than the inline table holds. A dropped or misplaced lane, or a phase not
+// reduced before the single-precision trigonometry, shows as an error of order the amplitude.
+TEST(Water, BatchedHeightsAndVelocitiesEqualTheOnePointReference) {
+    const detail::GerstnerIsa widest = detail::gerstnerBatchWidest();
+    for (int isa = 0; isa <= static_cast<int>(widest); ++isa) {
+        SCOPED_TRACE("instruction set " + std::to_string(isa) + " (0 baseline, 1 AVX2, 2 AVX-512)");
+        detail::setGerstnerBatchIsa(static_cast<detail::GerstnerIsa>(isa));
+        expectBatchesEqualTheReference();
+    }
+    detail::setGerstnerBatchIsa(widest);
     // Flat water: the plane and no motion, through the same calls.
     const WaterModel flat = WaterModel::flat(-0.4);
     double x = 3, z = 4, y = -2, h = 0, v[3] = {1, 1, 1};

@@ -5,9 +5,9 @@
 // points at a time (xsimd). The single-precision trigonometry changes a height by at most a
 // few 1e-7 of the amplitudes (tests/physics/test_water.cpp measures it against the reference).
 //
-// Built twice: for the x86-64 baseline (SSE2) and for AVX2 with FMA, chosen at run time
-// (gerstnerBatchIsa), so that one binary runs on any x86-64 and uses the wider units where
-// they exist.
+// Built three times: for the x86-64 baseline (SSE2), for AVX2 with FMA (8 points a block) and
+// for AVX-512 (16), chosen at run time (gerstnerBatchIsa), so that one binary runs on any x86-64
+// and uses the wider units where they exist.
 #pragma once
 
 #include <cstddef>
@@ -33,13 +33,28 @@ struct GerstnerBatch {
 /// n heights into out[i].
 void gerstnerHeightsBaseline(const GerstnerBatch& g, std::size_t n, const double* x, const double* z, double* out);
 void gerstnerHeightsAvx2(const GerstnerBatch& g, std::size_t n, const double* x, const double* z, double* out);
+void gerstnerHeightsAvx512(const GerstnerBatch& g, std::size_t n, const double* x, const double* z, double* out);
 /// n velocities into out[3 i + 0..2].
 void gerstnerVelocitiesBaseline(const GerstnerBatch& g, std::size_t n, const double* x, const double* y,
                                 const double* z, double* out);
 void gerstnerVelocitiesAvx2(const GerstnerBatch& g, std::size_t n, const double* x, const double* y,
                             const double* z, double* out);
+void gerstnerVelocitiesAvx512(const GerstnerBatch& g, std::size_t n, const double* x, const double* y,
+                              const double* z, double* out);
 
-/// Whether this processor runs the AVX2 build (checked once).
-bool gerstnerBatchUsesAvx2();
+/// The builds, narrowest first.
+enum class GerstnerIsa { baseline, avx2, avx512 };
+
+/// The widest build this processor runs (checked once). AVX-512 is taken only where the
+/// processor also has AVX-512 VBMI2, which marks Intel's Ice Lake and later and AMD's Zen 4 and
+/// later: on the Skylake-era server parts before them, 512-bit arithmetic lowers the core's
+/// clock for a while after it, for the whole program, and a few microseconds of waves are not
+/// worth that.
+GerstnerIsa gerstnerBatchWidest();
+/// The build WaterModel::heights and ::velocities use: the widest, unless set narrower (the
+/// tests compare every build this processor runs with the one-point reference).
+GerstnerIsa gerstnerBatchIsa();
+/// Sets it, clamped to the widest (for tests; thread-safe, but meant to be set before use).
+void setGerstnerBatchIsa(GerstnerIsa isa);
 
 }  // namespace plimsoll::detail

@@ -1,6 +1,6 @@
 // The batched Gerstner evaluation for AVX2 with FMA (gerstner_batch.h). This file alone is
 // compiled with -mavx2 -mfma (engine/CMakeLists.txt) and runs only where
-// gerstnerBatchUsesAvx2() says so; everything it compiles is internal to it.
+// gerstnerBatchIsa() says so; everything it compiles is internal to it.
 #include "gerstner_batch.h"
 
 #include <xsimd/xsimd.hpp>

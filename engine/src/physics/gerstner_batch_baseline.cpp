@@ -4,6 +4,7 @@
 #include <xsimd/xsimd.hpp>
 
 #include <algorithm>
+#include <atomic>
 
 namespace plimsoll::detail {
 
@@ -11,13 +12,38 @@ namespace plimsoll::detail {
 
 PLIMSOLL_GERSTNER_BATCH_ENTRY_POINTS(Baseline)
 
-bool gerstnerBatchUsesAvx2() {
+GerstnerIsa gerstnerBatchWidest() {
 #if defined(__x86_64__) && (defined(__GNUC__) || defined(__clang__))
-    static const bool avx2 = __builtin_cpu_supports("avx2") && __builtin_cpu_supports("fma");
-    return avx2;
-#else
-    return false;
+    static const GerstnerIsa widest = [] {
+#ifdef PLIMSOLL_GERSTNER_AVX512
+        if (__builtin_cpu_supports("avx512f") && __builtin_cpu_supports("avx512dq") &&
+            __builtin_cpu_supports("avx512vl") && __builtin_cpu_supports("avx512bw") &&
+            __builtin_cpu_supports("avx512vbmi2"))
+            return GerstnerIsa::avx512;
 #endif
+#ifdef PLIMSOLL_GERSTNER_AVX2
+        if (__builtin_cpu_supports("avx2") && __builtin_cpu_supports("fma")) return GerstnerIsa::avx2;
+#endif
+        return GerstnerIsa::baseline;
+    }();
+    return widest;
+#else
+    return GerstnerIsa::baseline;
+#endif
+}
+
+namespace {
+/// The build in use; -1: not set (the widest).
+std::atomic<int> chosenIsa{-1};
+}  // namespace
+
+GerstnerIsa gerstnerBatchIsa() {
+    const int chosen = chosenIsa.load(std::memory_order_relaxed);
+    return chosen < 0 ? gerstnerBatchWidest() : static_cast<GerstnerIsa>(chosen);
+}
+
+void setGerstnerBatchIsa(GerstnerIsa isa) {
+    chosenIsa.store(static_cast<int>(std::min(isa, gerstnerBatchWidest())), std::memory_order_relaxed);
 }
 
 }  // namespace plimsoll::detail
