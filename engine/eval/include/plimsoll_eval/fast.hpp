@@ -1171,13 +1171,24 @@ inline Sums FastBody::evaluateOn(const BodyState& s, const WaterSurface& water, 
         }
         counted.velocitySamples = points;
     }
-    auto waterVelocityAt = [&](std::int32_t slot) {
-        if (slot < 0) return Vec3{};
+    // What the drag and the per-entry loops take of it: the body's velocity relative to the
+    // water at each slot, in the body's axes, formed once a slot (in place) rather than once for
+    // each node, bucket and record that reads it; slot -1: still water.
+    for (std::size_t i = 0; i < points; ++i) {
+        double* v = scratch.velocity.data() + 3 * i;
+        const Vec3 u = transposeTimes(R, s.linear - Vec3{v[0], v[1], v[2]});
+        v[0] = u.x;
+        v[1] = u.y;
+        v[2] = u.z;
+    }
+    const Vec3 relativeInStillWater = transposeTimes(R, s.linear);
+    auto relativeVelocityAt = [&](std::int32_t slot) {
+        if (slot < 0) return relativeInStillWater;
         const double* v = scratch.velocity.data() + 3 * static_cast<std::size_t>(slot);
         return Vec3{v[0], v[1], v[2]};
     };
     for (FastLeafWork& leaf : scratch.leaves) {
-        const Vec3 u = transposeTimes(R, s.linear - waterVelocityAt(leaf.slot));
+        const Vec3 u = relativeVelocityAt(leaf.slot);
         leaf.ux = static_cast<float>(u.x);
         leaf.uy = static_cast<float>(u.y);
         leaf.uz = static_cast<float>(u.z);
@@ -1190,8 +1201,7 @@ inline Sums FastBody::evaluateOn(const BodyState& s, const WaterSurface& water, 
     const Vec3 wo = transposeTimes(R, s.angular);
     const double spinRate = norm(wo);
     for (const FastDeferredDrag& deferred : scratch.drags) {
-        const Vec3 waterVelocity = waterVelocityAt(deferred.slot);
-        const Vec3 uo = transposeTimes(R, s.linear - waterVelocity);
+        const Vec3 uo = relativeVelocityAt(deferred.slot);
         if (dot(uo, uo) == 0 && dot(wo, wo) == 0) continue;  // no flow: no drag (nor friction)
         auto drag = [&](const FastTile& node, auto& again) -> void {
             const std::size_t index = static_cast<std::size_t>(&node - nodes_.data());
@@ -1232,7 +1242,7 @@ inline Sums FastBody::evaluateOn(const BodyState& s, const WaterSurface& water, 
     }
     for (std::size_t b = 0; b < scratch.dragBucketCount; ++b) {
         FastBucket& bucket = scratch.dragBuckets[b];
-        const Vec3 uo = transposeTimes(R, s.linear - waterVelocityAt(bucket.slot));
+        const Vec3 uo = relativeVelocityAt(bucket.slot);
         Vec3 force, torque;
         dragFromMoments(bucket.moments.moments(), Vec3{}, uo, wo, k, force, torque);
         sum.dragForce += R * force;
