@@ -23,9 +23,6 @@ struct Coefficients {
     double halfRhoCf = 0.0;        ///< rho C_f / 2 (skin friction; 0 = off)
 };
 
-template <class T>
-struct EntryTerms;
-
 /// One body's sums (double: they add thousands of entries of either sign).
 struct Sums {
     double volume = 0;      ///< m^3
@@ -36,18 +33,6 @@ struct Sums {
     Vec3 dragTorque;        ///< N m, about c
     double wettedArea = 0;  ///< m^2
     double count = 0;       ///< submerged entries
-
-    template <class T>
-    void add(const EntryTerms<T>& e) {
-        volume += e.volume;
-        moment += Vec3{e.moment[0], e.moment[1], e.moment[2]};
-        pressureForce += Vec3{e.pressureForce[0], e.pressureForce[1], e.pressureForce[2]};
-        pressureTorque += Vec3{e.pressureTorque[0], e.pressureTorque[1], e.pressureTorque[2]};
-        dragForce += Vec3{e.dragForce[0], e.dragForce[1], e.dragForce[2]};
-        dragTorque += Vec3{e.dragTorque[0], e.dragTorque[1], e.dragTorque[2]};
-        wettedArea += e.wettedArea;
-        count += e.count;
-    }
 
     Sums& operator+=(const Sums& o) {
         volume += o.volume;
@@ -76,7 +61,8 @@ inline T wetShare(T depth, T ay, T area, T inverseLength2) {
     return extent > 0 ? partial : (depth > 0 ? T(1) : T(0));
 }
 
-/// What one entry adds to each sum (the slots of Sums, flat). Sums::add takes it in.
+/// What one entry adds to each sum (the slots of Sums, flat; its forces and torques in the
+/// frame entryTerms was given them in).
 template <class T>
 struct EntryTerms {
     T volume, moment[3], pressureForce[3], pressureTorque[3], dragForce[3], dragTorque[3];
@@ -113,7 +99,7 @@ inline void entryDrag(const T r[3], const T a[3], T area, T inverseLength, T wet
 /// then rotates the position alone (the forces' sums are turned once, after the loop).
 /// Branch-free: every term is selected.
 template <class T, bool Friction>
-inline EntryTerms<T> entryTermsInFrames(const T r[3], T ay, const T q[3], const T b[3], T area,
+inline EntryTerms<T> entryTerms(const T r[3], T ay, const T q[3], const T b[3], T area,
                                         T inverseLength2, T inverseLength, T f, const T v[3], T rhoG,
                                         T halfRhoCd, T halfRhoCf) {
     EntryTerms<T> e;
@@ -135,32 +121,6 @@ inline EntryTerms<T> entryTermsInFrames(const T r[3], T ay, const T q[3], const 
     entryDrag<T, Friction>(q, b, area, inverseLength, wet, v, halfRhoCd, halfRhoCf, e.dragForce,
                            e.dragTorque);
     return e;
-}
-
-/// One entry in world axes: r and a its position (relative to c) and area vector, v its
-/// velocity relative to the water (see entryTermsInFrames).
-template <class T, bool Friction>
-inline EntryTerms<T> entryTerms(const T r[3], const T a[3], T area, T inverseLength2,
-                                T inverseLength, T f, const T v[3], T rhoG, T halfRhoCd,
-                                T halfRhoCf) {
-    return entryTermsInFrames<T, Friction>(r, a[1], r, a, area, inverseLength2, inverseLength, f, v, rhoG,
-                                           halfRhoCd, halfRhoCf);
-}
-
-/// Adds one entry to a body's sums in precision T (see entryTerms).
-template <class T>
-inline void addEntry(Sums& sum, const T r[3], const T a[3], T area, T f, const T v[3],
-                     const Coefficients& k) {
-    const T length2 = a[0] * a[0] + a[1] * a[1] + a[2] * a[2];
-    const T inverseLength2 = length2 > 0 ? T(1) / length2 : T(0);
-    const T inverseLength = T(1) / std::max(std::sqrt(length2), T(1e-30));
-    const EntryTerms<T> e =
-        k.halfRhoCf > 0 && area > 0
-            ? entryTerms<T, true>(r, a, area, inverseLength2, inverseLength, f, v, T(k.rhoG),
-                                  T(k.halfRhoCd), T(k.halfRhoCf))
-            : entryTerms<T, false>(r, a, area, inverseLength2, inverseLength, f, v, T(k.rhoG),
-                                   T(k.halfRhoCd), T(0));
-    sum.add(e);
 }
 
 /// A body's forces from its sums: world axes, torques about c.

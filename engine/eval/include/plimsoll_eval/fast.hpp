@@ -349,7 +349,9 @@ struct FastScratch {
     std::vector<FastLeafWork> leaves;
     std::vector<FastLeafWork> dragLeaves;  ///< wholly wet: only the entries and the velocity are set
     std::vector<FastDeferredDrag> drags;
-    std::vector<double> px, py, pz, velocity;  ///< the velocity batch: points, then 3 per point
+    /// The velocity batch: its points, then 3 per point, the water's velocity there as the batch
+    /// gives it and, once read, the body's velocity relative to it in the body's axes.
+    std::vector<double> px, py, pz, velocity;
     FastMomentSum flatHydrostatics;            ///< flat water: every submerged node's moments
     /// Waves: submerged nodes' moments per grid node; the first `stencilCount` are this call's
     /// (entries are reused, not cleared, from call to call).
@@ -850,7 +852,7 @@ inline void FastBody::perEntryLeaves(const std::vector<FastLeafWork>& leaves, co
             float v[3];
             rotation.velocity(w.ux, w.uy, w.uz, q, v);
             // Depth, volume and moments in world axes; forces and torques in the body's.
-            const EntryTerms<float> e = entryTermsInFrames<float, Friction>(
+            const EntryTerms<float> e = entryTerms<float, Friction>(
                 r, rotation.vertical(b), q, b, area[i], inverseLength2[i], inverseLength[i], f, v, rhoG,
                 halfRhoCd, halfRhoCf);
             lanes[0][i] += e.volume;
