@@ -57,4 +57,13 @@ GerstnerIsa gerstnerBatchIsa();
 /// Sets it, clamped to the widest (for tests; thread-safe, but meant to be set before use).
 void setGerstnerBatchIsa(GerstnerIsa isa);
 
+/// One build's entry points (the functions above of one suffix).
+struct GerstnerBatchBuild {
+    void (*heights)(const GerstnerBatch& g, std::size_t n, const double* x, const double* z, double* out);
+    void (*velocities)(const GerstnerBatch& g, std::size_t n, const double* x, const double* y,
+                       const double* z, double* out);
+};
+/// The entry points of the build in use (gerstnerBatchIsa).
+const GerstnerBatchBuild& gerstnerBatchBuild();
+
 }  // namespace plimsoll::detail

@@ -46,4 +46,23 @@ void setGerstnerBatchIsa(GerstnerIsa isa) {
     chosenIsa.store(static_cast<int>(std::min(isa, gerstnerBatchWidest())), std::memory_order_relaxed);
 }
 
+const GerstnerBatchBuild& gerstnerBatchBuild() {
+    // By GerstnerIsa; a build this compiler did not make is never the widest, and takes the
+    // baseline's place in the table.
+    static constexpr GerstnerBatchBuild builds[] = {
+        {gerstnerHeightsBaseline, gerstnerVelocitiesBaseline},
+#ifdef PLIMSOLL_GERSTNER_AVX2
+        {gerstnerHeightsAvx2, gerstnerVelocitiesAvx2},
+#else
+        {gerstnerHeightsBaseline, gerstnerVelocitiesBaseline},
+#endif
+#ifdef PLIMSOLL_GERSTNER_AVX512
+        {gerstnerHeightsAvx512, gerstnerVelocitiesAvx512},
+#else
+        {gerstnerHeightsBaseline, gerstnerVelocitiesBaseline},
+#endif
+    };
+    return builds[static_cast<int>(gerstnerBatchIsa())];
+}
+
 }  // namespace plimsoll::detail

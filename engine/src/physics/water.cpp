@@ -169,18 +169,7 @@ void WaterModel::heights(std::size_t n, const double* x, const double* z, double
     }
     const BatchWaves w(*this, time);
     const detail::GerstnerBatch batch = w.batch(level);
-    switch (detail::gerstnerBatchIsa()) {
-#ifdef PLIMSOLL_GERSTNER_AVX512
-        case detail::GerstnerIsa::avx512:
-            return detail::gerstnerHeightsAvx512(batch, n, x, z, out);
-#endif
-#ifdef PLIMSOLL_GERSTNER_AVX2
-        case detail::GerstnerIsa::avx2:
-            return detail::gerstnerHeightsAvx2(batch, n, x, z, out);
-#endif
-        default:
-            return detail::gerstnerHeightsBaseline(batch, n, x, z, out);
-    }
+    detail::gerstnerBatchBuild().heights(batch, n, x, z, out);
 }
 
 void WaterModel::velocities(std::size_t n, const double* x, const double* y, const double* z, double time,
@@ -191,18 +180,7 @@ void WaterModel::velocities(std::size_t n, const double* x, const double* y, con
     }
     const BatchWaves w(*this, time);
     const detail::GerstnerBatch batch = w.batch(level);
-    switch (detail::gerstnerBatchIsa()) {
-#ifdef PLIMSOLL_GERSTNER_AVX512
-        case detail::GerstnerIsa::avx512:
-            return detail::gerstnerVelocitiesAvx512(batch, n, x, y, z, out);
-#endif
-#ifdef PLIMSOLL_GERSTNER_AVX2
-        case detail::GerstnerIsa::avx2:
-            return detail::gerstnerVelocitiesAvx2(batch, n, x, y, z, out);
-#endif
-        default:
-            return detail::gerstnerVelocitiesBaseline(batch, n, x, y, z, out);
-    }
+    detail::gerstnerBatchBuild().velocities(batch, n, x, y, z, out);
 }
 
 double WaterModel::maxHeight() const {
