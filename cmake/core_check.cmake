@@ -4,6 +4,12 @@
 set(PLIMSOLL_CORE_FORBIDDEN_LINKS
   "^assimp" "^OpenEXR" "^Imath" "^nlohmann_json" "^CGAL" "^OpenCL" "^OpenSSL" "^PkgConfig::STB"
   "^(-l)?(ssl|crypto|OpenCL|assimp|gmp|mpfr)$")
+# The layers above the core that still promise to read and write no file (surface, scene)
+# may run on OpenCL, but link no file format.
+set(PLIMSOLL_NO_FILE_FORBIDDEN_LINKS
+  "^assimp" "^OpenEXR" "^Imath" "^nlohmann_json" "^OpenSSL" "^PkgConfig::STB"
+  "^(-l)?(ssl|crypto|assimp)$"
+  "^plimsoll_(io|project|export)$")
 
 # Every library `target` links, through all the targets it links (their INTERFACE and, for
 # static libraries, private link dependencies), into `out`.
@@ -43,13 +49,23 @@ endfunction()
 
 # Stops the configure when `target` links a forbidden library.
 function(plimsoll_check_core_links target)
+  plimsoll_check_links(${target} PLIMSOLL_CORE_FORBIDDEN_LINKS
+    "the simulation core may link Eigen and the thread library only (file formats, OpenCL and CGAL belong in the adapters that link the core)")
+endfunction()
+
+# Stops the configure when `target`, a layer that reads and writes no file, links a file
+# format or a layer that does.
+function(plimsoll_check_no_file_links target)
+  plimsoll_check_links(${target} PLIMSOLL_NO_FILE_FORBIDDEN_LINKS
+    "${target} reads and writes no file (file formats belong in plimsoll_io and the layers above it)")
+endfunction()
+
+function(plimsoll_check_links target patterns_variable why)
   plimsoll_collect_links(${target} links)
   foreach(link IN LISTS links)
-    foreach(pattern IN LISTS PLIMSOLL_CORE_FORBIDDEN_LINKS)
+    foreach(pattern IN LISTS ${patterns_variable})
       if(link MATCHES "${pattern}")
-        message(FATAL_ERROR "${target} links ${link}: the simulation core may link Eigen and "
-          "the thread library only (file formats, OpenCL and CGAL belong in the adapters "
-          "that link the core). All it links: ${links}")
+        message(FATAL_ERROR "${target} links ${link}: ${why}. All it links: ${links}")
       endif()
     endforeach()
   endforeach()

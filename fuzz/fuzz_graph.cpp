@@ -1,6 +1,7 @@
 // libFuzzer target: water-graph JSON text (parseGraph, then validateGraph as loadGraph does).
 // A graph that parses must survive graphToJson and parse back to the same JSON.
 #include "plimsoll/graph/graph.h"
+#include "plimsoll/io/graph_json.h"
 
 #include <cstdint>
 #include <cstdio>

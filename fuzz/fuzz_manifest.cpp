@@ -1,7 +1,7 @@
 // libFuzzer target: runtime bundle manifest text (parseBundleManifest, the part of verifyBundle
 // that reads the manifest). Any input gives the manifest's facts or an error; a manifest that
 // passes never lists a path that leaves the bundle.
-#include "plimsoll/io/bundle.h"
+#include "plimsoll/export/bundle.h"
 
 #include <cstdint>
 #include <cstdlib>

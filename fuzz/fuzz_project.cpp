@@ -1,7 +1,7 @@
 // libFuzzer target: project JSON text (parseProject). Any input must give a project or an
 // error, never a crash; a project that parses must survive projectToJson and parse back equal
 // (a saved project that cannot be opened again would lose work).
-#include "plimsoll/scene/project.h"
+#include "plimsoll/project/project.h"
 
 #include <cstdint>
 #include <cstdio>

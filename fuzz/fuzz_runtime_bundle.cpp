@@ -5,7 +5,8 @@
 // write there; a high bit in the offset also cuts the file there), so the mutations stay near
 // real files. A loaded bundle must hold only finite samples.
 #include "io/exr_io.h"
-#include "plimsoll/bake/painted_map.h"
+#include "plimsoll/surface/painted_map.h"
+#include "plimsoll/io/painted_map_io.h"
 
 #include "plimsoll_runtime/runtime.hpp"
 

@@ -2,6 +2,7 @@
 #pragma once
 
 #include "plimsoll/physics/massprops.h"
+#include "plimsoll/graph_auto/graph_auto.h"
 #include "plimsoll/geometry/mesh.h"
 
 #include <gtest/gtest.h>

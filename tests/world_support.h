@@ -5,7 +5,7 @@
 #include "plimsoll/compute/compute.h"
 #include "plimsoll/compute/fast_backend.h"
 #include "plimsoll/scene/scene.h"
-#include "plimsoll/scene/scene_loader.h"
+#include "plimsoll/project/scene_loader.h"
 #include "plimsoll/scene/world.h"
 
 #include <gtest/gtest.h>

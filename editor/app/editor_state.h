@@ -8,7 +8,7 @@
 #include "document/paint.h"
 #include "document/physics_bakes.h"
 #include "document/settings.h"
-#include "render/camera.h"
+#include "view/camera.h"
 #include "render/renderer.h"
 
 #include <memory>

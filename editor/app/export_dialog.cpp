@@ -2,7 +2,7 @@
 // touches nothing else of the editor; it reports through a mutex-guarded log the window reads.
 #include "app/export_dialog.h"
 
-#include "plimsoll/io/bundle.h"
+#include "plimsoll/export/bundle.h"
 #include "plimsoll/io/file_util.h"
 
 #include "app/tooltip.h"

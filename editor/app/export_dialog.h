@@ -4,7 +4,7 @@
 // FOLDER/<project file stem>/<body>/.
 #pragma once
 
-#include "plimsoll/scene/project.h"
+#include "plimsoll/project/project.h"
 
 #include <filesystem>
 #include <memory>

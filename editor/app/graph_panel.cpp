@@ -7,12 +7,13 @@
 // graph on a worker thread (segmentation takes seconds) and shows its segments on the hull
 // before "Apply" replaces the graph.
 #include "app/panels.h"
+#include "plimsoll/graph_auto/graph_auto.h"
 #include "app/preview_panel.h"
 
 #include "document/graph_edit.h"
 #include "document/graph_view.h"
 #include "render/graph_draw.h"
-#include "render/graph_pick.h"
+#include "view/graph_pick.h"
 
 #include <GLFW/glfw3.h>
 #include <imgui.h>

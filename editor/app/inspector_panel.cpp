@@ -6,7 +6,7 @@
 #include "document/command.h"
 
 #include "plimsoll/physics/massprops.h"
-#include "plimsoll/bake/painted_map.h"
+#include "plimsoll/surface/painted_map.h"
 #include "plimsoll/geometry/validate.h"
 
 #include <GLFW/glfw3.h>

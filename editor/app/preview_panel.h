@@ -6,7 +6,7 @@
 
 #include "app/editor_state.h"
 #include "document/preview.h"
-#include "render/force_overlay.h"
+#include "view/force_overlay.h"
 
 #include <nlohmann/json.hpp>
 

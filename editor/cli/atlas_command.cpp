@@ -4,10 +4,11 @@
 #include "cli/commands.h"
 
 #include "cli/common.h"
-#include "plimsoll/bake/atlas.h"
-#include "plimsoll/bake/map_transfer.h"
+#include "plimsoll/surface/atlas.h"
+#include "plimsoll/io/painted_map_io.h"
+#include "plimsoll/surface/map_transfer.h"
 #include "plimsoll/io/mesh_io.h"
-#include "plimsoll/bake/painted_map.h"
+#include "plimsoll/surface/painted_map.h"
 
 #include <chrono>
 #include <iostream>

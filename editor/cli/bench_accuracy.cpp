@@ -15,7 +15,7 @@
 #include "plimsoll/physics/massprops.h"
 #include "plimsoll/io/mesh_io.h"
 #include "plimsoll/samples/primitives.h"
-#include "plimsoll/scene/project.h"
+#include "plimsoll/project/project.h"
 #include "plimsoll/scene/scene.h"
 #include "plimsoll/scene/world.h"
 

@@ -2,11 +2,11 @@
 // a user needs, and progress on stderr.
 #pragma once
 
-#include "plimsoll/bake/atlas.h"
+#include "plimsoll/surface/atlas.h"
 #include "plimsoll/bake/bake.h"
 #include "plimsoll/geometry/mesh.h"
 #include "plimsoll/geometry/validate.h"
-#include "plimsoll/scene/project.h"
+#include "plimsoll/project/project.h"
 
 #include <CLI/CLI.hpp>
 #include <Eigen/Core>

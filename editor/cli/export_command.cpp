@@ -11,9 +11,9 @@
 
 #include "cli/common.h"
 
-#include "plimsoll/io/bundle.h"
+#include "plimsoll/export/bundle.h"
 #include "plimsoll/io/file_util.h"
-#include "plimsoll/scene/project.h"
+#include "plimsoll/project/project.h"
 
 #include <nlohmann/json.hpp>
 

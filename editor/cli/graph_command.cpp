@@ -6,6 +6,8 @@
 
 #include "cli/common.h"
 #include "plimsoll/graph/graph.h"
+#include "plimsoll/graph_auto/graph_auto.h"
+#include "plimsoll/io/graph_json.h"
 #include "plimsoll/physics/massprops.h"
 #include "plimsoll/io/mesh_io.h"
 #include "plimsoll/geometry/validate.h"

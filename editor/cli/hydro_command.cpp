@@ -8,9 +8,9 @@
 #include "cli/common.h"
 #include "cli/svg_plot.h"
 #include "plimsoll/io/file_util.h"
-#include "plimsoll/scene/project.h"
-#include "plimsoll/scene/radiation_cache.h"
-#include "plimsoll/scene/scene_loader.h"
+#include "plimsoll/project/project.h"
+#include "plimsoll/project/radiation_cache.h"
+#include "plimsoll/project/scene_loader.h"
 #include "plimsoll/scene/scene_radiation.h"
 
 #include <nlohmann/json.hpp>

@@ -7,9 +7,9 @@
 #include "cli/svg_plot.h"
 #include "plimsoll/io/file_util.h"
 #include "plimsoll/physics/hydrostatics.h"
-#include "plimsoll/scene/project.h"
+#include "plimsoll/project/project.h"
 #include "plimsoll/scene/scene_hydrostatics.h"
-#include "plimsoll/scene/scene_loader.h"
+#include "plimsoll/project/scene_loader.h"
 
 #include <nlohmann/json.hpp>
 

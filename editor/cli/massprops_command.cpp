@@ -4,7 +4,8 @@
 
 #include "cli/common.h"
 #include "plimsoll/physics/massprops.h"
-#include "plimsoll/bake/painted_map.h"
+#include "plimsoll/io/painted_map_io.h"
+#include "plimsoll/surface/painted_map.h"
 
 #include <nlohmann/json.hpp>
 

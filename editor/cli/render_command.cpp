@@ -7,7 +7,7 @@
 
 #include "document/document.h"
 #include "document/overlay.h"
-#include "render/camera.h"
+#include "view/camera.h"
 #include "render/graph_draw.h"
 #include "render/headless_context.h"
 #include "render/renderer.h"

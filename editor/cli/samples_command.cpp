@@ -3,7 +3,8 @@
 #include "cli/common.h"
 
 #include "plimsoll/io/mesh_io.h"
-#include "plimsoll/bake/painted_map.h"
+#include "plimsoll/io/painted_map_io.h"
+#include "plimsoll/surface/painted_map.h"
 #include "plimsoll/samples/primitives.h"
 
 #include <cmath>

@@ -6,8 +6,8 @@
 #include "cli/common.h"
 #include "plimsoll/core/limits.h"
 #include "plimsoll/io/file_util.h"
-#include "plimsoll/scene/project.h"
-#include "plimsoll/scene/scene_loader.h"
+#include "plimsoll/project/project.h"
+#include "plimsoll/project/scene_loader.h"
 #include "plimsoll/scene/world.h"
 
 #include <nlohmann/json.hpp>

@@ -2,12 +2,15 @@
 
 #include "document/settings.h"
 
-#include "plimsoll/bake/atlas.h"
-#include "plimsoll/bake/painted_map.h"
+#include "plimsoll/io/atlas_cache.h"
+#include "plimsoll/surface/atlas.h"
+#include "plimsoll/io/painted_map_io.h"
+#include "plimsoll/io/graph_json.h"
+#include "plimsoll/surface/painted_map.h"
 #include "plimsoll/core/limits.h"
 #include "plimsoll/io/file_util.h"
 #include "plimsoll/io/mesh_io.h"
-#include "plimsoll/scene/scene_loader.h"
+#include "plimsoll/project/scene_loader.h"
 
 #include <nlohmann/json.hpp>
 
@@ -176,9 +179,9 @@ void Document::syncAssets(DetachedAssets& detached) {
                 if (mesh) {
                     // Painted maps lie over the UVs the body bakes: the same choice as World's
                     // (the generated atlas comes from the project's cache once made).
-                    Result<AtlasChoice> choice = chooseAtlas(*mesh, validateMesh(*mesh), body.atlas,
-                                                             AtlasSettings{},
-                                                             project_.atlasCacheFile(b));
+                    Result<AtlasChoice> choice = chooseCachedAtlas(*mesh, validateMesh(*mesh), body.atlas,
+                                                                   AtlasSettings{},
+                                                                   project_.atlasCacheFile(b));
                     if (choice) a.mesh = std::make_shared<const TriangleMesh>(std::move(choice->mesh));
                     else a.meshError = choice.error().message;
                 } else {

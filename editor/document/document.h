@@ -11,9 +11,9 @@
 #include "plimsoll/bake/bake.h"
 #include "plimsoll/graph/graph.h"
 #include "plimsoll/geometry/mesh.h"
-#include "plimsoll/bake/painted_map.h"
+#include "plimsoll/surface/painted_map.h"
 #include "plimsoll/physics/pose.h"
-#include "plimsoll/scene/project.h"
+#include "plimsoll/project/project.h"
 #include "plimsoll/scene/scene.h"
 #include "plimsoll/core/result.h"
 

@@ -1,4 +1,5 @@
 #include "document/graph_view.h"
+#include "plimsoll/graph_auto/graph_auto.h"
 
 #include <algorithm>
 #include <cmath>

@@ -7,6 +7,7 @@
 #include "document/overlay.h"
 
 #include "plimsoll/bake/bake.h"
+#include "plimsoll/graph_auto/graph_auto.h"
 #include "plimsoll/graph/graph.h"
 
 #include <Eigen/Core>

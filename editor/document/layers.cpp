@@ -1,4 +1,5 @@
 #include "document/layers.h"
+#include "plimsoll/io/painted_map_io.h"
 
 #include <nlohmann/json.hpp>
 #include <stb_image.h>

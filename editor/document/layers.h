@@ -6,9 +6,10 @@
 // file (docs/project-schema.md, "Map layers"). No GL, no files here: the document does the I/O.
 #pragma once
 
-#include "plimsoll/bake/painted_map.h"
+#include "plimsoll/surface/painted_map.h"
 #include "plimsoll/core/result.h"
 
+#include <filesystem>
 #include <memory>
 #include <optional>
 #include <string>

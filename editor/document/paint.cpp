@@ -1,6 +1,7 @@
 #include "document/paint.h"
 
 #include "plimsoll/bake/bake.h"
+#include "plimsoll/io/painted_map_io.h"
 #include "plimsoll/geometry/uv_layout.h"
 
 #include <Eigen/Geometry>

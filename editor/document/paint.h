@@ -6,7 +6,7 @@
 #pragma once
 
 #include "plimsoll/geometry/mesh.h"
-#include "plimsoll/bake/painted_map.h"
+#include "plimsoll/surface/painted_map.h"
 #include "plimsoll/core/result.h"
 
 #include <Eigen/Core>

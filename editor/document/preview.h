@@ -14,7 +14,7 @@
 //    `plimsoll buoyancy --compare-exact` uses (volume_check.h).
 #pragma once
 
-#include "plimsoll/scene/project.h"
+#include "plimsoll/project/project.h"
 #include "plimsoll/scene/scene.h"
 #include "plimsoll/core/result.h"
 #include "plimsoll/physics/volume_check.h"

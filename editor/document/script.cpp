@@ -4,6 +4,8 @@
 #include "document/command.h"
 #include "document/graph_edit.h"
 #include "plimsoll/core/limits.h"
+#include "plimsoll/graph_auto/graph_auto.h"
+#include "plimsoll/io/graph_json.h"
 #include "plimsoll/io/file_util.h"
 
 #include <cmath>

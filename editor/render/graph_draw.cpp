@@ -2,7 +2,7 @@
 
 #include "document/graph_view.h"
 #include "render/gl_program.h"
-#include "render/graph_pick.h"
+#include "view/graph_pick.h"
 #include "render/shaders.h"
 
 #include <epoxy/gl.h>

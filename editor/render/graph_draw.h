@@ -6,7 +6,7 @@
 // around the graph is drawn over it with alpha.
 #pragma once
 
-#include "render/camera.h"
+#include "view/camera.h"
 
 #include "plimsoll/graph/graph.h"
 #include "plimsoll/physics/pose.h"

@@ -2,7 +2,7 @@
 
 #include "render/gl_program.h"
 #include "render/shaders.h"
-#include "render/water_view.h"
+#include "view/water_view.h"
 
 #include "plimsoll/geometry/validate.h"
 

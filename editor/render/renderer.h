@@ -5,8 +5,8 @@
 #pragma once
 
 #include "document/overlay.h"
-#include "render/camera.h"
-#include "render/water_view.h"
+#include "view/camera.h"
+#include "view/water_view.h"
 #include "render/window_image.h"
 
 #include "plimsoll/geometry/mesh.h"

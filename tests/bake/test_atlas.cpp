@@ -2,10 +2,11 @@
 // own), within the texture tolerances against the exact mass properties; the atlas is
 // injective, keeps triangles in order, is deterministic and packs densely; the atlas modes
 // refuse or replace non-bijective UVs; the cache.
-#include "plimsoll/bake/atlas.h"
+#include "plimsoll/surface/atlas.h"
+#include "plimsoll/io/atlas_cache.h"
 #include "plimsoll/io/mesh_io.h"
 #include "plimsoll/samples/primitives.h"
-#include "plimsoll/scene/project.h"
+#include "plimsoll/project/project.h"
 #include "plimsoll/scene/world.h"
 #include "plimsoll/compute/compute.h"
 #include "plimsoll/geometry/validate.h"

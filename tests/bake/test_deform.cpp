@@ -1,7 +1,7 @@
 // Deforming meshes: the bake's piece table, the per-frame regather against fresh bakes and the
 // exact integrals, and loading the frames of the balloon sample.
 #include "plimsoll/bake/bake.h"
-#include "plimsoll/bake/deform.h"
+#include "plimsoll/surface/deform.h"
 #include "plimsoll/physics/massprops.h"
 #include "plimsoll/io/mesh_io.h"
 #include "plimsoll/samples/primitives.h"

@@ -1,10 +1,11 @@
 // Painted maps moved between parameterisations keep what they say about the surface: the
 // integral of the map over the surface survives a round trip mesh UVs -> generated atlas -> mesh
 // UVs within 1%, and the nearest-surface-point search finds the right point.
-#include "plimsoll/bake/atlas.h"
-#include "plimsoll/bake/map_transfer.h"
+#include "plimsoll/surface/atlas.h"
+#include "plimsoll/io/painted_map_io.h"
+#include "plimsoll/surface/map_transfer.h"
 #include "plimsoll/io/mesh_io.h"
-#include "plimsoll/bake/painted_map.h"
+#include "plimsoll/surface/painted_map.h"
 #include "plimsoll/samples/primitives.h"
 
 #include "cli_runner.h"

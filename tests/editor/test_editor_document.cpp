@@ -15,10 +15,11 @@
 #include "document/settings.h"
 
 #include "plimsoll/io/file_util.h"
+#include "plimsoll/io/painted_map_io.h"
 
 #include "io/test_hooks.h"
 #include "plimsoll/io/mesh_io.h"
-#include "plimsoll/bake/painted_map.h"
+#include "plimsoll/surface/painted_map.h"
 
 #include <gtest/gtest.h>
 

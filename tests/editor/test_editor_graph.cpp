@@ -11,9 +11,11 @@
 #include "document/graph_edit.h"
 #include "document/graph_view.h"
 #include "document/script.h"
-#include "render/graph_pick.h"
+#include "view/graph_pick.h"
 
 #include "plimsoll/compute/compute.h"
+#include "plimsoll/graph_auto/graph_auto.h"
+#include "plimsoll/io/graph_json.h"
 #include "plimsoll/scene/world.h"
 
 #include <gtest/gtest.h>

@@ -11,7 +11,8 @@
 #include "document/layers.h"
 #include "document/script.h"
 
-#include "plimsoll/bake/painted_map.h"
+#include "plimsoll/surface/painted_map.h"
+#include "plimsoll/io/painted_map_io.h"
 
 #include <gtest/gtest.h>
 

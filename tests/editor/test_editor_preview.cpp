@@ -5,7 +5,7 @@
 // against what `plimsoll buoyancy --compare-exact` prints for the same pose.
 #include "document/document.h"
 #include "document/preview.h"
-#include "render/force_overlay.h"
+#include "view/force_overlay.h"
 
 #include "cli_runner.h"
 #include "test_support.h"

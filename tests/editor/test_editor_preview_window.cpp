@@ -7,7 +7,7 @@
 #include "test_support.h"
 #include "editor/xvfb_support.h"
 
-#include "render/camera.h"
+#include "view/camera.h"
 
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>

@@ -5,7 +5,7 @@
 
 #include "document/document.h"
 #include "document/overlay.h"
-#include "render/camera.h"
+#include "view/camera.h"
 
 #include <gtest/gtest.h>
 #include <stb_image.h>

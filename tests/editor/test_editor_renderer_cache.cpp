@@ -7,10 +7,10 @@
 // be made.
 #include "test_support.h"
 
-#include "render/camera.h"
+#include "view/camera.h"
 #include "headless_gl_test.h"
 #include "render/renderer.h"
-#include "render/water_view.h"
+#include "view/water_view.h"
 
 #include "plimsoll/geometry/validate.h"
 #include "plimsoll/io/mesh_io.h"

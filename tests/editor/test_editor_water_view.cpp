@@ -1,7 +1,7 @@
 // WaterView: the water as the 3D view shows it (the C++ twin of water_view.frag). Its heights
 // against the water model, its horizon against the camera's geometry, and which points the eye
 // sees through the water, from above, from below and in orthographic views.
-#include "render/water_view.h"
+#include "view/water_view.h"
 
 #include <gtest/gtest.h>
 

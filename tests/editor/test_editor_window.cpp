@@ -5,10 +5,11 @@
 #include "test_support.h"
 #include "editor/xvfb_support.h"
 
-#include "render/camera.h"
+#include "view/camera.h"
 
-#include "plimsoll/bake/painted_map.h"
-#include "plimsoll/scene/project.h"
+#include "plimsoll/surface/painted_map.h"
+#include "plimsoll/io/painted_map_io.h"
+#include "plimsoll/project/project.h"
 
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>

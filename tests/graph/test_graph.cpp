@@ -3,6 +3,7 @@
 // water that enters, stays and leaves, diffusion, the water's mass properties, and the box
 // compartments' clip.
 #include "plimsoll/graph/graph.h"
+#include "plimsoll/io/graph_json.h"
 
 #include "plimsoll/bake/bake.h"
 #include "plimsoll/geometry/box.h"

@@ -2,6 +2,8 @@
 // a connected graph, capacities that sum to the enclosed volume; and the `plimsoll graph`
 // commands end to end.
 #include "plimsoll/graph/graph.h"
+#include "plimsoll/graph_auto/graph_auto.h"
+#include "plimsoll/io/graph_json.h"
 #include "plimsoll/physics/massprops.h"
 #include "plimsoll/io/mesh_io.h"
 #include "plimsoll/samples/primitives.h"

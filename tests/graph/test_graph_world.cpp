@@ -5,8 +5,10 @@
 // water in = water stored + water out, every node within its capacity, and the body's mass is
 // the hull's plus the water's.
 #include "plimsoll/graph/graph.h"
-#include "plimsoll/bake/painted_map.h"
-#include "plimsoll/scene/project.h"
+#include "plimsoll/io/painted_map_io.h"
+#include "plimsoll/io/graph_json.h"
+#include "plimsoll/surface/painted_map.h"
+#include "plimsoll/project/project.h"
 #include "plimsoll/scene/world.h"
 
 #include "test_support.h"

@@ -7,12 +7,14 @@
 
 #include "test_support.h"
 
-#include "plimsoll/bake/painted_map.h"
+#include "plimsoll/surface/painted_map.h"
+#include "plimsoll/io/painted_map_io.h"
+#include "plimsoll/io/graph_json.h"
 #include "plimsoll/io/bake_io.h"
-#include "plimsoll/io/bundle.h"
+#include "plimsoll/export/bundle.h"
 #include "plimsoll/graph/graph.h"
 #include "plimsoll/io/mesh_io.h"
-#include "plimsoll/scene/project.h"
+#include "plimsoll/project/project.h"
 #include "plimsoll/geometry/validate.h"
 
 #include "plimsoll_runtime/runtime.hpp"

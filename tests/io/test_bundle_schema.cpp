@@ -6,8 +6,8 @@
 // unevaluated*). Negative controls prove it can fail.
 #include "test_support.h"
 
-#include "plimsoll/io/bundle.h"
-#include "plimsoll/scene/project.h"
+#include "plimsoll/export/bundle.h"
+#include "plimsoll/project/project.h"
 
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>

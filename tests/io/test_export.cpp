@@ -7,11 +7,13 @@
 
 #include "io/exr_io.h"
 #include "plimsoll/io/bake_io.h"
-#include "plimsoll/io/bundle.h"
+#include "plimsoll/io/painted_map_io.h"
+#include "plimsoll/io/graph_json.h"
+#include "plimsoll/export/bundle.h"
 #include "plimsoll/graph/graph.h"
 #include "plimsoll/physics/massprops.h"
 #include "plimsoll/io/mesh_io.h"
-#include "plimsoll/bake/painted_map.h"
+#include "plimsoll/surface/painted_map.h"
 #include "plimsoll/scene/world.h"
 
 #include <gtest/gtest.h>

@@ -3,8 +3,8 @@
 // node's extras pointing at the bundle's manifest.
 #include "test_support.h"
 
-#include "plimsoll/scene/scene_loader.h"
-#include "plimsoll/io/bundle.h"
+#include "plimsoll/project/scene_loader.h"
+#include "plimsoll/export/bundle.h"
 #include "plimsoll/physics/massprops.h"
 #include "plimsoll/geometry/uv_layout.h"
 

@@ -10,14 +10,15 @@
 #include "document/document.h"
 
 #include "plimsoll/bake/bake.h"
+#include "plimsoll/io/painted_map_io.h"
 #include "plimsoll/io/bake_io.h"
-#include "plimsoll/io/bundle.h"
+#include "plimsoll/export/bundle.h"
 #include "plimsoll/io/file_util.h"
 
 #include "io/test_hooks.h"
-#include "plimsoll/bake/painted_map.h"
+#include "plimsoll/surface/painted_map.h"
 #include "plimsoll/samples/primitives.h"
-#include "plimsoll/scene/project.h"
+#include "plimsoll/project/project.h"
 #include "plimsoll/scene/world.h"
 
 #include "compute/opencl_backend.h"

@@ -10,17 +10,19 @@
 #include "document/document.h"
 
 #include "plimsoll/bake/bake.h"
-#include "plimsoll/bake/painted_map.h"
+#include "plimsoll/io/painted_map_io.h"
+#include "plimsoll/io/graph_json.h"
+#include "plimsoll/surface/painted_map.h"
 #include "plimsoll/core/limits.h"
 #include "plimsoll/graph/graph.h"
 #include "plimsoll/io/bake_io.h"
-#include "plimsoll/io/bundle.h"
+#include "plimsoll/export/bundle.h"
 #include "plimsoll/io/file_util.h"
 
 #include "io/exr_io.h"
 #include "io/test_hooks.h"
 #include "plimsoll/io/mesh_io.h"
-#include "plimsoll/scene/project.h"
+#include "plimsoll/project/project.h"
 
 #include "plimsoll_runtime.h"
 #include "plimsoll_runtime/runtime.hpp"

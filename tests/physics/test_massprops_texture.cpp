@@ -1,8 +1,9 @@
 // Texture mass properties against the exact mesh integrals, on the sample assets and under
 // transformations; shells and combined materials.
 #include "plimsoll/physics/massprops.h"
+#include "plimsoll/io/painted_map_io.h"
 #include "plimsoll/io/mesh_io.h"
-#include "plimsoll/bake/painted_map.h"
+#include "plimsoll/surface/painted_map.h"
 #include "plimsoll/samples/primitives.h"
 
 #include "test_support.h"

@@ -10,13 +10,15 @@
 #include "test_support.h"
 
 #include "plimsoll/bake/bake.h"
+#include "plimsoll/io/painted_map_io.h"
+#include "plimsoll/io/graph_json.h"
 #include "plimsoll/compute/fast_backend.h"
 #include "plimsoll/io/bake_io.h"
-#include "plimsoll/io/bundle.h"
+#include "plimsoll/export/bundle.h"
 #include "plimsoll/physics/buoyancy.h"
 #include "plimsoll/graph/graph.h"
-#include "plimsoll/bake/painted_map.h"
-#include "plimsoll/scene/project.h"
+#include "plimsoll/surface/painted_map.h"
+#include "plimsoll/project/project.h"
 
 #include "plimsoll_runtime.h"
 #include "plimsoll_runtime/runtime.hpp"

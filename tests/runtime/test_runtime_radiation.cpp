@@ -8,11 +8,11 @@
 #include "test_support.h"
 
 #include "plimsoll/geometry/box.h"
-#include "plimsoll/io/bundle.h"
+#include "plimsoll/export/bundle.h"
 #include "plimsoll/io/mesh_io.h"
 #include "plimsoll/physics/cummins.h"
-#include "plimsoll/scene/project.h"
-#include "plimsoll/scene/scene_loader.h"
+#include "plimsoll/project/project.h"
+#include "plimsoll/project/scene_loader.h"
 #include "plimsoll/scene/scene_radiation.h"
 
 #include "plimsoll_runtime.h"

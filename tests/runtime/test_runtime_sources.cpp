@@ -5,8 +5,8 @@
 // on the library's pool or the caller's task system, equal to one call per body bit for bit.
 #include "test_support.h"
 
-#include "plimsoll/io/bundle.h"
-#include "plimsoll/scene/project.h"
+#include "plimsoll/export/bundle.h"
+#include "plimsoll/project/project.h"
 
 #include "plimsoll_runtime.h"
 

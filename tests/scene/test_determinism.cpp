@@ -8,7 +8,7 @@
 // rotations) and the backend (the OpenCL kernels compute in float; only the reference is pinned
 // here). A change to the physics, the bake or a sample project changes them too: then the new
 // values are pinned on purpose, in the same commit, and the commit says why.
-#include "plimsoll/scene/project.h"
+#include "plimsoll/project/project.h"
 #include "plimsoll/scene/world.h"
 
 #include "test_support.h"

@@ -1,6 +1,6 @@
 // Project files: defaults, exact round trips, validation that names every problem with its JSON
 // path, malformed and missing files, path resolution.
-#include "plimsoll/scene/project.h"
+#include "plimsoll/project/project.h"
 
 #include <gtest/gtest.h>
 

@@ -4,7 +4,7 @@
 // direction buoyancy does not model.
 #include "plimsoll/samples/primitives.h"
 #include "plimsoll/scene/scene.h"
-#include "plimsoll/scene/scene_loader.h"
+#include "plimsoll/project/scene_loader.h"
 #include "plimsoll/scene/world.h"
 
 #include "test_support.h"

@@ -1,5 +1,5 @@
 #version 450 core
-// The water as the view shows it (render/water_view.h, whose C++ twin this is), the vertex
+// The water as the view shows it (view/water_view.h, whose C++ twin this is), the vertex
 // half: how far below the water surface a vertex lies, and the eye's end of its line of sight
 // (the eye, or for an orthographic view the vertex's foot on the plane through the eye).
 // Linked into every program that draws into the 3D view (bodies, lines, the water graph),

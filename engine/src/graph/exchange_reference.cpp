@@ -1,7 +1,7 @@
 // The C++ reference of kernels/graph.cl (compute.h evaluateExchangeReference): the water-graph
 // exchange through permeable texels (paper 4.2; graph.h for how the sums are used), in double
 // precision over every sample.
-#include "plimsoll/compute/compute.h"
+#include "plimsoll/physics/buoyancy_backend.h"
 
 #include <algorithm>
 #include <cmath>

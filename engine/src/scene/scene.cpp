@@ -2,7 +2,7 @@
 #include "plimsoll/scene/scene.h"
 #include "plimsoll/scene/controlled_bake.h"
 
-#include "plimsoll/bake/deform.h"
+#include "plimsoll/surface/deform.h"
 
 #include <sstream>
 

@@ -1,9 +1,9 @@
 // World stepping (world.h).
 #include "plimsoll/scene/world.h"
 
-#include "plimsoll/bake/deform.h"
+#include "plimsoll/surface/deform.h"
 #include "plimsoll/physics/massprops.h"
-#include "plimsoll/bake/painted_map.h"
+#include "plimsoll/surface/painted_map.h"
 #include "plimsoll/physics/cummins.h"
 #include "plimsoll/scene/scene_radiation.h"
 

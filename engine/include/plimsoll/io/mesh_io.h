@@ -35,4 +35,10 @@ Result<TriangleMesh> loadMeshFromMemory(std::string_view bytes, const std::strin
 /// Writes v / vt / f lines with 17 significant digits, so a reload gives the same doubles.
 Status writeObj(const TriangleMesh& mesh, const std::filesystem::path& path);
 
+/// Loads the frames of a deforming mesh, one file each, without joining vertices (joining
+/// depends on which positions coincide, which differs between frames). Every frame must have
+/// the first frame's vertex count, triangles and UVs; the error names the file and the
+/// first difference.
+Result<std::vector<TriangleMesh>> loadMeshFrames(const std::vector<std::filesystem::path>& paths);
+
 }  // namespace plimsoll

@@ -4,7 +4,7 @@
 #pragma once
 
 #include "plimsoll/physics/buoyancy.h"
-#include "plimsoll/compute/compute.h"
+#include "plimsoll/physics/buoyancy_backend.h"
 #include "plimsoll/geometry/mesh.h"
 #include "plimsoll/core/result.h"
 

@@ -7,14 +7,14 @@
 #pragma once
 
 #include "plimsoll/bake/bake.h"
-#include "plimsoll/bake/painted_map.h"
+#include "plimsoll/surface/painted_map.h"
 #include "plimsoll/core/result.h"
 #include "plimsoll/geometry/mesh.h"
 #include "plimsoll/geometry/validate.h"
 #include "plimsoll/graph/graph.h"
 #include "plimsoll/physics/massprops.h"
 #include "plimsoll/physics/water.h"
-#include "plimsoll/scene/project.h"
+#include "plimsoll/scene/scene_desc.h"
 
 #include <Eigen/Core>
 

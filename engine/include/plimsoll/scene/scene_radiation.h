@@ -9,7 +9,7 @@
 #include "plimsoll/core/result.h"
 #include "plimsoll/physics/cummins.h"
 #include "plimsoll/physics/radiation.h"
-#include "plimsoll/scene/project.h"
+#include "plimsoll/scene/scene_desc.h"
 #include "plimsoll/scene/scene.h"
 
 #include <Eigen/Core>

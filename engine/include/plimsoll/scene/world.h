@@ -21,7 +21,7 @@
 #include "plimsoll/physics/buoyancy.h"
 #include "plimsoll/compute/compute.h"
 #include "plimsoll/graph/graph.h"
-#include "plimsoll/scene/project.h"
+#include "plimsoll/scene/scene_desc.h"
 #include "plimsoll/scene/scene.h"
 #include "plimsoll/core/result.h"
 #include "plimsoll/physics/rigid_body.h"

@@ -1,0 +1,56 @@
+// The one adapter from a project on disk to a scene in memory (scene.h): it reads every body's
+// mesh (the atlas applied, through the project's atlas cache), its frames, water graph and
+// painted maps, and bakes them. Every problem names the project file and the JSON path of the
+// entry that caused it: "boat.plim.json: bodies[0].water_graph.graph: body 'boat' (boat.obj):
+// water graph: boat.graph.json: cannot open".
+#pragma once
+
+#include "plimsoll/surface/atlas.h"
+#include "plimsoll/core/result.h"
+#include "plimsoll/geometry/mesh.h"
+#include "plimsoll/project/project.h"
+#include "plimsoll/scene/scene.h"
+
+#include <functional>
+#include <memory>
+#include <string>
+#include <vector>
+
+namespace plimsoll {
+
+/// A body's mesh with the UVs it is baked with.
+struct PreparedBodyMesh {
+    TriangleMesh mesh;          ///< the first frame for a deforming body; atlas applied
+    AtlasChoice atlas;          ///< atlas.mesh is moved into `mesh` (left empty here)
+};
+
+/// Loads body `index` of `project` (its first frame when it deforms), refuses it when the
+/// surface has errors no atlas can fix (the validation report, one problem a line), and applies
+/// the body's atlas mode with the project's atlas cache (Project::atlasCacheFile).
+/// Errors start with "body 'NAME' (MESH): ".
+Result<PreparedBodyMesh> prepareBodyMesh(const Project& project, std::size_t index);
+
+/// The frames of deforming body `index` (mesh, then mesh_frames), checked against each other.
+Result<std::shared_ptr<const std::vector<TriangleMesh>>> loadBodyFrames(const Project& project,
+                                                                        std::size_t index);
+
+/// Progress of one long task (the task named, "body 'x' (mesh): radiation"): the CLI shows a
+/// percentage on a terminal. Empty: none.
+using ProgressFactory = std::function<ProgressCallback(const std::string& task)>;
+
+/// Body `index` of `project`, read and baked; the log hears the atlas's notice and the water
+/// graph's warnings. A body with radiation on gets it computed (or read back from the
+/// project's cache, Project::radiationCacheFile), with `progress` while it computes.
+Result<SceneBody> loadSceneBody(const Project& project, std::size_t index,
+                                const LogFunction& log = {}, const ProgressFactory& progress = {});
+
+/// Every body of `project` (loadSceneBody) and its medium, water and simulation settings. A
+/// gravity World cannot simulate, or Gerstner waves whose water.gravity is not the magnitude of
+/// simulation.gravity, are refused here with their JSON path.
+Result<Scene> loadScene(const Project& project, const LogFunction& log = {},
+                        const ProgressFactory& progress = {});
+
+/// How the adapter names the project file in messages: "<file stem>.plim.json".
+std::string projectFileName(const Project& project);
+
+}  // namespace plimsoll

@@ -1,0 +1,137 @@
+// What a scene's bodies, medium and simulation are made of, as a project describes them
+// (project/project.h reads and writes them as `*.plim.json`; the editor edits them): plain
+// values and paths, no file is read here.
+#pragma once
+
+#include "plimsoll/graph/graph.h"
+#include "plimsoll/surface/atlas.h"
+#include "plimsoll/physics/rigid_body.h"
+#include "plimsoll/physics/water.h"
+
+#include <Eigen/Core>
+
+#include <filesystem>
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace plimsoll {
+
+/// How a body's mass is spread. Both parts are optional and add up.
+struct MaterialDesc {
+    /// Solid of uniform density filling the mesh, kg/m^3.
+    std::optional<double> density;
+    /// Thin shell on the surface: surface density in kg/m^2 ("surface_density"), or
+    /// thickness (m) times material density (kg/m^3) ("thickness", "material_density").
+    std::optional<double> shellSurfaceDensity;
+    /// Painted surface-density map (8/16-bit PNG over the mesh's UVs): white is
+    /// shellSurfaceDensity, black 0. Empty: uniform.
+    std::string shellDensityMap;
+    /// Painted relative shell thickness ("thickness_map", needs a shell): scales the shell's
+    /// surface density like shellDensityMap (both multiply). Empty: uniform.
+    std::string shellThicknessMap;
+
+    bool operator==(const MaterialDesc&) const = default;
+};
+
+/// The water graph of a hollow or permeable body (graph.h; "water_graph" in a body). A body
+/// without one is sealed: no graph is computed for it.
+struct WaterGraphDesc {
+    std::string graph;                     ///< graph.json ("graph"), required
+    /// Scale of the body's permeability_map ("permeability", 0..1): white is this value.
+    double permeability = 1.0;
+    InflowModel inflow = InflowModel::Linear;  ///< "inflow": "linear" or "torricelli"
+    double inflowRate = 1.0;               ///< "inflow_rate": linear factor, 1/s
+    double dischargeCoefficient = 0.6;     ///< "discharge_coefficient": Torricelli's C_d
+    FlowMode flow = FlowMode::Poiseuille;  ///< "flow": "poiseuille" or "diffusion"
+    double diffusionPressure = 1000.0;     ///< "diffusion_pressure": Pa at a full difference
+    bool freeSurface = false;              ///< "free_surface": water at each node's low side
+    int seed = 1;                          ///< "seed": findDischargeNode's neighbour order
+
+    bool operator==(const WaterGraphDesc&) const = default;
+};
+
+/// Wave radiation of a body ("radiation" in a body; scene/scene_radiation.h computes it,
+/// physics/cummins.h steps it): added mass and radiation damping computed at load time (or
+/// read from the project's cache) from its wetted surface at rest, integrated with Cummins'
+/// equation, and exported in the body's bundle for the runtime (docs/bundle.md "Radiation").
+/// A body without it runs without (and with its linear_damping stand-in).
+struct RadiationDesc {
+    bool enabled = true;          ///< "enabled": false keeps the settings but runs without
+    /// "panel_edge": longest panel edge of the wetted surface, m (0: the cube root of the rest
+    /// displacement over 2.5).
+    double panelEdge = 0;
+    int frequencies = 16;         ///< "frequencies": samples of A(omega), B(omega)
+    /// "min_frequency", "max_frequency": rad/s (0: K L from 0.05 to 5, L half the cube root of
+    /// the rest displacement).
+    double minFrequency = 0;
+    double maxFrequency = 0;
+
+    bool operator==(const RadiationDesc&) const = default;
+};
+
+struct BodyDesc {
+    std::string name;
+    /// Mesh file (any format assimp reads). For a deforming body, the first frame.
+    std::string mesh;
+    /// A deforming body: further frames of the same mesh (same vertices and UVs, OBJ sequence),
+    /// played at framesPerSecond and looped. Empty for a rigid body.
+    std::vector<std::string> meshFrames;
+    double framesPerSecond = 24.0;
+    int textureSize = 256;                 ///< physics texture, texels per side
+    double maxTexelStretch = 4.0;          ///< sub-texel refinement (BakeSettings)
+    /// Which UVs are baked ("atlas": "mesh", "auto" or "generate"). A generated atlas has the
+    /// default AtlasSettings whatever textureSize is (so changing the physics texture size
+    /// keeps the maps painted over it) and is cached beside the project (atlasCacheFile).
+    AtlasMode atlas = AtlasMode::Auto;
+    MaterialDesc material;
+    Eigen::Vector3d position = Eigen::Vector3d::Zero();          ///< R p + t: t, m
+    Eigen::Vector3d rotationDegrees = Eigen::Vector3d::Zero();   ///< Rz Ry Rx, degrees
+    Eigen::Vector3d velocity = Eigen::Vector3d::Zero();          ///< centre of mass, m/s
+    Eigen::Vector3d angularVelocity = Eigen::Vector3d::Zero();   ///< world, rad/s
+    double dragCoefficient = 1.0;          ///< C_d
+    double frictionCoefficient = 0.0;      ///< C_f (0: no skin friction)
+    /// Hydrodynamic damping standing in for wave radiation, which the pressure and drag terms
+    /// do not model: -m lambda v and -lambda I w, scaled by the submerged share of the volume
+    /// (1/s). Quadratic drag alone lets small bobbing die out only as 1/t; 0 turns it off.
+    double linearDamping = 0.5;
+    double angularDamping = 0.5;
+    /// Painted permeability map ("permeability_map", PNG over the mesh's UVs, 0..1: how much
+    /// of the water in contact flows in, for the water graph). Empty: impermeable.
+    std::string permeabilityMap;
+    /// Water graph ("water_graph"); absent: a sealed body.
+    std::optional<WaterGraphDesc> waterGraph;
+    /// Wave radiation ("radiation"); absent: none.
+    std::optional<RadiationDesc> radiation;
+    /// Whether the body runs with radiation (present and enabled).
+    bool radiates() const { return radiation && radiation->enabled; }
+
+    bool deforms() const { return !meshFrames.empty(); }
+    bool operator==(const BodyDesc&) const = default;
+};
+
+/// The fluid the bodies are in (below the surface) — water, or air for a balloon.
+struct MediumDesc {
+    std::string name = "water";            ///< "water" or "air" (informative)
+    double density = 1000.0;               ///< kg/m^3
+    double viscosity = 1.0e-3;             ///< dynamic viscosity, Pa s
+
+    bool operator==(const MediumDesc&) const = default;
+};
+
+struct SimulationDesc {
+    Eigen::Vector3d gravity{0.0, -9.81, 0.0};  ///< m/s^2
+    double timeStep = 1.0 / 60.0;          ///< s, one frame
+    int subSteps = 4;                      ///< integration steps per frame (at least)
+    /// More sub-steps are taken where a body's hydrostatic natural frequency omega (bounded
+    /// from its bounding sphere) would make omega dt exceed this (rad). 0.5 keeps the
+    /// symplectic step stable and its energy error within several percent; 0.025 keeps it
+    /// within 1%, at 20 times the steps.
+    double maxPhaseStep = 0.5;
+    Integrator integrator = Integrator::SemiImplicitEuler;
+    double duration = 10.0;                ///< s, for headless runs
+
+    bool operator==(const SimulationDesc&) const = default;
+};
+
+}  // namespace plimsoll

@@ -1,0 +1,675 @@
+// Runtime bundle export (bundle.h, docs/bundle.md).
+#include "plimsoll/export/bundle.h"
+#include "plimsoll/io/painted_map_io.h"
+#include "plimsoll/io/graph_json.h"
+
+#include "plimsoll/bake/bake.h"
+#include "plimsoll/io/bake_io.h"
+#include "plimsoll/project/scene_loader.h"
+#include "plimsoll/scene/scene_radiation.h"
+#include "plimsoll/surface/deform.h"
+#include "plimsoll/io/file_util.h"
+#include "plimsoll/core/limits.h"
+#include "plimsoll/graph/graph.h"
+#include "plimsoll/physics/massprops.h"
+#include "plimsoll/surface/painted_map.h"
+
+#include "io/exr_io.h"
+#include "io/gltf_physics.h"
+#include "io/gltf_writer.h"
+#include "io/texture_facts_json.h"
+
+#include <nlohmann/json.hpp>
+#include <openssl/evp.h>
+
+#include <algorithm>
+#include <array>
+#include <atomic>
+#include <cstdio>
+#include <fstream>
+#include <iterator>
+#include <optional>
+#include <set>
+#include <stdexcept>
+#include <system_error>
+#include <tuple>
+#include <unistd.h>
+
+namespace plimsoll {
+
+namespace fs = std::filesystem;
+using nlohmann::json;
+
+namespace {
+
+constexpr const char* kManifestFile = plimsoll_eval::kManifestFile;
+
+std::string toHex(const unsigned char* data, unsigned int size) {
+    static constexpr char kDigits[] = "0123456789abcdef";
+    std::string hex;
+    hex.reserve(2 * size);
+    for (unsigned int i = 0; i < size; ++i) {
+        hex += kDigits[data[i] >> 4];
+        hex += kDigits[data[i] & 15];
+    }
+    return hex;
+}
+
+/// A bundle's file or a source it records (a mesh: the largest files read whole).
+Result<std::string> readBytes(const fs::path& path) {
+    return readWholeFile(path, kMaxMeshFileBytes, "kMaxMeshFileBytes");
+}
+
+// Files of the staging folder are written directly: the folder as a whole is renamed into
+// place only once complete (writeBodyBundle), which is what makes the export atomic.
+Status writeBytes(const fs::path& path, const std::string& bytes) {
+    if (Status step = fileStep("writing", path); !step.ok()) return step;
+    std::ofstream out(path, std::ios::binary | std::ios::trunc);
+    out.write(bytes.data(), static_cast<std::streamsize>(bytes.size()));
+    out.close();
+    if (!out) return makeError(ErrorKind::io, path.string() + ": cannot write");
+    return Ok{};
+}
+
+json vec3(const Eigen::Vector3d& v) { return json::array({v.x(), v.y(), v.z()}); }
+
+json massJson(const MassProperties& p) {
+    json inertia = json::array();
+    for (int r = 0; r < 3; ++r) {
+        inertia.push_back(json::array({p.inertia(r, 0), p.inertia(r, 1), p.inertia(r, 2)}));
+    }
+    return json{{"mass", p.mass},
+                {"volume", p.volume},
+                {"center_of_mass", vec3(p.centerOfMass)},
+                {"inertia", inertia}};
+}
+
+/// A radiating body's Cummins model for the runtime (docs/bundle.md "Radiation"): the
+/// infinite-frequency added mass and the memory filters of each mode, body axes about the
+/// centre of mass of mass_properties.texture; null for a body that does not radiate.
+json radiationJson(const SceneBody& body) {
+    if (!body.desc.radiates() || !body.radiation) return nullptr;
+    const CumminsModel& model = body.radiation->model;
+    json added = json::array();
+    for (int r = 0; r < 6; ++r) {
+        json row = json::array();
+        for (int c = 0; c < 6; ++c) row.push_back(model.addedMassInfinity(r, c));
+        added.push_back(row);
+    }
+    json memory = json::array();
+    for (const std::vector<MemoryTerm>& mode : model.memory) {
+        json terms = json::array();
+        for (const MemoryTerm& t : mode)
+            terms.push_back({{"gain", t.gain}, {"frequency", t.frequency}, {"damping_ratio", t.dampingRatio}});
+        memory.push_back(terms);
+    }
+    return {{"modes", {"surge_x", "heave_y", "sway_z", "roll_x", "yaw_y", "pitch_z"}},
+            {"rest_volume", body.radiation->restVolume},
+            {"panels", body.radiation->panelCount},
+            {"added_mass_infinity", added},
+            {"memory", memory}};
+}
+
+/// Relative paths of the regular files under `folder`, sorted.
+std::vector<std::string> filesUnder(const fs::path& folder) {
+    std::vector<std::string> files;
+    std::error_code ec;
+    if (!fs::is_directory(folder, ec)) return files;
+    for (fs::recursive_directory_iterator it(folder, ec), end; !ec && it != end; it.increment(ec)) {
+        if (it->is_regular_file(ec)) files.push_back(fs::relative(it->path(), folder).generic_string());
+    }
+    std::sort(files.begin(), files.end());
+    return files;
+}
+
+/// A hidden sibling of `folder` unique to this process and call.
+fs::path siblingFor(const fs::path& folder, const std::string& kind) {
+    static std::atomic<unsigned> counter{0};
+    return folder.parent_path() / ("." + folder.filename().string() + "." + kind + "-" +
+                                   std::to_string(::getpid()) + "-" +
+                                   std::to_string(counter++));
+}
+
+/// The texel-to-node map as an N x N image (row 0 at the top, as the other images): 1 + the
+/// node index (graph.json order) of each covered texel, 0 where nothing is covered. The node is
+/// plimsoll::texelNodeMap's (nearestNode of the entry's point, the rule WaterGraphSimulation
+/// feeds texels by); a texel with several entries (shared by two UV islands, or refined) takes
+/// the node of its largest-area entry, the first on a tie: one value a texel, so a runtime that
+/// wants the simulation's exact per-entry feed recomputes nearestNode over samples.exr there.
+detail::UintImage texelNodeImage(const WaterGraph& graph, const SurfaceTextures& t) {
+    const std::vector<std::int32_t> nodes = texelNodeMap(graph, t);
+    detail::UintImage image;
+    image.width = image.height = t.size;
+    image.channel = "node";
+    image.pixels.assign(static_cast<std::size_t>(t.size) * t.size, 0u);
+    for (std::size_t first = 0, last; first < t.coveredCount(); first = last) {
+        std::size_t largest = first;
+        for (last = first; last < t.coveredCount() && t.texelIndex[last] == t.texelIndex[first];
+             ++last) {
+            if (t.area[last] > t.area[largest]) largest = last;
+        }
+        const std::size_t x = t.texelIndex[first] % t.size, y = t.texelIndex[first] / t.size;
+        const std::size_t pixel = (static_cast<std::size_t>(t.size) - 1 - y) * t.size + x;
+        image.pixels[pixel] = static_cast<std::uint32_t>(nodes[largest] + 1);
+    }
+    return image;
+}
+
+/// The glTF node's extensions: the physics drafts with `mass` (the manifest's
+/// `mass_properties.<massSource>`), and PLIMSOLL_buoyancy_bundle naming the bundle and the
+/// files written before the glTF (`files`, relative to the glTF's folder).
+json gltfNodeExtensions(const Project& project, const BodyDesc& desc, const MassProperties& mass,
+                        const std::string& massSource, const std::vector<std::string>& files) {
+    json extensions = detail::physicsNodeExtensions(mass);
+    json others = json::array();
+    // The bake already left its own manifest.json in the staging folder; the bundle's
+    // replaces it and is named by "manifest".
+    for (const std::string& file : files)
+        if (file != kManifestFile) others.push_back(file);
+    extensions["PLIMSOLL_buoyancy_bundle"] = {{"manifest", kManifestFile},
+                                              {"format", plimsoll_eval::kBundleFormat},
+                                              {"schema_version", kBundleSchemaMajor},
+                                              {"schema_minor", kBundleSchemaMinor},
+                                              {"project", project.name},
+                                              {"body", desc.name},
+                                              {"mass_properties", massSource},
+                                              {"files", others}};
+    return extensions;
+}
+
+/// Writes the whole bundle of body `index` into `staging` (an empty folder).
+Result<BundleReport> buildBundle(const Project& project, std::size_t index, const fs::path& staging,
+                                 const std::function<void(const std::string&)>& log,
+                                 const BundleOptions& options) {
+    const BodyDesc& desc = project.bodies.at(index);
+    const std::string label = bodyLabel(desc);
+    auto say = [&](const std::string& line) {
+        if (log) log(line);
+    };
+    // The body exactly as World simulates it: the same adapter reads and bakes it.
+    Result<SceneBody> body = loadSceneBody(project, index, log);
+    if (!body) return body.error();
+    // After loading, which writes the atlas cache the hash covers when it is missing.
+    Result<std::string> inputHash = bundleInputHash(project, index, options);
+    if (!inputHash) return inputHash.error();
+    const TriangleMesh& mesh = *body->parts.mesh;
+    const std::shared_ptr<const SurfaceTextures>& textures = body->textures;
+    const std::shared_ptr<const MassProperties>& textureMass = body->mass;
+
+    // Exact mass from the mesh itself (divergence theorem per triangle): defined for a uniform
+    // solid and a uniform shell; a painted shell has no closed form here.
+    const MaterialDesc& m = desc.material;
+    std::optional<MassProperties> exactMass;
+    if (m.shellDensityMap.empty() && m.shellThicknessMap.empty()) {
+        MassProperties total;
+        if (m.density) total = exactSolidMassProperties(mesh, *m.density);
+        if (m.shellSurfaceDensity) {
+            const MassProperties shell = exactShellMassProperties(mesh, *m.shellSurfaceDensity);
+            total = m.density ? total + shell : shell;
+        }
+        exactMass = total;
+    }
+    const json exact = exactMass ? massJson(*exactMass) : json(nullptr);
+
+    // Images and the sample list: the bake's own writer (float32, ZIP, lossless; or compact:
+    // half floats over a per-body origin and scales, the encoding the manifest records).
+    const std::optional<CompactSamples> compact =
+        options.compact ? std::optional(compactSamplesFor(*textures)) : std::nullopt;
+    if (Status s = compact ? writeCompactBakedTextures(*textures, staging, desc.mesh, *compact)
+                           : writeBakedTextures(*textures, staging, desc.mesh);
+        !s.ok())
+        return s.error();
+    std::error_code ec;
+    if (Status step = fileStep("renaming", staging / "area.exr"); !step.ok()) return step.error();
+    fs::rename(staging / "area_vector.exr", staging / "area.exr", ec);
+    if (ec) return makeError(ErrorKind::io, (staging / "area.exr").string() + ": " + ec.message());
+
+    // Frames of a deforming body: frames/NNN/ holds position.exr, area.exr and samples.exr
+    // (the texels, coverage and sample order are the bake's in every frame; only points and
+    // area vectors move), and the manifest each frame's mass properties.
+    json deforming = nullptr;
+    if (desc.deforms()) {
+        // A deforming body's frames are regathered from its bake's pieces, as World steps them.
+        const std::vector<TriangleMesh>& frames = *body->parts.frames;
+        json frameMass = json::array();
+        SurfaceTextures frame = *textures;
+        for (std::size_t k = 0; k < frames.size(); ++k) {
+            regatherSurface(*body->pieces, frames[k], frame);
+            char name[24];
+            std::snprintf(name, sizeof name, "%03zu", k);
+            const fs::path folder = staging / "frames" / name;
+            if (Status s = writeBakedTextures(frame, folder, desc.mesh); !s.ok()) return s.error();
+            fs::rename(folder / "area_vector.exr", folder / "area.exr", ec);
+            if (!ec) fs::remove(folder / "coverage.exr", ec);  // the bake's, every frame
+            if (!ec) fs::remove(folder / kManifestFile, ec);
+            if (ec) return makeError(ErrorKind::io, folder.string() + ": " + ec.message());
+            Result<MassProperties> mass = materialMassProperties(
+                frame, desc.material, body->parts.shellDensityMap.get(), label);
+            if (!mass) return mass.error();
+            frameMass.push_back(massJson(*mass));
+        }
+        deforming = {{"frames", frames.size()},
+                     {"frames_per_second", desc.framesPerSecond},
+                     {"exported", "all frames"},
+                     {"frame_folder", "frames/NNN (000 = the first frame)"},
+                     {"frame_files", json::array({"position.exr", "area.exr", plimsoll_eval::kSamplesFile})},
+                     {"frame_mass_properties", frameMass}};
+        say(label + ": deforming: " + std::to_string(frames.size()) + " frames exported");
+    }
+
+    json sources = json::object();
+    auto addSource = [&](const std::string& role, const std::string& path) -> Status {
+        Result<std::string> sha = sha256OfFile(project.resolvePath(path));
+        if (!sha) return withContext(label + ": ", sha.error());
+        sources[role] = {{"path", path}, {"sha256", *sha}};
+        return Ok{};
+    };
+    if (Status s = addSource("mesh", desc.mesh); !s.ok()) return s.error();
+
+    // Painted maps, re-encoded as 16-bit greyscale PNG (over the baked UVs).
+    json maps = json::object();
+    const std::array<std::tuple<const char*, const std::string*, const PaintedMap*>, 3> painted = {
+        std::tuple{"permeability", &desc.permeabilityMap, body->parts.permeabilityMap.get()},
+        std::tuple{"shell_density", &m.shellDensityMap, body->parts.shellDensityMap.get()},
+        std::tuple{"shell_thickness", &m.shellThicknessMap, body->parts.shellThicknessMap.get()}};
+    for (const auto& [role, path, map] : painted) {
+        if (!map) continue;
+        const std::string file = std::string(role) + ".png";
+        if (Status s = writeBytes(staging / file, encodePaintedMapPng16(*map)); !s.ok())
+            return s.error();
+        if (Status s = addSource(std::string(role) + "_map", *path); !s.ok()) return s.error();
+        maps[role] = {{"path", file}, {"width", map->width}, {"height", map->height}};
+    }
+
+    json graphJson = nullptr;
+    if (desc.waterGraph) {
+        const WaterGraphDesc& g = *desc.waterGraph;
+        const std::shared_ptr<const WaterGraph>& graph = body->parts.waterGraph;
+        if (Status s = writeBytes(staging / plimsoll_eval::kGraphFile, graphToJson(*graph)); !s.ok())
+            return s.error();
+        if (Status s = addSource("water_graph", g.graph); !s.ok()) return s.error();
+        if (Status s = detail::writeExr(staging / plimsoll_eval::kTexelNodesFile, texelNodeImage(*graph, *textures));
+            !s.ok())
+            return s.error();
+        graphJson = {{"path", plimsoll_eval::kGraphFile},
+                     {"texel_nodes", plimsoll_eval::kTexelNodesFile},
+                     {"nodes", graph->nodes.size()},
+                     {"pipes", graph->pipes.size()},
+                     {"total_capacity", graph->totalCapacity()},
+                     {"permeability", g.permeability},
+                     {"inflow", inflowModelName(g.inflow)},
+                     {"inflow_rate", g.inflowRate},
+                     {"discharge_coefficient", g.dischargeCoefficient},
+                     {"flow", flowModelName(g.flow)},
+                     {"diffusion_pressure", g.diffusionPressure},
+                     {"free_surface", g.freeSurface},
+                     {"seed", g.seed}};
+    }
+
+    // The mesh as glTF 2.0 over the baked UVs, its node pointing back at this manifest (the
+    // glTF lies in the bundle folder, so the path is the manifest's own name).
+    const std::string gltfStem = bundleFolderName(project, index);
+    {
+        json extras = {{"plimsoll_bundle",
+                        {{"manifest", kManifestFile},
+                         {"format", plimsoll_eval::kBundleFormat},
+                         {"schema_version", kBundleSchemaMajor},
+                         {"schema_minor", kBundleSchemaMinor},
+                         {"body", desc.name},
+                         {"mass", textureMass->mass},
+                         {"texture_size", textures->size},
+                         {"texcoord", "TEXCOORD_0 = the UVs the bundle's textures were baked "
+                                      "over"}}}};
+        const detail::GltfFiles gltf = detail::encodeGltf(
+            mesh, textures->placement, gltfStem + ".bin", desc.name, extras,
+            gltfNodeExtensions(project, desc, exactMass ? *exactMass : *textureMass,
+                               exactMass ? "exact" : "texture", filesUnder(staging)));
+        if (Status s = writeBytes(staging / (gltfStem + ".gltf"), gltf.gltf); !s.ok())
+            return s.error();
+        if (Status s = writeBytes(staging / (gltfStem + ".bin"), gltf.bin); !s.ok())
+            return s.error();
+    }
+
+    BundleReport report;
+    report.body = desc.name;
+    report.textureSize = textures->size;
+    report.coveredTexels = textures->distinctTexelCount();
+    json files = json::array();
+    for (const std::string& path : filesUnder(staging)) {
+        if (path == kManifestFile) continue;
+        Result<std::string> bytes = readBytes(staging / path);
+        if (!bytes) return bytes.error();
+        BundleFile file{path, sha256Hex(*bytes), bytes->size()};
+        files.push_back({{"path", file.path}, {"sha256", file.sha256}, {"bytes", file.bytes}});
+        report.files.push_back(std::move(file));
+    }
+
+    json material = json::object();
+    material["model"] = m.density && m.shellSurfaceDensity ? "solid+shell"
+                        : m.density                        ? "solid"
+                                                           : "shell";
+    material["density"] = m.density ? json(*m.density) : json(nullptr);
+    material["shell_surface_density"] =
+        m.shellSurfaceDensity ? json(*m.shellSurfaceDensity) : json(nullptr);
+    material["shell_density_map"] = maps.contains("shell_density") ? json("shell_density.png")
+                                                                    : json(nullptr);
+    material["shell_thickness_map"] = maps.contains("shell_thickness")
+                                          ? json("shell_thickness.png") : json(nullptr);
+
+    const SurfaceTextures& t = *textures;
+    json manifest = {
+        // bake_io.h reads these four: readBakedTextures() loads a bundle's sample list.
+        {"schema_version", kBundleSchemaMajor},
+        {"schema_minor", kBundleSchemaMinor},
+        {"format", plimsoll_eval::kBundleFormat},
+        {"generator", "plimsoll"},
+        {"project", project.name},
+        {"body", desc.name},
+        {"units", {{"length", "m"}, {"area", "m^2"}, {"volume", "m^3"}, {"mass", "kg"},
+                   {"inertia", "kg m^2"}, {"density", "kg/m^3"},
+                   {"surface_density", "kg/m^2"}}},
+        {"axes", {{"space", "object space of the source mesh"}, {"up", "+y"},
+                  {"handedness", "right"}}},
+        {"image_rows", "row 0 of each image is the top of the texture (v = 1): texel (x, y) is "
+                       "pixel (x, N - 1 - y)"},
+        {"atlas", {{"mode", atlasModeName(desc.atlas)},
+                   {"generated", body->parts.generatedAtlas},
+                   {"charts", body->parts.atlasCharts}}},
+        {"deforming", deforming},
+        {"material", material},
+        {"mass_properties", {{"exact", exact}, {"texture", massJson(*textureMass)}}},
+        {"hydrodynamics", {{"drag_coefficient", desc.dragCoefficient},
+                           {"friction_coefficient", desc.frictionCoefficient},
+                           {"linear_damping", desc.linearDamping},
+                           {"angular_damping", desc.angularDamping}}},
+        {"radiation", radiationJson(*body)},
+        {"painted_maps", maps},
+        {"gltf", gltfStem + ".gltf"},
+        {"water_graph", graphJson},
+        {"sources", sources},
+        {"input_sha256", *inputHash},
+        {"files", files}};
+    manifest.update(textureFactsJson(t));
+    if (compact) {
+        // Absent in a float32 bundle (every reader's default). Its channels have other names
+        // than the float32 list's, so a reader that knows only that list refuses the file.
+        const std::vector<std::string>& channels = compactSampleChannels();
+        manifest["sample_encoding"] = {
+            {"type", plimsoll_eval::kCompactSampleEncoding},
+            {"channels", channels},
+            {"position_origin", vec3(compact->origin)},
+            {"position_scale", compact->positionScale},
+            {"area_scale", compact->areaScale},
+            {"rule", "x, y: texel (float32); point = position_origin + position_scale * (hpx, "
+                     "hpy, hpz); area vector = area_scale * (hax, hay, haz); area = area_scale "
+                     "* harea; coverage; all but x, y are HALF"},
+            {"images", "position.exr, area.exr and coverage.exr hold HALF channels (same "
+                       "meaning); frames/ stay float32"}};
+    }
+    const std::string text = manifest.dump(2) + "\n";
+    if (Status s = writeBytes(staging / kManifestFile, text); !s.ok()) return s.error();
+    report.files.push_back({kManifestFile, sha256Hex(text), text.size()});
+    return report;
+}
+
+}  // namespace
+
+std::string sha256Hex(std::string_view bytes) {
+    std::array<unsigned char, EVP_MAX_MD_SIZE> digest{};
+    unsigned int size = 0;
+    EVP_Digest(bytes.data(), bytes.size(), digest.data(), &size, EVP_sha256(), nullptr);
+    return toHex(digest.data(), size);
+}
+
+Result<std::string> sha256OfFile(const fs::path& path) {
+    Result<std::string> bytes = readBytes(path);
+    if (!bytes) return bytes.error();
+    return sha256Hex(*bytes);
+}
+
+std::uintmax_t BundleReport::totalBytes() const {
+    std::uintmax_t total = 0;
+    for (const BundleFile& f : files) total += f.bytes;
+    return total;
+}
+
+std::string bundleFolderName(const Project& project, std::size_t index) {
+    auto sanitized = [&](std::size_t i) {
+        return safeFileName(project.bodies[i].name, "body" + std::to_string(i));
+    };
+    std::string name = sanitized(index);
+    for (std::size_t i = 0; i < index; ++i) {
+        if (sanitized(i) == name) return name + "-" + std::to_string(index);
+    }
+    return name;
+}
+
+Result<std::string> bundleInputHash(const Project& project, std::size_t index,
+                                    const BundleOptions& options) {
+    if (index >= project.bodies.size())
+        return makeError(ErrorKind::invalidArgument, "no body " + std::to_string(index));
+    const BodyDesc& desc = project.bodies[index];
+    Project alone = project;
+    alone.bodies = {desc};
+    json sources = json::array();
+    auto addSource = [&](const std::string& path) -> Status {
+        if (path.empty()) return Ok{};
+        Result<std::string> sha = sha256OfFile(project.resolvePath(path));
+        if (!sha) return withContext(bodyLabel(desc) + ": ", sha.error());
+        sources.push_back({{"path", path}, {"sha256", *sha}});
+        return Ok{};
+    };
+    std::vector<std::string> paths{desc.mesh};
+    paths.insert(paths.end(), desc.meshFrames.begin(), desc.meshFrames.end());
+    paths.push_back(desc.permeabilityMap);
+    paths.push_back(desc.material.shellDensityMap);
+    paths.push_back(desc.material.shellThicknessMap);
+    if (desc.waterGraph) paths.push_back(desc.waterGraph->graph);
+    for (const std::string& path : paths)
+        if (Status s = addSource(path); !s.ok()) return s.error();
+    // A generated atlas comes from the project's atlas cache when that matches the mesh: its
+    // bytes decide the bundle's UVs too.
+    std::error_code ec;
+    const fs::path atlasCache = project.atlasCacheFile(index);
+    std::string atlasCacheSha;
+    if (fs::is_regular_file(atlasCache, ec)) {
+        Result<std::string> sha = sha256OfFile(atlasCache);
+        if (!sha) return withContext(bodyLabel(desc) + ": ", sha.error());
+        atlasCacheSha = *sha;
+    }
+    json inputs = {{"generator", std::string("plimsoll ") + PLIMSOLL_VERSION},
+                   {"bundle_schema", {kBundleSchemaMajor, kBundleSchemaMinor}},
+                   {"body_index", index},
+                   {"folder", bundleFolderName(project, index)},
+                   {"project", json::parse(projectToJson(alone))},
+                   {"sources", sources},
+                   {"atlas_cache", atlasCacheSha}};
+    // Only when set, so a float32 bundle's hash is what it was before the option existed.
+    if (options.compact) inputs["sample_encoding"] = plimsoll_eval::kCompactSampleEncoding;
+    return sha256Hex(inputs.dump());
+}
+
+std::optional<BundleReport> unchangedBodyBundle(const Project& project, std::size_t index,
+                                                const fs::path& folder, const BundleOptions& options) {
+    Result<std::string> hash = bundleInputHash(project, index, options);
+    if (!hash) return std::nullopt;  // the export itself reports the unreadable source
+    Result<BundleManifestInfo> info = verifyBundle(folder);
+    if (!info) return std::nullopt;
+    Result<std::string> text = readBytes(folder / kManifestFile);
+    if (!text) return std::nullopt;
+    BundleReport report;
+    try {
+        const json manifest = json::parse(*text);
+        if (manifest.value("input_sha256", std::string()) != *hash) return std::nullopt;
+        report.textureSize = manifest.at("texture_size").get<int>();
+        report.coveredTexels = manifest.at("covered_texels").get<std::size_t>();
+    } catch (const std::exception&) {
+        return std::nullopt;
+    }
+    report.body = project.bodies[index].name;
+    report.folder = folder;
+    report.files = std::move(info->files);
+    report.files.push_back({kManifestFile, sha256Hex(*text), text->size()});
+    report.unchanged = true;
+    return report;
+}
+
+Result<BundleReport> writeBodyBundle(const Project& project, std::size_t index,
+                                     const fs::path& folder,
+                                     const std::function<void(const std::string&)>& log,
+                                     const BundleOptions& options) {
+    if (index >= project.bodies.size()) return makeError(ErrorKind::invalidArgument, "no body " + std::to_string(index));
+    const fs::path target = folder.filename().empty() ? folder.parent_path() : folder;
+    std::error_code ec;
+    if (!target.parent_path().empty()) fs::create_directories(target.parent_path(), ec);
+    if (ec) return makeError(ErrorKind::io, target.parent_path().string() + ": cannot create folder: " + ec.message());
+    const fs::path staging = siblingFor(target, "tmp");
+    fs::remove_all(staging, ec);
+    fs::create_directories(staging, ec);
+    if (ec) return makeError(ErrorKind::io, staging.string() + ": cannot create folder: " + ec.message());
+    Result<BundleReport> report = buildBundle(project, index, staging, log, options);
+    if (!report) {
+        fs::remove_all(staging, ec);
+        return report.error();
+    }
+    // Swap the folders: the old bundle is moved aside, the new one renamed into place, the old
+    // one removed. Each rename is atomic; a failure puts the old bundle back.
+    const fs::path old = siblingFor(target, "old");
+    const bool hadOld = fs::exists(target, ec);
+    if (hadOld) {
+        if (Status step = fileStep("renaming", target); !step.ok()) {
+            fs::remove_all(staging, ec);
+            return step.error();
+        }
+        fs::rename(target, old, ec);
+        if (ec) {
+            fs::remove_all(staging, ec);
+            return makeError(ErrorKind::io, target.string() + ": cannot replace: " + ec.message());
+        }
+    }
+    Status moved = fileStep("renaming", staging);
+    if (moved.ok()) fs::rename(staging, target, ec);
+    if (!moved.ok() || ec) {
+        const std::string message =
+            moved.ok() ? target.string() + ": cannot replace: " + ec.message()
+                       : moved.error().message;
+        std::error_code ignored;
+        if (hadOld) fs::rename(old, target, ignored);
+        fs::remove_all(staging, ignored);
+        return makeError(ErrorKind::io, message);
+    }
+    if (hadOld) fs::remove_all(old, ec);
+    report->folder = target;
+    return report;
+}
+
+Result<BundleManifestInfo> parseBundleManifest(const std::string& text, const std::string& source) {
+    const std::string where = source + ": ";
+    BundleManifestInfo info;
+    std::string field;  // the member being read, named in the error (nlohmann's message does not)
+    try {
+        const json manifest = json::parse(text);
+        field = "format";
+        if (manifest.value(field, std::string()) != plimsoll_eval::kBundleFormat)
+            return makeError(ErrorKind::format, where + "not a Plimsoll runtime bundle (\"format\" is not \"" +
+                                                    plimsoll_eval::kBundleFormat + "\")");
+        field = "schema_version";
+        info.schemaMajor = manifest.at(field).get<int>();
+        field = "schema_minor";
+        info.schemaMinor = manifest.at(field).get<int>();
+        if (info.schemaMajor != kBundleSchemaMajor) {
+            return makeError(ErrorKind::format, where + "bundle schema " + std::to_string(info.schemaMajor) + "." +
+                             std::to_string(info.schemaMinor) +
+                             (info.schemaMajor > kBundleSchemaMajor ? " is newer than" : " is older than") +
+                             " this reader's " + std::to_string(kBundleSchemaMajor) +
+                             ".x: export the bundle again with this version of plimsoll" +
+                             (info.schemaMajor > kBundleSchemaMajor ? " or update the reader" : ""));
+        }
+        field = "body";
+        info.body = manifest.value(field, std::string());
+        field = "files";
+        const json& files = manifest.at(field);
+        if (!files.is_array()) throw std::runtime_error("expected an array");
+        for (std::size_t i = 0; i < files.size(); ++i) {
+            field = "files[" + std::to_string(i) + "]";
+            const json& f = files[i];
+            info.files.push_back({f.at("path").get<std::string>(), f.at("sha256").get<std::string>(),
+                                  f.at("bytes").get<std::uintmax_t>()});
+        }
+    } catch (const std::exception& e) {
+        std::string what = e.what();
+        if (const std::size_t tag = what.find("] "); tag != std::string::npos) what.erase(0, tag + 2);
+        return makeError(ErrorKind::format,
+                         where + "malformed manifest: " + (field.empty() ? "" : field + ": ") + what);
+    }
+    for (const BundleFile& f : info.files) {
+        Result<fs::path> inside = pathInside(fs::path(source).parent_path(), f.path, where + "file path");
+        if (!inside) return inside.error();
+    }
+    return info;
+}
+
+Result<BundleManifestInfo> verifyBundle(const fs::path& folder) {
+    const fs::path manifestPath = folder / kManifestFile;
+    Result<std::string> text = readWholeFile(manifestPath, kMaxJsonFileBytes, "kMaxJsonFileBytes");
+    if (!text) return text.error();
+    Result<BundleManifestInfo> info = parseBundleManifest(*text, manifestPath.string());
+    if (!info) return info.error();
+    for (const BundleFile& f : info->files) {
+        const fs::path path = folder / f.path;
+        std::error_code ec;
+        // A link could name any file of the system; a bundle's files are its own.
+        if (fs::is_symlink(path, ec))
+            return makeError(ErrorKind::format, path.string() + ": is a symbolic link, not a file of the bundle");
+        if (!fs::exists(path, ec)) return makeError(ErrorKind::io, path.string() + ": missing");
+        Result<std::string> bytes = readBytes(path);
+        if (!bytes) return bytes.error();
+        if (bytes->size() != f.bytes) {
+            return makeError(ErrorKind::format, path.string() + ": " + std::to_string(bytes->size()) +
+                             " bytes, the manifest says " + std::to_string(f.bytes) +
+                             " (truncated or replaced)");
+        }
+        const std::string sha = sha256Hex(*bytes);
+        if (sha != f.sha256) {
+            return makeError(ErrorKind::format, path.string() + ": SHA-256 " + sha + " does not match the manifest's " +
+                             f.sha256);
+        }
+    }
+    return info;
+}
+
+Result<BundleReport> checkBodyBundle(const Project& project, std::size_t index,
+                                     const fs::path& folder, const BundleOptions& options) {
+    if (index >= project.bodies.size()) return makeError(ErrorKind::invalidArgument, "no body " + std::to_string(index));
+    const fs::path target = folder.filename().empty() ? folder.parent_path() : folder;
+    // Built beside the temporary directory's other files, not in the bundle's folder, which
+    // a check must not touch.
+    const fs::path staging =
+        siblingFor(fs::temp_directory_path() / "plimsoll-check" / target.filename(), "check");
+    std::error_code ec;
+    fs::create_directories(staging, ec);
+    if (ec) return makeError(ErrorKind::io, staging.string() + ": cannot create folder: " + ec.message());
+    Result<BundleReport> report = buildBundle(project, index, staging, {}, options);
+    if (!report) {
+        fs::remove_all(staging, ec);
+        return report.error();
+    }
+    const std::vector<std::string> fresh = filesUnder(staging), existing = filesUnder(target);
+    std::set<std::string> differing;
+    for (const std::string& path : fresh) {
+        Result<std::string> now = readBytes(staging / path);
+        Result<std::string> before = std::binary_search(existing.begin(), existing.end(), path)
+                                         ? readBytes(target / path)
+                                         : Result<std::string>(makeError(ErrorKind::io, "missing"));
+        if (!now || !before || *now != *before) differing.insert(path);
+    }
+    for (const std::string& path : existing) {
+        if (!std::binary_search(fresh.begin(), fresh.end(), path)) differing.insert(path);
+    }
+    fs::remove_all(staging, ec);
+    report->folder = target;
+    report->outOfDate.assign(differing.begin(), differing.end());
+    return report;
+}
+
+}  // namespace plimsoll

@@ -1,0 +1,133 @@
+#include "plimsoll/io/painted_map_io.h"
+
+#include "plimsoll/core/limits.h"
+#include "plimsoll/io/file_util.h"
+
+#include <stb_image.h>
+
+#include <algorithm>
+#include <cmath>
+#include <array>
+#include <cstdint>
+#include <cstdlib>
+#include <limits>
+#include <memory>
+
+// Debian's libstb exports stb_image_write's deflate; PNG's own chunking is done here because
+// stbi_write_png writes 8 bits per channel only.
+extern "C" unsigned char* stbi_zlib_compress(unsigned char* data, int dataLength, int* outLength,
+                                            int quality);
+
+namespace plimsoll {
+
+namespace {
+
+std::uint32_t crc32(const unsigned char* data, std::size_t size, std::uint32_t crc = 0) {
+    static const std::array<std::uint32_t, 256> table = [] {
+        std::array<std::uint32_t, 256> t{};
+        for (std::uint32_t n = 0; n < 256; ++n) {
+            std::uint32_t c = n;
+            for (int k = 0; k < 8; ++k) c = (c & 1) ? 0xEDB88320u ^ (c >> 1) : c >> 1;
+            t[n] = c;
+        }
+        return t;
+    }();
+    crc = ~crc;
+    for (std::size_t i = 0; i < size; ++i) crc = table[(crc ^ data[i]) & 0xFF] ^ (crc >> 8);
+    return ~crc;
+}
+
+void appendBigEndian(std::string& out, std::uint32_t v) {
+    for (int shift = 24; shift >= 0; shift -= 8) out += static_cast<char>((v >> shift) & 0xFF);
+}
+
+void appendChunk(std::string& out, const char type[4], const std::string& data) {
+    appendBigEndian(out, static_cast<std::uint32_t>(data.size()));
+    const std::string typed = std::string(type, 4) + data;
+    out += typed;
+    appendBigEndian(out, crc32(reinterpret_cast<const unsigned char*>(typed.data()), typed.size()));
+}
+
+}  // namespace
+
+std::string encodePaintedMapPng16(const PaintedMap& map) {
+    // Raw scanlines: filter byte 0 (none), then big-endian 16-bit samples.
+    std::string raw;
+    raw.reserve(static_cast<std::size_t>(map.height) * (1 + 2 * map.width));
+    for (int y = 0; y < map.height; ++y) {
+        raw += '\0';
+        for (int x = 0; x < map.width; ++x) {
+            const float v = std::clamp(map.values[static_cast<std::size_t>(y) * map.width + x],
+                                       0.0f, 1.0f);
+            const auto q = static_cast<std::uint16_t>(std::lround(v * 65535.0f));
+            raw += static_cast<char>(q >> 8);
+            raw += static_cast<char>(q & 0xFF);
+        }
+    }
+    int compressedLength = 0;
+    unsigned char* compressed =
+        stbi_zlib_compress(reinterpret_cast<unsigned char*>(raw.data()),
+                           static_cast<int>(raw.size()), &compressedLength, 8);
+    std::string png("\x89PNG\r\n\x1a\n", 8);
+    std::string header;
+    appendBigEndian(header, static_cast<std::uint32_t>(map.width));
+    appendBigEndian(header, static_cast<std::uint32_t>(map.height));
+    header += '\x10';  // bit depth 16
+    header += '\0';    // colour type 0: greyscale
+    header += std::string(3, '\0');  // deflate, adaptive filtering, no interlace
+    appendChunk(png, "IHDR", header);
+    appendChunk(png, "IDAT", std::string(reinterpret_cast<char*>(compressed), compressedLength));
+    std::free(compressed);
+    appendChunk(png, "IEND", "");
+    return png;
+}
+
+Status savePaintedMap(const PaintedMap& map, const std::filesystem::path& path) {
+    if (map.width <= 0 || map.height <= 0 ||
+        map.values.size() != static_cast<std::size_t>(map.width) * map.height) {
+        return makeError(ErrorKind::format, path.string() + ": painted map has no pixels");
+    }
+    const std::string png = encodePaintedMapPng16(map);
+    return writeFileAtomically(path, [&](std::ostream& out) {
+        out.write(png.data(), static_cast<std::streamsize>(png.size()));
+        return static_cast<bool>(out);
+    });
+}
+
+Result<PaintedMap> loadPaintedMap(const std::filesystem::path& path) {
+    Result<std::string> bytes = readWholeFile(path, kMaxDataFileBytes, "kMaxDataFileBytes");
+    if (!bytes) return bytes.error();
+    return decodePaintedMap(*bytes, path.string());
+}
+
+Result<PaintedMap> decodePaintedMap(std::string_view png, const std::string& source) {
+    if (png.size() > static_cast<std::size_t>(std::numeric_limits<int>::max()))
+        return makeError(ErrorKind::limit, source + ": painted map larger than 2 GB");
+    const auto* data = reinterpret_cast<const stbi_uc*>(png.data());
+    const int length = static_cast<int>(png.size());
+    int width = 0, height = 0, channels = 0;
+    if (!stbi_info_from_memory(data, length, &width, &height, &channels))
+        return makeError(ErrorKind::format, source + ": cannot read painted map: " +
+                                                stbi_failure_reason() + " (not a PNG image?)");
+    if (width > kMaxPaintedMapSide || height > kMaxPaintedMapSide) {
+        return makeError(ErrorKind::limit,
+                         source + ": painted map declares " + std::to_string(width) + " x " +
+                             std::to_string(height) + " pixels, more than the limit "
+                             "kMaxPaintedMapSide = " + std::to_string(kMaxPaintedMapSide) +
+                             " (limits.h)");
+    }
+    std::unique_ptr<stbi_us, void (*)(void*)> pixels(
+        stbi_load_16_from_memory(data, length, &width, &height, &channels, 1), stbi_image_free);
+    if (!pixels) {
+        return makeError(ErrorKind::format,
+                         source + ": cannot read painted map: " + stbi_failure_reason());
+    }
+    PaintedMap map;
+    map.width = width;
+    map.height = height;
+    map.values.resize(static_cast<std::size_t>(width) * height);
+    for (std::size_t i = 0; i < map.values.size(); ++i) map.values[i] = pixels.get()[i] / 65535.0f;
+    return map;
+}
+
+}  // namespace plimsoll

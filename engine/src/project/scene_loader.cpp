@@ -1,0 +1,164 @@
+// A project on disk turned into a scene in memory (scene_loader.h).
+#include "plimsoll/project/scene_loader.h"
+#include "plimsoll/io/atlas_cache.h"
+#include "plimsoll/io/painted_map_io.h"
+#include "plimsoll/io/graph_json.h"
+
+#include "plimsoll/bake/bake_cost.h"
+#include "plimsoll/surface/deform.h"
+#include "plimsoll/surface/painted_map.h"
+#include "plimsoll/geometry/validate.h"
+#include "plimsoll/io/mesh_io.h"
+#include "plimsoll/project/radiation_cache.h"
+
+#include <sstream>
+
+namespace plimsoll {
+
+std::string projectFileName(const Project& project) { return project.fileStem + ".plim.json"; }
+
+Result<PreparedBodyMesh> prepareBodyMesh(const Project& project, std::size_t index) {
+    if (index >= project.bodies.size()) {
+        return makeError(ErrorKind::invalidArgument, "no body " + std::to_string(index));
+    }
+    const BodyDesc& desc = project.bodies[index];
+    const std::string label = bodyLabel(desc);
+    // A deforming body's frames are read without joining vertices (deform.h); its first frame
+    // is read the same way, so that its triangles are theirs.
+    Result<TriangleMesh> loaded = loadMesh(
+        project.resolvePath(desc.mesh), MeshLoadOptions{.joinIdenticalVertices = !desc.deforms()});
+    if (!loaded) return withContext(label + ": ", loaded.error());
+    const ValidationReport report = validateMesh(*loaded);
+    if (Status s = checkBakeableSurface(report, label); !s) return s.error();
+    // Default settings, not the physics texture size: the atlas (and the maps painted over
+    // it) must not change when the physics texture size does (BodyDesc::atlas).
+    Result<AtlasChoice> atlas = chooseCachedAtlas(*loaded, report, desc.atlas, AtlasSettings{},
+                                            project.atlasCacheFile(index));
+    if (!atlas) return withContext(label + ": ", atlas.error());
+    PreparedBodyMesh prepared;
+    prepared.mesh = std::move(atlas->mesh);
+    prepared.atlas = std::move(*atlas);
+    prepared.atlas.mesh = {};
+    return prepared;
+}
+
+Result<std::shared_ptr<const std::vector<TriangleMesh>>> loadBodyFrames(const Project& project,
+                                                                        std::size_t index) {
+    const BodyDesc& desc = project.bodies.at(index);
+    // The frames keep the first frame's triangles and corner order, and so does a generated
+    // atlas: the pieces baked on it regather from every frame unchanged.
+    std::vector<std::filesystem::path> paths{project.resolvePath(desc.mesh)};
+    for (const std::string& frame : desc.meshFrames) paths.push_back(project.resolvePath(frame));
+    Result<std::vector<TriangleMesh>> frames = loadMeshFrames(paths);
+    if (!frames) return withContext(bodyLabel(desc) + ": ", frames.error());
+    return std::make_shared<const std::vector<TriangleMesh>>(std::move(*frames));
+}
+
+Result<SceneBody> loadSceneBody(const Project& project, std::size_t index, const LogFunction& log,
+                                const ProgressFactory& progress) {
+    if (index >= project.bodies.size()) {
+        return makeError(ErrorKind::invalidArgument, "no body " + std::to_string(index));
+    }
+    const BodyDesc& desc = project.bodies[index];
+    const std::string label = bodyLabel(desc);
+    const std::string at = projectFileName(project) + ": bodies[" + std::to_string(index) + "]";
+    // The JSON path of the entry that failed, then the message (which names body and file).
+    const auto fail = [&](const std::string& member, const Error& error) {
+        return withContext(at + member + ": ", error);
+    };
+    const auto say = [&](const std::string& line) {
+        if (log) log(line);
+    };
+
+    Result<PreparedBodyMesh> prepared = prepareBodyMesh(project, index);
+    if (!prepared) return fail(".mesh", prepared.error());
+    if (!prepared->atlas.notice.empty()) say(label + ": " + prepared->atlas.notice);
+    if (const std::string cost = describeBakeCost(prepared->mesh, desc.textureSize); !cost.empty())
+        say(label + ": " + cost);
+    BodyParts parts;
+    auto mesh = std::make_shared<const TriangleMesh>(std::move(prepared->mesh));
+    parts.mesh = mesh;
+    parts.generatedAtlas = prepared->atlas.generated;
+    parts.atlasCharts = prepared->atlas.chartCount;
+    if (desc.deforms()) {
+        Result<std::shared_ptr<const std::vector<TriangleMesh>>> frames = loadBodyFrames(project, index);
+        if (!frames) return fail(".mesh_frames", frames.error());
+        parts.frames = std::move(*frames);
+    }
+    if (desc.waterGraph) {
+        std::string warnings;
+        Result<WaterGraph> graph =
+            loadGraph(project.resolvePath(desc.waterGraph->graph), mesh.get(), &warnings);
+        if (!graph) {
+            return fail(".water_graph.graph", withContext(label + ": water graph: ", graph.error()));
+        }
+        if (!warnings.empty()) say(warnings);
+        parts.waterGraph = std::make_shared<const WaterGraph>(std::move(*graph));
+    }
+    const auto loadMap = [&](const std::string& path, const char* member,
+                             std::shared_ptr<const PaintedMap>& into) -> Status {
+        if (path.empty()) return Ok{};
+        Result<PaintedMap> map = loadPaintedMap(project.resolvePath(path));
+        if (!map) return fail(member, withContext(label + ": ", map.error()));
+        into = std::make_shared<const PaintedMap>(std::move(*map));
+        return Ok{};
+    };
+    if (Status s = loadMap(desc.permeabilityMap, ".permeability_map", parts.permeabilityMap); !s)
+        return s.error();
+    if (Status s = loadMap(desc.material.shellDensityMap, ".material.map", parts.shellDensityMap); !s)
+        return s.error();
+    if (Status s = loadMap(desc.material.shellThicknessMap, ".material.thickness_map",
+                           parts.shellThicknessMap);
+        !s)
+        return s.error();
+
+    Result<SceneBody> body = bakeSceneBody(desc, std::move(parts));
+    if (!body) return fail("", body.error());
+    if (desc.radiates()) {
+        Result<std::shared_ptr<const BodyRadiation>> radiation = cachedBodyRadiation(
+            *body, *desc.radiation, project.medium, project.simulation.gravity,
+            project.radiationCacheFile(index), log,
+            progress ? progress(label + ": radiation") : ProgressCallback{});
+        if (!radiation) return fail(".radiation", radiation.error());
+        body->radiation = std::move(*radiation);
+    }
+    return body;
+}
+
+Result<Scene> loadScene(const Project& project, const LogFunction& log,
+                        const ProgressFactory& progress) {
+    const std::string file = projectFileName(project);
+    if (Status s = checkGravity(project.simulation.gravity); !s) {
+        return withContext(file + ": simulation.gravity: ", s.error());
+    }
+    const double g = project.simulation.gravity.norm();
+    if (project.water.kind == WaterModel::Kind::Gerstner && project.water.gravity != g) {
+        std::ostringstream text;
+        text << file << ": water.gravity: " << project.water.gravity
+             << " m/s^2 is not the magnitude of simulation.gravity (" << g
+             << " m/s^2): the waves move under the scene's one gravity; make them agree or "
+                "leave water.gravity out";
+        return makeError(ErrorKind::schema, text.str());
+    }
+    Scene scene;
+    scene.name = project.name;
+    scene.medium = project.medium;
+    scene.water = project.water;
+    scene.simulation = project.simulation;
+    // Every body's problems, one after the other, not only the first body's.
+    std::string problems;
+    ErrorKind kind = ErrorKind::unspecified;
+    for (std::size_t i = 0; i < project.bodies.size(); ++i) {
+        Result<SceneBody> body = loadSceneBody(project, i, log, progress);
+        if (body) {
+            scene.bodies.push_back(std::move(*body));
+            continue;
+        }
+        if (problems.empty()) kind = body.error().kind;
+        problems += (problems.empty() ? "" : "\n") + body.error().message;
+    }
+    if (!problems.empty()) return makeError(kind, problems);
+    return scene;
+}
+
+}  // namespace plimsoll
