@@ -4,7 +4,7 @@
 // bundle (random rotations, positions around the waterline, random velocities, flat water and
 // Gerstner waves) the runtime's forces must equal the engine's fast CPU path over the same
 // sample list (readBakedTextures of the bundle) bit for bit; how close that path is to the
-// double-precision reference is tests/compute/test_buoyancy_fast.cpp's business. A
+// double-precision reference is tests/eval/test_fast_path.cpp's business. A
 // water-graph run (damaged_boat) must give the engine's WaterGraphSimulation's water, node by
 // node.
 #include "test_support.h"
