@@ -2,42 +2,18 @@
 // reference: every quantity within 1e-5 of its natural scale on flat water over random poses
 // (at rest, moving, spinning, with and without skin friction), within the stated error on the
 // sample projects' waves; the tile classes do what they claim (dry costs nothing, submerged
-// tiles take the closed form and conserve the volume); the batch call gives the same numbers
-// on the caller's task system as on the default pool.
-#include "plimsoll/bake/bake.h"
-#include "plimsoll/compute/fast_backend.h"
-#include "plimsoll/physics/buoyancy.h"
-#include "plimsoll/physics/massprops.h"
+// tiles take the closed form and conserve the volume); the depth integrals of a wave stencil
+// equal the sums over its entries.
 #include "plimsoll/samples/primitives.h"
 
-#include "test_support.h"
+#include "eval/fast_support.h"
 
-#include <Eigen/Geometry>
 #include <gtest/gtest.h>
-
-#include <atomic>
-#include <random>
 
 namespace plimsoll {
 namespace {
 
-namespace ev = plimsoll_eval;
-
-struct Body {
-    SurfaceTextures textures;
-    MassProperties props;
-    double radius = 0;  ///< largest distance of an entry from the centre of mass
-    ev::FastBody fast;
-};
-
-Body makeBody(const TriangleMesh& mesh, int size) {
-    Body b;
-    b.textures = test::bakeOrFail(mesh, size);
-    b.props = textureSolidMassProperties(b.textures, 1.0);
-    for (const auto& p : b.textures.position) b.radius = std::max(b.radius, (p - b.props.centerOfMass).norm());
-    b.fast = makeFastBody(b.textures, b.props.centerOfMass);
-    return b;
-}
+using namespace fast_test;
 
 /// The largest error of each quantity over its natural scale: volume V, forces rho g V,
 /// torques rho g V R, drag rho u^2 S (u the fastest entry's speed), its torque times R.
@@ -62,27 +38,8 @@ struct Errors {
     double worst() const { return std::max({volume, force, torque, drag, dragTorque, wetted, center}); }
 };
 
-BodyFrame randomFrame(std::mt19937& random, const Body& body, int kind) {
-    std::uniform_real_distribution<double> unit(-1.0, 1.0);
-    BodyFrame frame;
-    frame.centerOfMass = body.props.centerOfMass;
-    frame.pose = Pose::fromEulerDegrees({2 * unit(random), 1.2 * body.radius * unit(random), 2 * unit(random)},
-                                        {180 * unit(random), 90 * unit(random), 180 * unit(random)});
-    if (kind >= 1) frame.motion.linear = {unit(random), 0.5 * unit(random), unit(random)};
-    if (kind >= 2) frame.motion.angular = {2 * unit(random), 2 * unit(random), unit(random)};
-    frame.time = 5.0 * (1.0 + unit(random));
-    return frame;
-}
-
 double speedOf(const BodyFrame& frame, const Body& body) {
     return frame.motion.linear.norm() + frame.motion.angular.norm() * body.radius;
-}
-
-WaterModel buoyWaves() {  // projects/buoy.plim.json
-    WaterModel water;
-    water.kind = WaterModel::Kind::Gerstner;
-    water.waves = {{0.12, 9.0, {1.0, 0.2}, 0.5, 0.0}, {0.05, 4.0, {0.3, 1.0}, 0.4, 1.3}};
-    return water;
 }
 
 TEST(FastPath, MatchesTheReferenceOnFlatWaterOverRandomPoses) {
@@ -200,23 +157,6 @@ TEST(FastPath, DryTilesCostNothingAndSubmergedTilesTakeTheClosedForm) {
     EXPECT_GT(stats.closedForm, 0u);
 }
 
-/// A task system of the caller's that runs every range at once on the calling thread and
-/// counts its calls.
-struct CountingTasks {
-    std::atomic<int> enqueued{0}, finished{0};
-    static void* enqueue(ev::TaskCallback* task, int count, int minRange, void* context, void* user) {
-        auto* self = static_cast<CountingTasks*>(user);
-        ++self->enqueued;
-        for (int begin = 0; begin < count; begin += std::max(1, minRange))
-            task(begin, std::min(count, begin + std::max(1, minRange)), 0, context);
-        return self;
-    }
-    static void finish(void* handle, void* user) {
-        EXPECT_EQ(handle, user);
-        ++static_cast<CountingTasks*>(user)->finished;
-    }
-};
-
 // The closed form of a wave stencil's bucket (depthIntegrals), from moments about c, equals the
 // same integrals summed entry by entry: the depth d = alpha + beta.s + s^T H s / 2 about the
 // stencil's point p (s = q - p), sum d b, sum d b q^T about c, and sum (d^2 - (s^T H s)^2 / 4) b;
@@ -284,64 +224,6 @@ TEST(FastPath, DepthIntegralsEqualTheSumsOverEntries) {
             for (int j = 0; j < 3; ++j) EXPECT_NEAR(H[i][j], H[j][i], 1e-12);
         }
     }
-}
-
-TEST(FastBackend, BatchesOnTheCallersTaskSystemAsOnItsOwnPool) {
-    const Body sphere = makeBody(makeUvSphere(0.5, 32, 16), 48);
-    const Body buoy = makeBody(makeBuoy(), 48);
-    CountingTasks counting;
-    FastBackendOptions callers;
-    callers.tasks.enqueue = CountingTasks::enqueue;
-    callers.tasks.finish = CountingTasks::finish;
-    callers.tasks.userContext = &counting;
-    FastBackendOptions pool;
-    pool.threads = 2;
-    auto a = createFastBackend(callers), b = createFastBackend(pool);
-    std::vector<BodyRequest> requests;
-    std::mt19937 random(3);
-    for (int i = 0; i < 64; ++i) {
-        const Body& body = i % 2 ? buoy : sphere;
-        BodyRequest request;
-        request.body = a->addBody(body.textures, body.props.centerOfMass);
-        EXPECT_EQ(b->addBody(body.textures, body.props.centerOfMass), request.body);
-        request.frame = randomFrame(random, body, i % 3);
-        requests.push_back(request);
-    }
-    const WaterModel water = buoyWaves();
-    std::vector<BuoyancyResult> ra(requests.size()), rb(requests.size());
-    ASSERT_TRUE(a->evaluate(requests, water, ra).ok());
-    ASSERT_TRUE(b->evaluate(requests, water, rb).ok());
-    EXPECT_EQ(counting.enqueued.load(), 1);
-    EXPECT_EQ(counting.finished.load(), 1);
-    ev::FastScratch scratch;
-    for (std::size_t i = 0; i < requests.size(); ++i) {
-        const Body& body = i % 2 ? buoy : sphere;
-        BodyFrame frame = requests[i].frame;
-        frame.centerOfMass = body.props.centerOfMass;
-        const BuoyancyResult one = evaluateBuoyancyFast(body.fast, frame, water, {}, scratch);
-        EXPECT_EQ(ra[i].submergedVolume, one.submergedVolume) << i;
-        EXPECT_EQ(rb[i].submergedVolume, one.submergedVolume) << i;
-        EXPECT_EQ(ra[i].dragTorque, one.dragTorque) << i;
-        EXPECT_EQ(rb[i].pressureTorque, one.pressureTorque) << i;
-    }
-    BodyRequest unknown;
-    unknown.body = 999;
-    BuoyancyResult out;
-    const Status refused = a->evaluate({&unknown, 1}, water, {&out, 1});
-    ASSERT_FALSE(refused.ok());
-    EXPECT_EQ(refused.error().kind, ErrorKind::invalidArgument);
-}
-
-TEST(FastBackend, IsTheDefaultWhereNoGpuIsFound) {
-    if (std::getenv("PLIMSOLL_OPENCL_DEVICE")) GTEST_SKIP() << "device chosen by the environment";
-    for (const ComputeDevice& d : listComputeDevices())
-        if (d.isGpu) GTEST_SKIP() << "a GPU is the default here";
-    auto backend = createBuoyancyBackend("");
-    ASSERT_TRUE(backend.ok()) << backend.error().message;
-    EXPECT_EQ((*backend)->kind(), BackendKind::fastCpu) << (*backend)->deviceName();
-    auto named = createBuoyancyBackend("fast");
-    ASSERT_TRUE(named.ok());
-    EXPECT_EQ((*named)->kind(), BackendKind::fastCpu);
 }
 
 }  // namespace

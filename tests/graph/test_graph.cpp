@@ -1,9 +1,7 @@
-// Water graph (graph.h): validation classes, the JSON form, the paper's findDischargeNode cases
-// (figure 7), Poiseuille's law against its formula, no overshoot, exact bookkeeping of the
-// water that enters, stays and leaves, diffusion, the water's mass properties, and the box
-// compartments' clip.
+// Water graph (graph.h): validation classes, the paper's findDischargeNode cases (figure 7),
+// Poiseuille's law against its formula, no overshoot, exact bookkeeping of the water that
+// enters, stays and leaves, diffusion, and the water's mass properties.
 #include "plimsoll/graph/graph.h"
-#include "plimsoll/io/graph_json.h"
 
 #include "plimsoll/bake/bake.h"
 #include "plimsoll/geometry/box.h"
@@ -164,53 +162,6 @@ TEST(GraphValidation, DisconnectedGraphIsAWarning) {
     const GraphReport r = validateGraph(g);
     EXPECT_FALSE(r.hasErrors());
     EXPECT_TRUE(r.has(GraphProblemKind::Disconnected));
-}
-
-// --- JSON ----------------------------------------------------------------------------------
-
-TEST(GraphJson, RoundTripsExactly) {
-    WaterGraph g = threeNodes();
-    g.nodes[0].position = {0.1, 1.0 / 3.0, -2e-7};
-    g.nodes[1].sealed = true;
-    g.nodes[2].boxSize = {1.0, 0.5, 2.0};
-    g.pipes[0].length = 1.25;
-    g.pipes[1].open = false;
-    const std::string text = graphToJson(g);
-    EXPECT_NE(text.find("\"schema_version\": 1"), std::string::npos) << text;
-    Result<WaterGraph> back = parseGraph(text, "g.json");
-    ASSERT_TRUE(back.ok()) << back.error().message;
-    EXPECT_TRUE(*back == g) << text;
-    EXPECT_EQ(graphToJson(*back), text);
-}
-
-TEST(GraphJson, ReportsEveryStructuralProblemWithItsPath) {
-    const std::string text = R"({"schema_version": 1,
-        "nodes": [{"id": "a", "position": [0, 1], "capacity": "big"},
-                  {"id": 7, "position": [0, 0, 0], "capacity": 1, "colour": "red"}],
-        "pipes": [{"a": "a", "radius": 0.1}]})";
-    Result<WaterGraph> g = parseGraph(text, "bad.json");
-    ASSERT_FALSE(g.ok());
-    const std::string& m = g.error().message;
-    EXPECT_NE(m.find("bad.json: nodes[0].position: must be an array of 3 numbers"), std::string::npos) << m;
-    EXPECT_NE(m.find("nodes[0].capacity: must be a number"), std::string::npos) << m;
-    EXPECT_NE(m.find("nodes[1].colour: unknown key"), std::string::npos) << m;
-    EXPECT_NE(m.find("pipes[0].b: required"), std::string::npos) << m;
-    EXPECT_FALSE(parseGraph(R"({"nodes": []})", "v.json").ok());  // no schema_version
-    Result<WaterGraph> newer = parseGraph(R"({"schema_version": 99, "nodes": []})", "v.json");
-    ASSERT_FALSE(newer.ok());
-    EXPECT_NE(newer.error().message.find("newer"), std::string::npos);
-}
-
-TEST(GraphJson, LoadRefusesAnInvalidGraphWithTheClass) {
-    WaterGraph g = threeNodes();
-    g.pipes[0].b = "ghost";
-    const std::filesystem::path file = test::scratchFolder("plimsoll_test_graph") / "dangling.json";
-    ASSERT_TRUE(saveGraph(g, file).ok());
-    Result<WaterGraph> loaded = loadGraph(file);
-    ASSERT_FALSE(loaded.ok());
-    EXPECT_NE(loaded.error().message.find("[dangling-pipe]"), std::string::npos)
-        << loaded.error().message;
-    EXPECT_NE(loaded.error().message.find("dangling.json"), std::string::npos);
 }
 
 // --- flow inside ---------------------------------------------------------------------------
@@ -656,58 +607,6 @@ TEST(GraphMass, FreeSurfaceWaterSitsAtTheLowestSide) {
     // Without the model the water stays at the node.
     WaterGraphSimulation fixed = simulationOf(b);
     EXPECT_NEAR(fixed.waterMassProperties(heeled).centerOfMass.norm(), 0.0, 1e-15);
-}
-
-}  // namespace
-}  // namespace plimsoll
-
-namespace plimsoll {
-namespace {
-
-// The evaluation core's box-compartment clip (plimsoll_eval/graph.hpp, the one the engine and
-// the runtime step with) against two independent references: the exact mesh clip of the same
-// box (evaluateBuoyancyExact over makeBox) at random rotations and levels, and the analytic
-// slab of an upright box.
-TEST(GraphBoxClip, EqualsTheExactMeshClipAndTheUprightSlab) {
-    const Eigen::Vector3d size(2.0, 1.0, 1.5);
-    const TriangleMesh box = makeBox(size);
-    std::mt19937_64 rng(16);
-    std::normal_distribution<double> normal;
-    std::uniform_real_distribution<double> uniform(-1.2, 1.2);
-    int wet = 0;
-    for (int k = 0; k < 300; ++k) {
-        Eigen::Quaterniond q(normal(rng), normal(rng), normal(rng), normal(rng));
-        q.normalize();
-        const Eigen::Matrix3d R = q.toRotationMatrix();
-        const double level = uniform(rng);
-        BodyFrame frame;
-        frame.pose.rotation = R;
-        const BuoyancyResult exact = evaluateBuoyancyExact(box, frame, level, FluidSettings{});
-        plimsoll_eval::Mat3 m;
-        for (int i = 0; i < 3; ++i)
-            for (int j = 0; j < 3; ++j) m.m[i][j] = R(i, j);
-        const plimsoll_eval::ClippedVolume clip =
-            plimsoll_eval::clipBoxBelow({size.x(), size.y(), size.z()}, m, level);
-        const double volume = clip.volume > 0 ? clip.volume : 0.0;
-        EXPECT_NEAR(volume, exact.submergedVolume, 1e-14 * size.prod()) << k;
-        if (exact.submergedVolume > 1e-9) {
-            ++wet;
-            const Eigen::Vector3d centroid =
-                Eigen::Vector3d(clip.moment.x, clip.moment.y, clip.moment.z) / clip.volume;
-            EXPECT_LE((centroid - exact.centerOfBuoyancy).norm(), 1e-12) << k;
-        }
-    }
-    EXPECT_GT(wet, 100);
-    // Upright: the slab below y = h of a 2 x 1 x 1.5 box is 2 x 1.5 x (h + 0.5), its centroid
-    // halfway down the slab.
-    for (double h : {-0.4, -0.1, 0.0, 0.25, 0.49}) {
-        const plimsoll_eval::ClippedVolume clip =
-            plimsoll_eval::clipBoxBelow({2.0, 1.0, 1.5}, plimsoll_eval::Mat3{}, h);
-        EXPECT_NEAR(clip.volume, 3.0 * (h + 0.5), 1e-14) << h;
-        EXPECT_NEAR(clip.moment.y / clip.volume, 0.5 * (h - 0.5), 1e-14) << h;
-        EXPECT_NEAR(clip.moment.x, 0.0, 1e-14) << h;
-        EXPECT_NEAR(clip.moment.z, 0.0, 1e-14) << h;
-    }
 }
 
 }  // namespace

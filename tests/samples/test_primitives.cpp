@@ -361,27 +361,6 @@ TEST(Primitives, GenerationIsDeterministic) {
     EXPECT_EQ(a.triangles, b.triangles);
 }
 
-TEST(ObjWriter, WritesFacesWithoutUvsAndFullPrecision) {
-    TriangleMesh mesh;
-    mesh.positions = {{0.1, 0.0, 0.0}, {1.0, 1.0 / 3.0, 0.0}, {0.0, 0.0, -1e-300 / 3.0}};
-    mesh.triangles = {{0, 1, 2}};
-    const fs::path path = test::scratchFolder("plimsoll_test_primitives") / "no_uvs.obj";
-    ASSERT_TRUE(writeObj(mesh, path).ok());
-    EXPECT_EQ(test::readFile(path),
-              "# written by Plimsoll\n"
-              "v 0.10000000000000001 0 0\n"
-              "v 1 0.33333333333333331 0\n"
-              "v 0 0 -3.3333333333333334e-301\n"
-              "f 1 2 3\n");
-}
-
-TEST(ObjWriter, FailsForAMissingFolder) {
-    const TriangleMesh box = makeBox({1.0, 1.0, 1.0});
-    const Status written = writeObj(box, test::scratchFolder("plimsoll_test_primitives") / "no such folder" / "box.obj");
-    ASSERT_FALSE(written.ok());
-    EXPECT_NE(written.error().message.find("box.obj"), std::string::npos);
-}
-
 TEST(Assets, CommittedSamplesAreExactlyTheGeneratorsOutput) {
     expectMatchesAsset(makeUvSphere(0.5, 64, 32), "sphere.obj");
     expectMatchesAsset(makeBox({1.0, 0.5, 0.25}), "box.obj");
