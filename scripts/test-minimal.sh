@@ -19,6 +19,7 @@ cmake -S . -B build-minimal -G Ninja -DCMAKE_BUILD_TYPE=Release -DPLIMSOLL_WITH_
 cmake --build build-minimal --parallel "$(nproc)"
 built=$(date +%s)
 echo "test-minimal: build took $((built - start)) s"
-ctest --test-dir build-minimal --output-on-failure --parallel "$(nproc)" \
+ctest --test-dir build-minimal --output-on-failure --parallel "$(nproc)" --output-junit "$PWD/build-minimal/ctest-junit.xml" \
   --exclude-regex '(^|/)(RuntimeConformance|RuntimeSources|BulletAdapter|StabilityGrid|StabilityEnergy|StabilityRadiation|WorldRadiation|CumminsDecay)\.|^runtime_install$' "$@"
+scripts/check-skips.py build-minimal/ctest-junit.xml
 echo "test-minimal: tests took $(( $(date +%s) - built )) s, total $(( $(date +%s) - start )) s"

@@ -17,5 +17,6 @@ echo "test-sanitized: build took $((built - start)) s"
 export ASAN_OPTIONS="detect_leaks=1:abort_on_error=1:strict_string_checks=1"
 export UBSAN_OPTIONS="print_stacktrace=1:halt_on_error=1"
 export LSAN_OPTIONS="suppressions=$PWD/fuzz/lsan.supp:print_suppressions=0"
-ctest --test-dir build-asan --output-on-failure --parallel "$(nproc)" "$@"
+ctest --test-dir build-asan --output-on-failure --parallel "$(nproc)" --output-junit "$PWD/build-asan/ctest-junit.xml" "$@"
+scripts/check-skips.py build-asan/ctest-junit.xml
 echo "test-sanitized: tests took $(( $(date +%s) - built )) s, total $(( $(date +%s) - start )) s"
