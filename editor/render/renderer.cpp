@@ -420,7 +420,7 @@ void Renderer::draw(const RenderScene& scene, const Camera& camera, int width, i
             // copied over the one just drawn (the same pixels). llvmpipe compiles shaders for
             // the texture as a target and for the copy the first time each is used: 60-160 ms
             // of one frame on 2 busy cores. Paid here, at start-up, it is not paid in the
-            // first frame the view stands still after an edit (issue 19: a new texture size
+            // first frame the view stands still after an edit (a new texture size
             // must never block a frame for more than 50 ms).
             cache_.warmUp = false;
             if (drawIntoCache(scene, camera, width, height)) {
@@ -547,7 +547,7 @@ void Renderer::drawScene(const RenderScene& scene, const Camera& camera, int wid
     glDepthMask(GL_FALSE);
     // Pulled a little toward the eye: where what is inside touches the hull (a compartment's
     // box top in the deck's plane), the see-through hull lies over it everywhere instead of
-    // in a speckle of the pixels that happen to round nearer (issue 19 bug 7's z-fighting).
+    // in a speckle of the pixels that happen to round nearer (z-fighting).
     glEnable(GL_POLYGON_OFFSET_FILL);
     glPolygonOffset(-1.0f, -4.0f);
     drawBodies(true);

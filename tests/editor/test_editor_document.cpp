@@ -855,7 +855,7 @@ TEST(EditorProject, SaveAsNeverWritesOutsideTheNewFolder) {
 }
 
 TEST(EditorLayout, PanelsTileTheWindowAndComeBackAfterItShrinksAndGrows) {
-    // Issue 19 bug 12: panels did not come back after the window shrank and grew again. The
+    // Panels did not come back after the window shrank and grew again. The
     // layout is shares of the column, so the same window size gives the same panels.
     const PanelLayout layout;
     auto check = [](const WindowLayout& l, float width, float height, float menu, float status) {
@@ -1083,7 +1083,7 @@ TEST(EditorOverlay, LegendGivesTheDensityMapItsShellScale) {
 }
 
 TEST(EditorOverlay, HoverReadoutGivesDepthPressureAndTheNodeFed) {
-    // Issue 19, reading values: beside the map's value, the physics at the point under the
+    // Beside the map's value, the physics at the point under the
     // cursor. The damaged boat floats 0.15 m up, unrotated, on flat water at 0, in fresh water;
     // its four compartments run along z (stern at -2.25, forepeak at +2.25).
     Result<std::unique_ptr<Document>> opened =
@@ -1145,7 +1145,7 @@ DocumentState stateOf(const Document& d) {
 }
 
 TEST(EditorBodies, RemoveTakesTheBodyOutAndUndoRedoRestoreEveryBodysUnsavedPaint) {
-    // Issue 19, preview: remove bodies as one undoable step. Removing the first of two painted
+    // Remove bodies as one undoable step. Removing the first of two painted
     // (unsaved) bodies leaves the second at index 0 with its own paint; undo gives both back
     // byte for byte (project and pixels), redo removes it again the same way.
     auto d = twoPaintedBodies("bodies_remove");
@@ -1252,7 +1252,7 @@ TEST(EditorBodies, DuplicatePutsAUniquelyNamedCopyBesideTheOriginal) {
 }
 
 TEST(EditorBodies, TransformEditMovesAndRotatesTheBodyAsOneStep) {
-    // Issue 19, preview: body transforms editable in the inspector. One step sets position and
+    // Body transforms editable in the inspector. One step sets position and
     // rotation, named after what changed; undo and redo give each project back byte for byte;
     // the saved project has the new place; a non-finite value is refused.
     auto d = twoPaintedBodies("bodies_transform");
@@ -1322,7 +1322,7 @@ FacingCase paintFacing(const Brush& settings) {
 }
 
 TEST(EditorPaint, FrontFacesOnlyLeavesTheFarSideOfTheBodyUnpainted) {
-    // Issue 19, brushes: backface culling. A dab that reaches the whole sphere paints all of
+    // Backface culling. A dab that reaches the whole sphere paints all of
     // it without the option, and with it only the texels facing the viewer (+z): the far
     // hemisphere stays blank. With Z mirror on, the mirrored dab on the far side faces a
     // mirrored viewer and paints that side too.
@@ -1382,7 +1382,7 @@ TEST(EditorPaint, NormalFalloffFadesTexelsTurnedFromTheView) {
 }
 
 TEST(EditorPaint, OcclusionLeavesTexelsHiddenBehindOtherSurfaceUnpainted) {
-    // Issue 19, brushes: occlusion. Two plates face the viewer (+z): A at z = 0 over
+    // Occlusion. Two plates face the viewer (+z): A at z = 0 over
     // x in [-0.5, 0.5], B 0.5 m behind it over x in [0, 1] (u: A left half, B right half). A dab
     // of radius 0.4 at (0.5, 0, -0.25) reaches both. Without occlusion it paints B also where A
     // hides it (x < 0.5); with it, B only where it shows (x > 0.5), and A as before.

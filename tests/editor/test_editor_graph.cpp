@@ -698,7 +698,7 @@ TEST(EditorGraphView, RenderedGraphShowsNodeColoursWhereNodesProject) {
     EXPECT_EQ(got, expected) << empty.transpose();
 }
 
-// Issue 19 bug 7: the compartment boxes z-fought with the deck, their tops (in the deck's
+// The compartment boxes z-fought with the deck, their tops (in the deck's
 // plane) a speckle of box and see-through hull. Drawn in perspective over the deck, each top is
 // now one even colour: the hull over it everywhere.
 TEST(EditorGraphView, BoxTopsInTheDecksPlaneShowNoZFighting) {

@@ -207,7 +207,7 @@ bool pollUntil(Poll poll, Done done) {
 }
 
 TEST(PreviewSession, NewTextureSizeBakesBehindTheRunningOneWithProgressAndCancel) {
-    // Issue 19 bug 3: 1024^2 froze the editor; paused, the new size only arrived on Play; no
+    // 1024^2 froze the editor; paused, the new size only arrived on Play; no
     // progress, no cancel. The request returns at once, the running size keeps stepping, the
     // bake reports progress and Cancel drops it; paused, a finished bake swaps in.
     auto session = makeSession(ballProject(0.0, Eigen::Vector3d(0, -9.81, 0)));
@@ -254,7 +254,7 @@ TEST(PreviewSession, NewTextureSizeBakesBehindTheRunningOneWithProgressAndCancel
 }
 
 TEST(PreviewSession, FirstHistoryRowHoldsTheFirstFramesBuoyancyNotZero) {
-    // Issue 19 bug 14: the exported CSV started with a submerged volume of 0 at t = 0 (a row
+    // The exported CSV started with a submerged volume of 0 at t = 0 (a row
     // written before any step computed a force). The ball (r = 0.5 m) with its centre 0.3 m
     // above the water: a cap of height h = 0.2 m, V = pi h^2 (3 r - h) / 3 = 0.0544 m^3.
     auto session = makeSession(ballProject(0.0, Eigen::Vector3d(0, -9.81, 0)));

@@ -75,7 +75,7 @@ constexpr int kNewSize = test::kSanitizedBuild ? 512 : 1024;
 /// The most frames a rebake run may draw before the test gives up on the new size. The run ends
 /// as soon as the size is in, so this only bounds a failure; frames are not paced under Xvfb and
 /// cost 3-7 ms, and on CI's 2 busy cores 5000 frames (32 s) once ran out before the 1024^2 bake
-/// finished (stop 33), so the bound is several times that.
+/// finished, so the bound is several times that.
 constexpr int kMaxRebakeFrames = 30000;
 
 /// The buoy's preview with `option` kNewSize given (a new texture size asked for at the second
@@ -113,13 +113,13 @@ std::optional<nlohmann::json> rebakeRun(const std::string& name, const std::stri
 }
 
 TEST(EditorPreviewWindow, NewTextureSizeBakesWhileTheWindowKeepsDrawing) {
-    // Issue 19 bug 3: choosing 1024^2 in "Speed and accuracy" froze the window.
+    // Choosing 1024^2 in "Speed and accuracy" froze the window.
     std::string skip;
     if (!rebakeRun("preview_rebake", "--texture-size", skip) && !skip.empty()) GTEST_SKIP() << skip;
 }
 
 TEST(EditorPreviewWindow, InspectorTextureSizeBakesOnAWorkerWhileFramesKeepComing) {
-    // Issue 19: the inspector's Texture size baked on the UI thread. Set through the
+    // The inspector's Texture size baked on the UI thread. Set through the
     // inspector's own path with the preview running, the document's textures bake on a worker
     // and the preview rebakes the body in the background, the old size running meanwhile.
     std::string skip;

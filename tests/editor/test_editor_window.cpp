@@ -173,7 +173,7 @@ bool haveWindowTools(bool needInput) {
 }
 
 TEST(EditorWindow, IdleEditorSleepsInsteadOfRedrawing) {
-    // Issue 19 bug 8: 97-165% of a core with nothing happening. Idle, the loop now waits for
+    // 97-165% of a core with nothing happening. Idle, the loop now waits for
     // events: over 2 s after start-up it draws no frame and uses next to no CPU.
     if (!haveWindowTools(false)) GTEST_SKIP() << "xvfb-run is not installed";
     const fs::path project = ballProject("window_idle");
@@ -251,7 +251,7 @@ std::string dragAlong(int y, std::initializer_list<int> xs) {
 }
 
 TEST(EditorWindow, XWithTheWaterGraphOpenLeavesTheBrushMirrorAlone) {
-    // Issue 19 bug 9: holding X to constrain a node drag also toggled the brush's X mirror.
+    // Holding X to constrain a node drag also toggled the brush's X mirror.
     // X toggles the mirror only while the paint tools have the view (KeyTapsShorterThanAFrame-
     // AllCount: the graph panel closed); here the damaged boat's Water graph panel is opened
     // by a click on its title bar's arrow, and X then B are tapped: B is seen (so X was), the
@@ -283,7 +283,7 @@ TEST(EditorWindow, XWithTheWaterGraphOpenLeavesTheBrushMirrorAlone) {
 }
 
 TEST(EditorWindow, KeyTapsShorterThanAFrameAllCount) {
-    // Issue 19 bugs 10, 11 and 9: taps sent back to back (xdotool: press and release with no
+    // Taps sent back to back (xdotool: press and release with no
     // delay, all within one frame) were lost about half the time; P restarted a running
     // preview and Space did nothing. Each tap below must take effect, in order.
     if (!haveWindowTools(true)) GTEST_SKIP() << "xvfb-run or xdotool is not installed";
@@ -306,7 +306,7 @@ TEST(EditorWindow, KeyTapsShorterThanAFrameAllCount) {
 }
 
 TEST(EditorWindow, StrokeFromOffTheMeshPaintsAndThePreviewGrabDoesNot) {
-    // Issue 19 bugs 5 and 4: a stroke that started off the mesh and crossed it painted nothing;
+    // A stroke that started off the mesh and crossed it painted nothing;
     // the Brush painted the hull during a preview that promises "left-drag a body to pull it".
     // Here a drag across the ball during the preview pulls it (no edit); after the preview
     // stops, the same drag from empty space paints: one undo step.
@@ -337,7 +337,7 @@ TEST(EditorWindow, StrokeFromOffTheMeshPaintsAndThePreviewGrabDoesNot) {
 }
 
 TEST(EditorWindow, ShiftClickDrawsALineStrokeFromTheLastStrokesEnd) {
-    // Issue 19, brushes: a short stroke on the ball, then Shift-click elsewhere on it draws a
+    // A short stroke on the ball, then Shift-click elsewhere on it draws a
     // straight line from the stroke's end there (Blender and Painter): a second undo step made
     // of many surface points, not one dab. Each step waits until a frame has seen the last
     // one (fixed sleeps lost the Shift under a slow sanitizer build).
@@ -364,7 +364,7 @@ TEST(EditorWindow, ShiftClickDrawsALineStrokeFromTheLastStrokesEnd) {
 }
 
 TEST(EditorWindow, ColumnSplitterDragsAndPanelsComeBackAfterShrinkAndGrow) {
-    // Issue 19 bug 12 and the layout's splitters: the border between the 3D view and the
+    // The border between the 3D view and the
     // panels (x = 480 at 800 x 500: the column is 0.4 of the width), dragged 100 px right,
     // narrows the column to 220 px; the window shrunk to 300 x 200 and grown back to 800 x 500
     // gets that same layout back. Each step waits until the editor has drawn a frame after it
@@ -391,7 +391,7 @@ TEST(EditorWindow, ColumnSplitterDragsAndPanelsComeBackAfterShrinkAndGrow) {
 }
 
 TEST(EditorWindow, HoveringAControlShowsItsTooltip) {
-    // Issue 19, layout: tooltips on every control. The pointer rests on the Tools panel's
+    // Tooltips on every control. The pointer rests on the Tools panel's
     // "Navigate" button through the real window; the frame then shows that button's tooltip:
     // its text (reported by the tooltip helper) and its window in the last frame's picture,
     // an outlined box at the place ImGui reports, with text in it. In the 3D view before, none.
@@ -452,7 +452,7 @@ TEST(EditorWindow, HoveringAControlShowsItsTooltip) {
 }
 
 TEST(EditorWindow, AnOpenedPlotWindowDrawsItsCurveAcrossItsWidth) {
-    // Issue 19 bug 2: the plot windows drew no curve, only a 1-pixel line above "Export CSV"
+    // The plot windows drew no curve, only a 1-pixel line above "Export CSV"
     // (a plot of width -1, which Debian's ImGui 1.86 sizes to nothing here). The ball, dropped
     // from 0.3 m, bobs in the live preview; its "Submerged volume" window, opened by a click on
     // its title bar's arrow, shows the curve in ImGui's plot-line grey over most of its width,
@@ -508,7 +508,7 @@ TEST(EditorWindow, AnOpenedPlotWindowDrawsItsCurveAcrossItsWidth) {
 }
 
 TEST(EditorWindow, UvViewZoomsAtTheCursorAndPans) {
-    // Issue 19, layout: a UV view that zooms and pans. At 800 x 500 the UV view's square starts
+    // A UV view that zooms and pans. At 800 x 500 the UV view's square starts
     // at (488, 366), 102 px a side. Two wheel steps up over a point a quarter in from its top
     // left zoom by 1.25^2 with the uv under the cursor staying put; a middle-mouse drag 40 px
     // left then moves the layout with the mouse: the uv at that point grows by 40 / (102 zoom).
@@ -546,7 +546,7 @@ TEST(EditorWindow, UvViewZoomsAtTheCursorAndPans) {
 }
 
 TEST(EditorWindow, CameraFollowsTheBodyInThePreview) {
-    // Issue 19, preview: the camera can follow a body. The ball, dropped from 0.3 m, bobs;
+    // The camera can follow a body. The ball, dropped from 0.3 m, bobs;
     // with C pressed the view's centre is the ball's centre of mass in every frame after, the
     // last one included (the report's camera and body are that frame's).
     if (!haveWindowTools(true)) GTEST_SKIP() << "xvfb-run or xdotool is not installed";
@@ -574,7 +574,7 @@ TEST(EditorWindow, CameraFollowsTheBodyInThePreview) {
 }
 
 TEST(EditorWindow, WaterChangedInThePreviewIsKeptInTheProject) {
-    // Issue 19 bug 16: water and wave edits made in the preview could not be kept. At 800 x 500
+    // Water and wave edits made in the preview could not be kept. At 800 x 500
     // the Live preview window's Water section opens at (60, 388); its "level (m)" field, dragged
     // 20 px right (0.01 m a pixel), raises the preview's water 0.2 m; "Keep in project" makes
     // that one undoable project edit, and Ctrl+S saves it. (The script's text has no
@@ -603,7 +603,7 @@ TEST(EditorWindow, WaterChangedInThePreviewIsKeptInTheProject) {
 }
 
 TEST(EditorWindow, SaveAsTakesATypedNameAndLeavesTheOriginalAsItWas) {
-    // Issue 19 bug 15 and issue 18 item 14, through the window: Ctrl+Shift+S opens Save As with
+    // Ctrl+Shift+S opens Save As with
     // the name field holding the keys and the project's own name in it, selected (not
     // "untitled"); typing replaces it and Enter saves there. The title follows the new file;
     // the original is untouched.
@@ -670,7 +670,7 @@ std::size_t countNear(const PaintedMap& map, double value, double tolerance) {
 }
 
 TEST(EditorWindow, NewMapOverSavedPaintAsksAndUndoBringsTheSavedPaintBack) {
-    // Issue 19 bug 1 (data loss): on a project with saved paint, New map wiped the map without
+    // On a project with saved paint, New map wiped the map without
     // asking; Undo named the step but the map stayed gone, and one stroke and Ctrl+S then
     // wrote a blank map plus that stroke over the saved PNG. Here New map asks first
     // ("Replace map?"); Replace, then Ctrl+Z, gives the saved map back (the project is clean
@@ -718,7 +718,7 @@ TEST(EditorWindow, NewMapOverSavedPaintAsksAndUndoBringsTheSavedPaintBack) {
 }
 
 TEST(EditorWindow, FillMovesByStrengthAndFillIslandSaysTheMeshIsOneIsland) {
-    // Issue 19 bug 17: Fill ignored Strength; on a single-island map Fill island flooded the
+    // Fill ignored Strength; on a single-island map Fill island flooded the
     // whole mesh without saying why. Strength typed as 0.5 (Ctrl-click on its slider), Fill
     // all moves every texel of the saved 0.6 half way to Value 1: 0.8, not 1. Fill island (G,
     // a click on the ball) names the step after the reason it covers everything: the sphere's
@@ -758,7 +758,7 @@ TEST(EditorWindow, FillMovesByStrengthAndFillIslandSaysTheMeshIsOneIsland) {
 }
 
 TEST(EditorWindow, ExportWithUnsavedPaintAsksAndSaveAndExportWritesWhatIsOnScreen) {
-    // Issue 19 bug 6: Export wrote the last save, not what was on screen, and only a log line
+    // Export wrote the last save, not what was on screen, and only a log line
     // said so. A stroke on the saved 0.6 map, then File > Export bundle... > Export here: the
     // editor asks ("Export unsaved changes?"); Save and export saves, then the bundle's
     // permeability image holds the stroke (the last save had none of it). At 800 x 500 the
@@ -802,7 +802,7 @@ TEST(EditorWindow, ExportWithUnsavedPaintAsksAndSaveAndExportWritesWhatIsOnScree
 }
 
 TEST(EditorWindow, PlotCsvExportedFromTheWindowStartsWithTheFirstFramesVolume) {
-    // Issue 19 bug 14: the exported plot CSV started with a wrong row (submerged volume 0 at
+    // The exported plot CSV started with a wrong row (submerged volume 0 at
     // t = 0). The ball (r = 0.5 m) dropped from 0.3 m in the live preview; its Submerged
     // volume window opened (a click on its arrow at (162, 58) at 800 x 500) and its Export CSV
     // (196, 149) clicked: the file's first row is the first simulated frame, one time step in,
@@ -849,7 +849,7 @@ TEST(EditorWindow, PlotCsvExportedFromTheWindowStartsWithTheFirstFramesVolume) {
 }
 
 TEST(EditorWindow, FAndShiftFDragTheBrushRadiusAndStrengthAsInBlender) {
-    // Issue 19, brushes: drag-to-resize radius and strength (Blender's F and Shift+F). With the
+    // Drag-to-resize radius and strength (Blender's F and Shift+F). With the
     // Brush, F puts the control's centre 100 px left of the mouse (the radius in use); moving
     // the mouse to 150 px from it makes the radius 1.5 times as large, and the click that keeps
     // it paints nothing. Shift+F: strength is the distance over 200 px; Esc puts it back,
@@ -894,7 +894,7 @@ TEST(EditorWindow, FAndShiftFDragTheBrushRadiusAndStrengthAsInBlender) {
 constexpr int kAddBodyX = 840, kAddBodyY = 497;
 
 TEST(EditorWindow, AddBodyFromTheInspectorIsOneUndoStep) {
-    // Issue 19, preview: add bodies. The Inspector's "Add body..." opens the mesh browser; a
+    // Add bodies. The Inspector's "Add body..." opens the mesh browser; a
     // typed path and Enter add the box as a second body (selected); Ctrl+Z takes it out again,
     // back to the saved project (clean), and Ctrl+Shift+Z puts it back.
     if (!haveWindowTools(true)) GTEST_SKIP() << "xvfb-run or xdotool is not installed";
@@ -934,7 +934,7 @@ TEST(EditorWindow, AddBodyFromTheInspectorIsOneUndoStep) {
 }
 
 TEST(EditorWindow, InspectorPositionFieldMovesTheBodyAsOneUndoStep) {
-    // Issue 19, preview: body transforms editable in the inspector. At 1200 x 780 the
+    // Body transforms editable in the inspector. At 1200 x 780 the
     // Inspector's Position x field is at (812..892, 521); a click past its "0" puts the cursor
     // at the end, "5" and Enter make x = 5 m: one step, "Move ball", that undoes to the saved
     // project (clean) and redoes; Ctrl+S saves the new place.

@@ -1,4 +1,4 @@
-// Water graphs in the World (issue 6's checks on the sample content): the damaged boat floats
+// Water graphs in the World (on the sample content): the damaged boat floats
 // level, floods through its stern, trims by the stern and sinks; the same boat with its
 // permeability map cleared floats the whole run; a flooded hold heels the boat more with the
 // free-surface model; the plush soaks up water; a sealed body computes no graph. Every frame:
