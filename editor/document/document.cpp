@@ -288,10 +288,6 @@ void Document::setMap(std::size_t body, MapChannel channel, std::optional<Painte
     if (sizeChanged) assets_[body].paintSurfaces[static_cast<int>(channel)].reset();
 }
 
-void Document::markMapDirty(std::size_t body, MapChannel channel) {
-    assets_.at(body).maps[static_cast<int>(channel)].dirty = true;
-}
-
 const LayerStack* Document::layers(std::size_t body, MapChannel channel) const {
     if (body >= assets_.size()) return nullptr;
     const auto& stack = assets_[body].maps[static_cast<int>(channel)].layers;

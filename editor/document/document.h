@@ -174,7 +174,6 @@ public:
     const PaintedMap* map(std::size_t body, MapChannel channel) const;
     /// Installs (or with nullopt removes) a body's map image; marks it dirty.
     void setMap(std::size_t body, MapChannel channel, std::optional<PaintedMap> image);
-    void markMapDirty(std::size_t body, MapChannel channel);
     /// The map's layers (null: it has none).
     const LayerStack* layers(std::size_t body, MapChannel channel) const;
     /// Installs (or with nullopt drops) the map's layer stack; with one, the map becomes its

@@ -677,11 +677,4 @@ Matrix6d RadiationSolver::infiniteFrequencyAddedMass() const {
     return -settings_.density * f.real();
 }
 
-Matrix6d RadiationSolver::zeroFrequencyAddedMass() const {
-    const auto b = static_cast<Eigen::Index>(panels_.size());
-    const auto f = forces((directPotential_ + imagePotential_).topLeftCorner(b, b).cast<std::complex<double>>(),
-                          (directNormal_ + imageNormal_).topLeftCorner(b, b).cast<std::complex<double>>());
-    return -settings_.density * f.real();
-}
-
 }  // namespace plimsoll

@@ -105,8 +105,6 @@ public:
     RadiationCoefficients at(double omega) const;
     /// lim omega -> infinity of A(omega) (B vanishes there).
     Matrix6d infiniteFrequencyAddedMass() const;
-    /// lim omega -> 0 of A(omega): the rigid-lid added mass (1/r + 1/r').
-    Matrix6d zeroFrequencyAddedMass() const;
 
     std::size_t panelCount() const { return panels_.size(); }
     const std::vector<RadiationPanel>& panels() const { return panels_; }
