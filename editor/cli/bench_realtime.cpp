@@ -304,21 +304,9 @@ void printVerdicts(const std::vector<Row>& rows) {
     }
 }
 
-}  // namespace
-
-int runRealtimeBench(const RealtimeBenchOptions& o) {
-    const int frames = o.frames > 0 ? o.frames : o.quick ? 30 : 200;
-    const std::vector<int> allSizes = o.quick ? std::vector<int>{32, 64, 128}
-                                              : std::vector<int>{32, 64, 128, 256, 512, 1024, 2048};
-    const std::vector<int> sizes = o.sizes.empty() ? allSizes : o.sizes;
-    // The waves' truth: the reference at the largest size of the unfiltered run, so that a
-    // narrowed run reports the same errors.
-    int truthSize = 0;
-    for (int size : allSizes)
-        if (size <= kReferenceMaxSize) truthSize = std::max(truthSize, size);
-    auto bodiesSelected = [&](int n) {
-        return o.bodies.empty() || std::find(o.bodies.begin(), o.bodies.end(), n) != o.bodies.end();
-    };
+/// The methods the bench compares: the reference, the fast path and its knobs, and each
+/// OpenCL device with its knobs.
+std::vector<Method> realtimeMethods() {
     std::vector<Method> methods = {{"reference", "reference", 1}, {"fast CPU", "", 1}};
     // The fast path's accuracy knob on waves: how many water samples per side of its grid over
     // the body (the default, 9, is the "fast CPU" row).
@@ -355,6 +343,12 @@ int runRealtimeBench(const RealtimeBenchOptions& o) {
             }
         }
     }
+    return methods;
+}
+
+/// The meshes the bench evaluates (those `o.meshes` selects), with their exact mass
+/// properties and radius.
+std::vector<Case> realtimeCases(const RealtimeBenchOptions& o) {
     std::vector<Case> cases;
     for (auto [name, mesh] : {std::pair{std::string("sphere"), makeUvSphere(0.5, 64, 32)},
                               std::pair{std::string("buoy"), makeBuoy()}}) {
@@ -366,6 +360,59 @@ int runRealtimeBench(const RealtimeBenchOptions& o) {
         c.triangles = std::move(mesh);
         cases.push_back(std::move(c));
     }
+    return cases;
+}
+
+/// Writes realtime.csv and realtime.svg (error against time per body) into `o.out`.
+int writeRealtimeOutputs(const RealtimeBenchOptions& o, const std::vector<Row>& rows) {
+    auto fail = [](const Error& e) {
+        std::cerr << "error: " << e.message << "\n";
+        return kExitFailure;
+    };
+    std::error_code ec;
+    fs::create_directories(o.out, ec);
+    if (ec) {
+        std::cerr << "error: " << o.out << ": cannot create folder: " << ec.message() << "\n";
+        return kExitFailure;
+    }
+    const fs::path csv = fs::path(o.out) / "realtime.csv", svg = fs::path(o.out) / "realtime.svg";
+    if (Status st = writeFileAtomically(csv, [&](std::ostream& out) { return writeCsv(rows, out); }); !st.ok())
+        return fail(st.error());
+    LogLogPlot plot;
+    plot.title = "Plimsoll: error against time per body (one body)";
+    plot.xLabel = "time per evaluation (us)";
+    plot.yLabel = "largest error (volume, force, torque; relative)";
+    for (const Row& r : rows) {
+        if (r.bodies != 1 || !r.error) continue;
+        const std::string name = std::string(scenarioName(r.scenario)) + ", " + r.mesh + ", " + r.method;
+        auto series = std::find_if(plot.series.begin(), plot.series.end(),
+                                   [&](const PlotSeries& p) { return p.name == name; });
+        if (series == plot.series.end()) series = plot.series.insert(series, {name, {}});
+        series->points.push_back({r.usPerBody, std::max(*r.error, 1e-12), r.size ? std::to_string(r.size) : "mesh"});
+    }
+    if (Status st = writeFileAtomically(svg, [&](std::ostream& out) { return writeSvg(plot, out); }); !st.ok())
+        return fail(st.error());
+    std::cout << "\nwritten: " << csv.string() << ", " << svg.string() << "\n";
+    return kExitOk;
+}
+
+}  // namespace
+
+int runRealtimeBench(const RealtimeBenchOptions& o) {
+    const int frames = o.frames > 0 ? o.frames : o.quick ? 30 : 200;
+    const std::vector<int> allSizes = o.quick ? std::vector<int>{32, 64, 128}
+                                              : std::vector<int>{32, 64, 128, 256, 512, 1024, 2048};
+    const std::vector<int> sizes = o.sizes.empty() ? allSizes : o.sizes;
+    // The waves' truth: the reference at the largest size of the unfiltered run, so that a
+    // narrowed run reports the same errors.
+    int truthSize = 0;
+    for (int size : allSizes)
+        if (size <= kReferenceMaxSize) truthSize = std::max(truthSize, size);
+    auto bodiesSelected = [&](int n) {
+        return o.bodies.empty() || std::find(o.bodies.begin(), o.bodies.end(), n) != o.bodies.end();
+    };
+    const std::vector<Method> methods = realtimeMethods();
+    const std::vector<Case> cases = realtimeCases(o);
     auto fail = [](const Error& e) {
         std::cerr << "error: " << e.message << "\n";
         return kExitFailure;
@@ -513,31 +560,7 @@ int runRealtimeBench(const RealtimeBenchOptions& o) {
     std::cout << "\n";
     printVerdicts(rows);
 
-    std::error_code ec;
-    fs::create_directories(o.out, ec);
-    if (ec) {
-        std::cerr << "error: " << o.out << ": cannot create folder: " << ec.message() << "\n";
-        return kExitFailure;
-    }
-    const fs::path csv = fs::path(o.out) / "realtime.csv", svg = fs::path(o.out) / "realtime.svg";
-    if (Status st = writeFileAtomically(csv, [&](std::ostream& out) { return writeCsv(rows, out); }); !st.ok())
-        return fail(st.error());
-    LogLogPlot plot;
-    plot.title = "Plimsoll: error against time per body (one body)";
-    plot.xLabel = "time per evaluation (us)";
-    plot.yLabel = "largest error (volume, force, torque; relative)";
-    for (const Row& r : rows) {
-        if (r.bodies != 1 || !r.error) continue;
-        const std::string name = std::string(scenarioName(r.scenario)) + ", " + r.mesh + ", " + r.method;
-        auto series = std::find_if(plot.series.begin(), plot.series.end(),
-                                   [&](const PlotSeries& p) { return p.name == name; });
-        if (series == plot.series.end()) series = plot.series.insert(series, {name, {}});
-        series->points.push_back({r.usPerBody, std::max(*r.error, 1e-12), r.size ? std::to_string(r.size) : "mesh"});
-    }
-    if (Status st = writeFileAtomically(svg, [&](std::ostream& out) { return writeSvg(plot, out); }); !st.ok())
-        return fail(st.error());
-    std::cout << "\nwritten: " << csv.string() << ", " << svg.string() << "\n";
-    return kExitOk;
+    return writeRealtimeOutputs(o, rows);
 }
 
 }  // namespace plimsoll::cli
