@@ -113,7 +113,7 @@ void drawGzPlot(const HydrostaticsResult& t, const HydrostaticsResult& e) {
     y0 = std::floor(y0 / yStep) * yStep;
     y1 = std::ceil(y1 / yStep) * yStep;
     if (!(y1 > y0)) y1 = y0 + yStep;
-    ImGui::TextUnformatted("Righting arm GZ against heel");
+    ImGui::TextUnformatted("Righting arm GZ (m) against heel (deg)");
     const float width = std::max(200.0f, ImGui::GetContentRegionAvail().x);
     const ImVec2 origin = ImGui::GetCursorScreenPos();
     ImGui::InvisibleButton("##gz", ImVec2(width, 170));
@@ -129,14 +129,12 @@ void drawGzPlot(const HydrostaticsResult& t, const HydrostaticsResult& e) {
         std::snprintf(label, sizeof label, "%.3g", std::abs(y) < 1e-9 * yStep ? 0.0 : y);
         draw->AddText(ImVec2(origin.x, py(y) - 7), text, label);
     }
-    const double xStep = niceStep(x1 - x0, 6) < 30 && x1 - x0 >= 90 ? 30 : niceStep(x1 - x0, 6);
+    const double xStep = x1 - x0 >= 90 ? 30 : niceStep(x1 - x0, 6);  // degrees: by 30 on a wide range
     for (double x = std::ceil(x0 / xStep) * xStep; x <= x1 + 1e-9; x += xStep) {
         draw->AddLine(ImVec2(px(x), top), ImVec2(px(x), bottom), grid);
         std::snprintf(label, sizeof label, "%g", x);
         draw->AddText(ImVec2(px(x) - 8, bottom + 2), text, label);
     }
-    draw->AddText(ImVec2(right - 70, bottom + 2), text, "heel (deg)");
-    draw->AddText(ImVec2(origin.x, top - 2), text, "m");
     for (int c = 0; c < 2; ++c) {
         std::vector<ImVec2> points;
         for (const RightingArm& a : *curves[c]) points.emplace_back(px(a.heelDegrees), py(a.arm));
@@ -160,7 +158,7 @@ void drawGzPlot(const HydrostaticsResult& t, const HydrostaticsResult& e) {
                       c == 0 ? "textures" : "exact", nearest->arm, nearest->heelDegrees);
         tip += label;
     }
-    ImGui::SetTooltip("%s", tip.c_str());
+    tooltip(tip.c_str());  // the plot is the last item
 }
 
 void drawFigures(const HydrostaticsResult& t, const HydrostaticsResult& e) {

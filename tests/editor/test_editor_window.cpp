@@ -411,7 +411,7 @@ TEST(EditorWindow, BrushDragDuringThePreviewSaysWhyItPullsAndStopClearsThePrevie
     const nlohmann::json pulled = nlohmann::json::parse(test::readFile(dir / "pulled.json"));
     EXPECT_NE(pulled["status"].get<std::string>().find("Stop it (P) to paint"), std::string::npos)
         << pulled["status"];
-    EXPECT_EQ(pulled["undo_steps"], 0) << "the drag painted during the preview";
+    EXPECT_EQ(pulled["undo"], "") << "the drag painted during the preview";
     const nlohmann::json report = nlohmann::json::parse(out);
     EXPECT_EQ(report["status"], "Live preview stopped");
 }
@@ -450,7 +450,7 @@ TEST(EditorWindow, EscClosesAMenuAndTheUvViewZoomsUnderAnOpenMenu) {
                  "cp state.json opened.json; xdotool key --window $w Escape; " + waitFor("\"popup\":\"\"") +
                  "cp state.json closed.json; " + clickAt(25, 9) + waitFor("\"popup\":\"##Menu_00\"") +
                  moveTo(539, 417) + "xdotool click 4; " + waitFor("\"uv_zoom\":1.25") +
-                 "xdotool key --window $w ctrl+q; wait");
+                 "cp state.json zoomed.json; xdotool key --window $w ctrl+q; wait");
     if (out.empty()) GTEST_SKIP() << "no editor window in this build or no X server";
     const nlohmann::json opened = nlohmann::json::parse(test::readFile(dir / "opened.json"));
     EXPECT_EQ(opened["popup"], "##Menu_00");
@@ -458,8 +458,9 @@ TEST(EditorWindow, EscClosesAMenuAndTheUvViewZoomsUnderAnOpenMenu) {
     EXPECT_EQ(closed["popup"], "") << "Esc left the menu open";
     const nlohmann::json report = nlohmann::json::parse(out);
     EXPECT_LT(report["seconds"].get<double>(), 59.0) << "Ctrl+Q was not seen";
-    EXPECT_EQ(report["uv_zoom"], 1.25) << "the wheel under the open menu did not reach the UV view";
-    EXPECT_EQ(report["popup"], "");
+    const nlohmann::json zoomed = nlohmann::json::parse(test::readFile(dir / "zoomed.json"));
+    EXPECT_EQ(zoomed["uv_zoom"], 1.25) << "the wheel under the open menu did not reach the UV view";
+    EXPECT_EQ(zoomed["popup"], "") << "the menu stayed open over the zoomed view";
 }
 
 TEST(EditorWindow, EnterTappedRightAfterTypingANumberCommitsIt) {
@@ -529,6 +530,38 @@ TEST(EditorWindow, LivePreviewPanelStaysInTheViewCornerWhenTheWindowShrinksAndGr
         EXPECT_NEAR(panel[0], view[0] + 8, 1) << "not at the view's left edge";
         EXPECT_NEAR(panel[1] + panel[3], view[1] + view[3] - 8, 1) << "not at the view's bottom";
     }
+}
+
+TEST(EditorWindow, HydrostaticsFromTheMenuWithoutAPreviewPlotsBothCurvesAgainstDegrees) {
+    // Hydrostatics existed only while a preview ran, and its GZ plots had no axes, separate
+    // curves and a sample index under the mouse ("14: 0.6075"). Simulate > Hydrostatics opens
+    // it with no preview; Compute fills it on a worker; under the mouse the plot gives the heel
+    // in degrees and both methods' arms there. 1200 x 780, damaged boat: the menu's item at
+    // (190, 95), Compute at (57, 227), the plot's 58th degree or so at (200, 575).
+    if (!haveWindowTools(true)) GTEST_SKIP() << "xvfb-run or xdotool is not installed";
+    const fs::path project = damagedBoatCopy("window_hydrostatics");
+    const fs::path dir = project.parent_path();
+    const std::string out = runUnderXvfb(
+        dir, "$PLIMSOLL edit damaged_boat.plim.json --run-seconds 90 --window-size 1200x780 "
+             "--state-file state.json & " +
+                 kWaitForState + clickAt(170, 9) + waitFor("\"popup\":\"##Menu_00\"") + clickAt(190, 95) +
+                 waitFor("\"name\":\"Hydrostatics\"") + clickAt(57, 227) +
+                 "i=0; until grep -q \"textures: GZ\" state.json || [ $i -gt 600 ]; do i=$((i+1)); "
+                 "xdotool mousemove --window $w 200 575; sleep 0.1; xdotool mousemove --window $w 201 575; done; "
+                 "cp state.json hovered.json; xdotool key --window $w ctrl+q; wait");
+    if (out.empty()) GTEST_SKIP() << "no editor window in this build or no X server";
+    const nlohmann::json report = nlohmann::json::parse(out);
+    EXPECT_EQ(report["preview_running"], false);
+    const nlohmann::json hovered = nlohmann::json::parse(test::readFile(dir / "hovered.json"));
+    const std::string tip = hovered["tooltip"].get<std::string>();
+    ASSERT_NE(tip.find("textures: GZ "), std::string::npos) << tip;
+    ASSERT_NE(tip.find("exact: GZ "), std::string::npos) << tip;
+    const std::size_t at = tip.find(" m at ");
+    ASSERT_NE(at, std::string::npos) << tip;
+    const double heel = std::stod(tip.substr(at + 6));
+    EXPECT_GT(heel, 40.0) << tip;
+    EXPECT_LT(heel, 80.0) << tip;
+    EXPECT_NE(tip.find(" deg"), std::string::npos) << tip;
 }
 
 TEST(EditorWindow, ShiftClickDrawsALineStrokeFromTheLastStrokesEnd) {
