@@ -521,8 +521,8 @@ void handleShortcuts(EditorState& s) {
 
 // [SECTION] dialogs ----------------------------------------------------------------------------
 
-void drawDialogs(EditorState& s, GLFWwindow* window) {
-    drawBundleExport(*s.exportDialog);
+/// What the file browser chose: open, save as, import or export it.
+void fileChosen(EditorState& s) {
     if (auto chosen = s.browser.draw()) {
         switch (s.browser.purpose()) {
             case FileBrowser::Purpose::OpenProject: requestOpen(s, chosen->string(), false); break;
@@ -546,6 +546,10 @@ void drawDialogs(EditorState& s, GLFWwindow* window) {
                 break;
         }
     }
+}
+
+/// Save As over existing files: replace them or save nothing.
+void replaceFilesQuestion(EditorState& s) {
     if (s.pendingSaveAs && !ImGui::IsPopupOpen("Replace existing files?")) ImGui::OpenPopup("Replace existing files?");
     if (ImGui::BeginPopupModal("Replace existing files?", nullptr, ImGuiWindowFlags_AlwaysAutoResize)) {
         ImGui::Text("Saving as %s replaces:", s.pendingSaveAs ? s.pendingSaveAs->filename().c_str() : "");
@@ -564,6 +568,10 @@ void drawDialogs(EditorState& s, GLFWwindow* window) {
         tooltip("Saves nothing; the files stay as they are.");
         ImGui::EndPopup();
     }
+}
+
+/// Export with unsaved edits: save first, export the last save, or nothing.
+void exportUnsavedQuestion(EditorState& s) {
     if (ImGui::BeginPopupModal("Export unsaved changes?", nullptr, ImGuiWindowFlags_AlwaysAutoResize)) {
         ImGui::Text("%s has unsaved changes; a bundle is made from the saved files.",
                     s.document->title().c_str());
@@ -593,6 +601,10 @@ void drawDialogs(EditorState& s, GLFWwindow* window) {
         tooltip("Exports nothing.");
         ImGui::EndPopup();
     }
+}
+
+/// Open, new or quit with unsaved changes: save, discard or stay.
+void unsavedChangesQuestion(EditorState& s, GLFWwindow* window) {
     if (s.confirmDiscardOpen) {
         ImGui::OpenPopup("Unsaved changes");
         s.confirmDiscardOpen = false;
@@ -630,6 +642,10 @@ void drawDialogs(EditorState& s, GLFWwindow* window) {
         tooltip("Stays with this project, changes kept.");
         ImGui::EndPopup();
     }
+}
+
+/// An autosave left by a crash: recover it or delete it.
+void recoveryQuestion(EditorState& s) {
     if (s.recoveryOffer) {
         ImGui::OpenPopup("Recover autosave");
     }
@@ -660,6 +676,10 @@ void drawDialogs(EditorState& s, GLFWwindow* window) {
         tooltip("Deletes the autosave; the saved project is untouched.");
         ImGui::EndPopup();
     }
+}
+
+/// Help > Keyboard shortcuts and About.
+void helpWindows(EditorState& s) {
     if (s.showShortcuts) {
         ImGui::Begin("Keyboard shortcuts", &s.showShortcuts, ImGuiWindowFlags_AlwaysAutoResize);
         ImGui::TextUnformatted(
@@ -683,6 +703,16 @@ void drawDialogs(EditorState& s, GLFWwindow* window) {
         ImGui::TextUnformatted("After Bajo, Patow, Delrieux, Computer Graphics Forum 39(6), 2020.");
         ImGui::End();
     }
+}
+
+void drawDialogs(EditorState& s, GLFWwindow* window) {
+    drawBundleExport(*s.exportDialog);
+    fileChosen(s);
+    replaceFilesQuestion(s);
+    exportUnsavedQuestion(s);
+    unsavedChangesQuestion(s, window);
+    recoveryQuestion(s);
+    helpWindows(s);
 }
 
 // [SECTION] frame loop -------------------------------------------------------------------------
