@@ -1092,6 +1092,30 @@ TEST(EditorWindow, ExportWindowShowsTheResultWithoutInputAndTheExportsOwnDuratio
     EXPECT_LT(std::stod(status.substr(std::string("Done: 1 bundle in ").size())), 1.5) << status;
 }
 
+TEST(EditorWindow, OpenedPlotWindowsPushTheOnesBelowDownInsteadOfHidingUnderThem) {
+    // Expanding "Submerged volume" drew the folded Heel / Forces / Water headers over its plot
+    // and its Export CSV (the windows sat 30 px apart whatever their size). Now the stack
+    // reflows: at 800 x 500 the folded titles are at y 49 and 72 (arrows at x 162); the second
+    // is opened, then the first, and the second lies wholly below the first.
+    if (!haveWindowTools(true)) GTEST_SKIP() << "xvfb-run or xdotool is not installed";
+    const fs::path project = ballProject("window_plot_stack", 0.3);
+    const fs::path dir = project.parent_path();
+    const std::string out = runUnderXvfb(
+        dir, "$PLIMSOLL edit ball.plim.json --preview --run-seconds 60 --window-size 800x500 "
+             "--state-file state.json & " +
+                 kWaitForState + waitFor("\"name\":\"Live preview\"") + "sleep 0.5; " + clickAt(162, 81) +
+                 waitFor("\"name\":\"Heel and trim: ball\"") + clickAt(162, 58) +
+                 waitFor("\"name\":\"Submerged volume: ball\"") + "sleep 0.3; cp state.json both.json; "
+                 "xdotool key --window $w ctrl+q; wait");
+    if (out.empty()) GTEST_SKIP() << "no editor window in this build or no X server";
+    const nlohmann::json both = nlohmann::json::parse(test::readFile(dir / "both.json"));
+    const std::vector<int> volume = windowRect(both, "Submerged volume: ball");
+    const std::vector<int> heel = windowRect(both, "Heel and trim: ball");
+    ASSERT_EQ(volume.size(), 4u) << both.dump();
+    ASSERT_EQ(heel.size(), 4u) << both.dump();
+    EXPECT_GE(heel[1], volume[1] + volume[3]) << "the second plot window lies over the first";
+}
+
 TEST(EditorWindow, PlotCsvExportedFromTheWindowStartsWithTheFirstFramesVolume) {
     // Issue 19 bug 14: the exported plot CSV started with a wrong row (submerged volume 0 at
     // t = 0). The ball (r = 0.5 m) dropped from 0.3 m in the live preview; its Submerged
