@@ -862,6 +862,23 @@ TEST(EditorWindow, SaveAsTakesATypedNameAndLeavesTheOriginalAsItWas) {
 }
 
 
+TEST(EditorWindow, SaveAsOfANewProjectNamesItAfterTheFile) {
+    // Save As kept a new project's name "untitled". Started with no project, Ctrl+Shift+S and
+    // "harbour.plim.json": the saved project is called harbour.
+    if (!haveWindowTools(true)) GTEST_SKIP() << "xvfb-run or xdotool is not installed";
+    const fs::path dir = ballProject("window_save_as_new").parent_path();
+    const std::string out = runUnderXvfb(
+        dir, "$PLIMSOLL edit --run-seconds 60 --window-size 800x500 --state-file state.json & " +
+                 kWaitForState + "xdotool key --window $w ctrl+shift+s; " + waitFor("\"popup\":\"Save project as\"") +
+                 "xdotool type --window $w --delay 40 harbour.plim.json; sleep 0.3; xdotool key --window $w Return; " +
+                 waitFor("\"title\":\"harbour.plim.json - Plimsoll\"") + "xdotool key --window $w ctrl+q; wait");
+    if (out.empty()) GTEST_SKIP() << "no editor window in this build or no X server";
+    // A project of no bodies, which loadProject refuses to simulate: its JSON read as it is.
+    ASSERT_TRUE(fs::exists(dir / "harbour.plim.json")) << out;
+    const nlohmann::json saved = nlohmann::json::parse(test::readFile(dir / "harbour.plim.json"));
+    EXPECT_EQ(saved["name"], "harbour");
+}
+
 /// The ball's project with a saved permeability map of `value` everywhere (64 x 64, written by
 /// a headless edit script, as a user's earlier session would have), and a settings file whose
 /// Tools panel takes most of the column: at 1200 x 780 Fill all and New map are then on screen
