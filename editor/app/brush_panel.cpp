@@ -242,6 +242,14 @@ void drawBrushPanel(EditorState& s, const Rect& area) {
     ImGui::InputInt("px", &s.newMapSize, 0);
     tooltip("The new map's texels per side, 16 to 8192.");
     s.newMapSize = std::clamp(s.newMapSize, 16, 8192);
+    ImGui::SameLine();
+    const PaintedMap* current = hasBody ? s.document->map(s.selectedBody, s.channel) : nullptr;
+    ImGui::BeginDisabled(!current || (current->width == s.newMapSize && current->height == s.newMapSize));
+    if (ImGui::Button("Resize") && current) {
+        s.execute(makeResizeMapCommand(*s.document, s.selectedBody, s.channel, s.newMapSize, s.newMapSize));
+    }
+    ImGui::EndDisabled();
+    tooltip("The map at this size, its paint kept (filtered down or up, every layer too; one undo step).");
     if (s.confirmNewMap) {
         ImGui::OpenPopup("Replace map?");
         s.confirmNewMap = false;

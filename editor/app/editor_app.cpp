@@ -69,6 +69,35 @@ void onKey(GLFWwindow* window, int key, int, int action, int mods) {
                                                            key == GLFW_KEY_RIGHT_BRACKET))) {
         s.keyPresses.emplace_back(key, mods);
     }
+    if (action == GLFW_PRESS) s.keysPressedSinceFrame.push_back(key);
+    if (action == GLFW_RELEASE && std::find(s.keysPressedSinceFrame.begin(), s.keysPressedSinceFrame.end(),
+                                            key) != s.keysPressedSinceFrame.end()) {
+        s.tappedKeys.push_back(key);
+    }
+}
+
+/// Before a frame: the keys tapped since the last one (pressed and released in between) are
+/// down for this frame, so that ImGui's widgets see them (Enter in a number field, typed
+/// quickly after the digits, was lost about one time in two). Returns them for releaseTappedKeys.
+std::vector<int> holdTappedKeys(EditorState& s) {
+    std::vector<int> held;
+    held.swap(s.tappedKeys);
+    s.keysPressedSinceFrame.clear();
+    ImGuiIO& io = ImGui::GetIO();
+    for (int key : held) {
+        if (key >= 0 && key < static_cast<int>(IM_ARRAYSIZE(io.KeysDown))) io.KeysDown[key] = true;
+    }
+    return held;
+}
+
+/// After the frame: the held taps go up again (unless pressed anew meanwhile).
+void releaseTappedKeys(EditorState& s, const std::vector<int>& held) {
+    ImGuiIO& io = ImGui::GetIO();
+    for (int key : held) {
+        const bool pressedAgain = std::find(s.keysPressedSinceFrame.begin(), s.keysPressedSinceFrame.end(),
+                                            key) != s.keysPressedSinceFrame.end();
+        if (!pressedAgain && key >= 0 && key < static_cast<int>(IM_ARRAYSIZE(io.KeysDown))) io.KeysDown[key] = false;
+    }
 }
 void onChar(GLFWwindow* window, unsigned int) { ++stateOf(window).inputEvents; }
 void onMouseButton(GLFWwindow* window, int, int, int) { ++stateOf(window).inputEvents; }
@@ -90,7 +119,7 @@ bool animating(const EditorState& s) {
     const bool previewMoving = s.preview && s.preview->session &&
                                (s.preview->session->playing() || s.preview->session->rebuilding());
     return previewMoving || s.animateWater || s.stroke.active || s.navigating ||
-           graphPanelBusy(s) || bundleExportRunning(*s.exportDialog);
+           graphPanelBusy(s) || bundleExportNeedsFrames(*s.exportDialog) || hydrostaticsComputing();
 }
 
 /// The splitters: thin windows over the borders between the view and the column and between
@@ -223,6 +252,7 @@ nlohmann::json windowState(const EditorState& s, int frame) {
     j["preview_playing"] = s.preview->session && s.preview->session->playing();
     j["title"] = windowTitle(s);
     j["status"] = s.status;
+    j["export"] = bundleExportStatus(*s.exportDialog);
     j["bodies"] = s.document->bodyCount();
     j["radial_control"] = !s.radialControl ? "" : s.radialControl->strength ? "strength" : "radius";
     j["brush_radius"] = s.brush.radius;
@@ -428,6 +458,11 @@ void drawMenus(EditorState& s) {
         if (ImGui::MenuItem("Live preview", "P", running)) togglePreview(s);
         if (ImGui::MenuItem("Restart live preview", nullptr, false, running)) startPreview(s, true);
         if (ImGui::MenuItem("Play / pause", "Space", false, running)) playPause(s);
+        ImGui::Separator();
+        if (ImGui::MenuItem("Hydrostatics...")) {
+            s.showHydrostatics = true;
+            s.hydrostaticsOpenRequest = true;
+        }
         ImGui::EndMenu();
     }
     if (ImGui::BeginMenu("Help")) {
@@ -438,12 +473,47 @@ void drawMenus(EditorState& s) {
     ImGui::EndMainMenuBar();
 }
 
+}  // namespace
+
+void openWhenTitleClicked() {
+    ImGuiWindow* w = ImGui::GetCurrentWindow();
+    const ImGuiIO& io = ImGui::GetIO();
+    if (!w || !w->Collapsed || w->WantCollapseToggle) return;  // open, or ImGui toggles it already
+    // A click (not a drag: that moves the window) released over the title bar.
+    if (ImGui::IsMouseReleased(0) && ImGui::IsWindowHovered() && io.MouseDragMaxDistanceSqr[0] < 16.0f) {
+        ImGui::SetWindowCollapsed(false);
+    }
+}
+
+bool mouseOverNoWindow() {
+    return !ImGui::IsWindowHovered(ImGuiHoveredFlags_AnyWindow | ImGuiHoveredFlags_AllowWhenBlockedByPopup);
+}
+
+bool closeMenus() {
+    ImGuiContext& g = *ImGui::GetCurrentContext();
+    int keep = 0;
+    for (int i = 0; i < g.OpenPopupStack.Size; ++i) {
+        const ImGuiWindow* w = g.OpenPopupStack[i].Window;
+        if (w && (w->Flags & ImGuiWindowFlags_Modal)) keep = i + 1;
+    }
+    if (keep >= g.OpenPopupStack.Size) return false;
+    ImGui::ClosePopupToLevel(keep, true);
+    return true;
+}
+
+namespace {
+
 void handleShortcuts(EditorState& s) {
     // From the key callback's queue, not ImGui's key state: a tap shorter than a frame is
     // pressed and released before the frame looks (ImGui 1.86 would miss it).
     std::vector<std::pair<int, int>> presses;
     presses.swap(s.keyPresses);
     const ImGuiIO& io = ImGui::GetIO();
+    // Esc closes an open menu (and any popup over it), as in every desktop program; ImGui 1.86
+    // does so only with keyboard navigation on. A modal question keeps its own buttons.
+    const auto escape = std::find_if(presses.begin(), presses.end(),
+                                     [](const auto& press) { return press.first == GLFW_KEY_ESCAPE; });
+    if (escape != presses.end() && closeMenus()) presses.erase(escape);
     if (io.WantTextInput) return;
     for (const auto& [key, mods] : presses) handleKey(s, key, (mods & GLFW_MOD_CONTROL) != 0,
                                                       (mods & GLFW_MOD_SHIFT) != 0);
@@ -451,8 +521,8 @@ void handleShortcuts(EditorState& s) {
 
 // [SECTION] dialogs ----------------------------------------------------------------------------
 
-void drawDialogs(EditorState& s, GLFWwindow* window) {
-    drawBundleExport(*s.exportDialog);
+/// What the file browser chose: open, save as, import or export it.
+void fileChosen(EditorState& s) {
     if (auto chosen = s.browser.draw()) {
         switch (s.browser.purpose()) {
             case FileBrowser::Purpose::OpenProject: requestOpen(s, chosen->string(), false); break;
@@ -476,6 +546,10 @@ void drawDialogs(EditorState& s, GLFWwindow* window) {
                 break;
         }
     }
+}
+
+/// Save As over existing files: replace them or save nothing.
+void replaceFilesQuestion(EditorState& s) {
     if (s.pendingSaveAs && !ImGui::IsPopupOpen("Replace existing files?")) ImGui::OpenPopup("Replace existing files?");
     if (ImGui::BeginPopupModal("Replace existing files?", nullptr, ImGuiWindowFlags_AlwaysAutoResize)) {
         ImGui::Text("Saving as %s replaces:", s.pendingSaveAs ? s.pendingSaveAs->filename().c_str() : "");
@@ -494,6 +568,10 @@ void drawDialogs(EditorState& s, GLFWwindow* window) {
         tooltip("Saves nothing; the files stay as they are.");
         ImGui::EndPopup();
     }
+}
+
+/// Export with unsaved edits: save first, export the last save, or nothing.
+void exportUnsavedQuestion(EditorState& s) {
     if (ImGui::BeginPopupModal("Export unsaved changes?", nullptr, ImGuiWindowFlags_AlwaysAutoResize)) {
         ImGui::Text("%s has unsaved changes; a bundle is made from the saved files.",
                     s.document->title().c_str());
@@ -523,6 +601,10 @@ void drawDialogs(EditorState& s, GLFWwindow* window) {
         tooltip("Exports nothing.");
         ImGui::EndPopup();
     }
+}
+
+/// Open, new or quit with unsaved changes: save, discard or stay.
+void unsavedChangesQuestion(EditorState& s, GLFWwindow* window) {
     if (s.confirmDiscardOpen) {
         ImGui::OpenPopup("Unsaved changes");
         s.confirmDiscardOpen = false;
@@ -560,6 +642,10 @@ void drawDialogs(EditorState& s, GLFWwindow* window) {
         tooltip("Stays with this project, changes kept.");
         ImGui::EndPopup();
     }
+}
+
+/// An autosave left by a crash: recover it or delete it.
+void recoveryQuestion(EditorState& s) {
     if (s.recoveryOffer) {
         ImGui::OpenPopup("Recover autosave");
     }
@@ -590,6 +676,10 @@ void drawDialogs(EditorState& s, GLFWwindow* window) {
         tooltip("Deletes the autosave; the saved project is untouched.");
         ImGui::EndPopup();
     }
+}
+
+/// Help > Keyboard shortcuts and About.
+void helpWindows(EditorState& s) {
     if (s.showShortcuts) {
         ImGui::Begin("Keyboard shortcuts", &s.showShortcuts, ImGuiWindowFlags_AlwaysAutoResize);
         ImGui::TextUnformatted(
@@ -613,6 +703,16 @@ void drawDialogs(EditorState& s, GLFWwindow* window) {
         ImGui::TextUnformatted("After Bajo, Patow, Delrieux, Computer Graphics Forum 39(6), 2020.");
         ImGui::End();
     }
+}
+
+void drawDialogs(EditorState& s, GLFWwindow* window) {
+    drawBundleExport(*s.exportDialog);
+    fileChosen(s);
+    replaceFilesQuestion(s);
+    exportUnsavedQuestion(s);
+    unsavedChangesQuestion(s, window);
+    recoveryQuestion(s);
+    helpWindows(s);
 }
 
 // [SECTION] frame loop -------------------------------------------------------------------------
@@ -896,6 +996,7 @@ int runEditorWindow(const EditorLaunch& launch) {
         s.pollPhysicsBakes();
         ImGui_ImplOpenGL3_NewFrame();
         ImGui_ImplGlfw_NewFrame();
+        const std::vector<int> tapped = holdTappedKeys(s);
         ImGui::NewFrame();
 
         // Layout: menu bar, 3D view on the left, tools / inspector / UV view on the right,
@@ -947,6 +1048,7 @@ int runEditorWindow(const EditorLaunch& launch) {
         if (s.animateWater) s.waterTime += io.DeltaTime;
 
         ImGui::Render();
+        releaseTappedKeys(s, tapped);
         phases.mark(FramePhases::Ui);
         int fbWidth = 0, fbHeight = 0;
         glfwGetFramebufferSize(window, &fbWidth, &fbHeight);

@@ -161,6 +161,21 @@ void EditorState::saveAs(const std::filesystem::path& path, bool replace) {
             return;
         }
     }
+    // A new project ("untitled") takes the name it is saved under, as a document does in any
+    // program; a project that has a name keeps it.
+    if (document->project().name == "untitled") {
+        std::string stem = target.filename().string();
+        const std::string suffix = ".plim.json";
+        if (stem.ends_with(suffix)) stem.resize(stem.size() - suffix.size());
+        if (!stem.empty()) {
+            // A project edit of its own (an empty project, which the JSON edit path refuses to
+            // parse back, can be named too).
+            Project named = document->project();
+            named.name = stem;
+            (void)execute(std::unique_ptr<Command>(
+                std::make_unique<ProjectCommand>("Name the project " + stem, document->project(), std::move(named))));
+        }
+    }
     Status saved = document->saveAs(target, replace);
     status = saved ? "Saved " + target.string() : saved.error().message;
     if (saved) {

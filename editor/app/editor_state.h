@@ -91,6 +91,11 @@ struct EditorState {
     /// Key presses since the last frame, in order, from the key callback: a tap shorter than a
     /// frame is still seen (ImGui 1.86 only keeps whether a key is down at the frame start).
     std::vector<std::pair<int, int>> keyPresses;   ///< (GLFW key, modifier bits)
+    /// Keys pressed since the last frame began, and those of them already released again: a
+    /// tap shorter than a frame, which ImGui 1.86 (key state, no event queue) would never see
+    /// down. The frame loop holds each such key down for one frame (holdTappedKeys).
+    std::vector<int> keysPressedSinceFrame;
+    std::vector<int> tappedKeys;
     std::uint64_t inputEvents = 0;      ///< counts window events (the idle loop wakes on them)
     std::vector<std::string> droppedPaths;  ///< files dropped on the window, to open or import
     bool overlaysDirty = true;          ///< re-upload overlay textures
@@ -99,6 +104,7 @@ struct EditorState {
     /// The UV view's zoom (1: the whole 0..1 square fits) and the uv at its centre.
     float uvZoom = 1.0f;
     Eigen::Vector2f uvCentre{0.5f, 0.5f};
+    bool uvPanning = false;  ///< a middle drag that started in the UV view is on
     /// The uv under the mouse in the UV view this frame (reports; none when not over it).
     std::optional<Eigen::Vector2f> uvUnderMouse;
     Rect viewport;                      ///< where the 3D view is drawn this frame
@@ -121,6 +127,8 @@ struct EditorState {
     std::vector<std::filesystem::path> pendingSaveAsReplaces;
     bool showShortcuts = false;
     bool showHistory = false;           ///< Edit > Undo history
+    bool showHydrostatics = false;      ///< Simulate > Hydrostatics (without a preview too)
+    bool hydrostaticsOpenRequest = false;  ///< unfold the window on its next frame
     bool historyScrollPending = false;  ///< the history list scrolls to the current step
     bool showAbout = false;
     std::optional<std::filesystem::path> recoveryOffer;  ///< autosave found at start

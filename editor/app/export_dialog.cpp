@@ -7,9 +7,11 @@
 
 #include "app/tooltip.h"
 
+#include <GLFW/glfw3.h>
 #include <imgui.h>
 
 #include <chrono>
+#include <cstdio>
 #include <memory>
 #include <mutex>
 #include <string>
@@ -29,6 +31,9 @@ struct Progress {
     std::string current;             ///< the body being exported
     bool finished = false;
     int failures = 0;
+    /// The worker's own clock: the time the export took is its, not the frame loop's (an
+    /// idle loop may draw the result much later).
+    std::chrono::steady_clock::time_point started, finishedAt;
 };
 
 }  // namespace
@@ -58,7 +63,8 @@ public:
             progress_->lines.push_back("note: the project was never saved: relative paths are "
                                        "taken from the current folder");
         visible_ = true;
-        started_ = std::chrono::steady_clock::now();
+        shown_ = false;
+        progress_->started = std::chrono::steady_clock::now();
         worker_ = std::thread([p = progress_, project, target = target_] {
             for (std::size_t b = 0; b < project.bodies.size(); ++b) {
                 const fs::path bundle = target / bundleFolderName(project, b);
@@ -81,9 +87,13 @@ public:
                 }
                 ++p->done;
             }
-            std::lock_guard lock(p->mutex);
-            p->finished = true;
-            p->current.clear();
+            {
+                std::lock_guard lock(p->mutex);
+                p->finished = true;
+                p->finishedAt = std::chrono::steady_clock::now();
+                p->current.clear();
+            }
+            glfwPostEmptyEvent();  // wakes an idle frame loop to show the result now
         });
     }
 
@@ -93,12 +103,24 @@ public:
         return !progress_->finished;
     }
 
+    /// Running, or finished and not yet drawn so: the frame loop keeps drawing until the
+    /// window shows the result.
+    bool needsFrames() const { return running() || (progress_ && visible_ && !shown_); }
+
+    /// The line under the progress bar ("" with no export window).
+    std::string status() const {
+        if (!visible_ || !progress_) return "";
+        std::lock_guard lock(progress_->mutex);
+        return statusLine(*progress_);
+    }
+
     void draw() {
         if (!visible_ || !progress_) return;
         ImGui::SetNextWindowSize(ImVec2(560, 300), ImGuiCond_Appearing);
         bool open = true;
         if (!ImGui::Begin("Export bundle", &open)) {
             ImGui::End();
+            shown_ = !running();  // collapsed: nothing more to draw
             if (!open && !running()) visible_ = false;
             return;
         }
@@ -109,22 +131,13 @@ public:
         const std::string label = std::to_string(p.done) + " / " + std::to_string(p.total) +
                                   (p.current.empty() ? std::string() : "  " + p.current);
         ImGui::ProgressBar(fraction, ImVec2(-1, 0), label.c_str());
-        if (p.finished) {
-            if (!finishedSeen_) {  // first frame after the worker finished
-                finished_ = std::chrono::steady_clock::now();
-                finishedSeen_ = true;
-            }
-            const double seconds = std::chrono::duration<double>(finished_ - started_).count();
-            if (p.failures) {
-                ImGui::TextColored(ImVec4(1.0f, 0.4f, 0.3f, 1.0f), "%d of %zu bodies failed",
-                                   p.failures, p.total);
-            } else {
-                ImGui::Text("Done: %zu bundles in %.1f s", p.total, seconds);
-            }
+        const std::string line = statusLine(p);
+        if (p.failures && p.finished) {
+            ImGui::TextColored(ImVec4(1.0f, 0.4f, 0.3f, 1.0f), "%s", line.c_str());
         } else {
-            finishedSeen_ = false;
-            ImGui::TextUnformatted("Exporting...");
+            ImGui::TextUnformatted(line.c_str());
         }
+        shown_ = p.finished;
         ImGui::Separator();
         ImGui::BeginChild("log", ImVec2(0, -ImGui::GetFrameHeightWithSpacing()), false,
                           ImGuiWindowFlags_HorizontalScrollbar);
@@ -148,8 +161,17 @@ private:
     std::thread worker_;
     fs::path target_;
     bool visible_ = false;
-    bool finishedSeen_ = false;
-    std::chrono::steady_clock::time_point started_, finished_;
+    bool shown_ = false;  ///< a frame has drawn the finished export
+
+    static std::string statusLine(const Progress& p) {
+        if (!p.finished) return "Exporting...";
+        if (p.failures) return std::to_string(p.failures) + " of " + std::to_string(p.total) + " bodies failed";
+        const double seconds = std::chrono::duration<double>(p.finishedAt - p.started).count();
+        char text[96];
+        std::snprintf(text, sizeof text, "Done: %zu %s in %.2f s", p.total,
+                      p.total == 1 ? "bundle" : "bundles", seconds);
+        return text;
+    }
 };
 
 std::shared_ptr<ExportDialog> makeExportDialog() { return std::make_shared<ExportDialog>(); }
@@ -162,5 +184,9 @@ void startBundleExport(ExportDialog& dialog, const Project& project, const fs::p
 void drawBundleExport(ExportDialog& dialog) { dialog.draw(); }
 
 bool bundleExportRunning(const ExportDialog& dialog) { return dialog.running(); }
+
+bool bundleExportNeedsFrames(const ExportDialog& dialog) { return dialog.needsFrames(); }
+
+std::string bundleExportStatus(const ExportDialog& dialog) { return dialog.status(); }
 
 }  // namespace plimsoll::editor

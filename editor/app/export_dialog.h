@@ -8,6 +8,7 @@
 
 #include <filesystem>
 #include <memory>
+#include <string>
 
 namespace plimsoll::editor {
 
@@ -23,7 +24,14 @@ void startBundleExport(ExportDialog& dialog, const Project& project,
 /// Draws the export window while an export runs or its result is shown; every frame.
 void drawBundleExport(ExportDialog& dialog);
 
-/// Whether an export is running (the frame loop keeps drawing its progress).
+/// Whether an export is running.
 bool bundleExportRunning(const ExportDialog& dialog);
+
+/// Whether the frame loop must keep drawing: an export runs, or its result is not on screen yet.
+bool bundleExportNeedsFrames(const ExportDialog& dialog);
+
+/// The export window's status line ("Exporting...", "Done: 1 bundle in 0.16 s"); "" when the
+/// window is closed.
+std::string bundleExportStatus(const ExportDialog& dialog);
 
 }  // namespace plimsoll::editor

@@ -440,6 +440,7 @@ void drawGraphPanel(EditorState& s) {
     // Collapsed at first: a title bar over the view's corner until someone opens it.
     ImGui::SetNextWindowCollapsed(true, ImGuiCond_FirstUseEver);
     ui.panelOpen = ImGui::Begin("Water graph");
+    openWhenTitleClicked();
     if (!ui.panelOpen) {
         ImGui::End();
         return;

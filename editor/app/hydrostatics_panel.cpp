@@ -16,8 +16,10 @@
 #include <algorithm>
 #include <cfloat>
 #include <chrono>
+#include <cmath>
 #include <cstdio>
 #include <future>
+#include <memory>
 #include <optional>
 #include <string>
 #include <vector>
@@ -34,26 +36,40 @@ struct HydrostaticsFigures {
     std::string error;
 };
 HydrostaticsFigures gFigures;
+/// The figures being computed on a worker (the window shows "computing..." meanwhile).
+std::future<HydrostaticsFigures> gComputing;
+/// Without a running preview, the document's scene as it was when Compute was pressed.
+std::shared_ptr<const Scene> gOwnScene;
 
-void compute(const SceneBody& body, const Scene& scene) {
-    gFigures = {body.label, std::nullopt, std::nullopt, {}};
+HydrostaticsFigures compute(const SceneBody& body, const Scene& scene) {
+    HydrostaticsFigures figures{body.label, std::nullopt, std::nullopt, {}};
     Result<HydrostaticsSettings> settings =
         hydrostaticsSettingsOf(scene.medium, scene.simulation.gravity);
     Result<FloatingBody> floating = floatingBodyOf(body, scene.medium);
     if (!settings || !floating) {
-        gFigures.error = !settings ? settings.error().message : floating.error().message;
-        return;
+        figures.error = !settings ? settings.error().message : floating.error().message;
+        return figures;
     }
     Result<HydrostaticsResult> textures =
         hydrostaticsFromTextures(*body.textures, floating->body, *settings);
     Result<HydrostaticsResult> exact =
         hydrostaticsExact(*body.parts.mesh, floating->body, *settings);
     if (!textures || !exact) {
-        gFigures.error = !textures ? textures.error().message : exact.error().message;
-        return;
+        figures.error = !textures ? textures.error().message : exact.error().message;
+        return figures;
     }
-    gFigures.textures = std::move(*textures);
-    gFigures.exact = std::move(*exact);
+    figures.textures = std::move(*textures);
+    figures.exact = std::move(*exact);
+    return figures;
+}
+
+/// Starts computing body `index` of `scene` (a copy the worker keeps) on a worker.
+void startCompute(std::shared_ptr<const Scene> scene, std::size_t index) {
+    gComputing = std::async(std::launch::async, [scene, index] {
+        HydrostaticsFigures figures = compute(scene->bodies[index], *scene);
+        glfwPostEmptyEvent();  // an idle frame loop shows them at once
+        return figures;
+    });
 }
 
 void row(const char* name, double textures, double exact) {
@@ -66,6 +82,83 @@ void row(const char* name, double textures, double exact) {
     ImGui::Text("%.6g", exact);
     ImGui::TableNextColumn();
     ImGui::Text("%.3g", textures - exact);
+}
+
+/// A tick step of 1, 2 or 5 times a power of ten that cuts `span` into about `count` parts.
+double niceStep(double span, int count) {
+    if (!(span > 0)) return 1.0;
+    const double raw = span / count, power = std::pow(10.0, std::floor(std::log10(raw)));
+    for (double m : {1.0, 2.0, 5.0}) {
+        if (m * power >= raw) return m * power;
+    }
+    return 10 * power;
+}
+
+/// The righting-arm curves of both methods on one pair of axes: heel (deg) across, GZ (m) up,
+/// ticks and grid, a legend, and under the mouse the heel and both arms there.
+void drawGzPlot(const HydrostaticsResult& t, const HydrostaticsResult& e) {
+    const std::vector<RightingArm>* curves[2] = {&t.gz, &e.gz};
+    const ImU32 colours[2] = {IM_COL32(90, 160, 255, 255), IM_COL32(255, 150, 60, 255)};
+    double x0 = 1e300, x1 = -1e300, y0 = 0, y1 = 0;
+    for (const auto* curve : curves) {
+        for (const RightingArm& a : *curve) {
+            x0 = std::min(x0, a.heelDegrees);
+            x1 = std::max(x1, a.heelDegrees);
+            y0 = std::min(y0, a.arm);
+            y1 = std::max(y1, a.arm);
+        }
+    }
+    if (!(x1 > x0)) return;
+    const double yStep = niceStep(y1 - y0, 4);
+    y0 = std::floor(y0 / yStep) * yStep;
+    y1 = std::ceil(y1 / yStep) * yStep;
+    if (!(y1 > y0)) y1 = y0 + yStep;
+    ImGui::TextUnformatted("Righting arm GZ (m) against heel (deg)");
+    const float width = std::max(200.0f, ImGui::GetContentRegionAvail().x);
+    const ImVec2 origin = ImGui::GetCursorScreenPos();
+    ImGui::InvisibleButton("##gz", ImVec2(width, 170));
+    const bool hovered = ImGui::IsItemHovered();
+    ImDrawList* draw = ImGui::GetWindowDrawList();
+    const float left = origin.x + 46, right = origin.x + width - 6, top = origin.y + 4, bottom = origin.y + 150;
+    auto px = [&](double x) { return left + float((x - x0) / (x1 - x0)) * (right - left); };
+    auto py = [&](double y) { return bottom - float((y - y0) / (y1 - y0)) * (bottom - top); };
+    const ImU32 grid = IM_COL32(80, 80, 90, 255), text = ImGui::GetColorU32(ImGuiCol_Text);
+    char label[48];
+    for (double y = y0; y <= y1 + 1e-9 * yStep; y += yStep) {
+        draw->AddLine(ImVec2(left, py(y)), ImVec2(right, py(y)), std::abs(y) < 1e-9 * yStep ? text : grid);
+        std::snprintf(label, sizeof label, "%.3g", std::abs(y) < 1e-9 * yStep ? 0.0 : y);
+        draw->AddText(ImVec2(origin.x, py(y) - 7), text, label);
+    }
+    const double xStep = x1 - x0 >= 90 ? 30 : niceStep(x1 - x0, 6);  // degrees: by 30 on a wide range
+    for (double x = std::ceil(x0 / xStep) * xStep; x <= x1 + 1e-9; x += xStep) {
+        draw->AddLine(ImVec2(px(x), top), ImVec2(px(x), bottom), grid);
+        std::snprintf(label, sizeof label, "%g", x);
+        draw->AddText(ImVec2(px(x) - 8, bottom + 2), text, label);
+    }
+    for (int c = 0; c < 2; ++c) {
+        std::vector<ImVec2> points;
+        for (const RightingArm& a : *curves[c]) points.emplace_back(px(a.heelDegrees), py(a.arm));
+        draw->AddPolyline(points.data(), static_cast<int>(points.size()), colours[c], 0, 2.0f);
+        const char* name = c == 0 ? "textures" : "exact";
+        const ImVec2 at(right - 80, top + 4 + 16.0f * c);
+        draw->AddLine(ImVec2(at.x, at.y + 7), ImVec2(at.x + 14, at.y + 7), colours[c], 2.0f);
+        draw->AddText(ImVec2(at.x + 18, at.y), text, name);
+    }
+    if (!hovered) return;
+    // Under the mouse: the heel there and each curve's arm at its nearest point.
+    const double heel = x0 + (ImGui::GetIO().MousePos.x - left) / (right - left) * (x1 - x0);
+    draw->AddLine(ImVec2(px(std::clamp(heel, x0, x1)), top), ImVec2(px(std::clamp(heel, x0, x1)), bottom), text);
+    std::string tip;
+    for (int c = 0; c < 2; ++c) {
+        const auto nearest = std::min_element(curves[c]->begin(), curves[c]->end(), [&](const RightingArm& a, const RightingArm& b) {
+            return std::abs(a.heelDegrees - heel) < std::abs(b.heelDegrees - heel);
+        });
+        if (nearest == curves[c]->end()) continue;
+        std::snprintf(label, sizeof label, "%s%s: GZ %.4f m at %.1f deg", tip.empty() ? "" : "\n",
+                      c == 0 ? "textures" : "exact", nearest->arm, nearest->heelDegrees);
+        tip += label;
+    }
+    tooltip(tip.c_str());  // the plot is the last item
 }
 
 void drawFigures(const HydrostaticsResult& t, const HydrostaticsResult& e) {
@@ -90,14 +183,7 @@ void drawFigures(const HydrostaticsResult& t, const HydrostaticsResult& e) {
         row("vanishing stability (deg)", t.vanishingStabilityDegrees, e.vanishingStabilityDegrees);
         ImGui::EndTable();
     }
-    ImGui::TextUnformatted("GZ (m), heel 0..180 deg: textures, then exact");
-    for (const HydrostaticsResult* r : {&t, &e}) {
-        std::vector<float> arms;
-        for (const RightingArm& p : r->gz) arms.push_back(static_cast<float>(p.arm));
-        ImGui::PlotLines(r == &t ? "##gz textures" : "##gz exact", arms.data(),
-                         static_cast<int>(arms.size()), 0, hydrostaticsMethodName(r->method),
-                         FLT_MAX, FLT_MAX, ImVec2(0, 90));
-    }
+    drawGzPlot(t, e);
 }
 
 /// The decay test of one body: running on a worker, or its result.
@@ -194,28 +280,64 @@ void drawRadiation(const Scene& scene, std::size_t index) {
 }  // namespace
 
 void drawHydrostaticsPanel(EditorState& s) {
-    if (!s.preview || !s.preview->session) return;
-    const Scene& scene = s.preview->session->scene();
-    if (s.selectedBody < 0 || s.selectedBody >= static_cast<int>(scene.bodies.size())) return;
-    const SceneBody& body = scene.bodies[static_cast<std::size_t>(s.selectedBody)];
-    ImGui::SetNextWindowCollapsed(true, ImGuiCond_FirstUseEver);
+    const bool previewing = s.preview && s.preview->session;
+    if (!previewing && !s.showHydrostatics) return;
+    const int selected = s.selectedBody;
+    if (selected < 0 || static_cast<std::size_t>(selected) >= s.document->bodyCount()) return;
+    const std::size_t index = static_cast<std::size_t>(selected);
+    // Folded at first beside a preview; opened at once from Simulate > Hydrostatics.
+    ImGui::SetNextWindowCollapsed(!s.showHydrostatics, ImGuiCond_FirstUseEver);
+    if (s.hydrostaticsOpenRequest) ImGui::SetNextWindowCollapsed(false, ImGuiCond_Always);
+    s.hydrostaticsOpenRequest = false;
     ImGui::SetNextWindowPos(ImVec2(20, 160), ImGuiCond_FirstUseEver);
     ImGui::SetNextWindowSize(ImVec2(460, 560), ImGuiCond_FirstUseEver);
-    if (!ImGui::Begin("Hydrostatics")) {
+    bool open = true;
+    const bool expanded = ImGui::Begin("Hydrostatics", previewing ? nullptr : &open);
+    if (!open) s.showHydrostatics = false;
+    if (!expanded) {
         ImGui::End();
         return;
     }
-    ImGui::TextWrapped("%s: calm water, heel about x, trim about z", body.label.c_str());
-    if (ImGui::Button("Compute")) compute(body, scene);
+    const Scene* scene = previewing ? &s.preview->session->scene() : gOwnScene.get();
+    const std::string label = scene && index < scene->bodies.size() ? scene->bodies[index].label
+                                                                   : s.document->project().bodies[index].name;
+    ImGui::TextWrapped("%s: calm water, heel about x, trim about z%s", label.c_str(),
+                       previewing ? "" : " (the project as edited)");
+    const bool computing = gComputing.valid();
+    ImGui::BeginDisabled(computing);
+    if (ImGui::Button("Compute")) {
+        // The preview's scene, or the document's as it is now (its bake on this thread).
+        std::shared_ptr<const Scene> copy;
+        if (previewing) {
+            copy = std::make_shared<const Scene>(*scene);
+        } else if (Result<Scene> built = s.document->simulationScene(); built) {
+            copy = gOwnScene = std::make_shared<const Scene>(std::move(built).value());
+        } else {
+            gFigures = {label, std::nullopt, std::nullopt, built.error().message};
+        }
+        if (copy && index < copy->bodies.size()) startCompute(copy, index);
+    }
+    ImGui::EndDisabled();
     tooltip("Finds the body's equilibrium in calm water and its righting-arm curve, from the\n"
-            "textures and from the exact clip side by side.");
-    if (gFigures.body == body.label) {
+            "textures and from the exact clip side by side (on a worker: the window stays live).");
+    if (computing) {
+        if (gComputing.wait_for(std::chrono::seconds(0)) == std::future_status::ready) {
+            gFigures = gComputing.get();
+        } else {
+            ImGui::SameLine();
+            ImGui::TextUnformatted("computing...");
+        }
+    }
+    if (gFigures.body == label) {
         if (!gFigures.error.empty()) ImGui::TextWrapped("error: %s", gFigures.error.c_str());
         if (gFigures.textures && gFigures.exact) drawFigures(*gFigures.textures, *gFigures.exact);
     }
-    if (ImGui::CollapsingHeader("Radiation: added mass, damping, decay test"))
-        drawRadiation(scene, static_cast<std::size_t>(s.selectedBody));
+    if (scene && index < scene->bodies.size() &&
+        ImGui::CollapsingHeader("Radiation: added mass, damping, decay test"))
+        drawRadiation(*scene, index);
     ImGui::End();
 }
+
+bool hydrostaticsComputing() { return gComputing.valid(); }
 
 }  // namespace plimsoll::editor

@@ -115,7 +115,9 @@ void drawLayersPanel(EditorState& s, const Rect& area) {
     static_assert(kBlendModeCount == 7);
     int blend = static_cast<int>(layer.blend);
     ImGui::SetNextItemWidth(area.w * 0.3f);
-    if (ImGui::Combo("Blend", &blend, "normal\0multiply\0add\0subtract\0screen\0lighten\0darken\0")) {
+    // Picking the mode the layer already has changes nothing: no step in the history.
+    if (ImGui::Combo("Blend", &blend, "normal\0multiply\0add\0subtract\0screen\0lighten\0darken\0") &&
+        blend != static_cast<int>(layer.blend)) {
         LayerEdit e;
         e.blend = static_cast<BlendMode>(blend);
         s.execute(makeSetLayerCommand(*s.document, body, s.channel, active, e));

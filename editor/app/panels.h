@@ -37,8 +37,24 @@ void releaseGraphPanel(EditorState& state);
 /// drawing.
 bool graphPanelBusy(const EditorState& state);
 
-/// The preview's hydrostatics window for the selected body (hydrostatics_panel.cpp).
+/// The hydrostatics window for the selected body (hydrostatics_panel.cpp): beside a running
+/// preview, for its scene; from Simulate > Hydrostatics at any time, for the document's.
 void drawHydrostaticsPanel(EditorState& state);
+/// Whether its figures are being computed on a worker (the frame loop keeps drawing).
+bool hydrostaticsComputing();
+
+/// Closes the open menus and popups above the topmost modal window (Esc, or the view taking
+/// the wheel or the middle mouse while a menu is open); whether there were any (editor_app.cpp).
+bool closeMenus();
+
+/// Called right after Begin of a window that starts folded: a click on its title bar opens it
+/// (ImGui opens it only from the arrow or a double-click).
+void openWhenTitleClicked();
+
+/// Whether the mouse is over the 3D view or another area with no ImGui window on top, a menu
+/// being open or not: the wheel and the middle mouse reach the views under an open menu, which
+/// ImGui's want-capture (true while any popup is open) would hold back.
+bool mouseOverNoWindow();
 
 /// Edit > Undo history: every step by name, the current one marked; a click undoes or redoes
 /// to just after that step (history_panel.cpp).

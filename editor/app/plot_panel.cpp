@@ -3,9 +3,11 @@
 // Debian's Dear ImGui 1.86 is built without the docking branch, so the windows float.
 #include "app/preview_panel.h"
 
+#include "app/panels.h"
 #include "app/tooltip.h"
 
 #include <imgui.h>
+#include <imgui_internal.h>  // MovingWindow: the user moved a plot window
 
 #include <algorithm>
 #include <cctype>
@@ -65,12 +67,19 @@ void drawPlotPanels(EditorState& s) {
         const std::string& named = session.world().bodies()[b].name;
         const std::string body = named.empty() ? "body " + std::to_string(b) : named;
         for (const PlotGroup& group : groupsOf(history, body)) {
-            // Stacked down the right edge of the view at first; the user moves them after.
-            ImGui::SetNextWindowPos(ImVec2(s.viewport.x + s.viewport.w - 330, y), ImGuiCond_FirstUseEver);
+            // Stacked down the right edge of the view, each below the one above as it is this
+            // frame (an opened one pushes the rest down), until the user moves it.
+            const bool stacked = !p.plotsMoved.contains(group.title);
+            if (stacked) ImGui::SetNextWindowPos(ImVec2(s.viewport.x + s.viewport.w - 330, y), ImGuiCond_Always);
             ImGui::SetNextWindowSize(ImVec2(320, 0), ImGuiCond_FirstUseEver);
             ImGui::SetNextWindowCollapsed(true, ImGuiCond_FirstUseEver);  // title bars first
-            y += 30;
-            if (!ImGui::Begin(group.title.c_str())) {
+            const bool open = ImGui::Begin(group.title.c_str());
+            openWhenTitleClicked();
+            if (ImGui::GetCurrentContext()->MovingWindow == ImGui::GetCurrentWindow() && ImGui::IsMouseDragging(0)) {
+                p.plotsMoved.insert(group.title);
+            }
+            if (stacked) y += ImGui::GetWindowHeight() + 4;
+            if (!open) {
                 ImGui::End();
                 continue;
             }

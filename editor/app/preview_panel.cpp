@@ -12,6 +12,7 @@
 #include "document/command.h"
 
 #include <imgui.h>
+#include <imgui_internal.h>  // MovingWindow: the user moved the window
 
 #include <algorithm>
 #include <chrono>
@@ -78,8 +79,11 @@ bool startPreview(EditorState& s, bool play) {
 
 void stopPreview(EditorState& s) {
     PreviewUi& p = ui(s);
+    const bool wasRunning = static_cast<bool>(p.session);
     p.session.reset();
     s.overlaysDirty = true;  // the document's overlays back on the bodies
+    // The status line said where the preview ran; it no longer does.
+    if (wasRunning) s.status = "Live preview stopped";
 }
 
 void updatePreview(EditorState& s, double wallSeconds) {
@@ -214,17 +218,35 @@ void drawTextureSizeChoice(PreviewSession& session) {
     }
 }
 
+/// Moves the current window back inside the view where it reaches past it (a window made
+/// smaller, a section opened): never over the status bar or off the screen.
+void keepInsideView(const Rect& view) {
+    const ImVec2 at = ImGui::GetWindowPos(), size = ImGui::GetWindowSize();
+    ImVec2 to = at;
+    to.x = std::max(view.x, std::min(to.x, view.x + view.w - size.x));
+    to.y = std::max(view.y, std::min(to.y, view.y + view.h - size.y));
+    if (to.x != at.x || to.y != at.y) ImGui::SetWindowPos(to);
+}
+
 }  // namespace
 
 void drawPreviewPanel(EditorState& s) {
     PreviewUi& p = ui(s);
     s.previewWindow.setEmpty();
     if (!p.open) return;
-    // The view's lower-left corner at first, its sections folded: the bodies stay in sight.
-    ImGui::SetNextWindowPos(ImVec2(s.viewport.x + 8, s.viewport.y + s.viewport.h - 8),
-                            ImGuiCond_FirstUseEver, ImVec2(0, 1));
+    // The view's lower-left corner, its sections folded: the bodies stay in sight. Anchored
+    // there (sections opened grow it upward, a window resized keeps it in the corner) until
+    // the user moves it.
+    if (p.anchored) {
+        ImGui::SetNextWindowPos(ImVec2(s.viewport.x + 8, s.viewport.y + s.viewport.h - 8),
+                                ImGuiCond_Always, ImVec2(0, 1));
+    }
     ImGui::SetNextWindowSize(ImVec2(340, 0), ImGuiCond_FirstUseEver);
     const bool expanded = ImGui::Begin("Live preview", &p.open);
+    if (ImGui::GetCurrentContext()->MovingWindow == ImGui::GetCurrentWindow() && ImGui::IsMouseDragging(0)) {
+        p.anchored = false;
+    }
+    keepInsideView(s.viewport);
     // Its rectangle, folded to its title bar or not: the view's legend moves out from under it.
     const ImVec2 at = ImGui::GetWindowPos(), size = ImGui::GetWindowSize();
     s.previewWindow = Eigen::AlignedBox2f(Eigen::Vector2f(at.x, at.y), Eigen::Vector2f(at.x + size.x, at.y + size.y));
@@ -393,6 +415,10 @@ bool previewInput(EditorState& s) {
     if (!session.grab(best->first, best->second, world).ok()) return false;
     s.selectedBody = static_cast<int>(best->first);
     grabDrag = {true, world};
+    // A painter with the Brush up learns why the drag pulled instead of painting.
+    if (s.tool != Tool::Navigate) {
+        s.status = "The live preview is running: the left mouse pulls the body. Stop it (P) to paint";
+    }
     return true;
 }
 

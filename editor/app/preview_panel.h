@@ -12,6 +12,7 @@
 
 #include <future>
 #include <memory>
+#include <set>
 #include <string>
 #include <vector>
 
@@ -52,6 +53,12 @@ struct PreviewUi {
     std::string plotStatus;       ///< last CSV export result
     unsigned overlayGeneration = 0;
     GrabDrag grabDrag;
+    /// The window sits in the view's lower-left corner, growing upward, until the user drags
+    /// it elsewhere; wherever it is, it stays inside the view when the window shrinks.
+    bool anchored = true;
+    /// The plot windows the user has dragged: the others stack down the view's right edge,
+    /// each just below the one above as it is now (opened or folded), never over another.
+    std::set<std::string> plotsMoved;
 };
 
 /// Starts (or restarts) the session from the document's project; playing when `play`.

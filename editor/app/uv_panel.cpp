@@ -33,7 +33,14 @@ void drawUvPanel(EditorState& s, const Rect& area) {
     tooltip("The map over the mesh's UV layout. Wheel: zoom at the cursor; middle mouse: pan; "
             "double-click: the whole square. With the Brush, left mouse paints here too.");
     const bool hovered = ImGui::IsItemHovered();
+    // Under an open menu the wheel and the middle mouse still reach the view (the menu closes).
+    const bool underMenu = !hovered && ImGui::IsItemHovered(ImGuiHoveredFlags_AllowWhenBlockedByPopup) &&
+                           ImGui::IsPopupOpen("", ImGuiPopupFlags_AnyPopupId);
     const ImGuiIO& io = ImGui::GetIO();
+    if (underMenu && (io.MouseWheel != 0 || ImGui::IsMouseClicked(ImGuiMouseButton_Middle))) closeMenus();
+    // A middle drag that starts here pans until the button is let go, wherever the mouse goes.
+    if ((hovered || underMenu) && ImGui::IsMouseClicked(ImGuiMouseButton_Middle)) s.uvPanning = true;
+    if (!ImGui::IsMouseDown(ImGuiMouseButton_Middle)) s.uvPanning = false;
     // The window onto uv space: uv (u, v) is at p0 + ((u - left) scale, (top - v) scale),
     // v upward as the textures' row 0 is v = 0.
     auto left = [&] { return s.uvCentre.x() - 0.5f / s.uvZoom; };
@@ -42,7 +49,7 @@ void drawUvPanel(EditorState& s, const Rect& area) {
         const float scale = side * s.uvZoom;
         return Eigen::Vector2f(left() + (m.x - p0.x) / scale, top() - (m.y - p0.y) / scale);
     };
-    if (hovered && io.MouseWheel != 0) {
+    if ((hovered || underMenu) && io.MouseWheel != 0) {
         // Zoom about the cursor: the uv under it stays there.
         const Eigen::Vector2f held = uvAt(io.MousePos);
         s.uvZoom = std::clamp(s.uvZoom * std::pow(1.25f, io.MouseWheel), 1.0f, 64.0f);
@@ -50,7 +57,7 @@ void drawUvPanel(EditorState& s, const Rect& area) {
         s.uvCentre = Eigen::Vector2f(held.x() - (io.MousePos.x - p0.x) / scale + 0.5f / s.uvZoom,
                                      held.y() + (io.MousePos.y - p0.y) / scale - 0.5f / s.uvZoom);
     }
-    if (ImGui::IsItemActive() && ImGui::IsMouseDragging(ImGuiMouseButton_Middle, 0.0f)) {
+    if (s.uvPanning && ImGui::IsMouseDragging(ImGuiMouseButton_Middle, 0.0f)) {
         const float scale = side * s.uvZoom;
         s.uvCentre += Eigen::Vector2f(-io.MouseDelta.x / scale, io.MouseDelta.y / scale);
     }

@@ -129,6 +129,11 @@ void viewportInput(EditorState& s) {
     ImGuiIO& io = ImGui::GetIO();
     const ImVec2 mouse = io.MousePos;
     const bool hovered = s.viewport.contains(mouse.x, mouse.y) && !io.WantCaptureMouse;
+    // Under an open menu the wheel and the middle mouse still reach the view (the menu closes).
+    const bool underMenu = !hovered && s.viewport.contains(mouse.x, mouse.y) &&
+                           ImGui::IsPopupOpen("", ImGuiPopupFlags_AnyPopupId) && mouseOverNoWindow();
+    if (underMenu && (io.MouseWheel != 0 || ImGui::IsMouseClicked(2))) closeMenus();
+    const bool navHovered = hovered || underMenu;
     const double dx = io.MouseDelta.x / std::max(1.0f, s.viewport.h);
     const double dy = io.MouseDelta.y / std::max(1.0f, s.viewport.h);
 
@@ -140,7 +145,7 @@ void viewportInput(EditorState& s) {
     // Navigation.
     const bool orbitButton = ImGui::IsMouseDown(2) || (io.KeyAlt && ImGui::IsMouseDown(0)) ||
                              (s.tool == Tool::Navigate && ImGui::IsMouseDown(0));
-    if (hovered && (ImGui::IsMouseClicked(2) || ImGui::IsMouseClicked(1) ||
+    if ((hovered || (navHovered && ImGui::IsMouseClicked(2))) && (ImGui::IsMouseClicked(2) || ImGui::IsMouseClicked(1) ||
                     (ImGui::IsMouseClicked(0) && (io.KeyAlt || s.tool == Tool::Navigate)))) {
         navigating = true;
     }
@@ -156,7 +161,7 @@ void viewportInput(EditorState& s) {
             s.camera.orbit(dx, dy);
         }
     }
-    if (hovered && io.MouseWheel != 0) s.camera.zoom(io.MouseWheel);
+    if (navHovered && io.MouseWheel != 0) s.camera.zoom(io.MouseWheel);
 
     // Tools with the left mouse. While the live preview runs the bodies shown are the
     // simulated ones and the left mouse grabs them (previewInput): the paint tools rest.

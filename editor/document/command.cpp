@@ -1,8 +1,10 @@
 #include "document/command.h"
 
+#include "plimsoll/core/limits.h"
 #include "plimsoll/io/mesh_io.h"
 
 #include <algorithm>
+#include <cmath>
 #include <functional>
 #include <limits>
 #include <set>
@@ -262,8 +264,10 @@ Result<std::unique_ptr<Command>> paintEdit(Document& document, std::size_t body,
             for (float& v : c.change.after) v = quantize16(v);
         }
     }
+    // A mask's strokes say so ("Paint permeability mask"): the history tells them from paint.
+    const std::string label = target.part == LayerPart::Mask ? name + " mask" : name;
     return std::unique_ptr<Command>(std::make_unique<PaintCommand>(
-        name, body, channel, std::move(changes), std::move(created), std::move(createdPath)));
+        label, body, channel, std::move(changes), std::move(created), std::move(createdPath)));
 }
 
 /// A change moved only `strength` of the way (1: all of it).
@@ -347,6 +351,98 @@ Result<std::unique_ptr<Command>> makeNewMapCommand(Document& document, std::size
     return std::unique_ptr<Command>(std::make_unique<PaintCommand>(
         std::string("New ") + channelName(channel) + " map", body, channel,
         std::vector<PaintCommand::PartChange>{}, std::move(blank), std::move(path)));
+}
+
+namespace {
+
+/// Resamples one axis of `rows` lines of `from` values each to `to` values (stride 1 within
+/// a line, lines `from` apart in and `to` apart out). Shrinking: each new pixel is the
+/// area-weighted mean of the old pixels it covers (the integral over the map is kept exactly).
+/// Growing: linear between the old pixels' centres, the edges held (smooth, no blocks).
+std::vector<float> resampleLines(const std::vector<float>& in, int rows, int from, int to) {
+    std::vector<float> out(static_cast<std::size_t>(rows) * to);
+    const double ratio = double(from) / to;  // old pixels per new pixel
+    for (int r = 0; r < rows; ++r) {
+        const float* line = in.data() + static_cast<std::size_t>(r) * from;
+        float* result = out.data() + static_cast<std::size_t>(r) * to;
+        for (int k = 0; k < to; ++k) {
+            if (ratio >= 1.0) {
+                const double a = k * ratio, b = (k + 1) * ratio;
+                double sum = 0;
+                for (int i = static_cast<int>(std::floor(a)); i < std::min(from, static_cast<int>(std::ceil(b))); ++i) {
+                    sum += line[i] * (std::min(b, i + 1.0) - std::max(a, double(i)));
+                }
+                result[k] = static_cast<float>(sum / ratio);
+            } else {
+                const double x = std::clamp((k + 0.5) * ratio - 0.5, 0.0, from - 1.0);
+                const int i = std::min(static_cast<int>(x), from - 1);
+                const double t = x - i;
+                result[k] = static_cast<float>(line[i] * (1 - t) + line[std::min(i + 1, from - 1)] * t);
+            }
+        }
+    }
+    return out;
+}
+
+/// Rows and columns swapped (so the second axis can be resampled as lines).
+std::vector<float> transposed(const std::vector<float>& in, int width, int height) {
+    std::vector<float> out(in.size());
+    for (int y = 0; y < height; ++y)
+        for (int x = 0; x < width; ++x) out[static_cast<std::size_t>(x) * height + y] = in[static_cast<std::size_t>(y) * width + x];
+    return out;
+}
+
+}  // namespace
+
+PaintedMap resampledMap(const PaintedMap& map, int width, int height) {
+    PaintedMap out;
+    out.width = width;
+    out.height = height;
+    std::vector<float> across = resampleLines(map.values, map.height, map.width, width);  // height x width
+    std::vector<float> down = resampleLines(transposed(across, width, map.height), width, map.height, height);
+    out.values = transposed(down, height, width);
+    return out;
+}
+
+namespace {
+
+std::shared_ptr<PaintedMap> resampledPart(const std::shared_ptr<PaintedMap>& part, int width, int height) {
+    return part ? std::make_shared<PaintedMap>(resampledMap(*part, width, height)) : nullptr;
+}
+
+}  // namespace
+
+Result<std::unique_ptr<Command>> makeResizeMapCommand(Document& document, std::size_t body,
+                                                      MapChannel channel, int width, int height) {
+    if (Status ok = checkTarget(document, body, channel); !ok) return ok.error();
+    const PaintedMap* map = document.map(body, channel);
+    if (!map) return makeError(ErrorKind::invalidArgument, std::string("no ") + channelName(channel) + " map to resize");
+    if (width < 1 || height < 1 || width > kMaxPaintedMapSide || height > kMaxPaintedMapSide) {
+        return makeError(ErrorKind::limit, "map size " + std::to_string(width) + " x " + std::to_string(height) +
+                                               " is outside 1..kMaxPaintedMapSide = " +
+                                               std::to_string(kMaxPaintedMapSide) + " (limits.h)");
+    }
+    const std::string name = std::string("Resize ") + channelName(channel) + " map to " + std::to_string(width) +
+                             " x " + std::to_string(height);
+    if (const LayerStack* layers = document.layers(body, channel)) {
+        // Every layer's pixels, mask and coverage, at the 16 bits layers keep.
+        LayerStack after = *layers;
+        after.width = width;
+        after.height = height;
+        for (MapLayer& layer : after.layers) {
+            for (LayerPart part : {LayerPart::Pixels, LayerPart::Mask, LayerPart::Coverage}) {
+                layer.part(part) = resampledPart(layer.part(part), width, height);
+                if (layer.part(part)) {
+                    for (float& v : layer.part(part)->values) v = quantize16(v);
+                }
+            }
+        }
+        if (Status ok = checkStack(after); !ok) return ok.error();
+        return std::unique_ptr<Command>(std::make_unique<LayerCommand>(name, body, channel, *layers, std::move(after)));
+    }
+    return std::unique_ptr<Command>(std::make_unique<PaintCommand>(
+        name, body, channel, std::vector<PaintCommand::PartChange>{}, resampledMap(*map, width, height),
+        channelPath(document.project().bodies[body], channel)));
 }
 
 namespace {
@@ -495,6 +591,43 @@ Result<std::unique_ptr<Command>> makeRemoveMaskCommand(const Document& document,
     });
 }
 
+std::string propertyLabel(const Project& project, const std::string& pointer) {
+    std::vector<std::string> parts;
+    for (std::size_t at = 0; at < pointer.size();) {
+        const std::size_t next = std::min(pointer.find('/', at + 1), pointer.size());
+        if (next > at + 1) parts.push_back(pointer.substr(at + 1, next - at - 1));
+        at = next;
+    }
+    auto isIndex = [](const std::string& t) {
+        return !t.empty() && std::all_of(t.begin(), t.end(), [](char c) { return c >= '0' && c <= '9'; });
+    };
+    std::string label;
+    auto add = [&](std::string word) {
+        std::replace(word.begin(), word.end(), '_', ' ');
+        if (!label.empty()) label += ' ';
+        label += word;
+    };
+    for (std::size_t i = 0; i < parts.size(); ++i) {
+        const std::string& t = parts[i];
+        if (t == "bodies" && i + 1 < parts.size() && isIndex(parts[i + 1])) {
+            const std::size_t b = std::stoul(parts[++i]);
+            add(b < project.bodies.size() && !project.bodies[b].name.empty() ? project.bodies[b].name
+                                                                            : "body " + std::to_string(b + 1));
+        } else if (t == "material" || t == "simulation") {
+            continue;  // the property's own name says enough
+        } else if (isIndex(t) && i > 0 && t.size() == 1 && t[0] < '3' &&
+                   (parts[i - 1] == "position" || parts[i - 1] == "rotation_deg" || parts[i - 1] == "gravity" ||
+                    parts[i - 1] == "velocity" || parts[i - 1] == "angular_velocity")) {
+            add(std::string(1, "xyz"[t[0] - '0']));
+        } else if (isIndex(t)) {
+            add(std::to_string(std::stoul(t) + 1));
+        } else {
+            add(t == "rotation_deg" ? "rotation" : t == "mesh" ? "mesh file" : t);
+        }
+    }
+    return label.empty() ? pointer : label;
+}
+
 Result<std::unique_ptr<Command>> makeSetPropertyCommand(const Document& document,
                                                         const std::string& pointer,
                                                         const Json& value) {
@@ -507,7 +640,7 @@ Result<std::unique_ptr<Command>> makeSetPropertyCommand(const Document& document
     Result<Project> edited = parseProject(json.dump(), "set " + pointer, document.project().folder);
     if (!edited) return edited.error();
     return std::unique_ptr<Command>(std::make_unique<ProjectCommand>(
-        "Set " + pointer, document.project(), std::move(edited).value()));
+        "Set " + propertyLabel(document.project(), pointer), document.project(), std::move(edited).value()));
 }
 
 Result<std::unique_ptr<Command>> makeImportMeshCommand(const Document& document,

@@ -109,6 +109,13 @@ Result<std::unique_ptr<Command>> makeFillAllCommand(Document& document, std::siz
 Result<std::unique_ptr<Command>> makeNewMapCommand(Document& document, std::size_t body,
                                                    MapChannel channel, int width, int height,
                                                    double value, std::string path);
+/// The map at a new size, filtered: area-weighted means where it shrinks (its integral kept
+/// exactly), linear between pixel centres where it grows.
+PaintedMap resampledMap(const PaintedMap& map, int width, int height);
+/// Resizes the body's map keeping its content (resampledMap; with layers, every layer's
+/// pixels, mask and coverage): one undo step, the map's file unchanged.
+Result<std::unique_ptr<Command>> makeResizeMapCommand(Document& document, std::size_t body,
+                                                      MapChannel channel, int width, int height);
 // --- layers: each a LayerCommand; `layer` counts from the bottom (0) -------------------------
 
 /// A new layer at `index` (clamped; -1: on top). A map without layers first becomes a stack
@@ -142,6 +149,11 @@ Result<std::unique_ptr<Command>> makeAddMaskCommand(const Document& document, st
 Result<std::unique_ptr<Command>> makeRemoveMaskCommand(const Document& document,
                                                        std::size_t body, MapChannel channel,
                                                        int layer);
+
+/// What a project edit at `pointer` is called in the history: "/bodies/0/material/density" of
+/// a body named boat is "boat density", "/bodies/0/position/1" "boat position y",
+/// "/water/amplitude" "water amplitude".
+std::string propertyLabel(const Project& project, const std::string& pointer);
 
 /// Sets the value at a JSON pointer of the project's JSON ("/bodies/0/material/density"); the
 /// result must be a valid project.

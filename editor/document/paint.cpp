@@ -14,18 +14,97 @@
 
 namespace plimsoll::editor {
 
+namespace {
+
+/// The map's pixel grid, reached over every UV the mesh has: the mesh's UVs affinely moved so
+/// that texel (i, j) of a bake of `size` texels a side is exactly pixel column x0 + i and
+/// pixel row (from the bottom, v up) y0 + j of the map. A UV outside 0..1 lands on a texel
+/// beyond the map's edge, whose pixel is the edge one (PaintedMap::sample clamps the same way).
+struct PixelGrid {
+    int x0 = 0, y0 = 0;
+    int size = 0;
+    TriangleMesh mesh;   ///< the mesh with its UVs in the grid's texture space, all within 0..1
+};
+
+/// One pixel of margin on every side keeps the moved UVs strictly inside 0..1, so the bake
+/// places them as they are (identity placement) instead of fitting them into its square.
+PixelGrid pixelGrid(const TriangleMesh& mesh, int width, int height) {
+    Eigen::Vector2d lo = Eigen::Vector2d::Constant(std::numeric_limits<double>::max());
+    Eigen::Vector2d hi = -lo;
+    for (const Eigen::Vector2d& uv : mesh.uvs) {
+        lo = lo.cwiseMin(uv);
+        hi = hi.cwiseMax(uv);
+    }
+    PixelGrid grid;
+    grid.x0 = static_cast<int>(std::floor(lo.x() * width)) - 1;
+    grid.y0 = static_cast<int>(std::floor(lo.y() * height)) - 1;
+    const int x1 = static_cast<int>(std::ceil(hi.x() * width)) + 1;
+    const int y1 = static_cast<int>(std::ceil(hi.y() * height)) + 1;
+    grid.size = std::max({x1 - grid.x0, y1 - grid.y0, kMinTextureSize});
+    grid.mesh = mesh;
+    const double n = grid.size;
+    for (Eigen::Vector2d& uv : grid.mesh.uvs) {
+        uv = Eigen::Vector2d((uv.x() * width - grid.x0) / n, (uv.y() * height - grid.y0) / n);
+    }
+    return grid;
+}
+
+/// Half a pixel's sides on each triangle's surface (PaintSurface::halfU, halfV).
+struct PixelSides {
+    Eigen::Vector3f u = Eigen::Vector3f::Zero();
+    Eigen::Vector3f v = Eigen::Vector3f::Zero();
+};
+
+std::vector<PixelSides> pixelSides(const TriangleMesh& mesh, int width, int height) {
+    std::vector<PixelSides> out(mesh.triangles.size());
+    for (std::size_t t = 0; t < mesh.triangles.size(); ++t) {
+        const Triangle& tri = mesh.triangles[t];
+        const Eigen::Vector2d a = mesh.uvs[tri[0]], b = mesh.uvs[tri[1]], c = mesh.uvs[tri[2]];
+        const Eigen::Vector3d p0 = mesh.positions[tri[0]];
+        const Eigen::Vector3d e1 = mesh.positions[tri[1]] - p0, e2 = mesh.positions[tri[2]] - p0;
+        const double longest = std::max({e1.norm(), e2.norm(), (e2 - e1).norm()});
+        const double det = (b - a).x() * (c - a).y() - (b - a).y() * (c - a).x();
+        if (!(std::abs(det) > 0)) continue;
+        // d position / d u and d position / d v on the triangle's plane.
+        Eigen::Vector3d du = (e1 * (c - a).y() - e2 * (b - a).y()) / det / (2.0 * width);
+        Eigen::Vector3d dv = (e2 * (b - a).x() - e1 * (c - a).x()) / det / (2.0 * height);
+        // A sliver in UV stretches a pixel without bound; its piece stays on the triangle.
+        if (du.norm() > longest) du *= longest / du.norm();
+        if (dv.norm() > longest) dv *= longest / dv.norm();
+        if (du.allFinite() && dv.allFinite()) out[t] = {du.cast<float>(), dv.cast<float>()};
+    }
+    return out;
+}
+
+}  // namespace
+
 Result<PaintSurface> buildPaintSurface(const TriangleMesh& mesh, int width, int height) {
     if (!mesh.hasUvs()) return makeError(ErrorKind::invalidArgument, mesh.source + ": no UVs to paint on");
     if (width < 1 || height < 1) return makeError(ErrorKind::invalidArgument, "painted map has no pixels");
+    // The bake runs on the map's own pixel grid: each texel is one pixel, so every pixel the
+    // surface covers gets its points. (A bake of the UVs fitted into its square, as the
+    // physics bakes them, puts its texel centres on a grid a little coarser than the pixels
+    // when the UVs reach outside 0..1, and skips one pixel column and row in every few dozen.)
+    const PixelGrid grid = pixelGrid(mesh, width, height);
+    if (grid.size > kMaxTextureSize) {
+        return makeError(ErrorKind::limit,
+                         mesh.source + ": its UVs span " + std::to_string(grid.size) +
+                             " pixels of a " + std::to_string(width) + " x " + std::to_string(height) +
+                             " map, more than the " + std::to_string(kMaxTextureSize) +
+                             " a paint surface bakes (kMaxTextureSize, limits.h)");
+    }
     BakeSettings settings;
-    // At least kMinTextureSize: a smaller map still gets every pixel its points.
-    settings.size = std::clamp(std::max(width, height), kMinTextureSize, kMaxTextureSize);
+    settings.size = grid.size;
     settings.maxTexelStretch = 0.0;  // one point per texel and island is what a brush needs
     SurfacePieceTable pieces;
-    Result<SurfaceTextures> baked = bakeSurfaceTextures(mesh, settings, &pieces);
+    Result<SurfaceTextures> baked = bakeSurfaceTextures(grid.mesh, settings, &pieces);
     if (!baked) return baked.error();
     const SurfaceTextures& t = *baked;
+    if (!t.placement.isIdentity()) {
+        return makeError(ErrorKind::invalidArgument, mesh.source + ": its UVs could not be laid on the map's pixels");
+    }
     const std::vector<std::uint32_t> islands = uvIslands(mesh);
+    const std::vector<PixelSides> sides = pixelSides(mesh, width, height);
 
     PaintSurface surface;
     surface.width = width;
@@ -34,18 +113,20 @@ Result<PaintSurface> buildPaintSurface(const TriangleMesh& mesh, int width, int 
     surface.position.reserve(t.coveredCount());
     surface.island.reserve(t.coveredCount());
     surface.normal.reserve(t.coveredCount());
-    const double n = t.size;
+    surface.halfU.reserve(t.coveredCount());
+    surface.halfV.reserve(t.coveredCount());
     for (std::size_t i = 0; i < t.coveredCount(); ++i) {
         const std::uint32_t texel = t.texelIndex[i];
-        const Eigen::Vector2d textureUv((texel % t.size + 0.5) / n, (texel / t.size + 0.5) / n);
-        const Eigen::Vector2d uv = (textureUv - t.placement.offset) / t.placement.scale;
-        const int x = std::clamp(static_cast<int>(std::floor(uv.x() * width)), 0, width - 1);
-        const int y = std::clamp(static_cast<int>(std::floor((1.0 - uv.y()) * height)), 0,
-                                 height - 1);
+        const int column = grid.x0 + static_cast<int>(texel % t.size);
+        const int rowUp = grid.y0 + static_cast<int>(texel / t.size);  // from the bottom, v up
+        const int x = std::clamp(column, 0, width - 1);
+        const int y = std::clamp(height - 1 - rowUp, 0, height - 1);
         surface.pixel.push_back(static_cast<std::uint32_t>(y * width + x));
         surface.position.push_back(t.position[i].cast<float>());
         const std::uint32_t triangle = pieces.pieces[pieces.firstPiece[i]].triangle;
         surface.island.push_back(islands[triangle]);
+        surface.halfU.push_back(sides[triangle].u);
+        surface.halfV.push_back(sides[triangle].v);
         const Eigen::Vector3d& areaVector = t.areaVector[i];
         surface.normal.push_back(areaVector.norm() > 0 ? Eigen::Vector3f(areaVector.normalized().cast<float>())
                                                        : Eigen::Vector3f::Zero());
@@ -347,6 +428,43 @@ std::vector<bool> visibleSamples(const PaintSurface& surface, const Eigen::Vecto
 
 }  // namespace
 
+namespace {
+
+/// From the dab centre `c` to the nearest point of sample i's pixel (its parallelogram
+/// position +- halfU +- halfV): the brush paints the pixel by how close it comes to any of it,
+/// so a stroke between two pixels' centres paints them both. Null when even the parallelogram's
+/// far corner is beyond `radius`.
+std::optional<Eigen::Vector3d> reachOffset(const PaintSurface& surface, std::size_t i,
+                                           const Eigen::Vector3f& c, double radius) {
+    const Eigen::Vector3f o = surface.position[i] - c;
+    if (surface.halfU.size() != surface.sampleCount()) {
+        if (o.squaredNorm() > radius * radius) return std::nullopt;
+        return o.cast<double>();
+    }
+    const Eigen::Vector3f& a = surface.halfU[i];
+    const Eigen::Vector3f& b = surface.halfV[i];
+    const double reach = radius + a.norm() + b.norm();
+    if (o.squaredNorm() > reach * reach) return std::nullopt;
+    // The parallelogram's point nearest the centre: minimise |o + alpha a + beta b| over
+    // alpha, beta in [-1, 1] (the plane's solution, clamped, then each refined with the other
+    // held: exact for a rectangle and within a hair of it for the skewed pixels of a UV map).
+    const double aa = a.squaredNorm(), bb = b.squaredNorm(), ab = a.dot(b);
+    const double ao = a.dot(o), bo = b.dot(o);
+    const double det = aa * bb - ab * ab;
+    double alpha = 0, beta = 0;
+    if (det > 1e-12 * aa * bb) {
+        alpha = std::clamp((ab * bo - bb * ao) / det, -1.0, 1.0);
+        beta = std::clamp((ab * ao - aa * bo) / det, -1.0, 1.0);
+    }
+    if (aa > 0) alpha = std::clamp(-(ao + beta * ab) / aa, -1.0, 1.0);
+    if (bb > 0) beta = std::clamp(-(bo + alpha * ab) / bb, -1.0, 1.0);
+    const Eigen::Vector3d offset = o.cast<double>() + alpha * a.cast<double>() + beta * b.cast<double>();
+    if (offset.squaredNorm() > radius * radius) return std::nullopt;
+    return offset;
+}
+
+}  // namespace
+
 PixelChange strokeChange(const PaintedMap& map, const PaintSurface& surface, const Brush& brush,
                          std::span<const Eigen::Vector3d> points) {
     std::vector<float> values = map.values;
@@ -357,7 +475,6 @@ PixelChange strokeChange(const PaintedMap& map, const PaintSurface& surface, con
     // A spacing of 0 (or garbage) would be no spacing at all: the quarter radius then.
     const double spacing = std::isfinite(brush.spacing) && brush.spacing > 0 ? brush.spacing : 0.25;
     const std::vector<Eigen::Vector3d> dabs = dabCentres(points, brush.radius * spacing, brush);
-    const double r2 = brush.radius * brush.radius;
     // Each dab's direction toward the viewer: the symmetric copies are linear maps (mirrors
     // and turns about y) applied in the same order to every stroke point, so the same copies
     // of the view direction go with them (a mirrored dab on the far side faces a mirrored
@@ -398,9 +515,9 @@ PixelChange strokeChange(const PaintedMap& map, const PaintSurface& surface, con
             under.clear();
             double sum = 0, weights = 0;
             for (std::size_t i = 0; i < surface.sampleCount(); ++i) {
-                const double d2 = (surface.position[i] - cf).squaredNorm();
-                if (d2 > r2) continue;
-                const double w = dabWeight(brush, (surface.position[i] - cf).cast<double>()) * facingOf(k, i);
+                const std::optional<Eigen::Vector3d> offset = reachOffset(surface, i, cf, brush.radius);
+                if (!offset) continue;
+                const double w = dabWeight(brush, *offset) * facingOf(k, i);
                 if (w <= 0) continue;
                 under.emplace_back(surface.pixel[i], w);
                 sum += w * values[surface.pixel[i]];
@@ -419,10 +536,9 @@ PixelChange strokeChange(const PaintedMap& map, const PaintSurface& surface, con
     for (std::size_t k = 0; k < dabs.size(); ++k) {
         const Eigen::Vector3f cf = dabs[k].cast<float>();
         for (std::size_t i = 0; i < surface.sampleCount(); ++i) {
-            const double d2 = (surface.position[i] - cf).squaredNorm();
-            if (d2 > r2) continue;
-            const float w = static_cast<float>(dabWeight(brush, (surface.position[i] - cf).cast<double>()) *
-                                               facingOf(k, i));
+            const std::optional<Eigen::Vector3d> offset = reachOffset(surface, i, cf, brush.radius);
+            if (!offset) continue;
+            const float w = static_cast<float>(dabWeight(brush, *offset) * facingOf(k, i));
             float& slot = weight[surface.pixel[i]];
             slot = std::max(slot, w);
         }

@@ -33,11 +33,20 @@ struct PaintSurface {
     /// Outward unit normal of the surface in the texel (its area vector's direction), object
     /// space: the brush's normal falloff and front-faces-only test it against the view.
     std::vector<Eigen::Vector3f> normal;
+    /// Half the pixel's sides on the surface, object space: its u side and its v side (the
+    /// surface's d position / d uv on the sample's first triangle, times half a pixel, at most
+    /// that triangle's longest edge). The pixel's piece of surface lies within the
+    /// parallelogram position +- halfU +- halfV, and a brush that reaches any of it paints the
+    /// pixel: a brush smaller than a pixel still paints every pixel it passes over.
+    std::vector<Eigen::Vector3f> halfU;
+    std::vector<Eigen::Vector3f> halfV;
     std::size_t sampleCount() const { return pixel.size(); }
 };
 
-/// Bakes the mesh's UV atlas at the map's resolution (square bake of max(width, height) texels,
-/// each texel centre taken to its map pixel). The mesh needs UVs.
+/// Bakes the mesh's UV atlas on the map's own pixel grid (one texel per pixel, the grid reaching
+/// over every UV the mesh has; a UV outside 0..1 belongs to the edge pixel, as the physics reads
+/// it), so every pixel a triangle covers gets its points. The mesh needs UVs; an error when
+/// its UVs span more than kMaxTextureSize pixels.
 Result<PaintSurface> buildPaintSurface(const TriangleMesh& mesh, int width, int height);
 
 enum class BrushMode { Paint, Erase, Smooth };

@@ -313,6 +313,11 @@ Result<Json> runEditScript(Document& document, const Json& script) {
                                                            std::to_string(kMaxPaintedMapSide) + " (limits.h)");
                 command = makeNewMapCommand(document, body, channel, w, h, unitValue(c, "value", 0.0),
                                             c.value("path", std::string()));
+            } else if (op == "resize_map") {
+                const Json& size = c.at("size");
+                const int w = size.is_array() ? size.at(0).get<int>() : size.get<int>();
+                const int h = size.is_array() ? size.at(1).get<int>() : size.get<int>();
+                command = makeResizeMapCommand(document, body, channel, w, h);
             } else if (op == "set") {
                 command = makeSetPropertyCommand(document, c.at("pointer"), c.at("value"));
             } else if (op == "import_mesh") {
