@@ -90,7 +90,8 @@ typedef struct plimsoll_mass {
 } plimsoll_mass;
 
 /* The message of the last failure on this thread: every other call clears it when it succeeds
- * and sets it when it fails ("" after a success). */
+ * and sets it when it fails ("" after a success), except the _destroy and _free calls, which
+ * leave it (a program frees what a failed call returned, then reads why). */
 const char* plimsoll_runtime_last_error(void);
 /* "major.minor" of the bundle schema this runtime reads. */
 const char* plimsoll_runtime_schema_version(void);

@@ -427,7 +427,7 @@ int plimsoll_bundle_size_query(const plimsoll_bundle* bundle, plimsoll_bundle_si
 }
 
 void plimsoll_bundle_destroy(plimsoll_bundle* bundle) {
-    lastError.clear();
+    // Leaves the last error: freeing what a failed call returned comes before reading why.
     delete bundle;
 }
 
@@ -741,7 +741,7 @@ plimsoll_radiation_memory* plimsoll_radiation_memory_create(const plimsoll_bundl
 }
 
 void plimsoll_radiation_memory_destroy(plimsoll_radiation_memory* memory) {
-    lastError.clear();
+    // Leaves the last error: freeing what a failed call returned comes before reading why.
     delete memory;
 }
 
@@ -819,7 +819,7 @@ plimsoll_batch* plimsoll_batch_create(const plimsoll_batch_desc* desc) {
 }
 
 void plimsoll_batch_destroy(plimsoll_batch* batch) {
-    lastError.clear();
+    // Leaves the last error: freeing what a failed call returned comes before reading why.
     delete batch;
 }
 
@@ -915,7 +915,7 @@ plimsoll_simulation* plimsoll_simulation_create(plimsoll_bundle* bundle) {
 }
 
 void plimsoll_simulation_destroy(plimsoll_simulation* simulation) {
-    lastError.clear();
+    // Leaves the last error: freeing what a failed call returned comes before reading why.
     delete simulation;
 }
 
