@@ -71,9 +71,9 @@ FloatingBody::FloatingBody(plimsoll_bundle* bundle, const btTransform& objectPos
     body_ = std::make_unique<btRigidBody>(info);
     // Angular momentum, not angular velocity, is what a free body keeps.
     body_->setFlags(body_->getFlags() | BT_ENABLE_GYROSCOPIC_FORCE_IMPLICIT_BODY);
-    // A flooding body at rest still takes water: it never sleeps. Others may (Bullet's own
-    // thresholds); the Harbour wakes them where the water moves (waves).
-    if (plimsoll_graph_node_count(bundle) > 0) body_->setActivationState(DISABLE_DEACTIVATION);
+    // A floating body at rest still floods, and the water may move under it; Bullet's default
+    // sleeping thresholds (0.8 m/s, 1 rad/s) would freeze a gently rolling body.
+    body_->setActivationState(DISABLE_DEACTIVATION);
 }
 
 FloatingBody::~FloatingBody() {
