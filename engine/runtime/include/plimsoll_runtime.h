@@ -15,6 +15,13 @@
 #include <stddef.h>
 #include <stdint.h>
 
+/* The version of this header (semantic versioning, docs/c-abi.md): compare it with
+ * plimsoll_runtime_version() to find a library older than the header. CMake's project version
+ * is read from these lines: they are the one source. */
+#define PLIMSOLL_RUNTIME_VERSION_MAJOR 1
+#define PLIMSOLL_RUNTIME_VERSION_MINOR 5
+#define PLIMSOLL_RUNTIME_VERSION_PATCH 0
+
 #ifdef __cplusplus
 extern "C" {
 #endif
@@ -82,7 +89,9 @@ typedef struct plimsoll_mass {
     double inertia[3][3];          /* about the centre of mass, object axes, kg m^2 */
 } plimsoll_mass;
 
-/* The message of the last failure on this thread ("" when none). */
+/* The message of the last failure on this thread: every other call clears it when it succeeds
+ * and sets it when it fails ("" after a success), except the _destroy and _free calls, which
+ * leave it (a program frees what a failed call returned, then reads why). */
 const char* plimsoll_runtime_last_error(void);
 /* "major.minor" of the bundle schema this runtime reads. */
 const char* plimsoll_runtime_schema_version(void);
@@ -96,6 +105,9 @@ void plimsoll_runtime_bundle_schema(int* major, int* minor);
 /* Loads a bundle folder, checking every file's size and SHA-256 when verify_checksums != 0.
  * NULL on failure. */
 plimsoll_bundle* plimsoll_bundle_load(const char* folder, int verify_checksums);
+/* Frees a bundle (NULL: nothing). plimsoll_bundle_free is the 1.x name, kept as a wrapper
+ * until 2.0. */
+void plimsoll_bundle_destroy(plimsoll_bundle* bundle);
 void plimsoll_bundle_free(plimsoll_bundle* bundle);
 
 /* One file of a bundle in memory: its path inside the bundle ("samples.exr") and bytes,
@@ -146,7 +158,8 @@ const char* plimsoll_bundle_body(const plimsoll_bundle* bundle);
 size_t plimsoll_bundle_sample_count(const plimsoll_bundle* bundle);
 /* mass_properties.texture of the manifest. */
 plimsoll_mass plimsoll_bundle_mass(const plimsoll_bundle* bundle);
-/* Density 1000, gravity 9.81 and the manifest's drag and friction coefficients. */
+/* The project's medium density and gravity (bundle schema 1.4; 1000 and 9.81 before) and the
+ * manifest's drag and friction coefficients. */
 plimsoll_fluid plimsoll_bundle_default_fluid(const plimsoll_bundle* bundle);
 /* The manifest's linear and angular damping (1/s at full submersion). */
 void plimsoll_bundle_damping(const plimsoll_bundle* bundle, double* linear, double* angular);
@@ -181,9 +194,12 @@ int plimsoll_bundle_bounds(const plimsoll_bundle* bundle, double min[3], double 
 
 /* ---------------------------------------------------------------------------------------
  * Motion. What a physics engine applies to the body each step, on top of its own gravity:
- * buoyancy and its torque, drag, the manifest's damping (scaled by the submerged fraction and
- * at most what stops the body within dt) and the weight of the water inside, at the water's
- * centre of mass. Forces at the centre of mass, world axes; torques about it. */
+ * buoyancy and its torque (since 1.5 as the editor's World: Archimedes' force on flat water,
+ * the pressure integral with the waves' horizontal push when the water has a height callback),
+ * drag, the manifest's damping of the momenta of the body with its water (scaled by the
+ * submerged fraction and at most what stops the body within dt) and the weight of the water
+ * inside, at the water's centre of mass. Forces at the centre of mass, world axes; torques
+ * about it. */
 typedef struct plimsoll_load {
     double force[3];          /* N */
     double torque[3];         /* N m */
@@ -209,6 +225,48 @@ typedef struct plimsoll_body_state {
 int plimsoll_body_step(plimsoll_bundle* bundle, plimsoll_body_state* state,
                        const plimsoll_water* water, const plimsoll_fluid* fluid, double time,
                        double dt);
+
+/* ---------------------------------------------------------------------------------------
+ * The editor's simulation, replayed (since 1.5; bundle schema 1.4 carries the project's world:
+ * the medium, the water model, the step settings and the body's start). A plimsoll_simulation
+ * steps one body exactly as `plimsoll simulate` does: frames of the project's time step in the
+ * World's sub-steps, Archimedes' force on flat water and the pressure integral on waves, the
+ * water inside in the mass, inertia and damping, the water graph once a frame. For a game
+ * without a physics engine, a server, and to check a bundle against the editor. It steps the
+ * bundle's water graph: one simulation per bundle, one thread at a time. */
+typedef struct plimsoll_simulation plimsoll_simulation;
+
+/* NULL (and the last error) for a body it does not step: radiation, an integrator other than
+ * semi-implicit Euler. The bundle must outlive it. */
+plimsoll_simulation* plimsoll_simulation_create(plimsoll_bundle* bundle);
+void plimsoll_simulation_destroy(plimsoll_simulation* simulation);
+/* One frame (plimsoll_simulation_state's frame_time). water NULL: the bundle's own water. */
+int plimsoll_simulation_advance_frame(plimsoll_simulation* simulation, const plimsoll_water* water);
+
+/* The columns of `plimsoll simulate --out`. */
+typedef struct plimsoll_simulation_state {
+    double time;                    /* s */
+    double frame_time;              /* s, the project's time_step */
+    double center_of_mass[3];       /* world, of the body with its water, m */
+    double orientation[4];          /* w, x, y, z */
+    double velocity[3];             /* of that centre of mass, m/s */
+    double angular_velocity[3];     /* rad/s */
+    double submerged_volume;        /* m^3, last sub-step */
+    double buoyant_force[3];        /* the pressure integral, N, last sub-step */
+    double mass;                    /* kg, with the water inside */
+    double local_center_of_mass[3]; /* object space, m */
+} plimsoll_simulation_state;
+int plimsoll_simulation_state_query(const plimsoll_simulation* simulation, plimsoll_simulation_state* out);
+
+/* A snapshot of everything the next frames depend on (the body's state, its mass with the
+ * water, the water graph's water and random sequence): plimsoll_simulation_restore on a
+ * simulation of the same bundle continues bit for bit. With buffer NULL (or capacity too small)
+ * only *size is set (and 0 returned when the buffer was too small). */
+int plimsoll_simulation_save(const plimsoll_simulation* simulation, void* buffer, size_t capacity,
+                             size_t* size);
+int plimsoll_simulation_restore(plimsoll_simulation* simulation, const void* bytes, size_t size);
+/* FNV-1a of the snapshot: equal hashes, equal states (0 and the last error on NULL). */
+uint64_t plimsoll_simulation_state_hash(const plimsoll_simulation* simulation);
 
 /* ---------------------------------------------------------------------------------------
  * Wave radiation (bundle schema 1.3; docs/bundle.md "Radiation"): Cummins' equation, the
@@ -279,6 +337,8 @@ typedef struct plimsoll_batch plimsoll_batch;
 
 /* desc may be NULL: an own pool of the hardware threads. */
 plimsoll_batch* plimsoll_batch_create(const plimsoll_batch_desc* desc);
+/* plimsoll_batch_free is the 1.x name, kept as a wrapper until 2.0. */
+void plimsoll_batch_destroy(plimsoll_batch* batch);
 void plimsoll_batch_free(plimsoll_batch* batch);
 
 /* plimsoll_bundle_evaluate for bodies[i] at poses[i] into out[i], i < count. velocities may be

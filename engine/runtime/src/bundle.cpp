@@ -1,11 +1,13 @@
 // Loading a bundle folder (docs/bundle.md "Reading a bundle"): the same checks as the engine's
 // verifyBundle, then the sample list, the water graph, its permeability and texel-to-node map.
 #include "plimsoll_runtime/runtime.hpp"
+#include "plimsoll_runtime.h"
 
 #include "plimsoll_eval/cummins.hpp"
 #include "plimsoll_eval/format.hpp"
 
 #include "json.hpp"
+#include "world.hpp"
 #include "png.hpp"
 #include "vec.hpp"
 
@@ -698,6 +700,11 @@ bool loadBundleImpl(const BundleSource& source, Bundle& b, std::string& error, b
                 return r.fail("$.hydrodynamics", "coefficients and damping must be finite and >= 0");
         }
     }
+
+    // The project's world (1.4): the fluid's density and gravity are the project's.
+    if (!readBundleWorld(m, manifestPath, b.world_, error)) return false;
+    b.fluid_.density = b.world_.density;
+    b.fluid_.gravity = norm(b.world_.gravity);
 
     if (const Value* radiation = m.find("radiation"); radiation && !radiation->isNull()) {
         auto model = std::make_unique<Radiation>();

@@ -26,6 +26,11 @@ struct plimsoll_radiation_memory {
     plimsoll_runtime::RadiationMemory memory;
 };
 
+struct plimsoll_simulation {
+    std::unique_ptr<plimsoll_runtime::Simulation> simulation;
+    plimsoll_runtime::Water water;  ///< the bundle's own (world.water)
+};
+
 struct plimsoll_batch {
     plimsoll_eval::TaskSystem tasks;
     std::unique_ptr<plimsoll_eval::ThreadPool> pool;
@@ -194,7 +199,8 @@ bool checkEvaluation(const char* call, const plimsoll_pose* pose, const plimsoll
 }
 
 plimsoll_fluid defaultFluid(const Bundle& bundle) {
-    return {1000.0, 9.81, bundle.fluid().dragCoefficient, bundle.fluid().frictionCoefficient};
+    const Fluid& f = bundle.fluid();
+    return {f.density, f.gravity, f.dragCoefficient, f.frictionCoefficient};
 }
 
 /// Forces for checked arguments into `out`: null, or why the result is refused. Sets no
@@ -297,12 +303,14 @@ extern "C" {
 const char* plimsoll_runtime_last_error(void) { return lastError.c_str(); }
 
 const char* plimsoll_runtime_schema_version(void) {
+    lastError.clear();
     static const std::string version = std::to_string(bundleSchemaVersion().major) + "." +
                                        std::to_string(bundleSchemaVersion().minor);
     return version.c_str();
 }
 
 void plimsoll_runtime_version(int* major, int* minor, int* patch) {
+    lastError.clear();
     const Version v = runtimeVersion();
     if (major) *major = v.major;
     if (minor) *minor = v.minor;
@@ -310,6 +318,7 @@ void plimsoll_runtime_version(int* major, int* minor, int* patch) {
 }
 
 void plimsoll_runtime_bundle_schema(int* major, int* minor) {
+    lastError.clear();
     const Version v = bundleSchemaVersion();
     if (major) *major = v.major;
     if (minor) *minor = v.minor;
@@ -350,6 +359,7 @@ LoadOptions loadOptions(int verifyChecksums) {
 extern "C" {
 
 plimsoll_bundle* plimsoll_bundle_load(const char* folder, int verify_checksums) {
+    lastError.clear();
     if (!folder) {
         setError("plimsoll_bundle_load: folder is NULL");
         return nullptr;
@@ -361,6 +371,7 @@ plimsoll_bundle* plimsoll_bundle_load(const char* folder, int verify_checksums) 
 
 plimsoll_bundle* plimsoll_bundle_load_memory(const plimsoll_memory_file* files, size_t count,
                                              const char* name, int verify_checksums) {
+    lastError.clear();
     constexpr const char* kCall = "plimsoll_bundle_load_memory";
     if (!files && count > 0) {
         refuse(kCall, "files is NULL");
@@ -381,6 +392,7 @@ plimsoll_bundle* plimsoll_bundle_load_memory(const plimsoll_memory_file* files, 
 
 plimsoll_bundle* plimsoll_bundle_load_callbacks(const plimsoll_file_callbacks* callbacks,
                                                 const char* name, int verify_checksums) {
+    lastError.clear();
     constexpr const char* kCall = "plimsoll_bundle_load_callbacks";
     if (!callbacks || callbacks->struct_size < sizeof(plimsoll_file_callbacks) || !callbacks->open ||
         !callbacks->size || !callbacks->read || !callbacks->close) {
@@ -402,6 +414,7 @@ plimsoll_bundle* plimsoll_bundle_load_callbacks(const plimsoll_file_callbacks* c
 }
 
 int plimsoll_bundle_size_query(const plimsoll_bundle* bundle, plimsoll_bundle_size* out) {
+    lastError.clear();
     if (!bundle || !out || out->struct_size < sizeof(plimsoll_bundle_size))
         return refuse("plimsoll_bundle_size_query",
                       "bundle or out is NULL, or out->struct_size is not sizeof(plimsoll_bundle_size)");
@@ -413,25 +426,40 @@ int plimsoll_bundle_size_query(const plimsoll_bundle* bundle, plimsoll_bundle_si
     return 1;
 }
 
-void plimsoll_bundle_free(plimsoll_bundle* bundle) { delete bundle; }
+void plimsoll_bundle_destroy(plimsoll_bundle* bundle) {
+    // Leaves the last error: freeing what a failed call returned comes before reading why.
+    delete bundle;
+}
+
+void plimsoll_bundle_free(plimsoll_bundle* bundle) { plimsoll_bundle_destroy(bundle); }
 
 const char* plimsoll_bundle_body(const plimsoll_bundle* bundle) {
+    lastError.clear();
     return bundle && bundle->bundle ? bundle->bundle->body().c_str() : "";
 }
 
 size_t plimsoll_bundle_sample_count(const plimsoll_bundle* bundle) {
+    lastError.clear();
     return bundle ? bundle->bundle->samples().size() : 0;
 }
 
 plimsoll_mass plimsoll_bundle_mass(const plimsoll_bundle* bundle) {
-    return bundle ? toC(bundle->bundle->mass()) : plimsoll_mass{};
+    lastError.clear();
+    if (!bundle) {
+        refuse("plimsoll_bundle_mass", "bundle is NULL");
+        return plimsoll_mass{};
+    }
+    return toC(bundle->bundle->mass());
 }
 
 plimsoll_fluid plimsoll_bundle_default_fluid(const plimsoll_bundle* bundle) {
+    lastError.clear();
+    if (!bundle) refuse("plimsoll_bundle_default_fluid", "bundle is NULL");
     return bundle ? defaultFluid(*bundle->bundle) : plimsoll_fluid{1000.0, 9.81, 1.0, 0.0};
 }
 
 void plimsoll_bundle_damping(const plimsoll_bundle* bundle, double* linear, double* angular) {
+    lastError.clear();
     if (linear) *linear = bundle ? bundle->bundle->linearDamping() : 0.0;
     if (angular) *angular = bundle ? bundle->bundle->angularDamping() : 0.0;
 }
@@ -439,6 +467,7 @@ void plimsoll_bundle_damping(const plimsoll_bundle* bundle, double* linear, doub
 int plimsoll_bundle_evaluate(const plimsoll_bundle* bundle, const plimsoll_pose* pose,
                              const plimsoll_velocity* velocity, const plimsoll_water* water,
                              const plimsoll_fluid* fluid, double time, plimsoll_forces* out) {
+    lastError.clear();
     try {
         constexpr const char* kCall = "plimsoll_bundle_evaluate";
         if (!bundle || !pose || !fluid || !out) {
@@ -457,20 +486,34 @@ int plimsoll_bundle_evaluate(const plimsoll_bundle* bundle, const plimsoll_pose*
 }
 
 size_t plimsoll_graph_node_count(const plimsoll_bundle* bundle) {
+    lastError.clear();
     return hasGraph(bundle) ? bundle->bundle->graph()->nodes().size() : 0;
 }
 
 double plimsoll_graph_node_water(const plimsoll_bundle* bundle, size_t node) {
-    if (!hasGraph(bundle) || node >= plimsoll_graph_node_count(bundle)) return 0.0;
+    lastError.clear();
+    if (!hasGraph(bundle) || node >= plimsoll_graph_node_count(bundle)) {
+        refuse("plimsoll_graph_node_water", !hasGraph(bundle) ? std::string("the body has no water graph")
+                                                            : "node " + std::to_string(node) + " of " +
+                                                                  std::to_string(plimsoll_graph_node_count(bundle)));
+        return 0.0;
+    }
     return bundle->bundle->graph()->nodes()[node].water;
 }
 
 double plimsoll_graph_node_capacity(const plimsoll_bundle* bundle, size_t node) {
-    if (!hasGraph(bundle) || node >= plimsoll_graph_node_count(bundle)) return 0.0;
+    lastError.clear();
+    if (!hasGraph(bundle) || node >= plimsoll_graph_node_count(bundle)) {
+        refuse("plimsoll_graph_node_capacity", !hasGraph(bundle) ? std::string("the body has no water graph")
+                                                            : "node " + std::to_string(node) + " of " +
+                                                                  std::to_string(plimsoll_graph_node_count(bundle)));
+        return 0.0;
+    }
     return bundle->bundle->graph()->nodes()[node].capacity;
 }
 
 int plimsoll_graph_set_node_water(plimsoll_bundle* bundle, size_t node, double water) {
+    lastError.clear();
     if (!hasGraph(bundle) || node >= plimsoll_graph_node_count(bundle)) {
         setError("plimsoll_graph_set_node_water: no such node");
         return 0;
@@ -483,6 +526,7 @@ int plimsoll_graph_set_node_water(plimsoll_bundle* bundle, size_t node, double w
 
 int plimsoll_graph_set_medium(plimsoll_bundle* bundle, double density, double viscosity,
                               double gravity) {
+    lastError.clear();
     if (!hasGraph(bundle)) {
         setError("plimsoll_graph_set_medium: the body has no water graph");
         return 0;
@@ -502,6 +546,7 @@ int plimsoll_graph_set_medium(plimsoll_bundle* bundle, double density, double vi
 int plimsoll_graph_inflow(const plimsoll_bundle* bundle, const plimsoll_pose* pose,
                           const plimsoll_water* water, double time, double* inflow,
                           double* outflow) {
+    lastError.clear();
     try {
         if (!hasGraph(bundle) || !pose) {
             setError("plimsoll_graph_inflow: no water graph or no pose");
@@ -523,6 +568,7 @@ int plimsoll_graph_inflow(const plimsoll_bundle* bundle, const plimsoll_pose* po
 
 int plimsoll_graph_step(plimsoll_bundle* bundle, const plimsoll_pose* pose,
                         const plimsoll_water* water, double time, double dt) {
+    lastError.clear();
     try {
         if (!hasGraph(bundle) || !pose || !(dt >= 0) || !std::isfinite(dt)) {
             setError("plimsoll_graph_step: no water graph, no pose, or dt not finite and >= 0");
@@ -530,7 +576,13 @@ int plimsoll_graph_step(plimsoll_bundle* bundle, const plimsoll_pose* pose,
         }
         constexpr const char* kCall = "plimsoll_graph_step";
         if (!checkPose(kCall, pose) || !checkWater(kCall, water) || !checkTime(kCall, time)) return -1;
-        return bundle->bundle->graph()->step(toPose(*pose), toWater(water), time, dt) ? 1 : 0;
+        bool nonFinite = false;
+        const bool moved = bundle->bundle->graph()->step(toPose(*pose), toWater(water, &nonFinite), time, dt);
+        if (nonFinite) {
+            setError("plimsoll_graph_step: the water height callback returned NaN or Inf");
+            return -1;
+        }
+        return moved ? 1 : 0;
     } catch (const std::exception& e) {
         setError(std::string("plimsoll_graph_step: ") + e.what());
         return -1;
@@ -538,6 +590,7 @@ int plimsoll_graph_step(plimsoll_bundle* bundle, const plimsoll_pose* pose,
 }
 
 plimsoll_mass plimsoll_graph_water_mass(const plimsoll_bundle* bundle, const double orientation[4]) {
+    lastError.clear();
     if (!hasGraph(bundle) || !orientation) {
         setError("plimsoll_graph_water_mass: no water graph or orientation is NULL");
         return plimsoll_mass{};
@@ -552,6 +605,7 @@ plimsoll_mass plimsoll_graph_water_mass(const plimsoll_bundle* bundle, const dou
 }
 
 int plimsoll_bundle_bounds(const plimsoll_bundle* bundle, double min[3], double max[3]) {
+    lastError.clear();
     if (!bundle || !min || !max) return refuse("plimsoll_bundle_bounds", "an argument is NULL");
     const auto& samples = bundle->bundle->samples();
     if (samples.empty()) return refuse("plimsoll_bundle_bounds", "the bundle has no samples");
@@ -569,6 +623,7 @@ int plimsoll_bundle_water_load(const plimsoll_bundle* bundle, const plimsoll_pos
                                const plimsoll_velocity* velocity, const plimsoll_water* water,
                                const plimsoll_fluid* fluid, double time, double dt,
                                plimsoll_load* out) {
+    lastError.clear();
     constexpr const char* kCall = "plimsoll_bundle_water_load";
     try {
         if (!bundle || !pose || !fluid || !out) return refuse(kCall, "a required argument is NULL");
@@ -638,18 +693,21 @@ int stepChecked(const char* call, plimsoll_bundle* bundle, plimsoll_body_state* 
 int plimsoll_body_step(plimsoll_bundle* bundle, plimsoll_body_state* state,
                        const plimsoll_water* water, const plimsoll_fluid* fluid, double time,
                        double dt) {
+    lastError.clear();
     return stepChecked("plimsoll_body_step", bundle, state, nullptr, water, fluid, time, dt);
 }
 
 int plimsoll_body_step_radiating(plimsoll_bundle* bundle, plimsoll_body_state* state,
                                  plimsoll_radiation_memory* memory, const plimsoll_water* water,
                                  const plimsoll_fluid* fluid, double time, double dt) {
+    lastError.clear();
     constexpr const char* kCall = "plimsoll_body_step_radiating";
     if (!memory) return refuse(kCall, "memory is NULL");
     return stepChecked(kCall, bundle, state, memory, water, fluid, time, dt);
 }
 
 int plimsoll_bundle_radiation(const plimsoll_bundle* bundle, plimsoll_radiation_info* out) {
+    lastError.clear();
     constexpr const char* kCall = "plimsoll_bundle_radiation";
     if (!bundle || !bundle->bundle || !out) return refuse(kCall, "a required argument is NULL");
     const Radiation* r = bundle->bundle->radiation();
@@ -663,6 +721,7 @@ int plimsoll_bundle_radiation(const plimsoll_bundle* bundle, plimsoll_radiation_
 }
 
 plimsoll_radiation_memory* plimsoll_radiation_memory_create(const plimsoll_bundle* bundle) {
+    lastError.clear();
     constexpr const char* kCall = "plimsoll_radiation_memory_create";
     try {
         if (!bundle || !bundle->bundle) {
@@ -681,10 +740,14 @@ plimsoll_radiation_memory* plimsoll_radiation_memory_create(const plimsoll_bundl
     }
 }
 
-void plimsoll_radiation_memory_destroy(plimsoll_radiation_memory* memory) { delete memory; }
+void plimsoll_radiation_memory_destroy(plimsoll_radiation_memory* memory) {
+    // Leaves the last error: freeing what a failed call returned comes before reading why.
+    delete memory;
+}
 
 int plimsoll_radiation_memory_begin(plimsoll_radiation_memory* memory, const plimsoll_pose* pose,
                                     double submerged_volume, plimsoll_radiation_load* out) {
+    lastError.clear();
     constexpr const char* kCall = "plimsoll_radiation_memory_begin";
     if (!memory || !out) return refuse(kCall, "a required argument is NULL");
     if (!checkPose(kCall, pose)) return 0;
@@ -706,6 +769,7 @@ int plimsoll_radiation_memory_begin(plimsoll_radiation_memory* memory, const pli
 
 int plimsoll_radiation_memory_advance(plimsoll_radiation_memory* memory, const plimsoll_pose* pose,
                                       const plimsoll_velocity* velocity, double dt) {
+    lastError.clear();
     constexpr const char* kCall = "plimsoll_radiation_memory_advance";
     if (!memory || !velocity) return refuse(kCall, "a required argument is NULL");
     if (!checkPose(kCall, pose)) return 0;
@@ -717,10 +781,12 @@ int plimsoll_radiation_memory_advance(plimsoll_radiation_memory* memory, const p
 }
 
 double plimsoll_radiation_memory_energy(const plimsoll_radiation_memory* memory) {
+    lastError.clear();
     return memory ? memory->memory.energy() : 0.0;
 }
 
 plimsoll_batch* plimsoll_batch_create(const plimsoll_batch_desc* desc) {
+    lastError.clear();
     try {
         if (desc && desc->struct_size < sizeof(plimsoll_batch_desc)) {
             setError("plimsoll_batch_create: desc->struct_size is not sizeof(plimsoll_batch_desc)");
@@ -752,12 +818,18 @@ plimsoll_batch* plimsoll_batch_create(const plimsoll_batch_desc* desc) {
     }
 }
 
-void plimsoll_batch_free(plimsoll_batch* batch) { delete batch; }
+void plimsoll_batch_destroy(plimsoll_batch* batch) {
+    // Leaves the last error: freeing what a failed call returned comes before reading why.
+    delete batch;
+}
+
+void plimsoll_batch_free(plimsoll_batch* batch) { plimsoll_batch_destroy(batch); }
 
 int plimsoll_batch_evaluate(plimsoll_batch* batch, size_t count,
                             const plimsoll_bundle* const* bodies, const plimsoll_pose* poses,
                             const plimsoll_velocity* velocities, const plimsoll_water* water,
                             const plimsoll_fluid* fluid, double time, plimsoll_forces* out) {
+    lastError.clear();
     constexpr const char* kCall = "plimsoll_batch_evaluate";
     try {
         if (!checkBatch(kCall, batch, count, bodies, poses, velocities, out, water, fluid, time)) return 0;
@@ -775,6 +847,7 @@ int plimsoll_batch_water_load(plimsoll_batch* batch, size_t count,
                               const plimsoll_bundle* const* bodies, const plimsoll_pose* poses,
                               const plimsoll_velocity* velocities, const plimsoll_water* water,
                               const plimsoll_fluid* fluid, double time, double dt, plimsoll_load* out) {
+    lastError.clear();
     constexpr const char* kCall = "plimsoll_batch_water_load";
     try {
         if (!checkBatch(kCall, batch, count, bodies, poses, velocities, out, water, fluid, time)) return 0;
@@ -792,6 +865,7 @@ int plimsoll_batch_water_load(plimsoll_batch* batch, size_t count,
 int plimsoll_batch_graph_step(plimsoll_batch* batch, size_t count, plimsoll_bundle* const* bodies,
                               const plimsoll_pose* poses, const plimsoll_water* water, double time,
                               double dt, int* moved) {
+    lastError.clear();
     constexpr const char* kCall = "plimsoll_batch_graph_step";
     try {
         if (!batch || (count > 0 && (!bodies || !poses)))
@@ -817,3 +891,124 @@ int plimsoll_batch_graph_step(plimsoll_batch* batch, size_t count, plimsoll_bund
 }
 
 }  // extern "C"
+
+plimsoll_simulation* plimsoll_simulation_create(plimsoll_bundle* bundle) {
+    lastError.clear();
+    constexpr const char* kCall = "plimsoll_simulation_create";
+    try {
+        if (!bundle || !bundle->bundle) {
+            refuse(kCall, "bundle is NULL");
+            return nullptr;
+        }
+        std::string error;
+        std::unique_ptr<Simulation> simulation = Simulation::create(*bundle->bundle, error);
+        if (!simulation) {
+            refuse(kCall, error);
+            return nullptr;
+        }
+        lastError.clear();
+        return new plimsoll_simulation{std::move(simulation), bundle->bundle->world().water.water()};
+    } catch (const std::exception& e) {
+        refuse(kCall, e.what());
+        return nullptr;
+    }
+}
+
+void plimsoll_simulation_destroy(plimsoll_simulation* simulation) {
+    // Leaves the last error: freeing what a failed call returned comes before reading why.
+    delete simulation;
+}
+
+int plimsoll_simulation_advance_frame(plimsoll_simulation* simulation, const plimsoll_water* water) {
+    lastError.clear();
+    constexpr const char* kCall = "plimsoll_simulation_advance_frame";
+    try {
+        if (!simulation) return refuse(kCall, "simulation is NULL");
+        bool nonFinite = false;
+        const Water caller = water ? toWater(water, &nonFinite) : Water{};
+        std::string error;
+        if (!simulation->simulation->advanceFrame(water ? caller : simulation->water, error))
+            return refuse(kCall, error);
+        if (nonFinite) return refuse(kCall, "the water callback returned NaN or Inf");
+        lastError.clear();
+        return 1;
+    } catch (const std::exception& e) {
+        return refuse(kCall, e.what());
+    }
+}
+
+int plimsoll_simulation_state_query(const plimsoll_simulation* simulation, plimsoll_simulation_state* out) {
+    lastError.clear();
+    constexpr const char* kCall = "plimsoll_simulation_state_query";
+    if (!simulation || !out) return refuse(kCall, "a required argument is NULL");
+    const Simulation& s = *simulation->simulation;
+    auto put = [](double* to, const Vec3& v) { to[0] = v.x, to[1] = v.y, to[2] = v.z; };
+    out->time = s.time();
+    out->frame_time = 0;
+    put(out->center_of_mass, s.centerOfMass());
+    const Quat& q = s.orientation();
+    out->orientation[0] = q.w, out->orientation[1] = q.x, out->orientation[2] = q.y, out->orientation[3] = q.z;
+    put(out->velocity, s.linearVelocity());
+    put(out->angular_velocity, s.angularVelocity());
+    out->submerged_volume = s.forces().submergedVolume;
+    put(out->buoyant_force, s.forces().pressureForce);
+    out->mass = s.mass().mass;
+    put(out->local_center_of_mass, s.mass().centerOfMass);
+    out->frame_time = s.frameTime();
+    lastError.clear();
+    return 1;
+}
+
+int plimsoll_simulation_save(const plimsoll_simulation* simulation, void* buffer, size_t capacity, size_t* size) {
+    lastError.clear();
+    constexpr const char* kCall = "plimsoll_simulation_save";
+    try {
+        if (!simulation || !size) return refuse(kCall, "a required argument is NULL");
+        const std::vector<std::uint8_t> bytes = simulation->simulation->save();
+        *size = bytes.size();
+        if (!buffer) {
+            lastError.clear();
+            return 1;
+        }
+        if (capacity < bytes.size())
+            return refuse(kCall, "capacity " + std::to_string(capacity) + " is less than the " +
+                                     std::to_string(bytes.size()) + " bytes of the snapshot");
+        std::memcpy(buffer, bytes.data(), bytes.size());
+        lastError.clear();
+        return 1;
+    } catch (const std::exception& e) {
+        return refuse(kCall, e.what());
+    }
+}
+
+int plimsoll_simulation_restore(plimsoll_simulation* simulation, const void* bytes, size_t size) {
+    lastError.clear();
+    constexpr const char* kCall = "plimsoll_simulation_restore";
+    try {
+        if (!simulation || (!bytes && size > 0)) return refuse(kCall, "a required argument is NULL");
+        const auto* p = static_cast<const std::uint8_t*>(bytes);
+        const std::vector<std::uint8_t> copy(p, p + size);
+        std::string error;
+        if (!simulation->simulation->restore(copy, error)) return refuse(kCall, error);
+        lastError.clear();
+        return 1;
+    } catch (const std::exception& e) {
+        return refuse(kCall, e.what());
+    }
+}
+
+uint64_t plimsoll_simulation_state_hash(const plimsoll_simulation* simulation) {
+    lastError.clear();
+    constexpr const char* kCall = "plimsoll_simulation_state_hash";
+    try {
+        if (!simulation) {
+            refuse(kCall, "simulation is NULL");
+            return 0;
+        }
+        lastError.clear();
+        return simulation->simulation->stateHash();
+    } catch (const std::exception& e) {
+        refuse(kCall, e.what());
+        return 0;
+    }
+}

@@ -8,6 +8,7 @@
 #include "plimsoll_eval/graph.hpp"
 
 #include <cmath>
+#include <cstring>
 
 namespace plimsoll_runtime {
 
@@ -67,6 +68,50 @@ void WaterGraph::syncWater() {
 std::uint64_t WaterGraph::stepBytes() const {
     return sizeof(Step) + step_->flow.memoryBytes() +
            step_->points.capacity() * sizeof(ev::ExchangePoint);
+}
+
+namespace {
+template <class T>
+void put(std::vector<std::uint8_t>& out, const T& v) {
+    const auto* p = reinterpret_cast<const std::uint8_t*>(&v);
+    out.insert(out.end(), p, p + sizeof(T));
+}
+template <class T>
+bool take(const std::vector<std::uint8_t>& in, std::size_t& at, T& v) {
+    if (in.size() < at || in.size() - at < sizeof(T)) return false;
+    std::memcpy(&v, in.data() + at, sizeof(T));
+    at += sizeof(T);
+    return true;
+}
+}  // namespace
+
+void WaterGraph::saveState(std::vector<std::uint8_t>& out) const {
+    const ev::GraphFlow::State s = step_->flow.state();
+    put(out, static_cast<std::uint64_t>(s.water.size()));
+    for (double w : s.water) put(out, w);
+    put(out, s.random);
+    put(out, s.totals.entered);
+    put(out, s.totals.left);
+    put(out, s.totals.initial);
+    put(out, s.totals.moved);
+}
+
+bool WaterGraph::restoreState(const std::vector<std::uint8_t>& in, std::size_t& at) {
+    std::size_t cursor = at;
+    std::uint64_t count = 0;
+    if (!take(in, cursor, count) || count != nodes_.size()) return false;
+    ev::GraphFlow::State s;
+    s.water.resize(nodes_.size());
+    for (double& w : s.water) {
+        if (!take(in, cursor, w) || !(w >= 0) || !std::isfinite(w)) return false;
+    }
+    if (!take(in, cursor, s.random) || !take(in, cursor, s.totals.entered) || !take(in, cursor, s.totals.left) ||
+        !take(in, cursor, s.totals.initial) || !take(in, cursor, s.totals.moved))
+        return false;
+    if (!step_->flow.restore(s)) return false;
+    syncWater();
+    at = cursor;
+    return true;
 }
 
 double WaterGraph::storedWater() const { return step_->flow.storedWater(); }

@@ -62,23 +62,39 @@ WaterLoad waterLoad(const Bundle& bundle, const Pose& pose, const Velocity& velo
     WaterLoad load;
     load.forces = bundle.evaluate(pose, velocity, water, fluid, time);
     const Forces& f = load.forces;
-    load.force = f.force;
-    load.torque = f.torque;
+    // On flat water Archimedes' form (exactly vertical: the texel sum's horizontal residue would
+    // make a floating body creep); on waves the pressure integral, which carries their
+    // horizontal push: what the editor's World applies (World::wrenchOf).
+    const bool wavy = water.height || water.heights;
+    load.force = wavy ? f.pressureForce : f.force;
+    load.torque = wavy ? f.pressureTorque : f.torque;
     double R[3][3];
     rotationMatrix(pose.orientation, R);
     const MassProperties& body = bundle.mass();
+    // The momenta the damping acts on are those of the body with its water (the water inside
+    // moves with it), as in the World.
+    double mass = body.mass, inertia[3][3];
+    for (int i = 0; i < 3; ++i)
+        for (int j = 0; j < 3; ++j) inertia[i][j] = body.inertia[i][j];
     if (const WaterGraph* graph = bundle.graph()) {
         const MassProperties inside = graph->waterMass(pose.orientation);
         if (inside.mass > 0) {
             const Vec3 weight{0, -inside.mass * fluid.gravity, 0};
             load.force += weight;
-            load.torque += cross(mul(R, inside.centerOfMass - body.centerOfMass), weight);
+            const Vec3 d = inside.centerOfMass - body.centerOfMass;
+            load.torque += cross(mul(R, d), weight);
             load.waterMass = inside.mass;
+            // The water's inertia about the body's centre of mass (parallel axes).
+            const double dd = dot(d, d), dv[3] = {d.x, d.y, d.z};
+            for (int i = 0; i < 3; ++i)
+                for (int j = 0; j < 3; ++j)
+                    inertia[i][j] += inside.inertia[i][j] + inside.mass * ((i == j ? dd : 0.0) - dv[i] * dv[j]);
+            mass += inside.mass;
         }
     }
     const double wet = body.volume > 0 ? std::clamp(f.submergedVolume / body.volume, 0.0, 1.0) : 0.0;
-    const Vec3 P = body.mass * velocity.linear;
-    const Vec3 L = worldInertiaTimes(R, body.inertia, velocity.angular);
+    const Vec3 P = mass * velocity.linear;
+    const Vec3 L = worldInertiaTimes(R, inertia, velocity.angular);
     load.force += limited(f.dragForce - (wet * bundle.linearDamping()) * P, P, dt);
     load.torque += limited(f.dragTorque - (wet * bundle.angularDamping()) * L, L, dt);
     return load;

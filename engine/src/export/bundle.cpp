@@ -12,6 +12,8 @@
 #include "plimsoll/core/limits.h"
 #include "plimsoll/graph/graph.h"
 #include "plimsoll/physics/massprops.h"
+#include "plimsoll/physics/pose.h"
+#include "plimsoll/physics/rigid_body.h"
 #include "plimsoll/surface/painted_map.h"
 
 #include "io/exr_io.h"
@@ -108,6 +110,41 @@ json radiationJson(const SceneBody& body) {
             {"panels", body.radiation->panelCount},
             {"added_mass_infinity", added},
             {"memory", memory}};
+}
+
+/// The world the body was simulated in (manifest "world", schema 1.4): the medium, the
+/// water model, the step settings and the body's starting state, so that a runtime can
+/// replay what the editor shows (docs/bundle.md "World"). The orientation is the World's own
+/// quaternion of the start pose (RigidBodyState::orientation), w first.
+json worldJson(const Project& project, const BodyDesc& desc) {
+    const WaterModel& w = project.water;
+    json water = {{"model", w.kind == WaterModel::Kind::Flat       ? "flat"
+                            : w.kind == WaterModel::Kind::Gerstner ? "gerstner"
+                                                                   : "height_grid"},
+                  {"level", w.level}};
+    json waves = json::array();
+    for (const GerstnerWave& g : w.waves)
+        waves.push_back({{"amplitude", g.amplitude}, {"wavelength", g.wavelength},
+                         {"direction", {g.direction.x(), g.direction.y()}},
+                         {"steepness", g.steepness}, {"phase", g.phase}});
+    if (w.kind == WaterModel::Kind::Gerstner) water["waves"] = waves;
+    if (w.kind == WaterModel::Kind::HeightField)
+        water["grid"] = {{"count_x", w.grid.countX}, {"count_z", w.grid.countZ},
+                         {"spacing", w.grid.spacing}, {"origin", {w.grid.origin.x(), w.grid.origin.y()}},
+                         {"heights", w.grid.heights}};
+    const Pose start = Pose::fromEulerDegrees(desc.position, desc.rotationDegrees);
+    const Eigen::Quaterniond q = Eigen::Quaterniond(start.rotation).normalized();
+    const SimulationDesc& sim = project.simulation;
+    return {{"medium", {{"density", project.medium.density}, {"viscosity", project.medium.viscosity}}},
+            {"gravity", vec3(sim.gravity)},
+            {"water", water},
+            {"simulation", {{"time_step", sim.timeStep}, {"sub_steps", sim.subSteps},
+                            {"max_phase_step", sim.maxPhaseStep},
+                            {"integrator", integratorName(sim.integrator)}}},
+            {"start", {{"position", vec3(start.translation)},
+                       {"orientation_wxyz", {q.w(), q.x(), q.y(), q.z()}},
+                       {"velocity", vec3(desc.velocity)},
+                       {"angular_velocity", vec3(desc.angularVelocity)}}}};
 }
 
 /// Relative paths of the regular files under `folder`, sorted.
@@ -383,6 +420,7 @@ Result<BundleReport> buildBundle(const Project& project, std::size_t index, cons
                            {"linear_damping", desc.linearDamping},
                            {"angular_damping", desc.angularDamping}}},
         {"radiation", radiationJson(*body)},
+        {"world", worldJson(project, desc)},
         {"painted_maps", maps},
         {"gltf", gltfStem + ".gltf"},
         {"water_graph", graphJson},

@@ -53,8 +53,10 @@ private:
     plimsoll_load load_{};
 };
 
-/// The water of a Bullet world. Bullet has one pre-tick callback per world: the Harbour takes
-/// it (and gives it back when destroyed). fluid.gravity should be the world's gravity. A body
+/// The water of a Bullet world. Bullet has one pre-tick callback per world: the Harbour chains
+/// it, calling the game's (the one set before the Harbour, or given to setPreTickCallback) first,
+/// and puts it back when destroyed; the world's user info stays the game's. The load goes in as
+/// impulses of each substep, so the game's own forces and torques are kept. fluid.gravity should be the world's gravity. A body
 /// with a water graph needs a bundle of its own (the graph's water is the bundle's state).
 /// `batch` (may be null: one of the hardware threads is made) runs the bodies' evaluations.
 class Harbour {
@@ -69,6 +71,10 @@ public:
     /// a body leaves the world and the water when it goes, the Harbour lets go of its bodies.
     void add(FloatingBody* body);
     void remove(FloatingBody* body);
+    /// The game's pre-tick callback, called before the water's load every substep. Use it
+    /// instead of btDynamicsWorld::setInternalTickCallback(cb, user, true) once the Harbour
+    /// exists: that would replace the Harbour's own.
+    void setPreTickCallback(btInternalTickCallback callback);
     /// Simulated time of the water, s.
     double time() const { return time_; }
     /// The first runtime error met in a step ("" when none); the body's load is then zero.
@@ -79,6 +85,7 @@ private:
     void applyLoads(double dt);
 
     btDiscreteDynamicsWorld* world_;
+    btInternalTickCallback previous_ = nullptr;
     plimsoll_water water_;
     plimsoll_fluid fluid_;
     std::vector<FloatingBody*> bodies_;

@@ -2,6 +2,8 @@
 #include "plimsoll_bullet.hpp"
 
 #include <algorithm>
+#include <mutex>
+#include <unordered_map>
 
 namespace plimsoll_bullet {
 
@@ -23,6 +25,23 @@ btTransform principalFrame(const plimsoll_mass& m, btVector3& moments) {
     }
     moments = btVector3(inertia[0][0], inertia[1][1], inertia[2][2]);
     return btTransform(axes, vec(m.center_of_mass));
+}
+
+/// The world's pre-tick callback, which btDynamicsWorld keeps protected and gives no getter
+/// for: a pointer to the member, formed in a derived class, reads it on any world.
+struct PreTickPeek : btDynamicsWorld {
+    static btInternalTickCallback of(const btDynamicsWorld& world) {
+        constexpr btInternalTickCallback btDynamicsWorld::*member = &PreTickPeek::m_internalPreTickCallback;
+        return world.*member;
+    }
+};
+
+/// The Harbour of each world: the world's user info stays the game's (its own callbacks read
+/// it), so the pre-tick callback finds its Harbour here.
+std::mutex harboursMutex;
+std::unordered_map<const btDynamicsWorld*, Harbour*>& harbours() {
+    static std::unordered_map<const btDynamicsWorld*, Harbour*> map;
+    return map;
 }
 
 }  // namespace
@@ -52,7 +71,8 @@ FloatingBody::FloatingBody(plimsoll_bundle* bundle, const btTransform& objectPos
     body_ = std::make_unique<btRigidBody>(info);
     // Angular momentum, not angular velocity, is what a free body keeps.
     body_->setFlags(body_->getFlags() | BT_ENABLE_GYROSCOPIC_FORCE_IMPLICIT_BODY);
-    // A floating body at rest still floods, and the water may move under it.
+    // A floating body at rest still floods, and the water may move under it; Bullet's default
+    // sleeping thresholds (0.8 m/s, 1 rad/s) would freeze a gently rolling body.
     body_->setActivationState(DISABLE_DEACTIVATION);
 }
 
@@ -77,17 +97,30 @@ Harbour::Harbour(btDiscreteDynamicsWorld* world, const plimsoll_water& water, co
                  const plimsoll_batch_desc* batch)
     : world_(world), water_(water), fluid_(fluid), batch_(plimsoll_batch_create(batch)) {
     if (!batch_) error_ = plimsoll_runtime_last_error();
-    world_->setInternalTickCallback(&Harbour::preTick, this, true);
+    {
+        std::lock_guard<std::mutex> lock(harboursMutex);
+        harbours()[world_] = this;
+    }
+    // Chained, not replaced: the game's own pre-tick callback (set before the Harbour) is
+    // still called, first, with the world's user info left as the game set it.
+    previous_ = PreTickPeek::of(*world_);
+    world_->setInternalTickCallback(&Harbour::preTick, world_->getWorldUserInfo(), true);
 }
 
 Harbour::~Harbour() {
-    world_->setInternalTickCallback(nullptr, nullptr, true);
+    world_->setInternalTickCallback(previous_, world_->getWorldUserInfo(), true);
+    {
+        std::lock_guard<std::mutex> lock(harboursMutex);
+        harbours().erase(world_);
+    }
     for (FloatingBody* body : bodies_) {
         world_->removeRigidBody(body->rigidBody());
         body->harbour_ = nullptr;
     }
     plimsoll_batch_free(batch_);
 }
+
+void Harbour::setPreTickCallback(btInternalTickCallback callback) { previous_ = callback; }
 
 void Harbour::add(FloatingBody* body) {
     if (body->harbour_) body->harbour_->remove(body);
@@ -105,7 +138,15 @@ void Harbour::remove(FloatingBody* body) {
 }
 
 void Harbour::preTick(btDynamicsWorld* world, btScalar step) {
-    static_cast<Harbour*>(world->getWorldUserInfo())->applyLoads(step);
+    Harbour* harbour = nullptr;
+    {
+        std::lock_guard<std::mutex> lock(harboursMutex);
+        const auto found = harbours().find(world);
+        if (found != harbours().end()) harbour = found->second;
+    }
+    if (!harbour) return;
+    if (harbour->previous_) harbour->previous_(world, step);
+    harbour->applyLoads(step);
 }
 
 void Harbour::applyLoads(double dt) {
@@ -138,15 +179,20 @@ void Harbour::applyLoads(double dt) {
         failed();
         loads_.assign(n, plimsoll_load{});
     }
+    const bool wavy = water_.height || water_.heights;
     for (std::size_t i = 0; i < n; ++i) {
         btRigidBody* rb = bodies_[i]->rigidBody();
-        // Bullet applies gravity once per stepSimulation and clears forces after its last
-        // substep: the water's load changes every substep, so it is set afresh each time.
-        rb->clearForces();
-        rb->applyGravity();
         bodies_[i]->load_ = loads_[i];
-        rb->applyCentralForce(vec(loads_[i].force));
-        rb->applyTorque(vec(loads_[i].torque));
+        // Moving water wakes a sleeping body; on calm water a body at rest may sleep.
+        if (wavy && !rb->isActive()) rb->activate();
+        if (!rb->isActive()) continue;
+        // As impulses of this substep: Bullet adds a body's total force to its velocity at
+        // the step (v += F dt / m), so F dt now is the same push, and the game's own forces
+        // (a thruster's applyCentralForce), gravity and callbacks stay as they are. Bullet
+        // clears forces only after its last substep, so a force set here would stay for
+        // the substeps that follow.
+        rb->applyCentralImpulse(vec(loads_[i].force) * btScalar(dt));
+        rb->applyTorqueImpulse(vec(loads_[i].torque) * btScalar(dt));
     }
     time_ += dt;
 }

@@ -284,6 +284,29 @@ public:
         for (const GraphNodeState& n : nodes_) sum += n.water;
         return sum;
     }
+    /// What changes as the graph steps: each node's water, the random sequence's position and
+    /// the bookkeeping. Restoring what was saved continues the steps bit for bit.
+    struct State {
+        std::vector<double> water;
+        std::uint64_t random = 0;
+        GraphFlowTotals totals;
+    };
+    State state() const {
+        State s;
+        s.water.reserve(nodes_.size());
+        for (const GraphNodeState& n : nodes_) s.water.push_back(n.water);
+        s.random = rng_;
+        s.totals = totals_;
+        return s;
+    }
+    /// False (and nothing changed) when `s` holds another node count.
+    bool restore(const State& s) {
+        if (s.water.size() != nodes_.size()) return false;
+        for (std::size_t i = 0; i < nodes_.size(); ++i) nodes_[i].water = s.water[i];
+        rng_ = s.random;
+        totals_ = s.totals;
+        return true;
+    }
     /// Sets a node's water (clamped to 0..capacity), booked as initial water.
     void setWater(std::size_t node, double water) {
         GraphNodeState& n = nodes_[node];

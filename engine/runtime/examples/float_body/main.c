@@ -2,13 +2,17 @@
  * water with the runtime's own integrator (plimsoll_body_step: semi-implicit Euler with
  * gravity, buoyancy, drag, the manifest's damping and a water graph's water as extra weight),
  * printing the height and heel of the centre of mass and, at the end, the wall time per step.
- * Exits 1 on a load error or any non-finite value.
- *   float_body BUNDLE_FOLDER [SECONDS] */
+ * With --csv it replays the project instead (plimsoll_simulation: the bundle's own water, start
+ * and step settings, as `plimsoll simulate` steps them) and writes the columns of
+ * `plimsoll simulate --out` to FILE, one row per frame.
+ * Exits 1 on a load error or any non-finite value, 2 on a usage error.
+ *   float_body BUNDLE_FOLDER [SECONDS] [--csv FILE] */
 #include "plimsoll_runtime.h"
 
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
+#include <string.h>
 #include <time.h>
 
 static double now_seconds(void) {
@@ -28,16 +32,77 @@ static void describe(const plimsoll_body_state* s, const plimsoll_mass* m, doubl
     *heel = acos(fmin(1.0, fmax(-1.0, r11))) * 180.0 / 3.14159265358979323846;
 }
 
+/* The project's own run: one CSV row per frame, the columns of `plimsoll simulate --out`. */
+static int replay(plimsoll_bundle* bundle, double seconds, const char* path) {
+    plimsoll_simulation* simulation = plimsoll_simulation_create(bundle);
+    if (!simulation) {
+        fprintf(stderr, "float_body: %s\n", plimsoll_runtime_last_error());
+        return 1;
+    }
+    FILE* out = fopen(path, "w");
+    if (!out) {
+        fprintf(stderr, "float_body: %s: cannot open for writing\n", path);
+        plimsoll_simulation_destroy(simulation);
+        return 1;
+    }
+    fprintf(out, "time,body,x,y,z,qw,qx,qy,qz,vx,vy,vz,wx,wy,wz,submerged_volume,fx,fy,fz,mass,com_x,com_y,com_z\n");
+    plimsoll_simulation_state s;
+    plimsoll_simulation_state_query(simulation, &s);
+    /* As plimsoll simulate counts its frames: ceil(seconds / time_step), less a hair. */
+    const long frames = (long)ceil(seconds / s.frame_time - 1e-9);
+    int status = 0;
+    for (long frame = 0; frame < frames; ++frame) {
+        if (!plimsoll_simulation_advance_frame(simulation, NULL)) {
+            fprintf(stderr, "float_body: %s\n", plimsoll_runtime_last_error());
+            status = 1;
+            break;
+        }
+        plimsoll_simulation_state_query(simulation, &s);
+        fprintf(out, "%.10g,%s,%.10g,%.10g,%.10g,%.10g,%.10g,%.10g,%.10g,%.10g,%.10g,%.10g,%.10g,%.10g,%.10g,"
+                     "%.10g,%.10g,%.10g,%.10g,%.10g,%.10g,%.10g,%.10g\n",
+                s.time, plimsoll_bundle_body(bundle), s.center_of_mass[0], s.center_of_mass[1],
+                s.center_of_mass[2], s.orientation[0], s.orientation[1], s.orientation[2], s.orientation[3],
+                s.velocity[0], s.velocity[1], s.velocity[2], s.angular_velocity[0], s.angular_velocity[1],
+                s.angular_velocity[2], s.submerged_volume, s.buoyant_force[0], s.buoyant_force[1],
+                s.buoyant_force[2], s.mass, s.local_center_of_mass[0], s.local_center_of_mass[1],
+                s.local_center_of_mass[2]);
+    }
+    if (fclose(out) != 0 && status == 0) {
+        fprintf(stderr, "float_body: %s: write error\n", path);
+        status = 1;
+    }
+    plimsoll_simulation_destroy(simulation);
+    return status;
+}
+
 int main(int argc, char** argv) {
-    if (argc < 2) {
-        fprintf(stderr, "usage: float_body BUNDLE_FOLDER [SECONDS]\n");
+    const char* csv = NULL;
+    const char* positional[2] = {NULL, NULL};
+    int count = 0;
+    for (int i = 1; i < argc; ++i) {
+        if (strcmp(argv[i], "--csv") == 0 && i + 1 < argc) {
+            csv = argv[++i];
+        } else if (count < 2 && argv[i][0] != '-') {
+            positional[count++] = argv[i];
+        } else {
+            count = -1;
+            break;
+        }
+    }
+    if (count < 1) {
+        fprintf(stderr, "usage: float_body BUNDLE_FOLDER [SECONDS] [--csv FILE]\n");
         return 2;
     }
-    const double seconds = argc > 2 ? atof(argv[2]) : 10.0;
-    plimsoll_bundle* bundle = plimsoll_bundle_load(argv[1], 1);
+    const double seconds = count > 1 ? atof(positional[1]) : 10.0;
+    plimsoll_bundle* bundle = plimsoll_bundle_load(positional[0], 1);
     if (!bundle) {
         fprintf(stderr, "float_body: %s\n", plimsoll_runtime_last_error());
         return 1;
+    }
+    if (csv) {
+        const int status = replay(bundle, seconds, csv);
+        plimsoll_bundle_free(bundle);
+        return status;
     }
     int major = 0, minor = 0, patch = 0;
     plimsoll_runtime_version(&major, &minor, &patch);

@@ -199,6 +199,11 @@ public:
     bool flowInside(const Quat& orientation, double dt);
 
     void setWater(std::size_t node, double water);
+    /// The state the steps change (water per node, the random sequence, the bookkeeping), as
+    /// bytes appended to `out`; restoreState reads it back from `in` at `at` (advanced past it)
+    /// and continues bit for bit. False (nothing changed) for bytes of another graph.
+    void saveState(std::vector<std::uint8_t>& out) const;
+    bool restoreState(const std::vector<std::uint8_t>& in, std::size_t& at);
     double storedWater() const;
     double entered() const;
     double left() const;
@@ -253,6 +258,49 @@ struct Radiation {
     std::vector<RadiationTerm> memory[6];
 };
 
+/// A water model the bundle carries (manifest "world.water", schema 1.4): the project's own
+/// water, the engine's reference formulas (plimsoll_eval/water.hpp) in double precision.
+struct WaterModel {
+    enum class Kind { Flat, Gerstner, HeightGrid };
+    struct Wave {
+        double amplitude = 0.1;              ///< m
+        double wavelength = 10.0;            ///< m
+        double direction[2] = {1.0, 0.0};    ///< (x, z), normalised on use
+        double steepness = 0.5;              ///< 0..1
+        double phase = 0.0;                  ///< rad
+    };
+    Kind kind = Kind::Flat;
+    double level = 0.0;                      ///< mean height, m
+    std::vector<Wave> waves;                 ///< Gerstner
+    int countX = 0, countZ = 0;              ///< HeightGrid: samples along x and z
+    double spacing = 1.0, originX = 0.0, originZ = 0.0;
+    std::vector<float> heights;              ///< countX * countZ, row = fixed z, relative to level
+    double gravity = 9.81;                   ///< for the waves' dispersion, m/s^2
+
+    double height(double x, double z, double time) const;
+    Vec3 velocity(const Vec3& point, double time) const;
+    double maxHeight() const;
+    double minHeight() const;
+    /// A Water whose callbacks ask this model (which must outlive it), with its bounds.
+    Water water() const;
+};
+
+/// The world the body was exported from (manifest "world", schema 1.4): what the editor's
+/// World simulates it in. `present` is false for a bundle before 1.4 (the defaults below).
+struct BundleWorld {
+    bool present = false;
+    double density = 1000.0;                 ///< the medium's, kg/m^3
+    double viscosity = 1.0e-3;               ///< Pa s
+    Vec3 gravity{0, -9.81, 0};               ///< m/s^2
+    WaterModel water;
+    double timeStep = 1.0 / 60.0;            ///< s, one frame
+    int subSteps = 4;                        ///< at least, per frame
+    double maxPhaseStep = 0.5;               ///< rad (World's rule for more sub-steps)
+    std::string integrator = "semi-implicit-euler";
+    Pose startPose;                          ///< the object origin's world pose
+    Velocity startVelocity;                  ///< of the centre of mass (with its water)
+};
+
 struct LoadOptions {
     /// Check every file's size and SHA-256 against the manifest (a few ms per MB).
     bool verifyChecksums = true;
@@ -272,6 +320,8 @@ public:
     const Fluid& fluid() const { return fluid_; }
     double linearDamping() const { return linearDamping_; }
     double angularDamping() const { return angularDamping_; }
+    /// The project's world: medium, water, step settings and the body's start (schema 1.4).
+    const BundleWorld& world() const { return world_; }
     /// The body's wave radiation, or null (a body exported without it, or a bundle before 1.3).
     const Radiation* radiation() const { return radiation_.get(); }
     /// The body's water graph, or null.
@@ -301,6 +351,7 @@ private:
     Fluid fluid_;
     double linearDamping_ = 0, angularDamping_ = 0;
     std::unique_ptr<const Radiation> radiation_;
+    BundleWorld world_;
     std::unique_ptr<WaterGraph> graph_;
     bool texelNodesFromFile_ = false;
     const plimsoll_eval::FastBody& fastBody() const;
@@ -362,11 +413,13 @@ struct WaterLoad {
     double waterMass = 0;  ///< kg of water inside (its weight is in `force`)
 };
 
-/// The load on the body at `pose` moving with `velocity`: Archimedes' force and torque,
-/// drag, the manifest's linear and angular damping (scaled by the submerged fraction, at most
-/// what stops the body within `dt`, as the engine's World limits dissipation) and, for a body
-/// with a water graph, the weight of its water at the water's centre of mass. The body's own
-/// weight is not in it (the physics engine's gravity gives that).
+/// The load on the body at `pose` moving with `velocity`: on flat water (no height callback)
+/// Archimedes' force and torque, on waves the pressure integral (which carries their
+/// horizontal push), as the engine's World applies them; drag; the manifest's linear and
+/// angular damping of the momenta of the body with its water (scaled by the submerged
+/// fraction, at most what stops the body within `dt`, as the World limits dissipation); and,
+/// for a body with a water graph, the weight of its water at the water's centre of mass. The
+/// body's own weight is not in it (the physics engine's gravity gives that).
 WaterLoad waterLoad(const Bundle& bundle, const Pose& pose, const Velocity& velocity,
                     const Water& water, const Fluid& fluid, double time, double dt);
 
@@ -434,6 +487,76 @@ private:
 /// engine's World does.
 void stepBody(Bundle& bundle, BodyState& state, RadiationMemory& memory, const Water& water,
               const Fluid& fluid, double time, double dt);
+
+/// One body stepped as the editor's World steps it (engine/src/scene/world.cpp), for a game
+/// without a physics engine, a server, and the conformance test against `plimsoll simulate`:
+/// frames of world().timeStep split into the World's sub-steps (at least world().subSteps, more
+/// where the hydrostatic stiffness or the spin needs them), semi-implicit Euler on the momenta
+/// with the energy-conserving rotation, Archimedes' force on flat water and the pressure
+/// integral on waves (their horizontal push), drag and damping on the momenta of the body with
+/// its water, the water graph stepped once a frame and its water composed into the mass by the
+/// parallel-axis theorem. The state is the World's: the centre of mass of the body with its
+/// water, the orientation, the linear and angular momenta.
+class Simulation {
+public:
+    /// Starts at the bundle's world() start. Null with `error` for what it does not step: an
+    /// integrator other than semi-implicit Euler, a radiating body (stepBody with a
+    /// RadiationMemory steps those).
+    static std::unique_ptr<Simulation> create(Bundle& bundle, std::string& error);
+
+    /// One frame of world().timeStep on `water` (the bundle's world().water.water() where the
+    /// game has no water of its own); false with `error` when the state leaves the finite numbers.
+    bool advanceFrame(const Water& water, std::string& error);
+
+    double time() const { return time_; }
+    /// One frame: the project's time step (world().timeStep).
+    double frameTime() const { return bundle_.world().timeStep; }
+    /// World position of the centre of mass of the body with its water, m.
+    const Vec3& centerOfMass() const { return position_; }
+    const Quat& orientation() const { return orientation_; }
+    Vec3 linearVelocity() const;
+    Vec3 angularVelocity() const;
+    /// The last sub-step's evaluation, torques about the centre of mass (zero above the water).
+    const Forces& forces() const { return forces_; }
+    /// The body with its water, object space.
+    const MassProperties& mass() const { return mass_; }
+    /// Sub-steps the last frame took.
+    int subSteps() const { return subSteps_; }
+
+    /// Everything the next frames depend on (the body's state, its mass with the water, the
+    /// water graph's state), as bytes: restore() on a simulation of the same bundle continues
+    /// bit for bit as if it had never stopped. For multiplayer snapshots and rollback.
+    std::vector<std::uint8_t> save() const;
+    /// False with `error` (nothing changed) for bytes of another body or a damaged snapshot.
+    bool restore(const std::vector<std::uint8_t>& bytes, std::string& error);
+    /// FNV-1a (64 bits) of save(): equal hashes, equal states (compare them across machines,
+    /// builds and thread counts each step).
+    std::uint64_t stateHash() const;
+
+private:
+    explicit Simulation(Bundle& bundle);
+    void evaluate(const Water& water, double dt);
+    void step(double dt);
+    void stepGraph(const Water& water, double frameTime);
+    void composeWater(const Quat& at);
+    void setMass(const MassProperties& mass);
+    int subStepsFor(double frameTime) const;
+    double stiffestFrequency() const;
+
+    Bundle& bundle_;
+    Fluid fluid_;
+    Vec3 position_, linearMomentum_, angularMomentum_;
+    Quat orientation_;
+    MassProperties mass_, hull_;
+    double boundingRadius_ = 0, hullRadius_ = 0;
+    Quat composedAt_;
+    Forces forces_;
+    double time_ = 0;
+    int subSteps_ = 0;
+    struct Wrench {
+        Vec3 force, torque;
+    } wrench_;
+};
 
 /// SHA-256 of `size` bytes as 64 lowercase hex digits (FIPS 180-4).
 std::string sha256Hex(const void* data, std::size_t size);

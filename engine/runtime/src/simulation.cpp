@@ -1,0 +1,458 @@
+// One body stepped as the editor's World steps it (runtime.hpp, Simulation): the same order of
+// operations as World::advanceFrame, World::wrenchOf, the semi-implicit Euler step with the
+// energy-conserving rotation (engine/src/physics/rigid_body.cpp) and World::stepWaterGraphs,
+// written over the evaluation core's vectors. tests/runtime/test_runtime_trajectory.cpp runs
+// both side by side on every sample project.
+#include "plimsoll_runtime/runtime.hpp"
+
+#include "vec.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <cstring>
+
+namespace plimsoll_runtime {
+
+namespace {
+
+constexpr double kPi = 3.14159265358979323846;
+/// World::kMaxSubSteps: beyond it the World refuses the body.
+constexpr int kMaxSubSteps = 1000;
+
+Quat conjugate(const Quat& q) { return {q.w, -q.x, -q.y, -q.z}; }
+
+/// q v q*, as Eigen's Quaternion * Vector3 forms it.
+Vec3 rotate(const Quat& q, const Vec3& v) {
+    const Vec3 u{q.x, q.y, q.z};
+    Vec3 uv = cross(u, v);
+    uv = uv + uv;
+    return v + q.w * uv + cross(u, uv);
+}
+
+Quat multiply(const Quat& a, const Quat& b) {
+    return {a.w * b.w - a.x * b.x - a.y * b.y - a.z * b.z, a.w * b.x + a.x * b.w + a.y * b.z - a.z * b.y,
+            a.w * b.y + a.y * b.w + a.z * b.x - a.x * b.z, a.w * b.z + a.z * b.w + a.x * b.y - a.y * b.x};
+}
+
+Quat normalized(const Quat& q) {
+    const double n = std::sqrt(q.w * q.w + q.x * q.x + q.y * q.y + q.z * q.z);
+    return {q.w / n, q.x / n, q.y / n, q.z / n};
+}
+
+/// The quaternion of a rotation matrix (Eigen's Quaternion(Matrix3) algorithm), normalised:
+/// what RigidBodyState::orientation becomes when the World rebuilds a state from a pose.
+Quat fromMatrix(const double m[3][3]) {
+    Quat q;
+    const double t = m[0][0] + m[1][1] + m[2][2];
+    if (t > 0) {
+        double s = std::sqrt(t + 1.0);
+        q.w = 0.5 * s;
+        s = 0.5 / s;
+        q.x = (m[2][1] - m[1][2]) * s;
+        q.y = (m[0][2] - m[2][0]) * s;
+        q.z = (m[1][0] - m[0][1]) * s;
+    } else {
+        int i = 0;
+        if (m[1][1] > m[0][0]) i = 1;
+        if (m[2][2] > m[i][i]) i = 2;
+        const int j = (i + 1) % 3, k = (j + 1) % 3;
+        double s = std::sqrt(m[i][i] - m[j][j] - m[k][k] + 1.0);
+        double v[3];
+        v[i] = 0.5 * s;
+        s = 0.5 / s;
+        q.w = (m[k][j] - m[j][k]) * s;
+        v[j] = (m[j][i] + m[i][j]) * s;
+        v[k] = (m[k][i] + m[i][k]) * s;
+        q.x = v[0], q.y = v[1], q.z = v[2];
+    }
+    return normalized(q);
+}
+
+Vec3 times(const double I[3][3], const Vec3& v) {
+    return {I[0][0] * v.x + I[0][1] * v.y + I[0][2] * v.z, I[1][0] * v.x + I[1][1] * v.y + I[1][2] * v.z,
+            I[2][0] * v.x + I[2][1] * v.y + I[2][2] * v.z};
+}
+
+/// I^-1 v for a symmetric positive definite I (Cholesky; zero when not positive definite).
+Vec3 solve(const double I[3][3], const Vec3& v) {
+    const double l00 = std::sqrt(I[0][0]);
+    const double l10 = I[1][0] / l00, l20 = I[2][0] / l00;
+    const double l11 = std::sqrt(I[1][1] - l10 * l10);
+    const double l21 = (I[2][1] - l20 * l10) / l11;
+    const double l22 = std::sqrt(I[2][2] - l20 * l20 - l21 * l21);
+    if (!(l00 > 0) || !(l11 > 0) || !(l22 > 0)) return {};
+    const double y0 = v.x / l00, y1 = (v.y - l10 * y0) / l11, y2 = (v.z - l20 * y0 - l21 * y1) / l22;
+    const double x2 = y2 / l22, x1 = (y1 - l21 * x2) / l11, x0 = (y0 - l10 * x1 - l20 * x2) / l00;
+    return {x0, x1, x2};
+}
+
+/// exp(w dt / 2): the rotation by |w| dt about w (Eigen's AngleAxis to Quaternion).
+Quat rotationBy(const Vec3& w, double dt) {
+    const double rate = norm(w);
+    if (rate == 0) return {};
+    const double half = 0.5 * (rate * dt), s = std::sin(half);
+    return {std::cos(half), s * (w.x / rate), s * (w.y / rate), s * (w.z / rate)};
+}
+
+/// The orientation after dt with the world angular momentum L fixed: the implicit midpoint
+/// rule for Euler's equations, as rigid_body.cpp's energyConservingRotation.
+Quat energyConservingRotation(const Quat& q, const Vec3& angularMomentum, const double I[3][3], double dt) {
+    constexpr int kMaxIterations = 16;
+    constexpr double kTolerance = 1e-15;
+    const Vec3 before = rotate(conjugate(q), angularMomentum);
+    Vec3 w = solve(I, before);
+    for (int iteration = 0; iteration < kMaxIterations; ++iteration) {
+        const Vec3 after = rotate(conjugate(rotationBy(w, dt)), before);
+        const Vec3 next = solve(I, 0.5 * (before + after));
+        const bool converged = norm(next - w) <= kTolerance * norm(next);
+        w = next;
+        if (converged) break;
+    }
+    return multiply(q, rotationBy(w, dt));
+}
+
+/// Smallest eigenvalue of a symmetric 3x3 matrix (the trigonometric closed form).
+double smallestEigenvalue(const double A[3][3]) {
+    const double p1 = A[0][1] * A[0][1] + A[0][2] * A[0][2] + A[1][2] * A[1][2];
+    if (p1 == 0) return std::min({A[0][0], A[1][1], A[2][2]});
+    const double q = (A[0][0] + A[1][1] + A[2][2]) / 3.0;
+    const double p2 = (A[0][0] - q) * (A[0][0] - q) + (A[1][1] - q) * (A[1][1] - q) +
+                      (A[2][2] - q) * (A[2][2] - q) + 2.0 * p1;
+    const double p = std::sqrt(p2 / 6.0);
+    double B[3][3];
+    for (int i = 0; i < 3; ++i)
+        for (int j = 0; j < 3; ++j) B[i][j] = (A[i][j] - (i == j ? q : 0.0)) / p;
+    const double det = B[0][0] * (B[1][1] * B[2][2] - B[1][2] * B[2][1]) -
+                       B[0][1] * (B[1][0] * B[2][2] - B[1][2] * B[2][0]) +
+                       B[0][2] * (B[1][0] * B[2][1] - B[1][1] * B[2][0]);
+    const double phi = std::acos(std::clamp(det / 2.0, -1.0, 1.0)) / 3.0;
+    return q + 2.0 * p * std::cos(phi + 2.0 * kPi / 3.0);
+}
+
+/// a + b by the parallel-axis theorem (the engine's MassProperties operator+).
+MassProperties combined(const MassProperties& a, const MassProperties& b) {
+    MassProperties sum;
+    sum.mass = a.mass + b.mass;
+    sum.volume = std::max(a.volume, b.volume);
+    if (sum.mass == 0.0) {
+        sum.centerOfMass = 0.5 * (a.centerOfMass + b.centerOfMass);
+        return sum;
+    }
+    const Vec3 weighted = a.mass * a.centerOfMass + b.mass * b.centerOfMass;
+    sum.centerOfMass = {weighted.x / sum.mass, weighted.y / sum.mass, weighted.z / sum.mass};
+    auto add = [&](const MassProperties& part) {
+        const Vec3 d = part.centerOfMass - sum.centerOfMass;
+        const double dd = dot(d, d), dv[3] = {d.x, d.y, d.z};
+        for (int i = 0; i < 3; ++i)
+            for (int j = 0; j < 3; ++j)
+                sum.inertia[i][j] += part.inertia[i][j] + part.mass * ((i == j ? dd : 0.0) - dv[i] * dv[j]);
+    };
+    add(a);
+    add(b);
+    return sum;
+}
+
+bool isApprox(const double a[3][3], const double b[3][3], double precision) {
+    double diff = 0, na = 0, nb = 0;
+    for (int i = 0; i < 3; ++i)
+        for (int j = 0; j < 3; ++j) {
+            diff += (a[i][j] - b[i][j]) * (a[i][j] - b[i][j]);
+            na += a[i][j] * a[i][j];
+            nb += b[i][j] * b[i][j];
+        }
+    return diff <= precision * precision * std::min(na, nb);
+}
+
+bool wavy(const Water& water) { return static_cast<bool>(water.height) || static_cast<bool>(water.heights); }
+double highest(const Water& water) { return wavy(water) ? water.maxHeight : water.level; }
+
+/// At most what stops `momentum` within dt.
+Vec3 limited(const Vec3& loss, const Vec3& momentum, double dt) {
+    const double impulse = norm(loss) * dt, cap = norm(momentum);
+    return impulse > cap && impulse > 0 ? (cap / impulse) * loss : loss;
+}
+
+}  // namespace
+
+Simulation::Simulation(Bundle& bundle) : bundle_(bundle) {}
+
+std::unique_ptr<Simulation> Simulation::create(Bundle& bundle, std::string& error) {
+    const BundleWorld& world = bundle.world();
+    if (world.integrator != "semi-implicit-euler") {
+        error = bundle.folder() + ": integrator " + world.integrator +
+                ": the runtime's Simulation steps semi-implicit-euler only";
+        return nullptr;
+    }
+    if (bundle.radiation()) {
+        error = bundle.folder() + ": the body radiates: step it with stepBody and a RadiationMemory";
+        return nullptr;
+    }
+    if (!(bundle.mass().mass > 0)) {
+        error = bundle.folder() + ": the body has no mass";
+        return nullptr;
+    }
+    std::unique_ptr<Simulation> s(new Simulation(bundle));
+    s->fluid_ = bundle.fluid();
+    s->hull_ = bundle.mass();
+    for (const Sample& sample : bundle.samples()) {
+        // Half a texel's extent beyond its centroid: the surface it stands for.
+        s->hullRadius_ = std::max(s->hullRadius_, norm(sample.position - s->hull_.centerOfMass) +
+                                                      0.5 * std::sqrt(sample.area));
+    }
+    s->boundingRadius_ = s->hullRadius_;
+    s->mass_ = s->hull_;
+    const Pose& start = world.startPose;
+    s->orientation_ = start.orientation;
+    s->composedAt_ = start.orientation;
+    if (const WaterGraph* graph = bundle.graph()) {
+        const MassProperties water = graph->waterMass(start.orientation);
+        if (water.mass > 0) s->mass_ = combined(s->hull_, water);
+        s->boundingRadius_ += norm(s->mass_.centerOfMass - s->hull_.centerOfMass);
+    }
+    double R[3][3];
+    rotationMatrix(s->orientation_, R);
+    s->position_ = mul(R, s->mass_.centerOfMass) + start.position;
+    s->linearMomentum_ = s->mass_.mass * world.startVelocity.linear;
+    s->angularMomentum_ = mul(R, times(s->mass_.inertia, mulT(R, world.startVelocity.angular)));
+    return s;
+}
+
+Vec3 Simulation::linearVelocity() const { return (1.0 / mass_.mass) * linearMomentum_; }
+
+Vec3 Simulation::angularVelocity() const {
+    return rotate(orientation_, solve(mass_.inertia, rotate(conjugate(orientation_), angularMomentum_)));
+}
+
+double Simulation::stiffestFrequency() const {
+    const double rhoG = fluid_.density * fluid_.gravity;
+    const double R = boundingRadius_;
+    const double heave = rhoG * kPi * R * R / mass_.mass;
+    const double roll = rhoG * kPi * std::pow(R, 4) / 4.0 / smallestEigenvalue(mass_.inertia);
+    return std::sqrt(std::max(heave, roll));
+}
+
+int Simulation::subStepsFor(double frameTime) const {
+    const BundleWorld& world = bundle_.world();
+    const double spin = norm(angularVelocity());
+    const double needed = std::ceil(std::max(stiffestFrequency(), spin) * frameTime / world.maxPhaseStep);
+    if (!(needed <= kMaxSubSteps)) return -1;
+    return static_cast<int>(std::max(static_cast<double>(world.subSteps), needed));
+}
+
+void Simulation::evaluate(const Water& water, double dt) {
+    double R[3][3];
+    rotationMatrix(orientation_, R);
+    if (position_.y - boundingRadius_ > highest(water)) {
+        forces_ = Forces{};
+        forces_.centerOfBuoyancy = position_;
+    } else {
+        Pose pose;
+        pose.orientation = orientation_;
+        pose.position = position_ - mul(R, mass_.centerOfMass);
+        Velocity velocity{linearVelocity(), angularVelocity()};
+        // The evaluation's centre is the hull's centre of mass: its velocity, and the torques
+        // moved back to the centre of mass of the body with its water.
+        const Vec3 r = mul(R, hull_.centerOfMass - mass_.centerOfMass);
+        const bool shifted = hull_.centerOfMass.x != mass_.centerOfMass.x ||
+                             hull_.centerOfMass.y != mass_.centerOfMass.y ||
+                             hull_.centerOfMass.z != mass_.centerOfMass.z;
+        if (shifted) velocity.linear += cross(velocity.angular, r);
+        forces_ = bundle_.evaluate(pose, velocity, water, fluid_, time_);
+        if (shifted) {
+            forces_.torque += cross(r, forces_.force);
+            forces_.pressureTorque += cross(r, forces_.pressureForce);
+            forces_.dragTorque += cross(r, forces_.dragForce);
+        }
+    }
+    // On flat water Archimedes' form (exactly vertical); on waves the pressure integral, which
+    // carries their horizontal push (World::wrenchOf).
+    const bool flat = !wavy(water);
+    const BundleWorld& world = bundle_.world();
+    Wrench w;
+    w.force = mass_.mass * world.gravity + (flat ? forces_.force : forces_.pressureForce);
+    w.torque = flat ? forces_.torque : forces_.pressureTorque;
+    const double wet = hull_.volume > 0 ? std::clamp(forces_.submergedVolume / hull_.volume, 0.0, 1.0) : 0.0;
+    w.force += limited(forces_.dragForce - (wet * bundle_.linearDamping()) * linearMomentum_, linearMomentum_, dt);
+    w.torque += limited(forces_.dragTorque - (wet * bundle_.angularDamping()) * angularMomentum_, angularMomentum_, dt);
+    wrench_ = w;
+}
+
+void Simulation::step(double dt) {
+    // Kick, then drift with the new momenta (rigid_body.cpp's semiImplicitEulerStep).
+    const Quat before = orientation_;
+    linearMomentum_ += dt * wrench_.force;
+    angularMomentum_ += dt * wrench_.torque;
+    position_ += dt * linearVelocity();
+    orientation_ = energyConservingRotation(before, angularMomentum_, mass_.inertia, dt);
+}
+
+void Simulation::setMass(const MassProperties& mass) {
+    // The pose and the velocities stay (the water moves with the body): the new centre of mass
+    // moves with v + w x (c_new - c_old) (World::replaceMass).
+    double R[3][3];
+    rotationMatrix(orientation_, R);
+    const Vec3 origin = position_ - mul(R, mass_.centerOfMass);
+    Vec3 linear = linearVelocity();
+    const Vec3 angular = angularVelocity();
+    const Vec3 oldCenter = position_;
+    mass_ = mass;
+    const Vec3 newCenter = mul(R, mass_.centerOfMass) + origin;
+    linear += cross(angular, newCenter - oldCenter);
+    orientation_ = fromMatrix(R);
+    rotationMatrix(orientation_, R);
+    position_ = mul(R, mass_.centerOfMass) + origin;
+    linearMomentum_ = mass_.mass * linear;
+    angularMomentum_ = mul(R, times(mass_.inertia, mulT(R, angular)));
+}
+
+void Simulation::stepGraph(const Water& water, double frameTime) {
+    WaterGraph* graph = bundle_.graph();
+    if (!graph) return;
+    double R[3][3];
+    rotationMatrix(orientation_, R);
+    Pose pose;
+    pose.orientation = orientation_;
+    pose.position = position_ - mul(R, mass_.centerOfMass);
+    bool moved = graph->exchange(pose, water, time_, frameTime);
+    moved = graph->flowInside(orientation_, frameTime) || moved;
+    double C[3][3];
+    rotationMatrix(composedAt_, C);
+    const bool turned = graph->settings().freeSurface && graph->storedWater() > 0 && !isApprox(R, C, 1e-12);
+    if (!moved && !turned) return;
+    composeWater(orientation_);
+}
+
+void Simulation::composeWater(const Quat& at) {
+    const MassProperties water = bundle_.graph()->waterMass(at);
+    composedAt_ = at;
+    setMass(water.mass > 0 ? combined(hull_, water) : hull_);
+    boundingRadius_ = hullRadius_ + norm(mass_.centerOfMass - hull_.centerOfMass);
+}
+
+bool Simulation::advanceFrame(const Water& water, std::string& error) {
+    const double frameTime = bundle_.world().timeStep;
+    subSteps_ = subStepsFor(frameTime);
+    if (subSteps_ < 0) {
+        error = bundle_.folder() + ": a stable step needs more than 1000 sub-steps a frame";
+        return false;
+    }
+    const double dt = frameTime / subSteps_;
+    for (int sub = 0; sub < subSteps_; ++sub) {
+        evaluate(water, dt);
+        step(dt);
+        time_ += dt;
+    }
+    stepGraph(water, frameTime);
+    if (!finite(position_) || !finite(linearMomentum_) || !finite(angularMomentum_) ||
+        !std::isfinite(orientation_.w + orientation_.x + orientation_.y + orientation_.z)) {
+        error = bundle_.folder() + ": the body left the finite numbers at t = " + std::to_string(time_) + " s";
+        return false;
+    }
+    return true;
+}
+
+namespace {
+
+constexpr std::uint64_t kSnapshotMagic = 0x314D49534C4C4D50ull;  // "PMLLSIM1"
+
+void putDoubles(std::vector<std::uint8_t>& out, std::initializer_list<double> values) {
+    for (double v : values) {
+        const auto* p = reinterpret_cast<const std::uint8_t*>(&v);
+        out.insert(out.end(), p, p + sizeof(double));
+    }
+}
+
+bool takeDouble(const std::vector<std::uint8_t>& in, std::size_t& at, double& v) {
+    if (in.size() < at || in.size() - at < sizeof(double)) return false;
+    std::memcpy(&v, in.data() + at, sizeof(double));
+    at += sizeof(double);
+    return true;
+}
+
+}  // namespace
+
+std::vector<std::uint8_t> Simulation::save() const {
+    std::vector<std::uint8_t> out;
+    const std::uint64_t magic = kSnapshotMagic, samples = bundle_.samples().size();
+    for (std::uint64_t v : {magic, samples}) {
+        const auto* p = reinterpret_cast<const std::uint8_t*>(&v);
+        out.insert(out.end(), p, p + sizeof(v));
+    }
+    const MassProperties& m = mass_;
+    putDoubles(out, {time_, position_.x, position_.y, position_.z, orientation_.w, orientation_.x, orientation_.y,
+                     orientation_.z, linearMomentum_.x, linearMomentum_.y, linearMomentum_.z, angularMomentum_.x,
+                     angularMomentum_.y, angularMomentum_.z, m.mass, m.volume, m.centerOfMass.x, m.centerOfMass.y,
+                     m.centerOfMass.z, m.inertia[0][0], m.inertia[0][1], m.inertia[0][2], m.inertia[1][0],
+                     m.inertia[1][1], m.inertia[1][2], m.inertia[2][0], m.inertia[2][1], m.inertia[2][2],
+                     boundingRadius_, composedAt_.w, composedAt_.x, composedAt_.y, composedAt_.z});
+    if (const WaterGraph* graph = bundle_.graph()) graph->saveState(out);
+    return out;
+}
+
+bool Simulation::restore(const std::vector<std::uint8_t>& bytes, std::string& error) {
+    std::uint64_t magic = 0, samples = 0;
+    if (bytes.size() < 2 * sizeof(std::uint64_t)) {
+        error = "snapshot: " + std::to_string(bytes.size()) + " bytes, too short";
+        return false;
+    }
+    std::memcpy(&magic, bytes.data(), sizeof(magic));
+    std::memcpy(&samples, bytes.data() + sizeof(magic), sizeof(samples));
+    if (magic != kSnapshotMagic || samples != bundle_.samples().size()) {
+        error = "snapshot: not a snapshot of this body (" + bundle_.folder() + ")";
+        return false;
+    }
+    std::size_t at = 2 * sizeof(std::uint64_t);
+    double v[33];
+    for (double& d : v) {
+        if (!takeDouble(bytes, at, d) || !std::isfinite(d)) {
+            error = "snapshot: truncated or not finite";
+            return false;
+        }
+    }
+    // The graph first: it is the part that can still refuse, and nothing may change then.
+    WaterGraph* graph = bundle_.graph();
+    if (graph) {
+        const std::vector<std::uint8_t> before = [&] {
+            std::vector<std::uint8_t> b;
+            graph->saveState(b);
+            return b;
+        }();
+        if (!graph->restoreState(bytes, at)) {
+            error = "snapshot: the water graph's state does not fit this body";
+            return false;
+        }
+        if (at != bytes.size()) {
+            std::size_t back = 0;
+            graph->restoreState(before, back);
+            error = "snapshot: " + std::to_string(bytes.size() - at) + " bytes too many";
+            return false;
+        }
+    } else if (at != bytes.size()) {
+        error = "snapshot: " + std::to_string(bytes.size() - at) + " bytes too many";
+        return false;
+    }
+    time_ = v[0];
+    position_ = {v[1], v[2], v[3]};
+    orientation_ = {v[4], v[5], v[6], v[7]};
+    linearMomentum_ = {v[8], v[9], v[10]};
+    angularMomentum_ = {v[11], v[12], v[13]};
+    mass_.mass = v[14];
+    mass_.volume = v[15];
+    mass_.centerOfMass = {v[16], v[17], v[18]};
+    for (int i = 0; i < 3; ++i)
+        for (int j = 0; j < 3; ++j) mass_.inertia[i][j] = v[19 + 3 * i + j];
+    boundingRadius_ = v[28];
+    composedAt_ = {v[29], v[30], v[31], v[32]};
+    return true;
+}
+
+std::uint64_t Simulation::stateHash() const {
+    std::uint64_t h = 0xcbf29ce484222325ull;
+    for (std::uint8_t byte : save()) {
+        h ^= byte;
+        h *= 0x100000001b3ull;
+    }
+    return h;
+}
+
+}  // namespace plimsoll_runtime
