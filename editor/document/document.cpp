@@ -80,7 +80,7 @@ void loadMapFile(BodyAssets::Map& m) {
     const fs::path side = layersPathFor(m.path);
     std::error_code ec;
     if (!fs::exists(side, ec)) return;
-    Result<std::string> text = readWholeFile(side, kMaxJsonFileBytes, "kMaxJsonFileBytes");
+    Result<std::string> text = readWholeFile(side, kMaxLayersFileBytes, "kMaxLayersFileBytes");
     if (!text) {
         m.error = text.error().message + " (layers not loaded)";
         return;
