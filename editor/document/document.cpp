@@ -1,4 +1,5 @@
 #include "document/document.h"
+#include "plimsoll/io/json_depth.h"
 
 #include "document/settings.h"
 
@@ -882,6 +883,7 @@ Result<std::unique_ptr<Document>> Document::recover(const fs::path& autosaveFile
     // Its maps are inline PNGs, so it may outgrow a JSON file's limit.
     Result<std::string> text = readWholeFile(autosaveFile, kMaxDataFileBytes, "kMaxDataFileBytes");
     if (!text) return text.error();
+    if (Status depth = checkJsonDepth(*text, autosaveFile.string()); !depth) return depth.error();
     Json root;
     try {
         root = Json::parse(*text);

@@ -1,4 +1,5 @@
 #include "document/layers.h"
+#include "plimsoll/io/json_depth.h"
 #include "plimsoll/core/limits.h"
 #include "plimsoll/io/painted_map_io.h"
 
@@ -185,6 +186,7 @@ std::string layerStackToJson(const LayerStack& stack) {
 
 Result<LayerStack> parseLayerStack(const std::string& text, const std::string& source) {
     LayerStack stack;
+    if (Status depth = checkJsonDepth(text, source); !depth) return depth.error();
     try {
         const Json root = Json::parse(text);
         if (root.value("plimsoll_map_layers", 0) != 1) {

@@ -1,5 +1,6 @@
 // Runtime bundle export (bundle.h, docs/bundle.md).
 #include "plimsoll/export/bundle.h"
+#include "plimsoll/io/json_depth.h"
 #include "plimsoll/io/painted_map_io.h"
 #include "plimsoll/io/graph_json.h"
 
@@ -501,6 +502,7 @@ std::optional<BundleReport> unchangedBodyBundle(const Project& project, std::siz
     Result<std::string> text = readBytes(folder / kManifestFile);
     if (!text) return std::nullopt;
     BundleReport report;
+    if (!checkJsonDepth(*text, kManifestFile).ok()) return std::nullopt;
     try {
         const json manifest = json::parse(*text);
         if (manifest.value("input_sha256", std::string()) != *hash) return std::nullopt;
@@ -548,6 +550,7 @@ Result<BundleManifestInfo> parseBundleManifest(const std::string& text, const st
     const std::string where = source + ": ";
     BundleManifestInfo info;
     std::string field;  // the member being read, named in the error (nlohmann's message does not)
+    if (Status depth = checkJsonDepth(text, source); !depth.ok()) return depth.error();
     try {
         const json manifest = json::parse(text);
         field = "format";

@@ -1,4 +1,5 @@
 #include "plimsoll/io/file_util.h"
+#include "plimsoll/io/json_depth.h"
 
 #include "plimsoll/core/limits.h"
 
@@ -427,6 +428,7 @@ Status finishInterruptedReplace(const fs::path& lastTarget) {
     if (!text) return withContext("interrupted save: ", text.error());
     const fs::path folder = lastTarget.parent_path();
     std::vector<JournalEntry> entries;
+    if (Status depth = checkJsonDepth(*text, journal.string()); !depth.ok()) return depth;
     try {
         const nlohmann::json j = nlohmann::json::parse(*text);
         if (j.at("format").get<std::string>() != kJournalFormat) throw std::runtime_error("format");
