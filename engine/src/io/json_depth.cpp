@@ -20,7 +20,7 @@ Status checkJsonDepth(std::string_view text, const std::string& source, std::uin
                 return makeError(ErrorKind::limit, source + ": JSON nested more than " +
                                                        std::to_string(maxDepth) + " deep (at byte " +
                                                        std::to_string(i) +
-                                                       "), more than the limit kMaxJsonDepth (limits.h)");
+                                                       "), more than the limit kMaxJsonDepth (json_depth.h)");
         } else if ((c == ']' || c == '}') && depth > 0) {
             --depth;
         }

@@ -35,12 +35,6 @@ inline constexpr std::uint64_t kMaxGraphPipes = 16 * kMaxGraphNodes;
 /// mistake) from being read into memory.
 inline constexpr std::uint64_t kMaxJsonFileBytes = 256ull << 20;
 
-/// Nesting depth of any JSON document read (projects, graphs, scripts, manifests, caches,
-/// layer files, autosaves, glTF): checked by a linear scan before parsing, since the recursive
-/// readers and printers (nlohmann's dump(), assimp's glTF reader) overflow their stacks on deep
-/// nesting. Plimsoll's own files nest under ten levels; glTF extras a few tens.
-inline constexpr std::uint64_t kMaxJsonDepth = 128;
-
 /// Mesh files are read whole (assimp parses from memory): 2 GB holds a binary STL of
 /// kMaxTriangles (1 GB) and an ASCII PLY of it; a wrong file (a disk image) is refused unread.
 inline constexpr std::uint64_t kMaxMeshFileBytes = 2ull << 30;

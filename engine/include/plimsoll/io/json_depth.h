@@ -4,7 +4,7 @@
 // Plimsoll file nests under ten levels and real glTF extras a few tens.
 #pragma once
 
-#include "plimsoll/core/limits.h"
+#include <cstdint>
 #include "plimsoll/core/result.h"
 
 #include <string>
@@ -12,9 +12,15 @@
 
 namespace plimsoll {
 
+/// Nesting depth of any JSON document read (projects, graphs, scripts, manifests, caches,
+/// layer files, autosaves, glTF): checked by a linear scan before parsing, since the recursive
+/// readers and printers (nlohmann's dump(), assimp's glTF reader) overflow their stacks on deep
+/// nesting. Plimsoll's own files nest under ten levels; glTF extras a few tens.
+inline constexpr std::uint64_t kMaxJsonDepth = 128;
+
 /// Ok if no array or object in `text` nests deeper than `maxDepth` (brackets inside strings
 /// not counted; the text need not be valid JSON); else "SOURCE: JSON nested more than N deep
-/// (at byte B), more than the limit kMaxJsonDepth (limits.h)". One linear pass, no recursion.
+/// (at byte B), more than the limit kMaxJsonDepth (json_depth.h)". One linear pass, no recursion.
 Status checkJsonDepth(std::string_view text, const std::string& source,
                       std::uint64_t maxDepth = kMaxJsonDepth);
 
