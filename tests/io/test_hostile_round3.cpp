@@ -6,6 +6,9 @@
 
 #include "plimsoll/export/bundle.h"
 #include "plimsoll/io/file_util.h"
+#include "plimsoll/io/graph_json.h"
+#include "plimsoll/io/json_depth.h"
+#include "plimsoll/io/mesh_io.h"
 #include "plimsoll/io/painted_map_io.h"
 #include "plimsoll/project/project.h"
 #include "plimsoll/surface/painted_map.h"
@@ -265,6 +268,47 @@ TEST(HostileImages, AMapThatIsNotAPngIsRefusedNamingItsRealType) {
     }();
     for (int i = 0; i < 4; ++i) huge[29 + i] = static_cast<char>(crc >> (24 - 8 * i));
     EXPECT_CONTAINS(messageOf(decodePaintedMap(huge, "perm.png")), "cannot hold the declared image");
+}
+
+// --- depth before parsing, formats by content ------------------------------------------------
+
+TEST(HostileJson, DeepNestingIsRefusedBeforeAnyParser) {
+    const std::string deep = "{\"a\": " + std::string(200000, '[') + std::string(200000, ']') + "}";
+    EXPECT_CONTAINS(messageOf(checkJsonDepth(deep, "x.json")), "more than the limit kMaxJsonDepth");
+    EXPECT_TRUE(checkJsonDepth("{\"s\": \"[[[[[[[[\"}", "x.json", 2).ok());  // brackets in strings
+    const fs::path dir = fresh("deep");
+    writeBytes(dir / "p.plim.json", deep);
+    EXPECT_CONTAINS(messageOf(loadProject(dir / "p.plim.json")), "p.plim.json: JSON nested more than 128");
+    writeBytes(dir / "g.gltf", R"({"asset": {"version": "2.0"}, "nodes": [{"extras": )" +
+                                   std::string(200000, '[') + std::string(200000, ']') + "}]}");
+    EXPECT_CONTAINS(messageOf(loadMesh(dir / "g.gltf")), "JSON nested more than 128");
+    EXPECT_EQ(boundedExcerpt(std::string(500, 'x') + "\xff", 10), "xxxxxxxxxx...");
+    EXPECT_EQ(boundedExcerpt("a\xffb"), "a?b");
+}
+
+TEST(HostileMeshFormats, OtherFormatsAreRefusedByContentAndOBJIsReadWhateverItsName) {
+    const fs::path dir = fresh("formats");
+    const std::pair<std::string, std::string> refused[] = {
+        {"m.dae", R"(<?xml version="1.0"?><COLLADA xmlns="x"></COLLADA>)"},
+        {"m.x", "xof 0303txt 0032\n"},
+        {"m.off", "OFF\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n"},
+        {"m.obj", "xof 0303txt 0032\n"},  // an X file named .obj: the content decides
+        {"m.3mf", std::string("PK\x03\x04", 4) + std::string(40, '\0')},
+        {"m.md5mesh", "MD5Version 10\n"},
+    };
+    for (const auto& [name, bytes] : refused) {
+        writeBytes(dir / name, bytes);
+        const std::string message = messageOf(loadMesh(dir / name));
+        EXPECT_CONTAINS(message, name + ": is a");
+        EXPECT_CONTAINS(message, "OBJ, PLY, STL, FBX, glTF and GLB");
+    }
+    writeBytes(dir / "m.bin", std::string(64, '\x01'));
+    EXPECT_CONTAINS(messageOf(loadMesh(dir / "m.bin")), "content of no allowed format");
+    // An OBJ under another name is read, through the OBJ checks.
+    fs::copy_file(test::assetPath("box.obj"), dir / "box.OBJ.bak");
+    Result<TriangleMesh> box = loadMesh(dir / "box.OBJ.bak");
+    ASSERT_TRUE(box.ok()) << box.error().message;
+    EXPECT_EQ(box->triangleCount(), loadMesh(test::assetPath("box.obj"))->triangleCount());
 }
 
 }  // namespace
