@@ -93,6 +93,7 @@ TEST(DocumentSaves, ASaveKeepsTheAutosaveAnotherSessionLeft) {
 
 TEST(DocumentSaves, ARecoveredAutosaveSavesToTheProjectItLiesBeside) {
     const fs::path dir = fresh("recover");
+    fs::create_directories(dir / "mine");
     const fs::path path = writeProject(dir / "mine");
     fs::create_directories(dir / "theirs");
     auto d = openOrFail(path);
