@@ -1,6 +1,7 @@
 // `plimsoll edit [PROJECT] [--script commands.json]`: with a script, runs its commands on the
 // project without a window and saves; without one, opens the editor window on the project.
 #include "cli/commands.h"
+#include "plimsoll/io/json_depth.h"
 
 #include "app/editor_app.h"
 #include "document/document.h"
@@ -59,6 +60,11 @@ int runEdit(const EditOptions& o) {
     Result<std::string> text = readWholeFile(o.script, kMaxJsonFileBytes, "kMaxJsonFileBytes");
     if (!text) {
         std::cerr << "error: " << text.error().message << "\n";
+        return kExitFailure;
+    }
+    // Deep values would overflow the stack of the commands that print or re-parse them.
+    if (Status depth = checkJsonDepth(*text, o.script); !depth.ok()) {
+        std::cerr << "error: " << depth.error().message << "\n";
         return kExitFailure;
     }
     nlohmann::json script;

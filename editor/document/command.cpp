@@ -496,6 +496,8 @@ Result<std::unique_ptr<Command>> makeAddLayerCommand(const Document& document, s
     if (Status ok = checkUnit(fillValue, "a fill layer's value"); !ok) return ok.error();
     return layerEdit(document, body, channel, std::string("Add ") + layerKindName(kind) + " layer",
                      [&](LayerStack& stack) -> Status {
+                         if (Status ok = checkLayerBudget(stack, 1, kind == LayerKind::Paint ? 2 : 0); !ok)
+                             return ok;
                          MapLayer layer;
                          layer.kind = kind;
                          layer.name = name.empty() ? std::string(kind == LayerKind::Fill ? "Fill " : "Layer ") +
@@ -573,6 +575,7 @@ Result<std::unique_ptr<Command>> makeAddMaskCommand(const Document& document, st
         if (Status ok = checkLayerIndex(stack, layer); !ok) return ok;
         MapLayer& l = stack.layers[static_cast<std::size_t>(layer)];
         if (l.mask) return makeError(ErrorKind::invalidArgument, "layer '" + l.name + "' has a mask");
+        if (Status ok = checkLayerBudget(stack, 0, 1); !ok) return ok;
         l.mask = std::make_shared<PaintedMap>(
             uniformMap(stack.width, stack.height, quantize16(static_cast<float>(value))));
         return Ok{};

@@ -1,4 +1,5 @@
 #include "document/document.h"
+#include "plimsoll/io/json_depth.h"
 
 #include "document/settings.h"
 
@@ -80,7 +81,7 @@ void loadMapFile(BodyAssets::Map& m) {
     const fs::path side = layersPathFor(m.path);
     std::error_code ec;
     if (!fs::exists(side, ec)) return;
-    Result<std::string> text = readWholeFile(side, kMaxJsonFileBytes, "kMaxJsonFileBytes");
+    Result<std::string> text = readWholeFile(side, kMaxLayersFileBytes, "kMaxLayersFileBytes");
     if (!text) {
         m.error = text.error().message + " (layers not loaded)";
         return;
@@ -471,10 +472,59 @@ Status Document::writeMaps(bool all) {
     return writeMapsAndProjectFiles(all, false);
 }
 
+namespace {
+/// Whether `file` lies inside `folder` by its path (no "..", not elsewhere absolutely).
+bool liesInside(const fs::path& file, const fs::path& folder) {
+    const fs::path r = fs::absolute(file).lexically_normal().lexically_relative(
+        fs::absolute(folder).lexically_normal());
+    return !r.empty() && r != "." && *r.begin() != "..";
+}
+
+/// `wanted` (relative to `folder`), or with "_2", "_3", ... before its extension: a name no
+/// file in `folder` has yet.
+std::string unusedName(const fs::path& folder, const std::string& wanted) {
+    const fs::path w(wanted);
+    std::error_code ec;
+    std::string name = wanted;
+    for (int n = 2; fs::exists(fs::symlink_status(folder / name, ec)); ++n)
+        name = (w.parent_path() / (w.stem().string() + "_" + std::to_string(n) + w.extension().string()))
+                   .generic_string();
+    return name;
+}
+}  // namespace
+
+bool Document::keepWritesInsideFolder(bool allMaps) {
+    // A project writes only inside its folder: a map or graph read from elsewhere (an absolute
+    // path, "../photos/x.png", a source asset) is saved under a new name in the folder, and
+    // the project points at it; the file it was read from is never written.
+    if (path_.empty()) return false;
+    const fs::path folder = path_.parent_path();
+    bool moved = false;
+    for (std::size_t b = 0; b < assets_.size(); ++b) {
+        for (MapChannel c : kMapChannels) {
+            BodyAssets::Map& m = assets_[b].maps[static_cast<int>(c)];
+            if (!m.image || m.path.empty() || !(m.dirty || allMaps) || liesInside(m.path, folder)) continue;
+            const std::string name = unusedName(folder, defaultMapPath(b, c));
+            channelPath(project_.bodies[b], c) = name;
+            m.path = folder / name;
+            m.dirty = moved = true;
+        }
+        BodyAssets::Graph& g = assets_[b].graph;
+        auto& desc = project_.bodies[b].waterGraph;
+        if (g.graph && desc && !g.path.empty() && (g.dirty || allMaps) && !liesInside(g.path, folder)) {
+            desc->graph = unusedName(folder, defaultGraphPath(b));
+            g.path = folder / desc->graph;
+            g.dirty = moved = true;
+        }
+    }
+    return moved;
+}
+
 Status Document::writeMapsAndProjectFiles(bool allMaps, bool withProject) {
     // The changed maps and water graphs and the project are replaced as one (file_util.h): a
     // failure at any step leaves every previous file as it was, so the project on disk never
     // names a map or graph of another save.
+    if (keepWritesInsideFolder(allMaps)) withProject = true;  // the project names the new files
     std::vector<FileWriter> files;
     std::vector<BodyAssets::Map*> written;
     std::vector<BodyAssets::Graph*> writtenGraphs;
@@ -625,17 +675,39 @@ Project Document::movedTo(const fs::path& absolute) const {
 
 Status Document::saveAs(const fs::path& target, bool overwrite) {
     const fs::path absolute = fs::absolute(target).lexically_normal();
-    const std::optional<fs::path> oldAutosave =
-        path_.empty() ? std::optional<fs::path>() : std::optional<fs::path>(autosavePath());
+    const fs::path oldAutosave = autosavePath();
     Project moved = movedTo(absolute);
     std::vector<fs::path> replaced;
     if (Status safe = checkSaveAsTargets(moved, absolute, replaced); !safe.ok()) return safe;
     if (!replaced.empty() && !overwrite)
         return makeError(ErrorKind::invalidArgument,
                          replaced.front().string() + ": already exists (save with force to replace it)");
+    Project previous = std::move(project_);
+    const fs::path previousPath = path_;
+    const bool ownedAutosave = ownsAutosave_;
     project_ = std::move(moved);
     path_ = absolute;
-    // Re-point loaded maps at their new files and write them all there.
+    pointAssetsAtProject(true);
+    ownsAutosave_ = false;  // an autosave at the new path is another session's
+    Status saved = writeMapsAndProject(true);
+    if (!saved) {
+        // Nothing was written (replaceFilesTogether): the document stays the one it was, its
+        // autosave in place.
+        project_ = std::move(previous);
+        path_ = previousPath;
+        pointAssetsAtProject(false);
+        ownsAutosave_ = ownedAutosave;
+        return saved;
+    }
+    // Only now, the save in place, is the autosave of the previous name obsolete.
+    if (ownedAutosave) {
+        std::error_code ec;
+        fs::remove(oldAutosave, ec);
+    }
+    return Ok{};
+}
+
+void Document::pointAssetsAtProject(bool markLoadedDirty) {
     for (std::size_t b = 0; b < assets_.size(); ++b) {
         assets_[b].meshPath = project_.bodies[b].mesh.empty()
                                   ? fs::path()
@@ -644,25 +716,20 @@ Status Document::saveAs(const fs::path& target, bool overwrite) {
             const std::string& p = channelPath(project_.bodies[b], c);
             BodyAssets::Map& m = assets_[b].maps[static_cast<int>(c)];
             m.path = p.empty() ? fs::path() : project_.resolvePath(p);
-            if (m.image) m.dirty = true;
+            if (m.image && markLoadedDirty) m.dirty = true;
         }
         BodyAssets::Graph& g = assets_[b].graph;
         const auto& desc = project_.bodies[b].waterGraph;
         g.path = desc && !desc->graph.empty() ? project_.resolvePath(desc->graph) : fs::path();
-        if (g.graph) g.dirty = true;
+        if (g.graph && markLoadedDirty) g.dirty = true;
     }
-    if (oldAutosave) {
-        std::error_code ec;
-        fs::remove(*oldAutosave, ec);
-    }
-    return writeMapsAndProject(true);
 }
 
 Status Document::writeMapsAndProject(bool allMaps) {
     Status saved = writeMapsAndProjectFiles(allMaps, true);
     if (!saved) return saved;
     savedState_ = stateId();
-    discardAutosave();
+    if (ownsAutosave_) discardAutosave();
     return Ok{};
 }
 
@@ -770,16 +837,34 @@ Status Document::autosave() const {
     std::error_code ec;
     fs::create_directories(target.parent_path(), ec);
     const std::string text = root.dump();
-    return writeFileAtomically(target, [&](std::ostream& out) {
+    Status written = writeFileAtomically(target, [&](std::ostream& out) {
         out << text;
         return static_cast<bool>(out);
     });
+    if (written) ownsAutosave_ = true;
+    return written;
 }
 
 void Document::discardAutosave() const {
     std::error_code ec;
     fs::remove(autosavePath(), ec);
+    ownsAutosave_ = false;
 }
+
+namespace {
+/// The project an autosave belongs to: NAME for ".NAME.autosave" beside it; none (untitled)
+/// for the untitled autosave in the user's folder or a file of another name.
+fs::path projectOfAutosave(const fs::path& autosaveFile) {
+    const fs::path file = fs::absolute(autosaveFile).lexically_normal();
+    const std::string name = file.filename().string();
+    const std::string suffix = ".autosave";
+    if (name.size() <= 1 + suffix.size() || name.front() != '.' ||
+        name.compare(name.size() - suffix.size(), suffix.size(), suffix) != 0)
+        return {};
+    if (file == fs::absolute(userConfigDir() / "untitled.plim.json.autosave").lexically_normal()) return {};
+    return file.parent_path() / name.substr(1, name.size() - 1 - suffix.size());
+}
+}  // namespace
 
 std::optional<fs::path> Document::findAutosave(const fs::path& project) {
     const fs::path candidate =
@@ -794,6 +879,7 @@ Result<std::unique_ptr<Document>> Document::recover(const fs::path& autosaveFile
     // Its maps are inline PNGs, so it may outgrow a JSON file's limit.
     Result<std::string> text = readWholeFile(autosaveFile, kMaxDataFileBytes, "kMaxDataFileBytes");
     if (!text) return text.error();
+    if (Status depth = checkJsonDepth(*text, autosaveFile.string()); !depth) return depth.error();
     Json root;
     try {
         root = Json::parse(*text);
@@ -803,12 +889,17 @@ Result<std::unique_ptr<Document>> Document::recover(const fs::path& autosaveFile
     if (!root.contains("plimsoll_autosave") || !root.contains("project")) {
         return makeError(ErrorKind::format, autosaveFile.string() + ": not an autosave");
     }
-    const fs::path folder = root.value("folder", std::string());
+    // The project the autosave lies beside, not the paths it names: recovering and saving
+    // writes the project the user opened, relative paths resolved in its folder.
+    const fs::path projectPath = projectOfAutosave(autosaveFile);
+    const fs::path folder = projectPath.empty() ? fs::path(root.value("folder", std::string()))
+                                                : projectPath.parent_path();
     Result<Project> project =
         parseProject(root["project"].dump(), autosaveFile.string(), folder);
     if (!project) return project.error();
     auto document = std::make_unique<Document>();
-    document->path_ = root.value("project_path", std::string());
+    document->path_ = projectPath;
+    document->ownsAutosave_ = true;  // saving the recovered document replaces it
     document->project_ = std::move(project).value();
     document->project_.folder = folder;
     DetachedAssets none;

@@ -162,7 +162,9 @@ public:
     void discardAutosave() const;
     /// A project whose autosave is still there was not closed cleanly: the autosave to offer.
     static std::optional<std::filesystem::path> findAutosave(const std::filesystem::path& project);
-    /// The document as it was autosaved: same path as the project, dirty.
+    /// The document as it was autosaved, dirty, at the path of the project the autosave lies
+    /// beside (".NAME.autosave" -> NAME; untitled for the user's untitled autosave), whatever
+    /// path the autosave names inside: a save writes the project the user opened.
     static Result<std::unique_ptr<Document>> recover(const std::filesystem::path& autosaveFile);
 
     // --- what commands use ----------------------------------------------------------------------
@@ -226,6 +228,13 @@ private:
     void syncAssets(DetachedAssets& detached);
     /// Writes the changed (or all) maps and water graphs, each atomically.
     Status writeMaps(bool all);
+    /// Re-points loaded maps and graphs whose files lie outside the project's folder at new
+    /// names inside it (the project updated), those about to be written (changed, or all when
+    /// `allMaps`); true if any moved.
+    bool keepWritesInsideFolder(bool allMaps);
+    /// Points every body's mesh, map and graph path at project_'s (after a move), marking the
+    /// loaded maps and graphs to be written when `markLoadedDirty`.
+    void pointAssetsAtProject(bool markLoadedDirty);
     /// writeMaps(allMaps), then the project to path_; marks the document saved.
     /// The project as saveAs(absolute) would write it: relative paths rewritten for the new folder.
     Project movedTo(const std::filesystem::path& absolute) const;
@@ -250,6 +259,10 @@ private:
     std::uint64_t nextId_ = 1;
     /// stateId() when last saved or opened; ~0 for "never" (recovered documents).
     std::uint64_t savedState_ = 0;
+    /// Whether the autosave at autosavePath() is this document's own (written by autosave(), or
+    /// the one it was recovered from): only then does a save remove it. An autosave another
+    /// session left (a crash) is kept until the user recovers or discards it.
+    mutable bool ownsAutosave_ = false;
 };
 
 }  // namespace plimsoll::editor

@@ -1,4 +1,6 @@
 #include "document/layers.h"
+#include "plimsoll/io/json_depth.h"
+#include "plimsoll/core/limits.h"
 #include "plimsoll/io/painted_map_io.h"
 
 #include <nlohmann/json.hpp>
@@ -125,6 +127,42 @@ Status checkStack(const LayerStack& stack) {
     return Ok{};
 }
 
+namespace {
+/// The samples of the images `stack` holds now.
+std::uint64_t imagesHeld(const LayerStack& stack) {
+    std::uint64_t images = 0;
+    for (const MapLayer& l : stack.layers) images += bool(l.pixels) + bool(l.mask) + bool(l.coverage);
+    return images;
+}
+
+Status checkCounts(std::uint64_t width, std::uint64_t height, std::uint64_t layers,
+                   std::uint64_t images) {
+    if (layers > std::uint64_t(kMaxMapLayers))
+        return makeError(ErrorKind::limit, std::to_string(layers) + " layers, more than the limit "
+                                           "kMaxMapLayers = " + std::to_string(kMaxMapLayers) +
+                                           " (layers.h)");
+    const std::uint64_t side = std::uint64_t(kMaxPaintedMapSide);
+    if (width > side || height > side)
+        return makeError(ErrorKind::limit, "layers of " + std::to_string(width) + " x " +
+                                               std::to_string(height) + " pixels, more than "
+                                               "kMaxPaintedMapSide (limits.h)");
+    const std::uint64_t samples = width * height * images;  // < 2^26 * 2^32: no overflow
+    if (images > (std::uint64_t(1) << 32) || samples > kMaxLayerSamples)
+        return makeError(ErrorKind::limit,
+                         std::to_string(images) + " layer images of " + std::to_string(width) + " x " +
+                             std::to_string(height) + " pixels (" + formatBytes(4.0 * double(samples)) +
+                             "), more than the limit kMaxLayerSamples = " +
+                             std::to_string(kMaxLayerSamples) + " samples (layers.h)");
+    return Ok{};
+}
+}  // namespace
+
+Status checkLayerBudget(const LayerStack& stack, int layers, int images) {
+    return checkCounts(std::uint64_t(std::max(stack.width, 0)), std::uint64_t(std::max(stack.height, 0)),
+                       stack.layers.size() + std::uint64_t(std::max(layers, 0)),
+                       imagesHeld(stack) + std::uint64_t(std::max(images, 0)));
+}
+
 std::string layerStackToJson(const LayerStack& stack) {
     Json layers = Json::array();
     for (const MapLayer& l : stack.layers) {
@@ -148,6 +186,7 @@ std::string layerStackToJson(const LayerStack& stack) {
 
 Result<LayerStack> parseLayerStack(const std::string& text, const std::string& source) {
     LayerStack stack;
+    if (Status depth = checkJsonDepth(text, source); !depth) return depth.error();
     try {
         const Json root = Json::parse(text);
         if (root.value("plimsoll_map_layers", 0) != 1) {
@@ -155,7 +194,22 @@ Result<LayerStack> parseLayerStack(const std::string& text, const std::string& s
         }
         stack.width = root.at("width").get<int>();
         stack.height = root.at("height").get<int>();
-        for (const Json& j : root.at("layers")) {
+        // Every limit before the first image is decoded: the count of layers, the size, and
+        // the samples of all the images the file declares.
+        const Json& declared = root.at("layers");
+        if (!declared.is_array()) return makeError(ErrorKind::format, source + ": \"layers\" is not an array");
+        std::uint64_t images = 0;
+        for (const Json& j : declared) {
+            if (!j.is_object()) return makeError(ErrorKind::format, source + ": a layer is not an object");
+            for (const char* key : {"pixels_png_base64", "mask_png_base64", "coverage_png_base64"})
+                images += j.contains(key);
+        }
+        if (stack.width < 1 || stack.height < 1) return makeError(ErrorKind::format, source + ": layers: no size");
+        if (Status ok = checkCounts(std::uint64_t(stack.width), std::uint64_t(stack.height),
+                                    declared.size(), images);
+            !ok)
+            return withContext(source + ": ", ok.error());
+        for (const Json& j : declared) {
             MapLayer l;
             l.name = j.value("name", std::string());
             const auto kind = parseLayerKind(j.value("kind", std::string("paint")));
@@ -177,6 +231,9 @@ Result<LayerStack> parseLayerStack(const std::string& text, const std::string& s
                     decodePaintedMap(base64Decode(j[key].get<std::string>()),
                                         source + ": layer '" + l.name + "'");
                 if (!image) return image.error();
+                if (image->width != stack.width || image->height != stack.height)
+                    return makeError(ErrorKind::format, source + ": layer '" + l.name + "': " + key +
+                                                            " is not the map's size");
                 *target = std::make_shared<PaintedMap>(std::move(image).value());
             }
             stack.layers.push_back(std::move(l));

@@ -9,6 +9,7 @@
 #include "plimsoll/surface/painted_map.h"
 #include "plimsoll/core/result.h"
 
+#include <cstdint>
 #include <filesystem>
 #include <memory>
 #include <optional>
@@ -17,6 +18,15 @@
 #include <vector>
 
 namespace plimsoll::editor {
+
+/// Limits on a map's layers, checked before any layer image is allocated (a side file or an
+/// edit script can otherwise ask for gigabytes): at most kMaxMapLayers layers, at most
+/// kMaxLayerSamples samples in all of a stack's layer images (pixels, masks, coverages; 4 bytes
+/// each: 1 GiB, eight paint layers of a 4096^2 map, 32 of a 2048^2 one), and a side file of at
+/// most kMaxLayersFileBytes.
+inline constexpr int kMaxMapLayers = 64;
+inline constexpr std::uint64_t kMaxLayerSamples = std::uint64_t(1) << 28;
+inline constexpr std::uint64_t kMaxLayersFileBytes = std::uint64_t(64) << 20;
 
 enum class LayerKind { Paint, Fill };
 /// How a layer's value v combines with the value c below it (before opacity and mask).
@@ -110,5 +120,10 @@ std::filesystem::path layersPathFor(const std::filesystem::path& mapPath);
 /// Base64 of bytes and back (the side file and the autosave embed PNGs this way).
 std::string base64Encode(const std::string& bytes);
 std::string base64Decode(const std::string& text);
+
+/// Ok if `stack` may grow by `layers` more layers holding `images` more images of its size:
+/// the layer count and the samples against kMaxMapLayers and kMaxLayerSamples, before
+/// anything is allocated. The error names the limits.
+Status checkLayerBudget(const LayerStack& stack, int layers, int images);
 
 }  // namespace plimsoll::editor

@@ -478,5 +478,45 @@ TEST(EditorLayers, FillsMoveByStrengthAndSayWhenTheMeshIsOneIsland) {
     EXPECT_NE((*island)->name().find("one UV island"), std::string::npos) << (*island)->name();
 }
 
+/// Layers cost memory per image: the count, the samples of all layer images, and the side
+/// file's size are limited before anything is allocated, with an error naming the file.
+TEST(EditorLayers, LayerCountAndSizeAreRefusedBeforeAllocating) {
+    // A side file declaring 65 fill layers: refused by count.
+    std::string many = R"({"plimsoll_map_layers": 1, "width": 4, "height": 4, "layers": [)";
+    for (int i = 0; i < 65; ++i) many += std::string(i ? "," : "") + R"({"kind": "fill", "value": 0.5})";
+    many += "]}";
+    Result<LayerStack> parsed = parseLayerStack(many, "map.layers.json");
+    ASSERT_FALSE(parsed.ok());
+    EXPECT_NE(parsed.error().message.find("map.layers.json: 65 layers, more than the limit kMaxMapLayers"),
+              std::string::npos) << parsed.error().message;
+    // A 4096^2 map declaring nine paint layers (pixels and coverage each): 18 images of 16.7M
+    // samples, more than kMaxLayerSamples, refused before a single image is decoded (the
+    // images here are not even valid PNGs).
+    std::string big = R"({"plimsoll_map_layers": 1, "width": 4096, "height": 4096, "layers": [)";
+    for (int i = 0; i < 9; ++i)
+        big += std::string(i ? "," : "") + R"({"pixels_png_base64": "AAAA", "coverage_png_base64": "AAAA"})";
+    big += "]}";
+    parsed = parseLayerStack(big, "big.layers.json");
+    ASSERT_FALSE(parsed.ok());
+    EXPECT_NE(parsed.error().message.find("big.layers.json: 18 layer images of 4096 x 4096"),
+              std::string::npos) << parsed.error().message;
+    EXPECT_EQ(parsed.error().kind, ErrorKind::limit);
+    // Adding layers: the budget of a 4096^2 stack with seven paint layers holds one more, not two.
+    LayerStack stack;
+    stack.width = stack.height = 4096;
+    for (int i = 0; i < 7; ++i) {
+        MapLayer l;
+        l.pixels = std::make_shared<PaintedMap>();
+        l.coverage = std::make_shared<PaintedMap>();
+        stack.layers.push_back(l);
+    }
+    EXPECT_TRUE(checkLayerBudget(stack, 1, 2).ok());
+    const Status two = checkLayerBudget(stack, 2, 4);
+    ASSERT_FALSE(two.ok());
+    EXPECT_NE(two.error().message.find("kMaxLayerSamples"), std::string::npos) << two.error().message;
+    EXPECT_TRUE(checkLayerBudget(stack, 56, 0).ok());  // fill layers cost no images: 63 layers
+    EXPECT_FALSE(checkLayerBudget(stack, 58, 0).ok());
+}
+
 }  // namespace
 }  // namespace plimsoll::editor

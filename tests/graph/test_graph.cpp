@@ -460,6 +460,42 @@ TEST(GraphExchange, TheTexelMapsTreeGivesTheScansNodeTiesIncluded) {
     EXPECT_GT(ties, 100u);  // the grid and the coincident nodes did tie
 }
 
+/// Tied nodes (many at one point, or boxes that all contain the points asked) must not turn
+/// the tree into a scan: the nodes a query examines stay a few leaves' worth, the answer the
+/// scan's. Counted through the index's own tally, not timed.
+TEST(GraphExchange, TiedNodesCostTheTreeNoMoreThanDistinctOnes) {
+    std::uint64_t state = 777;
+    auto uniform = [&] {
+        state = state * 6364136223846793005ull + 1442695040888963407ull;
+        return static_cast<double>(state >> 11) / 9007199254740992.0;
+    };
+    using plimsoll_eval::NodeShape;
+    std::vector<NodeShape> atOnePoint(100000, NodeShape{{0.5, 0.25, 0.125}, {0, 0, 0}});
+    atOnePoint.push_back({{0.9, 0.9, 0.9}, {0, 0, 0}});
+    std::vector<NodeShape> containing;  // boxes of distinct centres and sizes, all holding [0,1]^3
+    for (int i = 0; i < 20000; ++i)
+        containing.push_back({{0.5 + 0.1 * uniform(), 0.5 + 0.1 * uniform(), 0.5 + 0.1 * uniform()},
+                              {2 + uniform(), 2 + uniform(), 2 + uniform()}});
+    for (const std::vector<NodeShape>* nodes : {&atOnePoint, &containing}) {
+        const plimsoll_eval::NearestNodeIndex index(*nodes);
+        std::size_t worst = 0;
+        for (int q = 0; q < 200; ++q) {
+            const plimsoll_eval::Vec3 p{uniform(), uniform(), uniform()};
+            std::size_t examined = 0;
+            const int found = index.nearest(p, &examined);
+            worst = std::max(worst, examined);
+            if (q < 20) EXPECT_EQ(found, plimsoll_eval::nearestNodeByScan(*nodes, p));
+        }
+        // A scan examines every node (100001 or 20000); the tree a few leaves of 8.
+        EXPECT_LT(worst, 2000u) << nodes->size() << " nodes";
+    }
+    // 100000 nodes at one point: the lowest index answers wherever the point is, bar the
+    // lone node nearer to it.
+    const plimsoll_eval::NearestNodeIndex index(atOnePoint);
+    EXPECT_EQ(index.nearest({0.5, 0.25, 0.2}), 0);
+    EXPECT_EQ(index.nearest({1, 1, 1}), 100000);
+}
+
 TEST(GraphExchange, WaterLeavesAboveTheOutsideWaterAndBelowTheInsideLevel) {
     // A full node whose texel is above the water: the water runs out through it.
     WaterGraph g;

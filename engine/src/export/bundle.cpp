@@ -1,5 +1,6 @@
 // Runtime bundle export (bundle.h, docs/bundle.md).
 #include "plimsoll/export/bundle.h"
+#include "plimsoll/io/json_depth.h"
 #include "plimsoll/io/painted_map_io.h"
 #include "plimsoll/io/graph_json.h"
 
@@ -27,7 +28,10 @@
 #include <algorithm>
 #include <array>
 #include <atomic>
+#include <cerrno>
 #include <cstdio>
+#include <cstdlib>
+#include <cstring>
 #include <fstream>
 #include <iterator>
 #include <optional>
@@ -536,6 +540,7 @@ std::optional<BundleReport> unchangedBodyBundle(const Project& project, std::siz
     Result<std::string> text = readBytes(folder / kManifestFile);
     if (!text) return std::nullopt;
     BundleReport report;
+    if (!checkJsonDepth(*text, kManifestFile).ok()) return std::nullopt;
     try {
         const json manifest = json::parse(*text);
         if (manifest.value("input_sha256", std::string()) != *hash) return std::nullopt;
@@ -561,6 +566,7 @@ Result<BundleReport> writeBodyBundle(const Project& project, std::size_t index,
     std::error_code ec;
     if (!target.parent_path().empty()) fs::create_directories(target.parent_path(), ec);
     if (ec) return makeError(ErrorKind::io, target.parent_path().string() + ": cannot create folder: " + ec.message());
+    if (Status restored = restoreInterruptedFolderSwap(target); !restored.ok()) return restored.error();
     const fs::path staging = siblingFor(target, "tmp");
     fs::remove_all(staging, ec);
     fs::create_directories(staging, ec);
@@ -570,33 +576,10 @@ Result<BundleReport> writeBodyBundle(const Project& project, std::size_t index,
         fs::remove_all(staging, ec);
         return report.error();
     }
-    // Swap the folders: the old bundle is moved aside, the new one renamed into place, the old
-    // one removed. Each rename is atomic; a failure puts the old bundle back.
-    const fs::path old = siblingFor(target, "old");
-    const bool hadOld = fs::exists(target, ec);
-    if (hadOld) {
-        if (Status step = fileStep("renaming", target); !step.ok()) {
-            fs::remove_all(staging, ec);
-            return step.error();
-        }
-        fs::rename(target, old, ec);
-        if (ec) {
-            fs::remove_all(staging, ec);
-            return makeError(ErrorKind::io, target.string() + ": cannot replace: " + ec.message());
-        }
+    if (Status placed = replaceFolder(staging, target, siblingFor(target, "old")); !placed.ok()) {
+        fs::remove_all(staging, ec);
+        return placed.error();
     }
-    Status moved = fileStep("renaming", staging);
-    if (moved.ok()) fs::rename(staging, target, ec);
-    if (!moved.ok() || ec) {
-        const std::string message =
-            moved.ok() ? target.string() + ": cannot replace: " + ec.message()
-                       : moved.error().message;
-        std::error_code ignored;
-        if (hadOld) fs::rename(old, target, ignored);
-        fs::remove_all(staging, ignored);
-        return makeError(ErrorKind::io, message);
-    }
-    if (hadOld) fs::remove_all(old, ec);
     report->folder = target;
     return report;
 }
@@ -605,6 +588,7 @@ Result<BundleManifestInfo> parseBundleManifest(const std::string& text, const st
     const std::string where = source + ": ";
     BundleManifestInfo info;
     std::string field;  // the member being read, named in the error (nlohmann's message does not)
+    if (Status depth = checkJsonDepth(text, source); !depth.ok()) return depth.error();
     try {
         const json manifest = json::parse(text);
         field = "format";
@@ -682,11 +666,13 @@ Result<BundleReport> checkBodyBundle(const Project& project, std::size_t index,
     const fs::path target = folder.filename().empty() ? folder.parent_path() : folder;
     // Built beside the temporary directory's other files, not in the bundle's folder, which
     // a check must not touch.
-    const fs::path staging =
-        siblingFor(fs::temp_directory_path() / "plimsoll-check" / target.filename(), "check");
+    // mkdtemp: a new folder of a random name, created exclusively, so nothing planted in the
+    // temporary directory (a link named like it) is written through.
     std::error_code ec;
-    fs::create_directories(staging, ec);
-    if (ec) return makeError(ErrorKind::io, staging.string() + ": cannot create folder: " + ec.message());
+    std::string pattern = (fs::temp_directory_path(ec) / "plimsoll-check-XXXXXX").string();
+    if (::mkdtemp(pattern.data()) == nullptr)
+        return makeError(ErrorKind::io, pattern + ": cannot create folder: " + std::strerror(errno));
+    const fs::path staging = pattern;
     Result<BundleReport> report = buildBundle(project, index, staging, {}, options);
     if (!report) {
         fs::remove_all(staging, ec);

@@ -1,5 +1,6 @@
 // The generated physics atlas cached as JSON beside the project (atlas_cache.h).
 #include "plimsoll/io/atlas_cache.h"
+#include "plimsoll/io/json_depth.h"
 
 #include "plimsoll/core/hash.h"
 #include "plimsoll/core/limits.h"
@@ -36,7 +37,7 @@ std::optional<PhysicsAtlas> readCache(const TriangleMesh& mesh, const AtlasSetti
                                       const std::filesystem::path& file) {
     // A cache that is not a regular file (a FIFO planted there) is no cache: never block on it.
     Result<std::string> text = readWholeFile(file, kMaxJsonFileBytes, "kMaxJsonFileBytes");
-    if (!text) return std::nullopt;
+    if (!text || !checkJsonDepth(*text, file.string()).ok()) return std::nullopt;
     try {
         const nlohmann::json j = nlohmann::json::parse(*text);
         if (j.at("format") != "plimsoll-physics-atlas" || j.at("mesh_hash") != meshHash(mesh) ||

@@ -1,4 +1,5 @@
 #include "plimsoll/io/bake_io.h"
+#include "plimsoll/io/json_depth.h"
 
 #include "io/exr_io.h"
 #include "io/texture_facts_json.h"
@@ -228,6 +229,7 @@ Result<SurfaceTextures> readBakedTextures(const fs::path& folder) {
         return finished.error();
     Result<std::string> text = readWholeFile(manifestPath, kMaxJsonFileBytes, "kMaxJsonFileBytes");
     if (!text) return text.error();
+    if (Status depth = checkJsonDepth(*text, manifestPath.string()); !depth.ok()) return depth.error();
     nlohmann::json manifest;
     try {
         manifest = nlohmann::json::parse(*text);

@@ -1,4 +1,5 @@
 #include "plimsoll/io/file_util.h"
+#include "plimsoll/io/json_depth.h"
 
 #include "plimsoll/core/limits.h"
 
@@ -7,7 +8,10 @@
 
 #include <nlohmann/json.hpp>
 
+#include <algorithm>
 #include <atomic>
+#include <cstdio>
+#include <iterator>
 #include <cerrno>
 #include <cstring>
 #include <ext/stdio_filebuf.h>
@@ -17,6 +21,7 @@
 #include <sys/stat.h>
 #include <system_error>
 #include <unistd.h>
+#include <vector>
 
 namespace plimsoll {
 
@@ -110,6 +115,97 @@ Result<int> createTemporaryDescriptor(const fs::path& target, fs::path& temp) {
     return fd;
 }
 }  // namespace
+
+Status checkReplaceable(const fs::path& target) {
+    struct stat st {};
+    if (::lstat(target.c_str(), &st) != 0) {
+        const int error = errno;
+        if (error == ENOENT) return Ok{};
+        return makeError(ErrorKind::io, target.string() + ": cannot write: " + systemMessage(error));
+    }
+    if (S_ISREG(st.st_mode)) return Ok{};
+    // A rename over a link, a device node or a FIFO replaces the node itself (run as root,
+    // `--out /dev/null` would replace /dev/null): only regular files are replaced.
+    const char* type = S_ISLNK(st.st_mode) ? "a symbolic link" : fileTypeName(st.st_mode);
+    return makeError(ErrorKind::io, target.string() + ": is " + std::string(type) +
+                                        ", not a regular file: not replaced (name a new or a "
+                                        "regular file)");
+}
+
+static std::atomic<bool> exchangeDisabled{false};
+
+void disableRenameExchangeForTesting(bool disabled) { exchangeDisabled = disabled; }
+
+namespace {
+/// Folders left aside by an interrupted fallback swap of `target`: ".NAME.old-*" beside it.
+std::vector<fs::path> foldersSetAside(const fs::path& target) {
+    std::vector<fs::path> found;
+    const std::string prefix = "." + target.filename().string() + ".old-";
+    std::error_code ec;
+    const fs::path parent = target.parent_path().empty() ? fs::path(".") : target.parent_path();
+    for (fs::directory_iterator it(parent, ec), end; !ec && it != end; it.increment(ec)) {
+        const std::string name = it->path().filename().string();
+        if (name.rfind(prefix, 0) == 0 && it->is_directory(ec) && !it->is_symlink(ec))
+            found.push_back(it->path());
+    }
+    std::sort(found.begin(), found.end());
+    return found;
+}
+}  // namespace
+
+Status restoreInterruptedFolderSwap(const fs::path& target) {
+    std::error_code ec;
+    if (fs::exists(fs::symlink_status(target, ec))) return Ok{};
+    const std::vector<fs::path> aside = foldersSetAside(target);
+    if (aside.empty()) return Ok{};
+    // The fallback swap moved the previous folder aside and died before the new one took its
+    // place: the previous one goes back.
+    if (::rename(aside.back().c_str(), target.c_str()) != 0)
+        return makeError(ErrorKind::io, target.string() + ": cannot restore " + aside.back().string() +
+                                            " after an interrupted replace: " + systemMessage(errno));
+    return Ok{};
+}
+
+Status replaceFolder(const fs::path& staging, const fs::path& target, const fs::path& aside) {
+    struct stat st {};
+    const bool hadOld = ::lstat(target.c_str(), &st) == 0;
+    if (hadOld && (S_ISLNK(st.st_mode) || !S_ISDIR(st.st_mode)))
+        return makeError(ErrorKind::io, target.string() + ": is " +
+                                            (S_ISLNK(st.st_mode) ? "a symbolic link" : fileTypeName(st.st_mode)) +
+                                            ", not a folder: not replaced");
+    if (Status step = fileStep("renaming", target); !step.ok()) return step;
+    if (!hadOld) {
+        if (::rename(staging.c_str(), target.c_str()) != 0)
+            return makeError(ErrorKind::io, target.string() + ": cannot create: " + systemMessage(errno));
+        return Ok{};
+    }
+    // One exchange: readers see the old folder or the new one at the path, never none, and a
+    // process killed at any instant leaves a complete folder there.
+    if (!exchangeDisabled &&
+        ::renameat2(AT_FDCWD, staging.c_str(), AT_FDCWD, target.c_str(), RENAME_EXCHANGE) == 0) {
+        std::error_code ec;
+        fs::remove_all(staging, ec);  // now the previous folder
+        return Ok{};
+    }
+    const int error = exchangeDisabled ? EINVAL : errno;
+    if (error != EINVAL && error != ENOSYS && error != ENOTSUP)
+        return makeError(ErrorKind::io, target.string() + ": cannot replace: " + systemMessage(error));
+    // Fallback where the file system has no exchange: two renames. Between them the path is
+    // missing for a moment; a process killed there leaves the previous folder aside, and
+    // restoreInterruptedFolderSwap (run by the next replace or check) puts it back.
+    if (::rename(target.c_str(), aside.c_str()) != 0)
+        return makeError(ErrorKind::io, target.string() + ": cannot replace: " + systemMessage(errno));
+    Status moved = fileStep("renaming", staging);
+    if (moved.ok() && ::rename(staging.c_str(), target.c_str()) != 0)
+        moved = makeError(ErrorKind::io, target.string() + ": cannot replace: " + systemMessage(errno));
+    std::error_code ec;
+    if (!moved.ok()) {
+        ::rename(aside.c_str(), target.c_str());
+        return moved;
+    }
+    fs::remove_all(aside, ec);
+    return Ok{};
+}
 
 // Steps left before the injected failure; 0: none armed. Atomic: writers may run on threads.
 static std::atomic<int> failingStep{0};
@@ -235,6 +331,7 @@ void setBeforeReplaceHookForTesting(BeforeReplaceHook hook) {
 Status replaceFileAtomically(const fs::path& target,
                              const std::function<Status(const fs::path&)>& write) {
     if (Status step = fileStep("writing", target); !step.ok()) return step;
+    if (Status replaceable = checkReplaceable(target); !replaceable.ok()) return replaceable;
     Result<fs::path> temp = createTemporaryFor(target);
     if (!temp) return temp.error();
     Status written = write(*temp);
@@ -265,11 +362,35 @@ fs::path journalPathFor(const fs::path& lastTarget) {
     return lastTarget.parent_path() / ("." + lastTarget.filename().string() + ".journal");
 }
 
-/// Paths in the journal are relative to its folder, so a folder moved after a crash still
-/// completes; absolute ones (a target outside that folder) are kept as they are.
+/// Paths in the journal are relative to its folder (so a folder moved after a crash still
+/// completes), and only inside it: the writer refuses a target elsewhere, the reader a journal
+/// naming one. Empty when `p` is not inside `folder`.
 std::string relativeTo(const fs::path& p, const fs::path& folder) {
-    const fs::path r = fs::path(p).lexically_relative(folder.empty() ? fs::path(".") : folder);
-    return r.empty() || *r.begin() == ".." ? fs::absolute(p).string() : r.string();
+    const fs::path base = fs::absolute(folder.empty() ? fs::path(".") : folder).lexically_normal();
+    const fs::path r = fs::absolute(p).lexically_normal().lexically_relative(base);
+    if (r.empty() || r == "." || *r.begin() == "..") return {};
+    return r.generic_string();
+}
+
+/// `relative`, a path a journal names, resolved inside `folder`: relative, no "..", no
+/// backslash or NUL, and no symbolic link among the folders between (a link there would carry
+/// the rename elsewhere).
+Result<fs::path> journalPathInside(const fs::path& folder, const std::string& relative,
+                                   const fs::path& journal) {
+    Result<fs::path> inside = pathInside(folder, relative, journal.string() + ": the file");
+    if (!inside) return inside.error();
+    fs::path walked = folder;
+    const fs::path rel(relative);
+    for (auto it = rel.begin(); it != rel.end(); ++it) {
+        if (std::next(it) == rel.end()) break;  // the file itself: renamed over, never followed
+        walked /= *it;
+        struct stat st {};
+        if (::lstat(walked.c_str(), &st) == 0 && !S_ISDIR(st.st_mode))
+            return makeError(ErrorKind::format, journal.string() + ": the file \"" + relative +
+                                                    "\" passes through " + walked.string() +
+                                                    ", not a folder (a link?)");
+    }
+    return inside;
 }
 
 /// One file of the set: its temporary, its target and the previous version kept aside.
@@ -307,15 +428,26 @@ Status finishInterruptedReplace(const fs::path& lastTarget) {
     if (!text) return withContext("interrupted save: ", text.error());
     const fs::path folder = lastTarget.parent_path();
     std::vector<JournalEntry> entries;
+    if (Status depth = checkJsonDepth(*text, journal.string()); !depth.ok()) return depth;
     try {
         const nlohmann::json j = nlohmann::json::parse(*text);
         if (j.at("format").get<std::string>() != kJournalFormat) throw std::runtime_error("format");
         for (const nlohmann::json& f : j.at("files")) {
-            auto resolve = [&](const char* key) {
-                const fs::path p(f.at(key).get<std::string>());
-                return p.empty() || p.is_absolute() ? p : folder / p;
-            };
-            entries.push_back({resolve("temp"), resolve("target"), resolve("backup")});
+            JournalEntry entry;
+            for (auto [key, into] : {std::pair{"temp", &entry.temp}, std::pair{"target", &entry.target},
+                                     std::pair{"backup", &entry.backup}}) {
+                const std::string p = f.at(key).get<std::string>();
+                if (p.empty() && into == &entry.backup) continue;  // no previous version
+                // A journal names files of its own folder only: anything else (an absolute
+                // path, "..", a link on the way) is refused before a single file moves.
+                Result<fs::path> inside = journalPathInside(folder, p, journal);
+                if (!inside)
+                    return makeError(ErrorKind::format, inside.error().message +
+                                                            ": journal refused, nothing moved "
+                                                            "(remove it to load the project)");
+                *into = *inside;
+            }
+            entries.push_back(std::move(entry));
         }
     } catch (const std::exception& e) {
         return makeError(ErrorKind::format,
@@ -343,9 +475,19 @@ Status replaceFilesTogether(const std::vector<FileWriter>& files) {
     auto removeTemps = [&] {
         for (const JournalEntry& e : entries) fs::remove(e.temp, ec);
     };
+    // The journal names every file relative to the last one's folder: a set reaching outside
+    // it is refused before anything is written.
+    const fs::path setFolder = files.back().first.parent_path();
+    for (const auto& [target, write] : files) {
+        if (relativeTo(target, setFolder).empty())
+            return makeError(ErrorKind::invalidArgument,
+                             target.string() + ": outside " + (setFolder.empty() ? fs::path(".") : setFolder).string() +
+                                 ", the folder of the files it is saved with: not written");
+    }
     // Phase 1: every temporary file; the targets are not touched yet.
     for (const auto& [target, write] : files) {
         Status written = fileStep("writing", target);
+        if (written.ok()) written = checkReplaceable(target);
         Result<fs::path> temp = written.ok() ? createTemporaryFor(target) : Result<fs::path>(written.error());
         if (!temp) {
             removeTemps();

@@ -1,5 +1,6 @@
 // Reading hand-written JSON with a JSON path in every problem (json_reader.h).
 #include "io/json_reader.h"
+#include "plimsoll/io/json_depth.h"
 
 #include "plimsoll/io/json_keys.h"
 
@@ -23,6 +24,7 @@ const char* brokenLimit(double value, Limit limit) {
 }  // namespace
 
 Result<Json> parseJson(const std::string& text, const std::string& source) {
+    if (Status depth = checkJsonDepth(text, source); !depth.ok()) return depth.error();
     // nlohmann keeps the last of two equal keys silently: refused before parsing.
     if (Status keys = checkNoDuplicateKeys(text, source); !keys.ok()) return keys.error();
     try {

@@ -2,6 +2,7 @@
 // before assimp sees the file: its importers reserve memory for the declared count, so a
 // 100-byte file claiming 1e9 triangles would allocate tens of GB (or throw std::bad_alloc).
 #include "io/mesh_header_check.h"
+#include "plimsoll/io/json_depth.h"
 
 #include "plimsoll/core/limits.h"
 
@@ -478,6 +479,9 @@ Status checkBinaryStl(const std::string& file, std::string_view bytes) {
 /// exist, no node is its own ancestor, and no chain is deeper than kMaxGltfNodeDepth. Text
 /// that is not JSON is left to assimp (its message names the parse error).
 Status checkGltfNodes(const std::string& file, std::string_view jsonText) {
+    // Deep nesting anywhere (a node's extras 200000 arrays deep) overflows assimp's recursive
+    // JSON reader: refused before either parser runs.
+    if (Status depth = checkJsonDepth(jsonText, file); !depth.ok()) return depth;
     const nlohmann::json root = nlohmann::json::parse(jsonText, nullptr, false);
     if (root.is_discarded() || !root.is_object()) return Ok{};
     const auto nodes = root.find("nodes");
@@ -493,7 +497,7 @@ Status checkGltfNodes(const std::string& file, std::string_view jsonText) {
         for (const nlohmann::json& c : *list) {
             if (!c.is_number_unsigned() || c.get<std::uint64_t>() >= n)
                 return makeError(ErrorKind::format, file + ": glTF node " + std::to_string(i) +
-                                                        " names child " + c.dump() + ", not a node of the file");
+                                                        " names child " + boundedExcerpt(c.dump()) + ", not a node of the file");
             children[i].push_back(c.get<std::size_t>());
             ++parents[c.get<std::size_t>()];
         }

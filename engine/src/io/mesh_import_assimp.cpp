@@ -198,6 +198,10 @@ Result<TriangleMesh> importBytes(std::string_view bytes, std::string format, con
                                  std::optional<fs::path> folder, MeshLoadOptions options) {
     for (char& c : format) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
     if (bytes.empty()) return makeError(ErrorKind::format, source + ": empty file");
+    // Allowed formats only, chosen by content: nothing else reaches assimp.
+    Result<std::string> allowed = detail::meshFormat(bytes, format, source);
+    if (!allowed) return allowed.error();
+    format = *allowed;
     if (format == "obj") {
         std::istringstream text{std::string(bytes)};
         return loadObj(text, source, options);

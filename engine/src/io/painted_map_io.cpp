@@ -3,7 +3,7 @@
 #include "plimsoll/core/limits.h"
 #include "plimsoll/io/file_util.h"
 
-#include <stb_image.h>
+#include "io/png_content.h"
 
 #include <algorithm>
 #include <cmath>
@@ -101,32 +101,16 @@ Result<PaintedMap> loadPaintedMap(const std::filesystem::path& path) {
 }
 
 Result<PaintedMap> decodePaintedMap(std::string_view png, const std::string& source) {
-    if (png.size() > static_cast<std::size_t>(std::numeric_limits<int>::max()))
-        return makeError(ErrorKind::limit, source + ": painted map larger than 2 GB");
-    const auto* data = reinterpret_cast<const stbi_uc*>(png.data());
-    const int length = static_cast<int>(png.size());
-    int width = 0, height = 0, channels = 0;
-    if (!stbi_info_from_memory(data, length, &width, &height, &channels))
-        return makeError(ErrorKind::format, source + ": cannot read painted map: " +
-                                                stbi_failure_reason() + " (not a PNG image?)");
-    if (width > kMaxPaintedMapSide || height > kMaxPaintedMapSide) {
-        return makeError(ErrorKind::limit,
-                         source + ": painted map declares " + std::to_string(width) + " x " +
-                             std::to_string(height) + " pixels, more than the limit "
-                             "kMaxPaintedMapSide = " + std::to_string(kMaxPaintedMapSide) +
-                             " (limits.h)");
-    }
-    std::unique_ptr<stbi_us, void (*)(void*)> pixels(
-        stbi_load_16_from_memory(data, length, &width, &height, &channels, 1), stbi_image_free);
-    if (!pixels) {
-        return makeError(ErrorKind::format,
-                         source + ": cannot read painted map: " + stbi_failure_reason());
-    }
+    // PNG by content before any decoder runs; the decoder then knows PNG alone.
+    if (Status checked = checkPngContent(png, source, kMaxPaintedMapSide); !checked.ok())
+        return checked.error();
+    Result<Png16> decoded = decodePng16(png, source);
+    if (!decoded) return decoded.error();
     PaintedMap map;
-    map.width = width;
-    map.height = height;
-    map.values.resize(static_cast<std::size_t>(width) * height);
-    for (std::size_t i = 0; i < map.values.size(); ++i) map.values[i] = pixels.get()[i] / 65535.0f;
+    map.width = decoded->width;
+    map.height = decoded->height;
+    map.values.resize(decoded->samples.size());
+    for (std::size_t i = 0; i < map.values.size(); ++i) map.values[i] = decoded->samples[i] / 65535.0f;
     return map;
 }
 

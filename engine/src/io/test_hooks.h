@@ -24,4 +24,8 @@ void setBeforeReplaceHookForTesting(BeforeReplaceHook hook);
 using FileStepHook = std::function<void(const char* what, const std::filesystem::path& path)>;
 void setFileStepHookForTesting(FileStepHook hook);
 
+/// replaceFolder (file_util.h) takes its fallback of two renames, as on a file system without
+/// renameat2(RENAME_EXCHANGE), while `disabled`.
+void disableRenameExchangeForTesting(bool disabled);
+
 }  // namespace plimsoll

@@ -1,5 +1,6 @@
 // The radiation cache (radiation_cache.h).
 #include "plimsoll/project/radiation_cache.h"
+#include "plimsoll/io/json_depth.h"
 
 #include "plimsoll/core/limits.h"
 #include "plimsoll/io/file_util.h"
@@ -51,6 +52,7 @@ Result<std::optional<BodyRadiation>> readRadiationCache(const std::filesystem::p
     const auto damaged = [&](const std::string& why) {
         return makeError(ErrorKind::format, file.string() + ": not a readable radiation cache: " + why);
     };
+    if (Status depth = checkJsonDepth(*text, file.string()); !depth.ok()) return depth.error();
     try {
         const nlohmann::json j = nlohmann::json::parse(*text);
         if (!j.is_object() || j.value("format", "") != kFormat) return damaged("no \"format\": \"" + std::string(kFormat) + "\"");

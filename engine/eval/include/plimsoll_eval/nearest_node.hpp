@@ -12,6 +12,7 @@
 #include "plimsoll_eval/vec.hpp"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdint>
 #include <limits>
@@ -67,18 +68,26 @@ inline int nearestNodeByScan(const std::vector<NodeShape>& nodes, const Vec3& p)
 /// the median of the longest axis, searched nearer child first; a subtree whose bounds lie
 /// farther than the best candidate so far cannot hold a better one and is skipped. -1 for no
 /// nodes. Building is O(n log n); immutable afterwards, so one index serves many threads.
+///
+/// Ties cost no more than distinct nodes: nodes of the same shape (same centre and box) answer
+/// every point alike, so only the lowest index of each shape enters the tree (100000 nodes at
+/// one point are one leaf); and where the best distance is 0 (a point inside boxes that all
+/// contain the hull) a subtree whose centres all lie farther than the best centre distance is
+/// skipped, since only the centre distance can then decide.
 class NearestNodeIndex {
 public:
     explicit NearestNodeIndex(std::vector<NodeShape> nodes) : nodes_(std::move(nodes)) {
-        order_.resize(nodes_.size());
-        for (std::size_t i = 0; i < order_.size(); ++i) order_[i] = static_cast<std::uint32_t>(i);
-        if (nodes_.empty()) return;
+        order_ = distinctShapes();
+        if (order_.empty()) return;
         cells_.resize(1);
         build(0, 0, static_cast<std::uint32_t>(order_.size()));
     }
 
-    int nearest(const Vec3& p) const {
+    /// `examined`, when given, receives the number of nodes whose distance the query computed
+    /// (the cost the tree exists to bound).
+    int nearest(const Vec3& p, std::size_t* examined = nullptr) const {
         NodeCandidate best;
+        if (examined) *examined = 0;
         if (cells_.empty()) return -1;
         std::uint32_t stack[128];
         int top = 0;
@@ -86,7 +95,9 @@ public:
         while (top > 0) {
             const Cell& cell = cells_[stack[--top]];
             if (lowerBound(cell, p) > best.distance) continue;
+            if (best.distance == 0 && centreBound(cell, p) > best.centre) continue;
             if (cell.left == 0) {
+                if (examined) *examined += cell.end - cell.begin;
                 for (std::uint32_t k = cell.begin; k < cell.end; ++k) {
                     const int j = static_cast<int>(order_[k]);
                     const double d = nodeDistance(nodes_[j], p), c = norm(nodes_[j].centre - p);
@@ -95,9 +106,11 @@ public:
                 continue;
             }
             // The nearer child is searched first (pushed last), so the farther one is mostly
-            // skipped.
+            // skipped; between equally near children, the one of nearer centres.
             std::uint32_t nearer = cell.left, farther = cell.left + 1;
-            if (lowerBound(cells_[farther], p) < lowerBound(cells_[nearer], p)) std::swap(nearer, farther);
+            const double dn = lowerBound(cells_[nearer], p), df = lowerBound(cells_[farther], p);
+            if (df < dn || (df == dn && centreBound(cells_[farther], p) < centreBound(cells_[nearer], p)))
+                std::swap(nearer, farther);
             stack[top++] = farther;
             stack[top++] = nearer;
         }
@@ -109,6 +122,7 @@ public:
 private:
     struct Cell {
         Vec3 lo, hi;              ///< bounds of every compartment below, padded outwards
+        Vec3 centreLo, centreHi;  ///< bounds of their centres, padded outwards
         std::uint32_t begin = 0, end = 0;  ///< the cell's nodes: order_[begin, end)
         std::uint32_t left = 0;   ///< first of two children (cells_[left], cells_[left + 1]); 0: a leaf
     };
@@ -122,6 +136,36 @@ private:
         const double dy = std::max({0.0, c.lo.y - p.y, p.y - c.hi.y});
         const double dz = std::max({0.0, c.lo.z - p.z, p.z - c.hi.z});
         return std::sqrt(dx * dx + dy * dy + dz * dz);
+    }
+
+    /// Distance from p to the cell's centre bounds: no centre inside is nearer.
+    static double centreBound(const Cell& c, const Vec3& p) {
+        const double dx = std::max({0.0, c.centreLo.x - p.x, p.x - c.centreHi.x});
+        const double dy = std::max({0.0, c.centreLo.y - p.y, p.y - c.centreHi.y});
+        const double dz = std::max({0.0, c.centreLo.z - p.z, p.z - c.centreHi.z});
+        return std::sqrt(dx * dx + dy * dy + dz * dz);
+    }
+
+    /// The indices that enter the tree: of the nodes with the same shape, the lowest (the
+    /// scan's choice among them for every point). Shapes holding a NaN are kept as they are
+    /// (NaN compares unordered, which a sort cannot take).
+    std::vector<std::uint32_t> distinctShapes() const {
+        auto key = [&](std::uint32_t i) {
+            const NodeShape& n = nodes_[i];
+            return std::array<double, 6>{n.centre.x, n.centre.y, n.centre.z, n.box.x, n.box.y, n.box.z};
+        };
+        std::vector<std::uint32_t> ordered, kept;
+        for (std::size_t i = 0; i < nodes_.size(); ++i) {
+            const auto k = key(static_cast<std::uint32_t>(i));
+            const bool hasNaN = std::any_of(k.begin(), k.end(), [](double v) { return std::isnan(v); });
+            (hasNaN ? kept : ordered).push_back(static_cast<std::uint32_t>(i));
+        }
+        std::stable_sort(ordered.begin(), ordered.end(),
+                         [&](std::uint32_t a, std::uint32_t b) { return key(a) < key(b); });
+        for (std::size_t k = 0; k < ordered.size(); ++k) {
+            if (k == 0 || key(ordered[k - 1]) < key(ordered[k])) kept.push_back(ordered[k]);
+        }
+        return kept;
     }
 
     static double component(const Vec3& v, int axis) { return axis == 0 ? v.x : (axis == 1 ? v.y : v.z); }
@@ -148,6 +192,10 @@ private:
         Cell& cell = cells_[self];
         cell.lo = {lo.x - pad(lo.x), lo.y - pad(lo.y), lo.z - pad(lo.z)};
         cell.hi = {hi.x + pad(hi.x), hi.y + pad(hi.y), hi.z + pad(hi.z)};
+        cell.centreLo = {centreLo.x - pad(centreLo.x), centreLo.y - pad(centreLo.y),
+                         centreLo.z - pad(centreLo.z)};
+        cell.centreHi = {centreHi.x + pad(centreHi.x), centreHi.y + pad(centreHi.y),
+                         centreHi.z + pad(centreHi.z)};
         cell.begin = begin;
         cell.end = end;
         if (end - begin <= kLeafSize) return;

@@ -33,7 +33,9 @@ Status replaceFileAtomically(const std::filesystem::path& target,
 /// journal naming every (temporary, target) pair is renamed into place beside the last target:
 /// that rename is the commit. Each temporary is then renamed over its target, the previous
 /// version kept aside (a hard link) so that a failed rename puts the previous files back, and
-/// the journal is removed. A process killed after the commit leaves the journal, and
+/// the journal is removed. Every target lies inside the last target's folder (the journal names
+/// them by relative path, and a journal naming anything else is refused when read). A process
+/// killed after the commit leaves the journal, and
 /// finishInterruptedReplace (called by the loaders of the last target) completes the set; one
 /// killed before leaves the previous set. Each writer fills the temporary path it is given.
 using FileWriter = std::pair<std::filesystem::path,
@@ -42,6 +44,18 @@ Status replaceFilesTogether(const std::vector<FileWriter>& files);
 /// Completes a replaceFilesTogether whose process died after its commit: `lastTarget` is the
 /// last file of that set (the project file, a bake manifest). Ok when there was nothing to do.
 Status finishInterruptedReplace(const std::filesystem::path& lastTarget);
+/// Puts the complete folder `staging` at `target` (a sibling of it), replacing the folder there:
+/// by one renameat2(RENAME_EXCHANGE), so that at every instant a reader finds the old or the
+/// new folder at `target`, then the old one removed. Where the file system has no exchange,
+/// two renames through `aside` (a sibling name): the path is missing between them, and a kill
+/// there leaves the old folder at `aside` for restoreInterruptedFolderSwap. A `target` that is
+/// a link or not a folder is refused. `staging` is left for the caller to remove on failure.
+Status replaceFolder(const std::filesystem::path& staging, const std::filesystem::path& target,
+                     const std::filesystem::path& aside);
+/// Where `target` is missing and a folder of an interrupted fallback replaceFolder (".NAME.old-*"
+/// beside it) remains, puts that folder back. Ok when there was nothing to do.
+Status restoreInterruptedFolderSwap(const std::filesystem::path& target);
+
 /// The writer of a file whose bytes are known up front (a PNG, a JSON text).
 FileWriter bytesFileWriter(const std::filesystem::path& target, std::string bytes);
 
@@ -52,6 +66,11 @@ FileWriter bytesFileWriter(const std::filesystem::path& target, std::string byte
 /// is what is read; a path holding a NUL byte is refused (it would open another file).
 Result<std::string> readWholeFile(const std::filesystem::path& path, std::uint64_t maxBytes,
                                   const char* limitName);
+
+/// Ok if `target` may be replaced by a rename: it does not exist or is a regular file. A link,
+/// a device node, a FIFO, a socket or a folder is refused by name (a rename would replace the
+/// node itself, not write into what it names).
+Status checkReplaceable(const std::filesystem::path& target);
 
 /// For libraries that open a file themselves: Ok if `path` is a regular file (links followed),
 /// else the error readWholeFile would give.

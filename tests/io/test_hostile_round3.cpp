@@ -1,0 +1,315 @@
+// Hostile input, third round: journals that name files elsewhere, outputs that are not regular
+// files, readers during a bundle's replacement, and painted maps that are not PNG. Each test
+// fails on the code before its defence (docs/security.md lists them).
+#include "cli_runner.h"
+#include "test_support.h"
+
+#include "plimsoll/export/bundle.h"
+#include "plimsoll/io/file_util.h"
+#include "plimsoll/io/graph_json.h"
+#include "plimsoll/io/json_depth.h"
+#include "plimsoll/io/mesh_io.h"
+#include "plimsoll/io/painted_map_io.h"
+#include "plimsoll/project/project.h"
+#include "plimsoll/surface/painted_map.h"
+
+#include "io/test_hooks.h"
+
+#include "plimsoll_runtime.h"
+
+#include <gtest/gtest.h>
+
+#include <atomic>
+#include <fstream>
+#include <string>
+#include <sys/stat.h>
+#include <sys/sysmacros.h>
+#include <sys/wait.h>
+#include <thread>
+#include <unistd.h>
+
+namespace plimsoll {
+namespace {
+
+namespace fs = std::filesystem;
+
+fs::path fresh(const std::string& name) {
+    const fs::path dir = test::scratchFolder("hostile3") / name;
+    fs::remove_all(dir);
+    fs::create_directories(dir);
+    return dir;
+}
+
+void writeBytes(const fs::path& path, const std::string& bytes) {
+    std::ofstream(path, std::ios::binary | std::ios::trunc) << bytes;
+}
+
+template <typename T>
+std::string messageOf(const T& r) {
+    return r.ok() ? std::string() : r.error().message;
+}
+
+#define EXPECT_CONTAINS(text, part) \
+    EXPECT_NE(std::string(text).find(part), std::string::npos) << (text)
+
+/// The box asset with a painted map beside it, at `density`.
+fs::path writeBoxProject(const fs::path& dir, double density) {
+    const fs::path path = dir / "box.plim.json";
+    std::ofstream(path) << R"({"schema_version": 1, "name": "box", "bodies": [{"name": "box", "mesh": ")"
+                        << test::assetPath("box.obj").string()
+                        << R"(", "texture_size": 16, "permeability_map": "perm.png",
+                           "material": {"density": )" << density << "}}]}";
+    EXPECT_TRUE(savePaintedMap(PaintedMap{16, 16, std::vector<float>(256, 0.5f)}, dir / "perm.png").ok());
+    return path;
+}
+
+// --- a journal names only files of its own folder ----------------------------------------------
+
+TEST(HostileJournal, AJournalNamingFilesElsewhereIsRefusedAndMovesNothing) {
+    const fs::path dir = fresh("journal");
+    const fs::path project = dir / "proj", other = dir / "other";
+    fs::create_directories(project);
+    fs::create_directories(other);
+    const fs::path path = writeBoxProject(project, 500.0);
+    writeBytes(other / "photo.jpg", "a photograph");
+    writeBytes(other / ".photo.jpg.tmp-abcdef", "the attacker's bytes");
+    writeBytes(other / "notes.txt", "notes");
+    writeBytes(other / ".notes.txt.previous.tmp-123456", "backup");
+    // Absolute paths into the other folder, then the same reached through "..".
+    for (const std::string& base : {other.string() + "/", std::string("../other/")}) {
+        SCOPED_TRACE(base);
+        writeBytes(project / ".box.plim.json.journal",
+                   R"({"format": "plimsoll-replace-journal", "files": [{"temp": ")" + base +
+                       R"(.photo.jpg.tmp-abcdef", "target": ")" + base +
+                       R"(photo.jpg", "backup": ")" + base + R"(.notes.txt.previous.tmp-123456"}]})");
+        Result<Project> loaded = loadProject(path);
+        ASSERT_FALSE(loaded.ok());
+        EXPECT_CONTAINS(loaded.error().message, "journal refused");
+        EXPECT_CONTAINS(loaded.error().message, ".box.plim.json.journal");
+        EXPECT_EQ(test::readFile(other / "photo.jpg"), "a photograph");
+        EXPECT_EQ(test::readFile(other / ".photo.jpg.tmp-abcdef"), "the attacker's bytes");
+        EXPECT_TRUE(fs::exists(other / ".notes.txt.previous.tmp-123456"));
+    }
+    // Through a link in the project folder to the other one.
+    fs::create_directory_symlink(other, project / "maps");
+    writeBytes(project / ".box.plim.json.journal",
+               R"({"format": "plimsoll-replace-journal", "files": [{"temp": "maps/.photo.jpg.tmp-abcdef", "target": "maps/photo.jpg", "backup": ""}]})");
+    EXPECT_CONTAINS(messageOf(loadProject(path)), "not a folder (a link?)");
+    EXPECT_EQ(test::readFile(other / "photo.jpg"), "a photograph");
+    // A set of files reaching outside the last one's folder is refused before it is written.
+    const Status outside = replaceFilesTogether({bytesFileWriter(other / "photo.jpg", "map"),
+                                                 bytesFileWriter(project / "x.json", "{}")});
+    EXPECT_CONTAINS(messageOf(outside), "outside");
+    EXPECT_EQ(test::readFile(other / "photo.jpg"), "a photograph");
+    EXPECT_FALSE(fs::exists(project / "x.json"));
+}
+
+// --- an output that is not a regular file is never replaced ------------------------------------
+
+TEST(HostileOutput, ALinkADeviceOrAFifoNamedAsOutputIsNotReplaced) {
+    const fs::path dir = fresh("out");
+    writeBytes(dir / "real.csv", "kept");
+    fs::create_symlink(dir / "real.csv", dir / "link.csv");
+    fs::create_symlink("/proc/self/fd/1", dir / "stdout.csv");
+    ASSERT_EQ(::mkfifo((dir / "fifo.csv").c_str(), 0600), 0);
+    std::vector<std::string> names{"link.csv", "stdout.csv", "fifo.csv"};
+    // A copy of /dev/null, where the test may make device nodes (as root).
+    if (::mknod((dir / "null.csv").c_str(), S_IFCHR | 0666, makedev(1, 3)) == 0) names.push_back("null.csv");
+    for (const std::string& name : names) {
+        SCOPED_TRACE(name);
+        struct stat before {};
+        ASSERT_EQ(::lstat((dir / name).c_str(), &before), 0);
+        const Status s = writeFileAtomically(dir / name, [](std::ostream& out) { return bool(out << "t,x\n"); });
+        EXPECT_CONTAINS(messageOf(s), name + ": is a");
+        EXPECT_CONTAINS(messageOf(s), "not replaced");
+        struct stat after {};
+        ASSERT_EQ(::lstat((dir / name).c_str(), &after), 0);
+        EXPECT_EQ(before.st_ino, after.st_ino) << "the node itself was replaced";
+        EXPECT_EQ(before.st_mode, after.st_mode);
+    }
+    EXPECT_EQ(test::readFile(dir / "real.csv"), "kept");
+    // The CLI says so and exits 1.
+    const test::CommandOutput run = test::runPlimsoll(
+        "simulate '" + (fs::path(PLIMSOLL_SOURCE_DIR) / "projects" / "box_half_draft.plim.json").string() +
+        "' --seconds 0.05 --out '" + (dir / "link.csv").string() + "'");
+    EXPECT_EQ(run.exitCode, 1) << run.err;
+    EXPECT_CONTAINS(run.err, "link.csv: is a symbolic link");
+    EXPECT_TRUE(fs::is_symlink(dir / "link.csv"));
+}
+
+// --- readers during a re-export ------------------------------------------------------------------
+
+/// 100 re-exports of one bundle while a loader thread loads it without pause through the
+/// runtime: every load finds a complete bundle (the exchange is one rename).
+TEST(HostileExport, ALoaderDuringReExportsAlwaysFindsACompleteBundle) {
+    const fs::path dir = fresh("readers");
+    const fs::path projectDir = dir / "project", out = dir / "export";
+    fs::create_directories(projectDir);
+    Result<Project> project = loadProject(writeBoxProject(projectDir, 500.0));
+    ASSERT_TRUE(project.ok()) << project.error().message;
+    ASSERT_TRUE(writeBodyBundle(*project, 0, out / "box").ok());
+    std::atomic<bool> done{false};
+    std::atomic<int> loads{0}, failures{0};
+    std::string firstFailure;
+    std::thread loader([&] {
+        while (!done) {
+            plimsoll_bundle* bundle = plimsoll_bundle_load((out / "box").c_str(), 0);
+            if (bundle) plimsoll_bundle_free(bundle);
+            else if (failures++ == 0) firstFailure = plimsoll_runtime_last_error();
+            ++loads;
+        }
+    });
+    int exports = 0;
+    for (; exports < 100; ++exports) {
+        Result<BundleReport> r = writeBodyBundle(*project, 0, out / "box");
+        if (!r.ok()) {
+            ADD_FAILURE() << r.error().message;
+            break;
+        }
+    }
+    done = true;
+    loader.join();
+    EXPECT_EQ(exports, 100);
+    EXPECT_GT(loads.load(), 100);
+    EXPECT_EQ(failures.load(), 0) << "of " << loads.load() << " loads; first: " << firstFailure;
+    EXPECT_TRUE(verifyBundle(out / "box").ok());
+}
+
+/// `export --force` killed at every step, with the exchange and with the fallback of two
+/// renames: the bundle at the path is always the old one or the new one, complete (the
+/// fallback's kill between its renames is repaired by the next export's check).
+TEST(HostileExport, AReExportKilledAtAnyStepLeavesACompleteBundle) {
+    for (const bool fallback : {false, true}) {
+        SCOPED_TRACE(fallback ? "two renames" : "exchange");
+        const fs::path dir = fresh(fallback ? "kill_fallback" : "kill_exchange");
+        const fs::path projectDir = dir / "project", out = dir / "export";
+        fs::create_directories(projectDir);
+        Result<Project> a = loadProject(writeBoxProject(projectDir, 500.0));
+        ASSERT_TRUE(a.ok()) << a.error().message;
+        ASSERT_TRUE(writeBodyBundle(*a, 0, out / "box").ok());
+        const std::string oldManifest = test::readFile(out / "box" / "manifest.json");
+        Result<Project> b = loadProject(writeBoxProject(projectDir, 700.0));
+        ASSERT_TRUE(b.ok());
+        int outcomes[2] = {0, 0};
+        int k = 1;
+        for (; k < 60; ++k) {
+            const pid_t child = ::fork();
+            ASSERT_GE(child, 0);
+            if (child == 0) {
+                disableRenameExchangeForTesting(fallback);
+                int steps = 0;
+                setFileStepHookForTesting([&](const char*, const fs::path&) {
+                    if (++steps == k) ::_exit(9);
+                });
+                ::_exit(writeBodyBundle(*b, 0, out / "box").ok() ? 0 : 5);
+            }
+            int status = 0;
+            ::waitpid(child, &status, 0);
+            ASSERT_TRUE(WIFEXITED(status));
+            const int code = WEXITSTATUS(status);
+            ASSERT_TRUE(code == 0 || code == 9) << "child exit " << code;
+            SCOPED_TRACE("killed at step " + std::to_string(k));
+            ASSERT_TRUE(restoreInterruptedFolderSwap(out / "box").ok());
+            Result<BundleManifestInfo> verified = verifyBundle(out / "box");
+            ASSERT_TRUE(verified.ok()) << verified.error().message;
+            const bool isNew = test::readFile(out / "box" / "manifest.json") != oldManifest;
+            ++outcomes[isNew];
+            if (code == 0) break;
+            if (isNew) {  // put the old bundle back for the next step
+                ASSERT_TRUE(writeBodyBundle(*a, 0, out / "box").ok());
+            }
+        }
+        EXPECT_LT(k, 60);
+        EXPECT_GE(outcomes[0], 10);  // killed while the staging folder was written
+        EXPECT_GE(outcomes[1], 1);
+    }
+}
+
+// --- painted maps are PNG by content --------------------------------------------------------------
+
+TEST(HostileImages, AMapThatIsNotAPngIsRefusedNamingItsRealType) {
+    const std::string png = encodePaintedMapPng16(PaintedMap{4, 3, std::vector<float>(12, 0.25f)});
+    Result<PaintedMap> good = decodePaintedMap(png, "perm.png");
+    ASSERT_TRUE(good.ok()) << good.error().message;
+    EXPECT_EQ(good->width, 4);
+    EXPECT_NEAR(good->values[5], 0.25f, 1e-4);
+    // A Radiance HDR with a corrupt run-length scanline (the one that looped in stb_image),
+    // a progressive JPEG header, a GIF, a PSD, a PNM, a Softimage PIC.
+    std::string hdr = "#?RADIANCE\nFORMAT=32-bit_rle_rgbe\n\n-Y 8 +X 8\n";
+    hdr += std::string("\x02\x02\x00\x08", 4) + std::string(64, '\x80');
+    const std::pair<std::string, std::string> others[] = {
+        {hdr, "Radiance HDR"},
+        {std::string("\xFF\xD8\xFF\xC2\x00\x11", 6) + std::string(40, '\0'), "JPEG"},
+        {"GIF89a" + std::string(40, '\0'), "GIF"},
+        {"8BPS" + std::string(40, '\0'), "PSD"},
+        {"P5\n8 8\n255\n" + std::string(64, '\0'), "PNM"},
+        {std::string("\x53\x80\xF6\x34", 4) + std::string(200, '\0'), "PIC"},
+    };
+    for (const auto& [bytes, type] : others) {
+        Result<PaintedMap> map = decodePaintedMap(bytes, "perm.png");
+        EXPECT_CONTAINS(messageOf(map), "perm.png: is a");
+        EXPECT_CONTAINS(messageOf(map), type);
+    }
+    // A PNG broken in its chunks: refused before decoding, with the reason.
+    std::string badCrc = png;
+    badCrc[png.size() - 20] ^= 0x40;  // inside the IDAT data
+    EXPECT_CONTAINS(messageOf(decodePaintedMap(badCrc, "perm.png")), "fails its CRC");
+    EXPECT_CONTAINS(messageOf(decodePaintedMap(png.substr(0, png.size() - 12), "perm.png")),
+                    "no IEND");
+    std::string huge = png;  // a declared 8000 x 8000 from a few bytes of IDAT
+    huge.replace(16, 8, std::string("\x00\x00\x1f\x40\x00\x00\x1f\x40", 8));
+    const std::uint32_t crc = [&] {
+        std::uint32_t c = 0xFFFFFFFFu;
+        for (std::size_t i = 12; i < 29; ++i) {
+            c ^= static_cast<unsigned char>(huge[i]);
+            for (int b = 0; b < 8; ++b) c = (c & 1) ? 0xEDB88320u ^ (c >> 1) : c >> 1;
+        }
+        return ~c;
+    }();
+    for (int i = 0; i < 4; ++i) huge[29 + i] = static_cast<char>(crc >> (24 - 8 * i));
+    EXPECT_CONTAINS(messageOf(decodePaintedMap(huge, "perm.png")), "cannot hold the declared image");
+}
+
+// --- depth before parsing, formats by content ------------------------------------------------
+
+TEST(HostileJson, DeepNestingIsRefusedBeforeAnyParser) {
+    const std::string deep = "{\"a\": " + std::string(200000, '[') + std::string(200000, ']') + "}";
+    EXPECT_CONTAINS(messageOf(checkJsonDepth(deep, "x.json")), "more than the limit kMaxJsonDepth");
+    EXPECT_TRUE(checkJsonDepth("{\"s\": \"[[[[[[[[\"}", "x.json", 2).ok());  // brackets in strings
+    const fs::path dir = fresh("deep");
+    writeBytes(dir / "p.plim.json", deep);
+    EXPECT_CONTAINS(messageOf(loadProject(dir / "p.plim.json")), "p.plim.json: JSON nested more than 128");
+    writeBytes(dir / "g.gltf", R"({"asset": {"version": "2.0"}, "nodes": [{"extras": )" +
+                                   std::string(200000, '[') + std::string(200000, ']') + "}]}");
+    EXPECT_CONTAINS(messageOf(loadMesh(dir / "g.gltf")), "JSON nested more than 128");
+    EXPECT_EQ(boundedExcerpt(std::string(500, 'x') + "\xff", 10), "xxxxxxxxxx...");
+    EXPECT_EQ(boundedExcerpt("a\xff" "b"), "a?b");
+}
+
+TEST(HostileMeshFormats, OtherFormatsAreRefusedByContentAndOBJIsReadWhateverItsName) {
+    const fs::path dir = fresh("formats");
+    const std::pair<std::string, std::string> refused[] = {
+        {"m.dae", R"(<?xml version="1.0"?><COLLADA xmlns="x"></COLLADA>)"},
+        {"m.x", "xof 0303txt 0032\n"},
+        {"m.off", "OFF\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n"},
+        {"m.obj", "xof 0303txt 0032\n"},  // an X file named .obj: the content decides
+        {"m.3mf", std::string("PK\x03\x04", 4) + std::string(40, '\0')},
+        {"m.md5mesh", "MD5Version 10\n"},
+    };
+    for (const auto& [name, bytes] : refused) {
+        writeBytes(dir / name, bytes);
+        const std::string message = messageOf(loadMesh(dir / name));
+        EXPECT_CONTAINS(message, name + ": is a");
+        EXPECT_CONTAINS(message, "OBJ, PLY, STL, FBX, glTF and GLB");
+    }
+    writeBytes(dir / "m.bin", std::string(64, '\x01'));
+    EXPECT_CONTAINS(messageOf(loadMesh(dir / "m.bin")), "content of no allowed format");
+    // An OBJ under another name is read, through the OBJ checks.
+    fs::copy_file(test::assetPath("box.obj"), dir / "box.OBJ.bak");
+    Result<TriangleMesh> box = loadMesh(dir / "box.OBJ.bak");
+    ASSERT_TRUE(box.ok()) << box.error().message;
+    EXPECT_EQ(box->triangleCount(), loadMesh(test::assetPath("box.obj"))->triangleCount());
+}
+
+}  // namespace
+}  // namespace plimsoll
