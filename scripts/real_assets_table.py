@@ -35,8 +35,10 @@ def blender_sizes(files):
                          capture_output=True, text=True, check=False)
     sizes = {}
     for line in run.stdout.splitlines():
-        if line.startswith("{"):
-            entry = json.loads(line)
+        # Blender's importers print without ending their lines: the reading may follow on one.
+        at = line.find('{"file"')
+        if at >= 0:
+            entry = json.loads(line[at:])
             if "min" in entry:
                 sizes[entry["file"]] = [hi - lo for lo, hi in zip(entry["min"], entry["max"])]
     return sizes
