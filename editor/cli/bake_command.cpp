@@ -52,6 +52,12 @@ int runBake(const BakeCommandOptions& options) {
               << (mesh->generatedAtlas ? "generated, written to " + atlasFile.string()
                                        : std::string("the mesh's own UVs"))
               << "\n"
+              << "  unit            " << lengthUnitName(mesh->report.facts.unitScale) << " ("
+              << mesh->report.facts.unitSource << ")\n"
+              << "  repairs         " << describeRepairs(mesh->report.repairs)
+              << (mesh->report.repaired() ? " (the physics solid is baked)" : "") << "\n"
+              << "  material volume " << mesh->report.materialVolume << " m^3\n"
+              << "  displacement volume " << mesh->report.displacementVolume << " m^3\n"
               << "  written to      " << options.out << "\n";
     return kExitOk;
 }
@@ -63,6 +69,7 @@ void addBakeCommand(CLI::App& root, CommandRunner& selected) {
         "bake", "Bake position, area-vector and coverage textures (float32 EXR + manifest.json)");
     cmd->add_option("MESH", options->mesh, "Mesh file (closed; its UVs, or a generated atlas: see --atlas)")->required();
     addBakeOptions(*cmd, options->bake);
+    addUnitOption(*cmd, options->bake.unitScale);
     cmd->add_option("--out", options->out, "Output folder (created if missing)")->required()->check(kNonEmptyPath);
     cmd->callback([options, &selected] { selected = [options] { return runBake(*options); }; });
 }

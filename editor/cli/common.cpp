@@ -43,50 +43,101 @@ const CLI::Validator kNonEmptyPath(
     },
     "PATH");
 
-std::optional<TriangleMesh> loadClosedMesh(const std::string& path) {
-    Result<TriangleMesh> mesh = loadMesh(path);
+CLI::Option* addUnitOption(CLI::App& command, double& unitScale) {
+    return command.add_option_function<std::string>(
+        "--unit",
+        [&unitScale](const std::string& text) {
+            const std::optional<double> metres = parseLengthUnit(text);
+            if (!metres)
+                throw CLI::ValidationError("--unit", "expected m, cm, mm, km, in, ft, yd or metres per "
+                                                     "file unit (a number > 0), got '" + text + "'");
+            unitScale = *metres;
+        },
+        "Length unit of the file: m, cm, mm, km, in, ft, yd or metres per file unit [the file's "
+        "own: FBX UnitScaleFactor, glTF metres; metres for OBJ, STL and PLY]");
+}
+
+std::optional<TriangleMesh> loadMeshInMetres(const std::string& path, double unitScale,
+                                             MeshFileFacts* facts) {
+    MeshLoadOptions options;
+    options.unitScale = unitScale;
+    Result<TriangleMesh> mesh = loadMesh(path, options, facts);
     if (!mesh) {
         std::cerr << "error: " << mesh.error().message << "\n";
-        return std::nullopt;
-    }
-    ValidationReport report = validateMesh(*mesh);
-    // The exact integrals never look at UVs: their problems are noise here.
-    std::erase_if(report.problems, [](const Problem& p) { return isUvProblem(p.kind); });
-    if (!report.problems.empty()) std::cerr << report.format();
-    if (!report.closedSolid()) {
-        std::cerr << "error: " << path << ": the mesh is not a closed, consistently oriented solid\n";
         return std::nullopt;
     }
     return std::move(*mesh);
 }
 
+namespace {
+/// The solid to use for `mesh`: itself, or its physics solid with a note of the repairs.
+std::optional<PhysicsSolid> solidOrRepair(const TriangleMesh& mesh, const ValidationReport& report,
+                                          const std::string& path) {
+    Result<PhysicsSolid> solid = physicsSolidFor(mesh, report);
+    if (!solid) {
+        std::cerr << "error: " << solid.error().message << "\n";
+        return std::nullopt;
+    }
+    if (!solid->repairs.empty()) {
+        std::cerr << "note: " << path << ": not one closed solid as it is: using its physics solid ("
+                  << describeRepairs(solid->repairs) << "), " << solid->materialVolume << " m^3\n";
+        for (const Repair& r : solid->repairs) std::cerr << "  " << r.kind << ": " << r.detail << "\n";
+    }
+    return std::move(*solid);
+}
+}  // namespace
+
+nlohmann::json repairsJson(const std::vector<Repair>& repairs) {
+    nlohmann::json out = nlohmann::json::array();
+    for (const Repair& r : repairs)
+        out.push_back({{"kind", r.kind}, {"count", r.count}, {"volume_change", r.volumeChange},
+                       {"detail", r.detail}});
+    return out;
+}
+
+std::optional<TriangleMesh> loadClosedMesh(const std::string& path, double unitScale,
+                                           MeshReport* meshReport) {
+    MeshFileFacts facts;
+    std::optional<TriangleMesh> mesh = loadMeshInMetres(path, unitScale, &facts);
+    if (!mesh) return std::nullopt;
+    ValidationReport report = validateMesh(*mesh);
+    // The exact integrals never look at UVs: their problems are noise here.
+    std::erase_if(report.problems, [](const Problem& p) { return isUvProblem(p.kind); });
+    if (!report.problems.empty()) std::cerr << report.format();
+    std::optional<PhysicsSolid> solid = solidOrRepair(*mesh, report, path);
+    if (!solid) return std::nullopt;
+    if (meshReport) *meshReport = {facts, solid->repairs, solid->materialVolume, solid->displacementVolume};
+    return std::move(solid->mesh);
+}
+
 std::optional<BakeableMesh> loadMeshForBake(const std::string& path, const BakeOptions& options) {
-    Result<TriangleMesh> mesh = loadMesh(path);
-    if (!mesh) {
-        std::cerr << "error: " << mesh.error().message << "\n";
-        return std::nullopt;
-    }
-    const ValidationReport report = validateMesh(*mesh);
-    ValidationReport surface = report;  // what the atlas cannot fix
+    MeshFileFacts facts;
+    std::optional<TriangleMesh> loaded = loadMeshInMetres(path, options.unitScale, &facts);
+    if (!loaded) return std::nullopt;
+    const ValidationReport surfaceReport = validateMesh(*loaded);
+    ValidationReport surface = surfaceReport;  // what the atlas cannot fix
     std::erase_if(surface.problems, [](const Problem& p) { return isUvProblem(p.kind); });
-    if (surface.hasErrors()) {
-        std::cerr << surface.format() << "error: " << path
-                  << ": the mesh is not a closed, consistently oriented solid\n";
+    std::optional<PhysicsSolid> solid = solidOrRepair(*loaded, surface, path);
+    if (!solid) {
+        std::cerr << surface.format();
         return std::nullopt;
     }
+    // A repaired solid has no UVs of its own: its report is the solid's.
+    const ValidationReport report = solid->repairs.empty() ? surfaceReport : validateMesh(solid->mesh);
     AtlasSettings atlas;
     atlas.textureSize = options.size;
     atlas.progress = stderrProgress("generating a physics atlas");
-    Result<AtlasChoice> choice = chooseAtlas(*mesh, report, options.atlas, atlas);
+    Result<AtlasChoice> choice = chooseAtlas(solid->mesh, report, options.atlas, atlas);
     if (!choice) {
         std::cerr << "error: " << choice.error().message << "\n";
         return std::nullopt;
     }
     // The UV findings are moot when a generated atlas replaces the UVs; the rest is worth saying.
-    ValidationReport shown = choice->generated ? surface : report;
+    ValidationReport shown = choice->generated ? surface : surfaceReport;
     if (!shown.problems.empty()) std::cerr << shown.format();
     if (!choice->notice.empty()) std::cerr << "note: " << choice->notice << "\n";
-    return BakeableMesh{std::move(choice->mesh), choice->generated};
+    return BakeableMesh{std::move(choice->mesh), choice->generated,
+                        MeshReport{facts, solid->repairs, solid->materialVolume, solid->displacementVolume}};
 }
 
 nlohmann::json vectorJson(const Eigen::Vector3d& v) { return {v.x(), v.y(), v.z()}; }

@@ -6,7 +6,9 @@
 #include "plimsoll/bake/bake.h"
 #include "plimsoll/geometry/mesh.h"
 #include "plimsoll/geometry/validate.h"
+#include "plimsoll/io/mesh_io.h"
 #include "plimsoll/project/project.h"
+#include "plimsoll/repair/physics_solid.h"
 
 #include <CLI/CLI.hpp>
 #include <Eigen/Core>
@@ -17,9 +19,33 @@
 
 namespace plimsoll::cli {
 
+/// What loading a mesh found and did: the unit applied, the file's parts, and the physics
+/// solid's repairs and volumes (no repairs: the mesh is used as it is).
+struct MeshReport {
+    MeshFileFacts facts;
+    std::vector<Repair> repairs;
+    double materialVolume = 0;      ///< m^3, exact, of the solid used
+    double displacementVolume = 0;  ///< m^3, exact, of the sealed solid
+    bool repaired() const { return !repairs.empty(); }
+};
+
+/// Adds --unit (metres per file unit, or m, cm, mm, in, ft, ...; default: the file's own unit,
+/// metres for OBJ, STL and PLY).
+CLI::Option* addUnitOption(CLI::App& command, double& unitScale);
+
+/// Loads a mesh in metres; prints the error (naming the file) to stderr on failure.
+std::optional<TriangleMesh> loadMeshInMetres(const std::string& path, double unitScale,
+                                             MeshFileFacts* facts = nullptr);
+
 /// Loads and validates for the exact integrals, which need a closed solid and ignore UVs;
-/// prints the problems to stderr. Returns the mesh only when it is a closed solid.
-std::optional<TriangleMesh> loadClosedMesh(const std::string& path);
+/// prints the problems to stderr. A surface that is not one closed solid as it is gives its
+/// physics solid (physics_solid.h), and says so with the repairs; nothing when none can be
+/// made.
+std::optional<TriangleMesh> loadClosedMesh(const std::string& path, double unitScale = 0,
+                                           MeshReport* report = nullptr);
+
+/// "repairs": [{kind, count, volume_change, detail}] for JSON output.
+nlohmann::json repairsJson(const std::vector<Repair>& repairs);
 
 /// The index of the body named `name` in `project` (empty name: the first body); prints what is
 /// wrong to stderr (no such body, listing the names; no bodies) and returns nothing.
@@ -51,6 +77,7 @@ ProgressCallback stderrProgress(const std::string& label);
 /// The bake's options, shared by every sub-command that bakes.
 struct BakeOptions {
     int size = 512;
+    double unitScale = 0;  ///< metres per file unit (--unit, where the command has it); 0: the file's
     double maxTexelStretch = BakeSettings{}.maxTexelStretch;
     AtlasMode atlas = AtlasMode::Auto;
 };
@@ -58,11 +85,14 @@ struct BakeOptions {
 /// Adds --size, --max-texel-stretch and --atlas to a sub-command; returns the --size option.
 CLI::Option* addBakeOptions(CLI::App& command, BakeOptions& options);
 
-/// A mesh ready to bake: loaded, validated (every non-UV error refuses it), with the UVs that
-/// --atlas chooses; says on stderr when a generated atlas replaces the mesh's UVs.
+/// A mesh ready to bake: loaded in metres, validated, replaced by its physics solid when it is
+/// not one closed solid (physics_solid.h; refused when none can be made), with the UVs that
+/// --atlas chooses; says on stderr what was repaired and when a generated atlas replaces the
+/// mesh's UVs.
 struct BakeableMesh {
     TriangleMesh mesh;  ///< with the UVs to bake
     bool generatedAtlas = false;
+    MeshReport report;
 };
 std::optional<BakeableMesh> loadMeshForBake(const std::string& path, const BakeOptions& options);
 

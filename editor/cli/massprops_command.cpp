@@ -32,11 +32,13 @@ nlohmann::json vectorJson(const Eigen::Vector3d& v) { return {v.x(), v.y(), v.z(
 int runMassProps(const MassPropsOptions& o) {
     std::optional<TriangleMesh> mesh;
     bool generatedAtlas = false;
+    MeshReport report;
     if (o.exact) {
-        mesh = loadClosedMesh(o.mesh);
+        mesh = loadClosedMesh(o.mesh, o.bake.unitScale, &report);
     } else if (std::optional<BakeableMesh> bakeable = loadMeshForBake(o.mesh, o.bake)) {
         mesh = std::move(bakeable->mesh);
         generatedAtlas = bakeable->generatedAtlas;
+        report = std::move(bakeable->report);
     }
     if (!mesh) return kExitFailure;
     // A shell alone unless a solid density was asked for too.
@@ -74,6 +76,11 @@ int runMassProps(const MassPropsOptions& o) {
                {"closure_error", textures->closureError()}};
     }
     out["mesh"] = o.mesh;
+    out["unit_scale"] = report.facts.unitScale;
+    out["repairs"] = repairsJson(report.repairs);
+    // The exact volumes of the solid used (the texture method's "volume" estimates the same).
+    out["material_volume"] = report.materialVolume;
+    out["displacement_volume"] = report.displacementVolume;
     out["density"] = solidDensity;
     out["shell_density"] = o.shellDensity;
     out["volume"] = props.volume;
@@ -84,7 +91,9 @@ int runMassProps(const MassPropsOptions& o) {
     if (o.json) {
         std::cout << out.dump(2) << "\n";
     } else {
-        std::cout << o.mesh << " (" << out["method"].get<std::string>() << ")\n"
+        std::cout << o.mesh << " (" << out["method"].get<std::string>() << ", "
+                  << lengthUnitName(report.facts.unitScale) << ": " << report.facts.unitSource << ")\n"
+                  << "  repairs         " << describeRepairs(report.repairs) << "\n"
                   << "  volume          " << props.volume << " m^3\n"
                   << "  mass            " << props.mass << " kg\n"
                   << "  centre of mass  " << props.centerOfMass.transpose() << " m\n"
@@ -99,8 +108,9 @@ void addMassPropsCommand(CLI::App& root, CommandRunner& selected) {
     auto o = std::make_shared<MassPropsOptions>();
     CLI::App* cmd = root.add_subcommand(
         "massprops", "Volume, mass, centre of mass and inertia, from textures or exactly");
-    cmd->add_option("MESH", o->mesh, "Closed mesh file")->required();
+    cmd->add_option("MESH", o->mesh, "Mesh file (a surface that is not one closed solid gives its physics solid)")->required();
     CLI::Option* size = addBakeOptions(*cmd, o->bake);
+    addUnitOption(*cmd, o->bake.unitScale);
     CLI::Option* exact =
         cmd->add_flag("--exact", o->exact, "Exact polyhedral integrals of the mesh (no textures)")
             ->excludes(size);

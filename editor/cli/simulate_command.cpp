@@ -30,6 +30,7 @@ struct SimulateOptions {
     std::string integrator;
     // One-body scene from flags.
     std::string mesh;
+    double unitScale = 0;
     double density = 500.0;
     int size = 128;
     double fluidDensity = 1000.0;
@@ -43,9 +44,12 @@ Project projectFromFlags(const SimulateOptions& o) {
     Project project;
     project.name = "command line";
     project.folder = std::filesystem::current_path();
+    // No project file: messages name the mesh, and nothing is cached beside a made-up one.
+    project.sourceName = o.mesh;
     BodyDesc body;
     body.name = std::filesystem::path(o.mesh).stem().string();
     body.mesh = o.mesh;
+    body.unitScale = o.unitScale;
     body.textureSize = o.size;
     body.material.density = o.density;
     body.position = o.position;
@@ -258,6 +262,7 @@ void addSimulateCommand(CLI::App& root, CommandRunner& selected) {
     cmd->add_option("--integrator", o->integrator,
                     "explicit-euler, semi-implicit-euler or rk4 (default: the project's)");
     auto* mesh = cmd->add_option("--mesh", o->mesh, "One-body scene: the mesh");
+    addUnitOption(*cmd, o->unitScale)->needs(mesh);
     cmd->add_option("--density", o->density, "One-body scene: solid density, kg/m^3")
         ->check(kFinitePositive)
         ->capture_default_str();

@@ -14,6 +14,8 @@
 #include <algorithm>
 #include <cctype>
 #include <cmath>
+#include <cstdint>
+#include <cstdlib>
 #include <cstring>
 #include <optional>
 #include <sstream>
@@ -113,8 +115,61 @@ unsigned importFlags(MeshLoadOptions options) {
     return flags;
 }
 
+/// A number of the scene's metadata (assimp stores FBX settings as double, float or int).
+std::optional<double> metadataNumber(const aiScene* scene, const char* key) {
+    const aiMetadata* data = scene->mMetaData;
+    if (!data) return std::nullopt;
+    for (unsigned k = 0; k < data->mNumProperties; ++k) {
+        if (std::strcmp(data->mKeys[k].C_Str(), key) != 0 || !data->mValues[k].mData) continue;
+        const aiMetadataEntry& value = data->mValues[k];
+        switch (value.mType) {
+            case AI_DOUBLE: return *static_cast<const double*>(value.mData);
+            case AI_FLOAT: return *static_cast<const float*>(value.mData);
+            case AI_INT32: return *static_cast<const std::int32_t*>(value.mData);
+            default: return std::nullopt;
+        }
+    }
+    return std::nullopt;
+}
+
+std::string metadataString(const aiScene* scene, const char* key) {
+    const aiMetadata* data = scene->mMetaData;
+    if (!data) return {};
+    for (unsigned k = 0; k < data->mNumProperties; ++k) {
+        const aiMetadataEntry& value = data->mValues[k];
+        if (std::strcmp(data->mKeys[k].C_Str(), key) == 0 && value.mType == AI_AISTRING && value.mData)
+            return static_cast<const aiString*>(value.mData)->C_Str();
+    }
+    return {};
+}
+
+/// Metres per file unit and where that comes from. FBX gives UnitScaleFactor in centimetres
+/// per unit (1: centimetres, 100: metres), which assimp leaves unapplied; glTF is metres by
+/// its specification; assimp's COLLADA reader applies the file's <unit> itself; OBJ, STL and
+/// PLY carry no unit.
+Result<std::pair<double, std::string>> fileUnit(const aiScene* scene, const std::string& name,
+                                                MeshLoadOptions options) {
+    if (options.unitScale > 0) return std::pair{options.unitScale, std::string("set by the user")};
+    const std::string format = metadataString(scene, "SourceAsset_Format");
+    if (format.find("FBX") != std::string::npos) {
+        const std::optional<double> factor = metadataNumber(scene, "UnitScaleFactor");
+        if (!factor) return std::pair{0.01, std::string("FBX without UnitScaleFactor: centimetres")};
+        if (!std::isfinite(*factor) || *factor <= 0 || *factor > 1e8)
+            return makeError(ErrorKind::format, name + ": FBX UnitScaleFactor " + std::to_string(*factor) +
+                                                    " is not a usable length unit (centimetres per unit)");
+        std::ostringstream source;
+        source << "FBX UnitScaleFactor " << *factor;
+        return std::pair{*factor / 100.0, source.str()};
+    }
+    if (format.find("glTF") != std::string::npos) return std::pair{1.0, std::string("glTF (metres)")};
+    if (format.find("Collada") != std::string::npos || format.find("COLLADA") != std::string::npos)
+        return std::pair{1.0, std::string("COLLADA <unit>, applied by the reader")};
+    return std::pair{1.0, std::string("no unit in the file: metres")};
+}
+
 Result<TriangleMesh> fromScene(const aiScene* scene, const Assimp::Importer& importer,
-                               const std::string& name, const std::string& refusal = {}) {
+                               const std::string& name, MeshLoadOptions options,
+                               MeshFileFacts* facts, const std::string& refusal = {}) {
     if (!scene || !scene->mRootNode) {
         if (!refusal.empty()) return makeError(ErrorKind::io, refusal);
         return makeError(ErrorKind::format, name + ": cannot read mesh: " + importer.GetErrorString());
@@ -134,43 +189,57 @@ Result<TriangleMesh> fromScene(const aiScene* scene, const Assimp::Importer& imp
                               : "kMaxVertices = " + std::to_string(kMaxVertices)) +
                          " (limits.h)");
     }
+    Result<std::pair<double, std::string>> unit = fileUnit(scene, name, options);
+    if (!unit) return unit.error();
 
     TriangleMesh mesh;
     mesh.source = name;
-    bool allHaveUvs = true;
+    // UVs are kept per part: a part without them gets (0, 0) at its corners rather than
+    // dropping the UVs of every other part.
+    bool anyUvs = false;
     for (unsigned m = 0; m < scene->mNumMeshes; ++m) {
         const aiMesh* part = scene->mMeshes[m];
-        if (!(part->mPrimitiveTypes & aiPrimitiveType_TRIANGLE)) continue;
-        allHaveUvs = allHaveUvs && part->HasTextureCoords(0);
+        if (part->mPrimitiveTypes & aiPrimitiveType_TRIANGLE) anyUvs = anyUvs || part->HasTextureCoords(0);
     }
 
+    MeshFileFacts found;
+    found.unitScale = unit->first;
+    found.unitSource = unit->second;
+    const double scale = unit->first;
     for (unsigned m = 0; m < scene->mNumMeshes; ++m) {
         const aiMesh* part = scene->mMeshes[m];
         if (!(part->mPrimitiveTypes & aiPrimitiveType_TRIANGLE)) continue;
         const auto base = static_cast<std::uint32_t>(mesh.positions.size());
+        const bool partUvs = part->HasTextureCoords(0);
         for (unsigned v = 0; v < part->mNumVertices; ++v) {
             const aiVector3D& p = part->mVertices[v];
-            mesh.positions.emplace_back(p.x, p.y, p.z);
-            if (allHaveUvs) {
-                const aiVector3D& t = part->mTextureCoords[0][v];
+            // Exactly the file's numbers when no unit applies (bakes stay byte-identical).
+            if (scale == 1.0) mesh.positions.emplace_back(p.x, p.y, p.z);
+            else mesh.positions.emplace_back(scale * double(p.x), scale * double(p.y), scale * double(p.z));
+            if (anyUvs) {
+                const aiVector3D t = partUvs ? part->mTextureCoords[0][v] : aiVector3D(0, 0, 0);
                 mesh.uvs.emplace_back(t.x, t.y);
             }
         }
+        MeshPart record{part->mName.C_Str(), mesh.triangles.size(), 0, partUvs};
         for (unsigned f = 0; f < part->mNumFaces; ++f) {
             const aiFace& face = part->mFaces[f];
             if (face.mNumIndices != 3) continue;
             mesh.triangles.push_back(
                 {base + face.mIndices[0], base + face.mIndices[1], base + face.mIndices[2]});
         }
+        record.triangleCount = mesh.triangles.size() - record.firstTriangle;
+        if (record.triangleCount > 0) found.parts.push_back(std::move(record));
     }
     if (mesh.triangles.empty()) return makeError(ErrorKind::format, name + ": the file holds no triangles");
+    if (facts) *facts = std::move(found);
     return mesh;
 }
 
 /// An OBJ's text through detail::objGeometry (v / vt / vn / f only, every index checked), and
 /// only that checked geometry through assimp: its OBJ reader crashes on what the check refuses.
 Result<TriangleMesh> loadObj(std::istream& text, const std::string& source,
-                             MeshLoadOptions options) {
+                             MeshLoadOptions options, MeshFileFacts* facts) {
     Result<std::string> geometry = detail::objGeometry(text, source);
     if (!geometry) return geometry.error();
     if (geometry->empty()) return makeError(ErrorKind::format, source + ": no triangles (no v or f lines)");
@@ -178,24 +247,26 @@ Result<TriangleMesh> loadObj(std::istream& text, const std::string& source,
     configure(importer);
     const aiScene* scene = importer.ReadFileFromMemory(geometry->data(), geometry->size(),
                                                        importFlags(options), "obj");
-    return fromScene(scene, importer, source);
+    return fromScene(scene, importer, source, options, facts);
 }
 
 /// A PLY file through detail::plyGeometry, and only the canonical PLY it writes through assimp.
-Result<TriangleMesh> loadPly(std::string_view bytes, const std::string& source, MeshLoadOptions options) {
+Result<TriangleMesh> loadPly(std::string_view bytes, const std::string& source, MeshLoadOptions options,
+                             MeshFileFacts* facts) {
     Result<std::string> geometry = detail::plyGeometry(bytes, source);
     if (!geometry) return geometry.error();
     Assimp::Importer importer;
     configure(importer);
     const aiScene* scene = importer.ReadFileFromMemory(geometry->data(), geometry->size(),
                                                        importFlags(options), "ply");
-    return fromScene(scene, importer, source);
+    return fromScene(scene, importer, source, options, facts);
 }
 
 /// A mesh file's bytes through the checks assimp needs and then assimp; `folder` is where the
 /// files it refers to may be read from (none for a mesh from memory).
 Result<TriangleMesh> importBytes(std::string_view bytes, std::string format, const std::string& source,
-                                 std::optional<fs::path> folder, MeshLoadOptions options) {
+                                 std::optional<fs::path> folder, MeshLoadOptions options,
+                                 MeshFileFacts* facts) {
     for (char& c : format) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
     if (bytes.empty()) return makeError(ErrorKind::format, source + ": empty file");
     // Allowed formats only, chosen by content: nothing else reaches assimp.
@@ -204,9 +275,9 @@ Result<TriangleMesh> importBytes(std::string_view bytes, std::string format, con
     format = *allowed;
     if (format == "obj") {
         std::istringstream text{std::string(bytes)};
-        return loadObj(text, source, options);
+        return loadObj(text, source, options, facts);
     }
-    if (detail::isPly(bytes, format)) return loadPly(bytes, source, options);
+    if (detail::isPly(bytes, format)) return loadPly(bytes, source, options, facts);
     if (Status checked = detail::checkMeshBytes(bytes, source, format); !checked.ok())
         return checked.error();
     Assimp::Importer importer;
@@ -215,12 +286,12 @@ Result<TriangleMesh> importBytes(std::string_view bytes, std::string format, con
     importer.SetIOHandler(files);  // the importer owns it
     const aiScene* scene =
         importer.ReadFileFromMemory(bytes.data(), bytes.size(), importFlags(options), format.c_str());
-    return fromScene(scene, importer, source, files->refusal());
+    return fromScene(scene, importer, source, options, facts, files->refusal());
 }
 
 }  // namespace
 
-Result<TriangleMesh> loadMesh(const fs::path& path, MeshLoadOptions options) {
+Result<TriangleMesh> loadMesh(const fs::path& path, MeshLoadOptions options, MeshFileFacts* facts) {
     Result<std::string> bytes = readWholeFile(path, kMaxMeshFileBytes, "kMaxMeshFileBytes");
     if (!bytes) {
         if (bytes.error().message.ends_with("is a folder, not a file"))
@@ -231,12 +302,43 @@ Result<TriangleMesh> loadMesh(const fs::path& path, MeshLoadOptions options) {
     if (!extension.empty()) extension.erase(0, 1);
     fs::path folder = path.parent_path();
     if (folder.empty()) folder = ".";
-    return importBytes(*bytes, extension, path.string(), folder, options);
+    return importBytes(*bytes, extension, path.string(), folder, options, facts);
 }
 
 Result<TriangleMesh> loadMeshFromMemory(std::string_view bytes, const std::string& format,
-                                        const std::string& source, MeshLoadOptions options) {
-    return importBytes(bytes, format, source, std::nullopt, options);
+                                        const std::string& source, MeshLoadOptions options,
+                                        MeshFileFacts* facts) {
+    return importBytes(bytes, format, source, std::nullopt, options, facts);
+}
+
+bool MeshFileFacts::someUvsMissing() const {
+    bool with = false, without = false;
+    for (const MeshPart& part : parts) (part.hasUvs ? with : without) = true;
+    return with && without;
+}
+
+std::optional<double> parseLengthUnit(const std::string& text) {
+    static const std::pair<const char*, double> kNames[] = {
+        {"m", 1.0}, {"cm", 0.01}, {"mm", 0.001}, {"km", 1000.0},
+        {"in", 0.0254}, {"ft", 0.3048}, {"yd", 0.9144}};
+    for (const auto& [unit, metres] : kNames)
+        if (text == unit) return metres;
+    if (text.empty()) return std::nullopt;
+    char* end = nullptr;
+    const double value = std::strtod(text.c_str(), &end);
+    if (end != text.c_str() + text.size() || !std::isfinite(value) || value <= 0) return std::nullopt;
+    return value;
+}
+
+std::string lengthUnitName(double metresPerUnit) {
+    static const std::pair<double, const char*> kNames[] = {
+        {1.0, "metres"}, {0.01, "centimetres"}, {0.001, "millimetres"}, {1000.0, "kilometres"},
+        {0.0254, "inches"}, {0.3048, "feet"}, {0.9144, "yards"}};
+    for (const auto& [metres, name] : kNames)
+        if (std::abs(metresPerUnit - metres) <= 1e-12 * metres) return name;
+    std::ostringstream text;
+    text << metresPerUnit << " m";
+    return text.str();
 }
 
 }  // namespace plimsoll

@@ -2,6 +2,7 @@
 // whole document and reports every problem at once, each with its JSON path, so that a user
 // fixing a hand-written file sees all of them in one go rather than one per run.
 #include "plimsoll/project/project.h"
+#include "plimsoll/io/mesh_io.h"
 #include "plimsoll/scene/world.h"
 #include "plimsoll/scene/scene_radiation.h"
 
@@ -270,10 +271,19 @@ private:
                            "max_texel_stretch", "material", "position", "rotation_deg",
                            "velocity", "angular_velocity", "drag_coefficient",
                            "friction_coefficient", "linear_damping", "angular_damping",
-                           "permeability_map", "water_graph", "atlas", "radiation"})) {
+                           "permeability_map", "water_graph", "atlas", "radiation", "unit"})) {
             return;
         }
         string(value, path, "name", body.name);
+        if (const Json* unit = find(value, "unit")) {
+            // A name ("cm") or metres per file unit (0.01); absent: the file's own unit.
+            std::optional<double> metres;
+            if (unit->is_string()) metres = parseLengthUnit(unit->get<std::string>());
+            else if (unit->is_number() && unit->get<double>() > 0 && std::isfinite(unit->get<double>()))
+                metres = unit->get<double>();
+            if (metres) body.unitScale = *metres;
+            else problem(member(path, "unit"), "expected m, cm, mm, km, in, ft, yd or metres per file unit (a number > 0)");
+        }
         if (const Json* mesh = find(value, "mesh")) {
             if (stringValue(*mesh, member(path, "mesh"), body.mesh) && body.mesh.empty()) {
                 problem(member(path, "mesh"), "must not be empty");
@@ -560,6 +570,7 @@ Json toJson(const BodyDesc& body) {
     Json json;
     json["name"] = body.name;
     json["mesh"] = body.mesh;
+    if (body.unitScale > 0) json["unit"] = body.unitScale;
     json["mesh_frames"] = body.meshFrames;
     json["frames_per_second"] = body.framesPerSecond;
     json["texture_size"] = body.textureSize;

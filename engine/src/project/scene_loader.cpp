@@ -10,12 +10,16 @@
 #include "plimsoll/geometry/validate.h"
 #include "plimsoll/io/mesh_io.h"
 #include "plimsoll/project/radiation_cache.h"
+#include "plimsoll/repair/physics_solid.h"
+#include "plimsoll/surface/map_transfer.h"
 
 #include <sstream>
 
 namespace plimsoll {
 
-std::string projectFileName(const Project& project) { return project.fileStem + ".plim.json"; }
+std::string projectFileName(const Project& project) {
+    return project.sourceName.empty() ? project.fileStem + ".plim.json" : project.sourceName;
+}
 
 Result<PreparedBodyMesh> prepareBodyMesh(const Project& project, std::size_t index) {
     if (index >= project.bodies.size()) {
@@ -26,16 +30,27 @@ Result<PreparedBodyMesh> prepareBodyMesh(const Project& project, std::size_t ind
     // A deforming body's frames are read without joining vertices (deform.h); its first frame
     // is read the same way, so that its triangles are theirs.
     Result<TriangleMesh> loaded = loadMesh(
-        project.resolvePath(desc.mesh), MeshLoadOptions{.joinIdenticalVertices = !desc.deforms()});
+        project.resolvePath(desc.mesh),
+        MeshLoadOptions{.joinIdenticalVertices = !desc.deforms(), .unitScale = desc.unitScale});
     if (!loaded) return withContext(label + ": ", loaded.error());
-    const ValidationReport report = validateMesh(*loaded);
+    ValidationReport report = validateMesh(*loaded);
+    PreparedBodyMesh prepared;
+    // A rigid surface that is not one closed solid is baked as its physics solid; the artist's
+    // mesh is kept, for the maps painted over its UVs.
+    if (!desc.deforms() && !checkBakeableSurface(report, label)) {
+        Result<PhysicsSolid> solid = physicsSolidFor(*loaded, report);
+        if (!solid) return withContext(label + ": ", solid.error());
+        prepared.repairs = std::move(solid->repairs);
+        prepared.artist = std::make_shared<const TriangleMesh>(std::move(*loaded));
+        loaded = std::move(solid->mesh);
+        report = validateMesh(*loaded);
+    }
     if (Status s = checkBakeableSurface(report, label); !s) return s.error();
     // Default settings, not the physics texture size: the atlas (and the maps painted over
     // it) must not change when the physics texture size does (BodyDesc::atlas).
     Result<AtlasChoice> atlas = chooseCachedAtlas(*loaded, report, desc.atlas, AtlasSettings{},
                                             project.atlasCacheFile(index));
     if (!atlas) return withContext(label + ": ", atlas.error());
-    PreparedBodyMesh prepared;
     prepared.mesh = std::move(atlas->mesh);
     prepared.atlas = std::move(*atlas);
     prepared.atlas.mesh = {};
@@ -62,8 +77,10 @@ Result<SceneBody> loadSceneBody(const Project& project, std::size_t index, const
     const BodyDesc& desc = project.bodies[index];
     const std::string label = bodyLabel(desc);
     const std::string at = projectFileName(project) + ": bodies[" + std::to_string(index) + "]";
-    // The JSON path of the entry that failed, then the message (which names body and file).
+    // The JSON path of the entry that failed, then the message (which names body and file); a
+    // scene without a project file (simulate --mesh) has no JSON path to give.
     const auto fail = [&](const std::string& member, const Error& error) {
+        if (!project.sourceName.empty()) return error;
         return withContext(at + member + ": ", error);
     };
     const auto say = [&](const std::string& line) {
@@ -73,6 +90,9 @@ Result<SceneBody> loadSceneBody(const Project& project, std::size_t index, const
     Result<PreparedBodyMesh> prepared = prepareBodyMesh(project, index);
     if (!prepared) return fail(".mesh", prepared.error());
     if (!prepared->atlas.notice.empty()) say(label + ": " + prepared->atlas.notice);
+    if (!prepared->repairs.empty())
+        say(label + ": not one closed solid as it is: its physics solid is baked (" +
+            describeRepairs(prepared->repairs) + ")");
     if (const std::string cost = describeBakeCost(prepared->mesh, desc.textureSize); !cost.empty())
         say(label + ": " + cost);
     BodyParts parts;
@@ -100,6 +120,14 @@ Result<SceneBody> loadSceneBody(const Project& project, std::size_t index, const
         if (path.empty()) return Ok{};
         Result<PaintedMap> map = loadPaintedMap(project.resolvePath(path));
         if (!map) return fail(member, withContext(label + ": ", map.error()));
+        if (prepared->artist) {
+            // Painted over the artist's UVs: moved onto the physics solid through the surface.
+            if (!prepared->artist->hasUvs())
+                return fail(member, makeError(ErrorKind::schema, label + ": a painted map needs the mesh's own UVs, and it has none"));
+            Result<PaintedMap> moved = transferPaintedMap(*map, *prepared->artist, *mesh, map->width, map->height);
+            if (!moved) return fail(member, withContext(label + ": ", moved.error()));
+            map = std::move(moved);
+        }
         into = std::make_shared<const PaintedMap>(std::move(*map));
         return Ok{};
     };

@@ -41,6 +41,9 @@ struct Project {
     std::filesystem::path radiationCacheFile(std::size_t index) const;
     /// The project file's name without ".plim.json" (set by loadProject; "project" otherwise).
     std::string fileStem = "project";
+    /// What messages call a project that has no file (simulate --mesh: the mesh); empty: the
+    /// project file's name.
+    std::string sourceName;
     bool operator==(const Project& other) const;  ///< content, not `folder`
 };
 

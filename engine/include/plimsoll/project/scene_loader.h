@@ -5,6 +5,8 @@
 // water graph: boat.graph.json: cannot open".
 #pragma once
 
+#include "plimsoll/repair/physics_solid.h"
+
 #include "plimsoll/surface/atlas.h"
 #include "plimsoll/core/result.h"
 #include "plimsoll/geometry/mesh.h"
@@ -22,10 +24,15 @@ namespace plimsoll {
 struct PreparedBodyMesh {
     TriangleMesh mesh;          ///< the first frame for a deforming body; atlas applied
     AtlasChoice atlas;          ///< atlas.mesh is moved into `mesh` (left empty here)
+    /// The repairs of the physics solid when the surface was not one closed solid as it is:
+    /// `mesh` is then the solid, and `artist` the mesh as loaded (for its painted maps).
+    std::vector<Repair> repairs;
+    std::shared_ptr<const TriangleMesh> artist;
 };
 
-/// Loads body `index` of `project` (its first frame when it deforms), refuses it when the
-/// surface has errors no atlas can fix (the validation report, one problem a line), and applies
+/// Loads body `index` of `project` (its first frame when it deforms) in metres, replaces a
+/// rigid surface that is not one closed solid by its physics solid (physics_solid.h), refuses
+/// it when no solid can be made (or a deforming one has surface errors), and applies
 /// the body's atlas mode with the project's atlas cache (Project::atlasCacheFile).
 /// Errors start with "body 'NAME' (MESH): ".
 Result<PreparedBodyMesh> prepareBodyMesh(const Project& project, std::size_t index);

@@ -74,6 +74,9 @@ struct BodyDesc {
     std::string name;
     /// Mesh file (any format assimp reads). For a deforming body, the first frame.
     std::string mesh;
+    /// Metres per unit of the mesh file ("unit": a name such as "cm" or a number); 0: the
+    /// file's own unit (FBX UnitScaleFactor, glTF metres), metres for OBJ, STL and PLY.
+    double unitScale = 0;
     /// A deforming body: further frames of the same mesh (same vertices and UVs, OBJ sequence),
     /// played at framesPerSecond and looped. Empty for a rigid body.
     std::vector<std::string> meshFrames;
