@@ -2,6 +2,7 @@
 // volume (boxes, their unions) or an independent estimate (generalized winding numbers).
 #include "test_support.h"
 
+#include "plimsoll/graph/graph.h"  // windingNumber: the independent inside test
 #include "plimsoll/geometry/box.h"
 #include "plimsoll/geometry/validate.h"
 #include "plimsoll/io/mesh_io.h"
@@ -182,22 +183,6 @@ TEST(PhysicsSolid, NoSolidFromNothing) {
     nan.source = "nan.obj";
     nan.positions[0].x() = std::nan("");
     EXPECT_FALSE(buildPhysicsSolid(nan).ok());
-}
-
-/// Generalized winding number of `p` with respect to the triangles (Jacobson et al. 2013):
-/// the sum of their signed solid angles over 4 pi (van Oosterom and Strackee's formula). 1
-/// inside a closed outward surface, 0 outside, 2 inside two overlapping ones.
-double windingNumber(const TriangleMesh& mesh, const Eigen::Vector3d& p) {
-    double sum = 0;
-    for (const Triangle& t : mesh.triangles) {
-        const Eigen::Vector3d a = mesh.positions[t[0]] - p, b = mesh.positions[t[1]] - p,
-                              c = mesh.positions[t[2]] - p;
-        const double la = a.norm(), lb = b.norm(), lc = c.norm();
-        const double numerator = a.dot(b.cross(c));
-        const double denominator = la * lb * lc + a.dot(b) * lc + b.dot(c) * la + c.dot(a) * lb;
-        sum += 2.0 * std::atan2(numerator, denominator);
-    }
-    return sum / (4.0 * std::numbers::pi);
 }
 
 TEST(PhysicsSolid, TheBarrelsVolumeIsItsUnionsByMonteCarlo) {
