@@ -18,6 +18,7 @@
 #include <algorithm>
 #include <cstdio>
 #include <fstream>
+#include <limits>
 #include <map>
 #include <set>
 #include <unistd.h>
@@ -153,10 +154,26 @@ TEST(EditorPaintCoverage, FillAndStrokeLeaveNoUnpaintedPixelInsideThePaintedRegi
             if (!fillIsland || pixels.size() > pixelsOfIsland[*fillIsland].size()) fillIsland = island;
         }
         if (fillIsland) {
-            // A point inside the island: the surface point of its first covered pixel.
-            const auto inside = std::find_if(covered.begin(), covered.end(), [&](const CoveredPixel& c) {
-                return islands[c.triangle] == *fillIsland;
-            });
+            // A point inside the island: the surface point of one of its covered pixels that
+            // no other island's surface comes near (parts of a model can lie over each other,
+            // and a fill names its island by the nearest surface).
+            std::vector<const CoveredPixel*> own;
+            for (const CoveredPixel& c : covered)
+                if (islands[c.triangle] == *fillIsland) own.push_back(&c);
+            const CoveredPixel* inside = nullptr;
+            double clearance = -1;
+            const std::size_t step = std::max<std::size_t>(1, own.size() / 16);
+            for (std::size_t k = 0; k < own.size(); k += step) {
+                double nearestOther = std::numeric_limits<double>::infinity();
+                for (const CoveredPixel& c : covered)
+                    if (islands[c.triangle] != *fillIsland)
+                        nearestOther = std::min(nearestOther, (c.point - own[k]->point).norm());
+                if (nearestOther / std::max(own[k]->extent, 1e-12) > clearance) {
+                    clearance = nearestOther / std::max(own[k]->extent, 1e-12);
+                    inside = own[k];
+                }
+            }
+            ASSERT_NE(inside, nullptr);
             executeOrFail(*d, makeFillIslandCommand(*d, 0, MapChannel::Permeability, inside->point, 1.0, false));
             std::optional<PaintedMap> map = savedMap(*d);
             ASSERT_TRUE(map);

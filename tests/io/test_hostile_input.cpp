@@ -386,7 +386,7 @@ TEST(AssimpGuards, AGlbWithoutItsMagicNeverReachesAssimp) {
     ASSERT_FALSE(loaded.ok());
     EXPECT_EQ(loaded.error().kind, ErrorKind::format);
     EXPECT_CONTAINS(loaded.error().message, "not.glb");
-    EXPECT_CONTAINS(loaded.error().message, "not a binary glTF");
+    EXPECT_CONTAINS(loaded.error().message, "named .glb but its content is not that format's");
 }
 
 TEST(AssimpGuards, ObjVertexLinesHoldOnlyNumbers) {
@@ -492,7 +492,7 @@ TEST(ClearMessages, FailuresNameTheFileTheFieldAndTheRealCause) {
     const std::string replaced = messageOf(writeFileAtomically(dir / "taken", [](std::ostream& out) {
         return bool(out << "x");
     }));
-    EXPECT_CONTAINS(replaced, "taken: cannot replace file: Is a directory");
+    EXPECT_CONTAINS(replaced, "taken: is a folder, not a regular file: not replaced");
     EXPECT_EQ(replaced.find("Success"), std::string::npos) << replaced;
 
     const SurfaceTextures baked = [] {
@@ -638,8 +638,8 @@ TEST(Bombs, APaintedMapDeclaringAHugeImageIsRefusedBeforeDecoding) {
     const auto start = std::chrono::steady_clock::now();
     const std::string message = messageOf(loadPaintedMap(dir / "bomb.png"));
     EXPECT_LT(std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count(), 2.0);
-    EXPECT_CONTAINS(message, "bomb.png: painted map declares 16384 x 16384 pixels, more than the "
-                             "limit kMaxPaintedMapSide = 8192");
+    EXPECT_CONTAINS(message, "bomb.png: painted map declares 16384 x 16384 pixels, outside 1..8192 "
+                             "(kMaxPaintedMapSide");
     // The real image still decodes.
     writeBytes(dir / "ok.png", pngDeclaring(16));
     Result<PaintedMap> ok = loadPaintedMap(dir / "ok.png");

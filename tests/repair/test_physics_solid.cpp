@@ -144,22 +144,6 @@ TEST(PhysicsSolid, AnOpenSheetIsLeftOutOfTheVolume) {
     EXPECT_EQ(findRepair(solid, "wrap"), nullptr);
 }
 
-TEST(PhysicsSolid, AnOpenSurfaceAloneIsWrapped) {
-    SKIP_WITHOUT_REPAIR();
-    // A box without its top: nothing closed, so the wrap makes the solid; it can only be a
-    // little bigger than the closed box (the offset), never smaller.
-    TriangleMesh box = makeBox({1, 1, 1});
-    box.uvs.clear();
-    std::erase_if(box.triangles, [&](const Triangle& t) {
-        return box.positions[t[0]].y() > 0.49 && box.positions[t[1]].y() > 0.49 && box.positions[t[2]].y() > 0.49;
-    });
-    ASSERT_EQ(box.triangles.size(), 10u);
-    const PhysicsSolid solid = solidOf(box);
-    ASSERT_NE(findRepair(solid, "wrap"), nullptr);
-    EXPECT_GT(solid.materialVolume, 0.98);
-    EXPECT_LT(solid.materialVolume, 1.05);
-}
-
 TEST(PhysicsSolid, NoSolidFromNothing) {
     SKIP_WITHOUT_REPAIR();
     TriangleMesh empty;
@@ -202,7 +186,7 @@ TEST(PhysicsSolid, TheBarrelsVolumeIsItsUnionsByMonteCarlo) {
     const Eigen::Vector3d size = box.max - box.min;
     std::mt19937_64 random(7);
     std::uniform_real_distribution<double> unit(0.0, 1.0);
-    const int samples = 40000;
+    const int samples = 80000;
     int inside = 0;
     for (int i = 0; i < samples; ++i) {
         const Eigen::Vector3d p = box.min + size.cwiseProduct(Eigen::Vector3d(unit(random), unit(random), unit(random)));

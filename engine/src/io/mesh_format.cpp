@@ -120,6 +120,10 @@ Result<std::string> meshFormat(std::string_view bytes, const std::string& format
     // recognised by its content or not read: assimp, given a name whose reader declines the
     // bytes, would try its other readers on them.
     if (format == "obj") return format;
+    // A binary STL's 80-byte header is free text: one whose count disagrees with its size is
+    // still an STL, refused by the STL checks with what is wrong (the count against the limit,
+    // the size against the count).
+    if (format == "stl" && bytes.size() >= 84) return format;
     if (allowedName(format))
         return makeError(ErrorKind::format, file + ": named ." + format + " but its content is not " +
                                                 "that format's (by its first bytes)");
