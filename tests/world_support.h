@@ -5,11 +5,13 @@
 #include "plimsoll/compute/compute.h"
 #include "plimsoll/compute/fast_backend.h"
 #include "plimsoll/scene/scene.h"
+#include "plimsoll/project/project.h"
 #include "plimsoll/project/scene_loader.h"
 #include "plimsoll/scene/world.h"
 
 #include <gtest/gtest.h>
 
+#include <filesystem>
 #include <memory>
 #include <utility>
 
@@ -47,6 +49,22 @@ inline std::unique_ptr<World> worldOrFail(Scene scene, LogFunction log = {},
 /// times as much per evaluation.
 inline std::unique_ptr<World> fastWorldOrFail(Scene scene, LogFunction log = {}) {
     return worldOrFail(std::move(scene), std::move(log), createFastBackend());
+}
+
+/// A ball of density 500 in fresh water; `waterLevel` far below keeps it in the air.
+inline Project ballProject(double waterLevel, const Eigen::Vector3d& gravity) {
+    Project project;
+    project.folder = std::filesystem::temp_directory_path();
+    BodyDesc body;
+    body.name = "ball";
+    body.mesh = assetPath("sphere.obj").string();
+    body.textureSize = 64;
+    body.material.density = 500.0;
+    body.position = Eigen::Vector3d(0.2, 0.3, -0.1);
+    project.bodies.push_back(body);
+    project.water = WaterModel::flat(waterLevel);
+    project.simulation.gravity = gravity;
+    return project;
 }
 
 }  // namespace plimsoll::test

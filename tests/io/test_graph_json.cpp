@@ -4,6 +4,7 @@
 
 #include "plimsoll/graph/graph.h"
 
+#include "graph_support.h"
 #include "test_support.h"
 
 #include <filesystem>
@@ -11,33 +12,9 @@
 namespace plimsoll {
 namespace {
 
-GraphNode node(const std::string& id, const Eigen::Vector3d& position, double capacity,
-               double water = 0) {
-    GraphNode n;
-    n.id = id;
-    n.name = id;
-    n.position = position;
-    n.capacity = capacity;
-    n.water = water;
-    return n;
-}
-
-GraphPipe pipe(const std::string& a, const std::string& b, double radius, double length = 0) {
-    GraphPipe p;
-    p.a = a;
-    p.b = b;
-    p.radius = radius;
-    p.length = length;
-    return p;
-}
-
-WaterGraph threeNodes() {
-    WaterGraph g;
-    g.nodes = {node("a", {0, 4, 0}, 1.0, 0.5), node("b", {0, 2, 0}, 1.0, 1.0),
-               node("c", {0, 0, 0}, 1.0, 0.0)};
-    g.pipes = {pipe("a", "b", 0.05), pipe("b", "c", 0.05)};
-    return g;
-}
+using test::node;
+using test::pipe;
+using test::threeNodes;
 
 TEST(GraphJson, RoundTripsExactly) {
     WaterGraph g = threeNodes();

@@ -12,21 +12,7 @@ namespace {
 
 namespace fs = std::filesystem;
 
-/// A ball of density 500 in fresh water; `waterLevel` far below keeps it in the air.
-Project ballProject(double waterLevel, const Eigen::Vector3d& gravity) {
-    Project project;
-    project.folder = fs::temp_directory_path();
-    BodyDesc body;
-    body.name = "ball";
-    body.mesh = test::assetPath("sphere.obj").string();
-    body.textureSize = 64;
-    body.material.density = 500.0;
-    body.position = Eigen::Vector3d(0.2, 0.3, -0.1);
-    project.bodies.push_back(body);
-    project.water = WaterModel::flat(waterLevel);
-    project.simulation.gravity = gravity;
-    return project;
-}
+using test::ballProject;
 
 TEST(WorldExternalForce, AddsItsImpulseToTheMomentaAndCanBeRemoved) {
     const Eigen::Vector3d g(0, -9.81, 0);
