@@ -18,23 +18,15 @@
 extern "C" unsigned char* stbi_zlib_compress(unsigned char* data, int dataLength, int* outLength,
                                             int quality);
 
+#include <zlib.h>
+
 namespace plimsoll {
 
 namespace {
 
-std::uint32_t crc32(const unsigned char* data, std::size_t size, std::uint32_t crc = 0) {
-    static const std::array<std::uint32_t, 256> table = [] {
-        std::array<std::uint32_t, 256> t{};
-        for (std::uint32_t n = 0; n < 256; ++n) {
-            std::uint32_t c = n;
-            for (int k = 0; k < 8; ++k) c = (c & 1) ? 0xEDB88320u ^ (c >> 1) : c >> 1;
-            t[n] = c;
-        }
-        return t;
-    }();
-    crc = ~crc;
-    for (std::size_t i = 0; i < size; ++i) crc = table[(crc ^ data[i]) & 0xFF] ^ (crc >> 8);
-    return ~crc;
+/// PNG's chunk check: the CRC-32 of ISO 3309, zlib's.
+std::uint32_t pngCrc(const unsigned char* data, std::size_t size) {
+    return static_cast<std::uint32_t>(::crc32(0L, data, static_cast<uInt>(size)));
 }
 
 void appendBigEndian(std::string& out, std::uint32_t v) {
@@ -45,7 +37,7 @@ void appendChunk(std::string& out, const char type[4], const std::string& data) 
     appendBigEndian(out, static_cast<std::uint32_t>(data.size()));
     const std::string typed = std::string(type, 4) + data;
     out += typed;
-    appendBigEndian(out, crc32(reinterpret_cast<const unsigned char*>(typed.data()), typed.size()));
+    appendBigEndian(out, pngCrc(reinterpret_cast<const unsigned char*>(typed.data()), typed.size()));
 }
 
 }  // namespace

@@ -26,29 +26,21 @@
 #include <stb_image.h>
 #pragma GCC diagnostic pop
 
+#include <zlib.h>
+
 namespace plimsoll {
 
 namespace {
+
+/// PNG's chunk check: the CRC-32 of ISO 3309, zlib's.
+std::uint32_t pngCrc(const unsigned char* data, std::size_t size) {
+    return static_cast<std::uint32_t>(::crc32(0L, data, static_cast<uInt>(size)));
+}
 
 constexpr unsigned char kPngSignature[8] = {0x89, 'P', 'N', 'G', '\r', '\n', 0x1a, '\n'};
 
 std::uint32_t bigEndian32(const unsigned char* p) {
     return std::uint32_t(p[0]) << 24 | std::uint32_t(p[1]) << 16 | std::uint32_t(p[2]) << 8 | p[3];
-}
-
-std::uint32_t crc32(const unsigned char* data, std::size_t size) {
-    static const std::array<std::uint32_t, 256> table = [] {
-        std::array<std::uint32_t, 256> t{};
-        for (std::uint32_t n = 0; n < 256; ++n) {
-            std::uint32_t c = n;
-            for (int k = 0; k < 8; ++k) c = (c & 1) ? 0xEDB88320u ^ (c >> 1) : c >> 1;
-            t[n] = c;
-        }
-        return t;
-    }();
-    std::uint32_t crc = 0xFFFFFFFFu;
-    for (std::size_t i = 0; i < size; ++i) crc = table[(crc ^ data[i]) & 0xFF] ^ (crc >> 8);
-    return ~crc;
 }
 
 bool startsWith(std::string_view bytes, std::string_view prefix) {
@@ -117,7 +109,7 @@ Status checkPngContent(std::string_view bytes, const std::string& source, int ma
             if (!letter) return bad("chunk " + std::to_string(chunks) + " has no valid type");
         }
         const std::string name(reinterpret_cast<const char*>(type), 4);
-        if (crc32(type, length + 4) != bigEndian32(type + 4 + length))
+        if (pngCrc(type, length + 4) != bigEndian32(type + 4 + length))
             return bad("chunk " + name + " fails its CRC");
         const unsigned char* data = type + 4;
         if (chunks == 0) {
