@@ -1,0 +1,24 @@
+# Precompiled headers for the targets whose files each parse the same large headers (the tests,
+# the CLI and the editor): about half of such a file's compile time is parsing GoogleTest,
+# nlohmann/json, Eigen and CLI11, and a precompiled header parses them once per target. A
+# test file: 33 s without, 12 s with (at -O1; 59 s and 30 s under the sanitizers), measured
+# with g++ 12 on the CI machine's kind of core. The engine's libraries compile without them, so
+# that a missing include there still fails the build.
+#
+# ccache caches compiles that use a precompiled header only with the sloppiness below; where
+# the compiler launcher is ccache, it runs with it.
+set(PLIMSOLL_PCH_COMMON
+  <algorithm> <array> <cmath> <cstdint> <filesystem> <fstream> <functional> <map> <memory>
+  <optional> <sstream> <string> <string_view> <unordered_map> <vector>
+  <Eigen/Dense> <nlohmann/json.hpp>)
+
+# plimsoll_precompile_headers(TARGET [HEADER ...]): the common headers and the extra ones.
+function(plimsoll_precompile_headers target)
+  target_precompile_headers(${target} PRIVATE ${PLIMSOLL_PCH_COMMON} ${ARGN})
+endfunction()
+
+if(CMAKE_CXX_COMPILER_LAUNCHER MATCHES "ccache$")
+  set(CMAKE_CXX_COMPILER_LAUNCHER ${CMAKE_COMMAND} -E env
+      CCACHE_SLOPPINESS=pch_defines,time_macros,include_file_mtime,include_file_ctime
+      ${CMAKE_CXX_COMPILER_LAUNCHER})
+endif()
