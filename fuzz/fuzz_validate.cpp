@@ -1,8 +1,12 @@
-// libFuzzer target: validateMesh on arbitrary triangle soups. The bytes become a mesh: a
+// libFuzzer target: validateMesh on arbitrary triangle soups (fuzz_validate), and the physics
+// solid built from them, openings and caps included (fuzz_repair: PLIMSOLL_FUZZ_REPAIR). The bytes become a mesh: a
 // header (vertex count, UV mode), raw doubles for positions and UVs (so NaN, Inf, denormals
 // and 1e308 all occur), then triangles of vertex indices that may repeat or point past the
 // last vertex.
 #include "plimsoll/geometry/validate.h"
+#ifdef PLIMSOLL_FUZZ_REPAIR
+#include "plimsoll/repair/physics_solid.h"
+#endif
 
 #include <cstdint>
 #include <cstdlib>
@@ -64,5 +68,12 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     const plimsoll::ValidationReport report = plimsoll::validateMesh(mesh);
     (void)report.format();
     (void)report.closedSolid();
+#ifdef PLIMSOLL_FUZZ_REPAIR
+    // Every index in range (validateMesh reports the others; the repair takes valid meshes).
+    if (!report.has(plimsoll::ProblemKind::IndexOutOfRange)) {
+        plimsoll::Result<plimsoll::PhysicsSolid> solid = plimsoll::physicsSolidFor(mesh, report);
+        if (solid) (void)plimsoll::describeRepairs(solid->repairs);
+    }
+#endif
     return 0;
 }

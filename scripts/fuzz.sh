@@ -11,7 +11,7 @@ cd "$(dirname "$0")/.."
 seconds="${1:-30}"
 [ $# -gt 0 ] && shift
 targets=("$@")
-[ ${#targets[@]} -eq 0 ] && targets=(project graph manifest mesh_obj validate mesh_ply mesh_stl
+[ ${#targets[@]} -eq 0 ] && targets=(project graph manifest mesh_obj validate repair mesh_ply mesh_stl
                                       mesh_gltf mesh_glb runtime_bundle runtime_png)
 
 scripts/install-deps.sh

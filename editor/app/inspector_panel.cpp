@@ -340,6 +340,17 @@ void drawInspectorPanel(EditorState& s, const Rect& area) {
         }
         numberField(s, "Drag Cd", base + "/drag_coefficient", body.dragCoefficient, "%.4g",
                     "Drag coefficient of the wetted surface (dimensionless).");
+        // An open hull's or container's openings: capped and flooding, sealed, or left open.
+        int openings = static_cast<int>(body.openings);
+        if (ImGui::Combo("Openings", &openings, "open (caps let water in)\0sealed (a deck)\0none (as modelled)\0")) {
+            const char* name = openingsModeName(static_cast<OpeningsMode>(openings));
+            s.inspector->deferred.push_back([&s, base, name] {
+                s.execute(makeSetPropertyCommand(*s.document, base + "/openings", nlohmann::json(name)));
+            });
+        }
+        tooltip("What becomes of the openings of an open hull or container (space that holds water poured in "
+                "from above): a level cap at the rim's lowest point that lets water into a compartment behind "
+                "it, a cap that lets none in, or the surface as it is (floats swamped)");
         for (MapChannel c : kMapChannels) {
             const std::string& path = channelPath(body, c);
             const PaintedMap* map = s.document->map(b, c);

@@ -85,6 +85,13 @@ std::optional<PhysicsSolid> solidOrRepair(const TriangleMesh& mesh, const Valida
     }
     return std::move(*solid);
 }
+
+MeshReport meshReportOf(const MeshFileFacts& facts, const PhysicsSolid& solid) {
+    MeshReport report{facts, solid.repairs, solid.materialVolume, solid.displacementVolume, {}};
+    for (const Opening& opening : solid.openings)
+        report.hollow = report.hollow.mass > 0 ? report.hollow + opening.cavity : opening.cavity;
+    return report;
+}
 }  // namespace
 
 nlohmann::json repairsJson(const std::vector<Repair>& repairs) {
@@ -106,7 +113,7 @@ std::optional<TriangleMesh> loadClosedMesh(const std::string& path, double unitS
     if (!report.problems.empty()) std::cerr << report.format();
     std::optional<PhysicsSolid> solid = solidOrRepair(*mesh, report, path);
     if (!solid) return std::nullopt;
-    if (meshReport) *meshReport = {facts, solid->repairs, solid->materialVolume, solid->displacementVolume};
+    if (meshReport) *meshReport = meshReportOf(facts, *solid);
     return std::move(solid->mesh);
 }
 
@@ -137,7 +144,7 @@ std::optional<BakeableMesh> loadMeshForBake(const std::string& path, const BakeO
     if (!shown.problems.empty()) std::cerr << shown.format();
     if (!choice->notice.empty()) std::cerr << "note: " << choice->notice << "\n";
     return BakeableMesh{std::move(choice->mesh), choice->generated,
-                        MeshReport{facts, solid->repairs, solid->materialVolume, solid->displacementVolume}};
+                        meshReportOf(facts, *solid)};
 }
 
 nlohmann::json vectorJson(const Eigen::Vector3d& v) { return {v.x(), v.y(), v.z()}; }

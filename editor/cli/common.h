@@ -26,6 +26,8 @@ struct MeshReport {
     std::vector<Repair> repairs;
     double materialVolume = 0;      ///< m^3, exact, of the solid used
     double displacementVolume = 0;  ///< m^3, exact, of the sealed solid
+    /// The space behind the caps of the solid's openings, at density 1 (no mass: none).
+    MassProperties hollow;
     bool repaired() const { return !repairs.empty(); }
 };
 

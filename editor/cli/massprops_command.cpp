@@ -47,13 +47,13 @@ int runMassProps(const MassPropsOptions& o) {
     nlohmann::json out;
     MassProperties props;
     if (o.exact) {
-        props = exactSolidMassProperties(*mesh, solidDensity);
+        props = withoutHollow(exactSolidMassProperties(*mesh, solidDensity), report.hollow, solidDensity);
         if (o.shellDensity > 0) props = props + exactShellMassProperties(*mesh, o.shellDensity);
         out = {{"method", "exact"}, {"texture_size", nullptr}, {"covered_texels", nullptr}};
     } else {
         std::optional<SurfaceTextures> textures = bakeWithProgress(*mesh, o.bake);
         if (!textures) return kExitFailure;
-        props = textureSolidMassProperties(*textures, solidDensity);
+        props = withoutHollow(textureSolidMassProperties(*textures, solidDensity), report.hollow, solidDensity);
         std::vector<double> painted;
         if (!o.shellDensityMap.empty()) {
             Result<PaintedMap> map = loadPaintedMap(o.shellDensityMap);

@@ -168,15 +168,17 @@ void Document::syncAssets(DetachedAssets& detached) {
         const BodyDesc& body = project_.bodies[b];
         BodyAssets& a = assets_[b];
         const fs::path meshPath = body.mesh.empty() ? fs::path() : project_.resolvePath(body.mesh);
-        if (meshPath != a.meshPath || body.atlas != a.atlas || (!a.mesh && a.meshError.empty())) {
+        if (meshPath != a.meshPath || body.atlas != a.atlas || body.unitScale != a.unitScale ||
+            (!a.mesh && a.meshError.empty())) {
             a.meshPath = meshPath;
             a.atlas = body.atlas;
+            a.unitScale = body.unitScale;
             a.mesh.reset();
             a.meshError.clear();
             a.paintSurfaces = {};
             a.physics.reset();
             if (!meshPath.empty()) {
-                Result<TriangleMesh> mesh = loadMesh(meshPath);
+                Result<TriangleMesh> mesh = loadMesh(meshPath, MeshLoadOptions{.unitScale = body.unitScale});
                 if (mesh) {
                     // Painted maps lie over the UVs the body bakes: the same choice as World's
                     // (the generated atlas comes from the project's cache once made).
@@ -743,25 +745,19 @@ Result<Scene> Document::simulationScene(const LogFunction& log) const {
         const BodyDesc& desc = project_.bodies[b];
         const BodyAssets& a = assets_[b];
         const std::string label = bodyLabel(desc);
-        BodyParts parts;
-        if (desc.deforms()) {
+        // The body as a project run prepares it (its physics solid, openings and all), with the
+        // document's maps and graph, painted over the mesh the document holds.
+        Result<PreparedBodyMesh> prepared = [&]() -> Result<PreparedBodyMesh> {
             // The document reads a mesh joining its vertices; a deforming body's first frame
             // must keep its frames' triangles: both come from the files, as a project run does.
-            Result<PreparedBodyMesh> prepared = prepareBodyMesh(project_, b);
-            if (!prepared) return prepared.error();
-            parts.mesh = std::make_shared<const TriangleMesh>(std::move(prepared->mesh));
-            Result<std::shared_ptr<const std::vector<TriangleMesh>>> frames =
-                loadBodyFrames(project_, b);
-            if (!frames) return frames.error();
-            parts.frames = std::move(*frames);
-        } else {
-            if (!a.mesh) {
-                return makeError(ErrorKind::io, label + ": " +
-                                                    (a.meshError.empty() ? "no mesh" : a.meshError));
-            }
-            if (Status s = checkBakeableSurface(validateMesh(*a.mesh), label); !s) return s.error();
-            parts.mesh = a.mesh;
-        }
+            if (desc.deforms()) return prepareBodyMesh(project_, b);
+            if (!a.mesh)
+                return makeError(ErrorKind::io, label + ": " + (a.meshError.empty() ? "no mesh" : a.meshError));
+            return prepareLoadedBodyMesh(project_, b, *a.mesh, /*uvsChosen=*/true);
+        }();
+        if (!prepared) return prepared.error();
+        BodyPaint paint;
+        if (!desc.deforms()) paint.paintedOver = a.mesh;
         if (desc.waterGraph) {
             if (!a.graph.graph) {
                 return makeError(ErrorKind::io, label + ": water graph: " +
@@ -769,13 +765,12 @@ Result<Scene> Document::simulationScene(const LogFunction& log) const {
                                                                            : a.graph.error));
             }
             // Edited graphs are parsed, not validated: a simulation needs a valid one.
-            const GraphReport report = validateGraph(*a.graph.graph, parts.mesh.get(),
-                                                     a.graph.path.string());
+            const GraphReport report = validateGraph(*a.graph.graph, &prepared->mesh, a.graph.path.string());
             if (report.hasErrors()) {
                 return makeError(ErrorKind::schema, label + ": water graph: " + report.format());
             }
             if (log && !report.problems.empty()) log(report.format());
-            parts.waterGraph = std::make_shared<const WaterGraph>(*a.graph.graph);
+            paint.waterGraph = std::make_shared<const WaterGraph>(*a.graph.graph);
         }
         for (MapChannel c : kMapChannels) {
             const BodyAssets::Map& m = a.maps[static_cast<int>(c)];
@@ -787,12 +782,21 @@ Result<Scene> Document::simulationScene(const LogFunction& log) const {
                                                     (m.error.empty() ? "not loaded" : m.error));
             }
             switch (c) {
-                case MapChannel::Permeability: parts.permeabilityMap = std::move(image); break;
-                case MapChannel::Density: parts.shellDensityMap = std::move(image); break;
-                case MapChannel::Thickness: parts.shellThicknessMap = std::move(image); break;
+                case MapChannel::Permeability: paint.permeabilityMap = std::move(image); break;
+                case MapChannel::Density: paint.shellDensityMap = std::move(image); break;
+                case MapChannel::Thickness: paint.shellThicknessMap = std::move(image); break;
             }
         }
-        Result<SceneBody> body = bakeSceneBody(desc, std::move(parts));
+        BodyDesc bodyDesc = desc;
+        Result<BodyParts> assembled = assembleBodyParts(bodyDesc, std::move(*prepared), paint, log);
+        if (!assembled) return assembled.error();
+        BodyParts parts = std::move(*assembled);
+        if (desc.deforms()) {
+            Result<std::shared_ptr<const std::vector<TriangleMesh>>> frames = loadBodyFrames(project_, b);
+            if (!frames) return frames.error();
+            parts.frames = std::move(*frames);
+        }
+        Result<SceneBody> body = bakeSceneBody(bodyDesc, std::move(parts));
         if (!body) return body.error();
         scene.bodies.push_back(std::move(*body));
     }

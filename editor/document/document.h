@@ -52,6 +52,7 @@ struct BodyAssets {
     /// physics atlas (BodyDesc::atlas, as World chooses). Null when it failed to load.
     std::shared_ptr<const TriangleMesh> mesh;
     AtlasMode atlas = AtlasMode::Auto;        ///< the mode `mesh` was chosen with
+    double unitScale = 0;                     ///< the body's unit `mesh` was read in (0: the file's)
     std::string meshError;
     struct Map {
         std::filesystem::path path;           ///< resolved path (what it was loaded from/for)

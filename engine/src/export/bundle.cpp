@@ -243,7 +243,8 @@ Result<BundleReport> buildBundle(const Project& project, std::size_t index, cons
     std::optional<MassProperties> exactMass;
     if (m.shellDensityMap.empty() && m.shellThicknessMap.empty()) {
         MassProperties total;
-        if (m.density) total = exactSolidMassProperties(mesh, *m.density);
+        // An open hull: the solid fills the walls, not the space behind its caps.
+        if (m.density) total = withoutHollow(exactSolidMassProperties(mesh, *m.density), body->parts.hollow, *m.density);
         if (m.shellSurfaceDensity) {
             const MassProperties shell = exactShellMassProperties(mesh, *m.shellSurfaceDensity);
             total = m.density ? total + shell : shell;
@@ -299,7 +300,10 @@ Result<BundleReport> buildBundle(const Project& project, std::size_t index, cons
     }
 
     json sources = json::object();
+    // A path the project names; a map or graph the loader made (the caps of an open hull's
+    // openings) has none.
     auto addSource = [&](const std::string& role, const std::string& path) -> Status {
+        if (path.empty()) return Ok{};
         Result<std::string> sha = sha256OfFile(project.resolvePath(path));
         if (!sha) return withContext(label + ": ", sha.error());
         sources[role] = {{"path", path}, {"sha256", *sha}};
@@ -323,8 +327,8 @@ Result<BundleReport> buildBundle(const Project& project, std::size_t index, cons
     }
 
     json graphJson = nullptr;
-    if (desc.waterGraph) {
-        const WaterGraphDesc& g = *desc.waterGraph;
+    if (body->desc.waterGraph) {
+        const WaterGraphDesc& g = *body->desc.waterGraph;
         const std::shared_ptr<const WaterGraph>& graph = body->parts.waterGraph;
         if (Status s = writeBytes(staging / plimsoll_eval::kGraphFile, graphToJson(*graph)); !s.ok())
             return s.error();

@@ -111,6 +111,23 @@ MassProperties operator+(const MassProperties& a, const MassProperties& b) {
     return sum;
 }
 
+MassProperties operator-(const MassProperties& a, const MassProperties& b) {
+    MassProperties negative = b;
+    negative.mass = -b.mass;
+    negative.inertia = -b.inertia;
+    MassProperties difference = a + negative;
+    difference.volume = a.volume;
+    return difference;
+}
+
+MassProperties withoutHollow(const MassProperties& solid, const MassProperties& hollow, double density) {
+    if (!(hollow.mass > 0)) return solid;
+    MassProperties filled = hollow;
+    filled.mass *= density;
+    filled.inertia *= density;
+    return solid - filled;
+}
+
 MassProperties exactSolidMassProperties(const TriangleMesh& mesh, double density) {
     const detail::BodyIntegrals integrals = exactVolumeIntegrals(mesh);
     return detail::toMassProperties(integrals, density, integrals.zeroth);

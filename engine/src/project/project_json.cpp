@@ -271,7 +271,8 @@ private:
                            "max_texel_stretch", "material", "position", "rotation_deg",
                            "velocity", "angular_velocity", "drag_coefficient",
                            "friction_coefficient", "linear_damping", "angular_damping",
-                           "permeability_map", "water_graph", "atlas", "radiation", "unit"})) {
+                           "permeability_map", "water_graph", "atlas", "openings", "radiation",
+                           "unit"})) {
             return;
         }
         string(value, path, "name", body.name);
@@ -322,6 +323,12 @@ private:
         if (atlasValue && stringValue(*atlasValue, member(path, "atlas"), atlas)) {
             if (const auto mode = parseAtlasMode(atlas)) body.atlas = *mode;
             else problem(member(path, "atlas"), "unknown '" + atlas + "' (mesh, auto, generate)");
+        }
+        std::string openings;
+        const Json* openingsValue = find(value, "openings");
+        if (openingsValue && stringValue(*openingsValue, member(path, "openings"), openings)) {
+            if (const auto mode = parseOpeningsMode(openings)) body.openings = *mode;
+            else problem(member(path, "openings"), "unknown '" + openings + "' (open, sealed, none)");
         }
         if (const Json* material = find(value, "material")) {
             readMaterial(*material, member(path, "material"), body.material);
@@ -576,6 +583,7 @@ Json toJson(const BodyDesc& body) {
     json["texture_size"] = body.textureSize;
     json["max_texel_stretch"] = body.maxTexelStretch;
     json["atlas"] = atlasModeName(body.atlas);
+    if (body.openings != OpeningsMode::Open) json["openings"] = openingsModeName(body.openings);
     json["material"] = toJson(body.material);
     json["position"] = toJson(body.position);
     json["rotation_deg"] = toJson(body.rotationDegrees);

@@ -21,35 +21,76 @@ std::string projectFileName(const Project& project) {
     return project.sourceName.empty() ? project.fileStem + ".plim.json" : project.sourceName;
 }
 
+namespace {
+
+/// Texels per side of the permeability map made for the caps of a body that has none painted.
+constexpr int kOpeningMapSize = 512;
+
+/// One node per opening, for the space behind its cap: a box node (its level follows the
+/// space's box) with the space's volume as capacity, empty.
+void appendOpeningNodes(WaterGraph& graph, const std::vector<Opening>& openings) {
+    for (std::size_t i = 0; i < openings.size(); ++i) {
+        const Opening& opening = openings[i];
+        GraphNode node;
+        node.id = "opening-" + std::to_string(i + 1);
+        while (graph.indexOf(node.id) >= 0) node.id += "'";
+        node.name = "behind the cap of opening " + std::to_string(i + 1);
+        node.position = 0.5 * (opening.boundsMin + opening.boundsMax);
+        node.boxSize = opening.boundsMax - opening.boundsMin;
+        node.capacity = opening.cavity.volume;
+        graph.nodes.push_back(std::move(node));
+    }
+}
+
+}  // namespace
+
 Result<PreparedBodyMesh> prepareBodyMesh(const Project& project, std::size_t index) {
     if (index >= project.bodies.size()) {
         return makeError(ErrorKind::invalidArgument, "no body " + std::to_string(index));
     }
     const BodyDesc& desc = project.bodies[index];
-    const std::string label = bodyLabel(desc);
     // A deforming body's frames are read without joining vertices (deform.h); its first frame
     // is read the same way, so that its triangles are theirs.
     Result<TriangleMesh> loaded = loadMesh(
         project.resolvePath(desc.mesh),
         MeshLoadOptions{.joinIdenticalVertices = !desc.deforms(), .unitScale = desc.unitScale});
-    if (!loaded) return withContext(label + ": ", loaded.error());
-    ValidationReport report = validateMesh(*loaded);
+    if (!loaded) return withContext(bodyLabel(desc) + ": ", loaded.error());
+    return prepareLoadedBodyMesh(project, index, std::move(*loaded));
+}
+
+Result<PreparedBodyMesh> prepareLoadedBodyMesh(const Project& project, std::size_t index, TriangleMesh loaded,
+                                               bool uvsChosen) {
+    if (index >= project.bodies.size()) {
+        return makeError(ErrorKind::invalidArgument, "no body " + std::to_string(index));
+    }
+    const BodyDesc& desc = project.bodies[index];
+    const std::string label = bodyLabel(desc);
+    ValidationReport report = validateMesh(loaded);
     PreparedBodyMesh prepared;
-    // A rigid surface that is not one closed solid is baked as its physics solid; the artist's
-    // mesh is kept, for the maps painted over its UVs.
-    if (!desc.deforms() && !checkBakeableSurface(report, label)) {
-        Result<PhysicsSolid> solid = physicsSolidFor(*loaded, report);
+    // A rigid surface that is not one closed solid, or that holds water above (an open hull), is
+    // baked as its physics solid; the artist's mesh is kept, for the maps painted over its UVs.
+    if (!desc.deforms()) {
+        RepairSettings settings;
+        settings.closeOpenings = desc.openings != OpeningsMode::None;
+        Result<PhysicsSolid> solid = physicsSolidFor(loaded, report, settings);
         if (!solid) return withContext(label + ": ", solid.error());
-        prepared.repairs = std::move(solid->repairs);
-        prepared.artist = std::make_shared<const TriangleMesh>(std::move(*loaded));
-        loaded = std::move(solid->mesh);
-        report = validateMesh(*loaded);
+        if (!solid->repairs.empty()) {
+            prepared.repairs = std::move(solid->repairs);
+            prepared.openings = std::move(solid->openings);
+            prepared.artist = std::make_shared<const TriangleMesh>(std::move(loaded));
+            loaded = std::move(solid->mesh);
+            report = validateMesh(loaded);
+        }
     }
     if (Status s = checkBakeableSurface(report, label); !s) return s.error();
+    if (uvsChosen && prepared.repairs.empty()) {
+        prepared.mesh = std::move(loaded);
+        return prepared;
+    }
     // Default settings, not the physics texture size: the atlas (and the maps painted over
     // it) must not change when the physics texture size does (BodyDesc::atlas).
-    Result<AtlasChoice> atlas = chooseCachedAtlas(*loaded, report, desc.atlas, AtlasSettings{},
-                                            project.atlasCacheFile(index));
+    Result<AtlasChoice> atlas = chooseCachedAtlas(loaded, report, desc.atlas, AtlasSettings{},
+                                                  project.atlasCacheFile(index));
     if (!atlas) return withContext(label + ": ", atlas.error());
     prepared.mesh = std::move(atlas->mesh);
     prepared.atlas = std::move(*atlas);
@@ -67,6 +108,69 @@ Result<std::shared_ptr<const std::vector<TriangleMesh>>> loadBodyFrames(const Pr
     Result<std::vector<TriangleMesh>> frames = loadMeshFrames(paths);
     if (!frames) return withContext(bodyLabel(desc) + ": ", frames.error());
     return std::make_shared<const std::vector<TriangleMesh>>(std::move(*frames));
+}
+
+Result<BodyParts> assembleBodyParts(BodyDesc& desc, PreparedBodyMesh prepared, const BodyPaint& paint,
+                                    const LogFunction& log) {
+    const std::string label = bodyLabel(desc);
+    const auto say = [&](const std::string& line) {
+        if (log) log(line);
+    };
+    BodyParts parts;
+    auto mesh = std::make_shared<const TriangleMesh>(std::move(prepared.mesh));
+    parts.mesh = mesh;
+    parts.generatedAtlas = prepared.atlas.generated;
+    parts.atlasCharts = prepared.atlas.chartCount;
+    // Maps painted over the artist's UVs, moved onto the physics solid through the surface.
+    const TriangleMesh* paintedOver = paint.paintedOver ? paint.paintedOver.get() : prepared.artist.get();
+    const bool moved = !prepared.repairs.empty();
+    const auto onSolid = [&](const std::shared_ptr<const PaintedMap>& map,
+                             std::shared_ptr<const PaintedMap>& into) -> Status {
+        if (!map || !moved) {
+            into = map;
+            return Ok{};
+        }
+        if (!paintedOver || !paintedOver->hasUvs())
+            return makeError(ErrorKind::schema, label + ": a painted map needs the mesh's own UVs, and it has none");
+        Result<PaintedMap> onto = transferPaintedMap(*map, *paintedOver, *mesh, map->width, map->height);
+        if (!onto) return withContext(label + ": ", onto.error());
+        into = std::make_shared<const PaintedMap>(std::move(*onto));
+        return Ok{};
+    };
+    if (Status s = onSolid(paint.permeabilityMap, parts.permeabilityMap); !s) return s.error();
+    if (Status s = onSolid(paint.shellDensityMap, parts.shellDensityMap); !s) return s.error();
+    if (Status s = onSolid(paint.shellThicknessMap, parts.shellThicknessMap); !s) return s.error();
+
+    for (const Opening& opening : prepared.openings)
+        parts.hollow = parts.hollow.mass > 0 ? parts.hollow + opening.cavity : opening.cavity;
+    WaterGraph graph = paint.waterGraph ? *paint.waterGraph : WaterGraph{};
+    if (desc.openings == OpeningsMode::Open && !prepared.openings.empty()) {
+        appendOpeningNodes(graph, prepared.openings);
+        if (!desc.waterGraph) {
+            // An opening is an orifice, not a seeping surface: Torricelli's law, so a hull
+            // pushed under fills in a moment as a real one does.
+            desc.waterGraph.emplace();
+            desc.waterGraph->inflow = InflowModel::Torricelli;
+        }
+        // The caps let water in: permeability 1 over their triangles, on top of what is painted.
+        PaintedMap permeability;
+        if (parts.permeabilityMap) {
+            permeability = *parts.permeabilityMap;
+        } else {
+            permeability.width = permeability.height = kOpeningMapSize;
+            permeability.values.assign(static_cast<std::size_t>(kOpeningMapSize) * kOpeningMapSize, 0.0f);
+        }
+        std::vector<std::uint32_t> caps;
+        for (const Opening& opening : prepared.openings)
+            caps.insert(caps.end(), opening.capTriangles.begin(), opening.capTriangles.end());
+        if (Status s = paintTriangles(permeability, *mesh, caps, 1.0f); !s) return withContext(label + ": ", s.error());
+        parts.permeabilityMap = std::make_shared<const PaintedMap>(std::move(permeability));
+        say(label + ": " + std::to_string(prepared.openings.size()) +
+            (prepared.openings.size() == 1 ? " opening" : " openings") +
+            " closed by caps that let water in: compartments of the water graph, empty at the start");
+    }
+    if (desc.waterGraph) parts.waterGraph = std::make_shared<const WaterGraph>(std::move(graph));
+    return parts;
 }
 
 Result<SceneBody> loadSceneBody(const Project& project, std::size_t index, const LogFunction& log,
@@ -95,52 +199,41 @@ Result<SceneBody> loadSceneBody(const Project& project, std::size_t index, const
             describeRepairs(prepared->repairs) + ")");
     if (const std::string cost = describeBakeCost(prepared->mesh, desc.textureSize); !cost.empty())
         say(label + ": " + cost);
-    BodyParts parts;
-    auto mesh = std::make_shared<const TriangleMesh>(std::move(prepared->mesh));
-    parts.mesh = mesh;
-    parts.generatedAtlas = prepared->atlas.generated;
-    parts.atlasCharts = prepared->atlas.chartCount;
-    if (desc.deforms()) {
-        Result<std::shared_ptr<const std::vector<TriangleMesh>>> frames = loadBodyFrames(project, index);
-        if (!frames) return fail(".mesh_frames", frames.error());
-        parts.frames = std::move(*frames);
-    }
+    BodyPaint paint;
+    paint.paintedOver = prepared->artist;
     if (desc.waterGraph) {
         std::string warnings;
-        Result<WaterGraph> graph =
-            loadGraph(project.resolvePath(desc.waterGraph->graph), mesh.get(), &warnings);
+        Result<WaterGraph> graph = loadGraph(project.resolvePath(desc.waterGraph->graph), &prepared->mesh, &warnings);
         if (!graph) {
             return fail(".water_graph.graph", withContext(label + ": water graph: ", graph.error()));
         }
         if (!warnings.empty()) say(warnings);
-        parts.waterGraph = std::make_shared<const WaterGraph>(std::move(*graph));
+        paint.waterGraph = std::make_shared<const WaterGraph>(std::move(*graph));
     }
     const auto loadMap = [&](const std::string& path, const char* member,
                              std::shared_ptr<const PaintedMap>& into) -> Status {
         if (path.empty()) return Ok{};
         Result<PaintedMap> map = loadPaintedMap(project.resolvePath(path));
         if (!map) return fail(member, withContext(label + ": ", map.error()));
-        if (prepared->artist) {
-            // Painted over the artist's UVs: moved onto the physics solid through the surface.
-            if (!prepared->artist->hasUvs())
-                return fail(member, makeError(ErrorKind::schema, label + ": a painted map needs the mesh's own UVs, and it has none"));
-            Result<PaintedMap> moved = transferPaintedMap(*map, *prepared->artist, *mesh, map->width, map->height);
-            if (!moved) return fail(member, withContext(label + ": ", moved.error()));
-            map = std::move(moved);
-        }
         into = std::make_shared<const PaintedMap>(std::move(*map));
         return Ok{};
     };
-    if (Status s = loadMap(desc.permeabilityMap, ".permeability_map", parts.permeabilityMap); !s)
+    if (Status s = loadMap(desc.permeabilityMap, ".permeability_map", paint.permeabilityMap); !s)
         return s.error();
-    if (Status s = loadMap(desc.material.shellDensityMap, ".material.map", parts.shellDensityMap); !s)
+    if (Status s = loadMap(desc.material.shellDensityMap, ".material.map", paint.shellDensityMap); !s)
         return s.error();
-    if (Status s = loadMap(desc.material.shellThicknessMap, ".material.thickness_map",
-                           parts.shellThicknessMap);
-        !s)
+    if (Status s = loadMap(desc.material.shellThicknessMap, ".material.thickness_map", paint.shellThicknessMap); !s)
         return s.error();
 
-    Result<SceneBody> body = bakeSceneBody(desc, std::move(parts));
+    BodyDesc bodyDesc = desc;
+    Result<BodyParts> parts = assembleBodyParts(bodyDesc, std::move(*prepared), paint, log);
+    if (!parts) return fail("", parts.error());
+    if (desc.deforms()) {
+        Result<std::shared_ptr<const std::vector<TriangleMesh>>> frames = loadBodyFrames(project, index);
+        if (!frames) return fail(".mesh_frames", frames.error());
+        parts->frames = std::move(*frames);
+    }
+    Result<SceneBody> body = bakeSceneBody(bodyDesc, std::move(*parts));
     if (!body) return fail("", body.error());
     if (desc.radiates()) {
         Result<std::shared_ptr<const BodyRadiation>> radiation = cachedBodyRadiation(

@@ -2,6 +2,8 @@
 // itself is in physics_solid_cgal.cpp.
 #include "plimsoll/repair/physics_solid.h"
 
+#include "close_openings.h"
+
 #include "plimsoll/physics/massprops.h"
 
 #include <Eigen/Geometry>
@@ -76,11 +78,20 @@ Result<PhysicsSolid> physicsSolidFor(const TriangleMesh& surface, const Validati
     for (const Problem& p : report.problems)
         if (p.severity == Severity::Error && !isUvProblem(p.kind) && p.kind != ProblemKind::MissingUvs)
             solidAsIs = false;
-    if (!solidAsIs || hasOverlappingSolidParts(surface)) return buildPhysicsSolid(surface, settings);
     PhysicsSolid solid;
-    solid.mesh = surface;
-    solid.materialVolume = exactSolidMassProperties(surface, 1.0).volume;
-    solid.displacementVolume = solid.materialVolume;
+    if (!solidAsIs || hasOverlappingSolidParts(surface)) {
+        Result<PhysicsSolid> built = buildPhysicsSolid(surface, settings);
+        if (!built) return built.error();
+        solid = std::move(*built);
+    } else {
+        solid.mesh = surface;
+        solid.materialVolume = exactSolidMassProperties(surface, 1.0).volume;
+        solid.displacementVolume = solid.materialVolume;
+    }
+    if (settings.closeOpenings && repairAvailable()) {
+        const std::vector<Basin> basins = findBasins(solid.mesh, solid.materialVolume, settings.basins);
+        if (Status s = closeOpenings(solid, basins, settings); !s) return s.error();
+    }
     return solid;
 }
 

@@ -7,9 +7,10 @@
 // exactly equal points only.
 #include "plimsoll/repair/physics_solid.h"
 
+#include "cgal_mesh.h"
+
 #include "plimsoll/geometry/validate.h"
 
-#include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
 #include <CGAL/Polygon_mesh_processing/connected_components.h>
 #include <CGAL/Polygon_mesh_processing/corefinement.h>
 #include <CGAL/Polygon_mesh_processing/measure.h>
@@ -19,8 +20,6 @@
 #include <CGAL/Polygon_mesh_processing/repair_polygon_soup.h>
 #include <CGAL/Polygon_mesh_processing/self_intersections.h>
 #include <CGAL/Polygon_mesh_processing/stitch_borders.h>
-#include <CGAL/Surface_mesh.h>
-#include <CGAL/alpha_wrap_3.h>
 
 #include <algorithm>
 #include <array>
@@ -32,12 +31,10 @@
 
 namespace plimsoll {
 
+using namespace repair_cgal;
+
 namespace {
 
-namespace PMP = CGAL::Polygon_mesh_processing;
-using Kernel = CGAL::Exact_predicates_inexact_constructions_kernel;
-using Point = Kernel::Point_3;
-using Mesh = CGAL::Surface_mesh<Point>;
 using Polygon = std::vector<std::size_t>;
 
 struct Soup {
@@ -167,48 +164,6 @@ std::pair<Mesh, std::size_t> unite(std::vector<Mesh>& closed, std::vector<Mesh>&
         result = std::move(joined);
     }
     return {std::move(result), overlapping};
-}
-
-Mesh wrap(const std::vector<const Mesh*>& meshes, double alpha, double offset) {
-    Soup soup;
-    for (const Mesh* mesh : meshes) {
-        std::map<Mesh::Vertex_index, std::size_t> of;
-        for (Mesh::Vertex_index v : mesh->vertices()) {
-            of[v] = soup.points.size();
-            soup.points.push_back(mesh->point(v));
-        }
-        for (Mesh::Face_index f : mesh->faces()) {
-            Polygon polygon;
-            for (Mesh::Vertex_index v : CGAL::vertices_around_face(mesh->halfedge(f), *mesh))
-                polygon.push_back(of[v]);
-            soup.polygons.push_back(std::move(polygon));
-        }
-    }
-    std::vector<std::array<std::size_t, 3>> triangles;
-    for (const Polygon& p : soup.polygons)
-        if (p.size() == 3) triangles.push_back({p[0], p[1], p[2]});
-    Mesh wrapped;
-    CGAL::alpha_wrap_3(soup.points, triangles, alpha, offset, wrapped);
-    return wrapped;
-}
-
-TriangleMesh toTriangleMesh(const Mesh& mesh, const std::string& source) {
-    TriangleMesh out;
-    out.source = source;
-    std::map<Mesh::Vertex_index, std::uint32_t> of;
-    for (Mesh::Vertex_index v : mesh.vertices()) {
-        const Point& p = mesh.point(v);
-        of[v] = static_cast<std::uint32_t>(out.positions.size());
-        out.positions.emplace_back(p.x(), p.y(), p.z());
-    }
-    for (Mesh::Face_index f : mesh.faces()) {
-        std::vector<std::uint32_t> ring;
-        for (Mesh::Vertex_index v : CGAL::vertices_around_face(mesh.halfedge(f), mesh))
-            ring.push_back(of[v]);
-        for (std::size_t k = 1; k + 1 < ring.size(); ++k)
-            out.triangles.push_back({ring[0], ring[k], ring[k + 1]});
-    }
-    return out;
 }
 
 /// The soup of the artist's surface, with exactly equal points joined (UV seams).

@@ -8,6 +8,21 @@
 
 namespace plimsoll {
 
+const char* openingsModeName(OpeningsMode mode) {
+    switch (mode) {
+    case OpeningsMode::Open: return "open";
+    case OpeningsMode::Sealed: return "sealed";
+    case OpeningsMode::None: return "none";
+    }
+    return "open";
+}
+
+std::optional<OpeningsMode> parseOpeningsMode(std::string_view name) {
+    for (OpeningsMode mode : {OpeningsMode::Open, OpeningsMode::Sealed, OpeningsMode::None})
+        if (name == openingsModeName(mode)) return mode;
+    return std::nullopt;
+}
+
 std::string bodyLabel(const BodyDesc& body) {
     return "body '" + body.name + "' (" + body.mesh + ")";
 }
@@ -88,6 +103,11 @@ Result<SceneBody> bakeSceneBody(BodyDesc desc, BodyParts parts, const BakeContro
     Result<MassProperties> mass = materialMassProperties(
         *textures, desc.material, parts.shellDensityMap.get(), body.label);
     if (!mass) return mass.error();
+    if (desc.material.density && parts.hollow.mass > 0) {
+        *mass = withoutHollow(*mass, parts.hollow, *desc.material.density);
+        if (!(mass->mass > 0))
+            return refuse("the space behind the caps of its openings is as large as the solid: no material is left");
+    }
 
     body.textures = std::make_shared<const SurfaceTextures>(std::move(*textures));
     body.pieces = std::move(pieces);

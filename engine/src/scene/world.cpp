@@ -235,7 +235,7 @@ Result<std::unique_ptr<World::Flooding>> World::makeFlooding(const SceneBody& bo
         WaterGraphSimulation::create(graph, *body.textures, permeability, settings);
     if (!sim) return withContext(label + ": water graph: ", sim.error());
     std::ostringstream line;
-    line << label << ": water graph " << g.graph << ": " << graph.nodes.size() << " nodes, "
+    line << label << ": water graph " << (g.graph.empty() ? "of its openings" : g.graph) << ": " << graph.nodes.size() << " nodes, "
          << graph.pipes.size() << " pipes, capacity " << graph.totalCapacity() << " m^3, "
          << sim->samples().size() << " permeable samples, " << flowModelName(settings.flow)
          << " flow" << (settings.freeSurface ? ", free surface" : "");

@@ -30,6 +30,15 @@ struct MassProperties {
 /// two: both describe the same enclosed space, not two disjoint ones.
 MassProperties operator+(const MassProperties& a, const MassProperties& b);
 
+/// `a` with the part `b` of it taken out (a solid with an empty space inside its surface: an
+/// open hull's walls are its sealed body less the space behind its caps). The volume stays a's.
+MassProperties operator-(const MassProperties& a, const MassProperties& b);
+
+/// A solid of uniform `density` less the part `hollow` of its space that holds no material
+/// (given at density 1: mass = volume): an open hull's walls from its sealed body. `solid`
+/// unchanged when `hollow` has no mass.
+MassProperties withoutHollow(const MassProperties& solid, const MassProperties& hollow, double density);
+
 /// Solid of uniform density (kg/m^3) bounded by a closed, outward-oriented triangle mesh.
 MassProperties exactSolidMassProperties(const TriangleMesh& mesh, double density);
 

@@ -28,14 +28,41 @@ struct PreparedBodyMesh {
     /// `mesh` is then the solid, and `artist` the mesh as loaded (for its painted maps).
     std::vector<Repair> repairs;
     std::shared_ptr<const TriangleMesh> artist;
+    /// The openings closed by caps (their triangles index `mesh`); empty with "openings": "none".
+    std::vector<Opening> openings;
 };
 
 /// Loads body `index` of `project` (its first frame when it deforms) in metres, replaces a
-/// rigid surface that is not one closed solid by its physics solid (physics_solid.h), refuses
+/// rigid surface that is not one closed solid, or that has openings to close (BodyDesc::openings),
+/// by its physics solid (physics_solid.h), refuses
 /// it when no solid can be made (or a deforming one has surface errors), and applies
 /// the body's atlas mode with the project's atlas cache (Project::atlasCacheFile).
 /// Errors start with "body 'NAME' (MESH): ".
 Result<PreparedBodyMesh> prepareBodyMesh(const Project& project, std::size_t index);
+
+/// prepareBodyMesh for a mesh already loaded (in metres, as prepareBodyMesh loads it): an
+/// editor's. With `uvsChosen` the mesh already has the UVs the body bakes with (the atlas
+/// applied), and is used as it is unless it is repaired.
+Result<PreparedBodyMesh> prepareLoadedBodyMesh(const Project& project, std::size_t index, TriangleMesh loaded,
+                                               bool uvsChosen = false);
+
+/// What the artist painted and built for a body, in memory (read from the project's files, or
+/// an editor's edits): maps over the UVs of `paintedOver` (the artist's mesh with the UVs it is
+/// painted over; null: PreparedBodyMesh::artist, or the prepared mesh when not repaired) and the
+/// body's own water graph (null: none).
+struct BodyPaint {
+    std::shared_ptr<const TriangleMesh> paintedOver;
+    std::shared_ptr<const PaintedMap> permeabilityMap, shellDensityMap, shellThicknessMap;
+    std::shared_ptr<const WaterGraph> waterGraph;
+};
+
+/// The parts bakeSceneBody takes, from a prepared mesh and its paint: maps painted over the
+/// artist's mesh moved onto a physics solid, and an open hull's openings made compartments of
+/// its water graph (a graph made for them, with Torricelli's inflow, when `desc` has none; `desc`
+/// then gains it), their caps painted permeable over what is painted, and the space behind them
+/// kept out of a solid material (BodyParts::hollow). Frames are the caller's.
+Result<BodyParts> assembleBodyParts(BodyDesc& desc, PreparedBodyMesh prepared, const BodyPaint& paint,
+                                    const LogFunction& log = {});
 
 /// The frames of deforming body `index` (mesh, then mesh_frames), checked against each other.
 Result<std::shared_ptr<const std::vector<TriangleMesh>>> loadBodyFrames(const Project& project,

@@ -9,8 +9,13 @@
 #include "plimsoll/core/result.h"
 #include "plimsoll/geometry/mesh.h"
 #include "plimsoll/geometry/validate.h"
+#include "plimsoll/physics/massprops.h"
+#include "plimsoll/repair/openings.h"
+
+#include <Eigen/Core>
 
 #include <cstddef>
+#include <cstdint>
 #include <string>
 #include <vector>
 
@@ -24,6 +29,8 @@ namespace plimsoll {
 ///   "open-sheets"       open parts (sails, planks, eyes) left out of the volume (count: parts)
 ///   "union"             overlapping closed parts joined (count: parts joined)
 ///   "wrap"              what stays broken replaced by its alpha wrap (count: parts wrapped)
+///   "cap"               openings of open hulls and containers closed at their rims (count:
+///                       openings; the volume change is the space behind the caps)
 struct Repair {
     std::string kind;
     std::size_t count = 0;
@@ -33,15 +40,33 @@ struct Repair {
     std::string detail;  ///< one line for people
 };
 
+/// An opening of an open hull or container, closed by a cap at its rim: the cap is part of the
+/// solid (so the sealed body displaces the space behind it), and that space is a compartment
+/// the cap lets water into (the scene makes it a node of the body's water graph). The cap is
+/// level, at the height of the lowest point of the rim, so the compartment holds what the
+/// container holds before it spills.
+struct Opening {
+    double capHeight = 0;  ///< object y of the cap's plane, m
+    /// The space behind the cap at density 1 (mass = volume, m^3; centre; inertia), object space.
+    MassProperties cavity;
+    /// The box of that space, m.
+    Eigen::Vector3d boundsMin = Eigen::Vector3d::Zero(), boundsMax = Eigen::Vector3d::Zero();
+    /// The cap's triangles in PhysicsSolid::mesh, and their area (m^2).
+    std::vector<std::uint32_t> capTriangles;
+    double capArea = 0;
+};
+
 struct PhysicsSolid {
     /// The solid, closed and outward: no UVs (a generated atlas lays it out).
     TriangleMesh mesh;
     std::vector<Repair> repairs;
     /// Volume of the solid material (m^3).
     double materialVolume = 0;
-    /// Volume the sealed body displaces when fully submerged (m^3): the material volume for a
-    /// solid without compartments.
+    /// Volume the sealed body displaces when fully submerged (m^3): the material volume plus
+    /// the space behind the caps of its openings.
     double displacementVolume = 0;
+    /// The openings closed by caps, largest first.
+    std::vector<Opening> openings;
 };
 
 /// Whether this build can repair (built with CGAL).
@@ -54,6 +79,10 @@ struct RepairSettings {
     /// Alpha wrap: ball size and offset as shares of the bounding-box diagonal.
     double wrapAlpha = 1.0 / 100.0;
     double wrapOffset = 1.0 / 3000.0;
+    /// Whether openings of open hulls and containers (basins that hold water poured in from
+    /// above, object y up) are closed by caps; off, the body floods as the surface is.
+    bool closeOpenings = true;
+    BasinSettings basins;
 };
 
 /// Builds the physics solid of `surface` (positions only; UVs are ignored). Fails, naming the
@@ -63,7 +92,9 @@ Result<PhysicsSolid> buildPhysicsSolid(const TriangleMesh& surface, const Repair
 
 /// The solid to bake for a validated surface: the surface itself, UVs and all, with no repairs,
 /// when its report shows a closed solid (UV problems aside; a mesh that needs no repair is
-/// baked exactly as it is), else buildPhysicsSolid's. The volumes are the exact ones.
+/// baked exactly as it is), else buildPhysicsSolid's; then, with settings.closeOpenings, its
+/// openings closed by caps (findBasins, then exact caps: the solid has no UVs then). The
+/// volumes are the exact ones. Openings are closed only in builds with CGAL.
 Result<PhysicsSolid> physicsSolidFor(const TriangleMesh& surface, const ValidationReport& report,
                                      const RepairSettings& settings = {});
 

@@ -47,6 +47,10 @@ struct BodyParts {
     std::shared_ptr<const PaintedMap> permeabilityMap;
     std::shared_ptr<const PaintedMap> shellDensityMap;
     std::shared_ptr<const PaintedMap> shellThicknessMap;
+    /// The space inside `mesh` that holds no material: the compartments behind the caps of an
+    /// open hull's openings (physics_solid.h, Opening::cavity), at density 1 (mass = volume).
+    /// A solid material fills the rest only. Zero mass: none.
+    MassProperties hollow;
 };
 
 struct BodyRadiation;  // scene_radiation.h

@@ -13,6 +13,7 @@
 #include <filesystem>
 #include <optional>
 #include <string>
+#include <string_view>
 #include <vector>
 
 namespace plimsoll {
@@ -70,6 +71,19 @@ struct RadiationDesc {
     bool operator==(const RadiationDesc&) const = default;
 };
 
+/// What becomes of the openings of an open hull or container ("openings"; physics_solid.h).
+enum class OpeningsMode {
+    /// "open": closed by caps that let water in: the space behind them is a compartment of the
+    /// body's water graph, empty at the start, that floods when the rim goes under.
+    Open,
+    /// "sealed": closed by caps that let no water in (a decked hull).
+    Sealed,
+    /// "none": left open: the body is its surface, and water stands wherever it reaches.
+    None,
+};
+const char* openingsModeName(OpeningsMode mode);  ///< "open", "sealed", "none"
+std::optional<OpeningsMode> parseOpeningsMode(std::string_view name);
+
 struct BodyDesc {
     std::string name;
     /// Mesh file (any format assimp reads). For a deforming body, the first frame.
@@ -87,6 +101,8 @@ struct BodyDesc {
     /// default AtlasSettings whatever textureSize is (so changing the physics texture size
     /// keeps the maps painted over it) and is cached beside the project (atlasCacheFile).
     AtlasMode atlas = AtlasMode::Auto;
+    /// The openings of an open hull or container ("openings": "open", "sealed" or "none").
+    OpeningsMode openings = OpeningsMode::Open;
     MaterialDesc material;
     Eigen::Vector3d position = Eigen::Vector3d::Zero();          ///< R p + t: t, m
     Eigen::Vector3d rotationDegrees = Eigen::Vector3d::Zero();   ///< Rz Ry Rx, degrees

@@ -47,4 +47,10 @@ private:
 Result<PaintedMap> transferPaintedMap(const PaintedMap& map, const TriangleMesh& from,
                                       const TriangleMesh& to, int width, int height);
 
+/// Sets every texel of `map` (over `mesh`'s UVs) within one texel of the listed triangles to
+/// `value`: a region of the surface painted by its triangles (the caps of a physics solid's
+/// openings, which let water in).
+Status paintTriangles(PaintedMap& map, const TriangleMesh& mesh,
+                      const std::vector<std::uint32_t>& triangles, float value);
+
 }  // namespace plimsoll

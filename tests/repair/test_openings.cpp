@@ -1,0 +1,444 @@
+// Open hulls and containers: their openings found (findBasins), closed by level caps at the
+// rim (physicsSolidFor), and the space behind the caps a compartment that floods. Against
+// exact volumes (a thick-walled cup, upright and tilted: the exact clip of its hold), an
+// independent ray-cast estimate for the shared open boats and bucket, and the order of events
+// of a dinghy riding high, swamping and sinking.
+#include "cli_runner.h"
+#include "document/command.h"
+#include "document/document.h"
+#include "test_support.h"
+#include "world_support.h"
+
+#include "plimsoll/geometry/validate.h"
+#include "plimsoll/graph/graph.h"  // windingNumber: the independent inside test
+#include "plimsoll/geometry/box.h"
+#include "plimsoll/io/mesh_io.h"
+#include "plimsoll/physics/buoyancy.h"
+#include "plimsoll/physics/massprops.h"
+#include "plimsoll/repair/openings.h"
+#include "plimsoll/repair/physics_solid.h"
+#include "plimsoll/samples/primitives.h"
+
+#include <Eigen/Geometry>
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+
+#include <cmath>
+#include <numbers>
+#include <random>
+
+namespace plimsoll {
+namespace {
+
+namespace fs = std::filesystem;
+
+#define SKIP_WITHOUT_REPAIR() \
+    if (!repairAvailable()) GTEST_SKIP() << "built without CGAL: no mesh repair"
+
+/// Adds quad p0 p1 p2 p3 (two triangles), turned to face `normal`.
+void addQuad(TriangleMesh& mesh, std::array<Eigen::Vector3d, 4> p, const Eigen::Vector3d& normal) {
+    if ((p[1] - p[0]).cross(p[2] - p[0]).dot(normal) < 0) std::swap(p[1], p[3]);
+    const auto base = static_cast<std::uint32_t>(mesh.positions.size());
+    mesh.positions.insert(mesh.positions.end(), p.begin(), p.end());
+    mesh.triangles.push_back({base, base + 1, base + 2});
+    mesh.triangles.push_back({base, base + 2, base + 3});
+}
+
+struct Cup {
+    double outer = 0.5, inner = 0.4;  ///< half widths, m
+    double height = 0.5, floor = 0.1;  ///< m
+    double materialVolume() const {
+        return 4 * outer * outer * height - 4 * inner * inner * (height - floor);
+    }
+};
+
+/// A square cup with thick walls: closed, outward, open at the top (y up).
+TriangleMesh makeCup(const Cup& cup) {
+    TriangleMesh mesh;
+    mesh.source = "cup";
+    const auto ring = [](double half, double y) {
+        return std::array<Eigen::Vector3d, 4>{Eigen::Vector3d(-half, y, -half), Eigen::Vector3d(half, y, -half),
+                                              Eigen::Vector3d(half, y, half), Eigen::Vector3d(-half, y, half)};
+    };
+    const auto o0 = ring(cup.outer, 0), o1 = ring(cup.outer, cup.height);
+    const auto i0 = ring(cup.inner, cup.floor), i1 = ring(cup.inner, cup.height);
+    const Eigen::Vector3d up = Eigen::Vector3d::UnitY();
+    addQuad(mesh, o0, -up);
+    addQuad(mesh, i0, up);
+    for (int k = 0; k < 4; ++k) {
+        const int n = (k + 1) % 4;
+        const Eigen::Vector3d side = Eigen::Vector3d(o0[k] + o0[n]).normalized();
+        addQuad(mesh, {o0[k], o0[n], o1[n], o1[k]}, side);
+        addQuad(mesh, {o1[k], o1[n], i1[n], i1[k]}, up);
+        addQuad(mesh, {i0[k], i0[n], i1[n], i1[k]}, -side);
+    }
+    return mesh;
+}
+
+PhysicsSolid solidOf(const TriangleMesh& mesh, const RepairSettings& settings = {}) {
+    Result<PhysicsSolid> solid = physicsSolidFor(mesh, validateSurface(mesh), settings);
+    EXPECT_TRUE(solid.ok()) << solid.error().message;
+    return solid.ok() ? std::move(*solid) : PhysicsSolid{};
+}
+
+TEST(Openings, AThickWalledCupIsCappedAtItsRim) {
+    SKIP_WITHOUT_REPAIR();
+    const Cup cup;
+    const TriangleMesh mesh = makeCup(cup);
+    ASSERT_TRUE(validateSurface(mesh).closedSolid());
+    ASSERT_NEAR(exactSolidMassProperties(mesh, 1.0).volume, cup.materialVolume(), 1e-12);
+
+    const std::vector<Basin> basins = findBasins(mesh, cup.materialVolume());
+    ASSERT_EQ(basins.size(), 1u);
+    EXPECT_NEAR(basins[0].spillHeight, cup.height, 2 * basins[0].cellSize);
+    EXPECT_NEAR(basins[0].volume, 4 * cup.inner * cup.inner * (cup.height - cup.floor), 0.05);
+
+    const PhysicsSolid solid = solidOf(mesh);
+    ASSERT_EQ(solid.openings.size(), 1u);
+    const Opening& opening = solid.openings[0];
+    // The rim is level at the top: the cap closes the cup there (to the bisection's precision).
+    EXPECT_NEAR(opening.capHeight, cup.height, 1e-5);
+    const double hold = 4 * cup.inner * cup.inner * (opening.capHeight - cup.floor);
+    EXPECT_NEAR(opening.cavity.volume, hold, 1e-9);
+    EXPECT_NEAR(opening.cavity.centerOfMass.y(), 0.5 * (cup.floor + opening.capHeight), 1e-9);
+    EXPECT_NEAR(opening.capArea, 4 * cup.inner * cup.inner, 1e-9);
+    EXPECT_NEAR(solid.materialVolume, cup.materialVolume(), 1e-12);
+    EXPECT_NEAR(solid.displacementVolume, cup.materialVolume() + hold, 1e-9);
+    ASSERT_FALSE(solid.repairs.empty());
+    EXPECT_EQ(solid.repairs.back().kind, "cap");
+    EXPECT_EQ(solid.repairs.back().count, 1u);
+    EXPECT_NEAR(solid.repairs.back().volumeChange, hold, 1e-9);
+    // The sealed solid is closed, and it is what it says.
+    EXPECT_TRUE(validateSurface(solid.mesh).closedSolid());
+    EXPECT_NEAR(exactSolidMassProperties(solid.mesh, 1.0).volume, solid.displacementVolume, 1e-9);
+    // Its walls, the sealed body less the hold, weigh what the artist's cup weighs.
+    const MassProperties walls = withoutHollow(exactSolidMassProperties(solid.mesh, 700.0), opening.cavity, 700.0);
+    const MassProperties artist = exactSolidMassProperties(mesh, 700.0);
+    EXPECT_NEAR(walls.mass, artist.mass, 1e-7 * artist.mass);
+    EXPECT_LT((walls.centerOfMass - artist.centerOfMass).norm(), 1e-7);
+    EXPECT_LT((walls.inertia - artist.inertia).norm(), 1e-6 * artist.inertia.norm());
+}
+
+TEST(Openings, ATiltedCupHoldsWaterUpToTheLowestPointOfItsRim) {
+    SKIP_WITHOUT_REPAIR();
+    const Cup cup;
+    const Eigen::Matrix3d tilt = Eigen::AngleAxisd(10 * std::numbers::pi / 180, Eigen::Vector3d::UnitX()).matrix();
+    TriangleMesh mesh = makeCup(cup);
+    for (Eigen::Vector3d& p : mesh.positions) p = tilt * p;
+    const PhysicsSolid solid = solidOf(mesh);
+    ASSERT_EQ(solid.openings.size(), 1u);
+    // Water spills over the inner edge of the rim where it is lowest.
+    double spill = 1e300;
+    for (double x : {-cup.inner, cup.inner})
+        for (double z : {-cup.inner, cup.inner}) spill = std::min(spill, (tilt * Eigen::Vector3d(x, cup.height, z)).y());
+    EXPECT_NEAR(solid.openings[0].capHeight, spill, 1e-5);
+    // The hold: the tilted inner box below that level, by the exact clip of a box mesh.
+    TriangleMesh hold = makeBox({2 * cup.inner, cup.height - cup.floor, 2 * cup.inner});
+    for (Eigen::Vector3d& p : hold.positions) p = tilt * (p + Eigen::Vector3d(0, 0.5 * (cup.height + cup.floor), 0));
+    BodyFrame frame;
+    const double expected = evaluateBuoyancyExact(hold, frame, solid.openings[0].capHeight, {}).submergedVolume;
+    EXPECT_NEAR(solid.openings[0].cavity.volume, expected, 1e-9);
+    EXPECT_NEAR(solid.displacementVolume - solid.materialVolume, expected, 1e-9);
+}
+
+TEST(Openings, ClosedSolidsAndShallowDentsHaveNone) {
+    SKIP_WITHOUT_REPAIR();
+    // A box, a sphere, a torus lying flat (its hole drains), and a cup whose hold is under
+    // 5% of its material (a dent, not a container).
+    Cup dent;
+    dent.floor = 0.48;
+    for (const TriangleMesh& mesh : {makeBox({1, 2, 3}), makeUvSphere(0.5, 32, 16), makeCup(dent)}) {
+        SCOPED_TRACE(mesh.source);
+        const PhysicsSolid solid = solidOf(mesh);
+        EXPECT_TRUE(solid.openings.empty());
+        EXPECT_TRUE(solid.repairs.empty()) << describeRepairs(solid.repairs);
+    }
+    if (std::optional<fs::path> torus = test::sharedMesh("torus.obj")) {
+        Result<TriangleMesh> mesh = loadMesh(*torus);
+        ASSERT_TRUE(mesh.ok());
+        EXPECT_TRUE(solidOf(*mesh).openings.empty());
+    }
+    // Openings left open on request: the surface as it is.
+    RepairSettings keep;
+    keep.closeOpenings = false;
+    const TriangleMesh cupMesh = makeCup(Cup{});
+    const PhysicsSolid kept = solidOf(cupMesh, keep);
+    EXPECT_TRUE(kept.openings.empty());
+    EXPECT_EQ(kept.mesh.triangles, cupMesh.triangles);
+}
+
+// --- The shared open boats and bucket -------------------------------------------------------
+
+const fs::path kRealAssets = fs::path(PLIMSOLL_SHARED_DIR) / "real-assets";
+
+/// Möller-Trumbore: whether the ray from `origin` along `direction` hits triangle (a, b, c).
+bool rayHits(const Eigen::Vector3d& origin, const Eigen::Vector3d& direction, const Eigen::Vector3d& a,
+             const Eigen::Vector3d& b, const Eigen::Vector3d& c) {
+    const Eigen::Vector3d e1 = b - a, e2 = c - a, p = direction.cross(e2);
+    const double det = e1.dot(p);
+    if (std::abs(det) < 1e-300) return false;
+    const Eigen::Vector3d s = origin - a;
+    const double u = s.dot(p) / det;
+    if (u < 0 || u > 1) return false;
+    const Eigen::Vector3d q = s.cross(e1);
+    const double v = direction.dot(q) / det;
+    if (v < 0 || u + v > 1) return false;
+    return e2.dot(q) / det > 0;
+}
+
+/// An independent estimate of the volume the artist's surface displaces sealed at its rim:
+/// Monte Carlo over its box, a point counting when it is inside the surface (generalized
+/// winding number) or when no ray from it escapes horizontally (16 directions) or downwards
+/// (straight down and 8 directions 45 degrees down): water there could not run out.
+double sealedVolumeByRayCasting(const TriangleMesh& mesh, int samples) {
+    const Bounds3 box = computeBounds(mesh);
+    std::vector<Eigen::Vector3d> directions{-Eigen::Vector3d::UnitY()};
+    for (int k = 0; k < 16; ++k) {
+        const double a = 2 * std::numbers::pi * k / 16;
+        directions.emplace_back(std::cos(a), 0, std::sin(a));
+        if (k % 2 == 0) directions.emplace_back(std::cos(a), -1, std::sin(a));
+    }
+    std::mt19937_64 random(7);
+    std::uniform_real_distribution<double> unit(0, 1);
+    int counted = 0;
+    for (int i = 0; i < samples; ++i) {
+        const Eigen::Vector3d p = box.min + (box.max - box.min).cwiseProduct(Eigen::Vector3d(unit(random), unit(random), unit(random)));
+        if (windingNumber(mesh, p) > 0.5) {
+            ++counted;
+            continue;
+        }
+        bool held = true;
+        for (const Eigen::Vector3d& d : directions) {
+            bool hit = false;
+            for (const Triangle& t : mesh.triangles) {
+                if (rayHits(p, d, mesh.positions[t[0]], mesh.positions[t[1]], mesh.positions[t[2]])) {
+                    hit = true;
+                    break;
+                }
+            }
+            if (!hit) {
+                held = false;
+                break;
+            }
+        }
+        if (held) ++counted;
+    }
+    return (box.max - box.min).prod() * counted / samples;
+}
+
+TEST(Openings, OpenBoatsAndTheBucketDisplaceTheirSealedHull) {
+    SKIP_WITHOUT_REPAIR();
+    if (!fs::exists(kRealAssets)) GTEST_SKIP() << "../shared/real-assets not present";
+    for (const char* name : {"quaternius/Boat.fbx", "quaternius/BoatWSail.fbx", "quaternius/Bucket.fbx"}) {
+        SCOPED_TRACE(name);
+        Result<TriangleMesh> mesh = loadMesh(kRealAssets / name);
+        ASSERT_TRUE(mesh.ok()) << mesh.error().message;
+        const PhysicsSolid solid = solidOf(*mesh);
+        ASSERT_FALSE(solid.openings.empty());
+        EXPECT_FALSE(solid.openings[0].capTriangles.empty());
+        EXPECT_GT(solid.openings[0].capArea, 0);
+        EXPECT_TRUE(validateSurface(solid.mesh).closedSolid()) << validateSurface(solid.mesh).format();
+        const double estimate = sealedVolumeByRayCasting(*mesh, 6000);
+        const double ratio = solid.displacementVolume / solid.materialVolume;
+        const double expected = estimate / solid.materialVolume;
+        std::cout << name << ": material " << solid.materialVolume << " m^3, displacement "
+                  << solid.displacementVolume << " m^3 (ratio " << ratio << "), ray-cast estimate "
+                  << estimate << " m^3 (ratio " << expected << "), cap at y = " << solid.openings[0].capHeight
+                  << " m, " << describeRepairs(solid.repairs) << "\n";
+        EXPECT_NEAR(ratio, expected, 0.15 * expected);
+    }
+}
+
+TEST(Openings, MasspropsWeighsTheWallsAndReportsBothVolumes) {
+    SKIP_WITHOUT_REPAIR();
+    const fs::path boat = kRealAssets / "quaternius" / "Boat.fbx";
+    if (!fs::exists(boat)) GTEST_SKIP() << "../shared/real-assets not present";
+    const test::CommandOutput run = test::runPlimsoll("massprops --exact --json --density 600 '" + boat.string() + "'");
+    ASSERT_EQ(run.exitCode, 0) << run.err;
+    const nlohmann::json j = nlohmann::json::parse(run.out);
+    const double material = j.at("material_volume").get<double>();
+    const double displacement = j.at("displacement_volume").get<double>();
+    EXPECT_GT(displacement, 2 * material);
+    EXPECT_NEAR(j.at("volume").get<double>(), displacement, 1e-9);
+    EXPECT_NEAR(j.at("mass").get<double>(), 600 * material, 1e-6 * 600 * material);
+    bool capped = false;
+    for (const nlohmann::json& r : j.at("repairs"))
+        if (r.at("kind") == "cap") capped = r.at("count") == 1 && std::abs(r.at("volume_change").get<double>() - (displacement - material)) < 1e-9;
+    EXPECT_TRUE(capped) << j.at("repairs").dump();
+}
+
+TEST(Openings, TheEditorSimulatesWhatAProjectRunSimulates) {
+    SKIP_WITHOUT_REPAIR();
+    const fs::path boat = kRealAssets / "quaternius" / "Boat.fbx";
+    if (!fs::exists(boat)) GTEST_SKIP() << "../shared/real-assets not present";
+    const fs::path folder = test::scratchFolder("openings_editor");
+    Project project;
+    project.name = "dinghy";
+    BodyDesc body;
+    body.name = "dinghy";
+    body.mesh = boat.string();
+    body.textureSize = 32;
+    body.material.density = 600;
+    project.bodies.push_back(body);
+    const fs::path file = folder / "dinghy.plim.json";
+    ASSERT_TRUE(saveProject(project, file).ok());
+    Result<Project> loaded = loadProject(file);
+    ASSERT_TRUE(loaded.ok()) << loaded.error().message;
+    const Scene run = test::sceneOrFail(*loaded);
+    Result<std::unique_ptr<editor::Document>> document = editor::Document::open(file);
+    ASSERT_TRUE(document.ok()) << document.error().message;
+    Result<Scene> previewed = (*document)->simulationScene();
+    ASSERT_TRUE(previewed.ok()) << previewed.error().message;
+    ASSERT_EQ(run.bodies.size(), 1u);
+    ASSERT_EQ(previewed->bodies.size(), 1u);
+    const SceneBody& a = run.bodies[0];
+    const SceneBody& b = previewed->bodies[0];
+    EXPECT_EQ(a.textures->position, b.textures->position);
+    EXPECT_EQ(a.mass->mass, b.mass->mass);
+    ASSERT_TRUE(a.parts.waterGraph && b.parts.waterGraph);
+    EXPECT_EQ(*a.parts.waterGraph, *b.parts.waterGraph);
+    EXPECT_EQ(b.parts.waterGraph->nodes.size(), 1u);
+    ASSERT_TRUE(a.parts.permeabilityMap && b.parts.permeabilityMap);
+    EXPECT_EQ(a.parts.permeabilityMap->values, b.parts.permeabilityMap->values);
+    // Marked sealed in the editor, undoably: the preview has no compartment then.
+    Result<std::unique_ptr<editor::Command>> seal =
+        editor::makeSetPropertyCommand(**document, "/bodies/0/openings", "sealed");
+    ASSERT_TRUE(seal.ok()) << seal.error().message;
+    ASSERT_TRUE((*document)->execute(std::move(*seal)).ok());
+    EXPECT_EQ((*document)->project().bodies[0].openings, OpeningsMode::Sealed);
+    Result<Scene> decked = (*document)->simulationScene();
+    ASSERT_TRUE(decked.ok()) << decked.error().message;
+    EXPECT_FALSE(decked->bodies[0].parts.waterGraph);
+    EXPECT_TRUE((*document)->undo());
+    EXPECT_EQ((*document)->project().bodies[0].openings, OpeningsMode::Open);
+
+    // "sealed": the caps let nothing in, and the walls weigh the same.
+    project.bodies[0].openings = OpeningsMode::Sealed;
+    ASSERT_TRUE(saveProject(project, file).ok());
+    Result<Project> sealedProject = loadProject(file);
+    ASSERT_TRUE(sealedProject.ok());
+    EXPECT_EQ(sealedProject->bodies[0].openings, OpeningsMode::Sealed);
+    const Scene sealed = test::sceneOrFail(*sealedProject);
+    ASSERT_EQ(sealed.bodies.size(), 1u);
+    EXPECT_FALSE(sealed.bodies[0].parts.waterGraph);
+    EXPECT_NEAR(sealed.bodies[0].mass->mass, a.mass->mass, 1e-9 * a.mass->mass);
+}
+
+/// Where the dinghy's cap is, in world space, and how much water is behind it.
+struct Reading {
+    double capHeight = 0;  ///< world y of the cap's centre, m
+    double fill = 0;       ///< water / capacity of the compartment
+    double centerY = 0;    ///< world y of the centre of mass, m
+};
+
+Reading read(const World& world, const Eigen::Vector3d& capCentre) {
+    Reading r;
+    const SimulatedBody& body = world.bodies()[0];
+    r.capHeight = body.pose().apply(capCentre).y();
+    r.centerY = body.state.position.y();
+    const WaterGraphSimulation* graph = world.waterGraph(0);
+    if (graph) r.fill = graph->storedWater() / graph->graph().totalCapacity();
+    return r;
+}
+
+TEST(Openings, TheDinghyRidesHighThenSwampsWhenPushedUnderAndSinksWhenOverloaded) {
+    SKIP_WITHOUT_REPAIR();
+    const fs::path boat = kRealAssets / "quaternius" / "Boat.fbx";
+    if (!fs::exists(boat)) GTEST_SKIP() << "../shared/real-assets not present";
+    Result<TriangleMesh> mesh = loadMesh(boat);
+    ASSERT_TRUE(mesh.ok());
+    const PhysicsSolid solid = solidOf(*mesh);
+    ASSERT_EQ(solid.openings.size(), 1u);
+    const Opening& opening = solid.openings[0];
+    Eigen::Vector3d capCentre = 0.5 * (opening.boundsMin + opening.boundsMax);
+    capCentre.y() = opening.capHeight;
+    const Bounds3 bounds = computeBounds(*mesh);
+    constexpr double kWood = 600;
+
+    const auto project = [&](double depth) {
+        Project p;
+        p.folder = test::scratchFolder("openings_dinghy");
+        BodyDesc body;
+        body.name = "dinghy";
+        body.mesh = boat.string();
+        body.textureSize = 64;
+        body.material.density = kWood;
+        body.position = Eigen::Vector3d(0, -bounds.min.y() - depth, 0);
+        p.bodies.push_back(body);
+        p.water = WaterModel::flat(0.0);
+        return p;
+    };
+    const auto run = [&](std::unique_ptr<World>& world, double seconds, auto&& each) {
+        const int frames = static_cast<int>(seconds / world->scene().simulation.timeStep);
+        for (int f = 0; f < frames; ++f) {
+            ASSERT_TRUE(world->advanceFrame().ok());
+            each(f * world->scene().simulation.timeStep, read(*world, capCentre));
+        }
+    };
+
+    // Set down on the water: it rides high, rim above the water, dry inside.
+    std::vector<std::string> log;
+    std::unique_ptr<World> calm = test::fastWorldOrFail(test::sceneOrFail(project(0.0)), [&](const std::string& l) { log.push_back(l); });
+    ASSERT_TRUE(calm);
+    ASSERT_NE(calm->waterGraph(0), nullptr) << "the opening is a compartment";
+    EXPECT_EQ(calm->waterGraph(0)->graph().nodes.size(), 1u);
+    // Walls of wood: the mass is the material's, not the sealed hull's.
+    EXPECT_NEAR(calm->bodies()[0].mass.mass, kWood * solid.materialVolume, 0.02 * kWood * solid.materialVolume);
+    Reading afloat;
+    run(calm, 10.0, [&](double, const Reading& r) { afloat = r; });
+    EXPECT_GT(afloat.capHeight, 0.01) << "freeboard";
+    EXPECT_LT(afloat.fill, 0.01);
+
+    // Pushed under and held there for two seconds: the cap goes under first, then the hold
+    // fills; let go, the hull comes up full, lower than it rode dry, its wood still afloat.
+    std::unique_ptr<World> pushed = test::fastWorldOrFail(test::sceneOrFail(project(0.4)));
+    ASSERT_TRUE(pushed);
+    bool holding = true;
+    const double push = 3 * 1000.0 * solid.displacementVolume * 9.81;
+    ASSERT_TRUE(pushed->setExternalForce(0, [&](const SimulatedBody& body, const RigidBodyState& state) {
+                          Wrench w;
+                          // A hand on the hull: holds it 0.4 m under, no further.
+                          if (holding) w.force = Eigen::Vector3d(0, state.position.y() > -0.3 ? -push : 0.0, 0);
+                          (void)body;
+                          return w;
+                      }).ok());
+    double capUnder = -1, halfFull = -1;
+    Reading swamped;
+    run(pushed, 20.0, [&](double t, const Reading& r) {
+        if (capUnder < 0 && r.capHeight < 0) capUnder = t;
+        if (halfFull < 0 && r.fill > 0.5) halfFull = t;
+        holding = t < 2.0;
+        swamped = r;
+    });
+    ASSERT_GE(capUnder, 0);
+    ASSERT_GE(halfFull, 0) << "the hold never filled";
+    EXPECT_LE(capUnder, halfFull);
+    EXPECT_GT(swamped.fill, 0.9);
+    EXPECT_LT(swamped.capHeight, afloat.capHeight - 0.01) << "a swamped hull floats lower";
+    EXPECT_GT(swamped.centerY, -0.5) << "wood walls still float";
+
+    // Loaded past its freeboard (a weight in it): the rim goes under, it floods and sinks.
+    std::unique_ptr<World> loaded = test::fastWorldOrFail(test::sceneOrFail(project(0.0)));
+    ASSERT_TRUE(loaded);
+    const double reserve = 1000.0 * solid.displacementVolume - kWood * solid.materialVolume;  // kg
+    const double load = 1.2 * reserve * 9.81;
+    ASSERT_TRUE(loaded->setExternalForce(0, [load](const SimulatedBody&, const RigidBodyState&) {
+                           Wrench w;
+                           w.force = Eigen::Vector3d(0, -load, 0);
+                           return w;
+                       }).ok());
+    capUnder = halfFull = -1;
+    Reading sunk;
+    run(loaded, 15.0, [&](double t, const Reading& r) {
+        if (capUnder < 0 && r.capHeight < 0) capUnder = t;
+        if (halfFull < 0 && r.fill > 0.5) halfFull = t;
+        sunk = r;
+    });
+    ASSERT_GE(capUnder, 0);
+    ASSERT_GE(halfFull, 0);
+    EXPECT_LE(capUnder, halfFull);
+    EXPECT_LT(sunk.centerY, -2.0) << "overloaded and flooded, it sinks";
+}
+
+}  // namespace
+}  // namespace plimsoll
