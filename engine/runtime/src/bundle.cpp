@@ -27,6 +27,7 @@
 #include <iterator>
 #include <limits>
 #include <map>
+#include <optional>
 #include <set>
 #include <stdexcept>
 #include <sys/stat.h>
@@ -953,9 +954,27 @@ std::unique_ptr<Bundle> loadFrom(const BundleSource& source, std::string& error,
 
 }  // namespace
 
+namespace {
+
+/// The folder's identity (device and inode), or none when it cannot be looked at.
+std::optional<std::pair<dev_t, ino_t>> folderIdentity(const std::string& folder) {
+    struct stat st {};
+    if (::stat(folder.c_str(), &st) != 0) return std::nullopt;
+    return std::pair{st.st_dev, st.st_ino};
+}
+
+}  // namespace
+
 std::unique_ptr<Bundle> loadBundle(const std::string& folder, std::string& error,
                                    const LoadOptions& options) {
-    return loadFrom(folderSource(folder), error, options);
+    // A re-export replaces the folder in one rename and then deletes the old one: a load that
+    // began on the old folder can find its files gone. Such a load starts again on the new
+    // folder (a few times at most: a bundle re-exported without pause is a caller's loop).
+    for (int attempt = 0;; ++attempt) {
+        const auto before = folderIdentity(folder);
+        std::unique_ptr<Bundle> bundle = loadFrom(folderSource(folder), error, options);
+        if (bundle || attempt == 3 || !before || folderIdentity(folder) == before) return bundle;
+    }
 }
 
 std::unique_ptr<Bundle> loadBundleWithCallbacks(const FileCallbacks& callbacks,
