@@ -1,5 +1,6 @@
 // libFuzzer target: validateMesh on arbitrary triangle soups (fuzz_validate), and the physics
-// solid built from them, openings and caps included (fuzz_repair: PLIMSOLL_FUZZ_REPAIR). The bytes become a mesh: a
+// solid made from them with the basins of its openings (fuzz_repair: PLIMSOLL_FUZZ_REPAIR; the
+// fuzz build has no CGAL, so its caps are left to the sanitized test suite). The bytes become a mesh: a
 // header (vertex count, UV mode), raw doubles for positions and UVs (so NaN, Inf, denormals
 // and 1e308 all occur), then triangles of vertex indices that may repeat or point past the
 // last vertex.
@@ -71,8 +72,13 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
 #ifdef PLIMSOLL_FUZZ_REPAIR
     // Every index in range (validateMesh reports the others; the repair takes valid meshes).
     if (!report.has(plimsoll::ProblemKind::IndexOutOfRange)) {
+        // The fuzz build has no CGAL: a closed soup comes back as it is, and its basins are
+        // looked for here (with CGAL, physicsSolidFor looks for them itself and caps them).
         plimsoll::Result<plimsoll::PhysicsSolid> solid = plimsoll::physicsSolidFor(mesh, report);
-        if (solid) (void)plimsoll::describeRepairs(solid->repairs);
+        if (solid) {
+            (void)plimsoll::describeRepairs(solid->repairs);
+            (void)plimsoll::findBasins(solid->mesh, solid->materialVolume);
+        }
     }
 #endif
     return 0;
