@@ -12,9 +12,17 @@ set(PLIMSOLL_PCH_COMMON
   <optional> <sstream> <string> <string_view> <unordered_map> <vector>
   <Eigen/Dense> <nlohmann/json.hpp>)
 
+#
+# PLIMSOLL_PRECOMPILED_HEADERS=OFF turns them off: the build without OpenCL, CGAL and GUI
+# (scripts/test-minimal.sh) relies on ccache finding the objects of files whose preprocessed text
+# did not change, which it cannot do through a precompiled header of other definitions.
+option(PLIMSOLL_PRECOMPILED_HEADERS "Precompiled headers for the tests, the CLI and the editor" ON)
+
 # plimsoll_precompile_headers(TARGET [HEADER ...]): the common headers and the extra ones.
 function(plimsoll_precompile_headers target)
-  target_precompile_headers(${target} PRIVATE ${PLIMSOLL_PCH_COMMON} ${ARGN})
+  if(PLIMSOLL_PRECOMPILED_HEADERS)
+    target_precompile_headers(${target} PRIVATE ${PLIMSOLL_PCH_COMMON} ${ARGN})
+  endif()
 endfunction()
 
 if(CMAKE_CXX_COMPILER_LAUNCHER MATCHES "ccache$")

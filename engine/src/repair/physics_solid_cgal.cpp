@@ -11,6 +11,7 @@
 
 #include "plimsoll/geometry/validate.h"
 
+#include <CGAL/Polygon_mesh_processing/border.h>
 #include <CGAL/Polygon_mesh_processing/connected_components.h>
 #include <CGAL/Polygon_mesh_processing/corefinement.h>
 #include <CGAL/Polygon_mesh_processing/measure.h>
@@ -20,6 +21,7 @@
 #include <CGAL/Polygon_mesh_processing/repair_polygon_soup.h>
 #include <CGAL/Polygon_mesh_processing/self_intersections.h>
 #include <CGAL/Polygon_mesh_processing/stitch_borders.h>
+#include <CGAL/Polygon_mesh_processing/triangulate_hole.h>
 
 #include <algorithm>
 #include <array>
@@ -132,6 +134,41 @@ Parts splitParts(const Mesh& whole) {
     return parts;
 }
 
+/// Open parts that are closed solids but for small holes (a hull with a gap where a mast went
+/// in): each hole filled (triangulate_hole), the part kept when it then bounds a volume and the
+/// patches are at most `maxPatchShare` of its area. A sail's or an open shell's opening is
+/// most of its area, and stays open. Returns the holes filled and the volume the parts add.
+std::pair<std::size_t, double> fillSmallHoles(Parts& parts, double maxPatchShare) {
+    std::size_t filled = 0;
+    double added = 0;
+    for (auto it = parts.open.begin(); it != parts.open.end();) {
+        Mesh part = *it;
+        const double area = PMP::area(part);
+        std::vector<Mesh::Halfedge_index> borders;
+        PMP::extract_boundary_cycles(part, std::back_inserter(borders));
+        std::vector<Mesh::Face_index> patch;
+        bool ok = true;
+        try {
+            for (Mesh::Halfedge_index h : borders) PMP::triangulate_hole(part, h, std::back_inserter(patch));
+        } catch (const std::exception&) {
+            ok = false;
+        }
+        double patchArea = 0;
+        for (Mesh::Face_index f : patch) patchArea += PMP::face_area(f, part);
+        ok = ok && CGAL::is_closed(part) && patchArea <= maxPatchShare * area && !PMP::does_self_intersect(part) &&
+             PMP::does_bound_a_volume(part);
+        if (!ok) {
+            ++it;
+            continue;
+        }
+        filled += borders.size();
+        added += std::abs(volumeOf(part));
+        parts.closed.push_back(std::move(part));
+        it = parts.open.erase(it);
+    }
+    return {filled, added};
+}
+
 /// The union of the closed parts, biggest first; a part the union refuses goes to `broken`.
 /// Returns the union and how many parts overlapped what was joined before them.
 std::pair<Mesh, std::size_t> unite(std::vector<Mesh>& closed, std::vector<Mesh>& broken,
@@ -221,6 +258,9 @@ Result<PhysicsSolid> buildPhysicsSolid(const TriangleMesh& surface, const Repair
     const std::size_t stitched = PMP::stitch_borders(whole);
     report("stitch", stitched, 0, std::to_string(stitched) + " border edge pairs stitched");
     Parts parts = splitParts(whole);
+    const auto [holes, holeVolume] = fillSmallHoles(parts, 0.05);
+    report("fill-holes", holes, holeVolume,
+           std::to_string(holes) + " small holes of nearly closed parts filled; those parts count in the volume");
 
     std::size_t outward = 0;
     for (Mesh& part : parts.closed) {

@@ -26,6 +26,8 @@ namespace plimsoll {
 ///   "degenerate-faces"  faces without area dropped (count: faces)
 ///   "duplicate-faces"   faces repeated, in either orientation, dropped (count: faces)
 ///   "orient"            faces turned to agree with their neighbours and face out (count: faces)
+///   "fill-holes"        small holes of nearly closed parts filled (count: holes; the volume
+///                       change is those parts' volume)
 ///   "open-sheets"       open parts (sails, planks, eyes) left out of the volume (count: parts)
 ///   "union"             overlapping closed parts joined (count: parts joined)
 ///   "wrap"              what stays broken replaced by its alpha wrap (count: parts wrapped)
