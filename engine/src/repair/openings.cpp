@@ -25,6 +25,18 @@ struct Grid {
         return origin + cell * Eigen::Vector3d(i + 0.5, j + 0.5, k + 0.5);
     }
     std::size_t size() const { return static_cast<std::size_t>(nx) * ny * nz; }
+    /// visit(inside the grid, neighbour's index, neighbour's layer) for the six faces' neighbours
+    /// of cell c = (i, j, k).
+    template <class Visit>
+    void forEachNeighbour(std::size_t c, int i, int j, int k, Visit&& visit) const {
+        const std::size_t sy = nx, sz = static_cast<std::size_t>(nx) * ny;
+        visit(i > 0, c - 1, j);
+        visit(i < nx - 1, c + 1, j);
+        visit(j > 0, c - sy, j - 1);
+        visit(j < ny - 1, c + sy, j + 1);
+        visit(k > 0, c - sz, j);
+        visit(k < nz - 1, c + sz, j);
+    }
 };
 
 /// Cells whose centre is inside the solid: along each vertical column, the crossings of the
@@ -144,10 +156,10 @@ std::vector<Basin> findBasins(const TriangleMesh& solid, double solidVolume, con
                 level[c] = j;
                 buckets[j].push_back(c);
             }
-    const std::size_t sx = 1, sy = g.nx, sz = static_cast<std::size_t>(g.nx) * g.ny;
+    const std::size_t sz = static_cast<std::size_t>(g.nx) * g.ny;
     const auto coords = [&](std::size_t c, int& i, int& j, int& k) {
         i = static_cast<int>(c % g.nx);
-        j = static_cast<int>((c / sx / g.nx) % g.ny);
+        j = static_cast<int>((c / g.nx) % g.ny);
         k = static_cast<int>(c / sz);
     };
     for (int l = 0; l < g.ny; ++l) {
@@ -164,12 +176,7 @@ std::vector<Basin> findBasins(const TriangleMesh& solid, double solidVolume, con
                     buckets[lv].push_back(d);
                 }
             };
-            visit(i > 0, c - sx, j);
-            visit(i < g.nx - 1, c + sx, j);
-            visit(j > 0, c - sy, j - 1);
-            visit(j < g.ny - 1, c + sy, j + 1);
-            visit(k > 0, c - sz, j);
-            visit(k < g.nz - 1, c + sz, j);
+            g.forEachNeighbour(c, i, j, k, visit);
         }
         buckets[l].clear();
         buckets[l].shrink_to_fit();
@@ -212,12 +219,7 @@ std::vector<Basin> findBasins(const TriangleMesh& solid, double solidVolume, con
                     stack.push_back(d);
                 }
             };
-            push(ci > 0, c - sx, cj);
-            push(ci < g.nx - 1, c + sx, cj);
-            push(cj > 0, c - sy, cj - 1);
-            push(cj < g.ny - 1, c + sy, cj + 1);
-            push(ck > 0, c - sz, cj);
-            push(ck < g.nz - 1, c + sz, cj);
+            g.forEachNeighbour(c, ci, cj, ck, push);
             const int score = open * 100000 - cj;
             if (score > seedScore) {
                 seedScore = score;
