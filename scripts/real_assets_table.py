@@ -46,7 +46,8 @@ def blender_sizes(files):
 
 def main():
     plimsoll = sys.argv[1] if len(sys.argv) > 1 else "build/editor/plimsoll"
-    folder = pathlib.Path(sys.argv[2] if len(sys.argv) > 2 else HERE.parent.parent / "shared" / "real-assets")
+    # Absolute paths: Blender names the files it read that way.
+    folder = pathlib.Path(sys.argv[2] if len(sys.argv) > 2 else HERE.parent.parent / "shared" / "real-assets").resolve()
     files = models(folder)
     blender = blender_sizes(files)
     print("| file | unit (m per unit) | size as read, m | Blender's size, m | worst axis vs Blender | "
