@@ -79,7 +79,7 @@ std::optional<PhysicsSolid> solidOrRepair(const TriangleMesh& mesh, const Valida
         return std::nullopt;
     }
     if (!solid->repairs.empty()) {
-        std::cerr << "note: " << path << ": not one closed solid as it is: using its physics solid ("
+        std::cerr << "note: " << path << ": not one closed solid as it is, or an open hull: using its physics solid ("
                   << describeRepairs(solid->repairs) << "), " << solid->materialVolume << " m^3\n";
         for (const Repair& r : solid->repairs) std::cerr << "  " << r.kind << ": " << r.detail << "\n";
     }

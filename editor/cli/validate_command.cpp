@@ -127,8 +127,11 @@ void printHuman(const ValidateOptions& options, const TriangleMesh& mesh, const 
         std::cout << "  its own UVs cannot be baked (the errors above); baking generates a physics atlas "
                      "(--atlas auto, the default)\n";
     if (code == "physics-solid") {
-        std::cout << "  the surface is not one closed, consistently oriented solid; the physics solid is "
-                     "baked instead, the mesh stays for painting:\n";
+        std::cout << (verdict.solid->openings.empty()
+                          ? "  the surface is not one closed, consistently oriented solid; the physics solid is "
+                            "baked instead, the mesh stays for painting:\n"
+                          : "  an open hull or container: its physics solid, with its openings capped, is baked "
+                            "instead, the mesh stays for painting:\n");
         for (const Repair& r : verdict.solid->repairs)
             std::cout << "    " << r.kind << " " << r.count << ": " << r.detail
                       << (r.volumeChange != 0 ? " (volume " + std::to_string(r.volumeChange) + " m^3)" : "")

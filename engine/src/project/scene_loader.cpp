@@ -195,7 +195,7 @@ Result<SceneBody> loadSceneBody(const Project& project, std::size_t index, const
     if (!prepared) return fail(".mesh", prepared.error());
     if (!prepared->atlas.notice.empty()) say(label + ": " + prepared->atlas.notice);
     if (!prepared->repairs.empty())
-        say(label + ": not one closed solid as it is: its physics solid is baked (" +
+        say(label + ": not one closed solid as it is, or an open hull: its physics solid is baked (" +
             describeRepairs(prepared->repairs) + ")");
     if (const std::string cost = describeBakeCost(prepared->mesh, desc.textureSize); !cost.empty())
         say(label + ": " + cost);
