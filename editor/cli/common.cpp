@@ -87,10 +87,7 @@ std::optional<PhysicsSolid> solidOrRepair(const TriangleMesh& mesh, const Valida
 }
 
 MeshReport meshReportOf(const MeshFileFacts& facts, const PhysicsSolid& solid) {
-    MeshReport report{facts, solid.repairs, solid.materialVolume, solid.displacementVolume, {}};
-    for (const Opening& opening : solid.openings)
-        report.hollow = report.hollow.mass > 0 ? report.hollow + opening.cavity : opening.cavity;
-    return report;
+    return {facts, solid.repairs, solid.materialVolume, solid.displacementVolume, hollowSpace(solid.openings)};
 }
 }  // namespace
 

@@ -7,6 +7,7 @@
 #include "document/command.h"
 #include "document/document.h"
 #include "test_support.h"
+#include "repair/repair_support.h"
 #include "world_support.h"
 
 #include "plimsoll/geometry/validate.h"
@@ -32,8 +33,6 @@ namespace {
 
 namespace fs = std::filesystem;
 
-#define SKIP_WITHOUT_REPAIR() \
-    if (!repairAvailable()) GTEST_SKIP() << "built without CGAL: no mesh repair"
 
 /// Adds quad p0 p1 p2 p3 (two triangles), turned to face `normal`.
 void addQuad(TriangleMesh& mesh, std::array<Eigen::Vector3d, 4> p, const Eigen::Vector3d& normal) {

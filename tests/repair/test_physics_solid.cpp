@@ -1,6 +1,7 @@
 // The physics solid of surfaces that are not one closed solid: every repair against an exact
 // volume (boxes, their unions) or an independent estimate (generalized winding numbers).
 #include "test_support.h"
+#include "repair/repair_support.h"
 
 #include "plimsoll/graph/graph.h"  // windingNumber: the independent inside test
 #include "plimsoll/geometry/box.h"
@@ -51,8 +52,6 @@ PhysicsSolid solidOf(const TriangleMesh& mesh) {
     return std::move(*solid);
 }
 
-#define SKIP_WITHOUT_REPAIR() \
-    if (!repairAvailable()) GTEST_SKIP() << "built without CGAL: no mesh repair"
 
 TEST(PhysicsSolid, AClosedMeshIsUsedAsItIs) {
     const TriangleMesh box = makeBox({1, 2, 3});

@@ -141,8 +141,7 @@ Result<BodyParts> assembleBodyParts(BodyDesc& desc, PreparedBodyMesh prepared, c
     if (Status s = onSolid(paint.shellDensityMap, parts.shellDensityMap); !s) return s.error();
     if (Status s = onSolid(paint.shellThicknessMap, parts.shellThicknessMap); !s) return s.error();
 
-    for (const Opening& opening : prepared.openings)
-        parts.hollow = parts.hollow.mass > 0 ? parts.hollow + opening.cavity : opening.cavity;
+    parts.hollow = hollowSpace(prepared.openings);
     WaterGraph graph = paint.waterGraph ? *paint.waterGraph : WaterGraph{};
     if (desc.openings == OpeningsMode::Open && !prepared.openings.empty()) {
         appendOpeningNodes(graph, prepared.openings);

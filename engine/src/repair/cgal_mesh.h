@@ -1,5 +1,5 @@
-// The CGAL types the repair's translation units share, and the conversions between CGAL's
-// Surface_mesh and Plimsoll's TriangleMesh. Included only by the repair's CGAL files.
+// The CGAL types the repair's translation units share, the conversions between CGAL's
+// Surface_mesh and Plimsoll's TriangleMesh, the alpha wrap, and how repair details print numbers. Included only by the repair's CGAL files.
 #pragma once
 
 #include "plimsoll/geometry/mesh.h"
@@ -12,6 +12,7 @@
 #include <cstdint>
 #include <array>
 #include <map>
+#include <sstream>
 #include <string>
 #include <vector>
 
@@ -21,6 +22,14 @@ namespace PMP = CGAL::Polygon_mesh_processing;
 using Kernel = CGAL::Exact_predicates_inexact_constructions_kernel;
 using Point = Kernel::Point_3;
 using Mesh = CGAL::Surface_mesh<Point>;
+
+/// A volume or length in a repair's detail: four significant digits.
+inline std::string describeNumber(double value) {
+    std::ostringstream text;
+    text.precision(4);
+    text << value;
+    return text.str();
+}
 
 /// The mesh's faces as triangles (a polygon fanned from its first corner), no UVs.
 inline TriangleMesh toTriangleMesh(const Mesh& mesh, const std::string& source) {

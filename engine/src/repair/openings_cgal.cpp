@@ -154,13 +154,6 @@ TriangleMesh sealedBy(const Cavity& cavity, const std::string& source, double di
     return out;
 }
 
-std::string describe(double value) {
-    std::ostringstream text;
-    text.precision(4);
-    text << value;
-    return text.str();
-}
-
 }  // namespace
 
 Status closeOpenings(PhysicsSolid& solid, const std::vector<Basin>& basins, const RepairSettings& settings) {
@@ -168,7 +161,7 @@ Status closeOpenings(PhysicsSolid& solid, const std::vector<Basin>& basins, cons
     const Bounds3 bounds = computeBounds(solid.mesh);
     const double diagonal = bounds.diagonal();
     const Mesh walls = toCgalMesh(solid.mesh);
-    const double before = PMP::volume(walls);
+    const double before = solid.displacementVolume;  // no openings closed yet
 
     // One basin after the other, each closed on the solid the ones before it left.
     TriangleMesh sealed = solid.mesh;
@@ -270,13 +263,13 @@ Status closeOpenings(PhysicsSolid& solid, const std::vector<Basin>& basins, cons
             opening.capArea += area.norm();
         }
         behind += opening.cavity.volume;
-        heights << (openings.empty() ? "" : ", ") << describe(c.height);
+        heights << (openings.empty() ? "" : ", ") << describeNumber(c.height);
         openings.push_back(std::move(opening));
     }
     solid.repairs.push_back({"cap", openings.size(), after - before,
                              std::to_string(openings.size()) + (openings.size() == 1 ? " opening" : " openings") +
                                  " closed by a level cap at the rim (y = " + heights.str() + " m): a compartment of " +
-                                 describe(behind) + " m^3 behind it, empty at the start"});
+                                 describeNumber(behind) + " m^3 behind it, empty at the start"});
     solid.mesh = std::move(sealed);
     solid.displacementVolume = after;
     solid.openings = std::move(openings);

@@ -95,6 +95,12 @@ Result<PhysicsSolid> physicsSolidFor(const TriangleMesh& surface, const Validati
     return solid;
 }
 
+MassProperties hollowSpace(const std::vector<Opening>& openings) {
+    MassProperties hollow;
+    for (const Opening& opening : openings) hollow = hollow.mass > 0 ? hollow + opening.cavity : opening.cavity;
+    return hollow;
+}
+
 std::string describeRepairs(const std::vector<Repair>& repairs) {
     if (repairs.empty()) return "none";
     std::ostringstream text;

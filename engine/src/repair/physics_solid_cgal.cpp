@@ -44,13 +44,6 @@ struct Soup {
     std::vector<Polygon> polygons;
 };
 
-std::string describe(double value) {
-    std::ostringstream text;
-    text.precision(4);
-    text << value;
-    return text.str();
-}
-
 /// Joins points closer than `tolerance` (cells of that size, each point compared with the
 /// points of its 27 neighbouring cells) and returns how many points moved that were not
 /// already exactly equal to the point they joined: UV seams split vertices at equal positions,
@@ -235,7 +228,7 @@ Result<PhysicsSolid> buildPhysicsSolid(const TriangleMesh& surface, const Repair
     Soup soup = soupOf(surface);
     const std::size_t welded = weld(soup, settings.weldTolerance * diagonal);
     report("weld", welded, 0, std::to_string(welded) + " vertices within " +
-                                  describe(settings.weldTolerance * diagonal) + " m joined");
+                                  describeNumber(settings.weldTolerance * diagonal) + " m joined");
     const std::size_t degenerate = dropDegenerate(soup);
     report("degenerate-faces", degenerate, 0, std::to_string(degenerate) + " faces without area dropped");
     const std::size_t duplicates = PMP::merge_duplicate_polygons_in_polygon_soup(
@@ -287,7 +280,7 @@ Result<PhysicsSolid> buildPhysicsSolid(const TriangleMesh& surface, const Repair
     double volume = closedCount > 0 ? volumeOf(united) : 0;
     report("union", overlapping, volume - partsVolume,
            std::to_string(overlapping) + " overlapping closed parts joined; their overlap, " +
-               describe(partsVolume - volume) + " m^3, counts once");
+               describeNumber(partsVolume - volume) + " m^3, counts once");
 
     Mesh result = std::move(united);
     if (!parts.broken.empty() || (closedCount == 0 && !parts.open.empty())) {
@@ -320,7 +313,7 @@ Result<PhysicsSolid> buildPhysicsSolid(const TriangleMesh& surface, const Repair
         const double after = volumeOf(result);
         report("wrap", wrappedParts, after - volume,
                std::to_string(wrappedParts) + " parts that are not closed sound solids replaced by their alpha wrap (" +
-                   describe(wrappedVolume) + " m^3)");
+                   describeNumber(wrappedVolume) + " m^3)");
         volume = after;
     }
     if (result.is_empty() || !(volume > 0))

@@ -281,10 +281,6 @@ Result<PaintedMap> transferPaintedMap(const PaintedMap& map, const TriangleMesh&
     return out;
 }
 
-}  // namespace plimsoll
-
-namespace plimsoll {
-
 Status paintTriangles(PaintedMap& map, const TriangleMesh& mesh,
                       const std::vector<std::uint32_t>& triangles, float value) {
     if (!mesh.hasUvs()) return makeError(ErrorKind::invalidArgument, mesh.source + ": cannot paint a mesh without UVs");

@@ -58,6 +58,10 @@ struct Opening {
     double capArea = 0;
 };
 
+/// The space behind the caps of all `openings` (density 1: mass = volume, m^3): what a solid
+/// material does not fill (BodyParts::hollow, withoutHollow). No mass without openings.
+MassProperties hollowSpace(const std::vector<Opening>& openings);
+
 struct PhysicsSolid {
     /// The solid, closed and outward: no UVs (a generated atlas lays it out).
     TriangleMesh mesh;
