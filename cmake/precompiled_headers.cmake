@@ -33,3 +33,22 @@ if(CMAKE_CXX_COMPILER_LAUNCHER MATCHES "ccache$")
       CCACHE_SLOPPINESS=pch_defines,time_macros,include_file_mtime,include_file_ctime
       ${CMAKE_CXX_COMPILER_LAUNCHER})
 endif()
+
+# Unity builds for the same targets: their files are compiled in batches, each batch one
+# translation unit, so that the inline code of the large headers (CLI11's whole App with its
+# virtual functions, GoogleTest's and nlohmann/json's templates), which a precompiled header
+# parses once but every file still compiles and optimises, is compiled once per batch. Files
+# of one target therefore share one namespace scope: a helper in an anonymous namespace needs a
+# name of its own in the target. PLIMSOLL_UNITY_BUILD=OFF compiles file by file.
+option(PLIMSOLL_UNITY_BUILD "Compile the tests, the CLI and the editor in batches of files" ON)
+
+# plimsoll_unity_build(TARGET BATCH_SIZE): files per translation unit. Smaller batches keep
+# both of CI's cores busy and rebuild less after an edit; larger ones compile less in all.
+function(plimsoll_unity_build target batch_size)
+  if(PLIMSOLL_UNITY_BUILD)
+    set_target_properties(${target} PROPERTIES UNITY_BUILD ON UNITY_BUILD_BATCH_SIZE ${batch_size})
+    # g++ takes a type of a file's anonymous namespace used in a class of the same file for one
+    # from a header once the file is included into a batch: not a problem of one file alone.
+    target_compile_options(${target} PRIVATE -Wno-subobject-linkage)
+  endif()
+endfunction()

@@ -18,6 +18,13 @@ struct CommandOutput {
     std::string err;
 };
 
+/// A `plimsoll render` run that found no renderer: no EGL with OpenGL 4.5, or a build without
+/// the GUI.
+inline bool cannotRender(const CommandOutput& r) {
+    return r.exitCode != 0 && (r.err.find("no OpenGL 4.5 context") != std::string::npos ||
+                               r.err.find("without the renderer") != std::string::npos);
+}
+
 /// The plimsoll executable of the build this test binary belongs to (build/tests/plimsoll_tests
 /// runs build/editor/plimsoll). Found at run time rather than compiled in, so that the test
 /// sources compile to the same objects in every build folder (ccache hits across them).

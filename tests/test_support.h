@@ -4,6 +4,7 @@
 #include "plimsoll/physics/massprops.h"
 #include "plimsoll/graph_auto/graph_auto.h"
 #include "plimsoll/geometry/mesh.h"
+#include "plimsoll/io/mesh_io.h"
 
 #include <gtest/gtest.h>
 #include <unistd.h>
@@ -13,6 +14,10 @@
 #include <sstream>
 #include <optional>
 #include <string>
+
+/// `text` (anything a std::string is made from) contains `part`; the message shows `text`.
+#define EXPECT_CONTAINS(text, part) \
+    EXPECT_NE(std::string(text).find(part), std::string::npos) << (text)
 
 namespace plimsoll::test {
 
@@ -85,6 +90,41 @@ inline std::filesystem::path scratchFolder(const std::string& name) {
         std::filesystem::path(testing::TempDir()) / (name + "_" + std::to_string(::getpid()));
     std::filesystem::create_directories(dir);
     return dir;
+}
+
+/// An empty folder `name` inside the process's scratch folder `area` (emptied if it exists).
+inline std::filesystem::path freshFolder(const std::string& area, const std::string& name) {
+    const std::filesystem::path dir = scratchFolder(area) / name;
+    std::filesystem::remove_all(dir);
+    std::filesystem::create_directories(dir);
+    return dir;
+}
+
+/// Replaces the file at `path` with exactly `bytes`.
+inline void writeFile(const std::filesystem::path& path, const std::string& bytes) {
+    std::ofstream(path, std::ios::binary | std::ios::trunc) << bytes;
+}
+
+/// The error message of a Status or Result, empty when it succeeded.
+template <typename StatusOrResult>
+std::string messageOf(const StatusOrResult& r) {
+    return r.ok() ? std::string() : r.error().message;
+}
+
+/// A mesh of ../shared/meshes loaded, or nothing when the folder is absent (a failed load
+/// fails the test).
+inline std::optional<TriangleMesh> loadSharedMesh(const std::string& name) {
+    const std::optional<std::filesystem::path> path = sharedMesh(name);
+    if (!path) return std::nullopt;
+    Result<TriangleMesh> mesh = loadMesh(*path);
+    EXPECT_TRUE(mesh.ok()) << messageOf(mesh);
+    if (!mesh.ok()) return std::nullopt;
+    return std::move(mesh).value();
+}
+
+/// ../shared/real-assets: the game models as artists have them (may be absent).
+inline std::filesystem::path realAssetsDir() {
+    return std::filesystem::path(PLIMSOLL_SHARED_DIR) / "real-assets";
 }
 
 /// The acceptance measure for texture mass properties: at N = 256 the volume within

@@ -10,6 +10,9 @@
 
 namespace plimsoll::cli {
 
+/// The C++ reference visits every entry in double: beyond 512^2 it only shows it is slow.
+inline constexpr int kReferenceMaxSize = 512;
+
 struct BenchOptions {
     std::vector<int> sizes;
     int frames = 0;  ///< 0: the default for the mode

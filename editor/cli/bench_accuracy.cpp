@@ -42,10 +42,8 @@ using Clock = std::chrono::steady_clock;
 
 constexpr int kWarmupFrames = 5;
 constexpr int kSweepLevels = 21;
-/// The C++ reference visits every entry in double: beyond 512^2 it only shows it is slow.
-constexpr int kReferenceMaxSize = 512;
 constexpr int kBatchBodies = 1000;
-constexpr int kBatchSize = 128;
+constexpr int kAccuracyBatchSize = 128;
 /// What a frame reads per entry: float4 position + float4 area vector.
 constexpr double kBytesPerEntry = 32;
 constexpr std::size_t kMiB = std::size_t{1} << 20;
@@ -187,7 +185,7 @@ Errors compareToExact(const std::vector<BuoyancyResult>& results, const BenchMes
 
 enum class RowKind { Texture, Exact, Batch };
 
-struct Row {
+struct AccuracyRow {
     RowKind kind = RowKind::Texture;
     std::string mesh;
     std::string device;      ///< Device::label, or "exact (C++)"
@@ -203,8 +201,8 @@ struct Row {
     std::optional<Errors> errors;
 };
 
-Row textureRow(RowKind kind, const BenchMesh& m, const Baked& b, const Device& device) {
-    Row row;
+AccuracyRow textureRow(RowKind kind, const BenchMesh& m, const Baked& b, const Device& device) {
+    AccuracyRow row;
     row.kind = kind;
     row.mesh = m.name;
     row.device = device.label;
@@ -218,7 +216,7 @@ Row textureRow(RowKind kind, const BenchMesh& m, const Baked& b, const Device& d
 using FrameFunction = std::function<Result<FrameTimings>(int frame)>;
 
 /// Runs kWarmupFrames + frames frames and fills the row's timings from all but the warm-up.
-Status timeFrames(int frames, const FrameFunction& run, const Device* device, Row& row) {
+Status timeFrames(int frames, const FrameFunction& run, const Device* device, AccuracyRow& row) {
     std::vector<double> total, kernel, reduce, transfer;
     for (int f = 0; f < kWarmupFrames + frames; ++f) {
         Result<FrameTimings> t = run(f);
@@ -256,7 +254,7 @@ BodyRequest requestFor(std::size_t body, const Pose& pose) {
 const OpenClOptions kTimedDevice{.deviceTimings = true};
 
 /// One body on one device: the accuracy sweep, then the timed frames cycling through it.
-Result<Row> measureTexture(const BenchMesh& m, const Baked& b, const Device& device, int frames) {
+Result<AccuracyRow> measureTexture(const BenchMesh& m, const Baked& b, const Device& device, int frames) {
     Result<std::unique_ptr<BuoyancyBackend>> created = createBuoyancyBackend(device.spec, nullptr, kTimedDevice);
     if (!created) return created.error();
     BuoyancyBackend& backend = **created;
@@ -266,7 +264,7 @@ Result<Row> measureTexture(const BenchMesh& m, const Baked& b, const Device& dev
         return backend.evaluate({&request, 1}, WaterModel::flat(s.level), {&result, 1});
     };
 
-    Row row = textureRow(RowKind::Texture, m, b, device);
+    AccuracyRow row = textureRow(RowKind::Texture, m, b, device);
     std::vector<BuoyancyResult> results(m.sweep.size());
     for (std::size_t i = 0; i < m.sweep.size(); ++i)
         if (Status s = evaluatePose(m.sweep[i], results[i]); !s.ok()) return s.error();
@@ -283,8 +281,8 @@ Result<Row> measureTexture(const BenchMesh& m, const Baked& b, const Device& dev
 }
 
 /// The exact clip on the same poses: the baseline the textures have to beat.
-Row measureExact(const BenchMesh& m, int frames) {
-    Row row;
+AccuracyRow measureExact(const BenchMesh& m, int frames) {
+    AccuracyRow row;
     row.kind = RowKind::Exact;
     row.mesh = m.name;
     row.device = "exact (C++)";
@@ -305,13 +303,13 @@ Row measureExact(const BenchMesh& m, int frames) {
 
 /// kBatchBodies copies of one body in one evaluate per frame, each at its own pose of the
 /// sweep (the water level moved into the pose, as all bodies share one water).
-Result<Row> measureBatch(const BenchMesh& m, const Baked& b, const Device& device, int frames) {
+Result<AccuracyRow> measureBatch(const BenchMesh& m, const Baked& b, const Device& device, int frames) {
     Result<std::unique_ptr<BuoyancyBackend>> created = createBuoyancyBackend(device.spec, nullptr, kTimedDevice);
     if (!created) return created.error();
     BuoyancyBackend& backend = **created;
     for (int i = 0; i < kBatchBodies; ++i) backend.addBody(b.textures, b.centerOfMass);
 
-    Row row = textureRow(RowKind::Batch, m, b, device);
+    AccuracyRow row = textureRow(RowKind::Batch, m, b, device);
     row.bodies = kBatchBodies;
     row.entries *= kBatchBodies;
     std::vector<BodyRequest> requests(kBatchBodies);
@@ -373,13 +371,13 @@ const char* kindName(RowKind kind) {
     return "";
 }
 
-std::string sizeCell(const Row& r) {
+std::string sizeCell(const AccuracyRow& r) {
     if (r.kind == RowKind::Exact) return "-";
     const std::string n = std::to_string(r.size);
     return r.kind == RowKind::Batch ? std::to_string(r.bodies) + "x" + n : n;
 }
 
-std::vector<std::string> tableCells(const Row& r) {
+std::vector<std::string> tableCells(const AccuracyRow& r) {
     std::optional<double> percent;
     if (r.bandwidthShare) percent = 100.0 * *r.bandwidthShare;
     const std::optional<Errors>& e = r.errors;
@@ -401,13 +399,13 @@ std::vector<std::string> tableCells(const Row& r) {
 }
 
 
-void printTable(const std::vector<Row>& rows) {
+void printTable(const std::vector<AccuracyRow>& rows) {
     const std::vector<std::string> header = {
         "mesh",    "device",   "N",          "entries",       "bake ms",
         "frame ms", "p10 ms",  "p90 ms",     "kernel ms",     "of which sums", "transfer ms",
         "% bw",    "vol err",  "cob err",    "torque err"};
     std::vector<std::vector<std::string>> lines = {header};
-    for (const Row& r : rows) lines.push_back(tableCells(r));
+    for (const AccuracyRow& r : rows) lines.push_back(tableCells(r));
     printAligned(lines, 2);
 }
 
@@ -422,11 +420,11 @@ std::string csvNumber(const char* spec, const std::optional<double>& value) {
     return value ? format(spec, *value) : "";
 }
 
-bool writeCsv(const std::vector<Row>& rows, std::ostream& out) {
+bool writeCsv(const std::vector<AccuracyRow>& rows, std::ostream& out) {
     out << "kind,mesh,device,device_name,size,bodies,entries,bake_ms,frame_median_ms,"
            "frame_p10_ms,frame_p90_ms,kernel_ms,reduce_ms,transfer_ms,bandwidth_fraction,volume_error,"
            "cob_error,torque_error\n";
-    for (const Row& r : rows) {
+    for (const AccuracyRow& r : rows) {
         const std::optional<Errors>& e = r.errors;
         const auto error = [&](double Errors::*field) {
             return e ? format("%.6e", (*e).*field) : std::string();
@@ -447,12 +445,12 @@ bool writeCsv(const std::vector<Row>& rows, std::ostream& out) {
 
 /// Error against time, one line per mesh and device through its texture sizes, the exact
 /// method as a vertical line per mesh: where a line runs left of it, textures pay off.
-LogLogPlot makePlot(const std::vector<Row>& rows) {
+LogLogPlot makePlot(const std::vector<AccuracyRow>& rows) {
     LogLogPlot plot;
     plot.title = "Plimsoll: accuracy against time per frame (one body)";
     plot.xLabel = "time per frame, median (ms)";
     plot.yLabel = "largest error over the sweep (volume, CoB, torque; relative)";
-    for (const Row& r : rows) {
+    for (const AccuracyRow& r : rows) {
         if (r.kind == RowKind::Exact) {
             plot.markers.push_back({r.frame.median, "exact " + r.mesh});
             continue;
@@ -467,7 +465,7 @@ LogLogPlot makePlot(const std::vector<Row>& rows) {
     return plot;
 }
 
-void reportRow(const Row& r) {
+void reportRow(const AccuracyRow& r) {
     const std::vector<std::string> c = tableCells(r);
     std::cerr << "bench: " << r.mesh << " " << r.device
               << (r.kind == RowKind::Exact ? "" : " N=" + c[2]) << ": " << c[5] << " ms/frame";
@@ -509,7 +507,7 @@ int runAccuracyBench(const BenchOptions& o) {
         std::cerr << "error: " << error.message << "\n";
         return kExitFailure;
     };
-    std::vector<Row> rows;
+    std::vector<AccuracyRow> rows;
     for (const BenchMesh& m : meshes) {
         std::vector<Baked> bakes;
         for (int size : sizes) {
@@ -523,7 +521,7 @@ int runAccuracyBench(const BenchOptions& o) {
         for (const Device& device : devices) {
             for (const Baked& b : bakes) {
                 if (device.isReference() && b.size > kReferenceMaxSize) continue;
-                Result<Row> row = measureTexture(m, b, device, frames);
+                Result<AccuracyRow> row = measureTexture(m, b, device, frames);
                 if (!row) return fail(row.error());
                 reportRow(*row);
                 rows.push_back(std::move(*row));
@@ -533,11 +531,11 @@ int runAccuracyBench(const BenchOptions& o) {
         reportRow(rows.back());
     }
     // The batch is the kernels' case: the reference would take seconds a frame to say so.
-    Result<Baked> batchBake = bake(meshes.front(), kBatchSize);
+    Result<Baked> batchBake = bake(meshes.front(), kAccuracyBatchSize);
     if (!batchBake) return fail(batchBake.error());
     for (const Device& device : devices) {
         if (device.isReference()) continue;
-        Result<Row> row = measureBatch(meshes.front(), *batchBake, device, frames);
+        Result<AccuracyRow> row = measureBatch(meshes.front(), *batchBake, device, frames);
         if (!row) return fail(row.error());
         reportRow(*row);
         rows.push_back(std::move(*row));

@@ -12,6 +12,7 @@
 // waves (the exact clip has no wave form).
 #include "cli/bench_realtime.h"
 
+#include "cli/bench.h"
 #include "cli/commands.h"
 #include "cli/svg_plot.h"
 #include "plimsoll/bake/bake.h"
@@ -41,8 +42,7 @@ namespace fs = std::filesystem;
 using Clock = std::chrono::steady_clock;
 
 constexpr int kPoses = 24;           ///< distinct poses per scenario, cycled by the timed frames
-constexpr int kReferenceMaxSize = 512;
-constexpr int kBatchSize = 64;
+constexpr int kRealtimeBatchSize = 64;
 
 enum class Scenario { RestFlat, MovingFlat, MovingWaves };
 const char* scenarioName(Scenario s) {
@@ -106,7 +106,7 @@ struct Case {
     double radius = 0;
 };
 
-struct Row {
+struct RealtimeRow {
     Scenario scenario = Scenario::RestFlat;
     std::string mesh, method;
     int size = 0;  ///< 0 for the mesh methods
@@ -116,8 +116,8 @@ struct Row {
     std::optional<double> error;
 };
 
-Row makeRow(Scenario scenario, const std::string& mesh, const std::string& method, int size, int bodies) {
-    Row row;
+RealtimeRow makeRow(Scenario scenario, const std::string& mesh, const std::string& method, int size, int bodies) {
+    RealtimeRow row;
     row.scenario = scenario;
     row.mesh = mesh;
     row.method = method;
@@ -250,10 +250,10 @@ Result<std::unique_ptr<BuoyancyBackend>> backendFor(const Method& m, const FastB
     return createBuoyancyBackend(m.spec, nullptr, openCl);
 }
 
-void printRows(const std::vector<Row>& rows) {
+void printRows(const std::vector<RealtimeRow>& rows) {
     std::printf("%-14s %-7s %-22s %6s %6s %12s %12s %10s\n", "scenario", "mesh", "method", "size",
                 "bodies", "us/body", "ms/frame", "error");
-    for (const Row& r : rows) {
+    for (const RealtimeRow& r : rows) {
         char error[32] = "-";
         if (r.error) std::snprintf(error, sizeof error, "%.2e", *r.error);
         const std::string size = r.size ? std::to_string(r.size) : "mesh";
@@ -263,9 +263,9 @@ void printRows(const std::vector<Row>& rows) {
     }
 }
 
-bool writeCsv(const std::vector<Row>& rows, std::ostream& out) {
+bool writeCsv(const std::vector<RealtimeRow>& rows, std::ostream& out) {
     out << "scenario,mesh,method,size,bodies,us_per_body,ms_per_frame,error\n";
-    for (const Row& r : rows) {
+    for (const RealtimeRow& r : rows) {
         out << '"' << scenarioName(r.scenario) << "\"," << r.mesh << ",\"" << r.method << "\","
             << r.size << ',' << r.bodies << ',' << r.usPerBody << ',' << r.msPerFrame << ',';
         if (r.error) out << *r.error;
@@ -275,17 +275,17 @@ bool writeCsv(const std::vector<Row>& rows, std::ostream& out) {
 }
 
 /// One sentence per scenario: the fastest single-body method within each tolerance.
-void printVerdicts(const std::vector<Row>& rows) {
+void printVerdicts(const std::vector<RealtimeRow>& rows) {
     for (Scenario s : {Scenario::RestFlat, Scenario::MovingFlat, Scenario::MovingWaves}) {
         for (const std::string& mesh : {std::string("sphere"), std::string("buoy")}) {
             // Only the pairs this run measured (--scenario, --bench-mesh narrow it).
             if (std::none_of(rows.begin(), rows.end(),
-                             [&](const Row& r) { return r.scenario == s && r.mesh == mesh; }))
+                             [&](const RealtimeRow& r) { return r.scenario == s && r.mesh == mesh; }))
                 continue;
             std::string sentence = std::string(scenarioName(s)) + ", " + mesh + ":";
             for (double tolerance : {1e-2, 1e-3, 1e-4}) {
-                const Row* best = nullptr;
-                for (const Row& r : rows)
+                const RealtimeRow* best = nullptr;
+                for (const RealtimeRow& r : rows)
                     if (r.scenario == s && r.mesh == mesh && r.bodies == 1 && r.error &&
                         *r.error <= tolerance && (!best || r.usPerBody < best->usPerBody))
                         best = &r;
@@ -364,7 +364,7 @@ std::vector<Case> realtimeCases(const RealtimeBenchOptions& o) {
 }
 
 /// Writes realtime.csv and realtime.svg (error against time per body) into `o.out`.
-int writeRealtimeOutputs(const RealtimeBenchOptions& o, const std::vector<Row>& rows) {
+int writeRealtimeOutputs(const RealtimeBenchOptions& o, const std::vector<RealtimeRow>& rows) {
     auto fail = [](const Error& e) {
         std::cerr << "error: " << e.message << "\n";
         return kExitFailure;
@@ -382,7 +382,7 @@ int writeRealtimeOutputs(const RealtimeBenchOptions& o, const std::vector<Row>& 
     plot.title = "Plimsoll: error against time per body (one body)";
     plot.xLabel = "time per evaluation (us)";
     plot.yLabel = "largest error (volume, force, torque; relative)";
-    for (const Row& r : rows) {
+    for (const RealtimeRow& r : rows) {
         if (r.bodies != 1 || !r.error) continue;
         const std::string name = std::string(scenarioName(r.scenario)) + ", " + r.mesh + ", " + r.method;
         auto series = std::find_if(plot.series.begin(), plot.series.end(),
@@ -417,14 +417,14 @@ int runRealtimeBench(const RealtimeBenchOptions& o) {
         std::cerr << "error: " << e.message << "\n";
         return kExitFailure;
     };
-    std::vector<Row> rows;
+    std::vector<RealtimeRow> rows;
     std::vector<Eigen::Vector3d> worldScratch;
     std::vector<double> depthScratch;
     for (const Case& c : cases) {
         std::map<int, SurfaceTextures> baked;
         std::vector<int> bakedSizes = sizes;
         bakedSizes.push_back(truthSize);
-        bakedSizes.push_back(kBatchSize);
+        bakedSizes.push_back(kRealtimeBatchSize);
         for (int size : bakedSizes) {
             if (baked.count(size)) continue;
             BakeSettings settings;
@@ -449,7 +449,7 @@ int runRealtimeBench(const RealtimeBenchOptions& o) {
             }
             auto meshRow = [&](const std::string& method, const std::function<Answer(const BodyFrame&)>& run) {
                 if (!bodiesSelected(1) || !selected(o.methods, method, true)) return;
-                Row row = makeRow(s, c.mesh, method, 0, 1);
+                RealtimeRow row = makeRow(s, c.mesh, method, 0, 1);
                 std::vector<Answer> got;
                 for (const BodyFrame& f : poses) got.push_back(run(f));
                 row.error = errorOf(got, truth, c);
@@ -489,7 +489,7 @@ int runRealtimeBench(const RealtimeBenchOptions& o) {
                     };
                     for (const BodyFrame& f : poses) got.push_back(run(f));
                     if (!status.ok()) return fail(status.error());
-                    Row row = makeRow(s, c.mesh, m.label, size, 1);
+                    RealtimeRow row = makeRow(s, c.mesh, m.label, size, 1);
                     row.error = errorOf(got, truth, c);
                     row.usPerBody = timeCalls(frames, [&](int f) { run(poses[f % kPoses]); });
                     row.msPerFrame = row.usPerBody * 1e-3;
@@ -531,7 +531,7 @@ int runRealtimeBench(const RealtimeBenchOptions& o) {
                     BuoyancyBackend& backend = **made;
                     std::vector<BodyRequest> requests(bodies);
                     for (int b = 0; b < bodies; ++b) {
-                        requests[b].body = backend.addBody(baked[kBatchSize], c.exact.centerOfMass);
+                        requests[b].body = backend.addBody(baked[kRealtimeBatchSize], c.exact.centerOfMass);
                         requests[b].frame = poses[b % kPoses];
                         // Spread out (the same water everywhere on flat water; other waves on waves).
                         requests[b].frame.pose.translation.x() += 3.0 * (b % 32);
@@ -543,7 +543,7 @@ int runRealtimeBench(const RealtimeBenchOptions& o) {
                         status = backend.evaluate(requests, water, results);
                     });
                     if (!status.ok()) return fail(status.error());
-                    Row row = makeRow(s, c.mesh, m.label, kBatchSize, bodies);
+                    RealtimeRow row = makeRow(s, c.mesh, m.label, kRealtimeBatchSize, bodies);
                     row.msPerFrame = us * 1e-3;
                     row.usPerBody = us / bodies;
                     std::cerr << "bench: " << scenarioName(s) << " " << bodies << " x " << m.label << ": "

@@ -67,11 +67,11 @@ nlohmann::json resultJson(const Measured& m) {
 }
 
 /// The figures the table shows, by name, unit and how to read them off a result.
-struct Row {
+struct HydrostaticsRow {
     const char* name;
     double (*value)(const HydrostaticsResult&);
 };
-const Row kRows[] = {
+const HydrostaticsRow kRows[] = {
     {"draft (m)", [](const HydrostaticsResult& r) { return r.draft; }},
     {"trim (deg)", [](const HydrostaticsResult& r) { return r.trimDegrees; }},
     {"heel (deg)", [](const HydrostaticsResult& r) { return r.heelDegrees; }},
@@ -113,7 +113,7 @@ void printTable(const std::vector<Measured>& methods) {
         if (both) v.push_back(v[0] - v[1]);
         return v;
     };
-    for (const Row& row : kRows) printRow(row.name, values(row.value));
+    for (const HydrostaticsRow& row : kRows) printRow(row.name, values(row.value));
     printRow("seconds", [&] {
         std::vector<double> v;
         for (const Measured& m : methods) v.push_back(m.seconds);

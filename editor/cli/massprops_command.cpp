@@ -27,8 +27,6 @@ struct MassPropsOptions {
     bool json = false;
 };
 
-nlohmann::json vectorJson(const Eigen::Vector3d& v) { return {v.x(), v.y(), v.z()}; }
-
 int runMassProps(const MassPropsOptions& o) {
     std::optional<TriangleMesh> mesh;
     bool generatedAtlas = false;

@@ -21,6 +21,7 @@
 #include <map>
 
 namespace plimsoll {
+namespace test_bake {
 namespace {
 
 namespace fs = std::filesystem;
@@ -303,4 +304,5 @@ TEST(BakeCost, TheEstimateCountsTheEntriesTheBakeMakes) {
 }
 
 }  // namespace
+}  // namespace test_bake
 }  // namespace plimsoll

@@ -11,6 +11,7 @@
 #include <sstream>
 
 namespace plimsoll {
+namespace test_cli {
 namespace {
 
 namespace fs = std::filesystem;
@@ -142,4 +143,5 @@ TEST(Cli, ValidateExitCodes) {
 }
 
 }  // namespace
+}  // namespace test_cli
 }  // namespace plimsoll

@@ -14,6 +14,7 @@
 #include <unistd.h>
 
 namespace plimsoll {
+namespace test_cli_bench {
 namespace {
 
 namespace fs = std::filesystem;
@@ -210,4 +211,5 @@ TEST(CliBench, IntegratorsQuickRunWritesDriftCsv) {
 }
 
 }  // namespace
+}  // namespace test_cli_bench
 }  // namespace plimsoll

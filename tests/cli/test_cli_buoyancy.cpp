@@ -15,6 +15,7 @@
 #include <string>
 
 namespace plimsoll {
+namespace test_cli_buoyancy {
 namespace {
 
 namespace fs = std::filesystem;
@@ -180,4 +181,5 @@ TEST(CliBuoyancy, MalformedInputIsRefusedByName) {
 }
 
 }  // namespace
+}  // namespace test_cli_buoyancy
 }  // namespace plimsoll

@@ -14,6 +14,7 @@
 #include <string>
 
 namespace plimsoll {
+namespace test_cli_hydro {
 namespace {
 
 namespace fs = std::filesystem;
@@ -182,4 +183,5 @@ TEST(CliHydro, BadSettingsAreRefusedWithTheirJsonPath) {
 }
 
 }  // namespace
+}  // namespace test_cli_hydro
 }  // namespace plimsoll

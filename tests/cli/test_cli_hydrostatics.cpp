@@ -12,6 +12,7 @@
 #include <string>
 
 namespace plimsoll {
+namespace test_cli_hydrostatics {
 namespace {
 
 using test::CommandOutput;
@@ -112,4 +113,5 @@ TEST(CliHydrostatics, BadInputIsRefusedClearly) {
 }
 
 }  // namespace
+}  // namespace test_cli_hydrostatics
 }  // namespace plimsoll

@@ -19,6 +19,7 @@
 #include <random>
 
 namespace plimsoll {
+namespace test_buoyancy_kernels {
 namespace {
 
 using test::bakeOrFail;
@@ -697,4 +698,5 @@ TEST(BuoyancyExtremes, ResultsStayFiniteAndContinuous) {
 }
 
 }  // namespace
+}  // namespace test_buoyancy_kernels
 }  // namespace plimsoll

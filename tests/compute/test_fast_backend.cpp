@@ -12,6 +12,7 @@
 #include <cstdlib>
 
 namespace plimsoll {
+namespace test_fast_backend {
 namespace {
 
 using namespace fast_test;
@@ -92,4 +93,5 @@ TEST(FastBackend, IsTheDefaultWhereNoGpuIsFound) {
 }
 
 }  // namespace
+}  // namespace test_fast_backend
 }  // namespace plimsoll

@@ -20,18 +20,12 @@
 #include <map>
 
 namespace plimsoll::editor {
+namespace test_document_saves {
 namespace {
 
 namespace fs = std::filesystem;
 using test::executeOrFail;
 using test::openOrFail;
-
-fs::path fresh(const std::string& name) {
-    const fs::path dir = test::scratchFolder("document_saves") / name;
-    fs::remove_all(dir);
-    fs::create_directories(dir);
-    return dir;
-}
 
 /// The box asset with its permeability map at `map` (relative to the project's folder).
 fs::path writeProject(const fs::path& dir, const std::string& map = "perm.png") {
@@ -48,7 +42,7 @@ void edit(Document& d, double drag) {
 }
 
 TEST(DocumentSaves, AFailedSaveAsKeepsTheAutosaveAndTheDocument) {
-    const fs::path dir = fresh("save_as_fails");
+    const fs::path dir = test::freshFolder("document_saves", "save_as_fails");
     const fs::path path = writeProject(dir);
     auto d = openOrFail(path);
     edit(*d, 0.7);
@@ -69,7 +63,7 @@ TEST(DocumentSaves, AFailedSaveAsKeepsTheAutosaveAndTheDocument) {
 }
 
 TEST(DocumentSaves, ASaveKeepsTheAutosaveAnotherSessionLeft) {
-    const fs::path dir = fresh("crashed");
+    const fs::path dir = test::freshFolder("document_saves", "crashed");
     const fs::path path = writeProject(dir);
     {
         auto crashed = openOrFail(path);
@@ -92,7 +86,7 @@ TEST(DocumentSaves, ASaveKeepsTheAutosaveAnotherSessionLeft) {
 }
 
 TEST(DocumentSaves, ARecoveredAutosaveSavesToTheProjectItLiesBeside) {
-    const fs::path dir = fresh("recover");
+    const fs::path dir = test::freshFolder("document_saves", "recover");
     fs::create_directories(dir / "mine");
     const fs::path path = writeProject(dir / "mine");
     fs::create_directories(dir / "theirs");
@@ -118,7 +112,7 @@ TEST(DocumentSaves, ARecoveredAutosaveSavesToTheProjectItLiesBeside) {
 }
 
 TEST(DocumentSaves, AMapFromOutsideTheFolderIsSavedIntoItAndTheSourceIsUntouched) {
-    const fs::path dir = fresh("outside");
+    const fs::path dir = test::freshFolder("document_saves", "outside");
     fs::create_directories(dir / "photos");
     fs::create_directories(dir / "project");
     ASSERT_TRUE(savePaintedMap(PaintedMap{16, 16, std::vector<float>(256, 0.25f)}, dir / "photos" / "photo.png").ok());
@@ -155,7 +149,7 @@ std::map<std::string, std::string> snapshot(const fs::path& dir) {
 }
 
 TEST(DocumentSaves, ASaveAsInterruptedAtAnyStepKeepsEveryFileAndTheAutosave) {
-    const fs::path dir = fresh("save_as_steps");
+    const fs::path dir = test::freshFolder("document_saves", "save_as_steps");
     const fs::path path = writeProject(dir);
     auto d = openOrFail(path);
     executeOrFail(*d, makeFillAllCommand(*d, 0, MapChannel::Permeability, 0.5));
@@ -177,4 +171,5 @@ TEST(DocumentSaves, ASaveAsInterruptedAtAnyStepKeepsEveryFileAndTheAutosave) {
 }
 
 }  // namespace
+}  // namespace test_document_saves
 }  // namespace plimsoll::editor

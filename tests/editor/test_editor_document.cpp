@@ -33,24 +33,12 @@
 #include <unistd.h>
 
 namespace plimsoll::editor {
+namespace test_editor_document {
 namespace {
 
 namespace fs = std::filesystem;
 using test::executeOrFail;
 using test::openOrFail;
-
-fs::path freshDir(const std::string& name) {
-    const fs::path dir = fs::temp_directory_path() / "plimsoll_tests" /
-                         (name + "_" + std::to_string(::getpid()));
-    fs::remove_all(dir);
-    fs::create_directories(dir);
-    return dir;
-}
-
-std::string readAll(const fs::path& p) {
-    std::ifstream in(p, std::ios::binary);
-    return std::string(std::istreambuf_iterator<char>(in), {});
-}
 
 /// A project with one body on `mesh` (solid + shell, so every channel can be painted).
 fs::path writeProject(const fs::path& dir, const std::string& mesh) {
@@ -95,7 +83,7 @@ constexpr int kMap = 128;
 /// The ball in a fresh folder `name` with a blank kMap x kMap map on `channel` (null, with a
 /// failure, when it cannot be made).
 std::unique_ptr<Document> ballWithBlankMap(const std::string& name, MapChannel channel) {
-    auto d = openOrFail(writeProject(freshDir(name), "sphere.obj"));
+    auto d = openOrFail(writeProject(test::freshFolder("editor_document", name), "sphere.obj"));
     if (!d) return nullptr;
     Result<std::unique_ptr<Command>> blank = makeNewMapCommand(*d, 0, channel, kMap, kMap, 0.0, "");
     if (!blank || !d->execute(std::move(blank).value())) {
@@ -148,7 +136,7 @@ TEST(EditorPaint, StrokeRaisesOnlyWithinWorldRadiusAcrossUvSeam) {
 }
 
 TEST(EditorPaint, StrokeAlongPointsIsOneUndoStepAndMirrorPaintsTheOtherSide) {
-    const fs::path dir = freshDir("paint_mirror");
+    const fs::path dir = test::freshFolder("editor_document", "paint_mirror");
     auto d = openOrFail(writeProject(dir, "sphere.obj"));
     ASSERT_TRUE(d);
     executeOrFail(*d, makeNewMapCommand(*d, 0, MapChannel::Density, kMap, kMap, 0.0, ""));
@@ -317,7 +305,7 @@ TEST(EditorPaint, SpacingLeavesGapsBetweenDabsOrJoinsThem) {
     // the four dabs reaches its piece of surface (the parallelogram of its sides around its
     // sample), and the surface between them stays bare. At the default quarter radius the
     // line is solid.
-    const fs::path dir = freshDir("paint_spacing");
+    const fs::path dir = test::freshFolder("editor_document", "paint_spacing");
     auto d = openOrFail(writeProject(dir, "sphere.obj"));
     ASSERT_TRUE(d);
     const TriangleMesh& mesh = *d->assets(0).mesh;
@@ -429,7 +417,7 @@ TEST(EditorPaint, LineStrokeSamplesTheScreenLineAndPaintsAlongIt) {
 
     // Picked on the sphere by an orthographic front view (pixel = 100 px per metre), the line
     // paints a band from one end to the other, one undo step.
-    const fs::path dir = freshDir("paint_line");
+    const fs::path dir = test::freshFolder("editor_document", "paint_line");
     auto d = openOrFail(writeProject(dir, "sphere.obj"));
     ASSERT_TRUE(d);
     executeOrFail(*d, makeNewMapCommand(*d, 0, MapChannel::Density, kMap, kMap, 0.0, ""));
@@ -498,7 +486,7 @@ TEST(EditorPaint, AlphaImageScalesEachDabAndIsUprightAcrossItsAxis) {
     EXPECT_NEAR(dabWeight(brush, {0, 0.025, 0}), 0.75, 1e-9);
 
     // A stroke with the left-white alpha on the sphere's front paints only left of the dab.
-    const fs::path dir = freshDir("paint_alpha");
+    const fs::path dir = test::freshFolder("editor_document", "paint_alpha");
     auto d = openOrFail(writeProject(dir, "sphere.obj"));
     ASSERT_TRUE(d);
     executeOrFail(*d, makeNewMapCommand(*d, 0, MapChannel::Density, kMap, kMap, 0.0, ""));
@@ -530,7 +518,7 @@ TEST(EditorPaint, AlphaImageScalesEachDabAndIsUprightAcrossItsAxis) {
 }
 
 TEST(EditorPaint, FillAllEraseAndSmooth) {
-    const fs::path dir = freshDir("paint_fill");
+    const fs::path dir = test::freshFolder("editor_document", "paint_fill");
     auto d = openOrFail(writeProject(dir, "sphere.obj"));
     ASSERT_TRUE(d);
     const TriangleMesh& mesh = *d->assets(0).mesh;
@@ -589,7 +577,7 @@ TEST(EditorPaint, FillAllEraseAndSmooth) {
 }
 
 TEST(EditorPaint, FillIslandFillsOnlyTheChartUnderThePoint) {
-    const fs::path dir = freshDir("paint_island");
+    const fs::path dir = test::freshFolder("editor_document", "paint_island");
     auto d = openOrFail(writeProject(dir, "box.obj"));
     ASSERT_TRUE(d);
     executeOrFail(*d, makeNewMapCommand(*d, 0, MapChannel::Permeability, 96, 64, 0.0, ""));
@@ -621,7 +609,7 @@ TEST(EditorPaint, FillIslandFillsOnlyTheChartUnderThePoint) {
 }
 
 TEST(EditorPaint, PickReadsTheValueUnderThePoint) {
-    const fs::path dir = freshDir("paint_pick");
+    const fs::path dir = test::freshFolder("editor_document", "paint_pick");
     auto d = openOrFail(writeProject(dir, "sphere.obj"));
     ASSERT_TRUE(d);
     executeOrFail(*d, makeNewMapCommand(*d, 0, MapChannel::Permeability, 64, 64, 0.3, ""));
@@ -637,9 +625,9 @@ TEST(EditorMaps, SixteenBitPngRoundTrips) {
     map.width = 37;
     map.height = 5;
     for (int i = 0; i < map.width * map.height; ++i) map.values.push_back(i / 184.0f);
-    const fs::path dir = freshDir("png16");
+    const fs::path dir = test::freshFolder("editor_document", "png16");
     ASSERT_TRUE(savePaintedMap(map, dir / "m.png").ok());
-    const std::string bytes = readAll(dir / "m.png");
+    const std::string bytes = test::readFile(dir / "m.png");
     ASSERT_GT(bytes.size(), 33u);
     EXPECT_EQ(static_cast<unsigned char>(bytes[24]), 16);  // IHDR bit depth
     Result<PaintedMap> back = loadPaintedMap(dir / "m.png");
@@ -651,11 +639,11 @@ TEST(EditorMaps, SixteenBitPngRoundTrips) {
     }
     // Loading what was saved and saving it again gives the same bytes.
     ASSERT_TRUE(savePaintedMap(*back, dir / "m2.png").ok());
-    EXPECT_EQ(readAll(dir / "m2.png"), bytes);
+    EXPECT_EQ(test::readFile(dir / "m2.png"), bytes);
 }
 
 TEST(EditorProject, DirtyMarkerFollowsTheHistory) {
-    const fs::path dir = freshDir("dirty");
+    const fs::path dir = test::freshFolder("editor_document", "dirty");
     auto d = openOrFail(writeProject(dir, "box.obj"));
     ASSERT_TRUE(d);
     EXPECT_FALSE(d->dirty());
@@ -681,7 +669,7 @@ TEST(EditorProject, DirtyMarkerFollowsTheHistory) {
 TEST(EditorProject, HistoryJumpsUndoAndRedoToExactlyEachStepsState) {
     // The undo-history panel's click: to any step and back, each state byte for byte as it
     // was after that step; a new edit after a jump back drops the steps past it.
-    const fs::path dir = freshDir("history");
+    const fs::path dir = test::freshFolder("editor_document", "history");
     auto d = openOrFail(writeProject(dir, "sphere.obj"));
     ASSERT_TRUE(d);
     const TriangleMesh& mesh = *d->assets(0).mesh;
@@ -741,15 +729,15 @@ TEST(EditorProject, HistoryJumpsUndoAndRedoToExactlyEachStepsState) {
 }
 
 TEST(EditorProject, InterruptedSaveLeavesThePreviousFileIntact) {
-    const fs::path dir = freshDir("atomic");
+    const fs::path dir = test::freshFolder("editor_document", "atomic");
     const fs::path path = writeProject(dir, "sphere.obj");
     auto d = openOrFail(path);
     ASSERT_TRUE(d);
     executeOrFail(*d, makeFillAllCommand(*d, 0, MapChannel::Permeability, 0.5));
     ASSERT_TRUE(d->save().ok());
-    const std::string savedProject = readAll(path);
+    const std::string savedProject = test::readFile(path);
     const fs::path mapPath = d->assets(0).maps[0].path;
-    const std::string savedMap = readAll(mapPath);
+    const std::string savedMap = test::readFile(mapPath);
     ASSERT_FALSE(savedMap.empty());
 
     executeOrFail(*d, makeFillAllCommand(*d, 0, MapChannel::Permeability, 1.0));
@@ -767,8 +755,8 @@ TEST(EditorProject, InterruptedSaveLeavesThePreviousFileIntact) {
     ::waitpid(child, &status, 0);
     ASSERT_TRUE(WIFEXITED(status));
     EXPECT_EQ(WEXITSTATUS(status), 42);  // it did die inside the save
-    EXPECT_EQ(readAll(path), savedProject);
-    EXPECT_EQ(readAll(mapPath), savedMap);
+    EXPECT_EQ(test::readFile(path), savedProject);
+    EXPECT_EQ(test::readFile(mapPath), savedMap);
     EXPECT_TRUE(loadProject(path).ok());
     // And a save that is not interrupted goes through.
     ASSERT_TRUE(d->save().ok());
@@ -777,7 +765,7 @@ TEST(EditorProject, InterruptedSaveLeavesThePreviousFileIntact) {
 }
 
 TEST(EditorProject, AutosaveIsOfferedAfterACrashAndRecoversTheEdits) {
-    const fs::path dir = freshDir("autosave");
+    const fs::path dir = test::freshFolder("editor_document", "autosave");
     const fs::path path = writeProject(dir, "sphere.obj");
     std::vector<float> painted;
     {
@@ -818,7 +806,7 @@ TEST(EditorProject, AutosaveIsOfferedAfterACrashAndRecoversTheEdits) {
 }
 
 TEST(EditorProject, ImportMeshAndSaveAsRebasePaths) {
-    const fs::path dir = freshDir("saveas");
+    const fs::path dir = test::freshFolder("editor_document", "saveas");
     auto d = openOrFail(writeProject(dir, "sphere.obj"));
     ASSERT_TRUE(d);
     executeOrFail(*d, makeImportMeshCommand(*d, test::assetPath("box.obj"), std::nullopt));
@@ -840,14 +828,14 @@ TEST(EditorProject, ImportMeshAndSaveAsRebasePaths) {
 TEST(EditorProject, SaveAsNeverWritesOutsideTheNewFolder) {
     // A map beside the project's folder ("../maps/ball.png"): Save As into a sibling folder
     // must not write the painted map back through "../" over the original project's file.
-    const fs::path dir = freshDir("saveas_outside");
+    const fs::path dir = test::freshFolder("editor_document", "saveas_outside");
     fs::create_directories(dir / "a");
     fs::create_directories(dir / "maps");
     PaintedMap original;
     original.width = original.height = 32;
     original.values.assign(32 * 32, 0.5f);
     ASSERT_TRUE(savePaintedMap(original, dir / "maps" / "ball.png").ok());
-    const std::string before = readAll(dir / "maps" / "ball.png");
+    const std::string before = test::readFile(dir / "maps" / "ball.png");
     const fs::path path = dir / "a" / "test.plim.json";
     std::ofstream(path) << R"({"schema_version": 1, "name": "t", "bodies": [{"name": "ball", "mesh": ")"
                         << test::assetPath("sphere.obj").string()
@@ -857,7 +845,7 @@ TEST(EditorProject, SaveAsNeverWritesOutsideTheNewFolder) {
     executeOrFail(*d, makeFillAllCommand(*d, 0, MapChannel::Permeability, 0.25));
     fs::create_directories(dir / "b");
     ASSERT_TRUE(d->saveAs(dir / "b" / "copy.plim.json").ok());
-    EXPECT_EQ(readAll(dir / "maps" / "ball.png"), before);  // the original project's map
+    EXPECT_EQ(test::readFile(dir / "maps" / "ball.png"), before);  // the original project's map
     Result<Project> copy = loadProject(dir / "b" / "copy.plim.json");
     ASSERT_TRUE(copy.ok()) << copy.error().message;
     const fs::path written = copy->resolvePath(copy->bodies[0].permeabilityMap);
@@ -944,7 +932,7 @@ TEST(EditorLayout, SplittersTradeHeightBetweenNeighboursDownToTheMinimum) {
 }
 
 TEST(EditorSettings, LayoutAndBrushAreKeptBetweenSessions) {
-    const fs::path dir = freshDir("settings_brush");
+    const fs::path dir = test::freshFolder("editor_document", "settings_brush");
     Settings s;
     s.layout.columnWidth = 321;
     s.layout.shares = {0.1f, 0.2f, 0.3f, 0.4f};
@@ -976,7 +964,7 @@ TEST(EditorSettings, LayoutAndBrushAreKeptBetweenSessions) {
 }
 
 TEST(EditorSettings, RecentFilesPersistInTheConfigFolder) {
-    const fs::path dir = freshDir("settings");
+    const fs::path dir = test::freshFolder("editor_document", "settings");
     Settings s;
     s.addRecent(dir / "a.plim.json");
     s.addRecent(dir / "b.plim.json");
@@ -988,7 +976,7 @@ TEST(EditorSettings, RecentFilesPersistInTheConfigFolder) {
 }
 
 TEST(EditorScript, HeadlessEditScriptPaintsUndoesAndSaves) {
-    const fs::path dir = freshDir("script");
+    const fs::path dir = test::freshFolder("editor_document", "script");
     const fs::path project = writeProject(dir, "sphere.obj");
     const fs::path script = dir / "commands.json";
     std::ofstream(script) << R"([
@@ -1120,7 +1108,7 @@ TEST(EditorOverlay, HoverReadoutGivesDepthPressureAndTheNodeFed) {
 /// Two bodies (ball on sphere.obj, box on box.obj at x = 3), each with a blank kMap map of
 /// permeability and then a stroke on it, unsaved: what a remove or an insert must carry along.
 std::unique_ptr<Document> twoPaintedBodies(const std::string& name) {
-    const fs::path dir = freshDir(name);
+    const fs::path dir = test::freshFolder("editor_document", name);
     const fs::path path = dir / "two.plim.json";
     std::ofstream(path) << R"({"schema_version": 1, "name": "two", "bodies": [)"
                         << R"({"name": "ball", "mesh": ")" << test::assetPath("sphere.obj").string()
@@ -1498,4 +1486,5 @@ TEST(EditorPaint, OcclusionLeavesTexelsHiddenBehindOtherSurfaceUnpainted) {
 }
 
 }  // namespace
+}  // namespace test_editor_document
 }  // namespace plimsoll::editor

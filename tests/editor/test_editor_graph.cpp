@@ -26,6 +26,7 @@
 #include <numbers>
 
 namespace plimsoll::editor {
+namespace test_editor_graph {
 namespace {
 
 namespace fs = std::filesystem;
@@ -628,11 +629,6 @@ TEST(EditorGraphView, SegmentPreviewTakesTheNearestTrianglesSegment) {
     EXPECT_EQ(s, (std::vector<int>{0, 1, 1}));
 }
 
-bool cannotRender(const test::CommandOutput& r) {
-    return r.exitCode != 0 && (r.err.find("no OpenGL 4.5 context") != std::string::npos ||
-                               r.err.find("without the renderer") != std::string::npos);
-}
-
 // The drawing: `plimsoll render --graph` draws the nodes in their colours where they
 // project, through the see-through hull, filled to their water level.
 TEST(EditorGraphView, RenderedGraphShowsNodeColoursWhereNodesProject) {
@@ -648,7 +644,7 @@ TEST(EditorGraphView, RenderedGraphShowsNodeColoursWhereNodesProject) {
     const std::string common = " --view side --size 480x240 --no-water --no-grid";
     const test::CommandOutput r = test::runPlimsoll("render '" + projectPath.string() + "' --out '" +
                                                     shot.string() + "' --graph" + common);
-    if (cannotRender(r)) GTEST_SKIP() << "no EGL OpenGL 4.5 here: " << r.err;
+    if (test::cannotRender(r)) GTEST_SKIP() << "no EGL OpenGL 4.5 here: " << r.err;
     ASSERT_EQ(r.exitCode, 0) << r.err;
     ASSERT_EQ(test::runPlimsoll("render '" + projectPath.string() + "' --out '" + plain.string() +
                                 "'" + common).exitCode, 0);
@@ -708,7 +704,7 @@ TEST(EditorGraphView, BoxTopsInTheDecksPlaneShowNoZFighting) {
     const test::CommandOutput r = test::runPlimsoll(
         "render '" + projectPath.string() + "' --out '" + shot.string() +
         "' --graph --view persp --size 640x400 --no-water --no-grid --overlay none");
-    if (cannotRender(r)) GTEST_SKIP() << "no EGL OpenGL 4.5 here: " << r.err;
+    if (test::cannotRender(r)) GTEST_SKIP() << "no EGL OpenGL 4.5 here: " << r.err;
     ASSERT_EQ(r.exitCode, 0) << r.err;
     int iw = 0, ih = 0, ch = 0;
     unsigned char* data = stbi_load(shot.c_str(), &iw, &ih, &ch, 3);
@@ -748,4 +744,5 @@ TEST(EditorGraphView, BoxTopsInTheDecksPlaneShowNoZFighting) {
 }
 
 }  // namespace
+}  // namespace test_editor_graph
 }  // namespace plimsoll::editor

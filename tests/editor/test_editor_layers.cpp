@@ -20,6 +20,7 @@
 #include <fstream>
 
 namespace plimsoll::editor {
+namespace test_editor_layers {
 namespace {
 
 namespace fs = std::filesystem;
@@ -519,4 +520,5 @@ TEST(EditorLayers, LayerCountAndSizeAreRefusedBeforeAllocating) {
 }
 
 }  // namespace
+}  // namespace test_editor_layers
 }  // namespace plimsoll::editor

@@ -24,6 +24,7 @@
 #include <unistd.h>
 
 namespace plimsoll::editor {
+namespace test_editor_paint_coverage {
 namespace {
 
 namespace fs = std::filesystem;
@@ -223,4 +224,5 @@ TEST(EditorPaintCoverage, FillAndStrokeLeaveNoUnpaintedPixelInsideThePaintedRegi
 }
 
 }  // namespace
+}  // namespace test_editor_paint_coverage
 }  // namespace plimsoll::editor

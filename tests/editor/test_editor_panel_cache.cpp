@@ -15,6 +15,7 @@
 #include <string>
 
 namespace plimsoll::editor {
+namespace test_editor_panel_cache {
 namespace {
 
 constexpr int kWidth = 320, kHeight = 240;
@@ -190,4 +191,5 @@ TEST_F(PanelCacheTest, AColumnAtAFractionOfAPixelIsKeptToo) {
 }
 
 }  // namespace
+}  // namespace test_editor_panel_cache
 }  // namespace plimsoll::editor

@@ -16,6 +16,7 @@
 #include <unistd.h>
 
 namespace plimsoll::editor {
+namespace test_editor_physics_bakes {
 namespace {
 
 namespace fs = std::filesystem;
@@ -125,4 +126,5 @@ TEST(EditorPhysicsBakes, ABakeMadeStaleByALaterEditNeverReachesTheDocument) {
 }
 
 }  // namespace
+}  // namespace test_editor_physics_bakes
 }  // namespace plimsoll::editor

@@ -28,6 +28,7 @@
 #include <unistd.h>
 
 namespace plimsoll::editor {
+namespace test_editor_preview {
 namespace {
 
 namespace fs = std::filesystem;
@@ -509,4 +510,5 @@ TEST(ForceOverlay, WetTexelsOfALargeTextureAreShownAtTheCappedSize) {
 }
 
 }  // namespace
+}  // namespace test_editor_preview
 }  // namespace plimsoll::editor

@@ -19,6 +19,7 @@
 #include <unistd.h>
 
 namespace plimsoll::editor {
+namespace test_editor_preview_window {
 namespace {
 
 namespace fs = std::filesystem;
@@ -248,4 +249,5 @@ TEST(EditorPreviewWindow, BuoyMovesAndForceArrowsShowUnderXvfb) {
 }
 
 }  // namespace
+}  // namespace test_editor_preview_window
 }  // namespace plimsoll::editor

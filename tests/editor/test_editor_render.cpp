@@ -14,15 +14,10 @@
 #include <unistd.h>
 
 namespace plimsoll::editor {
+namespace test_editor_render {
 namespace {
 
 namespace fs = std::filesystem;
-
-/// No renderer here: no EGL with OpenGL 4.5, or a build without the GUI.
-bool cannotRender(const test::CommandOutput& r) {
-    return r.exitCode != 0 && (r.err.find("no OpenGL 4.5 context") != std::string::npos ||
-                               r.err.find("without the renderer") != std::string::npos);
-}
 
 struct Image {
     int width = 0, height = 0;
@@ -67,7 +62,7 @@ TEST(EditorRender, OverlayColoursWhereThePaintedRegionProjects) {
     const test::CommandOutput render = test::runPlimsoll(
         "render '" + project.string() + "' --out '" + shot.string() +
         "' --view front --overlay permeability --size 320x240 --no-water --no-grid");
-    if (cannotRender(render)) {
+    if (test::cannotRender(render)) {
         GTEST_SKIP() << "no EGL OpenGL 4.5 here: " << render.err;
     }
     ASSERT_EQ(render.exitCode, 0) << render.err;
@@ -135,7 +130,7 @@ TEST(EditorRender, WritesTheRequestedSizeForEveryViewAndOverlay) {
         const test::CommandOutput r = test::runPlimsoll(
             "render '" + project + "' --out '" + shot.string() + "' --view " + view +
             " --overlay area --size 64x48");
-        if (cannotRender(r)) {
+        if (test::cannotRender(r)) {
             GTEST_SKIP() << r.err;
         }
         ASSERT_EQ(r.exitCode, 0) << r.err;
@@ -149,4 +144,5 @@ TEST(EditorRender, WritesTheRequestedSizeForEveryViewAndOverlay) {
 }
 
 }  // namespace
+}  // namespace test_editor_render
 }  // namespace plimsoll::editor

@@ -23,6 +23,7 @@
 #include <cstdlib>
 
 namespace plimsoll::editor {
+namespace test_editor_renderer_cache {
 namespace {
 
 struct Difference {
@@ -303,4 +304,5 @@ TEST_F(EditorRenderer, WaterTintsExactlyWhatTheCppTwinSeesThroughIt) {
 }
 
 }  // namespace
+}  // namespace test_editor_renderer_cache
 }  // namespace plimsoll::editor

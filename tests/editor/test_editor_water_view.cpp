@@ -8,6 +8,7 @@
 #include <cmath>
 
 namespace plimsoll::editor {
+namespace test_editor_water_view {
 namespace {
 
 WaterModel waves() {
@@ -135,4 +136,5 @@ TEST(WaterView, PointsAreSeenThroughTheWaterFromTheOtherSide) {
 }
 
 }  // namespace
+}  // namespace test_editor_water_view
 }  // namespace plimsoll::editor

@@ -25,6 +25,7 @@
 #include <vector>
 
 namespace plimsoll::editor {
+namespace test_editor_window {
 namespace {
 
 namespace fs = std::filesystem;
@@ -1301,4 +1302,5 @@ TEST(EditorWindow, InspectorPositionFieldMovesTheBodyAsOneUndoStep) {
 }
 
 }  // namespace
+}  // namespace test_editor_window
 }  // namespace plimsoll::editor

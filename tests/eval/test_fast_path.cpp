@@ -11,6 +11,7 @@
 #include <gtest/gtest.h>
 
 namespace plimsoll {
+namespace test_fast_path {
 namespace {
 
 using namespace fast_test;
@@ -227,4 +228,5 @@ TEST(FastPath, DepthIntegralsEqualTheSumsOverEntries) {
 }
 
 }  // namespace
+}  // namespace test_fast_path
 }  // namespace plimsoll

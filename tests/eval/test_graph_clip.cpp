@@ -9,6 +9,7 @@
 #include <random>
 
 namespace plimsoll {
+namespace test_graph_clip {
 namespace {
 
 // The evaluation core's box-compartment clip (plimsoll_eval/graph.hpp, the one the engine and
@@ -58,4 +59,5 @@ TEST(GraphBoxClip, EqualsTheExactMeshClipAndTheUprightSlab) {
 }
 
 }  // namespace
+}  // namespace test_graph_clip
 }  // namespace plimsoll

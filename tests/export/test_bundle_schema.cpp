@@ -15,6 +15,7 @@
 #include <regex>
 
 namespace plimsoll {
+namespace test_bundle_schema {
 namespace {
 
 namespace fs = std::filesystem;
@@ -241,4 +242,5 @@ TEST(BundleSchema, SampleProjectsAndSavedProjectsFollowTheProjectSchema) {
 }
 
 }  // namespace
+}  // namespace test_bundle_schema
 }  // namespace plimsoll

@@ -26,6 +26,7 @@
 #include <map>
 
 namespace plimsoll {
+namespace test_export {
 namespace {
 
 namespace fs = std::filesystem;
@@ -781,4 +782,5 @@ TEST(ExportCli, JunitReportHasOneCasePerBodyAndMarksABrokenOneAsFailed) {
 }
 
 }  // namespace
+}  // namespace test_export
 }  // namespace plimsoll

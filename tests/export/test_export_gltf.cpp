@@ -20,6 +20,7 @@
 #include <algorithm>
 
 namespace plimsoll {
+namespace test_export_gltf {
 namespace {
 
 namespace fs = std::filesystem;
@@ -236,4 +237,5 @@ TEST(GltfPhysics, ExportedGltfCarriesTheManifestsExactMassProperties) {
 }
 
 }  // namespace
+}  // namespace test_export_gltf
 }  // namespace plimsoll

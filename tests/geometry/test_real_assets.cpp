@@ -18,17 +18,17 @@
 #include <sstream>
 
 namespace plimsoll {
+namespace test_real_assets {
 namespace {
 
 namespace fs = std::filesystem;
 
-const fs::path kRealAssets = fs::path(PLIMSOLL_SHARED_DIR) / "real-assets";
 
 /// Every model of the folder (the files a README row names; companions such as .mtl aside).
 std::vector<fs::path> realAssets() {
     std::vector<fs::path> files;
-    if (!fs::exists(kRealAssets)) return files;
-    for (const auto& entry : fs::recursive_directory_iterator(kRealAssets)) {
+    if (!fs::exists(test::realAssetsDir())) return files;
+    for (const auto& entry : fs::recursive_directory_iterator(test::realAssetsDir())) {
         const std::string ext = entry.path().extension().string();
         if (ext == ".fbx" || ext == ".glb" || ext == ".obj" || ext == ".stl") files.push_back(entry.path());
     }
@@ -130,8 +130,8 @@ TEST(RealAssets, SizesInMetresMatchBlender) {
 }
 
 TEST(RealAssets, FbxUnitsAndTheUnitOption) {
-    const fs::path boat = kRealAssets / "quaternius" / "Boat.fbx";
-    const fs::path crate = kRealAssets / "kenney" / "crate.stl";
+    const fs::path boat = test::realAssetsDir() / "quaternius" / "Boat.fbx";
+    const fs::path crate = test::realAssetsDir() / "kenney" / "crate.stl";
     if (!fs::exists(boat) || !fs::exists(crate)) GTEST_SKIP() << "../shared/real-assets not present";
     MeshFileFacts facts;
     Result<TriangleMesh> inFile = loadMesh(boat, {}, &facts);
@@ -158,7 +158,7 @@ TEST(RealAssets, FbxUnitsAndTheUnitOption) {
 
 TEST(RealAssets, UvsAreKeptPerPart) {
     // duck.glb: the eyes have UVs, the body and hull shell do not.
-    const fs::path duck = kRealAssets / "dawn-of-the-duck" / "duck.glb";
+    const fs::path duck = test::realAssetsDir() / "dawn-of-the-duck" / "duck.glb";
     if (!fs::exists(duck)) GTEST_SKIP() << "../shared/real-assets not present";
     MeshFileFacts facts;
     Result<TriangleMesh> mesh = loadMesh(duck, {}, &facts);
@@ -196,8 +196,8 @@ TEST(RealAssets, EveryModelGivesASolid) {
 }
 
 TEST(RealAssets, ValidateSaysUnitBoundsAndHowItIsUsed) {
-    const fs::path boat = kRealAssets / "quaternius" / "Boat.fbx";
-    const fs::path spot = kRealAssets / "keenan-crane" / "spot_triangulated.obj";
+    const fs::path boat = test::realAssetsDir() / "quaternius" / "Boat.fbx";
+    const fs::path spot = test::realAssetsDir() / "keenan-crane" / "spot_triangulated.obj";
     if (!fs::exists(boat)) GTEST_SKIP() << "../shared/real-assets not present";
     const test::CommandOutput run = test::runPlimsoll("validate --json '" + boat.string() + "'");
     const nlohmann::json j = nlohmann::json::parse(run.out);
@@ -228,9 +228,11 @@ TEST(RealAssets, ValidateSaysUnitBoundsAndHowItIsUsed) {
 }
 
 }  // namespace
+}  // namespace test_real_assets
 }  // namespace plimsoll
 
 namespace plimsoll {
+namespace test_real_assets {
 namespace {
 
 /// Closed single-part meshes need no repair: what is baked is the mesh as loaded, vertex for
@@ -244,7 +246,7 @@ TEST(RealAssets, ClosedMeshesAreUsedUnchanged) {
         if (std::optional<fs::path> shared = test::sharedMesh(name)) files.push_back(*shared);
     for (const char* name : {"keenan-crane/spot_triangulated.obj", "keenan-crane/blub_triangulated.obj",
                              "kenney/crate.glb", "kenney/crate.stl"})
-        if (fs::exists(kRealAssets / name)) files.push_back(kRealAssets / name);
+        if (fs::exists(test::realAssetsDir() / name)) files.push_back(test::realAssetsDir() / name);
     for (const fs::path& file : files) {
         SCOPED_TRACE(file.string());
         MeshFileFacts facts;
@@ -262,4 +264,5 @@ TEST(RealAssets, ClosedMeshesAreUsedUnchanged) {
 }
 
 }  // namespace
+}  // namespace test_real_assets
 }  // namespace plimsoll

@@ -18,6 +18,7 @@
 #include <vector>
 
 namespace plimsoll {
+namespace test_validate {
 namespace {
 
 // ---------------------------------------------------------------------------------------------
@@ -545,4 +546,5 @@ TEST_F(SharedMeshValidation, CubeHasNoProblemsAndBlubOnlyItsSqueezedFin) {
 }
 
 }  // namespace
+}  // namespace test_validate
 }  // namespace plimsoll

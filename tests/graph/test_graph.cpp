@@ -20,6 +20,7 @@
 #include <random>
 
 namespace plimsoll {
+namespace test_graph {
 namespace {
 
 using test::node;
@@ -623,4 +624,5 @@ TEST(GraphMass, FreeSurfaceWaterSitsAtTheLowestSide) {
 }
 
 }  // namespace
+}  // namespace test_graph
 }  // namespace plimsoll

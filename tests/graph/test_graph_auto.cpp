@@ -14,6 +14,7 @@
 #include <cmath>
 
 namespace plimsoll {
+namespace test_graph_auto {
 namespace {
 
 namespace fs = std::filesystem;
@@ -174,4 +175,5 @@ TEST(GraphCli, AutoWritesAValidGraphAndValidateReadsIt) {
 }
 
 }  // namespace
+}  // namespace test_graph_auto
 }  // namespace plimsoll

@@ -18,6 +18,7 @@
 #include <random>
 
 namespace plimsoll {
+namespace test_graph_kernels {
 namespace {
 
 std::vector<WaterModel> waterModels() {
@@ -118,4 +119,5 @@ TEST(GraphKernels, DamagedBoatSinksOnTheDefaultDevice) {
 }
 
 }  // namespace
+}  // namespace test_graph_kernels
 }  // namespace plimsoll

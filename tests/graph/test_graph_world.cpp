@@ -20,6 +20,7 @@
 #include <numbers>
 
 namespace plimsoll {
+namespace test_graph_world {
 namespace {
 
 namespace fs = std::filesystem;
@@ -246,4 +247,5 @@ TEST(GraphWorld, ProjectRoundTripsTheWaterGraph) {
 }
 
 }  // namespace
+}  // namespace test_graph_world
 }  // namespace plimsoll

@@ -28,6 +28,7 @@
 #include <set>
 
 namespace plimsoll {
+namespace test_bad_input {
 namespace {
 
 namespace fs = std::filesystem;
@@ -191,4 +192,5 @@ TEST(BadInput, EveryCommandOverTheCorpusFailsCleanlyWithinTimeAndMemory) {
 }
 
 }  // namespace
+}  // namespace test_bad_input
 }  // namespace plimsoll

@@ -36,17 +36,10 @@
 #include <unistd.h>
 
 namespace plimsoll {
+namespace test_fault_injection {
 namespace {
 
 namespace fs = std::filesystem;
-
-fs::path freshDir(const std::string& name) {
-    const fs::path dir = fs::temp_directory_path() / "plimsoll_tests" /
-                         ("fault_" + name + "_" + std::to_string(::getpid()));
-    fs::remove_all(dir);
-    fs::create_directories(dir);
-    return dir;
-}
 
 /// Every regular file under `dir` (relative path -> bytes).
 std::map<std::string, std::string> snapshot(const fs::path& dir) {
@@ -95,11 +88,6 @@ int interruptAtEveryStep(const fs::path& dir, const std::function<Status()>& ope
     return k - 1;
 }
 
-std::string readAll(const fs::path& p) {
-    std::ifstream in(p, std::ios::binary);
-    return std::string(std::istreambuf_iterator<char>(in), {});
-}
-
 PaintedMap gradient(int size, float scale) {
     PaintedMap map{size, size, {}};
     for (int i = 0; i < size * size; ++i) map.values.push_back(scale * float(i) / (size * size));
@@ -107,7 +95,7 @@ PaintedMap gradient(int size, float scale) {
 }
 
 TEST(FaultInjection, PaintedMapSaveKeepsThePreviousMap) {
-    const fs::path dir = freshDir("map");
+    const fs::path dir = test::freshFolder("fault", "map");
     const fs::path path = dir / "map.png";
     ASSERT_TRUE(savePaintedMap(gradient(32, 1.0f), path).ok());
     const int steps = interruptAtEveryStep(dir, [&] { return savePaintedMap(gradient(32, 0.5f), path); });
@@ -116,7 +104,7 @@ TEST(FaultInjection, PaintedMapSaveKeepsThePreviousMap) {
 }
 
 TEST(FaultInjection, BakeOutputIsReplacedAsAWhole) {
-    const fs::path dir = freshDir("bake");
+    const fs::path dir = test::freshFolder("fault", "bake");
     const TriangleMesh box = makeBox({1.0, 0.5, 0.25});
     BakeSettings settings;
     settings.size = 16;
@@ -146,7 +134,7 @@ fs::path writeBoxProject(const fs::path& dir, double density) {
 }
 
 TEST(FaultInjection, BundleExportLeavesThePreviousBundleUntouched) {
-    const fs::path dir = freshDir("bundle");
+    const fs::path dir = test::freshFolder("fault", "bundle");
     const fs::path projectDir = dir / "project", out = dir / "export";
     fs::create_directories(projectDir);
     fs::create_directories(out);
@@ -161,11 +149,11 @@ TEST(FaultInjection, BundleExportLeavesThePreviousBundleUntouched) {
     });
     EXPECT_GE(steps, 13);  // 5 bake files x 2, area.exr renamed, permeability.png, the exchange
     ASSERT_TRUE(verifyBundle(out / "box").ok());
-    EXPECT_NE(readAll(out / "box" / "manifest.json").find("700"), std::string::npos);
+    EXPECT_NE(test::readFile(out / "box" / "manifest.json").find("700"), std::string::npos);
 }
 
 TEST(FaultInjection, ProjectSaveWithItsMapsKeepsThePreviousFiles) {
-    const fs::path dir = freshDir("save");
+    const fs::path dir = test::freshFolder("fault", "save");
     const fs::path path = writeBoxProject(dir, 500.0);
     Result<std::unique_ptr<editor::Document>> opened = editor::Document::open(path);
     ASSERT_TRUE(opened.ok()) << opened.error().message;
@@ -184,7 +172,7 @@ TEST(FaultInjection, ProjectSaveWithItsMapsKeepsThePreviousFiles) {
 }
 
 TEST(FaultInjection, AutosaveKeepsThePreviousAutosave) {
-    const fs::path dir = freshDir("autosave");
+    const fs::path dir = test::freshFolder("fault", "autosave");
     const fs::path path = writeBoxProject(dir, 500.0);
     Result<std::unique_ptr<editor::Document>> opened = editor::Document::open(path);
     ASSERT_TRUE(opened.ok()) << opened.error().message;
@@ -342,4 +330,5 @@ TEST(OpenClFaultsBuild, BuffersBeyondTheDeviceLimitsAreRefusedBeforeAllocation) 
 }
 
 }  // namespace
+}  // namespace test_fault_injection
 }  // namespace plimsoll

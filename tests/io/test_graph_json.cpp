@@ -10,6 +10,7 @@
 #include <filesystem>
 
 namespace plimsoll {
+namespace test_graph_json {
 namespace {
 
 using test::node;
@@ -62,4 +63,5 @@ TEST(GraphJson, LoadRefusesAnInvalidGraphWithTheClass) {
 }
 
 }  // namespace
+}  // namespace test_graph_json
 }  // namespace plimsoll

@@ -52,44 +52,25 @@
 #include <unistd.h>
 
 namespace plimsoll {
+namespace test_hostile_input {
 namespace {
 
 namespace fs = std::filesystem;
 
-fs::path fresh(const std::string& name) {
-    const fs::path dir = test::scratchFolder("hostile") / name;
-    fs::remove_all(dir);
-    fs::create_directories(dir);
-    return dir;
-}
-
-void writeBytes(const fs::path& path, const std::string& bytes) {
-    std::ofstream(path, std::ios::binary | std::ios::trunc) << bytes;
-}
-
-std::string messageOf(const Status& s) { return s.ok() ? std::string() : s.error().message; }
-template <typename T>
-std::string messageOf(const Result<T>& r) {
-    return r.ok() ? std::string() : r.error().message;
-}
-
-#define EXPECT_CONTAINS(text, part) \
-    EXPECT_NE(std::string(text).find(part), std::string::npos) << (text)
-
 // --- non-regular files ------------------------------------------------------------------------
 
 TEST(HostileFiles, AFifoIsRefusedByEveryLoaderWithoutBlocking) {
-    const fs::path dir = fresh("fifo");
+    const fs::path dir = test::freshFolder("hostile", "fifo");
     const auto start = std::chrono::steady_clock::now();
     for (const char* name : {"mesh.obj", "mesh.ply", "p.plim.json", "g.graph.json", "map.png"}) {
         const fs::path fifo = dir / name;
         ASSERT_EQ(::mkfifo(fifo.c_str(), 0600), 0);
         std::string message;
         const std::string n(name);
-        if (n.starts_with("mesh")) message = messageOf(loadMesh(fifo));
-        else if (n.ends_with(".plim.json")) message = messageOf(loadProject(fifo));
-        else if (n.ends_with(".graph.json")) message = messageOf(loadGraph(fifo));
-        else message = messageOf(loadPaintedMap(fifo));
+        if (n.starts_with("mesh")) message = test::messageOf(loadMesh(fifo));
+        else if (n.ends_with(".plim.json")) message = test::messageOf(loadProject(fifo));
+        else if (n.ends_with(".graph.json")) message = test::messageOf(loadGraph(fifo));
+        else message = test::messageOf(loadPaintedMap(fifo));
         EXPECT_CONTAINS(message, fifo.string() + ": is a FIFO, not a regular file");
     }
     // A FIFO with no writer blocks an ordinary open forever: these returned at once.
@@ -117,17 +98,17 @@ TEST(HostileFiles, AFifoIsRefusedByEveryLoaderWithoutBlocking) {
 }
 
 TEST(HostileFiles, ALinkToADeviceIsRefusedAndAPathWithANulByteIsNotCutShort) {
-    const fs::path dir = fresh("device");
+    const fs::path dir = test::freshFolder("hostile", "device");
     fs::create_symlink("/dev/zero", dir / "zero.stl");
-    EXPECT_CONTAINS(messageOf(loadMesh(dir / "zero.stl")), "is a character device, not a regular file");
-    EXPECT_CONTAINS(messageOf(readWholeFile(dir / "zero.stl", 1000, "kTest")), "character device");
+    EXPECT_CONTAINS(test::messageOf(loadMesh(dir / "zero.stl")), "is a character device, not a regular file");
+    EXPECT_CONTAINS(test::messageOf(readWholeFile(dir / "zero.stl", 1000, "kTest")), "character device");
     // "a.obj\0b": a C open would read a.obj.
-    writeBytes(dir / "a.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n");
+    test::writeFile(dir / "a.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n");
     const std::string withNul = (dir / "a.obj").string() + std::string(1, '\0') + "b";
-    EXPECT_CONTAINS(messageOf(loadMesh(fs::path(withNul))), "the path holds a NUL byte");
+    EXPECT_CONTAINS(test::messageOf(loadMesh(fs::path(withNul))), "the path holds a NUL byte");
     // A regular file larger than the limit is refused before it is read.
-    writeBytes(dir / "big.json", std::string(2000, ' '));
-    EXPECT_CONTAINS(messageOf(readWholeFile(dir / "big.json", 1000, "kTest")),
+    test::writeFile(dir / "big.json", std::string(2000, ' '));
+    EXPECT_CONTAINS(test::messageOf(readWholeFile(dir / "big.json", 1000, "kTest")),
                     "more than the limit kTest");
 }
 
@@ -150,7 +131,7 @@ TEST(HostilePaths, SafeFileNamesAndPathsInsideNeverLeaveTheirFolder) {
                                                             "a\\..\\x", std::string("a\0b", 3)}) {
         EXPECT_FALSE(pathInside("/b", bad, "file").ok()) << bad;
     }
-    EXPECT_CONTAINS(messageOf(pathInside("/b", "../x", "manifest.json: file path")),
+    EXPECT_CONTAINS(test::messageOf(pathInside("/b", "../x", "manifest.json: file path")),
                     "manifest.json: file path \"../x\" leaves the folder /b (a '..' component)");
 }
 
@@ -164,11 +145,11 @@ fs::path writeBoxProjectAs(const fs::path& dir, const std::string& file) {
 }
 
 TEST(HostilePaths, ExportOfAProjectNamedDotDotStaysInsideOut) {
-    const fs::path dir = fresh("export_stem");
+    const fs::path dir = test::freshFolder("hostile", "export_stem");
     const fs::path out = dir / "out";
     fs::create_directories(out);
     fs::create_directories(dir / "keep");
-    writeBytes(dir / "keep" / "precious.txt", "do not delete");
+    test::writeFile(dir / "keep" / "precious.txt", "do not delete");
     // "...plim.json" has the stem "..": it used to export to OUT/.. and swap away the folders
     // beside OUT. The body is named "../../box" too.
     const fs::path project = writeBoxProjectAs(dir, "...plim.json");
@@ -200,11 +181,11 @@ std::string triangleBin() {
 }
 
 TEST(HostilePaths, GltfBufferUrisCannotLeaveTheMeshFolder) {
-    const fs::path dir = fresh("gltf_uri");
+    const fs::path dir = test::freshFolder("hostile", "gltf_uri");
     fs::create_directories(dir / "mesh");
-    writeBytes(dir / "outside.bin", triangleBin());
-    writeBytes(dir / "mesh" / "inside.bin", triangleBin());
-    writeBytes(dir / "mesh" / "ok.gltf", triangleGltf("inside.bin"));
+    test::writeFile(dir / "outside.bin", triangleBin());
+    test::writeFile(dir / "mesh" / "inside.bin", triangleBin());
+    test::writeFile(dir / "mesh" / "ok.gltf", triangleGltf("inside.bin"));
     Result<TriangleMesh> ok = loadMesh(dir / "mesh" / "ok.gltf");
     ASSERT_TRUE(ok.ok()) << ok.error().message;
     EXPECT_EQ(ok->triangles.size(), 1u);
@@ -214,16 +195,16 @@ TEST(HostilePaths, GltfBufferUrisCannotLeaveTheMeshFolder) {
     };
     for (const auto& [uri, why] : cases) {
         const fs::path file = dir / "mesh" / "escape.gltf";
-        writeBytes(file, triangleGltf(uri));
-        const std::string message = messageOf(loadMesh(file));
+        test::writeFile(file, triangleGltf(uri));
+        const std::string message = test::messageOf(loadMesh(file));
         EXPECT_CONTAINS(message, file.string());
         EXPECT_CONTAINS(message, std::string("leaves the folder"));
         EXPECT_CONTAINS(message, why);
     }
     // A buffer that is a link to a device inside the folder is not a regular file.
     fs::create_symlink("/dev/zero", dir / "mesh" / "zero.bin");
-    writeBytes(dir / "mesh" / "zero.gltf", triangleGltf("zero.bin"));
-    EXPECT_CONTAINS(messageOf(loadMesh(dir / "mesh" / "zero.gltf")), "not a regular file");
+    test::writeFile(dir / "mesh" / "zero.gltf", triangleGltf("zero.bin"));
+    EXPECT_CONTAINS(test::messageOf(loadMesh(dir / "mesh" / "zero.gltf")), "not a regular file");
     // From memory nothing is opened at all.
     EXPECT_FALSE(loadMeshFromMemory(triangleGltf("inside.bin"), "gltf", "memory.gltf").ok());
 }
@@ -257,13 +238,13 @@ std::string binaryPly(const std::vector<std::vector<std::int32_t>>& faces) {
 }
 
 TEST(AssimpGuards, PlyFacesAreCheckedBeforeAssimpReadsThem) {
-    const fs::path dir = fresh("ply");
+    const fs::path dir = test::freshFolder("hostile", "ply");
     const std::string tetra = "3 0 2 1\n3 0 1 3\n3 0 3 2\n3 1 2 3\n";
-    writeBytes(dir / "ok.ply", asciiPly(tetra, 4));
+    test::writeFile(dir / "ok.ply", asciiPly(tetra, 4));
     Result<TriangleMesh> ok = loadMesh(dir / "ok.ply");
     ASSERT_TRUE(ok.ok()) << ok.error().message;
     EXPECT_EQ(ok->triangles.size(), 4u);
-    writeBytes(dir / "ok_binary.ply", binaryPly({{0, 2, 1}, {0, 1, 3}, {0, 3, 2}, {1, 2, 3}}));
+    test::writeFile(dir / "ok_binary.ply", binaryPly({{0, 2, 1}, {0, 1, 3}, {0, 3, 2}, {1, 2, 3}}));
     Result<TriangleMesh> okBinary = loadMesh(dir / "ok_binary.ply");
     ASSERT_TRUE(okBinary.ok()) << okBinary.error().message;
     EXPECT_EQ(okBinary->triangles.size(), 4u);
@@ -280,8 +261,8 @@ TEST(AssimpGuards, PlyFacesAreCheckedBeforeAssimpReadsThem) {
         {asciiPly("3 0 1 x\n", 1), "'x' is not an integer"},
     };
     for (const auto& [bytes, expected] : cases) {
-        writeBytes(dir / "bad.ply", bytes);
-        const std::string message = messageOf(loadMesh(dir / "bad.ply"));
+        test::writeFile(dir / "bad.ply", bytes);
+        const std::string message = test::messageOf(loadMesh(dir / "bad.ply"));
         EXPECT_CONTAINS(message, (dir / "bad.ply").string());
         EXPECT_CONTAINS(message, expected);
     }
@@ -296,7 +277,7 @@ void appendBigEndian(std::string& out, T value) {
 }
 
 TEST(AssimpGuards, APlyReachesAssimpOnlyAsTheCanonicalPlyItsReaderWrites) {
-    const fs::path dir = fresh("ply_canonical");
+    const fs::path dir = test::freshFolder("hostile", "ply_canonical");
     // A unit square of two quads (a 2 x 1 strip) with colours, normals and texture
     // coordinates named s, t, written three ways: ASCII, big-endian doubles with the faces
     // before the vertices, and with an edge element and a face property besides the corners.
@@ -334,7 +315,7 @@ TEST(AssimpGuards, APlyReachesAssimpOnlyAsTheCanonicalPlyItsReaderWrites) {
     }
 
     for (const auto& [name, bytes] : {std::pair<std::string, std::string>{"ascii.ply", ascii}, {"big.ply", big}}) {
-        writeBytes(dir / name, bytes);
+        test::writeFile(dir / name, bytes);
         Result<TriangleMesh> mesh = loadMesh(dir / name, {.joinIdenticalVertices = false});
         ASSERT_TRUE(mesh.ok()) << mesh.error().message;
         ASSERT_EQ(mesh->positions.size(), 6u) << name;
@@ -371,8 +352,8 @@ TEST(AssimpGuards, APlyReachesAssimpOnlyAsTheCanonicalPlyItsReaderWrites) {
          "a second vertex element"},
     };
     for (const auto& [bytes, expected] : refused) {
-        writeBytes(dir / "bad.ply", bytes);
-        const std::string message = messageOf(loadMesh(dir / "bad.ply"));
+        test::writeFile(dir / "bad.ply", bytes);
+        const std::string message = test::messageOf(loadMesh(dir / "bad.ply"));
         EXPECT_CONTAINS(message, (dir / "bad.ply").string());
         EXPECT_CONTAINS(message, expected);
     }
@@ -380,8 +361,8 @@ TEST(AssimpGuards, APlyReachesAssimpOnlyAsTheCanonicalPlyItsReaderWrites) {
 
 TEST(AssimpGuards, AGlbWithoutItsMagicNeverReachesAssimp) {
     // The GLB fuzzer's first finding: OBJ-like bytes named .glb overflowed a buffer in assimp.
-    const fs::path dir = fresh("glb_magic");
-    writeBytes(dir / "not.glb", std::string("gusemtllTF\x02\0\0\0JSON{\"asset\": {}}", 30));
+    const fs::path dir = test::freshFolder("hostile", "glb_magic");
+    test::writeFile(dir / "not.glb", std::string("gusemtllTF\x02\0\0\0JSON{\"asset\": {}}", 30));
     Result<TriangleMesh> loaded = loadMesh(dir / "not.glb");
     ASSERT_FALSE(loaded.ok());
     EXPECT_EQ(loaded.error().kind, ErrorKind::format);
@@ -391,36 +372,36 @@ TEST(AssimpGuards, AGlbWithoutItsMagicNeverReachesAssimp) {
 
 TEST(AssimpGuards, ObjVertexLinesHoldOnlyNumbers) {
     // The OBJ fuzzer's third finding: text after a vertex's number overflowed a buffer in assimp.
-    const fs::path dir = fresh("obj_numbers");
-    writeBytes(dir / "text.obj", "v 0.5mtllib missi n\nv 0 0 0\nv 1 0 0\nf 1 2 3\n");
-    EXPECT_CONTAINS(messageOf(loadMesh(dir / "text.obj")), "line 1: '0.5mtllib' is not a number");
-    writeBytes(dir / "short.obj", "v 0 0\nv 0 0 0\nv 1 0 0\nf 1 2 3\n");
-    EXPECT_CONTAINS(messageOf(loadMesh(dir / "short.obj")), "line 1: 'v' with 2 numbers");
-    writeBytes(dir / "ok.obj", "v 0 0 0\nv 1e0 0 0\nv 0 1 0\nf 1 2 3\n");
+    const fs::path dir = test::freshFolder("hostile", "obj_numbers");
+    test::writeFile(dir / "text.obj", "v 0.5mtllib missi n\nv 0 0 0\nv 1 0 0\nf 1 2 3\n");
+    EXPECT_CONTAINS(test::messageOf(loadMesh(dir / "text.obj")), "line 1: '0.5mtllib' is not a number");
+    test::writeFile(dir / "short.obj", "v 0 0\nv 0 0 0\nv 1 0 0\nf 1 2 3\n");
+    EXPECT_CONTAINS(test::messageOf(loadMesh(dir / "short.obj")), "line 1: 'v' with 2 numbers");
+    test::writeFile(dir / "ok.obj", "v 0 0 0\nv 1e0 0 0\nv 0 1 0\nf 1 2 3\n");
     Result<TriangleMesh> ok = loadMesh(dir / "ok.obj");
     ASSERT_TRUE(ok.ok()) << ok.error().message;
     EXPECT_EQ(ok->triangles.size(), 1u);
 }
 
 TEST(AssimpGuards, PolygonsBeyondTheCornerLimitAreRefusedInObjAndPly) {
-    const fs::path dir = fresh("corners");
+    const fs::path dir = test::freshFolder("hostile", "corners");
     std::string obj;
     const int n = static_cast<int>(kMaxFaceCorners) + 1;
     for (int i = 0; i < n; ++i)
         obj += "v " + std::to_string(std::cos(i * 0.001)) + " " + std::to_string(std::sin(i * 0.001)) + " 0\n";
     obj += "f";
     for (int i = 1; i <= n; ++i) obj += " " + std::to_string(i);
-    writeBytes(dir / "fan.obj", obj + "\n");
-    EXPECT_CONTAINS(messageOf(loadMesh(dir / "fan.obj")), "kMaxFaceCorners");
+    test::writeFile(dir / "fan.obj", obj + "\n");
+    EXPECT_CONTAINS(test::messageOf(loadMesh(dir / "fan.obj")), "kMaxFaceCorners");
     std::string face = std::to_string(n);
     for (int i = 0; i < n; ++i) face += " " + std::to_string(i % 4);
-    writeBytes(dir / "fan.ply", asciiPly(face + "\n", 1));
-    EXPECT_CONTAINS(messageOf(loadMesh(dir / "fan.ply")), "kMaxFaceCorners");
+    test::writeFile(dir / "fan.ply", asciiPly(face + "\n", 1));
+    EXPECT_CONTAINS(test::messageOf(loadMesh(dir / "fan.ply")), "kMaxFaceCorners");
 }
 
 TEST(AssimpGuards, DeepOrCyclicGltfNodeTreesAreRefused) {
-    const fs::path dir = fresh("gltf_nodes");
-    writeBytes(dir / "inside.bin", triangleBin());
+    const fs::path dir = test::freshFolder("hostile", "gltf_nodes");
+    test::writeFile(dir / "inside.bin", triangleBin());
     auto withNodes = [&](const nlohmann::json& nodes) {
         nlohmann::json g = nlohmann::json::parse(triangleGltf("inside.bin"));
         g["nodes"] = nodes;
@@ -436,18 +417,18 @@ TEST(AssimpGuards, DeepOrCyclicGltfNodeTreesAreRefused) {
         }
         return nodes;
     };
-    writeBytes(dir / "shallow.gltf", withNodes(chain(20)));
+    test::writeFile(dir / "shallow.gltf", withNodes(chain(20)));
     Result<TriangleMesh> shallow = loadMesh(dir / "shallow.gltf");
     ASSERT_TRUE(shallow.ok()) << shallow.error().message;
     EXPECT_EQ(shallow->triangles.size(), 1u);
     // 20000 nested nodes overflowed assimp's stack.
-    writeBytes(dir / "deep.gltf", withNodes(chain(20000)));
-    EXPECT_CONTAINS(messageOf(loadMesh(dir / "deep.gltf")), "kMaxGltfNodeDepth");
-    writeBytes(dir / "cycle.gltf", withNodes(nlohmann::json::parse(
+    test::writeFile(dir / "deep.gltf", withNodes(chain(20000)));
+    EXPECT_CONTAINS(test::messageOf(loadMesh(dir / "deep.gltf")), "kMaxGltfNodeDepth");
+    test::writeFile(dir / "cycle.gltf", withNodes(nlohmann::json::parse(
                                        R"([{"children": [1]}, {"children": [2], "mesh": 0}, {"children": [1]}])")));
-    EXPECT_CONTAINS(messageOf(loadMesh(dir / "cycle.gltf")), "is its own ancestor");
-    writeBytes(dir / "dangling.gltf", withNodes(nlohmann::json::parse(R"([{"children": [7], "mesh": 0}])")));
-    EXPECT_CONTAINS(messageOf(loadMesh(dir / "dangling.gltf")), "names child 7, not a node of the file");
+    EXPECT_CONTAINS(test::messageOf(loadMesh(dir / "cycle.gltf")), "is its own ancestor");
+    test::writeFile(dir / "dangling.gltf", withNodes(nlohmann::json::parse(R"([{"children": [7], "mesh": 0}])")));
+    EXPECT_CONTAINS(test::messageOf(loadMesh(dir / "dangling.gltf")), "names child 7, not a node of the file");
 }
 
 /// A GLB: header, a JSON chunk with `declared` as its length, the JSON itself.
@@ -462,19 +443,19 @@ std::string glb(const std::string& json, std::uint32_t declared) {
 }
 
 TEST(AssimpGuards, GlbChunksLongerThanTheFileAreRefusedBeforeAllocating) {
-    const fs::path dir = fresh("glb");
+    const fs::path dir = test::freshFolder("hostile", "glb");
     const std::string json = R"({"asset": {"version": "2.0"}})";
-    writeBytes(dir / "bomb.glb", glb(json, 0xFFFFFFF0u));  // a 4 GB JSON chunk in 60 bytes
+    test::writeFile(dir / "bomb.glb", glb(json, 0xFFFFFFF0u));  // a 4 GB JSON chunk in 60 bytes
     const auto start = std::chrono::steady_clock::now();
-    const std::string message = messageOf(loadMesh(dir / "bomb.glb"));
+    const std::string message = test::messageOf(loadMesh(dir / "bomb.glb"));
     EXPECT_LT(std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count(), 2.0);
     EXPECT_CONTAINS(message, "bomb.glb: GLB chunk at byte 12 says 4294967280 bytes, the file has " +
                                  std::to_string(json.size()) + " after it");
 }
 
 TEST(AssimpGuards, AnObjByteOrderMarkDoesNotEatTheFirstVertex) {
-    const fs::path dir = fresh("bom");
-    writeBytes(dir / "bom.obj", "\xEF\xBB\xBFv 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n");
+    const fs::path dir = test::freshFolder("hostile", "bom");
+    test::writeFile(dir / "bom.obj", "\xEF\xBB\xBFv 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n");
     Result<TriangleMesh> mesh = loadMesh(dir / "bom.obj");
     ASSERT_TRUE(mesh.ok()) << mesh.error().message;
     ASSERT_EQ(mesh->positions.size(), 3u);
@@ -487,9 +468,9 @@ TEST(AssimpGuards, AnObjByteOrderMarkDoesNotEatTheFirstVertex) {
 // read after a call that reset it), nlohmann's raw "[json.exception.type_error.302] type must
 // be number" without the field, and a cut PNG end chunk named "IEN".
 TEST(ClearMessages, FailuresNameTheFileTheFieldAndTheRealCause) {
-    const fs::path dir = fresh("messages");
+    const fs::path dir = test::freshFolder("hostile", "messages");
     fs::create_directories(dir / "taken");
-    const std::string replaced = messageOf(writeFileAtomically(dir / "taken", [](std::ostream& out) {
+    const std::string replaced = test::messageOf(writeFileAtomically(dir / "taken", [](std::ostream& out) {
         return bool(out << "x");
     }));
     EXPECT_CONTAINS(replaced, "taken: is a folder, not a regular file: not replaced");
@@ -505,8 +486,8 @@ TEST(ClearMessages, FailuresNameTheFileTheFieldAndTheRealCause) {
     ASSERT_TRUE(writeBakedTextures(baked, dir / "bake", "box.obj").ok());
     nlohmann::json manifest = nlohmann::json::parse(test::readFile(dir / "bake" / "manifest.json"));
     manifest["texture_size"] = "sixteen";
-    writeBytes(dir / "bake" / "manifest.json", manifest.dump());
-    const std::string typed = messageOf(readBakedTextures(dir / "bake"));
+    test::writeFile(dir / "bake" / "manifest.json", manifest.dump());
+    const std::string typed = test::messageOf(readBakedTextures(dir / "bake"));
     EXPECT_CONTAINS(typed, "manifest.json: texture_size: type must be number");
     EXPECT_EQ(typed.find("json.exception"), std::string::npos) << typed;
 
@@ -525,8 +506,8 @@ TEST(ClearMessages, FailuresNameTheFileTheFieldAndTheRealCause) {
     // The painted map's PNG cut inside its end chunk.
     std::string png = encodePaintedMapPng16(PaintedMap{16, 16, std::vector<float>(256, 0.5f)});
     png.resize(png.size() - 6);
-    writeBytes(dir / "cut.png", png);
-    const std::string cut = messageOf(loadPaintedMap(dir / "cut.png"));
+    test::writeFile(dir / "cut.png", png);
+    const std::string cut = test::messageOf(loadPaintedMap(dir / "cut.png"));
     EXPECT_CONTAINS(cut, "cut.png: ");
     EXPECT_EQ(cut.find("IEN "), std::string::npos) << cut;
     EXPECT_EQ(cut.find("IEN\""), std::string::npos) << cut;
@@ -561,7 +542,7 @@ TEST(Limits, AGraphOfTheMaximumNodeCountValidates) {
 // nodes; at kMaxGraphNodes it took minutes, now seconds. Nodes at pseudo-random points inside
 // the box asset, every third a box compartment, in a chain of pipes.
 TEST(Limits, AGraphOfTheMaximumNodeCountExportsAndLoadsInTheRuntime) {
-    const fs::path dir = fresh("big_graph");
+    const fs::path dir = test::freshFolder("hostile", "big_graph");
     fs::copy_file(test::assetPath("box.obj"), dir / "box.obj");
     WaterGraph graph;
     std::uint64_t state = 7;
@@ -633,15 +614,15 @@ std::string pngDeclaring(std::uint32_t side) {
 }
 
 TEST(Bombs, APaintedMapDeclaringAHugeImageIsRefusedBeforeDecoding) {
-    const fs::path dir = fresh("png_bomb");
-    writeBytes(dir / "bomb.png", pngDeclaring(16384));
+    const fs::path dir = test::freshFolder("hostile", "png_bomb");
+    test::writeFile(dir / "bomb.png", pngDeclaring(16384));
     const auto start = std::chrono::steady_clock::now();
-    const std::string message = messageOf(loadPaintedMap(dir / "bomb.png"));
+    const std::string message = test::messageOf(loadPaintedMap(dir / "bomb.png"));
     EXPECT_LT(std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count(), 2.0);
     EXPECT_CONTAINS(message, "bomb.png: painted map declares 16384 x 16384 pixels, outside 1..8192 "
                              "(kMaxPaintedMapSide");
     // The real image still decodes.
-    writeBytes(dir / "ok.png", pngDeclaring(16));
+    test::writeFile(dir / "ok.png", pngDeclaring(16));
     Result<PaintedMap> ok = loadPaintedMap(dir / "ok.png");
     ASSERT_TRUE(ok.ok()) << ok.error().message;
     EXPECT_NEAR(ok->values[0], 0.5f, 1e-4);
@@ -650,10 +631,10 @@ TEST(Bombs, APaintedMapDeclaringAHugeImageIsRefusedBeforeDecoding) {
 // --- saves: temporaries, kills at every step, a full disk -----------------------------------------
 
 TEST(AtomicSaves, PlantedLinksAtTemporaryNamesAreNeverFollowed) {
-    const fs::path dir = fresh("planted");
+    const fs::path dir = test::freshFolder("hostile", "planted");
     const fs::path outside = dir / "outside.txt", target = dir / "project" / "map.png";
     fs::create_directories(target.parent_path());
-    writeBytes(outside, "someone else's file");
+    test::writeFile(outside, "someone else's file");
     // The names the writers used to take (".NAME.tmp<pid>"), each a link to the file elsewhere.
     for (const std::string& suffix : std::vector<std::string>{".tmp" + std::to_string(::getpid()), ".tmp-XXXXXX"})
         fs::create_symlink(outside, target.parent_path() / (".map.png" + suffix));
@@ -679,10 +660,10 @@ TEST(AtomicSaves, PlantedLinksAtTemporaryNamesAreNeverFollowed) {
 // the temporary is opened without following links, refused if it has another name, and
 // OpenEXR writes through the descriptor.
 TEST(AtomicSaves, ExrImagesAreWrittenThroughTheTemporaryNeverAFileSwappedIn) {
-    const fs::path dir = fresh("exr_swap");
+    const fs::path dir = test::freshFolder("hostile", "exr_swap");
     const fs::path outside = dir / "outside.txt", target = dir / "bake" / "position.exr";
     fs::create_directories(target.parent_path());
-    writeBytes(outside, "someone else's file");
+    test::writeFile(outside, "someone else's file");
     const detail::FloatImage image{4, 2, {"R"}, {0, 1, 2, 3, 4, 5, 6, 7}};
     for (const bool hard : {false, true}) {
         Result<fs::path> temp = createTemporaryFor(target);
@@ -690,7 +671,7 @@ TEST(AtomicSaves, ExrImagesAreWrittenThroughTheTemporaryNeverAFileSwappedIn) {
         fs::remove(*temp);
         if (hard) fs::create_hard_link(outside, *temp);
         else fs::create_symlink(outside, *temp);
-        EXPECT_CONTAINS(messageOf(detail::writeExrFile(*temp, image, target)), "position.exr: ");
+        EXPECT_CONTAINS(test::messageOf(detail::writeExrFile(*temp, image, target)), "position.exr: ");
         EXPECT_EQ(test::readFile(outside), "someone else's file") << (hard ? "hard link" : "symlink");
         fs::remove(*temp);
     }
@@ -716,14 +697,14 @@ fs::path writeMappedProject(const fs::path& dir) {
 }
 
 TEST(AtomicSaves, AProjectSaveKilledAtAnyStepLoadsTheOldOrTheNewSetNeverAMix) {
-    const fs::path dir = fresh("kill");
+    const fs::path dir = test::freshFolder("hostile", "kill");
     const fs::path path = writeMappedProject(dir);
     const std::string oldProject = test::readFile(path), oldMap = test::readFile(dir / "perm.png");
     int outcomes[2] = {0, 0};  // old set, new set
     int k = 1;
     for (; k < 100; ++k) {
-        writeBytes(path, oldProject);
-        writeBytes(dir / "perm.png", oldMap);
+        test::writeFile(path, oldProject);
+        test::writeFile(dir / "perm.png", oldMap);
         const pid_t child = ::fork();
         ASSERT_GE(child, 0);
         if (child == 0) {
@@ -763,9 +744,9 @@ TEST(AtomicSaves, AProjectSaveKilledAtAnyStepLoadsTheOldOrTheNewSetNeverAMix) {
 }
 
 TEST(AtomicSaves, AFullDiskFailsTheSaveAndKeepsThePreviousFile) {
-    const fs::path dir = fresh("disk_full");
+    const fs::path dir = test::freshFolder("hostile", "disk_full");
     const fs::path target = dir / "trajectory.csv";
-    writeBytes(target, "previous");
+    test::writeFile(target, "previous");
     const pid_t child = ::fork();
     ASSERT_GE(child, 0);
     if (child == 0) {
@@ -798,27 +779,27 @@ fs::path writeBoxProject(const fs::path& dir) {
 }
 
 TEST(AtomicSaves, SaveAsNeverReplacesAFileTheProjectReadsAndOthersOnlyWhenForced) {
-    const fs::path dir = fresh("save_as");
+    const fs::path dir = test::freshFolder("hostile", "save_as");
     const fs::path path = writeBoxProject(dir);
     auto d = editor::Document::open(path);
     ASSERT_TRUE(d.ok()) << d.error().message;
     const std::string mesh = test::readFile(dir / "box.obj");
     // Saving the project over its own mesh left a project that could not be opened.
-    EXPECT_CONTAINS(messageOf((*d)->saveAs(dir / "box.obj", true)),
+    EXPECT_CONTAINS(test::messageOf((*d)->saveAs(dir / "box.obj", true)),
                     "box.obj: is the mesh of body 'box': saving over it would lose it");
     EXPECT_EQ(test::readFile(dir / "box.obj"), mesh);
     // What the editor's Save As asks about first: nothing for a new name, the existing file
     // for another, and a file the project reads is refused before asking.
-    EXPECT_CONTAINS(messageOf((*d)->replacedBySaveAs(dir / "box.obj")), "box.obj: is the mesh of body 'box'");
+    EXPECT_CONTAINS(test::messageOf((*d)->replacedBySaveAs(dir / "box.obj")), "box.obj: is the mesh of body 'box'");
     Result<std::vector<fs::path>> newName = (*d)->replacedBySaveAs(dir / "new.plim.json");
     ASSERT_TRUE(newName.ok()) << newName.error().message;
     EXPECT_TRUE(newName->empty());
-    writeBytes(dir / "other.plim.json", "someone's project");
+    test::writeFile(dir / "other.plim.json", "someone's project");
     Result<std::vector<fs::path>> replaced = (*d)->replacedBySaveAs(dir / "other.plim.json");
     ASSERT_TRUE(replaced.ok()) << replaced.error().message;
     ASSERT_EQ(replaced->size(), 1u);
     EXPECT_EQ(replaced->front().filename(), "other.plim.json");
-    EXPECT_CONTAINS(messageOf((*d)->saveAs(dir / "other.plim.json")), "other.plim.json: already exists");
+    EXPECT_CONTAINS(test::messageOf((*d)->saveAs(dir / "other.plim.json")), "other.plim.json: already exists");
     EXPECT_EQ(test::readFile(dir / "other.plim.json"), "someone's project");
     ASSERT_TRUE((*d)->saveAs(dir / "other.plim.json", true).ok());
     EXPECT_TRUE(loadProject(dir / "other.plim.json").ok());
@@ -829,14 +810,14 @@ TEST(AtomicSaves, SaveAsNeverReplacesAFileTheProjectReadsAndOthersOnlyWhenForced
 // The headless paths to the same refusal: the edit script's save_as op needs "force", the
 // command line's --save-as needs --force, and neither replaces the project's mesh even forced.
 TEST(AtomicSaves, ScriptAndCommandLineSaveAsNeedForceToReplaceAFile) {
-    const fs::path dir = fresh("save_as_cli");
+    const fs::path dir = test::freshFolder("hostile", "save_as_cli");
     const fs::path path = writeBoxProject(dir);
     const std::string mesh = test::readFile(dir / "box.obj");
-    writeBytes(dir / "other.plim.json", "someone's project");
+    test::writeFile(dir / "other.plim.json", "someone's project");
     int scripts = 0;  // each case its own script file: the cases are all written up front
     auto script = [&](const std::string& ops) {
         const fs::path file = dir / ("script" + std::to_string(scripts++) + ".json");
-        writeBytes(file, ops);
+        test::writeFile(file, ops);
         return "edit '" + path.string() + "' --script '" + file.string() + "'";
     };
     const std::string other = (dir / "other.plim.json").string();
@@ -860,7 +841,7 @@ TEST(AtomicSaves, ScriptAndCommandLineSaveAsNeedForceToReplaceAFile) {
 }
 
 TEST(HostileScripts, EditScriptValuesOutsideTheirRangeAreRefused) {
-    const fs::path dir = fresh("script");
+    const fs::path dir = test::freshFolder("hostile", "script");
     const fs::path path = writeMappedProject(dir);
     const std::pair<const char*, const char*> cases[] = {
         {R"([{"op": "fill_all", "channel": "permeability", "value": 7}])", "value must be in 0..1, not 7"},
@@ -868,7 +849,7 @@ TEST(HostileScripts, EditScriptValuesOutsideTheirRangeAreRefused) {
         {R"([{"op": "new_map", "channel": "permeability", "size": 100000}])", "is outside 1..kMaxPaintedMapSide = 8192"},
     };
     for (const auto& [script, expected] : cases) {
-        writeBytes(dir / "script.json", script);
+        test::writeFile(dir / "script.json", script);
         const test::CommandOutput run = test::runPlimsoll(
             "edit '" + path.string() + "' --script '" + (dir / "script.json").string() + "' --no-save");
         EXPECT_EQ(run.exitCode, 1) << script << "\n" << run.err;
@@ -891,7 +872,7 @@ namespace rt = plimsoll_runtime;
 class HostileBundle : public testing::Test {
 protected:
     static void SetUpTestSuite() {
-        root_ = new fs::path(fresh("bundle"));
+        root_ = new fs::path(test::freshFolder("hostile", "bundle"));
         const fs::path source = fs::path(PLIMSOLL_SOURCE_DIR);
         fs::copy(source / "assets", *root_ / "assets", fs::copy_options::recursive);
         fs::copy(source / "projects", *root_ / "projects", fs::copy_options::recursive);
@@ -920,7 +901,7 @@ protected:
     static void editManifest(const fs::path& folder, const std::function<void(nlohmann::json&)>& edit) {
         nlohmann::json m = nlohmann::json::parse(test::readFile(folder / "manifest.json"));
         edit(m);
-        writeBytes(folder / "manifest.json", m.dump(2));
+        test::writeFile(folder / "manifest.json", m.dump(2));
     }
     static fs::path* root_;
 };
@@ -963,7 +944,7 @@ TEST_F(HostileBundle, AManifestObjectOfManyMembersIsReadInLinearTime) {
     for (int i = 0; i < 300000; ++i) padding += "\"k" + std::to_string(i) + "\": 0, ";
     padding += "\"k0\": 1}, ";
     text.insert(text.find('{') + 1, padding);
-    writeBytes(b / "manifest.json", text);
+    test::writeFile(b / "manifest.json", text);
     EXPECT_CONTAINS(loadError(b, false), "duplicate member \"k0\"");
 }
 
@@ -974,7 +955,7 @@ TEST_F(HostileBundle, APaintedMapCutInItsEndChunkSaysTruncated) {
     editManifest(b, [&](nlohmann::json& m) { file = m["painted_maps"]["permeability"]["path"]; });
     std::string png = encodePaintedMapPng16(PaintedMap{16, 16, std::vector<float>(256, 0.5f)});
     png.resize(png.size() - 6);
-    writeBytes(b / file, png);
+    test::writeFile(b / file, png);
     const std::string message = loadError(b, false);
     EXPECT_CONTAINS(message, file + ": cannot read painted map: ");
     EXPECT_CONTAINS(message, "truncated");
@@ -1063,7 +1044,7 @@ TEST_F(HostileBundle, CompactSamplesWithNonFiniteHalvesOrScalesAreRefused) {
             ASSERT_NE(at, std::string::npos);
             const std::size_t begin = text.find(": ", at) + 2, end = text.find_first_of(",\n", begin);
             text.replace(begin, end - begin, value);
-            writeBytes(b / "manifest.json", text);
+            test::writeFile(b / "manifest.json", text);
             const std::string error = loadError(b, false);
             EXPECT_CONTAINS(error, "manifest.json");
             EXPECT_TRUE(error.find(std::string("sample_encoding.") + key + ": must be finite and > 0") != std::string::npos ||
@@ -1096,9 +1077,9 @@ TEST_F(HostileBundle, NonFiniteOrNegativeSampleDataAndBombsAreRefused) {
         const fs::path b = copy("png_bomb");
         std::string file;
         editManifest(b, [&](nlohmann::json& m) { file = m["painted_maps"]["permeability"]["path"]; });
-        writeBytes(b / file, pngDeclaring(8192));  // within the side limit, but 1 KB of data
+        test::writeFile(b / file, pngDeclaring(8192));  // within the side limit, but 1 KB of data
         EXPECT_CONTAINS(loadError(b, false), "more than its");
-        writeBytes(b / file, pngDeclaring(16384));
+        test::writeFile(b / file, pngDeclaring(16384));
         EXPECT_CONTAINS(loadError(b, false), "at most 8192 x 8192");
     }
 }
@@ -1184,7 +1165,7 @@ TEST(HostileCli, NonFiniteNumbersAndOverflowingDurationsAreRefused) {
 // already streamed its rows into the trajectory's temporary; the target itself only appears
 // when a run completes.
 TEST(HostileCli, ALongSimulationStreamsItsTrajectoryInBoundedMemory) {
-    const fs::path dir = fresh("streamed");
+    const fs::path dir = test::freshFolder("hostile", "streamed");
     const std::string mesh = test::assetPath("box.obj").string();
     const test::CommandOutput run = test::runPlimsoll(
         "simulate --mesh '" + mesh + "' --size 16 --seconds 1e6 --out '" + (dir / "t.csv").string() + "'",
@@ -1204,7 +1185,7 @@ TEST(HostileCli, ALongSimulationStreamsItsTrajectoryInBoundedMemory) {
 // ended in NaN, or (at 1e6 rad/s) its spin silently vanished with exit 0. Refused before the
 // run, naming the body and why; a spin a step can follow still runs.
 TEST(HostileCli, ABodyNoStepCanResolveIsRefusedBeforeItRuns) {
-    const fs::path dir = fresh("unresolvable");
+    const fs::path dir = test::freshFolder("hostile", "unresolvable");
     std::ifstream box(test::assetPath("box.obj"));
     std::ofstream tiny(dir / "tiny.obj");
     for (std::string line; std::getline(box, line);) {
@@ -1243,4 +1224,5 @@ TEST(HostileCli, ABodyNoStepCanResolveIsRefusedBeforeItRuns) {
 }
 
 }  // namespace
+}  // namespace test_hostile_input
 }  // namespace plimsoll

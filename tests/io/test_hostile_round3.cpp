@@ -29,28 +29,10 @@
 #include <unistd.h>
 
 namespace plimsoll {
+namespace test_hostile_round3 {
 namespace {
 
 namespace fs = std::filesystem;
-
-fs::path fresh(const std::string& name) {
-    const fs::path dir = test::scratchFolder("hostile3") / name;
-    fs::remove_all(dir);
-    fs::create_directories(dir);
-    return dir;
-}
-
-void writeBytes(const fs::path& path, const std::string& bytes) {
-    std::ofstream(path, std::ios::binary | std::ios::trunc) << bytes;
-}
-
-template <typename T>
-std::string messageOf(const T& r) {
-    return r.ok() ? std::string() : r.error().message;
-}
-
-#define EXPECT_CONTAINS(text, part) \
-    EXPECT_NE(std::string(text).find(part), std::string::npos) << (text)
 
 /// The box asset with a painted map beside it, at `density`.
 fs::path writeBoxProject(const fs::path& dir, double density) {
@@ -66,19 +48,19 @@ fs::path writeBoxProject(const fs::path& dir, double density) {
 // --- a journal names only files of its own folder ----------------------------------------------
 
 TEST(HostileJournal, AJournalNamingFilesElsewhereIsRefusedAndMovesNothing) {
-    const fs::path dir = fresh("journal");
+    const fs::path dir = test::freshFolder("hostile3", "journal");
     const fs::path project = dir / "proj", other = dir / "other";
     fs::create_directories(project);
     fs::create_directories(other);
     const fs::path path = writeBoxProject(project, 500.0);
-    writeBytes(other / "photo.jpg", "a photograph");
-    writeBytes(other / ".photo.jpg.tmp-abcdef", "the attacker's bytes");
-    writeBytes(other / "notes.txt", "notes");
-    writeBytes(other / ".notes.txt.previous.tmp-123456", "backup");
+    test::writeFile(other / "photo.jpg", "a photograph");
+    test::writeFile(other / ".photo.jpg.tmp-abcdef", "the attacker's bytes");
+    test::writeFile(other / "notes.txt", "notes");
+    test::writeFile(other / ".notes.txt.previous.tmp-123456", "backup");
     // Absolute paths into the other folder, then the same reached through "..".
     for (const std::string& base : {other.string() + "/", std::string("../other/")}) {
         SCOPED_TRACE(base);
-        writeBytes(project / ".box.plim.json.journal",
+        test::writeFile(project / ".box.plim.json.journal",
                    R"({"format": "plimsoll-replace-journal", "files": [{"temp": ")" + base +
                        R"(.photo.jpg.tmp-abcdef", "target": ")" + base +
                        R"(photo.jpg", "backup": ")" + base + R"(.notes.txt.previous.tmp-123456"}]})");
@@ -92,14 +74,14 @@ TEST(HostileJournal, AJournalNamingFilesElsewhereIsRefusedAndMovesNothing) {
     }
     // Through a link in the project folder to the other one.
     fs::create_directory_symlink(other, project / "maps");
-    writeBytes(project / ".box.plim.json.journal",
+    test::writeFile(project / ".box.plim.json.journal",
                R"({"format": "plimsoll-replace-journal", "files": [{"temp": "maps/.photo.jpg.tmp-abcdef", "target": "maps/photo.jpg", "backup": ""}]})");
-    EXPECT_CONTAINS(messageOf(loadProject(path)), "not a folder (a link?)");
+    EXPECT_CONTAINS(test::messageOf(loadProject(path)), "not a folder (a link?)");
     EXPECT_EQ(test::readFile(other / "photo.jpg"), "a photograph");
     // A set of files reaching outside the last one's folder is refused before it is written.
     const Status outside = replaceFilesTogether({bytesFileWriter(other / "photo.jpg", "map"),
                                                  bytesFileWriter(project / "x.json", "{}")});
-    EXPECT_CONTAINS(messageOf(outside), "outside");
+    EXPECT_CONTAINS(test::messageOf(outside), "outside");
     EXPECT_EQ(test::readFile(other / "photo.jpg"), "a photograph");
     EXPECT_FALSE(fs::exists(project / "x.json"));
 }
@@ -107,8 +89,8 @@ TEST(HostileJournal, AJournalNamingFilesElsewhereIsRefusedAndMovesNothing) {
 // --- an output that is not a regular file is never replaced ------------------------------------
 
 TEST(HostileOutput, ALinkADeviceOrAFifoNamedAsOutputIsNotReplaced) {
-    const fs::path dir = fresh("out");
-    writeBytes(dir / "real.csv", "kept");
+    const fs::path dir = test::freshFolder("hostile3", "out");
+    test::writeFile(dir / "real.csv", "kept");
     fs::create_symlink(dir / "real.csv", dir / "link.csv");
     fs::create_symlink("/proc/self/fd/1", dir / "stdout.csv");
     ASSERT_EQ(::mkfifo((dir / "fifo.csv").c_str(), 0600), 0);
@@ -120,8 +102,8 @@ TEST(HostileOutput, ALinkADeviceOrAFifoNamedAsOutputIsNotReplaced) {
         struct stat before {};
         ASSERT_EQ(::lstat((dir / name).c_str(), &before), 0);
         const Status s = writeFileAtomically(dir / name, [](std::ostream& out) { return bool(out << "t,x\n"); });
-        EXPECT_CONTAINS(messageOf(s), name + ": is a");
-        EXPECT_CONTAINS(messageOf(s), "not replaced");
+        EXPECT_CONTAINS(test::messageOf(s), name + ": is a");
+        EXPECT_CONTAINS(test::messageOf(s), "not replaced");
         struct stat after {};
         ASSERT_EQ(::lstat((dir / name).c_str(), &after), 0);
         EXPECT_EQ(before.st_ino, after.st_ino) << "the node itself was replaced";
@@ -142,7 +124,7 @@ TEST(HostileOutput, ALinkADeviceOrAFifoNamedAsOutputIsNotReplaced) {
 /// 100 re-exports of one bundle while a loader thread loads it without pause through the
 /// runtime: every load finds a complete bundle (the exchange is one rename).
 TEST(HostileExport, ALoaderDuringReExportsAlwaysFindsACompleteBundle) {
-    const fs::path dir = fresh("readers");
+    const fs::path dir = test::freshFolder("hostile3", "readers");
     const fs::path projectDir = dir / "project", out = dir / "export";
     fs::create_directories(projectDir);
     Result<Project> project = loadProject(writeBoxProject(projectDir, 500.0));
@@ -181,7 +163,7 @@ TEST(HostileExport, ALoaderDuringReExportsAlwaysFindsACompleteBundle) {
 TEST(HostileExport, AReExportKilledAtAnyStepLeavesACompleteBundle) {
     for (const bool fallback : {false, true}) {
         SCOPED_TRACE(fallback ? "two renames" : "exchange");
-        const fs::path dir = fresh(fallback ? "kill_fallback" : "kill_exchange");
+        const fs::path dir = test::freshFolder("hostile3", fallback ? "kill_fallback" : "kill_exchange");
         const fs::path projectDir = dir / "project", out = dir / "export";
         fs::create_directories(projectDir);
         Result<Project> a = loadProject(writeBoxProject(projectDir, 500.0));
@@ -247,14 +229,14 @@ TEST(HostileImages, AMapThatIsNotAPngIsRefusedNamingItsRealType) {
     };
     for (const auto& [bytes, type] : others) {
         Result<PaintedMap> map = decodePaintedMap(bytes, "perm.png");
-        EXPECT_CONTAINS(messageOf(map), "perm.png: is a");
-        EXPECT_CONTAINS(messageOf(map), type);
+        EXPECT_CONTAINS(test::messageOf(map), "perm.png: is a");
+        EXPECT_CONTAINS(test::messageOf(map), type);
     }
     // A PNG broken in its chunks: refused before decoding, with the reason.
     std::string badCrc = png;
     badCrc[png.size() - 20] ^= 0x40;  // inside the IDAT data
-    EXPECT_CONTAINS(messageOf(decodePaintedMap(badCrc, "perm.png")), "fails its CRC");
-    EXPECT_CONTAINS(messageOf(decodePaintedMap(png.substr(0, png.size() - 12), "perm.png")),
+    EXPECT_CONTAINS(test::messageOf(decodePaintedMap(badCrc, "perm.png")), "fails its CRC");
+    EXPECT_CONTAINS(test::messageOf(decodePaintedMap(png.substr(0, png.size() - 12), "perm.png")),
                     "no IEND");
     std::string huge = png;  // a declared 8000 x 8000 from a few bytes of IDAT
     huge.replace(16, 8, std::string("\x00\x00\x1f\x40\x00\x00\x1f\x40", 8));
@@ -267,27 +249,27 @@ TEST(HostileImages, AMapThatIsNotAPngIsRefusedNamingItsRealType) {
         return ~c;
     }();
     for (int i = 0; i < 4; ++i) huge[29 + i] = static_cast<char>(crc >> (24 - 8 * i));
-    EXPECT_CONTAINS(messageOf(decodePaintedMap(huge, "perm.png")), "cannot hold the declared image");
+    EXPECT_CONTAINS(test::messageOf(decodePaintedMap(huge, "perm.png")), "cannot hold the declared image");
 }
 
 // --- depth before parsing, formats by content ------------------------------------------------
 
 TEST(HostileJson, DeepNestingIsRefusedBeforeAnyParser) {
     const std::string deep = "{\"a\": " + std::string(200000, '[') + std::string(200000, ']') + "}";
-    EXPECT_CONTAINS(messageOf(checkJsonDepth(deep, "x.json")), "more than the limit kMaxJsonDepth");
+    EXPECT_CONTAINS(test::messageOf(checkJsonDepth(deep, "x.json")), "more than the limit kMaxJsonDepth");
     EXPECT_TRUE(checkJsonDepth("{\"s\": \"[[[[[[[[\"}", "x.json", 2).ok());  // brackets in strings
-    const fs::path dir = fresh("deep");
-    writeBytes(dir / "p.plim.json", deep);
-    EXPECT_CONTAINS(messageOf(loadProject(dir / "p.plim.json")), "p.plim.json: JSON nested more than 128");
-    writeBytes(dir / "g.gltf", R"({"asset": {"version": "2.0"}, "nodes": [{"extras": )" +
+    const fs::path dir = test::freshFolder("hostile3", "deep");
+    test::writeFile(dir / "p.plim.json", deep);
+    EXPECT_CONTAINS(test::messageOf(loadProject(dir / "p.plim.json")), "p.plim.json: JSON nested more than 128");
+    test::writeFile(dir / "g.gltf", R"({"asset": {"version": "2.0"}, "nodes": [{"extras": )" +
                                    std::string(200000, '[') + std::string(200000, ']') + "}]}");
-    EXPECT_CONTAINS(messageOf(loadMesh(dir / "g.gltf")), "JSON nested more than 128");
+    EXPECT_CONTAINS(test::messageOf(loadMesh(dir / "g.gltf")), "JSON nested more than 128");
     EXPECT_EQ(boundedExcerpt(std::string(500, 'x') + "\xff", 10), "xxxxxxxxxx...");
     EXPECT_EQ(boundedExcerpt("a\xff" "b"), "a?b");
 }
 
 TEST(HostileMeshFormats, OtherFormatsAreRefusedByContentAndOBJIsReadWhateverItsName) {
-    const fs::path dir = fresh("formats");
+    const fs::path dir = test::freshFolder("hostile3", "formats");
     const std::pair<std::string, std::string> refused[] = {
         {"m.dae", R"(<?xml version="1.0"?><COLLADA xmlns="x"></COLLADA>)"},
         {"m.x", "xof 0303txt 0032\n"},
@@ -297,13 +279,13 @@ TEST(HostileMeshFormats, OtherFormatsAreRefusedByContentAndOBJIsReadWhateverItsN
         {"m.md5mesh", "MD5Version 10\n"},
     };
     for (const auto& [name, bytes] : refused) {
-        writeBytes(dir / name, bytes);
-        const std::string message = messageOf(loadMesh(dir / name));
+        test::writeFile(dir / name, bytes);
+        const std::string message = test::messageOf(loadMesh(dir / name));
         EXPECT_CONTAINS(message, name + ": is a");
         EXPECT_CONTAINS(message, "OBJ, PLY, STL, FBX, glTF and GLB");
     }
-    writeBytes(dir / "m.bin", std::string(64, '\x01'));
-    EXPECT_CONTAINS(messageOf(loadMesh(dir / "m.bin")), "content of no allowed format");
+    test::writeFile(dir / "m.bin", std::string(64, '\x01'));
+    EXPECT_CONTAINS(test::messageOf(loadMesh(dir / "m.bin")), "content of no allowed format");
     // An OBJ under another name is read, through the OBJ checks.
     fs::copy_file(test::assetPath("box.obj"), dir / "box.OBJ.bak");
     Result<TriangleMesh> box = loadMesh(dir / "box.OBJ.bak");
@@ -312,4 +294,5 @@ TEST(HostileMeshFormats, OtherFormatsAreRefusedByContentAndOBJIsReadWhateverItsN
 }
 
 }  // namespace
+}  // namespace test_hostile_round3
 }  // namespace plimsoll

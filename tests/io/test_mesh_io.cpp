@@ -8,6 +8,7 @@
 #include <set>
 
 namespace plimsoll {
+namespace test_mesh_io {
 namespace {
 
 namespace fs = std::filesystem;
@@ -96,4 +97,5 @@ TEST(ObjWriter, FailsForAMissingFolder) {
     EXPECT_NE(written.error().message.find("box.obj"), std::string::npos);
 }
 }  // namespace
+}  // namespace test_mesh_io
 }  // namespace plimsoll

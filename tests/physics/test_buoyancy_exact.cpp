@@ -21,6 +21,7 @@
 #include <utility>
 
 namespace plimsoll {
+namespace test_buoyancy_exact {
 namespace {
 
 using Eigen::Vector3d;
@@ -332,19 +333,10 @@ const HalfSubmerged kReadme[] = {
                                                     0.125275202802}},
 };
 
-std::optional<TriangleMesh> loadShared(const std::string& name) {
-    const std::filesystem::path path = std::string(PLIMSOLL_SHARED_DIR "/meshes/") + name;
-    if (!std::filesystem::exists(path)) return std::nullopt;
-    Result<TriangleMesh> mesh = loadMesh(path);
-    EXPECT_TRUE(mesh.ok()) << (mesh.ok() ? "" : mesh.error().message);
-    if (!mesh.ok()) return std::nullopt;
-    return std::move(mesh).value();
-}
-
 TEST(BuoyancyExact, SharedMeshesHalfSubmergedMatchTheReadme) {
     int checked = 0;
     for (const HalfSubmerged& expected : kReadme) {
-        const std::optional<TriangleMesh> mesh = loadShared(expected.file);
+        const std::optional<TriangleMesh> mesh = test::loadSharedMesh(expected.file);
         if (!mesh) continue;
         SCOPED_TRACE(expected.file);
         const double diagonal = computeBounds(*mesh).diagonal();
@@ -366,7 +358,7 @@ TEST(BuoyancyExact, SharedMeshesHalfSubmergedMatchTheReadme) {
 }
 
 TEST(BuoyancyExact, SharedBoatFarFromTheOriginKeepsItsDigits) {
-    const std::optional<TriangleMesh> boat = loadShared("boat.obj");
+    const std::optional<TriangleMesh> boat = test::loadSharedMesh("boat.obj");
     if (!boat) GTEST_SKIP() << PLIMSOLL_SHARED_DIR "/meshes not present";
     const Vector3d centerOfMass = exactSolidMassProperties(*boat, 1.0).centerOfMass;
     const double level = 1.865340891531311;
@@ -379,4 +371,5 @@ TEST(BuoyancyExact, SharedBoatFarFromTheOriginKeepsItsDigits) {
 }
 
 }  // namespace
+}  // namespace test_buoyancy_exact
 }  // namespace plimsoll

@@ -17,6 +17,7 @@
 #include <numbers>
 
 namespace plimsoll {
+namespace test_cummins {
 namespace {
 
 constexpr double kPi = std::numbers::pi;
@@ -256,4 +257,5 @@ TEST(CumminsMemory, FitIsPassiveAndFollowsTheSamples) {
 }
 
 }  // namespace
+}  // namespace test_cummins
 }  // namespace plimsoll

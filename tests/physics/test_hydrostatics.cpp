@@ -20,6 +20,7 @@
 #include <numbers>
 
 namespace plimsoll {
+namespace test_hydrostatics {
 namespace {
 
 constexpr double kDegree = std::numbers::pi / 180.0;
@@ -269,4 +270,5 @@ TEST(Hydrostatics, NegativeGmCapsizesInTheSimulationAndPositiveRights) {
 }
 
 }  // namespace
+}  // namespace test_hydrostatics
 }  // namespace plimsoll

@@ -9,6 +9,7 @@
 #include <numbers>
 
 namespace plimsoll {
+namespace test_massprops_exact {
 namespace {
 
 TriangleMesh tetrahedron(const std::array<Eigen::Vector3d, 4>& v) {
@@ -126,4 +127,5 @@ TEST(ExactMassProperties, SumUsesTheParallelAxisTheorem) {
 }
 
 }  // namespace
+}  // namespace test_massprops_exact
 }  // namespace plimsoll

@@ -15,6 +15,7 @@
 #include <unistd.h>
 
 namespace plimsoll {
+namespace test_massprops_texture {
 namespace {
 
 using test::bakeOrFail;
@@ -124,4 +125,5 @@ TEST(TextureMassProperties, SolidPlusShellIsTheSumOfBoth) {
 }
 
 }  // namespace
+}  // namespace test_massprops_texture
 }  // namespace plimsoll

@@ -16,6 +16,7 @@
 #include <string>
 
 namespace plimsoll {
+namespace test_radiation {
 namespace {
 
 constexpr double kPi = std::numbers::pi;
@@ -358,4 +359,5 @@ TEST(RadiationSolver, SameCoefficientsOnAnyThreadCount) {
 }
 
 }  // namespace
+}  // namespace test_radiation
 }  // namespace plimsoll

@@ -12,6 +12,7 @@
 #include <numbers>
 
 namespace plimsoll {
+namespace test_rigid_body {
 namespace {
 
 constexpr std::array kAllIntegrators = {Integrator::ExplicitEuler, Integrator::SemiImplicitEuler,
@@ -271,4 +272,5 @@ TEST(RigidBody, ConstantTorqueAboutAPrincipalAxis) {
 }
 
 }  // namespace
+}  // namespace test_rigid_body
 }  // namespace plimsoll

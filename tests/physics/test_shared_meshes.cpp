@@ -7,6 +7,7 @@
 #include "test_support.h"
 
 namespace plimsoll {
+namespace test_shared_meshes {
 namespace {
 
 struct ReadmeValues {
@@ -27,19 +28,10 @@ const ReadmeValues kReadme[] = {
     {"bunny.obj", 0.74933410816064661, {-0.0408643799386, -0.233787993823, 0.125095737593}},
 };
 
-std::optional<TriangleMesh> loadShared(const std::string& name) {
-    const auto path = test::sharedMesh(name);
-    if (!path) return std::nullopt;
-    Result<TriangleMesh> mesh = loadMesh(*path);
-    EXPECT_TRUE(mesh.ok()) << mesh.error().message;
-    if (!mesh.ok()) return std::nullopt;
-    return std::move(mesh).value();
-}
-
 TEST(SharedMeshes, ExactMassPropertiesMatchTheReadme) {
     int checked = 0;
     for (const ReadmeValues& expected : kReadme) {
-        std::optional<TriangleMesh> mesh = loadShared(expected.file);
+        std::optional<TriangleMesh> mesh = test::loadSharedMesh(expected.file);
         if (!mesh) continue;
         SCOPED_TRACE(expected.file);
         const ValidationReport report = validateMesh(*mesh);
@@ -55,7 +47,7 @@ TEST(SharedMeshes, ExactMassPropertiesMatchTheReadme) {
 TEST(SharedMeshes, TextureResultsMatchExactOnMeshesWithUsableUvs) {
     int checked = 0;
     for (const char* name : {"spot.obj", "blub_triangulated.obj", "cube.obj"}) {
-        std::optional<TriangleMesh> mesh = loadShared(name);
+        std::optional<TriangleMesh> mesh = test::loadSharedMesh(name);
         if (!mesh) continue;
         const ValidationReport report = validateMesh(*mesh);
         ASSERT_TRUE(report.usableForTexture()) << report.format();
@@ -66,7 +58,7 @@ TEST(SharedMeshes, TextureResultsMatchExactOnMeshesWithUsableUvs) {
 }
 
 TEST(SharedMeshes, BoatUvsAreOutOfRangeAndOverlapSoTheTexturePathRefusesIt) {
-    std::optional<TriangleMesh> boat = loadShared("boat.obj");
+    std::optional<TriangleMesh> boat = test::loadSharedMesh("boat.obj");
     if (!boat) GTEST_SKIP() << "../shared/meshes not present";
     const ValidationReport report = validateMesh(*boat);
     EXPECT_TRUE(report.has(ProblemKind::UvOutOfRange));
@@ -80,13 +72,13 @@ TEST(SharedMeshes, BoatUvsAreOutOfRangeAndOverlapSoTheTexturePathRefusesIt) {
 }
 
 TEST(SharedMeshes, OpenTeapotAndUvlessMeshesAreReported) {
-    std::optional<TriangleMesh> teapot = loadShared("teapot.obj");
+    std::optional<TriangleMesh> teapot = test::loadSharedMesh("teapot.obj");
     if (!teapot) GTEST_SKIP() << "../shared/meshes not present";
     const ValidationReport open = validateMesh(*teapot);
     EXPECT_TRUE(open.has(ProblemKind::OpenSurface));
     EXPECT_FALSE(open.closedSolid());
     for (const char* name : {"bunny.obj", "sphere.obj", "torus.obj"}) {
-        std::optional<TriangleMesh> mesh = loadShared(name);
+        std::optional<TriangleMesh> mesh = test::loadSharedMesh(name);
         ASSERT_TRUE(mesh);
         const ValidationReport report = validateMesh(*mesh);
         EXPECT_TRUE(report.has(ProblemKind::MissingUvs)) << name;
@@ -95,4 +87,5 @@ TEST(SharedMeshes, OpenTeapotAndUvlessMeshesAreReported) {
 }
 
 }  // namespace
+}  // namespace test_shared_meshes
 }  // namespace plimsoll

@@ -18,6 +18,7 @@
 #include <vector>
 
 namespace plimsoll {
+namespace test_stability {
 namespace {
 
 const double kRatios[] = {1e-3, 1e-1, 0.5, 0.99, 1.01, 10, 1e3};
@@ -237,4 +238,5 @@ TEST_P(StabilityRadiation, NothingBlowsUpEnergyNeverGrowsBodiesFloat) {
 INSTANTIATE_TEST_SUITE_P(Stability, StabilityRadiation, testing::Values(0.5));
 
 }  // namespace
+}  // namespace test_stability
 }  // namespace plimsoll

@@ -10,6 +10,7 @@
 #include <vector>
 
 namespace plimsoll {
+namespace test_water {
 namespace {
 
 WaterModel twoWaves() {
@@ -101,9 +102,11 @@ TEST(Water, HeightGridIsBilinearAndClampedAtItsEdges) {
 }
 
 }  // namespace
+}  // namespace test_water
 }  // namespace plimsoll
 
 namespace plimsoll {
+namespace test_water {
 namespace {
 
 /// The batched heights and velocities against the one-point reference (the test below).
@@ -168,4 +171,5 @@ TEST(Water, BatchedHeightsAndVelocitiesEqualTheOnePointReference) {
 }
 
 }  // namespace
+}  // namespace test_water
 }  // namespace plimsoll

@@ -15,6 +15,7 @@
 #include <vector>
 
 namespace plimsoll {
+namespace test_project {
 namespace {
 
 namespace fs = std::filesystem;
@@ -405,4 +406,5 @@ TEST(Project, ResolvesPathsAgainstItsFolder) {
 }
 
 }  // namespace
+}  // namespace test_project
 }  // namespace plimsoll

@@ -12,6 +12,7 @@
 #include <sstream>
 
 namespace plimsoll {
+namespace test_scene_loader {
 namespace {
 
 namespace fs = std::filesystem;
@@ -115,4 +116,5 @@ TEST(SceneLoader, AWorldRunsOnWithItsProjectsFilesGone) {
 }
 
 }  // namespace
+}  // namespace test_scene_loader
 }  // namespace plimsoll

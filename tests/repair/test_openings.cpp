@@ -29,6 +29,7 @@
 #include <random>
 
 namespace plimsoll {
+namespace test_openings {
 namespace {
 
 namespace fs = std::filesystem;
@@ -168,7 +169,6 @@ TEST(Openings, ClosedSolidsAndShallowDentsHaveNone) {
 
 // --- The shared open boats and bucket -------------------------------------------------------
 
-const fs::path kRealAssets = fs::path(PLIMSOLL_SHARED_DIR) / "real-assets";
 
 /// Möller-Trumbore: whether the ray from `origin` along `direction` hits triangle (a, b, c).
 bool rayHits(const Eigen::Vector3d& origin, const Eigen::Vector3d& direction, const Eigen::Vector3d& a,
@@ -227,10 +227,10 @@ double sealedVolumeByRayCasting(const TriangleMesh& mesh, int samples) {
 
 TEST(Openings, OpenBoatsAndTheBucketDisplaceTheirSealedHull) {
     SKIP_WITHOUT_REPAIR();
-    if (!fs::exists(kRealAssets)) GTEST_SKIP() << "../shared/real-assets not present";
+    if (!fs::exists(test::realAssetsDir())) GTEST_SKIP() << "../shared/real-assets not present";
     for (const char* name : {"quaternius/Boat.fbx", "quaternius/BoatWSail.fbx", "quaternius/Bucket.fbx"}) {
         SCOPED_TRACE(name);
-        Result<TriangleMesh> mesh = loadMesh(kRealAssets / name);
+        Result<TriangleMesh> mesh = loadMesh(test::realAssetsDir() / name);
         ASSERT_TRUE(mesh.ok()) << mesh.error().message;
         const PhysicsSolid solid = solidOf(*mesh);
         ASSERT_FALSE(solid.openings.empty());
@@ -250,7 +250,7 @@ TEST(Openings, OpenBoatsAndTheBucketDisplaceTheirSealedHull) {
 
 TEST(Openings, MasspropsWeighsTheWallsAndReportsBothVolumes) {
     SKIP_WITHOUT_REPAIR();
-    const fs::path boat = kRealAssets / "quaternius" / "Boat.fbx";
+    const fs::path boat = test::realAssetsDir() / "quaternius" / "Boat.fbx";
     if (!fs::exists(boat)) GTEST_SKIP() << "../shared/real-assets not present";
     const test::CommandOutput run = test::runPlimsoll("massprops --exact --json --density 600 '" + boat.string() + "'");
     ASSERT_EQ(run.exitCode, 0) << run.err;
@@ -268,7 +268,7 @@ TEST(Openings, MasspropsWeighsTheWallsAndReportsBothVolumes) {
 
 TEST(Openings, TheEditorSimulatesWhatAProjectRunSimulates) {
     SKIP_WITHOUT_REPAIR();
-    const fs::path boat = kRealAssets / "quaternius" / "Boat.fbx";
+    const fs::path boat = test::realAssetsDir() / "quaternius" / "Boat.fbx";
     if (!fs::exists(boat)) GTEST_SKIP() << "../shared/real-assets not present";
     const fs::path folder = test::scratchFolder("openings_editor");
     Project project;
@@ -342,7 +342,7 @@ Reading read(const World& world, const Eigen::Vector3d& capCentre) {
 
 TEST(Openings, TheDinghyRidesHighThenSwampsWhenPushedUnderAndSinksWhenOverloaded) {
     SKIP_WITHOUT_REPAIR();
-    const fs::path boat = kRealAssets / "quaternius" / "Boat.fbx";
+    const fs::path boat = test::realAssetsDir() / "quaternius" / "Boat.fbx";
     if (!fs::exists(boat)) GTEST_SKIP() << "../shared/real-assets not present";
     Result<TriangleMesh> mesh = loadMesh(boat);
     ASSERT_TRUE(mesh.ok());
@@ -440,4 +440,5 @@ TEST(Openings, TheDinghyRidesHighThenSwampsWhenPushedUnderAndSinksWhenOverloaded
 }
 
 }  // namespace
+}  // namespace test_openings
 }  // namespace plimsoll

@@ -17,6 +17,7 @@
 #include <random>
 
 namespace plimsoll {
+namespace test_physics_solid {
 namespace {
 
 TriangleMesh translated(TriangleMesh mesh, const Eigen::Vector3d& by) {
@@ -203,4 +204,5 @@ TEST(PhysicsSolid, TheBarrelsVolumeIsItsUnionsByMonteCarlo) {
 }
 
 }  // namespace
+}  // namespace test_physics_solid
 }  // namespace plimsoll

@@ -39,6 +39,7 @@
 #include <unistd.h>
 
 namespace plimsoll {
+namespace test_runtime_conformance {
 namespace {
 
 namespace fs = std::filesystem;
@@ -511,9 +512,11 @@ TEST(RuntimeSha256, MatchesOpenSsl) {
 }
 
 }  // namespace
+}  // namespace test_runtime_conformance
 }  // namespace plimsoll
 
 namespace plimsoll {
+namespace test_runtime_conformance {
 namespace {
 
 /// Writes `folder`/texel_nodes.exr as docs/bundle.md describes it (one UINT channel `node`,
@@ -585,4 +588,5 @@ TEST_F(RuntimeConformance, ReadsTheTexelNodeMap) {
 }
 
 }  // namespace
+}  // namespace test_runtime_conformance
 }  // namespace plimsoll

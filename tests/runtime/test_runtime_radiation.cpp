@@ -31,15 +31,13 @@
 #include <numbers>
 
 namespace plimsoll {
+namespace test_runtime_radiation {
 namespace {
 
 namespace fs = std::filesystem;
 namespace rt = plimsoll_runtime;
 
 constexpr double kWaterDensity = 1000, kGravity = 9.81;
-
-#define EXPECT_CONTAINS(text, part) \
-    EXPECT_NE(std::string(text).find(part), std::string::npos) << (text)
 
 /// A 2 m x 1 m x 2 m box of density 500 (half-immersed; wider than tall, so that it floats
 /// upright: a cube at that density capsizes, and its roll would feed the memory) with radiation
@@ -308,4 +306,5 @@ TEST_F(RuntimeRadiation, AMemoryThatCouldMakeEnergyIsRefusedByItsPath) {
 }
 
 }  // namespace
+}  // namespace test_runtime_radiation
 }  // namespace plimsoll

@@ -29,12 +29,10 @@
 #include <thread>
 
 namespace plimsoll {
+namespace test_runtime_sources {
 namespace {
 
 namespace fs = std::filesystem;
-
-#define EXPECT_CONTAINS(text, part) \
-    EXPECT_NE(std::string(text).find(part), std::string::npos) << (text)
 
 /// Every file under `folder`, by its path inside it.
 std::map<std::string, std::string> readTree(const fs::path& folder) {
@@ -797,4 +795,5 @@ TEST_F(RuntimeSources, BatchGraphStepEqualsOneStepPerBody) {
 }
 
 }  // namespace
+}  // namespace test_runtime_sources
 }  // namespace plimsoll

@@ -24,6 +24,7 @@
 #include <vector>
 
 namespace plimsoll {
+namespace test_primitives {
 namespace {
 
 namespace fs = std::filesystem;
@@ -381,4 +382,5 @@ TEST(Assets, SamplesHaveUvsAndNoNegativeZero) {
 }
 
 }  // namespace
+}  // namespace test_primitives
 }  // namespace plimsoll

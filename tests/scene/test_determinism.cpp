@@ -23,6 +23,7 @@
 #include <string>
 
 namespace plimsoll {
+namespace test_determinism {
 namespace {
 
 /// Simulated seconds per project: every body moves (falls, floods, inflates, rolls) in it.
@@ -99,4 +100,5 @@ INSTANTIATE_TEST_SUITE_P(
     });
 
 }  // namespace
+}  // namespace test_determinism
 }  // namespace plimsoll

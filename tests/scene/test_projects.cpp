@@ -9,6 +9,7 @@
 #include <sstream>
 
 namespace plimsoll {
+namespace test_projects {
 namespace {
 
 namespace fs = std::filesystem;
@@ -139,4 +140,5 @@ TEST(SampleProjects, BalloonLiftGrowsAsItInflates) {
 }
 
 }  // namespace
+}  // namespace test_projects
 }  // namespace plimsoll

@@ -15,6 +15,7 @@
 #include <sstream>
 
 namespace plimsoll {
+namespace test_scene {
 namespace {
 
 namespace fs = std::filesystem;
@@ -138,4 +139,5 @@ TEST(SceneBodies, PartsThatDoNotFitTheDescriptionAreRefused) {
 }
 
 }  // namespace
+}  // namespace test_scene
 }  // namespace plimsoll

@@ -13,6 +13,7 @@
 #include <numbers>
 
 namespace plimsoll {
+namespace test_world {
 namespace {
 
 namespace fs = std::filesystem;
@@ -173,4 +174,5 @@ TEST(WorldDeforming, TheBalloonRecomputesOnlyWhenItsFrameChanges) {
 }
 
 }  // namespace
+}  // namespace test_world
 }  // namespace plimsoll

@@ -8,6 +8,7 @@
 #include <gtest/gtest.h>
 
 namespace plimsoll {
+namespace test_world_external_force {
 namespace {
 
 namespace fs = std::filesystem;
@@ -44,4 +45,5 @@ TEST(WorldExternalForce, AddsItsImpulseToTheMomentaAndCanBeRemoved) {
 }
 
 }  // namespace
+}  // namespace test_world_external_force
 }  // namespace plimsoll

@@ -19,6 +19,7 @@
 #include <numbers>
 
 namespace plimsoll {
+namespace test_world_radiation {
 namespace {
 
 constexpr double kPi = std::numbers::pi;
@@ -270,4 +271,5 @@ TEST(WorldRadiation, ABodyThatDoesNotFloatIsRefused) {
 }
 
 }  // namespace
+}  // namespace test_world_radiation
 }  // namespace plimsoll

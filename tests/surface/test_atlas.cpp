@@ -22,6 +22,7 @@
 #include <string_view>
 
 namespace plimsoll {
+namespace test_atlas {
 namespace {
 
 PhysicsAtlas generateOrFail(const TriangleMesh& mesh, AtlasSettings settings = {}) {
@@ -315,4 +316,5 @@ TEST(Atlas, ProjectBodiesChooseTheirAtlasAndCacheItBesideTheProject) {
 }
 
 }  // namespace
+}  // namespace test_atlas
 }  // namespace plimsoll

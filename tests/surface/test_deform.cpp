@@ -16,6 +16,7 @@
 #include <thread>
 
 namespace plimsoll {
+namespace test_deform {
 namespace {
 
 namespace fs = std::filesystem;
@@ -250,4 +251,5 @@ TEST(MeshFrames, OtherTopologyOrUvsAreRefusedNamingTheFile) {
 }
 
 }  // namespace
+}  // namespace test_deform
 }  // namespace plimsoll

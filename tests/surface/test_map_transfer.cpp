@@ -18,6 +18,7 @@
 #include <random>
 
 namespace plimsoll {
+namespace test_map_transfer {
 namespace {
 
 using Field = std::function<double(const Eigen::Vector3d&)>;
@@ -241,4 +242,5 @@ TEST(MapTransfer, CommandLineGeneratesAnAtlasAndMovesAMapOntoIt) {
 }
 
 }  // namespace
+}  // namespace test_map_transfer
 }  // namespace plimsoll
