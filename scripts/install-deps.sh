@@ -29,7 +29,7 @@ packages=(
   xdotool
   # fuzzing (scripts/fuzz.sh): clang with libFuzzer and the sanitizer runtimes
   clang libclang-rt-14-dev
-  # CI: the minimal configuration (scripts/test-minimal.sh) reuses the full build's objects
+  # builds: a build reuses the objects of the files unchanged since its last run (.ci/run)
   ccache
   # tests: xmllint checks plimsoll export --junit against a JUnit XML Schema
   libxml2-utils
