@@ -12,12 +12,9 @@ set(PLIMSOLL_PCH_COMMON
   <optional> <sstream> <string> <string_view> <unordered_map> <vector>
   <Eigen/Dense> <nlohmann/json.hpp>)
 
-# With them, ccache cannot give the build without OpenCL, CGAL and GUI (scripts/test-minimal.sh)
-# the full build's objects, as it does without them (same preprocessed text): on ccache's count,
-# 105 of its 711 compiles were found. They stay on there too, because a cold CI run is what must
-# fit its time, and once the full build has them, that build compiles whole in a cold run either
-# way: faster with them (1231 s on 2 cores, part of it beside another build, on 2026-12-06). Over
-# the three builds of a cold run they save most in the sanitized one.
+# The two builds of a CI run (the full one, and the one without OpenCL, CGAL and GUI under the
+# sanitizers) compile different code, so ccache gives neither the other's objects with or
+# without them; each compiles whole in a cold run, and faster with them.
 # PLIMSOLL_PRECOMPILED_HEADERS=OFF turns them off.
 option(PLIMSOLL_PRECOMPILED_HEADERS "Precompiled headers for the tests, the CLI and the editor" ON)
 

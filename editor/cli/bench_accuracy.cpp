@@ -254,7 +254,8 @@ BodyRequest requestFor(std::size_t body, const Pose& pose) {
 const OpenClOptions kTimedDevice{.deviceTimings = true};
 
 /// One body on one device: the accuracy sweep, then the timed frames cycling through it.
-Result<AccuracyRow> measureTexture(const BenchMesh& m, const Baked& b, const Device& device, int frames) {
+Result<AccuracyRow> measureTexture(const BenchMesh& m, const Baked& b, const Device& device,
+                                   int frames) {
     Result<std::unique_ptr<BuoyancyBackend>> created = createBuoyancyBackend(device.spec, nullptr, kTimedDevice);
     if (!created) return created.error();
     BuoyancyBackend& backend = **created;
@@ -303,7 +304,8 @@ AccuracyRow measureExact(const BenchMesh& m, int frames) {
 
 /// kBatchBodies copies of one body in one evaluate per frame, each at its own pose of the
 /// sweep (the water level moved into the pose, as all bodies share one water).
-Result<AccuracyRow> measureBatch(const BenchMesh& m, const Baked& b, const Device& device, int frames) {
+Result<AccuracyRow> measureBatch(const BenchMesh& m, const Baked& b, const Device& device,
+                                 int frames) {
     Result<std::unique_ptr<BuoyancyBackend>> created = createBuoyancyBackend(device.spec, nullptr, kTimedDevice);
     if (!created) return created.error();
     BuoyancyBackend& backend = **created;
@@ -397,7 +399,6 @@ std::vector<std::string> tableCells(const AccuracyRow& r) {
             e ? format("%.2e", e->centerOfBuoyancy) : "-",
             e ? format("%.2e", e->torque) : "-"};
 }
-
 
 void printTable(const std::vector<AccuracyRow>& rows) {
     const std::vector<std::string> header = {

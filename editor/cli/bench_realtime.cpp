@@ -116,7 +116,8 @@ struct RealtimeRow {
     std::optional<double> error;
 };
 
-RealtimeRow makeRow(Scenario scenario, const std::string& mesh, const std::string& method, int size, int bodies) {
+RealtimeRow makeRow(Scenario scenario, const std::string& mesh, const std::string& method, int size,
+                    int bodies) {
     RealtimeRow row;
     row.scenario = scenario;
     row.mesh = mesh;
@@ -279,8 +280,9 @@ void printVerdicts(const std::vector<RealtimeRow>& rows) {
     for (Scenario s : {Scenario::RestFlat, Scenario::MovingFlat, Scenario::MovingWaves}) {
         for (const std::string& mesh : {std::string("sphere"), std::string("buoy")}) {
             // Only the pairs this run measured (--scenario, --bench-mesh narrow it).
-            if (std::none_of(rows.begin(), rows.end(),
-                             [&](const RealtimeRow& r) { return r.scenario == s && r.mesh == mesh; }))
+            if (std::none_of(rows.begin(), rows.end(), [&](const RealtimeRow& r) {
+                    return r.scenario == s && r.mesh == mesh;
+                }))
                 continue;
             std::string sentence = std::string(scenarioName(s)) + ", " + mesh + ":";
             for (double tolerance : {1e-2, 1e-3, 1e-4}) {
@@ -531,7 +533,8 @@ int runRealtimeBench(const RealtimeBenchOptions& o) {
                     BuoyancyBackend& backend = **made;
                     std::vector<BodyRequest> requests(bodies);
                     for (int b = 0; b < bodies; ++b) {
-                        requests[b].body = backend.addBody(baked[kRealtimeBatchSize], c.exact.centerOfMass);
+                        requests[b].body =
+                            backend.addBody(baked[kRealtimeBatchSize], c.exact.centerOfMass);
                         requests[b].frame = poses[b % kPoses];
                         // Spread out (the same water everywhere on flat water; other waves on waves).
                         requests[b].frame.pose.translation.x() += 3.0 * (b % 32);

@@ -23,7 +23,6 @@ namespace {
 
 namespace fs = std::filesystem;
 
-
 /// Every model of the folder (the files a README row names; companions such as .mtl aside).
 std::vector<fs::path> realAssets() {
     std::vector<fs::path> files;

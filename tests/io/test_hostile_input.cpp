@@ -67,10 +67,14 @@ TEST(HostileFiles, AFifoIsRefusedByEveryLoaderWithoutBlocking) {
         ASSERT_EQ(::mkfifo(fifo.c_str(), 0600), 0);
         std::string message;
         const std::string n(name);
-        if (n.starts_with("mesh")) message = test::messageOf(loadMesh(fifo));
-        else if (n.ends_with(".plim.json")) message = test::messageOf(loadProject(fifo));
-        else if (n.ends_with(".graph.json")) message = test::messageOf(loadGraph(fifo));
-        else message = test::messageOf(loadPaintedMap(fifo));
+        if (n.starts_with("mesh"))
+            message = test::messageOf(loadMesh(fifo));
+        else if (n.ends_with(".plim.json"))
+            message = test::messageOf(loadProject(fifo));
+        else if (n.ends_with(".graph.json"))
+            message = test::messageOf(loadGraph(fifo));
+        else
+            message = test::messageOf(loadPaintedMap(fifo));
         EXPECT_CONTAINS(message, fifo.string() + ": is a FIFO, not a regular file");
     }
     // A FIFO with no writer blocks an ordinary open forever: these returned at once.
@@ -100,8 +104,10 @@ TEST(HostileFiles, AFifoIsRefusedByEveryLoaderWithoutBlocking) {
 TEST(HostileFiles, ALinkToADeviceIsRefusedAndAPathWithANulByteIsNotCutShort) {
     const fs::path dir = test::freshFolder("hostile", "device");
     fs::create_symlink("/dev/zero", dir / "zero.stl");
-    EXPECT_CONTAINS(test::messageOf(loadMesh(dir / "zero.stl")), "is a character device, not a regular file");
-    EXPECT_CONTAINS(test::messageOf(readWholeFile(dir / "zero.stl", 1000, "kTest")), "character device");
+    EXPECT_CONTAINS(test::messageOf(loadMesh(dir / "zero.stl")),
+                    "is a character device, not a regular file");
+    EXPECT_CONTAINS(test::messageOf(readWholeFile(dir / "zero.stl", 1000, "kTest")),
+                    "character device");
     // "a.obj\0b": a C open would read a.obj.
     test::writeFile(dir / "a.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n");
     const std::string withNul = (dir / "a.obj").string() + std::string(1, '\0') + "b";
@@ -374,7 +380,8 @@ TEST(AssimpGuards, ObjVertexLinesHoldOnlyNumbers) {
     // The OBJ fuzzer's third finding: text after a vertex's number overflowed a buffer in assimp.
     const fs::path dir = test::freshFolder("hostile", "obj_numbers");
     test::writeFile(dir / "text.obj", "v 0.5mtllib missi n\nv 0 0 0\nv 1 0 0\nf 1 2 3\n");
-    EXPECT_CONTAINS(test::messageOf(loadMesh(dir / "text.obj")), "line 1: '0.5mtllib' is not a number");
+    EXPECT_CONTAINS(test::messageOf(loadMesh(dir / "text.obj")),
+                    "line 1: '0.5mtllib' is not a number");
     test::writeFile(dir / "short.obj", "v 0 0\nv 0 0 0\nv 1 0 0\nf 1 2 3\n");
     EXPECT_CONTAINS(test::messageOf(loadMesh(dir / "short.obj")), "line 1: 'v' with 2 numbers");
     test::writeFile(dir / "ok.obj", "v 0 0 0\nv 1e0 0 0\nv 0 1 0\nf 1 2 3\n");
@@ -424,11 +431,15 @@ TEST(AssimpGuards, DeepOrCyclicGltfNodeTreesAreRefused) {
     // 20000 nested nodes overflowed assimp's stack.
     test::writeFile(dir / "deep.gltf", withNodes(chain(20000)));
     EXPECT_CONTAINS(test::messageOf(loadMesh(dir / "deep.gltf")), "kMaxGltfNodeDepth");
-    test::writeFile(dir / "cycle.gltf", withNodes(nlohmann::json::parse(
-                                       R"([{"children": [1]}, {"children": [2], "mesh": 0}, {"children": [1]}])")));
+    test::writeFile(
+        dir / "cycle.gltf",
+        withNodes(nlohmann::json::parse(
+            R"([{"children": [1]}, {"children": [2], "mesh": 0}, {"children": [1]}])")));
     EXPECT_CONTAINS(test::messageOf(loadMesh(dir / "cycle.gltf")), "is its own ancestor");
-    test::writeFile(dir / "dangling.gltf", withNodes(nlohmann::json::parse(R"([{"children": [7], "mesh": 0}])")));
-    EXPECT_CONTAINS(test::messageOf(loadMesh(dir / "dangling.gltf")), "names child 7, not a node of the file");
+    test::writeFile(dir / "dangling.gltf",
+                    withNodes(nlohmann::json::parse(R"([{"children": [7], "mesh": 0}])")));
+    EXPECT_CONTAINS(test::messageOf(loadMesh(dir / "dangling.gltf")),
+                    "names child 7, not a node of the file");
 }
 
 /// A GLB: header, a JSON chunk with `declared` as its length, the JSON itself.
@@ -470,9 +481,8 @@ TEST(AssimpGuards, AnObjByteOrderMarkDoesNotEatTheFirstVertex) {
 TEST(ClearMessages, FailuresNameTheFileTheFieldAndTheRealCause) {
     const fs::path dir = test::freshFolder("hostile", "messages");
     fs::create_directories(dir / "taken");
-    const std::string replaced = test::messageOf(writeFileAtomically(dir / "taken", [](std::ostream& out) {
-        return bool(out << "x");
-    }));
+    const std::string replaced = test::messageOf(
+        writeFileAtomically(dir / "taken", [](std::ostream& out) { return bool(out << "x"); }));
     EXPECT_CONTAINS(replaced, "taken: is a folder, not a regular file: not replaced");
     EXPECT_EQ(replaced.find("Success"), std::string::npos) << replaced;
 
@@ -671,7 +681,8 @@ TEST(AtomicSaves, ExrImagesAreWrittenThroughTheTemporaryNeverAFileSwappedIn) {
         fs::remove(*temp);
         if (hard) fs::create_hard_link(outside, *temp);
         else fs::create_symlink(outside, *temp);
-        EXPECT_CONTAINS(test::messageOf(detail::writeExrFile(*temp, image, target)), "position.exr: ");
+        EXPECT_CONTAINS(test::messageOf(detail::writeExrFile(*temp, image, target)),
+                        "position.exr: ");
         EXPECT_EQ(test::readFile(outside), "someone else's file") << (hard ? "hard link" : "symlink");
         fs::remove(*temp);
     }
@@ -790,7 +801,8 @@ TEST(AtomicSaves, SaveAsNeverReplacesAFileTheProjectReadsAndOthersOnlyWhenForced
     EXPECT_EQ(test::readFile(dir / "box.obj"), mesh);
     // What the editor's Save As asks about first: nothing for a new name, the existing file
     // for another, and a file the project reads is refused before asking.
-    EXPECT_CONTAINS(test::messageOf((*d)->replacedBySaveAs(dir / "box.obj")), "box.obj: is the mesh of body 'box'");
+    EXPECT_CONTAINS(test::messageOf((*d)->replacedBySaveAs(dir / "box.obj")),
+                    "box.obj: is the mesh of body 'box'");
     Result<std::vector<fs::path>> newName = (*d)->replacedBySaveAs(dir / "new.plim.json");
     ASSERT_TRUE(newName.ok()) << newName.error().message;
     EXPECT_TRUE(newName->empty());
@@ -799,7 +811,8 @@ TEST(AtomicSaves, SaveAsNeverReplacesAFileTheProjectReadsAndOthersOnlyWhenForced
     ASSERT_TRUE(replaced.ok()) << replaced.error().message;
     ASSERT_EQ(replaced->size(), 1u);
     EXPECT_EQ(replaced->front().filename(), "other.plim.json");
-    EXPECT_CONTAINS(test::messageOf((*d)->saveAs(dir / "other.plim.json")), "other.plim.json: already exists");
+    EXPECT_CONTAINS(test::messageOf((*d)->saveAs(dir / "other.plim.json")),
+                    "other.plim.json: already exists");
     EXPECT_EQ(test::readFile(dir / "other.plim.json"), "someone's project");
     ASSERT_TRUE((*d)->saveAs(dir / "other.plim.json", true).ok());
     EXPECT_TRUE(loadProject(dir / "other.plim.json").ok());

@@ -61,9 +61,10 @@ TEST(HostileJournal, AJournalNamingFilesElsewhereIsRefusedAndMovesNothing) {
     for (const std::string& base : {other.string() + "/", std::string("../other/")}) {
         SCOPED_TRACE(base);
         test::writeFile(project / ".box.plim.json.journal",
-                   R"({"format": "plimsoll-replace-journal", "files": [{"temp": ")" + base +
-                       R"(.photo.jpg.tmp-abcdef", "target": ")" + base +
-                       R"(photo.jpg", "backup": ")" + base + R"(.notes.txt.previous.tmp-123456"}]})");
+                        R"({"format": "plimsoll-replace-journal", "files": [{"temp": ")" + base +
+                            R"(.photo.jpg.tmp-abcdef", "target": ")" + base +
+                            R"(photo.jpg", "backup": ")" + base +
+                            R"(.notes.txt.previous.tmp-123456"}]})");
         Result<Project> loaded = loadProject(path);
         ASSERT_FALSE(loaded.ok());
         EXPECT_CONTAINS(loaded.error().message, "journal refused");
@@ -74,8 +75,9 @@ TEST(HostileJournal, AJournalNamingFilesElsewhereIsRefusedAndMovesNothing) {
     }
     // Through a link in the project folder to the other one.
     fs::create_directory_symlink(other, project / "maps");
-    test::writeFile(project / ".box.plim.json.journal",
-               R"({"format": "plimsoll-replace-journal", "files": [{"temp": "maps/.photo.jpg.tmp-abcdef", "target": "maps/photo.jpg", "backup": ""}]})");
+    test::writeFile(
+        project / ".box.plim.json.journal",
+        R"({"format": "plimsoll-replace-journal", "files": [{"temp": "maps/.photo.jpg.tmp-abcdef", "target": "maps/photo.jpg", "backup": ""}]})");
     EXPECT_CONTAINS(test::messageOf(loadProject(path)), "not a folder (a link?)");
     EXPECT_EQ(test::readFile(other / "photo.jpg"), "a photograph");
     // A set of files reaching outside the last one's folder is refused before it is written.
@@ -163,7 +165,8 @@ TEST(HostileExport, ALoaderDuringReExportsAlwaysFindsACompleteBundle) {
 TEST(HostileExport, AReExportKilledAtAnyStepLeavesACompleteBundle) {
     for (const bool fallback : {false, true}) {
         SCOPED_TRACE(fallback ? "two renames" : "exchange");
-        const fs::path dir = test::freshFolder("hostile3", fallback ? "kill_fallback" : "kill_exchange");
+        const fs::path dir =
+            test::freshFolder("hostile3", fallback ? "kill_fallback" : "kill_exchange");
         const fs::path projectDir = dir / "project", out = dir / "export";
         fs::create_directories(projectDir);
         Result<Project> a = loadProject(writeBoxProject(projectDir, 500.0));
@@ -249,20 +252,24 @@ TEST(HostileImages, AMapThatIsNotAPngIsRefusedNamingItsRealType) {
         return ~c;
     }();
     for (int i = 0; i < 4; ++i) huge[29 + i] = static_cast<char>(crc >> (24 - 8 * i));
-    EXPECT_CONTAINS(test::messageOf(decodePaintedMap(huge, "perm.png")), "cannot hold the declared image");
+    EXPECT_CONTAINS(test::messageOf(decodePaintedMap(huge, "perm.png")),
+                    "cannot hold the declared image");
 }
 
 // --- depth before parsing, formats by content ------------------------------------------------
 
 TEST(HostileJson, DeepNestingIsRefusedBeforeAnyParser) {
     const std::string deep = "{\"a\": " + std::string(200000, '[') + std::string(200000, ']') + "}";
-    EXPECT_CONTAINS(test::messageOf(checkJsonDepth(deep, "x.json")), "more than the limit kMaxJsonDepth");
+    EXPECT_CONTAINS(test::messageOf(checkJsonDepth(deep, "x.json")),
+                    "more than the limit kMaxJsonDepth");
     EXPECT_TRUE(checkJsonDepth("{\"s\": \"[[[[[[[[\"}", "x.json", 2).ok());  // brackets in strings
     const fs::path dir = test::freshFolder("hostile3", "deep");
     test::writeFile(dir / "p.plim.json", deep);
-    EXPECT_CONTAINS(test::messageOf(loadProject(dir / "p.plim.json")), "p.plim.json: JSON nested more than 128");
+    EXPECT_CONTAINS(test::messageOf(loadProject(dir / "p.plim.json")),
+                    "p.plim.json: JSON nested more than 128");
     test::writeFile(dir / "g.gltf", R"({"asset": {"version": "2.0"}, "nodes": [{"extras": )" +
-                                   std::string(200000, '[') + std::string(200000, ']') + "}]}");
+                                        std::string(200000, '[') + std::string(200000, ']') +
+                                        "}]}");
     EXPECT_CONTAINS(test::messageOf(loadMesh(dir / "g.gltf")), "JSON nested more than 128");
     EXPECT_EQ(boundedExcerpt(std::string(500, 'x') + "\xff", 10), "xxxxxxxxxx...");
     EXPECT_EQ(boundedExcerpt("a\xff" "b"), "a?b");

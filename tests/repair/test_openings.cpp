@@ -169,7 +169,6 @@ TEST(Openings, ClosedSolidsAndShallowDentsHaveNone) {
 
 // --- The shared open boats and bucket -------------------------------------------------------
 
-
 /// Möller-Trumbore: whether the ray from `origin` along `direction` hits triangle (a, b, c).
 bool rayHits(const Eigen::Vector3d& origin, const Eigen::Vector3d& direction, const Eigen::Vector3d& a,
              const Eigen::Vector3d& b, const Eigen::Vector3d& c) {
