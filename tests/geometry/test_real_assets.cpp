@@ -79,10 +79,7 @@ const std::map<std::string, Box>& blenderBounds() {
 
 /// The UnitScaleFactor an ASCII FBX file writes (centimetres per unit), read from its text.
 std::optional<double> asciiUnitScaleFactor(const fs::path& file) {
-    std::ifstream in(file);
-    std::stringstream text;
-    text << in.rdbuf();
-    const std::string all = text.str();
+    const std::string all = test::readFile(file);
     std::smatch match;
     if (!std::regex_search(all, match, std::regex("\"UnitScaleFactor\"[^\\n]*?,\\s*([0-9.eE+-]+)\\s*\\n")))
         return std::nullopt;

@@ -46,9 +46,7 @@ std::map<std::string, std::string> snapshot(const fs::path& dir) {
     std::map<std::string, std::string> files;
     for (const auto& entry : fs::recursive_directory_iterator(dir)) {
         if (!entry.is_regular_file()) continue;
-        std::ifstream in(entry.path(), std::ios::binary);
-        files[fs::relative(entry.path(), dir).generic_string()] =
-            std::string(std::istreambuf_iterator<char>(in), {});
+        files[fs::relative(entry.path(), dir).generic_string()] = test::readFile(entry.path());
     }
     return files;
 }
