@@ -1,6 +1,6 @@
 // The Bullet adapter (engine/adapters/bullet): Plimsoll's water load applied to Bullet rigid
 // bodies each substep, Bullet's collisions. Checked against the runtime's own integrator
-// (plimsoll_body_step), Archimedes' law for a crate on a deck, and a flooding boat that must
+// (plimsoll_instance_step), Archimedes' law for a crate on a deck, and a flooding boat that must
 // end on the sea floor. The bundles are exported by `plimsoll export` from the sample projects.
 #include "plimsoll_bullet.hpp"
 
@@ -64,9 +64,12 @@ protected:
         fs::remove_all(*root_);
         delete root_;
     }
-    /// The bundle of the first body of a sample project.
-    static plimsoll_bundle* load(const std::string& project, const std::string& body) {
-        plimsoll_bundle* b = plimsoll_bundle_load((*root_ / "out" / project / body).string().c_str(), 1);
+    /// The bundle of the first body of a sample project, destroyed when it goes out of scope
+    /// (declared before the bodies made of it, it outlives them).
+    using BundlePtr = std::unique_ptr<plimsoll_bundle, decltype(&plimsoll_bundle_destroy)>;
+    static BundlePtr load(const std::string& project, const std::string& body) {
+        BundlePtr b(plimsoll_bundle_load((*root_ / "out" / project / body).string().c_str(), 1),
+                    &plimsoll_bundle_destroy);
         EXPECT_NE(b, nullptr) << plimsoll_runtime_last_error();
         return b;
     }
@@ -89,16 +92,20 @@ double angleBetween(const double a[4], const double b[4]) {
 }
 
 // A buoy let go 0.3 m high with a 12 degree heel and a spin, alone in the water: under the
-// adapter Bullet integrates Plimsoll's load; the runtime's plimsoll_body_step integrates the
+// adapter Bullet integrates Plimsoll's load; the runtime's plimsoll_instance_step integrates the
 // same load itself. Both are first-order (semi-implicit Euler; Bullet moves the orientation by
 // the exponential map and adds the gyroscopic term implicitly, the runtime integrates angular
 // momentum), in Bullet's float against double: over 3 s at 240 Hz, through the splash and the
 // rolling, the centres of mass stay within 0.5 mm and the orientations within 0.2 degree (about
 // 0.02 mm and 0.04 degree measured: the two differ at second order in dt per step).
 TEST_F(BulletAdapter, AFreeBodyFollowsTheRuntimesOwnIntegrator) {
-    plimsoll_bundle* bullet = load("buoy", "buoy");
-    plimsoll_bundle* alone = load("buoy", "buoy");
-    ASSERT_TRUE(bullet && alone);
+    // One bundle for both bodies: each is an instance of it.
+    const BundlePtr buoy = load("buoy", "buoy");
+    ASSERT_TRUE(buoy);
+    const plimsoll_bundle* bullet = buoy.get();
+    const plimsoll_bundle* alone = bullet;
+    plimsoll_instance* aloneInstance = plimsoll_instance_create(alone);
+    ASSERT_TRUE(aloneInstance) << plimsoll_runtime_last_error();
     const double heel = 12.0 * M_PI / 180.0;
     plimsoll_body_state state = {{{0.0, 0.3, 0.0}, {std::cos(heel / 2), 0.0, 0.0, std::sin(heel / 2)}},
                                  {{0.2, 0.0, -0.1}, {0.0, 0.8, 0.0}}};
@@ -117,7 +124,8 @@ TEST_F(BulletAdapter, AFreeBodyFollowsTheRuntimesOwnIntegrator) {
     const double dt = 1.0 / 240.0;
     double worstPosition = 0, worstAngle = 0, lowest = 1e9;
     for (int step = 0; step < 720; ++step) {
-        ASSERT_EQ(plimsoll_body_step(alone, &state, &water, &fluid, step * dt, dt), 1) << plimsoll_runtime_last_error();
+        ASSERT_EQ(plimsoll_instance_step(aloneInstance, &state, &water, &fluid, step * dt, dt), 1)
+            << plimsoll_runtime_last_error();
         scene.step(dt);
         ASSERT_EQ(harbour.error(), "");
         const plimsoll_pose p = body.pose();
@@ -131,8 +139,7 @@ TEST_F(BulletAdapter, AFreeBodyFollowsTheRuntimesOwnIntegrator) {
     EXPECT_LT(lowest, 0.1);
     EXPECT_LT(worstPosition, 5e-4);
     EXPECT_LT(worstAngle, 0.2 * M_PI / 180.0);
-    plimsoll_bundle_free(bullet);
-    plimsoll_bundle_free(alone);
+    plimsoll_instance_destroy(aloneInstance);
 }
 
 /// Mean height of the body's centre of mass over `seconds` after `settle` seconds.
@@ -152,7 +159,8 @@ double settledHeight(Scene& scene, plimsoll_bullet::FloatingBody& body, double s
 // deck must sink it by m / (rho A_waterplane) = 20 / (1000 x 0.5) = 40 mm (the box is
 // wall-sided), within 2%. Bullet's velocity damping settles both; it moves no equilibrium.
 TEST_F(BulletAdapter, ACrateOnTheDeckDeepensTheDraftByArchimedes) {
-    plimsoll_bundle* box = load("box_half_draft", "box");
+    const BundlePtr owned = load("box_half_draft", "box");
+    const plimsoll_bundle* box = owned.get();
     ASSERT_TRUE(box);
     const plimsoll_mass m = plimsoll_bundle_mass(box);
     ASSERT_NEAR(m.mass, 62.5, 1e-6);
@@ -182,14 +190,14 @@ TEST_F(BulletAdapter, ACrateOnTheDeckDeepensTheDraftByArchimedes) {
     EXPECT_NEAR(before - after, expected, 0.02 * expected);
     // The crate rests on the deck (its bottom on the box's top face).
     EXPECT_NEAR(double(crate->getCenterOfMassPosition().y()), after + 0.125 + 0.15, 5e-3);
-    plimsoll_bundle_free(box);
 }
 
 // The damaged boat floods through its stern; over a 3 m deep sea floor it must sink, land on
 // the floor and rest there (Bullet's contact against the floor, Plimsoll's weight of the
 // water inside against its buoyancy).
 TEST_F(BulletAdapter, AFloodingBoatSinksOntoTheSeaFloorAndRests) {
-    plimsoll_bundle* boat = load("damaged_boat", "boat");
+    const BundlePtr owned = load("damaged_boat", "boat");
+    const plimsoll_bundle* boat = owned.get();
     ASSERT_TRUE(boat);
     ASSERT_GT(plimsoll_graph_node_count(boat), 0u);
     double lo[3], hi[3];
@@ -217,7 +225,9 @@ TEST_F(BulletAdapter, AFloodingBoatSinksOntoTheSeaFloorAndRests) {
     }
     double inside = 0, capacity = 0;
     for (std::size_t n = 0; n < plimsoll_graph_node_count(boat); ++n) {
-        inside += plimsoll_graph_node_water(boat, n);
+        double water = 0;
+        ASSERT_EQ(plimsoll_instance_node_water(body.instance(), n, &water), 1) << plimsoll_runtime_last_error();
+        inside += water;
         capacity += plimsoll_graph_node_capacity(boat, n);
     }
     std::printf("[ adapter  ] flooding boat: on the floor after %.1f s, bottom %.3f m (floor %.1f), "
@@ -227,7 +237,6 @@ TEST_F(BulletAdapter, AFloodingBoatSinksOntoTheSeaFloorAndRests) {
     // It rests because the boat and its water outweigh the water the hull displaces.
     const plimsoll_load& load = body.lastLoad();
     EXPECT_GT(plimsoll_bundle_mass(boat).mass + load.water_mass, 1000.0 * load.forces.submerged_volume);
-    plimsoll_bundle_free(boat);
 }
 
 /// A game's own pre-tick callback: counts its calls and checks the world's user info is still
@@ -247,7 +256,8 @@ void gamePreTick(btDynamicsWorld* world, btScalar) {
 // load adds to it, it does not replace it), and the game's pre-tick callback, set before the
 // Harbour, is still called every substep with the world's user info still the game's.
 TEST_F(BulletAdapter, TheGamesForcesAndTickCallbackAreKept) {
-    plimsoll_bundle* box = load("box_half_draft", "box");
+    const BundlePtr owned = load("box_half_draft", "box");
+    const plimsoll_bundle* box = owned.get();
     ASSERT_TRUE(box);
     const double mass = plimsoll_bundle_mass(box).mass;
     const plimsoll_water water = {0.0, nullptr, nullptr, nullptr};
@@ -299,7 +309,6 @@ TEST_F(BulletAdapter, TheGamesForcesAndTickCallbackAreKept) {
     EXPECT_NEAR(v.x() - waterOnly.x(), thrust * dt / mass, 1e-5);
     EXPECT_NEAR(v.y(), waterOnly.y(), 1e-6);
     EXPECT_EQ(none.calls, 1);
-    plimsoll_bundle_free(box);
 }
 
 }  // namespace

@@ -584,7 +584,7 @@ TEST(Limits, AGraphOfTheMaximumNodeCountExportsAndLoadsInTheRuntime) {
     auto bundle = plimsoll_runtime::loadBundle((dir / "bundle").string(), error);
     ASSERT_TRUE(bundle) << error;
     ASSERT_TRUE(bundle->graph());
-    const plimsoll_runtime::WaterGraph& loaded = *bundle->graph();
+    const plimsoll_runtime::GraphLayout& loaded = *bundle->graph();
     ASSERT_EQ(loaded.nodes().size(), kMaxGraphNodes);
     ASSERT_EQ(loaded.pipes().size(), kMaxGraphNodes - 1);
     EXPECT_EQ(loaded.pipes().back().nodeA, int(kMaxGraphNodes) - 2);

@@ -278,7 +278,9 @@ TEST_F(RuntimeConformance, WaterGraphStepsEqualTheEngine) {
     std::string error;
     std::unique_ptr<rt::Bundle> bundle = rt::loadBundle(e.folder.string(), error);
     ASSERT_TRUE(bundle) << error;
-    rt::WaterGraph* graph = bundle->graph();
+    ASSERT_NE(bundle->graph(), nullptr);
+    rt::Body body(*bundle);
+    rt::WaterGraph* graph = body.graph();
     ASSERT_NE(graph, nullptr);
 
     // The engine's simulation from the same files.
@@ -303,18 +305,16 @@ TEST_F(RuntimeConformance, WaterGraphStepsEqualTheEngine) {
     Result<WaterGraphSimulation> sim = WaterGraphSimulation::create(
         *engineGraph, *textures, sampleAtTexels(*map, *textures, g.permeability), settings);
     ASSERT_TRUE(sim.ok()) << sim.error().message;
-    graph->settings().density = settings.density;
-    graph->settings().viscosity = settings.viscosity;
-    graph->settings().gravity = settings.gravity;
+    graph->setMedium(settings.density, settings.viscosity, settings.gravity);
 
     // The same texel-to-node map and permeable samples.
     const std::vector<std::int32_t> nodes = texelNodeMap(*engineGraph, *textures);
-    ASSERT_EQ(graph->sampleNodes().size(), nodes.size());
-    for (std::size_t i = 0; i < nodes.size(); ++i) ASSERT_EQ(graph->sampleNodes()[i], nodes[i]) << i;
-    ASSERT_EQ(graph->permeableSamples(), sim->samples().size());
+    ASSERT_EQ(graph->layout().sampleNodes().size(), nodes.size());
+    for (std::size_t i = 0; i < nodes.size(); ++i) ASSERT_EQ(graph->layout().sampleNodes()[i], nodes[i]) << i;
+    ASSERT_EQ(graph->layout().permeableSamples(), sim->samples().size());
     // Bundle 1.1 carries texel_nodes.exr: the map above came from it.
     EXPECT_TRUE(bundle->texelNodesFromFile());
-    ASSERT_GT(graph->permeableSamples(), 0u);
+    ASSERT_GT(graph->layout().permeableSamples(), 0u);
 
     // Flooding by the stern on waves, trimmed and heeled, with water already in the stern and
     // the fore hold so the flow between nodes runs from the start.
@@ -358,7 +358,7 @@ TEST_F(RuntimeConformance, WaterGraphStepsEqualTheEngine) {
         sim->step(pose, water, t, dt);
         graph->step(rtPose, rtWater, t, dt);
         for (std::size_t n = 0; n < engineGraph->nodes.size(); ++n) {
-            worstWater = std::max(worstWater, std::abs(graph->nodes()[n].water -
+            worstWater = std::max(worstWater, std::abs(graph->water(n) -
                                                        sim->graph().nodes[n].water) / capacity);
         }
     }
@@ -383,7 +383,7 @@ TEST_F(RuntimeConformance, WaterGraphStepsEqualTheEngine) {
     // rounding where those are zero.
     double waterDifference = 0;
     for (std::size_t n = 0; n < engineGraph->nodes.size(); ++n)
-        waterDifference += std::abs(graph->nodes()[n].water - sim->graph().nodes[n].water);
+        waterDifference += std::abs(graph->water(n) - sim->graph().nodes[n].water);
     EXPECT_NEAR(got.mass, ref.mass, settings.density * waterDifference + 1e-12 * ref.mass);
     EXPECT_LE((eig(got.centerOfMass) - ref.centerOfMass).norm(), 1e-6);
 }

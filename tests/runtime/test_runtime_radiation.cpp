@@ -144,14 +144,16 @@ TEST_F(RuntimeRadiation, AReleasedBoxDecaysWithThePeriodAndDecrementOfItsAAndB) 
     const test::DecayFigures predicted = test::predictedHeaveDecay(fitted, mass, stiffness);
     rt::BodyState state;
     state.pose.position = {0, restHeight - 0.02, 0};
-    rt::RadiationMemory memory(&r);
+    rt::Body body(*bundle);
+    ASSERT_NE(body.radiation(), nullptr);
+    const rt::RadiationMemory& memory = *body.radiation();
     const double dt = 1e-3;
     const int steps = static_cast<int>((test::kSanitizedBuild ? 3 : 6) * predicted.period / dt);
     std::vector<double> offset;
     double previousVelocity = 0, previousEnergy = HUGE_VAL, worstRise = -HUGE_VAL;
     const double scale = 0.5 * stiffness * 0.02 * 0.02;  // the energy the release puts in
     for (int n = 0; n < steps; ++n) {
-        rt::stepBody(*bundle, state, memory, water, fluid, dt * n, dt);
+        rt::stepBody(body, state, water, fluid, dt * n, dt);
         const double y = state.pose.position.y - restHeight, v = state.velocity.linear.y;
         offset.push_back(y);
         if (n > 0 && (v > 0) != (previousVelocity > 0)) {
@@ -197,7 +199,7 @@ TEST_F(RuntimeRadiation, TheCApiStepsBitForBitAsTheCppOneAndRefusesWhatItMust) {
 
     plimsoll_radiation_memory* memory = plimsoll_radiation_memory_create(bundle);
     ASSERT_TRUE(memory) << plimsoll_runtime_last_error();
-    rt::RadiationMemory referenceMemory(&r);
+    rt::Body referenceBody(*reference);
     // Released tilted and moving, so that every mode and the share's changes are exercised.
     plimsoll_body_state state{};
     state.pose.position[1] = 0.3;
@@ -225,15 +227,15 @@ TEST_F(RuntimeRadiation, TheCApiStepsBitForBitAsTheCppOneAndRefusesWhatItMust) {
     for (int n = 0; n < 480; ++n) {
         ASSERT_EQ(plimsoll_body_step_radiating(bundle, &state, memory, &water, &fluid, n * dt, dt), 1)
             << plimsoll_runtime_last_error();
-        rt::stepBody(*reference, s, referenceMemory, cppWater, cppFluid, n * dt, dt);
+        rt::stepBody(referenceBody, s, cppWater, cppFluid, n * dt, dt);
         ASSERT_EQ(state.pose.position[0], s.pose.position.x) << "step " << n;
         ASSERT_EQ(state.pose.position[1], s.pose.position.y) << "step " << n;
         ASSERT_EQ(state.pose.orientation[1], s.pose.orientation.x) << "step " << n;
         ASSERT_EQ(state.velocity.angular[2], s.velocity.angular.z) << "step " << n;
-        ASSERT_EQ(plimsoll_radiation_memory_energy(memory), referenceMemory.energy()) << "step " << n;
-        lowestShare = std::min(lowestShare, referenceMemory.share());
+        ASSERT_EQ(plimsoll_radiation_memory_energy(memory), referenceBody.radiation()->energy()) << "step " << n;
+        lowestShare = std::min(lowestShare, referenceBody.radiation()->share());
     }
-    EXPECT_GT(referenceMemory.energy(), 0.0);
+    EXPECT_GT(referenceBody.radiation()->energy(), 0.0);
     EXPECT_LT(lowestShare, 1.0);  // released above its rest draft: the share grew as it fell in
 
     // The pieces an engine with its own integrator calls.

@@ -23,9 +23,12 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cmath>
 #include <cstdio>
+#include <cstring>
 #include <cstdlib>
 #include <fstream>
+#include <numbers>
 #include <random>
 #include <sstream>
 #include <unistd.h>
@@ -203,9 +206,8 @@ TEST_F(RuntimeTrajectory, EverySampleProjectFollowsTheWorld) {
         ASSERT_TRUE(bundle->world().present);
         EXPECT_EQ(bundle->fluid().density, project.medium.density);
         const std::vector<Frame> world = worldRun(project, frames);
+        // Both runs on one bundle: each Simulation steps its own water from the exported start.
         const std::vector<Frame> same = runtimeRun(*bundle, engineWater(project.water), frames);
-        bundle = rt::loadBundle(folder.string(), error);  // the water graph starts again
-        ASSERT_TRUE(bundle) << error;
         const rt::Water own = bundle->world().water.water();
         const std::vector<Frame> mine = runtimeRun(*bundle, own, frames);
         const Gap g = compare(world, same), h = compare(world, mine);
@@ -264,9 +266,9 @@ TEST_F(RuntimeTrajectory, RestoreAtARandomFrameContinuesBitForBit) {
             ASSERT_EQ(b->stateHash(), hashes[f]) << "frame " << f << " after a restore at " << k;
         }
         EXPECT_EQ(b->centerOfMass().y, a->centerOfMass().y);
-        if (again->graph()) {
-            for (std::size_t n = 0; n < again->graph()->nodes().size(); ++n)
-                EXPECT_EQ(again->graph()->nodes()[n].water, bundle->graph()->nodes()[n].water) << n;
+        if (b->graph()) {
+            for (std::size_t n = 0; n < b->graph()->nodeCount(); ++n)
+                EXPECT_EQ(b->graph()->water(n), a->graph()->water(n)) << n;
         }
         // A damaged snapshot is refused and changes nothing.
         const std::uint64_t before = b->stateHash();
@@ -304,7 +306,7 @@ TEST_F(RuntimeTrajectory, CApiReportsMisuseAndClearsTheError) {
     ASSERT_GT(nodes, 0u);
     EXPECT_EQ(plimsoll_graph_node_water(boat, nodes), 0.0);
     EXPECT_EQ(std::string(plimsoll_runtime_last_error()),
-              "plimsoll_graph_node_water: node " + std::to_string(nodes) + " of " + std::to_string(nodes));
+              "plimsoll_graph_node_water: no such node: " + std::to_string(nodes) + " of " + std::to_string(nodes));
 
     // A water callback giving NaN is an error, not "no water moved".
     const plimsoll_pose pose = {{0.0, -0.3, 0.0}, {1.0, 0.0, 0.0, 0.0}};
@@ -387,6 +389,261 @@ TEST_F(RuntimeTrajectory, FloatBodyWritesTheSimulateColumns) {
                 worst);
     // The flooding bound of EverySampleProjectFollowsTheWorld (1.7e-5 m measured here).
     EXPECT_LE(worst, kFloodingBound);
+}
+
+// ---------------------------------------------------------------------------------------
+// Instances: one loaded bundle, any number of bodies.
+
+/// The runtime's water model behind the C API's callbacks (user points at the model).
+double modelHeight(void* user, double x, double z, double time) {
+    return static_cast<const rt::WaterModel*>(user)->height(x, z, time);
+}
+void modelHeights(void* user, size_t n, const double* x, const double* z, double time, double* out) {
+    for (size_t i = 0; i < n; ++i) out[i] = static_cast<const rt::WaterModel*>(user)->height(x[i], z[i], time);
+}
+plimsoll_water cWater(const rt::WaterModel& model) {
+    plimsoll_water w{};
+    w.level = model.level;
+    if (model.kind == rt::WaterModel::Kind::Flat) return w;
+    w.height = modelHeight;
+    w.heights = modelHeights;
+    w.user = const_cast<rt::WaterModel*>(&model);
+    w.has_bounds = 1;
+    w.min_height = model.minHeight();
+    w.max_height = model.maxHeight();
+    return w;
+}
+
+/// Let go a little above the water with a heel, body i of several a little apart.
+plimsoll_body_state startState(double level, int i) {
+    const double heel = (4.0 + 3.0 * i) * std::numbers::pi / 180.0;
+    return {{{1.5 * i, level + 0.05 + 0.03 * i, -0.7 * i}, {std::cos(heel / 2), std::sin(heel / 2), 0.0, 0.0}},
+            {{0.0, 0.0, 0.0}, {0.0, 0.0, 0.0}}};
+}
+
+using BundleHandle = std::unique_ptr<plimsoll_bundle, decltype(&plimsoll_bundle_destroy)>;
+using InstanceHandle = std::unique_ptr<plimsoll_instance, decltype(&plimsoll_instance_destroy)>;
+
+BundleHandle loadC(const fs::path& folder) {
+    BundleHandle b(plimsoll_bundle_load(folder.string().c_str(), 1), &plimsoll_bundle_destroy);
+    EXPECT_TRUE(b) << plimsoll_runtime_last_error();
+    return b;
+}
+InstanceHandle instanceOf(const plimsoll_bundle* bundle) {
+    InstanceHandle i(plimsoll_instance_create(bundle), &plimsoll_instance_destroy);
+    EXPECT_TRUE(i) << plimsoll_runtime_last_error();
+    return i;
+}
+
+bool sameBits(const plimsoll_body_state& a, const plimsoll_body_state& b) {
+    return std::memcmp(&a, &b, sizeof a) == 0;
+}
+
+// Three boats of one bundle step exactly as three boats that were each loaded on their own
+// (the 1.x way): the same water in every node, the same loads, bit for bit; and the bundle's
+// own water (what the 1.x calls step) stays as exported.
+TEST_F(RuntimeTrajectory, InstancesOfOneBundleStepAsSeparateLoadsDid) {
+    int flooding = 0;
+    for (const Project& project : cases()) {
+        const fs::path folder = exported(project);
+        const BundleHandle shared = loadC(folder);
+        ASSERT_TRUE(shared);
+        const std::size_t nodes = plimsoll_graph_node_count(shared.get());
+        if (nodes == 0) continue;
+        SCOPED_TRACE(project.fileStem);
+        ++flooding;
+        std::string error;
+        const std::unique_ptr<rt::Bundle> cpp = rt::loadBundle(folder.string(), error);
+        ASSERT_TRUE(cpp) << error;
+        const plimsoll_water water = cWater(cpp->world().water);
+        const plimsoll_fluid fluid = plimsoll_bundle_default_fluid(shared.get());
+        std::vector<InstanceHandle> instances;
+        std::vector<BundleHandle> alone;
+        for (int i = 0; i < 3; ++i) {
+            instances.push_back(instanceOf(shared.get()));
+            alone.push_back(loadC(folder));
+        }
+        const double dt = 1.0 / 60.0;
+        double moved = 0;
+        for (int step = 0; step < 240; ++step) {
+            const double t = step * dt;
+            for (int i = 0; i < 3; ++i) {
+                plimsoll_pose pose = startState(cpp->world().water.level, i).pose;
+                pose.position[1] -= 0.1 * (1 + i) + 0.05 * std::sin(2.0 * t + i);
+                const plimsoll_velocity velocity = {{0.0, -0.1 * std::cos(2.0 * t + i), 0.0}, {0.0, 0.0, 0.0}};
+                ASSERT_GE(plimsoll_instance_graph_step(instances[i].get(), &pose, &water, t, dt), 0)
+                    << plimsoll_runtime_last_error();
+                ASSERT_GE(plimsoll_graph_step(alone[i].get(), &pose, &water, t, dt), 0) << plimsoll_runtime_last_error();
+                plimsoll_load a{}, b{};
+                ASSERT_EQ(plimsoll_instance_water_load(instances[i].get(), &pose, &velocity, &water, &fluid, t, dt, &a), 1)
+                    << plimsoll_runtime_last_error();
+                ASSERT_EQ(plimsoll_bundle_water_load(alone[i].get(), &pose, &velocity, &water, &fluid, t, dt, &b), 1);
+                ASSERT_EQ(std::memcmp(&a, &b, sizeof a), 0) << "body " << i << ", step " << step;
+                for (std::size_t n = 0; n < nodes; ++n) {
+                    double mine = -1;
+                    ASSERT_EQ(plimsoll_instance_node_water(instances[i].get(), n, &mine), 1);
+                    ASSERT_EQ(mine, plimsoll_graph_node_water(alone[i].get(), n)) << "body " << i << ", node " << n;
+                    moved = std::max(moved, mine);
+                }
+            }
+        }
+        // Water did come in, and the shared bundle's own water did not move.
+        EXPECT_GT(moved, 0.0);
+        for (std::size_t n = 0; n < nodes; ++n)
+            EXPECT_EQ(plimsoll_graph_node_water(shared.get(), n), cpp->graph()->nodes()[n].water) << n;
+    }
+    EXPECT_GE(flooding, 2);
+}
+
+// An instance's snapshot (its water, random sequence and radiation memory) with the body's
+// state, taken at a random step k and restored into an instance of a bundle loaded again,
+// continues bit for bit: the same state hash and the same body state every step after, for
+// every sample project.
+TEST_F(RuntimeTrajectory, AnInstanceRestoredAtARandomStepContinuesBitForBit) {
+    std::mt19937 rng(20261206);
+    const int steps = 240;
+    for (const Project& project : cases()) {
+        SCOPED_TRACE(project.fileStem);
+        const fs::path folder = exported(project);
+        std::string error;
+        const std::unique_ptr<rt::Bundle> cpp = rt::loadBundle(folder.string(), error);
+        ASSERT_TRUE(cpp) << error;
+        const plimsoll_water water = cWater(cpp->world().water);
+        const BundleHandle first = loadC(folder), second = loadC(folder);
+        ASSERT_TRUE(first && second);
+        const plimsoll_fluid fluid = plimsoll_bundle_default_fluid(first.get());
+        const InstanceHandle a = instanceOf(first.get()), b = instanceOf(second.get());
+        const double dt = 1.0 / 120.0;
+        const int k = std::uniform_int_distribution<int>(1, steps - 1)(rng);
+        plimsoll_body_state state = startState(cpp->world().water.level, 0), saved{};
+        std::vector<std::uint64_t> hashes;
+        std::vector<plimsoll_body_state> states;
+        std::vector<std::uint8_t> snapshot;
+        for (int step = 0; step < steps; ++step) {
+            if (step == k) {
+                std::size_t size = 0;
+                ASSERT_EQ(plimsoll_instance_save(a.get(), nullptr, 0, &size), 1);
+                snapshot.resize(size);
+                ASSERT_EQ(plimsoll_instance_save(a.get(), snapshot.data(), size, &size), 1);
+                saved = state;
+            }
+            ASSERT_EQ(plimsoll_instance_step(a.get(), &state, &water, &fluid, step * dt, dt), 1)
+                << plimsoll_runtime_last_error();
+            hashes.push_back(plimsoll_instance_state_hash(a.get()));
+            states.push_back(state);
+        }
+        if (plimsoll_graph_node_count(first.get()) > 0) EXPECT_NE(hashes[k], hashes.back());
+        ASSERT_EQ(plimsoll_instance_restore(b.get(), snapshot.data(), snapshot.size()), 1)
+            << plimsoll_runtime_last_error();
+        for (int step = k; step < steps; ++step) {
+            ASSERT_EQ(plimsoll_instance_step(b.get(), &saved, &water, &fluid, step * dt, dt), 1);
+            ASSERT_EQ(plimsoll_instance_state_hash(b.get()), hashes[step]) << "step " << step << " after k = " << k;
+            ASSERT_TRUE(sameBits(saved, states[step])) << "step " << step << " after k = " << k;
+        }
+        // A cut snapshot is refused and changes nothing.
+        const std::uint64_t before = plimsoll_instance_state_hash(b.get());
+        EXPECT_EQ(plimsoll_instance_restore(b.get(), snapshot.data(), snapshot.size() - 1), 0);
+        EXPECT_CONTAINS(plimsoll_runtime_last_error(), "plimsoll_instance_restore: snapshot:");
+        EXPECT_EQ(plimsoll_instance_state_hash(b.get()), before);
+    }
+}
+
+// A batch steps its instances with the same bits whatever its thread count and the order of
+// the instances in the call: each body's step reads only its own state and the shared bundle.
+TEST_F(RuntimeTrajectory, ABatchGivesTheSameBitsWhateverItsThreadsAndOrder) {
+    Result<Project> boatProject = loadProject(root() / "projects" / "damaged_boat.plim.json");
+    Result<Project> buoyProject = loadProject(root() / "projects" / "buoy.plim.json");
+    ASSERT_TRUE(boatProject.ok() && buoyProject.ok());
+    const BundleHandle boat = loadC(exported(*boatProject)), buoy = loadC(exported(*buoyProject));
+    ASSERT_TRUE(boat && buoy);
+    rt::WaterModel waves;
+    waves.kind = rt::WaterModel::Kind::Gerstner;
+    waves.waves.resize(2);
+    waves.waves[1].amplitude = 0.05;
+    waves.waves[1].wavelength = 4.0;
+    waves.waves[1].direction[1] = 1.0;
+    const plimsoll_water water = cWater(waves);
+    struct Run {
+        std::vector<std::uint64_t> hashes;
+        std::vector<plimsoll_body_state> states;
+    };
+    constexpr int kBodies = 9;
+    auto run = [&](int threads, bool reversed) {
+        plimsoll_batch_desc desc{sizeof(plimsoll_batch_desc), threads, nullptr, nullptr, nullptr, 0};
+        std::unique_ptr<plimsoll_batch, decltype(&plimsoll_batch_destroy)> batch(plimsoll_batch_create(&desc),
+                                                                                &plimsoll_batch_destroy);
+        EXPECT_TRUE(batch);
+        std::vector<InstanceHandle> owned;
+        std::vector<plimsoll_body_state> states;
+        for (int i = 0; i < kBodies; ++i) {
+            owned.push_back(instanceOf(i % 3 == 2 ? buoy.get() : boat.get()));
+            states.push_back(startState(0.0, i));
+        }
+        std::vector<int> order(kBodies);
+        for (int i = 0; i < kBodies; ++i) order[i] = reversed ? kBodies - 1 - i : i;
+        std::vector<plimsoll_instance*> call(kBodies);
+        std::vector<plimsoll_body_state> callStates(kBodies);
+        for (int step = 0; step < 180; ++step) {
+            for (int i = 0; i < kBodies; ++i) {
+                call[i] = owned[order[i]].get();
+                callStates[i] = states[order[i]];
+            }
+            EXPECT_EQ(plimsoll_batch_instance_step(batch.get(), kBodies, call.data(), callStates.data(), &water, nullptr,
+                                                   step / 120.0, 1.0 / 120.0),
+                      1)
+                << plimsoll_runtime_last_error();
+            for (int i = 0; i < kBodies; ++i) states[order[i]] = callStates[i];
+        }
+        Run r;
+        for (int i = 0; i < kBodies; ++i) r.hashes.push_back(plimsoll_instance_state_hash(owned[i].get()));
+        r.states = states;
+        return r;
+    };
+    const Run serial = run(1, false), parallel = run(4, false), backwards = run(3, true);
+    for (int i = 0; i < kBodies; ++i) {
+        EXPECT_EQ(parallel.hashes[i], serial.hashes[i]) << i;
+        EXPECT_EQ(backwards.hashes[i], serial.hashes[i]) << i;
+        EXPECT_TRUE(sameBits(parallel.states[i], serial.states[i])) << i;
+        EXPECT_TRUE(sameBits(backwards.states[i], serial.states[i])) << i;
+    }
+    // The boats took water and the bodies moved: the comparison is not of untouched states.
+    EXPECT_NE(serial.hashes[0], serial.hashes[1]);
+    EXPECT_NE(serial.states[0].pose.position[1], startState(0.0, 0).pose.position[1]);
+    // One instance twice in one call would race on its state: refused.
+    plimsoll_batch* batch = plimsoll_batch_create(nullptr);
+    const InstanceHandle one = instanceOf(boat.get());
+    plimsoll_instance* twice[2] = {one.get(), one.get()};
+    plimsoll_body_state two[2] = {startState(0, 0), startState(0, 1)};
+    EXPECT_EQ(plimsoll_batch_instance_step(batch, 2, twice, two, &water, nullptr, 0.0, 0.01), 0);
+    EXPECT_CONTAINS(plimsoll_runtime_last_error(), "an instance appears twice");
+    plimsoll_batch_destroy(batch);
+}
+
+// A hundred flooding boats of one bundle hold a tenth or less of what a hundred loads held:
+// the bundle's samples, tiles and graph layout once, each boat only its water.
+TEST_F(RuntimeTrajectory, AHundredFloodingBoatsShareOneBundle) {
+    Result<Project> project = loadProject(root() / "projects" / "damaged_boat.plim.json");
+    ASSERT_TRUE(project.ok());
+    const BundleHandle boat = loadC(exported(*project));
+    ASSERT_TRUE(boat);
+    // One evaluation builds the tiles, which the bundle then holds too.
+    const plimsoll_pose pose = {{0.0, -0.2, 0.0}, {1.0, 0.0, 0.0, 0.0}};
+    const plimsoll_fluid fluid = plimsoll_bundle_default_fluid(boat.get());
+    plimsoll_forces forces{};
+    ASSERT_EQ(plimsoll_bundle_evaluate(boat.get(), &pose, nullptr, nullptr, &fluid, 0.0, &forces), 1);
+    plimsoll_bundle_size size{sizeof(plimsoll_bundle_size)};
+    ASSERT_EQ(plimsoll_bundle_size_query(boat.get(), &size), 1);
+    std::vector<InstanceHandle> fleet;
+    std::uint64_t instances = 0;
+    for (int i = 0; i < 100; ++i) {
+        fleet.push_back(instanceOf(boat.get()));
+        instances += plimsoll_instance_memory_bytes(fleet.back().get());
+    }
+    const std::uint64_t shared = size.memory_bytes + instances, separate = 100 * size.memory_bytes;
+    std::printf("  100 flooding boats: one bundle %.0f kB + 100 instances %.1f kB = %.0f kB; 100 loads %.0f kB\n",
+                size.memory_bytes / 1024.0, instances / 1024.0, shared / 1024.0, separate / 1024.0);
+    EXPECT_GT(instances, 0u);
+    EXPECT_LE(10 * shared, separate);
 }
 
 }  // namespace

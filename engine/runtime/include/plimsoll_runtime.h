@@ -1,7 +1,14 @@
 /* Plimsoll runtime, C API: load a bundle exported by `plimsoll export`, evaluate buoyancy,
- * pressure and drag for a pose, step the body's water graph (docs/bundle.md "Runtime
+ * pressure and drag for a pose, float any number of bodies of it (docs/bundle.md "Runtime
  * library"). Opaque handles; no C++ exception crosses this boundary: a function that can fail
  * returns 0 (or NULL) and plimsoll_runtime_last_error() says why (per thread).
+ *
+ * Asset and instance (since 2.0): a plimsoll_bundle is the loaded shape, immutable and
+ * thread-safe, shared by any number of plimsoll_instance bodies, each of which holds only what
+ * changes as it floats (the water in its compartments, the random sequence that spreads it,
+ * its radiation memory) and can be saved and restored as bytes. The 1.x calls that stepped the
+ * water of the bundle itself are kept, deprecated, as wrappers over one instance the bundle
+ * holds (docs/c-abi.md, "2.0").
  *
  * The ABI rules (what a minor version may change, struct_size fields, threads) are in
  * docs/c-abi.md.
@@ -18,15 +25,28 @@
 /* The version of this header (semantic versioning, docs/c-abi.md): compare it with
  * plimsoll_runtime_version() to find a library older than the header. CMake's project version
  * is read from these lines: they are the one source. */
-#define PLIMSOLL_RUNTIME_VERSION_MAJOR 1
-#define PLIMSOLL_RUNTIME_VERSION_MINOR 5
+#define PLIMSOLL_RUNTIME_VERSION_MAJOR 2
+#define PLIMSOLL_RUNTIME_VERSION_MINOR 0
 #define PLIMSOLL_RUNTIME_VERSION_PATCH 0
+
+/* The 1.x calls 2.0 replaces warn where they are used; define
+ * PLIMSOLL_RUNTIME_NO_DEPRECATION_WARNINGS before including this header to silence them. */
+#if defined(PLIMSOLL_RUNTIME_NO_DEPRECATION_WARNINGS)
+#define PLIMSOLL_RUNTIME_DEPRECATED(replacement)
+#elif defined(__GNUC__) || defined(__clang__)
+#define PLIMSOLL_RUNTIME_DEPRECATED(replacement) __attribute__((deprecated("use " replacement)))
+#elif defined(_MSC_VER)
+#define PLIMSOLL_RUNTIME_DEPRECATED(replacement) __declspec(deprecated("use " replacement))
+#else
+#define PLIMSOLL_RUNTIME_DEPRECATED(replacement)
+#endif
 
 #ifdef __cplusplus
 extern "C" {
 #endif
 
 typedef struct plimsoll_bundle plimsoll_bundle;
+typedef struct plimsoll_instance plimsoll_instance;
 
 typedef struct plimsoll_pose {
     double position[3];     /* world position of the object's origin, m */
@@ -105,9 +125,9 @@ void plimsoll_runtime_bundle_schema(int* major, int* minor);
 /* Loads a bundle folder, checking every file's size and SHA-256 when verify_checksums != 0.
  * NULL on failure. */
 plimsoll_bundle* plimsoll_bundle_load(const char* folder, int verify_checksums);
-/* Frees a bundle (NULL: nothing). plimsoll_bundle_free is the 1.x name, kept as a wrapper
- * until 2.0. */
+/* Frees a bundle (NULL: nothing); its instances and simulations must be destroyed first. */
 void plimsoll_bundle_destroy(plimsoll_bundle* bundle);
+PLIMSOLL_RUNTIME_DEPRECATED("plimsoll_bundle_destroy")
 void plimsoll_bundle_free(plimsoll_bundle* bundle);
 
 /* One file of a bundle in memory: its path inside the bundle ("samples.exr") and bytes,
@@ -147,7 +167,8 @@ plimsoll_bundle* plimsoll_bundle_load_callbacks(const plimsoll_file_callbacks* c
 typedef struct plimsoll_bundle_size {
     size_t struct_size;
     uint64_t file_bytes;    /* what ships: the manifest and every file it lists */
-    uint64_t memory_bytes;  /* what the loaded body holds: sample list and water graph */
+    uint64_t memory_bytes;  /* what the loaded asset holds: sample list, water graph layout and,
+                               once the first evaluation built them, the evaluation tiles */
     size_t samples;         /* entries of the sample list */
     size_t graph_nodes;     /* water graph nodes (0: none) */
 } plimsoll_bundle_size;
@@ -169,24 +190,27 @@ int plimsoll_bundle_evaluate(const plimsoll_bundle* bundle, const plimsoll_pose*
                              const plimsoll_velocity* velocity, const plimsoll_water* water,
                              const plimsoll_fluid* fluid, double time, plimsoll_forces* out);
 
-/* Water graph (all return 0 / do nothing for a body without one). */
+/* The water graph's layout (0 for a body without one): its nodes and their capacities (m^3). */
 size_t plimsoll_graph_node_count(const plimsoll_bundle* bundle);
-double plimsoll_graph_node_water(const plimsoll_bundle* bundle, size_t node);
 double plimsoll_graph_node_capacity(const plimsoll_bundle* bundle, size_t node);
+
+/* 1.x: the water of the one instance the bundle holds (plimsoll_instance_node_water and the
+ * other plimsoll_instance_ calls below replace them). */
+PLIMSOLL_RUNTIME_DEPRECATED("plimsoll_instance_node_water")
+double plimsoll_graph_node_water(const plimsoll_bundle* bundle, size_t node);
+PLIMSOLL_RUNTIME_DEPRECATED("plimsoll_instance_set_node_water")
 int plimsoll_graph_set_node_water(plimsoll_bundle* bundle, size_t node, double water);
-/* The medium inside the body: density (kg/m^3), viscosity (Pa s), gravity (m/s^2). */
+PLIMSOLL_RUNTIME_DEPRECATED("plimsoll_instance_set_medium")
 int plimsoll_graph_set_medium(plimsoll_bundle* bundle, double density, double viscosity,
                               double gravity);
-/* Inflow and outflow (m^3/s) of each node through the permeable surface at this pose;
- * `inflow` and `outflow` hold node_count values each (either may be NULL). */
+PLIMSOLL_RUNTIME_DEPRECATED("plimsoll_instance_graph_inflow")
 int plimsoll_graph_inflow(const plimsoll_bundle* bundle, const plimsoll_pose* pose,
                           const plimsoll_water* water, double time, double* inflow,
                           double* outflow);
-/* One step of dt seconds: exchange with the water outside, then flow between nodes. Returns
- * 1 when water moved, 0 when not, -1 on error. */
+PLIMSOLL_RUNTIME_DEPRECATED("plimsoll_instance_graph_step")
 int plimsoll_graph_step(plimsoll_bundle* bundle, const plimsoll_pose* pose,
                         const plimsoll_water* water, double time, double dt);
-/* The water's mass properties at this orientation (w, x, y, z). */
+PLIMSOLL_RUNTIME_DEPRECATED("plimsoll_instance_water_mass")
 plimsoll_mass plimsoll_graph_water_mass(const plimsoll_bundle* bundle, const double orientation[4]);
 
 /* The object-space box around the sample list (a default collider, a broad-phase bound). */
@@ -207,6 +231,7 @@ typedef struct plimsoll_load {
     plimsoll_forces forces;   /* the evaluation the load was made of */
 } plimsoll_load;
 
+PLIMSOLL_RUNTIME_DEPRECATED("plimsoll_instance_water_load")
 int plimsoll_bundle_water_load(const plimsoll_bundle* bundle, const plimsoll_pose* pose,
                                const plimsoll_velocity* velocity, const plimsoll_water* water,
                                const plimsoll_fluid* fluid, double time, double dt,
@@ -222,6 +247,7 @@ typedef struct plimsoll_body_state {
  * along -y) and the water load change the momenta, then position and orientation move with
  * the new velocities (angular momentum is what is integrated). For engines without physics,
  * and the reference the adapters are tested against. */
+PLIMSOLL_RUNTIME_DEPRECATED("plimsoll_instance_step")
 int plimsoll_body_step(plimsoll_bundle* bundle, plimsoll_body_state* state,
                        const plimsoll_water* water, const plimsoll_fluid* fluid, double time,
                        double dt);
@@ -232,13 +258,14 @@ int plimsoll_body_step(plimsoll_bundle* bundle, plimsoll_body_state* state,
  * steps one body exactly as `plimsoll simulate` does: frames of the project's time step in the
  * World's sub-steps, Archimedes' force on flat water and the pressure integral on waves, the
  * water inside in the mass, inertia and damping, the water graph once a frame. For a game
- * without a physics engine, a server, and to check a bundle against the editor. It steps the
- * bundle's water graph: one simulation per bundle, one thread at a time. */
+ * without a physics engine, a server, and to check a bundle against the editor. Each simulation
+ * steps its own water (since 2.0): any number of them may share a bundle; one thread at a time
+ * per simulation. */
 typedef struct plimsoll_simulation plimsoll_simulation;
 
 /* NULL (and the last error) for a body it does not step: radiation, an integrator other than
  * semi-implicit Euler. The bundle must outlive it. */
-plimsoll_simulation* plimsoll_simulation_create(plimsoll_bundle* bundle);
+plimsoll_simulation* plimsoll_simulation_create(const plimsoll_bundle* bundle);
 void plimsoll_simulation_destroy(plimsoll_simulation* simulation);
 /* One frame (plimsoll_simulation_state's frame_time). water NULL: the bundle's own water. */
 int plimsoll_simulation_advance_frame(plimsoll_simulation* simulation, const plimsoll_water* water);
@@ -286,6 +313,7 @@ int plimsoll_bundle_radiation(const plimsoll_bundle* bundle, plimsoll_radiation_
 /* A radiating body's memory between steps: one per body, used with the bundle it was made for
  * (which must outlive it). NULL when the body has no radiation. */
 typedef struct plimsoll_radiation_memory plimsoll_radiation_memory;
+PLIMSOLL_RUNTIME_DEPRECATED("plimsoll_instance_create (an instance holds its radiation memory)")
 plimsoll_radiation_memory* plimsoll_radiation_memory_create(const plimsoll_bundle* bundle);
 void plimsoll_radiation_memory_destroy(plimsoll_radiation_memory* memory);
 
@@ -302,18 +330,84 @@ typedef struct plimsoll_radiation_load {
     double force[3];             /* N, world axes */
     double torque[3];            /* N m, world axes */
 } plimsoll_radiation_load;
+PLIMSOLL_RUNTIME_DEPRECATED("plimsoll_instance_radiation_begin")
 int plimsoll_radiation_memory_begin(plimsoll_radiation_memory* memory, const plimsoll_pose* pose,
                                     double submerged_volume, plimsoll_radiation_load* out);
+PLIMSOLL_RUNTIME_DEPRECATED("plimsoll_instance_radiation_advance")
 int plimsoll_radiation_memory_advance(plimsoll_radiation_memory* memory, const plimsoll_pose* pose,
                                       const plimsoll_velocity* velocity, double dt);
 /* Energy the filters hold, J: the body's mechanical energy plus this never grows. */
+PLIMSOLL_RUNTIME_DEPRECATED("plimsoll_instance_radiation_energy")
 double plimsoll_radiation_memory_energy(const plimsoll_radiation_memory* memory);
 
 /* plimsoll_body_step with radiation: the added mass in the mass matrix and the memory's load
  * added. */
+PLIMSOLL_RUNTIME_DEPRECATED("plimsoll_instance_step")
 int plimsoll_body_step_radiating(plimsoll_bundle* bundle, plimsoll_body_state* state,
                                  plimsoll_radiation_memory* memory, const plimsoll_water* water,
                                  const plimsoll_fluid* fluid, double time, double dt);
+
+/* ---------------------------------------------------------------------------------------
+ * Instances (since 2.0): one floating body of a shared bundle. An instance holds the water in
+ * its compartments (starting as exported), the random sequence that spreads it and, for a
+ * bundle exported with radiation, its radiation memory: a few hundred bytes for a typical
+ * graph, where the bundle holds the megabytes. The bundle must outlive its instances. One
+ * thread at a time per instance; any number of instances of one bundle on any threads. */
+plimsoll_instance* plimsoll_instance_create(const plimsoll_bundle* bundle);
+void plimsoll_instance_destroy(plimsoll_instance* instance);
+const plimsoll_bundle* plimsoll_instance_bundle(const plimsoll_instance* instance);
+/* Bytes the instance holds (not its bundle). */
+uint64_t plimsoll_instance_memory_bytes(const plimsoll_instance* instance);
+
+/* The instance's water: per node (m^3; the node count and capacities are the bundle's,
+ * plimsoll_graph_node_count), set one node (0..capacity, booked as initial water), the
+ * medium inside (density kg/m^3, viscosity Pa s, gravity m/s^2; the bundle's world by
+ * default). All fail (0 and the error) for a bundle without a water graph or a bad node. */
+int plimsoll_instance_node_water(const plimsoll_instance* instance, size_t node, double* water);
+int plimsoll_instance_set_node_water(plimsoll_instance* instance, size_t node, double water);
+int plimsoll_instance_set_medium(plimsoll_instance* instance, double density, double viscosity,
+                                 double gravity);
+/* Inflow and outflow (m^3/s) of each node through the permeable surface at this pose;
+ * `inflow` and `outflow` hold node_count values each (either may be NULL). The water's
+ * heights are asked once for all permeable points (the `heights` callback when set). */
+int plimsoll_instance_graph_inflow(const plimsoll_instance* instance, const plimsoll_pose* pose,
+                                   const plimsoll_water* water, double time, double* inflow,
+                                   double* outflow);
+/* One step of dt seconds: exchange with the water outside, then flow between nodes. Returns
+ * 1 when water moved, 0 when not (or the bundle has no water graph), -1 on error. */
+int plimsoll_instance_graph_step(plimsoll_instance* instance, const plimsoll_pose* pose,
+                                 const plimsoll_water* water, double time, double dt);
+/* The water's mass properties at this orientation (w, x, y, z), object space. */
+int plimsoll_instance_water_mass(const plimsoll_instance* instance, const double orientation[4],
+                                 plimsoll_mass* out);
+/* What a physics engine applies to the body (as plimsoll_bundle_water_load describes), with
+ * this instance's water inside. */
+int plimsoll_instance_water_load(const plimsoll_instance* instance, const plimsoll_pose* pose,
+                                 const plimsoll_velocity* velocity, const plimsoll_water* water,
+                                 const plimsoll_fluid* fluid, double time, double dt,
+                                 plimsoll_load* out);
+/* One semi-implicit Euler step of a body on its own (plimsoll_body_step's step), with its
+ * radiation when the bundle has it (the added mass in the mass matrix, the memory's load). */
+int plimsoll_instance_step(plimsoll_instance* instance, plimsoll_body_state* state,
+                           const plimsoll_water* water, const plimsoll_fluid* fluid, double time,
+                           double dt);
+/* For an engine with its own integrator and a bundle with radiation: before its step, begin()
+ * (see plimsoll_radiation_load); after it, advance() with the new pose and velocity. Both fail
+ * for a bundle without radiation. energy: J held by the memory (0 without radiation). */
+int plimsoll_instance_radiation_begin(plimsoll_instance* instance, const plimsoll_pose* pose,
+                                      double submerged_volume, plimsoll_radiation_load* out);
+int plimsoll_instance_radiation_advance(plimsoll_instance* instance, const plimsoll_pose* pose,
+                                        const plimsoll_velocity* velocity, double dt);
+double plimsoll_instance_radiation_energy(const plimsoll_instance* instance);
+
+/* A snapshot of everything the instance's next steps depend on besides the pose and velocity
+ * (which the game's physics holds): plimsoll_instance_restore on an instance of the same
+ * bundle continues bit for bit. With buffer NULL (or capacity too small) only *size is set
+ * (and 0 returned when the buffer was too small). The hash is FNV-1a of the snapshot. */
+int plimsoll_instance_save(const plimsoll_instance* instance, void* buffer, size_t capacity,
+                           size_t* size);
+int plimsoll_instance_restore(plimsoll_instance* instance, const void* bytes, size_t size);
+uint64_t plimsoll_instance_state_hash(const plimsoll_instance* instance);
 
 /* ---------------------------------------------------------------------------------------
  * Many bodies in one call. A plimsoll_batch owns a thread pool, or runs on the caller's task
@@ -337,8 +431,8 @@ typedef struct plimsoll_batch plimsoll_batch;
 
 /* desc may be NULL: an own pool of the hardware threads. */
 plimsoll_batch* plimsoll_batch_create(const plimsoll_batch_desc* desc);
-/* plimsoll_batch_free is the 1.x name, kept as a wrapper until 2.0. */
 void plimsoll_batch_destroy(plimsoll_batch* batch);
+PLIMSOLL_RUNTIME_DEPRECATED("plimsoll_batch_destroy")
 void plimsoll_batch_free(plimsoll_batch* batch);
 
 /* plimsoll_bundle_evaluate for bodies[i] at poses[i] into out[i], i < count. velocities may be
@@ -350,18 +444,38 @@ int plimsoll_batch_evaluate(plimsoll_batch* batch, size_t count,
                             const plimsoll_velocity* velocities, const plimsoll_water* water,
                             const plimsoll_fluid* fluid, double time, plimsoll_forces* out);
 
-/* plimsoll_bundle_water_load for every body: what a physics engine applies, for all its
- * floating bodies in one call. Arguments and errors as plimsoll_batch_evaluate. */
+/* 1.x: plimsoll_bundle_water_load and plimsoll_graph_step for every bundle. */
+PLIMSOLL_RUNTIME_DEPRECATED("plimsoll_batch_instance_water_load")
 int plimsoll_batch_water_load(plimsoll_batch* batch, size_t count,
                               const plimsoll_bundle* const* bodies, const plimsoll_pose* poses,
                               const plimsoll_velocity* velocities, const plimsoll_water* water,
                               const plimsoll_fluid* fluid, double time, double dt, plimsoll_load* out);
 
-/* plimsoll_graph_step for every body (each once: a graph's state is its own); moved[i] (may
- * be NULL) is 1 where water moved. Bodies without a water graph are skipped (moved 0). */
+PLIMSOLL_RUNTIME_DEPRECATED("plimsoll_batch_instance_graph_step")
 int plimsoll_batch_graph_step(plimsoll_batch* batch, size_t count, plimsoll_bundle* const* bodies,
                               const plimsoll_pose* poses, const plimsoll_water* water, double time,
                               double dt, int* moved);
+
+/* plimsoll_instance_water_load for every instance: what a physics engine applies, for all its
+ * floating bodies in one call. Arguments and errors as plimsoll_batch_evaluate (fluid NULL:
+ * each bundle's default fluid). */
+int plimsoll_batch_instance_water_load(plimsoll_batch* batch, size_t count,
+                                       const plimsoll_instance* const* instances,
+                                       const plimsoll_pose* poses, const plimsoll_velocity* velocities,
+                                       const plimsoll_water* water, const plimsoll_fluid* fluid,
+                                       double time, double dt, plimsoll_load* out);
+
+/* plimsoll_instance_graph_step for every instance (each at most once per call); moved[i] (may
+ * be NULL) is 1 where water moved. Instances of bundles without a water graph are skipped. */
+int plimsoll_batch_instance_graph_step(plimsoll_batch* batch, size_t count,
+                                       plimsoll_instance* const* instances, const plimsoll_pose* poses,
+                                       const plimsoll_water* water, double time, double dt, int* moved);
+
+/* plimsoll_instance_step for every instance and states[i] (each instance at most once per
+ * call); fluid NULL: each bundle's default fluid. A failing body leaves its state as it was. */
+int plimsoll_batch_instance_step(plimsoll_batch* batch, size_t count, plimsoll_instance* const* instances,
+                                 plimsoll_body_state* states, const plimsoll_water* water,
+                                 const plimsoll_fluid* fluid, double time, double dt);
 
 #ifdef __cplusplus
 }

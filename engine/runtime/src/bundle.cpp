@@ -471,8 +471,7 @@ bool readExrUint(const std::string& path, const std::string& bytes, const std::s
     }
 }
 
-bool readGraph(const std::string& path, const std::string& text, WaterGraph& graph,
-               std::vector<GraphNode>& nodes, std::vector<GraphPipe>& pipes, std::string& error) {
+bool readGraph(const std::string& path, const std::string& text, std::vector<GraphNode>& nodes, std::vector<GraphPipe>& pipes, std::string& error) {
     Value root;
     std::string parseError;
     if (!json::parse(text, root, parseError)) {
@@ -538,7 +537,6 @@ bool readGraph(const std::string& path, const std::string& text, WaterGraph& gra
             return r.fail(at, "its nodes coincide, so it needs a length > 0");
         pipes.push_back(std::move(p));
     }
-    (void)graph;
     return true;
 }
 
@@ -804,7 +802,7 @@ bool loadBundleImpl(const BundleSource& source, Bundle& b, std::string& error, b
     if (graphInfo && !graphInfo->isNull()) {
         const std::string at = "$.water_graph";
         if (!graphInfo->isObject()) return r.fail(at, "expected an object or null");
-        auto graph = std::make_unique<WaterGraph>();
+        auto graph = std::make_unique<GraphLayout>();
         GraphSettings& gs = graph->settings_;
         std::string graphFile, inflow = "linear", flow = "poiseuille";
         double seed = 1;
@@ -835,7 +833,7 @@ bool loadBundleImpl(const BundleSource& source, Bundle& b, std::string& error, b
             return r.fail(at + ".path", "\"" + std::string(graphFile.c_str()) + "\" leaves the bundle");
         const std::string* graphText = read(graphFile, kMaxJsonBytes);
         if (!graphText) return false;
-        if (!readGraph(folder + "/" + graphFile, *graphText, *graph, graph->nodes_, graph->pipes_, error))
+        if (!readGraph(folder + "/" + graphFile, *graphText, graph->nodes_, graph->pipes_, error))
             return false;
 
         // The node each sample feeds: texel_nodes.exr where the bundle has it, for texels with
@@ -892,6 +890,7 @@ bool loadBundleImpl(const BundleSource& source, Bundle& b, std::string& error, b
 
         // Permeability per sample: the painted map at the texel centre, as the engine's
         // sampleAtTexels (bilinear, clamped), times the project's scale.
+        std::vector<GraphLayout::Exchange> exchange;
         const Value* maps = m.find("painted_maps");
         const Value* perm = maps ? maps->find("permeability") : nullptr;
         if (perm && !perm->isNull()) {
@@ -928,11 +927,11 @@ bool loadBundleImpl(const BundleSource& source, Bundle& b, std::string& error, b
                 if (!(k > 0)) continue;
                 const int node = graph->sampleNodes_[i];
                 if (node < 0 || graph->nodes_[node].sealed) continue;
-                graph->exchange_.push_back({b.samples_[i].position, k * b.samples_[i].area,
+                exchange.push_back({b.samples_[i].position, k * b.samples_[i].area,
                                             static_cast<std::uint32_t>(node)});
             }
         }
-        graph->prepare();
+        graph->prepare(std::move(exchange));
         b.graph_ = std::move(graph);
     }
     return true;
@@ -1032,13 +1031,12 @@ std::unique_ptr<Bundle> loadBundleFromMemory(const std::vector<MemoryFile>& file
 
 std::uint64_t Bundle::memoryBytes() const {
     std::uint64_t bytes = sizeof(Bundle) + samples_.capacity() * sizeof(Sample);
-    if (graph_) {
-        const WaterGraph& g = *graph_;
-        bytes += sizeof(WaterGraph) + g.nodes_.capacity() * sizeof(GraphNode) +
-                 g.pipes_.capacity() * sizeof(GraphPipe) + g.sampleNodes_.capacity() * sizeof(int) +
-                 g.exchange_.capacity() * sizeof(WaterGraph::Exchange) + g.stepBytes();
+    if (graph_) bytes += graph_->memoryBytes();
+    if (radiation_) {
+        bytes += sizeof(Radiation);
+        for (const auto& terms : radiation_->memory) bytes += terms.capacity() * sizeof(RadiationTerm);
     }
-    return bytes;
+    return bytes + fastBytes();
 }
 
 Version bundleSchemaVersion() { return {format::kBundleSchemaMajor, format::kBundleSchemaMinor, 0}; }

@@ -4,6 +4,8 @@
 
 #include "plimsoll_runtime/runtime.hpp"
 
+#include "motion.hpp"
+
 #include "plimsoll_eval/tasks.hpp"
 
 #include <algorithm>
@@ -17,8 +19,15 @@
 #include <thread>
 #include <vector>
 
+struct plimsoll_instance {
+    const plimsoll_bundle* bundle;
+    plimsoll_runtime::Body body;
+};
+
 struct plimsoll_bundle {
     std::unique_ptr<plimsoll_runtime::Bundle> bundle;
+    /// The body the deprecated 1.x calls step: before 2.0 the bundle held its water itself.
+    std::unique_ptr<plimsoll_instance> legacy;
 };
 
 struct plimsoll_radiation_memory {
@@ -144,6 +153,9 @@ void toC(const Forces& r, plimsoll_forces& out) {
 
 bool hasGraph(const plimsoll_bundle* b) { return b && b->bundle && b->bundle->graph(); }
 
+/// The 1.x calls' instance of a bundle (null for a null bundle).
+plimsoll_instance* legacyOf(const plimsoll_bundle* b) { return b ? b->legacy.get() : nullptr; }
+
 // Argument checks: a NaN, an Inf or a zero quaternion would flow through the physics and come
 // back as a "successful" NaN force. Each sets the error naming the call and the argument.
 bool allFinite(const double* v, int n) {
@@ -223,11 +235,11 @@ const char* computeForces(const Bundle& bundle, const plimsoll_pose& pose, const
 }
 
 /// plimsoll_bundle_water_load for checked arguments: null, or why the result is refused.
-const char* computeLoad(const Bundle& bundle, const plimsoll_pose& pose, const plimsoll_velocity* velocity,
+const char* computeLoad(const Body& body, const plimsoll_pose& pose, const plimsoll_velocity* velocity,
                         const plimsoll_water* water, const plimsoll_fluid& fluid, double time, double dt,
                         plimsoll_load& out) {
     bool nonFiniteWater = false;
-    const WaterLoad load = waterLoad(bundle, toPose(pose), toVelocity(velocity), toWater(water, &nonFiniteWater),
+    const WaterLoad load = waterLoad(body, toPose(pose), toVelocity(velocity), toWater(water, &nonFiniteWater),
                                      toFluid(fluid), time, dt);
     if (nonFiniteWater) return "the water height or velocity callback returned NaN or Inf";
     copy(load.force, out.force);
@@ -238,29 +250,43 @@ const char* computeLoad(const Bundle& bundle, const plimsoll_pose& pose, const p
     return nullptr;
 }
 
-/// Each body of a batch call: a bundle, a finite pose with a non-zero quaternion, a finite
-/// velocity. The message, naming the body, is only built for one that fails.
-bool checkBodies(const char* call, std::size_t count, const plimsoll_bundle* const* bodies,
-                 const plimsoll_pose* poses, const plimsoll_velocity* velocities) {
+bool present(const plimsoll_bundle* b) { return b && b->bundle; }
+bool present(const plimsoll_instance* i) { return i != nullptr; }
+
+/// Each body of a batch call (a bundle or an instance): present, a finite pose with a non-zero
+/// quaternion, a finite velocity. The message, naming the body, is only built for one that
+/// fails.
+template <class Handle>
+bool checkBodies(const char* call, std::size_t count, const Handle* const* bodies, const plimsoll_pose* poses,
+                 const plimsoll_velocity* velocities) {
     for (std::size_t i = 0; i < count; ++i) {
         const plimsoll_velocity* velocity = velocities ? &velocities[i] : nullptr;
         const double* q = poses[i].orientation;
-        const bool fine = bodies[i] && bodies[i]->bundle && allFinite(poses[i].position, 3) && allFinite(q, 4) &&
+        const bool fine = present(bodies[i]) && allFinite(poses[i].position, 3) && allFinite(q, 4) &&
                           q[0] * q[0] + q[1] * q[1] + q[2] * q[2] + q[3] * q[3] > 1e-12 &&
                           (!velocity || (allFinite(velocity->linear, 3) && allFinite(velocity->angular, 3)));
         if (fine) continue;
         const std::string item = std::string(call) + ": body " + std::to_string(i);
-        if (!bodies[i] || !bodies[i]->bundle) return refuse(item.c_str(), "bundle is NULL");
+        if (!present(bodies[i])) return refuse(item.c_str(), "bundle is NULL");
         return checkEvaluation(item.c_str(), &poses[i], velocity, nullptr);
     }
     return true;
 }
 
+/// No handle twice in one call that changes their state (two workers would race on it).
+template <class Handle>
+bool distinct(const char* call, std::size_t count, const Handle* const* bodies, const char* what) {
+    std::vector<const Handle*> sorted(bodies, bodies + count);
+    std::sort(sorted.begin(), sorted.end());
+    if (std::adjacent_find(sorted.begin(), sorted.end()) != sorted.end()) return refuse(call, what);
+    return true;
+}
+
 /// The arguments every batch evaluation shares, checked on the calling thread.
-bool checkBatch(const char* call, const plimsoll_batch* batch, std::size_t count,
-                const plimsoll_bundle* const* bodies, const plimsoll_pose* poses,
-                const plimsoll_velocity* velocities, const void* out, const plimsoll_water* water,
-                const plimsoll_fluid* fluid, double time) {
+template <class Handle>
+bool checkBatch(const char* call, const plimsoll_batch* batch, std::size_t count, const Handle* const* bodies,
+                const plimsoll_pose* poses, const plimsoll_velocity* velocities, const void* out,
+                const plimsoll_water* water, const plimsoll_fluid* fluid, double time) {
     if (!batch || (count > 0 && (!bodies || !poses || !out)))
         return refuse(call, "batch, bodies, poses or out is NULL");
     if (count > static_cast<std::size_t>(INT32_MAX)) return refuse(call, "more than 2^31 - 1 bodies");
@@ -338,10 +364,11 @@ plimsoll_bundle* loadHandle(const char* call, Load&& load) {
             setError(error);
             return nullptr;
         }
-        auto* handle = new plimsoll_bundle;
+        auto handle = std::make_unique<plimsoll_bundle>();
         handle->bundle = std::move(bundle);
+        handle->legacy.reset(new plimsoll_instance{handle.get(), Body(*handle->bundle)});
         lastError.clear();
-        return handle;
+        return handle.release();
     } catch (const std::exception& e) {
         setError(std::string(call) + ": " + e.what());
         return nullptr;
@@ -490,15 +517,126 @@ size_t plimsoll_graph_node_count(const plimsoll_bundle* bundle) {
     return hasGraph(bundle) ? bundle->bundle->graph()->nodes().size() : 0;
 }
 
+}  // extern "C"
+
+namespace {
+
+/// The instance's water graph and node, or null with the error set (naming `call`).
+const WaterGraph* graphNode(const char* call, const plimsoll_instance* instance, std::size_t node) {
+    if (!instance) {
+        refuse(call, "instance is NULL");
+        return nullptr;
+    }
+    const WaterGraph* graph = instance->body.graph();
+    if (!graph) {
+        refuse(call, "the body has no water graph");
+        return nullptr;
+    }
+    if (node >= graph->nodeCount()) {
+        refuse(call, "no such node: " + std::to_string(node) + " of " + std::to_string(graph->nodeCount()));
+        return nullptr;
+    }
+    return graph;
+}
+
+int nodeWater(const char* call, const plimsoll_instance* instance, std::size_t node, double* water) {
+    if (!water) return refuse(call, "water is NULL");
+    const WaterGraph* graph = graphNode(call, instance, node);
+    if (!graph) return 0;
+    *water = graph->water(node);
+    return 1;
+}
+
+int setNodeWater(const char* call, plimsoll_instance* instance, std::size_t node, double water) {
+    if (!graphNode(call, instance, node)) return 0;
+    if (!(water >= 0) || !(water <= instance->bundle->bundle->graph()->nodes()[node].capacity))
+        return refuse(call, "water must be in 0..the node's capacity");
+    instance->body.graph()->setWater(node, water);
+    return 1;
+}
+
+int setMedium(const char* call, plimsoll_instance* instance, double density, double viscosity, double gravity) {
+    if (!instance) return refuse(call, "instance is NULL");
+    if (!instance->body.graph()) return refuse(call, "the body has no water graph");
+    if (!(density > 0) || !(viscosity > 0) || !(gravity >= 0) || !std::isfinite(density) ||
+        !std::isfinite(viscosity) || !std::isfinite(gravity))
+        return refuse(call, "density and viscosity must be > 0, gravity >= 0");
+    instance->body.graph()->setMedium(density, viscosity, gravity);
+    return 1;
+}
+
+int graphInflow(const char* call, const plimsoll_instance* instance, const plimsoll_pose* pose,
+                const plimsoll_water* water, double time, double* inflow, double* outflow) {
+    try {
+        if (!instance || !instance->body.graph() || !pose) return refuse(call, "no water graph or no pose");
+        if (!checkPose(call, pose) || !checkWater(call, water) || !checkTime(call, time)) return 0;
+        bool nonFinite = false;
+        const NodeInflow r = instance->body.graph()->inflow(toPose(*pose), toWater(water, &nonFinite), time);
+        if (nonFinite) return refuse(call, "the water height callback returned NaN or Inf");
+        for (std::size_t i = 0; i < r.inflow.size(); ++i) {
+            if (inflow) inflow[i] = r.inflow[i];
+            if (outflow) outflow[i] = r.outflow[i];
+        }
+        return 1;
+    } catch (const std::exception& e) {
+        return refuse(call, e.what());
+    }
+}
+
+/// One graph step of checked arguments: 1 moved, 0 not, -1 and the error.
+int graphStep(const char* call, plimsoll_instance* instance, const plimsoll_pose* pose, const plimsoll_water* water,
+              double time, double dt, bool needsGraph) {
+    try {
+        if (!instance || !pose || !(dt >= 0) || !std::isfinite(dt)) {
+            refuse(call, "no instance, no pose, or dt not finite and >= 0");
+            return -1;
+        }
+        if (needsGraph && !instance->body.graph()) {
+            refuse(call, "the body has no water graph");
+            return -1;
+        }
+        if (!checkPose(call, pose) || !checkWater(call, water) || !checkTime(call, time)) return -1;
+        WaterGraph* graph = instance->body.graph();
+        if (!graph) return 0;
+        // A step that meets a NaN height is undone: the state stays as it was.
+        std::vector<std::uint8_t> before;
+        graph->saveState(before);
+        bool nonFinite = false;
+        const bool moved = graph->step(toPose(*pose), toWater(water, &nonFinite), time, dt);
+        if (nonFinite) {
+            std::size_t at = 0;
+            graph->restoreState(before, at);
+            refuse(call, "the water height callback returned NaN or Inf");
+            return -1;
+        }
+        return moved ? 1 : 0;
+    } catch (const std::exception& e) {
+        refuse(call, e.what());
+        return -1;
+    }
+}
+
+int waterMassOf(const char* call, const plimsoll_instance* instance, const double orientation[4], plimsoll_mass* out) {
+    if (!instance || !orientation || !out) return refuse(call, "instance, orientation or out is NULL");
+    if (!instance->body.graph()) return refuse(call, "the body has no water graph");
+    if (!checkOrientation(call, orientation)) return 0;
+    try {
+        *out = toC(instance->body.graph()->waterMass({orientation[0], orientation[1], orientation[2], orientation[3]}));
+        return 1;
+    } catch (const std::exception& e) {
+        return refuse(call, e.what());
+    }
+}
+
+}  // namespace
+
+extern "C" {
+
 double plimsoll_graph_node_water(const plimsoll_bundle* bundle, size_t node) {
     lastError.clear();
-    if (!hasGraph(bundle) || node >= plimsoll_graph_node_count(bundle)) {
-        refuse("plimsoll_graph_node_water", !hasGraph(bundle) ? std::string("the body has no water graph")
-                                                            : "node " + std::to_string(node) + " of " +
-                                                                  std::to_string(plimsoll_graph_node_count(bundle)));
-        return 0.0;
-    }
-    return bundle->bundle->graph()->nodes()[node].water;
+    double water = 0.0;
+    nodeWater("plimsoll_graph_node_water", legacyOf(bundle), node, &water);
+    return water;
 }
 
 double plimsoll_graph_node_capacity(const plimsoll_bundle* bundle, size_t node) {
@@ -514,94 +652,33 @@ double plimsoll_graph_node_capacity(const plimsoll_bundle* bundle, size_t node) 
 
 int plimsoll_graph_set_node_water(plimsoll_bundle* bundle, size_t node, double water) {
     lastError.clear();
-    if (!hasGraph(bundle) || node >= plimsoll_graph_node_count(bundle)) {
-        setError("plimsoll_graph_set_node_water: no such node");
-        return 0;
-    }
-    if (!(water >= 0) || !(water <= plimsoll_graph_node_capacity(bundle, node)))
-        return refuse("plimsoll_graph_set_node_water", "water must be in 0..the node's capacity");
-    bundle->bundle->graph()->setWater(node, water);
-    return 1;
+    return setNodeWater("plimsoll_graph_set_node_water", legacyOf(bundle), node, water);
 }
 
 int plimsoll_graph_set_medium(plimsoll_bundle* bundle, double density, double viscosity,
                               double gravity) {
     lastError.clear();
-    if (!hasGraph(bundle)) {
-        setError("plimsoll_graph_set_medium: the body has no water graph");
-        return 0;
-    }
-    if (!(density > 0) || !(viscosity > 0) || !(gravity >= 0) || !std::isfinite(density) ||
-        !std::isfinite(viscosity) || !std::isfinite(gravity)) {
-        setError("plimsoll_graph_set_medium: density and viscosity must be > 0, gravity >= 0");
-        return 0;
-    }
-    GraphSettings& s = bundle->bundle->graph()->settings();
-    s.density = density;
-    s.viscosity = viscosity;
-    s.gravity = gravity;
-    return 1;
+    return setMedium("plimsoll_graph_set_medium", legacyOf(bundle), density, viscosity, gravity);
 }
 
 int plimsoll_graph_inflow(const plimsoll_bundle* bundle, const plimsoll_pose* pose,
                           const plimsoll_water* water, double time, double* inflow,
                           double* outflow) {
     lastError.clear();
-    try {
-        if (!hasGraph(bundle) || !pose) {
-            setError("plimsoll_graph_inflow: no water graph or no pose");
-            return 0;
-        }
-        constexpr const char* kCall = "plimsoll_graph_inflow";
-        if (!checkPose(kCall, pose) || !checkWater(kCall, water) || !checkTime(kCall, time)) return 0;
-        const NodeInflow r = bundle->bundle->graph()->inflow(toPose(*pose), toWater(water), time);
-        for (std::size_t i = 0; i < r.inflow.size(); ++i) {
-            if (inflow) inflow[i] = r.inflow[i];
-            if (outflow) outflow[i] = r.outflow[i];
-        }
-        return 1;
-    } catch (const std::exception& e) {
-        setError(std::string("plimsoll_graph_inflow: ") + e.what());
-        return 0;
-    }
+    return graphInflow("plimsoll_graph_inflow", legacyOf(bundle), pose, water, time, inflow, outflow);
 }
 
 int plimsoll_graph_step(plimsoll_bundle* bundle, const plimsoll_pose* pose,
                         const plimsoll_water* water, double time, double dt) {
     lastError.clear();
-    try {
-        if (!hasGraph(bundle) || !pose || !(dt >= 0) || !std::isfinite(dt)) {
-            setError("plimsoll_graph_step: no water graph, no pose, or dt not finite and >= 0");
-            return -1;
-        }
-        constexpr const char* kCall = "plimsoll_graph_step";
-        if (!checkPose(kCall, pose) || !checkWater(kCall, water) || !checkTime(kCall, time)) return -1;
-        bool nonFinite = false;
-        const bool moved = bundle->bundle->graph()->step(toPose(*pose), toWater(water, &nonFinite), time, dt);
-        if (nonFinite) {
-            setError("plimsoll_graph_step: the water height callback returned NaN or Inf");
-            return -1;
-        }
-        return moved ? 1 : 0;
-    } catch (const std::exception& e) {
-        setError(std::string("plimsoll_graph_step: ") + e.what());
-        return -1;
-    }
+    return graphStep("plimsoll_graph_step", legacyOf(bundle), pose, water, time, dt, true);
 }
 
 plimsoll_mass plimsoll_graph_water_mass(const plimsoll_bundle* bundle, const double orientation[4]) {
     lastError.clear();
-    if (!hasGraph(bundle) || !orientation) {
-        setError("plimsoll_graph_water_mass: no water graph or orientation is NULL");
-        return plimsoll_mass{};
-    }
-    if (!checkOrientation("plimsoll_graph_water_mass", orientation)) return plimsoll_mass{};
-    try {
-        return toC(bundle->bundle->graph()->waterMass(
-            {orientation[0], orientation[1], orientation[2], orientation[3]}));
-    } catch (const std::exception&) {
-        return plimsoll_mass{};
-    }
+    plimsoll_mass out{};
+    waterMassOf("plimsoll_graph_water_mass", legacyOf(bundle), orientation, &out);
+    return out;
 }
 
 int plimsoll_bundle_bounds(const plimsoll_bundle* bundle, double min[3], double max[3]) {
@@ -619,70 +696,113 @@ int plimsoll_bundle_bounds(const plimsoll_bundle* bundle, double min[3], double 
     return 1;
 }
 
-int plimsoll_bundle_water_load(const plimsoll_bundle* bundle, const plimsoll_pose* pose,
-                               const plimsoll_velocity* velocity, const plimsoll_water* water,
-                               const plimsoll_fluid* fluid, double time, double dt,
-                               plimsoll_load* out) {
-    lastError.clear();
-    constexpr const char* kCall = "plimsoll_bundle_water_load";
-    try {
-        if (!bundle || !pose || !fluid || !out) return refuse(kCall, "a required argument is NULL");
-        if (!checkEvaluation(kCall, pose, velocity, fluid) || !checkWater(kCall, water) ||
-            !checkTime(kCall, time))
-            return 0;
-        if (!(dt > 0) || !std::isfinite(dt)) return refuse(kCall, "dt must be finite and > 0");
-        const char* failure = computeLoad(*bundle->bundle, *pose, velocity, water, *fluid, time, dt, *out);
-        if (failure) return refuse(kCall, failure);
-        return 1;
-    } catch (const std::exception& e) {
-        return refuse(kCall, e.what());
-    }
-}
+}  // extern "C"
 
 namespace {
 
-/// plimsoll_body_step and plimsoll_body_step_radiating: one step, with the memory's radiation
-/// when `memory` is given. The state changes only when the step's result is finite.
-int stepChecked(const char* call, plimsoll_bundle* bundle, plimsoll_body_state* state,
-                plimsoll_radiation_memory* memory, const plimsoll_water* water,
-                const plimsoll_fluid* fluid, double time, double dt) {
+int instanceWaterLoad(const char* call, const plimsoll_instance* instance, const plimsoll_pose* pose,
+                      const plimsoll_velocity* velocity, const plimsoll_water* water, const plimsoll_fluid* fluid,
+                      double time, double dt, plimsoll_load* out) {
     try {
-        if (!bundle || !state || !fluid) return refuse(call, "a required argument is NULL");
+        if (!instance || !pose || !fluid || !out) return refuse(call, "a required argument is NULL");
+        if (!checkEvaluation(call, pose, velocity, fluid) || !checkWater(call, water) || !checkTime(call, time))
+            return 0;
+        if (!(dt > 0) || !std::isfinite(dt)) return refuse(call, "dt must be finite and > 0");
+        const char* failure = computeLoad(instance->body, *pose, velocity, water, *fluid, time, dt, *out);
+        return failure ? refuse(call, failure) : 1;
+    } catch (const std::exception& e) {
+        return refuse(call, e.what());
+    }
+}
+
+/// One step of a body on its own, with `memory`'s radiation (none when null), for checked
+/// arguments: null, or why it was refused. Sets no error (batch workers call it); the state,
+/// the water and the memory change only when the step's result is finite.
+const char* stepInstance(plimsoll_instance& instance, plimsoll_body_state& state, RadiationMemory* memory,
+                         const plimsoll_water* water, const plimsoll_fluid& fluid, double time, double dt) {
+    BodyState s{toPose(state.pose), toVelocity(&state.velocity)};
+    bool nonFiniteWater = false;
+    const std::vector<std::uint8_t> before = instance.body.save();
+    std::optional<RadiationMemory> memoryBefore;
+    if (memory) memoryBefore = *memory;
+    stepBodyWith(instance.body, s, memory, toWater(water, &nonFiniteWater), toFluid(fluid), time, dt);
+    const double next[13] = {s.pose.position.x,    s.pose.position.y,    s.pose.position.z,
+                             s.pose.orientation.w, s.pose.orientation.x, s.pose.orientation.y,
+                             s.pose.orientation.z, s.velocity.linear.x,  s.velocity.linear.y,
+                             s.velocity.linear.z,  s.velocity.angular.x, s.velocity.angular.y,
+                             s.velocity.angular.z};
+    const char* refused = nonFiniteWater ? "the water height or velocity callback returned NaN or Inf"
+                          : !allFinite(next, 13) ? "the new state is not finite (state left as it was)"
+                                                 : nullptr;
+    if (refused) {
+        std::string ignored;
+        instance.body.restore(before, ignored);
+        if (memory) *memory = *memoryBefore;
+        return refused;
+    }
+    copy(s.pose.position, state.pose.position);
+    state.pose.orientation[0] = s.pose.orientation.w;
+    state.pose.orientation[1] = s.pose.orientation.x;
+    state.pose.orientation[2] = s.pose.orientation.y;
+    state.pose.orientation[3] = s.pose.orientation.z;
+    copy(s.velocity.linear, state.velocity.linear);
+    copy(s.velocity.angular, state.velocity.angular);
+    return nullptr;
+}
+
+/// RadiationMemory::begin for checked arguments, into the C struct.
+int radiationBegin(const char* call, RadiationMemory& memory, const plimsoll_pose* pose, double submergedVolume,
+                   plimsoll_radiation_load* out) {
+    if (!checkPose(call, pose)) return 0;
+    if (!(submergedVolume >= 0) || !std::isfinite(submergedVolume))
+        return refuse(call, "submerged_volume must be finite and >= 0");
+    const RadiationLoad load = memory.begin(toPose(*pose), submergedVolume);
+    out->share = load.share;
+    out->previous_share = load.previousShare;
+    for (int i = 0; i < 3; ++i) {
+        for (int j = 0; j < 3; ++j) {
+            out->added_mass[i][j] = load.addedMass[i][j];
+            out->added_inertia[i][j] = load.addedInertia[i][j];
+        }
+    }
+    copy(load.force, out->force);
+    copy(load.torque, out->torque);
+    return 1;
+}
+
+int radiationAdvance(const char* call, RadiationMemory& memory, const plimsoll_pose* pose,
+                     const plimsoll_velocity* velocity, double dt) {
+    if (!checkPose(call, pose)) return 0;
+    if (!allFinite(velocity->linear, 3) || !allFinite(velocity->angular, 3))
+        return refuse(call, "velocity has a NaN or Inf component");
+    if (!(dt > 0) || !std::isfinite(dt)) return refuse(call, "dt must be finite and > 0");
+    memory.advance(toPose(*pose), toVelocity(velocity), dt);
+    return 1;
+}
+
+/// A snapshot into the caller's buffer: *size always, the bytes when they fit.
+int copySnapshot(const char* call, const std::vector<std::uint8_t>& bytes, void* buffer, std::size_t capacity,
+                 std::size_t* size) {
+    *size = bytes.size();
+    if (!buffer) return 1;
+    if (capacity < bytes.size())
+        return refuse(call, "capacity " + std::to_string(capacity) + " is less than the " +
+                                std::to_string(bytes.size()) + " bytes of the snapshot");
+    std::memcpy(buffer, bytes.data(), bytes.size());
+    return 1;
+}
+
+/// The checks of a step call, then the step.
+int stepChecked(const char* call, plimsoll_instance* instance, plimsoll_body_state* state, RadiationMemory* memory,
+                const plimsoll_water* water, const plimsoll_fluid* fluid, double time, double dt) {
+    try {
+        if (!instance || !state || !fluid) return refuse(call, "a required argument is NULL");
         if (!checkEvaluation(call, &state->pose, &state->velocity, fluid) || !checkWater(call, water) ||
             !checkTime(call, time))
             return 0;
         if (!(dt > 0) || !std::isfinite(dt)) return refuse(call, "dt must be finite and > 0");
-        BodyState s{toPose(state->pose), toVelocity(&state->velocity)};
-        bool nonFiniteWater = false;
-        std::optional<RadiationMemory> before;
-        if (memory) {
-            if (memory->bundle != bundle->bundle.get())
-                return refuse(call, "the radiation memory was made for another bundle");
-            before = memory->memory;  // put back if the step is refused
-            stepBody(*bundle->bundle, s, memory->memory, toWater(water, &nonFiniteWater), toFluid(*fluid), time, dt);
-        } else {
-            stepBody(*bundle->bundle, s, toWater(water, &nonFiniteWater), toFluid(*fluid), time, dt);
-        }
-        const double next[13] = {s.pose.position.x, s.pose.position.y, s.pose.position.z,
-                                 s.pose.orientation.w, s.pose.orientation.x, s.pose.orientation.y,
-                                 s.pose.orientation.z, s.velocity.linear.x, s.velocity.linear.y,
-                                 s.velocity.linear.z, s.velocity.angular.x, s.velocity.angular.y,
-                                 s.velocity.angular.z};
-        const char* refused = nonFiniteWater ? "the water height or velocity callback returned NaN or Inf"
-                              : !allFinite(next, 13) ? "the new state is not finite (state left as it was)"
-                                                     : nullptr;
-        if (refused) {
-            if (before) memory->memory = *before;
-            return refuse(call, refused);
-        }
-        copy(s.pose.position, state->pose.position);
-        state->pose.orientation[0] = s.pose.orientation.w;
-        state->pose.orientation[1] = s.pose.orientation.x;
-        state->pose.orientation[2] = s.pose.orientation.y;
-        state->pose.orientation[3] = s.pose.orientation.z;
-        copy(s.velocity.linear, state->velocity.linear);
-        copy(s.velocity.angular, state->velocity.angular);
-        return 1;
+        const char* refused = stepInstance(*instance, *state, memory, water, *fluid, time, dt);
+        return refused ? refuse(call, refused) : 1;
     } catch (const std::exception& e) {
         return refuse(call, e.what());
     }
@@ -690,11 +810,22 @@ int stepChecked(const char* call, plimsoll_bundle* bundle, plimsoll_body_state* 
 
 }  // namespace
 
+extern "C" {
+
+int plimsoll_bundle_water_load(const plimsoll_bundle* bundle, const plimsoll_pose* pose,
+                               const plimsoll_velocity* velocity, const plimsoll_water* water,
+                               const plimsoll_fluid* fluid, double time, double dt,
+                               plimsoll_load* out) {
+    lastError.clear();
+    return instanceWaterLoad("plimsoll_bundle_water_load", legacyOf(bundle), pose, velocity, water, fluid, time, dt,
+                             out);
+}
+
 int plimsoll_body_step(plimsoll_bundle* bundle, plimsoll_body_state* state,
                        const plimsoll_water* water, const plimsoll_fluid* fluid, double time,
                        double dt) {
     lastError.clear();
-    return stepChecked("plimsoll_body_step", bundle, state, nullptr, water, fluid, time, dt);
+    return stepChecked("plimsoll_body_step", legacyOf(bundle), state, nullptr, water, fluid, time, dt);
 }
 
 int plimsoll_body_step_radiating(plimsoll_bundle* bundle, plimsoll_body_state* state,
@@ -703,7 +834,9 @@ int plimsoll_body_step_radiating(plimsoll_bundle* bundle, plimsoll_body_state* s
     lastError.clear();
     constexpr const char* kCall = "plimsoll_body_step_radiating";
     if (!memory) return refuse(kCall, "memory is NULL");
-    return stepChecked(kCall, bundle, state, memory, water, fluid, time, dt);
+    if (bundle && memory->bundle != bundle->bundle.get())
+        return refuse(kCall, "the radiation memory was made for another bundle");
+    return stepChecked(kCall, legacyOf(bundle), state, &memory->memory, water, fluid, time, dt);
 }
 
 int plimsoll_bundle_radiation(const plimsoll_bundle* bundle, plimsoll_radiation_info* out) {
@@ -750,21 +883,7 @@ int plimsoll_radiation_memory_begin(plimsoll_radiation_memory* memory, const pli
     lastError.clear();
     constexpr const char* kCall = "plimsoll_radiation_memory_begin";
     if (!memory || !out) return refuse(kCall, "a required argument is NULL");
-    if (!checkPose(kCall, pose)) return 0;
-    if (!(submerged_volume >= 0) || !std::isfinite(submerged_volume))
-        return refuse(kCall, "submerged_volume must be finite and >= 0");
-    const RadiationLoad load = memory->memory.begin(toPose(*pose), submerged_volume);
-    out->share = load.share;
-    out->previous_share = load.previousShare;
-    for (int i = 0; i < 3; ++i) {
-        for (int j = 0; j < 3; ++j) {
-            out->added_mass[i][j] = load.addedMass[i][j];
-            out->added_inertia[i][j] = load.addedInertia[i][j];
-        }
-    }
-    copy(load.force, out->force);
-    copy(load.torque, out->torque);
-    return 1;
+    return radiationBegin(kCall, memory->memory, pose, submerged_volume, out);
 }
 
 int plimsoll_radiation_memory_advance(plimsoll_radiation_memory* memory, const plimsoll_pose* pose,
@@ -772,12 +891,7 @@ int plimsoll_radiation_memory_advance(plimsoll_radiation_memory* memory, const p
     lastError.clear();
     constexpr const char* kCall = "plimsoll_radiation_memory_advance";
     if (!memory || !velocity) return refuse(kCall, "a required argument is NULL");
-    if (!checkPose(kCall, pose)) return 0;
-    if (!allFinite(velocity->linear, 3) || !allFinite(velocity->angular, 3))
-        return refuse(kCall, "velocity has a NaN or Inf component");
-    if (!(dt > 0) || !std::isfinite(dt)) return refuse(kCall, "dt must be finite and > 0");
-    memory->memory.advance(toPose(*pose), toVelocity(velocity), dt);
-    return 1;
+    return radiationAdvance(kCall, memory->memory, pose, velocity, dt);
 }
 
 double plimsoll_radiation_memory_energy(const plimsoll_radiation_memory* memory) {
@@ -853,9 +967,10 @@ int plimsoll_batch_water_load(plimsoll_batch* batch, size_t count,
         if (!checkBatch(kCall, batch, count, bodies, poses, velocities, out, water, fluid, time)) return 0;
         if (!(dt > 0) || !std::isfinite(dt)) return refuse(kCall, "dt must be finite and > 0");
         return runBatch(*batch, kCall, count, [&](std::size_t i) {
-            const Bundle& b = *bodies[i]->bundle;
-            const plimsoll_fluid f = fluid ? *fluid : defaultFluid(b);
-            return computeLoad(b, poses[i], velocities ? &velocities[i] : nullptr, water, f, time, dt, out[i]);
+            const plimsoll_instance& instance = *bodies[i]->legacy;
+            const plimsoll_fluid f = fluid ? *fluid : defaultFluid(*bodies[i]->bundle);
+            return computeLoad(instance.body, poses[i], velocities ? &velocities[i] : nullptr, water, f, time, dt,
+                               out[i]);
         }) ? 1 : 0;
     } catch (const std::exception& e) {
         return refuse(kCall, e.what());
@@ -873,14 +988,11 @@ int plimsoll_batch_graph_step(plimsoll_batch* batch, size_t count, plimsoll_bund
         if (count > static_cast<size_t>(INT32_MAX)) return refuse(kCall, "more than 2^31 - 1 bodies");
         if (!checkWater(kCall, water) || !checkTime(kCall, time)) return 0;
         if (!(dt >= 0) || !std::isfinite(dt)) return refuse(kCall, "dt must be finite and >= 0");
-        if (!checkBodies(kCall, count, bodies, poses, nullptr)) return 0;
-        // Two items stepping one graph would race on its state.
-        std::vector<const plimsoll_bundle*> sorted(bodies, bodies + count);
-        std::sort(sorted.begin(), sorted.end());
-        if (std::adjacent_find(sorted.begin(), sorted.end()) != sorted.end())
-            return refuse(kCall, "a bundle appears twice (each graph steps once per call)");
+        if (!checkBodies(kCall, count, bodies, poses, nullptr) ||
+            !distinct(kCall, count, bodies, "a bundle appears twice (each graph steps once per call)"))
+            return 0;
         return runBatch(*batch, kCall, count, [&](std::size_t i) -> const char* {
-            WaterGraph* graph = bodies[i]->bundle->graph();
+            WaterGraph* graph = bodies[i]->legacy->body.graph();
             const bool changed = graph && graph->step(toPose(poses[i]), toWater(water), time, dt);
             if (moved) moved[i] = changed ? 1 : 0;
             return nullptr;
@@ -890,9 +1002,83 @@ int plimsoll_batch_graph_step(plimsoll_batch* batch, size_t count, plimsoll_bund
     }
 }
 
+int plimsoll_batch_instance_water_load(plimsoll_batch* batch, size_t count,
+                                       const plimsoll_instance* const* instances,
+                                       const plimsoll_pose* poses, const plimsoll_velocity* velocities,
+                                       const plimsoll_water* water, const plimsoll_fluid* fluid,
+                                       double time, double dt, plimsoll_load* out) {
+    lastError.clear();
+    constexpr const char* kCall = "plimsoll_batch_instance_water_load";
+    try {
+        if (!checkBatch(kCall, batch, count, instances, poses, velocities, out, water, fluid, time)) return 0;
+        if (!(dt > 0) || !std::isfinite(dt)) return refuse(kCall, "dt must be finite and > 0");
+        return runBatch(*batch, kCall, count, [&](std::size_t i) {
+            const plimsoll_instance& instance = *instances[i];
+            const plimsoll_fluid f = fluid ? *fluid : defaultFluid(instance.body.bundle());
+            return computeLoad(instance.body, poses[i], velocities ? &velocities[i] : nullptr, water, f, time, dt,
+                               out[i]);
+        }) ? 1 : 0;
+    } catch (const std::exception& e) {
+        return refuse(kCall, e.what());
+    }
+}
+
+int plimsoll_batch_instance_graph_step(plimsoll_batch* batch, size_t count,
+                                       plimsoll_instance* const* instances, const plimsoll_pose* poses,
+                                       const plimsoll_water* water, double time, double dt, int* moved) {
+    lastError.clear();
+    constexpr const char* kCall = "plimsoll_batch_instance_graph_step";
+    try {
+        if (!batch || (count > 0 && (!instances || !poses)))
+            return refuse(kCall, "batch, instances or poses is NULL");
+        if (count > static_cast<size_t>(INT32_MAX)) return refuse(kCall, "more than 2^31 - 1 bodies");
+        if (!checkWater(kCall, water) || !checkTime(kCall, time)) return 0;
+        if (!(dt >= 0) || !std::isfinite(dt)) return refuse(kCall, "dt must be finite and >= 0");
+        if (!checkBodies(kCall, count, instances, poses, nullptr) ||
+            !distinct(kCall, count, instances, "an instance appears twice (each steps once per call)"))
+            return 0;
+        return runBatch(*batch, kCall, count, [&](std::size_t i) -> const char* {
+            WaterGraph* graph = instances[i]->body.graph();
+            bool nonFinite = false;
+            const bool changed = graph && graph->step(toPose(poses[i]), toWater(water, &nonFinite), time, dt);
+            if (moved) moved[i] = changed ? 1 : 0;
+            return nonFinite ? "the water height callback returned NaN or Inf" : nullptr;
+        }) ? 1 : 0;
+    } catch (const std::exception& e) {
+        return refuse(kCall, e.what());
+    }
+}
+
+int plimsoll_batch_instance_step(plimsoll_batch* batch, size_t count, plimsoll_instance* const* instances,
+                                 plimsoll_body_state* states, const plimsoll_water* water,
+                                 const plimsoll_fluid* fluid, double time, double dt) {
+    lastError.clear();
+    constexpr const char* kCall = "plimsoll_batch_instance_step";
+    try {
+        if (!batch || (count > 0 && (!instances || !states)))
+            return refuse(kCall, "batch, instances or states is NULL");
+        if (count > static_cast<size_t>(INT32_MAX)) return refuse(kCall, "more than 2^31 - 1 bodies");
+        if (!checkWater(kCall, water) || !checkTime(kCall, time) || !checkFluid(kCall, fluid)) return 0;
+        if (!(dt > 0) || !std::isfinite(dt)) return refuse(kCall, "dt must be finite and > 0");
+        for (std::size_t i = 0; i < count; ++i) {
+            const std::string item = std::string(kCall) + ": body " + std::to_string(i);
+            if (!instances[i]) return refuse(item.c_str(), "instance is NULL");
+            if (!checkEvaluation(item.c_str(), &states[i].pose, &states[i].velocity, nullptr)) return 0;
+        }
+        if (!distinct(kCall, count, instances, "an instance appears twice (each steps once per call)")) return 0;
+        return runBatch(*batch, kCall, count, [&](std::size_t i) {
+            plimsoll_instance& instance = *instances[i];
+            const plimsoll_fluid f = fluid ? *fluid : defaultFluid(instance.body.bundle());
+            return stepInstance(instance, states[i], instance.body.radiation(), water, f, time, dt);
+        }) ? 1 : 0;
+    } catch (const std::exception& e) {
+        return refuse(kCall, e.what());
+    }
+}
+
 }  // extern "C"
 
-plimsoll_simulation* plimsoll_simulation_create(plimsoll_bundle* bundle) {
+plimsoll_simulation* plimsoll_simulation_create(const plimsoll_bundle* bundle) {
     lastError.clear();
     constexpr const char* kCall = "plimsoll_simulation_create";
     try {
@@ -964,18 +1150,7 @@ int plimsoll_simulation_save(const plimsoll_simulation* simulation, void* buffer
     constexpr const char* kCall = "plimsoll_simulation_save";
     try {
         if (!simulation || !size) return refuse(kCall, "a required argument is NULL");
-        const std::vector<std::uint8_t> bytes = simulation->simulation->save();
-        *size = bytes.size();
-        if (!buffer) {
-            lastError.clear();
-            return 1;
-        }
-        if (capacity < bytes.size())
-            return refuse(kCall, "capacity " + std::to_string(capacity) + " is less than the " +
-                                     std::to_string(bytes.size()) + " bytes of the snapshot");
-        std::memcpy(buffer, bytes.data(), bytes.size());
-        lastError.clear();
-        return 1;
+        return copySnapshot(kCall, simulation->simulation->save(), buffer, capacity, size);
     } catch (const std::exception& e) {
         return refuse(kCall, e.what());
     }
@@ -1012,3 +1187,153 @@ uint64_t plimsoll_simulation_state_hash(const plimsoll_simulation* simulation) {
         return 0;
     }
 }
+
+extern "C" {
+
+plimsoll_instance* plimsoll_instance_create(const plimsoll_bundle* bundle) {
+    lastError.clear();
+    constexpr const char* kCall = "plimsoll_instance_create";
+    try {
+        if (!bundle || !bundle->bundle) {
+            refuse(kCall, "bundle is NULL");
+            return nullptr;
+        }
+        return new plimsoll_instance{bundle, Body(*bundle->bundle)};
+    } catch (const std::exception& e) {
+        refuse(kCall, e.what());
+        return nullptr;
+    }
+}
+
+void plimsoll_instance_destroy(plimsoll_instance* instance) {
+    // Leaves the last error: freeing what a failed call returned comes before reading why.
+    delete instance;
+}
+
+const plimsoll_bundle* plimsoll_instance_bundle(const plimsoll_instance* instance) {
+    lastError.clear();
+    if (!instance) refuse("plimsoll_instance_bundle", "instance is NULL");
+    return instance ? instance->bundle : nullptr;
+}
+
+uint64_t plimsoll_instance_memory_bytes(const plimsoll_instance* instance) {
+    lastError.clear();
+    if (!instance) {
+        refuse("plimsoll_instance_memory_bytes", "instance is NULL");
+        return 0;
+    }
+    return sizeof(plimsoll_instance) - sizeof(Body) + instance->body.memoryBytes();
+}
+
+int plimsoll_instance_node_water(const plimsoll_instance* instance, size_t node, double* water) {
+    lastError.clear();
+    return nodeWater("plimsoll_instance_node_water", instance, node, water);
+}
+
+int plimsoll_instance_set_node_water(plimsoll_instance* instance, size_t node, double water) {
+    lastError.clear();
+    return setNodeWater("plimsoll_instance_set_node_water", instance, node, water);
+}
+
+int plimsoll_instance_set_medium(plimsoll_instance* instance, double density, double viscosity, double gravity) {
+    lastError.clear();
+    return setMedium("plimsoll_instance_set_medium", instance, density, viscosity, gravity);
+}
+
+int plimsoll_instance_graph_inflow(const plimsoll_instance* instance, const plimsoll_pose* pose,
+                                   const plimsoll_water* water, double time, double* inflow, double* outflow) {
+    lastError.clear();
+    return graphInflow("plimsoll_instance_graph_inflow", instance, pose, water, time, inflow, outflow);
+}
+
+int plimsoll_instance_graph_step(plimsoll_instance* instance, const plimsoll_pose* pose,
+                                 const plimsoll_water* water, double time, double dt) {
+    lastError.clear();
+    return graphStep("plimsoll_instance_graph_step", instance, pose, water, time, dt, false);
+}
+
+int plimsoll_instance_water_mass(const plimsoll_instance* instance, const double orientation[4],
+                                 plimsoll_mass* out) {
+    lastError.clear();
+    return waterMassOf("plimsoll_instance_water_mass", instance, orientation, out);
+}
+
+int plimsoll_instance_water_load(const plimsoll_instance* instance, const plimsoll_pose* pose,
+                                 const plimsoll_velocity* velocity, const plimsoll_water* water,
+                                 const plimsoll_fluid* fluid, double time, double dt, plimsoll_load* out) {
+    lastError.clear();
+    return instanceWaterLoad("plimsoll_instance_water_load", instance, pose, velocity, water, fluid, time, dt, out);
+}
+
+int plimsoll_instance_step(plimsoll_instance* instance, plimsoll_body_state* state, const plimsoll_water* water,
+                           const plimsoll_fluid* fluid, double time, double dt) {
+    lastError.clear();
+    return stepChecked("plimsoll_instance_step", instance, state, instance ? instance->body.radiation() : nullptr,
+                       water, fluid, time, dt);
+}
+
+int plimsoll_instance_radiation_begin(plimsoll_instance* instance, const plimsoll_pose* pose,
+                                      double submerged_volume, plimsoll_radiation_load* out) {
+    lastError.clear();
+    constexpr const char* kCall = "plimsoll_instance_radiation_begin";
+    if (!instance || !out) return refuse(kCall, "a required argument is NULL");
+    if (!instance->body.radiation()) return refuse(kCall, "the body was exported without radiation");
+    return radiationBegin(kCall, *instance->body.radiation(), pose, submerged_volume, out);
+}
+
+int plimsoll_instance_radiation_advance(plimsoll_instance* instance, const plimsoll_pose* pose,
+                                        const plimsoll_velocity* velocity, double dt) {
+    lastError.clear();
+    constexpr const char* kCall = "plimsoll_instance_radiation_advance";
+    if (!instance || !velocity) return refuse(kCall, "a required argument is NULL");
+    if (!instance->body.radiation()) return refuse(kCall, "the body was exported without radiation");
+    return radiationAdvance(kCall, *instance->body.radiation(), pose, velocity, dt);
+}
+
+double plimsoll_instance_radiation_energy(const plimsoll_instance* instance) {
+    lastError.clear();
+    if (!instance) refuse("plimsoll_instance_radiation_energy", "instance is NULL");
+    return instance && instance->body.radiation() ? instance->body.radiation()->energy() : 0.0;
+}
+
+int plimsoll_instance_save(const plimsoll_instance* instance, void* buffer, size_t capacity, size_t* size) {
+    lastError.clear();
+    constexpr const char* kCall = "plimsoll_instance_save";
+    try {
+        if (!instance || !size) return refuse(kCall, "a required argument is NULL");
+        return copySnapshot(kCall, instance->body.save(), buffer, capacity, size);
+    } catch (const std::exception& e) {
+        return refuse(kCall, e.what());
+    }
+}
+
+int plimsoll_instance_restore(plimsoll_instance* instance, const void* bytes, size_t size) {
+    lastError.clear();
+    constexpr const char* kCall = "plimsoll_instance_restore";
+    try {
+        if (!instance || (!bytes && size > 0)) return refuse(kCall, "a required argument is NULL");
+        const auto* p = static_cast<const std::uint8_t*>(bytes);
+        std::string error;
+        if (!instance->body.restore(std::vector<std::uint8_t>(p, p + size), error)) return refuse(kCall, error);
+        return 1;
+    } catch (const std::exception& e) {
+        return refuse(kCall, e.what());
+    }
+}
+
+uint64_t plimsoll_instance_state_hash(const plimsoll_instance* instance) {
+    lastError.clear();
+    constexpr const char* kCall = "plimsoll_instance_state_hash";
+    try {
+        if (!instance) {
+            refuse(kCall, "instance is NULL");
+            return 0;
+        }
+        return instance->body.stateHash();
+    } catch (const std::exception& e) {
+        refuse(kCall, e.what());
+        return 0;
+    }
+}
+
+}  // extern "C"

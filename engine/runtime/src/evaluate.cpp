@@ -54,8 +54,14 @@ const ev::FastBody& Bundle::fastBody() const {
             },
             toEval(mass_.centerOfMass));
         fast_ = std::move(body);
+        fastBuilt_.store(true, std::memory_order_release);
     });
     return *fast_;
+}
+
+std::uint64_t Bundle::fastBytes() const {
+    if (!fastBuilt_.load(std::memory_order_acquire)) return 0;
+    return sizeof(ev::FastBody) + fast_->memoryBytes();
 }
 
 Forces Bundle::evaluate(const Pose& pose, const Velocity& velocity, const Water& water,

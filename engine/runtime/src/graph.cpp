@@ -1,22 +1,30 @@
 // The water graph's simulation: the evaluation core's step (plimsoll_eval/graph.hpp), the one
 // the engine's WaterGraphSimulation compiles, over the bundle's graph and permeable samples.
-// tests/runtime/test_runtime_conformance.cpp steps both side by side.
+// The layout (nodes, pipes, exchange points) is the bundle's and shared; each WaterGraph holds
+// only the state its steps change. tests/runtime/test_runtime_conformance.cpp steps the engine
+// and the runtime side by side.
 #include "plimsoll_runtime/runtime.hpp"
 
+#include "bytes.hpp"
 #include "vec.hpp"
 
 #include "plimsoll_eval/graph.hpp"
 
 #include <cmath>
-#include <cstring>
 
 namespace plimsoll_runtime {
 
 namespace ev = plimsoll_eval;
 
+/// The layout in the step's form: the permeable samples as exchange points and the graph at
+/// its exported water, which every WaterGraph of the bundle starts from.
+struct GraphLayout::Prepared {
+    std::vector<ev::ExchangePoint> points;
+    ev::GraphFlow start;
+};
+
 struct WaterGraph::Step {
     ev::GraphFlow flow;
-    std::vector<ev::ExchangePoint> points;
 };
 
 namespace {
@@ -39,10 +47,11 @@ ev::GraphFlowSettings flowSettings(const GraphSettings& s) {
 
 }  // namespace
 
-WaterGraph::WaterGraph() : step_(std::make_unique<Step>()) {}
-WaterGraph::~WaterGraph() = default;
+GraphLayout::GraphLayout() = default;
+GraphLayout::~GraphLayout() = default;
 
-void WaterGraph::prepare() {
+void GraphLayout::prepare(std::vector<Exchange> exchange) {
+    auto prepared = std::make_unique<Prepared>();
     std::vector<ev::GraphNodeState> nodes;
     nodes.reserve(nodes_.size());
     for (const GraphNode& n : nodes_) {
@@ -54,62 +63,75 @@ void WaterGraph::prepare() {
         pipes.push_back({static_cast<std::uint32_t>(p.nodeA), static_cast<std::uint32_t>(p.nodeB),
                          p.radius, p.length, p.open});
     }
-    step_->flow.reset(std::move(nodes), std::move(pipes), settings_.seed);
-    step_->points.clear();
-    step_->points.reserve(exchange_.size());
-    for (const Exchange& s : exchange_) step_->points.push_back({toEval(s.position), s.weight, s.node});
+    prepared->start.reset(std::move(nodes), std::move(pipes), settings_.seed);
+    prepared->points.reserve(exchange.size());
+    for (const Exchange& s : exchange) prepared->points.push_back({toEval(s.position), s.weight, s.node});
+    prepared_ = std::move(prepared);
 }
 
-void WaterGraph::syncWater() {
-    const std::vector<ev::GraphNodeState>& nodes = step_->flow.nodes();
-    for (std::size_t i = 0; i < nodes.size(); ++i) nodes_[i].water = nodes[i].water;
+std::size_t GraphLayout::permeableSamples() const { return prepared_ ? prepared_->points.size() : 0; }
+
+std::uint64_t GraphLayout::memoryBytes() const {
+    std::uint64_t bytes = sizeof(GraphLayout) + pipes_.capacity() * sizeof(GraphPipe) +
+                          sampleNodes_.capacity() * sizeof(int);
+    for (const GraphNode& n : nodes_) bytes += sizeof(GraphNode) + n.id.capacity() + n.name.capacity();
+    if (prepared_) {
+        bytes += sizeof(Prepared) + prepared_->points.capacity() * sizeof(ev::ExchangePoint) +
+                 prepared_->start.memoryBytes();
+    }
+    return bytes;
 }
 
-std::uint64_t WaterGraph::stepBytes() const {
-    return sizeof(Step) + step_->flow.memoryBytes() +
-           step_->points.capacity() * sizeof(ev::ExchangePoint);
+WaterGraph::WaterGraph(const GraphLayout& layout)
+    : layout_(&layout), settings_(layout.settings()), step_(std::make_unique<Step>()) {
+    step_->flow = layout.prepared_->start;
 }
 
-namespace {
-template <class T>
-void put(std::vector<std::uint8_t>& out, const T& v) {
-    const auto* p = reinterpret_cast<const std::uint8_t*>(&v);
-    out.insert(out.end(), p, p + sizeof(T));
+WaterGraph::WaterGraph(const WaterGraph& other)
+    : layout_(other.layout_), settings_(other.settings_), step_(std::make_unique<Step>(*other.step_)) {}
+
+WaterGraph::~WaterGraph() = default;
+
+std::uint64_t WaterGraph::memoryBytes() const {
+    return sizeof(WaterGraph) + sizeof(Step) + step_->flow.memoryBytes();
 }
-template <class T>
-bool take(const std::vector<std::uint8_t>& in, std::size_t& at, T& v) {
-    if (in.size() < at || in.size() - at < sizeof(T)) return false;
-    std::memcpy(&v, in.data() + at, sizeof(T));
-    at += sizeof(T);
-    return true;
+
+double WaterGraph::water(std::size_t node) const {
+    return node < nodeCount() ? step_->flow.nodes()[node].water : 0.0;
 }
-}  // namespace
+
+void WaterGraph::setMedium(double density, double viscosity, double gravity) {
+    settings_.density = density;
+    settings_.viscosity = viscosity;
+    settings_.gravity = gravity;
+}
 
 void WaterGraph::saveState(std::vector<std::uint8_t>& out) const {
     const ev::GraphFlow::State s = step_->flow.state();
-    put(out, static_cast<std::uint64_t>(s.water.size()));
-    for (double w : s.water) put(out, w);
-    put(out, s.random);
-    put(out, s.totals.entered);
-    put(out, s.totals.left);
-    put(out, s.totals.initial);
-    put(out, s.totals.moved);
+    putBytes(out, static_cast<std::uint64_t>(s.water.size()));
+    for (double w : s.water) putBytes(out, w);
+    putBytes(out, s.random);
+    putBytes(out, s.totals.entered);
+    putBytes(out, s.totals.left);
+    putBytes(out, s.totals.initial);
+    putBytes(out, s.totals.moved);
 }
 
 bool WaterGraph::restoreState(const std::vector<std::uint8_t>& in, std::size_t& at) {
     std::size_t cursor = at;
     std::uint64_t count = 0;
-    if (!take(in, cursor, count) || count != nodes_.size()) return false;
+    if (!takeBytes(in, cursor, count) || count != nodeCount()) return false;
     ev::GraphFlow::State s;
-    s.water.resize(nodes_.size());
-    for (double& w : s.water) {
-        if (!take(in, cursor, w) || !(w >= 0) || !std::isfinite(w)) return false;
+    s.water.resize(nodeCount());
+    for (std::size_t i = 0; i < s.water.size(); ++i) {
+        double& w = s.water[i];
+        if (!takeBytes(in, cursor, w) || !(w >= 0) || !(w <= layout_->nodes()[i].capacity)) return false;
     }
-    if (!take(in, cursor, s.random) || !take(in, cursor, s.totals.entered) || !take(in, cursor, s.totals.left) ||
-        !take(in, cursor, s.totals.initial) || !take(in, cursor, s.totals.moved))
+    if (!takeBytes(in, cursor, s.random) || !takeBytes(in, cursor, s.totals.entered) ||
+        !takeBytes(in, cursor, s.totals.left) || !takeBytes(in, cursor, s.totals.initial) ||
+        !takeBytes(in, cursor, s.totals.moved))
         return false;
     if (!step_->flow.restore(s)) return false;
-    syncWater();
     at = cursor;
     return true;
 }
@@ -119,9 +141,7 @@ double WaterGraph::entered() const { return step_->flow.totals().entered; }
 double WaterGraph::left() const { return step_->flow.totals().left; }
 
 void WaterGraph::setWater(std::size_t node, double water) {
-    if (node >= nodes_.size()) return;
-    step_->flow.setWater(node, water);
-    syncWater();
+    if (node < nodeCount()) step_->flow.setWater(node, water);
 }
 
 double WaterGraph::levelOffset(std::size_t node, double water, const Quat& orientation) const {
@@ -130,14 +150,30 @@ double WaterGraph::levelOffset(std::size_t node, double water, const Quat& orien
 
 NodeInflow WaterGraph::inflow(const Pose& pose, const Water& water, double time) const {
     const ev::Mat3 R = rotation(pose.orientation);
-    std::vector<double> surface;
-    step_->flow.nodeSurfaces(pose.position.y, R, surface);
+    const std::vector<ev::ExchangePoint>& points = layout_->prepared_->points;
+    std::vector<double> nodeSurface;
+    step_->flow.nodeSurfaces(pose.position.y, R, nodeSurface);
+    // The outside surface over every permeable point, asked in one call: a game's water
+    // answers a batch far faster than one point at a time.
+    thread_local std::vector<ev::Vec3> world;
+    thread_local std::vector<double> xs, zs, surface;
+    ev::exchangePositions(points, R, toEval(pose.position), world);
+    surface.resize(points.size());
+    if (water.heights) {
+        xs.resize(points.size());
+        zs.resize(points.size());
+        for (std::size_t i = 0; i < points.size(); ++i) {
+            xs[i] = world[i].x;
+            zs[i] = world[i].z;
+        }
+        if (!points.empty()) water.heights(points.size(), xs.data(), zs.data(), time, surface.data());
+    } else {
+        for (std::size_t i = 0; i < points.size(); ++i) surface[i] = water.heightAt(world[i].x, world[i].z, time);
+    }
     const ev::GraphFlowSettings s = flowSettings(settings_);
     ev::ExchangeRates rates;
-    ev::exchangePass(
-        step_->points, nodes_.size(), R, toEval(pose.position), time, surface.data(),
-        s.torricelli, s.exchangeFactor(),
-        [&water](double x, double z, double t) { return water.heightAt(x, z, t); }, rates);
+    ev::exchangePass(points, world, surface.data(), nodeCount(), nodeSurface.data(), s.torricelli,
+                     s.exchangeFactor(), rates);
     NodeInflow out;
     out.inflow = std::move(rates.inflow);
     out.outflow = std::move(rates.outflow);
@@ -146,19 +182,14 @@ NodeInflow WaterGraph::inflow(const Pose& pose, const Water& water, double time)
 }
 
 bool WaterGraph::exchange(const Pose& pose, const Water& water, double time, double dt) {
-    if (exchange_.empty()) return false;
+    if (layout_->prepared_->points.empty()) return false;
     const NodeInflow rates = inflow(pose, water, time);
-    const bool moved = step_->flow.applyExchange(pose.position.y, rotation(pose.orientation), dt,
-                                                 rates.inflow.data(), rates.outflow.data(),
-                                                 rates.outsideTop.data());
-    syncWater();
-    return moved;
+    return step_->flow.applyExchange(pose.position.y, rotation(pose.orientation), dt, rates.inflow.data(),
+                                     rates.outflow.data(), rates.outsideTop.data());
 }
 
 bool WaterGraph::flowInside(const Quat& orientation, double dt) {
-    const bool moved = step_->flow.flowInside(rotation(orientation), dt, flowSettings(settings_));
-    syncWater();
-    return moved;
+    return step_->flow.flowInside(rotation(orientation), dt, flowSettings(settings_));
 }
 
 bool WaterGraph::step(const Pose& pose, const Water& water, double time, double dt) {

@@ -3,6 +3,8 @@
 // it is tested against.
 #include "plimsoll_runtime/runtime.hpp"
 
+#include "bytes.hpp"
+#include "motion.hpp"
 #include "vec.hpp"
 
 #include "plimsoll_eval/cummins.hpp"
@@ -57,8 +59,9 @@ void moveWith(Pose& pose, const Vec3& center, const Vec3& v, const Vec3& w, cons
 
 }  // namespace
 
-WaterLoad waterLoad(const Bundle& bundle, const Pose& pose, const Velocity& velocity,
-                    const Water& water, const Fluid& fluid, double time, double dt) {
+WaterLoad waterLoad(const Body& instance, const Pose& pose, const Velocity& velocity, const Water& water,
+                    const Fluid& fluid, double time, double dt) {
+    const Bundle& bundle = instance.bundle();
     WaterLoad load;
     load.forces = bundle.evaluate(pose, velocity, water, fluid, time);
     const Forces& f = load.forces;
@@ -76,7 +79,7 @@ WaterLoad waterLoad(const Bundle& bundle, const Pose& pose, const Velocity& velo
     double mass = body.mass, inertia[3][3];
     for (int i = 0; i < 3; ++i)
         for (int j = 0; j < 3; ++j) inertia[i][j] = body.inertia[i][j];
-    if (const WaterGraph* graph = bundle.graph()) {
+    if (const WaterGraph* graph = instance.graph()) {
         const MassProperties inside = graph->waterMass(pose.orientation);
         if (inside.mass > 0) {
             const Vec3 weight{0, -inside.mass * fluid.gravity, 0};
@@ -100,11 +103,14 @@ WaterLoad waterLoad(const Bundle& bundle, const Pose& pose, const Velocity& velo
     return load;
 }
 
-void stepBody(Bundle& bundle, BodyState& state, const Water& water, const Fluid& fluid,
-              double time, double dt) {
-    if (WaterGraph* graph = bundle.graph()) graph->step(state.pose, water, time, dt);
-    const WaterLoad load = waterLoad(bundle, state.pose, state.velocity, water, fluid, time, dt);
-    const MassProperties& body = bundle.mass();
+namespace {
+
+/// A step without radiation.
+void stepRigid(Body& instance, BodyState& state, const Water& water, const Fluid& fluid, double time,
+               double dt) {
+    if (WaterGraph* graph = instance.graph()) graph->step(state.pose, water, time, dt);
+    const WaterLoad load = waterLoad(instance, state.pose, state.velocity, water, fluid, time, dt);
+    const MassProperties& body = instance.bundle().mass();
     double R[3][3];
     rotationMatrix(state.pose.orientation, R);
     const Vec3 center = mul(R, body.centerOfMass) + state.pose.position;
@@ -119,6 +125,8 @@ void stepBody(Bundle& bundle, BodyState& state, const Water& water, const Fluid&
     // The angular velocity that carries L at the new orientation: L is what is conserved.
     state.velocity.angular = worldInertiaSolve(R, body.inertia, L);
 }
+
+}  // namespace
 
 RadiationMemory::RadiationMemory(const Radiation* radiation) : radiation_(radiation) {
     if (!radiation_) return;
@@ -188,10 +196,14 @@ double RadiationMemory::energy() const {
     return e;
 }
 
-void stepBody(Bundle& bundle, BodyState& state, RadiationMemory& memory, const Water& water,
-              const Fluid& fluid, double time, double dt) {
-    if (WaterGraph* graph = bundle.graph()) graph->step(state.pose, water, time, dt);
-    const WaterLoad load = waterLoad(bundle, state.pose, state.velocity, water, fluid, time, dt);
+namespace {
+
+/// A step with the added mass and the memory of `memory`.
+void stepRadiating(Body& instance, BodyState& state, RadiationMemory& memory, const Water& water,
+                   const Fluid& fluid, double time, double dt) {
+    const Bundle& bundle = instance.bundle();
+    if (WaterGraph* graph = instance.graph()) graph->step(state.pose, water, time, dt);
+    const WaterLoad load = waterLoad(instance, state.pose, state.velocity, water, fluid, time, dt);
     const RadiationLoad radiation = memory.begin(state.pose, load.forces.submergedVolume);
     const MassProperties& body = bundle.mass();
     // The mass matrices with the share of the added mass, body axes (translations, rotations).
@@ -225,6 +237,55 @@ void stepBody(Bundle& bundle, BodyState& state, RadiationMemory& memory, const W
     state.velocity.linear = vNext;
     state.velocity.angular = worldInertiaSolve(R, I, L);
     memory.advance(state.pose, state.velocity, dt);
+}
+
+}  // namespace
+
+void stepBodyWith(Body& body, BodyState& state, RadiationMemory* memory, const Water& water, const Fluid& fluid,
+                  double time, double dt) {
+    if (memory) stepRadiating(body, state, *memory, water, fluid, time, dt);
+    else stepRigid(body, state, water, fluid, time, dt);
+}
+
+void stepBody(Body& body, BodyState& state, const Water& water, const Fluid& fluid, double time, double dt) {
+    stepBodyWith(body, state, body.radiation(), water, fluid, time, dt);
+}
+
+void RadiationMemory::saveState(std::vector<std::uint8_t>& out) const {
+    for (const std::vector<Filter>& mode : filters_) {
+        putBytes(out, static_cast<std::uint64_t>(mode.size()));
+        for (const Filter& f : mode) {
+            putBytes(out, f.x);
+            putBytes(out, f.rate);
+        }
+    }
+    putBytes(out, share_);
+    putBytes(out, static_cast<std::uint8_t>(started_ ? 1 : 0));
+}
+
+bool RadiationMemory::restoreState(const std::vector<std::uint8_t>& in, std::size_t& at) {
+    std::size_t cursor = at;
+    std::vector<Filter> filters[6];
+    for (int mode = 0; mode < 6; ++mode) {
+        std::uint64_t count = 0;
+        if (!takeBytes(in, cursor, count) || count != filters_[mode].size()) return false;
+        filters[mode].resize(count);
+        for (Filter& f : filters[mode]) {
+            if (!takeBytes(in, cursor, f.x) || !takeBytes(in, cursor, f.rate) || !std::isfinite(f.x) ||
+                !std::isfinite(f.rate))
+                return false;
+        }
+    }
+    double share = 0;
+    std::uint8_t started = 0;
+    if (!takeBytes(in, cursor, share) || !takeBytes(in, cursor, started) || !(share >= 0 && share <= 1) ||
+        started > 1)
+        return false;
+    for (int mode = 0; mode < 6; ++mode) filters_[mode] = std::move(filters[mode]);
+    share_ = share;
+    started_ = started == 1;
+    at = cursor;
+    return true;
 }
 
 }  // namespace plimsoll_runtime

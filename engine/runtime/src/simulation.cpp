@@ -5,6 +5,7 @@
 // both side by side on every sample project.
 #include "plimsoll_runtime/runtime.hpp"
 
+#include "bytes.hpp"
 #include "vec.hpp"
 
 #include <algorithm>
@@ -174,9 +175,9 @@ Vec3 limited(const Vec3& loss, const Vec3& momentum, double dt) {
 
 }  // namespace
 
-Simulation::Simulation(Bundle& bundle) : bundle_(bundle) {}
+Simulation::Simulation(const Bundle& bundle) : bundle_(bundle), body_(bundle) {}
 
-std::unique_ptr<Simulation> Simulation::create(Bundle& bundle, std::string& error) {
+std::unique_ptr<Simulation> Simulation::create(const Bundle& bundle, std::string& error) {
     const BundleWorld& world = bundle.world();
     if (world.integrator != "semi-implicit-euler") {
         error = bundle.folder() + ": integrator " + world.integrator +
@@ -184,7 +185,7 @@ std::unique_ptr<Simulation> Simulation::create(Bundle& bundle, std::string& erro
         return nullptr;
     }
     if (bundle.radiation()) {
-        error = bundle.folder() + ": the body radiates: step it with stepBody and a RadiationMemory";
+        error = bundle.folder() + ": the body radiates: step it with stepBody on a Body";
         return nullptr;
     }
     if (!(bundle.mass().mass > 0)) {
@@ -204,7 +205,7 @@ std::unique_ptr<Simulation> Simulation::create(Bundle& bundle, std::string& erro
     const Pose& start = world.startPose;
     s->orientation_ = start.orientation;
     s->composedAt_ = start.orientation;
-    if (const WaterGraph* graph = bundle.graph()) {
+    if (const WaterGraph* graph = s->body_.graph()) {
         const MassProperties water = graph->waterMass(start.orientation);
         if (water.mass > 0) s->mass_ = combined(s->hull_, water);
         s->boundingRadius_ += norm(s->mass_.centerOfMass - s->hull_.centerOfMass);
@@ -306,7 +307,7 @@ void Simulation::setMass(const MassProperties& mass) {
 }
 
 void Simulation::stepGraph(const Water& water, double frameTime) {
-    WaterGraph* graph = bundle_.graph();
+    WaterGraph* graph = body_.graph();
     if (!graph) return;
     double R[3][3];
     rotationMatrix(orientation_, R);
@@ -323,7 +324,7 @@ void Simulation::stepGraph(const Water& water, double frameTime) {
 }
 
 void Simulation::composeWater(const Quat& at) {
-    const MassProperties water = bundle_.graph()->waterMass(at);
+    const MassProperties water = body_.graph()->waterMass(at);
     composedAt_ = at;
     setMass(water.mass > 0 ? combined(hull_, water) : hull_);
     boundingRadius_ = hullRadius_ + norm(mass_.centerOfMass - hull_.centerOfMass);
@@ -355,37 +356,21 @@ namespace {
 
 constexpr std::uint64_t kSnapshotMagic = 0x314D49534C4C4D50ull;  // "PMLLSIM1"
 
-void putDoubles(std::vector<std::uint8_t>& out, std::initializer_list<double> values) {
-    for (double v : values) {
-        const auto* p = reinterpret_cast<const std::uint8_t*>(&v);
-        out.insert(out.end(), p, p + sizeof(double));
-    }
-}
-
-bool takeDouble(const std::vector<std::uint8_t>& in, std::size_t& at, double& v) {
-    if (in.size() < at || in.size() - at < sizeof(double)) return false;
-    std::memcpy(&v, in.data() + at, sizeof(double));
-    at += sizeof(double);
-    return true;
-}
-
 }  // namespace
 
 std::vector<std::uint8_t> Simulation::save() const {
     std::vector<std::uint8_t> out;
-    const std::uint64_t magic = kSnapshotMagic, samples = bundle_.samples().size();
-    for (std::uint64_t v : {magic, samples}) {
-        const auto* p = reinterpret_cast<const std::uint8_t*>(&v);
-        out.insert(out.end(), p, p + sizeof(v));
-    }
+    putBytes(out, kSnapshotMagic);
+    putBytes(out, static_cast<std::uint64_t>(bundle_.samples().size()));
     const MassProperties& m = mass_;
-    putDoubles(out, {time_, position_.x, position_.y, position_.z, orientation_.w, orientation_.x, orientation_.y,
+    for (double v : {time_, position_.x, position_.y, position_.z, orientation_.w, orientation_.x, orientation_.y,
                      orientation_.z, linearMomentum_.x, linearMomentum_.y, linearMomentum_.z, angularMomentum_.x,
                      angularMomentum_.y, angularMomentum_.z, m.mass, m.volume, m.centerOfMass.x, m.centerOfMass.y,
                      m.centerOfMass.z, m.inertia[0][0], m.inertia[0][1], m.inertia[0][2], m.inertia[1][0],
                      m.inertia[1][1], m.inertia[1][2], m.inertia[2][0], m.inertia[2][1], m.inertia[2][2],
-                     boundingRadius_, composedAt_.w, composedAt_.x, composedAt_.y, composedAt_.z});
-    if (const WaterGraph* graph = bundle_.graph()) graph->saveState(out);
+                     boundingRadius_, composedAt_.w, composedAt_.x, composedAt_.y, composedAt_.z})
+        putBytes(out, v);
+    if (const WaterGraph* graph = body_.graph()) graph->saveState(out);
     return out;
 }
 
@@ -404,13 +389,13 @@ bool Simulation::restore(const std::vector<std::uint8_t>& bytes, std::string& er
     std::size_t at = 2 * sizeof(std::uint64_t);
     double v[33];
     for (double& d : v) {
-        if (!takeDouble(bytes, at, d) || !std::isfinite(d)) {
+        if (!takeBytes(bytes, at, d) || !std::isfinite(d)) {
             error = "snapshot: truncated or not finite";
             return false;
         }
     }
     // The graph first: it is the part that can still refuse, and nothing may change then.
-    WaterGraph* graph = bundle_.graph();
+    WaterGraph* graph = body_.graph();
     if (graph) {
         const std::vector<std::uint8_t> before = [&] {
             std::vector<std::uint8_t> b;
@@ -446,13 +431,6 @@ bool Simulation::restore(const std::vector<std::uint8_t>& bytes, std::string& er
     return true;
 }
 
-std::uint64_t Simulation::stateHash() const {
-    std::uint64_t h = 0xcbf29ce484222325ull;
-    for (std::uint8_t byte : save()) {
-        h ^= byte;
-        h *= 0x100000001b3ull;
-    }
-    return h;
-}
+std::uint64_t Simulation::stateHash() const { return fnv1a(save()); }
 
 }  // namespace plimsoll_runtime

@@ -5,8 +5,9 @@
 // A FloatingBody is a btRigidBody in the frame Bullet needs (origin at the centre of mass, axes
 // the principal axes of inertia) built from a bundle; a Harbour registers Bullet's pre-tick
 // callback on a world and, before every internal step, steps the bodies' water graphs and
-// computes their water loads in one call each (plimsoll_batch_graph_step,
-// plimsoll_batch_water_load), then applies each load as a central force and a torque.
+// computes their water loads in one call each (plimsoll_batch_instance_graph_step,
+// plimsoll_batch_instance_water_load), then applies each load as impulses of the substep.
+// Each FloatingBody is an instance of a shared bundle: a fleet of one boat loads it once.
 #pragma once
 
 #include "plimsoll_runtime.h"
@@ -23,16 +24,20 @@ class Harbour;
 
 class FloatingBody {
 public:
-    /// A rigid body for `bundle` (not owned; it must outlive the body) with its object origin
-    /// at `objectPose`. `objectShape` is a collision shape in the bundle's object space (not
-    /// owned); null: the box around the bundle's samples.
-    FloatingBody(plimsoll_bundle* bundle, const btTransform& objectPose, btCollisionShape* objectShape = nullptr);
+    /// A rigid body for an instance of `bundle` (not owned; it must outlive the body, and any
+    /// number of bodies may share it) with its object origin at `objectPose`. `objectShape` is a
+    /// collision shape in the bundle's object space (not owned); null: the box around the
+    /// bundle's samples.
+    FloatingBody(const plimsoll_bundle* bundle, const btTransform& objectPose,
+                 btCollisionShape* objectShape = nullptr);
     ~FloatingBody();
     FloatingBody(const FloatingBody&) = delete;
     FloatingBody& operator=(const FloatingBody&) = delete;
 
     btRigidBody* rigidBody() { return body_.get(); }
-    plimsoll_bundle* bundle() const { return bundle_; }
+    const plimsoll_bundle* bundle() const { return bundle_; }
+    /// The body's own water and radiation memory (plimsoll_instance_save for snapshots).
+    plimsoll_instance* instance() const { return instance_; }
     /// The object origin's world pose and the centre of mass's velocity, from Bullet's state.
     plimsoll_pose pose() const;
     plimsoll_velocity velocity() const;
@@ -44,7 +49,8 @@ public:
 private:
     friend class Harbour;
     Harbour* harbour_ = nullptr;  // the one it was added to: it leaves it (and its world) when destroyed
-    plimsoll_bundle* bundle_;
+    const plimsoll_bundle* bundle_;
+    plimsoll_instance* instance_;
     btTransform bodyInObject_;
     std::unique_ptr<btBoxShape> defaultShape_;
     std::unique_ptr<btCompoundShape> shape_;
@@ -56,9 +62,8 @@ private:
 /// The water of a Bullet world. Bullet has one pre-tick callback per world: the Harbour chains
 /// it, calling the game's (the one set before the Harbour, or given to setPreTickCallback) first,
 /// and puts it back when destroyed; the world's user info stays the game's. The load goes in as
-/// impulses of each substep, so the game's own forces and torques are kept. fluid.gravity should be the world's gravity. A body
-/// with a water graph needs a bundle of its own (the graph's water is the bundle's state).
-/// `batch` (may be null: one of the hardware threads is made) runs the bodies' evaluations.
+/// impulses of each substep, so the game's own forces and torques are kept. fluid.gravity should
+/// be the world's gravity. `batch` (may be null: one of the hardware threads is made) runs the bodies' evaluations.
 class Harbour {
 public:
     Harbour(btDiscreteDynamicsWorld* world, const plimsoll_water& water, const plimsoll_fluid& fluid,
@@ -91,8 +96,8 @@ private:
     std::vector<FloatingBody*> bodies_;
     plimsoll_batch* batch_;
     // Per step, one entry per body (the flooding ones for the graph step).
-    std::vector<const plimsoll_bundle*> bundles_;
-    std::vector<plimsoll_bundle*> flooding_;
+    std::vector<const plimsoll_instance*> instances_;
+    std::vector<plimsoll_instance*> flooding_;
     std::vector<plimsoll_pose> poses_, floodingPoses_;
     std::vector<plimsoll_velocity> velocities_;
     std::vector<plimsoll_load> loads_;

@@ -46,8 +46,9 @@ std::unordered_map<const btDynamicsWorld*, Harbour*>& harbours() {
 
 }  // namespace
 
-FloatingBody::FloatingBody(plimsoll_bundle* bundle, const btTransform& objectPose, btCollisionShape* objectShape)
-    : bundle_(bundle) {
+FloatingBody::FloatingBody(const plimsoll_bundle* bundle, const btTransform& objectPose,
+                           btCollisionShape* objectShape)
+    : bundle_(bundle), instance_(plimsoll_instance_create(bundle)) {
     const plimsoll_mass m = plimsoll_bundle_mass(bundle);
     btVector3 moments;
     bodyInObject_ = principalFrame(m, moments);
@@ -78,6 +79,7 @@ FloatingBody::FloatingBody(plimsoll_bundle* bundle, const btTransform& objectPos
 
 FloatingBody::~FloatingBody() {
     if (harbour_) harbour_->remove(this);
+    plimsoll_instance_destroy(instance_);
 }
 
 plimsoll_pose FloatingBody::pose() const {
@@ -117,7 +119,7 @@ Harbour::~Harbour() {
         world_->removeRigidBody(body->rigidBody());
         body->harbour_ = nullptr;
     }
-    plimsoll_batch_free(batch_);
+    plimsoll_batch_destroy(batch_);
 }
 
 void Harbour::setPreTickCallback(btInternalTickCallback callback) { previous_ = callback; }
@@ -151,18 +153,18 @@ void Harbour::preTick(btDynamicsWorld* world, btScalar step) {
 
 void Harbour::applyLoads(double dt) {
     const std::size_t n = bodies_.size();
-    bundles_.resize(n);
+    instances_.resize(n);
     poses_.resize(n);
     velocities_.resize(n);
     loads_.assign(n, plimsoll_load{});
     flooding_.clear();
     floodingPoses_.clear();
     for (std::size_t i = 0; i < n; ++i) {
-        bundles_[i] = bodies_[i]->bundle();
+        instances_[i] = bodies_[i]->instance();
         poses_[i] = bodies_[i]->pose();
         velocities_[i] = bodies_[i]->velocity();
         if (plimsoll_graph_node_count(bodies_[i]->bundle()) > 0) {
-            flooding_.push_back(bodies_[i]->bundle());
+            flooding_.push_back(bodies_[i]->instance());
             floodingPoses_.push_back(poses_[i]);
         }
     }
@@ -170,12 +172,12 @@ void Harbour::applyLoads(double dt) {
         if (error_.empty()) error_ = plimsoll_runtime_last_error();
     };
     if (batch_ && !flooding_.empty() &&
-        !plimsoll_batch_graph_step(batch_, flooding_.size(), flooding_.data(), floodingPoses_.data(), &water_,
-                                   time_, dt, nullptr))
+        !plimsoll_batch_instance_graph_step(batch_, flooding_.size(), flooding_.data(), floodingPoses_.data(),
+                                            &water_, time_, dt, nullptr))
         failed();
     if (batch_ && n > 0 &&
-        !plimsoll_batch_water_load(batch_, n, bundles_.data(), poses_.data(), velocities_.data(), &water_, &fluid_,
-                                   time_, dt, loads_.data())) {
+        !plimsoll_batch_instance_water_load(batch_, n, instances_.data(), poses_.data(), velocities_.data(),
+                                            &water_, &fluid_, time_, dt, loads_.data())) {
         failed();
         loads_.assign(n, plimsoll_load{});
     }

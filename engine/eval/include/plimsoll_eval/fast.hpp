@@ -470,6 +470,15 @@ public:
     /// Largest distance of an entry (with its half extent) from c.
     double radius() const { return radius_; }
     const FastOptions& options() const { return options_; }
+    /// Heap bytes the tiles hold (entries' columns, nodes, their moments).
+    std::size_t memoryBytes() const {
+        std::size_t bytes = 0;
+        for (const auto* column : {&qx_, &qy_, &qz_, &bx_, &by_, &bz_, &area_, &inverseLength2_,
+                                   &inverseLength_, &valid_})
+            bytes += column->capacity() * sizeof(float);
+        return bytes + nodes_.capacity() * sizeof(FastTile) +
+               centerMoments_.capacity() * sizeof(FastMoments) + sinSpread_.capacity() * sizeof(double);
+    }
 
     /// The body's sums about c for one state (see the file comment).
     Sums evaluate(const BodyState& state, const WaterSurface& water, const Coefficients& k,

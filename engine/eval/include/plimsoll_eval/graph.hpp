@@ -184,20 +184,28 @@ struct ExchangeRates {
     std::vector<double> inflow, outflow, outsideTop;
 };
 
-/// The exchange pass over `points` for the body at (R, origin) at `time`: the outside depth
-/// d_out = max(0, f(x, z) - y) against the inside head d_in = max(0, surface_n - y) drives
-/// |q| = factor w |h| (linear) or factor w sqrt|h| (Torricelli), h = d_out - d_in > 0 in.
-/// height(x, z, time) is the water surface.
-template <class Height>
-void exchangePass(const std::vector<ExchangePoint>& points, std::size_t nodes, const Mat3& R,
-                  const Vec3& origin, double time, const double* nodeSurface, bool torricelli,
-                  double factor, const Height& height, ExchangeRates& rates) {
+/// World positions of `points` for the body at (R, origin): where the exchange pass asks the
+/// water's height, all at once.
+inline void exchangePositions(const std::vector<ExchangePoint>& points, const Mat3& R,
+                              const Vec3& origin, std::vector<Vec3>& world) {
+    world.resize(points.size());
+    for (std::size_t i = 0; i < points.size(); ++i) world[i] = graph_detail::rotate(R, points[i].position) + origin;
+}
+
+/// The exchange pass over `points` at their world positions `world`, with the water surface
+/// `surface[i]` above point i: the outside depth d_out = max(0, f - y) against the inside head
+/// d_in = max(0, surface_n - y) drives |q| = factor w |h| (linear) or factor w sqrt|h|
+/// (Torricelli), h = d_out - d_in > 0 in.
+inline void exchangePass(const std::vector<ExchangePoint>& points, const std::vector<Vec3>& world,
+                         const double* surface, std::size_t nodes, const double* nodeSurface,
+                         bool torricelli, double factor, ExchangeRates& rates) {
     rates.inflow.assign(nodes, 0.0);
     rates.outflow.assign(nodes, 0.0);
     rates.outsideTop.assign(nodes, -std::numeric_limits<double>::infinity());
-    for (const ExchangePoint& s : points) {
-        const Vec3 p = graph_detail::rotate(R, s.position) + origin;
-        const double f = height(p.x, p.z, time);
+    for (std::size_t i = 0; i < points.size(); ++i) {
+        const ExchangePoint& s = points[i];
+        const Vec3& p = world[i];
+        const double f = surface[i];
         const double outside = std::max(0.0, f - p.y);
         const double inside = std::max(0.0, nodeSurface[s.node] - p.y);
         const double head = outside - inside;

@@ -1,6 +1,7 @@
-/* float_body: loads a Plimsoll runtime bundle through the C API and floats the body on flat
- * water with the runtime's own integrator (plimsoll_body_step: semi-implicit Euler with
- * gravity, buoyancy, drag, the manifest's damping and a water graph's water as extra weight),
+/* float_body: loads a Plimsoll runtime bundle through the C API and floats one instance of the
+ * body on flat water with the runtime's own integrator (plimsoll_instance_step: semi-implicit
+ * Euler with gravity, buoyancy, drag, the manifest's damping, a water graph's water as extra
+ * weight and, for a bundle exported with it, radiation),
  * printing the height and heel of the centre of mass and, at the end, the wall time per step.
  * With --csv it replays the project instead (plimsoll_simulation: the bundle's own water, start
  * and step settings, as `plimsoll simulate` steps them) and writes the columns of
@@ -101,7 +102,7 @@ int main(int argc, char** argv) {
     }
     if (csv) {
         const int status = replay(bundle, seconds, csv);
-        plimsoll_bundle_free(bundle);
+        plimsoll_bundle_destroy(bundle);
         return status;
     }
     int major = 0, minor = 0, patch = 0;
@@ -121,21 +122,29 @@ int main(int argc, char** argv) {
     const plimsoll_water water = {0.0, NULL, NULL, NULL};
     const double dt = 1.0 / 240.0;
     const int steps = (int)(seconds / dt + 0.5);
+    plimsoll_instance* instance = plimsoll_instance_create(bundle);
+    if (!instance) {
+        fprintf(stderr, "float_body: %s\n", plimsoll_runtime_last_error());
+        plimsoll_bundle_destroy(bundle);
+        return 1;
+    }
     double stepSeconds = 0;
     for (int step = 0; step <= steps; ++step) {
         double height, heel;
         describe(&state, &body, &height, &heel);
         if (!isfinite(height) || !isfinite(heel)) {
             fprintf(stderr, "float_body: non-finite state at t = %.3f s\n", step * dt);
-            plimsoll_bundle_free(bundle);
+            plimsoll_instance_destroy(instance);
+            plimsoll_bundle_destroy(bundle);
             return 1;
         }
         if (step % 120 == 0) printf("t %6.2f s  height %+.4f m  heel %6.2f deg\n", step * dt, height, heel);
         if (step == steps) break;
         const double before = now_seconds();
-        if (!plimsoll_body_step(bundle, &state, &water, &fluid, step * dt, dt)) {
+        if (!plimsoll_instance_step(instance, &state, &water, &fluid, step * dt, dt)) {
             fprintf(stderr, "float_body: %s\n", plimsoll_runtime_last_error());
-            plimsoll_bundle_free(bundle);
+            plimsoll_instance_destroy(instance);
+            plimsoll_bundle_destroy(bundle);
             return 1;
         }
         stepSeconds += now_seconds() - before;
@@ -143,6 +152,7 @@ int main(int argc, char** argv) {
     /* Wall clock, for orientation only (plimsoll bench is where speed is measured). */
     printf("step: %.1f us wall per call over %d calls (%zu samples)\n", 1e6 * stepSeconds / (steps > 0 ? steps : 1),
            steps, size.samples);
-    plimsoll_bundle_free(bundle);
+    plimsoll_instance_destroy(instance);
+    plimsoll_bundle_destroy(bundle);
     return 0;
 }

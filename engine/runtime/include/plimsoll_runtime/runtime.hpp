@@ -12,6 +12,7 @@
 
 #include <cmath>
 #include <cstddef>
+#include <atomic>
 #include <cstdint>
 #include <functional>
 #include <memory>
@@ -172,24 +173,69 @@ struct NodeInflow {
 class Bundle;
 struct BundleSource;
 
-/// The water graph of one body and its state: the engine's WaterGraphSimulation, whose step
-/// (plimsoll_eval/graph.hpp) this library compiles too.
-class WaterGraph {
+/// A body's water graph as the bundle ships it: compartments (with the water they start with),
+/// pipes, settings and the permeable surface. Part of the shared, immutable Bundle; each body
+/// steps its own WaterGraph over it.
+class GraphLayout {
 public:
-    WaterGraph();
-    ~WaterGraph();
-    WaterGraph(const WaterGraph&) = delete;
-    WaterGraph& operator=(const WaterGraph&) = delete;
+    GraphLayout();
+    ~GraphLayout();
+    GraphLayout(const GraphLayout&) = delete;
+    GraphLayout& operator=(const GraphLayout&) = delete;
 
+    /// The nodes, `water` as exported (what a new WaterGraph starts with).
     const std::vector<GraphNode>& nodes() const { return nodes_; }
     const std::vector<GraphPipe>& pipes() const { return pipes_; }
-    GraphSettings& settings() { return settings_; }
+    /// The manifest's settings, with the project's medium.
     const GraphSettings& settings() const { return settings_; }
     /// Index of the node fed by each sample of the bundle (-1: none).
     const std::vector<int>& sampleNodes() const { return sampleNodes_; }
-    std::size_t permeableSamples() const { return exchange_.size(); }
+    /// Samples through which water can pass (permeability > 0, feeding an unsealed node).
+    std::size_t permeableSamples() const;
+    /// Bytes the layout holds.
+    std::uint64_t memoryBytes() const;
 
-    /// Water flowing in and out of each node through the permeable surface at this pose.
+private:
+    friend class WaterGraph;
+    friend bool loadBundleImpl(const BundleSource&, Bundle&, std::string&, bool);
+    struct Exchange {
+        Vec3 position;
+        double weight = 0;
+        std::uint32_t node = 0;
+    };
+    /// Hands the loaded nodes, pipes and permeable samples to the step's form (after loading).
+    void prepare(std::vector<Exchange> exchange);
+
+    std::vector<GraphNode> nodes_;
+    std::vector<GraphPipe> pipes_;
+    GraphSettings settings_;
+    std::vector<int> sampleNodes_;
+    struct Prepared;              ///< the evaluation core's form: exchange points, start state (graph.cpp)
+    std::unique_ptr<const Prepared> prepared_;
+};
+
+/// The water inside one body: its own state (water per node, the random sequence, the
+/// bookkeeping) over a GraphLayout shared by every body of the same bundle. The engine's
+/// WaterGraphSimulation, whose step (plimsoll_eval/graph.hpp) this library compiles too.
+/// One thread at a time per WaterGraph; any number of them may share a layout.
+class WaterGraph {
+public:
+    /// Starts with the layout's water; the layout must outlive it.
+    explicit WaterGraph(const GraphLayout& layout);
+    ~WaterGraph();
+    WaterGraph(const WaterGraph&);
+    WaterGraph& operator=(const WaterGraph&) = delete;
+
+    const GraphLayout& layout() const { return *layout_; }
+    std::size_t nodeCount() const { return layout_->nodes().size(); }
+    /// Water in node i now, m^3.
+    double water(std::size_t node) const;
+    /// The medium inside (density, viscosity, gravity) and the layout's models.
+    const GraphSettings& settings() const { return settings_; }
+    void setMedium(double density, double viscosity, double gravity);
+
+    /// Water flowing in and out of each node through the permeable surface at this pose. The
+    /// outside heights are asked once for all permeable samples (Water::heights when set).
     NodeInflow inflow(const Pose& pose, const Water& water, double time) const;
     /// One step: exchange with the water outside, then flow between nodes. Returns whether any
     /// water moved.
@@ -198,6 +244,7 @@ public:
     bool exchange(const Pose& pose, const Water& water, double time, double dt);
     bool flowInside(const Quat& orientation, double dt);
 
+    /// Sets node i's water (clamped to 0..capacity), booked as initial water.
     void setWater(std::size_t node, double water);
     /// The state the steps change (water per node, the random sequence, the bookkeeping), as
     /// bytes appended to `out`; restoreState reads it back from `in` at `at` (advanced past it)
@@ -212,27 +259,12 @@ public:
     MassProperties waterMass(const Quat& orientation) const;
     /// Level of node i's water: world height above its position for the body at `orientation`.
     double levelOffset(std::size_t node, double water, const Quat& orientation) const;
+    /// Bytes this graph's own state holds (not the shared layout).
+    std::uint64_t memoryBytes() const;
 
 private:
-    friend class Bundle;
-    friend bool loadBundleImpl(const BundleSource&, Bundle&, std::string&, bool);
-    struct Exchange {
-        Vec3 position;
-        double weight = 0;
-        std::uint32_t node = 0;
-    };
-    /// Hands the loaded nodes, pipes and permeable samples to the step (after loading).
-    void prepare();
-    /// Copies the step's water into nodes_ (nodes() reports it).
-    void syncWater();
-    /// Bytes the step's own state holds (for Bundle::memoryBytes).
-    std::uint64_t stepBytes() const;
-
-    std::vector<GraphNode> nodes_;
-    std::vector<GraphPipe> pipes_;
+    const GraphLayout* layout_;
     GraphSettings settings_;
-    std::vector<int> sampleNodes_;
-    std::vector<Exchange> exchange_;
     struct Step;                  ///< the evaluation core's state (graph.cpp)
     std::unique_ptr<Step> step_;
 };
@@ -306,6 +338,10 @@ struct LoadOptions {
     bool verifyChecksums = true;
 };
 
+/// One loaded bundle: the shape asset (samples, tiles, mass, graph layout, radiation model).
+/// Immutable after loading and thread-safe: any number of Body instances, Simulations and
+/// threads share one (a fleet of one boat loads it once). What changes as a body floats lives
+/// in its Body.
 class Bundle {
 public:
     const std::string& folder() const { return folder_; }
@@ -324,15 +360,15 @@ public:
     const BundleWorld& world() const { return world_; }
     /// The body's wave radiation, or null (a body exported without it, or a bundle before 1.3).
     const Radiation* radiation() const { return radiation_.get(); }
-    /// The body's water graph, or null.
-    WaterGraph* graph() { return graph_.get(); }
-    const WaterGraph* graph() const { return graph_.get(); }
+    /// The body's water graph as shipped, or null. Each Body (or Simulation) steps its own water
+    /// over it.
+    const GraphLayout* graph() const { return graph_.get(); }
     /// Whether the node of each sample came from texel_nodes.exr (else computed).
     bool texelNodesFromFile() const { return texelNodesFromFile_; }
     /// What the body's bundle ships: the manifest plus every file it lists, in bytes.
     std::uint64_t fileBytes() const { return fileBytes_; }
-    /// What the loaded body holds in memory after load: the sample list and the water graph
-    /// (not the evaluation tiles the first evaluate() builds).
+    /// What the loaded asset holds in memory: the sample list, the water graph's layout and,
+    /// once the first evaluate() has built them, the evaluation tiles.
     std::uint64_t memoryBytes() const;
 
     /// Buoyancy, pressure and drag for the body at `pose` moving with `velocity`: the engine's
@@ -352,11 +388,14 @@ private:
     double linearDamping_ = 0, angularDamping_ = 0;
     std::unique_ptr<const Radiation> radiation_;
     BundleWorld world_;
-    std::unique_ptr<WaterGraph> graph_;
+    std::unique_ptr<const GraphLayout> graph_;
     bool texelNodesFromFile_ = false;
     const plimsoll_eval::FastBody& fastBody() const;
+    /// Bytes of the evaluation tiles (0 until the first evaluate() builds them).
+    std::uint64_t fastBytes() const;
     mutable std::once_flag fastOnce_;
     mutable std::shared_ptr<const plimsoll_eval::FastBody> fast_;
+    mutable std::atomic<bool> fastBuilt_{false};
 };
 
 /// Loads and checks a bundle folder: the manifest (format, schema major =
@@ -413,29 +452,11 @@ struct WaterLoad {
     double waterMass = 0;  ///< kg of water inside (its weight is in `force`)
 };
 
-/// The load on the body at `pose` moving with `velocity`: on flat water (no height callback)
-/// Archimedes' force and torque, on waves the pressure integral (which carries their
-/// horizontal push), as the engine's World applies them; drag; the manifest's linear and
-/// angular damping of the momenta of the body with its water (scaled by the submerged
-/// fraction, at most what stops the body within `dt`, as the World limits dissipation); and,
-/// for a body with a water graph, the weight of its water at the water's centre of mass. The
-/// body's own weight is not in it (the physics engine's gravity gives that).
-WaterLoad waterLoad(const Bundle& bundle, const Pose& pose, const Velocity& velocity,
-                    const Water& water, const Fluid& fluid, double time, double dt);
-
 /// A body on its own: the world pose of its object origin and the velocity of its centre of mass.
 struct BodyState {
     Pose pose;
     Velocity velocity;
 };
-
-/// One semi-implicit Euler step of `dt` for a body with no contacts (gravity along -y of
-/// fluid.gravity, then waterLoad; the water graph, if any, steps first): momenta first, then
-/// position and orientation with the new velocities (angular momentum integrated, so a
-/// tumbling body keeps it). For engines without a physics engine, and the reference adapters
-/// are tested against.
-void stepBody(Bundle& bundle, BodyState& state, const Water& water, const Fluid& fluid,
-              double time, double dt);
 
 /// What radiation adds to a step, from RadiationMemory::begin.
 struct RadiationLoad {
@@ -454,8 +475,8 @@ struct RadiationLoad {
 
 /// A radiating body's memory between steps: its filters and the share it last had. An engine
 /// with its own integrator calls begin() before its step (adds the added mass to the body's
-/// mass and inertia, applies force and torque) and advance() after it; stepBody(..., memory,
-/// ...) does both. One per body; not thread-safe.
+/// mass and inertia, applies force and torque) and advance() after it; stepBody does both for
+/// a Body with radiation. One per body; not thread-safe.
 class RadiationMemory {
 public:
     /// For the bundle's radiation (null: a body without it, which then gets nothing).
@@ -470,6 +491,11 @@ public:
     double share() const { return share_; }
     /// The energy the filters hold, J (the body's mechanical energy plus this never grows).
     double energy() const;
+    /// The filters' state and the share, as bytes appended to `out`; restoreState reads them
+    /// back from `in` at `at` (advanced past them). False (nothing changed) for bytes of
+    /// another body's memory.
+    void saveState(std::vector<std::uint8_t>& out) const;
+    bool restoreState(const std::vector<std::uint8_t>& in, std::size_t& at);
 
 private:
     struct Filter {
@@ -481,12 +507,66 @@ private:
     bool started_ = false;
 };
 
-/// stepBody for a radiating body: the same step with the share of the added mass in the mass
-/// matrix (never applied as a force) and the memory's load added; when the share grows the
-/// momentum is kept, when it shrinks the velocity (the kinetic energy can only fall), as the
-/// engine's World does.
-void stepBody(Bundle& bundle, BodyState& state, RadiationMemory& memory, const Water& water,
-              const Fluid& fluid, double time, double dt);
+/// One floating body: a small instance over a shared Bundle. It holds what changes as the body
+/// floats (the water in its compartments and the random sequence that spreads it, the
+/// radiation memory); the bundle holds everything else. A hundred boats of one bundle are one
+/// load and a hundred Bodies. The game's physics engine (or stepBody) holds the pose and the
+/// velocity. One thread at a time per Body; any number of Bodies of one bundle on any threads.
+class Body {
+public:
+    /// The bundle must outlive the body. The water starts as exported; the radiation memory
+    /// (for a bundle with radiation) at rest.
+    explicit Body(const Bundle& bundle);
+    Body(const Body& other);
+    Body& operator=(const Body&) = delete;
+    ~Body();
+
+    const Bundle& bundle() const { return *bundle_; }
+    /// The body's own water, or null for a bundle without a water graph.
+    WaterGraph* graph() { return graph_.get(); }
+    const WaterGraph* graph() const { return graph_.get(); }
+    /// The body's own radiation memory, or null for a bundle without radiation.
+    RadiationMemory* radiation() { return radiation_.get(); }
+    const RadiationMemory* radiation() const { return radiation_.get(); }
+
+    /// Everything the body's next steps depend on beyond its pose and velocity (the graph's
+    /// water, random sequence and bookkeeping; the radiation filters), as bytes: restore() on a
+    /// Body of the same bundle continues bit for bit. For multiplayer snapshots and rollback.
+    std::vector<std::uint8_t> save() const;
+    /// False with `error` (nothing changed) for bytes of another body or damaged ones.
+    bool restore(const std::vector<std::uint8_t>& bytes, std::string& error);
+    /// FNV-1a (64 bits) of save().
+    std::uint64_t stateHash() const;
+    /// Bytes the instance holds (not the shared bundle).
+    std::uint64_t memoryBytes() const;
+
+private:
+    const Bundle* bundle_;
+    std::unique_ptr<WaterGraph> graph_;
+    std::unique_ptr<RadiationMemory> radiation_;
+};
+
+/// The load on the body at `pose` moving with `velocity`: on flat water (no height callback)
+/// Archimedes' force and torque, on waves the pressure integral (which carries their
+/// horizontal push), as the engine's World applies them; drag; the manifest's linear and
+/// angular damping of the momenta of the body with its water (scaled by the submerged
+/// fraction, at most what stops the body within `dt`, as the World limits dissipation); and,
+/// for a body with a water graph, the weight of its water at the water's centre of mass. The
+/// body's own weight is not in it (the physics engine's gravity gives that), nor radiation
+/// (its added mass belongs in the mass matrix: body.radiation()->begin and advance).
+WaterLoad waterLoad(const Body& body, const Pose& pose, const Velocity& velocity, const Water& water,
+                    const Fluid& fluid, double time, double dt);
+
+/// One semi-implicit Euler step of `dt` for a body with no contacts (gravity along -y of
+/// fluid.gravity, then waterLoad; the water graph, if any, steps first): momenta first, then
+/// position and orientation with the new velocities (angular momentum integrated, so a
+/// tumbling body keeps it). For a body with radiation, the share of the added mass is in the
+/// mass matrix (never applied as a force) and the memory's load is added; when the share grows
+/// the momentum is kept, when it shrinks the velocity (the kinetic energy can only fall), as the
+/// engine's World does. For engines without a physics engine, and the reference the adapters
+/// are tested against.
+void stepBody(Body& body, BodyState& state, const Water& water, const Fluid& fluid, double time,
+              double dt);
 
 /// One body stepped as the editor's World steps it (engine/src/scene/world.cpp), for a game
 /// without a physics engine, a server, and the conformance test against `plimsoll simulate`:
@@ -500,9 +580,11 @@ void stepBody(Bundle& bundle, BodyState& state, RadiationMemory& memory, const W
 class Simulation {
 public:
     /// Starts at the bundle's world() start. Null with `error` for what it does not step: an
-    /// integrator other than semi-implicit Euler, a radiating body (stepBody with a
+    /// integrator other than semi-implicit Euler, a radiating body (stepBody on a Body with its
     /// RadiationMemory steps those).
-    static std::unique_ptr<Simulation> create(Bundle& bundle, std::string& error);
+    /// The bundle must outlive it; it steps its own water, so any number of Simulations may
+    /// share one bundle.
+    static std::unique_ptr<Simulation> create(const Bundle& bundle, std::string& error);
 
     /// One frame of world().timeStep on `water` (the bundle's world().water.water() where the
     /// game has no water of its own); false with `error` when the state leaves the finite numbers.
@@ -522,6 +604,8 @@ public:
     const MassProperties& mass() const { return mass_; }
     /// Sub-steps the last frame took.
     int subSteps() const { return subSteps_; }
+    /// The body's own water (null: the bundle has no water graph).
+    const WaterGraph* graph() const { return body_.graph(); }
 
     /// Everything the next frames depend on (the body's state, its mass with the water, the
     /// water graph's state), as bytes: restore() on a simulation of the same bundle continues
@@ -534,7 +618,7 @@ public:
     std::uint64_t stateHash() const;
 
 private:
-    explicit Simulation(Bundle& bundle);
+    explicit Simulation(const Bundle& bundle);
     void evaluate(const Water& water, double dt);
     void step(double dt);
     void stepGraph(const Water& water, double frameTime);
@@ -543,7 +627,8 @@ private:
     int subStepsFor(double frameTime) const;
     double stiffestFrequency() const;
 
-    Bundle& bundle_;
+    const Bundle& bundle_;
+    Body body_;
     Fluid fluid_;
     Vec3 position_, linearMomentum_, angularMomentum_;
     Quat orientation_;

@@ -1,0 +1,80 @@
+// One floating body over a shared bundle (runtime.hpp, Body): its water graph's state and its
+// radiation memory, and their snapshot.
+#include "plimsoll_runtime/runtime.hpp"
+
+#include "bytes.hpp"
+
+namespace plimsoll_runtime {
+
+namespace {
+constexpr std::uint64_t kBodySnapshotMagic = 0x3159444F42534C50ull;  // "PLSBODY1"
+}  // namespace
+
+Body::Body(const Bundle& bundle) : bundle_(&bundle) {
+    if (const GraphLayout* layout = bundle.graph()) graph_ = std::make_unique<WaterGraph>(*layout);
+    if (const Radiation* radiation = bundle.radiation()) radiation_ = std::make_unique<RadiationMemory>(radiation);
+}
+
+Body::Body(const Body& other) : bundle_(other.bundle_) {
+    if (other.graph_) graph_ = std::make_unique<WaterGraph>(*other.graph_);
+    if (other.radiation_) radiation_ = std::make_unique<RadiationMemory>(*other.radiation_);
+}
+
+Body::~Body() = default;
+
+std::vector<std::uint8_t> Body::save() const {
+    std::vector<std::uint8_t> out;
+    putBytes(out, kBodySnapshotMagic);
+    putBytes(out, static_cast<std::uint64_t>(bundle_->samples().size()));
+    putBytes(out, static_cast<std::uint8_t>((graph_ ? 1 : 0) | (radiation_ ? 2 : 0)));
+    if (graph_) graph_->saveState(out);
+    if (radiation_) radiation_->saveState(out);
+    return out;
+}
+
+bool Body::restore(const std::vector<std::uint8_t>& bytes, std::string& error) {
+    std::size_t at = 0;
+    std::uint64_t magic = 0, samples = 0;
+    std::uint8_t parts = 0;
+    if (!takeBytes(bytes, at, magic) || !takeBytes(bytes, at, samples) || !takeBytes(bytes, at, parts) ||
+        magic != kBodySnapshotMagic || samples != bundle_->samples().size() ||
+        parts != ((graph_ ? 1 : 0) | (radiation_ ? 2 : 0))) {
+        error = "snapshot: not a snapshot of a body of " + bundle_->folder();
+        return false;
+    }
+    // Into copies first: a snapshot that fails halfway changes nothing.
+    std::unique_ptr<WaterGraph> graph = graph_ ? std::make_unique<WaterGraph>(*graph_) : nullptr;
+    std::unique_ptr<RadiationMemory> radiation = radiation_ ? std::make_unique<RadiationMemory>(*radiation_) : nullptr;
+    if (graph && !graph->restoreState(bytes, at)) {
+        error = "snapshot: the water graph's state does not fit this body";
+        return false;
+    }
+    if (radiation && !radiation->restoreState(bytes, at)) {
+        error = "snapshot: the radiation memory does not fit this body";
+        return false;
+    }
+    if (at != bytes.size()) {
+        error = "snapshot: " + std::to_string(bytes.size() - at) + " bytes too many";
+        return false;
+    }
+    graph_ = std::move(graph);
+    radiation_ = std::move(radiation);
+    return true;
+}
+
+std::uint64_t Body::stateHash() const { return fnv1a(save()); }
+
+std::uint64_t Body::memoryBytes() const {
+    std::uint64_t bytes = sizeof(Body);
+    if (graph_) bytes += graph_->memoryBytes();
+    if (radiation_) {
+        // The filters' heap is what their snapshot holds, to a few bytes.
+        bytes += sizeof(RadiationMemory);
+        std::vector<std::uint8_t> filters;
+        radiation_->saveState(filters);
+        bytes += filters.size();
+    }
+    return bytes;
+}
+
+}  // namespace plimsoll_runtime
