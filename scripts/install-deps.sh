@@ -13,8 +13,9 @@ packages=(
   libxsimd-dev
   # bundle export: SHA-256 (OpenSSL's libcrypto)
   libssl-dev
-  # runtime library (engine/runtime): inflates the bundle's PNG maps (OpenEXR's own dependency)
-  zlib1g-dev
+  # runtime library (engine/runtime): inflates the bundle's PNG maps and EXR images; tinyexr's
+  # header reads the EXR images, so a game links no OpenEXR
+  zlib1g-dev libtinyexr-dev
   # OpenCL: ICD loader, C++ bindings, PoCL as the CPU device
   ocl-icd-opencl-dev opencl-headers opencl-clhpp-headers pocl-opencl-icd clinfo
   # water-graph segmentation

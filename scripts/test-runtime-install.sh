@@ -1,8 +1,11 @@
 #!/usr/bin/env bash
-# Installs the runtime library (engine/runtime) on its own into a temporary prefix, builds the
-# float_body example against it with find_package(PlimsollRuntime), exports a fresh bundle of
-# projects/buoy.plim.json with build/editor/plimsoll and floats it. Exits non-zero on any
-# failure. Usage: scripts/test-runtime-install.sh [PLIMSOLL_EXECUTABLE]
+# Installs the runtime library (engine/runtime) on its own into temporary prefixes, static and
+# shared, and builds fresh game projects against each: the float_body example (C) and the
+# consumers of tests/runtime/consumer (C and C++), with find_package(PlimsollRuntime) and with
+# pkg-config. Exports a fresh bundle of projects/buoy.plim.json with build/editor/plimsoll and
+# floats it with each. Checks that the shared library exports the C ABI and nothing else and
+# that nothing links OpenEXR. Exits non-zero on any failure.
+# Usage: scripts/test-runtime-install.sh [PLIMSOLL_EXECUTABLE]
 set -euo pipefail
 cd "$(dirname "$0")/.."
 root=$(pwd)
@@ -26,7 +29,7 @@ cmake --build "$work/runtime-build" --parallel 2
 cmake --install "$work/runtime-build" --prefix "$work/prefix" >/dev/null
 for f in include/plimsoll_runtime.h include/plimsoll_runtime/runtime.hpp \
          lib/cmake/PlimsollRuntime/PlimsollRuntimeConfig.cmake \
-         lib/cmake/PlimsollRuntime/PlimsollRuntimeConfigVersion.cmake; do
+         lib/cmake/PlimsollRuntime/PlimsollRuntimeConfigVersion.cmake lib/pkgconfig/plimsoll_runtime.pc; do
   [[ -f "$work/prefix/$f" ]] || { echo "test-runtime-install: $f not installed" >&2; exit 1; }
 done
 
@@ -49,4 +52,51 @@ if "$work/example-build/float_body" "$bundle" 1 2>"$work/err.txt"; then
   exit 1
 fi
 grep -q "samples.exr" "$work/err.txt" || { echo "test-runtime-install: error does not name the file:" >&2; cat "$work/err.txt" >&2; exit 1; }
+"$plimsoll" export projects/buoy.plim.json --out "$work/bundles" --quiet >/dev/null  # undamaged again
+
+# A fresh C and C++ project against a prefix, with find_package and with pkg-config; each
+# floats the bundle. $1: prefix, $2: label.
+consumers() {
+  local prefix=$1 label=$2
+  for language in C CXX; do
+    echo "== $label: $language consumer with find_package"
+    cmake -S tests/runtime/consumer -B "$work/$label-$language" "${generator[@]}" "${launcher[@]}" \
+      -DCMAKE_BUILD_TYPE=Release -DCONSUMER_LANGUAGE=$language -DCMAKE_PREFIX_PATH="$prefix" \
+      >"$work/$label-$language.log" || { cat "$work/$label-$language.log"; exit 1; }
+    cmake --build "$work/$label-$language" >/dev/null
+    "$work/$label-$language/consumer" "$bundle"
+    if ldd "$work/$label-$language/consumer" | grep -qi openexr; then
+      echo "test-runtime-install: $label $language consumer links OpenEXR" >&2; exit 1
+    fi
+  done
+  echo "== $label: C and C++ consumers with pkg-config"
+  local flags rpath=()
+  flags=$(PKG_CONFIG_PATH="$prefix/lib/pkgconfig" pkg-config --cflags --libs plimsoll_runtime)
+  [[ $label == shared ]] && rpath=(-Wl,-rpath,"$prefix/lib")
+  # shellcheck disable=SC2086
+  cc -std=c11 tests/runtime/consumer/consumer.c -o "$work/$label-pc-c" $flags "${rpath[@]}"
+  # shellcheck disable=SC2086
+  c++ -std=c++17 tests/runtime/consumer/consumer.cpp -o "$work/$label-pc-cxx" $flags "${rpath[@]}"
+  "$work/$label-pc-c" "$bundle"
+  "$work/$label-pc-cxx" "$bundle"
+}
+consumers "$work/prefix" static
+
+echo "== runtime: shared library, installed to $work/shared"
+cmake -S engine/runtime -B "$work/runtime-shared" "${generator[@]}" "${launcher[@]}" \
+  -DCMAKE_BUILD_TYPE=Release -DPLIMSOLL_RUNTIME_SHARED=ON >"$work/shared-configure.log" \
+  || { cat "$work/shared-configure.log"; exit 1; }
+cmake --build "$work/runtime-shared" --parallel 2 --target plimsoll_runtime
+cmake --install "$work/runtime-shared" --prefix "$work/shared" >/dev/null
+library=$(find "$work/shared/lib" -name 'libplimsoll_runtime.so.*' -type f | head -n 1)
+[[ -f "$library" ]] || { echo "test-runtime-install: no shared library installed" >&2; exit 1; }
+# The shared library exports the C ABI only: every defined dynamic symbol is plimsoll_*.
+others=$(nm -D --defined-only "$library" | awk '{print $3}' | grep -v '^plimsoll_' | grep -v '^_init$\|^_fini$' || true)
+if [[ -n "$others" ]]; then
+  echo "test-runtime-install: the shared library exports more than its C ABI:" >&2
+  echo "$others" | head -20 >&2
+  exit 1
+fi
+echo "shared library: $(nm -D --defined-only "$library" | grep -c ' plimsoll_') plimsoll_ symbols, nothing else"
+consumers "$work/shared" shared
 echo "== ok ($(( $(date +%s) - start )) s)"

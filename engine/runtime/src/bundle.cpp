@@ -6,18 +6,13 @@
 #include "plimsoll_eval/cummins.hpp"
 #include "plimsoll_eval/format.hpp"
 
+#include "exr.hpp"
 #include "json.hpp"
-#include "world.hpp"
 #include "png.hpp"
 #include "vec.hpp"
+#include "world.hpp"
 
 #include "plimsoll_eval/nearest_node.hpp"
-
-#include <ImfChannelList.h>
-#include <ImfFrameBuffer.h>
-#include <ImfHeader.h>
-#include <ImfIO.h>
-#include <ImfInputFile.h>
 
 #include <algorithm>
 #include <cerrno>
@@ -204,52 +199,6 @@ BundleSource callbackSource(const FileCallbacks& callbacks, const std::string& n
     return source;
 }
 
-/// An EXR file's bytes for OpenEXR, which otherwise opens the path itself.
-class MemoryStream : public Imf::IStream {
-public:
-    MemoryStream(const std::string& name, const std::string& bytes) : Imf::IStream(name.c_str()), bytes_(bytes) {}
-    bool read(char c[], int n) override {
-        if (n < 0 || static_cast<std::size_t>(n) > bytes_.size() - at_)
-            throw std::runtime_error("unexpected end of file");
-        std::memcpy(c, bytes_.data() + at_, static_cast<std::size_t>(n));
-        at_ += static_cast<std::size_t>(n);
-        return at_ < bytes_.size();
-    }
-    std::uint64_t tellg() override { return at_; }
-    void seekg(std::uint64_t pos) override {
-        if (pos > bytes_.size()) throw std::runtime_error("seek past the end of file");
-        at_ = static_cast<std::size_t>(pos);
-    }
-
-private:
-    const std::string& bytes_;
-    std::size_t at_ = 0;
-};
-
-/// The data window of an EXR checked before its pixels are allocated: at (0, 0), at most
-/// `maxPixels`, and no more float data than its compressed bytes can hold (ZIP shrinks at most
-/// ~1000:1, so a 1 KB file declaring gigabytes is a bomb, refused).
-bool checkWindow(const std::string& path, const Imath::Box2i& window, std::size_t channels,
-                 std::uint64_t maxPixels, std::size_t fileBytes, int& width, int& height,
-                 std::string& error) {
-    const long long w = static_cast<long long>(window.max.x) - window.min.x + 1;
-    const long long h = static_cast<long long>(window.max.y) - window.min.y + 1;
-    if (window.min.x != 0 || window.min.y != 0 || w <= 0 || h <= 0) {
-        error = path + ": EXR data window does not start at (0, 0)";
-        return false;
-    }
-    const double pixels = double(w) * double(h);
-    if (pixels > double(maxPixels) || pixels * double(channels) * 4.0 > 1100.0 * double(fileBytes) + 65536.0) {
-        error = path + ": EXR declares " + std::to_string(w) + " x " + std::to_string(h) +
-                " pixels, more than the bundle needs or its " + std::to_string(fileBytes) +
-                " bytes can hold";
-        return false;
-    }
-    width = static_cast<int>(w);
-    height = static_cast<int>(h);
-    return true;
-}
-
 /// Typed access to JSON members with errors naming the file and the member's path.
 class Reader {
 public:
@@ -405,71 +354,6 @@ bool readMass(Reader& r, const Value& v, const std::string& path, MassProperties
     return true;
 }
 
-/// Reads channels of an EXR file's bytes into one interleaved float buffer: channel c must be
-/// stored as HALF where `half[c]`, else as float32 (`half` empty: all float32).
-bool readExrFloat(const std::string& path, const std::string& bytes,
-                  const std::vector<std::string>& channels, const std::vector<bool>& half,
-                  std::uint64_t maxPixels, int& width, int& height, std::vector<float>& pixels,
-                  std::string& error) {
-    try {
-        MemoryStream stream(path, bytes);
-        Imf::InputFile file(stream);
-        const Imath::Box2i window = file.header().dataWindow();
-        const std::size_t n = channels.size();
-        if (!checkWindow(path, window, n, maxPixels, bytes.size(), width, height, error)) return false;
-        for (std::size_t c = 0; c < n; ++c) {
-            const Imf::Channel* channel = file.header().channels().findChannel(channels[c]);
-            if (!channel) {
-                error = path + ": EXR has no channel '" + channels[c] + "'";
-                return false;
-            }
-            const bool wantHalf = c < half.size() && half[c];
-            if (channel->type != (wantHalf ? Imf::HALF : Imf::FLOAT)) {
-                error = path + ": EXR channel '" + channels[c] + "' is not " +
-                        (wantHalf ? "half" : "float32");
-                return false;
-            }
-        }
-        pixels.assign(static_cast<std::size_t>(width) * height * n, 0.0f);
-        Imf::FrameBuffer frame;
-        for (std::size_t c = 0; c < n; ++c) {
-            frame.insert(channels[c], Imf::Slice(Imf::FLOAT, reinterpret_cast<char*>(pixels.data() + c),
-                                                 sizeof(float) * n, sizeof(float) * n * width));
-        }
-        file.setFrameBuffer(frame);
-        file.readPixels(window.min.y, window.max.y);
-        return true;
-    } catch (const std::exception& e) {
-        error = path + ": cannot read EXR: " + e.what();
-        return false;
-    }
-}
-
-bool readExrUint(const std::string& path, const std::string& bytes, const std::string& channelName,
-                 std::uint64_t maxPixels, int& width, int& height,
-                 std::vector<std::uint32_t>& pixels, std::string& error) {
-    try {
-        MemoryStream stream(path, bytes);
-        Imf::InputFile file(stream);
-        const Imath::Box2i window = file.header().dataWindow();
-        if (!checkWindow(path, window, 1, maxPixels, bytes.size(), width, height, error)) return false;
-        const Imf::Channel* channel = file.header().channels().findChannel(channelName);
-        if (!channel || channel->type != Imf::UINT) {
-            error = path + ": EXR has no UINT channel '" + channelName + "'";
-            return false;
-        }
-        pixels.assign(static_cast<std::size_t>(width) * height, 0u);
-        Imf::FrameBuffer frame;
-        frame.insert(channelName, Imf::Slice(Imf::UINT, reinterpret_cast<char*>(pixels.data()),
-                                             sizeof(std::uint32_t), sizeof(std::uint32_t) * width));
-        file.setFrameBuffer(frame);
-        file.readPixels(window.min.y, window.max.y);
-        return true;
-    } catch (const std::exception& e) {
-        error = path + ": cannot read EXR: " + e.what();
-        return false;
-    }
-}
 
 bool readGraph(const std::string& path, const std::string& text, std::vector<GraphNode>& nodes, std::vector<GraphPipe>& pipes, std::string& error) {
     Value root;

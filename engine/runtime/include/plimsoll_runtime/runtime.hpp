@@ -1,6 +1,7 @@
 // Plimsoll runtime: what a game engine embeds to float a body exported by `plimsoll export`
-// (docs/bundle.md, "Runtime library"). Depends only on the C++17 standard library, OpenEXR
-// (the bundle's float images) and zlib (OpenEXR's own dependency; the 16-bit PNG painted maps).
+// (docs/bundle.md, "Runtime library"). Depends only on the C++17 standard library and zlib (the
+// bundle's EXR images and 16-bit PNG painted maps). For static linking: the shared library
+// exports the C ABI only (plimsoll_runtime.h).
 //
 // Conventions are the bundle's: SI units, object space of the source mesh, +y up,
 // right-handed. A pose maps an object-space point p to R(q) p + position (position is the
