@@ -26,6 +26,8 @@ struct BenchOptions {
     std::vector<std::string> scenarios, methods, meshes;
     std::vector<int> bodies;
     bool radiation = false;    ///< only radiation's cost per step (bench_radiation.cpp)
+    bool fleet = false;        ///< only the runtime's fleet table (bench_fleet.cpp)
+    std::string fleetProject = "projects/damaged_boat.plim.json";
 };
 
 /// The speed against accuracy table: DIR/bench.csv and DIR/bench.svg; returns the exit code.
@@ -35,6 +37,10 @@ int runIntegratorBench(const BenchOptions& o);
 
 /// Radiation's load time and cost per step, with and without: DIR/bench_radiation.csv.
 int runRadiationBench(const BenchOptions& o);
+
+/// The runtime's cost for one dry body, one flooding body and a fleet of flooding boats on one
+/// bundle against one load each: DIR/bench_fleet.csv.
+int runFleetBench(const BenchOptions& o);
 
 /// A table cell: `value` printed with the printf conversion `spec`.
 std::string format(const char* spec, double value);
