@@ -29,6 +29,7 @@
 #include <fstream>
 #include <functional>
 #include <numbers>
+#include <vector>
 
 namespace plimsoll {
 namespace test_runtime_radiation {
@@ -305,6 +306,61 @@ TEST_F(RuntimeRadiation, AMemoryThatCouldMakeEnergyIsRefusedByItsPath) {
         EXPECT_CONTAINS(error, "manifest.json");
         EXPECT_CONTAINS(error, expected);
     }
+}
+
+// A radiating instance's snapshot holds its radiation memory: saved mid-decay, while the
+// filters hold energy, and restored into an instance of the same bundle, the steps continue
+// bit for bit; restored into an instance whose memory is at rest instead, they would not (the
+// memory's force is part of every step), which the comparison with a fresh instance shows.
+TEST_F(RuntimeRadiation, AnInstanceSnapshotCarriesItsRadiationMemory) {
+    const std::string folder = (*root_ / "radiating").string();
+    plimsoll_bundle* bundle = plimsoll_bundle_load(folder.c_str(), 1);
+    ASSERT_TRUE(bundle) << plimsoll_runtime_last_error();
+    plimsoll_instance* a = plimsoll_instance_create(bundle);
+    plimsoll_instance* b = plimsoll_instance_create(bundle);
+    plimsoll_instance* fresh = plimsoll_instance_create(bundle);
+    ASSERT_TRUE(a && b && fresh);
+    const plimsoll_water water{};
+    const plimsoll_fluid fluid{kWaterDensity, kGravity, 0, 0};
+    plimsoll_body_state state{};
+    state.pose.position[1] = 0.25;
+    state.pose.orientation[0] = 1;
+    const double dt = 1.0 / 240;
+    const int k = 157, steps = 400;
+    plimsoll_body_state saved{};
+    double energyAtK = 0;
+    std::vector<unsigned char> snapshot;
+    std::vector<plimsoll_body_state> states;
+    for (int n = 0; n < steps; ++n) {
+        if (n == k) {
+            std::size_t size = 0;
+            ASSERT_EQ(plimsoll_instance_save(a, nullptr, 0, &size), 1);
+            snapshot.resize(size);
+            ASSERT_EQ(plimsoll_instance_save(a, snapshot.data(), size, &size), 1);
+            saved = state;
+            energyAtK = plimsoll_instance_radiation_energy(a);
+            EXPECT_GT(energyAtK, 0.0);
+        }
+        ASSERT_EQ(plimsoll_instance_step(a, &state, &water, &fluid, n * dt, dt), 1) << plimsoll_runtime_last_error();
+        states.push_back(state);
+    }
+    ASSERT_EQ(plimsoll_instance_restore(b, snapshot.data(), snapshot.size()), 1) << plimsoll_runtime_last_error();
+    EXPECT_EQ(plimsoll_instance_radiation_energy(b), energyAtK);
+    EXPECT_EQ(plimsoll_instance_radiation_energy(fresh), 0.0);
+    plimsoll_body_state restored = saved, atRest = saved;
+    bool diverged = false;
+    for (int n = k; n < steps; ++n) {
+        ASSERT_EQ(plimsoll_instance_step(b, &restored, &water, &fluid, n * dt, dt), 1);
+        ASSERT_EQ(plimsoll_instance_step(fresh, &atRest, &water, &fluid, n * dt, dt), 1);
+        ASSERT_EQ(std::memcmp(&restored, &states[n], sizeof restored), 0) << "step " << n;
+        diverged = diverged || std::memcmp(&atRest, &states[n], sizeof atRest) != 0;
+    }
+    EXPECT_TRUE(diverged) << "a memory at rest gave the same steps: the snapshot test would be vacuous";
+    EXPECT_EQ(plimsoll_instance_state_hash(b), plimsoll_instance_state_hash(a));
+    plimsoll_instance_destroy(a);
+    plimsoll_instance_destroy(b);
+    plimsoll_instance_destroy(fresh);
+    plimsoll_bundle_destroy(bundle);
 }
 
 }  // namespace
