@@ -123,6 +123,10 @@ std::optional<Result<std::unique_ptr<Command>>> layerCommand(const Document& doc
         }
         return makeSetLayerCommand(document, body, channel, c.at("layer"), e);
     }
+    if (op == "layer_rename") {
+        return makeRenameLayerCommand(document, body, channel, c.at("layer"),
+                                      c.at("name").get<std::string>());
+    }
     if (op == "mask_add") {
         return makeAddMaskCommand(document, body, channel, c.at("layer"), c.value("value", 1.0));
     }
