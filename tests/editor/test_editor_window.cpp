@@ -1301,6 +1301,56 @@ TEST(EditorWindow, InspectorPositionFieldMovesTheBodyAsOneUndoStep) {
     EXPECT_EQ(saved->bodies[0].position, Eigen::Vector3d(5, 0, 0));
 }
 
+TEST(EditorWindow, LayerRenameFromTheContextMenuKeepsEnterAndDropsEsc) {
+    // The ball's map with layers Base, "Layer 1" and "Fill 2" (a headless script), the Layers
+    // panel given most of the column: at 800 x 500 the rows "Fill 2" and "Layer 1" are at
+    // y = 134 and 157, and a right-click's menu has "Rename" 14 px below the click. "Layer 1"
+    // becomes "Rust" with Enter (one step, saved in the layers file); "Fill 2" typed over as
+    // "Zed" and left with Esc keeps its name. Keys are held until a frame has taken them.
+    if (!haveWindowTools(true)) GTEST_SKIP() << "xvfb-run or xdotool is not installed";
+    const fs::path project = ballProject("window_layer_rename");
+    const fs::path dir = project.parent_path();
+    std::ofstream(dir / "layers.json") << R"([{"op": "new_map", "size": 64, "value": 0.3},
+        {"op": "layer_add", "kind": "paint"}, {"op": "layer_add", "kind": "fill", "value": 0.5}])";
+    const test::CommandOutput made = test::runPlimsoll(
+        "edit '" + project.string() + "' --script '" + (dir / "layers.json").string() + "'");
+    ASSERT_EQ(made.exitCode, 0) << made.err;
+    fs::create_directories(dir / "config" / "plimsoll");
+    std::ofstream(dir / "config" / "plimsoll" / "settings.json")
+        << R"({"layout": {"column_width": 400, "shares": [0.1, 0.7, 0.1, 0.1]}})";
+    auto renameAt = [](int y) {
+        return moveTo(600, y) + "xdotool click 3; " + waitFor("\"popup\":\"##Popup_") +
+               clickAt(620, y + 14) + waitFor("\"held\":\"Layers/");
+    };
+    // Enter: the step's name has quotes of its own, and the script is in single quotes.
+    const std::string enter =
+        "xdotool type --window $w Rust; xdotool keydown --window $w Return; " +
+        waitFor("\"undo\":\"Rename layer ") + "xdotool keyup --window $w Return; ";
+    const std::string escape =
+        "xdotool type --window $w Zed; xdotool keydown --window $w Escape; " +
+        waitFor("\"held\":\"\"") + "xdotool keyup --window $w Escape; ";
+    const std::string out = runUnderXvfb(
+        dir,
+        "$PLIMSOLL edit ball.plim.json --run-seconds 90 --window-size 800x500 --view front "
+        "--state-file state.json & " +
+            kWaitForState + renameAt(157) + enter + renameAt(134) + escape +
+            "cp state.json escaped.json; xdotool key --window $w ctrl+s; " +
+            waitFor("\"dirty\":false") + "xdotool key --window $w ctrl+q; wait");
+    if (out.empty()) GTEST_SKIP() << "no editor window in this build or no X server";
+    const nlohmann::json report = nlohmann::json::parse(out);
+    EXPECT_LT(report["seconds"].get<double>(), 89.0) << "Ctrl+Q was not seen (unsaved?)";
+    EXPECT_EQ(report["undo"], "Rename layer 'Layer 1' to 'Rust'");
+    EXPECT_EQ(report["undo_steps"], 1) << "Esc made a step";
+    const nlohmann::json escaped = nlohmann::json::parse(test::readFile(dir / "escaped.json"));
+    EXPECT_EQ(escaped["held"], "") << "the field stayed open after Esc";
+    const nlohmann::json layers =
+        nlohmann::json::parse(test::readFile(dir / "maps" / "ball_ball_permeability.layers.json"));
+    ASSERT_EQ(layers["layers"].size(), 3u);
+    EXPECT_EQ(layers["layers"][0]["name"], "Base");
+    EXPECT_EQ(layers["layers"][1]["name"], "Rust");
+    EXPECT_EQ(layers["layers"][2]["name"], "Fill 2");
+}
+
 }  // namespace
 }  // namespace test_editor_window
 }  // namespace plimsoll::editor
