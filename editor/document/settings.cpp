@@ -132,13 +132,16 @@ Settings Settings::load(const fs::path& folder) {
         }
         if (const auto presets = j.find("brush_presets");
             presets != j.end() && presets->is_array()) {
-            // A preset the panel could not show, a second of one name, or one past the limit
-            // is left out; the others are kept.
+            // A preset the panel could not show, a second of one name (a built-in's too), or
+            // one past the limit is left out; the others are kept.
+            const auto builtins = builtinBrushPresets();
             for (const nlohmann::json& entry : *presets) {
                 std::optional<BrushPreset> preset = readBrushPreset(entry);
                 if (!preset || settings.brushPresets.size() >= kMaxUserBrushPresets) continue;
-                if (std::any_of(settings.brushPresets.begin(), settings.brushPresets.end(),
-                                [&](const BrushPreset& p) { return p.name == preset->name; }))
+                const auto named = [&](const BrushPreset& p) { return p.name == preset->name; };
+                const auto& kept = settings.brushPresets;
+                if (std::any_of(kept.begin(), kept.end(), named) ||
+                    std::any_of(builtins.begin(), builtins.end(), named))
                     continue;
                 settings.brushPresets.push_back(std::move(*preset));
             }

@@ -1027,14 +1027,15 @@ TEST(EditorSettings, BrushPresetsRoundTripThroughTheSettingsFile) {
     EXPECT_EQ(builtin("Seal").value, 0.0);
     EXPECT_EQ(builtin("Seal").mode, BrushMode::Paint);
 
-    // A hand-edited file: a preset out of range or without a name, and a second of one name,
-    // are left out; the good one is kept.
+    // A hand-edited file: a preset out of range or without a name, a second of one name and
+    // one named as a built-in are left out; the good one is kept.
     std::ofstream(dir / "settings.json") << R"({"brush_presets": [
         {"name": "Good", "radius": 0.2, "strength": 0.5, "value": 0.5, "falloff": "linear"},
         {"name": "Huge", "radius": -3},
         {"radius": 0.1},
         {"name": "Odd", "falloff": "wobbly"},
         {"name": "Good", "radius": 0.3},
+        {"name": "Hole", "radius": 0.5},
         7]})";
     const Settings odd = Settings::load(dir);
     ASSERT_EQ(odd.brushPresets.size(), 1u);
