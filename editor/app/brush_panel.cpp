@@ -1,6 +1,7 @@
 // Tools and brush: what the left mouse does, on which map, and how.
 #include "app/panels.h"
 
+#include "document/brush_presets.h"
 #include "document/command.h"
 
 #include <imgui.h>
@@ -123,6 +124,89 @@ void alphaControls(EditorState& s) {
     tooltip("Paint without an alpha image");
 }
 
+/// The brush presets: the built-in ones and the painter's own (kept in the settings file), a
+/// Save... that keeps the current tip under a name, and Delete for one of the painter's. The
+/// combo shows the preset the brush matches, or "custom".
+void brushPresetControls(EditorState& s) {
+    static char typed[64];       // the name of the preset being saved (one Tools panel)
+    static std::string refusal;  // why the last Save was refused, shown in its popup
+    const BrushPreset* current = nullptr;
+    bool currentIsUsers = false;
+    for (const BrushPreset& p : builtinBrushPresets()) {
+        if (!current && brushHasPreset(s.brush, p)) current = &p;
+    }
+    for (const BrushPreset& p : s.settings.brushPresets) {
+        if (!current && brushHasPreset(s.brush, p)) {
+            current = &p;
+            currentIsUsers = true;
+        }
+    }
+    const std::string shown = current ? current->name : "custom";
+    std::string chosen;
+    ImGui::SetNextItemWidth(ImGui::GetContentRegionAvail().x * 0.45f);
+    if (ImGui::BeginCombo("Preset", shown.c_str())) {
+        for (const BrushPreset& p : builtinBrushPresets()) {
+            if (ImGui::Selectable(p.name.c_str(), &p == current)) {
+                applyBrushPreset(p, s.brush);
+                chosen = p.name;
+            }
+        }
+        if (!s.settings.brushPresets.empty()) ImGui::Separator();
+        for (const BrushPreset& p : s.settings.brushPresets) {
+            ImGui::PushID(&p);
+            if (ImGui::Selectable(p.name.c_str(), &p == current)) {
+                applyBrushPreset(p, s.brush);
+                chosen = p.name;
+            }
+            ImGui::PopID();
+        }
+        ImGui::EndCombo();
+    }
+    tooltip(
+        "Brush presets: Hole (small and hard: opens the map fully), Seep (soft and weak: lets a\n"
+        "little more in per stroke), Seal (paints 0), and your own. A preset sets mode, radius,\n"
+        "strength, value, falloff and spacing; symmetry and the rest stay.");
+    if (!chosen.empty()) s.status = "Brush preset " + chosen;
+    ImGui::SameLine();
+    if (ImGui::Button("Save...")) {
+        std::snprintf(typed, sizeof typed, "%s", currentIsUsers ? current->name.c_str() : "");
+        refusal.clear();
+        ImGui::OpenPopup("Save brush preset");
+    }
+    tooltip("Keep the brush as a preset of your own (kept between sessions).");
+    ImGui::SameLine();
+    ImGui::BeginDisabled(!currentIsUsers);
+    if (ImGui::Button("Delete##brush_preset") && currentIsUsers) {
+        const std::string name = current->name;
+        s.settings.removeBrushPreset(name);
+        (void)s.settings.save();
+        s.status = "Removed brush preset " + name;
+    }
+    ImGui::EndDisabled();
+    tooltip("Remove the preset of yours the brush is set to (the built-in ones stay).");
+    if (ImGui::BeginPopup("Save brush preset")) {
+        ImGui::TextUnformatted("Keep the brush as:");
+        if (ImGui::IsWindowAppearing()) ImGui::SetKeyboardFocusHere();
+        const bool enter = ImGui::InputText("##preset_name", typed, sizeof typed,
+                                            ImGuiInputTextFlags_EnterReturnsTrue);
+        tooltip("A name of your own (a preset of that name is replaced).");
+        const bool save = ImGui::Button("Save");
+        ImGui::SameLine();
+        if (ImGui::Button("Cancel")) ImGui::CloseCurrentPopup();
+        if (enter || save) {
+            if (Status saved = s.settings.saveBrushPreset(typed, s.brush); saved) {
+                (void)s.settings.save();
+                s.status = "Saved brush preset " + std::string(typed);
+                ImGui::CloseCurrentPopup();
+            } else {
+                refusal = saved.error().message;
+            }
+        }
+        if (!refusal.empty()) ImGui::TextColored(ImVec4(1, 0.45f, 0.4f, 1), "%s", refusal.c_str());
+        ImGui::EndPopup();
+    }
+}
+
 }  // namespace
 
 void drawBrushPanel(EditorState& s, const Rect& area) {
@@ -154,6 +238,7 @@ void drawBrushPanel(EditorState& s, const Rect& area) {
     }
     tooltip("The map the tools change: permeability (water flow in), or the shell's density and "
             "thickness scales");
+    brushPresetControls(s);
     int mode = static_cast<int>(s.brush.mode);
     if (ImGui::Combo("Mode", &mode, "paint\0erase\0smooth\0")) s.brush.mode = static_cast<BrushMode>(mode);
     tooltip("Paint toward Value, erase toward 0 (E), or smooth toward the mean under the brush (S)");

@@ -83,6 +83,7 @@ bool EditorState::open(const std::string& path) {
     selectedBody = 0;
     activeLayer = -1;
     paintMask = false;
+    layerRename = {};
     stroke = {};
     overlaysDirty = true;
     ++documentRevision;

@@ -52,6 +52,16 @@ struct LayerSliders {
     float opacity = 0, fill = 0;
 };
 
+/// A layer name being typed in the Layers panel (double-click or "Rename"): Enter keeps it, Esc
+/// puts the old name back.
+struct LayerRename {
+    int layer = -1;        ///< index from the bottom; -1: no rename open
+    std::size_t body = 0;  ///< the map the layer is on (a rename ends when it changes)
+    MapChannel channel = MapChannel::Permeability;
+    std::string text;    ///< as typed
+    bool focus = false;  ///< give the field the keyboard on its next frame
+};
+
 struct EditorState {
     std::unique_ptr<Document> document;
     Settings settings;
@@ -86,6 +96,7 @@ struct EditorState {
     int activeLayer = -1;
     bool paintMask = false;
     LayerSliders layerSliders;
+    LayerRename layerRename;
     int newMapSize = 1024;              ///< the Tools panel's "New map" size, px
     bool confirmNewMap = false;         ///< "replace the map?" question to open
     /// Key presses since the last frame, in order, from the key callback: a tap shorter than a

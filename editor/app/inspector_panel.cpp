@@ -4,6 +4,7 @@
 #include "app/panels.h"
 
 #include "document/command.h"
+#include "document/material_presets.h"
 
 #include "plimsoll/physics/massprops.h"
 #include "plimsoll/surface/painted_map.h"
@@ -14,6 +15,7 @@
 
 #include <atomic>
 #include <cmath>
+#include <cstdio>
 #include <functional>
 #include <map>
 #include <memory>
@@ -168,6 +170,36 @@ void numberField(EditorState& s, const char* label, const std::string& pointer, 
     }
 }
 
+/// The material presets (material_presets.h): one choice sets the body's solid density and its
+/// shell (density x a typical thickness), whichever it has, as one undo step. The combo shows
+/// the preset the body matches, or "custom".
+void materialPresetCombo(EditorState& s, std::size_t b, const MaterialDesc& material) {
+    const MaterialPreset* current = matchingMaterialPreset(material);
+    if (ImGui::BeginCombo("Preset", current ? std::string(current->name).c_str() : "custom")) {
+        for (const MaterialPreset& p : materialPresets()) {
+            char label[160];
+            if (material.shellSurfaceDensity) {
+                std::snprintf(label, sizeof label, "%s  %g kg/m3, %g mm shell: %.4g kg/m2",
+                              std::string(p.name).c_str(), p.density, p.shellThickness * 1000,
+                              p.shellSurfaceDensity());
+            } else {
+                std::snprintf(label, sizeof label, "%s  %g kg/m3", std::string(p.name).c_str(),
+                              p.density);
+            }
+            // Choosing the preset the body has changes nothing: no step in the history.
+            if (ImGui::Selectable(label, &p == current) && &p != current) {
+                s.inspector->deferred.push_back(
+                    [&s, b, &p] { s.execute(makeApplyMaterialPresetCommand(*s.document, b, p)); });
+            }
+        }
+        ImGui::EndCombo();
+    }
+    tooltip(
+        "Typical densities of what floating things are made of (engineering handbook values).\n"
+        "A solid body gets the density; a shell gets density x a typical skin thickness.\n"
+        "One undo step.");
+}
+
 /// The texture size field, and while a new size bakes its progress and Cancel.
 void textureSizeField(EditorState& s, std::size_t b, const std::string& base, int current) {
     numberField(s, "Texture size", base + "/texture_size", current, "%.0f",
@@ -320,6 +352,7 @@ void drawInspectorPanel(EditorState& s, const Rect& area) {
         }
     }
     if (ImGui::CollapsingHeader("Material", ImGuiTreeNodeFlags_DefaultOpen)) {
+        materialPresetCombo(s, b, body.material);
         if (body.material.density) {
             numberField(s, "Density (kg/m3)", base + "/material/density", *body.material.density,
                         "%.4g", "Mass per volume of the solid body.");

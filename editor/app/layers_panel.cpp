@@ -8,9 +8,56 @@
 
 #include <imgui.h>
 
+#include <cstdio>
 #include <string>
 
 namespace plimsoll::editor {
+
+namespace {
+
+void startRename(EditorState& s, std::size_t body, int layer, const std::string& name) {
+    s.layerRename = {layer, body, s.channel, name, true};
+}
+
+/// The name field over layer `i`'s row while it is renamed: Enter keeps the name, Esc puts the
+/// old one back, and a click elsewhere keeps a name that can be kept. True: rename it now (the
+/// caller runs the command once it no longer holds references into the stack).
+bool renameField(EditorState& s, int i, const LayerStack& stack) {
+    LayerRename& r = s.layerRename;
+    const std::string& old = stack.layers[static_cast<std::size_t>(i)].name;
+    char buffer[256];
+    std::snprintf(buffer, sizeof buffer, "%s", r.text.c_str());
+    if (r.focus) {
+        ImGui::SetKeyboardFocusHere();
+        r.focus = false;
+    }
+    ImGui::SetNextItemWidth(-1);
+    const bool enter =
+        ImGui::InputText("##rename", buffer, sizeof buffer,
+                         ImGuiInputTextFlags_EnterReturnsTrue | ImGuiInputTextFlags_AutoSelectAll);
+    tooltip("The layer's new name: Enter keeps it, Esc keeps the old one.");
+    r.text = buffer;
+    const bool escape = ImGui::IsKeyPressed(ImGui::GetKeyIndex(ImGuiKey_Escape), false);
+    const bool left = ImGui::IsItemDeactivated() && !enter;
+    const bool unchanged = trimmedLayerName(r.text) == old;
+    const Status valid = checkLayerName(stack, i, r.text);
+    if (escape || (left && (unchanged || !valid)) || (enter && unchanged)) {
+        // Esc in ImGui's field has put the old text back; a click away from a name that
+        // cannot be kept gives it up, saying why.
+        if (left && !escape && !valid) s.status = "Layer not renamed: " + valid.error().message;
+        r = {};
+        return false;
+    }
+    if (enter || left) return true;
+    if (!unchanged && !valid) {
+        ImGui::PushStyleColor(ImGuiCol_Text, ImVec4(1, 0.45f, 0.4f, 1));
+        ImGui::TextWrapped("%s", valid.error().message.c_str());
+        ImGui::PopStyleColor();
+    }
+    return false;
+}
+
+}  // namespace
 
 void drawLayersPanel(EditorState& s, const Rect& area) {
     ImGui::SetNextWindowPos(ImVec2(area.x, area.y));
@@ -86,6 +133,10 @@ void drawLayersPanel(EditorState& s, const Rect& area) {
     const float listHeight = std::max(40.0f, ImGui::GetContentRegionAvail().y -
                                                  settingRows * ImGui::GetFrameHeightWithSpacing());
     ImGui::BeginChild("##layers", ImVec2(0, listHeight), true);
+    // A rename ends with its map (another body or channel) or its layer (an undo took it).
+    LayerRename& rename = s.layerRename;
+    if (rename.layer >= count || rename.body != body || rename.channel != s.channel) rename = {};
+    bool renameNow = false;
     for (int i = count - 1; i >= 0; --i) {
         const MapLayer& layer = stack->layers[static_cast<std::size_t>(i)];
         ImGui::PushID(i);
@@ -101,11 +152,24 @@ void drawLayersPanel(EditorState& s, const Rect& area) {
                                   blendModeName(layer.blend) + ", " +
                                   std::to_string(static_cast<int>(layer.opacity * 100 + 0.5f)) + "%" +
                                   (layer.mask ? ", mask" : "") + ")";
-        if (ImGui::Selectable(label.c_str(), i == active)) {
+        if (rename.layer == i) {
+            if (renameField(s, i, *stack)) renameNow = true;
+            ImGui::PopID();
+            continue;
+        }
+        if (ImGui::Selectable(label.c_str(), i == active, ImGuiSelectableFlags_AllowDoubleClick)) {
             s.activeLayer = i;
             if (!layer.mask) s.paintMask = false;
+            if (ImGui::IsMouseDoubleClicked(ImGuiMouseButton_Left))
+                startRename(s, body, i, layer.name);
         }
-        tooltip("Click to make it the active layer: strokes, fills and the settings below act on it.");
+        tooltip(
+            "Click to make it the active layer: strokes, fills and the settings below act on it.\n"
+            "Double-click (or right-click > Rename) to rename it.");
+        if (ImGui::BeginPopupContextItem("##layer_menu")) {
+            if (ImGui::MenuItem("Rename")) startRename(s, body, i, layer.name);
+            ImGui::EndPopup();
+        }
         ImGui::PopID();
     }
     ImGui::EndChild();
@@ -163,6 +227,16 @@ void drawLayersPanel(EditorState& s, const Rect& area) {
             if (s.execute(makeRemoveMaskCommand(*s.document, body, s.channel, active))) s.paintMask = false;
         }
         tooltip("Removes the mask: the whole layer shows again.");
+    }
+    // Last: the rename replaces the stack that `layer` and the list read.
+    if (renameNow) {
+        // A refused name leaves the field open (the status line says why) to be corrected.
+        if (s.execute(
+                makeRenameLayerCommand(*s.document, body, s.channel, rename.layer, rename.text))) {
+            rename = {};
+        } else {
+            rename.focus = true;
+        }
     }
     ImGui::End();
 }

@@ -500,9 +500,17 @@ Result<std::unique_ptr<Command>> makeAddLayerCommand(const Document& document, s
                              return ok;
                          MapLayer layer;
                          layer.kind = kind;
-                         layer.name = name.empty() ? std::string(kind == LayerKind::Fill ? "Fill " : "Layer ") +
-                                                         std::to_string(stack.layers.size())
-                                                   : name;
+                         // The default names count up from the stack's size, past any taken
+                         // (a removed layer's number is not reused while a layer has it).
+                         if (name.empty()) {
+                             layer.name =
+                                 unusedLayerName(stack, kind == LayerKind::Fill ? "Fill" : "Layer",
+                                                 stack.layers.size());
+                         } else if (Status ok = checkLayerName(stack, -1, name); !ok) {
+                             return ok;
+                         } else {
+                             layer.name = trimmedLayerName(name);
+                         }
                          if (kind == LayerKind::Paint) {
                              layer.pixels = std::make_shared<PaintedMap>(
                                  uniformMap(stack.width, stack.height, 0.0f));
@@ -543,9 +551,39 @@ Result<std::unique_ptr<Command>> makeMoveLayerCommand(const Document& document, 
     });
 }
 
+Result<std::unique_ptr<Command>> makeRenameLayerCommand(const Document& document, std::size_t body,
+                                                        MapChannel channel, int layer,
+                                                        std::string_view typed) {
+    const std::string name = trimmedLayerName(typed);
+    // The label names the layer as it was: a map without layers has only its "Base" (layerEdit
+    // refuses any other index).
+    const LayerStack* current =
+        body < document.bodyCount() ? document.layers(body, channel) : nullptr;
+    const std::string old =
+        current && layer >= 0 && static_cast<std::size_t>(layer) < current->layers.size()
+            ? current->layers[static_cast<std::size_t>(layer)].name
+            : std::string("Base");
+    return layerEdit(document, body, channel, "Rename layer '" + old + "' to '" + name + "'",
+                     [&](LayerStack& stack) -> Status {
+                         if (Status ok = checkLayerIndex(stack, layer); !ok) return ok;
+                         if (Status ok = checkLayerName(stack, layer, name); !ok) return ok;
+                         MapLayer& l = stack.layers[static_cast<std::size_t>(layer)];
+                         if (l.name == name) {
+                             return makeError(ErrorKind::invalidArgument,
+                                              "the layer is named '" + name + "' already");
+                         }
+                         l.name = name;
+                         return Ok{};
+                     });
+}
+
 Result<std::unique_ptr<Command>> makeSetLayerCommand(const Document& document, std::size_t body,
                                                      MapChannel channel, int layer,
                                                      const LayerEdit& edit) {
+    // A change of the name alone is a rename, and says so in the history.
+    if (edit.name && !edit.opacity && !edit.blend && !edit.visible && !edit.fillValue) {
+        return makeRenameLayerCommand(document, body, channel, layer, *edit.name);
+    }
     return layerEdit(document, body, channel, "Layer settings", [&](LayerStack& stack) -> Status {
         if (Status ok = checkLayerIndex(stack, layer); !ok) return ok;
         MapLayer& l = stack.layers[static_cast<std::size_t>(layer)];
@@ -561,7 +599,10 @@ Result<std::unique_ptr<Command>> makeSetLayerCommand(const Document& document, s
             if (Status ok = checkUnit(*edit.fillValue, "a fill layer's value"); !ok) return ok;
             l.fillValue = static_cast<float>(*edit.fillValue);
         }
-        if (edit.name) l.name = *edit.name;
+        if (edit.name) {
+            if (Status ok = checkLayerName(stack, layer, *edit.name); !ok) return ok;
+            l.name = trimmedLayerName(*edit.name);
+        }
         if (edit.blend) l.blend = *edit.blend;
         if (edit.visible) l.visible = *edit.visible;
         return Ok{};

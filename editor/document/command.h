@@ -120,7 +120,8 @@ Result<std::unique_ptr<Command>> makeResizeMapCommand(Document& document, std::s
 
 /// A new layer at `index` (clamped; -1: on top). A map without layers first becomes a stack
 /// with the map as its "Base" layer. A paint layer starts transparent-black (value 0, and
-/// Normal blend at its opacity); a fill layer holds `fillValue`.
+/// Normal blend at its opacity); a fill layer holds `fillValue`. An empty `name` gives the
+/// first free "Layer N" / "Fill N"; a name another layer has is refused (checkLayerName).
 Result<std::unique_ptr<Command>> makeAddLayerCommand(const Document& document, std::size_t body,
                                                      MapChannel channel, LayerKind kind,
                                                      std::string name, double fillValue = 1.0,
@@ -133,7 +134,7 @@ Result<std::unique_ptr<Command>> makeMoveLayerCommand(const Document& document, 
                                                       MapChannel channel, int from, int to);
 /// Settings of a layer to change; unset ones stay.
 struct LayerEdit {
-    std::optional<std::string> name;
+    std::optional<std::string> name;  ///< checked as makeRenameLayerCommand checks it
     std::optional<double> opacity;
     std::optional<BlendMode> blend;
     std::optional<bool> visible;
@@ -142,6 +143,12 @@ struct LayerEdit {
 Result<std::unique_ptr<Command>> makeSetLayerCommand(const Document& document, std::size_t body,
                                                      MapChannel channel, int layer,
                                                      const LayerEdit& edit);
+/// Renames layer `layer`, one step called "Rename layer 'Layer 2' to 'Rust'". The name is
+/// taken without the spaces at its ends; refused (checkLayerName) when empty or another
+/// layer's, and when it is the layer's name already (a step that changes nothing).
+Result<std::unique_ptr<Command>> makeRenameLayerCommand(const Document& document, std::size_t body,
+                                                        MapChannel channel, int layer,
+                                                        std::string_view name);
 /// Gives the layer a mask of `value` everywhere (1: all shown), or removes its mask.
 Result<std::unique_ptr<Command>> makeAddMaskCommand(const Document& document, std::size_t body,
                                                     MapChannel channel, int layer,

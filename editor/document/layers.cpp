@@ -127,6 +127,36 @@ Status checkStack(const LayerStack& stack) {
     return Ok{};
 }
 
+std::string trimmedLayerName(std::string_view name) {
+    const auto blank = [](char c) { return c == ' ' || c == '\t'; };
+    while (!name.empty() && blank(name.front())) name.remove_prefix(1);
+    while (!name.empty() && blank(name.back())) name.remove_suffix(1);
+    return std::string(name);
+}
+
+Status checkLayerName(const LayerStack& stack, int layer, std::string_view typed) {
+    const std::string name = trimmedLayerName(typed);
+    if (name.empty()) return makeError(ErrorKind::invalidArgument, "a layer needs a name");
+    if (std::any_of(name.begin(), name.end(),
+                    [](char c) { return static_cast<unsigned char>(c) < 0x20 || c == 0x7f; }))
+        return makeError(ErrorKind::invalidArgument, "a layer's name is one line of text");
+    for (std::size_t i = 0; i < stack.layers.size(); ++i) {
+        if (static_cast<int>(i) != layer && stack.layers[i].name == name)
+            return makeError(ErrorKind::invalidArgument,
+                             "the map already has a layer named '" + name + "'");
+    }
+    return Ok{};
+}
+
+std::string unusedLayerName(const LayerStack& stack, const std::string& stem, std::size_t first) {
+    for (std::size_t n = first;; ++n) {
+        std::string name = stem + " " + std::to_string(n);
+        if (std::none_of(stack.layers.begin(), stack.layers.end(),
+                         [&](const MapLayer& l) { return l.name == name; }))
+            return name;
+    }
+}
+
 namespace {
 /// The samples of the images `stack` holds now.
 std::uint64_t imagesHeld(const LayerStack& stack) {

@@ -109,6 +109,16 @@ PaintedMap flattenLayers(const LayerStack& stack);
 /// Why the stack is not well formed (sizes, pixels of paint layers, ranges), or nothing.
 Status checkStack(const LayerStack& stack);
 
+/// A layer name as typed, without the spaces (and tabs) at its ends.
+std::string trimmedLayerName(std::string_view name);
+/// Why `name` (trimmed) cannot be the name of layer `layer` of `stack` (-1: of a new layer):
+/// empty, with a control character (a line break would split the panel's row), or the name of
+/// another layer of the map (the history and the scripts name layers to the painter). Ok for
+/// the layer's own name.
+Status checkLayerName(const LayerStack& stack, int layer, std::string_view name);
+/// `stem` + " N" with the smallest N from `first` that no layer of the stack is called.
+std::string unusedLayerName(const LayerStack& stack, const std::string& stem, std::size_t first);
+
 /// The stack as the side file's JSON text (pixels as base64 16-bit PNG).
 std::string layerStackToJson(const LayerStack& stack);
 /// Parses a side file; `source` names it in messages.

@@ -3,6 +3,7 @@
 
 #include "document/command.h"
 #include "document/graph_edit.h"
+#include "document/material_presets.h"
 #include "plimsoll/core/limits.h"
 #include "plimsoll/graph_auto/graph_auto.h"
 #include "plimsoll/io/graph_json.h"
@@ -122,6 +123,10 @@ std::optional<Result<std::unique_ptr<Command>>> layerCommand(const Document& doc
             if (!e.blend) throw std::invalid_argument("blend: unknown mode " + name);
         }
         return makeSetLayerCommand(document, body, channel, c.at("layer"), e);
+    }
+    if (op == "layer_rename") {
+        return makeRenameLayerCommand(document, body, channel, c.at("layer"),
+                                      c.at("name").get<std::string>());
     }
     if (op == "mask_add") {
         return makeAddMaskCommand(document, body, channel, c.at("layer"), c.value("value", 1.0));
@@ -320,6 +325,17 @@ Result<Json> runEditScript(Document& document, const Json& script) {
                 command = makeResizeMapCommand(document, body, channel, w, h);
             } else if (op == "set") {
                 command = makeSetPropertyCommand(document, c.at("pointer"), c.at("value"));
+            } else if (op == "apply_material_preset") {
+                const std::string name = c.at("preset");
+                const MaterialPreset* preset = findMaterialPreset(name);
+                if (!preset) {
+                    std::string known;
+                    for (const MaterialPreset& p : materialPresets()) {
+                        known += (known.empty() ? "" : ", ") + std::string(p.key);
+                    }
+                    throw std::invalid_argument("preset: " + known + ", not " + name);
+                }
+                command = makeApplyMaterialPresetCommand(document, body, *preset);
             } else if (op == "import_mesh") {
                 std::optional<std::size_t> target;
                 if (c.contains("body")) target = c["body"].get<std::size_t>();

@@ -49,6 +49,40 @@ void Settings::addRecent(const fs::path& file) {
     if (recentFiles.size() > kMaxRecent) recentFiles.resize(kMaxRecent);
 }
 
+Status Settings::saveBrushPreset(const std::string& typed, const Brush& brush) {
+    std::string name = typed;
+    name.erase(0, name.find_first_not_of(" \t"));
+    name.erase(name.find_last_not_of(" \t") + 1);
+    if (name.empty()) return makeError(ErrorKind::invalidArgument, "a brush preset needs a name");
+    for (const BrushPreset& p : builtinBrushPresets()) {
+        if (p.name == name) {
+            return makeError(ErrorKind::invalidArgument,
+                             "'" + name + "' is a built-in preset: choose another name");
+        }
+    }
+    BrushPreset preset = brushPresetOf(name, brush);
+    for (BrushPreset& p : brushPresets) {
+        if (p.name == name) {
+            p = std::move(preset);
+            return Ok{};
+        }
+    }
+    if (brushPresets.size() >= kMaxUserBrushPresets) {
+        return makeError(ErrorKind::limit, "at most " + std::to_string(kMaxUserBrushPresets) +
+                                               " brush presets: remove one first");
+    }
+    brushPresets.push_back(std::move(preset));
+    return Ok{};
+}
+
+bool Settings::removeBrushPreset(const std::string& name) {
+    const auto it = std::find_if(brushPresets.begin(), brushPresets.end(),
+                                 [&](const BrushPreset& p) { return p.name == name; });
+    if (it == brushPresets.end()) return false;
+    brushPresets.erase(it);
+    return true;
+}
+
 Settings Settings::load(const fs::path& folder) {
     Settings settings;
     std::ifstream in(folder / "settings.json");
@@ -96,6 +130,22 @@ Settings Settings::load(const fs::path& folder) {
             // The image itself is loaded by the window (a missing file: no alpha).
             brush.alphaPath = b.value("alpha", brush.alphaPath);
         }
+        if (const auto presets = j.find("brush_presets");
+            presets != j.end() && presets->is_array()) {
+            // A preset the panel could not show, a second of one name (a built-in's too), or
+            // one past the limit is left out; the others are kept.
+            const auto builtins = builtinBrushPresets();
+            for (const nlohmann::json& entry : *presets) {
+                std::optional<BrushPreset> preset = readBrushPreset(entry);
+                if (!preset || settings.brushPresets.size() >= kMaxUserBrushPresets) continue;
+                const auto named = [&](const BrushPreset& p) { return p.name == preset->name; };
+                const auto& kept = settings.brushPresets;
+                if (std::any_of(kept.begin(), kept.end(), named) ||
+                    std::any_of(builtins.begin(), builtins.end(), named))
+                    continue;
+                settings.brushPresets.push_back(std::move(*preset));
+            }
+        }
     } catch (const nlohmann::json::exception&) {
         return Settings{};  // a damaged settings file must not stop the editor
     }
@@ -120,6 +170,8 @@ Status Settings::save(const fs::path& folder) const {
                   {"normal_angle", brush.normalAngle}, {"front_faces_only", brush.frontFacesOnly},
                   {"occlusion", brush.occlusion},
                   {"falloff_curve", falloffCurveJson(brush.curve)}};
+    j["brush_presets"] = nlohmann::json::array();
+    for (const BrushPreset& p : brushPresets) j["brush_presets"].push_back(brushPresetJson(p));
     std::error_code ec;
     fs::create_directories(folder, ec);
     const std::string text = j.dump(2) + "\n";

@@ -2,6 +2,7 @@
 // ($XDG_CONFIG_HOME/plimsoll, default ~/.config/plimsoll) as settings.json.
 #pragma once
 
+#include "document/brush_presets.h"
 #include "document/paint.h"
 #include "document/panel_layout.h"
 #include "plimsoll/core/result.h"
@@ -31,9 +32,18 @@ struct Settings {
     float uiScale = 1.0f;
     PanelLayout layout;                     ///< the splitters' places
     Brush brush;                            ///< the brush as last used
+    /// The painter's own brush presets ("brush_presets"), in the order saved; the built-in
+    /// ones (builtinBrushPresets) are not stored.
+    std::vector<BrushPreset> brushPresets;
 
     static constexpr std::size_t kMaxRecent = 10;
     void addRecent(const std::filesystem::path& file);
+    /// Keeps `brush`'s tip as the preset `name` (without the spaces at its ends), replacing
+    /// the painter's preset of that name. Refused: an empty name, a built-in preset's name,
+    /// and a new preset past kMaxUserBrushPresets.
+    Status saveBrushPreset(const std::string& name, const Brush& brush);
+    /// Removes the painter's preset `name`; false if there is none.
+    bool removeBrushPreset(const std::string& name);
 
     /// Reads settings.json from `folder` (defaults where absent or unreadable).
     static Settings load(const std::filesystem::path& folder = userConfigDir());

@@ -963,6 +963,87 @@ TEST(EditorSettings, LayoutAndBrushAreKeptBetweenSessions) {
     EXPECT_EQ(odd.brush.falloff, Brush{}.falloff);
 }
 
+TEST(EditorSettings, BrushPresetsRoundTripThroughTheSettingsFile) {
+    const fs::path dir = test::freshFolder("editor_document", "settings_presets");
+    Settings s;
+    Brush brush;
+    brush.mode = BrushMode::Erase;
+    brush.radius = 0.0375;
+    brush.strength = 0.3;
+    brush.value = 0.125;
+    brush.falloff = Falloff::Custom;
+    brush.curve = FalloffCurve::sanitised({{0, 1}, {0.4, 0.8}, {1, 0}});
+    brush.spacing = 0.5;
+    ASSERT_TRUE(s.saveBrushPreset(" Rust spots ", brush).ok());
+    brush.falloff = Falloff::Sharp;
+    ASSERT_TRUE(s.saveBrushPreset("Drip", brush).ok());
+    // The painter's presets cannot take a built-in's name or no name; one of the same name is
+    // replaced, not doubled.
+    EXPECT_FALSE(s.saveBrushPreset("Hole", brush).ok());
+    EXPECT_FALSE(s.saveBrushPreset("  ", brush).ok());
+    brush.radius = 0.04;
+    ASSERT_TRUE(s.saveBrushPreset("Drip", brush).ok());
+    ASSERT_EQ(s.brushPresets.size(), 2u);
+    EXPECT_EQ(s.brushPresets[0].name, "Rust spots");
+    EXPECT_EQ(s.brushPresets[1].radius, 0.04);
+    ASSERT_TRUE(s.save(dir).ok());
+
+    const Settings back = Settings::load(dir);
+    ASSERT_EQ(back.brushPresets.size(), 2u);
+    EXPECT_TRUE(back.brushPresets[0] == s.brushPresets[0]);
+    EXPECT_TRUE(back.brushPresets[1] == s.brushPresets[1]);
+    EXPECT_EQ(back.brushPresets[0].mode, BrushMode::Erase);
+    EXPECT_EQ(back.brushPresets[0].falloff, Falloff::Custom);
+
+    // Applied, a preset sets the tip and leaves the symmetry alone.
+    Brush painting;
+    painting.mirrorX = true;
+    painting.radial = 4;
+    applyBrushPreset(back.brushPresets[0], painting);
+    EXPECT_TRUE(brushHasPreset(painting, s.brushPresets[0]));
+    EXPECT_EQ(painting.radius, 0.0375);
+    EXPECT_EQ(painting.value, 0.125);
+    EXPECT_TRUE(painting.curve == s.brushPresets[0].curve);
+    EXPECT_TRUE(painting.mirrorX);
+    EXPECT_EQ(painting.radial, 4);
+    EXPECT_FALSE(brushHasPreset(painting, s.brushPresets[1]));
+    Settings removed = back;
+    EXPECT_TRUE(removed.removeBrushPreset("Rust spots"));
+    EXPECT_FALSE(removed.removeBrushPreset("Rust spots"));
+    ASSERT_EQ(removed.brushPresets.size(), 1u);
+
+    // The built-ins do what their names say on a permeability map.
+    const auto builtins = builtinBrushPresets();
+    auto builtin = [&](const std::string& name) {
+        const auto it = std::find_if(builtins.begin(), builtins.end(),
+                                     [&](const BrushPreset& p) { return p.name == name; });
+        EXPECT_NE(it, builtins.end()) << name;
+        return it == builtins.end() ? BrushPreset{} : *it;
+    };
+    EXPECT_EQ(builtin("Hole").value, 1.0);
+    EXPECT_EQ(builtin("Hole").strength, 1.0);
+    EXPECT_LT(builtin("Hole").radius, Brush{}.radius);
+    EXPECT_LT(builtin("Seep").strength, 0.5);
+    EXPECT_EQ(builtin("Seal").value, 0.0);
+    EXPECT_EQ(builtin("Seal").mode, BrushMode::Paint);
+
+    // A hand-edited file: a preset out of range or without a name, a second of one name and
+    // one named as a built-in are left out; the good one is kept.
+    std::ofstream(dir / "settings.json") << R"({"brush_presets": [
+        {"name": "Good", "radius": 0.2, "strength": 0.5, "value": 0.5, "falloff": "linear"},
+        {"name": "Huge", "radius": -3},
+        {"radius": 0.1},
+        {"name": "Odd", "falloff": "wobbly"},
+        {"name": "Good", "radius": 0.3},
+        {"name": "Hole", "radius": 0.5},
+        7]})";
+    const Settings odd = Settings::load(dir);
+    ASSERT_EQ(odd.brushPresets.size(), 1u);
+    EXPECT_EQ(odd.brushPresets[0].name, "Good");
+    EXPECT_EQ(odd.brushPresets[0].radius, 0.2);
+    EXPECT_EQ(odd.brushPresets[0].falloff, Falloff::Linear);
+}
+
 TEST(EditorSettings, RecentFilesPersistInTheConfigFolder) {
     const fs::path dir = test::freshFolder("editor_document", "settings");
     Settings s;

@@ -414,6 +414,123 @@ TEST(EditorLayers, EditScriptRunsLayerOps) {
     EXPECT_NE(refused.error().message.find("no layer 7"), std::string::npos) << refused.error().message;
 }
 
+TEST(EditorLayers, RenameIsOneStepUndoneByteForByteAndKeptBySaving) {
+    const fs::path project = sphereProject("rename");
+    auto d = openOrFail(project);
+    ASSERT_TRUE(d);
+    executeOrFail(*d, makeNewMapCommand(*d, 0, kPerm, kSize, kSize, 0.25, ""));
+    executeOrFail(*d, makeAddLayerCommand(*d, 0, kPerm, LayerKind::Paint, "", 1.0));
+    executeOrFail(*d, makeAddLayerCommand(*d, 0, kPerm, LayerKind::Paint, "", 1.0));
+    ASSERT_EQ(d->layers(0, kPerm)->layers[2].name, "Layer 2");
+    const std::string before = layerStackToJson(*d->layers(0, kPerm));
+    const std::size_t steps = d->historyPosition();
+
+    // Spaces typed at the ends are not part of the name.
+    executeOrFail(*d, makeRenameLayerCommand(*d, 0, kPerm, 2, "  Rust "));
+    EXPECT_EQ(d->historyPosition(), steps + 1);
+    EXPECT_EQ(d->undoName(), "Rename layer 'Layer 2' to 'Rust'");
+    const std::string after = layerStackToJson(*d->layers(0, kPerm));
+    EXPECT_EQ(d->layers(0, kPerm)->layers[2].name, "Rust");
+    EXPECT_NE(after.find("\"name\": \"Rust\""), std::string::npos);
+
+    ASSERT_TRUE(d->undo());
+    EXPECT_TRUE(layerStackToJson(*d->layers(0, kPerm)) == before);
+    ASSERT_TRUE(d->redo());
+    EXPECT_TRUE(layerStackToJson(*d->layers(0, kPerm)) == after);
+
+    ASSERT_TRUE(d->save().ok());
+    const fs::path sideFile = layersPathFor(d->assets(0).maps[0].path);
+    EXPECT_TRUE(test::readFile(sideFile) == after);
+    auto reopened = openOrFail(project);
+    ASSERT_TRUE(reopened);
+    const LayerStack* stack = reopened->layers(0, kPerm);
+    ASSERT_TRUE(stack) << reopened->assets(0).maps[0].error;
+    ASSERT_EQ(stack->layers.size(), 3u);
+    EXPECT_EQ(stack->layers[2].name, "Rust");
+    EXPECT_EQ(stack->layers[1].name, "Layer 1");
+}
+
+TEST(EditorLayers, RenameRefusesEmptyDuplicateAndUnchangedNamesWithoutAStep) {
+    auto d = openOrFail(sphereProject("rename_refused"));
+    ASSERT_TRUE(d);
+    executeOrFail(*d, makeNewMapCommand(*d, 0, kPerm, kSize, kSize, 0.25, ""));
+    executeOrFail(*d, makeAddLayerCommand(*d, 0, kPerm, LayerKind::Paint, "Rust", 1.0));
+    executeOrFail(*d, makeAddLayerCommand(*d, 0, kPerm, LayerKind::Fill, "Wet", 0.5));
+    const std::string stack = layerStackToJson(*d->layers(0, kPerm));
+    const std::size_t steps = d->historyPosition();
+    auto refused = [&](int layer, std::string_view name, const std::string& why) {
+        Result<std::unique_ptr<Command>> c = makeRenameLayerCommand(*d, 0, kPerm, layer, name);
+        ASSERT_FALSE(c.ok()) << "'" << name << "' was taken";
+        EXPECT_NE(c.error().message.find(why), std::string::npos) << c.error().message;
+    };
+    refused(1, "", "needs a name");
+    refused(1, " \t ", "needs a name");
+    refused(2, "Rust", "already has a layer named 'Rust'");
+    refused(2, " Base", "already has a layer named 'Base'");
+    refused(1, "Rust", "named 'Rust' already");
+    refused(1, "two\nlines", "one line");
+    refused(9, "Nine", "no layer 9");
+    // The same checks hold for the other ways a name comes in.
+    LayerEdit edit;
+    edit.name = "Wet";
+    EXPECT_FALSE(makeSetLayerCommand(*d, 0, kPerm, 1, edit).ok());
+    edit.opacity = 0.5;
+    EXPECT_FALSE(makeSetLayerCommand(*d, 0, kPerm, 1, edit).ok()) << "a name with other settings";
+    EXPECT_FALSE(makeAddLayerCommand(*d, 0, kPerm, LayerKind::Paint, "Rust", 1.0).ok());
+    EXPECT_EQ(d->historyPosition(), steps);
+    EXPECT_TRUE(layerStackToJson(*d->layers(0, kPerm)) == stack);
+
+    // A name change through the settings edit reads as a rename in the history too.
+    LayerEdit rename;
+    rename.name = "Rust 2";
+    executeOrFail(*d, makeSetLayerCommand(*d, 0, kPerm, 2, rename));
+    EXPECT_EQ(d->undoName(), "Rename layer 'Wet' to 'Rust 2'");
+    // Default names count from the stack's size and skip the ones taken (a fourth layer
+    // would be "Layer 4", which a renamed layer already is).
+    executeOrFail(*d, makeAddLayerCommand(*d, 0, kPerm, LayerKind::Paint, "", 1.0));
+    EXPECT_EQ(d->layers(0, kPerm)->layers[3].name, "Layer 3");
+    executeOrFail(*d, makeRenameLayerCommand(*d, 0, kPerm, 3, "Layer 4"));
+    executeOrFail(*d, makeAddLayerCommand(*d, 0, kPerm, LayerKind::Paint, "", 1.0));
+    const LayerStack* layers = d->layers(0, kPerm);
+    ASSERT_EQ(layers->layers.size(), 5u);
+    EXPECT_EQ(layers->layers[4].name, "Layer 5");
+    for (std::size_t i = 0; i < layers->layers.size(); ++i) {
+        for (std::size_t k = i + 1; k < layers->layers.size(); ++k)
+            EXPECT_NE(layers->layers[i].name, layers->layers[k].name);
+    }
+}
+
+TEST(EditorLayers, EditScriptRenamesALayer) {
+    auto d = openOrFail(sphereProject("script_rename"));
+    ASSERT_TRUE(d);
+    const nlohmann::json script = nlohmann::json::parse(R"([
+        {"op": "new_map", "size": 32, "value": 0.5},
+        {"op": "layer_add", "kind": "paint"},
+        {"op": "layer_rename", "layer": 1, "name": "Rust"},
+        {"op": "layer_rename", "layer": 0, "name": "Hull"},
+        {"op": "undo"}
+    ])");
+    Result<nlohmann::json> ran = runEditScript(*d, script);
+    ASSERT_TRUE(ran.ok()) << ran.error().message;
+    EXPECT_EQ((*ran)[2]["name"], "Rename layer 'Layer 1' to 'Rust'");
+    EXPECT_EQ((*ran)[3]["name"], "Rename layer 'Base' to 'Hull'");
+    const LayerStack* stack = d->layers(0, kPerm);
+    ASSERT_TRUE(stack);
+    EXPECT_EQ(stack->layers[0].name, "Base");
+    EXPECT_EQ(stack->layers[1].name, "Rust");
+
+    Result<nlohmann::json> duplicate = runEditScript(
+        *d, nlohmann::json::parse(R"([{"op": "layer_rename", "layer": 0, "name": "Rust"}])"));
+    ASSERT_FALSE(duplicate.ok());
+    EXPECT_NE(duplicate.error().message.find("command 0"), std::string::npos)
+        << duplicate.error().message;
+    EXPECT_NE(duplicate.error().message.find("already has a layer named 'Rust'"), std::string::npos)
+        << duplicate.error().message;
+    Result<nlohmann::json> unnamed =
+        runEditScript(*d, nlohmann::json::parse(R"([{"op": "layer_rename", "layer": 0}])"));
+    EXPECT_FALSE(unnamed.ok());
+}
+
 TEST(EditorLayers, NewMapOverSavedPaintIsUndoneToTheSavedMap) {
     // The data loss of the window's "New map": replacing a saved map, then undo, lost it, and
     // the next save wrote a blank map.

@@ -883,7 +883,7 @@ TEST(EditorWindow, SaveAsOfANewProjectNamesItAfterTheFile) {
 /// The ball's project with a saved permeability map of `value` everywhere (64 x 64, written by
 /// a headless edit script, as a user's earlier session would have), and a settings file whose
 /// Tools panel takes most of the column: at 1200 x 780 Fill all and New map are then on screen
-/// at (839, 354) and (907, 354), Strength at (937, 147).
+/// at (839, 377) and (907, 377), Strength at (937, 170) (below the brush preset row).
 fs::path ballWithSavedPaint(const std::string& name, double value) {
     const fs::path project = ballProject(name);
     const fs::path script = project.parent_path() / "paint.json";
@@ -970,15 +970,16 @@ TEST(EditorWindow, NewMapOverSavedPaintAsksAndUndoBringsTheSavedPaintBack) {
     const std::string stroke = "xdotool key --window $w b; " + waitFor("\"tool\":1") +
                                dragAlong(388, {340, 370, 400, 430, 460}) + waitFor("\"undo\":\"Paint permeability\"");
     const std::string out = runUnderXvfb(
-        dir, "$PLIMSOLL edit ball.plim.json --run-seconds 90 --window-size 1200x780 --view front "
-             "--state-file state.json & " +
-                 kWaitForState + clickAt(907, 354) + waitFor("\"popup\":\"Replace map?\"") +
-                 "cp state.json asked.json; " + moveTo(340, 416) +
-                 waitFor("\"tooltip\":\"Replaces the map with a blank one") + clickAt(340, 416) +
-                 waitFor("\"undo\":\"New permeability map\"") + "cp state.json replaced.json; " +
-                 "xdotool key --window $w ctrl+z; " + waitFor("\"dirty\":false") + stroke +
-                 "xdotool key --window $w ctrl+s; " + waitFor("\"dirty\":false") +
-                 "xdotool key --window $w ctrl+q; wait");
+        dir,
+        "$PLIMSOLL edit ball.plim.json --run-seconds 90 --window-size 1200x780 --view front "
+        "--state-file state.json & " +
+            kWaitForState + clickAt(907, 377) + waitFor("\"popup\":\"Replace map?\"") +
+            "cp state.json asked.json; " + moveTo(340, 416) +
+            waitFor("\"tooltip\":\"Replaces the map with a blank one") + clickAt(340, 416) +
+            waitFor("\"undo\":\"New permeability map\"") + "cp state.json replaced.json; " +
+            "xdotool key --window $w ctrl+z; " + waitFor("\"dirty\":false") + stroke +
+            "xdotool key --window $w ctrl+s; " + waitFor("\"dirty\":false") +
+            "xdotool key --window $w ctrl+q; wait");
     if (out.empty()) GTEST_SKIP() << "no editor window in this build or no X server";
     const nlohmann::json report = nlohmann::json::parse(out);
     EXPECT_LT(report["seconds"].get<double>(), 89.0) << "Ctrl+Q was not seen (unsaved?)";
@@ -1012,22 +1013,23 @@ TEST(EditorWindow, FillMovesByStrengthAndFillIslandSaysTheMeshIsOneIsland) {
     const fs::path project = ballWithSavedPaint("window_fill", 0.6);
     const fs::path dir = project.parent_path();
     const std::string out = runUnderXvfb(
-        dir, "$PLIMSOLL edit ball.plim.json --run-seconds 90 --window-size 1200x780 --view front "
-             "--state-file state.json & " +
-                 kWaitForState + moveTo(937, 147) + waitFor("\"tooltip\":\"How far one stroke") +
-                 "xdotool keydown ctrl; xdotool mousedown 1; " + waitFor("\"mouse_down\":true") +
-                 "xdotool mouseup 1; xdotool keyup ctrl; " + waitFor("\"held\":\"Tools\"") +
-                 // The field's text is selected: typing replaces it. Enter is held until a
-                 // frame has taken it (ImGui 1.86 misses a tap shorter than a frame).
-                 "xdotool type --window $w 0.5; xdotool keydown --window $w Return; " +
-                 waitFor("\"held\":\"\"") + "xdotool keyup --window $w Return; " +
-                 waitFor("\"brush_strength\":0.5") +
-                 moveTo(839, 354) + waitFor("\"tooltip\":\"Moves every pixel") + clickAt(839, 354) +
-                 waitFor("\"undo\":\"Fill permeability\"") + "xdotool key --window $w g; " +
-                 waitFor("\"tool\":2") + clickAt(400, 388) + waitFor("one UV island") +
-                 "cp state.json island.json; xdotool key --window $w ctrl+z; " +
-                 waitFor("\"undo\":\"Fill permeability\"") + "xdotool key --window $w ctrl+s; " +
-                 waitFor("\"dirty\":false") + "xdotool key --window $w ctrl+q; wait");
+        dir,
+        "$PLIMSOLL edit ball.plim.json --run-seconds 90 --window-size 1200x780 --view front "
+        "--state-file state.json & " +
+            kWaitForState + moveTo(937, 170) + waitFor("\"tooltip\":\"How far one stroke") +
+            "xdotool keydown ctrl; xdotool mousedown 1; " + waitFor("\"mouse_down\":true") +
+            "xdotool mouseup 1; xdotool keyup ctrl; " + waitFor("\"held\":\"Tools\"") +
+            // The field's text is selected: typing replaces it. Enter is held until a
+            // frame has taken it (ImGui 1.86 misses a tap shorter than a frame).
+            "xdotool type --window $w 0.5; xdotool keydown --window $w Return; " +
+            waitFor("\"held\":\"\"") + "xdotool keyup --window $w Return; " +
+            waitFor("\"brush_strength\":0.5") + moveTo(839, 377) +
+            waitFor("\"tooltip\":\"Moves every pixel") + clickAt(839, 377) +
+            waitFor("\"undo\":\"Fill permeability\"") + "xdotool key --window $w g; " +
+            waitFor("\"tool\":2") + clickAt(400, 388) + waitFor("one UV island") +
+            "cp state.json island.json; xdotool key --window $w ctrl+z; " +
+            waitFor("\"undo\":\"Fill permeability\"") + "xdotool key --window $w ctrl+s; " +
+            waitFor("\"dirty\":false") + "xdotool key --window $w ctrl+q; wait");
     if (out.empty()) GTEST_SKIP() << "no editor window in this build or no X server";
     const nlohmann::json report = nlohmann::json::parse(out);
     EXPECT_LT(report["seconds"].get<double>(), 89.0) << "Ctrl+Q was not seen (unsaved?)";
@@ -1299,6 +1301,56 @@ TEST(EditorWindow, InspectorPositionFieldMovesTheBodyAsOneUndoStep) {
     ASSERT_TRUE(saved.ok()) << saved.error().message;
     ASSERT_EQ(saved->bodies.size(), 1u);
     EXPECT_EQ(saved->bodies[0].position, Eigen::Vector3d(5, 0, 0));
+}
+
+TEST(EditorWindow, LayerRenameFromTheContextMenuKeepsEnterAndDropsEsc) {
+    // The ball's map with layers Base, "Layer 1" and "Fill 2" (a headless script), the Layers
+    // panel given most of the column: at 800 x 500 the rows "Fill 2" and "Layer 1" are at
+    // y = 134 and 157, and a right-click's menu has "Rename" 14 px below the click. "Layer 1"
+    // becomes "Rust" with Enter (one step, saved in the layers file); "Fill 2" typed over as
+    // "Zed" and left with Esc keeps its name. Keys are held until a frame has taken them.
+    if (!haveWindowTools(true)) GTEST_SKIP() << "xvfb-run or xdotool is not installed";
+    const fs::path project = ballProject("window_layer_rename");
+    const fs::path dir = project.parent_path();
+    std::ofstream(dir / "layers.json") << R"([{"op": "new_map", "size": 64, "value": 0.3},
+        {"op": "layer_add", "kind": "paint"}, {"op": "layer_add", "kind": "fill", "value": 0.5}])";
+    const test::CommandOutput made = test::runPlimsoll(
+        "edit '" + project.string() + "' --script '" + (dir / "layers.json").string() + "'");
+    ASSERT_EQ(made.exitCode, 0) << made.err;
+    fs::create_directories(dir / "config" / "plimsoll");
+    std::ofstream(dir / "config" / "plimsoll" / "settings.json")
+        << R"({"layout": {"column_width": 400, "shares": [0.1, 0.7, 0.1, 0.1]}})";
+    auto renameAt = [](int y) {
+        return moveTo(600, y) + "xdotool click 3; " + waitFor("\"popup\":\"##Popup_") +
+               clickAt(620, y + 14) + waitFor("\"held\":\"Layers/");
+    };
+    // Enter: the step's name has quotes of its own, and the script is in single quotes.
+    const std::string enter =
+        "xdotool type --window $w Rust; xdotool keydown --window $w Return; " +
+        waitFor("\"undo\":\"Rename layer ") + "xdotool keyup --window $w Return; ";
+    const std::string escape =
+        "xdotool type --window $w Zed; xdotool keydown --window $w Escape; " +
+        waitFor("\"held\":\"\"") + "xdotool keyup --window $w Escape; ";
+    const std::string out = runUnderXvfb(
+        dir,
+        "$PLIMSOLL edit ball.plim.json --run-seconds 90 --window-size 800x500 --view front "
+        "--state-file state.json & " +
+            kWaitForState + renameAt(157) + enter + renameAt(134) + escape +
+            "cp state.json escaped.json; xdotool key --window $w ctrl+s; " +
+            waitFor("\"dirty\":false") + "xdotool key --window $w ctrl+q; wait");
+    if (out.empty()) GTEST_SKIP() << "no editor window in this build or no X server";
+    const nlohmann::json report = nlohmann::json::parse(out);
+    EXPECT_LT(report["seconds"].get<double>(), 89.0) << "Ctrl+Q was not seen (unsaved?)";
+    EXPECT_EQ(report["undo"], "Rename layer 'Layer 1' to 'Rust'");
+    EXPECT_EQ(report["undo_steps"], 1) << "Esc made a step";
+    const nlohmann::json escaped = nlohmann::json::parse(test::readFile(dir / "escaped.json"));
+    EXPECT_EQ(escaped["held"], "") << "the field stayed open after Esc";
+    const nlohmann::json layers =
+        nlohmann::json::parse(test::readFile(dir / "maps" / "ball_ball_permeability.layers.json"));
+    ASSERT_EQ(layers["layers"].size(), 3u);
+    EXPECT_EQ(layers["layers"][0]["name"], "Base");
+    EXPECT_EQ(layers["layers"][1]["name"], "Rust");
+    EXPECT_EQ(layers["layers"][2]["name"], "Fill 2");
 }
 
 }  // namespace
