@@ -41,6 +41,9 @@ packages=(
   libbullet-dev
   # radiation (engine/src/physics/radiation.cpp): Boost.Math's Bessel functions, header-only
   libboost-dev
+  # the runtime's determinism across builds (scripts/test-determinism.sh): an aarch64 build
+  # run under qemu-user, with zlib for arm64 (Debian multiarch; the architecture is added below)
+  g++-aarch64-linux-gnu qemu-user zlib1g-dev:arm64
 )
 
 missing=()
@@ -62,5 +65,11 @@ if [ "$(id -u)" -ne 0 ]; then
 fi
 echo "install-deps: installing ${missing[*]}"
 export DEBIAN_FRONTEND=noninteractive
+# Packages of another architecture (name:arch) need that architecture known to dpkg first.
+for p in "${missing[@]}"; do
+  if [[ $p == *:* ]] && ! dpkg --print-foreign-architectures | grep -qx "${p##*:}"; then
+    "${sudo_cmd[@]}" dpkg --add-architecture "${p##*:}"
+  fi
+done
 "${sudo_cmd[@]}" apt-get update -qq
 "${sudo_cmd[@]}" apt-get install -y -qq --no-install-recommends "${missing[@]}"

@@ -646,6 +646,37 @@ TEST_F(RuntimeTrajectory, AHundredFloodingBoatsShareOneBundle) {
     EXPECT_LE(10 * shared, separate);
 }
 
+// The instruction set does not change a bit: every sample project replayed by float_body
+// --csv (the rows, and the final state's hash over every bit of it) with the AVX2 build of the evaluation and with the baseline
+// build forced (PLIMSOLL_ISA=baseline) writes the same file. On a processor without AVX2 both
+// runs take the baseline, and the test says so. scripts/test-determinism.sh compares clang
+// and an aarch64 build under qemu the same way.
+TEST_F(RuntimeTrajectory, TheInstructionSetChangesNoBit) {
+    const bool avx2 = __builtin_cpu_supports("avx2");
+    if (!avx2) std::printf("  this processor has no AVX2: both runs take the baseline build\n");
+    int compared = 0;
+    for (const Project& project : cases()) {
+        SCOPED_TRACE(project.fileStem);
+        const fs::path folder = exported(project);
+        std::string files[2];
+        const char* isa[2] = {"", "PLIMSOLL_ISA=baseline "};
+        for (int i = 0; i < 2; ++i) {
+            const fs::path csv = root() / ("isa-" + std::to_string(i) + ".csv");
+            const fs::path hash = root() / ("isa-" + std::to_string(i) + ".txt");
+            const std::string command = std::string(isa[i]) + PLIMSOLL_FLOAT_BODY + " " + folder.string() +
+                                        (test::kSanitizedBuild ? " 2" : " 10") + " --csv " + csv.string() + " >" +
+                                        hash.string();
+            ASSERT_EQ(std::system(command.c_str()), 0) << command;
+            files[i] = test::readFile(csv) + test::readFile(hash);
+        }
+        ASSERT_GT(files[0].size(), 1000u);
+        EXPECT_CONTAINS(files[0], "state hash ");
+        EXPECT_TRUE(files[0] == files[1]) << "the AVX2 and baseline builds differ";
+        ++compared;
+    }
+    EXPECT_GE(compared, 8);
+}
+
 }  // namespace
 }  // namespace test_runtime_trajectory
 }  // namespace plimsoll

@@ -91,10 +91,10 @@ INSTANTIATE_TEST_SUITE_P(
     testing::Values(PinnedTrajectory{"balloon", 0xf2c16e55757f4024ull},
                     PinnedTrajectory{"box_half_draft", 0xe39c00fb030eba15ull},
                     PinnedTrajectory{"buoy", 0x81bad5a06555421bull},
-                    PinnedTrajectory{"damaged_boat", 0xb91248c4015a2d65ull},
+                    PinnedTrajectory{"damaged_boat", 0xec29d0a85b897d3dull},
                     PinnedTrajectory{"heavy_side_ball", 0x6e03ae57de7d9015ull},
                     PinnedTrajectory{"neutral_ball", 0x3ff444187faf54f4ull},
-                    PinnedTrajectory{"plush", 0x5ab0745e0279b7d7ull}),
+                    PinnedTrajectory{"plush", 0x60155bb0675b67eaull}),
     [](const testing::TestParamInfo<PinnedTrajectory>& info) {
         return std::string(info.param.project);
     });

@@ -30,6 +30,26 @@ namespace graph_detail {
 
 inline constexpr double kPi = 3.14159265358979323846;
 
+/// The cube root rounded to the nearest double on every platform: libm's cbrt is only faithful
+/// (within one unit in the last place, and the last bit differs between x86-64's and aarch64's
+/// glibc), so of the two doubles around the true root the one whose cube is nearer x is
+/// chosen, the cube's error taken exactly with fused multiply-adds.
+inline double cbrtNearest(double x) {
+    const double y = std::cbrt(x);
+    if (!std::isfinite(y) || y == 0.0) return y;
+    auto miss = [x](double c) {
+        const double c2 = c * c, e2 = std::fma(c, c, -c2);
+        const double c3 = c2 * c, e3 = std::fma(c2, c, -c3);
+        return std::abs((c3 - x) + (e3 + e2 * c));
+    };
+    double best = y, bestMiss = miss(y);
+    for (const double c : {std::nextafter(y, -HUGE_VAL), std::nextafter(y, HUGE_VAL)}) {
+        const double m = miss(c);
+        if (m < bestMiss) best = c, bestMiss = m;
+    }
+    return best;
+}
+
 /// Row i of R dotted with v, associated as Eigen's strided row dot product.
 inline double rowDot(const Mat3& R, int i, const Vec3& v) {
     return R.m[i][0] * v.x + (R.m[i][1] * v.y + R.m[i][2] * v.z);
@@ -256,11 +276,11 @@ public:
         scaledBox_.assign(n, Vec3{});
         for (std::size_t i = 0; i < n; ++i) {
             const GraphNodeState& node = nodes_[i];
-            radius_[i] = std::cbrt(3.0 * node.capacity / (4.0 * graph_detail::kPi));
+            radius_[i] = graph_detail::cbrtNearest(3.0 * node.capacity / (4.0 * graph_detail::kPi));
             if (node.isBox()) {
                 // The box scaled to hold exactly the node's capacity.
                 const double volume = node.box.x * node.box.y * node.box.z;
-                scaledBox_[i] = std::cbrt(node.capacity / volume) * node.box;
+                scaledBox_[i] = graph_detail::cbrtNearest(node.capacity / volume) * node.box;
             }
             totals_.initial += node.water;
         }
@@ -325,7 +345,9 @@ public:
 
     /// Poiseuille's law: pi dp r^4 / (8 mu L), m^3/s.
     static double poiseuilleRate(double dp, double radius, double viscosity, double length) {
-        return graph_detail::kPi * dp * std::pow(radius, 4) / (8.0 * viscosity * length);
+        // r^4 as two products (exact rounding on every platform; pow is only nearly so).
+        const double r2 = radius * radius;
+        return graph_detail::kPi * dp * (r2 * r2) / (8.0 * viscosity * length);
     }
 
     /// World height of node i's position above the body's origin.

@@ -5,7 +5,7 @@
  * printing the height and heel of the centre of mass and, at the end, the wall time per step.
  * With --csv it replays the project instead (plimsoll_simulation: the bundle's own water, start
  * and step settings, as `plimsoll simulate` steps them) and writes the columns of
- * `plimsoll simulate --out` to FILE, one row per frame.
+ * `plimsoll simulate --out` to FILE, one row per frame, and prints the final state's hash.
  * Exits 1 on a load error or any non-finite value, 2 on a usage error.
  *   float_body BUNDLE_FOLDER [SECONDS] [--csv FILE] */
 #include "plimsoll_runtime.h"
@@ -72,6 +72,8 @@ static int replay(plimsoll_bundle* bundle, double seconds, const char* path) {
         fprintf(stderr, "float_body: %s: write error\n", path);
         status = 1;
     }
+    /* The whole state's hash: equal on two machines or builds exactly when their states are. */
+    if (status == 0) printf("state hash %016llx\n", (unsigned long long)plimsoll_simulation_state_hash(simulation));
     plimsoll_simulation_destroy(simulation);
     return status;
 }
