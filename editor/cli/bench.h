@@ -42,6 +42,9 @@ int runRadiationBench(const BenchOptions& o);
 /// bundle against one load each: DIR/bench_fleet.csv.
 int runFleetBench(const BenchOptions& o);
 
+/// Creates the output folder `out` (and its parents); false with the message printed.
+bool createOutputFolder(const std::string& out);
+
 /// A table cell: `value` printed with the printf conversion `spec`.
 std::string format(const char* spec, double value);
 /// Columns padded to their widest cell: the first `names` columns left-aligned (names), the

@@ -556,12 +556,7 @@ int runAccuracyBench(const BenchOptions& o) {
               << " poses (3 orientations x " << kSweepLevels << " water levels)\n\n";
     printTable(rows);
 
-    std::error_code ec;
-    fs::create_directories(o.out, ec);
-    if (ec) {
-        std::cerr << "error: " << o.out << ": cannot create folder: " << ec.message() << "\n";
-        return kExitFailure;
-    }
+    if (!createOutputFolder(o.out)) return kExitFailure;
     const fs::path csv = fs::path(o.out) / "bench.csv";
     const fs::path svg = fs::path(o.out) / "bench.svg";
     if (Status s = writeFileAtomically(csv, [&](std::ostream& out) { return writeCsv(rows, out); });

@@ -118,12 +118,7 @@ int runFleetBench(const BenchOptions& o) {
         std::cerr << "error: " << project.error().message << "\n";
         return kExitFailure;
     }
-    std::error_code ec;
-    fs::create_directories(o.out, ec);
-    if (ec) {
-        std::cerr << "error: " << o.out << ": cannot create folder: " << ec.message() << "\n";
-        return kExitFailure;
-    }
+    if (!createOutputFolder(o.out)) return kExitFailure;
     const fs::path folder = fs::path(o.out) / "fleet_bundle";
     if (Result<BundleReport> report = writeBodyBundle(*project, 0, folder); !report) {
         std::cerr << "error: " << report.error().message << "\n";

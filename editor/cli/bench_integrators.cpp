@@ -243,12 +243,7 @@ int runIntegratorBench(const BenchOptions& o) {
                      "(its own stability sub-stepping): 'step' is the step integrated\n";
     }
 
-    std::error_code ec;
-    fs::create_directories(o.out, ec);
-    if (ec) {
-        std::cerr << "error: " << o.out << ": cannot create folder: " << ec.message() << "\n";
-        return kExitFailure;
-    }
+    if (!createOutputFolder(o.out)) return kExitFailure;
     const fs::path csv = fs::path(o.out) / "bench_integrators.csv";
     if (Status s = writeFileAtomically(
             csv, [&](std::ostream& out) { return writeIntegratorCsv(rows, out); });

@@ -117,8 +117,7 @@ int runRadiationBench(const BenchOptions& o) {
                format("%.6g", run->finalSpeed) + "\n";
     }
     printAligned(lines, 1);
-    std::error_code ec;
-    std::filesystem::create_directories(o.out, ec);
+    if (!createOutputFolder(o.out)) return kExitFailure;
     const std::filesystem::path file = std::filesystem::path(o.out) / "bench_radiation.csv";
     if (Status s = writeFileAtomically(file, [&](std::ostream& out) { return bool(out << csv); }); !s) {
         std::cerr << "error: " << s.error().message << "\n";

@@ -371,12 +371,7 @@ int writeRealtimeOutputs(const RealtimeBenchOptions& o, const std::vector<Realti
         std::cerr << "error: " << e.message << "\n";
         return kExitFailure;
     };
-    std::error_code ec;
-    fs::create_directories(o.out, ec);
-    if (ec) {
-        std::cerr << "error: " << o.out << ": cannot create folder: " << ec.message() << "\n";
-        return kExitFailure;
-    }
+    if (!createOutputFolder(o.out)) return kExitFailure;
     const fs::path csv = fs::path(o.out) / "realtime.csv", svg = fs::path(o.out) / "realtime.svg";
     if (Status st = writeFileAtomically(csv, [&](std::ostream& out) { return writeCsv(rows, out); }); !st.ok())
         return fail(st.error());

@@ -1,11 +1,19 @@
-// The bench tables' cells and columns (bench.h).
+// The bench tables' cells and columns, and their output folder (bench.h).
 #include "cli/bench.h"
 
 #include <algorithm>
 #include <cstdio>
+#include <filesystem>
 #include <iostream>
 
 namespace plimsoll::cli {
+
+bool createOutputFolder(const std::string& out) {
+    std::error_code ec;
+    std::filesystem::create_directories(out, ec);
+    if (ec) std::cerr << "error: " << out << ": cannot create folder: " << ec.message() << "\n";
+    return !ec;
+}
 
 std::string format(const char* spec, double value) {
     char buffer[48];
