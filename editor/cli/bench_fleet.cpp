@@ -108,6 +108,178 @@ void printFleet(const std::vector<FleetRow>& rows) {
     printAligned(lines, 1);
 }
 
+/// Two Gerstner waves, the runtime's own model, and the C water that asks it.
+struct Waves {
+    plimsoll_runtime::WaterModel model;
+    plimsoll_water water{};
+    Waves() {
+        model.kind = plimsoll_runtime::WaterModel::Kind::Gerstner;
+        model.waves.resize(2);
+        model.waves[0].amplitude = 0.2;
+        model.waves[0].wavelength = 12.0;
+        model.waves[1].amplitude = 0.08;
+        model.waves[1].wavelength = 5.0;
+        model.waves[1].direction[0] = 0.3;
+        model.waves[1].direction[1] = 1.0;
+        model.waves[1].phase = 1.1;
+        water.height = waveHeight;
+        water.heights = waveHeights;
+        water.user = &model;
+        water.has_bounds = 1;
+        water.min_height = model.minHeight();
+        water.max_height = model.maxHeight();
+    }
+    Waves(const Waves&) = delete;
+    Waves& operator=(const Waves&) = delete;
+};
+
+/// The measurements of one run, each adding its rows.
+class FleetBench {
+public:
+    FleetBench(fs::path folder, const plimsoll_bundle* shared, double loadMs, int frames, int fleet)
+        : folder_(std::move(folder)), shared_(shared), fluid_(plimsoll_bundle_default_fluid(shared)),
+          loadMs_(loadMs), frames_(frames), fleet_(fleet), poses_(fleet), loads_(fleet) {}
+
+    /// One body: the water load alone (dry), then with its graph stepped (flooding), on the waves
+    /// and on flat water (the graph's own cost without the waves' heights).
+    void oneBody(std::size_t permeable) {
+        InstancePtr one(plimsoll_instance_create(shared_), &plimsoll_instance_destroy);
+        const double bytes = double(memoryOf(shared_) + plimsoll_instance_memory_bytes(one.get()));
+        const plimsoll_water flat{};
+        double ratio[2] = {0, 0};
+        for (int wavy = 1; wavy >= 0; --wavy) {
+            const plimsoll_water& water = wavy ? waves_.water : flat;
+            const double dry = timeFrames(frames_, [&](int f) { load(one.get(), water, f); });
+            const double flooding = timeFrames(frames_, [&](int f) {
+                const plimsoll_pose pose = poseOf(0, f * kDt);
+                check(plimsoll_instance_graph_step(one.get(), &pose, &water, f * kDt, kDt) >= 0);
+                load(one.get(), water, f);
+            });
+            const std::string where = wavy ? "" : ", flat water";
+            rows_.push_back({"one body, water load only (dry)" + where, 1, 1, 1, bytes, 0, loadMs_, dry});
+            rows_.push_back({"one body, flooding (graph step + load)" + where, 1, 1, 1, bytes, 0, loadMs_, flooding});
+            ratio[wavy] = flooding / dry;
+        }
+        std::printf("flooding / dry: %.2f on the waves (%zu permeable samples, whose heights the waves answer in one "
+                    "batched call per step), %.2f on flat water\n",
+                    ratio[1], permeable, ratio[0]);
+    }
+
+    /// The fleet as runtime 2.0 runs it: one bundle, one instance per boat.
+    void sharedFleet() {
+        const double before = residentBytes();
+        std::vector<InstancePtr> owned;
+        std::vector<plimsoll_instance*> instances;
+        double bytes = double(memoryOf(shared_));
+        for (int i = 0; i < fleet_; ++i) {
+            owned.emplace_back(plimsoll_instance_create(shared_), &plimsoll_instance_destroy);
+            instances.push_back(owned.back().get());
+            bytes += double(plimsoll_instance_memory_bytes(owned.back().get()));
+        }
+        const double resident = residentBytes() - before;
+        for (int threads : threadCounts()) {
+            const double ms = timeBatches(threads, [&](plimsoll_batch* batch, int f) {
+                check(plimsoll_batch_instance_graph_step(batch, fleet_, instances.data(), poses_.data(),
+                                                         &waves_.water, f * kDt, kDt, nullptr));
+                check(plimsoll_batch_instance_water_load(batch, fleet_, instances.data(), poses_.data(), nullptr,
+                                                         &waves_.water, &fluid_, f * kDt, kDt, loads_.data()));
+            });
+            rows_.push_back({"flooding boats, one bundle (2.0)", fleet_, 1, threads, bytes, resident, loadMs_, ms});
+        }
+    }
+
+    /// The fleet as runtime 1.x had to run it: one load per boat.
+    void separateFleet() {
+        const double before = residentBytes();
+        const Clock::time_point start = Clock::now();
+        std::vector<BundlePtr> owned;
+        std::vector<plimsoll_bundle*> bundles;
+        double bytes = 0;
+        for (int i = 0; i < fleet_ && !failed_; ++i) {
+            owned.push_back(loadEvaluated(folder_));
+            check(owned.back() != nullptr);
+            if (failed_) return;
+            bundles.push_back(owned.back().get());
+            bytes += double(memoryOf(owned.back().get()));
+        }
+        const double loadMs = 1e3 * std::chrono::duration<double>(Clock::now() - start).count();
+        const double resident = residentBytes() - before;
+        for (int threads : threadCounts()) {
+            const double ms = timeBatches(threads, [&](plimsoll_batch* batch, int f) {
+                check(plimsoll_batch_graph_step(batch, fleet_, bundles.data(), poses_.data(), &waves_.water, f * kDt,
+                                                kDt, nullptr));
+                check(plimsoll_batch_water_load(batch, fleet_, bundles.data(), poses_.data(), nullptr, &waves_.water,
+                                                &fluid_, f * kDt, kDt, loads_.data()));
+            });
+            rows_.push_back({"flooding boats, one load each (1.x)", fleet_, fleet_, threads, bytes, resident, loadMs, ms});
+        }
+    }
+
+    bool failed() const { return failed_; }
+    const std::vector<FleetRow>& rows() const { return rows_; }
+
+private:
+    static constexpr double kDt = 1.0 / 60.0;
+
+    void check(int ok) {
+        if (!ok && !failed_) std::cerr << "error: " << plimsoll_runtime_last_error() << "\n";
+        failed_ = failed_ || !ok;
+    }
+    void load(const plimsoll_instance* body, const plimsoll_water& water, int f) {
+        const plimsoll_pose pose = poseOf(0, f * kDt);
+        plimsoll_load out;
+        check(plimsoll_instance_water_load(body, &pose, nullptr, &water, &fluid_, f * kDt, kDt, &out));
+    }
+    static std::vector<int> threadCounts() {
+        const int hardware = static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
+        return hardware > 1 ? std::vector<int>{1, hardware} : std::vector<int>{1};
+    }
+    /// Mean milliseconds per frame of step(batch, frame) on a batch of `threads`, the boats at
+    /// their poses of the frame.
+    template <class Step>
+    double timeBatches(int threads, Step&& step) {
+        plimsoll_batch_desc desc{sizeof(plimsoll_batch_desc), threads, nullptr, nullptr, nullptr, 0};
+        BatchPtr batch(plimsoll_batch_create(&desc), &plimsoll_batch_destroy);
+        return timeFrames(frames_, [&](int f) {
+            for (int i = 0; i < fleet_; ++i) poses_[i] = poseOf(i, f * kDt);
+            step(batch.get(), f);
+        });
+    }
+
+    fs::path folder_;
+    const plimsoll_bundle* shared_;
+    plimsoll_fluid fluid_;
+    Waves waves_;
+    double loadMs_;
+    int frames_, fleet_;
+    std::vector<plimsoll_pose> poses_;
+    std::vector<plimsoll_load> loads_;
+    std::vector<FleetRow> rows_;
+    bool failed_ = false;
+};
+
+bool writeFleetCsv(const fs::path& csv, const std::vector<FleetRow>& rows) {
+    const Status written = writeFileAtomically(csv, [&](std::ostream& out) {
+        out << "case,bodies,bundles,threads,memory_bytes,resident_bytes,load_ms,frame_ms,us_per_body\n";
+        for (const FleetRow& r : rows) {
+            out << '"' << r.name << "\"," << r.bodies << ',' << r.bundles << ',' << r.threads << ','
+                << format("%.0f", r.reportedBytes) << ',' << format("%.0f", r.residentBytes) << ','
+                << format("%.3f", r.loadMs) << ',' << format("%.5f", r.frameMs) << ','
+                << format("%.3f", 1e3 * r.frameMs / r.bodies) << '\n';
+        }
+        return bool(out);
+    });
+    if (!written.ok()) std::cerr << "error: " << written.error().message << "\n";
+    return written.ok();
+}
+
+/// Permeable samples of the bundle (what the exchange asks the water's height at).
+std::size_t permeableSamples(const fs::path& folder) {
+    std::string error;
+    const std::unique_ptr<plimsoll_runtime::Bundle> cpp = plimsoll_runtime::loadBundle(folder.string(), error);
+    return cpp && cpp->graph() ? cpp->graph()->permeableSamples() : 0;
+}
+
 }  // namespace
 
 int runFleetBench(const BenchOptions& o) {
@@ -124,29 +296,8 @@ int runFleetBench(const BenchOptions& o) {
         std::cerr << "error: " << report.error().message << "\n";
         return kExitFailure;
     }
-    plimsoll_runtime::WaterModel waves;
-    waves.kind = plimsoll_runtime::WaterModel::Kind::Gerstner;
-    waves.waves.resize(2);
-    waves.waves[0].amplitude = 0.2;
-    waves.waves[0].wavelength = 12.0;
-    waves.waves[1].amplitude = 0.08;
-    waves.waves[1].wavelength = 5.0;
-    waves.waves[1].direction[0] = 0.3;
-    waves.waves[1].direction[1] = 1.0;
-    waves.waves[1].phase = 1.1;
-    plimsoll_water water{};
-    water.height = waveHeight;
-    water.heights = waveHeights;
-    water.user = &waves;
-    water.has_bounds = 1;
-    water.min_height = waves.minHeight();
-    water.max_height = waves.maxHeight();
-    const double dt = 1.0 / 60.0;
-    const int hardware = static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
-    std::printf("plimsoll bench --fleet: %s, %d frames of %.4f s on two Gerstner waves, %d hardware threads\n",
-                o.fleetProject.c_str(), frames, dt, hardware);
-
-    std::vector<FleetRow> rows;
+    std::printf("plimsoll bench --fleet: %s, %d frames of 1/60 s on two Gerstner waves, %u hardware threads\n",
+                o.fleetProject.c_str(), frames, std::max(1u, std::thread::hardware_concurrency()));
     const Clock::time_point loadStart = Clock::now();
     const BundlePtr shared = loadEvaluated(folder);
     const double loadMs = 1e3 * std::chrono::duration<double>(Clock::now() - loadStart).count();
@@ -158,133 +309,14 @@ int runFleetBench(const BenchOptions& o) {
         std::cerr << "error: " << o.fleetProject << ": its first body has no water graph (--fleet needs a flooding body)\n";
         return kExitFailure;
     }
-    const plimsoll_fluid fluid = plimsoll_bundle_default_fluid(shared.get());
-    std::size_t permeable = 0;
-    {
-        std::string error;
-        const std::unique_ptr<plimsoll_runtime::Bundle> cpp = plimsoll_runtime::loadBundle(folder.string(), error);
-        if (cpp && cpp->graph()) permeable = cpp->graph()->permeableSamples();
-    }
-    bool failed = false;
-    auto check = [&failed](int ok) {
-        if (!ok && !failed) std::cerr << "error: " << plimsoll_runtime_last_error() << "\n";
-        failed = failed || !ok;
-    };
-
-    // One body: the water load alone (dry), then with its graph stepped (flooding).
-    {
-        InstancePtr one(plimsoll_instance_create(shared.get()), &plimsoll_instance_destroy);
-        const std::uint64_t bytes = memoryOf(shared.get()) + plimsoll_instance_memory_bytes(one.get());
-        plimsoll_load load;
-        const double dry = timeFrames(frames, [&](int f) {
-            const plimsoll_pose pose = poseOf(0, f * dt);
-            check(plimsoll_instance_water_load(one.get(), &pose, nullptr, &water, &fluid, f * dt, dt, &load));
-        });
-        rows.push_back({"one body, water load only (dry)", 1, 1, 1, double(bytes), 0, loadMs, dry});
-        const double flooding = timeFrames(frames, [&](int f) {
-            const plimsoll_pose pose = poseOf(0, f * dt);
-            check(plimsoll_instance_graph_step(one.get(), &pose, &water, f * dt, dt) >= 0);
-            check(plimsoll_instance_water_load(one.get(), &pose, nullptr, &water, &fluid, f * dt, dt, &load));
-        });
-        rows.push_back({"one body, flooding (graph step + load)", 1, 1, 1, double(bytes), 0, loadMs, flooding});
-        std::printf("flooding / dry: %.2f on the waves (%zu permeable samples, whose heights the waves answer "
-                    "in one batched call per step)\n",
-                    flooding / dry, permeable);
-        // The same on flat water: the graph's own cost without the waves' height evaluations.
-        const plimsoll_water flat{};
-        const double flatDry = timeFrames(frames, [&](int f) {
-            const plimsoll_pose pose = poseOf(0, f * dt);
-            check(plimsoll_instance_water_load(one.get(), &pose, nullptr, &flat, &fluid, f * dt, dt, &load));
-        });
-        const double flatFlooding = timeFrames(frames, [&](int f) {
-            const plimsoll_pose pose = poseOf(0, f * dt);
-            check(plimsoll_instance_graph_step(one.get(), &pose, &flat, f * dt, dt) >= 0);
-            check(plimsoll_instance_water_load(one.get(), &pose, nullptr, &flat, &fluid, f * dt, dt, &load));
-        });
-        rows.push_back({"one body, water load only (dry), flat water", 1, 1, 1, double(bytes), 0, loadMs, flatDry});
-        rows.push_back({"one body, flooding, flat water", 1, 1, 1, double(bytes), 0, loadMs, flatFlooding});
-        std::printf("flooding / dry: %.2f on flat water\n", flatFlooding / flatDry);
-    }
-
-    // N boats: poses, velocities and loads per body.
-    std::vector<plimsoll_pose> poses(fleet);
-    std::vector<plimsoll_load> loads(fleet);
-    auto posesAt = [&](int f) {
-        for (int i = 0; i < fleet; ++i) poses[i] = poseOf(i, f * dt);
-    };
-    {
-        const double before = residentBytes();
-        std::vector<InstancePtr> owned;
-        std::vector<plimsoll_instance*> instances;
-        std::uint64_t bytes = memoryOf(shared.get());
-        for (int i = 0; i < fleet; ++i) {
-            owned.emplace_back(plimsoll_instance_create(shared.get()), &plimsoll_instance_destroy);
-            instances.push_back(owned.back().get());
-            bytes += plimsoll_instance_memory_bytes(owned.back().get());
-        }
-        const double resident = residentBytes() - before;
-        for (int threads : {1, hardware}) {
-            plimsoll_batch_desc desc{sizeof(plimsoll_batch_desc), threads, nullptr, nullptr, nullptr, 0};
-            BatchPtr batch(plimsoll_batch_create(&desc), &plimsoll_batch_destroy);
-            const double ms = timeFrames(frames, [&](int f) {
-                posesAt(f);
-                check(plimsoll_batch_instance_graph_step(batch.get(), fleet, instances.data(), poses.data(), &water,
-                                                         f * dt, dt, nullptr));
-                check(plimsoll_batch_instance_water_load(batch.get(), fleet, instances.data(), poses.data(), nullptr,
-                                                         &water, &fluid, f * dt, dt, loads.data()));
-            });
-            rows.push_back({"flooding boats, one bundle (2.0)", fleet, 1, threads, double(bytes), resident, loadMs, ms});
-            if (hardware == 1) break;
-        }
-    }
-    {
-        const double before = residentBytes();
-        const Clock::time_point start = Clock::now();
-        std::vector<BundlePtr> owned;
-        std::vector<plimsoll_bundle*> bundles;
-        std::uint64_t bytes = 0;
-        for (int i = 0; i < fleet && !failed; ++i) {
-            owned.push_back(loadEvaluated(folder));
-            check(owned.back() != nullptr);
-            if (failed) break;
-            bundles.push_back(owned.back().get());
-            bytes += memoryOf(owned.back().get());
-        }
-        const double loads100 = 1e3 * std::chrono::duration<double>(Clock::now() - start).count();
-        const double resident = residentBytes() - before;
-        for (int threads : {1, hardware}) {
-            if (failed) break;
-            plimsoll_batch_desc desc{sizeof(plimsoll_batch_desc), threads, nullptr, nullptr, nullptr, 0};
-            BatchPtr batch(plimsoll_batch_create(&desc), &plimsoll_batch_destroy);
-            const double ms = timeFrames(frames, [&](int f) {
-                posesAt(f);
-                check(plimsoll_batch_graph_step(batch.get(), fleet, bundles.data(), poses.data(), &water, f * dt, dt,
-                                                nullptr));
-                check(plimsoll_batch_water_load(batch.get(), fleet, bundles.data(), poses.data(), nullptr, &water,
-                                                &fluid, f * dt, dt, loads.data()));
-            });
-            rows.push_back({"flooding boats, one load each (1.x)", fleet, fleet, threads, double(bytes), resident,
-                            loads100, ms});
-            if (hardware == 1) break;
-        }
-    }
-    if (failed) return kExitFailure;
-    printFleet(rows);
+    FleetBench bench(folder, shared.get(), loadMs, frames, fleet);
+    bench.oneBody(permeableSamples(folder));
+    if (!bench.failed()) bench.sharedFleet();
+    if (!bench.failed()) bench.separateFleet();
+    if (bench.failed()) return kExitFailure;
+    printFleet(bench.rows());
     const fs::path csv = fs::path(o.out) / "bench_fleet.csv";
-    const Status written = writeFileAtomically(csv, [&](std::ostream& out) {
-        out << "case,bodies,bundles,threads,memory_bytes,resident_bytes,load_ms,frame_ms,us_per_body\n";
-        for (const FleetRow& r : rows) {
-            out << '"' << r.name << "\"," << r.bodies << ',' << r.bundles << ',' << r.threads << ','
-                << format("%.0f", r.reportedBytes) << ',' << format("%.0f", r.residentBytes) << ','
-                << format("%.3f", r.loadMs) << ',' << format("%.5f", r.frameMs) << ','
-                << format("%.3f", 1e3 * r.frameMs / r.bodies) << '\n';
-        }
-        return bool(out);
-    });
-    if (!written.ok()) {
-        std::cerr << "error: " << written.error().message << "\n";
-        return kExitFailure;
-    }
+    if (!writeFleetCsv(csv, bench.rows())) return kExitFailure;
     std::cout << "\nwritten: " << csv.string() << "\n";
     return kExitOk;
 }
