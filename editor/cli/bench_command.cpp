@@ -66,10 +66,11 @@ void addBenchCommand(CLI::App& root, CommandRunner& selected) {
                   "Only radiation instead: the panel method's time for a 1 m cube, the World's time "
                   "per step with and without radiation, and when each settles after a 0.35 m drop "
                   "(DIR/bench_radiation.csv)");
-    cmd->add_flag("--fleet", o->fleet,
-                  "Only the runtime's fleet table instead: one dry body, one flooding body, and 100 "
-                  "flooding boats as one bundle with 100 instances against 100 loads, memory and "
-                  "time per frame on waves (DIR/bench_fleet.csv)");
+    cmd->add_flag(
+        "--fleet", o->fleet,
+        "Only the runtime's fleet table instead: one dry body, one flooding body, and 100 "
+        "flooding boats as one bundle with 100 instances against 100 loads, memory and "
+        "time per frame on waves (DIR/bench_fleet.csv)");
     cmd->add_option("--fleet-project", o->fleetProject,
                     "With --fleet: the project whose first body (with a water graph) is the boat")
         ->capture_default_str()

@@ -50,7 +50,9 @@ void waveHeights(void* user, size_t n, const double* x, const double* z, double 
     const auto& model = *static_cast<const plimsoll_runtime::WaterModel*>(user);
     for (size_t i = 0; i < n; ++i) out[i] = model.height(x[i], z[i], t);
 }
-double waveHeight(void* user, double x, double z, double t) { return static_cast<const plimsoll_runtime::WaterModel*>(user)->height(x, z, t); }
+double waveHeight(void* user, double x, double z, double t) {
+    return static_cast<const plimsoll_runtime::WaterModel*>(user)->height(x, z, t);
+}
 
 struct FleetRow {
     std::string name;
@@ -85,7 +87,8 @@ BundlePtr loadEvaluated(const fs::path& folder) {
     const plimsoll_pose pose = poseOf(0, 0.0);
     const plimsoll_fluid fluid = plimsoll_bundle_default_fluid(b.get());
     plimsoll_forces forces;
-    if (!plimsoll_bundle_evaluate(b.get(), &pose, nullptr, nullptr, &fluid, 0.0, &forces)) b.reset();
+    if (!plimsoll_bundle_evaluate(b.get(), &pose, nullptr, nullptr, &fluid, 0.0, &forces))
+        b.reset();
     return b;
 }
 
@@ -96,14 +99,14 @@ std::uint64_t memoryOf(const plimsoll_bundle* b) {
 }
 
 void printFleet(const std::vector<FleetRow>& rows) {
-    std::vector<std::vector<std::string>> lines = {
-        {"case", "bodies", "bundles", "threads", "memory (MB)", "resident (MB)", "load (ms)", "frame (ms)",
-         "per body (us)"}};
+    std::vector<std::vector<std::string>> lines = {{"case", "bodies", "bundles", "threads",
+                                                    "memory (MB)", "resident (MB)", "load (ms)",
+                                                    "frame (ms)", "per body (us)"}};
     for (const FleetRow& r : rows) {
-        lines.push_back({r.name, std::to_string(r.bodies), std::to_string(r.bundles), std::to_string(r.threads),
-                         format("%.2f", r.reportedBytes / 1048576.0), format("%.1f", r.residentBytes / 1048576.0),
-                         format("%.1f", r.loadMs), format("%.3f", r.frameMs),
-                         format("%.1f", 1e3 * r.frameMs / r.bodies)});
+        lines.push_back({r.name, std::to_string(r.bodies), std::to_string(r.bundles),
+                         std::to_string(r.threads), format("%.2f", r.reportedBytes / 1048576.0),
+                         format("%.1f", r.residentBytes / 1048576.0), format("%.1f", r.loadMs),
+                         format("%.3f", r.frameMs), format("%.1f", 1e3 * r.frameMs / r.bodies)});
     }
     printAligned(lines, 1);
 }
@@ -137,8 +140,14 @@ struct Waves {
 class FleetBench {
 public:
     FleetBench(fs::path folder, const plimsoll_bundle* shared, double loadMs, int frames, int fleet)
-        : folder_(std::move(folder)), shared_(shared), fluid_(plimsoll_bundle_default_fluid(shared)),
-          loadMs_(loadMs), frames_(frames), fleet_(fleet), poses_(fleet), loads_(fleet) {}
+        : folder_(std::move(folder)),
+          shared_(shared),
+          fluid_(plimsoll_bundle_default_fluid(shared)),
+          loadMs_(loadMs),
+          frames_(frames),
+          fleet_(fleet),
+          poses_(fleet),
+          loads_(fleet) {}
 
     /// One body: the water load alone (dry), then with its graph stepped (flooding), on the waves
     /// and on flat water (the graph's own cost without the waves' heights).
@@ -156,13 +165,17 @@ public:
                 load(one.get(), water, f);
             });
             const std::string where = wavy ? "" : ", flat water";
-            rows_.push_back({"one body, water load only (dry)" + where, 1, 1, 1, bytes, 0, loadMs_, dry});
-            rows_.push_back({"one body, flooding (graph step + load)" + where, 1, 1, 1, bytes, 0, loadMs_, flooding});
+            rows_.push_back(
+                {"one body, water load only (dry)" + where, 1, 1, 1, bytes, 0, loadMs_, dry});
+            rows_.push_back({"one body, flooding (graph step + load)" + where, 1, 1, 1, bytes, 0,
+                             loadMs_, flooding});
             ratio[wavy] = flooding / dry;
         }
-        std::printf("flooding / dry: %.2f on the waves (%zu permeable samples, whose heights the waves answer in one "
-                    "batched call per step), %.2f on flat water\n",
-                    ratio[1], permeable, ratio[0]);
+        std::printf(
+            "flooding / dry: %.2f on the waves (%zu permeable samples, whose heights the waves "
+            "answer in one "
+            "batched call per step), %.2f on flat water\n",
+            ratio[1], permeable, ratio[0]);
     }
 
     /// The fleet as runtime 2.0 runs it: one bundle, one instance per boat.
@@ -179,12 +192,15 @@ public:
         const double resident = residentBytes() - before;
         for (int threads : threadCounts()) {
             const double ms = timeBatches(threads, [&](plimsoll_batch* batch, int f) {
-                check(plimsoll_batch_instance_graph_step(batch, fleet_, instances.data(), poses_.data(),
-                                                         &waves_.water, f * kDt, kDt, nullptr));
-                check(plimsoll_batch_instance_water_load(batch, fleet_, instances.data(), poses_.data(), nullptr,
-                                                         &waves_.water, &fluid_, f * kDt, kDt, loads_.data()));
+                check(plimsoll_batch_instance_graph_step(batch, fleet_, instances.data(),
+                                                         poses_.data(), &waves_.water, f * kDt, kDt,
+                                                         nullptr));
+                check(plimsoll_batch_instance_water_load(batch, fleet_, instances.data(),
+                                                         poses_.data(), nullptr, &waves_.water,
+                                                         &fluid_, f * kDt, kDt, loads_.data()));
             });
-            rows_.push_back({"flooding boats, one bundle (2.0)", fleet_, 1, threads, bytes, resident, loadMs_, ms});
+            rows_.push_back({"flooding boats, one bundle (2.0)", fleet_, 1, threads, bytes,
+                             resident, loadMs_, ms});
         }
     }
 
@@ -206,12 +222,14 @@ public:
         const double resident = residentBytes() - before;
         for (int threads : threadCounts()) {
             const double ms = timeBatches(threads, [&](plimsoll_batch* batch, int f) {
-                check(plimsoll_batch_graph_step(batch, fleet_, bundles.data(), poses_.data(), &waves_.water, f * kDt,
-                                                kDt, nullptr));
-                check(plimsoll_batch_water_load(batch, fleet_, bundles.data(), poses_.data(), nullptr, &waves_.water,
-                                                &fluid_, f * kDt, kDt, loads_.data()));
+                check(plimsoll_batch_graph_step(batch, fleet_, bundles.data(), poses_.data(),
+                                                &waves_.water, f * kDt, kDt, nullptr));
+                check(plimsoll_batch_water_load(batch, fleet_, bundles.data(), poses_.data(),
+                                                nullptr, &waves_.water, &fluid_, f * kDt, kDt,
+                                                loads_.data()));
             });
-            rows_.push_back({"flooding boats, one load each (1.x)", fleet_, fleet_, threads, bytes, resident, loadMs, ms});
+            rows_.push_back({"flooding boats, one load each (1.x)", fleet_, fleet_, threads, bytes,
+                             resident, loadMs, ms});
         }
     }
 
@@ -228,7 +246,8 @@ private:
     void load(const plimsoll_instance* body, const plimsoll_water& water, int f) {
         const plimsoll_pose pose = poseOf(0, f * kDt);
         plimsoll_load out;
-        check(plimsoll_instance_water_load(body, &pose, nullptr, &water, &fluid_, f * kDt, kDt, &out));
+        check(plimsoll_instance_water_load(body, &pose, nullptr, &water, &fluid_, f * kDt, kDt,
+                                           &out));
     }
     static std::vector<int> threadCounts() {
         const int hardware = static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
@@ -238,7 +257,8 @@ private:
     /// their poses of the frame.
     template <class Step>
     double timeBatches(int threads, Step&& step) {
-        plimsoll_batch_desc desc{sizeof(plimsoll_batch_desc), threads, nullptr, nullptr, nullptr, 0};
+        plimsoll_batch_desc desc{
+            sizeof(plimsoll_batch_desc), threads, nullptr, nullptr, nullptr, 0};
         BatchPtr batch(plimsoll_batch_create(&desc), &plimsoll_batch_destroy);
         return timeFrames(frames_, [&](int f) {
             for (int i = 0; i < fleet_; ++i) poses_[i] = poseOf(i, f * kDt);
@@ -260,7 +280,8 @@ private:
 
 bool writeFleetCsv(const fs::path& csv, const std::vector<FleetRow>& rows) {
     const Status written = writeFileAtomically(csv, [&](std::ostream& out) {
-        out << "case,bodies,bundles,threads,memory_bytes,resident_bytes,load_ms,frame_ms,us_per_body\n";
+        out << "case,bodies,bundles,threads,memory_bytes,resident_bytes,load_ms,frame_ms,us_per_"
+               "body\n";
         for (const FleetRow& r : rows) {
             out << '"' << r.name << "\"," << r.bodies << ',' << r.bundles << ',' << r.threads << ','
                 << format("%.0f", r.reportedBytes) << ',' << format("%.0f", r.residentBytes) << ','
@@ -276,7 +297,8 @@ bool writeFleetCsv(const fs::path& csv, const std::vector<FleetRow>& rows) {
 /// Permeable samples of the bundle (what the exchange asks the water's height at).
 std::size_t permeableSamples(const fs::path& folder) {
     std::string error;
-    const std::unique_ptr<plimsoll_runtime::Bundle> cpp = plimsoll_runtime::loadBundle(folder.string(), error);
+    const std::unique_ptr<plimsoll_runtime::Bundle> cpp =
+        plimsoll_runtime::loadBundle(folder.string(), error);
     return cpp && cpp->graph() ? cpp->graph()->permeableSamples() : 0;
 }
 
@@ -296,8 +318,10 @@ int runFleetBench(const BenchOptions& o) {
         std::cerr << "error: " << report.error().message << "\n";
         return kExitFailure;
     }
-    std::printf("plimsoll bench --fleet: %s, %d frames of 1/60 s on two Gerstner waves, %u hardware threads\n",
-                o.fleetProject.c_str(), frames, std::max(1u, std::thread::hardware_concurrency()));
+    std::printf(
+        "plimsoll bench --fleet: %s, %d frames of 1/60 s on two Gerstner waves, %u hardware "
+        "threads\n",
+        o.fleetProject.c_str(), frames, std::max(1u, std::thread::hardware_concurrency()));
     const Clock::time_point loadStart = Clock::now();
     const BundlePtr shared = loadEvaluated(folder);
     const double loadMs = 1e3 * std::chrono::duration<double>(Clock::now() - loadStart).count();
@@ -306,7 +330,8 @@ int runFleetBench(const BenchOptions& o) {
         return kExitFailure;
     }
     if (plimsoll_graph_node_count(shared.get()) == 0) {
-        std::cerr << "error: " << o.fleetProject << ": its first body has no water graph (--fleet needs a flooding body)\n";
+        std::cerr << "error: " << o.fleetProject
+                  << ": its first body has no water graph (--fleet needs a flooding body)\n";
         return kExitFailure;
     }
     FleetBench bench(folder, shared.get(), loadMs, frames, fleet);

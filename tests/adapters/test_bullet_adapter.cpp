@@ -226,7 +226,8 @@ TEST_F(BulletAdapter, AFloodingBoatSinksOntoTheSeaFloorAndRests) {
     double inside = 0, capacity = 0;
     for (std::size_t n = 0; n < plimsoll_graph_node_count(boat); ++n) {
         double water = 0;
-        ASSERT_EQ(plimsoll_instance_node_water(body.instance(), n, &water), 1) << plimsoll_runtime_last_error();
+        ASSERT_EQ(plimsoll_instance_node_water(body.instance(), n, &water), 1)
+            << plimsoll_runtime_last_error();
         inside += water;
         capacity += plimsoll_graph_node_capacity(boat, n);
     }
@@ -236,7 +237,8 @@ TEST_F(BulletAdapter, AFloodingBoatSinksOntoTheSeaFloorAndRests) {
     EXPECT_NEAR(bottom, floor, 0.05);
     // It rests because the boat and its water outweigh the water the hull displaces.
     const plimsoll_load& load = body.lastLoad();
-    EXPECT_GT(plimsoll_bundle_mass(boat).mass + load.water_mass, 1000.0 * load.forces.submerged_volume);
+    EXPECT_GT(plimsoll_bundle_mass(boat).mass + load.water_mass,
+              1000.0 * load.forces.submerged_volume);
 }
 
 /// A game's own pre-tick callback: counts its calls and checks the world's user info is still

@@ -168,15 +168,18 @@ TEST(CliBench, RadiationQuickRunWritesCostWithAndWithout) {
 /// bench --fleet: a fleet of one bundle holds a tenth or less of what one load per boat holds,
 /// and both rows step the same number of boats (the times are the bench's to report).
 TEST(CliBench, FleetQuickRunComparesOneBundleWithOneLoadPerBoat) {
-    const fs::path out = fs::temp_directory_path() / ("plimsoll_bench_fleet_" + std::to_string(::getpid()));
+    const fs::path out =
+        fs::temp_directory_path() / ("plimsoll_bench_fleet_" + std::to_string(::getpid()));
     fs::remove_all(out);
-    const std::string project = std::string(PLIMSOLL_SOURCE_DIR) + "/projects/damaged_boat.plim.json";
-    const CommandOutput r =
-        runPlimsoll("bench --fleet --quick --frames 3 --fleet-project '" + project + "' --out '" + out.string() + "'");
+    const std::string project =
+        std::string(PLIMSOLL_SOURCE_DIR) + "/projects/damaged_boat.plim.json";
+    const CommandOutput r = runPlimsoll("bench --fleet --quick --frames 3 --fleet-project '" +
+                                        project + "' --out '" + out.string() + "'");
     ASSERT_EQ(r.exitCode, 0) << r.err;
     EXPECT_NE(r.out.find("flooding / dry"), std::string::npos) << r.out;
     std::map<std::string, CsvRow> rows;
-    for (const CsvRow& row : parseCsv(test::readFile(out / "bench_fleet.csv"))) rows[row.at("case") + "/" + row.at("threads")] = row;
+    for (const CsvRow& row : parseCsv(test::readFile(out / "bench_fleet.csv")))
+        rows[row.at("case") + "/" + row.at("threads")] = row;
     const CsvRow& shared = rows.at("flooding boats, one bundle (2.0)/1");
     const CsvRow& separate = rows.at("flooding boats, one load each (1.x)/1");
     EXPECT_EQ(shared.at("bodies"), separate.at("bodies"));

@@ -310,7 +310,8 @@ TEST_F(RuntimeConformance, WaterGraphStepsEqualTheEngine) {
     // The same texel-to-node map and permeable samples.
     const std::vector<std::int32_t> nodes = texelNodeMap(*engineGraph, *textures);
     ASSERT_EQ(graph->layout().sampleNodes().size(), nodes.size());
-    for (std::size_t i = 0; i < nodes.size(); ++i) ASSERT_EQ(graph->layout().sampleNodes()[i], nodes[i]) << i;
+    for (std::size_t i = 0; i < nodes.size(); ++i)
+        ASSERT_EQ(graph->layout().sampleNodes()[i], nodes[i]) << i;
     ASSERT_EQ(graph->layout().permeableSamples(), sim->samples().size());
     // Bundle 1.1 carries texel_nodes.exr: the map above came from it.
     EXPECT_TRUE(bundle->texelNodesFromFile());
@@ -358,8 +359,8 @@ TEST_F(RuntimeConformance, WaterGraphStepsEqualTheEngine) {
         sim->step(pose, water, t, dt);
         graph->step(rtPose, rtWater, t, dt);
         for (std::size_t n = 0; n < engineGraph->nodes.size(); ++n) {
-            worstWater = std::max(worstWater, std::abs(graph->water(n) -
-                                                       sim->graph().nodes[n].water) / capacity);
+            worstWater = std::max(
+                worstWater, std::abs(graph->water(n) - sim->graph().nodes[n].water) / capacity);
         }
     }
     // The run must have moved water: entered through the stern and spread.

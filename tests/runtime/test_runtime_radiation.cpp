@@ -233,7 +233,8 @@ TEST_F(RuntimeRadiation, TheCApiStepsBitForBitAsTheCppOneAndRefusesWhatItMust) {
         ASSERT_EQ(state.pose.position[1], s.pose.position.y) << "step " << n;
         ASSERT_EQ(state.pose.orientation[1], s.pose.orientation.x) << "step " << n;
         ASSERT_EQ(state.velocity.angular[2], s.velocity.angular.z) << "step " << n;
-        ASSERT_EQ(plimsoll_radiation_memory_energy(memory), referenceBody.radiation()->energy()) << "step " << n;
+        ASSERT_EQ(plimsoll_radiation_memory_energy(memory), referenceBody.radiation()->energy())
+            << "step " << n;
         lowestShare = std::min(lowestShare, referenceBody.radiation()->share());
     }
     EXPECT_GT(referenceBody.radiation()->energy(), 0.0);
@@ -341,10 +342,12 @@ TEST_F(RuntimeRadiation, AnInstanceSnapshotCarriesItsRadiationMemory) {
             energyAtK = plimsoll_instance_radiation_energy(a);
             EXPECT_GT(energyAtK, 0.0);
         }
-        ASSERT_EQ(plimsoll_instance_step(a, &state, &water, &fluid, n * dt, dt), 1) << plimsoll_runtime_last_error();
+        ASSERT_EQ(plimsoll_instance_step(a, &state, &water, &fluid, n * dt, dt), 1)
+            << plimsoll_runtime_last_error();
         states.push_back(state);
     }
-    ASSERT_EQ(plimsoll_instance_restore(b, snapshot.data(), snapshot.size()), 1) << plimsoll_runtime_last_error();
+    ASSERT_EQ(plimsoll_instance_restore(b, snapshot.data(), snapshot.size()), 1)
+        << plimsoll_runtime_last_error();
     EXPECT_EQ(plimsoll_instance_radiation_energy(b), energyAtK);
     EXPECT_EQ(plimsoll_instance_radiation_energy(fresh), 0.0);
     plimsoll_body_state restored = saved, atRest = saved;
@@ -355,7 +358,8 @@ TEST_F(RuntimeRadiation, AnInstanceSnapshotCarriesItsRadiationMemory) {
         ASSERT_EQ(std::memcmp(&restored, &states[n], sizeof restored), 0) << "step " << n;
         diverged = diverged || std::memcmp(&atRest, &states[n], sizeof atRest) != 0;
     }
-    EXPECT_TRUE(diverged) << "a memory at rest gave the same steps: the snapshot test would be vacuous";
+    EXPECT_TRUE(diverged)
+        << "a memory at rest gave the same steps: the snapshot test would be vacuous";
     EXPECT_EQ(plimsoll_instance_state_hash(b), plimsoll_instance_state_hash(a));
     plimsoll_instance_destroy(a);
     plimsoll_instance_destroy(b);

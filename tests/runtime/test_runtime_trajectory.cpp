@@ -306,7 +306,8 @@ TEST_F(RuntimeTrajectory, CApiReportsMisuseAndClearsTheError) {
     ASSERT_GT(nodes, 0u);
     EXPECT_EQ(plimsoll_graph_node_water(boat, nodes), 0.0);
     EXPECT_EQ(std::string(plimsoll_runtime_last_error()),
-              "plimsoll_graph_node_water: no such node: " + std::to_string(nodes) + " of " + std::to_string(nodes));
+              "plimsoll_graph_node_water: no such node: " + std::to_string(nodes) + " of " +
+                  std::to_string(nodes));
 
     // A water callback giving NaN is an error, not "no water moved".
     const plimsoll_pose pose = {{0.0, -0.3, 0.0}, {1.0, 0.0, 0.0, 0.0}};
@@ -398,8 +399,10 @@ TEST_F(RuntimeTrajectory, FloatBodyWritesTheSimulateColumns) {
 double modelHeight(void* user, double x, double z, double time) {
     return static_cast<const rt::WaterModel*>(user)->height(x, z, time);
 }
-void modelHeights(void* user, size_t n, const double* x, const double* z, double time, double* out) {
-    for (size_t i = 0; i < n; ++i) out[i] = static_cast<const rt::WaterModel*>(user)->height(x[i], z[i], time);
+void modelHeights(void* user, size_t n, const double* x, const double* z, double time,
+                  double* out) {
+    for (size_t i = 0; i < n; ++i)
+        out[i] = static_cast<const rt::WaterModel*>(user)->height(x[i], z[i], time);
 }
 plimsoll_water cWater(const rt::WaterModel& model) {
     plimsoll_water w{};
@@ -417,7 +420,8 @@ plimsoll_water cWater(const rt::WaterModel& model) {
 /// Let go a little above the water with a heel, body i of several a little apart.
 plimsoll_body_state startState(double level, int i) {
     const double heel = (4.0 + 3.0 * i) * std::numbers::pi / 180.0;
-    return {{{1.5 * i, level + 0.05 + 0.03 * i, -0.7 * i}, {std::cos(heel / 2), std::sin(heel / 2), 0.0, 0.0}},
+    return {{{1.5 * i, level + 0.05 + 0.03 * i, -0.7 * i},
+             {std::cos(heel / 2), std::sin(heel / 2), 0.0, 0.0}},
             {{0.0, 0.0, 0.0}, {0.0, 0.0, 0.0}}};
 }
 
@@ -470,19 +474,26 @@ TEST_F(RuntimeTrajectory, InstancesOfOneBundleStepAsSeparateLoadsDid) {
             for (int i = 0; i < 3; ++i) {
                 plimsoll_pose pose = startState(cpp->world().water.level, i).pose;
                 pose.position[1] -= 0.1 * (1 + i) + 0.05 * std::sin(2.0 * t + i);
-                const plimsoll_velocity velocity = {{0.0, -0.1 * std::cos(2.0 * t + i), 0.0}, {0.0, 0.0, 0.0}};
+                const plimsoll_velocity velocity = {{0.0, -0.1 * std::cos(2.0 * t + i), 0.0},
+                                                    {0.0, 0.0, 0.0}};
                 ASSERT_GE(plimsoll_instance_graph_step(instances[i].get(), &pose, &water, t, dt), 0)
                     << plimsoll_runtime_last_error();
-                ASSERT_GE(plimsoll_graph_step(alone[i].get(), &pose, &water, t, dt), 0) << plimsoll_runtime_last_error();
-                plimsoll_load a{}, b{};
-                ASSERT_EQ(plimsoll_instance_water_load(instances[i].get(), &pose, &velocity, &water, &fluid, t, dt, &a), 1)
+                ASSERT_GE(plimsoll_graph_step(alone[i].get(), &pose, &water, t, dt), 0)
                     << plimsoll_runtime_last_error();
-                ASSERT_EQ(plimsoll_bundle_water_load(alone[i].get(), &pose, &velocity, &water, &fluid, t, dt, &b), 1);
+                plimsoll_load a{}, b{};
+                ASSERT_EQ(plimsoll_instance_water_load(instances[i].get(), &pose, &velocity, &water,
+                                                       &fluid, t, dt, &a),
+                          1)
+                    << plimsoll_runtime_last_error();
+                ASSERT_EQ(plimsoll_bundle_water_load(alone[i].get(), &pose, &velocity, &water,
+                                                     &fluid, t, dt, &b),
+                          1);
                 ASSERT_EQ(std::memcmp(&a, &b, sizeof a), 0) << "body " << i << ", step " << step;
                 for (std::size_t n = 0; n < nodes; ++n) {
                     double mine = -1;
                     ASSERT_EQ(plimsoll_instance_node_water(instances[i].get(), n, &mine), 1);
-                    ASSERT_EQ(mine, plimsoll_graph_node_water(alone[i].get(), n)) << "body " << i << ", node " << n;
+                    ASSERT_EQ(mine, plimsoll_graph_node_water(alone[i].get(), n))
+                        << "body " << i << ", node " << n;
                     moved = std::max(moved, mine);
                 }
             }
@@ -490,7 +501,8 @@ TEST_F(RuntimeTrajectory, InstancesOfOneBundleStepAsSeparateLoadsDid) {
         // Water did come in, and the shared bundle's own water did not move.
         EXPECT_GT(moved, 0.0);
         for (std::size_t n = 0; n < nodes; ++n)
-            EXPECT_EQ(plimsoll_graph_node_water(shared.get(), n), cpp->graph()->nodes()[n].water) << n;
+            EXPECT_EQ(plimsoll_graph_node_water(shared.get(), n), cpp->graph()->nodes()[n].water)
+                << n;
     }
     EXPECT_GE(flooding, 2);
 }
@@ -537,7 +549,8 @@ TEST_F(RuntimeTrajectory, AnInstanceRestoredAtARandomStepContinuesBitForBit) {
             << plimsoll_runtime_last_error();
         for (int step = k; step < steps; ++step) {
             ASSERT_EQ(plimsoll_instance_step(b.get(), &saved, &water, &fluid, step * dt, dt), 1);
-            ASSERT_EQ(plimsoll_instance_state_hash(b.get()), hashes[step]) << "step " << step << " after k = " << k;
+            ASSERT_EQ(plimsoll_instance_state_hash(b.get()), hashes[step])
+                << "step " << step << " after k = " << k;
             ASSERT_TRUE(sameBits(saved, states[step])) << "step " << step << " after k = " << k;
         }
         // A cut snapshot is refused and changes nothing.
@@ -569,9 +582,10 @@ TEST_F(RuntimeTrajectory, ABatchGivesTheSameBitsWhateverItsThreadsAndOrder) {
     };
     constexpr int kBodies = 9;
     auto run = [&](int threads, bool reversed) {
-        plimsoll_batch_desc desc{sizeof(plimsoll_batch_desc), threads, nullptr, nullptr, nullptr, 0};
-        std::unique_ptr<plimsoll_batch, decltype(&plimsoll_batch_destroy)> batch(plimsoll_batch_create(&desc),
-                                                                                &plimsoll_batch_destroy);
+        plimsoll_batch_desc desc{
+            sizeof(plimsoll_batch_desc), threads, nullptr, nullptr, nullptr, 0};
+        std::unique_ptr<plimsoll_batch, decltype(&plimsoll_batch_destroy)> batch(
+            plimsoll_batch_create(&desc), &plimsoll_batch_destroy);
         EXPECT_TRUE(batch);
         std::vector<InstanceHandle> owned;
         std::vector<plimsoll_body_state> states;
@@ -588,14 +602,16 @@ TEST_F(RuntimeTrajectory, ABatchGivesTheSameBitsWhateverItsThreadsAndOrder) {
                 call[i] = owned[order[i]].get();
                 callStates[i] = states[order[i]];
             }
-            EXPECT_EQ(plimsoll_batch_instance_step(batch.get(), kBodies, call.data(), callStates.data(), &water, nullptr,
-                                                   step / 120.0, 1.0 / 120.0),
-                      1)
+            EXPECT_EQ(
+                plimsoll_batch_instance_step(batch.get(), kBodies, call.data(), callStates.data(),
+                                             &water, nullptr, step / 120.0, 1.0 / 120.0),
+                1)
                 << plimsoll_runtime_last_error();
             for (int i = 0; i < kBodies; ++i) states[order[i]] = callStates[i];
         }
         Run r;
-        for (int i = 0; i < kBodies; ++i) r.hashes.push_back(plimsoll_instance_state_hash(owned[i].get()));
+        for (int i = 0; i < kBodies; ++i)
+            r.hashes.push_back(plimsoll_instance_state_hash(owned[i].get()));
         r.states = states;
         return r;
     };
@@ -630,7 +646,8 @@ TEST_F(RuntimeTrajectory, AHundredFloodingBoatsShareOneBundle) {
     const plimsoll_pose pose = {{0.0, -0.2, 0.0}, {1.0, 0.0, 0.0, 0.0}};
     const plimsoll_fluid fluid = plimsoll_bundle_default_fluid(boat.get());
     plimsoll_forces forces{};
-    ASSERT_EQ(plimsoll_bundle_evaluate(boat.get(), &pose, nullptr, nullptr, &fluid, 0.0, &forces), 1);
+    ASSERT_EQ(plimsoll_bundle_evaluate(boat.get(), &pose, nullptr, nullptr, &fluid, 0.0, &forces),
+              1);
     plimsoll_bundle_size size{sizeof(plimsoll_bundle_size)};
     ASSERT_EQ(plimsoll_bundle_size_query(boat.get(), &size), 1);
     std::vector<InstanceHandle> fleet;
@@ -640,17 +657,19 @@ TEST_F(RuntimeTrajectory, AHundredFloodingBoatsShareOneBundle) {
         instances += plimsoll_instance_memory_bytes(fleet.back().get());
     }
     const std::uint64_t shared = size.memory_bytes + instances, separate = 100 * size.memory_bytes;
-    std::printf("  100 flooding boats: one bundle %.0f kB + 100 instances %.1f kB = %.0f kB; 100 loads %.0f kB\n",
-                size.memory_bytes / 1024.0, instances / 1024.0, shared / 1024.0, separate / 1024.0);
+    std::printf(
+        "  100 flooding boats: one bundle %.0f kB + 100 instances %.1f kB = %.0f kB; 100 loads "
+        "%.0f kB\n",
+        size.memory_bytes / 1024.0, instances / 1024.0, shared / 1024.0, separate / 1024.0);
     EXPECT_GT(instances, 0u);
     EXPECT_LE(10 * shared, separate);
 }
 
 // The instruction set does not change a bit: every sample project replayed by float_body
-// --csv (the rows, and the final state's hash over every bit of it) with the AVX2 build of the evaluation and with the baseline
-// build forced (PLIMSOLL_ISA=baseline) writes the same file. On a processor without AVX2 both
-// runs take the baseline, and the test says so. scripts/test-determinism.sh compares clang
-// and an aarch64 build under qemu the same way.
+// --csv (the rows, and the final state's hash over every bit of it) with the AVX2 build of the
+// evaluation and with the baseline build forced (PLIMSOLL_ISA=baseline) writes the same file. On a
+// processor without AVX2 both runs take the baseline, and the test says so.
+// scripts/test-determinism.sh compares clang and an aarch64 build under qemu the same way.
 TEST_F(RuntimeTrajectory, TheInstructionSetChangesNoBit) {
     const bool avx2 = __builtin_cpu_supports("avx2");
     if (!avx2) std::printf("  this processor has no AVX2: both runs take the baseline build\n");
@@ -663,9 +682,9 @@ TEST_F(RuntimeTrajectory, TheInstructionSetChangesNoBit) {
         for (int i = 0; i < 2; ++i) {
             const fs::path csv = root() / ("isa-" + std::to_string(i) + ".csv");
             const fs::path hash = root() / ("isa-" + std::to_string(i) + ".txt");
-            const std::string command = std::string(isa[i]) + PLIMSOLL_FLOAT_BODY + " " + folder.string() +
-                                        (test::kSanitizedBuild ? " 2" : " 10") + " --csv " + csv.string() + " >" +
-                                        hash.string();
+            const std::string command = std::string(isa[i]) + PLIMSOLL_FLOAT_BODY + " " +
+                                        folder.string() + (test::kSanitizedBuild ? " 2" : " 10") +
+                                        " --csv " + csv.string() + " >" + hash.string();
             ASSERT_EQ(std::system(command.c_str()), 0) << command;
             files[i] = test::readFile(csv) + test::readFile(hash);
         }

@@ -86,18 +86,17 @@ TEST_P(Determinism, SampleProjectTrajectoryHashIsPinned) {
         << "; pin it only if the change is meant (see the top of this file)";
 }
 
-INSTANTIATE_TEST_SUITE_P(
-    SampleProjects, Determinism,
-    testing::Values(PinnedTrajectory{"balloon", 0xf2c16e55757f4024ull},
-                    PinnedTrajectory{"box_half_draft", 0xe39c00fb030eba15ull},
-                    PinnedTrajectory{"buoy", 0x81bad5a06555421bull},
-                    PinnedTrajectory{"damaged_boat", 0xec29d0a85b897d3dull},
-                    PinnedTrajectory{"heavy_side_ball", 0x6e03ae57de7d9015ull},
-                    PinnedTrajectory{"neutral_ball", 0x3ff444187faf54f4ull},
-                    PinnedTrajectory{"plush", 0x60155bb0675b67eaull}),
-    [](const testing::TestParamInfo<PinnedTrajectory>& info) {
-        return std::string(info.param.project);
-    });
+INSTANTIATE_TEST_SUITE_P(SampleProjects, Determinism,
+                         testing::Values(PinnedTrajectory{"balloon", 0xf2c16e55757f4024ull},
+                                         PinnedTrajectory{"box_half_draft", 0xe39c00fb030eba15ull},
+                                         PinnedTrajectory{"buoy", 0x81bad5a06555421bull},
+                                         PinnedTrajectory{"damaged_boat", 0xec29d0a85b897d3dull},
+                                         PinnedTrajectory{"heavy_side_ball", 0x6e03ae57de7d9015ull},
+                                         PinnedTrajectory{"neutral_ball", 0x3ff444187faf54f4ull},
+                                         PinnedTrajectory{"plush", 0x60155bb0675b67eaull}),
+                         [](const testing::TestParamInfo<PinnedTrajectory>& info) {
+                             return std::string(info.param.project);
+                         });
 
 }  // namespace
 }  // namespace test_determinism

@@ -142,7 +142,8 @@ PLIMSOLL_RUNTIME_API void plimsoll_runtime_bundle_schema(int* major, int* minor)
 
 /* Loads a bundle folder, checking every file's size and SHA-256 when verify_checksums != 0.
  * NULL on failure. */
-PLIMSOLL_RUNTIME_API plimsoll_bundle* plimsoll_bundle_load(const char* folder, int verify_checksums);
+PLIMSOLL_RUNTIME_API plimsoll_bundle* plimsoll_bundle_load(const char* folder,
+                                                           int verify_checksums);
 /* Frees a bundle (NULL: nothing); its instances and simulations must be destroyed first. */
 PLIMSOLL_RUNTIME_API void plimsoll_bundle_destroy(plimsoll_bundle* bundle);
 PLIMSOLL_RUNTIME_DEPRECATED("plimsoll_bundle_destroy")
@@ -159,8 +160,9 @@ typedef struct plimsoll_memory_file {
 /* Loads a bundle from `count` files in memory with the checks of plimsoll_bundle_load (paths
  * inside the bundle, size limits, checksums, non-finite data refused). `name` (may be NULL:
  * "memory") prefixes error messages as the folder does. */
-PLIMSOLL_RUNTIME_API plimsoll_bundle* plimsoll_bundle_load_memory(const plimsoll_memory_file* files, size_t count,
-                                             const char* name, int verify_checksums);
+PLIMSOLL_RUNTIME_API plimsoll_bundle* plimsoll_bundle_load_memory(const plimsoll_memory_file* files,
+                                                                  size_t count, const char* name,
+                                                                  int verify_checksums);
 
 /* A bundle's files read through the caller (a pak file, the engine's file system). The
  * loader asks only for paths inside the bundle ('/'-separated, no "..", not absolute), checks
@@ -178,8 +180,8 @@ typedef struct plimsoll_file_callbacks {
     void* user;
 } plimsoll_file_callbacks;
 
-PLIMSOLL_RUNTIME_API plimsoll_bundle* plimsoll_bundle_load_callbacks(const plimsoll_file_callbacks* callbacks,
-                                                const char* name, int verify_checksums);
+PLIMSOLL_RUNTIME_API plimsoll_bundle* plimsoll_bundle_load_callbacks(
+    const plimsoll_file_callbacks* callbacks, const char* name, int verify_checksums);
 
 /* What one body costs. Set struct_size to sizeof(plimsoll_bundle_size) before the call. */
 typedef struct plimsoll_bundle_size {
@@ -191,7 +193,8 @@ typedef struct plimsoll_bundle_size {
     size_t graph_nodes;     /* water graph nodes (0: none) */
 } plimsoll_bundle_size;
 
-PLIMSOLL_RUNTIME_API int plimsoll_bundle_size_query(const plimsoll_bundle* bundle, plimsoll_bundle_size* out);
+PLIMSOLL_RUNTIME_API int plimsoll_bundle_size_query(const plimsoll_bundle* bundle,
+                                                    plimsoll_bundle_size* out);
 
 PLIMSOLL_RUNTIME_API const char* plimsoll_bundle_body(const plimsoll_bundle* bundle);
 PLIMSOLL_RUNTIME_API size_t plimsoll_bundle_sample_count(const plimsoll_bundle* bundle);
@@ -201,38 +204,44 @@ PLIMSOLL_RUNTIME_API plimsoll_mass plimsoll_bundle_mass(const plimsoll_bundle* b
  * manifest's drag and friction coefficients. */
 PLIMSOLL_RUNTIME_API plimsoll_fluid plimsoll_bundle_default_fluid(const plimsoll_bundle* bundle);
 /* The manifest's linear and angular damping (1/s at full submersion). */
-PLIMSOLL_RUNTIME_API void plimsoll_bundle_damping(const plimsoll_bundle* bundle, double* linear, double* angular);
+PLIMSOLL_RUNTIME_API void plimsoll_bundle_damping(const plimsoll_bundle* bundle, double* linear,
+                                                  double* angular);
 
 /* Buoyancy, pressure and drag. Returns 0 on bad arguments. */
-PLIMSOLL_RUNTIME_API int plimsoll_bundle_evaluate(const plimsoll_bundle* bundle, const plimsoll_pose* pose,
-                             const plimsoll_velocity* velocity, const plimsoll_water* water,
-                             const plimsoll_fluid* fluid, double time, plimsoll_forces* out);
+PLIMSOLL_RUNTIME_API int plimsoll_bundle_evaluate(
+    const plimsoll_bundle* bundle, const plimsoll_pose* pose, const plimsoll_velocity* velocity,
+    const plimsoll_water* water, const plimsoll_fluid* fluid, double time, plimsoll_forces* out);
 
 /* The water graph's layout (0 for a body without one): its nodes and their capacities (m^3). */
 PLIMSOLL_RUNTIME_API size_t plimsoll_graph_node_count(const plimsoll_bundle* bundle);
-PLIMSOLL_RUNTIME_API double plimsoll_graph_node_capacity(const plimsoll_bundle* bundle, size_t node);
+PLIMSOLL_RUNTIME_API double plimsoll_graph_node_capacity(const plimsoll_bundle* bundle,
+                                                         size_t node);
 
 /* 1.x: the water of the one instance the bundle holds (plimsoll_instance_node_water and the
  * other plimsoll_instance_ calls below replace them). */
 PLIMSOLL_RUNTIME_DEPRECATED("plimsoll_instance_node_water")
 PLIMSOLL_RUNTIME_API double plimsoll_graph_node_water(const plimsoll_bundle* bundle, size_t node);
 PLIMSOLL_RUNTIME_DEPRECATED("plimsoll_instance_set_node_water")
-PLIMSOLL_RUNTIME_API int plimsoll_graph_set_node_water(plimsoll_bundle* bundle, size_t node, double water);
+PLIMSOLL_RUNTIME_API int plimsoll_graph_set_node_water(plimsoll_bundle* bundle, size_t node,
+                                                       double water);
 PLIMSOLL_RUNTIME_DEPRECATED("plimsoll_instance_set_medium")
-PLIMSOLL_RUNTIME_API int plimsoll_graph_set_medium(plimsoll_bundle* bundle, double density, double viscosity,
-                              double gravity);
+PLIMSOLL_RUNTIME_API int plimsoll_graph_set_medium(plimsoll_bundle* bundle, double density,
+                                                   double viscosity, double gravity);
 PLIMSOLL_RUNTIME_DEPRECATED("plimsoll_instance_graph_inflow")
-PLIMSOLL_RUNTIME_API int plimsoll_graph_inflow(const plimsoll_bundle* bundle, const plimsoll_pose* pose,
-                          const plimsoll_water* water, double time, double* inflow,
-                          double* outflow);
+PLIMSOLL_RUNTIME_API int plimsoll_graph_inflow(const plimsoll_bundle* bundle,
+                                               const plimsoll_pose* pose,
+                                               const plimsoll_water* water, double time,
+                                               double* inflow, double* outflow);
 PLIMSOLL_RUNTIME_DEPRECATED("plimsoll_instance_graph_step")
 PLIMSOLL_RUNTIME_API int plimsoll_graph_step(plimsoll_bundle* bundle, const plimsoll_pose* pose,
-                        const plimsoll_water* water, double time, double dt);
+                                             const plimsoll_water* water, double time, double dt);
 PLIMSOLL_RUNTIME_DEPRECATED("plimsoll_instance_water_mass")
-PLIMSOLL_RUNTIME_API plimsoll_mass plimsoll_graph_water_mass(const plimsoll_bundle* bundle, const double orientation[4]);
+PLIMSOLL_RUNTIME_API plimsoll_mass plimsoll_graph_water_mass(const plimsoll_bundle* bundle,
+                                                             const double orientation[4]);
 
 /* The object-space box around the sample list (a default collider, a broad-phase bound). */
-PLIMSOLL_RUNTIME_API int plimsoll_bundle_bounds(const plimsoll_bundle* bundle, double min[3], double max[3]);
+PLIMSOLL_RUNTIME_API int plimsoll_bundle_bounds(const plimsoll_bundle* bundle, double min[3],
+                                                double max[3]);
 
 /* ---------------------------------------------------------------------------------------
  * Motion. What a physics engine applies to the body each step, on top of its own gravity:
@@ -250,10 +259,12 @@ typedef struct plimsoll_load {
 } plimsoll_load;
 
 PLIMSOLL_RUNTIME_DEPRECATED("plimsoll_instance_water_load")
-PLIMSOLL_RUNTIME_API int plimsoll_bundle_water_load(const plimsoll_bundle* bundle, const plimsoll_pose* pose,
-                               const plimsoll_velocity* velocity, const plimsoll_water* water,
-                               const plimsoll_fluid* fluid, double time, double dt,
-                               plimsoll_load* out);
+PLIMSOLL_RUNTIME_API int plimsoll_bundle_water_load(const plimsoll_bundle* bundle,
+                                                    const plimsoll_pose* pose,
+                                                    const plimsoll_velocity* velocity,
+                                                    const plimsoll_water* water,
+                                                    const plimsoll_fluid* fluid, double time,
+                                                    double dt, plimsoll_load* out);
 
 /* A body on its own (no contacts). */
 typedef struct plimsoll_body_state {
@@ -267,8 +278,8 @@ typedef struct plimsoll_body_state {
  * and the reference the adapters are tested against. */
 PLIMSOLL_RUNTIME_DEPRECATED("plimsoll_instance_step")
 PLIMSOLL_RUNTIME_API int plimsoll_body_step(plimsoll_bundle* bundle, plimsoll_body_state* state,
-                       const plimsoll_water* water, const plimsoll_fluid* fluid, double time,
-                       double dt);
+                                            const plimsoll_water* water,
+                                            const plimsoll_fluid* fluid, double time, double dt);
 
 /* ---------------------------------------------------------------------------------------
  * The editor's simulation, replayed (since 1.5; bundle schema 1.4 carries the project's world:
@@ -286,7 +297,8 @@ typedef struct plimsoll_simulation plimsoll_simulation;
 PLIMSOLL_RUNTIME_API plimsoll_simulation* plimsoll_simulation_create(const plimsoll_bundle* bundle);
 PLIMSOLL_RUNTIME_API void plimsoll_simulation_destroy(plimsoll_simulation* simulation);
 /* One frame (plimsoll_simulation_state's frame_time). water NULL: the bundle's own water. */
-PLIMSOLL_RUNTIME_API int plimsoll_simulation_advance_frame(plimsoll_simulation* simulation, const plimsoll_water* water);
+PLIMSOLL_RUNTIME_API int plimsoll_simulation_advance_frame(plimsoll_simulation* simulation,
+                                                           const plimsoll_water* water);
 
 /* The columns of `plimsoll simulate --out`. */
 typedef struct plimsoll_simulation_state {
@@ -301,15 +313,17 @@ typedef struct plimsoll_simulation_state {
     double mass;                    /* kg, with the water inside */
     double local_center_of_mass[3]; /* object space, m */
 } plimsoll_simulation_state;
-PLIMSOLL_RUNTIME_API int plimsoll_simulation_state_query(const plimsoll_simulation* simulation, plimsoll_simulation_state* out);
+PLIMSOLL_RUNTIME_API int plimsoll_simulation_state_query(const plimsoll_simulation* simulation,
+                                                         plimsoll_simulation_state* out);
 
 /* A snapshot of everything the next frames depend on (the body's state, its mass with the
  * water, the water graph's water and random sequence): plimsoll_simulation_restore on a
  * simulation of the same bundle continues bit for bit. With buffer NULL (or capacity too small)
  * only *size is set (and 0 returned when the buffer was too small). */
-PLIMSOLL_RUNTIME_API int plimsoll_simulation_save(const plimsoll_simulation* simulation, void* buffer, size_t capacity,
-                             size_t* size);
-PLIMSOLL_RUNTIME_API int plimsoll_simulation_restore(plimsoll_simulation* simulation, const void* bytes, size_t size);
+PLIMSOLL_RUNTIME_API int plimsoll_simulation_save(const plimsoll_simulation* simulation,
+                                                  void* buffer, size_t capacity, size_t* size);
+PLIMSOLL_RUNTIME_API int plimsoll_simulation_restore(plimsoll_simulation* simulation,
+                                                     const void* bytes, size_t size);
 /* FNV-1a of the snapshot: equal hashes, equal states (0 and the last error on NULL). */
 PLIMSOLL_RUNTIME_API uint64_t plimsoll_simulation_state_hash(const plimsoll_simulation* simulation);
 
@@ -326,13 +340,15 @@ typedef struct plimsoll_radiation_info {
 
 /* 1 and `out` filled when the body was exported with radiation; 0 otherwise (the last error
  * says why). */
-PLIMSOLL_RUNTIME_API int plimsoll_bundle_radiation(const plimsoll_bundle* bundle, plimsoll_radiation_info* out);
+PLIMSOLL_RUNTIME_API int plimsoll_bundle_radiation(const plimsoll_bundle* bundle,
+                                                   plimsoll_radiation_info* out);
 
 /* A radiating body's memory between steps: one per body, used with the bundle it was made for
  * (which must outlive it). NULL when the body has no radiation. */
 typedef struct plimsoll_radiation_memory plimsoll_radiation_memory;
 PLIMSOLL_RUNTIME_DEPRECATED("plimsoll_instance_create (an instance holds its radiation memory)")
-PLIMSOLL_RUNTIME_API plimsoll_radiation_memory* plimsoll_radiation_memory_create(const plimsoll_bundle* bundle);
+PLIMSOLL_RUNTIME_API plimsoll_radiation_memory* plimsoll_radiation_memory_create(
+    const plimsoll_bundle* bundle);
 PLIMSOLL_RUNTIME_API void plimsoll_radiation_memory_destroy(plimsoll_radiation_memory* memory);
 
 /* For an engine with its own integrator: before its step, begin() gives the share of the added
@@ -349,21 +365,26 @@ typedef struct plimsoll_radiation_load {
     double torque[3];            /* N m, world axes */
 } plimsoll_radiation_load;
 PLIMSOLL_RUNTIME_DEPRECATED("plimsoll_instance_radiation_begin")
-PLIMSOLL_RUNTIME_API int plimsoll_radiation_memory_begin(plimsoll_radiation_memory* memory, const plimsoll_pose* pose,
-                                    double submerged_volume, plimsoll_radiation_load* out);
+PLIMSOLL_RUNTIME_API int plimsoll_radiation_memory_begin(plimsoll_radiation_memory* memory,
+                                                         const plimsoll_pose* pose,
+                                                         double submerged_volume,
+                                                         plimsoll_radiation_load* out);
 PLIMSOLL_RUNTIME_DEPRECATED("plimsoll_instance_radiation_advance")
-PLIMSOLL_RUNTIME_API int plimsoll_radiation_memory_advance(plimsoll_radiation_memory* memory, const plimsoll_pose* pose,
-                                      const plimsoll_velocity* velocity, double dt);
+PLIMSOLL_RUNTIME_API int plimsoll_radiation_memory_advance(plimsoll_radiation_memory* memory,
+                                                           const plimsoll_pose* pose,
+                                                           const plimsoll_velocity* velocity,
+                                                           double dt);
 /* Energy the filters hold, J: the body's mechanical energy plus this never grows. */
 PLIMSOLL_RUNTIME_DEPRECATED("plimsoll_instance_radiation_energy")
-PLIMSOLL_RUNTIME_API double plimsoll_radiation_memory_energy(const plimsoll_radiation_memory* memory);
+PLIMSOLL_RUNTIME_API double plimsoll_radiation_memory_energy(
+    const plimsoll_radiation_memory* memory);
 
 /* plimsoll_body_step with radiation: the added mass in the mass matrix and the memory's load
  * added. */
 PLIMSOLL_RUNTIME_DEPRECATED("plimsoll_instance_step")
-PLIMSOLL_RUNTIME_API int plimsoll_body_step_radiating(plimsoll_bundle* bundle, plimsoll_body_state* state,
-                                 plimsoll_radiation_memory* memory, const plimsoll_water* water,
-                                 const plimsoll_fluid* fluid, double time, double dt);
+PLIMSOLL_RUNTIME_API int plimsoll_body_step_radiating(
+    plimsoll_bundle* bundle, plimsoll_body_state* state, plimsoll_radiation_memory* memory,
+    const plimsoll_water* water, const plimsoll_fluid* fluid, double time, double dt);
 
 /* ---------------------------------------------------------------------------------------
  * Instances (since 2.0): one floating body of a shared bundle. An instance holds the water in
@@ -373,7 +394,8 @@ PLIMSOLL_RUNTIME_API int plimsoll_body_step_radiating(plimsoll_bundle* bundle, p
  * thread at a time per instance; any number of instances of one bundle on any threads. */
 PLIMSOLL_RUNTIME_API plimsoll_instance* plimsoll_instance_create(const plimsoll_bundle* bundle);
 PLIMSOLL_RUNTIME_API void plimsoll_instance_destroy(plimsoll_instance* instance);
-PLIMSOLL_RUNTIME_API const plimsoll_bundle* plimsoll_instance_bundle(const plimsoll_instance* instance);
+PLIMSOLL_RUNTIME_API const plimsoll_bundle* plimsoll_instance_bundle(
+    const plimsoll_instance* instance);
 /* Bytes the instance holds (not its bundle). */
 PLIMSOLL_RUNTIME_API uint64_t plimsoll_instance_memory_bytes(const plimsoll_instance* instance);
 
@@ -381,50 +403,65 @@ PLIMSOLL_RUNTIME_API uint64_t plimsoll_instance_memory_bytes(const plimsoll_inst
  * plimsoll_graph_node_count), set one node (0..capacity, booked as initial water), the
  * medium inside (density kg/m^3, viscosity Pa s, gravity m/s^2; the bundle's world by
  * default). All fail (0 and the error) for a bundle without a water graph or a bad node. */
-PLIMSOLL_RUNTIME_API int plimsoll_instance_node_water(const plimsoll_instance* instance, size_t node, double* water);
-PLIMSOLL_RUNTIME_API int plimsoll_instance_set_node_water(plimsoll_instance* instance, size_t node, double water);
-PLIMSOLL_RUNTIME_API int plimsoll_instance_set_medium(plimsoll_instance* instance, double density, double viscosity,
-                                 double gravity);
+PLIMSOLL_RUNTIME_API int plimsoll_instance_node_water(const plimsoll_instance* instance,
+                                                      size_t node, double* water);
+PLIMSOLL_RUNTIME_API int plimsoll_instance_set_node_water(plimsoll_instance* instance, size_t node,
+                                                          double water);
+PLIMSOLL_RUNTIME_API int plimsoll_instance_set_medium(plimsoll_instance* instance, double density,
+                                                      double viscosity, double gravity);
 /* Inflow and outflow (m^3/s) of each node through the permeable surface at this pose;
  * `inflow` and `outflow` hold node_count values each (either may be NULL). The water's
  * heights are asked once for all permeable points (the `heights` callback when set). */
-PLIMSOLL_RUNTIME_API int plimsoll_instance_graph_inflow(const plimsoll_instance* instance, const plimsoll_pose* pose,
-                                   const plimsoll_water* water, double time, double* inflow,
-                                   double* outflow);
+PLIMSOLL_RUNTIME_API int plimsoll_instance_graph_inflow(const plimsoll_instance* instance,
+                                                        const plimsoll_pose* pose,
+                                                        const plimsoll_water* water, double time,
+                                                        double* inflow, double* outflow);
 /* One step of dt seconds: exchange with the water outside, then flow between nodes. Returns
  * 1 when water moved, 0 when not (or the bundle has no water graph), -1 on error. */
-PLIMSOLL_RUNTIME_API int plimsoll_instance_graph_step(plimsoll_instance* instance, const plimsoll_pose* pose,
-                                 const plimsoll_water* water, double time, double dt);
+PLIMSOLL_RUNTIME_API int plimsoll_instance_graph_step(plimsoll_instance* instance,
+                                                      const plimsoll_pose* pose,
+                                                      const plimsoll_water* water, double time,
+                                                      double dt);
 /* The water's mass properties at this orientation (w, x, y, z), object space. */
-PLIMSOLL_RUNTIME_API int plimsoll_instance_water_mass(const plimsoll_instance* instance, const double orientation[4],
-                                 plimsoll_mass* out);
+PLIMSOLL_RUNTIME_API int plimsoll_instance_water_mass(const plimsoll_instance* instance,
+                                                      const double orientation[4],
+                                                      plimsoll_mass* out);
 /* What a physics engine applies to the body (as plimsoll_bundle_water_load describes), with
  * this instance's water inside. */
-PLIMSOLL_RUNTIME_API int plimsoll_instance_water_load(const plimsoll_instance* instance, const plimsoll_pose* pose,
-                                 const plimsoll_velocity* velocity, const plimsoll_water* water,
-                                 const plimsoll_fluid* fluid, double time, double dt,
-                                 plimsoll_load* out);
+PLIMSOLL_RUNTIME_API int plimsoll_instance_water_load(const plimsoll_instance* instance,
+                                                      const plimsoll_pose* pose,
+                                                      const plimsoll_velocity* velocity,
+                                                      const plimsoll_water* water,
+                                                      const plimsoll_fluid* fluid, double time,
+                                                      double dt, plimsoll_load* out);
 /* One semi-implicit Euler step of a body on its own (plimsoll_body_step's step), with its
  * radiation when the bundle has it (the added mass in the mass matrix, the memory's load). */
-PLIMSOLL_RUNTIME_API int plimsoll_instance_step(plimsoll_instance* instance, plimsoll_body_state* state,
-                           const plimsoll_water* water, const plimsoll_fluid* fluid, double time,
-                           double dt);
+PLIMSOLL_RUNTIME_API int plimsoll_instance_step(plimsoll_instance* instance,
+                                                plimsoll_body_state* state,
+                                                const plimsoll_water* water,
+                                                const plimsoll_fluid* fluid, double time,
+                                                double dt);
 /* For an engine with its own integrator and a bundle with radiation: before its step, begin()
  * (see plimsoll_radiation_load); after it, advance() with the new pose and velocity. Both fail
  * for a bundle without radiation. energy: J held by the memory (0 without radiation). */
-PLIMSOLL_RUNTIME_API int plimsoll_instance_radiation_begin(plimsoll_instance* instance, const plimsoll_pose* pose,
-                                      double submerged_volume, plimsoll_radiation_load* out);
-PLIMSOLL_RUNTIME_API int plimsoll_instance_radiation_advance(plimsoll_instance* instance, const plimsoll_pose* pose,
-                                        const plimsoll_velocity* velocity, double dt);
+PLIMSOLL_RUNTIME_API int plimsoll_instance_radiation_begin(plimsoll_instance* instance,
+                                                           const plimsoll_pose* pose,
+                                                           double submerged_volume,
+                                                           plimsoll_radiation_load* out);
+PLIMSOLL_RUNTIME_API int plimsoll_instance_radiation_advance(plimsoll_instance* instance,
+                                                             const plimsoll_pose* pose,
+                                                             const plimsoll_velocity* velocity,
+                                                             double dt);
 PLIMSOLL_RUNTIME_API double plimsoll_instance_radiation_energy(const plimsoll_instance* instance);
 
 /* A snapshot of everything the instance's next steps depend on besides the pose and velocity
  * (which the game's physics holds): plimsoll_instance_restore on an instance of the same
  * bundle continues bit for bit. With buffer NULL (or capacity too small) only *size is set
  * (and 0 returned when the buffer was too small). The hash is FNV-1a of the snapshot. */
-PLIMSOLL_RUNTIME_API int plimsoll_instance_save(const plimsoll_instance* instance, void* buffer, size_t capacity,
-                           size_t* size);
-PLIMSOLL_RUNTIME_API int plimsoll_instance_restore(plimsoll_instance* instance, const void* bytes, size_t size);
+PLIMSOLL_RUNTIME_API int plimsoll_instance_save(const plimsoll_instance* instance, void* buffer,
+                                                size_t capacity, size_t* size);
+PLIMSOLL_RUNTIME_API int plimsoll_instance_restore(plimsoll_instance* instance, const void* bytes,
+                                                   size_t size);
 PLIMSOLL_RUNTIME_API uint64_t plimsoll_instance_state_hash(const plimsoll_instance* instance);
 
 /* ---------------------------------------------------------------------------------------
@@ -457,43 +494,49 @@ PLIMSOLL_RUNTIME_API void plimsoll_batch_free(plimsoll_batch* batch);
  * NULL (all at rest), fluid may be NULL (each body's default fluid); one water for all. Every
  * argument is checked before any work starts; returns 1, or 0 with the error naming the first
  * body that failed ("body 3: ..."). A bundle may appear more than once. */
-PLIMSOLL_RUNTIME_API int plimsoll_batch_evaluate(plimsoll_batch* batch, size_t count,
-                            const plimsoll_bundle* const* bodies, const plimsoll_pose* poses,
-                            const plimsoll_velocity* velocities, const plimsoll_water* water,
-                            const plimsoll_fluid* fluid, double time, plimsoll_forces* out);
+PLIMSOLL_RUNTIME_API int plimsoll_batch_evaluate(
+    plimsoll_batch* batch, size_t count, const plimsoll_bundle* const* bodies,
+    const plimsoll_pose* poses, const plimsoll_velocity* velocities, const plimsoll_water* water,
+    const plimsoll_fluid* fluid, double time, plimsoll_forces* out);
 
 /* 1.x: plimsoll_bundle_water_load and plimsoll_graph_step for every bundle. */
 PLIMSOLL_RUNTIME_DEPRECATED("plimsoll_batch_instance_water_load")
-PLIMSOLL_RUNTIME_API int plimsoll_batch_water_load(plimsoll_batch* batch, size_t count,
-                              const plimsoll_bundle* const* bodies, const plimsoll_pose* poses,
-                              const plimsoll_velocity* velocities, const plimsoll_water* water,
-                              const plimsoll_fluid* fluid, double time, double dt, plimsoll_load* out);
+PLIMSOLL_RUNTIME_API int plimsoll_batch_water_load(
+    plimsoll_batch* batch, size_t count, const plimsoll_bundle* const* bodies,
+    const plimsoll_pose* poses, const plimsoll_velocity* velocities, const plimsoll_water* water,
+    const plimsoll_fluid* fluid, double time, double dt, plimsoll_load* out);
 
 PLIMSOLL_RUNTIME_DEPRECATED("plimsoll_batch_instance_graph_step")
-PLIMSOLL_RUNTIME_API int plimsoll_batch_graph_step(plimsoll_batch* batch, size_t count, plimsoll_bundle* const* bodies,
-                              const plimsoll_pose* poses, const plimsoll_water* water, double time,
-                              double dt, int* moved);
+PLIMSOLL_RUNTIME_API int plimsoll_batch_graph_step(plimsoll_batch* batch, size_t count,
+                                                   plimsoll_bundle* const* bodies,
+                                                   const plimsoll_pose* poses,
+                                                   const plimsoll_water* water, double time,
+                                                   double dt, int* moved);
 
 /* plimsoll_instance_water_load for every instance: what a physics engine applies, for all its
  * floating bodies in one call. Arguments and errors as plimsoll_batch_evaluate (fluid NULL:
  * each bundle's default fluid). */
-PLIMSOLL_RUNTIME_API int plimsoll_batch_instance_water_load(plimsoll_batch* batch, size_t count,
-                                       const plimsoll_instance* const* instances,
-                                       const plimsoll_pose* poses, const plimsoll_velocity* velocities,
-                                       const plimsoll_water* water, const plimsoll_fluid* fluid,
-                                       double time, double dt, plimsoll_load* out);
+PLIMSOLL_RUNTIME_API int plimsoll_batch_instance_water_load(
+    plimsoll_batch* batch, size_t count, const plimsoll_instance* const* instances,
+    const plimsoll_pose* poses, const plimsoll_velocity* velocities, const plimsoll_water* water,
+    const plimsoll_fluid* fluid, double time, double dt, plimsoll_load* out);
 
 /* plimsoll_instance_graph_step for every instance (each at most once per call); moved[i] (may
  * be NULL) is 1 where water moved. Instances of bundles without a water graph are skipped. */
 PLIMSOLL_RUNTIME_API int plimsoll_batch_instance_graph_step(plimsoll_batch* batch, size_t count,
-                                       plimsoll_instance* const* instances, const plimsoll_pose* poses,
-                                       const plimsoll_water* water, double time, double dt, int* moved);
+                                                            plimsoll_instance* const* instances,
+                                                            const plimsoll_pose* poses,
+                                                            const plimsoll_water* water,
+                                                            double time, double dt, int* moved);
 
 /* plimsoll_instance_step for every instance and states[i] (each instance at most once per
  * call); fluid NULL: each bundle's default fluid. A failing body leaves its state as it was. */
-PLIMSOLL_RUNTIME_API int plimsoll_batch_instance_step(plimsoll_batch* batch, size_t count, plimsoll_instance* const* instances,
-                                 plimsoll_body_state* states, const plimsoll_water* water,
-                                 const plimsoll_fluid* fluid, double time, double dt);
+PLIMSOLL_RUNTIME_API int plimsoll_batch_instance_step(plimsoll_batch* batch, size_t count,
+                                                      plimsoll_instance* const* instances,
+                                                      plimsoll_body_state* states,
+                                                      const plimsoll_water* water,
+                                                      const plimsoll_fluid* fluid, double time,
+                                                      double dt);
 
 #ifdef __cplusplus
 }

@@ -12,7 +12,8 @@ constexpr std::uint64_t kBodySnapshotMagic = 0x3159444F42534C50ull;  // "PLSBODY
 
 Body::Body(const Bundle& bundle) : bundle_(&bundle) {
     if (const GraphLayout* layout = bundle.graph()) graph_ = std::make_unique<WaterGraph>(*layout);
-    if (const Radiation* radiation = bundle.radiation()) radiation_ = std::make_unique<RadiationMemory>(radiation);
+    if (const Radiation* radiation = bundle.radiation())
+        radiation_ = std::make_unique<RadiationMemory>(radiation);
 }
 
 Body::Body(const Body& other) : bundle_(other.bundle_) {
@@ -36,15 +37,17 @@ bool Body::restore(const std::vector<std::uint8_t>& bytes, std::string& error) {
     std::size_t at = 0;
     std::uint64_t magic = 0, samples = 0;
     std::uint8_t parts = 0;
-    if (!takeBytes(bytes, at, magic) || !takeBytes(bytes, at, samples) || !takeBytes(bytes, at, parts) ||
-        magic != kBodySnapshotMagic || samples != bundle_->samples().size() ||
+    if (!takeBytes(bytes, at, magic) || !takeBytes(bytes, at, samples) ||
+        !takeBytes(bytes, at, parts) || magic != kBodySnapshotMagic ||
+        samples != bundle_->samples().size() ||
         parts != ((graph_ ? 1 : 0) | (radiation_ ? 2 : 0))) {
         error = "snapshot: not a snapshot of a body of " + bundle_->folder();
         return false;
     }
     // Into copies first: a snapshot that fails halfway changes nothing.
     std::unique_ptr<WaterGraph> graph = graph_ ? std::make_unique<WaterGraph>(*graph_) : nullptr;
-    std::unique_ptr<RadiationMemory> radiation = radiation_ ? std::make_unique<RadiationMemory>(*radiation_) : nullptr;
+    std::unique_ptr<RadiationMemory> radiation =
+        radiation_ ? std::make_unique<RadiationMemory>(*radiation_) : nullptr;
     if (graph && !graph->restoreState(bytes, at)) {
         error = "snapshot: the water graph's state does not fit this body";
         return false;

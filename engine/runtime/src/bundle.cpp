@@ -354,8 +354,8 @@ bool readMass(Reader& r, const Value& v, const std::string& path, MassProperties
     return true;
 }
 
-
-bool readGraph(const std::string& path, const std::string& text, std::vector<GraphNode>& nodes, std::vector<GraphPipe>& pipes, std::string& error) {
+bool readGraph(const std::string& path, const std::string& text, std::vector<GraphNode>& nodes,
+               std::vector<GraphPipe>& pipes, std::string& error) {
     Value root;
     std::string parseError;
     if (!json::parse(text, root, parseError)) {
@@ -812,7 +812,7 @@ bool loadBundleImpl(const BundleSource& source, Bundle& b, std::string& error, b
                 const int node = graph->sampleNodes_[i];
                 if (node < 0 || graph->nodes_[node].sealed) continue;
                 exchange.push_back({b.samples_[i].position, k * b.samples_[i].area,
-                                            static_cast<std::uint32_t>(node)});
+                                    static_cast<std::uint32_t>(node)});
             }
         }
         graph->prepare(std::move(exchange));
@@ -918,7 +918,8 @@ std::uint64_t Bundle::memoryBytes() const {
     if (graph_) bytes += graph_->memoryBytes();
     if (radiation_) {
         bytes += sizeof(Radiation);
-        for (const auto& terms : radiation_->memory) bytes += terms.capacity() * sizeof(RadiationTerm);
+        for (const auto& terms : radiation_->memory)
+            bytes += terms.capacity() * sizeof(RadiationTerm);
     }
     return bytes + fastBytes();
 }

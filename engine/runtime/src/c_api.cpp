@@ -235,12 +235,12 @@ const char* computeForces(const Bundle& bundle, const plimsoll_pose& pose, const
 }
 
 /// plimsoll_bundle_water_load for checked arguments: null, or why the result is refused.
-const char* computeLoad(const Body& body, const plimsoll_pose& pose, const plimsoll_velocity* velocity,
-                        const plimsoll_water* water, const plimsoll_fluid& fluid, double time, double dt,
-                        plimsoll_load& out) {
+const char* computeLoad(const Body& body, const plimsoll_pose& pose,
+                        const plimsoll_velocity* velocity, const plimsoll_water* water,
+                        const plimsoll_fluid& fluid, double time, double dt, plimsoll_load& out) {
     bool nonFiniteWater = false;
-    const WaterLoad load = waterLoad(body, toPose(pose), toVelocity(velocity), toWater(water, &nonFiniteWater),
-                                     toFluid(fluid), time, dt);
+    const WaterLoad load = waterLoad(body, toPose(pose), toVelocity(velocity),
+                                     toWater(water, &nonFiniteWater), toFluid(fluid), time, dt);
     if (nonFiniteWater) return "the water height or velocity callback returned NaN or Inf";
     copy(load.force, out.force);
     copy(load.torque, out.torque);
@@ -257,14 +257,15 @@ bool present(const plimsoll_instance* i) { return i != nullptr; }
 /// quaternion, a finite velocity. The message, naming the body, is only built for one that
 /// fails.
 template <class Handle>
-bool checkBodies(const char* call, std::size_t count, const Handle* const* bodies, const plimsoll_pose* poses,
-                 const plimsoll_velocity* velocities) {
+bool checkBodies(const char* call, std::size_t count, const Handle* const* bodies,
+                 const plimsoll_pose* poses, const plimsoll_velocity* velocities) {
     for (std::size_t i = 0; i < count; ++i) {
         const plimsoll_velocity* velocity = velocities ? &velocities[i] : nullptr;
         const double* q = poses[i].orientation;
-        const bool fine = present(bodies[i]) && allFinite(poses[i].position, 3) && allFinite(q, 4) &&
-                          q[0] * q[0] + q[1] * q[1] + q[2] * q[2] + q[3] * q[3] > 1e-12 &&
-                          (!velocity || (allFinite(velocity->linear, 3) && allFinite(velocity->angular, 3)));
+        const bool fine =
+            present(bodies[i]) && allFinite(poses[i].position, 3) && allFinite(q, 4) &&
+            q[0] * q[0] + q[1] * q[1] + q[2] * q[2] + q[3] * q[3] > 1e-12 &&
+            (!velocity || (allFinite(velocity->linear, 3) && allFinite(velocity->angular, 3)));
         if (fine) continue;
         const std::string item = std::string(call) + ": body " + std::to_string(i);
         if (!present(bodies[i])) return refuse(item.c_str(), "bundle is NULL");
@@ -284,9 +285,10 @@ bool distinct(const char* call, std::size_t count, const Handle* const* bodies, 
 
 /// The arguments every batch evaluation shares, checked on the calling thread.
 template <class Handle>
-bool checkBatch(const char* call, const plimsoll_batch* batch, std::size_t count, const Handle* const* bodies,
-                const plimsoll_pose* poses, const plimsoll_velocity* velocities, const void* out,
-                const plimsoll_water* water, const plimsoll_fluid* fluid, double time) {
+bool checkBatch(const char* call, const plimsoll_batch* batch, std::size_t count,
+                const Handle* const* bodies, const plimsoll_pose* poses,
+                const plimsoll_velocity* velocities, const void* out, const plimsoll_water* water,
+                const plimsoll_fluid* fluid, double time) {
     if (!batch || (count > 0 && (!bodies || !poses || !out)))
         return refuse(call, "batch, bodies, poses or out is NULL");
     if (count > static_cast<std::size_t>(INT32_MAX)) return refuse(call, "more than 2^31 - 1 bodies");
@@ -533,13 +535,15 @@ const WaterGraph* graphNode(const char* call, const plimsoll_instance* instance,
         return nullptr;
     }
     if (node >= graph->nodeCount()) {
-        refuse(call, "no such node: " + std::to_string(node) + " of " + std::to_string(graph->nodeCount()));
+        refuse(call, "no such node: " + std::to_string(node) + " of " +
+                         std::to_string(graph->nodeCount()));
         return nullptr;
     }
     return graph;
 }
 
-int nodeWater(const char* call, const plimsoll_instance* instance, std::size_t node, double* water) {
+int nodeWater(const char* call, const plimsoll_instance* instance, std::size_t node,
+              double* water) {
     if (!water) return refuse(call, "water is NULL");
     const WaterGraph* graph = graphNode(call, instance, node);
     if (!graph) return 0;
@@ -555,7 +559,8 @@ int setNodeWater(const char* call, plimsoll_instance* instance, std::size_t node
     return 1;
 }
 
-int setMedium(const char* call, plimsoll_instance* instance, double density, double viscosity, double gravity) {
+int setMedium(const char* call, plimsoll_instance* instance, double density, double viscosity,
+              double gravity) {
     if (!instance) return refuse(call, "instance is NULL");
     if (!instance->body.graph()) return refuse(call, "the body has no water graph");
     if (!(density > 0) || !(viscosity > 0) || !(gravity >= 0) || !std::isfinite(density) ||
@@ -568,10 +573,12 @@ int setMedium(const char* call, plimsoll_instance* instance, double density, dou
 int graphInflow(const char* call, const plimsoll_instance* instance, const plimsoll_pose* pose,
                 const plimsoll_water* water, double time, double* inflow, double* outflow) {
     try {
-        if (!instance || !instance->body.graph() || !pose) return refuse(call, "no water graph or no pose");
+        if (!instance || !instance->body.graph() || !pose)
+            return refuse(call, "no water graph or no pose");
         if (!checkPose(call, pose) || !checkWater(call, water) || !checkTime(call, time)) return 0;
         bool nonFinite = false;
-        const NodeInflow r = instance->body.graph()->inflow(toPose(*pose), toWater(water, &nonFinite), time);
+        const NodeInflow r =
+            instance->body.graph()->inflow(toPose(*pose), toWater(water, &nonFinite), time);
         if (nonFinite) return refuse(call, "the water height callback returned NaN or Inf");
         for (std::size_t i = 0; i < r.inflow.size(); ++i) {
             if (inflow) inflow[i] = r.inflow[i];
@@ -584,8 +591,8 @@ int graphInflow(const char* call, const plimsoll_instance* instance, const plims
 }
 
 /// One graph step of checked arguments: 1 moved, 0 not, -1 and the error.
-int graphStep(const char* call, plimsoll_instance* instance, const plimsoll_pose* pose, const plimsoll_water* water,
-              double time, double dt, bool needsGraph) {
+int graphStep(const char* call, plimsoll_instance* instance, const plimsoll_pose* pose,
+              const plimsoll_water* water, double time, double dt, bool needsGraph) {
     try {
         if (!instance || !pose || !(dt >= 0) || !std::isfinite(dt)) {
             refuse(call, "no instance, no pose, or dt not finite and >= 0");
@@ -616,12 +623,15 @@ int graphStep(const char* call, plimsoll_instance* instance, const plimsoll_pose
     }
 }
 
-int waterMassOf(const char* call, const plimsoll_instance* instance, const double orientation[4], plimsoll_mass* out) {
-    if (!instance || !orientation || !out) return refuse(call, "instance, orientation or out is NULL");
+int waterMassOf(const char* call, const plimsoll_instance* instance, const double orientation[4],
+                plimsoll_mass* out) {
+    if (!instance || !orientation || !out)
+        return refuse(call, "instance, orientation or out is NULL");
     if (!instance->body.graph()) return refuse(call, "the body has no water graph");
     if (!checkOrientation(call, orientation)) return 0;
     try {
-        *out = toC(instance->body.graph()->waterMass({orientation[0], orientation[1], orientation[2], orientation[3]}));
+        *out = toC(instance->body.graph()->waterMass(
+            {orientation[0], orientation[1], orientation[2], orientation[3]}));
         return 1;
     } catch (const std::exception& e) {
         return refuse(call, e.what());
@@ -642,9 +652,10 @@ double plimsoll_graph_node_water(const plimsoll_bundle* bundle, size_t node) {
 double plimsoll_graph_node_capacity(const plimsoll_bundle* bundle, size_t node) {
     lastError.clear();
     if (!hasGraph(bundle) || node >= plimsoll_graph_node_count(bundle)) {
-        refuse("plimsoll_graph_node_capacity", !hasGraph(bundle) ? std::string("the body has no water graph")
-                                                            : "node " + std::to_string(node) + " of " +
-                                                                  std::to_string(plimsoll_graph_node_count(bundle)));
+        refuse("plimsoll_graph_node_capacity",
+               !hasGraph(bundle) ? std::string("the body has no water graph")
+                                 : "node " + std::to_string(node) + " of " +
+                                       std::to_string(plimsoll_graph_node_count(bundle)));
         return 0.0;
     }
     return bundle->bundle->graph()->nodes()[node].capacity;
@@ -665,7 +676,8 @@ int plimsoll_graph_inflow(const plimsoll_bundle* bundle, const plimsoll_pose* po
                           const plimsoll_water* water, double time, double* inflow,
                           double* outflow) {
     lastError.clear();
-    return graphInflow("plimsoll_graph_inflow", legacyOf(bundle), pose, water, time, inflow, outflow);
+    return graphInflow("plimsoll_graph_inflow", legacyOf(bundle), pose, water, time, inflow,
+                       outflow);
 }
 
 int plimsoll_graph_step(plimsoll_bundle* bundle, const plimsoll_pose* pose,
@@ -674,7 +686,8 @@ int plimsoll_graph_step(plimsoll_bundle* bundle, const plimsoll_pose* pose,
     return graphStep("plimsoll_graph_step", legacyOf(bundle), pose, water, time, dt, true);
 }
 
-plimsoll_mass plimsoll_graph_water_mass(const plimsoll_bundle* bundle, const double orientation[4]) {
+plimsoll_mass plimsoll_graph_water_mass(const plimsoll_bundle* bundle,
+                                        const double orientation[4]) {
     lastError.clear();
     plimsoll_mass out{};
     waterMassOf("plimsoll_graph_water_mass", legacyOf(bundle), orientation, &out);
@@ -700,15 +713,19 @@ int plimsoll_bundle_bounds(const plimsoll_bundle* bundle, double min[3], double 
 
 namespace {
 
-int instanceWaterLoad(const char* call, const plimsoll_instance* instance, const plimsoll_pose* pose,
-                      const plimsoll_velocity* velocity, const plimsoll_water* water, const plimsoll_fluid* fluid,
-                      double time, double dt, plimsoll_load* out) {
+int instanceWaterLoad(const char* call, const plimsoll_instance* instance,
+                      const plimsoll_pose* pose, const plimsoll_velocity* velocity,
+                      const plimsoll_water* water, const plimsoll_fluid* fluid, double time,
+                      double dt, plimsoll_load* out) {
     try {
-        if (!instance || !pose || !fluid || !out) return refuse(call, "a required argument is NULL");
-        if (!checkEvaluation(call, pose, velocity, fluid) || !checkWater(call, water) || !checkTime(call, time))
+        if (!instance || !pose || !fluid || !out)
+            return refuse(call, "a required argument is NULL");
+        if (!checkEvaluation(call, pose, velocity, fluid) || !checkWater(call, water) ||
+            !checkTime(call, time))
             return 0;
         if (!(dt > 0) || !std::isfinite(dt)) return refuse(call, "dt must be finite and > 0");
-        const char* failure = computeLoad(instance->body, *pose, velocity, water, *fluid, time, dt, *out);
+        const char* failure =
+            computeLoad(instance->body, *pose, velocity, water, *fluid, time, dt, *out);
         return failure ? refuse(call, failure) : 1;
     } catch (const std::exception& e) {
         return refuse(call, e.what());
@@ -718,22 +735,25 @@ int instanceWaterLoad(const char* call, const plimsoll_instance* instance, const
 /// One step of a body on its own, with `memory`'s radiation (none when null), for checked
 /// arguments: null, or why it was refused. Sets no error (batch workers call it); the state,
 /// the water and the memory change only when the step's result is finite.
-const char* stepInstance(plimsoll_instance& instance, plimsoll_body_state& state, RadiationMemory* memory,
-                         const plimsoll_water* water, const plimsoll_fluid& fluid, double time, double dt) {
+const char* stepInstance(plimsoll_instance& instance, plimsoll_body_state& state,
+                         RadiationMemory* memory, const plimsoll_water* water,
+                         const plimsoll_fluid& fluid, double time, double dt) {
     BodyState s{toPose(state.pose), toVelocity(&state.velocity)};
     bool nonFiniteWater = false;
     const std::vector<std::uint8_t> before = instance.body.save();
     std::optional<RadiationMemory> memoryBefore;
     if (memory) memoryBefore = *memory;
-    stepBodyWith(instance.body, s, memory, toWater(water, &nonFiniteWater), toFluid(fluid), time, dt);
+    stepBodyWith(instance.body, s, memory, toWater(water, &nonFiniteWater), toFluid(fluid), time,
+                 dt);
     const double next[13] = {s.pose.position.x,    s.pose.position.y,    s.pose.position.z,
                              s.pose.orientation.w, s.pose.orientation.x, s.pose.orientation.y,
                              s.pose.orientation.z, s.velocity.linear.x,  s.velocity.linear.y,
                              s.velocity.linear.z,  s.velocity.angular.x, s.velocity.angular.y,
                              s.velocity.angular.z};
-    const char* refused = nonFiniteWater ? "the water height or velocity callback returned NaN or Inf"
-                          : !allFinite(next, 13) ? "the new state is not finite (state left as it was)"
-                                                 : nullptr;
+    const char* refused =
+        nonFiniteWater         ? "the water height or velocity callback returned NaN or Inf"
+        : !allFinite(next, 13) ? "the new state is not finite (state left as it was)"
+                               : nullptr;
     if (refused) {
         std::string ignored;
         instance.body.restore(before, ignored);
@@ -751,8 +771,8 @@ const char* stepInstance(plimsoll_instance& instance, plimsoll_body_state& state
 }
 
 /// RadiationMemory::begin for checked arguments, into the C struct.
-int radiationBegin(const char* call, RadiationMemory& memory, const plimsoll_pose* pose, double submergedVolume,
-                   plimsoll_radiation_load* out) {
+int radiationBegin(const char* call, RadiationMemory& memory, const plimsoll_pose* pose,
+                   double submergedVolume, plimsoll_radiation_load* out) {
     if (!checkPose(call, pose)) return 0;
     if (!(submergedVolume >= 0) || !std::isfinite(submergedVolume))
         return refuse(call, "submerged_volume must be finite and >= 0");
@@ -781,8 +801,8 @@ int radiationAdvance(const char* call, RadiationMemory& memory, const plimsoll_p
 }
 
 /// A snapshot into the caller's buffer: *size always, the bytes when they fit.
-int copySnapshot(const char* call, const std::vector<std::uint8_t>& bytes, void* buffer, std::size_t capacity,
-                 std::size_t* size) {
+int copySnapshot(const char* call, const std::vector<std::uint8_t>& bytes, void* buffer,
+                 std::size_t capacity, std::size_t* size) {
     *size = bytes.size();
     if (!buffer) return 1;
     if (capacity < bytes.size())
@@ -793,8 +813,9 @@ int copySnapshot(const char* call, const std::vector<std::uint8_t>& bytes, void*
 }
 
 /// The checks of a step call, then the step.
-int stepChecked(const char* call, plimsoll_instance* instance, plimsoll_body_state* state, RadiationMemory* memory,
-                const plimsoll_water* water, const plimsoll_fluid* fluid, double time, double dt) {
+int stepChecked(const char* call, plimsoll_instance* instance, plimsoll_body_state* state,
+                RadiationMemory* memory, const plimsoll_water* water, const plimsoll_fluid* fluid,
+                double time, double dt) {
     try {
         if (!instance || !state || !fluid) return refuse(call, "a required argument is NULL");
         if (!checkEvaluation(call, &state->pose, &state->velocity, fluid) || !checkWater(call, water) ||
@@ -817,15 +838,16 @@ int plimsoll_bundle_water_load(const plimsoll_bundle* bundle, const plimsoll_pos
                                const plimsoll_fluid* fluid, double time, double dt,
                                plimsoll_load* out) {
     lastError.clear();
-    return instanceWaterLoad("plimsoll_bundle_water_load", legacyOf(bundle), pose, velocity, water, fluid, time, dt,
-                             out);
+    return instanceWaterLoad("plimsoll_bundle_water_load", legacyOf(bundle), pose, velocity, water,
+                             fluid, time, dt, out);
 }
 
 int plimsoll_body_step(plimsoll_bundle* bundle, plimsoll_body_state* state,
                        const plimsoll_water* water, const plimsoll_fluid* fluid, double time,
                        double dt) {
     lastError.clear();
-    return stepChecked("plimsoll_body_step", legacyOf(bundle), state, nullptr, water, fluid, time, dt);
+    return stepChecked("plimsoll_body_step", legacyOf(bundle), state, nullptr, water, fluid, time,
+                       dt);
 }
 
 int plimsoll_body_step_radiating(plimsoll_bundle* bundle, plimsoll_body_state* state,
@@ -966,12 +988,17 @@ int plimsoll_batch_water_load(plimsoll_batch* batch, size_t count,
     try {
         if (!checkBatch(kCall, batch, count, bodies, poses, velocities, out, water, fluid, time)) return 0;
         if (!(dt > 0) || !std::isfinite(dt)) return refuse(kCall, "dt must be finite and > 0");
-        return runBatch(*batch, kCall, count, [&](std::size_t i) {
-            const plimsoll_instance& instance = *bodies[i]->legacy;
-            const plimsoll_fluid f = fluid ? *fluid : defaultFluid(*bodies[i]->bundle);
-            return computeLoad(instance.body, poses[i], velocities ? &velocities[i] : nullptr, water, f, time, dt,
-                               out[i]);
-        }) ? 1 : 0;
+        return runBatch(*batch, kCall, count,
+                        [&](std::size_t i) {
+                            const plimsoll_instance& instance = *bodies[i]->legacy;
+                            const plimsoll_fluid f =
+                                fluid ? *fluid : defaultFluid(*bodies[i]->bundle);
+                            return computeLoad(instance.body, poses[i],
+                                               velocities ? &velocities[i] : nullptr, water, f,
+                                               time, dt, out[i]);
+                        })
+                   ? 1
+                   : 0;
     } catch (const std::exception& e) {
         return refuse(kCall, e.what());
     }
@@ -989,14 +1016,19 @@ int plimsoll_batch_graph_step(plimsoll_batch* batch, size_t count, plimsoll_bund
         if (!checkWater(kCall, water) || !checkTime(kCall, time)) return 0;
         if (!(dt >= 0) || !std::isfinite(dt)) return refuse(kCall, "dt must be finite and >= 0");
         if (!checkBodies(kCall, count, bodies, poses, nullptr) ||
-            !distinct(kCall, count, bodies, "a bundle appears twice (each graph steps once per call)"))
+            !distinct(kCall, count, bodies,
+                      "a bundle appears twice (each graph steps once per call)"))
             return 0;
-        return runBatch(*batch, kCall, count, [&](std::size_t i) -> const char* {
-            WaterGraph* graph = bodies[i]->legacy->body.graph();
-            const bool changed = graph && graph->step(toPose(poses[i]), toWater(water), time, dt);
-            if (moved) moved[i] = changed ? 1 : 0;
-            return nullptr;
-        }) ? 1 : 0;
+        return runBatch(*batch, kCall, count,
+                        [&](std::size_t i) -> const char* {
+                            WaterGraph* graph = bodies[i]->legacy->body.graph();
+                            const bool changed =
+                                graph && graph->step(toPose(poses[i]), toWater(water), time, dt);
+                            if (moved) moved[i] = changed ? 1 : 0;
+                            return nullptr;
+                        })
+                   ? 1
+                   : 0;
     } catch (const std::exception& e) {
         return refuse(kCall, e.what());
     }
@@ -1004,73 +1036,100 @@ int plimsoll_batch_graph_step(plimsoll_batch* batch, size_t count, plimsoll_bund
 
 int plimsoll_batch_instance_water_load(plimsoll_batch* batch, size_t count,
                                        const plimsoll_instance* const* instances,
-                                       const plimsoll_pose* poses, const plimsoll_velocity* velocities,
+                                       const plimsoll_pose* poses,
+                                       const plimsoll_velocity* velocities,
                                        const plimsoll_water* water, const plimsoll_fluid* fluid,
                                        double time, double dt, plimsoll_load* out) {
     lastError.clear();
     constexpr const char* kCall = "plimsoll_batch_instance_water_load";
     try {
-        if (!checkBatch(kCall, batch, count, instances, poses, velocities, out, water, fluid, time)) return 0;
+        if (!checkBatch(kCall, batch, count, instances, poses, velocities, out, water, fluid, time))
+            return 0;
         if (!(dt > 0) || !std::isfinite(dt)) return refuse(kCall, "dt must be finite and > 0");
-        return runBatch(*batch, kCall, count, [&](std::size_t i) {
-            const plimsoll_instance& instance = *instances[i];
-            const plimsoll_fluid f = fluid ? *fluid : defaultFluid(instance.body.bundle());
-            return computeLoad(instance.body, poses[i], velocities ? &velocities[i] : nullptr, water, f, time, dt,
-                               out[i]);
-        }) ? 1 : 0;
+        return runBatch(*batch, kCall, count,
+                        [&](std::size_t i) {
+                            const plimsoll_instance& instance = *instances[i];
+                            const plimsoll_fluid f =
+                                fluid ? *fluid : defaultFluid(instance.body.bundle());
+                            return computeLoad(instance.body, poses[i],
+                                               velocities ? &velocities[i] : nullptr, water, f,
+                                               time, dt, out[i]);
+                        })
+                   ? 1
+                   : 0;
     } catch (const std::exception& e) {
         return refuse(kCall, e.what());
     }
 }
 
 int plimsoll_batch_instance_graph_step(plimsoll_batch* batch, size_t count,
-                                       plimsoll_instance* const* instances, const plimsoll_pose* poses,
-                                       const plimsoll_water* water, double time, double dt, int* moved) {
+                                       plimsoll_instance* const* instances,
+                                       const plimsoll_pose* poses, const plimsoll_water* water,
+                                       double time, double dt, int* moved) {
     lastError.clear();
     constexpr const char* kCall = "plimsoll_batch_instance_graph_step";
     try {
         if (!batch || (count > 0 && (!instances || !poses)))
             return refuse(kCall, "batch, instances or poses is NULL");
-        if (count > static_cast<size_t>(INT32_MAX)) return refuse(kCall, "more than 2^31 - 1 bodies");
+        if (count > static_cast<size_t>(INT32_MAX))
+            return refuse(kCall, "more than 2^31 - 1 bodies");
         if (!checkWater(kCall, water) || !checkTime(kCall, time)) return 0;
         if (!(dt >= 0) || !std::isfinite(dt)) return refuse(kCall, "dt must be finite and >= 0");
         if (!checkBodies(kCall, count, instances, poses, nullptr) ||
-            !distinct(kCall, count, instances, "an instance appears twice (each steps once per call)"))
+            !distinct(kCall, count, instances,
+                      "an instance appears twice (each steps once per call)"))
             return 0;
-        return runBatch(*batch, kCall, count, [&](std::size_t i) -> const char* {
-            WaterGraph* graph = instances[i]->body.graph();
-            bool nonFinite = false;
-            const bool changed = graph && graph->step(toPose(poses[i]), toWater(water, &nonFinite), time, dt);
-            if (moved) moved[i] = changed ? 1 : 0;
-            return nonFinite ? "the water height callback returned NaN or Inf" : nullptr;
-        }) ? 1 : 0;
+        return runBatch(*batch, kCall, count,
+                        [&](std::size_t i) -> const char* {
+                            WaterGraph* graph = instances[i]->body.graph();
+                            bool nonFinite = false;
+                            const bool changed =
+                                graph &&
+                                graph->step(toPose(poses[i]), toWater(water, &nonFinite), time, dt);
+                            if (moved) moved[i] = changed ? 1 : 0;
+                            return nonFinite ? "the water height callback returned NaN or Inf"
+                                             : nullptr;
+                        })
+                   ? 1
+                   : 0;
     } catch (const std::exception& e) {
         return refuse(kCall, e.what());
     }
 }
 
-int plimsoll_batch_instance_step(plimsoll_batch* batch, size_t count, plimsoll_instance* const* instances,
-                                 plimsoll_body_state* states, const plimsoll_water* water,
-                                 const plimsoll_fluid* fluid, double time, double dt) {
+int plimsoll_batch_instance_step(plimsoll_batch* batch, size_t count,
+                                 plimsoll_instance* const* instances, plimsoll_body_state* states,
+                                 const plimsoll_water* water, const plimsoll_fluid* fluid,
+                                 double time, double dt) {
     lastError.clear();
     constexpr const char* kCall = "plimsoll_batch_instance_step";
     try {
         if (!batch || (count > 0 && (!instances || !states)))
             return refuse(kCall, "batch, instances or states is NULL");
-        if (count > static_cast<size_t>(INT32_MAX)) return refuse(kCall, "more than 2^31 - 1 bodies");
-        if (!checkWater(kCall, water) || !checkTime(kCall, time) || !checkFluid(kCall, fluid)) return 0;
+        if (count > static_cast<size_t>(INT32_MAX))
+            return refuse(kCall, "more than 2^31 - 1 bodies");
+        if (!checkWater(kCall, water) || !checkTime(kCall, time) || !checkFluid(kCall, fluid))
+            return 0;
         if (!(dt > 0) || !std::isfinite(dt)) return refuse(kCall, "dt must be finite and > 0");
         for (std::size_t i = 0; i < count; ++i) {
             const std::string item = std::string(kCall) + ": body " + std::to_string(i);
             if (!instances[i]) return refuse(item.c_str(), "instance is NULL");
-            if (!checkEvaluation(item.c_str(), &states[i].pose, &states[i].velocity, nullptr)) return 0;
+            if (!checkEvaluation(item.c_str(), &states[i].pose, &states[i].velocity, nullptr))
+                return 0;
         }
-        if (!distinct(kCall, count, instances, "an instance appears twice (each steps once per call)")) return 0;
-        return runBatch(*batch, kCall, count, [&](std::size_t i) {
-            plimsoll_instance& instance = *instances[i];
-            const plimsoll_fluid f = fluid ? *fluid : defaultFluid(instance.body.bundle());
-            return stepInstance(instance, states[i], instance.body.radiation(), water, f, time, dt);
-        }) ? 1 : 0;
+        if (!distinct(kCall, count, instances,
+                      "an instance appears twice (each steps once per call)"))
+            return 0;
+        return runBatch(*batch, kCall, count,
+                        [&](std::size_t i) {
+                            plimsoll_instance& instance = *instances[i];
+                            const plimsoll_fluid f =
+                                fluid ? *fluid : defaultFluid(instance.body.bundle());
+                            return stepInstance(instance, states[i], instance.body.radiation(),
+                                                water, f, time, dt);
+                        })
+                   ? 1
+                   : 0;
     } catch (const std::exception& e) {
         return refuse(kCall, e.what());
     }
@@ -1235,15 +1294,18 @@ int plimsoll_instance_set_node_water(plimsoll_instance* instance, size_t node, d
     return setNodeWater("plimsoll_instance_set_node_water", instance, node, water);
 }
 
-int plimsoll_instance_set_medium(plimsoll_instance* instance, double density, double viscosity, double gravity) {
+int plimsoll_instance_set_medium(plimsoll_instance* instance, double density, double viscosity,
+                                 double gravity) {
     lastError.clear();
     return setMedium("plimsoll_instance_set_medium", instance, density, viscosity, gravity);
 }
 
 int plimsoll_instance_graph_inflow(const plimsoll_instance* instance, const plimsoll_pose* pose,
-                                   const plimsoll_water* water, double time, double* inflow, double* outflow) {
+                                   const plimsoll_water* water, double time, double* inflow,
+                                   double* outflow) {
     lastError.clear();
-    return graphInflow("plimsoll_instance_graph_inflow", instance, pose, water, time, inflow, outflow);
+    return graphInflow("plimsoll_instance_graph_inflow", instance, pose, water, time, inflow,
+                       outflow);
 }
 
 int plimsoll_instance_graph_step(plimsoll_instance* instance, const plimsoll_pose* pose,
@@ -1260,16 +1322,19 @@ int plimsoll_instance_water_mass(const plimsoll_instance* instance, const double
 
 int plimsoll_instance_water_load(const plimsoll_instance* instance, const plimsoll_pose* pose,
                                  const plimsoll_velocity* velocity, const plimsoll_water* water,
-                                 const plimsoll_fluid* fluid, double time, double dt, plimsoll_load* out) {
+                                 const plimsoll_fluid* fluid, double time, double dt,
+                                 plimsoll_load* out) {
     lastError.clear();
-    return instanceWaterLoad("plimsoll_instance_water_load", instance, pose, velocity, water, fluid, time, dt, out);
+    return instanceWaterLoad("plimsoll_instance_water_load", instance, pose, velocity, water, fluid,
+                             time, dt, out);
 }
 
-int plimsoll_instance_step(plimsoll_instance* instance, plimsoll_body_state* state, const plimsoll_water* water,
-                           const plimsoll_fluid* fluid, double time, double dt) {
+int plimsoll_instance_step(plimsoll_instance* instance, plimsoll_body_state* state,
+                           const plimsoll_water* water, const plimsoll_fluid* fluid, double time,
+                           double dt) {
     lastError.clear();
-    return stepChecked("plimsoll_instance_step", instance, state, instance ? instance->body.radiation() : nullptr,
-                       water, fluid, time, dt);
+    return stepChecked("plimsoll_instance_step", instance, state,
+                       instance ? instance->body.radiation() : nullptr, water, fluid, time, dt);
 }
 
 int plimsoll_instance_radiation_begin(plimsoll_instance* instance, const plimsoll_pose* pose,
@@ -1277,7 +1342,8 @@ int plimsoll_instance_radiation_begin(plimsoll_instance* instance, const plimsol
     lastError.clear();
     constexpr const char* kCall = "plimsoll_instance_radiation_begin";
     if (!instance || !out) return refuse(kCall, "a required argument is NULL");
-    if (!instance->body.radiation()) return refuse(kCall, "the body was exported without radiation");
+    if (!instance->body.radiation())
+        return refuse(kCall, "the body was exported without radiation");
     return radiationBegin(kCall, *instance->body.radiation(), pose, submerged_volume, out);
 }
 
@@ -1286,7 +1352,8 @@ int plimsoll_instance_radiation_advance(plimsoll_instance* instance, const plims
     lastError.clear();
     constexpr const char* kCall = "plimsoll_instance_radiation_advance";
     if (!instance || !velocity) return refuse(kCall, "a required argument is NULL");
-    if (!instance->body.radiation()) return refuse(kCall, "the body was exported without radiation");
+    if (!instance->body.radiation())
+        return refuse(kCall, "the body was exported without radiation");
     return radiationAdvance(kCall, *instance->body.radiation(), pose, velocity, dt);
 }
 
@@ -1296,7 +1363,8 @@ double plimsoll_instance_radiation_energy(const plimsoll_instance* instance) {
     return instance && instance->body.radiation() ? instance->body.radiation()->energy() : 0.0;
 }
 
-int plimsoll_instance_save(const plimsoll_instance* instance, void* buffer, size_t capacity, size_t* size) {
+int plimsoll_instance_save(const plimsoll_instance* instance, void* buffer, size_t capacity,
+                           size_t* size) {
     lastError.clear();
     constexpr const char* kCall = "plimsoll_instance_save";
     try {
@@ -1314,7 +1382,8 @@ int plimsoll_instance_restore(plimsoll_instance* instance, const void* bytes, si
         if (!instance || (!bytes && size > 0)) return refuse(kCall, "a required argument is NULL");
         const auto* p = static_cast<const std::uint8_t*>(bytes);
         std::string error;
-        if (!instance->body.restore(std::vector<std::uint8_t>(p, p + size), error)) return refuse(kCall, error);
+        if (!instance->body.restore(std::vector<std::uint8_t>(p, p + size), error))
+            return refuse(kCall, error);
         return 1;
     } catch (const std::exception& e) {
         return refuse(kCall, e.what());

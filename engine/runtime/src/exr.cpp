@@ -51,8 +51,8 @@ bool failed(const std::string& path, const char* message, std::string& error) {
 /// compression, a data window at (0, 0) of at most `maxPixels` pixels and no more float data
 /// than the compressed bytes can hold (ZIP shrinks at most ~1000:1, so a 1 KB file declaring
 /// gigabytes is a bomb, refused).
-bool parse(const std::string& path, const std::string& bytes, std::size_t channels, std::uint64_t maxPixels,
-           Header& out, int& width, int& height, std::string& error) {
+bool parse(const std::string& path, const std::string& bytes, std::size_t channels,
+           std::uint64_t maxPixels, Header& out, int& width, int& height, std::string& error) {
     const auto* data = reinterpret_cast<const unsigned char*>(bytes.data());
     EXRVersion version;
     if (ParseEXRVersionFromMemory(&version, data, bytes.size()) != TINYEXR_SUCCESS) {
@@ -60,14 +60,18 @@ bool parse(const std::string& path, const std::string& bytes, std::size_t channe
         return false;
     }
     if (version.tiled || version.multipart || version.non_image) {
-        error = path + ": EXR is tiled, deep or multi-part (a bundle's images are single-part scanline images)";
+        error = path +
+                ": EXR is tiled, deep or multi-part (a bundle's images are single-part scanline "
+                "images)";
         return false;
     }
     const char* message = nullptr;
-    if (ParseEXRHeaderFromMemory(&out.header, &version, data, bytes.size(), &message) != TINYEXR_SUCCESS)
+    if (ParseEXRHeaderFromMemory(&out.header, &version, data, bytes.size(), &message) !=
+        TINYEXR_SUCCESS)
         return failed(path, message, error);
     const EXRHeader& h = out.header;
-    if (h.compression_type != TINYEXR_COMPRESSIONTYPE_NONE && h.compression_type != TINYEXR_COMPRESSIONTYPE_ZIP &&
+    if (h.compression_type != TINYEXR_COMPRESSIONTYPE_NONE &&
+        h.compression_type != TINYEXR_COMPRESSIONTYPE_ZIP &&
         h.compression_type != TINYEXR_COMPRESSIONTYPE_ZIPS) {
         error = path + ": EXR compression " + std::to_string(h.compression_type) +
                 " (a bundle's images are uncompressed or ZIP)";
@@ -80,9 +84,11 @@ bool parse(const std::string& path, const std::string& bytes, std::size_t channe
         return false;
     }
     const double pixels = double(w) * double(hh);
-    if (pixels > double(maxPixels) || pixels * double(channels) * 4.0 > 1100.0 * double(bytes.size()) + 65536.0) {
+    if (pixels > double(maxPixels) ||
+        pixels * double(channels) * 4.0 > 1100.0 * double(bytes.size()) + 65536.0) {
         error = path + ": EXR declares " + std::to_string(w) + " x " + std::to_string(hh) +
-                " pixels, more than the bundle needs or its " + std::to_string(bytes.size()) + " bytes can hold";
+                " pixels, more than the bundle needs or its " + std::to_string(bytes.size()) +
+                " bytes can hold";
         return false;
     }
     for (int c = 0; c < h.num_channels; ++c) {
@@ -103,11 +109,12 @@ int findChannel(const EXRHeader& h, const std::string& name) {
     return -1;
 }
 
-bool load(const std::string& path, const std::string& bytes, const Header& header, Image& image, int width,
-          int height, std::string& error) {
+bool load(const std::string& path, const std::string& bytes, const Header& header, Image& image,
+          int width, int height, std::string& error) {
     const char* message = nullptr;
-    if (LoadEXRImageFromMemory(&image.image, &header.header, reinterpret_cast<const unsigned char*>(bytes.data()),
-                               bytes.size(), &message) != TINYEXR_SUCCESS)
+    if (LoadEXRImageFromMemory(&image.image, &header.header,
+                               reinterpret_cast<const unsigned char*>(bytes.data()), bytes.size(),
+                               &message) != TINYEXR_SUCCESS)
         return failed(path, message, error);
     image.loaded = true;
     if (!image.image.images || image.image.width != width || image.image.height != height) {
@@ -119,9 +126,10 @@ bool load(const std::string& path, const std::string& bytes, const Header& heade
 
 }  // namespace
 
-bool readExrFloat(const std::string& path, const std::string& bytes, const std::vector<std::string>& channels,
-                  const std::vector<bool>& half, std::uint64_t maxPixels, int& width, int& height,
-                  std::vector<float>& pixels, std::string& error) {
+bool readExrFloat(const std::string& path, const std::string& bytes,
+                  const std::vector<std::string>& channels, const std::vector<bool>& half,
+                  std::uint64_t maxPixels, int& width, int& height, std::vector<float>& pixels,
+                  std::string& error) {
     Header header;
     const std::size_t n = channels.size();
     if (!parse(path, bytes, n, maxPixels, header, width, height, error)) return false;
@@ -133,8 +141,10 @@ bool readExrFloat(const std::string& path, const std::string& bytes, const std::
             return false;
         }
         const bool wantHalf = c < half.size() && half[c];
-        if (header.header.pixel_types[index[c]] != (wantHalf ? TINYEXR_PIXELTYPE_HALF : TINYEXR_PIXELTYPE_FLOAT)) {
-            error = path + ": EXR channel '" + channels[c] + "' is not " + (wantHalf ? "half" : "float32");
+        if (header.header.pixel_types[index[c]] !=
+            (wantHalf ? TINYEXR_PIXELTYPE_HALF : TINYEXR_PIXELTYPE_FLOAT)) {
+            error = path + ": EXR channel '" + channels[c] + "' is not " +
+                    (wantHalf ? "half" : "float32");
             return false;
         }
     }
@@ -155,8 +165,8 @@ bool readExrFloat(const std::string& path, const std::string& bytes, const std::
 }
 
 bool readExrUint(const std::string& path, const std::string& bytes, const std::string& channelName,
-                 std::uint64_t maxPixels, int& width, int& height, std::vector<std::uint32_t>& pixels,
-                 std::string& error) {
+                 std::uint64_t maxPixels, int& width, int& height,
+                 std::vector<std::uint32_t>& pixels, std::string& error) {
     Header header;
     if (!parse(path, bytes, 1, maxPixels, header, width, height, error)) return false;
     const int c = findChannel(header.header, channelName);

@@ -65,16 +65,20 @@ void GraphLayout::prepare(std::vector<Exchange> exchange) {
     }
     prepared->start.reset(std::move(nodes), std::move(pipes), settings_.seed);
     prepared->points.reserve(exchange.size());
-    for (const Exchange& s : exchange) prepared->points.push_back({toEval(s.position), s.weight, s.node});
+    for (const Exchange& s : exchange)
+        prepared->points.push_back({toEval(s.position), s.weight, s.node});
     prepared_ = std::move(prepared);
 }
 
-std::size_t GraphLayout::permeableSamples() const { return prepared_ ? prepared_->points.size() : 0; }
+std::size_t GraphLayout::permeableSamples() const {
+    return prepared_ ? prepared_->points.size() : 0;
+}
 
 std::uint64_t GraphLayout::memoryBytes() const {
     std::uint64_t bytes = sizeof(GraphLayout) + pipes_.capacity() * sizeof(GraphPipe) +
                           sampleNodes_.capacity() * sizeof(int);
-    for (const GraphNode& n : nodes_) bytes += sizeof(GraphNode) + n.id.capacity() + n.name.capacity();
+    for (const GraphNode& n : nodes_)
+        bytes += sizeof(GraphNode) + n.id.capacity() + n.name.capacity();
     if (prepared_) {
         bytes += sizeof(Prepared) + prepared_->points.capacity() * sizeof(ev::ExchangePoint) +
                  prepared_->start.memoryBytes();
@@ -88,7 +92,9 @@ WaterGraph::WaterGraph(const GraphLayout& layout)
 }
 
 WaterGraph::WaterGraph(const WaterGraph& other)
-    : layout_(other.layout_), settings_(other.settings_), step_(std::make_unique<Step>(*other.step_)) {}
+    : layout_(other.layout_),
+      settings_(other.settings_),
+      step_(std::make_unique<Step>(*other.step_)) {}
 
 WaterGraph::~WaterGraph() = default;
 
@@ -125,7 +131,8 @@ bool WaterGraph::restoreState(const std::vector<std::uint8_t>& in, std::size_t& 
     s.water.resize(nodeCount());
     for (std::size_t i = 0; i < s.water.size(); ++i) {
         double& w = s.water[i];
-        if (!takeBytes(in, cursor, w) || !(w >= 0) || !(w <= layout_->nodes()[i].capacity)) return false;
+        if (!takeBytes(in, cursor, w) || !(w >= 0) || !(w <= layout_->nodes()[i].capacity))
+            return false;
     }
     if (!takeBytes(in, cursor, s.random) || !takeBytes(in, cursor, s.totals.entered) ||
         !takeBytes(in, cursor, s.totals.left) || !takeBytes(in, cursor, s.totals.initial) ||
@@ -166,9 +173,11 @@ NodeInflow WaterGraph::inflow(const Pose& pose, const Water& water, double time)
             xs[i] = world[i].x;
             zs[i] = world[i].z;
         }
-        if (!points.empty()) water.heights(points.size(), xs.data(), zs.data(), time, surface.data());
+        if (!points.empty())
+            water.heights(points.size(), xs.data(), zs.data(), time, surface.data());
     } else {
-        for (std::size_t i = 0; i < points.size(); ++i) surface[i] = water.heightAt(world[i].x, world[i].z, time);
+        for (std::size_t i = 0; i < points.size(); ++i)
+            surface[i] = water.heightAt(world[i].x, world[i].z, time);
     }
     const ev::GraphFlowSettings s = flowSettings(settings_);
     ev::ExchangeRates rates;
@@ -184,8 +193,9 @@ NodeInflow WaterGraph::inflow(const Pose& pose, const Water& water, double time)
 bool WaterGraph::exchange(const Pose& pose, const Water& water, double time, double dt) {
     if (layout_->prepared_->points.empty()) return false;
     const NodeInflow rates = inflow(pose, water, time);
-    return step_->flow.applyExchange(pose.position.y, rotation(pose.orientation), dt, rates.inflow.data(),
-                                     rates.outflow.data(), rates.outsideTop.data());
+    return step_->flow.applyExchange(pose.position.y, rotation(pose.orientation), dt,
+                                     rates.inflow.data(), rates.outflow.data(),
+                                     rates.outsideTop.data());
 }
 
 bool WaterGraph::flowInside(const Quat& orientation, double dt) {

@@ -59,8 +59,8 @@ void moveWith(Pose& pose, const Vec3& center, const Vec3& v, const Vec3& w, cons
 
 }  // namespace
 
-WaterLoad waterLoad(const Body& instance, const Pose& pose, const Velocity& velocity, const Water& water,
-                    const Fluid& fluid, double time, double dt) {
+WaterLoad waterLoad(const Body& instance, const Pose& pose, const Velocity& velocity,
+                    const Water& water, const Fluid& fluid, double time, double dt) {
     const Bundle& bundle = instance.bundle();
     WaterLoad load;
     load.forces = bundle.evaluate(pose, velocity, water, fluid, time);
@@ -106,8 +106,8 @@ WaterLoad waterLoad(const Body& instance, const Pose& pose, const Velocity& velo
 namespace {
 
 /// A step without radiation.
-void stepRigid(Body& instance, BodyState& state, const Water& water, const Fluid& fluid, double time,
-               double dt) {
+void stepRigid(Body& instance, BodyState& state, const Water& water, const Fluid& fluid,
+               double time, double dt) {
     if (WaterGraph* graph = instance.graph()) graph->step(state.pose, water, time, dt);
     const WaterLoad load = waterLoad(instance, state.pose, state.velocity, water, fluid, time, dt);
     const MassProperties& body = instance.bundle().mass();
@@ -241,13 +241,16 @@ void stepRadiating(Body& instance, BodyState& state, RadiationMemory& memory, co
 
 }  // namespace
 
-void stepBodyWith(Body& body, BodyState& state, RadiationMemory* memory, const Water& water, const Fluid& fluid,
-                  double time, double dt) {
-    if (memory) stepRadiating(body, state, *memory, water, fluid, time, dt);
-    else stepRigid(body, state, water, fluid, time, dt);
+void stepBodyWith(Body& body, BodyState& state, RadiationMemory* memory, const Water& water,
+                  const Fluid& fluid, double time, double dt) {
+    if (memory)
+        stepRadiating(body, state, *memory, water, fluid, time, dt);
+    else
+        stepRigid(body, state, water, fluid, time, dt);
 }
 
-void stepBody(Body& body, BodyState& state, const Water& water, const Fluid& fluid, double time, double dt) {
+void stepBody(Body& body, BodyState& state, const Water& water, const Fluid& fluid, double time,
+              double dt) {
     stepBodyWith(body, state, body.radiation(), water, fluid, time, dt);
 }
 
@@ -271,15 +274,15 @@ bool RadiationMemory::restoreState(const std::vector<std::uint8_t>& in, std::siz
         if (!takeBytes(in, cursor, count) || count != filters_[mode].size()) return false;
         filters[mode].resize(count);
         for (Filter& f : filters[mode]) {
-            if (!takeBytes(in, cursor, f.x) || !takeBytes(in, cursor, f.rate) || !std::isfinite(f.x) ||
-                !std::isfinite(f.rate))
+            if (!takeBytes(in, cursor, f.x) || !takeBytes(in, cursor, f.rate) ||
+                !std::isfinite(f.x) || !std::isfinite(f.rate))
                 return false;
         }
     }
     double share = 0;
     std::uint8_t started = 0;
-    if (!takeBytes(in, cursor, share) || !takeBytes(in, cursor, started) || !(share >= 0 && share <= 1) ||
-        started > 1)
+    if (!takeBytes(in, cursor, share) || !takeBytes(in, cursor, started) ||
+        !(share >= 0 && share <= 1) || started > 1)
         return false;
     for (int mode = 0; mode < 6; ++mode) filters_[mode] = std::move(filters[mode]);
     share_ = share;

@@ -8,7 +8,7 @@
 namespace plimsoll_runtime {
 
 /// stepBody with `memory`'s radiation, or none when it is null.
-void stepBodyWith(Body& body, BodyState& state, RadiationMemory* memory, const Water& water, const Fluid& fluid,
-                  double time, double dt);
+void stepBodyWith(Body& body, BodyState& state, RadiationMemory* memory, const Water& water,
+                  const Fluid& fluid, double time, double dt);
 
 }  // namespace plimsoll_runtime

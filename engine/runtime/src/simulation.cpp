@@ -363,12 +363,39 @@ std::vector<std::uint8_t> Simulation::save() const {
     putBytes(out, kSnapshotMagic);
     putBytes(out, static_cast<std::uint64_t>(bundle_.samples().size()));
     const MassProperties& m = mass_;
-    for (double v : {time_, position_.x, position_.y, position_.z, orientation_.w, orientation_.x, orientation_.y,
-                     orientation_.z, linearMomentum_.x, linearMomentum_.y, linearMomentum_.z, angularMomentum_.x,
-                     angularMomentum_.y, angularMomentum_.z, m.mass, m.volume, m.centerOfMass.x, m.centerOfMass.y,
-                     m.centerOfMass.z, m.inertia[0][0], m.inertia[0][1], m.inertia[0][2], m.inertia[1][0],
-                     m.inertia[1][1], m.inertia[1][2], m.inertia[2][0], m.inertia[2][1], m.inertia[2][2],
-                     boundingRadius_, composedAt_.w, composedAt_.x, composedAt_.y, composedAt_.z})
+    for (double v : {time_,
+                     position_.x,
+                     position_.y,
+                     position_.z,
+                     orientation_.w,
+                     orientation_.x,
+                     orientation_.y,
+                     orientation_.z,
+                     linearMomentum_.x,
+                     linearMomentum_.y,
+                     linearMomentum_.z,
+                     angularMomentum_.x,
+                     angularMomentum_.y,
+                     angularMomentum_.z,
+                     m.mass,
+                     m.volume,
+                     m.centerOfMass.x,
+                     m.centerOfMass.y,
+                     m.centerOfMass.z,
+                     m.inertia[0][0],
+                     m.inertia[0][1],
+                     m.inertia[0][2],
+                     m.inertia[1][0],
+                     m.inertia[1][1],
+                     m.inertia[1][2],
+                     m.inertia[2][0],
+                     m.inertia[2][1],
+                     m.inertia[2][2],
+                     boundingRadius_,
+                     composedAt_.w,
+                     composedAt_.x,
+                     composedAt_.y,
+                     composedAt_.z})
         putBytes(out, v);
     if (const WaterGraph* graph = body_.graph()) graph->saveState(out);
     return out;

@@ -14,7 +14,8 @@ int main(int argc, char** argv) {
         fprintf(stderr, "consumer: %s\n", plimsoll_runtime_last_error());
         return 1;
     }
-    plimsoll_instance* boats[2] = {plimsoll_instance_create(bundle), plimsoll_instance_create(bundle)};
+    plimsoll_instance* boats[2] = {plimsoll_instance_create(bundle),
+                                   plimsoll_instance_create(bundle)};
     plimsoll_body_state states[2] = {{{{0, 0.2, 0}, {1, 0, 0, 0}}, {{0, 0, 0}, {0, 0, 0}}},
                                      {{{3, 0.4, 0}, {1, 0, 0, 0}}, {{0, 0, 0}, {0, 0, 0}}}};
     const plimsoll_water water = {0.0, NULL, NULL, NULL};
@@ -22,10 +23,14 @@ int main(int argc, char** argv) {
     int ok = boats[0] && boats[1];
     for (int step = 0; ok && step < 120; ++step) {
         for (int i = 0; ok && i < 2; ++i)
-            ok = plimsoll_instance_step(boats[i], &states[i], &water, &fluid, step / 120.0, 1.0 / 120.0);
+            ok = plimsoll_instance_step(boats[i], &states[i], &water, &fluid, step / 120.0,
+                                        1.0 / 120.0);
     }
-    if (!ok) fprintf(stderr, "consumer: %s\n", plimsoll_runtime_last_error());
-    else printf("consumer (C): heights %.4f %.4f m\n", states[0].pose.position[1], states[1].pose.position[1]);
+    if (!ok)
+        fprintf(stderr, "consumer: %s\n", plimsoll_runtime_last_error());
+    else
+        printf("consumer (C): heights %.4f %.4f m\n", states[0].pose.position[1],
+               states[1].pose.position[1]);
     plimsoll_instance_destroy(boats[0]);
     plimsoll_instance_destroy(boats[1]);
     plimsoll_bundle_destroy(bundle);

@@ -14,8 +14,8 @@ int main(int argc, char** argv) {
         std::fprintf(stderr, "usage: consumer BUNDLE_FOLDER\n");
         return 2;
     }
-    std::unique_ptr<plimsoll_bundle, decltype(&plimsoll_bundle_destroy)> bundle(plimsoll_bundle_load(argv[1], 1),
-                                                                               &plimsoll_bundle_destroy);
+    std::unique_ptr<plimsoll_bundle, decltype(&plimsoll_bundle_destroy)> bundle(
+        plimsoll_bundle_load(argv[1], 1), &plimsoll_bundle_destroy);
     if (!bundle) {
         std::fprintf(stderr, "consumer: %s\n", plimsoll_runtime_last_error());
         return 1;
@@ -26,7 +26,8 @@ int main(int argc, char** argv) {
     const plimsoll_water water = {0.0, nullptr, nullptr, nullptr};
     const plimsoll_fluid fluid = plimsoll_bundle_default_fluid(bundle.get());
     for (int step = 0; step < 120; ++step) {
-        if (!plimsoll_instance_step(boat.get(), &state, &water, &fluid, step / 120.0, 1.0 / 120.0)) {
+        if (!plimsoll_instance_step(boat.get(), &state, &water, &fluid, step / 120.0,
+                                    1.0 / 120.0)) {
             std::fprintf(stderr, "consumer: %s\n", plimsoll_runtime_last_error());
             return 1;
         }
@@ -34,7 +35,8 @@ int main(int argc, char** argv) {
     std::printf("consumer (C++): height %.4f m", state.pose.position[1]);
 #ifndef PLIMSOLL_RUNTIME_SHARED
     std::string error;
-    const std::unique_ptr<plimsoll_runtime::Bundle> cpp = plimsoll_runtime::loadBundle(argv[1], error);
+    const std::unique_ptr<plimsoll_runtime::Bundle> cpp =
+        plimsoll_runtime::loadBundle(argv[1], error);
     if (!cpp) {
         std::fprintf(stderr, "\nconsumer: %s\n", error.c_str());
         return 1;

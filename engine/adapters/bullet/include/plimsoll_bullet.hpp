@@ -63,7 +63,8 @@ private:
 /// it, calling the game's (the one set before the Harbour, or given to setPreTickCallback) first,
 /// and puts it back when destroyed; the world's user info stays the game's. The load goes in as
 /// impulses of each substep, so the game's own forces and torques are kept. fluid.gravity should
-/// be the world's gravity. `batch` (may be null: one of the hardware threads is made) runs the bodies' evaluations.
+/// be the world's gravity. `batch` (may be null: one of the hardware threads is made) runs the
+/// bodies' evaluations.
 class Harbour {
 public:
     Harbour(btDiscreteDynamicsWorld* world, const plimsoll_water& water, const plimsoll_fluid& fluid,

@@ -172,12 +172,13 @@ void Harbour::applyLoads(double dt) {
         if (error_.empty()) error_ = plimsoll_runtime_last_error();
     };
     if (batch_ && !flooding_.empty() &&
-        !plimsoll_batch_instance_graph_step(batch_, flooding_.size(), flooding_.data(), floodingPoses_.data(),
-                                            &water_, time_, dt, nullptr))
+        !plimsoll_batch_instance_graph_step(batch_, flooding_.size(), flooding_.data(),
+                                            floodingPoses_.data(), &water_, time_, dt, nullptr))
         failed();
     if (batch_ && n > 0 &&
-        !plimsoll_batch_instance_water_load(batch_, n, instances_.data(), poses_.data(), velocities_.data(),
-                                            &water_, &fluid_, time_, dt, loads_.data())) {
+        !plimsoll_batch_instance_water_load(batch_, n, instances_.data(), poses_.data(),
+                                            velocities_.data(), &water_, &fluid_, time_, dt,
+                                            loads_.data())) {
         failed();
         loads_.assign(n, plimsoll_load{});
     }

@@ -492,7 +492,8 @@ public:
                                    &inverseLength_, &valid_})
             bytes += column->capacity() * sizeof(float);
         return bytes + nodes_.capacity() * sizeof(FastTile) +
-               centerMoments_.capacity() * sizeof(FastMoments) + sinSpread_.capacity() * sizeof(double);
+               centerMoments_.capacity() * sizeof(FastMoments) +
+               sinSpread_.capacity() * sizeof(double);
     }
 
     /// The body's sums about c for one state (see the file comment).

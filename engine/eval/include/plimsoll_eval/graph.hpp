@@ -209,7 +209,8 @@ struct ExchangeRates {
 inline void exchangePositions(const std::vector<ExchangePoint>& points, const Mat3& R,
                               const Vec3& origin, std::vector<Vec3>& world) {
     world.resize(points.size());
-    for (std::size_t i = 0; i < points.size(); ++i) world[i] = graph_detail::rotate(R, points[i].position) + origin;
+    for (std::size_t i = 0; i < points.size(); ++i)
+        world[i] = graph_detail::rotate(R, points[i].position) + origin;
 }
 
 /// The exchange pass over `points` at their world positions `world`, with the water surface

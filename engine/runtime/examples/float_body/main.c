@@ -73,7 +73,9 @@ static int replay(plimsoll_bundle* bundle, double seconds, const char* path) {
         status = 1;
     }
     /* The whole state's hash: equal on two machines or builds exactly when their states are. */
-    if (status == 0) printf("state hash %016llx\n", (unsigned long long)plimsoll_simulation_state_hash(simulation));
+    if (status == 0)
+        printf("state hash %016llx\n",
+               (unsigned long long)plimsoll_simulation_state_hash(simulation));
     plimsoll_simulation_destroy(simulation);
     return status;
 }

@@ -211,7 +211,7 @@ private:
     std::vector<GraphPipe> pipes_;
     GraphSettings settings_;
     std::vector<int> sampleNodes_;
-    struct Prepared;              ///< the evaluation core's form: exchange points, start state (graph.cpp)
+    struct Prepared;  ///< the evaluation core's form: exchange points, start state (graph.cpp)
     std::unique_ptr<const Prepared> prepared_;
 };
 
@@ -555,8 +555,8 @@ private:
 /// for a body with a water graph, the weight of its water at the water's centre of mass. The
 /// body's own weight is not in it (the physics engine's gravity gives that), nor radiation
 /// (its added mass belongs in the mass matrix: body.radiation()->begin and advance).
-WaterLoad waterLoad(const Body& body, const Pose& pose, const Velocity& velocity, const Water& water,
-                    const Fluid& fluid, double time, double dt);
+WaterLoad waterLoad(const Body& body, const Pose& pose, const Velocity& velocity,
+                    const Water& water, const Fluid& fluid, double time, double dt);
 
 /// One semi-implicit Euler step of `dt` for a body with no contacts (gravity along -y of
 /// fluid.gravity, then waterLoad; the water graph, if any, steps first): momenta first, then
