@@ -696,6 +696,41 @@ TEST_F(RuntimeTrajectory, TheInstructionSetChangesNoBit) {
     EXPECT_GE(compared, 8);
 }
 
+/// A current varying over the water: what drag sees.
+void currentAt(const double p[3], double v[3]) {
+    v[0] = 0.3 + 0.05 * p[2];
+    v[1] = 0.0;
+    v[2] = 0.1 * std::sin(p[0]);
+}
+void currentOne(void*, const double point[3], double, double velocity[3]) { currentAt(point, velocity); }
+void currentMany(void*, size_t n, const double* x, const double* y, const double* z, double, double* out) {
+    for (size_t i = 0; i < n; ++i) {
+        const double p[3] = {x[i], y[i], z[i]};
+        currentAt(p, out + 3 * i);
+    }
+}
+
+// The C ABI's batched water velocity (plimsoll_water.velocities, 2.0) gives the forces of the
+// per-point callback bit for bit: the same points asked, in one call.
+TEST_F(RuntimeTrajectory, TheBatchedWaterVelocityGivesThePerPointForces) {
+    Result<Project> project = loadProject(root() / "projects" / "buoy.plim.json");
+    ASSERT_TRUE(project.ok());
+    const BundleHandle buoy = loadC(exported(*project));
+    ASSERT_TRUE(buoy);
+    const plimsoll_fluid fluid = plimsoll_bundle_default_fluid(buoy.get());
+    plimsoll_water one{}, many{}, still{};
+    one.velocity = currentOne;
+    many.velocities = currentMany;
+    const plimsoll_pose pose = {{0.4, -0.2, -0.3}, {0.9950041652780258, 0.09983341664682815, 0.0, 0.0}};
+    const plimsoll_velocity moving = {{0.5, -0.1, 0.2}, {0.1, 0.3, 0.0}};
+    plimsoll_forces a{}, b{}, c{};
+    ASSERT_EQ(plimsoll_bundle_evaluate(buoy.get(), &pose, &moving, &one, &fluid, 0.0, &a), 1);
+    ASSERT_EQ(plimsoll_bundle_evaluate(buoy.get(), &pose, &moving, &many, &fluid, 0.0, &b), 1);
+    ASSERT_EQ(plimsoll_bundle_evaluate(buoy.get(), &pose, &moving, &still, &fluid, 0.0, &c), 1);
+    EXPECT_EQ(std::memcmp(&a, &b, sizeof a), 0);
+    EXPECT_NE(a.drag_force[0], c.drag_force[0]);  // the current changes the drag
+}
+
 }  // namespace
 }  // namespace test_runtime_trajectory
 }  // namespace plimsoll

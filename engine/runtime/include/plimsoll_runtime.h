@@ -85,6 +85,9 @@ typedef void (*plimsoll_water_velocity_fn)(void* user, const double point[3], do
 /* Many water heights in one call: out[i] = height at (x[i], z[i]) for i < n. */
 typedef void (*plimsoll_heights_fn)(void* user, size_t n, const double* x, const double* z,
                                     double time, double* out);
+/* Many water velocities in one call: out[3 i + 0..2] = the velocity at (x[i], y[i], z[i]). */
+typedef void (*plimsoll_water_velocities_fn)(void* user, size_t n, const double* x, const double* y,
+                                             const double* z, double time, double* out);
 
 typedef struct plimsoll_water {
     double level;                        /* flat water height when height is NULL, m */
@@ -98,6 +101,10 @@ typedef struct plimsoll_water {
     plimsoll_heights_fn heights;
     int has_bounds;
     double min_height, max_height;       /* m */
+    /* Since 2.0 (zero: as before). Every point one evaluation needs the water's velocity at
+     * (one per wet tile, for drag) in one call after its traversal; used instead of `velocity`
+     * when set. */
+    plimsoll_water_velocities_fn velocities;
 } plimsoll_water;
 
 typedef struct plimsoll_fluid {

@@ -90,6 +90,17 @@ Water toWater(const plimsoll_water* w, bool* nonFinite = nullptr) {
         water.minHeight = w->min_height;
         water.maxHeight = w->max_height;
     }
+    if (w->velocities) {
+        const plimsoll_water_velocities_fn fn = w->velocities;
+        void* user = w->user;
+        water.velocities = [fn, user, nonFinite](std::size_t n, const double* x, const double* y, const double* z,
+                                                 double t, double* out) {
+            fn(user, n, x, y, z, t, out);
+            for (std::size_t i = 0; i < 3 * n && nonFinite; ++i) {
+                if (!std::isfinite(out[i])) *nonFinite = true;
+            }
+        };
+    }
     if (w->velocity) {
         const plimsoll_water_velocity_fn fn = w->velocity;
         void* user = w->user;
