@@ -710,6 +710,37 @@ void currentMany(void*, size_t n, const double* x, const double* y, const double
     }
 }
 
+// The quaternion order is named, and the engines' x, y, z, w converts both ways, in place too;
+// a pose converted from an engine's quaternion evaluates as the same pose written w-first.
+TEST_F(RuntimeTrajectory, QuaternionsConvertFromAndToTheEnginesOrder) {
+    static_assert(PLIMSOLL_RUNTIME_QUATERNION_WXYZ == 1);
+    const double engine[4] = {0.1, 0.2, 0.3, 0.9273618495495703};  // x, y, z, w
+    double q[4];
+    plimsoll_quaternion_from_xyzw(engine, q);
+    EXPECT_EQ(q[0], engine[3]);
+    EXPECT_EQ(q[1], engine[0]);
+    EXPECT_EQ(q[3], engine[2]);
+    double back[4] = {q[0], q[1], q[2], q[3]};
+    plimsoll_quaternion_to_xyzw(back, back);  // in place
+    for (int i = 0; i < 4; ++i) EXPECT_EQ(back[i], engine[i]) << i;
+    plimsoll_quaternion_to_xyzw(nullptr, back);
+    EXPECT_STREQ(plimsoll_runtime_last_error(), "plimsoll_quaternion_to_xyzw: an argument is NULL");
+
+    Result<Project> project = loadProject(root() / "projects" / "buoy.plim.json");
+    ASSERT_TRUE(project.ok());
+    const BundleHandle buoy = loadC(exported(*project));
+    ASSERT_TRUE(buoy);
+    const plimsoll_fluid fluid = plimsoll_bundle_default_fluid(buoy.get());
+    plimsoll_pose written = {{0.0, -0.1, 0.0}, {engine[3], engine[0], engine[1], engine[2]}};
+    plimsoll_pose converted = {{0.0, -0.1, 0.0}, {0, 0, 0, 0}};
+    plimsoll_quaternion_from_xyzw(engine, converted.orientation);
+    plimsoll_forces a{}, b{};
+    ASSERT_EQ(plimsoll_bundle_evaluate(buoy.get(), &written, nullptr, nullptr, &fluid, 0.0, &a), 1);
+    ASSERT_EQ(plimsoll_bundle_evaluate(buoy.get(), &converted, nullptr, nullptr, &fluid, 0.0, &b), 1);
+    EXPECT_EQ(std::memcmp(&a, &b, sizeof a), 0);
+    EXPECT_GT(a.submerged_volume, 0.0);
+}
+
 // The C ABI's batched water velocity (plimsoll_water.velocities, 2.0) gives the forces of the
 // per-point callback bit for bit: the same points asked, in one call.
 TEST_F(RuntimeTrajectory, TheBatchedWaterVelocityGivesThePerPointForces) {

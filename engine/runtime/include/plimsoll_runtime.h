@@ -147,6 +147,14 @@ PLIMSOLL_RUNTIME_API const char* plimsoll_runtime_schema_version(void);
 PLIMSOLL_RUNTIME_API void plimsoll_runtime_version(int* major, int* minor, int* patch);
 PLIMSOLL_RUNTIME_API void plimsoll_runtime_bundle_schema(int* major, int* minor);
 
+/* Quaternion order. Every quaternion of this API (poses, plimsoll_simulation_state,
+ * plimsoll_instance_water_mass's orientation) is w, x, y, z: PLIMSOLL_RUNTIME_QUATERNION_WXYZ
+ * says so to code that checks it at compile time. glTF, Jolt, Bullet, Unity and Godot store
+ * x, y, z, w: convert at the boundary with these two (in place is allowed). */
+#define PLIMSOLL_RUNTIME_QUATERNION_WXYZ 1
+PLIMSOLL_RUNTIME_API void plimsoll_quaternion_from_xyzw(const double xyzw[4], double wxyz[4]);
+PLIMSOLL_RUNTIME_API void plimsoll_quaternion_to_xyzw(const double wxyz[4], double xyzw[4]);
+
 /* Loads a bundle folder, checking every file's size and SHA-256 when verify_checksums != 0.
  * NULL on failure. */
 PLIMSOLL_RUNTIME_API plimsoll_bundle* plimsoll_bundle_load(const char* folder,

@@ -356,6 +356,26 @@ void plimsoll_runtime_version(int* major, int* minor, int* patch) {
     if (patch) *patch = v.patch;
 }
 
+void plimsoll_quaternion_from_xyzw(const double xyzw[4], double wxyz[4]) {
+    lastError.clear();
+    if (!xyzw || !wxyz) {
+        refuse("plimsoll_quaternion_from_xyzw", "an argument is NULL");
+        return;
+    }
+    const double q[4] = {xyzw[3], xyzw[0], xyzw[1], xyzw[2]};
+    std::memcpy(wxyz, q, sizeof q);
+}
+
+void plimsoll_quaternion_to_xyzw(const double wxyz[4], double xyzw[4]) {
+    lastError.clear();
+    if (!wxyz || !xyzw) {
+        refuse("plimsoll_quaternion_to_xyzw", "an argument is NULL");
+        return;
+    }
+    const double q[4] = {wxyz[1], wxyz[2], wxyz[3], wxyz[0]};
+    std::memcpy(xyzw, q, sizeof q);
+}
+
 void plimsoll_runtime_bundle_schema(int* major, int* minor) {
     lastError.clear();
     const Version v = bundleSchemaVersion();
