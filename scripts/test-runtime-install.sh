@@ -82,6 +82,19 @@ consumers() {
 }
 consumers "$work/prefix" static
 
+# The Bullet adapter installed as source: a game compiles it with its own Bullet against the
+# installed runtime (here Debian's libbullet-dev), and the harbour example floats the buoy.
+if pkg-config --exists bullet; then
+  echo "== Bullet adapter from the installed sources"
+  adapter="$work/prefix/share/plimsoll_runtime/adapters/bullet"
+  # shellcheck disable=SC2046
+  c++ -std=c++17 -O1 "$adapter/harbour.cpp" "$adapter/plimsoll_bullet.cpp" -I"$adapter" -o "$work/harbour" \
+    $(PKG_CONFIG_PATH="$work/prefix/lib/pkgconfig" pkg-config --cflags --libs plimsoll_runtime bullet)
+  "$work/harbour" "$bundle" 2 | tail -n 2
+else
+  echo "test-runtime-install: libbullet-dev not installed: the installed Bullet adapter is not compiled"
+fi
+
 echo "== runtime: shared library, installed to $work/shared"
 cmake -S engine/runtime -B "$work/runtime-shared" "${generator[@]}" "${launcher[@]}" \
   -DCMAKE_BUILD_TYPE=Release -DPLIMSOLL_RUNTIME_SHARED=ON >"$work/shared-configure.log" \
