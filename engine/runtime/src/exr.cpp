@@ -27,8 +27,10 @@ struct Header {
     Header& operator=(const Header&) = delete;
 };
 
-/// A decoded image, freed when it was decoded (a failed LoadEXRImageFromMemory frees what it
-/// had made itself and leaves stale pointers behind).
+/// A decoded image, freed when it was decoded. A failed LoadEXRImageFromMemory frees the image
+/// itself and leaves stale pointers behind; and tinyexr 1.0.1 sets the image's channel count
+/// only on success, so that free misses the channel planes unless the count is set before the
+/// call (load() does).
 struct Image {
     EXRImage image;
     bool loaded = false;
@@ -112,6 +114,8 @@ int findChannel(const EXRHeader& h, const std::string& name) {
 bool load(const std::string& path, const std::string& bytes, const Header& header, Image& image,
           int width, int height, std::string& error) {
     const char* message = nullptr;
+    // What tinyexr's own free on a failed decode reads to find the planes it allocated.
+    image.image.num_channels = header.header.num_channels;
     if (LoadEXRImageFromMemory(&image.image, &header.header,
                                reinterpret_cast<const unsigned char*>(bytes.data()), bytes.size(),
                                &message) != TINYEXR_SUCCESS)
