@@ -41,20 +41,26 @@ packages=(
   libbullet-dev
   # radiation (engine/src/physics/radiation.cpp): Boost.Math's Bessel functions, header-only
   libboost-dev
-  # the runtime's determinism across builds (scripts/test-determinism.sh): an aarch64 build
-  # run under qemu-user, with zlib for arm64 (Debian multiarch; the architecture is added below)
-  g++-aarch64-linux-gnu qemu-user zlib1g-dev:arm64
 )
 
+# The runtime's determinism across builds (scripts/test-determinism.sh): an aarch64 build run
+# under qemu-user, with zlib for arm64 (Debian multiarch: the architecture is added to dpkg).
+# Optional: where the arm64 archive cannot be reached, the rest installs and that comparison is
+# skipped with a message.
+cross_packages=(g++-aarch64-linux-gnu qemu-user zlib1g-dev:arm64)
+
+installed() { dpkg-query -W -f='${Status}' "$1" 2>/dev/null | grep -q "install ok installed"; }
 missing=()
 for p in "${packages[@]}"; do
-  if ! dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed"; then
-    missing+=("$p")
-  fi
+  installed "$p" || missing+=("$p")
+done
+missing_cross=()
+for p in "${cross_packages[@]}"; do
+  installed "$p" || missing_cross+=("$p")
 done
 
-if [ ${#missing[@]} -eq 0 ]; then
-  echo "install-deps: all ${#packages[@]} packages present"
+if [ ${#missing[@]} -eq 0 ] && [ ${#missing_cross[@]} -eq 0 ]; then
+  echo "install-deps: all $(( ${#packages[@]} + ${#cross_packages[@]} )) packages present"
   exit 0
 fi
 
@@ -63,13 +69,20 @@ if [ "$(id -u)" -ne 0 ]; then
   command -v sudo >/dev/null || { echo "install-deps: need root or sudo to install: ${missing[*]}" >&2; exit 1; }
   sudo_cmd=(sudo)
 fi
-echo "install-deps: installing ${missing[*]}"
 export DEBIAN_FRONTEND=noninteractive
-# Packages of another architecture (name:arch) need that architecture known to dpkg first.
-for p in "${missing[@]}"; do
-  if [[ $p == *:* ]] && ! dpkg --print-foreign-architectures | grep -qx "${p##*:}"; then
-    "${sudo_cmd[@]}" dpkg --add-architecture "${p##*:}"
+if [ ${#missing[@]} -gt 0 ]; then
+  echo "install-deps: installing ${missing[*]}"
+  "${sudo_cmd[@]}" apt-get update -qq
+  "${sudo_cmd[@]}" apt-get install -y -qq --no-install-recommends "${missing[@]}"
+fi
+if [ ${#missing_cross[@]} -gt 0 ]; then
+  echo "install-deps: installing ${missing_cross[*]} (optional)"
+  if ! { "${sudo_cmd[@]}" dpkg --add-architecture arm64 &&
+         "${sudo_cmd[@]}" apt-get update -qq &&
+         "${sudo_cmd[@]}" apt-get install -y -qq --no-install-recommends "${missing_cross[@]}"; }; then
+    echo "install-deps: could not install ${missing_cross[*]}: the aarch64 determinism comparison will be skipped" >&2
+    # An arm64 index that cannot be fetched would fail every later apt-get update.
+    dpkg --print-foreign-architectures | grep -qx arm64 && ! installed zlib1g-dev:arm64 &&
+      "${sudo_cmd[@]}" dpkg --remove-architecture arm64 || true
   fi
-done
-"${sudo_cmd[@]}" apt-get update -qq
-"${sudo_cmd[@]}" apt-get install -y -qq --no-install-recommends "${missing[@]}"
+fi
