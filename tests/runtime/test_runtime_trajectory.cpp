@@ -702,8 +702,11 @@ void currentAt(const double p[3], double v[3]) {
     v[1] = 0.0;
     v[2] = 0.1 * std::sin(p[0]);
 }
-void currentOne(void*, const double point[3], double, double velocity[3]) { currentAt(point, velocity); }
-void currentMany(void*, size_t n, const double* x, const double* y, const double* z, double, double* out) {
+void currentOne(void*, const double point[3], double, double velocity[3]) {
+    currentAt(point, velocity);
+}
+void currentMany(void*, size_t n, const double* x, const double* y, const double* z, double,
+                 double* out) {
     for (size_t i = 0; i < n; ++i) {
         const double p[3] = {x[i], y[i], z[i]};
         currentAt(p, out + 3 * i);
@@ -736,7 +739,8 @@ TEST_F(RuntimeTrajectory, QuaternionsConvertFromAndToTheEnginesOrder) {
     plimsoll_quaternion_from_xyzw(engine, converted.orientation);
     plimsoll_forces a{}, b{};
     ASSERT_EQ(plimsoll_bundle_evaluate(buoy.get(), &written, nullptr, nullptr, &fluid, 0.0, &a), 1);
-    ASSERT_EQ(plimsoll_bundle_evaluate(buoy.get(), &converted, nullptr, nullptr, &fluid, 0.0, &b), 1);
+    ASSERT_EQ(plimsoll_bundle_evaluate(buoy.get(), &converted, nullptr, nullptr, &fluid, 0.0, &b),
+              1);
     EXPECT_EQ(std::memcmp(&a, &b, sizeof a), 0);
     EXPECT_GT(a.submerged_volume, 0.0);
 }
@@ -752,7 +756,8 @@ TEST_F(RuntimeTrajectory, TheBatchedWaterVelocityGivesThePerPointForces) {
     plimsoll_water one{}, many{}, still{};
     one.velocity = currentOne;
     many.velocities = currentMany;
-    const plimsoll_pose pose = {{0.4, -0.2, -0.3}, {0.9950041652780258, 0.09983341664682815, 0.0, 0.0}};
+    const plimsoll_pose pose = {{0.4, -0.2, -0.3},
+                                {0.9950041652780258, 0.09983341664682815, 0.0, 0.0}};
     const plimsoll_velocity moving = {{0.5, -0.1, 0.2}, {0.1, 0.3, 0.0}};
     plimsoll_forces a{}, b{}, c{};
     ASSERT_EQ(plimsoll_bundle_evaluate(buoy.get(), &pose, &moving, &one, &fluid, 0.0, &a), 1);

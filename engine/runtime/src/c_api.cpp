@@ -93,8 +93,8 @@ Water toWater(const plimsoll_water* w, bool* nonFinite = nullptr) {
     if (w->velocities) {
         const plimsoll_water_velocities_fn fn = w->velocities;
         void* user = w->user;
-        water.velocities = [fn, user, nonFinite](std::size_t n, const double* x, const double* y, const double* z,
-                                                 double t, double* out) {
+        water.velocities = [fn, user, nonFinite](std::size_t n, const double* x, const double* y,
+                                                 const double* z, double t, double* out) {
             fn(user, n, x, y, z, t, out);
             for (std::size_t i = 0; i < 3 * n && nonFinite; ++i) {
                 if (!std::isfinite(out[i])) *nonFinite = true;
