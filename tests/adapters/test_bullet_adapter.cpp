@@ -313,4 +313,62 @@ TEST_F(BulletAdapter, TheGamesForcesAndTickCallbackAreKept) {
     EXPECT_EQ(none.calls, 1);
 }
 
+/// A Gerstner-like swell: heights only (what the Harbour asks).
+double swell(void*, double x, double, double t) { return 0.05 * std::sin(0.8 * x - 2.0 * t); }
+
+// On calm water a floating box comes to rest and sleeps (it then costs no evaluation and its
+// load is zero), and the game's push wakes it; on waves no body sleeps.
+TEST_F(BulletAdapter, ABodyAtRestOnCalmWaterSleepsAndWavesKeepItAwake) {
+    const BundlePtr owned = load("box_half_draft", "box");
+    const plimsoll_bundle* box = owned.get();
+    ASSERT_TRUE(box);
+    const btTransform flat(btQuaternion(btVector3(1, 0, 0), btScalar(M_PI / 2)), btVector3(0, 0.05f, 0));
+    const double dt = 1.0 / 120.0;
+    const plimsoll_water calm = {0.0, nullptr, nullptr, nullptr};
+    Scene scene;
+    plimsoll_bullet::Harbour harbour(&scene.world, calm, plimsoll_bundle_default_fluid(box));
+    plimsoll_bullet::FloatingBody body(box, flat);
+    // Bullet's velocity damping, as a game sets it, lets the bob die out within the run.
+    body.rigidBody()->setDamping(0.5f, 0.5f);
+    harbour.add(&body);
+    double asleepAt = -1;
+    for (int step = 0; step < int(60.0 / dt) && asleepAt < 0; ++step) {
+        scene.step(dt);
+        ASSERT_EQ(harbour.error(), "");
+        if (!body.rigidBody()->isActive()) asleepAt = step * dt;
+    }
+    std::printf("[ adapter  ] box on calm water: asleep after %.1f s at height %.4f m\n", asleepAt,
+                double(body.rigidBody()->getCenterOfMassPosition().y()));
+    ASSERT_GT(asleepAt, 0.0) << "the box never slept on calm water";
+    const btScalar restY = body.rigidBody()->getCenterOfMassPosition().y();
+    for (int step = 0; step < 240; ++step) scene.step(dt);
+    EXPECT_FALSE(body.rigidBody()->isActive());
+    EXPECT_EQ(body.rigidBody()->getCenterOfMassPosition().y(), restY);  // asleep: not moved
+    EXPECT_EQ(body.lastLoad().forces.submerged_volume, 0.0);            // and not evaluated
+    // A push from the game wakes it, and the water carries it again.
+    body.rigidBody()->activate();
+    body.rigidBody()->applyCentralImpulse(btVector3(0, -20.0f, 0));
+    scene.step(dt);
+    EXPECT_TRUE(body.rigidBody()->isActive());
+    EXPECT_GT(body.lastLoad().forces.submerged_volume, 0.0);
+
+    // On waves the same box never sleeps.
+    plimsoll_water waves = {0.0, swell, nullptr, nullptr};
+    waves.has_bounds = 1;
+    waves.min_height = -0.05;
+    waves.max_height = 0.05;
+    Scene wavy;
+    plimsoll_bullet::Harbour sea(&wavy.world, waves, plimsoll_bundle_default_fluid(box));
+    plimsoll_bullet::FloatingBody rocking(box, flat);
+    rocking.rigidBody()->setDamping(0.5f, 0.5f);
+    sea.add(&rocking);
+    bool everAsleep = false;
+    for (int step = 0; step < int(std::max(10.0, asleepAt + 5.0) / dt); ++step) {
+        wavy.step(dt);
+        ASSERT_EQ(sea.error(), "");
+        everAsleep = everAsleep || !rocking.rigidBody()->isActive();
+    }
+    EXPECT_FALSE(everAsleep);
+}
+
 }  // namespace

@@ -96,9 +96,11 @@ private:
     plimsoll_fluid fluid_;
     std::vector<FloatingBody*> bodies_;
     plimsoll_batch* batch_;
-    // Per step, one entry per body (the flooding ones for the graph step).
+    // Per step, one entry per awake body (per flooding body for the graph step).
     std::vector<const plimsoll_instance*> instances_;
     std::vector<plimsoll_instance*> flooding_;
+    std::vector<FloatingBody*> floodingBodies_, awake_;
+    std::vector<int> moved_;
     std::vector<plimsoll_pose> poses_, floodingPoses_;
     std::vector<plimsoll_velocity> velocities_;
     std::vector<plimsoll_load> loads_;

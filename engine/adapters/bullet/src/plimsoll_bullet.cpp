@@ -72,9 +72,10 @@ FloatingBody::FloatingBody(const plimsoll_bundle* bundle, const btTransform& obj
     body_ = std::make_unique<btRigidBody>(info);
     // Angular momentum, not angular velocity, is what a free body keeps.
     body_->setFlags(body_->getFlags() | BT_ENABLE_GYROSCOPIC_FORCE_IMPLICIT_BODY);
-    // A floating body at rest still floods, and the water may move under it; Bullet's default
-    // sleeping thresholds (0.8 m/s, 1 rad/s) would freeze a gently rolling body.
-    body_->setActivationState(DISABLE_DEACTIVATION);
+    // A body may sleep once at rest on calm water: below these speeds for Bullet's 2 s. Bullet's
+    // default thresholds (0.8 m/s, 1 rad/s) would freeze a gently rolling body; the Harbour wakes
+    // a sleeping one on waves and while water moves in or out of it.
+    body_->setSleepingThresholds(0.005f, 0.005f);
 }
 
 FloatingBody::~FloatingBody() {
@@ -152,29 +153,49 @@ void Harbour::preTick(btDynamicsWorld* world, btScalar step) {
 }
 
 void Harbour::applyLoads(double dt) {
-    const std::size_t n = bodies_.size();
-    instances_.resize(n);
-    poses_.resize(n);
-    velocities_.resize(n);
-    loads_.assign(n, plimsoll_load{});
-    flooding_.clear();
-    floodingPoses_.clear();
-    for (std::size_t i = 0; i < n; ++i) {
-        instances_[i] = bodies_[i]->instance();
-        poses_[i] = bodies_[i]->pose();
-        velocities_[i] = bodies_[i]->velocity();
-        if (plimsoll_graph_node_count(bodies_[i]->bundle()) > 0) {
-            flooding_.push_back(bodies_[i]->instance());
-            floodingPoses_.push_back(poses_[i]);
-        }
-    }
     auto failed = [this] {
         if (error_.empty()) error_ = plimsoll_runtime_last_error();
     };
+    const bool wavy = water_.height || water_.heights;
+    // Every flooding body's water steps, asleep or not: water still coming in or going out
+    // wakes it (its weight changes).
+    flooding_.clear();
+    floodingPoses_.clear();
+    floodingBodies_.clear();
+    for (FloatingBody* body : bodies_) {
+        if (plimsoll_graph_node_count(body->bundle()) == 0) continue;
+        flooding_.push_back(body->instance());
+        floodingPoses_.push_back(body->pose());
+        floodingBodies_.push_back(body);
+    }
+    moved_.assign(flooding_.size(), 0);
     if (batch_ && !flooding_.empty() &&
         !plimsoll_batch_instance_graph_step(batch_, flooding_.size(), flooding_.data(),
-                                            floodingPoses_.data(), &water_, time_, dt, nullptr))
+                                            floodingPoses_.data(), &water_, time_, dt, moved_.data()))
         failed();
+    for (std::size_t j = 0; j < flooding_.size(); ++j) {
+        if (moved_[j]) floodingBodies_[j]->rigidBody()->activate();
+    }
+    // Loads for the awake bodies only: on calm water a body at rest sleeps (Bullet's thresholds,
+    // set by FloatingBody) and costs nothing; waves wake every body.
+    awake_.clear();
+    instances_.clear();
+    poses_.clear();
+    velocities_.clear();
+    for (FloatingBody* body : bodies_) {
+        btRigidBody* rb = body->rigidBody();
+        if (wavy && !rb->isActive()) rb->activate();
+        if (!rb->isActive()) {
+            body->load_ = plimsoll_load{};
+            continue;
+        }
+        awake_.push_back(body);
+        instances_.push_back(body->instance());
+        poses_.push_back(body->pose());
+        velocities_.push_back(body->velocity());
+    }
+    const std::size_t n = awake_.size();
+    loads_.assign(n, plimsoll_load{});
     if (batch_ && n > 0 &&
         !plimsoll_batch_instance_water_load(batch_, n, instances_.data(), poses_.data(),
                                             velocities_.data(), &water_, &fluid_, time_, dt,
@@ -182,13 +203,9 @@ void Harbour::applyLoads(double dt) {
         failed();
         loads_.assign(n, plimsoll_load{});
     }
-    const bool wavy = water_.height || water_.heights;
     for (std::size_t i = 0; i < n; ++i) {
-        btRigidBody* rb = bodies_[i]->rigidBody();
-        bodies_[i]->load_ = loads_[i];
-        // Moving water wakes a sleeping body; on calm water a body at rest may sleep.
-        if (wavy && !rb->isActive()) rb->activate();
-        if (!rb->isActive()) continue;
+        btRigidBody* rb = awake_[i]->rigidBody();
+        awake_[i]->load_ = loads_[i];
         // As impulses of this substep: Bullet adds a body's total force to its velocity at
         // the step (v += F dt / m), so F dt now is the same push, and the game's own forces
         // (a thruster's applyCentralForce), gravity and callbacks stay as they are. Bullet
