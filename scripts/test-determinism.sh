@@ -14,10 +14,8 @@ seconds=${2:-10}
 [[ -x "$plimsoll" ]] || { echo "test-determinism: $plimsoll not found (build the project first)" >&2; exit 1; }
 work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT
-generator=()
-command -v ninja >/dev/null 2>&1 && generator=(-G Ninja)
-launcher=()
-command -v ccache >/dev/null 2>&1 && launcher=(-DCMAKE_CXX_COMPILER_LAUNCHER=ccache -DCMAKE_C_COMPILER_LAUNCHER=ccache)
+# shellcheck source=scripts/standalone-cmake.sh
+source scripts/standalone-cmake.sh
 start=$(date +%s)
 
 # One build of the runtime and float_body per compiler: $1 name, the rest CMake arguments.

@@ -16,10 +16,8 @@ if [[ ! -x "$plimsoll" ]]; then
 fi
 work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT
-generator=()
-command -v ninja >/dev/null 2>&1 && generator=(-G Ninja)
-launcher=()
-command -v ccache >/dev/null 2>&1 && launcher=(-DCMAKE_CXX_COMPILER_LAUNCHER=ccache -DCMAKE_C_COMPILER_LAUNCHER=ccache)
+# shellcheck source=scripts/standalone-cmake.sh
+source scripts/standalone-cmake.sh
 start=$(date +%s)
 
 echo "== runtime: configure, build, install to $work/prefix"

@@ -25,12 +25,17 @@ Body::~Body() = default;
 
 std::vector<std::uint8_t> Body::save() const {
     std::vector<std::uint8_t> out;
+    save(out);
+    return out;
+}
+
+void Body::save(std::vector<std::uint8_t>& out) const {
+    out.clear();
     putBytes(out, kBodySnapshotMagic);
     putBytes(out, static_cast<std::uint64_t>(bundle_->samples().size()));
     putBytes(out, static_cast<std::uint8_t>((graph_ ? 1 : 0) | (radiation_ ? 2 : 0)));
     if (graph_) graph_->saveState(out);
     if (radiation_) radiation_->saveState(out);
-    return out;
 }
 
 bool Body::restore(const std::vector<std::uint8_t>& bytes, std::string& error) {

@@ -22,6 +22,9 @@
 struct plimsoll_instance {
     const plimsoll_bundle* bundle;
     plimsoll_runtime::Body body;
+    /// The state before the step in progress, put back when the step is refused; kept between
+    /// steps so that saving it allocates nothing.
+    std::vector<std::uint8_t> undo = {};
 };
 
 struct plimsoll_bundle {
@@ -637,13 +640,13 @@ int graphStep(const char* call, plimsoll_instance* instance, const plimsoll_pose
         WaterGraph* graph = instance->body.graph();
         if (!graph) return 0;
         // A step that meets a NaN height is undone: the state stays as it was.
-        std::vector<std::uint8_t> before;
-        graph->saveState(before);
+        instance->undo.clear();
+        graph->saveState(instance->undo);
         bool nonFinite = false;
         const bool moved = graph->step(toPose(*pose), toWater(water, &nonFinite), time, dt);
         if (nonFinite) {
             std::size_t at = 0;
-            graph->restoreState(before, at);
+            graph->restoreState(instance->undo, at);
             refuse(call, "the water height callback returned NaN or Inf");
             return -1;
         }
@@ -771,9 +774,10 @@ const char* stepInstance(plimsoll_instance& instance, plimsoll_body_state& state
                          const plimsoll_fluid& fluid, double time, double dt) {
     BodyState s{toPose(state.pose), toVelocity(&state.velocity)};
     bool nonFiniteWater = false;
-    const std::vector<std::uint8_t> before = instance.body.save();
+    instance.body.save(instance.undo);
+    // A memory of the body's own is in its snapshot; a 1.x caller's own memory is copied.
     std::optional<RadiationMemory> memoryBefore;
-    if (memory) memoryBefore = *memory;
+    if (memory && memory != instance.body.radiation()) memoryBefore = *memory;
     stepBodyWith(instance.body, s, memory, toWater(water, &nonFiniteWater), toFluid(fluid), time,
                  dt);
     const double next[13] = {s.pose.position.x,    s.pose.position.y,    s.pose.position.z,
@@ -787,8 +791,8 @@ const char* stepInstance(plimsoll_instance& instance, plimsoll_body_state& state
                                : nullptr;
     if (refused) {
         std::string ignored;
-        instance.body.restore(before, ignored);
-        if (memory) *memory = *memoryBefore;
+        instance.body.restore(instance.undo, ignored);
+        if (memoryBefore) *memory = *memoryBefore;
         return refused;
     }
     copy(s.pose.position, state.pose.position);
@@ -841,6 +845,35 @@ int copySnapshot(const char* call, const std::vector<std::uint8_t>& bytes, void*
                                 std::to_string(bytes.size()) + " bytes of the snapshot");
     std::memcpy(buffer, bytes.data(), bytes.size());
     return 1;
+}
+
+/// restore() of a simulation or an instance from the caller's bytes; nothing changes on failure.
+template <class Target>
+int restoreSnapshot(const char* call, Target* target, const void* bytes, std::size_t size) {
+    try {
+        if (!target || (!bytes && size > 0)) return refuse(call, "a required argument is NULL");
+        const auto* p = static_cast<const std::uint8_t*>(bytes);
+        std::string error;
+        if (!target->restore(std::vector<std::uint8_t>(p, p + size), error)) return refuse(call, error);
+        return 1;
+    } catch (const std::exception& e) {
+        return refuse(call, e.what());
+    }
+}
+
+/// stateHash() of a simulation or an instance; 0 and the error for a null `what`.
+template <class Target>
+std::uint64_t stateHashOf(const char* call, const char* what, const Target* target) {
+    try {
+        if (!target) {
+            refuse(call, std::string(what) + " is NULL");
+            return 0;
+        }
+        return target->stateHash();
+    } catch (const std::exception& e) {
+        refuse(call, e.what());
+        return 0;
+    }
 }
 
 /// The checks of a step call, then the step.
@@ -1248,34 +1281,14 @@ int plimsoll_simulation_save(const plimsoll_simulation* simulation, void* buffer
 
 int plimsoll_simulation_restore(plimsoll_simulation* simulation, const void* bytes, size_t size) {
     lastError.clear();
-    constexpr const char* kCall = "plimsoll_simulation_restore";
-    try {
-        if (!simulation || (!bytes && size > 0)) return refuse(kCall, "a required argument is NULL");
-        const auto* p = static_cast<const std::uint8_t*>(bytes);
-        const std::vector<std::uint8_t> copy(p, p + size);
-        std::string error;
-        if (!simulation->simulation->restore(copy, error)) return refuse(kCall, error);
-        lastError.clear();
-        return 1;
-    } catch (const std::exception& e) {
-        return refuse(kCall, e.what());
-    }
+    return restoreSnapshot("plimsoll_simulation_restore", simulation ? simulation->simulation.get() : nullptr,
+                           bytes, size);
 }
 
 uint64_t plimsoll_simulation_state_hash(const plimsoll_simulation* simulation) {
     lastError.clear();
-    constexpr const char* kCall = "plimsoll_simulation_state_hash";
-    try {
-        if (!simulation) {
-            refuse(kCall, "simulation is NULL");
-            return 0;
-        }
-        lastError.clear();
-        return simulation->simulation->stateHash();
-    } catch (const std::exception& e) {
-        refuse(kCall, e.what());
-        return 0;
-    }
+    return stateHashOf("plimsoll_simulation_state_hash", "simulation",
+                       simulation ? simulation->simulation.get() : nullptr);
 }
 
 extern "C" {
@@ -1408,32 +1421,12 @@ int plimsoll_instance_save(const plimsoll_instance* instance, void* buffer, size
 
 int plimsoll_instance_restore(plimsoll_instance* instance, const void* bytes, size_t size) {
     lastError.clear();
-    constexpr const char* kCall = "plimsoll_instance_restore";
-    try {
-        if (!instance || (!bytes && size > 0)) return refuse(kCall, "a required argument is NULL");
-        const auto* p = static_cast<const std::uint8_t*>(bytes);
-        std::string error;
-        if (!instance->body.restore(std::vector<std::uint8_t>(p, p + size), error))
-            return refuse(kCall, error);
-        return 1;
-    } catch (const std::exception& e) {
-        return refuse(kCall, e.what());
-    }
+    return restoreSnapshot("plimsoll_instance_restore", instance ? &instance->body : nullptr, bytes, size);
 }
 
 uint64_t plimsoll_instance_state_hash(const plimsoll_instance* instance) {
     lastError.clear();
-    constexpr const char* kCall = "plimsoll_instance_state_hash";
-    try {
-        if (!instance) {
-            refuse(kCall, "instance is NULL");
-            return 0;
-        }
-        return instance->body.stateHash();
-    } catch (const std::exception& e) {
-        refuse(kCall, e.what());
-        return 0;
-    }
+    return stateHashOf("plimsoll_instance_state_hash", "instance", instance ? &instance->body : nullptr);
 }
 
 }  // extern "C"

@@ -113,14 +113,15 @@ void WaterGraph::setMedium(double density, double viscosity, double gravity) {
 }
 
 void WaterGraph::saveState(std::vector<std::uint8_t>& out) const {
-    const ev::GraphFlow::State s = step_->flow.state();
-    putBytes(out, static_cast<std::uint64_t>(s.water.size()));
-    for (double w : s.water) putBytes(out, w);
-    putBytes(out, s.random);
-    putBytes(out, s.totals.entered);
-    putBytes(out, s.totals.left);
-    putBytes(out, s.totals.initial);
-    putBytes(out, s.totals.moved);
+    // GraphFlow::state()'s fields, written straight from the flow (no copy of the water).
+    const ev::GraphFlow& flow = step_->flow;
+    putBytes(out, static_cast<std::uint64_t>(flow.nodes().size()));
+    for (const ev::GraphNodeState& n : flow.nodes()) putBytes(out, n.water);
+    putBytes(out, flow.randomState());
+    putBytes(out, flow.totals().entered);
+    putBytes(out, flow.totals().left);
+    putBytes(out, flow.totals().initial);
+    putBytes(out, flow.totals().moved);
 }
 
 bool WaterGraph::restoreState(const std::vector<std::uint8_t>& in, std::size_t& at) {

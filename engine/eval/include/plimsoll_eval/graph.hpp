@@ -298,6 +298,8 @@ public:
 
     const std::vector<GraphNodeState>& nodes() const { return nodes_; }
     const GraphFlowTotals& totals() const { return totals_; }
+    /// The random sequence's position (part of state()).
+    std::uint64_t randomState() const { return rng_; }
     /// Heap bytes the state holds beyond sizeof(GraphFlow).
     std::size_t memoryBytes() const {
         std::size_t bytes = nodes_.capacity() * sizeof(GraphNodeState) +

@@ -534,6 +534,9 @@ public:
     /// water, random sequence and bookkeeping; the radiation filters), as bytes: restore() on a
     /// Body of the same bundle continues bit for bit. For multiplayer snapshots and rollback.
     std::vector<std::uint8_t> save() const;
+    /// save() into `out` (cleared first; its capacity is reused, so a caller that saves every
+    /// step allocates nothing after the first).
+    void save(std::vector<std::uint8_t>& out) const;
     /// False with `error` (nothing changed) for bytes of another body or damaged ones.
     bool restore(const std::vector<std::uint8_t>& bytes, std::string& error);
     /// FNV-1a (64 bits) of save().
