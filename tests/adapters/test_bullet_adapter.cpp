@@ -322,7 +322,8 @@ TEST_F(BulletAdapter, ABodyAtRestOnCalmWaterSleepsAndWavesKeepItAwake) {
     const BundlePtr owned = load("box_half_draft", "box");
     const plimsoll_bundle* box = owned.get();
     ASSERT_TRUE(box);
-    const btTransform flat(btQuaternion(btVector3(1, 0, 0), btScalar(M_PI / 2)), btVector3(0, 0.05f, 0));
+    const btTransform flat(btQuaternion(btVector3(1, 0, 0), btScalar(M_PI / 2)),
+                           btVector3(0, 0.05f, 0));
     const double dt = 1.0 / 120.0;
     const plimsoll_water calm = {0.0, nullptr, nullptr, nullptr};
     Scene scene;

@@ -854,7 +854,8 @@ int restoreSnapshot(const char* call, Target* target, const void* bytes, std::si
         if (!target || (!bytes && size > 0)) return refuse(call, "a required argument is NULL");
         const auto* p = static_cast<const std::uint8_t*>(bytes);
         std::string error;
-        if (!target->restore(std::vector<std::uint8_t>(p, p + size), error)) return refuse(call, error);
+        if (!target->restore(std::vector<std::uint8_t>(p, p + size), error))
+            return refuse(call, error);
         return 1;
     } catch (const std::exception& e) {
         return refuse(call, e.what());
@@ -1281,8 +1282,8 @@ int plimsoll_simulation_save(const plimsoll_simulation* simulation, void* buffer
 
 int plimsoll_simulation_restore(plimsoll_simulation* simulation, const void* bytes, size_t size) {
     lastError.clear();
-    return restoreSnapshot("plimsoll_simulation_restore", simulation ? simulation->simulation.get() : nullptr,
-                           bytes, size);
+    return restoreSnapshot("plimsoll_simulation_restore",
+                           simulation ? simulation->simulation.get() : nullptr, bytes, size);
 }
 
 uint64_t plimsoll_simulation_state_hash(const plimsoll_simulation* simulation) {
@@ -1421,12 +1422,14 @@ int plimsoll_instance_save(const plimsoll_instance* instance, void* buffer, size
 
 int plimsoll_instance_restore(plimsoll_instance* instance, const void* bytes, size_t size) {
     lastError.clear();
-    return restoreSnapshot("plimsoll_instance_restore", instance ? &instance->body : nullptr, bytes, size);
+    return restoreSnapshot("plimsoll_instance_restore", instance ? &instance->body : nullptr, bytes,
+                           size);
 }
 
 uint64_t plimsoll_instance_state_hash(const plimsoll_instance* instance) {
     lastError.clear();
-    return stateHashOf("plimsoll_instance_state_hash", "instance", instance ? &instance->body : nullptr);
+    return stateHashOf("plimsoll_instance_state_hash", "instance",
+                       instance ? &instance->body : nullptr);
 }
 
 }  // extern "C"

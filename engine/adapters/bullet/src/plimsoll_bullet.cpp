@@ -171,7 +171,8 @@ void Harbour::applyLoads(double dt) {
     moved_.assign(flooding_.size(), 0);
     if (batch_ && !flooding_.empty() &&
         !plimsoll_batch_instance_graph_step(batch_, flooding_.size(), flooding_.data(),
-                                            floodingPoses_.data(), &water_, time_, dt, moved_.data()))
+                                            floodingPoses_.data(), &water_, time_, dt,
+                                            moved_.data()))
         failed();
     for (std::size_t j = 0; j < flooding_.size(); ++j) {
         if (moved_[j]) floodingBodies_[j]->rigidBody()->activate();
