@@ -190,6 +190,26 @@ TEST(CliBench, FleetQuickRunComparesOneBundleWithOneLoadPerBoat) {
     fs::remove_all(out);
 }
 
+/// bench --scene: the resting bodies all fall asleep and then cost no evaluation, where the
+/// same scene without sleeping evaluates every body every sub-step.
+TEST(CliBench, SceneQuickRunSleepsEveryRestingBody) {
+    const fs::path out =
+        fs::temp_directory_path() / ("plimsoll_bench_scene_" + std::to_string(::getpid()));
+    fs::remove_all(out);
+    const CommandOutput r =
+        runPlimsoll("bench --scene --quick --frames 2 --out '" + out.string() + "'");
+    ASSERT_EQ(r.exitCode, 0) << r.err;
+    const std::vector<CsvRow> rows = parseCsv(test::readFile(out / "bench_scene.csv"));
+    ASSERT_EQ(rows.size(), 2u);
+    EXPECT_EQ(rows[0].at("asleep"), "0");
+    EXPECT_EQ(std::stod(rows[0].at("evaluations_per_frame")),
+              4.0 * std::stod(rows[0].at("bodies")));
+    EXPECT_EQ(rows[1].at("asleep"), rows[1].at("bodies"));
+    EXPECT_EQ(std::stod(rows[1].at("evaluations_per_frame")), 0.0);
+    EXPECT_GT(std::stoi(rows[1].at("frames_to_sleep")), 0);
+    fs::remove_all(out);
+}
+
 TEST(CliBench, IntegratorsQuickRunWritesDriftCsv) {
     const fs::path out =
         fs::temp_directory_path() / ("plimsoll_bench_int_" + std::to_string(::getpid()));

@@ -87,6 +87,7 @@ struct Frame {
     Eigen::Vector3d center;
     Eigen::Vector4d q;  // w, x, y, z
     double mass;
+    bool asleep;
 };
 
 std::vector<Frame> worldRun(const Project& project, long frames) {
@@ -97,7 +98,8 @@ std::vector<Frame> worldRun(const Project& project, long frames) {
         EXPECT_TRUE(world->advanceFrame().ok());
         const SimulatedBody& b = world->bodies().front();
         const Eigen::Quaterniond& q = b.state.orientation;
-        out.push_back({world->time(), b.state.position, {q.w(), q.x(), q.y(), q.z()}, b.mass.mass});
+        out.push_back(
+            {world->time(), b.state.position, {q.w(), q.x(), q.y(), q.z()}, b.mass.mass, b.asleep});
     }
     return out;
 }
@@ -112,13 +114,15 @@ std::vector<Frame> runtimeRun(rt::Bundle& bundle, const rt::Water& water, long f
         EXPECT_TRUE(s->advanceFrame(water, error)) << error;
         const rt::Vec3& c = s->centerOfMass();
         const rt::Quat& q = s->orientation();
-        out.push_back({s->time(), {c.x, c.y, c.z}, {q.w, q.x, q.y, q.z}, s->mass().mass});
+        out.push_back(
+            {s->time(), {c.x, c.y, c.z}, {q.w, q.x, q.y, q.z}, s->mass().mass, s->asleep()});
     }
     return out;
 }
 
 struct Gap {
     double position = 0, orientation = 0, mass = 0, travel = 0;
+    long sleptFrames = 0;  ///< frames both runs slept through
 };
 
 Gap compare(const std::vector<Frame>& a, const std::vector<Frame>& b) {
@@ -126,6 +130,9 @@ Gap compare(const std::vector<Frame>& a, const std::vector<Frame>& b) {
     EXPECT_EQ(a.size(), b.size());
     for (std::size_t i = 0; i < std::min(a.size(), b.size()); ++i) {
         EXPECT_NEAR(a[i].time, b[i].time, 1e-9);
+        // Both fall asleep and wake on the same frames: one rule (plimsoll_eval/sleep.hpp).
+        EXPECT_EQ(a[i].asleep, b[i].asleep) << "frame " << i;
+        g.sleptFrames += a[i].asleep && b[i].asleep;
         g.position = std::max(g.position, (a[i].center - b[i].center).norm());
         g.orientation = std::max(g.orientation, std::min((a[i].q - b[i].q).norm(), (a[i].q + b[i].q).norm()));
         g.mass = std::max(g.mass, std::abs(a[i].mass - b[i].mass) / a[i].mass);
@@ -214,10 +221,14 @@ TEST_F(RuntimeTrajectory, EverySampleProjectFollowsTheWorld) {
         const bool floods = bundle->graph() != nullptr;
         sawFlooding |= floods;
         sawWaves |= project.water.kind == WaterModel::Kind::Gerstner;
-        std::printf("  %-22s %s%s: travel %.3f m; runtime vs World, same water: %.2e m, %.2e (q), mass %.1e; "
-                    "own water: %.2e m\n",
-                    project.fileStem.c_str(), project.water.kind == WaterModel::Kind::Flat ? "flat " : "waves",
-                    floods ? " floods" : "       ", g.travel, g.position, g.orientation, g.mass, h.position);
+        std::printf(
+            "  %-22s %s%s: travel %.3f m; runtime vs World, same water: %.2e m, %.2e (q), mass "
+            "%.1e; "
+            "own water: %.2e m; asleep %ld frames\n",
+            project.fileStem.c_str(),
+            project.water.kind == WaterModel::Kind::Flat ? "flat " : "waves",
+            floods ? " floods" : "       ", g.travel, g.position, g.orientation, g.mass, h.position,
+            g.sleptFrames);
         const double bound = floods ? kFloodingBound : kRigidBound;
         EXPECT_LE(g.position, bound);
         EXPECT_LE(h.position, bound);
@@ -228,6 +239,53 @@ TEST_F(RuntimeTrajectory, EverySampleProjectFollowsTheWorld) {
     }
     EXPECT_TRUE(sawFlooding);
     EXPECT_TRUE(sawWaves);
+}
+
+// Sleeping: a damped box comes to rest; the runtime's Simulation falls asleep on the World's
+// frame, stays where the World holds it, and a snapshot taken asleep restores asleep.
+TEST_F(RuntimeTrajectory, ARestingBodySleepsOnTheWorldsFrame) {
+    Result<Project> loaded = loadProject(root() / "projects" / "box_half_draft.plim.json");
+    ASSERT_TRUE(loaded.ok()) << loaded.error().message;
+    Project project = *loaded;
+    project.fileStem = "box_half_draft+damped";
+    project.bodies[0].linearDamping = 4.0;
+    project.bodies[0].angularDamping = 4.0;
+    const fs::path folder = exported(project);
+    std::string error;
+    std::unique_ptr<rt::Bundle> bundle = rt::loadBundle(folder.string(), error);
+    ASSERT_TRUE(bundle) << error;
+    ASSERT_TRUE(bundle->world().sleep.enabled);
+    const long frames = 900;  // 15 s
+    const std::vector<Frame> world = worldRun(project, frames);
+    const std::vector<Frame> runtime = runtimeRun(*bundle, bundle->world().water.water(), frames);
+    const Gap g = compare(world, runtime);
+    EXPECT_GT(g.sleptFrames, 300) << "the box did not sleep its last 5 s";
+    EXPECT_LE(g.position, kRigidBound);
+
+    std::unique_ptr<rt::Simulation> s = rt::Simulation::create(*bundle, error);
+    ASSERT_TRUE(s) << error;
+    const rt::Water water = bundle->world().water.water();
+    while (!s->asleep() && s->time() < 15.0) ASSERT_TRUE(s->advanceFrame(water, error)) << error;
+    ASSERT_TRUE(s->asleep());
+    const std::vector<std::uint8_t> snapshot = s->save();
+    std::unique_ptr<rt::Simulation> copy = rt::Simulation::create(*bundle, error);
+    ASSERT_TRUE(copy->restore(snapshot, error)) << error;
+    EXPECT_TRUE(copy->asleep());
+    for (int f = 0; f < 60; ++f) {
+        ASSERT_TRUE(s->advanceFrame(water, error));
+        ASSERT_TRUE(copy->advanceFrame(water, error));
+        ASSERT_EQ(s->stateHash(), copy->stateHash()) << "frame " << f;
+    }
+    // Asleep, the body stays put; wake() and a push of the water wake it.
+    const rt::Vec3 at = s->centerOfMass();
+    ASSERT_TRUE(s->advanceFrame(water, error));
+    EXPECT_EQ(s->centerOfMass().y, at.y);
+    s->wake();
+    EXPECT_FALSE(s->asleep());
+    rt::WaterModel raised = bundle->world().water;
+    raised.level += 0.01;
+    ASSERT_TRUE(copy->advanceFrame(raised.water(), error));
+    EXPECT_FALSE(copy->asleep());
 }
 
 // Snapshots: saved at a random frame k and restored into a fresh simulation of a freshly

@@ -221,6 +221,25 @@ bool readBundleWorld(const json::Value& manifest, const std::string& file, Bundl
     out.subSteps = static_cast<int>(subSteps);
     if (const json::Value* integrator = sim->find("integrator"); integrator && integrator->isString())
         out.integrator = integrator->string;
+    if (const json::Value* sleep = sim->find("sleep"); sleep && !sleep->isNull()) {
+        const std::string path = at + ".simulation.sleep";
+        BundleWorld::Sleep& s = out.sleep;
+        if (!sleep->isObject()) return r.fail(path, "expected an object");
+        const json::Value* enabled = sleep->find("enabled");
+        if (!enabled || !enabled->isBool())
+            return r.fail(path + ".enabled", "expected true or false");
+        s.enabled = enabled->boolean;
+        if (!r.number(*sleep, path, "linear_speed", s.linearSpeed) ||
+            !r.number(*sleep, path, "angular_speed", s.angularSpeed) ||
+            !r.number(*sleep, path, "linear_acceleration", s.linearAcceleration) ||
+            !r.number(*sleep, path, "angular_acceleration", s.angularAcceleration) ||
+            !r.number(*sleep, path, "rest_time", s.restTime) ||
+            !r.number(*sleep, path, "wake_height", s.wakeHeight))
+            return false;
+        if (s.linearSpeed < 0 || s.angularSpeed < 0 || s.linearAcceleration < 0 ||
+            s.angularAcceleration < 0 || s.restTime < 0 || s.wakeHeight < 0)
+            return r.fail(path, "the thresholds must be >= 0");
+    }
     const json::Value* start = r.object(*world, at, "start");
     if (!start || !readStart(r, *start, at + ".start", out)) return false;
     out.present = true;

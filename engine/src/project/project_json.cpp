@@ -228,7 +228,7 @@ private:
         const std::string path = "simulation";
         if (!expectObject(value, path,
                           {"gravity", "time_step", "sub_steps", "max_phase_step", "integrator",
-                           "duration"})) {
+                           "duration", "sleep"})) {
             return;
         }
         vector(value, path, "gravity", simulation.gravity);
@@ -250,6 +250,25 @@ private:
             }
         }
         number(value, path, "duration", simulation.duration, Limit::NonNegative);
+        if (const Json* sleep = find(value, "sleep")) {
+            readSleep(*sleep, member(path, "sleep"), simulation.sleep);
+        }
+    }
+
+    void readSleep(const Json& value, const std::string& path,
+                   plimsoll_eval::SleepSettings& sleep) {
+        if (!expectObject(value, path,
+                          {"enabled", "linear_speed", "angular_speed", "linear_acceleration",
+                           "angular_acceleration", "rest_time", "wake_height"})) {
+            return;
+        }
+        boolean(value, path, "enabled", sleep.enabled);
+        number(value, path, "linear_speed", sleep.linearSpeed, Limit::NonNegative);
+        number(value, path, "angular_speed", sleep.angularSpeed, Limit::NonNegative);
+        number(value, path, "linear_acceleration", sleep.linearAcceleration, Limit::NonNegative);
+        number(value, path, "angular_acceleration", sleep.angularAcceleration, Limit::NonNegative);
+        number(value, path, "rest_time", sleep.restTime, Limit::NonNegative);
+        number(value, path, "wake_height", sleep.wakeHeight, Limit::NonNegative);
     }
 
     void readBodies(const Json* value, std::vector<BodyDesc>& bodies) {
@@ -687,6 +706,13 @@ std::string projectToJson(const Project& project) {
     json["simulation"]["max_phase_step"] = simulation.maxPhaseStep;
     json["simulation"]["integrator"] = integratorName(simulation.integrator);
     json["simulation"]["duration"] = simulation.duration;
+    json["simulation"]["sleep"] = {{"enabled", simulation.sleep.enabled},
+                                   {"linear_speed", simulation.sleep.linearSpeed},
+                                   {"angular_speed", simulation.sleep.angularSpeed},
+                                   {"linear_acceleration", simulation.sleep.linearAcceleration},
+                                   {"angular_acceleration", simulation.sleep.angularAcceleration},
+                                   {"rest_time", simulation.sleep.restTime},
+                                   {"wake_height", simulation.sleep.wakeHeight}};
     Json bodies = Json::array();
     for (const BodyDesc& body : project.bodies) bodies.push_back(toJson(body));
     json["bodies"] = std::move(bodies);

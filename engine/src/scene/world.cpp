@@ -205,6 +205,8 @@ Status World::addBody(const SceneBody& scene) {
     radiatings_.push_back(std::move(radiating));
     materials_.push_back(desc.material);
     shellDensityMaps_.push_back(scene.parts.shellDensityMap);
+    sleep_.emplace_back();
+    changedLastFrame_.push_back(0);
     return Ok{};
 }
 
@@ -332,7 +334,8 @@ void World::replaceMass(std::size_t i, const MassProperties& props) {
 Status World::stepWaterGraphs(double frameTime) {
     for (std::size_t i = 0; i < bodies_.size(); ++i) {
         Flooding* f = floodings_[i].get();
-        if (!f) continue;
+        // A sleeping body's water stays: nothing moves it until the body wakes.
+        if (!f || bodies_[i].asleep) continue;
         SimulatedBody& body = bodies_[i];
         const Pose pose = body.pose();
         // The exchange pass over the permeable texels runs on the backend (one kernel pass,
@@ -348,6 +351,7 @@ Status World::stepWaterGraphs(double frameTime) {
             moved = f->graph.applyExchange(pose, frameTime, f->rates);
         }
         moved = f->graph.flowInside(pose.rotation, frameTime) || moved;
+        changedLastFrame_[i] = moved;
         ++statistics_.graphSteps;
         // With the free surface the water's centre of mass also moves when the body turns.
         const bool turned = f->graph.settings().freeSurface && body.water > 0 &&
@@ -374,6 +378,7 @@ Status World::evaluateAll(double time) {
     which.clear();
     for (std::size_t i = 0; i < bodies_.size(); ++i) {
         SimulatedBody& body = bodies_[i];
+        if (body.asleep) continue;  // keeps the load it fell asleep with
         if (outOfWater(body, body.state)) {
             body.buoyancy = BuoyancyResult{};
             body.buoyancy.centerOfBuoyancy = body.state.position;
@@ -463,6 +468,7 @@ Result<int> World::subStepsFor(double frameTime) const {
     const double maxPhase = scene_.simulation.maxPhaseStep;
     double most = scene_.simulation.subSteps;
     for (const SimulatedBody& body : bodies_) {
+        if (body.asleep) continue;  // not integrated: its stiffness asks for no step
         const double stiffness = stiffestFrequency(body);
         const double spin = angularVelocity(body.state, body.mass).norm();
         const double needed = std::ceil(std::max(stiffness, spin) * frameTime / maxPhase);
@@ -533,11 +539,13 @@ Status World::setMaterial(std::size_t i, const MaterialDesc& material,
     materials_[i] = material;
     shellDensityMaps_[i] = std::move(shellDensityMap);
     say("body '" + bodies_[i].name + "': material changed, mass properties recomputed");
+    wakeBody(i);
     return recomputeMass(i);
 }
 
 Status World::advanceFrame() {
     const SimulationDesc& sim = scene_.simulation;
+    wakeWhereNeeded();
     const Result<int> needed = subStepsFor(sim.timeStep);
     if (!needed) return needed.error();
     const int subSteps = *needed;
@@ -548,6 +556,14 @@ Status World::advanceFrame() {
         reportedSubSteps_ = subSteps;
     }
     const double dt = sim.timeStep / subSteps;
+    // The velocities at the frame's start: their change over the frame tells a body at rest
+    // from one at the turning point of a swing.
+    frameStartVelocities_.resize(bodies_.size());
+    for (std::size_t i = 0; i < bodies_.size(); ++i) {
+        const SimulatedBody& body = bodies_[i];
+        frameStartVelocities_[i] = {linearVelocity(body.state, body.mass),
+                                    angularVelocity(body.state, body.mass)};
+    }
     for (int sub = 0; sub < subSteps; ++sub) {
         if (Status s = updateDeformingBodies(time_); !s.ok()) return s;
         const std::size_t skippedBefore = statistics_.skippedOutOfWater;
@@ -557,6 +573,7 @@ Status World::advanceFrame() {
             // body.buoyancy), and holds its memory force over the stages.
             for (std::size_t i = 0; i < bodies_.size(); ++i) {
                 SimulatedBody& body = bodies_[i];
+                if (body.asleep) continue;
                 startRadiationStep(i, body.buoyancy.submergedVolume);
                 Status failure = Ok{};
                 bool firstStage = true;
@@ -587,6 +604,7 @@ Status World::advanceFrame() {
             if (Status s = evaluateAll(time_); !s.ok()) return s;
             for (std::size_t i = 0; i < bodies_.size(); ++i) {
                 SimulatedBody& body = bodies_[i];
+                if (body.asleep) continue;
                 startRadiationStep(i, body.buoyancy.submergedVolume);
                 const Wrench w = wrenchOf(body, body.state, body.buoyancy, dt);
                 body.state = step(body.state, body.mass,
@@ -603,7 +621,94 @@ Status World::advanceFrame() {
         ++statistics_.steps;
         time_ += dt;
     }
-    return stepWaterGraphs(sim.timeStep);
+    if (Status s = stepWaterGraphs(sim.timeStep); !s.ok()) return s;
+    sleepWhereRested(sim.timeStep);
+    return Ok{};
+}
+
+bool World::pushed(std::size_t i) const {
+    if (i >= externalForces_.size() || !externalForces_[i]) return false;
+    const Wrench w = externalForces_[i](bodies_[i], bodies_[i].state);
+    return w.force.squaredNorm() > 0 || w.torque.squaredNorm() > 0;
+}
+
+namespace {
+
+/// The water's surface above the body's centre of mass: its height and the speed of the water
+/// there, what decides whether the water is calm where the body floats.
+struct SurfaceAbove {
+    double height = 0, speed = 0;
+};
+
+SurfaceAbove surfaceAbove(const WaterModel& water, const Eigen::Vector3d& point, double time) {
+    SurfaceAbove s;
+    s.height = water.height(point.x(), point.z(), time);
+    s.speed = water.velocity({point.x(), s.height, point.z()}, time).norm();
+    return s;
+}
+
+}  // namespace
+
+void World::wakeWhereNeeded() {
+    for (std::size_t i = 0; i < bodies_.size(); ++i) {
+        SimulatedBody& body = bodies_[i];
+        if (!body.asleep) continue;
+        const SurfaceAbove surface = surfaceAbove(scene_.water, body.state.position, time_);
+        if (plimsoll_eval::mustWake(sleep_[i], scene_.simulation.sleep, surface.speed,
+                                    surface.height, pushed(i))) {
+            wakeBody(i);
+        } else {
+            ++statistics_.sleepingBodyFrames;
+        }
+    }
+}
+
+void World::sleepWhereRested(double frameTime) {
+    for (std::size_t i = 0; i < bodies_.size(); ++i) {
+        SimulatedBody& body = bodies_[i];
+        if (body.asleep) continue;
+        const SurfaceAbove surface = surfaceAbove(scene_.water, body.state.position, time_);
+        plimsoll_eval::RestSample sample;
+        const Eigen::Vector3d v = linearVelocity(body.state, body.mass);
+        const Eigen::Vector3d w = angularVelocity(body.state, body.mass);
+        sample.speed = v.norm();
+        sample.spin = w.norm();
+        sample.acceleration = (v - frameStartVelocities_[i].linear).norm() / frameTime;
+        sample.angularAcceleration = (w - frameStartVelocities_[i].angular).norm() / frameTime;
+        sample.waterSpeed = surface.speed;
+        sample.waterHeight = surface.height;
+        // The outside force is the caller's function: asked only of a body otherwise at rest.
+        sample.pushed =
+            plimsoll_eval::stillOnCalmWater(scene_.simulation.sleep, sample) && pushed(i);
+        sample.changing = changedLastFrame_[i] || body.deforms;
+        if (!plimsoll_eval::countRest(sleep_[i], scene_.simulation.sleep, sample, frameTime))
+            continue;
+        // Asleep the body holds its pose at rest; the little its radiation memory still holds
+        // after this long at rest is let go, so that it wakes without an old push.
+        body.asleep = true;
+        body.state.linearMomentum.setZero();
+        body.state.angularMomentum.setZero();
+        if (Radiating* r = radiatings_[i].get()) {
+            r->memory = memoryStateFor(r->radiation->model);
+            r->memoryWrench = Wrench{};
+        }
+        ++statistics_.fallsAsleep;
+    }
+}
+
+void World::wakeBody(std::size_t i) {
+    if (!bodies_[i].asleep) return;
+    bodies_[i].asleep = false;
+    plimsoll_eval::wake(sleep_[i]);
+    ++statistics_.wakeUps;
+}
+
+Status World::wake(std::size_t i) {
+    if (i >= bodies_.size()) {
+        return makeError(ErrorKind::invalidArgument, "wake: no body " + std::to_string(i));
+    }
+    wakeBody(i);
+    return Ok{};
 }
 
 Status World::setExternalForce(std::size_t i, ExternalForce force) {
@@ -612,12 +717,14 @@ Status World::setExternalForce(std::size_t i, ExternalForce force) {
     }
     externalForces_.resize(bodies_.size());
     externalForces_[i] = std::move(force);
+    wakeBody(i);
     return Ok{};
 }
 
 void World::setWater(const WaterModel& water) {
     scene_.water = water;
     scene_.water.gravity = scene_.simulation.gravity.norm();  // the scene's one gravity
+    for (std::size_t i = 0; i < bodies_.size(); ++i) wakeBody(i);
 }
 
 void World::setIntegrator(Integrator integrator) { scene_.simulation.integrator = integrator; }
@@ -627,6 +734,7 @@ Status World::setBodyState(std::size_t i, const RigidBodyState& state) {
         return makeError(ErrorKind::invalidArgument, "setBodyState: no body " + std::to_string(i));
     }
     bodies_[i].state = state;
+    wakeBody(i);
     return Ok{};
 }
 

@@ -7,6 +7,7 @@
 #include "plimsoll/surface/atlas.h"
 #include "plimsoll/physics/rigid_body.h"
 #include "plimsoll/physics/water.h"
+#include "plimsoll_eval/sleep.hpp"
 
 #include <Eigen/Core>
 
@@ -149,6 +150,8 @@ struct SimulationDesc {
     double maxPhaseStep = 0.5;
     Integrator integrator = Integrator::SemiImplicitEuler;
     double duration = 10.0;                ///< s, for headless runs
+    /// When a body at rest on calm water stops being computed (plimsoll_eval/sleep.hpp).
+    plimsoll_eval::SleepSettings sleep;
 
     bool operator==(const SimulationDesc&) const = default;
 };

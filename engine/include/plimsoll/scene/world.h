@@ -13,7 +13,10 @@
 //    computes no graph at all;
 //  - a body with radiation (BodyDesc::radiates, SceneBody::radiation) carries its added mass in
 //    its mass matrix and integrates the radiation memory with it (Cummins' equation,
-//    docs/radiation.md); a body without it runs exactly as it would without the feature.
+//    docs/radiation.md); a body without it runs exactly as it would without the feature;
+//  - a body at rest on calm water falls asleep (simulation.sleep, plimsoll_eval/sleep.hpp):
+//    no evaluation, no integration, no graph step, one look at the water above it a frame,
+//    until the water, an outside force or a call that changes it wakes it.
 // The log callback is told what was skipped and why.
 #pragma once
 
@@ -51,6 +54,7 @@ struct SimulatedBody {
     Eigen::Vector3d backendCenter = Eigen::Vector3d::Zero();
     bool deforms = false;
     double water = 0;               ///< m^3 in the water graph now (0 without one)
+    bool asleep = false;            ///< at rest on calm water: not computed (world.h)
 
     /// Object -> world placement now.
     Pose pose() const { return poseOf(state, mass); }
@@ -70,6 +74,9 @@ struct WorldStatistics {
     std::size_t massRecomputations = 0;    ///< mass properties computed after creation
     std::size_t graphSteps = 0;            ///< water-graph steps (body-frames)
     std::size_t waterCompositions = 0;     ///< body + water mass properties composed again
+    std::size_t sleepingBodyFrames = 0;    ///< body-frames a body slept through
+    std::size_t fallsAsleep = 0;           ///< times a body fell asleep
+    std::size_t wakeUps = 0;               ///< times a sleeping body woke
 };
 
 class World {
@@ -98,18 +105,22 @@ public:
     Status setMaterial(std::size_t body, const MaterialDesc& material,
                        std::shared_ptr<const PaintedMap> shellDensityMap = nullptr);
 
-    /// Body i's external force (world.h ExternalForce); an empty function removes it.
+    /// Body i's external force (world.h ExternalForce); an empty function removes it. The body
+    /// wakes, and stays awake while the force is not zero.
     Status setExternalForce(std::size_t body, ExternalForce force);
 
     /// Replaces the medium's surface (level, waves) from the next step on: an editor changes
-    /// the water while the simulation runs.
+    /// the water while the simulation runs. Every sleeping body wakes.
     void setWater(const WaterModel& water);
+
+    /// Wakes body i if it sleeps (a game's or an editor's own reason: a collision, a drag).
+    Status wake(std::size_t body);
 
     /// Changes the integrator from the next step on.
     void setIntegrator(Integrator integrator);
 
     /// Puts body i in `state` (its centre of mass's place, orientation and momenta): a reset,
-    /// or a state carried over from another world of the same scene.
+    /// or a state carried over from another world of the same scene. The body wakes.
     Status setBodyState(std::size_t body, const RigidBodyState& state);
 
     /// Sets the simulated time (s; waves and deforming bodies follow it): a world rebuilt
@@ -171,6 +182,13 @@ private:
     Status recomputeMass(std::size_t i);
     /// The bounding-sphere test: the body in `state` lies above the highest water surface.
     bool outOfWater(const SimulatedBody& body, const RigidBodyState& state) const;
+    /// The outside force on body i in its state is not zero.
+    bool pushed(std::size_t i) const;
+    /// Wakes the sleeping bodies the water or a force wakes, before a frame.
+    void wakeWhereNeeded();
+    /// Counts each awake body's rest after a frame; puts those that rested long enough to sleep.
+    void sleepWhereRested(double frameTime);
+    void wakeBody(std::size_t i);
     void say(const std::string& line) const;
     /// Runs `call` on the backend. Where an OpenCL backend fails (out of resources, a lost
     /// device), says so once on the log, moves every body to the C++ reference backend and
@@ -188,6 +206,9 @@ private:
     std::vector<MaterialDesc> materials_;
     std::vector<std::shared_ptr<const PaintedMap>> shellDensityMaps_;  ///< per body, null: uniform
     std::vector<ExternalForce> externalForces_;               ///< per body, empty if none
+    std::vector<plimsoll_eval::SleepState> sleep_;            ///< per body
+    std::vector<char> changedLastFrame_;        ///< per body: its graph moved water, or it deforms
+    std::vector<Motion> frameStartVelocities_;  ///< per body, at the start of the frame
     WorldStatistics statistics_;
     double time_ = 0;
     bool reportedSkip_ = false;
