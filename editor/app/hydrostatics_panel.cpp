@@ -198,21 +198,24 @@ void drawStabilityReport(const HydrostaticsResult& t, const HydrostaticsResult& 
         optionalRow("downflooding angle (deg)", t.downfloodingDegrees, e.downfloodingDegrees);
         ImGui::EndTable();
     }
-    tooltip("TPC: tonnes per centimetre of immersion. MCT1cm: the moment that trims the body by "
-            "1 cm over its waterline length. Downflooding: the least heel at which an opening "
-            "(a permeable texel of the water graph, an open hull's cap) reaches the water.");
-    ImGui::Text("IMO 2008 IS Code, A 2.2: textures %s, exact %s", t.isCode2008.pass ? "pass" : "FAIL",
-                e.isCode2008.pass ? "pass" : "FAIL");
-    tooltip("The general intact stability criteria (Res. MSC.267(85)) on the GZ curve less the "
-            "free-surface loss times sin(heel); the areas to 40 degrees end at the downflooding "
-            "angle where that is less.");
+    tooltip(
+        "TPC: tonnes per centimetre of immersion. MCT1cm: the moment that trims the body by "
+        "1 cm over its waterline length. Downflooding: the least heel at which an opening "
+        "(a permeable texel of the water graph, an open hull's cap) reaches the water.");
+    ImGui::Text("IMO 2008 IS Code, A 2.2: textures %s, exact %s",
+                t.isCode2008.pass ? "pass" : "FAIL", e.isCode2008.pass ? "pass" : "FAIL");
+    tooltip(
+        "The general intact stability criteria (Res. MSC.267(85)) on the GZ curve less the "
+        "free-surface loss times sin(heel); the areas to 40 degrees end at the downflooding "
+        "angle where that is less.");
     if (ImGui::BeginTable("##iscode", 4, ImGuiTableFlags_RowBg | ImGuiTableFlags_Borders)) {
         ImGui::TableSetupColumn("criterion", ImGuiTableColumnFlags_WidthFixed, 180.0f);
         ImGui::TableSetupColumn("required");
         ImGui::TableSetupColumn("textures");
         ImGui::TableSetupColumn("exact");
         ImGui::TableHeadersRow();
-        for (std::size_t i = 0; i < t.isCode2008.criteria.size() && i < e.isCode2008.criteria.size(); ++i) {
+        for (std::size_t i = 0;
+             i < t.isCode2008.criteria.size() && i < e.isCode2008.criteria.size(); ++i) {
             const StabilityCriterion& a = t.isCode2008.criteria[i];
             const StabilityCriterion& b = e.isCode2008.criteria[i];
             ImGui::TableNextRow();
@@ -222,8 +225,9 @@ void drawStabilityReport(const HydrostaticsResult& t, const HydrostaticsResult& 
             ImGui::Text(">= %.4g", a.required);
             for (const StabilityCriterion* c : {&a, &b}) {
                 ImGui::TableNextColumn();
-                ImGui::TextColored(c->pass ? ImVec4(0.45f, 0.85f, 0.45f, 1) : ImVec4(1, 0.4f, 0.35f, 1), "%.4g %s",
-                                   c->value, c->pass ? "pass" : "FAIL");
+                ImGui::TextColored(
+                    c->pass ? ImVec4(0.45f, 0.85f, 0.45f, 1) : ImVec4(1, 0.4f, 0.35f, 1), "%.4g %s",
+                    c->value, c->pass ? "pass" : "FAIL");
             }
         }
         ImGui::EndTable();
@@ -233,7 +237,8 @@ void drawStabilityReport(const HydrostaticsResult& t, const HydrostaticsResult& 
     tooltip("KN = GZ + KG sin(heel), the righting arm about the keel, at several displacements.");
     if (!open) return;
     const std::vector<CrossCurve>& curves = e.crossCurves;
-    if (ImGui::BeginTable("##kn", static_cast<int>(curves.size()) + 1, ImGuiTableFlags_RowBg | ImGuiTableFlags_Borders)) {
+    if (ImGui::BeginTable("##kn", static_cast<int>(curves.size()) + 1,
+                          ImGuiTableFlags_RowBg | ImGuiTableFlags_Borders)) {
         ImGui::TableSetupColumn("heel (deg)");
         char label[48];
         for (const CrossCurve& c : curves) {

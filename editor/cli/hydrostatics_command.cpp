@@ -158,8 +158,9 @@ void printCriteria(const std::vector<Measured>& methods) {
     std::printf("\n  %-27s %14s", "IMO 2008 IS Code, A 2.2", "required");
     for (const Measured& m : methods) std::printf(" %14s", hydrostaticsMethodName(m.result.method));
     std::printf("\n");
-    std::printf("  on GZ less the free-surface loss times sin(heel); the areas to 40 degrees end at\n"
-                "  the downflooding angle where that is less\n");
+    std::printf(
+        "  on GZ less the free-surface loss times sin(heel); the areas to 40 degrees end at\n"
+        "  the downflooding angle where that is less\n");
     const std::vector<StabilityCriterion>& first = methods[0].result.isCode2008.criteria;
     for (std::size_t i = 0; i < first.size(); ++i) {
         const std::string name = first[i].name + " (" + first[i].unit + ")";
@@ -171,7 +172,8 @@ void printCriteria(const std::vector<Measured>& methods) {
         std::printf("\n");
     }
     std::printf("  %-27s %14s", "verdict", "");
-    for (const Measured& m : methods) std::printf(" %14s", m.result.isCode2008.pass ? "pass" : "FAIL");
+    for (const Measured& m : methods)
+        std::printf(" %14s", m.result.isCode2008.pass ? "pass" : "FAIL");
     std::printf("\n");
 }
 

@@ -32,9 +32,9 @@ constexpr double kDegree = std::numbers::pi / 180.0;
 constexpr double kSeaWater = 1025.0;  // kg/m^3
 
 /// The IS Code 2008 general criteria (Res. MSC.267(85), Part A 2.2), as required values.
-const std::map<std::string, double> kRequired = {
-    {"area_0_30", 0.055}, {"area_0_40", 0.09}, {"area_30_40", 0.03},
-    {"gz_30", 0.20},      {"angle_gz_max", 25.0}, {"gm0", 0.15}};
+const std::map<std::string, double> kRequired = {{"area_0_30", 0.055},   {"area_0_40", 0.09},
+                                                 {"area_30_40", 0.03},   {"gz_30", 0.20},
+                                                 {"angle_gz_max", 25.0}, {"gm0", 0.15}};
 
 const StabilityCriterion& criterion(const HydrostaticsResult& r, const std::string& name) {
     for (const StabilityCriterion& c : r.isCode2008.criteria) {
@@ -173,7 +173,8 @@ TEST(StabilityCriteria, BoxMatchesItsClosedForms) {
     EXPECT_TRUE(r.isCode2008.pass);
     // The curve itself beyond the wall-sided range.
     for (const RightingArm& p : r.gz) {
-        if (p.heelDegrees <= 90) EXPECT_NEAR(p.arm, box.squareGz(p.heelDegrees), 1e-6) << p.heelDegrees;
+        if (p.heelDegrees <= 90)
+            EXPECT_NEAR(p.arm, box.squareGz(p.heelDegrees), 1e-6) << p.heelDegrees;
     }
 }
 
@@ -557,11 +558,12 @@ TEST(StabilityCriteria, WigleyHullMatchesItsClosedForms) {
     EXPECT_NEAR(r.momentToChangeTrim, hull.mct1cm(), 1e-3 * hull.mct1cm());
     EXPECT_NEAR(r.heelDegrees, 0.0, 1e-6);
     EXPECT_NEAR(r.trimDegrees, 0.0, 1e-6);
-    std::printf("Wigley: draft %.6f (%.6f), A_wp %.4f (%.4f), KB %.6f (%.6f), BM_T %.6f (%.6f), "
-                "BM_L %.4f (%.4f), GM_T %.6f (%.6f), TPC %.6f (%.6f), MCT1cm %.5f (%.5f)\n",
-                r.draft, hull.draft, r.waterplaneArea, hull.waterplaneArea(), r.kb, hull.kb(),
-                r.bmTransverse, hull.bmT(), r.bmLongitudinal, hull.bmL(), r.gmTransverse, hull.gm(),
-                r.tonnesPerCentimetre, hull.tpc(), r.momentToChangeTrim, hull.mct1cm());
+    std::printf(
+        "Wigley: draft %.6f (%.6f), A_wp %.4f (%.4f), KB %.6f (%.6f), BM_T %.6f (%.6f), "
+        "BM_L %.4f (%.4f), GM_T %.6f (%.6f), TPC %.6f (%.6f), MCT1cm %.5f (%.5f)\n",
+        r.draft, hull.draft, r.waterplaneArea, hull.waterplaneArea(), r.kb, hull.kb(),
+        r.bmTransverse, hull.bmT(), r.bmLongitudinal, hull.bmL(), r.gmTransverse, hull.gm(),
+        r.tonnesPerCentimetre, hull.tpc(), r.momentToChangeTrim, hull.mct1cm());
 
     // The IS Code criteria against the section integration's curve at 1 degree (Simpson's
     // rule for the areas); the reference's own upright volume and GM are checked first.
@@ -596,10 +598,11 @@ TEST(StabilityCriteria, WigleyHullMatchesItsClosedForms) {
     for (int heel : {50, 60, 70, 80}) {
         EXPECT_NEAR(r.gz[heel / 10].arm, reference.gz(heel, volume), 2e-3) << heel;
     }
-    std::printf("Wigley criteria: area 0-30 %.6f (%.6f), 0-40 %.6f (%.6f), 30-40 %.6f (%.6f), "
-                "GZ max %.5f at %.2f (%.5f at %.1f)\n",
-                area30.value, simpson(0, 30), area40.value, simpson(0, 40), area3040.value,
-                simpson(30, 40), r.gzMax, r.gzMaxDegrees, largest, at);
+    std::printf(
+        "Wigley criteria: area 0-30 %.6f (%.6f), 0-40 %.6f (%.6f), 30-40 %.6f (%.6f), "
+        "GZ max %.5f at %.2f (%.5f at %.1f)\n",
+        area30.value, simpson(0, 30), area40.value, simpson(0, 40), area3040.value, simpson(30, 40),
+        r.gzMax, r.gzMaxDegrees, largest, at);
     for (const StabilityCriterion& c : r.isCode2008.criteria)
         EXPECT_EQ(c.pass, c.value >= kRequired.at(c.name)) << c.name;
 }

@@ -515,8 +515,8 @@ Result<HydrostaticsResult> solveHydrostatics(DisplacementMeasure measure,
     r.tonnesPerCentimetre = settings.density * r.waterplaneArea / 1e5;
     const double tonnes = settings.density * r.displacement / 1000;
     if (r.waterlineLength > 0) {
-        r.momentToChangeTrim = tonnes * (r.gmLongitudinal - r.freeSurfaceLossLongitudinal) /
-                               (100 * r.waterlineLength);
+        r.momentToChangeTrim =
+            tonnes * (r.gmLongitudinal - r.freeSurfaceLossLongitudinal) / (100 * r.waterlineLength);
     }
     const double loss = r.freeSurfaceLossTransverse;
     const std::function<double(double)> corrected = [&curve, loss](double heelDegrees) {
@@ -528,8 +528,8 @@ Result<HydrostaticsResult> solveHydrostatics(DisplacementMeasure measure,
     r.openingCount = openings.size();
     r.downfloodingDegrees = downfloodingAngle(curve, openings);
     std::tie(r.gzMaxDegrees, r.gzMax) = largestArm(curve, corrected, 0.0);
-    r.isCode2008 = isCode2008Criteria(curve, corrected, step, r.gmTransverse - loss,
-                                      r.gzMaxDegrees, r.gzMax, r.downfloodingDegrees);
+    r.isCode2008 = isCode2008Criteria(curve, corrected, step, r.gmTransverse - loss, r.gzMaxDegrees,
+                                      r.gzMax, r.downfloodingDegrees);
 
     // KN = GZ + KG sin(phi) at each displacement, the heels in the settings' order, each
     // displacement's trim started from its own upright state.
@@ -596,7 +596,8 @@ double textureWaterlineLength(const SurfaceTextures& textures, const Eigen::Matr
         last = std::max(last, p.x());
         const Eigen::Vector3d a = rotation * textures.areaVector[i];
         const double norm2 = std::max(a.squaredNorm(), 1e-300);
-        const double height = std::sqrt(textures.area[i] * std::max(0.0, 1.0 - a.y() * a.y() / norm2));
+        const double height =
+            std::sqrt(textures.area[i] * std::max(0.0, 1.0 - a.y() * a.y() / norm2));
         if (!(std::abs(h - p.y()) < 0.5 * height)) continue;  // not across the waterline
         const double reach =
             0.5 * std::sqrt(textures.area[i] * std::max(0.0, 1.0 - a.x() * a.x() / norm2));

@@ -30,7 +30,8 @@ Result<FloatingBody> floatingBodyOf(const SceneBody& body, const MediumDesc& med
     out.body.centerOfMass = full.centerOfMass;
     out.body.freeSurfaces = graphFreeSurfaces(*body.parts.waterGraph, settings.density);
     out.graphWater = graph->storedWater();
-    for (const ExchangeSample& sample : graph->samples()) out.body.openings.push_back(sample.position);
+    for (const ExchangeSample& sample : graph->samples())
+        out.body.openings.push_back(sample.position);
     return out;
 }
 

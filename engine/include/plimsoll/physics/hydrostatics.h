@@ -143,13 +143,13 @@ struct HydrostaticsResult {
     /// MCT1cm = Delta GM_L,effective / (100 L), Delta = rho V / 1000 in tonnes, L the
     /// waterline's length: t m/cm.
     double momentToChangeTrim = 0;
-    double gzMax = 0;            ///< the largest arm from 0 to 180 degrees, m
-    double gzMaxDegrees = 0;     ///< its heel
+    double gzMax = 0;         ///< the largest arm from 0 to 180 degrees, m
+    double gzMaxDegrees = 0;  ///< its heel
     /// The least heel (from 0, the way `gz` heels) at which an opening reaches the water: 0
     /// when one is under water upright; none without openings, or when none reaches the
     /// water up to 180 degrees.
     std::optional<double> downfloodingDegrees;
-    std::size_t openingCount = 0;  ///< the body's opening points
+    std::size_t openingCount = 0;         ///< the body's opening points
     std::vector<CrossCurve> crossCurves;  ///< by displacement, ascending
     StabilityCriteria isCode2008;
 };
