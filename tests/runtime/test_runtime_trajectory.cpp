@@ -652,9 +652,9 @@ TEST_F(RuntimeTrajectory, InstancesSleepAtRestAndWakeOnTheGamesPushOrTheWater) {
             << plimsoll_runtime_last_error();
         t += dt;
     };
-    for (int s = 0; s < 120 * 20 && !std::all_of(instances.begin(), instances.end(), [](auto* i) {
-                        return plimsoll_instance_asleep(i) == 1;
-                    });
+    for (int s = 0;
+         s < 120 * 20 && !std::all_of(instances.begin(), instances.end(),
+                                      [](auto* i) { return plimsoll_instance_asleep(i) == 1; });
          ++s)
         step(water);
     for (plimsoll_instance* i : instances) ASSERT_EQ(plimsoll_instance_asleep(i), 1);

@@ -39,9 +39,10 @@ void Body::save(std::vector<std::uint8_t>& out) const {
     if (graph_) graph_->saveState(out);
     if (radiation_) radiation_->saveState(out);
     putBytes(out, static_cast<std::uint8_t>(sleep_.asleep ? 1 : 0));
-    for (double v : {sleep_.restedFor, sleep_.waterHeight, sleep_.pose.position.x, sleep_.pose.position.y,
-                     sleep_.pose.position.z, sleep_.pose.orientation.w, sleep_.pose.orientation.x,
-                     sleep_.pose.orientation.y, sleep_.pose.orientation.z})
+    for (double v :
+         {sleep_.restedFor, sleep_.waterHeight, sleep_.pose.position.x, sleep_.pose.position.y,
+          sleep_.pose.position.z, sleep_.pose.orientation.w, sleep_.pose.orientation.x,
+          sleep_.pose.orientation.y, sleep_.pose.orientation.z})
         putBytes(out, v);
 }
 

@@ -782,8 +782,8 @@ const char* stepInstance(plimsoll_instance& instance, plimsoll_body_state& state
     if (sleeps)
         stepBody(instance.body, s, toWater(water, &nonFiniteWater), toFluid(fluid), time, dt);
     else
-        stepBodyWith(instance.body, s, memory, toWater(water, &nonFiniteWater), toFluid(fluid), time,
-                     dt);
+        stepBodyWith(instance.body, s, memory, toWater(water, &nonFiniteWater), toFluid(fluid),
+                     time, dt);
     const double next[13] = {s.pose.position.x,    s.pose.position.y,    s.pose.position.z,
                              s.pose.orientation.w, s.pose.orientation.x, s.pose.orientation.y,
                              s.pose.orientation.z, s.velocity.linear.x,  s.velocity.linear.y,
@@ -891,7 +891,8 @@ int stepChecked(const char* call, plimsoll_instance* instance, plimsoll_body_sta
             !checkTime(call, time))
             return 0;
         if (!(dt > 0) || !std::isfinite(dt)) return refuse(call, "dt must be finite and > 0");
-        const char* refused = stepInstance(*instance, *state, memory, water, *fluid, time, dt, sleeps);
+        const char* refused =
+            stepInstance(*instance, *state, memory, water, *fluid, time, dt, sleeps);
         return refused ? refuse(call, refused) : 1;
     } catch (const std::exception& e) {
         return refuse(call, e.what());
@@ -927,7 +928,8 @@ int plimsoll_body_step_radiating(plimsoll_bundle* bundle, plimsoll_body_state* s
     if (!memory) return refuse(kCall, "memory is NULL");
     if (bundle && memory->bundle != bundle->bundle.get())
         return refuse(kCall, "the radiation memory was made for another bundle");
-    return stepChecked(kCall, legacyOf(bundle), state, &memory->memory, water, fluid, time, dt, false);
+    return stepChecked(kCall, legacyOf(bundle), state, &memory->memory, water, fluid, time, dt,
+                       false);
 }
 
 int plimsoll_bundle_radiation(const plimsoll_bundle* bundle, plimsoll_radiation_info* out) {
@@ -1383,7 +1385,8 @@ int plimsoll_instance_step(plimsoll_instance* instance, plimsoll_body_state* sta
                            double dt) {
     lastError.clear();
     return stepChecked("plimsoll_instance_step", instance, state,
-                       instance ? instance->body.radiation() : nullptr, water, fluid, time, dt, true);
+                       instance ? instance->body.radiation() : nullptr, water, fluid, time, dt,
+                       true);
 }
 
 int plimsoll_instance_radiation_begin(plimsoll_instance* instance, const plimsoll_pose* pose,

@@ -267,14 +267,16 @@ plimsoll_eval::SleepSettings sleepSettingsOf(const BundleWorld::Sleep& s) {
 }
 
 bool samePose(const Pose& a, const Pose& b) {
-    return a.position.x == b.position.x && a.position.y == b.position.y && a.position.z == b.position.z &&
-           a.orientation.w == b.orientation.w && a.orientation.x == b.orientation.x &&
-           a.orientation.y == b.orientation.y && a.orientation.z == b.orientation.z;
+    return a.position.x == b.position.x && a.position.y == b.position.y &&
+           a.position.z == b.position.z && a.orientation.w == b.orientation.w &&
+           a.orientation.x == b.orientation.x && a.orientation.y == b.orientation.y &&
+           a.orientation.z == b.orientation.z;
 }
 
 }  // namespace
 
-void surfaceAbove(const Water& water, const Vec3& point, double time, double& height, double& speed) {
+void surfaceAbove(const Water& water, const Vec3& point, double time, double& height,
+                  double& speed) {
     height = water.heightAt(point.x, point.z, time);
     const Vec3 at{point.x, height, point.z};
     Vec3 u{0, 0, 0};
@@ -302,7 +304,8 @@ void stepBody(Body& body, BodyState& state, const Water& water, const Fluid& flu
     if (sleep.asleep) {
         // The game moved it or set it going: awake. Otherwise the water decides.
         const Velocity& v = state.velocity;
-        const bool moved = !samePose(state.pose, sleep.pose) || norm(v.linear) > 0 || norm(v.angular) > 0;
+        const bool moved =
+            !samePose(state.pose, sleep.pose) || norm(v.linear) > 0 || norm(v.angular) > 0;
         surfaceAbove(water, centerOf(state.pose), time, height, speed);
         plimsoll_eval::SleepState rest{true, sleep.restedFor, sleep.waterHeight};
         if (!moved && !plimsoll_eval::mustWake(rest, settings, speed, height, false)) return;

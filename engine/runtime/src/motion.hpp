@@ -14,6 +14,7 @@ bool stepBodyWith(Body& body, BodyState& state, RadiationMemory* memory, const W
 
 /// The water's height above `point` and the water's speed there: what decides whether the
 /// water is calm where a body floats (the World's surfaceAbove).
-void surfaceAbove(const Water& water, const Vec3& point, double time, double& height, double& speed);
+void surfaceAbove(const Water& water, const Vec3& point, double time, double& height,
+                  double& speed);
 
 }  // namespace plimsoll_runtime

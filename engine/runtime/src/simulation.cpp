@@ -347,7 +347,6 @@ plimsoll_eval::SleepSettings sleepSettings(const BundleWorld::Sleep& s) {
     return out;
 }
 
-
 }  // namespace
 
 void Simulation::wake() {
