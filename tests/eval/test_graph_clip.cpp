@@ -59,7 +59,6 @@ TEST(GraphBoxClip, EqualsTheExactMeshClipAndTheUprightSlab) {
     }
 }
 
-
 // The level search (GraphFlow::levelOffset: Brent's bracketRoot on the node's volume) against
 // the bisection it replaced (levelOffsetBisection, kept as the reference): box and sphere
 // nodes, random rotations, fills from empty to full. Both stop on a bracket of at most
@@ -81,7 +80,8 @@ TEST(GraphLevel, BracketRootAgreesWithTheBisectionReference) {
     double worst = 0;
     for (int k = 0; k < 600; ++k) {
         Eigen::Quaterniond q(normal(rng), normal(rng), normal(rng), normal(rng));
-        if (k % 3 == 0) q = Eigen::Quaterniond(Eigen::AngleAxisd(0.3 * normal(rng), Eigen::Vector3d::UnitX()));
+        if (k % 3 == 0)
+            q = Eigen::Quaterniond(Eigen::AngleAxisd(0.3 * normal(rng), Eigen::Vector3d::UnitX()));
         if (k % 7 == 0) q = Eigen::Quaterniond::Identity();
         q.normalize();
         const Eigen::Matrix3d R = q.toRotationMatrix();
@@ -105,7 +105,8 @@ TEST(GraphLevel, BracketRootAgreesWithTheBisectionReference) {
             }
         }
     }
-    std::printf("levelOffset against the bisection: worst %.2f of the 1e-12 (1 + |h|) bound\n", worst);
+    std::printf("levelOffset against the bisection: worst %.2f of the 1e-12 (1 + |h|) bound\n",
+                worst);
 }
 
 }  // namespace

@@ -161,9 +161,10 @@ namespace {
 /// One exchange pass's rates for the flow at (pose, R) with the node surfaces `nodeSurface`:
 /// the outside surface over every permeable point asked in one call (a game's water answers a
 /// batch far faster than one point at a time); on flat water only the points' heights.
-void exchangeRates(const std::vector<ev::ExchangePoint>& points, const Pose& pose, const ev::Mat3& R,
-                   const Water& water, double time, std::size_t nodes, const double* nodeSurface,
-                   const ev::GraphFlowSettings& s, ev::ExchangeRates& rates) {
+void exchangeRates(const std::vector<ev::ExchangePoint>& points, const Pose& pose,
+                   const ev::Mat3& R, const Water& water, double time, std::size_t nodes,
+                   const double* nodeSurface, const ev::GraphFlowSettings& s,
+                   ev::ExchangeRates& rates) {
     // Per thread: sized on a thread's first call, reused after.
     thread_local std::vector<ev::Vec3> world;
     thread_local std::vector<double> xs, ys, zs, surface;
@@ -171,8 +172,9 @@ void exchangeRates(const std::vector<ev::ExchangePoint>& points, const Pose& pos
     if (!water.heights && !water.height) {
         ev::exchangeHeights(points, R, pose.position.y, ys);
         const double level = water.level;
-        ev::exchangePass(points, ys.data(), [level](std::size_t) { return level; }, nodes,
-                         nodeSurface, s.torricelli, s.exchangeFactor(), rates);
+        ev::exchangePass(
+            points, ys.data(), [level](std::size_t) { return level; }, nodes, nodeSurface,
+            s.torricelli, s.exchangeFactor(), rates);
         return;
     }
     ev::exchangePositions(points, R, toEval(pose.position), world);
@@ -188,11 +190,13 @@ void exchangeRates(const std::vector<ev::ExchangePoint>& points, const Pose& pos
         }
         if (n > 0) water.heights(n, xs.data(), zs.data(), time, surface.data());
     } else {
-        for (std::size_t i = 0; i < n; ++i) surface[i] = water.heightAt(world[i].x, world[i].z, time);
+        for (std::size_t i = 0; i < n; ++i)
+            surface[i] = water.heightAt(world[i].x, world[i].z, time);
     }
     const double* f = surface.data();
-    ev::exchangePass(points, ys.data(), [f](std::size_t i) { return f[i]; }, nodes, nodeSurface,
-                     s.torricelli, s.exchangeFactor(), rates);
+    ev::exchangePass(
+        points, ys.data(), [f](std::size_t i) { return f[i]; }, nodes, nodeSurface, s.torricelli,
+        s.exchangeFactor(), rates);
 }
 
 }  // namespace

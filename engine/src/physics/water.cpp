@@ -21,10 +21,11 @@ namespace ev = plimsoll_eval;
 /// Every wave's constants (plimsoll_eval::water_detail::termsOf), worked out once per query
 /// rather than once per wave and fixed-point step; no allocation for up to 16 waves.
 ev::WaveTable waveTable(const WaterModel& water) {
-    return ev::WaveTable(water.waves, water.gravity, [](const GerstnerWave& w, double& x, double& z) {
-        x = w.direction.x();
-        z = w.direction.y();
-    });
+    return ev::WaveTable(water.waves, water.gravity,
+                         [](const GerstnerWave& w, double& x, double& z) {
+                             x = w.direction.x();
+                             z = w.direction.y();
+                         });
 }
 
 /// One value per wave without allocating for up to kMaxGerstnerWaves waves (a batch's tables).
@@ -54,8 +55,8 @@ double WaterModel::height(double x, double z, double time) const {
         case Kind::Flat:
             return level;
         case Kind::HeightField:
-            return level + ev::water_detail::gridHeight(grid.heights.data(), grid.countX, grid.countZ,
-                                                        grid.spacing, grid.origin.x(),
+            return level + ev::water_detail::gridHeight(grid.heights.data(), grid.countX,
+                                                        grid.countZ, grid.spacing, grid.origin.x(),
                                                         grid.origin.y(), x, z);
         case Kind::Gerstner: {
             const ev::WaveTable terms = waveTable(*this);

@@ -177,9 +177,9 @@ struct RotatedBox {
             int n[3], u[3], v[3];
         };
         static constexpr Face kFaces[6] = {
-            {{1, 0, 0}, {0, 0, -1}, {0, 1, 0}},  {{-1, 0, 0}, {0, 0, 1}, {0, 1, 0}},
-            {{0, 1, 0}, {1, 0, 0}, {0, 0, -1}},  {{0, -1, 0}, {1, 0, 0}, {0, 0, 1}},
-            {{0, 0, 1}, {1, 0, 0}, {0, 1, 0}},   {{0, 0, -1}, {-1, 0, 0}, {0, 1, 0}}};
+            {{1, 0, 0}, {0, 0, -1}, {0, 1, 0}}, {{-1, 0, 0}, {0, 0, 1}, {0, 1, 0}},
+            {{0, 1, 0}, {1, 0, 0}, {0, 0, -1}}, {{0, -1, 0}, {1, 0, 0}, {0, 0, 1}},
+            {{0, 0, 1}, {1, 0, 0}, {0, 1, 0}},  {{0, 0, -1}, {-1, 0, 0}, {0, 1, 0}}};
         static constexpr int kCorners[4][2] = {{0, 0}, {1, 0}, {1, 1}, {0, 1}};
         const Vec3 half = 0.5 * size;
         for (int face = 0; face < 6; ++face) {
@@ -253,7 +253,8 @@ struct RootBracket {
 /// quadratic interpolation and secant steps kept inside the bracket, bisection where they
 /// stall, and steps of at least `tolerance(b)` / 2, so that the bracket it returns (f(lo) < 0
 /// <= f(hi), the sides as a bisection on `f(mid) < 0` keeps them) is at most tolerance(b) wide
-/// (b its better end), as a bisection's stopping rule. f = 0 met exactly: lo = hi = that point. Only
+/// (b its better end), as a bisection's stopping rule. f = 0 met exactly: lo = hi = that point.
+/// Only
 /// +, -, *, / and comparisons: the same steps on every platform. A box's volume below a level
 /// is piecewise cubic and C1, where this takes about 6 to 10 evaluations against a bisection's
 /// 40 to 50.
@@ -293,8 +294,10 @@ RootBracket bracketRoot(F&& f, double lo, double hi, double fLo, double fHi, Tol
                 p = s * (2.0 * xm * qa * (qa - r) - (b - a) * (r - 1.0));
                 q = (qa - 1.0) * (r - 1.0) * (s - 1.0);
             }
-            if (p > 0.0) q = -q;
-            else p = -p;
+            if (p > 0.0)
+                q = -q;
+            else
+                p = -p;
             const double previous = e;
             e = d;
             if (2.0 * p < 3.0 * xm * q - std::abs(tol1 * q) && p < std::abs(0.5 * previous * q)) {
@@ -340,8 +343,8 @@ inline void exchangePositions(const std::vector<ExchangePoint>& points, const Ma
 }
 
 /// The world heights alone of exchangePositions (the same bits): all flat water needs.
-inline void exchangeHeights(const std::vector<ExchangePoint>& points, const Mat3& R,
-                            double originY, std::vector<double>& y) {
+inline void exchangeHeights(const std::vector<ExchangePoint>& points, const Mat3& R, double originY,
+                            std::vector<double>& y) {
     y.resize(points.size());
     for (std::size_t i = 0; i < points.size(); ++i) {
         const Vec3& p = points[i].position;
@@ -439,14 +442,13 @@ public:
     std::uint64_t randomState() const { return rng_; }
     /// Heap bytes the state holds beyond sizeof(GraphFlow).
     std::size_t memoryBytes() const {
-        std::size_t bytes = nodes_.capacity() * sizeof(GraphNodeState) +
-                            pipes_.capacity() * sizeof(GraphPipeState) +
-                            (length_.capacity() + radius_.capacity() + levels_.capacity()) * sizeof(double) +
-                            scaledBox_.capacity() * sizeof(Vec3) +
-                            pathOrder_.capacity() * sizeof(Link) +
-                            pathStack_.capacity() * sizeof(PathFrame) +
-                            memo_.capacity() * sizeof(LevelMemo) +
-                            links_.capacity() * sizeof(std::vector<Link>);
+        std::size_t bytes =
+            nodes_.capacity() * sizeof(GraphNodeState) +
+            pipes_.capacity() * sizeof(GraphPipeState) +
+            (length_.capacity() + radius_.capacity() + levels_.capacity()) * sizeof(double) +
+            scaledBox_.capacity() * sizeof(Vec3) + pathOrder_.capacity() * sizeof(Link) +
+            pathStack_.capacity() * sizeof(PathFrame) + memo_.capacity() * sizeof(LevelMemo) +
+            links_.capacity() * sizeof(std::vector<Link>);
         for (const std::vector<Link>& links : links_) bytes += links.capacity() * sizeof(Link);
         return bytes;
     }
@@ -658,7 +660,8 @@ public:
         if (!n.isBox()) {
             // Sphere cap of height h: centroid 3 (2R - h)^2 / (4 (3R - h)) below the centre.
             const double r = radius_[node];
-            const double offset = water == n.water ? currentOffset(node, R) : levelOffset(node, water, R);
+            const double offset =
+                water == n.water ? currentOffset(node, R) : levelOffset(node, water, R);
             const double h = std::clamp(offset + r, 0.0, 2.0 * r);
             const double below =
                 h > 0 ? 3.0 * (2.0 * r - h) * (2.0 * r - h) / (4.0 * (3.0 * r - h)) : r;
@@ -689,8 +692,10 @@ public:
             if (!(w > 0)) continue;
             const double m = s.density * w;
             const Vec3 c = waterCentroid(i, w, R, s);
-            if (count < kLocal) local[count] = {m, c};
-            else spill.emplace_back(m, c);
+            if (count < kLocal)
+                local[count] = {m, c};
+            else
+                spill.emplace_back(m, c);
             ++count;
             p.mass += m;
             p.volume += w;
@@ -872,9 +877,9 @@ private:
             if (!(fLo < 0.0)) {
                 hi = lo;  // the sum reaches the total at the lower level already
             } else if (const double fHi = excess(hi); !(fHi < 0.0)) {
-                hi = bracketRoot(excess, lo, hi, fLo, fHi,
-                                 [](double x) { return 1e-13 * (1.0 + std::abs(x)); })
-                         .hi;
+                hi = bracketRoot(excess, lo, hi, fLo, fHi, [](double x) {
+                         return 1e-13 * (1.0 + std::abs(x));
+                     }).hi;
             }
             const double equalise = std::max(0.0, a.water - va(hi - ha));
             double amount = std::min({rate * dt, equalise, a.water, b.capacity - b.water});

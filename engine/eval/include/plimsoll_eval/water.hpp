@@ -78,8 +78,8 @@ inline double phaseAt(const WaveTerms& t, double x0, double z0, double time) {
 
 /// Three fixed-point steps x0 <- x + sum Q A D sin(theta(x0)) (contracting for steepness < 1):
 /// the undisplaced point whose surface point lies above (x, z).
-inline void undisplaced(const WaveTerms* terms, std::size_t count, double x, double z,
-                        double time, double& x0, double& z0) {
+inline void undisplaced(const WaveTerms* terms, std::size_t count, double x, double z, double time,
+                        double& x0, double& z0) {
     x0 = x;
     z0 = z;
     for (int iteration = 0; iteration < 3; ++iteration) {
@@ -178,7 +178,9 @@ public:
                                              gravity, count_);
         }
     }
-    const water_detail::WaveTerms* data() const { return count_ > kInline ? spill_.data() : inline_; }
+    const water_detail::WaveTerms* data() const {
+        return count_ > kInline ? spill_.data() : inline_;
+    }
     std::size_t size() const { return count_; }
     const water_detail::WaveTerms& operator[](std::size_t i) const { return data()[i]; }
 
@@ -206,7 +208,8 @@ inline double waterHeight(const WaterModelDesc& water, const std::vector<water_d
         case WaterModelDesc::Kind::HeightGrid:
             return water.level + water_detail::gridHeight(water.grid, x, z);
         case WaterModelDesc::Kind::Gerstner:
-            return water_detail::gerstnerHeight(terms.data(), terms.size(), water.level, x, z, time);
+            return water_detail::gerstnerHeight(terms.data(), terms.size(), water.level, x, z,
+                                                time);
     }
     return water.level;
 }
