@@ -188,6 +188,17 @@ protected:
         return out;
     }
 
+    /// The sample box with strong damping: it comes to rest, and sleeps, within seconds.
+    static Project dampedBox() {
+        Result<Project> loaded = loadProject(root() / "projects" / "box_half_draft.plim.json");
+        EXPECT_TRUE(loaded.ok()) << loaded.error().message;
+        Project project = loaded.ok() ? *loaded : Project{};
+        project.fileStem = "box_half_draft+damped";
+        project.bodies[0].linearDamping = 4.0;
+        project.bodies[0].angularDamping = 4.0;
+        return project;
+    }
+
     /// The bundle of `project`'s body, exported once per process.
     static fs::path exported(const Project& project) {
         const fs::path folder = root() / "out" / project.fileStem;
@@ -244,12 +255,7 @@ TEST_F(RuntimeTrajectory, EverySampleProjectFollowsTheWorld) {
 // Sleeping: a damped box comes to rest; the runtime's Simulation falls asleep on the World's
 // frame, stays where the World holds it, and a snapshot taken asleep restores asleep.
 TEST_F(RuntimeTrajectory, ARestingBodySleepsOnTheWorldsFrame) {
-    Result<Project> loaded = loadProject(root() / "projects" / "box_half_draft.plim.json");
-    ASSERT_TRUE(loaded.ok()) << loaded.error().message;
-    Project project = *loaded;
-    project.fileStem = "box_half_draft+damped";
-    project.bodies[0].linearDamping = 4.0;
-    project.bodies[0].angularDamping = 4.0;
+    const Project project = dampedBox();
     const fs::path folder = exported(project);
     std::string error;
     std::unique_ptr<rt::Bundle> bundle = rt::loadBundle(folder.string(), error);
@@ -623,12 +629,7 @@ TEST_F(RuntimeTrajectory, AnInstanceRestoredAtARandomStepContinuesBitForBit) {
 // a look at the water a step and leave their states alone; a velocity the game gives, a pose it
 // sets, the water rising or plimsoll_instance_wake wake one; the sleep state is in the snapshot.
 TEST_F(RuntimeTrajectory, InstancesSleepAtRestAndWakeOnTheGamesPushOrTheWater) {
-    Result<Project> loaded = loadProject(root() / "projects" / "box_half_draft.plim.json");
-    ASSERT_TRUE(loaded.ok()) << loaded.error().message;
-    Project project = *loaded;
-    project.fileStem = "box_half_draft+damped";
-    project.bodies[0].linearDamping = 4.0;
-    project.bodies[0].angularDamping = 4.0;
+    const Project project = dampedBox();
     const BundleHandle bundle = loadC(exported(project));
     ASSERT_TRUE(bundle);
     constexpr int kBodies = 3;

@@ -254,6 +254,15 @@ bool stepBodyWith(Body& body, BodyState& state, RadiationMemory* memory, const W
 
 namespace {
 
+bool samePose(const Pose& a, const Pose& b) {
+    return a.position.x == b.position.x && a.position.y == b.position.y &&
+           a.position.z == b.position.z && a.orientation.w == b.orientation.w &&
+           a.orientation.x == b.orientation.x && a.orientation.y == b.orientation.y &&
+           a.orientation.z == b.orientation.z;
+}
+
+}  // namespace
+
 plimsoll_eval::SleepSettings sleepSettingsOf(const BundleWorld::Sleep& s) {
     plimsoll_eval::SleepSettings out;
     out.enabled = s.enabled;
@@ -265,15 +274,6 @@ plimsoll_eval::SleepSettings sleepSettingsOf(const BundleWorld::Sleep& s) {
     out.wakeHeight = s.wakeHeight;
     return out;
 }
-
-bool samePose(const Pose& a, const Pose& b) {
-    return a.position.x == b.position.x && a.position.y == b.position.y &&
-           a.position.z == b.position.z && a.orientation.w == b.orientation.w &&
-           a.orientation.x == b.orientation.x && a.orientation.y == b.orientation.y &&
-           a.orientation.z == b.orientation.z;
-}
-
-}  // namespace
 
 void surfaceAbove(const Water& water, const Vec3& point, double time, double& height,
                   double& speed) {

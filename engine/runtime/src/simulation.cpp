@@ -333,22 +333,6 @@ void Simulation::composeWater(const Quat& at) {
     boundingRadius_ = hullRadius_ + norm(mass_.centerOfMass - hull_.centerOfMass);
 }
 
-namespace {
-
-plimsoll_eval::SleepSettings sleepSettings(const BundleWorld::Sleep& s) {
-    plimsoll_eval::SleepSettings out;
-    out.enabled = s.enabled;
-    out.linearSpeed = s.linearSpeed;
-    out.angularSpeed = s.angularSpeed;
-    out.linearAcceleration = s.linearAcceleration;
-    out.angularAcceleration = s.angularAcceleration;
-    out.restTime = s.restTime;
-    out.wakeHeight = s.wakeHeight;
-    return out;
-}
-
-}  // namespace
-
 void Simulation::wake() {
     asleep_ = false;
     restedFor_ = 0;
@@ -356,7 +340,7 @@ void Simulation::wake() {
 
 bool Simulation::advanceFrame(const Water& water, std::string& error) {
     const double frameTime = bundle_.world().timeStep;
-    const plimsoll_eval::SleepSettings sleep = sleepSettings(bundle_.world().sleep);
+    const plimsoll_eval::SleepSettings sleep = sleepSettingsOf(bundle_.world().sleep);
     plimsoll_eval::SleepState rest{asleep_, restedFor_, sleepHeight_};
     double height = 0, speed = 0;
     if (asleep_) {
