@@ -119,8 +119,8 @@ WaterModel benchWaves() {
     return water;
 }
 
-constexpr double kLodSpread = 1000.0;   ///< m, the side of the square the bodies cover
-constexpr double kLodNear = 50.0;       ///< m, the distance policy's nearDistance
+constexpr double kLodSpread = 1000.0;  ///< m, the side of the square the bodies cover
+constexpr double kLodNear = 50.0;      ///< m, the distance policy's nearDistance
 
 struct LodRow {
     std::string name;
@@ -164,7 +164,10 @@ Result<Scene> spreadBoxes(int count) {
 }
 
 int bandOf(double distance) {
-    return distance <= kLodNear ? 0 : distance <= 2 * kLodNear ? 1 : distance <= 4 * kLodNear ? 2 : 3;
+    return distance <= kLodNear       ? 0
+           : distance <= 2 * kLodNear ? 1
+           : distance <= 4 * kLodNear ? 2
+                                      : 3;
 }
 
 Result<LodRow> measureLod(const Scene& scene, bool lod, int frames) {
@@ -256,9 +259,9 @@ int runLodBench(const BenchOptions& o, int count, int frames) {
         }
         rows.push_back(*row);
     }
-    std::vector<std::vector<std::string>> lines{
-        {"scene", "bodies", "ms/frame", "ms/sub-step", "evaluations/frame", "at 64/32/16",
-         "error <=50 m", "<=100 m", "<=200 m", "beyond"}};
+    std::vector<std::vector<std::string>> lines{{"scene", "bodies", "ms/frame", "ms/sub-step",
+                                                 "evaluations/frame", "at 64/32/16", "error <=50 m",
+                                                 "<=100 m", "<=200 m", "beyond"}};
     std::ostringstream csv;
     csv << "scene,bodies,frame_ms,substep_ms,evaluations_per_frame,at_64,at_32,at_16,"
            "error_50m,error_100m,error_200m,error_beyond,bodies_50m\n";
@@ -267,11 +270,13 @@ int runLodBench(const BenchOptions& o, int count, int frames) {
             const auto it = r.atLevel.find(size);
             return it == r.atLevel.end() ? 0 : it->second;
         };
-        std::vector<std::string> line{r.name, std::to_string(r.bodies), format("%.3f", r.frameMs),
-                                      format("%.3f", r.frameMs / r.subSteps),
-                                      format("%.1f", r.evaluationsPerFrame),
-                                      std::to_string(at(64)) + "/" + std::to_string(at(32)) + "/" +
-                                          std::to_string(at(16))};
+        std::vector<std::string> line{
+            r.name,
+            std::to_string(r.bodies),
+            format("%.3f", r.frameMs),
+            format("%.3f", r.frameMs / r.subSteps),
+            format("%.1f", r.evaluationsPerFrame),
+            std::to_string(at(64)) + "/" + std::to_string(at(32)) + "/" + std::to_string(at(16))};
         for (int b = 0; b < 4; ++b) line.push_back(format("%.2e", r.bandError[b]));
         lines.push_back(line);
         csv << '"' << r.name << "\"," << r.bodies << ',' << r.frameMs << ','
@@ -282,10 +287,10 @@ int runLodBench(const BenchOptions& o, int count, int frames) {
     }
     printAligned(lines, 1);
     if (rows[0].frameMs > 0) {
-        std::printf("by distance, a frame costs %.1f%% of the fixed 64^2 frame; %d bodies within "
-                    "50 m, their force %.2e of rho g V from their 64^2 result\n",
-                    100.0 * rows[1].frameMs / rows[0].frameMs, rows[1].bandBodies[0],
-                    rows[1].bandError[0]);
+        std::printf(
+            "by distance, a frame costs %.1f%% of the fixed 64^2 frame; %d bodies within "
+            "50 m, their force %.2e of rho g V from their 64^2 result\n",
+            100.0 * rows[1].frameMs / rows[0].frameMs, rows[1].bandBodies[0], rows[1].bandError[0]);
     }
     const fs::path file = fs::path(o.out) / "bench_scene_lod.csv";
     if (Status s = writeFileAtomically(

@@ -294,10 +294,10 @@ TEST(Project, RadiationSettingsRoundTripAndAreChecked) {
 }
 
 TEST(Project, LevelLadderRoundTripsAndIsChecked) {
-    const Project project = loaded(parseProject(
-        withBody(R"({"mesh": "a.obj", "material": {"density": 600}, "texture_size": 64,
+    const Project project = loaded(
+        parseProject(withBody(R"({"mesh": "a.obj", "material": {"density": 600}, "texture_size": 64,
                      "lod": {"levels": [16, 32]}})"),
-        "scene", "/scenes"));
+                     "scene", "/scenes"));
     ASSERT_TRUE(project.bodies[0].lod);
     EXPECT_EQ(project.bodies[0].lod->levels, (std::vector<int>{16, 32}));
     EXPECT_EQ(loaded(parseProject(projectToJson(project), "again", "/scenes")), project);

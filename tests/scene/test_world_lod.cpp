@@ -72,8 +72,8 @@ TEST(LevelLadder, IsTrueBakesWithTheirStatedErrorsAndKeepsTheMass) {
     EXPECT_EQ(laddered.mass->centerOfMass, plain.mass->centerOfMass);
     for (const BuoyancyLevel& level : levels) {
         std::printf("  %d^2: %zu entries, force error %.2e, torque error %.2e, %.2f us\n",
-                    level.size, level.textures->coveredCount(), level.forceError,
-                    level.torqueError, level.evaluationUs);
+                    level.size, level.textures->coveredCount(), level.forceError, level.torqueError,
+                    level.evaluationUs);
         EXPECT_GT(level.forceError, 0.0);
         EXPECT_LT(level.forceError, 0.05);
         EXPECT_GT(level.evaluationUs, 0.0);
@@ -101,7 +101,8 @@ TEST(LevelLadder, CoarsenessFollowsTheDistanceWithHysteresis) {
 }
 
 TEST(WorldLod, TheLevelFollowsTheDistancePolicyAndDoesNotFlipWithinTheMargin) {
-    std::unique_ptr<World> world = test::fastWorldOrFail(sceneOf({boxBody(64, {16, 32}, 9.0, 4.0)}));
+    std::unique_ptr<World> world =
+        test::fastWorldOrFail(sceneOf({boxBody(64, {16, 32}, 9.0, 4.0)}));
     ASSERT_TRUE(world);
     EXPECT_EQ(world->bodies()[0].levelSize, 64);  // the finest until a policy says otherwise
     LevelPolicy policy;
@@ -157,8 +158,9 @@ TEST(WorldLod, TheBudgetPolicyGivesTheNearestBodiesTheFinestLevelItPaysFor) {
     LevelPolicy policy;
     policy.kind = LevelPolicy::Kind::budget;
     // All at the coarsest, and the finest for one body (the nearest, body 0).
-    policy.budgetUs = subSteps * (4 * levels[0].evaluationUs +
-                                  (levels[2].evaluationUs - levels[0].evaluationUs)) * 1.001;
+    policy.budgetUs =
+        subSteps *
+        (4 * levels[0].evaluationUs + (levels[2].evaluationUs - levels[0].evaluationUs)) * 1.001;
     ASSERT_TRUE(world->setLevelPolicy(policy).ok());
     ASSERT_TRUE(world->advanceFrame().ok());
     EXPECT_EQ(world->bodies()[0].levelSize, 64);
@@ -175,7 +177,8 @@ struct Jumps {
     std::size_t switches = 0;
 };
 Jumps accelerationJumps(WaterModel water, bool switching, int frames, double& bound) {
-    std::unique_ptr<World> world = test::fastWorldOrFail(sceneOf({boxBody(64, {16}, 0.0, 1.0)}, std::move(water)));
+    std::unique_ptr<World> world =
+        test::fastWorldOrFail(sceneOf({boxBody(64, {16}, 0.0, 1.0)}, std::move(water)));
     if (!world) return {};
     const std::vector<BuoyancyLevel>& levels = *world->levels(0);
     const SimulatedBody& body = world->bodies()[0];
@@ -195,7 +198,8 @@ Jumps accelerationJumps(WaterModel water, bool switching, int frames, double& bo
         EXPECT_TRUE(world->advanceFrame().ok());
         const Eigen::Vector3d velocity = linearVelocity(body.state, body.mass);
         const Eigen::Vector3d acceleration = (velocity - lastVelocity) / dt;
-        if (f >= kSettled) jumps.largest = std::max(jumps.largest, (acceleration - lastAcceleration).norm());
+        if (f >= kSettled)
+            jumps.largest = std::max(jumps.largest, (acceleration - lastAcceleration).norm());
         lastVelocity = velocity;
         lastAcceleration = acceleration;
     }
@@ -213,9 +217,10 @@ TEST(WorldLod, SwitchingEverySecondOnWavesNeverJumpsBeyondTheCoarserLevelsError)
         const Jumps fixed = accelerationJumps(water, false, 780, bound);
         const Jumps switching = accelerationJumps(water, true, 780, bound);
         EXPECT_GE(switching.switches, 12u);
-        std::printf("  %s: largest jump %.3e m/s^2 switching, %.3e fixed; bound (16^2 force "
-                    "error / mass) %.3e\n",
-                    onWaves ? "waves" : "flat", switching.largest, fixed.largest, bound);
+        std::printf(
+            "  %s: largest jump %.3e m/s^2 switching, %.3e fixed; bound (16^2 force "
+            "error / mass) %.3e\n",
+            onWaves ? "waves" : "flat", switching.largest, fixed.largest, bound);
         EXPECT_LE(switching.largest, fixed.largest + bound);
     }
 }

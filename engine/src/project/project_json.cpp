@@ -286,12 +286,28 @@ private:
 
     void readBody(const Json& value, const std::string& path, BodyDesc& body) {
         if (!expectObject(value, path,
-                          {"name", "mesh", "mesh_frames", "frames_per_second", "texture_size",
-                           "max_texel_stretch", "material", "position", "rotation_deg",
-                           "velocity", "angular_velocity", "drag_coefficient",
-                           "friction_coefficient", "linear_damping", "angular_damping",
-                           "permeability_map", "water_graph", "atlas", "openings", "radiation",
-                           "unit", "lod"})) {
+                          {"name",
+                           "mesh",
+                           "mesh_frames",
+                           "frames_per_second",
+                           "texture_size",
+                           "max_texel_stretch",
+                           "material",
+                           "position",
+                           "rotation_deg",
+                           "velocity",
+                           "angular_velocity",
+                           "drag_coefficient",
+                           "friction_coefficient",
+                           "linear_damping",
+                           "angular_damping",
+                           "permeability_map",
+                           "water_graph",
+                           "atlas",
+                           "openings",
+                           "radiation",
+                           "unit",
+                           "lod"})) {
             return;
         }
         string(value, path, "name", body.name);

@@ -62,7 +62,8 @@ double evaluationCost(const SurfaceTextures& textures, const Eigen::Vector3d& ce
         double elapsed = 0;
         while (elapsed < 2e-3) {
             frame.time = 1e-3 * count;
-            const BuoyancyResult r = evaluateBuoyancyFast(body, frame, water, FluidSettings{}, scratch);
+            const BuoyancyResult r =
+                evaluateBuoyancyFast(body, frame, water, FluidSettings{}, scratch);
             if (!std::isfinite(r.submergedVolume)) break;
             ++count;
             elapsed = std::chrono::duration<double>(Clock::now() - start).count();
@@ -89,10 +90,11 @@ Result<std::vector<int>> ladderSizes(std::vector<int> levels, int textureSize) {
     return levels;
 }
 
-Result<std::vector<BuoyancyLevel>> bakeLevelLadder(
-    const TriangleMesh& mesh, const std::vector<int>& sizes, int finestSize,
-    std::shared_ptr<const SurfaceTextures> finest, const BakeSettings& settings,
-    const Eigen::Vector3d& centerOfMass) {
+Result<std::vector<BuoyancyLevel>> bakeLevelLadder(const TriangleMesh& mesh,
+                                                   const std::vector<int>& sizes, int finestSize,
+                                                   std::shared_ptr<const SurfaceTextures> finest,
+                                                   const BakeSettings& settings,
+                                                   const Eigen::Vector3d& centerOfMass) {
     const std::vector<LevelPose> poses = levelErrorPoses(mesh, centerOfMass);
     const FluidSettings fluid;
     const WaterModel flatWater = WaterModel::flat(0.0);
@@ -103,7 +105,8 @@ Result<std::vector<BuoyancyLevel>> bakeLevelLadder(
         exact.push_back(evaluateBuoyancyExact(mesh, frameAt(p, centerOfMass), p.waterLevel, fluid));
         volume = std::max(volume, exact.back().submergedVolume);
     }
-    for (const Eigen::Vector3d& v : mesh.positions) radius = std::max(radius, (v - centerOfMass).norm());
+    for (const Eigen::Vector3d& v : mesh.positions)
+        radius = std::max(radius, (v - centerOfMass).norm());
     const double forceScale = fluid.density * fluid.gravity * volume;
     const double torqueScale = forceScale * radius;
     std::vector<BuoyancyLevel> ladder;
@@ -117,7 +120,8 @@ Result<std::vector<BuoyancyLevel>> bakeLevelLadder(
             s.size = size;
             s.progress = {};
             Result<SurfaceTextures> baked = bakeSurfaceTextures(mesh, s);
-            if (!baked) return withContext("lod level " + std::to_string(size) + ": ", baked.error());
+            if (!baked)
+                return withContext("lod level " + std::to_string(size) + ": ", baked.error());
             level.textures = std::make_shared<const SurfaceTextures>(std::move(*baked));
         }
         for (std::size_t i = 0; i < poses.size(); ++i) {
@@ -127,8 +131,9 @@ Result<std::vector<BuoyancyLevel>> bakeLevelLadder(
                 *level.textures, frameAt(poses[i], centerOfMass), water, fluid);
             const BuoyancyResult& x = exact[i];
             if (forceScale > 0) {
-                level.forceError = std::max({level.forceError, (r.force - x.force).norm() / forceScale,
-                                             (r.pressureForce - x.pressureForce).norm() / forceScale});
+                level.forceError =
+                    std::max({level.forceError, (r.force - x.force).norm() / forceScale,
+                              (r.pressureForce - x.pressureForce).norm() / forceScale});
             }
             if (torqueScale > 0) {
                 level.torqueError =

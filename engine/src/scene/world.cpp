@@ -589,7 +589,9 @@ Status World::recomputeMass(std::size_t i) {
         if (const Detail* d = details_[i].get()) {
             // Every level's entries are relative to the centre of mass, which moved.
             for (std::size_t k = 0; k < d->ids.size(); ++k) {
-                if (Status s = b.updateBody(d->ids[k], *(*d->levels)[k].textures, body.backendCenter); !s.ok())
+                if (Status s =
+                        b.updateBody(d->ids[k], *(*d->levels)[k].textures, body.backendCenter);
+                    !s.ok())
                     return s;
             }
             return Ok{};
@@ -839,7 +841,8 @@ int World::targetLevel(std::size_t i, const Detail& d, const std::vector<int>& b
         return finest - coarsenessAt(distance, p.nearDistance, p.margin, finest - d.level, finest);
     };
     switch (p.kind) {
-        case LevelPolicy::Kind::finest: return finest;
+        case LevelPolicy::Kind::finest:
+            return finest;
         case LevelPolicy::Kind::distance:
             return byDistance((bodies_[i].state.position - p.pointOfInterest).norm());
         case LevelPolicy::Kind::importance: {
@@ -849,7 +852,8 @@ int World::targetLevel(std::size_t i, const Detail& d, const std::vector<int>& b
             return byDistance(importance > 0 ? p.nearDistance / (importance * std::numbers::sqrt2)
                                              : std::numeric_limits<double>::infinity());
         }
-        case LevelPolicy::Kind::budget: return budgetLevels[i];
+        case LevelPolicy::Kind::budget:
+            return budgetLevels[i];
     }
     return finest;
 }
@@ -875,7 +879,8 @@ Status World::chooseLevels(int subSteps) {
         for (const auto& [distance, i] : order) {
             const std::vector<BuoyancyLevel>& levels = *details_[i]->levels;
             for (int k = static_cast<int>(levels.size()) - 1; k > 0; --k) {
-                const double extra = (levels[k].evaluationUs - levels.front().evaluationUs) * subSteps;
+                const double extra =
+                    (levels[k].evaluationUs - levels.front().evaluationUs) * subSteps;
                 if (spent + extra <= p.budgetUs) {
                     spent += extra;
                     budgetLevels[i] = k;
@@ -913,7 +918,8 @@ Status World::chooseLevels(int subSteps) {
         // Both levels at the same state: their difference is faded out from here.
         Switch sw{i, from, BuoyancyResult{}};
         sw.carried.centerOfBuoyancy.setZero();
-        if (d->blendLeft > 0) addScaled(sw.carried, d->offset, static_cast<double>(d->blendLeft) / d->blendSteps);
+        if (d->blendLeft > 0)
+            addScaled(sw.carried, d->offset, static_cast<double>(d->blendLeft) / d->blendSteps);
         requests.push_back(requestFor(body, body.state, time_));  // its id set below
         requests.push_back(requestFor(body, body.state, time_));
         switching.push_back(sw);

@@ -49,10 +49,11 @@ std::vector<LevelPose> levelErrorPoses(const TriangleMesh& mesh,
 /// Bakes `mesh` at each of `sizes` (ascending, unique) except `finestSize`, whose bake
 /// `finest` is taken as it is, and measures each level's error about `centerOfMass` (object
 /// space, the body's own mass properties') and its cost. Coarsest first, finest last.
-Result<std::vector<BuoyancyLevel>> bakeLevelLadder(
-    const TriangleMesh& mesh, const std::vector<int>& sizes, int finestSize,
-    std::shared_ptr<const SurfaceTextures> finest, const BakeSettings& settings,
-    const Eigen::Vector3d& centerOfMass);
+Result<std::vector<BuoyancyLevel>> bakeLevelLadder(const TriangleMesh& mesh,
+                                                   const std::vector<int>& sizes, int finestSize,
+                                                   std::shared_ptr<const SurfaceTextures> finest,
+                                                   const BakeSettings& settings,
+                                                   const Eigen::Vector3d& centerOfMass);
 
 /// The ladder's sizes for a body: `levels` sorted, made unique, `textureSize` added; refuses a
 /// size outside kMinTextureSize..textureSize, naming it.

@@ -85,9 +85,10 @@ struct Scene {
 };
 
 /// Bakes `desc`'s textures over parts.mesh (recording the pieces of a deforming body), its
-/// level ladder where desc.lod asks for one, and computes the mass properties of its material: what World, the editor's preview and the
-/// bundle export all simulate or write. Refuses parts that do not fit `desc` (no mesh, frames
-/// without mesh_frames or the reverse, a water graph missing). Errors start with the label.
+/// level ladder where desc.lod asks for one, and computes the mass properties of its material: what
+/// World, the editor's preview and the bundle export all simulate or write. Refuses parts that do
+/// not fit `desc` (no mesh, frames without mesh_frames or the reverse, a water graph missing).
+/// Errors start with the label.
 Result<SceneBody> bakeSceneBody(BodyDesc desc, BodyParts parts);
 
 /// Mass properties of `material` on `textures`: a solid of uniform density (V = sum A_y y) and

@@ -102,8 +102,8 @@ struct LevelPolicy {
     /// starts at its coarsest level, then the bodies nearest pointOfInterest take the finest
     /// level the rest of the budget pays for, one after the other (greedy).
     double budgetUs = 0;
-    int holdFrames = 30;   ///< at least this many frames between two switches of a body
-    int blendFrames = 8;   ///< frames over which a switch's force is blended, >= 1
+    int holdFrames = 30;  ///< at least this many frames between two switches of a body
+    int blendFrames = 8;  ///< frames over which a switch's force is blended, >= 1
 };
 
 /// Counters of what the world did and did not compute (for logs, tests and the editor).
