@@ -619,6 +619,80 @@ TEST_F(RuntimeTrajectory, AnInstanceRestoredAtARandomStepContinuesBitForBit) {
     }
 }
 
+// Sleeping instances: stepped by the batch, damped boxes at rest on calm water fall asleep, cost
+// a look at the water a step and leave their states alone; a velocity the game gives, a pose it
+// sets, the water rising or plimsoll_instance_wake wake one; the sleep state is in the snapshot.
+TEST_F(RuntimeTrajectory, InstancesSleepAtRestAndWakeOnTheGamesPushOrTheWater) {
+    Result<Project> loaded = loadProject(root() / "projects" / "box_half_draft.plim.json");
+    ASSERT_TRUE(loaded.ok()) << loaded.error().message;
+    Project project = *loaded;
+    project.fileStem = "box_half_draft+damped";
+    project.bodies[0].linearDamping = 4.0;
+    project.bodies[0].angularDamping = 4.0;
+    const BundleHandle bundle = loadC(exported(project));
+    ASSERT_TRUE(bundle);
+    constexpr int kBodies = 3;
+    std::vector<InstanceHandle> owned;
+    std::vector<plimsoll_instance*> instances;
+    std::vector<plimsoll_body_state> states;
+    for (int i = 0; i < kBodies; ++i) {
+        owned.push_back(instanceOf(bundle.get()));
+        instances.push_back(owned.back().get());
+        states.push_back(startState(0.0, i));
+    }
+    plimsoll_batch* batch = plimsoll_batch_create(nullptr);
+    ASSERT_TRUE(batch);
+    plimsoll_water water{};
+    const double dt = 1.0 / 120.0;
+    double t = 0;
+    auto step = [&](const plimsoll_water& w) {
+        ASSERT_EQ(plimsoll_batch_instance_step(batch, kBodies, instances.data(), states.data(), &w,
+                                               nullptr, t, dt),
+                  1)
+            << plimsoll_runtime_last_error();
+        t += dt;
+    };
+    for (int s = 0;
+         s < 120 * 20 && !std::all_of(instances.begin(), instances.end(),
+                                      [](auto* i) { return plimsoll_instance_asleep(i) == 1; });
+         ++s)
+        step(water);
+    for (plimsoll_instance* i : instances) ASSERT_EQ(plimsoll_instance_asleep(i), 1);
+    // Asleep: the states stay, bit for bit, and the velocities are zero.
+    const std::vector<plimsoll_body_state> rest = states;
+    for (int s = 0; s < 60; ++s) step(water);
+    for (int i = 0; i < kBodies; ++i) {
+        EXPECT_TRUE(sameBits(states[i], rest[i])) << i;
+        EXPECT_EQ(states[i].velocity.linear[1], 0.0);
+    }
+    // Snapshot of a sleeping instance: restored into a fresh one, it sleeps too.
+    std::vector<std::uint8_t> bytes(4096);
+    std::size_t size = 0;
+    ASSERT_EQ(plimsoll_instance_save(instances[0], bytes.data(), bytes.size(), &size), 1);
+    const InstanceHandle copy = instanceOf(bundle.get());
+    ASSERT_EQ(plimsoll_instance_restore(copy.get(), bytes.data(), size), 1);
+    EXPECT_EQ(plimsoll_instance_asleep(copy.get()), 1);
+    EXPECT_EQ(plimsoll_instance_state_hash(copy.get()), plimsoll_instance_state_hash(instances[0]));
+    // The game pushes body 0 (a velocity), moves body 1 (a pose): both wake; body 2 sleeps on.
+    states[0].velocity.linear[0] = 0.5;
+    states[1].pose.position[0] += 2.0;
+    step(water);
+    EXPECT_EQ(plimsoll_instance_asleep(instances[0]), 0);
+    EXPECT_EQ(plimsoll_instance_asleep(instances[1]), 0);
+    EXPECT_EQ(plimsoll_instance_asleep(instances[2]), 1);
+    EXPECT_GT(states[0].pose.position[0], rest[0].pose.position[0]);
+    // The water rising 1 cm wakes body 2; and plimsoll_instance_wake wakes a sleeping copy.
+    plimsoll_water raised{};
+    raised.level = 0.01;
+    step(raised);
+    EXPECT_EQ(plimsoll_instance_asleep(instances[2]), 0);
+    EXPECT_EQ(plimsoll_instance_wake(copy.get()), 1);
+    EXPECT_EQ(plimsoll_instance_asleep(copy.get()), 0);
+    EXPECT_EQ(plimsoll_instance_asleep(nullptr), 0);
+    EXPECT_NE(std::string(plimsoll_runtime_last_error()).find("NULL"), std::string::npos);
+    plimsoll_batch_destroy(batch);
+}
+
 // A batch steps its instances with the same bits whatever its thread count and the order of
 // the instances in the call: each body's step reads only its own state and the shared bundle.
 TEST_F(RuntimeTrajectory, ABatchGivesTheSameBitsWhateverItsThreadsAndOrder) {

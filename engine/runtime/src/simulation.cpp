@@ -6,6 +6,7 @@
 #include "plimsoll_runtime/runtime.hpp"
 
 #include "bytes.hpp"
+#include "motion.hpp"
 #include "vec.hpp"
 
 #include "plimsoll_eval/sleep.hpp"
@@ -344,23 +345,6 @@ plimsoll_eval::SleepSettings sleepSettings(const BundleWorld::Sleep& s) {
     out.restTime = s.restTime;
     out.wakeHeight = s.wakeHeight;
     return out;
-}
-
-/// The water's surface above `point`: its height and the water's speed there (World's
-/// surfaceAbove).
-void surfaceAbove(const Water& water, const Vec3& point, double time, double& height,
-                  double& speed) {
-    height = water.heightAt(point.x, point.z, time);
-    const Vec3 at{point.x, height, point.z};
-    Vec3 u{0, 0, 0};
-    if (water.velocities) {
-        double out[3] = {0, 0, 0};
-        water.velocities(1, &at.x, &at.y, &at.z, time, out);
-        u = {out[0], out[1], out[2]};
-    } else if (water.velocity) {
-        u = water.velocity(at, time);
-    }
-    speed = norm(u);
 }
 
 }  // namespace

@@ -151,15 +151,38 @@ bool readStart(Members& r, const json::Value& o, const std::string& at, BundleWo
 
 }  // namespace
 
+namespace {
+
+/// The model's wave terms (no allocation for up to 16 waves).
+ev::WaveTable waveTable(const WaterModel& w) {
+    return ev::WaveTable(w.waves, w.gravity, [](const WaterModel::Wave& v, double& x, double& z) {
+        x = v.direction[0];
+        z = v.direction[1];
+    });
+}
+
+}  // namespace
+
 double WaterModel::height(double x, double z, double time) const {
-    const ev::WaterModelDesc d = describe(*this);
-    return ev::waterHeight(d, ev::waveTerms(d), x, z, time);
+    switch (kind) {
+        case Kind::Flat:
+            return level;
+        case Kind::HeightGrid:
+            return level + ev::water_detail::gridHeight(heights.data(), countX, countZ, spacing,
+                                                        originX, originZ, x, z);
+        case Kind::Gerstner: {
+            const ev::WaveTable terms = waveTable(*this);
+            return ev::water_detail::gerstnerHeight(terms.data(), terms.size(), level, x, z, time);
+        }
+    }
+    return level;
 }
 
 Vec3 WaterModel::velocity(const Vec3& p, double time) const {
-    const ev::WaterModelDesc d = describe(*this);
+    if (kind != Kind::Gerstner) return {0, 0, 0};
+    const ev::WaveTable terms = waveTable(*this);
     double out[3];
-    ev::waterVelocity(d, ev::waveTerms(d), p.x, p.y, p.z, time, out);
+    ev::water_detail::gerstnerVelocity(terms.data(), terms.size(), level, p.x, p.y, p.z, time, out);
     return {out[0], out[1], out[2]};
 }
 

@@ -556,10 +556,26 @@ public:
     /// Bytes the instance holds (not the shared bundle).
     std::uint64_t memoryBytes() const;
 
+    /// Stepped by stepBody, the body sleeps at rest on calm water as the editor's World's
+    /// bodies do (the bundle's world().sleep; never for a bundle before 1.5): a step then costs
+    /// one look at the water above it and leaves the state as it is. It wakes when that water
+    /// moves or rises, when the game changes its pose or gives it a velocity, or on wake().
+    /// A game whose own engine integrates (waterLoad) uses the engine's sleeping instead.
+    bool asleep() const { return sleep_.asleep; }
+    void wake();
+
 private:
+    friend void stepBody(Body&, BodyState&, const Water&, const Fluid&, double, double);
+    struct Sleep {
+        bool asleep = false;
+        double restedFor = 0;    ///< s below the thresholds so far
+        double waterHeight = 0;  ///< the water's height above the body when it fell asleep
+        Pose pose;               ///< where it fell asleep
+    };
     const Bundle* bundle_;
     std::unique_ptr<WaterGraph> graph_;
     std::unique_ptr<RadiationMemory> radiation_;
+    Sleep sleep_;
 };
 
 /// The load on the body at `pose` moving with `velocity`: on flat water (no height callback)
