@@ -207,6 +207,16 @@ TEST(CliBench, SceneQuickRunSleepsEveryRestingBody) {
     EXPECT_EQ(rows[1].at("asleep"), rows[1].at("bodies"));
     EXPECT_EQ(std::stod(rows[1].at("evaluations_per_frame")), 0.0);
     EXPECT_GT(std::stoi(rows[1].at("frames_to_sleep")), 0);
+    // Level of detail: the same bodies on waves all at 64^2, then by distance; those within
+    // 50 m at 64^2 exactly, the rest coarser, fewer entries evaluated.
+    const std::vector<CsvRow> lod = parseCsv(test::readFile(out / "bench_scene_lod.csv"));
+    ASSERT_EQ(lod.size(), 2u);
+    EXPECT_EQ(lod[0].at("at_64"), lod[0].at("bodies"));
+    EXPECT_EQ(std::stod(lod[0].at("error_beyond")), 0.0);
+    EXPECT_GT(std::stoi(lod[1].at("bodies_50m")), 0);
+    EXPECT_EQ(std::stod(lod[1].at("error_50m")), 0.0);
+    EXPECT_GT(std::stoi(lod[1].at("at_16")), std::stoi(lod[1].at("at_64")));
+    EXPECT_GT(std::stod(lod[1].at("error_beyond")), 0.0);
     fs::remove_all(out);
 }
 

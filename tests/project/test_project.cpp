@@ -293,6 +293,27 @@ TEST(Project, RadiationSettingsRoundTripAndAreChecked) {
                    {"bodies[0].radiation.max_frequency: must be more than min_frequency"});
 }
 
+TEST(Project, LevelLadderRoundTripsAndIsChecked) {
+    const Project project = loaded(
+        parseProject(withBody(R"({"mesh": "a.obj", "material": {"density": 600}, "texture_size": 64,
+                     "lod": {"levels": [16, 32]}})"),
+                     "scene", "/scenes"));
+    ASSERT_TRUE(project.bodies[0].lod);
+    EXPECT_EQ(project.bodies[0].lod->levels, (std::vector<int>{16, 32}));
+    EXPECT_EQ(loaded(parseProject(projectToJson(project), "again", "/scenes")), project);
+    // Absent: no ladder, and none is written.
+    const Project plain = loaded(
+        parseProject(withBody(R"({"mesh": "a.obj", "material": {"density": 600}})"), "s", "/"));
+    EXPECT_FALSE(plain.bodies[0].lod);
+    EXPECT_EQ(projectToJson(plain).find("\"lod\""), std::string::npos);
+    expectProblems(withBody(R"({"mesh": "a.obj", "material": {"density": 600}, "texture_size": 64,
+                                "lod": {"levels": [8, 128], "size": 1}})"),
+                   {"bodies[0].lod.size: unknown key", "bodies[0].lod.levels[0]: must be in 16..64",
+                    "bodies[0].lod.levels[1]: must be in 16..64"});
+    expectProblems(withBody(R"({"mesh": "a.obj", "material": {"density": 600}, "lod": {}})"),
+                   {"bodies[0].lod.levels: required (texture sizes, e.g. [16, 32])"});
+}
+
 TEST(Project, ReportsBadWater) {
     std::string waves;
     for (int i = 0; i < kMaxGerstnerWaves + 1; ++i) waves += R"({"amplitude": 0.1},)";

@@ -286,12 +286,28 @@ private:
 
     void readBody(const Json& value, const std::string& path, BodyDesc& body) {
         if (!expectObject(value, path,
-                          {"name", "mesh", "mesh_frames", "frames_per_second", "texture_size",
-                           "max_texel_stretch", "material", "position", "rotation_deg",
-                           "velocity", "angular_velocity", "drag_coefficient",
-                           "friction_coefficient", "linear_damping", "angular_damping",
-                           "permeability_map", "water_graph", "atlas", "openings", "radiation",
-                           "unit"})) {
+                          {"name",
+                           "mesh",
+                           "mesh_frames",
+                           "frames_per_second",
+                           "texture_size",
+                           "max_texel_stretch",
+                           "material",
+                           "position",
+                           "rotation_deg",
+                           "velocity",
+                           "angular_velocity",
+                           "drag_coefficient",
+                           "friction_coefficient",
+                           "linear_damping",
+                           "angular_damping",
+                           "permeability_map",
+                           "water_graph",
+                           "atlas",
+                           "openings",
+                           "radiation",
+                           "unit",
+                           "lod"})) {
             return;
         }
         string(value, path, "name", body.name);
@@ -369,6 +385,27 @@ private:
         }
         if (const Json* radiation = find(value, "radiation")) {
             readRadiation(*radiation, member(path, "radiation"), body.radiation.emplace());
+        }
+        if (const Json* lod = find(value, "lod")) readLod(*lod, member(path, "lod"), body);
+    }
+
+    void readLod(const Json& value, const std::string& path, BodyDesc& body) {
+        if (!expectObject(value, path, {"levels"})) return;
+        LodDesc& lod = body.lod.emplace();
+        const std::string levelsPath = member(path, "levels");
+        const Json* levels = find(value, "levels");
+        if (!levels) {
+            problem(levelsPath, "required (texture sizes, e.g. [16, 32])");
+            return;
+        }
+        if (!array(*levels, levelsPath)) return;
+        for (std::size_t i = 0; i < levels->size(); ++i) {
+            int size = 0;
+            // The body's texture_size (read above) is the finest level.
+            if (!integerValue((*levels)[i], element(levelsPath, i), size, kMinTextureSize,
+                              body.textureSize))
+                continue;
+            lod.levels.push_back(size);
         }
     }
 
@@ -627,6 +664,7 @@ Json toJson(const BodyDesc& body) {
         graph["seed"] = g.seed;
         json["water_graph"] = std::move(graph);
     }
+    if (body.lod) json["lod"] = {{"levels", body.lod->levels}};
     if (body.radiation) {
         const RadiationDesc& r = *body.radiation;
         json["radiation"] = {{"enabled", r.enabled},

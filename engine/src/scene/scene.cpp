@@ -110,6 +110,19 @@ Result<SceneBody> bakeSceneBody(BodyDesc desc, BodyParts parts, const BakeContro
     }
 
     body.textures = std::make_shared<const SurfaceTextures>(std::move(*textures));
+    // The level ladder, about the body's own centre of mass (its mass properties stay those of
+    // textureSize). A deforming body's coarser levels would not deform with it, and a water
+    // graph's permeable samples are those of textureSize: both keep their own level.
+    if (desc.lod && !desc.deforms() && !desc.waterGraph) {
+        Result<std::vector<int>> sizes = ladderSizes(desc.lod->levels, desc.textureSize);
+        if (!sizes) return withContext(body.label + ": ", sizes.error());
+        if (sizes->size() > 1) {
+            Result<std::vector<BuoyancyLevel>> ladder = bakeLevelLadder(
+                *parts.mesh, *sizes, desc.textureSize, body.textures, settings, mass->centerOfMass);
+            if (!ladder) return withContext(body.label + ": ", ladder.error());
+            body.levels = std::make_shared<const std::vector<BuoyancyLevel>>(std::move(*ladder));
+        }
+    }
     body.pieces = std::move(pieces);
     body.mass = std::make_shared<const MassProperties>(*mass);
     body.desc = std::move(desc);

@@ -14,6 +14,7 @@
 #include "plimsoll/graph/graph.h"
 #include "plimsoll/physics/massprops.h"
 #include "plimsoll/physics/water.h"
+#include "plimsoll/scene/level_ladder.h"
 #include "plimsoll/scene/scene_desc.h"
 
 #include <Eigen/Core>
@@ -66,6 +67,10 @@ struct SceneBody {
     std::shared_ptr<const MassProperties> mass;       ///< of desc.material on `textures`
     /// Its wave radiation (scene_radiation.h), required when desc.radiates(); null otherwise.
     std::shared_ptr<const BodyRadiation> radiation;
+    /// Its level ladder (level_ladder.h), coarsest first, the last `textures` itself at
+    /// desc.textureSize, each with its stated error: made when desc.lod asks for one on a rigid
+    /// body without a water graph; null otherwise (one level).
+    std::shared_ptr<const std::vector<BuoyancyLevel>> levels;
 };
 
 struct Scene {
@@ -79,10 +84,11 @@ struct Scene {
     SimulationDesc simulation;
 };
 
-/// Bakes `desc`'s textures over parts.mesh (recording the pieces of a deforming body) and
-/// computes the mass properties of its material: what World, the editor's preview and the
-/// bundle export all simulate or write. Refuses parts that do not fit `desc` (no mesh, frames
-/// without mesh_frames or the reverse, a water graph missing). Errors start with the label.
+/// Bakes `desc`'s textures over parts.mesh (recording the pieces of a deforming body), its
+/// level ladder where desc.lod asks for one, and computes the mass properties of its material: what
+/// World, the editor's preview and the bundle export all simulate or write. Refuses parts that do
+/// not fit `desc` (no mesh, frames without mesh_frames or the reverse, a water graph missing).
+/// Errors start with the label.
 Result<SceneBody> bakeSceneBody(BodyDesc desc, BodyParts parts);
 
 /// Mass properties of `material` on `textures`: a solid of uniform density (V = sum A_y y) and

@@ -72,6 +72,19 @@ struct RadiationDesc {
     bool operator==(const RadiationDesc&) const = default;
 };
 
+/// A body's level ladder ("lod" in a body; docs/design.md "Level of detail"): the mesh baked
+/// again at coarser texture sizes, each a true bake, among which the World picks one per frame
+/// for the buoyancy (World::setLevelPolicy). The mass properties stay those of texture_size.
+/// A body without it has one level, texture_size. A deforming body or one with a water graph
+/// keeps its own level (no ladder is made; the log says so).
+struct LodDesc {
+    /// Texture sizes of the levels ("levels"), texels per side, each in
+    /// kMinTextureSize..texture_size; texture_size is always the finest level (added if absent).
+    std::vector<int> levels;
+
+    bool operator==(const LodDesc&) const = default;
+};
+
 /// What becomes of the openings of an open hull or container ("openings"; physics_solid.h).
 enum class OpeningsMode {
     /// "open": closed by caps that let water in: the space behind them is a compartment of the
@@ -123,6 +136,8 @@ struct BodyDesc {
     std::optional<WaterGraphDesc> waterGraph;
     /// Wave radiation ("radiation"); absent: none.
     std::optional<RadiationDesc> radiation;
+    /// Level ladder ("lod"); absent: one level, texture_size.
+    std::optional<LodDesc> lod;
     /// Whether the body runs with radiation (present and enabled).
     bool radiates() const { return radiation && radiation->enabled; }
 
