@@ -40,33 +40,54 @@ struct SceneRow {
     double frameMs = 0, evaluationsPerFrame = 0;
 };
 
-/// N boxes baked once and shared, each let go at its draft on flat water.
-Result<Scene> restingBoxes(int count, bool sleep) {
-    BodyDesc desc;
+/// N flat boxes of half the water's density (`desc` gives the rest) baked once and shared, on a
+/// square grid `spacing` apart from (origin, y, origin), in fresh water.
+Result<Scene> boxGrid(BodyDesc desc, int count, double spacing, double origin, double y) {
     desc.name = "box";
     desc.mesh = "generated";
     desc.textureSize = 64;
     desc.material.density = 500.0;
-    desc.linearDamping = 4.0;
-    desc.angularDamping = 4.0;
     BodyParts parts;
     parts.mesh = std::make_shared<const TriangleMesh>(makeBox(Eigen::Vector3d(1.0, 0.25, 0.8)));
     Result<SceneBody> baked = bakeSceneBody(desc, std::move(parts));
     if (!baked) return baked.error();
     Scene scene;
     scene.medium.density = 1000.0;
-    scene.water = WaterModel::flat(0.0);
-    scene.simulation.sleep.enabled = sleep;
     const int side = static_cast<int>(std::ceil(std::sqrt(static_cast<double>(count))));
     for (int i = 0; i < count; ++i) {
         SceneBody body = *baked;
         body.desc.name = "box" + std::to_string(i);
         body.label = "body '" + body.desc.name + "'";
-        // 1 mm above the draft: the boxes settle within a second or two.
-        body.desc.position = Eigen::Vector3d(3.0 * (i % side), 0.001, 3.0 * (i / side));
+        body.desc.position = Eigen::Vector3d(origin + spacing * (i % side), y, origin + spacing * (i / side));
         scene.bodies.push_back(std::move(body));
     }
     return scene;
+}
+
+/// N damped boxes 3 m apart let go 1 mm above their draft on flat water: they settle within a
+/// second or two.
+Result<Scene> restingBoxes(int count, bool sleep) {
+    BodyDesc desc;
+    desc.linearDamping = 4.0;
+    desc.angularDamping = 4.0;
+    Result<Scene> scene = boxGrid(desc, count, 3.0, 0.0, 0.001);
+    if (!scene) return scene;
+    scene->water = WaterModel::flat(0.0);
+    scene->simulation.sleep.enabled = sleep;
+    return scene;
+}
+
+/// Mean time and buoyancy evaluations a frame over `frames` frames of `world`.
+Status timeFrames(World& world, int frames, double& frameMs, double& evaluationsPerFrame) {
+    const std::size_t evaluations = world.statistics().buoyancyEvaluations;
+    const Clock::time_point start = Clock::now();
+    for (int f = 0; f < frames; ++f) {
+        if (Status s = world.advanceFrame(); !s.ok()) return s;
+    }
+    frameMs = 1e3 * std::chrono::duration<double>(Clock::now() - start).count() / frames;
+    evaluationsPerFrame =
+        static_cast<double>(world.statistics().buoyancyEvaluations - evaluations) / frames;
+    return Ok{};
 }
 
 Result<SceneRow> measure(int count, bool sleep, int frames) {
@@ -89,14 +110,8 @@ Result<SceneRow> measure(int count, bool sleep, int frames) {
             break;
         }
     }
-    const std::size_t evaluations = world.statistics().buoyancyEvaluations;
-    const Clock::time_point start = Clock::now();
-    for (int f = 0; f < frames; ++f) {
-        if (Status s = world.advanceFrame(); !s.ok()) return s.error();
-    }
-    row.frameMs = 1e3 * std::chrono::duration<double>(Clock::now() - start).count() / frames;
-    row.evaluationsPerFrame =
-        static_cast<double>(world.statistics().buoyancyEvaluations - evaluations) / frames;
+    if (Status s = timeFrames(world, frames, row.frameMs, row.evaluationsPerFrame); !s.ok())
+        return s.error();
     row.asleep = static_cast<int>(std::count_if(world.bodies().begin(), world.bodies().end(),
                                                 [](const SimulatedBody& b) { return b.asleep; }));
     return row;
@@ -133,33 +148,16 @@ struct LodRow {
     std::array<int, 4> bandBodies{};
 };
 
-/// N laddered boxes (16, 32, 64) baked once and shared, spread evenly over the square.
+/// N laddered boxes (16, 32, 64) baked once and shared, spread evenly over the square (one at
+/// the point of interest, the centre), on waves.
 Result<Scene> spreadBoxes(int count) {
     BodyDesc desc;
-    desc.name = "box";
-    desc.mesh = "generated";
-    desc.textureSize = 64;
-    desc.material.density = 500.0;
     desc.lod = LodDesc{{16, 32}};
-    BodyParts parts;
-    parts.mesh = std::make_shared<const TriangleMesh>(makeBox(Eigen::Vector3d(1.0, 0.25, 0.8)));
-    Result<SceneBody> baked = bakeSceneBody(desc, std::move(parts));
-    if (!baked) return baked.error();
-    Scene scene;
-    scene.medium.density = 1000.0;
-    scene.water = benchWaves();
-    scene.simulation.sleep.enabled = false;
     const int side = static_cast<int>(std::ceil(std::sqrt(static_cast<double>(count))));
-    const double spacing = kLodSpread / side;
-    for (int i = 0; i < count; ++i) {
-        SceneBody body = *baked;
-        body.desc.name = "box" + std::to_string(i);
-        body.label = "body '" + body.desc.name + "'";
-        // One body at the point of interest, the centre.
-        body.desc.position = Eigen::Vector3d(-0.5 * kLodSpread + spacing * (i % side), 0.0,
-                                             -0.5 * kLodSpread + spacing * (i / side));
-        scene.bodies.push_back(std::move(body));
-    }
+    Result<Scene> scene = boxGrid(desc, count, kLodSpread / side, -0.5 * kLodSpread, 0.0);
+    if (!scene) return scene;
+    scene->water = benchWaves();
+    scene->simulation.sleep.enabled = false;
     return scene;
 }
 
@@ -188,14 +186,8 @@ Result<LodRow> measureLod(const Scene& scene, bool lod, int frames) {
     for (int f = 0; f < 60; ++f) {
         if (Status s = world.advanceFrame(); !s.ok()) return s.error();
     }
-    const std::size_t evaluations = world.statistics().buoyancyEvaluations;
-    const Clock::time_point start = Clock::now();
-    for (int f = 0; f < frames; ++f) {
-        if (Status s = world.advanceFrame(); !s.ok()) return s.error();
-    }
-    row.frameMs = 1e3 * std::chrono::duration<double>(Clock::now() - start).count() / frames;
-    row.evaluationsPerFrame =
-        static_cast<double>(world.statistics().buoyancyEvaluations - evaluations) / frames;
+    if (Status s = timeFrames(world, frames, row.frameMs, row.evaluationsPerFrame); !s.ok())
+        return s.error();
     // Each body's force now against its 64^2 level's at the same state (the fast path, as the
     // World evaluates): the pressure integral the World applies on waves.
     const std::vector<SceneBody>& bodies = world.scene().bodies;
