@@ -390,6 +390,10 @@ Result<BundleReport> buildBundle(const Project& project, std::size_t index, cons
     BundleReport report;
     report.body = desc.name;
     report.textureSize = textures->size;
+    if (body->levelChoice) {
+        report.tolerance = body->levelChoice->tolerance;
+        report.forceError = body->levelChoice->forceError;
+    }
     report.coveredTexels = textures->distinctTexelCount();
     json files = json::array();
     for (const std::string& path : filesUnder(staging)) {

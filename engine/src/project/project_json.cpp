@@ -3,6 +3,7 @@
 // fixing a hand-written file sees all of them in one go rather than one per run.
 #include "plimsoll/project/project.h"
 #include "plimsoll/io/mesh_io.h"
+#include "plimsoll/scene/level_ladder.h"
 #include "plimsoll/scene/world.h"
 #include "plimsoll/scene/scene_radiation.h"
 
@@ -291,6 +292,7 @@ private:
                            "mesh_frames",
                            "frames_per_second",
                            "texture_size",
+                           "tolerance",
                            "max_texel_stretch",
                            "material",
                            "position",
@@ -352,6 +354,17 @@ private:
             integer(value, path, "texture_size", body.textureSize, kMinTextureSize,
                     kMaxTextureSize);
         }
+        if (const Json* tolerance = find(value, "tolerance")) {
+            double share = 0;
+            if (numberValue(*tolerance, member(path, "tolerance"), share, Limit::Positive)) {
+                if (find(value, "texture_size"))
+                    problem(member(path, "tolerance"), "give texture_size or tolerance, not both");
+                else if (!(share < 1))
+                    problem(member(path, "tolerance"), "must be below 1 (a share of rho g V)");
+                else
+                    body.tolerance = share;
+            }
+        }
         number(value, path, "max_texel_stretch", body.maxTexelStretch, Limit::NonNegative);
         std::string atlas;
         const Json* atlasValue = find(value, "atlas");
@@ -401,9 +414,10 @@ private:
         if (!array(*levels, levelsPath)) return;
         for (std::size_t i = 0; i < levels->size(); ++i) {
             int size = 0;
-            // The body's texture_size (read above) is the finest level.
+            // The body's texture_size (read above) is the finest level; a tolerance's size is
+            // known only when it is met, so its levels are checked then (ladderSizes).
             if (!integerValue((*levels)[i], element(levelsPath, i), size, kMinTextureSize,
-                              body.textureSize))
+                              body.tolerance ? kToleranceMaxTextureSize : body.textureSize))
                 continue;
             lod.levels.push_back(size);
         }
@@ -636,7 +650,10 @@ Json toJson(const BodyDesc& body) {
     if (body.unitScale > 0) json["unit"] = body.unitScale;
     json["mesh_frames"] = body.meshFrames;
     json["frames_per_second"] = body.framesPerSecond;
-    json["texture_size"] = body.textureSize;
+    if (body.tolerance)
+        json["tolerance"] = *body.tolerance;
+    else
+        json["texture_size"] = body.textureSize;
     json["max_texel_stretch"] = body.maxTexelStretch;
     json["atlas"] = atlasModeName(body.atlas);
     if (body.openings != OpeningsMode::Open) json["openings"] = openingsModeName(body.openings);

@@ -196,7 +196,8 @@ Result<SceneBody> loadSceneBody(const Project& project, std::size_t index, const
     if (!prepared->repairs.empty())
         say(label + ": not one closed solid as it is, or an open hull: its physics solid is baked (" +
             describeRepairs(prepared->repairs) + ")");
-    if (const std::string cost = describeBakeCost(prepared->mesh, desc.textureSize); !cost.empty())
+    if (const std::string cost = describeBakeCost(prepared->mesh, desc.textureSize);
+        !cost.empty() && !desc.tolerance)
         say(label + ": " + cost);
     BodyPaint paint;
     paint.paintedOver = prepared->artist;
@@ -234,6 +235,8 @@ Result<SceneBody> loadSceneBody(const Project& project, std::size_t index, const
     }
     Result<SceneBody> body = bakeSceneBody(bodyDesc, std::move(*parts));
     if (!body) return fail("", body.error());
+    if (body->levelChoice)
+        say(label + ": its tolerance picks " + describeLevelChoice(*body->levelChoice));
     if (desc.radiates()) {
         Result<std::shared_ptr<const BodyRadiation>> radiation = cachedBodyRadiation(
             *body, *desc.radiation, project.medium, project.simulation.gravity,

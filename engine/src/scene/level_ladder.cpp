@@ -9,6 +9,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <cstdio>
 
 namespace plimsoll {
 
@@ -90,25 +91,68 @@ Result<std::vector<int>> ladderSizes(std::vector<int> levels, int textureSize) {
     return levels;
 }
 
+LevelErrorMeter::LevelErrorMeter(const TriangleMesh& mesh, const Eigen::Vector3d& centerOfMass)
+    : centerOfMass_(centerOfMass), poses_(levelErrorPoses(mesh, centerOfMass)) {
+    const FluidSettings fluid;
+    // The exact clip once per pose; the volume is the fully submerged pose's.
+    double volume = 0, radius = 0;
+    for (const LevelPose& p : poses_) {
+        exact_.push_back(
+            evaluateBuoyancyExact(mesh, frameAt(p, centerOfMass), p.waterLevel, fluid));
+        volume = std::max(volume, exact_.back().submergedVolume);
+    }
+    for (const Eigen::Vector3d& v : mesh.positions)
+        radius = std::max(radius, (v - centerOfMass).norm());
+    forceScale_ = fluid.density * fluid.gravity * volume;
+    torqueScale_ = forceScale_ * radius;
+}
+
+LevelErrorMeter::Errors LevelErrorMeter::measure(const SurfaceTextures& textures) const {
+    const FluidSettings fluid;
+    Errors errors;
+    for (std::size_t i = 0; i < poses_.size(); ++i) {
+        WaterModel water = WaterModel::flat(poses_[i].waterLevel);
+        const BuoyancyResult r =
+            evaluateBuoyancyReference(textures, frameAt(poses_[i], centerOfMass_), water, fluid);
+        const BuoyancyResult& x = exact_[i];
+        if (forceScale_ > 0) {
+            errors.force = std::max({errors.force, (r.force - x.force).norm() / forceScale_,
+                                     (r.pressureForce - x.pressureForce).norm() / forceScale_});
+        }
+        if (torqueScale_ > 0) {
+            errors.torque = std::max({errors.torque, (r.torque - x.torque).norm() / torqueScale_,
+                                      (r.pressureTorque - x.pressureTorque).norm() / torqueScale_});
+        }
+    }
+    return errors;
+}
+
+namespace {
+
+Result<std::shared_ptr<const SurfaceTextures>> bakeAt(const TriangleMesh& mesh, int size,
+                                                      const BakeSettings& settings) {
+    BakeSettings s = settings;
+    s.size = size;
+    s.progress = {};
+    Result<SurfaceTextures> baked = bakeSurfaceTextures(mesh, s);
+    if (!baked) return baked.error();
+    return std::make_shared<const SurfaceTextures>(std::move(*baked));
+}
+
+std::string shortNumber(double value) {
+    char text[32];
+    std::snprintf(text, sizeof text, "%.1e", value);
+    return text;
+}
+
+}  // namespace
+
 Result<std::vector<BuoyancyLevel>> bakeLevelLadder(const TriangleMesh& mesh,
                                                    const std::vector<int>& sizes, int finestSize,
                                                    std::shared_ptr<const SurfaceTextures> finest,
                                                    const BakeSettings& settings,
                                                    const Eigen::Vector3d& centerOfMass) {
-    const std::vector<LevelPose> poses = levelErrorPoses(mesh, centerOfMass);
-    const FluidSettings fluid;
-    const WaterModel flatWater = WaterModel::flat(0.0);
-    // The exact clip once per pose; the volume is the fully submerged pose's.
-    std::vector<BuoyancyResult> exact;
-    double volume = 0, radius = 0;
-    for (const LevelPose& p : poses) {
-        exact.push_back(evaluateBuoyancyExact(mesh, frameAt(p, centerOfMass), p.waterLevel, fluid));
-        volume = std::max(volume, exact.back().submergedVolume);
-    }
-    for (const Eigen::Vector3d& v : mesh.positions)
-        radius = std::max(radius, (v - centerOfMass).norm());
-    const double forceScale = fluid.density * fluid.gravity * volume;
-    const double torqueScale = forceScale * radius;
+    const LevelErrorMeter meter(mesh, centerOfMass);
     std::vector<BuoyancyLevel> ladder;
     for (int size : sizes) {
         BuoyancyLevel level;
@@ -116,35 +160,63 @@ Result<std::vector<BuoyancyLevel>> bakeLevelLadder(const TriangleMesh& mesh,
         if (size == finestSize && finest) {
             level.textures = finest;
         } else {
-            BakeSettings s = settings;
-            s.size = size;
-            s.progress = {};
-            Result<SurfaceTextures> baked = bakeSurfaceTextures(mesh, s);
+            Result<std::shared_ptr<const SurfaceTextures>> baked = bakeAt(mesh, size, settings);
             if (!baked)
                 return withContext("lod level " + std::to_string(size) + ": ", baked.error());
-            level.textures = std::make_shared<const SurfaceTextures>(std::move(*baked));
+            level.textures = std::move(*baked);
         }
-        for (std::size_t i = 0; i < poses.size(); ++i) {
-            WaterModel water = flatWater;
-            water.level = poses[i].waterLevel;
-            const BuoyancyResult r = evaluateBuoyancyReference(
-                *level.textures, frameAt(poses[i], centerOfMass), water, fluid);
-            const BuoyancyResult& x = exact[i];
-            if (forceScale > 0) {
-                level.forceError =
-                    std::max({level.forceError, (r.force - x.force).norm() / forceScale,
-                              (r.pressureForce - x.pressureForce).norm() / forceScale});
-            }
-            if (torqueScale > 0) {
-                level.torqueError =
-                    std::max({level.torqueError, (r.torque - x.torque).norm() / torqueScale,
-                              (r.pressureTorque - x.pressureTorque).norm() / torqueScale});
-            }
-        }
+        const LevelErrorMeter::Errors errors = meter.measure(*level.textures);
+        level.forceError = errors.force;
+        level.torqueError = errors.torque;
         level.evaluationUs = evaluationCost(*level.textures, centerOfMass);
         ladder.push_back(std::move(level));
     }
     return ladder;
+}
+
+Result<LevelChoice> chooseLevelForTolerance(const TriangleMesh& mesh, double tolerance,
+                                            const BakeSettings& settings,
+                                            const Eigen::Vector3d& centerOfMass, int maxSize) {
+    if (!(tolerance > 0) || !std::isfinite(tolerance)) {
+        return makeError(ErrorKind::invalidArgument,
+                         "tolerance " + shortNumber(tolerance) + " is not a positive number");
+    }
+    const LevelErrorMeter meter(mesh, centerOfMass);
+    LevelChoice choice;
+    choice.tolerance = tolerance;
+    for (int size = kMinTextureSize; size <= maxSize; size *= 2) {
+        Result<std::shared_ptr<const SurfaceTextures>> baked = bakeAt(mesh, size, settings);
+        if (!baked)
+            return withContext("texture size " + std::to_string(size) + ": ", baked.error());
+        const LevelErrorMeter::Errors errors = meter.measure(**baked);
+        if (errors.force <= tolerance) {
+            choice.size = size;
+            choice.forceError = errors.force;
+            choice.torqueError = errors.torque;
+            choice.textures = std::move(*baked);
+            return choice;
+        }
+        choice.coarser.emplace_back(size, errors.force);
+    }
+    const std::string finest = choice.coarser.empty()
+                                   ? std::string("no size was tried")
+                                   : "the finest, " + std::to_string(choice.coarser.back().first) +
+                                         ", has a force error of " +
+                                         shortNumber(choice.coarser.back().second);
+    return makeError(ErrorKind::invalidArgument,
+                     "no texture size up to " + std::to_string(maxSize) + " meets the tolerance " +
+                         shortNumber(tolerance) + " (" + finest +
+                         "): give a larger tolerance, or a texture_size by name");
+}
+
+std::string describeLevelChoice(const LevelChoice& choice) {
+    std::string text = std::to_string(choice.size) + " texels (force error " +
+                       shortNumber(choice.forceError) + " within " + shortNumber(choice.tolerance);
+    if (!choice.coarser.empty()) {
+        text += "; " + std::to_string(choice.coarser.back().first) + ": " +
+                shortNumber(choice.coarser.back().second);
+    }
+    return text + ")";
 }
 
 int coarsenessAt(double distance, double nearDistance, double margin, int current, int coarsest) {

@@ -97,11 +97,28 @@ Result<SceneBody> bakeSceneBody(BodyDesc desc, BodyParts parts, const BakeContro
     settings.threads = control.threads;
     settings.progress = control.progress;
     auto pieces = desc.deforms() ? std::make_shared<SurfacePieceTable>() : nullptr;
-    Result<SurfaceTextures> textures =
-        bakeSurfaceTextures(*parts.mesh, settings, pieces.get(), control.cancelled);
-    if (!textures) return withContext(body.label + ": ", textures.error());
-    Result<MassProperties> mass = materialMassProperties(
-        *textures, desc.material, parts.shellDensityMap.get(), body.label);
+    std::shared_ptr<const SurfaceTextures> chosen;
+    if (desc.tolerance) {
+        // The error is measured about the solid's own centroid: the force error, which the
+        // tolerance bounds, does not depend on the point.
+        Result<LevelChoice> choice =
+            chooseLevelForTolerance(*parts.mesh, *desc.tolerance, settings,
+                                    exactSolidMassProperties(*parts.mesh, 1.0).centerOfMass);
+        if (!choice) return withContext(body.label + ": tolerance: ", choice.error());
+        desc.textureSize = settings.size = choice->size;
+        // A deforming body's bake records its pieces: bake the chosen size again for them.
+        if (!pieces) chosen = choice->textures;
+        choice->textures.reset();
+        body.levelChoice = std::move(*choice);
+    }
+    if (!chosen) {
+        Result<SurfaceTextures> baked =
+            bakeSurfaceTextures(*parts.mesh, settings, pieces.get(), control.cancelled);
+        if (!baked) return withContext(body.label + ": ", baked.error());
+        chosen = std::make_shared<const SurfaceTextures>(std::move(*baked));
+    }
+    Result<MassProperties> mass =
+        materialMassProperties(*chosen, desc.material, parts.shellDensityMap.get(), body.label);
     if (!mass) return mass.error();
     if (desc.material.density && parts.hollow.mass > 0) {
         *mass = withoutHollow(*mass, parts.hollow, *desc.material.density);
@@ -109,7 +126,7 @@ Result<SceneBody> bakeSceneBody(BodyDesc desc, BodyParts parts, const BakeContro
             return refuse("the space behind the caps of its openings is as large as the solid: no material is left");
     }
 
-    body.textures = std::make_shared<const SurfaceTextures>(std::move(*textures));
+    body.textures = std::move(chosen);
     // The level ladder, about the body's own centre of mass (its mass properties stay those of
     // textureSize). A deforming body's coarser levels would not deform with it, and a water
     // graph's permeable samples are those of textureSize: both keep their own level.

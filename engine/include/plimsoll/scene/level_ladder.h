@@ -9,12 +9,14 @@
 #include "plimsoll/bake/bake.h"
 #include "plimsoll/core/result.h"
 #include "plimsoll/geometry/mesh.h"
+#include "plimsoll/physics/buoyancy.h"
 
 #include <Eigen/Core>
 
 #include <cstddef>
 #include <memory>
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace plimsoll {
@@ -46,6 +48,25 @@ struct LevelPose {
 std::vector<LevelPose> levelErrorPoses(const TriangleMesh& mesh,
                                        const Eigen::Vector3d& centerOfMass);
 
+/// A texture's error against the exact clip of its mesh over levelErrorPoses, as a level
+/// states it (BuoyancyLevel::forceError, torqueError) and as a tolerance is met. The exact
+/// clip is computed once, when the meter is made; each measure evaluates the texture only.
+class LevelErrorMeter {
+public:
+    LevelErrorMeter(const TriangleMesh& mesh, const Eigen::Vector3d& centerOfMass);
+    struct Errors {
+        double force = 0;   ///< BuoyancyLevel::forceError
+        double torque = 0;  ///< BuoyancyLevel::torqueError
+    };
+    Errors measure(const SurfaceTextures& textures) const;
+
+private:
+    Eigen::Vector3d centerOfMass_;
+    std::vector<LevelPose> poses_;
+    std::vector<BuoyancyResult> exact_;
+    double forceScale_ = 0, torqueScale_ = 0;
+};
+
 /// Bakes `mesh` at each of `sizes` (ascending, unique) except `finestSize`, whose bake
 /// `finest` is taken as it is, and measures each level's error about `centerOfMass` (object
 /// space, the body's own mass properties') and its cost. Coarsest first, finest last.
@@ -54,6 +75,32 @@ Result<std::vector<BuoyancyLevel>> bakeLevelLadder(const TriangleMesh& mesh,
                                                    std::shared_ptr<const SurfaceTextures> finest,
                                                    const BakeSettings& settings,
                                                    const Eigen::Vector3d& centerOfMass);
+
+/// The texture size an accuracy budget picks (a body's "tolerance"): the smallest of 16, 32,
+/// 64, ... that meets it, and the measured errors that show it does.
+struct LevelChoice {
+    double tolerance = 0;  ///< the largest force error allowed, a share of rho g V
+    int size = 0;          ///< texels per side
+    double forceError = 0, torqueError = 0;  ///< its measured errors (LevelErrorMeter)
+    /// The coarser sizes tried first and their force errors, each above the tolerance.
+    std::vector<std::pair<int, double>> coarser;
+    std::shared_ptr<const SurfaceTextures> textures;  ///< its bake
+};
+
+/// The largest texture a tolerance may pick: a finer bake than this is a size the user asks
+/// for by name, not one a search should spend memory on.
+inline constexpr int kToleranceMaxTextureSize = 1024;
+
+/// Bakes `mesh` at 16, 32, 64, ... up to `maxSize` and stops at the first size whose force
+/// error (LevelErrorMeter, about `centerOfMass`) is at most `tolerance`. Fails, naming the
+/// tolerance and the finest size's error, when none up to maxSize meets it.
+Result<LevelChoice> chooseLevelForTolerance(const TriangleMesh& mesh, double tolerance,
+                                            const BakeSettings& settings,
+                                            const Eigen::Vector3d& centerOfMass,
+                                            int maxSize = kToleranceMaxTextureSize);
+
+/// "256 texels (force error 5.5e-04 within 1e-03; 128: 2.2e-03)": the choice in one line.
+std::string describeLevelChoice(const LevelChoice& choice);
 
 /// The ladder's sizes for a body: `levels` sorted, made unique, `textureSize` added; refuses a
 /// size outside kMinTextureSize..textureSize, naming it.

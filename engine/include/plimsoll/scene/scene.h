@@ -71,6 +71,9 @@ struct SceneBody {
     /// desc.textureSize, each with its stated error: made when desc.lod asks for one on a rigid
     /// body without a water graph; null otherwise (one level).
     std::shared_ptr<const std::vector<BuoyancyLevel>> levels;
+    /// Where desc.tolerance set the texture size: the size it picked and its measured errors
+    /// (desc.textureSize is then that size).
+    std::optional<LevelChoice> levelChoice;
 };
 
 struct Scene {
@@ -84,11 +87,11 @@ struct Scene {
     SimulationDesc simulation;
 };
 
-/// Bakes `desc`'s textures over parts.mesh (recording the pieces of a deforming body), its
-/// level ladder where desc.lod asks for one, and computes the mass properties of its material: what
-/// World, the editor's preview and the bundle export all simulate or write. Refuses parts that do
-/// not fit `desc` (no mesh, frames without mesh_frames or the reverse, a water graph missing).
-/// Errors start with the label.
+/// Bakes `desc`'s textures over parts.mesh (at the size desc.tolerance picks, where it is given)
+/// (recording the pieces of a deforming body), its level ladder where desc.lod asks for one, and
+/// computes the mass properties of its material: what World, the editor's preview and the bundle
+/// export all simulate or write. Refuses parts that do not fit `desc` (no mesh, frames without
+/// mesh_frames or the reverse, a water graph missing). Errors start with the label.
 Result<SceneBody> bakeSceneBody(BodyDesc desc, BodyParts parts);
 
 /// Mass properties of `material` on `textures`: a solid of uniform density (V = sum A_y y) and

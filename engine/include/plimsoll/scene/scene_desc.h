@@ -110,6 +110,10 @@ struct BodyDesc {
     std::vector<std::string> meshFrames;
     double framesPerSecond = 24.0;
     int textureSize = 256;                 ///< physics texture, texels per side
+    /// An accuracy budget instead of a size ("tolerance"): the largest force error allowed
+    /// against the exact clip, a share of rho g V. The bake picks the smallest texture size
+    /// that meets it (level_ladder.h, chooseLevelForTolerance) and textureSize becomes it.
+    std::optional<double> tolerance;
     double maxTexelStretch = 4.0;          ///< sub-texel refinement (BakeSettings)
     /// Which UVs are baked ("atlas": "mesh", "auto" or "generate"). A generated atlas has the
     /// default AtlasSettings whatever textureSize is (so changing the physics texture size
