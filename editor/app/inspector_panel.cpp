@@ -7,11 +7,13 @@
 #include "document/material_presets.h"
 
 #include "plimsoll/physics/massprops.h"
+#include "plimsoll/project/project.h"
 #include "plimsoll/surface/painted_map.h"
 #include "plimsoll/geometry/validate.h"
 
 #include <GLFW/glfw3.h>
 #include <imgui.h>
+#include <nlohmann/json.hpp>
 
 #include <atomic>
 #include <cmath>
@@ -218,6 +220,52 @@ void textureSizeField(EditorState& s, std::size_t b, const std::string& base, in
     }
 }
 
+/// A size picked from a tolerance instead of a texture size: the switch between the two (one
+/// undoable step, the body's JSON with one key for the other), the tolerance, and the size it
+/// picks with its measured error once the pick, made off the UI thread, is known.
+void textureSizeOrTolerance(EditorState& s, std::size_t b, const std::string& base,
+                            const BodyDesc& body) {
+    bool fromTolerance = body.tolerance.has_value();
+    if (ImGui::Checkbox("Size from a tolerance", &fromTolerance)) {
+        s.inspector->deferred.push_back([&s, b, base, fromTolerance] {
+            const BodyDesc& now = s.document->project().bodies[b];
+            nlohmann::json json =
+                nlohmann::json::parse(projectToJson(s.document->project()))["bodies"][b];
+            if (fromTolerance) {
+                json.erase("texture_size");
+                json["tolerance"] = 1e-3;
+            } else {
+                json.erase("tolerance");
+                const std::optional<LevelChoice> choice = s.document->levelChoice(b);
+                json["texture_size"] = choice ? choice->size : now.textureSize;
+            }
+            s.execute(makeSetPropertyCommand(*s.document, base, json));
+        });
+    }
+    tooltip(
+        "Instead of a texture size, the largest force error allowed against the exact clip of "
+        "the mesh (a share of rho g V over 27 poses): the smallest of 16, 32, ... 1024 texels "
+        "within it is baked.");
+    if (!body.tolerance) {
+        textureSizeField(s, b, base, body.textureSize);
+        return;
+    }
+    numberField(
+        s, "Tolerance", base + "/tolerance", *body.tolerance, "%.1e",
+        "The largest force error allowed, a share of rho g V (1e-3: a tenth of a percent of "
+        "the fully submerged buoyancy).");
+    if (const std::optional<LevelChoice> choice = s.document->levelChoice(b)) {
+        ImGui::Text("Picks %d^2: force error %.1e, torque error %.1e", choice->size,
+                    choice->forceError, choice->torqueError);
+        if (!choice->coarser.empty()) {
+            ImGui::TextDisabled("%d^2 misses it: force error %.1e", choice->coarser.back().first,
+                                choice->coarser.back().second);
+        }
+    } else if (s.physicsBakes->progress(b)) {
+        ImGui::TextDisabled("Picking the size: baking 16, 32, ... and measuring each...");
+    }
+}
+
 /// Add, duplicate and remove: each one undoable step (command.h).
 void bodyButtons(EditorState& s) {
     const std::size_t count = s.document->bodyCount();
@@ -336,7 +384,7 @@ void drawInspectorPanel(EditorState& s, const Rect& area) {
         ImGui::PopStyleColor();
     }
     if (ImGui::CollapsingHeader("Texture", ImGuiTreeNodeFlags_DefaultOpen)) {
-        textureSizeField(s, b, base, body.textureSize);
+        textureSizeOrTolerance(s, b, base, body);
         if (!info.bakeError.empty()) {
             ImGui::PushStyleColor(ImGuiCol_Text, ImVec4(1, 0.4f, 0.4f, 1));
             ImGui::TextWrapped("%s", info.bakeError.c_str());
