@@ -307,6 +307,7 @@ private:
                            "water_graph",
                            "atlas",
                            "openings",
+                           "caps",
                            "radiation",
                            "unit",
                            "lod"})) {
@@ -378,6 +379,7 @@ private:
             if (const auto mode = parseOpeningsMode(openings)) body.openings = *mode;
             else problem(member(path, "openings"), "unknown '" + openings + "' (open, sealed, none)");
         }
+        if (const Json* caps = find(value, "caps")) readCaps(*caps, member(path, "caps"), body);
         if (const Json* material = find(value, "material")) {
             readMaterial(*material, member(path, "material"), body.material);
         } else {
@@ -400,6 +402,27 @@ private:
             readRadiation(*radiation, member(path, "radiation"), body.radiation.emplace());
         }
         if (const Json* lod = find(value, "lod")) readLod(*lod, member(path, "lod"), body);
+    }
+
+    void readCaps(const Json& value, const std::string& path, BodyDesc& body) {
+        if (!array(value, path)) return;
+        for (std::size_t i = 0; i < value.size(); ++i) {
+            const std::string at = element(path, i);
+            CapDesc& cap = body.caps.emplace_back();
+            if (!expectObject(value[i], at, {"mode", "height"})) continue;
+            std::string name;
+            const Json* mode = find(value[i], "mode");
+            if (mode && stringValue(*mode, member(at, "mode"), name)) {
+                const std::optional<OpeningsMode> parsed = parseOpeningsMode(name);
+                if (parsed && *parsed != OpeningsMode::None)
+                    cap.mode = parsed;
+                else
+                    problem(member(at, "mode"), "unknown '" + name + "' (open, sealed)");
+            }
+            double height = 0;
+            const Json* h = find(value[i], "height");
+            if (h && numberValue(*h, member(at, "height"), height, Limit::Any)) cap.height = height;
+        }
     }
 
     void readLod(const Json& value, const std::string& path, BodyDesc& body) {
@@ -657,6 +680,16 @@ Json toJson(const BodyDesc& body) {
     json["max_texel_stretch"] = body.maxTexelStretch;
     json["atlas"] = atlasModeName(body.atlas);
     if (body.openings != OpeningsMode::Open) json["openings"] = openingsModeName(body.openings);
+    if (!body.caps.empty()) {
+        Json caps = Json::array();
+        for (const CapDesc& cap : body.caps) {
+            Json entry = Json::object();
+            if (cap.mode) entry["mode"] = openingsModeName(*cap.mode);
+            if (cap.height) entry["height"] = *cap.height;
+            caps.push_back(std::move(entry));
+        }
+        json["caps"] = std::move(caps);
+    }
     json["material"] = toJson(body.material);
     json["position"] = toJson(body.position);
     json["rotation_deg"] = toJson(body.rotationDegrees);

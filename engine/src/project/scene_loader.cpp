@@ -26,10 +26,12 @@ namespace {
 /// Texels per side of the permeability map made for the caps of a body that has none painted.
 constexpr int kOpeningMapSize = 512;
 
-/// One node per opening, for the space behind its cap: a box node (its level follows the
-/// space's box) with the space's volume as capacity, empty.
-void appendOpeningNodes(WaterGraph& graph, const std::vector<Opening>& openings) {
-    for (std::size_t i = 0; i < openings.size(); ++i) {
+/// One node per open cap (`open`: opening indices), for the space behind it: a box node (its
+/// level follows the space's box) with the space's volume as capacity, empty. Named by the
+/// opening's index, so that sealing one cap does not rename the others' nodes.
+void appendOpeningNodes(WaterGraph& graph, const std::vector<Opening>& openings,
+                        const std::vector<std::size_t>& open) {
+    for (std::size_t i : open) {
         const Opening& opening = openings[i];
         GraphNode node;
         node.id = "opening-" + std::to_string(i + 1);
@@ -72,6 +74,7 @@ Result<PreparedBodyMesh> prepareLoadedBodyMesh(const Project& project, std::size
     if (!desc.deforms()) {
         RepairSettings settings;
         settings.closeOpenings = desc.openings != OpeningsMode::None;
+        for (const CapDesc& cap : desc.caps) settings.capHeights.push_back(cap.height);
         Result<PhysicsSolid> solid = physicsSolidFor(loaded, report, settings);
         if (!solid) return withContext(label + ": ", solid.error());
         if (!solid->repairs.empty()) {
@@ -141,10 +144,18 @@ Result<BodyParts> assembleBodyParts(BodyDesc& desc, PreparedBodyMesh prepared, c
     if (Status s = onSolid(paint.shellDensityMap, parts.shellDensityMap); !s) return s.error();
     if (Status s = onSolid(paint.shellThicknessMap, parts.shellThicknessMap); !s) return s.error();
 
+    // Sealed or open, the space behind a cap holds no material, and a cap is not wall.
     parts.hollow = hollowSpace(prepared.openings);
+    std::vector<std::size_t> open;
+    for (std::size_t i = 0; i < prepared.openings.size(); ++i) {
+        const Opening& opening = prepared.openings[i];
+        parts.capTriangles.insert(parts.capTriangles.end(), opening.capTriangles.begin(),
+                                  opening.capTriangles.end());
+        if (desc.capMode(i) == OpeningsMode::Open) open.push_back(i);
+    }
     WaterGraph graph = paint.waterGraph ? *paint.waterGraph : WaterGraph{};
-    if (desc.openings == OpeningsMode::Open && !prepared.openings.empty()) {
-        appendOpeningNodes(graph, prepared.openings);
+    if (!open.empty()) {
+        appendOpeningNodes(graph, prepared.openings, open);
         if (!desc.waterGraph) {
             // An opening is an orifice, not a seeping surface: Torricelli's law, so a hull
             // pushed under fills in a moment as a real one does.
@@ -160,14 +171,33 @@ Result<BodyParts> assembleBodyParts(BodyDesc& desc, PreparedBodyMesh prepared, c
             permeability.values.assign(static_cast<std::size_t>(kOpeningMapSize) * kOpeningMapSize, 0.0f);
         }
         std::vector<std::uint32_t> caps;
-        for (const Opening& opening : prepared.openings)
-            caps.insert(caps.end(), opening.capTriangles.begin(), opening.capTriangles.end());
+        for (std::size_t i : open)
+            caps.insert(caps.end(), prepared.openings[i].capTriangles.begin(),
+                        prepared.openings[i].capTriangles.end());
         if (Status s = paintTriangles(permeability, *mesh, caps, 1.0f); !s) return withContext(label + ": ", s.error());
         parts.permeabilityMap = std::make_shared<const PaintedMap>(std::move(permeability));
-        say(label + ": " + std::to_string(prepared.openings.size()) +
+        say(label + ": " + std::to_string(open.size()) + " of " +
+            std::to_string(prepared.openings.size()) +
             (prepared.openings.size() == 1 ? " opening" : " openings") +
-            " closed by caps that let water in: compartments of the water graph, empty at the start");
+            " closed by caps that let water in: compartments of the water graph, empty at the "
+            "start");
     }
+    if (open.size() < prepared.openings.size() && parts.permeabilityMap) {
+        // A sealed cap lets nothing in, whatever was painted near the rim it closes.
+        std::vector<std::uint32_t> sealed;
+        for (std::size_t i = 0; i < prepared.openings.size(); ++i)
+            if (desc.capMode(i) != OpeningsMode::Open)
+                sealed.insert(sealed.end(), prepared.openings[i].capTriangles.begin(),
+                              prepared.openings[i].capTriangles.end());
+        PaintedMap permeability = *parts.permeabilityMap;
+        if (Status s = paintTriangles(permeability, *mesh, sealed, 0.0f); !s)
+            return withContext(label + ": ", s.error());
+        parts.permeabilityMap = std::make_shared<const PaintedMap>(std::move(permeability));
+    }
+    if (open.size() < prepared.openings.size())
+        say(label + ": " + std::to_string(prepared.openings.size() - open.size()) +
+            (prepared.openings.size() - open.size() == 1 ? " opening" : " openings") +
+            " closed by sealed caps (decks): no water gets in");
     if (desc.waterGraph) parts.waterGraph = std::make_shared<const WaterGraph>(std::move(graph));
     return parts;
 }

@@ -9,6 +9,7 @@
 #include <cmath>
 #include <cstdint>
 #include <limits>
+#include <tuple>
 
 namespace plimsoll {
 
@@ -239,7 +240,13 @@ std::vector<Basin> findBasins(const TriangleMesh& solid, double solidVolume, con
         if (sj > spill - 2) continue;
         basins.push_back(basin);
     }
-    std::sort(basins.begin(), basins.end(), [](const Basin& a, const Basin& b) { return a.volume > b.volume; });
+    // Largest first; equal volumes (a symmetric pair of holds) by the seed's place, so that the
+    // order, which a project's per-cap settings are indexed by, depends on the mesh alone.
+    std::sort(basins.begin(), basins.end(), [](const Basin& a, const Basin& b) {
+        if (a.volume != b.volume) return a.volume > b.volume;
+        return std::tuple(a.seed.x(), a.seed.z(), a.seed.y()) <
+               std::tuple(b.seed.x(), b.seed.z(), b.seed.y());
+    });
     return basins;
 }
 

@@ -563,8 +563,11 @@ Status World::updateDeformingBodies(double time) {
 
 Status World::recomputeMass(std::size_t i) {
     SimulatedBody& body = bodies_[i];
-    Result<MassProperties> props = materialMassProperties(
-        body.textures, materials_[i], shellDensityMaps_[i].get(), "body '" + body.name + "'");
+    // The caps' share and the hollow are those of the body's mesh as it was baked.
+    const SceneBody& baked = scene_.bodies[i];
+    Result<MassProperties> props =
+        bodyMassProperties(body.textures, materials_[i], shellDensityMaps_[i].get(),
+                           baked.wallShare.get(), baked.parts.hollow, "body '" + body.name + "'");
     if (!props) return props.error();
     // Keep the body where it is in the world and its momenta as they are: the mesh or the
     // paint changed, the body did not jump.

@@ -52,6 +52,9 @@ struct BodyParts {
     /// open hull's openings (physics_solid.h, Opening::cavity), at density 1 (mass = volume).
     /// A solid material fills the rest only. Zero mass: none.
     MassProperties hollow;
+    /// Triangles of `mesh` that are no material (the caps of those openings): a shell does not
+    /// lie on them. Empty: the whole surface is wall.
+    std::vector<std::uint32_t> capTriangles;
 };
 
 struct BodyRadiation;  // scene_radiation.h
@@ -74,6 +77,9 @@ struct SceneBody {
     /// Where desc.tolerance set the texture size: the size it picked and its measured errors
     /// (desc.textureSize is then that size).
     std::optional<LevelChoice> levelChoice;
+    /// Per entry of `textures`, the share of its area that is wall, not cap
+    /// (parts.capTriangles): what a shell's surface density is scaled by. Null: all wall.
+    std::shared_ptr<const std::vector<double>> wallShare;
 };
 
 struct Scene {
@@ -101,6 +107,21 @@ Result<MassProperties> materialMassProperties(const SurfaceTextures& textures,
                                               const MaterialDesc& material,
                                               const PaintedMap* shellDensityMap,
                                               const std::string& label);
+
+/// A body's own mass properties (no water in it): materialMassProperties with the shell scaled
+/// by `wallShare` (per entry, null: 1) and the solid material kept out of `hollow` (the space
+/// behind an open hull's caps; no mass: none). What bakeSceneBody and World compute.
+Result<MassProperties> bodyMassProperties(const SurfaceTextures& textures,
+                                          const MaterialDesc& material,
+                                          const PaintedMap* shellDensityMap,
+                                          const std::vector<double>* wallShare,
+                                          const MassProperties& hollow, const std::string& label);
+
+/// Per entry of `textures` (baked from `mesh` with `pieces` recorded), the share of its area
+/// on triangles not in `caps`: 1 on walls, 0 on a cap, between where an entry holds both.
+std::vector<double> wallShares(const TriangleMesh& mesh, const SurfaceTextures& textures,
+                               const SurfacePieceTable& pieces,
+                               const std::vector<std::uint32_t>& caps);
 
 /// Refuses a surface with errors no atlas can fix (holes, bad orientation, ...: every problem
 /// of `report` that is not about UVs, one a line after "LABEL:").

@@ -98,6 +98,20 @@ enum class OpeningsMode {
 const char* openingsModeName(OpeningsMode mode);  ///< "open", "sealed", "none"
 std::optional<OpeningsMode> parseOpeningsMode(std::string_view name);
 
+/// One opening's cap ("caps" in a body, one entry per opening in the openings' order:
+/// physics_solid.h, PhysicsSolid::openings). Unset members take the body's defaults.
+struct CapDesc {
+    /// "mode": "open" or "sealed" (not "none": a cap is there or the body has none); unset: the
+    /// body's `openings` mode.
+    std::optional<OpeningsMode> mode;
+    /// "height": object-space y of the cap's plane, m (after `unit`); unset: just under the
+    /// lowest point of the rim. A height above the rim, or at or below the bottom of the space
+    /// behind the cap, is refused when the body is loaded (RepairSettings::capHeights).
+    std::optional<double> height;
+
+    bool operator==(const CapDesc&) const = default;
+};
+
 struct BodyDesc {
     std::string name;
     /// Mesh file (any format assimp reads). For a deforming body, the first frame.
@@ -121,6 +135,14 @@ struct BodyDesc {
     AtlasMode atlas = AtlasMode::Auto;
     /// The openings of an open hull or container ("openings": "open", "sealed" or "none").
     OpeningsMode openings = OpeningsMode::Open;
+    /// Per-cap settings ("caps"), by opening index; openings past its end take the defaults.
+    /// Ignored with "openings": "none".
+    std::vector<CapDesc> caps;
+    /// Whether opening `index`'s cap lets water in (its mode, else the body's).
+    OpeningsMode capMode(std::size_t index) const {
+        if (openings == OpeningsMode::None) return OpeningsMode::None;
+        return index < caps.size() && caps[index].mode ? *caps[index].mode : openings;
+    }
     MaterialDesc material;
     Eigen::Vector3d position = Eigen::Vector3d::Zero();          ///< R p + t: t, m
     Eigen::Vector3d rotationDegrees = Eigen::Vector3d::Zero();   ///< Rz Ry Rx, degrees
