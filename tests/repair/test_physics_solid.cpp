@@ -193,7 +193,11 @@ TEST(PhysicsSolid, AnOpenHullBesideAMastIsKeptAsThinWallsAndCapped) {
     // 0.1 m to 1.6 m: the sealed hull is the tub's box and the mast above its rim.
     const Eigen::Vector3d size(2, 0.5, 1);
     const TriangleMesh mast = boxBetween({-0.05, 0.1, -0.05}, {0.05, 1.6, 0.05});
-    const PhysicsSolid solid = solidOf(joined(openTub(size), mast));
+    const TriangleMesh mesh = joined(openTub(size), mast);
+    Result<PhysicsSolid> built = physicsSolidFor(mesh, validateSurface(mesh));
+    ASSERT_TRUE(built.ok()) << built.error().message;
+    const PhysicsSolid& solid = *built;
+    EXPECT_TRUE(validateSurface(solid.mesh).closedSolid());
     ASSERT_NE(findRepair(solid, "open-hulls"), nullptr) << describeRepairs(solid.repairs);
     EXPECT_EQ(findRepair(solid, "open-hulls")->count, 1u);
     EXPECT_EQ(findRepair(solid, "open-sheets"), nullptr);
