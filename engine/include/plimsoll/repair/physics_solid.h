@@ -30,6 +30,9 @@ namespace plimsoll {
 ///   "fill-holes"        small holes of nearly closed parts filled (count: holes; the volume
 ///                       change is those parts' volume)
 ///   "open-sheets"       open parts (sails, planks, eyes) left out of the volume (count: parts)
+///   "open-hulls"        open parts that hold water poured in from above (a hull or container
+///                       modelled as one surface without thickness) kept as thin walls, their
+///                       wrap, for the openings step to cap (count: parts; wrapped with "wrap")
 ///   "union"             overlapping closed parts joined (count: parts joined)
 ///   "wrap"              what stays broken replaced by its alpha wrap (count: parts wrapped)
 ///   "cap"               openings of open hulls and containers closed at their rims (count:
