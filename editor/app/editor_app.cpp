@@ -922,6 +922,7 @@ int runEditorWindow(const EditorLaunch& launch) {
     if (!launch.overlay.empty()) {
         if (const auto overlay = parseOverlay(launch.overlay)) s.overlay = *overlay;
     }
+    s.showPhysicsSolid = launch.showPhysicsSolid;
     s.lastAutosave = glfwGetTime();
     s.preview = std::make_shared<PreviewUi>();
     s.preview->fixedStep = launch.frames > 0;
