@@ -152,11 +152,12 @@ TriangleMesh openTub(const Eigen::Vector3d& size) {
     TriangleMesh tub;
     tub.source = "tub";
     const double x = size.x() / 2, y = size.y(), z = size.z() / 2;
-    tub.positions = {{-x, 0, -z}, {x, 0, -z}, {x, 0, z}, {-x, 0, z}, {-x, y, -z}, {x, y, -z}, {x, y, z}, {-x, y, z}};
+    tub.positions = {{-x, 0, -z}, {x, 0, -z}, {x, 0, z}, {-x, 0, z},
+                     {-x, y, -z}, {x, y, -z}, {x, y, z}, {-x, y, z}};
     // Outward normals: bottom down, sides out.
-    tub.triangles = {{0, 1, 2}, {0, 2, 3},                          // bottom
-                     {0, 4, 5}, {0, 5, 1}, {1, 5, 6}, {1, 6, 2},    // z = -z, x = +x
-                     {2, 6, 7}, {2, 7, 3}, {3, 7, 4}, {3, 4, 0}};   // z = +z, x = -x
+    tub.triangles = {{0, 1, 2}, {0, 2, 3},                         // bottom
+                     {0, 4, 5}, {0, 5, 1}, {1, 5, 6}, {1, 6, 2},   // z = -z, x = +x
+                     {2, 6, 7}, {2, 7, 3}, {3, 7, 4}, {3, 4, 0}};  // z = +z, x = -x
     return tub;
 }
 
@@ -175,8 +176,9 @@ TriangleMesh bellySail(const Eigen::Vector3d& corner, double width, double heigh
     for (int j = 0; j <= n; ++j)
         for (int i = 0; i <= n; ++i) {
             const double u = double(i) / n, v = double(j) / n;
-            sail.positions.push_back(corner + Eigen::Vector3d(u * width, v * height,
-                                                              0.25 * width * std::sin(std::numbers::pi * u)));
+            sail.positions.push_back(
+                corner + Eigen::Vector3d(u * width, v * height,
+                                         0.25 * width * std::sin(std::numbers::pi * u)));
         }
     for (int j = 0; j < n; ++j)
         for (int i = 0; i < n; ++i) {
@@ -209,7 +211,7 @@ TEST(PhysicsSolid, AnOpenHullBesideAMastIsKeptAsThinWallsAndCapped) {
     const double walls = 5.0 * 2 * RepairSettings{}.wrapOffset * diagonal;
     EXPECT_NEAR(solid.openings[0].capHeight, size.y(), 4 * RepairSettings{}.wrapOffset * diagonal);
     EXPECT_NEAR(solid.displacementVolume, sealed, 0.02 * sealed);
-    EXPECT_GT(solid.materialVolume, 0.1 * 0.1 * 1.5);   // the mast ...
+    EXPECT_GT(solid.materialVolume, 0.1 * 0.1 * 1.5);              // the mast ...
     EXPECT_LT(solid.materialVolume, 0.1 * 0.1 * 1.5 + 3 * walls);  // ... and thin walls
     EXPECT_NEAR(exactSolidMassProperties(solid.mesh, 1.0).volume, solid.displacementVolume,
                 1e-9 * solid.displacementVolume);
@@ -234,7 +236,8 @@ TEST(PhysicsSolid, ASailAndAnUpsideDownTubStayOutOfTheVolume) {
     EXPECT_EQ(findRepair(roofed, "open-hulls"), nullptr);
     // A tub too small beside the rest to count (a cup on a table): 1% of the volume.
     const TriangleMesh block = boxBetween({-1, -1, -1}, {1, 0, 1});
-    const PhysicsSolid cupped = solidOf(joined(block, translated(openTub({0.2, 0.2, 0.2}), {0, 0.5, 0})));
+    const PhysicsSolid cupped =
+        solidOf(joined(block, translated(openTub({0.2, 0.2, 0.2}), {0, 0.5, 0})));
     EXPECT_NEAR(cupped.materialVolume, 4.0, 1e-12);
     EXPECT_EQ(findRepair(cupped, "open-hulls"), nullptr);
 }
@@ -251,7 +254,8 @@ TEST(PhysicsSolid, ASolidModelledTwiceAtOnePlaceIsOneSolid) {
     const PhysicsSolid solid = solidOf(joined(whole, halves));
     // The wrap lies its offset outside the box: 10 m^2 of surface.
     const double offset = RepairSettings{}.wrapOffset * Eigen::Vector3d(2, 1, 1).norm();
-    EXPECT_NEAR(solid.materialVolume, 2.0 + 10 * offset, 3 * 10 * offset) << describeRepairs(solid.repairs);
+    EXPECT_NEAR(solid.materialVolume, 2.0 + 10 * offset, 3 * 10 * offset)
+        << describeRepairs(solid.repairs);
 }
 
 TEST(PhysicsSolid, NoSolidFromNothing) {
@@ -314,8 +318,8 @@ TEST(PhysicsSolid, TheBarrelsVolumeIsItsUnionsByMonteCarlo) {
 }
 
 /// Whether the ray from `origin` along `direction` crosses triangle (a, b, c) (Möller-Trumbore).
-bool crosses(const Eigen::Vector3d& origin, const Eigen::Vector3d& direction, const Eigen::Vector3d& a,
-             const Eigen::Vector3d& b, const Eigen::Vector3d& c) {
+bool crosses(const Eigen::Vector3d& origin, const Eigen::Vector3d& direction,
+             const Eigen::Vector3d& a, const Eigen::Vector3d& b, const Eigen::Vector3d& c) {
     const Eigen::Vector3d ab = b - a, ac = c - a, h = direction.cross(ac);
     const double det = ab.dot(h);
     if (std::abs(det) < 1e-300) return false;
@@ -343,13 +347,16 @@ double sealedEstimate(const TriangleMesh& mesh, int samples) {
     int held = 0;
     for (int i = 0; i < samples; ++i) {
         const Eigen::Vector3d p =
-            box.min + (box.max - box.min).cwiseProduct(Eigen::Vector3d(unit(random), unit(random), unit(random)));
+            box.min + (box.max - box.min)
+                          .cwiseProduct(Eigen::Vector3d(unit(random), unit(random), unit(random)));
         bool in = windingNumber(mesh, p) >= 0.5;
         if (!in) {
             in = std::all_of(ways.begin(), ways.end(), [&](const Eigen::Vector3d& way) {
-                return std::any_of(mesh.triangles.begin(), mesh.triangles.end(), [&](const Triangle& t) {
-                    return crosses(p, way, mesh.positions[t[0]], mesh.positions[t[1]], mesh.positions[t[2]]);
-                });
+                return std::any_of(mesh.triangles.begin(), mesh.triangles.end(),
+                                   [&](const Triangle& t) {
+                                       return crosses(p, way, mesh.positions[t[0]],
+                                                      mesh.positions[t[1]], mesh.positions[t[2]]);
+                                   });
             });
         }
         if (in) ++held;
@@ -359,7 +366,8 @@ double sealedEstimate(const TriangleMesh& mesh, int samples) {
 
 TEST(PhysicsSolid, TheShipsWithSheetsBesideTheirHullsDisplaceTheirSealedHulls) {
     SKIP_WITHOUT_REPAIR();
-    if (!std::filesystem::exists(test::realAssetsDir())) GTEST_SKIP() << "../shared/real-assets not present";
+    if (!std::filesystem::exists(test::realAssetsDir()))
+        GTEST_SKIP() << "../shared/real-assets not present";
     // The three-masted ship: a hull whose holes are small but which cuts through itself; the
     // motor boat: one closed boat modelled again as two closed halves and a half hull, which
     // merging tears into open pieces.
@@ -371,7 +379,8 @@ TEST(PhysicsSolid, TheShipsWithSheetsBesideTheirHullsDisplaceTheirSealedHulls) {
         const double estimate = sealedEstimate(*mesh, 4000);
         std::cout << name << ": material " << solid.materialVolume << " m^3, displacement "
                   << solid.displacementVolume << " m^3, sealed estimate " << estimate << " m^3, "
-                  << solid.openings.size() << " openings, " << describeRepairs(solid.repairs) << "\n";
+                  << solid.openings.size() << " openings, " << describeRepairs(solid.repairs)
+                  << "\n";
         EXPECT_NEAR(solid.displacementVolume, estimate, 0.15 * estimate);
         // Whatever the solid adds, sheets left out and the wrap's offset, is a small share.
         EXPECT_LE(solid.materialVolume, solid.displacementVolume);

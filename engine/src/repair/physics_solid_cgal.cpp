@@ -239,7 +239,8 @@ std::optional<Filled> filled(const Mesh& open) {
     PMP::extract_boundary_cycles(part, std::back_inserter(borders));
     std::vector<Mesh::Face_index> patch;
     try {
-        for (Mesh::Halfedge_index h : borders) PMP::triangulate_hole(part, h, std::back_inserter(patch));
+        for (Mesh::Halfedge_index h : borders)
+            PMP::triangulate_hole(part, h, std::back_inserter(patch));
     } catch (const std::exception&) {
         return std::nullopt;
     }
@@ -271,7 +272,8 @@ std::optional<Filled> filled(const Mesh& open) {
 ///   one surface without thickness, which holds water poured in from above. They are returned,
 ///   to be kept as thin walls (their wrap) that the openings step caps at the rim. A sail, a flag
 ///   or a half hull cut at its mirror plane opens sideways and stays a sheet.
-std::vector<Mesh> takeHullsAndPieces(Parts& parts, double minShare, double otherVolume, double tolerance) {
+std::vector<Mesh> takeHullsAndPieces(Parts& parts, double minShare, double otherVolume,
+                                     double tolerance) {
     const std::vector<Attachment> attached = attachments(parts, tolerance);
     const std::size_t n = parts.open.size();
     std::vector<std::optional<Filled>> fill;
@@ -298,7 +300,8 @@ std::vector<Mesh> takeHullsAndPieces(Parts& parts, double minShare, double other
         Mesh& part = parts.open[i];
         if (piece[i] && solidGroup[find(i)])
             parts.broken.push_back(std::move(part));
-        else if (!piece[i] && enough[i] && fill[i]->opening.y() >= std::sqrt(0.5) * fill[i]->patchArea)
+        else if (!piece[i] && enough[i] &&
+                 fill[i]->opening.y() >= std::sqrt(0.5) * fill[i]->patchArea)
             hulls.push_back(std::move(part));
         else
             open.push_back(std::move(part));
@@ -413,15 +416,17 @@ Result<PhysicsSolid> buildPhysicsSolid(const TriangleMesh& surface, const Repair
     for (const std::vector<Mesh>* group : {&parts.closed, &parts.broken})
         for (const Mesh& part : *group) otherVolume += std::abs(volumeOf(part));
     const std::size_t brokenBefore = parts.broken.size();
-    const std::vector<Mesh> hulls = takeHullsAndPieces(parts, settings.basins.minVolumeShare, otherVolume,
-                                                       1e3 * settings.weldTolerance * diagonal);
+    const std::vector<Mesh> hulls =
+        takeHullsAndPieces(parts, settings.basins.minVolumeShare, otherVolume,
+                           1e3 * settings.weldTolerance * diagonal);
     const std::size_t pieces = parts.broken.size() - brokenBefore;
     if (!hulls.empty()) {
         std::size_t faces = 0;
         for (const Mesh& part : hulls) faces += part.number_of_faces();
         report("open-hulls", hulls.size(), 0,
                std::to_string(hulls.size()) + " open parts (" + std::to_string(faces) +
-                   " faces) that hold water poured in from above, hulls or containers without thickness, "
+                   " faces) that hold water poured in from above, hulls or containers without "
+                   "thickness, "
                    "kept as thin walls (their wrap)");
     }
     if (!parts.open.empty()) {
@@ -473,11 +478,16 @@ Result<PhysicsSolid> buildPhysicsSolid(const TriangleMesh& surface, const Repair
             result = std::move(joined);
         }
         const double after = volumeOf(result);
-        report("wrap", wrappedParts, after - volume,
-               std::to_string(wrappedParts) + " parts that are not closed sound solids replaced by their alpha wrap (" +
-                   describeNumber(wrappedVolume) + " m^3" +
-                   (pieces > 0 ? ", " + std::to_string(pieces) + " of them open pieces of one closed solid" : "") +
-                   (hulls.empty() ? "" : ", " + std::to_string(hulls.size()) + " of them open hulls") + ")");
+        report(
+            "wrap", wrappedParts, after - volume,
+            std::to_string(wrappedParts) +
+                " parts that are not closed sound solids replaced by their alpha wrap (" +
+                describeNumber(wrappedVolume) + " m^3" +
+                (pieces > 0
+                     ? ", " + std::to_string(pieces) + " of them open pieces of one closed solid"
+                     : "") +
+                (hulls.empty() ? "" : ", " + std::to_string(hulls.size()) + " of them open hulls") +
+                ")");
         volume = after;
     }
     if (result.is_empty() || !(volume > 0))
