@@ -199,6 +199,36 @@ TriangleMesh sealedBy(const Cavity& cavity, const std::string& source, double di
     return out;
 }
 
+/// A cap the project moved to `h` (RepairSettings::capHeights[index]): below the rim and above
+/// the bottom, `cavity` becomes the part of its space below it; else an error naming the
+/// opening and both heights.
+Status moveCap(Cavity& cavity, const Mesh& current, const Bounds3& bounds, const Basin& basin,
+               double diagonal, std::size_t index, double h, const std::string& source) {
+    const std::string which = source + ": the cap of opening " + std::to_string(index + 1) +
+                              " (caps[" + std::to_string(index) + "].height) at y = " +
+                              describeNumber(h) + " m";
+    if (!std::isfinite(h) || h > cavity.rim)
+        return makeError(ErrorKind::schema,
+                         which + " is above the lowest point of its rim (y = " +
+                             describeNumber(cavity.rim) +
+                             " m), where the water spills before it reaches the cap");
+    if (h <= cavity.bottom)
+        return makeError(ErrorKind::schema,
+                         which + " is not above the bottom of the space behind it (y = " +
+                             describeNumber(cavity.bottom) + " m)");
+    if (h < cavity.height) {
+        const Mesh full = cavity.space;
+        std::optional<Cavity> lowered = cavityBelow(current, bounds, basin, h, diagonal, &full);
+        if (!lowered)
+            return makeError(ErrorKind::schema,
+                             which + " cannot be cut there (try a height a little above or below)");
+        lowered->rim = cavity.rim;
+        lowered->bottom = cavity.bottom;
+        cavity = std::move(*lowered);
+    }
+    return Ok{};
+}
+
 }  // namespace
 
 Status closeOpenings(PhysicsSolid& solid, const std::vector<Basin>& basins, const RepairSettings& settings) {
@@ -261,35 +291,12 @@ Status closeOpenings(PhysicsSolid& solid, const std::vector<Basin>& basins, cons
         cavity->bottom = std::numeric_limits<double>::max();
         for (Mesh::Vertex_index v : cavity->space.vertices())
             cavity->bottom = std::min(cavity->bottom, cavity->space.point(v).y());
-        // A cap the project moved: below the rim and above the bottom, the part of the space
-        // below it.
         const std::size_t index = found.size();
         if (index < settings.capHeights.size() && settings.capHeights[index]) {
-            const double h = *settings.capHeights[index];
-            const std::string which =
-                solid.mesh.source + ": the cap of opening " + std::to_string(index + 1) +
-                " (caps[" + std::to_string(index) + "].height) at y = " + describeNumber(h) + " m";
-            if (!std::isfinite(h) || h > rim)
-                return makeError(
-                    ErrorKind::schema,
-                    which + " is above the lowest point of its rim (y = " + describeNumber(rim) +
-                        " m), where the water spills before it reaches the cap");
-            if (h <= cavity->bottom)
-                return makeError(ErrorKind::schema,
-                                 which + " is not above the bottom of the space behind it (y = " +
-                                     describeNumber(cavity->bottom) + " m)");
-            if (h < cavity->height) {
-                const Mesh full = cavity->space;
-                std::optional<Cavity> lowered =
-                    cavityBelow(current, bounds, basin, h, diagonal, &full);
-                if (!lowered)
-                    return makeError(
-                        ErrorKind::schema,
-                        which + " cannot be cut there (try a height a little above or below)");
-                lowered->rim = cavity->rim;
-                lowered->bottom = cavity->bottom;
-                cavity = std::move(lowered);
-            }
+            if (Status s = moveCap(*cavity, current, bounds, basin, diagonal, index,
+                                   *settings.capHeights[index], solid.mesh.source);
+                !s)
+                return s;
         }
         TriangleMesh joined = sealedBy(*cavity, solid.mesh.source, diagonal);
         if (validateSurface(joined).closedSolid()) sealed = std::move(joined);
