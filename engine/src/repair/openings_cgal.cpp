@@ -205,13 +205,13 @@ TriangleMesh sealedBy(const Cavity& cavity, const std::string& source, double di
 Status moveCap(Cavity& cavity, const Mesh& current, const Bounds3& bounds, const Basin& basin,
                double diagonal, std::size_t index, double h, const std::string& source) {
     const std::string which = source + ": the cap of opening " + std::to_string(index + 1) +
-                              " (caps[" + std::to_string(index) + "].height) at y = " +
-                              describeNumber(h) + " m";
+                              " (caps[" + std::to_string(index) +
+                              "].height) at y = " + describeNumber(h) + " m";
     if (!std::isfinite(h) || h > cavity.rim)
-        return makeError(ErrorKind::schema,
-                         which + " is above the lowest point of its rim (y = " +
-                             describeNumber(cavity.rim) +
-                             " m), where the water spills before it reaches the cap");
+        return makeError(
+            ErrorKind::schema,
+            which + " is above the lowest point of its rim (y = " + describeNumber(cavity.rim) +
+                " m), where the water spills before it reaches the cap");
     if (h <= cavity.bottom)
         return makeError(ErrorKind::schema,
                          which + " is not above the bottom of the space behind it (y = " +
