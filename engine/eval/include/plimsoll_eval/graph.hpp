@@ -21,6 +21,7 @@
 #include <cstddef>
 #include <cstdint>
 #include <limits>
+#include <map>
 #include <utility>
 #include <vector>
 
@@ -352,6 +353,118 @@ inline void exchangeHeights(const std::vector<ExchangePoint>& points, const Mat3
     }
 }
 
+/// The outside water the exchange sees: the water's heights on a world lattice of spacing
+/// kExchangeLatticeSpacing (nodes at (i s, j s)), interpolated bilinearly between the four
+/// nodes about each point. A body's permeable points crowd into few cells (an opening's texels
+/// lie a few centimetres apart, a hull side's above one another), so the water answers one
+/// height per lattice node they touch rather than one per point; the interpolant's error is at
+/// most s^2 / 8 times the water's curvature (docs/design.md, "Water graph"). Flat water needs
+/// no lattice: the interpolant of a constant is that constant.
+inline constexpr double kExchangeLatticeSpacing = 0.25;  ///< m
+
+/// A point's lattice cell (its lower nodes i, j) and where it lies in it (0..1 along x, z).
+struct LatticeCell {
+    std::int64_t i = 0, j = 0;
+    double tx = 0, tz = 0;
+};
+
+inline LatticeCell latticeCell(double x, double z, double spacing) {
+    double gx = x / spacing, gz = z / spacing;
+    // A point beyond any water (or NaN) takes the cell at the origin: the integer conversion
+    // stays defined, and its height is as meaningless as the position.
+    constexpr double kFar = 4.0e15;
+    if (!(std::abs(gx) < kFar)) gx = 0.0;
+    if (!(std::abs(gz) < kFar)) gz = 0.0;
+    const double fx = std::floor(gx), fz = std::floor(gz);
+    return {static_cast<std::int64_t>(fx), static_cast<std::int64_t>(fz), gx - fx, gz - fz};
+}
+
+/// Bilinear interpolation of the cell's node heights (f00 at (i, j), f10 at (i + 1, j), ...),
+/// as differences from the lower nodes, so equal heights give that height exactly.
+inline double latticeInterpolate(double f00, double f10, double f01, double f11, double tx,
+                                 double tz) {
+    const double a = f00 + tx * (f10 - f00);
+    const double b = f01 + tx * (f11 - f01);
+    return a + tz * (b - a);
+}
+
+/// Scratch of exchangeSurfaces, kept between steps (no allocation once sized).
+struct ExchangeLattice {
+    std::vector<LatticeCell> cells;      ///< per point
+    std::vector<std::uint32_t> corners;  ///< per point, its four nodes' indices in x, z
+    std::vector<std::int32_t> slot;      ///< per node of the cells' bounding box; -1: not asked
+    std::map<std::pair<std::int64_t, std::int64_t>, std::int32_t> sparse;  ///< beyond: node, slot
+    std::vector<double> x, z, height;  ///< the nodes asked, in the order first touched
+};
+
+/// The outside surface over each of the world points `world`: one call
+/// heights(n, x, z, out) for the lattice nodes the points touch (each once), then per point
+/// latticeInterpolate. The nodes are asked in the order the points first touch them.
+template <class Heights>
+void exchangeSurfaces(const std::vector<Vec3>& world, double spacing, Heights&& heights,
+                      ExchangeLattice& lattice, std::vector<double>& surface) {
+    const std::size_t n = world.size();
+    surface.resize(n);
+    lattice.x.clear();
+    lattice.z.clear();
+    if (n == 0) return;
+    lattice.cells.resize(n);
+    lattice.corners.resize(4 * n);
+    std::int64_t i0 = 0, i1 = 0, j0 = 0, j1 = 0;
+    for (std::size_t p = 0; p < n; ++p) {
+        const LatticeCell c = latticeCell(world[p].x, world[p].z, spacing);
+        lattice.cells[p] = c;
+        if (p == 0) i0 = i1 = c.i, j0 = j1 = c.j;
+        i0 = std::min(i0, c.i), i1 = std::max(i1, c.i);
+        j0 = std::min(j0, c.j), j1 = std::max(j1, c.j);
+    }
+    // The nodes of the cells' bounding box, indexed densely while that stays small against the
+    // points (a body a few hundred cells across); beyond (points kilometres apart), by a map.
+    const double across = double(i1 - i0) + 2.0, along = double(j1 - j0) + 2.0;
+    const bool dense = across * along <= 8.0 * double(n) + 4096.0;
+    const std::int64_t stride = i1 - i0 + 2;
+    if (dense) {
+        lattice.slot.assign(static_cast<std::size_t>(across * along), -1);
+    } else {
+        lattice.sparse.clear();
+    }
+    auto node = [&](std::int64_t i, std::int64_t j) -> std::uint32_t {
+        const auto next = static_cast<std::int32_t>(lattice.x.size());
+        if (dense) {
+            std::int32_t& s = lattice.slot[static_cast<std::size_t>((j - j0) * stride + (i - i0))];
+            if (s >= 0) return static_cast<std::uint32_t>(s);
+            s = next;
+        } else if (const auto [at, added] = lattice.sparse.try_emplace({i, j}, next); !added) {
+            return static_cast<std::uint32_t>(at->second);
+        }
+        lattice.x.push_back(double(i) * spacing);
+        lattice.z.push_back(double(j) * spacing);
+        return static_cast<std::uint32_t>(lattice.x.size() - 1);
+    };
+    for (std::size_t p = 0; p < n; ++p) {
+        const LatticeCell& c = lattice.cells[p];
+        std::uint32_t* k = &lattice.corners[4 * p];
+        // Neighbouring points mostly share a cell: its nodes as the previous point found them.
+        if (p > 0 && c.i == lattice.cells[p - 1].i && c.j == lattice.cells[p - 1].j) {
+            for (int m = 0; m < 4; ++m) k[m] = k[m - 4];
+            continue;
+        }
+        k[0] = node(c.i, c.j);
+        k[1] = node(c.i + 1, c.j);
+        k[2] = node(c.i, c.j + 1);
+        k[3] = node(c.i + 1, c.j + 1);
+    }
+    const std::size_t asked = lattice.x.size();
+    lattice.height.resize(asked);
+    heights(asked, lattice.x.data(), lattice.z.data(), lattice.height.data());
+    const double* f = lattice.height.data();
+    for (std::size_t p = 0; p < n; ++p) {
+        const std::uint32_t* k = &lattice.corners[4 * p];
+        surface[p] = latticeInterpolate(f[k[0]], f[k[1]], f[k[2]], f[k[3]], lattice.cells[p].tx,
+                                        lattice.cells[p].tz);
+    }
+}
+
 /// The exchange pass over `points` at world heights y[i], with the water surface surface(i)
 /// above point i: the outside depth d_out = max(0, f - y) against the inside head
 /// d_in = max(0, surface_n - y) drives |q| = factor w |h| (linear) or factor w sqrt|h|
@@ -448,7 +561,7 @@ public:
             (length_.capacity() + radius_.capacity() + levels_.capacity()) * sizeof(double) +
             scaledBox_.capacity() * sizeof(Vec3) + pathOrder_.capacity() * sizeof(Link) +
             pathStack_.capacity() * sizeof(PathFrame) + memo_.capacity() * sizeof(LevelMemo) +
-            links_.capacity() * sizeof(std::vector<Link>);
+            boxes_.capacity() * sizeof(RotatedBox) + links_.capacity() * sizeof(std::vector<Link>);
         for (const std::vector<Link>& links : links_) bytes += links.capacity() * sizeof(Link);
         return bytes;
     }
@@ -506,7 +619,13 @@ public:
     public:
         NodeVolume(const GraphFlow& flow, std::size_t node, const Mat3& R)
             : node_(&flow.nodes_[node]), radius_(flow.radius_[node]) {
-            if (node_->isBox()) box_ = RotatedBox(flow.scaledBox_[node], R);
+            if (!node_->isBox()) return;
+            // The box as rotated for the memo's R (the same bits), else rotated here.
+            if (flow.memoHolds(R) && flow.boxes_.size() == flow.nodes_.size()) {
+                cached_ = &flow.boxes_[node];
+            } else {
+                own_ = RotatedBox(flow.scaledBox_[node], R);
+            }
         }
         /// Water volume up to a world level `offset` above the node's position (0..capacity).
         double operator()(double offset) const {
@@ -516,17 +635,19 @@ public:
                 return std::clamp(graph_detail::kPi * h * h * (3.0 * r - h) / 3.0, 0.0,
                                   node_->capacity);
             }
-            const ClippedVolume c = box_.below<false>(offset);
+            const ClippedVolume c = box().below<false>(offset);
             const double v = std::isfinite(c.volume) && c.volume > 0 ? c.volume : 0.0;
             return std::clamp(v, 0.0, node_->capacity);
         }
         /// A box node's water below `offset` with its first moment (world axes about the centre).
-        ClippedVolume clip(double offset) const { return box_.below(offset); }
+        ClippedVolume clip(double offset) const { return box().below(offset); }
 
     private:
         const GraphNodeState* node_;
         double radius_;
-        RotatedBox box_;
+        const RotatedBox& box() const { return cached_ ? *cached_ : own_; }
+        const RotatedBox* cached_ = nullptr;
+        RotatedBox own_;
     };
 
     /// Water volume of node i up to a world level `offset` above its position (0..capacity).
@@ -771,6 +892,10 @@ private:
         if (!memoHolds(R)) {
             memo_.assign(nodes_.size(), LevelMemo{});
             memoR_ = R;
+            // The box nodes rotated once for R: every search and flow at R clips these.
+            boxes_.resize(nodes_.size());
+            for (std::size_t i = 0; i < nodes_.size(); ++i)
+                if (nodes_[i].isBox()) boxes_[i] = RotatedBox(scaledBox_[i], R);
         }
         LevelMemo& m = memo_[node];
         const double water = nodes_[node].water;
@@ -945,6 +1070,7 @@ private:
     std::vector<Link> pathOrder_;               ///< findPath's shuffled neighbours, reused
     std::vector<PathFrame> pathStack_;          ///< findPath's stack, reused
     std::vector<LevelMemo> memo_;               ///< levels found at memoR_ (memoLevel)
+    std::vector<RotatedBox> boxes_;             ///< box nodes rotated by memoR_ (memoLevel)
     Mat3 memoR_;
     std::uint32_t visitEpoch_ = 0;
     GraphFlowTotals totals_;
