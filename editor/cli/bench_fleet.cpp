@@ -198,9 +198,9 @@ public:
             ratio[wavy] = flooding / dry;
         }
         std::printf(
-            "flooding / dry: %.2f on the waves (%zu permeable samples, whose heights the waves "
-            "answer in one batched call per step; %.2f without the time the water takes to "
-            "answer them), %.2f on flat water\n",
+            "flooding / dry: %.2f on the waves (%zu permeable samples, the water asked in one "
+            "batched call per step at the exchange lattice's nodes about them; %.2f without the "
+            "time the water takes to answer), %.2f on flat water\n",
             ratio[1], permeable, own, ratio[0]);
     }
 
@@ -320,7 +320,8 @@ bool writeFleetCsv(const fs::path& csv, const std::vector<FleetRow>& rows) {
     return written.ok();
 }
 
-/// Permeable samples of the bundle (what the exchange asks the water's height at).
+/// Permeable samples of the bundle (the exchange asks the water's height on the lattice nodes
+/// about them).
 std::size_t permeableSamples(const fs::path& folder) {
     std::string error;
     const std::unique_ptr<plimsoll_runtime::Bundle> cpp =

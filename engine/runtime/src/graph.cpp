@@ -159,15 +159,17 @@ double WaterGraph::levelOffset(std::size_t node, double water, const Quat& orien
 namespace {
 
 /// One exchange pass's rates for the flow at (pose, R) with the node surfaces `nodeSurface`:
-/// the outside surface over every permeable point asked in one call (a game's water answers a
-/// batch far faster than one point at a time); on flat water only the points' heights.
+/// the outside surface from the water's heights on the exchange's lattice, the nodes the
+/// permeable points touch asked in one call (a game's water answers a batch far faster than
+/// one point at a time); on flat water only the points' heights.
 void exchangeRates(const std::vector<ev::ExchangePoint>& points, const Pose& pose,
                    const ev::Mat3& R, const Water& water, double time, std::size_t nodes,
                    const double* nodeSurface, const ev::GraphFlowSettings& s,
                    ev::ExchangeRates& rates) {
     // Per thread: sized on a thread's first call, reused after.
     thread_local std::vector<ev::Vec3> world;
-    thread_local std::vector<double> xs, ys, zs, surface;
+    thread_local std::vector<double> ys, surface;
+    thread_local ev::ExchangeLattice lattice;
     const std::size_t n = points.size();
     if (!water.heights && !water.height) {
         ev::exchangeHeights(points, R, pose.position.y, ys);
@@ -178,21 +180,19 @@ void exchangeRates(const std::vector<ev::ExchangePoint>& points, const Pose& pos
         return;
     }
     ev::exchangePositions(points, R, toEval(pose.position), world);
-    surface.resize(n);
     ys.resize(n);
     for (std::size_t i = 0; i < n; ++i) ys[i] = world[i].y;
-    if (water.heights) {
-        xs.resize(n);
-        zs.resize(n);
-        for (std::size_t i = 0; i < n; ++i) {
-            xs[i] = world[i].x;
-            zs[i] = world[i].z;
-        }
-        if (n > 0) water.heights(n, xs.data(), zs.data(), time, surface.data());
-    } else {
-        for (std::size_t i = 0; i < n; ++i)
-            surface[i] = water.heightAt(world[i].x, world[i].z, time);
-    }
+    ev::exchangeSurfaces(
+        world, ev::kExchangeLatticeSpacing,
+        [&](std::size_t count, const double* x, const double* z, double* out) {
+            if (count == 0) return;
+            if (water.heights) {
+                water.heights(count, x, z, time, out);
+            } else {
+                for (std::size_t i = 0; i < count; ++i) out[i] = water.heightAt(x[i], z[i], time);
+            }
+        },
+        lattice, surface);
     const double* f = surface.data();
     ev::exchangePass(
         points, ys.data(), [f](std::size_t i) { return f[i]; }, nodes, nodeSurface, s.torricelli,

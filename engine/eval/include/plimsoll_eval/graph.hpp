@@ -21,6 +21,7 @@
 #include <cstddef>
 #include <cstdint>
 #include <limits>
+#include <map>
 #include <utility>
 #include <vector>
 
@@ -243,6 +244,64 @@ inline ClippedVolume clipBoxBelow(const Vec3& size, const Mat3& R, double h) {
     return RotatedBox(size, R).below(h);
 }
 
+/// The share of the unit cube where m1 v1 + m2 v2 + m3 v3 <= a, for 0 <= m1 <= m2 <= m3 with
+/// m1 + m2 + m3 = 1 and a in [0, 1] (R. Scardovelli, S. Zaleski, "Analytical relations
+/// connecting linear interfaces and volume fractions in rectangular grids", J. Comput. Phys.
+/// 164, 2000): a piecewise cubic, taken for a <= 1/2 and mirrored above. Written so that no
+/// piece divides by m1 what is not of order m1^3 (a body floating level has m1 and m2 near or
+/// at zero); only +, -, *, / and comparisons, so the same bits on every platform.
+inline double cubeShareBelow(double m1, double m2, double m3, double a) {
+    const bool upper = a > 0.5;
+    if (upper) a = 1.0 - a;
+    const double m12 = m1 + m2;
+    double v;
+    if (a < m1) {  // a corner cut off (m1 > 0 here)
+        v = a * a * a / (6.0 * m1 * m2 * m3);
+    } else if (a < m2) {  // past the first corner: (a^3 - (a - m1)^3) / (6 m1 m2 m3)
+        v = (3.0 * a * (a - m1) + m1 * m1) / (6.0 * m2 * m3);
+    } else if (a < m12) {
+        // Past the second corner (m1 > 0 here), and past the third where a >= m3 (then
+        // m3 < 1/2 < m1 + m2): each adds -(a - m_i)^3 / (6 m1 m2 m3), with a - m_i < m1.
+        const double b = a - m2;
+        double cut = b * b * b;
+        if (a >= m3) {
+            const double c = a - m3;
+            cut += c * c * c;
+        }
+        v = (3.0 * a * (a - m1) + m1 * m1 - cut / m1) / (6.0 * m2 * m3);
+    } else {  // a in [m1 + m2, 1/2], so m3 >= 1/2 >= m1 + m2: a slab across the short edges
+        v = (2.0 * a - m12) / (2.0 * m3);
+    }
+    return upper ? 1.0 - v : v;
+}
+
+/// A box of edges `size` centred at the origin, rotated by R, as its volume below world
+/// levels needs it: the edges' spans along the vertical, sorted, and their sum.
+struct BoxSpans {
+    double m[3] = {0, 0, 0};  ///< size_i |R_1i|, ascending, over their sum
+    double span = 0;          ///< their sum: the box's height in world axes
+    double volume = 0;        ///< size.x size.y size.z
+
+    BoxSpans() = default;
+    BoxSpans(const Vec3& size, const Mat3& R) {
+        double e[3] = {size.x * std::abs(R.m[1][0]), size.y * std::abs(R.m[1][1]),
+                       size.z * std::abs(R.m[1][2])};
+        if (e[0] > e[1]) std::swap(e[0], e[1]);
+        if (e[1] > e[2]) std::swap(e[1], e[2]);
+        if (e[0] > e[1]) std::swap(e[0], e[1]);
+        span = e[0] + e[1] + e[2];
+        for (int i = 0; i < 3; ++i) m[i] = e[i] / span;
+        volume = size.x * size.y * size.z;
+    }
+    /// The volume below a level `offset` above the centre (world axes): the box's points u with
+    /// sum_i R_1i u_i <= offset are, with each edge's coordinate v_i in 0..1 taken from its
+    /// lower end, those where sum_i m_i v_i <= offset / span + 1/2.
+    double below(double offset) const {
+        const double a = std::clamp(offset / span + 0.5, 0.0, 1.0);
+        return volume * cubeShareBelow(m[0], m[1], m[2], a);
+    }
+};
+
 /// A bracket [lo, hi] of the root of an increasing f: f(lo) < 0 <= f(hi).
 struct RootBracket {
     double lo = 0, hi = 0;
@@ -349,6 +408,118 @@ inline void exchangeHeights(const std::vector<ExchangePoint>& points, const Mat3
     for (std::size_t i = 0; i < points.size(); ++i) {
         const Vec3& p = points[i].position;
         y[i] = (R.m[1][0] * p.x + R.m[1][1] * p.y + R.m[1][2] * p.z) + originY;
+    }
+}
+
+/// The outside water the exchange sees: the water's heights on a world lattice of spacing
+/// kExchangeLatticeSpacing (nodes at (i s, j s)), interpolated bilinearly between the four
+/// nodes about each point. A body's permeable points crowd into few cells (an opening's texels
+/// lie a few centimetres apart, a hull side's above one another), so the water answers one
+/// height per lattice node they touch rather than one per point; the interpolant's error is at
+/// most s^2 / 8 times the water's curvature (docs/design.md, "Water graph"). Flat water needs
+/// no lattice: the interpolant of a constant is that constant.
+inline constexpr double kExchangeLatticeSpacing = 0.25;  ///< m
+
+/// A point's lattice cell (its lower nodes i, j) and where it lies in it (0..1 along x, z).
+struct LatticeCell {
+    std::int64_t i = 0, j = 0;
+    double tx = 0, tz = 0;
+};
+
+inline LatticeCell latticeCell(double x, double z, double spacing) {
+    double gx = x / spacing, gz = z / spacing;
+    // A point beyond any water (or NaN) takes the cell at the origin: the integer conversion
+    // stays defined, and its height is as meaningless as the position.
+    constexpr double kFar = 4.0e15;
+    if (!(std::abs(gx) < kFar)) gx = 0.0;
+    if (!(std::abs(gz) < kFar)) gz = 0.0;
+    const double fx = std::floor(gx), fz = std::floor(gz);
+    return {static_cast<std::int64_t>(fx), static_cast<std::int64_t>(fz), gx - fx, gz - fz};
+}
+
+/// Bilinear interpolation of the cell's node heights (f00 at (i, j), f10 at (i + 1, j), ...),
+/// as differences from the lower nodes, so equal heights give that height exactly.
+inline double latticeInterpolate(double f00, double f10, double f01, double f11, double tx,
+                                 double tz) {
+    const double a = f00 + tx * (f10 - f00);
+    const double b = f01 + tx * (f11 - f01);
+    return a + tz * (b - a);
+}
+
+/// Scratch of exchangeSurfaces, kept between steps (no allocation once sized).
+struct ExchangeLattice {
+    std::vector<LatticeCell> cells;      ///< per point
+    std::vector<std::uint32_t> corners;  ///< per point, its four nodes' indices in x, z
+    std::vector<std::int32_t> slot;      ///< per node of the cells' bounding box; -1: not asked
+    std::map<std::pair<std::int64_t, std::int64_t>, std::int32_t> sparse;  ///< beyond: node, slot
+    std::vector<double> x, z, height;  ///< the nodes asked, in the order first touched
+};
+
+/// The outside surface over each of the world points `world`: one call
+/// heights(n, x, z, out) for the lattice nodes the points touch (each once), then per point
+/// latticeInterpolate. The nodes are asked in the order the points first touch them.
+template <class Heights>
+void exchangeSurfaces(const std::vector<Vec3>& world, double spacing, Heights&& heights,
+                      ExchangeLattice& lattice, std::vector<double>& surface) {
+    const std::size_t n = world.size();
+    surface.resize(n);
+    lattice.x.clear();
+    lattice.z.clear();
+    if (n == 0) return;
+    lattice.cells.resize(n);
+    lattice.corners.resize(4 * n);
+    std::int64_t i0 = 0, i1 = 0, j0 = 0, j1 = 0;
+    for (std::size_t p = 0; p < n; ++p) {
+        const LatticeCell c = latticeCell(world[p].x, world[p].z, spacing);
+        lattice.cells[p] = c;
+        if (p == 0) i0 = i1 = c.i, j0 = j1 = c.j;
+        i0 = std::min(i0, c.i), i1 = std::max(i1, c.i);
+        j0 = std::min(j0, c.j), j1 = std::max(j1, c.j);
+    }
+    // The nodes of the cells' bounding box, indexed densely while that stays small against the
+    // points (a body a few hundred cells across); beyond (points kilometres apart), by a map.
+    const double across = double(i1 - i0) + 2.0, along = double(j1 - j0) + 2.0;
+    const bool dense = across * along <= 8.0 * double(n) + 4096.0;
+    const std::int64_t stride = i1 - i0 + 2;
+    if (dense) {
+        lattice.slot.assign(static_cast<std::size_t>(across * along), -1);
+    } else {
+        lattice.sparse.clear();
+    }
+    auto node = [&](std::int64_t i, std::int64_t j) -> std::uint32_t {
+        const auto next = static_cast<std::int32_t>(lattice.x.size());
+        if (dense) {
+            std::int32_t& s = lattice.slot[static_cast<std::size_t>((j - j0) * stride + (i - i0))];
+            if (s >= 0) return static_cast<std::uint32_t>(s);
+            s = next;
+        } else if (const auto [at, added] = lattice.sparse.try_emplace({i, j}, next); !added) {
+            return static_cast<std::uint32_t>(at->second);
+        }
+        lattice.x.push_back(double(i) * spacing);
+        lattice.z.push_back(double(j) * spacing);
+        return static_cast<std::uint32_t>(lattice.x.size() - 1);
+    };
+    for (std::size_t p = 0; p < n; ++p) {
+        const LatticeCell& c = lattice.cells[p];
+        std::uint32_t* k = &lattice.corners[4 * p];
+        // Neighbouring points mostly share a cell: its nodes as the previous point found them.
+        if (p > 0 && c.i == lattice.cells[p - 1].i && c.j == lattice.cells[p - 1].j) {
+            for (int m = 0; m < 4; ++m) k[m] = k[m - 4];
+            continue;
+        }
+        k[0] = node(c.i, c.j);
+        k[1] = node(c.i + 1, c.j);
+        k[2] = node(c.i, c.j + 1);
+        k[3] = node(c.i + 1, c.j + 1);
+    }
+    const std::size_t asked = lattice.x.size();
+    lattice.height.resize(asked);
+    heights(asked, lattice.x.data(), lattice.z.data(), lattice.height.data());
+    const double* f = lattice.height.data();
+    for (std::size_t p = 0; p < n; ++p) {
+        const std::uint32_t* k = &lattice.corners[4 * p];
+        surface[p] = latticeInterpolate(f[k[0]], f[k[1]], f[k[2]], f[k[3]], lattice.cells[p].tx,
+                                        lattice.cells[p].tz);
     }
 }
 
@@ -505,10 +676,15 @@ public:
     class NodeVolume {
     public:
         NodeVolume(const GraphFlow& flow, std::size_t node, const Mat3& R)
-            : node_(&flow.nodes_[node]), radius_(flow.radius_[node]) {
-            if (node_->isBox()) box_ = RotatedBox(flow.scaledBox_[node], R);
+            : node_(&flow.nodes_[node]),
+              radius_(flow.radius_[node]),
+              R_(&R),
+              size_(flow.scaledBox_[node]) {
+            if (node_->isBox()) spans_ = BoxSpans(size_, R);
         }
-        /// Water volume up to a world level `offset` above the node's position (0..capacity).
+        /// Water volume up to a world level `offset` above the node's position (0..capacity):
+        /// a box's in closed form (BoxSpans), which the level searches ask most of the step's
+        /// time for; it agrees with the box clipped (clip) to rounding.
         double operator()(double offset) const {
             if (!node_->isBox()) {
                 const double r = radius_;
@@ -516,17 +692,18 @@ public:
                 return std::clamp(graph_detail::kPi * h * h * (3.0 * r - h) / 3.0, 0.0,
                                   node_->capacity);
             }
-            const ClippedVolume c = box_.below<false>(offset);
-            const double v = std::isfinite(c.volume) && c.volume > 0 ? c.volume : 0.0;
-            return std::clamp(v, 0.0, node_->capacity);
+            const double v = spans_.below(offset);
+            return std::isfinite(v) ? std::clamp(v, 0.0, node_->capacity) : 0.0;
         }
         /// A box node's water below `offset` with its first moment (world axes about the centre).
-        ClippedVolume clip(double offset) const { return box_.below(offset); }
+        ClippedVolume clip(double offset) const { return RotatedBox(size_, *R_).below(offset); }
 
     private:
         const GraphNodeState* node_;
         double radius_;
-        RotatedBox box_;
+        const Mat3* R_;
+        Vec3 size_;
+        BoxSpans spans_;
     };
 
     /// Water volume of node i up to a world level `offset` above its position (0..capacity).
