@@ -16,6 +16,7 @@
 #include "plimsoll/scene/scene.h"
 
 #include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
 
 #include <algorithm>
 #include <cmath>
@@ -197,6 +198,32 @@ TEST(LevelToleranceCli, BakeSaysWhichSizeItPickedAndRefusesBothOptions) {
     EXPECT_EQ(test::runPlimsoll("bake '" + mesh + "' --tolerance 0 --out '" + out.string() + "'")
                   .exitCode,
               2);
+}
+
+TEST(LevelToleranceCli, ExportsSummarySaysTheSizeATolerancePickedAndItsError) {
+    const fs::path dir = test::freshFolder("level_tolerance", "export");
+    const fs::path project = dir / "ball.plim.json";
+    test::writeFile(project, R"({"schema_version": 1, "name": "ball", "bodies": [{"name": "ball", "mesh": ")" +
+                                 test::assetPath("sphere.obj").string() +
+                                 R"(", "tolerance": 0.002, "material": {"density": 500}}]})");
+    const test::CommandOutput r =
+        test::runPlimsoll("export '" + project.string() + "' --out '" + (dir / "out").string() + "'");
+    ASSERT_EQ(r.exitCode, 0) << r.err;
+    const nlohmann::json summary = nlohmann::json::parse(r.out);
+    const nlohmann::json& body = summary["bodies"][0];
+    EXPECT_EQ(body["tolerance"].get<double>(), 0.002);
+    EXPECT_LE(body["force_error"].get<double>(), 0.002);
+    // The size is the one the pick makes on the same mesh, and the bundle's manifest has it.
+    Result<PreparedBodyMesh> prepared = prepareBodyMesh(*loadProject(project), 0);
+    ASSERT_TRUE(prepared.ok()) << test::messageOf(prepared);
+    const Result<LevelChoice> choice = chooseLevelForTolerance(
+        prepared->mesh, 0.002, BakeSettings{}, exactSolidMassProperties(prepared->mesh, 1.0).centerOfMass);
+    ASSERT_TRUE(choice.ok());
+    EXPECT_EQ(body["texture_size"].get<int>(), choice->size);
+    EXPECT_EQ(body["force_error"].get<double>(), choice->forceError);
+    const nlohmann::json manifest =
+        nlohmann::json::parse(test::readFile(dir / "out" / "ball" / "ball" / "manifest.json"));
+    EXPECT_EQ(manifest["texture_size"].get<int>(), choice->size);
 }
 
 }  // namespace
