@@ -187,6 +187,18 @@ TEST(CliBench, FleetQuickRunComparesOneBundleWithOneLoadPerBoat) {
     EXPECT_EQ(separate.at("bundles"), separate.at("bodies"));
     EXPECT_LE(10 * std::stod(shared.at("memory_bytes")), std::stod(separate.at("memory_bytes")));
     for (const auto& [name, row] : rows) EXPECT_GT(std::stod(row.at("frame_ms")), 0.0) << name;
+    // The one-body rows run on the calling thread, so they carry its CPU time, and the flooding
+    // ones their ratio to the dry row on the same water.
+    for (const char* water : {"", ", flat water"}) {
+        const std::string dry = std::string("one body, water load only (dry)") + water + "/1";
+        const std::string flooding =
+            std::string("one body, flooding (graph step + load)") + water + "/1";
+        EXPECT_GT(std::stod(rows.at(dry).at("cpu_us_per_body")), 0.0) << dry;
+        EXPECT_GT(std::stod(rows.at(flooding).at("cpu_us_per_body")), 0.0) << flooding;
+        EXPECT_GT(std::stod(rows.at(flooding).at("flooding_over_dry_cpu")), 0.0) << flooding;
+        EXPECT_GT(std::stod(rows.at(flooding).at("flooding_over_dry_wall")), 0.0) << flooding;
+    }
+    EXPECT_EQ(shared.at("cpu_us_per_body"), "");
     fs::remove_all(out);
 }
 
