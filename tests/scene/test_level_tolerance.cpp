@@ -203,11 +203,12 @@ TEST(LevelToleranceCli, BakeSaysWhichSizeItPickedAndRefusesBothOptions) {
 TEST(LevelToleranceCli, ExportsSummarySaysTheSizeATolerancePickedAndItsError) {
     const fs::path dir = test::freshFolder("level_tolerance", "export");
     const fs::path project = dir / "ball.plim.json";
-    test::writeFile(project, R"({"schema_version": 1, "name": "ball", "bodies": [{"name": "ball", "mesh": ")" +
-                                 test::assetPath("sphere.obj").string() +
-                                 R"(", "tolerance": 0.002, "material": {"density": 500}}]})");
-    const test::CommandOutput r =
-        test::runPlimsoll("export '" + project.string() + "' --out '" + (dir / "out").string() + "'");
+    test::writeFile(
+        project, R"({"schema_version": 1, "name": "ball", "bodies": [{"name": "ball", "mesh": ")" +
+                     test::assetPath("sphere.obj").string() +
+                     R"(", "tolerance": 0.002, "material": {"density": 500}}]})");
+    const test::CommandOutput r = test::runPlimsoll("export '" + project.string() + "' --out '" +
+                                                    (dir / "out").string() + "'");
     ASSERT_EQ(r.exitCode, 0) << r.err;
     const nlohmann::json summary = nlohmann::json::parse(r.out);
     const nlohmann::json& body = summary["bodies"][0];
@@ -216,8 +217,9 @@ TEST(LevelToleranceCli, ExportsSummarySaysTheSizeATolerancePickedAndItsError) {
     // The size is the one the pick makes on the same mesh, and the bundle's manifest has it.
     Result<PreparedBodyMesh> prepared = prepareBodyMesh(*loadProject(project), 0);
     ASSERT_TRUE(prepared.ok()) << test::messageOf(prepared);
-    const Result<LevelChoice> choice = chooseLevelForTolerance(
-        prepared->mesh, 0.002, BakeSettings{}, exactSolidMassProperties(prepared->mesh, 1.0).centerOfMass);
+    const Result<LevelChoice> choice =
+        chooseLevelForTolerance(prepared->mesh, 0.002, BakeSettings{},
+                                exactSolidMassProperties(prepared->mesh, 1.0).centerOfMass);
     ASSERT_TRUE(choice.ok());
     EXPECT_EQ(body["texture_size"].get<int>(), choice->size);
     EXPECT_EQ(body["force_error"].get<double>(), choice->forceError);
