@@ -5,7 +5,6 @@
 #include "cli/common.h"
 #include "plimsoll/io/bake_io.h"
 #include "plimsoll/io/mesh_io.h"
-#include "plimsoll/physics/massprops.h"
 #include "plimsoll/scene/level_ladder.h"
 
 #include <chrono>
@@ -30,8 +29,7 @@ std::optional<SurfaceTextures> bakeToTolerance(const std::string& file, const Tr
     settings.maxTexelStretch = options.maxTexelStretch;
     std::cerr << "note: trying 16, 32, 64, ... texels until the force error is within " << tolerance
               << " of rho g V\n";
-    Result<LevelChoice> chosen = chooseLevelForTolerance(
-        mesh, tolerance, settings, exactSolidMassProperties(mesh, 1.0).centerOfMass);
+    Result<LevelChoice> chosen = chooseLevelForTolerance(mesh, tolerance, settings);
     if (!chosen) {
         std::cerr << "error: " << file << ": --tolerance: " << chosen.error().message << "\n";
         return std::nullopt;

@@ -387,8 +387,7 @@ Result<std::shared_ptr<const SurfaceTextures>> Document::physicsTextures(std::si
         const BakeSettings settings = physicsBakeSettings(body);
         if (settings.size == 0) {
             Result<LevelChoice> choice =
-                chooseLevelForTolerance(*a.mesh, *project_.bodies[body].tolerance, settings,
-                                        exactSolidMassProperties(*a.mesh, 1.0).centerOfMass);
+                chooseLevelForTolerance(*a.mesh, *project_.bodies[body].tolerance, settings);
             if (!choice) return choice.error();
             std::shared_ptr<const SurfaceTextures> textures = std::move(choice->textures);
             adoptLevelChoice(body, a.mesh.get(), settings, *choice);

@@ -1,7 +1,6 @@
 #include "document/physics_bakes.h"
 
 #include "plimsoll/bake/cancellable_bake.h"
-#include "plimsoll/physics/massprops.h"
 #include "plimsoll/scene/level_ladder.h"
 
 #include <atomic>
@@ -93,8 +92,7 @@ std::shared_ptr<const SurfaceTextures> PhysicsBakes::texturesFor(Document& docum
             lowerThisThreadsPriority();
             if (raw->tolerance) {
                 Result<LevelChoice> choice =
-                    chooseLevelForTolerance(*raw->mesh, *raw->tolerance, raw->settings,
-                                            exactSolidMassProperties(*raw->mesh, 1.0).centerOfMass);
+                    chooseLevelForTolerance(*raw->mesh, *raw->tolerance, raw->settings);
                 if (choice) {
                     raw->result = SurfaceTextures(*choice->textures);
                     choice->textures.reset();

@@ -7,7 +7,6 @@
 
 #include "document/command.h"
 #include "document/physics_bakes.h"
-#include "plimsoll/physics/massprops.h"
 #include "plimsoll/scene/level_ladder.h"
 
 #include <nlohmann/json.hpp>
@@ -161,8 +160,7 @@ TEST(EditorPhysicsBakes, AToleranceIsPickedOnAWorkerAndShownWithItsError) {
     EXPECT_EQ(d->physicsBakeSettings(0).size, choice->size);
     // What a project run picks for the same mesh and tolerance, with its error.
     Result<LevelChoice> direct =
-        chooseLevelForTolerance(*d->assets(0).mesh, 2e-3, d->physicsBakeSettings(0),
-                                exactSolidMassProperties(*d->assets(0).mesh, 1.0).centerOfMass);
+        chooseLevelForTolerance(*d->assets(0).mesh, 2e-3, d->physicsBakeSettings(0));
     ASSERT_TRUE(direct.ok()) << direct.error().message;
     EXPECT_EQ(direct->size, choice->size);
     EXPECT_EQ(direct->forceError, choice->forceError);

@@ -403,6 +403,13 @@ Project bodyProject(const TriangleMesh& mesh, const std::string& name,
     return p;
 }
 
+/// bodyProject of a wooden body (600 kg/m^3).
+Project woodProject(const TriangleMesh& mesh, const std::string& name) {
+    MaterialDesc wood;
+    wood.density = 600;
+    return bodyProject(mesh, name, wood);
+}
+
 TEST(Openings, ASealedCapLetsNoWaterInWhereAnOpenOneFloods) {
     SKIP_WITHOUT_REPAIR();
     Cup left, right;
@@ -417,9 +424,7 @@ TEST(Openings, ASealedCapLetsNoWaterInWhereAnOpenOneFloods) {
     EXPECT_NEAR(solid.openings[1].cavity.volume, rightHold, 1e-4 * rightHold);
     EXPECT_LT(solid.openings[0].cavity.centerOfMass.x(), 0);
 
-    MaterialDesc wood;
-    wood.density = 600;
-    Project project = bodyProject(mesh, "twin", wood);
+    Project project = woodProject(mesh, "twin");
     project.bodies[0].caps = {
         CapDesc{.mode = OpeningsMode::Sealed}};  // the left one; the right one open
     // Held a metre under for three seconds: the open hold fills, the sealed one stays dry.
@@ -462,9 +467,7 @@ TEST(Openings, ASealedCapLetsNoWaterInWhereAnOpenOneFloods) {
 TEST(Openings, ACapMovedInTheProjectSetsTheCompartmentAndTheDisplacement) {
     SKIP_WITHOUT_REPAIR();
     const Cup cup;
-    MaterialDesc wood;
-    wood.density = 600;
-    Project project = bodyProject(makeCup(cup), "cup", wood);
+    Project project = woodProject(makeCup(cup), "cup");
     const double h = 0.3;
     project.bodies[0].caps = {CapDesc{.height = h}};
     const Scene scene = test::sceneOrFail(project);
@@ -527,9 +530,7 @@ TEST(Openings, TheShellLiesOnTheWallsNotOnTheCap) {
 TEST(Openings, TheEditorSealsAndMovesACapUndoablyByteForByte) {
     SKIP_WITHOUT_REPAIR();
     const Cup cup;
-    MaterialDesc wood;
-    wood.density = 600;
-    Project project = bodyProject(makeCup(cup), "pail", wood);
+    Project project = woodProject(makeCup(cup), "pail");
     const fs::path file = project.folder / "pail.plim.json";
     ASSERT_TRUE(saveProject(project, file).ok());
     const std::string opened = test::readFile(file);

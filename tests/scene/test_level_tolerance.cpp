@@ -96,8 +96,7 @@ TEST(LevelTolerance, PicksTheSmallestSizeWithinItOnEverySharedMeshAndRealAsset) 
     for (const auto& [name, mesh] : meshes) {
         SCOPED_TRACE(name);
         const Eigen::Vector3d center = exactSolidMassProperties(mesh, 1.0).centerOfMass;
-        Result<LevelChoice> choice =
-            chooseLevelForTolerance(mesh, kTolerance, BakeSettings{}, center);
+        Result<LevelChoice> choice = chooseLevelForTolerance(mesh, kTolerance, BakeSettings{});
         ASSERT_TRUE(choice.ok()) << test::messageOf(choice);
         ASSERT_TRUE(choice->textures);
         EXPECT_EQ(choice->textures->size, choice->size);
@@ -120,16 +119,14 @@ TEST(LevelTolerance, PicksTheSmallestSizeWithinItOnEverySharedMeshAndRealAsset) 
 
 TEST(LevelTolerance, AToleranceNoSizeMeetsIsRefusedNamingTheFinestError) {
     const TriangleMesh sphere = makeUvSphere(0.5, 24, 12);
-    const Result<LevelChoice> choice =
-        chooseLevelForTolerance(sphere, 1e-9, BakeSettings{}, Eigen::Vector3d::Zero(), 64);
+    const Result<LevelChoice> choice = chooseLevelForTolerance(sphere, 1e-9, BakeSettings{}, 64);
     ASSERT_FALSE(choice.ok());
     EXPECT_NE(choice.error().message.find("no texture size up to 64 meets the tolerance 1.0e-09"),
               std::string::npos)
         << choice.error().message;
     EXPECT_NE(choice.error().message.find("the finest, 64, has a force error of"),
               std::string::npos);
-    EXPECT_FALSE(
-        chooseLevelForTolerance(sphere, 0.0, BakeSettings{}, Eigen::Vector3d::Zero()).ok());
+    EXPECT_FALSE(chooseLevelForTolerance(sphere, 0.0, BakeSettings{}).ok());
 }
 
 TEST(LevelTolerance, ABodysToleranceSetsItsTextureSizeAndMass) {
@@ -218,8 +215,7 @@ TEST(LevelToleranceCli, ExportsSummarySaysTheSizeATolerancePickedAndItsError) {
     Result<PreparedBodyMesh> prepared = prepareBodyMesh(*loadProject(project), 0);
     ASSERT_TRUE(prepared.ok()) << test::messageOf(prepared);
     const Result<LevelChoice> choice =
-        chooseLevelForTolerance(prepared->mesh, 0.002, BakeSettings{},
-                                exactSolidMassProperties(prepared->mesh, 1.0).centerOfMass);
+        chooseLevelForTolerance(prepared->mesh, 0.002, BakeSettings{});
     ASSERT_TRUE(choice.ok());
     EXPECT_EQ(body["texture_size"].get<int>(), choice->size);
     EXPECT_EQ(body["force_error"].get<double>(), choice->forceError);

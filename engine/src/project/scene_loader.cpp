@@ -147,11 +147,14 @@ Result<BodyParts> assembleBodyParts(BodyDesc& desc, PreparedBodyMesh prepared, c
     // Sealed or open, the space behind a cap holds no material, and a cap is not wall.
     parts.hollow = hollowSpace(prepared.openings);
     std::vector<std::size_t> open;
+    std::vector<std::uint32_t> openCaps, sealedCaps;  // their triangles
     for (std::size_t i = 0; i < prepared.openings.size(); ++i) {
-        const Opening& opening = prepared.openings[i];
-        parts.capTriangles.insert(parts.capTriangles.end(), opening.capTriangles.begin(),
-                                  opening.capTriangles.end());
-        if (desc.capMode(i) == OpeningsMode::Open) open.push_back(i);
+        const std::vector<std::uint32_t>& cap = prepared.openings[i].capTriangles;
+        parts.capTriangles.insert(parts.capTriangles.end(), cap.begin(), cap.end());
+        const bool lets = desc.capMode(i) == OpeningsMode::Open;
+        if (lets) open.push_back(i);
+        std::vector<std::uint32_t>& into = lets ? openCaps : sealedCaps;
+        into.insert(into.end(), cap.begin(), cap.end());
     }
     WaterGraph graph = paint.waterGraph ? *paint.waterGraph : WaterGraph{};
     if (!open.empty()) {
@@ -170,11 +173,8 @@ Result<BodyParts> assembleBodyParts(BodyDesc& desc, PreparedBodyMesh prepared, c
             permeability.width = permeability.height = kOpeningMapSize;
             permeability.values.assign(static_cast<std::size_t>(kOpeningMapSize) * kOpeningMapSize, 0.0f);
         }
-        std::vector<std::uint32_t> caps;
-        for (std::size_t i : open)
-            caps.insert(caps.end(), prepared.openings[i].capTriangles.begin(),
-                        prepared.openings[i].capTriangles.end());
-        if (Status s = paintTriangles(permeability, *mesh, caps, 1.0f); !s) return withContext(label + ": ", s.error());
+        if (Status s = paintTriangles(permeability, *mesh, openCaps, 1.0f); !s)
+            return withContext(label + ": ", s.error());
         parts.permeabilityMap = std::make_shared<const PaintedMap>(std::move(permeability));
         say(label + ": " + std::to_string(open.size()) + " of " +
             std::to_string(prepared.openings.size()) +
@@ -182,22 +182,17 @@ Result<BodyParts> assembleBodyParts(BodyDesc& desc, PreparedBodyMesh prepared, c
             " closed by caps that let water in: compartments of the water graph, empty at the "
             "start");
     }
-    if (open.size() < prepared.openings.size() && parts.permeabilityMap) {
-        // A sealed cap lets nothing in, whatever was painted near the rim it closes.
-        std::vector<std::uint32_t> sealed;
-        for (std::size_t i = 0; i < prepared.openings.size(); ++i)
-            if (desc.capMode(i) != OpeningsMode::Open)
-                sealed.insert(sealed.end(), prepared.openings[i].capTriangles.begin(),
-                              prepared.openings[i].capTriangles.end());
-        PaintedMap permeability = *parts.permeabilityMap;
-        if (Status s = paintTriangles(permeability, *mesh, sealed, 0.0f); !s)
-            return withContext(label + ": ", s.error());
-        parts.permeabilityMap = std::make_shared<const PaintedMap>(std::move(permeability));
-    }
-    if (open.size() < prepared.openings.size())
-        say(label + ": " + std::to_string(prepared.openings.size() - open.size()) +
-            (prepared.openings.size() - open.size() == 1 ? " opening" : " openings") +
+    if (const std::size_t sealed = prepared.openings.size() - open.size(); sealed > 0) {
+        if (parts.permeabilityMap) {
+            // A sealed cap lets nothing in, whatever was painted near the rim it closes.
+            PaintedMap permeability = *parts.permeabilityMap;
+            if (Status s = paintTriangles(permeability, *mesh, sealedCaps, 0.0f); !s)
+                return withContext(label + ": ", s.error());
+            parts.permeabilityMap = std::make_shared<const PaintedMap>(std::move(permeability));
+        }
+        say(label + ": " + std::to_string(sealed) + (sealed == 1 ? " opening" : " openings") +
             " closed by sealed caps (decks): no water gets in");
+    }
     if (desc.waterGraph) parts.waterGraph = std::make_shared<const WaterGraph>(std::move(graph));
     return parts;
 }

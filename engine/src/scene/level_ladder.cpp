@@ -4,6 +4,7 @@
 #include "plimsoll/compute/fast_backend.h"
 #include "plimsoll/core/limits.h"
 #include "plimsoll/physics/buoyancy.h"
+#include "plimsoll/physics/massprops.h"
 #include "plimsoll/physics/pose.h"
 
 #include <algorithm>
@@ -175,13 +176,12 @@ Result<std::vector<BuoyancyLevel>> bakeLevelLadder(const TriangleMesh& mesh,
 }
 
 Result<LevelChoice> chooseLevelForTolerance(const TriangleMesh& mesh, double tolerance,
-                                            const BakeSettings& settings,
-                                            const Eigen::Vector3d& centerOfMass, int maxSize) {
+                                            const BakeSettings& settings, int maxSize) {
     if (!(tolerance > 0) || !std::isfinite(tolerance)) {
         return makeError(ErrorKind::invalidArgument,
                          "tolerance " + shortNumber(tolerance) + " is not a positive number");
     }
-    const LevelErrorMeter meter(mesh, centerOfMass);
+    const LevelErrorMeter meter(mesh, exactSolidMassProperties(mesh, 1.0).centerOfMass);
     LevelChoice choice;
     choice.tolerance = tolerance;
     for (int size = kMinTextureSize; size <= maxSize; size *= 2) {

@@ -149,11 +149,8 @@ Result<SceneBody> bakeSceneBody(BodyDesc desc, BodyParts parts, const BakeContro
     SurfacePieceTable* recorded = pieces ? pieces.get() : sharesNeeded ? &capPieces : nullptr;
     std::shared_ptr<const SurfaceTextures> chosen;
     if (desc.tolerance) {
-        // The error is measured about the solid's own centroid: the force error, which the
-        // tolerance bounds, does not depend on the point.
         Result<LevelChoice> choice =
-            chooseLevelForTolerance(*parts.mesh, *desc.tolerance, settings,
-                                    exactSolidMassProperties(*parts.mesh, 1.0).centerOfMass);
+            chooseLevelForTolerance(*parts.mesh, *desc.tolerance, settings);
         if (!choice) return withContext(body.label + ": tolerance: ", choice.error());
         desc.textureSize = settings.size = choice->size;
         // A bake that records its pieces (a deforming body, a shell with caps) is made again.

@@ -92,11 +92,12 @@ struct LevelChoice {
 inline constexpr int kToleranceMaxTextureSize = 1024;
 
 /// Bakes `mesh` at 16, 32, 64, ... up to `maxSize` and stops at the first size whose force
-/// error (LevelErrorMeter, about `centerOfMass`) is at most `tolerance`. Fails, naming the
-/// tolerance and the finest size's error, when none up to maxSize meets it.
+/// error (LevelErrorMeter) is at most `tolerance`. The meter's point is the solid's centroid:
+/// the force error, which the tolerance bounds, does not depend on it, and the body's own
+/// centre of mass is known only once a size is baked. Fails, naming the tolerance and the
+/// finest size's error, when none up to maxSize meets it.
 Result<LevelChoice> chooseLevelForTolerance(const TriangleMesh& mesh, double tolerance,
                                             const BakeSettings& settings,
-                                            const Eigen::Vector3d& centerOfMass,
                                             int maxSize = kToleranceMaxTextureSize);
 
 /// "256 texels (force error 5.5e-04 within 1e-03; 128: 2.2e-03)": the choice in one line.
