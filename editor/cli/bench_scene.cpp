@@ -58,7 +58,8 @@ Result<Scene> boxGrid(BodyDesc desc, int count, double spacing, double origin, d
         SceneBody body = *baked;
         body.desc.name = "box" + std::to_string(i);
         body.label = "body '" + body.desc.name + "'";
-        body.desc.position = Eigen::Vector3d(origin + spacing * (i % side), y, origin + spacing * (i / side));
+        body.desc.position =
+            Eigen::Vector3d(origin + spacing * (i % side), y, origin + spacing * (i / side));
         scene.bodies.push_back(std::move(body));
     }
     return scene;
