@@ -92,6 +92,9 @@ if pkg-config --exists bullet; then
 else
   echo "test-runtime-install: libbullet-dev not installed: the installed Bullet adapter is not compiled"
 fi
+# The Jolt guide's header ships beside it (compiled by tests/adapters/jolt where JOLT_DIR is set).
+[[ -f "$work/prefix/share/plimsoll_runtime/examples/jolt/plimsoll_jolt.hpp" ]] \
+  || { echo "test-runtime-install: the Jolt guide's plimsoll_jolt.hpp is not installed" >&2; exit 1; }
 
 echo "== runtime: shared library, installed to $work/shared"
 cmake -S engine/runtime -B "$work/runtime-shared" "${generator[@]}" "${launcher[@]}" \
