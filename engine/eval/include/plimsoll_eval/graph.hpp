@@ -433,8 +433,12 @@ inline LatticeCell latticeCell(double x, double z, double spacing) {
     constexpr double kFar = 4.0e15;
     if (!(std::abs(gx) < kFar)) gx = 0.0;
     if (!(std::abs(gz) < kFar)) gz = 0.0;
-    const double fx = std::floor(gx), fz = std::floor(gz);
-    return {static_cast<std::int64_t>(fx), static_cast<std::int64_t>(fz), gx - fx, gz - fz};
+    // The floor by truncation, less one below a negative fraction: exact here (|g| < 2^52),
+    // the same bits as std::floor, which baseline x86-64 has no instruction for.
+    std::int64_t i = static_cast<std::int64_t>(gx), j = static_cast<std::int64_t>(gz);
+    i -= static_cast<double>(i) > gx ? 1 : 0;
+    j -= static_cast<double>(j) > gz ? 1 : 0;
+    return {i, j, gx - static_cast<double>(i), gz - static_cast<double>(j)};
 }
 
 /// Bilinear interpolation of the cell's node heights (f00 at (i, j), f10 at (i + 1, j), ...),
@@ -468,11 +472,11 @@ void exchangeSurfaces(const std::vector<Vec3>& world, double spacing, Heights&& 
     if (n == 0) return;
     lattice.cells.resize(n);
     lattice.corners.resize(4 * n);
-    std::int64_t i0 = 0, i1 = 0, j0 = 0, j1 = 0;
-    for (std::size_t p = 0; p < n; ++p) {
+    lattice.cells[0] = latticeCell(world[0].x, world[0].z, spacing);
+    std::int64_t i0 = lattice.cells[0].i, i1 = i0, j0 = lattice.cells[0].j, j1 = j0;
+    for (std::size_t p = 1; p < n; ++p) {
         const LatticeCell c = latticeCell(world[p].x, world[p].z, spacing);
         lattice.cells[p] = c;
-        if (p == 0) i0 = i1 = c.i, j0 = j1 = c.j;
         i0 = std::min(i0, c.i), i1 = std::max(i1, c.i);
         j0 = std::min(j0, c.j), j1 = std::max(j1, c.j);
     }
