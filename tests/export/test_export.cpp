@@ -14,6 +14,8 @@
 #include "plimsoll/physics/massprops.h"
 #include "plimsoll/io/mesh_io.h"
 #include "plimsoll/surface/painted_map.h"
+#include "plimsoll/project/scene_loader.h"
+#include "plimsoll/scene/level_ladder.h"
 #include "plimsoll/scene/world.h"
 
 #include <gtest/gtest.h>
@@ -149,6 +151,74 @@ TEST(Export, BundleHoldsWhatWorldSimulates) {
         for (std::size_t i = 0; i < body.textures.coveredCount(); i += 97) {
             EXPECT_NEAR(samples->position[i].x(), body.textures.position[i].x(), 1e-6);
             EXPECT_NEAR(samples->area[i], body.textures.area[i], 1e-6 * body.textures.area[i] + 1e-12);
+        }
+    }
+}
+
+// levels (schema 1.6): a body with a level ladder ships each coarser level's own bake as a
+// sample list beside samples.exr, with its stated errors; compact, each level is half floats
+// over its own encoding and a small file.
+TEST(Export, LevelLadderShipsEachLevelsOwnSampleList) {
+    const fs::path root = copyProject("levels", "box_half_draft");
+    Result<Project> project = loadProject(root / "projects" / "box_half_draft.plim.json");
+    ASSERT_TRUE(project.ok()) << project.error().message;
+    project->bodies[0].lod = LodDesc{{16, 32}};
+    Result<SceneBody> body = loadSceneBody(*project, 0, {});
+    ASSERT_TRUE(body.ok()) << body.error().message;
+    ASSERT_TRUE(body->levels);
+    const std::vector<BuoyancyLevel>& ladder = *body->levels;
+    ASSERT_EQ(ladder.size(), 3u);
+    Result<TriangleMesh> mesh = loadMesh(project->resolvePath(project->bodies[0].mesh));
+    ASSERT_TRUE(mesh.ok()) << mesh.error().message;
+    const double exactVolume = exactSolidMassProperties(*mesh, 1.0).volume;
+    for (const bool compact : {false, true}) {
+        SCOPED_TRACE(compact ? "compact" : "float32");
+        const fs::path folder = root / (compact ? "compact" : "float32");
+        BundleOptions options;
+        options.compact = compact;
+        Result<BundleReport> report = writeBodyBundle(*project, 0, folder, {}, options);
+        ASSERT_TRUE(report.ok()) << report.error().message;
+        ASSERT_TRUE(verifyBundle(folder).ok());
+        const nlohmann::json manifest = nlohmann::json::parse(readFile(folder / "manifest.json"));
+        EXPECT_EQ(manifest.at("schema_minor"), 6);
+        const nlohmann::json& levels = manifest.at("levels");
+        ASSERT_EQ(levels.size(), 3u);
+        const std::uintmax_t finestBytes = fs::file_size(folder / "samples.exr");
+        for (std::size_t k = 0; k < 3; ++k) {
+            SCOPED_TRACE(k);
+            const nlohmann::json& level = levels[k];
+            const SurfaceTextures& t = *ladder[k].textures;
+            EXPECT_EQ(level.at("size").get<int>(), ladder[k].size);
+            EXPECT_EQ(level.at("texel_samples").get<std::size_t>(), t.coveredCount());
+            EXPECT_EQ(level.at("force_error").get<double>(), ladder[k].forceError);
+            EXPECT_EQ(level.at("torque_error").get<double>(), ladder[k].torqueError);
+            EXPECT_GT(level.at("evaluation_us").get<double>(), 0.0);
+            const std::string path = level.at("samples").get<std::string>();
+            if (k == 2) {
+                EXPECT_EQ(path, "samples.exr");
+                EXPECT_FALSE(level.contains("sample_encoding"));
+                continue;
+            }
+            EXPECT_EQ(path, "levels/" + std::to_string(ladder[k].size) + "/samples.exr");
+            EXPECT_EQ(level.at("sample_encoding").is_null(), !compact);
+            // Only the sample list: the images a bake writes beside it stay out.
+            EXPECT_EQ(contents(folder / "levels" / std::to_string(ladder[k].size)).size(), 1u);
+            EXPECT_LT(fs::file_size(folder / path), finestBytes / 2);
+            // The level's sample list is its own closed surface: V = sum A_y y (float32 points;
+            // half floats about the encoding's origin in a compact bundle).
+            const std::vector<std::string> channels = compact
+                                                          ? std::vector<std::string>{"hpy", "hay"}
+                                                          : std::vector<std::string>{"py", "ay"};
+            Result<detail::FloatImage> list = detail::readExr(folder / path, channels);
+            ASSERT_TRUE(list.ok()) << list.error().message;
+            const double positionScale =
+                compact ? level["sample_encoding"]["position_scale"].get<double>() : 1.0;
+            const double areaScale =
+                compact ? level["sample_encoding"]["area_scale"].get<double>() : 1.0;
+            double volume = 0;
+            for (std::size_t i = 0; i < t.coveredCount(); ++i)
+                volume += areaScale * list->pixels[2 * i + 1] * positionScale * list->pixels[2 * i];
+            EXPECT_NEAR(volume, exactVolume, (compact ? 2e-3 : 1e-5) * exactVolume);
         }
     }
 }
@@ -374,10 +444,10 @@ TEST(Export, VerifyAcceptsABundleAndNamesWhatIsWrongWithABadOne) {
                   .find("malformed manifest"), std::string::npos);
 }
 
-// Versions: this reader (1.5) reads 1.0 to 1.5 bundles and refuses 2.0 naming both versions.
+// Versions: this reader (1.6) reads 1.0 to 1.6 bundles and refuses 2.0 naming both versions.
 TEST(Export, VerifyAcceptsCurrentAndPreviousMinorsAndRefusesANewerMajor) {
     ASSERT_EQ(kBundleSchemaMajor, 1);
-    ASSERT_EQ(kBundleSchemaMinor, 5);
+    ASSERT_EQ(kBundleSchemaMinor, 6);
     const fs::path root = copyProject("versions", "box_half_draft");
     Result<Project> project = loadProject(root / "projects" / "box_half_draft.plim.json");
     ASSERT_TRUE(project.ok()) << project.error().message;
@@ -385,7 +455,7 @@ TEST(Export, VerifyAcceptsCurrentAndPreviousMinorsAndRefusesANewerMajor) {
     ASSERT_TRUE(writeBodyBundle(*project, 0, good).ok());
     for (const auto& [major, minor] :
          {std::pair{1, 0}, std::pair{1, 1}, std::pair{1, 2}, std::pair{1, 3}, std::pair{1, 4},
-          std::pair{1, 5}, std::pair{2, 0}}) {
+          std::pair{1, 5}, std::pair{1, 6}, std::pair{2, 0}}) {
         const fs::path folder = root / ("v" + std::to_string(major) + "." + std::to_string(minor));
         fs::copy(good, folder, fs::copy_options::recursive);
         nlohmann::json m = nlohmann::json::parse(readFile(folder / "manifest.json"));
@@ -396,6 +466,7 @@ TEST(Export, VerifyAcceptsCurrentAndPreviousMinorsAndRefusesANewerMajor) {
         if (minor < 4) m.erase("world");  // nor did 1.3 the world
         else if (minor < 5)
             m["world"]["simulation"].erase("sleep");  // nor 1.4 sleeping
+        if (minor < 6) m.erase("levels");             // nor 1.5 levels
         std::ofstream(folder / "manifest.json") << m.dump(2);
         Result<BundleManifestInfo> r = verifyBundle(folder);
         if (major == 1) {

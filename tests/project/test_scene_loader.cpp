@@ -1,6 +1,9 @@
 // The adapter that reads a project into a Scene (scene_loader.h): it names the file and the JSON
 // path of every problem, a scene from disk equals the same body baked in memory, and a World
 // runs on once the project's files are gone.
+#include "plimsoll/geometry/box.h"
+#include "plimsoll/io/mesh_io.h"
+#include "plimsoll/project/level_cache.h"
 #include "plimsoll/project/scene_loader.h"
 #include "plimsoll/scene/world.h"
 
@@ -9,6 +12,7 @@
 
 #include <gtest/gtest.h>
 
+#include <fstream>
 #include <sstream>
 
 namespace plimsoll {
@@ -113,6 +117,79 @@ TEST(SceneLoader, AWorldRunsOnWithItsProjectsFilesGone) {
         EXPECT_EQ(a.linearMomentum, b.linearMomentum);
         EXPECT_GT((a.position - start).norm(), 1e-4);  // it moved
     }
+}
+
+// The level ladder comes through the project's cache: the first load bakes and caches the
+// coarser levels, the next reads them back (the same sizes and stated errors, the samples to
+// float32) instead of baking; another mesh or a damaged cache bakes again.
+TEST(SceneLoader, TheLevelLadderIsCachedAndReadBackInsteadOfBakedAgain) {
+    const fs::path root = test::scratchFolder("scene_loader_levels");
+    fs::remove_all(root);
+    fs::create_directories(root);
+    ASSERT_TRUE(writeObj(makeBox(Eigen::Vector3d(1.0, 0.25, 0.8)), root / "box.obj").ok());
+    Project project;
+    project.name = "levels";
+    project.folder = root;
+    BodyDesc desc;
+    desc.name = "box";
+    desc.mesh = "box.obj";
+    desc.textureSize = 64;
+    desc.material.density = 500;
+    desc.lod = LodDesc{{16, 32}};
+    project.bodies.push_back(desc);
+    const auto load = [&](std::string& said) {
+        said.clear();
+        Result<SceneBody> body =
+            loadSceneBody(project, 0, [&](const std::string& line) { said += line + "\n"; });
+        EXPECT_TRUE(body.ok()) << body.error().message;
+        return body;
+    };
+    std::string said;
+    Result<SceneBody> baked = load(said);
+    ASSERT_TRUE(baked.ok() && baked->levels);
+    EXPECT_NE(said.find("levels cached in"), std::string::npos) << said;
+    const fs::path folder = project.levelCacheFolder(0);
+    EXPECT_TRUE(fs::is_regular_file(folder / "levels.json"));
+    EXPECT_TRUE(fs::is_regular_file(folder / "16" / "samples.exr"));
+    EXPECT_TRUE(fs::is_regular_file(folder / "32" / "samples.exr"));
+
+    Result<SceneBody> cached = load(said);
+    ASSERT_TRUE(cached.ok() && cached->levels);
+    EXPECT_NE(said.find("levels from the cache"), std::string::npos) << said;
+    EXPECT_EQ(said.find("levels cached in"), std::string::npos) << said;
+    const std::vector<BuoyancyLevel>& a = *baked->levels;
+    const std::vector<BuoyancyLevel>& b = *cached->levels;
+    ASSERT_EQ(a.size(), 3u);
+    ASSERT_EQ(b.size(), 3u);
+    EXPECT_EQ(b[2].textures, cached->textures);  // the finest is the body's own bake
+    for (std::size_t k = 0; k < 2; ++k) {
+        SCOPED_TRACE(k);
+        EXPECT_EQ(b[k].size, a[k].size);
+        EXPECT_EQ(b[k].forceError, a[k].forceError);
+        EXPECT_EQ(b[k].torqueError, a[k].torqueError);
+        EXPECT_EQ(b[k].evaluationUs, a[k].evaluationUs);
+        ASSERT_EQ(b[k].textures->texelIndex, a[k].textures->texelIndex);
+        for (std::size_t i = 0; i < a[k].textures->coveredCount(); ++i) {
+            EXPECT_NEAR((b[k].textures->position[i] - a[k].textures->position[i]).norm(), 0.0,
+                        1e-6);
+            EXPECT_NEAR(b[k].textures->area[i], a[k].textures->area[i],
+                        1e-6 * a[k].textures->area[i]);
+        }
+    }
+
+    // Another mesh: the key differs, the levels are baked again.
+    ASSERT_TRUE(writeObj(makeBox(Eigen::Vector3d(1.0, 0.3, 0.8)), root / "box.obj").ok());
+    Result<SceneBody> other = load(said);
+    ASSERT_TRUE(other.ok() && other->levels);
+    EXPECT_NE(said.find("levels cached in"), std::string::npos) << said;
+    EXPECT_NE((*other->levels)[0].forceError, a[0].forceError);
+
+    // A damaged cache is said and replaced.
+    std::ofstream(folder / "levels.json") << "{";
+    Result<SceneBody> again = load(said);
+    ASSERT_TRUE(again.ok() && again->levels);
+    EXPECT_NE(said.find("not a readable level cache"), std::string::npos) << said;
+    EXPECT_NE(said.find("levels cached in"), std::string::npos) << said;
 }
 
 }  // namespace

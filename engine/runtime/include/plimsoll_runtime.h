@@ -26,7 +26,7 @@
  * plimsoll_runtime_version() to find a library older than the header. CMake's project version
  * is read from these lines: they are the one source. */
 #define PLIMSOLL_RUNTIME_VERSION_MAJOR 2
-#define PLIMSOLL_RUNTIME_VERSION_MINOR 0
+#define PLIMSOLL_RUNTIME_VERSION_MINOR 1
 #define PLIMSOLL_RUNTIME_VERSION_PATCH 0
 
 /* Every function is PLIMSOLL_RUNTIME_API: exported from the shared library (built with
@@ -341,6 +341,53 @@ PLIMSOLL_RUNTIME_API int plimsoll_simulation_restore(plimsoll_simulation* simula
                                                      const void* bytes, size_t size);
 /* FNV-1a of the snapshot: equal hashes, equal states (0 and the last error on NULL). */
 PLIMSOLL_RUNTIME_API uint64_t plimsoll_simulation_state_hash(const plimsoll_simulation* simulation);
+
+/* ---------------------------------------------------------------------------------------
+ * Level of detail (since 2.1; bundle schema 1.6, the manifest's "levels"): a body exported with
+ * a level ladder carries a bake of its own at each of a few texture sizes, each with its stated
+ * error. plimsoll_bundle_level_count is 1 for a bundle without one. */
+typedef struct plimsoll_level_info {
+    size_t struct_size;   /* set to sizeof(plimsoll_level_info) */
+    int size;             /* texels per side */
+    size_t samples;       /* entries of its sample list */
+    double force_error;   /* largest |F - F_exact| / (rho g V) (0: not stated) */
+    double torque_error;  /* largest |T - T_exact| / (rho g V R) */
+    double evaluation_us; /* us per evaluation where the bundle was exported */
+} plimsoll_level_info;
+/* Levels coarsest first: index count - 1 is the finest (texture_size, samples.exr). */
+PLIMSOLL_RUNTIME_API size_t plimsoll_bundle_level_count(const plimsoll_bundle* bundle);
+PLIMSOLL_RUNTIME_API int plimsoll_bundle_level_query(const plimsoll_bundle* bundle, size_t level,
+                                                     plimsoll_level_info* out);
+
+enum {
+    PLIMSOLL_LEVEL_FINEST = 0,     /* the finest level: the default */
+    PLIMSOLL_LEVEL_DISTANCE = 1,   /* by the centre of mass's distance from point_of_interest */
+    PLIMSOLL_LEVEL_IMPORTANCE = 2, /* by importance in 0..1: 1 the finest, each halving coarser */
+    PLIMSOLL_LEVEL_FIXED = 3       /* the level `level` (a caller's own rule, e.g. a budget) */
+};
+/* How a simulation picks its level each frame, by the editor's World's rules: the finest level
+ * within near_distance of the point, one level coarser each time the distance doubles; a level
+ * changes only beyond a boundary by `margin` (a fraction), at most once every hold_frames
+ * frames, and a switch's force and torque are blended over blend_frames frames, so it never
+ * kicks. */
+typedef struct plimsoll_level_policy {
+    size_t struct_size;          /* set to sizeof(plimsoll_level_policy) */
+    int kind;                    /* PLIMSOLL_LEVEL_* */
+    double point_of_interest[3]; /* world, m */
+    double near_distance;        /* m, > 0 (50) */
+    double margin;               /* >= 0 (0.15) */
+    double importance;           /* 0..1 */
+    size_t level;                /* PLIMSOLL_LEVEL_FIXED: index, clamped to the finest */
+    int hold_frames;             /* >= 0 (30) */
+    int blend_frames;            /* >= 1 (8) */
+} plimsoll_level_policy;
+/* The defaults above, kind PLIMSOLL_LEVEL_FINEST, struct_size set. */
+PLIMSOLL_RUNTIME_API plimsoll_level_policy plimsoll_level_policy_default(void);
+/* From the next frame on; 0 (nothing changed) and the last error for a value out of range. */
+PLIMSOLL_RUNTIME_API int plimsoll_simulation_set_level_policy(plimsoll_simulation* simulation,
+                                                              const plimsoll_level_policy* policy);
+/* The index of the level evaluated now (0 and the last error on NULL). */
+PLIMSOLL_RUNTIME_API size_t plimsoll_simulation_level(const plimsoll_simulation* simulation);
 
 /* ---------------------------------------------------------------------------------------
  * Wave radiation (bundle schema 1.3; docs/bundle.md "Radiation"): Cummins' equation, the

@@ -50,6 +50,7 @@ namespace format = plimsoll_eval;
 constexpr std::uint64_t kMaxJsonBytes = 256ull << 20;  ///< kMaxJsonFileBytes
 constexpr std::uint64_t kMaxFileBytes = 1ull << 30;    ///< kMaxDataFileBytes
 constexpr long long kMaxTextureSide = 8192;            ///< kMaxTextureSize
+constexpr std::size_t kMaxLevels = 16;                 ///< a ladder of 16 .. 8192 has 10
 constexpr std::uint64_t kMaxGraphNodes = 100000;       ///< kMaxGraphNodes
 constexpr std::uint64_t kMaxGraphPipes = 16 * kMaxGraphNodes;
 
@@ -595,89 +596,152 @@ bool loadBundleImpl(const BundleSource& source, Bundle& b, std::string& error, b
         b.radiation_ = std::move(model);
     }
 
-    // The sample list (bake_io.cpp's layout: channels x y px py pz ax ay az area coverage),
-    // or its compact encoding (sample_encoding: half floats over an origin and two scales).
-    const std::string samplesPath = folder + "/" + format::kSamplesFile;
+    // A sample list (bake_io.cpp's layout: channels x y px py pz ax ay az area coverage), or its
+    // compact encoding (sample_encoding: half floats over an origin and two scales): the body's
+    // samples.exr and each coarser level's.
     static const std::vector<std::string> kChannels = {"x",  "y",  "px",   "py",      "pz",
                                                       "ax", "ay", "az", "area", "coverage"};
     static const std::vector<std::string> kCompactChannels(std::begin(format::kCompactSampleChannels),
                                                            std::end(format::kCompactSampleChannels));
-    bool compact = false;
-    Vec3 origin;
-    double positionScale = 1, areaScale = 1;
-    if (const Value* encoding = m.find("sample_encoding"); encoding && !encoding->isNull()) {
-        const std::string at = "$.sample_encoding";
-        std::string type;
-        if (!encoding->isObject()) return r.fail(at, "expected an object or null");
-        if (!r.string(*encoding, at, "type", type)) return false;
-        if (type != format::kCompactSampleEncoding)
-            return r.fail(at + ".type", "unknown sample encoding \"" + std::string(type.c_str()) +
-                                            "\" (this runtime knows " + format::kCompactSampleEncoding + ")");
-        if (!r.vec3(*encoding, at, "position_origin", origin) ||
-            !r.number(*encoding, at, "position_scale", positionScale) ||
-            !r.number(*encoding, at, "area_scale", areaScale))
-            return false;
-        if (!finite(origin)) return r.fail(at + ".position_origin", "must be finite");
-        for (const auto& [key, scale] : {std::pair{"position_scale", positionScale}, std::pair{"area_scale", areaScale}}) {
-            if (!(scale > 0) || !std::isfinite(scale)) return r.fail(at + "." + key, "must be finite and > 0");
-        }
-        compact = true;
-    }
-    const std::string* samplesBytes = read(format::kSamplesFile, kMaxFileBytes);
-    if (!samplesBytes) return false;
-    int width = 0, height = 0;
-    std::vector<float> px;
-    // The exporter's layout: rows of a fixed width, as many as the samples need (one spare).
-    const std::uint64_t samplePixels = static_cast<std::uint64_t>(count) + 2 * 8192;
-    std::vector<bool> half;
-    if (compact) {
-        half.assign(kCompactChannels.size(), true);
-        half[0] = half[1] = false;  // texel indices: float32
-    }
-    if (!readExrFloat(samplesPath, *samplesBytes, compact ? kCompactChannels : kChannels, half,
-                      samplePixels, width, height, px, error))
-        return false;
-    if (static_cast<std::size_t>(count) > static_cast<std::size_t>(width) * height) {
-        error = samplesPath + ": holds fewer samples than the manifest's texel_samples (" +
-                std::to_string(count) + ")";
-        return false;
-    }
-    b.samples_.resize(static_cast<std::size_t>(count));
-    for (std::size_t i = 0; i < b.samples_.size(); ++i) {
-        const float* in = &px[i * kChannels.size()];
-        const int x = static_cast<int>(in[0]), y = static_cast<int>(in[1]);
-        if (x < 0 || y < 0 || x >= size || y >= size || !(in[9] > 0.0f)) {
-            error = samplesPath + ": sample " + std::to_string(i) + " is not a covered texel of the texture";
-            return false;
-        }
-        Sample& s = b.samples_[i];
-        s.texel = static_cast<std::uint32_t>(y) * static_cast<std::uint32_t>(size) + static_cast<std::uint32_t>(x);
-        if (compact) {
-            // A NaN or infinite half would pass through the scales as one: named as such.
-            for (int k = 2; k < 10; ++k) {
-                if (!std::isfinite(in[k])) {
-                    error = samplesPath + ": sample " + std::to_string(i) + " holds a NaN or infinite half in '" +
-                            kCompactChannels[k] + "'";
-                    return false;
-                }
+    const auto readSampleList = [&](const std::string& file, const Value* encoding,
+                                    const std::string& at, long long size, long long count,
+                                    std::vector<Sample>& out) {
+        const std::string samplesPath = folder + "/" + file;
+        bool compact = false;
+        Vec3 origin;
+        double positionScale = 1, areaScale = 1;
+        if (encoding && !encoding->isNull()) {
+            std::string type;
+            if (!encoding->isObject()) return r.fail(at, "expected an object or null");
+            if (!r.string(*encoding, at, "type", type)) return false;
+            if (type != format::kCompactSampleEncoding)
+                return r.fail(at + ".type",
+                              "unknown sample encoding \"" + std::string(type.c_str()) +
+                                  "\" (this runtime knows " + format::kCompactSampleEncoding + ")");
+            if (!r.vec3(*encoding, at, "position_origin", origin) ||
+                !r.number(*encoding, at, "position_scale", positionScale) ||
+                !r.number(*encoding, at, "area_scale", areaScale))
+                return false;
+            if (!finite(origin)) return r.fail(at + ".position_origin", "must be finite");
+            for (const auto& [key, scale] :
+                 {std::pair{"position_scale", positionScale}, std::pair{"area_scale", areaScale}}) {
+                if (!(scale > 0) || !std::isfinite(scale))
+                    return r.fail(at + "." + key, "must be finite and > 0");
             }
-            const Vec3 q{in[2], in[3], in[4]}, a{in[5], in[6], in[7]};
-            s.position = origin + positionScale * q;
-            s.areaVector = areaScale * a;
-            s.area = areaScale * in[8];
-        } else {
-            s.position = {in[2], in[3], in[4]};
-            s.areaVector = {in[5], in[6], in[7]};
-            s.area = in[8];
+            compact = true;
         }
-        s.coverage = in[9];
-        // NaN, Inf or a negative area would turn every force into garbage, silently.
-        if (!finite(s.position) || !finite(s.areaVector) || !std::isfinite(s.area) || !(s.area >= 0) ||
-            !std::isfinite(s.coverage) || s.coverage > 1.0f + 1e-6f) {
-            error = samplesPath + ": sample " + std::to_string(i) +
-                    " has a non-finite position or area vector, a negative area or a coverage "
-                    "outside 0..1";
+        const std::string* samplesBytes = read(file, kMaxFileBytes);
+        if (!samplesBytes) return false;
+        int width = 0, height = 0;
+        std::vector<float> px;
+        // The exporter's layout: rows of a fixed width, as many as the samples need (one spare).
+        const std::uint64_t samplePixels = static_cast<std::uint64_t>(count) + 2 * 8192;
+        std::vector<bool> half;
+        if (compact) {
+            half.assign(kCompactChannels.size(), true);
+            half[0] = half[1] = false;  // texel indices: float32
+        }
+        if (!readExrFloat(samplesPath, *samplesBytes, compact ? kCompactChannels : kChannels, half,
+                          samplePixels, width, height, px, error))
             return false;
+        if (static_cast<std::size_t>(count) > static_cast<std::size_t>(width) * height) {
+            error = samplesPath + ": holds fewer samples than the manifest's texel_samples (" +
+                    std::to_string(count) + ")";
+            return false;
+        }
+        out.resize(static_cast<std::size_t>(count));
+        for (std::size_t i = 0; i < out.size(); ++i) {
+            const float* in = &px[i * kChannels.size()];
+            const int x = static_cast<int>(in[0]), y = static_cast<int>(in[1]);
+            if (x < 0 || y < 0 || x >= size || y >= size || !(in[9] > 0.0f)) {
+                error = samplesPath + ": sample " + std::to_string(i) +
+                        " is not a covered texel of the texture";
+                return false;
+            }
+            Sample& s = out[i];
+            s.texel = static_cast<std::uint32_t>(y) * static_cast<std::uint32_t>(size) +
+                      static_cast<std::uint32_t>(x);
+            if (compact) {
+                // A NaN or infinite half would pass through the scales as one: named as such.
+                for (int k = 2; k < 10; ++k) {
+                    if (!std::isfinite(in[k])) {
+                        error = samplesPath + ": sample " + std::to_string(i) +
+                                " holds a NaN or infinite half in '" + kCompactChannels[k] + "'";
+                        return false;
+                    }
+                }
+                const Vec3 q{in[2], in[3], in[4]}, a{in[5], in[6], in[7]};
+                s.position = origin + positionScale * q;
+                s.areaVector = areaScale * a;
+                s.area = areaScale * in[8];
+            } else {
+                s.position = {in[2], in[3], in[4]};
+                s.areaVector = {in[5], in[6], in[7]};
+                s.area = in[8];
+            }
+            s.coverage = in[9];
+            // NaN, Inf or a negative area would turn every force into garbage, silently.
+            if (!finite(s.position) || !finite(s.areaVector) || !std::isfinite(s.area) ||
+                !(s.area >= 0) || !std::isfinite(s.coverage) || s.coverage > 1.0f + 1e-6f) {
+                error = samplesPath + ": sample " + std::to_string(i) +
+                        " has a non-finite position or area vector, a negative area or a coverage "
+                        "outside 0..1";
+                return false;
+            }
+        }
+        return true;
+    };
+    if (!readSampleList(format::kSamplesFile, m.find("sample_encoding"), "$.sample_encoding", size,
+                        count, b.samples_))
+        return false;
+    // The level ladder (1.6): coarsest first, the finest the body's own samples.exr. Without
+    // one, the body has one level.
+    b.levels_ = {BundleLevel{b.textureSize_, b.samples_.size(), 0, 0, 0}};
+    if (const Value* levels = m.find("levels"); levels && !levels->isNull()) {
+        const std::string at = "$.levels";
+        if (!levels->isArray() || levels->array.size() < 2 || levels->array.size() > kMaxLevels)
+            return r.fail(
+                at, "expected null or an array of 2.." + std::to_string(kMaxLevels) + " levels");
+        b.levels_.clear();
+        for (std::size_t k = 0; k < levels->array.size(); ++k) {
+            const Value& v = levels->array[k];
+            const std::string here = at + "[" + std::to_string(k) + "]";
+            if (!v.isObject()) return r.fail(here, "expected an object");
+            BundleLevel level;
+            long long levelSize = 0, levelCount = 0;
+            std::string file;
+            if (!r.integer(v, here, "size", levelSize) ||
+                !r.integer(v, here, "texel_samples", levelCount) ||
+                !r.string(v, here, "samples", file) ||
+                !r.number(v, here, "force_error", level.forceError) ||
+                !r.number(v, here, "torque_error", level.torqueError) ||
+                !r.number(v, here, "evaluation_us", level.evaluationUs))
+                return false;
+            if (!(level.forceError >= 0) || !(level.torqueError >= 0) || !(level.evaluationUs >= 0))
+                return r.fail(here, "errors and cost must be >= 0");
+            const bool finest = k + 1 == levels->array.size();
+            const long long below = b.levels_.empty() ? 0 : b.levels_.back().size;
+            if (levelSize <= below || levelSize > size || (finest && levelSize != size) ||
+                (!finest && levelSize == size))
+                return r.fail(here + ".size", "sizes must ascend to texture_size, the finest's");
+            if (levelCount < 0 || levelCount > 4 * levelSize * levelSize)
+                return r.fail(here + ".texel_samples", "must be in 0..4 x size^2");
+            level.size = static_cast<int>(levelSize);
+            level.samples = static_cast<std::size_t>(levelCount);
+            if (finest) {
+                if (file != format::kSamplesFile || level.samples != b.samples_.size())
+                    return r.fail(
+                        here, "the finest level must be samples.exr with texel_samples entries");
+            } else {
+                if (!staysInside(file))
+                    return r.fail(here + ".samples", "the path leaves the bundle");
+                auto coarse = std::make_unique<Bundle::CoarseLevel>();
+                if (!readSampleList(file, v.find("sample_encoding"), here + ".sample_encoding",
+                                    levelSize, levelCount, coarse->samples))
+                    return false;
+                b.coarse_.push_back(std::move(coarse));
+            }
+            b.levels_.push_back(level);
         }
     }
 

@@ -1298,6 +1298,98 @@ uint64_t plimsoll_simulation_state_hash(const plimsoll_simulation* simulation) {
                        simulation ? simulation->simulation.get() : nullptr);
 }
 
+size_t plimsoll_bundle_level_count(const plimsoll_bundle* bundle) {
+    lastError.clear();
+    if (!bundle) {
+        refuse("plimsoll_bundle_level_count", "bundle is NULL");
+        return 0;
+    }
+    return bundle->bundle->levels().size();
+}
+
+int plimsoll_bundle_level_query(const plimsoll_bundle* bundle, size_t level,
+                                plimsoll_level_info* out) {
+    lastError.clear();
+    constexpr const char* kCall = "plimsoll_bundle_level_query";
+    if (!bundle || !out || out->struct_size < sizeof(plimsoll_level_info))
+        return refuse(
+            kCall, "bundle or out is NULL, or out->struct_size is not sizeof(plimsoll_level_info)");
+    const std::vector<BundleLevel>& levels = bundle->bundle->levels();
+    if (level >= levels.size())
+        return refuse(kCall,
+                      "level " + std::to_string(level) + " of " + std::to_string(levels.size()));
+    const BundleLevel& l = levels[level];
+    out->size = l.size;
+    out->samples = l.samples;
+    out->force_error = l.forceError;
+    out->torque_error = l.torqueError;
+    out->evaluation_us = l.evaluationUs;
+    return 1;
+}
+
+plimsoll_level_policy plimsoll_level_policy_default(void) {
+    lastError.clear();
+    const LevelPolicy d;
+    plimsoll_level_policy p{};
+    p.struct_size = sizeof(plimsoll_level_policy);
+    p.kind = PLIMSOLL_LEVEL_FINEST;
+    p.near_distance = d.nearDistance;
+    p.margin = d.margin;
+    p.importance = d.importance;
+    p.level = d.level;
+    p.hold_frames = d.holdFrames;
+    p.blend_frames = d.blendFrames;
+    return p;
+}
+
+int plimsoll_simulation_set_level_policy(plimsoll_simulation* simulation,
+                                         const plimsoll_level_policy* policy) {
+    lastError.clear();
+    constexpr const char* kCall = "plimsoll_simulation_set_level_policy";
+    if (!simulation || !policy || policy->struct_size < sizeof(plimsoll_level_policy))
+        return refuse(kCall,
+                      "simulation or policy is NULL, or policy->struct_size is not "
+                      "sizeof(plimsoll_level_policy)");
+    LevelPolicy p;
+    switch (policy->kind) {
+        case PLIMSOLL_LEVEL_FINEST:
+            p.kind = LevelPolicy::Kind::finest;
+            break;
+        case PLIMSOLL_LEVEL_DISTANCE:
+            p.kind = LevelPolicy::Kind::distance;
+            break;
+        case PLIMSOLL_LEVEL_IMPORTANCE:
+            p.kind = LevelPolicy::Kind::importance;
+            break;
+        case PLIMSOLL_LEVEL_FIXED:
+            p.kind = LevelPolicy::Kind::fixed;
+            break;
+        default:
+            return refuse(kCall,
+                          "kind " + std::to_string(policy->kind) + " is not a PLIMSOLL_LEVEL_*");
+    }
+    p.pointOfInterest = {policy->point_of_interest[0], policy->point_of_interest[1],
+                         policy->point_of_interest[2]};
+    p.nearDistance = policy->near_distance;
+    p.margin = policy->margin;
+    p.importance = policy->importance;
+    p.level = policy->level;
+    p.holdFrames = policy->hold_frames;
+    p.blendFrames = policy->blend_frames;
+    std::string error;
+    if (!simulation->simulation->setLevelPolicy(p, error)) return refuse(kCall, error);
+    return 1;
+}
+
+size_t plimsoll_simulation_level(const plimsoll_simulation* simulation) {
+    lastError.clear();
+    if (!simulation) {
+        refuse("plimsoll_simulation_level", "simulation is NULL");
+        return 0;
+    }
+    return simulation->simulation->level();
+}
+
 extern "C" {
 
 plimsoll_instance* plimsoll_instance_create(const plimsoll_bundle* bundle) {

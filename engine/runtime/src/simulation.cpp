@@ -9,11 +9,13 @@
 #include "motion.hpp"
 #include "vec.hpp"
 
+#include "plimsoll_eval/levels.hpp"
 #include "plimsoll_eval/sleep.hpp"
 
 #include <algorithm>
 #include <cmath>
 #include <cstring>
+#include <limits>
 
 namespace plimsoll_runtime {
 
@@ -171,6 +173,19 @@ bool wavy(const Water& water) { return static_cast<bool>(water.height) || static
 double highest(const Water& water) { return wavy(water) ? water.maxHeight : water.level; }
 
 /// At most what stops `momentum` within dt.
+/// f += w d, field by field (what a level's blend adds).
+void addScaled(Forces& f, const Forces& d, double w) {
+    f.submergedVolume += w * d.submergedVolume;
+    f.centerOfBuoyancy += w * d.centerOfBuoyancy;
+    f.force += w * d.force;
+    f.torque += w * d.torque;
+    f.pressureForce += w * d.pressureForce;
+    f.pressureTorque += w * d.pressureTorque;
+    f.dragForce += w * d.dragForce;
+    f.dragTorque += w * d.dragTorque;
+    f.wettedArea += w * d.wettedArea;
+}
+
 Vec3 limited(const Vec3& loss, const Vec3& momentum, double dt) {
     const double impulse = norm(loss) * dt, cap = norm(momentum);
     return impulse > cap && impulse > 0 ? (cap / impulse) * loss : loss;
@@ -206,6 +221,8 @@ std::unique_ptr<Simulation> Simulation::create(const Bundle& bundle, std::string
     s->boundingRadius_ = s->hullRadius_;
     s->mass_ = s->hull_;
     const Pose& start = world.startPose;
+    s->lod_.level = static_cast<int>(bundle.levels().size()) - 1;  // the finest until a policy says
+    s->lod_.framesHeld = std::numeric_limits<int>::max() / 2;      // free to switch at once
     s->orientation_ = start.orientation;
     s->composedAt_ = start.orientation;
     if (const WaterGraph* graph = s->body_.graph()) {
@@ -243,30 +260,37 @@ int Simulation::subStepsFor(double frameTime) const {
     return static_cast<int>(std::max(static_cast<double>(world.subSteps), needed));
 }
 
-void Simulation::evaluate(const Water& water, double dt) {
+Forces Simulation::forcesAt(std::size_t level, const Water& water) const {
     double R[3][3];
     rotationMatrix(orientation_, R);
+    Pose pose;
+    pose.orientation = orientation_;
+    pose.position = position_ - mul(R, mass_.centerOfMass);
+    Velocity velocity{linearVelocity(), angularVelocity()};
+    // The evaluation's centre is the hull's centre of mass: its velocity, and the torques
+    // moved back to the centre of mass of the body with its water.
+    const Vec3 r = mul(R, hull_.centerOfMass - mass_.centerOfMass);
+    const bool shifted = hull_.centerOfMass.x != mass_.centerOfMass.x ||
+                         hull_.centerOfMass.y != mass_.centerOfMass.y ||
+                         hull_.centerOfMass.z != mass_.centerOfMass.z;
+    if (shifted) velocity.linear += cross(velocity.angular, r);
+    Forces f = bundle_.evaluateLevel(level, pose, velocity, water, fluid_, time_);
+    if (shifted) {
+        f.torque += cross(r, f.force);
+        f.pressureTorque += cross(r, f.pressureForce);
+        f.dragTorque += cross(r, f.dragForce);
+    }
+    return f;
+}
+
+void Simulation::evaluate(const Water& water, double dt) {
     if (position_.y - boundingRadius_ > highest(water)) {
         forces_ = Forces{};
         forces_.centerOfBuoyancy = position_;
     } else {
-        Pose pose;
-        pose.orientation = orientation_;
-        pose.position = position_ - mul(R, mass_.centerOfMass);
-        Velocity velocity{linearVelocity(), angularVelocity()};
-        // The evaluation's centre is the hull's centre of mass: its velocity, and the torques
-        // moved back to the centre of mass of the body with its water.
-        const Vec3 r = mul(R, hull_.centerOfMass - mass_.centerOfMass);
-        const bool shifted = hull_.centerOfMass.x != mass_.centerOfMass.x ||
-                             hull_.centerOfMass.y != mass_.centerOfMass.y ||
-                             hull_.centerOfMass.z != mass_.centerOfMass.z;
-        if (shifted) velocity.linear += cross(velocity.angular, r);
-        forces_ = bundle_.evaluate(pose, velocity, water, fluid_, time_);
-        if (shifted) {
-            forces_.torque += cross(r, forces_.force);
-            forces_.pressureTorque += cross(r, forces_.pressureForce);
-            forces_.dragTorque += cross(r, forces_.dragForce);
-        }
+        forces_ = forcesAt(level(), water);
+        if (lod_.blendLeft > 0)
+            addScaled(forces_, lod_.offset, static_cast<double>(lod_.blendLeft) / lod_.blendSteps);
     }
     // On flat water Archimedes' form (exactly vertical); on waves the pressure integral, which
     // carries their horizontal push (World::wrenchOf).
@@ -333,6 +357,71 @@ void Simulation::composeWater(const Quat& at) {
     boundingRadius_ = hullRadius_ + norm(mass_.centerOfMass - hull_.centerOfMass);
 }
 
+bool Simulation::setLevelPolicy(const LevelPolicy& policy, std::string& error) {
+    const auto refuse = [&](const char* what) {
+        error = bundle_.folder() + ": level policy: " + what;
+        return false;
+    };
+    if (!finite(policy.pointOfInterest)) return refuse("the point of interest is not finite");
+    if (!(policy.nearDistance > 0) || !std::isfinite(policy.nearDistance))
+        return refuse("nearDistance must be a positive distance (m)");
+    if (!(policy.margin >= 0) || !std::isfinite(policy.margin))
+        return refuse("margin must be 0 or more");
+    if (!(policy.importance >= 0) || !(policy.importance <= 1))
+        return refuse("importance is outside 0..1");
+    if (policy.holdFrames < 0) return refuse("holdFrames must be 0 or more");
+    if (policy.blendFrames < 1) return refuse("blendFrames must be at least 1");
+    levelPolicy_ = policy;
+    return true;
+}
+
+void Simulation::chooseLevel(const Water& water) {
+    const std::size_t count = bundle_.levels().size();
+    if (count < 2) return;
+    const LevelPolicy& p = levelPolicy_;
+    plimsoll_eval::LevelSwitch sw{lod_.level, lod_.framesHeld, lod_.blendSteps, lod_.blendLeft};
+    const bool free = sw.countFrame(p.holdFrames);
+    lod_.framesHeld = sw.framesHeld;
+    // Asleep the body keeps the level it fell asleep with.
+    if (!free || asleep_) return;
+    const int finest = static_cast<int>(count) - 1;
+    int target = finest;
+    switch (p.kind) {
+        case LevelPolicy::Kind::finest:
+            break;
+        case LevelPolicy::Kind::distance:
+            target = plimsoll_eval::levelAtDistance(norm(position_ - p.pointOfInterest),
+                                                    p.nearDistance, p.margin, sw.level, finest);
+            break;
+        case LevelPolicy::Kind::importance:
+            target = plimsoll_eval::levelOfImportance(p.importance, p.nearDistance, p.margin,
+                                                      sw.level, finest);
+            break;
+        case LevelPolicy::Kind::fixed:
+            target = static_cast<int>(std::min<std::size_t>(p.level, count - 1));
+            break;
+    }
+    if (target == sw.level) return;
+    const std::size_t from = static_cast<std::size_t>(sw.level);
+    const double carried = sw.switchTo(target);
+    ++lod_.switches;
+    if (!(position_.y - boundingRadius_ > highest(water))) {
+        // Both levels at the same state: their difference (and what was left of a running
+        // blend) is faded out from here.
+        Forces offset;
+        offset.centerOfBuoyancy = {0, 0, 0};
+        if (carried > 0) addScaled(offset, lod_.offset, carried);
+        addScaled(offset, forcesAt(from, water), 1.0);
+        addScaled(offset, forcesAt(level(), water), -1.0);
+        lod_.offset = offset;
+        sw.startBlend(p.blendFrames, subSteps_);
+    }
+    lod_.level = sw.level;
+    lod_.framesHeld = sw.framesHeld;
+    lod_.blendSteps = sw.blendSteps;
+    lod_.blendLeft = sw.blendLeft;
+}
+
 void Simulation::wake() {
     asleep_ = false;
     restedFor_ = 0;
@@ -349,6 +438,7 @@ bool Simulation::advanceFrame(const Water& water, std::string& error) {
             wake();
         } else {
             // The World's clock runs on through a sleeping body's frame in the same sub-steps.
+            chooseLevel(water);  // counts the frame only
             subSteps_ = bundle_.world().subSteps;
             const double dt = frameTime / subSteps_;
             for (int sub = 0; sub < subSteps_; ++sub) time_ += dt;
@@ -361,10 +451,12 @@ bool Simulation::advanceFrame(const Water& water, std::string& error) {
         error = bundle_.folder() + ": a stable step needs more than 1000 sub-steps a frame";
         return false;
     }
+    chooseLevel(water);
     const double dt = frameTime / subSteps_;
     for (int sub = 0; sub < subSteps_; ++sub) {
         evaluate(water, dt);
         step(dt);
+        if (lod_.blendLeft > 0) --lod_.blendLeft;
         time_ += dt;
     }
     const bool changed = stepGraph(water, frameTime);
@@ -442,6 +534,22 @@ std::vector<std::uint8_t> Simulation::save() const {
                      restedFor_,
                      sleepHeight_})
         putBytes(out, v);
+    // The level in use and its blend, for a bundle with levels only: a snapshot of a body with
+    // one level is what it always was.
+    if (bundle_.levels().size() > 1) {
+        for (int v : {lod_.level, lod_.framesHeld, lod_.blendSteps, lod_.blendLeft})
+            putBytes(out, static_cast<std::int32_t>(v));
+        putBytes(out, static_cast<std::uint64_t>(lod_.switches));
+        const Forces& f = lod_.offset;
+        putBytes(out, f.submergedVolume);
+        for (const Vec3* v : {&f.centerOfBuoyancy, &f.force, &f.torque, &f.pressureForce,
+                              &f.pressureTorque, &f.dragForce, &f.dragTorque}) {
+            putBytes(out, v->x);
+            putBytes(out, v->y);
+            putBytes(out, v->z);
+        }
+        putBytes(out, f.wettedArea);
+    }
     if (const WaterGraph* graph = body_.graph()) graph->saveState(out);
     return out;
 }
@@ -465,6 +573,29 @@ bool Simulation::restore(const std::vector<std::uint8_t>& bytes, std::string& er
             error = "snapshot: truncated or not finite";
             return false;
         }
+    }
+    LevelState lod = lod_;
+    if (bundle_.levels().size() > 1) {
+        std::int32_t n[4];
+        std::uint64_t switches = 0;
+        double o[23];
+        bool ok = true;
+        for (std::int32_t& k : n) ok = ok && takeBytes(bytes, at, k);
+        ok = ok && takeBytes(bytes, at, switches);
+        for (double& d : o) ok = ok && takeBytes(bytes, at, d) && std::isfinite(d);
+        if (!ok || n[0] < 0 || static_cast<std::size_t>(n[0]) >= bundle_.levels().size() ||
+            n[1] < 0 || n[2] < 0 || n[3] < 0 || n[3] > n[2]) {
+            error = "snapshot: the level of detail's state does not fit this body";
+            return false;
+        }
+        lod = {n[0], n[1], n[2], n[3], static_cast<std::size_t>(switches), Forces{}};
+        lod.offset.submergedVolume = o[0];
+        Vec3* fields[] = {&lod.offset.centerOfBuoyancy, &lod.offset.force,
+                          &lod.offset.torque,           &lod.offset.pressureForce,
+                          &lod.offset.pressureTorque,   &lod.offset.dragForce,
+                          &lod.offset.dragTorque};
+        for (int k = 0; k < 7; ++k) *fields[k] = {o[1 + 3 * k], o[2 + 3 * k], o[3 + 3 * k]};
+        lod.offset.wettedArea = o[22];
     }
     // The graph first: it is the part that can still refuse, and nothing may change then.
     WaterGraph* graph = body_.graph();
@@ -503,6 +634,7 @@ bool Simulation::restore(const std::vector<std::uint8_t>& bytes, std::string& er
     asleep_ = v[33] != 0;
     restedFor_ = v[34];
     sleepHeight_ = v[35];
+    lod_ = lod;
     return true;
 }
 

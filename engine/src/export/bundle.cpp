@@ -7,6 +7,7 @@
 #include "plimsoll/bake/bake.h"
 #include "plimsoll/io/bake_io.h"
 #include "plimsoll/project/scene_loader.h"
+#include "plimsoll/scene/level_ladder.h"
 #include "plimsoll/scene/scene_radiation.h"
 #include "plimsoll/surface/deform.h"
 #include "plimsoll/io/file_util.h"
@@ -163,6 +164,63 @@ json worldJson(const Project& project, const BodyDesc& desc) {
           {"angular_velocity", vec3(desc.angularVelocity)}}}};
 }
 
+/// A compact sample list's manifest "sample_encoding" (docs/bundle.md "Compact bundles").
+json sampleEncodingJson(const CompactSamples& compact) {
+    return {{"type", plimsoll_eval::kCompactSampleEncoding},
+            {"channels", compactSampleChannels()},
+            {"position_origin", vec3(compact.origin)},
+            {"position_scale", compact.positionScale},
+            {"area_scale", compact.areaScale},
+            {"rule",
+             "x, y: texel (float32); point = position_origin + position_scale * (hpx, "
+             "hpy, hpz); area vector = area_scale * (hax, hay, haz); area = area_scale "
+             "* harea; coverage; all but x, y are HALF"}};
+}
+
+/// The manifest's "levels" (docs/bundle.md "Levels"), coarsest first: each coarser level's
+/// sample list alone in levels/<size>/samples.exr (the images a bake writes beside it are of no
+/// use to a runtime), compact when the bundle is, over an encoding of its own; the finest level
+/// is the body's own samples.exr. Each with its stated errors and cost.
+Result<json> writeLevels(const std::vector<BuoyancyLevel>& ladder, const SurfaceTextures& finest,
+                         const fs::path& staging, const std::string& sourceMesh, bool compact) {
+    json levels = json::array();
+    for (const BuoyancyLevel& level : ladder) {
+        const SurfaceTextures& t = *level.textures;
+        json entry = {{"size", t.size},
+                      {"texel_samples", t.coveredCount()},
+                      {"samples", plimsoll_eval::kSamplesFile},
+                      {"sample_encoding", nullptr},
+                      {"force_error", level.forceError},
+                      {"torque_error", level.torqueError},
+                      {"evaluation_us", level.evaluationUs}};
+        if (&t == &finest) {
+            entry.erase("sample_encoding");  // the bundle's own
+            levels.push_back(std::move(entry));
+            continue;
+        }
+        const std::string folderName = "levels/" + std::to_string(t.size);
+        const fs::path folder = staging / folderName;
+        const std::optional<CompactSamples> encoding =
+            compact ? std::optional(compactSamplesFor(t)) : std::nullopt;
+        if (Status s = encoding ? writeCompactBakedTextures(t, folder, sourceMesh, *encoding)
+                                : writeBakedTextures(t, folder, sourceMesh);
+            !s.ok())
+            return s.error();
+        std::error_code ec;
+        for (const char* extra :
+             {"position.exr", "area_vector.exr", "coverage.exr", kManifestFile}) {
+            if (Status step = fileStep("removing", folder / extra); !step.ok()) return step.error();
+            fs::remove(folder / extra, ec);
+            if (ec)
+                return makeError(ErrorKind::io, (folder / extra).string() + ": " + ec.message());
+        }
+        entry["samples"] = folderName + "/" + plimsoll_eval::kSamplesFile;
+        if (encoding) entry["sample_encoding"] = sampleEncodingJson(*encoding);
+        levels.push_back(std::move(entry));
+    }
+    return levels;
+}
+
 /// Relative paths of the regular files under `folder`, sorted.
 std::vector<std::string> filesUnder(const fs::path& folder) {
     std::vector<std::string> files;
@@ -277,6 +335,15 @@ Result<BundleReport> buildBundle(const Project& project, std::size_t index, cons
     if (Status step = fileStep("renaming", staging / "area.exr"); !step.ok()) return step.error();
     fs::rename(staging / "area_vector.exr", staging / "area.exr", ec);
     if (ec) return makeError(ErrorKind::io, (staging / "area.exr").string() + ": " + ec.message());
+
+    json levels = nullptr;
+    if (body->levels && body->levels->size() > 1) {
+        Result<json> written =
+            writeLevels(*body->levels, *textures, staging, desc.mesh, options.compact);
+        if (!written) return written.error();
+        levels = std::move(*written);
+        say(label + ": " + std::to_string(body->levels->size()) + " levels exported");
+    }
 
     // Frames of a deforming body: frames/NNN/ holds position.exr, area.exr and samples.exr
     // (the texels, coverage and sample order are the bake's in every frame; only points and
@@ -426,24 +493,33 @@ Result<BundleReport> buildBundle(const Project& project, std::size_t index, cons
         {"generator", "plimsoll"},
         {"project", project.name},
         {"body", desc.name},
-        {"units", {{"length", "m"}, {"area", "m^2"}, {"volume", "m^3"}, {"mass", "kg"},
-                   {"inertia", "kg m^2"}, {"density", "kg/m^3"},
-                   {"surface_density", "kg/m^2"}}},
-        {"axes", {{"space", "object space of the source mesh"}, {"up", "+y"},
-                  {"handedness", "right"}}},
-        {"image_rows", "row 0 of each image is the top of the texture (v = 1): texel (x, y) is "
-                       "pixel (x, N - 1 - y)"},
-        {"atlas", {{"mode", atlasModeName(desc.atlas)},
-                   {"generated", body->parts.generatedAtlas},
-                   {"charts", body->parts.atlasCharts}}},
+        {"units",
+         {{"length", "m"},
+          {"area", "m^2"},
+          {"volume", "m^3"},
+          {"mass", "kg"},
+          {"inertia", "kg m^2"},
+          {"density", "kg/m^3"},
+          {"surface_density", "kg/m^2"}}},
+        {"axes",
+         {{"space", "object space of the source mesh"}, {"up", "+y"}, {"handedness", "right"}}},
+        {"image_rows",
+         "row 0 of each image is the top of the texture (v = 1): texel (x, y) is "
+         "pixel (x, N - 1 - y)"},
+        {"atlas",
+         {{"mode", atlasModeName(desc.atlas)},
+          {"generated", body->parts.generatedAtlas},
+          {"charts", body->parts.atlasCharts}}},
         {"deforming", deforming},
         {"material", material},
         {"mass_properties", {{"exact", exact}, {"texture", massJson(*textureMass)}}},
-        {"hydrodynamics", {{"drag_coefficient", desc.dragCoefficient},
-                           {"friction_coefficient", desc.frictionCoefficient},
-                           {"linear_damping", desc.linearDamping},
-                           {"angular_damping", desc.angularDamping}}},
+        {"hydrodynamics",
+         {{"drag_coefficient", desc.dragCoefficient},
+          {"friction_coefficient", desc.frictionCoefficient},
+          {"linear_damping", desc.linearDamping},
+          {"angular_damping", desc.angularDamping}}},
         {"radiation", radiationJson(*body)},
+        {"levels", levels},
         {"world", worldJson(project, desc)},
         {"painted_maps", maps},
         {"gltf", gltfStem + ".gltf"},
@@ -455,18 +531,10 @@ Result<BundleReport> buildBundle(const Project& project, std::size_t index, cons
     if (compact) {
         // Absent in a float32 bundle (every reader's default). Its channels have other names
         // than the float32 list's, so a reader that knows only that list refuses the file.
-        const std::vector<std::string>& channels = compactSampleChannels();
-        manifest["sample_encoding"] = {
-            {"type", plimsoll_eval::kCompactSampleEncoding},
-            {"channels", channels},
-            {"position_origin", vec3(compact->origin)},
-            {"position_scale", compact->positionScale},
-            {"area_scale", compact->areaScale},
-            {"rule", "x, y: texel (float32); point = position_origin + position_scale * (hpx, "
-                     "hpy, hpz); area vector = area_scale * (hax, hay, haz); area = area_scale "
-                     "* harea; coverage; all but x, y are HALF"},
-            {"images", "position.exr, area.exr and coverage.exr hold HALF channels (same "
-                       "meaning); frames/ stay float32"}};
+        manifest["sample_encoding"] = sampleEncodingJson(*compact);
+        manifest["sample_encoding"]["images"] =
+            "position.exr, area.exr and coverage.exr hold HALF channels (same meaning); frames/ "
+            "stay float32";
     }
     const std::string text = manifest.dump(2) + "\n";
     if (Status s = writeBytes(staging / kManifestFile, text); !s.ok()) return s.error();

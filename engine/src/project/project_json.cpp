@@ -743,6 +743,11 @@ fs::path Project::radiationCacheFile(std::size_t index) const {
     return folder / (fileStem + ".cache") / ("radiation-" + std::to_string(index) + ".json");
 }
 
+fs::path Project::levelCacheFolder(std::size_t index) const {
+    if (folder.empty()) return {};
+    return folder / (fileStem + ".cache") / ("levels-" + std::to_string(index));
+}
+
 bool Project::operator==(const Project& other) const {
     return name == other.name && bodies == other.bodies && medium == other.medium &&
            water == other.water && simulation == other.simulation;

@@ -9,6 +9,7 @@
 #include "plimsoll/surface/painted_map.h"
 #include "plimsoll/geometry/validate.h"
 #include "plimsoll/io/mesh_io.h"
+#include "plimsoll/project/level_cache.h"
 #include "plimsoll/project/radiation_cache.h"
 #include "plimsoll/repair/physics_solid.h"
 #include "plimsoll/surface/map_transfer.h"
@@ -258,8 +259,16 @@ Result<SceneBody> loadSceneBody(const Project& project, std::size_t index, const
         if (!frames) return fail(".mesh_frames", frames.error());
         parts->frames = std::move(*frames);
     }
+    // The ladder comes through the project's cache (level_cache.h), not with the bake.
+    std::optional<LodDesc> lod = std::move(bodyDesc.lod);
+    bodyDesc.lod.reset();
     Result<SceneBody> body = bakeSceneBody(bodyDesc, std::move(*parts));
     if (!body) return fail("", body.error());
+    body->desc.lod = std::move(lod);
+    Result<std::shared_ptr<const std::vector<BuoyancyLevel>>> levels =
+        cachedBodyLevels(*body, project.levelCacheFolder(index), log);
+    if (!levels) return fail(".lod", levels.error());
+    body->levels = std::move(*levels);
     if (body->levelChoice)
         say(label + ": its tolerance picks " + describeLevelChoice(*body->levelChoice));
     if (desc.radiates()) {

@@ -7,6 +7,8 @@
 #include "plimsoll/physics/massprops.h"
 #include "plimsoll/physics/pose.h"
 
+#include "plimsoll_eval/levels.hpp"
+
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -220,19 +222,7 @@ std::string describeLevelChoice(const LevelChoice& choice) {
 }
 
 int coarsenessAt(double distance, double nearDistance, double margin, int current, int coarsest) {
-    // Coarseness k covers (near 2^(k-1), near 2^k]; 0 covers [0, near].
-    const auto bare = [&](double d) {
-        if (!(d > nearDistance)) return 0;
-        if (!std::isfinite(d)) return coarsest;
-        return std::min(coarsest, static_cast<int>(std::ceil(std::log2(d / nearDistance))));
-    };
-    if (!(nearDistance > 0)) return coarsest;
-    current = std::clamp(current, 0, coarsest);
-    const int coarser = bare(distance / (1.0 + margin));  // beyond a boundary by the margin
-    if (coarser > current) return coarser;
-    const int finer = bare(distance * (1.0 + margin));  // within a boundary by the margin
-    if (finer < current) return finer;
-    return current;
+    return plimsoll_eval::coarsenessAt(distance, nearDistance, margin, current, coarsest);
 }
 
 }  // namespace plimsoll

@@ -173,24 +173,48 @@ Result<SceneBody> bakeSceneBody(BodyDesc desc, BodyParts parts, const BakeContro
     if (!mass) return mass.error();
 
     body.textures = std::move(chosen);
-    // The level ladder, about the body's own centre of mass (its mass properties stay those of
-    // textureSize). A deforming body's coarser levels would not deform with it, and a water
-    // graph's permeable samples are those of textureSize: both keep their own level.
-    if (desc.lod && !desc.deforms() && !desc.waterGraph) {
-        Result<std::vector<int>> sizes = ladderSizes(desc.lod->levels, desc.textureSize);
-        if (!sizes) return withContext(body.label + ": ", sizes.error());
-        if (sizes->size() > 1) {
-            Result<std::vector<BuoyancyLevel>> ladder = bakeLevelLadder(
-                *parts.mesh, *sizes, desc.textureSize, body.textures, settings, mass->centerOfMass);
-            if (!ladder) return withContext(body.label + ": ", ladder.error());
-            body.levels = std::make_shared<const std::vector<BuoyancyLevel>>(std::move(*ladder));
-        }
-    }
     body.pieces = std::move(pieces);
     body.mass = std::make_shared<const MassProperties>(*mass);
     body.desc = std::move(desc);
     body.parts = std::move(parts);
+    Result<std::shared_ptr<const std::vector<BuoyancyLevel>>> levels =
+        bakeBodyLevels(body, control.threads);
+    if (!levels) return levels.error();
+    body.levels = std::move(*levels);
     return body;
+}
+
+std::optional<std::vector<int>> bodyLadderSizes(const SceneBody& body, Status& status) {
+    status = Ok{};
+    const BodyDesc& desc = body.desc;
+    // A deforming body's coarser levels would not deform with it, and a water graph's permeable
+    // samples are those of textureSize: both keep their own level.
+    if (!desc.lod || desc.deforms() || desc.waterGraph) return std::nullopt;
+    Result<std::vector<int>> sizes = ladderSizes(desc.lod->levels, desc.textureSize);
+    if (!sizes) {
+        status = withContext(body.label + ": ", sizes.error());
+        return std::nullopt;
+    }
+    if (sizes->size() < 2) return std::nullopt;
+    return std::move(*sizes);
+}
+
+Result<std::shared_ptr<const std::vector<BuoyancyLevel>>> bakeBodyLevels(const SceneBody& body,
+                                                                         unsigned threads) {
+    Status status = Ok{};
+    const std::optional<std::vector<int>> sizes = bodyLadderSizes(body, status);
+    if (!status) return status.error();
+    if (!sizes) return std::shared_ptr<const std::vector<BuoyancyLevel>>{};
+    // About the body's own centre of mass; its mass properties stay those of textureSize.
+    BakeSettings settings;
+    settings.size = body.desc.textureSize;
+    settings.maxTexelStretch = body.desc.maxTexelStretch;
+    settings.threads = threads;
+    Result<std::vector<BuoyancyLevel>> ladder =
+        bakeLevelLadder(*body.parts.mesh, *sizes, body.desc.textureSize, body.textures, settings,
+                        body.mass->centerOfMass);
+    if (!ladder) return withContext(body.label + ": ", ladder.error());
+    return std::make_shared<const std::vector<BuoyancyLevel>>(std::move(*ladder));
 }
 
 }  // namespace plimsoll

@@ -7,6 +7,8 @@
 #include "plimsoll/physics/cummins.h"
 #include "plimsoll/scene/scene_radiation.h"
 
+#include "plimsoll_eval/levels.hpp"
+
 #include <algorithm>
 #include <Eigen/Eigenvalues>
 
@@ -47,12 +49,9 @@ struct World::Radiating {
 /// one in use, and the blend of a switch.
 struct World::Detail {
     std::shared_ptr<const std::vector<BuoyancyLevel>> levels;
-    std::vector<std::size_t> ids;  ///< backend id per level; the finest is the body's own
-    int level = 0;                 ///< index in use
-    int framesHeld = 0;            ///< frames since its last switch
-    BuoyancyResult offset;         ///< the old level's result minus the new one's, at the switch
-    int blendSteps = 0;            ///< sub-steps the blend lasts
-    int blendLeft = 0;             ///< sub-steps it has left: weight blendLeft / blendSteps
+    std::vector<std::size_t> ids;    ///< backend id per level; the finest is the body's own
+    plimsoll_eval::LevelSwitch lod;  ///< level in use, hold and blend (plimsoll_eval/levels.hpp)
+    BuoyancyResult offset;           ///< the old level's result minus the new one's, at the switch
 };
 
 namespace {
@@ -112,7 +111,7 @@ Status World::withBackend(const std::function<Status(BuoyancyBackend&)>& call) {
             for (std::size_t k = 0; k + 1 < d->ids.size(); ++k)
                 d->ids[k] = reference->addBody(*(*d->levels)[k].textures, body.backendCenter);
             d->ids.back() = body.backendId;
-            body.backendId = d->ids[static_cast<std::size_t>(d->level)];
+            body.backendId = d->ids[static_cast<std::size_t>(d->lod.level)];
         }
     }
     for (const std::unique_ptr<Flooding>& f : floodings_) {
@@ -243,8 +242,8 @@ Status World::addBody(const SceneBody& scene) {
             note << (k ? ", " : " ") << level.size << "^2 (force error " << level.forceError
                  << " of rho g V, " << level.evaluationUs << " us)";
         }
-        detail->level = static_cast<int>(scene.levels->size()) - 1;
-        detail->framesHeld = std::numeric_limits<int>::max() / 2;  // free to switch at once
+        detail->lod.level = static_cast<int>(scene.levels->size()) - 1;
+        detail->lod.framesHeld = std::numeric_limits<int>::max() / 2;  // free to switch at once
         say(note.str());
     } else if (scene.levels && (flooding || deformation)) {
         say(label + ": keeps its own level (" + std::to_string(desc.textureSize) +
@@ -840,21 +839,16 @@ const std::vector<BuoyancyLevel>* World::levels(std::size_t body) const {
 int World::targetLevel(std::size_t i, const Detail& d, const std::vector<int>& budgetLevels) const {
     const LevelPolicy& p = levelPolicy_;
     const int finest = static_cast<int>(d.levels->size()) - 1;
-    const auto byDistance = [&](double distance) {
-        return finest - coarsenessAt(distance, p.nearDistance, p.margin, finest - d.level, finest);
-    };
     switch (p.kind) {
         case LevelPolicy::Kind::finest:
             return finest;
         case LevelPolicy::Kind::distance:
-            return byDistance((bodies_[i].state.position - p.pointOfInterest).norm());
-        case LevelPolicy::Kind::importance: {
-            const double importance = i < p.importance.size() ? p.importance[i] : 1.0;
-            // The middle of its band (in doublings): importance 1 at nearDistance / sqrt 2,
-            // 1/2 at nearDistance sqrt 2, ...: the margin never holds a body off its level.
-            return byDistance(importance > 0 ? p.nearDistance / (importance * std::numbers::sqrt2)
-                                             : std::numeric_limits<double>::infinity());
-        }
+            return plimsoll_eval::levelAtDistance(
+                (bodies_[i].state.position - p.pointOfInterest).norm(), p.nearDistance, p.margin,
+                d.lod.level, finest);
+        case LevelPolicy::Kind::importance:
+            return plimsoll_eval::levelOfImportance(i < p.importance.size() ? p.importance[i] : 1.0,
+                                                    p.nearDistance, p.margin, d.lod.level, finest);
         case LevelPolicy::Kind::budget:
             return budgetLevels[i];
     }
@@ -865,32 +859,19 @@ Status World::chooseLevels(int subSteps) {
     if (std::none_of(details_.begin(), details_.end(), [](const auto& d) { return d != nullptr; }))
         return Ok{};
     const LevelPolicy& p = levelPolicy_;
-    // The budget's greedy pass: all at the coarsest, then nearest first, each at the finest level
-    // what is left pays for. A sleeping body costs nothing.
+    // The budget's greedy pass (plimsoll_eval::budgetLevels). A sleeping body costs nothing.
     std::vector<int> budgetLevels;
     if (p.kind == LevelPolicy::Kind::budget) {
-        budgetLevels.assign(bodies_.size(), 0);
-        std::vector<std::pair<double, std::size_t>> order;
-        double spent = 0;
+        std::vector<std::vector<double>> costs(bodies_.size());
+        std::vector<plimsoll_eval::BudgetEntry> entries(bodies_.size());
         for (std::size_t i = 0; i < bodies_.size(); ++i) {
             const Detail* d = details_[i].get();
             if (!d || bodies_[i].asleep) continue;
-            spent += d->levels->front().evaluationUs * subSteps;
-            order.emplace_back((bodies_[i].state.position - p.pointOfInterest).norm(), i);
+            for (const BuoyancyLevel& level : *d->levels) costs[i].push_back(level.evaluationUs);
+            entries[i] = {(bodies_[i].state.position - p.pointOfInterest).norm(), costs[i].data(),
+                          costs[i].size()};
         }
-        std::sort(order.begin(), order.end());
-        for (const auto& [distance, i] : order) {
-            const std::vector<BuoyancyLevel>& levels = *details_[i]->levels;
-            for (int k = static_cast<int>(levels.size()) - 1; k > 0; --k) {
-                const double extra =
-                    (levels[k].evaluationUs - levels.front().evaluationUs) * subSteps;
-                if (spent + extra <= p.budgetUs) {
-                    spent += extra;
-                    budgetLevels[i] = k;
-                    break;
-                }
-            }
-        }
+        plimsoll_eval::budgetLevels(entries, subSteps, p.budgetUs, budgetLevels);
     }
     struct Switch {
         std::size_t body;
@@ -903,26 +884,20 @@ Status World::chooseLevels(int subSteps) {
         Detail* d = details_[i].get();
         if (!d) continue;
         SimulatedBody& body = bodies_[i];
-        if (d->framesHeld < std::numeric_limits<int>::max() / 2) ++d->framesHeld;
         // Asleep it keeps the load it fell asleep with, of the level it had.
-        if (body.asleep || d->framesHeld < p.holdFrames) continue;
+        if (!d->lod.countFrame(p.holdFrames) || body.asleep) continue;
         const int target = targetLevel(i, *d, budgetLevels);
-        if (target == d->level) continue;
-        const int from = d->level;
-        d->level = target;
-        d->framesHeld = 0;
+        if (target == d->lod.level) continue;
+        const int from = d->lod.level;
+        const double carried = d->lod.switchTo(target);
         body.backendId = d->ids[static_cast<std::size_t>(target)];
         body.levelSize = (*d->levels)[static_cast<std::size_t>(target)].size;
         ++statistics_.levelSwitches;
-        if (outOfWater(body, body.state)) {
-            d->blendLeft = 0;  // no water, no force to blend
-            continue;
-        }
+        if (outOfWater(body, body.state)) continue;  // no water, no force to blend
         // Both levels at the same state: their difference is faded out from here.
         Switch sw{i, from, BuoyancyResult{}};
         sw.carried.centerOfBuoyancy.setZero();
-        if (d->blendLeft > 0)
-            addScaled(sw.carried, d->offset, static_cast<double>(d->blendLeft) / d->blendSteps);
+        if (carried > 0) addScaled(sw.carried, d->offset, carried);
         requests.push_back(requestFor(body, body.state, time_));  // its id set below
         requests.push_back(requestFor(body, body.state, time_));
         switching.push_back(sw);
@@ -934,7 +909,7 @@ Status World::chooseLevels(int subSteps) {
             for (std::size_t k = 0; k < switching.size(); ++k) {
                 const Detail& d = *details_[switching[k].body];
                 requests[2 * k].body = d.ids[static_cast<std::size_t>(switching[k].from)];
-                requests[2 * k + 1].body = d.ids[static_cast<std::size_t>(d.level)];
+                requests[2 * k + 1].body = d.ids[static_cast<std::size_t>(d.lod.level)];
             }
             return b.evaluate(requests, scene_.water, results);
         });
@@ -946,20 +921,20 @@ Status World::chooseLevels(int subSteps) {
         d.offset = switching[k].carried;
         addScaled(d.offset, results[2 * k], 1.0);
         addScaled(d.offset, results[2 * k + 1], -1.0);
-        d.blendSteps = d.blendLeft = std::max(1, p.blendFrames * subSteps);
+        d.lod.startBlend(p.blendFrames, subSteps);
     }
     return Ok{};
 }
 
 void World::blendLevel(std::size_t i, BuoyancyResult& result) const {
     const Detail* d = details_[i].get();
-    if (!d || d->blendLeft <= 0) return;
-    addScaled(result, d->offset, static_cast<double>(d->blendLeft) / d->blendSteps);
+    if (!d || d->lod.weight() <= 0) return;
+    addScaled(result, d->offset, d->lod.weight());
 }
 
 void World::advanceBlends() {
     for (const std::unique_ptr<Detail>& d : details_) {
-        if (d && d->blendLeft > 0) --d->blendLeft;
+        if (d) d->lod.advance();
     }
 }
 

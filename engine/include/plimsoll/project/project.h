@@ -39,6 +39,9 @@ struct Project {
     /// Where body `index`'s radiation coefficients are cached: beside its atlas cache,
     /// `radiation-<index>.json` (empty when the project has no folder).
     std::filesystem::path radiationCacheFile(std::size_t index) const;
+    /// Where body `index`'s level ladder is cached: beside its atlas cache, the folder
+    /// `levels-<index>` (empty when the project has no folder).
+    std::filesystem::path levelCacheFolder(std::size_t index) const;
     /// The project file's name without ".plim.json" (set by loadProject; "project" otherwise).
     std::string fileStem = "project";
     /// What messages call a project that has no file (simulate --mesh: the mesh); empty: the

@@ -21,6 +21,7 @@
 
 #include <functional>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -99,6 +100,17 @@ struct Scene {
 /// export all simulate or write. Refuses parts that do not fit `desc` (no mesh, frames without
 /// mesh_frames or the reverse, a water graph missing). Errors start with the label.
 Result<SceneBody> bakeSceneBody(BodyDesc desc, BodyParts parts);
+
+/// The ladder's sizes `body`'s desc.lod asks for (level_ladder.h ladderSizes, coarsest first,
+/// desc.textureSize last); nullopt when it asks for none, or only textureSize, or the body
+/// deforms or has a water graph (they keep their own level), or (with `status` set) when a
+/// size is out of range.
+std::optional<std::vector<int>> bodyLadderSizes(const SceneBody& body, Status& status);
+
+/// The level ladder of a baked `body` (its textures and mass set): bakeLevelLadder at
+/// bodyLadderSizes about its centre of mass; null for a body with one level.
+Result<std::shared_ptr<const std::vector<BuoyancyLevel>>> bakeBodyLevels(const SceneBody& body,
+                                                                         unsigned threads = 0);
 
 /// Mass properties of `material` on `textures`: a solid of uniform density (V = sum A_y y) and
 /// a shell of point masses, its surface density scaled by `shellDensityMap` where one is given

@@ -352,6 +352,19 @@ struct LoadOptions {
 };
 
 /// One loaded bundle: the shape asset (samples, tiles, mass, graph layout, radiation model).
+/// One level of a body's level ladder (bundle schema 1.6, the manifest's "levels";
+/// docs/bundle.md): a bake of its own at `size` texels per side, with its stated errors.
+struct BundleLevel {
+    int size = 0;             ///< texels per side
+    std::size_t samples = 0;  ///< entries of its sample list
+    /// Its largest |F - F_exact| / (rho g V) over the exporter's test poses (F both Archimedes'
+    /// force and the pressure integral, F_exact the exact clip of the mesh); 0: not stated (a
+    /// bundle without a ladder).
+    double forceError = 0;
+    double torqueError = 0;   ///< the same for the torque about the centre of mass, over rho g V R
+    double evaluationUs = 0;  ///< microseconds one evaluation took where the bundle was exported
+};
+
 /// Immutable after loading and thread-safe: any number of Body instances, Simulations and
 /// threads share one (a fleet of one boat loads it once). What changes as a body floats lives
 /// in its Body.
@@ -390,6 +403,14 @@ public:
     Forces evaluate(const Pose& pose, const Velocity& velocity, const Water& water,
                     const Fluid& fluid, double time = 0.0) const;
 
+    /// The body's levels, coarsest first; the last is the finest (textureSize(), samples()).
+    /// One level, its errors 0, for a bundle without a ladder (before 1.6, or exported without).
+    const std::vector<BundleLevel>& levels() const { return levels_; }
+    /// evaluate() over level `level` of levels() (its own sample list, whose tiles are built on
+    /// its first call); the finest is evaluate() itself. Thread-safe.
+    Forces evaluateLevel(std::size_t level, const Pose& pose, const Velocity& velocity,
+                         const Water& water, const Fluid& fluid, double time = 0.0) const;
+
 private:
     friend bool loadBundleImpl(const BundleSource&, Bundle&, std::string&, bool);
     std::string folder_, body_;
@@ -409,6 +430,15 @@ private:
     mutable std::once_flag fastOnce_;
     mutable std::shared_ptr<const plimsoll_eval::FastBody> fast_;
     mutable std::atomic<bool> fastBuilt_{false};
+    std::vector<BundleLevel> levels_;
+    /// A level below the finest: its samples and, once evaluated, its tiles.
+    struct CoarseLevel {
+        std::vector<Sample> samples;
+        mutable std::once_flag once;
+        mutable std::shared_ptr<const plimsoll_eval::FastBody> fast;
+        mutable std::atomic<bool> built{false};
+    };
+    std::vector<std::unique_ptr<CoarseLevel>> coarse_;  ///< levels_ but the finest, in order
 };
 
 /// Loads and checks a bundle folder: the manifest (format, schema major =
@@ -600,6 +630,32 @@ WaterLoad waterLoad(const Body& body, const Pose& pose, const Velocity& velocity
 void stepBody(Body& body, BodyState& state, const Water& water, const Fluid& fluid, double time,
               double dt);
 
+/// How a Simulation picks its body's level (Bundle::levels) each frame, by the editor's World's
+/// rules (docs/design.md, "Level of detail"): a body switches at most once every holdFrames
+/// frames and not while asleep, and at a switch both levels are evaluated at the same state and
+/// their difference is faded out over blendFrames frames, so that the acceleration never jumps
+/// by more than the two levels' difference over the blend's sub-steps.
+struct LevelPolicy {
+    enum class Kind {
+        finest,      ///< the finest level (textureSize()): the default, as without a ladder
+        distance,    ///< by the centre of mass's distance from pointOfInterest
+        importance,  ///< by importance: 1 the finest, each halving one level coarser
+        fixed,       ///< the level `level` (a caller's own rule: a budget over many bodies)
+    };
+    Kind kind = Kind::finest;
+    Vec3 pointOfInterest;  ///< world, m (a camera)
+    /// m: the finest level within it of the point of interest, one level coarser each time the
+    /// distance doubles.
+    double nearDistance = 50.0;
+    /// Hysteresis: the level changes only when the distance is beyond a boundary by this
+    /// fraction of it (0.15: 15%).
+    double margin = 0.15;
+    double importance = 1.0;  ///< in 0..1 (importance policy)
+    std::size_t level = 0;    ///< index in levels(), clamped to the finest (fixed policy)
+    int holdFrames = 30;      ///< at least this many frames between two switches
+    int blendFrames = 8;      ///< frames a switch's force is blended over, >= 1
+};
+
 /// One body stepped as the editor's World steps it (engine/src/scene/world.cpp), for a game
 /// without a physics engine, a server, and the conformance test against `plimsoll simulate`:
 /// frames of world().timeStep split into the World's sub-steps (at least world().subSteps, more
@@ -644,6 +700,17 @@ public:
     /// The body's own water (null: the bundle has no water graph).
     const WaterGraph* graph() const { return body_.graph(); }
 
+    /// How the body picks its level of detail from the next frame on (LevelPolicy). False with
+    /// `error` for a non-finite point, a nearDistance that is not > 0, a margin below 0, an
+    /// importance outside 0..1, holdFrames below 0 or blendFrames below 1. A bundle with one
+    /// level evaluates it whatever the policy.
+    bool setLevelPolicy(const LevelPolicy& policy, std::string& error);
+    const LevelPolicy& levelPolicy() const { return levelPolicy_; }
+    /// The index in bundle().levels() of the level evaluated now.
+    std::size_t level() const { return static_cast<std::size_t>(lod_.level); }
+    /// Times the level changed.
+    std::size_t levelSwitches() const { return lod_.switches; }
+
     /// Everything the next frames depend on (the body's state, its mass with the water, the
     /// water graph's state), as bytes: restore() on a simulation of the same bundle continues
     /// bit for bit as if it had never stopped. For multiplayer snapshots and rollback.
@@ -664,6 +731,10 @@ private:
     void setMass(const MassProperties& mass);
     int subStepsFor(double frameTime) const;
     double stiffestFrequency() const;
+    /// The policy's level for this frame; at a switch evaluates both levels and starts the blend.
+    void chooseLevel(const Water& water);
+    /// The forces of level `level` at the current state (torques about the centre of mass).
+    Forces forcesAt(std::size_t level, const Water& water) const;
 
     const Bundle& bundle_;
     Body body_;
@@ -682,6 +753,13 @@ private:
     struct Wrench {
         Vec3 force, torque;
     } wrench_;
+    LevelPolicy levelPolicy_;
+    /// plimsoll_eval::LevelSwitch's state (simulation.cpp) and the blend's difference.
+    struct LevelState {
+        int level = 0, framesHeld = 0, blendSteps = 0, blendLeft = 0;
+        std::size_t switches = 0;
+        Forces offset;  ///< the old level's forces minus the new one's at the switch
+    } lod_;
 };
 
 /// SHA-256 of `size` bytes as 64 lowercase hex digits (FIPS 180-4).
