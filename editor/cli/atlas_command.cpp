@@ -53,7 +53,7 @@ int runGenerate(const GenerateOptions& o) {
                                 {"uv_area_spread", report.uvAreaSpread},
                                 {"seconds", seconds}};
     if (o.json) {
-        std::cout << out.dump(2) << "\n";
+        std::cout << reportJson(out) << "\n";
     } else {
         std::cout << o.mesh << ": " << atlas->chartCount << " charts, "
                   << 100.0 * atlas->uvCoverage << "% of a " << o.settings.textureSize << "^2 texture, "

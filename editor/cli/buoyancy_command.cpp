@@ -137,7 +137,7 @@ int runBuoyancy(const BuoyancyOptions& o) {
         out["submerged_volume_relative_error"] = check->relativeError;
     }
     if (o.json) {
-        std::cout << out.dump(2) << "\n";
+        std::cout << reportJson(out) << "\n";
         return kExitOk;
     }
     std::cout << o.mesh << " ("

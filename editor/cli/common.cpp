@@ -146,6 +146,10 @@ std::optional<BakeableMesh> loadMeshForBake(const std::string& path, const BakeO
 
 nlohmann::json vectorJson(const Eigen::Vector3d& v) { return {v.x(), v.y(), v.z()}; }
 
+std::string reportJson(const nlohmann::json& report, int indent) {
+    return report.dump(indent, ' ', false, nlohmann::json::error_handler_t::replace);
+}
+
 std::optional<Eigen::Vector3d> parseVector(const std::string& text) {
     Eigen::Vector3d v;
     const char* cursor = text.data();

@@ -57,6 +57,11 @@ std::optional<std::size_t> bodyIndexByName(const Project& project, const std::st
 /// [x, y, z] for JSON output.
 nlohmann::json vectorJson(const Eigen::Vector3d& v);
 
+/// A report as JSON text (dump(indent)), bytes that are not UTF-8 (a mesh's group name, a file
+/// name) written as U+FFFD: nlohmann's dump() throws on them, which turned one error into two
+/// and left the report unwritten.
+std::string reportJson(const nlohmann::json& report, int indent = 2);
+
 /// Strict "x,y,z": three finite numbers, nothing else (no spaces, no trailing text).
 std::optional<Eigen::Vector3d> parseVector(const std::string& text);
 

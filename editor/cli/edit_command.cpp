@@ -1,6 +1,7 @@
 // `plimsoll edit [PROJECT] [--script commands.json]`: with a script, runs its commands on the
 // project without a window and saves; without one, opens the editor window on the project.
 #include "cli/commands.h"
+#include "cli/common.h"
 #include "plimsoll/io/json_depth.h"
 
 #include "app/editor_app.h"
@@ -71,7 +72,7 @@ int runEdit(const EditOptions& o) {
     try {
         script = nlohmann::json::parse(*text);
     } catch (const nlohmann::json::exception& e) {
-        std::cerr << "error: " << o.script << ": " << e.what() << "\n";
+        std::cerr << "error: " << o.script << ": " << boundedExcerpt(e.what(), 200) << "\n";
         return kExitFailure;
     }
     Result<nlohmann::json> results = runEditScript(*document, script);
@@ -89,7 +90,7 @@ int runEdit(const EditOptions& o) {
         }
         report["saved"] = document->path().string();
     }
-    std::cout << report.dump(2) << "\n";
+    std::cout << reportJson(report) << "\n";
     return kExitOk;
 }
 

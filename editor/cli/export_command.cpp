@@ -13,6 +13,7 @@
 
 #include "plimsoll/export/bundle.h"
 #include "plimsoll/io/file_util.h"
+#include "plimsoll/io/json_depth.h"
 #include "plimsoll/project/project.h"
 
 #include <nlohmann/json.hpp>
@@ -97,7 +98,9 @@ std::string junitTime(double seconds) {
 
 std::string xmlEscaped(const std::string& text) {
     std::string out;
-    for (const char c : text) {
+    // A name or a message from any file may hold bytes that are not UTF-8 (the document says
+    // it is): each becomes U+FFFD.
+    for (const char c : validUtf8(text)) {
         switch (c) {
             case '&': out += "&amp;"; break;
             case '<': out += "&lt;"; break;
@@ -268,7 +271,7 @@ int runExport(const ExportOptions& o) {
     for (std::thread& t : threads) t.join();
 
     bool failed = false, outOfDate = false;
-    std::size_t unchanged = 0;
+    std::size_t unchanged = 0, failures = 0;
     nlohmann::json bodies = nlohmann::json::array();
     for (const Task& t : tasks) {
         nlohmann::json entry = {{"project", o.projects[t.project]},
@@ -277,6 +280,7 @@ int runExport(const ExportOptions& o) {
                                 {"seconds", t.seconds}};
         if (!t.result) {
             failed = true;
+            ++failures;
             std::cerr << "error: " << t.result.error().message << "\n";
             entry["status"] = "failed";
             entry["error"] = t.result.error().message;
@@ -320,16 +324,17 @@ int runExport(const ExportOptions& o) {
         {"unchanged", unchanged},
         {"seconds", seconds},
         {"bodies", bodies}};
-    const std::string text = summary.dump(2) + "\n";
+    const std::string text = reportJson(summary) + "\n";
     std::cout << text;
     if (!o.check && !o.quiet) {
         // Said even in CI: that a run rewrote nothing is the point of the skip.
         std::cerr << (unchanged == tasks.size() && !tasks.empty()
                           ? "export: all " + std::to_string(unchanged) +
                                 " bundles unchanged, nothing rewritten"
-                          : "export: " + std::to_string(tasks.size() - unchanged) + " of " +
-                                std::to_string(tasks.size()) + " bundles written, " +
-                                std::to_string(unchanged) + " unchanged")
+                          : "export: " + std::to_string(tasks.size() - unchanged - failures) +
+                                " of " + std::to_string(tasks.size()) + " bundles written, " +
+                                std::to_string(unchanged) + " unchanged" +
+                                (failures ? ", " + std::to_string(failures) + " failed" : ""))
                   << "\n";
     }
     for (const auto& [path, content] : {std::pair{o.summary, text},

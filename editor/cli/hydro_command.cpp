@@ -196,7 +196,7 @@ int runHydro(const HydroOptions& o) {
                                     {"memory", memory},
                                     {"convergence", points},
                                     {"seconds", seconds}};
-        std::cout << out.dump(2) << "\n";
+        std::cout << reportJson(out) << "\n";
         return kExitOk;
     }
     std::printf("%s: %zu panels (edge %g m) below the waterline at rest, displacement %g m^3, deep water of "

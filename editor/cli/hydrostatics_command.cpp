@@ -315,7 +315,7 @@ int runHydrostatics(const HydrostaticsOptions& o) {
         out["graph_water"] = floating->graphWater;
         out["water_density"] = settings->density;
         if (methods.size() == 2) out["exact"] = resultJson(methods[1], settings->density);
-        std::cout << out.dump(2) << "\n";
+        std::cout << reportJson(out) << "\n";
         return kExitOk;
     }
     std::printf("%s: calm water of %g kg/m^3 at the mean level, mass %g kg (%g m^3 of it graph "

@@ -87,7 +87,7 @@ int runMassProps(const MassPropsOptions& o) {
     out["inertia"] = {vectorJson(props.inertia.row(0)), vectorJson(props.inertia.row(1)),
                       vectorJson(props.inertia.row(2))};
     if (o.json) {
-        std::cout << out.dump(2) << "\n";
+        std::cout << reportJson(out) << "\n";
     } else {
         std::cout << o.mesh << " (" << out["method"].get<std::string>() << ", "
                   << lengthUnitName(report.facts.unitScale) << ": " << report.facts.unitSource << ")\n"

@@ -137,7 +137,7 @@ int runRender(const RenderOptions& o) {
     report["context"] = (*context)->description();
     report["setup_ms"] = ms(ready - start).count();
     report["draw_ms"] = ms(drawn - ready).count();
-    std::cout << report.dump(2) << "\n";
+    std::cout << reportJson(report) << "\n";
     return kExitOk;
 }
 

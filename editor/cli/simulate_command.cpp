@@ -90,10 +90,11 @@ public:
     void frame(double time, const std::vector<SimulatedBody>& bodies) {
         for (const SimulatedBody& b : bodies) json_ ? jsonRow(b, time) : csvRow(b, time);
     }
-    bool finish() {
+    void finish() {
         if (json_) out_ << (rows_ ? "\n]\n" : "]\n");
-        return static_cast<bool>(out_);
     }
+    /// False once a write failed (a full disk): the save then reports the cause.
+    bool writing() const { return static_cast<bool>(out_); }
 
 private:
     void csvRow(const SimulatedBody& b, double time) {
@@ -111,7 +112,7 @@ private:
     }
     void jsonRow(const SimulatedBody& b, double time) {
         // As the whole array's dump(1): each element one level in.
-        const std::string element = bodyJson(b, time).dump(1);
+        const std::string element = reportJson(bodyJson(b, time), 1);
         out_ << (rows_ ? ",\n " : "\n ");
         for (char c : element) {
             out_ << c;
@@ -189,7 +190,8 @@ int runSimulate(const SimulateOptions& o) {
     const ProgressCallback progress = stderrProgress("simulating");
     const auto start = std::chrono::steady_clock::now();
     // Each frame goes to the trajectory file (a temporary, renamed over --out when the run
-    // succeeds) as it is computed.
+    // succeeds) as it is computed. False: the simulation failed (said here); a failed write
+    // ends the run early and is said by the save, naming the file and the cause.
     auto run = [&](TrajectoryWriter* trajectory) -> bool {
         for (long frame = 0; frame < frameCount; ++frame) {
             if (Status s = world.advanceFrame(); !s.ok()) {
@@ -203,10 +205,14 @@ int runSimulate(const SimulateOptions& o) {
                     return false;
                 }
             }
-            if (trajectory) trajectory->frame(world.time(), world.bodies());
+            if (trajectory) {
+                trajectory->frame(world.time(), world.bodies());
+                if (!trajectory->writing()) return true;
+            }
             if (progress) progress(static_cast<double>(frame + 1) / frameCount);
         }
-        return !trajectory || trajectory->finish();
+        if (trajectory) trajectory->finish();
+        return true;
     };
     if (o.out.empty()) {
         if (!run(nullptr)) return kExitFailure;
@@ -231,7 +237,7 @@ int runSimulate(const SimulateOptions& o) {
         out["device"] = world.backend().deviceName();
         out["steps"] = stats.steps;
         out["wall_seconds"] = wall;
-        std::cout << out.dump(2) << "\n";
+        std::cout << reportJson(out) << "\n";
     } else {
         const SimulatedBody& b = world.bodies().front();
         std::cout << (project.name.empty() ? "scene" : project.name) << ": " << world.time()

@@ -147,7 +147,8 @@ int runValidate(const ValidateOptions& options) {
     if (!mesh) return kExitFailure;
     const ValidationReport report = validateMesh(*mesh);
     const Verdict verdict = judge(*mesh, report);
-    if (options.json) std::cout << toJson(*mesh, report, facts, verdict).dump(2) << "\n";
+    if (options.json)
+        std::cout << reportJson(toJson(*mesh, report, facts, verdict)) << "\n";
     else printHuman(options, *mesh, report, facts, verdict);
     return verdict.solid ? kExitOk : kExitFailure;
 }

@@ -1,6 +1,7 @@
 #include "document/command.h"
 
 #include "plimsoll/core/limits.h"
+#include "plimsoll/io/json_depth.h"
 #include "plimsoll/io/mesh_io.h"
 
 #include <algorithm>
@@ -679,7 +680,7 @@ Result<std::unique_ptr<Command>> makeSetPropertyCommand(const Document& document
     try {
         json[Json::json_pointer(pointer)] = value;
     } catch (const Json::exception& e) {
-        return makeError(ErrorKind::schema, pointer + ": " + e.what());
+        return makeError(ErrorKind::schema, pointer + ": " + boundedExcerpt(e.what(), 200));
     }
     Result<Project> edited = parseProject(json.dump(), "set " + pointer, document.project().folder);
     if (!edited) return edited.error();

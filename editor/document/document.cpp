@@ -932,7 +932,8 @@ Result<std::unique_ptr<Document>> Document::recover(const fs::path& autosaveFile
     try {
         root = Json::parse(*text);
     } catch (const Json::exception& e) {
-        return makeError(ErrorKind::format, autosaveFile.string() + ": not an autosave: " + e.what());
+        return makeError(ErrorKind::format, autosaveFile.string() + ": not an autosave: " +
+                                                boundedExcerpt(e.what(), 200));
     }
     if (!root.contains("plimsoll_autosave") || !root.contains("project")) {
         return makeError(ErrorKind::format, autosaveFile.string() + ": not an autosave");

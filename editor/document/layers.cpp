@@ -269,7 +269,7 @@ Result<LayerStack> parseLayerStack(const std::string& text, const std::string& s
             stack.layers.push_back(std::move(l));
         }
     } catch (const Json::exception& e) {
-        return makeError(ErrorKind::format, source + ": " + e.what());
+        return makeError(ErrorKind::format, source + ": " + boundedExcerpt(e.what(), 200));
     }
     if (Status ok = checkStack(stack); !ok) return withContext(source + ": ", ok.error());
     return stack;

@@ -8,6 +8,7 @@
 #include "plimsoll/graph_auto/graph_auto.h"
 #include "plimsoll/io/graph_json.h"
 #include "plimsoll/io/file_util.h"
+#include "plimsoll/io/json_depth.h"
 
 #include <cmath>
 #include <fstream>
@@ -24,7 +25,8 @@ namespace {
 double unitValue(const Json& j, const char* key, double fallback) {
     const double v = j.value(key, fallback);
     if (!(v >= 0.0 && v <= 1.0))
-        throw std::invalid_argument(std::string(key) + " must be in 0..1, not " + j.at(key).dump());
+        throw std::invalid_argument(std::string(key) + " must be in 0..1, not " +
+                                    jsonExcerpt(j.at(key)));
     return v;
 }
 
@@ -379,7 +381,8 @@ Result<Json> runEditScript(Document& document, const Json& script) {
                 }
                 runs = false;
             } else {
-                return makeError(ErrorKind::schema, where + ": unknown op \"" + op + "\"");
+                return makeError(ErrorKind::schema,
+                                 where + ": unknown op \"" + boundedExcerpt(op) + "\"");
             }
             if (runs) {
                 if (!command) return withContext(where + " (" + op + "): ", command.error());
@@ -397,7 +400,7 @@ Result<Json> runEditScript(Document& document, const Json& script) {
             }
             results.push_back(std::move(result));
         } catch (const std::exception& e) {
-            return makeError(ErrorKind::schema, where + ": " + e.what());
+            return makeError(ErrorKind::schema, where + ": " + boundedExcerpt(e.what(), 200));
         }
     }
     return results;

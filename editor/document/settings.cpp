@@ -1,6 +1,8 @@
 #include "document/settings.h"
 
+#include "plimsoll/core/limits.h"
 #include "plimsoll/io/file_util.h"
+#include "plimsoll/io/json_depth.h"
 
 #include <nlohmann/json.hpp>
 
@@ -85,10 +87,13 @@ bool Settings::removeBrushPreset(const std::string& name) {
 
 Settings Settings::load(const fs::path& folder) {
     Settings settings;
-    std::ifstream in(folder / "settings.json");
-    if (!in) return settings;
+    // Read as any other JSON file: bounded, not a FIFO, nesting checked before parsing. A file
+    // that fails gives the defaults, as a malformed one always has.
+    Result<std::string> text =
+        readWholeFile(folder / "settings.json", kMaxJsonFileBytes, "kMaxJsonFileBytes");
+    if (!text || !checkJsonDepth(*text, "settings.json").ok()) return settings;
     try {
-        const nlohmann::json j = nlohmann::json::parse(in);
+        const nlohmann::json j = nlohmann::json::parse(*text);
         settings.recentFiles = j.value("recent_files", settings.recentFiles);
         settings.windowWidth = j.value("window_width", settings.windowWidth);
         settings.windowHeight = j.value("window_height", settings.windowHeight);

@@ -1,5 +1,6 @@
 // The plimsoll executable end to end: sub-commands, JSON output, exit codes, error messages.
 #include "plimsoll/physics/massprops.h"
+#include "plimsoll/io/json_depth.h"
 #include "plimsoll/io/mesh_io.h"
 
 #include "cli_runner.h"
@@ -142,6 +143,78 @@ TEST(Cli, ValidateExitCodes) {
     EXPECT_EQ(runPlimsoll("massprops '" + boat->string() + "' --exact --json").exitCode, 0);
 }
 
+/// A project of the box asset (texture 256: bundle files above 8 KB) in `dir`, named "box".
+fs::path writeBoxProject(const fs::path& dir) {
+    fs::copy_file(test::assetPath("box.obj"), dir / "box.obj",
+                  fs::copy_options::overwrite_existing);
+    const fs::path path = dir / "box.plim.json";
+    std::ofstream(path)
+        << R"({"schema_version": 1, "name": "box", "bodies": [{"name": "box", "mesh": "box.obj",
+        "texture_size": 256, "material": {"density": 500.0}}]})";
+    return path;
+}
+
+// A write that fails (a full disk; here the file size limit, which fails write() with EFBIG
+// as a full disk fails it with ENOSPC) exits 1 with a line naming the file and the cause:
+// simulate --out said nothing, and export counted the bundle it failed as written.
+TEST(CliWrites, AFailedWriteNamesTheFileAndTheCauseAndTalliesCountWhatWasWritten) {
+    const fs::path dir = test::freshFolder("cli", "failed_writes");
+    const fs::path project = writeBoxProject(dir);
+    // Files of at most 8 blocks (4 or 8 KB, by the shell); SIGXFSZ ignored so that the
+    // write fails instead of the signal ending the process.
+    const std::string smallFiles = "trap '' XFSZ; ulimit -f 8;";
+    const CommandOutput simulate =
+        runPlimsoll("simulate '" + project.string() + "' --seconds 5 --device reference --out '" +
+                        (dir / "t.csv").string() + "'",
+                    smallFiles);
+    EXPECT_EQ(simulate.exitCode, 1) << simulate.err;
+    EXPECT_CONTAINS(simulate.err, "t.csv: write failed: File too large");
+    EXPECT_FALSE(fs::exists(dir / "t.csv"));
+
+    const CommandOutput exported = runPlimsoll(
+        "export '" + project.string() + "' --out '" + (dir / "out").string() + "'", smallFiles);
+    EXPECT_EQ(exported.exitCode, 1) << exported.err;
+    EXPECT_CONTAINS(exported.err, "write failed: File too large");
+    EXPECT_CONTAINS(exported.err, "export: 0 of 1 bundles written, 0 unchanged, 1 failed");
+    EXPECT_EQ(exported.err.find("1 of 1 bundles written"), std::string::npos) << exported.err;
+}
+
+// Bytes that are not UTF-8 in a mesh's text and in a file's name: every report stays valid
+// UTF-8 (nlohmann's dump() threw on them, a second error after the first, and the summary was
+// not written); a message quotes the mesh's text as a bounded excerpt.
+TEST(CliWrites, ReportsStayValidUtf8WhateverTheInput) {
+    const fs::path dir = test::freshFolder("cli", "utf8_reports");
+    const std::string bad = "\xff\xfe";
+    // A vertex line with text after its numbers: refused, quoting the text.
+    test::writeFile(dir / "bad.obj",
+                    "v 0 0 0\nv 1 0 0\nv 0 1 x" + bad + std::string(1000, 'y') + "\nf 1 2 3\n");
+    const CommandOutput validate =
+        runPlimsoll("validate '" + (dir / "bad.obj").string() + "' --json");
+    EXPECT_EQ(validate.exitCode, 1) << validate.err;
+    EXPECT_CONTAINS(validate.err, "bad.obj: line 3: 'x??yyy");
+    EXPECT_LT(validate.err.size(), 400u) << validate.err;
+
+    // A project whose file name has the bytes, and whose body fails: the summary and the JUnit
+    // report are written, valid UTF-8, and name the failure.
+    const fs::path project = dir / ("p" + bad + ".plim.json");
+    std::ofstream(project)
+        << R"({"schema_version": 1, "name": "p", "bodies": [{"name": "b", "mesh": "bad.obj", "material": {"density": 500}}]})";
+    const fs::path summary = dir / "summary.json", junit = dir / "junit.xml";
+    const CommandOutput exported =
+        runPlimsoll("export '" + project.string() + "' --out '" + (dir / "out").string() +
+                    "' --summary '" + summary.string() + "' --junit '" + junit.string() + "'");
+    EXPECT_EQ(exported.exitCode, 1) << exported.err;
+    EXPECT_EQ(exported.err.find("json.exception"), std::string::npos) << exported.err;
+    EXPECT_CONTAINS(exported.err, "export: 0 of 1 bundles written, 0 unchanged, 1 failed");
+    for (const std::string& text : {exported.out, test::readFile(summary), test::readFile(junit)}) {
+        EXPECT_EQ(validUtf8(text), text) << text;
+        EXPECT_CONTAINS(text, "bad.obj: line 3");
+    }
+    const nlohmann::json report = nlohmann::json::parse(test::readFile(summary));
+    std::string shown = project.string();
+    shown.replace(shown.find(bad), bad.size(), "\xEF\xBF\xBD\xEF\xBF\xBD");
+    EXPECT_EQ(report["bodies"][0]["project"], shown);
+}
 }  // namespace
 }  // namespace test_cli
 }  // namespace plimsoll

@@ -1094,6 +1094,33 @@ TEST(EditorScript, HeadlessEditScriptPaintsUndoesAndSaves) {
     EXPECT_NE(bad.err.find("command 0"), std::string::npos) << bad.err;
 }
 
+// A script nested past the limit is refused before it is parsed (a set value or a graph deep
+// enough overflowed the stack of the commands that print and re-parse them), naming the
+// script; a value quoted in a message is an excerpt.
+TEST(EditorScript, DeepScriptsAreRefusedAndMessagesQuoteExcerpts) {
+    const fs::path dir = test::freshFolder("editor_document", "script_deep");
+    const fs::path project = writeProject(dir, "sphere.obj");
+    const std::string before = test::readFile(project);
+    const fs::path script = dir / "commands.json";
+    const std::string deep = std::string(200000, '[') + std::string(200000, ']');
+    for (const std::string op :
+         {R"({"op": "set", "pointer": "/bodies/0/drag_coefficient", "value": )",
+          R"({"op": "graph_replace", "graph": )"}) {
+        test::writeFile(script, "[" + op + deep + "}]");
+        const test::CommandOutput run =
+            test::runPlimsoll("edit '" + project.string() + "' --script '" + script.string() + "'");
+        EXPECT_EQ(run.exitCode, 1) << run.err;
+        EXPECT_CONTAINS(run.err, "commands.json: JSON nested more than 128");
+        EXPECT_EQ(test::readFile(project), before);
+    }
+    test::writeFile(script, R"([{"op": ")" + std::string(100000, 'x') + R"("}])");
+    const test::CommandOutput unknown =
+        test::runPlimsoll("edit '" + project.string() + "' --script '" + script.string() + "'");
+    EXPECT_EQ(unknown.exitCode, 1);
+    EXPECT_CONTAINS(unknown.err, "unknown op \"xxxxxxxx");
+    EXPECT_LT(unknown.err.size(), 400u) << "the message quotes the whole op";
+}
+
 // Labels over a 1024 x 640 view (from y = 20): the legend in the lower-left corner; above the
 // Live preview window where that window opens there; right of a window too tall to go above;
 // the corner again where nothing is clear. The performance readout in the lower-right corner,

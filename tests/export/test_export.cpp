@@ -442,6 +442,31 @@ TEST(Export, VerifyAcceptsABundleAndNamesWhatIsWrongWithABadOne) {
                   .find("leaves the folder"), std::string::npos);
     EXPECT_NE(broken("not_json", [](const fs::path& f) { std::ofstream(f / "manifest.json") << "{"; })
                   .find("malformed manifest"), std::string::npos);
+    // Nested past the limit: refused before parsing, the manifest named.
+    EXPECT_NE(broken("deep",
+                     [](const fs::path& f) {
+                         std::ofstream(f / "manifest.json")
+                             << "{\"format\": " + std::string(200000, '[') +
+                                    std::string(200000, ']') + "}";
+                     })
+                  .find("manifest.json: JSON nested more than 128"),
+              std::string::npos);
+    // A file listed again (or spelled again) would be read and hashed once per listing.
+    const std::string repeated = broken("repeated", withManifest([](nlohmann::json& m) {
+                                            for (int i = 0; i < 2000; ++i)
+                                                m["files"].push_back(m["files"][1]);
+                                        }));
+    EXPECT_NE(repeated.find("manifest.json: files[6]: \"" + info->files[1].path +
+                            "\" is listed twice (also files[1])"),
+              std::string::npos)
+        << repeated;
+    EXPECT_NE(broken("respelled", withManifest([](nlohmann::json& m) {
+                         nlohmann::json again = m["files"][0];
+                         again["path"] = "./" + again["path"].get<std::string>();
+                         m["files"].push_back(again);
+                     }))
+                  .find("is listed twice (also files[0])"),
+              std::string::npos);
 }
 
 // Versions: this reader (1.6) reads 1.0 to 1.6 bundles and refuses 2.0 naming both versions.

@@ -13,11 +13,13 @@
 #include "plimsoll/project/project.h"
 #include "plimsoll/surface/painted_map.h"
 
+#include "io/mesh_header_check.h"
 #include "io/test_hooks.h"
 
 #include "plimsoll_runtime.h"
 
 #include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
 
 #include <atomic>
 #include <fstream>
@@ -273,6 +275,83 @@ TEST(HostileJson, DeepNestingIsRefusedBeforeAnyParser) {
     EXPECT_CONTAINS(test::messageOf(loadMesh(dir / "g.gltf")), "JSON nested more than 128");
     EXPECT_EQ(boundedExcerpt(std::string(500, 'x') + "\xff", 10), "xxxxxxxxxx...");
     EXPECT_EQ(boundedExcerpt("a\xff" "b"), "a?b");
+}
+
+// A value quoted in a message is written only as far as the excerpt goes: dump() recursed
+// through every level (a stack overflow on deep values) and wrote every byte of large ones,
+// and threw on bytes that are not UTF-8.
+TEST(HostileJson, MessagesQuoteBoundedExcerptsOfValues) {
+    nlohmann::json big = nlohmann::json::array();
+    for (int i = 0; i < 100000; ++i) big.push_back(123456);
+    EXPECT_EQ(jsonExcerpt(big, 20), "[123456, 123456, 123...");
+    nlohmann::json deep = nlohmann::json::array();
+    for (int i = 0; i < 100; ++i) deep = nlohmann::json::array({deep});
+    EXPECT_EQ(jsonExcerpt(deep, 10), "[[[[[[[[[[...");
+    EXPECT_EQ(jsonExcerpt(nlohmann::json{{"k", std::string("a\xff")}}), "{\"k\": \"a?\"}");
+    EXPECT_EQ(validUtf8("a\xff"
+                        "b\xc3\xa9"),
+              "a\xEF\xBF\xBD"
+              "b\xc3\xa9");
+    // A glTF child that is not a node index, quoted in the message: an excerpt of it.
+    const fs::path dir = test::freshFolder("hostile3", "excerpt");
+    test::writeFile(dir / "c.gltf", R"({"asset": {"version": "2.0"}, "nodes": [{"children": [)" +
+                                        big.dump() + "]}]}");
+    const std::string message = test::messageOf(loadMesh(dir / "c.gltf"));
+    EXPECT_CONTAINS(message, "c.gltf: glTF node 0 names child [123456, 123456");
+    EXPECT_LT(message.size(), 300u);
+}
+
+/// A binary FBX (version 7400: 32-bit offsets) of `depth` node records nested in each other.
+std::string nestedBinaryFbx(int depth) {
+    std::string bytes = std::string("Kaydara FBX Binary  \0\x1a\0", 23);
+    const auto u32 = [&](std::uint32_t v) {
+        for (int k = 0; k < 4; ++k) bytes += static_cast<char>(v >> (8 * k));
+    };
+    u32(7400);
+    // A record: end offset, no properties, a one-letter name, the nested record and the null
+    // record that ends a list (13 zero bytes); the innermost has nothing nested.
+    std::vector<std::uint32_t> ends(depth);
+    std::uint32_t size = 14;
+    for (int k = depth - 1; k >= 0; --k) {
+        ends[k] = 27 + 14 * static_cast<std::uint32_t>(k) + size;
+        size += 27;
+    }
+    for (int k = 0; k < depth; ++k) {
+        u32(ends[k]);
+        u32(0);
+        u32(0);
+        bytes +=
+            "\x01"
+            "A";
+    }
+    for (int k = 1; k < depth; ++k) bytes += std::string(13, '\0');
+    return bytes + std::string(13, '\0');  // the top level's null record
+}
+
+// Assimp reads FBX scopes recursively: 50000 nested braces overflowed its stack. Both forms are
+// refused past kMaxFbxDepth before it sees them; braces in strings and comments are no scopes.
+TEST(HostileFbx, ScopesNestedPastTheLimitAreRefusedBeforeAssimp) {
+    const fs::path dir = test::freshFolder("hostile3", "fbx");
+    std::string ascii = "; FBX 7.4.0 project file\nFBXHeaderExtension:  {\n}\nObjects:  {\n";
+    for (int i = 0; i < 50000; ++i) ascii += "A: {";
+    ascii += std::string(50001, '}') + "\n";
+    test::writeFile(dir / "deep.fbx", ascii);
+    test::writeFile(dir / "deep_binary.fbx", nestedBinaryFbx(200000));  // 5.4 MB
+    for (const std::string name : {"deep.fbx", "deep_binary.fbx"}) {
+        SCOPED_TRACE(name);
+        const std::string message = test::messageOf(loadMesh(dir / name));
+        EXPECT_CONTAINS(message, name + ": FBX scopes nested more than 128 deep");
+        EXPECT_CONTAINS(message, "kMaxFbxDepth");
+        const test::CommandOutput run =
+            test::runPlimsoll("validate '" + (dir / name).string() + "'");
+        EXPECT_EQ(run.exitCode, 1) << run.err;
+        EXPECT_CONTAINS(run.err, name + ": FBX scopes nested more than 128 deep");
+    }
+    EXPECT_TRUE(detail::checkFbxDepth("b.fbx", nestedBinaryFbx(128)).ok());
+    EXPECT_FALSE(detail::checkFbxDepth("b.fbx", nestedBinaryFbx(129)).ok());
+    const std::string quoted = "; FBX 7.4.0 {{{{ " + std::string(500, '{') + "\nA: {\n P: \"" +
+                               std::string(500, '{') + "\"\n}\n";
+    EXPECT_TRUE(detail::checkFbxDepth("q.fbx", quoted).ok());
 }
 
 TEST(HostileMeshFormats, OtherFormatsAreRefusedByContentAndOBJIsReadWhateverItsName) {

@@ -27,6 +27,14 @@
 #include <map>
 #include <set>
 #include <thread>
+#include <atomic>
+#include <csignal>
+#include <cstdio>
+#include <functional>
+#include <mutex>
+#include <sys/resource.h>
+#include <sys/wait.h>
+#include <unistd.h>
 
 namespace plimsoll {
 namespace test_runtime_sources {
@@ -285,12 +293,56 @@ TEST_F(RuntimeSources, ADamagedBundleFailsTheSameWayOnEachPath) {
              std::ofstream(d / "graph.json", std::ios::binary | std::ios::trunc) << bytes;
          }},
         {"escaping_graph", "leaves the bundle",
-         [&](const fs::path& d) { editManifest(d, [](nlohmann::json& m) { m["water_graph"]["path"] = "../damaged_boat/graph.json"; }); }, 0},
+         [&](const fs::path& d) {
+             editManifest(d, [](nlohmann::json& m) {
+                 m["water_graph"]["path"] = "../damaged_boat/graph.json";
+             });
+         },
+         0},
         {"absolute_map", "leaves the bundle",
-         [&](const fs::path& d) { editManifest(d, [](nlohmann::json& m) { m["painted_maps"]["permeability"]["path"] = "/etc/passwd"; }); }, 0},
+         [&](const fs::path& d) {
+             editManifest(d, [](nlohmann::json& m) {
+                 m["painted_maps"]["permeability"]["path"] = "/etc/passwd";
+             });
+         },
+         0},
         {"newer_major", "is newer than this reader's 1.x",
-         [&](const fs::path& d) { editManifest(d, [](nlohmann::json& m) { m["schema_version"] = 2; }); }},
+         [&](const fs::path& d) {
+             editManifest(d, [](nlohmann::json& m) { m["schema_version"] = 2; });
+         }},
         {"nan_sample", "samples.exr: sample 2 has a non-finite position", nanSample, 0},
+        {"deep_manifest", "nested more than 128 deep, more than the limit kMaxJsonDepth",
+         [&](const fs::path& d) {
+             editManifest(d, [](nlohmann::json& m) {
+                 nlohmann::json deep = nlohmann::json::array();
+                 for (int i = 0; i < 200; ++i) deep = nlohmann::json::array({deep});
+                 m["extra"] = deep;
+             });
+         }},
+        // One file listed 2000 times was read and hashed 2000 times; spelled "./graph.json" it
+        // is the same file.
+        {"repeated_file", "\"graph.json\" is listed twice (also $.files[",
+         [&](const fs::path& d) {
+             editManifest(d, [](nlohmann::json& m) {
+                 nlohmann::json entry;
+                 for (const nlohmann::json& f : m["files"])
+                     if (f["path"] == "graph.json") entry = f;
+                 for (int i = 0; i < 2000; ++i) m["files"].push_back(entry);
+             });
+         }},
+        {"respelled_file", "\"./graph.json\" is listed twice (also $.files[",
+         [&](const fs::path& d) {
+             editManifest(d, [](nlohmann::json& m) {
+                 for (const nlohmann::json& f : m["files"])
+                     if (f["path"] == "graph.json") {
+                         nlohmann::json again = f;
+                         again["path"] = "./graph.json";
+                         m["files"].push_back(again);
+                         break;
+                     }
+             });
+         },
+         0},
     };
     for (const Damage& damage : damages) {
         const fs::path dir = damaged(damage.name);
@@ -750,6 +802,155 @@ TEST_F(RuntimeSources, BatchEvaluationEqualsOneCallPerBody) {
     EXPECT_CONTAINS(plimsoll_runtime_last_error(), "both enqueue and finish");
     plimsoll_bundle_free(boatB);
     plimsoll_bundle_free(buoyB);
+}
+
+/// Runs `body` in a child process, ended by SIGALRM after `seconds` (a deadlock or a hang
+/// fails the test instead of stopping the suite): its exit status, or 128 + the signal.
+int inChild(const std::function<int()>& body, unsigned seconds) {
+    const pid_t child = ::fork();
+    if (child == 0) {
+        ::alarm(seconds);
+        ::_exit(body());
+    }
+    int status = 0;
+    ::waitpid(child, &status, 0);
+    return WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
+}
+
+/// A water callback that, on its first call, evaluates one body through `target` (with the
+/// water `targetWater`) and keeps the error of a refused call.
+struct Reentry {
+    plimsoll_batch* target = nullptr;
+    const plimsoll_water* targetWater = nullptr;
+    const plimsoll_bundle* body = nullptr;
+    std::atomic<int> calls{0}, refused{0};
+    std::mutex mutex;
+    std::string error;
+
+    static double height(void* user, double, double, double) {
+        Reentry& r = *static_cast<Reentry*>(user);
+        if (r.calls++ == 0) {
+            const plimsoll_pose pose = {{0.0, 0.0, 0.0}, {1.0, 0.0, 0.0, 0.0}};
+            plimsoll_forces out{};
+            if (plimsoll_batch_evaluate(r.target, 1, &r.body, &pose, nullptr, r.targetWater,
+                                        nullptr, 0.0, &out) == 0) {
+                ++r.refused;
+                std::lock_guard<std::mutex> lock(r.mutex);
+                r.error = plimsoll_runtime_last_error();
+            }
+        }
+        return 0.0;
+    }
+};
+
+// A batch runs one call at a time: a water callback evaluating the batch it runs in (directly,
+// or through a second batch whose work calls the first) waited for itself forever. Refused with
+// an error instead, on the library's pool, on the caller's task system and on the calling
+// thread alone; the outer call goes on.
+TEST_F(RuntimeSources, ABatchCalledFromItsOwnWorkIsRefusedNotDeadlocked) {
+    plimsoll_bundle* boatB = plimsoll_bundle_load(boat().string().c_str(), 0);
+    ASSERT_NE(boatB, nullptr) << plimsoll_runtime_last_error();
+    const int status = inChild(
+        [&] {
+            CallerTasks caller;
+            plimsoll_batch_desc alone{}, own{}, tasks{};
+            alone.struct_size = own.struct_size = tasks.struct_size = sizeof(plimsoll_batch_desc);
+            alone.thread_count = 1;
+            own.thread_count = 3;
+            tasks.enqueue = CallerTasks::enqueue;
+            tasks.finish = CallerTasks::finish;
+            tasks.user_context = &caller;
+            tasks.worker_count = 3;
+            const plimsoll_pose pose = {{0.0, 0.0, 0.0}, {1.0, 0.0, 0.0, 0.0}};
+            const plimsoll_bundle* body = boatB;
+            int failures = 0;
+            auto check = [&](bool ok, const std::string& what) {
+                if (!ok) {
+                    std::fprintf(stderr, "%s\n", what.c_str());
+                    ++failures;
+                }
+            };
+            for (plimsoll_batch_desc* desc : {&alone, &own, &tasks}) {
+                plimsoll_batch* a = plimsoll_batch_create(desc);
+                plimsoll_batch* b = plimsoll_batch_create(desc);
+                // Directly: a's callback calls a.
+                Reentry direct;
+                direct.target = a;
+                direct.body = body;
+                plimsoll_water water{};
+                water.height = Reentry::height;
+                water.user = &direct;
+                direct.targetWater = &water;
+                plimsoll_forces out{};
+                check(plimsoll_batch_evaluate(a, 1, &body, &pose, nullptr, &water, nullptr, 0.0,
+                                              &out) == 1,
+                      std::string("the outer call failed: ") + plimsoll_runtime_last_error());
+                check(direct.refused == 1, "the call from a's own work was not refused");
+                check(direct.error.find(
+                          "plimsoll_batch_evaluate: the batch is busy with the call this one "
+                          "was made from") != std::string::npos,
+                      "message: " + direct.error);
+                // Through b: a's callback calls b, whose callback calls a.
+                Reentry toB, toA;
+                plimsoll_water waterA{}, waterB{};
+                waterA.height = waterB.height = Reentry::height;
+                waterA.user = &toB;
+                waterB.user = &toA;
+                toB.target = b;
+                toB.targetWater = &waterB;
+                toA.target = a;
+                toA.targetWater = &waterA;
+                toA.body = toB.body = body;
+                check(plimsoll_batch_evaluate(a, 1, &body, &pose, nullptr, &waterA, nullptr, 0.0,
+                                              &out) == 1,
+                      std::string("the outer call failed: ") + plimsoll_runtime_last_error());
+                check(toB.refused == 0, "a's work could not call b");
+                check(toA.refused == 1, "b's work, inside a's, could call a");
+                plimsoll_batch_destroy(a);
+                plimsoll_batch_destroy(b);
+            }
+            return failures == 0 ? 0 : 1;
+        },
+        60);
+    EXPECT_EQ(status, 0) << (status == 128 + SIGALRM ? "deadlocked" : "failed (see the output)");
+    plimsoll_bundle_free(boatB);
+}
+
+// A batch asking for more threads than the system gives: plimsoll_batch_create fails saying
+// so, after stopping the threads it started (a std::thread left running ended the process).
+// The address space is limited in a child so that the thread stacks cannot all be mapped
+// (root ignores RLIMIT_NPROC).
+TEST(RuntimeBatch, AThreadTheSystemRefusesFailsTheCreationWithAMessage) {
+#ifdef PLIMSOLL_SANITIZED_BUILD
+    GTEST_SKIP() << "AddressSanitizer cannot run under an address-space limit";
+#endif
+    const int status = inChild(
+        [] {
+            long pages = 0;
+            std::ifstream("/proc/self/statm") >> pages;
+            const rlim_t now =
+                static_cast<rlim_t>(pages) * static_cast<rlim_t>(::sysconf(_SC_PAGESIZE));
+            const rlimit limit{now + (256ull << 20), now + (256ull << 20)};  // ~30 stacks of 8 MB
+            if (::setrlimit(RLIMIT_AS, &limit) != 0) return 2;
+            plimsoll_batch_desc desc{};
+            desc.struct_size = sizeof(desc);
+            desc.thread_count = 300;
+            if (plimsoll_batch_create(&desc) != nullptr) return 3;
+            const std::string error = plimsoll_runtime_last_error();
+            std::fprintf(stderr, "%s\n", error.c_str());
+            if (error.find("plimsoll_batch_create: cannot start thread ") == std::string::npos ||
+                error.find(" of 300: ") == std::string::npos)
+                return 4;
+            // The threads it started were stopped: a small batch still starts and works.
+            desc.thread_count = 2;
+            plimsoll_batch* small = plimsoll_batch_create(&desc);
+            if (!small) return 5;
+            plimsoll_batch_destroy(small);
+            return 0;
+        },
+        60);
+    EXPECT_EQ(status, 0) << (status == 128 + SIGALRM ? "hung"
+                                                     : "exit or signal " + std::to_string(status));
 }
 
 TEST_F(RuntimeSources, BatchGraphStepEqualsOneStepPerBody) {

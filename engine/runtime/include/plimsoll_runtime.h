@@ -542,7 +542,9 @@ PLIMSOLL_RUNTIME_API int plimsoll_instance_wake(plimsoll_instance* instance);
  * system (as Box2D's enqueueTask / finishTask): enqueue starts `task` over `item_count` items
  * in ranges of at least `min_range` and returns a handle finish() waits on (or runs it at once
  * and returns NULL: finish is then not called). Water callbacks are then called from several
- * threads at once and must be thread-safe. A batch serialises the calls made on it. */
+ * threads at once and must be thread-safe. A batch serialises the calls made on it; a call
+ * made from inside its own work (a water callback calling the batch it runs in, directly or
+ * through another batch) would wait for itself and is refused with an error instead. */
 typedef void plimsoll_task_fn(int begin, int end, uint32_t worker, void* task_context);
 
 typedef struct plimsoll_batch_desc {
@@ -557,7 +559,9 @@ typedef struct plimsoll_batch_desc {
 
 typedef struct plimsoll_batch plimsoll_batch;
 
-/* desc may be NULL: an own pool of the hardware threads. */
+/* desc may be NULL: an own pool of the hardware threads. NULL, with the error, when the system
+ * refuses a thread of the pool ("cannot start thread 38 of 300: Resource temporarily
+ * unavailable"); the threads already started are stopped. */
 PLIMSOLL_RUNTIME_API plimsoll_batch* plimsoll_batch_create(const plimsoll_batch_desc* desc);
 PLIMSOLL_RUNTIME_API void plimsoll_batch_destroy(plimsoll_batch* batch);
 PLIMSOLL_RUNTIME_DEPRECATED("plimsoll_batch_destroy")

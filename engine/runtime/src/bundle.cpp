@@ -27,6 +27,7 @@
 #include <stdexcept>
 #include <sys/stat.h>
 #include <unistd.h>
+#include <string_view>
 #include <unordered_map>
 
 namespace plimsoll_runtime {
@@ -66,6 +67,18 @@ bool staysInside(const std::string& path) {
         start = end + 1;
     }
     return true;
+}
+
+/// `path` (one that staysInside) without empty and "." components: "./a//b" is "a/b".
+std::string normalPath(const std::string& path) {
+    std::string out;
+    for (std::size_t start = 0; start <= path.size();) {
+        const std::size_t end = std::min(path.find('/', start), path.size());
+        const std::string_view part(path.data() + start, end - start);
+        if (!part.empty() && part != ".") out.append(out.empty() ? "" : "/").append(part);
+        start = end + 1;
+    }
+    return out;
 }
 
 std::string tooLarge(const std::string& full, std::uint64_t bytes, std::uint64_t maxBytes) {
@@ -495,6 +508,9 @@ bool loadBundleImpl(const BundleSource& source, Bundle& b, std::string& error, b
     if (!files->isArray()) return r.fail("$.files", "expected an array");
     bool hasTexelNodes = false;
     std::vector<std::string> listed;
+    // Each file once: an entry repeated (or spelled again with "." or empty components) would
+    // be read and hashed again for every listing, 2000 entries of one large file taking minutes.
+    std::unordered_map<std::string, std::size_t> firstListing;
     for (std::size_t i = 0; i < files->array.size(); ++i) {
         const Value& f = files->array[i];
         const std::string at = "$.files[" + std::to_string(i) + "]";
@@ -506,6 +522,10 @@ bool loadBundleImpl(const BundleSource& source, Bundle& b, std::string& error, b
             return false;
         if (!staysInside(path))
             return r.fail(at + ".path", "file path \"" + std::string(path.c_str()) + "\" leaves the bundle");
+        if (const auto [first, added] = firstListing.emplace(normalPath(path), i); !added)
+            return r.fail(at + ".path", "\"" + std::string(path.c_str()) +
+                                            "\" is listed twice (also $.files[" +
+                                            std::to_string(first->second) + "])");
         if (path == format::kTexelNodesFile) hasTexelNodes = true;
         listed.push_back(path);
         if (bytes < 0) return r.fail(at + ".bytes", "must be >= 0");

@@ -312,12 +312,32 @@ bool checkBatch(const char* call, const plimsoll_batch* batch, std::size_t count
 
 /// Runs body(i) for i < count on the batch's task system or pool; each failure is kept with
 /// its index and the lowest one is reported, as a single call would have reported it.
+///
+/// A batch runs one call at a time, so a call made from inside its own work (a water callback
+/// evaluating the same batch) would wait for itself forever. Every item runs with the chain of
+/// batches whose calls it works for (on whichever thread, the pool's, the caller's task
+/// system's or the caller's own), so such a call, direct or through other batches, is refused.
+thread_local const std::vector<const plimsoll_batch*>* runningBatches = nullptr;
+
 template <class Body>
 bool runBatch(plimsoll_batch& batch, const char* call, std::size_t count, Body&& body) {
     if (count == 0) return true;
+    std::vector<const plimsoll_batch*> chain;
+    if (runningBatches) chain = *runningBatches;
+    if (std::find(chain.begin(), chain.end(), &batch) != chain.end())
+        return refuse(call,
+                      "the batch is busy with the call this one was made from (a callback of "
+                      "its work called it again), which would wait for itself: refused");
+    chain.push_back(&batch);
     std::atomic<std::size_t> firstFailure{count};
     std::vector<const char*> failures(count, nullptr);
     auto item = [&](int i, std::uint32_t) {
+        const std::vector<const plimsoll_batch*>* const outer = runningBatches;
+        runningBatches = &chain;
+        struct Restore {
+            const std::vector<const plimsoll_batch*>* outer;
+            ~Restore() { runningBatches = outer; }
+        } restore{outer};
         try {
             failures[i] = body(static_cast<std::size_t>(i));
         } catch (const std::exception&) {

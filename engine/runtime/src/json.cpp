@@ -30,8 +30,10 @@ const char* kindName(Value::Kind kind) {
 
 namespace {
 
-/// Nesting deeper than this is refused: a hostile file cannot overflow the stack.
-constexpr int kMaxDepth = 256;
+/// Nesting deeper than this is refused before the parser descends further, so a hostile file
+/// cannot overflow the stack: the engine's kMaxJsonDepth (limits.h), restated (the runtime
+/// builds alone).
+constexpr int kMaxDepth = 128;
 /// Objects with fewer members than this look for a repeated name by a scan (no allocation).
 constexpr std::size_t kScanMembers = 16;
 
@@ -84,9 +86,11 @@ private:
     }
 
     bool value(Value& out, int depth) {
-        if (depth > kMaxDepth) return fail("nested too deeply");
         if (pos_ >= s_.size()) return fail("unexpected end of input");
         const char c = s_[pos_];
+        if ((c == '{' || c == '[') && depth >= kMaxDepth)
+            return fail("nested more than " + std::to_string(kMaxDepth) +
+                        " deep, more than the limit kMaxJsonDepth");
         switch (c) {
             case '{': return object(out, depth);
             case '[': return array(out, depth);

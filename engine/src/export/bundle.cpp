@@ -33,8 +33,10 @@
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
+#include <fcntl.h>
 #include <fstream>
 #include <iterator>
+#include <map>
 #include <optional>
 #include <set>
 #include <stdexcept>
@@ -71,10 +73,20 @@ Result<std::string> readBytes(const fs::path& path) {
 // place only once complete (writeBodyBundle), which is what makes the export atomic.
 Status writeBytes(const fs::path& path, const std::string& bytes) {
     if (Status step = fileStep("writing", path); !step.ok()) return step;
-    std::ofstream out(path, std::ios::binary | std::ios::trunc);
-    out.write(bytes.data(), static_cast<std::streamsize>(bytes.size()));
-    out.close();
-    if (!out) return makeError(ErrorKind::io, path.string() + ": cannot write");
+    // Written with write(2), so that a failure names its cause (a full disk).
+    const int fd = ::open(path.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0666);
+    int error = fd < 0 ? errno : 0;
+    for (std::size_t done = 0; error == 0 && done < bytes.size();) {
+        const ssize_t k = ::write(fd, bytes.data() + done, bytes.size() - done);
+        if (k < 0 && errno == EINTR) continue;
+        if (k <= 0)
+            error = k < 0 ? errno : ENOSPC;
+        else
+            done += static_cast<std::size_t>(k);
+    }
+    if (fd >= 0 && ::close(fd) != 0 && error == 0) error = errno;
+    if (error != 0)
+        return makeError(ErrorKind::io, path.string() + ": write failed: " + std::strerror(error));
     return Ok{};
 }
 
@@ -707,14 +719,23 @@ Result<BundleManifestInfo> parseBundleManifest(const std::string& text, const st
                                   f.at("bytes").get<std::uintmax_t>()});
         }
     } catch (const std::exception& e) {
-        std::string what = e.what();
+        std::string what = boundedExcerpt(e.what(), 200);
         if (const std::size_t tag = what.find("] "); tag != std::string::npos) what.erase(0, tag + 2);
         return makeError(ErrorKind::format,
                          where + "malformed manifest: " + (field.empty() ? "" : field + ": ") + what);
     }
-    for (const BundleFile& f : info.files) {
+    // Each file once: a repeated entry (or one spelled again, "./a") would be read and hashed
+    // again for every listing.
+    std::map<fs::path, std::size_t> firstListing;
+    for (std::size_t i = 0; i < info.files.size(); ++i) {
+        const BundleFile& f = info.files[i];
         Result<fs::path> inside = pathInside(fs::path(source).parent_path(), f.path, where + "file path");
         if (!inside) return inside.error();
+        if (const auto [first, added] = firstListing.emplace(inside->lexically_normal(), i); !added)
+            return makeError(ErrorKind::format, where + "files[" + std::to_string(i) + "]: \"" +
+                                                    boundedExcerpt(f.path) +
+                                                    "\" is listed twice (also files[" +
+                                                    std::to_string(first->second) + "])");
     }
     return info;
 }

@@ -234,7 +234,8 @@ Result<SurfaceTextures> readBakedTextures(const fs::path& folder) {
     try {
         manifest = nlohmann::json::parse(*text);
     } catch (const std::exception& e) {
-        return makeError(ErrorKind::format, manifestPath.string() + ": malformed JSON: " + e.what());
+        return makeError(ErrorKind::format, manifestPath.string() + ": malformed JSON: " +
+                                                boundedExcerpt(e.what(), 200));
     }
     SurfaceTextures t;
     std::size_t count = 0;
@@ -257,7 +258,7 @@ Result<SurfaceTextures> readBakedTextures(const fs::path& folder) {
         field = "texel_samples";
         count = manifest.value(field, std::size_t{0});
     } catch (const std::exception& e) {
-        std::string what = e.what();
+        std::string what = boundedExcerpt(e.what(), 200);
         if (const std::size_t tag = what.find("] "); tag != std::string::npos) what.erase(0, tag + 2);
         return makeError(ErrorKind::format, manifestPath.string() + ": " + field + ": " + what);
     }

@@ -16,6 +16,7 @@
 
 #include <algorithm>
 #include <cerrno>
+#include <cstring>
 #include <exception>
 #include <functional>
 #include <stdexcept>
@@ -56,7 +57,9 @@ public:
         for (int done = 0; done < n;) {
             const ssize_t k = ::write(fd_, c + done, static_cast<std::size_t>(n - done));
             if (k < 0 && errno == EINTR) continue;
-            if (k <= 0) throw std::runtime_error("write failed (disk full?)");
+            if (k <= 0)
+                throw std::runtime_error(std::string("write failed: ") +
+                                         std::strerror(k < 0 ? errno : ENOSPC));
             done += static_cast<int>(k);
         }
     }
@@ -71,7 +74,8 @@ public:
     }
     /// Flushed to the disk before the rename makes the file the target.
     void sync() {
-        if (::fdatasync(fd_) != 0) throw std::runtime_error("write failed (disk full?)");
+        if (::fdatasync(fd_) != 0)
+            throw std::runtime_error(std::string("write failed: ") + std::strerror(errno));
     }
 
 private:

@@ -14,7 +14,7 @@
 #include <iterator>
 #include <cerrno>
 #include <cstring>
-#include <ext/stdio_filebuf.h>
+#include <streambuf>
 #include <fcntl.h>
 #include <fstream>
 #include <mutex>
@@ -87,16 +87,65 @@ mode_t createdFileMode() {
     return mode;
 }
 
+/// An output buffer over a descriptor that keeps the errno of its first failed write, so that
+/// a failed save names its cause ("No space left on device", "File too large"), and closes
+/// the descriptor.
+class DescriptorBuffer : public std::streambuf {
+public:
+    explicit DescriptorBuffer(int fd) : fd_(fd), buffer_(1 << 16) {
+        setp(buffer_.data(), buffer_.data() + buffer_.size());
+    }
+    ~DescriptorBuffer() override { ::close(fd_); }
+    DescriptorBuffer(const DescriptorBuffer&) = delete;
+    DescriptorBuffer& operator=(const DescriptorBuffer&) = delete;
+
+    int error() const { return error_; }
+
+protected:
+    int_type overflow(int_type c) override {
+        if (!drain()) return traits_type::eof();
+        if (!traits_type::eq_int_type(c, traits_type::eof())) {
+            *pptr() = traits_type::to_char_type(c);
+            pbump(1);
+        }
+        return traits_type::not_eof(c);
+    }
+    int sync() override { return drain() ? 0 : -1; }
+
+private:
+    bool drain() {
+        for (const char* at = pbase(); at < pptr();) {
+            if (error_ != 0) return false;
+            const ssize_t k = ::write(fd_, at, static_cast<std::size_t>(pptr() - at));
+            if (k < 0 && errno == EINTR) continue;
+            if (k <= 0)
+                error_ = k < 0 ? errno : ENOSPC;  // 0 bytes written: nothing more fits
+            else
+                at += k;
+        }
+        setp(buffer_.data(), buffer_.data() + buffer_.size());
+        return error_ == 0;
+    }
+
+    int fd_;
+    std::vector<char> buffer_;
+    int error_ = 0;
+};
+
 /// Writes `write`'s stream into the open temporary `fd` (closing it), then flushes to disk.
 Status writeThroughDescriptor(int fd, const fs::path& target,
                               const std::function<bool(std::ostream&)>& write) {
-    __gnu_cxx::stdio_filebuf<char> buffer(fd, std::ios::out | std::ios::binary);
+    DescriptorBuffer buffer(fd);
     std::ostream out(&buffer);
     if (!write(out)) return makeError(ErrorKind::io, target.string() + ": write abandoned");
     out.flush();
-    if (!out || buffer.pubsync() != 0 || ::fdatasync(fd) != 0)
-        return makeError(ErrorKind::io, target.string() + ": write failed (disk full?)");
-    return Ok{};  // the filebuf closes fd
+    int error = buffer.error();
+    if (error == 0 && !out) error = EIO;
+    if (error == 0 && ::fdatasync(fd) != 0) error = errno;
+    if (error != 0)
+        return makeError(ErrorKind::io,
+                         target.string() + ": write failed: " + systemMessage(error));
+    return Ok{};  // the buffer closes fd
 }
 
 Result<int> createTemporaryDescriptor(const fs::path& target, fs::path& temp) {
@@ -450,8 +499,9 @@ Status finishInterruptedReplace(const fs::path& lastTarget) {
             entries.push_back(std::move(entry));
         }
     } catch (const std::exception& e) {
-        return makeError(ErrorKind::format,
-                         journal.string() + ": unreadable journal of an interrupted save: " + e.what());
+        return makeError(ErrorKind::format, journal.string() +
+                                                ": unreadable journal of an interrupted save: " +
+                                                boundedExcerpt(e.what(), 200));
     }
     // Only temporaries of this journal's own making are renamed: each must sit beside its
     // target and carry its name, so an edited journal cannot move arbitrary files.

@@ -1,4 +1,5 @@
 #include "plimsoll/io/json_keys.h"
+#include "plimsoll/io/json_depth.h"
 
 #include <nlohmann/json.hpp>
 
@@ -82,8 +83,8 @@ Status checkNoDuplicateKeys(const std::string& text, const std::string& source) 
     DuplicateKeys keys;
     nlohmann::json::sax_parse(text, &keys, nlohmann::json::input_format_t::json, false);
     if (keys.duplicate().empty()) return Ok{};
-    return makeError(ErrorKind::format, source + ": " + keys.where() + ": the key \"" +
-                                            keys.duplicate() +
+    return makeError(ErrorKind::format, source + ": " + boundedExcerpt(keys.where(), 200) +
+                                            ": the key \"" + boundedExcerpt(keys.duplicate()) +
                                             "\" appears twice in one object (which one counts?)");
 }
 

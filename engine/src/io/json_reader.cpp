@@ -30,7 +30,7 @@ Result<Json> parseJson(const std::string& text, const std::string& source) {
     try {
         return Json::parse(text);
     } catch (const Json::exception& e) {
-        const std::string what = e.what();
+        const std::string what = boundedExcerpt(e.what(), 200);
         const std::size_t tagEnd = what.find("] ");
         return makeError(ErrorKind::format,
                          source + ": " + (tagEnd == std::string::npos ? what : what.substr(tagEnd + 2)));
@@ -69,7 +69,7 @@ bool JsonReader::expectObject(const Json& value, const std::string& path,
     for (const auto& item : value.items()) {
         bool known = false;
         for (std::string_view key : keys) known = known || item.key() == key;
-        if (!known) problem(member(path, item.key()), "unknown key");
+        if (!known) problem(member(path, boundedExcerpt(item.key())), "unknown key");
     }
     return true;
 }

@@ -242,7 +242,8 @@ private:
     bool lineEnded(const PlyElement& e, std::uint64_t i) {
         const std::string_view extra = token();
         if (extra.empty()) return true;
-        return failed(e, i, "more values than its properties declare ('" + std::string(extra) + "')");
+        return failed(e, i,
+                      "more values than its properties declare ('" + boundedExcerpt(extra) + "')");
     }
 
     /// One scalar of any type, as the float assimp would have made of it.
@@ -256,7 +257,7 @@ private:
                 out = std::strtof(std::string(t).c_str(), nullptr);  // +-HUGE_VALF or 0, as written
             } else if (ec != std::errc() || end != t.data() + t.size()) {
                 // nan / inf are numbers validation reports; anything else is not a number.
-                return failed(e, i, "'" + std::string(t) + "' is not a number");
+                return failed(e, i, "'" + boundedExcerpt(t) + "' is not a number");
             }
             return true;
         }
@@ -282,7 +283,7 @@ private:
             if (t.empty()) return failed(e, i, "fewer values than its properties declare");
             const auto [end, ec] = std::from_chars(t.data(), t.data() + t.size(), out);
             if (ec != std::errc() || end != t.data() + t.size())
-                return failed(e, i, "'" + std::string(t) + "' is not an integer");
+                return failed(e, i, "'" + boundedExcerpt(t) + "' is not an integer");
             return true;
         }
         if (plyTypeIsFloat(type)) return failed(e, i, "a list count or index of type " + type);
@@ -368,7 +369,8 @@ Result<std::string> readPly(const std::string& file, std::string_view bytes) {
                      : name == "binary_little_endian" ? PlyBody::kLittle
                      : name == "binary_big_endian" ? PlyBody::kBig : -1;
             if (format < 0)
-                return makeError(ErrorKind::format, file + ": PLY header: unknown format '" + name + "'");
+                return makeError(ErrorKind::format, file + ": PLY header: unknown format '" +
+                                                        boundedExcerpt(name) + "'");
         } else if (keyword == "element") {
             std::string name, countText, extra;
             words >> name >> countText;
@@ -388,7 +390,8 @@ Result<std::string> readPly(const std::string& file, std::string_view bytes) {
                                                    countText.data() + countText.size(), e.count);
             if (ec != std::errc() || end != countText.data() + countText.size()) {
                 return makeError(ErrorKind::format, file + ": PLY header: element " + name +
-                                                        " has count '" + countText + "', not a number");
+                                                        " has count '" + boundedExcerpt(countText) +
+                                                        "', not a number");
             }
             elements.push_back(e);
         } else if (keyword == "property") {
@@ -402,7 +405,7 @@ Result<std::string> readPly(const std::string& file, std::string_view bytes) {
                 words >> p.countType >> p.type;
                 if (!plyTypeBytes(p.countType))
                     return makeError(ErrorKind::format, file + ": PLY header: unknown type '" +
-                                                            p.countType + "'");
+                                                            boundedExcerpt(p.countType) + "'");
             } else {
                 p.type = type;
             }
@@ -411,7 +414,8 @@ Result<std::string> readPly(const std::string& file, std::string_view bytes) {
                 return makeError(ErrorKind::format, file + ": PLY header line " + std::to_string(headerLines) +
                                                         ": a property is a type and one name");
             if (!plyTypeBytes(p.type))
-                return makeError(ErrorKind::format, file + ": PLY header: unknown type '" + p.type + "'");
+                return makeError(ErrorKind::format, file + ": PLY header: unknown type '" +
+                                                        boundedExcerpt(p.type) + "'");
             elements.back().properties.push_back(p);
         }
     }
@@ -497,7 +501,8 @@ Status checkGltfNodes(const std::string& file, std::string_view jsonText) {
         for (const nlohmann::json& c : *list) {
             if (!c.is_number_unsigned() || c.get<std::uint64_t>() >= n)
                 return makeError(ErrorKind::format, file + ": glTF node " + std::to_string(i) +
-                                                        " names child " + boundedExcerpt(c.dump()) + ", not a node of the file");
+                                                        " names child " + jsonExcerpt(c) +
+                                                        ", not a node of the file");
             children[i].push_back(c.get<std::size_t>());
             ++parents[c.get<std::size_t>()];
         }
@@ -614,7 +619,8 @@ Result<std::string> objGeometry(std::istream& text, const std::string& file) {
                 const auto [ptr, error] = std::from_chars(first, field.data() + field.size(), value);
                 if (error == std::errc::invalid_argument || ptr != field.data() + field.size()) {
                     return makeError(ErrorKind::format, file + ": line " + std::to_string(number) +
-                                                            ": '" + field + "' is not a number");
+                                                            ": '" + boundedExcerpt(field) +
+                                                            "' is not a number");
                 }
                 ++count;
             }
@@ -651,8 +657,9 @@ Result<std::string> objGeometry(std::istream& text, const std::string& file) {
                 const auto [ptr, error] =
                     std::from_chars(part.data(), part.data() + part.size(), index);
                 if (error != std::errc() || ptr != part.data() + part.size() || index == 0) {
-                    return makeError(ErrorKind::format, file + ": line " + std::to_string(number) + ": '" + ref +
-                                     "' is not a " + kinds[kind] + " index");
+                    return makeError(ErrorKind::format, file + ": line " + std::to_string(number) +
+                                                            ": '" + boundedExcerpt(ref) +
+                                                            "' is not a " + kinds[kind] + " index");
                 }
                 if (index < 0) {
                     const std::uint64_t back = static_cast<std::uint64_t>(-(index + 1)) + 1;
@@ -691,6 +698,92 @@ Result<std::string> plyGeometry(std::string_view bytes, const std::string& file)
     return makeError(ErrorKind::format, file + ": not a PLY file (its first line is not \"ply\")");
 }
 
+namespace {
+
+Status fbxTooDeep(const std::string& file, std::uint64_t at) {
+    return makeError(ErrorKind::limit, file + ": FBX scopes nested more than " +
+                                           std::to_string(kMaxFbxDepth) + " deep (at byte " +
+                                           std::to_string(at) +
+                                           "), more than the limit kMaxFbxDepth (limits.h)");
+}
+
+/// ASCII FBX: braces outside strings ("...", no escapes) and comments (';' to the line's end),
+/// as assimp's tokenizer sees them.
+Status checkAsciiFbxDepth(const std::string& file, std::string_view text) {
+    std::uint64_t depth = 0;
+    for (std::size_t i = 0; i < text.size(); ++i) {
+        const char c = text[i];
+        if (c == '"') {
+            const std::size_t end = text.find('"', i + 1);
+            if (end == std::string_view::npos) break;
+            i = end;
+        } else if (c == ';') {
+            const std::size_t end = text.find('\n', i);
+            if (end == std::string_view::npos) break;
+            i = end;
+        } else if (c == '{') {
+            if (++depth > kMaxFbxDepth) return fbxTooDeep(file, i);
+        } else if (c == '}' && depth > 0) {
+            --depth;
+        }
+    }
+    return Ok{};
+}
+
+std::uint64_t readLittleEndian(std::string_view bytes, std::size_t at, int size) {
+    std::uint64_t v = 0;
+    for (int k = size - 1; k >= 0; --k) v = v << 8 | static_cast<unsigned char>(bytes[at + k]);
+    return v;
+}
+
+/// Binary FBX: node records (end offset, property count, property bytes, name, properties,
+/// nested records ended by a null record), walked with a stack of end offsets. A record whose
+/// offsets do not fit its parent ends the walk: assimp's reader, which meets the records in the
+/// same order, stops at the same record with an error, no deeper than the walk went.
+Status checkBinaryFbxDepth(const std::string& file, std::string_view bytes) {
+    constexpr std::size_t kStart = 27;  // magic (23 bytes) and the version
+    if (bytes.size() < kStart) return Ok{};
+    const bool wide = readLittleEndian(bytes, 23, 4) >= 7500;  // 64-bit offsets from 7.5
+    const int field = wide ? 8 : 4;
+    const std::size_t header = 3 * static_cast<std::size_t>(field) + 1;
+    std::vector<std::uint64_t> ends{bytes.size()};  // the end of each open scope
+    std::uint64_t at = kStart;
+    while (true) {
+        while (ends.size() > 1 && at >= ends.back()) {
+            at = ends.back();
+            ends.pop_back();
+        }
+        if (at + header > ends.back()) return Ok{};
+        const std::uint64_t end = readLittleEndian(bytes, at, field);
+        if (end == 0) {  // a null record: the end of this list
+            if (ends.size() == 1) return Ok{};
+            at = ends.back();
+            ends.pop_back();
+            continue;
+        }
+        if (ends.size() > kMaxFbxDepth) return fbxTooDeep(file, at);  // this record's level
+        const std::uint64_t propertyBytes = readLittleEndian(bytes, at + 2 * field, field);
+        const std::uint64_t nameBytes = static_cast<unsigned char>(bytes[at + 3 * field]);
+        if (end <= at || end > ends.back() || propertyBytes > end - at) return Ok{};
+        const std::uint64_t nested = at + header + nameBytes + propertyBytes;
+        if (nested >= end) {  // no nested records (or offsets assimp refuses)
+            at = end;
+            continue;
+        }
+        ends.push_back(end);
+        at = nested;
+    }
+}
+
+}  // namespace
+
+/// FBX scopes nested deeper than kMaxFbxDepth, in either form, before assimp's recursive
+/// parsers see them.
+Status checkFbxDepth(const std::string& file, std::string_view bytes) {
+    if (bytes.substr(0, 20) == "Kaydara FBX Binary  ") return checkBinaryFbxDepth(file, bytes);
+    return checkAsciiFbxDepth(file, bytes);
+}
+
 Status checkMeshBytes(std::string_view bytes, const std::string& file, const std::string& format) {
     if (bytes.substr(0, 4) == "glTF") return checkGlb(file, bytes);
     // A .glb without the magic: assimp then tries its other readers on the bytes, and its OBJ
@@ -700,6 +793,7 @@ Status checkMeshBytes(std::string_view bytes, const std::string& file, const std
                          file + ": not a binary glTF (it does not start with \"glTF\")");
     if (format == "gltf") return checkGltfNodes(file, bytes);
     if (format == "stl") return checkBinaryStl(file, bytes);
+    if (format == "fbx") return checkFbxDepth(file, bytes);
     return Ok{};
 }
 

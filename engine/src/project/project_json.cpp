@@ -13,6 +13,7 @@
 #include "plimsoll/io/file_util.h"
 
 #include "io/json_reader.h"
+#include "plimsoll/io/json_depth.h"
 
 #include <nlohmann/json.hpp>
 
@@ -128,7 +129,8 @@ private:
                 for (const auto& entry : kWaterModels) {
                     names += (names.empty() ? "" : ", ") + std::string(entry.first);
                 }
-                problem(member(path, "model"), "unknown '" + model + "' (" + names + ")");
+                problem(member(path, "model"),
+                        "unknown '" + boundedExcerpt(model) + "' (" + names + ")");
             }
         }
         number(value, path, "level", water.level);
@@ -247,7 +249,8 @@ private:
                 for (Integrator i : kIntegrators) {
                     known += (known.empty() ? "" : ", ") + std::string(integratorName(i));
                 }
-                problem(member(path, "integrator"), "unknown '" + name + "' (" + known + ")");
+                problem(member(path, "integrator"),
+                        "unknown '" + boundedExcerpt(name) + "' (" + known + ")");
             }
         }
         number(value, path, "duration", simulation.duration, Limit::NonNegative);
@@ -371,13 +374,17 @@ private:
         const Json* atlasValue = find(value, "atlas");
         if (atlasValue && stringValue(*atlasValue, member(path, "atlas"), atlas)) {
             if (const auto mode = parseAtlasMode(atlas)) body.atlas = *mode;
-            else problem(member(path, "atlas"), "unknown '" + atlas + "' (mesh, auto, generate)");
+            else
+                problem(member(path, "atlas"),
+                        "unknown '" + boundedExcerpt(atlas) + "' (mesh, auto, generate)");
         }
         std::string openings;
         const Json* openingsValue = find(value, "openings");
         if (openingsValue && stringValue(*openingsValue, member(path, "openings"), openings)) {
             if (const auto mode = parseOpeningsMode(openings)) body.openings = *mode;
-            else problem(member(path, "openings"), "unknown '" + openings + "' (open, sealed, none)");
+            else
+                problem(member(path, "openings"),
+                        "unknown '" + boundedExcerpt(openings) + "' (open, sealed, none)");
         }
         if (const Json* caps = find(value, "caps")) readCaps(*caps, member(path, "caps"), body);
         if (const Json* material = find(value, "material")) {
@@ -417,7 +424,8 @@ private:
                 if (parsed && *parsed != OpeningsMode::None)
                     cap.mode = parsed;
                 else
-                    problem(member(at, "mode"), "unknown '" + name + "' (open, sealed)");
+                    problem(member(at, "mode"),
+                            "unknown '" + boundedExcerpt(name) + "' (open, sealed)");
             }
             double height = 0;
             const Json* h = find(value[i], "height");
@@ -489,7 +497,8 @@ private:
             } else if (name == inflowModelName(InflowModel::Torricelli)) {
                 graph.inflow = InflowModel::Torricelli;
             } else {
-                problem(member(path, "inflow"), "unknown '" + name + "' (linear, torricelli)");
+                problem(member(path, "inflow"),
+                        "unknown '" + boundedExcerpt(name) + "' (linear, torricelli)");
             }
         }
         number(value, path, "inflow_rate", graph.inflowRate, Limit::NonNegative);
@@ -501,7 +510,8 @@ private:
             } else if (name == flowModelName(FlowMode::Diffusion)) {
                 graph.flow = FlowMode::Diffusion;
             } else {
-                problem(member(path, "flow"), "unknown '" + name + "' (poiseuille, diffusion)");
+                problem(member(path, "flow"),
+                        "unknown '" + boundedExcerpt(name) + "' (poiseuille, diffusion)");
             }
         }
         number(value, path, "diffusion_pressure", graph.diffusionPressure, Limit::NonNegative);

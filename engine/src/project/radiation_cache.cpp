@@ -80,7 +80,7 @@ Result<std::optional<BodyRadiation>> readRadiationCache(const std::filesystem::p
         fitRadiationModel(r);
         return std::optional<BodyRadiation>(std::move(r));
     } catch (const std::exception& e) {
-        return damaged(e.what());
+        return damaged(boundedExcerpt(e.what(), 200));
     }
 }
 

@@ -9,6 +9,9 @@
 #include <cstdint>
 #include <functional>
 #include <mutex>
+#include <stdexcept>
+#include <string>
+#include <system_error>
 #include <thread>
 #include <vector>
 
@@ -34,18 +37,23 @@ struct TaskSystem {
 /// no task system. Threads are started once, not per call.
 class ThreadPool {
 public:
+    /// Throws std::runtime_error ("cannot start thread 38 of 300: Resource temporarily
+    /// unavailable") when the system refuses a thread, after stopping the ones started: a
+    /// vector of running threads unwound by the exception would end the process instead.
     explicit ThreadPool(int threads) {
         const int extra = std::max(0, threads - 1);
-        for (int i = 0; i < extra; ++i) workers_.emplace_back([this, i] { work(static_cast<std::uint32_t>(i + 1)); });
-    }
-    ~ThreadPool() {
-        {
-            std::lock_guard<std::mutex> lock(mutex_);
-            stop_ = true;
+        workers_.reserve(static_cast<std::size_t>(extra));  // no allocation among the starts
+        for (int i = 0; i < extra; ++i) {
+            try {
+                workers_.emplace_back([this, i] { work(static_cast<std::uint32_t>(i + 1)); });
+            } catch (const std::system_error& e) {
+                stop();
+                throw std::runtime_error("cannot start thread " + std::to_string(i + 2) + " of " +
+                                         std::to_string(threads) + ": " + e.code().message());
+            }
         }
-        wake_.notify_all();
-        for (std::thread& t : workers_) t.join();
     }
+    ~ThreadPool() { stop(); }
     ThreadPool(const ThreadPool&) = delete;
     ThreadPool& operator=(const ThreadPool&) = delete;
 
@@ -76,6 +84,15 @@ public:
     }
 
 private:
+    void stop() {
+        {
+            std::lock_guard<std::mutex> lock(mutex_);
+            stop_ = true;
+        }
+        wake_.notify_all();
+        for (std::thread& t : workers_) t.join();
+        workers_.clear();
+    }
     void drain(std::uint32_t worker) {
         for (;;) {
             int begin;

@@ -43,6 +43,18 @@ inline constexpr std::uint64_t kMaxMeshFileBytes = 2ull << 30;
 /// nested nodes overflows its stack; real scenes nest a few levels (rigs: tens).
 inline constexpr std::uint64_t kMaxGltfNodeDepth = 256;
 
+/// Nesting depth of any JSON document read (projects, graphs, scripts, manifests, caches,
+/// layer files, autosaves, glTF): checked by a linear scan before parsing (json_depth.h),
+/// since the recursive readers and printers (nlohmann's dump(), assimp's glTF reader) overflow
+/// their stacks on deep nesting. Plimsoll's own files nest under ten levels; glTF extras a few
+/// tens.
+inline constexpr std::uint64_t kMaxJsonDepth = 128;
+
+/// Nesting depth of an FBX file's scopes (ASCII braces, binary node records). Assimp reads
+/// both forms recursively, one stack frame set per scope, so 50000 nested braces overflow its
+/// stack; real files nest under ten levels.
+inline constexpr std::uint64_t kMaxFbxDepth = 128;
+
 /// Corners of one polygon in a mesh file. Assimp's triangulation of a polygon is quadratic in
 /// its corners (one 200k-corner OBJ face took 7 minutes); real polygons have a handful, fans of
 /// caps a few hundred.
