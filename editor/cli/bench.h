@@ -26,6 +26,7 @@ struct BenchOptions {
     std::vector<std::string> scenarios, methods, meshes;
     std::vector<int> bodies;
     bool radiation = false;    ///< only radiation's cost per step (bench_radiation.cpp)
+    std::string projects = "projects";  ///< --radiation: the sample projects' folder
     bool fleet = false;        ///< only the runtime's fleet table (bench_fleet.cpp)
     std::string fleetProject = "projects/damaged_boat.plim.json";
 };

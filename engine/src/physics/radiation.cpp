@@ -25,6 +25,8 @@
 #include <atomic>
 #include <cassert>
 #include <cmath>
+#include <cstdint>
+#include <map>
 #include <numbers>
 #include <thread>
 #include <vector>
@@ -307,6 +309,80 @@ std::vector<RadiationPanel> refinedPanels(const std::vector<RadiationPanel>& pan
         });
     }
     return out;
+}
+
+std::vector<RadiationPanel> coarsenedPanels(const std::vector<RadiationPanel>& panels, double cell) {
+    if (!(cell > 0) || panels.empty()) return panels;
+    // Cluster keys: the grid cell, and whether the vertex lies on the free surface (wettedPanels
+    // puts waterline vertices exactly on y = 0).
+    struct Cluster {
+        Eigen::Vector3d sum = Eigen::Vector3d::Zero();
+        int count = 0;
+        bool onSurface = false;
+    };
+    std::map<std::array<std::int64_t, 4>, int> index;
+    std::vector<Cluster> clusters;
+    auto clusterOf = [&](const Eigen::Vector3d& p) {
+        const bool onSurface = p.y() == 0.0;
+        const std::array<std::int64_t, 4> key = {static_cast<std::int64_t>(std::floor(p.x() / cell)),
+                                                 onSurface ? 0 : static_cast<std::int64_t>(std::floor(p.y() / cell)),
+                                                 static_cast<std::int64_t>(std::floor(p.z() / cell)), onSurface ? 1 : 0};
+        auto [it, added] = index.try_emplace(key, static_cast<int>(clusters.size()));
+        if (added) clusters.push_back({{}, 0, onSurface});
+        return it->second;
+    };
+    // Each distinct vertex counts once in its cluster's mean.
+    std::map<std::array<double, 3>, int> vertexCluster;
+    std::vector<std::array<int, 3>> corners(panels.size());
+    for (std::size_t k = 0; k < panels.size(); ++k) {
+        for (int c = 0; c < 3; ++c) {
+            const Eigen::Vector3d& p = panels[k].vertices[c];
+            auto [it, added] = vertexCluster.try_emplace({p.x(), p.y(), p.z()}, 0);
+            if (added) {
+                it->second = clusterOf(p);
+                clusters[static_cast<std::size_t>(it->second)].sum += p;
+                ++clusters[static_cast<std::size_t>(it->second)].count;
+            }
+            corners[k][c] = it->second;
+        }
+    }
+    std::vector<Eigen::Vector3d> centre(clusters.size());
+    for (std::size_t c = 0; c < clusters.size(); ++c) {
+        centre[c] = clusters[c].sum / clusters[c].count;
+        if (clusters[c].onSurface) centre[c].y() = 0;
+    }
+    // Triangles by their sorted clusters: a repeat with the same orientation is dropped, one
+    // with the other (the two faces of a part thinner than a cell) removes both.
+    std::map<std::array<int, 3>, std::pair<std::size_t, bool>> seen;
+    std::vector<RadiationPanel> out;
+    std::vector<bool> keep;
+    for (std::size_t k = 0; k < panels.size(); ++k) {
+        const std::array<int, 3>& t = corners[k];
+        if (t[0] == t[1] || t[1] == t[2] || t[2] == t[0]) continue;
+        const Eigen::Vector3d& a = centre[static_cast<std::size_t>(t[0])];
+        const Eigen::Vector3d& b = centre[static_cast<std::size_t>(t[1])];
+        const Eigen::Vector3d& c = centre[static_cast<std::size_t>(t[2])];
+        const Eigen::Vector3d areaVector = 0.5 * (b - a).cross(c - a);
+        const double area = areaVector.norm();
+        if (!(area > 1e-6 * cell * cell) || areaVector.dot(panels[k].normal) <= 0) continue;
+        std::array<int, 3> sorted = t;
+        std::sort(sorted.begin(), sorted.end());
+        // Orientation: whether t is an even permutation of sorted.
+        const bool even = (t[0] == sorted[0] && t[1] == sorted[1]) || (t[0] == sorted[1] && t[1] == sorted[2]) ||
+                          (t[0] == sorted[2] && t[1] == sorted[0]);
+        if (auto it = seen.find(sorted); it != seen.end()) {
+            if (it->second.second != even) keep[it->second.first] = false;
+            continue;
+        }
+        seen.emplace(sorted, std::pair{out.size(), even});
+        out.push_back({{a, b, c}, (a + b + c) / 3.0, areaVector / area, area});
+        keep.push_back(true);
+    }
+    std::vector<RadiationPanel> kept;
+    for (std::size_t k = 0; k < out.size(); ++k) {
+        if (keep[k]) kept.push_back(out[k]);
+    }
+    return kept;
 }
 
 namespace {

@@ -14,7 +14,12 @@ namespace plimsoll {
 namespace {
 
 /// Bumped when the computation changes what it produces from the same inputs.
-constexpr int kRadiationVersion = 3;
+constexpr int kRadiationVersion = 4;
+
+/// A wetted mesh whose mean longest panel edge is under this share of the panel edge is
+/// re-panelled by clustering on cells of kCoarsenCell panel edges.
+constexpr double kCoarsenBelow = 0.5;
+constexpr double kCoarsenCell = 1.0 / 1.5;
 
 /// The mesh as the panel method takes it, and the mass that floats.
 struct RestInput {
@@ -81,8 +86,26 @@ std::string radiationKey(const SceneBody& body, const RadiationDesc& desc, const
     return hashText(h);
 }
 
+std::optional<std::string> defaultRadiationInapplicable(const SceneBody& body, const MediumDesc& medium) {
+    if (body.desc.deforms()) return "a deforming body";
+    // A liquid: water is 1000 kg/m^3, the lightest liquids about 600; air is 1.2.
+    if (medium.density < 100) return "the medium is not a liquid: no free surface";
+    if (!body.parts.mesh) return "no mesh";
+    Result<RestInput> rest = restInput(body, medium);
+    if (!rest) return rest.error().message;
+    const TriangleMesh& mesh = *rest->mesh;
+    double highest = -std::numeric_limits<double>::infinity();
+    for (const Eigen::Vector3d& p : mesh.positions) highest = std::max(highest, p.y());
+    const double enclosed =
+        wettedVolume(wettedPanels(mesh, Eigen::Affine3d(Eigen::Translation3d(0, -highest - 1.0, 0))));
+    const double restVolume = rest->mass / medium.density;
+    if (!(restVolume > 0) || !(restVolume < enclosed)) return "the body does not float";
+    return std::nullopt;
+}
+
 Result<RestRadiationSurface> restRadiationSurface(const SceneBody& body, const RadiationDesc& desc,
-                                                  const MediumDesc& medium, const Eigen::Vector3d& gravity) {
+                                                  const MediumDesc& medium, const Eigen::Vector3d& gravity,
+                                                  unsigned threads) {
     const std::string label = body.label + ": radiation: ";
     const double g = gravity.norm();
     if (!(g > 0)) return makeError(ErrorKind::invalidArgument, label + "without gravity nothing floats");
@@ -108,8 +131,18 @@ Result<RestRadiationSurface> restRadiationSurface(const SceneBody& body, const R
     // Slivers the waterline cuts off a triangle carry no force and spoil the collocation (a
     // sphere's equator row 0.1 mm under water made 16 of them and moved its heave damping 5%).
     const double minArea = 1e-4 * std::pow(out.restVolume, 2.0 / 3.0);
-    const std::vector<RadiationPanel> wetted = wettedPanels(mesh, atRest, minArea);
+    std::vector<RadiationPanel> wetted = wettedPanels(mesh, atRest, minArea);
     const double edge = out.resolved.panelEdge;
+    // A mesh much finer than the panel edge (a 4000-triangle sphere, a detailed hull) is
+    // re-panelled at about the edge: its shape, not its tessellation, sets the cost
+    // (coarsenedPanels; docs/radiation.md "Coarser panels for fine meshes").
+    double meanEdge = 0;
+    for (const RadiationPanel& p : wetted) {
+        meanEdge += std::max({(p.vertices[1] - p.vertices[0]).norm(), (p.vertices[2] - p.vertices[1]).norm(),
+                              (p.vertices[0] - p.vertices[2]).norm()});
+    }
+    if (!wetted.empty()) meanEdge /= static_cast<double>(wetted.size());
+    if (meanEdge < kCoarsenBelow * edge) wetted = coarsenedPanels(wetted, kCoarsenCell * edge);
     const std::size_t count = refinedCount(wetted, edge);
     if (count > kMaxRadiationPanels) {
         std::ostringstream m;
@@ -119,14 +152,14 @@ Result<RestRadiationSurface> restRadiationSurface(const SceneBody& body, const R
         return makeError(ErrorKind::limit, m.str());
     }
     out.solver.emplace(refinedPanels(wetted, edge), atRest * rest->centerOfMass,
-                       RadiationSettings{g, medium.density});
+                       RadiationSettings{.gravity = g, .density = medium.density, .threads = threads});
     return out;
 }
 
 Result<BodyRadiation> computeBodyRadiation(const SceneBody& body, const RadiationDesc& desc,
                                            const MediumDesc& medium, const Eigen::Vector3d& gravity,
-                                           const ProgressCallback& progress) {
-    Result<RestRadiationSurface> surface = restRadiationSurface(body, desc, medium, gravity);
+                                           const ProgressCallback& progress, unsigned threads) {
+    Result<RestRadiationSurface> surface = restRadiationSurface(body, desc, medium, gravity, threads);
     if (!surface) return surface.error();
     const RadiationSolver& solver = *surface->solver;
     const RadiationDesc& resolved = surface->resolved;

@@ -51,6 +51,15 @@ std::vector<RadiationPanel> wettedPanels(const TriangleMesh& surface, const Eige
 /// mesh (a box of 12 triangles) needs it before it resolves any flow.
 std::vector<RadiationPanel> refinedPanels(const std::vector<RadiationPanel>& panels, double maxEdge);
 
+/// The panels re-made at about `cell` (m) where the mesh is finer: vertex clustering on a grid of
+/// that size (vertices on y = 0 cluster among themselves and stay on it, so the waterline stays
+/// closed), each triangle's corners moved to their clusters' mean; a triangle that collapses,
+/// turns over, or repeats another's clusters is dropped (both, when the repeat is the other
+/// face of a part thinner than the cell). A fine mesh (a 4000-triangle sphere) then costs the
+/// panel method what its shape needs rather than what its tessellation has (docs/radiation.md
+/// "Coarser panels for fine meshes"). Panels already coarser than the cell come out as they were.
+std::vector<RadiationPanel> coarsenedPanels(const std::vector<RadiationPanel>& panels, double cell);
+
 /// The interior waterplane of the wetted panels (the part of y = 0 their waterline encloses) as
 /// panels no longer than about `maxEdge` (m; 0: one and a half times the waterline's mean edge),
 /// normals up. A loop that is star-shaped about its centroid gets rings of panels about it,
