@@ -234,6 +234,8 @@ Result<BundleReport> buildBundle(const Project& project, std::size_t index, cons
     Result<std::string> inputHash = bundleInputHash(project, index, options);
     if (!inputHash) return inputHash.error();
     const TriangleMesh& mesh = *body->parts.mesh;
+    // As the World runs it: radiation wherever it was computed, unless turned off.
+    const bool radiates = body->desc.radiates() && body->radiation;
     const std::shared_ptr<const SurfaceTextures>& textures = body->textures;
     const std::shared_ptr<const MassProperties>& textureMass = body->mass;
 
@@ -425,8 +427,8 @@ Result<BundleReport> buildBundle(const Project& project, std::size_t index, cons
         {"mass_properties", {{"exact", exact}, {"texture", massJson(*textureMass)}}},
         {"hydrodynamics", {{"drag_coefficient", desc.dragCoefficient},
                            {"friction_coefficient", desc.frictionCoefficient},
-                           {"linear_damping", desc.linearDamping},
-                           {"angular_damping", desc.angularDamping}}},
+                           {"linear_damping", desc.standInLinearDamping(radiates)},
+                           {"angular_damping", desc.standInAngularDamping(radiates)}}},
         {"radiation", radiationJson(*body)},
         {"world", worldJson(project, desc)},
         {"painted_maps", maps},

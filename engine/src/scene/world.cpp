@@ -154,18 +154,21 @@ Status World::addBody(const SceneBody& scene) {
     body.fluid.gravity = gravity.norm();
     body.fluid.dragCoefficient = desc.dragCoefficient;
     body.fluid.frictionCoefficient = desc.frictionCoefficient;
-    body.linearDamping = desc.linearDamping;
-    body.angularDamping = desc.angularDamping;
     Motion motion;
     motion.linear = desc.velocity;
     motion.angular = desc.angularVelocity;
     body.state = stateAt(start, body.mass, motion);
     std::unique_ptr<Radiating> radiating;
-    if (desc.radiates()) {
-        if (!scene.radiation) {
-            return makeError(ErrorKind::invalidArgument,
-                             label + ": radiation is on but was not computed (computeBodyRadiation)");
-        }
+    if (desc.radiationRequired() && !scene.radiation) {
+        return makeError(ErrorKind::invalidArgument,
+                         label + ": radiation is on but was not computed (computeBodyRadiation)");
+    }
+    // On by default wherever it was computed (the scene loader computes it for every rigid body
+    // that floats unless the project turns it off); the stand-in damping follows.
+    const bool radiates = desc.radiates() && scene.radiation;
+    body.linearDamping = desc.standInLinearDamping(radiates);
+    body.angularDamping = desc.standInAngularDamping(radiates);
+    if (radiates) {
         radiating = std::make_unique<Radiating>();
         radiating->radiation = scene.radiation;
         const CumminsModel& model = scene.radiation->model;

@@ -56,11 +56,13 @@ struct WaterGraphDesc {
 /// physics/cummins.h steps it): added mass and radiation damping computed at load time (or
 /// read from the project's cache) from its wetted surface at rest, integrated with Cummins'
 /// equation, and exported in the body's bundle for the runtime (docs/bundle.md "Radiation").
-/// A body without it runs without (and with its linear_damping stand-in).
+/// On by default: a project's rigid body that floats gets it without asking (BodyDesc::radiation
+/// absent); `"radiation": false` or `{"enabled": false}` turns it off (the body then runs as
+/// before radiation existed, with the old linear_damping stand-in).
 struct RadiationDesc {
     bool enabled = true;          ///< "enabled": false keeps the settings but runs without
     /// "panel_edge": longest panel edge of the wetted surface, m (0: the cube root of the rest
-    /// displacement over 2.5).
+    /// displacement over 2, resolvedRadiationDesc).
     double panelEdge = 0;
     int frequencies = 16;         ///< "frequencies": samples of A(omega), B(omega)
     /// "min_frequency", "max_frequency": rad/s (0: K L from 0.05 to 5, L half the cube root of
@@ -83,6 +85,13 @@ enum class OpeningsMode {
 };
 const char* openingsModeName(OpeningsMode mode);  ///< "open", "sealed", "none"
 std::optional<OpeningsMode> parseOpeningsMode(std::string_view name);
+
+/// The stand-in damping of a body without radiation (1/s), when the project gives none.
+inline constexpr double kStandInDamping = 0.5;
+/// The stand-in damping of a radiating body (1/s), when the project gives none
+/// (docs/radiation.md "Default stand-in damping").
+inline constexpr double kRadiatingLinearDamping = 0.05;
+inline constexpr double kRadiatingAngularDamping = 0.1;
 
 struct BodyDesc {
     std::string name;
@@ -113,21 +122,42 @@ struct BodyDesc {
     /// Hydrodynamic damping standing in for wave radiation, which the pressure and drag terms
     /// do not model: -m lambda v and -lambda I w, scaled by the submerged share of the volume
     /// (1/s). Quadratic drag alone lets small bobbing die out only as 1/t; 0 turns it off.
-    double linearDamping = 0.5;
-    double angularDamping = 0.5;
+    /// Absent ("linear_damping", "angular_damping" not given): standInLinearDamping's default,
+    /// which depends on whether the body radiates.
+    std::optional<double> linearDamping;
+    std::optional<double> angularDamping;
     /// Painted permeability map ("permeability_map", PNG over the mesh's UVs, 0..1: how much
     /// of the water in contact flows in, for the water graph). Empty: impermeable.
     std::string permeabilityMap;
     /// Water graph ("water_graph"); absent: a sealed body.
     std::optional<WaterGraphDesc> waterGraph;
-    /// Wave radiation ("radiation"); absent: none.
+    /// Wave radiation ("radiation"). Absent: on by default where it applies (a rigid body that
+    /// floats: the scene loader computes it, and says so when it does not apply); present and
+    /// enabled: asked for (a body it cannot apply to is refused); present and disabled: off.
     std::optional<RadiationDesc> radiation;
-    /// Whether the body runs with radiation (present and enabled).
-    bool radiates() const { return radiation && radiation->enabled; }
+    /// Whether the body runs with radiation wherever it has been computed (absent or enabled).
+    bool radiates() const { return !radiation || radiation->enabled; }
+    /// Whether the project asks for radiation itself (present and enabled): it must then be
+    /// computed, and a body it cannot apply to is an error rather than a note.
+    bool radiationRequired() const { return radiation && radiation->enabled; }
+    /// The stand-in damping the body runs with (1/s): linearDamping or angularDamping when given,
+    /// else kStandInDamping without radiation (the value before radiation was on by default) and
+    /// kRadiatingLinearDamping / kRadiatingAngularDamping with it (docs/radiation.md "Default
+    /// stand-in damping": radiation damps the oscillations about the rest waterline, so the
+    /// stand-in keeps only what radiation leaves undamped, a slow drift and yaw).
+    double standInLinearDamping(bool radiating) const;
+    double standInAngularDamping(bool radiating) const;
 
     bool deforms() const { return !meshFrames.empty(); }
     bool operator==(const BodyDesc&) const = default;
 };
+
+inline double BodyDesc::standInLinearDamping(bool radiating) const {
+    return linearDamping.value_or(radiating ? kRadiatingLinearDamping : kStandInDamping);
+}
+inline double BodyDesc::standInAngularDamping(bool radiating) const {
+    return angularDamping.value_or(radiating ? kRadiatingAngularDamping : kStandInDamping);
+}
 
 /// The fluid the bodies are in (below the surface) — water, or air for a balloon.
 struct MediumDesc {
