@@ -74,8 +74,8 @@ double threadCpuSeconds() {
 /// The panel solve of every body of the sample projects (`folder`/*.plim.json) at its default
 /// settings (or the project's own "radiation" settings) on one thread, no cache: a table row
 /// and a CSV line per body. False when a project does not load.
-bool timeSampleBodies(const std::filesystem::path& folder, std::vector<std::vector<std::string>>& lines,
-                      std::string& csv) {
+bool timeSampleBodies(const std::filesystem::path& folder,
+                      std::vector<std::vector<std::string>>& lines, std::string& csv) {
     std::vector<std::filesystem::path> files;
     std::error_code ec;
     for (const auto& entry : std::filesystem::directory_iterator(folder, ec)) {
@@ -104,8 +104,10 @@ bool timeSampleBodies(const std::filesystem::path& folder, std::vector<std::vect
                 continue;
             }
             if (!project->bodies[i].radiationRequired()) {
-                if (std::optional<std::string> why = defaultRadiationInapplicable(*loaded, project->medium)) {
-                    lines.push_back({body, "-", "-", "-", "-", "radiation off by default: " + *why});
+                if (std::optional<std::string> why =
+                        defaultRadiationInapplicable(*loaded, project->medium)) {
+                    lines.push_back(
+                        {body, "-", "-", "-", "-", "radiation off by default: " + *why});
                     continue;
                 }
             }
@@ -119,10 +121,12 @@ bool timeSampleBodies(const std::filesystem::path& folder, std::vector<std::vect
                 csv += body + ",0,0,0,0\n";
                 continue;
             }
-            lines.push_back({body, std::to_string(r->panelCount), std::to_string(r->coefficients.size()),
-                             format("%.3f", cpu), format("%.3f", wall), ""});
-            csv += body + "," + std::to_string(r->panelCount) + "," + std::to_string(r->coefficients.size()) + "," +
-                   format("%.6g", cpu) + "," + format("%.6g", wall) + "\n";
+            lines.push_back({body, std::to_string(r->panelCount),
+                             std::to_string(r->coefficients.size()), format("%.3f", cpu),
+                             format("%.3f", wall), ""});
+            csv += body + "," + std::to_string(r->panelCount) + "," +
+                   std::to_string(r->coefficients.size()) + "," + format("%.6g", cpu) + "," +
+                   format("%.6g", wall) + "\n";
         }
     }
     return true;
@@ -132,16 +136,20 @@ bool timeSampleBodies(const std::filesystem::path& folder, std::vector<std::vect
 
 int runRadiationBench(const BenchOptions& o) {
     {
-        std::printf("panel solve of each sample body (projects/*.plim.json) at its default settings, one "
-                    "thread, no cache:\n");
+        std::printf(
+            "panel solve of each sample body (projects/*.plim.json) at its default settings, one "
+            "thread, no cache:\n");
         std::vector<std::vector<std::string>> lines{
             {"body", "panels", "frequencies", "CPU s", "wall s", "note"}};
         std::string csv = "body,panels,frequencies,cpu_seconds,wall_seconds\n";
         if (!timeSampleBodies(o.projects, lines, csv)) return kExitFailure;
         printAligned(lines, 1);
         if (!createOutputFolder(o.out)) return kExitFailure;
-        const std::filesystem::path file = std::filesystem::path(o.out) / "bench_radiation_samples.csv";
-        if (Status s = writeFileAtomically(file, [&](std::ostream& out) { return bool(out << csv); }); !s) {
+        const std::filesystem::path file =
+            std::filesystem::path(o.out) / "bench_radiation_samples.csv";
+        if (Status s =
+                writeFileAtomically(file, [&](std::ostream& out) { return bool(out << csv); });
+            !s) {
             std::cerr << "error: " << s.error().message << "\n";
             return kExitFailure;
         }

@@ -285,8 +285,8 @@ TEST(Project, RadiationSettingsRoundTripAndAreChecked) {
     EXPECT_TRUE(automatic.bodies[0].radiationRequired());
     EXPECT_EQ(*automatic.bodies[0].radiation, RadiationDesc{});
     // Absent: on by default (where it applies), not required; false: off, and saved as false.
-    const Project byDefault =
-        loaded(parseProject(withBody(R"({"mesh": "a.obj", "material": {"density": 600}})"), "s", "/"));
+    const Project byDefault = loaded(
+        parseProject(withBody(R"({"mesh": "a.obj", "material": {"density": 600}})"), "s", "/"));
     EXPECT_FALSE(byDefault.bodies[0].radiation);
     EXPECT_TRUE(byDefault.bodies[0].radiates());
     EXPECT_FALSE(byDefault.bodies[0].radiationRequired());
@@ -294,8 +294,9 @@ TEST(Project, RadiationSettingsRoundTripAndAreChecked) {
     EXPECT_EQ(byDefault.bodies[0].standInLinearDamping(true), kRadiatingLinearDamping);
     EXPECT_EQ(byDefault.bodies[0].standInLinearDamping(false), kStandInDamping);
     EXPECT_EQ(loaded(parseProject(projectToJson(byDefault), "again", "/")), byDefault);
-    const Project off = loaded(
-        parseProject(withBody(R"({"mesh": "a.obj", "material": {"density": 600}, "radiation": false})"), "s", "/"));
+    const Project off = loaded(parseProject(
+        withBody(R"({"mesh": "a.obj", "material": {"density": 600}, "radiation": false})"), "s",
+        "/"));
     ASSERT_TRUE(off.bodies[0].radiation);
     EXPECT_FALSE(off.bodies[0].radiates());
     EXPECT_EQ(projectToJson(off).find("\"radiation\":false") != std::string::npos ||

@@ -25,7 +25,8 @@ constexpr double kGravity = 9.81;
 /// The fastest any point of body 0 moves, bounded by |v| + |w| R (m/s).
 double pointSpeed(const World& world) {
     const SimulatedBody& b = world.bodies()[0];
-    return linearVelocity(b.state, b.mass).norm() + angularVelocity(b.state, b.mass).norm() * b.boundingRadius;
+    return linearVelocity(b.state, b.mass).norm() +
+           angularVelocity(b.state, b.mass).norm() * b.boundingRadius;
 }
 
 /// The last time (s) body 0's pointSpeed was at least `threshold`, running `seconds`; infinity
@@ -43,7 +44,8 @@ double settleTime(World& world, double seconds, double threshold = 1e-3) {
 /// A flat box 2 x 0.5 x 2 m of `density` in fresh water, released with its centre `drop` above
 /// its rest height, every setting the default; radiation computed as the loader computes it
 /// when `withRadiation`, and turned off ("radiation": false) otherwise.
-Scene droppedBox(double density, double drop, bool withRadiation, const Eigen::Vector3d& rotationDeg = {}) {
+Scene droppedBox(double density, double drop, bool withRadiation,
+                 const Eigen::Vector3d& rotationDeg = {}) {
     BodyDesc desc;
     desc.name = "flat box";
     desc.mesh = "generated";
@@ -60,7 +62,8 @@ Scene droppedBox(double density, double drop, bool withRadiation, const Eigen::V
     body.desc.rotationDegrees = rotationDeg;
     if (withRadiation) {
         EXPECT_FALSE(defaultRadiationInapplicable(body, scene.medium));
-        Result<BodyRadiation> r = computeBodyRadiation(body, {}, scene.medium, scene.simulation.gravity);
+        Result<BodyRadiation> r =
+            computeBodyRadiation(body, {}, scene.medium, scene.simulation.gravity);
         EXPECT_TRUE(r.ok()) << (r.ok() ? "" : r.error().message);
         if (r) body.radiation = std::make_shared<const BodyRadiation>(std::move(*r));
     }
@@ -81,16 +84,19 @@ TEST(RadiationDefault, FlatLightBoxDroppedHalfAMetreSettlesWithinTenSeconds) {
         return;
     }
     const double without = settleTime(*off, 60);
-    std::printf("  flat box of density 250 dropped 0.5 m: |v| + |w| R below 1 mm/s after %.2f s by default, "
-                "%.2f s with radiation off (the old defaults)\n",
-                withRadiation, without);
+    std::printf(
+        "  flat box of density 250 dropped 0.5 m: |v| + |w| R below 1 mm/s after %.2f s by "
+        "default, "
+        "%.2f s with radiation off (the old defaults)\n",
+        withRadiation, without);
     EXPECT_GT(withRadiation, 0.5);
     EXPECT_LT(withRadiation, 10.0);
     EXPECT_LT(withRadiation, without);
 }
 
 TEST(RadiationDefault, TheStandInDampingFollowsRadiationUnlessGiven) {
-    // Radiating by default: the lower stand-in; turned off: the old 0.5; given: as given either way.
+    // Radiating by default: the lower stand-in; turned off: the old 0.5; given: as given either
+    // way.
     std::unique_ptr<World> on = test::fastWorldOrFail(droppedBox(500, 0, true));
     std::unique_ptr<World> off = test::fastWorldOrFail(droppedBox(500, 0, false));
     ASSERT_TRUE(on && off);
@@ -130,8 +136,10 @@ TEST(RadiationDefault, OffItsUprightRestAttitudeTheDampingStaysPassive) {
         ASSERT_TRUE(world);
         ASSERT_NE(world->radiation(0), nullptr);
         const double start = world->mechanicalEnergy(0);
-        double previous = start, worstRise = -std::numeric_limits<double>::infinity(), lowest = start;
-        const long frames = std::lround((test::kSanitizedBuild ? 3.0 : 20.0) / scene.simulation.timeStep);
+        double previous = start, worstRise = -std::numeric_limits<double>::infinity(),
+               lowest = start;
+        const long frames =
+            std::lround((test::kSanitizedBuild ? 3.0 : 20.0) / scene.simulation.timeStep);
         for (long f = 0; f < frames; ++f) {
             ASSERT_TRUE(world->advanceFrame().ok());
             const double e = world->mechanicalEnergy(0);
@@ -140,8 +148,10 @@ TEST(RadiationDefault, OffItsUprightRestAttitudeTheDampingStaysPassive) {
             lowest = std::min(lowest, e);
             previous = e;
         }
-        std::printf("  rolled %.0f deg: worst energy rise in a frame %.3g J of %.3g J at the start; %.1f%% left\n",
-                    roll, worstRise, start - lowest, 100 * (previous - lowest) / (start - lowest));
+        std::printf(
+            "  rolled %.0f deg: worst energy rise in a frame %.3g J of %.3g J at the start; %.1f%% "
+            "left\n",
+            roll, worstRise, start - lowest, 100 * (previous - lowest) / (start - lowest));
         // The energy relative to its lowest (the rest attitude it ends at).
         EXPECT_LT(worstRise, 1e-3 * (start - lowest) + 1e-9) << roll;
         if (!test::kSanitizedBuild) EXPECT_LT(previous - lowest, 0.05 * (start - lowest)) << roll;
@@ -151,8 +161,8 @@ TEST(RadiationDefault, OffItsUprightRestAttitudeTheDampingStaysPassive) {
 /// Body 0 of sample project `name` on flat water (the buoy's waves would keep it moving):
 /// when it settles with the project's defaults and with "radiation": false.
 void expectSettlesAtLeastAsFast(const std::string& name, double seconds) {
-    Result<Project> project =
-        loadProject(std::filesystem::path(PLIMSOLL_SOURCE_DIR) / "projects" / (name + ".plim.json"));
+    Result<Project> project = loadProject(std::filesystem::path(PLIMSOLL_SOURCE_DIR) / "projects" /
+                                          (name + ".plim.json"));
     ASSERT_TRUE(project.ok()) << project.error().message;
     project->water = WaterModel::flat(project->water.level);
     Project off = *project;
@@ -161,16 +171,18 @@ void expectSettlesAtLeastAsFast(const std::string& name, double seconds) {
     std::unique_ptr<World> old = test::fastWorldOrFail(test::sceneOrFail(off));
     ASSERT_TRUE(withDefaults && old);
     const double now = settleTime(*withDefaults, seconds), before = settleTime(*old, seconds);
-    std::printf("  %s: settles (|v| + |w| R < 1 mm/s) after %.2f s by default (radiation %s), %.2f s with the old "
-                "defaults\n",
-                name.c_str(), now, withDefaults->radiation(0) ? "on" : "off", before);
+    std::printf(
+        "  %s: settles (|v| + |w| R < 1 mm/s) after %.2f s by default (radiation %s), %.2f s with "
+        "the old "
+        "defaults\n",
+        name.c_str(), now, withDefaults->radiation(0) ? "on" : "off", before);
     EXPECT_LE(now, before + 1e-9) << name;
 }
 
 TEST(RadiationDefault, SampleBodiesSettleAtLeastAsFastAsWithTheOldDefaults) {
     if (test::kSanitizedBuild) GTEST_SKIP() << "minutes of simulated time";
-    for (const char* name : {"box_half_draft", "neutral_ball", "heavy_side_ball", "buoy", "plush", "damaged_boat",
-                             "balloon"}) {
+    for (const char* name : {"box_half_draft", "neutral_ball", "heavy_side_ball", "buoy", "plush",
+                             "damaged_boat", "balloon"}) {
         expectSettlesAtLeastAsFast(name, 30);
     }
 }

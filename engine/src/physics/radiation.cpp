@@ -311,7 +311,8 @@ std::vector<RadiationPanel> refinedPanels(const std::vector<RadiationPanel>& pan
     return out;
 }
 
-std::vector<RadiationPanel> coarsenedPanels(const std::vector<RadiationPanel>& panels, double cell) {
+std::vector<RadiationPanel> coarsenedPanels(const std::vector<RadiationPanel>& panels,
+                                            double cell) {
     if (!(cell > 0) || panels.empty()) return panels;
     // Cluster keys: the grid cell, and whether the vertex lies on the free surface (wettedPanels
     // puts waterline vertices exactly on y = 0).
@@ -324,9 +325,10 @@ std::vector<RadiationPanel> coarsenedPanels(const std::vector<RadiationPanel>& p
     std::vector<Cluster> clusters;
     auto clusterOf = [&](const Eigen::Vector3d& p) {
         const bool onSurface = p.y() == 0.0;
-        const std::array<std::int64_t, 4> key = {static_cast<std::int64_t>(std::floor(p.x() / cell)),
-                                                 onSurface ? 0 : static_cast<std::int64_t>(std::floor(p.y() / cell)),
-                                                 static_cast<std::int64_t>(std::floor(p.z() / cell)), onSurface ? 1 : 0};
+        const std::array<std::int64_t, 4> key = {
+            static_cast<std::int64_t>(std::floor(p.x() / cell)),
+            onSurface ? 0 : static_cast<std::int64_t>(std::floor(p.y() / cell)),
+            static_cast<std::int64_t>(std::floor(p.z() / cell)), onSurface ? 1 : 0};
         auto [it, added] = index.try_emplace(key, static_cast<int>(clusters.size()));
         if (added) clusters.push_back({{}, 0, onSurface});
         return it->second;
@@ -368,7 +370,8 @@ std::vector<RadiationPanel> coarsenedPanels(const std::vector<RadiationPanel>& p
         std::array<int, 3> sorted = t;
         std::sort(sorted.begin(), sorted.end());
         // Orientation: whether t is an even permutation of sorted.
-        const bool even = (t[0] == sorted[0] && t[1] == sorted[1]) || (t[0] == sorted[1] && t[1] == sorted[2]) ||
+        const bool even = (t[0] == sorted[0] && t[1] == sorted[1]) ||
+                          (t[0] == sorted[1] && t[1] == sorted[2]) ||
                           (t[0] == sorted[2] && t[1] == sorted[0]);
         if (auto it = seen.find(sorted); it != seen.end()) {
             if (it->second.second != even) keep[it->second.first] = false;

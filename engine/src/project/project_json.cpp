@@ -622,7 +622,8 @@ Json toJson(const BodyDesc& body) {
         graph["seed"] = g.seed;
         json["water_graph"] = std::move(graph);
     }
-    if (body.radiation && !body.radiation->enabled && *body.radiation == RadiationDesc{.enabled = false}) {
+    if (body.radiation && !body.radiation->enabled &&
+        *body.radiation == RadiationDesc{.enabled = false}) {
         json["radiation"] = false;
     } else if (body.radiation) {
         const RadiationDesc& r = *body.radiation;

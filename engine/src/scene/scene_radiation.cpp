@@ -86,7 +86,8 @@ std::string radiationKey(const SceneBody& body, const RadiationDesc& desc, const
     return hashText(h);
 }
 
-std::optional<std::string> defaultRadiationInapplicable(const SceneBody& body, const MediumDesc& medium) {
+std::optional<std::string> defaultRadiationInapplicable(const SceneBody& body,
+                                                        const MediumDesc& medium) {
     if (body.desc.deforms()) return "a deforming body";
     // A liquid: water is 1000 kg/m^3, the lightest liquids about 600; air is 1.2.
     if (medium.density < 100) return "the medium is not a liquid: no free surface";
@@ -96,15 +97,16 @@ std::optional<std::string> defaultRadiationInapplicable(const SceneBody& body, c
     const TriangleMesh& mesh = *rest->mesh;
     double highest = -std::numeric_limits<double>::infinity();
     for (const Eigen::Vector3d& p : mesh.positions) highest = std::max(highest, p.y());
-    const double enclosed =
-        wettedVolume(wettedPanels(mesh, Eigen::Affine3d(Eigen::Translation3d(0, -highest - 1.0, 0))));
+    const double enclosed = wettedVolume(
+        wettedPanels(mesh, Eigen::Affine3d(Eigen::Translation3d(0, -highest - 1.0, 0))));
     const double restVolume = rest->mass / medium.density;
     if (!(restVolume > 0) || !(restVolume < enclosed)) return "the body does not float";
     return std::nullopt;
 }
 
 Result<RestRadiationSurface> restRadiationSurface(const SceneBody& body, const RadiationDesc& desc,
-                                                  const MediumDesc& medium, const Eigen::Vector3d& gravity,
+                                                  const MediumDesc& medium,
+                                                  const Eigen::Vector3d& gravity,
                                                   unsigned threads) {
     const std::string label = body.label + ": radiation: ";
     const double g = gravity.norm();
@@ -138,7 +140,8 @@ Result<RestRadiationSurface> restRadiationSurface(const SceneBody& body, const R
     // (coarsenedPanels; docs/radiation.md "Coarser panels for fine meshes").
     double meanEdge = 0;
     for (const RadiationPanel& p : wetted) {
-        meanEdge += std::max({(p.vertices[1] - p.vertices[0]).norm(), (p.vertices[2] - p.vertices[1]).norm(),
+        meanEdge += std::max({(p.vertices[1] - p.vertices[0]).norm(),
+                              (p.vertices[2] - p.vertices[1]).norm(),
                               (p.vertices[0] - p.vertices[2]).norm()});
     }
     if (!wetted.empty()) meanEdge /= static_cast<double>(wetted.size());
@@ -151,15 +154,17 @@ Result<RestRadiationSurface> restRadiationSurface(const SceneBody& body, const R
           << ": give a longer panel_edge" << (wetted.size() > kMaxRadiationPanels ? " and a coarser mesh" : "");
         return makeError(ErrorKind::limit, m.str());
     }
-    out.solver.emplace(refinedPanels(wetted, edge), atRest * rest->centerOfMass,
-                       RadiationSettings{.gravity = g, .density = medium.density, .threads = threads});
+    out.solver.emplace(
+        refinedPanels(wetted, edge), atRest * rest->centerOfMass,
+        RadiationSettings{.gravity = g, .density = medium.density, .threads = threads});
     return out;
 }
 
 Result<BodyRadiation> computeBodyRadiation(const SceneBody& body, const RadiationDesc& desc,
                                            const MediumDesc& medium, const Eigen::Vector3d& gravity,
                                            const ProgressCallback& progress, unsigned threads) {
-    Result<RestRadiationSurface> surface = restRadiationSurface(body, desc, medium, gravity, threads);
+    Result<RestRadiationSurface> surface =
+        restRadiationSurface(body, desc, medium, gravity, threads);
     if (!surface) return surface.error();
     const RadiationSolver& solver = *surface->solver;
     const RadiationDesc& resolved = surface->resolved;

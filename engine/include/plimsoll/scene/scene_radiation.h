@@ -63,21 +63,24 @@ struct RestRadiationSurface {
 /// medium, or weightless), more panels than kMaxRadiationPanels (naming the count and the panel
 /// edge), and zero gravity. `threads`: RadiationSettings::threads (0: all cores).
 Result<RestRadiationSurface> restRadiationSurface(const SceneBody& body, const RadiationDesc& desc,
-                                                  const MediumDesc& medium, const Eigen::Vector3d& gravity,
+                                                  const MediumDesc& medium,
+                                                  const Eigen::Vector3d& gravity,
                                                   unsigned threads = 0);
 
 /// Why radiation by default (a body without "radiation") does not apply to `body`, or nothing
 /// when it does: a deforming body (the panels are of one rigid mesh at rest), one that does
 /// not float in `medium` (denser, or weightless), or a medium much lighter than water (air:
 /// no free surface to make waves on). Cheap: no panel is solved.
-std::optional<std::string> defaultRadiationInapplicable(const SceneBody& body, const MediumDesc& medium);
+std::optional<std::string> defaultRadiationInapplicable(const SceneBody& body,
+                                                        const MediumDesc& medium);
 
 /// The panel method on body's mesh at rest (restRadiationSurface, whose errors it gives) over
 /// the resolved frequency grid (log-spaced), then A_inf and the memory fit. `progress` hears
 /// 0..1 as the frequencies are solved; `threads` as restRadiationSurface's.
 Result<BodyRadiation> computeBodyRadiation(const SceneBody& body, const RadiationDesc& desc,
                                            const MediumDesc& medium, const Eigen::Vector3d& gravity,
-                                           const ProgressCallback& progress = {}, unsigned threads = 0);
+                                           const ProgressCallback& progress = {},
+                                           unsigned threads = 0);
 
 /// The memory fit (cumminsModel) of stored coefficients, the other fields copied: what a cache
 /// read ends with.
