@@ -15,6 +15,8 @@
 #include <cmath>
 #include <cstdio>
 #include <limits>
+#include <map>
+#include <memory>
 
 namespace plimsoll {
 namespace test_radiation_default {
@@ -62,10 +64,15 @@ Scene droppedBox(double density, double drop, bool withRadiation,
     body.desc.rotationDegrees = rotationDeg;
     if (withRadiation) {
         EXPECT_FALSE(defaultRadiationInapplicable(body, scene.medium));
-        Result<BodyRadiation> r =
-            computeBodyRadiation(body, {}, scene.medium, scene.simulation.gravity);
-        EXPECT_TRUE(r.ok()) << (r.ok() ? "" : r.error().message);
-        if (r) body.radiation = std::make_shared<const BodyRadiation>(std::move(*r));
+        // Computed once per density: the solve (about 10 s) does not depend on the release.
+        static std::map<double, std::shared_ptr<const BodyRadiation>> solved;
+        std::shared_ptr<const BodyRadiation>& r = solved[density];
+        if (!r) {
+            Result<BodyRadiation> computed = computeBodyRadiation(body, {}, scene.medium, scene.simulation.gravity);
+            EXPECT_TRUE(computed.ok()) << (computed.ok() ? "" : computed.error().message);
+            if (computed) r = std::make_shared<const BodyRadiation>(std::move(*computed));
+        }
+        body.radiation = r;
     }
     scene.bodies.push_back(std::move(body));
     return scene;
