@@ -68,7 +68,8 @@ Scene droppedBox(double density, double drop, bool withRadiation,
         static std::map<double, std::shared_ptr<const BodyRadiation>> solved;
         std::shared_ptr<const BodyRadiation>& r = solved[density];
         if (!r) {
-            Result<BodyRadiation> computed = computeBodyRadiation(body, {}, scene.medium, scene.simulation.gravity);
+            Result<BodyRadiation> computed =
+                computeBodyRadiation(body, {}, scene.medium, scene.simulation.gravity);
             EXPECT_TRUE(computed.ok()) << (computed.ok() ? "" : computed.error().message);
             if (computed) r = std::make_shared<const BodyRadiation>(std::move(*computed));
         }
