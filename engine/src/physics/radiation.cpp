@@ -27,6 +27,8 @@
 #include <cmath>
 #include <cstdint>
 #include <map>
+#include <memory>
+#include <mutex>
 #include <numbers>
 #include <thread>
 #include <vector>
@@ -176,6 +178,156 @@ void forEachRow(Eigen::Index n, unsigned threads, F&& rowWork) {
     for (auto& t : pool) t.join();
 }
 
+// The part of F that the panel rules and the table cannot follow near the origin (Newman 1985,
+// J. Eng. Math. 19: F = -e^{-Y} (ln((rho + Y) / 2) + gamma) - rho + a smooth rest, rho =
+// sqrt(X^2 + Y^2)): the logarithm and the cone, with their derivatives. What is left,
+// F - waveSingular, is continuous with a bounded gradient (ln 2 - gamma at the origin).
+WaveGreen waveSingular(double X, double Y) {
+    X = std::max(X, 1e-9);
+    const double rho = std::sqrt(X * X + Y * Y);
+    const double e = std::exp(-Y);
+    const double l = std::log(rho + Y);
+    WaveGreen s;
+    s.value = -e * l - rho;
+    s.dX = -X * (e / (rho * (rho + Y)) + 1.0 / rho);
+    s.dY = e * l - (e + Y) / rho;
+    return s;
+}
+
+// F - waveSingular and its X derivative on a grid in (X, Y), interpolated by cubic Lagrange
+// polynomials on 4 x 4 nodes (docs/radiation.md "The wave kernel's table" has the measured
+// error). Two grids: 1/16 on [0, 4)^2, where the rest still bends most, and 1/4 on [0, 96) x
+// [0, 48); outside, waveGreen itself. Tiles of 16 x 16 cells are filled on first use (a body
+// needs a part of the range; each node is one waveGreen, a few microseconds), so the table
+// costs only what its bodies touch. A node's value does not depend on the order or the thread
+// that fills it: the results are the same for any thread count.
+class WaveTable {
+public:
+    static const WaveTable& instance() {
+        static const WaveTable table;
+        return table;
+    }
+
+    /// F and dF/dX at (X, Y) (dF/dY = -1/rho - F); false outside the grids.
+    bool lookup(double X, double Y, double& value, double& dX) const {
+        const Grid& g = (X < kFineExtent - 3 * kFineStep && Y < kFineExtent - 3 * kFineStep) ? fine_ : coarse_;
+        const double u = X / g.step, v = Y / g.step;
+        if (!(u < g.tilesX * kTileCells) || !(v < g.tilesY * kTileCells) || !(u >= 0) || !(v >= 0)) return false;
+        const int i0 = std::max(static_cast<int>(u) - 1, 0), j0 = std::max(static_cast<int>(v) - 1, 0);
+        const Tile& tile = g.tile(i0 / kTileCells, j0 / kTileCells);
+        double wx[4], wy[4];
+        lagrangeWeights(u - i0, wx);
+        lagrangeWeights(v - j0, wy);
+        const int a0 = i0 % kTileCells, b0 = j0 % kTileCells;
+        double t = 0, tX = 0;
+        for (int b = 0; b < 4; ++b) {
+            const double* row = &tile.values[static_cast<std::size_t>(2 * ((b0 + b) * kTileNodes + a0))];
+            double rt = 0, rX = 0;
+            for (int a = 0; a < 4; ++a) {
+                rt += wx[a] * row[2 * a];
+                rX += wx[a] * row[2 * a + 1];
+            }
+            t += wy[b] * rt;
+            tX += wy[b] * rX;
+        }
+        const WaveGreen s = waveSingular(X, Y);
+        value = t + s.value;
+        dX = tX + s.dX;
+        return true;
+    }
+
+    /// J0 and J1 at x (cubic interpolation on 1/32 below the coarse grid's X extent, else
+    /// Boost.Math).
+    void bessel01(double x, double& j0, double& j1) const {
+        const double u = x * kBesselPerUnit;
+        if (!(u < static_cast<double>(bessel_.size() / 2 - 3))) {
+            j0 = besselJ(0, x);
+            j1 = besselJ(1, x);
+            return;
+        }
+        const int i0 = std::max(static_cast<int>(u) - 1, 0);
+        double w[4];
+        lagrangeWeights(u - i0, w);
+        j0 = j1 = 0;
+        for (int a = 0; a < 4; ++a) {
+            j0 += w[a] * bessel_[static_cast<std::size_t>(2 * (i0 + a))];
+            j1 += w[a] * bessel_[static_cast<std::size_t>(2 * (i0 + a) + 1)];
+        }
+    }
+
+private:
+    static constexpr int kTileCells = 16;
+    static constexpr int kTileNodes = kTileCells + 3;
+    static constexpr double kFineStep = 1.0 / 16, kFineExtent = 4.0;
+    static constexpr double kCoarseStep = 0.25, kCoarseExtentX = 96.0, kCoarseExtentY = 48.0;
+    static constexpr double kBesselPerUnit = 32.0;
+
+    struct Tile {
+        std::once_flag filled;
+        std::vector<double> values;  ///< (F - singular, its d/dX) per node, rows of constant Y
+    };
+    struct Grid {
+        double step = 0;
+        int tilesX = 0, tilesY = 0;
+        std::unique_ptr<Tile[]> tiles;
+
+        Grid(double step_, double extentX, double extentY)
+            : step(step_),
+              tilesX(static_cast<int>(std::ceil(extentX / step_ / kTileCells))),
+              tilesY(static_cast<int>(std::ceil(extentY / step_ / kTileCells))),
+              tiles(new Tile[static_cast<std::size_t>(tilesX * tilesY)]) {}
+
+        const Tile& tile(int a, int b) const {
+            Tile& t = tiles[static_cast<std::size_t>(b * tilesX + a)];
+            std::call_once(t.filled, [&] { fill(t, a, b); });
+            return t;
+        }
+
+        void fill(Tile& t, int a, int b) const {
+            t.values.resize(2 * kTileNodes * kTileNodes);
+            for (int j = 0; j < kTileNodes; ++j) {
+                for (int i = 0; i < kTileNodes; ++i) {
+                    const double X = (a * kTileCells + i) * step, Y = (b * kTileCells + j) * step;
+                    double* node = &t.values[static_cast<std::size_t>(2 * (j * kTileNodes + i))];
+                    if (X == 0 && Y == 0) {
+                        node[0] = std::numbers::ln2 - std::numbers::egamma;
+                        node[1] = 0;
+                        continue;
+                    }
+                    const WaveGreen f = waveGreen(X, Y);
+                    const WaveGreen s = waveSingular(X, Y);
+                    node[0] = f.value - s.value;
+                    // On X = 0 both derivatives vanish by symmetry (waveGreen's dX is not
+                    // computed there).
+                    node[1] = X == 0 ? 0.0 : f.dX - s.dX;
+                }
+            }
+        }
+    };
+
+    WaveTable() : fine_(kFineStep, kFineExtent, kFineExtent), coarse_(kCoarseStep, kCoarseExtentX, kCoarseExtentY) {
+        const auto count = static_cast<std::size_t>(kCoarseExtentX * kBesselPerUnit) + 4;
+        bessel_.resize(2 * count);
+        for (std::size_t k = 0; k < count; ++k) {
+            const double x = static_cast<double>(k) / kBesselPerUnit;
+            bessel_[2 * k] = besselJ(0, x);
+            bessel_[2 * k + 1] = besselJ(1, x);
+        }
+    }
+
+    // Cubic Lagrange weights of nodes 0..3 at t in [0, 3].
+    static void lagrangeWeights(double t, double* w) {
+        const double a = t, b = t - 1, c = t - 2, d = t - 3;
+        w[0] = -b * c * d / 6;
+        w[1] = a * c * d / 2;
+        w[2] = -a * b * d / 2;
+        w[3] = a * b * c / 6;
+    }
+
+    Grid fine_, coarse_;
+    std::vector<double> bessel_;  ///< (J0, J1) at k / kBesselPerUnit
+};
+
 }  // namespace
 
 double struveH0(double x) {
@@ -209,6 +361,13 @@ WaveGreen waveGreen(double X, double Y) {
     WaveGreen g;
     g.value = -0.5 * kPi * eY * hy0 - t0;
     g.dX = eY * (0.5 * kPi * hy1 - 1.0) + t1;
+    g.dY = -1.0 / std::sqrt(X * X + Y * Y) - g.value;
+    return g;
+}
+
+WaveGreen tabulatedWaveGreen(double X, double Y) {
+    WaveGreen g;
+    if (!WaveTable::instance().lookup(X, Y, g.value, g.dX)) return waveGreen(X, Y);
     g.dY = -1.0 / std::sqrt(X * X + Y * Y) - g.value;
     return g;
 }
@@ -648,18 +807,22 @@ RadiationCoefficients RadiationSolver::at(double omega) const {
     // J0(X)) etc. It depends on the pair only through X (horizontal distance) and Y (depths
     // added), both symmetric in x and s; evaluating it (Struve and Bessel functions, the tail
     // integrals) is most of the cost of a frequency.
+    // The kernel at (x, s): F and its derivatives (tabulated, WaveTable) and e^{-Y} J0, J1.
     struct Kernel {
         WaveGreen w;
         double decay = 0, j0 = 0, j1 = 0;
     };
-    auto kernel = [&](const Eigen::Vector3d& x, const Eigen::Vector3d& s, bool needGradient) {
+    const WaveTable& table = WaveTable::instance();
+    auto coordinates = [&](const Eigen::Vector3d& x, const Eigen::Vector3d& s) {
+        const double dx = x.x() - s.x(), dz = x.z() - s.z();
+        return std::pair{K * std::sqrt(dx * dx + dz * dz), std::max(0.0, -K * (x.y() + s.y()))};
+    };
+    auto kernel = [&](const Eigen::Vector3d& x, const Eigen::Vector3d& s) {
         Kernel k;
-        const double X = K * std::hypot(x.x() - s.x(), x.z() - s.z());
-        const double Y = std::max(0.0, -K * (x.y() + s.y()));
-        k.w = waveGreen(X, Y);
+        const auto [X, Y] = coordinates(x, s);
+        k.w = tabulatedWaveGreen(X, Y);
         k.decay = std::exp(-Y);
-        k.j0 = besselJ(0, X);
-        if (needGradient) k.j1 = besselJ(1, X);
+        table.bessel01(X, k.j0, k.j1);
         return k;
     };
     // Adds `weight` times the kernel at (x, s) to one matrix element's potential `g` and, on a
@@ -670,7 +833,7 @@ RadiationCoefficients RadiationSolver::at(double omega) const {
         if (!onBody) return;  // the lid's rows need the potential only
         const double dx = x.x() - s.x();
         const double dz = x.z() - s.z();
-        const double horizontal = std::hypot(dx, dz);
+        const double horizontal = std::sqrt(dx * dx + dz * dz);
         const std::complex<double> dR(2.0 * K * K * k.w.dX, 2.0 * kPi * K * K * k.decay * k.j1);
         const std::complex<double> dy(-2.0 * K * K * k.w.dY, -2.0 * kPi * K * K * k.decay * k.j0);
         const double ex = horizontal > 0 ? dx / horizontal : 0.0;
@@ -678,7 +841,9 @@ RadiationCoefficients RadiationSolver::at(double omega) const {
         gradient += weight * Eigen::Vector3cd(dR * ex, dy, dR * ez);
     };
     // The wave part is singular like ln r' and 1/r' at the image point (Newman 1985): one point
-    // far away, subdivided 3-point rules as the image comes close.
+    // far away; near, the singular part (waveSingular: a logarithm and a cone, cheap) on
+    // subdivided 3-point rules as the image comes close, and the smooth rest on the panel's own
+    // three points.
     auto isFar = [&](Eigen::Index i, Eigen::Index j) {
         const RadiationPanel& source = sources_[j];
         const Eigen::Vector3d& x = sources_[i].centroid;
@@ -704,7 +869,7 @@ RadiationCoefficients RadiationSolver::at(double omega) const {
                 const bool farBack = j != i && isFar(j, i);
                 if (j < i && farBack) continue;  // row j wrote this element
                 const bool backOnBody = j < bodyCount;
-                const Kernel k = kernel(x, source.centroid, onBody || (farBack && j > i && backOnBody));
+                const Kernel k = kernel(x, source.centroid);
                 std::complex<double> g = 0;
                 Eigen::Vector3cd gradient = Eigen::Vector3cd::Zero();
                 accumulate(k, x, source.centroid, source.area, onBody, g, gradient);
@@ -723,10 +888,20 @@ RadiationCoefficients RadiationSolver::at(double omega) const {
             const double imageDistance = (x - mirrored(source.centroid)).norm();
             const int levels = std::clamp(
                 static_cast<int>(std::ceil(std::log2(2.0 * size / std::max(imageDistance, 1e-12 * size)))), 0, 4);
+            for (const Eigen::Vector3d& s : threePoints(source)) {
+                Kernel k = kernel(x, s);
+                const auto [X, Y] = coordinates(x, s);
+                const WaveGreen singular = waveSingular(X, Y);
+                k.w.value -= singular.value;
+                k.w.dX -= singular.dX;
+                k.w.dY -= singular.dY;
+                accumulate(k, x, s, source.area / 3.0, onBody, g, gradient);
+            }
             subdivide(source.vertices, levels, [&](const std::array<Eigen::Vector3d, 3>& t, double area) {
                 RadiationPanel piece{t, {}, {}, area};
                 for (const Eigen::Vector3d& s : threePoints(piece)) {
-                    accumulate(kernel(x, s, onBody), x, s, area / 3.0, onBody, g, gradient);
+                    const auto [X, Y] = coordinates(x, s);
+                    accumulate(Kernel{waveSingular(X, Y)}, x, s, area / 3.0, onBody, g, gradient);
                 }
             });
             store(i, j, g, gradient);
