@@ -470,6 +470,42 @@ std::vector<RadiationPanel> refinedPanels(const std::vector<RadiationPanel>& pan
     return out;
 }
 
+std::vector<RadiationPanel> bisectedPanels(const std::vector<RadiationPanel>& panels, double maxEdge,
+                                           std::size_t limit) {
+    std::vector<RadiationPanel> out;
+    std::vector<std::array<Eigen::Vector3d, 3>> pending;
+    for (const RadiationPanel& p : panels) {
+        pending.push_back(p.vertices);
+        while (!pending.empty()) {
+            const std::array<Eigen::Vector3d, 3> t = pending.back();
+            pending.pop_back();
+            int longest = 0;
+            double length = 0;
+            for (int k = 0; k < 3; ++k) {
+                const double l = (t[(k + 1) % 3] - t[k]).norm();
+                if (l > length) {
+                    length = l;
+                    longest = k;
+                }
+            }
+            if (!(maxEdge > 0) || length <= maxEdge) {
+                const double area = 0.5 * (t[1] - t[0]).cross(t[2] - t[0]).norm();
+                out.push_back({t, (t[0] + t[1] + t[2]) / 3.0, p.normal, area});
+                if (out.size() > limit) return out;
+                continue;
+            }
+            // Halves at the longest edge's midpoint, both keeping the orientation.
+            const Eigen::Vector3d& a = t[longest];
+            const Eigen::Vector3d& b = t[(longest + 1) % 3];
+            const Eigen::Vector3d& c = t[(longest + 2) % 3];
+            const Eigen::Vector3d m = 0.5 * (a + b);
+            pending.push_back({a, m, c});
+            pending.push_back({m, b, c});
+        }
+    }
+    return out;
+}
+
 std::vector<RadiationPanel> coarsenedPanels(const std::vector<RadiationPanel>& panels,
                                             double cell) {
     if (!(cell > 0) || panels.empty()) return panels;
@@ -777,6 +813,46 @@ RadiationSolver::RadiationSolver(std::vector<RadiationPanel> panels, const Eigen
             imageNormal_(i, j) = in / 3.0;
         }
     });
+    // The near pairs' singular integrals (at(): the wave part's ln(r' + d) and r', d the depth
+    // of field and source point added up, r' the distance to the source's image), on midpoint
+    // subdivisions as fine as the image is close: they do not depend on the frequency.
+    near_.assign(static_cast<std::size_t>(n), {});
+    forEachRow(n, settings_.threads, [&](Eigen::Index i) {
+        const Eigen::Vector3d& x = sources_[i].centroid;
+        for (Eigen::Index j = 0; j < n; ++j) {
+            if (isFar(i, j)) continue;
+            const RadiationPanel& source = sources_[j];
+            const double size = longestEdge(source);
+            const double imageDistance = (x - mirrored(source.centroid)).norm();
+            const int levels = std::clamp(
+                static_cast<int>(std::ceil(std::log2(2.0 * size / std::max(imageDistance, 1e-12 * size)))), 0, 4);
+            NearSource near;
+            near.source = j;
+            subdivide(source.vertices, levels, [&](const std::array<Eigen::Vector3d, 3>& t, double area) {
+                RadiationPanel piece{t, {}, {}, area};
+                for (const Eigen::Vector3d& s : threePoints(piece)) {
+                    const double w = area / 3.0;
+                    const double dx = x.x() - s.x(), dz = x.z() - s.z();
+                    const double d = std::max(0.0, -(x.y() + s.y()));
+                    const double r = std::max(std::sqrt(dx * dx + dz * dz + d * d), 1e-12 * size);
+                    const Eigen::Vector3d gradR(dx / r, -d / r, dz / r);
+                    near.logIntegral += w * std::log(r + d);
+                    near.distanceIntegral += w * r;
+                    near.logGradient += w * (gradR - Eigen::Vector3d::UnitY()) / (r + d);
+                    near.distanceGradient += w * gradR;
+                }
+            });
+            near_[static_cast<std::size_t>(i)].push_back(near);
+        }
+    });
+}
+
+bool RadiationSolver::isFar(Eigen::Index i, Eigen::Index j) const {
+    const RadiationPanel& source = sources_[j];
+    const Eigen::Vector3d& x = sources_[i].centroid;
+    const double size = longestEdge(source);
+    return (x - mirrored(source.centroid)).norm() >= settings_.nearFactor * size &&
+           (x - source.centroid).norm() >= settings_.nearFactor * size;
 }
 
 Eigen::Matrix<std::complex<double>, 6, 6> RadiationSolver::forces(const Eigen::MatrixXcd& potential,
@@ -813,6 +889,7 @@ RadiationCoefficients RadiationSolver::at(double omega) const {
         double decay = 0, j0 = 0, j1 = 0;
     };
     const WaveTable& table = WaveTable::instance();
+    const double logK = std::log(K);
     auto coordinates = [&](const Eigen::Vector3d& x, const Eigen::Vector3d& s) {
         const double dx = x.x() - s.x(), dz = x.z() - s.z();
         return std::pair{K * std::sqrt(dx * dx + dz * dz), std::max(0.0, -K * (x.y() + s.y()))};
@@ -841,16 +918,9 @@ RadiationCoefficients RadiationSolver::at(double omega) const {
         gradient += weight * Eigen::Vector3cd(dR * ex, dy, dR * ez);
     };
     // The wave part is singular like ln r' and 1/r' at the image point (Newman 1985): one point
-    // far away; near, the singular part (waveSingular: a logarithm and a cone, cheap) on
-    // subdivided 3-point rules as the image comes close, and the smooth rest on the panel's own
-    // three points.
-    auto isFar = [&](Eigen::Index i, Eigen::Index j) {
-        const RadiationPanel& source = sources_[j];
-        const Eigen::Vector3d& x = sources_[i].centroid;
-        const double size = longestEdge(source);
-        return (x - mirrored(source.centroid)).norm() >= settings_.nearFactor * size &&
-               (x - source.centroid).norm() >= settings_.nearFactor * size;
-    };
+    // far away; near, the singular part (a logarithm and a cone) integrated once per body on
+    // subdivided 3-point rules as the image comes close (near_), and the smooth rest on the
+    // panel's own three points.
     auto store = [&](Eigen::Index i, Eigen::Index j, const std::complex<double>& g, const Eigen::Vector3cd& gradient) {
         potential(i, j) += g;
         if (i < bodyCount) system(i, j) += sources_[i].normal.cast<std::complex<double>>().dot(gradient);
@@ -862,6 +932,7 @@ RadiationCoefficients RadiationSolver::at(double omega) const {
     forEachRow(n, settings_.threads, [&](Eigen::Index i) {
         const Eigen::Vector3d& x = sources_[i].centroid;
         const bool onBody = i < bodyCount;
+        auto nearSource = near_[static_cast<std::size_t>(i)].begin();
         for (Eigen::Index j = 0; j < n; ++j) {
             const RadiationPanel& source = sources_[j];
             const bool far = isFar(i, j);
@@ -882,28 +953,26 @@ RadiationCoefficients RadiationSolver::at(double omega) const {
                 }
                 continue;
             }
-            std::complex<double> g = 0;
-            Eigen::Vector3cd gradient = Eigen::Vector3cd::Zero();
-            const double size = longestEdge(source);
-            const double imageDistance = (x - mirrored(source.centroid)).norm();
-            const int levels = std::clamp(
-                static_cast<int>(std::ceil(std::log2(2.0 * size / std::max(imageDistance, 1e-12 * size)))), 0, 4);
+            // The singular part, -e^{-Y_c} ln(rho + Y) - rho (Y_c: at the source's centroid, so
+            // that the rest of its integral is the frequency-independent NearSource's), and the
+            // rest, F less it, on the source's three points.
+            while (nearSource->source < j) ++nearSource;
+            const NearSource& near = *nearSource;
+            const double decayAtCentroid = std::exp(std::min(0.0, K * (x.y() + source.centroid.y())));
+            std::complex<double> g =
+                2.0 * K * (-decayAtCentroid * (logK * source.area + near.logIntegral) - K * near.distanceIntegral);
+            const Eigen::Vector3d singularGradient =
+                2.0 * K * (-decayAtCentroid * near.logGradient - K * near.distanceGradient);
+            Eigen::Vector3cd gradient = singularGradient.cast<std::complex<double>>();
             for (const Eigen::Vector3d& s : threePoints(source)) {
                 Kernel k = kernel(x, s);
                 const auto [X, Y] = coordinates(x, s);
-                const WaveGreen singular = waveSingular(X, Y);
-                k.w.value -= singular.value;
-                k.w.dX -= singular.dX;
-                k.w.dY -= singular.dY;
+                const double rho = std::max(std::sqrt(X * X + Y * Y), 1e-300);
+                k.w.value -= -decayAtCentroid * std::log(rho + Y) - rho;
+                k.w.dX -= -X * (decayAtCentroid / (rho * (rho + Y)) + 1.0 / rho);
+                k.w.dY -= -(decayAtCentroid + Y) / rho;
                 accumulate(k, x, s, source.area / 3.0, onBody, g, gradient);
             }
-            subdivide(source.vertices, levels, [&](const std::array<Eigen::Vector3d, 3>& t, double area) {
-                RadiationPanel piece{t, {}, {}, area};
-                for (const Eigen::Vector3d& s : threePoints(piece)) {
-                    const auto [X, Y] = coordinates(x, s);
-                    accumulate(Kernel{waveSingular(X, Y)}, x, s, area / 3.0, onBody, g, gradient);
-                }
-            });
             store(i, j, g, gradient);
         }
     });

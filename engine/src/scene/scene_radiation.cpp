@@ -14,7 +14,7 @@ namespace plimsoll {
 namespace {
 
 /// Bumped when the computation changes what it produces from the same inputs.
-constexpr int kRadiationVersion = 4;
+constexpr int kRadiationVersion = 5;
 
 /// A wetted mesh whose mean longest panel edge is under this share of the panel edge is
 /// re-panelled by clustering on cells of kCoarsenCell panel edges.
@@ -32,19 +32,6 @@ Result<RestInput> restInput(const SceneBody& body, const MediumDesc& medium) {
     Result<FloatingBody> floating = floatingBodyOf(body, medium);
     if (!floating) return floating.error();
     return RestInput{body.parts.mesh.get(), floating->body.mass, floating->body.centerOfMass};
-}
-
-/// Panels refinedPanels makes of `panels` (its rule: split at edge midpoints, up to 8 levels),
-/// counted before any is made: a tiny panel_edge must be refused, not allocated.
-std::size_t refinedCount(const std::vector<RadiationPanel>& panels, double maxEdge) {
-    std::size_t count = 0;
-    for (const RadiationPanel& p : panels) {
-        double longest = 0;
-        for (int k = 0; k < 3; ++k) longest = std::max(longest, (p.vertices[k] - p.vertices[(k + 1) % 3]).norm());
-        const int levels = std::clamp(static_cast<int>(std::ceil(std::log2(longest / maxEdge))), 0, 8);
-        count += std::size_t{1} << (2 * levels);
-    }
-    return count;
 }
 
 }  // namespace
@@ -146,16 +133,16 @@ Result<RestRadiationSurface> restRadiationSurface(const SceneBody& body, const R
     }
     if (!wetted.empty()) meanEdge /= static_cast<double>(wetted.size());
     if (meanEdge < kCoarsenBelow * edge) wetted = coarsenedPanels(wetted, kCoarsenCell * edge);
-    const std::size_t count = refinedCount(wetted, edge);
-    if (count > kMaxRadiationPanels) {
+    std::vector<RadiationPanel> panels = bisectedPanels(wetted, edge, kMaxRadiationPanels);
+    if (const std::size_t count = panels.size(); count > kMaxRadiationPanels) {
         std::ostringstream m;
-        m << label << "the wetted surface makes " << count << " panels at panel_edge " << edge
+        m << label << "the wetted surface makes more than " << count - 1 << " panels at panel_edge " << edge
           << " m, more than the limit kMaxRadiationPanels = " << kMaxRadiationPanels
           << ": give a longer panel_edge" << (wetted.size() > kMaxRadiationPanels ? " and a coarser mesh" : "");
         return makeError(ErrorKind::limit, m.str());
     }
     out.solver.emplace(
-        refinedPanels(wetted, edge), atRest * rest->centerOfMass,
+        std::move(panels), atRest * rest->centerOfMass,
         RadiationSettings{.gravity = g, .density = medium.density, .threads = threads});
     return out;
 }

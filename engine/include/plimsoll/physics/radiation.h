@@ -51,6 +51,13 @@ std::vector<RadiationPanel> wettedPanels(const TriangleMesh& surface, const Eige
 /// mesh (a box of 12 triangles) needs it before it resolves any flow.
 std::vector<RadiationPanel> refinedPanels(const std::vector<RadiationPanel>& panels, double maxEdge);
 
+/// The panels halved at their longest edge's midpoint until no edge is longer than maxEdge (m):
+/// a long thin face (the 1 x 0.25 m side of a box) is cut across its length only, where
+/// refinedPanels cuts every edge as often as the longest needs (64 panels for that face's
+/// triangle at 0.2 m, here 12). Stops once more than `limit` panels are made.
+std::vector<RadiationPanel> bisectedPanels(const std::vector<RadiationPanel>& panels, double maxEdge,
+                                           std::size_t limit = static_cast<std::size_t>(-1));
+
 /// The panels re-made at about `cell` (m) where the mesh is finer: vertex clustering on a grid of
 /// that size (vertices on y = 0 cluster among themselves and stay on it, so the waterline stays
 /// closed), each triangle's corners moved to their clusters' mean; a triangle that collapses,
@@ -137,6 +144,17 @@ private:
     /// and columns: sources_ (the normal rows of the lid are unused).
     Eigen::MatrixXd directPotential_, directNormal_;
     Eigen::MatrixXd imagePotential_, imageNormal_;  ///< the same for 1/r' (mirror in y = 0)
+    /// A source panel near a field panel's centroid or its image: the frequency-independent
+    /// integrals over the source of the wave part's singular terms (radiation.cpp, at()).
+    struct NearSource {
+        Eigen::Index source = 0;
+        double logIntegral = 0;       ///< int ln(r' + d) dS, m^2 ln m
+        double distanceIntegral = 0;  ///< int r' dS, m^3
+        Eigen::Vector3d logGradient = Eigen::Vector3d::Zero();  ///< int grad_x ln(r' + d) dS
+        Eigen::Vector3d distanceGradient = Eigen::Vector3d::Zero();  ///< int grad_x r' dS
+    };
+    std::vector<std::vector<NearSource>> near_;  ///< per row of sources_, by source index
+    bool isFar(Eigen::Index field, Eigen::Index source) const;
 };
 
 /// The wave part of the deep-water Green function, nondimensional: with X = K R (horizontal
