@@ -194,10 +194,11 @@ WaveGreen waveSingular(double X, double Y) {
     return s;
 }
 
-// F - waveSingular and its X derivative on a grid in (X, Y), interpolated by cubic Lagrange
-// polynomials on 4 x 4 nodes (docs/radiation.md "The wave kernel's table" has the measured
-// error). Two grids: 1/16 on [0, 4)^2, where the rest still bends most, and 1/4 on [0, 96) x
-// [0, 48); outside, waveGreen itself. Tiles of 16 x 16 cells are filled on first use (a body
+// F and its X derivative on a grid in (X, Y), interpolated by cubic Lagrange polynomials on
+// 4 x 4 nodes (docs/radiation.md "The wave kernel's table" has the measured error). Two grids:
+// 1/16 on [0, 4)^2 holding F - waveSingular (smooth, where F is not), and 1/4 on [0, 96) x
+// [0, 48) holding F itself (used where X or Y is at least 3.8: F is smooth there); outside,
+// waveGreen itself. Tiles of 16 x 16 cells are filled on first use (a body
 // needs a part of the range; each node is one waveGreen, a few microseconds), so the table
 // costs only what its bodies touch. A node's value does not depend on the order or the thread
 // that fills it: the results are the same for any thread count.
@@ -210,7 +211,8 @@ public:
 
     /// F and dF/dX at (X, Y) (dF/dY = -1/rho - F); false outside the grids.
     bool lookup(double X, double Y, double& value, double& dX) const {
-        const Grid& g = (X < kFineExtent - 3 * kFineStep && Y < kFineExtent - 3 * kFineStep) ? fine_ : coarse_;
+        const bool nearOrigin = X < kFineExtent - 3 * kFineStep && Y < kFineExtent - 3 * kFineStep;
+        const Grid& g = nearOrigin ? fine_ : coarse_;
         const double u = X / g.step, v = Y / g.step;
         if (!(u < g.tilesX * kTileCells) || !(v < g.tilesY * kTileCells) || !(u >= 0) || !(v >= 0)) return false;
         const int i0 = std::max(static_cast<int>(u) - 1, 0), j0 = std::max(static_cast<int>(v) - 1, 0);
@@ -229,6 +231,11 @@ public:
             }
             t += wy[b] * rt;
             tX += wy[b] * rX;
+        }
+        if (!nearOrigin) {
+            value = t;
+            dX = tX;
+            return true;
         }
         const WaveGreen s = waveSingular(X, Y);
         value = t + s.value;
@@ -264,15 +271,18 @@ private:
 
     struct Tile {
         std::once_flag filled;
-        std::vector<double> values;  ///< (F - singular, its d/dX) per node, rows of constant Y
+        std::vector<double> values;  ///< (F (less singular), its d/dX) per node, rows of constant Y
     };
     struct Grid {
         double step = 0;
         int tilesX = 0, tilesY = 0;
         std::unique_ptr<Tile[]> tiles;
 
-        Grid(double step_, double extentX, double extentY)
+        bool lessSingular = false;  ///< F - waveSingular, else F itself (away from the origin)
+
+        Grid(double step_, double extentX, double extentY, bool lessSingular_)
             : step(step_),
+              lessSingular(lessSingular_),
               tilesX(static_cast<int>(std::ceil(extentX / step_ / kTileCells))),
               tilesY(static_cast<int>(std::ceil(extentY / step_ / kTileCells))),
               tiles(new Tile[static_cast<std::size_t>(tilesX * tilesY)]) {}
@@ -295,7 +305,7 @@ private:
                         continue;
                     }
                     const WaveGreen f = waveGreen(X, Y);
-                    const WaveGreen s = waveSingular(X, Y);
+                    const WaveGreen s = lessSingular ? waveSingular(X, Y) : WaveGreen{};
                     node[0] = f.value - s.value;
                     // On X = 0 both derivatives vanish by symmetry (waveGreen's dX is not
                     // computed there).
@@ -305,7 +315,7 @@ private:
         }
     };
 
-    WaveTable() : fine_(kFineStep, kFineExtent, kFineExtent), coarse_(kCoarseStep, kCoarseExtentX, kCoarseExtentY) {
+    WaveTable() : fine_(kFineStep, kFineExtent, kFineExtent, true), coarse_(kCoarseStep, kCoarseExtentX, kCoarseExtentY, false) {
         const auto count = static_cast<std::size_t>(kCoarseExtentX * kBesselPerUnit) + 4;
         bessel_.resize(2 * count);
         for (std::size_t k = 0; k < count; ++k) {
