@@ -8,7 +8,7 @@
 //       -Iengine/eval/include -Iengine/src scripts/radiation-repanel-study.cpp \
 //       -Wl,--start-group build/engine/*.a -Wl,--end-group -lassimp -lmpfr -lgmp -lz -ldraco -lminizip -lOpenEXR-3_1 -lImath-3_1 -lIlmThread-3_1 -lIex-3_1 -lOpenCL -lcrypto -lpthread \
 //       -o /tmp/repanel-study
-//   /tmp/repanel-study projects/neutral_ball.plim.json [body index] [threads]
+//   /tmp/repanel-study projects/neutral_ball.plim.json [body index] [threads] [coarse]
 #include "plimsoll/project/project.h"
 #include "plimsoll/project/scene_loader.h"
 #include "plimsoll/scene/scene_hydrostatics.h"
@@ -45,6 +45,8 @@ int main(int argc, char** argv) {
     const Eigen::Vector3d reference = atRest * floating->body.centerOfMass;
     std::printf("panels: re-panelled %zu (+%zu lid), own %zu\n", coarse->solver->panelCount(),
                 coarse->solver->lidPanels().size(), fine.size());
+    // A fourth argument "coarse": the re-panelled solve alone, against itself.
+    if (argc > 4) fine = coarse->solver->panels();
     const RadiationSolver reference_solver(std::move(fine), reference,
                                            RadiationSettings{.gravity = gravity.norm(),
                                                              .density = project->medium.density,

@@ -14,7 +14,7 @@ namespace plimsoll {
 namespace {
 
 /// Bumped when the computation changes what it produces from the same inputs.
-constexpr int kRadiationVersion = 5;
+constexpr int kRadiationVersion = 6;
 
 /// A wetted mesh whose mean longest panel edge is under this share of the panel edge is
 /// re-panelled by clustering on cells of kCoarsenCell panel edges.
@@ -116,15 +116,16 @@ Result<RestRadiationSurface> restRadiationSurface(const SceneBody& body, const R
     }
     out.resolved = resolvedRadiationDesc(desc, out.restVolume, g);
     out.restHeight = equilibriumHeight(mesh, Eigen::Affine3d::Identity(), out.restVolume);
-    const Eigen::Affine3d atRest(Eigen::Translation3d(0, out.restHeight, 0));
+    Eigen::Affine3d atRest(Eigen::Translation3d(0, out.restHeight, 0));
     // Slivers the waterline cuts off a triangle carry no force and spoil the collocation (a
     // sphere's equator row 0.1 mm under water made 16 of them and moved its heave damping 5%).
     const double minArea = 1e-4 * std::pow(out.restVolume, 2.0 / 3.0);
     std::vector<RadiationPanel> wetted = wettedPanels(mesh, atRest, minArea);
     const double edge = out.resolved.panelEdge;
     // A mesh much finer than the panel edge (a 4000-triangle sphere, a detailed hull) is
-    // re-panelled at about the edge: its shape, not its tessellation, sets the cost
-    // (coarsenedPanels; docs/radiation.md "Coarser panels for fine meshes").
+    // re-made at about the edge, whole, then raised to the same displacement and clipped: its
+    // shape, not its tessellation, sets the cost (clusteredMesh; docs/radiation.md "Coarser
+    // panels for fine meshes").
     double meanEdge = 0;
     for (const RadiationPanel& p : wetted) {
         meanEdge += std::max({(p.vertices[1] - p.vertices[0]).norm(),
@@ -132,7 +133,11 @@ Result<RestRadiationSurface> restRadiationSurface(const SceneBody& body, const R
                               (p.vertices[0] - p.vertices[2]).norm()});
     }
     if (!wetted.empty()) meanEdge /= static_cast<double>(wetted.size());
-    if (meanEdge < kCoarsenBelow * edge) wetted = coarsenedPanels(wetted, kCoarsenCell * edge);
+    if (meanEdge < kCoarsenBelow * edge) {
+        const TriangleMesh coarse = clusteredMesh(mesh, kCoarsenCell * edge);
+        atRest = Eigen::Translation3d(0, equilibriumHeight(coarse, Eigen::Affine3d::Identity(), out.restVolume), 0);
+        wetted = wettedPanels(coarse, atRest, minArea);
+    }
     std::vector<RadiationPanel> panels = bisectedPanels(wetted, edge, kMaxRadiationPanels);
     if (const std::size_t count = panels.size(); count > kMaxRadiationPanels) {
         std::ostringstream m;

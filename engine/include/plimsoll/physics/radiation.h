@@ -58,14 +58,15 @@ std::vector<RadiationPanel> refinedPanels(const std::vector<RadiationPanel>& pan
 std::vector<RadiationPanel> bisectedPanels(const std::vector<RadiationPanel>& panels, double maxEdge,
                                            std::size_t limit = static_cast<std::size_t>(-1));
 
-/// The panels re-made at about `cell` (m) where the mesh is finer: vertex clustering on a grid of
-/// that size (vertices on y = 0 cluster among themselves and stay on it, so the waterline stays
-/// closed), each triangle's corners moved to their clusters' mean; a triangle that collapses,
-/// turns over, or repeats another's clusters is dropped (both, when the repeat is the other
-/// face of a part thinner than the cell). A fine mesh (a 4000-triangle sphere) then costs the
-/// panel method what its shape needs rather than what its tessellation has (docs/radiation.md
-/// "Coarser panels for fine meshes"). Panels already coarser than the cell come out as they were.
-std::vector<RadiationPanel> coarsenedPanels(const std::vector<RadiationPanel>& panels, double cell);
+/// `mesh` re-made at about `cell` (m) where it is finer: vertex clustering on a grid of that
+/// size (vertices welded by position first), each cluster at its vertices' mean; a triangle
+/// whose corners share a cluster is dropped, and two that meet the same clusters the other way
+/// round cancel. What the mesh enclosed stays enclosed (a closed mesh stays closed, so its
+/// waterline after clipping closes and gets its lid), slightly smaller (the means lie inside a
+/// convex surface). A fine mesh (a 4000-triangle sphere) then costs the panel method what its
+/// shape needs rather than what its tessellation has (docs/radiation.md "Coarser panels for
+/// fine meshes").
+TriangleMesh clusteredMesh(const TriangleMesh& mesh, double cell);
 
 /// The interior waterplane of the wetted panels (the part of y = 0 their waterline encloses) as
 /// panels no longer than about `maxEdge` (m; 0: one and a half times the waterline's mean edge),
