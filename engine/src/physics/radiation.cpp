@@ -215,8 +215,10 @@ public:
         const bool nearOrigin = X < kFineExtent - 3 * kFineStep && Y < kFineExtent - 3 * kFineStep;
         const Grid& g = nearOrigin ? fine_ : coarse_;
         const double u = X / g.step, v = Y / g.step;
-        if (!(u < g.tilesX * kTileCells) || !(v < g.tilesY * kTileCells) || !(u >= 0) || !(v >= 0)) return false;
-        const int i0 = std::max(static_cast<int>(u) - 1, 0), j0 = std::max(static_cast<int>(v) - 1, 0);
+        if (!(u < g.tilesX * kTileCells) || !(v < g.tilesY * kTileCells) || !(u >= 0) || !(v >= 0))
+            return false;
+        const int i0 = std::max(static_cast<int>(u) - 1, 0),
+                  j0 = std::max(static_cast<int>(v) - 1, 0);
         const Tile& tile = g.tile(i0 / kTileCells, j0 / kTileCells);
         double wx[4], wy[4];
         lagrangeWeights(u - i0, wx);
@@ -224,7 +226,8 @@ public:
         const int a0 = i0 % kTileCells, b0 = j0 % kTileCells;
         double t = 0, tX = 0;
         for (int b = 0; b < 4; ++b) {
-            const double* row = &tile.values[static_cast<std::size_t>(2 * ((b0 + b) * kTileNodes + a0))];
+            const double* row =
+                &tile.values[static_cast<std::size_t>(2 * ((b0 + b) * kTileNodes + a0))];
             double rt = 0, rX = 0;
             for (int a = 0; a < 4; ++a) {
                 rt += wx[a] * row[2 * a];
@@ -316,7 +319,9 @@ private:
         }
     };
 
-    WaveTable() : fine_(kFineStep, kFineExtent, kFineExtent, true), coarse_(kCoarseStep, kCoarseExtentX, kCoarseExtentY, false) {
+    WaveTable()
+        : fine_(kFineStep, kFineExtent, kFineExtent, true),
+          coarse_(kCoarseStep, kCoarseExtentX, kCoarseExtentY, false) {
         const auto count = static_cast<std::size_t>(kCoarseExtentX * kBesselPerUnit) + 4;
         bessel_.resize(2 * count);
         for (std::size_t k = 0; k < count; ++k) {
@@ -481,8 +486,8 @@ std::vector<RadiationPanel> refinedPanels(const std::vector<RadiationPanel>& pan
     return out;
 }
 
-std::vector<RadiationPanel> bisectedPanels(const std::vector<RadiationPanel>& panels, double maxEdge,
-                                           std::size_t limit) {
+std::vector<RadiationPanel> bisectedPanels(const std::vector<RadiationPanel>& panels,
+                                           double maxEdge, std::size_t limit) {
     std::vector<RadiationPanel> out;
     std::vector<std::array<Eigen::Vector3d, 3>> pending;
     for (const RadiationPanel& p : panels) {
@@ -535,9 +540,10 @@ TriangleMesh clusteredMesh(const TriangleMesh& mesh, double cell) {
         const Eigen::Vector3d& p = mesh.positions[v];
         auto [at, added] = clusterOfPosition.try_emplace({p.x(), p.y(), p.z()}, 0);
         if (added) {
-            const std::array<std::int64_t, 3> key = {static_cast<std::int64_t>(std::floor(p.x() / cell)),
-                                                     static_cast<std::int64_t>(std::floor(p.y() / cell)),
-                                                     static_cast<std::int64_t>(std::floor(p.z() / cell))};
+            const std::array<std::int64_t, 3> key = {
+                static_cast<std::int64_t>(std::floor(p.x() / cell)),
+                static_cast<std::int64_t>(std::floor(p.y() / cell)),
+                static_cast<std::int64_t>(std::floor(p.z() / cell))};
             auto [c, newCluster] = clusterOfCell.try_emplace(key, static_cast<int>(sum.size()));
             if (newCluster) {
                 sum.push_back(Eigen::Vector3d::Zero());
@@ -574,7 +580,8 @@ TriangleMesh clusteredMesh(const TriangleMesh& mesh, double cell) {
         if (c[0] == c[1] || c[1] == c[2] || c[2] == c[0]) continue;  // collapsed
         // Rotated so that the smallest comes first; the orientation is then the order of the rest.
         const int first = static_cast<int>(std::min_element(c.begin(), c.end()) - c.begin());
-        const std::array<int, 3> r = {c[static_cast<std::size_t>(first)], c[static_cast<std::size_t>((first + 1) % 3)],
+        const std::array<int, 3> r = {c[static_cast<std::size_t>(first)],
+                                      c[static_cast<std::size_t>((first + 1) % 3)],
                                       c[static_cast<std::size_t>((first + 2) % 3)]};
         const bool even = r[1] < r[2];
         const std::array<int, 3> key = even ? r : std::array<int, 3>{r[0], r[2], r[1]};
@@ -585,7 +592,8 @@ TriangleMesh clusteredMesh(const TriangleMesh& mesh, double cell) {
     for (const std::array<int, 3>& key : order) {
         const int n = net[key];
         for (int k = 0; k < std::abs(n); ++k) {
-            out.triangles.push_back(n > 0 ? Triangle{key[0], key[1], key[2]} : Triangle{key[0], key[2], key[1]});
+            out.triangles.push_back(n > 0 ? Triangle{key[0], key[1], key[2]}
+                                          : Triangle{key[0], key[2], key[1]});
         }
     }
     return out;
@@ -832,24 +840,27 @@ RadiationSolver::RadiationSolver(std::vector<RadiationPanel> panels, const Eigen
             const RadiationPanel& source = sources_[j];
             const double size = longestEdge(source);
             const double imageDistance = (x - mirrored(source.centroid)).norm();
-            const int levels = std::clamp(
-                static_cast<int>(std::ceil(std::log2(2.0 * size / std::max(imageDistance, 1e-12 * size)))), 0, 4);
+            const int levels = std::clamp(static_cast<int>(std::ceil(std::log2(
+                                              2.0 * size / std::max(imageDistance, 1e-12 * size)))),
+                                          0, 4);
             NearSource near;
             near.source = j;
-            subdivide(source.vertices, levels, [&](const std::array<Eigen::Vector3d, 3>& t, double area) {
-                RadiationPanel piece{t, {}, {}, area};
-                for (const Eigen::Vector3d& s : threePoints(piece)) {
-                    const double w = area / 3.0;
-                    const double dx = x.x() - s.x(), dz = x.z() - s.z();
-                    const double d = std::max(0.0, -(x.y() + s.y()));
-                    const double r = std::max(std::sqrt(dx * dx + dz * dz + d * d), 1e-12 * size);
-                    const Eigen::Vector3d gradR(dx / r, -d / r, dz / r);
-                    near.logIntegral += w * std::log(r + d);
-                    near.distanceIntegral += w * r;
-                    near.logGradient += w * (gradR - Eigen::Vector3d::UnitY()) / (r + d);
-                    near.distanceGradient += w * gradR;
-                }
-            });
+            subdivide(source.vertices, levels,
+                      [&](const std::array<Eigen::Vector3d, 3>& t, double area) {
+                          RadiationPanel piece{t, {}, {}, area};
+                          for (const Eigen::Vector3d& s : threePoints(piece)) {
+                              const double w = area / 3.0;
+                              const double dx = x.x() - s.x(), dz = x.z() - s.z();
+                              const double d = std::max(0.0, -(x.y() + s.y()));
+                              const double r =
+                                  std::max(std::sqrt(dx * dx + dz * dz + d * d), 1e-12 * size);
+                              const Eigen::Vector3d gradR(dx / r, -d / r, dz / r);
+                              near.logIntegral += w * std::log(r + d);
+                              near.distanceIntegral += w * r;
+                              near.logGradient += w * (gradR - Eigen::Vector3d::UnitY()) / (r + d);
+                              near.distanceGradient += w * gradR;
+                          }
+                      });
             near_[static_cast<std::size_t>(i)].push_back(near);
         }
     });
@@ -966,9 +977,11 @@ RadiationCoefficients RadiationSolver::at(double omega) const {
             // rest, F less it, on the source's three points.
             while (nearSource->source < j) ++nearSource;
             const NearSource& near = *nearSource;
-            const double decayAtCentroid = std::exp(std::min(0.0, K * (x.y() + source.centroid.y())));
-            std::complex<double> g =
-                2.0 * K * (-decayAtCentroid * (logK * source.area + near.logIntegral) - K * near.distanceIntegral);
+            const double decayAtCentroid =
+                std::exp(std::min(0.0, K * (x.y() + source.centroid.y())));
+            std::complex<double> g = 2.0 * K *
+                                     (-decayAtCentroid * (logK * source.area + near.logIntegral) -
+                                      K * near.distanceIntegral);
             const Eigen::Vector3d singularGradient =
                 2.0 * K * (-decayAtCentroid * near.logGradient - K * near.distanceGradient);
             Eigen::Vector3cd gradient = singularGradient.cast<std::complex<double>>();

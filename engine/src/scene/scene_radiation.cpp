@@ -135,15 +135,17 @@ Result<RestRadiationSurface> restRadiationSurface(const SceneBody& body, const R
     if (!wetted.empty()) meanEdge /= static_cast<double>(wetted.size());
     if (meanEdge < kCoarsenBelow * edge) {
         const TriangleMesh coarse = clusteredMesh(mesh, kCoarsenCell * edge);
-        atRest = Eigen::Translation3d(0, equilibriumHeight(coarse, Eigen::Affine3d::Identity(), out.restVolume), 0);
+        atRest = Eigen::Translation3d(
+            0, equilibriumHeight(coarse, Eigen::Affine3d::Identity(), out.restVolume), 0);
         wetted = wettedPanels(coarse, atRest, minArea);
     }
     std::vector<RadiationPanel> panels = bisectedPanels(wetted, edge, kMaxRadiationPanels);
     if (const std::size_t count = panels.size(); count > kMaxRadiationPanels) {
         std::ostringstream m;
-        m << label << "the wetted surface makes more than " << count - 1 << " panels at panel_edge " << edge
-          << " m, more than the limit kMaxRadiationPanels = " << kMaxRadiationPanels
-          << ": give a longer panel_edge" << (wetted.size() > kMaxRadiationPanels ? " and a coarser mesh" : "");
+        m << label << "the wetted surface makes more than " << count - 1 << " panels at panel_edge "
+          << edge << " m, more than the limit kMaxRadiationPanels = " << kMaxRadiationPanels
+          << ": give a longer panel_edge"
+          << (wetted.size() > kMaxRadiationPanels ? " and a coarser mesh" : "");
         return makeError(ErrorKind::limit, m.str());
     }
     out.solver.emplace(

@@ -55,7 +55,8 @@ std::vector<RadiationPanel> refinedPanels(const std::vector<RadiationPanel>& pan
 /// a long thin face (the 1 x 0.25 m side of a box) is cut across its length only, where
 /// refinedPanels cuts every edge as often as the longest needs (64 panels for that face's
 /// triangle at 0.2 m, here 12). Stops once more than `limit` panels are made.
-std::vector<RadiationPanel> bisectedPanels(const std::vector<RadiationPanel>& panels, double maxEdge,
+std::vector<RadiationPanel> bisectedPanels(const std::vector<RadiationPanel>& panels,
+                                           double maxEdge,
                                            std::size_t limit = static_cast<std::size_t>(-1));
 
 /// `mesh` re-made at about `cell` (m) where it is finer: vertex clustering on a grid of that
@@ -149,8 +150,8 @@ private:
     /// integrals over the source of the wave part's singular terms (radiation.cpp, at()).
     struct NearSource {
         Eigen::Index source = 0;
-        double logIntegral = 0;       ///< int ln(r' + d) dS, m^2 ln m
-        double distanceIntegral = 0;  ///< int r' dS, m^3
+        double logIntegral = 0;                                 ///< int ln(r' + d) dS, m^2 ln m
+        double distanceIntegral = 0;                            ///< int r' dS, m^3
         Eigen::Vector3d logGradient = Eigen::Vector3d::Zero();  ///< int grad_x ln(r' + d) dS
         Eigen::Vector3d distanceGradient = Eigen::Vector3d::Zero();  ///< int grad_x r' dS
     };
