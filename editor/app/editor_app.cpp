@@ -451,6 +451,7 @@ void drawMenus(EditorState& s) {
         ImGui::Separator();
         ImGui::MenuItem("Water", nullptr, &s.showWater);
         ImGui::MenuItem("Grid and axes", nullptr, &s.showGrid);
+        ImGui::MenuItem("Show physics solid / caps", nullptr, &s.showPhysicsSolid);
         ImGui::EndMenu();
     }
     if (ImGui::BeginMenu("Simulate")) {
@@ -780,6 +781,26 @@ RenderScene sceneOf(EditorState& s) {
     return scene;
 }
 
+/// View > Show physics solid / caps: see-through over each body where it is drawn (its starting
+/// pose, or the preview's), the solid it is simulated as (when that is not its mesh) and its
+/// caps, more opaque. After the bodies' poses are final, appended after them.
+void addPhysicsSolidsToScene(EditorState& s, RenderScene& scene) {
+    if (!s.showPhysicsSolid) return;
+    const std::size_t bodies = std::min(scene.bodies.size(), s.document->bodyCount());
+    for (std::size_t b = 0; b < bodies; ++b) {
+        const PhysicsSolids::Solid solid = s.physicsSolids->solidFor(*s.document, b);
+        for (const auto& [mesh, alpha] :
+             {std::pair{solid.solid, 0.25f}, std::pair{solid.caps, 0.6f}}) {
+            if (!mesh) continue;
+            RenderBody overlay;
+            overlay.mesh = mesh;
+            overlay.pose = scene.bodies[b].pose;
+            overlay.alpha = alpha;
+            scene.bodies.push_back(std::move(overlay));
+        }
+    }
+}
+
 bool writeScreenshot(const std::string& path, int width, int height) {
     std::vector<unsigned char> pixels(static_cast<std::size_t>(width) * height * 4);
     glReadBuffer(GL_BACK);
@@ -901,6 +922,7 @@ int runEditorWindow(const EditorLaunch& launch) {
     if (!launch.overlay.empty()) {
         if (const auto overlay = parseOverlay(launch.overlay)) s.overlay = *overlay;
     }
+    s.showPhysicsSolid = launch.showPhysicsSolid;
     s.lastAutosave = glfwGetTime();
     s.preview = std::make_shared<PreviewUi>();
     s.preview->fixedStep = launch.frames > 0;
@@ -1060,6 +1082,7 @@ int runEditorWindow(const EditorLaunch& launch) {
         RenderScene scene = sceneOf(s);
         const int vw = static_cast<int>(s.viewport.w * scale), vh = static_cast<int>(s.viewport.h * scale);
         applyPreviewToScene(s, scene);
+        addPhysicsSolidsToScene(s, scene);
         const Eigen::Vector3f clear = s.renderer->clearColour(scene, s.camera, std::max(vw, 1), std::max(vh, 1));
         glClearColor(clear.x(), clear.y(), clear.z(), 1.0f);
         glClear(GL_COLOR_BUFFER_BIT);

@@ -17,6 +17,7 @@ struct EditorLaunch {
     std::string screenshot;
     std::string view;        ///< front, side, top or persp (default persp)
     std::string overlay;     ///< initial overlay (default permeability)
+    bool showPhysicsSolid = false;  ///< View > Show physics solid / caps, on from the start
     /// Start the live preview playing (with frames: one simulated frame per drawn frame).
     bool preview = false;
     /// With frames and preview: "FRAME:PATH" screenshots taken at those frames; the report

@@ -117,6 +117,10 @@ void EditorState::cancelTextureBake(std::size_t body) {
 }
 
 void EditorState::pollPhysicsBakes() {
+    if (physicsSolids->poll()) {
+        overlaysDirty = true;
+        ++documentRevision;
+    }
     if (physicsBakes->poll(*document)) {
         // The panels cache what they show against the revision; the document's edits are the same.
         overlaysDirty = true;

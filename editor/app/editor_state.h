@@ -7,6 +7,7 @@
 #include "document/overlay.h"
 #include "document/paint.h"
 #include "document/physics_bakes.h"
+#include "document/physics_solids.h"
 #include "document/settings.h"
 #include "view/camera.h"
 #include "render/renderer.h"
@@ -75,6 +76,9 @@ struct EditorState {
     int selectedBody = 0;
     bool showWater = true;
     bool showGrid = true;
+    /// View > Show physics solid / caps: the solid each body is simulated as, and its caps,
+    /// see-through over the artist's mesh.
+    bool showPhysicsSolid = false;
     double waterTime = 0.0;
     bool animateWater = false;
 
@@ -154,6 +158,8 @@ struct EditorState {
     std::shared_ptr<ExportDialog> exportDialog = makeExportDialog();
     /// The bodies' physics textures baked on workers for the panels (physics_bakes.h).
     std::shared_ptr<PhysicsBakes> physicsBakes = std::make_shared<PhysicsBakes>();
+    /// The bodies' physics solids and caps worked out on workers (physics_solids.h).
+    std::shared_ptr<PhysicsSolids> physicsSolids = std::make_shared<PhysicsSolids>();
 
     /// The selected body's physics textures for this frame, never baked on this thread (null
     /// while a first bake runs; during a new size's bake, the previous size's).

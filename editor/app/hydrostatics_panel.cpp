@@ -1,7 +1,9 @@
 // The hydrostatics window of the live preview: for the selected body of the running scene,
 // the equilibrium, KB, BM, GM and the righting-arm curve from the textures and from the exact
-// clip (physics/hydrostatics.h, docs/hydrostatics.md), computed on request ("Compute": a
-// hull's textures at 256^2 take about a second); and, for a body with radiation on, its
+// clip (physics/hydrostatics.h, docs/hydrostatics.md), then the stability report (TPC,
+// MCT1cm, the largest GZ, the downflooding angle, the IMO 2008 IS Code's criteria and the KN
+// cross curves), computed on request ("Compute": a hull's textures at 256^2 take a few
+// seconds); and, for a body with radiation on, its
 // added mass and damping against frequency and a free heave decay test run on a worker
 // (scene/radiation_decay.h, docs/radiation.md). Collapsed until opened.
 #include "app/panels.h"
@@ -161,6 +163,103 @@ void drawGzPlot(const HydrostaticsResult& t, const HydrostaticsResult& e) {
     tooltip(tip.c_str());  // the plot is the last item
 }
 
+/// A row of figures that may be missing ("none": the downflooding angle without openings).
+void optionalRow(const char* name, std::optional<double> textures, std::optional<double> exact) {
+    ImGui::TableNextRow();
+    ImGui::TableNextColumn();
+    ImGui::TextUnformatted(name);
+    for (const std::optional<double>& v : {textures, exact}) {
+        ImGui::TableNextColumn();
+        if (v) {
+            ImGui::Text("%.6g", *v);
+        } else {
+            ImGui::TextUnformatted("none");
+        }
+    }
+    ImGui::TableNextColumn();
+    if (textures && exact) ImGui::Text("%.3g", *textures - *exact);
+}
+
+/// TPC, MCT1cm, the largest GZ, the downflooding angle, the IS Code's criteria with each
+/// method's verdict, and the KN cross curves.
+void drawStabilityReport(const HydrostaticsResult& t, const HydrostaticsResult& e) {
+    if (!ImGui::CollapsingHeader("Stability report", ImGuiTreeNodeFlags_DefaultOpen)) return;
+    if (ImGui::BeginTable("##stability", 4, ImGuiTableFlags_RowBg | ImGuiTableFlags_Borders)) {
+        ImGui::TableSetupColumn("", ImGuiTableColumnFlags_WidthFixed, 180.0f);
+        ImGui::TableSetupColumn("textures");
+        ImGui::TableSetupColumn("exact");
+        ImGui::TableSetupColumn("difference");
+        ImGui::TableHeadersRow();
+        row("waterline length (m)", t.waterlineLength, e.waterlineLength);
+        row("TPC (t/cm)", t.tonnesPerCentimetre, e.tonnesPerCentimetre);
+        row("MCT1cm (t m/cm)", t.momentToChangeTrim, e.momentToChangeTrim);
+        row("GZ max (m)", t.gzMax, e.gzMax);
+        row("angle of GZ max (deg)", t.gzMaxDegrees, e.gzMaxDegrees);
+        optionalRow("downflooding angle (deg)", t.downfloodingDegrees, e.downfloodingDegrees);
+        ImGui::EndTable();
+    }
+    tooltip(
+        "TPC: tonnes per centimetre of immersion. MCT1cm: the moment that trims the body by "
+        "1 cm over its waterline length. Downflooding: the least heel at which an opening "
+        "(a permeable texel of the water graph, an open hull's cap) reaches the water.");
+    ImGui::Text("IMO 2008 IS Code, A 2.2: textures %s, exact %s",
+                t.isCode2008.pass ? "pass" : "FAIL", e.isCode2008.pass ? "pass" : "FAIL");
+    tooltip(
+        "The general intact stability criteria (Res. MSC.267(85)) on the GZ curve less the "
+        "free-surface loss times sin(heel); the areas to 40 degrees end at the downflooding "
+        "angle where that is less.");
+    if (ImGui::BeginTable("##iscode", 4, ImGuiTableFlags_RowBg | ImGuiTableFlags_Borders)) {
+        ImGui::TableSetupColumn("criterion", ImGuiTableColumnFlags_WidthFixed, 180.0f);
+        ImGui::TableSetupColumn("required");
+        ImGui::TableSetupColumn("textures");
+        ImGui::TableSetupColumn("exact");
+        ImGui::TableHeadersRow();
+        for (std::size_t i = 0;
+             i < t.isCode2008.criteria.size() && i < e.isCode2008.criteria.size(); ++i) {
+            const StabilityCriterion& a = t.isCode2008.criteria[i];
+            const StabilityCriterion& b = e.isCode2008.criteria[i];
+            ImGui::TableNextRow();
+            ImGui::TableNextColumn();
+            ImGui::Text("%s (%s)", a.name.c_str(), a.unit.c_str());
+            ImGui::TableNextColumn();
+            ImGui::Text(">= %.4g", a.required);
+            for (const StabilityCriterion* c : {&a, &b}) {
+                ImGui::TableNextColumn();
+                ImGui::TextColored(
+                    c->pass ? ImVec4(0.45f, 0.85f, 0.45f, 1) : ImVec4(1, 0.4f, 0.35f, 1), "%.4g %s",
+                    c->value, c->pass ? "pass" : "FAIL");
+            }
+        }
+        ImGui::EndTable();
+    }
+    if (e.crossCurves.empty()) return;
+    const bool open = ImGui::TreeNode("KN cross curves (exact clip, m)");
+    tooltip("KN = GZ + KG sin(heel), the righting arm about the keel, at several displacements.");
+    if (!open) return;
+    const std::vector<CrossCurve>& curves = e.crossCurves;
+    if (ImGui::BeginTable("##kn", static_cast<int>(curves.size()) + 1,
+                          ImGuiTableFlags_RowBg | ImGuiTableFlags_Borders)) {
+        ImGui::TableSetupColumn("heel (deg)");
+        char label[48];
+        for (const CrossCurve& c : curves) {
+            std::snprintf(label, sizeof label, "%.4g m^3", c.displacement);
+            ImGui::TableSetupColumn(label);
+        }
+        ImGui::TableHeadersRow();
+        for (std::size_t i = 0; i < curves[0].heelsDegrees.size(); ++i) {
+            ImGui::TableNextRow();
+            ImGui::TableNextColumn();
+            ImGui::Text("%g", curves[0].heelsDegrees[i]);
+            for (const CrossCurve& c : curves) {
+                ImGui::TableNextColumn();
+                ImGui::Text("%.4f", c.kn[i]);
+            }
+        }
+        ImGui::EndTable();
+    }
+    ImGui::TreePop();
+}
+
 void drawFigures(const HydrostaticsResult& t, const HydrostaticsResult& e) {
     if (ImGui::BeginTable("##hydrostatics", 4, ImGuiTableFlags_RowBg | ImGuiTableFlags_Borders)) {
         ImGui::TableSetupColumn("", ImGuiTableColumnFlags_WidthFixed, 180.0f);
@@ -183,7 +282,8 @@ void drawFigures(const HydrostaticsResult& t, const HydrostaticsResult& e) {
         row("vanishing stability (deg)", t.vanishingStabilityDegrees, e.vanishingStabilityDegrees);
         ImGui::EndTable();
     }
-    drawGzPlot(t, e);
+    drawGzPlot(t, e);  // before the report: the window's plot stays where it was
+    drawStabilityReport(t, e);
 }
 
 /// The decay test of one body: running on a worker, or its result.

@@ -7,11 +7,16 @@
 #include "document/material_presets.h"
 
 #include "plimsoll/physics/massprops.h"
+#include "plimsoll/project/project.h"
 #include "plimsoll/surface/painted_map.h"
 #include "plimsoll/geometry/validate.h"
+#include "plimsoll/project/scene_loader.h"
+#include "plimsoll/repair/physics_solid.h"
+#include "plimsoll/scene/scene.h"
 
 #include <GLFW/glfw3.h>
 #include <imgui.h>
+#include <nlohmann/json.hpp>
 
 #include <atomic>
 #include <cmath>
@@ -72,6 +77,59 @@ TextureFigures figuresOf(const SurfaceTextures& t, const TriangleMesh& mesh, con
     return f;
 }
 
+/// The figures of a body simulated as its physics solid (an open hull, a repaired mesh): the
+/// solid baked and weighed as a project run does (assembleBodyParts, bakeSceneBody: the walls
+/// only, the caps no shell), against the exact integrals over that solid less the space behind
+/// its caps, and a shell on its faces other than the caps.
+TextureFigures figuresOfSolid(const PreparedBodyMesh& prepared,
+                              const std::shared_ptr<const TriangleMesh>& artist, BodyDesc desc,
+                              const std::vector<PaintedMap>& shellMaps) {
+    TextureFigures f;
+    BodyPaint paint;
+    paint.paintedOver = artist;
+    if (!shellMaps.empty()) {
+        paint.shellDensityMap = std::make_shared<const PaintedMap>(shellMaps[0]);
+        f.exactApplies = false;
+    }
+    if (shellMaps.size() > 1)
+        paint.shellThicknessMap = std::make_shared<const PaintedMap>(shellMaps[1]);
+    desc.waterGraph
+        .reset();  // the mass does not depend on it, and the graph's file is not read here
+    Result<BodyParts> parts = assembleBodyParts(desc, prepared, paint);
+    if (!parts) return f;
+    desc.waterGraph.reset();
+    parts->waterGraph.reset();
+    desc.lod.reset();
+    Result<SceneBody> body = bakeSceneBody(desc, std::move(*parts));
+    if (!body) return f;
+    const SurfaceTextures& t = *body->textures;
+    f.size = t.size;
+    f.covered = t.coveredCount();
+    f.distinct = t.distinctTexelCount();
+    f.texture = *body->mass;
+    MassProperties exact;
+    bool any = false;
+    const MaterialDesc& material = desc.material;
+    if (material.density) {
+        exact = withoutHollow(exactSolidMassProperties(prepared.mesh, *material.density),
+                              hollowSpace(prepared.openings), *material.density);
+        any = true;
+    }
+    if (material.shellSurfaceDensity) {
+        TriangleMesh walls = prepared.mesh;
+        std::vector<char> cap(walls.triangles.size(), 0);
+        for (const Opening& o : prepared.openings)
+            for (std::uint32_t k : o.capTriangles) cap[k] = 1;
+        walls.triangles.clear();
+        for (std::size_t k = 0; k < cap.size(); ++k)
+            if (!cap[k]) walls.triangles.push_back(prepared.mesh.triangles[k]);
+        const MassProperties shell = exactShellMassProperties(walls, *material.shellSurfaceDensity);
+        exact = any ? exact + shell : shell;
+    }
+    f.exact = exact;
+    return f;
+}
+
 /// One computation of the figures on a worker thread of its own (detached: it owns what it
 /// reads, and a result nobody waits for any more is simply dropped).
 struct FiguresJob {
@@ -87,6 +145,7 @@ struct BodyInfo {
     TextureFigures figures;             ///< the last finished ones (kept while newer ones run)
     bool hasFigures = false;
     std::shared_ptr<FiguresJob> job;    ///< the newest computation, until it finishes
+    bool ofSolid = false;               ///< the figures are of the physics solid, not the mesh
 };
 }  // namespace
 
@@ -142,11 +201,19 @@ BodyInfo& infoFor(EditorState& s, std::size_t b) {
     }
     auto job = std::make_shared<FiguresJob>();
     info.job = job;
-    std::thread([job, textures, mesh, material = body.material, maps = std::move(shellMaps)] {
+    // A body simulated as its physics solid is weighed as the simulation weighs it, once the
+    // solid is worked out (physics_solids.h); meanwhile, and for any other body, its mesh.
+    const PhysicsSolids::Solid solid = s.physicsSolids->solidFor(*s.document, b);
+    std::shared_ptr<const PreparedBodyMesh> prepared =
+        solid.prepared && !solid.working && !solid.prepared->repairs.empty() ? solid.prepared
+                                                                             : nullptr;
+    info.ofSolid = prepared != nullptr;
+    std::thread([job, textures, mesh, prepared, desc = body, maps = std::move(shellMaps)] {
         // Below the UI's priority, as the bakes are: at 1024^2 this is tens of ms of one core,
         // started in the frame a new size arrives, beside llvmpipe drawing that frame.
         lowerThisThreadsPriority();
-        job->figures = figuresOf(*textures, *mesh, material, maps);
+        job->figures = prepared ? figuresOfSolid(*prepared, mesh, desc, maps)
+                                : figuresOf(*textures, *mesh, desc.material, maps);
         job->done.store(true, std::memory_order_release);
         glfwPostEmptyEvent();  // an idle frame loop draws the figures
     }).detach();
@@ -218,6 +285,52 @@ void textureSizeField(EditorState& s, std::size_t b, const std::string& base, in
     }
 }
 
+/// A size picked from a tolerance instead of a texture size: the switch between the two (one
+/// undoable step, the body's JSON with one key for the other), the tolerance, and the size it
+/// picks with its measured error once the pick, made off the UI thread, is known.
+void textureSizeOrTolerance(EditorState& s, std::size_t b, const std::string& base,
+                            const BodyDesc& body) {
+    bool fromTolerance = body.tolerance.has_value();
+    if (ImGui::Checkbox("Size from a tolerance", &fromTolerance)) {
+        s.inspector->deferred.push_back([&s, b, base, fromTolerance] {
+            const BodyDesc& now = s.document->project().bodies[b];
+            nlohmann::json json =
+                nlohmann::json::parse(projectToJson(s.document->project()))["bodies"][b];
+            if (fromTolerance) {
+                json.erase("texture_size");
+                json["tolerance"] = 1e-3;
+            } else {
+                json.erase("tolerance");
+                const std::optional<LevelChoice> choice = s.document->levelChoice(b);
+                json["texture_size"] = choice ? choice->size : now.textureSize;
+            }
+            s.execute(makeSetPropertyCommand(*s.document, base, json));
+        });
+    }
+    tooltip(
+        "Instead of a texture size, the largest force error allowed against the exact clip of "
+        "the mesh (a share of rho g V over 27 poses): the smallest of 16, 32, ... 1024 texels "
+        "within it is baked.");
+    if (!body.tolerance) {
+        textureSizeField(s, b, base, body.textureSize);
+        return;
+    }
+    numberField(
+        s, "Tolerance", base + "/tolerance", *body.tolerance, "%.1e",
+        "The largest force error allowed, a share of rho g V (1e-3: a tenth of a percent of "
+        "the fully submerged buoyancy).");
+    if (const std::optional<LevelChoice> choice = s.document->levelChoice(b)) {
+        ImGui::Text("Picks %d^2: force error %.1e, torque error %.1e", choice->size,
+                    choice->forceError, choice->torqueError);
+        if (!choice->coarser.empty()) {
+            ImGui::TextDisabled("%d^2 misses it: force error %.1e", choice->coarser.back().first,
+                                choice->coarser.back().second);
+        }
+    } else if (s.physicsBakes->progress(b)) {
+        ImGui::TextDisabled("Picking the size: baking 16, 32, ... and measuring each...");
+    }
+}
+
 /// Add, duplicate and remove: each one undoable step (command.h).
 void bodyButtons(EditorState& s) {
     const std::size_t count = s.document->bodyCount();
@@ -274,6 +387,61 @@ void transformFields(EditorState& s, std::size_t b, const BodyDesc& body) {
     if (auto r = field("Rotation (deg)", base + "/rotation_deg", body.rotationDegrees, "%.4g",
                        "The body's starting turn about x, y and z, degrees (turned about x first, then y, then z).")) {
         s.execute(makeSetBodyTransformCommand(*s.document, b, body.position, *r));
+    }
+}
+
+/// Each opening's cap (physics_solids.h works them out): where it is, how much it closes off,
+/// and its height and mode, each change one undo step (makeSetCapCommand).
+void capsSection(EditorState& s, std::size_t b, const BodyDesc& body) {
+    const PhysicsSolids::Solid solid = s.physicsSolids->solidFor(*s.document, b);
+    if (solid.working) ImGui::TextDisabled("Caps: working out the physics solid...");
+    if (!solid.error.empty()) {
+        ImGui::PushStyleColor(ImGuiCol_Text, ImVec4(1, 0.4f, 0.4f, 1));
+        ImGui::TextWrapped("%s", solid.error.c_str());
+        ImGui::PopStyleColor();
+    }
+    if (!solid.prepared) return;
+    const std::vector<Opening>& openings = solid.prepared->openings;
+    if (openings.empty()) {
+        ImGui::TextDisabled("No openings: the mesh holds no water poured in from above");
+        return;
+    }
+    for (std::size_t i = 0; i < openings.size(); ++i) {
+        const Opening& o = openings[i];
+        const CapDesc cap = i < body.caps.size() ? body.caps[i] : CapDesc{};
+        ImGui::PushID(static_cast<int>(i));
+        ImGui::Text("Cap %zu: area %.4g m2, %.4g m3 behind it%s", i + 1, o.capArea, o.cavity.volume,
+                    body.capMode(i) == OpeningsMode::Open ? " (its compartment's capacity)" : "");
+        // The height: dragged between the bottom of the space and the rim, set when let go.
+        const std::string key =
+            "/bodies/" + std::to_string(b) + "/caps/" + std::to_string(i) + "/height";
+        double& height = s.inspector->editing.try_emplace(key, o.capHeight).first->second;
+        if (!ImGui::IsAnyItemActive()) height = o.capHeight;
+        const double low = o.bottomHeight + 1e-3 * (o.rimHeight - o.bottomHeight),
+                     high = o.rimHeight;
+        ImGui::DragScalar("Height (m)", ImGuiDataType_Double, &height, 0.001f * float(high - low),
+                          &low, &high, "%.4f", ImGuiSliderFlags_AlwaysClamp);
+        tooltip(
+            "Object-space y of the level cap, between the bottom of the space behind it and the "
+            "lowest point "
+            "of its rim. Lower, it closes off less. One undo step when let go.");
+        if (ImGui::IsItemDeactivatedAfterEdit() && height != o.capHeight) {
+            CapDesc moved = cap;
+            moved.height = height;
+            s.inspector->deferred.push_back(
+                [&s, b, i, moved] { s.execute(makeSetCapCommand(*s.document, b, i, moved)); });
+        }
+        int mode = body.capMode(i) == OpeningsMode::Sealed ? 1 : 0;
+        if (ImGui::Combo("Mode", &mode, "open (lets water in)\0sealed (a deck)\0")) {
+            CapDesc changed = cap;
+            changed.mode = mode == 1 ? OpeningsMode::Sealed : OpeningsMode::Open;
+            s.inspector->deferred.push_back(
+                [&s, b, i, changed] { s.execute(makeSetCapCommand(*s.document, b, i, changed)); });
+        }
+        tooltip(
+            "Open: water gets in through the cap into the compartment behind it. Sealed: none does "
+            "(a deck).");
+        ImGui::PopID();
     }
 }
 
@@ -336,7 +504,7 @@ void drawInspectorPanel(EditorState& s, const Rect& area) {
         ImGui::PopStyleColor();
     }
     if (ImGui::CollapsingHeader("Texture", ImGuiTreeNodeFlags_DefaultOpen)) {
-        textureSizeField(s, b, base, body.textureSize);
+        textureSizeOrTolerance(s, b, base, body);
         if (!info.bakeError.empty()) {
             ImGui::PushStyleColor(ImGuiCol_Text, ImVec4(1, 0.4f, 0.4f, 1));
             ImGui::TextWrapped("%s", info.bakeError.c_str());
@@ -381,9 +549,14 @@ void drawInspectorPanel(EditorState& s, const Rect& area) {
                 s.execute(makeSetPropertyCommand(*s.document, base + "/openings", nlohmann::json(name)));
             });
         }
-        tooltip("What becomes of the openings of an open hull or container (space that holds water poured in "
-                "from above): a level cap at the rim's lowest point that lets water into a compartment behind "
-                "it, a cap that lets none in, or the surface as it is (floats swamped)");
+        tooltip(
+            "What becomes of the openings of an open hull or container (space that holds water "
+            "poured in "
+            "from above), for caps not set below: a level cap at the rim's lowest point that lets "
+            "water into "
+            "a compartment behind it, a cap that lets none in, or the surface as it is (floats "
+            "swamped)");
+        if (body.openings != OpeningsMode::None) capsSection(s, b, body);
         for (MapChannel c : kMapChannels) {
             const std::string& path = channelPath(body, c);
             const PaintedMap* map = s.document->map(b, c);
@@ -399,6 +572,10 @@ void drawInspectorPanel(EditorState& s, const Rect& area) {
         info.figures.texture) {
         const MassProperties& t = *info.figures.texture;
         const MassProperties& e = *info.figures.exact;
+        if (info.ofSolid)
+            ImGui::TextDisabled(
+                "Of the physics solid the simulation uses: walls only, caps and the space behind "
+                "them no mass");
         ImGui::Text("Volume  %.6f m3 (exact %.6f, %.2e rel)", t.volume, e.volume,
                     std::abs(t.volume - e.volume) / std::max(e.volume, 1e-300));
         ImGui::Text("Mass    %.4f kg", t.mass);

@@ -1,9 +1,11 @@
-// plimsoll bake MESH --size N --out DIR: position, area-vector and coverage textures (EXR).
+// plimsoll bake MESH --size N | --tolerance T --out DIR: position, area-vector and coverage
+// textures (EXR).
 #include "cli/commands.h"
 
 #include "cli/common.h"
 #include "plimsoll/io/bake_io.h"
 #include "plimsoll/io/mesh_io.h"
+#include "plimsoll/scene/level_ladder.h"
 
 #include <chrono>
 #include <iostream>
@@ -15,14 +17,38 @@ namespace {
 struct BakeCommandOptions {
     std::string mesh;
     BakeOptions bake;
+    std::optional<double> tolerance;
     std::string out;
 };
+
+/// The bake at the smallest size that meets the tolerance (level_ladder.h), saying which.
+std::optional<SurfaceTextures> bakeToTolerance(const std::string& file, const TriangleMesh& mesh,
+                                               const BakeOptions& options, double tolerance,
+                                               std::optional<LevelChoice>& choice) {
+    BakeSettings settings;
+    settings.maxTexelStretch = options.maxTexelStretch;
+    std::cerr << "note: trying 16, 32, 64, ... texels until the force error is within " << tolerance
+              << " of rho g V\n";
+    Result<LevelChoice> chosen = chooseLevelForTolerance(mesh, tolerance, settings);
+    if (!chosen) {
+        std::cerr << "error: " << file << ": --tolerance: " << chosen.error().message << "\n";
+        return std::nullopt;
+    }
+    SurfaceTextures textures = *chosen->textures;
+    chosen->textures.reset();
+    choice = std::move(*chosen);
+    return textures;
+}
 
 int runBake(const BakeCommandOptions& options) {
     std::optional<BakeableMesh> mesh = loadMeshForBake(options.mesh, options.bake);
     if (!mesh) return kExitFailure;
     const auto start = std::chrono::steady_clock::now();
-    std::optional<SurfaceTextures> textures = bakeWithProgress(mesh->mesh, options.bake);
+    std::optional<LevelChoice> choice;
+    std::optional<SurfaceTextures> textures =
+        options.tolerance
+            ? bakeToTolerance(options.mesh, mesh->mesh, options.bake, *options.tolerance, choice)
+            : bakeWithProgress(mesh->mesh, options.bake);
     if (!textures) return kExitFailure;
     const double seconds =
         std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
@@ -38,8 +64,11 @@ int runBake(const BakeCommandOptions& options) {
             return kExitFailure;
         }
     }
-    std::cout << options.mesh << ": baked " << options.bake.size << "^2 in " << seconds << " s\n"
-              << "  covered texels  " << textures->distinctTexelCount() << "\n"
+    std::cout << options.mesh << ": baked " << textures->size << "^2 in " << seconds << " s\n";
+    if (choice)
+        std::cout << "  tolerance       " << choice->tolerance << ": "
+                  << describeLevelChoice(*choice) << "\n";
+    std::cout << "  covered texels  " << textures->distinctTexelCount() << "\n"
               << "  texel samples   " << textures->coveredCount()
               << " (texels shared by UV islands or refined where the map squeezes surface "
                  "hold several)\n"
@@ -68,7 +97,13 @@ void addBakeCommand(CLI::App& root, CommandRunner& selected) {
     CLI::App* cmd = root.add_subcommand(
         "bake", "Bake position, area-vector and coverage textures (float32 EXR + manifest.json)");
     cmd->add_option("MESH", options->mesh, "Mesh file (closed; its UVs, or a generated atlas: see --atlas)")->required();
-    addBakeOptions(*cmd, options->bake);
+    CLI::Option* size = addBakeOptions(*cmd, options->bake);
+    cmd->add_option(
+           "--tolerance", options->tolerance,
+           "Instead of --size: the largest force error allowed against the exact clip, a share "
+           "of rho g V (e.g. 1e-3); the smallest of 16, 32, ... 1024 texels that meets it is baked")
+        ->check(kFinitePositive & CLI::Range(0.0, 1.0))
+        ->excludes(size);
     addUnitOption(*cmd, options->bake.unitScale);
     cmd->add_option("--out", options->out, "Output folder (created if missing)")->required()->check(kNonEmptyPath);
     cmd->callback([options, &selected] { selected = [options] { return runBake(*options); }; });

@@ -28,6 +28,7 @@ struct BenchOptions {
     bool radiation = false;    ///< only radiation's cost per step (bench_radiation.cpp)
     std::string projects = "projects";  ///< --radiation: the sample projects' folder
     bool fleet = false;        ///< only the runtime's fleet table (bench_fleet.cpp)
+    bool scene = false;        ///< only the World's cost of many bodies (bench_scene.cpp)
     std::string fleetProject = "projects/damaged_boat.plim.json";
 };
 
@@ -42,6 +43,9 @@ int runRadiationBench(const BenchOptions& o);
 /// The runtime's cost for one dry body, one flooding body and a fleet of flooding boats on one
 /// bundle against one load each: DIR/bench_fleet.csv.
 int runFleetBench(const BenchOptions& o);
+
+/// The World's cost a frame for many bodies at rest, awake and asleep: DIR/bench_scene.csv.
+int runSceneBench(const BenchOptions& o);
 
 /// Creates the output folder `out` (and its parents); false with the message printed.
 bool createOutputFolder(const std::string& out);

@@ -76,6 +76,10 @@ void addBenchCommand(CLI::App& root, CommandRunner& selected) {
         "Only the runtime's fleet table instead: one dry body, one flooding body, and 100 "
         "flooding boats as one bundle with 100 instances against 100 loads, memory and "
         "time per frame on waves (DIR/bench_fleet.csv)");
+    cmd->add_flag("--scene", o->scene,
+                  "Only the World's scene table instead: 1000 bodies at rest on flat water (100 "
+                  "with --quick), time per frame with sleeping off and asleep "
+                  "(DIR/bench_scene.csv)");
     cmd->add_option("--fleet-project", o->fleetProject,
                     "With --fleet: the project whose first body (with a water graph) is the boat")
         ->capture_default_str()
@@ -97,6 +101,7 @@ void addBenchCommand(CLI::App& root, CommandRunner& selected) {
             }
             if (o->radiation) return runRadiationBench(*o);
             if (o->fleet) return runFleetBench(*o);
+            if (o->scene) return runSceneBench(*o);
             return o->integrators ? runIntegratorBench(*o) : runAccuracyBench(*o);
         };
     });

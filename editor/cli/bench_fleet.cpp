@@ -5,7 +5,8 @@
 // runtime 2.0 runs them (one bundle, N instances) and then as 1.x had to (N loads), each on one
 // thread and on the machine's threads. Memory is what the runtime reports (bundle and instances,
 // the evaluation tiles included) and the process's resident growth. Written to
-// DIR/bench_fleet.csv.
+// DIR/bench_fleet.csv. The one-body rows also give the thread's CPU time (the wall clock on a
+// shared machine counts other processes too) and the flooding row's ratio to the dry one.
 
 // The 1.x rows call the runtime's deprecated calls on purpose: they are what 2.0 is measured
 // against.
@@ -20,6 +21,7 @@
 #include "plimsoll_runtime.h"
 #include "plimsoll_runtime/runtime.hpp"
 
+#include <atomic>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -28,6 +30,7 @@
 #include <iostream>
 #include <memory>
 #include <thread>
+#include <time.h>
 #include <unistd.h>
 
 namespace plimsoll::cli {
@@ -45,19 +48,47 @@ double residentBytes() {
     return resident * static_cast<double>(::sysconf(_SC_PAGESIZE));
 }
 
+/// Heights the water's callbacks answered (counted, not timed: a clock read per call would
+/// cost more than the small batches it measures).
+std::atomic<long long> heightsAsked{0};
+
 /// The runtime's Gerstner water behind the C callbacks.
 void waveHeights(void* user, size_t n, const double* x, const double* z, double t, double* out) {
+    heightsAsked.fetch_add(static_cast<long long>(n), std::memory_order_relaxed);
     const auto& model = *static_cast<const plimsoll_runtime::WaterModel*>(user);
     for (size_t i = 0; i < n; ++i) out[i] = model.height(x[i], z[i], t);
 }
 double waveHeight(void* user, double x, double z, double t) {
+    heightsAsked.fetch_add(1, std::memory_order_relaxed);
     return static_cast<const plimsoll_runtime::WaterModel*>(user)->height(x, z, t);
+}
+
+/// Seconds one height of `model` takes (mean of 20000 over a 20 m square).
+double secondsPerHeight(const plimsoll_runtime::WaterModel& model) {
+    double sink = 0;
+    const Clock::time_point start = Clock::now();
+    for (int i = 0; i < 20000; ++i) sink += model.height(0.001 * i, 0.0007 * i, 0.01 * i);
+    const double seconds = std::chrono::duration<double>(Clock::now() - start).count() / 20000;
+    return sink == 12345.678 ? 0.0 : seconds;  // keeps the loop
+}
+
+/// Seconds of CPU this thread has run: on a shared machine the wall clock also counts the time
+/// other processes held the core, which scatters the one-body rows by a factor of two.
+double threadCpuSeconds() {
+    timespec t{};
+    ::clock_gettime(CLOCK_THREAD_CPUTIME_ID, &t);
+    return double(t.tv_sec) + 1e-9 * double(t.tv_nsec);
 }
 
 struct FleetRow {
     std::string name;
     int bodies = 0, bundles = 0, threads = 0;
     double reportedBytes = 0, residentBytes = 0, loadMs = 0, frameMs = 0;
+    // Only where all the work runs on the calling thread (the one-body rows); 0 elsewhere, where
+    // the batch's workers would not be counted.
+    double cpuMs = 0;
+    // Flooding rows: their time over the dry row's on the same water (wall, thread-CPU).
+    double wallRatio = 0, cpuRatio = 0;
 };
 
 using BundlePtr = std::unique_ptr<plimsoll_bundle, decltype(&plimsoll_bundle_destroy)>;
@@ -71,13 +102,21 @@ plimsoll_pose poseOf(int i, double t) {
             {std::cos(half), std::sin(half), 0.0, 0.0}};
 }
 
-/// Mean milliseconds of `frames` calls of frame(f), after 5 warm-up calls.
+struct FrameTimes {
+    double wallMs = 0, cpuMs = 0;
+};
+
+/// Mean milliseconds of `frames` calls of frame(f), after 5 warm-up calls: wall and this
+/// thread's CPU.
 template <class Frame>
-double timeFrames(int frames, Frame&& frame) {
+FrameTimes timeFrames(int frames, Frame&& frame) {
     for (int f = 0; f < 5; ++f) frame(f);
+    const double cpuStart = threadCpuSeconds();
     const Clock::time_point start = Clock::now();
     for (int f = 5; f < 5 + frames; ++f) frame(f);
-    return 1e3 * std::chrono::duration<double>(Clock::now() - start).count() / frames;
+    const double wall = std::chrono::duration<double>(Clock::now() - start).count();
+    const double cpu = threadCpuSeconds() - cpuStart;
+    return {1e3 * wall / frames, 1e3 * cpu / frames};
 }
 
 /// Loads the bundle and evaluates it once (the evaluation tiles are then built and counted).
@@ -99,14 +138,18 @@ std::uint64_t memoryOf(const plimsoll_bundle* b) {
 }
 
 void printFleet(const std::vector<FleetRow>& rows) {
-    std::vector<std::vector<std::string>> lines = {{"case", "bodies", "bundles", "threads",
-                                                    "memory (MB)", "resident (MB)", "load (ms)",
-                                                    "frame (ms)", "per body (us)"}};
+    std::vector<std::vector<std::string>> lines = {
+        {"case", "bodies", "bundles", "threads", "memory (MB)", "resident (MB)", "load (ms)",
+         "frame (ms)", "per body (us)", "CPU per body (us)", "flooding / dry (wall)",
+         "flooding / dry (CPU)"}};
     for (const FleetRow& r : rows) {
         lines.push_back({r.name, std::to_string(r.bodies), std::to_string(r.bundles),
                          std::to_string(r.threads), format("%.2f", r.reportedBytes / 1048576.0),
                          format("%.1f", r.residentBytes / 1048576.0), format("%.1f", r.loadMs),
-                         format("%.3f", r.frameMs), format("%.1f", 1e3 * r.frameMs / r.bodies)});
+                         format("%.3f", r.frameMs), format("%.1f", 1e3 * r.frameMs / r.bodies),
+                         r.cpuMs > 0 ? format("%.1f", 1e3 * r.cpuMs / r.bodies) : "",
+                         r.wallRatio > 0 ? format("%.2f", r.wallRatio) : "",
+                         r.cpuRatio > 0 ? format("%.2f", r.cpuRatio) : ""});
     }
     printAligned(lines, 1);
 }
@@ -155,27 +198,41 @@ public:
         InstancePtr one(plimsoll_instance_create(shared_), &plimsoll_instance_destroy);
         const double bytes = double(memoryOf(shared_) + plimsoll_instance_memory_bytes(one.get()));
         const plimsoll_water flat{};
-        double ratio[2] = {0, 0};
+        double ratio[2] = {0, 0}, cpuRatio[2] = {0, 0}, own = 0;
         for (int wavy = 1; wavy >= 0; --wavy) {
             const plimsoll_water& water = wavy ? waves_.water : flat;
-            const double dry = timeFrames(frames_, [&](int f) { load(one.get(), water, f); });
-            const double flooding = timeFrames(frames_, [&](int f) {
+            heightsAsked = 0;
+            const FrameTimes dry = timeFrames(frames_, [&](int f) { load(one.get(), water, f); });
+            const double dryHeights = double(heightsAsked.exchange(0)) / (frames_ + 5);
+            const FrameTimes flooding = timeFrames(frames_, [&](int f) {
                 const plimsoll_pose pose = poseOf(0, f * kDt);
                 check(plimsoll_instance_graph_step(one.get(), &pose, &water, f * kDt, kDt) >= 0);
                 load(one.get(), water, f);
             });
+            const double floodingHeights = double(heightsAsked.exchange(0)) / (frames_ + 5);
+            if (wavy) {
+                // The runtime's own time: less the heights asked times what one costs the water.
+                const double ms = 1e3 * secondsPerHeight(waves_.model);
+                own = (flooding.wallMs - floodingHeights * ms) /
+                      std::max(dry.wallMs - dryHeights * ms, 1e-9);
+                std::printf("heights asked per frame: %.0f dry, %.0f flooding, %.0f ns each\n",
+                            dryHeights, floodingHeights, 1e6 * ms);
+            }
             const std::string where = wavy ? "" : ", flat water";
-            rows_.push_back(
-                {"one body, water load only (dry)" + where, 1, 1, 1, bytes, 0, loadMs_, dry});
+            ratio[wavy] = flooding.wallMs / dry.wallMs;
+            cpuRatio[wavy] = flooding.cpuMs / std::max(dry.cpuMs, 1e-12);
+            rows_.push_back({"one body, water load only (dry)" + where, 1, 1, 1, bytes, 0, loadMs_,
+                             dry.wallMs, dry.cpuMs});
             rows_.push_back({"one body, flooding (graph step + load)" + where, 1, 1, 1, bytes, 0,
-                             loadMs_, flooding});
-            ratio[wavy] = flooding / dry;
+                             loadMs_, flooding.wallMs, flooding.cpuMs, ratio[wavy],
+                             cpuRatio[wavy]});
         }
         std::printf(
-            "flooding / dry: %.2f on the waves (%zu permeable samples, whose heights the waves "
-            "answer in one "
-            "batched call per step), %.2f on flat water\n",
-            ratio[1], permeable, ratio[0]);
+            "flooding / dry: %.2f on the waves (%zu permeable samples, the water asked in one "
+            "batched call per step at the exchange lattice's nodes about them; %.2f without the "
+            "time the water takes to answer), %.2f on flat water; in thread-CPU time %.2f on the "
+            "waves, %.2f on flat water\n",
+            ratio[1], permeable, own, ratio[0], cpuRatio[1], cpuRatio[0]);
     }
 
     /// The fleet as runtime 2.0 runs it: one bundle, one instance per boat.
@@ -260,10 +317,12 @@ private:
         plimsoll_batch_desc desc{
             sizeof(plimsoll_batch_desc), threads, nullptr, nullptr, nullptr, 0};
         BatchPtr batch(plimsoll_batch_create(&desc), &plimsoll_batch_destroy);
-        return timeFrames(frames_, [&](int f) {
-            for (int i = 0; i < fleet_; ++i) poses_[i] = poseOf(i, f * kDt);
-            step(batch.get(), f);
-        });
+        return timeFrames(frames_,
+                          [&](int f) {
+                              for (int i = 0; i < fleet_; ++i) poses_[i] = poseOf(i, f * kDt);
+                              step(batch.get(), f);
+                          })
+            .wallMs;
     }
 
     fs::path folder_;
@@ -281,12 +340,15 @@ private:
 bool writeFleetCsv(const fs::path& csv, const std::vector<FleetRow>& rows) {
     const Status written = writeFileAtomically(csv, [&](std::ostream& out) {
         out << "case,bodies,bundles,threads,memory_bytes,resident_bytes,load_ms,frame_ms,us_per_"
-               "body\n";
+               "body,cpu_us_per_body,flooding_over_dry_wall,flooding_over_dry_cpu\n";
         for (const FleetRow& r : rows) {
             out << '"' << r.name << "\"," << r.bodies << ',' << r.bundles << ',' << r.threads << ','
                 << format("%.0f", r.reportedBytes) << ',' << format("%.0f", r.residentBytes) << ','
                 << format("%.3f", r.loadMs) << ',' << format("%.5f", r.frameMs) << ','
-                << format("%.3f", 1e3 * r.frameMs / r.bodies) << '\n';
+                << format("%.3f", 1e3 * r.frameMs / r.bodies) << ','
+                << (r.cpuMs > 0 ? format("%.3f", 1e3 * r.cpuMs / r.bodies) : "") << ','
+                << (r.wallRatio > 0 ? format("%.4f", r.wallRatio) : "") << ','
+                << (r.cpuRatio > 0 ? format("%.4f", r.cpuRatio) : "") << '\n';
         }
         return bool(out);
     });
@@ -294,7 +356,8 @@ bool writeFleetCsv(const fs::path& csv, const std::vector<FleetRow>& rows) {
     return written.ok();
 }
 
-/// Permeable samples of the bundle (what the exchange asks the water's height at).
+/// Permeable samples of the bundle (the exchange asks the water's height on the lattice nodes
+/// about them).
 std::size_t permeableSamples(const fs::path& folder) {
     std::string error;
     const std::unique_ptr<plimsoll_runtime::Bundle> cpp =

@@ -139,6 +139,9 @@ void addEditCommand(CLI::App& root, CommandRunner& selected) {
                     "Window: none, permeability, density, thickness, coverage, position, area")
         ->check(CLI::IsMember(
             {"none", "permeability", "density", "thickness", "coverage", "position", "area"}));
+    cmd->add_flag("--show-physics-solid", o->window.showPhysicsSolid,
+                  "Window: View > Show physics solid / caps on from the start (the solid a body "
+                  "is simulated as and its caps, over the artist's mesh)");
     cmd->add_option("--window-size", o->windowSize, "Window: size WxH");
     cmd->add_option("--run-seconds", o->window.runSeconds,
                     "Window: run interactively this long, then print frames drawn, CPU seconds "

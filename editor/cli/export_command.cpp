@@ -286,6 +286,10 @@ int runExport(const ExportOptions& o) {
             for (const BundleFile& f : r.files)
                 files.push_back({{"path", f.path}, {"sha256", f.sha256}, {"bytes", f.bytes}});
             entry["texture_size"] = r.textureSize;
+            if (r.tolerance) {
+                entry["tolerance"] = *r.tolerance;
+                entry["force_error"] = r.forceError;
+            }
             entry["covered_texels"] = r.coveredTexels;
             entry["bytes"] = r.totalBytes();
             entry["files"] = files;

@@ -1,6 +1,8 @@
 // plimsoll hydrostatics PROJECT [--body NAME] [--json] [--svg FILE] [--exact] [--step DEG]:
 // equilibrium, waterplane, metacentric heights and the righting-arm curve of one body of a
-// project (physics/hydrostatics.h), from the textures and from the exact clip side by side.
+// project (physics/hydrostatics.h), from the textures and from the exact clip side by side,
+// and the stability report: TPC, MCT1cm, KN cross curves, the largest GZ, the downflooding
+// angle and the IMO 2008 IS Code's general criteria.
 #include "cli/commands.h"
 
 #include "cli/common.h"
@@ -40,7 +42,35 @@ struct Measured {
     double seconds = 0;
 };
 
-nlohmann::json resultJson(const Measured& m) {
+nlohmann::json optionalJson(const std::optional<double>& value) {
+    return value ? nlohmann::json(*value) : nlohmann::json(nullptr);
+}
+
+nlohmann::json criteriaJson(const StabilityCriteria& c) {
+    nlohmann::json criteria = nlohmann::json::array();
+    for (const StabilityCriterion& k : c.criteria) {
+        criteria.push_back({{"name", k.name},
+                            {"value", k.value},
+                            {"required", k.required},
+                            {"unit", k.unit},
+                            {"pass", k.pass}});
+    }
+    return {{"pass", c.pass}, {"criteria", criteria}};
+}
+
+nlohmann::json crossCurvesJson(const HydrostaticsResult& r, double density) {
+    nlohmann::json curves = nlohmann::json::array();
+    for (const CrossCurve& c : r.crossCurves) {
+        nlohmann::json kn = nlohmann::json::array();
+        for (std::size_t i = 0; i < c.kn.size(); ++i) kn.push_back({c.heelsDegrees[i], c.kn[i]});
+        curves.push_back({{"displacement", c.displacement},
+                          {"displacement_t", density * c.displacement / 1000},
+                          {"kn", kn}});
+    }
+    return curves;
+}
+
+nlohmann::json resultJson(const Measured& m, double density) {
     const HydrostaticsResult& r = m.result;
     nlohmann::json gz = nlohmann::json::array();
     for (const RightingArm& p : r.gz) gz.push_back({p.heelDegrees, p.arm});
@@ -63,6 +93,15 @@ nlohmann::json resultJson(const Measured& m) {
             {"gm_longitudinal_effective", r.gmLongitudinal - r.freeSurfaceLossLongitudinal},
             {"gz", gz},
             {"vanishing_stability_deg", r.vanishingStabilityDegrees},
+            {"waterline_length", r.waterlineLength},
+            {"tpc", r.tonnesPerCentimetre},
+            {"mct1cm", r.momentToChangeTrim},
+            {"gz_max", r.gzMax},
+            {"gz_max_angle_deg", r.gzMaxDegrees},
+            {"downflooding_angle_deg", optionalJson(r.downfloodingDegrees)},
+            {"openings", r.openingCount},
+            {"kn_cross_curves", crossCurvesJson(r, density)},
+            {"is_code_2008", criteriaJson(r.isCode2008)},
             {"seconds", m.seconds}};
 }
 
@@ -93,12 +132,72 @@ const HydrostaticsRow kRows[] = {
      [](const HydrostaticsResult& r) { return r.gmTransverse - r.freeSurfaceLossTransverse; }},
     {"vanishing stability (deg)",
      [](const HydrostaticsResult& r) { return r.vanishingStabilityDegrees; }},
+    {"waterline length (m)", [](const HydrostaticsResult& r) { return r.waterlineLength; }},
+    {"TPC (t/cm)", [](const HydrostaticsResult& r) { return r.tonnesPerCentimetre; }},
+    {"MCT1cm (t m/cm)", [](const HydrostaticsResult& r) { return r.momentToChangeTrim; }},
+    {"GZ max (m)", [](const HydrostaticsResult& r) { return r.gzMax; }},
+    {"angle of GZ max (deg)", [](const HydrostaticsResult& r) { return r.gzMaxDegrees; }},
+    {"downflooding angle (deg)",
+     [](const HydrostaticsResult& r) { return r.downfloodingDegrees.value_or(NAN); }},
 };
 
 void printRow(const std::string& name, const std::vector<double>& values) {
     std::printf("  %-27s", name.c_str());
-    for (double v : values) std::printf(" %14.7g", v);
+    for (double v : values) {
+        if (std::isnan(v)) {
+            std::printf(" %14s", "none");
+        } else {
+            std::printf(" %14.7g", v);
+        }
+    }
     std::printf("\n");
+}
+
+/// The IS Code's criteria, each method's value and verdict beside the required value.
+void printCriteria(const std::vector<Measured>& methods) {
+    std::printf("\n  %-27s %14s", "IMO 2008 IS Code, A 2.2", "required");
+    for (const Measured& m : methods) std::printf(" %14s", hydrostaticsMethodName(m.result.method));
+    std::printf("\n");
+    std::printf(
+        "  on GZ less the free-surface loss times sin(heel); the areas to 40 degrees end at\n"
+        "  the downflooding angle where that is less\n");
+    const std::vector<StabilityCriterion>& first = methods[0].result.isCode2008.criteria;
+    for (std::size_t i = 0; i < first.size(); ++i) {
+        const std::string name = first[i].name + " (" + first[i].unit + ")";
+        std::printf("  %-27s %14.4g", name.c_str(), first[i].required);
+        for (const Measured& m : methods) {
+            const StabilityCriterion& k = m.result.isCode2008.criteria[i];
+            std::printf(" %9.4g %4s", k.value, k.pass ? "pass" : "FAIL");
+        }
+        std::printf("\n");
+    }
+    std::printf("  %-27s %14s", "verdict", "");
+    for (const Measured& m : methods)
+        std::printf(" %14s", m.result.isCode2008.pass ? "pass" : "FAIL");
+    std::printf("\n");
+}
+
+/// KN against heel, one column per displacement, for each method.
+void printCrossCurves(const std::vector<Measured>& methods) {
+    for (const Measured& m : methods) {
+        const std::vector<CrossCurve>& curves = m.result.crossCurves;
+        if (curves.empty()) continue;
+        const std::string title = std::string("KN (m), ") + hydrostaticsMethodName(m.result.method);
+        std::printf("\n  %-27s", title.c_str());
+        for (const CrossCurve& c : curves) {
+            char volume[32];
+            std::snprintf(volume, sizeof volume, "%.5g m^3", c.displacement);
+            std::printf(" %14s", volume);
+        }
+        std::printf("\n");
+        for (std::size_t i = 0; i < curves[0].heelsDegrees.size(); ++i) {
+            char heel[32];
+            std::snprintf(heel, sizeof heel, "%g deg", curves[0].heelsDegrees[i]);
+            std::vector<double> values;
+            for (const CrossCurve& c : curves) values.push_back(c.kn[i]);
+            printRow(heel, values);
+        }
+    }
 }
 
 void printTable(const std::vector<Measured>& methods) {
@@ -126,6 +225,8 @@ void printTable(const std::vector<Measured>& methods) {
         std::snprintf(heel, sizeof heel, "%g", first[i].heelDegrees);
         printRow(heel, values([&](const HydrostaticsResult& r) { return r.gz[i].arm; }));
     }
+    printCriteria(methods);
+    printCrossCurves(methods);
 }
 
 bool writeGzSvg(const std::string& path, const std::string& label,
@@ -205,7 +306,7 @@ int runHydrostatics(const HydrostaticsOptions& o) {
 
     if (!o.svg.empty() && !writeGzSvg(o.svg, body->label, methods)) return kExitFailure;
     if (o.json) {
-        nlohmann::json out = resultJson(methods[0]);
+        nlohmann::json out = resultJson(methods[0], settings->density);
         out["body"] = body->desc.name;
         out["texture_size"] =
             o.exact ? nlohmann::json(nullptr) : nlohmann::json(body->desc.textureSize);
@@ -213,7 +314,7 @@ int runHydrostatics(const HydrostaticsOptions& o) {
         out["center_of_mass"] = vectorJson(floating->body.centerOfMass);
         out["graph_water"] = floating->graphWater;
         out["water_density"] = settings->density;
-        if (methods.size() == 2) out["exact"] = resultJson(methods[1]);
+        if (methods.size() == 2) out["exact"] = resultJson(methods[1], settings->density);
         std::cout << out.dump(2) << "\n";
         return kExitOk;
     }

@@ -834,4 +834,34 @@ Result<std::unique_ptr<Command>> makeSetBodyTransformCommand(const Document& doc
         verb + bodyLabel(b, body), document.project(), std::move(project)));
 }
 
+Result<std::unique_ptr<Command>> makeSetCapCommand(const Document& document, std::size_t body,
+                                                   std::size_t cap, const CapDesc& settings) {
+    if (Status ok = checkBody(document, body); !ok) return ok.error();
+    if (settings.height && !std::isfinite(*settings.height))
+        return makeError(ErrorKind::invalidArgument, "a cap's height must be a finite number");
+    if (settings.mode == OpeningsMode::None)
+        return makeError(ErrorKind::invalidArgument,
+                         "a cap is open or sealed (\"none\" is the body's openings)");
+    if (cap > 4096)
+        return makeError(ErrorKind::invalidArgument, "no opening " + std::to_string(cap + 1));
+    Project project = document.project();
+    BodyDesc& b = project.bodies[body];
+    const CapDesc before = cap < b.caps.size() ? b.caps[cap] : CapDesc{};
+    if (before == settings)
+        return makeError(ErrorKind::invalidArgument, "the cap is already so: nothing to change");
+    if (b.caps.size() <= cap) b.caps.resize(cap + 1);
+    b.caps[cap] = settings;
+    while (!b.caps.empty() && b.caps.back() == CapDesc{}) b.caps.pop_back();
+    std::string verb = "Set ";
+    if (before.height == settings.height)
+        verb = settings.mode == OpeningsMode::Sealed ? "Seal "
+               : settings.mode == OpeningsMode::Open ? "Open "
+                                                     : "Set ";
+    else if (before.mode == settings.mode)
+        verb = "Move ";
+    return std::unique_ptr<Command>(std::make_unique<ProjectCommand>(
+        verb + bodyLabel(b, body) + " cap " + std::to_string(cap + 1), document.project(),
+        std::move(project)));
+}
+
 }  // namespace plimsoll::editor

@@ -184,5 +184,13 @@ Result<std::unique_ptr<Command>> makeRemoveBodyCommand(const Document& document,
 Result<std::unique_ptr<Command>> makeSetBodyTransformCommand(const Document& document, std::size_t body,
                                                              const Eigen::Vector3d& position,
                                                              const Eigen::Vector3d& rotationDegrees);
+/// Sets the cap of opening `cap` (BodyDesc::caps, in the openings' order) of body `body`: its
+/// mode ("open" or "sealed"; nullopt: the body's `openings`) and height (object y, m; nullopt:
+/// the rim's). The list grows with default entries up to `cap` and loses default entries at
+/// its end. One undo step ("Seal boat cap 1", "Move boat cap 1"); a height that is not finite,
+/// a mode of "none" and a change that changes nothing are refused. Whether the height fits the
+/// opening is checked when the body is loaded (the repair knows its rim).
+Result<std::unique_ptr<Command>> makeSetCapCommand(const Document& document, std::size_t body,
+                                                   std::size_t cap, const CapDesc& settings);
 
 }  // namespace plimsoll::editor

@@ -177,6 +177,7 @@ void Document::syncAssets(DetachedAssets& detached) {
             a.meshError.clear();
             a.paintSurfaces = {};
             a.physics.reset();
+            a.levelChoice.reset();
             if (!meshPath.empty()) {
                 Result<TriangleMesh> mesh = loadMesh(meshPath, MeshLoadOptions{.unitScale = body.unitScale});
                 if (mesh) {
@@ -192,7 +193,8 @@ void Document::syncAssets(DetachedAssets& detached) {
                 }
             }
         }
-        if (a.physics && (a.physics->size != body.textureSize)) a.physics.reset();
+        if (a.levelChoice && !levelChoice(b)) a.levelChoice.reset();
+        if (a.physics && (a.physics->size != physicsBakeSettings(b).size)) a.physics.reset();
         for (MapChannel c : kMapChannels) {
             BodyAssets::Map& m = a.maps[static_cast<int>(c)];
             const std::string& written = channelPath(body, c);
@@ -382,7 +384,17 @@ Result<std::shared_ptr<const SurfaceTextures>> Document::physicsTextures(std::si
     BodyAssets& a = assets_[body];
     if (!a.mesh) return makeError(ErrorKind::invalidArgument, "body " + std::to_string(body) + ": no mesh (" + a.meshError + ")");
     if (!a.physics) {
-        Result<SurfaceTextures> baked = bakeSurfaceTextures(*a.mesh, physicsBakeSettings(body));
+        const BakeSettings settings = physicsBakeSettings(body);
+        if (settings.size == 0) {
+            Result<LevelChoice> choice =
+                chooseLevelForTolerance(*a.mesh, *project_.bodies[body].tolerance, settings);
+            if (!choice) return choice.error();
+            std::shared_ptr<const SurfaceTextures> textures = std::move(choice->textures);
+            adoptLevelChoice(body, a.mesh.get(), settings, *choice);
+            a.physics = std::move(textures);
+            return a.physics;
+        }
+        Result<SurfaceTextures> baked = bakeSurfaceTextures(*a.mesh, settings);
         if (!baked) return baked.error();
         a.physics = std::make_shared<const SurfaceTextures>(std::move(baked).value());
     }
@@ -390,10 +402,42 @@ Result<std::shared_ptr<const SurfaceTextures>> Document::physicsTextures(std::si
 }
 
 BakeSettings Document::physicsBakeSettings(std::size_t body) const {
+    const BodyDesc& desc = project_.bodies[body];
     BakeSettings settings;
-    settings.size = project_.bodies[body].textureSize;
-    settings.maxTexelStretch = project_.bodies[body].maxTexelStretch;
+    settings.maxTexelStretch = desc.maxTexelStretch;
+    if (!desc.tolerance)
+        settings.size = desc.textureSize;
+    else if (const std::optional<LevelChoice> choice = levelChoice(body))
+        settings.size = choice->size;
+    else
+        settings.size = 0;
     return settings;
+}
+
+std::optional<LevelChoice> Document::levelChoice(std::size_t body) const {
+    if (body >= assets_.size() || body >= project_.bodies.size()) return std::nullopt;
+    const BodyAssets& a = assets_[body];
+    const BodyDesc& desc = project_.bodies[body];
+    if (!a.levelChoice || !desc.tolerance || a.levelChoice->tolerance != *desc.tolerance ||
+        a.levelChoiceStretch != desc.maxTexelStretch) {
+        return std::nullopt;
+    }
+    return a.levelChoice;
+}
+
+bool Document::adoptLevelChoice(std::size_t body, const TriangleMesh* mesh,
+                                const BakeSettings& settings, const LevelChoice& choice) {
+    if (body >= assets_.size() || !mesh || assets_[body].mesh.get() != mesh) return false;
+    const BodyDesc& desc = project_.bodies[body];
+    if (!desc.tolerance || *desc.tolerance != choice.tolerance ||
+        desc.maxTexelStretch != settings.maxTexelStretch) {
+        return false;
+    }
+    LevelChoice kept = choice;
+    kept.textures.reset();
+    assets_[body].levelChoice = std::move(kept);
+    assets_[body].levelChoiceStretch = settings.maxTexelStretch;
+    return true;
 }
 
 std::shared_ptr<const SurfaceTextures> Document::bakedPhysics(std::size_t body) const {

@@ -66,8 +66,12 @@ struct BodyAssets {
     std::array<Map, kMapChannelCount> maps;
     /// Paint surfaces, built on first use for the map's size.
     std::array<std::shared_ptr<const PaintSurface>, kMapChannelCount> paintSurfaces;
-    /// The physics bake (body.textureSize), built on first use.
+    /// The physics bake (body.textureSize, or the size its tolerance picks), built on first use.
     std::shared_ptr<const SurfaceTextures> physics;
+    /// For a body that gives a tolerance: the size it picks on `mesh` and that size's measured
+    /// errors, with the tolerance and stretch limit it was picked for (textures dropped).
+    std::optional<LevelChoice> levelChoice;
+    double levelChoiceStretch = 0;
     /// The body's water graph (the file BodyDesc::waterGraph names) as loaded and edited. It
     /// is parsed but not validated: a graph with errors can still be opened and fixed.
     struct Graph {
@@ -207,8 +211,17 @@ public:
     Pose bodyPose(std::size_t body) const;
     /// The body's physics textures at its texture size (baked on first use, cached).
     Result<std::shared_ptr<const SurfaceTextures>> physicsTextures(std::size_t body);
-    /// What physicsTextures(body) would bake with (size, stretch limit).
+    /// What physicsTextures(body) would bake with (size, stretch limit). For a body that gives
+    /// a tolerance, the size it picks, or 0 while that is not known (levelChoice).
     BakeSettings physicsBakeSettings(std::size_t body) const;
+    /// The size a body's tolerance picks on its mesh, and that size's measured errors; none
+    /// for a body with a texture size, or while the pick is not made (PhysicsBakes makes it
+    /// off the UI thread, physicsTextures on the calling thread).
+    std::optional<LevelChoice> levelChoice(std::size_t body) const;
+    /// Installs a pick made elsewhere from `mesh` with `settings` (the stretch limit) for
+    /// `choice.tolerance`, when the body still has that mesh, tolerance and limit (true).
+    bool adoptLevelChoice(std::size_t body, const TriangleMesh* mesh, const BakeSettings& settings,
+                          const LevelChoice& choice);
     /// The body's physics textures if they are baked at its current size (null: not yet;
     /// never bakes). The window's panels read this and bake in the background (physics_bakes.h).
     std::shared_ptr<const SurfaceTextures> bakedPhysics(std::size_t body) const;

@@ -1,6 +1,7 @@
 #include "document/physics_bakes.h"
 
 #include "plimsoll/bake/cancellable_bake.h"
+#include "plimsoll/scene/level_ladder.h"
 
 #include <atomic>
 
@@ -25,6 +26,10 @@ struct PhysicsBakes::Job {
     std::atomic<double> progress{0.0};
     std::atomic<bool> done{false};
     std::optional<Result<SurfaceTextures>> result;
+    /// A body that gives a tolerance (settings.size 0): the pick of its size, whose bake is
+    /// `result`.
+    std::optional<double> tolerance;
+    std::optional<LevelChoice> choice;
     std::thread thread;
     ~Job() {
         cancel = true;
@@ -82,10 +87,23 @@ std::shared_ptr<const SurfaceTextures> PhysicsBakes::texturesFor(Document& docum
         job->previousSize = state.textures && state.mesh == mesh ? state.textures->size : 0;
         Job* raw = job.get();
         job->settings.progress = [raw](double fraction) { raw->progress = fraction; };
+        if (settings.size == 0) job->tolerance = document.project().bodies[body].tolerance;
         job->thread = std::thread([raw] {
             lowerThisThreadsPriority();
-            raw->result = bakeSurfaceTextures(*raw->mesh, raw->settings, nullptr,
-                                              [raw] { return raw->cancel.load(); });
+            if (raw->tolerance) {
+                Result<LevelChoice> choice =
+                    chooseLevelForTolerance(*raw->mesh, *raw->tolerance, raw->settings);
+                if (choice) {
+                    raw->result = SurfaceTextures(*choice->textures);
+                    choice->textures.reset();
+                    raw->choice = std::move(*choice);
+                } else {
+                    raw->result = choice.error();
+                }
+            } else {
+                raw->result = bakeSurfaceTextures(*raw->mesh, raw->settings, nullptr,
+                                                  [raw] { return raw->cancel.load(); });
+            }
             raw->done = true;
         });
         state.worker = job->thread.get_id();
@@ -111,6 +129,13 @@ bool PhysicsBakes::poll(Document& document) {
             continue;
         }
         auto textures = std::make_shared<const SurfaceTextures>(std::move(result).value());
+        // A tolerance's pick: the size it picked is the size these textures were baked at.
+        if (job->choice) {
+            if (body >= document.bodyCount() ||
+                !document.adoptLevelChoice(body, job->mesh.get(), job->settings, *job->choice))
+                continue;
+            job->settings.size = job->choice->size;
+        }
         if (body < document.bodyCount() &&
             document.adoptPhysics(body, job->mesh.get(), job->settings, textures)) {
             state.mesh = job->mesh;

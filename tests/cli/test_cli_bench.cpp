@@ -187,6 +187,48 @@ TEST(CliBench, FleetQuickRunComparesOneBundleWithOneLoadPerBoat) {
     EXPECT_EQ(separate.at("bundles"), separate.at("bodies"));
     EXPECT_LE(10 * std::stod(shared.at("memory_bytes")), std::stod(separate.at("memory_bytes")));
     for (const auto& [name, row] : rows) EXPECT_GT(std::stod(row.at("frame_ms")), 0.0) << name;
+    // The one-body rows run on the calling thread, so they carry its CPU time, and the flooding
+    // ones their ratio to the dry row on the same water.
+    for (const char* water : {"", ", flat water"}) {
+        const std::string dry = std::string("one body, water load only (dry)") + water + "/1";
+        const std::string flooding =
+            std::string("one body, flooding (graph step + load)") + water + "/1";
+        EXPECT_GT(std::stod(rows.at(dry).at("cpu_us_per_body")), 0.0) << dry;
+        EXPECT_GT(std::stod(rows.at(flooding).at("cpu_us_per_body")), 0.0) << flooding;
+        EXPECT_GT(std::stod(rows.at(flooding).at("flooding_over_dry_cpu")), 0.0) << flooding;
+        EXPECT_GT(std::stod(rows.at(flooding).at("flooding_over_dry_wall")), 0.0) << flooding;
+    }
+    EXPECT_EQ(shared.at("cpu_us_per_body"), "");
+    fs::remove_all(out);
+}
+
+/// bench --scene: the resting bodies all fall asleep and then cost no evaluation, where the
+/// same scene without sleeping evaluates every body every sub-step.
+TEST(CliBench, SceneQuickRunSleepsEveryRestingBody) {
+    const fs::path out =
+        fs::temp_directory_path() / ("plimsoll_bench_scene_" + std::to_string(::getpid()));
+    fs::remove_all(out);
+    const CommandOutput r =
+        runPlimsoll("bench --scene --quick --frames 2 --out '" + out.string() + "'");
+    ASSERT_EQ(r.exitCode, 0) << r.err;
+    const std::vector<CsvRow> rows = parseCsv(test::readFile(out / "bench_scene.csv"));
+    ASSERT_EQ(rows.size(), 2u);
+    EXPECT_EQ(rows[0].at("asleep"), "0");
+    EXPECT_EQ(std::stod(rows[0].at("evaluations_per_frame")),
+              4.0 * std::stod(rows[0].at("bodies")));
+    EXPECT_EQ(rows[1].at("asleep"), rows[1].at("bodies"));
+    EXPECT_EQ(std::stod(rows[1].at("evaluations_per_frame")), 0.0);
+    EXPECT_GT(std::stoi(rows[1].at("frames_to_sleep")), 0);
+    // Level of detail: the same bodies on waves all at 64^2, then by distance; those within
+    // 50 m at 64^2 exactly, the rest coarser, fewer entries evaluated.
+    const std::vector<CsvRow> lod = parseCsv(test::readFile(out / "bench_scene_lod.csv"));
+    ASSERT_EQ(lod.size(), 2u);
+    EXPECT_EQ(lod[0].at("at_64"), lod[0].at("bodies"));
+    EXPECT_EQ(std::stod(lod[0].at("error_beyond")), 0.0);
+    EXPECT_GT(std::stoi(lod[1].at("bodies_50m")), 0);
+    EXPECT_EQ(std::stod(lod[1].at("error_50m")), 0.0);
+    EXPECT_GT(std::stoi(lod[1].at("at_16")), std::stoi(lod[1].at("at_64")));
+    EXPECT_GT(std::stod(lod[1].at("error_beyond")), 0.0);
     fs::remove_all(out);
 }
 

@@ -7,6 +7,9 @@
 
 #include "document/command.h"
 #include "document/physics_bakes.h"
+#include "plimsoll/scene/level_ladder.h"
+
+#include <nlohmann/json.hpp>
 
 #include <gtest/gtest.h>
 
@@ -123,6 +126,54 @@ TEST(EditorPhysicsBakes, ABakeMadeStaleByALaterEditNeverReachesTheDocument) {
     setSize(*d, 32);
     EXPECT_FALSE(d->adoptPhysics(0, d->assets(0).mesh.get(), settings, old));
     EXPECT_EQ(d->bakedPhysics(0), nullptr);
+}
+
+}  // namespace
+}  // namespace test_editor_physics_bakes
+}  // namespace plimsoll::editor
+
+namespace plimsoll::editor {
+namespace test_editor_physics_bakes {
+namespace {
+
+TEST(EditorPhysicsBakes, AToleranceIsPickedOnAWorkerAndShownWithItsError) {
+    auto d = openOrFail(sphereProject("bakes_tolerance", 32));
+    ASSERT_TRUE(d);
+    // From a size to a tolerance: one undoable step, the body's JSON with one key for the other.
+    const std::string before = projectToJson(d->project());
+    nlohmann::json body = nlohmann::json::parse(before)["bodies"][0];
+    body.erase("texture_size");
+    body["tolerance"] = 2e-3;
+    executeOrFail(*d, makeSetPropertyCommand(*d, "/bodies/0", body));
+    EXPECT_FALSE(d->levelChoice(0));
+    EXPECT_EQ(d->physicsBakeSettings(0).size, 0);  // not known yet
+
+    PhysicsBakes bakes;
+    EXPECT_EQ(bakes.texturesFor(*d, 0), nullptr);
+    ASSERT_TRUE(waitForArrival(bakes, *d));
+    const std::optional<LevelChoice> choice = d->levelChoice(0);
+    ASSERT_TRUE(choice);
+    EXPECT_LE(choice->forceError, 2e-3);
+    const auto textures = bakes.texturesFor(*d, 0);
+    ASSERT_TRUE(textures);
+    EXPECT_EQ(textures->size, choice->size);
+    EXPECT_EQ(d->physicsBakeSettings(0).size, choice->size);
+    // What a project run picks for the same mesh and tolerance, with its error.
+    Result<LevelChoice> direct =
+        chooseLevelForTolerance(*d->assets(0).mesh, 2e-3, d->physicsBakeSettings(0));
+    ASSERT_TRUE(direct.ok()) << direct.error().message;
+    EXPECT_EQ(direct->size, choice->size);
+    EXPECT_EQ(direct->forceError, choice->forceError);
+    expectSameTextures(*textures, *direct->textures);
+
+    // A tighter tolerance is a new pick; undo brings the size back, byte for byte.
+    executeOrFail(*d, makeSetPropertyCommand(*d, "/bodies/0/tolerance", 1e-4));
+    EXPECT_FALSE(d->levelChoice(0));
+    ASSERT_TRUE(d->undo());
+    ASSERT_TRUE(d->undo());
+    EXPECT_EQ(projectToJson(d->project()), before);
+    EXPECT_FALSE(d->levelChoice(0));
+    EXPECT_EQ(d->physicsBakeSettings(0).size, 32);
 }
 
 }  // namespace

@@ -1356,3 +1356,69 @@ TEST(EditorWindow, LayerRenameFromTheContextMenuKeepsEnterAndDropsEsc) {
 }  // namespace
 }  // namespace test_editor_window
 }  // namespace plimsoll::editor
+
+namespace plimsoll::editor {
+namespace test_editor_window {
+namespace {
+
+/// The window's last frame after `seconds` of `project` (the perspective view, from above the
+/// water, no paint overlay), with or
+/// without View > Show physics solid / caps; empty when the window cannot run here.
+std::vector<unsigned char> frameOf(const fs::path& project, bool showSolid, double seconds) {
+    const fs::path shot = project.parent_path() / (showSolid ? "solid.png" : "plain.png");
+    const test::CommandOutput run =
+        test::runPlimsoll("edit '" + project.string() + "' --run-seconds " +
+                              std::to_string(seconds) + " --screenshot '" + shot.string() +
+                              "' --window-size 800x500 --view persp --overlay none" +
+                              (showSolid ? " --show-physics-solid" : ""),
+                          test::xvfbRun(project.parent_path()));
+    EXPECT_EQ(run.exitCode, 0) << run.err;
+    int width = 0, height = 0, channels = 0;
+    unsigned char* data = stbi_load(shot.c_str(), &width, &height, &channels, 3);
+    if (!data) return {};
+    std::vector<unsigned char> rgb(data, data + 3 * width * height);
+    stbi_image_free(data);
+    return rgb;
+}
+
+std::size_t differingPixels(const std::vector<unsigned char>& a,
+                            const std::vector<unsigned char>& b) {
+    std::size_t count = 0;
+    for (std::size_t i = 0; i + 2 < std::min(a.size(), b.size()); i += 3)
+        count += a[i] != b[i] || a[i + 1] != b[i + 1] || a[i + 2] != b[i + 2];
+    return count;
+}
+
+TEST(EditorWindow, ShowPhysicsSolidDrawsAnOpenHullsCapAndNothingOverAClosedMesh) {
+    if (!haveWindowTools(false)) GTEST_SKIP() << "xvfb-run is not installed, or no editor window";
+    const fs::path boatFile = test::realAssetsDir() / "quaternius" / "Boat.fbx";
+    if (!fs::exists(boatFile)) GTEST_SKIP() << "../shared/real-assets is absent";
+    // A closed ball: its physics solid is its mesh and it has no cap, so nothing is drawn over it.
+    const fs::path ball = ballProject("window_solid_ball");
+    const std::vector<unsigned char> ballPlain = frameOf(ball, false, 3.0);
+    const std::vector<unsigned char> ballSolid = frameOf(ball, true, 3.0);
+    ASSERT_FALSE(ballPlain.empty());
+    ASSERT_EQ(ballPlain.size(), ballSolid.size());
+    const std::size_t ballChanged = differingPixels(ballPlain, ballSolid);
+
+    // The open dinghy: its cap across the gunwale, worked out in the background, is drawn over it.
+    const fs::path dir = ball.parent_path();
+    const fs::path boat = dir / "boat.plim.json";
+    std::ofstream(boat) << R"({"schema_version": 1, "name": "boat",
+        "water": {"model": "flat", "level": -5},
+        "bodies": [{"name": "boat", "mesh": ")"
+                        << boatFile.string() << R"(", "material": {"density": 500}}]})";
+    const std::vector<unsigned char> boatPlain = frameOf(boat, false, 6.0);
+    const std::vector<unsigned char> boatSolid = frameOf(boat, true, 6.0);
+    ASSERT_EQ(boatPlain.size(), boatSolid.size());
+    const std::size_t boatChanged = differingPixels(boatPlain, boatSolid);
+    // The cap across the hull seen from above, and the solid's see-through walls over the hull:
+    // some thousands of pixels of the 400,000; the ball's frames differ by at most a few pixels
+    // of text that changes with time.
+    EXPECT_GT(boatChanged, 2000u);
+    EXPECT_LT(ballChanged, boatChanged / 20);
+}
+
+}  // namespace
+}  // namespace test_editor_window
+}  // namespace plimsoll::editor

@@ -374,16 +374,18 @@ TEST(Export, VerifyAcceptsABundleAndNamesWhatIsWrongWithABadOne) {
                   .find("malformed manifest"), std::string::npos);
 }
 
-// Versions: this reader (1.4) reads 1.0 to 1.4 bundles and refuses 2.0 naming both versions.
+// Versions: this reader (1.5) reads 1.0 to 1.5 bundles and refuses 2.0 naming both versions.
 TEST(Export, VerifyAcceptsCurrentAndPreviousMinorsAndRefusesANewerMajor) {
     ASSERT_EQ(kBundleSchemaMajor, 1);
-    ASSERT_EQ(kBundleSchemaMinor, 4);
+    ASSERT_EQ(kBundleSchemaMinor, 5);
     const fs::path root = copyProject("versions", "box_half_draft");
     Result<Project> project = loadProject(root / "projects" / "box_half_draft.plim.json");
     ASSERT_TRUE(project.ok()) << project.error().message;
     const fs::path good = root / "good";
     ASSERT_TRUE(writeBodyBundle(*project, 0, good).ok());
-    for (const auto& [major, minor] : {std::pair{1, 0}, std::pair{1, 1}, std::pair{1, 2}, std::pair{1, 3}, std::pair{1, 4}, std::pair{2, 0}}) {
+    for (const auto& [major, minor] :
+         {std::pair{1, 0}, std::pair{1, 1}, std::pair{1, 2}, std::pair{1, 3}, std::pair{1, 4},
+          std::pair{1, 5}, std::pair{2, 0}}) {
         const fs::path folder = root / ("v" + std::to_string(major) + "." + std::to_string(minor));
         fs::copy(good, folder, fs::copy_options::recursive);
         nlohmann::json m = nlohmann::json::parse(readFile(folder / "manifest.json"));
@@ -392,6 +394,8 @@ TEST(Export, VerifyAcceptsCurrentAndPreviousMinorsAndRefusesANewerMajor) {
         if (minor == 0) m.erase("gltf");  // 1.0 had no glTF
         if (minor < 3) m.erase("radiation");  // nor did 1.2 radiation
         if (minor < 4) m.erase("world");  // nor did 1.3 the world
+        else if (minor < 5)
+            m["world"]["simulation"].erase("sleep");  // nor 1.4 sleeping
         std::ofstream(folder / "manifest.json") << m.dump(2);
         Result<BundleManifestInfo> r = verifyBundle(folder);
         if (major == 1) {

@@ -50,7 +50,7 @@ struct FloatingBox {
     }
     /// The box's mass at its centre (the box is centred on the origin).
     HydrostaticBody body() const {
-        return {density * length * height * beam, Eigen::Vector3d::Zero(), {}};
+        return {density * length * height * beam, Eigen::Vector3d::Zero(), {}, {}};
     }
 };
 
@@ -131,7 +131,7 @@ TEST(Hydrostatics, SphereHasNoRightingArmAtAnyHeel) {
     const double radius = 0.5;
     const TriangleMesh mesh = makeUvSphere(radius, 64, 32);
     const MassProperties solid = exactSolidMassProperties(mesh, 600.0);
-    HydrostaticBody body{solid.mass, solid.centerOfMass, {}};
+    HydrostaticBody body{solid.mass, solid.centerOfMass, {}, {}};
     HydrostaticsSettings settings;
     settings.gzStepDegrees = 10.0;
     const SurfaceTextures textures = test::bakeOrFail(mesh, 128);

@@ -32,13 +32,15 @@ struct Case {
     Start start;
     bool dissipation;  // drag and damping on
     bool radiation = false;  // Cummins' equation on (scene_radiation.h)
+    bool lod = false;        // a level ladder (16^2, 32^2), switching every second
 };
 
 std::string describe(const Case& r) {
     const char* start = r.start == Start::OutOfWater ? "out" : r.start == Start::AtSurface ? "surface" : "deep";
     return "ratio " + std::to_string(r.ratio) + ", size " + std::to_string(r.size) + " m, dt " +
            std::to_string(r.step) + " s, start " + start +
-           (r.dissipation ? ", drag on" : ", drag off") + (r.radiation ? ", radiation on" : "");
+           (r.dissipation ? ", drag on" : ", drag off") + (r.radiation ? ", radiation on" : "") +
+           (r.lod ? ", lod on" : "");
 }
 
 Scene sceneFor(const Case& r) {
@@ -57,6 +59,7 @@ Scene sceneFor(const Case& r) {
         body.linearDamping = body.angularDamping = 0;
     }
     if (r.radiation) body.radiation = RadiationDesc{};
+    if (r.lod) body.lod = LodDesc{{16}};
     Scene scene;
     scene.bodies.push_back(test::bodyOrFail(body, makeUvSphere(radius, 16, 8)));
     if (r.radiation) {
@@ -89,17 +92,18 @@ constexpr bool kChecksWhereBodiesEnd = !test::kSanitizedBuild;
 // start; together the pieces cover the whole grid, as the single test once did.
 struct GridPoint {
     double ratio, step;
+    bool lod = false;  // with a level ladder, switching every second (Case::lod)
 };
 
 /// How ctest's listing shows a grid point (gtest prints a struct's bytes otherwise).
 void PrintTo(const GridPoint& p, std::ostream* out) {
-    *out << "density ratio " << p.ratio << ", dt " << p.step << " s";
+    *out << "density ratio " << p.ratio << ", dt " << p.step << " s" << (p.lod ? ", lod on" : "");
 }
 
-std::vector<GridPoint> grid(std::initializer_list<double> steps) {
+std::vector<GridPoint> grid(std::initializer_list<double> steps, bool lod = false) {
     std::vector<GridPoint> points;
     for (double ratio : kRatios)
-        for (double step : steps) points.push_back({ratio, step});
+        for (double step : steps) points.push_back({ratio, step, lod});
     return points;
 }
 
@@ -113,7 +117,8 @@ std::string gridName(const testing::TestParamInfo<GridPoint>& info) {
             if (c == '.') c = '_';
         return s;
     };
-    return "ratio" + clean(info.param.ratio) + "_dt" + clean(info.param.step);
+    return "ratio" + clean(info.param.ratio) + "_dt" + clean(info.param.step) +
+           (info.param.lod ? "_lod" : "");
 }
 
 /// The world of one run, on the fast CPU path (test::fastWorldOrFail). The dt = 1e-4 pieces
@@ -123,6 +128,19 @@ std::unique_ptr<World> createWorld(const Case& run) { return test::fastWorldOrFa
 
 int framesFor(double step) { return static_cast<int>(std::round(kSimulatedSeconds / step)); }
 
+/// With LOD on, before frame f: the body's importance toggles between 1 (32^2) and 1/4 (16^2)
+/// every simulated second, so it switches level (blending) through the whole run.
+void switchLevels(World& world, const Case& run, int f) {
+    if (!run.lod) return;
+    const int perSecond = std::max(1, static_cast<int>(std::round(1.0 / run.step)));
+    if (f % perSecond != 0) return;
+    LevelPolicy policy;
+    policy.kind = LevelPolicy::Kind::importance;
+    policy.holdFrames = 0;
+    policy.importance = {(f / perSecond) % 2 ? 1.0 : 0.25};
+    ASSERT_TRUE(world.setLevelPolicy(policy).ok());
+}
+
 class StabilityGrid : public testing::TestWithParam<GridPoint> {};
 class StabilityEnergy : public testing::TestWithParam<GridPoint> {};
 
@@ -131,13 +149,15 @@ TEST_P(StabilityGrid, NothingBlowsUpAndBodiesEndWhereTheyShould) {
     const double step = GetParam().step;
     for (double size : kSizes)
         for (Start start : {Start::OutOfWater, Start::AtSurface, Start::Deep}) {
-            const Case run{ratio, size, step, start, true};
+            Case run{ratio, size, step, start, true};
+            run.lod = GetParam().lod;
             SCOPED_TRACE(describe(run));
             const std::unique_ptr<World> created = createWorld(run);
             ASSERT_TRUE(created);
             World& world = *created;
             const double startY = world.bodies()[0].state.position.y();
             for (int f = 0; f < framesFor(step); ++f) {
+                switchLevels(world, run, f);
                 ASSERT_TRUE(world.advanceFrame().ok());
                 const SimulatedBody& b = world.bodies()[0];
                 ASSERT_TRUE(b.state.position.allFinite() && b.state.linearMomentum.allFinite() &&
@@ -170,7 +190,8 @@ TEST_P(StabilityEnergy, WithoutDragEnergyNeverGrows) {
     const double step = GetParam().step;
     for (double size : kSizes)
         for (Start start : {Start::OutOfWater, Start::AtSurface, Start::Deep}) {
-            const Case run{ratio, size, step, start, false};
+            Case run{ratio, size, step, start, false};
+            run.lod = GetParam().lod;
             SCOPED_TRACE(describe(run));
             const std::unique_ptr<World> created = createWorld(run);
             ASSERT_TRUE(created);
@@ -185,9 +206,11 @@ TEST_P(StabilityEnergy, WithoutDragEnergyNeverGrows) {
             const double initial = world.mechanicalEnergy(0);
             double worst = -1e300;
             for (int f = 0; f < framesFor(step); ++f) {
+                switchLevels(world, run, f);
                 ASSERT_TRUE(world.advanceFrame().ok());
                 worst = std::max(worst, world.mechanicalEnergy(0) - initial);
             }
+            if (run.lod) EXPECT_GT(world.statistics().levelSwitches, 0u);
             EXPECT_LE(worst, 0.01 * (std::abs(initial) + scale));
             std::printf("  energy %-60s worst rise %.2e of scale\n", describe(run).c_str(),
                         worst / (std::abs(initial) + scale));
@@ -195,6 +218,13 @@ TEST_P(StabilityEnergy, WithoutDragEnergyNeverGrows) {
 }
 
 INSTANTIATE_TEST_SUITE_P(Stability, StabilityEnergy, testing::ValuesIn(grid({1.0 / 60, 1.0 / 15})),
+                         gridName);
+
+// With LOD on (docs/design.md, "Level of detail"): the grid and the energy test at dt = 1/60 s,
+// the body switching between its 16^2 and 32^2 levels every second.
+INSTANTIATE_TEST_SUITE_P(StabilityLod, StabilityGrid, testing::ValuesIn(grid({1.0 / 60}, true)),
+                         gridName);
+INSTANTIATE_TEST_SUITE_P(StabilityLod, StabilityEnergy, testing::ValuesIn(grid({1.0 / 60}, true)),
                          gridName);
 
 // With radiation on (a floating ratio, dt = 1/60 s, the 1 m body from every start, no drag or

@@ -313,6 +313,66 @@ TEST(Project, RadiationSettingsRoundTripAndAreChecked) {
                    {"bodies[0].radiation.max_frequency: must be more than min_frequency"});
 }
 
+TEST(Project, CapSettingsRoundTripAndAreChecked) {
+    const Project project = loaded(parseProject(
+        withBody(R"({"mesh": "a.obj", "material": {"density": 600}, "openings": "sealed",
+                     "caps": [{"mode": "open", "height": 0.125}, {}, {"height": -0.5}]})"),
+        "scene", "/scenes"));
+    const BodyDesc& body = project.bodies[0];
+    ASSERT_EQ(body.caps.size(), 3u);
+    EXPECT_EQ(body.caps[0].mode, OpeningsMode::Open);
+    EXPECT_EQ(body.caps[0].height, 0.125);
+    EXPECT_EQ(body.caps[1], CapDesc{});
+    EXPECT_FALSE(body.caps[2].mode);
+    EXPECT_EQ(body.caps[2].height, -0.5);
+    // Each cap's mode: its own, else the body's; openings past the list take the body's.
+    EXPECT_EQ(body.capMode(0), OpeningsMode::Open);
+    EXPECT_EQ(body.capMode(1), OpeningsMode::Sealed);
+    EXPECT_EQ(body.capMode(7), OpeningsMode::Sealed);
+    const std::string text = projectToJson(project);
+    EXPECT_EQ(loaded(parseProject(text, "again", "/scenes")), project);
+    EXPECT_EQ(projectToJson(loaded(parseProject(text, "again", "/scenes"))), text);
+    // With "openings": "none" there are no caps, whatever the list says.
+    Project none = project;
+    none.bodies[0].openings = OpeningsMode::None;
+    EXPECT_EQ(none.bodies[0].capMode(0), OpeningsMode::None);
+    // Absent: no list, and none is written.
+    const Project plain = loaded(
+        parseProject(withBody(R"({"mesh": "a.obj", "material": {"density": 600}})"), "s", "/"));
+    EXPECT_TRUE(plain.bodies[0].caps.empty());
+    EXPECT_EQ(projectToJson(plain).find("\"caps\""), std::string::npos);
+    expectProblems(
+        withBody(R"({"mesh": "a.obj", "material": {"density": 600},
+                                "caps": [{"mode": "none"}, {"height": "low"}, {"hieght": 1}, 3]})"),
+        {"bodies[0].caps[0].mode: unknown 'none' (open, sealed)",
+         "bodies[0].caps[1].height: must be a number", "bodies[0].caps[2].hieght: unknown key",
+         "bodies[0].caps[3]: must be an object"});
+    expectProblems(
+        withBody(R"({"mesh": "a.obj", "material": {"density": 600}, "caps": {"mode": "open"}})"),
+        {"bodies[0].caps: must be an array"});
+}
+
+TEST(Project, LevelLadderRoundTripsAndIsChecked) {
+    const Project project = loaded(
+        parseProject(withBody(R"({"mesh": "a.obj", "material": {"density": 600}, "texture_size": 64,
+                     "lod": {"levels": [16, 32]}})"),
+                     "scene", "/scenes"));
+    ASSERT_TRUE(project.bodies[0].lod);
+    EXPECT_EQ(project.bodies[0].lod->levels, (std::vector<int>{16, 32}));
+    EXPECT_EQ(loaded(parseProject(projectToJson(project), "again", "/scenes")), project);
+    // Absent: no ladder, and none is written.
+    const Project plain = loaded(
+        parseProject(withBody(R"({"mesh": "a.obj", "material": {"density": 600}})"), "s", "/"));
+    EXPECT_FALSE(plain.bodies[0].lod);
+    EXPECT_EQ(projectToJson(plain).find("\"lod\""), std::string::npos);
+    expectProblems(withBody(R"({"mesh": "a.obj", "material": {"density": 600}, "texture_size": 64,
+                                "lod": {"levels": [8, 128], "size": 1}})"),
+                   {"bodies[0].lod.size: unknown key", "bodies[0].lod.levels[0]: must be in 16..64",
+                    "bodies[0].lod.levels[1]: must be in 16..64"});
+    expectProblems(withBody(R"({"mesh": "a.obj", "material": {"density": 600}, "lod": {}})"),
+                   {"bodies[0].lod.levels: required (texture sizes, e.g. [16, 32])"});
+}
+
 TEST(Project, ReportsBadWater) {
     std::string waves;
     for (int i = 0; i < kMaxGerstnerWaves + 1; ++i) waves += R"({"amplitude": 0.1},)";

@@ -322,6 +322,283 @@ TEST(Openings, TheEditorSimulatesWhatAProjectRunSimulates) {
     EXPECT_NEAR(sealed.bodies[0].mass->mass, a.mass->mass, 1e-9 * a.mass->mass);
 }
 
+// --- Caps moved and sealed -------------------------------------------------------------------
+
+TEST(Openings, ALoweredCapDisplacesTheInnerAreaTimesTheDropLess) {
+    SKIP_WITHOUT_REPAIR();
+    const Cup cup;
+    const TriangleMesh mesh = makeCup(cup);
+    const PhysicsSolid atRim = solidOf(mesh);
+    ASSERT_EQ(atRim.openings.size(), 1u);
+    EXPECT_NEAR(atRim.openings[0].rimHeight, cup.height, 1e-12);
+    EXPECT_NEAR(atRim.openings[0].bottomHeight, cup.floor, 1e-12);
+    const double innerArea = 4 * cup.inner * cup.inner;
+    for (const double drop : {0.05, 0.2, 0.35}) {
+        SCOPED_TRACE(drop);
+        RepairSettings settings;
+        const double h = cup.height - drop;
+        settings.capHeights = {h};
+        const PhysicsSolid lowered = solidOf(mesh, settings);
+        ASSERT_EQ(lowered.openings.size(), 1u);
+        const Opening& opening = lowered.openings[0];
+        EXPECT_EQ(opening.capHeight, h);
+        EXPECT_NEAR(opening.cavity.volume, innerArea * (h - cup.floor), 1e-9);
+        EXPECT_NEAR(opening.capArea, innerArea, 1e-9);
+        EXPECT_NEAR(atRim.displacementVolume - lowered.displacementVolume,
+                    innerArea * (atRim.openings[0].capHeight - h), 1e-9);
+        EXPECT_NEAR(lowered.materialVolume, cup.materialVolume(), 1e-12);
+        EXPECT_TRUE(validateSurface(lowered.mesh).closedSolid());
+        EXPECT_NEAR(exactSolidMassProperties(lowered.mesh, 1.0).volume, lowered.displacementVolume,
+                    1e-9);
+    }
+    // Above the rim the water spills first; at the floor nothing is behind the cap.
+    for (const double h : {cup.height + 0.01, cup.floor, cup.floor - 0.05}) {
+        SCOPED_TRACE(h);
+        RepairSettings settings;
+        settings.capHeights = {h};
+        Result<PhysicsSolid> refused = physicsSolidFor(mesh, validateSurface(mesh), settings);
+        ASSERT_FALSE(refused.ok());
+        EXPECT_NE(refused.error().message.find("caps[0].height"), std::string::npos)
+            << refused.error().message;
+        EXPECT_NE(refused.error().message.find(h > cup.height ? "above the lowest point of its rim"
+                                                              : "not above the bottom"),
+                  std::string::npos)
+            << refused.error().message;
+    }
+}
+
+/// Two cups side by side, sharing the wall between them (overlapping closed parts that the
+/// repair joins): the left one's hold is the larger, so it is opening 0.
+TriangleMesh twinCups(const Cup& left, const Cup& right) {
+    TriangleMesh mesh = makeCup(left);
+    for (Eigen::Vector3d& p : mesh.positions) p.x() -= left.outer - 0.05;
+    TriangleMesh other = makeCup(right);
+    const auto base = static_cast<std::uint32_t>(mesh.positions.size());
+    for (Eigen::Vector3d p : other.positions)
+        mesh.positions.push_back(p + Eigen::Vector3d(right.outer - 0.05, 0, 0));
+    for (const Triangle& t : other.triangles)
+        mesh.triangles.push_back({t[0] + base, t[1] + base, t[2] + base});
+    mesh.source = "twin cups";
+    return mesh;
+}
+
+/// Tolerance of a figure of a mesh read back from a file: assimp reads positions as floats.
+constexpr double kFloatMesh = 1e-6;
+
+/// The project of one body on `mesh` (written as OBJ in a scratch folder).
+Project bodyProject(const TriangleMesh& mesh, const std::string& name,
+                    const MaterialDesc& material) {
+    Project p;
+    p.name = name;
+    p.fileStem = name;
+    p.folder = test::freshFolder("openings_caps", name);
+    EXPECT_TRUE(writeObj(mesh, p.folder / (name + ".obj")).ok());
+    BodyDesc body;
+    body.name = name;
+    body.mesh = name + ".obj";
+    body.textureSize = 64;
+    body.material = material;
+    p.bodies.push_back(body);
+    p.water = WaterModel::flat(0.0);
+    return p;
+}
+
+/// bodyProject of a wooden body (600 kg/m^3).
+Project woodProject(const TriangleMesh& mesh, const std::string& name) {
+    MaterialDesc wood;
+    wood.density = 600;
+    return bodyProject(mesh, name, wood);
+}
+
+TEST(Openings, ASealedCapLetsNoWaterInWhereAnOpenOneFloods) {
+    SKIP_WITHOUT_REPAIR();
+    Cup left, right;
+    right.inner = 0.3;
+    right.outer = 0.4;
+    const TriangleMesh mesh = twinCups(left, right);
+    const PhysicsSolid solid = solidOf(mesh);
+    ASSERT_EQ(solid.openings.size(), 2u) << describeRepairs(solid.repairs);
+    const double leftHold = 4 * left.inner * left.inner * (left.height - left.floor);
+    const double rightHold = 4 * right.inner * right.inner * (right.height - right.floor);
+    EXPECT_NEAR(solid.openings[0].cavity.volume, leftHold, 1e-4 * leftHold);
+    EXPECT_NEAR(solid.openings[1].cavity.volume, rightHold, 1e-4 * rightHold);
+    EXPECT_LT(solid.openings[0].cavity.centerOfMass.x(), 0);
+
+    Project project = woodProject(mesh, "twin");
+    project.bodies[0].caps = {
+        CapDesc{.mode = OpeningsMode::Sealed}};  // the left one; the right one open
+    // Held a metre under for three seconds: the open hold fills, the sealed one stays dry.
+    project.bodies[0].position = Eigen::Vector3d(0, -1.5, 0);
+    std::unique_ptr<World> world = test::fastWorldOrFail(test::sceneOrFail(project));
+    ASSERT_TRUE(world);
+    const WaterGraphSimulation* graph = world->waterGraph(0);
+    ASSERT_NE(graph, nullptr);
+    ASSERT_EQ(graph->graph().nodes.size(), 1u) << "one compartment: the open cap's";
+    EXPECT_EQ(graph->graph().nodes[0].id, "opening-2");
+    EXPECT_NEAR(graph->graph().nodes[0].capacity, rightHold, 1e-4 * rightHold);
+    ASSERT_TRUE(world
+                    ->setExternalForce(0,
+                                       [](const SimulatedBody& body, const RigidBodyState& state) {
+                                           Wrench w;  // a hand that keeps it where it is
+                                           w.force = -50.0 * state.linearMomentum;
+                                           w.force.y() -=
+                                               body.mass.mass * 200.0 * (state.position.y() + 1.5);
+                                           return w;
+                                       })
+                    .ok());
+    for (int f = 0; f < 180; ++f) ASSERT_TRUE(world->advanceFrame().ok());
+    EXPECT_GT(world->waterGraph(0)->storedWater(), 0.9 * rightHold);
+
+    // Both sealed: no compartment at all, and the body displaces its sealed hull.
+    project.bodies[0].caps = {CapDesc{.mode = OpeningsMode::Sealed},
+                              CapDesc{.mode = OpeningsMode::Sealed}};
+    const Scene decked = test::sceneOrFail(project);
+    ASSERT_EQ(decked.bodies.size(), 1u);
+    EXPECT_FALSE(decked.bodies[0].parts.waterGraph);
+    // And the body-wide default sealed with the left cap open: the left's compartment only.
+    project.bodies[0].openings = OpeningsMode::Sealed;
+    project.bodies[0].caps = {CapDesc{.mode = OpeningsMode::Open}};
+    const Scene leftOpen = test::sceneOrFail(project);
+    ASSERT_TRUE(leftOpen.bodies[0].parts.waterGraph);
+    ASSERT_EQ(leftOpen.bodies[0].parts.waterGraph->nodes.size(), 1u);
+    EXPECT_EQ(leftOpen.bodies[0].parts.waterGraph->nodes[0].id, "opening-1");
+}
+
+TEST(Openings, ACapMovedInTheProjectSetsTheCompartmentAndTheDisplacement) {
+    SKIP_WITHOUT_REPAIR();
+    const Cup cup;
+    Project project = woodProject(makeCup(cup), "cup");
+    const double h = 0.3;
+    project.bodies[0].caps = {CapDesc{.height = h}};
+    const Scene scene = test::sceneOrFail(project);
+    ASSERT_EQ(scene.bodies.size(), 1u);
+    const SceneBody& body = scene.bodies[0];
+    ASSERT_TRUE(body.parts.waterGraph);
+    ASSERT_EQ(body.parts.waterGraph->nodes.size(), 1u);
+    const double hold = 4 * cup.inner * cup.inner * (h - cup.floor);
+    EXPECT_NEAR(body.parts.waterGraph->nodes[0].capacity, hold, kFloatMesh * hold);
+    // The baked surface encloses walls and hold: V = sum A_y y over the textures (exact).
+    double volume = 0;
+    for (std::size_t i = 0; i < body.textures->coveredCount(); ++i)
+        volume += body.textures->areaVector[i].y() * body.textures->position[i].y();
+    EXPECT_NEAR(volume, cup.materialVolume() + hold, kFloatMesh * volume);
+    // The walls weigh what the cup weighs, wherever the cap is.
+    EXPECT_NEAR(body.mass->mass, 600 * cup.materialVolume(),
+                kFloatMesh * 600 * cup.materialVolume());
+
+    // Above the rim: refused, naming the project file, the body and the cap.
+    project.bodies[0].caps = {CapDesc{.height = cup.height + 0.1}};
+    Result<Scene> refused = loadScene(project);
+    ASSERT_FALSE(refused.ok());
+    const std::string& message = refused.error().message;
+    EXPECT_NE(message.find("cup.plim.json"), std::string::npos) << message;
+    EXPECT_NE(message.find("body 'cup'"), std::string::npos) << message;
+    EXPECT_NE(message.find("caps[0].height"), std::string::npos) << message;
+}
+
+TEST(Openings, TheShellLiesOnTheWallsNotOnTheCap) {
+    SKIP_WITHOUT_REPAIR();
+    // A thin-walled open box: 1 m square, 0.5 m high, walls and floor 2 cm thick.
+    Cup box;
+    box.outer = 0.5;
+    box.inner = 0.48;
+    box.floor = 0.02;
+    box.height = 0.5;
+    constexpr double kSigma = 12;  // kg/m^2
+    MaterialDesc shell;
+    shell.shellSurfaceDensity = kSigma;
+    for (const OpeningsMode mode : {OpeningsMode::Open, OpeningsMode::Sealed}) {
+        SCOPED_TRACE(openingsModeName(mode));
+        Project project = bodyProject(makeCup(box), "box", shell);
+        project.bodies[0].openings = mode;
+        const Scene scene = test::sceneOrFail(project);
+        ASSERT_EQ(scene.bodies.size(), 1u);
+        const PhysicsSolid solid = solidOf(makeCup(box));
+        ASSERT_EQ(solid.openings.size(), 1u);
+        const double cap = solid.openings[0].capHeight;
+        // The skin of the sealed body less its cap: outside (floor and four sides), the rim's
+        // top, and the strip of inner wall above the cap.
+        const double a = 2 * box.outer, b = 2 * box.inner;
+        const double skin =
+            a * a + 4 * a * box.height + (a * a - b * b) + 4 * b * (box.height - cap);
+        // (The cap would add kSigma b^2, a third more.)
+        EXPECT_NEAR(scene.bodies[0].mass->mass, kSigma * skin, kFloatMesh * kSigma * skin);
+        EXPECT_NEAR(scene.bodies[0].mass->centerOfMass.x(), 0, 1e-4);
+    }
+}
+
+TEST(Openings, TheEditorSealsAndMovesACapUndoablyByteForByte) {
+    SKIP_WITHOUT_REPAIR();
+    const Cup cup;
+    Project project = woodProject(makeCup(cup), "pail");
+    const fs::path file = project.folder / "pail.plim.json";
+    ASSERT_TRUE(saveProject(project, file).ok());
+    const std::string opened = test::readFile(file);
+    Result<std::unique_ptr<editor::Document>> document = editor::Document::open(file);
+    ASSERT_TRUE(document.ok()) << document.error().message;
+    editor::Document& doc = **document;
+    const auto text = [&] { return projectToJson(doc.project()); };
+    const std::string t0 = text();
+
+    Result<std::unique_ptr<editor::Command>> seal =
+        editor::makeSetCapCommand(doc, 0, 0, CapDesc{.mode = OpeningsMode::Sealed});
+    ASSERT_TRUE(seal.ok()) << seal.error().message;
+    EXPECT_EQ((*seal)->name(), "Seal pail cap 1");
+    ASSERT_TRUE(doc.execute(std::move(*seal)).ok());
+    const std::string t1 = text();
+    EXPECT_EQ(doc.project().bodies[0].capMode(0), OpeningsMode::Sealed);
+    Result<Scene> sealed = doc.simulationScene();
+    ASSERT_TRUE(sealed.ok()) << sealed.error().message;
+    EXPECT_FALSE(sealed->bodies[0].parts.waterGraph) << "a sealed cap lets no water in";
+
+    const double h = 0.3;
+    Result<std::unique_ptr<editor::Command>> move =
+        editor::makeSetCapCommand(doc, 0, 0, CapDesc{.mode = OpeningsMode::Sealed, .height = h});
+    ASSERT_TRUE(move.ok()) << move.error().message;
+    EXPECT_EQ((*move)->name(), "Move pail cap 1");
+    ASSERT_TRUE(doc.execute(std::move(*move)).ok());
+    const std::string t2 = text();
+    Result<Scene> moved = doc.simulationScene();
+    ASSERT_TRUE(moved.ok()) << moved.error().message;
+    double volume = 0;  // what the baked surface encloses: walls and the space under the cap
+    for (std::size_t i = 0; i < moved->bodies[0].textures->coveredCount(); ++i)
+        volume += moved->bodies[0].textures->areaVector[i].y() *
+                  moved->bodies[0].textures->position[i].y();
+    EXPECT_NEAR(volume, cup.materialVolume() + 4 * cup.inner * cup.inner * (h - cup.floor),
+                kFloatMesh * volume);
+    // Nothing to change: no step.
+    EXPECT_FALSE(
+        editor::makeSetCapCommand(doc, 0, 0, CapDesc{.mode = OpeningsMode::Sealed, .height = h})
+            .ok());
+    EXPECT_FALSE(editor::makeSetCapCommand(doc, 0, 0, CapDesc{.mode = OpeningsMode::None}).ok());
+    EXPECT_FALSE(editor::makeSetCapCommand(doc, 0, 0, CapDesc{.height = std::nan("")}).ok());
+
+    EXPECT_NE(t0, t1);
+    EXPECT_NE(t1, t2);
+    ASSERT_TRUE(doc.undo());
+    EXPECT_EQ(text(), t1);
+    ASSERT_TRUE(doc.undo());
+    EXPECT_EQ(text(), t0);
+    EXPECT_FALSE(doc.dirty());
+    ASSERT_TRUE(doc.save().ok());
+    EXPECT_EQ(test::readFile(file), opened) << "undone, the file is as it was";
+    ASSERT_TRUE(doc.redo());
+    EXPECT_EQ(text(), t1);
+    ASSERT_TRUE(doc.redo());
+    EXPECT_EQ(text(), t2);
+    ASSERT_TRUE(doc.save().ok());
+    Result<Project> reread = loadProject(file);
+    ASSERT_TRUE(reread.ok()) << reread.error().message;
+    EXPECT_EQ(reread->bodies[0].caps,
+              (std::vector<CapDesc>{CapDesc{.mode = OpeningsMode::Sealed, .height = h}}));
+    // Back to the defaults: the list is gone again.
+    Result<std::unique_ptr<editor::Command>> reset =
+        editor::makeSetCapCommand(doc, 0, 0, CapDesc{});
+    ASSERT_TRUE(reset.ok());
+    ASSERT_TRUE(doc.execute(std::move(*reset)).ok());
+    EXPECT_EQ(text(), t0);
+}
+
 /// Where the dinghy's cap is, in world space, and how much water is behind it.
 struct Reading {
     double capHeight = 0;  ///< world y of the cap's centre, m

@@ -12,7 +12,9 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
+#include <iostream>
 #include <numbers>
 #include <random>
 
@@ -144,6 +146,118 @@ TEST(PhysicsSolid, AnOpenSheetIsLeftOutOfTheVolume) {
     EXPECT_EQ(findRepair(solid, "wrap"), nullptr);
 }
 
+/// An open box of the given size standing on y = 0, centred on x and z, without its top and
+/// without thickness: a hull or tub modelled as one surface (its five faces share their corners).
+TriangleMesh openTub(const Eigen::Vector3d& size) {
+    TriangleMesh tub;
+    tub.source = "tub";
+    const double x = size.x() / 2, y = size.y(), z = size.z() / 2;
+    tub.positions = {{-x, 0, -z}, {x, 0, -z}, {x, 0, z}, {-x, 0, z},
+                     {-x, y, -z}, {x, y, -z}, {x, y, z}, {-x, y, z}};
+    // Outward normals: bottom down, sides out.
+    tub.triangles = {{0, 1, 2}, {0, 2, 3},                         // bottom
+                     {0, 4, 5}, {0, 5, 1}, {1, 5, 6}, {1, 6, 2},   // z = -z, x = +x
+                     {2, 6, 7}, {2, 7, 3}, {3, 7, 4}, {3, 4, 0}};  // z = +z, x = -x
+    return tub;
+}
+
+/// A closed box from `min` to `max`, its UVs dropped.
+TriangleMesh boxBetween(const Eigen::Vector3d& min, const Eigen::Vector3d& max) {
+    TriangleMesh box = translated(makeBox(max - min), 0.5 * (min + max));
+    box.uvs.clear();
+    return box;
+}
+
+/// A sail: a vertical sheet in x and y, bellied along z (a quarter of its width deep), n x n
+/// quads, free along all its edges.
+TriangleMesh bellySail(const Eigen::Vector3d& corner, double width, double height, int n) {
+    TriangleMesh sail;
+    sail.source = "sail";
+    for (int j = 0; j <= n; ++j)
+        for (int i = 0; i <= n; ++i) {
+            const double u = double(i) / n, v = double(j) / n;
+            sail.positions.push_back(
+                corner + Eigen::Vector3d(u * width, v * height,
+                                         0.25 * width * std::sin(std::numbers::pi * u)));
+        }
+    for (int j = 0; j < n; ++j)
+        for (int i = 0; i < n; ++i) {
+            const auto a = std::uint32_t(j * (n + 1) + i), b = a + 1, c = a + n + 2, d = a + n + 1;
+            sail.triangles.push_back({a, b, c});
+            sail.triangles.push_back({a, c, d});
+        }
+    return sail;
+}
+
+TEST(PhysicsSolid, AnOpenHullBesideAMastIsKeptAsThinWallsAndCapped) {
+    SKIP_WITHOUT_REPAIR();
+    // A 2 x 0.5 x 1 m tub without thickness and a closed 0.1 m square mast standing in it from
+    // 0.1 m to 1.6 m: the sealed hull is the tub's box and the mast above its rim.
+    const Eigen::Vector3d size(2, 0.5, 1);
+    const TriangleMesh mast = boxBetween({-0.05, 0.1, -0.05}, {0.05, 1.6, 0.05});
+    const TriangleMesh mesh = joined(openTub(size), mast);
+    Result<PhysicsSolid> built = physicsSolidFor(mesh, validateSurface(mesh));
+    ASSERT_TRUE(built.ok()) << built.error().message;
+    const PhysicsSolid& solid = *built;
+    EXPECT_TRUE(validateSurface(solid.mesh).closedSolid());
+    ASSERT_NE(findRepair(solid, "open-hulls"), nullptr) << describeRepairs(solid.repairs);
+    EXPECT_EQ(findRepair(solid, "open-hulls")->count, 1u);
+    EXPECT_EQ(findRepair(solid, "open-sheets"), nullptr);
+    ASSERT_EQ(solid.openings.size(), 1u) << describeRepairs(solid.repairs);
+    const double sealed = size.prod() + 0.1 * 0.1 * (1.6 - size.y());
+    // The walls are as thick as the wrap's two offsets, a share of the box's diagonal: a few
+    // millimetres on 5 m^2, and the cap sits at the rim within them.
+    const double diagonal = Eigen::Vector3d(2, 1.6, 1).norm();
+    const double walls = 5.0 * 2 * RepairSettings{}.wrapOffset * diagonal;
+    EXPECT_NEAR(solid.openings[0].capHeight, size.y(), 4 * RepairSettings{}.wrapOffset * diagonal);
+    EXPECT_NEAR(solid.displacementVolume, sealed, 0.02 * sealed);
+    EXPECT_GT(solid.materialVolume, 0.1 * 0.1 * 1.5);              // the mast ...
+    EXPECT_LT(solid.materialVolume, 0.1 * 0.1 * 1.5 + 3 * walls);  // ... and thin walls
+    EXPECT_NEAR(exactSolidMassProperties(solid.mesh, 1.0).volume, solid.displacementVolume,
+                1e-9 * solid.displacementVolume);
+}
+
+TEST(PhysicsSolid, ASailAndAnUpsideDownTubStayOutOfTheVolume) {
+    SKIP_WITHOUT_REPAIR();
+    const TriangleMesh mast = boxBetween({-0.05, 0, -0.05}, {0.05, 2, 0.05});
+    // A bellied sail beside the mast: it opens sideways, and holds no water.
+    const PhysicsSolid sailed = solidOf(joined(mast, bellySail({0.1, 0.3, 0}, 1.0, 1.5, 8)));
+    EXPECT_NEAR(sailed.materialVolume, 0.1 * 0.1 * 2, 1e-12);
+    ASSERT_NE(findRepair(sailed, "open-sheets"), nullptr);
+    EXPECT_EQ(findRepair(sailed, "open-sheets")->count, 1u);
+    EXPECT_EQ(findRepair(sailed, "open-hulls"), nullptr);
+    EXPECT_TRUE(sailed.openings.empty());
+    // The tub turned over (a roof, an awning) opens downwards: it holds no water either.
+    TriangleMesh roof = openTub({1, 0.3, 1});
+    for (Eigen::Vector3d& p : roof.positions) p = Eigen::Vector3d(p.x() + 1, 2.5 - p.y(), p.z());
+    for (Triangle& t : roof.triangles) std::swap(t[1], t[2]);
+    const PhysicsSolid roofed = solidOf(joined(mast, roof));
+    EXPECT_NEAR(roofed.materialVolume, 0.1 * 0.1 * 2, 1e-12);
+    EXPECT_EQ(findRepair(roofed, "open-hulls"), nullptr);
+    // A tub too small beside the rest to count (a cup on a table): 1% of the volume.
+    const TriangleMesh block = boxBetween({-1, -1, -1}, {1, 0, 1});
+    const PhysicsSolid cupped =
+        solidOf(joined(block, translated(openTub({0.2, 0.2, 0.2}), {0, 0.5, 0})));
+    EXPECT_NEAR(cupped.materialVolume, 4.0, 1e-12);
+    EXPECT_EQ(findRepair(cupped, "open-hulls"), nullptr);
+}
+
+TEST(PhysicsSolid, ASolidModelledTwiceAtOnePlaceIsOneSolid) {
+    SKIP_WITHOUT_REPAIR();
+    // A 2 x 1 x 1 box, and the same box again as two closed halves (upper and lower, as a
+    // game's buoyancy hull beside its visible hull): the halves share their bottom and top
+    // faces with the whole, so merging equal faces tears them into open pieces, which together
+    // still bound the box.
+    const TriangleMesh whole = boxBetween({-1, 0, -0.5}, {1, 1, 0.5});
+    const TriangleMesh halves =
+        joined(boxBetween({-1, 0, -0.5}, {1, 0.5, 0.5}), boxBetween({-1, 0.5, -0.5}, {1, 1, 0.5}));
+    const PhysicsSolid solid = solidOf(joined(whole, halves));
+    // The wrap lies its offset outside the box: 10 m^2 of surface.
+    const double offset = RepairSettings{}.wrapOffset * Eigen::Vector3d(2, 1, 1).norm();
+    EXPECT_NEAR(solid.materialVolume, 2.0 + 10 * offset, 3 * 10 * offset)
+        << describeRepairs(solid.repairs);
+}
+
 TEST(PhysicsSolid, NoSolidFromNothing) {
     SKIP_WITHOUT_REPAIR();
     TriangleMesh empty;
@@ -201,6 +315,77 @@ TEST(PhysicsSolid, TheBarrelsVolumeIsItsUnionsByMonteCarlo) {
     ASSERT_LT(3 * standardError, 0.01 * estimate);  // the estimate is good to better than 1%
     EXPECT_NEAR(solid.materialVolume, estimate, 0.02 * estimate);
     EXPECT_LT(solid.materialVolume, summed);  // the hoops overlap the body
+}
+
+/// Whether the ray from `origin` along `direction` crosses triangle (a, b, c) (Möller-Trumbore).
+bool crosses(const Eigen::Vector3d& origin, const Eigen::Vector3d& direction,
+             const Eigen::Vector3d& a, const Eigen::Vector3d& b, const Eigen::Vector3d& c) {
+    const Eigen::Vector3d ab = b - a, ac = c - a, h = direction.cross(ac);
+    const double det = ab.dot(h);
+    if (std::abs(det) < 1e-300) return false;
+    const Eigen::Vector3d s = origin - a;
+    const double u = s.dot(h) / det;
+    const Eigen::Vector3d q = s.cross(ab);
+    const double v = direction.dot(q) / det;
+    return u >= 0 && v >= 0 && u + v <= 1 && ac.dot(q) / det > 0;
+}
+
+/// An estimate, independent of the repair, of what the artist's surface displaces sealed at its
+/// rims: the share of random points in its box that are inside it (generalized winding number
+/// at least 1/2) or from which water cannot run out (no ray, level in 12 directions or 45
+/// degrees down in 6, or straight down, leaves without crossing the surface).
+double sealedEstimate(const TriangleMesh& mesh, int samples) {
+    const Bounds3 box = computeBounds(mesh);
+    std::vector<Eigen::Vector3d> ways{-Eigen::Vector3d::UnitY()};
+    for (int k = 0; k < 12; ++k) {
+        const double angle = std::numbers::pi * k / 6;
+        ways.emplace_back(std::cos(angle), 0, std::sin(angle));
+        if (k % 2 == 1) ways.emplace_back(std::cos(angle), -1, std::sin(angle));
+    }
+    std::mt19937_64 random(11);
+    std::uniform_real_distribution<double> unit(0, 1);
+    int held = 0;
+    for (int i = 0; i < samples; ++i) {
+        const Eigen::Vector3d p =
+            box.min + (box.max - box.min)
+                          .cwiseProduct(Eigen::Vector3d(unit(random), unit(random), unit(random)));
+        bool in = windingNumber(mesh, p) >= 0.5;
+        if (!in) {
+            in = std::all_of(ways.begin(), ways.end(), [&](const Eigen::Vector3d& way) {
+                return std::any_of(mesh.triangles.begin(), mesh.triangles.end(),
+                                   [&](const Triangle& t) {
+                                       return crosses(p, way, mesh.positions[t[0]],
+                                                      mesh.positions[t[1]], mesh.positions[t[2]]);
+                                   });
+            });
+        }
+        if (in) ++held;
+    }
+    return (box.max - box.min).prod() * held / samples;
+}
+
+TEST(PhysicsSolid, TheShipsWithSheetsBesideTheirHullsDisplaceTheirSealedHulls) {
+    SKIP_WITHOUT_REPAIR();
+    if (!std::filesystem::exists(test::realAssetsDir()))
+        GTEST_SKIP() << "../shared/real-assets not present";
+    // The three-masted ship: a hull whose holes are small but which cuts through itself; the
+    // motor boat: one closed boat modelled again as two closed halves and a half hull, which
+    // merging tears into open pieces.
+    for (const char* name : {"quaternius/Sail_ship.fbx", "dawn-of-the-duck/boat2.glb"}) {
+        SCOPED_TRACE(name);
+        Result<TriangleMesh> mesh = loadMesh(test::realAssetsDir() / name);
+        ASSERT_TRUE(mesh.ok()) << mesh.error().message;
+        const PhysicsSolid solid = solidOf(*mesh);
+        const double estimate = sealedEstimate(*mesh, 4000);
+        std::cout << name << ": material " << solid.materialVolume << " m^3, displacement "
+                  << solid.displacementVolume << " m^3, sealed estimate " << estimate << " m^3, "
+                  << solid.openings.size() << " openings, " << describeRepairs(solid.repairs)
+                  << "\n";
+        EXPECT_NEAR(solid.displacementVolume, estimate, 0.15 * estimate);
+        // Whatever the solid adds, sheets left out and the wrap's offset, is a small share.
+        EXPECT_LE(solid.materialVolume, solid.displacementVolume);
+        EXPECT_GT(solid.materialVolume, 0.5 * estimate);
+    }
 }
 
 }  // namespace

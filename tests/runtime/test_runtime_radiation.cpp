@@ -93,7 +93,7 @@ TEST_F(RuntimeRadiation, TheBundleCarriesTheEnginesCumminsModelExactly) {
     const CumminsModel& model = body->radiation->model;
     std::unique_ptr<rt::Bundle> bundle = load("radiating");
     ASSERT_TRUE(bundle);
-    EXPECT_EQ(bundle->schemaMinor(), 4);
+    EXPECT_EQ(bundle->schemaMinor(), plimsoll::kBundleSchemaMinor);
     const rt::Radiation* r = bundle->radiation();
     ASSERT_TRUE(r);
     EXPECT_EQ(r->restVolume, body->radiation->restVolume);

@@ -87,6 +87,7 @@ struct Frame {
     Eigen::Vector3d center;
     Eigen::Vector4d q;  // w, x, y, z
     double mass;
+    bool asleep;
 };
 
 std::vector<Frame> worldRun(const Project& project, long frames) {
@@ -97,7 +98,8 @@ std::vector<Frame> worldRun(const Project& project, long frames) {
         EXPECT_TRUE(world->advanceFrame().ok());
         const SimulatedBody& b = world->bodies().front();
         const Eigen::Quaterniond& q = b.state.orientation;
-        out.push_back({world->time(), b.state.position, {q.w(), q.x(), q.y(), q.z()}, b.mass.mass});
+        out.push_back(
+            {world->time(), b.state.position, {q.w(), q.x(), q.y(), q.z()}, b.mass.mass, b.asleep});
     }
     return out;
 }
@@ -112,13 +114,15 @@ std::vector<Frame> runtimeRun(rt::Bundle& bundle, const rt::Water& water, long f
         EXPECT_TRUE(s->advanceFrame(water, error)) << error;
         const rt::Vec3& c = s->centerOfMass();
         const rt::Quat& q = s->orientation();
-        out.push_back({s->time(), {c.x, c.y, c.z}, {q.w, q.x, q.y, q.z}, s->mass().mass});
+        out.push_back(
+            {s->time(), {c.x, c.y, c.z}, {q.w, q.x, q.y, q.z}, s->mass().mass, s->asleep()});
     }
     return out;
 }
 
 struct Gap {
     double position = 0, orientation = 0, mass = 0, travel = 0;
+    long sleptFrames = 0;  ///< frames both runs slept through
 };
 
 Gap compare(const std::vector<Frame>& a, const std::vector<Frame>& b) {
@@ -126,6 +130,9 @@ Gap compare(const std::vector<Frame>& a, const std::vector<Frame>& b) {
     EXPECT_EQ(a.size(), b.size());
     for (std::size_t i = 0; i < std::min(a.size(), b.size()); ++i) {
         EXPECT_NEAR(a[i].time, b[i].time, 1e-9);
+        // Both fall asleep and wake on the same frames: one rule (plimsoll_eval/sleep.hpp).
+        EXPECT_EQ(a[i].asleep, b[i].asleep) << "frame " << i;
+        g.sleptFrames += a[i].asleep && b[i].asleep;
         g.position = std::max(g.position, (a[i].center - b[i].center).norm());
         g.orientation = std::max(g.orientation, std::min((a[i].q - b[i].q).norm(), (a[i].q + b[i].q).norm()));
         g.mass = std::max(g.mass, std::abs(a[i].mass - b[i].mass) / a[i].mass);
@@ -181,6 +188,17 @@ protected:
         return out;
     }
 
+    /// The sample box with strong damping: it comes to rest, and sleeps, within seconds.
+    static Project dampedBox() {
+        Result<Project> loaded = loadProject(root() / "projects" / "box_half_draft.plim.json");
+        EXPECT_TRUE(loaded.ok()) << loaded.error().message;
+        Project project = loaded.ok() ? *loaded : Project{};
+        project.fileStem = "box_half_draft+damped";
+        project.bodies[0].linearDamping = 4.0;
+        project.bodies[0].angularDamping = 4.0;
+        return project;
+    }
+
     /// The bundle of `project`'s body, exported once per process.
     static fs::path exported(const Project& project) {
         const fs::path folder = root() / "out" / project.fileStem;
@@ -214,10 +232,14 @@ TEST_F(RuntimeTrajectory, EverySampleProjectFollowsTheWorld) {
         const bool floods = bundle->graph() != nullptr;
         sawFlooding |= floods;
         sawWaves |= project.water.kind == WaterModel::Kind::Gerstner;
-        std::printf("  %-22s %s%s: travel %.3f m; runtime vs World, same water: %.2e m, %.2e (q), mass %.1e; "
-                    "own water: %.2e m\n",
-                    project.fileStem.c_str(), project.water.kind == WaterModel::Kind::Flat ? "flat " : "waves",
-                    floods ? " floods" : "       ", g.travel, g.position, g.orientation, g.mass, h.position);
+        std::printf(
+            "  %-22s %s%s: travel %.3f m; runtime vs World, same water: %.2e m, %.2e (q), mass "
+            "%.1e; "
+            "own water: %.2e m; asleep %ld frames\n",
+            project.fileStem.c_str(),
+            project.water.kind == WaterModel::Kind::Flat ? "flat " : "waves",
+            floods ? " floods" : "       ", g.travel, g.position, g.orientation, g.mass, h.position,
+            g.sleptFrames);
         const double bound = floods ? kFloodingBound : kRigidBound;
         EXPECT_LE(g.position, bound);
         EXPECT_LE(h.position, bound);
@@ -228,6 +250,48 @@ TEST_F(RuntimeTrajectory, EverySampleProjectFollowsTheWorld) {
     }
     EXPECT_TRUE(sawFlooding);
     EXPECT_TRUE(sawWaves);
+}
+
+// Sleeping: a damped box comes to rest; the runtime's Simulation falls asleep on the World's
+// frame, stays where the World holds it, and a snapshot taken asleep restores asleep.
+TEST_F(RuntimeTrajectory, ARestingBodySleepsOnTheWorldsFrame) {
+    const Project project = dampedBox();
+    const fs::path folder = exported(project);
+    std::string error;
+    std::unique_ptr<rt::Bundle> bundle = rt::loadBundle(folder.string(), error);
+    ASSERT_TRUE(bundle) << error;
+    ASSERT_TRUE(bundle->world().sleep.enabled);
+    const long frames = 900;  // 15 s
+    const std::vector<Frame> world = worldRun(project, frames);
+    const std::vector<Frame> runtime = runtimeRun(*bundle, bundle->world().water.water(), frames);
+    const Gap g = compare(world, runtime);
+    EXPECT_GT(g.sleptFrames, 300) << "the box did not sleep its last 5 s";
+    EXPECT_LE(g.position, kRigidBound);
+
+    std::unique_ptr<rt::Simulation> s = rt::Simulation::create(*bundle, error);
+    ASSERT_TRUE(s) << error;
+    const rt::Water water = bundle->world().water.water();
+    while (!s->asleep() && s->time() < 15.0) ASSERT_TRUE(s->advanceFrame(water, error)) << error;
+    ASSERT_TRUE(s->asleep());
+    const std::vector<std::uint8_t> snapshot = s->save();
+    std::unique_ptr<rt::Simulation> copy = rt::Simulation::create(*bundle, error);
+    ASSERT_TRUE(copy->restore(snapshot, error)) << error;
+    EXPECT_TRUE(copy->asleep());
+    for (int f = 0; f < 60; ++f) {
+        ASSERT_TRUE(s->advanceFrame(water, error));
+        ASSERT_TRUE(copy->advanceFrame(water, error));
+        ASSERT_EQ(s->stateHash(), copy->stateHash()) << "frame " << f;
+    }
+    // Asleep, the body stays put; wake() and a push of the water wake it.
+    const rt::Vec3 at = s->centerOfMass();
+    ASSERT_TRUE(s->advanceFrame(water, error));
+    EXPECT_EQ(s->centerOfMass().y, at.y);
+    s->wake();
+    EXPECT_FALSE(s->asleep());
+    rt::WaterModel raised = bundle->world().water;
+    raised.level += 0.01;
+    ASSERT_TRUE(copy->advanceFrame(raised.water(), error));
+    EXPECT_FALSE(copy->asleep());
 }
 
 // Snapshots: saved at a random frame k and restored into a fresh simulation of a freshly
@@ -559,6 +623,75 @@ TEST_F(RuntimeTrajectory, AnInstanceRestoredAtARandomStepContinuesBitForBit) {
         EXPECT_CONTAINS(plimsoll_runtime_last_error(), "plimsoll_instance_restore: snapshot:");
         EXPECT_EQ(plimsoll_instance_state_hash(b.get()), before);
     }
+}
+
+// Sleeping instances: stepped by the batch, damped boxes at rest on calm water fall asleep, cost
+// a look at the water a step and leave their states alone; a velocity the game gives, a pose it
+// sets, the water rising or plimsoll_instance_wake wake one; the sleep state is in the snapshot.
+TEST_F(RuntimeTrajectory, InstancesSleepAtRestAndWakeOnTheGamesPushOrTheWater) {
+    const Project project = dampedBox();
+    const BundleHandle bundle = loadC(exported(project));
+    ASSERT_TRUE(bundle);
+    constexpr int kBodies = 3;
+    std::vector<InstanceHandle> owned;
+    std::vector<plimsoll_instance*> instances;
+    std::vector<plimsoll_body_state> states;
+    for (int i = 0; i < kBodies; ++i) {
+        owned.push_back(instanceOf(bundle.get()));
+        instances.push_back(owned.back().get());
+        states.push_back(startState(0.0, i));
+    }
+    plimsoll_batch* batch = plimsoll_batch_create(nullptr);
+    ASSERT_TRUE(batch);
+    plimsoll_water water{};
+    const double dt = 1.0 / 120.0;
+    double t = 0;
+    auto step = [&](const plimsoll_water& w) {
+        ASSERT_EQ(plimsoll_batch_instance_step(batch, kBodies, instances.data(), states.data(), &w,
+                                               nullptr, t, dt),
+                  1)
+            << plimsoll_runtime_last_error();
+        t += dt;
+    };
+    for (int s = 0;
+         s < 120 * 20 && !std::all_of(instances.begin(), instances.end(),
+                                      [](auto* i) { return plimsoll_instance_asleep(i) == 1; });
+         ++s)
+        step(water);
+    for (plimsoll_instance* i : instances) ASSERT_EQ(plimsoll_instance_asleep(i), 1);
+    // Asleep: the states stay, bit for bit, and the velocities are zero.
+    const std::vector<plimsoll_body_state> rest = states;
+    for (int s = 0; s < 60; ++s) step(water);
+    for (int i = 0; i < kBodies; ++i) {
+        EXPECT_TRUE(sameBits(states[i], rest[i])) << i;
+        EXPECT_EQ(states[i].velocity.linear[1], 0.0);
+    }
+    // Snapshot of a sleeping instance: restored into a fresh one, it sleeps too.
+    std::vector<std::uint8_t> bytes(4096);
+    std::size_t size = 0;
+    ASSERT_EQ(plimsoll_instance_save(instances[0], bytes.data(), bytes.size(), &size), 1);
+    const InstanceHandle copy = instanceOf(bundle.get());
+    ASSERT_EQ(plimsoll_instance_restore(copy.get(), bytes.data(), size), 1);
+    EXPECT_EQ(plimsoll_instance_asleep(copy.get()), 1);
+    EXPECT_EQ(plimsoll_instance_state_hash(copy.get()), plimsoll_instance_state_hash(instances[0]));
+    // The game pushes body 0 (a velocity), moves body 1 (a pose): both wake; body 2 sleeps on.
+    states[0].velocity.linear[0] = 0.5;
+    states[1].pose.position[0] += 2.0;
+    step(water);
+    EXPECT_EQ(plimsoll_instance_asleep(instances[0]), 0);
+    EXPECT_EQ(plimsoll_instance_asleep(instances[1]), 0);
+    EXPECT_EQ(plimsoll_instance_asleep(instances[2]), 1);
+    EXPECT_GT(states[0].pose.position[0], rest[0].pose.position[0]);
+    // The water rising 1 cm wakes body 2; and plimsoll_instance_wake wakes a sleeping copy.
+    plimsoll_water raised{};
+    raised.level = 0.01;
+    step(raised);
+    EXPECT_EQ(plimsoll_instance_asleep(instances[2]), 0);
+    EXPECT_EQ(plimsoll_instance_wake(copy.get()), 1);
+    EXPECT_EQ(plimsoll_instance_asleep(copy.get()), 0);
+    EXPECT_EQ(plimsoll_instance_asleep(nullptr), 0);
+    EXPECT_NE(std::string(plimsoll_runtime_last_error()).find("NULL"), std::string::npos);
+    plimsoll_batch_destroy(batch);
 }
 
 // A batch steps its instances with the same bits whatever its thread count and the order of

@@ -90,10 +90,10 @@ INSTANTIATE_TEST_SUITE_P(SampleProjects, Determinism,
                          testing::Values(PinnedTrajectory{"balloon", 0xf2c16e55757f4024ull},
                                          PinnedTrajectory{"box_half_draft", 0xe39c00fb030eba15ull},
                                          PinnedTrajectory{"buoy", 0x81bad5a06555421bull},
-                                         PinnedTrajectory{"damaged_boat", 0xec29d0a85b897d3dull},
+                                         PinnedTrajectory{"damaged_boat", 0x5362c89d6d304165ull},
                                          PinnedTrajectory{"heavy_side_ball", 0x6e03ae57de7d9015ull},
                                          PinnedTrajectory{"neutral_ball", 0x3ff444187faf54f4ull},
-                                         PinnedTrajectory{"plush", 0x60155bb0675b67eaull}),
+                                         PinnedTrajectory{"plush", 0xfb4ab8d4d922d645ull}),
                          [](const testing::TestParamInfo<PinnedTrajectory>& info) {
                              return std::string(info.param.project);
                          });

@@ -479,6 +479,17 @@ PLIMSOLL_RUNTIME_API int plimsoll_instance_restore(plimsoll_instance* instance, 
                                                    size_t size);
 PLIMSOLL_RUNTIME_API uint64_t plimsoll_instance_state_hash(const plimsoll_instance* instance);
 
+/* Sleeping (docs/design.md "Sleeping bodies"): stepped by plimsoll_instance_step or
+ * plimsoll_batch_instance_step, an instance at rest on calm water sleeps as the editor's bodies
+ * do (a bundle of schema 1.5 or later, its world.simulation.sleep): a step then costs one look
+ * at the water above it and leaves the state as it is. It wakes when that water moves or rises,
+ * when the game changes the pose or gives it a velocity, or on plimsoll_instance_wake. An
+ * engine that integrates itself (plimsoll_instance_water_load) uses its own sleeping.
+ * asleep: 1 asleep, 0 awake (and 0 with the last error for NULL). The state is part of the
+ * snapshot. */
+PLIMSOLL_RUNTIME_API int plimsoll_instance_asleep(const plimsoll_instance* instance);
+PLIMSOLL_RUNTIME_API int plimsoll_instance_wake(plimsoll_instance* instance);
+
 /* ---------------------------------------------------------------------------------------
  * Many bodies in one call. A plimsoll_batch owns a thread pool, or runs on the caller's task
  * system (as Box2D's enqueueTask / finishTask): enqueue starts `task` over `item_count` items

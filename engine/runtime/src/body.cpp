@@ -4,10 +4,12 @@
 
 #include "bytes.hpp"
 
+#include <cmath>
+
 namespace plimsoll_runtime {
 
 namespace {
-constexpr std::uint64_t kBodySnapshotMagic = 0x3159444F42534C50ull;  // "PLSBODY1"
+constexpr std::uint64_t kBodySnapshotMagic = 0x3259444F42534C50ull;  // "PLSBODY2"
 }  // namespace
 
 Body::Body(const Bundle& bundle) : bundle_(&bundle) {
@@ -16,7 +18,7 @@ Body::Body(const Bundle& bundle) : bundle_(&bundle) {
         radiation_ = std::make_unique<RadiationMemory>(radiation);
 }
 
-Body::Body(const Body& other) : bundle_(other.bundle_) {
+Body::Body(const Body& other) : bundle_(other.bundle_), sleep_(other.sleep_) {
     if (other.graph_) graph_ = std::make_unique<WaterGraph>(*other.graph_);
     if (other.radiation_) radiation_ = std::make_unique<RadiationMemory>(*other.radiation_);
 }
@@ -36,6 +38,17 @@ void Body::save(std::vector<std::uint8_t>& out) const {
     putBytes(out, static_cast<std::uint8_t>((graph_ ? 1 : 0) | (radiation_ ? 2 : 0)));
     if (graph_) graph_->saveState(out);
     if (radiation_) radiation_->saveState(out);
+    putBytes(out, static_cast<std::uint8_t>(sleep_.asleep ? 1 : 0));
+    for (double v :
+         {sleep_.restedFor, sleep_.waterHeight, sleep_.pose.position.x, sleep_.pose.position.y,
+          sleep_.pose.position.z, sleep_.pose.orientation.w, sleep_.pose.orientation.x,
+          sleep_.pose.orientation.y, sleep_.pose.orientation.z})
+        putBytes(out, v);
+}
+
+void Body::wake() {
+    sleep_.asleep = false;
+    sleep_.restedFor = 0;
 }
 
 bool Body::restore(const std::vector<std::uint8_t>& bytes, std::string& error) {
@@ -61,12 +74,27 @@ bool Body::restore(const std::vector<std::uint8_t>& bytes, std::string& error) {
         error = "snapshot: the radiation memory does not fit this body";
         return false;
     }
+    Sleep sleep;
+    std::uint8_t asleep = 0;
+    double v[9];
+    bool read = takeBytes(bytes, at, asleep) && asleep <= 1;
+    for (double& d : v) read = read && takeBytes(bytes, at, d) && std::isfinite(d);
+    if (!read) {
+        error = "snapshot: the sleep state is truncated or not finite";
+        return false;
+    }
+    sleep.asleep = asleep == 1;
+    sleep.restedFor = v[0];
+    sleep.waterHeight = v[1];
+    sleep.pose.position = {v[2], v[3], v[4]};
+    sleep.pose.orientation = {v[5], v[6], v[7], v[8]};
     if (at != bytes.size()) {
         error = "snapshot: " + std::to_string(bytes.size() - at) + " bytes too many";
         return false;
     }
     graph_ = std::move(graph);
     radiation_ = std::move(radiation);
+    sleep_ = sleep;
     return true;
 }
 

@@ -768,18 +768,22 @@ int instanceWaterLoad(const char* call, const plimsoll_instance* instance,
 
 /// One step of a body on its own, with `memory`'s radiation (none when null), for checked
 /// arguments: null, or why it was refused. Sets no error (batch workers call it); the state,
-/// the water and the memory change only when the step's result is finite.
+/// the water and the memory change only when the step's result is finite. `sleeps`: the 2.0
+/// calls, whose instances sleep at rest (stepBody); the 1.x calls never did.
 const char* stepInstance(plimsoll_instance& instance, plimsoll_body_state& state,
                          RadiationMemory* memory, const plimsoll_water* water,
-                         const plimsoll_fluid& fluid, double time, double dt) {
+                         const plimsoll_fluid& fluid, double time, double dt, bool sleeps) {
     BodyState s{toPose(state.pose), toVelocity(&state.velocity)};
     bool nonFiniteWater = false;
     instance.body.save(instance.undo);
     // A memory of the body's own is in its snapshot; a 1.x caller's own memory is copied.
     std::optional<RadiationMemory> memoryBefore;
     if (memory && memory != instance.body.radiation()) memoryBefore = *memory;
-    stepBodyWith(instance.body, s, memory, toWater(water, &nonFiniteWater), toFluid(fluid), time,
-                 dt);
+    if (sleeps)
+        stepBody(instance.body, s, toWater(water, &nonFiniteWater), toFluid(fluid), time, dt);
+    else
+        stepBodyWith(instance.body, s, memory, toWater(water, &nonFiniteWater), toFluid(fluid),
+                     time, dt);
     const double next[13] = {s.pose.position.x,    s.pose.position.y,    s.pose.position.z,
                              s.pose.orientation.w, s.pose.orientation.x, s.pose.orientation.y,
                              s.pose.orientation.z, s.velocity.linear.x,  s.velocity.linear.y,
@@ -880,14 +884,15 @@ std::uint64_t stateHashOf(const char* call, const char* what, const Target* targ
 /// The checks of a step call, then the step.
 int stepChecked(const char* call, plimsoll_instance* instance, plimsoll_body_state* state,
                 RadiationMemory* memory, const plimsoll_water* water, const plimsoll_fluid* fluid,
-                double time, double dt) {
+                double time, double dt, bool sleeps) {
     try {
         if (!instance || !state || !fluid) return refuse(call, "a required argument is NULL");
         if (!checkEvaluation(call, &state->pose, &state->velocity, fluid) || !checkWater(call, water) ||
             !checkTime(call, time))
             return 0;
         if (!(dt > 0) || !std::isfinite(dt)) return refuse(call, "dt must be finite and > 0");
-        const char* refused = stepInstance(*instance, *state, memory, water, *fluid, time, dt);
+        const char* refused =
+            stepInstance(*instance, *state, memory, water, *fluid, time, dt, sleeps);
         return refused ? refuse(call, refused) : 1;
     } catch (const std::exception& e) {
         return refuse(call, e.what());
@@ -912,7 +917,7 @@ int plimsoll_body_step(plimsoll_bundle* bundle, plimsoll_body_state* state,
                        double dt) {
     lastError.clear();
     return stepChecked("plimsoll_body_step", legacyOf(bundle), state, nullptr, water, fluid, time,
-                       dt);
+                       dt, false);
 }
 
 int plimsoll_body_step_radiating(plimsoll_bundle* bundle, plimsoll_body_state* state,
@@ -923,7 +928,8 @@ int plimsoll_body_step_radiating(plimsoll_bundle* bundle, plimsoll_body_state* s
     if (!memory) return refuse(kCall, "memory is NULL");
     if (bundle && memory->bundle != bundle->bundle.get())
         return refuse(kCall, "the radiation memory was made for another bundle");
-    return stepChecked(kCall, legacyOf(bundle), state, &memory->memory, water, fluid, time, dt);
+    return stepChecked(kCall, legacyOf(bundle), state, &memory->memory, water, fluid, time, dt,
+                       false);
 }
 
 int plimsoll_bundle_radiation(const plimsoll_bundle* bundle, plimsoll_radiation_info* out) {
@@ -1191,7 +1197,7 @@ int plimsoll_batch_instance_step(plimsoll_batch* batch, size_t count,
                             const plimsoll_fluid f =
                                 fluid ? *fluid : defaultFluid(instance.body.bundle());
                             return stepInstance(instance, states[i], instance.body.radiation(),
-                                                water, f, time, dt);
+                                                water, f, time, dt, true);
                         })
                    ? 1
                    : 0;
@@ -1379,7 +1385,8 @@ int plimsoll_instance_step(plimsoll_instance* instance, plimsoll_body_state* sta
                            double dt) {
     lastError.clear();
     return stepChecked("plimsoll_instance_step", instance, state,
-                       instance ? instance->body.radiation() : nullptr, water, fluid, time, dt);
+                       instance ? instance->body.radiation() : nullptr, water, fluid, time, dt,
+                       true);
 }
 
 int plimsoll_instance_radiation_begin(plimsoll_instance* instance, const plimsoll_pose* pose,
@@ -1430,6 +1437,19 @@ uint64_t plimsoll_instance_state_hash(const plimsoll_instance* instance) {
     lastError.clear();
     return stateHashOf("plimsoll_instance_state_hash", "instance",
                        instance ? &instance->body : nullptr);
+}
+
+int plimsoll_instance_asleep(const plimsoll_instance* instance) {
+    lastError.clear();
+    if (!instance) return refuse("plimsoll_instance_asleep", "instance is NULL");
+    return instance->body.asleep() ? 1 : 0;
+}
+
+int plimsoll_instance_wake(plimsoll_instance* instance) {
+    lastError.clear();
+    if (!instance) return refuse("plimsoll_instance_wake", "instance is NULL");
+    instance->body.wake();
+    return 1;
 }
 
 }  // extern "C"

@@ -156,34 +156,58 @@ double WaterGraph::levelOffset(std::size_t node, double water, const Quat& orien
     return step_->flow.levelOffset(node, water, rotation(orientation));
 }
 
+namespace {
+
+/// One exchange pass's rates for the flow at (pose, R) with the node surfaces `nodeSurface`:
+/// the outside surface from the water's heights on the exchange's lattice, the nodes the
+/// permeable points touch asked in one call (a game's water answers a batch far faster than
+/// one point at a time); on flat water only the points' heights.
+void exchangeRates(const std::vector<ev::ExchangePoint>& points, const Pose& pose,
+                   const ev::Mat3& R, const Water& water, double time, std::size_t nodes,
+                   const double* nodeSurface, const ev::GraphFlowSettings& s,
+                   ev::ExchangeRates& rates) {
+    // Per thread: sized on a thread's first call, reused after.
+    thread_local std::vector<ev::Vec3> world;
+    thread_local std::vector<double> ys, surface;
+    thread_local ev::ExchangeLattice lattice;
+    const std::size_t n = points.size();
+    if (!water.heights && !water.height) {
+        ev::exchangeHeights(points, R, pose.position.y, ys);
+        const double level = water.level;
+        ev::exchangePass(
+            points, ys.data(), [level](std::size_t) { return level; }, nodes, nodeSurface,
+            s.torricelli, s.exchangeFactor(), rates);
+        return;
+    }
+    ev::exchangePositions(points, R, toEval(pose.position), world);
+    ys.resize(n);
+    for (std::size_t i = 0; i < n; ++i) ys[i] = world[i].y;
+    ev::exchangeSurfaces(
+        world, ev::kExchangeLatticeSpacing,
+        [&](std::size_t count, const double* x, const double* z, double* out) {
+            if (count == 0) return;
+            if (water.heights) {
+                water.heights(count, x, z, time, out);
+            } else {
+                for (std::size_t i = 0; i < count; ++i) out[i] = water.heightAt(x[i], z[i], time);
+            }
+        },
+        lattice, surface);
+    const double* f = surface.data();
+    ev::exchangePass(
+        points, ys.data(), [f](std::size_t i) { return f[i]; }, nodes, nodeSurface, s.torricelli,
+        s.exchangeFactor(), rates);
+}
+
+}  // namespace
+
 NodeInflow WaterGraph::inflow(const Pose& pose, const Water& water, double time) const {
     const ev::Mat3 R = rotation(pose.orientation);
-    const std::vector<ev::ExchangePoint>& points = layout_->prepared_->points;
     std::vector<double> nodeSurface;
     step_->flow.nodeSurfaces(pose.position.y, R, nodeSurface);
-    // The outside surface over every permeable point, asked in one call: a game's water
-    // answers a batch far faster than one point at a time.
-    thread_local std::vector<ev::Vec3> world;
-    thread_local std::vector<double> xs, zs, surface;
-    ev::exchangePositions(points, R, toEval(pose.position), world);
-    surface.resize(points.size());
-    if (water.heights) {
-        xs.resize(points.size());
-        zs.resize(points.size());
-        for (std::size_t i = 0; i < points.size(); ++i) {
-            xs[i] = world[i].x;
-            zs[i] = world[i].z;
-        }
-        if (!points.empty())
-            water.heights(points.size(), xs.data(), zs.data(), time, surface.data());
-    } else {
-        for (std::size_t i = 0; i < points.size(); ++i)
-            surface[i] = water.heightAt(world[i].x, world[i].z, time);
-    }
-    const ev::GraphFlowSettings s = flowSettings(settings_);
     ev::ExchangeRates rates;
-    ev::exchangePass(points, world, surface.data(), nodeCount(), nodeSurface.data(), s.torricelli,
-                     s.exchangeFactor(), rates);
+    exchangeRates(layout_->prepared_->points, pose, R, water, time, nodeCount(), nodeSurface.data(),
+                  flowSettings(settings_), rates);
     NodeInflow out;
     out.inflow = std::move(rates.inflow);
     out.outflow = std::move(rates.outflow);
@@ -193,10 +217,17 @@ NodeInflow WaterGraph::inflow(const Pose& pose, const Water& water, double time)
 
 bool WaterGraph::exchange(const Pose& pose, const Water& water, double time, double dt) {
     if (layout_->prepared_->points.empty()) return false;
-    const NodeInflow rates = inflow(pose, water, time);
-    return step_->flow.applyExchange(pose.position.y, rotation(pose.orientation), dt,
-                                     rates.inflow.data(), rates.outflow.data(),
-                                     rates.outsideTop.data());
+    const ev::Mat3 R = rotation(pose.orientation);
+    ev::GraphFlow& flow = step_->flow;
+    // The levels once at R: the node surfaces here, applyExchange and the flow after read them.
+    flow.prepareLevels(R);
+    thread_local std::vector<double> nodeSurface;
+    thread_local ev::ExchangeRates rates;
+    flow.nodeSurfaces(pose.position.y, R, nodeSurface);
+    exchangeRates(layout_->prepared_->points, pose, R, water, time, nodeCount(), nodeSurface.data(),
+                  flowSettings(settings_), rates);
+    return flow.applyExchange(pose.position.y, R, dt, rates.inflow.data(), rates.outflow.data(),
+                              rates.outsideTop.data());
 }
 
 bool WaterGraph::flowInside(const Quat& orientation, double dt) {

@@ -8,6 +8,7 @@
 #include "vec.hpp"
 
 #include "plimsoll_eval/cummins.hpp"
+#include "plimsoll_eval/sleep.hpp"
 
 #include <algorithm>
 
@@ -106,9 +107,10 @@ WaterLoad waterLoad(const Body& instance, const Pose& pose, const Velocity& velo
 namespace {
 
 /// A step without radiation.
-void stepRigid(Body& instance, BodyState& state, const Water& water, const Fluid& fluid,
+bool stepRigid(Body& instance, BodyState& state, const Water& water, const Fluid& fluid,
                double time, double dt) {
-    if (WaterGraph* graph = instance.graph()) graph->step(state.pose, water, time, dt);
+    WaterGraph* graph = instance.graph();
+    const bool moved = graph && graph->step(state.pose, water, time, dt);
     const WaterLoad load = waterLoad(instance, state.pose, state.velocity, water, fluid, time, dt);
     const MassProperties& body = instance.bundle().mass();
     double R[3][3];
@@ -124,6 +126,7 @@ void stepRigid(Body& instance, BodyState& state, const Water& water, const Fluid
     state.velocity.linear = v;
     // The angular velocity that carries L at the new orientation: L is what is conserved.
     state.velocity.angular = worldInertiaSolve(R, body.inertia, L);
+    return moved;
 }
 
 }  // namespace
@@ -199,10 +202,11 @@ double RadiationMemory::energy() const {
 namespace {
 
 /// A step with the added mass and the memory of `memory`.
-void stepRadiating(Body& instance, BodyState& state, RadiationMemory& memory, const Water& water,
+bool stepRadiating(Body& instance, BodyState& state, RadiationMemory& memory, const Water& water,
                    const Fluid& fluid, double time, double dt) {
     const Bundle& bundle = instance.bundle();
-    if (WaterGraph* graph = instance.graph()) graph->step(state.pose, water, time, dt);
+    WaterGraph* graph = instance.graph();
+    const bool moved = graph && graph->step(state.pose, water, time, dt);
     const WaterLoad load = waterLoad(instance, state.pose, state.velocity, water, fluid, time, dt);
     const RadiationLoad radiation = memory.begin(state.pose, load.forces.submergedVolume);
     const MassProperties& body = bundle.mass();
@@ -237,21 +241,95 @@ void stepRadiating(Body& instance, BodyState& state, RadiationMemory& memory, co
     state.velocity.linear = vNext;
     state.velocity.angular = worldInertiaSolve(R, I, L);
     memory.advance(state.pose, state.velocity, dt);
+    return moved;
 }
 
 }  // namespace
 
-void stepBodyWith(Body& body, BodyState& state, RadiationMemory* memory, const Water& water,
+bool stepBodyWith(Body& body, BodyState& state, RadiationMemory* memory, const Water& water,
                   const Fluid& fluid, double time, double dt) {
-    if (memory)
-        stepRadiating(body, state, *memory, water, fluid, time, dt);
-    else
-        stepRigid(body, state, water, fluid, time, dt);
+    return memory ? stepRadiating(body, state, *memory, water, fluid, time, dt)
+                  : stepRigid(body, state, water, fluid, time, dt);
+}
+
+namespace {
+
+bool samePose(const Pose& a, const Pose& b) {
+    return a.position.x == b.position.x && a.position.y == b.position.y &&
+           a.position.z == b.position.z && a.orientation.w == b.orientation.w &&
+           a.orientation.x == b.orientation.x && a.orientation.y == b.orientation.y &&
+           a.orientation.z == b.orientation.z;
+}
+
+}  // namespace
+
+plimsoll_eval::SleepSettings sleepSettingsOf(const BundleWorld::Sleep& s) {
+    plimsoll_eval::SleepSettings out;
+    out.enabled = s.enabled;
+    out.linearSpeed = s.linearSpeed;
+    out.angularSpeed = s.angularSpeed;
+    out.linearAcceleration = s.linearAcceleration;
+    out.angularAcceleration = s.angularAcceleration;
+    out.restTime = s.restTime;
+    out.wakeHeight = s.wakeHeight;
+    return out;
+}
+
+void surfaceAbove(const Water& water, const Vec3& point, double time, double& height,
+                  double& speed) {
+    height = water.heightAt(point.x, point.z, time);
+    const Vec3 at{point.x, height, point.z};
+    Vec3 u{0, 0, 0};
+    if (water.velocities) {
+        double out[3] = {0, 0, 0};
+        water.velocities(1, &at.x, &at.y, &at.z, time, out);
+        u = {out[0], out[1], out[2]};
+    } else if (water.velocity) {
+        u = water.velocity(at, time);
+    }
+    speed = norm(u);
 }
 
 void stepBody(Body& body, BodyState& state, const Water& water, const Fluid& fluid, double time,
               double dt) {
-    stepBodyWith(body, state, body.radiation(), water, fluid, time, dt);
+    const plimsoll_eval::SleepSettings settings = sleepSettingsOf(body.bundle().world().sleep);
+    Body::Sleep& sleep = body.sleep_;
+    const MassProperties& mass = body.bundle().mass();
+    auto centerOf = [&](const Pose& pose) {
+        double R[3][3];
+        rotationMatrix(pose.orientation, R);
+        return mul(R, mass.centerOfMass) + pose.position;
+    };
+    double height = 0, speed = 0;
+    if (sleep.asleep) {
+        // The game moved it or set it going: awake. Otherwise the water decides.
+        const Velocity& v = state.velocity;
+        const bool moved =
+            !samePose(state.pose, sleep.pose) || norm(v.linear) > 0 || norm(v.angular) > 0;
+        surfaceAbove(water, centerOf(state.pose), time, height, speed);
+        plimsoll_eval::SleepState rest{true, sleep.restedFor, sleep.waterHeight};
+        if (!moved && !plimsoll_eval::mustWake(rest, settings, speed, height, false)) return;
+        body.wake();
+    }
+    const Velocity before = state.velocity;
+    const bool changing = stepBodyWith(body, state, body.radiation(), water, fluid, time, dt);
+    surfaceAbove(water, centerOf(state.pose), time + dt, height, speed);
+    plimsoll_eval::RestSample sample;
+    sample.speed = norm(state.velocity.linear);
+    sample.spin = norm(state.velocity.angular);
+    sample.acceleration = norm(state.velocity.linear - before.linear) / dt;
+    sample.angularAcceleration = norm(state.velocity.angular - before.angular) / dt;
+    sample.waterSpeed = speed;
+    sample.waterHeight = height;
+    sample.changing = changing;
+    plimsoll_eval::SleepState rest{false, sleep.restedFor, sleep.waterHeight};
+    if (plimsoll_eval::countRest(rest, settings, sample, dt)) {
+        state.velocity = Velocity{};
+        sleep.pose = state.pose;
+    }
+    sleep.asleep = rest.asleep;
+    sleep.restedFor = rest.restedFor;
+    sleep.waterHeight = rest.waterHeight;
 }
 
 void RadiationMemory::saveState(std::vector<std::uint8_t>& out) const {

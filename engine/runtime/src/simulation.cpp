@@ -6,7 +6,10 @@
 #include "plimsoll_runtime/runtime.hpp"
 
 #include "bytes.hpp"
+#include "motion.hpp"
 #include "vec.hpp"
+
+#include "plimsoll_eval/sleep.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -306,9 +309,9 @@ void Simulation::setMass(const MassProperties& mass) {
     angularMomentum_ = mul(R, times(mass_.inertia, mulT(R, angular)));
 }
 
-void Simulation::stepGraph(const Water& water, double frameTime) {
+bool Simulation::stepGraph(const Water& water, double frameTime) {
     WaterGraph* graph = body_.graph();
-    if (!graph) return;
+    if (!graph) return false;
     double R[3][3];
     rotationMatrix(orientation_, R);
     Pose pose;
@@ -319,8 +322,8 @@ void Simulation::stepGraph(const Water& water, double frameTime) {
     double C[3][3];
     rotationMatrix(composedAt_, C);
     const bool turned = graph->settings().freeSurface && graph->storedWater() > 0 && !isApprox(R, C, 1e-12);
-    if (!moved && !turned) return;
-    composeWater(orientation_);
+    if (moved || turned) composeWater(orientation_);
+    return moved;
 }
 
 void Simulation::composeWater(const Quat& at) {
@@ -330,8 +333,29 @@ void Simulation::composeWater(const Quat& at) {
     boundingRadius_ = hullRadius_ + norm(mass_.centerOfMass - hull_.centerOfMass);
 }
 
+void Simulation::wake() {
+    asleep_ = false;
+    restedFor_ = 0;
+}
+
 bool Simulation::advanceFrame(const Water& water, std::string& error) {
     const double frameTime = bundle_.world().timeStep;
+    const plimsoll_eval::SleepSettings sleep = sleepSettingsOf(bundle_.world().sleep);
+    plimsoll_eval::SleepState rest{asleep_, restedFor_, sleepHeight_};
+    double height = 0, speed = 0;
+    if (asleep_) {
+        surfaceAbove(water, position_, time_, height, speed);
+        if (plimsoll_eval::mustWake(rest, sleep, speed, height, false)) {
+            wake();
+        } else {
+            // The World's clock runs on through a sleeping body's frame in the same sub-steps.
+            subSteps_ = bundle_.world().subSteps;
+            const double dt = frameTime / subSteps_;
+            for (int sub = 0; sub < subSteps_; ++sub) time_ += dt;
+            return true;
+        }
+    }
+    const Vec3 startLinear = linearVelocity(), startAngular = angularVelocity();
     subSteps_ = subStepsFor(frameTime);
     if (subSteps_ < 0) {
         error = bundle_.folder() + ": a stable step needs more than 1000 sub-steps a frame";
@@ -343,18 +367,36 @@ bool Simulation::advanceFrame(const Water& water, std::string& error) {
         step(dt);
         time_ += dt;
     }
-    stepGraph(water, frameTime);
+    const bool changed = stepGraph(water, frameTime);
     if (!finite(position_) || !finite(linearMomentum_) || !finite(angularMomentum_) ||
         !std::isfinite(orientation_.w + orientation_.x + orientation_.y + orientation_.z)) {
         error = bundle_.folder() + ": the body left the finite numbers at t = " + std::to_string(time_) + " s";
         return false;
     }
+    surfaceAbove(water, position_, time_, height, speed);
+    plimsoll_eval::RestSample sample;
+    const Vec3 linear = linearVelocity(), angular = angularVelocity();
+    sample.speed = norm(linear);
+    sample.spin = norm(angular);
+    sample.acceleration = norm(linear - startLinear) / frameTime;
+    sample.angularAcceleration = norm(angular - startAngular) / frameTime;
+    sample.waterSpeed = speed;
+    sample.waterHeight = height;
+    sample.changing = changed;
+    rest = {false, restedFor_, sleepHeight_};
+    if (plimsoll_eval::countRest(rest, sleep, sample, frameTime)) {
+        linearMomentum_ = {0, 0, 0};
+        angularMomentum_ = {0, 0, 0};
+    }
+    asleep_ = rest.asleep;
+    restedFor_ = rest.restedFor;
+    sleepHeight_ = rest.waterHeight;
     return true;
 }
 
 namespace {
 
-constexpr std::uint64_t kSnapshotMagic = 0x314D49534C4C4D50ull;  // "PMLLSIM1"
+constexpr std::uint64_t kSnapshotMagic = 0x324D49534C4C4D50ull;  // "PMLLSIM2"
 
 }  // namespace
 
@@ -395,7 +437,10 @@ std::vector<std::uint8_t> Simulation::save() const {
                      composedAt_.w,
                      composedAt_.x,
                      composedAt_.y,
-                     composedAt_.z})
+                     composedAt_.z,
+                     asleep_ ? 1.0 : 0.0,
+                     restedFor_,
+                     sleepHeight_})
         putBytes(out, v);
     if (const WaterGraph* graph = body_.graph()) graph->saveState(out);
     return out;
@@ -414,7 +459,7 @@ bool Simulation::restore(const std::vector<std::uint8_t>& bytes, std::string& er
         return false;
     }
     std::size_t at = 2 * sizeof(std::uint64_t);
-    double v[33];
+    double v[36];
     for (double& d : v) {
         if (!takeBytes(bytes, at, d) || !std::isfinite(d)) {
             error = "snapshot: truncated or not finite";
@@ -455,6 +500,9 @@ bool Simulation::restore(const std::vector<std::uint8_t>& bytes, std::string& er
         for (int j = 0; j < 3; ++j) mass_.inertia[i][j] = v[19 + 3 * i + j];
     boundingRadius_ = v[28];
     composedAt_ = {v[29], v[30], v[31], v[32]};
+    asleep_ = v[33] != 0;
+    restedFor_ = v[34];
+    sleepHeight_ = v[35];
     return true;
 }
 

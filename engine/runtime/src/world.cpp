@@ -151,15 +151,38 @@ bool readStart(Members& r, const json::Value& o, const std::string& at, BundleWo
 
 }  // namespace
 
+namespace {
+
+/// The model's wave terms (no allocation for up to 16 waves).
+ev::WaveTable waveTable(const WaterModel& w) {
+    return ev::WaveTable(w.waves, w.gravity, [](const WaterModel::Wave& v, double& x, double& z) {
+        x = v.direction[0];
+        z = v.direction[1];
+    });
+}
+
+}  // namespace
+
 double WaterModel::height(double x, double z, double time) const {
-    const ev::WaterModelDesc d = describe(*this);
-    return ev::waterHeight(d, ev::waveTerms(d), x, z, time);
+    switch (kind) {
+        case Kind::Flat:
+            return level;
+        case Kind::HeightGrid:
+            return level + ev::water_detail::gridHeight(heights.data(), countX, countZ, spacing,
+                                                        originX, originZ, x, z);
+        case Kind::Gerstner: {
+            const ev::WaveTable terms = waveTable(*this);
+            return ev::water_detail::gerstnerHeight(terms.data(), terms.size(), level, x, z, time);
+        }
+    }
+    return level;
 }
 
 Vec3 WaterModel::velocity(const Vec3& p, double time) const {
-    const ev::WaterModelDesc d = describe(*this);
+    if (kind != Kind::Gerstner) return {0, 0, 0};
+    const ev::WaveTable terms = waveTable(*this);
     double out[3];
-    ev::waterVelocity(d, ev::waveTerms(d), p.x, p.y, p.z, time, out);
+    ev::water_detail::gerstnerVelocity(terms.data(), terms.size(), level, p.x, p.y, p.z, time, out);
     return {out[0], out[1], out[2]};
 }
 
@@ -221,6 +244,25 @@ bool readBundleWorld(const json::Value& manifest, const std::string& file, Bundl
     out.subSteps = static_cast<int>(subSteps);
     if (const json::Value* integrator = sim->find("integrator"); integrator && integrator->isString())
         out.integrator = integrator->string;
+    if (const json::Value* sleep = sim->find("sleep"); sleep && !sleep->isNull()) {
+        const std::string path = at + ".simulation.sleep";
+        BundleWorld::Sleep& s = out.sleep;
+        if (!sleep->isObject()) return r.fail(path, "expected an object");
+        const json::Value* enabled = sleep->find("enabled");
+        if (!enabled || !enabled->isBool())
+            return r.fail(path + ".enabled", "expected true or false");
+        s.enabled = enabled->boolean;
+        if (!r.number(*sleep, path, "linear_speed", s.linearSpeed) ||
+            !r.number(*sleep, path, "angular_speed", s.angularSpeed) ||
+            !r.number(*sleep, path, "linear_acceleration", s.linearAcceleration) ||
+            !r.number(*sleep, path, "angular_acceleration", s.angularAcceleration) ||
+            !r.number(*sleep, path, "rest_time", s.restTime) ||
+            !r.number(*sleep, path, "wake_height", s.wakeHeight))
+            return false;
+        if (s.linearSpeed < 0 || s.angularSpeed < 0 || s.linearAcceleration < 0 ||
+            s.angularAcceleration < 0 || s.restTime < 0 || s.wakeHeight < 0)
+            return r.fail(path, "the thresholds must be >= 0");
+    }
     const json::Value* start = r.object(*world, at, "start");
     if (!start || !readStart(r, *start, at + ".start", out)) return false;
     out.present = true;

@@ -8,6 +8,7 @@
 #include "physics/buoyancy_sums.h"
 #include "plimsoll_shared.h"
 #include "plimsoll_eval/fast.hpp"  // kPair, kTriple: PlTileMoments' slots
+#include "plimsoll_eval/graph.hpp"  // kExchangeLatticeSpacing
 
 #include <CL/opencl.hpp>
 
@@ -467,10 +468,19 @@ public:
             kernel.setArg(6, static_cast<cl_int>(std::max(1, gridCountX_)));
             kernel.setArg(7, static_cast<cl_int>(std::max(1, gridCountZ_)));
             kernel.setArg(8, set.surfaces);
-            kernel.setArg(9, static_cast<cl_float>(frame.factor));
-            kernel.setArg(10, static_cast<cl_int>(frame.torricelli ? 1 : 0));
-            kernel.setArg(11, static_cast<cl_uint>(set.nodes));
-            kernel.setArg(12, set.partials);
+            // The exchange's lattice about c (plimsoll_eval exchangeSurfaces): c's place in its
+            // cell worked out in double, the samples' offsets in single precision.
+            const double spacing = plimsoll_eval::kExchangeLatticeSpacing;
+            const double lx = c.x() / spacing, lz = c.z() / spacing;
+            const cl_float4 lattice = {{static_cast<cl_float>(lx - std::floor(lx)),
+                                        static_cast<cl_float>(lz - std::floor(lz)),
+                                        static_cast<cl_float>(1.0 / spacing),
+                                        static_cast<cl_float>(spacing)}};
+            kernel.setArg(9, lattice);
+            kernel.setArg(10, static_cast<cl_float>(frame.factor));
+            kernel.setArg(11, static_cast<cl_int>(frame.torricelli ? 1 : 0));
+            kernel.setArg(12, static_cast<cl_uint>(set.nodes));
+            kernel.setArg(13, set.partials);
             const std::size_t groups = (set.count + PL_WORKGROUP_SIZE - 1) / PL_WORKGROUP_SIZE;
             faultPoint(detail::OpenClFault::Launch, "clEnqueueNDRangeKernel");
             queue_.enqueueNDRangeKernel(kernel, cl::NullRange,

@@ -139,16 +139,28 @@ json worldJson(const Project& project, const BodyDesc& desc) {
     const Pose start = Pose::fromEulerDegrees(desc.position, desc.rotationDegrees);
     const Eigen::Quaterniond q = Eigen::Quaterniond(start.rotation).normalized();
     const SimulationDesc& sim = project.simulation;
-    return {{"medium", {{"density", project.medium.density}, {"viscosity", project.medium.viscosity}}},
-            {"gravity", vec3(sim.gravity)},
-            {"water", water},
-            {"simulation", {{"time_step", sim.timeStep}, {"sub_steps", sim.subSteps},
-                            {"max_phase_step", sim.maxPhaseStep},
-                            {"integrator", integratorName(sim.integrator)}}},
-            {"start", {{"position", vec3(start.translation)},
-                       {"orientation_wxyz", {q.w(), q.x(), q.y(), q.z()}},
-                       {"velocity", vec3(desc.velocity)},
-                       {"angular_velocity", vec3(desc.angularVelocity)}}}};
+    return {
+        {"medium", {{"density", project.medium.density}, {"viscosity", project.medium.viscosity}}},
+        {"gravity", vec3(sim.gravity)},
+        {"water", water},
+        {"simulation",
+         {{"time_step", sim.timeStep},
+          {"sub_steps", sim.subSteps},
+          {"max_phase_step", sim.maxPhaseStep},
+          {"integrator", integratorName(sim.integrator)},
+          {"sleep",
+           {{"enabled", sim.sleep.enabled},
+            {"linear_speed", sim.sleep.linearSpeed},
+            {"angular_speed", sim.sleep.angularSpeed},
+            {"linear_acceleration", sim.sleep.linearAcceleration},
+            {"angular_acceleration", sim.sleep.angularAcceleration},
+            {"rest_time", sim.sleep.restTime},
+            {"wake_height", sim.sleep.wakeHeight}}}}},
+        {"start",
+         {{"position", vec3(start.translation)},
+          {"orientation_wxyz", {q.w(), q.x(), q.y(), q.z()}},
+          {"velocity", vec3(desc.velocity)},
+          {"angular_velocity", vec3(desc.angularVelocity)}}}};
 }
 
 /// Relative paths of the regular files under `folder`, sorted.
@@ -380,6 +392,10 @@ Result<BundleReport> buildBundle(const Project& project, std::size_t index, cons
     BundleReport report;
     report.body = desc.name;
     report.textureSize = textures->size;
+    if (body->levelChoice) {
+        report.tolerance = body->levelChoice->tolerance;
+        report.forceError = body->levelChoice->forceError;
+    }
     report.coveredTexels = textures->distinctTexelCount();
     json files = json::array();
     for (const std::string& path : filesUnder(staging)) {

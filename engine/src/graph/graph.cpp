@@ -472,7 +472,9 @@ double WaterGraphSimulation::levelOffset(std::size_t node, double water,
 }
 
 ExchangeFrame WaterGraphSimulation::exchangeFrame(const Pose& pose, double time) {
-    // World height of every node's water surface (a node with no water has none).
+    // World height of every node's water surface (a node with no water has none); the levels
+    // kept for applyExchange and the flow at the same rotation.
+    flow_.prepareLevels(toEval(pose.rotation));
     flow_.nodeSurfaces(pose.translation.y(), toEval(pose.rotation), scratchSurface_);
     ExchangeFrame frame;
     frame.pose = pose;

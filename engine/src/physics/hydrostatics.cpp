@@ -15,8 +15,14 @@
 #include <algorithm>
 #include <cmath>
 #include <functional>
+#include <iterator>
+#include <map>
+#include <memory>
 #include <numbers>
+#include <optional>
 #include <string>
+#include <tuple>
+#include <utility>
 
 namespace plimsoll {
 
@@ -45,6 +51,8 @@ struct DisplacementMeasure {
     /// The waterplane's integrals at (R, h) where the method has them directly (the
     /// textures); empty: from the derivatives of `displaced` (the exact clip).
     std::function<Waterplane(const Eigen::Matrix3d& rotation, double waterHeight)> waterplane;
+    /// The waterline's extent along world x at (R, h), m.
+    std::function<double(const Eigen::Matrix3d& rotation, double waterHeight)> waterlineLength;
 };
 
 double lowestPoint(const DisplacementMeasure& m, const Eigen::Matrix3d& rotation) {
@@ -75,10 +83,13 @@ struct Floating {
 
 class Solver {
 public:
-    Solver(DisplacementMeasure measure, double displacement)
-        : m_(std::move(measure)), target_(displacement) {
+    /// The body of `measure` carrying `displacement` (m^3); solvers of several displacements
+    /// share one measure.
+    Solver(std::shared_ptr<const DisplacementMeasure> measure, double displacement)
+        : shared_(std::move(measure)), m_(*shared_), target_(displacement) {
         for (const Eigen::Vector3d& p : m_.points) reach_ = std::max(reach_, p.norm());
     }
+    Solver withDisplacement(double displacement) const { return {shared_, displacement}; }
 
     double reach() const { return reach_; }
     const DisplacementMeasure& measure() const { return m_; }
@@ -171,7 +182,8 @@ public:
     }
 
 private:
-    DisplacementMeasure m_;
+    std::shared_ptr<const DisplacementMeasure> shared_;
+    const DisplacementMeasure& m_;
     double target_ = 0;
     double reach_ = 0;
 };
@@ -219,6 +231,187 @@ double vanishingAngle(const Solver& solver, const std::vector<RightingArm>& gz,
     return righting == gz.size() ? std::max(0.0, equilibriumDegrees) : 180.0;
 }
 
+/// The body at one heel: its free trim (rad) and how it floats there.
+struct Heeled {
+    double trim = 0;
+    Floating floating;
+};
+
+/// The body's free-trim states at the heels asked for, each solved once: the trim starts from
+/// the nearest heel already solved. The GZ curve, the criteria's grid, the downflooding
+/// angle and the largest arm all read the one set.
+class HeelCurve {
+public:
+    HeelCurve(const Solver& solver, double trimAtZero) : solver_(solver), trimAtZero_(trimAtZero) {}
+
+    const Heeled& at(double heelDegrees) {
+        const auto found = states_.find(heelDegrees);
+        if (found != states_.end()) return found->second;
+        double guess = trimAtZero_;
+        if (!states_.empty()) {
+            auto above = states_.lower_bound(heelDegrees);
+            if (above == states_.end()) {
+                guess = std::prev(above)->second.trim;
+            } else if (above == states_.begin()) {
+                guess = above->second.trim;
+            } else {
+                const auto below = std::prev(above);
+                guess = heelDegrees - below->first <= above->first - heelDegrees
+                            ? below->second.trim
+                            : above->second.trim;
+            }
+        }
+        const auto [trim, floating] = solver_.trimmedAt(heelDegrees * kDegree, guess);
+        return states_.emplace(heelDegrees, Heeled{trim, floating}).first->second;
+    }
+    /// GZ at the heel, m: positive rights the body.
+    double arm(double heelDegrees) { return at(heelDegrees).floating.water.offset.z(); }
+    const std::map<double, Heeled>& states() const { return states_; }
+    const Solver& solver() const { return solver_; }
+
+private:
+    const Solver& solver_;
+    double trimAtZero_ = 0;
+    std::map<double, Heeled> states_;  ///< by heel, degrees
+};
+
+/// How deep the deepest opening lies below the water at a heeled state (negative: all are
+/// above it), m. `openings` relative to G, object axes.
+double deepestOpening(const std::vector<Eigen::Vector3d>& openings, double heelDegrees,
+                      const Heeled& state) {
+    const Eigen::Matrix3d rotation = attitude(heelDegrees * kDegree, state.trim);
+    double deepest = -INFINITY;
+    for (const Eigen::Vector3d& p : openings)
+        deepest = std::max(deepest, state.floating.waterHeight - rotation.row(1).dot(p));
+    return deepest;
+}
+
+/// The least heel from 0 to 180 degrees at which an opening reaches the water: the solved
+/// heels scanned upwards (the criteria's grid to 40 degrees, the curve's step beyond), then
+/// false position (Illinois) between the last heel with every opening dry and the first with
+/// one wet, to 1e-6 degrees or 1e-12 of the body's reach in depth. 0 when one is wet upright;
+/// none when none gets wet.
+std::optional<double> downfloodingAngle(HeelCurve& curve,
+                                        const std::vector<Eigen::Vector3d>& openings) {
+    if (openings.empty()) return std::nullopt;
+    double lo = 0, fLo = 0;  // the last dry heel and its (negative) depth
+    bool dry = false;
+    std::optional<std::pair<double, double>> wet;
+    for (const auto& [heel, state] : curve.states()) {
+        const double depth = deepestOpening(openings, heel, state);
+        if (depth >= 0) {
+            wet = {heel, depth};
+            break;
+        }
+        lo = heel, fLo = depth, dry = true;
+    }
+    if (!wet) return std::nullopt;
+    if (!dry) return wet->first;
+    auto [hi, fHi] = *wet;
+    int side = 0;
+    for (int i = 0; i < 60 && hi - lo > 1e-6; ++i) {
+        const double heel = fHi - fLo > 0 ? lo + (hi - lo) * (-fLo) / (fHi - fLo) : 0.5 * (lo + hi);
+        const double depth = deepestOpening(openings, heel, curve.at(heel));
+        if (std::abs(depth) <= 1e-12 * curve.solver().reach()) return heel;
+        if (depth >= 0) {
+            hi = heel, fHi = depth;
+            if (side == 1) fLo *= 0.5;
+            side = 1;
+        } else {
+            lo = heel, fLo = depth;
+            if (side == -1) fHi *= 0.5;
+            side = -1;
+        }
+    }
+    return hi;
+}
+
+/// The area under `arm` from a to b degrees, m rad: Simpson's rule on panels of at most
+/// `step` degrees, on the grid a + k step up to the last even panel count and two panels over
+/// what is left (so the criteria's integer-degree limits reuse the grid's heels).
+double areaUnder(const std::function<double(double)>& arm, double a, double b, double step) {
+    auto simpson = [&](double from, double to, int panels) {
+        const double h = (to - from) / panels;
+        double sum = arm(from) + arm(to);
+        for (int k = 1; k < panels; ++k) sum += (k % 2 ? 4 : 2) * arm(from + k * h);
+        return sum * h / 3 * kDegree;
+    };
+    if (!(b > a)) return 0;
+    const int pairs = static_cast<int>(std::floor((b - a) / (2 * step) + 1e-9));
+    const double middle = std::min(b, a + pairs * 2 * step);
+    double area = pairs > 0 ? simpson(a, middle, 2 * pairs) : 0;
+    if (b - middle > 1e-9 * step) area += simpson(middle, b, 2);
+    return area;
+}
+
+/// The largest `arm` among the solved heels in [from, 180] degrees, refined by golden-section
+/// search between the neighbours of the best solved heel to 0.01 degrees: {heel, arm}.
+std::pair<double, double> largestArm(HeelCurve& curve, const std::function<double(double)>& arm,
+                                     double from) {
+    std::vector<double> heels;
+    for (const auto& [heel, state] : curve.states())
+        if (heel >= from - 1e-12) heels.push_back(heel);
+    if (heels.empty()) return {from, arm(from)};
+    std::size_t best = 0;
+    for (std::size_t i = 1; i < heels.size(); ++i)
+        if (arm(heels[i]) > arm(heels[best])) best = i;
+    std::pair<double, double> top{heels[best], arm(heels[best])};
+    if (best == 0 || best + 1 == heels.size()) return top;
+    double lo = heels[best - 1], hi = heels[best + 1];
+    const double golden = (std::sqrt(5.0) - 1) / 2;
+    double x1 = hi - golden * (hi - lo), x2 = lo + golden * (hi - lo);
+    double f1 = arm(x1), f2 = arm(x2);
+    while (hi - lo > 0.01) {
+        if (f1 < f2) {
+            lo = x1, x1 = x2, f1 = f2;
+            x2 = lo + golden * (hi - lo);
+            f2 = arm(x2);
+        } else {
+            hi = x2, x2 = x1, f2 = f1;
+            x1 = hi - golden * (hi - lo);
+            f1 = arm(x1);
+        }
+    }
+    for (const auto& [x, f] : {std::pair{x1, f1}, std::pair{x2, f2}})
+        if (f > top.second) top = {x, f};
+    return top;
+}
+
+/// The body's openings relative to G, object axes.
+std::vector<Eigen::Vector3d> relativeOpenings(const HydrostaticBody& body) {
+    std::vector<Eigen::Vector3d> out;
+    out.reserve(body.openings.size());
+    for (const Eigen::Vector3d& p : body.openings) out.push_back(p - body.centerOfMass);
+    return out;
+}
+
+/// The general criteria of the IMO 2008 IS Code, Part A 2.2, on `arm` (the free-surface
+/// corrected GZ curve, from 0 degrees) with the effective GM0 and the downflooding angle.
+StabilityCriteria isCode2008Criteria(HeelCurve& curve, const std::function<double(double)>& arm,
+                                     double step, double gm0, double largestArmDegrees,
+                                     double largest, std::optional<double> downflooding) {
+    const double limit = std::min(40.0, downflooding.value_or(40.0));
+    // GZ at 30 degrees or more: the largest arm there.
+    double gz30 = largest;
+    if (largestArmDegrees < 30) {
+        arm(30.0);  // solved, so that the search below sees it
+        gz30 = largestArm(curve, arm, 30.0).second;
+    }
+    StabilityCriteria c;
+    auto add = [&](const char* name, const char* unit, double value, double required) {
+        c.criteria.push_back({name, unit, value, required, value >= required});
+    };
+    add("area_0_30", "m rad", areaUnder(arm, 0, 30, step), 0.055);
+    add("area_0_40", "m rad", areaUnder(arm, 0, limit, step), 0.09);
+    add("area_30_40", "m rad", areaUnder(arm, 30, limit, step), 0.03);
+    add("gz_30", "m", gz30, 0.20);
+    add("angle_gz_max", "deg", largestArmDegrees, 25.0);
+    add("gm0", "m", gm0, 0.15);
+    c.pass = std::all_of(c.criteria.begin(), c.criteria.end(),
+                         [](const StabilityCriterion& k) { return k.pass; });
+    return c;
+}
+
 Result<HydrostaticsResult> solveHydrostatics(DisplacementMeasure measure,
                                              const HydrostaticBody& body,
                                              const HydrostaticsSettings& settings,
@@ -234,10 +427,24 @@ Result<HydrostaticsResult> solveHydrostatics(DisplacementMeasure measure,
         return refuse("the GZ step must lie in (0, 90] degrees");
     if (!(settings.derivativeStepDegrees > 0) || !(settings.derivativeStepDegrees <= 10))
         return refuse("the derivative step must lie in (0, 10] degrees");
+    if (!(settings.criteriaStepDegrees > 0) || !(settings.criteriaStepDegrees <= 5))
+        return refuse("the criteria's GZ step must lie in (0, 5] degrees");
+    for (double heel : settings.crossCurveHeelsDegrees) {
+        if (!(heel > 0) || !(heel <= 180))
+            return refuse("the cross curves' heels must lie in (0, 180] degrees");
+    }
+    for (double ratio : settings.crossCurveDisplacementRatios) {
+        if (!(ratio > 0) || !std::isfinite(ratio))
+            return refuse("the cross curves' displacement ratios must be positive");
+    }
+    for (const Eigen::Vector3d& p : body.openings) {
+        if (!p.allFinite()) return refuse("an opening is not finite");
+    }
     if (measure.points.empty()) return refuse("the body has no surface");
 
     const double displacement = body.mass / settings.density;
-    const Solver solver(std::move(measure), displacement);
+    const Solver solver(std::make_shared<const DisplacementMeasure>(std::move(measure)),
+                        displacement);
     const double full = solver.fullVolume();
     if (!(full > 0)) return refuse("the body encloses no volume");
     if (displacement >= full) {
@@ -294,14 +501,54 @@ Result<HydrostaticsResult> solveHydrostatics(DisplacementMeasure measure,
     }
 
     const int steps = static_cast<int>(std::ceil(180.0 / settings.gzStepDegrees - 1e-9));
-    double trim = angles[1];
+    HeelCurve curve(solver, angles[1]);
     for (int i = 0; i <= steps; ++i) {
         const double heel = std::min(180.0, i * settings.gzStepDegrees);
-        const auto [t, f] = solver.trimmedAt(heel * kDegree, trim);
-        trim = t;
-        r.gz.push_back({heel, f.water.offset.z(), t / kDegree});
+        const Heeled& state = curve.at(heel);
+        r.gz.push_back({heel, state.floating.water.offset.z(), state.trim / kDegree});
     }
     r.vanishingStabilityDegrees = vanishingAngle(solver, r.gz, r.heelDegrees);
+
+    // The stability report.
+    if (solver.measure().waterlineLength)
+        r.waterlineLength = solver.measure().waterlineLength(upright, rest.waterHeight);
+    r.tonnesPerCentimetre = settings.density * r.waterplaneArea / 1e5;
+    const double tonnes = settings.density * r.displacement / 1000;
+    if (r.waterlineLength > 0) {
+        r.momentToChangeTrim =
+            tonnes * (r.gmLongitudinal - r.freeSurfaceLossLongitudinal) / (100 * r.waterlineLength);
+    }
+    const double loss = r.freeSurfaceLossTransverse;
+    const std::function<double(double)> corrected = [&curve, loss](double heelDegrees) {
+        return curve.arm(heelDegrees) - loss * std::sin(heelDegrees * kDegree);
+    };
+    const double step = settings.criteriaStepDegrees;
+    for (int i = 0; i * step <= 40 + 1e-9; ++i) curve.at(i * step);
+    std::vector<Eigen::Vector3d> openings = relativeOpenings(body);
+    r.openingCount = openings.size();
+    r.downfloodingDegrees = downfloodingAngle(curve, openings);
+    std::tie(r.gzMaxDegrees, r.gzMax) = largestArm(curve, corrected, 0.0);
+    r.isCode2008 = isCode2008Criteria(curve, corrected, step, r.gmTransverse - loss, r.gzMaxDegrees,
+                                      r.gzMax, r.downfloodingDegrees);
+
+    // KN = GZ + KG sin(phi) at each displacement, the heels in the settings' order, each
+    // displacement's trim started from its own upright state.
+    std::vector<double> ratios = settings.crossCurveDisplacementRatios;
+    std::sort(ratios.begin(), ratios.end());
+    if (!settings.crossCurveHeelsDegrees.empty()) {
+        for (double ratio : ratios) {
+            const double volume = ratio * displacement;
+            if (!(volume < full)) continue;  // sinks
+            const bool own = std::abs(ratio - 1) < 1e-12;
+            const Solver other = solver.withDisplacement(volume);
+            HeelCurve otherCurve(other, own ? angles[1] : other.trimmedAt(0, angles[1]).first);
+            HeelCurve& at = own ? curve : otherCurve;
+            CrossCurve kn{volume, settings.crossCurveHeelsDegrees, {}};
+            for (double heel : kn.heelsDegrees)
+                kn.kn.push_back(at.arm(heel) + r.kg * std::sin(heel * kDegree));
+            r.crossCurves.push_back(std::move(kn));
+        }
+    }
     return r;
 }
 
@@ -331,6 +578,62 @@ Waterplane textureWaterplane(const SurfaceTextures& textures, const Eigen::Matri
         w.zz += projected * p.z() * p.z() + own;
     }
     return w;
+}
+
+/// The waterline's length from the texel entries: the extent along world x of the entries
+/// across the waterline (the wet share of textureWaterplane strictly between 0 and 1), each
+/// reaching half its own extent along x, sqrt(a (1 - n_x^2)) / 2, beyond its centroid, but
+/// not beyond the centroids of all entries (a square entry's reach overshoots a narrow one cut
+/// at a corner; an end wall's entries lie on it). Within about a texel of the mesh's
+/// waterline: exact for a box, short by 0.4% at 128^2 and 0.1% at 256^2 for the knife-edged
+/// ends of a Wigley hull.
+double textureWaterlineLength(const SurfaceTextures& textures, const Eigen::Matrix3d& rotation,
+                              const Eigen::Vector3d& centerOfMass, double h) {
+    double lo = INFINITY, hi = -INFINITY, first = INFINITY, last = -INFINITY;
+    for (std::size_t i = 0; i < textures.coveredCount(); ++i) {
+        const Eigen::Vector3d p = rotation * (textures.position[i] - centerOfMass);
+        first = std::min(first, p.x());
+        last = std::max(last, p.x());
+        const Eigen::Vector3d a = rotation * textures.areaVector[i];
+        const double norm2 = std::max(a.squaredNorm(), 1e-300);
+        const double height =
+            std::sqrt(textures.area[i] * std::max(0.0, 1.0 - a.y() * a.y() / norm2));
+        if (!(std::abs(h - p.y()) < 0.5 * height)) continue;  // not across the waterline
+        const double reach =
+            0.5 * std::sqrt(textures.area[i] * std::max(0.0, 1.0 - a.x() * a.x() / norm2));
+        lo = std::min(lo, p.x() - reach);
+        hi = std::max(hi, p.x() + reach);
+    }
+    lo = std::max(lo, first), hi = std::min(hi, last);
+    return hi > lo ? hi - lo : 0.0;
+}
+
+/// The waterline's length from the mesh: the extent along world x of the points where its
+/// edges cross the plane at height h (vertices on it count), the mesh turned by `rotation`
+/// about G.
+double meshWaterlineLength(const TriangleMesh& mesh, const Eigen::Matrix3d& rotation,
+                           const Eigen::Vector3d& centerOfMass, double h) {
+    std::vector<Eigen::Vector3d> world(mesh.positions.size());
+    for (std::size_t i = 0; i < world.size(); ++i)
+        world[i] = rotation * (mesh.positions[i] - centerOfMass);
+    double lo = INFINITY, hi = -INFINITY;
+    for (const Triangle& t : mesh.triangles) {
+        for (int k = 0; k < 3; ++k) {
+            const Eigen::Vector3d& a = world[t[k]];
+            const Eigen::Vector3d& b = world[t[(k + 1) % 3]];
+            const double da = a.y() - h, db = b.y() - h;
+            double x = NAN;
+            if (da == 0) {
+                x = a.x();
+            } else if ((da < 0 && db > 0) || (da > 0 && db < 0)) {
+                x = a.x() + da / (da - db) * (b.x() - a.x());
+            }
+            if (std::isnan(x)) continue;
+            lo = std::min(lo, x);
+            hi = std::max(hi, x);
+        }
+    }
+    return hi > lo ? hi - lo : 0.0;
 }
 
 /// Relative to G, object axes.
@@ -375,6 +678,9 @@ Result<HydrostaticsResult> hydrostaticsFromTextures(const SurfaceTextures& textu
     measure.waterplane = [&textures, &body](const Eigen::Matrix3d& rotation, double h) {
         return textureWaterplane(textures, rotation, body.centerOfMass, h);
     };
+    measure.waterlineLength = [&textures, &body](const Eigen::Matrix3d& rotation, double h) {
+        return textureWaterlineLength(textures, rotation, body.centerOfMass, h);
+    };
     return solveHydrostatics(std::move(measure), body, settings, HydrostaticsMethod::Textures);
 }
 
@@ -386,6 +692,9 @@ Result<HydrostaticsResult> hydrostaticsExact(const TriangleMesh& mesh, const Hyd
     measure.displaced = [&mesh, &body, fluid](const Eigen::Matrix3d& rotation, double h) {
         return displacedOf(
             evaluateBuoyancyExact(mesh, frameAt(rotation, body.centerOfMass), h, fluid));
+    };
+    measure.waterlineLength = [&mesh, &body](const Eigen::Matrix3d& rotation, double h) {
+        return meshWaterlineLength(mesh, rotation, body.centerOfMass, h);
     };
     return solveHydrostatics(std::move(measure), body, settings, HydrostaticsMethod::Exact);
 }

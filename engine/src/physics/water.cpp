@@ -1,8 +1,12 @@
-// Water models (water.h). The Gerstner evaluation mirrors kernels/buoyancy.cl line for line:
-// the kernels are tested against this file.
+// Water models (water.h). The one-point formulas are the evaluation core's
+// (plimsoll_eval/water.hpp, which the runtime compiles too); kernels/buoyancy.cl mirrors them
+// line for line and is tested against this file, and the vectorised batch (gerstner_batch.h)
+// is held to them within its stated bound (tests/physics/test_water.cpp).
 #include "plimsoll/physics/water.h"
 
 #include "gerstner_batch.h"
+
+#include "plimsoll_eval/water.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -12,25 +16,19 @@ namespace plimsoll {
 
 namespace {
 
-/// Per-wave constants: wavenumber k, angular frequency omega (deep water: omega^2 = g k) and
-/// the horizontal displacement factor Q_i = steepness / (k A n), which keeps the summed
-/// surface free of loops for steepness <= 1 (GPU Gems 1, ch. 1).
-struct WaveTerms {
-    double k, omega, q;
-    Eigen::Vector2d direction;
-};
+namespace ev = plimsoll_eval;
 
-WaveTerms termsOf(const GerstnerWave& w, double gravity, std::size_t count) {
-    WaveTerms t;
-    t.k = 2.0 * std::numbers::pi / w.wavelength;
-    t.omega = std::sqrt(gravity * t.k);
-    t.q = w.amplitude > 0 ? w.steepness / (t.k * w.amplitude * static_cast<double>(count)) : 0.0;
-    const double n = w.direction.norm();
-    t.direction = n > 0 ? Eigen::Vector2d(w.direction / n) : Eigen::Vector2d(1.0, 0.0);
-    return t;
+/// Every wave's constants (plimsoll_eval::water_detail::termsOf), worked out once per query
+/// rather than once per wave and fixed-point step; no allocation for up to 16 waves.
+ev::WaveTable waveTable(const WaterModel& water) {
+    return ev::WaveTable(water.waves, water.gravity,
+                         [](const GerstnerWave& w, double& x, double& z) {
+                             x = w.direction.x();
+                             z = w.direction.y();
+                         });
 }
 
-/// One value per wave without allocating for up to kMaxGerstnerWaves waves (a query's tables).
+/// One value per wave without allocating for up to kMaxGerstnerWaves waves (a batch's tables).
 template <class T>
 class PerWave {
 public:
@@ -47,73 +45,22 @@ private:
     std::vector<T> spill_;
 };
 
-/// Every wave's constants (termsOf), worked out once per query rather than once per wave and
-/// fixed-point step: the same values, so the same heights.
-class WaveTable {
-public:
-    explicit WaveTable(const WaterModel& water) : terms_(water.waves.size()) {
-        for (std::size_t i = 0; i < terms_.size(); ++i)
-            terms_.data()[i] = termsOf(water.waves[i], water.gravity, terms_.size());
-    }
-    const WaveTerms& operator[](std::size_t i) const { return terms_.data()[i]; }
-
-private:
-    PerWave<WaveTerms> terms_;
-};
-
-/// The undisplaced horizontal position whose Gerstner surface point lies above (x, z): three
-/// fixed-point steps x0 <- x + sum Q A D sin(theta(x0)) (contracting for steepness < 1).
-Eigen::Vector2d undisplaced(const WaterModel& water, const WaveTable& terms, const Eigen::Vector2d& xz,
-                            double time) {
-    Eigen::Vector2d x0 = xz;
-    for (int iteration = 0; iteration < 3; ++iteration) {
-        Eigen::Vector2d shift = Eigen::Vector2d::Zero();
-        for (std::size_t i = 0; i < water.waves.size(); ++i) {
-            const GerstnerWave& w = water.waves[i];
-            const WaveTerms& t = terms[i];
-            const double theta = t.k * t.direction.dot(x0) - t.omega * time + w.phase;
-            shift += t.q * w.amplitude * std::sin(theta) * t.direction;
-        }
-        x0 = xz + shift;
-    }
-    return x0;
-}
-
-double gridHeight(const HeightGrid& grid, double x, double z) {
-    if (grid.countX == 0 || grid.countZ == 0) return 0.0;
-    const double gx = (x - grid.origin.x()) / grid.spacing;
-    const double gz = (z - grid.origin.y()) / grid.spacing;
-    const double fx = gx - std::floor(gx), fz = gz - std::floor(gz);
-    auto at = [&](double i, double j) {
-        const int ci = std::clamp(static_cast<int>(i), 0, grid.countX - 1);
-        const int cj = std::clamp(static_cast<int>(j), 0, grid.countZ - 1);
-        return static_cast<double>(grid.heights[static_cast<std::size_t>(cj) * grid.countX + ci]);
-    };
-    // Clamp the cell index in floating point first: far outside the grid the edge value holds.
-    const double i0 = std::clamp(std::floor(gx), -1.0, static_cast<double>(grid.countX));
-    const double j0 = std::clamp(std::floor(gz), -1.0, static_cast<double>(grid.countZ));
-    return (1 - fz) * ((1 - fx) * at(i0, j0) + fx * at(i0 + 1, j0)) +
-           fz * ((1 - fx) * at(i0, j0 + 1) + fx * at(i0 + 1, j0 + 1));
-}
-
 }  // namespace
+
+// The scalar models are the evaluation core's formulas (plimsoll_eval/water.hpp), the ones the
+// runtime compiles: one reference for both.
 
 double WaterModel::height(double x, double z, double time) const {
     switch (kind) {
         case Kind::Flat:
             return level;
         case Kind::HeightField:
-            return level + gridHeight(grid, x, z);
+            return level + ev::water_detail::gridHeight(grid.heights.data(), grid.countX,
+                                                        grid.countZ, grid.spacing, grid.origin.x(),
+                                                        grid.origin.y(), x, z);
         case Kind::Gerstner: {
-            const WaveTable terms(*this);
-            const Eigen::Vector2d x0 = undisplaced(*this, terms, {x, z}, time);
-            double y = level;
-            for (std::size_t i = 0; i < waves.size(); ++i) {
-                const GerstnerWave& w = waves[i];
-                const WaveTerms& t = terms[i];
-                y += w.amplitude * std::cos(t.k * t.direction.dot(x0) - t.omega * time + w.phase);
-            }
-            return y;
+            const ev::WaveTable terms = waveTable(*this);
+            return ev::water_detail::gerstnerHeight(terms.data(), terms.size(), level, x, z, time);
         }
     }
     return level;
@@ -121,20 +68,10 @@ double WaterModel::height(double x, double z, double time) const {
 
 Eigen::Vector3d WaterModel::velocity(const Eigen::Vector3d& point, double time) const {
     if (kind != Kind::Gerstner) return Eigen::Vector3d::Zero();
-    const WaveTable terms(*this);
-    const Eigen::Vector2d x0 = undisplaced(*this, terms, {point.x(), point.z()}, time);
-    Eigen::Vector3d v = Eigen::Vector3d::Zero();
-    for (std::size_t i = 0; i < waves.size(); ++i) {
-        const GerstnerWave& w = waves[i];
-        const WaveTerms& t = terms[i];
-        const double theta = t.k * t.direction.dot(x0) - t.omega * time + w.phase;
-        // Orbital motion of deep-water waves decays as e^(k d) below the mean level.
-        const double decay = std::exp(t.k * std::min(0.0, point.y() - level));
-        const double horizontal = t.q * w.amplitude * t.omega * std::cos(theta) * decay;
-        v += Eigen::Vector3d(horizontal * t.direction.x(),
-                             w.amplitude * t.omega * std::sin(theta) * decay,
-                             horizontal * t.direction.y());
-    }
+    const ev::WaveTable terms = waveTable(*this);
+    Eigen::Vector3d v;
+    ev::water_detail::gerstnerVelocity(terms.data(), terms.size(), level, point.x(), point.y(),
+                                       point.z(), time, v.data());
     return v;
 }
 
@@ -145,13 +82,12 @@ namespace {
 class BatchWaves {
 public:
     BatchWaves(const WaterModel& water, double time) : waves_(water.waves.size()) {
-        const WaveTable terms(water);
+        const ev::WaveTable terms = waveTable(water);
         for (std::size_t i = 0; i < waves_.size(); ++i) {
-            const WaveTerms& t = terms[i];
-            const GerstnerWave& w = water.waves[i];
+            const ev::water_detail::WaveTerms& t = terms[i];
             // phase - omega t to [-pi, pi] in double: the single-precision sines see small angles.
-            const double phase0 = std::remainder(w.phase - t.omega * time, 2.0 * std::numbers::pi);
-            waves_.data()[i] = {w.amplitude, t.k, t.omega, t.q * w.amplitude, t.direction.x(), t.direction.y(), phase0};
+            const double phase0 = std::remainder(t.phase - t.omega * time, 2.0 * std::numbers::pi);
+            waves_.data()[i] = {t.amplitude, t.k, t.omega, t.q * t.amplitude, t.dx, t.dz, phase0};
         }
     }
     detail::GerstnerBatch batch(double level) const { return {waves_.data(), waves_.size(), level}; }
@@ -187,11 +123,8 @@ double WaterModel::maxHeight() const {
     switch (kind) {
         case Kind::Flat:
             return level;
-        case Kind::Gerstner: {
-            double sum = 0;
-            for (const GerstnerWave& w : waves) sum += std::abs(w.amplitude);
-            return level + sum;
-        }
+        case Kind::Gerstner:
+            return level + ev::water_detail::amplitudeSum(waves);
         case Kind::HeightField:
             return grid.heights.empty()
                        ? level

@@ -3,6 +3,7 @@
 // fixing a hand-written file sees all of them in one go rather than one per run.
 #include "plimsoll/project/project.h"
 #include "plimsoll/io/mesh_io.h"
+#include "plimsoll/scene/level_ladder.h"
 #include "plimsoll/scene/world.h"
 #include "plimsoll/scene/scene_radiation.h"
 
@@ -228,7 +229,7 @@ private:
         const std::string path = "simulation";
         if (!expectObject(value, path,
                           {"gravity", "time_step", "sub_steps", "max_phase_step", "integrator",
-                           "duration"})) {
+                           "duration", "sleep"})) {
             return;
         }
         vector(value, path, "gravity", simulation.gravity);
@@ -250,6 +251,25 @@ private:
             }
         }
         number(value, path, "duration", simulation.duration, Limit::NonNegative);
+        if (const Json* sleep = find(value, "sleep")) {
+            readSleep(*sleep, member(path, "sleep"), simulation.sleep);
+        }
+    }
+
+    void readSleep(const Json& value, const std::string& path,
+                   plimsoll_eval::SleepSettings& sleep) {
+        if (!expectObject(value, path,
+                          {"enabled", "linear_speed", "angular_speed", "linear_acceleration",
+                           "angular_acceleration", "rest_time", "wake_height"})) {
+            return;
+        }
+        boolean(value, path, "enabled", sleep.enabled);
+        number(value, path, "linear_speed", sleep.linearSpeed, Limit::NonNegative);
+        number(value, path, "angular_speed", sleep.angularSpeed, Limit::NonNegative);
+        number(value, path, "linear_acceleration", sleep.linearAcceleration, Limit::NonNegative);
+        number(value, path, "angular_acceleration", sleep.angularAcceleration, Limit::NonNegative);
+        number(value, path, "rest_time", sleep.restTime, Limit::NonNegative);
+        number(value, path, "wake_height", sleep.wakeHeight, Limit::NonNegative);
     }
 
     void readBodies(const Json* value, std::vector<BodyDesc>& bodies) {
@@ -267,12 +287,30 @@ private:
 
     void readBody(const Json& value, const std::string& path, BodyDesc& body) {
         if (!expectObject(value, path,
-                          {"name", "mesh", "mesh_frames", "frames_per_second", "texture_size",
-                           "max_texel_stretch", "material", "position", "rotation_deg",
-                           "velocity", "angular_velocity", "drag_coefficient",
-                           "friction_coefficient", "linear_damping", "angular_damping",
-                           "permeability_map", "water_graph", "atlas", "openings", "radiation",
-                           "unit"})) {
+                          {"name",
+                           "mesh",
+                           "mesh_frames",
+                           "frames_per_second",
+                           "texture_size",
+                           "tolerance",
+                           "max_texel_stretch",
+                           "material",
+                           "position",
+                           "rotation_deg",
+                           "velocity",
+                           "angular_velocity",
+                           "drag_coefficient",
+                           "friction_coefficient",
+                           "linear_damping",
+                           "angular_damping",
+                           "permeability_map",
+                           "water_graph",
+                           "atlas",
+                           "openings",
+                           "caps",
+                           "radiation",
+                           "unit",
+                           "lod"})) {
             return;
         }
         string(value, path, "name", body.name);
@@ -317,6 +355,17 @@ private:
             integer(value, path, "texture_size", body.textureSize, kMinTextureSize,
                     kMaxTextureSize);
         }
+        if (const Json* tolerance = find(value, "tolerance")) {
+            double share = 0;
+            if (numberValue(*tolerance, member(path, "tolerance"), share, Limit::Positive)) {
+                if (find(value, "texture_size"))
+                    problem(member(path, "tolerance"), "give texture_size or tolerance, not both");
+                else if (!(share < 1))
+                    problem(member(path, "tolerance"), "must be below 1 (a share of rho g V)");
+                else
+                    body.tolerance = share;
+            }
+        }
         number(value, path, "max_texel_stretch", body.maxTexelStretch, Limit::NonNegative);
         std::string atlas;
         const Json* atlasValue = find(value, "atlas");
@@ -330,6 +379,7 @@ private:
             if (const auto mode = parseOpeningsMode(openings)) body.openings = *mode;
             else problem(member(path, "openings"), "unknown '" + openings + "' (open, sealed, none)");
         }
+        if (const Json* caps = find(value, "caps")) readCaps(*caps, member(path, "caps"), body);
         if (const Json* material = find(value, "material")) {
             readMaterial(*material, member(path, "material"), body.material);
         } else {
@@ -350,6 +400,49 @@ private:
         }
         if (const Json* radiation = find(value, "radiation")) {
             readRadiation(*radiation, member(path, "radiation"), body.radiation.emplace());
+        }
+        if (const Json* lod = find(value, "lod")) readLod(*lod, member(path, "lod"), body);
+    }
+
+    void readCaps(const Json& value, const std::string& path, BodyDesc& body) {
+        if (!array(value, path)) return;
+        for (std::size_t i = 0; i < value.size(); ++i) {
+            const std::string at = element(path, i);
+            CapDesc& cap = body.caps.emplace_back();
+            if (!expectObject(value[i], at, {"mode", "height"})) continue;
+            std::string name;
+            const Json* mode = find(value[i], "mode");
+            if (mode && stringValue(*mode, member(at, "mode"), name)) {
+                const std::optional<OpeningsMode> parsed = parseOpeningsMode(name);
+                if (parsed && *parsed != OpeningsMode::None)
+                    cap.mode = parsed;
+                else
+                    problem(member(at, "mode"), "unknown '" + name + "' (open, sealed)");
+            }
+            double height = 0;
+            const Json* h = find(value[i], "height");
+            if (h && numberValue(*h, member(at, "height"), height, Limit::Any)) cap.height = height;
+        }
+    }
+
+    void readLod(const Json& value, const std::string& path, BodyDesc& body) {
+        if (!expectObject(value, path, {"levels"})) return;
+        LodDesc& lod = body.lod.emplace();
+        const std::string levelsPath = member(path, "levels");
+        const Json* levels = find(value, "levels");
+        if (!levels) {
+            problem(levelsPath, "required (texture sizes, e.g. [16, 32])");
+            return;
+        }
+        if (!array(*levels, levelsPath)) return;
+        for (std::size_t i = 0; i < levels->size(); ++i) {
+            int size = 0;
+            // The body's texture_size (read above) is the finest level; a tolerance's size is
+            // known only when it is met, so its levels are checked then (ladderSizes).
+            if (!integerValue((*levels)[i], element(levelsPath, i), size, kMinTextureSize,
+                              body.tolerance ? kToleranceMaxTextureSize : body.textureSize))
+                continue;
+            lod.levels.push_back(size);
         }
     }
 
@@ -594,10 +687,23 @@ Json toJson(const BodyDesc& body) {
     if (body.unitScale > 0) json["unit"] = body.unitScale;
     json["mesh_frames"] = body.meshFrames;
     json["frames_per_second"] = body.framesPerSecond;
-    json["texture_size"] = body.textureSize;
+    if (body.tolerance)
+        json["tolerance"] = *body.tolerance;
+    else
+        json["texture_size"] = body.textureSize;
     json["max_texel_stretch"] = body.maxTexelStretch;
     json["atlas"] = atlasModeName(body.atlas);
     if (body.openings != OpeningsMode::Open) json["openings"] = openingsModeName(body.openings);
+    if (!body.caps.empty()) {
+        Json caps = Json::array();
+        for (const CapDesc& cap : body.caps) {
+            Json entry = Json::object();
+            if (cap.mode) entry["mode"] = openingsModeName(*cap.mode);
+            if (cap.height) entry["height"] = *cap.height;
+            caps.push_back(std::move(entry));
+        }
+        json["caps"] = std::move(caps);
+    }
     json["material"] = toJson(body.material);
     json["position"] = toJson(body.position);
     json["rotation_deg"] = toJson(body.rotationDegrees);
@@ -622,6 +728,7 @@ Json toJson(const BodyDesc& body) {
         graph["seed"] = g.seed;
         json["water_graph"] = std::move(graph);
     }
+    if (body.lod) json["lod"] = {{"levels", body.lod->levels}};
     if (body.radiation && !body.radiation->enabled &&
         *body.radiation == RadiationDesc{.enabled = false}) {
         json["radiation"] = false;
@@ -704,6 +811,13 @@ std::string projectToJson(const Project& project) {
     json["simulation"]["max_phase_step"] = simulation.maxPhaseStep;
     json["simulation"]["integrator"] = integratorName(simulation.integrator);
     json["simulation"]["duration"] = simulation.duration;
+    json["simulation"]["sleep"] = {{"enabled", simulation.sleep.enabled},
+                                   {"linear_speed", simulation.sleep.linearSpeed},
+                                   {"angular_speed", simulation.sleep.angularSpeed},
+                                   {"linear_acceleration", simulation.sleep.linearAcceleration},
+                                   {"angular_acceleration", simulation.sleep.angularAcceleration},
+                                   {"rest_time", simulation.sleep.restTime},
+                                   {"wake_height", simulation.sleep.wakeHeight}};
     Json bodies = Json::array();
     for (const BodyDesc& body : project.bodies) bodies.push_back(toJson(body));
     json["bodies"] = std::move(bodies);

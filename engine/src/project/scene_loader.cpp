@@ -26,10 +26,12 @@ namespace {
 /// Texels per side of the permeability map made for the caps of a body that has none painted.
 constexpr int kOpeningMapSize = 512;
 
-/// One node per opening, for the space behind its cap: a box node (its level follows the
-/// space's box) with the space's volume as capacity, empty.
-void appendOpeningNodes(WaterGraph& graph, const std::vector<Opening>& openings) {
-    for (std::size_t i = 0; i < openings.size(); ++i) {
+/// One node per open cap (`open`: opening indices), for the space behind it: a box node (its
+/// level follows the space's box) with the space's volume as capacity, empty. Named by the
+/// opening's index, so that sealing one cap does not rename the others' nodes.
+void appendOpeningNodes(WaterGraph& graph, const std::vector<Opening>& openings,
+                        const std::vector<std::size_t>& open) {
+    for (std::size_t i : open) {
         const Opening& opening = openings[i];
         GraphNode node;
         node.id = "opening-" + std::to_string(i + 1);
@@ -72,6 +74,7 @@ Result<PreparedBodyMesh> prepareLoadedBodyMesh(const Project& project, std::size
     if (!desc.deforms()) {
         RepairSettings settings;
         settings.closeOpenings = desc.openings != OpeningsMode::None;
+        for (const CapDesc& cap : desc.caps) settings.capHeights.push_back(cap.height);
         Result<PhysicsSolid> solid = physicsSolidFor(loaded, report, settings);
         if (!solid) return withContext(label + ": ", solid.error());
         if (!solid->repairs.empty()) {
@@ -141,10 +144,21 @@ Result<BodyParts> assembleBodyParts(BodyDesc& desc, PreparedBodyMesh prepared, c
     if (Status s = onSolid(paint.shellDensityMap, parts.shellDensityMap); !s) return s.error();
     if (Status s = onSolid(paint.shellThicknessMap, parts.shellThicknessMap); !s) return s.error();
 
+    // Sealed or open, the space behind a cap holds no material, and a cap is not wall.
     parts.hollow = hollowSpace(prepared.openings);
+    std::vector<std::size_t> open;
+    std::vector<std::uint32_t> openCaps, sealedCaps;  // their triangles
+    for (std::size_t i = 0; i < prepared.openings.size(); ++i) {
+        const std::vector<std::uint32_t>& cap = prepared.openings[i].capTriangles;
+        parts.capTriangles.insert(parts.capTriangles.end(), cap.begin(), cap.end());
+        const bool lets = desc.capMode(i) == OpeningsMode::Open;
+        if (lets) open.push_back(i);
+        std::vector<std::uint32_t>& into = lets ? openCaps : sealedCaps;
+        into.insert(into.end(), cap.begin(), cap.end());
+    }
     WaterGraph graph = paint.waterGraph ? *paint.waterGraph : WaterGraph{};
-    if (desc.openings == OpeningsMode::Open && !prepared.openings.empty()) {
-        appendOpeningNodes(graph, prepared.openings);
+    if (!open.empty()) {
+        appendOpeningNodes(graph, prepared.openings, open);
         if (!desc.waterGraph) {
             // An opening is an orifice, not a seeping surface: Torricelli's law, so a hull
             // pushed under fills in a moment as a real one does.
@@ -159,14 +173,25 @@ Result<BodyParts> assembleBodyParts(BodyDesc& desc, PreparedBodyMesh prepared, c
             permeability.width = permeability.height = kOpeningMapSize;
             permeability.values.assign(static_cast<std::size_t>(kOpeningMapSize) * kOpeningMapSize, 0.0f);
         }
-        std::vector<std::uint32_t> caps;
-        for (const Opening& opening : prepared.openings)
-            caps.insert(caps.end(), opening.capTriangles.begin(), opening.capTriangles.end());
-        if (Status s = paintTriangles(permeability, *mesh, caps, 1.0f); !s) return withContext(label + ": ", s.error());
+        if (Status s = paintTriangles(permeability, *mesh, openCaps, 1.0f); !s)
+            return withContext(label + ": ", s.error());
         parts.permeabilityMap = std::make_shared<const PaintedMap>(std::move(permeability));
-        say(label + ": " + std::to_string(prepared.openings.size()) +
+        say(label + ": " + std::to_string(open.size()) + " of " +
+            std::to_string(prepared.openings.size()) +
             (prepared.openings.size() == 1 ? " opening" : " openings") +
-            " closed by caps that let water in: compartments of the water graph, empty at the start");
+            " closed by caps that let water in: compartments of the water graph, empty at the "
+            "start");
+    }
+    if (const std::size_t sealed = prepared.openings.size() - open.size(); sealed > 0) {
+        if (parts.permeabilityMap) {
+            // A sealed cap lets nothing in, whatever was painted near the rim it closes.
+            PaintedMap permeability = *parts.permeabilityMap;
+            if (Status s = paintTriangles(permeability, *mesh, sealedCaps, 0.0f); !s)
+                return withContext(label + ": ", s.error());
+            parts.permeabilityMap = std::make_shared<const PaintedMap>(std::move(permeability));
+        }
+        say(label + ": " + std::to_string(sealed) + (sealed == 1 ? " opening" : " openings") +
+            " closed by sealed caps (decks): no water gets in");
     }
     if (desc.waterGraph) parts.waterGraph = std::make_shared<const WaterGraph>(std::move(graph));
     return parts;
@@ -196,7 +221,8 @@ Result<SceneBody> loadSceneBody(const Project& project, std::size_t index, const
     if (!prepared->repairs.empty())
         say(label + ": not one closed solid as it is, or an open hull: its physics solid is baked (" +
             describeRepairs(prepared->repairs) + ")");
-    if (const std::string cost = describeBakeCost(prepared->mesh, desc.textureSize); !cost.empty())
+    if (const std::string cost = describeBakeCost(prepared->mesh, desc.textureSize);
+        !cost.empty() && !desc.tolerance)
         say(label + ": " + cost);
     BodyPaint paint;
     paint.paintedOver = prepared->artist;
@@ -234,6 +260,8 @@ Result<SceneBody> loadSceneBody(const Project& project, std::size_t index, const
     }
     Result<SceneBody> body = bakeSceneBody(bodyDesc, std::move(*parts));
     if (!body) return fail("", body.error());
+    if (body->levelChoice)
+        say(label + ": its tolerance picks " + describeLevelChoice(*body->levelChoice));
     // Radiation: asked for ("radiation": {...}), it must apply; by default (no "radiation") it
     // applies to a rigid body that floats, and any other is told why it runs without.
     if (desc.radiates()) {

@@ -9,6 +9,7 @@
 #include <cmath>
 #include <cstdint>
 #include <limits>
+#include <tuple>
 
 namespace plimsoll {
 
@@ -109,8 +110,12 @@ void markSurface(const TriangleMesh& mesh, const Grid& g, std::vector<std::uint8
         const Eigen::Vector3d& a = mesh.positions[t[0]];
         const Eigen::Vector3d& b = mesh.positions[t[1]];
         const Eigen::Vector3d& c = mesh.positions[t[2]];
-        const double longest = std::max({(b - a).norm(), (c - b).norm(), (a - c).norm()});
-        const int steps = std::max(1, static_cast<int>(std::ceil(longest / (0.5 * g.cell))));
+        // Measured in cells, where every length is bounded by the grid's size: a length in
+        // metres of coordinates near 1e160 squares past the largest double.
+        const Eigen::Vector3d ga = (a - g.origin) / g.cell, gb = (b - g.origin) / g.cell,
+                              gc = (c - g.origin) / g.cell;
+        const double longest = std::max({(gb - ga).norm(), (gc - gb).norm(), (ga - gc).norm()});
+        const int steps = std::max(1, static_cast<int>(std::ceil(2 * longest)));
         for (int s = 0; s <= steps; ++s)
             for (int r = 0; r + s <= steps; ++r)
                 mark(a + (b - a) * (double(s) / steps) + (c - a) * (double(r) / steps));
@@ -124,7 +129,9 @@ std::vector<Basin> findBasins(const TriangleMesh& solid, double solidVolume, con
     if (solid.triangles.empty() || !(solidVolume > 0)) return basins;
     const Bounds3 bounds = computeBounds(solid);
     const Eigen::Vector3d extent = bounds.max - bounds.min;
-    if (!(extent.maxCoeff() > 0) || !extent.allFinite()) return basins;
+    // Beyond 1e300 the grid's own border (two cells beyond the bounds) is no longer a double.
+    if (!extent.allFinite() || !(extent.maxCoeff() > 0) || !(extent.maxCoeff() < 1e300))
+        return basins;
     Grid g;
     // Two cells of border all round, so that the outside surrounds the solid.
     g.cell = extent.maxCoeff() / std::max(settings.resolution, 8);
@@ -239,7 +246,13 @@ std::vector<Basin> findBasins(const TriangleMesh& solid, double solidVolume, con
         if (sj > spill - 2) continue;
         basins.push_back(basin);
     }
-    std::sort(basins.begin(), basins.end(), [](const Basin& a, const Basin& b) { return a.volume > b.volume; });
+    // Largest first; equal volumes (a symmetric pair of holds) by the seed's place, so that the
+    // order, which a project's per-cap settings are indexed by, depends on the mesh alone.
+    std::sort(basins.begin(), basins.end(), [](const Basin& a, const Basin& b) {
+        if (a.volume != b.volume) return a.volume > b.volume;
+        return std::tuple(a.seed.x(), a.seed.z(), a.seed.y()) <
+               std::tuple(b.seed.x(), b.seed.z(), b.seed.y());
+    });
     return basins;
 }
 

@@ -19,6 +19,7 @@
 #include <set>
 
 #include <cmath>
+#include <limits>
 #include <optional>
 #include <sstream>
 
@@ -58,10 +59,33 @@ struct Cavity {
     Mesh space;  ///< closed, outward; its level top at h is the cap
     Mesh walls;  ///< the solid, its faces split where the space meets them
     double height = 0;
+    double rim = 0, bottom = 0;  ///< Opening::rimHeight, bottomHeight
 };
 
-std::optional<Cavity> cavityBelow(const Mesh& solid, const Bounds3& bounds, const Basin& basin, double h,
-                                  double diagonal) {
+Eigen::Vector3d vec(const Point& p) { return {p.x(), p.y(), p.z()}; }
+bool levelUpFace(const Mesh& mesh, Mesh::Face_index f, double h, double tolerance);
+
+/// A point just under the first face of `piece` that is level at h and looks up (its cap), or
+/// none when it has no such face (a void the solid encloses).
+std::optional<Eigen::Vector3d> underItsCap(const Mesh& piece, double h, double diagonal) {
+    for (Mesh::Face_index f : piece.faces()) {
+        if (!levelUpFace(piece, f, h, 1e-9 * diagonal)) continue;
+        Eigen::Vector3d centre = Eigen::Vector3d::Zero();
+        int n = 0;
+        for (Mesh::Vertex_index v : CGAL::vertices_around_face(piece.halfedge(f), piece)) {
+            centre += vec(piece.point(v));
+            ++n;
+        }
+        return centre / n - Eigen::Vector3d(0, 1e-6 * diagonal, 0);
+    }
+    return std::nullopt;
+}
+
+/// With `within` (the space behind the cap at the rim): the space below a lower cap is that
+/// space's part below h, which may be several pools (a hull's bottom divided by its frames);
+/// every piece whose cap lies in `within` is taken, joined into one mesh.
+std::optional<Cavity> cavityBelow(const Mesh& solid, const Bounds3& bounds, const Basin& basin,
+                                  double h, double diagonal, const Mesh* within = nullptr) {
     // Across the whole solid: the space may reach further out at its rim than the basin's cells
     // below the grid's spill height do (a flared hull).
     const double margin = 2 * basin.cellSize;
@@ -81,6 +105,29 @@ std::optional<Cavity> cavityBelow(const Mesh& solid, const Bounds3& bounds, cons
     std::vector<Mesh> pieces;
     PMP::split_connected_components(difference, pieces);
     const double touch = 1e-9 * diagonal;
+    const auto touches = [&](const Mesh& piece) {
+        for (Mesh::Vertex_index v : piece.vertices()) {
+            const Point& p = piece.point(v);
+            if (p.x() <= lo.x() + touch || p.x() >= hi.x() - touch || p.z() <= lo.z() + touch ||
+                p.z() >= hi.z() - touch || p.y() <= lo.y() + touch)
+                return true;
+        }
+        return false;
+    };
+    if (within) {
+        CGAL::Side_of_triangle_mesh<Mesh, Kernel> side(*within);
+        bool any = false;
+        for (Mesh& piece : pieces) {
+            const std::optional<Eigen::Vector3d> under = underItsCap(piece, h, diagonal);
+            if (!under || side(Point(under->x(), under->y(), under->z())) != CGAL::ON_BOUNDED_SIDE)
+                continue;
+            if (touches(piece)) return std::nullopt;
+            cavity.space.join(piece);
+            any = true;
+        }
+        if (!any) return std::nullopt;
+        return cavity;
+    }
     for (Mesh& piece : pieces) {
         if (!inside(piece, basin.seed)) continue;
         for (Mesh::Vertex_index v : piece.vertices()) {
@@ -94,8 +141,6 @@ std::optional<Cavity> cavityBelow(const Mesh& solid, const Bounds3& bounds, cons
     }
     return std::nullopt;
 }
-
-Eigen::Vector3d vec(const Point& p) { return {p.x(), p.y(), p.z()}; }
 
 /// Whether face f of `mesh` is level at height h (every corner within `tolerance`) and looks up.
 bool levelUpFace(const Mesh& mesh, Mesh::Face_index f, double h, double tolerance) {
@@ -154,6 +199,36 @@ TriangleMesh sealedBy(const Cavity& cavity, const std::string& source, double di
     return out;
 }
 
+/// A cap the project moved to `h` (RepairSettings::capHeights[index]): below the rim and above
+/// the bottom, `cavity` becomes the part of its space below it; else an error naming the
+/// opening and both heights.
+Status moveCap(Cavity& cavity, const Mesh& current, const Bounds3& bounds, const Basin& basin,
+               double diagonal, std::size_t index, double h, const std::string& source) {
+    const std::string which = source + ": the cap of opening " + std::to_string(index + 1) +
+                              " (caps[" + std::to_string(index) +
+                              "].height) at y = " + describeNumber(h) + " m";
+    if (!std::isfinite(h) || h > cavity.rim)
+        return makeError(
+            ErrorKind::schema,
+            which + " is above the lowest point of its rim (y = " + describeNumber(cavity.rim) +
+                " m), where the water spills before it reaches the cap");
+    if (h <= cavity.bottom)
+        return makeError(ErrorKind::schema,
+                         which + " is not above the bottom of the space behind it (y = " +
+                             describeNumber(cavity.bottom) + " m)");
+    if (h < cavity.height) {
+        const Mesh full = cavity.space;
+        std::optional<Cavity> lowered = cavityBelow(current, bounds, basin, h, diagonal, &full);
+        if (!lowered)
+            return makeError(ErrorKind::schema,
+                             which + " cannot be cut there (try a height a little above or below)");
+        lowered->rim = cavity.rim;
+        lowered->bottom = cavity.bottom;
+        cavity = std::move(*lowered);
+    }
+    return Ok{};
+}
+
 }  // namespace
 
 Status closeOpenings(PhysicsSolid& solid, const std::vector<Basin>& basins, const RepairSettings& settings) {
@@ -206,10 +281,22 @@ Status closeOpenings(PhysicsSolid& solid, const std::vector<Basin>& basins, cons
             else high = mid;
         }
         // The rim's lowest point is the vertex height between the two: the cap goes just under it.
+        double rim = spills;
         if (high > 0) {
-            const double rim = heights[high - 1];
+            rim = heights[high - 1];
             const double at = std::max(middle(low), rim - 1e-4 * cell);
             if (std::optional<Cavity> capped = cavityBelow(current, bounds, basin, at, diagonal)) cavity = std::move(capped);
+        }
+        cavity->rim = rim;
+        cavity->bottom = std::numeric_limits<double>::max();
+        for (Mesh::Vertex_index v : cavity->space.vertices())
+            cavity->bottom = std::min(cavity->bottom, cavity->space.point(v).y());
+        const std::size_t index = found.size();
+        if (index < settings.capHeights.size() && settings.capHeights[index]) {
+            if (Status s = moveCap(*cavity, current, bounds, basin, diagonal, index,
+                                   *settings.capHeights[index], solid.mesh.source);
+                !s)
+                return s;
         }
         TriangleMesh joined = sealedBy(*cavity, solid.mesh.source, diagonal);
         if (validateSurface(joined).closedSolid()) sealed = std::move(joined);
@@ -244,6 +331,8 @@ Status closeOpenings(PhysicsSolid& solid, const std::vector<Basin>& basins, cons
     for (const Cavity& c : found) {
         Opening opening;
         opening.capHeight = c.height;
+        opening.rimHeight = c.rim;
+        opening.bottomHeight = c.bottom;
         const TriangleMesh space = toTriangleMesh(c.space, solid.mesh.source);
         opening.cavity = exactSolidMassProperties(space, 1.0);
         const Bounds3 box = computeBounds(space);
@@ -267,9 +356,11 @@ Status closeOpenings(PhysicsSolid& solid, const std::vector<Basin>& basins, cons
         openings.push_back(std::move(opening));
     }
     solid.repairs.push_back({"cap", openings.size(), after - before,
-                             std::to_string(openings.size()) + (openings.size() == 1 ? " opening" : " openings") +
-                                 " closed by a level cap at the rim (y = " + heights.str() + " m): a compartment of " +
-                                 describeNumber(behind) + " m^3 behind it, empty at the start"});
+                             std::to_string(openings.size()) +
+                                 (openings.size() == 1 ? " opening" : " openings") +
+                                 " closed by a level cap (y = " + heights.str() +
+                                 " m; the rim's lowest point unless moved), " +
+                                 describeNumber(behind) + " m^3 behind the caps"});
     solid.mesh = std::move(sealed);
     solid.displacementVolume = after;
     solid.openings = std::move(openings);

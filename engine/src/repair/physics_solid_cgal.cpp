@@ -11,7 +11,11 @@
 
 #include "plimsoll/geometry/validate.h"
 
+#include <CGAL/AABB_face_graph_triangle_primitive.h>
+#include <CGAL/AABB_traits.h>
+#include <CGAL/AABB_tree.h>
 #include <CGAL/Polygon_mesh_processing/border.h>
+#include <CGAL/Polygon_mesh_processing/compute_normal.h>
 #include <CGAL/Polygon_mesh_processing/connected_components.h>
 #include <CGAL/Polygon_mesh_processing/corefinement.h>
 #include <CGAL/Polygon_mesh_processing/measure.h>
@@ -27,7 +31,9 @@
 #include <array>
 #include <cmath>
 #include <map>
+#include <memory>
 #include <numeric>
+#include <optional>
 #include <sstream>
 #include <tuple>
 
@@ -128,9 +134,10 @@ Parts splitParts(const Mesh& whole) {
 }
 
 /// Open parts that are closed solids but for small holes (a hull with a gap where a mast went
-/// in): each hole filled (triangulate_hole), the part kept when it then bounds a volume and the
-/// patches are at most `maxPatchShare` of its area. A sail's or an open shell's opening is
-/// most of its area, and stays open. Returns the holes filled and the volume the parts add.
+/// in): each hole filled (triangulate_hole), the part kept when the patches are at most
+/// `maxPatchShare` of its area: closed when it then bounds a volume and does not intersect
+/// itself, else broken (wrapped). A sail's or an open shell's opening is most of its area, and
+/// stays open. Returns the holes filled and the volume the parts kept closed add.
 std::pair<std::size_t, double> fillSmallHoles(Parts& parts, double maxPatchShare) {
     std::size_t filled = 0;
     double added = 0;
@@ -148,10 +155,17 @@ std::pair<std::size_t, double> fillSmallHoles(Parts& parts, double maxPatchShare
         }
         double patchArea = 0;
         for (Mesh::Face_index f : patch) patchArea += PMP::face_area(f, part);
-        ok = ok && CGAL::is_closed(part) && patchArea <= maxPatchShare * area && !PMP::does_self_intersect(part) &&
-             PMP::does_bound_a_volume(part);
+        ok = ok && CGAL::is_closed(part) && patchArea <= maxPatchShare * area;
         if (!ok) {
             ++it;
+            continue;
+        }
+        if (PMP::does_self_intersect(part) || !PMP::does_bound_a_volume(part)) {
+            // Closed but for small holes, yet not sound as it is (a hull whose masts and
+            // deckhouse, in the same surface, cut through its deck): a hull all the same, not a
+            // sheet; it is wrapped like a closed part that intersects itself.
+            parts.broken.push_back(std::move(part));
+            it = parts.open.erase(it);
             continue;
         }
         filled += borders.size();
@@ -160,6 +174,140 @@ std::pair<std::size_t, double> fillSmallHoles(Parts& parts, double maxPatchShare
         it = parts.open.erase(it);
     }
     return {filled, added};
+}
+
+/// Which parts each open part's boundary lies on (within `tolerance`): its `share` of the boundary
+/// length that lies on other parts' faces (1 for a piece of a closed solid whose other pieces are
+/// elsewhere in the surface, 0 for a sheet whose edges are free) and the other open parts it
+/// touches (indices into parts.open).
+struct Attachment {
+    double share = 0;
+    std::vector<std::size_t> openNeighbours;
+};
+
+std::vector<Attachment> attachments(const Parts& parts, double tolerance) {
+    using Primitive = CGAL::AABB_face_graph_triangle_primitive<Mesh>;
+    using Tree = CGAL::AABB_tree<CGAL::AABB_traits<Kernel, Primitive>>;
+    std::vector<const Mesh*> all;
+    for (const std::vector<Mesh>* group : {&parts.open, &parts.closed, &parts.broken})
+        for (const Mesh& part : *group) all.push_back(&part);
+    std::vector<std::unique_ptr<Tree>> trees;
+    for (const Mesh* part : all) {
+        trees.push_back(std::make_unique<Tree>(faces(*part).first, faces(*part).second, *part));
+        if (!part->is_empty()) trees.back()->accelerate_distance_queries();
+    }
+    std::vector<Attachment> out(parts.open.size());
+    for (std::size_t i = 0; i < parts.open.size(); ++i) {
+        const Mesh& part = parts.open[i];
+        double length = 0, attached = 0;
+        for (Mesh::Halfedge_index h : part.halfedges()) {
+            if (!part.is_border(h)) continue;
+            const Point& a = part.point(part.source(h));
+            const Point& b = part.point(part.target(h));
+            const double l = std::sqrt(CGAL::squared_distance(a, b));
+            length += l;
+            const Point middle = CGAL::midpoint(a, b);
+            bool on = false;
+            for (std::size_t j = 0; j < all.size(); ++j) {
+                if (j == i || all[j]->is_empty()) continue;
+                if (trees[j]->squared_distance(middle) <= tolerance * tolerance) {
+                    on = true;
+                    if (j < parts.open.size() &&
+                        std::find(out[i].openNeighbours.begin(), out[i].openNeighbours.end(), j) ==
+                            out[i].openNeighbours.end())
+                        out[i].openNeighbours.push_back(j);
+                }
+            }
+            if (on) attached += l;
+        }
+        out[i].share = length > 0 ? attached / length : 0;
+    }
+    return out;
+}
+
+/// What an open part would enclose with its holes filled (triangulate_hole): the volume
+/// (absolute), the patches' area and their outward area vector (the way its openings face).
+/// None when the holes cannot be filled into a closed surface.
+struct Filled {
+    double volume = 0, patchArea = 0;
+    Kernel::Vector_3 opening{0, 0, 0};
+};
+
+std::optional<Filled> filled(const Mesh& open) {
+    Mesh part = open;
+    std::vector<Mesh::Halfedge_index> borders;
+    PMP::extract_boundary_cycles(part, std::back_inserter(borders));
+    std::vector<Mesh::Face_index> patch;
+    try {
+        for (Mesh::Halfedge_index h : borders)
+            PMP::triangulate_hole(part, h, std::back_inserter(patch));
+    } catch (const std::exception&) {
+        return std::nullopt;
+    }
+    if (patch.empty() || !CGAL::is_closed(part)) return std::nullopt;
+    Filled out;
+    out.volume = volumeOf(part);
+    for (Mesh::Face_index f : patch) {
+        out.opening = out.opening + PMP::compute_face_normal(f, part) * PMP::face_area(f, part);
+        out.patchArea += PMP::face_area(f, part);
+    }
+    // Outward: the filled part's volume is positive when its faces face out.
+    if (out.volume < 0) {
+        out.volume = -out.volume;
+        out.opening = -out.opening;
+    }
+    return out;
+}
+
+/// Sorts out the open parts that are not sheets. A part encloses enough when, its holes filled,
+/// it holds at least `minShare` of that volume and `otherVolume` (the closed and broken parts'),
+/// so a plank glued on a box, an eye on a head and a flat sheet are not enough.
+/// - Pieces of a closed solid: open parts whose edges lie on other parts (90% of their length),
+///   joined through the open parts they touch into groups. A group with a piece that encloses
+///   enough is a closed solid torn into pieces where merging its points and faces with a solid
+///   that coincides with it (a visible hull and a buoyancy hull at one place) left non-manifold
+///   edges: its pieces go to `broken`, to be wrapped together into the solid they bound.
+/// - Open hulls: open parts with free edges that enclose enough and whose openings face up
+///   (their outward area vector within 45 degrees of object y): a hull or container modelled as
+///   one surface without thickness, which holds water poured in from above. They are returned,
+///   to be kept as thin walls (their wrap) that the openings step caps at the rim. A sail, a flag
+///   or a half hull cut at its mirror plane opens sideways and stays a sheet.
+std::vector<Mesh> takeHullsAndPieces(Parts& parts, double minShare, double otherVolume,
+                                     double tolerance) {
+    const std::vector<Attachment> attached = attachments(parts, tolerance);
+    const std::size_t n = parts.open.size();
+    std::vector<std::optional<Filled>> fill;
+    std::vector<bool> enough(n), piece(n);
+    std::vector<std::size_t> group(n);
+    std::iota(group.begin(), group.end(), std::size_t(0));
+    auto find = [&](std::size_t x) {
+        while (group[x] != x) x = group[x] = group[group[x]];
+        return x;
+    };
+    for (std::size_t i = 0; i < n; ++i) {
+        fill.push_back(filled(parts.open[i]));
+        enough[i] = fill[i] && fill[i]->volume >= minShare * (fill[i]->volume + otherVolume);
+        piece[i] = attached[i].share >= 0.9;
+    }
+    for (std::size_t i = 0; i < n; ++i)
+        for (std::size_t j : attached[i].openNeighbours)
+            if (piece[i] && piece[j]) group[find(i)] = find(j);
+    std::vector<bool> solidGroup(n, false);
+    for (std::size_t i = 0; i < n; ++i)
+        if (piece[i] && enough[i]) solidGroup[find(i)] = true;
+    std::vector<Mesh> hulls, open;
+    for (std::size_t i = 0; i < n; ++i) {
+        Mesh& part = parts.open[i];
+        if (piece[i] && solidGroup[find(i)])
+            parts.broken.push_back(std::move(part));
+        else if (!piece[i] && enough[i] &&
+                 fill[i]->opening.y() >= std::sqrt(0.5) * fill[i]->patchArea)
+            hulls.push_back(std::move(part));
+        else
+            open.push_back(std::move(part));
+    }
+    parts.open = std::move(open);
+    return hulls;
 }
 
 /// The union of the closed parts, biggest first; a part the union refuses goes to `broken`.
@@ -264,6 +412,23 @@ Result<PhysicsSolid> buildPhysicsSolid(const TriangleMesh& surface, const Repair
     }
     report("orient", flipped + outward, 0,
            std::to_string(flipped + outward) + " faces turned to agree with their neighbours and face out");
+    double otherVolume = 0;
+    for (const std::vector<Mesh>* group : {&parts.closed, &parts.broken})
+        for (const Mesh& part : *group) otherVolume += std::abs(volumeOf(part));
+    const std::size_t brokenBefore = parts.broken.size();
+    const std::vector<Mesh> hulls =
+        takeHullsAndPieces(parts, settings.basins.minVolumeShare, otherVolume,
+                           1e3 * settings.weldTolerance * diagonal);
+    const std::size_t pieces = parts.broken.size() - brokenBefore;
+    if (!hulls.empty()) {
+        std::size_t faces = 0;
+        for (const Mesh& part : hulls) faces += part.number_of_faces();
+        report("open-hulls", hulls.size(), 0,
+               std::to_string(hulls.size()) + " open parts (" + std::to_string(faces) +
+                   " faces) that hold water poured in from above, hulls or containers without "
+                   "thickness, "
+                   "kept as thin walls (their wrap)");
+    }
     if (!parts.open.empty()) {
         std::size_t faces = 0;
         for (const Mesh& part : parts.open) faces += part.number_of_faces();
@@ -283,12 +448,13 @@ Result<PhysicsSolid> buildPhysicsSolid(const TriangleMesh& surface, const Repair
                describeNumber(partsVolume - volume) + " m^3, counts once");
 
     Mesh result = std::move(united);
-    if (!parts.broken.empty() || (closedCount == 0 && !parts.open.empty())) {
-        // Nothing closed and sound: the wrap of the broken parts, or of everything when the
-        // surface is all open (a thin shell, a single sheet).
+    if (!parts.broken.empty() || !hulls.empty() || (closedCount == 0 && !parts.open.empty())) {
+        // Nothing closed and sound: the wrap of the broken parts and the open hulls, or of
+        // everything when the surface is all open (a thin shell, a single sheet).
         std::vector<const Mesh*> toWrap;
         for (const Mesh& part : parts.broken) toWrap.push_back(&part);
-        if (closedCount == 0 && parts.broken.empty())
+        for (const Mesh& part : hulls) toWrap.push_back(&part);
+        if (closedCount == 0 && parts.broken.empty() && hulls.empty())
             for (const Mesh& part : parts.open) toWrap.push_back(&part);
         const std::size_t wrappedParts = toWrap.size();
         Mesh wrapped = wrap(toWrap, settings.wrapAlpha * diagonal, settings.wrapOffset * diagonal);
@@ -306,14 +472,22 @@ Result<PhysicsSolid> buildPhysicsSolid(const TriangleMesh& surface, const Repair
             if (!ok) {
                 std::vector<const Mesh*> all{&result};
                 for (const Mesh& part : parts.broken) all.push_back(&part);
+                for (const Mesh& part : hulls) all.push_back(&part);
                 joined = wrap(all, settings.wrapAlpha * diagonal, settings.wrapOffset * diagonal);
             }
             result = std::move(joined);
         }
         const double after = volumeOf(result);
-        report("wrap", wrappedParts, after - volume,
-               std::to_string(wrappedParts) + " parts that are not closed sound solids replaced by their alpha wrap (" +
-                   describeNumber(wrappedVolume) + " m^3)");
+        report(
+            "wrap", wrappedParts, after - volume,
+            std::to_string(wrappedParts) +
+                " parts that are not closed sound solids replaced by their alpha wrap (" +
+                describeNumber(wrappedVolume) + " m^3" +
+                (pieces > 0
+                     ? ", " + std::to_string(pieces) + " of them open pieces of one closed solid"
+                     : "") +
+                (hulls.empty() ? "" : ", " + std::to_string(hulls.size()) + " of them open hulls") +
+                ")");
         volume = after;
     }
     if (result.is_empty() || !(volume > 0))

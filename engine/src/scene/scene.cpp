@@ -4,6 +4,7 @@
 
 #include "plimsoll/surface/deform.h"
 
+#include <algorithm>
 #include <sstream>
 
 namespace plimsoll {
@@ -47,6 +48,36 @@ Result<MassProperties> materialMassProperties(const SurfaceTextures& textures,
                                               const MaterialDesc& material,
                                               const PaintedMap* shellDensityMap,
                                               const std::string& label) {
+    return bodyMassProperties(textures, material, shellDensityMap, nullptr, MassProperties{},
+                              label);
+}
+
+std::vector<double> wallShares(const TriangleMesh& mesh, const SurfaceTextures& textures,
+                               const SurfacePieceTable& pieces,
+                               const std::vector<std::uint32_t>& caps) {
+    std::vector<char> isCap(mesh.triangles.size(), 0);
+    for (std::uint32_t t : caps)
+        if (t < isCap.size()) isCap[t] = 1;
+    std::vector<double> share(textures.coveredCount(), 1.0);
+    for (std::size_t i = 0; i < share.size() && i < pieces.entryCount(); ++i) {
+        double cap = 0, all = 0;
+        for (std::uint32_t p = pieces.firstPiece[i]; p < pieces.firstPiece[i + 1]; ++p) {
+            const SurfacePiece& piece = pieces.pieces[p];
+            const double area =
+                piece.share * triangleAreaVector(mesh, mesh.triangles[piece.triangle]).norm();
+            all += area;
+            if (isCap[piece.triangle]) cap += area;
+        }
+        if (all > 0) share[i] = std::clamp(1.0 - cap / all, 0.0, 1.0);
+    }
+    return share;
+}
+
+Result<MassProperties> bodyMassProperties(const SurfaceTextures& textures,
+                                          const MaterialDesc& material,
+                                          const PaintedMap* shellDensityMap,
+                                          const std::vector<double>* wallShare,
+                                          const MassProperties& hollow, const std::string& label) {
     MassProperties total;
     bool any = false;
     if (material.density) {
@@ -58,6 +89,12 @@ Result<MassProperties> materialMassProperties(const SurfaceTextures& textures,
         if (shellDensityMap) {
             painted = sampleAtTexels(*shellDensityMap, textures, *material.shellSurfaceDensity);
         }
+        // The caps are no material: the shell lies on the walls only.
+        if (wallShare && wallShare->size() == textures.coveredCount()) {
+            if (painted.empty())
+                painted.assign(textures.coveredCount(), *material.shellSurfaceDensity);
+            for (std::size_t i = 0; i < painted.size(); ++i) painted[i] *= (*wallShare)[i];
+        }
         const MassProperties shell =
             textureShellMassProperties(textures, *material.shellSurfaceDensity, painted);
         total = any ? total + shell : shell;
@@ -66,6 +103,15 @@ Result<MassProperties> materialMassProperties(const SurfaceTextures& textures,
     if (!any || !(total.mass > 0) || !total.inertia.allFinite()) {
         return makeError(ErrorKind::invalidArgument,
                          label + ": the material gives no positive mass");
+    }
+    if (material.density && hollow.mass > 0) {
+        total = withoutHollow(total, hollow, *material.density);
+        if (!(total.mass > 0))
+            return makeError(
+                ErrorKind::invalidArgument,
+                label +
+                    ": the space behind the caps of its openings is as large as the solid: no "
+                    "material is left");
     }
     return total;
 }
@@ -97,19 +143,49 @@ Result<SceneBody> bakeSceneBody(BodyDesc desc, BodyParts parts, const BakeContro
     settings.threads = control.threads;
     settings.progress = control.progress;
     auto pieces = desc.deforms() ? std::make_shared<SurfacePieceTable>() : nullptr;
-    Result<SurfaceTextures> textures =
-        bakeSurfaceTextures(*parts.mesh, settings, pieces.get(), control.cancelled);
-    if (!textures) return withContext(body.label + ": ", textures.error());
-    Result<MassProperties> mass = materialMassProperties(
-        *textures, desc.material, parts.shellDensityMap.get(), body.label);
-    if (!mass) return mass.error();
-    if (desc.material.density && parts.hollow.mass > 0) {
-        *mass = withoutHollow(*mass, parts.hollow, *desc.material.density);
-        if (!(mass->mass > 0))
-            return refuse("the space behind the caps of its openings is as large as the solid: no material is left");
+    // A shell on a body with caps needs to know which entries are cap: the bake's pieces say.
+    SurfacePieceTable capPieces;
+    const bool sharesNeeded = desc.material.shellSurfaceDensity && !parts.capTriangles.empty();
+    SurfacePieceTable* recorded = pieces ? pieces.get() : sharesNeeded ? &capPieces : nullptr;
+    std::shared_ptr<const SurfaceTextures> chosen;
+    if (desc.tolerance) {
+        Result<LevelChoice> choice =
+            chooseLevelForTolerance(*parts.mesh, *desc.tolerance, settings);
+        if (!choice) return withContext(body.label + ": tolerance: ", choice.error());
+        desc.textureSize = settings.size = choice->size;
+        // A bake that records its pieces (a deforming body, a shell with caps) is made again.
+        if (!recorded) chosen = choice->textures;
+        choice->textures.reset();
+        body.levelChoice = std::move(*choice);
     }
+    if (!chosen) {
+        Result<SurfaceTextures> baked =
+            bakeSurfaceTextures(*parts.mesh, settings, recorded, control.cancelled);
+        if (!baked) return withContext(body.label + ": ", baked.error());
+        chosen = std::make_shared<const SurfaceTextures>(std::move(*baked));
+    }
+    if (sharesNeeded)
+        body.wallShare = std::make_shared<const std::vector<double>>(
+            wallShares(*parts.mesh, *chosen, *recorded, parts.capTriangles));
+    Result<MassProperties> mass =
+        bodyMassProperties(*chosen, desc.material, parts.shellDensityMap.get(),
+                           body.wallShare.get(), parts.hollow, body.label);
+    if (!mass) return mass.error();
 
-    body.textures = std::make_shared<const SurfaceTextures>(std::move(*textures));
+    body.textures = std::move(chosen);
+    // The level ladder, about the body's own centre of mass (its mass properties stay those of
+    // textureSize). A deforming body's coarser levels would not deform with it, and a water
+    // graph's permeable samples are those of textureSize: both keep their own level.
+    if (desc.lod && !desc.deforms() && !desc.waterGraph) {
+        Result<std::vector<int>> sizes = ladderSizes(desc.lod->levels, desc.textureSize);
+        if (!sizes) return withContext(body.label + ": ", sizes.error());
+        if (sizes->size() > 1) {
+            Result<std::vector<BuoyancyLevel>> ladder = bakeLevelLadder(
+                *parts.mesh, *sizes, desc.textureSize, body.textures, settings, mass->centerOfMass);
+            if (!ladder) return withContext(body.label + ": ", ladder.error());
+            body.levels = std::make_shared<const std::vector<BuoyancyLevel>>(std::move(*ladder));
+        }
+    }
     body.pieces = std::move(pieces);
     body.mass = std::make_shared<const MassProperties>(*mass);
     body.desc = std::move(desc);

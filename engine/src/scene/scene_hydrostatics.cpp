@@ -1,6 +1,7 @@
 #include "plimsoll/scene/scene_hydrostatics.h"
 
 #include "plimsoll/graph/graph.h"
+#include "plimsoll/surface/painted_map.h"
 
 namespace plimsoll {
 
@@ -9,19 +10,28 @@ Result<FloatingBody> floatingBodyOf(const SceneBody& body, const MediumDesc& med
         return makeError(ErrorKind::invalidArgument, body.label + ": not baked");
     }
     FloatingBody out;
-    out.body = {body.mass->mass, body.mass->centerOfMass, {}};
+    out.body = {body.mass->mass, body.mass->centerOfMass, {}, {}};
     if (!body.desc.waterGraph || !body.parts.waterGraph) return out;
     GraphSettings settings;
     settings.density = medium.density;  // the graph holds the medium's water, as World's does
     settings.freeSurface = body.desc.waterGraph->freeSurface;
-    Result<WaterGraphSimulation> graph =
-        WaterGraphSimulation::create(*body.parts.waterGraph, *body.textures, {}, settings);
+    // The permeability as World samples it (World::makeFlooding): the graph's permeable
+    // samples are where water gets in, the body's openings.
+    std::vector<double> permeability;
+    if (body.parts.permeabilityMap) {
+        permeability = sampleAtTexels(*body.parts.permeabilityMap, *body.textures,
+                                      body.desc.waterGraph->permeability);
+    }
+    Result<WaterGraphSimulation> graph = WaterGraphSimulation::create(
+        *body.parts.waterGraph, *body.textures, permeability, settings);
     if (!graph) return withContext(body.label + ": water graph: ", graph.error());
     const MassProperties full = graph->compose(*body.mass, Eigen::Matrix3d::Identity());
     out.body.mass = full.mass;
     out.body.centerOfMass = full.centerOfMass;
     out.body.freeSurfaces = graphFreeSurfaces(*body.parts.waterGraph, settings.density);
     out.graphWater = graph->storedWater();
+    for (const ExchangeSample& sample : graph->samples())
+        out.body.openings.push_back(sample.position);
     return out;
 }
 

@@ -11,6 +11,7 @@
 #include <Eigen/Eigenvalues>
 
 #include <cmath>
+#include <limits>
 #include <numbers>
 #include <sstream>
 
@@ -42,7 +43,32 @@ struct World::Radiating {
     Wrench memoryWrench;   ///< world axes, about the centre of mass, for the current step
 };
 
+/// The level ladder of a body (level_ladder.h): every level registered with the backend, the
+/// one in use, and the blend of a switch.
+struct World::Detail {
+    std::shared_ptr<const std::vector<BuoyancyLevel>> levels;
+    std::vector<std::size_t> ids;  ///< backend id per level; the finest is the body's own
+    int level = 0;                 ///< index in use
+    int framesHeld = 0;            ///< frames since its last switch
+    BuoyancyResult offset;         ///< the old level's result minus the new one's, at the switch
+    int blendSteps = 0;            ///< sub-steps the blend lasts
+    int blendLeft = 0;             ///< sub-steps it has left: weight blendLeft / blendSteps
+};
+
 namespace {
+
+/// r += w d, field by field (what a level's blend adds).
+void addScaled(BuoyancyResult& r, const BuoyancyResult& d, double w) {
+    r.submergedVolume += w * d.submergedVolume;
+    r.centerOfBuoyancy += w * d.centerOfBuoyancy;
+    r.force += w * d.force;
+    r.torque += w * d.torque;
+    r.pressureForce += w * d.pressureForce;
+    r.pressureTorque += w * d.pressureTorque;
+    r.dragForce += w * d.dragForce;
+    r.dragTorque += w * d.dragTorque;
+    r.wettedArea += w * d.wettedArea;
+}
 
 MassDistribution toDistribution(const MassProperties& p) {
     MassDistribution m;
@@ -79,8 +105,16 @@ Status World::withBackend(const std::function<Status(BuoyancyBackend&)>& call) {
     // The reference backend needs nothing from the device: every body's textures are here.
     say(status.error().message + ": continuing on the C++ reference backend");
     std::unique_ptr<BuoyancyBackend> reference = createReferenceBackend();
-    for (SimulatedBody& body : bodies_)
+    for (std::size_t i = 0; i < bodies_.size(); ++i) {
+        SimulatedBody& body = bodies_[i];
         body.backendId = reference->addBody(body.textures, body.backendCenter);
+        if (Detail* d = details_[i].get()) {
+            for (std::size_t k = 0; k + 1 < d->ids.size(); ++k)
+                d->ids[k] = reference->addBody(*(*d->levels)[k].textures, body.backendCenter);
+            d->ids.back() = body.backendId;
+            body.backendId = d->ids[static_cast<std::size_t>(d->level)];
+        }
+    }
     for (const std::unique_ptr<Flooding>& f : floodings_) {
         if (f) f->exchangeSet = reference->addExchangeSet(f->graph.samples(),
                                                           f->graph.graph().nodes.size());
@@ -196,6 +230,29 @@ Status World::addBody(const SceneBody& scene) {
         say(note.str());
     }
     body.backendId = backend_->addBody(body.textures, body.backendCenter);
+    body.levelSize = desc.textureSize;
+    std::unique_ptr<Detail> detail;
+    if (scene.levels && scene.levels->size() > 1 && !flooding && !deformation) {
+        // Every level is registered now: a switch costs no upload. The finest is the body's own.
+        detail = std::make_unique<Detail>();
+        detail->levels = scene.levels;
+        std::ostringstream note;
+        note << label << ": level ladder";
+        for (std::size_t k = 0; k < scene.levels->size(); ++k) {
+            const BuoyancyLevel& level = (*scene.levels)[k];
+            detail->ids.push_back(k + 1 < scene.levels->size()
+                                      ? backend_->addBody(*level.textures, body.backendCenter)
+                                      : body.backendId);
+            note << (k ? ", " : " ") << level.size << "^2 (force error " << level.forceError
+                 << " of rho g V, " << level.evaluationUs << " us)";
+        }
+        detail->level = static_cast<int>(scene.levels->size()) - 1;
+        detail->framesHeld = std::numeric_limits<int>::max() / 2;  // free to switch at once
+        say(note.str());
+    } else if (scene.levels && (flooding || deformation)) {
+        say(label + ": keeps its own level (" + std::to_string(desc.textureSize) +
+            "^2): a deforming body or one with a water graph does not switch levels");
+    }
     std::ostringstream line;
     line << label << ": " << body.textures.coveredCount() << " samples at "
          << desc.textureSize << "^2, mass " << body.mass.mass << " kg, volume " << body.volume
@@ -206,8 +263,11 @@ Status World::addBody(const SceneBody& scene) {
     deformations_.push_back(std::move(deformation));
     floodings_.push_back(std::move(flooding));
     radiatings_.push_back(std::move(radiating));
+    details_.push_back(std::move(detail));
     materials_.push_back(desc.material);
     shellDensityMaps_.push_back(scene.parts.shellDensityMap);
+    sleep_.emplace_back();
+    changedLastFrame_.push_back(0);
     return Ok{};
 }
 
@@ -335,7 +395,8 @@ void World::replaceMass(std::size_t i, const MassProperties& props) {
 Status World::stepWaterGraphs(double frameTime) {
     for (std::size_t i = 0; i < bodies_.size(); ++i) {
         Flooding* f = floodings_[i].get();
-        if (!f) continue;
+        // A sleeping body's water stays: nothing moves it until the body wakes.
+        if (!f || bodies_[i].asleep) continue;
         SimulatedBody& body = bodies_[i];
         const Pose pose = body.pose();
         // The exchange pass over the permeable texels runs on the backend (one kernel pass,
@@ -351,6 +412,7 @@ Status World::stepWaterGraphs(double frameTime) {
             moved = f->graph.applyExchange(pose, frameTime, f->rates);
         }
         moved = f->graph.flowInside(pose.rotation, frameTime) || moved;
+        changedLastFrame_[i] = moved;
         ++statistics_.graphSteps;
         // With the free surface the water's centre of mass also moves when the body turns.
         const bool turned = f->graph.settings().freeSurface && body.water > 0 &&
@@ -377,6 +439,7 @@ Status World::evaluateAll(double time) {
     which.clear();
     for (std::size_t i = 0; i < bodies_.size(); ++i) {
         SimulatedBody& body = bodies_[i];
+        if (body.asleep) continue;  // keeps the load it fell asleep with
         if (outOfWater(body, body.state)) {
             body.buoyancy = BuoyancyResult{};
             body.buoyancy.centerOfBuoyancy = body.state.position;
@@ -398,6 +461,7 @@ Status World::evaluateAll(double time) {
         SimulatedBody& body = bodies_[which[k]];
         body.buoyancy = results[k];
         toCenterOfMass(body, body.state, body.buoyancy);
+        blendLevel(which[k], body.buoyancy);
     }
     statistics_.buoyancyEvaluations += requests.size();
     return Ok{};
@@ -466,6 +530,7 @@ Result<int> World::subStepsFor(double frameTime) const {
     const double maxPhase = scene_.simulation.maxPhaseStep;
     double most = scene_.simulation.subSteps;
     for (const SimulatedBody& body : bodies_) {
+        if (body.asleep) continue;  // not integrated: its stiffness asks for no step
         const double stiffness = stiffestFrequency(body);
         const double spin = angularVelocity(body.state, body.mass).norm();
         const double needed = std::ceil(std::max(stiffness, spin) * frameTime / maxPhase);
@@ -501,8 +566,11 @@ Status World::updateDeformingBodies(double time) {
 
 Status World::recomputeMass(std::size_t i) {
     SimulatedBody& body = bodies_[i];
-    Result<MassProperties> props = materialMassProperties(
-        body.textures, materials_[i], shellDensityMaps_[i].get(), "body '" + body.name + "'");
+    // The caps' share and the hollow are those of the body's mesh as it was baked.
+    const SceneBody& baked = scene_.bodies[i];
+    Result<MassProperties> props =
+        bodyMassProperties(body.textures, materials_[i], shellDensityMaps_[i].get(),
+                           baked.wallShare.get(), baked.parts.hollow, "body '" + body.name + "'");
     if (!props) return props.error();
     // Keep the body where it is in the world and its momenta as they are: the mesh or the
     // paint changed, the body did not jump.
@@ -523,7 +591,17 @@ Status World::recomputeMass(std::size_t i) {
     body.backendCenter = props->centerOfMass;
     body.state.position = pose.apply(body.mass.centerOfMass);
     ++statistics_.massRecomputations;
-    return withBackend([&](BuoyancyBackend& b) {
+    return withBackend([&](BuoyancyBackend& b) -> Status {
+        if (const Detail* d = details_[i].get()) {
+            // Every level's entries are relative to the centre of mass, which moved.
+            for (std::size_t k = 0; k < d->ids.size(); ++k) {
+                if (Status s =
+                        b.updateBody(d->ids[k], *(*d->levels)[k].textures, body.backendCenter);
+                    !s.ok())
+                    return s;
+            }
+            return Ok{};
+        }
         return b.updateBody(body.backendId, body.textures, body.backendCenter);
     });
 }
@@ -536,11 +614,13 @@ Status World::setMaterial(std::size_t i, const MaterialDesc& material,
     materials_[i] = material;
     shellDensityMaps_[i] = std::move(shellDensityMap);
     say("body '" + bodies_[i].name + "': material changed, mass properties recomputed");
+    wakeBody(i);
     return recomputeMass(i);
 }
 
 Status World::advanceFrame() {
     const SimulationDesc& sim = scene_.simulation;
+    wakeWhereNeeded();
     const Result<int> needed = subStepsFor(sim.timeStep);
     if (!needed) return needed.error();
     const int subSteps = *needed;
@@ -551,6 +631,15 @@ Status World::advanceFrame() {
         reportedSubSteps_ = subSteps;
     }
     const double dt = sim.timeStep / subSteps;
+    // The velocities at the frame's start: their change over the frame tells a body at rest
+    // from one at the turning point of a swing.
+    frameStartVelocities_.resize(bodies_.size());
+    for (std::size_t i = 0; i < bodies_.size(); ++i) {
+        const SimulatedBody& body = bodies_[i];
+        frameStartVelocities_[i] = {linearVelocity(body.state, body.mass),
+                                    angularVelocity(body.state, body.mass)};
+    }
+    if (Status s = chooseLevels(subSteps); !s.ok()) return s;
     for (int sub = 0; sub < subSteps; ++sub) {
         if (Status s = updateDeformingBodies(time_); !s.ok()) return s;
         const std::size_t skippedBefore = statistics_.skippedOutOfWater;
@@ -560,6 +649,7 @@ Status World::advanceFrame() {
             // body.buoyancy), and holds its memory force over the stages.
             for (std::size_t i = 0; i < bodies_.size(); ++i) {
                 SimulatedBody& body = bodies_[i];
+                if (body.asleep) continue;
                 startRadiationStep(i, body.buoyancy.submergedVolume);
                 Status failure = Ok{};
                 bool firstStage = true;
@@ -573,6 +663,7 @@ Status World::advanceFrame() {
                         !s.ok())
                         failure = s;
                     toCenterOfMass(body, state, result);
+                    blendLevel(i, result);
                     // The first stage is the state at the start of the step: what
                     // SimulatedBody::buoyancy promises (drawn and plotted by the editor).
                     if (firstStage) body.buoyancy = result;
@@ -590,6 +681,7 @@ Status World::advanceFrame() {
             if (Status s = evaluateAll(time_); !s.ok()) return s;
             for (std::size_t i = 0; i < bodies_.size(); ++i) {
                 SimulatedBody& body = bodies_[i];
+                if (body.asleep) continue;
                 startRadiationStep(i, body.buoyancy.submergedVolume);
                 const Wrench w = wrenchOf(body, body.state, body.buoyancy, dt);
                 body.state = step(body.state, body.mass,
@@ -598,6 +690,7 @@ Status World::advanceFrame() {
                 finishRadiationStep(i, dt);
             }
         }
+        advanceBlends();
         if (statistics_.skippedOutOfWater > skippedBefore && !reportedSkip_) {
             say("a body above the highest water surface skips the buoyancy kernels "
                 "(bounding-sphere test); counted in the statistics from now on");
@@ -606,7 +699,94 @@ Status World::advanceFrame() {
         ++statistics_.steps;
         time_ += dt;
     }
-    return stepWaterGraphs(sim.timeStep);
+    if (Status s = stepWaterGraphs(sim.timeStep); !s.ok()) return s;
+    sleepWhereRested(sim.timeStep);
+    return Ok{};
+}
+
+bool World::pushed(std::size_t i) const {
+    if (i >= externalForces_.size() || !externalForces_[i]) return false;
+    const Wrench w = externalForces_[i](bodies_[i], bodies_[i].state);
+    return w.force.squaredNorm() > 0 || w.torque.squaredNorm() > 0;
+}
+
+namespace {
+
+/// The water's surface above the body's centre of mass: its height and the speed of the water
+/// there, what decides whether the water is calm where the body floats.
+struct SurfaceAbove {
+    double height = 0, speed = 0;
+};
+
+SurfaceAbove surfaceAbove(const WaterModel& water, const Eigen::Vector3d& point, double time) {
+    SurfaceAbove s;
+    s.height = water.height(point.x(), point.z(), time);
+    s.speed = water.velocity({point.x(), s.height, point.z()}, time).norm();
+    return s;
+}
+
+}  // namespace
+
+void World::wakeWhereNeeded() {
+    for (std::size_t i = 0; i < bodies_.size(); ++i) {
+        SimulatedBody& body = bodies_[i];
+        if (!body.asleep) continue;
+        const SurfaceAbove surface = surfaceAbove(scene_.water, body.state.position, time_);
+        if (plimsoll_eval::mustWake(sleep_[i], scene_.simulation.sleep, surface.speed,
+                                    surface.height, pushed(i))) {
+            wakeBody(i);
+        } else {
+            ++statistics_.sleepingBodyFrames;
+        }
+    }
+}
+
+void World::sleepWhereRested(double frameTime) {
+    for (std::size_t i = 0; i < bodies_.size(); ++i) {
+        SimulatedBody& body = bodies_[i];
+        if (body.asleep) continue;
+        const SurfaceAbove surface = surfaceAbove(scene_.water, body.state.position, time_);
+        plimsoll_eval::RestSample sample;
+        const Eigen::Vector3d v = linearVelocity(body.state, body.mass);
+        const Eigen::Vector3d w = angularVelocity(body.state, body.mass);
+        sample.speed = v.norm();
+        sample.spin = w.norm();
+        sample.acceleration = (v - frameStartVelocities_[i].linear).norm() / frameTime;
+        sample.angularAcceleration = (w - frameStartVelocities_[i].angular).norm() / frameTime;
+        sample.waterSpeed = surface.speed;
+        sample.waterHeight = surface.height;
+        // The outside force is the caller's function: asked only of a body otherwise at rest.
+        sample.pushed =
+            plimsoll_eval::stillOnCalmWater(scene_.simulation.sleep, sample) && pushed(i);
+        sample.changing = changedLastFrame_[i] || body.deforms;
+        if (!plimsoll_eval::countRest(sleep_[i], scene_.simulation.sleep, sample, frameTime))
+            continue;
+        // Asleep the body holds its pose at rest; the little its radiation memory still holds
+        // after this long at rest is let go, so that it wakes without an old push.
+        body.asleep = true;
+        body.state.linearMomentum.setZero();
+        body.state.angularMomentum.setZero();
+        if (Radiating* r = radiatings_[i].get()) {
+            r->memory = memoryStateFor(r->radiation->model);
+            r->memoryWrench = Wrench{};
+        }
+        ++statistics_.fallsAsleep;
+    }
+}
+
+void World::wakeBody(std::size_t i) {
+    if (!bodies_[i].asleep) return;
+    bodies_[i].asleep = false;
+    plimsoll_eval::wake(sleep_[i]);
+    ++statistics_.wakeUps;
+}
+
+Status World::wake(std::size_t i) {
+    if (i >= bodies_.size()) {
+        return makeError(ErrorKind::invalidArgument, "wake: no body " + std::to_string(i));
+    }
+    wakeBody(i);
+    return Ok{};
 }
 
 Status World::setExternalForce(std::size_t i, ExternalForce force) {
@@ -615,12 +795,14 @@ Status World::setExternalForce(std::size_t i, ExternalForce force) {
     }
     externalForces_.resize(bodies_.size());
     externalForces_[i] = std::move(force);
+    wakeBody(i);
     return Ok{};
 }
 
 void World::setWater(const WaterModel& water) {
     scene_.water = water;
     scene_.water.gravity = scene_.simulation.gravity.norm();  // the scene's one gravity
+    for (std::size_t i = 0; i < bodies_.size(); ++i) wakeBody(i);
 }
 
 void World::setIntegrator(Integrator integrator) { scene_.simulation.integrator = integrator; }
@@ -630,7 +812,158 @@ Status World::setBodyState(std::size_t i, const RigidBodyState& state) {
         return makeError(ErrorKind::invalidArgument, "setBodyState: no body " + std::to_string(i));
     }
     bodies_[i].state = state;
+    wakeBody(i);
     return Ok{};
+}
+
+Status World::setLevelPolicy(const LevelPolicy& policy) {
+    const auto refuse = [](const std::string& what) {
+        return makeError(ErrorKind::invalidArgument, "setLevelPolicy: " + what);
+    };
+    if (!policy.pointOfInterest.allFinite()) return refuse("the point of interest is not finite");
+    if (!(policy.nearDistance > 0) || !std::isfinite(policy.nearDistance))
+        return refuse("nearDistance must be a positive distance (m)");
+    if (!(policy.margin >= 0) || !std::isfinite(policy.margin))
+        return refuse("margin must be 0 or more");
+    if (!(policy.budgetUs >= 0)) return refuse("budgetUs must be 0 or more");
+    if (policy.holdFrames < 0) return refuse("holdFrames must be 0 or more");
+    if (policy.blendFrames < 1) return refuse("blendFrames must be at least 1");
+    for (double importance : policy.importance) {
+        if (!(importance >= 0) || !(importance <= 1))
+            return refuse("an importance is outside 0..1");
+    }
+    levelPolicy_ = policy;
+    return Ok{};
+}
+
+const std::vector<BuoyancyLevel>* World::levels(std::size_t body) const {
+    return body < details_.size() && details_[body] ? details_[body]->levels.get() : nullptr;
+}
+
+int World::targetLevel(std::size_t i, const Detail& d, const std::vector<int>& budgetLevels) const {
+    const LevelPolicy& p = levelPolicy_;
+    const int finest = static_cast<int>(d.levels->size()) - 1;
+    const auto byDistance = [&](double distance) {
+        return finest - coarsenessAt(distance, p.nearDistance, p.margin, finest - d.level, finest);
+    };
+    switch (p.kind) {
+        case LevelPolicy::Kind::finest:
+            return finest;
+        case LevelPolicy::Kind::distance:
+            return byDistance((bodies_[i].state.position - p.pointOfInterest).norm());
+        case LevelPolicy::Kind::importance: {
+            const double importance = i < p.importance.size() ? p.importance[i] : 1.0;
+            // The middle of its band (in doublings): importance 1 at nearDistance / sqrt 2,
+            // 1/2 at nearDistance sqrt 2, ...: the margin never holds a body off its level.
+            return byDistance(importance > 0 ? p.nearDistance / (importance * std::numbers::sqrt2)
+                                             : std::numeric_limits<double>::infinity());
+        }
+        case LevelPolicy::Kind::budget:
+            return budgetLevels[i];
+    }
+    return finest;
+}
+
+Status World::chooseLevels(int subSteps) {
+    if (std::none_of(details_.begin(), details_.end(), [](const auto& d) { return d != nullptr; }))
+        return Ok{};
+    const LevelPolicy& p = levelPolicy_;
+    // The budget's greedy pass: all at the coarsest, then nearest first, each at the finest level
+    // what is left pays for. A sleeping body costs nothing.
+    std::vector<int> budgetLevels;
+    if (p.kind == LevelPolicy::Kind::budget) {
+        budgetLevels.assign(bodies_.size(), 0);
+        std::vector<std::pair<double, std::size_t>> order;
+        double spent = 0;
+        for (std::size_t i = 0; i < bodies_.size(); ++i) {
+            const Detail* d = details_[i].get();
+            if (!d || bodies_[i].asleep) continue;
+            spent += d->levels->front().evaluationUs * subSteps;
+            order.emplace_back((bodies_[i].state.position - p.pointOfInterest).norm(), i);
+        }
+        std::sort(order.begin(), order.end());
+        for (const auto& [distance, i] : order) {
+            const std::vector<BuoyancyLevel>& levels = *details_[i]->levels;
+            for (int k = static_cast<int>(levels.size()) - 1; k > 0; --k) {
+                const double extra =
+                    (levels[k].evaluationUs - levels.front().evaluationUs) * subSteps;
+                if (spent + extra <= p.budgetUs) {
+                    spent += extra;
+                    budgetLevels[i] = k;
+                    break;
+                }
+            }
+        }
+    }
+    struct Switch {
+        std::size_t body;
+        int from = 0;            ///< the level it leaves
+        BuoyancyResult carried;  ///< what is left of a blend still running
+    };
+    std::vector<Switch> switching;
+    std::vector<BodyRequest> requests;
+    for (std::size_t i = 0; i < bodies_.size(); ++i) {
+        Detail* d = details_[i].get();
+        if (!d) continue;
+        SimulatedBody& body = bodies_[i];
+        if (d->framesHeld < std::numeric_limits<int>::max() / 2) ++d->framesHeld;
+        // Asleep it keeps the load it fell asleep with, of the level it had.
+        if (body.asleep || d->framesHeld < p.holdFrames) continue;
+        const int target = targetLevel(i, *d, budgetLevels);
+        if (target == d->level) continue;
+        const int from = d->level;
+        d->level = target;
+        d->framesHeld = 0;
+        body.backendId = d->ids[static_cast<std::size_t>(target)];
+        body.levelSize = (*d->levels)[static_cast<std::size_t>(target)].size;
+        ++statistics_.levelSwitches;
+        if (outOfWater(body, body.state)) {
+            d->blendLeft = 0;  // no water, no force to blend
+            continue;
+        }
+        // Both levels at the same state: their difference is faded out from here.
+        Switch sw{i, from, BuoyancyResult{}};
+        sw.carried.centerOfBuoyancy.setZero();
+        if (d->blendLeft > 0)
+            addScaled(sw.carried, d->offset, static_cast<double>(d->blendLeft) / d->blendSteps);
+        requests.push_back(requestFor(body, body.state, time_));  // its id set below
+        requests.push_back(requestFor(body, body.state, time_));
+        switching.push_back(sw);
+    }
+    if (requests.empty()) return Ok{};
+    std::vector<BuoyancyResult> results(requests.size());
+    if (Status s = withBackend([&](BuoyancyBackend& b) {
+            // The ids now (withBackend may have moved the bodies to the reference backend).
+            for (std::size_t k = 0; k < switching.size(); ++k) {
+                const Detail& d = *details_[switching[k].body];
+                requests[2 * k].body = d.ids[static_cast<std::size_t>(switching[k].from)];
+                requests[2 * k + 1].body = d.ids[static_cast<std::size_t>(d.level)];
+            }
+            return b.evaluate(requests, scene_.water, results);
+        });
+        !s.ok())
+        return s;
+    statistics_.buoyancyEvaluations += requests.size();
+    for (std::size_t k = 0; k < switching.size(); ++k) {
+        Detail& d = *details_[switching[k].body];
+        d.offset = switching[k].carried;
+        addScaled(d.offset, results[2 * k], 1.0);
+        addScaled(d.offset, results[2 * k + 1], -1.0);
+        d.blendSteps = d.blendLeft = std::max(1, p.blendFrames * subSteps);
+    }
+    return Ok{};
+}
+
+void World::blendLevel(std::size_t i, BuoyancyResult& result) const {
+    const Detail* d = details_[i].get();
+    if (!d || d->blendLeft <= 0) return;
+    addScaled(result, d->offset, static_cast<double>(d->blendLeft) / d->blendSteps);
+}
+
+void World::advanceBlends() {
+    for (const std::unique_ptr<Detail>& d : details_) {
+        if (d && d->blendLeft > 0) --d->blendLeft;
+    }
 }
 
 double World::mechanicalEnergy(std::size_t i) const {

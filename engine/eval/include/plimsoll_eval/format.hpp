@@ -6,7 +6,9 @@ namespace plimsoll_eval {
 
 inline constexpr const char* kBundleFormat = "plimsoll-runtime-bundle";  ///< manifest "format"
 inline constexpr int kBundleSchemaMajor = 1;  ///< readers refuse any other major
-inline constexpr int kBundleSchemaMinor = 4;  ///< newest minor (older minors are read too; 3 added "radiation", 4 "world")
+inline constexpr int kBundleSchemaMinor =
+    5;  ///< newest minor (older minors are read too; 3 added "radiation", 4 "world", 5
+        ///< "world.simulation.sleep")
 
 inline constexpr const char* kManifestFile = "manifest.json";
 inline constexpr const char* kSamplesFile = "samples.exr";

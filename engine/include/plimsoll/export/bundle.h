@@ -56,6 +56,10 @@ struct BundleReport {
     std::vector<BundleFile> files;       ///< every file, manifest.json last
     std::size_t coveredTexels = 0;
     int textureSize = 0;
+    /// Where the body gives a tolerance instead of a size: the tolerance and the measured
+    /// force error of textureSize (level_ladder.h, LevelChoice).
+    std::optional<double> tolerance;
+    double forceError = 0;
     /// --check only: files whose content differs from what an export would write now, or that
     /// are missing or extra (relative paths, sorted). Empty: up to date.
     std::vector<std::string> outOfDate;

@@ -53,8 +53,17 @@ struct ExchangeSums {
 };
 
 /// The C++ reference of the exchange pass (double precision, every sample): the oracle the
-/// OpenCL kernel (kernels/graph.cl) is tested against. `sums` is resized to `nodes`.
+/// OpenCL kernel (kernels/graph.cl) is tested against. The outside surface is the water's on
+/// the exchange's world lattice, interpolated (plimsoll_eval/graph.hpp exchangeSurfaces: one
+/// height per lattice node the samples touch, as the runtime asks a game's water). `sums` is
+/// resized to `nodes`.
 void evaluateExchangeReference(std::span<const ExchangeSample> samples, std::size_t nodes,
+                               const ExchangeFrame& frame, const WaterModel& water,
+                               ExchangeSums& sums);
+
+/// The exchange pass with the water's own height at every sample (how the pass took the water
+/// before the lattice): the reference the lattice's error is measured against.
+void evaluateExchangePointwise(std::span<const ExchangeSample> samples, std::size_t nodes,
                                const ExchangeFrame& frame, const WaterModel& water,
                                ExchangeSums& sums);
 

@@ -13,6 +13,11 @@
 //   metacentric radius  BM   = GM - (z_G - z_B)             (= I_wp / V)
 // and the textures' from flux sums over the submerged entries, A_wp = -sum A_y,
 // I_wp = -sum A_y (z - z_F)^2 (each entry's own second moment added), BM = I_wp / V.
+//
+// The stability report designers read follows from these: tonnes per centimetre immersion,
+// the moment to change trim one centimetre, KN cross curves, the largest GZ and its angle,
+// the downflooding angle (the heel at which an opening of the body reaches the water) and
+// the general criteria of the IMO 2008 Intact Stability Code (Res. MSC.267(85), Part A 2.2).
 #pragma once
 
 #include "plimsoll/core/result.h"
@@ -21,6 +26,8 @@
 
 #include <Eigen/Core>
 
+#include <optional>
+#include <string>
 #include <vector>
 
 namespace plimsoll {
@@ -41,6 +48,10 @@ struct HydrostaticBody {
     double mass = 0;                                       ///< kg, > 0
     Eigen::Vector3d centerOfMass = Eigen::Vector3d::Zero();  ///< object space, m
     std::vector<FreeSurface> freeSurfaces;                 ///< partly filled compartments
+    /// Where water gets in: object-space points of the body's openings (the permeable texels
+    /// of its water graph, an open hull's caps among them), m. Empty: the body is sealed and
+    /// has no downflooding angle.
+    std::vector<Eigen::Vector3d> openings;
 };
 
 struct HydrostaticsSettings {
@@ -51,6 +62,14 @@ struct HydrostaticsSettings {
     /// extrapolation over this step and twice it cancels the tan^2 term of the wall-sided
     /// curve.
     double derivativeStepDegrees = 1.0;
+    /// Heel step of the curve the IS Code criteria integrate (Simpson's rule), degrees,
+    /// 0 < step <= 5: on a wall-sided box the areas are within 2e-8 m rad of the closed form
+    /// at 1 degree, 1e-5 at 5 degrees.
+    double criteriaStepDegrees = 1.0;
+    /// The KN cross curves: their heels (degrees, in (0, 180]) and displacements as multiples
+    /// of the body's own (> 0; those the body cannot float are left out). Either empty: none.
+    std::vector<double> crossCurveHeelsDegrees = {10, 20, 30, 40, 50, 60, 75, 90};
+    std::vector<double> crossCurveDisplacementRatios = {0.5, 0.75, 1.0, 1.25, 1.5};
 };
 
 enum class HydrostaticsMethod { Textures, Exact };
@@ -61,6 +80,36 @@ struct RightingArm {
     double heelDegrees = 0;
     double arm = 0;           ///< GZ, m: positive rights the body
     double trimDegrees = 0;   ///< the free trim at that heel
+};
+
+/// KN = GZ + KG sin(phi) against heel at one displacement: the righting arm about the keel
+/// point K, which does not depend on the height of G.
+struct CrossCurve {
+    double displacement = 0;           ///< m^3
+    std::vector<double> heelsDegrees;  ///< the settings' heels
+    std::vector<double> kn;            ///< m, one per heel
+};
+
+/// One criterion of a stability code: the body's value against the required one.
+struct StabilityCriterion {
+    std::string name;  ///< "area_0_30", "area_0_40", "area_30_40", "gz_30", "angle_gz_max", "gm0"
+    std::string unit;  ///< "m rad", "m" or "deg"
+    double value = 0;
+    double required = 0;  ///< the least value that passes
+    bool pass = false;    ///< value >= required
+};
+
+/// The general intact stability criteria of the IMO 2008 IS Code (Res. MSC.267(85), Part A
+/// 2.2.1-2.2.4), on the righting-arm curve corrected for free surfaces:
+///   area under GZ from 0 to 30 degrees                          >= 0.055 m rad
+///   area from 0 to 40 degrees, or to the downflooding angle      >= 0.090 m rad
+///   area from 30 to 40 degrees, or to the downflooding angle     >= 0.030 m rad
+///   largest GZ at 30 degrees or more                            >= 0.20 m
+///   angle of the largest GZ                                     >= 25 degrees
+///   initial metacentric height GM0                              >= 0.15 m
+struct StabilityCriteria {
+    bool pass = false;  ///< every criterion passes
+    std::vector<StabilityCriterion> criteria;
 };
 
 struct HydrostaticsResult {
@@ -83,6 +132,26 @@ struct HydrostaticsResult {
     /// equilibrium heel itself when no heel beyond it rights (negative GM, or neutral as a
     /// sphere), 180 when it rights all the way.
     double vanishingStabilityDegrees = 0;
+
+    // The stability report. Wherever G matters, the free surfaces count: GM0 is the effective
+    // GM_T, and the curve the figures are read from is GZ - loss_T sin(phi) (G raised by the
+    // loss; the same curve as `gz` without free surfaces).
+    /// The waterline's length at equilibrium: the waterplane's extent along the body's length
+    /// (world x, heeled and trimmed), m. The L of mct1cm.
+    double waterlineLength = 0;
+    double tonnesPerCentimetre = 0;  ///< TPC = rho A_wp / 10^5, t/cm
+    /// MCT1cm = Delta GM_L,effective / (100 L), Delta = rho V / 1000 in tonnes, L the
+    /// waterline's length: t m/cm.
+    double momentToChangeTrim = 0;
+    double gzMax = 0;         ///< the largest arm from 0 to 180 degrees, m
+    double gzMaxDegrees = 0;  ///< its heel
+    /// The least heel (from 0, the way `gz` heels) at which an opening reaches the water: 0
+    /// when one is under water upright; none without openings, or when none reaches the
+    /// water up to 180 degrees.
+    std::optional<double> downfloodingDegrees;
+    std::size_t openingCount = 0;         ///< the body's opening points
+    std::vector<CrossCurve> crossCurves;  ///< by displacement, ascending
+    StabilityCriteria isCode2008;
 };
 
 /// Hydrostatics from the texel sums of the buoyancy evaluation (evaluateBuoyancyReference).

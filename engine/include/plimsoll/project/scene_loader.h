@@ -57,10 +57,12 @@ struct BodyPaint {
 };
 
 /// The parts bakeSceneBody takes, from a prepared mesh and its paint: maps painted over the
-/// artist's mesh moved onto a physics solid, and an open hull's openings made compartments of
-/// its water graph (a graph made for them, with Torricelli's inflow, when `desc` has none; `desc`
-/// then gains it), their caps painted permeable over what is painted, and the space behind them
-/// kept out of a solid material (BodyParts::hollow). Frames are the caller's.
+/// artist's mesh moved onto a physics solid, and an open hull's open caps (BodyDesc::capMode)
+/// made compartments of its water graph (a graph made for them, with Torricelli's inflow, when
+/// `desc` has none; `desc` then gains it), those caps painted permeable over what is painted and
+/// sealed ones impermeable, the space behind every cap kept out of a solid material
+/// (BodyParts::hollow) and the caps out of a shell (BodyParts::capTriangles). Frames are the
+/// caller's.
 Result<BodyParts> assembleBodyParts(BodyDesc& desc, PreparedBodyMesh prepared, const BodyPaint& paint,
                                     const LogFunction& log = {});
 

@@ -41,8 +41,9 @@ struct BasinSettings {
 };
 
 /// The basins of a closed, outward-oriented solid of volume `solidVolume` (m^3), largest
-/// first. Walls are the cells inside the solid and every cell its surface passes through, so
-/// thin walls hold water too. Enclosed voids (not reachable from outside) are not basins.
+/// first (equal volumes by their seeds' x, then z, then y: an order of the mesh alone). Walls are
+/// the cells inside the solid and every cell its surface passes through, so thin walls hold water
+/// too. Enclosed voids (not reachable from outside) are not basins.
 std::vector<Basin> findBasins(const TriangleMesh& solid, double solidVolume, const BasinSettings& settings = {});
 
 }  // namespace plimsoll

@@ -16,6 +16,7 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -29,6 +30,9 @@ namespace plimsoll {
 ///   "fill-holes"        small holes of nearly closed parts filled (count: holes; the volume
 ///                       change is those parts' volume)
 ///   "open-sheets"       open parts (sails, planks, eyes) left out of the volume (count: parts)
+///   "open-hulls"        open parts that hold water poured in from above (a hull or container
+///                       modelled as one surface without thickness) kept as thin walls, their
+///                       wrap, for the openings step to cap (count: parts; wrapped with "wrap")
 ///   "union"             overlapping closed parts joined (count: parts joined)
 ///   "wrap"              what stays broken replaced by its alpha wrap (count: parts wrapped)
 ///   "cap"               openings of open hulls and containers closed at their rims (count:
@@ -44,11 +48,15 @@ struct Repair {
 
 /// An opening of an open hull or container, closed by a cap at its rim: the cap is part of the
 /// solid (so the sealed body displaces the space behind it), and that space is a compartment
-/// the cap lets water into (the scene makes it a node of the body's water graph). The cap is
-/// level, at the height of the lowest point of the rim, so the compartment holds what the
-/// container holds before it spills.
+/// the cap lets water into (the scene makes it a node of the body's water graph) unless it is
+/// sealed. The cap is level, by default at the height of the lowest point of the rim, so the
+/// compartment holds what the container holds before it spills; a cap moved lower
+/// (RepairSettings::capHeights) holds less.
 struct Opening {
     double capHeight = 0;  ///< object y of the cap's plane, m
+    /// Object y of the lowest point of the rim (where water spills; the default cap is just
+    /// under it) and of the bottom of the space behind the cap, m: a cap may move between them.
+    double rimHeight = 0, bottomHeight = 0;
     /// The space behind the cap at density 1 (mass = volume, m^3; centre; inertia), object space.
     MassProperties cavity;
     /// The box of that space, m.
@@ -88,6 +96,10 @@ struct RepairSettings {
     /// Whether openings of open hulls and containers (basins that hold water poured in from
     /// above, object y up) are closed by caps; off, the body floods as the surface is.
     bool closeOpenings = true;
+    /// Heights of the caps (object y, m) by opening index; unset or past the end: just under
+    /// the rim's lowest point. A height above the rim, or at or below the bottom of the space
+    /// behind the cap, is refused (the error names the opening and both heights).
+    std::vector<std::optional<double>> capHeights;
     BasinSettings basins;
 };
 

@@ -14,6 +14,7 @@
 #include "plimsoll/graph/graph.h"
 #include "plimsoll/physics/massprops.h"
 #include "plimsoll/physics/water.h"
+#include "plimsoll/scene/level_ladder.h"
 #include "plimsoll/scene/scene_desc.h"
 
 #include <Eigen/Core>
@@ -51,6 +52,9 @@ struct BodyParts {
     /// open hull's openings (physics_solid.h, Opening::cavity), at density 1 (mass = volume).
     /// A solid material fills the rest only. Zero mass: none.
     MassProperties hollow;
+    /// Triangles of `mesh` that are no material (the caps of those openings): a shell does not
+    /// lie on them. Empty: the whole surface is wall.
+    std::vector<std::uint32_t> capTriangles;
 };
 
 struct BodyRadiation;  // scene_radiation.h
@@ -66,6 +70,16 @@ struct SceneBody {
     std::shared_ptr<const MassProperties> mass;       ///< of desc.material on `textures`
     /// Its wave radiation (scene_radiation.h), required when desc.radiates(); null otherwise.
     std::shared_ptr<const BodyRadiation> radiation;
+    /// Its level ladder (level_ladder.h), coarsest first, the last `textures` itself at
+    /// desc.textureSize, each with its stated error: made when desc.lod asks for one on a rigid
+    /// body without a water graph; null otherwise (one level).
+    std::shared_ptr<const std::vector<BuoyancyLevel>> levels;
+    /// Where desc.tolerance set the texture size: the size it picked and its measured errors
+    /// (desc.textureSize is then that size).
+    std::optional<LevelChoice> levelChoice;
+    /// Per entry of `textures`, the share of its area that is wall, not cap
+    /// (parts.capTriangles): what a shell's surface density is scaled by. Null: all wall.
+    std::shared_ptr<const std::vector<double>> wallShare;
 };
 
 struct Scene {
@@ -79,10 +93,11 @@ struct Scene {
     SimulationDesc simulation;
 };
 
-/// Bakes `desc`'s textures over parts.mesh (recording the pieces of a deforming body) and
-/// computes the mass properties of its material: what World, the editor's preview and the
-/// bundle export all simulate or write. Refuses parts that do not fit `desc` (no mesh, frames
-/// without mesh_frames or the reverse, a water graph missing). Errors start with the label.
+/// Bakes `desc`'s textures over parts.mesh (at the size desc.tolerance picks, where it is given)
+/// (recording the pieces of a deforming body), its level ladder where desc.lod asks for one, and
+/// computes the mass properties of its material: what World, the editor's preview and the bundle
+/// export all simulate or write. Refuses parts that do not fit `desc` (no mesh, frames without
+/// mesh_frames or the reverse, a water graph missing). Errors start with the label.
 Result<SceneBody> bakeSceneBody(BodyDesc desc, BodyParts parts);
 
 /// Mass properties of `material` on `textures`: a solid of uniform density (V = sum A_y y) and
@@ -92,6 +107,21 @@ Result<MassProperties> materialMassProperties(const SurfaceTextures& textures,
                                               const MaterialDesc& material,
                                               const PaintedMap* shellDensityMap,
                                               const std::string& label);
+
+/// A body's own mass properties (no water in it): materialMassProperties with the shell scaled
+/// by `wallShare` (per entry, null: 1) and the solid material kept out of `hollow` (the space
+/// behind an open hull's caps; no mass: none). What bakeSceneBody and World compute.
+Result<MassProperties> bodyMassProperties(const SurfaceTextures& textures,
+                                          const MaterialDesc& material,
+                                          const PaintedMap* shellDensityMap,
+                                          const std::vector<double>* wallShare,
+                                          const MassProperties& hollow, const std::string& label);
+
+/// Per entry of `textures` (baked from `mesh` with `pieces` recorded), the share of its area
+/// on triangles not in `caps`: 1 on walls, 0 on a cap, between where an entry holds both.
+std::vector<double> wallShares(const TriangleMesh& mesh, const SurfaceTextures& textures,
+                               const SurfacePieceTable& pieces,
+                               const std::vector<std::uint32_t>& caps);
 
 /// Refuses a surface with errors no atlas can fix (holes, bad orientation, ...: every problem
 /// of `report` that is not about UVs, one a line after "LABEL:").

@@ -7,6 +7,7 @@
 #include "plimsoll/surface/atlas.h"
 #include "plimsoll/physics/rigid_body.h"
 #include "plimsoll/physics/water.h"
+#include "plimsoll_eval/sleep.hpp"
 
 #include <Eigen/Core>
 
@@ -73,6 +74,19 @@ struct RadiationDesc {
     bool operator==(const RadiationDesc&) const = default;
 };
 
+/// A body's level ladder ("lod" in a body; docs/design.md "Level of detail"): the mesh baked
+/// again at coarser texture sizes, each a true bake, among which the World picks one per frame
+/// for the buoyancy (World::setLevelPolicy). The mass properties stay those of texture_size.
+/// A body without it has one level, texture_size. A deforming body or one with a water graph
+/// keeps its own level (no ladder is made; the log says so).
+struct LodDesc {
+    /// Texture sizes of the levels ("levels"), texels per side, each in
+    /// kMinTextureSize..texture_size; texture_size is always the finest level (added if absent).
+    std::vector<int> levels;
+
+    bool operator==(const LodDesc&) const = default;
+};
+
 /// What becomes of the openings of an open hull or container ("openings"; physics_solid.h).
 enum class OpeningsMode {
     /// "open": closed by caps that let water in: the space behind them is a compartment of the
@@ -96,6 +110,20 @@ inline constexpr double kRadiatingLinearDamping = 0.05;
 // with 0.1 (RadiationDefault.SampleBodiesSettleAtLeastAsFastAsWithTheOldDefaults).
 inline constexpr double kRadiatingAngularDamping = 0.5;
 
+/// One opening's cap ("caps" in a body, one entry per opening in the openings' order:
+/// physics_solid.h, PhysicsSolid::openings). Unset members take the body's defaults.
+struct CapDesc {
+    /// "mode": "open" or "sealed" (not "none": a cap is there or the body has none); unset: the
+    /// body's `openings` mode.
+    std::optional<OpeningsMode> mode;
+    /// "height": object-space y of the cap's plane, m (after `unit`); unset: just under the
+    /// lowest point of the rim. A height above the rim, or at or below the bottom of the space
+    /// behind the cap, is refused when the body is loaded (RepairSettings::capHeights).
+    std::optional<double> height;
+
+    bool operator==(const CapDesc&) const = default;
+};
+
 struct BodyDesc {
     std::string name;
     /// Mesh file (any format assimp reads). For a deforming body, the first frame.
@@ -108,6 +136,10 @@ struct BodyDesc {
     std::vector<std::string> meshFrames;
     double framesPerSecond = 24.0;
     int textureSize = 256;                 ///< physics texture, texels per side
+    /// An accuracy budget instead of a size ("tolerance"): the largest force error allowed
+    /// against the exact clip, a share of rho g V. The bake picks the smallest texture size
+    /// that meets it (level_ladder.h, chooseLevelForTolerance) and textureSize becomes it.
+    std::optional<double> tolerance;
     double maxTexelStretch = 4.0;          ///< sub-texel refinement (BakeSettings)
     /// Which UVs are baked ("atlas": "mesh", "auto" or "generate"). A generated atlas has the
     /// default AtlasSettings whatever textureSize is (so changing the physics texture size
@@ -115,6 +147,14 @@ struct BodyDesc {
     AtlasMode atlas = AtlasMode::Auto;
     /// The openings of an open hull or container ("openings": "open", "sealed" or "none").
     OpeningsMode openings = OpeningsMode::Open;
+    /// Per-cap settings ("caps"), by opening index; openings past its end take the defaults.
+    /// Ignored with "openings": "none".
+    std::vector<CapDesc> caps;
+    /// Whether opening `index`'s cap lets water in (its mode, else the body's).
+    OpeningsMode capMode(std::size_t index) const {
+        if (openings == OpeningsMode::None) return OpeningsMode::None;
+        return index < caps.size() && caps[index].mode ? *caps[index].mode : openings;
+    }
     MaterialDesc material;
     Eigen::Vector3d position = Eigen::Vector3d::Zero();          ///< R p + t: t, m
     Eigen::Vector3d rotationDegrees = Eigen::Vector3d::Zero();   ///< Rz Ry Rx, degrees
@@ -138,6 +178,8 @@ struct BodyDesc {
     /// floats: the scene loader computes it, and says so when it does not apply); present and
     /// enabled: asked for (a body it cannot apply to is refused); present and disabled: off.
     std::optional<RadiationDesc> radiation;
+    /// Level ladder ("lod"); absent: one level, texture_size.
+    std::optional<LodDesc> lod;
     /// Whether the body runs with radiation wherever it has been computed (absent or enabled).
     bool radiates() const { return !radiation || radiation->enabled; }
     /// Whether the project asks for radiation itself (present and enabled): it must then be
@@ -182,6 +224,8 @@ struct SimulationDesc {
     double maxPhaseStep = 0.5;
     Integrator integrator = Integrator::SemiImplicitEuler;
     double duration = 10.0;                ///< s, for headless runs
+    /// When a body at rest on calm water stops being computed (plimsoll_eval/sleep.hpp).
+    plimsoll_eval::SleepSettings sleep;
 
     bool operator==(const SimulationDesc&) const = default;
 };

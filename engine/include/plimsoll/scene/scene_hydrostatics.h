@@ -11,7 +11,9 @@ namespace plimsoll {
 
 /// What floats: the body's mass properties plus, for a body with a water graph, the graph's
 /// water (at its nodes, or with the graph's free-surface model at their low sides), upright,
-/// and the free surfaces of its partly filled nodes.
+/// the free surfaces of its partly filled nodes, and its openings: the graph's permeable
+/// texel entries (painted permeable, an open hull's caps among them; those feeding a sealed
+/// node left out), as the simulation lets water in. A body without a graph is sealed.
 struct FloatingBody {
     HydrostaticBody body;
     double graphWater = 0;  ///< m^3 in the water graph

@@ -13,7 +13,13 @@
 //    computes no graph at all;
 //  - a body with radiation (BodyDesc::radiates, SceneBody::radiation) carries its added mass in
 //    its mass matrix and integrates the radiation memory with it (Cummins' equation,
-//    docs/radiation.md); a body without it runs exactly as it would without the feature.
+//    docs/radiation.md); a body without it runs exactly as it would without the feature;
+//  - a body with a level ladder (SceneBody::levels) is evaluated at the level the caller's
+//    policy picks (setLevelPolicy: the finest unless told otherwise), switching with
+//    hysteresis and blending the old level's force into the new one's, so that it never kicks;
+//  - a body at rest on calm water falls asleep (simulation.sleep, plimsoll_eval/sleep.hpp):
+//    no evaluation, no integration, no graph step, one look at the water above it a frame,
+//    until the water, an outside force or a call that changes it wakes it.
 // The log callback is told what was skipped and why.
 #pragma once
 
@@ -51,6 +57,10 @@ struct SimulatedBody {
     Eigen::Vector3d backendCenter = Eigen::Vector3d::Zero();
     bool deforms = false;
     double water = 0;               ///< m^3 in the water graph now (0 without one)
+    bool asleep = false;            ///< at rest on calm water: not computed (world.h)
+    /// Texels per side of the level its buoyancy is evaluated at now (the texture size for a
+    /// body without a level ladder).
+    int levelSize = 0;
 
     /// Object -> world placement now.
     Pose pose() const { return poseOf(state, mass); }
@@ -62,6 +72,40 @@ struct SimulatedBody {
 /// drag before the integrator uses them.
 using ExternalForce = std::function<Wrench(const SimulatedBody& body, const RigidBodyState& state)>;
 
+/// How the World picks the level of each body with a level ladder (SceneBody::levels) every
+/// frame (docs/design.md, "Level of detail"). Whatever the policy, a body switches at most once
+/// every holdFrames frames, not while asleep, and its force and torque go from the old level's
+/// to the new one's over blendFrames frames (both levels evaluated at the switch; their
+/// difference is faded out linearly step by step), so a switch changes the acceleration by at
+/// most the two levels' difference over blendFrames x sub-steps per step.
+struct LevelPolicy {
+    enum class Kind {
+        finest,      ///< every body at its finest level (texture_size): the default
+        distance,    ///< by distance from pointOfInterest
+        importance,  ///< by importance[i]: 1 is the finest, each halving one level coarser
+        budget,      ///< within budgetUs a frame: the bodies nearest pointOfInterest first
+    };
+    Kind kind = Kind::finest;
+    Eigen::Vector3d pointOfInterest = Eigen::Vector3d::Zero();  ///< world, m (a camera)
+    /// m: the finest level within it of the point of interest, one level coarser each time the
+    /// distance doubles (distance policy: nearDistance 2^k takes the k-th level down).
+    double nearDistance = 50.0;
+    /// Hysteresis: a body changes level only when its distance (or nearDistance / importance)
+    /// is beyond a boundary by this fraction of it (0.15: 15%).
+    double margin = 0.15;
+    /// Per body (index as in bodies()), in 0..1: 1 the finest level, each halving one level
+    /// coarser (it acts as the distance nearDistance / (importance sqrt 2), the middle of its
+    /// band), 0 the coarsest. Missing entries count as 1.
+    std::vector<double> importance;
+    /// Microseconds a frame for every body with a ladder, summing each level's measured cost
+    /// per evaluation (BuoyancyLevel::evaluationUs, one thread) times the sub-steps: every body
+    /// starts at its coarsest level, then the bodies nearest pointOfInterest take the finest
+    /// level the rest of the budget pays for, one after the other (greedy).
+    double budgetUs = 0;
+    int holdFrames = 30;  ///< at least this many frames between two switches of a body
+    int blendFrames = 8;  ///< frames over which a switch's force is blended, >= 1
+};
+
 /// Counters of what the world did and did not compute (for logs, tests and the editor).
 struct WorldStatistics {
     std::size_t steps = 0;                 ///< integration steps (sub-steps)
@@ -70,6 +114,10 @@ struct WorldStatistics {
     std::size_t massRecomputations = 0;    ///< mass properties computed after creation
     std::size_t graphSteps = 0;            ///< water-graph steps (body-frames)
     std::size_t waterCompositions = 0;     ///< body + water mass properties composed again
+    std::size_t sleepingBodyFrames = 0;    ///< body-frames a body slept through
+    std::size_t fallsAsleep = 0;           ///< times a body fell asleep
+    std::size_t wakeUps = 0;               ///< times a sleeping body woke
+    std::size_t levelSwitches = 0;         ///< times a body changed its level of detail
 };
 
 class World {
@@ -98,18 +146,31 @@ public:
     Status setMaterial(std::size_t body, const MaterialDesc& material,
                        std::shared_ptr<const PaintedMap> shellDensityMap = nullptr);
 
-    /// Body i's external force (world.h ExternalForce); an empty function removes it.
+    /// Body i's external force (world.h ExternalForce); an empty function removes it. The body
+    /// wakes, and stays awake while the force is not zero.
     Status setExternalForce(std::size_t body, ExternalForce force);
 
     /// Replaces the medium's surface (level, waves) from the next step on: an editor changes
-    /// the water while the simulation runs.
+    /// the water while the simulation runs. Every sleeping body wakes.
     void setWater(const WaterModel& water);
+
+    /// Wakes body i if it sleeps (a game's or an editor's own reason: a collision, a drag).
+    Status wake(std::size_t body);
+
+    /// How bodies with a level ladder pick their level, from the next frame on (world.h
+    /// LevelPolicy). Refuses a non-finite point, a nearDistance or margin that is not positive
+    /// (margin may be 0), a budget below 0, holdFrames below 0 or blendFrames below 1.
+    Status setLevelPolicy(const LevelPolicy& policy);
+    const LevelPolicy& levelPolicy() const { return levelPolicy_; }
+
+    /// Body i's ladder (coarsest first), or null for a body with one level.
+    const std::vector<BuoyancyLevel>* levels(std::size_t body) const;
 
     /// Changes the integrator from the next step on.
     void setIntegrator(Integrator integrator);
 
     /// Puts body i in `state` (its centre of mass's place, orientation and momenta): a reset,
-    /// or a state carried over from another world of the same scene.
+    /// or a state carried over from another world of the same scene. The body wakes.
     Status setBodyState(std::size_t body, const RigidBodyState& state);
 
     /// Sets the simulated time (s; waves and deforming bodies follow it): a world rebuilt
@@ -141,6 +202,16 @@ private:
     struct Deformation;  // frames and piece table of a deforming body
     struct Flooding;     // water graph of a hollow or permeable body
     struct Radiating;    // radiation model and memory state of a body with radiation
+    struct Detail;       // level ladder of a body: backend ids, level in use, blend
+    /// Picks every laddered body's level for this frame (levelPolicy_), evaluates both levels
+    /// of each body that switches and starts its blend.
+    Status chooseLevels(int subSteps);
+    /// The target level index of laddered body i under the policy (before the hold rule).
+    int targetLevel(std::size_t i, const Detail& d, const std::vector<int>& budgetLevels) const;
+    /// Adds body i's remaining blend (old level minus new, faded) to `result`.
+    void blendLevel(std::size_t i, BuoyancyResult& result) const;
+    /// One sub-step of every blend has passed.
+    void advanceBlends();
     /// Before body i's step: its entrained share, added mass and memory wrench from
     /// `submergedVolume` (m^3); nothing for a body without radiation.
     void startRadiationStep(std::size_t i, double submergedVolume);
@@ -171,6 +242,13 @@ private:
     Status recomputeMass(std::size_t i);
     /// The bounding-sphere test: the body in `state` lies above the highest water surface.
     bool outOfWater(const SimulatedBody& body, const RigidBodyState& state) const;
+    /// The outside force on body i in its state is not zero.
+    bool pushed(std::size_t i) const;
+    /// Wakes the sleeping bodies the water or a force wakes, before a frame.
+    void wakeWhereNeeded();
+    /// Counts each awake body's rest after a frame; puts those that rested long enough to sleep.
+    void sleepWhereRested(double frameTime);
+    void wakeBody(std::size_t i);
     void say(const std::string& line) const;
     /// Runs `call` on the backend. Where an OpenCL backend fails (out of resources, a lost
     /// device), says so once on the log, moves every body to the C++ reference backend and
@@ -185,9 +263,14 @@ private:
     std::vector<std::unique_ptr<Deformation>> deformations_;  ///< per body, null if rigid
     std::vector<std::unique_ptr<Flooding>> floodings_;        ///< per body, null if sealed
     std::vector<std::unique_ptr<Radiating>> radiatings_;      ///< per body, null without radiation
+    std::vector<std::unique_ptr<Detail>> details_;            ///< per body, null: one level
+    LevelPolicy levelPolicy_;
     std::vector<MaterialDesc> materials_;
     std::vector<std::shared_ptr<const PaintedMap>> shellDensityMaps_;  ///< per body, null: uniform
     std::vector<ExternalForce> externalForces_;               ///< per body, empty if none
+    std::vector<plimsoll_eval::SleepState> sleep_;            ///< per body
+    std::vector<char> changedLastFrame_;        ///< per body: its graph moved water, or it deforms
+    std::vector<Motion> frameStartVelocities_;  ///< per body, at the start of the frame
     WorldStatistics statistics_;
     double time_ = 0;
     bool reportedSkip_ = false;

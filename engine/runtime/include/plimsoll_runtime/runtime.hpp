@@ -332,6 +332,18 @@ struct BundleWorld {
     std::string integrator = "semi-implicit-euler";
     Pose startPose;                          ///< the object origin's world pose
     Velocity startVelocity;                  ///< of the centre of mass (with its water)
+    /// When a body at rest on calm water sleeps (manifest "world.simulation.sleep", schema 1.5;
+    /// docs/design.md "Sleeping bodies"). Off for a bundle before 1.5, whose editor had no
+    /// sleeping bodies.
+    struct Sleep {
+        bool enabled = false;
+        double linearSpeed = 0;          ///< m/s, of the centre of mass and of the water
+        double angularSpeed = 0;         ///< rad/s
+        double linearAcceleration = 0;   ///< m/s^2, the velocity's change over a frame
+        double angularAcceleration = 0;  ///< rad/s^2
+        double restTime = 0;             ///< s below them all before it sleeps
+        double wakeHeight = 0;           ///< m, a change of the water's height above it
+    } sleep;
 };
 
 struct LoadOptions {
@@ -544,10 +556,26 @@ public:
     /// Bytes the instance holds (not the shared bundle).
     std::uint64_t memoryBytes() const;
 
+    /// Stepped by stepBody, the body sleeps at rest on calm water as the editor's World's
+    /// bodies do (the bundle's world().sleep; never for a bundle before 1.5): a step then costs
+    /// one look at the water above it and leaves the state as it is. It wakes when that water
+    /// moves or rises, when the game changes its pose or gives it a velocity, or on wake().
+    /// A game whose own engine integrates (waterLoad) uses the engine's sleeping instead.
+    bool asleep() const { return sleep_.asleep; }
+    void wake();
+
 private:
+    friend void stepBody(Body&, BodyState&, const Water&, const Fluid&, double, double);
+    struct Sleep {
+        bool asleep = false;
+        double restedFor = 0;    ///< s below the thresholds so far
+        double waterHeight = 0;  ///< the water's height above the body when it fell asleep
+        Pose pose;               ///< where it fell asleep
+    };
     const Bundle* bundle_;
     std::unique_ptr<WaterGraph> graph_;
     std::unique_ptr<RadiationMemory> radiation_;
+    Sleep sleep_;
 };
 
 /// The load on the body at `pose` moving with `velocity`: on flat water (no height callback)
@@ -608,6 +636,11 @@ public:
     const MassProperties& mass() const { return mass_; }
     /// Sub-steps the last frame took.
     int subSteps() const { return subSteps_; }
+    /// At rest on calm water, the body sleeps as the World's do (world().sleep): a frame then
+    /// costs one look at the water above it, until the water wakes it or wake() does.
+    bool asleep() const { return asleep_; }
+    /// Wakes the body (the game pushed it, or something hit it).
+    void wake();
     /// The body's own water (null: the bundle has no water graph).
     const WaterGraph* graph() const { return body_.graph(); }
 
@@ -625,7 +658,8 @@ private:
     explicit Simulation(const Bundle& bundle);
     void evaluate(const Water& water, double dt);
     void step(double dt);
-    void stepGraph(const Water& water, double frameTime);
+    /// True when water moved in or out of the body or inside it.
+    bool stepGraph(const Water& water, double frameTime);
     void composeWater(const Quat& at);
     void setMass(const MassProperties& mass);
     int subStepsFor(double frameTime) const;
@@ -642,6 +676,9 @@ private:
     Forces forces_;
     double time_ = 0;
     int subSteps_ = 0;
+    bool asleep_ = false;
+    double restedFor_ = 0;    ///< s below the sleep thresholds so far
+    double sleepHeight_ = 0;  ///< the water's height above the body when it fell asleep
     struct Wrench {
         Vec3 force, torque;
     } wrench_;
