@@ -10,6 +10,10 @@
 
 namespace plimsoll::cli {
 
+/// Seconds of CPU the calling thread has run: on a shared machine the wall clock also counts
+/// the time other processes held the core (bench_fleet.cpp).
+double threadCpuSeconds();
+
 /// The C++ reference visits every entry in double: beyond 512^2 it only shows it is slow.
 inline constexpr int kReferenceMaxSize = 512;
 

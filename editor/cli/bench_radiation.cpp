@@ -64,13 +64,6 @@ std::optional<RadiationRun> runScene(const Scene& scene, double seconds) {
     return run;
 }
 
-/// CPU seconds of the calling thread (the panel solve below runs on it alone).
-double threadCpuSeconds() {
-    timespec t{};
-    clock_gettime(CLOCK_THREAD_CPUTIME_ID, &t);
-    return static_cast<double>(t.tv_sec) + 1e-9 * static_cast<double>(t.tv_nsec);
-}
-
 /// The panel solve of every body of the sample projects (`folder`/*.plim.json) at its default
 /// settings (or the project's own "radiation" settings) on one thread, no cache: a table row
 /// and a CSV line per body. False when a project does not load.
