@@ -291,8 +291,10 @@ TEST(Project, RadiationSettingsRoundTripAndAreChecked) {
     EXPECT_TRUE(byDefault.bodies[0].radiates());
     EXPECT_FALSE(byDefault.bodies[0].radiationRequired());
     EXPECT_FALSE(byDefault.bodies[0].linearDamping);
-    EXPECT_EQ(byDefault.bodies[0].standInLinearDamping(true), kRadiatingLinearDamping);
+    EXPECT_EQ(byDefault.bodies[0].standInLinearDamping(true), kRadiatingHorizontalDamping);
+    EXPECT_EQ(byDefault.bodies[0].standInVerticalDamping(true), kRadiatingVerticalDamping);
     EXPECT_EQ(byDefault.bodies[0].standInLinearDamping(false), kStandInDamping);
+    EXPECT_EQ(byDefault.bodies[0].standInVerticalDamping(false), kStandInDamping);
     EXPECT_EQ(loaded(parseProject(projectToJson(byDefault), "again", "/")), byDefault);
     const Project off = loaded(parseProject(
         withBody(R"({"mesh": "a.obj", "material": {"density": 600}, "radiation": false})"), "s",

@@ -108,9 +108,11 @@ TEST(RadiationDefault, TheStandInDampingFollowsRadiationUnlessGiven) {
     std::unique_ptr<World> on = test::fastWorldOrFail(droppedBox(500, 0, true));
     std::unique_ptr<World> off = test::fastWorldOrFail(droppedBox(500, 0, false));
     ASSERT_TRUE(on && off);
-    EXPECT_EQ(on->bodies()[0].linearDamping, kRadiatingLinearDamping);
+    EXPECT_EQ(on->bodies()[0].linearDamping, kRadiatingHorizontalDamping);
+    EXPECT_EQ(on->bodies()[0].verticalDamping, kRadiatingVerticalDamping);
     EXPECT_EQ(on->bodies()[0].angularDamping, kRadiatingAngularDamping);
     EXPECT_EQ(off->bodies()[0].linearDamping, kStandInDamping);
+    EXPECT_EQ(off->bodies()[0].verticalDamping, kStandInDamping);
     EXPECT_EQ(off->bodies()[0].angularDamping, kStandInDamping);
     EXPECT_EQ(off->bodies()[0].mass.addedMass, Eigen::Matrix3d::Zero());
     Scene given = droppedBox(500, 0, true);
@@ -119,6 +121,7 @@ TEST(RadiationDefault, TheStandInDampingFollowsRadiationUnlessGiven) {
     std::unique_ptr<World> world = test::fastWorldOrFail(given);
     ASSERT_TRUE(world);
     EXPECT_EQ(world->bodies()[0].linearDamping, 0.3);
+    EXPECT_EQ(world->bodies()[0].verticalDamping, 0.3);
     EXPECT_EQ(world->bodies()[0].angularDamping, 0.0);
     // A hand-built scene whose body has no radiation computed runs without, as before.
     Scene bare = droppedBox(500, 0, true);
@@ -127,6 +130,7 @@ TEST(RadiationDefault, TheStandInDampingFollowsRadiationUnlessGiven) {
     ASSERT_TRUE(plain);
     EXPECT_EQ(plain->radiation(0), nullptr);
     EXPECT_EQ(plain->bodies()[0].linearDamping, kStandInDamping);
+    EXPECT_EQ(plain->bodies()[0].verticalDamping, kStandInDamping);
 }
 
 TEST(RadiationDefault, OffItsUprightRestAttitudeTheDampingStaysPassive) {

@@ -462,6 +462,10 @@ Result<BundleReport> buildBundle(const Project& project, std::size_t index, cons
         {"input_sha256", *inputHash},
         {"files", files}};
     manifest.update(textureFactsJson(t));
+    // Written only where it differs from linear_damping (a radiating body's default), so that
+    // the manifest of every other body stays as it was.
+    if (desc.standInVerticalDamping(radiates) != desc.standInLinearDamping(radiates))
+        manifest["hydrodynamics"]["vertical_damping"] = desc.standInVerticalDamping(radiates);
     if (compact) {
         // Absent in a float32 bundle (every reader's default). Its channels have other names
         // than the float32 list's, so a reader that knows only that list refuses the file.

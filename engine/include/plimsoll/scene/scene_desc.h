@@ -102,13 +102,18 @@ std::optional<OpeningsMode> parseOpeningsMode(std::string_view name);
 
 /// The stand-in damping of a body without radiation (1/s), when the project gives none.
 inline constexpr double kStandInDamping = 0.5;
-/// The stand-in damping of a radiating body (1/s), when the project gives none
-/// (docs/radiation.md "Default stand-in damping").
-inline constexpr double kRadiatingLinearDamping = 0.05;
-// Angular: unchanged. A sphere's rotation about its centre makes no waves at all, and
-// neutral_ball (a faceted uniform sphere) settled after 29.3 s with 0.5 but not within 30 s
-// with 0.1 (RadiationDefault.SampleBodiesSettleAtLeastAsFastAsWithTheOldDefaults).
-inline constexpr double kRadiatingAngularDamping = 0.5;
+/// The stand-in damping of a radiating body's vertical motion (1/s), when the project gives
+/// none (docs/radiation.md "Default stand-in damping"): radiation damps heave, which has a
+/// restoring force and so a frequency at which it makes waves.
+inline constexpr double kRadiatingVerticalDamping = 0.05;
+/// Its horizontal motion keeps kStandInDamping: a drift has no restoring force, and the
+/// radiation damping of surge and sway vanishes as the frequency goes to zero, so radiation
+/// leaves a drift undamped (a capsized cube drifted for a minute with 0.05).
+inline constexpr double kRadiatingHorizontalDamping = kStandInDamping;
+/// Its rotation keeps kStandInDamping too: a round body's rotation makes no waves at all (the
+/// faceted uniform sphere of neutral_ball settled in 29.3 s with 0.5, and not within 30 s with
+/// 0.1), nor does any body's yaw at zero frequency.
+inline constexpr double kRadiatingAngularDamping = kStandInDamping;
 
 /// One opening's cap ("caps" in a body, one entry per opening in the openings' order:
 /// physics_solid.h, PhysicsSolid::openings). Unset members take the body's defaults.
@@ -165,8 +170,9 @@ struct BodyDesc {
     /// Hydrodynamic damping standing in for wave radiation, which the pressure and drag terms
     /// do not model: -m lambda v and -lambda I w, scaled by the submerged share of the volume
     /// (1/s). Quadratic drag alone lets small bobbing die out only as 1/t; 0 turns it off.
-    /// Absent ("linear_damping", "angular_damping" not given): standInLinearDamping's default,
-    /// which depends on whether the body radiates.
+    /// Absent ("linear_damping", "angular_damping" not given): standInLinearDamping's,
+    /// standInVerticalDamping's and standInAngularDamping's defaults, which depend on whether
+    /// the body radiates. Given, linearDamping acts on the vertical motion as on the horizontal.
     std::optional<double> linearDamping;
     std::optional<double> angularDamping;
     /// Painted permeability map ("permeability_map", PNG over the mesh's UVs, 0..1: how much
@@ -187,10 +193,12 @@ struct BodyDesc {
     bool radiationRequired() const { return radiation && radiation->enabled; }
     /// The stand-in damping the body runs with (1/s): linearDamping or angularDamping when given,
     /// else kStandInDamping without radiation (the value before radiation was on by default) and
-    /// kRadiatingLinearDamping / kRadiatingAngularDamping with it (docs/radiation.md "Default
-    /// stand-in damping": radiation damps the oscillations about the rest waterline, so the
-    /// stand-in keeps only what radiation leaves undamped, a slow drift and yaw).
+    /// the kRadiating* values with it (docs/radiation.md "Default stand-in damping": radiation
+    /// damps the heave about the rest waterline, so the stand-in keeps what radiation leaves
+    /// undamped, a horizontal drift and the rotation). Linear: the horizontal momentum;
+    /// vertical: the momentum along gravity.
     double standInLinearDamping(bool radiating) const;
+    double standInVerticalDamping(bool radiating) const;
     double standInAngularDamping(bool radiating) const;
 
     bool deforms() const { return !meshFrames.empty(); }
@@ -198,7 +206,10 @@ struct BodyDesc {
 };
 
 inline double BodyDesc::standInLinearDamping(bool radiating) const {
-    return linearDamping.value_or(radiating ? kRadiatingLinearDamping : kStandInDamping);
+    return linearDamping.value_or(radiating ? kRadiatingHorizontalDamping : kStandInDamping);
+}
+inline double BodyDesc::standInVerticalDamping(bool radiating) const {
+    return linearDamping.value_or(radiating ? kRadiatingVerticalDamping : kStandInDamping);
 }
 inline double BodyDesc::standInAngularDamping(bool radiating) const {
     return angularDamping.value_or(radiating ? kRadiatingAngularDamping : kStandInDamping);

@@ -367,7 +367,11 @@ public:
     const MassProperties& mass() const { return mass_; }
     /// The manifest's hydrodynamics (drag/friction coefficients in fluid(); damping in 1/s).
     const Fluid& fluid() const { return fluid_; }
+    /// The linear damping of the horizontal momentum; verticalDamping() of the momentum along
+    /// gravity ("vertical_damping", where a radiating body's radiation damps its heave; absent:
+    /// the same as linear_damping).
     double linearDamping() const { return linearDamping_; }
+    double verticalDamping() const { return verticalDamping_; }
     double angularDamping() const { return angularDamping_; }
     /// The project's world: medium, water, step settings and the body's start (schema 1.4).
     const BundleWorld& world() const { return world_; }
@@ -398,7 +402,7 @@ private:
     std::vector<Sample> samples_;
     MassProperties mass_;
     Fluid fluid_;
-    double linearDamping_ = 0, angularDamping_ = 0;
+    double linearDamping_ = 0, verticalDamping_ = 0, angularDamping_ = 0;
     std::unique_ptr<const Radiation> radiation_;
     BundleWorld world_;
     std::unique_ptr<const GraphLayout> graph_;
