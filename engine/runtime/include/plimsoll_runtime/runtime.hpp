@@ -611,13 +611,16 @@ void stepBody(Body& body, BodyState& state, const Water& water, const Fluid& flu
 /// with the energy-conserving rotation, Archimedes' force on flat water and the pressure
 /// integral on waves (their horizontal push), drag and damping on the momenta of the body with
 /// its water, the water graph stepped once a frame and its water composed into the mass by the
-/// parallel-axis theorem. The state is the World's: the centre of mass of the body with its
-/// water, the orientation, the linear and angular momenta.
+/// parallel-axis theorem. A radiating body (the bundle's radiation()) steps as the World's: the
+/// share of the added mass at infinite frequency in the mass matrix, taken each sub-step from
+/// the submerged volume, the memory's load added to the wrench and its filters advanced with the
+/// velocity after the step. The state is the World's: the centre of mass of the body with its
+/// water, the orientation, the linear and angular momenta (with the added mass).
 class Simulation {
 public:
-    /// Starts at the bundle's world() start. Null with `error` for what it does not step: an
-    /// integrator other than semi-implicit Euler, a radiating body (stepBody on a Body with its
-    /// RadiationMemory steps those).
+    /// Starts at the bundle's world() start, a radiating body with the added mass of its
+    /// submerged volume there on the bundle's own water (as the World starts it). Null with
+    /// `error` for what it does not step: an integrator other than semi-implicit Euler.
     /// The bundle must outlive it; it steps its own water, so any number of Simulations may
     /// share one bundle.
     static std::unique_ptr<Simulation> create(const Bundle& bundle, std::string& error);
@@ -668,6 +671,16 @@ private:
     void setMass(const MassProperties& mass);
     int subStepsFor(double frameTime) const;
     double stiffestFrequency() const;
+    /// The share of the added mass for `submergedVolume`, its memory's load (World's
+    /// startRadiationStep); nothing without radiation.
+    void startRadiation(double submergedVolume);
+    /// The added mass of `share` of A_inf; when it shrinks, the velocities are kept (cummins.h
+    /// applyAddedMass).
+    void applyAddedMass(double share);
+    /// The memory's filters advanced by dt with the velocity after the step.
+    void finishRadiation(double dt);
+    /// The rotation's inertia: the body's with its water, plus the added inertia.
+    void rotationalInertia(double I[3][3]) const;
 
     const Bundle& bundle_;
     Body body_;
@@ -683,6 +696,11 @@ private:
     bool asleep_ = false;
     double restedFor_ = 0;    ///< s below the sleep thresholds so far
     double sleepHeight_ = 0;  ///< the water's height above the body when it fell asleep
+    /// The share of A_inf's translational and rotational blocks in the mass, body axes (zero
+    /// without radiation).
+    double addedMass_[3][3] = {}, addedInertia_[3][3] = {};
+    bool added_ = false;               ///< whether either is non-zero
+    Vec3 memoryForce_, memoryTorque_;  ///< the memory's load this sub-step, world axes
     struct Wrench {
         Vec3 force, torque;
     } wrench_;
