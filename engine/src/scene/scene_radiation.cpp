@@ -182,6 +182,26 @@ Result<BodyRadiation> computeBodyRadiation(const SceneBody& body, const Radiatio
 
 void fitRadiationModel(BodyRadiation& radiation) {
     radiation.model = cumminsModel(radiation.coefficients, radiation.addedMassInfinity);
+    // A rotation that displaces almost no water (a sphere's about its centre, a body of
+    // revolution's yaw) makes no waves; what the panels give for it is their facets' error (the
+    // sample sphere: A and B of roll about 1e-3 of rho V L^2, where its translations have 0.3 to
+    // 0.8), and that error slowed the settling of neutral_ball. Such a mode gets none.
+    double translation = 0;
+    for (int i = 0; i < 3; ++i)
+        translation = std::max(translation, std::abs(radiation.addedMassInfinity(i, i)));
+    const double L = std::cbrt(radiation.restVolume);
+    const double negligible = kNegligibleRotationalRadiation * translation * L * L;
+    for (int mode = 3; mode < 6; ++mode) {
+        double largest = std::abs(radiation.addedMassInfinity(mode, mode));
+        for (const RadiationCoefficients& c : radiation.coefficients) {
+            largest = std::max({largest, std::abs(c.addedMass(mode, mode)),
+                                c.omega > 0 ? std::abs(c.damping(mode, mode)) / c.omega : 0.0});
+        }
+        if (largest >= negligible) continue;
+        radiation.model.addedMassInfinity.row(mode).setZero();
+        radiation.model.addedMassInfinity.col(mode).setZero();
+        radiation.model.memory[mode].clear();
+    }
 }
 
 }  // namespace plimsoll

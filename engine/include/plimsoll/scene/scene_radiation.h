@@ -82,8 +82,14 @@ Result<BodyRadiation> computeBodyRadiation(const SceneBody& body, const Radiatio
                                            const ProgressCallback& progress = {},
                                            unsigned threads = 0);
 
+/// A rotational mode whose added inertia and damping over omega (A_inf, A(omega), B(omega) /
+/// omega) all stay below this share of the largest translational A_inf times L^2 (L = cbrt of
+/// the rest volume) is taken as one the body makes no waves in (docs/radiation.md).
+inline constexpr double kNegligibleRotationalRadiation = 0.01;
+
 /// The memory fit (cumminsModel) of stored coefficients, the other fields copied: what a cache
-/// read ends with.
+/// read ends with. Rotational modes below kNegligibleRotationalRadiation get no added inertia
+/// and no memory.
 void fitRadiationModel(BodyRadiation& radiation);
 
 }  // namespace plimsoll
