@@ -10,6 +10,10 @@
 
 namespace plimsoll::cli {
 
+/// Seconds of CPU the calling thread has run: on a shared machine the wall clock also counts
+/// the time other processes held the core (bench_fleet.cpp).
+double threadCpuSeconds();
+
 /// The C++ reference visits every entry in double: beyond 512^2 it only shows it is slow.
 inline constexpr int kReferenceMaxSize = 512;
 
@@ -26,6 +30,7 @@ struct BenchOptions {
     std::vector<std::string> scenarios, methods, meshes;
     std::vector<int> bodies;
     bool radiation = false;    ///< only radiation's cost per step (bench_radiation.cpp)
+    std::string projects = "projects";  ///< --radiation: the sample projects' folder
     bool fleet = false;        ///< only the runtime's fleet table (bench_fleet.cpp)
     bool scene = false;        ///< only the World's cost of many bodies (bench_scene.cpp)
     std::string fleetProject = "projects/damaged_boat.plim.json";

@@ -63,9 +63,14 @@ void addBenchCommand(CLI::App& root, CommandRunner& selected) {
         ->delimiter(',')
         ->check(CLI::IsMember({1, 100, 1000}));
     cmd->add_flag("--radiation", o->radiation,
-                  "Only radiation instead: the panel method's time for a 1 m cube, the World's time "
-                  "per step with and without radiation, and when each settles after a 0.35 m drop "
-                  "(DIR/bench_radiation.csv)");
+                  "Only radiation instead: the panel solve's time for every sample project's body "
+                  "on one thread (DIR/bench_radiation_samples.csv), the panel method's time for a "
+                  "1 m cube, the World's time per step with and without radiation, and when each "
+                  "settles after a 0.35 m drop (DIR/bench_radiation.csv)");
+    cmd->add_option("--projects", o->projects,
+                    "With --radiation: the folder of the sample projects whose bodies are timed")
+        ->capture_default_str()
+        ->check(kNonEmptyPath);
     cmd->add_flag(
         "--fleet", o->fleet,
         "Only the runtime's fleet table instead: one dry body, one flooding body, and 100 "

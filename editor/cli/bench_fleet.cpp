@@ -72,14 +72,6 @@ double secondsPerHeight(const plimsoll_runtime::WaterModel& model) {
     return sink == 12345.678 ? 0.0 : seconds;  // keeps the loop
 }
 
-/// Seconds of CPU this thread has run: on a shared machine the wall clock also counts the time
-/// other processes held the core, which scatters the one-body rows by a factor of two.
-double threadCpuSeconds() {
-    timespec t{};
-    ::clock_gettime(CLOCK_THREAD_CPUTIME_ID, &t);
-    return double(t.tv_sec) + 1e-9 * double(t.tv_nsec);
-}
-
 struct FleetRow {
     std::string name;
     int bodies = 0, bundles = 0, threads = 0;
@@ -366,6 +358,13 @@ std::size_t permeableSamples(const fs::path& folder) {
 }
 
 }  // namespace
+
+// The fleet's one-body rows by wall clock scatter by a factor of two on a shared machine.
+double threadCpuSeconds() {
+    timespec t{};
+    ::clock_gettime(CLOCK_THREAD_CPUTIME_ID, &t);
+    return double(t.tv_sec) + 1e-9 * double(t.tv_nsec);
+}
 
 int runFleetBench(const BenchOptions& o) {
     const int frames = o.frames > 0 ? o.frames : (o.quick ? 20 : 120);

@@ -8,11 +8,15 @@
 
 #include "plimsoll/compute/compute.h"
 #include "plimsoll/io/file_util.h"
+#include "plimsoll/project/project.h"
+#include "plimsoll/project/scene_loader.h"
 #include "plimsoll/samples/primitives.h"
 #include "plimsoll/scene/scene_radiation.h"
 #include "plimsoll/scene/world.h"
 
+#include <algorithm>
 #include <chrono>
+#include <ctime>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -60,9 +64,90 @@ std::optional<RadiationRun> runScene(const Scene& scene, double seconds) {
     return run;
 }
 
+/// The panel solve of every body of the sample projects (`folder`/*.plim.json) at its default
+/// settings (or the project's own "radiation" settings) on one thread, no cache: a table row
+/// and a CSV line per body. False when a project does not load.
+bool timeSampleBodies(const std::filesystem::path& folder,
+                      std::vector<std::vector<std::string>>& lines, std::string& csv) {
+    std::vector<std::filesystem::path> files;
+    std::error_code ec;
+    for (const auto& entry : std::filesystem::directory_iterator(folder, ec)) {
+        const std::string name = entry.path().filename().string();
+        if (name.size() > 10 && name.ends_with(".plim.json")) files.push_back(entry.path());
+    }
+    std::sort(files.begin(), files.end());
+    for (const std::filesystem::path& file : files) {
+        Result<Project> project = loadProject(file);
+        if (!project) {
+            std::cerr << "error: " << project.error().message << "\n";
+            return false;
+        }
+        for (std::size_t i = 0; i < project->bodies.size(); ++i) {
+            const std::string body = file.filename().string() + " " + project->bodies[i].name;
+            const RadiationDesc asked = project->bodies[i].radiation.value_or(RadiationDesc{});
+            Project bare = *project;
+            bare.bodies[i].radiation = RadiationDesc{.enabled = false};  // the solve is timed below
+            Result<SceneBody> loaded = loadSceneBody(bare, i);
+            if (!loaded) {
+                std::cerr << "error: " << loaded.error().message << "\n";
+                return false;
+            }
+            if (!project->bodies[i].radiates()) {
+                lines.push_back({body, "-", "-", "-", "-", "radiation turned off by the project"});
+                continue;
+            }
+            if (!project->bodies[i].radiationRequired()) {
+                if (std::optional<std::string> why =
+                        defaultRadiationInapplicable(*loaded, project->medium)) {
+                    lines.push_back(
+                        {body, "-", "-", "-", "-", "radiation off by default: " + *why});
+                    continue;
+                }
+            }
+            const double cpuStart = threadCpuSeconds();
+            const Clock::time_point start = Clock::now();
+            Result<BodyRadiation> r = computeBodyRadiation(*loaded, asked, project->medium,
+                                                           project->simulation.gravity, {}, 1);
+            const double wall = secondsSince(start), cpu = threadCpuSeconds() - cpuStart;
+            if (!r) {
+                lines.push_back({body, "-", "-", "-", "-", r.error().message});
+                csv += body + ",0,0,0,0\n";
+                continue;
+            }
+            lines.push_back({body, std::to_string(r->panelCount),
+                             std::to_string(r->coefficients.size()), format("%.3f", cpu),
+                             format("%.3f", wall), ""});
+            csv += body + "," + std::to_string(r->panelCount) + "," +
+                   std::to_string(r->coefficients.size()) + "," + format("%.6g", cpu) + "," +
+                   format("%.6g", wall) + "\n";
+        }
+    }
+    return true;
+}
+
 }  // namespace
 
 int runRadiationBench(const BenchOptions& o) {
+    {
+        std::printf(
+            "panel solve of each sample body (projects/*.plim.json) at its default settings, one "
+            "thread, no cache:\n");
+        std::vector<std::vector<std::string>> lines{
+            {"body", "panels", "frequencies", "CPU s", "wall s", "note"}};
+        std::string csv = "body,panels,frequencies,cpu_seconds,wall_seconds\n";
+        if (!timeSampleBodies(o.projects, lines, csv)) return kExitFailure;
+        printAligned(lines, 1);
+        if (!createOutputFolder(o.out)) return kExitFailure;
+        const std::filesystem::path file =
+            std::filesystem::path(o.out) / "bench_radiation_samples.csv";
+        if (Status s =
+                writeFileAtomically(file, [&](std::ostream& out) { return bool(out << csv); });
+            !s) {
+            std::cerr << "error: " << s.error().message << "\n";
+            return kExitFailure;
+        }
+        std::printf("wrote %s\n", file.string().c_str());
+    }
     BodyDesc desc;
     desc.name = "cube";
     desc.mesh = "1 m cube (generated)";

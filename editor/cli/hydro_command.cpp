@@ -126,7 +126,7 @@ int runHydro(const HydroOptions& o) {
     const LogFunction note = [](const std::string& line) { std::cerr << "note: " << line << "\n"; };
     // The body is loaded without its radiation (computed below, once, whether it is on or off).
     Project bare = *project;
-    bare.bodies[*index].radiation.reset();
+    bare.bodies[*index].radiation = RadiationDesc{.enabled = false};
     Result<SceneBody> body = loadSceneBody(bare, *index, note);
     if (!body) {
         std::cerr << "error: " << body.error().message << "\n";

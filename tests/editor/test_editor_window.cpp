@@ -1108,8 +1108,10 @@ TEST(EditorWindow, ExportWindowShowsTheResultWithoutInputAndTheExportsOwnDuratio
     const nlohmann::json done = nlohmann::json::parse(test::readFile(dir / "done.json"));
     const std::string status = done["export"].get<std::string>();
     ASSERT_EQ(status.rfind("Done: 1 bundle in ", 0), 0u) << status;
-    // The worker's time: the 2 s the test waited before looking are not in it.
-    EXPECT_LT(std::stod(status.substr(std::string("Done: 1 bundle in ").size())), 1.5) << status;
+    // The worker's time: the 2 s the test waited before looking are not in it. The export
+    // includes the ball's radiation panel solve (on by default: 0.2 to 0.3 s of CPU, 1.9 s of
+    // wall time measured on a loaded two-core machine), so the bound is the wait itself.
+    EXPECT_LT(std::stod(status.substr(std::string("Done: 1 bundle in ").size())), 2.0) << status;
 }
 
 TEST(EditorWindow, OpenedPlotWindowsPushTheOnesBelowDownInsteadOfHidingUnderThem) {

@@ -141,6 +141,10 @@ TEST(FaultInjection, BundleExportLeavesThePreviousBundleUntouched) {
     ASSERT_TRUE(writeBodyBundle(*a, 0, out / "box").ok());
     Result<Project> b = loadProject(writeBoxProject(projectDir, 700.0));
     ASSERT_TRUE(b.ok());
+    // The box radiates by default: its radiation cache (a best-effort write beside the project,
+    // whose failure is only a note) is written once here, so that the interrupted exports below
+    // read it and every injected fault lands in the bundle's own files.
+    ASSERT_TRUE(writeBodyBundle(*b, 0, dir / "warm").ok());
     const int steps = interruptAtEveryStep(out, [&]() -> Status {
         Result<BundleReport> r = writeBodyBundle(*b, 0, out / "box");
         return r.ok() ? Status(Ok{}) : Status(r.error());

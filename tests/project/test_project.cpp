@@ -282,7 +282,29 @@ TEST(Project, RadiationSettingsRoundTripAndAreChecked) {
     const Project automatic = loaded(
         parseProject(withBody(R"({"mesh": "a.obj", "material": {"density": 600}, "radiation": {}})"), "s", "/"));
     EXPECT_TRUE(automatic.bodies[0].radiates());
+    EXPECT_TRUE(automatic.bodies[0].radiationRequired());
     EXPECT_EQ(*automatic.bodies[0].radiation, RadiationDesc{});
+    // Absent: on by default (where it applies), not required; false: off, and saved as false.
+    const Project byDefault = loaded(
+        parseProject(withBody(R"({"mesh": "a.obj", "material": {"density": 600}})"), "s", "/"));
+    EXPECT_FALSE(byDefault.bodies[0].radiation);
+    EXPECT_TRUE(byDefault.bodies[0].radiates());
+    EXPECT_FALSE(byDefault.bodies[0].radiationRequired());
+    EXPECT_FALSE(byDefault.bodies[0].linearDamping);
+    EXPECT_EQ(byDefault.bodies[0].standInLinearDamping(true), kRadiatingHorizontalDamping);
+    EXPECT_EQ(byDefault.bodies[0].standInVerticalDamping(true), kRadiatingVerticalDamping);
+    EXPECT_EQ(byDefault.bodies[0].standInLinearDamping(false), kStandInDamping);
+    EXPECT_EQ(byDefault.bodies[0].standInVerticalDamping(false), kStandInDamping);
+    EXPECT_EQ(loaded(parseProject(projectToJson(byDefault), "again", "/")), byDefault);
+    const Project off = loaded(parseProject(
+        withBody(R"({"mesh": "a.obj", "material": {"density": 600}, "radiation": false})"), "s",
+        "/"));
+    ASSERT_TRUE(off.bodies[0].radiation);
+    EXPECT_FALSE(off.bodies[0].radiates());
+    EXPECT_EQ(projectToJson(off).find("\"radiation\":false") != std::string::npos ||
+                  projectToJson(off).find("\"radiation\": false") != std::string::npos,
+              true);
+    EXPECT_EQ(loaded(parseProject(projectToJson(off), "again", "/")), off);
     expectProblems(withBody(R"({"mesh": "a.obj", "material": {"density": 600},
                                 "radiation": {"frequencies": 3, "panel_edge": -1, "lid": true}})"),
                    {"bodies[0].radiation.lid: unknown key",

@@ -168,7 +168,10 @@ TEST_F(RuntimeConformance, ForcesEqualTheEngineBitForBit) {
         // The manifest's hydrodynamics and mass as the runtime read them.
         EXPECT_EQ(bundle->fluid().dragCoefficient, e.desc->dragCoefficient);
         EXPECT_EQ(bundle->fluid().frictionCoefficient, e.desc->frictionCoefficient);
-        EXPECT_EQ(bundle->linearDamping(), e.desc->linearDamping);
+        const bool radiates = bundle->radiation() != nullptr;
+        EXPECT_EQ(bundle->linearDamping(), e.desc->standInLinearDamping(radiates));
+        EXPECT_EQ(bundle->verticalDamping(), e.desc->standInVerticalDamping(radiates));
+        EXPECT_EQ(bundle->angularDamping(), e.desc->standInAngularDamping(radiates));
         const nlohmann::json manifest =
             nlohmann::json::parse(test::readFile(e.folder / "manifest.json"));
         const nlohmann::json& mass = manifest["mass_properties"]["texture"];

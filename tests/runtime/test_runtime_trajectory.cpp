@@ -9,8 +9,9 @@
 // with the engine's water or the runtime's own model (double-precision waves against the
 // World's single-precision sines). A flooding body's water exchange runs per point in the
 // runtime and in one backend pass in the World, which differ by about 1e-6 of the flow; that
-// difference in the water moves the body, within 5e-4 m over 20 s (0.22 mm measured, the plush
-// toy on flat water; 1.7e-5 m the damaged boat). The figures are printed.
+// difference in the water moves the body, within 5e-4 m over 20 s (0.12 mm measured, the plush
+// toy on flat water; 0.20 mm the damaged boat, whose heave the radiating body's lower stand-in
+// damps less: 2e-7 m with linear_damping 0.5). The figures are printed.
 #include "test_support.h"
 #include "world_support.h"
 
@@ -445,14 +446,18 @@ TEST_F(RuntimeTrajectory, FloatBodyWritesTheSimulateColumns) {
         EXPECT_NEAR(std::stod(cells[0]), world[rows].time, 1e-8);
         const Eigen::Vector3d x(std::stod(cells[2]), std::stod(cells[3]), std::stod(cells[4]));
         worst = std::max(worst, (x - world[rows].center).norm());
-        // The water inside: the exchange's own differences (about 1e-6 of the flow).
-        EXPECT_NEAR(std::stod(cells[19]), world[rows].mass, 1e-5 * world[rows].mass);
+        // The water inside: the exchange's own differences (about 1e-6 of the flow), which the
+        // boat's motion carries on: with the heave stand-in at 0.05 1/s (a radiating body's
+        // default) it moves more, and the water follows within 4.7e-5 of the mass (4.7e-5 as
+        // well with radiation and linear_damping 0.05 given, 2.6e-5 with radiation off and
+        // 0.05 given; 5e-8 with radiation and 0.5 given: the step itself agrees).
+        EXPECT_NEAR(std::stod(cells[19]), world[rows].mass, 1e-4 * world[rows].mass);
         ++rows;
     }
     EXPECT_EQ(rows, frames);
     std::printf("  float_body --csv, damaged_boat, %ld rows: centre of mass within %.2e m of the World's\n", rows,
                 worst);
-    // The flooding bound of EverySampleProjectFollowsTheWorld (1.7e-5 m measured here).
+    // The flooding bound of EverySampleProjectFollowsTheWorld (2.0e-4 m measured here).
     EXPECT_LE(worst, kFloodingBound);
 }
 

@@ -88,12 +88,12 @@ TEST_P(Determinism, SampleProjectTrajectoryHashIsPinned) {
 
 INSTANTIATE_TEST_SUITE_P(SampleProjects, Determinism,
                          testing::Values(PinnedTrajectory{"balloon", 0xf2c16e55757f4024ull},
-                                         PinnedTrajectory{"box_half_draft", 0xe39c00fb030eba15ull},
-                                         PinnedTrajectory{"buoy", 0x81bad5a06555421bull},
-                                         PinnedTrajectory{"damaged_boat", 0x5362c89d6d304165ull},
-                                         PinnedTrajectory{"heavy_side_ball", 0x6e03ae57de7d9015ull},
-                                         PinnedTrajectory{"neutral_ball", 0x3ff444187faf54f4ull},
-                                         PinnedTrajectory{"plush", 0xfb4ab8d4d922d645ull}),
+                                         PinnedTrajectory{"box_half_draft", 0x76484adabbfc84b1ull},
+                                         PinnedTrajectory{"buoy", 0x62474a97edaff46cull},
+                                         PinnedTrajectory{"damaged_boat", 0x7ce0f45b5dda2e17ull},
+                                         PinnedTrajectory{"heavy_side_ball", 0xcccac98d0791c20bull},
+                                         PinnedTrajectory{"neutral_ball", 0xcea0716e68e8fd59ull},
+                                         PinnedTrajectory{"plush", 0x55f45ab2c46ad123ull}),
                          [](const testing::TestParamInfo<PinnedTrajectory>& info) {
                              return std::string(info.param.project);
                          });

@@ -307,8 +307,9 @@ PLIMSOLL_RUNTIME_API int plimsoll_body_step(plimsoll_bundle* bundle, plimsoll_bo
  * per simulation. */
 typedef struct plimsoll_simulation plimsoll_simulation;
 
-/* NULL (and the last error) for a body it does not step: radiation, an integrator other than
- * semi-implicit Euler. The bundle must outlive it. */
+/* NULL (and the last error) for a body it does not step: an integrator other than
+ * semi-implicit Euler. A radiating body steps with its added mass and memory, as the World
+ * steps it. The bundle must outlive it. */
 PLIMSOLL_RUNTIME_API plimsoll_simulation* plimsoll_simulation_create(const plimsoll_bundle* bundle);
 PLIMSOLL_RUNTIME_API void plimsoll_simulation_destroy(plimsoll_simulation* simulation);
 /* One frame (plimsoll_simulation_state's frame_time). water NULL: the bundle's own water. */

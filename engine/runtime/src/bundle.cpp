@@ -598,8 +598,12 @@ bool loadBundleImpl(const BundleSource& source, Bundle& b, std::string& error, b
             !r.number(*hydro, "$.hydrodynamics", "linear_damping", b.linearDamping_, false) ||
             !r.number(*hydro, "$.hydrodynamics", "angular_damping", b.angularDamping_, false))
             return false;
+        // Absent (every body without radiation, and bundles before it): as the horizontal.
+        b.verticalDamping_ = b.linearDamping_;
+        if (!r.number(*hydro, "$.hydrodynamics", "vertical_damping", b.verticalDamping_, false))
+            return false;
         for (const double v : {b.fluid_.dragCoefficient, b.fluid_.frictionCoefficient,
-                               b.linearDamping_, b.angularDamping_}) {
+                               b.linearDamping_, b.verticalDamping_, b.angularDamping_}) {
             if (!(v >= 0) || !std::isfinite(v))
                 return r.fail("$.hydrodynamics", "coefficients and damping must be finite and >= 0");
         }

@@ -99,7 +99,11 @@ WaterLoad waterLoad(const Body& instance, const Pose& pose, const Velocity& velo
     const double wet = body.volume > 0 ? std::clamp(f.submergedVolume / body.volume, 0.0, 1.0) : 0.0;
     const Vec3 P = mass * velocity.linear;
     const Vec3 L = worldInertiaTimes(R, inertia, velocity.angular);
-    load.force += limited(f.dragForce - (wet * bundle.linearDamping()) * P, P, dt);
+    Vec3 loss = f.dragForce - (wet * bundle.linearDamping()) * P;
+    // Along gravity (-y) its own rate (radiation damps a radiating body's heave).
+    if (bundle.verticalDamping() != bundle.linearDamping())
+        loss.y -= wet * (bundle.verticalDamping() - bundle.linearDamping()) * P.y;
+    load.force += limited(loss, P, dt);
     load.torque += limited(f.dragTorque - (wet * bundle.angularDamping()) * L, L, dt);
     return load;
 }

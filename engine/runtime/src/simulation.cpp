@@ -10,12 +10,14 @@
 #include "vec.hpp"
 
 #include "plimsoll_eval/levels.hpp"
+#include "plimsoll_eval/cummins.hpp"
 #include "plimsoll_eval/sleep.hpp"
 
 #include <algorithm>
 #include <cmath>
 #include <cstring>
 #include <limits>
+#include <memory>
 
 namespace plimsoll_runtime {
 
@@ -202,10 +204,6 @@ std::unique_ptr<Simulation> Simulation::create(const Bundle& bundle, std::string
                 ": the runtime's Simulation steps semi-implicit-euler only";
         return nullptr;
     }
-    if (bundle.radiation()) {
-        error = bundle.folder() + ": the body radiates: step it with stepBody on a Body";
-        return nullptr;
-    }
     if (!(bundle.mass().mass > 0)) {
         error = bundle.folder() + ": the body has no mass";
         return nullptr;
@@ -235,13 +233,96 @@ std::unique_ptr<Simulation> Simulation::create(const Bundle& bundle, std::string
     s->position_ = mul(R, s->mass_.centerOfMass) + start.position;
     s->linearMomentum_ = s->mass_.mass * world.startVelocity.linear;
     s->angularMomentum_ = mul(R, times(s->mass_.inertia, mulT(R, world.startVelocity.angular)));
+    if (const Radiation* radiation = bundle.radiation()) {
+        // The added mass it starts with (World::addBody: the submerged volume at the start pose
+        // on the project's water, at rest), so that it starts with the velocities asked for.
+        const Water water = world.water.water();
+        double submerged = 0;
+        if (!(s->position_.y - s->boundingRadius_ > highest(water)))
+            submerged = bundle.evaluate(start, Velocity{}, water, s->fluid_, 0.0).submergedVolume;
+        s->applyAddedMass(plimsoll_eval::entrainedShare(submerged, radiation->restVolume));
+        const Vec3 v = world.startVelocity.linear, w = world.startVelocity.angular;
+        s->linearMomentum_ = s->mass_.mass * v + mul(R, times(s->addedMass_, mulT(R, v)));
+        s->angularMomentum_ = mul(R, times(s->mass_.inertia, mulT(R, w))) +
+                              mul(R, times(s->addedInertia_, mulT(R, w)));
+    }
     return s;
 }
 
-Vec3 Simulation::linearVelocity() const { return (1.0 / mass_.mass) * linearMomentum_; }
+void Simulation::rotationalInertia(double I[3][3]) const {
+    for (int i = 0; i < 3; ++i)
+        for (int j = 0; j < 3; ++j) I[i][j] = mass_.inertia[i][j] + addedInertia_[i][j];
+}
+
+void Simulation::applyAddedMass(double share) {
+    const Radiation* radiation = bundle_.radiation();
+    if (!radiation) return;
+    share = std::clamp(share, 0.0, 1.0);
+    double T[3][3], Rr[3][3];
+    bool same = true;
+    double traceNew = 0, traceOld = 0;
+    for (int i = 0; i < 3; ++i) {
+        for (int j = 0; j < 3; ++j) {
+            T[i][j] = share * radiation->addedMassInfinity[i][j];
+            Rr[i][j] = share * radiation->addedMassInfinity[i + 3][j + 3];
+            same = same && T[i][j] == addedMass_[i][j] && Rr[i][j] == addedInertia_[i][j];
+        }
+        traceNew += T[i][i] + Rr[i][i];
+        traceOld += addedMass_[i][i] + addedInertia_[i][i];
+    }
+    if (same) return;
+    const Vec3 v = linearVelocity(), w = angularVelocity();
+    added_ = false;
+    for (int i = 0; i < 3; ++i) {
+        for (int j = 0; j < 3; ++j) {
+            addedMass_[i][j] = T[i][j];
+            addedInertia_[i][j] = Rr[i][j];
+            added_ = added_ || T[i][j] != 0;
+        }
+    }
+    // Less water entrained: the velocities stay (the kinetic energy falls); more: the momenta
+    // stay (the body drags the water along).
+    if (traceNew < traceOld) {
+        double R[3][3], I[3][3];
+        rotationMatrix(orientation_, R);
+        rotationalInertia(I);
+        linearMomentum_ = mass_.mass * v + mul(R, times(addedMass_, mulT(R, v)));
+        angularMomentum_ = mul(R, times(I, mulT(R, w)));
+    }
+}
+
+void Simulation::startRadiation(double submergedVolume) {
+    RadiationMemory* memory = body_.radiation();
+    if (!memory) return;
+    Pose pose;
+    pose.orientation = orientation_;
+    const RadiationLoad load = memory->begin(pose, submergedVolume);
+    applyAddedMass(load.share);
+    memoryForce_ = load.force;
+    memoryTorque_ = load.torque;
+}
+
+void Simulation::finishRadiation(double dt) {
+    RadiationMemory* memory = body_.radiation();
+    if (!memory) return;
+    Pose pose;
+    pose.orientation = orientation_;
+    memory->advance(pose, Velocity{linearVelocity(), angularVelocity()}, dt);
+}
+
+Vec3 Simulation::linearVelocity() const {
+    if (!added_) return (1.0 / mass_.mass) * linearMomentum_;
+    // In object axes the translational mass is m + A, constant.
+    double M[3][3];
+    for (int i = 0; i < 3; ++i)
+        for (int j = 0; j < 3; ++j) M[i][j] = (i == j ? mass_.mass : 0.0) + addedMass_[i][j];
+    return rotate(orientation_, solve(M, rotate(conjugate(orientation_), linearMomentum_)));
+}
 
 Vec3 Simulation::angularVelocity() const {
-    return rotate(orientation_, solve(mass_.inertia, rotate(conjugate(orientation_), angularMomentum_)));
+    double I[3][3];
+    rotationalInertia(I);
+    return rotate(orientation_, solve(I, rotate(conjugate(orientation_), angularMomentum_)));
 }
 
 double Simulation::stiffestFrequency() const {
@@ -292,6 +373,8 @@ void Simulation::evaluate(const Water& water, double dt) {
         if (lod_.blendLeft > 0)
             addScaled(forces_, lod_.offset, static_cast<double>(lod_.blendLeft) / lod_.blendSteps);
     }
+    // The added mass of this submerged volume before the damping acts on the momenta.
+    startRadiation(forces_.submergedVolume);
     // On flat water Archimedes' form (exactly vertical); on waves the pressure integral, which
     // carries their horizontal push (World::wrenchOf).
     const bool flat = !wavy(water);
@@ -300,8 +383,22 @@ void Simulation::evaluate(const Water& water, double dt) {
     w.force = mass_.mass * world.gravity + (flat ? forces_.force : forces_.pressureForce);
     w.torque = flat ? forces_.torque : forces_.pressureTorque;
     const double wet = hull_.volume > 0 ? std::clamp(forces_.submergedVolume / hull_.volume, 0.0, 1.0) : 0.0;
-    w.force += limited(forces_.dragForce - (wet * bundle_.linearDamping()) * linearMomentum_, linearMomentum_, dt);
+    Vec3 loss = forces_.dragForce - (wet * bundle_.linearDamping()) * linearMomentum_;
+    if (bundle_.verticalDamping() != bundle_.linearDamping()) {
+        // Along gravity its own rate (radiation damps a radiating body's heave).
+        const double g = norm(world.gravity);
+        const Vec3 up = g > 0 ? (-1.0 / g) * world.gravity : Vec3{0, 1, 0};
+        loss = loss - (wet * (bundle_.verticalDamping() - bundle_.linearDamping()) *
+                       dot(up, linearMomentum_)) *
+                          up;
+    }
+    w.force += limited(loss, linearMomentum_, dt);
     w.torque += limited(forces_.dragTorque - (wet * bundle_.angularDamping()) * angularMomentum_, angularMomentum_, dt);
+    // The radiation memory is passive by construction: not capped either.
+    if (body_.radiation()) {
+        w.force += memoryForce_;
+        w.torque += memoryTorque_;
+    }
     wrench_ = w;
 }
 
@@ -311,7 +408,9 @@ void Simulation::step(double dt) {
     linearMomentum_ += dt * wrench_.force;
     angularMomentum_ += dt * wrench_.torque;
     position_ += dt * linearVelocity();
-    orientation_ = energyConservingRotation(before, angularMomentum_, mass_.inertia, dt);
+    double I[3][3];
+    rotationalInertia(I);
+    orientation_ = energyConservingRotation(before, angularMomentum_, I, dt);
 }
 
 void Simulation::setMass(const MassProperties& mass) {
@@ -329,8 +428,13 @@ void Simulation::setMass(const MassProperties& mass) {
     orientation_ = fromMatrix(R);
     rotationMatrix(orientation_, R);
     position_ = mul(R, mass_.centerOfMass) + origin;
+    // The added mass stays: the water around the body did not change.
     linearMomentum_ = mass_.mass * linear;
     angularMomentum_ = mul(R, times(mass_.inertia, mulT(R, angular)));
+    if (body_.radiation()) {
+        linearMomentum_ += mul(R, times(addedMass_, mulT(R, linear)));
+        angularMomentum_ += mul(R, times(addedInertia_, mulT(R, angular)));
+    }
 }
 
 bool Simulation::stepGraph(const Water& water, double frameTime) {
@@ -457,6 +561,7 @@ bool Simulation::advanceFrame(const Water& water, std::string& error) {
         evaluate(water, dt);
         step(dt);
         if (lod_.blendLeft > 0) --lod_.blendLeft;
+        finishRadiation(dt);
         time_ += dt;
     }
     const bool changed = stepGraph(water, frameTime);
@@ -479,6 +584,12 @@ bool Simulation::advanceFrame(const Water& water, std::string& error) {
     if (plimsoll_eval::countRest(rest, sleep, sample, frameTime)) {
         linearMomentum_ = {0, 0, 0};
         angularMomentum_ = {0, 0, 0};
+        // The little the radiation memory still holds after this long at rest is let go, so
+        // that the body wakes without an old push (World::sleepWhereRested).
+        if (RadiationMemory* memory = body_.radiation())
+            *memory = RadiationMemory(bundle_.radiation());
+        memoryForce_ = {0, 0, 0};
+        memoryTorque_ = {0, 0, 0};
     }
     asleep_ = rest.asleep;
     restedFor_ = rest.restedFor;
@@ -551,6 +662,13 @@ std::vector<std::uint8_t> Simulation::save() const {
         putBytes(out, f.wettedArea);
     }
     if (const WaterGraph* graph = body_.graph()) graph->saveState(out);
+    if (const RadiationMemory* memory = body_.radiation()) {
+        for (int i = 0; i < 3; ++i)
+            for (int j = 0; j < 3; ++j) putBytes(out, addedMass_[i][j]);
+        for (int i = 0; i < 3; ++i)
+            for (int j = 0; j < 3; ++j) putBytes(out, addedInertia_[i][j]);
+        memory->saveState(out);
+    }
     return out;
 }
 
@@ -597,27 +715,47 @@ bool Simulation::restore(const std::vector<std::uint8_t>& bytes, std::string& er
         for (int k = 0; k < 7; ++k) *fields[k] = {o[1 + 3 * k], o[2 + 3 * k], o[3 + 3 * k]};
         lod.offset.wettedArea = o[22];
     }
-    // The graph first: it is the part that can still refuse, and nothing may change then.
+    // The graph and the radiation first: they are the parts that can still refuse, and nothing
+    // may change then.
     WaterGraph* graph = body_.graph();
-    if (graph) {
-        const std::vector<std::uint8_t> before = [&] {
-            std::vector<std::uint8_t> b;
-            graph->saveState(b);
-            return b;
-        }();
-        if (!graph->restoreState(bytes, at)) {
-            error = "snapshot: the water graph's state does not fit this body";
+    std::vector<std::uint8_t> graphBefore;
+    if (graph) graph->saveState(graphBefore);
+    auto undoGraph = [&] {
+        std::size_t back = 0;
+        if (graph) graph->restoreState(graphBefore, back);
+    };
+    if (graph && !graph->restoreState(bytes, at)) {
+        error = "snapshot: the water graph's state does not fit this body";
+        return false;
+    }
+    double added[18] = {};
+    RadiationMemory* memory = body_.radiation();
+    std::unique_ptr<RadiationMemory> restored;
+    if (memory) {
+        bool fits = true;
+        for (double& d : added) fits = fits && takeBytes(bytes, at, d) && std::isfinite(d);
+        restored = std::make_unique<RadiationMemory>(*memory);
+        if (!fits || !restored->restoreState(bytes, at)) {
+            undoGraph();
+            error = "snapshot: the radiation state does not fit this body";
             return false;
         }
-        if (at != bytes.size()) {
-            std::size_t back = 0;
-            graph->restoreState(before, back);
-            error = "snapshot: " + std::to_string(bytes.size() - at) + " bytes too many";
-            return false;
-        }
-    } else if (at != bytes.size()) {
+    }
+    if (at != bytes.size()) {
+        undoGraph();
         error = "snapshot: " + std::to_string(bytes.size() - at) + " bytes too many";
         return false;
+    }
+    if (memory) {
+        *memory = *restored;
+        added_ = false;
+        for (int i = 0; i < 3; ++i) {
+            for (int j = 0; j < 3; ++j) {
+                addedMass_[i][j] = added[3 * i + j];
+                addedInertia_[i][j] = added[9 + 3 * i + j];
+                added_ = added_ || addedMass_[i][j] != 0;
+            }
+        }
     }
     time_ = v[0];
     position_ = {v[1], v[2], v[3]};

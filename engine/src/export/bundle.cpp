@@ -316,6 +316,8 @@ Result<BundleReport> buildBundle(const Project& project, std::size_t index, cons
     Result<std::string> inputHash = bundleInputHash(project, index, options);
     if (!inputHash) return inputHash.error();
     const TriangleMesh& mesh = *body->parts.mesh;
+    // As the World runs it: radiation wherever it was computed, unless turned off.
+    const bool radiates = body->desc.radiates() && body->radiation;
     const std::shared_ptr<const SurfaceTextures>& textures = body->textures;
     const std::shared_ptr<const MassProperties>& textureMass = body->mass;
 
@@ -528,8 +530,8 @@ Result<BundleReport> buildBundle(const Project& project, std::size_t index, cons
         {"hydrodynamics",
          {{"drag_coefficient", desc.dragCoefficient},
           {"friction_coefficient", desc.frictionCoefficient},
-          {"linear_damping", desc.linearDamping},
-          {"angular_damping", desc.angularDamping}}},
+          {"linear_damping", desc.standInLinearDamping(radiates)},
+          {"angular_damping", desc.standInAngularDamping(radiates)}}},
         {"radiation", radiationJson(*body)},
         {"levels", levels},
         {"world", worldJson(project, desc)},
@@ -540,6 +542,10 @@ Result<BundleReport> buildBundle(const Project& project, std::size_t index, cons
         {"input_sha256", *inputHash},
         {"files", files}};
     manifest.update(textureFactsJson(t));
+    // Written only where it differs from linear_damping (a radiating body's default), so that
+    // the manifest of every other body stays as it was.
+    if (desc.standInVerticalDamping(radiates) != desc.standInLinearDamping(radiates))
+        manifest["hydrodynamics"]["vertical_damping"] = desc.standInVerticalDamping(radiates);
     if (compact) {
         // Absent in a float32 bundle (every reader's default). Its channels have other names
         // than the float32 list's, so a reader that knows only that list refuses the file.

@@ -399,8 +399,8 @@ private:
         number(value, path, "drag_coefficient", body.dragCoefficient, Limit::NonNegative);
         number(value, path, "friction_coefficient", body.frictionCoefficient,
                Limit::NonNegative);
-        number(value, path, "linear_damping", body.linearDamping, Limit::NonNegative);
-        number(value, path, "angular_damping", body.angularDamping, Limit::NonNegative);
+        optionalNumber(value, path, "linear_damping", body.linearDamping);
+        optionalNumber(value, path, "angular_damping", body.angularDamping);
         string(value, path, "permeability_map", body.permeabilityMap);
         if (const Json* graph = find(value, "water_graph")) {
             readWaterGraph(*graph, member(path, "water_graph"), body.waterGraph.emplace());
@@ -454,7 +454,21 @@ private:
         }
     }
 
+    /// A non-negative number into an optional: left empty when the member is absent.
+    void optionalNumber(const Json& object, const std::string& path, const char* key,
+                        std::optional<double>& out) {
+        if (!find(object, key)) return;
+        double v = 0;
+        number(object, path, key, v, Limit::NonNegative);
+        out = v;
+    }
+
+    /// `true` or `false`, or an object of settings (`{}`: on with the automatic ones).
     void readRadiation(const Json& value, const std::string& path, RadiationDesc& radiation) {
+        if (value.is_boolean()) {
+            radiation.enabled = value.get<bool>();
+            return;
+        }
         if (!expectObject(value, path,
                           {"enabled", "panel_edge", "frequencies", "min_frequency",
                            "max_frequency"})) {
@@ -707,8 +721,8 @@ Json toJson(const BodyDesc& body) {
     json["angular_velocity"] = toJson(body.angularVelocity);
     json["drag_coefficient"] = body.dragCoefficient;
     json["friction_coefficient"] = body.frictionCoefficient;
-    json["linear_damping"] = body.linearDamping;
-    json["angular_damping"] = body.angularDamping;
+    if (body.linearDamping) json["linear_damping"] = *body.linearDamping;
+    if (body.angularDamping) json["angular_damping"] = *body.angularDamping;
     if (!body.permeabilityMap.empty()) json["permeability_map"] = body.permeabilityMap;
     if (body.waterGraph) {
         const WaterGraphDesc& g = *body.waterGraph;
@@ -725,7 +739,10 @@ Json toJson(const BodyDesc& body) {
         json["water_graph"] = std::move(graph);
     }
     if (body.lod) json["lod"] = {{"levels", body.lod->levels}};
-    if (body.radiation) {
+    if (body.radiation && !body.radiation->enabled &&
+        *body.radiation == RadiationDesc{.enabled = false}) {
+        json["radiation"] = false;
+    } else if (body.radiation) {
         const RadiationDesc& r = *body.radiation;
         json["radiation"] = {{"enabled", r.enabled},
                              {"panel_edge", r.panelEdge},

@@ -271,13 +271,28 @@ Result<SceneBody> loadSceneBody(const Project& project, std::size_t index, const
     body->levels = std::move(*levels);
     if (body->levelChoice)
         say(label + ": its tolerance picks " + describeLevelChoice(*body->levelChoice));
+    // Radiation: asked for ("radiation": {...}), it must apply; by default (no "radiation") it
+    // applies to a rigid body that floats, and any other is told why it runs without.
     if (desc.radiates()) {
-        Result<std::shared_ptr<const BodyRadiation>> radiation = cachedBodyRadiation(
-            *body, *desc.radiation, project.medium, project.simulation.gravity,
-            project.radiationCacheFile(index), log,
-            progress ? progress(label + ": radiation") : ProgressCallback{});
-        if (!radiation) return fail(".radiation", radiation.error());
-        body->radiation = std::move(*radiation);
+        const bool asked = desc.radiationRequired();
+        std::optional<std::string> inapplicable =
+            defaultRadiationInapplicable(*body, project.medium);
+        if (!asked && inapplicable) {
+            say(label + ": radiation off (" + *inapplicable + "); the stand-in damping applies");
+        } else {
+            Result<std::shared_ptr<const BodyRadiation>> radiation = cachedBodyRadiation(
+                *body, desc.radiation.value_or(RadiationDesc{}), project.medium,
+                project.simulation.gravity, project.radiationCacheFile(index), log,
+                progress ? progress(label + ": radiation") : ProgressCallback{});
+            if (!radiation && asked) return fail(".radiation", radiation.error());
+            if (!radiation) {
+                say(label + ": radiation off (" + radiation.error().message +
+                    "); the stand-in damping applies (\"radiation\": false says so in the "
+                    "project)");
+            } else {
+                body->radiation = std::move(*radiation);
+            }
+        }
     }
     return body;
 }

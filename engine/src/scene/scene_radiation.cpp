@@ -14,7 +14,12 @@ namespace plimsoll {
 namespace {
 
 /// Bumped when the computation changes what it produces from the same inputs.
-constexpr int kRadiationVersion = 3;
+constexpr int kRadiationVersion = 6;
+
+/// A wetted mesh whose mean longest panel edge is under this share of the panel edge is
+/// re-panelled by clustering on cells of kCoarsenCell panel edges.
+constexpr double kCoarsenBelow = 0.5;
+constexpr double kCoarsenCell = 1.0 / 1.5;
 
 /// The mesh as the panel method takes it, and the mass that floats.
 struct RestInput {
@@ -27,19 +32,6 @@ Result<RestInput> restInput(const SceneBody& body, const MediumDesc& medium) {
     Result<FloatingBody> floating = floatingBodyOf(body, medium);
     if (!floating) return floating.error();
     return RestInput{body.parts.mesh.get(), floating->body.mass, floating->body.centerOfMass};
-}
-
-/// Panels refinedPanels makes of `panels` (its rule: split at edge midpoints, up to 8 levels),
-/// counted before any is made: a tiny panel_edge must be refused, not allocated.
-std::size_t refinedCount(const std::vector<RadiationPanel>& panels, double maxEdge) {
-    std::size_t count = 0;
-    for (const RadiationPanel& p : panels) {
-        double longest = 0;
-        for (int k = 0; k < 3; ++k) longest = std::max(longest, (p.vertices[k] - p.vertices[(k + 1) % 3]).norm());
-        const int levels = std::clamp(static_cast<int>(std::ceil(std::log2(longest / maxEdge))), 0, 8);
-        count += std::size_t{1} << (2 * levels);
-    }
-    return count;
 }
 
 }  // namespace
@@ -81,8 +73,28 @@ std::string radiationKey(const SceneBody& body, const RadiationDesc& desc, const
     return hashText(h);
 }
 
+std::optional<std::string> defaultRadiationInapplicable(const SceneBody& body,
+                                                        const MediumDesc& medium) {
+    if (body.desc.deforms()) return "a deforming body";
+    // A liquid: water is 1000 kg/m^3, the lightest liquids about 600; air is 1.2.
+    if (medium.density < 100) return "the medium is not a liquid: no free surface";
+    if (!body.parts.mesh) return "no mesh";
+    Result<RestInput> rest = restInput(body, medium);
+    if (!rest) return rest.error().message;
+    const TriangleMesh& mesh = *rest->mesh;
+    double highest = -std::numeric_limits<double>::infinity();
+    for (const Eigen::Vector3d& p : mesh.positions) highest = std::max(highest, p.y());
+    const double enclosed = wettedVolume(
+        wettedPanels(mesh, Eigen::Affine3d(Eigen::Translation3d(0, -highest - 1.0, 0))));
+    const double restVolume = rest->mass / medium.density;
+    if (!(restVolume > 0) || !(restVolume < enclosed)) return "the body does not float";
+    return std::nullopt;
+}
+
 Result<RestRadiationSurface> restRadiationSurface(const SceneBody& body, const RadiationDesc& desc,
-                                                  const MediumDesc& medium, const Eigen::Vector3d& gravity) {
+                                                  const MediumDesc& medium,
+                                                  const Eigen::Vector3d& gravity,
+                                                  unsigned threads) {
     const std::string label = body.label + ": radiation: ";
     const double g = gravity.norm();
     if (!(g > 0)) return makeError(ErrorKind::invalidArgument, label + "without gravity nothing floats");
@@ -104,29 +116,49 @@ Result<RestRadiationSurface> restRadiationSurface(const SceneBody& body, const R
     }
     out.resolved = resolvedRadiationDesc(desc, out.restVolume, g);
     out.restHeight = equilibriumHeight(mesh, Eigen::Affine3d::Identity(), out.restVolume);
-    const Eigen::Affine3d atRest(Eigen::Translation3d(0, out.restHeight, 0));
+    Eigen::Affine3d atRest(Eigen::Translation3d(0, out.restHeight, 0));
     // Slivers the waterline cuts off a triangle carry no force and spoil the collocation (a
     // sphere's equator row 0.1 mm under water made 16 of them and moved its heave damping 5%).
     const double minArea = 1e-4 * std::pow(out.restVolume, 2.0 / 3.0);
-    const std::vector<RadiationPanel> wetted = wettedPanels(mesh, atRest, minArea);
+    std::vector<RadiationPanel> wetted = wettedPanels(mesh, atRest, minArea);
     const double edge = out.resolved.panelEdge;
-    const std::size_t count = refinedCount(wetted, edge);
-    if (count > kMaxRadiationPanels) {
+    // A mesh much finer than the panel edge (a 4000-triangle sphere, a detailed hull) is
+    // re-made at about the edge, whole, then raised to the same displacement and clipped: its
+    // shape, not its tessellation, sets the cost (clusteredMesh; docs/radiation.md "Coarser
+    // panels for fine meshes").
+    double meanEdge = 0;
+    for (const RadiationPanel& p : wetted) {
+        meanEdge += std::max({(p.vertices[1] - p.vertices[0]).norm(),
+                              (p.vertices[2] - p.vertices[1]).norm(),
+                              (p.vertices[0] - p.vertices[2]).norm()});
+    }
+    if (!wetted.empty()) meanEdge /= static_cast<double>(wetted.size());
+    if (meanEdge < kCoarsenBelow * edge) {
+        const TriangleMesh coarse = clusteredMesh(mesh, kCoarsenCell * edge);
+        atRest = Eigen::Translation3d(
+            0, equilibriumHeight(coarse, Eigen::Affine3d::Identity(), out.restVolume), 0);
+        wetted = wettedPanels(coarse, atRest, minArea);
+    }
+    std::vector<RadiationPanel> panels = bisectedPanels(wetted, edge, kMaxRadiationPanels);
+    if (const std::size_t count = panels.size(); count > kMaxRadiationPanels) {
         std::ostringstream m;
-        m << label << "the wetted surface makes " << count << " panels at panel_edge " << edge
-          << " m, more than the limit kMaxRadiationPanels = " << kMaxRadiationPanels
-          << ": give a longer panel_edge" << (wetted.size() > kMaxRadiationPanels ? " and a coarser mesh" : "");
+        m << label << "the wetted surface makes more than " << count - 1 << " panels at panel_edge "
+          << edge << " m, more than the limit kMaxRadiationPanels = " << kMaxRadiationPanels
+          << ": give a longer panel_edge"
+          << (wetted.size() > kMaxRadiationPanels ? " and a coarser mesh" : "");
         return makeError(ErrorKind::limit, m.str());
     }
-    out.solver.emplace(refinedPanels(wetted, edge), atRest * rest->centerOfMass,
-                       RadiationSettings{g, medium.density});
+    out.solver.emplace(
+        std::move(panels), atRest * rest->centerOfMass,
+        RadiationSettings{.gravity = g, .density = medium.density, .threads = threads});
     return out;
 }
 
 Result<BodyRadiation> computeBodyRadiation(const SceneBody& body, const RadiationDesc& desc,
                                            const MediumDesc& medium, const Eigen::Vector3d& gravity,
-                                           const ProgressCallback& progress) {
-    Result<RestRadiationSurface> surface = restRadiationSurface(body, desc, medium, gravity);
+                                           const ProgressCallback& progress, unsigned threads) {
+    Result<RestRadiationSurface> surface =
+        restRadiationSurface(body, desc, medium, gravity, threads);
     if (!surface) return surface.error();
     const RadiationSolver& solver = *surface->solver;
     const RadiationDesc& resolved = surface->resolved;
@@ -150,6 +182,26 @@ Result<BodyRadiation> computeBodyRadiation(const SceneBody& body, const Radiatio
 
 void fitRadiationModel(BodyRadiation& radiation) {
     radiation.model = cumminsModel(radiation.coefficients, radiation.addedMassInfinity);
+    // A rotation that displaces almost no water (a sphere's about its centre, a body of
+    // revolution's yaw) makes no waves; what the panels give for it is their facets' error (the
+    // sample sphere: A and B of roll about 1e-3 of rho V L^2, where its translations have 0.3 to
+    // 0.8), and that error slowed the settling of neutral_ball. Such a mode gets none.
+    double translation = 0;
+    for (int i = 0; i < 3; ++i)
+        translation = std::max(translation, std::abs(radiation.addedMassInfinity(i, i)));
+    const double L = std::cbrt(radiation.restVolume);
+    const double negligible = kNegligibleRotationalRadiation * translation * L * L;
+    for (int mode = 3; mode < 6; ++mode) {
+        double largest = std::abs(radiation.addedMassInfinity(mode, mode));
+        for (const RadiationCoefficients& c : radiation.coefficients) {
+            largest = std::max({largest, std::abs(c.addedMass(mode, mode)),
+                                c.omega > 0 ? std::abs(c.damping(mode, mode)) / c.omega : 0.0});
+        }
+        if (largest >= negligible) continue;
+        radiation.model.addedMassInfinity.row(mode).setZero();
+        radiation.model.addedMassInfinity.col(mode).setZero();
+        radiation.model.memory[mode].clear();
+    }
 }
 
 }  // namespace plimsoll

@@ -187,18 +187,22 @@ Status World::addBody(const SceneBody& scene) {
     body.fluid.gravity = gravity.norm();
     body.fluid.dragCoefficient = desc.dragCoefficient;
     body.fluid.frictionCoefficient = desc.frictionCoefficient;
-    body.linearDamping = desc.linearDamping;
-    body.angularDamping = desc.angularDamping;
     Motion motion;
     motion.linear = desc.velocity;
     motion.angular = desc.angularVelocity;
     body.state = stateAt(start, body.mass, motion);
     std::unique_ptr<Radiating> radiating;
-    if (desc.radiates()) {
-        if (!scene.radiation) {
-            return makeError(ErrorKind::invalidArgument,
-                             label + ": radiation is on but was not computed (computeBodyRadiation)");
-        }
+    if (desc.radiationRequired() && !scene.radiation) {
+        return makeError(ErrorKind::invalidArgument,
+                         label + ": radiation is on but was not computed (computeBodyRadiation)");
+    }
+    // On by default wherever it was computed (the scene loader computes it for every rigid body
+    // that floats unless the project turns it off); the stand-in damping follows.
+    const bool radiates = desc.radiates() && scene.radiation;
+    body.linearDamping = desc.standInLinearDamping(radiates);
+    body.verticalDamping = desc.standInVerticalDamping(radiates);
+    body.angularDamping = desc.standInAngularDamping(radiates);
+    if (radiates) {
         radiating = std::make_unique<Radiating>();
         radiating->radiation = scene.radiation;
         const CumminsModel& model = scene.radiation->model;
@@ -485,8 +489,16 @@ Wrench World::wrenchOf(const SimulatedBody& body, const RigidBodyState& state,
         const double cap = momentum.norm();
         return impulse > cap && impulse > 0 ? Eigen::Vector3d(loss * (cap / impulse)) : loss;
     };
-    w.force += limited(buoyancy.dragForce - wet * body.linearDamping * state.linearMomentum,
-                       state.linearMomentum);
+    Eigen::Vector3d loss = buoyancy.dragForce - wet * body.linearDamping * state.linearMomentum;
+    if (body.verticalDamping != body.linearDamping) {
+        // Along gravity its own rate (radiation damps a radiating body's heave).
+        const double g = scene_.simulation.gravity.norm();
+        const Eigen::Vector3d up =
+            g > 0 ? Eigen::Vector3d(-scene_.simulation.gravity / g) : Eigen::Vector3d::UnitY();
+        loss -=
+            (wet * (body.verticalDamping - body.linearDamping) * up.dot(state.linearMomentum)) * up;
+    }
+    w.force += limited(loss, state.linearMomentum);
     w.torque += limited(buoyancy.dragTorque - wet * body.angularDamping * state.angularMomentum,
                         state.angularMomentum);
     const auto index = static_cast<std::size_t>(&body - bodies_.data());

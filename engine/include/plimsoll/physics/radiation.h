@@ -51,6 +51,24 @@ std::vector<RadiationPanel> wettedPanels(const TriangleMesh& surface, const Eige
 /// mesh (a box of 12 triangles) needs it before it resolves any flow.
 std::vector<RadiationPanel> refinedPanels(const std::vector<RadiationPanel>& panels, double maxEdge);
 
+/// The panels halved at their longest edge's midpoint until no edge is longer than maxEdge (m):
+/// a long thin face (the 1 x 0.25 m side of a box) is cut across its length only, where
+/// refinedPanels cuts every edge as often as the longest needs (64 panels for that face's
+/// triangle at 0.2 m, here 12). Stops once more than `limit` panels are made.
+std::vector<RadiationPanel> bisectedPanels(const std::vector<RadiationPanel>& panels,
+                                           double maxEdge,
+                                           std::size_t limit = static_cast<std::size_t>(-1));
+
+/// `mesh` re-made at about `cell` (m) where it is finer: vertex clustering on a grid of that
+/// size (vertices welded by position first), each cluster at its vertices' mean; a triangle
+/// whose corners share a cluster is dropped, and two that meet the same clusters the other way
+/// round cancel. What the mesh enclosed stays enclosed (a closed mesh stays closed, so its
+/// waterline after clipping closes and gets its lid), slightly smaller (the means lie inside a
+/// convex surface). A fine mesh (a 4000-triangle sphere) then costs the panel method what its
+/// shape needs rather than what its tessellation has (docs/radiation.md "Coarser panels for
+/// fine meshes").
+TriangleMesh clusteredMesh(const TriangleMesh& mesh, double cell);
+
 /// The interior waterplane of the wetted panels (the part of y = 0 their waterline encloses) as
 /// panels no longer than about `maxEdge` (m; 0: one and a half times the waterline's mean edge),
 /// normals up. A loop that is star-shaped about its centroid gets rings of panels about it,
@@ -128,6 +146,17 @@ private:
     /// and columns: sources_ (the normal rows of the lid are unused).
     Eigen::MatrixXd directPotential_, directNormal_;
     Eigen::MatrixXd imagePotential_, imageNormal_;  ///< the same for 1/r' (mirror in y = 0)
+    /// A source panel near a field panel's centroid or its image: the frequency-independent
+    /// integrals over the source of the wave part's singular terms (radiation.cpp, at()).
+    struct NearSource {
+        Eigen::Index source = 0;
+        double logIntegral = 0;                                 ///< int ln(r' + d) dS, m^2 ln m
+        double distanceIntegral = 0;                            ///< int r' dS, m^3
+        Eigen::Vector3d logGradient = Eigen::Vector3d::Zero();  ///< int grad_x ln(r' + d) dS
+        Eigen::Vector3d distanceGradient = Eigen::Vector3d::Zero();  ///< int grad_x r' dS
+    };
+    std::vector<std::vector<NearSource>> near_;  ///< per row of sources_, by source index
+    bool isFar(Eigen::Index field, Eigen::Index source) const;
 };
 
 /// The wave part of the deep-water Green function, nondimensional: with X = K R (horizontal
@@ -138,6 +167,12 @@ struct WaveGreen {
     double value = 0, dX = 0, dY = 0;
 };
 WaveGreen waveGreen(double X, double Y);
+/// waveGreen from a table (cubic interpolation of what is left after the logarithm and cone of
+/// the origin, filled on first use, in 1/16 steps below X, Y = 4 and 1/4 steps up to X = 96,
+/// Y = 48; waveGreen itself outside): tens of nanoseconds rather than microseconds. Its error
+/// (docs/radiation.md "The wave kernel's table"): below 2e-3 in value near the origin and below
+/// 5e-4 elsewhere, where |F| is about 1 to 5.
+WaveGreen tabulatedWaveGreen(double X, double Y);
 
 /// Struve functions H0 and H1 (series below 16, asymptotic expansion of H - Y above).
 double struveH0(double x);

@@ -57,11 +57,13 @@ struct WaterGraphDesc {
 /// physics/cummins.h steps it): added mass and radiation damping computed at load time (or
 /// read from the project's cache) from its wetted surface at rest, integrated with Cummins'
 /// equation, and exported in the body's bundle for the runtime (docs/bundle.md "Radiation").
-/// A body without it runs without (and with its linear_damping stand-in).
+/// On by default: a project's rigid body that floats gets it without asking (BodyDesc::radiation
+/// absent); `"radiation": false` or `{"enabled": false}` turns it off (the body then runs as
+/// before radiation existed, with the old linear_damping stand-in).
 struct RadiationDesc {
     bool enabled = true;          ///< "enabled": false keeps the settings but runs without
     /// "panel_edge": longest panel edge of the wetted surface, m (0: the cube root of the rest
-    /// displacement over 2.5).
+    /// displacement over 2, resolvedRadiationDesc).
     double panelEdge = 0;
     int frequencies = 16;         ///< "frequencies": samples of A(omega), B(omega)
     /// "min_frequency", "max_frequency": rad/s (0: K L from 0.05 to 5, L half the cube root of
@@ -97,6 +99,21 @@ enum class OpeningsMode {
 };
 const char* openingsModeName(OpeningsMode mode);  ///< "open", "sealed", "none"
 std::optional<OpeningsMode> parseOpeningsMode(std::string_view name);
+
+/// The stand-in damping of a body without radiation (1/s), when the project gives none.
+inline constexpr double kStandInDamping = 0.5;
+/// The stand-in damping of a radiating body's vertical motion (1/s), when the project gives
+/// none (docs/radiation.md "Default stand-in damping"): radiation damps heave, which has a
+/// restoring force and so a frequency at which it makes waves.
+inline constexpr double kRadiatingVerticalDamping = 0.05;
+/// Its horizontal motion keeps kStandInDamping: a drift has no restoring force, and the
+/// radiation damping of surge and sway vanishes as the frequency goes to zero, so radiation
+/// leaves a drift undamped (a capsized cube drifted for a minute with 0.05).
+inline constexpr double kRadiatingHorizontalDamping = kStandInDamping;
+/// Its rotation keeps kStandInDamping too: a round body's rotation makes no waves at all (the
+/// faceted uniform sphere of neutral_ball settled in 29.3 s with 0.5, and not within 30 s with
+/// 0.1), nor does any body's yaw at zero frequency.
+inline constexpr double kRadiatingAngularDamping = kStandInDamping;
 
 /// One opening's cap ("caps" in a body, one entry per opening in the openings' order:
 /// physics_solid.h, PhysicsSolid::openings). Unset members take the body's defaults.
@@ -153,23 +170,50 @@ struct BodyDesc {
     /// Hydrodynamic damping standing in for wave radiation, which the pressure and drag terms
     /// do not model: -m lambda v and -lambda I w, scaled by the submerged share of the volume
     /// (1/s). Quadratic drag alone lets small bobbing die out only as 1/t; 0 turns it off.
-    double linearDamping = 0.5;
-    double angularDamping = 0.5;
+    /// Absent ("linear_damping", "angular_damping" not given): standInLinearDamping's,
+    /// standInVerticalDamping's and standInAngularDamping's defaults, which depend on whether
+    /// the body radiates. Given, linearDamping acts on the vertical motion as on the horizontal.
+    std::optional<double> linearDamping;
+    std::optional<double> angularDamping;
     /// Painted permeability map ("permeability_map", PNG over the mesh's UVs, 0..1: how much
     /// of the water in contact flows in, for the water graph). Empty: impermeable.
     std::string permeabilityMap;
     /// Water graph ("water_graph"); absent: a sealed body.
     std::optional<WaterGraphDesc> waterGraph;
-    /// Wave radiation ("radiation"); absent: none.
+    /// Wave radiation ("radiation"). Absent: on by default where it applies (a rigid body that
+    /// floats: the scene loader computes it, and says so when it does not apply); present and
+    /// enabled: asked for (a body it cannot apply to is refused); present and disabled: off.
     std::optional<RadiationDesc> radiation;
     /// Level ladder ("lod"); absent: one level, texture_size.
     std::optional<LodDesc> lod;
-    /// Whether the body runs with radiation (present and enabled).
-    bool radiates() const { return radiation && radiation->enabled; }
+    /// Whether the body runs with radiation wherever it has been computed (absent or enabled).
+    bool radiates() const { return !radiation || radiation->enabled; }
+    /// Whether the project asks for radiation itself (present and enabled): it must then be
+    /// computed, and a body it cannot apply to is an error rather than a note.
+    bool radiationRequired() const { return radiation && radiation->enabled; }
+    /// The stand-in damping the body runs with (1/s): linearDamping or angularDamping when given,
+    /// else kStandInDamping without radiation (the value before radiation was on by default) and
+    /// the kRadiating* values with it (docs/radiation.md "Default stand-in damping": radiation
+    /// damps the heave about the rest waterline, so the stand-in keeps what radiation leaves
+    /// undamped, a horizontal drift and the rotation). Linear: the horizontal momentum;
+    /// vertical: the momentum along gravity.
+    double standInLinearDamping(bool radiating) const;
+    double standInVerticalDamping(bool radiating) const;
+    double standInAngularDamping(bool radiating) const;
 
     bool deforms() const { return !meshFrames.empty(); }
     bool operator==(const BodyDesc&) const = default;
 };
+
+inline double BodyDesc::standInLinearDamping(bool radiating) const {
+    return linearDamping.value_or(radiating ? kRadiatingHorizontalDamping : kStandInDamping);
+}
+inline double BodyDesc::standInVerticalDamping(bool radiating) const {
+    return linearDamping.value_or(radiating ? kRadiatingVerticalDamping : kStandInDamping);
+}
+inline double BodyDesc::standInAngularDamping(bool radiating) const {
+    return angularDamping.value_or(radiating ? kRadiatingAngularDamping : kStandInDamping);
+}
 
 /// The fluid the bodies are in (below the surface) — water, or air for a balloon.
 struct MediumDesc {

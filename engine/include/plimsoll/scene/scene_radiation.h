@@ -61,19 +61,35 @@ struct RestRadiationSurface {
 /// floatingBodyOf), `desc` resolved: the mesh raised until it displaces mass / density, clipped
 /// at the surface, split to the panel edge. Refuses a body that does not float (denser than the
 /// medium, or weightless), more panels than kMaxRadiationPanels (naming the count and the panel
-/// edge), and zero gravity.
+/// edge), and zero gravity. `threads`: RadiationSettings::threads (0: all cores).
 Result<RestRadiationSurface> restRadiationSurface(const SceneBody& body, const RadiationDesc& desc,
-                                                  const MediumDesc& medium, const Eigen::Vector3d& gravity);
+                                                  const MediumDesc& medium,
+                                                  const Eigen::Vector3d& gravity,
+                                                  unsigned threads = 0);
+
+/// Why radiation by default (a body without "radiation") does not apply to `body`, or nothing
+/// when it does: a deforming body (the panels are of one rigid mesh at rest), one that does
+/// not float in `medium` (denser, or weightless), or a medium much lighter than water (air:
+/// no free surface to make waves on). Cheap: no panel is solved.
+std::optional<std::string> defaultRadiationInapplicable(const SceneBody& body,
+                                                        const MediumDesc& medium);
 
 /// The panel method on body's mesh at rest (restRadiationSurface, whose errors it gives) over
 /// the resolved frequency grid (log-spaced), then A_inf and the memory fit. `progress` hears
-/// 0..1 as the frequencies are solved.
+/// 0..1 as the frequencies are solved; `threads` as restRadiationSurface's.
 Result<BodyRadiation> computeBodyRadiation(const SceneBody& body, const RadiationDesc& desc,
                                            const MediumDesc& medium, const Eigen::Vector3d& gravity,
-                                           const ProgressCallback& progress = {});
+                                           const ProgressCallback& progress = {},
+                                           unsigned threads = 0);
+
+/// A rotational mode whose added inertia and damping over omega (A_inf, A(omega), B(omega) /
+/// omega) all stay below this share of the largest translational A_inf times L^2 (L = cbrt of
+/// the rest volume) is taken as one the body makes no waves in (docs/radiation.md).
+inline constexpr double kNegligibleRotationalRadiation = 0.01;
 
 /// The memory fit (cumminsModel) of stored coefficients, the other fields copied: what a cache
-/// read ends with.
+/// read ends with. Rotational modes below kNegligibleRotationalRadiation get no added inertia
+/// and no memory.
 void fitRadiationModel(BodyRadiation& radiation);
 
 }  // namespace plimsoll

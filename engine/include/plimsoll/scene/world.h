@@ -48,7 +48,8 @@ struct SimulatedBody {
     SurfaceTextures textures;       ///< current surface samples, object space
     double boundingRadius = 0;      ///< about the centre of mass, m
     FluidSettings fluid;
-    double linearDamping = 0;       ///< 1/s, at full submersion (BodyDesc)
+    double linearDamping = 0;       ///< 1/s, at full submersion, horizontal (BodyDesc)
+    double verticalDamping = 0;     ///< 1/s, the same along gravity
     double angularDamping = 0;      ///< 1/s
     BuoyancyResult buoyancy;        ///< at the start of the last step
     std::size_t backendId = 0;

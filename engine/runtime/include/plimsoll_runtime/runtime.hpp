@@ -380,7 +380,11 @@ public:
     const MassProperties& mass() const { return mass_; }
     /// The manifest's hydrodynamics (drag/friction coefficients in fluid(); damping in 1/s).
     const Fluid& fluid() const { return fluid_; }
+    /// The linear damping of the horizontal momentum; verticalDamping() of the momentum along
+    /// gravity ("vertical_damping", where a radiating body's radiation damps its heave; absent:
+    /// the same as linear_damping).
     double linearDamping() const { return linearDamping_; }
+    double verticalDamping() const { return verticalDamping_; }
     double angularDamping() const { return angularDamping_; }
     /// The project's world: medium, water, step settings and the body's start (schema 1.4).
     const BundleWorld& world() const { return world_; }
@@ -419,7 +423,7 @@ private:
     std::vector<Sample> samples_;
     MassProperties mass_;
     Fluid fluid_;
-    double linearDamping_ = 0, angularDamping_ = 0;
+    double linearDamping_ = 0, verticalDamping_ = 0, angularDamping_ = 0;
     std::unique_ptr<const Radiation> radiation_;
     BundleWorld world_;
     std::unique_ptr<const GraphLayout> graph_;
@@ -663,13 +667,16 @@ struct LevelPolicy {
 /// with the energy-conserving rotation, Archimedes' force on flat water and the pressure
 /// integral on waves (their horizontal push), drag and damping on the momenta of the body with
 /// its water, the water graph stepped once a frame and its water composed into the mass by the
-/// parallel-axis theorem. The state is the World's: the centre of mass of the body with its
-/// water, the orientation, the linear and angular momenta.
+/// parallel-axis theorem. A radiating body (the bundle's radiation()) steps as the World's: the
+/// share of the added mass at infinite frequency in the mass matrix, taken each sub-step from
+/// the submerged volume, the memory's load added to the wrench and its filters advanced with the
+/// velocity after the step. The state is the World's: the centre of mass of the body with its
+/// water, the orientation, the linear and angular momenta (with the added mass).
 class Simulation {
 public:
-    /// Starts at the bundle's world() start. Null with `error` for what it does not step: an
-    /// integrator other than semi-implicit Euler, a radiating body (stepBody on a Body with its
-    /// RadiationMemory steps those).
+    /// Starts at the bundle's world() start, a radiating body with the added mass of its
+    /// submerged volume there on the bundle's own water (as the World starts it). Null with
+    /// `error` for what it does not step: an integrator other than semi-implicit Euler.
     /// The bundle must outlive it; it steps its own water, so any number of Simulations may
     /// share one bundle.
     static std::unique_ptr<Simulation> create(const Bundle& bundle, std::string& error);
@@ -735,6 +742,16 @@ private:
     void chooseLevel(const Water& water);
     /// The forces of level `level` at the current state (torques about the centre of mass).
     Forces forcesAt(std::size_t level, const Water& water) const;
+    /// The share of the added mass for `submergedVolume`, its memory's load (World's
+    /// startRadiationStep); nothing without radiation.
+    void startRadiation(double submergedVolume);
+    /// The added mass of `share` of A_inf; when it shrinks, the velocities are kept (cummins.h
+    /// applyAddedMass).
+    void applyAddedMass(double share);
+    /// The memory's filters advanced by dt with the velocity after the step.
+    void finishRadiation(double dt);
+    /// The rotation's inertia: the body's with its water, plus the added inertia.
+    void rotationalInertia(double I[3][3]) const;
 
     const Bundle& bundle_;
     Body body_;
@@ -750,6 +767,11 @@ private:
     bool asleep_ = false;
     double restedFor_ = 0;    ///< s below the sleep thresholds so far
     double sleepHeight_ = 0;  ///< the water's height above the body when it fell asleep
+    /// The share of A_inf's translational and rotational blocks in the mass, body axes (zero
+    /// without radiation).
+    double addedMass_[3][3] = {}, addedInertia_[3][3] = {};
+    bool added_ = false;               ///< whether either is non-zero
+    Vec3 memoryForce_, memoryTorque_;  ///< the memory's load this sub-step, world axes
     struct Wrench {
         Vec3 force, torque;
     } wrench_;
