@@ -174,7 +174,6 @@ bool isApprox(const double a[3][3], const double b[3][3], double precision) {
 bool wavy(const Water& water) { return static_cast<bool>(water.height) || static_cast<bool>(water.heights); }
 double highest(const Water& water) { return wavy(water) ? water.maxHeight : water.level; }
 
-/// At most what stops `momentum` within dt.
 /// f += w d, field by field (what a level's blend adds).
 void addScaled(Forces& f, const Forces& d, double w) {
     f.submergedVolume += w * d.submergedVolume;
@@ -188,6 +187,7 @@ void addScaled(Forces& f, const Forces& d, double w) {
     f.wettedArea += w * d.wettedArea;
 }
 
+/// At most what stops `momentum` within dt.
 Vec3 limited(const Vec3& loss, const Vec3& momentum, double dt) {
     const double impulse = norm(loss) * dt, cap = norm(momentum);
     return impulse > cap && impulse > 0 ? (cap / impulse) * loss : loss;
