@@ -286,10 +286,10 @@ private:
 
         Grid(double step_, double extentX, double extentY, bool lessSingular_)
             : step(step_),
-              lessSingular(lessSingular_),
               tilesX(static_cast<int>(std::ceil(extentX / step_ / kTileCells))),
               tilesY(static_cast<int>(std::ceil(extentY / step_ / kTileCells))),
-              tiles(new Tile[static_cast<std::size_t>(tilesX * tilesY)]) {}
+              tiles(new Tile[static_cast<std::size_t>(tilesX * tilesY)]),
+              lessSingular(lessSingular_) {}
 
         const Tile& tile(int a, int b) const {
             Tile& t = tiles[static_cast<std::size_t>(b * tilesX + a)];
@@ -592,8 +592,8 @@ TriangleMesh clusteredMesh(const TriangleMesh& mesh, double cell) {
     for (const std::array<int, 3>& key : order) {
         const int n = net[key];
         for (int k = 0; k < std::abs(n); ++k) {
-            out.triangles.push_back(n > 0 ? Triangle{key[0], key[1], key[2]}
-                                          : Triangle{key[0], key[2], key[1]});
+            const auto v = [&](int j) { return static_cast<std::uint32_t>(key[static_cast<std::size_t>(j)]); };
+            out.triangles.push_back(n > 0 ? Triangle{v(0), v(1), v(2)} : Triangle{v(0), v(2), v(1)});
         }
     }
     return out;
