@@ -162,6 +162,10 @@ double largestHeel(bool freeSurface) {
     body.waterGraph->freeSurface = freeSurface;
     body.position.y() = -0.15;  // nearer its flooded draft
     body.angularVelocity = {0.0, 0.0, 0.25};  // roll, rad/s
+    // The free surface against water held at the nodes, without radiation's damping of the
+    // roll, which would shrink both heels (and costs minutes here for this flooded hull).
+    body.radiation = RadiationDesc{};
+    body.radiation->enabled = false;
     std::unique_ptr<World> world = makeWorld(project);
     if (!world) return 0;
     double largest = 0;
