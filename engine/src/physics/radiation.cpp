@@ -592,8 +592,11 @@ TriangleMesh clusteredMesh(const TriangleMesh& mesh, double cell) {
     for (const std::array<int, 3>& key : order) {
         const int n = net[key];
         for (int k = 0; k < std::abs(n); ++k) {
-            const auto v = [&](int j) { return static_cast<std::uint32_t>(key[static_cast<std::size_t>(j)]); };
-            out.triangles.push_back(n > 0 ? Triangle{v(0), v(1), v(2)} : Triangle{v(0), v(2), v(1)});
+            const auto v = [&](int j) {
+                return static_cast<std::uint32_t>(key[static_cast<std::size_t>(j)]);
+            };
+            out.triangles.push_back(n > 0 ? Triangle{v(0), v(1), v(2)}
+                                          : Triangle{v(0), v(2), v(1)});
         }
     }
     return out;

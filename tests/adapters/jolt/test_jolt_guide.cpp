@@ -108,8 +108,7 @@ protected:
         nlohmann::json doc = nlohmann::json::parse(std::ifstream(project));
         for (nlohmann::json& body : doc["bodies"]) body["radiation"] = false;
         std::ofstream(project) << doc.dump(2);
-        const std::string command = std::string(PLIMSOLL_BINARY) + " export '" +
-                                    project.string() +
+        const std::string command = std::string(PLIMSOLL_BINARY) + " export '" + project.string() +
                                     "' --out '" + (*root_ / "out").string() + "' > /dev/null 2>&1";
         ASSERT_EQ(std::system(command.c_str()), 0) << command;
     }
