@@ -35,6 +35,7 @@ struct SimulateOptions {
     int size = 128;
     double fluidDensity = 1000.0;
     double waterLevel = 0.0;
+    bool noRadiation = false;
     Eigen::Vector3d position = Eigen::Vector3d::Zero();
     Eigen::Vector3d rotationDegrees = Eigen::Vector3d::Zero();
 };
@@ -43,8 +44,8 @@ struct SimulateOptions {
 Project projectFromFlags(const SimulateOptions& o) {
     Project project;
     project.name = "command line";
-    project.folder = std::filesystem::current_path();
-    // No project file: messages name the mesh, and nothing is cached beside a made-up one.
+    // No project file: messages name the mesh, and no folder, so that nothing (atlas, levels,
+    // radiation) is cached beside a made-up one; the mesh's path is taken as given.
     project.sourceName = o.mesh;
     BodyDesc body;
     body.name = std::filesystem::path(o.mesh).stem().string();
@@ -54,6 +55,7 @@ Project projectFromFlags(const SimulateOptions& o) {
     body.material.density = o.density;
     body.position = o.position;
     body.rotationDegrees = o.rotationDegrees;
+    if (o.noRadiation) body.radiation = RadiationDesc{.enabled = false};
     project.bodies.push_back(body);
     project.medium.density = o.fluidDensity;
     project.water = WaterModel::flat(o.waterLevel);
@@ -281,6 +283,10 @@ void addSimulateCommand(CLI::App& root, CommandRunner& selected) {
     cmd->add_option("--water-level", o->waterLevel, "One-body scene: flat water height, m")
         ->check(kFiniteNumber)
         ->capture_default_str();
+    cmd->add_flag("--no-radiation", o->noRadiation,
+                  "One-body scene: without wave radiation (no panel solve at load; the stand-in "
+                  "damping applies, as \"radiation\": false in a project)")
+        ->needs(mesh);
     addVectorOption(*cmd, "--position", o->position, "One-body scene: position t of the object "
                                                      "origin (R p + t), m")
         ->type_name("X,Y,Z");

@@ -1,7 +1,8 @@
 // `plimsoll hydro` end to end on a project of its own (assets/box.obj, 1 x 0.5 x 0.25 m, half the
 // water's density, radiation on): A(omega) and B(omega) per mode with their physical signs, the
 // convergence study, the radiation cache (a second run reads it, a damaged one is reported and
-// replaced), the SVG plot, `simulate` with radiation, and the errors on bad settings.
+// replaced), the SVG plot, `simulate` with radiation (a project's and the one-body scene's), and
+// the errors on bad settings.
 #include "cli_runner.h"
 #include "test_support.h"
 
@@ -12,6 +13,7 @@
 #include <cmath>
 #include <fstream>
 #include <string>
+#include <vector>
 
 namespace plimsoll {
 namespace test_cli_hydro {
@@ -149,6 +151,35 @@ TEST(CliHydro, SimulateRunsWithRadiation) {
     ASSERT_EQ(r.exitCode, 0) << r.err;
     EXPECT_NE(r.err.find("radiation over"), std::string::npos) << r.err;
     EXPECT_TRUE(fs::exists(project.parent_path() / "box.cache" / "radiation-0.json"));
+}
+
+// The one-body scene radiates by default, as a project's body does; --no-radiation is that
+// body's "radiation": false: no panel solve, and a drop that moves with less added mass. It has
+// no project file, so it caches nothing: the folder it runs in holds only the mesh afterwards.
+TEST(CliHydro, TheOneBodySceneRadiatesUnlessToldNotAndCachesNothing) {
+    const fs::path folder = test::scratchFolder("cli_hydro_one_body");
+    fs::remove_all(folder);
+    fs::create_directories(folder);
+    fs::copy_file(PLIMSOLL_SOURCE_DIR "/assets/box.obj", folder / "box.obj");
+    const std::string inFolder = "cd '" + folder.string() + "' &&";
+    const std::string drop =
+        "simulate --mesh box.obj --size 16 --density 500 --position=0,0.1,0 --seconds 0.5 --json";
+    const CommandOutput with = runPlimsoll(drop, inFolder);
+    const CommandOutput without = runPlimsoll(drop + " --no-radiation", inFolder);
+    ASSERT_EQ(with.exitCode, 0) << with.err;
+    ASSERT_EQ(without.exitCode, 0) << without.err;
+    EXPECT_NE(with.err.find("radiation over"), std::string::npos) << with.err;
+    EXPECT_EQ(without.err.find("radiation over"), std::string::npos) << without.err;
+    const double heightWith = nlohmann::json::parse(with.out)["position"][1].get<double>();
+    const double heightWithout = nlohmann::json::parse(without.out)["position"][1].get<double>();
+    EXPECT_GT(std::abs(heightWith - heightWithout), 1e-4) << heightWith << " vs " << heightWithout;
+    std::vector<std::string> left;
+    for (const auto& entry : fs::directory_iterator(folder)) left.push_back(entry.path().filename().string());
+    EXPECT_EQ(left, std::vector<std::string>{"box.obj"});
+
+    const CommandOutput usage = runPlimsoll("simulate --no-radiation --seconds 0.1");
+    EXPECT_EQ(usage.exitCode, 2) << usage.err;
+    EXPECT_NE(usage.err.find("--mesh"), std::string::npos) << usage.err;
 }
 
 TEST(CliHydro, BadSettingsAreRefusedWithTheirJsonPath) {
