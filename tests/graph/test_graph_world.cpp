@@ -1,7 +1,8 @@
 // Water graphs in the World (on the sample content): the damaged boat floats
 // level, floods through its stern, trims by the stern and sinks; the same boat with its
 // permeability map cleared floats the whole run; a flooded hold heels the boat more with the
-// free-surface model; the plush soaks up water; a sealed body computes no graph. Every frame:
+// free-surface model, and radiates over a bounded lid; the plush soaks up water; a sealed body
+// computes no graph. Every frame:
 // water in = water stored + water out, every node within its capacity, and the body's mass is
 // the hull's plus the water's.
 #include "plimsoll/graph/graph.h"
@@ -9,6 +10,7 @@
 #include "plimsoll/io/graph_json.h"
 #include "plimsoll/surface/painted_map.h"
 #include "plimsoll/project/project.h"
+#include "plimsoll/scene/scene_radiation.h"
 #include "plimsoll/scene/world.h"
 
 #include "test_support.h"
@@ -146,24 +148,33 @@ TEST(GraphWorld, BoatWithItsPermeabilityClearedFloatsTheWholeRun) {
                 lowest, std::asin(maxTrim) * 180 / std::numbers::pi);
 }
 
-/// Largest heel (degrees) in 8 s of the boat with 40% of each hold flooded, rolled by an
-/// initial angular velocity, with or without the free-surface model.
-double largestHeel(bool freeSurface) {
+/// The sample boat with 40% of each hold flooded (its graph saved as `graphFile` in scratch),
+/// no exchange (the water it has, it keeps), nearer its flooded draft.
+Project floodedBoat(const std::string& graphFile) {
     Project project = sampleProject("damaged_boat");
     BodyDesc& body = project.bodies[0];
-    body.permeabilityMap.clear();  // no exchange: the water it has, it keeps
+    body.permeabilityMap.clear();
     Result<WaterGraph> graph = loadGraph(project.resolvePath(body.waterGraph->graph));
     EXPECT_TRUE(graph.ok());
-    for (GraphNode& n : graph->nodes) n.water = 0.4 * n.capacity;
-    const fs::path file = test::scratchFolder("plimsoll_test_graph_world") /
-                          (freeSurface ? "flooded_fs.graph.json" : "flooded.graph.json");
-    EXPECT_TRUE(saveGraph(*graph, file).ok());
+    if (graph) {
+        for (GraphNode& n : graph->nodes) n.water = 0.4 * n.capacity;
+    }
+    const fs::path file = test::scratchFolder("plimsoll_test_graph_world") / graphFile;
+    if (graph) EXPECT_TRUE(saveGraph(*graph, file).ok());
     body.waterGraph->graph = file.string();
+    body.position.y() = -0.15;
+    return project;
+}
+
+/// Largest heel (degrees) in 8 s of the flooded boat, rolled by an initial angular velocity,
+/// with or without the free-surface model.
+double largestHeel(bool freeSurface) {
+    Project project = floodedBoat(freeSurface ? "flooded_fs.graph.json" : "flooded.graph.json");
+    BodyDesc& body = project.bodies[0];
     body.waterGraph->freeSurface = freeSurface;
-    body.position.y() = -0.15;  // nearer its flooded draft
     body.angularVelocity = {0.0, 0.0, 0.25};  // roll, rad/s
     // The free surface against water held at the nodes, without radiation's damping of the
-    // roll, which would shrink both heels (and costs minutes here for this flooded hull).
+    // roll, which would shrink both heels.
     body.radiation = RadiationDesc{};
     body.radiation->enabled = false;
     std::unique_ptr<World> world = makeWorld(project);
@@ -176,6 +187,32 @@ double largestHeel(bool freeSurface) {
         largest = std::max(largest, std::abs(heel(world->bodies()[0])));
     }
     return std::asin(std::min(1.0, largest)) * 180 / std::numbers::pi;
+}
+
+// Flooded, the boat floats with its waterline near the deck, a loop of short edges that is not
+// star-shaped. Its radiation lid is bounded as the rings are, half the body's panels (split to
+// the waterline's edge it had 4177 panels for the body's 164, and minutes per frequency), and
+// the World radiates (the default) while it rolls.
+TEST(GraphWorld, AFloodedBoatRadiatesOverABoundedLid) {
+    Project project = floodedBoat("flooded_radiating.graph.json");
+    project.bodies[0].angularVelocity = {0.0, 0.0, 0.25};
+    const Scene scene = test::sceneOrFail(project);
+    ASSERT_FALSE(scene.bodies.empty());
+    Result<RestRadiationSurface> surface =
+        restRadiationSurface(scene.bodies[0], RadiationDesc{}, scene.medium, scene.simulation.gravity);
+    ASSERT_TRUE(surface.ok()) << surface.error().message;
+    const RadiationSolver& solver = *surface->solver;
+    std::printf("  flooded boat: %zu panels, %zu on the lid\n", solver.panelCount(), solver.lidPanels().size());
+    EXPECT_GT(solver.lidPanels().size(), 0u);
+    EXPECT_LE(solver.lidPanels().size(), solver.panelCount() / 2);
+    std::unique_ptr<World> world = test::fastWorldOrFail(scene);
+    ASSERT_TRUE(world);
+    ASSERT_NE(world->radiation(0), nullptr);
+    const double hullMass = world->bodies()[0].mass.mass - 1000.0 * world->waterGraph(0)->storedWater();
+    for (int f = 0; f < static_cast<int>(2.0 / project.simulation.timeStep); ++f) {
+        ASSERT_TRUE(world->advanceFrame().ok());
+        expectConsistent(*world, hullMass);
+    }
 }
 
 TEST(GraphWorld, FreeSurfaceHeelsAFloodedBoatMore) {

@@ -291,6 +291,40 @@ TEST(RadiationLid, EarClipsAnLShapedWaterline) {
     EXPECT_NEAR(area, 2.0 * 0.5 + 0.5 * 1.5, 1e-12);
 }
 
+// The same L with its waterline cut every 2 cm: split to one and a half of those edges its lid
+// would have about 9000 panels for the walls' 900. Bounded like the rings, it still covers the
+// L exactly.
+TEST(RadiationLid, AFinelyCutWaterlineThatIsNotStarShapedStaysSmall) {
+    const std::vector<Eigen::Vector3d> corners = {{0, 0, 0}, {2, 0, 0}, {2, 0, 0.5}, {0.5, 0, 0.5}, {0.5, 0, 2}, {0, 0, 2}};
+    std::vector<RadiationPanel> walls;
+    auto add = [&](const Eigen::Vector3d& a, const Eigen::Vector3d& b, const Eigen::Vector3d& c) {
+        const Eigen::Vector3d areaVector = 0.5 * (b - a).cross(c - a);
+        walls.push_back({{a, b, c}, (a + b + c) / 3.0, areaVector.normalized(), areaVector.norm()});
+    };
+    const Eigen::Vector3d down(0, -1, 0);
+    for (std::size_t k = 0; k < corners.size(); ++k) {
+        const Eigen::Vector3d& from = corners[k];
+        const Eigen::Vector3d& to = corners[(k + 1) % corners.size()];
+        const int pieces = static_cast<int>(std::lround((to - from).norm() / 0.02));
+        for (int i = 0; i < pieces; ++i) {
+            const Eigen::Vector3d p = from + (to - from) * (double(i) / pieces);
+            const Eigen::Vector3d q = from + (to - from) * (double(i + 1) / pieces);
+            add(p, q, q + down);
+            add(p, q + down, p + down);
+        }
+    }
+    const std::vector<RadiationPanel> lid = waterplaneLid(walls);
+    std::printf("  L cut every 2 cm: %zu wall panels, %zu on the lid\n", walls.size(), lid.size());
+    EXPECT_LE(lid.size(), walls.size() / 2);
+    double area = 0;
+    for (const RadiationPanel& p : lid) {
+        area += p.area;
+        EXPECT_TRUE((p.centroid.z() <= 0.5 + 1e-12) || (p.centroid.x() <= 0.5 + 1e-12)) << p.centroid.transpose();
+        for (const Eigen::Vector3d& v : p.vertices) EXPECT_EQ(v.y(), 0.0);
+    }
+    EXPECT_NEAR(area, 2.0 * 0.5 + 0.5 * 1.5, 1e-9);
+}
+
 // A long, finely cut waterline (the sample hull's, 48 stations) gets fewer, longer rings: at
 // most half as many lid panels as the hull has below the surface.
 TEST(RadiationLid, StaysSmallOnAFinelyCutHull) {

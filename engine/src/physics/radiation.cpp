@@ -474,12 +474,28 @@ std::vector<RadiationPanel> wettedPanels(const TriangleMesh& surface, const Eige
     return panels;
 }
 
+namespace {
+
+/// How many times refinedPanels halves `p`'s edges for `maxEdge`.
+int refinementLevels(const RadiationPanel& p, double maxEdge) {
+    const int levels = maxEdge > 0 ? std::max(0, static_cast<int>(std::ceil(std::log2(longestEdge(p) / maxEdge))))
+                                   : 0;
+    return std::min(levels, 8);
+}
+
+/// refinedPanels(panels, maxEdge).size(), without making them.
+double refinedCount(const std::vector<RadiationPanel>& panels, double maxEdge) {
+    double count = 0;
+    for (const RadiationPanel& p : panels) count += std::ldexp(1.0, 2 * refinementLevels(p, maxEdge));
+    return count;
+}
+
+}  // namespace
+
 std::vector<RadiationPanel> refinedPanels(const std::vector<RadiationPanel>& panels, double maxEdge) {
     std::vector<RadiationPanel> out;
     for (const RadiationPanel& p : panels) {
-        const int levels = maxEdge > 0 ? std::max(0, static_cast<int>(std::ceil(std::log2(longestEdge(p) / maxEdge))))
-                                       : 0;
-        subdivide(p.vertices, std::min(levels, 8), [&](const std::array<Eigen::Vector3d, 3>& t, double area) {
+        subdivide(p.vertices, refinementLevels(p, maxEdge), [&](const std::array<Eigen::Vector3d, 3>& t, double area) {
             out.push_back({t, (t[0] + t[1] + t[2]) / 3.0, p.normal, area});
         });
     }
@@ -734,6 +750,8 @@ std::vector<RadiationPanel> waterplaneLid(const std::vector<RadiationPanel>& wet
         for (const Eigen::Vector3d& v : p.vertices) extent = std::max(extent, v.cwiseAbs().maxCoeff());
     }
     const auto loops = waterlineLoops(wetted, 1e-9 * std::max(extent, 1e-300));
+    double waterplaneArea = 0;
+    for (const auto& loop : loops) waterplaneArea += std::max(0.0, signedAreaXz(loop));
     std::vector<RadiationPanel> lid;
     for (const auto& loop : loops) {
         if (signedAreaXz(loop) <= 0) continue;  // an opening in the waterplane
@@ -753,7 +771,19 @@ std::vector<RadiationPanel> waterplaneLid(const std::vector<RadiationPanel>& wet
             const double area = 0.5 * (up[1] - up[0]).cross(up[2] - up[0]).norm();
             if (area > 0) cover.push_back({up, (up[0] + up[1] + up[2]) / 3.0, Eigen::Vector3d::UnitY(), area});
         }
-        if (!star) cover = refinedPanels(cover, edge);  // the rings are sized already
+        if (!star) {
+            // Split to `edge` (the rings are sized already), within the loop's share by area of
+            // the rings' bound, half as many panels as the body has: a finely cut waterline that
+            // is not star-shaped (a flooded hull's) made 4177 lid panels for 164 on the body, and
+            // minutes for every frequency. Coarser splits until it fits; the ear-clipped cover is
+            // the coarsest.
+            const double budget =
+                std::max(1.0, 0.5 * static_cast<double>(wetted.size()) * signedAreaXz(loop) / waterplaneArea);
+            double splitEdge = edge;
+            while (maxEdge <= 0 && refinedCount(cover, splitEdge) > std::max(budget, double(cover.size())))
+                splitEdge *= 2;
+            cover = refinedPanels(cover, splitEdge);
+        }
         lid.insert(lid.end(), cover.begin(), cover.end());
     }
     return lid;

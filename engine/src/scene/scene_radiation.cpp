@@ -14,7 +14,7 @@ namespace plimsoll {
 namespace {
 
 /// Bumped when the computation changes what it produces from the same inputs.
-constexpr int kRadiationVersion = 6;
+constexpr int kRadiationVersion = 7;
 
 /// A wetted mesh whose mean longest panel edge is under this share of the panel edge is
 /// re-panelled by clustering on cells of kCoarsenCell panel edges.

@@ -73,7 +73,9 @@ TriangleMesh clusteredMesh(const TriangleMesh& mesh, double cell);
 /// panels no longer than about `maxEdge` (m; 0: one and a half times the waterline's mean edge),
 /// normals up. A loop that is star-shaped about its centroid gets rings of panels about it,
 /// another is ear-clipped and split. Star-shaped lids stop half a waterline edge short of the
-/// waterline and have at most about half as many panels as `wetted` (fewer, longer rings). A
+/// waterline and have at most about half as many panels as `wetted` (fewer, longer rings); an
+/// ear-clipped loop with the automatic edge is split no finer than its share by area of that
+/// bound (longer panels, down to the ear-clipped triangles themselves). A
 /// loop that runs the other way round (an opening in the waterplane, a moonpool) or a waterline
 /// that does not close gets none. Empty when no panel edge lies on y = 0.
 std::vector<RadiationPanel> waterplaneLid(const std::vector<RadiationPanel>& wetted, double maxEdge = 0);
