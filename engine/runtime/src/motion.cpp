@@ -154,13 +154,7 @@ RadiationLoad RadiationMemory::begin(const Pose& pose, double submergedVolume) {
     }
     share_ = plimsoll_eval::entrainedShare(submergedVolume, radiation_->restVolume);
     load.share = share_;
-    const auto& a = radiation_->addedMassInfinity;
-    for (int i = 0; i < 3; ++i) {
-        for (int j = 0; j < 3; ++j) {
-            load.addedMass[i][j] = share_ * a[i][j];
-            load.addedInertia[i][j] = share_ * a[i + 3][j + 3];
-        }
-    }
+    radiation_->sharedAddedMass(share_, load.addedMass, load.addedInertia);
     // The memory's generalised force (body axes), scaled by the share like its input.
     double f[6] = {0, 0, 0, 0, 0, 0};
     for (int mode = 0; mode < 6; ++mode) {
@@ -216,11 +210,12 @@ bool stepRadiating(Body& instance, BodyState& state, RadiationMemory& memory, co
     const MassProperties& body = bundle.mass();
     // The mass matrices with the share of the added mass, body axes (translations, rotations).
     auto withShare = [&](double share, double translational[3][3], double rotational[3][3]) {
-        const Radiation* r = bundle.radiation();
+        double added[3][3] = {}, addedInertia[3][3] = {};
+        if (const Radiation* r = bundle.radiation()) r->sharedAddedMass(share, added, addedInertia);
         for (int i = 0; i < 3; ++i) {
             for (int j = 0; j < 3; ++j) {
-                translational[i][j] = (i == j ? body.mass : 0.0) + (r ? share * r->addedMassInfinity[i][j] : 0.0);
-                rotational[i][j] = body.inertia[i][j] + (r ? share * r->addedMassInfinity[i + 3][j + 3] : 0.0);
+                translational[i][j] = (i == j ? body.mass : 0.0) + added[i][j];
+                rotational[i][j] = body.inertia[i][j] + addedInertia[i][j];
             }
         }
     };

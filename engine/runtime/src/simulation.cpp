@@ -259,12 +259,11 @@ void Simulation::applyAddedMass(double share) {
     if (!radiation) return;
     share = std::clamp(share, 0.0, 1.0);
     double T[3][3], Rr[3][3];
+    radiation->sharedAddedMass(share, T, Rr);
     bool same = true;
     double traceNew = 0, traceOld = 0;
     for (int i = 0; i < 3; ++i) {
         for (int j = 0; j < 3; ++j) {
-            T[i][j] = share * radiation->addedMassInfinity[i][j];
-            Rr[i][j] = share * radiation->addedMassInfinity[i + 3][j + 3];
             same = same && T[i][j] == addedMass_[i][j] && Rr[i][j] == addedInertia_[i][j];
         }
         traceNew += T[i][i] + Rr[i][i];

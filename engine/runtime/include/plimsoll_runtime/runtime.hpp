@@ -289,6 +289,17 @@ struct Radiation {
     double restVolume = 0;                ///< displaced at rest, m^3
     double addedMassInfinity[6][6] = {};  ///< kg, kg m, kg m^2 (symmetric)
     std::vector<RadiationTerm> memory[6];
+
+    /// The added mass a body entrains when `share` of its rest volume is under water: share
+    /// times addedMassInfinity's translational (kg) and rotational (kg m^2) blocks, body axes.
+    void sharedAddedMass(double share, double translational[3][3], double rotational[3][3]) const {
+        for (int i = 0; i < 3; ++i) {
+            for (int j = 0; j < 3; ++j) {
+                translational[i][j] = share * addedMassInfinity[i][j];
+                rotational[i][j] = share * addedMassInfinity[i + 3][j + 3];
+            }
+        }
+    }
 };
 
 /// A water model the bundle carries (manifest "world.water", schema 1.4): the project's own
