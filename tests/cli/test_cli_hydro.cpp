@@ -174,7 +174,8 @@ TEST(CliHydro, TheOneBodySceneRadiatesUnlessToldNotAndCachesNothing) {
     const double heightWithout = nlohmann::json::parse(without.out)["position"][1].get<double>();
     EXPECT_GT(std::abs(heightWith - heightWithout), 1e-4) << heightWith << " vs " << heightWithout;
     std::vector<std::string> left;
-    for (const auto& entry : fs::directory_iterator(folder)) left.push_back(entry.path().filename().string());
+    for (const auto& entry : fs::directory_iterator(folder))
+        left.push_back(entry.path().filename().string());
     EXPECT_EQ(left, std::vector<std::string>{"box.obj"});
 
     const CommandOutput usage = runPlimsoll("simulate --no-radiation --seconds 0.1");

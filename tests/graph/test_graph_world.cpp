@@ -198,17 +198,19 @@ TEST(GraphWorld, AFloodedBoatRadiatesOverABoundedLid) {
     project.bodies[0].angularVelocity = {0.0, 0.0, 0.25};
     const Scene scene = test::sceneOrFail(project);
     ASSERT_FALSE(scene.bodies.empty());
-    Result<RestRadiationSurface> surface =
-        restRadiationSurface(scene.bodies[0], RadiationDesc{}, scene.medium, scene.simulation.gravity);
+    Result<RestRadiationSurface> surface = restRadiationSurface(
+        scene.bodies[0], RadiationDesc{}, scene.medium, scene.simulation.gravity);
     ASSERT_TRUE(surface.ok()) << surface.error().message;
     const RadiationSolver& solver = *surface->solver;
-    std::printf("  flooded boat: %zu panels, %zu on the lid\n", solver.panelCount(), solver.lidPanels().size());
+    std::printf("  flooded boat: %zu panels, %zu on the lid\n", solver.panelCount(),
+                solver.lidPanels().size());
     EXPECT_GT(solver.lidPanels().size(), 0u);
     EXPECT_LE(solver.lidPanels().size(), solver.panelCount() / 2);
     std::unique_ptr<World> world = test::fastWorldOrFail(scene);
     ASSERT_TRUE(world);
     ASSERT_NE(world->radiation(0), nullptr);
-    const double hullMass = world->bodies()[0].mass.mass - 1000.0 * world->waterGraph(0)->storedWater();
+    const double hullMass =
+        world->bodies()[0].mass.mass - 1000.0 * world->waterGraph(0)->storedWater();
     for (int f = 0; f < static_cast<int>(2.0 / project.simulation.timeStep); ++f) {
         ASSERT_TRUE(world->advanceFrame().ok());
         expectConsistent(*world, hullMass);

@@ -478,15 +478,17 @@ namespace {
 
 /// How many times refinedPanels halves `p`'s edges for `maxEdge`.
 int refinementLevels(const RadiationPanel& p, double maxEdge) {
-    const int levels = maxEdge > 0 ? std::max(0, static_cast<int>(std::ceil(std::log2(longestEdge(p) / maxEdge))))
-                                   : 0;
+    const int levels =
+        maxEdge > 0 ? std::max(0, static_cast<int>(std::ceil(std::log2(longestEdge(p) / maxEdge))))
+                    : 0;
     return std::min(levels, 8);
 }
 
 /// refinedPanels(panels, maxEdge).size(), without making them.
 double refinedCount(const std::vector<RadiationPanel>& panels, double maxEdge) {
     double count = 0;
-    for (const RadiationPanel& p : panels) count += std::ldexp(1.0, 2 * refinementLevels(p, maxEdge));
+    for (const RadiationPanel& p : panels)
+        count += std::ldexp(1.0, 2 * refinementLevels(p, maxEdge));
     return count;
 }
 
@@ -495,9 +497,10 @@ double refinedCount(const std::vector<RadiationPanel>& panels, double maxEdge) {
 std::vector<RadiationPanel> refinedPanels(const std::vector<RadiationPanel>& panels, double maxEdge) {
     std::vector<RadiationPanel> out;
     for (const RadiationPanel& p : panels) {
-        subdivide(p.vertices, refinementLevels(p, maxEdge), [&](const std::array<Eigen::Vector3d, 3>& t, double area) {
-            out.push_back({t, (t[0] + t[1] + t[2]) / 3.0, p.normal, area});
-        });
+        subdivide(p.vertices, refinementLevels(p, maxEdge),
+                  [&](const std::array<Eigen::Vector3d, 3>& t, double area) {
+                      out.push_back({t, (t[0] + t[1] + t[2]) / 3.0, p.normal, area});
+                  });
     }
     return out;
 }
@@ -777,10 +780,11 @@ std::vector<RadiationPanel> waterplaneLid(const std::vector<RadiationPanel>& wet
             // is not star-shaped (a flooded hull's) made 4177 lid panels for 164 on the body, and
             // minutes for every frequency. Coarser splits until it fits; the ear-clipped cover is
             // the coarsest.
-            const double budget =
-                std::max(1.0, 0.5 * static_cast<double>(wetted.size()) * signedAreaXz(loop) / waterplaneArea);
+            const double budget = std::max(1.0, 0.5 * static_cast<double>(wetted.size()) *
+                                                    signedAreaXz(loop) / waterplaneArea);
             double splitEdge = edge;
-            while (maxEdge <= 0 && refinedCount(cover, splitEdge) > std::max(budget, double(cover.size())))
+            while (maxEdge <= 0 &&
+                   refinedCount(cover, splitEdge) > std::max(budget, double(cover.size())))
                 splitEdge *= 2;
             cover = refinedPanels(cover, splitEdge);
         }
