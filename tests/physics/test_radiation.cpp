@@ -264,37 +264,10 @@ TEST(RadiationHemisphere, LidCoversTheWaterplane) {
     EXPECT_TRUE(waterplaneLid(wettedPanels(makeUvSphere(kRadius, 16, 12), deep)).empty());
 }
 
-// A waterline that is not star-shaped about its centroid (an L) is ear-clipped: the lid covers
-// it exactly, with no gap.
-TEST(RadiationLid, EarClipsAnLShapedWaterline) {
-    const std::vector<Eigen::Vector3d> loop = {{0, 0, 0}, {2, 0, 0}, {2, 0, 0.5}, {0.5, 0, 0.5}, {0.5, 0, 2}, {0, 0, 2}};
-    std::vector<RadiationPanel> walls;  // vertical walls down to y = -1, waterline edges in loop order
-    auto add = [&](const Eigen::Vector3d& a, const Eigen::Vector3d& b, const Eigen::Vector3d& c) {
-        const Eigen::Vector3d areaVector = 0.5 * (b - a).cross(c - a);
-        walls.push_back({{a, b, c}, (a + b + c) / 3.0, areaVector.normalized(), areaVector.norm()});
-    };
-    const Eigen::Vector3d down(0, -1, 0);
-    for (std::size_t k = 0; k < loop.size(); ++k) {
-        const Eigen::Vector3d& p = loop[k];
-        const Eigen::Vector3d& q = loop[(k + 1) % loop.size()];
-        add(p, q, q + down);
-        add(p, q + down, p + down);
-    }
-    const std::vector<RadiationPanel> lid = waterplaneLid(walls, 0.3);
-    double area = 0;
-    for (const RadiationPanel& p : lid) {
-        area += p.area;
-        EXPECT_LE(longestEdge(p), 0.3 + 1e-12);
-        // Inside the L: in one of its two arms.
-        EXPECT_TRUE((p.centroid.z() <= 0.5 + 1e-12) || (p.centroid.x() <= 0.5 + 1e-12)) << p.centroid.transpose();
-    }
-    EXPECT_NEAR(area, 2.0 * 0.5 + 0.5 * 1.5, 1e-12);
-}
-
-// The same L with its waterline cut every 2 cm: its ear-clipped slivers split to one and a half
-// of those edges (waterplaneLid(walls, 0.03)) make 2.1 million lid panels for the walls' 800.
-// Bounded like the rings, the lid still covers the L exactly.
-TEST(RadiationLid, AFinelyCutWaterlineThatIsNotStarShapedStaysSmall) {
+/// Vertical walls from y = 0 down to y = -1 below the L-shaped waterline (2 m arms, 0.5 m wide),
+/// its sides cut into pieces of about `piece` m (one piece each when `piece` is longer), the
+/// waterline edges in the loop's order.
+std::vector<RadiationPanel> wallsBelowAnL(double piece) {
     const std::vector<Eigen::Vector3d> corners = {{0, 0, 0},     {2, 0, 0},   {2, 0, 0.5},
                                                   {0.5, 0, 0.5}, {0.5, 0, 2}, {0, 0, 2}};
     std::vector<RadiationPanel> walls;
@@ -306,7 +279,7 @@ TEST(RadiationLid, AFinelyCutWaterlineThatIsNotStarShapedStaysSmall) {
     for (std::size_t k = 0; k < corners.size(); ++k) {
         const Eigen::Vector3d& from = corners[k];
         const Eigen::Vector3d& to = corners[(k + 1) % corners.size()];
-        const int pieces = static_cast<int>(std::lround((to - from).norm() / 0.02));
+        const int pieces = std::max(1, static_cast<int>(std::lround((to - from).norm() / piece)));
         for (int i = 0; i < pieces; ++i) {
             const Eigen::Vector3d p = from + (to - from) * (double(i) / pieces);
             const Eigen::Vector3d q = from + (to - from) * (double(i + 1) / pieces);
@@ -314,6 +287,29 @@ TEST(RadiationLid, AFinelyCutWaterlineThatIsNotStarShapedStaysSmall) {
             add(p, q + down, p + down);
         }
     }
+    return walls;
+}
+
+// A waterline that is not star-shaped about its centroid (an L) is ear-clipped: the lid covers
+// it exactly, with no gap.
+TEST(RadiationLid, EarClipsAnLShapedWaterline) {
+    const std::vector<RadiationPanel> lid = waterplaneLid(wallsBelowAnL(100.0), 0.3);
+    double area = 0;
+    for (const RadiationPanel& p : lid) {
+        area += p.area;
+        EXPECT_LE(longestEdge(p), 0.3 + 1e-12);
+        // Inside the L: in one of its two arms.
+        EXPECT_TRUE((p.centroid.z() <= 0.5 + 1e-12) || (p.centroid.x() <= 0.5 + 1e-12))
+            << p.centroid.transpose();
+    }
+    EXPECT_NEAR(area, 2.0 * 0.5 + 0.5 * 1.5, 1e-12);
+}
+
+// The same L with its waterline cut every 2 cm: its ear-clipped slivers split to one and a half
+// of those edges (waterplaneLid(walls, 0.03)) make 2.1 million lid panels for the walls' 800.
+// Bounded like the rings, the lid still covers the L exactly.
+TEST(RadiationLid, AFinelyCutWaterlineThatIsNotStarShapedStaysSmall) {
+    const std::vector<RadiationPanel> walls = wallsBelowAnL(0.02);
     const std::vector<RadiationPanel> lid = waterplaneLid(walls);
     std::printf("  L cut every 2 cm: %zu wall panels, %zu on the lid\n", walls.size(), lid.size());
     EXPECT_LE(lid.size(), walls.size() / 2);
