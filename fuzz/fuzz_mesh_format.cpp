@@ -1,4 +1,4 @@
-// libFuzzer target, one build per format (PLIMSOLL_FUZZ_FORMAT: obj, ply, stl, gltf, glb): the
+// libFuzzer target, one build per format (PLIMSOLL_FUZZ_FORMAT: obj, ply, stl, gltf, glb, fbx): the
 // bytes through loadMeshFromMemory, the real import path (the checks before assimp, then
 // assimp), then validateMesh on what it gives. From memory no referenced file is ever opened.
 #include "plimsoll/geometry/validate.h"

@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # Fuzzes the loaders: builds the libFuzzer targets of fuzz/ with clang, AddressSanitizer and
 # UndefinedBehaviorSanitizer in build-fuzz/ (engine + targets only), runs each one for a bounded
-# time on a copy of its seed corpus (fuzz/corpus/<target>/, never modified), and fails on any
+# time on a copy of its seed corpus (fuzz/corpus/<target>/, never modified; a mesh format's also
+# on the shared real assets of that format when ../shared/real-assets is there), and fails on any
 # crash, leak, undefined behaviour, input slower than 30 s or allocation over 2 GB.
 #   scripts/fuzz.sh [seconds-per-target] [target ...]     (default: 30 s, every target)
 # A finding is left in build-fuzz/findings/<target>-crash-<sha1> (add it to the corpus once
@@ -12,7 +13,7 @@ seconds="${1:-30}"
 [ $# -gt 0 ] && shift
 targets=("$@")
 [ ${#targets[@]} -eq 0 ] && targets=(project graph manifest mesh_obj validate repair mesh_ply mesh_stl
-                                      mesh_gltf mesh_glb runtime_bundle runtime_png)
+                                      mesh_gltf mesh_glb mesh_fbx runtime_bundle runtime_png)
 
 scripts/install-deps.sh
 start=$(date +%s)
@@ -36,6 +37,12 @@ fuzz_one() {
   local t=$1 log="$work/$1.log" t0 result runs corpus
   local dict=()
   cp -r "fuzz/corpus/$t" "$work/$t"
+  # A mesh format's target also starts from the shared real assets of that format, where the
+  # checkout has them beside it (../shared/real-assets; never copied into fuzz/corpus).
+  if [[ $t == mesh_* && -d ../shared/real-assets ]]; then
+    find ../shared/real-assets -type f -iname "*.${t#mesh_}" -size -512k \
+         -exec cp {} "$work/$t/" \;
+  fi
   [ -f "fuzz/$t.dict" ] && dict=("-dict=fuzz/$t.dict")
   t0=$(date +%s)
   if "build-fuzz/fuzz/fuzz_$t" "$work/$t" "${dict[@]}" -max_total_time="$seconds" \

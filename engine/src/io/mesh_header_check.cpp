@@ -16,6 +16,7 @@
 #include <sstream>
 #include <system_error>
 #include <vector>
+#include <zlib.h>
 
 namespace plimsoll::detail {
 
@@ -736,18 +737,96 @@ std::uint64_t readLittleEndian(std::string_view bytes, std::size_t at, int size)
     return v;
 }
 
+/// An array property's zlib data inflates to exactly `expected` bytes and ends there, as assimp's
+/// parser needs: it inflates into a buffer of that size and, on any other outcome, throws
+/// between zlib's inflateInit and inflateEnd, leaking zlib's state (the FBX fuzzer's first
+/// finding). Inflated here through a small window, so that nothing of `expected` is allocated.
+bool inflatesToExactly(std::string_view compressed, std::uint64_t expected) {
+    z_stream stream{};
+    if (inflateInit(&stream) != Z_OK) return false;
+    stream.next_in = reinterpret_cast<Bytef*>(const_cast<char*>(compressed.data()));
+    stream.avail_in = static_cast<uInt>(compressed.size());
+    unsigned char window[1 << 15];
+    std::uint64_t produced = 0;
+    int status = Z_OK;
+    while (status == Z_OK && produced <= expected) {
+        stream.next_out = window;
+        stream.avail_out = sizeof window;
+        status = inflate(&stream, Z_NO_FLUSH);
+        produced += sizeof window - stream.avail_out;
+        if (status == Z_BUF_ERROR && stream.avail_in == 0) break;  // the data ends early
+    }
+    inflateEnd(&stream);
+    return status == Z_STREAM_END && produced == expected;
+}
+
+/// The properties of one binary FBX record: every array (f, d, l, i, b) holds its elements raw
+/// (encoding 0, exactly count times the element's size) or as zlib data that inflates to exactly
+/// that (encoding 1), and all arrays together inflate to no more than kMaxFbxInflatedBytes
+/// (assimp allocates each array whole before inflating it). `inflated` sums over the file. A
+/// property list assimp's tokenizer cannot read ends the check here: assimp refuses it too.
+Status checkFbxProperties(const std::string& file, std::string_view bytes, std::uint64_t at,
+                          std::uint64_t count, std::uint64_t end, std::uint64_t& inflated) {
+    for (std::uint64_t k = 0; k < count && at < end; ++k) {
+        const char type = bytes[at++];
+        std::uint64_t element = 0;
+        switch (type) {
+            case 'C': at += 1; continue;
+            case 'Y': at += 2; continue;
+            case 'I': case 'F': at += 4; continue;
+            case 'D': case 'L': at += 8; continue;
+            case 'S': case 'R':
+                if (end - at < 4) return Ok{};
+                at += 4 + readLittleEndian(bytes, at, 4);
+                continue;
+            case 'b': element = 1; break;
+            case 'f': case 'i': element = 4; break;
+            case 'd': case 'l': element = 8; break;
+            default: return Ok{};
+        }
+        if (end - at < 12) return Ok{};
+        const std::uint64_t length = readLittleEndian(bytes, at, 4);
+        const std::uint64_t encoding = readLittleEndian(bytes, at + 4, 4);
+        const std::uint64_t stored = readLittleEndian(bytes, at + 8, 4);
+        const std::uint64_t array = at - 1;
+        at += 12;
+        if (stored > end - at) return Ok{};
+        const std::uint64_t expected = length * element;
+        auto refused = [&](const std::string& why) {
+            return makeError(ErrorKind::format, file + ": the FBX array at byte " + std::to_string(array) +
+                                                    " (" + std::to_string(length) + " elements of '" +
+                                                    std::string(1, type) + "') " + why);
+        };
+        inflated += expected;
+        if (inflated > kMaxFbxInflatedBytes) {
+            return makeError(ErrorKind::limit, file + ": the FBX arrays hold more than " +
+                                                   std::to_string(kMaxFbxInflatedBytes) +
+                                                   " bytes (at byte " + std::to_string(array) +
+                                                   "), more than the limit kMaxFbxInflatedBytes (limits.h)");
+        }
+        if (encoding == 0 && stored != expected)
+            return refused("stores " + std::to_string(stored) + " bytes, not " + std::to_string(expected));
+        if (encoding == 1 && !inflatesToExactly(bytes.substr(at, stored), expected))
+            return refused("has zlib data that does not inflate to its " + std::to_string(expected) + " bytes");
+        if (encoding > 1) return refused("has the unknown encoding " + std::to_string(encoding));
+        at += stored;
+    }
+    return Ok{};
+}
+
 /// Binary FBX: node records (end offset, property count, property bytes, name, properties,
-/// nested records ended by a null record), walked with a stack of end offsets. A record whose
-/// offsets do not fit its parent ends the walk: assimp's reader, which meets the records in the
-/// same order, stops at the same record with an error, no deeper than the walk went.
-Status checkBinaryFbxDepth(const std::string& file, std::string_view bytes) {
+/// nested records ended by a null record), walked with a stack of end offsets: the nesting
+/// (kMaxFbxDepth) and every record's arrays (checkFbxProperties). A record whose offsets do not
+/// fit its parent ends the walk: assimp's reader, which meets the records in the same order,
+/// stops at the same record with an error, no deeper than the walk went.
+Status checkBinaryFbx(const std::string& file, std::string_view bytes) {
     constexpr std::size_t kStart = 27;  // magic (23 bytes) and the version
     if (bytes.size() < kStart) return Ok{};
     const bool wide = readLittleEndian(bytes, 23, 4) >= 7500;  // 64-bit offsets from 7.5
     const int field = wide ? 8 : 4;
     const std::size_t header = 3 * static_cast<std::size_t>(field) + 1;
     std::vector<std::uint64_t> ends{bytes.size()};  // the end of each open scope
-    std::uint64_t at = kStart;
+    std::uint64_t at = kStart, inflated = 0;
     while (true) {
         while (ends.size() > 1 && at >= ends.back()) {
             at = ends.back();
@@ -762,10 +841,17 @@ Status checkBinaryFbxDepth(const std::string& file, std::string_view bytes) {
             continue;
         }
         if (ends.size() > kMaxFbxDepth) return fbxTooDeep(file, at);  // this record's level
+        const std::uint64_t propertyCount = readLittleEndian(bytes, at + field, field);
         const std::uint64_t propertyBytes = readLittleEndian(bytes, at + 2 * field, field);
         const std::uint64_t nameBytes = static_cast<unsigned char>(bytes[at + 3 * field]);
         if (end <= at || end > ends.back() || propertyBytes > end - at) return Ok{};
-        const std::uint64_t nested = at + header + nameBytes + propertyBytes;
+        const std::uint64_t properties = at + header + nameBytes;
+        if (properties + propertyBytes <= end) {
+            Status arrays = checkFbxProperties(file, bytes, properties, propertyCount,
+                                               properties + propertyBytes, inflated);
+            if (!arrays.ok()) return arrays;
+        }
+        const std::uint64_t nested = properties + propertyBytes;
         if (nested >= end) {  // no nested records (or offsets assimp refuses)
             at = end;
             continue;
@@ -778,9 +864,9 @@ Status checkBinaryFbxDepth(const std::string& file, std::string_view bytes) {
 }  // namespace
 
 /// FBX scopes nested deeper than kMaxFbxDepth, in either form, before assimp's recursive
-/// parsers see them.
-Status checkFbxDepth(const std::string& file, std::string_view bytes) {
-    if (bytes.substr(0, 20) == "Kaydara FBX Binary  ") return checkBinaryFbxDepth(file, bytes);
+/// parsers see them; in the binary form also the arrays (checkFbxProperties).
+Status checkFbx(const std::string& file, std::string_view bytes) {
+    if (bytes.substr(0, 20) == "Kaydara FBX Binary  ") return checkBinaryFbx(file, bytes);
     return checkAsciiFbxDepth(file, bytes);
 }
 
@@ -793,7 +879,7 @@ Status checkMeshBytes(std::string_view bytes, const std::string& file, const std
                          file + ": not a binary glTF (it does not start with \"glTF\")");
     if (format == "gltf") return checkGltfNodes(file, bytes);
     if (format == "stl") return checkBinaryStl(file, bytes);
-    if (format == "fbx") return checkFbxDepth(file, bytes);
+    if (format == "fbx") return checkFbx(file, bytes);
     return Ok{};
 }
 

@@ -14,14 +14,17 @@ namespace plimsoll::detail {
 /// What assimp's importers trust, checked on a mesh file's bytes before they see it. GLB (any
 /// extension, by its magic): the declared chunk sizes against the file's size; glTF (format
 /// "gltf" or a GLB's JSON chunk): the node tree's depth and cycles; binary STL (format "stl"):
-/// the triangle count; FBX (format "fbx"): the scopes' nesting (checkFbxDepth). Ok, or an
+/// the triangle count; FBX (format "fbx"): the scopes' nesting and the binary arrays
+/// (checkFbx). Ok, or an
 /// error naming the file and the problem. PLY goes through
 /// plyGeometry and OBJ through objGeometry instead: Ok.
 Status checkMeshBytes(std::string_view bytes, const std::string& file, const std::string& format);
 
 /// An FBX file's scopes (ASCII braces outside strings and comments, binary nested node
-/// records) nested no deeper than kMaxFbxDepth: one linear pass, no recursion.
-Status checkFbxDepth(const std::string& file, std::string_view bytes);
+/// records) nested no deeper than kMaxFbxDepth: one linear pass, no recursion. In a binary
+/// file every array property also holds exactly its elements, raw or as zlib data that
+/// inflates to them, and all together no more than kMaxFbxInflatedBytes.
+Status checkFbx(const std::string& file, std::string_view bytes);
 
 /// The format a mesh file is read as: one of "obj", "ply", "stl", "fbx", "gltf", "glb", chosen
 /// by the bytes' content first (an OBJ named ".OBJ.bak" is read, and checked, as OBJ) and by

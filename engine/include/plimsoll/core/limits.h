@@ -55,6 +55,11 @@ inline constexpr std::uint64_t kMaxJsonDepth = 128;
 /// stack; real files nest under ten levels.
 inline constexpr std::uint64_t kMaxFbxDepth = 128;
 
+/// A binary FBX file's arrays inflated, all together. Assimp allocates each array whole from
+/// the count the file states before inflating it, so a few bytes could ask for gigabytes; real
+/// files' arrays add up to about the size of the uncompressed file, under kMaxMeshFileBytes.
+inline constexpr std::uint64_t kMaxFbxInflatedBytes = kMaxMeshFileBytes;
+
 /// Corners of one polygon in a mesh file. Assimp's triangulation of a polygon is quadratic in
 /// its corners (one 200k-corner OBJ face took 7 minutes); real polygons have a handful, fans of
 /// caps a few hundred.
