@@ -377,7 +377,8 @@ std::size_t firstZlibArray(const std::string& fbx) {
 // as 0.5 m; a byte changed in its zlib data, or a count of 4 billion, is refused by name.
 TEST(HostileFbx, ArraysThatDoNotInflateToTheirCountAreRefusedBeforeAssimp) {
     const fs::path dir = test::freshFolder("hostile3", "fbx_arrays");
-    const std::string cube = test::readFile(fs::path(PLIMSOLL_SOURCE_DIR) / "fuzz/corpus/mesh_fbx/cube_cm.fbx");
+    const std::string cube =
+        test::readFile(fs::path(PLIMSOLL_SOURCE_DIR) / "fuzz/corpus/mesh_fbx/cube_cm.fbx");
     Result<TriangleMesh> read = loadMeshFromMemory(cube, "fbx", "cube_cm.fbx");
     ASSERT_TRUE(read.ok()) << read.error().message;
     const Bounds3 bounds = computeBounds(*read);
@@ -396,7 +397,8 @@ TEST(HostileFbx, ArraysThatDoNotInflateToTheirCountAreRefusedBeforeAssimp) {
     std::string huge = cube;
     for (int k = 0; k < 4; ++k) huge[array + 1 + k] = '\xff';
     test::writeFile(dir / "huge.fbx", huge);
-    const test::CommandOutput run = test::runPlimsoll("validate '" + (dir / "huge.fbx").string() + "'");
+    const test::CommandOutput run =
+        test::runPlimsoll("validate '" + (dir / "huge.fbx").string() + "'");
     EXPECT_EQ(run.exitCode, 1) << run.err;
     EXPECT_CONTAINS(run.err, "huge.fbx: the FBX arrays hold more than");
     EXPECT_CONTAINS(run.err, "kMaxFbxInflatedBytes");

@@ -768,22 +768,23 @@ bool inflatesToExactly(std::string_view compressed, std::uint64_t expected) {
 Status checkFbxProperties(const std::string& file, std::string_view bytes, std::uint64_t at,
                           std::uint64_t count, std::uint64_t end, std::uint64_t& inflated) {
     for (std::uint64_t k = 0; k < count && at < end; ++k) {
+        // Scalars (bool, int16, int32, float, double, int64), then strings and raw data (a
+        // 4-byte length), then arrays (bool, float, int32, double, int64).
+        constexpr std::string_view kScalars = "CYIFDL", kArrays = "bfidl";
+        constexpr int kScalarBytes[] = {1, 2, 4, 4, 8, 8}, kElementBytes[] = {1, 4, 4, 8, 8};
         const char type = bytes[at++];
-        std::uint64_t element = 0;
-        switch (type) {
-            case 'C': at += 1; continue;
-            case 'Y': at += 2; continue;
-            case 'I': case 'F': at += 4; continue;
-            case 'D': case 'L': at += 8; continue;
-            case 'S': case 'R':
-                if (end - at < 4) return Ok{};
-                at += 4 + readLittleEndian(bytes, at, 4);
-                continue;
-            case 'b': element = 1; break;
-            case 'f': case 'i': element = 4; break;
-            case 'd': case 'l': element = 8; break;
-            default: return Ok{};
+        if (const std::size_t scalar = kScalars.find(type); scalar != std::string_view::npos) {
+            at += kScalarBytes[scalar];
+            continue;
         }
+        if (type == 'S' || type == 'R') {
+            if (end - at < 4) return Ok{};
+            at += 4 + readLittleEndian(bytes, at, 4);
+            continue;
+        }
+        const std::size_t kind = kArrays.find(type);
+        if (kind == std::string_view::npos) return Ok{};
+        const std::uint64_t element = kElementBytes[kind];
         if (end - at < 12) return Ok{};
         const std::uint64_t length = readLittleEndian(bytes, at, 4);
         const std::uint64_t encoding = readLittleEndian(bytes, at + 4, 4);
@@ -793,21 +794,25 @@ Status checkFbxProperties(const std::string& file, std::string_view bytes, std::
         if (stored > end - at) return Ok{};
         const std::uint64_t expected = length * element;
         auto refused = [&](const std::string& why) {
-            return makeError(ErrorKind::format, file + ": the FBX array at byte " + std::to_string(array) +
-                                                    " (" + std::to_string(length) + " elements of '" +
+            return makeError(ErrorKind::format, file + ": the FBX array at byte " +
+                                                    std::to_string(array) + " (" +
+                                                    std::to_string(length) + " elements of '" +
                                                     std::string(1, type) + "') " + why);
         };
         inflated += expected;
         if (inflated > kMaxFbxInflatedBytes) {
-            return makeError(ErrorKind::limit, file + ": the FBX arrays hold more than " +
-                                                   std::to_string(kMaxFbxInflatedBytes) +
-                                                   " bytes (at byte " + std::to_string(array) +
-                                                   "), more than the limit kMaxFbxInflatedBytes (limits.h)");
+            return makeError(ErrorKind::limit,
+                             file + ": the FBX arrays hold more than " +
+                                 std::to_string(kMaxFbxInflatedBytes) + " bytes (at byte " +
+                                 std::to_string(array) +
+                                 "), more than the limit kMaxFbxInflatedBytes (limits.h)");
         }
         if (encoding == 0 && stored != expected)
-            return refused("stores " + std::to_string(stored) + " bytes, not " + std::to_string(expected));
+            return refused("stores " + std::to_string(stored) + " bytes, not " +
+                           std::to_string(expected));
         if (encoding == 1 && !inflatesToExactly(bytes.substr(at, stored), expected))
-            return refused("has zlib data that does not inflate to its " + std::to_string(expected) + " bytes");
+            return refused("has zlib data that does not inflate to its " +
+                           std::to_string(expected) + " bytes");
         if (encoding > 1) return refused("has the unknown encoding " + std::to_string(encoding));
         at += stored;
     }
