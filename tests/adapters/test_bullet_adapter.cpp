@@ -63,8 +63,8 @@ protected:
             for (nlohmann::json& body : doc["bodies"]) body["radiation"] = false;
             std::ofstream(project) << doc.dump(2);
             const std::string command = std::string(PLIMSOLL_BINARY) + " export '" +
-                                        (*root_ / "projects" / (std::string(name) + ".plim.json")).string() +
-                                        "' --out '" + (*root_ / "out").string() + "' > /dev/null 2>&1";
+                                        project.string() + "' --out '" + (*root_ / "out").string() +
+                                        "' > /dev/null 2>&1";
             ASSERT_EQ(std::system(command.c_str()), 0) << command;
         }
     }

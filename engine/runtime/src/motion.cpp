@@ -208,10 +208,9 @@ bool stepRadiating(Body& instance, BodyState& state, RadiationMemory& memory, co
     const WaterLoad load = waterLoad(instance, state.pose, state.velocity, water, fluid, time, dt);
     const RadiationLoad radiation = memory.begin(state.pose, load.forces.submergedVolume);
     const MassProperties& body = bundle.mass();
-    // The mass matrices with the share of the added mass, body axes (translations, rotations).
-    auto withShare = [&](double share, double translational[3][3], double rotational[3][3]) {
-        double added[3][3] = {}, addedInertia[3][3] = {};
-        if (const Radiation* r = bundle.radiation()) r->sharedAddedMass(share, added, addedInertia);
+    // The mass matrices with an added mass, body axes (translations, rotations).
+    auto withAdded = [&](const double added[3][3], const double addedInertia[3][3],
+                         double translational[3][3], double rotational[3][3]) {
         for (int i = 0; i < 3; ++i) {
             for (int j = 0; j < 3; ++j) {
                 translational[i][j] = (i == j ? body.mass : 0.0) + added[i][j];
@@ -220,14 +219,16 @@ bool stepRadiating(Body& instance, BodyState& state, RadiationMemory& memory, co
         }
     };
     double M[3][3], I[3][3];
-    withShare(radiation.share, M, I);
+    withAdded(radiation.addedMass, radiation.addedInertia, M, I);  // begin() formed this share's
     double R[3][3];
     rotationMatrix(state.pose.orientation, R);
     Vec3 v = state.velocity.linear, w = state.velocity.angular;
     if (radiation.previousShare >= 0 && radiation.share > radiation.previousShare) {
         // More water entrained: the momentum is kept (the velocity falls).
-        double Mp[3][3], Ip[3][3];
-        withShare(radiation.previousShare, Mp, Ip);
+        double added[3][3] = {}, addedInertia[3][3] = {}, Mp[3][3], Ip[3][3];
+        if (const Radiation* r = bundle.radiation())
+            r->sharedAddedMass(radiation.previousShare, added, addedInertia);
+        withAdded(added, addedInertia, Mp, Ip);
         v = worldInertiaSolve(R, M, worldInertiaTimes(R, Mp, v));
         w = worldInertiaSolve(R, I, worldInertiaTimes(R, Ip, w));
     }

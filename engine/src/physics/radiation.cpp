@@ -757,7 +757,8 @@ std::vector<RadiationPanel> waterplaneLid(const std::vector<RadiationPanel>& wet
     for (const auto& loop : loops) waterplaneArea += std::max(0.0, signedAreaXz(loop));
     std::vector<RadiationPanel> lid;
     for (const auto& loop : loops) {
-        if (signedAreaXz(loop) <= 0) continue;  // an opening in the waterplane
+        const double loopArea = signedAreaXz(loop);
+        if (loopArea <= 0) continue;  // an opening in the waterplane
         double perimeter = 0;
         for (std::size_t k = 0; k < loop.size(); ++k) perimeter += (loop[(k + 1) % loop.size()] - loop[k]).norm();
         const double meanEdge = perimeter / static_cast<double>(loop.size());
@@ -780,8 +781,8 @@ std::vector<RadiationPanel> waterplaneLid(const std::vector<RadiationPanel>& wet
             // is not star-shaped (a flooded hull's) made 4177 lid panels for 164 on the body, and
             // minutes for every frequency. Coarser splits until it fits; the ear-clipped cover is
             // the coarsest.
-            const double budget = std::max(1.0, 0.5 * static_cast<double>(wetted.size()) *
-                                                    signedAreaXz(loop) / waterplaneArea);
+            const double budget =
+                std::max(1.0, 0.5 * static_cast<double>(wetted.size()) * loopArea / waterplaneArea);
             double splitEdge = edge;
             while (maxEdge <= 0 &&
                    refinedCount(cover, splitEdge) > std::max(budget, double(cover.size())))
