@@ -41,6 +41,11 @@ packages=(
   libbullet-dev
   # radiation (engine/src/physics/radiation.cpp): Boost.Math's Bessel functions, header-only
   libboost-dev
+  # the Python module (python/): pybind11 with NumPy arrays, its tests under pytest
+  python3-dev python3-pybind11 python3-pytest
+  # the runtime on the web (web/): emscripten builds the WebAssembly module, node and npm build
+  # and test the npm package, headless Chromium runs the three.js viewer's test
+  emscripten nodejs npm chromium
 )
 
 # The runtime's determinism across builds (scripts/test-determinism.sh): an aarch64 build run
