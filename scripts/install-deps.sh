@@ -43,9 +43,9 @@ packages=(
   libboost-dev
   # the Python module (python/): pybind11 with NumPy arrays, its tests under pytest
   python3-dev python3-pybind11 python3-pytest
-  # the runtime on the web (web/): emscripten builds the WebAssembly module, node and npm build
-  # and test the npm package, headless Chromium runs the three.js viewer's test
-  emscripten nodejs npm chromium
+  # the runtime on the web (web/): emscripten builds the WebAssembly module, node runs the npm
+  # package's tests, headless Chromium the three.js viewer's (npm: below)
+  emscripten nodejs chromium
 )
 
 # The runtime's determinism across builds (scripts/test-determinism.sh): an aarch64 build run
@@ -59,6 +59,9 @@ missing=()
 for p in "${packages[@]}"; do
   installed "$p" || missing+=("$p")
 done
+# npm comes with some nodejs builds (NodeSource's conflicts with Debian's npm package), so it is
+# installed only where no npm is on the PATH.
+command -v npm >/dev/null || missing+=(npm)
 missing_cross=()
 for p in "${cross_packages[@]}"; do
   installed "$p" || missing_cross+=("$p")
