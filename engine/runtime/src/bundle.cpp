@@ -440,220 +440,268 @@ bool readGraph(const std::string& path, const std::string& text, std::vector<Gra
 
 }  // namespace
 
-bool loadBundleImpl(const BundleSource& source, Bundle& b, std::string& error, bool verify) {
-    const std::string& folder = source.name;
-    b.folder_ = folder;
-    const std::string manifestPath = folder + "/" + format::kManifestFile;
-    std::string text;
-    if (!source.read(format::kManifestFile, kMaxJsonBytes, text, error)) return false;
-    b.fileBytes_ = text.size();
-    // Each file is read once, through readInside, and what was checked is what is decoded.
-    std::map<std::string, std::string> contents;
-    auto read = [&](const std::string& relative, std::uint64_t maxBytes) -> const std::string* {
-        const auto known = contents.find(relative);
-        if (known != contents.end()) return &known->second;
+/// Loads one bundle into a Bundle in named steps, each of which returns false with the error
+/// set: the manifest's header, its file list (sizes and checksums), the body's facts, its
+/// sample lists and level ladder, and the water graph with the node and permeability of each
+/// sample. Each file is read once, through the source, and what was checked is what is decoded.
+class BundleLoader {
+public:
+    BundleLoader(const BundleSource& source, Bundle& b, std::string& error, bool verify)
+        : source_(source),
+          b_(b),
+          error_(error),
+          verify_(verify),
+          folder_(source.name),
+          manifestPath_(source.name + "/" + format::kManifestFile),
+          r_(manifestPath_, error) {}
+
+    bool load() {
+        b_.folder_ = folder_;
+        return readHeader() && verifyFiles() && checkNamedPaths() && readBody() &&
+               readSampleList(format::kSamplesFile, m_.find("sample_encoding"), "$.sample_encoding",
+                              size_, count_, b_.samples_) &&
+               readLevels() && readWaterGraph();
+    }
+
+private:
+    /// The bytes of `relative` (kept until the load ends when they are to be decoded), or null
+    /// with the error set.
+    const std::string* read(const std::string& relative, std::uint64_t maxBytes) {
+        const auto known = contents_.find(relative);
+        if (known != contents_.end()) return &known->second;
         std::string bytes;
         if (!staysInside(relative)) {
-            error = folder + "/" + relative + ": the path leaves the bundle";
+            error_ = folder_ + "/" + relative + ": the path leaves the bundle";
             return nullptr;
         }
-        if (!source.read(relative, maxBytes, bytes, error)) return nullptr;
-        return &contents.emplace(relative, std::move(bytes)).first->second;
-    };
-    Value m;
-    std::string parseError;
-    if (!json::parse(text, m, parseError)) {
-        error = manifestPath + ": malformed manifest: " + parseError;
-        return false;
-    }
-    Reader r(manifestPath, error);
-    if (!m.isObject()) return r.fail("$", "malformed manifest: expected an object");
-    const Value* formatName = m.find("format");
-    if (!formatName || !formatName->isString() || formatName->string != format::kBundleFormat) {
-        error = manifestPath + ": not a Plimsoll runtime bundle (\"format\" is not \"" +
-                format::kBundleFormat + "\")";
-        return false;
-    }
-    long long major = 0, minor = 0;
-    if (!r.integer(m, "$", "schema_version", major) || !r.integer(m, "$", "schema_minor", minor))
-        return false;
-    b.schemaMajor_ = static_cast<int>(major);
-    b.schemaMinor_ = static_cast<int>(minor);
-    constexpr int kMajor = format::kBundleSchemaMajor;
-    if (major != kMajor) {
-        const std::string version = std::to_string(major) + "." + std::to_string(minor);
-        error = manifestPath + ": bundle schema " + version +
-                (major > kMajor ? " is newer than" : " is older than") + " this reader's " +
-                std::to_string(kMajor) + ".x: export the bundle again with this version of plimsoll" +
-                (major > kMajor ? " or update the runtime" : "");
-        return false;
+        if (!source_.read(relative, maxBytes, bytes, error_)) return nullptr;
+        return &contents_.emplace(relative, std::move(bytes)).first->second;
     }
 
-    // The files decoded below stay in memory once verified; the others are only checked.
-    std::vector<std::string> decoded = {format::kSamplesFile, format::kTexelNodesFile};
-    if (const Value* g = m.find("water_graph"); g && g->isObject()) {
-        for (const char* key : {"path", "texel_nodes"}) {
-            if (const Value* v = g->find(key); v && v->isString()) decoded.push_back(v->string);
-        }
-    }
-    if (const Value* maps = m.find("painted_maps"); maps && maps->isObject()) {
-        for (const auto& entry : maps->object) {
-            const Value* v = entry.second.isObject() ? entry.second.find("path") : nullptr;
-            if (v && v->isString()) decoded.push_back(v->string);
-        }
-    }
-    // Files: every one inside the folder, with its size and checksum.
-    const Value* files = r.member(m, "$", "files");
-    if (!files) return false;
-    if (!files->isArray()) return r.fail("$.files", "expected an array");
-    bool hasTexelNodes = false;
-    std::vector<std::string> listed;
-    // Each file once: an entry repeated (or spelled again with "." or empty components) would
-    // be read and hashed again for every listing, 2000 entries of one large file taking minutes.
-    std::unordered_map<std::string, std::size_t> firstListing;
-    for (std::size_t i = 0; i < files->array.size(); ++i) {
-        const Value& f = files->array[i];
-        const std::string at = "$.files[" + std::to_string(i) + "]";
-        if (!f.isObject()) return r.fail(at, "expected an object");
-        std::string path, sha;
-        long long bytes = 0;
-        if (!r.string(f, at, "path", path) || !r.string(f, at, "sha256", sha) ||
-            !r.integer(f, at, "bytes", bytes))
-            return false;
-        if (!staysInside(path))
-            return r.fail(at + ".path", "file path \"" + std::string(path.c_str()) + "\" leaves the bundle");
-        if (const auto [first, added] = firstListing.emplace(normalPath(path), i); !added)
-            return r.fail(at + ".path", "\"" + std::string(path.c_str()) +
-                                            "\" is listed twice (also $.files[" +
-                                            std::to_string(first->second) + "])");
-        if (path == format::kTexelNodesFile) hasTexelNodes = true;
-        listed.push_back(path);
-        if (bytes < 0) return r.fail(at + ".bytes", "must be >= 0");
-        b.fileBytes_ += static_cast<std::uint64_t>(bytes);
-        if (!verify) continue;
-        const std::string full = folder + "/" + path;
-        const std::string* read_ = read(path, kMaxFileBytes);
-        if (!read_) return false;
-        const std::string& content = *read_;
-        if (static_cast<long long>(content.size()) != bytes) {
-            error = full + ": " + std::to_string(content.size()) + " bytes, the manifest says " +
-                    std::to_string(bytes) + " (truncated or replaced)";
+    /// The manifest parsed, a Plimsoll bundle of this reader's major schema version; the files
+    /// decoded below noted, so that verifying keeps their bytes.
+    bool readHeader() {
+        std::string text;
+        if (!source_.read(format::kManifestFile, kMaxJsonBytes, text, error_)) return false;
+        b_.fileBytes_ = text.size();
+        std::string parseError;
+        if (!json::parse(text, m_, parseError)) {
+            error_ = manifestPath_ + ": malformed manifest: " + parseError;
             return false;
         }
-        const std::string actual = sha256Hex(content.data(), content.size());
+        if (!m_.isObject()) return r_.fail("$", "malformed manifest: expected an object");
+        const Value* formatName = m_.find("format");
+        if (!formatName || !formatName->isString() || formatName->string != format::kBundleFormat) {
+            error_ = manifestPath_ + ": not a Plimsoll runtime bundle (\"format\" is not \"" +
+                     format::kBundleFormat + "\")";
+            return false;
+        }
+        long long major = 0, minor = 0;
+        if (!r_.integer(m_, "$", "schema_version", major) || !r_.integer(m_, "$", "schema_minor", minor))
+            return false;
+        b_.schemaMajor_ = static_cast<int>(major);
+        b_.schemaMinor_ = static_cast<int>(minor);
+        constexpr int kMajor = format::kBundleSchemaMajor;
+        if (major != kMajor) {
+            const std::string version = std::to_string(major) + "." + std::to_string(minor);
+            error_ = manifestPath_ + ": bundle schema " + version +
+                     (major > kMajor ? " is newer than" : " is older than") + " this reader's " +
+                     std::to_string(kMajor) + ".x: export the bundle again with this version of plimsoll" +
+                     (major > kMajor ? " or update the runtime" : "");
+            return false;
+        }
+        // The files decoded below stay in memory once verified; the others are only checked.
+        decoded_ = {format::kSamplesFile, format::kTexelNodesFile};
+        if (const Value* g = m_.find("water_graph"); g && g->isObject()) {
+            for (const char* key : {"path", "texel_nodes"}) {
+                if (const Value* v = g->find(key); v && v->isString()) decoded_.push_back(v->string);
+            }
+        }
+        if (const Value* maps = m_.find("painted_maps"); maps && maps->isObject()) {
+            for (const auto& entry : maps->object) {
+                const Value* v = entry.second.isObject() ? entry.second.find("path") : nullptr;
+                if (v && v->isString()) decoded_.push_back(v->string);
+            }
+        }
+        return true;
+    }
+
+    /// Files: every one inside the folder, listed once, with its size and (when verifying)
+    /// its checksum.
+    bool verifyFiles() {
+        const Value* files = r_.member(m_, "$", "files");
+        if (!files) return false;
+        if (!files->isArray()) return r_.fail("$.files", "expected an array");
+        // Each file once: an entry repeated (or spelled again with "." or empty components)
+        // would be read and hashed again for every listing, 2000 entries of one large file
+        // taking minutes.
+        std::unordered_map<std::string, std::size_t> firstListing;
+        for (std::size_t i = 0; i < files->array.size(); ++i) {
+            const Value& f = files->array[i];
+            const std::string at = "$.files[" + std::to_string(i) + "]";
+            if (!f.isObject()) return r_.fail(at, "expected an object");
+            std::string path, sha;
+            long long bytes = 0;
+            if (!r_.string(f, at, "path", path) || !r_.string(f, at, "sha256", sha) ||
+                !r_.integer(f, at, "bytes", bytes))
+                return false;
+            if (!staysInside(path))
+                return r_.fail(at + ".path", "file path \"" + std::string(path.c_str()) + "\" leaves the bundle");
+            if (const auto [first, added] = firstListing.emplace(normalPath(path), i); !added)
+                return r_.fail(at + ".path", "\"" + std::string(path.c_str()) +
+                                                 "\" is listed twice (also $.files[" +
+                                                 std::to_string(first->second) + "])");
+            if (path == format::kTexelNodesFile) hasTexelNodes_ = true;
+            listed_.push_back(path);
+            if (bytes < 0) return r_.fail(at + ".bytes", "must be >= 0");
+            b_.fileBytes_ += static_cast<std::uint64_t>(bytes);
+            if (verify_ && !verifyFile(path, bytes, sha)) return false;
+        }
+        return true;
+    }
+
+    bool verifyFile(const std::string& path, long long bytes, const std::string& sha) {
+        const std::string full = folder_ + "/" + path;
+        const std::string* content = read(path, kMaxFileBytes);
+        if (!content) return false;
+        if (static_cast<long long>(content->size()) != bytes) {
+            error_ = full + ": " + std::to_string(content->size()) + " bytes, the manifest says " +
+                     std::to_string(bytes) + " (truncated or replaced)";
+            return false;
+        }
+        const std::string actual = sha256Hex(content->data(), content->size());
         if (actual != sha) {
-            error = full + ": SHA-256 " + actual + " does not match the manifest's " + sha;
+            error_ = full + ": SHA-256 " + actual + " does not match the manifest's " + sha;
             return false;
         }
-        if (std::find(decoded.begin(), decoded.end(), path) == decoded.end()) contents.erase(path);
+        if (std::find(decoded_.begin(), decoded_.end(), path) == decoded_.end()) contents_.erase(path);
+        return true;
     }
 
-    // Every other path the manifest names, checked before anything is read.
-    if (const Value* g = m.find("water_graph"); g && g->isObject()) {
-        const Value* path = g->find("path");
-        if (path && path->isString() && !staysInside(path->string))
-            return r.fail("$.water_graph.path",
-                          "\"" + std::string(path->string.c_str()) + "\" leaves the bundle");
-    }
-    if (const Value* maps = m.find("painted_maps"); maps && maps->isObject()) {
-        for (const auto& [role, map] : maps->object) {
-            const Value* path = map.isObject() ? map.find("path") : nullptr;
+    /// Every other path the manifest names, checked before anything is read.
+    bool checkNamedPaths() {
+        if (const Value* g = m_.find("water_graph"); g && g->isObject()) {
+            const Value* path = g->find("path");
             if (path && path->isString() && !staysInside(path->string))
-                return r.fail("$.painted_maps." + role + ".path",
-                              "\"" + std::string(path->string.c_str()) + "\" leaves the bundle");
+                return r_.fail("$.water_graph.path",
+                               "\"" + std::string(path->string.c_str()) + "\" leaves the bundle");
         }
+        if (const Value* maps = m_.find("painted_maps"); maps && maps->isObject()) {
+            for (const auto& [role, map] : maps->object) {
+                const Value* path = map.isObject() ? map.find("path") : nullptr;
+                if (path && path->isString() && !staysInside(path->string))
+                    return r_.fail("$.painted_maps." + role + ".path",
+                                   "\"" + std::string(path->string.c_str()) + "\" leaves the bundle");
+            }
+        }
+        return true;
     }
-    r.string(m, "$", "body", b.body_, false);
-    long long size = 0, count = 0;
-    if (!r.integer(m, "$", "texture_size", size) || !r.integer(m, "$", "texel_samples", count))
-        return false;
-    if (size < 1 || size > kMaxTextureSide)
-        return r.fail("$.texture_size", "out of range 1.." + std::to_string(kMaxTextureSide));
-    // A texel holds a few entries (UV islands sharing it, refinement): 4 per texel at most.
-    if (count < 0 || count > 4 * size * size)
-        return r.fail("$.texel_samples", "must be in 0..4 x texture_size^2");
-    b.textureSize_ = static_cast<int>(size);
-    const Value* placement = r.member(m, "$", "uv_placement");
-    if (!placement) return false;
-    double uvScale = 1;
-    Vec3 uvOffset;
-    {
-        if (!r.number(*placement, "$.uv_placement", "scale", uvScale)) return false;
-        const Value* offset = r.member(*placement, "$.uv_placement", "offset");
+
+    /// The body's name, texture, UV placement, mass properties, hydrodynamic coefficients, the
+    /// project's world and the radiation model.
+    bool readBody() {
+        r_.string(m_, "$", "body", b_.body_, false);
+        if (!r_.integer(m_, "$", "texture_size", size_) || !r_.integer(m_, "$", "texel_samples", count_))
+            return false;
+        if (size_ < 1 || size_ > kMaxTextureSide)
+            return r_.fail("$.texture_size", "out of range 1.." + std::to_string(kMaxTextureSide));
+        // A texel holds a few entries (UV islands sharing it, refinement): 4 per texel at most.
+        if (count_ < 0 || count_ > 4 * size_ * size_)
+            return r_.fail("$.texel_samples", "must be in 0..4 x texture_size^2");
+        b_.textureSize_ = static_cast<int>(size_);
+        if (!readUvPlacement()) return false;
+        const Value* massProps = r_.member(m_, "$", "mass_properties");
+        if (!massProps) return false;
+        const Value* texture = r_.member(*massProps, "$.mass_properties", "texture");
+        if (!texture || !readMass(r_, *texture, "$.mass_properties.texture", b_.mass_)) return false;
+        if (!readHydrodynamics()) return false;
+        // The project's world (1.4): the fluid's density and gravity are the project's.
+        if (!readBundleWorld(m_, manifestPath_, b_.world_, error_)) return false;
+        b_.fluid_.density = b_.world_.density;
+        b_.fluid_.gravity = norm(b_.world_.gravity);
+        if (const Value* radiation = m_.find("radiation"); radiation && !radiation->isNull()) {
+            auto model = std::make_unique<Radiation>();
+            if (!readRadiation(r_, *radiation, "$.radiation", *model)) return false;
+            b_.radiation_ = std::move(model);
+        }
+        return true;
+    }
+
+    bool readUvPlacement() {
+        const Value* placement = r_.member(m_, "$", "uv_placement");
+        if (!placement) return false;
+        if (!r_.number(*placement, "$.uv_placement", "scale", uvScale_)) return false;
+        const Value* offset = r_.member(*placement, "$.uv_placement", "offset");
         if (!offset) return false;
         if (!offset->isArray() || offset->array.size() != 2 || !offset->array[0].isNumber() ||
             !offset->array[1].isNumber())
-            return r.fail("$.uv_placement.offset", "expected an array of 2 numbers");
-        uvOffset = {offset->array[0].number, offset->array[1].number, 0};
-        if (!(uvScale > 0) || !std::isfinite(uvScale)) return r.fail("$.uv_placement.scale", "must be finite and > 0");
-        if (!finite(uvOffset)) return r.fail("$.uv_placement.offset", "must be finite");
+            return r_.fail("$.uv_placement.offset", "expected an array of 2 numbers");
+        uvOffset_ = {offset->array[0].number, offset->array[1].number, 0};
+        if (!(uvScale_ > 0) || !std::isfinite(uvScale_))
+            return r_.fail("$.uv_placement.scale", "must be finite and > 0");
+        if (!finite(uvOffset_)) return r_.fail("$.uv_placement.offset", "must be finite");
+        return true;
     }
-    const Value* massProps = r.member(m, "$", "mass_properties");
-    if (!massProps) return false;
-    const Value* texture = r.member(*massProps, "$.mass_properties", "texture");
-    if (!texture || !readMass(r, *texture, "$.mass_properties.texture", b.mass_)) return false;
-    if (const Value* hydro = m.find("hydrodynamics")) {
-        if (!r.number(*hydro, "$.hydrodynamics", "drag_coefficient", b.fluid_.dragCoefficient, false) ||
-            !r.number(*hydro, "$.hydrodynamics", "friction_coefficient", b.fluid_.frictionCoefficient, false) ||
-            !r.number(*hydro, "$.hydrodynamics", "linear_damping", b.linearDamping_, false) ||
-            !r.number(*hydro, "$.hydrodynamics", "angular_damping", b.angularDamping_, false))
+
+    bool readHydrodynamics() {
+        const Value* hydro = m_.find("hydrodynamics");
+        if (!hydro) return true;
+        const std::string at = "$.hydrodynamics";
+        if (!r_.number(*hydro, at, "drag_coefficient", b_.fluid_.dragCoefficient, false) ||
+            !r_.number(*hydro, at, "friction_coefficient", b_.fluid_.frictionCoefficient, false) ||
+            !r_.number(*hydro, at, "linear_damping", b_.linearDamping_, false) ||
+            !r_.number(*hydro, at, "angular_damping", b_.angularDamping_, false))
             return false;
         // Absent (every body without radiation, and bundles before it): as the horizontal.
-        b.verticalDamping_ = b.linearDamping_;
-        if (!r.number(*hydro, "$.hydrodynamics", "vertical_damping", b.verticalDamping_, false))
-            return false;
-        for (const double v : {b.fluid_.dragCoefficient, b.fluid_.frictionCoefficient,
-                               b.linearDamping_, b.verticalDamping_, b.angularDamping_}) {
+        b_.verticalDamping_ = b_.linearDamping_;
+        if (!r_.number(*hydro, at, "vertical_damping", b_.verticalDamping_, false)) return false;
+        for (const double v : {b_.fluid_.dragCoefficient, b_.fluid_.frictionCoefficient,
+                               b_.linearDamping_, b_.verticalDamping_, b_.angularDamping_}) {
             if (!(v >= 0) || !std::isfinite(v))
-                return r.fail("$.hydrodynamics", "coefficients and damping must be finite and >= 0");
+                return r_.fail(at, "coefficients and damping must be finite and >= 0");
         }
+        return true;
     }
 
-    // The project's world (1.4): the fluid's density and gravity are the project's.
-    if (!readBundleWorld(m, manifestPath, b.world_, error)) return false;
-    b.fluid_.density = b.world_.density;
-    b.fluid_.gravity = norm(b.world_.gravity);
-
-    if (const Value* radiation = m.find("radiation"); radiation && !radiation->isNull()) {
-        auto model = std::make_unique<Radiation>();
-        if (!readRadiation(r, *radiation, "$.radiation", *model)) return false;
-        b.radiation_ = std::move(model);
+    /// The compact encoding's origin and scales; compact stays false for plain float samples.
+    bool readSampleEncoding(const Value* encoding, const std::string& at, bool& compact,
+                            Vec3& origin, double& positionScale, double& areaScale) {
+        if (!encoding || encoding->isNull()) return true;
+        std::string type;
+        if (!encoding->isObject()) return r_.fail(at, "expected an object or null");
+        if (!r_.string(*encoding, at, "type", type)) return false;
+        if (type != format::kCompactSampleEncoding)
+            return r_.fail(at + ".type", "unknown sample encoding \"" + std::string(type.c_str()) +
+                                             "\" (this runtime knows " +
+                                             format::kCompactSampleEncoding + ")");
+        if (!r_.vec3(*encoding, at, "position_origin", origin) ||
+            !r_.number(*encoding, at, "position_scale", positionScale) ||
+            !r_.number(*encoding, at, "area_scale", areaScale))
+            return false;
+        if (!finite(origin)) return r_.fail(at + ".position_origin", "must be finite");
+        for (const auto& [key, scale] :
+             {std::pair{"position_scale", positionScale}, std::pair{"area_scale", areaScale}}) {
+            if (!(scale > 0) || !std::isfinite(scale))
+                return r_.fail(at + "." + key, "must be finite and > 0");
+        }
+        compact = true;
+        return true;
     }
 
-    // A sample list (bake_io.cpp's layout: channels x y px py pz ax ay az area coverage), or its
-    // compact encoding (sample_encoding: half floats over an origin and two scales): the body's
-    // samples.exr and each coarser level's.
-    static const std::vector<std::string> kChannels = {"x",  "y",  "px",   "py",      "pz",
-                                                      "ax", "ay", "az", "area", "coverage"};
-    static const std::vector<std::string> kCompactChannels(std::begin(format::kCompactSampleChannels),
-                                                           std::end(format::kCompactSampleChannels));
-    const auto readSampleList = [&](const std::string& file, const Value* encoding,
-                                    const std::string& at, long long size, long long count,
-                                    std::vector<Sample>& out) {
-        const std::string samplesPath = folder + "/" + file;
+    /// A sample list (bake_io.cpp's layout: channels x y px py pz ax ay az area coverage), or
+    /// its compact encoding (sample_encoding: half floats over an origin and two scales): the
+    /// body's samples.exr and each coarser level's.
+    bool readSampleList(const std::string& file, const Value* encoding, const std::string& at,
+                        long long size, long long count, std::vector<Sample>& out) {
+        static const std::vector<std::string> kChannels = {"x",  "y",  "px", "py",   "pz",
+                                                          "ax", "ay", "az", "area", "coverage"};
+        static const std::vector<std::string> kCompactChannels(
+            std::begin(format::kCompactSampleChannels), std::end(format::kCompactSampleChannels));
+        const std::string samplesPath = folder_ + "/" + file;
         bool compact = false;
         Vec3 origin;
         double positionScale = 1, areaScale = 1;
-        if (encoding && !encoding->isNull()) {
-            std::string type;
-            if (!encoding->isObject()) return r.fail(at, "expected an object or null");
-            if (!r.string(*encoding, at, "type", type)) return false;
-            if (type != format::kCompactSampleEncoding)
-                return r.fail(at + ".type",
-                              "unknown sample encoding \"" + std::string(type.c_str()) +
-                                  "\" (this runtime knows " + format::kCompactSampleEncoding + ")");
-            if (!r.vec3(*encoding, at, "position_origin", origin) ||
-                !r.number(*encoding, at, "position_scale", positionScale) ||
-                !r.number(*encoding, at, "area_scale", areaScale))
-                return false;
-            if (!finite(origin)) return r.fail(at + ".position_origin", "must be finite");
-            for (const auto& [key, scale] :
-                 {std::pair{"position_scale", positionScale}, std::pair{"area_scale", areaScale}}) {
-                if (!(scale > 0) || !std::isfinite(scale))
-                    return r.fail(at + "." + key, "must be finite and > 0");
-            }
-            compact = true;
-        }
+        if (!readSampleEncoding(encoding, at, compact, origin, positionScale, areaScale)) return false;
         const std::string* samplesBytes = read(file, kMaxFileBytes);
         if (!samplesBytes) return false;
         int width = 0, height = 0;
@@ -666,11 +714,11 @@ bool loadBundleImpl(const BundleSource& source, Bundle& b, std::string& error, b
             half[0] = half[1] = false;  // texel indices: float32
         }
         if (!readExrFloat(samplesPath, *samplesBytes, compact ? kCompactChannels : kChannels, half,
-                          samplePixels, width, height, px, error))
+                          samplePixels, width, height, px, error_))
             return false;
         if (static_cast<std::size_t>(count) > static_cast<std::size_t>(width) * height) {
-            error = samplesPath + ": holds fewer samples than the manifest's texel_samples (" +
-                    std::to_string(count) + ")";
+            error_ = samplesPath + ": holds fewer samples than the manifest's texel_samples (" +
+                     std::to_string(count) + ")";
             return false;
         }
         out.resize(static_cast<std::size_t>(count));
@@ -678,8 +726,8 @@ bool loadBundleImpl(const BundleSource& source, Bundle& b, std::string& error, b
             const float* in = &px[i * kChannels.size()];
             const int x = static_cast<int>(in[0]), y = static_cast<int>(in[1]);
             if (x < 0 || y < 0 || x >= size || y >= size || !(in[9] > 0.0f)) {
-                error = samplesPath + ": sample " + std::to_string(i) +
-                        " is not a covered texel of the texture";
+                error_ = samplesPath + ": sample " + std::to_string(i) +
+                         " is not a covered texel of the texture";
                 return false;
             }
             Sample& s = out[i];
@@ -689,8 +737,8 @@ bool loadBundleImpl(const BundleSource& source, Bundle& b, std::string& error, b
                 // A NaN or infinite half would pass through the scales as one: named as such.
                 for (int k = 2; k < 10; ++k) {
                     if (!std::isfinite(in[k])) {
-                        error = samplesPath + ": sample " + std::to_string(i) +
-                                " holds a NaN or infinite half in '" + kCompactChannels[k] + "'";
+                        error_ = samplesPath + ": sample " + std::to_string(i) +
+                                 " holds a NaN or infinite half in '" + kCompactChannels[k] + "'";
                         return false;
                     }
                 }
@@ -707,207 +755,251 @@ bool loadBundleImpl(const BundleSource& source, Bundle& b, std::string& error, b
             // NaN, Inf or a negative area would turn every force into garbage, silently.
             if (!finite(s.position) || !finite(s.areaVector) || !std::isfinite(s.area) ||
                 !(s.area >= 0) || !std::isfinite(s.coverage) || s.coverage > 1.0f + 1e-6f) {
-                error = samplesPath + ": sample " + std::to_string(i) +
-                        " has a non-finite position or area vector, a negative area or a coverage "
-                        "outside 0..1";
+                error_ = samplesPath + ": sample " + std::to_string(i) +
+                         " has a non-finite position or area vector, a negative area or a "
+                         "coverage outside 0..1";
                 return false;
             }
         }
         return true;
-    };
-    if (!readSampleList(format::kSamplesFile, m.find("sample_encoding"), "$.sample_encoding", size,
-                        count, b.samples_))
-        return false;
-    // The level ladder (1.6): coarsest first, the finest the body's own samples.exr. Without
-    // one, the body has one level.
-    b.levels_ = {BundleLevel{b.textureSize_, b.samples_.size(), 0, 0, 0}};
-    if (const Value* levels = m.find("levels"); levels && !levels->isNull()) {
-        const std::string at = "$.levels";
-        if (!levels->isArray() || levels->array.size() < 2 || levels->array.size() > kMaxLevels)
-            return r.fail(
-                at, "expected null or an array of 2.." + std::to_string(kMaxLevels) + " levels");
-        b.levels_.clear();
-        for (std::size_t k = 0; k < levels->array.size(); ++k) {
-            const Value& v = levels->array[k];
-            const std::string here = at + "[" + std::to_string(k) + "]";
-            if (!v.isObject()) return r.fail(here, "expected an object");
-            BundleLevel level;
-            long long levelSize = 0, levelCount = 0;
-            std::string file;
-            if (!r.integer(v, here, "size", levelSize) ||
-                !r.integer(v, here, "texel_samples", levelCount) ||
-                !r.string(v, here, "samples", file) ||
-                !r.number(v, here, "force_error", level.forceError) ||
-                !r.number(v, here, "torque_error", level.torqueError) ||
-                !r.number(v, here, "evaluation_us", level.evaluationUs))
-                return false;
-            if (!(level.forceError >= 0) || !(level.torqueError >= 0) || !(level.evaluationUs >= 0))
-                return r.fail(here, "errors and cost must be >= 0");
-            const bool finest = k + 1 == levels->array.size();
-            const long long below = b.levels_.empty() ? 0 : b.levels_.back().size;
-            if (levelSize <= below || levelSize > size || (finest && levelSize != size) ||
-                (!finest && levelSize == size))
-                return r.fail(here + ".size", "sizes must ascend to texture_size, the finest's");
-            if (levelCount < 0 || levelCount > 4 * levelSize * levelSize)
-                return r.fail(here + ".texel_samples", "must be in 0..4 x size^2");
-            level.size = static_cast<int>(levelSize);
-            level.samples = static_cast<std::size_t>(levelCount);
-            if (finest) {
-                if (file != format::kSamplesFile || level.samples != b.samples_.size())
-                    return r.fail(
-                        here, "the finest level must be samples.exr with texel_samples entries");
-            } else {
-                if (!staysInside(file))
-                    return r.fail(here + ".samples", "the path leaves the bundle");
-                auto coarse = std::make_unique<Bundle::CoarseLevel>();
-                if (!readSampleList(file, v.find("sample_encoding"), here + ".sample_encoding",
-                                    levelSize, levelCount, coarse->samples))
-                    return false;
-                b.coarse_.push_back(std::move(coarse));
-            }
-            b.levels_.push_back(level);
-        }
     }
 
-    // The water graph.
-    const Value* graphInfo = m.find("water_graph");
-    if (graphInfo && !graphInfo->isNull()) {
+    /// The level ladder (1.6): coarsest first, the finest the body's own samples.exr. Without
+    /// one, the body has one level.
+    bool readLevels() {
+        b_.levels_ = {BundleLevel{b_.textureSize_, b_.samples_.size(), 0, 0, 0}};
+        const Value* levels = m_.find("levels");
+        if (!levels || levels->isNull()) return true;
+        const std::string at = "$.levels";
+        if (!levels->isArray() || levels->array.size() < 2 || levels->array.size() > kMaxLevels)
+            return r_.fail(at, "expected null or an array of 2.." + std::to_string(kMaxLevels) + " levels");
+        b_.levels_.clear();
+        for (std::size_t k = 0; k < levels->array.size(); ++k) {
+            if (!readLevel(levels->array[k], at + "[" + std::to_string(k) + "]",
+                           k + 1 == levels->array.size()))
+                return false;
+        }
+        return true;
+    }
+
+    bool readLevel(const Value& v, const std::string& here, bool finest) {
+        if (!v.isObject()) return r_.fail(here, "expected an object");
+        BundleLevel level;
+        long long levelSize = 0, levelCount = 0;
+        std::string file;
+        if (!r_.integer(v, here, "size", levelSize) || !r_.integer(v, here, "texel_samples", levelCount) ||
+            !r_.string(v, here, "samples", file) ||
+            !r_.number(v, here, "force_error", level.forceError) ||
+            !r_.number(v, here, "torque_error", level.torqueError) ||
+            !r_.number(v, here, "evaluation_us", level.evaluationUs))
+            return false;
+        if (!(level.forceError >= 0) || !(level.torqueError >= 0) || !(level.evaluationUs >= 0))
+            return r_.fail(here, "errors and cost must be >= 0");
+        const long long below = b_.levels_.empty() ? 0 : b_.levels_.back().size;
+        if (levelSize <= below || levelSize > size_ || (finest && levelSize != size_) ||
+            (!finest && levelSize == size_))
+            return r_.fail(here + ".size", "sizes must ascend to texture_size, the finest's");
+        if (levelCount < 0 || levelCount > 4 * levelSize * levelSize)
+            return r_.fail(here + ".texel_samples", "must be in 0..4 x size^2");
+        level.size = static_cast<int>(levelSize);
+        level.samples = static_cast<std::size_t>(levelCount);
+        if (finest) {
+            if (file != format::kSamplesFile || level.samples != b_.samples_.size())
+                return r_.fail(here, "the finest level must be samples.exr with texel_samples entries");
+        } else {
+            if (!staysInside(file)) return r_.fail(here + ".samples", "the path leaves the bundle");
+            auto coarse = std::make_unique<Bundle::CoarseLevel>();
+            if (!readSampleList(file, v.find("sample_encoding"), here + ".sample_encoding", levelSize,
+                                levelCount, coarse->samples))
+                return false;
+            b_.coarse_.push_back(std::move(coarse));
+        }
+        b_.levels_.push_back(level);
+        return true;
+    }
+
+    /// The water graph: its settings, nodes and pipes, the node each sample feeds and the
+    /// permeable samples as exchange points.
+    bool readWaterGraph() {
+        const Value* graphInfo = m_.find("water_graph");
+        if (!graphInfo || graphInfo->isNull()) return true;
         const std::string at = "$.water_graph";
-        if (!graphInfo->isObject()) return r.fail(at, "expected an object or null");
+        if (!graphInfo->isObject()) return r_.fail(at, "expected an object or null");
         auto graph = std::make_unique<GraphLayout>();
-        GraphSettings& gs = graph->settings_;
-        std::string graphFile, inflow = "linear", flow = "poiseuille";
+        std::string graphFile;
+        if (!readGraphSettings(*graphInfo, graph->settings_, graphFile)) return false;
+        const std::string* graphText = read(graphFile, kMaxJsonBytes);
+        if (!graphText) return false;
+        if (!readGraph(folder_ + "/" + graphFile, *graphText, graph->nodes_, graph->pipes_, error_))
+            return false;
+        std::vector<std::uint32_t> texelNodes;
+        std::string texelNodesFile;
+        if (!readTexelNodes(*graphInfo, texelNodes, texelNodesFile) ||
+            !assignSampleNodes(*graph, texelNodes, texelNodesFile))
+            return false;
+        std::vector<GraphLayout::Exchange> exchange;
+        if (!readExchangePoints(*graph, exchange)) return false;
+        graph->prepare(std::move(exchange));
+        b_.graph_ = std::move(graph);
+        return true;
+    }
+
+    bool readGraphSettings(const Value& info, GraphSettings& gs, std::string& graphFile) {
+        const std::string at = "$.water_graph";
+        std::string inflow = "linear", flow = "poiseuille";
         double seed = 1;
-        if (!r.string(*graphInfo, at, "path", graphFile) ||
-            !r.number(*graphInfo, at, "permeability", gs.permeability, false) ||
-            !r.string(*graphInfo, at, "inflow", inflow, false) ||
-            !r.number(*graphInfo, at, "inflow_rate", gs.inflowRate, false) ||
-            !r.number(*graphInfo, at, "discharge_coefficient", gs.dischargeCoefficient, false) ||
-            !r.string(*graphInfo, at, "flow", flow, false) ||
-            !r.number(*graphInfo, at, "diffusion_pressure", gs.diffusionPressure, false) ||
-            !r.boolean(*graphInfo, at, "free_surface", gs.freeSurface, false) ||
-            !r.number(*graphInfo, at, "seed", seed, false))
+        if (!r_.string(info, at, "path", graphFile) ||
+            !r_.number(info, at, "permeability", gs.permeability, false) ||
+            !r_.string(info, at, "inflow", inflow, false) ||
+            !r_.number(info, at, "inflow_rate", gs.inflowRate, false) ||
+            !r_.number(info, at, "discharge_coefficient", gs.dischargeCoefficient, false) ||
+            !r_.string(info, at, "flow", flow, false) ||
+            !r_.number(info, at, "diffusion_pressure", gs.diffusionPressure, false) ||
+            !r_.boolean(info, at, "free_surface", gs.freeSurface, false) ||
+            !r_.number(info, at, "seed", seed, false))
             return false;
         if (inflow != "linear" && inflow != "torricelli")
-            return r.fail(at + ".inflow", "unknown inflow model \"" + inflow + "\"");
+            return r_.fail(at + ".inflow", "unknown inflow model \"" + inflow + "\"");
         if (flow != "poiseuille" && flow != "diffusion")
-            return r.fail(at + ".flow", "unknown flow model \"" + flow + "\"");
-        if (!(seed >= 0) || !(seed <= 9.0e15)) return r.fail(at + ".seed", "must be an integer in 0..9e15");
+            return r_.fail(at + ".flow", "unknown flow model \"" + flow + "\"");
+        if (!(seed >= 0) || !(seed <= 9.0e15)) return r_.fail(at + ".seed", "must be an integer in 0..9e15");
         for (const double v : {gs.permeability, gs.inflowRate, gs.dischargeCoefficient, gs.diffusionPressure}) {
             if (!(v >= 0) || !std::isfinite(v))
-                return r.fail(at, "permeability, inflow_rate, discharge_coefficient and "
-                                  "diffusion_pressure must be finite and >= 0");
+                return r_.fail(at, "permeability, inflow_rate, discharge_coefficient and "
+                                   "diffusion_pressure must be finite and >= 0");
         }
         gs.torricelli = inflow == "torricelli";
         gs.diffusion = flow == "diffusion";
         gs.seed = static_cast<std::uint64_t>(seed);
         if (!staysInside(graphFile))
-            return r.fail(at + ".path", "\"" + std::string(graphFile.c_str()) + "\" leaves the bundle");
-        const std::string* graphText = read(graphFile, kMaxJsonBytes);
-        if (!graphText) return false;
-        if (!readGraph(folder + "/" + graphFile, *graphText, graph->nodes_, graph->pipes_, error))
-            return false;
+            return r_.fail(at + ".path", "\"" + std::string(graphFile.c_str()) + "\" leaves the bundle");
+        return true;
+    }
 
-        // The node each sample feeds: texel_nodes.exr where the bundle has it, for texels with
-        // one entry (the map has one value per texel); the engine's rule for the rest.
-        const std::size_t nodeCount = graph->nodes_.size();
-        // 1.1 names the file in water_graph.texel_nodes; it is also listed in `files`.
-        std::string texelNodesFile = hasTexelNodes ? format::kTexelNodesFile : "";
-        if (!r.string(*graphInfo, at, "texel_nodes", texelNodesFile, false)) return false;
-        std::vector<std::uint32_t> texelNodes;
-        if (!texelNodesFile.empty() &&
-            std::find(listed.begin(), listed.end(), texelNodesFile) == listed.end())
-            return r.fail(at + ".texel_nodes", "\"" + texelNodesFile + "\" is not in the manifest's files");
-        if (!texelNodesFile.empty()) {
-            const std::string path = folder + "/" + texelNodesFile;
-            int w = 0, h = 0;
-            const std::string* nodesBytes = read(texelNodesFile, kMaxFileBytes);
-            if (!nodesBytes) return false;
-            if (!readExrUint(path, *nodesBytes, "node", static_cast<std::uint64_t>(size) * size, w, h,
-                             texelNodes, error))
-                return false;
-            if (w != size || h != size) {
-                error = path + ": " + std::to_string(w) + " x " + std::to_string(h) +
-                        ", the texture is " + std::to_string(size) + " x " + std::to_string(size);
-                return false;
-            }
-            b.texelNodesFromFile_ = true;
+    /// texel_nodes.exr where the bundle has it (1.1 names the file in water_graph.texel_nodes;
+    /// it is also listed in `files`): the node of each texel, 1-based, 0 for none.
+    bool readTexelNodes(const Value& info, std::vector<std::uint32_t>& texelNodes, std::string& file) {
+        const std::string at = "$.water_graph";
+        file = hasTexelNodes_ ? format::kTexelNodesFile : "";
+        if (!r_.string(info, at, "texel_nodes", file, false)) return false;
+        if (file.empty()) return true;
+        if (std::find(listed_.begin(), listed_.end(), file) == listed_.end())
+            return r_.fail(at + ".texel_nodes", "\"" + file + "\" is not in the manifest's files");
+        const std::string path = folder_ + "/" + file;
+        int w = 0, h = 0;
+        const std::string* nodesBytes = read(file, kMaxFileBytes);
+        if (!nodesBytes) return false;
+        if (!readExrUint(path, *nodesBytes, "node", static_cast<std::uint64_t>(size_) * size_, w, h,
+                         texelNodes, error_))
+            return false;
+        if (w != size_ || h != size_) {
+            error_ = path + ": " + std::to_string(w) + " x " + std::to_string(h) + ", the texture is " +
+                     std::to_string(size_) + " x " + std::to_string(size_);
+            return false;
         }
-        // The engine's rule for the node a point feeds, from the code the engine runs.
+        b_.texelNodesFromFile_ = true;
+        return true;
+    }
+
+    /// The node each sample feeds: the texel-to-node map for texels with one entry (the map
+    /// has one value per texel); the engine's rule, from the code the engine runs, for the rest.
+    bool assignSampleNodes(GraphLayout& graph, const std::vector<std::uint32_t>& texelNodes,
+                           const std::string& texelNodesFile) {
+        const std::size_t nodeCount = graph.nodes_.size();
         std::vector<plimsoll_eval::NodeShape> shapes;
-        for (const GraphNode& n : graph->nodes_)
+        for (const GraphNode& n : graph.nodes_)
             shapes.push_back({{n.position.x, n.position.y, n.position.z}, {n.box.x, n.box.y, n.box.z}});
         const plimsoll_eval::NearestNodeIndex nearest(std::move(shapes));
-        graph->sampleNodes_.resize(b.samples_.size());
-        for (std::size_t i = 0; i < b.samples_.size(); ++i) {
-            const Sample& s = b.samples_[i];
-            const bool shared = (i > 0 && b.samples_[i - 1].texel == s.texel) ||
-                                (i + 1 < b.samples_.size() && b.samples_[i + 1].texel == s.texel);
+        const std::vector<Sample>& samples = b_.samples_;
+        graph.sampleNodes_.resize(samples.size());
+        for (std::size_t i = 0; i < samples.size(); ++i) {
+            const Sample& s = samples[i];
+            const bool shared = (i > 0 && samples[i - 1].texel == s.texel) ||
+                                (i + 1 < samples.size() && samples[i + 1].texel == s.texel);
             int node = -1;
             if (!texelNodes.empty() && !shared) {
+                const auto size = static_cast<std::uint32_t>(size_);
                 const std::uint32_t x = s.texel % size, y = s.texel / size;
                 const std::uint32_t v = texelNodes[(static_cast<std::size_t>(size) - 1 - y) * size + x];
                 if (v == 0 || v > nodeCount) {
-                    error = folder + "/" + texelNodesFile + ": texel (" + std::to_string(x) + ", " +
-                            std::to_string(y) + ") is covered but maps to " + std::to_string(v) +
-                            " (expected 1.." + std::to_string(nodeCount) + ")";
+                    error_ = folder_ + "/" + texelNodesFile + ": texel (" + std::to_string(x) + ", " +
+                             std::to_string(y) + ") is covered but maps to " + std::to_string(v) +
+                             " (expected 1.." + std::to_string(nodeCount) + ")";
                     return false;
                 }
                 node = static_cast<int>(v) - 1;
             } else {
                 node = nearest.nearest({s.position.x, s.position.y, s.position.z});
             }
-            graph->sampleNodes_[i] = node;
+            graph.sampleNodes_[i] = node;
         }
-
-        // Permeability per sample: the painted map at the texel centre, as the engine's
-        // sampleAtTexels (bilinear, clamped), times the project's scale.
-        std::vector<GraphLayout::Exchange> exchange;
-        const Value* maps = m.find("painted_maps");
-        const Value* perm = maps ? maps->find("permeability") : nullptr;
-        if (perm && !perm->isNull()) {
-            std::string mapFile;
-            if (!r.string(*perm, "$.painted_maps.permeability", "path", mapFile)) return false;
-            if (!staysInside(mapFile))
-                return r.fail("$.painted_maps.permeability.path",
-                              "\"" + std::string(mapFile.c_str()) + "\" leaves the bundle");
-            const std::string path = folder + "/" + mapFile;
-            const std::string* bytes = read(mapFile, kMaxFileBytes);
-            if (!bytes) return false;
-            std::string pngError;
-            GreyImage map;
-            if (!decodePng(*bytes, map, pngError)) {
-                error = path + ": cannot read painted map: " + pngError;
-                return false;
-            }
-            const double n = size;
-            for (std::size_t i = 0; i < b.samples_.size(); ++i) {
-                const std::uint32_t texel = b.samples_[i].texel;
-                const double tu = (texel % size + 0.5) / n, tv = (texel / size + 0.5) / n;
-                const double u = (tu - uvOffset.x) / uvScale, v = (tv - uvOffset.y) / uvScale;
-                const double fx = std::clamp(u * map.width - 0.5, 0.0, map.width - 1.0);
-                const double fy = std::clamp((1.0 - v) * map.height - 0.5, 0.0, map.height - 1.0);
-                const int x0 = static_cast<int>(fx), y0 = static_cast<int>(fy);
-                const int x1 = std::min(x0 + 1, map.width - 1), y1 = std::min(y0 + 1, map.height - 1);
-                const double ax = fx - x0, ay = fy - y0;
-                auto at = [&](int px, int py) {
-                    return static_cast<double>(map.values[static_cast<std::size_t>(py) * map.width + px]);
-                };
-                const double value = (1 - ay) * ((1 - ax) * at(x0, y0) + ax * at(x1, y0)) +
-                                     ay * ((1 - ax) * at(x0, y1) + ax * at(x1, y1));
-                const double k = std::clamp(gs.permeability * value, 0.0, 1.0);
-                if (!(k > 0)) continue;
-                const int node = graph->sampleNodes_[i];
-                if (node < 0 || graph->nodes_[node].sealed) continue;
-                exchange.push_back({b.samples_[i].position, k * b.samples_[i].area,
-                                    static_cast<std::uint32_t>(node)});
-            }
-        }
-        graph->prepare(std::move(exchange));
-        b.graph_ = std::move(graph);
+        return true;
     }
-    return true;
-}
+
+    /// Permeability per sample: the painted map at the texel centre, as the engine's
+    /// sampleAtTexels (bilinear, clamped), times the project's scale. The samples it lets
+    /// water through, feeding an unsealed node, are the exchange points.
+    bool readExchangePoints(const GraphLayout& graph, std::vector<GraphLayout::Exchange>& exchange) {
+        const Value* maps = m_.find("painted_maps");
+        const Value* perm = maps ? maps->find("permeability") : nullptr;
+        if (!perm || perm->isNull()) return true;
+        std::string mapFile;
+        if (!r_.string(*perm, "$.painted_maps.permeability", "path", mapFile)) return false;
+        if (!staysInside(mapFile))
+            return r_.fail("$.painted_maps.permeability.path",
+                           "\"" + std::string(mapFile.c_str()) + "\" leaves the bundle");
+        const std::string* bytes = read(mapFile, kMaxFileBytes);
+        if (!bytes) return false;
+        std::string pngError;
+        GreyImage map;
+        if (!decodePng(*bytes, map, pngError)) {
+            error_ = folder_ + "/" + mapFile + ": cannot read painted map: " + pngError;
+            return false;
+        }
+        const double n = static_cast<double>(size_);
+        for (std::size_t i = 0; i < b_.samples_.size(); ++i) {
+            const std::uint32_t texel = b_.samples_[i].texel;
+            const double tu = (texel % size_ + 0.5) / n, tv = (texel / size_ + 0.5) / n;
+            const double u = (tu - uvOffset_.x) / uvScale_, v = (tv - uvOffset_.y) / uvScale_;
+            const double k = std::clamp(graph.settings_.permeability * bilinear(map, u, v), 0.0, 1.0);
+            if (!(k > 0)) continue;
+            const int node = graph.sampleNodes_[i];
+            if (node < 0 || graph.nodes_[node].sealed) continue;
+            exchange.push_back({b_.samples_[i].position, k * b_.samples_[i].area,
+                                static_cast<std::uint32_t>(node)});
+        }
+        return true;
+    }
+
+    /// The map's value at (u, v), bilinear between pixel centres and clamped at the edges.
+    static double bilinear(const GreyImage& map, double u, double v) {
+        const double fx = std::clamp(u * map.width - 0.5, 0.0, map.width - 1.0);
+        const double fy = std::clamp((1.0 - v) * map.height - 0.5, 0.0, map.height - 1.0);
+        const int x0 = static_cast<int>(fx), y0 = static_cast<int>(fy);
+        const int x1 = std::min(x0 + 1, map.width - 1), y1 = std::min(y0 + 1, map.height - 1);
+        const double ax = fx - x0, ay = fy - y0;
+        auto at = [&](int px, int py) {
+            return static_cast<double>(map.values[static_cast<std::size_t>(py) * map.width + px]);
+        };
+        return (1 - ay) * ((1 - ax) * at(x0, y0) + ax * at(x1, y0)) +
+               ay * ((1 - ax) * at(x0, y1) + ax * at(x1, y1));
+    }
+
+    const BundleSource& source_;
+    Bundle& b_;
+    std::string& error_;
+    const bool verify_;
+    const std::string folder_, manifestPath_;
+    Reader r_;
+    Value m_;
+    std::map<std::string, std::string> contents_;  ///< bytes read, kept while decoded
+    std::vector<std::string> decoded_;             ///< files decoded after verifying
+    std::vector<std::string> listed_;              ///< the manifest's files
+    bool hasTexelNodes_ = false;
+    long long size_ = 0, count_ = 0;  ///< texture_size, texel_samples
+    double uvScale_ = 1;
+    Vec3 uvOffset_;
+};
 
 namespace {
 
@@ -915,7 +1007,7 @@ std::unique_ptr<Bundle> loadFrom(const BundleSource& source, std::string& error,
     auto bundle = std::make_unique<Bundle>();
     error.clear();
     try {
-        if (!loadBundleImpl(source, *bundle, error, options.verifyChecksums)) return nullptr;
+        if (!BundleLoader(source, *bundle, error, options.verifyChecksums).load()) return nullptr;
     } catch (const std::exception& e) {
         error = source.name + ": " + e.what();
         return nullptr;

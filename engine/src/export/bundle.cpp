@@ -300,182 +300,162 @@ json gltfNodeExtensions(const Project& project, const BodyDesc& desc, const Mass
     return extensions;
 }
 
-/// Writes the whole bundle of body `index` into `staging` (an empty folder).
-Result<BundleReport> buildBundle(const Project& project, std::size_t index, const fs::path& staging,
-                                 const std::function<void(const std::string&)>& log,
-                                 const BundleOptions& options) {
-    const BodyDesc& desc = project.bodies.at(index);
-    const std::string label = bodyLabel(desc);
-    auto say = [&](const std::string& line) {
-        if (log) log(line);
-    };
-    // The body exactly as World simulates it: the same adapter reads and bakes it.
-    Result<SceneBody> body = loadSceneBody(project, index, log);
-    if (!body) return body.error();
-    // After loading, which writes the atlas cache the hash covers when it is missing.
-    Result<std::string> inputHash = bundleInputHash(project, index, options);
-    if (!inputHash) return inputHash.error();
-    const TriangleMesh& mesh = *body->parts.mesh;
-    // As the World runs it: radiation wherever it was computed, unless turned off.
-    const bool radiates = body->desc.radiates() && body->radiation;
-    const std::shared_ptr<const SurfaceTextures>& textures = body->textures;
-    const std::shared_ptr<const MassProperties>& textureMass = body->mass;
-
-    // Exact mass from the mesh itself (divergence theorem per triangle): defined for a uniform
-    // solid and a uniform shell; a painted shell has no closed form here.
-    const MaterialDesc& m = desc.material;
-    std::optional<MassProperties> exactMass;
-    if (m.shellDensityMap.empty() && m.shellThicknessMap.empty()) {
-        MassProperties total;
-        // An open hull: the solid fills the walls, not the space behind its caps.
-        if (m.density) total = withoutHollow(exactSolidMassProperties(mesh, *m.density), body->parts.hollow, *m.density);
-        if (m.shellSurfaceDensity) {
-            const MassProperties shell = exactShellMassProperties(mesh, *m.shellSurfaceDensity);
-            total = m.density ? total + shell : shell;
-        }
-        exactMass = total;
+/// Exact mass from the mesh itself (divergence theorem per triangle): defined for a uniform
+/// solid and a uniform shell; a painted shell has no closed form here.
+std::optional<MassProperties> exactMassOf(const MaterialDesc& m, const TriangleMesh& mesh,
+                                          const BodyParts& parts) {
+    if (!m.shellDensityMap.empty() || !m.shellThicknessMap.empty()) return std::nullopt;
+    MassProperties total;
+    // An open hull: the solid fills the walls, not the space behind its caps.
+    if (m.density) total = withoutHollow(exactSolidMassProperties(mesh, *m.density), parts.hollow, *m.density);
+    if (m.shellSurfaceDensity) {
+        const MassProperties shell = exactShellMassProperties(mesh, *m.shellSurfaceDensity);
+        total = m.density ? total + shell : shell;
     }
-    const json exact = exactMass ? massJson(*exactMass) : json(nullptr);
+    return total;
+}
 
-    // Images and the sample list: the bake's own writer (float32, ZIP, lossless; or compact:
-    // half floats over a per-body origin and scales, the encoding the manifest records).
-    const std::optional<CompactSamples> compact =
-        options.compact ? std::optional(compactSamplesFor(*textures)) : std::nullopt;
-    if (Status s = compact ? writeCompactBakedTextures(*textures, staging, desc.mesh, *compact)
-                           : writeBakedTextures(*textures, staging, desc.mesh);
+/// The images and the sample list: the bake's own writer (float32, ZIP, lossless; or compact:
+/// half floats over a per-body origin and scales, the encoding the manifest records), the area
+/// vectors named area.exr.
+Status writeBodyImages(const SurfaceTextures& textures, const fs::path& staging,
+                       const std::string& mesh, const std::optional<CompactSamples>& compact) {
+    if (Status s = compact ? writeCompactBakedTextures(textures, staging, mesh, *compact)
+                           : writeBakedTextures(textures, staging, mesh);
         !s.ok())
-        return s.error();
+        return s;
+    if (Status step = fileStep("renaming", staging / "area.exr"); !step.ok()) return step;
     std::error_code ec;
-    if (Status step = fileStep("renaming", staging / "area.exr"); !step.ok()) return step.error();
     fs::rename(staging / "area_vector.exr", staging / "area.exr", ec);
     if (ec) return makeError(ErrorKind::io, (staging / "area.exr").string() + ": " + ec.message());
+    return Ok{};
+}
 
-    json levels = nullptr;
-    if (body->levels && body->levels->size() > 1) {
-        Result<json> written =
-            writeLevels(*body->levels, *textures, staging, desc.mesh, options.compact);
-        if (!written) return written.error();
-        levels = std::move(*written);
-        say(label + ": " + std::to_string(body->levels->size()) + " levels exported");
+/// Frames of a deforming body: frames/NNN/ holds position.exr, area.exr and samples.exr (the
+/// texels, coverage and sample order are the bake's in every frame; only points and area
+/// vectors move), and the manifest each frame's mass properties. Its manifest entry.
+Result<json> writeDeformingFrames(const BodyDesc& desc, const SceneBody& body,
+                                  const fs::path& staging, const std::string& label) {
+    // A deforming body's frames are regathered from its bake's pieces, as World steps them.
+    const std::vector<TriangleMesh>& frames = *body.parts.frames;
+    json frameMass = json::array();
+    SurfaceTextures frame = *body.textures;
+    std::error_code ec;
+    for (std::size_t k = 0; k < frames.size(); ++k) {
+        regatherSurface(*body.pieces, frames[k], frame);
+        char name[24];
+        std::snprintf(name, sizeof name, "%03zu", k);
+        const fs::path folder = staging / "frames" / name;
+        if (Status s = writeBakedTextures(frame, folder, desc.mesh); !s.ok()) return s.error();
+        fs::rename(folder / "area_vector.exr", folder / "area.exr", ec);
+        if (!ec) fs::remove(folder / "coverage.exr", ec);  // the bake's, every frame
+        if (!ec) fs::remove(folder / kManifestFile, ec);
+        if (ec) return makeError(ErrorKind::io, folder.string() + ": " + ec.message());
+        Result<MassProperties> mass =
+            materialMassProperties(frame, desc.material, body.parts.shellDensityMap.get(), label);
+        if (!mass) return mass.error();
+        frameMass.push_back(massJson(*mass));
     }
+    return json{{"frames", frames.size()},
+                {"frames_per_second", desc.framesPerSecond},
+                {"exported", "all frames"},
+                {"frame_folder", "frames/NNN (000 = the first frame)"},
+                {"frame_files", json::array({"position.exr", "area.exr", plimsoll_eval::kSamplesFile})},
+                {"frame_mass_properties", frameMass}};
+}
 
-    // Frames of a deforming body: frames/NNN/ holds position.exr, area.exr and samples.exr
-    // (the texels, coverage and sample order are the bake's in every frame; only points and
-    // area vectors move), and the manifest each frame's mass properties.
-    json deforming = nullptr;
-    if (desc.deforms()) {
-        // A deforming body's frames are regathered from its bake's pieces, as World steps them.
-        const std::vector<TriangleMesh>& frames = *body->parts.frames;
-        json frameMass = json::array();
-        SurfaceTextures frame = *textures;
-        for (std::size_t k = 0; k < frames.size(); ++k) {
-            regatherSurface(*body->pieces, frames[k], frame);
-            char name[24];
-            std::snprintf(name, sizeof name, "%03zu", k);
-            const fs::path folder = staging / "frames" / name;
-            if (Status s = writeBakedTextures(frame, folder, desc.mesh); !s.ok()) return s.error();
-            fs::rename(folder / "area_vector.exr", folder / "area.exr", ec);
-            if (!ec) fs::remove(folder / "coverage.exr", ec);  // the bake's, every frame
-            if (!ec) fs::remove(folder / kManifestFile, ec);
-            if (ec) return makeError(ErrorKind::io, folder.string() + ": " + ec.message());
-            Result<MassProperties> mass = materialMassProperties(
-                frame, desc.material, body->parts.shellDensityMap.get(), label);
-            if (!mass) return mass.error();
-            frameMass.push_back(massJson(*mass));
-        }
-        deforming = {{"frames", frames.size()},
-                     {"frames_per_second", desc.framesPerSecond},
-                     {"exported", "all frames"},
-                     {"frame_folder", "frames/NNN (000 = the first frame)"},
-                     {"frame_files", json::array({"position.exr", "area.exr", plimsoll_eval::kSamplesFile})},
-                     {"frame_mass_properties", frameMass}};
-        say(label + ": deforming: " + std::to_string(frames.size()) + " frames exported");
-    }
+/// The manifest's "sources": each input the project names, with its checksum. A map or graph
+/// the loader made (the caps of an open hull's openings) has no path and no entry.
+struct BundleSources {
+    const Project& project;
+    const std::string& label;
+    json entries = json::object();
 
-    json sources = json::object();
-    // A path the project names; a map or graph the loader made (the caps of an open hull's
-    // openings) has none.
-    auto addSource = [&](const std::string& role, const std::string& path) -> Status {
+    Status add(const std::string& role, const std::string& path) {
         if (path.empty()) return Ok{};
         Result<std::string> sha = sha256OfFile(project.resolvePath(path));
         if (!sha) return withContext(label + ": ", sha.error());
-        sources[role] = {{"path", path}, {"sha256", *sha}};
+        entries[role] = {{"path", path}, {"sha256", *sha}};
         return Ok{};
-    };
-    if (Status s = addSource("mesh", desc.mesh); !s.ok()) return s.error();
+    }
+};
 
-    // Painted maps, re-encoded as 16-bit greyscale PNG (over the baked UVs).
+/// Painted maps, re-encoded as 16-bit greyscale PNG (over the baked UVs). Their manifest
+/// entries, by role.
+Result<json> writePaintedMaps(const BodyDesc& desc, const SceneBody& body, const fs::path& staging,
+                              BundleSources& sources) {
+    const MaterialDesc& m = desc.material;
     json maps = json::object();
     const std::array<std::tuple<const char*, const std::string*, const PaintedMap*>, 3> painted = {
-        std::tuple{"permeability", &desc.permeabilityMap, body->parts.permeabilityMap.get()},
-        std::tuple{"shell_density", &m.shellDensityMap, body->parts.shellDensityMap.get()},
-        std::tuple{"shell_thickness", &m.shellThicknessMap, body->parts.shellThicknessMap.get()}};
+        std::tuple{"permeability", &desc.permeabilityMap, body.parts.permeabilityMap.get()},
+        std::tuple{"shell_density", &m.shellDensityMap, body.parts.shellDensityMap.get()},
+        std::tuple{"shell_thickness", &m.shellThicknessMap, body.parts.shellThicknessMap.get()}};
     for (const auto& [role, path, map] : painted) {
         if (!map) continue;
         const std::string file = std::string(role) + ".png";
         if (Status s = writeBytes(staging / file, encodePaintedMapPng16(*map)); !s.ok())
             return s.error();
-        if (Status s = addSource(std::string(role) + "_map", *path); !s.ok()) return s.error();
+        if (Status s = sources.add(std::string(role) + "_map", *path); !s.ok()) return s.error();
         maps[role] = {{"path", file}, {"width", map->width}, {"height", map->height}};
     }
+    return maps;
+}
 
-    json graphJson = nullptr;
-    if (body->desc.waterGraph) {
-        const WaterGraphDesc& g = *body->desc.waterGraph;
-        const std::shared_ptr<const WaterGraph>& graph = body->parts.waterGraph;
-        if (Status s = writeBytes(staging / plimsoll_eval::kGraphFile, graphToJson(*graph)); !s.ok())
-            return s.error();
-        if (Status s = addSource("water_graph", g.graph); !s.ok()) return s.error();
-        if (Status s = detail::writeExr(staging / plimsoll_eval::kTexelNodesFile, texelNodeImage(*graph, *textures));
-            !s.ok())
-            return s.error();
-        graphJson = {{"path", plimsoll_eval::kGraphFile},
-                     {"texel_nodes", plimsoll_eval::kTexelNodesFile},
-                     {"nodes", graph->nodes.size()},
-                     {"pipes", graph->pipes.size()},
-                     {"total_capacity", graph->totalCapacity()},
-                     {"permeability", g.permeability},
-                     {"inflow", inflowModelName(g.inflow)},
-                     {"inflow_rate", g.inflowRate},
-                     {"discharge_coefficient", g.dischargeCoefficient},
-                     {"flow", flowModelName(g.flow)},
-                     {"diffusion_pressure", g.diffusionPressure},
-                     {"free_surface", g.freeSurface},
-                     {"seed", g.seed}};
-    }
+/// The water graph's JSON and its texel-to-node image; its manifest entry (null without one).
+Result<json> writeWaterGraph(const SceneBody& body, const fs::path& staging, BundleSources& sources) {
+    if (!body.desc.waterGraph) return json(nullptr);
+    const WaterGraphDesc& g = *body.desc.waterGraph;
+    const std::shared_ptr<const WaterGraph>& graph = body.parts.waterGraph;
+    if (Status s = writeBytes(staging / plimsoll_eval::kGraphFile, graphToJson(*graph)); !s.ok())
+        return s.error();
+    if (Status s = sources.add("water_graph", g.graph); !s.ok()) return s.error();
+    if (Status s = detail::writeExr(staging / plimsoll_eval::kTexelNodesFile,
+                                    texelNodeImage(*graph, *body.textures));
+        !s.ok())
+        return s.error();
+    return json{{"path", plimsoll_eval::kGraphFile},
+                {"texel_nodes", plimsoll_eval::kTexelNodesFile},
+                {"nodes", graph->nodes.size()},
+                {"pipes", graph->pipes.size()},
+                {"total_capacity", graph->totalCapacity()},
+                {"permeability", g.permeability},
+                {"inflow", inflowModelName(g.inflow)},
+                {"inflow_rate", g.inflowRate},
+                {"discharge_coefficient", g.dischargeCoefficient},
+                {"flow", flowModelName(g.flow)},
+                {"diffusion_pressure", g.diffusionPressure},
+                {"free_surface", g.freeSurface},
+                {"seed", g.seed}};
+}
 
-    // The mesh as glTF 2.0 over the baked UVs, its node pointing back at this manifest (the
-    // glTF lies in the bundle folder, so the path is the manifest's own name).
-    const std::string gltfStem = bundleFolderName(project, index);
-    {
-        json extras = {{"plimsoll_bundle",
-                        {{"manifest", kManifestFile},
-                         {"format", plimsoll_eval::kBundleFormat},
-                         {"schema_version", kBundleSchemaMajor},
-                         {"schema_minor", kBundleSchemaMinor},
-                         {"body", desc.name},
-                         {"mass", textureMass->mass},
-                         {"texture_size", textures->size},
-                         {"texcoord", "TEXCOORD_0 = the UVs the bundle's textures were baked "
-                                      "over"}}}};
-        const detail::GltfFiles gltf = detail::encodeGltf(
-            mesh, textures->placement, gltfStem + ".bin", desc.name, extras,
-            gltfNodeExtensions(project, desc, exactMass ? *exactMass : *textureMass,
-                               exactMass ? "exact" : "texture", filesUnder(staging)));
-        if (Status s = writeBytes(staging / (gltfStem + ".gltf"), gltf.gltf); !s.ok())
-            return s.error();
-        if (Status s = writeBytes(staging / (gltfStem + ".bin"), gltf.bin); !s.ok())
-            return s.error();
-    }
+/// The mesh as glTF 2.0 over the baked UVs, its node pointing back at this manifest (the glTF
+/// lies in the bundle folder, so the path is the manifest's own name). Its physics carries
+/// the exact mass where there is one, else the texture's.
+Status writeBundleGltf(const Project& project, const BodyDesc& desc, const SceneBody& body,
+                       const fs::path& staging, const std::string& gltfStem,
+                       const std::optional<MassProperties>& exactMass) {
+    const SurfaceTextures& textures = *body.textures;
+    json extras = {{"plimsoll_bundle",
+                    {{"manifest", kManifestFile},
+                     {"format", plimsoll_eval::kBundleFormat},
+                     {"schema_version", kBundleSchemaMajor},
+                     {"schema_minor", kBundleSchemaMinor},
+                     {"body", desc.name},
+                     {"mass", body.mass->mass},
+                     {"texture_size", textures.size},
+                     {"texcoord", "TEXCOORD_0 = the UVs the bundle's textures were baked "
+                                  "over"}}}};
+    const detail::GltfFiles gltf = detail::encodeGltf(
+        *body.parts.mesh, textures.placement, gltfStem + ".bin", desc.name, extras,
+        gltfNodeExtensions(project, desc, exactMass ? *exactMass : *body.mass,
+                           exactMass ? "exact" : "texture", filesUnder(staging)));
+    if (Status s = writeBytes(staging / (gltfStem + ".gltf"), gltf.gltf); !s.ok()) return s;
+    return writeBytes(staging / (gltfStem + ".bin"), gltf.bin);
+}
 
-    BundleReport report;
-    report.body = desc.name;
-    report.textureSize = textures->size;
-    if (body->levelChoice) {
-        report.tolerance = body->levelChoice->tolerance;
-        report.forceError = body->levelChoice->forceError;
-    }
-    report.coveredTexels = textures->distinctTexelCount();
+/// The manifest's "files": every file written so far, with its checksum and size, also
+/// recorded in the report.
+Result<json> listBundleFiles(const fs::path& staging, BundleReport& report) {
     json files = json::array();
     for (const std::string& path : filesUnder(staging)) {
         if (path == kManifestFile) continue;
@@ -485,7 +465,10 @@ Result<BundleReport> buildBundle(const Project& project, std::size_t index, cons
         files.push_back({{"path", file.path}, {"sha256", file.sha256}, {"bytes", file.bytes}});
         report.files.push_back(std::move(file));
     }
+    return files;
+}
 
+json materialJson(const MaterialDesc& m, const json& maps) {
     json material = json::object();
     material["model"] = m.density && m.shellSurfaceDensity ? "solid+shell"
                         : m.density                        ? "solid"
@@ -497,8 +480,21 @@ Result<BundleReport> buildBundle(const Project& project, std::size_t index, cons
                                                                     : json(nullptr);
     material["shell_thickness_map"] = maps.contains("shell_thickness")
                                           ? json("shell_thickness.png") : json(nullptr);
+    return material;
+}
 
-    const SurfaceTextures& t = *textures;
+/// What the manifest gathers besides the body's fixed facts: each part written before it.
+struct BundleParts {
+    json exact, levels, deforming, maps, graph, sources, files;
+    std::string gltfStem, inputHash;
+    std::optional<CompactSamples> compact;
+};
+
+/// The manifest of `desc`'s bundle (the project's description; `body` as loaded and baked).
+json manifestJson(const Project& project, const BodyDesc& desc, const SceneBody& body,
+                  const BundleParts& parts) {
+    // As the World runs it: radiation wherever it was computed, unless turned off.
+    const bool radiates = body.desc.radiates() && body.radiation;
     json manifest = {
         // bake_io.h reads these four: readBakedTextures() loads a bundle's sample list.
         {"schema_version", kBundleSchemaMajor},
@@ -522,39 +518,110 @@ Result<BundleReport> buildBundle(const Project& project, std::size_t index, cons
          "pixel (x, N - 1 - y)"},
         {"atlas",
          {{"mode", atlasModeName(desc.atlas)},
-          {"generated", body->parts.generatedAtlas},
-          {"charts", body->parts.atlasCharts}}},
-        {"deforming", deforming},
-        {"material", material},
-        {"mass_properties", {{"exact", exact}, {"texture", massJson(*textureMass)}}},
+          {"generated", body.parts.generatedAtlas},
+          {"charts", body.parts.atlasCharts}}},
+        {"deforming", parts.deforming},
+        {"material", materialJson(desc.material, parts.maps)},
+        {"mass_properties", {{"exact", parts.exact}, {"texture", massJson(*body.mass)}}},
         {"hydrodynamics",
          {{"drag_coefficient", desc.dragCoefficient},
           {"friction_coefficient", desc.frictionCoefficient},
           {"linear_damping", desc.standInLinearDamping(radiates)},
           {"angular_damping", desc.standInAngularDamping(radiates)}}},
-        {"radiation", radiationJson(*body)},
-        {"levels", levels},
+        {"radiation", radiationJson(body)},
+        {"levels", parts.levels},
         {"world", worldJson(project, desc)},
-        {"painted_maps", maps},
-        {"gltf", gltfStem + ".gltf"},
-        {"water_graph", graphJson},
-        {"sources", sources},
-        {"input_sha256", *inputHash},
-        {"files", files}};
-    manifest.update(textureFactsJson(t));
+        {"painted_maps", parts.maps},
+        {"gltf", parts.gltfStem + ".gltf"},
+        {"water_graph", parts.graph},
+        {"sources", parts.sources},
+        {"input_sha256", parts.inputHash},
+        {"files", parts.files}};
+    manifest.update(textureFactsJson(*body.textures));
     // Written only where it differs from linear_damping (a radiating body's default), so that
     // the manifest of every other body stays as it was.
     if (desc.standInVerticalDamping(radiates) != desc.standInLinearDamping(radiates))
         manifest["hydrodynamics"]["vertical_damping"] = desc.standInVerticalDamping(radiates);
-    if (compact) {
+    if (parts.compact) {
         // Absent in a float32 bundle (every reader's default). Its channels have other names
         // than the float32 list's, so a reader that knows only that list refuses the file.
-        manifest["sample_encoding"] = sampleEncodingJson(*compact);
+        manifest["sample_encoding"] = sampleEncodingJson(*parts.compact);
         manifest["sample_encoding"]["images"] =
             "position.exr, area.exr and coverage.exr hold HALF channels (same meaning); frames/ "
             "stay float32";
     }
-    const std::string text = manifest.dump(2) + "\n";
+    return manifest;
+}
+
+/// Writes the whole bundle of body `index` into `staging` (an empty folder): the images and
+/// sample lists, the levels, a deforming body's frames, the painted maps, the water graph, the
+/// glTF, then the manifest that lists them all.
+Result<BundleReport> buildBundle(const Project& project, std::size_t index, const fs::path& staging,
+                                 const std::function<void(const std::string&)>& log,
+                                 const BundleOptions& options) {
+    const BodyDesc& desc = project.bodies.at(index);
+    const std::string label = bodyLabel(desc);
+    auto say = [&](const std::string& line) {
+        if (log) log(line);
+    };
+    // The body exactly as World simulates it: the same adapter reads and bakes it.
+    Result<SceneBody> body = loadSceneBody(project, index, log);
+    if (!body) return body.error();
+    BundleParts parts;
+    // After loading, which writes the atlas cache the hash covers when it is missing.
+    Result<std::string> inputHash = bundleInputHash(project, index, options);
+    if (!inputHash) return inputHash.error();
+    parts.inputHash = *inputHash;
+    const SurfaceTextures& textures = *body->textures;
+    const std::optional<MassProperties> exactMass =
+        exactMassOf(desc.material, *body->parts.mesh, body->parts);
+    parts.exact = exactMass ? massJson(*exactMass) : json(nullptr);
+
+    if (options.compact) parts.compact = compactSamplesFor(textures);
+    if (Status s = writeBodyImages(textures, staging, desc.mesh, parts.compact); !s.ok())
+        return s.error();
+    parts.levels = nullptr;
+    if (body->levels && body->levels->size() > 1) {
+        Result<json> written = writeLevels(*body->levels, textures, staging, desc.mesh, options.compact);
+        if (!written) return written.error();
+        parts.levels = std::move(*written);
+        say(label + ": " + std::to_string(body->levels->size()) + " levels exported");
+    }
+    parts.deforming = nullptr;
+    if (desc.deforms()) {
+        Result<json> frames = writeDeformingFrames(desc, *body, staging, label);
+        if (!frames) return frames.error();
+        parts.deforming = std::move(*frames);
+        say(label + ": deforming: " + std::to_string(body->parts.frames->size()) + " frames exported");
+    }
+
+    BundleSources sources{project, label};
+    if (Status s = sources.add("mesh", desc.mesh); !s.ok()) return s.error();
+    Result<json> maps = writePaintedMaps(desc, *body, staging, sources);
+    if (!maps) return maps.error();
+    parts.maps = std::move(*maps);
+    Result<json> graph = writeWaterGraph(*body, staging, sources);
+    if (!graph) return graph.error();
+    parts.graph = std::move(*graph);
+    parts.sources = std::move(sources.entries);
+
+    parts.gltfStem = bundleFolderName(project, index);
+    if (Status s = writeBundleGltf(project, desc, *body, staging, parts.gltfStem, exactMass); !s.ok())
+        return s.error();
+
+    BundleReport report;
+    report.body = desc.name;
+    report.textureSize = textures.size;
+    if (body->levelChoice) {
+        report.tolerance = body->levelChoice->tolerance;
+        report.forceError = body->levelChoice->forceError;
+    }
+    report.coveredTexels = textures.distinctTexelCount();
+    Result<json> files = listBundleFiles(staging, report);
+    if (!files) return files.error();
+    parts.files = std::move(*files);
+
+    const std::string text = manifestJson(project, desc, *body, parts).dump(2) + "\n";
     if (Status s = writeBytes(staging / kManifestFile, text); !s.ok()) return s.error();
     report.files.push_back({kManifestFile, sha256Hex(text), text.size()});
     return report;

@@ -172,7 +172,7 @@ struct NodeInflow {
 };
 
 class Bundle;
-struct BundleSource;
+class BundleLoader;
 
 /// A body's water graph as the bundle ships it: compartments (with the water they start with),
 /// pipes, settings and the permeable surface. Part of the shared, immutable Bundle; each body
@@ -198,7 +198,7 @@ public:
 
 private:
     friend class WaterGraph;
-    friend bool loadBundleImpl(const BundleSource&, Bundle&, std::string&, bool);
+    friend class BundleLoader;
     struct Exchange {
         Vec3 position;
         double weight = 0;
@@ -427,7 +427,7 @@ public:
                          const Water& water, const Fluid& fluid, double time = 0.0) const;
 
 private:
-    friend bool loadBundleImpl(const BundleSource&, Bundle&, std::string&, bool);
+    friend class BundleLoader;
     std::string folder_, body_;
     std::uint64_t fileBytes_ = 0;
     int schemaMajor_ = 0, schemaMinor_ = 0, textureSize_ = 0;
