@@ -497,7 +497,8 @@ private:
             return false;
         }
         long long major = 0, minor = 0;
-        if (!r_.integer(m_, "$", "schema_version", major) || !r_.integer(m_, "$", "schema_minor", minor))
+        if (!r_.integer(m_, "$", "schema_version", major) ||
+            !r_.integer(m_, "$", "schema_minor", minor))
             return false;
         b_.schemaMajor_ = static_cast<int>(major);
         b_.schemaMinor_ = static_cast<int>(minor);
@@ -506,7 +507,8 @@ private:
             const std::string version = std::to_string(major) + "." + std::to_string(minor);
             error_ = manifestPath_ + ": bundle schema " + version +
                      (major > kMajor ? " is newer than" : " is older than") + " this reader's " +
-                     std::to_string(kMajor) + ".x: export the bundle again with this version of plimsoll" +
+                     std::to_string(kMajor) +
+                     ".x: export the bundle again with this version of plimsoll" +
                      (major > kMajor ? " or update the runtime" : "");
             return false;
         }
@@ -514,7 +516,8 @@ private:
         decoded_ = {format::kSamplesFile, format::kTexelNodesFile};
         if (const Value* g = m_.find("water_graph"); g && g->isObject()) {
             for (const char* key : {"path", "texel_nodes"}) {
-                if (const Value* v = g->find(key); v && v->isString()) decoded_.push_back(v->string);
+                if (const Value* v = g->find(key); v && v->isString())
+                    decoded_.push_back(v->string);
             }
         }
         if (const Value* maps = m_.find("painted_maps"); maps && maps->isObject()) {
@@ -546,7 +549,8 @@ private:
                 !r_.integer(f, at, "bytes", bytes))
                 return false;
             if (!staysInside(path))
-                return r_.fail(at + ".path", "file path \"" + std::string(path.c_str()) + "\" leaves the bundle");
+                return r_.fail(at + ".path",
+                               "file path \"" + std::string(path.c_str()) + "\" leaves the bundle");
             if (const auto [first, added] = firstListing.emplace(normalPath(path), i); !added)
                 return r_.fail(at + ".path", "\"" + std::string(path.c_str()) +
                                                  "\" is listed twice (also $.files[" +
@@ -574,7 +578,8 @@ private:
             error_ = full + ": SHA-256 " + actual + " does not match the manifest's " + sha;
             return false;
         }
-        if (std::find(decoded_.begin(), decoded_.end(), path) == decoded_.end()) contents_.erase(path);
+        if (std::find(decoded_.begin(), decoded_.end(), path) == decoded_.end())
+            contents_.erase(path);
         return true;
     }
 
@@ -590,8 +595,9 @@ private:
             for (const auto& [role, map] : maps->object) {
                 const Value* path = map.isObject() ? map.find("path") : nullptr;
                 if (path && path->isString() && !staysInside(path->string))
-                    return r_.fail("$.painted_maps." + role + ".path",
-                                   "\"" + std::string(path->string.c_str()) + "\" leaves the bundle");
+                    return r_.fail(
+                        "$.painted_maps." + role + ".path",
+                        "\"" + std::string(path->string.c_str()) + "\" leaves the bundle");
             }
         }
         return true;
@@ -601,7 +607,8 @@ private:
     /// project's world and the radiation model.
     bool readBody() {
         r_.string(m_, "$", "body", b_.body_, false);
-        if (!r_.integer(m_, "$", "texture_size", size_) || !r_.integer(m_, "$", "texel_samples", count_))
+        if (!r_.integer(m_, "$", "texture_size", size_) ||
+            !r_.integer(m_, "$", "texel_samples", count_))
             return false;
         if (size_ < 1 || size_ > kMaxTextureSide)
             return r_.fail("$.texture_size", "out of range 1.." + std::to_string(kMaxTextureSide));
@@ -613,7 +620,8 @@ private:
         const Value* massProps = r_.member(m_, "$", "mass_properties");
         if (!massProps) return false;
         const Value* texture = r_.member(*massProps, "$.mass_properties", "texture");
-        if (!texture || !readMass(r_, *texture, "$.mass_properties.texture", b_.mass_)) return false;
+        if (!texture || !readMass(r_, *texture, "$.mass_properties.texture", b_.mass_))
+            return false;
         if (!readHydrodynamics()) return false;
         // The project's world (1.4): the fluid's density and gravity are the project's.
         if (!readBundleWorld(m_, manifestPath_, b_.world_, error_)) return false;
@@ -694,14 +702,15 @@ private:
     bool readSampleList(const std::string& file, const Value* encoding, const std::string& at,
                         long long size, long long count, std::vector<Sample>& out) {
         static const std::vector<std::string> kChannels = {"x",  "y",  "px", "py",   "pz",
-                                                          "ax", "ay", "az", "area", "coverage"};
+                                                           "ax", "ay", "az", "area", "coverage"};
         static const std::vector<std::string> kCompactChannels(
             std::begin(format::kCompactSampleChannels), std::end(format::kCompactSampleChannels));
         const std::string samplesPath = folder_ + "/" + file;
         bool compact = false;
         Vec3 origin;
         double positionScale = 1, areaScale = 1;
-        if (!readSampleEncoding(encoding, at, compact, origin, positionScale, areaScale)) return false;
+        if (!readSampleEncoding(encoding, at, compact, origin, positionScale, areaScale))
+            return false;
         const std::string* samplesBytes = read(file, kMaxFileBytes);
         if (!samplesBytes) return false;
         int width = 0, height = 0;
@@ -772,7 +781,8 @@ private:
         if (!levels || levels->isNull()) return true;
         const std::string at = "$.levels";
         if (!levels->isArray() || levels->array.size() < 2 || levels->array.size() > kMaxLevels)
-            return r_.fail(at, "expected null or an array of 2.." + std::to_string(kMaxLevels) + " levels");
+            return r_.fail(
+                at, "expected null or an array of 2.." + std::to_string(kMaxLevels) + " levels");
         b_.levels_.clear();
         for (std::size_t k = 0; k < levels->array.size(); ++k) {
             if (!readLevel(levels->array[k], at + "[" + std::to_string(k) + "]",
@@ -787,7 +797,8 @@ private:
         BundleLevel level;
         long long levelSize = 0, levelCount = 0;
         std::string file;
-        if (!r_.integer(v, here, "size", levelSize) || !r_.integer(v, here, "texel_samples", levelCount) ||
+        if (!r_.integer(v, here, "size", levelSize) ||
+            !r_.integer(v, here, "texel_samples", levelCount) ||
             !r_.string(v, here, "samples", file) ||
             !r_.number(v, here, "force_error", level.forceError) ||
             !r_.number(v, here, "torque_error", level.torqueError) ||
@@ -805,12 +816,13 @@ private:
         level.samples = static_cast<std::size_t>(levelCount);
         if (finest) {
             if (file != format::kSamplesFile || level.samples != b_.samples_.size())
-                return r_.fail(here, "the finest level must be samples.exr with texel_samples entries");
+                return r_.fail(here,
+                               "the finest level must be samples.exr with texel_samples entries");
         } else {
             if (!staysInside(file)) return r_.fail(here + ".samples", "the path leaves the bundle");
             auto coarse = std::make_unique<Bundle::CoarseLevel>();
-            if (!readSampleList(file, v.find("sample_encoding"), here + ".sample_encoding", levelSize,
-                                levelCount, coarse->samples))
+            if (!readSampleList(file, v.find("sample_encoding"), here + ".sample_encoding",
+                                levelSize, levelCount, coarse->samples))
                 return false;
             b_.coarse_.push_back(std::move(coarse));
         }
@@ -862,23 +874,27 @@ private:
             return r_.fail(at + ".inflow", "unknown inflow model \"" + inflow + "\"");
         if (flow != "poiseuille" && flow != "diffusion")
             return r_.fail(at + ".flow", "unknown flow model \"" + flow + "\"");
-        if (!(seed >= 0) || !(seed <= 9.0e15)) return r_.fail(at + ".seed", "must be an integer in 0..9e15");
+        if (!(seed >= 0) || !(seed <= 9.0e15))
+            return r_.fail(at + ".seed", "must be an integer in 0..9e15");
         for (const double v : {gs.permeability, gs.inflowRate, gs.dischargeCoefficient, gs.diffusionPressure}) {
             if (!(v >= 0) || !std::isfinite(v))
-                return r_.fail(at, "permeability, inflow_rate, discharge_coefficient and "
-                                   "diffusion_pressure must be finite and >= 0");
+                return r_.fail(at,
+                               "permeability, inflow_rate, discharge_coefficient and "
+                               "diffusion_pressure must be finite and >= 0");
         }
         gs.torricelli = inflow == "torricelli";
         gs.diffusion = flow == "diffusion";
         gs.seed = static_cast<std::uint64_t>(seed);
         if (!staysInside(graphFile))
-            return r_.fail(at + ".path", "\"" + std::string(graphFile.c_str()) + "\" leaves the bundle");
+            return r_.fail(at + ".path",
+                           "\"" + std::string(graphFile.c_str()) + "\" leaves the bundle");
         return true;
     }
 
     /// texel_nodes.exr where the bundle has it (1.1 names the file in water_graph.texel_nodes;
     /// it is also listed in `files`): the node of each texel, 1-based, 0 for none.
-    bool readTexelNodes(const Value& info, std::vector<std::uint32_t>& texelNodes, std::string& file) {
+    bool readTexelNodes(const Value& info, std::vector<std::uint32_t>& texelNodes,
+                        std::string& file) {
         const std::string at = "$.water_graph";
         file = hasTexelNodes_ ? format::kTexelNodesFile : "";
         if (!r_.string(info, at, "texel_nodes", file, false)) return false;
@@ -893,8 +909,8 @@ private:
                          texelNodes, error_))
             return false;
         if (w != size_ || h != size_) {
-            error_ = path + ": " + std::to_string(w) + " x " + std::to_string(h) + ", the texture is " +
-                     std::to_string(size_) + " x " + std::to_string(size_);
+            error_ = path + ": " + std::to_string(w) + " x " + std::to_string(h) +
+                     ", the texture is " + std::to_string(size_) + " x " + std::to_string(size_);
             return false;
         }
         b_.texelNodesFromFile_ = true;
@@ -922,9 +938,9 @@ private:
                 const std::uint32_t x = s.texel % size, y = s.texel / size;
                 const std::uint32_t v = texelNodes[(static_cast<std::size_t>(size) - 1 - y) * size + x];
                 if (v == 0 || v > nodeCount) {
-                    error_ = folder_ + "/" + texelNodesFile + ": texel (" + std::to_string(x) + ", " +
-                             std::to_string(y) + ") is covered but maps to " + std::to_string(v) +
-                             " (expected 1.." + std::to_string(nodeCount) + ")";
+                    error_ = folder_ + "/" + texelNodesFile + ": texel (" + std::to_string(x) +
+                             ", " + std::to_string(y) + ") is covered but maps to " +
+                             std::to_string(v) + " (expected 1.." + std::to_string(nodeCount) + ")";
                     return false;
                 }
                 node = static_cast<int>(v) - 1;
@@ -939,7 +955,8 @@ private:
     /// Permeability per sample: the painted map at the texel centre, as the engine's
     /// sampleAtTexels (bilinear, clamped), times the project's scale. The samples it lets
     /// water through, feeding an unsealed node, are the exchange points.
-    bool readExchangePoints(const GraphLayout& graph, std::vector<GraphLayout::Exchange>& exchange) {
+    bool readExchangePoints(const GraphLayout& graph,
+                            std::vector<GraphLayout::Exchange>& exchange) {
         const Value* maps = m_.find("painted_maps");
         const Value* perm = maps ? maps->find("permeability") : nullptr;
         if (!perm || perm->isNull()) return true;
@@ -961,7 +978,8 @@ private:
             const std::uint32_t texel = b_.samples_[i].texel;
             const double tu = (texel % size_ + 0.5) / n, tv = (texel / size_ + 0.5) / n;
             const double u = (tu - uvOffset_.x) / uvScale_, v = (tv - uvOffset_.y) / uvScale_;
-            const double k = std::clamp(graph.settings_.permeability * bilinear(map, u, v), 0.0, 1.0);
+            const double k =
+                std::clamp(graph.settings_.permeability * bilinear(map, u, v), 0.0, 1.0);
             if (!(k > 0)) continue;
             const int node = graph.sampleNodes_[i];
             if (node < 0 || graph.nodes_[node].sealed) continue;

@@ -307,7 +307,8 @@ std::optional<MassProperties> exactMassOf(const MaterialDesc& m, const TriangleM
     if (!m.shellDensityMap.empty() || !m.shellThicknessMap.empty()) return std::nullopt;
     MassProperties total;
     // An open hull: the solid fills the walls, not the space behind its caps.
-    if (m.density) total = withoutHollow(exactSolidMassProperties(mesh, *m.density), parts.hollow, *m.density);
+    if (m.density)
+        total = withoutHollow(exactSolidMassProperties(mesh, *m.density), parts.hollow, *m.density);
     if (m.shellSurfaceDensity) {
         const MassProperties shell = exactShellMassProperties(mesh, *m.shellSurfaceDensity);
         total = m.density ? total + shell : shell;
@@ -356,12 +357,13 @@ Result<json> writeDeformingFrames(const BodyDesc& desc, const SceneBody& body,
         if (!mass) return mass.error();
         frameMass.push_back(massJson(*mass));
     }
-    return json{{"frames", frames.size()},
-                {"frames_per_second", desc.framesPerSecond},
-                {"exported", "all frames"},
-                {"frame_folder", "frames/NNN (000 = the first frame)"},
-                {"frame_files", json::array({"position.exr", "area.exr", plimsoll_eval::kSamplesFile})},
-                {"frame_mass_properties", frameMass}};
+    return json{
+        {"frames", frames.size()},
+        {"frames_per_second", desc.framesPerSecond},
+        {"exported", "all frames"},
+        {"frame_folder", "frames/NNN (000 = the first frame)"},
+        {"frame_files", json::array({"position.exr", "area.exr", plimsoll_eval::kSamplesFile})},
+        {"frame_mass_properties", frameMass}};
 }
 
 /// The manifest's "sources": each input the project names, with its checksum. A map or graph
@@ -402,7 +404,8 @@ Result<json> writePaintedMaps(const BodyDesc& desc, const SceneBody& body, const
 }
 
 /// The water graph's JSON and its texel-to-node image; its manifest entry (null without one).
-Result<json> writeWaterGraph(const SceneBody& body, const fs::path& staging, BundleSources& sources) {
+Result<json> writeWaterGraph(const SceneBody& body, const fs::path& staging,
+                             BundleSources& sources) {
     if (!body.desc.waterGraph) return json(nullptr);
     const WaterGraphDesc& g = *body.desc.waterGraph;
     const std::shared_ptr<const WaterGraph>& graph = body.parts.waterGraph;
@@ -443,8 +446,9 @@ Status writeBundleGltf(const Project& project, const BodyDesc& desc, const Scene
                      {"body", desc.name},
                      {"mass", body.mass->mass},
                      {"texture_size", textures.size},
-                     {"texcoord", "TEXCOORD_0 = the UVs the bundle's textures were baked "
-                                  "over"}}}};
+                     {"texcoord",
+                      "TEXCOORD_0 = the UVs the bundle's textures were baked "
+                      "over"}}}};
     const detail::GltfFiles gltf = detail::encodeGltf(
         *body.parts.mesh, textures.placement, gltfStem + ".bin", desc.name, extras,
         gltfNodeExtensions(project, desc, exactMass ? *exactMass : *body.mass,
@@ -582,7 +586,8 @@ Result<BundleReport> buildBundle(const Project& project, std::size_t index, cons
         return s.error();
     parts.levels = nullptr;
     if (body->levels && body->levels->size() > 1) {
-        Result<json> written = writeLevels(*body->levels, textures, staging, desc.mesh, options.compact);
+        Result<json> written =
+            writeLevels(*body->levels, textures, staging, desc.mesh, options.compact);
         if (!written) return written.error();
         parts.levels = std::move(*written);
         say(label + ": " + std::to_string(body->levels->size()) + " levels exported");
@@ -592,7 +597,8 @@ Result<BundleReport> buildBundle(const Project& project, std::size_t index, cons
         Result<json> frames = writeDeformingFrames(desc, *body, staging, label);
         if (!frames) return frames.error();
         parts.deforming = std::move(*frames);
-        say(label + ": deforming: " + std::to_string(body->parts.frames->size()) + " frames exported");
+        say(label + ": deforming: " + std::to_string(body->parts.frames->size()) +
+            " frames exported");
     }
 
     BundleSources sources{project, label};
@@ -606,7 +612,8 @@ Result<BundleReport> buildBundle(const Project& project, std::size_t index, cons
     parts.sources = std::move(sources.entries);
 
     parts.gltfStem = bundleFolderName(project, index);
-    if (Status s = writeBundleGltf(project, desc, *body, staging, parts.gltfStem, exactMass); !s.ok())
+    if (Status s = writeBundleGltf(project, desc, *body, staging, parts.gltfStem, exactMass);
+        !s.ok())
         return s.error();
 
     BundleReport report;
