@@ -318,7 +318,7 @@ private:
     std::uint64_t vertices_ = 0;
     std::size_t at_ = 0;
     std::uint64_t line_;  // the file's line (an ASCII body)
-    Error error_;
+    Error error_{"", ErrorKind::format};  ///< the last problem found (fail() sets it)
 };
 
 Result<std::string> readPly(const std::string& file, std::string_view bytes) {

@@ -14,6 +14,7 @@
 #include "plimsoll/repair/physics_solid.h"
 #include "plimsoll/surface/map_transfer.h"
 
+#include <optional>
 #include <sstream>
 
 namespace plimsoll {
@@ -319,17 +320,17 @@ Result<Scene> loadScene(const Project& project, const LogFunction& log,
     scene.simulation = project.simulation;
     // Every body's problems, one after the other, not only the first body's.
     std::string problems;
-    ErrorKind kind = ErrorKind::unspecified;
+    std::optional<ErrorKind> kind;  // the first body's failure's
     for (std::size_t i = 0; i < project.bodies.size(); ++i) {
         Result<SceneBody> body = loadSceneBody(project, i, log, progress);
         if (body) {
             scene.bodies.push_back(std::move(*body));
             continue;
         }
-        if (problems.empty()) kind = body.error().kind;
+        if (!kind) kind = body.error().kind;
         problems += (problems.empty() ? "" : "\n") + body.error().message;
     }
-    if (!problems.empty()) return makeError(kind, problems);
+    if (kind) return makeError(*kind, problems);
     return scene;
 }
 

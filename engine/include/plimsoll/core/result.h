@@ -12,7 +12,6 @@ namespace plimsoll {
 /// What class of failure an Error is: what a caller branches on (retry, fall back, report) and
 /// what tests compare, so that rewording a message never breaks a caller.
 enum class ErrorKind {
-    unspecified,      ///< not yet classified (legacy call sites; to be removed)
     io,               ///< a file or folder could not be opened, read, written or renamed
     format,           ///< bytes that do not parse as the format they claim (mesh, image, JSON)
     schema,           ///< well-formed JSON or data whose content breaks the schema (types, ranges)
@@ -26,7 +25,6 @@ enum class ErrorKind {
 /// The kind's name as messages and JSON print it ("io", "kernel-build", ...).
 constexpr const char* errorKindName(ErrorKind kind) {
     switch (kind) {
-        case ErrorKind::unspecified: return "unspecified";
         case ErrorKind::io: return "io";
         case ErrorKind::format: return "format";
         case ErrorKind::schema: return "schema";
@@ -36,13 +34,15 @@ constexpr const char* errorKindName(ErrorKind kind) {
         case ErrorKind::invalidArgument: return "invalid-argument";
         case ErrorKind::unsupported: return "unsupported";
     }
-    return "unspecified";
+    return "error";
 }
 
-/// What went wrong, in words a user can act on (names the file and the problem), and its kind.
+/// What went wrong, in words a user can act on (names the file and the problem), and its kind:
+/// every error has one.
 struct Error {
+    Error(std::string message, ErrorKind kind) : message(std::move(message)), kind(kind) {}
     std::string message;
-    ErrorKind kind = ErrorKind::unspecified;
+    ErrorKind kind;
 };
 
 template <class T>
@@ -79,8 +79,5 @@ inline Error makeError(ErrorKind kind, std::string message) {
 inline Error withContext(const std::string& context, const Error& error) {
     return Error{context + error.message, error.kind};
 }
-/// Legacy: an Error of unspecified kind. Every call site is being given its kind; new code
-/// names one.
-inline Error makeError(std::string message) { return Error{std::move(message)}; }
 
 }  // namespace plimsoll
