@@ -207,13 +207,8 @@ void brushPresetControls(EditorState& s) {
     }
 }
 
-}  // namespace
-
-void drawBrushPanel(EditorState& s, const Rect& area) {
-    ImGui::SetNextWindowPos(ImVec2(area.x, area.y));
-    ImGui::SetNextWindowSize(ImVec2(area.w, area.h));
-    ImGui::Begin("Tools", nullptr,
-                 ImGuiWindowFlags_NoMove | ImGuiWindowFlags_NoResize | ImGuiWindowFlags_NoCollapse);
+/// The tool and the map it changes.
+void drawToolAndChannel(EditorState& s) {
     int tool = static_cast<int>(s.tool);
     ImGui::RadioButton("Navigate", &tool, static_cast<int>(Tool::Navigate));
     tooltip("Left mouse orbits the view (V)");
@@ -238,7 +233,11 @@ void drawBrushPanel(EditorState& s, const Rect& area) {
     }
     tooltip("The map the tools change: permeability (water flow in), or the shell's density and "
             "thickness scales");
-    brushPresetControls(s);
+}
+
+/// The brush's settings: mode, size, strength, value, falloff, spacing, symmetry, lazy mouse
+/// and which texels it reaches.
+void drawBrushSettings(EditorState& s) {
     int mode = static_cast<int>(s.brush.mode);
     if (ImGui::Combo("Mode", &mode, "paint\0erase\0smooth\0")) s.brush.mode = static_cast<BrushMode>(mode);
     tooltip("Paint toward Value, erase toward 0 (E), or smooth toward the mean under the brush (S)");
@@ -302,7 +301,10 @@ void drawBrushPanel(EditorState& s, const Rect& area) {
     ImGui::Checkbox("Occlusion", &s.brush.occlusion);
     tooltip("Texels hidden from the view behind other parts of the body get no paint (a deck "
             "under a superstructure, the inside of a hull seen through an opening)");
-    alphaControls(s);
+}
+
+/// Whole-map commands: fill all, a new blank map (asking before replacing one), resize.
+void drawMapCommands(EditorState& s) {
     const bool hasBody = s.selectedBody >= 0 &&
                          static_cast<std::size_t>(s.selectedBody) < s.document->bodyCount();
     if (ImGui::Button("Fill all") && hasBody) {
@@ -353,7 +355,10 @@ void drawBrushPanel(EditorState& s, const Rect& area) {
         tooltip("Keeps the map as it is.");
         ImGui::EndPopup();
     }
+}
 
+/// What the view shows: the hull's overlay, the water, the grid.
+void drawDisplayOptions(EditorState& s) {
     int overlay = static_cast<int>(s.overlay);
     if (ImGui::Combo("Overlay", &overlay,
                      "none\0permeability\0density\0thickness\0coverage\0position (PT)\0area (AVT)\0")) {
@@ -370,6 +375,21 @@ void drawBrushPanel(EditorState& s, const Rect& area) {
     ImGui::SameLine();
     ImGui::Checkbox("Grid", &s.showGrid);
     tooltip("Draw the ground grid and the axes.");
+}
+
+}  // namespace
+
+void drawBrushPanel(EditorState& s, const Rect& area) {
+    ImGui::SetNextWindowPos(ImVec2(area.x, area.y));
+    ImGui::SetNextWindowSize(ImVec2(area.w, area.h));
+    ImGui::Begin("Tools", nullptr,
+                 ImGuiWindowFlags_NoMove | ImGuiWindowFlags_NoResize | ImGuiWindowFlags_NoCollapse);
+    drawToolAndChannel(s);
+    brushPresetControls(s);
+    drawBrushSettings(s);
+    alphaControls(s);
+    drawMapCommands(s);
+    drawDisplayOptions(s);
     ImGui::End();
 }
 

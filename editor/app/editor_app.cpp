@@ -834,24 +834,246 @@ std::chrono::steady_clock::duration displayFramePeriod() {
         std::chrono::duration<double>(1.0 / (refreshRate > 0 ? refreshRate : 60)));
 }
 
-}  // namespace
+/// The scripted and measured runs' side of the window (--frames, --run-seconds, --snapshot,
+/// --screenshot, --state-file, --frame-stats, --texture-size): what is recorded each frame and
+/// reported at the end, kept apart from the frame loop, which an interactive session runs
+/// without any of it.
+class FrameHarness {
+public:
+    explicit FrameHarness(const EditorLaunch& launch) : phases(launch.frameStats), launch_(launch) {}
 
-int runEditorWindow(const EditorLaunch& launch) {
+    FramePhases phases;
+
+    /// --snapshot FRAME:PATH, each FRAME > 0; false (with the message printed) otherwise.
+    bool readSnapshots() {
+        for (const std::string& spec : launch_.snapshots) {
+            const auto colon = spec.find(':');
+            const int at = colon == std::string::npos ? 0 : std::atoi(spec.substr(0, colon).c_str());
+            if (at <= 0) {
+                std::cerr << "error: --snapshot " << spec << ": expected FRAME:PATH, FRAME > 0\n";
+                return false;
+            }
+            snapshots_.emplace_back(at, spec.substr(colon + 1));
+        }
+        return true;
+    }
+
+    /// The run's clock starts as the frame loop does (after start-up).
+    void startClock() { runStart_ = std::chrono::steady_clock::now(); }
+    double elapsed() const {
+        return std::chrono::duration<double>(std::chrono::steady_clock::now() - runStart_).count();
+    }
+    /// --run-seconds, before each frame: true when the run ends now. With --screenshot one more
+    /// frame is drawn (an idle loop may have drawn none lately) and written: finalFrame().
+    bool timeIsUp() {
+        if (launch_.runSeconds <= 0) return false;
+        if (!cpuAtOneSecond_ && elapsed() >= 1.0) cpuAtOneSecond_ = processCpuSeconds();
+        if (elapsed() < launch_.runSeconds) return false;
+        if (launch_.screenshot.empty()) return true;
+        finalFrame_ = true;
+        return false;
+    }
+    bool finalFrame() const { return finalFrame_; }
+    /// An idle wait, cut short where --run-seconds ends first.
+    double idleWait(double wait) const {
+        return launch_.runSeconds > 0 ? std::clamp(launch_.runSeconds - elapsed(), 0.01, wait) : wait;
+    }
+    void frameDrawn() {
+        if (cpuAtOneSecond_) ++framesAfterOneSecond_;
+    }
+    bool lastFrame(int frame) const { return launch_.frames > 0 && frame >= launch_.frames; }
+
+    /// After a frame is drawn, before it is shown: the snapshots due and the screenshot of the
+    /// last frame (of --frames, of the time of --run-seconds, or as the window closes).
+    void capture(EditorState& s, int frame, int fbWidth, int fbHeight, bool windowClosing) {
+        if (frame == kSteadyFrom) cpuAtSteady_ = processCpuSeconds();
+        for (const auto& [at, path] : snapshots_) {
+            if (at != frame) continue;
+            glFinish();
+            screenshotOk_ = writeScreenshot(path, fbWidth, fbHeight) && screenshotOk_;
+            nlohmann::json shot = previewReport(s);
+            shot["frame"] = frame;
+            shot["path"] = path;
+            snapshotReports_.push_back(shot);
+        }
+        const bool lastInteractive = launch_.runSeconds > 0 && (finalFrame_ || windowClosing);
+        if ((lastFrame(frame) || lastInteractive) && !launch_.screenshot.empty()) {
+            glFinish();
+            screenshotOk_ = writeScreenshot(launch_.screenshot, fbWidth, fbHeight);
+        }
+    }
+    /// --state-file: the window's state after each frame, for tests that drive it.
+    void writeState(EditorState& s, int frame) const {
+        if (launch_.stateFile.empty()) return;
+        const std::string line = windowState(s, frame).dump() + "\n";
+        (void)writeFileAtomically(launch_.stateFile, [&](std::ostream& out) {
+            out << line;
+            return static_cast<bool>(out);
+        });
+    }
+
+    /// The frame's time; with --texture-size (or the inspector's), the new size is asked for in
+    /// frame 2 and the frames are timed while it bakes. True when that measurement is over.
+    bool recordFrame(EditorState& s, double ms, int frame) {
+        frameMs_.push_back(ms);
+        if (!rebakeRequested(s)) return false;
+        if (!textureSizeRequested_ && frame == 2) {
+            if (launch_.inspectorTextureSize > 0) (void)s.setTextureSize(0, launch_.inspectorTextureSize);
+            else s.preview->session->requestTextureSize(launch_.textureSize);
+            textureSizeRequested_ = true;
+        } else if (textureSizeRequested_) {
+            // While it bakes, and the frame it was swapped in (or failed) in: that frame's cost
+            // (the new textures taken in) counts too. The frame after shows the new size.
+            ++bakingFrames_;
+            if (ms > bakingFrameMsMax_) {
+                bakingFrameMsMax_ = ms;
+                bakingFrameLongest_ = frameMs_.size() - 1;
+            }
+            if (!rebaking(s)) {
+                arrivalFrameMs_ = ms;
+                return true;
+            }
+        }
+        return false;
+    }
+
+    /// What --run-seconds prints: the interactive loop's cost after its first second and the
+    /// state it ended in.
+    void reportRunSeconds(EditorState& s, const ImGuiIO& io, const std::string& title, int frame) const {
+        nlohmann::json report;
+        report["seconds"] = elapsed();
+        report["frames_after_first_second"] = framesAfterOneSecond_;
+        report["cpu_seconds_after_first_second"] =
+            cpuAtOneSecond_ ? processCpuSeconds() - *cpuAtOneSecond_ : 0.0;
+        report["view"] = viewName(s.camera);
+        report["tool"] = static_cast<int>(s.tool);
+        report["mirror_x"] = s.brush.mirrorX;
+        report["preview_running"] = static_cast<bool>(s.preview->session);
+        report["preview_playing"] = s.preview->session && s.preview->session->playing();
+        report["title"] = title;
+        report["window"] = {io.DisplaySize.x, io.DisplaySize.y};
+        report["viewport"] = {s.viewport.x, s.viewport.y, s.viewport.w, s.viewport.h};
+        report["undo"] = s.document->undoName();
+        report["status"] = s.status;
+        report["last_stroke_points"] = s.lastStrokePoints;
+        report["last_frame"] = windowState(s, frame);
+        if (s.preview->session) report["preview"] = previewReport(s);
+        int steps = 0;  // the history's length (the run is over: undoing costs nothing now)
+        while (s.document->undo()) ++steps;
+        report["undo_steps"] = steps;
+        std::cout << report.dump(2) << std::endl;
+    }
+
+    /// What --frames prints: frame times after the first few (shader compiles, first uploads),
+    /// the snapshots, the phases and the rebake's frames.
+    void reportFrames(EditorState& s, const ImGuiIO& io, const std::string& title, int frame,
+                      const PanelCache& panelCache) {
+        const std::size_t warmUp = std::min<std::size_t>(frameMs_.size() / 4, 10);
+        std::vector<double> steady(frameMs_.begin() + warmUp, frameMs_.end());
+        std::sort(steady.begin(), steady.end());
+        double sum = 0;
+        for (double ms : steady) sum += ms;
+        nlohmann::json report;
+        report["frames"] = frame;
+        report["frame_ms_mean"] = steady.empty() ? 0.0 : sum / steady.size();
+        report["frame_ms_median"] = steady.empty() ? 0.0 : steady[steady.size() / 2];
+        report["first_frame_ms"] = frameMs_.empty() ? 0.0 : frameMs_.front();
+        report["window"] = {io.DisplaySize.x, io.DisplaySize.y};
+        report["viewport"] = {s.viewport.x, s.viewport.y, s.viewport.w, s.viewport.h};
+        report["gl_renderer"] = reinterpret_cast<const char*>(glGetString(GL_RENDERER));
+        report["title"] = title;
+        if (!launch_.screenshot.empty()) report["screenshot"] = launch_.screenshot;
+        if (!snapshotReports_.empty()) report["snapshots"] = snapshotReports_;
+        if (s.preview->session) report["preview"] = previewReport(s);
+        if (launch_.frameStats) {
+            nlohmann::json stats = phases.report(warmUp);
+            if (frame > kSteadyFrom) {
+                stats["cpu_ms_per_frame"] =
+                    1000.0 * (processCpuSeconds() - cpuAtSteady_) / (frame - kSteadyFrom);
+            }
+            stats["scene_frames_drawn"] = s.renderer->framesDrawn();
+            stats["scene_frames_copied"] = s.renderer->framesCopied();
+            stats["panel_frames_kept"] = panelCache.framesKept();
+            stats["panel_frames_copied"] = panelCache.framesCopied();
+            report["frame_stats"] = stats;
+        }
+        if (rebakeRequested(s)) report["rebake"] = rebakeReport(s);
+        std::cout << report.dump(2) << std::endl;
+    }
+
+    bool screenshotOk() const { return screenshotOk_; }
+
+private:
+    /// CPU of every thread (UI, llvmpipe's rasteriser threads, workers) is counted over the
+    /// steady frames, from this one: a figure that a busy machine inflates far less than
+    /// wall-clock frame times.
+    static constexpr int kSteadyFrom = 10;
+
+    /// The preview panel's request needs a running preview; the inspector's works either way.
+    bool rebakeRequested(const EditorState& s) const {
+        return (launch_.textureSize > 0 && s.preview->session) ||
+               (launch_.inspectorTextureSize > 0 && s.document->bodyCount() > 0);
+    }
+    bool rebaking(const EditorState& s) const {
+        return (s.preview->session && s.preview->session->rebuilding()) ||
+               (launch_.inspectorTextureSize > 0 && s.physicsBakes->busy());
+    }
+
+    nlohmann::json rebakeReport(EditorState& s) {
+        nlohmann::json rebake = {
+            {"requested", std::max(launch_.textureSize, launch_.inspectorTextureSize)},
+            {"frames_while_baking", bakingFrames_},
+            {"frame_ms_max_while_baking", bakingFrameMsMax_},
+            {"frame_ms_arrival", arrivalFrameMs_},
+            {"longest_frame", static_cast<int>(bakingFrameLongest_) + 1}};
+        // Where the longest frame's time went (the frame-stats phases of that one frame).
+        if (launch_.frameStats) rebake["longest_frame_phases"] = phases.frame(bakingFrameLongest_);
+        if (s.preview->session) {
+            rebake["texture_size"] = s.preview->session->textureSize();
+            rebake["error"] = s.preview->session->rebuildError();
+        }
+        if (launch_.inspectorTextureSize > 0) {
+            // What the inspector shows: the document's size and the textures baked for it, by
+            // a thread that is not this (the frame loop's) one.
+            const auto baked = s.document->bakedPhysics(0);
+            rebake["document_texture_size"] = s.document->project().bodies[0].textureSize;
+            rebake["document_baked_size"] = baked ? baked->size : 0;
+            rebake["document_error"] = s.physicsBakes->error(0);
+            rebake["baked_on_worker"] = s.physicsBakes->lastWorker(0) != std::thread::id() &&
+                                        s.physicsBakes->lastWorker(0) != std::this_thread::get_id();
+        }
+        return rebake;
+    }
+
+    const EditorLaunch& launch_;
+    std::chrono::steady_clock::time_point runStart_ = std::chrono::steady_clock::now();
+    std::vector<std::pair<int, std::string>> snapshots_;
+    nlohmann::json snapshotReports_ = nlohmann::json::array();
+    bool screenshotOk_ = true;
+    std::vector<double> frameMs_;
+    double cpuAtSteady_ = 0;
+    // --run-seconds: the interactive loop, timed (CPU from one second in, after start-up).
+    std::optional<double> cpuAtOneSecond_;
+    int framesAfterOneSecond_ = 0;
+    bool finalFrame_ = false;
+    // --texture-size: the frames drawn while the new size baked, and the longest of them.
+    bool textureSizeRequested_ = false;
+    int bakingFrames_ = 0;
+    double bakingFrameMsMax_ = 0;
+    std::size_t bakingFrameLongest_ = 0;  ///< its index in frameMs_ (--frame-stats: its phases)
+    double arrivalFrameMs_ = 0;           ///< the frame in which the new size was taken in
+};
+
+/// The window with an OpenGL 4.5 core context and the editor's input callbacks, or null (with
+/// the message printed and GLFW shut down).
+GLFWwindow* openEditorWindow(const EditorLaunch& launch, EditorState& s) {
     glfwSetErrorCallback([](int code, const char* message) {
         std::cerr << "glfw error " << code << ": " << message << "\n";
     });
     if (!glfwInit()) {
         std::cerr << "error: cannot open the editor window (no display?). The headless "
                      "sub-commands work without one: plimsoll --help\n";
-        return 1;
-    }
-    EditorState s;
-    s.settings = Settings::load();
-    s.brush = s.settings.brush;  // the brush as it was last used
-    if (!s.brush.alphaPath.empty()) {
-        const std::string alpha = s.brush.alphaPath;
-        s.brush.alphaPath.clear();
-        if (Status loaded = loadBrushAlpha(s.brush, alpha); !loaded) s.status = loaded.error().message;
+        return nullptr;
     }
     const int width = launch.width > 0 ? launch.width : s.settings.windowWidth;
     const int height = launch.height > 0 ? launch.height : s.settings.windowHeight;
@@ -863,17 +1085,10 @@ int runEditorWindow(const EditorLaunch& launch) {
     if (!window) {
         std::cerr << "error: cannot create an OpenGL 4.5 core window\n";
         glfwTerminate();
-        return 1;
+        return nullptr;
     }
     glfwMakeContextCurrent(window);
     glfwSwapInterval(launch.frames > 0 ? 0 : 1);
-    // Interactive frames are paced to the displays (displayFramePeriod). Where the swap does not
-    // wait for the display (a virtual or remote display, llvmpipe under Xvfb, vsync turned off
-    // in the driver) an animating view redrew as fast as the processor allowed: the ball's live
-    // preview under Xvfb drew 217 frames a second on 1.4 cores, taken from the bakes and the
-    // physics for frames no display shows. With vsync the swap has already waited and the
-    // pacing sleeps nothing. Scripted runs (--frames) are not paced.
-    const std::chrono::steady_clock::duration framePeriod = displayFramePeriod();
     glfwSetWindowUserPointer(window, &s);
     glfwSetDropCallback(window, onDrop);
     glfwSetWindowCloseCallback(window, onClose);
@@ -889,23 +1104,27 @@ int runEditorWindow(const EditorLaunch& launch) {
 
     IMGUI_CHECKVERSION();
     ImGui::CreateContext();
-    ImGuiIO& io = ImGui::GetIO();
-    io.IniFilename = nullptr;  // the layout is fixed; settings.json holds what persists
+    ImGui::GetIO().IniFilename = nullptr;  // the layout is fixed; settings.json holds what persists
     ImGui::StyleColorsDark();
     ImGui_ImplGlfw_InitForOpenGL(window, true);
     ImGui_ImplOpenGL3_Init("#version 450 core");
+    return window;
+}
 
+/// The settings, the brush as it was last used, the renderer, the project (or the offer to
+/// recover an unsaved session), the launch's view and overlay, and the preview when asked for.
+/// False with the message printed where the run cannot go on.
+bool startSession(const EditorLaunch& launch, EditorState& s) {
     Result<std::unique_ptr<Renderer>> renderer = Renderer::create();
     if (!renderer) {
         std::cerr << "error: " << renderer.error().message << "\n";
-        return 1;
+        return false;
     }
     s.renderer = std::move(renderer).value();
     s.renderer->warmUpOnFirstDraw();  // the first frame pays the kept scene's start-up cost
-    auto panelCache = std::make_unique<PanelCache>();
     if (!s.open(launch.project)) {
         std::cerr << "error: " << s.status << "\n";
-        if (!launch.project.empty()) return 1;
+        if (!launch.project.empty()) return false;
     }
     if (launch.project.empty()) {
         // Started with nothing to open: an autosave of the untitled document, or of the most
@@ -926,85 +1145,214 @@ int runEditorWindow(const EditorLaunch& launch) {
     s.lastAutosave = glfwGetTime();
     s.preview = std::make_shared<PreviewUi>();
     s.preview->fixedStep = launch.frames > 0;
-    std::vector<std::pair<int, std::string>> snapshots;
-    for (const std::string& spec : launch.snapshots) {
-        const auto colon = spec.find(':');
-        const int at = colon == std::string::npos ? 0 : std::atoi(spec.substr(0, colon).c_str());
-        if (at <= 0) {
-            std::cerr << "error: --snapshot " << spec << ": expected FRAME:PATH, FRAME > 0\n";
-            return 1;
-        }
-        snapshots.emplace_back(at, spec.substr(colon + 1));
+    return true;
+}
+
+/// One frame's interface, up to ImGui::Render: the menu bar, the 3D view on the left, tools /
+/// layers / inspector / UV view in the column on the right, the floating panels and the status
+/// line at the bottom; then input, the preview's step, dialogs, the stroke and the overlays.
+WindowLayout buildFrameUi(EditorState& s, GLFWwindow* window, FramePhases& phases) {
+    ImGuiIO& io = ImGui::GetIO();
+    tooltipShownThisFrame().clear();
+    handleDrops(s);
+    s.pollPhysicsBakes();
+    ImGui_ImplOpenGL3_NewFrame();
+    ImGui_ImplGlfw_NewFrame();
+    const std::vector<int> tapped = holdTappedKeys(s);
+    ImGui::NewFrame();
+
+    drawMenus(s);
+    const ImVec2 display = io.DisplaySize;
+    const float menu = ImGui::GetFrameHeight();
+    const float status = ImGui::GetFrameHeight() + 4;
+    // Shares of the column, not pixels: a window that shrinks and grows gets its panels back.
+    const WindowLayout layout = windowLayout(s.settings.layout, display.x, display.y, menu, status);
+    auto rect = [](const PanelRect& r) { return Rect{r.x, r.y, r.w, r.h}; };
+    s.viewport = rect(layout.view);
+    // No border on the column's panels (their title bars and the splitters part them): a
+    // border's anti-aliased edge reaches a pixel past the panel, into the 3D view, which the
+    // kept panels (PanelCache) cannot hold.
+    ImGui::PushStyleVar(ImGuiStyleVar_WindowBorderSize, 0.0f);
+    drawBrushPanel(s, rect(layout.panels[0]));
+    drawLayersPanel(s, rect(layout.panels[1]));
+    drawInspectorPanel(s, rect(layout.panels[2]));
+    drawUvPanel(s, rect(layout.panels[3]));
+    ImGui::PopStyleVar();
+    drawSplitters(s, layout);
+    drawPreviewPanel(s);
+    drawPlotPanels(s);
+    drawGraphPanel(s);
+    drawHydrostaticsPanel(s);
+    drawHistoryPanel(s);
+    ImGui::SetNextWindowPos(ImVec2(0, display.y - status));
+    ImGui::SetNextWindowSize(ImVec2(display.x, status));
+    ImGui::Begin("##status", nullptr,
+                 ImGuiWindowFlags_NoDecoration | ImGuiWindowFlags_NoMove |
+                     ImGuiWindowFlags_NoSavedSettings);
+    ImGui::Text("%s   |   %s", s.document->title().c_str(), s.status.c_str());
+    ImGui::End();
+    handleShortcuts(s);
+    if (graphEditsInView(s) || !previewInput(s)) viewportInput(s);
+    drawViewportOverlay(s);
+    phases.mark(FramePhases::Ui);
+    updatePreview(s, io.DeltaTime);
+    phases.mark(FramePhases::Preview);
+    drawPreviewOverlay(s);
+    drawDialogs(s, window);
+    if (s.requestQuit && !s.document->dirty()) glfwSetWindowShouldClose(window, GLFW_TRUE);
+    if (s.requestQuit && s.document->dirty() && !ImGui::IsPopupOpen("Unsaved changes")) {
+        s.confirmDiscardOpen = true;
     }
+    updateStroke(s);
+    uploadOverlays(s);
+    if (s.animateWater) s.waterTime += io.DeltaTime;
+
+    ImGui::Render();
+    releaseTappedKeys(s, tapped);
+    phases.mark(FramePhases::Ui);
+    return layout;
+}
+
+/// Draws the 3D view and then the column's panels into the framebuffer, whose size it returns.
+std::pair<int, int> renderFrame(EditorState& s, GLFWwindow* window, const WindowLayout& layout,
+                                PanelCache& panelCache, FramePhases& phases) {
+    ImGuiIO& io = ImGui::GetIO();
+    int fbWidth = 0, fbHeight = 0;
+    glfwGetFramebufferSize(window, &fbWidth, &fbHeight);
+    const float scale = io.DisplaySize.x > 0 ? fbWidth / io.DisplaySize.x : 1.0f;
+    glViewport(0, 0, fbWidth, fbHeight);
+    // The whole window in the 3D view's background (the panels cover the rest): the renderer
+    // then need not clear its rectangle again, and clears depth only in a frame in which it
+    // draws the scene (a copied scene needs none).
+    RenderScene scene = sceneOf(s);
+    const int vw = static_cast<int>(s.viewport.w * scale), vh = static_cast<int>(s.viewport.h * scale);
+    applyPreviewToScene(s, scene);
+    addPhysicsSolidsToScene(s, scene);
+    const Eigen::Vector3f clear = s.renderer->clearColour(scene, s.camera, std::max(vw, 1), std::max(vh, 1));
+    glClearColor(clear.x(), clear.y(), clear.z(), 1.0f);
+    glClear(GL_COLOR_BUFFER_BIT);
+    if (vw > 0 && vh > 0) {
+        s.renderer->draw(scene, s.camera, vw, vh, static_cast<int>(s.viewport.x * scale),
+                         fbHeight - static_cast<int>((s.viewport.y + s.viewport.h) * scale),
+                         /*cleared=*/true);
+    }
+    phases.mark(FramePhases::Scene);
+    glViewport(0, 0, fbWidth, fbHeight);
+    // The column's panels from their kept image while they stay the same. The 3D view is drawn
+    // over the whole pixels of its width (vw above), so no pixel the column touches is the
+    // view's.
+    const PanelRect& c = layout.column;
+    const ImTextureID fontAtlas = io.Fonts->TexID;
+    panelCache.render(*ImGui::GetDrawData(), ImVec4(c.x, c.y, c.x + c.w, c.y + c.h),
+                      ImVec4(clear.x(), clear.y(), clear.z(), 1.0f),
+                      [&](ImTextureID texture) -> std::optional<std::uint64_t> {
+                          if (texture == fontAtlas) return 0;  // made once
+                          return s.renderer->textureVersion(
+                              static_cast<unsigned>(reinterpret_cast<std::uintptr_t>(texture)));
+                      });
+    phases.mark(FramePhases::Panels);
+    return {fbWidth, fbHeight};
+}
+
+/// After a frame: the window's title, and the autosave when it is due.
+void afterFrame(EditorState& s, GLFWwindow* window, std::string& title) {
+    const std::string wanted = windowTitle(s);
+    if (wanted != title) {
+        title = wanted;
+        glfwSetWindowTitle(window, title.c_str());
+    }
+    if (s.document->dirty() && glfwGetTime() - s.lastAutosave > s.settings.autosaveSeconds) {
+        Status saved = s.document->autosave();
+        s.status = saved ? "Autosaved to " + s.document->autosavePath().string()
+                         : "Autosave failed: " + saved.error().message;
+        s.lastAutosave = glfwGetTime();
+    }
+}
+
+/// Idle, the editor sleeps until an event (or the autosave's next look): nothing moves, so
+/// nothing needs drawing. A few frames follow each event, for ImGui to settle (hover, popups
+/// opening the frame after a click). False: woken with nothing to draw.
+bool waitForFrame(EditorState& s, const EditorLaunch& launch, const FrameHarness& harness,
+                  int awakeFrames, std::uint64_t eventsSeen) {
+    const bool idle = launch.frames == 0 && awakeFrames == 0 && !animating(s) && !harness.finalFrame();
+    if (!idle) {
+        glfwPollEvents();
+        return true;
+    }
+    // A new texture size baking: its progress bar moves four times a second.
+    glfwWaitEventsTimeout(
+        harness.idleWait(s.physicsBakes->resizing() ? kBakeProgressSeconds : kIdleWakeSeconds));
+    // Woken by the timeout alone: nothing to draw unless the autosave is due, a bake has
+    // finished or one shows its progress.
+    const bool autosaveDue =
+        s.document->dirty() && glfwGetTime() - s.lastAutosave > s.settings.autosaveSeconds;
+    const bool bakeNews = s.physicsBakes->finishedWaiting() || s.physicsBakes->resizing();
+    return s.inputEvents != eventsSeen || autosaveDue || bakeNews || animating(s);
+}
+
+/// A clean close of an interactive session: the autosave retired (unsaved changes were saved or
+/// discarded), the window's size and the brush kept for the next.
+void saveSessionSettings(EditorState& s, GLFWwindow* window) {
+    if (!s.document->dirty()) s.document->discardAutosave();
+    int w = 0, h = 0;
+    glfwGetWindowSize(window, &w, &h);
+    s.settings.windowWidth = w;
+    s.settings.windowHeight = h;
+    s.settings.brush = s.brush;
+    (void)s.settings.save();
+}
+
+/// Releases the GL objects while the context is current, then ImGui, the window and GLFW.
+void closeEditorWindow(EditorState& s, GLFWwindow* window, std::unique_ptr<PanelCache>& panelCache) {
+    glfwSetWindowUserPointer(window, nullptr);
+    s.preview.reset();
+    releaseGraphPanel(s);
+    s.renderer.reset();
+    panelCache.reset();
+    ImGui_ImplOpenGL3_Shutdown();
+    ImGui_ImplGlfw_Shutdown();
+    ImGui::DestroyContext();
+    glfwDestroyWindow(window);
+    glfwTerminate();
+}
+
+}  // namespace
+
+int runEditorWindow(const EditorLaunch& launch) {
+    EditorState s;
+    s.settings = Settings::load();
+    s.brush = s.settings.brush;  // the brush as it was last used
+    if (!s.brush.alphaPath.empty()) {
+        const std::string alpha = s.brush.alphaPath;
+        s.brush.alphaPath.clear();
+        if (Status loaded = loadBrushAlpha(s.brush, alpha); !loaded) s.status = loaded.error().message;
+    }
+    GLFWwindow* window = openEditorWindow(launch, s);
+    if (!window) return 1;
+    // Interactive frames are paced to the displays (displayFramePeriod). Where the swap does not
+    // wait for the display (a virtual or remote display, llvmpipe under Xvfb, vsync turned off
+    // in the driver) an animating view redrew as fast as the processor allowed: the ball's live
+    // preview under Xvfb drew 217 frames a second on 1.4 cores, taken from the bakes and the
+    // physics for frames no display shows. With vsync the swap has already waited and the
+    // pacing sleeps nothing. Scripted runs (--frames) are not paced.
+    const std::chrono::steady_clock::duration framePeriod = displayFramePeriod();
+    auto panelCache = std::make_unique<PanelCache>();
+    FrameHarness harness(launch);
+    if (!startSession(launch, s) || !harness.readSnapshots()) return 1;
     if (launch.preview && !startPreview(s, true)) {
         std::cerr << "error: " << s.status << "\n";
         return 1;
     }
-    nlohmann::json snapshotReports = nlohmann::json::array();
 
-    std::vector<double> frameMs;
-    FramePhases phases(launch.frameStats);
-    // CPU of every thread (UI, llvmpipe's rasteriser threads, workers) over the steady frames:
-    // a figure that a busy machine inflates far less than wall-clock frame times.
-    constexpr int kSteadyFrom = 10;
-    double cpuAtSteady = 0;
-    // --texture-size: the frames drawn while the new size baked, and the longest of them.
-    int bakingFrames = 0;
-    double bakingFrameMsMax = 0;
-    std::size_t bakingFrameLongest = 0;  ///< its index in frameMs (--frame-stats: its phases)
-    double arrivalFrameMs = 0;  ///< the frame in which the new size was taken in
-    bool textureSizeRequested = false;
-    // The preview panel's request needs a running preview; the inspector's works either way.
-    auto rebakeRequested = [&] {
-        return (launch.textureSize > 0 && s.preview->session) ||
-               (launch.inspectorTextureSize > 0 && s.document->bodyCount() > 0);
-    };
-    auto rebaking = [&] {
-        return (s.preview->session && s.preview->session->rebuilding()) ||
-               (launch.inspectorTextureSize > 0 && s.physicsBakes->busy());
-    };
     std::string title;
     int frame = 0;
-    bool screenshotOk = true;
     std::uint64_t eventsSeen = 0;
     int awakeFrames = 0;
-    // --run-seconds: the interactive loop, timed (CPU from one second in, after start-up).
-    const auto runStart = std::chrono::steady_clock::now();
-    std::optional<double> cpuAtOneSecond;
-    int framesAfterOneSecond = 0;
-    // --run-seconds with --screenshot: once the time is up, one more frame is drawn (an idle
-    // loop may have drawn none lately) and written.
-    bool finalFrame = false;
-    auto elapsed = [&] {
-        return std::chrono::duration<double>(std::chrono::steady_clock::now() - runStart).count();
-    };
+    harness.startClock();
     while (!glfwWindowShouldClose(window)) {
-        if (launch.runSeconds > 0) {
-            if (!cpuAtOneSecond && elapsed() >= 1.0) cpuAtOneSecond = processCpuSeconds();
-            if (elapsed() >= launch.runSeconds) {
-                if (launch.screenshot.empty()) break;
-                finalFrame = true;
-            }
-        }
-        // Idle, the editor sleeps until an event (or the autosave's next look): nothing moves,
-        // so nothing needs drawing. A few frames follow each event, for ImGui to settle
-        // (hover, popups opening the frame after a click).
-        const bool idle = launch.frames == 0 && awakeFrames == 0 && !animating(s) && !finalFrame;
-        if (idle) {
-            // A new texture size baking: its progress bar moves four times a second.
-            double wait = s.physicsBakes->resizing() ? kBakeProgressSeconds : kIdleWakeSeconds;
-            if (launch.runSeconds > 0) wait = std::clamp(launch.runSeconds - elapsed(), 0.01, wait);
-            glfwWaitEventsTimeout(wait);
-            // Woken by the timeout alone: nothing to draw unless the autosave is due, a bake
-            // has finished or one shows its progress.
-            const bool autosaveDue = s.document->dirty() &&
-                                     glfwGetTime() - s.lastAutosave > s.settings.autosaveSeconds;
-            const bool bakeNews = s.physicsBakes->finishedWaiting() || s.physicsBakes->resizing();
-            if (s.inputEvents == eventsSeen && !autosaveDue && !bakeNews && !animating(s)) continue;
-        } else {
-            glfwPollEvents();
-        }
-        if (cpuAtOneSecond) ++framesAfterOneSecond;
+        if (harness.timeIsUp()) break;
+        if (!waitForFrame(s, launch, harness, awakeFrames, eventsSeen)) continue;
+        harness.frameDrawn();
         if (s.inputEvents != eventsSeen) {
             eventsSeen = s.inputEvents;
             awakeFrames = kFramesAfterEvent;
@@ -1012,266 +1360,33 @@ int runEditorWindow(const EditorLaunch& launch) {
             --awakeFrames;
         }
         const auto frameStart = std::chrono::steady_clock::now();
-        phases.start(frameStart);
-        tooltipShownThisFrame().clear();
-        handleDrops(s);
-        s.pollPhysicsBakes();
-        ImGui_ImplOpenGL3_NewFrame();
-        ImGui_ImplGlfw_NewFrame();
-        const std::vector<int> tapped = holdTappedKeys(s);
-        ImGui::NewFrame();
-
-        // Layout: menu bar, 3D view on the left, tools / inspector / UV view on the right,
-        // status line at the bottom.
-        drawMenus(s);
-        const ImVec2 display = io.DisplaySize;
-        const float menu = ImGui::GetFrameHeight();
-        const float status = ImGui::GetFrameHeight() + 4;
-        // Shares of the column, not pixels: a window that shrinks and grows gets its panels back.
-        const WindowLayout layout = windowLayout(s.settings.layout, display.x, display.y, menu, status);
-        auto rect = [](const PanelRect& r) { return Rect{r.x, r.y, r.w, r.h}; };
-        s.viewport = rect(layout.view);
-        // No border on the column's panels (their title bars and the splitters part them): a
-        // border's anti-aliased edge reaches a pixel past the panel, into the 3D view, which
-        // the kept panels (PanelCache) cannot hold.
-        ImGui::PushStyleVar(ImGuiStyleVar_WindowBorderSize, 0.0f);
-        drawBrushPanel(s, rect(layout.panels[0]));
-        drawLayersPanel(s, rect(layout.panels[1]));
-        drawInspectorPanel(s, rect(layout.panels[2]));
-        drawUvPanel(s, rect(layout.panels[3]));
-        ImGui::PopStyleVar();
-        drawSplitters(s, layout);
-        drawPreviewPanel(s);
-        drawPlotPanels(s);
-        drawGraphPanel(s);
-        drawHydrostaticsPanel(s);
-        drawHistoryPanel(s);
-        ImGui::SetNextWindowPos(ImVec2(0, display.y - status));
-        ImGui::SetNextWindowSize(ImVec2(display.x, status));
-        ImGui::Begin("##status", nullptr,
-                     ImGuiWindowFlags_NoDecoration | ImGuiWindowFlags_NoMove |
-                         ImGuiWindowFlags_NoSavedSettings);
-        ImGui::Text("%s   |   %s", s.document->title().c_str(), s.status.c_str());
-        ImGui::End();
-        handleShortcuts(s);
-        if (graphEditsInView(s) || !previewInput(s)) viewportInput(s);
-        drawViewportOverlay(s);
-        phases.mark(FramePhases::Ui);
-        updatePreview(s, io.DeltaTime);
-        phases.mark(FramePhases::Preview);
-        drawPreviewOverlay(s);
-        drawDialogs(s, window);
-        if (s.requestQuit && !s.document->dirty()) glfwSetWindowShouldClose(window, GLFW_TRUE);
-        if (s.requestQuit && s.document->dirty() && !ImGui::IsPopupOpen("Unsaved changes")) {
-            s.confirmDiscardOpen = true;
-        }
-        updateStroke(s);
-        uploadOverlays(s);
-        if (s.animateWater) s.waterTime += io.DeltaTime;
-
-        ImGui::Render();
-        releaseTappedKeys(s, tapped);
-        phases.mark(FramePhases::Ui);
-        int fbWidth = 0, fbHeight = 0;
-        glfwGetFramebufferSize(window, &fbWidth, &fbHeight);
-        const float scale = display.x > 0 ? fbWidth / display.x : 1.0f;
-        glViewport(0, 0, fbWidth, fbHeight);
-        // The whole window in the 3D view's background (the panels cover the rest): the
-        // renderer then need not clear its rectangle again, and clears depth only in a frame
-        // in which it draws the scene (a copied scene needs none).
-        RenderScene scene = sceneOf(s);
-        const int vw = static_cast<int>(s.viewport.w * scale), vh = static_cast<int>(s.viewport.h * scale);
-        applyPreviewToScene(s, scene);
-        addPhysicsSolidsToScene(s, scene);
-        const Eigen::Vector3f clear = s.renderer->clearColour(scene, s.camera, std::max(vw, 1), std::max(vh, 1));
-        glClearColor(clear.x(), clear.y(), clear.z(), 1.0f);
-        glClear(GL_COLOR_BUFFER_BIT);
-        if (vw > 0 && vh > 0) {
-            s.renderer->draw(scene, s.camera, vw, vh, static_cast<int>(s.viewport.x * scale),
-                             fbHeight - static_cast<int>((s.viewport.y + s.viewport.h) * scale),
-                             /*cleared=*/true);
-        }
-        phases.mark(FramePhases::Scene);
-        glViewport(0, 0, fbWidth, fbHeight);
-        // The column's panels from their kept image while they stay the same. The 3D view is
-        // drawn over the whole pixels of its width (vw above), so no pixel the column touches
-        // is the view's.
-        const PanelRect& c = layout.column;
-        const ImTextureID fontAtlas = io.Fonts->TexID;
-        panelCache->render(*ImGui::GetDrawData(), ImVec4(c.x, c.y, c.x + c.w, c.y + c.h),
-                           ImVec4(clear.x(), clear.y(), clear.z(), 1.0f),
-                           [&](ImTextureID texture) -> std::optional<std::uint64_t> {
-                               if (texture == fontAtlas) return 0;  // made once
-                               return s.renderer->textureVersion(static_cast<unsigned>(
-                                   reinterpret_cast<std::uintptr_t>(texture)));
-                           });
-        phases.mark(FramePhases::Panels);
+        harness.phases.start(frameStart);
+        const WindowLayout layout = buildFrameUi(s, window, harness.phases);
+        const auto [fbWidth, fbHeight] = renderFrame(s, window, layout, *panelCache, harness.phases);
         ++frame;
-        if (frame == kSteadyFrom) cpuAtSteady = processCpuSeconds();
-        const bool last = launch.frames > 0 && frame >= launch.frames;
-        for (const auto& [at, path] : snapshots) {
-            if (at != frame) continue;
-            glFinish();
-            screenshotOk = writeScreenshot(path, fbWidth, fbHeight) && screenshotOk;
-            nlohmann::json shot = previewReport(s);
-            shot["frame"] = frame;
-            shot["path"] = path;
-            snapshotReports.push_back(shot);
-        }
-        // --run-seconds: the frame drawn when the time is up, or as the window closes (Ctrl+Q).
-        const bool lastInteractive = launch.runSeconds > 0 && (finalFrame || glfwWindowShouldClose(window));
-        if ((last || lastInteractive) && !launch.screenshot.empty()) {
-            glFinish();
-            screenshotOk = writeScreenshot(launch.screenshot, fbWidth, fbHeight);
-        }
+        harness.capture(s, frame, fbWidth, fbHeight, glfwWindowShouldClose(window));
         glfwSwapBuffers(window);
-        phases.mark(FramePhases::Present);
-        if (!launch.stateFile.empty()) {
-            const std::string line = windowState(s, frame).dump() + "\n";
-            (void)writeFileAtomically(launch.stateFile, [&](std::ostream& out) {
-                out << line;
-                return static_cast<bool>(out);
-            });
-        }
-
-        const std::string wanted = windowTitle(s);
-        if (wanted != title) {
-            title = wanted;
-            glfwSetWindowTitle(window, title.c_str());
-        }
-        if (s.document->dirty() && glfwGetTime() - s.lastAutosave > s.settings.autosaveSeconds) {
-            Status saved = s.document->autosave();
-            s.status = saved ? "Autosaved to " + s.document->autosavePath().string()
-                             : "Autosave failed: " + saved.error().message;
-            s.lastAutosave = glfwGetTime();
-        }
-        frameMs.push_back(std::chrono::duration<double, std::milli>(
-                              std::chrono::steady_clock::now() - frameStart)
-                              .count());
-        s.preview->uiFrameMs = frameMs.back();
-        if (rebakeRequested()) {
-            if (!textureSizeRequested && frame == 2) {
-                if (launch.inspectorTextureSize > 0) (void)s.setTextureSize(0, launch.inspectorTextureSize);
-                else s.preview->session->requestTextureSize(launch.textureSize);
-                textureSizeRequested = true;
-            } else if (textureSizeRequested) {
-                // While it bakes, and the frame it was swapped in (or failed) in: that frame's
-                // cost (the new textures taken in) counts too. The frame after shows the new size.
-                ++bakingFrames;
-                if (frameMs.back() > bakingFrameMsMax) {
-                    bakingFrameMsMax = frameMs.back();
-                    bakingFrameLongest = frameMs.size() - 1;
-                }
-                if (!rebaking()) {
-                    arrivalFrameMs = frameMs.back();
-                    break;
-                }
-            }
-        }
-        if (last || finalFrame) break;
-        // After the frame's own time is taken (frameMs): the pacing is no frame's cost.
+        harness.phases.mark(FramePhases::Present);
+        harness.writeState(s, frame);
+        afterFrame(s, window, title);
+        const double ms =
+            std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - frameStart).count();
+        s.preview->uiFrameMs = ms;
+        if (harness.recordFrame(s, ms, frame)) break;
+        if (harness.lastFrame(frame) || harness.finalFrame()) break;
+        // After the frame's own time is taken: the pacing is no frame's cost.
         if (launch.frames == 0) std::this_thread::sleep_until(frameStart + framePeriod);
     }
 
     if (launch.runSeconds > 0) {
-        nlohmann::json report;
-        report["seconds"] = elapsed();
-        report["frames_after_first_second"] = framesAfterOneSecond;
-        report["cpu_seconds_after_first_second"] =
-            cpuAtOneSecond ? processCpuSeconds() - *cpuAtOneSecond : 0.0;
-        report["view"] = viewName(s.camera);
-        report["tool"] = static_cast<int>(s.tool);
-        report["mirror_x"] = s.brush.mirrorX;
-        report["preview_running"] = static_cast<bool>(s.preview->session);
-        report["preview_playing"] = s.preview->session && s.preview->session->playing();
-        report["title"] = title;
-        report["window"] = {io.DisplaySize.x, io.DisplaySize.y};
-        report["viewport"] = {s.viewport.x, s.viewport.y, s.viewport.w, s.viewport.h};
-        report["undo"] = s.document->undoName();
-        report["status"] = s.status;
-        report["last_stroke_points"] = s.lastStrokePoints;
-        report["last_frame"] = windowState(s, frame);
-        if (s.preview->session) report["preview"] = previewReport(s);
-        int steps = 0;  // the history's length (the run is over: undoing costs nothing now)
-        while (s.document->undo()) ++steps;
-        report["undo_steps"] = steps;
-        std::cout << report.dump(2) << std::endl;
+        harness.reportRunSeconds(s, ImGui::GetIO(), title, frame);
     } else if (launch.frames > 0) {
-        // Frame times after the first few (shader compiles, first uploads).
-        std::vector<double> steady(frameMs.begin() + std::min<std::size_t>(frameMs.size() / 4, 10),
-                                   frameMs.end());
-        std::sort(steady.begin(), steady.end());
-        double sum = 0;
-        for (double ms : steady) sum += ms;
-        nlohmann::json report;
-        report["frames"] = frame;
-        report["frame_ms_mean"] = steady.empty() ? 0.0 : sum / steady.size();
-        report["frame_ms_median"] = steady.empty() ? 0.0 : steady[steady.size() / 2];
-        report["first_frame_ms"] = frameMs.empty() ? 0.0 : frameMs.front();
-        report["window"] = {io.DisplaySize.x, io.DisplaySize.y};
-        report["viewport"] = {s.viewport.x, s.viewport.y, s.viewport.w, s.viewport.h};
-        report["gl_renderer"] = reinterpret_cast<const char*>(glGetString(GL_RENDERER));
-        report["title"] = title;
-        if (!launch.screenshot.empty()) report["screenshot"] = launch.screenshot;
-        if (!snapshotReports.empty()) report["snapshots"] = snapshotReports;
-        if (s.preview->session) report["preview"] = previewReport(s);
-        if (launch.frameStats) {
-            nlohmann::json stats = phases.report(std::min<std::size_t>(frameMs.size() / 4, 10));
-            if (frame > kSteadyFrom) {
-                stats["cpu_ms_per_frame"] = 1000.0 * (processCpuSeconds() - cpuAtSteady) / (frame - kSteadyFrom);
-            }
-            stats["scene_frames_drawn"] = s.renderer->framesDrawn();
-            stats["scene_frames_copied"] = s.renderer->framesCopied();
-            stats["panel_frames_kept"] = panelCache->framesKept();
-            stats["panel_frames_copied"] = panelCache->framesCopied();
-            report["frame_stats"] = stats;
-        }
-        if (rebakeRequested()) {
-            nlohmann::json& rebake = report["rebake"];
-            rebake = {{"requested", std::max(launch.textureSize, launch.inspectorTextureSize)},
-                      {"frames_while_baking", bakingFrames},
-                      {"frame_ms_max_while_baking", bakingFrameMsMax},
-                      {"frame_ms_arrival", arrivalFrameMs},
-                      {"longest_frame", static_cast<int>(bakingFrameLongest) + 1}};
-            // Where the longest frame's time went (the frame-stats phases of that one frame).
-            if (launch.frameStats) rebake["longest_frame_phases"] = phases.frame(bakingFrameLongest);
-            if (s.preview->session) {
-                rebake["texture_size"] = s.preview->session->textureSize();
-                rebake["error"] = s.preview->session->rebuildError();
-            }
-            if (launch.inspectorTextureSize > 0) {
-                // What the inspector shows: the document's size and the textures baked for it,
-                // by a thread that is not this (the frame loop's) one.
-                const auto baked = s.document->bakedPhysics(0);
-                rebake["document_texture_size"] = s.document->project().bodies[0].textureSize;
-                rebake["document_baked_size"] = baked ? baked->size : 0;
-                rebake["document_error"] = s.physicsBakes->error(0);
-                rebake["baked_on_worker"] = s.physicsBakes->lastWorker(0) != std::thread::id() &&
-                                            s.physicsBakes->lastWorker(0) != std::this_thread::get_id();
-            }
-        }
-        std::cout << report.dump(2) << std::endl;
+        harness.reportFrames(s, ImGui::GetIO(), title, frame, *panelCache);
     } else {
-        // A clean close retires the autosave (unsaved changes were saved or discarded).
-        if (!s.document->dirty()) s.document->discardAutosave();
-        int w = 0, h = 0;
-        glfwGetWindowSize(window, &w, &h);
-        s.settings.windowWidth = w;
-        s.settings.windowHeight = h;
-        s.settings.brush = s.brush;
-        (void)s.settings.save();
+        saveSessionSettings(s, window);
     }
-    glfwSetWindowUserPointer(window, nullptr);
-    s.preview.reset();
-    releaseGraphPanel(s);
-    s.renderer.reset();
-    panelCache.reset();  // its GL objects go while the context is current
-    ImGui_ImplOpenGL3_Shutdown();
-    ImGui_ImplGlfw_Shutdown();
-    ImGui::DestroyContext();
-    glfwDestroyWindow(window);
-    glfwTerminate();
-    return screenshotOk ? 0 : 1;
+    closeEditorWindow(s, window, panelCache);
+    return harness.screenshotOk() ? 0 : 1;
 }
 
 }  // namespace plimsoll::editor

@@ -426,43 +426,8 @@ void drawSchematic(GraphUi& ui, const WaterGraph& g) {
     }
 }
 
-}  // namespace
-
-void drawGraphPanel(EditorState& s) {
-    GraphUi& ui = uiOf(s);
-    pollAutoGenerate(ui);
-    const std::size_t body = bodyOf(s);
-    const WaterGraph* g = graphOf(s);
-    pruneSelection(ui, g);
-    const ImVec2 display = ImGui::GetIO().DisplaySize;
-    ImGui::SetNextWindowPos(ImVec2(display.x * 0.02f, display.y * 0.08f), ImGuiCond_FirstUseEver);
-    ImGui::SetNextWindowSize(ImVec2(340, 520), ImGuiCond_FirstUseEver);
-    // Collapsed at first: a title bar over the view's corner until someone opens it.
-    ImGui::SetNextWindowCollapsed(true, ImGuiCond_FirstUseEver);
-    ui.panelOpen = ImGui::Begin("Water graph");
-    openWhenTitleClicked();
-    if (!ui.panelOpen) {
-        ImGui::End();
-        return;
-    }
-    if (!s.document || body >= s.document->bodyCount()) {
-        ImGui::TextUnformatted("No body selected.");
-        ImGui::End();
-        return;
-    }
-    ImGui::Text("Body %zu: %s", body, s.document->project().bodies[body].name.c_str());
-    if (!s.document->project().bodies[body].waterGraph) {
-        ImGui::TextWrapped("This body has no water graph: it is sealed.");
-        if (ImGui::Button("Create water graph")) s.execute(makeCreateGraphCommand(*s.document, body));
-        tooltip("Gives the body an empty water graph: add nodes by hand or auto-generate them below.");
-        ImGui::End();
-        return;
-    }
-    if (!g) {
-        ImGui::TextWrapped("Graph not loaded: %s", s.document->assets(body).graph.error.c_str());
-        ImGui::End();
-        return;
-    }
+/// How the graph shows and is edited in the 3D view.
+void drawGraphViewOptions(GraphUi& ui) {
     ImGui::Checkbox("Edit in view", &ui.editInView);
     tooltip("Click nodes in the 3D view to select them and drag to move them; painting pauses.");
     ImGui::SameLine();
@@ -482,7 +447,11 @@ void drawGraphPanel(EditorState& s) {
     ImGui::TextDisabled("hold X / Y / Z while dragging: along that axis");
     ImGui::PopTextWrapPos();
 
-    // Buttons: each one command.
+}
+
+/// The edit buttons, each one command: add, duplicate, delete, connect, disconnect, open/close.
+void drawGraphEditButtons(EditorState& s, GraphUi& ui, std::size_t body, const WaterGraph& graph) {
+    const WaterGraph* g = &graph;
     const std::vector<std::string> ids = selectedIds(ui, *g);
     const bool addNode = ImGui::Button("Add node");
     tooltip("A new node at the middle of the body's bounds.");
@@ -541,13 +510,12 @@ void drawGraphPanel(EditorState& s) {
         s.execute(makeSetPipeCommand(*s.document, body, pair.first, pair.second, e));
     }
     ImGui::EndDisabled();
-    g = graphOf(s);  // the buttons may have changed it
-    pruneSelection(ui, g);
-    if (!g) {
-        ImGui::End();
-        return;
-    }
+}
 
+/// The graph's totals, its problems, the list of nodes and pipes (click to select), the
+/// schematic and the inspector of what is selected.
+void drawGraphContents(EditorState& s, GraphUi& ui, std::size_t body, const WaterGraph& graph) {
+    const WaterGraph* g = &graph;
     ImGui::Separator();
     ImGui::TextWrapped("%zu nodes, %zu pipes, capacity %.4g m^3, water %.4g m^3", g->nodes.size(),
                 g->pipes.size(), g->totalCapacity(), g->totalWater());
@@ -593,6 +561,10 @@ void drawGraphPanel(EditorState& s) {
         pipeInspector(s, *g, g->pipes[findPipe(*g, ui.selectedPipe->first, ui.selectedPipe->second)]);
     }
 
+}
+
+/// Auto-generate: segments the mesh on a worker, previews the graph, applies it as one step.
+void drawGraphAutoGenerate(EditorState& s, GraphUi& ui) {
     ImGui::Separator();
     ImGui::TextUnformatted("Auto-generate (paper 4.1: SDF segments)");
     ImGui::InputInt("segments", &ui.segments);
@@ -626,6 +598,55 @@ void drawGraphPanel(EditorState& s) {
         }
     }
     if (!ui.autoError.empty()) ImGui::TextColored(ImVec4(1, 0.4f, 0.4f, 1), "%s", ui.autoError.c_str());
+}
+
+}  // namespace
+
+void drawGraphPanel(EditorState& s) {
+    GraphUi& ui = uiOf(s);
+    pollAutoGenerate(ui);
+    const std::size_t body = bodyOf(s);
+    const WaterGraph* g = graphOf(s);
+    pruneSelection(ui, g);
+    const ImVec2 display = ImGui::GetIO().DisplaySize;
+    ImGui::SetNextWindowPos(ImVec2(display.x * 0.02f, display.y * 0.08f), ImGuiCond_FirstUseEver);
+    ImGui::SetNextWindowSize(ImVec2(340, 520), ImGuiCond_FirstUseEver);
+    // Collapsed at first: a title bar over the view's corner until someone opens it.
+    ImGui::SetNextWindowCollapsed(true, ImGuiCond_FirstUseEver);
+    ui.panelOpen = ImGui::Begin("Water graph");
+    openWhenTitleClicked();
+    if (!ui.panelOpen) {
+        ImGui::End();
+        return;
+    }
+    if (!s.document || body >= s.document->bodyCount()) {
+        ImGui::TextUnformatted("No body selected.");
+        ImGui::End();
+        return;
+    }
+    ImGui::Text("Body %zu: %s", body, s.document->project().bodies[body].name.c_str());
+    if (!s.document->project().bodies[body].waterGraph) {
+        ImGui::TextWrapped("This body has no water graph: it is sealed.");
+        if (ImGui::Button("Create water graph")) s.execute(makeCreateGraphCommand(*s.document, body));
+        tooltip("Gives the body an empty water graph: add nodes by hand or auto-generate them below.");
+        ImGui::End();
+        return;
+    }
+    if (!g) {
+        ImGui::TextWrapped("Graph not loaded: %s", s.document->assets(body).graph.error.c_str());
+        ImGui::End();
+        return;
+    }
+    drawGraphViewOptions(ui);
+    drawGraphEditButtons(s, ui, body, *g);
+    g = graphOf(s);  // the buttons may have changed it
+    pruneSelection(ui, g);
+    if (!g) {
+        ImGui::End();
+        return;
+    }
+    drawGraphContents(s, ui, body, *g);
+    drawGraphAutoGenerate(s, ui);
     ImGui::End();
 }
 

@@ -57,27 +57,10 @@ bool renameField(EditorState& s, int i, const LayerStack& stack) {
     return false;
 }
 
-}  // namespace
-
-void drawLayersPanel(EditorState& s, const Rect& area) {
-    ImGui::SetNextWindowPos(ImVec2(area.x, area.y));
-    ImGui::SetNextWindowSize(ImVec2(area.w, area.h));
-    ImGui::Begin("Layers", nullptr,
-                 ImGuiWindowFlags_NoMove | ImGuiWindowFlags_NoResize | ImGuiWindowFlags_NoCollapse);
-    const bool hasBody = s.selectedBody >= 0 &&
-                         static_cast<std::size_t>(s.selectedBody) < s.document->bodyCount();
-    const std::size_t body = hasBody ? static_cast<std::size_t>(s.selectedBody) : 0;
-    if (!hasBody || !s.document->map(body, s.channel)) {
-        ImGui::TextWrapped("No %s map on this body yet: paint on it, or use \"New map\".",
-                           channelName(s.channel));
-        ImGui::End();
-        return;
-    }
-    const LayerStack* stack = s.document->layers(body, s.channel);
-    const int count = stack ? static_cast<int>(stack->layers.size()) : 1;
-    if (s.activeLayer >= count || s.activeLayer < 0) s.activeLayer = count - 1;
+/// The stack's buttons: add a paint or fill layer above the active one, delete it, move it up
+/// or down; each one command.
+void drawLayerButtons(EditorState& s, std::size_t body, const LayerStack* stack, int count) {
     const int active = s.activeLayer;
-
     if (ImGui::Button("+ Paint")) {
         if (s.execute(makeAddLayerCommand(*s.document, body, s.channel, LayerKind::Paint, "", 1.0,
                                           active + 1))) {
@@ -122,23 +105,17 @@ void drawLayersPanel(EditorState& s, const Rect& area) {
     tooltip("Moves the active layer down, under the one below it.");
     ImGui::EndDisabled();
 
-    if (!stack) {
-        ImGui::TextDisabled("Base (the map; add a layer to stack more)");
-        ImGui::End();
-        return;
-    }
-    // The list, top first.
-    const MapLayer& activeLayer = stack->layers[static_cast<std::size_t>(active)];
-    const float settingRows = activeLayer.kind == LayerKind::Fill ? 3.0f : 2.0f;
-    const float listHeight = std::max(40.0f, ImGui::GetContentRegionAvail().y -
-                                                 settingRows * ImGui::GetFrameHeightWithSpacing());
-    ImGui::BeginChild("##layers", ImVec2(0, listHeight), true);
+}
+
+/// The list, top first: visibility, the active layer, rename in place. True when a rename was
+/// confirmed this frame (carried out by the caller, after everything that reads the stack).
+bool drawLayerList(EditorState& s, std::size_t body, const LayerStack& stack, int count, int active) {
     // A rename ends with its map (another body or channel) or its layer (an undo took it).
     LayerRename& rename = s.layerRename;
     if (rename.layer >= count || rename.body != body || rename.channel != s.channel) rename = {};
     bool renameNow = false;
     for (int i = count - 1; i >= 0; --i) {
-        const MapLayer& layer = stack->layers[static_cast<std::size_t>(i)];
+        const MapLayer& layer = stack.layers[static_cast<std::size_t>(i)];
         ImGui::PushID(i);
         bool visible = layer.visible;
         if (ImGui::Checkbox("##visible", &visible)) {
@@ -153,7 +130,7 @@ void drawLayersPanel(EditorState& s, const Rect& area) {
                                   std::to_string(static_cast<int>(layer.opacity * 100 + 0.5f)) + "%" +
                                   (layer.mask ? ", mask" : "") + ")";
         if (rename.layer == i) {
-            if (renameField(s, i, *stack)) renameNow = true;
+            if (renameField(s, i, stack)) renameNow = true;
             ImGui::PopID();
             continue;
         }
@@ -172,13 +149,15 @@ void drawLayersPanel(EditorState& s, const Rect& area) {
         }
         ImGui::PopID();
     }
-    ImGui::EndChild();
+    return renameNow;
+}
 
-    // The active layer's settings.
-    const MapLayer& layer = activeLayer;
+/// The active layer's settings: blend mode, opacity, a fill's value and its mask.
+void drawActiveLayerSettings(EditorState& s, std::size_t body, const MapLayer& layer, int active,
+                             float width) {
     static_assert(kBlendModeCount == 7);
     int blend = static_cast<int>(layer.blend);
-    ImGui::SetNextItemWidth(area.w * 0.3f);
+    ImGui::SetNextItemWidth(width * 0.3f);
     // Picking the mode the layer already has changes nothing: no step in the history.
     if (ImGui::Combo("Blend", &blend, "normal\0multiply\0add\0subtract\0screen\0lighten\0darken\0") &&
         blend != static_cast<int>(layer.blend)) {
@@ -194,7 +173,7 @@ void drawLayersPanel(EditorState& s, const Rect& area) {
     auto slider = [&](const char* label, const char* help, const char* format, float current, bool& isHeld,
                       float& heldValue, std::optional<double> LayerEdit::*field) {
         float value = isHeld ? heldValue : current;
-        ImGui::SetNextItemWidth(area.w * 0.3f);
+        ImGui::SetNextItemWidth(width * 0.3f);
         ImGui::SliderFloat(label, &value, 0.0f, 1.0f, format);
         tooltip(help);
         isHeld = ImGui::IsItemActive();
@@ -228,7 +207,44 @@ void drawLayersPanel(EditorState& s, const Rect& area) {
         }
         tooltip("Removes the mask: the whole layer shows again.");
     }
-    // Last: the rename replaces the stack that `layer` and the list read.
+}
+
+}  // namespace
+
+void drawLayersPanel(EditorState& s, const Rect& area) {
+    ImGui::SetNextWindowPos(ImVec2(area.x, area.y));
+    ImGui::SetNextWindowSize(ImVec2(area.w, area.h));
+    ImGui::Begin("Layers", nullptr,
+                 ImGuiWindowFlags_NoMove | ImGuiWindowFlags_NoResize | ImGuiWindowFlags_NoCollapse);
+    const bool hasBody = s.selectedBody >= 0 &&
+                         static_cast<std::size_t>(s.selectedBody) < s.document->bodyCount();
+    const std::size_t body = hasBody ? static_cast<std::size_t>(s.selectedBody) : 0;
+    if (!hasBody || !s.document->map(body, s.channel)) {
+        ImGui::TextWrapped("No %s map on this body yet: paint on it, or use \"New map\".",
+                           channelName(s.channel));
+        ImGui::End();
+        return;
+    }
+    const LayerStack* stack = s.document->layers(body, s.channel);
+    const int count = stack ? static_cast<int>(stack->layers.size()) : 1;
+    if (s.activeLayer >= count || s.activeLayer < 0) s.activeLayer = count - 1;
+    const int active = s.activeLayer;
+    drawLayerButtons(s, body, stack, count);
+    if (!stack) {
+        ImGui::TextDisabled("Base (the map; add a layer to stack more)");
+        ImGui::End();
+        return;
+    }
+    const MapLayer& activeLayer = stack->layers[static_cast<std::size_t>(active)];
+    const float settingRows = activeLayer.kind == LayerKind::Fill ? 3.0f : 2.0f;
+    const float listHeight = std::max(40.0f, ImGui::GetContentRegionAvail().y -
+                                                 settingRows * ImGui::GetFrameHeightWithSpacing());
+    ImGui::BeginChild("##layers", ImVec2(0, listHeight), true);
+    const bool renameNow = drawLayerList(s, body, *stack, count, active);
+    ImGui::EndChild();
+    drawActiveLayerSettings(s, body, activeLayer, active, area.w);
+    // Last: the rename replaces the stack that `activeLayer` and the list read.
+    LayerRename& rename = s.layerRename;
     if (renameNow) {
         // A refused name leaves the field open (the status line says why) to be corrected.
         if (s.execute(

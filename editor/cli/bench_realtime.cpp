@@ -393,172 +393,221 @@ int writeRealtimeOutputs(const RealtimeBenchOptions& o, const std::vector<Realti
     return kExitOk;
 }
 
-}  // namespace
+/// One run of the real-time table: each case's bakes, and per scenario the rows of the mesh
+/// clips, of every method at every size, and of the batches.
+class RealtimeRun {
+public:
+    explicit RealtimeRun(const RealtimeBenchOptions& o)
+        : o_(o),
+          frames_(o.frames > 0 ? o.frames : o.quick ? 30 : 200),
+          allSizes_(o.quick ? std::vector<int>{32, 64, 128}
+                            : std::vector<int>{32, 64, 128, 256, 512, 1024, 2048}),
+          sizes_(o.sizes.empty() ? allSizes_ : o.sizes),
+          methods_(realtimeMethods()) {
+        // The waves' truth: the reference at the largest size of the unfiltered run, so that a
+        // narrowed run reports the same errors.
+        for (int size : allSizes_)
+            if (size <= kReferenceMaxSize) truthSize_ = std::max(truthSize_, size);
+    }
 
-int runRealtimeBench(const RealtimeBenchOptions& o) {
-    const int frames = o.frames > 0 ? o.frames : o.quick ? 30 : 200;
-    const std::vector<int> allSizes = o.quick ? std::vector<int>{32, 64, 128}
-                                              : std::vector<int>{32, 64, 128, 256, 512, 1024, 2048};
-    const std::vector<int> sizes = o.sizes.empty() ? allSizes : o.sizes;
-    // The waves' truth: the reference at the largest size of the unfiltered run, so that a
-    // narrowed run reports the same errors.
-    int truthSize = 0;
-    for (int size : allSizes)
-        if (size <= kReferenceMaxSize) truthSize = std::max(truthSize, size);
-    auto bodiesSelected = [&](int n) {
-        return o.bodies.empty() || std::find(o.bodies.begin(), o.bodies.end(), n) != o.bodies.end();
-    };
-    const std::vector<Method> methods = realtimeMethods();
-    const std::vector<Case> cases = realtimeCases(o);
-    auto fail = [](const Error& e) {
-        std::cerr << "error: " << e.message << "\n";
-        return kExitFailure;
-    };
-    std::vector<RealtimeRow> rows;
-    std::vector<Eigen::Vector3d> worldScratch;
-    std::vector<double> depthScratch;
-    for (const Case& c : cases) {
-        std::map<int, SurfaceTextures> baked;
-        std::vector<int> bakedSizes = sizes;
-        bakedSizes.push_back(truthSize);
+    int frames() const { return frames_; }
+    const std::vector<RealtimeRow>& rows() const { return rows_; }
+
+    Status runCase(const Case& c) {
+        baked_.clear();
+        std::vector<int> bakedSizes = sizes_;
+        bakedSizes.push_back(truthSize_);
         bakedSizes.push_back(kRealtimeBatchSize);
         for (int size : bakedSizes) {
-            if (baked.count(size)) continue;
+            if (baked_.count(size)) continue;
             BakeSettings settings;
             settings.size = size;
             Result<SurfaceTextures> t = bakeSurfaceTextures(c.triangles, settings);
-            if (!t) return fail(t.error());
-            baked[size] = std::move(*t);
+            if (!t) return t.error();
+            baked_[size] = std::move(*t);
         }
         for (Scenario s : {Scenario::RestFlat, Scenario::MovingFlat, Scenario::MovingWaves}) {
-            if (!selected(o.scenarios, scenarioKey(s))) continue;
-            const WaterModel water = scenarioWater(s);
-            std::vector<BodyFrame> poses;
-            for (int k = 0; k < kPoses; ++k) poses.push_back(scenarioFrame(s, c.exact.centerOfMass, k));
-            // The truth for the errors (see the file comment).
-            std::vector<Answer> truth;
-            for (const BodyFrame& f : poses) {
-                if (s == Scenario::MovingWaves) {
-                    truth.push_back(answerOf(evaluateBuoyancyReference(baked[truthSize], f, water, {})));
-                } else {
-                    truth.push_back(answerOf(evaluateBuoyancyExact(c.triangles, f, 0.0, {})));
-                }
-            }
-            auto meshRow = [&](const std::string& method, const std::function<Answer(const BodyFrame&)>& run) {
-                if (!bodiesSelected(1) || !selected(o.methods, method, true)) return;
-                RealtimeRow row = makeRow(s, c.mesh, method, 0, 1);
-                std::vector<Answer> got;
-                for (const BodyFrame& f : poses) got.push_back(run(f));
-                row.error = errorOf(got, truth, c);
-                row.usPerBody = timeCalls(frames, [&](int f) { run(poses[f % kPoses]); });
-                row.msPerFrame = row.usPerBody * 1e-3;
-                std::cerr << "bench: " << scenarioName(s) << " " << c.mesh << " " << method << ": "
-                          << row.usPerBody << " us\n";
-                rows.push_back(row);
-            };
-            if (s != Scenario::MovingWaves)
-                meshRow("exact plane clip", [&](const BodyFrame& f) {
-                    return answerOf(evaluateBuoyancyExact(c.triangles, f, 0.0, {}));
-                });
-            meshRow("per-triangle wave clip", [&](const BodyFrame& f) {
-                return clipPerTriangle(c.triangles, f, water, worldScratch, depthScratch);
-            });
-            for (const Method& m : methods) {
-                if (!bodiesSelected(1) || !selected(o.methods, m.label, true)) continue;
-                // Flat water has no grid, and no wave tolerance.
-                if ((m.waveGrid > 0 || m.waveTolerance >= 0) && s != Scenario::MovingWaves) continue;
-                for (int size : sizes) {
-                    if (m.spec == "reference" && size > kReferenceMaxSize) continue;
-                    Result<std::unique_ptr<BuoyancyBackend>> made =
-                        backendFor(m, fastOn(1, m.waveGrid, m.tileSize));
-                    if (!made) return fail(made.error());
-                    BuoyancyBackend& backend = **made;
-                    const std::size_t id = backend.addBody(baked[size], c.exact.centerOfMass);
-                    std::vector<Answer> got;
-                    BuoyancyResult result;
-                    Status status = Ok{};
-                    auto run = [&](const BodyFrame& f) {
-                        BodyRequest request;
-                        request.body = id;
-                        request.frame = f;
-                        status = backend.evaluate({&request, 1}, water, {&result, 1});
-                        return answerOf(result);
-                    };
-                    for (const BodyFrame& f : poses) got.push_back(run(f));
-                    if (!status.ok()) return fail(status.error());
-                    RealtimeRow row = makeRow(s, c.mesh, m.label, size, 1);
-                    row.error = errorOf(got, truth, c);
-                    row.usPerBody = timeCalls(frames, [&](int f) { run(poses[f % kPoses]); });
-                    row.msPerFrame = row.usPerBody * 1e-3;
-                    std::cerr << "bench: " << scenarioName(s) << " " << c.mesh << " " << m.label << " "
-                              << size << "^2: " << row.usPerBody << " us";
-                    if (const TileCounts counts = backend.lastTileCounts(); counts.tiles > 0) {
-                        // Where the device's time goes: its tiles at the last pose.
-                        std::cerr << " (tiles " << counts.tiles << ": dry " << counts.dry
-                                  << ", closed form " << counts.closedForm << " (drag too "
-                                  << counts.dragClosedForm << "), per entry " << counts.perEntry() << ")";
-                    }
-                    if (m.spec.empty() && m.defaultKnobs()) {
-                        // Where the fast path's time goes: its tiles at the first pose.
-                        plimsoll_eval::FastScratch scratch;
-                        plimsoll_eval::FastStats stats;
-                        evaluateBuoyancyFast(makeFastBody(baked[size], c.exact.centerOfMass), poses[0],
-                                             water, {}, scratch, &stats);
-                        std::cerr << " (nodes dry " << stats.dry << ", closed form " << stats.closedForm
-                                  << ", per entry " << stats.perEntry << ", drag per entry "
-                                  << stats.dragPerEntry << "; water samples "
-                                  << stats.waterSamples << ", water velocities " << stats.velocitySamples << ")";
-                    }
-                    std::cerr << "\n";
-                    rows.push_back(row);
-                }
-            }
-            // Batches: the sphere only, at one size, on the fast path (1 and 2 threads) and OpenCL.
-            if (c.mesh != "sphere") continue;
-            for (int bodies : {100, 1000}) {
-                if (!bodiesSelected(bodies)) continue;
-                std::vector<Method> batchMethods = {{"fast CPU, 1 thread", "", 1}, {"fast CPU, 2 threads", "", 2}};
-                for (const Method& m : methods)
-                    if (m.label.rfind("OpenCL", 0) == 0 && m.defaultKnobs()) batchMethods.push_back(m);
-                for (const Method& m : batchMethods) {
-                    if (!selected(o.methods, m.label, true)) continue;
-                    Result<std::unique_ptr<BuoyancyBackend>> made =
-                        backendFor(m, fastOn(m.threads));
-                    if (!made) return fail(made.error());
-                    BuoyancyBackend& backend = **made;
-                    std::vector<BodyRequest> requests(bodies);
-                    for (int b = 0; b < bodies; ++b) {
-                        requests[b].body =
-                            backend.addBody(baked[kRealtimeBatchSize], c.exact.centerOfMass);
-                        requests[b].frame = poses[b % kPoses];
-                        // Spread out (the same water everywhere on flat water; other waves on waves).
-                        requests[b].frame.pose.translation.x() += 3.0 * (b % 32);
-                        requests[b].frame.pose.translation.z() += 3.0 * (b / 32);
-                    }
-                    std::vector<BuoyancyResult> results(bodies);
-                    Status status = Ok{};
-                    const double us = timeCalls(std::max(5, frames / 10), [&](int) {
-                        status = backend.evaluate(requests, water, results);
-                    });
-                    if (!status.ok()) return fail(status.error());
-                    RealtimeRow row = makeRow(s, c.mesh, m.label, kRealtimeBatchSize, bodies);
-                    row.msPerFrame = us * 1e-3;
-                    row.usPerBody = us / bodies;
-                    std::cerr << "bench: " << scenarioName(s) << " " << bodies << " x " << m.label << ": "
-                              << row.msPerFrame << " ms/frame\n";
-                    rows.push_back(row);
-                }
+            if (!selected(o_.scenarios, scenarioKey(s))) continue;
+            if (Status st = runScenario(c, s); !st.ok()) return st;
+        }
+        return Ok{};
+    }
+
+private:
+    bool bodiesSelected(int n) const {
+        return o_.bodies.empty() || std::find(o_.bodies.begin(), o_.bodies.end(), n) != o_.bodies.end();
+    }
+
+    Status runScenario(const Case& c, Scenario s) {
+        const WaterModel water = scenarioWater(s);
+        std::vector<BodyFrame> poses;
+        for (int k = 0; k < kPoses; ++k) poses.push_back(scenarioFrame(s, c.exact.centerOfMass, k));
+        // The truth for the errors (see the file comment).
+        std::vector<Answer> truth;
+        for (const BodyFrame& f : poses) {
+            if (s == Scenario::MovingWaves) {
+                truth.push_back(answerOf(evaluateBuoyancyReference(baked_[truthSize_], f, water, {})));
+            } else {
+                truth.push_back(answerOf(evaluateBuoyancyExact(c.triangles, f, 0.0, {})));
             }
         }
+        if (s != Scenario::MovingWaves)
+            meshRow(c, s, poses, truth, "exact plane clip", [&](const BodyFrame& f) {
+                return answerOf(evaluateBuoyancyExact(c.triangles, f, 0.0, {}));
+            });
+        meshRow(c, s, poses, truth, "per-triangle wave clip", [&](const BodyFrame& f) {
+            return clipPerTriangle(c.triangles, f, water, worldScratch_, depthScratch_);
+        });
+        for (const Method& m : methods_) {
+            if (!bodiesSelected(1) || !selected(o_.methods, m.label, true)) continue;
+            // Flat water has no grid, and no wave tolerance.
+            if ((m.waveGrid > 0 || m.waveTolerance >= 0) && s != Scenario::MovingWaves) continue;
+            for (int size : sizes_) {
+                if (m.spec == "reference" && size > kReferenceMaxSize) continue;
+                if (Status st = backendRow(c, s, water, poses, truth, m, size); !st.ok()) return st;
+            }
+        }
+        // Batches: the sphere only, at one size, on the fast path (1 and 2 threads) and OpenCL.
+        if (c.mesh != "sphere") return Ok{};
+        for (int bodies : {100, 1000}) {
+            if (!bodiesSelected(bodies)) continue;
+            std::vector<Method> batchMethods = {{"fast CPU, 1 thread", "", 1}, {"fast CPU, 2 threads", "", 2}};
+            for (const Method& m : methods_)
+                if (m.label.rfind("OpenCL", 0) == 0 && m.defaultKnobs()) batchMethods.push_back(m);
+            for (const Method& m : batchMethods) {
+                if (!selected(o_.methods, m.label, true)) continue;
+                if (Status st = batchRow(c, s, water, poses, m, bodies); !st.ok()) return st;
+            }
+        }
+        return Ok{};
     }
-    std::cout << "Per evaluation, best of 3 rounds of the median of " << frames
+
+    /// A method that works on the mesh itself (no bake): its error and time per evaluation.
+    void meshRow(const Case& c, Scenario s, const std::vector<BodyFrame>& poses,
+                 const std::vector<Answer>& truth, const std::string& method,
+                 const std::function<Answer(const BodyFrame&)>& run) {
+        if (!bodiesSelected(1) || !selected(o_.methods, method, true)) return;
+        RealtimeRow row = makeRow(s, c.mesh, method, 0, 1);
+        std::vector<Answer> got;
+        for (const BodyFrame& f : poses) got.push_back(run(f));
+        row.error = errorOf(got, truth, c);
+        row.usPerBody = timeCalls(frames_, [&](int f) { run(poses[f % kPoses]); });
+        row.msPerFrame = row.usPerBody * 1e-3;
+        std::cerr << "bench: " << scenarioName(s) << " " << c.mesh << " " << method << ": "
+                  << row.usPerBody << " us\n";
+        rows_.push_back(row);
+    }
+
+    /// A backend on one body at one size: its error and time per evaluation, and where its time
+    /// goes (tiles).
+    Status backendRow(const Case& c, Scenario s, const WaterModel& water,
+                      const std::vector<BodyFrame>& poses, const std::vector<Answer>& truth,
+                      const Method& m, int size) {
+        Result<std::unique_ptr<BuoyancyBackend>> made =
+            backendFor(m, fastOn(1, m.waveGrid, m.tileSize));
+        if (!made) return made.error();
+        BuoyancyBackend& backend = **made;
+        const std::size_t id = backend.addBody(baked_[size], c.exact.centerOfMass);
+        std::vector<Answer> got;
+        BuoyancyResult result;
+        Status status = Ok{};
+        auto run = [&](const BodyFrame& f) {
+            BodyRequest request;
+            request.body = id;
+            request.frame = f;
+            status = backend.evaluate({&request, 1}, water, {&result, 1});
+            return answerOf(result);
+        };
+        for (const BodyFrame& f : poses) got.push_back(run(f));
+        if (!status.ok()) return status.error();
+        RealtimeRow row = makeRow(s, c.mesh, m.label, size, 1);
+        row.error = errorOf(got, truth, c);
+        row.usPerBody = timeCalls(frames_, [&](int f) { run(poses[f % kPoses]); });
+        row.msPerFrame = row.usPerBody * 1e-3;
+        std::cerr << "bench: " << scenarioName(s) << " " << c.mesh << " " << m.label << " "
+                  << size << "^2: " << row.usPerBody << " us";
+        if (const TileCounts counts = backend.lastTileCounts(); counts.tiles > 0) {
+            // Where the device's time goes: its tiles at the last pose.
+            std::cerr << " (tiles " << counts.tiles << ": dry " << counts.dry
+                      << ", closed form " << counts.closedForm << " (drag too "
+                      << counts.dragClosedForm << "), per entry " << counts.perEntry() << ")";
+        }
+        if (m.spec.empty() && m.defaultKnobs()) {
+            // Where the fast path's time goes: its tiles at the first pose.
+            plimsoll_eval::FastScratch scratch;
+            plimsoll_eval::FastStats stats;
+            evaluateBuoyancyFast(makeFastBody(baked_[size], c.exact.centerOfMass), poses[0],
+                                 water, {}, scratch, &stats);
+            std::cerr << " (nodes dry " << stats.dry << ", closed form " << stats.closedForm
+                      << ", per entry " << stats.perEntry << ", drag per entry "
+                      << stats.dragPerEntry << "; water samples "
+                      << stats.waterSamples << ", water velocities " << stats.velocitySamples << ")";
+        }
+        std::cerr << "\n";
+        rows_.push_back(row);
+        return Ok{};
+    }
+
+    /// A batch of `bodies` spheres spread over the water, one evaluate call per frame.
+    Status batchRow(const Case& c, Scenario s, const WaterModel& water,
+                    const std::vector<BodyFrame>& poses, const Method& m, int bodies) {
+        Result<std::unique_ptr<BuoyancyBackend>> made =
+            backendFor(m, fastOn(m.threads));
+        if (!made) return made.error();
+        BuoyancyBackend& backend = **made;
+        std::vector<BodyRequest> requests(bodies);
+        for (int b = 0; b < bodies; ++b) {
+            requests[b].body =
+                backend.addBody(baked_[kRealtimeBatchSize], c.exact.centerOfMass);
+            requests[b].frame = poses[b % kPoses];
+            // Spread out (the same water everywhere on flat water; other waves on waves).
+            requests[b].frame.pose.translation.x() += 3.0 * (b % 32);
+            requests[b].frame.pose.translation.z() += 3.0 * (b / 32);
+        }
+        std::vector<BuoyancyResult> results(bodies);
+        Status status = Ok{};
+        const double us = timeCalls(std::max(5, frames_ / 10), [&](int) {
+            status = backend.evaluate(requests, water, results);
+        });
+        if (!status.ok()) return status.error();
+        RealtimeRow row = makeRow(s, c.mesh, m.label, kRealtimeBatchSize, bodies);
+        row.msPerFrame = us * 1e-3;
+        row.usPerBody = us / bodies;
+        std::cerr << "bench: " << scenarioName(s) << " " << bodies << " x " << m.label << ": "
+                  << row.msPerFrame << " ms/frame\n";
+        rows_.push_back(row);
+        return Ok{};
+    }
+
+    const RealtimeBenchOptions& o_;
+    const int frames_;
+    const std::vector<int> allSizes_, sizes_;
+    const std::vector<Method> methods_;
+    int truthSize_ = 0;
+    std::map<int, SurfaceTextures> baked_;  ///< the case's bakes, by size
+    std::vector<RealtimeRow> rows_;
+    std::vector<Eigen::Vector3d> worldScratch_;
+    std::vector<double> depthScratch_;
+};
+
+}  // namespace
+
+int runRealtimeBench(const RealtimeBenchOptions& o) {
+    RealtimeRun run(o);
+    for (const Case& c : realtimeCases(o)) {
+        if (Status st = run.runCase(c); !st.ok()) {
+            std::cerr << "error: " << st.error().message << "\n";
+            return kExitFailure;
+        }
+    }
+    std::cout << "Per evaluation, best of 3 rounds of the median of " << run.frames()
               << " calls; errors against the exact clip (flat) or the reference at the largest size "
                  "(waves); machine shared with other work.\n\n";
-    printRows(rows);
+    printRows(run.rows());
     std::cout << "\n";
-    printVerdicts(rows);
+    printVerdicts(run.rows());
 
-    return writeRealtimeOutputs(o, rows);
+    return writeRealtimeOutputs(o, run.rows());
 }
 
 }  // namespace plimsoll::cli
