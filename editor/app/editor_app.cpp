@@ -840,7 +840,8 @@ std::chrono::steady_clock::duration displayFramePeriod() {
 /// without any of it.
 class FrameHarness {
 public:
-    explicit FrameHarness(const EditorLaunch& launch) : phases(launch.frameStats), launch_(launch) {}
+    explicit FrameHarness(const EditorLaunch& launch)
+        : phases(launch.frameStats), launch_(launch) {}
 
     FramePhases phases;
 
@@ -848,7 +849,8 @@ public:
     bool readSnapshots() {
         for (const std::string& spec : launch_.snapshots) {
             const auto colon = spec.find(':');
-            const int at = colon == std::string::npos ? 0 : std::atoi(spec.substr(0, colon).c_str());
+            const int at =
+                colon == std::string::npos ? 0 : std::atoi(spec.substr(0, colon).c_str());
             if (at <= 0) {
                 std::cerr << "error: --snapshot " << spec << ": expected FRAME:PATH, FRAME > 0\n";
                 return false;
@@ -876,7 +878,8 @@ public:
     bool finalFrame() const { return finalFrame_; }
     /// An idle wait, cut short where --run-seconds ends first.
     double idleWait(double wait) const {
-        return launch_.runSeconds > 0 ? std::clamp(launch_.runSeconds - elapsed(), 0.01, wait) : wait;
+        return launch_.runSeconds > 0 ? std::clamp(launch_.runSeconds - elapsed(), 0.01, wait)
+                                      : wait;
     }
     void frameDrawn() {
         if (cpuAtOneSecond_) ++framesAfterOneSecond_;
@@ -918,8 +921,10 @@ public:
         frameMs_.push_back(ms);
         if (!rebakeRequested(s)) return false;
         if (!textureSizeRequested_ && frame == 2) {
-            if (launch_.inspectorTextureSize > 0) (void)s.setTextureSize(0, launch_.inspectorTextureSize);
-            else s.preview->session->requestTextureSize(launch_.textureSize);
+            if (launch_.inspectorTextureSize > 0)
+                (void)s.setTextureSize(0, launch_.inspectorTextureSize);
+            else
+                s.preview->session->requestTextureSize(launch_.textureSize);
             textureSizeRequested_ = true;
         } else if (textureSizeRequested_) {
             // While it bakes, and the frame it was swapped in (or failed) in: that frame's cost
@@ -939,7 +944,8 @@ public:
 
     /// What --run-seconds prints: the interactive loop's cost after its first second and the
     /// state it ended in.
-    void reportRunSeconds(EditorState& s, const ImGuiIO& io, const std::string& title, int frame) const {
+    void reportRunSeconds(EditorState& s, const ImGuiIO& io, const std::string& title,
+                          int frame) const {
         nlohmann::json report;
         report["seconds"] = elapsed();
         report["frames_after_first_second"] = framesAfterOneSecond_;
@@ -1186,9 +1192,9 @@ WindowLayout buildFrameUi(EditorState& s, GLFWwindow* window, FramePhases& phase
     drawHistoryPanel(s);
     ImGui::SetNextWindowPos(ImVec2(0, display.y - status));
     ImGui::SetNextWindowSize(ImVec2(display.x, status));
-    ImGui::Begin("##status", nullptr,
-                 ImGuiWindowFlags_NoDecoration | ImGuiWindowFlags_NoMove |
-                     ImGuiWindowFlags_NoSavedSettings);
+    ImGui::Begin(
+        "##status", nullptr,
+        ImGuiWindowFlags_NoDecoration | ImGuiWindowFlags_NoMove | ImGuiWindowFlags_NoSavedSettings);
     ImGui::Text("%s   |   %s", s.document->title().c_str(), s.status.c_str());
     ImGui::End();
     handleShortcuts(s);
@@ -1225,10 +1231,12 @@ std::pair<int, int> renderFrame(EditorState& s, GLFWwindow* window, const Window
     // then need not clear its rectangle again, and clears depth only in a frame in which it
     // draws the scene (a copied scene needs none).
     RenderScene scene = sceneOf(s);
-    const int vw = static_cast<int>(s.viewport.w * scale), vh = static_cast<int>(s.viewport.h * scale);
+    const int vw = static_cast<int>(s.viewport.w * scale),
+              vh = static_cast<int>(s.viewport.h * scale);
     applyPreviewToScene(s, scene);
     addPhysicsSolidsToScene(s, scene);
-    const Eigen::Vector3f clear = s.renderer->clearColour(scene, s.camera, std::max(vw, 1), std::max(vh, 1));
+    const Eigen::Vector3f clear =
+        s.renderer->clearColour(scene, s.camera, std::max(vw, 1), std::max(vh, 1));
     glClearColor(clear.x(), clear.y(), clear.z(), 1.0f);
     glClear(GL_COLOR_BUFFER_BIT);
     if (vw > 0 && vh > 0) {
@@ -1274,7 +1282,8 @@ void afterFrame(EditorState& s, GLFWwindow* window, std::string& title) {
 /// opening the frame after a click). False: woken with nothing to draw.
 bool waitForFrame(EditorState& s, const EditorLaunch& launch, const FrameHarness& harness,
                   int awakeFrames, std::uint64_t eventsSeen) {
-    const bool idle = launch.frames == 0 && awakeFrames == 0 && !animating(s) && !harness.finalFrame();
+    const bool idle =
+        launch.frames == 0 && awakeFrames == 0 && !animating(s) && !harness.finalFrame();
     if (!idle) {
         glfwPollEvents();
         return true;
@@ -1303,7 +1312,8 @@ void saveSessionSettings(EditorState& s, GLFWwindow* window) {
 }
 
 /// Releases the GL objects while the context is current, then ImGui, the window and GLFW.
-void closeEditorWindow(EditorState& s, GLFWwindow* window, std::unique_ptr<PanelCache>& panelCache) {
+void closeEditorWindow(EditorState& s, GLFWwindow* window,
+                       std::unique_ptr<PanelCache>& panelCache) {
     glfwSetWindowUserPointer(window, nullptr);
     s.preview.reset();
     releaseGraphPanel(s);
@@ -1325,7 +1335,8 @@ int runEditorWindow(const EditorLaunch& launch) {
     if (!s.brush.alphaPath.empty()) {
         const std::string alpha = s.brush.alphaPath;
         s.brush.alphaPath.clear();
-        if (Status loaded = loadBrushAlpha(s.brush, alpha); !loaded) s.status = loaded.error().message;
+        if (Status loaded = loadBrushAlpha(s.brush, alpha); !loaded)
+            s.status = loaded.error().message;
     }
     GLFWwindow* window = openEditorWindow(launch, s);
     if (!window) return 1;
@@ -1362,7 +1373,8 @@ int runEditorWindow(const EditorLaunch& launch) {
         const auto frameStart = std::chrono::steady_clock::now();
         harness.phases.start(frameStart);
         const WindowLayout layout = buildFrameUi(s, window, harness.phases);
-        const auto [fbWidth, fbHeight] = renderFrame(s, window, layout, *panelCache, harness.phases);
+        const auto [fbWidth, fbHeight] =
+            renderFrame(s, window, layout, *panelCache, harness.phases);
         ++frame;
         harness.capture(s, frame, fbWidth, fbHeight, glfwWindowShouldClose(window));
         glfwSwapBuffers(window);
@@ -1370,7 +1382,8 @@ int runEditorWindow(const EditorLaunch& launch) {
         harness.writeState(s, frame);
         afterFrame(s, window, title);
         const double ms =
-            std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - frameStart).count();
+            std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - frameStart)
+                .count();
         s.preview->uiFrameMs = ms;
         if (harness.recordFrame(s, ms, frame)) break;
         if (harness.lastFrame(frame) || harness.finalFrame()) break;

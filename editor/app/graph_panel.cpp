@@ -446,7 +446,6 @@ void drawGraphViewOptions(GraphUi& ui) {
     ImGui::PushTextWrapPos(0.0f);
     ImGui::TextDisabled("hold X / Y / Z while dragging: along that axis");
     ImGui::PopTextWrapPos();
-
 }
 
 /// The edit buttons, each one command: add, duplicate, delete, connect, disconnect, open/close.
@@ -560,7 +559,6 @@ void drawGraphContents(EditorState& s, GraphUi& ui, std::size_t body, const Wate
     } else if (ui.selectedPipe) {
         pipeInspector(s, *g, g->pipes[findPipe(*g, ui.selectedPipe->first, ui.selectedPipe->second)]);
     }
-
 }
 
 /// Auto-generate: segments the mesh on a worker, previews the graph, applies it as one step.
@@ -627,8 +625,10 @@ void drawGraphPanel(EditorState& s) {
     ImGui::Text("Body %zu: %s", body, s.document->project().bodies[body].name.c_str());
     if (!s.document->project().bodies[body].waterGraph) {
         ImGui::TextWrapped("This body has no water graph: it is sealed.");
-        if (ImGui::Button("Create water graph")) s.execute(makeCreateGraphCommand(*s.document, body));
-        tooltip("Gives the body an empty water graph: add nodes by hand or auto-generate them below.");
+        if (ImGui::Button("Create water graph"))
+            s.execute(makeCreateGraphCommand(*s.document, body));
+        tooltip(
+            "Gives the body an empty water graph: add nodes by hand or auto-generate them below.");
         ImGui::End();
         return;
     }

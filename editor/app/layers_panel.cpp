@@ -104,12 +104,12 @@ void drawLayerButtons(EditorState& s, std::size_t body, const LayerStack* stack,
     }
     tooltip("Moves the active layer down, under the one below it.");
     ImGui::EndDisabled();
-
 }
 
 /// The list, top first: visibility, the active layer, rename in place. True when a rename was
 /// confirmed this frame (carried out by the caller, after everything that reads the stack).
-bool drawLayerList(EditorState& s, std::size_t body, const LayerStack& stack, int count, int active) {
+bool drawLayerList(EditorState& s, std::size_t body, const LayerStack& stack, int count,
+                   int active) {
     // A rename ends with its map (another body or channel) or its layer (an undo took it).
     LayerRename& rename = s.layerRename;
     if (rename.layer >= count || rename.body != body || rename.channel != s.channel) rename = {};
@@ -216,8 +216,8 @@ void drawLayersPanel(EditorState& s, const Rect& area) {
     ImGui::SetNextWindowSize(ImVec2(area.w, area.h));
     ImGui::Begin("Layers", nullptr,
                  ImGuiWindowFlags_NoMove | ImGuiWindowFlags_NoResize | ImGuiWindowFlags_NoCollapse);
-    const bool hasBody = s.selectedBody >= 0 &&
-                         static_cast<std::size_t>(s.selectedBody) < s.document->bodyCount();
+    const bool hasBody =
+        s.selectedBody >= 0 && static_cast<std::size_t>(s.selectedBody) < s.document->bodyCount();
     const std::size_t body = hasBody ? static_cast<std::size_t>(s.selectedBody) : 0;
     if (!hasBody || !s.document->map(body, s.channel)) {
         ImGui::TextWrapped("No %s map on this body yet: paint on it, or use \"New map\".",
@@ -237,8 +237,8 @@ void drawLayersPanel(EditorState& s, const Rect& area) {
     }
     const MapLayer& activeLayer = stack->layers[static_cast<std::size_t>(active)];
     const float settingRows = activeLayer.kind == LayerKind::Fill ? 3.0f : 2.0f;
-    const float listHeight = std::max(40.0f, ImGui::GetContentRegionAvail().y -
-                                                 settingRows * ImGui::GetFrameHeightWithSpacing());
+    const float listHeight = std::max(
+        40.0f, ImGui::GetContentRegionAvail().y - settingRows * ImGui::GetFrameHeightWithSpacing());
     ImGui::BeginChild("##layers", ImVec2(0, listHeight), true);
     const bool renameNow = drawLayerList(s, body, *stack, count, active);
     ImGui::EndChild();

@@ -399,7 +399,9 @@ class RealtimeRun {
 public:
     explicit RealtimeRun(const RealtimeBenchOptions& o)
         : o_(o),
-          frames_(o.frames > 0 ? o.frames : o.quick ? 30 : 200),
+          frames_(o.frames > 0 ? o.frames
+                  : o.quick    ? 30
+                               : 200),
           allSizes_(o.quick ? std::vector<int>{32, 64, 128}
                             : std::vector<int>{32, 64, 128, 256, 512, 1024, 2048}),
           sizes_(o.sizes.empty() ? allSizes_ : o.sizes),
@@ -435,7 +437,8 @@ public:
 
 private:
     bool bodiesSelected(int n) const {
-        return o_.bodies.empty() || std::find(o_.bodies.begin(), o_.bodies.end(), n) != o_.bodies.end();
+        return o_.bodies.empty() ||
+               std::find(o_.bodies.begin(), o_.bodies.end(), n) != o_.bodies.end();
     }
 
     Status runScenario(const Case& c, Scenario s) {
@@ -446,7 +449,8 @@ private:
         std::vector<Answer> truth;
         for (const BodyFrame& f : poses) {
             if (s == Scenario::MovingWaves) {
-                truth.push_back(answerOf(evaluateBuoyancyReference(baked_[truthSize_], f, water, {})));
+                truth.push_back(
+                    answerOf(evaluateBuoyancyReference(baked_[truthSize_], f, water, {})));
             } else {
                 truth.push_back(answerOf(evaluateBuoyancyExact(c.triangles, f, 0.0, {})));
             }
@@ -471,7 +475,8 @@ private:
         if (c.mesh != "sphere") return Ok{};
         for (int bodies : {100, 1000}) {
             if (!bodiesSelected(bodies)) continue;
-            std::vector<Method> batchMethods = {{"fast CPU, 1 thread", "", 1}, {"fast CPU, 2 threads", "", 2}};
+            std::vector<Method> batchMethods = {{"fast CPU, 1 thread", "", 1},
+                                                {"fast CPU, 2 threads", "", 2}};
             for (const Method& m : methods_)
                 if (m.label.rfind("OpenCL", 0) == 0 && m.defaultKnobs()) batchMethods.push_back(m);
             for (const Method& m : batchMethods) {
@@ -524,24 +529,24 @@ private:
         row.error = errorOf(got, truth, c);
         row.usPerBody = timeCalls(frames_, [&](int f) { run(poses[f % kPoses]); });
         row.msPerFrame = row.usPerBody * 1e-3;
-        std::cerr << "bench: " << scenarioName(s) << " " << c.mesh << " " << m.label << " "
-                  << size << "^2: " << row.usPerBody << " us";
+        std::cerr << "bench: " << scenarioName(s) << " " << c.mesh << " " << m.label << " " << size
+                  << "^2: " << row.usPerBody << " us";
         if (const TileCounts counts = backend.lastTileCounts(); counts.tiles > 0) {
             // Where the device's time goes: its tiles at the last pose.
-            std::cerr << " (tiles " << counts.tiles << ": dry " << counts.dry
-                      << ", closed form " << counts.closedForm << " (drag too "
-                      << counts.dragClosedForm << "), per entry " << counts.perEntry() << ")";
+            std::cerr << " (tiles " << counts.tiles << ": dry " << counts.dry << ", closed form "
+                      << counts.closedForm << " (drag too " << counts.dragClosedForm
+                      << "), per entry " << counts.perEntry() << ")";
         }
         if (m.spec.empty() && m.defaultKnobs()) {
             // Where the fast path's time goes: its tiles at the first pose.
             plimsoll_eval::FastScratch scratch;
             plimsoll_eval::FastStats stats;
-            evaluateBuoyancyFast(makeFastBody(baked_[size], c.exact.centerOfMass), poses[0],
-                                 water, {}, scratch, &stats);
+            evaluateBuoyancyFast(makeFastBody(baked_[size], c.exact.centerOfMass), poses[0], water,
+                                 {}, scratch, &stats);
             std::cerr << " (nodes dry " << stats.dry << ", closed form " << stats.closedForm
                       << ", per entry " << stats.perEntry << ", drag per entry "
-                      << stats.dragPerEntry << "; water samples "
-                      << stats.waterSamples << ", water velocities " << stats.velocitySamples << ")";
+                      << stats.dragPerEntry << "; water samples " << stats.waterSamples
+                      << ", water velocities " << stats.velocitySamples << ")";
         }
         std::cerr << "\n";
         rows_.push_back(row);
@@ -551,14 +556,12 @@ private:
     /// A batch of `bodies` spheres spread over the water, one evaluate call per frame.
     Status batchRow(const Case& c, Scenario s, const WaterModel& water,
                     const std::vector<BodyFrame>& poses, const Method& m, int bodies) {
-        Result<std::unique_ptr<BuoyancyBackend>> made =
-            backendFor(m, fastOn(m.threads));
+        Result<std::unique_ptr<BuoyancyBackend>> made = backendFor(m, fastOn(m.threads));
         if (!made) return made.error();
         BuoyancyBackend& backend = **made;
         std::vector<BodyRequest> requests(bodies);
         for (int b = 0; b < bodies; ++b) {
-            requests[b].body =
-                backend.addBody(baked_[kRealtimeBatchSize], c.exact.centerOfMass);
+            requests[b].body = backend.addBody(baked_[kRealtimeBatchSize], c.exact.centerOfMass);
             requests[b].frame = poses[b % kPoses];
             // Spread out (the same water everywhere on flat water; other waves on waves).
             requests[b].frame.pose.translation.x() += 3.0 * (b % 32);
@@ -600,9 +603,10 @@ int runRealtimeBench(const RealtimeBenchOptions& o) {
             return kExitFailure;
         }
     }
-    std::cout << "Per evaluation, best of 3 rounds of the median of " << run.frames()
-              << " calls; errors against the exact clip (flat) or the reference at the largest size "
-                 "(waves); machine shared with other work.\n\n";
+    std::cout
+        << "Per evaluation, best of 3 rounds of the median of " << run.frames()
+        << " calls; errors against the exact clip (flat) or the reference at the largest size "
+           "(waves); machine shared with other work.\n\n";
     printRows(run.rows());
     std::cout << "\n";
     printVerdicts(run.rows());
