@@ -1,0 +1,50 @@
+#!/usr/bin/env bash
+# The runtime on the web (web/README.md): builds the WebAssembly module and its native
+# counterpart (scripts/build-web.sh), runs the npm package's tests (forces on a few hundred poses
+# and float_body --csv's rows and state hashes, against the native runtime built from the same
+# sources), then exports projects/buoy.plim.json with `plimsoll export --web`, opens the viewer in
+# headless Chromium, replays 10 simulated seconds in its deterministic fixed-step mode and checks
+# that its state hash is the native float_body's for the same steps. Prints the screenshot's path.
+# Exits 77 where emscripten, node, npm or Chromium is missing.
+# Usage: scripts/test-web.sh [PLIMSOLL_EXECUTABLE] [SECONDS]
+set -euo pipefail
+cd "$(dirname "$0")/.."
+plimsoll=$(realpath -m "${1:-build/editor/plimsoll}")
+seconds=${2:-10}
+chromium=${CHROMIUM:-$(command -v chromium || command -v chromium-browser || true)}
+for tool in emcmake node npm; do
+  command -v "$tool" >/dev/null 2>&1 || { echo "test-web: $tool not installed (scripts/install-deps.sh): skipped" >&2; exit 77; }
+done
+[[ -n "$chromium" && -x "$chromium" ]] || { echo "test-web: Chromium not installed (scripts/install-deps.sh): skipped" >&2; exit 77; }
+[[ -x "$plimsoll" ]] || { echo "test-web: $plimsoll not found (build the project first)" >&2; exit 1; }
+start=$(date +%s)
+scripts/build-web.sh
+
+echo "== npm test (web/package)"
+(cd web/package && PLIMSOLL_CLI="$plimsoll" npm test --silent)
+
+echo "== the viewer in headless Chromium: $seconds s of projects/buoy.plim.json"
+work=$(mktemp -d)
+trap 'rm -rf "$work"' EXIT
+shots=$(mktemp -d "${TMPDIR:-/tmp}/plimsoll-web-XXXXXX")
+"$plimsoll" export projects/buoy.plim.json --out "$work/site" --web --quiet >/dev/null
+bundle=$work/site/$(node -e 'console.log(JSON.parse(require("fs").readFileSync(process.argv[1])).bundles[0])' "$work/site/bundles.json")
+result=$(node web/viewer/test/browser-run.mjs "$work/site" "$seconds" "$shots/viewer.png" "$chromium")
+echo "browser: $result"
+web_hash=$(node -e 'console.log(JSON.parse(process.argv[1]).stateHash)' "$result")
+native_hash=$(build-web/native/runtime/plimsoll_float_body "$bundle" "$seconds" --csv "$work/native.csv" | sed -n 's/^state hash //p')
+echo "screenshot: $shots/viewer.png"
+if [[ "$web_hash" != "$native_hash" ]]; then
+  echo "test-web: the viewer's state hash $web_hash differs from native float_body's $native_hash" >&2
+  exit 1
+fi
+echo "state hash $web_hash: the viewer's and native float_body's (the same sources and math) after $seconds s"
+# The default native build takes sin, cos and exp from the C library (glibc): where the water has
+# waves its last bits differ (docs/c-abi.md, "Determinism"). Said, not checked.
+default=$(dirname "$plimsoll")/../engine/runtime/plimsoll_float_body
+if [[ -x "$default" ]]; then
+  glibc_hash=$("$default" "$bundle" "$seconds" --csv "$work/glibc.csv" | sed -n 's/^state hash //p')
+  if cmp -s "$work/native.csv" "$work/glibc.csv"; then same_rows="the same rows"; else same_rows="rows that differ"; fi
+  echo "the default native build (the C library's sin, cos, exp): state hash $glibc_hash, $same_rows at float_body's 10 digits"
+fi
+echo "== test-web: ok ($(( $(date +%s) - start )) s)"
