@@ -32,7 +32,7 @@ if [[ "${1:-}" != --wasm-only ]]; then
   echo "== build-web: native runtime with the same math, float_body, plimsoll_web_reference"
   cmake -S web/native -B build-web/native "${generator[@]}" "${launcher[@]}" -DCMAKE_BUILD_TYPE=Release >>"$log" 2>&1 \
     || { tail -30 "$log"; exit 1; }
-  cmake --build build-web/native --parallel 2 --target plimsoll_float_body plimsoll_web_reference >>"$log" 2>&1 \
+  cmake --build build-web/native --parallel 2 --target plimsoll_float_body plimsoll_web_reference plimsoll_web_bench >>"$log" 2>&1 \
     || { tail -40 "$log"; exit 1; }
 fi
 if [[ "${1:-}" != --wasm-only ]]; then
