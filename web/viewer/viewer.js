@@ -128,12 +128,14 @@ async function main() {
     arrow.setLength(length, 0.15 * span, 0.07 * span);
   }
 
-  function showFlooding(visual, water) {
+  // The hull tinted blue as it fills; the panel lists the water per node of the selected body.
+  function showFlooding(visual, water, listed = true) {
     const capacity = bundle.nodeCapacities.reduce((s, v) => s + v, 0);
     const filled = capacity > 0 ? water.reduce((s, v) => s + v, 0) / capacity : 0;
     visual.root.traverse((o) => {
       if (o.isMesh && o.userData.baseColor) o.material.color.copy(o.userData.baseColor).lerp(new THREE.Color(0x2060ff), 0.8 * filled);
     });
+    if (!listed) return;
     $('nodes').innerHTML = bundle.nodeCapacities.map((c, i) =>
       `<div class="row"><span>node ${i}</span><span>${water[i].toFixed(3)} / ${c.toFixed(3)} m³</span></div>` +
       `<div class="bar"><div style="width:${(100 * Math.min(1, water[i] / c)).toFixed(1)}%"></div></div>`).join('');
@@ -189,7 +191,7 @@ async function main() {
   // Interactive: Body instances stepped in fixed sub-steps of the project's frame.
   const dt = bundle.world.timeStep / Math.max(1, bundle.world.subSteps);
   const bodies = [];
-  let time = 0, paused = false;
+  let time = 0, paused = false, selected = 0;  // the body the panel and the hash describe
   const addBody = (state) => {
     const body = bundle.createBody(state);
     bodies.push({ body, visual: makeVisual() });
@@ -200,6 +202,7 @@ async function main() {
       scene.remove(b.visual.group, ...Object.values(b.visual.arrows));
     }
     time = 0;
+    selected = 0;
     addBody({});
   };
   reset();
@@ -230,6 +233,7 @@ async function main() {
     if (!hits.length) return;
     const hit = hits[0];
     const entry = bodies.find((b) => { let o = hit.object; while (o && o !== b.visual.group) o = o.parent; return o; });
+    selected = bodies.indexOf(entry);
     controls.enabled = false;
     grab = {
       entry, local: entry.visual.group.worldToLocal(hit.point.clone()), plane: new THREE.Plane(new THREE.Vector3(0, 1, 0), -hit.point.y),
@@ -275,6 +279,15 @@ async function main() {
     applyImpulse(entry, grab.local, F.multiplyScalar(dt));
   }
 
+  // What the page's test (web/viewer/test/browser-run.mjs --interactive) reads each frame.
+  const probe = window.plimsollViewer = {
+    frames: 0, time: 0, bodies: [],
+    screen(i) {
+      const v = bodies[i].visual.group.position.clone().project(camera);
+      return { x: ((v.x + 1) / 2) * window.innerWidth, y: ((1 - v.y) / 2) * window.innerHeight };
+    },
+  };
+
   let last = performance.now(), carried = 0;
   function frame(now) {
     const elapsed = Math.min(0.1, (now - last) / 1000);
@@ -293,7 +306,7 @@ async function main() {
       }
       physicsMs = performance.now() - physicsStart;
     }
-    for (const { body, visual } of bodies) {
+    for (const [index, { body, visual }] of bodies.entries()) {
       const st = body.state;
       visual.group.position.set(...st.position);
       visual.group.quaternion.copy(quaternion(st.orientation));
@@ -303,18 +316,27 @@ async function main() {
       setArrow(visual.arrows.buoyancy, vec(f.centerOfBuoyancy), bundle.world.water.kind === 'flat' ? f.force : f.pressureForce);
       setArrow(visual.arrows.weight, com, [0, -(bundle.mass.mass + body.load.waterMass) * g, 0]);
       setArrow(visual.arrows.drag, vec(f.centerOfBuoyancy), f.dragForce);
-      showFlooding(visual, body.nodeWater());
+      showFlooding(visual, body.nodeWater(), index === selected);
     }
     updateWater(time);
-    const selected = bodies[bodies.length - 1].body;
-    $('hash').textContent = selected.stateHash();
+    $('hash').textContent = bodies[selected].body.stateHash();
     $('simTime').textContent = `${time.toFixed(2)} s`;
     $('bodyCount').textContent = String(bodies.length);
-    $('physicsTime').textContent = `${average(physicsTimes, physicsMs).toFixed(2)} ms / frame`;
+    const physicsAverage = average(physicsTimes, physicsMs);
+    $('physicsTime').textContent = `${physicsAverage.toFixed(2)} ms / frame`;
     const renderStart = performance.now();
     controls.update();
     renderer.render(scene, camera);
-    $('frameTime').textContent = `${average(frameTimes, performance.now() - renderStart + physicsMs).toFixed(2)} ms (load ${loadMs.toFixed(0)} ms)`;
+    const frameMs = average(frameTimes, performance.now() - renderStart + physicsMs);
+    $('frameTime').textContent = `${frameMs.toFixed(2)} ms (load ${loadMs.toFixed(0)} ms)`;
+    probe.frames += 1;
+    probe.time = time;
+    probe.frameMs = frameMs;
+    probe.physicsMs = physicsAverage;
+    probe.bodies = bodies.map(({ body }) => ({
+      position: body.state.position, velocity: body.state.velocity,
+      water: body.nodeWater().reduce((sum, v) => sum + v, 0),
+    }));
     requestAnimationFrame(frame);
   }
   requestAnimationFrame(frame);

@@ -3,7 +3,10 @@
 // loads index.html?deterministic=1&seconds=S, waits for window.plimsollResult, saves a
 // screenshot to SCREENSHOT and prints the result as one line of JSON. Node's standard library
 // only (its own small WebSocket client). Exits 1 on any failure, naming it.
-//   node browser-run.mjs SITE SECONDS SCREENSHOT [CHROMIUM]
+// With --interactive it loads the interactive page instead, lets it run, drops a second body
+// (the page's button), clicks the first to push it, and reports the bodies' states, the frame
+// and physics times and how fast the pushed body moved just after the click.
+//   node browser-run.mjs SITE SECONDS SCREENSHOT [CHROMIUM] [--interactive]
 import { spawn } from 'node:child_process';
 import { createHash, randomBytes } from 'node:crypto';
 import { mkdtempSync, readFileSync, rmSync, statSync, writeFileSync } from 'node:fs';
@@ -12,7 +15,8 @@ import { connect } from 'node:net';
 import { tmpdir } from 'node:os';
 import { extname, join, normalize, resolve, sep } from 'node:path';
 
-const [site, seconds = '10', screenshot, chromium = '/usr/bin/chromium'] = process.argv.slice(2);
+const interactive = process.argv.includes('--interactive');
+const [site, seconds = '10', screenshot, chromium = '/usr/bin/chromium'] = process.argv.slice(2).filter((a) => a !== '--interactive');
 if (!site || !screenshot) {
   console.error('usage: node browser-run.mjs SITE SECONDS SCREENSHOT [CHROMIUM]');
   process.exit(2);
@@ -43,7 +47,7 @@ const server = createServer((request, response) => {
   }
 });
 await new Promise((ok) => server.listen(0, '127.0.0.1', ok));
-const page = `http://127.0.0.1:${server.address().port}/index.html?deterministic=1&seconds=${seconds}`;
+const page = `http://127.0.0.1:${server.address().port}/index.html${interactive ? '' : `?deterministic=1&seconds=${seconds}`}`;
 
 // Chromium: headless, WebGL through its software rasteriser, DevTools on a port it picks.
 const profile = mkdtempSync(join(tmpdir(), 'plimsoll-chromium-'));
@@ -150,6 +154,42 @@ await call('Runtime.enable', {}, sessionId);
 await call('Page.enable', {}, sessionId);
 const started = Date.now();
 await call('Page.navigate', { url: page }, sessionId);
+const evaluate = async (expression) => {
+  const { result: value, exceptionDetails } = await call('Runtime.evaluate', { expression, returnByValue: true }, sessionId);
+  if (exceptionDetails) fail(`${expression}: ${JSON.stringify(exceptionDetails).slice(0, 400)}`);
+  return value.value;
+};
+const waitFor = async (expression, what) => {
+  for (;;) {
+    const error = await evaluate('JSON.stringify(window.plimsollResult?.error ?? null)');
+    if (JSON.parse(error ?? 'null')) fail(`the page failed: ${JSON.parse(error)}\n${messages.join('\n')}`);
+    if (await evaluate(expression)) return;
+    if (Date.now() - started > timeoutMs - 10000) fail(`waited in vain for ${what}; the page's console:\n${messages.join('\n')}`);
+    await new Promise((ok) => setTimeout(ok, 100));
+  }
+};
+if (interactive) {
+  await waitFor('(window.plimsollViewer?.frames ?? 0) >= 20', '20 frames');
+  await evaluate("document.getElementById('drop').click()");
+  await waitFor('window.plimsollViewer.bodies.length === 2', 'the dropped body');
+  const at = await evaluate('window.plimsollViewer.screen(0)');
+  const before = await evaluate('window.plimsollViewer.frames');
+  for (const type of ['mousePressed', 'mouseReleased'])
+    await call('Input.dispatchMouseEvent', { type, x: at.x, y: at.y, button: 'left', clickCount: 1 }, sessionId);
+  await waitFor(`window.plimsollViewer.frames >= ${before} + 2`, 'a frame after the push');
+  const pushed = await evaluate('JSON.stringify(window.plimsollViewer.bodies[0])');
+  const runFor = Number(seconds);
+  await waitFor(`window.plimsollViewer.time >= ${runFor}`, `${runFor} simulated seconds`);
+  const state = JSON.parse(await evaluate('JSON.stringify(window.plimsollViewer)'));
+  const shot = await call('Page.captureScreenshot', { format: 'png' }, sessionId);
+  writeFileSync(screenshot, Buffer.from(shot.data, 'base64'));
+  const v = JSON.parse(pushed).velocity;
+  console.log(JSON.stringify({
+    frames: state.frames, time: state.time, frameMs: state.frameMs, physicsMs: state.physicsMs, bodies: state.bodies,
+    pushedSpeed: Math.hypot(v[0], v[2]), screenshot, pageMs: Date.now() - started,
+  }));
+  process.exit(0);
+}
 let result = null;
 while (!result) {
   await new Promise((ok) => setTimeout(ok, 200));
