@@ -119,9 +119,9 @@ export class Body {
   readonly bundle: Bundle;
   /** Set it freely between steps (a push is a change of velocity). */
   state: BodyState;
-  /** The water load at the start of the last step. */
-  readonly load: WaterLoad | null;
   step(dt: number, options?: EvaluateOptions): this;
+  /** What a step of dt would apply at the current state (no step). */
+  waterLoad(dt: number, options?: EvaluateOptions): WaterLoad;
   nodeWater(): number[];
   /** 16 hex digits. */
   stateHash(): string;

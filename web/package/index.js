@@ -350,15 +350,9 @@ export class Body {
       velocity: state.velocity ?? [0, 0, 0],
       angularVelocity: state.angularVelocity ?? [0, 0, 0],
     };
-    /** The water load at the start of the last step: forces (as evaluate), waterMass, force, torque. */
-    this.load = null;
   }
 
-  /**
-   * One semi-implicit Euler step of dt seconds (gravity, buoyancy, drag, damping, the water
-   * inside). options: water (as Bundle.evaluate), time (s), fluid.
-   */
-  step(dt, options = {}) {
+  _call(dt, options, out, call) {
     const rt = this._rt, x = rt._x, s = rt._scratch;
     const st = this.state;
     const fluid = { ...this.bundle.fluid, ...options.fluid };
@@ -367,18 +361,37 @@ export class Body {
     const w = rt._water(options.water);
     try {
       rt._check(x.pw_body_step(this._live(), s, s + 8 * 16, options.time ?? 0, dt, w.mode, w.level, w.id, w.velocities,
-                               w.min, w.max, s + 8 * 32), 'step');
+                               w.min, w.max, out), call);
     } finally {
       rt._release(w);
     }
-    const v = Array.from(rt._f64(s, STATE_FIELDS));
+  }
+
+  /**
+   * One semi-implicit Euler step of dt seconds (gravity, buoyancy, drag, damping, the water
+   * inside; the water graph steps first). options: water (as Bundle.evaluate), time (s), fluid.
+   */
+  step(dt, options = {}) {
+    this._call(dt, options, 0, 'step');
+    const v = Array.from(this._rt._f64(this._rt._scratch, STATE_FIELDS));
+    const st = this.state;
     st.position = v.slice(0, 3);
     st.orientation = v.slice(3, 7);
     st.velocity = v.slice(7, 10);
     st.angularVelocity = v.slice(10, 13);
-    const out = Array.from(rt._f64(s + 8 * 32, 31));
-    this.load = { forces: readForces(out), waterMass: out[24], force: out.slice(25, 28), torque: out.slice(28, 31) };
     return this;
+  }
+
+  /**
+   * What a step of dt would apply at the current state, without stepping: the evaluation's
+   * forces, the mass of the water inside and the load's force and torque (buoyancy, drag,
+   * damping, the water's weight; not the body's own weight). options as step().
+   */
+  waterLoad(dt, options = {}) {
+    const out = this._rt._scratch + 8 * 32;
+    this._call(dt, options, out, 'waterLoad');
+    const v = Array.from(this._rt._f64(out, 31));
+    return { forces: readForces(v), waterMass: v[24], force: v.slice(25, 28), torque: v.slice(28, 31) };
   }
 
   /** Water in each node of the body's water graph, m^3 (empty without a graph). */

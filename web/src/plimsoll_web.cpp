@@ -226,9 +226,10 @@ PW_EXPORT int pw_bundle_evaluate(const WebBundle* wb, const double* in, int wate
 PW_EXPORT WebBody* pw_body_create(const WebBundle* wb) { return new WebBody(*wb); }
 PW_EXPORT void pw_body_destroy(WebBody* b) { delete b; }
 
-// state: pose (7), linear velocity (3), angular velocity (3), in and out; fluid (4). One
-// semi-implicit Euler step (the runtime's stepBody); out: the water load's forces (24) at the
-// start of the step, the water mass, then the load's force (3) and torque (3).
+// state: pose (7), linear velocity (3), angular velocity (3), in and out; fluid (4). With
+// out null, one semi-implicit Euler step of dt (the runtime's stepBody); with out, no step: the
+// water load at that state (waterLoad, what a step of dt applies) into out: its forces (24), the
+// water mass, then the load's force (3) and torque (3).
 PW_EXPORT int pw_body_step(WebBody* body, double* state, const double* fluidIn, double time, double dt,
                            int waterMode, double level, int id, int hasVelocities, double minHeight,
                            double maxHeight, double* out) {
@@ -251,6 +252,11 @@ PW_EXPORT int pw_body_step(WebBody* body, double* state, const double* fluidIn, 
         out[24] = load.waterMass;
         put(out + 25, load.force);
         put(out + 28, load.torque);
+        if (!finite(out, 31)) {
+            lastError = "load: the result is not finite (did the water callback return NaN?)";
+            return 0;
+        }
+        return 1;
     }
     rt::stepBody(body->body, s, water, fluid, time, dt);
     const double next[13] = {s.pose.position.x, s.pose.position.y, s.pose.position.z, s.pose.orientation.w,

@@ -310,11 +310,11 @@ async function main() {
       const st = body.state;
       visual.group.position.set(...st.position);
       visual.group.quaternion.copy(quaternion(st.orientation));
-      if (!body.load) continue;
-      const f = body.load.forces;
+      const load = body.waterLoad(dt, { time });
+      const f = load.forces;
       const com = vec(bundle.mass.centerOfMass).applyQuaternion(visual.group.quaternion).add(visual.group.position);
       setArrow(visual.arrows.buoyancy, vec(f.centerOfBuoyancy), bundle.world.water.kind === 'flat' ? f.force : f.pressureForce);
-      setArrow(visual.arrows.weight, com, [0, -(bundle.mass.mass + body.load.waterMass) * g, 0]);
+      setArrow(visual.arrows.weight, com, [0, -(bundle.mass.mass + load.waterMass) * g, 0]);
       setArrow(visual.arrows.drag, vec(f.centerOfBuoyancy), f.dragForce);
       showFlooding(visual, body.nodeWater(), index === selected);
     }

@@ -107,3 +107,28 @@ test('a callback that returns NaN is refused, naming the point', { skip }, async
   assert.throws(() => bundle.evaluate({ position: [0, 0, 0] }, {}, { water }), /heights callback returned NaN at \(/);
   bundle.dispose();
 });
+
+for (const project of ['buoy.plim.json', 'damaged_boat.plim.json']) {
+  test(`a body stepped 480 times equals the native stepBody's: ${project}`, { skip }, async () => {
+    const rt = await theRuntime();
+    const folder = exportProject(project);
+    const [line] = execFileSync(reference, [folder, '--steps', '480']).toString().trim().split('\n');
+    const words = line.split(' ');
+    const nativeHash = words.pop();
+    const want = words.map(Number);
+    const bundle = await rt.fetchBundle(folder);
+    const body = bundle.createBody();
+    const dt = 1 / 240;
+    const waterBefore = body.nodeWater().reduce((s, v) => s + v, 0);
+    for (let i = 0; i < 480; ++i) body.step(dt, { time: i * dt });
+    const st = body.state;
+    const load = body.waterLoad(dt, { time: 480 * dt });
+    const got = [...st.position, ...st.orientation, ...st.velocity, ...st.angularVelocity, ...flatten(load.forces),
+      load.waterMass, ...load.force, ...load.torque];
+    assert.deepEqual(got, want);
+    assert.equal(body.stateHash(), nativeHash);
+    if (bundle.nodeCapacities.length) assert.ok(body.nodeWater().reduce((s, v) => s + v, 0) !== waterBefore, 'the water inside moved');
+    body.dispose();
+    bundle.dispose();
+  });
+}
