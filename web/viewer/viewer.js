@@ -249,11 +249,8 @@ async function main() {
   window.addEventListener('pointerup', () => {
     if (grab && !grab.dragged) {
       // A push: 1.5 m/s along the view ray at the point clicked.
-      const { entry } = grab;
-      const st = entry.body.state;
       const J = grab.direction.clone().multiplyScalar(1.5 * bundle.mass.mass);
-      applyImpulse(entry, grab.local, J);
-      st.velocity = [...st.velocity];
+      applyImpulse(grab.entry, grab.local, J);
     }
     grab = null;
     controls.enabled = true;
