@@ -6,7 +6,8 @@
 // export would change. --shard K/N exports only this CI shard's bodies; --junit writes one
 // test case per body. The summary JSON goes to stdout (and to --summary FILE); progress (on a
 // terminal, or with --progress) and errors to stderr. --compact stores the samples and images
-// as half floats (docs/bundle.md "Compact bundles").
+// as half floats (docs/bundle.md "Compact bundles"). --web also writes the three.js viewer page
+// (web/viewer, assembled by scripts/build-web.sh) into OUT with bundles.json naming the bodies.
 #include "cli/commands.h"
 
 #include "cli/common.h"
@@ -21,6 +22,7 @@
 #include <algorithm>
 #include <atomic>
 #include <chrono>
+#include <cstdlib>
 #include <iomanip>
 #include <iostream>
 #include <memory>
@@ -48,6 +50,7 @@ struct ExportOptions {
     bool compact = false;
     bool quiet = false;
     bool progress = false;
+    bool web = false;
 };
 
 struct Task {
@@ -173,6 +176,37 @@ Status writeTextFile(const std::string& path, const std::string& text) {
     });
 }
 
+/// The viewer page --web copies: $PLIMSOLL_WEB_VIEWER, else build-web/viewer in the clone whose
+/// build folder holds this executable (build/editor/plimsoll), where scripts/build-web.sh puts it.
+/// Found at run time, so that nothing path-dependent is compiled in.
+Result<fs::path> findWebViewer() {
+    std::vector<fs::path> places;
+    if (const char* env = std::getenv("PLIMSOLL_WEB_VIEWER"); env && *env) {
+        places.emplace_back(env);
+    } else {
+        std::error_code ec;
+        const fs::path exe = fs::read_symlink("/proc/self/exe", ec);
+        if (!ec) places.push_back(exe.parent_path().parent_path().parent_path() / "build-web" / "viewer");
+    }
+    std::string looked;
+    for (const fs::path& p : places) {
+        if (fs::is_regular_file(p / "index.html") && fs::is_regular_file(p / "viewer.js")) return p;
+        looked += (looked.empty() ? "" : ", ") + p.string();
+    }
+    return makeError(ErrorKind::io,
+                     "export --web: no built web viewer (index.html and viewer.js) in " +
+                         (looked.empty() ? std::string("any known place") : looked) +
+                         ": run scripts/build-web.sh, or set PLIMSOLL_WEB_VIEWER to the viewer's folder");
+}
+
+/// The viewer's files into `out`, and bundles.json listing the bundle folders (relative to out).
+Status writeWebViewer(const fs::path& viewer, const fs::path& out, const std::vector<std::string>& bundles) {
+    std::error_code ec;
+    fs::copy(viewer, out, fs::copy_options::recursive | fs::copy_options::overwrite_existing, ec);
+    if (ec) return makeError(ErrorKind::io, "export --web: cannot copy " + viewer.string() + " to " + out.string() + ": " + ec.message());
+    return writeTextFile((out / "bundles.json").string(), nlohmann::json{{"bundles", bundles}}.dump(2) + "\n");
+}
+
 int runExport(const ExportOptions& o) {
     const auto start = std::chrono::steady_clock::now();
     Shard shard;
@@ -183,6 +217,19 @@ int runExport(const ExportOptions& o) {
             return kExitUsage;
         }
         shard = *parsed;
+    }
+    fs::path viewer;
+    if (o.web) {
+        if (o.check) {
+            std::cerr << "error: export --web writes the viewer page; it cannot go with --check\n";
+            return kExitUsage;
+        }
+        Result<fs::path> found = findWebViewer();
+        if (!found) {
+            std::cerr << "error: " << found.error().message << "\n";
+            return kExitFailure;
+        }
+        viewer = *found;
     }
     std::vector<Project> projects;
     std::vector<std::string> folders;
@@ -346,6 +393,14 @@ int runExport(const ExportOptions& o) {
             return kExitFailure;
         }
     }
+    if (o.web && !failed) {
+        std::vector<std::string> bundles;
+        for (const Task& t : tasks) bundles.push_back(t.key);
+        if (Status s = writeWebViewer(viewer, o.out, bundles); !s.ok()) {
+            std::cerr << "error: " << s.error().message << "\n";
+            return kExitFailure;
+        }
+    }
     return failed || outOfDate ? kExitFailure : kExitOk;
 }
 
@@ -371,6 +426,9 @@ void addExportCommand(CLI::App& root, CommandRunner& selected) {
     command->add_flag("--compact", o->compact,
                       "Half-float samples and images (about half the size; accuracy in "
                       "docs/bundle.md \"Compact bundles\")");
+    command->add_flag("--web", o->web,
+                      "Also write the three.js viewer page into OUT (index.html, bundles.json; "
+                      "web/README.md): the one scripts/build-web.sh builds, or $PLIMSOLL_WEB_VIEWER");
     command->add_flag("--quiet", o->quiet, "No progress lines or tally on stderr");
     command->add_flag("--progress", o->progress,
                       "Progress lines on stderr even when it is not a terminal");

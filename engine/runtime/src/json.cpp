@@ -3,7 +3,10 @@
 #include <algorithm>
 #include <charconv>
 #include <cmath>
+#include <cerrno>
 #include <cstdint>
+#include <cstdlib>
+#include <string>
 #include <unordered_set>
 
 namespace plimsoll_runtime::json {
@@ -29,6 +32,25 @@ const char* kindName(Value::Kind kind) {
 }
 
 namespace {
+
+/// std::from_chars for a double. Emscripten's libc++ (3.1.6) has none for floating point; there
+/// strtod, which rounds correctly as from_chars does and runs in the "C" locale (the only one a
+/// WebAssembly module has), gives the same value and the same range errors.
+std::from_chars_result parseDouble(const char* first, const char* last, double& v) {
+#if defined(__EMSCRIPTEN__)
+    const std::string text(first, last);
+    char* end = nullptr;
+    errno = 0;
+    const double parsed = std::strtod(text.c_str(), &end);
+    const char* ptr = first + (end - text.c_str());
+    if (end == text.c_str()) return {first, std::errc::invalid_argument};
+    if (errno == ERANGE) return {ptr, std::errc::result_out_of_range};
+    v = parsed;
+    return {ptr, std::errc()};
+#else
+    return std::from_chars(first, last, v);
+#endif
+}
 
 /// Nesting deeper than this is refused before the parser descends further, so a hostile file
 /// cannot overflow the stack: the engine's kMaxJsonDepth (limits.h), restated (the runtime
@@ -280,7 +302,7 @@ private:
         const char* first = s_.data() + start;
         const char* last = s_.data() + pos_;
         double v = 0;
-        const auto [ptr, ec] = std::from_chars(first, last, v);
+        const auto [ptr, ec] = parseDouble(first, last, v);
         if (ptr != last || (ec != std::errc() && ec != std::errc::result_out_of_range)) {
             pos_ = start;
             return fail("invalid number");

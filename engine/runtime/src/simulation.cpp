@@ -10,6 +10,7 @@
 #include "vec.hpp"
 
 #include "plimsoll_eval/levels.hpp"
+#include "plimsoll_eval/portable_math.hpp"
 #include "plimsoll_eval/cummins.hpp"
 #include "plimsoll_eval/sleep.hpp"
 
@@ -98,8 +99,8 @@ Vec3 solve(const double I[3][3], const Vec3& v) {
 Quat rotationBy(const Vec3& w, double dt) {
     const double rate = norm(w);
     if (rate == 0) return {};
-    const double half = 0.5 * (rate * dt), s = std::sin(half);
-    return {std::cos(half), s * (w.x / rate), s * (w.y / rate), s * (w.z / rate)};
+    const double half = 0.5 * (rate * dt), s = plimsoll_eval::math::sin(half);
+    return {plimsoll_eval::math::cos(half), s * (w.x / rate), s * (w.y / rate), s * (w.z / rate)};
 }
 
 /// The orientation after dt with the world angular momentum L fixed: the implicit midpoint

@@ -8,6 +8,8 @@
 // (tests/physics/test_water.cpp), and kernels/buoyancy.cl mirrors them line for line.
 #pragma once
 
+#include "plimsoll_eval/portable_math.hpp"
+
 #include <algorithm>
 #include <cmath>
 #include <cstddef>
@@ -86,7 +88,7 @@ inline void undisplaced(const WaveTerms* terms, std::size_t count, double x, dou
         double sx = 0, sz = 0;
         for (std::size_t i = 0; i < count; ++i) {
             const WaveTerms& t = terms[i];
-            const double s = t.q * t.amplitude * std::sin(phaseAt(t, x0, z0, time));
+            const double s = t.q * t.amplitude * math::sin(phaseAt(t, x0, z0, time));
             sx += s * t.dx;
             sz += s * t.dz;
         }
@@ -102,7 +104,7 @@ inline double gerstnerHeight(const WaveTerms* terms, std::size_t count, double l
     undisplaced(terms, count, x, z, time, x0, z0);
     double y = level;
     for (std::size_t i = 0; i < count; ++i)
-        y += terms[i].amplitude * std::cos(phaseAt(terms[i], x0, z0, time));
+        y += terms[i].amplitude * math::cos(phaseAt(terms[i], x0, z0, time));
     return y;
 }
 
@@ -116,10 +118,10 @@ inline void gerstnerVelocity(const WaveTerms* terms, std::size_t count, double l
     for (std::size_t i = 0; i < count; ++i) {
         const WaveTerms& t = terms[i];
         const double theta = phaseAt(t, x0, z0, time);
-        const double decay = std::exp(t.k * std::min(0.0, py - level));
-        const double horizontal = t.q * t.amplitude * t.omega * std::cos(theta) * decay;
+        const double decay = math::exp(t.k * std::min(0.0, py - level));
+        const double horizontal = t.q * t.amplitude * t.omega * math::cos(theta) * decay;
         out[0] += horizontal * t.dx;
-        out[1] += t.amplitude * t.omega * std::sin(theta) * decay;
+        out[1] += t.amplitude * t.omega * math::sin(theta) * decay;
         out[2] += horizontal * t.dz;
     }
 }
