@@ -70,8 +70,8 @@ Result<BuoyancyResult> evaluateTexture(const BuoyancyJob& o, const BodyFrame& fr
     return result;
 }
 
-Result<BuoyancyResult> evaluateExact(const BuoyancyJob& o, BodyFrame frame, BuoyancyOutcome& outcome,
-                                     const Reporter& reporter) {
+Result<BuoyancyResult> evaluateExact(const BuoyancyJob& o, BodyFrame frame,
+                                     BuoyancyOutcome& outcome, const Reporter& reporter) {
     Result<TriangleMesh> mesh = closedMeshOf(o.mesh, 0, nullptr, reporter);
     if (!mesh) return mesh.error();
     frame.centerOfMass = exactSolidMassProperties(*mesh, 1.0).centerOfMass;

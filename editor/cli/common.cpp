@@ -66,7 +66,8 @@ Result<PhysicsSolid> solidOrRepair(const TriangleMesh& mesh, const ValidationRep
     if (!solid) return solid.error();
     if (!solid->repairs.empty()) {
         std::ostringstream text;
-        text << "note: " << path << ": not one closed solid as it is, or an open hull: using its physics solid ("
+        text << "note: " << path
+             << ": not one closed solid as it is, or an open hull: using its physics solid ("
              << describeRepairs(solid->repairs) << "), " << solid->materialVolume << " m^3\n";
         for (const Repair& r : solid->repairs) text << "  " << r.kind << ": " << r.detail << "\n";
         reporter.note(text.str());

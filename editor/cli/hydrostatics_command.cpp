@@ -261,11 +261,12 @@ int runHydrostatics(const HydrostaticsOptions& o) {
         return kExitOk;
     }
     const FloatingBody& floating = study->floating;
-    std::printf("%s: calm water of %g kg/m^3 at the mean level, mass %g kg (%g m^3 of it graph "
-                "water), centre of mass %g %g %g m; heel about x, trim about z, y up\n",
-                study->label.c_str(), study->density, floating.body.mass, floating.graphWater,
-                floating.body.centerOfMass.x(), floating.body.centerOfMass.y(),
-                floating.body.centerOfMass.z());
+    std::printf(
+        "%s: calm water of %g kg/m^3 at the mean level, mass %g kg (%g m^3 of it graph "
+        "water), centre of mass %g %g %g m; heel about x, trim about z, y up\n",
+        study->label.c_str(), study->density, floating.body.mass, floating.graphWater,
+        floating.body.centerOfMass.x(), floating.body.centerOfMass.y(),
+        floating.body.centerOfMass.z());
     if (!study->exactOnly) std::printf("textures at %d^2\n", study->textureSize);
     printTable(methods);
     return kExitOk;
@@ -282,9 +283,8 @@ Result<HydrostaticsStudy> hydrostaticsJob(const HydrostaticsJob& o, const Report
         hydrostaticsSettingsOf(project->medium, project->simulation.gravity);
     if (!settings) return withContext(o.project + ": ", settings.error());
     settings->gzStepDegrees = o.stepDegrees;
-    Result<SceneBody> body = loadSceneBody(*project, *index, [&](const std::string& line) {
-        reporter.note("note: " + line + "\n");
-    });
+    Result<SceneBody> body = loadSceneBody(
+        *project, *index, [&](const std::string& line) { reporter.note("note: " + line + "\n"); });
     if (!body) return body.error();
     Result<FloatingBody> floating = floatingBodyOf(*body, project->medium);
     if (!floating) return floating.error();
@@ -300,9 +300,9 @@ Result<HydrostaticsStudy> hydrostaticsJob(const HydrostaticsJob& o, const Report
         const auto start = std::chrono::steady_clock::now();
         Result<HydrostaticsResult> r = compute();
         if (!r) return withContext(body->label + ": ", r.error());
-        study.methods.push_back({std::move(*r), std::chrono::duration<double>(
-                                                    std::chrono::steady_clock::now() - start)
-                                                    .count()});
+        study.methods.push_back(
+            {std::move(*r),
+             std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count()});
         return Ok{};
     };
     if (!o.exact) {
@@ -312,7 +312,8 @@ Result<HydrostaticsStudy> hydrostaticsJob(const HydrostaticsJob& o, const Report
             !s)
             return s.error();
     }
-    if (Status s = measure([&] { return hydrostaticsExact(*body->parts.mesh, floating->body, *settings); });
+    if (Status s = measure(
+            [&] { return hydrostaticsExact(*body->parts.mesh, floating->body, *settings); });
         !s)
         return s.error();
     return study;

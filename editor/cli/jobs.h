@@ -112,14 +112,15 @@ struct MeasuredHydrostatics {
 };
 
 struct HydrostaticsStudy {
-    std::string label;      ///< the body as messages name it
+    std::string label;  ///< the body as messages name it
     std::string bodyName;
     int textureSize = 0;
     bool exactOnly = false;
-    double density = 0;     ///< of the water
+    double density = 0;  ///< of the water
     FloatingBody floating;
-    std::vector<MeasuredHydrostatics> methods;  ///< the textures' (unless exactOnly), the exact clip's
-    nlohmann::json json() const;                ///< what `hydrostatics --json` prints
+    std::vector<MeasuredHydrostatics>
+        methods;                  ///< the textures' (unless exactOnly), the exact clip's
+    nlohmann::json json() const;  ///< what `hydrostatics --json` prints
 };
 
 Result<HydrostaticsStudy> hydrostaticsJob(const HydrostaticsJob& job, const Reporter& reporter);

@@ -35,7 +35,8 @@ int runMassProps(const MassPropsOptions& options) {
         std::cout << reportJson(out) << "\n";
     } else {
         std::cout << options.job.mesh << " (" << out["method"].get<std::string>() << ", "
-                  << lengthUnitName(report.facts.unitScale) << ": " << report.facts.unitSource << ")\n"
+                  << lengthUnitName(report.facts.unitScale) << ": " << report.facts.unitSource
+                  << ")\n"
                   << "  repairs         " << describeRepairs(report.repairs) << "\n"
                   << "  volume          " << props.volume << " m^3\n"
                   << "  mass            " << props.mass << " kg\n"
@@ -114,12 +115,14 @@ void addMassPropsCommand(CLI::App& root, CommandRunner& selected) {
     auto o = std::make_shared<MassPropsOptions>();
     CLI::App* cmd = root.add_subcommand(
         "massprops", "Volume, mass, centre of mass and inertia, from textures or exactly");
-    cmd->add_option("MESH", o->job.mesh, "Mesh file (a surface that is not one closed solid gives its physics solid)")->required();
+    cmd->add_option("MESH", o->job.mesh,
+                    "Mesh file (a surface that is not one closed solid gives its physics solid)")
+        ->required();
     CLI::Option* size = addBakeOptions(*cmd, o->job.bake);
     addUnitOption(*cmd, o->job.bake.unitScale);
-    CLI::Option* exact =
-        cmd->add_flag("--exact", o->job.exact, "Exact polyhedral integrals of the mesh (no textures)")
-            ->excludes(size);
+    CLI::Option* exact = cmd->add_flag("--exact", o->job.exact,
+                                       "Exact polyhedral integrals of the mesh (no textures)")
+                             ->excludes(size);
     cmd->add_option("--density", o->job.density, "Solid density, kg/m^3 (default 1000)")
         ->check(kFiniteNonNegative)
         ->each([o](const std::string&) { o->job.densityGiven = true; });

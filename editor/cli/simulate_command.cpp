@@ -212,9 +212,10 @@ Result<PreparedSimulation> prepareSimulation(const SimulateJob& o, const Reporte
     const double frames = std::ceil(seconds / project.simulation.timeStep - 1e-9);
     if (!(frames >= 0) || frames > double(kMaxSimulationFrames)) {
         std::ostringstream message;
-        message << source << ": " << seconds << " s at a time step of " << project.simulation.timeStep
-                << " s is " << frames << " frames, more than the limit kMaxSimulationFrames = "
-                << kMaxSimulationFrames << " (limits.h)";
+        message << source << ": " << seconds << " s at a time step of "
+                << project.simulation.timeStep << " s is " << frames
+                << " frames, more than the limit kMaxSimulationFrames = " << kMaxSimulationFrames
+                << " (limits.h)";
         return makeError(ErrorKind::limit, message.str());
     }
     prepared.frames = static_cast<long>(frames);
@@ -226,7 +227,8 @@ Result<PreparedSimulation> prepareSimulation(const SimulateJob& o, const Reporte
     const LogFunction log = [&reporter](const std::string& line) { reporter.note(line + "\n"); };
     Result<Scene> scene = loadScene(project, log, reporter.progress);
     if (!scene) return scene.error();
-    Result<std::unique_ptr<World>> created = World::create(std::move(*scene), std::move(*backend), log);
+    Result<std::unique_ptr<World>> created =
+        World::create(std::move(*scene), std::move(*backend), log);
     // The scene's own problems (a body no step resolves) name the file it came from.
     if (!created) return withContext(source + ": ", created.error());
     prepared.world = std::move(*created);
@@ -239,7 +241,8 @@ Status advanceFrameChecked(World& world) {
         text << world.time();
         return text.str();
     };
-    if (Status s = world.advanceFrame(); !s.ok()) return withContext("at t = " + at() + " s: ", s.error());
+    if (Status s = world.advanceFrame(); !s.ok())
+        return withContext("at t = " + at() + " s: ", s.error());
     for (const SimulatedBody& b : world.bodies()) {
         if (!b.state.position.allFinite() || !b.state.orientation.coeffs().allFinite())
             return makeError(ErrorKind::invalidArgument,
@@ -255,8 +258,9 @@ std::array<double, 21> trajectoryRow(const SimulatedBody& b) {
     const Eigen::Vector3d& x = b.state.position;
     const Eigen::Vector3d& F = b.buoyancy.pressureForce;
     const Eigen::Vector3d& c = b.mass.centerOfMass;
-    return {x.x(), x.y(), x.z(), q.w(), q.x(), q.y(), q.z(), v.x(), v.y(), v.z(), w.x(), w.y(), w.z(),
-            b.buoyancy.submergedVolume, F.x(), F.y(), F.z(), b.mass.mass, c.x(), c.y(), c.z()};
+    return {x.x(), x.y(), x.z(), q.w(),       q.x(), q.y(), q.z(),
+            v.x(), v.y(), v.z(), w.x(),       w.y(), w.z(), b.buoyancy.submergedVolume,
+            F.x(), F.y(), F.z(), b.mass.mass, c.x(), c.y(), c.z()};
 }
 
 void addSimulateCommand(CLI::App& root, CommandRunner& selected) {
@@ -265,12 +269,15 @@ void addSimulateCommand(CLI::App& root, CommandRunner& selected) {
         "simulate", "Run a scene headless and write its trajectory (a project, or one body "
                     "given by flags)");
     cmd->add_option("PROJECT", o->job.project, "Project file (*.plim.json)");
-    cmd->add_option("--seconds", o->job.seconds, "Simulated time, s (default: the project's duration)")
+    cmd->add_option("--seconds", o->job.seconds,
+                    "Simulated time, s (default: the project's duration)")
         ->check(kFiniteNonNegative);
     cmd->add_option("--out", o->out, "Trajectory file: .csv (default) or .json, one row per frame")
         ->check(kNonEmptyPath);
     cmd->add_flag("--json", o->json, "Print the final state of the first body as one JSON object");
-    cmd->add_option("--device", o->job.device, "Compute device: fast (CPU), cpu, gpu, an OpenCL index, or reference; default: the first GPU, else fast");
+    cmd->add_option("--device", o->job.device,
+                    "Compute device: fast (CPU), cpu, gpu, an OpenCL index, or reference; default: "
+                    "the first GPU, else fast");
     cmd->add_option("--integrator", o->integrator,
                     "explicit-euler, semi-implicit-euler or rk4 (default: the project's)");
     auto* mesh = cmd->add_option("--mesh", o->job.mesh, "One-body scene: the mesh");
@@ -291,8 +298,9 @@ void addSimulateCommand(CLI::App& root, CommandRunner& selected) {
                   "One-body scene: without wave radiation (no panel solve at load; the stand-in "
                   "damping applies, as \"radiation\": false in a project)")
         ->needs(mesh);
-    addVectorOption(*cmd, "--position", o->job.position, "One-body scene: position t of the object "
-                                                     "origin (R p + t), m")
+    addVectorOption(*cmd, "--position", o->job.position,
+                    "One-body scene: position t of the object "
+                    "origin (R p + t), m")
         ->type_name("X,Y,Z");
     addVectorOption(*cmd, "--rotation-deg", o->job.rotationDegrees,
                     "One-body scene: rotation Rz Ry Rx, degrees")

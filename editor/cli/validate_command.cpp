@@ -141,8 +141,10 @@ int runValidate(const ValidateOptions& options) {
         std::cerr << "error: " << v.error().message << "\n";
         return kExitFailure;
     }
-    if (options.json) std::cout << reportJson(v->json) << "\n";
-    else printHuman(options, v->mesh, v->report, v->facts, v->verdict);
+    if (options.json)
+        std::cout << reportJson(v->json) << "\n";
+    else
+        printHuman(options, v->mesh, v->report, v->facts, v->verdict);
     return v->verdict.solid ? kExitOk : kExitFailure;
 }
 }  // namespace

@@ -27,12 +27,18 @@ PyObject* errorType = nullptr;
 /// Python objects from JSON: objects become dicts, arrays lists, numbers floats or ints.
 py::object fromJson(const nlohmann::json& j) {
     switch (j.type()) {
-        case nlohmann::json::value_t::null: return py::none();
-        case nlohmann::json::value_t::boolean: return py::bool_(j.get<bool>());
-        case nlohmann::json::value_t::number_integer: return py::int_(j.get<std::int64_t>());
-        case nlohmann::json::value_t::number_unsigned: return py::int_(j.get<std::uint64_t>());
-        case nlohmann::json::value_t::number_float: return py::float_(j.get<double>());
-        case nlohmann::json::value_t::string: return py::str(j.get<std::string>());
+        case nlohmann::json::value_t::null:
+            return py::none();
+        case nlohmann::json::value_t::boolean:
+            return py::bool_(j.get<bool>());
+        case nlohmann::json::value_t::number_integer:
+            return py::int_(j.get<std::int64_t>());
+        case nlohmann::json::value_t::number_unsigned:
+            return py::int_(j.get<std::uint64_t>());
+        case nlohmann::json::value_t::number_float:
+            return py::float_(j.get<double>());
+        case nlohmann::json::value_t::string:
+            return py::str(j.get<std::string>());
         case nlohmann::json::value_t::array: {
             py::list list;
             for (const nlohmann::json& item : j) list.append(fromJson(item));
@@ -43,7 +49,8 @@ py::object fromJson(const nlohmann::json& j) {
             for (const auto& [key, value] : j.items()) dict[py::str(key)] = fromJson(value);
             return dict;
         }
-        default: return py::none();
+        default:
+            return py::none();
     }
 }
 
@@ -52,7 +59,8 @@ py::dict withArrays(const nlohmann::json& j, std::initializer_list<const char*> 
     py::dict out = fromJson(j);
     for (const char* key : arrays) {
         if (out.contains(key) && !out[key].is_none())
-            out[key] = py::array_t<double>(py::module_::import("numpy").attr("asarray")(out[key], "float64"));
+            out[key] = py::array_t<double>(
+                py::module_::import("numpy").attr("asarray")(out[key], "float64"));
     }
     return out;
 }
@@ -89,7 +97,8 @@ cli::BakeOptions bakeOptions(int size, std::optional<double> unit, const std::st
     if (maxTexelStretch) options.maxTexelStretch = *maxTexelStretch;
     std::optional<AtlasMode> mode = parseAtlasMode(atlas);
     if (!mode)
-        raise({"atlas '" + atlas + "': expected mesh, auto or generate", ErrorKind::invalidArgument});
+        raise(
+            {"atlas '" + atlas + "': expected mesh, auto or generate", ErrorKind::invalidArgument});
     options.atlas = *mode;
     return options;
 }
@@ -97,7 +106,8 @@ cli::BakeOptions bakeOptions(int size, std::optional<double> unit, const std::st
 Eigen::Vector3d vector3(const std::optional<std::array<double, 3>>& v) {
     if (!v) return Eigen::Vector3d::Zero();
     const Eigen::Vector3d out((*v)[0], (*v)[1], (*v)[2]);
-    if (!out.allFinite()) raise({"a vector with a NaN or Inf component", ErrorKind::invalidArgument});
+    if (!out.allFinite())
+        raise({"a vector with a NaN or Inf component", ErrorKind::invalidArgument});
     return out;
 }
 
@@ -106,8 +116,9 @@ py::dict validate(const std::string& mesh, std::optional<double> unit) {
     return fromJson(value(std::move(v)).json);
 }
 
-py::dict bake(const std::string& mesh, int size, std::optional<double> unit, const std::string& atlas,
-              std::optional<double> maxTexelStretch, const py::object& notes) {
+py::dict bake(const std::string& mesh, int size, std::optional<double> unit,
+              const std::string& atlas, std::optional<double> maxTexelStretch,
+              const py::object& notes) {
     const cli::BakeOptions options = bakeOptions(size, unit, atlas, maxTexelStretch);
     const cli::Reporter reporter = reporterFor(notes);
     struct Baked {
@@ -126,7 +137,8 @@ py::dict bake(const std::string& mesh, int size, std::optional<double> unit, con
     const SurfaceTextures& t = b.textures;
     const py::ssize_t n = static_cast<py::ssize_t>(t.coveredCount());
     py::array_t<std::uint32_t> texel(n);
-    py::array_t<double> position({n, py::ssize_t{3}}), areaVector({n, py::ssize_t{3}}), area(n), coverage(n);
+    py::array_t<double> position({n, py::ssize_t{3}}), areaVector({n, py::ssize_t{3}}), area(n),
+        coverage(n);
     auto ti = texel.mutable_unchecked<1>();
     auto p = position.mutable_unchecked<2>();
     auto a = areaVector.mutable_unchecked<2>();
@@ -160,8 +172,9 @@ py::dict bake(const std::string& mesh, int size, std::optional<double> unit, con
 }
 
 py::dict massprops(const std::string& mesh, int size, bool exact, std::optional<double> density,
-                   double shellDensity, const std::string& shellDensityMap, std::optional<double> unit,
-                   const std::string& atlas, std::optional<double> maxTexelStretch, const py::object& notes) {
+                   double shellDensity, const std::string& shellDensityMap,
+                   std::optional<double> unit, const std::string& atlas,
+                   std::optional<double> maxTexelStretch, const py::object& notes) {
     cli::MassPropsJob job;
     job.mesh = mesh;
     job.bake = bakeOptions(size, unit, atlas, maxTexelStretch);
@@ -170,17 +183,22 @@ py::dict massprops(const std::string& mesh, int size, bool exact, std::optional<
     job.density = density.value_or(1000.0);
     job.shellDensity = shellDensity;
     job.shellDensityMap = shellDensityMap;
-    if (!std::isfinite(job.density) || job.density < 0 || !std::isfinite(shellDensity) || shellDensity < 0)
-        raise({"density and shell_density: expected finite numbers >= 0", ErrorKind::invalidArgument});
+    if (!std::isfinite(job.density) || job.density < 0 || !std::isfinite(shellDensity) ||
+        shellDensity < 0)
+        raise({"density and shell_density: expected finite numbers >= 0",
+               ErrorKind::invalidArgument});
     if (exact && !shellDensityMap.empty())
-        raise({"shell_density_map: the exact method has no texels to paint", ErrorKind::invalidArgument});
+        raise({"shell_density_map: the exact method has no texels to paint",
+               ErrorKind::invalidArgument});
     const cli::Reporter reporter = reporterFor(notes);
-    Result<cli::MassPropsOutcome> outcome = withoutGil([&] { return cli::massPropsJob(job, reporter); });
+    Result<cli::MassPropsOutcome> outcome =
+        withoutGil([&] { return cli::massPropsJob(job, reporter); });
     return withArrays(value(std::move(outcome)).json, {"center_of_mass", "inertia"});
 }
 
-py::dict buoyancy(const std::string& mesh, std::array<double, 3> position, std::array<double, 3> rotationDeg,
-                  double waterLevel, std::optional<std::array<double, 3>> velocity,
+py::dict buoyancy(const std::string& mesh, std::array<double, 3> position,
+                  std::array<double, 3> rotationDeg, double waterLevel,
+                  std::optional<std::array<double, 3>> velocity,
                   std::optional<std::array<double, 3>> angularVelocity, int size, bool exact,
                   const std::string& device, double fluidDensity, double dragCoefficient,
                   double frictionCoefficient, bool compareExact, std::optional<double> unit,
@@ -201,23 +219,26 @@ py::dict buoyancy(const std::string& mesh, std::array<double, 3> position, std::
     job.compareExact = compareExact;
     if (!std::isfinite(waterLevel) || !(fluidDensity > 0) || !std::isfinite(fluidDensity) ||
         !(dragCoefficient >= 0) || !(frictionCoefficient >= 0))
-        raise({"water_level, fluid_density, drag_coefficient, friction_coefficient: expected finite "
-               "numbers (a density > 0, coefficients >= 0)",
-               ErrorKind::invalidArgument});
+        raise(
+            {"water_level, fluid_density, drag_coefficient, friction_coefficient: expected finite "
+             "numbers (a density > 0, coefficients >= 0)",
+             ErrorKind::invalidArgument});
     const cli::Reporter reporter = reporterFor(notes);
-    Result<cli::BuoyancyOutcome> outcome = withoutGil([&] { return cli::buoyancyJob(job, reporter); });
+    Result<cli::BuoyancyOutcome> outcome =
+        withoutGil([&] { return cli::buoyancyJob(job, reporter); });
     return withArrays(value(std::move(outcome)).json,
                       {"center_of_buoyancy", "force", "torque", "pressure_force", "pressure_torque",
                        "drag_force", "drag_torque"});
 }
 
-py::dict hydrostatics(const std::string& project, const std::string& body, bool exact, double stepDeg,
-                      const py::object& notes) {
+py::dict hydrostatics(const std::string& project, const std::string& body, bool exact,
+                      double stepDeg, const py::object& notes) {
     if (!(stepDeg >= 0.01 && stepDeg <= 90.0))
         raise({"step_deg: expected 0.01 to 90 degrees", ErrorKind::invalidArgument});
     const cli::HydrostaticsJob job{project, body, exact, stepDeg};
     const cli::Reporter reporter = reporterFor(notes);
-    Result<cli::HydrostaticsStudy> study = withoutGil([&] { return cli::hydrostaticsJob(job, reporter); });
+    Result<cli::HydrostaticsStudy> study =
+        withoutGil([&] { return cli::hydrostaticsJob(job, reporter); });
     const nlohmann::json json = value(std::move(study)).json();
     py::dict out = withArrays(json, {"center_of_mass", "center_of_flotation", "gz"});
     if (json.contains("exact"))
@@ -227,8 +248,9 @@ py::dict hydrostatics(const std::string& project, const std::string& body, bool 
 
 /// The trajectory as `simulate --out` writes it: one row per frame and body.
 py::dict simulate(const std::optional<std::string>& project, std::optional<double> seconds,
-                  const std::optional<std::string>& mesh, double density, int size, double fluidDensity,
-                  double waterLevel, std::optional<std::array<double, 3>> position,
+                  const std::optional<std::string>& mesh, double density, int size,
+                  double fluidDensity, double waterLevel,
+                  std::optional<std::array<double, 3>> position,
                   std::optional<std::array<double, 3>> rotationDeg, bool noRadiation,
                   std::optional<double> unit, const std::string& device,
                   const std::optional<std::string>& integrator, const py::object& notes) {
@@ -252,11 +274,12 @@ py::dict simulate(const std::optional<std::string>& project, std::optional<doubl
     if (integrator) {
         job.integrator = integratorFromName(*integrator);
         if (!job.integrator)
-            raise({"integrator: unknown '" + *integrator + "' (explicit-euler, semi-implicit-euler, rk4)",
+            raise({"integrator: unknown '" + *integrator +
+                       "' (explicit-euler, semi-implicit-euler, rk4)",
                    ErrorKind::invalidArgument});
     }
-    if (mesh && !(density > 0 && fluidDensity > 0 && std::isfinite(density) && std::isfinite(fluidDensity) &&
-                  std::isfinite(waterLevel)))
+    if (mesh && !(density > 0 && fluidDensity > 0 && std::isfinite(density) &&
+                  std::isfinite(fluidDensity) && std::isfinite(waterLevel)))
         raise({"density, fluid_density: expected finite numbers > 0; water_level finite",
                ErrorKind::invalidArgument});
     if (mesh && (size < kMinTextureSize || size > kMaxTextureSize))
@@ -304,7 +327,8 @@ py::dict simulate(const std::optional<std::string>& project, std::optional<doubl
         start = end + 1;
         if (name == "body") continue;
         columns.append(name);
-        out[py::str(name)] = table[py::make_tuple(py::slice(py::none(), py::none(), py::none()), column++)];
+        out[py::str(name)] =
+            table[py::make_tuple(py::slice(py::none(), py::none(), py::none()), column++)];
     }
     out["columns"] = columns;
     out["table"] = table;
@@ -316,9 +340,11 @@ py::dict simulate(const std::optional<std::string>& project, std::optional<doubl
 }
 
 /// `export` for one or more projects: what the summary's "bodies" lists.
-py::list exportProjects(const std::vector<std::string>& projects, const std::string& out, bool compact,
-                        bool force, bool check, const py::object& notes) {
-    if (out.empty()) raise({"out: an empty path (it would mean the current folder)", ErrorKind::invalidArgument});
+py::list exportProjects(const std::vector<std::string>& projects, const std::string& out,
+                        bool compact, bool force, bool check, const py::object& notes) {
+    if (out.empty())
+        raise(
+            {"out: an empty path (it would mean the current folder)", ErrorKind::invalidArgument});
     const cli::Reporter reporter = reporterFor(notes);
     const cli::ExportMode mode{check, force, compact};
     const std::function<void(const std::string&)> notice = [&reporter](const std::string& line) {
@@ -377,7 +403,8 @@ py::list exportProjects(const std::vector<std::string>& projects, const std::str
 double unitScale(std::optional<double> unit) {
     if (!unit) return 0;
     if (!(std::isfinite(*unit) && *unit > 0))
-        raise({"unit: expected metres per file unit, a finite number > 0", ErrorKind::invalidArgument});
+        raise({"unit: expected metres per file unit, a finite number > 0",
+               ErrorKind::invalidArgument});
     return *unit;
 }
 
@@ -386,12 +413,14 @@ double unitScale(std::optional<double> unit) {
 PYBIND11_MODULE(plimsoll, m) {
     using namespace plimsoll::python;
     using namespace pybind11::literals;
-    m.doc() = "Plimsoll: texture-space buoyancy. The engine's jobs (the command line's, with the "
-              "same results and errors) and the runtime's asset and instance API (docs/python.md).";
+    m.doc() =
+        "Plimsoll: texture-space buoyancy. The engine's jobs (the command line's, with the "
+        "same results and errors) and the runtime's asset and instance API (docs/python.md).";
     // plimsoll.Error: .kind is the engine's ErrorKind name ("io", "format", "schema", "limit",
     // "device", "kernel-build", "invalid-argument", "unsupported"; "runtime" for the runtime
     // library's errors), .message the message the command line prints after "error: ".
-    errorType = PyErr_NewExceptionWithDoc("plimsoll.Error",
+    errorType =
+        PyErr_NewExceptionWithDoc("plimsoll.Error",
                                   "A Plimsoll failure: .kind (the error kind), .message (what the "
                                   "command line prints after 'error: ')",
                                   PyExc_Exception, nullptr);
@@ -404,26 +433,28 @@ PYBIND11_MODULE(plimsoll, m) {
           "max_texel_stretch"_a = py::none(), "notes"_a = py::none(),
           "Bakes a mesh: the sample list the physics sums run over (texel_index, position = PT, "
           "area_vector = AVT, area, coverage) as arrays, with the atlas used and the repairs.");
-    m.def("massprops", &massprops, "mesh"_a, "size"_a = 512, "exact"_a = false, "density"_a = py::none(),
-          "shell_density"_a = 0.0, "shell_density_map"_a = "", "unit"_a = py::none(), "atlas"_a = "auto",
-          "max_texel_stretch"_a = py::none(), "notes"_a = py::none(),
+    m.def("massprops", &massprops, "mesh"_a, "size"_a = 512, "exact"_a = false,
+          "density"_a = py::none(), "shell_density"_a = 0.0, "shell_density_map"_a = "",
+          "unit"_a = py::none(), "atlas"_a = "auto", "max_texel_stretch"_a = py::none(),
+          "notes"_a = py::none(),
           "The facts of `plimsoll massprops MESH [--size N | --exact] --json`; center_of_mass and "
           "inertia as arrays.");
     m.def("buoyancy", &buoyancy, "mesh"_a, "position"_a, "rotation_deg"_a, "water_level"_a = 0.0,
-          "velocity"_a = py::none(), "angular_velocity"_a = py::none(), "size"_a = 512, "exact"_a = false,
-          "device"_a = "", "fluid_density"_a = 1000.0, "drag_coefficient"_a = 1.0,
-          "friction_coefficient"_a = 0.0, "compare_exact"_a = false, "unit"_a = py::none(),
-          "atlas"_a = "auto", "notes"_a = py::none(),
-          "The facts of `plimsoll buoyancy MESH ... --json`: forces and torques at one pose on flat water.");
-    m.def("hydrostatics", &hydrostatics, "project"_a, "body"_a = "", "exact"_a = false, "step_deg"_a = 5.0,
-          "notes"_a = py::none(),
+          "velocity"_a = py::none(), "angular_velocity"_a = py::none(), "size"_a = 512,
+          "exact"_a = false, "device"_a = "", "fluid_density"_a = 1000.0,
+          "drag_coefficient"_a = 1.0, "friction_coefficient"_a = 0.0, "compare_exact"_a = false,
+          "unit"_a = py::none(), "atlas"_a = "auto", "notes"_a = py::none(),
+          "The facts of `plimsoll buoyancy MESH ... --json`: forces and torques at one pose on "
+          "flat water.");
+    m.def("hydrostatics", &hydrostatics, "project"_a, "body"_a = "", "exact"_a = false,
+          "step_deg"_a = 5.0, "notes"_a = py::none(),
           "The facts of `plimsoll hydrostatics PROJECT --json`: equilibrium, GM, GZ (an (n, 2) "
           "array of heel in degrees and arm in m), the IS Code's criteria.");
     m.def("simulate", &simulate, "project"_a = py::none(), "seconds"_a = py::none(), py::kw_only(),
           "mesh"_a = py::none(), "density"_a = 500.0, "size"_a = 128, "fluid_density"_a = 1000.0,
           "water_level"_a = 0.0, "position"_a = py::none(), "rotation_deg"_a = py::none(),
-          "no_radiation"_a = false, "unit"_a = py::none(), "device"_a = "", "integrator"_a = py::none(),
-          "notes"_a = py::none(),
+          "no_radiation"_a = false, "unit"_a = py::none(), "device"_a = "",
+          "integrator"_a = py::none(), "notes"_a = py::none(),
           "Runs a project (or one body given by mesh=) as `plimsoll simulate` does. Returns the "
           "columns of `simulate --out` as arrays (time, x, y, z, qw, ...; one row per frame and "
           "body), 'table' (rows x 22), 'body' (the name per row), 'columns', 'device', 'steps'.");
@@ -431,11 +462,13 @@ PYBIND11_MODULE(plimsoll, m) {
           "check"_a = false, "notes"_a = py::none(),
           "`plimsoll export PROJECT... --out DIR`: a runtime bundle per body in "
           "OUT/<project>/<body>/. Returns the summary's entry per body.");
-    m.def("export", [](const std::string& project, const std::string& out, bool compact, bool force, bool check,
-                       const py::object& notes) {
-              return exportProjects({project}, out, compact, force, check, notes);
-          },
-          "project"_a, "out"_a, "compact"_a = false, "force"_a = false, "check"_a = false,
-          "notes"_a = py::none());
+    m.def(
+        "export",
+        [](const std::string& project, const std::string& out, bool compact, bool force, bool check,
+           const py::object& notes) {
+            return exportProjects({project}, out, compact, force, check, notes);
+        },
+        "project"_a, "out"_a, "compact"_a = false, "force"_a = false, "check"_a = false,
+        "notes"_a = py::none());
     bindRuntime(m);
 }
