@@ -6,11 +6,13 @@
 #   blender -b --factory-startup --python test_float.py -- BUOY_OBJ WORK_FOLDER
 # The module's folder comes from $PLIMSOLL_PYTHON_PATH.
 import os
+import sys
 
 import bpy
 from mathutils import Matrix, Quaternion, Vector
 
-from blender_test_support import check, run, script_arguments
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))  # Blender does not add it
+from blender_test_support import check, run, script_arguments  # noqa: E402
 
 SECONDS, FPS, SIZE, DENSITY = 5.0, 30, 64, 500.0
 
@@ -43,6 +45,8 @@ def main():
     check(abs(obj["plimsoll_exact_volume"] / original["volume"] - 1) < 1e-5,
           f"exact volume {obj['plimsoll_exact_volume']} against the OBJ's {original['volume']}")
 
+    # The importer turns the object, not its vertices: the exported mesh has that turn applied.
+    linear = obj.matrix_world.to_3x3()
     check(bpy.ops.object.plimsoll_float(seconds=SECONDS, fps=FPS, texture_size=SIZE, density=DENSITY,
                                         amplitude=0.2, wavelength=6.0, direction=20.0,
                                         steepness=0.5, wave_count=2) == {"FINISHED"},
@@ -64,12 +68,12 @@ def main():
         scene.frame_set(1 + k + 1)
         t = {name: trajectory[name][k] for name in trajectory["columns"]}
         rotation = Quaternion((t["qw"], t["qx"], t["qy"], t["qz"])).to_matrix()
-        com_local = to_blender @ Vector((t["com_x"], t["com_y"], t["com_z"]))
+        com_local = linear.inverted() @ to_blender @ Vector((t["com_x"], t["com_y"], t["com_z"]))
         com_world = to_blender @ Vector((t["x"], t["y"], t["z"]))
         placed = obj.matrix_world @ com_local
         check((placed - com_world).length < 2e-5,
               f"frame {k + 1}: centre of mass at {tuple(placed)}, the module says {tuple(com_world)}")
-        turned = obj.matrix_world.to_3x3() - to_blender @ rotation @ to_blender.transposed()
+        turned = obj.matrix_world.to_3x3() - to_blender @ rotation @ to_blender.transposed() @ linear
         check(max(abs(v) for row in turned for v in row) < 2e-6,
               f"frame {k + 1}: rotation differs from the module's by {turned}")
         moved = max(moved, abs(com_world.z - trajectory["y"][0]))
