@@ -3,7 +3,10 @@
 # sample projects' bundles with plimsoll (a water graph and a painted map; a painted shell;
 # a plain solid), imports them through the add-on
 # (blender/tests/test_import_bundle.py), then exports meshes as projects, validates them and
-# round-trips them through plimsoll's export (blender/tests/test_export_project.py).
+# round-trips them through plimsoll's export (blender/tests/test_export_project.py); then,
+# where the plimsoll Python module is built ($PLIMSOLL_PYTHON_PATH, else build/python beside
+# the executable's build/editor), floats the sample buoy on waves as keyframes through the
+# module and checks them against the module's own simulate (blender/tests/test_float.py).
 #   scripts/test-blender.sh PLIMSOLL_EXECUTABLE
 # Exits 77 (ctest's SKIP_RETURN_CODE for test blender_addon) when blender is not installed.
 set -euo pipefail
@@ -24,4 +27,11 @@ run_blender() {
 }
 run_blender "$root/blender/tests/test_import_bundle.py" -- "${bundles[@]}"
 PLIMSOLL="$plimsoll" run_blender "$root/blender/tests/test_export_project.py" -- "$work/projects" "${bundles[@]}"
+module_dir=${PLIMSOLL_PYTHON_PATH:-$(cd "$(dirname "$plimsoll")/.." && pwd)/python}
+if compgen -G "$module_dir/plimsoll*.so" >/dev/null; then
+  PLIMSOLL_PYTHON_PATH="$module_dir" run_blender "$root/blender/tests/test_float.py" -- \
+    "$root/assets/buoy.obj" "$work/float"
+else
+  echo "test-blender: the float test skipped: no plimsoll Python module in $module_dir"
+fi
 echo "test-blender: passed"

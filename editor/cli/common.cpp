@@ -9,6 +9,7 @@
 #include <cmath>
 #include <cstdio>
 #include <iostream>
+#include <sstream>
 #include <unistd.h>
 
 namespace plimsoll::cli {
@@ -57,39 +58,41 @@ CLI::Option* addUnitOption(CLI::App& command, double& unitScale) {
         "own: FBX UnitScaleFactor, glTF metres; metres for OBJ, STL and PLY]");
 }
 
-std::optional<TriangleMesh> loadMeshInMetres(const std::string& path, double unitScale,
-                                             MeshFileFacts* facts) {
-    MeshLoadOptions options;
-    options.unitScale = unitScale;
-    Result<TriangleMesh> mesh = loadMesh(path, options, facts);
-    if (!mesh) {
-        std::cerr << "error: " << mesh.error().message << "\n";
-        return std::nullopt;
-    }
-    return std::move(*mesh);
-}
-
 namespace {
 /// The solid to use for `mesh`: itself, or its physics solid with a note of the repairs.
-std::optional<PhysicsSolid> solidOrRepair(const TriangleMesh& mesh, const ValidationReport& report,
-                                          const std::string& path) {
+Result<PhysicsSolid> solidOrRepair(const TriangleMesh& mesh, const ValidationReport& report,
+                                   const std::string& path, const Reporter& reporter) {
     Result<PhysicsSolid> solid = physicsSolidFor(mesh, report);
-    if (!solid) {
-        std::cerr << "error: " << solid.error().message << "\n";
-        return std::nullopt;
-    }
+    if (!solid) return solid.error();
     if (!solid->repairs.empty()) {
-        std::cerr << "note: " << path << ": not one closed solid as it is, or an open hull: using its physics solid ("
-                  << describeRepairs(solid->repairs) << "), " << solid->materialVolume << " m^3\n";
-        for (const Repair& r : solid->repairs) std::cerr << "  " << r.kind << ": " << r.detail << "\n";
+        std::ostringstream text;
+        text << "note: " << path
+             << ": not one closed solid as it is, or an open hull: using its physics solid ("
+             << describeRepairs(solid->repairs) << "), " << solid->materialVolume << " m^3\n";
+        for (const Repair& r : solid->repairs) text << "  " << r.kind << ": " << r.detail << "\n";
+        reporter.note(text.str());
     }
-    return std::move(*solid);
+    return solid;
 }
 
 MeshReport meshReportOf(const MeshFileFacts& facts, const PhysicsSolid& solid) {
     return {facts, solid.repairs, solid.materialVolume, solid.displacementVolume, hollowSpace(solid.openings)};
 }
+
+/// The value of `result`, or nothing with its error printed on stderr (the command line's way).
+template <class T>
+std::optional<T> printingError(Result<T> result) {
+    if (!result) {
+        std::cerr << "error: " << result.error().message << "\n";
+        return std::nullopt;
+    }
+    return std::move(*result);
+}
 }  // namespace
+
+Reporter stderrReporter() {
+    return {[](const std::string& text) { std::cerr << text; }, stderrProgress};
+}
 
 nlohmann::json repairsJson(const std::vector<Repair>& repairs) {
     nlohmann::json out = nlohmann::json::array();
@@ -99,49 +102,60 @@ nlohmann::json repairsJson(const std::vector<Repair>& repairs) {
     return out;
 }
 
-std::optional<TriangleMesh> loadClosedMesh(const std::string& path, double unitScale,
-                                           MeshReport* meshReport) {
+Result<TriangleMesh> closedMeshOf(const std::string& path, double unitScale, MeshReport* meshReport,
+                                  const Reporter& reporter) {
     MeshFileFacts facts;
-    std::optional<TriangleMesh> mesh = loadMeshInMetres(path, unitScale, &facts);
-    if (!mesh) return std::nullopt;
+    MeshLoadOptions options;
+    options.unitScale = unitScale;
+    Result<TriangleMesh> mesh = loadMesh(path, options, &facts);
+    if (!mesh) return mesh.error();
     ValidationReport report = validateMesh(*mesh);
     // The exact integrals never look at UVs: their problems are noise here.
     std::erase_if(report.problems, [](const Problem& p) { return isUvProblem(p.kind); });
-    if (!report.problems.empty()) std::cerr << report.format();
-    std::optional<PhysicsSolid> solid = solidOrRepair(*mesh, report, path);
-    if (!solid) return std::nullopt;
+    if (!report.problems.empty()) reporter.note(report.format());
+    Result<PhysicsSolid> solid = solidOrRepair(*mesh, report, path, reporter);
+    if (!solid) return solid.error();
     if (meshReport) *meshReport = meshReportOf(facts, *solid);
     return std::move(solid->mesh);
 }
 
-std::optional<BakeableMesh> loadMeshForBake(const std::string& path, const BakeOptions& options) {
+std::optional<TriangleMesh> loadClosedMesh(const std::string& path, double unitScale,
+                                           MeshReport* meshReport) {
+    return printingError(closedMeshOf(path, unitScale, meshReport, stderrReporter()));
+}
+
+Result<BakeableMesh> bakeableMeshOf(const std::string& path, const BakeOptions& options,
+                                    const Reporter& reporter) {
     MeshFileFacts facts;
-    std::optional<TriangleMesh> loaded = loadMeshInMetres(path, options.unitScale, &facts);
-    if (!loaded) return std::nullopt;
+    MeshLoadOptions loadOptions;
+    loadOptions.unitScale = options.unitScale;
+    Result<TriangleMesh> loaded = loadMesh(path, loadOptions, &facts);
+    if (!loaded) return loaded.error();
     const ValidationReport surfaceReport = validateMesh(*loaded);
     ValidationReport surface = surfaceReport;  // what the atlas cannot fix
     std::erase_if(surface.problems, [](const Problem& p) { return isUvProblem(p.kind); });
-    std::optional<PhysicsSolid> solid = solidOrRepair(*loaded, surface, path);
+    Result<PhysicsSolid> solid = solidOrRepair(*loaded, surface, path, reporter);
     if (!solid) {
-        std::cerr << surface.format();
-        return std::nullopt;
+        reporter.note(surface.format());
+        return solid.error();
     }
     // A repaired solid has no UVs of its own: its report is the solid's.
     const ValidationReport report = solid->repairs.empty() ? surfaceReport : validateMesh(solid->mesh);
     AtlasSettings atlas;
     atlas.textureSize = options.size;
-    atlas.progress = stderrProgress("generating a physics atlas");
+    atlas.progress = reporter.progressFor("generating a physics atlas");
     Result<AtlasChoice> choice = chooseAtlas(solid->mesh, report, options.atlas, atlas);
-    if (!choice) {
-        std::cerr << "error: " << choice.error().message << "\n";
-        return std::nullopt;
-    }
+    if (!choice) return choice.error();
     // The UV findings are moot when a generated atlas replaces the UVs; the rest is worth saying.
     ValidationReport shown = choice->generated ? surface : surfaceReport;
-    if (!shown.problems.empty()) std::cerr << shown.format();
-    if (!choice->notice.empty()) std::cerr << "note: " << choice->notice << "\n";
+    if (!shown.problems.empty()) reporter.note(shown.format());
+    if (!choice->notice.empty()) reporter.note("note: " + choice->notice + "\n");
     return BakeableMesh{std::move(choice->mesh), choice->generated,
                         meshReportOf(facts, *solid)};
+}
+
+std::optional<BakeableMesh> loadMeshForBake(const std::string& path, const BakeOptions& options) {
+    return printingError(bakeableMeshOf(path, options, stderrReporter()));
 }
 
 nlohmann::json vectorJson(const Eigen::Vector3d& v) { return {v.x(), v.y(), v.z()}; }
@@ -181,19 +195,22 @@ CLI::Option* addVectorOption(CLI::App& command, const std::string& name, Eigen::
             description);
 }
 
-std::optional<std::size_t> bodyIndexByName(const Project& project, const std::string& name,
-                                           const std::string& projectPath) {
-    if (project.bodies.empty()) {
-        std::cerr << "error: " << projectPath << ": the project has no bodies\n";
-        return std::nullopt;
-    }
-    if (name.empty()) return 0;
+Result<std::size_t> bodyIndexOf(const Project& project, const std::string& name,
+                                const std::string& projectPath) {
+    if (project.bodies.empty())
+        return makeError(ErrorKind::invalidArgument, projectPath + ": the project has no bodies");
+    if (name.empty()) return std::size_t{0};
     for (std::size_t i = 0; i < project.bodies.size(); ++i)
         if (project.bodies[i].name == name) return i;
     std::string names;
     for (const BodyDesc& b : project.bodies) names += (names.empty() ? "'" : ", '") + b.name + "'";
-    std::cerr << "error: " << projectPath << ": no body named '" << name << "' (the bodies: " << names << ")\n";
-    return std::nullopt;
+    return makeError(ErrorKind::invalidArgument,
+                     projectPath + ": no body named '" + name + "' (the bodies: " + names + ")");
+}
+
+std::optional<std::size_t> bodyIndexByName(const Project& project, const std::string& name,
+                                           const std::string& projectPath) {
+    return printingError(bodyIndexOf(project, name, projectPath));
 }
 
 /// Evaluates through a buoyancy backend on the baked textures. The first evaluate uploads the
@@ -234,21 +251,21 @@ CLI::Option* addBakeOptions(CLI::App& command, BakeOptions& options) {
         ->capture_default_str();
 }
 
-std::optional<SurfaceTextures> bakeWithProgress(const TriangleMesh& mesh,
-                                                const BakeOptions& options) {
+Result<SurfaceTextures> bakeTextures(const TriangleMesh& mesh, const BakeOptions& options,
+                                     const Reporter& reporter) {
     BakeSettings settings;
     settings.size = options.size;
     settings.maxTexelStretch = options.maxTexelStretch;
     // The cost is said before it is spent (bake_cost.h).
     if (const std::string cost = describeBakeCost(mesh, options.size); !cost.empty())
-        std::cerr << "note: " << cost << "\n";
-    settings.progress = stderrProgress("baking " + std::to_string(options.size) + "^2");
-    Result<SurfaceTextures> baked = bakeSurfaceTextures(mesh, settings);
-    if (!baked) {
-        std::cerr << "error: " << baked.error().message << "\n";
-        return std::nullopt;
-    }
-    return std::move(*baked);
+        reporter.note("note: " + cost + "\n");
+    settings.progress = reporter.progressFor("baking " + std::to_string(options.size) + "^2");
+    return bakeSurfaceTextures(mesh, settings);
+}
+
+std::optional<SurfaceTextures> bakeWithProgress(const TriangleMesh& mesh,
+                                                const BakeOptions& options) {
+    return printingError(bakeTextures(mesh, options, stderrReporter()));
 }
 
 }  // namespace plimsoll::cli

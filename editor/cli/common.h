@@ -14,10 +14,30 @@
 #include <Eigen/Core>
 #include <nlohmann/json.hpp>
 
+#include <functional>
 #include <optional>
 #include <string>
 
 namespace plimsoll::cli {
+
+/// Where a job's notes and progress go: the command line prints them on stderr (progress only
+/// on a terminal); the Python module hands the notes to its caller and shows no progress.
+struct Reporter {
+    /// Text as the command line prints it ("note: ...\n", a validation report); empty: dropped.
+    std::function<void(const std::string&)> notes;
+    /// A progress callback for a labelled piece of work; empty: no progress.
+    std::function<ProgressCallback(const std::string&)> progress;
+
+    void note(const std::string& text) const {
+        if (notes) notes(text);
+    }
+    ProgressCallback progressFor(const std::string& label) const {
+        return progress ? progress(label) : ProgressCallback{};
+    }
+};
+
+/// Notes on stderr, progress on a terminal: the command line's reporter.
+Reporter stderrReporter();
 
 /// What loading a mesh found and did: the unit applied, the file's parts, and the physics
 /// solid's repairs and volumes (no repairs: the mesh is used as it is).
@@ -35,9 +55,10 @@ struct MeshReport {
 /// metres for OBJ, STL and PLY).
 CLI::Option* addUnitOption(CLI::App& command, double& unitScale);
 
-/// Loads a mesh in metres; prints the error (naming the file) to stderr on failure.
-std::optional<TriangleMesh> loadMeshInMetres(const std::string& path, double unitScale,
-                                             MeshFileFacts* facts = nullptr);
+/// Loads and validates for the exact integrals, which need a closed solid and ignore UVs; the
+/// problems and repairs go to `reporter`, the error that stops it is returned.
+Result<TriangleMesh> closedMeshOf(const std::string& path, double unitScale, MeshReport* report,
+                                  const Reporter& reporter);
 
 /// Loads and validates for the exact integrals, which need a closed solid and ignore UVs;
 /// prints the problems to stderr. A surface that is not one closed solid as it is gives its
@@ -49,8 +70,11 @@ std::optional<TriangleMesh> loadClosedMesh(const std::string& path, double unitS
 /// "repairs": [{kind, count, volume_change, detail}] for JSON output.
 nlohmann::json repairsJson(const std::vector<Repair>& repairs);
 
-/// The index of the body named `name` in `project` (empty name: the first body); prints what is
-/// wrong to stderr (no such body, listing the names; no bodies) and returns nothing.
+/// The index of the body named `name` in `project` (empty name: the first body); the error
+/// says what is wrong (no such body, listing the names; no bodies). bodyIndexByName prints it
+/// to stderr and returns nothing.
+Result<std::size_t> bodyIndexOf(const Project& project, const std::string& name,
+                                const std::string& projectPath);
 std::optional<std::size_t> bodyIndexByName(const Project& project, const std::string& name,
                                            const std::string& projectPath);
 
@@ -101,8 +125,13 @@ struct BakeableMesh {
     bool generatedAtlas = false;
     MeshReport report;
 };
+Result<BakeableMesh> bakeableMeshOf(const std::string& path, const BakeOptions& options,
+                                    const Reporter& reporter);
 std::optional<BakeableMesh> loadMeshForBake(const std::string& path, const BakeOptions& options);
 
+/// Bakes with progress, its cost said first (bake_cost.h).
+Result<SurfaceTextures> bakeTextures(const TriangleMesh& mesh, const BakeOptions& options,
+                                     const Reporter& reporter);
 /// Bakes with progress; prints the error and returns nothing on failure.
 std::optional<SurfaceTextures> bakeWithProgress(const TriangleMesh& mesh,
                                                 const BakeOptions& options);

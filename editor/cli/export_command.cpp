@@ -11,6 +11,7 @@
 #include "cli/commands.h"
 
 #include "cli/common.h"
+#include "cli/jobs.h"
 
 #include "plimsoll/export/bundle.h"
 #include "plimsoll/io/file_util.h"
@@ -250,13 +251,7 @@ int runExport(const ExportOptions& o) {
             }
             return kExitFailure;
         }
-        // Two projects with one file stem get "-2", "-3", ... in the order given. The stem is
-        // made a safe name: a project named "...plim.json" must not export to OUT/.. .
-        const std::string stem = safeFileName(project->fileStem, "project");
-        std::string folder = stem;
-        for (int k = 2; std::find(folders.begin(), folders.end(), folder) != folders.end(); ++k)
-            folder = stem + "-" + std::to_string(k);
-        folders.push_back(folder);
+        folders.push_back(exportFolderName(project->fileStem, folders));
         projects.push_back(std::move(*project));
     }
     std::vector<Task> tasks;
@@ -290,12 +285,7 @@ int runExport(const ExportOptions& o) {
             Task& t = tasks[i];
             const auto begin = std::chrono::steady_clock::now();
             const Project& project = projects[t.project];
-            std::optional<BundleReport> kept;
-            const BundleOptions bundle{o.compact};
-            if (!o.check && !o.force) kept = unchangedBodyBundle(project, t.body, t.folder, bundle);
-            t.result = o.check ? checkBodyBundle(project, t.body, t.folder, bundle)
-                       : kept  ? Result<BundleReport>(std::move(*kept))
-                               : writeBodyBundle(project, t.body, t.folder, notice, bundle);
+            t.result = exportBody(project, t.body, t.folder, {o.check, o.force, o.compact}, notice);
             t.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - begin).count();
             const std::string where = "[" + std::to_string(++done) + "/" +
                                       std::to_string(tasks.size()) + "] " + t.folder.string();
@@ -333,17 +323,7 @@ int runExport(const ExportOptions& o) {
             entry["error"] = t.result.error().message;
         } else {
             const BundleReport& r = *t.result;
-            nlohmann::json files = nlohmann::json::array();
-            for (const BundleFile& f : r.files)
-                files.push_back({{"path", f.path}, {"sha256", f.sha256}, {"bytes", f.bytes}});
-            entry["texture_size"] = r.textureSize;
-            if (r.tolerance) {
-                entry["tolerance"] = *r.tolerance;
-                entry["force_error"] = r.forceError;
-            }
-            entry["covered_texels"] = r.coveredTexels;
-            entry["bytes"] = r.totalBytes();
-            entry["files"] = files;
+            entry.update(bundleReportJson(r));
             if (o.check) {
                 entry["status"] = r.outOfDate.empty() ? "up_to_date" : "out_of_date";
                 entry["out_of_date"] = r.outOfDate;
@@ -405,6 +385,44 @@ int runExport(const ExportOptions& o) {
 }
 
 }  // namespace
+
+std::string exportFolderName(const std::string& fileStem, const std::vector<std::string>& taken) {
+    // Two projects with one file stem get "-2", "-3", ... in the order given. The stem is
+    // made a safe name: a project named "...plim.json" must not export to OUT/.. .
+    const std::string stem = safeFileName(fileStem, "project");
+    std::string folder = stem;
+    for (int k = 2; std::find(taken.begin(), taken.end(), folder) != taken.end(); ++k)
+        folder = stem + "-" + std::to_string(k);
+    return folder;
+}
+
+Result<BundleReport> exportBody(const Project& project, std::size_t body, const fs::path& folder,
+                                const ExportMode& mode,
+                                const std::function<void(const std::string&)>& notice) {
+    const BundleOptions bundle{mode.compact};
+    if (mode.check) return checkBodyBundle(project, body, folder, bundle);
+    if (!mode.force) {
+        if (std::optional<BundleReport> kept = unchangedBodyBundle(project, body, folder, bundle))
+            return std::move(*kept);
+    }
+    return writeBodyBundle(project, body, folder, notice, bundle);
+}
+
+nlohmann::json bundleReportJson(const BundleReport& r) {
+    nlohmann::json files = nlohmann::json::array();
+    for (const BundleFile& f : r.files)
+        files.push_back({{"path", f.path}, {"sha256", f.sha256}, {"bytes", f.bytes}});
+    nlohmann::json entry;
+    entry["texture_size"] = r.textureSize;
+    if (r.tolerance) {
+        entry["tolerance"] = *r.tolerance;
+        entry["force_error"] = r.forceError;
+    }
+    entry["covered_texels"] = r.coveredTexels;
+    entry["bytes"] = r.totalBytes();
+    entry["files"] = files;
+    return entry;
+}
 
 void addExportCommand(CLI::App& root, CommandRunner& selected) {
     auto o = std::make_shared<ExportOptions>();

@@ -6,6 +6,7 @@
 #include "cli/commands.h"
 
 #include "cli/common.h"
+#include "cli/jobs.h"
 #include "cli/svg_plot.h"
 #include "plimsoll/io/file_util.h"
 #include "plimsoll/physics/hydrostatics.h"
@@ -28,19 +29,12 @@ namespace plimsoll::cli {
 namespace {
 
 struct HydrostaticsOptions {
-    std::string project;
-    std::string body;
+    HydrostaticsJob job;
     bool json = false;
-    bool exact = false;
     std::string svg;
-    double stepDegrees = 5.0;
 };
 
-/// One method's figures and how long they took.
-struct Measured {
-    HydrostaticsResult result;
-    double seconds = 0;
-};
+using Measured = MeasuredHydrostatics;
 
 nlohmann::json optionalJson(const std::optional<double>& value) {
     return value ? nlohmann::json(*value) : nlohmann::json(nullptr);
@@ -255,80 +249,87 @@ bool writeGzSvg(const std::string& path, const std::string& label,
 }
 
 int runHydrostatics(const HydrostaticsOptions& o) {
-    Result<Project> project = loadProject(o.project);
-    if (!project) {
-        std::cerr << "error: " << project.error().message << "\n";
+    Result<HydrostaticsStudy> study = hydrostaticsJob(o.job, stderrReporter());
+    if (!study) {
+        std::cerr << "error: " << study.error().message << "\n";
         return kExitFailure;
     }
-    const std::optional<std::size_t> found = bodyIndexByName(*project, o.body, o.project);
-    if (!found) return kExitFailure;
-    const std::size_t index = *found;
-    Result<HydrostaticsSettings> settings =
-        hydrostaticsSettingsOf(project->medium, project->simulation.gravity);
-    if (!settings) {
-        std::cerr << "error: " << o.project << ": " << settings.error().message << "\n";
-        return kExitFailure;
-    }
-    settings->gzStepDegrees = o.stepDegrees;
-    Result<SceneBody> body = loadSceneBody(*project, index, [](const std::string& line) {
-        std::cerr << "note: " << line << "\n";
-    });
-    if (!body) {
-        std::cerr << "error: " << body.error().message << "\n";
-        return kExitFailure;
-    }
-
-    Result<FloatingBody> floating = floatingBodyOf(*body, project->medium);
-    if (!floating) {
-        std::cerr << "error: " << floating.error().message << "\n";
-        return kExitFailure;
-    }
-
-    std::vector<Measured> methods;
-    auto measure = [&](auto&& compute) {
-        const auto start = std::chrono::steady_clock::now();
-        Result<HydrostaticsResult> r = compute();
-        if (!r) {
-            std::cerr << "error: " << body->label << ": " << r.error().message << "\n";
-            return false;
-        }
-        methods.push_back({std::move(*r), std::chrono::duration<double>(
-                                              std::chrono::steady_clock::now() - start)
-                                              .count()});
-        return true;
-    };
-    const bool texturesMeasured = o.exact || measure([&] {
-        return hydrostaticsFromTextures(*body->textures, floating->body, *settings);
-    });
-    if (!texturesMeasured) return kExitFailure;
-    if (!measure([&] { return hydrostaticsExact(*body->parts.mesh, floating->body, *settings); }))
-        return kExitFailure;
-
-    if (!o.svg.empty() && !writeGzSvg(o.svg, body->label, methods)) return kExitFailure;
+    const std::vector<Measured>& methods = study->methods;
+    if (!o.svg.empty() && !writeGzSvg(o.svg, study->label, methods)) return kExitFailure;
     if (o.json) {
-        nlohmann::json out = resultJson(methods[0], settings->density);
-        out["body"] = body->desc.name;
-        out["texture_size"] =
-            o.exact ? nlohmann::json(nullptr) : nlohmann::json(body->desc.textureSize);
-        out["mass"] = floating->body.mass;
-        out["center_of_mass"] = vectorJson(floating->body.centerOfMass);
-        out["graph_water"] = floating->graphWater;
-        out["water_density"] = settings->density;
-        if (methods.size() == 2) out["exact"] = resultJson(methods[1], settings->density);
-        std::cout << reportJson(out) << "\n";
+        std::cout << reportJson(study->json()) << "\n";
         return kExitOk;
     }
-    std::printf("%s: calm water of %g kg/m^3 at the mean level, mass %g kg (%g m^3 of it graph "
-                "water), centre of mass %g %g %g m; heel about x, trim about z, y up\n",
-                body->label.c_str(), settings->density, floating->body.mass, floating->graphWater,
-                floating->body.centerOfMass.x(), floating->body.centerOfMass.y(),
-                floating->body.centerOfMass.z());
-    if (!o.exact) std::printf("textures at %d^2\n", body->desc.textureSize);
+    const FloatingBody& floating = study->floating;
+    std::printf(
+        "%s: calm water of %g kg/m^3 at the mean level, mass %g kg (%g m^3 of it graph "
+        "water), centre of mass %g %g %g m; heel about x, trim about z, y up\n",
+        study->label.c_str(), study->density, floating.body.mass, floating.graphWater,
+        floating.body.centerOfMass.x(), floating.body.centerOfMass.y(),
+        floating.body.centerOfMass.z());
+    if (!study->exactOnly) std::printf("textures at %d^2\n", study->textureSize);
     printTable(methods);
     return kExitOk;
 }
 
 }  // namespace
+
+Result<HydrostaticsStudy> hydrostaticsJob(const HydrostaticsJob& o, const Reporter& reporter) {
+    Result<Project> project = loadProject(o.project);
+    if (!project) return project.error();
+    Result<std::size_t> index = bodyIndexOf(*project, o.body, o.project);
+    if (!index) return index.error();
+    Result<HydrostaticsSettings> settings =
+        hydrostaticsSettingsOf(project->medium, project->simulation.gravity);
+    if (!settings) return withContext(o.project + ": ", settings.error());
+    settings->gzStepDegrees = o.stepDegrees;
+    Result<SceneBody> body = loadSceneBody(
+        *project, *index, [&](const std::string& line) { reporter.note("note: " + line + "\n"); });
+    if (!body) return body.error();
+    Result<FloatingBody> floating = floatingBodyOf(*body, project->medium);
+    if (!floating) return floating.error();
+
+    HydrostaticsStudy study;
+    study.label = body->label;
+    study.bodyName = body->desc.name;
+    study.textureSize = body->desc.textureSize;
+    study.exactOnly = o.exact;
+    study.density = settings->density;
+    study.floating = *floating;
+    auto measure = [&](auto&& compute) -> Status {
+        const auto start = std::chrono::steady_clock::now();
+        Result<HydrostaticsResult> r = compute();
+        if (!r) return withContext(body->label + ": ", r.error());
+        study.methods.push_back(
+            {std::move(*r),
+             std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count()});
+        return Ok{};
+    };
+    if (!o.exact) {
+        if (Status s = measure([&] {
+                return hydrostaticsFromTextures(*body->textures, floating->body, *settings);
+            });
+            !s)
+            return s.error();
+    }
+    if (Status s = measure(
+            [&] { return hydrostaticsExact(*body->parts.mesh, floating->body, *settings); });
+        !s)
+        return s.error();
+    return study;
+}
+
+nlohmann::json HydrostaticsStudy::json() const {
+    nlohmann::json out = resultJson(methods[0], density);
+    out["body"] = bodyName;
+    out["texture_size"] = exactOnly ? nlohmann::json(nullptr) : nlohmann::json(textureSize);
+    out["mass"] = floating.body.mass;
+    out["center_of_mass"] = vectorJson(floating.body.centerOfMass);
+    out["graph_water"] = floating.graphWater;
+    out["water_density"] = density;
+    if (methods.size() == 2) out["exact"] = resultJson(methods[1], density);
+    return out;
+}
 
 void addHydrostaticsCommand(CLI::App& root, CommandRunner& selected) {
     auto o = std::make_shared<HydrostaticsOptions>();
@@ -336,13 +337,13 @@ void addHydrostaticsCommand(CLI::App& root, CommandRunner& selected) {
         "hydrostatics",
         "Equilibrium draft, trim and heel, KB, BM, GM and the righting-arm curve of a body, "
         "from the textures and the exact clip");
-    cmd->add_option("PROJECT", o->project, "Project file (.plim.json)")->required();
-    cmd->add_option("--body", o->body, "Body name (default: the first body)");
+    cmd->add_option("PROJECT", o->job.project, "Project file (.plim.json)")->required();
+    cmd->add_option("--body", o->job.body, "Body name (default: the first body)");
     cmd->add_flag("--json", o->json, "Print one JSON object (with --exact: the exact clip only; "
                                      "otherwise the textures', the exact one under \"exact\")");
-    cmd->add_flag("--exact", o->exact, "The exact clip of the mesh only");
+    cmd->add_flag("--exact", o->job.exact, "The exact clip of the mesh only");
     cmd->add_option("--svg", o->svg, "Write the GZ curve as an SVG plot")->check(kNonEmptyPath);
-    cmd->add_option("--step", o->stepDegrees, "Heel step of the GZ curve, degrees (default 5)")
+    cmd->add_option("--step", o->job.stepDegrees, "Heel step of the GZ curve, degrees (default 5)")
         ->check(kFinitePositive)
         ->check(CLI::Range(0.01, 90.0));
     cmd->callback([o, &selected] { selected = [o] { return runHydrostatics(*o); }; });

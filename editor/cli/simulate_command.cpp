@@ -4,6 +4,7 @@
 #include "cli/commands.h"
 
 #include "cli/common.h"
+#include "cli/jobs.h"
 #include "plimsoll/core/limits.h"
 #include "plimsoll/io/file_util.h"
 #include "plimsoll/project/project.h"
@@ -16,32 +17,21 @@
 #include <cmath>
 #include <iostream>
 #include <memory>
+#include <sstream>
 
 namespace plimsoll::cli {
 
 namespace {
 
 struct SimulateOptions {
-    std::string project;
-    std::optional<double> seconds;
+    SimulateJob job;
     std::string out;
     bool json = false;
-    std::string device;
     std::string integrator;
-    // One-body scene from flags.
-    std::string mesh;
-    double unitScale = 0;
-    double density = 500.0;
-    int size = 128;
-    double fluidDensity = 1000.0;
-    double waterLevel = 0.0;
-    bool noRadiation = false;
-    Eigen::Vector3d position = Eigen::Vector3d::Zero();
-    Eigen::Vector3d rotationDegrees = Eigen::Vector3d::Zero();
 };
 
 /// The one-body scene the flags describe.
-Project projectFromFlags(const SimulateOptions& o) {
+Project projectFromFlags(const SimulateJob& o) {
     Project project;
     project.name = "command line";
     // No project file: messages name the mesh, and no folder, so that nothing (atlas, levels,
@@ -86,8 +76,7 @@ public:
         out_.precision(10);
         if (json_) out_ << "[";
         else
-            out_ << "time,body,x,y,z,qw,qx,qy,qz,vx,vy,vz,wx,wy,wz,submerged_volume,fx,fy,fz,"
-                    "mass,com_x,com_y,com_z\n";
+            out_ << kTrajectoryHeader << '\n';
     }
     void frame(double time, const std::vector<SimulatedBody>& bodies) {
         for (const SimulatedBody& b : bodies) json_ ? jsonRow(b, time) : csvRow(b, time);
@@ -100,17 +89,9 @@ public:
 
 private:
     void csvRow(const SimulatedBody& b, double time) {
-        const Eigen::Vector3d v = linearVelocity(b.state, b.mass);
-        const Eigen::Vector3d w = angularVelocity(b.state, b.mass);
-        const Eigen::Quaterniond& q = b.state.orientation;
-        const Eigen::Vector3d& x = b.state.position;
-        const Eigen::Vector3d& F = b.buoyancy.pressureForce;
-        const Eigen::Vector3d& c = b.mass.centerOfMass;
-        out_ << time << ',' << b.name << ',' << x.x() << ',' << x.y() << ',' << x.z() << ','
-             << q.w() << ',' << q.x() << ',' << q.y() << ',' << q.z() << ',' << v.x() << ','
-             << v.y() << ',' << v.z() << ',' << w.x() << ',' << w.y() << ',' << w.z() << ','
-             << b.buoyancy.submergedVolume << ',' << F.x() << ',' << F.y() << ',' << F.z()
-             << ',' << b.mass.mass << ',' << c.x() << ',' << c.y() << ',' << c.z() << '\n';
+        out_ << time << ',' << b.name;
+        for (double value : trajectoryRow(b)) out_ << ',' << value;
+        out_ << '\n';
     }
     void jsonRow(const SimulatedBody& b, double time) {
         // As the whole array's dump(1): each element one level in.
@@ -129,66 +110,28 @@ private:
 };
 
 int runSimulate(const SimulateOptions& o) {
-    Project project;
-    if (!o.project.empty()) {
-        Result<Project> loaded = loadProject(o.project);
-        if (!loaded) {
-            std::cerr << "error: " << loaded.error().message << "\n";
-            return kExitFailure;
-        }
-        project = std::move(*loaded);
-    } else if (!o.mesh.empty()) {
-        project = projectFromFlags(o);
-    } else {
+    SimulateJob job = o.job;
+    if (job.project.empty() && job.mesh.empty()) {
         std::cerr << "error: give a PROJECT or --mesh\n";
         return kExitUsage;
     }
     if (!o.integrator.empty()) {
-        std::optional<Integrator> integrator = integratorFromName(o.integrator);
-        if (!integrator) {
+        job.integrator = integratorFromName(o.integrator);
+        if (!job.integrator) {
             std::cerr << "error: --integrator: unknown '" << o.integrator
                       << "' (explicit-euler, semi-implicit-euler, rk4)\n";
             return kExitUsage;
         }
-        project.simulation.integrator = *integrator;
     }
-    const double seconds = o.seconds.value_or(project.simulation.duration);
-    // Counted in double first: seconds / time_step can exceed every integer (1e300 s, a
-    // 1e-300 s step), and converting such a value to an integer is undefined.
-    const double frames = std::ceil(seconds / project.simulation.timeStep - 1e-9);
-    if (!(frames >= 0) || frames > double(kMaxSimulationFrames)) {
-        // Named by its project (or mesh), as every other error of the command is.
-        const std::string source = !o.project.empty() ? o.project : o.mesh;
-        std::cerr << "error: " << source << ": " << seconds << " s at a time step of "
-                  << project.simulation.timeStep
-                  << " s is " << frames << " frames, more than the limit kMaxSimulationFrames = "
-                  << kMaxSimulationFrames << " (limits.h)\n";
+    Result<PreparedSimulation> prepared = prepareSimulation(job, stderrReporter());
+    if (!prepared) {
+        std::cerr << "error: " << prepared.error().message << "\n";
         return kExitFailure;
     }
+    const Project& project = prepared->project;
+    World& world = *prepared->world;
 
-    std::string notice;
-    Result<std::unique_ptr<BuoyancyBackend>> backend = createBuoyancyBackend(o.device, &notice);
-    if (!backend) {
-        std::cerr << "error: " << backend.error().message << "\n";
-        return kExitFailure;
-    }
-    if (!notice.empty()) std::cerr << "note: " << notice << "\n";
-    const LogFunction log = [](const std::string& line) { std::cerr << line << "\n"; };
-    Result<Scene> scene = loadScene(project, log, stderrProgress);
-    if (!scene) {
-        std::cerr << "error: " << scene.error().message << "\n";
-        return kExitFailure;
-    }
-    Result<std::unique_ptr<World>> created = World::create(std::move(*scene), std::move(*backend), log);
-    if (!created) {
-        // The scene's own problems (a body no step resolves) name the file it came from.
-        const std::string source = o.project.empty() ? o.mesh : o.project;
-        std::cerr << "error: " << source << ": " << created.error().message << "\n";
-        return kExitFailure;
-    }
-    World& world = **created;
-
-    const auto frameCount = static_cast<long>(frames);
+    const long frameCount = prepared->frames;
     const ProgressCallback progress = stderrProgress("simulating");
     const auto start = std::chrono::steady_clock::now();
     // Each frame goes to the trajectory file (a temporary, renamed over --out when the run
@@ -196,16 +139,9 @@ int runSimulate(const SimulateOptions& o) {
     // ends the run early and is said by the save, naming the file and the cause.
     auto run = [&](TrajectoryWriter* trajectory) -> bool {
         for (long frame = 0; frame < frameCount; ++frame) {
-            if (Status s = world.advanceFrame(); !s.ok()) {
-                std::cerr << "error: at t = " << world.time() << " s: " << s.error().message << "\n";
+            if (Status s = advanceFrameChecked(world); !s.ok()) {
+                std::cerr << "error: " << s.error().message << "\n";
                 return false;
-            }
-            for (const SimulatedBody& b : world.bodies()) {
-                if (!b.state.position.allFinite() || !b.state.orientation.coeffs().allFinite()) {
-                    std::cerr << "error: body '" << b.name << "' left the finite numbers at t = "
-                              << world.time() << " s\n";
-                    return false;
-                }
             }
             if (trajectory) {
                 trajectory->frame(world.time(), world.bodies());
@@ -255,42 +191,118 @@ int runSimulate(const SimulateOptions& o) {
 
 }  // namespace
 
+Result<PreparedSimulation> prepareSimulation(const SimulateJob& o, const Reporter& reporter) {
+    PreparedSimulation prepared;
+    Project& project = prepared.project;
+    if (!o.project.empty()) {
+        Result<Project> loaded = loadProject(o.project);
+        if (!loaded) return loaded.error();
+        project = std::move(*loaded);
+    } else if (!o.mesh.empty()) {
+        project = projectFromFlags(o);
+    } else {
+        return makeError(ErrorKind::invalidArgument, "give a PROJECT or --mesh");
+    }
+    if (o.integrator) project.simulation.integrator = *o.integrator;
+    // Named by its project (or mesh), as every other error of the job is.
+    const std::string source = !o.project.empty() ? o.project : o.mesh;
+    const double seconds = o.seconds.value_or(project.simulation.duration);
+    // Counted in double first: seconds / time_step can exceed every integer (1e300 s, a
+    // 1e-300 s step), and converting such a value to an integer is undefined.
+    const double frames = std::ceil(seconds / project.simulation.timeStep - 1e-9);
+    if (!(frames >= 0) || frames > double(kMaxSimulationFrames)) {
+        std::ostringstream message;
+        message << source << ": " << seconds << " s at a time step of "
+                << project.simulation.timeStep << " s is " << frames
+                << " frames, more than the limit kMaxSimulationFrames = " << kMaxSimulationFrames
+                << " (limits.h)";
+        return makeError(ErrorKind::limit, message.str());
+    }
+    prepared.frames = static_cast<long>(frames);
+
+    std::string notice;
+    Result<std::unique_ptr<BuoyancyBackend>> backend = createBuoyancyBackend(o.device, &notice);
+    if (!backend) return backend.error();
+    if (!notice.empty()) reporter.note("note: " + notice + "\n");
+    const LogFunction log = [&reporter](const std::string& line) { reporter.note(line + "\n"); };
+    Result<Scene> scene = loadScene(project, log, reporter.progress);
+    if (!scene) return scene.error();
+    Result<std::unique_ptr<World>> created =
+        World::create(std::move(*scene), std::move(*backend), log);
+    // The scene's own problems (a body no step resolves) name the file it came from.
+    if (!created) return withContext(source + ": ", created.error());
+    prepared.world = std::move(*created);
+    return prepared;
+}
+
+Status advanceFrameChecked(World& world) {
+    auto at = [&world] {
+        std::ostringstream text;
+        text << world.time();
+        return text.str();
+    };
+    if (Status s = world.advanceFrame(); !s.ok())
+        return withContext("at t = " + at() + " s: ", s.error());
+    for (const SimulatedBody& b : world.bodies()) {
+        if (!b.state.position.allFinite() || !b.state.orientation.coeffs().allFinite())
+            return makeError(ErrorKind::invalidArgument,
+                             "body '" + b.name + "' left the finite numbers at t = " + at() + " s");
+    }
+    return Ok{};
+}
+
+std::array<double, 21> trajectoryRow(const SimulatedBody& b) {
+    const Eigen::Vector3d v = linearVelocity(b.state, b.mass);
+    const Eigen::Vector3d w = angularVelocity(b.state, b.mass);
+    const Eigen::Quaterniond& q = b.state.orientation;
+    const Eigen::Vector3d& x = b.state.position;
+    const Eigen::Vector3d& F = b.buoyancy.pressureForce;
+    const Eigen::Vector3d& c = b.mass.centerOfMass;
+    return {x.x(), x.y(), x.z(), q.w(),       q.x(), q.y(), q.z(),
+            v.x(), v.y(), v.z(), w.x(),       w.y(), w.z(), b.buoyancy.submergedVolume,
+            F.x(), F.y(), F.z(), b.mass.mass, c.x(), c.y(), c.z()};
+}
+
 void addSimulateCommand(CLI::App& root, CommandRunner& selected) {
     auto o = std::make_shared<SimulateOptions>();
     CLI::App* cmd = root.add_subcommand(
         "simulate", "Run a scene headless and write its trajectory (a project, or one body "
                     "given by flags)");
-    cmd->add_option("PROJECT", o->project, "Project file (*.plim.json)");
-    cmd->add_option("--seconds", o->seconds, "Simulated time, s (default: the project's duration)")
+    cmd->add_option("PROJECT", o->job.project, "Project file (*.plim.json)");
+    cmd->add_option("--seconds", o->job.seconds,
+                    "Simulated time, s (default: the project's duration)")
         ->check(kFiniteNonNegative);
     cmd->add_option("--out", o->out, "Trajectory file: .csv (default) or .json, one row per frame")
         ->check(kNonEmptyPath);
     cmd->add_flag("--json", o->json, "Print the final state of the first body as one JSON object");
-    cmd->add_option("--device", o->device, "Compute device: fast (CPU), cpu, gpu, an OpenCL index, or reference; default: the first GPU, else fast");
+    cmd->add_option("--device", o->job.device,
+                    "Compute device: fast (CPU), cpu, gpu, an OpenCL index, or reference; default: "
+                    "the first GPU, else fast");
     cmd->add_option("--integrator", o->integrator,
                     "explicit-euler, semi-implicit-euler or rk4 (default: the project's)");
-    auto* mesh = cmd->add_option("--mesh", o->mesh, "One-body scene: the mesh");
-    addUnitOption(*cmd, o->unitScale)->needs(mesh);
-    cmd->add_option("--density", o->density, "One-body scene: solid density, kg/m^3")
+    auto* mesh = cmd->add_option("--mesh", o->job.mesh, "One-body scene: the mesh");
+    addUnitOption(*cmd, o->job.unitScale)->needs(mesh);
+    cmd->add_option("--density", o->job.density, "One-body scene: solid density, kg/m^3")
         ->check(kFinitePositive)
         ->capture_default_str();
-    cmd->add_option("--size", o->size, "One-body scene: texture size")
+    cmd->add_option("--size", o->job.size, "One-body scene: texture size")
         ->check(CLI::Range(kMinTextureSize, kMaxTextureSize))
         ->capture_default_str();
-    cmd->add_option("--fluid-density", o->fluidDensity, "One-body scene: fluid density, kg/m^3")
+    cmd->add_option("--fluid-density", o->job.fluidDensity, "One-body scene: fluid density, kg/m^3")
         ->check(kFinitePositive)
         ->capture_default_str();
-    cmd->add_option("--water-level", o->waterLevel, "One-body scene: flat water height, m")
+    cmd->add_option("--water-level", o->job.waterLevel, "One-body scene: flat water height, m")
         ->check(kFiniteNumber)
         ->capture_default_str();
-    cmd->add_flag("--no-radiation", o->noRadiation,
+    cmd->add_flag("--no-radiation", o->job.noRadiation,
                   "One-body scene: without wave radiation (no panel solve at load; the stand-in "
                   "damping applies, as \"radiation\": false in a project)")
         ->needs(mesh);
-    addVectorOption(*cmd, "--position", o->position, "One-body scene: position t of the object "
-                                                     "origin (R p + t), m")
+    addVectorOption(*cmd, "--position", o->job.position,
+                    "One-body scene: position t of the object "
+                    "origin (R p + t), m")
         ->type_name("X,Y,Z");
-    addVectorOption(*cmd, "--rotation-deg", o->rotationDegrees,
+    addVectorOption(*cmd, "--rotation-deg", o->job.rotationDegrees,
                     "One-body scene: rotation Rz Ry Rx, degrees")
         ->type_name("RX,RY,RZ");
     mesh->excludes(cmd->get_option("PROJECT"));

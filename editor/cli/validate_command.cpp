@@ -3,6 +3,7 @@
 // (exit 1, with what to fix in the modelling tool).
 #include "cli/commands.h"
 #include "cli/common.h"
+#include "cli/jobs.h"
 
 #include "plimsoll/geometry/validate.h"
 #include "plimsoll/io/mesh_io.h"
@@ -20,13 +21,6 @@ struct ValidateOptions {
     std::string mesh;
     double unitScale = 0;
     bool json = false;
-};
-
-/// How the mesh can be used, and why.
-struct Verdict {
-    const char* code = "as-is";  ///< "as-is", "generated-atlas", "physics-solid", "unusable"
-    std::vector<std::string> reasons;
-    std::optional<PhysicsSolid> solid;  ///< the solid used (the mesh itself when not repaired)
 };
 
 Verdict judge(const TriangleMesh& mesh, const ValidationReport& report) {
@@ -142,17 +136,31 @@ void printHuman(const ValidateOptions& options, const TriangleMesh& mesh, const 
 }
 
 int runValidate(const ValidateOptions& options) {
-    MeshFileFacts facts;
-    std::optional<TriangleMesh> mesh = loadMeshInMetres(options.mesh, options.unitScale, &facts);
-    if (!mesh) return kExitFailure;
-    const ValidationReport report = validateMesh(*mesh);
-    const Verdict verdict = judge(*mesh, report);
+    Result<Validation> v = validateJob(options.mesh, options.unitScale);
+    if (!v) {
+        std::cerr << "error: " << v.error().message << "\n";
+        return kExitFailure;
+    }
     if (options.json)
-        std::cout << reportJson(toJson(*mesh, report, facts, verdict)) << "\n";
-    else printHuman(options, *mesh, report, facts, verdict);
-    return verdict.solid ? kExitOk : kExitFailure;
+        std::cout << reportJson(v->json) << "\n";
+    else
+        printHuman(options, v->mesh, v->report, v->facts, v->verdict);
+    return v->verdict.solid ? kExitOk : kExitFailure;
 }
 }  // namespace
+
+Result<Validation> validateJob(const std::string& path, double unitScale) {
+    Validation v;
+    MeshLoadOptions options;
+    options.unitScale = unitScale;
+    Result<TriangleMesh> mesh = loadMesh(path, options, &v.facts);
+    if (!mesh) return mesh.error();
+    v.mesh = std::move(*mesh);
+    v.report = validateMesh(v.mesh);
+    v.verdict = judge(v.mesh, v.report);
+    v.json = toJson(v.mesh, v.report, v.facts, v.verdict);
+    return v;
+}
 
 void addValidateCommand(CLI::App& root, CommandRunner& selected) {
     auto options = std::make_shared<ValidateOptions>();
