@@ -224,7 +224,11 @@ Result<PreparedSimulation> prepareSimulation(const SimulateJob& o, const Reporte
     Result<std::unique_ptr<BuoyancyBackend>> backend = createBuoyancyBackend(o.device, &notice);
     if (!backend) return backend.error();
     if (!notice.empty()) reporter.note("note: " + notice + "\n");
-    const LogFunction log = [&reporter](const std::string& line) { reporter.note(line + "\n"); };
+    // The World keeps its log for the whole run, longer than `reporter` may live: the notes
+    // function is held by value.
+    const LogFunction log = [notes = reporter.notes](const std::string& line) {
+        if (notes) notes(line + "\n");
+    };
     Result<Scene> scene = loadScene(project, log, reporter.progress);
     if (!scene) return scene.error();
     Result<std::unique_ptr<World>> created =
