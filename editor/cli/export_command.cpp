@@ -208,32 +208,11 @@ Status writeWebViewer(const fs::path& viewer, const fs::path& out, const std::ve
     return writeTextFile((out / "bundles.json").string(), nlohmann::json{{"bundles", bundles}}.dump(2) + "\n");
 }
 
-int runExport(const ExportOptions& o) {
-    const auto start = std::chrono::steady_clock::now();
-    Shard shard;
-    if (!o.shard.empty()) {
-        Result<Shard> parsed = parseShard(o.shard);
-        if (!parsed) {
-            std::cerr << "error: " << parsed.error().message << "\n";
-            return kExitUsage;
-        }
-        shard = *parsed;
-    }
-    fs::path viewer;
-    if (o.web) {
-        if (o.check) {
-            std::cerr << "error: export --web writes the viewer page; it cannot go with --check\n";
-            return kExitUsage;
-        }
-        Result<fs::path> found = findWebViewer();
-        if (!found) {
-            std::cerr << "error: " << found.error().message << "\n";
-            return kExitFailure;
-        }
-        viewer = *found;
-    }
+/// The projects, each loaded and given its output folder's name; on a failure the error is
+/// printed (and, with --junit, reported as one failed case) and nullopt returned.
+std::optional<std::vector<Project>> loadExportProjects(const ExportOptions& o,
+                                                       std::vector<std::string>& folders) {
     std::vector<Project> projects;
-    std::vector<std::string> folders;
     for (const std::string& path : o.projects) {
         Result<Project> project = loadProject(path);
         if (!project) {
@@ -249,11 +228,17 @@ int runExport(const ExportOptions& o) {
                 if (Status s = writeTextFile(o.junit, xml); !s.ok())
                     std::cerr << "error: " << s.error().message << "\n";
             }
-            return kExitFailure;
+            return std::nullopt;
         }
         folders.push_back(exportFolderName(project->fileStem, folders));
         projects.push_back(std::move(*project));
     }
+    return projects;
+}
+
+/// One task per body of every project, those of this shard only.
+std::vector<Task> exportTasks(const ExportOptions& o, const std::vector<Project>& projects,
+                              const std::vector<std::string>& folders, const Shard& shard) {
     std::vector<Task> tasks;
     for (std::size_t p = 0; p < projects.size(); ++p) {
         for (std::size_t b = 0; b < projects[p].bodies.size(); ++b) {
@@ -266,7 +251,13 @@ int runExport(const ExportOptions& o) {
             tasks.push_back(std::move(task));
         }
     }
+    return tasks;
+}
 
+/// Runs the tasks on `o.jobs` threads (at most one per task), each exporting or checking its
+/// body; progress on stderr where wanted. Returns the number of threads used.
+int runExportTasks(const ExportOptions& o, const std::vector<Project>& projects,
+                   std::vector<Task>& tasks) {
     // Progress is for a person watching: on by default on a terminal, off in CI logs (where
     // the summary and, with --junit, the JUnit file say what happened).
     const bool progress = !o.quiet && (o.progress || ::isatty(STDERR_FILENO) == 1);
@@ -306,18 +297,28 @@ int runExport(const ExportOptions& o) {
     for (int j = 1; j < jobs; ++j) threads.emplace_back(work);
     work();
     for (std::thread& t : threads) t.join();
+    return jobs;
+}
 
+/// What the tasks came to: the summary's "bodies" and the counts (errors and out-of-date files
+/// printed on the way).
+struct ExportTally {
     bool failed = false, outOfDate = false;
     std::size_t unchanged = 0, failures = 0;
     nlohmann::json bodies = nlohmann::json::array();
+};
+
+ExportTally tallyExport(const ExportOptions& o, const std::vector<Project>& projects,
+                        const std::vector<Task>& tasks) {
+    ExportTally tally;
     for (const Task& t : tasks) {
         nlohmann::json entry = {{"project", o.projects[t.project]},
                                 {"body", projects[t.project].bodies[t.body].name},
                                 {"folder", t.folder.generic_string()},
                                 {"seconds", t.seconds}};
         if (!t.result) {
-            failed = true;
-            ++failures;
+            tally.failed = true;
+            ++tally.failures;
             std::cerr << "error: " << t.result.error().message << "\n";
             entry["status"] = "failed";
             entry["error"] = t.result.error().message;
@@ -330,14 +331,48 @@ int runExport(const ExportOptions& o) {
                 for (const std::string& f : r.outOfDate) {
                     std::cerr << "out of date: " << (t.folder / f).generic_string() << "\n";
                 }
-                outOfDate = outOfDate || !r.outOfDate.empty();
+                tally.outOfDate = tally.outOfDate || !r.outOfDate.empty();
             } else {
                 entry["status"] = r.unchanged ? "unchanged" : "written";
-                unchanged += r.unchanged;
+                tally.unchanged += r.unchanged;
             }
         }
-        bodies.push_back(std::move(entry));
+        tally.bodies.push_back(std::move(entry));
     }
+    return tally;
+}
+
+int runExport(const ExportOptions& o) {
+    const auto start = std::chrono::steady_clock::now();
+    Shard shard;
+    if (!o.shard.empty()) {
+        Result<Shard> parsed = parseShard(o.shard);
+        if (!parsed) {
+            std::cerr << "error: " << parsed.error().message << "\n";
+            return kExitUsage;
+        }
+        shard = *parsed;
+    }
+    fs::path viewer;
+    if (o.web) {
+        if (o.check) {
+            std::cerr << "error: export --web writes the viewer page; it cannot go with --check\n";
+            return kExitUsage;
+        }
+        Result<fs::path> found = findWebViewer();
+        if (!found) {
+            std::cerr << "error: " << found.error().message << "\n";
+            return kExitFailure;
+        }
+        viewer = *found;
+    }
+    std::vector<std::string> folders;
+    const std::optional<std::vector<Project>> projects = loadExportProjects(o, folders);
+    if (!projects) return kExitFailure;
+    std::vector<Task> tasks = exportTasks(o, *projects, folders, shard);
+    const int jobs = runExportTasks(o, *projects, tasks);
+    const ExportTally tally = tallyExport(o, *projects, tasks);
+
     const double seconds =
         std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     const nlohmann::json summary = {
@@ -345,16 +380,17 @@ int runExport(const ExportOptions& o) {
         {"bundle_schema", {{"major", kBundleSchemaMajor}, {"minor", kBundleSchemaMinor}}},
         {"out", o.out},
         {"jobs", jobs},
-        {"ok", !failed && !outOfDate},
+        {"ok", !tally.failed && !tally.outOfDate},
         {"shard", o.shard.empty() ? nlohmann::json(nullptr)
                                   : nlohmann::json{{"index", shard.index}, {"count", shard.count}}},
-        {"unchanged", unchanged},
+        {"unchanged", tally.unchanged},
         {"seconds", seconds},
-        {"bodies", bodies}};
+        {"bodies", tally.bodies}};
     const std::string text = reportJson(summary) + "\n";
     std::cout << text;
     if (!o.check && !o.quiet) {
         // Said even in CI: that a run rewrote nothing is the point of the skip.
+        const std::size_t unchanged = tally.unchanged, failures = tally.failures;
         std::cerr << (unchanged == tasks.size() && !tasks.empty()
                           ? "export: all " + std::to_string(unchanged) +
                                 " bundles unchanged, nothing rewritten"
@@ -373,7 +409,7 @@ int runExport(const ExportOptions& o) {
             return kExitFailure;
         }
     }
-    if (o.web && !failed) {
+    if (o.web && !tally.failed) {
         std::vector<std::string> bundles;
         for (const Task& t : tasks) bundles.push_back(t.key);
         if (Status s = writeWebViewer(viewer, o.out, bundles); !s.ok()) {
@@ -381,7 +417,7 @@ int runExport(const ExportOptions& o) {
             return kExitFailure;
         }
     }
-    return failed || outOfDate ? kExitFailure : kExitOk;
+    return tally.failed || tally.outOfDate ? kExitFailure : kExitOk;
 }
 
 }  // namespace
