@@ -187,25 +187,32 @@ Result<fs::path> findWebViewer() {
     } else {
         std::error_code ec;
         const fs::path exe = fs::read_symlink("/proc/self/exe", ec);
-        if (!ec) places.push_back(exe.parent_path().parent_path().parent_path() / "build-web" / "viewer");
+        if (!ec)
+            places.push_back(exe.parent_path().parent_path().parent_path() / "build-web" /
+                             "viewer");
     }
     std::string looked;
     for (const fs::path& p : places) {
         if (fs::is_regular_file(p / "index.html") && fs::is_regular_file(p / "viewer.js")) return p;
         looked += (looked.empty() ? "" : ", ") + p.string();
     }
-    return makeError(ErrorKind::io,
-                     "export --web: no built web viewer (index.html and viewer.js) in " +
-                         (looked.empty() ? std::string("any known place") : looked) +
-                         ": run scripts/build-web.sh, or set PLIMSOLL_WEB_VIEWER to the viewer's folder");
+    return makeError(
+        ErrorKind::io,
+        "export --web: no built web viewer (index.html and viewer.js) in " +
+            (looked.empty() ? std::string("any known place") : looked) +
+            ": run scripts/build-web.sh, or set PLIMSOLL_WEB_VIEWER to the viewer's folder");
 }
 
 /// The viewer's files into `out`, and bundles.json listing the bundle folders (relative to out).
-Status writeWebViewer(const fs::path& viewer, const fs::path& out, const std::vector<std::string>& bundles) {
+Status writeWebViewer(const fs::path& viewer, const fs::path& out,
+                      const std::vector<std::string>& bundles) {
     std::error_code ec;
     fs::copy(viewer, out, fs::copy_options::recursive | fs::copy_options::overwrite_existing, ec);
-    if (ec) return makeError(ErrorKind::io, "export --web: cannot copy " + viewer.string() + " to " + out.string() + ": " + ec.message());
-    return writeTextFile((out / "bundles.json").string(), nlohmann::json{{"bundles", bundles}}.dump(2) + "\n");
+    if (ec)
+        return makeError(ErrorKind::io, "export --web: cannot copy " + viewer.string() + " to " +
+                                            out.string() + ": " + ec.message());
+    return writeTextFile((out / "bundles.json").string(),
+                         nlohmann::json{{"bundles", bundles}}.dump(2) + "\n");
 }
 
 /// The projects, each loaded and given its output folder's name; on a failure the error is
@@ -480,9 +487,10 @@ void addExportCommand(CLI::App& root, CommandRunner& selected) {
     command->add_flag("--compact", o->compact,
                       "Half-float samples and images (about half the size; accuracy in "
                       "docs/bundle.md \"Compact bundles\")");
-    command->add_flag("--web", o->web,
-                      "Also write the three.js viewer page into OUT (index.html, bundles.json; "
-                      "web/README.md): the one scripts/build-web.sh builds, or $PLIMSOLL_WEB_VIEWER");
+    command->add_flag(
+        "--web", o->web,
+        "Also write the three.js viewer page into OUT (index.html, bundles.json; "
+        "web/README.md): the one scripts/build-web.sh builds, or $PLIMSOLL_WEB_VIEWER");
     command->add_flag("--quiet", o->quiet, "No progress lines or tally on stderr");
     command->add_flag("--progress", o->progress,
                       "Progress lines on stderr even when it is not a terminal");

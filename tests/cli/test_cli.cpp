@@ -229,27 +229,30 @@ TEST(CliExportWeb, WritesTheViewerBesideTheBundlesAndListsThem) {
     std::ofstream(viewer / "vendor" / "lib" / "x.js") << "export const x = 1;";
     const std::string env = "PLIMSOLL_WEB_VIEWER='" + viewer.string() + "'";
 
-    const CommandOutput r = runPlimsoll("export '" + project.string() + "' --out '" + (dir / "out").string() +
-                                            "' --web --quiet", env);
+    const CommandOutput r = runPlimsoll(
+        "export '" + project.string() + "' --out '" + (dir / "out").string() + "' --web --quiet",
+        env);
     ASSERT_EQ(r.exitCode, 0) << r.err;
     EXPECT_EQ(test::readFile(dir / "out" / "index.html"), test::readFile(viewer / "index.html"));
     EXPECT_EQ(test::readFile(dir / "out" / "vendor" / "lib" / "x.js"), "export const x = 1;");
-    const nlohmann::json listed = nlohmann::json::parse(test::readFile(dir / "out" / "bundles.json"));
+    const nlohmann::json listed =
+        nlohmann::json::parse(test::readFile(dir / "out" / "bundles.json"));
     ASSERT_EQ(listed.at("bundles").size(), 1u);
     const std::string bundle = listed["bundles"][0].get<std::string>();
     EXPECT_EQ(bundle.rfind("box/", 0), 0u) << bundle;
     EXPECT_TRUE(fs::is_regular_file(dir / "out" / bundle / "manifest.json")) << bundle;
 
-    const CommandOutput missing = runPlimsoll("export '" + project.string() + "' --out '" +
-                                                  (dir / "out2").string() + "' --web --quiet",
-                                              "PLIMSOLL_WEB_VIEWER='" + (dir / "nowhere").string() + "'");
+    const CommandOutput missing = runPlimsoll(
+        "export '" + project.string() + "' --out '" + (dir / "out2").string() + "' --web --quiet",
+        "PLIMSOLL_WEB_VIEWER='" + (dir / "nowhere").string() + "'");
     EXPECT_EQ(missing.exitCode, 1);
     EXPECT_CONTAINS(missing.err, (dir / "nowhere").string());
     EXPECT_CONTAINS(missing.err, "scripts/build-web.sh");
     EXPECT_FALSE(fs::exists(dir / "out2"));
 
-    const CommandOutput check = runPlimsoll("export '" + project.string() + "' --out '" + (dir / "out").string() +
-                                                "' --web --check", env);
+    const CommandOutput check = runPlimsoll(
+        "export '" + project.string() + "' --out '" + (dir / "out").string() + "' --web --check",
+        env);
     EXPECT_NE(check.exitCode, 0);
     EXPECT_CONTAINS(check.err, "--web");
 }

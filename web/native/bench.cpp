@@ -65,23 +65,28 @@ int main(int argc, char** argv) {
             pose.position.y = bundle->world().startPose.position.y + 0.001 * (i % 50);
             sink += bundle->evaluate(pose, {}, water, fluid, i * dt).submergedVolume;
         }
-        evaluate.push_back(std::chrono::duration<double, std::micro>(Clock::now() - t0).count() / steps);
+        evaluate.push_back(std::chrono::duration<double, std::micro>(Clock::now() - t0).count() /
+                           steps);
         rt::Body body(*bundle);
         rt::BodyState state;
         state.pose = bundle->world().startPose;
         t0 = Clock::now();
         for (int i = 0; i < steps; ++i) rt::stepBody(body, state, water, fluid, i * dt, dt);
-        step.push_back(std::chrono::duration<double, std::micro>(Clock::now() - t0).count() / steps);
+        step.push_back(std::chrono::duration<double, std::micro>(Clock::now() - t0).count() /
+                       steps);
         sink += state.pose.position.y;
         auto simulation = rt::Simulation::create(*bundle, error);
         const int frames = std::max(1, steps / 4);
         t0 = Clock::now();
         for (int i = 0; i < frames; ++i) simulation->advanceFrame(water, error);
-        frame.push_back(std::chrono::duration<double, std::micro>(Clock::now() - t0).count() / frames);
+        frame.push_back(std::chrono::duration<double, std::micro>(Clock::now() - t0).count() /
+                        frames);
         sink += simulation->centerOfMass().y;
     }
-    std::printf("{\"body\": \"%s\", \"load_ms\": %.2f, \"evaluate_us\": %.1f, \"step_us\": %.1f, \"frame_us\": %.1f, "
-                "\"check\": %.3g}\n",
-                bundle->body().c_str(), median(load), median(evaluate), median(step), median(frame), sink);
+    std::printf(
+        "{\"body\": \"%s\", \"load_ms\": %.2f, \"evaluate_us\": %.1f, \"step_us\": %.1f, "
+        "\"frame_us\": %.1f, "
+        "\"check\": %.3g}\n",
+        bundle->body().c_str(), median(load), median(evaluate), median(step), median(frame), sink);
     return 0;
 }

@@ -3,8 +3,8 @@
 // bundle's own water (stepBody; step i at time i/240), then one line: its state (13 numbers:
 // position, orientation w x y z, velocity, angular velocity), the water load a step would apply
 // there (31: forces, water mass, force, torque) and the body's state hash (16 hex digits).
-// Otherwise it reads lines "water t x y z qw qx qy qz vx vy vz wx wy wz" from stdin (water: "own" for the
-// bundle's own water, a number for flat water at that level) and prints, per line, the 24
+// Otherwise it reads lines "water t x y z qw qx qy qz vx vy vz wx wy wz" from stdin (water: "own"
+// for the bundle's own water, a number for flat water at that level) and prints, per line, the 24
 // numbers of plimsoll_web.cpp's putForces with 17 significant digits (enough to give back the
 // very double), or "error MESSAGE". Exits 1 when the bundle does not load.
 #include "plimsoll_runtime/runtime.hpp"
@@ -39,22 +39,53 @@ int main(int argc, char** argv) {
         rt::BodyState state;
         state.pose = bundle->world().startPose;
         for (int i = 0; i < steps; ++i) rt::stepBody(body, state, own, fluid, i * dt, dt);
-        const rt::WaterLoad load = rt::waterLoad(body, state.pose, state.velocity, own, fluid, steps * dt, dt);
+        const rt::WaterLoad load =
+            rt::waterLoad(body, state.pose, state.velocity, own, fluid, steps * dt, dt);
         const rt::Forces& f = load.forces;
-        const double out[] = {state.pose.position.x, state.pose.position.y, state.pose.position.z,
-                              state.pose.orientation.w, state.pose.orientation.x, state.pose.orientation.y,
-                              state.pose.orientation.z, state.velocity.linear.x, state.velocity.linear.y,
-                              state.velocity.linear.z, state.velocity.angular.x, state.velocity.angular.y,
+        const double out[] = {state.pose.position.x,
+                              state.pose.position.y,
+                              state.pose.position.z,
+                              state.pose.orientation.w,
+                              state.pose.orientation.x,
+                              state.pose.orientation.y,
+                              state.pose.orientation.z,
+                              state.velocity.linear.x,
+                              state.velocity.linear.y,
+                              state.velocity.linear.z,
+                              state.velocity.angular.x,
+                              state.velocity.angular.y,
                               state.velocity.angular.z,
-                              f.submergedVolume, f.centerOfBuoyancy.x, f.centerOfBuoyancy.y, f.centerOfBuoyancy.z,
-                              f.force.x, f.force.y, f.force.z, f.torque.x, f.torque.y, f.torque.z,
-                              f.pressureForce.x, f.pressureForce.y, f.pressureForce.z,
-                              f.pressureTorque.x, f.pressureTorque.y, f.pressureTorque.z,
-                              f.dragForce.x, f.dragForce.y, f.dragForce.z,
-                              f.dragTorque.x, f.dragTorque.y, f.dragTorque.z,
-                              f.wettedArea, static_cast<double>(f.submergedSamples),
-                              load.waterMass, load.force.x, load.force.y, load.force.z,
-                              load.torque.x, load.torque.y, load.torque.z};
+                              f.submergedVolume,
+                              f.centerOfBuoyancy.x,
+                              f.centerOfBuoyancy.y,
+                              f.centerOfBuoyancy.z,
+                              f.force.x,
+                              f.force.y,
+                              f.force.z,
+                              f.torque.x,
+                              f.torque.y,
+                              f.torque.z,
+                              f.pressureForce.x,
+                              f.pressureForce.y,
+                              f.pressureForce.z,
+                              f.pressureTorque.x,
+                              f.pressureTorque.y,
+                              f.pressureTorque.z,
+                              f.dragForce.x,
+                              f.dragForce.y,
+                              f.dragForce.z,
+                              f.dragTorque.x,
+                              f.dragTorque.y,
+                              f.dragTorque.z,
+                              f.wettedArea,
+                              static_cast<double>(f.submergedSamples),
+                              load.waterMass,
+                              load.force.x,
+                              load.force.y,
+                              load.force.z,
+                              load.torque.x,
+                              load.torque.y,
+                              load.torque.z};
         for (double v : out) std::printf("%.17g ", v);
         std::printf("%016llx\n", static_cast<unsigned long long>(body.stateHash()));
         return 0;
@@ -78,14 +109,32 @@ int main(int argc, char** argv) {
         rt::Velocity velocity;
         velocity.linear = {v[8], v[9], v[10]};
         velocity.angular = {v[11], v[12], v[13]};
-        const rt::Forces f = bundle->evaluate(pose, velocity, water == "own" ? own : flat, fluid, v[0]);
-        const double out[24] = {f.submergedVolume, f.centerOfBuoyancy.x, f.centerOfBuoyancy.y, f.centerOfBuoyancy.z,
-                                f.force.x, f.force.y, f.force.z, f.torque.x, f.torque.y, f.torque.z,
-                                f.pressureForce.x, f.pressureForce.y, f.pressureForce.z,
-                                f.pressureTorque.x, f.pressureTorque.y, f.pressureTorque.z,
-                                f.dragForce.x, f.dragForce.y, f.dragForce.z,
-                                f.dragTorque.x, f.dragTorque.y, f.dragTorque.z,
-                                f.wettedArea, static_cast<double>(f.submergedSamples)};
+        const rt::Forces f =
+            bundle->evaluate(pose, velocity, water == "own" ? own : flat, fluid, v[0]);
+        const double out[24] = {f.submergedVolume,
+                                f.centerOfBuoyancy.x,
+                                f.centerOfBuoyancy.y,
+                                f.centerOfBuoyancy.z,
+                                f.force.x,
+                                f.force.y,
+                                f.force.z,
+                                f.torque.x,
+                                f.torque.y,
+                                f.torque.z,
+                                f.pressureForce.x,
+                                f.pressureForce.y,
+                                f.pressureForce.z,
+                                f.pressureTorque.x,
+                                f.pressureTorque.y,
+                                f.pressureTorque.z,
+                                f.dragForce.x,
+                                f.dragForce.y,
+                                f.dragForce.z,
+                                f.dragTorque.x,
+                                f.dragTorque.y,
+                                f.dragTorque.z,
+                                f.wettedArea,
+                                static_cast<double>(f.submergedSamples)};
         for (int i = 0; i < 24; ++i) std::printf(i ? " %.17g" : "%.17g", out[i]);
         std::printf("\n");
     }

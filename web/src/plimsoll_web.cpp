@@ -19,10 +19,11 @@
 // JavaScript's water: out[i] = height at (x[i], z[i]) for the callback registered as `id`;
 // velocities out[3 i..3 i + 2] at (x[i], y[i], z[i]) (when the callback has them).
 extern "C" PW_IMPORT("pw_js_heights") void pw_js_heights(int id, std::size_t n, const double* x,
-                                                          const double* z, double time, double* out);
-extern "C" PW_IMPORT("pw_js_velocities") void pw_js_velocities(int id, std::size_t n, const double* x,
-                                                                const double* y, const double* z,
-                                                                double time, double* out);
+                                                         const double* z, double time, double* out);
+extern "C" PW_IMPORT("pw_js_velocities") void pw_js_velocities(int id, std::size_t n,
+                                                               const double* x, const double* y,
+                                                               const double* z, double time,
+                                                               double* out);
 
 namespace {
 
@@ -38,8 +39,8 @@ struct WebBundle {
 // Water modes of every call that takes water.
 enum WaterMode { kOwn = 0, kFlat = 1, kCallback = 2 };
 
-rt::Water waterFor(const WebBundle& b, int mode, double level, int id, int hasVelocities, double minHeight,
-                   double maxHeight) {
+rt::Water waterFor(const WebBundle& b, int mode, double level, int id, int hasVelocities,
+                   double minHeight, double maxHeight) {
     if (mode == kOwn) return b.own;
     rt::Water w;
     w.level = level;
@@ -48,7 +49,8 @@ rt::Water waterFor(const WebBundle& b, int mode, double level, int id, int hasVe
             pw_js_heights(id, n, x, z, t, out);
         };
         if (hasVelocities)
-            w.velocities = [id](std::size_t n, const double* x, const double* y, const double* z, double t,
+            w.velocities = [id](std::size_t n, const double* x, const double* y, const double* z,
+                                double t,
                                 double* out) { pw_js_velocities(id, n, x, y, z, t, out); };
         w.minHeight = minHeight;
         w.maxHeight = maxHeight;
@@ -110,14 +112,16 @@ PW_EXPORT const char* pw_last_error() { return lastError.c_str(); }
 PW_EXPORT const char* pw_version() {
     static const std::string v = [] {
         const rt::Version r = rt::runtimeVersion();
-        return std::to_string(r.major) + "." + std::to_string(r.minor) + "." + std::to_string(r.patch);
+        return std::to_string(r.major) + "." + std::to_string(r.minor) + "." +
+               std::to_string(r.patch);
     }();
     return v.c_str();
 }
 
 // count files: paths[i] (NUL-terminated), data[i], sizes[i]. Null with the error on failure.
-PW_EXPORT WebBundle* pw_bundle_load(std::size_t count, const char* const* paths, const unsigned char* const* data,
-                                    const std::uint32_t* sizes, const char* name, int verify) {
+PW_EXPORT WebBundle* pw_bundle_load(std::size_t count, const char* const* paths,
+                                    const unsigned char* const* data, const std::uint32_t* sizes,
+                                    const char* name, int verify) {
     lastError.clear();
     std::vector<rt::MemoryFile> files(count);
     for (std::size_t i = 0; i < count; ++i) files[i] = {paths[i], data[i], sizes[i]};
@@ -170,8 +174,10 @@ PW_EXPORT void pw_bundle_info(const WebBundle* wb, double* out) {
     out[33] = w.startPose.orientation.y, out[34] = w.startPose.orientation.z;
     rt::Vec3 lo{HUGE_VAL, HUGE_VAL, HUGE_VAL}, hi{-HUGE_VAL, -HUGE_VAL, -HUGE_VAL};
     for (const rt::Sample& s : b.samples()) {
-        lo = {std::min(lo.x, s.position.x), std::min(lo.y, s.position.y), std::min(lo.z, s.position.z)};
-        hi = {std::max(hi.x, s.position.x), std::max(hi.y, s.position.y), std::max(hi.z, s.position.z)};
+        lo = {std::min(lo.x, s.position.x), std::min(lo.y, s.position.y),
+              std::min(lo.z, s.position.z)};
+        hi = {std::max(hi.x, s.position.x), std::max(hi.y, s.position.y),
+              std::max(hi.z, s.position.z)};
     }
     put(out + 35, lo);
     put(out + 38, hi);
@@ -190,8 +196,8 @@ PW_EXPORT double pw_bundle_node_capacity(const WebBundle* wb, int node) {
 }
 
 // The bundle's own water's heights at n points (for drawing the surface the physics sees).
-PW_EXPORT void pw_bundle_water_heights(const WebBundle* wb, std::size_t n, const double* x, const double* z,
-                                       double time, double* out) {
+PW_EXPORT void pw_bundle_water_heights(const WebBundle* wb, std::size_t n, const double* x,
+                                       const double* z, double time, double* out) {
     const rt::Water& w = wb->own;
     if (w.heights) {
         w.heights(n, x, z, time, out);
@@ -201,8 +207,9 @@ PW_EXPORT void pw_bundle_water_heights(const WebBundle* wb, std::size_t n, const
 }
 
 // in: pose (7), velocity (6), time, fluid (4: density, gravity, drag, friction); out: 24 forces.
-PW_EXPORT int pw_bundle_evaluate(const WebBundle* wb, const double* in, int waterMode, double level, int id,
-                                 int hasVelocities, double minHeight, double maxHeight, double* out) {
+PW_EXPORT int pw_bundle_evaluate(const WebBundle* wb, const double* in, int waterMode, double level,
+                                 int id, int hasVelocities, double minHeight, double maxHeight,
+                                 double* out) {
     lastError.clear();
     if (!finite(in, 18)) {
         lastError = "evaluate: the pose, velocity, time or fluid has a NaN or Inf";
@@ -212,8 +219,10 @@ PW_EXPORT int pw_bundle_evaluate(const WebBundle* wb, const double* in, int wate
     v.linear = {in[7], in[8], in[9]};
     v.angular = {in[10], in[11], in[12]};
     rt::Fluid fluid;
-    fluid.density = in[14], fluid.gravity = in[15], fluid.dragCoefficient = in[16], fluid.frictionCoefficient = in[17];
-    const rt::Water water = waterFor(*wb, waterMode, level, id, hasVelocities, minHeight, maxHeight);
+    fluid.density = in[14], fluid.gravity = in[15], fluid.dragCoefficient = in[16],
+    fluid.frictionCoefficient = in[17];
+    const rt::Water water =
+        waterFor(*wb, waterMode, level, id, hasVelocities, minHeight, maxHeight);
     const rt::Forces f = wb->bundle->evaluate(poseFrom(in), v, water, fluid, in[13]);
     putForces(out, f);
     if (!finite(out, 24)) {
@@ -230,9 +239,9 @@ PW_EXPORT void pw_body_destroy(WebBody* b) { delete b; }
 // out null, one semi-implicit Euler step of dt (the runtime's stepBody); with out, no step: the
 // water load at that state (waterLoad, what a step of dt applies) into out: its forces (24), the
 // water mass, then the load's force (3) and torque (3).
-PW_EXPORT int pw_body_step(WebBody* body, double* state, const double* fluidIn, double time, double dt,
-                           int waterMode, double level, int id, int hasVelocities, double minHeight,
-                           double maxHeight, double* out) {
+PW_EXPORT int pw_body_step(WebBody* body, double* state, const double* fluidIn, double time,
+                           double dt, int waterMode, double level, int id, int hasVelocities,
+                           double minHeight, double maxHeight, double* out) {
     lastError.clear();
     if (!finite(state, 13) || !finite(fluidIn, 4) || !std::isfinite(time) || !(dt > 0)) {
         lastError = "step: the state, fluid, time or dt is not finite (or dt <= 0)";
@@ -241,13 +250,15 @@ PW_EXPORT int pw_body_step(WebBody* body, double* state, const double* fluidIn, 
     rt::Fluid fluid;
     fluid.density = fluidIn[0], fluid.gravity = fluidIn[1], fluid.dragCoefficient = fluidIn[2],
     fluid.frictionCoefficient = fluidIn[3];
-    const rt::Water water = waterFor(*body->bundle, waterMode, level, id, hasVelocities, minHeight, maxHeight);
+    const rt::Water water =
+        waterFor(*body->bundle, waterMode, level, id, hasVelocities, minHeight, maxHeight);
     rt::BodyState s;
     s.pose = poseFrom(state);
     s.velocity.linear = {state[7], state[8], state[9]};
     s.velocity.angular = {state[10], state[11], state[12]};
     if (out) {
-        const rt::WaterLoad load = rt::waterLoad(body->body, s.pose, s.velocity, water, fluid, time, dt);
+        const rt::WaterLoad load =
+            rt::waterLoad(body->body, s.pose, s.velocity, water, fluid, time, dt);
         putForces(out, load.forces);
         out[24] = load.waterMass;
         put(out + 25, load.force);
@@ -259,10 +270,11 @@ PW_EXPORT int pw_body_step(WebBody* body, double* state, const double* fluidIn, 
         return 1;
     }
     rt::stepBody(body->body, s, water, fluid, time, dt);
-    const double next[13] = {s.pose.position.x, s.pose.position.y, s.pose.position.z, s.pose.orientation.w,
-                             s.pose.orientation.x, s.pose.orientation.y, s.pose.orientation.z,
-                             s.velocity.linear.x, s.velocity.linear.y, s.velocity.linear.z,
-                             s.velocity.angular.x, s.velocity.angular.y, s.velocity.angular.z};
+    const double next[13] = {s.pose.position.x,    s.pose.position.y,    s.pose.position.z,
+                             s.pose.orientation.w, s.pose.orientation.x, s.pose.orientation.y,
+                             s.pose.orientation.z, s.velocity.linear.x,  s.velocity.linear.y,
+                             s.velocity.linear.z,  s.velocity.angular.x, s.velocity.angular.y,
+                             s.velocity.angular.z};
     if (!finite(next, 13)) {
         lastError = "step: the state left the finite numbers (did the water callback return NaN?)";
         return 0;
@@ -278,7 +290,9 @@ PW_EXPORT int pw_body_node_water(const WebBody* b, double* out) {
     for (std::size_t i = 0; i < n; ++i) out[i] = g->water(i);
     return static_cast<int>(n);
 }
-PW_EXPORT void pw_body_hash(const WebBody* b, std::uint32_t* out) { putHash(b->body.stateHash(), out); }
+PW_EXPORT void pw_body_hash(const WebBody* b, std::uint32_t* out) {
+    putHash(b->body.stateHash(), out);
+}
 PW_EXPORT int pw_body_asleep(const WebBody* b) { return b->body.asleep() ? 1 : 0; }
 PW_EXPORT void pw_body_wake(WebBody* b) { b->body.wake(); }
 
@@ -294,10 +308,11 @@ PW_EXPORT WebSimulation* pw_simulation_create(const WebBundle* wb) {
 }
 PW_EXPORT void pw_simulation_destroy(WebSimulation* s) { delete s; }
 
-PW_EXPORT int pw_simulation_advance(WebSimulation* s, int waterMode, double level, int id, int hasVelocities,
-                                    double minHeight, double maxHeight) {
+PW_EXPORT int pw_simulation_advance(WebSimulation* s, int waterMode, double level, int id,
+                                    int hasVelocities, double minHeight, double maxHeight) {
     lastError.clear();
-    const rt::Water water = waterFor(*s->bundle, waterMode, level, id, hasVelocities, minHeight, maxHeight);
+    const rt::Water water =
+        waterFor(*s->bundle, waterMode, level, id, hasVelocities, minHeight, maxHeight);
     std::string error;
     if (!s->simulation->advanceFrame(water, error)) {
         lastError = error;
@@ -329,11 +344,12 @@ PW_EXPORT void pw_simulation_state(const WebSimulation* ws, double* out) {
 PW_EXPORT int pw_simulation_csv_row(const WebSimulation* ws, char* buffer, int capacity) {
     double v[24];
     pw_simulation_state(ws, v);
-    return std::snprintf(buffer, static_cast<std::size_t>(capacity),
-                         "%.10g,%s,%.10g,%.10g,%.10g,%.10g,%.10g,%.10g,%.10g,%.10g,%.10g,%.10g,%.10g,%.10g,%.10g,"
-                         "%.10g,%.10g,%.10g,%.10g,%.10g,%.10g,%.10g,%.10g\n",
-                         v[0], ws->bundle->bundle->body().c_str(), v[1], v[2], v[3], v[4], v[5], v[6], v[7], v[8],
-                         v[9], v[10], v[11], v[12], v[13], v[14], v[15], v[16], v[17], v[18], v[19], v[20], v[21]);
+    return std::snprintf(
+        buffer, static_cast<std::size_t>(capacity),
+        "%.10g,%s,%.10g,%.10g,%.10g,%.10g,%.10g,%.10g,%.10g,%.10g,%.10g,%.10g,%.10g,%.10g,%.10g,"
+        "%.10g,%.10g,%.10g,%.10g,%.10g,%.10g,%.10g,%.10g\n",
+        v[0], ws->bundle->bundle->body().c_str(), v[1], v[2], v[3], v[4], v[5], v[6], v[7], v[8],
+        v[9], v[10], v[11], v[12], v[13], v[14], v[15], v[16], v[17], v[18], v[19], v[20], v[21]);
 }
 
 PW_EXPORT void pw_simulation_hash(const WebSimulation* s, std::uint32_t* out) {
@@ -346,4 +362,6 @@ PW_EXPORT int pw_simulation_node_water(const WebSimulation* s, double* out) {
     for (std::size_t i = 0; i < n; ++i) out[i] = g->water(i);
     return static_cast<int>(n);
 }
-PW_EXPORT int pw_simulation_asleep(const WebSimulation* s) { return s->simulation->asleep() ? 1 : 0; }
+PW_EXPORT int pw_simulation_asleep(const WebSimulation* s) {
+    return s->simulation->asleep() ? 1 : 0;
+}

@@ -3,8 +3,8 @@
  * WebAssembly build. Emscripten's own zlib port downloads zlib's sources on first use; this
  * shim needs nothing beyond what the build machine has. The native build links the real zlib:
  * this header is on the include path of the web build only (web/CMakeLists.txt).
- * Inflating and CRC-32 only: compress() fails (the runtime never writes EXR). Like zlib, the stream's
- * Adler-32 checksum is checked. */
+ * Inflating and CRC-32 only: compress() fails (the runtime never writes EXR). Like zlib, the
+ * stream's Adler-32 checksum is checked. */
 #ifndef PLIMSOLL_WEB_ZLIB_STB_H
 #define PLIMSOLL_WEB_ZLIB_STB_H
 

@@ -14,7 +14,8 @@
 #include <stb/stb_image.h>
 
 /* stb does not check the stream's Adler-32; zlib does, so the shim does too. */
-static int adler32_matches(const unsigned char* data, size_t size, const unsigned char* stream, size_t streamSize) {
+static int adler32_matches(const unsigned char* data, size_t size, const unsigned char* stream,
+                           size_t streamSize) {
     if (streamSize < 6) return 0;
     unsigned long a = 1, b = 0;
     for (size_t i = 0; i < size; ++i) {
@@ -49,13 +50,15 @@ int inflate(z_streamp strm, int flush) {
     if (!s->inflated) {
         if (strm->avail_in > INT_MAX) return Z_DATA_ERROR;
         int length = 0;
-        const int guess = strm->avail_in < (1u << 20) ? (int)strm->avail_in * 4 + 1024 : (int)strm->avail_in;
-        s->data = stbi_zlib_decode_malloc_guesssize_headerflag((const char*)strm->next_in, (int)strm->avail_in,
-                                                               guess, &length, 1);
+        const int guess =
+            strm->avail_in < (1u << 20) ? (int)strm->avail_in * 4 + 1024 : (int)strm->avail_in;
+        s->data = stbi_zlib_decode_malloc_guesssize_headerflag(
+            (const char*)strm->next_in, (int)strm->avail_in, guess, &length, 1);
         s->inflated = 1;
         if (!s->data) return Z_DATA_ERROR;
         s->size = (size_t)length;
-        if (!adler32_matches((const unsigned char*)s->data, s->size, strm->next_in, strm->avail_in)) {
+        if (!adler32_matches((const unsigned char*)s->data, s->size, strm->next_in,
+                             strm->avail_in)) {
             free(s->data);
             s->data = NULL;
             return Z_DATA_ERROR;
@@ -87,17 +90,23 @@ int inflateEnd(z_streamp strm) {
 
 int uncompress(Bytef* dest, uLongf* destLen, const Bytef* source, uLong sourceLen) {
     if (*destLen > INT_MAX || sourceLen > INT_MAX) return Z_BUF_ERROR;
-    const int n = stbi_zlib_decode_buffer((char*)dest, (int)*destLen, (const char*)source, (int)sourceLen);
+    const int n =
+        stbi_zlib_decode_buffer((char*)dest, (int)*destLen, (const char*)source, (int)sourceLen);
     if (n < 0) return Z_DATA_ERROR;
     if (!adler32_matches(dest, (size_t)n, source, sourceLen)) return Z_DATA_ERROR;
     *destLen = (uLongf)n;
     return Z_OK;
 }
 
-uLong compressBound(uLong sourceLen) { return sourceLen + (sourceLen >> 12) + (sourceLen >> 14) + 64; }
+uLong compressBound(uLong sourceLen) {
+    return sourceLen + (sourceLen >> 12) + (sourceLen >> 14) + 64;
+}
 
 int compress(Bytef* dest, uLongf* destLen, const Bytef* source, uLong sourceLen) {
-    (void)dest; (void)destLen; (void)source; (void)sourceLen;
+    (void)dest;
+    (void)destLen;
+    (void)source;
+    (void)sourceLen;
     return Z_STREAM_ERROR;
 }
 
