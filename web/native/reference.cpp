@@ -9,6 +9,7 @@
 // very double), or "error MESSAGE". Exits 1 when the bundle does not load.
 #include "plimsoll_runtime/runtime.hpp"
 
+#include <array>
 #include <cstdio>
 #include <cstdlib>
 #include <iostream>
@@ -16,6 +17,38 @@
 #include <string>
 
 namespace rt = plimsoll_runtime;
+
+namespace {
+
+/// The 24 numbers of plimsoll_web.cpp's putForces, in its order.
+std::array<double, 24> forceValues(const rt::Forces& f) {
+    return {f.submergedVolume,
+            f.centerOfBuoyancy.x,
+            f.centerOfBuoyancy.y,
+            f.centerOfBuoyancy.z,
+            f.force.x,
+            f.force.y,
+            f.force.z,
+            f.torque.x,
+            f.torque.y,
+            f.torque.z,
+            f.pressureForce.x,
+            f.pressureForce.y,
+            f.pressureForce.z,
+            f.pressureTorque.x,
+            f.pressureTorque.y,
+            f.pressureTorque.z,
+            f.dragForce.x,
+            f.dragForce.y,
+            f.dragForce.z,
+            f.dragTorque.x,
+            f.dragTorque.y,
+            f.dragTorque.z,
+            f.wettedArea,
+            static_cast<double>(f.submergedSamples)};
+}
+
+}  // namespace
 
 int main(int argc, char** argv) {
     if (argc != 2 && argc != 4) {
@@ -42,51 +75,17 @@ int main(int argc, char** argv) {
         const rt::WaterLoad load =
             rt::waterLoad(body, state.pose, state.velocity, own, fluid, steps * dt, dt);
         const rt::Forces& f = load.forces;
-        const double out[] = {state.pose.position.x,
-                              state.pose.position.y,
-                              state.pose.position.z,
-                              state.pose.orientation.w,
-                              state.pose.orientation.x,
-                              state.pose.orientation.y,
-                              state.pose.orientation.z,
-                              state.velocity.linear.x,
-                              state.velocity.linear.y,
-                              state.velocity.linear.z,
-                              state.velocity.angular.x,
-                              state.velocity.angular.y,
-                              state.velocity.angular.z,
-                              f.submergedVolume,
-                              f.centerOfBuoyancy.x,
-                              f.centerOfBuoyancy.y,
-                              f.centerOfBuoyancy.z,
-                              f.force.x,
-                              f.force.y,
-                              f.force.z,
-                              f.torque.x,
-                              f.torque.y,
-                              f.torque.z,
-                              f.pressureForce.x,
-                              f.pressureForce.y,
-                              f.pressureForce.z,
-                              f.pressureTorque.x,
-                              f.pressureTorque.y,
-                              f.pressureTorque.z,
-                              f.dragForce.x,
-                              f.dragForce.y,
-                              f.dragForce.z,
-                              f.dragTorque.x,
-                              f.dragTorque.y,
-                              f.dragTorque.z,
-                              f.wettedArea,
-                              static_cast<double>(f.submergedSamples),
-                              load.waterMass,
-                              load.force.x,
-                              load.force.y,
-                              load.force.z,
-                              load.torque.x,
-                              load.torque.y,
-                              load.torque.z};
-        for (double v : out) std::printf("%.17g ", v);
+        const double state13[] = {
+            state.pose.position.x,    state.pose.position.y,    state.pose.position.z,
+            state.pose.orientation.w, state.pose.orientation.x, state.pose.orientation.y,
+            state.pose.orientation.z, state.velocity.linear.x,  state.velocity.linear.y,
+            state.velocity.linear.z,  state.velocity.angular.x, state.velocity.angular.y,
+            state.velocity.angular.z};
+        const double load7[] = {load.waterMass, load.force.x,  load.force.y, load.force.z,
+                                load.torque.x,  load.torque.y, load.torque.z};
+        for (double v : state13) std::printf("%.17g ", v);
+        for (double v : forceValues(f)) std::printf("%.17g ", v);
+        for (double v : load7) std::printf("%.17g ", v);
         std::printf("%016llx\n", static_cast<unsigned long long>(body.stateHash()));
         return 0;
     }
@@ -111,30 +110,7 @@ int main(int argc, char** argv) {
         velocity.angular = {v[11], v[12], v[13]};
         const rt::Forces f =
             bundle->evaluate(pose, velocity, water == "own" ? own : flat, fluid, v[0]);
-        const double out[24] = {f.submergedVolume,
-                                f.centerOfBuoyancy.x,
-                                f.centerOfBuoyancy.y,
-                                f.centerOfBuoyancy.z,
-                                f.force.x,
-                                f.force.y,
-                                f.force.z,
-                                f.torque.x,
-                                f.torque.y,
-                                f.torque.z,
-                                f.pressureForce.x,
-                                f.pressureForce.y,
-                                f.pressureForce.z,
-                                f.pressureTorque.x,
-                                f.pressureTorque.y,
-                                f.pressureTorque.z,
-                                f.dragForce.x,
-                                f.dragForce.y,
-                                f.dragForce.z,
-                                f.dragTorque.x,
-                                f.dragTorque.y,
-                                f.dragTorque.z,
-                                f.wettedArea,
-                                static_cast<double>(f.submergedSamples)};
+        const std::array<double, 24> out = forceValues(f);
         for (int i = 0; i < 24; ++i) std::printf(i ? " %.17g" : "%.17g", out[i]);
         std::printf("\n");
     }
