@@ -53,9 +53,8 @@ int main(int argc, char** argv) {
         }
     }
     const rt::Water water = bundle->world().water.water();
-    rt::Fluid fluid = bundle->fluid();
-    fluid.density = bundle->world().density;
-    fluid.gravity = -bundle->world().gravity.y;
+    // The bundle's fluid already carries its world's density and gravity (as index.js reads it).
+    const rt::Fluid fluid = bundle->fluid();
     const double dt = 1.0 / 240.0;
     double sink = 0;
     for (int round = 0; round < 5; ++round) {

@@ -62,9 +62,8 @@ int main(int argc, char** argv) {
         return 1;
     }
     const rt::Water own = bundle->world().water.water();
-    rt::Fluid fluid = bundle->fluid();
-    fluid.density = bundle->world().density;
-    fluid.gravity = -bundle->world().gravity.y;
+    // The bundle's fluid already carries its world's density and gravity (as index.js reads it).
+    const rt::Fluid fluid = bundle->fluid();
     if (argc == 4 && std::string(argv[2]) == "--steps") {
         const int steps = std::atoi(argv[3]);
         const double dt = 1.0 / 240.0;

@@ -82,6 +82,14 @@ void putForces(double* out, const rt::Forces& f) {
     out[23] = static_cast<double>(f.submergedSamples);
 }
 
+// A fluid as 4 doubles: density, gravity, drag coefficient, friction coefficient.
+rt::Fluid fluidFrom(const double* in) {
+    rt::Fluid fluid;
+    fluid.density = in[0], fluid.gravity = in[1], fluid.dragCoefficient = in[2],
+    fluid.frictionCoefficient = in[3];
+    return fluid;
+}
+
 bool finite(const double* v, int n) {
     for (int i = 0; i < n; ++i)
         if (!std::isfinite(v[i])) return false;
@@ -157,8 +165,9 @@ PW_EXPORT void pw_bundle_info(const WebBundle* wb, double* out) {
     out[14] = static_cast<double>(b.samples().size());
     out[15] = b.graph() ? static_cast<double>(b.graph()->nodes().size()) : 0.0;
     const rt::BundleWorld& w = b.world();
-    out[16] = w.density;
-    out[17] = -w.gravity.y;
+    // The bundle's fluid: its world's density and gravity, the manifest's coefficients.
+    out[16] = b.fluid().density;
+    out[17] = b.fluid().gravity;
     out[18] = b.fluid().dragCoefficient;
     out[19] = b.fluid().frictionCoefficient;
     out[20] = b.linearDamping();
@@ -218,9 +227,7 @@ PW_EXPORT int pw_bundle_evaluate(const WebBundle* wb, const double* in, int wate
     rt::Velocity v;
     v.linear = {in[7], in[8], in[9]};
     v.angular = {in[10], in[11], in[12]};
-    rt::Fluid fluid;
-    fluid.density = in[14], fluid.gravity = in[15], fluid.dragCoefficient = in[16],
-    fluid.frictionCoefficient = in[17];
+    const rt::Fluid fluid = fluidFrom(in + 14);
     const rt::Water water =
         waterFor(*wb, waterMode, level, id, hasVelocities, minHeight, maxHeight);
     const rt::Forces f = wb->bundle->evaluate(poseFrom(in), v, water, fluid, in[13]);
@@ -247,9 +254,7 @@ PW_EXPORT int pw_body_step(WebBody* body, double* state, const double* fluidIn, 
         lastError = "step: the state, fluid, time or dt is not finite (or dt <= 0)";
         return 0;
     }
-    rt::Fluid fluid;
-    fluid.density = fluidIn[0], fluid.gravity = fluidIn[1], fluid.dragCoefficient = fluidIn[2],
-    fluid.frictionCoefficient = fluidIn[3];
+    const rt::Fluid fluid = fluidFrom(fluidIn);
     const rt::Water water =
         waterFor(*body->bundle, waterMode, level, id, hasVelocities, minHeight, maxHeight);
     rt::BodyState s;
