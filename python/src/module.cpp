@@ -8,6 +8,7 @@
 #include "cli/jobs.h"
 #include "plimsoll/core/limits.h"
 #include "plimsoll/io/file_util.h"
+#include "plimsoll/io/mesh_io.h"
 #include "plimsoll/surface/atlas.h"
 
 #include <pybind11/stl.h>
@@ -85,7 +86,7 @@ auto withoutGil(F&& job) {
     return job();
 }
 
-cli::BakeOptions bakeOptions(int size, std::optional<double> unit, const std::string& atlas,
+cli::BakeOptions bakeOptions(int size, const Unit& unit, const std::string& atlas,
                              std::optional<double> maxTexelStretch) {
     if (size < kMinTextureSize || size > kMaxTextureSize)
         raise({"size " + std::to_string(size) + ": expected " + std::to_string(kMinTextureSize) +
@@ -111,14 +112,15 @@ Eigen::Vector3d vector3(const std::optional<std::array<double, 3>>& v) {
     return out;
 }
 
-py::dict validate(const std::string& mesh, std::optional<double> unit) {
-    Result<cli::Validation> v = withoutGil([&] { return cli::validateJob(mesh, unitScale(unit)); });
+py::dict validate(const std::string& mesh, const Unit& unit) {
+    // Checked with the GIL held: a bad unit raises a Python exception.
+    const double scale = unitScale(unit);
+    Result<cli::Validation> v = withoutGil([&] { return cli::validateJob(mesh, scale); });
     return fromJson(value(std::move(v)).json);
 }
 
-py::dict bake(const std::string& mesh, int size, std::optional<double> unit,
-              const std::string& atlas, std::optional<double> maxTexelStretch,
-              const py::object& notes) {
+py::dict bake(const std::string& mesh, int size, const Unit& unit, const std::string& atlas,
+              std::optional<double> maxTexelStretch, const py::object& notes) {
     const cli::BakeOptions options = bakeOptions(size, unit, atlas, maxTexelStretch);
     const cli::Reporter reporter = reporterFor(notes);
     struct Baked {
@@ -172,9 +174,9 @@ py::dict bake(const std::string& mesh, int size, std::optional<double> unit,
 }
 
 py::dict massprops(const std::string& mesh, int size, bool exact, std::optional<double> density,
-                   double shellDensity, const std::string& shellDensityMap,
-                   std::optional<double> unit, const std::string& atlas,
-                   std::optional<double> maxTexelStretch, const py::object& notes) {
+                   double shellDensity, const std::string& shellDensityMap, const Unit& unit,
+                   const std::string& atlas, std::optional<double> maxTexelStretch,
+                   const py::object& notes) {
     cli::MassPropsJob job;
     job.mesh = mesh;
     job.bake = bakeOptions(size, unit, atlas, maxTexelStretch);
@@ -201,7 +203,7 @@ py::dict buoyancy(const std::string& mesh, std::array<double, 3> position,
                   std::optional<std::array<double, 3>> velocity,
                   std::optional<std::array<double, 3>> angularVelocity, int size, bool exact,
                   const std::string& device, double fluidDensity, double dragCoefficient,
-                  double frictionCoefficient, bool compareExact, std::optional<double> unit,
+                  double frictionCoefficient, bool compareExact, const Unit& unit,
                   const std::string& atlas, const py::object& notes) {
     cli::BuoyancyJob job;
     job.mesh = mesh;
@@ -252,7 +254,7 @@ py::dict simulate(const std::optional<std::string>& project, std::optional<doubl
                   double fluidDensity, double waterLevel,
                   std::optional<std::array<double, 3>> position,
                   std::optional<std::array<double, 3>> rotationDeg, bool noRadiation,
-                  std::optional<double> unit, const std::string& device,
+                  const Unit& unit, const std::string& device,
                   const std::optional<std::string>& integrator, const py::object& notes) {
     if (project.has_value() == mesh.has_value())
         raise({"simulate: give a project or mesh=, not both", ErrorKind::invalidArgument});
@@ -400,12 +402,18 @@ py::list exportProjects(const std::vector<std::string>& projects, const std::str
 
 [[noreturn]] void raise(const Error& error) { raise(error.message, errorKindName(error.kind)); }
 
-double unitScale(std::optional<double> unit) {
+double unitScale(const Unit& unit) {
     if (!unit) return 0;
-    if (!(std::isfinite(*unit) && *unit > 0))
-        raise({"unit: expected metres per file unit, a finite number > 0",
+    // As the command line's --unit takes it: a name or its number (parseLengthUnit), or the
+    // number of metres itself.
+    const double* number = std::get_if<double>(&*unit);
+    const std::optional<double> metres =
+        number ? (std::isfinite(*number) && *number > 0 ? std::optional(*number) : std::nullopt)
+               : parseLengthUnit(std::get<std::string>(*unit));
+    if (!metres)
+        raise({"unit: expected m, cm, mm, km, in, ft, yd or metres per file unit (a number > 0)",
                ErrorKind::invalidArgument});
-    return *unit;
+    return *metres;
 }
 
 }  // namespace plimsoll::python

@@ -7,6 +7,7 @@
 #include <pybind11/pybind11.h>
 
 #include <optional>
+#include <variant>
 #include <string>
 
 namespace plimsoll::python {
@@ -24,7 +25,10 @@ T value(Result<T>&& result) {
 }
 
 /// Metres per file unit from an optional argument (None: the file's own unit).
-double unitScale(std::optional<double> unit);
+/// A mesh's unit from Python: a name ("cm", as --unit takes it), metres per file unit, or None
+/// (the file's own unit).
+using Unit = std::optional<std::variant<double, std::string>>;
+double unitScale(const Unit& unit);
 
 /// plimsoll.Bundle, plimsoll.Instance, plimsoll.Simulation (runtime.cpp).
 void bindRuntime(pybind11::module_& m);

@@ -37,6 +37,18 @@ def test_validate_gives_the_cli_facts(plimsoll, cli):
     same(plimsoll.validate(MESH), json.loads(cli("validate", MESH, "--json").stdout))
 
 
+def test_a_unit_is_taken_as_the_command_lines_unit(plimsoll, cli):
+    # A name and its number give the command line's --unit result.
+    for unit in ("cm", "0.01"):
+        same(plimsoll.validate(MESH, unit="cm"),
+             json.loads(cli("validate", MESH, "--unit", unit, "--json").stdout))
+    same(plimsoll.validate(MESH, unit=0.01), plimsoll.validate(MESH, unit="cm"))
+    for bad in ("furlong", -1.0, 0.0, float("nan")):
+        with pytest.raises(plimsoll.Error) as raised:
+            plimsoll.validate(MESH, unit=bad)
+        assert raised.value.kind == "invalid-argument"
+
+
 def test_mesh_bake_massprops_round_trip(plimsoll, cli):
     reference = json.loads(cli("massprops", MESH, "--size", 64, "--density", 600, "--json").stdout)
     same(plimsoll.massprops(MESH, size=64, density=600), reference)
