@@ -380,10 +380,7 @@ void drawDisplayOptions(EditorState& s) {
 }  // namespace
 
 void drawBrushPanel(EditorState& s, const Rect& area) {
-    ImGui::SetNextWindowPos(ImVec2(area.x, area.y));
-    ImGui::SetNextWindowSize(ImVec2(area.w, area.h));
-    ImGui::Begin("Tools", nullptr,
-                 ImGuiWindowFlags_NoMove | ImGuiWindowFlags_NoResize | ImGuiWindowFlags_NoCollapse);
+    beginColumnPanel("Tools", area);
     drawToolAndChannel(s);
     brushPresetControls(s);
     drawBrushSettings(s);

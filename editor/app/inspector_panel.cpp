@@ -448,8 +448,6 @@ void capsSection(EditorState& s, std::size_t b, const BodyDesc& body) {
 }  // namespace
 
 void drawInspectorPanel(EditorState& s, const Rect& area) {
-    ImGui::SetNextWindowPos(ImVec2(area.x, area.y));
-    ImGui::SetNextWindowSize(ImVec2(area.w, area.h));
     // Last frame's edits, before anything below reads the project.
     std::vector<std::function<void()>> edits;
     edits.swap(s.inspector->deferred);
@@ -458,8 +456,7 @@ void drawInspectorPanel(EditorState& s, const Rect& area) {
     if (s.selectedBody >= static_cast<int>(s.document->bodyCount())) {
         s.selectedBody = static_cast<int>(s.document->bodyCount()) - 1;
     }
-    ImGui::Begin("Inspector", nullptr,
-                 ImGuiWindowFlags_NoMove | ImGuiWindowFlags_NoResize | ImGuiWindowFlags_NoCollapse);
+    beginColumnPanel("Inspector", area);
     const Project& project = s.document->project();
     ImGui::Text("Project: %s", project.name.c_str());
     ImGui::Text("Medium: %s, %.1f kg/m3", project.medium.name.c_str(), project.medium.density);

@@ -212,10 +212,7 @@ void drawActiveLayerSettings(EditorState& s, std::size_t body, const MapLayer& l
 }  // namespace
 
 void drawLayersPanel(EditorState& s, const Rect& area) {
-    ImGui::SetNextWindowPos(ImVec2(area.x, area.y));
-    ImGui::SetNextWindowSize(ImVec2(area.w, area.h));
-    ImGui::Begin("Layers", nullptr,
-                 ImGuiWindowFlags_NoMove | ImGuiWindowFlags_NoResize | ImGuiWindowFlags_NoCollapse);
+    beginColumnPanel("Layers", area);
     const bool hasBody =
         s.selectedBody >= 0 && static_cast<std::size_t>(s.selectedBody) < s.document->bodyCount();
     const std::size_t body = hasBody ? static_cast<std::size_t>(s.selectedBody) : 0;

@@ -8,6 +8,16 @@
 
 namespace plimsoll::editor {
 
+/// Begins one of the column's panels (tools, layers, inspector, UV view) over `area`: placed and
+/// sized by the layout, so it neither moves, resizes nor collapses. End it with ImGui::End.
+inline void beginColumnPanel(const char* title, const Rect& area, ImGuiWindowFlags extra = 0) {
+    ImGui::SetNextWindowPos(ImVec2(area.x, area.y));
+    ImGui::SetNextWindowSize(ImVec2(area.w, area.h));
+    ImGui::Begin(
+        title, nullptr,
+        ImGuiWindowFlags_NoMove | ImGuiWindowFlags_NoResize | ImGuiWindowFlags_NoCollapse | extra);
+}
+
 /// 3D view input (navigation, painting) over state.viewport; the scene itself is drawn by the
 /// frame loop before ImGui, into that rectangle.
 void viewportInput(EditorState& state);

@@ -11,11 +11,7 @@ namespace plimsoll::editor {
 
 void drawUvPanel(EditorState& s, const Rect& area) {
     s.uvUnderMouse.reset();
-    ImGui::SetNextWindowPos(ImVec2(area.x, area.y));
-    ImGui::SetNextWindowSize(ImVec2(area.w, area.h));
-    ImGui::Begin("UV view", nullptr,
-                 ImGuiWindowFlags_NoMove | ImGuiWindowFlags_NoResize | ImGuiWindowFlags_NoCollapse |
-                     ImGuiWindowFlags_NoScrollbar | ImGuiWindowFlags_NoScrollWithMouse);
+    beginColumnPanel("UV view", area, ImGuiWindowFlags_NoScrollbar | ImGuiWindowFlags_NoScrollWithMouse);
     if (s.selectedBody < 0 || static_cast<std::size_t>(s.selectedBody) >= s.document->bodyCount() ||
         !s.document->assets(s.selectedBody).mesh) {
         ImGui::TextDisabled("No mesh selected");
