@@ -11,7 +11,8 @@ namespace plimsoll::editor {
 
 void drawUvPanel(EditorState& s, const Rect& area) {
     s.uvUnderMouse.reset();
-    beginColumnPanel("UV view", area, ImGuiWindowFlags_NoScrollbar | ImGuiWindowFlags_NoScrollWithMouse);
+    beginColumnPanel("UV view", area,
+                     ImGuiWindowFlags_NoScrollbar | ImGuiWindowFlags_NoScrollWithMouse);
     if (s.selectedBody < 0 || static_cast<std::size_t>(s.selectedBody) >= s.document->bodyCount() ||
         !s.document->assets(s.selectedBody).mesh) {
         ImGui::TextDisabled("No mesh selected");
