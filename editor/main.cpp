@@ -9,9 +9,10 @@
 
 int main(int argc, char** argv) {
     using namespace plimsoll::cli;
-    CLI::App app{"Plimsoll: real-time buoyancy from surface textures.\n"
-                 "Run a sub-command for headless work (plimsoll SUBCOMMAND --help).",
-                 "plimsoll"};
+    CLI::App app{
+        "Plimsoll: real-time buoyancy from surface textures.\n"
+        "Run a sub-command for headless work (plimsoll SUBCOMMAND --help).",
+        "plimsoll"};
     app.set_version_flag("--version", std::string("plimsoll ") + PLIMSOLL_VERSION);
     app.require_subcommand(0, 1);
     CommandRunner selected;

@@ -15,7 +15,8 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
         if (graph.error().message.empty()) std::abort();
         return 0;
     }
-    const plimsoll::GraphReport report = plimsoll::validateGraph(*graph, nullptr, "fuzz.graph.json");
+    const plimsoll::GraphReport report =
+        plimsoll::validateGraph(*graph, nullptr, "fuzz.graph.json");
     (void)report.format();
     const std::string saved = plimsoll::graphToJson(*graph);
     plimsoll::Result<plimsoll::WaterGraph> again = plimsoll::parseGraph(saved, "saved.graph.json");

@@ -11,13 +11,15 @@
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
     const std::string text(reinterpret_cast<const char*>(data), size);
     const std::filesystem::path folder = "/nonexistent-plimsoll-fuzz";
-    plimsoll::Result<plimsoll::Project> project = plimsoll::parseProject(text, "fuzz.plim.json", folder);
+    plimsoll::Result<plimsoll::Project> project =
+        plimsoll::parseProject(text, "fuzz.plim.json", folder);
     if (!project) {
         if (project.error().message.empty()) std::abort();  // every error says what is wrong
         return 0;
     }
     const std::string saved = plimsoll::projectToJson(*project);
-    plimsoll::Result<plimsoll::Project> again = plimsoll::parseProject(saved, "saved.plim.json", folder);
+    plimsoll::Result<plimsoll::Project> again =
+        plimsoll::parseProject(saved, "saved.plim.json", folder);
     if (!again) {
         std::fprintf(stderr, "saved project does not load: %s\n%s\n", again.error().message.c_str(),
                      saved.c_str());

@@ -19,7 +19,8 @@
 
 namespace {
 
-const char* kManifest = R"({"format": "plimsoll-runtime-bundle", "schema_version": 1, "schema_minor": 1,
+const char* kManifest =
+    R"({"format": "plimsoll-runtime-bundle", "schema_version": 1, "schema_minor": 1,
  "files": [], "texture_size": 16, "texel_samples": 4,
  "uv_placement": {"scale": 1, "offset": [0, 0]},
  "mass_properties": {"texture": {"mass": 1, "volume": 0.001, "center_of_mass": [0, 0, 0],
@@ -66,14 +67,17 @@ const Bundle& bundle() {
 
 std::string patched(const std::string& file, const std::uint8_t* data, std::size_t size) {
     if (size < 4) return file;
-    const std::uint32_t raw = data[0] | (data[1] << 8) | (data[2] << 16) | (std::uint32_t(data[3]) << 24);
+    const std::uint32_t raw =
+        data[0] | (data[1] << 8) | (data[2] << 16) | (std::uint32_t(data[3]) << 24);
     std::string out = file;
     const std::size_t at = (raw & 0x7FFFFFFFu) % (file.size() + 1);
     if (raw & 0x80000000u) out.resize(at);
     for (std::size_t i = 4; i < size; ++i) {
         const std::size_t p = at + i - 4;
-        if (p < out.size()) out[p] = static_cast<char>(data[i]);
-        else out += static_cast<char>(data[i]);
+        if (p < out.size())
+            out[p] = static_cast<char>(data[i]);
+        else
+            out += static_cast<char>(data[i]);
     }
     return out;
 }

@@ -1,7 +1,7 @@
 // libFuzzer target: validateMesh on arbitrary triangle soups (fuzz_validate), and the physics
 // solid made from them with the basins of its openings (fuzz_repair: PLIMSOLL_FUZZ_REPAIR; the
-// fuzz build has no CGAL, so its caps are left to the sanitized test suite). The bytes become a mesh: a
-// header (vertex count, UV mode), raw doubles for positions and UVs (so NaN, Inf, denormals
+// fuzz build has no CGAL, so its caps are left to the sanitized test suite). The bytes become a
+// mesh: a header (vertex count, UV mode), raw doubles for positions and UVs (so NaN, Inf, denormals
 // and 1e308 all occur), then triangles of vertex indices that may repeat or point past the
 // last vertex.
 #include "plimsoll/geometry/validate.h"

@@ -30,6 +30,8 @@ packages=(
   xdotool
   # fuzzing (scripts/fuzz.sh): clang with libFuzzer and the sanitizer runtimes
   clang libclang-rt-14-dev
+  # the house style (scripts/check-format.sh)
+  clang-format
   # builds: a build reuses the objects of the files unchanged since its last run (.ci/run)
   ccache
   # tests: xmllint checks plimsoll export --junit against a JUnit XML Schema

@@ -37,23 +37,27 @@ int main(int argc, char** argv) {
     const double size = std::cbrt(volume);
     const double edge = absoluteEdge > 0 ? absoluteEdge : size / divisor;
     RadiationSettings settings{gravity, 1000.0};
-    if (const char* threads = std::getenv("THREADS")) settings.threads = static_cast<unsigned>(std::atoi(threads));
-    const RadiationSolver solver(refinedPanels(wetted, edge), atRest * Eigen::Vector3d::Zero(), settings);
+    if (const char* threads = std::getenv("THREADS"))
+        settings.threads = static_cast<unsigned>(std::atoi(threads));
+    const RadiationSolver solver(refinedPanels(wetted, edge), atRest * Eigen::Vector3d::Zero(),
+                                 settings);
     const auto setUp = std::chrono::steady_clock::now();
-    std::printf("edge %.4f panels %zu lid %zu setup %.2f s\n", edge, solver.panelCount(), solver.lidPanels().size(),
-                std::chrono::duration<double>(setUp - start).count());
+    std::printf("edge %.4f panels %zu lid %zu setup %.2f s\n", edge, solver.panelCount(),
+                solver.lidPanels().size(), std::chrono::duration<double>(setUp - start).count());
     const double length = size / 2;
     const double low = std::sqrt(0.05 * gravity / length), high = std::sqrt(5.0 * gravity / length);
     for (int k = 0; k < frequencies; ++k) {
-        const double omega = frequencies == 1 ? low : low * std::pow(high / low, k / double(frequencies - 1));
+        const double omega =
+            frequencies == 1 ? low : low * std::pow(high / low, k / double(frequencies - 1));
         const RadiationCoefficients c = solver.at(omega);
         std::printf("w %.17g A11 %.17g B11 %.17g A33 %.17g B33 %.17g A55 %.17g B55 %.17g\n", omega,
-                    c.addedMass(0, 0), c.damping(0, 0), c.addedMass(1, 1), c.damping(1, 1), c.addedMass(5, 5),
-                    c.damping(5, 5));
+                    c.addedMass(0, 0), c.damping(0, 0), c.addedMass(1, 1), c.damping(1, 1),
+                    c.addedMass(5, 5), c.damping(5, 5));
     }
     const Matrix6d infinity = solver.infiniteFrequencyAddedMass();
     const auto end = std::chrono::steady_clock::now();
     std::printf("Ainf11 %.6f Ainf33 %.6f\n", infinity(0, 0), infinity(1, 1));
-    std::printf("frequencies %.2f s total %.2f s\n", std::chrono::duration<double>(end - setUp).count(),
+    std::printf("frequencies %.2f s total %.2f s\n",
+                std::chrono::duration<double>(end - setUp).count(),
                 std::chrono::duration<double>(end - start).count());
 }

@@ -41,20 +41,22 @@ inline std::filesystem::path plimsollExecutable() {
 /// Either way a command word, so that it may follow `timeout`.
 inline std::string memoryCap(unsigned long long bytes) {
 #ifdef PLIMSOLL_SANITIZED_BUILD
-    return "env \"ASAN_OPTIONS=${ASAN_OPTIONS}:hard_rss_limit_mb=" + std::to_string(bytes >> 20) + "\"";
+    return "env \"ASAN_OPTIONS=${ASAN_OPTIONS}:hard_rss_limit_mb=" + std::to_string(bytes >> 20) +
+           "\"";
 #else
     return "prlimit --as=" + std::to_string(bytes) + " --";
 #endif
 }
 
 /// `environment` is prepended to the command line (e.g. "OCL_ICD_VENDORS=/none").
-inline CommandOutput runPlimsoll(const std::string& arguments, const std::string& environment = "") {
+inline CommandOutput runPlimsoll(const std::string& arguments,
+                                 const std::string& environment = "") {
     namespace fs = std::filesystem;
     // ctest runs tests as parallel processes: each call gets its own stderr file.
     static int calls = 0;
-    const fs::path errFile = fs::temp_directory_path() / "plimsoll_tests" /
-                             ("stderr_" + std::to_string(::getpid()) + "_" +
-                              std::to_string(calls++) + ".txt");
+    const fs::path errFile =
+        fs::temp_directory_path() / "plimsoll_tests" /
+        ("stderr_" + std::to_string(::getpid()) + "_" + std::to_string(calls++) + ".txt");
     fs::create_directories(errFile.parent_path());
     const std::string command = environment + " '" + plimsollExecutable().string() + "' " +
                                 arguments + " 2>'" + errFile.string() + "'";

@@ -17,8 +17,8 @@ using plimsoll::measuredDecay;
 using plimsoll::predictedHeaveDecay;
 
 /// The same from the panel solution itself.
-inline DecayFigures predictedHeaveDecay(const RadiationSolver& solver, double mass, double stiffness,
-                                        double* naturalFrequency = nullptr) {
+inline DecayFigures predictedHeaveDecay(const RadiationSolver& solver, double mass,
+                                        double stiffness, double* naturalFrequency = nullptr) {
     const HeaveCoefficients panels = [&](double omega) {
         const RadiationCoefficients c = solver.at(omega);
         return std::pair{c.addedMass(kHeaveY, kHeaveY), c.damping(kHeaveY, kHeaveY)};

@@ -21,7 +21,8 @@ inline GraphNode node(const std::string& id, const Eigen::Vector3d& position, do
     return n;
 }
 
-inline GraphPipe pipe(const std::string& a, const std::string& b, double radius, double length = 0) {
+inline GraphPipe pipe(const std::string& a, const std::string& b, double radius,
+                      double length = 0) {
     GraphPipe p;
     p.a = a;
     p.b = b;

@@ -151,16 +151,17 @@ inline void expectTextureMatchesExact(const TriangleMesh& mesh, bool secondOrder
     EXPECT_LT(e256.centerOfMass, 2e-4);
     EXPECT_LT(e256.inertia, 3e-3);
     const auto expectSecondOrder = [secondOrder](double coarse, double fine, double tolerance,
-                                      const char* what) {
+                                                 const char* what) {
         if (secondOrder && coarse >= 0.01 * tolerance) EXPECT_LE(fine, 0.35 * coarse) << what;
     };
     expectSecondOrder(e256.volume, e512.volume, 1e-3, "volume");
     expectSecondOrder(e256.centerOfMass, e512.centerOfMass, 2e-4, "centre of mass");
     expectSecondOrder(e256.inertia, e512.inertia, 3e-3, "inertia");
-    std::printf("  %-28s N=256: vol %.2e com %.2e inertia %.2e | N=512: vol %.2e com %.2e "
-                "inertia %.2e\n",
-                std::filesystem::path(mesh.source).filename().c_str(), e256.volume,
-                e256.centerOfMass, e256.inertia, e512.volume, e512.centerOfMass, e512.inertia);
+    std::printf(
+        "  %-28s N=256: vol %.2e com %.2e inertia %.2e | N=512: vol %.2e com %.2e "
+        "inertia %.2e\n",
+        std::filesystem::path(mesh.source).filename().c_str(), e256.volume, e256.centerOfMass,
+        e256.inertia, e512.volume, e512.centerOfMass, e512.inertia);
 }
 
 }  // namespace plimsoll::test
@@ -180,9 +181,9 @@ inline const char* noOpenClDeviceReason() {
 }
 
 /// Skips a test of automatic water graphs in a build without CGAL's segmentation.
-#define PLIMSOLL_SKIP_WITHOUT_CGAL()                \
-    if (!::plimsoll::meshSegmentationAvailable())   \
-        GTEST_SKIP() << "this build has no CGAL (PLIMSOLL_WITH_CGAL=OFF): no automatic graphs"
+#define PLIMSOLL_SKIP_WITHOUT_CGAL()              \
+    if (!::plimsoll::meshSegmentationAvailable()) \
+    GTEST_SKIP() << "this build has no CGAL (PLIMSOLL_WITH_CGAL=OFF): no automatic graphs"
 
 /// A backend on every OpenCL device the machine has (none is fine: the kernels then have
 /// nothing to check).

@@ -24,18 +24,20 @@ void falloffCurveEditor(FalloffCurve& curve) {
     const float side = std::clamp(ImGui::GetContentRegionAvail().x, 120.0f, 320.0f);
     const ImVec2 size(side, side * 0.55f);
     const ImVec2 origin = ImGui::GetCursorScreenPos();
-    ImGui::InvisibleButton("##falloff_curve", size, ImGuiButtonFlags_MouseButtonLeft |
-                                                        ImGuiButtonFlags_MouseButtonRight);
-    tooltip("The custom falloff: weight up, distance from the centre across (rim at the right).\n"
-            "Drag a point, click to add one, right-click to remove one.");
+    ImGui::InvisibleButton("##falloff_curve", size,
+                           ImGuiButtonFlags_MouseButtonLeft | ImGuiButtonFlags_MouseButtonRight);
+    tooltip(
+        "The custom falloff: weight up, distance from the centre across (rim at the right).\n"
+        "Drag a point, click to add one, right-click to remove one.");
     const float pad = 6.0f;
     auto toScreen = [&](const Eigen::Vector2d& p) {
         return ImVec2(origin.x + pad + float(p.x()) * (size.x - 2 * pad),
                       origin.y + pad + float(1.0 - p.y()) * (size.y - 2 * pad));
     };
     auto toCurve = [&](const ImVec2& m) {
-        return Eigen::Vector2d(std::clamp((m.x - origin.x - pad) / (size.x - 2 * pad), 0.0f, 1.0f),
-                               std::clamp(1.0f - (m.y - origin.y - pad) / (size.y - 2 * pad), 0.0f, 1.0f));
+        return Eigen::Vector2d(
+            std::clamp((m.x - origin.x - pad) / (size.x - 2 * pad), 0.0f, 1.0f),
+            std::clamp(1.0f - (m.y - origin.y - pad) / (size.y - 2 * pad), 0.0f, 1.0f));
     };
     const ImVec2 mouse = ImGui::GetIO().MousePos;
     int hovered = -1;
@@ -47,8 +49,9 @@ void falloffCurveEditor(FalloffCurve& curve) {
         dragged = hovered;
         if (dragged < 0 && curve.points.size() < static_cast<std::size_t>(kMaxFalloffPoints)) {
             const Eigen::Vector2d at = toCurve(mouse);
-            const auto it = std::upper_bound(curve.points.begin(), curve.points.end(), at.x(),
-                                             [](double x, const Eigen::Vector2d& p) { return x < p.x(); });
+            const auto it =
+                std::upper_bound(curve.points.begin(), curve.points.end(), at.x(),
+                                 [](double x, const Eigen::Vector2d& p) { return x < p.x(); });
             dragged = static_cast<int>(curve.points.insert(it, at) - curve.points.begin());
         }
     }
@@ -56,9 +59,13 @@ void falloffCurveEditor(FalloffCurve& curve) {
         const std::size_t i = static_cast<std::size_t>(dragged);
         Eigen::Vector2d at = toCurve(mouse);
         // Points keep their order; the ends stay at the centre and the rim.
-        if (i == 0) at.x() = 0;
-        else if (i + 1 == curve.points.size()) at.x() = 1;
-        else at.x() = std::clamp(at.x(), curve.points[i - 1].x() + 0.01, curve.points[i + 1].x() - 0.01);
+        if (i == 0)
+            at.x() = 0;
+        else if (i + 1 == curve.points.size())
+            at.x() = 1;
+        else
+            at.x() =
+                std::clamp(at.x(), curve.points[i - 1].x() + 0.01, curve.points[i + 1].x() - 0.01);
         curve.points[i] = at;
     }
     if (!ImGui::IsMouseDown(ImGuiMouseButton_Left)) dragged = -1;
@@ -67,7 +74,8 @@ void falloffCurveEditor(FalloffCurve& curve) {
         curve.points.erase(curve.points.begin() + hovered);
     }
     ImDrawList* draw = ImGui::GetWindowDrawList();
-    draw->AddRectFilled(origin, ImVec2(origin.x + size.x, origin.y + size.y), IM_COL32(30, 32, 36, 255));
+    draw->AddRectFilled(origin, ImVec2(origin.x + size.x, origin.y + size.y),
+                        IM_COL32(30, 32, 36, 255));
     for (int g = 1; g < 4; ++g) {
         const float f = g / 4.0f;
         draw->AddLine(toScreen({f, 0}), toScreen({f, 1}), IM_COL32(60, 62, 68, 255));
@@ -102,8 +110,9 @@ void alphaControls(EditorState& s) {
     std::snprintf(buffer, sizeof buffer, "%s", typed.c_str());
     ImGui::SetNextItemWidth(-110);
     if (ImGui::InputText("##alpha", buffer, sizeof buffer)) typed = buffer;
-    tooltip("A grey PNG laid over each dab, upright on screen: white paints, black does not "
-            "(Painter's alpha, Blender's stencil)");
+    tooltip(
+        "A grey PNG laid over each dab, upright on screen: white paints, black does not "
+        "(Painter's alpha, Blender's stencil)");
     ImGui::SameLine();
     if (ImGui::Button("Alpha")) {
         if (Status loaded = loadBrushAlpha(s.brush, typed); loaded) {
@@ -231,18 +240,22 @@ void drawToolAndChannel(EditorState& s) {
                                                           : Overlay::Thickness;
         s.overlaysDirty = true;
     }
-    tooltip("The map the tools change: permeability (water flow in), or the shell's density and "
-            "thickness scales");
+    tooltip(
+        "The map the tools change: permeability (water flow in), or the shell's density and "
+        "thickness scales");
 }
 
 /// The brush's settings: mode, size, strength, value, falloff, spacing, symmetry, lazy mouse
 /// and which texels it reaches.
 void drawBrushSettings(EditorState& s) {
     int mode = static_cast<int>(s.brush.mode);
-    if (ImGui::Combo("Mode", &mode, "paint\0erase\0smooth\0")) s.brush.mode = static_cast<BrushMode>(mode);
-    tooltip("Paint toward Value, erase toward 0 (E), or smooth toward the mean under the brush (S)");
+    if (ImGui::Combo("Mode", &mode, "paint\0erase\0smooth\0"))
+        s.brush.mode = static_cast<BrushMode>(mode);
+    tooltip(
+        "Paint toward Value, erase toward 0 (E), or smooth toward the mean under the brush (S)");
     float radius = static_cast<float>(s.brush.radius);
-    if (ImGui::SliderFloat("Radius (m)", &radius, 0.001f, 5.0f, "%.3f", ImGuiSliderFlags_Logarithmic)) {
+    if (ImGui::SliderFloat("Radius (m)", &radius, 0.001f, 5.0f, "%.3f",
+                           ImGuiSliderFlags_Logarithmic)) {
         s.brush.radius = radius;
     }
     tooltip("Brush radius on the surface, in metres ([ and ] change it)");
@@ -253,22 +266,26 @@ void drawBrushSettings(EditorState& s) {
     if (ImGui::SliderFloat("Value", &value, 0.0f, 1.0f)) s.brush.value = value;
     tooltip("The value painted (0..1; what 1 means depends on the map)");
     int falloff = static_cast<int>(s.brush.falloff);
-    if (ImGui::Combo("Falloff", &falloff,
-                     [](void*, int i, const char** out) {
-                         *out = falloffName(static_cast<Falloff>(i));
-                         return true;
-                     },
-                     nullptr, kFalloffCount)) {
+    if (ImGui::Combo(
+            "Falloff", &falloff,
+            [](void*, int i, const char** out) {
+                *out = falloffName(static_cast<Falloff>(i));
+                return true;
+            },
+            nullptr, kFalloffCount)) {
         s.brush.falloff = static_cast<Falloff>(falloff);
     }
-    tooltip("How the brush's weight falls from its centre to its rim (Blender's presets: sphere, "
+    tooltip(
+        "How the brush's weight falls from its centre to its rim (Blender's presets: sphere, "
         "root, sharp, inverse-square; custom: a curve you draw)");
     if (s.brush.falloff == Falloff::Custom) falloffCurveEditor(s.brush.curve);
     float spacing = static_cast<float>(s.brush.spacing);
-    if (ImGui::SliderFloat("Spacing", &spacing, 0.05f, 4.0f, "%.2f radii", ImGuiSliderFlags_Logarithmic)) {
+    if (ImGui::SliderFloat("Spacing", &spacing, 0.05f, 4.0f, "%.2f radii",
+                           ImGuiSliderFlags_Logarithmic)) {
         s.brush.spacing = spacing;
     }
-    tooltip("Dabs along a stroke at most this many radii apart (0.25: a solid line; above 2: dots)");
+    tooltip(
+        "Dabs along a stroke at most this many radii apart (0.25: a solid line; above 2: dots)");
     ImGui::Checkbox("X mirror", &s.brush.mirrorX);
     tooltip("Also paint at (-x, y, z) (X)");
     ImGui::SameLine();
@@ -283,30 +300,35 @@ void drawBrushSettings(EditorState& s) {
     s.brush.radial = std::clamp(s.brush.radial, 1, kMaxRadialCopies);
     tooltip("Radial symmetry about the body's y axis: copies of every dab, evenly turned (1: off)");
     float lazy = static_cast<float>(s.brush.lazyRadius);
-    if (ImGui::SliderFloat("Lazy mouse", &lazy, 0.0f, static_cast<float>(kMaxLazyRadius), "%.0f px")) {
+    if (ImGui::SliderFloat("Lazy mouse", &lazy, 0.0f, static_cast<float>(kMaxLazyRadius),
+                           "%.0f px")) {
         s.brush.lazyRadius = lazy;
     }
-    tooltip("The brush trails the cursor on a string this long (0: off), for smooth lines. "
-            "Shift-click draws a straight line from the last stroke's end.");
+    tooltip(
+        "The brush trails the cursor on a string this long (0: off), for smooth lines. "
+        "Shift-click draws a straight line from the last stroke's end.");
     float normalAngle = static_cast<float>(s.brush.normalAngle);
     if (ImGui::SliderFloat("Normal falloff", &normalAngle, 1.0f, 180.0f, "%.0f deg")) {
         s.brush.normalAngle = normalAngle;
     }
-    tooltip("Texels turned more than this from the view get no paint, fading from half the angle "
-            "(Blender's normal falloff; 180: off)");
+    tooltip(
+        "Texels turned more than this from the view get no paint, fading from half the angle "
+        "(Blender's normal falloff; 180: off)");
     ImGui::Checkbox("Front faces only", &s.brush.frontFacesOnly);
-    tooltip("Backface culling: texels facing away from the view get no paint (the far side of a thin "
-            "hull under the brush stays as it is)");
+    tooltip(
+        "Backface culling: texels facing away from the view get no paint (the far side of a thin "
+        "hull under the brush stays as it is)");
     ImGui::SameLine();
     ImGui::Checkbox("Occlusion", &s.brush.occlusion);
-    tooltip("Texels hidden from the view behind other parts of the body get no paint (a deck "
-            "under a superstructure, the inside of a hull seen through an opening)");
+    tooltip(
+        "Texels hidden from the view behind other parts of the body get no paint (a deck "
+        "under a superstructure, the inside of a hull seen through an opening)");
 }
 
 /// Whole-map commands: fill all, a new blank map (asking before replacing one), resize.
 void drawMapCommands(EditorState& s) {
-    const bool hasBody = s.selectedBody >= 0 &&
-                         static_cast<std::size_t>(s.selectedBody) < s.document->bodyCount();
+    const bool hasBody =
+        s.selectedBody >= 0 && static_cast<std::size_t>(s.selectedBody) < s.document->bodyCount();
     if (ImGui::Button("Fill all") && hasBody) {
         s.execute(makeFillAllCommand(*s.document, s.selectedBody, s.channel, s.brush.value,
                                      s.brush.strength, s.paintTarget()));
@@ -321,8 +343,10 @@ void drawMapCommands(EditorState& s) {
     tooltip("A blank map of this size for the channel (asks before replacing one)");
     if (newMapClicked && hasBody) {
         // Replacing a map (saved paint, layers) asks first; the undo brings it back either way.
-        if (s.document->map(s.selectedBody, s.channel)) s.confirmNewMap = true;
-        else newMap();
+        if (s.document->map(s.selectedBody, s.channel))
+            s.confirmNewMap = true;
+        else
+            newMap();
     }
     ImGui::SameLine();
     ImGui::SetNextItemWidth(80);
@@ -331,12 +355,16 @@ void drawMapCommands(EditorState& s) {
     s.newMapSize = std::clamp(s.newMapSize, 16, 8192);
     ImGui::SameLine();
     const PaintedMap* current = hasBody ? s.document->map(s.selectedBody, s.channel) : nullptr;
-    ImGui::BeginDisabled(!current || (current->width == s.newMapSize && current->height == s.newMapSize));
+    ImGui::BeginDisabled(!current ||
+                         (current->width == s.newMapSize && current->height == s.newMapSize));
     if (ImGui::Button("Resize") && current) {
-        s.execute(makeResizeMapCommand(*s.document, s.selectedBody, s.channel, s.newMapSize, s.newMapSize));
+        s.execute(makeResizeMapCommand(*s.document, s.selectedBody, s.channel, s.newMapSize,
+                                       s.newMapSize));
     }
     ImGui::EndDisabled();
-    tooltip("The map at this size, its paint kept (filtered down or up, every layer too; one undo step).");
+    tooltip(
+        "The map at this size, its paint kept (filtered down or up, every layer too; one undo "
+        "step).");
     if (s.confirmNewMap) {
         ImGui::OpenPopup("Replace map?");
         s.confirmNewMap = false;
@@ -360,13 +388,15 @@ void drawMapCommands(EditorState& s) {
 /// What the view shows: the hull's overlay, the water, the grid.
 void drawDisplayOptions(EditorState& s) {
     int overlay = static_cast<int>(s.overlay);
-    if (ImGui::Combo("Overlay", &overlay,
-                     "none\0permeability\0density\0thickness\0coverage\0position (PT)\0area (AVT)\0")) {
+    if (ImGui::Combo(
+            "Overlay", &overlay,
+            "none\0permeability\0density\0thickness\0coverage\0position (PT)\0area (AVT)\0")) {
         s.overlay = static_cast<Overlay>(overlay);
         s.overlaysDirty = true;
     }
-    tooltip("What the hull shows: a painted map, the physics coverage, or the baked position\n"
-            "and area textures; the legend in the view gives its units.");
+    tooltip(
+        "What the hull shows: a painted map, the physics coverage, or the baked position\n"
+        "and area textures; the legend in the view gives its units.");
     ImGui::Checkbox("Water", &s.showWater);
     tooltip("Draw the water surface.");
     ImGui::SameLine();

@@ -65,13 +65,14 @@ void onClose(GLFWwindow* window) {
 void onKey(GLFWwindow* window, int key, int, int action, int mods) {
     EditorState& s = stateOf(window);
     ++s.inputEvents;
-    if (action == GLFW_PRESS || (action == GLFW_REPEAT && (key == GLFW_KEY_LEFT_BRACKET ||
-                                                           key == GLFW_KEY_RIGHT_BRACKET))) {
+    if (action == GLFW_PRESS || (action == GLFW_REPEAT &&
+                                 (key == GLFW_KEY_LEFT_BRACKET || key == GLFW_KEY_RIGHT_BRACKET))) {
         s.keyPresses.emplace_back(key, mods);
     }
     if (action == GLFW_PRESS) s.keysPressedSinceFrame.push_back(key);
-    if (action == GLFW_RELEASE && std::find(s.keysPressedSinceFrame.begin(), s.keysPressedSinceFrame.end(),
-                                            key) != s.keysPressedSinceFrame.end()) {
+    if (action == GLFW_RELEASE &&
+        std::find(s.keysPressedSinceFrame.begin(), s.keysPressedSinceFrame.end(), key) !=
+            s.keysPressedSinceFrame.end()) {
         s.tappedKeys.push_back(key);
     }
 }
@@ -94,9 +95,11 @@ std::vector<int> holdTappedKeys(EditorState& s) {
 void releaseTappedKeys(EditorState& s, const std::vector<int>& held) {
     ImGuiIO& io = ImGui::GetIO();
     for (int key : held) {
-        const bool pressedAgain = std::find(s.keysPressedSinceFrame.begin(), s.keysPressedSinceFrame.end(),
-                                            key) != s.keysPressedSinceFrame.end();
-        if (!pressedAgain && key >= 0 && key < static_cast<int>(IM_ARRAYSIZE(io.KeysDown))) io.KeysDown[key] = false;
+        const bool pressedAgain =
+            std::find(s.keysPressedSinceFrame.begin(), s.keysPressedSinceFrame.end(), key) !=
+            s.keysPressedSinceFrame.end();
+        if (!pressedAgain && key >= 0 && key < static_cast<int>(IM_ARRAYSIZE(io.KeysDown)))
+            io.KeysDown[key] = false;
     }
 }
 void onChar(GLFWwindow* window, unsigned int) { ++stateOf(window).inputEvents; }
@@ -127,7 +130,8 @@ bool animating(const EditorState& s) {
 void drawSplitters(EditorState& s, const WindowLayout& layout) {
     constexpr float kGrip = 6.0f;
     const ImGuiWindowFlags flags = ImGuiWindowFlags_NoDecoration | ImGuiWindowFlags_NoMove |
-                                   ImGuiWindowFlags_NoSavedSettings | ImGuiWindowFlags_NoBackground |
+                                   ImGuiWindowFlags_NoSavedSettings |
+                                   ImGuiWindowFlags_NoBackground |
                                    ImGuiWindowFlags_NoFocusOnAppearing | ImGuiWindowFlags_NoNav;
     auto splitter = [&](const char* id, ImVec2 at, ImVec2 size, ImGuiMouseCursor cursor,
                         const auto& drag) {
@@ -197,7 +201,8 @@ public:
     nlohmann::json report(std::size_t skip) const {
         nlohmann::json out;
         for (int p = 0; p < Count; ++p) {
-            std::vector<double> v(phases_[p].begin() + std::min(skip, phases_[p].size()), phases_[p].end());
+            std::vector<double> v(phases_[p].begin() + std::min(skip, phases_[p].size()),
+                                  phases_[p].end());
             std::sort(v.begin(), v.end());
             out[kNames[p]] = v.empty() ? 0.0 : v[v.size() / 2];
         }
@@ -235,9 +240,10 @@ nlohmann::json windowState(const EditorState& s, int frame) {
     j["viewport"] = {static_cast<int>(s.viewport.x), static_cast<int>(s.viewport.y),
                      static_cast<int>(s.viewport.w), static_cast<int>(s.viewport.h)};
     // ImGui's mouse is -FLT_MAX while the pointer is outside the window.
-    j["mouse"] = ImGui::IsMousePosValid(&io.MousePos)
-                     ? nlohmann::json{static_cast<int>(io.MousePos.x), static_cast<int>(io.MousePos.y)}
-                     : nlohmann::json{-1, -1};
+    j["mouse"] =
+        ImGui::IsMousePosValid(&io.MousePos)
+            ? nlohmann::json{static_cast<int>(io.MousePos.x), static_cast<int>(io.MousePos.y)}
+            : nlohmann::json{-1, -1};
     j["mouse_down"] = io.MouseDown[0];
     j["shift"] = io.KeyShift;  // a test waits for a held Shift to have been seen
     // The window of the control the mouse holds (a splitter's "##split_column"; "" when none).
@@ -263,7 +269,8 @@ nlohmann::json windowState(const EditorState& s, int frame) {
     if (s.uvUnderMouse) j["uv_under_mouse"] = {s.uvUnderMouse->x(), s.uvUnderMouse->y()};
     // Where the tooltip was drawn, only when it was: ImGui hides a tooltip in the first frame
     // it appears (it measures itself), so the text alone does not mean it is on screen.
-    if (const ImGuiWindow* tip = ImGui::FindWindowByName("##Tooltip_00"); tip && tip->Active && !tip->Hidden) {
+    if (const ImGuiWindow* tip = ImGui::FindWindowByName("##Tooltip_00");
+        tip && tip->Active && !tip->Hidden) {
         j["tooltip_rect"] = {static_cast<int>(tip->Pos.x), static_cast<int>(tip->Pos.y),
                              static_cast<int>(tip->Size.x), static_cast<int>(tip->Size.y)};
     }
@@ -273,10 +280,12 @@ nlohmann::json windowState(const EditorState& s, int frame) {
     for (const ImGuiWindow* w : g.Windows) {
         constexpr ImGuiWindowFlags kNotPanels =
             ImGuiWindowFlags_ChildWindow | ImGuiWindowFlags_Tooltip | ImGuiWindowFlags_Popup;
-        if (!w->Active || w->Hidden || w->Collapsed || (w->Flags & kNotPanels) || w->Name[0] == '#') continue;
+        if (!w->Active || w->Hidden || w->Collapsed || (w->Flags & kNotPanels) || w->Name[0] == '#')
+            continue;
         windows.push_back({{"name", w->Name},
-                           {"rect", {static_cast<int>(w->Pos.x), static_cast<int>(w->Pos.y),
-                                     static_cast<int>(w->Size.x), static_cast<int>(w->Size.y)}}});
+                           {"rect",
+                            {static_cast<int>(w->Pos.x), static_cast<int>(w->Pos.y),
+                             static_cast<int>(w->Size.x), static_cast<int>(w->Size.y)}}});
     }
     j["windows"] = windows;
     // The modal or popup on top ("" when none) and where it is: a test waits for a question
@@ -339,8 +348,10 @@ void frameSelected(EditorState& s) {
 }
 
 void togglePreview(EditorState& s) {
-    if (s.preview && s.preview->session) stopPreview(s);
-    else startPreview(s, true);
+    if (s.preview && s.preview->session)
+        stopPreview(s);
+    else
+        startPreview(s, true);
 }
 
 void playPause(EditorState& s) {
@@ -358,27 +369,57 @@ void handleKey(EditorState& s, int key, bool ctrl, bool shift) {
             s.historyScrollPending = true;
         }
         if (key == GLFW_KEY_S) {
-            if (shift) s.openSaveAs();
-            else s.save();
+            if (shift)
+                s.openSaveAs();
+            else
+                s.save();
         }
-        if (key == GLFW_KEY_O) s.browser.open(FileBrowser::Purpose::OpenProject, s.document->project().folder);
+        if (key == GLFW_KEY_O)
+            s.browser.open(FileBrowser::Purpose::OpenProject, s.document->project().folder);
         if (key == GLFW_KEY_N) requestOpen(s, "", true);
         if (key == GLFW_KEY_Q) s.requestQuit = true;
         return;
     }
     if (radialControlKey(s, key, shift)) return;  // F / Shift+F with the Brush, and its keys
     switch (key) {
-        case GLFW_KEY_1: case GLFW_KEY_KP_1: s.setView(ViewPreset::Front); break;
-        case GLFW_KEY_3: case GLFW_KEY_KP_3: s.setView(ViewPreset::Side); break;
-        case GLFW_KEY_7: case GLFW_KEY_KP_7: s.setView(ViewPreset::Top); break;
-        case GLFW_KEY_0: case GLFW_KEY_KP_0: s.setView(ViewPreset::Persp); break;
-        case GLFW_KEY_5: case GLFW_KEY_KP_5: s.camera.orthographic = !s.camera.orthographic; break;
-        case GLFW_KEY_HOME: s.frameAll(); break;
-        case GLFW_KEY_F: frameSelected(s); break;
-        case GLFW_KEY_V: s.tool = Tool::Navigate; break;
-        case GLFW_KEY_B: s.tool = Tool::Brush; break;
-        case GLFW_KEY_G: s.tool = Tool::FillIsland; break;
-        case GLFW_KEY_I: s.tool = Tool::Pick; break;
+        case GLFW_KEY_1:
+        case GLFW_KEY_KP_1:
+            s.setView(ViewPreset::Front);
+            break;
+        case GLFW_KEY_3:
+        case GLFW_KEY_KP_3:
+            s.setView(ViewPreset::Side);
+            break;
+        case GLFW_KEY_7:
+        case GLFW_KEY_KP_7:
+            s.setView(ViewPreset::Top);
+            break;
+        case GLFW_KEY_0:
+        case GLFW_KEY_KP_0:
+            s.setView(ViewPreset::Persp);
+            break;
+        case GLFW_KEY_5:
+        case GLFW_KEY_KP_5:
+            s.camera.orthographic = !s.camera.orthographic;
+            break;
+        case GLFW_KEY_HOME:
+            s.frameAll();
+            break;
+        case GLFW_KEY_F:
+            frameSelected(s);
+            break;
+        case GLFW_KEY_V:
+            s.tool = Tool::Navigate;
+            break;
+        case GLFW_KEY_B:
+            s.tool = Tool::Brush;
+            break;
+        case GLFW_KEY_G:
+            s.tool = Tool::FillIsland;
+            break;
+        case GLFW_KEY_I:
+            s.tool = Tool::Pick;
+            break;
         case GLFW_KEY_E:
             s.brush.mode = s.brush.mode == BrushMode::Erase ? BrushMode::Paint : BrushMode::Erase;
             break;
@@ -390,15 +431,26 @@ void handleKey(EditorState& s, int key, bool ctrl, bool shift) {
             // axis: it does not also flip the brush's mirror.
             if (!graphEditsInView(s)) s.brush.mirrorX = !s.brush.mirrorX;
             break;
-        case GLFW_KEY_LEFT_BRACKET: s.brush.radius /= 1.25; break;
-        case GLFW_KEY_RIGHT_BRACKET: s.brush.radius *= 1.25; break;
-        case GLFW_KEY_F1: s.showShortcuts = true; break;
-        case GLFW_KEY_P: togglePreview(s); break;
-        case GLFW_KEY_SPACE: playPause(s); break;
+        case GLFW_KEY_LEFT_BRACKET:
+            s.brush.radius /= 1.25;
+            break;
+        case GLFW_KEY_RIGHT_BRACKET:
+            s.brush.radius *= 1.25;
+            break;
+        case GLFW_KEY_F1:
+            s.showShortcuts = true;
+            break;
+        case GLFW_KEY_P:
+            togglePreview(s);
+            break;
+        case GLFW_KEY_SPACE:
+            playPause(s);
+            break;
         case GLFW_KEY_C:
             if (s.preview) s.preview->followBody = !s.preview->followBody;
             break;
-        default: break;
+        default:
+            break;
     }
 }
 
@@ -407,7 +459,8 @@ void drawMenus(EditorState& s) {
     const fs::path folder = s.document->project().folder;
     if (ImGui::BeginMenu("File")) {
         if (ImGui::MenuItem("New", "Ctrl+N")) requestOpen(s, "", true);
-        if (ImGui::MenuItem("Open...", "Ctrl+O")) s.browser.open(FileBrowser::Purpose::OpenProject, folder);
+        if (ImGui::MenuItem("Open...", "Ctrl+O"))
+            s.browser.open(FileBrowser::Purpose::OpenProject, folder);
         if (ImGui::BeginMenu("Open Recent", !s.settings.recentFiles.empty())) {
             for (const std::string& recent : s.settings.recentFiles) {
                 if (ImGui::MenuItem(recent.c_str())) {
@@ -417,11 +470,13 @@ void drawMenus(EditorState& s) {
             }
             ImGui::EndMenu();
         }
-        if (ImGui::MenuItem("Import Mesh...")) s.browser.open(FileBrowser::Purpose::ImportMesh, folder);
+        if (ImGui::MenuItem("Import Mesh..."))
+            s.browser.open(FileBrowser::Purpose::ImportMesh, folder);
         ImGui::Separator();
         if (ImGui::MenuItem("Save", "Ctrl+S")) s.save();
         if (ImGui::MenuItem("Save As...", "Ctrl+Shift+S")) s.openSaveAs();
-        if (ImGui::MenuItem("Export bundle...")) s.browser.open(FileBrowser::Purpose::Export, folder);
+        if (ImGui::MenuItem("Export bundle..."))
+            s.browser.open(FileBrowser::Purpose::Export, folder);
         ImGui::Separator();
         if (ImGui::MenuItem("Quit", "Ctrl+Q")) s.requestQuit = true;
         ImGui::EndMenu();
@@ -481,13 +536,15 @@ void openWhenTitleClicked() {
     const ImGuiIO& io = ImGui::GetIO();
     if (!w || !w->Collapsed || w->WantCollapseToggle) return;  // open, or ImGui toggles it already
     // A click (not a drag: that moves the window) released over the title bar.
-    if (ImGui::IsMouseReleased(0) && ImGui::IsWindowHovered() && io.MouseDragMaxDistanceSqr[0] < 16.0f) {
+    if (ImGui::IsMouseReleased(0) && ImGui::IsWindowHovered() &&
+        io.MouseDragMaxDistanceSqr[0] < 16.0f) {
         ImGui::SetWindowCollapsed(false);
     }
 }
 
 bool mouseOverNoWindow() {
-    return !ImGui::IsWindowHovered(ImGuiHoveredFlags_AnyWindow | ImGuiHoveredFlags_AllowWhenBlockedByPopup);
+    return !ImGui::IsWindowHovered(ImGuiHoveredFlags_AnyWindow |
+                                   ImGuiHoveredFlags_AllowWhenBlockedByPopup);
 }
 
 bool closeMenus() {
@@ -512,12 +569,13 @@ void handleShortcuts(EditorState& s) {
     const ImGuiIO& io = ImGui::GetIO();
     // Esc closes an open menu (and any popup over it), as in every desktop program; ImGui 1.86
     // does so only with keyboard navigation on. A modal question keeps its own buttons.
-    const auto escape = std::find_if(presses.begin(), presses.end(),
-                                     [](const auto& press) { return press.first == GLFW_KEY_ESCAPE; });
+    const auto escape = std::find_if(presses.begin(), presses.end(), [](const auto& press) {
+        return press.first == GLFW_KEY_ESCAPE;
+    });
     if (escape != presses.end() && closeMenus()) presses.erase(escape);
     if (io.WantTextInput) return;
-    for (const auto& [key, mods] : presses) handleKey(s, key, (mods & GLFW_MOD_CONTROL) != 0,
-                                                      (mods & GLFW_MOD_SHIFT) != 0);
+    for (const auto& [key, mods] : presses)
+        handleKey(s, key, (mods & GLFW_MOD_CONTROL) != 0, (mods & GLFW_MOD_SHIFT) != 0);
 }
 
 // [SECTION] dialogs ----------------------------------------------------------------------------
@@ -526,8 +584,12 @@ void handleShortcuts(EditorState& s) {
 void fileChosen(EditorState& s) {
     if (auto chosen = s.browser.draw()) {
         switch (s.browser.purpose()) {
-            case FileBrowser::Purpose::OpenProject: requestOpen(s, chosen->string(), false); break;
-            case FileBrowser::Purpose::SaveProjectAs: s.saveAs(*chosen); break;
+            case FileBrowser::Purpose::OpenProject:
+                requestOpen(s, chosen->string(), false);
+                break;
+            case FileBrowser::Purpose::SaveProjectAs:
+                s.saveAs(*chosen);
+                break;
             case FileBrowser::Purpose::ImportMesh:
                 // The new body is the last: selected, so that the inspector shows it.
                 if (s.execute(makeImportMeshCommand(*s.document, *chosen, std::nullopt))) {
@@ -551,10 +613,14 @@ void fileChosen(EditorState& s) {
 
 /// Save As over existing files: replace them or save nothing.
 void replaceFilesQuestion(EditorState& s) {
-    if (s.pendingSaveAs && !ImGui::IsPopupOpen("Replace existing files?")) ImGui::OpenPopup("Replace existing files?");
-    if (ImGui::BeginPopupModal("Replace existing files?", nullptr, ImGuiWindowFlags_AlwaysAutoResize)) {
-        ImGui::Text("Saving as %s replaces:", s.pendingSaveAs ? s.pendingSaveAs->filename().c_str() : "");
-        for (const std::filesystem::path& file : s.pendingSaveAsReplaces) ImGui::BulletText("%s", file.c_str());
+    if (s.pendingSaveAs && !ImGui::IsPopupOpen("Replace existing files?"))
+        ImGui::OpenPopup("Replace existing files?");
+    if (ImGui::BeginPopupModal("Replace existing files?", nullptr,
+                               ImGuiWindowFlags_AlwaysAutoResize)) {
+        ImGui::Text("Saving as %s replaces:",
+                    s.pendingSaveAs ? s.pendingSaveAs->filename().c_str() : "");
+        for (const std::filesystem::path& file : s.pendingSaveAsReplaces)
+            ImGui::BulletText("%s", file.c_str());
         if (ImGui::Button("Replace")) {
             if (s.pendingSaveAs) s.saveAs(*s.pendingSaveAs, /*replace=*/true);
             ImGui::CloseCurrentPopup();
@@ -573,7 +639,8 @@ void replaceFilesQuestion(EditorState& s) {
 
 /// Export with unsaved edits: save first, export the last save, or nothing.
 void exportUnsavedQuestion(EditorState& s) {
-    if (ImGui::BeginPopupModal("Export unsaved changes?", nullptr, ImGuiWindowFlags_AlwaysAutoResize)) {
+    if (ImGui::BeginPopupModal("Export unsaved changes?", nullptr,
+                               ImGuiWindowFlags_AlwaysAutoResize)) {
         ImGui::Text("%s has unsaved changes; a bundle is made from the saved files.",
                     s.document->title().c_str());
         if (ImGui::Button("Save and export")) {
@@ -652,7 +719,8 @@ void recoveryQuestion(EditorState& s) {
     }
     if (ImGui::BeginPopupModal("Recover autosave", nullptr, ImGuiWindowFlags_AlwaysAutoResize)) {
         ImGui::TextUnformatted("Plimsoll did not close cleanly last time.");
-        ImGui::Text("An autosave with unsaved changes exists:\n%s", s.recoveryOffer->string().c_str());
+        ImGui::Text("An autosave with unsaved changes exists:\n%s",
+                    s.recoveryOffer->string().c_str());
         if (ImGui::Button("Recover")) {
             auto recovered = Document::recover(*s.recoveryOffer);
             if (recovered) {
@@ -692,7 +760,8 @@ void helpWindows(EditorState& s) {
             "UV view: wheel zooms at the cursor, middle mouse pans, middle double-click: all\n"
             "V: navigate   B: brush   G: fill island   I: pick value\n"
             "E: erase on/off   S: smooth on/off   X: X-mirror   [ ]: brush radius\n"
-            "P: live preview on/off   Space: play / pause the preview   C: camera follows the body\n"
+            "P: live preview on/off   Space: play / pause the preview   C: camera follows the "
+            "body\n"
             "Ctrl+Z: undo   Ctrl+Shift+Z / Ctrl+Y: redo   Ctrl+H: undo history\n"
             "Ctrl+N / Ctrl+O / Ctrl+S / Ctrl+Shift+S: new / open / save / save as   Ctrl+Q: quit\n"
             "Drop a .plim.json to open it, a mesh to import it.");
@@ -748,7 +817,8 @@ void uploadOverlays(EditorState& s) {
     s.overlaysDirty = false;
     for (std::size_t b = 0; b < s.document->bodyCount() + 4; ++b) {
         OverlayImage none;
-        if (b >= s.document->bodyCount() || s.overlay == Overlay::None || !s.document->assets(b).mesh) {
+        if (b >= s.document->bodyCount() || s.overlay == Overlay::None ||
+            !s.document->assets(b).mesh) {
             s.renderer->setOverlay(static_cast<int>(b), none);
             continue;
         }
@@ -759,7 +829,8 @@ void uploadOverlays(EditorState& s) {
         // The physics overlays from the textures baked in the background (none until the
         // first bake arrives; its poll marks the overlays for refresh).
         const auto textures = s.physicsFor(b);
-        s.renderer->setOverlay(static_cast<int>(b), textures ? overlayOfTextures(*textures, s.overlay) : none);
+        s.renderer->setOverlay(static_cast<int>(b),
+                               textures ? overlayOfTextures(*textures, s.overlay) : none);
         if (const std::string error = s.physicsBakes->error(b); !error.empty()) s.status = error;
     }
 }
@@ -815,11 +886,14 @@ bool writeScreenshot(const std::string& path, int width, int height) {
     const auto append = [](void* context, void* data, int size) {
         static_cast<std::string*>(context)->append(static_cast<const char*>(data), size);
     };
-    if (!stbi_write_png_to_func(append, &png, width, height, 4, pixels.data(), int(row))) return false;
-    return writeFileAtomically(path, [&](std::ostream& out) {
-               out.write(png.data(), static_cast<std::streamsize>(png.size()));
-               return static_cast<bool>(out);
-           }).ok();
+    if (!stbi_write_png_to_func(append, &png, width, height, 4, pixels.data(), int(row)))
+        return false;
+    return writeFileAtomically(path,
+                               [&](std::ostream& out) {
+                                   out.write(png.data(), static_cast<std::streamsize>(png.size()));
+                                   return static_cast<bool>(out);
+                               })
+        .ok();
 }
 
 /// One refresh of the fastest display (so that a window on a 144 Hz display is not held to 60),
@@ -828,7 +902,8 @@ std::chrono::steady_clock::duration displayFramePeriod() {
     int refreshRate = 0, monitorCount = 0;
     if (GLFWmonitor** monitors = glfwGetMonitors(&monitorCount)) {
         for (int m = 0; m < monitorCount; ++m)
-            if (const GLFWvidmode* mode = glfwGetVideoMode(monitors[m])) refreshRate = std::max(refreshRate, mode->refreshRate);
+            if (const GLFWvidmode* mode = glfwGetVideoMode(monitors[m]))
+                refreshRate = std::max(refreshRate, mode->refreshRate);
     }
     return std::chrono::duration_cast<std::chrono::steady_clock::duration>(
         std::chrono::duration<double>(1.0 / (refreshRate > 0 ? refreshRate : 60)));

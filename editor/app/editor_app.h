@@ -8,15 +8,15 @@
 namespace plimsoll::editor {
 
 struct EditorLaunch {
-    std::string project;     ///< project to open (empty: a new one)
+    std::string project;  ///< project to open (empty: a new one)
     /// Run this many frames, then quit and print the frame times and the layout as JSON on
     /// stdout (0: run until the user quits). For tests and measurements.
     int frames = 0;
     /// With frames or runSeconds: the window's last frame as PNG (with runSeconds, the frame
     /// drawn when the time is up or the window closes).
     std::string screenshot;
-    std::string view;        ///< front, side, top or persp (default persp)
-    std::string overlay;     ///< initial overlay (default permeability)
+    std::string view;               ///< front, side, top or persp (default persp)
+    std::string overlay;            ///< initial overlay (default permeability)
     bool showPhysicsSolid = false;  ///< View > Show physics solid / caps, on from the start
     /// Start the live preview playing (with frames: one simulated frame per drawn frame).
     bool preview = false;
@@ -42,7 +42,7 @@ struct EditorLaunch {
     /// window whose item is held, the tooltip shown. Window tests wait on it ("until the drag
     /// has begun") instead of sleeping a fixed time ("" : off).
     std::string stateFile;
-    int width = 0;           ///< window size (0: the saved one)
+    int width = 0;  ///< window size (0: the saved one)
     int height = 0;
 };
 

@@ -97,8 +97,8 @@ std::shared_ptr<const SurfaceTextures> EditorState::physicsFor(std::size_t body)
 }
 
 bool EditorState::setTextureSize(std::size_t body, int size) {
-    if (!execute(makeSetPropertyCommand(*document, "/bodies/" + std::to_string(body) + "/texture_size",
-                                        size))) {
+    if (!execute(makeSetPropertyCommand(
+            *document, "/bodies/" + std::to_string(body) + "/texture_size", size))) {
         return false;
     }
     (void)physicsFor(body);  // the bake starts now, not when a panel first looks
@@ -108,10 +108,11 @@ bool EditorState::setTextureSize(std::size_t body, int size) {
 
 void EditorState::cancelTextureBake(std::size_t body) {
     const int previous = physicsBakes->cancel(body);
-    if (preview && preview->session && preview->session->rebuilding()) preview->session->cancelRebuild();
+    if (preview && preview->session && preview->session->rebuilding())
+        preview->session->cancelRebuild();
     if (previous > 0) {
-        (void)execute(makeSetPropertyCommand(*document, "/bodies/" + std::to_string(body) + "/texture_size",
-                                             previous));
+        (void)execute(makeSetPropertyCommand(
+            *document, "/bodies/" + std::to_string(body) + "/texture_size", previous));
         (void)physicsFor(body);  // the textures still held: no bake
     }
 }
@@ -129,10 +130,11 @@ void EditorState::pollPhysicsBakes() {
 }
 
 void EditorState::openSaveAs() {
-    const std::string name = !document->path().empty() ? document->path().filename().string()
-                             : document->project().name.empty() || document->project().name == "untitled"
-                                 ? std::string("project.plim.json")
-                                 : document->project().name + ".plim.json";
+    const std::string name =
+        !document->path().empty() ? document->path().filename().string()
+        : document->project().name.empty() || document->project().name == "untitled"
+            ? std::string("project.plim.json")
+            : document->project().name + ".plim.json";
     browser.open(FileBrowser::Purpose::SaveProjectAs, document->project().folder, name);
 }
 
@@ -177,8 +179,8 @@ void EditorState::saveAs(const std::filesystem::path& path, bool replace) {
             // parse back, can be named too).
             Project named = document->project();
             named.name = stem;
-            (void)execute(std::unique_ptr<Command>(
-                std::make_unique<ProjectCommand>("Name the project " + stem, document->project(), std::move(named))));
+            (void)execute(std::unique_ptr<Command>(std::make_unique<ProjectCommand>(
+                "Name the project " + stem, document->project(), std::move(named))));
         }
     }
     Status saved = document->saveAs(target, replace);
@@ -219,9 +221,10 @@ std::optional<EditorState::SurfacePick> EditorState::pickSurface(float x, float 
     const TriangleMesh& mesh = *document->assets(hit->first).mesh;
     // The hit triangle's outward normal (the ray cast names the triangle it hit).
     const Triangle& t = mesh.triangles[hit->second.triangle];
-    const Eigen::Vector3d n =
-        (mesh.positions[t[1]] - mesh.positions[t[0]]).cross(mesh.positions[t[2]] - mesh.positions[t[0]]);
-    const Eigen::Vector3d normal = n.norm() > 0 ? Eigen::Vector3d(n.normalized()) : Eigen::Vector3d::UnitY();
+    const Eigen::Vector3d n = (mesh.positions[t[1]] - mesh.positions[t[0]])
+                                  .cross(mesh.positions[t[2]] - mesh.positions[t[0]]);
+    const Eigen::Vector3d normal =
+        n.norm() > 0 ? Eigen::Vector3d(n.normalized()) : Eigen::Vector3d::UnitY();
     const Pose pose = document->bodyPose(hit->first);
     return SurfacePick{hit->first, pose.apply(hit->second.point), pose.rotation * normal};
 }

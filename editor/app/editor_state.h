@@ -22,7 +22,7 @@ namespace plimsoll::editor {
 struct PreviewUi;  // app/preview_panel.h
 struct GraphUi;    // app/graph_panel.cpp
 std::shared_ptr<GraphUi> makeGraphUi();
-class ExportDialog;     // app/export_dialog.h
+class ExportDialog;  // app/export_dialog.h
 std::shared_ptr<ExportDialog> makeExportDialog();
 struct InspectorCache;  // app/inspector_panel.cpp
 std::shared_ptr<InspectorCache> makeInspectorCache();
@@ -37,14 +37,18 @@ struct ActiveStroke {
     std::size_t body = 0;
     std::vector<Eigen::Vector3d> points;  ///< object space
     bool previewDirty = false;
-    LazyMouse lazy;                       ///< where the brush trails the cursor (window px)
+    LazyMouse lazy;  ///< where the brush trails the cursor (window px)
 };
 
 /// A rectangle of the window, in window pixels (top-left origin).
 struct Rect {
     float x = 0, y = 0, w = 0, h = 0;
-    bool contains(float px, float py) const { return px >= x && py >= y && px < x + w && py < y + h; }
-    Eigen::AlignedBox2f box() const { return {Eigen::Vector2f(x, y), Eigen::Vector2f(x + w, y + h)}; }
+    bool contains(float px, float py) const {
+        return px >= x && py >= y && px < x + w && py < y + h;
+    }
+    Eigen::AlignedBox2f box() const {
+        return {Eigen::Vector2f(x, y), Eigen::Vector2f(x + w, y + h)};
+    }
 };
 
 /// The Layers panel's sliders while held (the value shown; the command comes on release).
@@ -87,34 +91,34 @@ struct EditorState {
     /// distance from `centre` (px) sets the brush radius or strength; a left click or Enter
     /// keeps the value, Esc or the right button puts `start` back.
     struct RadialControl {
-        bool strength = false;          ///< Shift+F: strength; F: radius
-        double start = 0.0;             ///< the value before, for a cancel
-        Eigen::Vector2d centre{0, 0};   ///< screen px
+        bool strength = false;         ///< Shift+F: strength; F: radius
+        double start = 0.0;            ///< the value before, for a cancel
+        Eigen::Vector2d centre{0, 0};  ///< screen px
     };
     std::optional<RadialControl> radialControl;
     /// Where the last stroke ended (body, object space): Shift-click draws a line from there.
     std::optional<std::pair<std::size_t, Eigen::Vector3d>> lastStrokeEnd;
-    std::size_t lastStrokePoints = 0;   ///< surface points of the last stroke (reports)
+    std::size_t lastStrokePoints = 0;  ///< surface points of the last stroke (reports)
     /// The layer strokes and fills change on a map with layers (index from the bottom; -1: the
     /// top paint layer), and whether they paint its mask.
     int activeLayer = -1;
     bool paintMask = false;
     LayerSliders layerSliders;
     LayerRename layerRename;
-    int newMapSize = 1024;              ///< the Tools panel's "New map" size, px
-    bool confirmNewMap = false;         ///< "replace the map?" question to open
+    int newMapSize = 1024;       ///< the Tools panel's "New map" size, px
+    bool confirmNewMap = false;  ///< "replace the map?" question to open
     /// Key presses since the last frame, in order, from the key callback: a tap shorter than a
     /// frame is still seen (ImGui 1.86 only keeps whether a key is down at the frame start).
-    std::vector<std::pair<int, int>> keyPresses;   ///< (GLFW key, modifier bits)
+    std::vector<std::pair<int, int>> keyPresses;  ///< (GLFW key, modifier bits)
     /// Keys pressed since the last frame began, and those of them already released again: a
     /// tap shorter than a frame, which ImGui 1.86 (key state, no event queue) would never see
     /// down. The frame loop holds each such key down for one frame (holdTappedKeys).
     std::vector<int> keysPressedSinceFrame;
     std::vector<int> tappedKeys;
-    std::uint64_t inputEvents = 0;      ///< counts window events (the idle loop wakes on them)
+    std::uint64_t inputEvents = 0;          ///< counts window events (the idle loop wakes on them)
     std::vector<std::string> droppedPaths;  ///< files dropped on the window, to open or import
-    bool overlaysDirty = true;          ///< re-upload overlay textures
-    std::uint64_t documentRevision = 0; ///< bumps on every edit (panels cache against it)
+    bool overlaysDirty = true;              ///< re-upload overlay textures
+    std::uint64_t documentRevision = 0;     ///< bumps on every edit (panels cache against it)
 
     /// The UV view's zoom (1: the whole 0..1 square fits) and the uv at its centre.
     float uvZoom = 1.0f;
@@ -122,29 +126,29 @@ struct EditorState {
     bool uvPanning = false;  ///< a middle drag that started in the UV view is on
     /// The uv under the mouse in the UV view this frame (reports; none when not over it).
     std::optional<Eigen::Vector2f> uvUnderMouse;
-    Rect viewport;                      ///< where the 3D view is drawn this frame
+    Rect viewport;  ///< where the 3D view is drawn this frame
     /// The Live preview window's rectangle this frame (empty: closed) and the view's legend's
     /// (empty: none), which the labels drawn over the view keep clear of (overlayPlace).
     Eigen::AlignedBox2f previewWindow, legendBox;
-    bool navigating = false;            ///< a mouse drag is moving the camera
-    std::string status;                 ///< status bar line
+    bool navigating = false;  ///< a mouse drag is moving the camera
+    std::string status;       ///< status bar line
     FileBrowser browser;
-    double lastAutosave = 0.0;          ///< glfwGetTime of the last autosave
+    double lastAutosave = 0.0;  ///< glfwGetTime of the last autosave
 
     // Requests handled by the frame loop (dialogs that need the window).
     bool requestQuit = false;
-    bool confirmDiscardOpen = false;    ///< "unsaved changes" dialog visible
-    std::string pendingOpen;            ///< project to open once unsaved changes are settled
+    bool confirmDiscardOpen = false;  ///< "unsaved changes" dialog visible
+    std::string pendingOpen;          ///< project to open once unsaved changes are settled
     bool pendingNew = false;
     std::optional<std::filesystem::path> pendingExport;  ///< export folder awaiting "save first?"
     /// Save As target that would replace existing files, awaiting "replace them?" (its files).
     std::optional<std::filesystem::path> pendingSaveAs;
     std::vector<std::filesystem::path> pendingSaveAsReplaces;
     bool showShortcuts = false;
-    bool showHistory = false;           ///< Edit > Undo history
-    bool showHydrostatics = false;      ///< Simulate > Hydrostatics (without a preview too)
+    bool showHistory = false;              ///< Edit > Undo history
+    bool showHydrostatics = false;         ///< Simulate > Hydrostatics (without a preview too)
     bool hydrostaticsOpenRequest = false;  ///< unfold the window on its next frame
-    bool historyScrollPending = false;  ///< the history list scrolls to the current step
+    bool historyScrollPending = false;     ///< the history list scrolls to the current step
     bool showAbout = false;
     std::optional<std::filesystem::path> recoveryOffer;  ///< autosave found at start
 
@@ -197,8 +201,8 @@ struct EditorState {
     /// cursor lies in the surface's tangent plane).
     struct SurfacePick {
         std::size_t body = 0;
-        Eigen::Vector3d point;    ///< world
-        Eigen::Vector3d normal;   ///< world, unit
+        Eigen::Vector3d point;   ///< world
+        Eigen::Vector3d normal;  ///< world, unit
     };
     std::optional<SurfacePick> pickSurface(float x, float y) const;
 

@@ -28,7 +28,7 @@ struct Progress {
     std::mutex mutex;
     std::vector<std::string> lines;  ///< notices, one line per body, errors
     std::size_t done = 0, total = 0;
-    std::string current;             ///< the body being exported
+    std::string current;  ///< the body being exported
     bool finished = false;
     int failures = 0;
     /// The worker's own clock: the time the export took is its, not the frame loop's (an
@@ -56,12 +56,14 @@ public:
         progress_->total = project.bodies.size();
         target_ = folder / safeFileName(project.fileStem, "project");
         if (unsaved)
-            progress_->lines.push_back("note: unsaved changes are not in the bundle (it is made "
-                                       "from the saved project's files); save and export again "
-                                       "to include them");
+            progress_->lines.push_back(
+                "note: unsaved changes are not in the bundle (it is made "
+                "from the saved project's files); save and export again "
+                "to include them");
         if (project.folder.empty())
-            progress_->lines.push_back("note: the project was never saved: relative paths are "
-                                       "taken from the current folder");
+            progress_->lines.push_back(
+                "note: the project was never saved: relative paths are "
+                "taken from the current folder");
         visible_ = true;
         shown_ = false;
         progress_->started = std::chrono::steady_clock::now();
@@ -80,7 +82,8 @@ public:
                 std::lock_guard lock(p->mutex);
                 if (r) {
                     p->lines.push_back(bundle.string() + ": " + std::to_string(r->files.size()) +
-                                       " files, " + std::to_string(r->totalBytes() / 1024) + " KiB");
+                                       " files, " + std::to_string(r->totalBytes() / 1024) +
+                                       " KiB");
                 } else {
                     p->lines.push_back("error: " + r.error().message);
                     ++p->failures;
@@ -165,7 +168,8 @@ private:
 
     static std::string statusLine(const Progress& p) {
         if (!p.finished) return "Exporting...";
-        if (p.failures) return std::to_string(p.failures) + " of " + std::to_string(p.total) + " bodies failed";
+        if (p.failures)
+            return std::to_string(p.failures) + " of " + std::to_string(p.total) + " bodies failed";
         const double seconds = std::chrono::duration<double>(p.finishedAt - p.started).count();
         char text[96];
         std::snprintf(text, sizeof text, "Done: %zu %s in %.2f s", p.total,

@@ -15,16 +15,21 @@ namespace {
 
 const char* title(FileBrowser::Purpose p) {
     switch (p) {
-        case FileBrowser::Purpose::OpenProject: return "Open project";
-        case FileBrowser::Purpose::SaveProjectAs: return "Save project as";
-        case FileBrowser::Purpose::ImportMesh: return "Import mesh";
-        case FileBrowser::Purpose::Export: return "Export to folder";
+        case FileBrowser::Purpose::OpenProject:
+            return "Open project";
+        case FileBrowser::Purpose::SaveProjectAs:
+            return "Save project as";
+        case FileBrowser::Purpose::ImportMesh:
+            return "Import mesh";
+        case FileBrowser::Purpose::Export:
+            return "Export to folder";
     }
     return "File";
 }
 
 bool endsWith(const std::string& s, const std::string& suffix) {
-    return s.size() >= suffix.size() && s.compare(s.size() - suffix.size(), suffix.size(), suffix) == 0;
+    return s.size() >= suffix.size() &&
+           s.compare(s.size() - suffix.size(), suffix.size(), suffix) == 0;
 }
 
 }  // namespace
@@ -44,13 +49,16 @@ bool FileBrowser::accepts(const fs::path& file) const {
     std::transform(name.begin(), name.end(), name.begin(), ::tolower);
     switch (purpose_) {
         case Purpose::OpenProject:
-        case Purpose::SaveProjectAs: return endsWith(name, ".plim.json");
+        case Purpose::SaveProjectAs:
+            return endsWith(name, ".plim.json");
         case Purpose::ImportMesh:
-            for (const char* ext : {".obj", ".fbx", ".gltf", ".glb", ".ply", ".stl", ".dae", ".3ds"}) {
+            for (const char* ext :
+                 {".obj", ".fbx", ".gltf", ".glb", ".ply", ".stl", ".dae", ".3ds"}) {
                 if (endsWith(name, ext)) return true;
             }
             return false;
-        case Purpose::Export: return false;
+        case Purpose::Export:
+            return false;
     }
     return false;
 }
@@ -122,7 +130,8 @@ std::optional<fs::path> FileBrowser::draw() {
                 namingFolder_ = false;
                 list();
             } else {
-                error_ = made.string() + ": cannot create" + (ec ? ": " + ec.message() : " (it exists)");
+                error_ =
+                    made.string() + ": cannot create" + (ec ? ": " + ec.message() : " (it exists)");
             }
         }
     }
@@ -132,7 +141,8 @@ std::optional<fs::path> FileBrowser::draw() {
         const std::string label = (e.folder ? "[dir] " : "      ") + e.name;
         const bool picked = ImGui::Selectable(label.c_str(), !e.folder && e.name == name_,
                                               ImGuiSelectableFlags_AllowDoubleClick);
-        tooltip(e.folder ? "Click to open the folder." : "Click to choose the file, double-click to take it.");
+        tooltip(e.folder ? "Click to open the folder."
+                         : "Click to choose the file, double-click to take it.");
         if (picked) {
             if (e.folder) {
                 folder_ /= e.name;
@@ -151,8 +161,9 @@ std::optional<fs::path> FileBrowser::draw() {
         // dialogs: type a name, Enter saves or opens.
         if (ImGui::IsWindowAppearing()) ImGui::SetKeyboardFocusHere();
         ImGui::SetNextItemWidth(-200);
-        entered = ImGui::InputText("##name", name_, sizeof name_, ImGuiInputTextFlags_EnterReturnsTrue |
-                                                                     ImGuiInputTextFlags_AutoSelectAll);
+        entered = ImGui::InputText(
+            "##name", name_, sizeof name_,
+            ImGuiInputTextFlags_EnterReturnsTrue | ImGuiInputTextFlags_AutoSelectAll);
         tooltip("The file's name in this folder, or a whole path; Enter takes it.");
         ImGui::SameLine();
     }
@@ -160,17 +171,21 @@ std::optional<fs::path> FileBrowser::draw() {
                          : purpose_ == Purpose::Export      ? "Export here"
                                                             : "Open";
     const bool act = ImGui::Button(action);
-    tooltip(purpose_ == Purpose::SaveProjectAs ? "Saves the project under this name (its maps and graphs beside it)."
-            : purpose_ == Purpose::Export      ? "Exports the bundle into the folder shown above."
-                                               : "Opens the chosen file.");
+    tooltip(purpose_ == Purpose::SaveProjectAs
+                ? "Saves the project under this name (its maps and graphs beside it)."
+            : purpose_ == Purpose::Export ? "Exports the bundle into the folder shown above."
+                                          : "Opens the chosen file.");
     if (act || entered) {
-        if (purpose_ == Purpose::Export) chosen = folder_;
-        else if (name_[0]) chosen = fs::path(name_).is_absolute() ? fs::path(name_) : folder_ / name_;
+        if (purpose_ == Purpose::Export)
+            chosen = folder_;
+        else if (name_[0])
+            chosen = fs::path(name_).is_absolute() ? fs::path(name_) : folder_ / name_;
     }
     ImGui::SameLine();
     const bool cancel = ImGui::Button("Cancel");
     tooltip("Closes the dialog; nothing is written (Esc).");
-    if (cancel || ImGui::IsKeyPressed(ImGui::GetKeyIndex(ImGuiKey_Escape))) ImGui::CloseCurrentPopup();
+    if (cancel || ImGui::IsKeyPressed(ImGui::GetKeyIndex(ImGuiKey_Escape)))
+        ImGui::CloseCurrentPopup();
     if (chosen) ImGui::CloseCurrentPopup();
     ImGui::EndPopup();
     return chosen;

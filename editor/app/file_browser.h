@@ -34,7 +34,7 @@ private:
     std::vector<Entry> entries_;
     char name_[512] = {};
     std::string error_;
-    bool namingFolder_ = false;   ///< "New folder" is asking for a name
+    bool namingFolder_ = false;  ///< "New folder" is asking for a name
     char folderName_[256] = {};
 };
 

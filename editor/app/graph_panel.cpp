@@ -52,13 +52,13 @@ struct AutoJob {
 
 /// The panel's state (EditorState::graphUi): selection, tools, the automatic graph's job.
 struct GraphUi {
-    bool editInView = true;       ///< the left mouse edits the graph (else the paint tools)
-    bool panelOpen = false;       ///< not collapsed: only then does the graph take the mouse
+    bool editInView = true;  ///< the left mouse edits the graph (else the paint tools)
+    bool panelOpen = false;  ///< not collapsed: only then does the graph take the mouse
     bool showGraph = true;
     bool showFeeds = false;
     float hullAlpha = 0.3f;
     DragPlane dragPlane = DragPlane::View;
-    std::set<std::string> selected;   ///< node ids (ids survive undo; indices do not)
+    std::set<std::string> selected;  ///< node ids (ids survive undo; indices do not)
     std::optional<std::pair<std::string, std::string>> selectedPipe;
     // Mouse in the view.
     bool boxSelecting = false, dragging = false;
@@ -75,8 +75,8 @@ struct GraphUi {
     int overlayKind = -1;
     std::size_t overlayBody = ~std::size_t{0};
     std::unique_ptr<GraphDrawer> drawer;
-    std::vector<RenderGraph> drawn;   ///< this frame's, for the scene's drawInside
-    WaterGraph dragged;               ///< the graph with the drag applied (drawn while dragging)
+    std::vector<RenderGraph> drawn;  ///< this frame's, for the scene's drawInside
+    WaterGraph dragged;              ///< the graph with the drag applied (drawn while dragging)
     // The inspector's fields while being edited (committed when editing ends).
     char nodeName[128] = {};
     std::string nodeEditingFor;
@@ -142,8 +142,10 @@ std::optional<Eigen::Vector3d> dragTarget(const EditorState& s, ImVec2 mouse) {
             }
             return std::nullopt;
         }
-        case DragPlane::Horizontal: return rayPlane(o, d, ui.anchor, Eigen::Vector3d::UnitY());
-        case DragPlane::View: break;
+        case DragPlane::Horizontal:
+            return rayPlane(o, d, ui.anchor, Eigen::Vector3d::UnitY());
+        case DragPlane::View:
+            break;
     }
     return rayPlane(o, d, ui.anchor, -s.camera.forward());
 }
@@ -155,10 +157,11 @@ void startAutoGenerate(EditorState& s) {
     const std::shared_ptr<const SurfaceTextures> textures = s.physicsFor(body);
     const bool current = textures && textures == s.document->bakedPhysics(body);
     if (!mesh || !current) {
-        ui.autoError = !mesh ? "the body has no mesh"
-                     : !s.physicsBakes->error(body).empty()
-                         ? s.physicsBakes->error(body)
-                         : "the physics textures are baking (see the inspector); try again when done";
+        ui.autoError =
+            !mesh ? "the body has no mesh"
+            : !s.physicsBakes->error(body).empty()
+                ? s.physicsBakes->error(body)
+                : "the physics textures are baking (see the inspector); try again when done";
         return;
     }
     auto progress = std::make_shared<std::atomic<double>>(0.0);
@@ -178,9 +181,9 @@ void startAutoGenerate(EditorState& s) {
                                     preview.graph = std::move(graph).value();
                                     preview.segments = report.segmentation.segmentCount;
                                     preview.seconds = report.totalSeconds;
-                                    preview.texelSegment = texelSegments(
-                                        *mesh, report.segmentation, *baked,
-                                        [&](double p) { *progress = 0.9 + 0.1 * p; });
+                                    preview.texelSegment =
+                                        texelSegments(*mesh, report.segmentation, *baked,
+                                                      [&](double p) { *progress = 0.9 + 0.1 * p; });
                                     return preview;
                                 }),
                      progress, body};
@@ -213,7 +216,7 @@ bool inputDouble(const char* label, double& value, const char* format = "%.4f") 
 void nodeInspector(EditorState& s, const GraphNode& n) {
     ImGui::Text("Node %s", n.id.c_str());
     GraphUi& ui = uiOf(s);
-    char (&name)[128] = ui.nodeName;
+    char(&name)[128] = ui.nodeName;
     std::string& editingFor = ui.nodeEditingFor;
     GraphNode& shown = ui.nodeShown;
     if (editingFor != n.id || !ImGui::IsAnyItemActive()) {
@@ -236,8 +239,9 @@ void nodeInspector(EditorState& s, const GraphNode& n) {
     tooltip("A sealed compartment takes no water through the hull, only through its pipes.");
     bool box = shown.isBox();
     const bool boxClicked = ImGui::Checkbox("box", &box);
-    tooltip("A box compartment: its water fills an upright box and levels as the body heels.\n"
-            "Off: a sphere-like node whose level follows its volume alone.");
+    tooltip(
+        "A box compartment: its water fills an upright box and levels as the body heels.\n"
+        "Off: a sphere-like node whose level follows its volume alone.");
     if (boxClicked) {
         // A sphere becomes the cube of its capacity; a box a sphere (zero box size).
         const double side = std::cbrt(shown.capacity);
@@ -322,7 +326,8 @@ void pipeInspector(EditorState& s, const WaterGraph& g, const GraphPipe& p) {
     bool open = shown.open;
     if (ImGui::Checkbox("open", &open)) e.open = open;
     tooltip("A closed pipe passes no water (a shut valve or a closed door).");
-    if (e.radius || e.length || e.open) s.execute(makeSetPipeCommand(*s.document, bodyOf(s), p.a, p.b, e));
+    if (e.radius || e.length || e.open)
+        s.execute(makeSetPipeCommand(*s.document, bodyOf(s), p.a, p.b, e));
 }
 
 /// Uploads the feed or segment colours of the selected body when what they show changed.
@@ -344,7 +349,8 @@ void updateOverlay(EditorState& s) {
     const std::shared_ptr<const SurfaceTextures> textures = s.physicsFor(body);
     if (!textures) return;  // the bake's arrival bumps the revision: drawn then
     if (kind == 2) {
-        s.renderer->setOverlay(kGraphOverlaySlot, segmentOverlay(ui.preview->texelSegment, *textures));
+        s.renderer->setOverlay(kGraphOverlaySlot,
+                               segmentOverlay(ui.preview->texelSegment, *textures));
     } else if (const WaterGraph* g = graphOf(s)) {
         s.renderer->setOverlay(kGraphOverlaySlot, feedOverlay(*g, *textures));
     }
@@ -378,15 +384,19 @@ void drawSchematic(GraphUi& ui, const WaterGraph& g) {
     const bool hovered = ImGui::IsItemHovered();
     const bool clicked = ImGui::IsItemClicked(0);
     ImDrawList* draw = ImGui::GetWindowDrawList();
-    draw->AddRectFilled(origin, ImVec2(origin.x + size.x, origin.y + size.y), IM_COL32(30, 32, 36, 255));
-    auto at = [&](const Eigen::Vector2f& c) { return ImVec2(origin.x + c.x() - left, origin.y + c.y() - top); };
+    draw->AddRectFilled(origin, ImVec2(origin.x + size.x, origin.y + size.y),
+                        IM_COL32(30, 32, 36, 255));
+    auto at = [&](const Eigen::Vector2f& c) {
+        return ImVec2(origin.x + c.x() - left, origin.y + c.y() - top);
+    };
     for (const GraphPipe& pipe : g.pipes) {
         const int a = g.indexOf(pipe.a), b = g.indexOf(pipe.b);
         if (a < 0 || b < 0) continue;
         const bool selected = ui.selectedPipe == std::pair(pipe.a, pipe.b);
         draw->AddLine(at(layout.centre[a]), at(layout.centre[b]),
-                      selected ? IM_COL32(255, 255, 255, 255)
-                      : pipe.open ? IM_COL32(90, 170, 255, 255) : IM_COL32(120, 120, 120, 255),
+                      selected    ? IM_COL32(255, 255, 255, 255)
+                      : pipe.open ? IM_COL32(90, 170, 255, 255)
+                                  : IM_COL32(120, 120, 120, 255),
                       selected ? 3.0f : 2.0f);
     }
     const ImVec2 mouse = ImGui::GetIO().MousePos;
@@ -395,15 +405,20 @@ void drawSchematic(GraphUi& ui, const WaterGraph& g) {
     for (std::size_t i = 0; i < g.nodes.size(); ++i) {
         const GraphNode& node = g.nodes[i];
         const ImVec2 c = at(layout.centre[i]);
-        const ImVec2 lo(c.x - 0.5f * box.x(), c.y - 0.5f * box.y()), hi(c.x + 0.5f * box.x(), c.y + 0.5f * box.y());
+        const ImVec2 lo(c.x - 0.5f * box.x(), c.y - 0.5f * box.y()),
+            hi(c.x + 0.5f * box.x(), c.y + 0.5f * box.y());
         draw->AddRectFilled(lo, hi, IM_COL32(20, 22, 26, 255));
-        const float fill = node.capacity > 0 ? std::clamp(float(node.water / node.capacity), 0.0f, 1.0f) : 0.0f;
-        if (fill > 0) draw->AddRectFilled(ImVec2(lo.x, hi.y - fill * box.y()), hi, IM_COL32(40, 110, 200, 255));
+        const float fill =
+            node.capacity > 0 ? std::clamp(float(node.water / node.capacity), 0.0f, 1.0f) : 0.0f;
+        if (fill > 0)
+            draw->AddRectFilled(ImVec2(lo.x, hi.y - fill * box.y()), hi,
+                                IM_COL32(40, 110, 200, 255));
         const Eigen::Vector3f colour = nodeColour(i);
         const bool selected = ui.selected.count(node.id) > 0;
-        draw->AddRect(lo, hi, selected ? IM_COL32(255, 255, 255, 255)
-                                       : IM_COL32(int(255 * colour.x()), int(255 * colour.y()),
-                                                  int(255 * colour.z()), 255),
+        draw->AddRect(lo, hi,
+                      selected ? IM_COL32(255, 255, 255, 255)
+                               : IM_COL32(int(255 * colour.x()), int(255 * colour.y()),
+                                          int(255 * colour.z()), 255),
                       0.0f, 0, selected || int(i) == under ? 2.5f : 1.5f);
         const std::string& label = node.name.empty() ? node.id : node.name;
         draw->PushClipRect(lo, hi, true);
@@ -441,8 +456,9 @@ void drawGraphViewOptions(GraphUi& ui) {
     const char* planes[] = {"view plane", "horizontal plane", "hull surface"};
     int plane = static_cast<int>(ui.dragPlane);
     if (ImGui::Combo("drag on", &plane, planes, 3)) ui.dragPlane = static_cast<DragPlane>(plane);
-    tooltip("Where a dragged node moves: in the plane facing the camera, at its height, or along\n"
-            "the hull's surface.");
+    tooltip(
+        "Where a dragged node moves: in the plane facing the camera, at its height, or along\n"
+        "the hull's surface.");
     ImGui::PushTextWrapPos(0.0f);
     ImGui::TextDisabled("hold X / Y / Z while dragging: along that axis");
     ImGui::PopTextWrapPos();
@@ -473,7 +489,8 @@ void drawGraphEditButtons(EditorState& s, GraphUi& ui, std::size_t body, const W
         if (s.execute(makeDuplicateNodesCommand(*s.document, body, ids, {shift, 0, 0}))) {
             ui.selected.clear();
             const WaterGraph& now = *graphOf(s);
-            for (std::size_t i = before; i < now.nodes.size(); ++i) ui.selected.insert(now.nodes[i].id);
+            for (std::size_t i = before; i < now.nodes.size(); ++i)
+                ui.selected.insert(now.nodes[i].id);
         }
     }
     ImGui::SameLine();
@@ -517,7 +534,7 @@ void drawGraphContents(EditorState& s, GraphUi& ui, std::size_t body, const Wate
     const WaterGraph* g = &graph;
     ImGui::Separator();
     ImGui::TextWrapped("%zu nodes, %zu pipes, capacity %.4g m^3, water %.4g m^3", g->nodes.size(),
-                g->pipes.size(), g->totalCapacity(), g->totalWater());
+                       g->pipes.size(), g->totalCapacity(), g->totalWater());
     const GraphReport report = validateGraph(*g, s.document->assets(body).mesh.get());
     // Wrapped: a problem names its node and says why, longer than the panel is wide.
     ImGui::PushTextWrapPos(0.0f);
@@ -557,7 +574,8 @@ void drawGraphContents(EditorState& s, GraphUi& ui, std::size_t body, const Wate
     } else if (ui.selected.size() > 1) {
         nodesInspector(s, *g, ui.selected);
     } else if (ui.selectedPipe) {
-        pipeInspector(s, *g, g->pipes[findPipe(*g, ui.selectedPipe->first, ui.selectedPipe->second)]);
+        pipeInspector(s, *g,
+                      g->pipes[findPipe(*g, ui.selectedPipe->first, ui.selectedPipe->second)]);
     }
 }
 
@@ -572,7 +590,9 @@ void drawGraphAutoGenerate(EditorState& s, GraphUi& ui) {
         ImGui::ProgressBar(static_cast<float>(*ui.job->progress), ImVec2(-1, 0), "segmenting...");
     } else {
         if (ImGui::Button("Preview")) startAutoGenerate(s);
-        tooltip("Segments the mesh on a worker and shows the graph it would make; nothing changes yet.");
+        tooltip(
+            "Segments the mesh on a worker and shows the graph it would make; nothing changes "
+            "yet.");
         if (ui.preview) {
             ImGui::SameLine();
             const bool apply = ImGui::Button("Apply");
@@ -595,7 +615,8 @@ void drawGraphAutoGenerate(EditorState& s, GraphUi& ui) {
             }
         }
     }
-    if (!ui.autoError.empty()) ImGui::TextColored(ImVec4(1, 0.4f, 0.4f, 1), "%s", ui.autoError.c_str());
+    if (!ui.autoError.empty())
+        ImGui::TextColored(ImVec4(1, 0.4f, 0.4f, 1), "%s", ui.autoError.c_str());
 }
 
 }  // namespace
@@ -706,7 +727,8 @@ bool graphViewportInput(EditorState& s) {
             // Object-space offset: the drag was in world space.
             const Eigen::Vector3d offset = pose.rotation.transpose() * ui.dragOffset;
             if (offset.norm() > 1e-9) {
-                s.execute(makeMoveNodesCommand(*s.document, bodyOf(s), selectedIds(ui, *g), offset));
+                s.execute(
+                    makeMoveNodesCommand(*s.document, bodyOf(s), selectedIds(ui, *g), offset));
             }
             ui.dragOffset.setZero();
         }
@@ -715,9 +737,10 @@ bool graphViewportInput(EditorState& s) {
     if (ui.boxSelecting) {
         if (!ImGui::IsMouseDown(0)) {
             ui.boxSelecting = false;
-            const auto inside = nodesInRect(*g, pose, s.camera, int(s.viewport.w), int(s.viewport.h),
-                                            ui.pressAt.x - s.viewport.x, ui.pressAt.y - s.viewport.y,
-                                            mouse.x - s.viewport.x, mouse.y - s.viewport.y);
+            const auto inside =
+                nodesInRect(*g, pose, s.camera, int(s.viewport.w), int(s.viewport.h),
+                            ui.pressAt.x - s.viewport.x, ui.pressAt.y - s.viewport.y,
+                            mouse.x - s.viewport.x, mouse.y - s.viewport.y);
             for (std::size_t i : inside) ui.selected.insert(g->nodes[i].id);
         }
         return true;
@@ -740,7 +763,8 @@ void drawGraphOverlay(EditorState& s) {
         char line[160];
         std::snprintf(line, sizeof line, "move %.3f %.3f %.3f m%s", ui.dragOffset.x(),
                       ui.dragOffset.y(), ui.dragOffset.z(), axis);
-        draw->AddText(ImVec2(s.viewport.x + 8, s.viewport.y + 24), IM_COL32(255, 255, 160, 255), line);
+        draw->AddText(ImVec2(s.viewport.x + 8, s.viewport.y + 24), IM_COL32(255, 255, 160, 255),
+                      line);
     }
 }
 
@@ -762,7 +786,8 @@ void addGraphToScene(EditorState& s, RenderScene& scene) {
         ui.drawer = std::move(made).value();
     }
     updateOverlay(s);
-    if (s.renderer->overlayTexture(kGraphOverlaySlot)) scene.bodies[body].overlay = kGraphOverlaySlot;
+    if (s.renderer->overlayTexture(kGraphOverlaySlot))
+        scene.bodies[body].overlay = kGraphOverlaySlot;
     const bool previewing = ui.preview && ui.preview->body == body;
     if (!g && !previewing) return;
     RenderGraph r;
@@ -780,8 +805,10 @@ void addGraphToScene(EditorState& s, RenderScene& scene) {
         r.graph = g;
     }
     if (!previewing) {
-        for (const GraphNode& n : r.graph->nodes) r.selectedNodes.push_back(ui.selected.count(n.id) > 0);
-        if (ui.selectedPipe) r.selectedPipe = findPipe(*r.graph, ui.selectedPipe->first, ui.selectedPipe->second);
+        for (const GraphNode& n : r.graph->nodes)
+            r.selectedNodes.push_back(ui.selected.count(n.id) > 0);
+        if (ui.selectedPipe)
+            r.selectedPipe = findPipe(*r.graph, ui.selectedPipe->first, ui.selectedPipe->second);
     }
     // While the live preview runs, the graph rides with the simulated body and shows the
     // simulation's water in each node.

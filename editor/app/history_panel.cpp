@@ -20,7 +20,8 @@ void drawHistoryPanel(EditorState& s) {
     // Row i is the state after i steps; the current one selected, the undone ones greyed.
     auto row = [&](std::size_t i, const std::string& name) {
         const bool undone = i > position;
-        if (undone) ImGui::PushStyleColor(ImGuiCol_Text, ImGui::GetStyleColorVec4(ImGuiCol_TextDisabled));
+        if (undone)
+            ImGui::PushStyleColor(ImGuiCol_Text, ImGui::GetStyleColorVec4(ImGuiCol_TextDisabled));
         const std::string label = name + "##step" + std::to_string(i);
         if (ImGui::Selectable(label.c_str(), i == position)) jump = i;
         if (undone) ImGui::PopStyleColor();

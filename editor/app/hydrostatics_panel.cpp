@@ -121,17 +121,20 @@ void drawGzPlot(const HydrostaticsResult& t, const HydrostaticsResult& e) {
     ImGui::InvisibleButton("##gz", ImVec2(width, 170));
     const bool hovered = ImGui::IsItemHovered();
     ImDrawList* draw = ImGui::GetWindowDrawList();
-    const float left = origin.x + 46, right = origin.x + width - 6, top = origin.y + 4, bottom = origin.y + 150;
+    const float left = origin.x + 46, right = origin.x + width - 6, top = origin.y + 4,
+                bottom = origin.y + 150;
     auto px = [&](double x) { return left + float((x - x0) / (x1 - x0)) * (right - left); };
     auto py = [&](double y) { return bottom - float((y - y0) / (y1 - y0)) * (bottom - top); };
     const ImU32 grid = IM_COL32(80, 80, 90, 255), text = ImGui::GetColorU32(ImGuiCol_Text);
     char label[48];
     for (double y = y0; y <= y1 + 1e-9 * yStep; y += yStep) {
-        draw->AddLine(ImVec2(left, py(y)), ImVec2(right, py(y)), std::abs(y) < 1e-9 * yStep ? text : grid);
+        draw->AddLine(ImVec2(left, py(y)), ImVec2(right, py(y)),
+                      std::abs(y) < 1e-9 * yStep ? text : grid);
         std::snprintf(label, sizeof label, "%.3g", std::abs(y) < 1e-9 * yStep ? 0.0 : y);
         draw->AddText(ImVec2(origin.x, py(y) - 7), text, label);
     }
-    const double xStep = x1 - x0 >= 90 ? 30 : niceStep(x1 - x0, 6);  // degrees: by 30 on a wide range
+    const double xStep =
+        x1 - x0 >= 90 ? 30 : niceStep(x1 - x0, 6);  // degrees: by 30 on a wide range
     for (double x = std::ceil(x0 / xStep) * xStep; x <= x1 + 1e-9; x += xStep) {
         draw->AddLine(ImVec2(px(x), top), ImVec2(px(x), bottom), grid);
         std::snprintf(label, sizeof label, "%g", x);
@@ -149,12 +152,14 @@ void drawGzPlot(const HydrostaticsResult& t, const HydrostaticsResult& e) {
     if (!hovered) return;
     // Under the mouse: the heel there and each curve's arm at its nearest point.
     const double heel = x0 + (ImGui::GetIO().MousePos.x - left) / (right - left) * (x1 - x0);
-    draw->AddLine(ImVec2(px(std::clamp(heel, x0, x1)), top), ImVec2(px(std::clamp(heel, x0, x1)), bottom), text);
+    draw->AddLine(ImVec2(px(std::clamp(heel, x0, x1)), top),
+                  ImVec2(px(std::clamp(heel, x0, x1)), bottom), text);
     std::string tip;
     for (int c = 0; c < 2; ++c) {
-        const auto nearest = std::min_element(curves[c]->begin(), curves[c]->end(), [&](const RightingArm& a, const RightingArm& b) {
-            return std::abs(a.heelDegrees - heel) < std::abs(b.heelDegrees - heel);
-        });
+        const auto nearest = std::min_element(
+            curves[c]->begin(), curves[c]->end(), [&](const RightingArm& a, const RightingArm& b) {
+                return std::abs(a.heelDegrees - heel) < std::abs(b.heelDegrees - heel);
+            });
         if (nearest == curves[c]->end()) continue;
         std::snprintf(label, sizeof label, "%s%s: GZ %.4f m at %.1f deg", tip.empty() ? "" : "\n",
                       c == 0 ? "textures" : "exact", nearest->arm, nearest->heelDegrees);
@@ -311,14 +316,17 @@ void startDecayTest(const Scene& scene, std::size_t index) {
 void drawRadiation(const Scene& scene, std::size_t index) {
     const SceneBody& body = scene.bodies[index];
     if (!body.radiation) {
-        ImGui::TextWrapped("Radiation is off for this body: give it a \"radiation\" object in the "
-                           "project (docs/project-schema.md) for its added mass, damping and decay test.");
+        ImGui::TextWrapped(
+            "Radiation is off for this body: give it a \"radiation\" object in the "
+            "project (docs/project-schema.md) for its added mass, damping and decay test.");
         return;
     }
     const BodyRadiation& r = *body.radiation;
-    const char* modes[] = {"surge (x)", "heave (y)", "sway (z)", "roll (about x)", "yaw (about y)", "pitch (about z)"};
+    const char* modes[] = {"surge (x)",      "heave (y)",     "sway (z)",
+                           "roll (about x)", "yaw (about y)", "pitch (about z)"};
     ImGui::Combo("mode", &gRadiationMode, modes, 6);
-    tooltip("Which motion's added mass and damping are plotted (body axes, about the centre of mass).");
+    tooltip(
+        "Which motion's added mass and damping are plotted (body axes, about the centre of mass).");
     const int mode = std::clamp(gRadiationMode, 0, 5);
     std::vector<float> added, damping;
     for (const RadiationCoefficients& c : r.coefficients) {
@@ -330,21 +338,23 @@ void drawRadiation(const Scene& scene, std::size_t index) {
                 r.coefficients.front().omega, r.coefficients.back().omega);
     char label[96];
     std::snprintf(label, sizeof label, "A (%s); A_inf %.4g", unit, r.addedMassInfinity(mode, mode));
-    ImGui::PlotLines("##radiation A", added.data(), static_cast<int>(added.size()), 0, label, FLT_MAX, FLT_MAX,
-                     ImVec2(0, 80));
+    ImGui::PlotLines("##radiation A", added.data(), static_cast<int>(added.size()), 0, label,
+                     FLT_MAX, FLT_MAX, ImVec2(0, 80));
     tooltip("Added mass against frequency, low to high (the frequencies are log-spaced).");
     std::snprintf(label, sizeof label, "B (%s/s)", unit);
-    ImGui::PlotLines("##radiation B", damping.data(), static_cast<int>(damping.size()), 0, label, FLT_MAX,
-                     FLT_MAX, ImVec2(0, 80));
-    tooltip("Radiation damping against frequency: the waves the motion makes carry its energy away.");
+    ImGui::PlotLines("##radiation B", damping.data(), static_cast<int>(damping.size()), 0, label,
+                     FLT_MAX, FLT_MAX, ImVec2(0, 80));
+    tooltip(
+        "Radiation damping against frequency: the waves the motion makes carry its energy away.");
 
     const bool running = gDecay.running.valid();
     ImGui::BeginDisabled(running);
     if (ImGui::Button("Decay test")) startDecayTest(scene, index);
     ImGui::EndDisabled();
-    tooltip("Releases the body 2 cm below its rest waterline in calm water, alone, with drag and\n"
-            "damping off, and measures the damped period and log decrement of its heave against\n"
-            "what A and B predict (on a worker: the preview runs on).");
+    tooltip(
+        "Releases the body 2 cm below its rest waterline in calm water, alone, with drag and\n"
+        "damping off, and measures the damped period and log decrement of its heave against\n"
+        "what A and B predict (on a worker: the preview runs on).");
     if (running) {
         if (gDecay.running.wait_for(std::chrono::seconds(0)) == std::future_status::ready) {
             gDecay.result = gDecay.running.get();
@@ -368,12 +378,15 @@ void drawRadiation(const Scene& scene, std::size_t index) {
             if (std::abs(t.offset[k]) > std::abs(extreme)) extreme = t.offset[k];
         heave.push_back(static_cast<float>(extreme * 1000));
     }
-    ImGui::PlotLines("##decay", heave.data(), static_cast<int>(heave.size()), 0, "heave from rest (mm)", FLT_MAX,
-                     FLT_MAX, ImVec2(0, 90));
-    auto percent = [](double measured, double predicted) { return 100 * (measured / predicted - 1); };
-    ImGui::Text("period %.4f s (A and B predict %.4f, %+.1f%%)", t.measured.period, t.predicted.period,
-                percent(t.measured.period, t.predicted.period));
-    ImGui::Text("log decrement %.4f (predicted %.4f, %+.1f%%)", t.measured.logDecrement, t.predicted.logDecrement,
+    ImGui::PlotLines("##decay", heave.data(), static_cast<int>(heave.size()), 0,
+                     "heave from rest (mm)", FLT_MAX, FLT_MAX, ImVec2(0, 90));
+    auto percent = [](double measured, double predicted) {
+        return 100 * (measured / predicted - 1);
+    };
+    ImGui::Text("period %.4f s (A and B predict %.4f, %+.1f%%)", t.measured.period,
+                t.predicted.period, percent(t.measured.period, t.predicted.period));
+    ImGui::Text("log decrement %.4f (predicted %.4f, %+.1f%%)", t.measured.logDecrement,
+                t.predicted.logDecrement,
                 percent(t.measured.logDecrement, t.predicted.logDecrement));
 }
 
@@ -399,8 +412,9 @@ void drawHydrostaticsPanel(EditorState& s) {
         return;
     }
     const Scene* scene = previewing ? &s.preview->session->scene() : gOwnScene.get();
-    const std::string label = scene && index < scene->bodies.size() ? scene->bodies[index].label
-                                                                   : s.document->project().bodies[index].name;
+    const std::string label = scene && index < scene->bodies.size()
+                                  ? scene->bodies[index].label
+                                  : s.document->project().bodies[index].name;
     ImGui::TextWrapped("%s: calm water, heel about x, trim about z%s", label.c_str(),
                        previewing ? "" : " (the project as edited)");
     const bool computing = gComputing.valid();
@@ -418,8 +432,9 @@ void drawHydrostaticsPanel(EditorState& s) {
         if (copy && index < copy->bodies.size()) startCompute(copy, index);
     }
     ImGui::EndDisabled();
-    tooltip("Finds the body's equilibrium in calm water and its righting-arm curve, from the\n"
-            "textures and from the exact clip side by side (on a worker: the window stays live).");
+    tooltip(
+        "Finds the body's equilibrium in calm water and its righting-arm curve, from the\n"
+        "textures and from the exact clip side by side (on a worker: the window stays live).");
     if (computing) {
         if (gComputing.wait_for(std::chrono::seconds(0)) == std::future_status::ready) {
             gFigures = gComputing.get();

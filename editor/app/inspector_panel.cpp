@@ -43,8 +43,8 @@ struct TextureFigures {
 
 /// The figures of `textures` for `material`; `shellMaps`: the painted density and thickness
 /// maps that scale the shell (copies: the document may change them meanwhile).
-TextureFigures figuresOf(const SurfaceTextures& t, const TriangleMesh& mesh, const MaterialDesc& material,
-                         const std::vector<PaintedMap>& shellMaps) {
+TextureFigures figuresOf(const SurfaceTextures& t, const TriangleMesh& mesh,
+                         const MaterialDesc& material, const std::vector<PaintedMap>& shellMaps) {
     TextureFigures f;
     f.size = t.size;
     f.covered = t.coveredCount();
@@ -64,7 +64,8 @@ TextureFigures figuresOf(const SurfaceTextures& t, const TriangleMesh& mesh, con
             for (std::size_t i = 0; i < sigma.size(); ++i) sigma[i] *= scaled[i];
             f.exactApplies = false;
         }
-        const MassProperties shellT = textureShellMassProperties(t, *material.shellSurfaceDensity, sigma);
+        const MassProperties shellT =
+            textureShellMassProperties(t, *material.shellSurfaceDensity, sigma);
         const MassProperties shellE = exactShellMassProperties(mesh, *material.shellSurfaceDensity);
         texture = any ? texture + shellT : shellT;
         exact = any ? exact + shellE : shellE;
@@ -142,17 +143,17 @@ struct BodyInfo {
     const TriangleMesh* mesh = nullptr;
     std::vector<std::string> warnings;
     std::string bakeError;
-    TextureFigures figures;             ///< the last finished ones (kept while newer ones run)
+    TextureFigures figures;  ///< the last finished ones (kept while newer ones run)
     bool hasFigures = false;
-    std::shared_ptr<FiguresJob> job;    ///< the newest computation, until it finishes
-    bool ofSolid = false;               ///< the figures are of the physics solid, not the mesh
+    std::shared_ptr<FiguresJob> job;  ///< the newest computation, until it finishes
+    bool ofSolid = false;             ///< the figures are of the physics solid, not the mesh
 };
 }  // namespace
 
 /// What the inspector keeps between frames (EditorState::inspector).
 struct InspectorCache {
-    std::map<std::size_t, BodyInfo> infos;          ///< per body, recomputed on edits
-    std::map<std::string, double> editing;          ///< number fields being typed into
+    std::map<std::size_t, BodyInfo> infos;  ///< per body, recomputed on edits
+    std::map<std::string, double> editing;  ///< number fields being typed into
     /// Edits made in the last frame's panel, run at the start of the next one: an edit
     /// replaces the project's bodies, and the panel goes on reading the body it drew from
     /// (a reference into them) after the field that made it.
@@ -180,8 +181,8 @@ BodyInfo& infoFor(EditorState& s, std::size_t b) {
         info.warnings.clear();
         const ValidationReport report = validateMesh(*mesh);
         for (const Problem& p : report.problems) {
-            info.warnings.push_back(std::string(p.severity == Severity::Error ? "error: " : "warning: ") +
-                                    p.message);
+            info.warnings.push_back(
+                std::string(p.severity == Severity::Error ? "error: " : "warning: ") + p.message);
         }
     }
     const BodyDesc& body = s.document->project().bodies[b];
@@ -231,8 +232,10 @@ void numberField(EditorState& s, const char* label, const std::string& pointer, 
     tooltip(help);
     if (ImGui::IsItemDeactivatedAfterEdit() && value != current) {
         s.inspector->deferred.push_back([&s, pointer, commit, edited = value] {
-            if (commit) commit(edited);
-            else s.execute(makeSetPropertyCommand(*s.document, pointer, edited));
+            if (commit)
+                commit(edited);
+            else
+                s.execute(makeSetPropertyCommand(*s.document, pointer, edited));
         });
     }
 }
@@ -269,10 +272,11 @@ void materialPresetCombo(EditorState& s, std::size_t b, const MaterialDesc& mate
 
 /// The texture size field, and while a new size bakes its progress and Cancel.
 void textureSizeField(EditorState& s, std::size_t b, const std::string& base, int current) {
-    numberField(s, "Texture size", base + "/texture_size", current, "%.0f",
-                "Texels per side of the physics textures (32 to the engine's limit). A new size "
-                "bakes in the background; the old one stays in use until it is ready.",
-                [&s, b](double value) { s.setTextureSize(b, static_cast<int>(std::lround(value))); });
+    numberField(
+        s, "Texture size", base + "/texture_size", current, "%.0f",
+        "Texels per side of the physics textures (32 to the engine's limit). A new size "
+        "bakes in the background; the old one stays in use until it is ready.",
+        [&s, b](double value) { s.setTextureSize(b, static_cast<int>(std::lround(value))); });
     if (const auto baking = s.physicsBakes->progress(b)) {
         const std::string label = "baking " + std::to_string(baking->size) + "^2";
         ImGui::ProgressBar(static_cast<float>(baking->fraction), ImVec2(-80, 0), label.c_str());
@@ -280,7 +284,8 @@ void textureSizeField(EditorState& s, std::size_t b, const std::string& base, in
         if (ImGui::Button("Cancel##texture_bake")) s.cancelTextureBake(b);
         tooltip("Stop the bake and keep the size in use.");
         if (baking->previousSize > 0) {
-            ImGui::TextDisabled("Figures below at %d^2 until the bake is done", baking->previousSize);
+            ImGui::TextDisabled("Figures below at %d^2 until the bake is done",
+                                baking->previousSize);
         }
     }
 }
@@ -350,7 +355,8 @@ void bodyButtons(EditorState& s) {
     ImGui::SameLine();
     if (ImGui::Button("Remove") && hasBody) {
         if (s.execute(makeRemoveBodyCommand(*s.document, s.selectedBody))) {
-            s.selectedBody = std::min(s.selectedBody, static_cast<int>(s.document->bodyCount()) - 1);
+            s.selectedBody =
+                std::min(s.selectedBody, static_cast<int>(s.document->bodyCount()) - 1);
         }
     }
     tooltip(hasBody ? "Takes the selected body out of the project (Ctrl+Z brings it back, unsaved "
@@ -367,7 +373,8 @@ void transformFields(EditorState& s, std::size_t b, const BodyDesc& body) {
                      const char* format, const char* help) -> std::optional<Eigen::Vector3d> {
         double values[3];
         for (int k = 0; k < 3; ++k) {
-            double& v = s.inspector->editing.try_emplace(key + "/" + std::to_string(k), current[k]).first->second;
+            double& v = s.inspector->editing.try_emplace(key + "/" + std::to_string(k), current[k])
+                            .first->second;
             if (!ImGui::IsAnyItemActive()) v = current[k];
             values[k] = v;
         }
@@ -385,7 +392,8 @@ void transformFields(EditorState& s, std::size_t b, const BodyDesc& body) {
         return;
     }
     if (auto r = field("Rotation (deg)", base + "/rotation_deg", body.rotationDegrees, "%.4g",
-                       "The body's starting turn about x, y and z, degrees (turned about x first, then y, then z).")) {
+                       "The body's starting turn about x, y and z, degrees (turned about x first, "
+                       "then y, then z).")) {
         s.execute(makeSetBodyTransformCommand(*s.document, b, body.position, *r));
     }
 }
@@ -492,7 +500,8 @@ void drawInspectorPanel(EditorState& s, const Rect& area) {
         return;
     }
     BodyInfo& info = infoFor(s, b);
-    ImGui::Text("%zu vertices, %zu triangles", assets.mesh->vertexCount(), assets.mesh->triangleCount());
+    ImGui::Text("%zu vertices, %zu triangles", assets.mesh->vertexCount(),
+                assets.mesh->triangleCount());
     if (info.warnings.empty()) ImGui::TextColored(ImVec4(0.5f, 0.9f, 0.5f, 1), "Mesh valid");
     // Wrapped: a validation message is a sentence, wider than the panel.
     for (const std::string& w : info.warnings) {
@@ -523,12 +532,15 @@ void drawInspectorPanel(EditorState& s, const Rect& area) {
                         "%.4g", "Mass per volume of the solid body.");
         }
         if (body.material.shellSurfaceDensity) {
-            numberField(s, "Shell (kg/m2)", base + "/material/shell/surface_density",
-                        *body.material.shellSurfaceDensity, "%.4g",
-                        "Mass per area of the hull's skin (scaled by the density and thickness maps).");
+            numberField(
+                s, "Shell (kg/m2)", base + "/material/shell/surface_density",
+                *body.material.shellSurfaceDensity, "%.4g",
+                "Mass per area of the hull's skin (scaled by the density and thickness maps).");
         } else {
             const bool add = ImGui::Button("Add shell (1 kg/m2)");
-            tooltip("Give the body a hull skin of 1 kg/m2: its density and thickness maps can then be painted");
+            tooltip(
+                "Give the body a hull skin of 1 kg/m2: its density and thickness maps can then be "
+                "painted");
             if (add) {
                 s.inspector->deferred.push_back([&s, base] {
                     s.execute(makeSetPropertyCommand(*s.document, base + "/material/shell",
@@ -540,10 +552,12 @@ void drawInspectorPanel(EditorState& s, const Rect& area) {
                     "Drag coefficient of the wetted surface (dimensionless).");
         // An open hull's or container's openings: capped and flooding, sealed, or left open.
         int openings = static_cast<int>(body.openings);
-        if (ImGui::Combo("Openings", &openings, "open (caps let water in)\0sealed (a deck)\0none (as modelled)\0")) {
+        if (ImGui::Combo("Openings", &openings,
+                         "open (caps let water in)\0sealed (a deck)\0none (as modelled)\0")) {
             const char* name = openingsModeName(static_cast<OpeningsMode>(openings));
             s.inspector->deferred.push_back([&s, base, name] {
-                s.execute(makeSetPropertyCommand(*s.document, base + "/openings", nlohmann::json(name)));
+                s.execute(
+                    makeSetPropertyCommand(*s.document, base + "/openings", nlohmann::json(name)));
             });
         }
         tooltip(
@@ -565,8 +579,8 @@ void drawInspectorPanel(EditorState& s, const Rect& area) {
             }
         }
     }
-    if (ImGui::CollapsingHeader("Mass properties", ImGuiTreeNodeFlags_DefaultOpen) && info.hasFigures &&
-        info.figures.texture) {
+    if (ImGui::CollapsingHeader("Mass properties", ImGuiTreeNodeFlags_DefaultOpen) &&
+        info.hasFigures && info.figures.texture) {
         const MassProperties& t = *info.figures.texture;
         const MassProperties& e = *info.figures.exact;
         if (info.ofSolid)
@@ -582,11 +596,15 @@ void drawInspectorPanel(EditorState& s, const Rect& area) {
         } else {
             ImGui::TextDisabled("        painted shell: no exact reference");
         }
-        ImGui::Text("CoM     %.4f %.4f %.4f m", t.centerOfMass.x(), t.centerOfMass.y(), t.centerOfMass.z());
-        ImGui::Text("        exact %.4f %.4f %.4f (|d| %.2e m)", e.centerOfMass.x(), e.centerOfMass.y(),
-                    e.centerOfMass.z(), (t.centerOfMass - e.centerOfMass).norm());
-        ImGui::Text("Inertia diag %.4g %.4g %.4g kg m2", t.inertia(0, 0), t.inertia(1, 1), t.inertia(2, 2));
-        ImGui::Text("        rel. difference %.2e", (t.inertia - e.inertia).norm() / std::max(e.inertia.norm(), 1e-300));
+        ImGui::Text("CoM     %.4f %.4f %.4f m", t.centerOfMass.x(), t.centerOfMass.y(),
+                    t.centerOfMass.z());
+        ImGui::Text("        exact %.4f %.4f %.4f (|d| %.2e m)", e.centerOfMass.x(),
+                    e.centerOfMass.y(), e.centerOfMass.z(),
+                    (t.centerOfMass - e.centerOfMass).norm());
+        ImGui::Text("Inertia diag %.4g %.4g %.4g kg m2", t.inertia(0, 0), t.inertia(1, 1),
+                    t.inertia(2, 2));
+        ImGui::Text("        rel. difference %.2e",
+                    (t.inertia - e.inertia).norm() / std::max(e.inertia.norm(), 1e-300));
     }
     ImGui::End();
 }

@@ -127,8 +127,8 @@ bool drawLayerList(EditorState& s, std::size_t body, const LayerStack& stack, in
         ImGui::SameLine();
         const std::string label = layer.name + "  (" + layerKindName(layer.kind) + ", " +
                                   blendModeName(layer.blend) + ", " +
-                                  std::to_string(static_cast<int>(layer.opacity * 100 + 0.5f)) + "%" +
-                                  (layer.mask ? ", mask" : "") + ")";
+                                  std::to_string(static_cast<int>(layer.opacity * 100 + 0.5f)) +
+                                  "%" + (layer.mask ? ", mask" : "") + ")";
         if (rename.layer == i) {
             if (renameField(s, i, stack)) renameNow = true;
             ImGui::PopID();
@@ -159,19 +159,21 @@ void drawActiveLayerSettings(EditorState& s, std::size_t body, const MapLayer& l
     int blend = static_cast<int>(layer.blend);
     ImGui::SetNextItemWidth(width * 0.3f);
     // Picking the mode the layer already has changes nothing: no step in the history.
-    if (ImGui::Combo("Blend", &blend, "normal\0multiply\0add\0subtract\0screen\0lighten\0darken\0") &&
+    if (ImGui::Combo("Blend", &blend,
+                     "normal\0multiply\0add\0subtract\0screen\0lighten\0darken\0") &&
         blend != static_cast<int>(layer.blend)) {
         LayerEdit e;
         e.blend = static_cast<BlendMode>(blend);
         s.execute(makeSetLayerCommand(*s.document, body, s.channel, active, e));
     }
-    tooltip("How the layer meets what is below it: normal replaces, multiply scales, add and\n"
-            "subtract offset, screen brightens, lighten and darken keep the larger or smaller.");
+    tooltip(
+        "How the layer meets what is below it: normal replaces, multiply scales, add and\n"
+        "subtract offset, screen brightens, lighten and darken keep the larger or smaller.");
     ImGui::SameLine();
     LayerSliders& held = s.layerSliders;
     // A 0..1 slider that shows the value while held and edits the layer once let go.
-    auto slider = [&](const char* label, const char* help, const char* format, float current, bool& isHeld,
-                      float& heldValue, std::optional<double> LayerEdit::*field) {
+    auto slider = [&](const char* label, const char* help, const char* format, float current,
+                      bool& isHeld, float& heldValue, std::optional<double> LayerEdit::*field) {
         float value = isHeld ? heldValue : current;
         ImGui::SetNextItemWidth(width * 0.3f);
         ImGui::SliderFloat(label, &value, 0.0f, 1.0f, format);
@@ -184,9 +186,11 @@ void drawActiveLayerSettings(EditorState& s, std::size_t body, const MapLayer& l
             s.execute(makeSetLayerCommand(*s.document, body, s.channel, active, e));
         }
     };
-    slider("Opacity", "How much of the layer shows over what is below it (Ctrl+click to type).", "%.2f", layer.opacity, held.opacityHeld, held.opacity, &LayerEdit::opacity);
+    slider("Opacity", "How much of the layer shows over what is below it (Ctrl+click to type).",
+           "%.2f", layer.opacity, held.opacityHeld, held.opacity, &LayerEdit::opacity);
     if (layer.kind == LayerKind::Fill) {
-        slider("Fill value", "The one value the fill layer holds, 0 to 1 (Ctrl+click to type).", "%.3f", layer.fillValue, held.fillHeld, held.fill, &LayerEdit::fillValue);
+        slider("Fill value", "The one value the fill layer holds, 0 to 1 (Ctrl+click to type).",
+               "%.3f", layer.fillValue, held.fillHeld, held.fill, &LayerEdit::fillValue);
     }
     if (!layer.mask) {
         if (ImGui::Button("Add mask")) {
@@ -197,13 +201,15 @@ void drawActiveLayerSettings(EditorState& s, std::size_t body, const MapLayer& l
                 s.paintMask = true;
             }
         }
-        tooltip("A mask for the layer: paint it to show (white) or hide (black) the layer in places.");
+        tooltip(
+            "A mask for the layer: paint it to show (white) or hide (black) the layer in places.");
     } else {
         ImGui::Checkbox("Paint the mask", &s.paintMask);
         tooltip("Strokes and fills change the mask (1 shows the layer, 0 hides it).");
         ImGui::SameLine();
         if (ImGui::Button("Remove mask")) {
-            if (s.execute(makeRemoveMaskCommand(*s.document, body, s.channel, active))) s.paintMask = false;
+            if (s.execute(makeRemoveMaskCommand(*s.document, body, s.channel, active)))
+                s.paintMask = false;
         }
         tooltip("Removes the mask: the whole layer shows again.");
     }

@@ -19,7 +19,8 @@ std::optional<Box> coverage(const ImDrawList& list) {
         if (cmd.UserCallback) return std::nullopt;
         Box c;
         for (unsigned i = 0; i < cmd.ElemCount; ++i) {
-            const unsigned index = cmd.VtxOffset + list.IdxBuffer[static_cast<int>(cmd.IdxOffset + i)];
+            const unsigned index =
+                cmd.VtxOffset + list.IdxBuffer[static_cast<int>(cmd.IdxOffset + i)];
             const ImVec2 p = list.VtxBuffer[static_cast<int>(index)].pos;
             c.x0 = std::min(c.x0, p.x);
             c.y0 = std::min(c.y0, p.y);
@@ -39,8 +40,12 @@ std::optional<Box> coverage(const ImDrawList& list) {
     return box;
 }
 
-bool within(const Box& b, const ImVec4& r) { return b.x0 >= r.x && b.y0 >= r.y && b.x1 <= r.z && b.y1 <= r.w; }
-bool meets(const Box& b, const ImVec4& r) { return b.x0 < r.z && r.x < b.x1 && b.y0 < r.w && r.y < b.y1; }
+bool within(const Box& b, const ImVec4& r) {
+    return b.x0 >= r.x && b.y0 >= r.y && b.x1 <= r.z && b.y1 <= r.w;
+}
+bool meets(const Box& b, const ImVec4& r) {
+    return b.x0 < r.z && r.x < b.x1 && b.y0 < r.w && r.y < b.y1;
+}
 
 template <class T>
 void append(std::vector<std::uint8_t>& out, const T* data, std::size_t count) {
@@ -112,13 +117,14 @@ void PanelCache::render(ImDrawData& data, const ImVec4& column, const ImVec4& ba
     // Built in a buffer kept between frames: the key is some 100 kB a frame.
     std::vector<std::uint8_t>& key = key_;
     key.clear();
-    const float head[] = {region.x0, region.y0, region.x1, region.y1,
-                          background.x, background.y, background.z, background.w,
-                          data.DisplaySize.x, data.DisplaySize.y, scale.x, scale.y};
+    const float head[] = {region.x0,          region.y0,          region.x1,    region.y1,
+                          background.x,       background.y,       background.z, background.w,
+                          data.DisplaySize.x, data.DisplaySize.y, scale.x,      scale.y};
     append(key, head, std::size(head));
     for (int i = 0; i <= lastInColumn; ++i) {
         const Box& box = boxes[static_cast<std::size_t>(i)];
-        if (!inColumn[static_cast<std::size_t>(i)] && (box.empty() || !meets(box, regionInDisplay))) continue;
+        if (!inColumn[static_cast<std::size_t>(i)] && (box.empty() || !meets(box, regionInDisplay)))
+            continue;
         const ImDrawList* list = data.CmdLists[i];
         const int sizes[] = {i, list->VtxBuffer.Size, list->IdxBuffer.Size, list->CmdBuffer.Size};
         append(key, sizes, std::size(sizes));
@@ -128,8 +134,8 @@ void PanelCache::render(ImDrawData& data, const ImVec4& column, const ImVec4& ba
             const std::optional<std::uint64_t> version = textureVersion(cmd.TextureId);
             if (!version) return drawAll();
             append(key, &cmd.ClipRect, 1);
-            const std::uint64_t numbers[] = {reinterpret_cast<std::uintptr_t>(cmd.TextureId), *version,
-                                             cmd.VtxOffset, cmd.IdxOffset, cmd.ElemCount};
+            const std::uint64_t numbers[] = {reinterpret_cast<std::uintptr_t>(cmd.TextureId),
+                                             *version, cmd.VtxOffset, cmd.IdxOffset, cmd.ElemCount};
             append(key, numbers, std::size(numbers));
         }
     }

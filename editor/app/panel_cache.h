@@ -48,8 +48,10 @@ public:
 
     /// Where a list draws: its pixels' box in display coordinates (empty: nowhere).
     struct Box {
-        float x0 = std::numeric_limits<float>::infinity(), y0 = std::numeric_limits<float>::infinity();
-        float x1 = -std::numeric_limits<float>::infinity(), y1 = -std::numeric_limits<float>::infinity();
+        float x0 = std::numeric_limits<float>::infinity(),
+              y0 = std::numeric_limits<float>::infinity();
+        float x1 = -std::numeric_limits<float>::infinity(),
+              y1 = -std::numeric_limits<float>::infinity();
         bool empty() const { return !(x0 < x1 && y0 < y1); }
     };
 

@@ -20,7 +20,7 @@ namespace plimsoll::editor {
 namespace {
 
 struct PlotGroup {
-    std::string title;                 ///< window title
+    std::string title;  ///< window title
     std::vector<const PlotSeries*> series;
 };
 
@@ -31,15 +31,20 @@ std::vector<PlotGroup> groupsOf(const PreviewHistory& history, const std::string
                                   {"Forces: " + body, {}},
                                   {"Water per node: " + body, {}}};
     auto ends = [](const std::string& name, const std::string& tail) {
-        return name.size() >= tail.size() && name.compare(name.size() - tail.size(), tail.size(), tail) == 0;
+        return name.size() >= tail.size() &&
+               name.compare(name.size() - tail.size(), tail.size(), tail) == 0;
     };
     for (const PlotSeries& s : history.series) {
         if (s.name.rfind(body + " ", 0) != 0) continue;
         const std::string what = s.name.substr(body.size() + 1);
-        if (what == "submerged volume") groups[0].series.push_back(&s);
-        else if (what == "heel" || what == "trim") groups[1].series.push_back(&s);
-        else if (what == "weight" || what == "buoyancy" || what == "drag") groups[2].series.push_back(&s);
-        else if (what.rfind("water ", 0) == 0 || ends(what, " water")) groups[3].series.push_back(&s);
+        if (what == "submerged volume")
+            groups[0].series.push_back(&s);
+        else if (what == "heel" || what == "trim")
+            groups[1].series.push_back(&s);
+        else if (what == "weight" || what == "buoyancy" || what == "drag")
+            groups[2].series.push_back(&s);
+        else if (what.rfind("water ", 0) == 0 || ends(what, " water"))
+            groups[3].series.push_back(&s);
     }
     groups.erase(std::remove_if(groups.begin(), groups.end(),
                                 [](const PlotGroup& g) { return g.series.empty(); }),
@@ -70,12 +75,15 @@ void drawPlotPanels(EditorState& s) {
             // Stacked down the right edge of the view, each below the one above as it is this
             // frame (an opened one pushes the rest down), until the user moves it.
             const bool stacked = !p.plotsMoved.contains(group.title);
-            if (stacked) ImGui::SetNextWindowPos(ImVec2(s.viewport.x + s.viewport.w - 330, y), ImGuiCond_Always);
+            if (stacked)
+                ImGui::SetNextWindowPos(ImVec2(s.viewport.x + s.viewport.w - 330, y),
+                                        ImGuiCond_Always);
             ImGui::SetNextWindowSize(ImVec2(320, 0), ImGuiCond_FirstUseEver);
             ImGui::SetNextWindowCollapsed(true, ImGuiCond_FirstUseEver);  // title bars first
             const bool open = ImGui::Begin(group.title.c_str());
             openWhenTitleClicked();
-            if (ImGui::GetCurrentContext()->MovingWindow == ImGui::GetCurrentWindow() && ImGui::IsMouseDragging(0)) {
+            if (ImGui::GetCurrentContext()->MovingWindow == ImGui::GetCurrentWindow() &&
+                ImGui::IsMouseDragging(0)) {
                 p.plotsMoved.insert(group.title);
             }
             if (stacked) y += ImGui::GetWindowHeight() + 4;
@@ -91,15 +99,18 @@ void drawPlotPanels(EditorState& s) {
             // window whose height fits its content.
             const float plotWidth = std::max(120.0f, ImGui::GetContentRegionAvail().x);
             for (const PlotSeries* series : group.series) {
-                for (std::size_t k = 0; k < shown; ++k) values[k] = float(series->values[rows - shown + k]);
+                for (std::size_t k = 0; k < shown; ++k)
+                    values[k] = float(series->values[rows - shown + k]);
                 char overlay[128];
-                std::snprintf(overlay, sizeof overlay, "%s %.4g %s", series->name.c_str() + body.size() + 1,
-                              series->values.back(), series->unit.c_str());
-                ImGui::PlotLines(("##" + series->name).c_str(), values.data(), int(shown), 0, overlay,
-                                 FLT_MAX, FLT_MAX, ImVec2(plotWidth, 60));
+                std::snprintf(overlay, sizeof overlay, "%s %.4g %s",
+                              series->name.c_str() + body.size() + 1, series->values.back(),
+                              series->unit.c_str());
+                ImGui::PlotLines(("##" + series->name).c_str(), values.data(), int(shown), 0,
+                                 overlay, FLT_MAX, FLT_MAX, ImVec2(plotWidth, 60));
             }
             const bool exportCsv = ImGui::Button("Export CSV");
-            tooltip("Writes these series, one row per frame, to a CSV file in the project's folder.");
+            tooltip(
+                "Writes these series, one row per frame, to a CSV file in the project's folder.");
             if (exportCsv) {
                 std::vector<std::string> names;
                 for (const PlotSeries* series : group.series) names.push_back(series->name);
@@ -112,7 +123,8 @@ void drawPlotPanels(EditorState& s) {
                 s.status = p.plotStatus;
             }
             ImGui::SameLine();
-            ImGui::TextDisabled("%zu rows, t = %.1f..%.1f s", rows, history.time.front(), history.time.back());
+            ImGui::TextDisabled("%zu rows, t = %.1f..%.1f s", rows, history.time.front(),
+                                history.time.back());
             ImGui::End();
         }
     }

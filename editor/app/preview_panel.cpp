@@ -114,8 +114,8 @@ void updatePreview(EditorState& s, double wallSeconds) {
         if (check) {
             std::snprintf(line, sizeof line,
                           "%s: texture %.6g m^3, exact %.6g m^3, error %+.3g m^3 (%+.3f %%)",
-                          session.world().bodies()[body].name.c_str(), check->texture,
-                          check->exact, check->error, 100.0 * check->relativeError);
+                          session.world().bodies()[body].name.c_str(), check->texture, check->exact,
+                          check->error, 100.0 * check->relativeError);
             p.lastCheck = line;
         } else {
             p.lastCheck = check.error().message;
@@ -153,15 +153,18 @@ bool editWater(WaterModel& water) {
             ImGui::PushID(static_cast<int>(i));
             ImGui::Text("wave %zu", i + 1);
             float a = float(w.amplitude), l = float(w.wavelength), q = float(w.steepness);
-            if (ImGui::SliderFloat("amplitude (m)", &a, 0.0f, 2.0f)) w.amplitude = a, changed = true;
+            if (ImGui::SliderFloat("amplitude (m)", &a, 0.0f, 2.0f))
+                w.amplitude = a, changed = true;
             tooltip("Half the wave's height from trough to crest, metres.");
-            if (ImGui::SliderFloat("wavelength (m)", &l, 0.5f, 100.0f, "%.2f", ImGuiSliderFlags_Logarithmic)) {
+            if (ImGui::SliderFloat("wavelength (m)", &l, 0.5f, 100.0f, "%.2f",
+                                   ImGuiSliderFlags_Logarithmic)) {
                 w.wavelength = l;
                 changed = true;
             }
             tooltip("Crest to crest, metres; the period follows from deep-water dispersion.");
             if (ImGui::SliderFloat("steepness", &q, 0.0f, 1.0f)) w.steepness = q, changed = true;
-            tooltip("Gerstner's Q: 0 is a sine wave, 1 sharp crests (above 1 the surface would loop).");
+            tooltip(
+                "Gerstner's Q: 0 is a sine wave, 1 sharp crests (above 1 the surface would loop).");
             ImGui::PopID();
         }
         if (ImGui::SmallButton("add wave")) {
@@ -193,22 +196,25 @@ void drawTextureSizeChoice(PreviewSession& session) {
             std::snprintf(label, sizeof label, size == baking ? "%d^2 (baking)" : "%d^2", size);
             if (ImGui::Selectable(label, size == running) && size != baking) {
                 // The running size again: just stop the bake of another.
-                if (size == running) session.cancelRebuild();
-                else session.requestTextureSize(size);
+                if (size == running)
+                    session.cancelRebuild();
+                else
+                    session.requestTextureSize(size);
             }
         }
         ImGui::EndCombo();
     }
     if (ImGui::IsItemHovered()) {
-        ImGui::SetTooltip("Texels per side of the physics textures the preview simulates with. A new "
-                          "size is baked in the background; the current one runs until it is ready.");
+        ImGui::SetTooltip(
+            "Texels per side of the physics textures the preview simulates with. A new "
+            "size is baked in the background; the current one runs until it is ready.");
     }
     if (baking > 0) {
         char overlay[48];
         std::snprintf(overlay, sizeof overlay, "baking %d^2: %.0f %%", baking,
                       100.0 * session.rebuildProgress());
-        ImGui::ProgressBar(static_cast<float>(session.rebuildProgress()),
-                           ImVec2(-70.0f, 0.0f), overlay);
+        ImGui::ProgressBar(static_cast<float>(session.rebuildProgress()), ImVec2(-70.0f, 0.0f),
+                           overlay);
         ImGui::SameLine();
         if (ImGui::Button("Cancel")) session.cancelRebuild();
         tooltip("Stops the bake; the preview keeps its current size.");
@@ -243,13 +249,15 @@ void drawPreviewPanel(EditorState& s) {
     }
     ImGui::SetNextWindowSize(ImVec2(340, 0), ImGuiCond_FirstUseEver);
     const bool expanded = ImGui::Begin("Live preview", &p.open);
-    if (ImGui::GetCurrentContext()->MovingWindow == ImGui::GetCurrentWindow() && ImGui::IsMouseDragging(0)) {
+    if (ImGui::GetCurrentContext()->MovingWindow == ImGui::GetCurrentWindow() &&
+        ImGui::IsMouseDragging(0)) {
         p.anchored = false;
     }
     keepInsideView(s.viewport);
     // Its rectangle, folded to its title bar or not: the view's legend moves out from under it.
     const ImVec2 at = ImGui::GetWindowPos(), size = ImGui::GetWindowSize();
-    s.previewWindow = Eigen::AlignedBox2f(Eigen::Vector2f(at.x, at.y), Eigen::Vector2f(at.x + size.x, at.y + size.y));
+    s.previewWindow = Eigen::AlignedBox2f(Eigen::Vector2f(at.x, at.y),
+                                          Eigen::Vector2f(at.x + size.x, at.y + size.y));
     if (!expanded) {
         ImGui::End();
         return;
@@ -260,8 +268,11 @@ void drawPreviewPanel(EditorState& s) {
         for (int i = 1; i < 4; ++i) {
             if (p.device == devices[i]) device = i;
         }
-        if (ImGui::Combo("device", &device, devices, 4)) p.device = device == 0 ? "" : devices[device];
-        tooltip("Where the buoyancy is computed: the default device, the reference code, the CPU or the GPU");
+        if (ImGui::Combo("device", &device, devices, 4))
+            p.device = device == 0 ? "" : devices[device];
+        tooltip(
+            "Where the buoyancy is computed: the default device, the reference code, the CPU or "
+            "the GPU");
         if (ImGui::Button("Start")) startPreview(s, true);
         tooltip("Simulate the project as it is now, unsaved edits included (P)");
         if (!p.error.empty()) ImGui::TextWrapped("%s", p.error.c_str());
@@ -296,7 +307,8 @@ void drawPreviewPanel(EditorState& s) {
     ImGui::SameLine();
     ImGui::Text("t = %.2f s", session.world().time());
     float scale = static_cast<float>(session.timeScale());
-    if (ImGui::SliderFloat("time scale", &scale, 0.05f, 4.0f, "%.2fx", ImGuiSliderFlags_Logarithmic)) {
+    if (ImGui::SliderFloat("time scale", &scale, 0.05f, 4.0f, "%.2fx",
+                           ImGuiSliderFlags_Logarithmic)) {
         session.setTimeScale(scale);
     }
     tooltip("Simulated seconds per wall-clock second");
@@ -329,13 +341,15 @@ void drawPreviewPanel(EditorState& s) {
                     t.frameMs, t.subSteps);
         ImGui::Text("bodies %zu, texels %zu (texture %d^2)", session.world().bodies().size(),
                     session.coveredTexels(), session.textureSize());
-        if (t.droppedFrames > 0) ImGui::Text("behind real time: %d frames dropped", t.droppedFrames);
+        if (t.droppedFrames > 0)
+            ImGui::Text("behind real time: %d frames dropped", t.droppedFrames);
         ImGui::TextWrapped("submerged volume vs exact (flat water at the mean level): %s",
                            p.lastCheck.c_str());
     }
     if (ImGui::CollapsingHeader("Show")) {
         ImGui::Checkbox("forces", &p.showForces);
-        tooltip("Weight (red, at the centre of mass) and buoyancy (green, at the centre of buoyancy)");
+        tooltip(
+            "Weight (red, at the centre of mass) and buoyancy (green, at the centre of buoyancy)");
         ImGui::SameLine();
         ImGui::Checkbox("waterline", &p.showWaterline);
         tooltip("Where the water surface cuts the hull");
@@ -417,7 +431,8 @@ bool previewInput(EditorState& s) {
     grabDrag = {true, world};
     // A painter with the Brush up learns why the drag pulled instead of painting.
     if (s.tool != Tool::Navigate) {
-        s.status = "The live preview is running: the left mouse pulls the body. Stop it (P) to paint";
+        s.status =
+            "The live preview is running: the left mouse pulls the body. Stop it (P) to paint";
     }
     return true;
 }
@@ -429,7 +444,8 @@ void drawPreviewOverlay(EditorState& s) {
     PreviewUi& p = *s.preview;
     PreviewSession& session = *p.session;
     ImDrawList* draw = ImGui::GetForegroundDrawList();
-    const ImVec2 lo(s.viewport.x, s.viewport.y), hi(s.viewport.x + s.viewport.w, s.viewport.y + s.viewport.h);
+    const ImVec2 lo(s.viewport.x, s.viewport.y),
+        hi(s.viewport.x + s.viewport.w, s.viewport.y + s.viewport.h);
     draw->PushClipRect(lo, hi, true);
     const int w = static_cast<int>(s.viewport.w), h = static_cast<int>(s.viewport.h);
     auto screen = [&](const Eigen::Vector3d& world) -> std::optional<ImVec2> {
@@ -468,10 +484,12 @@ void drawPreviewOverlay(EditorState& s) {
                 if (length > 1.0f) {
                     const float ux = dx / length, uy = dy / length,
                                 head = std::min(10.0f + thickness, 0.4f * length);
-                    draw->AddTriangleFilled(
-                        *b, ImVec2(b->x - ux * head - uy * head * 0.5f, b->y - uy * head + ux * head * 0.5f),
-                        ImVec2(b->x - ux * head + uy * head * 0.5f, b->y - uy * head - ux * head * 0.5f),
-                        colour);
+                    draw->AddTriangleFilled(*b,
+                                            ImVec2(b->x - ux * head - uy * head * 0.5f,
+                                                   b->y - uy * head + ux * head * 0.5f),
+                                            ImVec2(b->x - ux * head + uy * head * 0.5f,
+                                                   b->y - uy * head - ux * head * 0.5f),
+                                            colour);
                 }
                 draw->AddCircleFilled(*a, thickness, colour);
             }
@@ -499,10 +517,12 @@ void drawPreviewOverlay(EditorState& s) {
         const ImVec2 textSize = ImGui::CalcTextSize(text);
         const Eigen::Vector2f size(textSize.x + 8, textSize.y + 4);  // with its backing's margin
         const Eigen::AlignedBox2f avoid[] = {s.previewWindow, s.legendBox};
-        const Eigen::Vector2f place = overlayPlace(s.viewport.box(), size, avoid, ViewCorner::LowerRight);
+        const Eigen::Vector2f place =
+            overlayPlace(s.viewport.box(), size, avoid, ViewCorner::LowerRight);
         const ImVec2 at(place.x() + 4, place.y() + 2);
         ImDrawList* behind = ImGui::GetBackgroundDrawList();
-        behind->AddRectFilled(ImVec2(place.x(), place.y()), ImVec2(place.x() + size.x(), place.y() + size.y()),
+        behind->AddRectFilled(ImVec2(place.x(), place.y()),
+                              ImVec2(place.x() + size.x(), place.y() + size.y()),
                               IM_COL32(0, 0, 0, 140));
         behind->AddText(at, IM_COL32(230, 230, 230, 255), text);
     }
@@ -516,7 +536,8 @@ void applyPreviewToScene(EditorState& s, RenderScene& scene) {
     const World& world = p.session->world();
     scene.time = world.time();
     scene.water = s.showWater ? &world.scene().water : nullptr;
-    if (p.followBody && s.selectedBody >= 0 && static_cast<std::size_t>(s.selectedBody) < world.bodies().size()) {
+    if (p.followBody && s.selectedBody >= 0 &&
+        static_cast<std::size_t>(s.selectedBody) < world.bodies().size()) {
         // Before the scene is drawn: the camera looks at where the body is this frame.
         s.camera.target = world.bodies()[static_cast<std::size_t>(s.selectedBody)].state.position;
     }
@@ -536,16 +557,16 @@ void applyPreviewToScene(EditorState& s, RenderScene& scene) {
                 // Other textures: their samples found on a worker, from a copy of where the
                 // covered texels are (the world may be swapped again meanwhile).
                 wet.findingKey = key;
-                wet.finding = std::async(std::launch::async,
-                                         [size = body.textures.size, index = body.textures.texelIndex] {
-                                             lowerThisThreadsPriority();
-                                             return wetTexelSamples(size, index);
-                                         });
+                wet.finding = std::async(std::launch::async, [size = body.textures.size,
+                                                              index = body.textures.texelIndex] {
+                    lowerThisThreadsPriority();
+                    return wetTexelSamples(size, index);
+                });
             }
             // Until they arrive the last image stays (a frame or two; none at the start).
             if (wet.ready.key == key && wet.ready.shown > 0) {
-                s.renderer->setOverlay(slot, wetTexelOverlay(body, world.scene().water, world.time(),
-                                                             wet.ready));
+                s.renderer->setOverlay(
+                    slot, wetTexelOverlay(body, world.scene().water, world.time(), wet.ready));
             }
             if (s.renderer->overlayTexture(slot)) scene.bodies[b].overlay = slot;
         }
@@ -568,7 +589,8 @@ nlohmann::json previewReport(const EditorState& s) {
     const ForceOverlay overlay = buildForceOverlay(world, none);
     nlohmann::json arrows = nlohmann::json::array();
     for (const OverlayArrow& a : overlay.arrows) {
-        arrows.push_back({{"from", vec(a.from)}, {"to", vec(a.to)},
+        arrows.push_back({{"from", vec(a.from)},
+                          {"to", vec(a.to)},
                           {"colour", {a.colour.x(), a.colour.y(), a.colour.z()}}});
     }
     out["arrows"] = arrows;
@@ -581,8 +603,9 @@ nlohmann::json previewReport(const EditorState& s) {
     }
     out["bodies"] = bodies;
     const Camera& c = s.camera;
-    out["camera"] = {{"target", vec(c.target)}, {"yaw", c.yaw},         {"pitch", c.pitch},
-                     {"distance", c.distance},  {"fov_y", c.fovY},      {"orthographic", c.orthographic}};
+    out["camera"] = {{"target", vec(c.target)}, {"yaw", c.yaw},
+                     {"pitch", c.pitch},        {"distance", c.distance},
+                     {"fov_y", c.fovY},         {"orthographic", c.orthographic}};
     return out;
 }
 

@@ -26,9 +26,9 @@ struct GrabDrag {
 
 struct PreviewUi {
     std::unique_ptr<PreviewSession> session;
-    bool open = false;            ///< the preview window is shown
-    std::string device;           ///< createBuoyancyBackend spec ("": the default device)
-    std::string error;            ///< why the session could not start or stopped
+    bool open = false;   ///< the preview window is shown
+    std::string device;  ///< createBuoyancyBackend spec ("": the default device)
+    std::string error;   ///< why the session could not start or stopped
     /// Scripted runs (--frames): one simulated frame per drawn frame, whatever the wall clock,
     /// so that a screenshot at frame N shows simulated time N * timeStep.
     bool fixedStep = false;
@@ -45,12 +45,12 @@ struct PreviewUi {
     bool showPerformance = true, showPlots = true;
     /// The camera's target stays on the selected body's centre of mass (C toggles it).
     bool followBody = false;
-    int integrator = 1;           ///< index into the panel's integrator list
-    std::string lastCheck;        ///< the volume-error line shown
-    double lastCheckTime = -1;    ///< simulated time it was computed at
-    double uiFrameMs = 0;         ///< the window's last frame, wall clock
-    std::vector<char> plotted;    ///< per history series: shown in the plot windows
-    std::string plotStatus;       ///< last CSV export result
+    int integrator = 1;         ///< index into the panel's integrator list
+    std::string lastCheck;      ///< the volume-error line shown
+    double lastCheckTime = -1;  ///< simulated time it was computed at
+    double uiFrameMs = 0;       ///< the window's last frame, wall clock
+    std::vector<char> plotted;  ///< per history series: shown in the plot windows
+    std::string plotStatus;     ///< last CSV export result
     unsigned overlayGeneration = 0;
     GrabDrag grabDrag;
     /// The window sits in the view's lower-left corner, growing upward, until the user drags

@@ -25,18 +25,22 @@ void drawUvPanel(EditorState& s, const Rect& area) {
     const float side = std::max(16.0f, std::min(avail.x, avail.y));
     const ImVec2 p0 = ImGui::GetCursorScreenPos();
     const ImVec2 p1(p0.x + side, p0.y + side);
-    ImGui::InvisibleButton("uv", ImVec2(side, side), ImGuiButtonFlags_MouseButtonLeft |
-                                                         ImGuiButtonFlags_MouseButtonMiddle);
-    tooltip("The map over the mesh's UV layout. Wheel: zoom at the cursor; middle mouse: pan; "
-            "double-click: the whole square. With the Brush, left mouse paints here too.");
+    ImGui::InvisibleButton("uv", ImVec2(side, side),
+                           ImGuiButtonFlags_MouseButtonLeft | ImGuiButtonFlags_MouseButtonMiddle);
+    tooltip(
+        "The map over the mesh's UV layout. Wheel: zoom at the cursor; middle mouse: pan; "
+        "double-click: the whole square. With the Brush, left mouse paints here too.");
     const bool hovered = ImGui::IsItemHovered();
     // Under an open menu the wheel and the middle mouse still reach the view (the menu closes).
-    const bool underMenu = !hovered && ImGui::IsItemHovered(ImGuiHoveredFlags_AllowWhenBlockedByPopup) &&
+    const bool underMenu = !hovered &&
+                           ImGui::IsItemHovered(ImGuiHoveredFlags_AllowWhenBlockedByPopup) &&
                            ImGui::IsPopupOpen("", ImGuiPopupFlags_AnyPopupId);
     const ImGuiIO& io = ImGui::GetIO();
-    if (underMenu && (io.MouseWheel != 0 || ImGui::IsMouseClicked(ImGuiMouseButton_Middle))) closeMenus();
+    if (underMenu && (io.MouseWheel != 0 || ImGui::IsMouseClicked(ImGuiMouseButton_Middle)))
+        closeMenus();
     // A middle drag that starts here pans until the button is let go, wherever the mouse goes.
-    if ((hovered || underMenu) && ImGui::IsMouseClicked(ImGuiMouseButton_Middle)) s.uvPanning = true;
+    if ((hovered || underMenu) && ImGui::IsMouseClicked(ImGuiMouseButton_Middle))
+        s.uvPanning = true;
     if (!ImGui::IsMouseDown(ImGuiMouseButton_Middle)) s.uvPanning = false;
     // The window onto uv space: uv (u, v) is at p0 + ((u - left) scale, (top - v) scale),
     // v upward as the textures' row 0 is v = 0.
@@ -77,7 +81,8 @@ void drawUvPanel(EditorState& s, const Rect& area) {
     // The triangles' edges: drawn once into a texture (thousands of ImGui lines cost more
     // than the whole 3D view on a software rasteriser), at the view's size (up to 2048: 16 MB).
     const int wireSize = std::clamp(static_cast<int>(scale + 0.5f), 64, 2048);
-    if (const unsigned wire = s.renderer->uvWireframeTexture(s.document->assets(b).mesh, wireSize)) {
+    if (const unsigned wire =
+            s.renderer->uvWireframeTexture(s.document->assets(b).mesh, wireSize)) {
         draw->AddImage(reinterpret_cast<ImTextureID>(static_cast<intptr_t>(wire)), q0, q1,
                        ImVec2(0, 1), ImVec2(1, 0));
     }

@@ -20,8 +20,7 @@ namespace plimsoll::editor {
 namespace {
 
 void addStrokePoint(EditorState& s, const Eigen::Vector3d& p) {
-    if (!s.stroke.points.empty() &&
-        (p - s.stroke.points.back()).norm() < s.brush.radius * 0.25) {
+    if (!s.stroke.points.empty() && (p - s.stroke.points.back()).norm() < s.brush.radius * 0.25) {
         return;
     }
     s.stroke.points.push_back(p);
@@ -35,7 +34,8 @@ void orientAlpha(EditorState& s, std::size_t body) {
     const auto& pose = s.document->bodyPose(body);
     s.brush.alphaAxis = pose.rotation.transpose() * -s.camera.forward();
     s.brush.eye.reset();
-    if (!s.camera.orthographic) s.brush.eye = pose.rotation.transpose() * (s.camera.eye() - pose.translation);
+    if (!s.camera.orthographic)
+        s.brush.eye = pose.rotation.transpose() * (s.camera.eye() - pose.translation);
 }
 
 /// Shift-click: a straight line on screen from the last stroke's end to the cursor, picked on
@@ -55,7 +55,8 @@ void lineStroke(EditorState& s, const Eigen::Vector2d& to) {
     }
     if (points.size() < 2) return;
     orientAlpha(s, body);
-    if (s.execute(makeStrokeCommand(*s.document, body, s.channel, s.brush, points, s.paintTarget()))) {
+    if (s.execute(
+            makeStrokeCommand(*s.document, body, s.channel, s.brush, points, s.paintTarget()))) {
         s.lastStrokeEnd = {body, points.back()};
         s.lastStrokePoints = points.size();
     }
@@ -79,9 +80,10 @@ void endRadialControl(EditorState& s, bool keep) {
     if (!keep) {
         (s.radialControl->strength ? s.brush.strength : s.brush.radius) = s.radialControl->start;
     }
-    s.status = keep ? (s.radialControl->strength ? "Brush strength " + std::to_string(s.brush.strength)
-                                                 : "Brush radius " + std::to_string(s.brush.radius) + " m")
-                    : std::string("Brush unchanged");
+    s.status =
+        keep ? (s.radialControl->strength ? "Brush strength " + std::to_string(s.brush.strength)
+                                          : "Brush radius " + std::to_string(s.brush.radius) + " m")
+             : std::string("Brush unchanged");
     s.radialControl.reset();
 }
 
@@ -91,10 +93,13 @@ bool radialControlInput(EditorState& s) {
     if (!s.radialControl) return false;
     const ImGuiIO& io = ImGui::GetIO();
     if (ImGui::IsMousePosValid(&io.MousePos)) {
-        (s.radialControl->strength ? s.brush.strength : s.brush.radius) = radialValue(*s.radialControl, io.MousePos);
+        (s.radialControl->strength ? s.brush.strength : s.brush.radius) =
+            radialValue(*s.radialControl, io.MousePos);
     }
-    if (ImGui::IsMouseClicked(0)) endRadialControl(s, true);
-    else if (ImGui::IsMouseClicked(1)) endRadialControl(s, false);
+    if (ImGui::IsMouseClicked(0))
+        endRadialControl(s, true);
+    else if (ImGui::IsMouseClicked(1))
+        endRadialControl(s, false);
     return true;
 }
 
@@ -102,17 +107,22 @@ bool radialControlInput(EditorState& s) {
 
 bool radialControlKey(EditorState& s, int key, bool shift) {
     if (s.radialControl) {
-        if (key == GLFW_KEY_ENTER || key == GLFW_KEY_KP_ENTER) endRadialControl(s, true);
-        else if (key == GLFW_KEY_ESCAPE) endRadialControl(s, false);
-        else return false;
+        if (key == GLFW_KEY_ENTER || key == GLFW_KEY_KP_ENTER)
+            endRadialControl(s, true);
+        else if (key == GLFW_KEY_ESCAPE)
+            endRadialControl(s, false);
+        else
+            return false;
         return true;
     }
     // F in paint mode (the Brush, no preview grabbing the mouse); elsewhere F frames.
-    if (key != GLFW_KEY_F || s.tool != Tool::Brush || (s.preview && s.preview->session)) return false;
+    if (key != GLFW_KEY_F || s.tool != Tool::Brush || (s.preview && s.preview->session))
+        return false;
     const ImGuiIO& io = ImGui::GetIO();
-    const Eigen::Vector2d mouse = ImGui::IsMousePosValid(&io.MousePos)
-                                      ? Eigen::Vector2d(io.MousePos.x, io.MousePos.y)
-                                      : Eigen::Vector2d(s.viewport.x + s.viewport.w / 2, s.viewport.y + s.viewport.h / 2);
+    const Eigen::Vector2d mouse =
+        ImGui::IsMousePosValid(&io.MousePos)
+            ? Eigen::Vector2d(io.MousePos.x, io.MousePos.y)
+            : Eigen::Vector2d(s.viewport.x + s.viewport.w / 2, s.viewport.y + s.viewport.h / 2);
     EditorState::RadialControl control;
     control.strength = shift;
     control.start = shift ? s.brush.strength : s.brush.radius;
@@ -131,7 +141,8 @@ void viewportInput(EditorState& s) {
     const bool hovered = s.viewport.contains(mouse.x, mouse.y) && !io.WantCaptureMouse;
     // Under an open menu the wheel and the middle mouse still reach the view (the menu closes).
     const bool underMenu = !hovered && s.viewport.contains(mouse.x, mouse.y) &&
-                           ImGui::IsPopupOpen("", ImGuiPopupFlags_AnyPopupId) && mouseOverNoWindow();
+                           ImGui::IsPopupOpen("", ImGuiPopupFlags_AnyPopupId) &&
+                           mouseOverNoWindow();
     if (underMenu && (io.MouseWheel != 0 || ImGui::IsMouseClicked(2))) closeMenus();
     const bool navHovered = hovered || underMenu;
     const double dx = io.MouseDelta.x / std::max(1.0f, s.viewport.h);
@@ -145,8 +156,9 @@ void viewportInput(EditorState& s) {
     // Navigation.
     const bool orbitButton = ImGui::IsMouseDown(2) || (io.KeyAlt && ImGui::IsMouseDown(0)) ||
                              (s.tool == Tool::Navigate && ImGui::IsMouseDown(0));
-    if ((hovered || (navHovered && ImGui::IsMouseClicked(2))) && (ImGui::IsMouseClicked(2) || ImGui::IsMouseClicked(1) ||
-                    (ImGui::IsMouseClicked(0) && (io.KeyAlt || s.tool == Tool::Navigate)))) {
+    if ((hovered || (navHovered && ImGui::IsMouseClicked(2))) &&
+        (ImGui::IsMouseClicked(2) || ImGui::IsMouseClicked(1) ||
+         (ImGui::IsMouseClicked(0) && (io.KeyAlt || s.tool == Tool::Navigate)))) {
         navigating = true;
     }
     if (navigating) {
@@ -232,18 +244,20 @@ void drawViewportOverlay(EditorState& s) {
     drawGraphOverlay(s);
     // The overlay's legend, bottom left of the view (clear of the Live preview window): what the
     // colours mean, with units.
-    const BodyDesc* selected = s.selectedBody >= 0 &&
-                                       static_cast<std::size_t>(s.selectedBody) < s.document->bodyCount()
-                                   ? &s.document->project().bodies[static_cast<std::size_t>(s.selectedBody)]
-                                   : nullptr;
+    const BodyDesc* selected =
+        s.selectedBody >= 0 && static_cast<std::size_t>(s.selectedBody) < s.document->bodyCount()
+            ? &s.document->project().bodies[static_cast<std::size_t>(s.selectedBody)]
+            : nullptr;
     const OverlayLegend legend = overlayLegend(s.overlay, selected);
     s.legendBox.setEmpty();
     if (!legend.meaning.empty()) {
         constexpr float kRampWidth = 160;
         const float textWidth = ImGui::CalcTextSize(legend.meaning.c_str()).x;
-        const Eigen::Vector2f size(legend.ramp ? std::max(textWidth, kRampWidth) : textWidth,
-                                   legend.ramp ? 34 + ImGui::GetTextLineHeight() : ImGui::GetTextLineHeight());
-        const Eigen::Vector2f place = overlayPlace(s.viewport.box(), size, {&s.previewWindow, 1}, ViewCorner::LowerLeft);
+        const Eigen::Vector2f size(
+            legend.ramp ? std::max(textWidth, kRampWidth) : textWidth,
+            legend.ramp ? 34 + ImGui::GetTextLineHeight() : ImGui::GetTextLineHeight());
+        const Eigen::Vector2f place =
+            overlayPlace(s.viewport.box(), size, {&s.previewWindow, 1}, ViewCorner::LowerLeft);
         s.legendBox = Eigen::AlignedBox2f(place, place + size);
         const float x = place.x(), y = place.y();
         const ImU32 white = IM_COL32(230, 230, 230, 255);
@@ -271,9 +285,13 @@ void drawViewportOverlay(EditorState& s) {
         draw->AddCircleFilled(centre, 3.0f, IM_COL32(255, 255, 255, 220));
         char text[96];
         if (s.radialControl->strength) {
-            std::snprintf(text, sizeof text, "Strength %.3f  (click / Enter: keep, Esc / right: cancel)", s.brush.strength);
+            std::snprintf(text, sizeof text,
+                          "Strength %.3f  (click / Enter: keep, Esc / right: cancel)",
+                          s.brush.strength);
         } else {
-            std::snprintf(text, sizeof text, "Radius %.4g m  (click / Enter: keep, Esc / right: cancel)", s.brush.radius);
+            std::snprintf(text, sizeof text,
+                          "Radius %.4g m  (click / Enter: keep, Esc / right: cancel)",
+                          s.brush.radius);
         }
         draw->AddText(ImVec2(centre.x - 40, centre.y + 8), IM_COL32(255, 255, 255, 230), text);
         return;
@@ -289,7 +307,8 @@ void drawViewportOverlay(EditorState& s) {
     if (s.tool == Tool::Brush) {
         if (const auto surface = s.pickSurface(mouse.x, mouse.y)) {
             const Eigen::Vector3d n = surface->normal;
-            const Eigen::Vector3d helper = std::abs(n.y()) < 0.9 ? Eigen::Vector3d::UnitY() : Eigen::Vector3d::UnitX();
+            const Eigen::Vector3d helper =
+                std::abs(n.y()) < 0.9 ? Eigen::Vector3d::UnitY() : Eigen::Vector3d::UnitX();
             const Eigen::Vector3d u = helper.cross(n).normalized(), v = n.cross(u);
             const ImVec2 offset(s.viewport.x, s.viewport.y);
             constexpr int kSegments = 48;
@@ -297,15 +316,19 @@ void drawViewportOverlay(EditorState& s) {
             int shown = 0;
             for (int k = 0; k < kSegments; ++k) {
                 const double t = 2.0 * std::numbers::pi * k / kSegments;
-                const Eigen::Vector3d p = surface->point + s.brush.radius * (std::cos(t) * u + std::sin(t) * v);
+                const Eigen::Vector3d p =
+                    surface->point + s.brush.radius * (std::cos(t) * u + std::sin(t) * v);
                 if (const auto px = s.camera.toPixel(p, int(s.viewport.w), int(s.viewport.h))) {
                     ring[shown++] = ImVec2(offset.x + float(px->x()), offset.y + float(px->y()));
                 }
             }
-            if (shown == kSegments) draw->AddPolyline(ring, kSegments, IM_COL32(255, 255, 255, 200), ImDrawFlags_Closed, 1.5f);
-            const auto base = s.camera.toPixel(surface->point, int(s.viewport.w), int(s.viewport.h));
-            const auto tip = s.camera.toPixel(surface->point + n * s.brush.radius * 0.5, int(s.viewport.w),
-                                              int(s.viewport.h));
+            if (shown == kSegments)
+                draw->AddPolyline(ring, kSegments, IM_COL32(255, 255, 255, 200), ImDrawFlags_Closed,
+                                  1.5f);
+            const auto base =
+                s.camera.toPixel(surface->point, int(s.viewport.w), int(s.viewport.h));
+            const auto tip = s.camera.toPixel(surface->point + n * s.brush.radius * 0.5,
+                                              int(s.viewport.w), int(s.viewport.h));
             if (base && tip) {
                 draw->AddLine(ImVec2(offset.x + float(base->x()), offset.y + float(base->y())),
                               ImVec2(offset.x + float(tip->x()), offset.y + float(tip->y())),
@@ -327,8 +350,9 @@ void drawViewportOverlay(EditorState& s) {
     readout += "\n" + surfacePointPhysics(*s.document, hit->first, hit->second, s.waterTime);
     // Right of the cursor, or left of it where it would run under the panels.
     const float textWidth = ImGui::CalcTextSize(readout.c_str()).x;
-    const float x = mouse.x + 16 + textWidth > s.viewport.x + s.viewport.w ? mouse.x - 16 - textWidth
-                                                                            : mouse.x + 16;
+    const float x = mouse.x + 16 + textWidth > s.viewport.x + s.viewport.w
+                        ? mouse.x - 16 - textWidth
+                        : mouse.x + 16;
     draw->AddText(ImVec2(x, mouse.y + 14), IM_COL32(255, 255, 255, 230), readout.c_str());
 }
 

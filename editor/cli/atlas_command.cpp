@@ -55,10 +55,10 @@ int runGenerate(const GenerateOptions& o) {
     if (o.json) {
         std::cout << reportJson(out) << "\n";
     } else {
-        std::cout << o.mesh << ": " << atlas->chartCount << " charts, "
-                  << 100.0 * atlas->uvCoverage << "% of a " << o.settings.textureSize << "^2 texture, "
-                  << "uv area spread " << report.uvAreaSpread << ", " << seconds << " s; written to "
-                  << o.out << "\n";
+        std::cout << o.mesh << ": " << atlas->chartCount << " charts, " << 100.0 * atlas->uvCoverage
+                  << "% of a " << o.settings.textureSize << "^2 texture, "
+                  << "uv area spread " << report.uvAreaSpread << ", " << seconds
+                  << " s; written to " << o.out << "\n";
     }
     return kExitOk;
 }
@@ -90,8 +90,8 @@ int runTransfer(const TransferOptions& o) {
         std::cerr << "error: " << s.error().message << "\n";
         return kExitFailure;
     }
-    std::cout << o.map << " -> " << o.out << " (" << width << " x " << height << ", over "
-              << o.to << "'s UVs)\n";
+    std::cout << o.map << " -> " << o.out << " (" << width << " x " << height << ", over " << o.to
+              << "'s UVs)\n";
     return kExitOk;
 }
 
@@ -106,8 +106,11 @@ void addAtlasCommand(CLI::App& root, CommandRunner& selected) {
     CLI::App* g = atlas->add_subcommand(
         "generate", "Generate a physics atlas (charts without folds, packed with gutters)");
     g->add_option("MESH", generate->mesh, "Mesh file (its own UVs are ignored)")->required();
-    g->add_option("--out", generate->out, "The mesh with the atlas as its UVs (OBJ)")->required()->check(kNonEmptyPath);
-    g->add_option("--size", generate->settings.textureSize, "Texels per side the atlas is packed for")
+    g->add_option("--out", generate->out, "The mesh with the atlas as its UVs (OBJ)")
+        ->required()
+        ->check(kNonEmptyPath);
+    g->add_option("--size", generate->settings.textureSize,
+                  "Texels per side the atlas is packed for")
         ->check(CLI::Range(kMinTextureSize, kMaxTextureSize))
         ->capture_default_str();
     g->add_option("--gutter", generate->settings.gutterTexels, "Empty texels between charts")
@@ -118,21 +121,26 @@ void addAtlasCommand(CLI::App& root, CommandRunner& selected) {
         ->check(CLI::Range(1.0, 89.0))
         ->capture_default_str();
     g->add_flag("--json", generate->json, "Print the result as one JSON object");
-    g->callback([generate, &selected] { selected = [generate] { return runGenerate(*generate); }; });
+    g->callback(
+        [generate, &selected] { selected = [generate] { return runGenerate(*generate); }; });
 
     auto transfer = std::make_shared<TransferOptions>();
     CLI::App* t = atlas->add_subcommand(
-        "transfer-map", "Resample a painted map from one UV layout onto another through the surface");
+        "transfer-map",
+        "Resample a painted map from one UV layout onto another through the surface");
     t->add_option("MAP", transfer->map, "Painted map (8/16-bit PNG) over --from's UVs")->required();
     t->add_option("--from", transfer->from, "Mesh whose UVs the map is painted over")->required();
     t->add_option("--to", transfer->to, "Mesh (the same surface, other UVs) to move it onto")
         ->required();
-    t->add_option("--out", transfer->out, "The moved map (16-bit PNG)")->required()->check(kNonEmptyPath);
+    t->add_option("--out", transfer->out, "The moved map (16-bit PNG)")
+        ->required()
+        ->check(kNonEmptyPath);
     t->add_option("--width", transfer->width, "Width of the result (default: the map's)")
         ->check(CLI::Range(1, 16384));
     t->add_option("--height", transfer->height, "Height of the result (default: the map's)")
         ->check(CLI::Range(1, 16384));
-    t->callback([transfer, &selected] { selected = [transfer] { return runTransfer(*transfer); }; });
+    t->callback(
+        [transfer, &selected] { selected = [transfer] { return runTransfer(*transfer); }; });
 }
 
 }  // namespace plimsoll::cli

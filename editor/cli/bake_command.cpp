@@ -96,7 +96,9 @@ void addBakeCommand(CLI::App& root, CommandRunner& selected) {
     auto options = std::make_shared<BakeCommandOptions>();
     CLI::App* cmd = root.add_subcommand(
         "bake", "Bake position, area-vector and coverage textures (float32 EXR + manifest.json)");
-    cmd->add_option("MESH", options->mesh, "Mesh file (closed; its UVs, or a generated atlas: see --atlas)")->required();
+    cmd->add_option("MESH", options->mesh,
+                    "Mesh file (closed; its UVs, or a generated atlas: see --atlas)")
+        ->required();
     CLI::Option* size = addBakeOptions(*cmd, options->bake);
     cmd->add_option(
            "--tolerance", options->tolerance,
@@ -105,7 +107,9 @@ void addBakeCommand(CLI::App& root, CommandRunner& selected) {
         ->check(kFinitePositive & CLI::Range(0.0, 1.0))
         ->excludes(size);
     addUnitOption(*cmd, options->bake.unitScale);
-    cmd->add_option("--out", options->out, "Output folder (created if missing)")->required()->check(kNonEmptyPath);
+    cmd->add_option("--out", options->out, "Output folder (created if missing)")
+        ->required()
+        ->check(kNonEmptyPath);
     cmd->callback([options, &selected] { selected = [options] { return runBake(*options); }; });
 }
 

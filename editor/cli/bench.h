@@ -29,10 +29,10 @@ struct BenchOptions {
     // --realtime filters (RealtimeBenchOptions).
     std::vector<std::string> scenarios, methods, meshes;
     std::vector<int> bodies;
-    bool radiation = false;    ///< only radiation's cost per step (bench_radiation.cpp)
+    bool radiation = false;             ///< only radiation's cost per step (bench_radiation.cpp)
     std::string projects = "projects";  ///< --radiation: the sample projects' folder
-    bool fleet = false;        ///< only the runtime's fleet table (bench_fleet.cpp)
-    bool scene = false;        ///< only the World's cost of many bodies (bench_scene.cpp)
+    bool fleet = false;                 ///< only the runtime's fleet table (bench_fleet.cpp)
+    bool scene = false;                 ///< only the World's cost of many bodies (bench_scene.cpp)
     std::string fleetProject = "projects/damaged_boat.plim.json";
 };
 

@@ -102,7 +102,7 @@ struct Baked {
     SurfaceTextures textures;
     double bakeMs = 0;
     Eigen::Vector3d centerOfMass = Eigen::Vector3d::Zero();
-    double boundingRadius = 0;  ///< farthest vertex from centerOfMass, m
+    double boundingRadius = 0;          ///< farthest vertex from centerOfMass, m
     std::vector<BuoyancyResult> exact;  ///< one per sweep pose
 };
 
@@ -188,13 +188,13 @@ enum class RowKind { Texture, Exact, Batch };
 struct AccuracyRow {
     RowKind kind = RowKind::Texture;
     std::string mesh;
-    std::string device;      ///< Device::label, or "exact (C++)"
+    std::string device;  ///< Device::label, or "exact (C++)"
     std::string deviceName;
-    int size = 0;            ///< texels per side; 0 for the exact method
+    int size = 0;  ///< texels per side; 0 for the exact method
     int bodies = 1;
     std::size_t entries = 0;  ///< texel entries per frame, all bodies together
     std::optional<double> bakeMs;
-    Spread frame;            ///< ms per frame (evaluate's wall clock)
+    Spread frame;                                ///< ms per frame (evaluate's wall clock)
     std::optional<double> kernelMs, transferMs;  ///< medians, from the device's profiling events
     std::optional<double> reduceMs;              ///< of kernelMs, the per-body sums (median)
     std::optional<double> bandwidthShare;        ///< of the measured copy bandwidth
@@ -256,7 +256,8 @@ const OpenClOptions kTimedDevice{.deviceTimings = true};
 /// One body on one device: the accuracy sweep, then the timed frames cycling through it.
 Result<AccuracyRow> measureTexture(const BenchMesh& m, const Baked& b, const Device& device,
                                    int frames) {
-    Result<std::unique_ptr<BuoyancyBackend>> created = createBuoyancyBackend(device.spec, nullptr, kTimedDevice);
+    Result<std::unique_ptr<BuoyancyBackend>> created =
+        createBuoyancyBackend(device.spec, nullptr, kTimedDevice);
     if (!created) return created.error();
     BuoyancyBackend& backend = **created;
     const std::size_t body = backend.addBody(b.textures, b.centerOfMass);
@@ -273,8 +274,7 @@ Result<AccuracyRow> measureTexture(const BenchMesh& m, const Baked& b, const Dev
 
     const FrameFunction run = [&](int f) -> Result<FrameTimings> {
         BuoyancyResult result;
-        if (Status s = evaluatePose(m.sweep[f % m.sweep.size()], result); !s.ok())
-            return s.error();
+        if (Status s = evaluatePose(m.sweep[f % m.sweep.size()], result); !s.ok()) return s.error();
         return backend.lastTimings();
     };
     if (Status s = timeFrames(frames, run, &device, row); !s.ok()) return s.error();
@@ -306,7 +306,8 @@ AccuracyRow measureExact(const BenchMesh& m, int frames) {
 /// sweep (the water level moved into the pose, as all bodies share one water).
 Result<AccuracyRow> measureBatch(const BenchMesh& m, const Baked& b, const Device& device,
                                  int frames) {
-    Result<std::unique_ptr<BuoyancyBackend>> created = createBuoyancyBackend(device.spec, nullptr, kTimedDevice);
+    Result<std::unique_ptr<BuoyancyBackend>> created =
+        createBuoyancyBackend(device.spec, nullptr, kTimedDevice);
     if (!created) return created.error();
     BuoyancyBackend& backend = **created;
     for (int i = 0; i < kBatchBodies; ++i) backend.addBody(b.textures, b.centerOfMass);
@@ -366,9 +367,12 @@ std::string format(const char* spec, const std::optional<double>& value) {
 
 const char* kindName(RowKind kind) {
     switch (kind) {
-        case RowKind::Texture: return "texture";
-        case RowKind::Exact: return "exact";
-        case RowKind::Batch: return "batch";
+        case RowKind::Texture:
+            return "texture";
+        case RowKind::Exact:
+            return "exact";
+        case RowKind::Batch:
+            return "batch";
     }
     return "";
 }
@@ -401,10 +405,10 @@ std::vector<std::string> tableCells(const AccuracyRow& r) {
 }
 
 void printTable(const std::vector<AccuracyRow>& rows) {
-    const std::vector<std::string> header = {
-        "mesh",    "device",   "N",          "entries",       "bake ms",
-        "frame ms", "p10 ms",  "p90 ms",     "kernel ms",     "of which sums", "transfer ms",
-        "% bw",    "vol err",  "cob err",    "torque err"};
+    const std::vector<std::string> header = {"mesh",      "device",        "N",           "entries",
+                                             "bake ms",   "frame ms",      "p10 ms",      "p90 ms",
+                                             "kernel ms", "of which sums", "transfer ms", "% bw",
+                                             "vol err",   "cob err",       "torque err"};
     std::vector<std::vector<std::string>> lines = {header};
     for (const AccuracyRow& r : rows) lines.push_back(tableCells(r));
     printAligned(lines, 2);
@@ -423,7 +427,8 @@ std::string csvNumber(const char* spec, const std::optional<double>& value) {
 
 bool writeCsv(const std::vector<AccuracyRow>& rows, std::ostream& out) {
     out << "kind,mesh,device,device_name,size,bodies,entries,bake_ms,frame_median_ms,"
-           "frame_p10_ms,frame_p90_ms,kernel_ms,reduce_ms,transfer_ms,bandwidth_fraction,volume_error,"
+           "frame_p10_ms,frame_p90_ms,kernel_ms,reduce_ms,transfer_ms,bandwidth_fraction,volume_"
+           "error,"
            "cob_error,torque_error\n";
     for (const AccuracyRow& r : rows) {
         const std::optional<Errors>& e = r.errors;
@@ -437,9 +442,9 @@ bool writeCsv(const std::vector<AccuracyRow>& rows, std::ostream& out) {
             << csvNumber("%.6g", r.bakeMs) << ',' << format("%.6g", r.frame.median) << ','
             << format("%.6g", r.frame.p10) << ',' << format("%.6g", r.frame.p90) << ','
             << csvNumber("%.6g", r.kernelMs) << ',' << csvNumber("%.6g", r.reduceMs) << ','
-            << csvNumber("%.6g", r.transferMs) << ','
-            << csvNumber("%.6g", r.bandwidthShare) << ',' << error(&Errors::volume) << ','
-            << error(&Errors::centerOfBuoyancy) << ',' << error(&Errors::torque) << '\n';
+            << csvNumber("%.6g", r.transferMs) << ',' << csvNumber("%.6g", r.bandwidthShare) << ','
+            << error(&Errors::volume) << ',' << error(&Errors::centerOfBuoyancy) << ','
+            << error(&Errors::torque) << '\n';
     }
     return static_cast<bool>(out);
 }
@@ -470,8 +475,7 @@ void reportRow(const AccuracyRow& r) {
     const std::vector<std::string> c = tableCells(r);
     std::cerr << "bench: " << r.mesh << " " << r.device
               << (r.kind == RowKind::Exact ? "" : " N=" + c[2]) << ": " << c[5] << " ms/frame";
-    if (r.errors)
-        std::cerr << ", errors vol " << c[11] << " cob " << c[12] << " torque " << c[13];
+    if (r.errors) std::cerr << ", errors vol " << c[11] << " cob " << c[12] << " torque " << c[13];
     std::cerr << "\n";
 }
 
@@ -486,8 +490,8 @@ int runAccuracyBench(const BenchOptions& o) {
     if (!o.sizesGiven) {
         sizes = o.quick ? std::vector<int>{32, 64, 128, 256}
                         : std::vector<int>{32, 64, 128, 256, 512, 1024, 2048};
-        if (!o.quick && std::any_of(devices.begin(), devices.end(),
-                                    [](const Device& d) { return d.isGpu; }))
+        if (!o.quick &&
+            std::any_of(devices.begin(), devices.end(), [](const Device& d) { return d.isGpu; }))
             sizes.push_back(4096);
     }
 
@@ -515,8 +519,8 @@ int runAccuracyBench(const BenchOptions& o) {
             Result<Baked> baked = bake(m, size);
             if (!baked) return fail(baked.error());
             std::cerr << "bench: baked " << m.name << " " << size << "^2 in "
-                      << format("%.1f", baked->bakeMs) << " ms, "
-                      << baked->textures.coveredCount() << " entries\n";
+                      << format("%.1f", baked->bakeMs) << " ms, " << baked->textures.coveredCount()
+                      << " entries\n";
             bakes.push_back(std::move(*baked));
         }
         for (const Device& device : devices) {
@@ -544,16 +548,16 @@ int runAccuracyBench(const BenchOptions& o) {
 
     for (const Device& d : devices) {
         std::cout << d.label << ": " << d.name;
-        if (d.bandwidthGBs) std::cout << ", copy bandwidth " << format("%.1f", *d.bandwidthGBs)
-                                      << " GB/s";
+        if (d.bandwidthGBs)
+            std::cout << ", copy bandwidth " << format("%.1f", *d.bandwidthGBs) << " GB/s";
         std::cout << "\n";
     }
     for (const BenchMesh& m : meshes)
-        std::cout << m.name << ": " << m.mesh.triangleCount() << " triangles, V = "
-                  << format("%.6g", m.exact.volume) << "\n";
+        std::cout << m.name << ": " << m.mesh.triangleCount()
+                  << " triangles, V = " << format("%.6g", m.exact.volume) << "\n";
     std::cout << frames << " frames per row after " << kWarmupFrames << " warm-up; errors: "
-              << "largest over " << meshes.front().sweep.size()
-              << " poses (3 orientations x " << kSweepLevels << " water levels)\n\n";
+              << "largest over " << meshes.front().sweep.size() << " poses (3 orientations x "
+              << kSweepLevels << " water levels)\n\n";
     printTable(rows);
 
     if (!createOutputFolder(o.out)) return kExitFailure;

@@ -14,8 +14,9 @@ namespace plimsoll::cli {
 void addBenchCommand(CLI::App& root, CommandRunner& selected) {
     auto o = std::make_shared<BenchOptions>();
     CLI::App* cmd = root.add_subcommand(
-        "bench", "Speed against accuracy: time per frame and error against the exact method, "
-                 "per texture size and compute device");
+        "bench",
+        "Speed against accuracy: time per frame and error against the exact method, "
+        "per texture size and compute device");
     CLI::Option* sizes =
         cmd->add_option("--sizes", o->sizes,
                         "Texture sizes, comma separated (default 32,64,...,2048, and 4096 when "
@@ -25,7 +26,10 @@ void addBenchCommand(CLI::App& root, CommandRunner& selected) {
     cmd->add_option("--frames", o->frames,
                     "Timed frames per row, after 5 warm-up frames (default 50, 10 with --quick)")
         ->check(kFinitePositive);
-    cmd->add_option("--out", o->out, "Folder for bench.csv and bench.svg (bench_integrators.csv with --integrators)")->capture_default_str()->check(kNonEmptyPath);
+    cmd->add_option("--out", o->out,
+                    "Folder for bench.csv and bench.svg (bench_integrators.csv with --integrators)")
+        ->capture_default_str()
+        ->check(kNonEmptyPath);
     cmd->add_option("--mesh", o->mesh,
                     "Mesh with UVs benchmarked beside the sample sphere (skipped when absent)")
         ->capture_default_str();

@@ -36,8 +36,8 @@ using Clock = std::chrono::steady_clock;
 // frame: World's stability sub-stepping (max_phase_step) is turned off, or it would shrink the
 // long steps until every integrator looked alike.
 
-constexpr double kIntegratorLift = 0.05;          ///< m above equilibrium at the start
-constexpr double kIntegratorRollDegrees = 5.0;    ///< about x at the start
+constexpr double kIntegratorLift = 0.05;        ///< m above equilibrium at the start
+constexpr double kIntegratorRollDegrees = 5.0;  ///< about x at the start
 constexpr int kIntegratorTextureSize = 64;
 constexpr double kIntegratorSeconds = 30.0;
 constexpr double kIntegratorQuickSeconds = 5.0;
@@ -84,15 +84,15 @@ Result<std::unique_ptr<World>> createIntegratorWorld(const SceneBody& box, Integ
 
 struct IntegratorRow {
     Integrator integrator = Integrator::SemiImplicitEuler;
-    int rate = 0;              ///< dt = 1 / rate s, the project's frame time step
-    long frames = 0;           ///< taken: fewer than planned when the state stopped being finite
+    int rate = 0;     ///< dt = 1 / rate s, the project's frame time step
+    long frames = 0;  ///< taken: fewer than planned when the state stopped being finite
     /// Integration steps World took (WorldStatistics::steps): one a frame, as the scene turns
     /// World's stability sub-stepping off; checked, since it would hide the integrator's step.
     std::size_t steps = 0;
-    double finalDrift = 0;     ///< (E_end - E_0) / (E_0 - E_eq)
-    double maxDrift = 0;       ///< largest |E(t) - E_0| / (E_0 - E_eq) over the run
-    double usPerStep = 0;      ///< wall clock of advanceFrame, microseconds per integration step
-    double finalVelocityY = 0; ///< vertical velocity of the centre of mass at the end, m/s
+    double finalDrift = 0;      ///< (E_end - E_0) / (E_0 - E_eq)
+    double maxDrift = 0;        ///< largest |E(t) - E_0| / (E_0 - E_eq) over the run
+    double usPerStep = 0;       ///< wall clock of advanceFrame, microseconds per integration step
+    double finalVelocityY = 0;  ///< vertical velocity of the centre of mass at the end, m/s
 
     double dt() const { return 1.0 / rate; }
     /// The step actually integrated (s): dt unless World sub-stepped.
@@ -120,8 +120,9 @@ Result<IntegratorRow> measureIntegrator(const SceneBody& box, Integrator integra
     const double start = world.mechanicalEnergy(0);
     const double excess = start - restEnergy;
     if (!(excess > 0)) {
-        return makeError(ErrorKind::invalidArgument, "bench: the displaced box has no energy above equilibrium (" +
-                         format("%.6g", excess) + " J)");
+        return makeError(ErrorKind::invalidArgument,
+                         "bench: the displaced box has no energy above equilibrium (" +
+                             format("%.6g", excess) + " J)");
     }
     IntegratorRow row;
     row.integrator = integrator;
@@ -158,20 +159,16 @@ std::string finiteCell(const char* spec, double value) {
 }
 
 std::vector<std::string> integratorCells(const IntegratorRow& r) {
-    return {integratorName(r.integrator),
-            rateCell(r.rate),
-            std::to_string(r.steps),
-            format("%.3e", r.integratedStep()),
-            finiteCell("%+.3e", r.finalDrift),
-            finiteCell("%.3e", r.maxDrift),
-            format("%.2f", r.usPerStep),
-            finiteCell("%+.4f", r.finalVelocityY)};
+    return {integratorName(r.integrator),      rateCell(r.rate),
+            std::to_string(r.steps),           format("%.3e", r.integratedStep()),
+            finiteCell("%+.3e", r.finalDrift), finiteCell("%.3e", r.maxDrift),
+            format("%.2f", r.usPerStep),       finiteCell("%+.4f", r.finalVelocityY)};
 }
 
 void printIntegratorTable(const std::vector<IntegratorRow>& rows) {
-    std::vector<std::vector<std::string>> lines = {
-        {"integrator", "dt (s)", "steps", "step (s)", "final drift", "max |drift|", "us/step",
-         "final vy (m/s)"}};
+    std::vector<std::vector<std::string>> lines = {{"integrator", "dt (s)", "steps", "step (s)",
+                                                    "final drift", "max |drift|", "us/step",
+                                                    "final vy (m/s)"}};
     for (const IntegratorRow& r : rows) lines.push_back(integratorCells(r));
     printAligned(lines, 2);
 }
@@ -185,7 +182,8 @@ bool writeIntegratorCsv(const std::vector<IntegratorRow>& rows, std::ostream& ou
            "final_vy_m_s,diverged\n";
     for (const IntegratorRow& r : rows) {
         out << integratorName(r.integrator) << ',' << format("%.17g", r.dt()) << ',' << r.frames
-            << ',' << r.steps << ',' << format("%.9e", r.integratedStep()) << ',' << number("%.9e", r.finalDrift) << ',' << number("%.9e", r.maxDrift) << ','
+            << ',' << r.steps << ',' << format("%.9e", r.integratedStep()) << ','
+            << number("%.9e", r.finalDrift) << ',' << number("%.9e", r.maxDrift) << ','
             << format("%.6g", r.usPerStep) << ',' << number("%.9e", r.finalVelocityY) << ','
             << (r.diverged() ? 1 : 0) << '\n';
     }
@@ -216,8 +214,8 @@ int runIntegratorBench(const BenchOptions& o) {
     std::vector<IntegratorRow> rows;
     for (Integrator integrator : kIntegrators) {
         for (int rate : kIntegratorRates) {
-            Result<IntegratorRow> row = measureIntegrator(*box, integrator, rate, seconds,
-                                                          restEnergy);
+            Result<IntegratorRow> row =
+                measureIntegrator(*box, integrator, rate, seconds, restEnergy);
             if (!row) return fail(row.error());
             const std::vector<std::string> c = integratorCells(*row);
             std::cerr << "bench: " << c[0] << " dt " << c[1] << " s: " << c[2]
@@ -227,11 +225,13 @@ int runIntegratorBench(const BenchOptions& o) {
     }
 
     std::cout << "integrators: box 1 x 0.25 x 0.8 m, density 500, on flat water of 1000, "
-              << kIntegratorTextureSize << "^2 textures, mass " << format("%.6g", floating.mass.mass)
-              << " kg, volume " << format("%.6g", floating.volume) << " m^3\n"
+              << kIntegratorTextureSize << "^2 textures, mass "
+              << format("%.6g", floating.mass.mass) << " kg, volume "
+              << format("%.6g", floating.volume) << " m^3\n"
               << "started " << kIntegratorLift << " m above equilibrium and rolled "
               << kIntegratorRollDegrees << " degrees about x; no drag, friction or damping; "
-              << format("%g", seconds) << " s simulated, sub_steps 1 (max_phase_step off), reference backend\n"
+              << format("%g", seconds)
+              << " s simulated, sub_steps 1 (max_phase_step off), reference backend\n"
               << "energy above equilibrium at the start: E_0 - E_eq = "
               << format("%.6g", startEnergy - restEnergy)
               << " J; drift = (E - E_0) / (E_0 - E_eq)\n\n";

@@ -60,7 +60,8 @@ std::optional<RadiationRun> runScene(const Scene& scene, double seconds) {
         run.finalSpeed = linearVelocity(b.state, b.mass).norm();
         if (run.finalSpeed >= 1e-3) run.settleTime = (*world)->time();
     }
-    run.secondsPerStep = secondsSince(start) / std::max<std::size_t>(1, (*world)->statistics().steps);
+    run.secondsPerStep =
+        secondsSince(start) / std::max<std::size_t>(1, (*world)->statistics().steps);
     return run;
 }
 
@@ -173,14 +174,18 @@ int runRadiationBench(const BenchOptions& o) {
         std::cerr << "error: " << radiation.error().message << "\n";
         return kExitFailure;
     }
-    std::printf("radiation of a 1 m cube of density 250 (%d^2 textures, reference backend): %zu panels, %zu "
-                "frequencies (panel edge %g m) and A_inf in %.3f s\n",
-                desc.textureSize, radiation->panelCount, radiation->coefficients.size(), settings.panelEdge, bakeSeconds);
+    std::printf(
+        "radiation of a 1 m cube of density 250 (%d^2 textures, reference backend): %zu panels, "
+        "%zu "
+        "frequencies (panel edge %g m) and A_inf in %.3f s\n",
+        desc.textureSize, radiation->panelCount, radiation->coefficients.size(), settings.panelEdge,
+        bakeSeconds);
     const auto shared = std::make_shared<const BodyRadiation>(std::move(*radiation));
     body->desc.position = {0, shared->restHeight + 0.35, 0};
     // The quick run only times steps; the full one also waits for both runs to settle.
     const double seconds = o.quick ? 2.0 : 90.0;
-    std::vector<std::vector<std::string>> lines{{"run", "s/step", "settled after (s)", "|v| at end (m/s)"}};
+    std::vector<std::vector<std::string>> lines{
+        {"run", "s/step", "settled after (s)", "|v| at end (m/s)"}};
     std::string csv = "run,seconds_per_step,settle_time_s,final_speed_m_s\n";
     for (const bool on : {false, true}) {
         Scene s = scene;
@@ -192,19 +197,23 @@ int runRadiationBench(const BenchOptions& o) {
         s.bodies.push_back(std::move(b));
         const std::optional<RadiationRun> run = runScene(s, seconds);
         if (!run) return kExitFailure;
-        const char* name = on ? "with radiation (and drag and the stand-in)" : "without (drag and the linear_damping stand-in)";
+        const char* name = on ? "with radiation (and drag and the stand-in)"
+                              : "without (drag and the linear_damping stand-in)";
         const std::string settled = run->settleTime < 0 ? "at once"
-                                    : run->finalSpeed >= 1e-3 ? "not in " + format("%.0f", seconds) + " s"
-                                                              : format("%.2f", run->settleTime);
-        lines.push_back({name, format("%.3g", run->secondsPerStep), settled, format("%.2e", run->finalSpeed)});
-        csv += std::string(on ? "with" : "without") + "," + format("%.6g", run->secondsPerStep) + "," +
-               format("%.6g", run->finalSpeed >= 1e-3 ? -1.0 : run->settleTime) + "," +
+                                    : run->finalSpeed >= 1e-3
+                                        ? "not in " + format("%.0f", seconds) + " s"
+                                        : format("%.2f", run->settleTime);
+        lines.push_back(
+            {name, format("%.3g", run->secondsPerStep), settled, format("%.2e", run->finalSpeed)});
+        csv += std::string(on ? "with" : "without") + "," + format("%.6g", run->secondsPerStep) +
+               "," + format("%.6g", run->finalSpeed >= 1e-3 ? -1.0 : run->settleTime) + "," +
                format("%.6g", run->finalSpeed) + "\n";
     }
     printAligned(lines, 1);
     if (!createOutputFolder(o.out)) return kExitFailure;
     const std::filesystem::path file = std::filesystem::path(o.out) / "bench_radiation.csv";
-    if (Status s = writeFileAtomically(file, [&](std::ostream& out) { return bool(out << csv); }); !s) {
+    if (Status s = writeFileAtomically(file, [&](std::ostream& out) { return bool(out << csv); });
+        !s) {
         std::cerr << "error: " << s.error().message << "\n";
         return kExitFailure;
     }

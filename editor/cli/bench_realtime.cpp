@@ -41,30 +41,37 @@ namespace {
 namespace fs = std::filesystem;
 using Clock = std::chrono::steady_clock;
 
-constexpr int kPoses = 24;           ///< distinct poses per scenario, cycled by the timed frames
+constexpr int kPoses = 24;  ///< distinct poses per scenario, cycled by the timed frames
 constexpr int kRealtimeBatchSize = 64;
 
 enum class Scenario { RestFlat, MovingFlat, MovingWaves };
 const char* scenarioName(Scenario s) {
     switch (s) {
-        case Scenario::RestFlat: return "rest, flat";
-        case Scenario::MovingFlat: return "moving, flat";
-        case Scenario::MovingWaves: return "moving, waves";
+        case Scenario::RestFlat:
+            return "rest, flat";
+        case Scenario::MovingFlat:
+            return "moving, flat";
+        case Scenario::MovingWaves:
+            return "moving, waves";
     }
     return "";
 }
 
 const char* scenarioKey(Scenario s) {
     switch (s) {
-        case Scenario::RestFlat: return "rest";
-        case Scenario::MovingFlat: return "moving";
-        case Scenario::MovingWaves: return "waves";
+        case Scenario::RestFlat:
+            return "rest";
+        case Scenario::MovingFlat:
+            return "moving";
+        case Scenario::MovingWaves:
+            return "waves";
     }
     return "";
 }
 
 /// Whether a filter of the command line lets `value` through (an empty filter lets all).
-bool selected(const std::vector<std::string>& filter, const std::string& value, bool prefix = false) {
+bool selected(const std::vector<std::string>& filter, const std::string& value,
+              bool prefix = false) {
     if (filter.empty()) return true;
     return std::any_of(filter.begin(), filter.end(), [&](const std::string& f) {
         return prefix ? value.rfind(f, 0) == 0 : value == f;
@@ -86,10 +93,12 @@ BodyFrame scenarioFrame(Scenario s, const Eigen::Vector3d& centerOfMass, int k) 
     BodyFrame frame;
     frame.centerOfMass = centerOfMass;
     const bool moving = s != Scenario::RestFlat;
-    const Eigen::Vector3d degrees = moving ? Eigen::Vector3d(12 * std::sin(1.3 * t), 25 * t, 8 * std::cos(0.9 * t))
-                                           : Eigen::Vector3d(3, 0, 2);
+    const Eigen::Vector3d degrees =
+        moving ? Eigen::Vector3d(12 * std::sin(1.3 * t), 25 * t, 8 * std::cos(0.9 * t))
+               : Eigen::Vector3d(3, 0, 2);
     frame.pose = Pose::fromEulerDegrees(Eigen::Vector3d::Zero(), degrees);
-    const Eigen::Vector3d center(moving ? 0.4 * t : 0.0, moving ? 0.08 * std::sin(2.1 * t) : 0.0, 0.0);
+    const Eigen::Vector3d center(moving ? 0.4 * t : 0.0, moving ? 0.08 * std::sin(2.1 * t) : 0.0,
+                                 0.0);
     frame.pose.translation = center - frame.pose.rotation * centerOfMass;
     if (moving) {
         frame.motion.linear = {0.4, 0.17 * std::cos(2.1 * t), 0.1};
@@ -140,7 +149,9 @@ struct Answer {
     Eigen::Vector3d force = Eigen::Vector3d::Zero(), torque = Eigen::Vector3d::Zero();
 };
 
-Answer answerOf(const BuoyancyResult& r) { return {r.submergedVolume, r.pressureForce, r.pressureTorque}; }
+Answer answerOf(const BuoyancyResult& r) {
+    return {r.submergedVolume, r.pressureForce, r.pressureTorque};
+}
 
 double errorOf(const std::vector<Answer>& got, const std::vector<Answer>& truth, const Case& c) {
     const double V = c.exact.volume, W = FluidSettings{}.density * FluidSettings{}.gravity * V;
@@ -192,8 +203,8 @@ Answer clipPerTriangle(const TriangleMesh& mesh, const BodyFrame& frame, const W
     water.heights(n, depth.data(), depth.data() + n, frame.time, depth.data() + 2 * n);
     for (std::size_t i = 0; i < n; ++i) depth[i] = depth[2 * n + i] - world[i].y();
     Answer a;
-    auto piece = [&](const Eigen::Vector3d& p0, const Eigen::Vector3d& p1, const Eigen::Vector3d& p2,
-                     double d0, double d1, double d2) {
+    auto piece = [&](const Eigen::Vector3d& p0, const Eigen::Vector3d& p1,
+                     const Eigen::Vector3d& p2, double d0, double d1, double d2) {
         const Eigen::Vector3d area = 0.5 * (p1 - p0).cross(p2 - p0);
         const double mean = (d0 + d1 + d2) / 3.0;
         const Eigen::Vector3d force = -rhoG * mean * area;
@@ -242,7 +253,8 @@ struct Method {
 };
 
 /// The backend a method names: the fast path with its knobs, or createBuoyancyBackend's spec.
-Result<std::unique_ptr<BuoyancyBackend>> backendFor(const Method& m, const FastBackendOptions& fast) {
+Result<std::unique_ptr<BuoyancyBackend>> backendFor(const Method& m,
+                                                    const FastBackendOptions& fast) {
     if (m.spec.empty()) return std::unique_ptr<BuoyancyBackend>(createFastBackend(fast));
     OpenClOptions openCl;
     if (m.waveTolerance >= 0) openCl.waveTolerance = m.waveTolerance;
@@ -293,10 +305,11 @@ void printVerdicts(const std::vector<RealtimeRow>& rows) {
                         best = &r;
                 char part[160];
                 if (best)
-                    std::snprintf(part, sizeof part, " within %.0e the %s%s wins (%.1f us);", tolerance,
-                                  best->method.c_str(),
-                                  best->size ? (" at " + std::to_string(best->size) + "^2").c_str() : "",
-                                  best->usPerBody);
+                    std::snprintf(
+                        part, sizeof part, " within %.0e the %s%s wins (%.1f us);", tolerance,
+                        best->method.c_str(),
+                        best->size ? (" at " + std::to_string(best->size) + "^2").c_str() : "",
+                        best->usPerBody);
                 else
                     std::snprintf(part, sizeof part, " nothing measured reaches %.0e;", tolerance);
                 sentence += part;
@@ -358,7 +371,8 @@ std::vector<Case> realtimeCases(const RealtimeBenchOptions& o) {
         Case c;
         c.mesh = name;
         c.exact = exactSolidMassProperties(mesh, 1.0);
-        for (const auto& p : mesh.positions) c.radius = std::max(c.radius, (p - c.exact.centerOfMass).norm());
+        for (const auto& p : mesh.positions)
+            c.radius = std::max(c.radius, (p - c.exact.centerOfMass).norm());
         c.triangles = std::move(mesh);
         cases.push_back(std::move(c));
     }
@@ -373,7 +387,9 @@ int writeRealtimeOutputs(const RealtimeBenchOptions& o, const std::vector<Realti
     };
     if (!createOutputFolder(o.out)) return kExitFailure;
     const fs::path csv = fs::path(o.out) / "realtime.csv", svg = fs::path(o.out) / "realtime.svg";
-    if (Status st = writeFileAtomically(csv, [&](std::ostream& out) { return writeCsv(rows, out); }); !st.ok())
+    if (Status st =
+            writeFileAtomically(csv, [&](std::ostream& out) { return writeCsv(rows, out); });
+        !st.ok())
         return fail(st.error());
     LogLogPlot plot;
     plot.title = "Plimsoll: error against time per body (one body)";
@@ -381,13 +397,17 @@ int writeRealtimeOutputs(const RealtimeBenchOptions& o, const std::vector<Realti
     plot.yLabel = "largest error (volume, force, torque; relative)";
     for (const RealtimeRow& r : rows) {
         if (r.bodies != 1 || !r.error) continue;
-        const std::string name = std::string(scenarioName(r.scenario)) + ", " + r.mesh + ", " + r.method;
+        const std::string name =
+            std::string(scenarioName(r.scenario)) + ", " + r.mesh + ", " + r.method;
         auto series = std::find_if(plot.series.begin(), plot.series.end(),
                                    [&](const PlotSeries& p) { return p.name == name; });
         if (series == plot.series.end()) series = plot.series.insert(series, {name, {}});
-        series->points.push_back({r.usPerBody, std::max(*r.error, 1e-12), r.size ? std::to_string(r.size) : "mesh"});
+        series->points.push_back(
+            {r.usPerBody, std::max(*r.error, 1e-12), r.size ? std::to_string(r.size) : "mesh"});
     }
-    if (Status st = writeFileAtomically(svg, [&](std::ostream& out) { return writeSvg(plot, out); }); !st.ok())
+    if (Status st =
+            writeFileAtomically(svg, [&](std::ostream& out) { return writeSvg(plot, out); });
+        !st.ok())
         return fail(st.error());
     std::cout << "\nwritten: " << csv.string() << ", " << svg.string() << "\n";
     return kExitOk;

@@ -50,8 +50,8 @@ Result<BuoyancyResult> evaluateTexture(const BuoyancyJob& o, const BodyFrame& fr
     const BodyRequest request{engine.addBody(*textures, centerOfMass), frame, o.fluid};
     BuoyancyResult result;
     for (int pass = 0; pass < 2; ++pass) {
-        const Status s = engine.evaluate({&request, 1}, WaterModel::flat(o.waterLevel),
-                                         {&result, 1});
+        const Status s =
+            engine.evaluate({&request, 1}, WaterModel::flat(o.waterLevel), {&result, 1});
         if (!s) return s.error();
     }
     outcome.deviceName = engine.deviceName();

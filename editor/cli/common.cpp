@@ -30,12 +30,12 @@ CLI::Validator finiteNumber(const char* name, bool (*accept)(double), const char
 }
 }  // namespace
 
-const CLI::Validator kFiniteNumber =
-    finiteNumber("FINITE", [](double) { return true; }, "a finite number");
-const CLI::Validator kFinitePositive =
-    finiteNumber("POSITIVE", [](double v) { return v > 0; }, "a finite number > 0");
-const CLI::Validator kFiniteNonNegative =
-    finiteNumber("NONNEGATIVE", [](double v) { return v >= 0; }, "a finite number >= 0");
+const CLI::Validator kFiniteNumber = finiteNumber(
+    "FINITE", [](double) { return true; }, "a finite number");
+const CLI::Validator kFinitePositive = finiteNumber(
+    "POSITIVE", [](double v) { return v > 0; }, "a finite number > 0");
+const CLI::Validator kFiniteNonNegative = finiteNumber(
+    "NONNEGATIVE", [](double v) { return v >= 0; }, "a finite number >= 0");
 const CLI::Validator kNonEmptyPath(
     [](std::string& text) -> std::string {
         if (text.empty()) return "an empty path (it would mean the current folder)";
@@ -50,8 +50,10 @@ CLI::Option* addUnitOption(CLI::App& command, double& unitScale) {
         [&unitScale](const std::string& text) {
             const std::optional<double> metres = parseLengthUnit(text);
             if (!metres)
-                throw CLI::ValidationError("--unit", "expected m, cm, mm, km, in, ft, yd or metres per "
-                                                     "file unit (a number > 0), got '" + text + "'");
+                throw CLI::ValidationError("--unit",
+                                           "expected m, cm, mm, km, in, ft, yd or metres per "
+                                           "file unit (a number > 0), got '" +
+                                               text + "'");
             unitScale = *metres;
         },
         "Length unit of the file: m, cm, mm, km, in, ft, yd or metres per file unit [the file's "
@@ -76,7 +78,8 @@ Result<PhysicsSolid> solidOrRepair(const TriangleMesh& mesh, const ValidationRep
 }
 
 MeshReport meshReportOf(const MeshFileFacts& facts, const PhysicsSolid& solid) {
-    return {facts, solid.repairs, solid.materialVolume, solid.displacementVolume, hollowSpace(solid.openings)};
+    return {facts, solid.repairs, solid.materialVolume, solid.displacementVolume,
+            hollowSpace(solid.openings)};
 }
 
 /// The value of `result`, or nothing with its error printed on stderr (the command line's way).
@@ -97,7 +100,9 @@ Reporter stderrReporter() {
 nlohmann::json repairsJson(const std::vector<Repair>& repairs) {
     nlohmann::json out = nlohmann::json::array();
     for (const Repair& r : repairs)
-        out.push_back({{"kind", r.kind}, {"count", r.count}, {"volume_change", r.volumeChange},
+        out.push_back({{"kind", r.kind},
+                       {"count", r.count},
+                       {"volume_change", r.volumeChange},
                        {"detail", r.detail}});
     return out;
 }
@@ -140,7 +145,8 @@ Result<BakeableMesh> bakeableMeshOf(const std::string& path, const BakeOptions& 
         return solid.error();
     }
     // A repaired solid has no UVs of its own: its report is the solid's.
-    const ValidationReport report = solid->repairs.empty() ? surfaceReport : validateMesh(solid->mesh);
+    const ValidationReport report =
+        solid->repairs.empty() ? surfaceReport : validateMesh(solid->mesh);
     AtlasSettings atlas;
     atlas.textureSize = options.size;
     atlas.progress = reporter.progressFor("generating a physics atlas");
@@ -150,8 +156,7 @@ Result<BakeableMesh> bakeableMeshOf(const std::string& path, const BakeOptions& 
     ValidationReport shown = choice->generated ? surface : surfaceReport;
     if (!shown.problems.empty()) reporter.note(shown.format());
     if (!choice->notice.empty()) reporter.note("note: " + choice->notice + "\n");
-    return BakeableMesh{std::move(choice->mesh), choice->generated,
-                        meshReportOf(facts, *solid)};
+    return BakeableMesh{std::move(choice->mesh), choice->generated, meshReportOf(facts, *solid)};
 }
 
 std::optional<BakeableMesh> loadMeshForBake(const std::string& path, const BakeOptions& options) {
@@ -180,19 +185,17 @@ std::optional<Eigen::Vector3d> parseVector(const std::string& text) {
 
 CLI::Option* addVectorOption(CLI::App& command, const std::string& name, Eigen::Vector3d& target,
                              const std::string& description) {
-    return command
-        .add_option_function<std::string>(
-            name,
-            [name, &target](const std::string& text) {
-                std::optional<Eigen::Vector3d> v = parseVector(text);
-                if (!v) {
-                    throw CLI::ValidationError(
-                        name, "expected three finite numbers separated by commas, got '" + text +
-                                  "'");
-                }
-                target = *v;
-            },
-            description);
+    return command.add_option_function<std::string>(
+        name,
+        [name, &target](const std::string& text) {
+            std::optional<Eigen::Vector3d> v = parseVector(text);
+            if (!v) {
+                throw CLI::ValidationError(
+                    name, "expected three finite numbers separated by commas, got '" + text + "'");
+            }
+            target = *v;
+        },
+        description);
 }
 
 Result<std::size_t> bodyIndexOf(const Project& project, const std::string& name,
@@ -233,19 +236,18 @@ CLI::Option* addBakeOptions(CLI::App& command, BakeOptions& options) {
                     "texels span more than this many typical texel sides (0 = off)")
         ->check(kFiniteNonNegative)
         ->capture_default_str();
-    command
-        .add_option_function<std::string>(
-            "--atlas",
-            [&options](const std::string& text) {
-                std::optional<AtlasMode> mode = parseAtlasMode(text);
-                if (!mode) {
-                    throw CLI::ValidationError("--atlas", "expected mesh, auto or generate, got '" +
-                                                              text + "'");
-                }
-                options.atlas = *mode;
-            },
-            "UVs to bake: mesh (the mesh's own; refused when not bijective), auto (the mesh's "
-            "when bijective, else generated) or generate (a physics atlas) [auto]");
+    command.add_option_function<std::string>(
+        "--atlas",
+        [&options](const std::string& text) {
+            std::optional<AtlasMode> mode = parseAtlasMode(text);
+            if (!mode) {
+                throw CLI::ValidationError("--atlas",
+                                           "expected mesh, auto or generate, got '" + text + "'");
+            }
+            options.atlas = *mode;
+        },
+        "UVs to bake: mesh (the mesh's own; refused when not bijective), auto (the mesh's "
+        "when bijective, else generated) or generate (a physics atlas) [auto]");
     return command.add_option("--size", options.size, "Texels per side of the bake")
         ->check(CLI::Range(kMinTextureSize, kMaxTextureSize))
         ->capture_default_str();

@@ -108,7 +108,8 @@ ProgressCallback stderrProgress(const std::string& label);
 /// The bake's options, shared by every sub-command that bakes.
 struct BakeOptions {
     int size = 512;
-    double unitScale = 0;  ///< metres per file unit (--unit, where the command has it); 0: the file's
+    double unitScale =
+        0;  ///< metres per file unit (--unit, where the command has it); 0: the file's
     double maxTexelStretch = BakeSettings{}.maxTexelStretch;
     AtlasMode atlas = AtlasMode::Auto;
 };

@@ -38,7 +38,8 @@ int runEdit(const EditOptions& o) {
         launch.project = o.project;
         if (!o.windowSize.empty()) {
             char x = 0;
-            if (std::sscanf(o.windowSize.c_str(), "%d%c%d", &launch.width, &x, &launch.height) != 3 ||
+            if (std::sscanf(o.windowSize.c_str(), "%d%c%d", &launch.width, &x, &launch.height) !=
+                    3 ||
                 x != 'x') {
                 std::cerr << "error: --window-size: expected WxH\n";
                 return kExitUsage;
@@ -106,8 +107,9 @@ void addEditCommand(CLI::App& root, CommandRunner& selected) {
                     "the project is saved afterwards")
         ->check(CLI::ExistingFile);
     cmd->add_option("--save-as", o->saveAs, "With --script: save under this name instead");
-    cmd->add_flag("--force", o->force, "With --save-as: replace an existing file (never one the "
-                                       "project reads, such as its mesh)");
+    cmd->add_flag("--force", o->force,
+                  "With --save-as: replace an existing file (never one the "
+                  "project reads, such as its mesh)");
     cmd->add_flag("--no-save", o->noSave, "With --script: do not save");
     cmd->add_option("--frames", o->window.frames,
                     "Window: run this many frames, print frame times and layout as JSON, quit");
@@ -128,9 +130,10 @@ void addEditCommand(CLI::App& root, CommandRunner& selected) {
                     "frame as the inspector does (baked in the background, the running preview "
                     "too); the run ends once it is in")
         ->check(CLI::Range(kMinTextureSize, kMaxTextureSize));
-    cmd->add_flag("--frame-stats", o->window.frameStats,
-                  "Window: with --frames, also report the median time of each phase of a frame "
-                  "(UI, preview physics, 3D scene, panels, present), waiting for the GL after each");
+    cmd->add_flag(
+        "--frame-stats", o->window.frameStats,
+        "Window: with --frames, also report the median time of each phase of a frame "
+        "(UI, preview physics, 3D scene, panels, present), waiting for the GL after each");
     cmd->add_option("--state-file", o->window.stateFile,
                     "Window: after each frame, replace this file with the window's state as one "
                     "line of JSON (frame, window, view, mouse, held control, tooltip); for tests");

@@ -80,8 +80,9 @@ Result<Shard> parseShard(const std::string& text) {
         return true;
     };
     Shard shard;
-    if (!number(text.substr(0, slash), shard.index) || !number(text.substr(slash + 1), shard.count) ||
-        shard.index < 1 || shard.index > shard.count)
+    if (!number(text.substr(0, slash), shard.index) ||
+        !number(text.substr(slash + 1), shard.count) || shard.index < 1 ||
+        shard.index > shard.count)
         return makeError(ErrorKind::invalidArgument, problem);
     return shard;
 }
@@ -106,11 +107,21 @@ std::string xmlEscaped(const std::string& text) {
     // it is): each becomes U+FFFD.
     for (const char c : validUtf8(text)) {
         switch (c) {
-            case '&': out += "&amp;"; break;
-            case '<': out += "&lt;"; break;
-            case '>': out += "&gt;"; break;
-            case '"': out += "&quot;"; break;
-            case '\'': out += "&apos;"; break;
+            case '&':
+                out += "&amp;";
+                break;
+            case '<':
+                out += "&lt;";
+                break;
+            case '>':
+                out += "&gt;";
+                break;
+            case '"':
+                out += "&quot;";
+                break;
+            case '\'':
+                out += "&apos;";
+                break;
             default:
                 // XML 1.0 admits no control characters but tab, newline and carriage return.
                 if (static_cast<unsigned char>(c) < 0x20 && c != '\t' && c != '\n' && c != '\r')
@@ -139,9 +150,11 @@ std::string junitXml(const std::vector<Task>& tasks, const std::vector<std::stri
             ++tests;
             time += t.seconds;
             cases << "    <testcase classname=\"" << xmlEscaped(folders[p]) << "\" name=\""
-                  << xmlEscaped(t.folder.filename().string()) << "\" time=\"" << junitTime(t.seconds) << "\"";
+                  << xmlEscaped(t.folder.filename().string()) << "\" time=\""
+                  << junitTime(t.seconds) << "\"";
             std::string failure;
-            if (!t.result) failure = t.result.error().message;
+            if (!t.result)
+                failure = t.result.error().message;
             else if (check && !t.result->outOfDate.empty()) {
                 failure = "out of date:";
                 for (const std::string& f : t.result->outOfDate) failure += " " + f;
@@ -159,8 +172,9 @@ std::string junitXml(const std::vector<Task>& tasks, const std::vector<std::stri
         allTests += tests;
         allFailures += failures;
         suites << "  <testsuite name=\"" << xmlEscaped(folders[p]) << "\" tests=\"" << tests
-               << "\" failures=\"" << failures << "\" errors=\"0\" skipped=\"0\" time=\"" << junitTime(time)
-               << "\">\n" << cases.str() << "  </testsuite>\n";
+               << "\" failures=\"" << failures << "\" errors=\"0\" skipped=\"0\" time=\""
+               << junitTime(time) << "\">\n"
+               << cases.str() << "  </testsuite>\n";
     }
     std::ostringstream xml;
     xml << "<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n<testsuites name=\"plimsoll "
@@ -284,7 +298,8 @@ int runExportTasks(const ExportOptions& o, const std::vector<Project>& projects,
             const auto begin = std::chrono::steady_clock::now();
             const Project& project = projects[t.project];
             t.result = exportBody(project, t.body, t.folder, {o.check, o.force, o.compact}, notice);
-            t.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - begin).count();
+            t.seconds =
+                std::chrono::duration<double>(std::chrono::steady_clock::now() - begin).count();
             const std::string where = "[" + std::to_string(++done) + "/" +
                                       std::to_string(tasks.size()) + "] " + t.folder.string();
             if (!t.result) continue;  // reported below, unconditionally
@@ -407,9 +422,10 @@ int runExport(const ExportOptions& o) {
                                 (failures ? ", " + std::to_string(failures) + " failed" : ""))
                   << "\n";
     }
-    for (const auto& [path, content] : {std::pair{o.summary, text},
-                                        std::pair{o.junit, o.junit.empty() ? std::string()
-                                                                           : junitXml(tasks, folders, o.check, seconds)}}) {
+    for (const auto& [path, content] :
+         {std::pair{o.summary, text},
+          std::pair{o.junit, o.junit.empty() ? std::string()
+                                             : junitXml(tasks, folders, o.check, seconds)}}) {
         if (path.empty()) continue;
         if (Status s = writeTextFile(path, content); !s.ok()) {
             std::cerr << "error: " << s.error().message << "\n";
@@ -472,7 +488,9 @@ void addExportCommand(CLI::App& root, CommandRunner& selected) {
     CLI::App* command = root.add_subcommand(
         "export", "Runtime bundles for game engines: one folder per body (docs/bundle.md)");
     command->add_option("PROJECT", o->projects, "Project files (*.plim.json)")->required();
-    command->add_option("--out", o->out, "Export folder: OUT/<project>/<body>/")->required()->check(kNonEmptyPath);
+    command->add_option("--out", o->out, "Export folder: OUT/<project>/<body>/")
+        ->required()
+        ->check(kNonEmptyPath);
     command->add_option("--jobs", o->jobs, "Bodies exported in parallel")
         ->check(CLI::Range(1, 256))
         ->capture_default_str();
@@ -483,7 +501,9 @@ void addExportCommand(CLI::App& root, CommandRunner& selected) {
     command->add_option("--shard", o->shard,
                         "K/N: export only the bodies of CI shard K of N (a stable split by "
                         "project and body name; the N shards together export every body once)");
-    command->add_option("--junit", o->junit, "Also write a JUnit XML report: one test case per body")->check(kNonEmptyPath);
+    command
+        ->add_option("--junit", o->junit, "Also write a JUnit XML report: one test case per body")
+        ->check(kNonEmptyPath);
     command->add_flag("--compact", o->compact,
                       "Half-float samples and images (about half the size; accuracy in "
                       "docs/bundle.md \"Compact bundles\")");
@@ -494,7 +514,8 @@ void addExportCommand(CLI::App& root, CommandRunner& selected) {
     command->add_flag("--quiet", o->quiet, "No progress lines or tally on stderr");
     command->add_flag("--progress", o->progress,
                       "Progress lines on stderr even when it is not a terminal");
-    command->add_option("--summary", o->summary, "Also write the summary JSON to this file")->check(kNonEmptyPath);
+    command->add_option("--summary", o->summary, "Also write the summary JSON to this file")
+        ->check(kNonEmptyPath);
     command->callback([o, &selected] { selected = [o] { return runExport(*o); }; });
 }
 

@@ -50,11 +50,11 @@ int runAuto(const GraphOptions& o) {
         std::cerr << "error: " << s.error().message << "\n";
         return kExitFailure;
     }
-    std::printf("%s: %zu nodes, %zu pipes from %s (k = %d%s)\n", o.out.c_str(),
-                graph->nodes.size(), graph->pipes.size(), o.mesh.c_str(),
-                static_cast<int>(graph->nodes.size()), o.segments > 0 ? "" : ", chosen from the mesh");
-    std::printf("  enclosed volume %.9g m^3, capacities sum to %.9g m^3%s\n",
-                report.enclosedVolume, graph->totalCapacity(),
+    std::printf("%s: %zu nodes, %zu pipes from %s (k = %d%s)\n", o.out.c_str(), graph->nodes.size(),
+                graph->pipes.size(), o.mesh.c_str(), static_cast<int>(graph->nodes.size()),
+                o.segments > 0 ? "" : ", chosen from the mesh");
+    std::printf("  enclosed volume %.9g m^3, capacities sum to %.9g m^3%s\n", report.enclosedVolume,
+                graph->totalCapacity(),
                 o.thickness > 0 ? " (the enclosed volume less the shell's area x thickness)" : "");
     std::printf("  interior grid %.9g m^3 (%.2e relative to the enclosed volume)\n",
                 report.sampledVolume,
@@ -82,34 +82,41 @@ int runValidate(const GraphOptions& o) {
     }
     if (!warnings.empty()) std::cerr << warnings << "\n";
     std::printf("%s: %zu nodes, %zu pipes, capacity %.6g m^3, water %.6g m^3: valid\n",
-                o.graph.c_str(), graph->nodes.size(), graph->pipes.size(),
-                graph->totalCapacity(), graph->totalWater());
+                o.graph.c_str(), graph->nodes.size(), graph->pipes.size(), graph->totalCapacity(),
+                graph->totalWater());
     return kExitOk;
 }
 
 }  // namespace
 
 void addGraphCommand(CLI::App& root, CommandRunner& selected) {
-    CLI::App* sub = root.add_subcommand("graph", "Water graphs: build one automatically, or check one");
+    CLI::App* sub =
+        root.add_subcommand("graph", "Water graphs: build one automatically, or check one");
     sub->require_subcommand(1);
     auto o = std::make_shared<GraphOptions>();
 
     CLI::App* autoCmd = sub->add_subcommand(
         "auto", "Segment a closed mesh (Shape Diameter Function) and write its water graph");
     autoCmd->add_option("mesh", o->mesh, "Closed mesh (any format assimp reads)")->required();
-    autoCmd->add_option("--segments,-k", o->segments,
-                        "Number of nodes (segments); 0 or absent: chosen from the mesh")
+    autoCmd
+        ->add_option("--segments,-k", o->segments,
+                     "Number of nodes (segments); 0 or absent: chosen from the mesh")
         ->check(CLI::Range(0, 64));
-    autoCmd->add_option("--thickness", o->thickness,
-                        "Shell thickness (m): capacities leave out the shell's own volume")
+    autoCmd
+        ->add_option("--thickness", o->thickness,
+                     "Shell thickness (m): capacities leave out the shell's own volume")
         ->check(kFiniteNonNegative);
-    autoCmd->add_option("--volume-samples", o->volumeSamples,
-                        "Grid cells along the longest side for the volume shares")
+    autoCmd
+        ->add_option("--volume-samples", o->volumeSamples,
+                     "Grid cells along the longest side for the volume shares")
         ->check(CLI::Range(8, 256));
-    autoCmd->add_option("--out,-o", o->out, "graph.json to write")->required()->check(kNonEmptyPath);
+    autoCmd->add_option("--out,-o", o->out, "graph.json to write")
+        ->required()
+        ->check(kNonEmptyPath);
     autoCmd->callback([&selected, o] { selected = [o] { return runAuto(*o); }; });
 
-    CLI::App* validate = sub->add_subcommand("validate", "Check a graph.json (and its nodes against a mesh)");
+    CLI::App* validate =
+        sub->add_subcommand("validate", "Check a graph.json (and its nodes against a mesh)");
     validate->add_option("graph", o->graph, "graph.json")->required();
     validate->add_option("--mesh", o->mesh, "The body's mesh: warn about nodes outside it");
     validate->callback([&selected, o] { selected = [o] { return runValidate(*o); }; });

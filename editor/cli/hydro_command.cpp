@@ -66,7 +66,8 @@ Result<std::vector<ConvergencePoint>> convergence(const SceneBody& body, const R
             restRadiationSurface(body, coarser, project.medium, project.simulation.gravity);
         if (!surface) return surface.error();
         points.push_back({coarser.panelEdge, surface->solver->panelCount(),
-                          surface->solver->infiniteFrequencyAddedMass(), surface->solver->at(omega)});
+                          surface->solver->infiniteFrequencyAddedMass(),
+                          surface->solver->at(omega)});
     }
     return points;
 }
@@ -107,7 +108,8 @@ bool writeCoefficientSvg(const std::string& path, const std::string& label, cons
         plot.series.push_back(std::move(a));
         plot.series.push_back(std::move(b));
     }
-    const Status written = writeFileAtomically(path, [&](std::ostream& out) { return writeSvg(plot, out); });
+    const Status written =
+        writeFileAtomically(path, [&](std::ostream& out) { return writeSvg(plot, out); });
     if (!written) {
         std::cerr << "error: " << written.error().message << "\n";
         return false;
@@ -135,14 +137,15 @@ int runHydro(const HydroOptions& o) {
     const RadiationDesc desc = project->bodies[*index].radiation.value_or(RadiationDesc{});
     const auto start = std::chrono::steady_clock::now();
     Result<std::shared_ptr<const BodyRadiation>> computed = cachedBodyRadiation(
-        *body, desc, project->medium, project->simulation.gravity, project->radiationCacheFile(*index), note,
-        stderrProgress(body->label + ": radiation"));
+        *body, desc, project->medium, project->simulation.gravity,
+        project->radiationCacheFile(*index), note, stderrProgress(body->label + ": radiation"));
     if (!computed) {
         std::cerr << "error: " << projectFileName(*project) << ": bodies[" << *index
                   << "].radiation: " << computed.error().message << "\n";
         return kExitFailure;
     }
-    const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    const double seconds =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     const BodyRadiation& r = **computed;
     const double density = project->medium.density;
     const Scales scales = scalesOf(r, density);
@@ -152,7 +155,8 @@ int runHydro(const HydroOptions& o) {
     if (o.convergence) {
         RadiationDesc resolved = desc;
         resolved.panelEdge = r.panelEdge;
-        Result<std::vector<ConvergencePoint>> points = convergence(*body, resolved, *project, omega);
+        Result<std::vector<ConvergencePoint>> points =
+            convergence(*body, resolved, *project, omega);
         if (!points) {
             std::cerr << "error: " << points.error().message << "\n";
             return kExitFailure;
@@ -172,7 +176,9 @@ int runHydro(const HydroOptions& o) {
         for (int mode = 0; mode < 6; ++mode) {
             nlohmann::json terms = nlohmann::json::array();
             for (const MemoryTerm& t : r.model.memory[mode])
-                terms.push_back({{"gain", t.gain}, {"frequency", t.frequency}, {"damping_ratio", t.dampingRatio}});
+                terms.push_back({{"gain", t.gain},
+                                 {"frequency", t.frequency},
+                                 {"damping_ratio", t.dampingRatio}});
             memory.push_back(terms);
         }
         nlohmann::json points = nlohmann::json::array();
@@ -184,48 +190,62 @@ int runHydro(const HydroOptions& o) {
                               {"added_mass", diagonal(p.at.addedMass)},
                               {"damping", diagonal(p.at.damping)}});
         }
-        const nlohmann::json out = {{"body", body->desc.name},
-                                    {"modes", {"surge_x", "heave_y", "sway_z", "roll_x", "yaw_y", "pitch_z"}},
-                                    {"water_density", density},
-                                    {"rest_volume", r.restVolume},
-                                    {"rest_height", r.restHeight},
-                                    {"panel_edge", r.panelEdge},
-                                    {"panels", r.panelCount},
-                                    {"added_mass_infinity", matrixRows(r.addedMassInfinity)},
-                                    {"frequencies", frequencies},
-                                    {"memory", memory},
-                                    {"convergence", points},
-                                    {"seconds", seconds}};
+        const nlohmann::json out = {
+            {"body", body->desc.name},
+            {"modes", {"surge_x", "heave_y", "sway_z", "roll_x", "yaw_y", "pitch_z"}},
+            {"water_density", density},
+            {"rest_volume", r.restVolume},
+            {"rest_height", r.restHeight},
+            {"panel_edge", r.panelEdge},
+            {"panels", r.panelCount},
+            {"added_mass_infinity", matrixRows(r.addedMassInfinity)},
+            {"frequencies", frequencies},
+            {"memory", memory},
+            {"convergence", points},
+            {"seconds", seconds}};
         std::cout << reportJson(out) << "\n";
         return kExitOk;
     }
-    std::printf("%s: %zu panels (edge %g m) below the waterline at rest, displacement %g m^3, deep water of "
-                "%g kg/m^3; object axes, about the centre of mass; %.3g s\n",
-                body->label.c_str(), r.panelCount, r.panelEdge, r.restVolume, density, seconds);
-    std::printf("nondimensional: A / (rho V), B / (rho V omega), rotations also / L^2 with L = cbrt(V) = %g m\n\n",
-                std::cbrt(r.restVolume));
+    std::printf(
+        "%s: %zu panels (edge %g m) below the waterline at rest, displacement %g m^3, deep water "
+        "of "
+        "%g kg/m^3; object axes, about the centre of mass; %.3g s\n",
+        body->label.c_str(), r.panelCount, r.panelEdge, r.restVolume, density, seconds);
+    std::printf(
+        "nondimensional: A / (rho V), B / (rho V omega), rotations also / L^2 with L = cbrt(V) = "
+        "%g m\n\n",
+        std::cbrt(r.restVolume));
     std::printf("  %10s", "omega");
     for (const char* name : kModeNames) std::printf(" %9s A %9s B", name, "");
     std::printf("\n");
     for (const RadiationCoefficients& c : r.coefficients) {
         std::printf("  %10.4g", c.omega);
         for (int j = 0; j < 6; ++j)
-            std::printf(" %11.4g %11.4g", c.addedMass(j, j) / scales.of(j), c.damping(j, j) / (scales.of(j) * c.omega));
+            std::printf(" %11.4g %11.4g", c.addedMass(j, j) / scales.of(j),
+                        c.damping(j, j) / (scales.of(j) * c.omega));
         std::printf("\n");
     }
     std::printf("  %10s", "infinity");
-    for (int j = 0; j < 6; ++j) std::printf(" %11.4g %11s", r.addedMassInfinity(j, j) / scales.of(j), "");
+    for (int j = 0; j < 6; ++j)
+        std::printf(" %11.4g %11s", r.addedMassInfinity(j, j) / scales.of(j), "");
     std::printf("\n\n  memory fit (per mode, second-order terms): ");
-    for (int j = 0; j < 6; ++j) std::printf("%s %zu%s", kModeNames[j], r.model.memory[j].size(), j < 5 ? ", " : "\n");
+    for (int j = 0; j < 6; ++j)
+        std::printf("%s %zu%s", kModeNames[j], r.model.memory[j].size(), j < 5 ? ", " : "\n");
     if (!study.empty()) {
-        std::printf("\n  convergence with panel count (A at infinite frequency; A and B at omega %.4g rad/s):\n", omega);
-        std::printf("  %10s %7s %12s %12s %12s %12s %12s %12s\n", "panel edge", "panels", "surge A inf", "heave A inf",
-                    "surge A", "surge B", "heave A", "heave B");
+        std::printf(
+            "\n  convergence with panel count (A at infinite frequency; A and B at omega %.4g "
+            "rad/s):\n",
+            omega);
+        std::printf("  %10s %7s %12s %12s %12s %12s %12s %12s\n", "panel edge", "panels",
+                    "surge A inf", "heave A inf", "surge A", "surge B", "heave A", "heave B");
         for (const ConvergencePoint& p : study) {
-            std::printf("  %10.4g %7zu %12.5g %12.5g %12.5g %12.5g %12.5g %12.5g\n", p.panelEdge, p.panels,
-                        p.addedMassInfinity(0, 0) / scales.translation, p.addedMassInfinity(1, 1) / scales.translation,
-                        p.at.addedMass(0, 0) / scales.translation, p.at.damping(0, 0) / (scales.translation * omega),
-                        p.at.addedMass(1, 1) / scales.translation, p.at.damping(1, 1) / (scales.translation * omega));
+            std::printf("  %10.4g %7zu %12.5g %12.5g %12.5g %12.5g %12.5g %12.5g\n", p.panelEdge,
+                        p.panels, p.addedMassInfinity(0, 0) / scales.translation,
+                        p.addedMassInfinity(1, 1) / scales.translation,
+                        p.at.addedMass(0, 0) / scales.translation,
+                        p.at.damping(0, 0) / (scales.translation * omega),
+                        p.at.addedMass(1, 1) / scales.translation,
+                        p.at.damping(1, 1) / (scales.translation * omega));
         }
     }
     return kExitOk;
@@ -235,15 +255,18 @@ int runHydro(const HydroOptions& o) {
 
 void addHydroCommand(CLI::App& root, CommandRunner& selected) {
     auto o = std::make_shared<HydroOptions>();
-    CLI::App* cmd = root.add_subcommand(
-        "hydro",
-        "Added mass A(omega) and radiation damping B(omega) of a body per mode, and their convergence "
-        "with the panel count (through the project's radiation cache)");
+    CLI::App* cmd =
+        root.add_subcommand("hydro",
+                            "Added mass A(omega) and radiation damping B(omega) of a body per "
+                            "mode, and their convergence "
+                            "with the panel count (through the project's radiation cache)");
     cmd->add_option("PROJECT", o->project, "Project file (.plim.json)")->required();
     cmd->add_option("--body", o->body, "Body name (default: the first body)");
     cmd->add_flag("--json", o->json, "Print one JSON object");
-    cmd->add_option("--svg", o->svg, "Write A(omega) and B(omega) as an SVG plot")->check(kNonEmptyPath);
-    cmd->add_flag("--no-convergence{false}", o->convergence, "Skip the convergence study (two coarser solutions)");
+    cmd->add_option("--svg", o->svg, "Write A(omega) and B(omega) as an SVG plot")
+        ->check(kNonEmptyPath);
+    cmd->add_flag("--no-convergence{false}", o->convergence,
+                  "Skip the convergence study (two coarser solutions)");
     cmd->callback([o, &selected] { selected = [o] { return runHydro(*o); }; });
 }
 

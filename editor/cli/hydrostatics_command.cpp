@@ -339,8 +339,9 @@ void addHydrostaticsCommand(CLI::App& root, CommandRunner& selected) {
         "from the textures and the exact clip");
     cmd->add_option("PROJECT", o->job.project, "Project file (.plim.json)")->required();
     cmd->add_option("--body", o->job.body, "Body name (default: the first body)");
-    cmd->add_flag("--json", o->json, "Print one JSON object (with --exact: the exact clip only; "
-                                     "otherwise the textures', the exact one under \"exact\")");
+    cmd->add_flag("--json", o->json,
+                  "Print one JSON object (with --exact: the exact clip only; "
+                  "otherwise the textures', the exact one under \"exact\")");
     cmd->add_flag("--exact", o->job.exact, "The exact clip of the mesh only");
     cmd->add_option("--svg", o->svg, "Write the GZ curve as an SVG plot")->check(kNonEmptyPath);
     cmd->add_option("--step", o->job.stepDegrees, "Heel step of the GZ curve, degrees (default 5)")

@@ -70,13 +70,15 @@ Result<MassPropsOutcome> massPropsJob(const MassPropsJob& o, const Reporter& rep
     nlohmann::json& out = outcome.json;
     MassProperties& props = outcome.props;
     if (o.exact) {
-        props = withoutHollow(exactSolidMassProperties(*mesh, solidDensity), report.hollow, solidDensity);
+        props = withoutHollow(exactSolidMassProperties(*mesh, solidDensity), report.hollow,
+                              solidDensity);
         if (o.shellDensity > 0) props = props + exactShellMassProperties(*mesh, o.shellDensity);
         out = {{"method", "exact"}, {"texture_size", nullptr}, {"covered_texels", nullptr}};
     } else {
         Result<SurfaceTextures> textures = bakeTextures(*mesh, o.bake, reporter);
         if (!textures) return textures.error();
-        props = withoutHollow(textureSolidMassProperties(*textures, solidDensity), report.hollow, solidDensity);
+        props = withoutHollow(textureSolidMassProperties(*textures, solidDensity), report.hollow,
+                              solidDensity);
         std::vector<double> painted;
         if (!o.shellDensityMap.empty()) {
             Result<PaintedMap> map = loadPaintedMap(o.shellDensityMap);

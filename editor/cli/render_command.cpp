@@ -43,8 +43,8 @@ int runRender(const RenderOptions& o) {
     using namespace plimsoll::editor;
     int width = 0, height = 0;
     char x = 0;
-    if (std::sscanf(o.size.c_str(), "%d%c%d", &width, &x, &height) != 3 || x != 'x' ||
-        width < 1 || height < 1 || width > 16384 || height > 16384) {
+    if (std::sscanf(o.size.c_str(), "%d%c%d", &width, &x, &height) != 3 || x != 'x' || width < 1 ||
+        height < 1 || width > 16384 || height > 16384) {
         std::cerr << "error: --size: expected WxH (1..16384), got " << o.size << "\n";
         return kExitUsage;
     }

@@ -100,9 +100,11 @@ int writeMaps(const fs::path& outDir) {
         const char* file;
         PaintedMap map;
     } maps[] = {
-        {"hull_stern_damage.png",
-         paintByPosition(makeHull(), 128,
-                         [](const Eigen::Vector3d& p) { return p.z() < -2.0 && p.y() < 0.0 ? 1.0f : 0.0f; })},
+        {"hull_stern_damage.png", paintByPosition(makeHull(), 128,
+                                                  [](const Eigen::Vector3d& p) {
+                                                      return p.z() < -2.0 && p.y() < 0.0 ? 1.0f
+                                                                                         : 0.0f;
+                                                  })},
         {"plush_permeable.png",
          paintByPosition(makePlush(), 16, [](const Eigen::Vector3d&) { return 1.0f; })},
     };
@@ -125,7 +127,8 @@ int runSamples(const fs::path& outDir) {
         std::cerr << outDir.string() << ": cannot create folder: " << ec.message() << "\n";
         return kExitFailure;
     }
-    // The committed assets/ are exactly this output; tests/samples/test_primitives.cpp holds them to it.
+    // The committed assets/ are exactly this output; tests/samples/test_primitives.cpp holds them
+    // to it.
     const struct {
         const char* file;
         TriangleMesh mesh;

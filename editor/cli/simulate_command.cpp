@@ -74,7 +74,8 @@ class TrajectoryWriter {
 public:
     TrajectoryWriter(std::ostream& out, bool json) : out_(out), json_(json) {
         out_.precision(10);
-        if (json_) out_ << "[";
+        if (json_)
+            out_ << "[";
         else
             out_ << kTrajectoryHeader << '\n';
     }
@@ -181,10 +182,9 @@ int runSimulate(const SimulateOptions& o) {
         std::cout << (project.name.empty() ? "scene" : project.name) << ": " << world.time()
                   << " s simulated in " << wall << " s (" << stats.steps << " steps, "
                   << world.backend().deviceName() << "); " << b.name << " at "
-                  << b.state.position.transpose() << " m, submerged "
-                  << b.buoyancy.submergedVolume << " m^3; buoyancy evaluations "
-                  << stats.buoyancyEvaluations << ", skipped out of water "
-                  << stats.skippedOutOfWater << "\n";
+                  << b.state.position.transpose() << " m, submerged " << b.buoyancy.submergedVolume
+                  << " m^3; buoyancy evaluations " << stats.buoyancyEvaluations
+                  << ", skipped out of water " << stats.skippedOutOfWater << "\n";
     }
     return kExitOk;
 }
@@ -269,9 +269,10 @@ std::array<double, 21> trajectoryRow(const SimulatedBody& b) {
 
 void addSimulateCommand(CLI::App& root, CommandRunner& selected) {
     auto o = std::make_shared<SimulateOptions>();
-    CLI::App* cmd = root.add_subcommand(
-        "simulate", "Run a scene headless and write its trajectory (a project, or one body "
-                    "given by flags)");
+    CLI::App* cmd =
+        root.add_subcommand("simulate",
+                            "Run a scene headless and write its trajectory (a project, or one body "
+                            "given by flags)");
     cmd->add_option("PROJECT", o->job.project, "Project file (*.plim.json)");
     cmd->add_option("--seconds", o->job.seconds,
                     "Simulated time, s (default: the project's duration)")

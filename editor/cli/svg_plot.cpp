@@ -14,18 +14,27 @@ constexpr double kLeft = 90, kTop = 50, kRight = kWidth - 280, kBottom = kHeight
 
 // Tableau 10: distinguishable in colour and in grey print.
 constexpr std::array<const char*, 10> kColours = {"#4e79a7", "#f28e2b", "#e15759", "#76b7b2",
-                                                   "#59a14f", "#edc948", "#b07aa1", "#ff9da7",
-                                                   "#9c755f", "#bab0ac"};
+                                                  "#59a14f", "#edc948", "#b07aa1", "#ff9da7",
+                                                  "#9c755f", "#bab0ac"};
 
 std::string escape(const std::string& text) {
     std::string out;
     for (char c : text) {
         switch (c) {
-            case '&': out += "&amp;"; break;
-            case '<': out += "&lt;"; break;
-            case '>': out += "&gt;"; break;
-            case '"': out += "&quot;"; break;
-            default: out += c;
+            case '&':
+                out += "&amp;";
+                break;
+            case '<':
+                out += "&lt;";
+                break;
+            case '>':
+                out += "&gt;";
+                break;
+            case '"':
+                out += "&quot;";
+                break;
+            default:
+                out += c;
         }
     }
     return out;
@@ -84,11 +93,11 @@ void drawFrame(std::ostream& out, const std::string& xLabel, const std::string& 
 
 /// A dashed vertical line at pixel column x, labelled along it.
 void drawMarker(std::ostream& out, double x, const std::string& label) {
-    out << "<line x1=\"" << num(x) << "\" y1=\"" << kTop << "\" x2=\"" << num(x)
-        << "\" y2=\"" << kBottom << "\" stroke=\"#555\" stroke-dasharray=\"6 4\"/>\n"
+    out << "<line x1=\"" << num(x) << "\" y1=\"" << kTop << "\" x2=\"" << num(x) << "\" y2=\""
+        << kBottom << "\" stroke=\"#555\" stroke-dasharray=\"6 4\"/>\n"
         << "<text transform=\"translate(" << num(x - 4) << ' ' << kTop + 6
-        << ") rotate(-90)\" text-anchor=\"end\" font-size=\"11\" fill=\"#555\">"
-        << escape(label) << "</text>\n";
+        << ") rotate(-90)\" text-anchor=\"end\" font-size=\"11\" fill=\"#555\">" << escape(label)
+        << "</text>\n";
 }
 
 /// A series' legend line at height y, in the colour of the enclosing group.
@@ -102,7 +111,8 @@ void drawLegendEntry(std::ostream& out, double y, const std::string& name) {
 /// Opens a series' group in its colour and draws its line through the points `keep` accepts
 /// (px, py: data to pixels). The caller adds its marks and the legend entry, then closes </g>.
 template <class Px, class Py, class Keep>
-void openSeries(std::ostream& out, const PlotSeries& s, const char* colour, Px px, Py py, Keep keep) {
+void openSeries(std::ostream& out, const PlotSeries& s, const char* colour, Px px, Py py,
+                Keep keep) {
     std::string path;
     for (const PlotPoint& p : s.points) {
         if (keep(p)) path += (path.empty() ? "" : " ") + num(px(p.x)) + "," + num(py(p.y));
@@ -148,8 +158,7 @@ bool writeSvg(const LogLogPlot& plot, std::ostream& out) {
         for (int k = 1; k <= (e < ys.hi ? 9 : 1); ++k) {
             const double y = py(k * std::pow(10.0, e));
             out << "<line x1=\"" << kLeft << "\" y1=\"" << num(y) << "\" x2=\"" << kRight
-                << "\" y2=\"" << num(y) << "\" stroke=\"" << (k == 1 ? "#bbb" : "#eee")
-                << "\"/>\n";
+                << "\" y2=\"" << num(y) << "\" stroke=\"" << (k == 1 ? "#bbb" : "#eee") << "\"/>\n";
         }
         out << "<text x=\"" << kLeft - 8 << "\" y=\"" << num(py(std::pow(10.0, e)) + 4)
             << "\" text-anchor=\"end\" stroke=\"none\">" << decadeLabel(e) << "</text>\n";
@@ -201,8 +210,10 @@ struct LinearRange {
         if (!(hi > lo)) lo -= 0.5, hi += 0.5;
         const double raw = (hi - lo) / 8;
         const double decade = std::pow(10.0, std::floor(std::log10(raw)));
-        step = raw <= decade ? decade : raw <= 2 * decade ? 2 * decade
-                                      : raw <= 5 * decade ? 5 * decade : 10 * decade;
+        step = raw <= decade       ? decade
+               : raw <= 2 * decade ? 2 * decade
+               : raw <= 5 * decade ? 5 * decade
+                                   : 10 * decade;
         lo = std::floor(lo / step) * step;
         hi = std::ceil(hi / step) * step;
     }
@@ -252,8 +263,8 @@ bool writeSvg(const LinearPlot& plot, std::ostream& out) {
             << "<text x=\"" << kLeft - 8 << "\" y=\"" << num(py(v) + 4)
             << "\" text-anchor=\"end\" stroke=\"none\">" << tickLabel(v, ys.step) << "</text>\n";
     }
-    out << "<line x1=\"" << kLeft << "\" y1=\"" << num(py(0)) << "\" x2=\"" << kRight
-        << "\" y2=\"" << num(py(0)) << "\" stroke=\"#333\"/>\n</g>\n";
+    out << "<line x1=\"" << kLeft << "\" y1=\"" << num(py(0)) << "\" x2=\"" << kRight << "\" y2=\""
+        << num(py(0)) << "\" stroke=\"#333\"/>\n</g>\n";
     drawFrame(out, plot.xLabel, plot.yLabel);
     for (const PlotMarker& m : plot.markers)
         if (std::isfinite(m.x)) drawMarker(out, px(m.x), m.label);

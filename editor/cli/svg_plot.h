@@ -13,12 +13,12 @@ struct PlotPoint {
     /// Both > 0: a point at x <= 0 or y <= 0 cannot sit on log axes and is left out.
     double x = 0;
     double y = 0;
-    std::string label;   ///< drawn beside the point
+    std::string label;  ///< drawn beside the point
 };
 
 /// One polyline with its markers, in the order given.
 struct PlotSeries {
-    std::string name;    ///< legend entry
+    std::string name;  ///< legend entry
     std::vector<PlotPoint> points;
 };
 

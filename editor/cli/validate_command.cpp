@@ -26,7 +26,8 @@ struct ValidateOptions {
 Verdict judge(const TriangleMesh& mesh, const ValidationReport& report) {
     Verdict verdict;
     for (const Problem& p : report.problems)
-        if (p.severity == Severity::Error) verdict.reasons.push_back(std::string(problemCode(p.kind)) + ": " + p.message);
+        if (p.severity == Severity::Error)
+            verdict.reasons.push_back(std::string(problemCode(p.kind)) + ": " + p.message);
     ValidationReport surface = report;
     std::erase_if(surface.problems, [](const Problem& p) { return isUvProblem(p.kind); });
     Result<PhysicsSolid> solid = physicsSolidFor(mesh, surface);
@@ -35,8 +36,10 @@ Verdict judge(const TriangleMesh& mesh, const ValidationReport& report) {
         verdict.reasons.push_back(solid.error().message);
         return verdict;
     }
-    if (!solid->repairs.empty()) verdict.code = "physics-solid";
-    else if (!report.usableForTexture()) verdict.code = "generated-atlas";
+    if (!solid->repairs.empty())
+        verdict.code = "physics-solid";
+    else if (!report.usableForTexture())
+        verdict.code = "generated-atlas";
     verdict.solid = std::move(*solid);
     return verdict;
 }
@@ -45,7 +48,8 @@ const char* verdictLine(const Verdict& v) {
     const std::string code = v.code;
     if (code == "as-is") return "usable as is";
     if (code == "generated-atlas") return "usable through a generated physics atlas";
-    if (code == "physics-solid") return "usable through a physics solid (repaired, baked on a generated atlas)";
+    if (code == "physics-solid")
+        return "usable through a physics solid (repaired, baked on a generated atlas)";
     return "cannot be used";
 }
 
@@ -61,7 +65,8 @@ nlohmann::json toJson(const TriangleMesh& mesh, const ValidationReport& report,
     }
     nlohmann::json parts = nlohmann::json::array();
     for (const MeshPart& part : facts.parts)
-        parts.push_back({{"name", part.name}, {"triangles", part.triangleCount}, {"has_uvs", part.hasUvs}});
+        parts.push_back(
+            {{"name", part.name}, {"triangles", part.triangleCount}, {"has_uvs", part.hasUvs}});
     const Bounds3 bounds = computeBounds(mesh);
     const bool usable = verdict.solid.has_value();
     return {{"mesh", report.source},
@@ -78,7 +83,8 @@ nlohmann::json toJson(const TriangleMesh& mesh, const ValidationReport& report,
             {"reasons", verdict.reasons},
             {"closed_solid", report.closedSolid()},
             {"repairs", usable ? repairsJson(verdict.solid->repairs) : nlohmann::json::array()},
-            {"material_volume", usable ? nlohmann::json(verdict.solid->materialVolume) : nlohmann::json()},
+            {"material_volume",
+             usable ? nlohmann::json(verdict.solid->materialVolume) : nlohmann::json()},
             {"displacement_volume",
              usable ? nlohmann::json(verdict.solid->displacementVolume) : nlohmann::json()},
             {"uv_area_spread", report.uvAreaSpread},
@@ -86,15 +92,18 @@ nlohmann::json toJson(const TriangleMesh& mesh, const ValidationReport& report,
             {"problems", problems}};
 }
 
-void printHuman(const ValidateOptions& options, const TriangleMesh& mesh, const ValidationReport& report,
-                const MeshFileFacts& facts, const Verdict& verdict) {
+void printHuman(const ValidateOptions& options, const TriangleMesh& mesh,
+                const ValidationReport& report, const MeshFileFacts& facts,
+                const Verdict& verdict) {
     std::cout << report.format();
     const Bounds3 bounds = computeBounds(mesh);
     const Eigen::Vector3d size = bounds.max - bounds.min;
-    std::cout << options.mesh << ": " << mesh.triangleCount() << " triangles, " << mesh.vertexCount()
-              << " vertices, " << facts.parts.size() << " parts: " << verdictLine(verdict) << "\n"
+    std::cout << options.mesh << ": " << mesh.triangleCount() << " triangles, "
+              << mesh.vertexCount() << " vertices, " << facts.parts.size()
+              << " parts: " << verdictLine(verdict) << "\n"
               << "  unit: " << lengthUnitName(facts.unitScale) << " (" << facts.unitSource
-              << "); size " << size.x() << " x " << size.y() << " x " << size.z() << " m (x, y up, z)\n";
+              << "); size " << size.x() << " x " << size.y() << " x " << size.z()
+              << " m (x, y up, z)\n";
     if (facts.someUvsMissing()) {
         std::cout << "  some parts have no UVs (";
         bool first = true;
@@ -113,26 +122,32 @@ void printHuman(const ValidateOptions& options, const TriangleMesh& mesh, const 
     const std::string code = verdict.code;
     if (code == "unusable") {
         for (const std::string& reason : verdict.reasons) std::cout << "  " << reason << "\n";
-        std::cout << "  to fix in the modelling tool: give the model at least one closed part with volume "
+        std::cout << "  to fix in the modelling tool: give the model at least one closed part with "
+                     "volume "
                      "(close holes, remove stray points and lines, keep faces with area)\n";
         return;
     }
     if (code == "generated-atlas")
-        std::cout << "  its own UVs cannot be baked (the errors above); baking generates a physics atlas "
-                     "(--atlas auto, the default)\n";
+        std::cout
+            << "  its own UVs cannot be baked (the errors above); baking generates a physics atlas "
+               "(--atlas auto, the default)\n";
     if (code == "physics-solid") {
         std::cout << (verdict.solid->openings.empty()
-                          ? "  the surface is not one closed, consistently oriented solid; the physics solid is "
+                          ? "  the surface is not one closed, consistently oriented solid; the "
+                            "physics solid is "
                             "baked instead, the mesh stays for painting:\n"
-                          : "  an open hull or container: its physics solid, with its openings capped, is baked "
+                          : "  an open hull or container: its physics solid, with its openings "
+                            "capped, is baked "
                             "instead, the mesh stays for painting:\n");
         for (const Repair& r : verdict.solid->repairs)
             std::cout << "    " << r.kind << " " << r.count << ": " << r.detail
-                      << (r.volumeChange != 0 ? " (volume " + std::to_string(r.volumeChange) + " m^3)" : "")
+                      << (r.volumeChange != 0
+                              ? " (volume " + std::to_string(r.volumeChange) + " m^3)"
+                              : "")
                       << "\n";
     }
-    std::cout << "  material volume " << verdict.solid->materialVolume << " m^3, displacement volume "
-              << verdict.solid->displacementVolume << " m^3\n";
+    std::cout << "  material volume " << verdict.solid->materialVolume
+              << " m^3, displacement volume " << verdict.solid->displacementVolume << " m^3\n";
 }
 
 int runValidate(const ValidateOptions& options) {
@@ -165,8 +180,9 @@ Result<Validation> validateJob(const std::string& path, double unitScale) {
 void addValidateCommand(CLI::App& root, CommandRunner& selected) {
     auto options = std::make_shared<ValidateOptions>();
     CLI::App* cmd = root.add_subcommand(
-        "validate", "Check a mesh and say how it can be used: as is, through a generated atlas or "
-                    "a physics solid, or not at all");
+        "validate",
+        "Check a mesh and say how it can be used: as is, through a generated atlas or "
+        "a physics solid, or not at all");
     cmd->add_option("MESH", options->mesh, "Mesh file (OBJ, glTF/GLB, PLY, FBX, STL, ...)")
         ->required();
     addUnitOption(*cmd, options->unitScale);

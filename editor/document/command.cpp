@@ -18,8 +18,12 @@ using Json = nlohmann::json;
 PaintCommand::PaintCommand(std::string name, std::size_t body, MapChannel channel,
                            std::vector<PartChange> changes, std::optional<PaintedMap> created,
                            std::string createdPath)
-    : name_(std::move(name)), body_(body), channel_(channel), changes_(std::move(changes)),
-      created_(std::move(created)), createdPath_(std::move(createdPath)) {}
+    : name_(std::move(name)),
+      body_(body),
+      channel_(channel),
+      changes_(std::move(changes)),
+      created_(std::move(created)),
+      createdPath_(std::move(createdPath)) {}
 
 std::size_t PaintCommand::pixelsChanged() const {
     std::size_t n = 0;
@@ -68,8 +72,9 @@ Status PaintCommand::apply(Document& document) {
     for (const PartChange& c : changes_) {
         PaintedMap* pixels = document.paintPixels(body_, channel_, c.target);
         if (!pixels) {
-            return makeError(ErrorKind::invalidArgument,
-                             std::string("no ") + channelName(channel_) + " map, layer or mask to paint");
+            return makeError(
+                ErrorKind::invalidArgument,
+                std::string("no ") + channelName(channel_) + " map, layer or mask to paint");
         }
         applyValues(*pixels, c.change.pixels, c.change.after);
     }
@@ -96,7 +101,9 @@ void PaintCommand::revert(Document& document) {
 
 ProjectCommand::ProjectCommand(std::string name, Project before, Project after,
                                DetachedAssets detached)
-    : name_(std::move(name)), before_(std::move(before)), after_(std::move(after)),
+    : name_(std::move(name)),
+      before_(std::move(before)),
+      after_(std::move(after)),
       detached_(std::move(detached)) {}
 
 Status ProjectCommand::apply(Document& document) {
@@ -108,7 +115,10 @@ void ProjectCommand::revert(Document& document) { document.setProject(before_, d
 
 LayerCommand::LayerCommand(std::string name, std::size_t body, MapChannel channel,
                            std::optional<LayerStack> before, LayerStack after)
-    : name_(std::move(name)), body_(body), channel_(channel), before_(std::move(before)),
+    : name_(std::move(name)),
+      body_(body),
+      channel_(channel),
+      before_(std::move(before)),
       after_(std::move(after)) {}
 
 Status LayerCommand::apply(Document& document) {
@@ -134,24 +144,28 @@ namespace {
 
 Status checkTarget(const Document& document, std::size_t body, MapChannel channel) {
     if (body >= document.bodyCount()) {
-        return makeError(ErrorKind::invalidArgument, "no body " + std::to_string(body) + " (the project has " +
-                         std::to_string(document.bodyCount()) + ")");
+        return makeError(ErrorKind::invalidArgument,
+                         "no body " + std::to_string(body) + " (the project has " +
+                             std::to_string(document.bodyCount()) + ")");
     }
     if (!document.assets(body).mesh) {
         return makeError(ErrorKind::io, "body " + std::to_string(body) + ": mesh not loaded: " +
-                         document.assets(body).meshError);
+                                            document.assets(body).meshError);
     }
     if (channelNeedsShell(channel) &&
         !document.project().bodies[body].material.shellSurfaceDensity) {
-        return makeError(ErrorKind::invalidArgument, "body " + std::to_string(body) + ": a " + channelName(channel) +
-                         " map scales the shell, and the material has none (set material.shell)");
+        return makeError(
+            ErrorKind::invalidArgument,
+            "body " + std::to_string(body) + ": a " + channelName(channel) +
+                " map scales the shell, and the material has none (set material.shell)");
     }
     return Ok{};
 }
 
 /// What a paint operation does to one buffer: moves pixels toward `value` (Paint), toward 0
 /// (Erase) or smooths them, by its own weights.
-using BufferEdit = std::function<PixelChange(const PaintedMap& buffer, BrushMode mode, double value)>;
+using BufferEdit =
+    std::function<PixelChange(const PaintedMap& buffer, BrushMode mode, double value)>;
 
 /// The changes of a paint operation on `target`. A layer with coverage is painted the way
 /// layers are in painting tools: paint sets the value and raises coverage by the same weights
@@ -171,7 +185,8 @@ std::vector<PaintCommand::PartChange> partChanges(const PaintedMap& pixels,
     if (mode == BrushMode::Paint) {
         PixelChange values = edit(pixels, mode, value);
         for (std::size_t k = 0; k < values.pixels.size(); ++k) {
-            if (coverage->values[values.pixels[k]] <= 0.0f) values.after[k] = static_cast<float>(value);
+            if (coverage->values[values.pixels[k]] <= 0.0f)
+                values.after[k] = static_cast<float>(value);
         }
         changes.push_back({target, std::move(values)});
         changes.push_back({coverageTarget, edit(*coverage, BrushMode::Paint, 1.0)});
@@ -199,27 +214,29 @@ Result<PaintTarget> layerTarget(const LayerStack& stack, PaintTarget target) {
         return makeError(ErrorKind::invalidArgument, "the map has no paint layer to paint");
     }
     if (target.layer >= count) {
-        return makeError(ErrorKind::invalidArgument,
-                         "no layer " + std::to_string(target.layer) + " (the map has " +
-                             std::to_string(count) + ")");
+        return makeError(ErrorKind::invalidArgument, "no layer " + std::to_string(target.layer) +
+                                                         " (the map has " + std::to_string(count) +
+                                                         ")");
     }
     const MapLayer& layer = stack.layers[static_cast<std::size_t>(target.layer)];
     if (target.part == LayerPart::Mask && !layer.mask) {
-        return makeError(ErrorKind::invalidArgument, "layer '" + layer.name + "' has no mask (add one)");
+        return makeError(ErrorKind::invalidArgument,
+                         "layer '" + layer.name + "' has no mask (add one)");
     }
     if (target.part == LayerPart::Pixels && !layer.pixels) {
-        return makeError(ErrorKind::invalidArgument,
-                         "layer '" + layer.name + "' is a fill layer: paint its mask, or a paint layer");
+        return makeError(
+            ErrorKind::invalidArgument,
+            "layer '" + layer.name + "' is a fill layer: paint its mask, or a paint layer");
     }
     return target;
 }
 
 /// Runs `edit` on the body's map (or on the layer `target` names), making a blank map first
 /// (as part of the same command) when there is none.
-Result<std::unique_ptr<Command>> paintEdit(Document& document, std::size_t body,
-                                           MapChannel channel, const std::string& name,
-                                           BrushMode mode, double value, PaintTarget target,
-                                           const std::function<BufferEdit(const PaintSurface&)>& editOn) {
+Result<std::unique_ptr<Command>> paintEdit(
+    Document& document, std::size_t body, MapChannel channel, const std::string& name,
+    BrushMode mode, double value, PaintTarget target,
+    const std::function<BufferEdit(const PaintSurface&)>& editOn) {
     if (Status ok = checkTarget(document, body, channel); !ok) return ok.error();
     std::optional<PaintedMap> created;
     std::string createdPath;
@@ -228,8 +245,9 @@ Result<std::unique_ptr<Command>> paintEdit(Document& document, std::size_t body,
     std::shared_ptr<const PaintSurface> surface;
     if (!map) {
         if (target.layer >= 0 || target.part != LayerPart::Pixels) {
-            return makeError(ErrorKind::invalidArgument,
-                             std::string("body has no ") + channelName(channel) + " map (no layers)");
+            return makeError(
+                ErrorKind::invalidArgument,
+                std::string("body has no ") + channelName(channel) + " map (no layers)");
         }
         blank = uniformMap(kDefaultMapSize, kDefaultMapSize, 0.0f);
         created = blank;
@@ -312,7 +330,8 @@ Result<std::unique_ptr<Command>> makeFillIslandCommand(Document& document, std::
     std::string name = std::string("Fill island ") + channelName(channel);
     if (document.map(body, channel)) {
         // A map whose mesh is one UV island fills everywhere: say so rather than surprise.
-        if (auto surface = document.paintSurface(body, channel); surface && islandCount(**surface) == 1) {
+        if (auto surface = document.paintSurface(body, channel);
+            surface && islandCount(**surface) == 1) {
             name += " (the mesh is one UV island: all of it)";
         }
     }
@@ -370,7 +389,8 @@ std::vector<float> resampleLines(const std::vector<float>& in, int rows, int fro
             if (ratio >= 1.0) {
                 const double a = k * ratio, b = (k + 1) * ratio;
                 double sum = 0;
-                for (int i = static_cast<int>(std::floor(a)); i < std::min(from, static_cast<int>(std::ceil(b))); ++i) {
+                for (int i = static_cast<int>(std::floor(a));
+                     i < std::min(from, static_cast<int>(std::ceil(b))); ++i) {
                     sum += line[i] * (std::min(b, i + 1.0) - std::max(a, double(i)));
                 }
                 result[k] = static_cast<float>(sum / ratio);
@@ -378,7 +398,8 @@ std::vector<float> resampleLines(const std::vector<float>& in, int rows, int fro
                 const double x = std::clamp((k + 0.5) * ratio - 0.5, 0.0, from - 1.0);
                 const int i = std::min(static_cast<int>(x), from - 1);
                 const double t = x - i;
-                result[k] = static_cast<float>(line[i] * (1 - t) + line[std::min(i + 1, from - 1)] * t);
+                result[k] =
+                    static_cast<float>(line[i] * (1 - t) + line[std::min(i + 1, from - 1)] * t);
             }
         }
     }
@@ -389,7 +410,9 @@ std::vector<float> resampleLines(const std::vector<float>& in, int rows, int fro
 std::vector<float> transposed(const std::vector<float>& in, int width, int height) {
     std::vector<float> out(in.size());
     for (int y = 0; y < height; ++y)
-        for (int x = 0; x < width; ++x) out[static_cast<std::size_t>(x) * height + y] = in[static_cast<std::size_t>(y) * width + x];
+        for (int x = 0; x < width; ++x)
+            out[static_cast<std::size_t>(x) * height + y] =
+                in[static_cast<std::size_t>(y) * width + x];
     return out;
 }
 
@@ -399,15 +422,18 @@ PaintedMap resampledMap(const PaintedMap& map, int width, int height) {
     PaintedMap out;
     out.width = width;
     out.height = height;
-    std::vector<float> across = resampleLines(map.values, map.height, map.width, width);  // height x width
-    std::vector<float> down = resampleLines(transposed(across, width, map.height), width, map.height, height);
+    std::vector<float> across =
+        resampleLines(map.values, map.height, map.width, width);  // height x width
+    std::vector<float> down =
+        resampleLines(transposed(across, width, map.height), width, map.height, height);
     out.values = transposed(down, height, width);
     return out;
 }
 
 namespace {
 
-std::shared_ptr<PaintedMap> resampledPart(const std::shared_ptr<PaintedMap>& part, int width, int height) {
+std::shared_ptr<PaintedMap> resampledPart(const std::shared_ptr<PaintedMap>& part, int width,
+                                          int height) {
     return part ? std::make_shared<PaintedMap>(resampledMap(*part, width, height)) : nullptr;
 }
 
@@ -417,14 +443,17 @@ Result<std::unique_ptr<Command>> makeResizeMapCommand(Document& document, std::s
                                                       MapChannel channel, int width, int height) {
     if (Status ok = checkTarget(document, body, channel); !ok) return ok.error();
     const PaintedMap* map = document.map(body, channel);
-    if (!map) return makeError(ErrorKind::invalidArgument, std::string("no ") + channelName(channel) + " map to resize");
+    if (!map)
+        return makeError(ErrorKind::invalidArgument,
+                         std::string("no ") + channelName(channel) + " map to resize");
     if (width < 1 || height < 1 || width > kMaxPaintedMapSide || height > kMaxPaintedMapSide) {
-        return makeError(ErrorKind::limit, "map size " + std::to_string(width) + " x " + std::to_string(height) +
+        return makeError(ErrorKind::limit, "map size " + std::to_string(width) + " x " +
+                                               std::to_string(height) +
                                                " is outside 1..kMaxPaintedMapSide = " +
                                                std::to_string(kMaxPaintedMapSide) + " (limits.h)");
     }
-    const std::string name = std::string("Resize ") + channelName(channel) + " map to " + std::to_string(width) +
-                             " x " + std::to_string(height);
+    const std::string name = std::string("Resize ") + channelName(channel) + " map to " +
+                             std::to_string(width) + " x " + std::to_string(height);
     if (const LayerStack* layers = document.layers(body, channel)) {
         // Every layer's pixels, mask and coverage, at the 16 bits layers keep.
         LayerStack after = *layers;
@@ -439,11 +468,12 @@ Result<std::unique_ptr<Command>> makeResizeMapCommand(Document& document, std::s
             }
         }
         if (Status ok = checkStack(after); !ok) return ok.error();
-        return std::unique_ptr<Command>(std::make_unique<LayerCommand>(name, body, channel, *layers, std::move(after)));
+        return std::unique_ptr<Command>(
+            std::make_unique<LayerCommand>(name, body, channel, *layers, std::move(after)));
     }
     return std::unique_ptr<Command>(std::make_unique<PaintCommand>(
-        name, body, channel, std::vector<PaintCommand::PartChange>{}, resampledMap(*map, width, height),
-        channelPath(document.project().bodies[body], channel)));
+        name, body, channel, std::vector<PaintCommand::PartChange>{},
+        resampledMap(*map, width, height), channelPath(document.project().bodies[body], channel)));
 }
 
 namespace {
@@ -458,9 +488,9 @@ Result<std::unique_ptr<Command>> layerEdit(const Document& document, std::size_t
     }
     const PaintedMap* map = document.map(body, channel);
     if (!map) {
-        return makeError(ErrorKind::invalidArgument,
-                         "body " + std::to_string(body) + " has no " + channelName(channel) +
-                             " map (paint or make one first)");
+        return makeError(ErrorKind::invalidArgument, "body " + std::to_string(body) + " has no " +
+                                                         channelName(channel) +
+                                                         " map (paint or make one first)");
     }
     const LayerStack* current = document.layers(body, channel);
     std::optional<LayerStack> before;
@@ -474,9 +504,9 @@ Result<std::unique_ptr<Command>> layerEdit(const Document& document, std::size_t
 
 Status checkLayerIndex(const LayerStack& stack, int layer) {
     if (layer < 0 || static_cast<std::size_t>(layer) >= stack.layers.size()) {
-        return makeError(ErrorKind::invalidArgument,
-                         "no layer " + std::to_string(layer) + " (the map has " +
-                             std::to_string(stack.layers.size()) + ")");
+        return makeError(ErrorKind::invalidArgument, "no layer " + std::to_string(layer) +
+                                                         " (the map has " +
+                                                         std::to_string(stack.layers.size()) + ")");
     }
     return Ok{};
 }
@@ -495,41 +525,40 @@ Result<std::unique_ptr<Command>> makeAddLayerCommand(const Document& document, s
                                                      std::string name, double fillValue,
                                                      int index) {
     if (Status ok = checkUnit(fillValue, "a fill layer's value"); !ok) return ok.error();
-    return layerEdit(document, body, channel, std::string("Add ") + layerKindName(kind) + " layer",
-                     [&](LayerStack& stack) -> Status {
-                         if (Status ok = checkLayerBudget(stack, 1, kind == LayerKind::Paint ? 2 : 0); !ok)
-                             return ok;
-                         MapLayer layer;
-                         layer.kind = kind;
-                         // The default names count up from the stack's size, past any taken
-                         // (a removed layer's number is not reused while a layer has it).
-                         if (name.empty()) {
-                             layer.name =
-                                 unusedLayerName(stack, kind == LayerKind::Fill ? "Fill" : "Layer",
-                                                 stack.layers.size());
-                         } else if (Status ok = checkLayerName(stack, -1, name); !ok) {
-                             return ok;
-                         } else {
-                             layer.name = trimmedLayerName(name);
-                         }
-                         if (kind == LayerKind::Paint) {
-                             layer.pixels = std::make_shared<PaintedMap>(
-                                 uniformMap(stack.width, stack.height, 0.0f));
-                             layer.coverage = std::make_shared<PaintedMap>(
-                                 uniformMap(stack.width, stack.height, 0.0f));
-                         } else {
-                             layer.fillValue = static_cast<float>(fillValue);
-                         }
-                         const int count = static_cast<int>(stack.layers.size());
-                         const int at = index < 0 || index > count ? count : index;
-                         stack.layers.insert(stack.layers.begin() + at, std::move(layer));
-                         return Ok{};
-                     });
+    return layerEdit(
+        document, body, channel, std::string("Add ") + layerKindName(kind) + " layer",
+        [&](LayerStack& stack) -> Status {
+            if (Status ok = checkLayerBudget(stack, 1, kind == LayerKind::Paint ? 2 : 0); !ok)
+                return ok;
+            MapLayer layer;
+            layer.kind = kind;
+            // The default names count up from the stack's size, past any taken
+            // (a removed layer's number is not reused while a layer has it).
+            if (name.empty()) {
+                layer.name = unusedLayerName(stack, kind == LayerKind::Fill ? "Fill" : "Layer",
+                                             stack.layers.size());
+            } else if (Status ok = checkLayerName(stack, -1, name); !ok) {
+                return ok;
+            } else {
+                layer.name = trimmedLayerName(name);
+            }
+            if (kind == LayerKind::Paint) {
+                layer.pixels =
+                    std::make_shared<PaintedMap>(uniformMap(stack.width, stack.height, 0.0f));
+                layer.coverage =
+                    std::make_shared<PaintedMap>(uniformMap(stack.width, stack.height, 0.0f));
+            } else {
+                layer.fillValue = static_cast<float>(fillValue);
+            }
+            const int count = static_cast<int>(stack.layers.size());
+            const int at = index < 0 || index > count ? count : index;
+            stack.layers.insert(stack.layers.begin() + at, std::move(layer));
+            return Ok{};
+        });
 }
 
-Result<std::unique_ptr<Command>> makeRemoveLayerCommand(const Document& document,
-                                                        std::size_t body, MapChannel channel,
-                                                        int layer) {
+Result<std::unique_ptr<Command>> makeRemoveLayerCommand(const Document& document, std::size_t body,
+                                                        MapChannel channel, int layer) {
     return layerEdit(document, body, channel, "Remove layer", [&](LayerStack& stack) -> Status {
         if (Status ok = checkLayerIndex(stack, layer); !ok) return ok;
         if (stack.layers.size() == 1) {
@@ -616,7 +645,8 @@ Result<std::unique_ptr<Command>> makeAddMaskCommand(const Document& document, st
     return layerEdit(document, body, channel, "Add mask", [&](LayerStack& stack) -> Status {
         if (Status ok = checkLayerIndex(stack, layer); !ok) return ok;
         MapLayer& l = stack.layers[static_cast<std::size_t>(layer)];
-        if (l.mask) return makeError(ErrorKind::invalidArgument, "layer '" + l.name + "' has a mask");
+        if (l.mask)
+            return makeError(ErrorKind::invalidArgument, "layer '" + l.name + "' has a mask");
         if (Status ok = checkLayerBudget(stack, 0, 1); !ok) return ok;
         l.mask = std::make_shared<PaintedMap>(
             uniformMap(stack.width, stack.height, quantize16(static_cast<float>(value))));
@@ -624,13 +654,13 @@ Result<std::unique_ptr<Command>> makeAddMaskCommand(const Document& document, st
     });
 }
 
-Result<std::unique_ptr<Command>> makeRemoveMaskCommand(const Document& document,
-                                                       std::size_t body, MapChannel channel,
-                                                       int layer) {
+Result<std::unique_ptr<Command>> makeRemoveMaskCommand(const Document& document, std::size_t body,
+                                                       MapChannel channel, int layer) {
     return layerEdit(document, body, channel, "Remove mask", [&](LayerStack& stack) -> Status {
         if (Status ok = checkLayerIndex(stack, layer); !ok) return ok;
         MapLayer& l = stack.layers[static_cast<std::size_t>(layer)];
-        if (!l.mask) return makeError(ErrorKind::invalidArgument, "layer '" + l.name + "' has no mask");
+        if (!l.mask)
+            return makeError(ErrorKind::invalidArgument, "layer '" + l.name + "' has no mask");
         l.mask.reset();
         return Ok{};
     });
@@ -644,7 +674,8 @@ std::string propertyLabel(const Project& project, const std::string& pointer) {
         at = next;
     }
     auto isIndex = [](const std::string& t) {
-        return !t.empty() && std::all_of(t.begin(), t.end(), [](char c) { return c >= '0' && c <= '9'; });
+        return !t.empty() &&
+               std::all_of(t.begin(), t.end(), [](char c) { return c >= '0' && c <= '9'; });
     };
     std::string label;
     auto add = [&](std::string word) {
@@ -656,13 +687,15 @@ std::string propertyLabel(const Project& project, const std::string& pointer) {
         const std::string& t = parts[i];
         if (t == "bodies" && i + 1 < parts.size() && isIndex(parts[i + 1])) {
             const std::size_t b = std::stoul(parts[++i]);
-            add(b < project.bodies.size() && !project.bodies[b].name.empty() ? project.bodies[b].name
-                                                                            : "body " + std::to_string(b + 1));
+            add(b < project.bodies.size() && !project.bodies[b].name.empty()
+                    ? project.bodies[b].name
+                    : "body " + std::to_string(b + 1));
         } else if (t == "material" || t == "simulation") {
             continue;  // the property's own name says enough
         } else if (isIndex(t) && i > 0 && t.size() == 1 && t[0] < '3' &&
-                   (parts[i - 1] == "position" || parts[i - 1] == "rotation_deg" || parts[i - 1] == "gravity" ||
-                    parts[i - 1] == "velocity" || parts[i - 1] == "angular_velocity")) {
+                   (parts[i - 1] == "position" || parts[i - 1] == "rotation_deg" ||
+                    parts[i - 1] == "gravity" || parts[i - 1] == "velocity" ||
+                    parts[i - 1] == "angular_velocity")) {
             add(std::string(1, "xyz"[t[0] - '0']));
         } else if (isIndex(t)) {
             add(std::to_string(std::stoul(t) + 1));
@@ -684,8 +717,9 @@ Result<std::unique_ptr<Command>> makeSetPropertyCommand(const Document& document
     }
     Result<Project> edited = parseProject(json.dump(), "set " + pointer, document.project().folder);
     if (!edited) return edited.error();
-    return std::unique_ptr<Command>(std::make_unique<ProjectCommand>(
-        "Set " + propertyLabel(document.project(), pointer), document.project(), std::move(edited).value()));
+    return std::unique_ptr<Command>(
+        std::make_unique<ProjectCommand>("Set " + propertyLabel(document.project(), pointer),
+                                         document.project(), std::move(edited).value()));
 }
 
 Result<std::unique_ptr<Command>> makeImportMeshCommand(const Document& document,
@@ -698,7 +732,8 @@ Result<std::unique_ptr<Command>> makeImportMeshCommand(const Document& document,
     fs::path relative = absolute.lexically_relative(project.folder);
     const std::string written = relative.empty() ? absolute.string() : relative.generic_string();
     if (body) {
-        if (*body >= project.bodies.size()) return makeError(ErrorKind::invalidArgument, "no body " + std::to_string(*body));
+        if (*body >= project.bodies.size())
+            return makeError(ErrorKind::invalidArgument, "no body " + std::to_string(*body));
         project.bodies[*body].mesh = written;
     } else {
         BodyDesc added;
@@ -711,13 +746,13 @@ Result<std::unique_ptr<Command>> makeImportMeshCommand(const Document& document,
         "Import " + mesh.filename().string(), document.project(), std::move(project)));
 }
 
-
 namespace {
 
 Status checkBody(const Document& document, std::size_t body) {
     if (body >= document.bodyCount()) {
-        return makeError(ErrorKind::invalidArgument, "no body " + std::to_string(body) + " (the project has " +
-                                                         std::to_string(document.bodyCount()) + ")");
+        return makeError(ErrorKind::invalidArgument,
+                         "no body " + std::to_string(body) + " (the project has " +
+                             std::to_string(document.bodyCount()) + ")");
     }
     return Ok{};
 }
@@ -728,7 +763,8 @@ std::string bodyLabel(const BodyDesc& body, std::size_t index) {
 
 }  // namespace
 
-Result<std::unique_ptr<Command>> makeDuplicateBodyCommand(const Document& document, std::size_t body) {
+Result<std::unique_ptr<Command>> makeDuplicateBodyCommand(const Document& document,
+                                                          std::size_t body) {
     if (Status ok = checkBody(document, body); !ok) return ok.error();
     Project project = document.project();
     BodyDesc copy = project.bodies[body];
@@ -805,8 +841,8 @@ Result<std::unique_ptr<Command>> makeDuplicateBodyCommand(const Document& docume
     }
     project.bodies.insert(project.bodies.begin() + static_cast<std::ptrdiff_t>(body) + 1, copy);
     return std::unique_ptr<Command>(std::make_unique<ProjectCommand>(
-        "Duplicate " + bodyLabel(project.bodies[body], body), document.project(), std::move(project),
-        std::move(copies)));
+        "Duplicate " + bodyLabel(project.bodies[body], body), document.project(),
+        std::move(project), std::move(copies)));
 }
 
 Result<std::unique_ptr<Command>> makeRemoveBodyCommand(const Document& document, std::size_t body) {
@@ -818,12 +854,13 @@ Result<std::unique_ptr<Command>> makeRemoveBodyCommand(const Document& document,
         std::make_unique<ProjectCommand>("Remove " + name, document.project(), std::move(project)));
 }
 
-Result<std::unique_ptr<Command>> makeSetBodyTransformCommand(const Document& document, std::size_t body,
-                                                             const Eigen::Vector3d& position,
-                                                             const Eigen::Vector3d& rotationDegrees) {
+Result<std::unique_ptr<Command>> makeSetBodyTransformCommand(
+    const Document& document, std::size_t body, const Eigen::Vector3d& position,
+    const Eigen::Vector3d& rotationDegrees) {
     if (Status ok = checkBody(document, body); !ok) return ok.error();
     if (!position.allFinite() || !rotationDegrees.allFinite()) {
-        return makeError(ErrorKind::invalidArgument, "a body's position and rotation must be finite numbers");
+        return makeError(ErrorKind::invalidArgument,
+                         "a body's position and rotation must be finite numbers");
     }
     Project project = document.project();
     BodyDesc& b = project.bodies[body];

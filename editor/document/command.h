@@ -126,9 +126,8 @@ Result<std::unique_ptr<Command>> makeAddLayerCommand(const Document& document, s
                                                      MapChannel channel, LayerKind kind,
                                                      std::string name, double fillValue = 1.0,
                                                      int index = -1);
-Result<std::unique_ptr<Command>> makeRemoveLayerCommand(const Document& document,
-                                                        std::size_t body, MapChannel channel,
-                                                        int layer);
+Result<std::unique_ptr<Command>> makeRemoveLayerCommand(const Document& document, std::size_t body,
+                                                        MapChannel channel, int layer);
 /// Moves layer `from` to position `to` (the others keep their order).
 Result<std::unique_ptr<Command>> makeMoveLayerCommand(const Document& document, std::size_t body,
                                                       MapChannel channel, int from, int to);
@@ -138,7 +137,7 @@ struct LayerEdit {
     std::optional<double> opacity;
     std::optional<BlendMode> blend;
     std::optional<bool> visible;
-    std::optional<double> fillValue;   ///< fill layers only
+    std::optional<double> fillValue;  ///< fill layers only
 };
 Result<std::unique_ptr<Command>> makeSetLayerCommand(const Document& document, std::size_t body,
                                                      MapChannel channel, int layer,
@@ -153,9 +152,8 @@ Result<std::unique_ptr<Command>> makeRenameLayerCommand(const Document& document
 Result<std::unique_ptr<Command>> makeAddMaskCommand(const Document& document, std::size_t body,
                                                     MapChannel channel, int layer,
                                                     double value = 1.0);
-Result<std::unique_ptr<Command>> makeRemoveMaskCommand(const Document& document,
-                                                       std::size_t body, MapChannel channel,
-                                                       int layer);
+Result<std::unique_ptr<Command>> makeRemoveMaskCommand(const Document& document, std::size_t body,
+                                                       MapChannel channel, int layer);
 
 /// What a project edit at `pointer` is called in the history: "/bodies/0/material/density" of
 /// a body named boat is "boat density", "/bodies/0/position/1" "boat position y",
@@ -176,14 +174,15 @@ Result<std::unique_ptr<Command>> makeImportMeshCommand(const Document& document,
 /// A copy of the body beside it: a unique name ("ball copy", "ball copy 2", ...), moved along
 /// x by its mesh's width and a tenth so that the two do not overlap. Its maps and water graph
 /// are not copied: two bodies naming one file would each save their own edits over it.
-Result<std::unique_ptr<Command>> makeDuplicateBodyCommand(const Document& document, std::size_t body);
+Result<std::unique_ptr<Command>> makeDuplicateBodyCommand(const Document& document,
+                                                          std::size_t body);
 /// Takes the body out of the project; the undo brings it back with its unsaved paint.
 Result<std::unique_ptr<Command>> makeRemoveBodyCommand(const Document& document, std::size_t body);
 /// Sets the body's starting place: position (m) and rotation (degrees, Rz Ry Rx as the
 /// project's rotation_deg). Finite values only.
-Result<std::unique_ptr<Command>> makeSetBodyTransformCommand(const Document& document, std::size_t body,
-                                                             const Eigen::Vector3d& position,
-                                                             const Eigen::Vector3d& rotationDegrees);
+Result<std::unique_ptr<Command>> makeSetBodyTransformCommand(
+    const Document& document, std::size_t body, const Eigen::Vector3d& position,
+    const Eigen::Vector3d& rotationDegrees);
 /// Sets the cap of opening `cap` (BodyDesc::caps, in the openings' order) of body `body`: its
 /// mode ("open" or "sealed"; nullopt: the body's `openings`) and height (object y, m; nullopt:
 /// the rim's). The list grows with default entries up to `cap` and loses default entries at

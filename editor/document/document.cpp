@@ -29,9 +29,12 @@ using Json = nlohmann::json;
 
 const char* channelName(MapChannel channel) {
     switch (channel) {
-        case MapChannel::Permeability: return "permeability";
-        case MapChannel::Density: return "density";
-        case MapChannel::Thickness: return "thickness";
+        case MapChannel::Permeability:
+            return "permeability";
+        case MapChannel::Density:
+            return "density";
+        case MapChannel::Thickness:
+            return "thickness";
     }
     return "?";
 }
@@ -45,9 +48,12 @@ std::optional<MapChannel> parseChannel(std::string_view name) {
 
 std::string& channelPath(BodyDesc& body, MapChannel channel) {
     switch (channel) {
-        case MapChannel::Permeability: return body.permeabilityMap;
-        case MapChannel::Density: return body.material.shellDensityMap;
-        case MapChannel::Thickness: return body.material.shellThicknessMap;
+        case MapChannel::Permeability:
+            return body.permeabilityMap;
+        case MapChannel::Density:
+            return body.material.shellDensityMap;
+        case MapChannel::Thickness:
+            return body.material.shellThicknessMap;
     }
     return body.permeabilityMap;
 }
@@ -179,15 +185,18 @@ void Document::syncAssets(DetachedAssets& detached) {
             a.physics.reset();
             a.levelChoice.reset();
             if (!meshPath.empty()) {
-                Result<TriangleMesh> mesh = loadMesh(meshPath, MeshLoadOptions{.unitScale = body.unitScale});
+                Result<TriangleMesh> mesh =
+                    loadMesh(meshPath, MeshLoadOptions{.unitScale = body.unitScale});
                 if (mesh) {
                     // Painted maps lie over the UVs the body bakes: the same choice as World's
                     // (the generated atlas comes from the project's cache once made).
-                    Result<AtlasChoice> choice = chooseCachedAtlas(*mesh, validateMesh(*mesh), body.atlas,
-                                                                   AtlasSettings{},
-                                                                   project_.atlasCacheFile(b));
-                    if (choice) a.mesh = std::make_shared<const TriangleMesh>(std::move(choice->mesh));
-                    else a.meshError = choice.error().message;
+                    Result<AtlasChoice> choice =
+                        chooseCachedAtlas(*mesh, validateMesh(*mesh), body.atlas, AtlasSettings{},
+                                          project_.atlasCacheFile(b));
+                    if (choice)
+                        a.mesh = std::make_shared<const TriangleMesh>(std::move(choice->mesh));
+                    else
+                        a.meshError = choice.error().message;
                 } else {
                     a.meshError = mesh.error().message;
                 }
@@ -230,8 +239,10 @@ void Document::syncAssets(DetachedAssets& detached) {
                 detached.graphs.erase(it);
             } else if (fs::exists(graphPath, ec)) {
                 Result<WaterGraph> read = readGraphForEditing(graphPath);
-                if (read) g.graph = std::move(read).value();
-                else g.error = read.error().message;
+                if (read)
+                    g.graph = std::move(read).value();
+                else
+                    g.error = read.error().message;
             } else {
                 g.error = graphPath.string() + ": no such file (yet)";
             }
@@ -285,8 +296,8 @@ const PaintedMap* Document::map(std::size_t body, MapChannel channel) const {
 
 void Document::setMap(std::size_t body, MapChannel channel, std::optional<PaintedMap> image) {
     BodyAssets::Map& m = assets_.at(body).maps[static_cast<int>(channel)];
-    const bool sizeChanged = !image || !m.image || image->width != m.image->width ||
-                             image->height != m.image->height;
+    const bool sizeChanged =
+        !image || !m.image || image->width != m.image->width || image->height != m.image->height;
     m.image = std::move(image);
     m.dirty = true;
     m.error.clear();
@@ -302,15 +313,18 @@ const LayerStack* Document::layers(std::size_t body, MapChannel channel) const {
 void Document::setLayers(std::size_t body, MapChannel channel, std::optional<LayerStack> stack) {
     BodyAssets::Map& m = assets_.at(body).maps[static_cast<int>(channel)];
     m.layers = std::move(stack);
-    if (m.layers) setMap(body, channel, flattenLayers(*m.layers));
-    else m.dirty = true;
+    if (m.layers)
+        setMap(body, channel, flattenLayers(*m.layers));
+    else
+        m.dirty = true;
 }
 
 PaintedMap* Document::paintPixels(std::size_t body, MapChannel channel, PaintTarget target) {
     if (body >= assets_.size()) return nullptr;
     BodyAssets::Map& m = assets_[body].maps[static_cast<int>(channel)];
     if (!m.layers) {
-        return target.layer < 0 && target.part == LayerPart::Pixels && m.image ? &*m.image : nullptr;
+        return target.layer < 0 && target.part == LayerPart::Pixels && m.image ? &*m.image
+                                                                               : nullptr;
     }
     if (target.layer < 0 || static_cast<std::size_t>(target.layer) >= m.layers->layers.size()) {
         return nullptr;
@@ -338,11 +352,16 @@ void Document::restoreMapState(std::size_t body, MapChannel channel, BodyAssets:
 
 Result<std::shared_ptr<const PaintSurface>> Document::paintSurface(std::size_t body,
                                                                    MapChannel channel) {
-    if (body >= assets_.size()) return makeError(ErrorKind::invalidArgument, "no body " + std::to_string(body));
+    if (body >= assets_.size())
+        return makeError(ErrorKind::invalidArgument, "no body " + std::to_string(body));
     BodyAssets& a = assets_[body];
-    if (!a.mesh) return makeError(ErrorKind::invalidArgument, "body " + std::to_string(body) + ": no mesh (" + a.meshError + ")");
+    if (!a.mesh)
+        return makeError(ErrorKind::invalidArgument,
+                         "body " + std::to_string(body) + ": no mesh (" + a.meshError + ")");
     const PaintedMap* image = map(body, channel);
-    if (!image) return makeError(ErrorKind::invalidArgument, "body " + std::to_string(body) + ": no " + channelName(channel) + " map");
+    if (!image)
+        return makeError(ErrorKind::invalidArgument,
+                         "body " + std::to_string(body) + ": no " + channelName(channel) + " map");
     auto& cached = a.paintSurfaces[static_cast<int>(channel)];
     if (!cached || cached->width != image->width || cached->height != image->height) {
         // Maps of the same size share one surface.
@@ -380,9 +399,12 @@ Bounds3 Document::worldBounds() const {
 }
 
 Result<std::shared_ptr<const SurfaceTextures>> Document::physicsTextures(std::size_t body) {
-    if (body >= assets_.size()) return makeError(ErrorKind::invalidArgument, "no body " + std::to_string(body));
+    if (body >= assets_.size())
+        return makeError(ErrorKind::invalidArgument, "no body " + std::to_string(body));
     BodyAssets& a = assets_[body];
-    if (!a.mesh) return makeError(ErrorKind::invalidArgument, "body " + std::to_string(body) + ": no mesh (" + a.meshError + ")");
+    if (!a.mesh)
+        return makeError(ErrorKind::invalidArgument,
+                         "body " + std::to_string(body) + ": no mesh (" + a.meshError + ")");
     if (!a.physics) {
         const BakeSettings settings = physicsBakeSettings(body);
         if (settings.size == 0) {
@@ -444,9 +466,11 @@ std::shared_ptr<const SurfaceTextures> Document::bakedPhysics(std::size_t body) 
     return body < assets_.size() ? assets_[body].physics : nullptr;
 }
 
-bool Document::adoptPhysics(std::size_t body, const TriangleMesh* mesh, const BakeSettings& settings,
+bool Document::adoptPhysics(std::size_t body, const TriangleMesh* mesh,
+                            const BakeSettings& settings,
                             std::shared_ptr<const SurfaceTextures> textures) {
-    if (body >= assets_.size() || !textures || !mesh || assets_[body].mesh.get() != mesh) return false;
+    if (body >= assets_.size() || !textures || !mesh || assets_[body].mesh.get() != mesh)
+        return false;
     const BakeSettings now = physicsBakeSettings(body);
     if (now.size != settings.size || now.maxTexelStretch != settings.maxTexelStretch ||
         textures->size != settings.size) {
@@ -499,7 +523,8 @@ std::vector<std::string> Document::historyNames() const {
     std::vector<std::string> names;
     names.reserve(done_.size() + undone_.size());
     for (const Entry& e : done_) names.push_back(e.command->name());
-    for (auto it = undone_.rbegin(); it != undone_.rend(); ++it) names.push_back(it->command->name());
+    for (auto it = undone_.rbegin(); it != undone_.rend(); ++it)
+        names.push_back(it->command->name());
     return names;
 }
 
@@ -514,9 +539,7 @@ bool Document::jumpToHistory(std::size_t position) {
 
 // --- files ---------------------------------------------------------------------------------------
 
-Status Document::writeMaps(bool all) {
-    return writeMapsAndProjectFiles(all, false);
-}
+Status Document::writeMaps(bool all) { return writeMapsAndProjectFiles(all, false); }
 
 namespace {
 /// Whether `file` lies inside `folder` by its path (no "..", not elsewhere absolutely).
@@ -533,7 +556,8 @@ std::string unusedName(const fs::path& folder, const std::string& wanted) {
     std::error_code ec;
     std::string name = wanted;
     for (int n = 2; fs::exists(fs::symlink_status(folder / name, ec)); ++n)
-        name = (w.parent_path() / (w.stem().string() + "_" + std::to_string(n) + w.extension().string()))
+        name = (w.parent_path() /
+                (w.stem().string() + "_" + std::to_string(n) + w.extension().string()))
                    .generic_string();
     return name;
 }
@@ -549,7 +573,8 @@ bool Document::keepWritesInsideFolder(bool allMaps) {
     for (std::size_t b = 0; b < assets_.size(); ++b) {
         for (MapChannel c : kMapChannels) {
             BodyAssets::Map& m = assets_[b].maps[static_cast<int>(c)];
-            if (!m.image || m.path.empty() || !(m.dirty || allMaps) || liesInside(m.path, folder)) continue;
+            if (!m.image || m.path.empty() || !(m.dirty || allMaps) || liesInside(m.path, folder))
+                continue;
             const std::string name = unusedName(folder, defaultMapPath(b, c));
             channelPath(project_.bodies[b], c) = name;
             m.path = folder / name;
@@ -557,7 +582,8 @@ bool Document::keepWritesInsideFolder(bool allMaps) {
         }
         BodyAssets::Graph& g = assets_[b].graph;
         auto& desc = project_.bodies[b].waterGraph;
-        if (g.graph && desc && !g.path.empty() && (g.dirty || allMaps) && !liesInside(g.path, folder)) {
+        if (g.graph && desc && !g.path.empty() && (g.dirty || allMaps) &&
+            !liesInside(g.path, folder)) {
             desc->graph = unusedName(folder, defaultGraphPath(b));
             g.path = folder / desc->graph;
             g.dirty = moved = true;
@@ -580,7 +606,9 @@ Status Document::writeMapsAndProjectFiles(bool allMaps, bool withProject) {
             std::error_code ec;
             fs::create_directories(m.path.parent_path(), ec);
             files.push_back(bytesFileWriter(m.path, encodePaintedMapPng16(*m.image)));
-            if (m.layers) files.push_back(bytesFileWriter(layersPathFor(m.path), layerStackToJson(*m.layers)));
+            if (m.layers)
+                files.push_back(
+                    bytesFileWriter(layersPathFor(m.path), layerStackToJson(*m.layers)));
             written.push_back(&m);
         }
         BodyAssets::Graph& g = a.graph;
@@ -609,7 +637,8 @@ Status Document::writeMapsAndProjectFiles(bool allMaps, bool withProject) {
 }
 
 Status Document::save() {
-    if (path_.empty()) return makeError(ErrorKind::invalidArgument, "untitled: choose a file name (Save As)");
+    if (path_.empty())
+        return makeError(ErrorKind::invalidArgument, "untitled: choose a file name (Save As)");
     return writeMapsAndProject(false);
 }
 
@@ -726,8 +755,9 @@ Status Document::saveAs(const fs::path& target, bool overwrite) {
     std::vector<fs::path> replaced;
     if (Status safe = checkSaveAsTargets(moved, absolute, replaced); !safe.ok()) return safe;
     if (!replaced.empty() && !overwrite)
-        return makeError(ErrorKind::invalidArgument,
-                         replaced.front().string() + ": already exists (save with force to replace it)");
+        return makeError(
+            ErrorKind::invalidArgument,
+            replaced.front().string() + ": already exists (save with force to replace it)");
     Project previous = std::move(project_);
     const fs::path previousPath = path_;
     const bool ownedAutosave = ownsAutosave_;
@@ -796,7 +826,8 @@ Result<Scene> Document::simulationScene(const LogFunction& log) const {
             // must keep its frames' triangles: both come from the files, as a project run does.
             if (desc.deforms()) return prepareBodyMesh(project_, b);
             if (!a.mesh)
-                return makeError(ErrorKind::io, label + ": " + (a.meshError.empty() ? "no mesh" : a.meshError));
+                return makeError(ErrorKind::io,
+                                 label + ": " + (a.meshError.empty() ? "no mesh" : a.meshError));
             return prepareLoadedBodyMesh(project_, b, *a.mesh, /*uvsChosen=*/true);
         }();
         if (!prepared) return prepared.error();
@@ -804,12 +835,13 @@ Result<Scene> Document::simulationScene(const LogFunction& log) const {
         if (!desc.deforms()) paint.paintedOver = a.mesh;
         if (desc.waterGraph) {
             if (!a.graph.graph) {
-                return makeError(ErrorKind::io, label + ": water graph: " +
-                                                    (a.graph.error.empty() ? "not loaded"
-                                                                           : a.graph.error));
+                return makeError(ErrorKind::io,
+                                 label + ": water graph: " +
+                                     (a.graph.error.empty() ? "not loaded" : a.graph.error));
             }
             // Edited graphs are parsed, not validated: a simulation needs a valid one.
-            const GraphReport report = validateGraph(*a.graph.graph, &prepared->mesh, a.graph.path.string());
+            const GraphReport report =
+                validateGraph(*a.graph.graph, &prepared->mesh, a.graph.path.string());
             if (report.hasErrors()) {
                 return makeError(ErrorKind::schema, label + ": water graph: " + report.format());
             }
@@ -826,9 +858,15 @@ Result<Scene> Document::simulationScene(const LogFunction& log) const {
                                                     (m.error.empty() ? "not loaded" : m.error));
             }
             switch (c) {
-                case MapChannel::Permeability: paint.permeabilityMap = std::move(image); break;
-                case MapChannel::Density: paint.shellDensityMap = std::move(image); break;
-                case MapChannel::Thickness: paint.shellThicknessMap = std::move(image); break;
+                case MapChannel::Permeability:
+                    paint.permeabilityMap = std::move(image);
+                    break;
+                case MapChannel::Density:
+                    paint.shellDensityMap = std::move(image);
+                    break;
+                case MapChannel::Thickness:
+                    paint.shellThicknessMap = std::move(image);
+                    break;
             }
         }
         BodyDesc bodyDesc = desc;
@@ -836,7 +874,8 @@ Result<Scene> Document::simulationScene(const LogFunction& log) const {
         if (!assembled) return assembled.error();
         BodyParts parts = std::move(*assembled);
         if (desc.deforms()) {
-            Result<std::shared_ptr<const std::vector<TriangleMesh>>> frames = loadBodyFrames(project_, b);
+            Result<std::shared_ptr<const std::vector<TriangleMesh>>> frames =
+                loadBodyFrames(project_, b);
             if (!frames) return frames.error();
             parts.frames = std::move(*frames);
         }
@@ -909,15 +948,16 @@ fs::path projectOfAutosave(const fs::path& autosaveFile) {
     if (name.size() <= 1 + suffix.size() || name.front() != '.' ||
         name.compare(name.size() - suffix.size(), suffix.size(), suffix) != 0)
         return {};
-    if (file == fs::absolute(userConfigDir() / "untitled.plim.json.autosave").lexically_normal()) return {};
+    if (file == fs::absolute(userConfigDir() / "untitled.plim.json.autosave").lexically_normal())
+        return {};
     return file.parent_path() / name.substr(1, name.size() - 1 - suffix.size());
 }
 }  // namespace
 
 std::optional<fs::path> Document::findAutosave(const fs::path& project) {
-    const fs::path candidate =
-        project.empty() ? userConfigDir() / "untitled.plim.json.autosave"
-                        : autosavePathFor(fs::absolute(project).lexically_normal());
+    const fs::path candidate = project.empty()
+                                   ? userConfigDir() / "untitled.plim.json.autosave"
+                                   : autosavePathFor(fs::absolute(project).lexically_normal());
     std::error_code ec;
     if (fs::exists(candidate, ec)) return candidate;
     return std::nullopt;
@@ -943,8 +983,7 @@ Result<std::unique_ptr<Document>> Document::recover(const fs::path& autosaveFile
     const fs::path projectPath = projectOfAutosave(autosaveFile);
     const fs::path folder = projectPath.empty() ? fs::path(root.value("folder", std::string()))
                                                 : projectPath.parent_path();
-    Result<Project> project =
-        parseProject(root["project"].dump(), autosaveFile.string(), folder);
+    Result<Project> project = parseProject(root["project"].dump(), autosaveFile.string(), folder);
     if (!project) return project.error();
     auto document = std::make_unique<Document>();
     document->path_ = projectPath;
@@ -957,8 +996,8 @@ Result<std::unique_ptr<Document>> Document::recover(const fs::path& autosaveFile
         const std::size_t body = m.value("body", std::size_t{0});
         const std::optional<MapChannel> channel = parseChannel(m.value("channel", std::string()));
         if (!channel || body >= document->bodyCount()) continue;
-        Result<PaintedMap> image =
-            decodePaintedMap(base64Decode(m.value("png_base64", std::string())), autosaveFile.string());
+        Result<PaintedMap> image = decodePaintedMap(
+            base64Decode(m.value("png_base64", std::string())), autosaveFile.string());
         if (!image) return image.error();
         document->setMap(body, *channel, std::move(image).value());
         if (m.contains("layers")) {

@@ -47,20 +47,20 @@ bool channelNeedsShell(MapChannel channel);
 
 /// A body's files as loaded.
 struct BodyAssets {
-    std::filesystem::path meshPath;           ///< resolved path the mesh was loaded from
+    std::filesystem::path meshPath;  ///< resolved path the mesh was loaded from
     /// The mesh with the UVs the body bakes and is painted over: its own, or its generated
     /// physics atlas (BodyDesc::atlas, as World chooses). Null when it failed to load.
     std::shared_ptr<const TriangleMesh> mesh;
-    AtlasMode atlas = AtlasMode::Auto;        ///< the mode `mesh` was chosen with
-    double unitScale = 0;                     ///< the body's unit `mesh` was read in (0: the file's)
+    AtlasMode atlas = AtlasMode::Auto;  ///< the mode `mesh` was chosen with
+    double unitScale = 0;               ///< the body's unit `mesh` was read in (0: the file's)
     std::string meshError;
     struct Map {
-        std::filesystem::path path;           ///< resolved path (what it was loaded from/for)
+        std::filesystem::path path;  ///< resolved path (what it was loaded from/for)
         /// What the engine reads: with layers, always flattenLayers(*layers).
         std::optional<PaintedMap> image;
         /// The map's layers (saved beside it, layersPathFor); none: the image is all there is.
         std::optional<LayerStack> layers;
-        bool dirty = false;                   ///< differs from the file
+        bool dirty = false;  ///< differs from the file
         std::string error;
     };
     std::array<Map, kMapChannelCount> maps;
@@ -75,9 +75,9 @@ struct BodyAssets {
     /// The body's water graph (the file BodyDesc::waterGraph names) as loaded and edited. It
     /// is parsed but not validated: a graph with errors can still be opened and fixed.
     struct Graph {
-        std::filesystem::path path;           ///< resolved path; empty: the body has none
+        std::filesystem::path path;  ///< resolved path; empty: the body has none
         std::optional<WaterGraph> graph;
-        bool dirty = false;                   ///< differs from the file
+        bool dirty = false;  ///< differs from the file
         std::string error;
     };
     Graph graph;
@@ -149,7 +149,8 @@ public:
     Status saveAs(const std::filesystem::path& path, bool overwrite = false);
     /// The existing files saveAs(path) would replace (so need `overwrite`, after asking); an
     /// error where it would write over a file the project reads (refused whatever the answer).
-    Result<std::vector<std::filesystem::path>> replacedBySaveAs(const std::filesystem::path& path) const;
+    Result<std::vector<std::filesystem::path>> replacedBySaveAs(
+        const std::filesystem::path& path) const;
 
     /// The project as it is being edited, as a scene for World: every body baked from the
     /// document's own mesh, water graph and painted maps, unsaved edits included (a deforming

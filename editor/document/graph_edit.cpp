@@ -10,11 +10,16 @@ namespace plimsoll::editor {
 GraphCommand::GraphCommand(std::string name, std::size_t body, std::optional<WaterGraph> before,
                            std::optional<WaterGraph> after, std::optional<Project> projectBefore,
                            std::optional<Project> projectAfter)
-    : name_(std::move(name)), body_(body), before_(std::move(before)), after_(std::move(after)),
-      projectBefore_(std::move(projectBefore)), projectAfter_(std::move(projectAfter)) {}
+    : name_(std::move(name)),
+      body_(body),
+      before_(std::move(before)),
+      after_(std::move(after)),
+      projectBefore_(std::move(projectBefore)),
+      projectAfter_(std::move(projectAfter)) {}
 
 Status GraphCommand::apply(Document& document) {
-    if (body_ >= document.bodyCount()) return makeError(ErrorKind::invalidArgument, "no body " + std::to_string(body_));
+    if (body_ >= document.bodyCount())
+        return makeError(ErrorKind::invalidArgument, "no body " + std::to_string(body_));
     // The project first: it names the file the graph belongs to.
     if (projectAfter_) document.setProject(*projectAfter_, detached_);
     document.setGraph(body_, after_);
@@ -33,41 +38,50 @@ bool finite(const Eigen::Vector3d& v) { return v.allFinite(); }
 /// The body's graph to edit, or why there is none.
 Result<WaterGraph> currentGraph(const Document& document, std::size_t body) {
     if (body >= document.bodyCount()) {
-        return makeError(ErrorKind::invalidArgument, "no body " + std::to_string(body) + " (the project has " +
-                         std::to_string(document.bodyCount()) + ")");
+        return makeError(ErrorKind::invalidArgument,
+                         "no body " + std::to_string(body) + " (the project has " +
+                             std::to_string(document.bodyCount()) + ")");
     }
     if (!document.project().bodies[body].waterGraph) {
-        return makeError(ErrorKind::invalidArgument, "body " + std::to_string(body) +
-                         " has no water graph (create one first: graph_create)");
+        return makeError(ErrorKind::invalidArgument,
+                         "body " + std::to_string(body) +
+                             " has no water graph (create one first: graph_create)");
     }
     const WaterGraph* graph = document.graph(body);
     if (!graph) {
-        return makeError(ErrorKind::io, "body " + std::to_string(body) + ": water graph not loaded: " +
-                         document.assets(body).graph.error);
+        return makeError(ErrorKind::io,
+                         "body " + std::to_string(body) +
+                             ": water graph not loaded: " + document.assets(body).graph.error);
     }
     return *graph;
 }
 
 Status checkNode(const GraphNode& n) {
     if (!(n.capacity > 0) || !std::isfinite(n.capacity)) {
-        return makeError(ErrorKind::invalidArgument, "node " + n.id + ": capacity must be > 0 (m^3)");
+        return makeError(ErrorKind::invalidArgument,
+                         "node " + n.id + ": capacity must be > 0 (m^3)");
     }
     if (!(n.water >= 0) || n.water > n.capacity) {
-        return makeError(ErrorKind::invalidArgument, "node " + n.id + ": water must be within 0..capacity (m^3)");
+        return makeError(ErrorKind::invalidArgument,
+                         "node " + n.id + ": water must be within 0..capacity (m^3)");
     }
-    if (!finite(n.position)) return makeError(ErrorKind::invalidArgument, "node " + n.id + ": position not finite");
+    if (!finite(n.position))
+        return makeError(ErrorKind::invalidArgument, "node " + n.id + ": position not finite");
     if (!finite(n.boxSize) || n.boxSize.minCoeff() < 0) {
-        return makeError(ErrorKind::invalidArgument, "node " + n.id + ": box size must be >= 0 (m)");
+        return makeError(ErrorKind::invalidArgument,
+                         "node " + n.id + ": box size must be >= 0 (m)");
     }
     return Ok{};
 }
 
 Status checkPipe(const GraphPipe& p) {
     if (!(p.radius > 0) || !std::isfinite(p.radius)) {
-        return makeError(ErrorKind::invalidArgument, "pipe " + p.a + "-" + p.b + ": radius must be > 0 (m)");
+        return makeError(ErrorKind::invalidArgument,
+                         "pipe " + p.a + "-" + p.b + ": radius must be > 0 (m)");
     }
     if (!(p.length >= 0) || !std::isfinite(p.length)) {
-        return makeError(ErrorKind::invalidArgument, "pipe " + p.a + "-" + p.b + ": length must be >= 0 (m)");
+        return makeError(ErrorKind::invalidArgument,
+                         "pipe " + p.a + "-" + p.b + ": length must be >= 0 (m)");
     }
     return Ok{};
 }
@@ -75,7 +89,8 @@ Status checkPipe(const GraphPipe& p) {
 Status checkIds(const WaterGraph& graph, const std::vector<std::string>& ids) {
     if (ids.empty()) return makeError(ErrorKind::invalidArgument, "no nodes given");
     for (const std::string& id : ids) {
-        if (graph.indexOf(id) < 0) return makeError(ErrorKind::invalidArgument, "no node \"" + id + "\"");
+        if (graph.indexOf(id) < 0)
+            return makeError(ErrorKind::invalidArgument, "no node \"" + id + "\"");
     }
     return Ok{};
 }
@@ -109,10 +124,12 @@ int findPipe(const WaterGraph& graph, const std::string& a, const std::string& b
 
 Result<std::unique_ptr<Command>> makeCreateGraphCommand(const Document& document, std::size_t body,
                                                         std::string path) {
-    if (body >= document.bodyCount()) return makeError(ErrorKind::invalidArgument, "no body " + std::to_string(body));
+    if (body >= document.bodyCount())
+        return makeError(ErrorKind::invalidArgument, "no body " + std::to_string(body));
     if (document.project().bodies[body].waterGraph) {
-        return makeError(ErrorKind::invalidArgument, "body " + std::to_string(body) + " already has a water graph (" +
-                         document.project().bodies[body].waterGraph->graph + ")");
+        return makeError(ErrorKind::invalidArgument,
+                         "body " + std::to_string(body) + " already has a water graph (" +
+                             document.project().bodies[body].waterGraph->graph + ")");
     }
     if (path.empty()) path = document.defaultGraphPath(body);
     Project after = document.project();
@@ -120,16 +137,18 @@ Result<std::unique_ptr<Command>> makeCreateGraphCommand(const Document& document
     desc.graph = path;
     after.bodies[body].waterGraph = desc;
     return std::unique_ptr<Command>(std::make_unique<GraphCommand>(
-        "New water graph", body, document.graph(body) ? std::optional(*document.graph(body))
-                                                      : std::nullopt,
-        WaterGraph{}, document.project(), std::move(after)));
+        "New water graph", body,
+        document.graph(body) ? std::optional(*document.graph(body)) : std::nullopt, WaterGraph{},
+        document.project(), std::move(after)));
 }
 
 Result<std::unique_ptr<Command>> makeReplaceGraphCommand(const Document& document, std::size_t body,
                                                          WaterGraph graph, std::string name) {
-    if (body >= document.bodyCount()) return makeError(ErrorKind::invalidArgument, "no body " + std::to_string(body));
+    if (body >= document.bodyCount())
+        return makeError(ErrorKind::invalidArgument, "no body " + std::to_string(body));
     if (!document.project().bodies[body].waterGraph) {
-        return makeError(ErrorKind::invalidArgument, "body " + std::to_string(body) + " has no water graph entry");
+        return makeError(ErrorKind::invalidArgument,
+                         "body " + std::to_string(body) + " has no water graph entry");
     }
     for (const GraphNode& n : graph.nodes) {
         if (Status s = checkNode(n); !s) return s.error();
@@ -147,7 +166,8 @@ Result<std::unique_ptr<Command>> makeAddNodeCommand(const Document& document, st
     Result<WaterGraph> graph = currentGraph(document, body);
     if (!graph) return graph.error();
     if (node.id.empty()) node.id = freshNodeId(*graph);
-    if (graph->indexOf(node.id) >= 0) return makeError(ErrorKind::invalidArgument, "node id \"" + node.id + "\" is taken");
+    if (graph->indexOf(node.id) >= 0)
+        return makeError(ErrorKind::invalidArgument, "node id \"" + node.id + "\" is taken");
     if (Status s = checkNode(node); !s) return s.error();
     const std::string name = "Add node " + node.id;
     graph->nodes.push_back(std::move(node));
@@ -210,8 +230,7 @@ Result<std::unique_ptr<Command>> makeMoveNodesCommand(const Document& document, 
     for (GraphNode& n : graph->nodes) {
         if (moved.count(n.id)) n.position += offset;
     }
-    return edited(document, body, "Move " + plural(moved.size(), "node"),
-                  std::move(graph).value());
+    return edited(document, body, "Move " + plural(moved.size(), "node"), std::move(graph).value());
 }
 
 Result<std::unique_ptr<Command>> makeSetNodeCommand(const Document& document, std::size_t body,
@@ -240,7 +259,8 @@ Result<std::unique_ptr<Command>> makeSetNodesCommand(const Document& document, s
         if (edit.boxSize) n.boxSize = *edit.boxSize;
         if (Status s = checkNode(n); !s) return s.error();
     }
-    const std::string name = ids.size() == 1 ? "Edit node " + ids[0] : "Edit " + plural(ids.size(), "node");
+    const std::string name =
+        ids.size() == 1 ? "Edit node " + ids[0] : "Edit " + plural(ids.size(), "node");
     return edited(document, body, name, std::move(graph).value());
 }
 
@@ -249,9 +269,12 @@ Result<std::unique_ptr<Command>> makeAddPipeCommand(const Document& document, st
     Result<WaterGraph> graph = currentGraph(document, body);
     if (!graph) return graph.error();
     if (Status s = checkIds(*graph, {pipe.a, pipe.b}); !s) return s.error();
-    if (pipe.a == pipe.b) return makeError(ErrorKind::invalidArgument, "a pipe joins two different nodes, not " + pipe.a + " to itself");
+    if (pipe.a == pipe.b)
+        return makeError(ErrorKind::invalidArgument,
+                         "a pipe joins two different nodes, not " + pipe.a + " to itself");
     if (findPipe(*graph, pipe.a, pipe.b) >= 0) {
-        return makeError(ErrorKind::invalidArgument, "nodes " + pipe.a + " and " + pipe.b + " are already connected");
+        return makeError(ErrorKind::invalidArgument,
+                         "nodes " + pipe.a + " and " + pipe.b + " are already connected");
     }
     if (Status s = checkPipe(pipe); !s) return s.error();
     const std::string name = "Connect " + pipe.a + "-" + pipe.b;
@@ -264,7 +287,8 @@ Result<std::unique_ptr<Command>> makeRemovePipeCommand(const Document& document,
     Result<WaterGraph> graph = currentGraph(document, body);
     if (!graph) return graph.error();
     const int index = findPipe(*graph, a, b);
-    if (index < 0) return makeError(ErrorKind::invalidArgument, "no pipe between " + a + " and " + b);
+    if (index < 0)
+        return makeError(ErrorKind::invalidArgument, "no pipe between " + a + " and " + b);
     graph->pipes.erase(graph->pipes.begin() + index);
     return edited(document, body, "Disconnect " + a + "-" + b, std::move(graph).value());
 }
@@ -275,15 +299,17 @@ Result<std::unique_ptr<Command>> makeSetPipeCommand(const Document& document, st
     Result<WaterGraph> graph = currentGraph(document, body);
     if (!graph) return graph.error();
     const int index = findPipe(*graph, a, b);
-    if (index < 0) return makeError(ErrorKind::invalidArgument, "no pipe between " + a + " and " + b);
+    if (index < 0)
+        return makeError(ErrorKind::invalidArgument, "no pipe between " + a + " and " + b);
     GraphPipe& p = graph->pipes[index];
     if (edit.open) p.open = *edit.open;
     if (edit.radius) p.radius = *edit.radius;
     if (edit.length) p.length = *edit.length;
     if (Status s = checkPipe(p); !s) return s.error();
-    const std::string name = edit.open && !edit.radius && !edit.length
-                                 ? std::string(*edit.open ? "Open" : "Close") + " pipe " + a + "-" + b
-                                 : "Edit pipe " + a + "-" + b;
+    const std::string name =
+        edit.open && !edit.radius && !edit.length
+            ? std::string(*edit.open ? "Open" : "Close") + " pipe " + a + "-" + b
+            : "Edit pipe " + a + "-" + b;
     return edited(document, body, name, std::move(graph).value());
 }
 

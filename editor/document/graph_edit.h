@@ -50,7 +50,7 @@ struct NodeEdit {
 struct PipeEdit {
     std::optional<bool> open;
     std::optional<double> radius;
-    std::optional<double> length;            ///< 0: the distance between the nodes
+    std::optional<double> length;  ///< 0: the distance between the nodes
 };
 
 /// An id not used in the graph: "n1", "n2", ...

@@ -17,12 +17,36 @@ Eigen::Vector3f nodeColour(std::size_t i) {
     const double p = v * (1 - s), q = v * (1 - s * f), t = v * (1 - s * (1 - f));
     double r = v, g = t, b = p;
     switch (sector) {
-        case 0: r = v; g = t; b = p; break;
-        case 1: r = q; g = v; b = p; break;
-        case 2: r = p; g = v; b = t; break;
-        case 3: r = p; g = q; b = v; break;
-        case 4: r = t; g = p; b = v; break;
-        default: r = v; g = p; b = q; break;
+        case 0:
+            r = v;
+            g = t;
+            b = p;
+            break;
+        case 1:
+            r = q;
+            g = v;
+            b = p;
+            break;
+        case 2:
+            r = p;
+            g = v;
+            b = t;
+            break;
+        case 3:
+            r = p;
+            g = q;
+            b = v;
+            break;
+        case 4:
+            r = t;
+            g = p;
+            b = v;
+            break;
+        default:
+            r = v;
+            g = p;
+            b = q;
+            break;
     }
     return {float(r), float(g), float(b)};
 }
@@ -39,7 +63,8 @@ OverlayImage blankTexture(const SurfaceTextures& textures) {
 
 void put(OverlayImage& image, std::uint32_t texel, const Eigen::Vector3f& c) {
     std::uint8_t* p = &image.rgba[static_cast<std::size_t>(texel) * 4];
-    for (int k = 0; k < 3; ++k) p[k] = static_cast<std::uint8_t>(std::clamp(c[k], 0.0f, 1.0f) * 255.0f + 0.5f);
+    for (int k = 0; k < 3; ++k)
+        p[k] = static_cast<std::uint8_t>(std::clamp(c[k], 0.0f, 1.0f) * 255.0f + 0.5f);
     p[3] = 255;
 }
 
@@ -49,7 +74,8 @@ OverlayImage feedOverlay(const WaterGraph& graph, const SurfaceTextures& texture
     OverlayImage image = blankTexture(textures);
     const std::vector<std::int32_t> feeds = texelNodeMap(graph, textures);
     for (std::size_t i = 0; i < feeds.size(); ++i) {
-        if (feeds[i] >= 0) put(image, textures.texelIndex[i], nodeColour(static_cast<std::size_t>(feeds[i])));
+        if (feeds[i] >= 0)
+            put(image, textures.texelIndex[i], nodeColour(static_cast<std::size_t>(feeds[i])));
     }
     return image;
 }
@@ -64,7 +90,8 @@ std::vector<int> texelSegments(const TriangleMesh& mesh, const MeshSegmentation&
     Eigen::Vector3d lo = Eigen::Vector3d::Constant(std::numeric_limits<double>::max()), hi = -lo;
     for (std::size_t t = 0; t < count; ++t) {
         const Triangle& tri = mesh.triangles[t];
-        centroid[t] = (mesh.positions[tri[0]] + mesh.positions[tri[1]] + mesh.positions[tri[2]]) / 3.0;
+        centroid[t] =
+            (mesh.positions[tri[0]] + mesh.positions[tri[1]] + mesh.positions[tri[2]]) / 3.0;
         lo = lo.cwiseMin(centroid[t]);
         hi = hi.cwiseMax(centroid[t]);
     }
@@ -73,7 +100,9 @@ std::vector<int> texelSegments(const TriangleMesh& mesh, const MeshSegmentation&
     const double extent = std::max((hi - lo).maxCoeff(), 1e-9);
     const int cells = std::clamp(static_cast<int>(std::cbrt(static_cast<double>(count))), 1, 64);
     const double cell = extent / cells * (1 + 1e-9);
-    auto key = [&](int x, int y, int z) { return (static_cast<long long>(x) * 4096 + y) * 4096 + z; };
+    auto key = [&](int x, int y, int z) {
+        return (static_cast<long long>(x) * 4096 + y) * 4096 + z;
+    };
     std::unordered_map<long long, std::vector<std::uint32_t>> grid;
     auto cellOf = [&](const Eigen::Vector3d& p, int k) {
         return std::clamp(static_cast<int>(std::floor((p[k] - lo[k]) / cell)), 0, cells - 1);
@@ -91,7 +120,9 @@ std::vector<int> texelSegments(const TriangleMesh& mesh, const MeshSegmentation&
             for (int x = c[0] - r; x <= c[0] + r; ++x)
                 for (int y = c[1] - r; y <= c[1] + r; ++y)
                     for (int z = c[2] - r; z <= c[2] + r; ++z) {
-                        if (std::max({std::abs(x - c[0]), std::abs(y - c[1]), std::abs(z - c[2])}) != r) continue;
+                        if (std::max(
+                                {std::abs(x - c[0]), std::abs(y - c[1]), std::abs(z - c[2])}) != r)
+                            continue;
                         auto it = grid.find(key(x, y, z));
                         if (it == grid.end()) continue;
                         for (std::uint32_t t : it->second) {
@@ -112,7 +143,9 @@ std::vector<int> texelSegments(const TriangleMesh& mesh, const MeshSegmentation&
 OverlayImage segmentOverlay(const std::vector<int>& texelSegment, const SurfaceTextures& textures) {
     OverlayImage image = blankTexture(textures);
     for (std::size_t i = 0; i < texelSegment.size() && i < textures.coveredCount(); ++i) {
-        if (texelSegment[i] >= 0) put(image, textures.texelIndex[i], nodeColour(static_cast<std::size_t>(texelSegment[i])));
+        if (texelSegment[i] >= 0)
+            put(image, textures.texelIndex[i],
+                nodeColour(static_cast<std::size_t>(texelSegment[i])));
     }
     return image;
 }
@@ -167,7 +200,8 @@ SchematicLayout schematicLayout(const WaterGraph& graph, float width, float heig
         for (std::size_t i = 0; i < n; ++i) {
             for (std::size_t j = i + 1; j < n; ++j) {
                 Eigen::Vector2f d = layout.centre[j] - layout.centre[i];
-                const Eigen::Vector2f overlap(need.x() - std::abs(d.x()), need.y() - std::abs(d.y()));
+                const Eigen::Vector2f overlap(need.x() - std::abs(d.x()),
+                                              need.y() - std::abs(d.y()));
                 if (overlap.x() <= 0 || overlap.y() <= 0) continue;
                 const int axis = overlap.x() / need.x() <= overlap.y() / need.y() ? 0 : 1;
                 const float sign = d[axis] > 0 ? 1.0f : d[axis] < 0 ? -1.0f : 1.0f;
@@ -185,7 +219,8 @@ SchematicLayout schematicLayout(const WaterGraph& graph, float width, float heig
 int schematicNodeAt(const SchematicLayout& layout, const Eigen::Vector2f& p) {
     for (std::size_t k = layout.centre.size(); k-- > 0;) {
         const Eigen::Vector2f d = (p - layout.centre[k]).cwiseAbs();
-        if (d.x() <= 0.5f * layout.box.x() && d.y() <= 0.5f * layout.box.y()) return static_cast<int>(k);
+        if (d.x() <= 0.5f * layout.box.x() && d.y() <= 0.5f * layout.box.y())
+            return static_cast<int>(k);
     }
     return -1;
 }

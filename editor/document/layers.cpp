@@ -46,21 +46,35 @@ std::optional<BlendMode> parseBlendMode(std::string_view name) {
 float blendValue(BlendMode mode, float c, float v) {
     float out = v;
     switch (mode) {
-        case BlendMode::Normal: out = v; break;
-        case BlendMode::Multiply: out = c * v; break;
-        case BlendMode::Add: out = c + v; break;
-        case BlendMode::Subtract: out = c - v; break;
-        case BlendMode::Screen: out = 1.0f - (1.0f - c) * (1.0f - v); break;
-        case BlendMode::Lighten: out = std::max(c, v); break;
-        case BlendMode::Darken: out = std::min(c, v); break;
+        case BlendMode::Normal:
+            out = v;
+            break;
+        case BlendMode::Multiply:
+            out = c * v;
+            break;
+        case BlendMode::Add:
+            out = c + v;
+            break;
+        case BlendMode::Subtract:
+            out = c - v;
+            break;
+        case BlendMode::Screen:
+            out = 1.0f - (1.0f - c) * (1.0f - v);
+            break;
+        case BlendMode::Lighten:
+            out = std::max(c, v);
+            break;
+        case BlendMode::Darken:
+            out = std::min(c, v);
+            break;
     }
     return std::clamp(out, 0.0f, 1.0f);
 }
 
 bool MapLayer::operator==(const MapLayer& o) const {
-    return name == o.name && kind == o.kind && fillValue == o.fillValue &&
-           opacity == o.opacity && blend == o.blend && visible == o.visible &&
-           sameMap(pixels, o.pixels) && sameMap(mask, o.mask) && sameMap(coverage, o.coverage);
+    return name == o.name && kind == o.kind && fillValue == o.fillValue && opacity == o.opacity &&
+           blend == o.blend && visible == o.visible && sameMap(pixels, o.pixels) &&
+           sameMap(mask, o.mask) && sameMap(coverage, o.coverage);
 }
 
 float quantize16(float value) {
@@ -104,12 +118,15 @@ PaintedMap flattenLayers(const LayerStack& stack) {
 Status checkStack(const LayerStack& stack) {
     if (stack.width < 1 || stack.height < 1) return makeError(ErrorKind::format, "layers: no size");
     if (stack.layers.empty()) return makeError(ErrorKind::format, "layers: the stack is empty");
-    auto sized = [&](const PaintedMap& m) { return m.width == stack.width && m.height == stack.height; };
+    auto sized = [&](const PaintedMap& m) {
+        return m.width == stack.width && m.height == stack.height;
+    };
     for (std::size_t i = 0; i < stack.layers.size(); ++i) {
         const MapLayer& l = stack.layers[i];
         const std::string where = "layer " + std::to_string(i) + " '" + l.name + "': ";
         if ((l.kind == LayerKind::Paint) != static_cast<bool>(l.pixels)) {
-            return makeError(ErrorKind::format, where + "a paint layer has pixels, a fill layer none");
+            return makeError(ErrorKind::format,
+                             where + "a paint layer has pixels, a fill layer none");
         }
         if (l.pixels && !sized(*l.pixels)) {
             return makeError(ErrorKind::format, where + "pixels are not the map's size");
@@ -118,9 +135,11 @@ Status checkStack(const LayerStack& stack) {
             return makeError(ErrorKind::format, where + "mask is not the map's size");
         }
         if (l.coverage && (!l.pixels || !sized(*l.coverage))) {
-            return makeError(ErrorKind::format, where + "coverage is a paint layer's, of the map's size");
+            return makeError(ErrorKind::format,
+                             where + "coverage is a paint layer's, of the map's size");
         }
-        if (!(l.opacity >= 0.0f && l.opacity <= 1.0f) || !(l.fillValue >= 0.0f && l.fillValue <= 1.0f)) {
+        if (!(l.opacity >= 0.0f && l.opacity <= 1.0f) ||
+            !(l.fillValue >= 0.0f && l.fillValue <= 1.0f)) {
             return makeError(ErrorKind::schema, where + "opacity and value must be 0..1");
         }
     }
@@ -161,34 +180,39 @@ namespace {
 /// The samples of the images `stack` holds now.
 std::uint64_t imagesHeld(const LayerStack& stack) {
     std::uint64_t images = 0;
-    for (const MapLayer& l : stack.layers) images += bool(l.pixels) + bool(l.mask) + bool(l.coverage);
+    for (const MapLayer& l : stack.layers)
+        images += bool(l.pixels) + bool(l.mask) + bool(l.coverage);
     return images;
 }
 
 Status checkCounts(std::uint64_t width, std::uint64_t height, std::uint64_t layers,
                    std::uint64_t images) {
     if (layers > std::uint64_t(kMaxMapLayers))
-        return makeError(ErrorKind::limit, std::to_string(layers) + " layers, more than the limit "
-                                           "kMaxMapLayers = " + std::to_string(kMaxMapLayers) +
-                                           " (layers.h)");
+        return makeError(ErrorKind::limit, std::to_string(layers) +
+                                               " layers, more than the limit "
+                                               "kMaxMapLayers = " +
+                                               std::to_string(kMaxMapLayers) + " (layers.h)");
     const std::uint64_t side = std::uint64_t(kMaxPaintedMapSide);
     if (width > side || height > side)
         return makeError(ErrorKind::limit, "layers of " + std::to_string(width) + " x " +
-                                               std::to_string(height) + " pixels, more than "
+                                               std::to_string(height) +
+                                               " pixels, more than "
                                                "kMaxPaintedMapSide (limits.h)");
     const std::uint64_t samples = width * height * images;  // < 2^26 * 2^32: no overflow
     if (images > (std::uint64_t(1) << 32) || samples > kMaxLayerSamples)
-        return makeError(ErrorKind::limit,
-                         std::to_string(images) + " layer images of " + std::to_string(width) + " x " +
-                             std::to_string(height) + " pixels (" + formatBytes(4.0 * double(samples)) +
-                             "), more than the limit kMaxLayerSamples = " +
-                             std::to_string(kMaxLayerSamples) + " samples (layers.h)");
+        return makeError(
+            ErrorKind::limit,
+            std::to_string(images) + " layer images of " + std::to_string(width) + " x " +
+                std::to_string(height) + " pixels (" + formatBytes(4.0 * double(samples)) +
+                "), more than the limit kMaxLayerSamples = " + std::to_string(kMaxLayerSamples) +
+                " samples (layers.h)");
     return Ok{};
 }
 }  // namespace
 
 Status checkLayerBudget(const LayerStack& stack, int layers, int images) {
-    return checkCounts(std::uint64_t(std::max(stack.width, 0)), std::uint64_t(std::max(stack.height, 0)),
+    return checkCounts(std::uint64_t(std::max(stack.width, 0)),
+                       std::uint64_t(std::max(stack.height, 0)),
                        stack.layers.size() + std::uint64_t(std::max(layers, 0)),
                        imagesHeld(stack) + std::uint64_t(std::max(images, 0)));
 }
@@ -201,8 +225,10 @@ std::string layerStackToJson(const LayerStack& stack) {
                   {"opacity", l.opacity},
                   {"blend", blendModeName(l.blend)},
                   {"visible", l.visible}};
-        if (l.pixels) j["pixels_png_base64"] = base64Encode(encodePaintedMapPng16(*l.pixels));
-        else j["value"] = l.fillValue;
+        if (l.pixels)
+            j["pixels_png_base64"] = base64Encode(encodePaintedMapPng16(*l.pixels));
+        else
+            j["value"] = l.fillValue;
         if (l.mask) j["mask_png_base64"] = base64Encode(encodePaintedMapPng16(*l.mask));
         if (l.coverage) j["coverage_png_base64"] = base64Encode(encodePaintedMapPng16(*l.coverage));
         layers.push_back(std::move(j));
@@ -220,21 +246,25 @@ Result<LayerStack> parseLayerStack(const std::string& text, const std::string& s
     try {
         const Json root = Json::parse(text);
         if (root.value("plimsoll_map_layers", 0) != 1) {
-            return makeError(ErrorKind::format, source + ": not a map layers file (plimsoll_map_layers: 1)");
+            return makeError(ErrorKind::format,
+                             source + ": not a map layers file (plimsoll_map_layers: 1)");
         }
         stack.width = root.at("width").get<int>();
         stack.height = root.at("height").get<int>();
         // Every limit before the first image is decoded: the count of layers, the size, and
         // the samples of all the images the file declares.
         const Json& declared = root.at("layers");
-        if (!declared.is_array()) return makeError(ErrorKind::format, source + ": \"layers\" is not an array");
+        if (!declared.is_array())
+            return makeError(ErrorKind::format, source + ": \"layers\" is not an array");
         std::uint64_t images = 0;
         for (const Json& j : declared) {
-            if (!j.is_object()) return makeError(ErrorKind::format, source + ": a layer is not an object");
+            if (!j.is_object())
+                return makeError(ErrorKind::format, source + ": a layer is not an object");
             for (const char* key : {"pixels_png_base64", "mask_png_base64", "coverage_png_base64"})
                 images += j.contains(key);
         }
-        if (stack.width < 1 || stack.height < 1) return makeError(ErrorKind::format, source + ": layers: no size");
+        if (stack.width < 1 || stack.height < 1)
+            return makeError(ErrorKind::format, source + ": layers: no size");
         if (Status ok = checkCounts(std::uint64_t(stack.width), std::uint64_t(stack.height),
                                     declared.size(), images);
             !ok)
@@ -245,25 +275,24 @@ Result<LayerStack> parseLayerStack(const std::string& text, const std::string& s
             const auto kind = parseLayerKind(j.value("kind", std::string("paint")));
             const auto blend = parseBlendMode(j.value("blend", std::string("normal")));
             if (!kind || !blend) {
-                return makeError(ErrorKind::format, source + ": layer '" + l.name +
-                                                        "': unknown kind or blend mode");
+                return makeError(ErrorKind::format,
+                                 source + ": layer '" + l.name + "': unknown kind or blend mode");
             }
             l.kind = *kind;
             l.blend = *blend;
             l.opacity = j.value("opacity", 1.0f);
             l.visible = j.value("visible", true);
             l.fillValue = j.value("value", 1.0f);
-            for (auto [key, target] : {std::pair{"pixels_png_base64", &l.pixels},
-                                       std::pair{"mask_png_base64", &l.mask},
-                                       std::pair{"coverage_png_base64", &l.coverage}}) {
+            for (auto [key, target] :
+                 {std::pair{"pixels_png_base64", &l.pixels}, std::pair{"mask_png_base64", &l.mask},
+                  std::pair{"coverage_png_base64", &l.coverage}}) {
                 if (!j.contains(key)) continue;
-                Result<PaintedMap> image =
-                    decodePaintedMap(base64Decode(j[key].get<std::string>()),
-                                        source + ": layer '" + l.name + "'");
+                Result<PaintedMap> image = decodePaintedMap(base64Decode(j[key].get<std::string>()),
+                                                            source + ": layer '" + l.name + "'");
                 if (!image) return image.error();
                 if (image->width != stack.width || image->height != stack.height)
-                    return makeError(ErrorKind::format, source + ": layer '" + l.name + "': " + key +
-                                                            " is not the map's size");
+                    return makeError(ErrorKind::format, source + ": layer '" + l.name +
+                                                            "': " + key + " is not the map's size");
                 *target = std::make_shared<PaintedMap>(std::move(image).value());
             }
             stack.layers.push_back(std::move(l));
@@ -307,12 +336,18 @@ std::string base64Decode(const std::string& text) {
     int bits = 0;
     for (char c : text) {
         int d;
-        if (c >= 'A' && c <= 'Z') d = c - 'A';
-        else if (c >= 'a' && c <= 'z') d = c - 'a' + 26;
-        else if (c >= '0' && c <= '9') d = c - '0' + 52;
-        else if (c == '+') d = 62;
-        else if (c == '/') d = 63;
-        else continue;
+        if (c >= 'A' && c <= 'Z')
+            d = c - 'A';
+        else if (c >= 'a' && c <= 'z')
+            d = c - 'a' + 26;
+        else if (c >= '0' && c <= '9')
+            d = c - '0' + 52;
+        else if (c == '+')
+            d = 62;
+        else if (c == '/')
+            d = 63;
+        else
+            continue;
         v = (v << 6) | d;
         bits += 6;
         if (bits >= 8) {
@@ -322,6 +357,5 @@ std::string base64Decode(const std::string& text) {
     }
     return out;
 }
-
 
 }  // namespace plimsoll::editor

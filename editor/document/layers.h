@@ -58,8 +58,8 @@ struct MapLayer {
     /// keeps copies, and only strokes change pixels, undone in the order they were made, so
     /// a copy always sees the pixels its own state had.
     std::shared_ptr<PaintedMap> pixels;
-    float fillValue = 1.0f;         ///< a fill layer's value, 0..1
-    float opacity = 1.0f;           ///< 0..1
+    float fillValue = 1.0f;  ///< a fill layer's value, 0..1
+    float opacity = 1.0f;    ///< 0..1
     BlendMode blend = BlendMode::Normal;
     bool visible = true;
     /// 0..1 per pixel (1: the layer shows, 0: hidden); null: no mask (all 1).
@@ -87,7 +87,7 @@ struct MapLayer {
 struct LayerStack {
     int width = 0;
     int height = 0;
-    std::vector<MapLayer> layers;   ///< bottom first
+    std::vector<MapLayer> layers;  ///< bottom first
 
     bool operator==(const LayerStack& other) const = default;
 };

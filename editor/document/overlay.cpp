@@ -11,13 +11,20 @@ namespace plimsoll::editor {
 
 const char* overlayName(Overlay overlay) {
     switch (overlay) {
-        case Overlay::None: return "none";
-        case Overlay::Permeability: return "permeability";
-        case Overlay::Density: return "density";
-        case Overlay::Thickness: return "thickness";
-        case Overlay::Coverage: return "coverage";
-        case Overlay::Position: return "position";
-        case Overlay::AreaVector: return "area";
+        case Overlay::None:
+            return "none";
+        case Overlay::Permeability:
+            return "permeability";
+        case Overlay::Density:
+            return "density";
+        case Overlay::Thickness:
+            return "thickness";
+        case Overlay::Coverage:
+            return "coverage";
+        case Overlay::Position:
+            return "position";
+        case Overlay::AreaVector:
+            return "area";
     }
     return "?";
 }
@@ -31,10 +38,14 @@ std::optional<Overlay> parseOverlay(const std::string& name) {
 
 std::optional<MapChannel> overlayChannel(Overlay overlay) {
     switch (overlay) {
-        case Overlay::Permeability: return MapChannel::Permeability;
-        case Overlay::Density: return MapChannel::Density;
-        case Overlay::Thickness: return MapChannel::Thickness;
-        default: return std::nullopt;
+        case Overlay::Permeability:
+            return MapChannel::Permeability;
+        case Overlay::Density:
+            return MapChannel::Density;
+        case Overlay::Thickness:
+            return MapChannel::Thickness;
+        default:
+            return std::nullopt;
     }
 }
 
@@ -78,7 +89,8 @@ OverlayImage overlayOfMap(const PaintedMap& mapRef) {
 }
 
 Result<OverlayImage> buildOverlay(Document& document, std::size_t body, Overlay overlay) {
-    if (overlayChannel(overlay) || overlay == Overlay::None) return buildMapOverlay(document, body, overlay);
+    if (overlayChannel(overlay) || overlay == Overlay::None)
+        return buildMapOverlay(document, body, overlay);
     Result<std::shared_ptr<const SurfaceTextures>> baked = document.physicsTextures(body);
     if (!baked) return baked.error();
     return overlayOfTextures(**baked, overlay);
@@ -115,7 +127,9 @@ OverlayImage overlayOfTextures(const SurfaceTextures& t, Overlay overlay) {
     for (std::size_t i = 0; i < t.coveredCount(); ++i) {
         const std::uint32_t texel = t.texelIndex[i];
         switch (overlay) {
-            case Overlay::Coverage: put(image, texel, rampColour(coverage[texel])); break;
+            case Overlay::Coverage:
+                put(image, texel, rampColour(coverage[texel]));
+                break;
             case Overlay::Position:
                 put(image, texel, ((t.position[i] - lo).cwiseQuotient(extent)).cast<float>());
                 break;
@@ -126,7 +140,8 @@ OverlayImage overlayOfTextures(const SurfaceTextures& t, Overlay overlay) {
                 put(image, texel, (n * 0.5 + Eigen::Vector3d::Constant(0.5)).cast<float>());
                 break;
             }
-            default: break;
+            default:
+                break;
         }
     }
     return image;
@@ -138,12 +153,14 @@ OverlayLegend overlayLegend(Overlay overlay, const BodyDesc* body) {
     legend.low = "0";
     legend.high = "1";
     switch (overlay) {
-        case Overlay::None: return OverlayLegend{};
+        case Overlay::None:
+            return OverlayLegend{};
         case Overlay::Permeability:
             legend.meaning = "permeability: share of the water in contact that flows in";
             break;
         case Overlay::Density: {
-            const std::optional<double> shell = body ? body->material.shellSurfaceDensity : std::nullopt;
+            const std::optional<double> shell =
+                body ? body->material.shellSurfaceDensity : std::nullopt;
             char high[48];
             if (shell) std::snprintf(high, sizeof high, "%.4g kg/m^2", *shell);
             legend.high = shell ? high : "1 x shell (no shell set)";
@@ -171,12 +188,14 @@ OverlayLegend overlayLegend(Overlay overlay, const BodyDesc* body) {
 }
 
 Eigen::Vector2f overlayPlace(const Eigen::AlignedBox2f& view, const Eigen::Vector2f& size,
-                             std::span<const Eigen::AlignedBox2f> avoid, ViewCorner corner, float topMargin) {
+                             std::span<const Eigen::AlignedBox2f> avoid, ViewCorner corner,
+                             float topMargin) {
     constexpr float kInset = 10, kGap = 6;
     const bool left = corner == ViewCorner::LowerLeft;
     auto clear = [&](const Eigen::Vector2f& at) {
         const Eigen::AlignedBox2f label(at, at + size);
-        if (at.y() < view.min().y() + topMargin || at.x() < view.min().x() || label.max().x() > view.max().x())
+        if (at.y() < view.min().y() + topMargin || at.x() < view.min().x() ||
+            label.max().x() > view.max().x())
             return false;
         for (const Eigen::AlignedBox2f& box : avoid)
             if (!box.isEmpty() && box.intersects(label)) return false;
@@ -190,7 +209,8 @@ Eigen::Vector2f overlayPlace(const Eigen::AlignedBox2f& view, const Eigen::Vecto
         const Eigen::Vector2f above(home.x(), box.min().y() - kGap - size.y());
         if (clear(above)) return above;
         // Beside it, away from the corner's side of the view.
-        const Eigen::Vector2f beside(left ? box.max().x() + kGap : box.min().x() - kGap - size.x(), home.y());
+        const Eigen::Vector2f beside(left ? box.max().x() + kGap : box.min().x() - kGap - size.x(),
+                                     home.y());
         if (clear(beside)) return beside;
     }
     return home;
@@ -206,13 +226,15 @@ std::string surfacePointPhysics(const Document& document, std::size_t body,
         const double pascals = project.medium.density * project.simulation.gravity.norm() * depth;
         std::snprintf(line, sizeof line, "submerged %.3f m: %.2f kPa", depth, pascals / 1000.0);
     } else {
-        std::snprintf(line, sizeof line, "dry: %.3f m above the %s", -depth, project.medium.name.c_str());
+        std::snprintf(line, sizeof line, "dry: %.3f m above the %s", -depth,
+                      project.medium.name.c_str());
     }
     std::string out = line;
     if (const WaterGraph* graph = document.graph(body)) {
         if (const int node = nearestNode(*graph, object); node >= 0) {
             const GraphNode& n = graph->nodes[static_cast<std::size_t>(node)];
-            out += "\nfeeds " + n.id + (n.name.empty() || n.name == n.id ? "" : " (" + n.name + ")");
+            out +=
+                "\nfeeds " + n.id + (n.name.empty() || n.name == n.id ? "" : " (" + n.name + ")");
         }
     }
     return out;

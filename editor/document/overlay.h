@@ -18,10 +18,9 @@
 namespace plimsoll::editor {
 
 enum class Overlay { None, Permeability, Density, Thickness, Coverage, Position, AreaVector };
-inline constexpr Overlay kOverlays[] = {Overlay::None,      Overlay::Permeability,
-                                        Overlay::Density,   Overlay::Thickness,
-                                        Overlay::Coverage,  Overlay::Position,
-                                        Overlay::AreaVector};
+inline constexpr Overlay kOverlays[] = {
+    Overlay::None,     Overlay::Permeability, Overlay::Density,   Overlay::Thickness,
+    Overlay::Coverage, Overlay::Position,     Overlay::AreaVector};
 
 /// "none", "permeability", "density", "thickness", "coverage", "position", "area".
 const char* overlayName(Overlay overlay);
@@ -44,9 +43,9 @@ struct OverlayImage {
 
 /// What an overlay's colours mean, for the view's legend.
 struct OverlayLegend {
-    bool ramp = false;          ///< the colours are rampColour from `low` (0) to `high` (1)
-    std::string low, high;      ///< the ends' values, with units
-    std::string meaning;        ///< one line: the quantity and its unit
+    bool ramp = false;      ///< the colours are rampColour from `low` (0) to `high` (1)
+    std::string low, high;  ///< the ends' values, with units
+    std::string meaning;    ///< one line: the quantity and its unit
 };
 /// The legend of `overlay` on `body` (its shell gives the density map's scale; null: none).
 OverlayLegend overlayLegend(Overlay overlay, const BodyDesc* body);

@@ -23,7 +23,7 @@ namespace {
 struct PixelGrid {
     int x0 = 0, y0 = 0;
     int size = 0;
-    TriangleMesh mesh;   ///< the mesh with its UVs in the grid's texture space, all within 0..1
+    TriangleMesh mesh;  ///< the mesh with its UVs in the grid's texture space, all within 0..1
 };
 
 /// One pixel of margin on every side keeps the moved UVs strictly inside 0..1, so the bake
@@ -79,8 +79,10 @@ std::vector<PixelSides> pixelSides(const TriangleMesh& mesh, int width, int heig
 }  // namespace
 
 Result<PaintSurface> buildPaintSurface(const TriangleMesh& mesh, int width, int height) {
-    if (!mesh.hasUvs()) return makeError(ErrorKind::invalidArgument, mesh.source + ": no UVs to paint on");
-    if (width < 1 || height < 1) return makeError(ErrorKind::invalidArgument, "painted map has no pixels");
+    if (!mesh.hasUvs())
+        return makeError(ErrorKind::invalidArgument, mesh.source + ": no UVs to paint on");
+    if (width < 1 || height < 1)
+        return makeError(ErrorKind::invalidArgument, "painted map has no pixels");
     // The bake runs on the map's own pixel grid: each texel is one pixel, so every pixel the
     // surface covers gets its points. (A bake of the UVs fitted into its square, as the
     // physics bakes them, puts its texel centres on a grid a little coarser than the pixels
@@ -89,8 +91,9 @@ Result<PaintSurface> buildPaintSurface(const TriangleMesh& mesh, int width, int 
     if (grid.size > kMaxTextureSize) {
         return makeError(ErrorKind::limit,
                          mesh.source + ": its UVs span " + std::to_string(grid.size) +
-                             " pixels of a " + std::to_string(width) + " x " + std::to_string(height) +
-                             " map, more than the " + std::to_string(kMaxTextureSize) +
+                             " pixels of a " + std::to_string(width) + " x " +
+                             std::to_string(height) + " map, more than the " +
+                             std::to_string(kMaxTextureSize) +
                              " a paint surface bakes (kMaxTextureSize, limits.h)");
     }
     BakeSettings settings;
@@ -101,7 +104,8 @@ Result<PaintSurface> buildPaintSurface(const TriangleMesh& mesh, int width, int 
     if (!baked) return baked.error();
     const SurfaceTextures& t = *baked;
     if (!t.placement.isIdentity()) {
-        return makeError(ErrorKind::invalidArgument, mesh.source + ": its UVs could not be laid on the map's pixels");
+        return makeError(ErrorKind::invalidArgument,
+                         mesh.source + ": its UVs could not be laid on the map's pixels");
     }
     const std::vector<std::uint32_t> islands = uvIslands(mesh);
     const std::vector<PixelSides> sides = pixelSides(mesh, width, height);
@@ -128,13 +132,15 @@ Result<PaintSurface> buildPaintSurface(const TriangleMesh& mesh, int width, int 
         surface.halfU.push_back(sides[triangle].u);
         surface.halfV.push_back(sides[triangle].v);
         const Eigen::Vector3d& areaVector = t.areaVector[i];
-        surface.normal.push_back(areaVector.norm() > 0 ? Eigen::Vector3f(areaVector.normalized().cast<float>())
-                                                       : Eigen::Vector3f::Zero());
+        surface.normal.push_back(areaVector.norm() > 0
+                                     ? Eigen::Vector3f(areaVector.normalized().cast<float>())
+                                     : Eigen::Vector3f::Zero());
     }
     return surface;
 }
 
-double facingWeight(const Brush& brush, const Eigen::Vector3d& normal, const Eigen::Vector3d& towardViewer) {
+double facingWeight(const Brush& brush, const Eigen::Vector3d& normal,
+                    const Eigen::Vector3d& towardViewer) {
     const double c = normal.dot(towardViewer);
     if (brush.frontFacesOnly && c <= 0) return 0.0;
     if (!(brush.normalAngle < 180.0)) return 1.0;  // off (and NaN: off)
@@ -150,17 +156,24 @@ double falloffWeight(Falloff falloff, double distance, double radius, const Fall
     const double s = distance / radius;
     const double p = 1.0 - s;
     switch (falloff) {
-        case Falloff::Custom: return curve ? (*curve)(s) : FalloffCurve{}(s);
-        case Falloff::Constant: return 1.0;
-        case Falloff::Linear: return p;
+        case Falloff::Custom:
+            return curve ? (*curve)(s) : FalloffCurve{}(s);
+        case Falloff::Constant:
+            return 1.0;
+        case Falloff::Linear:
+            return p;
         case Falloff::Smooth: {
             const double a = 1.0 - s * s;
             return a * a;
         }
-        case Falloff::Sphere: return std::sqrt(std::max(0.0, 1.0 - s * s));
-        case Falloff::Root: return std::sqrt(p);
-        case Falloff::Sharp: return p * p;
-        case Falloff::InverseSquare: return p * (2.0 - p);
+        case Falloff::Sphere:
+            return std::sqrt(std::max(0.0, 1.0 - s * s));
+        case Falloff::Root:
+            return std::sqrt(p);
+        case Falloff::Sharp:
+            return p * p;
+        case Falloff::InverseSquare:
+            return p * (2.0 - p);
     }
     return 0.0;
 }
@@ -211,7 +224,8 @@ FalloffCurve FalloffCurve::preset(Falloff falloff, int count) {
     curve.points.clear();
     for (int i = 0; i < count; ++i) {
         const double s = double(i) / (count - 1);
-        curve.points.emplace_back(s, falloff == Falloff::Custom ? 1.0 - s : falloffWeight(falloff, s, 1.0));
+        curve.points.emplace_back(
+            s, falloff == Falloff::Custom ? 1.0 - s : falloffWeight(falloff, s, 1.0));
     }
     return curve;
 }
@@ -219,8 +233,9 @@ FalloffCurve FalloffCurve::preset(Falloff falloff, int count) {
 FalloffCurve FalloffCurve::sanitised(std::vector<Eigen::Vector2d> points) {
     std::erase_if(points, [](const Eigen::Vector2d& p) { return !p.allFinite(); });
     for (Eigen::Vector2d& p : points) p = p.cwiseMax(0.0).cwiseMin(1.0);
-    std::stable_sort(points.begin(), points.end(),
-                     [](const Eigen::Vector2d& a, const Eigen::Vector2d& b) { return a.x() < b.x(); });
+    std::stable_sort(
+        points.begin(), points.end(),
+        [](const Eigen::Vector2d& a, const Eigen::Vector2d& b) { return a.x() < b.x(); });
     FalloffCurve curve;
     curve.points.clear();
     for (const Eigen::Vector2d& p : points) {
@@ -229,12 +244,16 @@ FalloffCurve FalloffCurve::sanitised(std::vector<Eigen::Vector2d> points) {
     }
     if (curve.points.empty()) return FalloffCurve{};
     if (curve.points.front().x() > 0) {
-        if (curve.points.front().x() < 0.01) curve.points.front().x() = 0;
-        else curve.points.insert(curve.points.begin(), Eigen::Vector2d(0, curve.points.front().y()));
+        if (curve.points.front().x() < 0.01)
+            curve.points.front().x() = 0;
+        else
+            curve.points.insert(curve.points.begin(), Eigen::Vector2d(0, curve.points.front().y()));
     }
     if (curve.points.back().x() < 1) {
-        if (curve.points.back().x() > 0.99) curve.points.back().x() = 1;
-        else curve.points.emplace_back(1, curve.points.back().y());
+        if (curve.points.back().x() > 0.99)
+            curve.points.back().x() = 1;
+        else
+            curve.points.emplace_back(1, curve.points.back().y());
     }
     if (curve.points.size() == 1) curve.points.emplace_back(1, curve.points[0].y());
     if (curve.points.size() > static_cast<std::size_t>(kMaxFalloffPoints)) {
@@ -285,9 +304,10 @@ double dabWeight(const Brush& brush, const Eigen::Vector3d& offset) {
     const double w = falloffWeight(brush.falloff, d, brush.radius, &brush.curve);
     if (w <= 0 || !brush.alpha || brush.alpha->values.empty()) return w;
     // The image's square over the dab, across the axis: u along one tangent, v along the other.
-    const Eigen::Vector3d axis = brush.alphaAxis.norm() > 0 ? brush.alphaAxis.normalized()
-                                                            : Eigen::Vector3d::UnitZ();
-    const Eigen::Vector3d helper = std::abs(axis.y()) < 0.9 ? Eigen::Vector3d::UnitY() : Eigen::Vector3d::UnitX();
+    const Eigen::Vector3d axis =
+        brush.alphaAxis.norm() > 0 ? brush.alphaAxis.normalized() : Eigen::Vector3d::UnitZ();
+    const Eigen::Vector3d helper =
+        std::abs(axis.y()) < 0.9 ? Eigen::Vector3d::UnitY() : Eigen::Vector3d::UnitX();
     const Eigen::Vector3d across = helper.cross(axis).normalized();  // image right
     const Eigen::Vector3d up = axis.cross(across);                   // image up
     const double u = 0.5 + offset.dot(across) / (2 * brush.radius);
@@ -296,9 +316,8 @@ double dabWeight(const Brush& brush, const Eigen::Vector3d& offset) {
 }
 
 namespace {
-constexpr const char* kFalloffNames[kFalloffCount] = {"smooth", "linear", "constant", "sphere",
-                                                      "root",   "sharp",  "inverse-square",
-                                                      "custom"};
+constexpr const char* kFalloffNames[kFalloffCount] = {
+    "smooth", "linear", "constant", "sphere", "root", "sharp", "inverse-square", "custom"};
 }  // namespace
 
 const char* falloffName(Falloff falloff) { return kFalloffNames[static_cast<int>(falloff)]; }
@@ -343,8 +362,8 @@ std::vector<Eigen::Vector3d> dabCentres(std::span<const Eigen::Vector3d> points,
     for (std::size_t i = 0; i < points.size(); ++i) {
         if (i > 0) {
             const Eigen::Vector3d a = points[i - 1], b = points[i];
-            const int steps = spacing > 0 ? static_cast<int>(std::ceil((b - a).norm() / spacing))
-                                          : 1;
+            const int steps =
+                spacing > 0 ? static_cast<int>(std::ceil((b - a).norm() / spacing)) : 1;
             for (int k = 1; k < steps; ++k) dabs.push_back(a + (b - a) * (double(k) / steps));
         }
         dabs.push_back(points[i]);
@@ -379,10 +398,11 @@ namespace {
 /// `cell` wide across the view. Perspective: cells of the angle `cell` spans at `reference`
 /// (the stroke's first dab), so `cell` wide there and wider further away; samples behind the
 /// eye are hidden.
-std::vector<bool> visibleSamples(const PaintSurface& surface, const Eigen::Vector3d& view, double cell,
-                                 const std::optional<Eigen::Vector3d>& eye,
+std::vector<bool> visibleSamples(const PaintSurface& surface, const Eigen::Vector3d& view,
+                                 double cell, const std::optional<Eigen::Vector3d>& eye,
                                  const Eigen::Vector3d& reference) {
-    const Eigen::Vector3d helper = std::abs(view.y()) < 0.9 ? Eigen::Vector3d::UnitY() : Eigen::Vector3d::UnitX();
+    const Eigen::Vector3d helper =
+        std::abs(view.y()) < 0.9 ? Eigen::Vector3d::UnitY() : Eigen::Vector3d::UnitX();
     const Eigen::Vector3d u = helper.cross(view).normalized(), v = view.cross(u);
     const std::size_t count = surface.sampleCount();
     // Each sample's place across the view (in cells) and its depth toward the viewer (larger:
@@ -408,7 +428,9 @@ std::vector<bool> visibleSamples(const PaintSurface& surface, const Eigen::Vecto
         depth[i] = -distance;
     }
     // Two cells deep at the sample: in perspective a cell widens with the distance.
-    auto slack = [&](std::size_t i) { return 2 * cell * (eye ? -depth[i] / referenceDistance : 1.0); };
+    auto slack = [&](std::size_t i) {
+        return 2 * cell * (eye ? -depth[i] / referenceDistance : 1.0);
+    };
     auto key = [&](std::size_t i) {
         const auto a = static_cast<std::int64_t>(std::floor(across[i].x()));
         const auto b = static_cast<std::int64_t>(std::floor(across[i].y()));
@@ -458,7 +480,8 @@ std::optional<Eigen::Vector3d> reachOffset(const PaintSurface& surface, std::siz
     }
     if (aa > 0) alpha = std::clamp(-(ao + beta * ab) / aa, -1.0, 1.0);
     if (bb > 0) beta = std::clamp(-(bo + alpha * ab) / bb, -1.0, 1.0);
-    const Eigen::Vector3d offset = o.cast<double>() + alpha * a.cast<double>() + beta * b.cast<double>();
+    const Eigen::Vector3d offset =
+        o.cast<double>() + alpha * a.cast<double>() + beta * b.cast<double>();
     if (offset.squaredNorm() > radius * radius) return std::nullopt;
     return offset;
 }
@@ -480,8 +503,8 @@ PixelChange strokeChange(const PaintedMap& map, const PaintSurface& surface, con
     // of the view direction go with them (a mirrored dab on the far side faces a mirrored
     // viewer, as in Blender).
     const bool facing = brush.frontFacesOnly || brush.normalAngle < 180.0;
-    const Eigen::Vector3d view = brush.alphaAxis.norm() > 0 ? brush.alphaAxis.normalized()
-                                                             : Eigen::Vector3d::UnitZ();
+    const Eigen::Vector3d view =
+        brush.alphaAxis.norm() > 0 ? brush.alphaAxis.normalized() : Eigen::Vector3d::UnitZ();
     const std::vector<Eigen::Vector3d> views = symmetricPoints(brush, view);
     std::vector<std::optional<Eigen::Vector3d>> eyes(views.size());
     if (brush.eye && brush.eye->allFinite()) {
@@ -492,7 +515,8 @@ PixelChange strokeChange(const PaintedMap& map, const PaintSurface& surface, con
     std::vector<std::vector<bool>> visible;
     if (brush.occlusion) {
         for (std::size_t c = 0; c < views.size(); ++c) {
-            visible.push_back(visibleSamples(surface, views[c].normalized(), brush.radius / 4, eyes[c], dabs[c]));
+            visible.push_back(
+                visibleSamples(surface, views[c].normalized(), brush.radius / 4, eyes[c], dabs[c]));
         }
     }
     auto facingOf = [&](std::size_t dab, std::size_t sample) {
@@ -515,7 +539,8 @@ PixelChange strokeChange(const PaintedMap& map, const PaintSurface& surface, con
             under.clear();
             double sum = 0, weights = 0;
             for (std::size_t i = 0; i < surface.sampleCount(); ++i) {
-                const std::optional<Eigen::Vector3d> offset = reachOffset(surface, i, cf, brush.radius);
+                const std::optional<Eigen::Vector3d> offset =
+                    reachOffset(surface, i, cf, brush.radius);
                 if (!offset) continue;
                 const double w = dabWeight(brush, *offset) * facingOf(k, i);
                 if (w <= 0) continue;
@@ -588,8 +613,7 @@ PixelChange fillIslandChange(const PaintedMap& map, const PaintSurface& surface,
 }
 
 PixelChange fillAllChange(const PaintedMap& map, double value) {
-    std::vector<float> values(map.values.size(),
-                              static_cast<float>(std::clamp(value, 0.0, 1.0)));
+    std::vector<float> values(map.values.size(), static_cast<float>(std::clamp(value, 0.0, 1.0)));
     return changeFrom(map, values);
 }
 
@@ -645,8 +669,8 @@ std::optional<SurfaceHit> surfaceAtUv(const TriangleMesh& mesh, const Eigen::Vec
         const double b2 = ((b - a).x() * q.y() - (b - a).y() * q.x()) / det;
         if (b1 < -1e-9 || b2 < -1e-9 || b1 + b2 > 1 + 1e-9) continue;
         const Eigen::Vector3d& p0 = mesh.positions[tri[0]];
-        const Eigen::Vector3d p = p0 + b1 * (mesh.positions[tri[1]] - p0) +
-                                  b2 * (mesh.positions[tri[2]] - p0);
+        const Eigen::Vector3d p =
+            p0 + b1 * (mesh.positions[tri[1]] - p0) + b2 * (mesh.positions[tri[2]] - p0);
         return SurfaceHit{p, static_cast<std::uint32_t>(t), 0.0};
     }
     return std::nullopt;

@@ -27,9 +27,9 @@ struct PaintSurface {
     int width = 0;
     int height = 0;
     /// One sample per (pixel, UV island) piece of surface, as the bake's entries.
-    std::vector<std::uint32_t> pixel;        ///< y * width + x, row 0 at the top (v = 1)
-    std::vector<Eigen::Vector3f> position;   ///< object space, m
-    std::vector<std::uint32_t> island;       ///< UV island id (uvIslands)
+    std::vector<std::uint32_t> pixel;       ///< y * width + x, row 0 at the top (v = 1)
+    std::vector<Eigen::Vector3f> position;  ///< object space, m
+    std::vector<std::uint32_t> island;      ///< UV island id (uvIslands)
     /// Outward unit normal of the surface in the texel (its area vector's direction), object
     /// space: the brush's normal falloff and front-faces-only test it against the view.
     std::vector<Eigen::Vector3f> normal;
@@ -92,17 +92,17 @@ inline constexpr int kMaxRadialCopies = 64;
 
 struct Brush {
     BrushMode mode = BrushMode::Paint;
-    double radius = 0.05;    ///< m, object space (= world: bodies are not scaled)
-    double strength = 1.0;   ///< 0..1, how far a stroke moves a pixel toward its target
-    double value = 1.0;      ///< 0..1, the paint mode's target
+    double radius = 0.05;   ///< m, object space (= world: bodies are not scaled)
+    double strength = 1.0;  ///< 0..1, how far a stroke moves a pixel toward its target
+    double value = 1.0;     ///< 0..1, the paint mode's target
     Falloff falloff = Falloff::Smooth;
     FalloffCurve curve = FalloffCurve::preset(Falloff::Smooth);  ///< used when falloff is Custom
     /// Dabs along a stroke at most this many radii apart (Blender's spacing; 0.25 paints a
     /// solid line, above 2 leaves separate dots).
     double spacing = 0.25;
-    bool mirrorX = false;    ///< also paint at (-x, y, z)
-    bool mirrorY = false;    ///< also paint at (x, -y, z)
-    bool mirrorZ = false;    ///< also paint at (x, y, -z)
+    bool mirrorX = false;  ///< also paint at (-x, y, z)
+    bool mirrorY = false;  ///< also paint at (x, -y, z)
+    bool mirrorZ = false;  ///< also paint at (x, y, -z)
     /// Radial symmetry about the object y axis (a buoy's or a hull's vertical): every dab and
     /// its mirror images repeated this many times, evenly turned (1: off; at most
     /// kMaxRadialCopies).
@@ -117,7 +117,7 @@ struct Brush {
     /// Object space, toward the viewer when the stroke starts: the image then lies upright on
     /// screen (its right along y x axis, its top along axis x right).
     Eigen::Vector3d alphaAxis = Eigen::Vector3d::UnitZ();
-    std::string alphaPath;   ///< the image's file, kept between sessions ("" : none)
+    std::string alphaPath;  ///< the image's file, kept between sessions ("" : none)
     /// Blender's normal falloff: a texel whose normal turns more than this from the direction
     /// toward the viewer (alphaAxis, set at the stroke's start; mirrored and turned with each
     /// symmetric dab) gets no paint; full weight up to half the angle, fading linearly between.
@@ -139,7 +139,8 @@ struct Brush {
 
 /// The weight a texel of normal `normal` keeps under the brush's normal falloff and front-
 /// faces-only, the viewer in direction `towardViewer` (both unit, object space): 0..1.
-double facingWeight(const Brush& brush, const Eigen::Vector3d& normal, const Eigen::Vector3d& towardViewer);
+double facingWeight(const Brush& brush, const Eigen::Vector3d& normal,
+                    const Eigen::Vector3d& towardViewer);
 
 /// The string of the lazy mouse: the brush stays put while the cursor moves within `radius`
 /// pixels of it, and is pulled along the string when the cursor goes further, so a shaky hand
@@ -188,9 +189,10 @@ struct PixelChange {
 };
 
 /// A stroke through `points` (object space; consecutive points are joined with dabs
-/// brush.spacing radii apart at most, each repeated by the brush's symmetry). Paint and erase move each pixel toward the target by strength times its
-/// largest weight along the stroke (a stroke never builds up over itself); smooth blends each
-/// dab toward the weighted mean of the values under it. `map` is not modified.
+/// brush.spacing radii apart at most, each repeated by the brush's symmetry). Paint and erase move
+/// each pixel toward the target by strength times its largest weight along the stroke (a stroke
+/// never builds up over itself); smooth blends each dab toward the weighted mean of the values
+/// under it. `map` is not modified.
 PixelChange strokeChange(const PaintedMap& map, const PaintSurface& surface, const Brush& brush,
                          std::span<const Eigen::Vector3d> points);
 
@@ -211,9 +213,9 @@ void applyValues(PaintedMap& map, const std::vector<std::uint32_t>& pixels,
 
 /// A point on the mesh: where a ray hits it, or where a UV lands.
 struct SurfaceHit {
-    Eigen::Vector3d point;   ///< object space
+    Eigen::Vector3d point;  ///< object space
     std::uint32_t triangle = 0;
-    double distance = 0;     ///< along the ray (ray hits only)
+    double distance = 0;  ///< along the ray (ray hits only)
 };
 
 /// Nearest hit of the ray origin + t direction, t >= 0 (object space), with either face.

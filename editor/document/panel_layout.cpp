@@ -22,8 +22,9 @@ WindowLayout windowLayout(const PanelLayout& wanted, float width, float height, 
                           float status) {
     const PanelLayout layout = sanitised(wanted);
     WindowLayout out;
-    const float column = std::clamp(layout.columnWidth, std::min(kMinColumnWidth, width),
-                                    std::max(std::min(kMinColumnWidth, width), kMaxColumnShare * width));
+    const float column =
+        std::clamp(layout.columnWidth, std::min(kMinColumnWidth, width),
+                   std::max(std::min(kMinColumnWidth, width), kMaxColumnShare * width));
     const float below = std::max(0.0f, height - menu - status);
     out.view = {0, menu, std::max(0.0f, width - column), below};
     out.column = {width - column, menu, column, below};
@@ -56,7 +57,8 @@ void dragRowSplitter(PanelLayout& layout, int above, float dy, float columnHeigh
     const float minimum = std::min(kMinPanelHeight, columnHeight / 4) / columnHeight;
     float& a = layout.shares[above];
     float& b = layout.shares[above + 1];
-    const float move = std::clamp(dy / columnHeight, std::min(0.0f, minimum - a), std::max(0.0f, b - minimum));
+    const float move =
+        std::clamp(dy / columnHeight, std::min(0.0f, minimum - a), std::max(0.0f, b - minimum));
     a += move;
     b -= move;
 }

@@ -53,7 +53,8 @@ PhysicsBakes::~PhysicsBakes() {
     // The jobs' destructors join their threads, each stopping within a band of rows.
 }
 
-std::shared_ptr<const SurfaceTextures> PhysicsBakes::texturesFor(Document& document, std::size_t body) {
+std::shared_ptr<const SurfaceTextures> PhysicsBakes::texturesFor(Document& document,
+                                                                 std::size_t body) {
     reapAbandoned();
     if (body >= document.bodyCount()) return nullptr;
     BodyState& state = bodies_[body];
@@ -74,7 +75,8 @@ std::shared_ptr<const SurfaceTextures> PhysicsBakes::texturesFor(Document& docum
         if (state.job) abandon(state);
         return state.textures;
     }
-    const bool jobFits = state.job && state.job->mesh == mesh && sameSettings(state.job->settings, settings);
+    const bool jobFits =
+        state.job && state.job->mesh == mesh && sameSettings(state.job->settings, settings);
     const bool failedBefore = state.failedSettings && state.failedMesh == mesh.get() &&
                               sameSettings(*state.failedSettings, settings);
     if (!jobFits && !failedBefore) {

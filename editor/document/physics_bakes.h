@@ -46,9 +46,9 @@ public:
     bool resizing() const;
 
     struct Progress {
-        int size = 0;            ///< the size being baked
-        int previousSize = 0;    ///< the size of the textures shown meanwhile (0: none)
-        double fraction = 0;     ///< 0..1
+        int size = 0;          ///< the size being baked
+        int previousSize = 0;  ///< the size of the textures shown meanwhile (0: none)
+        double fraction = 0;   ///< 0..1
     };
     /// The body's bake under way, if any.
     std::optional<Progress> progress(std::size_t body) const;
@@ -67,7 +67,7 @@ private:
         std::shared_ptr<const TriangleMesh> mesh;
         BakeSettings settings;
         std::shared_ptr<const SurfaceTextures> textures;
-        std::shared_ptr<Job> job;           ///< the bake under way (or done, not yet polled)
+        std::shared_ptr<Job> job;  ///< the bake under way (or done, not yet polled)
         /// A failed bake's settings and message: not retried every frame.
         std::optional<BakeSettings> failedSettings;
         const TriangleMesh* failedMesh = nullptr;

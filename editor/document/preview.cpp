@@ -67,7 +67,9 @@ Status writeHistoryCsv(const PreviewHistory& history, const std::vector<std::str
     }
     for (const std::string& name : names) {
         const PlotSeries* s = history.find(name);
-        if (!s) return makeError(ErrorKind::invalidArgument, path.string() + ": no plotted quantity named '" + name + "'");
+        if (!s)
+            return makeError(ErrorKind::invalidArgument,
+                             path.string() + ": no plotted quantity named '" + name + "'");
         columns.push_back(s);
     }
     auto quoted = [](const std::string& text) {
@@ -133,7 +135,8 @@ public:
         return s;
     }
     FrameTimings lastTimings() const override { return inner_->lastTimings(); }
-    std::size_t addExchangeSet(std::span<const ExchangeSample> samples, std::size_t nodes) override {
+    std::size_t addExchangeSet(std::span<const ExchangeSample> samples,
+                               std::size_t nodes) override {
         return inner_->addExchangeSet(samples, nodes);
     }
     Status evaluateExchange(std::size_t set, const ExchangeFrame& frame, const WaterModel& water,
@@ -150,8 +153,7 @@ private:
 
 }  // namespace
 
-Result<PreviewSession::Built> PreviewSession::build(const Scene& scene,
-                                                    const std::string& device) {
+Result<PreviewSession::Built> PreviewSession::build(const Scene& scene, const std::string& device) {
     // The preview panel shows the device's kernel time, which needs the profiling events.
     Result<std::unique_ptr<BuoyancyBackend>> backend =
         createBuoyancyBackend(device, nullptr, OpenClOptions{.deviceTimings = true});
@@ -182,7 +184,9 @@ int PreviewSession::textureSize() const { return scene_.bodies.front().desc.text
 
 int PreviewSession::rebuildingSize() const { return pending_ ? pending_->size : 0; }
 
-double PreviewSession::rebuildProgress() const { return pending_ ? pending_->progress.load() : 0.0; }
+double PreviewSession::rebuildProgress() const {
+    return pending_ ? pending_->progress.load() : 0.0;
+}
 
 std::size_t PreviewSession::coveredTexels() const {
     std::size_t n = 0;
@@ -224,13 +228,17 @@ void PreviewSession::requestTextureSize(int size, std::optional<std::size_t> onl
             };
             control.cancelled = [job] { return job->cancel.load(); };
             Result<SceneBody> rebaked = bakeSceneBody(body.desc, body.parts, control);
-            if (rebaked) body = std::move(*rebaked);
-            else job->error = rebaked.error();
+            if (rebaked)
+                body = std::move(*rebaked);
+            else
+                job->error = rebaked.error();
         }
         if (!job->error && !job->cancel) {
             Result<Built> built = build(job->scene, device);
-            if (built) job->built = std::move(*built);
-            else job->error = built.error();
+            if (built)
+                job->built = std::move(*built);
+            else
+                job->error = built.error();
         }
         job->done = true;
     });
@@ -388,8 +396,8 @@ Status PreviewSession::grab(std::size_t body, const Eigen::Vector3d& objectPoint
 void PreviewSession::installGrab() {
     const std::size_t body = *grabbedBody_;
     (void)world_->setExternalForce(body, [this](const SimulatedBody& b, const RigidBodyState& s) {
-        const Wrench w = springWrench(b, s, grabObjectPoint_, grabTarget_, grabStiffness_,
-                                      grabDamping_);
+        const Wrench w =
+            springWrench(b, s, grabObjectPoint_, grabTarget_, grabStiffness_, grabDamping_);
         grabForceSum_ += w.force;
         return w;
     });
@@ -425,8 +433,8 @@ Result<SubmergedVolumeCheck> PreviewSession::volumeCheck(std::size_t i) {
     frame.pose = body.pose();
     frame.centerOfMass = body.backendCenter;
     frame.time = world_->time();
-    return checkSubmergedVolume(*checkBackend_, checkIds_[i], mesh, frame,
-                                scene_.water.level, body.fluid);
+    return checkSubmergedVolume(*checkBackend_, checkIds_[i], mesh, frame, scene_.water.level,
+                                body.fluid);
 }
 
 void PreviewSession::record() {
@@ -455,7 +463,8 @@ void PreviewSession::record() {
     }
     // A new layout (first row, or bodies / nodes changed): start the history over.
     bool same = history_.series.size() == row.size();
-    for (std::size_t k = 0; same && k < row.size(); ++k) same = history_.series[k].name == row[k].first;
+    for (std::size_t k = 0; same && k < row.size(); ++k)
+        same = history_.series[k].name == row[k].first;
     if (!same) {
         history_.time.clear();
         history_.series.clear();
@@ -464,10 +473,12 @@ void PreviewSession::record() {
     if (history_.time.size() >= history_.capacity) {
         const std::size_t drop = history_.capacity / 10 + 1;  // amortised: not one per frame
         history_.time.erase(history_.time.begin(), history_.time.begin() + drop);
-        for (PlotSeries& s : history_.series) s.values.erase(s.values.begin(), s.values.begin() + drop);
+        for (PlotSeries& s : history_.series)
+            s.values.erase(s.values.begin(), s.values.begin() + drop);
     }
     history_.time.push_back(world_->time());
-    for (std::size_t k = 0; k < row.size(); ++k) history_.series[k].values.push_back(row[k].second.second);
+    for (std::size_t k = 0; k < row.size(); ++k)
+        history_.series[k].values.push_back(row[k].second.second);
 }
 
 }  // namespace plimsoll::editor

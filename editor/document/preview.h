@@ -1,6 +1,6 @@
 // The editor's live preview: a simulation session over a World built from the document's
-// scene in memory (Document::simulationScene: every body, unsaved edits included). No GL and no ImGui here: the panels drive it and the
-// tests run it headless.
+// scene in memory (Document::simulationScene: every body, unsaved edits included). No GL and no
+// ImGui here: the panels drive it and the tests run it headless.
 //  - play / pause / single step / reset, and a time scale; update() turns wall-clock time into
 //    whole frames of simulation.timeStep through an accumulator whose catch-up is
 //    capped, so a slow frame never freezes the UI in a spiral of ever more steps;
@@ -46,8 +46,8 @@ Eigen::Vector3d eulerDegrees(const Eigen::Matrix3d& rotation);
 
 /// One quantity over time: a column of a plot.
 struct PlotSeries {
-    std::string name;   ///< "buoy submerged volume"
-    std::string unit;   ///< "m^3"
+    std::string name;  ///< "buoy submerged volume"
+    std::string unit;  ///< "m^3"
     std::vector<double> values;
 };
 
@@ -135,8 +135,8 @@ public:
     /// Grabs body `body` at `objectPoint` (object space) and pulls it toward `target` (world)
     /// with a spring of `stiffness` (N/m; <= 0: the body's mass times (2 pi 1.5 Hz)^2) and
     /// critical damping for that stiffness.
-    Status grab(std::size_t body, const Eigen::Vector3d& objectPoint,
-                const Eigen::Vector3d& target, double stiffness = 0);
+    Status grab(std::size_t body, const Eigen::Vector3d& objectPoint, const Eigen::Vector3d& target,
+                double stiffness = 0);
     void moveGrab(const Eigen::Vector3d& target) { grabTarget_ = target; }
     void release();
     bool grabbing() const { return grabbedBody_.has_value(); }
@@ -172,14 +172,14 @@ private:
     void installGrab();
     Status swapIn(Built built);
 
-    Scene scene_;                ///< as the world was last built (settings changed since kept)
+    Scene scene_;  ///< as the world was last built (settings changed since kept)
     std::string device_;
     std::unique_ptr<World> world_;
     std::shared_ptr<double> kernelTotalMs_;  ///< summed by the world's backend wrapper
     bool playing_ = false;
     double timeScale_ = 1.0;
     double updateBudgetMs_ = kUpdateBudgetMs;
-    double accumulator_ = 0.0;   ///< simulated seconds owed
+    double accumulator_ = 0.0;  ///< simulated seconds owed
     /// A rebuild on its worker thread (preview.cpp).
     struct RebuildJob;
     std::unique_ptr<RebuildJob> pending_;

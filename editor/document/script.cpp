@@ -44,17 +44,23 @@ Eigen::Vector2d vec2(const Json& j) {
 void readBrush(const Json& j, Brush& brush) {
     if (j.contains("mode")) {
         const std::string mode = j["mode"];
-        if (mode == "paint") brush.mode = BrushMode::Paint;
-        else if (mode == "erase") brush.mode = BrushMode::Erase;
-        else if (mode == "smooth") brush.mode = BrushMode::Smooth;
-        else throw std::invalid_argument("mode: paint, erase or smooth, not " + mode);
+        if (mode == "paint")
+            brush.mode = BrushMode::Paint;
+        else if (mode == "erase")
+            brush.mode = BrushMode::Erase;
+        else if (mode == "smooth")
+            brush.mode = BrushMode::Smooth;
+        else
+            throw std::invalid_argument("mode: paint, erase or smooth, not " + mode);
     }
     if (j.contains("falloff")) {
         const std::string f = j["falloff"];
         const std::optional<Falloff> falloff = parseFalloff(f);
         if (!falloff) {
-            throw std::invalid_argument("falloff: smooth, linear, constant, sphere, root, sharp, "
-                                        "inverse-square or custom, not " + f);
+            throw std::invalid_argument(
+                "falloff: smooth, linear, constant, sphere, root, sharp, "
+                "inverse-square or custom, not " +
+                f);
         }
         brush.falloff = *falloff;
     }
@@ -78,7 +84,8 @@ void readBrush(const Json& j, Brush& brush) {
     if (!(brush.spacing > 0) || !std::isfinite(brush.spacing) || brush.spacing > 100)
         throw std::invalid_argument("spacing must be > 0 and at most 100 (radii)");
     if (brush.radial < 1 || brush.radial > kMaxRadialCopies)
-        throw std::invalid_argument("radial must be 1.." + std::to_string(kMaxRadialCopies) + " copies");
+        throw std::invalid_argument("radial must be 1.." + std::to_string(kMaxRadialCopies) +
+                                    " copies");
 }
 
 MapChannel channelOf(const Json& j, MapChannel current) {
@@ -165,8 +172,10 @@ std::vector<Eigen::Vector3d> strokePoints(const Document& document, std::size_t 
 std::vector<std::string> nodeIds(const Json& j) {
     std::vector<std::string> ids;
     const Json& list = j.contains("nodes") ? j["nodes"] : j.at("node");
-    if (list.is_string()) ids.push_back(list.get<std::string>());
-    else for (const Json& id : list) ids.push_back(id.get<std::string>());
+    if (list.is_string())
+        ids.push_back(list.get<std::string>());
+    else
+        for (const Json& id : list) ids.push_back(id.get<std::string>());
     return ids;
 }
 
@@ -208,12 +217,13 @@ std::optional<Result<std::unique_ptr<Command>>> graphCommand(Document& document,
         return makeAddNodeCommand(document, body, std::move(n));
     }
     if (op == "graph_duplicate") {
-        return makeDuplicateNodesCommand(document, body, nodeIds(c),
-                                         c.contains("offset") ? vec3(c["offset"])
-                                                              : Eigen::Vector3d::Zero());
+        return makeDuplicateNodesCommand(
+            document, body, nodeIds(c),
+            c.contains("offset") ? vec3(c["offset"]) : Eigen::Vector3d::Zero());
     }
     if (op == "graph_delete") return makeDeleteNodesCommand(document, body, nodeIds(c));
-    if (op == "graph_move") return makeMoveNodesCommand(document, body, nodeIds(c), vec3(c.at("offset")));
+    if (op == "graph_move")
+        return makeMoveNodesCommand(document, body, nodeIds(c), vec3(c.at("offset")));
     if (op == "graph_set_node") {
         return makeSetNodesCommand(document, body, nodeIds(c), readNodeEdit(c));
     }
@@ -227,14 +237,16 @@ std::optional<Result<std::unique_ptr<Command>>> graphCommand(Document& document,
         p.open = e.open.value_or(true);
         return makeAddPipeCommand(document, body, std::move(p));
     }
-    if (op == "graph_disconnect") return makeRemovePipeCommand(document, body, c.at("a"), c.at("b"));
+    if (op == "graph_disconnect")
+        return makeRemovePipeCommand(document, body, c.at("a"), c.at("b"));
     if (op == "graph_set_pipe" || op == "graph_open" || op == "graph_close") {
         PipeEdit e = readPipeEdit(c);
         if (op != "graph_set_pipe") e.open = op == "graph_open";
         return makeSetPipeCommand(document, body, c.at("a"), c.at("b"), e);
     }
     if (op == "graph_replace") {
-        Result<WaterGraph> graph = makeError(ErrorKind::schema, "graph_replace needs \"graph\" or \"path\"");
+        Result<WaterGraph> graph =
+            makeError(ErrorKind::schema, "graph_replace needs \"graph\" or \"path\"");
         if (c.contains("graph")) {
             graph = parseGraph(c["graph"].dump(), "graph_replace");
         } else if (c.contains("path")) {
@@ -267,7 +279,8 @@ std::optional<Result<std::unique_ptr<Command>>> graphCommand(Document& document,
 Result<Json> runEditScript(Document& document, const Json& script) {
     const Json* list = &script;
     if (script.is_object() && script.contains("commands")) list = &script["commands"];
-    if (!list->is_array()) return makeError(ErrorKind::schema, "script: expected a list of commands");
+    if (!list->is_array())
+        return makeError(ErrorKind::schema, "script: expected a list of commands");
     Json results = Json::array();
     Brush brush;
     MapChannel channel = MapChannel::Permeability;
@@ -287,23 +300,26 @@ Result<Json> runEditScript(Document& document, const Json& script) {
                 runs = false;
             } else if (op == "stroke" || op == "paint" || op == "erase" || op == "smooth") {
                 Brush b = brush;
-                if (op != "stroke") b.mode = op == "paint"   ? BrushMode::Paint
-                                             : op == "erase" ? BrushMode::Erase
-                                                             : BrushMode::Smooth;
+                if (op != "stroke")
+                    b.mode = op == "paint"   ? BrushMode::Paint
+                             : op == "erase" ? BrushMode::Erase
+                                             : BrushMode::Smooth;
                 readBrush(c, b);
                 const std::vector<Eigen::Vector3d> points = strokePoints(document, body, c);
-                if (points.empty()) return makeError(ErrorKind::schema, where + ": the stroke hits no surface");
+                if (points.empty())
+                    return makeError(ErrorKind::schema, where + ": the stroke hits no surface");
                 command = makeStrokeCommand(document, body, channel, b, points, targetOf(c));
             } else if (op == "fill_island") {
                 const std::vector<Eigen::Vector3d> points = strokePoints(document, body, c);
-                if (points.empty()) return makeError(ErrorKind::schema, where + ": no surface point");
-                command = makeFillIslandCommand(document, body, channel, points.front(),
-                                                unitValue(c, "value", brush.value),
-                                                c.value("mirror_x", brush.mirrorX),
-                                                unitValue(c, "strength", 1.0), targetOf(c));
+                if (points.empty())
+                    return makeError(ErrorKind::schema, where + ": no surface point");
+                command = makeFillIslandCommand(
+                    document, body, channel, points.front(), unitValue(c, "value", brush.value),
+                    c.value("mirror_x", brush.mirrorX), unitValue(c, "strength", 1.0), targetOf(c));
             } else if (op == "fill_all") {
-                command = makeFillAllCommand(document, body, channel, unitValue(c, "value", brush.value),
-                                             unitValue(c, "strength", 1.0), targetOf(c));
+                command =
+                    makeFillAllCommand(document, body, channel, unitValue(c, "value", brush.value),
+                                       unitValue(c, "strength", 1.0), targetOf(c));
             } else if (op == "new_map") {
                 int w = kDefaultMapSize, h = kDefaultMapSize;
                 if (c.contains("size")) {
@@ -315,11 +331,14 @@ Result<Json> runEditScript(Document& document, const Json& script) {
                     }
                 }
                 if (w < 1 || h < 1 || w > kMaxPaintedMapSide || h > kMaxPaintedMapSide)
-                    return makeError(ErrorKind::limit, where + ": size " + std::to_string(w) + " x " +
-                                                           std::to_string(h) + " is outside 1..kMaxPaintedMapSide = " +
-                                                           std::to_string(kMaxPaintedMapSide) + " (limits.h)");
-                command = makeNewMapCommand(document, body, channel, w, h, unitValue(c, "value", 0.0),
-                                            c.value("path", std::string()));
+                    return makeError(ErrorKind::limit, where + ": size " + std::to_string(w) +
+                                                           " x " + std::to_string(h) +
+                                                           " is outside 1..kMaxPaintedMapSide = " +
+                                                           std::to_string(kMaxPaintedMapSide) +
+                                                           " (limits.h)");
+                command =
+                    makeNewMapCommand(document, body, channel, w, h, unitValue(c, "value", 0.0),
+                                      c.value("path", std::string()));
             } else if (op == "resize_map") {
                 const Json& size = c.at("size");
                 const int w = size.is_array() ? size.at(0).get<int>() : size.get<int>();
@@ -353,7 +372,8 @@ Result<Json> runEditScript(Document& document, const Json& script) {
                 const PaintedMap* map = document.map(body, channel);
                 auto surface = document.paintSurface(body, channel);
                 if (points.empty() || !map || !surface) {
-                    return makeError(ErrorKind::schema, where + ": nothing to pick (no point or no map)");
+                    return makeError(ErrorKind::schema,
+                                     where + ": nothing to pick (no point or no map)");
                 }
                 const std::optional<double> v = pickValue(*map, **surface, points.front());
                 if (!v) return makeError(ErrorKind::schema, where + ": nothing to pick");

@@ -118,18 +118,22 @@ Settings Settings::load(const fs::path& folder) {
             brush.strength = unit(b.value("strength", brush.strength), defaults.strength);
             brush.value = unit(b.value("value", brush.value), defaults.value);
             brush.spacing = b.value("spacing", brush.spacing);
-            if (!(brush.spacing > 0) || !std::isfinite(brush.spacing)) brush.spacing = defaults.spacing;
-            brush.falloff = parseFalloff(b.value("falloff", std::string(falloffName(brush.falloff))))
-                                .value_or(defaults.falloff);
+            if (!(brush.spacing > 0) || !std::isfinite(brush.spacing))
+                brush.spacing = defaults.spacing;
+            brush.falloff =
+                parseFalloff(b.value("falloff", std::string(falloffName(brush.falloff))))
+                    .value_or(defaults.falloff);
             if (b.contains("falloff_curve")) brush.curve = readFalloffCurve(b["falloff_curve"]);
             brush.mirrorX = b.value("mirror_x", brush.mirrorX);
             brush.mirrorY = b.value("mirror_y", brush.mirrorY);
             brush.mirrorZ = b.value("mirror_z", brush.mirrorZ);
             brush.radial = std::clamp(b.value("radial", brush.radial), 1, kMaxRadialCopies);
             brush.lazyRadius = b.value("lazy_radius", brush.lazyRadius);
-            if (!(brush.lazyRadius >= 0) || !(brush.lazyRadius <= kMaxLazyRadius)) brush.lazyRadius = defaults.lazyRadius;
+            if (!(brush.lazyRadius >= 0) || !(brush.lazyRadius <= kMaxLazyRadius))
+                brush.lazyRadius = defaults.lazyRadius;
             brush.normalAngle = b.value("normal_angle", brush.normalAngle);
-            if (!(brush.normalAngle >= 0) || !(brush.normalAngle <= 180)) brush.normalAngle = defaults.normalAngle;
+            if (!(brush.normalAngle >= 0) || !(brush.normalAngle <= 180))
+                brush.normalAngle = defaults.normalAngle;
             brush.frontFacesOnly = b.value("front_faces_only", brush.frontFacesOnly);
             brush.occlusion = b.value("occlusion", brush.occlusion);
             // The image itself is loaded by the window (a missing file: no alpha).
@@ -166,13 +170,19 @@ Status Settings::save(const fs::path& folder) const {
     j["blender_navigation"] = blenderNavigation;
     j["ui_scale"] = uiScale;
     j["layout"] = {{"column_width", layout.columnWidth}, {"shares", layout.shares}};
-    j["brush"] = {{"radius", brush.radius},     {"strength", brush.strength},
-                  {"value", brush.value},       {"spacing", brush.spacing},
+    j["brush"] = {{"radius", brush.radius},
+                  {"strength", brush.strength},
+                  {"value", brush.value},
+                  {"spacing", brush.spacing},
                   {"falloff", falloffName(brush.falloff)},
-                  {"mirror_x", brush.mirrorX},  {"mirror_y", brush.mirrorY},
-                  {"mirror_z", brush.mirrorZ},  {"radial", brush.radial},
-                  {"lazy_radius", brush.lazyRadius}, {"alpha", brush.alphaPath},
-                  {"normal_angle", brush.normalAngle}, {"front_faces_only", brush.frontFacesOnly},
+                  {"mirror_x", brush.mirrorX},
+                  {"mirror_y", brush.mirrorY},
+                  {"mirror_z", brush.mirrorZ},
+                  {"radial", brush.radial},
+                  {"lazy_radius", brush.lazyRadius},
+                  {"alpha", brush.alphaPath},
+                  {"normal_angle", brush.normalAngle},
+                  {"front_faces_only", brush.frontFacesOnly},
                   {"occlusion", brush.occlusion},
                   {"falloff_curve", falloffCurveJson(brush.curve)}};
     j["brush_presets"] = nlohmann::json::array();

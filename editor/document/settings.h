@@ -24,14 +24,14 @@ FalloffCurve readFalloffCurve(const nlohmann::json& points);
 std::filesystem::path userConfigDir();
 
 struct Settings {
-    std::vector<std::string> recentFiles;   ///< most recent first, at most kMaxRecent
+    std::vector<std::string> recentFiles;  ///< most recent first, at most kMaxRecent
     int windowWidth = 1600;
     int windowHeight = 900;
-    double autosaveSeconds = 120.0;         ///< autosave period of a dirty document
-    bool blenderNavigation = true;          ///< middle mouse orbits (else left + Alt)
+    double autosaveSeconds = 120.0;  ///< autosave period of a dirty document
+    bool blenderNavigation = true;   ///< middle mouse orbits (else left + Alt)
     float uiScale = 1.0f;
-    PanelLayout layout;                     ///< the splitters' places
-    Brush brush;                            ///< the brush as last used
+    PanelLayout layout;  ///< the splitters' places
+    Brush brush;         ///< the brush as last used
     /// The painter's own brush presets ("brush_presets"), in the order saved; the built-in
     /// ones (builtinBrushPresets) are not stored.
     std::vector<BrushPreset> brushPresets;

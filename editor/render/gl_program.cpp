@@ -34,7 +34,8 @@ Result<unsigned> linkGlProgram(std::initializer_list<const char*> vertices,
     auto deleteStages = [&] {
         for (GLuint s : stages) glDeleteShader(s);
     };
-    for (auto [type, sources] : {std::pair{GL_VERTEX_SHADER, vertices}, std::pair{GL_FRAGMENT_SHADER, fragments}}) {
+    for (auto [type, sources] :
+         {std::pair{GL_VERTEX_SHADER, vertices}, std::pair{GL_FRAGMENT_SHADER, fragments}}) {
         for (const char* source : sources) {
             Result<unsigned> stage = compileStage(type, source);
             if (!stage) {

@@ -33,7 +33,8 @@ Vertices unitSphere(int slices, int stacks) {
     for (int i = 0; i < stacks; ++i) {
         const double t0 = std::numbers::pi * i / stacks, t1 = std::numbers::pi * (i + 1) / stacks;
         for (int j = 0; j < slices; ++j) {
-            const double p0 = 2 * std::numbers::pi * j / slices, p1 = 2 * std::numbers::pi * (j + 1) / slices;
+            const double p0 = 2 * std::numbers::pi * j / slices,
+                         p1 = 2 * std::numbers::pi * (j + 1) / slices;
             const Eigen::Vector3f a = at(t0, p0), b = at(t1, p0), c = at(t1, p1), d = at(t0, p1);
             for (const Eigen::Vector3f& p : {a, b, c, a, c, d}) vertex(v, p, p);
         }
@@ -45,7 +46,8 @@ Vertices unitSphere(int slices, int stacks) {
 Vertices unitCylinder(int slices) {
     Vertices v;
     for (int j = 0; j < slices; ++j) {
-        const double p0 = 2 * std::numbers::pi * j / slices, p1 = 2 * std::numbers::pi * (j + 1) / slices;
+        const double p0 = 2 * std::numbers::pi * j / slices,
+                     p1 = 2 * std::numbers::pi * (j + 1) / slices;
         const Eigen::Vector3f n0(float(std::cos(p0)), float(std::sin(p0)), 0);
         const Eigen::Vector3f n1(float(std::cos(p1)), float(std::sin(p1)), 0);
         const Eigen::Vector3f z(0, 0, 1);
@@ -126,7 +128,8 @@ void GraphDrawer::drawShape(const Shape& shape, const Eigen::Matrix4f& model,
     glDrawArrays(GL_TRIANGLES, 0, shape.count);
 }
 
-void GraphDrawer::draw(const RenderGraph& r, const Eigen::Matrix4f& viewProj, const Camera& camera) {
+void GraphDrawer::draw(const RenderGraph& r, const Eigen::Matrix4f& viewProj,
+                       const Camera& camera) {
     if (!r.graph) return;
     const WaterGraph& g = *r.graph;
     glEnable(GL_DEPTH_TEST);
@@ -166,7 +169,8 @@ void GraphDrawer::draw(const RenderGraph& r, const Eigen::Matrix4f& viewProj, co
     }
     // Pipe ends by hash: indexOf scans the nodes, and a frame drew every pipe.
     std::unordered_map<std::string, int> indexById;
-    for (std::size_t n = 0; n < g.nodes.size(); ++n) indexById.emplace(g.nodes[n].id, static_cast<int>(n));
+    for (std::size_t n = 0; n < g.nodes.size(); ++n)
+        indexById.emplace(g.nodes[n].id, static_cast<int>(n));
     for (std::size_t i = 0; i < g.pipes.size(); ++i) {
         const GraphPipe& p = g.pipes[i];
         const auto ia = indexById.find(p.a), ib = indexById.find(p.b);
@@ -178,8 +182,8 @@ void GraphDrawer::draw(const RenderGraph& r, const Eigen::Matrix4f& viewProj, co
         const double length = axis.norm();
         if (length <= 0) continue;
         const Eigen::Vector3d z = axis / length;
-        const Eigen::Vector3d helper = std::abs(z.x()) < 0.9 ? Eigen::Vector3d::UnitX()
-                                                             : Eigen::Vector3d::UnitY();
+        const Eigen::Vector3d helper =
+            std::abs(z.x()) < 0.9 ? Eigen::Vector3d::UnitX() : Eigen::Vector3d::UnitY();
         const Eigen::Vector3d x = helper.cross(z).normalized(), y = z.cross(x);
         // A closed pipe is drawn at half its radius in dark red; an open one light grey.
         // Thin pipes get a minimum on-screen thickness.
@@ -187,7 +191,7 @@ void GraphDrawer::draw(const RenderGraph& r, const Eigen::Matrix4f& viewProj, co
         Eigen::Matrix3d frame;
         frame << x * radius, y * radius, z * length;
         const bool selected = static_cast<int>(i) == r.selectedPipe;
-        const Eigen::Vector3f colour = selected  ? Eigen::Vector3f(1.0f, 1.0f, 0.4f)
+        const Eigen::Vector3f colour = selected ? Eigen::Vector3f(1.0f, 1.0f, 0.4f)
                                        : p.open ? Eigen::Vector3f(0.85f, 0.85f, 0.85f)
                                                 : Eigen::Vector3f(0.55f, 0.08f, 0.08f);
         drawShape(cylinder_, affine(frame, pa), colour, colour, -1e30f);

@@ -21,8 +21,8 @@ namespace plimsoll::editor {
 
 struct RenderGraph {
     const WaterGraph* graph = nullptr;
-    Pose pose;                               ///< of the body, object -> world
-    std::vector<bool> selectedNodes;         ///< per node (shorter: unselected)
+    Pose pose;                        ///< of the body, object -> world
+    std::vector<bool> selectedNodes;  ///< per node (shorter: unselected)
     int selectedPipe = -1;
     /// Water per node to draw (a running simulation's); empty: the graph's own.
     std::vector<double> water;

@@ -33,8 +33,10 @@ EGLContext makeContext(EGLDisplay display) {
         if (!noConfig) return EGL_NO_CONTEXT;
         config = EGL_NO_CONFIG_KHR;
     }
-    const EGLint contextAttributes[] = {EGL_CONTEXT_MAJOR_VERSION, 4,
-                                        EGL_CONTEXT_MINOR_VERSION, 5,
+    const EGLint contextAttributes[] = {EGL_CONTEXT_MAJOR_VERSION,
+                                        4,
+                                        EGL_CONTEXT_MINOR_VERSION,
+                                        5,
                                         EGL_CONTEXT_OPENGL_PROFILE_MASK,
                                         EGL_CONTEXT_OPENGL_CORE_PROFILE_BIT,
                                         EGL_NONE};
@@ -57,9 +59,9 @@ Result<std::unique_ptr<HeadlessContext>> HeadlessContext::create() {
     };
     std::vector<Candidate> candidates;
     if (hasExtension(clientExtensions, "EGL_MESA_platform_surfaceless")) {
-        candidates.push_back({eglGetPlatformDisplayEXT(EGL_PLATFORM_SURFACELESS_MESA,
-                                                       EGL_DEFAULT_DISPLAY, nullptr),
-                              "surfaceless"});
+        candidates.push_back(
+            {eglGetPlatformDisplayEXT(EGL_PLATFORM_SURFACELESS_MESA, EGL_DEFAULT_DISPLAY, nullptr),
+             "surfaceless"});
     }
     if (hasExtension(clientExtensions, "EGL_EXT_platform_device") &&
         hasExtension(clientExtensions, "EGL_EXT_device_enumeration")) {

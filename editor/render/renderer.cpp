@@ -132,8 +132,8 @@ const WaterView* Renderer::waterViewOf(const RenderScene& scene, const Camera& c
     if (!scene.water) return nullptr;
     WaterCache& c = waterCache_;
     const std::uint64_t generation = waterGeneration(*scene.water);
-    if (c.generation != generation || c.time != scene.time || c.view.camera.target != camera.target ||
-        c.view.camera.distance != camera.distance) {
+    if (c.generation != generation || c.time != scene.time ||
+        c.view.camera.target != camera.target || c.view.camera.distance != camera.distance) {
         c.generation = generation;
         c.time = scene.time;
         c.view = WaterView::of(*scene.water, scene.time, camera);
@@ -169,7 +169,8 @@ void Renderer::setWaterBlock(const WaterView* view) {
         const Eigen::Vector3d eye = view->camera.eye(), forward = view->camera.forward();
         block = {{kWaterColour.x(), kWaterColour.y(), kWaterColour.z(), kWaterOpacity},
                  {float(view->x0), float(view->z0), float(view->step), float(WaterView::kCells)},
-                 {float(eye.x()), float(eye.y()), float(eye.z()), view->camera.orthographic ? 1.0f : 0.0f},
+                 {float(eye.x()), float(eye.y()), float(eye.z()),
+                  view->camera.orthographic ? 1.0f : 0.0f},
                  {float(forward.x()), float(forward.y()), float(forward.z()), 0.0f}};
     }
     // New storage each time (64 bytes), not a write into the old: llvmpipe would first wait
@@ -206,9 +207,9 @@ Renderer::MeshBuffers& Renderer::buffersFor(const std::shared_ptr<const Triangle
         for (std::uint32_t v : t) {
             const Eigen::Vector3d& p = mesh->positions[v];
             const Eigen::Vector2d uv = uvs ? mesh->uvs[v] : Eigen::Vector2d::Zero();
-            vertices.insert(vertices.end(), {float(p.x()), float(p.y()), float(p.z()),
-                                             float(uv.x()), float(uv.y()), float(normal.x()),
-                                             float(normal.y()), float(normal.z())});
+            vertices.insert(vertices.end(),
+                            {float(p.x()), float(p.y()), float(p.z()), float(uv.x()), float(uv.y()),
+                             float(normal.x()), float(normal.y()), float(normal.z())});
         }
     }
     b.vertexCount = static_cast<int>(mesh->triangles.size() * 3);
@@ -217,8 +218,7 @@ Renderer::MeshBuffers& Renderer::buffersFor(const std::shared_ptr<const Triangle
     glGenBuffers(1, &b.vbo);
     glBindVertexArray(b.vao);
     glBindBuffer(GL_ARRAY_BUFFER, b.vbo);
-    glBufferData(GL_ARRAY_BUFFER, vertices.size() * sizeof(float), vertices.data(),
-                 GL_STATIC_DRAW);
+    glBufferData(GL_ARRAY_BUFFER, vertices.size() * sizeof(float), vertices.data(), GL_STATIC_DRAW);
     const GLsizei stride = kFloats * sizeof(float);
     glEnableVertexAttribArray(0);
     glVertexAttribPointer(0, 3, GL_FLOAT, GL_FALSE, stride, nullptr);
@@ -306,7 +306,8 @@ unsigned Renderer::uvWireframeTexture(const std::shared_ptr<const TriangleMesh>&
         for (int e = 0; e < 3; ++e) {
             const Eigen::Vector2d a = mesh->uvs[t[e]] * 2.0 - Eigen::Vector2d::Ones();
             const Eigen::Vector2d b = mesh->uvs[t[(e + 1) % 3]] * 2.0 - Eigen::Vector2d::Ones();
-            pushLine(lines, {float(a.x()), float(a.y()), 0}, {float(b.x()), float(b.y()), 0}, colour);
+            pushLine(lines, {float(a.x()), float(a.y()), 0}, {float(b.x()), float(b.y()), 0},
+                     colour);
         }
     }
     setWaterBlock(nullptr);  // UVs, not the world: nothing is seen through water here
@@ -325,8 +326,7 @@ void Renderer::drawLines(const std::vector<float>& vertices, const Eigen::Matrix
     setMatrix(lineProgram_, "uViewProj", viewProj);
     glBindVertexArray(lineVao_);
     glBindBuffer(GL_ARRAY_BUFFER, lineVbo_);
-    glBufferData(GL_ARRAY_BUFFER, vertices.size() * sizeof(float), vertices.data(),
-                 GL_STREAM_DRAW);
+    glBufferData(GL_ARRAY_BUFFER, vertices.size() * sizeof(float), vertices.data(), GL_STREAM_DRAW);
     glDrawArrays(GL_LINES, 0, static_cast<GLsizei>(vertices.size() / 7));
 }
 
@@ -335,11 +335,11 @@ Renderer::SceneKey Renderer::keyOf(const RenderScene& scene, const Camera& camer
     SceneKey key;
     std::vector<double>& n = key.numbers;
     n.reserve(32 + scene.bodies.size() * 16);
-    n.insert(n.end(), {double(width), double(height), camera.target.x(), camera.target.y(),
-                       camera.target.z(), camera.yaw, camera.pitch, camera.distance, camera.fovY,
-                       double(camera.orthographic), scene.time, double(scene.grid),
-                       double(scene.axes), scene.background.x(), scene.background.y(),
-                       scene.background.z()});
+    n.insert(n.end(),
+             {double(width), double(height), camera.target.x(), camera.target.y(),
+              camera.target.z(), camera.yaw, camera.pitch, camera.distance, camera.fovY,
+              double(camera.orthographic), scene.time, double(scene.grid), double(scene.axes),
+              scene.background.x(), scene.background.y(), scene.background.z()});
     n.push_back(scene.water ? double(waterGeneration(*scene.water)) : -1.0);
     for (const RenderBody& body : scene.bodies) {
         key.meshes.push_back(body.mesh.get());
@@ -347,14 +347,16 @@ Renderer::SceneKey Renderer::keyOf(const RenderScene& scene, const Camera& camer
         n.insert(n.end(), body.pose.translation.data(), body.pose.translation.data() + 3);
         // The overlay the body shows, by its slot and what its texture holds.
         const unsigned overlay = overlayTexture(body.overlay);
-        const std::optional<std::uint64_t> version = overlay ? textureVersion(overlay) : std::nullopt;
+        const std::optional<std::uint64_t> version =
+            overlay ? textureVersion(overlay) : std::nullopt;
         n.insert(n.end(), {double(body.overlay), version ? double(*version) : -1.0,
                            double(body.selected), double(body.alpha)});
     }
     return key;
 }
 
-bool Renderer::drawIntoCache(const RenderScene& scene, const Camera& camera, int width, int height) {
+bool Renderer::drawIntoCache(const RenderScene& scene, const Camera& camera, int width,
+                             int height) {
     if ((cache_.image.width() != width || cache_.image.height() != height) &&
         !cache_.image.resize(width, height, /*depth=*/true)) {
         return false;
@@ -470,8 +472,8 @@ void Renderer::drawScene(const RenderScene& scene, const Camera& camera, int wid
         if (!waterCache_.uploaded) {
             glBindTexture(GL_TEXTURE_2D, waterHeights_);
             glPixelStorei(GL_UNPACK_ALIGNMENT, 4);
-            glTexImage2D(GL_TEXTURE_2D, 0, GL_R32F, WaterView::kCells + 1, WaterView::kCells + 1,
-                         0, GL_RED, GL_FLOAT, water->heights.data());
+            glTexImage2D(GL_TEXTURE_2D, 0, GL_R32F, WaterView::kCells + 1, WaterView::kCells + 1, 0,
+                         GL_RED, GL_FLOAT, water->heights.data());
             waterCache_.uploaded = true;
         }
         glActiveTexture(GL_TEXTURE0 + kWaterHeightsUnit);
@@ -558,15 +560,17 @@ void Renderer::drawScene(const RenderScene& scene, const Camera& camera, int wid
     // Grid (1 m, on y = 0) and axes. On waves, in pieces of at most a cell of the water's
     // heights: a line's side of the water is worked out at its vertices (water_view.vert).
     std::vector<float> lines;
-    const float extent = static_cast<float>(
-        std::clamp(std::ceil(camera.distance * 2.0), 2.0, 200.0));
+    const float extent =
+        static_cast<float>(std::clamp(std::ceil(camera.distance * 2.0), 2.0, 200.0));
     const float piece = water && scene.water->kind != WaterModel::Kind::Flat
                             ? static_cast<float>(water->step)
                             : 2 * extent;
-    auto pushPieces = [&](const Eigen::Vector3f& a, const Eigen::Vector3f& b, const Eigen::Vector4f& colour) {
+    auto pushPieces = [&](const Eigen::Vector3f& a, const Eigen::Vector3f& b,
+                          const Eigen::Vector4f& colour) {
         const int pieces = std::max(1, static_cast<int>(std::ceil((b - a).norm() / piece)));
         for (int k = 0; k < pieces; ++k) {
-            pushLine(lines, a + (b - a) * (float(k) / pieces), a + (b - a) * (float(k + 1) / pieces), colour);
+            pushLine(lines, a + (b - a) * (float(k) / pieces),
+                     a + (b - a) * (float(k + 1) / pieces), colour);
         }
     };
     if (scene.grid) {

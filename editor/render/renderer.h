@@ -97,7 +97,8 @@ public:
               int y = 0, bool cleared = false);
     /// The colour a caller that clears the whole target (draw's `cleared`) clears it with: the
     /// larger part of the view's background, the water's or the plain one (water_view.h).
-    Eigen::Vector3f clearColour(const RenderScene& scene, const Camera& camera, int width, int height);
+    Eigen::Vector3f clearColour(const RenderScene& scene, const Camera& camera, int width,
+                                int height);
     /// The water's look: its colour and the opacity of a sheet of it.
     static inline const Eigen::Vector3f kWaterColour{0.15f, 0.45f, 0.75f};
     static constexpr float kWaterOpacity = 0.35f;
@@ -135,7 +136,7 @@ private:
     bool drawIntoCache(const RenderScene& scene, const Camera& camera, int width, int height);
     /// Everything a drawn scene depends on.
     struct SceneKey {
-        std::vector<double> numbers;        ///< size, camera, time, flags, poses, overlays
+        std::vector<double> numbers;  ///< size, camera, time, flags, poses, overlays
         std::vector<const void*> meshes;
         bool operator==(const SceneKey&) const = default;
     };
@@ -144,9 +145,9 @@ private:
     struct SceneCache {
         WindowImage image;
         std::optional<SceneKey> kept, previous;
-        bool warmUp = false;                ///< see warmUpOnFirstDraw
+        bool warmUp = false;  ///< see warmUpOnFirstDraw
     } cache_;
-    std::uint64_t textureUploads_ = 0;      ///< bumps on every texture upload
+    std::uint64_t textureUploads_ = 0;                   ///< bumps on every texture upload
     std::map<unsigned, std::uint64_t> textureVersions_;  ///< see textureVersion
     std::uint64_t framesCopied_ = 0, framesDrawn_ = 0;
     void drawLines(const std::vector<float>& vertices, const Eigen::Matrix4f& viewProj);
@@ -181,10 +182,10 @@ private:
     std::optional<WaterModel> lastWater_;  ///< a copy of the last water drawn, to compare
     std::uint64_t waterGeneration_ = 0;
     struct WaterCache {
-        std::uint64_t generation = 0;     ///< waterGeneration() of the water sampled
+        std::uint64_t generation = 0;  ///< waterGeneration() of the water sampled
         double time = -1;
         WaterView view;
-        bool uploaded = false;            ///< view.heights are in waterHeights_
+        bool uploaded = false;  ///< view.heights are in waterHeights_
     } waterCache_;
 };
 

@@ -5,9 +5,9 @@
 
 namespace plimsoll::editor::shaders {
 
-extern const char* const mesh_vert;        ///< bodies: world position and uv
-extern const char* const mesh_frag;        ///< flat shading, overlay texture or base colour
-extern const char* const line_vert;        ///< lines: a colour per vertex
+extern const char* const mesh_vert;  ///< bodies: world position and uv
+extern const char* const mesh_frag;  ///< flat shading, overlay texture or base colour
+extern const char* const line_vert;  ///< lines: a colour per vertex
 extern const char* const line_frag;
 extern const char* const water_view_vert;  ///< waterSides(), linked into the others
 extern const char* const water_view_frag;  ///< throughWater(), linked into the others

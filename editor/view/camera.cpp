@@ -61,8 +61,7 @@ Eigen::Matrix4d Camera::projection(double aspect) const {
 
 std::optional<Eigen::Vector2d> Camera::toPixel(const Eigen::Vector3d& world, int width,
                                                int height) const {
-    const Eigen::Vector4d clip =
-        projection(double(width) / height) * view() * world.homogeneous();
+    const Eigen::Vector4d clip = projection(double(width) / height) * view() * world.homogeneous();
     if (clip.w() <= 0) return std::nullopt;
     const Eigen::Vector3d ndc = clip.head<3>() / clip.w();
     return Eigen::Vector2d((ndc.x() * 0.5 + 0.5) * width, (0.5 - ndc.y() * 0.5) * height);
@@ -92,7 +91,9 @@ void Camera::pan(double dx, double dy) {
     target += (-right() * dx + up() * dy) * scale;
 }
 
-void Camera::zoom(double steps) { distance = std::clamp(distance * std::pow(0.85, steps), 1e-3, 1e6); }
+void Camera::zoom(double steps) {
+    distance = std::clamp(distance * std::pow(0.85, steps), 1e-3, 1e6);
+}
 
 void Camera::frame(const Bounds3& bounds) {
     if (bounds.min.x() > bounds.max.x()) return;
@@ -104,10 +105,21 @@ void Camera::frame(const Bounds3& bounds) {
 Camera Camera::preset(ViewPreset view, const Bounds3& bounds) {
     Camera c;
     switch (view) {
-        case ViewPreset::Front: c.orthographic = true; break;
-        case ViewPreset::Side: c.yaw = 1.5707963267948966; c.orthographic = true; break;
-        case ViewPreset::Top: c.pitch = 1.5707963267948966; c.orthographic = true; break;
-        case ViewPreset::Persp: c.yaw = 0.6; c.pitch = 0.45; break;
+        case ViewPreset::Front:
+            c.orthographic = true;
+            break;
+        case ViewPreset::Side:
+            c.yaw = 1.5707963267948966;
+            c.orthographic = true;
+            break;
+        case ViewPreset::Top:
+            c.pitch = 1.5707963267948966;
+            c.orthographic = true;
+            break;
+        case ViewPreset::Persp:
+            c.yaw = 0.6;
+            c.pitch = 0.45;
+            break;
     }
     c.frame(bounds);
     return c;

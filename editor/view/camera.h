@@ -16,9 +16,9 @@ std::optional<ViewPreset> parseViewPreset(const std::string& name);  ///< front|
 
 struct Camera {
     Eigen::Vector3d target = Eigen::Vector3d::Zero();  ///< orbit centre, world, m
-    double yaw = 0.0;        ///< rad about +y; 0: the camera sits on +z looking toward -z
-    double pitch = 0.0;      ///< rad; positive: the camera is above, looking down
-    double distance = 3.0;   ///< m from the target
+    double yaw = 0.0;                  ///< rad about +y; 0: the camera sits on +z looking toward -z
+    double pitch = 0.0;                ///< rad; positive: the camera is above, looking down
+    double distance = 3.0;             ///< m from the target
     double fovY = 0.7853981633974483;  ///< rad, vertical (orthographic: sets the visible height)
     bool orthographic = false;
 

@@ -21,7 +21,8 @@ std::vector<OverlaySegment> waterlineOf(const TriangleMesh& mesh, const Pose& po
         std::array<Eigen::Vector3d, 2> crossing;
         int found = 0;
         for (int e = 0; e < 3 && found < 2; ++e) {
-            const auto i = static_cast<std::size_t>(t[e]), j = static_cast<std::size_t>(t[(e + 1) % 3]);
+            const auto i = static_cast<std::size_t>(t[e]),
+                       j = static_cast<std::size_t>(t[(e + 1) % 3]);
             // A sign change along the edge (a vertex exactly on the surface counts as above).
             if ((above[i] < 0) == (above[j] < 0)) continue;
             const double s = above[i] / (above[i] - above[j]);
@@ -47,8 +48,8 @@ ForceOverlay buildForceOverlay(const World& world, const std::vector<const Trian
         };
         add(body.state.position, weight, kWeightColour);
         // The force World applies: Archimedes' on flat water, the pressure integral on waves.
-        add(body.buoyancy.centerOfBuoyancy, flat ? body.buoyancy.force : body.buoyancy.pressureForce,
-            kBuoyancyColour);
+        add(body.buoyancy.centerOfBuoyancy,
+            flat ? body.buoyancy.force : body.buoyancy.pressureForce, kBuoyancyColour);
         add(body.buoyancy.centerOfBuoyancy, body.buoyancy.dragForce, kDragColour);
         if (i < meshes.size() && meshes[i]) {
             std::vector<OverlaySegment> line =
@@ -74,7 +75,9 @@ std::uint64_t texturesKey(int size, const std::vector<std::uint32_t>& texelIndex
 
 std::uint64_t texturesKey(const SurfaceTextures& t) { return texturesKey(t.size, t.texelIndex); }
 
-WetTexelSamples wetTexelSamples(const SurfaceTextures& t) { return wetTexelSamples(t.size, t.texelIndex); }
+WetTexelSamples wetTexelSamples(const SurfaceTextures& t) {
+    return wetTexelSamples(t.size, t.texelIndex);
+}
 
 WetTexelSamples wetTexelSamples(int size, const std::vector<std::uint32_t>& texelIndex) {
     WetTexelSamples samples;
@@ -114,17 +117,17 @@ OverlayImage wetTexelOverlay(const SimulatedBody& body, const WaterModel& water,
         wet[k] = static_cast<std::uint8_t>(std::lround(255.0f * kWetColour[k]));
     }
     dry[3] = wet[3] = 255;
-    for (std::size_t texel = 0; texel < texels; ++texel) std::copy(dry.begin(), dry.end(), &image.rgba[4 * texel]);
+    for (std::size_t texel = 0; texel < texels; ++texel)
+        std::copy(dry.begin(), dry.end(), &image.rgba[4 * texel]);
     // The water's heights in one batch (vectorised for Gerstner waves, as the fast path asks
     // for them): one point at a time, the waves took most of a 256^2 image's time each frame.
     // The points' arrays are kept between calls (one a preview frame): sized once, not
     // allocated each frame.
-    thread_local struct {
-        std::vector<double> x, y, z, height;
-    } points;
+    thread_local struct { std::vector<double> x, y, z, height; } points;
     const Pose pose = body.pose();
     const std::size_t n = samples.entries.size();
-    for (std::vector<double>* column : {&points.x, &points.y, &points.z, &points.height}) column->resize(n);
+    for (std::vector<double>* column : {&points.x, &points.y, &points.z, &points.height})
+        column->resize(n);
     for (std::size_t k = 0; k < n; ++k) {
         const Eigen::Vector3d p = pose.apply(t.position[samples.entries[k]]);
         points.x[k] = p.x();

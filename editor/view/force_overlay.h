@@ -56,10 +56,10 @@ inline constexpr int kWetOverlayMaxSize = 256;
 /// texel, 15 ms at 1024^2 on the test machine), then each frame tests at most
 /// kWetOverlayMaxSize^2 entries.
 struct WetTexelSamples {
-    int shown = 0;                         ///< the image's texels a side
-    std::vector<std::uint32_t> entries;    ///< covered-texel index into the textures
-    std::vector<std::uint32_t> texels;     ///< its texel in the shown image (y * shown + x)
-    std::uint64_t key = 0;                 ///< texturesKey of the textures they were found for
+    int shown = 0;                       ///< the image's texels a side
+    std::vector<std::uint32_t> entries;  ///< covered-texel index into the textures
+    std::vector<std::uint32_t> texels;   ///< its texel in the shown image (y * shown + x)
+    std::uint64_t key = 0;               ///< texturesKey of the textures they were found for
 };
 WetTexelSamples wetTexelSamples(const SurfaceTextures& textures);
 /// The same from the textures' size and covered texels' places alone (a worker's copy).

@@ -91,7 +91,8 @@ std::optional<GraphHit> pickPipe(const WaterGraph& graph, const Pose& pose,
     std::optional<GraphHit> best;
     // Pipe ends by hash: indexOf scans the nodes, and a frame drew every pipe.
     std::unordered_map<std::string, int> indexById;
-    for (std::size_t n = 0; n < graph.nodes.size(); ++n) indexById.emplace(graph.nodes[n].id, static_cast<int>(n));
+    for (std::size_t n = 0; n < graph.nodes.size(); ++n)
+        indexById.emplace(graph.nodes[n].id, static_cast<int>(n));
     for (std::size_t i = 0; i < graph.pipes.size(); ++i) {
         const auto ia = indexById.find(graph.pipes[i].a), ib = indexById.find(graph.pipes[i].b);
         if (ia == indexById.end() || ib == indexById.end()) continue;

@@ -24,8 +24,8 @@ double sphereRadiusOfVolume(double volume);
 double sphereCapHeight(double radius, double water);
 
 struct GraphHit {
-    std::size_t index = 0;   ///< node or pipe index
-    double distance = 0;     ///< along the ray, m
+    std::size_t index = 0;  ///< node or pipe index
+    double distance = 0;    ///< along the ray, m
 };
 
 /// The nearest node the world ray (origin, unit direction) hits: a sphere node at its
@@ -53,6 +53,7 @@ Eigen::Vector3d closestOnAxis(const Eigen::Vector3d& anchor, const Eigen::Vector
 /// parallel or the plane is behind.
 std::optional<Eigen::Vector3d> rayPlane(const Eigen::Vector3d& origin,
                                         const Eigen::Vector3d& direction,
-                                        const Eigen::Vector3d& point, const Eigen::Vector3d& normal);
+                                        const Eigen::Vector3d& point,
+                                        const Eigen::Vector3d& normal);
 
 }  // namespace plimsoll::editor

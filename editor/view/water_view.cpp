@@ -40,7 +40,8 @@ double WaterView::heightAt(double x, double z) const {
 bool WaterView::seenThrough(const Eigen::Vector3d& p) const {
     const Eigen::Vector3d eye = camera.eye();
     const Eigen::Vector3d forward = camera.forward();
-    const Eigen::Vector3d start = camera.orthographic ? Eigen::Vector3d(p - forward * forward.dot(p - eye)) : eye;
+    const Eigen::Vector3d start =
+        camera.orthographic ? Eigen::Vector3d(p - forward * forward.dot(p - eye)) : eye;
     return below(p) != below(start);
 }
 
@@ -68,8 +69,10 @@ WaterView::Backdrop WaterView::backdrop(int width, int height) const {
     hi = height - 1;
     while (lo < hi) {
         const int mid = lo + (hi - lo) / 2;
-        if (seenThroughAtRow(mid) == b.topSeenThrough) lo = mid + 1;
-        else hi = mid;
+        if (seenThroughAtRow(mid) == b.topSeenThrough)
+            lo = mid + 1;
+        else
+            hi = mid;
     }
     b.split = lo;
     return b;

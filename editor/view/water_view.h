@@ -44,7 +44,8 @@ public:
     /// Whether the background seen along the ray from `origin` (on the eye's side of the
     /// view) in `direction` is seen through the water: the ray starts above the water and goes
     /// down, or starts below it and goes up (the water reaches the horizon).
-    bool backgroundSeenThrough(const Eigen::Vector3d& origin, const Eigen::Vector3d& direction) const;
+    bool backgroundSeenThrough(const Eigen::Vector3d& origin,
+                               const Eigen::Vector3d& direction) const;
     /// The view's background in a width x height image: rows [0, split) from the top show
     /// `top` (seen through the water or not), rows [split, height) the other. The camera has
     /// no roll, so each row is one or the other (split = height: one colour throughout).

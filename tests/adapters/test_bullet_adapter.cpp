@@ -37,8 +37,10 @@ struct Scene {
         shapes.push_back(std::make_unique<btBoxShape>(half));
         btVector3 inertia(0, 0, 0);
         if (mass > 0) shapes.back()->calculateLocalInertia(btScalar(mass), inertia);
-        motions.push_back(std::make_unique<btDefaultMotionState>(btTransform(btQuaternion::getIdentity(), at)));
-        boxes.push_back(std::make_unique<btRigidBody>(btScalar(mass), motions.back().get(), shapes.back().get(), inertia));
+        motions.push_back(
+            std::make_unique<btDefaultMotionState>(btTransform(btQuaternion::getIdentity(), at)));
+        boxes.push_back(std::make_unique<btRigidBody>(btScalar(mass), motions.back().get(),
+                                                      shapes.back().get(), inertia));
         boxes.back()->setActivationState(DISABLE_DEACTIVATION);
         world.addRigidBody(boxes.back().get());
         return boxes.back().get();
@@ -49,7 +51,8 @@ struct Scene {
 class BulletAdapter : public testing::Test {
 protected:
     static void SetUpTestSuite() {
-        root_ = new fs::path(fs::path(testing::TempDir()) / ("bullet_adapter_" + std::to_string(::getpid())));
+        root_ = new fs::path(fs::path(testing::TempDir()) /
+                             ("bullet_adapter_" + std::to_string(::getpid())));
         fs::remove_all(*root_);
         fs::create_directories(*root_);
         const fs::path source = PLIMSOLL_SOURCE_DIR;
@@ -88,9 +91,11 @@ fs::path* BulletAdapter::root_ = nullptr;
 btVector3 centerOfMass(const plimsoll_bundle* b, const plimsoll_pose& pose) {
     const btTransform t(btQuaternion(btScalar(pose.orientation[1]), btScalar(pose.orientation[2]),
                                      btScalar(pose.orientation[3]), btScalar(pose.orientation[0])),
-                        btVector3(btScalar(pose.position[0]), btScalar(pose.position[1]), btScalar(pose.position[2])));
+                        btVector3(btScalar(pose.position[0]), btScalar(pose.position[1]),
+                                  btScalar(pose.position[2])));
     const plimsoll_mass m = plimsoll_bundle_mass(b);
-    return t * btVector3(btScalar(m.center_of_mass[0]), btScalar(m.center_of_mass[1]), btScalar(m.center_of_mass[2]));
+    return t * btVector3(btScalar(m.center_of_mass[0]), btScalar(m.center_of_mass[1]),
+                         btScalar(m.center_of_mass[2]));
 }
 
 /// Angle between two orientations (w, x, y, z), rad.
@@ -115,15 +120,17 @@ TEST_F(BulletAdapter, AFreeBodyFollowsTheRuntimesOwnIntegrator) {
     plimsoll_instance* aloneInstance = plimsoll_instance_create(alone);
     ASSERT_TRUE(aloneInstance) << plimsoll_runtime_last_error();
     const double heel = 12.0 * M_PI / 180.0;
-    plimsoll_body_state state = {{{0.0, 0.3, 0.0}, {std::cos(heel / 2), 0.0, 0.0, std::sin(heel / 2)}},
-                                 {{0.2, 0.0, -0.1}, {0.0, 0.8, 0.0}}};
+    plimsoll_body_state state = {
+        {{0.0, 0.3, 0.0}, {std::cos(heel / 2), 0.0, 0.0, std::sin(heel / 2)}},
+        {{0.2, 0.0, -0.1}, {0.0, 0.8, 0.0}}};
     Scene scene;
     const plimsoll_water water = {0.0, nullptr, nullptr, nullptr};
     const plimsoll_fluid fluid = plimsoll_bundle_default_fluid(bullet);
     plimsoll_bullet::Harbour harbour(&scene.world, water, fluid);
-    const btTransform start(btQuaternion(btScalar(state.pose.orientation[1]), btScalar(state.pose.orientation[2]),
-                                         btScalar(state.pose.orientation[3]), btScalar(state.pose.orientation[0])),
-                            btVector3(0, 0.3f, 0));
+    const btTransform start(
+        btQuaternion(btScalar(state.pose.orientation[1]), btScalar(state.pose.orientation[2]),
+                     btScalar(state.pose.orientation[3]), btScalar(state.pose.orientation[0])),
+        btVector3(0, 0.3f, 0));
     plimsoll_bullet::FloatingBody body(bullet, start);
     body.rigidBody()->setLinearVelocity(btVector3(0.2f, 0, -0.1f));
     body.rigidBody()->setAngularVelocity(btVector3(0, 0.8f, 0));
@@ -137,12 +144,16 @@ TEST_F(BulletAdapter, AFreeBodyFollowsTheRuntimesOwnIntegrator) {
         scene.step(dt);
         ASSERT_EQ(harbour.error(), "");
         const plimsoll_pose p = body.pose();
-        worstPosition = std::max(worstPosition, double((centerOfMass(alone, state.pose) - centerOfMass(bullet, p)).length()));
+        worstPosition =
+            std::max(worstPosition,
+                     double((centerOfMass(alone, state.pose) - centerOfMass(bullet, p)).length()));
         worstAngle = std::max(worstAngle, angleBetween(state.pose.orientation, p.orientation));
         lowest = std::min(lowest, double(centerOfMass(alone, state.pose).y()));
     }
-    std::printf("[ adapter  ] free buoy over 3 s: centres of mass at most %.2f mm apart, orientations %.3f deg\n",
-                1e3 * worstPosition, worstAngle * 180.0 / M_PI);
+    std::printf(
+        "[ adapter  ] free buoy over 3 s: centres of mass at most %.2f mm apart, orientations %.3f "
+        "deg\n",
+        1e3 * worstPosition, worstAngle * 180.0 / M_PI);
     // The body did move through the water: it fell, splashed and came back up.
     EXPECT_LT(lowest, 0.1);
     EXPECT_LT(worstPosition, 5e-4);
@@ -151,7 +162,8 @@ TEST_F(BulletAdapter, AFreeBodyFollowsTheRuntimesOwnIntegrator) {
 }
 
 /// Mean height of the body's centre of mass over `seconds` after `settle` seconds.
-double settledHeight(Scene& scene, plimsoll_bullet::FloatingBody& body, double settle, double seconds) {
+double settledHeight(Scene& scene, plimsoll_bullet::FloatingBody& body, double settle,
+                     double seconds) {
     const double dt = 1.0 / 240.0;
     for (int i = 0; i < int(settle / dt); ++i) scene.step(dt);
     double sum = 0;
@@ -176,7 +188,8 @@ TEST_F(BulletAdapter, ACrateOnTheDeckDeepensTheDraftByArchimedes) {
     const plimsoll_water water = {0.0, nullptr, nullptr, nullptr};
     plimsoll_bullet::Harbour harbour(&scene.world, water, plimsoll_bundle_default_fluid(box));
     // The 0.25 m edge (object z) vertical: 90 degrees about x.
-    const btTransform flat(btQuaternion(btVector3(1, 0, 0), btScalar(M_PI / 2)), btVector3(0, 0, 0));
+    const btTransform flat(btQuaternion(btVector3(1, 0, 0), btScalar(M_PI / 2)),
+                           btVector3(0, 0, 0));
     plimsoll_bullet::FloatingBody body(box, flat);
     body.rigidBody()->setDamping(0.9f, 0.9f);
     harbour.add(&body);
@@ -188,13 +201,14 @@ TEST_F(BulletAdapter, ACrateOnTheDeckDeepensTheDraftByArchimedes) {
     EXPECT_NEAR(before, 0.0, 2e-3);
 
     const double crateMass = 20.0;
-    btRigidBody* crate = scene.addBox(btVector3(0.15f, 0.15f, 0.15f), btVector3(0, 0.125f + 0.15f + 0.002f, 0), crateMass);
+    btRigidBody* crate = scene.addBox(btVector3(0.15f, 0.15f, 0.15f),
+                                      btVector3(0, 0.125f + 0.15f + 0.002f, 0), crateMass);
     crate->setDamping(0.9f, 0.9f);
     const double after = settledHeight(scene, body, 4.0, 1.0);
     ASSERT_EQ(harbour.error(), "");
     const double expected = crateMass / (1000.0 * 1.0 * 0.5);
-    std::printf("[ adapter  ] crate of %.0f kg: draft deeper by %.3f mm, Archimedes %.3f mm\n", crateMass,
-                1e3 * (before - after), 1e3 * expected);
+    std::printf("[ adapter  ] crate of %.0f kg: draft deeper by %.3f mm, Archimedes %.3f mm\n",
+                crateMass, 1e3 * (before - after), 1e3 * expected);
     EXPECT_NEAR(before - after, expected, 0.02 * expected);
     // The crate rests on the deck (its bottom on the box's top face).
     EXPECT_NEAR(double(crate->getCenterOfMassPosition().y()), after + 0.125 + 0.15, 5e-3);
@@ -228,7 +242,8 @@ TEST_F(BulletAdapter, AFloodingBoatSinksOntoTheSeaFloorAndRests) {
         btVector3 aabbMin, aabbMax;
         body.rigidBody()->getAabb(aabbMin, aabbMax);
         bottom = aabbMin.y();
-        const bool resting = bottom < floor + 0.05 && body.rigidBody()->getLinearVelocity().length() < 0.01f;
+        const bool resting =
+            bottom < floor + 0.05 && body.rigidBody()->getLinearVelocity().length() < 0.01f;
         restedFor = resting ? restedFor + dt : 0.0;
     }
     double inside = 0, capacity = 0;
@@ -239,9 +254,12 @@ TEST_F(BulletAdapter, AFloodingBoatSinksOntoTheSeaFloorAndRests) {
         inside += water;
         capacity += plimsoll_graph_node_capacity(boat, n);
     }
-    std::printf("[ adapter  ] flooding boat: on the floor after %.1f s, bottom %.3f m (floor %.1f), "
-                "%.2f of %.2f m^3 of water inside\n", step * dt, bottom, floor, inside, capacity);
-    EXPECT_GE(restedFor, 2.0) << "the boat did not come to rest on the floor; its bottom is at " << bottom;
+    std::printf(
+        "[ adapter  ] flooding boat: on the floor after %.1f s, bottom %.3f m (floor %.1f), "
+        "%.2f of %.2f m^3 of water inside\n",
+        step * dt, bottom, floor, inside, capacity);
+    EXPECT_GE(restedFor, 2.0) << "the boat did not come to rest on the floor; its bottom is at "
+                              << bottom;
     EXPECT_NEAR(bottom, floor, 0.05);
     // It rests because the boat and its water outweigh the water the hull displaces.
     const plimsoll_load& load = body.lastLoad();
@@ -271,7 +289,8 @@ TEST_F(BulletAdapter, TheGamesForcesAndTickCallbackAreKept) {
     ASSERT_TRUE(box);
     const double mass = plimsoll_bundle_mass(box).mass;
     const plimsoll_water water = {0.0, nullptr, nullptr, nullptr};
-    const btTransform flat(btQuaternion(btVector3(1, 0, 0), btScalar(M_PI / 2)), btVector3(0, 0, 0));
+    const btTransform flat(btQuaternion(btVector3(1, 0, 0), btScalar(M_PI / 2)),
+                           btVector3(0, 0, 0));
     const double dt = 1.0 / 240.0, thrust = 200.0;
     // The same box without the thruster: what the water alone does in the first step.
     btVector3 waterOnly;
@@ -299,8 +318,11 @@ TEST_F(BulletAdapter, TheGamesForcesAndTickCallbackAreKept) {
     }
     EXPECT_EQ(ticks.calls, 2 * steps);
     const double x = body.rigidBody()->getCenterOfMassPosition().x();
-    std::printf("[ adapter  ] 200 N thruster on the %.1f kg box: %.2f m in %.1f s; game's pre-tick callback "
-                "called %d times\n", mass, x, 2 * steps * dt, ticks.calls);
+    std::printf(
+        "[ adapter  ] 200 N thruster on the %.1f kg box: %.2f m in %.1f s; game's pre-tick "
+        "callback "
+        "called %d times\n",
+        mass, x, 2 * steps * dt, ticks.calls);
     // Without drag the box would go F t^2 / 2m = 12.8 m in 4 s; the water's drag holds it back,
     // but far from the 0 m the thruster made when its force was cleared each substep.
     EXPECT_GT(x, 1.0);

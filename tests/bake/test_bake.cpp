@@ -187,7 +187,8 @@ TEST(Bake, CancelStopsAfterTheBandUnderWayAndNeverChangesAFinishedBake) {
     // Never asked to stop: the plain bake, entry for entry, with every band reported.
     reports = 0;
     settings.progress = [&](double) { ++reports; };
-    Result<SurfaceTextures> full = bakeSurfaceTextures(buoy, settings, nullptr, [] { return false; });
+    Result<SurfaceTextures> full =
+        bakeSurfaceTextures(buoy, settings, nullptr, [] { return false; });
     ASSERT_TRUE(full.ok());
     EXPECT_EQ(reports, 16);
     const SurfaceTextures plain = bake(buoy, 256, 1);
@@ -242,15 +243,18 @@ TEST(Bake, ExrRoundTripKeepsFloatPrecision) {
     }
     // The merged images, written a block of rows at a time: every texel's area-weighted point,
     // summed area vector and area, and coverage; zero where nothing maps (row 0 = the top).
-    Result<detail::FloatImage> position = detail::readExr(dir / "position.exr", {"R", "G", "B", "A"});
-    Result<detail::FloatImage> areaVector = detail::readExr(dir / "area_vector.exr", {"R", "G", "B", "A"});
+    Result<detail::FloatImage> position =
+        detail::readExr(dir / "position.exr", {"R", "G", "B", "A"});
+    Result<detail::FloatImage> areaVector =
+        detail::readExr(dir / "area_vector.exr", {"R", "G", "B", "A"});
     Result<detail::FloatImage> coverage = detail::readExr(dir / "coverage.exr", {"Y"});
     ASSERT_TRUE(position.ok() && areaVector.ok() && coverage.ok());
     std::vector<char> covered(96 * 96, 0);
     for (std::size_t first = 0, last; first < t.coveredCount(); first = last) {
         Eigen::Vector3d sumA = Eigen::Vector3d::Zero(), weighted = Eigen::Vector3d::Zero();
         double area = 0, share = 0;
-        for (last = first; last < t.coveredCount() && t.texelIndex[last] == t.texelIndex[first]; ++last) {
+        for (last = first; last < t.coveredCount() && t.texelIndex[last] == t.texelIndex[first];
+             ++last) {
             sumA += t.areaVector[last];
             weighted += t.area[last] * t.position[last];
             area += t.area[last];

@@ -35,7 +35,8 @@ TEST(Cli, MassPropsJsonMatchesTheEngine) {
     ASSERT_TRUE(mesh.ok());
     const MassProperties exact = exactSolidMassProperties(*mesh, 900.0);
 
-    const CommandOutput r = runPlimsoll("massprops '" + kSphere + "' --size 256 --density 900 --json");
+    const CommandOutput r =
+        runPlimsoll("massprops '" + kSphere + "' --size 256 --density 900 --json");
     ASSERT_EQ(r.exitCode, 0) << r.err;
     const nlohmann::json j = nlohmann::json::parse(r.out);
     EXPECT_EQ(j.at("method"), "texture");
@@ -47,7 +48,8 @@ TEST(Cli, MassPropsJsonMatchesTheEngine) {
     ASSERT_EQ(j.at("inertia").size(), 3u);
     for (int a = 0; a < 3; ++a)
         for (int b = 0; b < 3; ++b)
-            EXPECT_NEAR(j["inertia"][a][b].get<double>(), exact.inertia(a, b), 3e-3 * exact.inertia.norm());
+            EXPECT_NEAR(j["inertia"][a][b].get<double>(), exact.inertia(a, b),
+                        3e-3 * exact.inertia.norm());
 
     const CommandOutput e = runPlimsoll("massprops '" + kSphere + "' --exact --json");
     ASSERT_EQ(e.exitCode, 0) << e.err;
@@ -59,7 +61,8 @@ TEST(Cli, MassPropsJsonMatchesTheEngine) {
 TEST(Cli, BakeWritesTexturesAndManifest) {
     const fs::path out = fs::temp_directory_path() / "plimsoll_tests" / "cli_bake";
     fs::remove_all(out);
-    const CommandOutput r = runPlimsoll("bake '" + kSphere + "' --size 64 --out '" + out.string() + "'");
+    const CommandOutput r =
+        runPlimsoll("bake '" + kSphere + "' --size 64 --out '" + out.string() + "'");
     ASSERT_EQ(r.exitCode, 0) << r.err;
     for (const char* f : {"position.exr", "area_vector.exr", "coverage.exr", "manifest.json"})
         EXPECT_TRUE(fs::exists(out / f)) << f;
@@ -135,7 +138,8 @@ TEST(Cli, ValidateExitCodes) {
         runPlimsoll("massprops '" + boat->string() + "' --size 64 --atlas mesh --json");
     EXPECT_NE(refused.exitCode, 0);
     EXPECT_NE(refused.err.find("uv-overlap"), std::string::npos);
-    const CommandOutput generated = runPlimsoll("massprops '" + boat->string() + "' --size 64 --json");
+    const CommandOutput generated =
+        runPlimsoll("massprops '" + boat->string() + "' --size 64 --json");
     EXPECT_EQ(generated.exitCode, 0) << generated.err;
     EXPECT_NE(generated.err.find("generated physics atlas"), std::string::npos) << generated.err;
     EXPECT_EQ(nlohmann::json::parse(generated.out).at("atlas"), "generated");

@@ -22,7 +22,6 @@ namespace fs = std::filesystem;
 using test::CommandOutput;
 using test::runPlimsoll;
 
-
 /// One CSV line split into fields ("..." quoting with doubled quotes, as device names need).
 std::vector<std::string> splitCsvLine(const std::string& line) {
     std::vector<std::string> fields(1);
@@ -121,10 +120,13 @@ TEST(CliBench, QuickRunWritesTableCsvAndSvg) {
 /// well (errors against the reference at 128^2, measured 4.2e-4, 1.8e-4 and 7.5e-5 for 5, 7
 /// and 9 samples a side at 64^2).
 TEST(CliBench, RealtimeWavesRowsShowTheWaveGridTrade) {
-    const fs::path out = fs::temp_directory_path() / ("plimsoll_bench_rt_" + std::to_string(::getpid()));
+    const fs::path out =
+        fs::temp_directory_path() / ("plimsoll_bench_rt_" + std::to_string(::getpid()));
     fs::remove_all(out);
-    const CommandOutput r = runPlimsoll("bench --realtime --quick --frames 3 --scenario waves --method 'fast CPU' "
-                                        "--bench-mesh sphere --sizes 64 --bodies 1 --out '" + out.string() + "'");
+    const CommandOutput r = runPlimsoll(
+        "bench --realtime --quick --frames 3 --scenario waves --method 'fast CPU' "
+        "--bench-mesh sphere --sizes 64 --bodies 1 --out '" +
+        out.string() + "'");
     ASSERT_EQ(r.exitCode, 0) << r.err;
     std::map<std::string, double> errorOf;
     for (const CsvRow& row : parseCsv(test::readFile(out / "realtime.csv"))) {
@@ -134,8 +136,9 @@ TEST(CliBench, RealtimeWavesRowsShowTheWaveGridTrade) {
         errorOf[row.at("method")] = std::stod(row.at("error"));
     }
     ASSERT_EQ(errorOf.size(), 6u);  // the default, three wave grids, two tile sizes
-    const double e5 = errorOf.at("fast CPU (wave grid 5)"), e7 = errorOf.at("fast CPU (wave grid 7)"),
-                 e9 = errorOf.at("fast CPU"), e13 = errorOf.at("fast CPU (wave grid 13)");
+    const double e5 = errorOf.at("fast CPU (wave grid 5)"),
+                 e7 = errorOf.at("fast CPU (wave grid 7)"), e9 = errorOf.at("fast CPU"),
+                 e13 = errorOf.at("fast CPU (wave grid 13)");
     for (double e : {e5, e7, e9, e13}) EXPECT_TRUE(std::isfinite(e) && e > 0 && e < 1e-3) << e;
     // On waves a tile at the waterline takes one quadratic over all its entries: smaller
     // tiles sample the water more finely (16, 32, 64 entries: 8.9e-5, 1.3e-4, 2.1e-4 when
@@ -153,7 +156,8 @@ TEST(CliBench, RealtimeWavesRowsShowTheWaveGridTrade) {
 /// integrators keep the energy finite, and explicit Euler (the paper's) gains energy at the
 /// coarse step where semi-implicit Euler does not.
 TEST(CliBench, RadiationQuickRunWritesCostWithAndWithout) {
-    const fs::path out = fs::temp_directory_path() / ("plimsoll_bench_rad_" + std::to_string(::getpid()));
+    const fs::path out =
+        fs::temp_directory_path() / ("plimsoll_bench_rad_" + std::to_string(::getpid()));
     fs::remove_all(out);
     const CommandOutput r = runPlimsoll("bench --radiation --quick --out '" + out.string() + "'");
     ASSERT_EQ(r.exitCode, 0) << r.err;
@@ -162,7 +166,8 @@ TEST(CliBench, RadiationQuickRunWritesCostWithAndWithout) {
     ASSERT_EQ(rows.size(), 2u);
     EXPECT_EQ(rows[0].at("run"), "without");
     EXPECT_EQ(rows[1].at("run"), "with");
-    for (const CsvRow& row : rows) EXPECT_GT(std::stod(row.at("seconds_per_step")), 0.0) << row.at("run");
+    for (const CsvRow& row : rows)
+        EXPECT_GT(std::stod(row.at("seconds_per_step")), 0.0) << row.at("run");
 }
 
 /// bench --fleet: a fleet of one bundle holds a tenth or less of what one load per boat holds,
@@ -260,7 +265,8 @@ TEST(CliBench, IntegratorsQuickRunWritesDriftCsv) {
         for (const auto& [rate, row] : byIntegrator[integrator]) {
             EXPECT_EQ(row.at("diverged"), "0") << integrator << " 1/" << rate;
             for (const char* column : {"final_drift", "max_drift"}) {
-                ASSERT_FALSE(row.at(column).empty()) << integrator << " 1/" << rate << " " << column;
+                ASSERT_FALSE(row.at(column).empty())
+                    << integrator << " 1/" << rate << " " << column;
                 EXPECT_TRUE(std::isfinite(std::stod(row.at(column))))
                     << integrator << " 1/" << rate << " " << column;
             }

@@ -119,24 +119,26 @@ TEST(CliBuoyancy, RotatedBoxFollowsThePoseConvention) {
 TEST(CliBuoyancy, WithoutAnOpenClPlatformTheFastCpuPathRunsAndSaysSo) {
     const fs::path noVendors = fs::temp_directory_path() / "plimsoll_tests" / "no_icd_vendors";
     fs::create_directories(noVendors);
-    const CommandOutput r = runPlimsoll(
-        "buoyancy '" + kSphere + "' --size 64 --water-level=0 --position=0,0,0 "
-        "--rotation-deg=0,0,0 --json",
-        "OCL_ICD_VENDORS='" + noVendors.string() + "'");
+    const CommandOutput r = runPlimsoll("buoyancy '" + kSphere +
+                                            "' --size 64 --water-level=0 --position=0,0,0 "
+                                            "--rotation-deg=0,0,0 --json",
+                                        "OCL_ICD_VENDORS='" + noVendors.string() + "'");
     ASSERT_EQ(r.exitCode, 0) << r.err;
     // A build without OpenCL never looks for a platform, and says why instead.
     const char* why = openClAvailable() ? "no OpenCL platform" : "this build has no OpenCL";
     EXPECT_NE(r.err.find(why), std::string::npos) << r.err;
-    EXPECT_EQ(nlohmann::json::parse(r.out).at("device").get<std::string>().rfind("fast CPU", 0), 0u) << r.out;
+    EXPECT_EQ(nlohmann::json::parse(r.out).at("device").get<std::string>().rfind("fast CPU", 0), 0u)
+        << r.out;
 }
 
 TEST(CliBuoyancy, JsonHasEveryKey) {
-    const nlohmann::json j = buoyancyJson(
-        kSphere, "--size 64 --device reference --water-level=0.1 --position=0.5,0,0 "
-                 "--rotation-deg=10,20,30 --velocity=1,0,-1 --angular-velocity=0,0.5,0 "
-                 "--fluid-density 1025 --drag-coefficient 0.8 --friction-coefficient 0.01");
-    for (const char* key : {"method", "texture_size", "device", "submerged_volume",
-                            "wetted_area", "submerged_samples", "timing_ms"}) {
+    const nlohmann::json j =
+        buoyancyJson(kSphere,
+                     "--size 64 --device reference --water-level=0.1 --position=0.5,0,0 "
+                     "--rotation-deg=10,20,30 --velocity=1,0,-1 --angular-velocity=0,0.5,0 "
+                     "--fluid-density 1025 --drag-coefficient 0.8 --friction-coefficient 0.01");
+    for (const char* key : {"method", "texture_size", "device", "submerged_volume", "wetted_area",
+                            "submerged_samples", "timing_ms"}) {
         EXPECT_TRUE(j.contains(key)) << key;
     }
     for (const char* key : {"center_of_buoyancy", "force", "torque", "pressure_force",
@@ -164,8 +166,7 @@ TEST(CliBuoyancy, MalformedInputIsRefusedByName) {
         {"--position=1,,3 --rotation-deg=0,0,0", "--position"},
         {"--position=0,0,0 --rotation-deg=0,0,1x", "--rotation-deg"},
         {"--position=0,0,0 --rotation-deg=0,0,0 --velocity=1,2", "--velocity"},
-        {"--position=0,0,0 --rotation-deg=0,0,0 --angular-velocity=inf,0,0",
-         "--angular-velocity"},
+        {"--position=0,0,0 --rotation-deg=0,0,0 --angular-velocity=inf,0,0", "--angular-velocity"},
         {"--rotation-deg=0,0,0", "--position"},
     };
     for (const auto& c : cases) {
@@ -174,8 +175,8 @@ TEST(CliBuoyancy, MalformedInputIsRefusedByName) {
         EXPECT_NE(r.err.find(c.option), std::string::npos) << c.arguments << "\n" << r.err;
         EXPECT_TRUE(r.out.empty()) << c.arguments;
     }
-    const CommandOutput both = runPlimsoll(
-        base + "--position=0,0,0 --rotation-deg=0,0,0 --device reference");
+    const CommandOutput both =
+        runPlimsoll(base + "--position=0,0,0 --rotation-deg=0,0,0 --device reference");
     EXPECT_NE(both.exitCode, 0);
     EXPECT_NE(both.err.find("--device"), std::string::npos) << both.err;
 }

@@ -25,7 +25,8 @@ using test::runPlimsoll;
 
 /// A project in its own scratch folder (so that its cache is its own) with `radiation` as the
 /// body's radiation object and `density` as its material.
-fs::path writeProject(const std::string& name, const std::string& radiation, double density = 500.0) {
+fs::path writeProject(const std::string& name, const std::string& radiation,
+                      double density = 500.0) {
     const fs::path folder = test::scratchFolder("cli_hydro_" + name);
     fs::remove_all(folder / "box.cache");
     const fs::path file = folder / "box.plim.json";
@@ -35,8 +36,8 @@ fs::path writeProject(const std::string& name, const std::string& radiation, dou
   "simulation": {"gravity": [0.0, -9.81, 0.0], "time_step": 0.016666666666666666, "sub_steps": 4},
   "bodies": [{"name": "box", "mesh": ")"
                         << PLIMSOLL_SOURCE_DIR << R"(/assets/box.obj", "texture_size": 64,
-    "material": {"density": )" << density
-                        << R"(}, "radiation": )" << radiation << "}]}\n";
+    "material": {"density": )"
+                        << density << R"(}, "radiation": )" << radiation << "}]}\n";
     return file;
 }
 
@@ -44,7 +45,8 @@ fs::path writeProject(const std::string& name, const std::string& radiation, dou
 const std::string kRadiation =
     R"({"panel_edge": 0.3, "frequencies": 6, "min_frequency": 1.5, "max_frequency": 8})";
 
-nlohmann::json hydroJson(const fs::path& project, const std::string& arguments, std::string* err = nullptr) {
+nlohmann::json hydroJson(const fs::path& project, const std::string& arguments,
+                         std::string* err = nullptr) {
     const CommandOutput r = runPlimsoll("hydro '" + project.string() + "' --json " + arguments);
     EXPECT_EQ(r.exitCode, 0) << r.err;
     if (err) *err = r.err;
@@ -68,8 +70,10 @@ TEST(CliHydro, CoefficientsPerModeHaveTheirPhysicalSigns) {
         if (k > 0) EXPECT_GT(f[k].at("omega").get<double>(), f[k - 1].at("omega").get<double>());
         // Radiated power is never negative: B_jj >= 0; heave and the horizontal translations
         // radiate at every frequency.
-        for (int mode = 0; mode < 6; ++mode) EXPECT_GE(f[k].at("damping")[mode].get<double>(), -1e-6);
-        for (int mode = 0; mode < 3; ++mode) EXPECT_GT(f[k].at("damping")[mode].get<double>(), 0.0) << mode;
+        for (int mode = 0; mode < 6; ++mode)
+            EXPECT_GE(f[k].at("damping")[mode].get<double>(), -1e-6);
+        for (int mode = 0; mode < 3; ++mode)
+            EXPECT_GT(f[k].at("damping")[mode].get<double>(), 0.0) << mode;
     }
     // Infinite-frequency added mass: positive on the diagonal, symmetric to within the
     // collocation's discretisation (the exact operator is symmetric; 72 flat panels are so to
@@ -78,7 +82,8 @@ TEST(CliHydro, CoefficientsPerModeHaveTheirPhysicalSigns) {
     for (int i = 0; i < 6; ++i) {
         EXPECT_GT(a[i][i].get<double>(), 0.0) << i;
         for (int k = 0; k < 6; ++k)
-            EXPECT_NEAR(a[i][k].get<double>(), a[k][i].get<double>(), 0.01 * a[1][1].get<double>()) << i << " " << k;
+            EXPECT_NEAR(a[i][k].get<double>(), a[k][i].get<double>(), 0.01 * a[1][1].get<double>())
+                << i << " " << k;
     }
     // Heave's memory is fitted (it has damping to fit).
     EXPECT_FALSE(j.at("memory")[1].empty());
@@ -125,7 +130,9 @@ TEST(CliHydro, SecondRunReadsTheCacheAndADamagedCacheIsReplaced) {
     EXPECT_EQ(first.at("frequencies"), third.at("frequencies"));
     EXPECT_TRUE(nlohmann::json::accept(test::readFile(cache))) << "the cache is whole JSON again";
     // Other settings are another key: recomputed, not read back.
-    const fs::path changed = writeProject("cache", R"({"panel_edge": 0.3, "frequencies": 5, "min_frequency": 1.5, "max_frequency": 8})");
+    const fs::path changed = writeProject(
+        "cache",
+        R"({"panel_edge": 0.3, "frequencies": 5, "min_frequency": 1.5, "max_frequency": 8})");
     const nlohmann::json fourth = hydroJson(changed, "--no-convergence", &err);
     EXPECT_NE(err.find("radiation computed over"), std::string::npos) << err;
     EXPECT_EQ(fourth.at("frequencies").size(), 5u);
@@ -134,7 +141,8 @@ TEST(CliHydro, SecondRunReadsTheCacheAndADamagedCacheIsReplaced) {
 TEST(CliHydro, TableAndSvgPlot) {
     const fs::path project = writeProject("svg", kRadiation);
     const std::string svg = (project.parent_path() / "ab.svg").string();
-    const CommandOutput r = runPlimsoll("hydro '" + project.string() + "' --no-convergence --svg '" + svg + "'");
+    const CommandOutput r =
+        runPlimsoll("hydro '" + project.string() + "' --no-convergence --svg '" + svg + "'");
     ASSERT_EQ(r.exitCode, 0) << r.err;
     EXPECT_NE(r.out.find("heave y A"), std::string::npos) << r.out;
     EXPECT_NE(r.out.find("infinity"), std::string::npos) << r.out;
@@ -147,7 +155,8 @@ TEST(CliHydro, TableAndSvgPlot) {
 TEST(CliHydro, SimulateRunsWithRadiation) {
     const fs::path project = writeProject("simulate", kRadiation);
     const std::string csv = (project.parent_path() / "run.csv").string();
-    const CommandOutput r = runPlimsoll("simulate '" + project.string() + "' --seconds 0.5 --out '" + csv + "'");
+    const CommandOutput r =
+        runPlimsoll("simulate '" + project.string() + "' --seconds 0.5 --out '" + csv + "'");
     ASSERT_EQ(r.exitCode, 0) << r.err;
     EXPECT_NE(r.err.find("radiation over"), std::string::npos) << r.err;
     EXPECT_TRUE(fs::exists(project.parent_path() / "box.cache" / "radiation-0.json"));
@@ -184,20 +193,23 @@ TEST(CliHydro, TheOneBodySceneRadiatesUnlessToldNotAndCachesNothing) {
 }
 
 TEST(CliHydro, BadSettingsAreRefusedWithTheirJsonPath) {
-    const CommandOutput few = runPlimsoll("hydro '" + writeProject("bad", R"({"frequencies": 2})").string() + "'");
+    const CommandOutput few =
+        runPlimsoll("hydro '" + writeProject("bad", R"({"frequencies": 2})").string() + "'");
     EXPECT_EQ(few.exitCode, 1);
     EXPECT_NE(few.err.find("bodies[0].radiation.frequencies"), std::string::npos) << few.err;
     const CommandOutput half =
         runPlimsoll("hydro '" + writeProject("bad", R"({"min_frequency": 1})").string() + "'");
     EXPECT_EQ(half.exitCode, 1);
-    EXPECT_NE(half.err.find("bodies[0].radiation: min_frequency and max_frequency go together"), std::string::npos)
+    EXPECT_NE(half.err.find("bodies[0].radiation: min_frequency and max_frequency go together"),
+              std::string::npos)
         << half.err;
-    const CommandOutput unknown =
-        runPlimsoll("simulate '" + writeProject("bad", R"({"panels": 100})").string() + "' --seconds 0.1");
+    const CommandOutput unknown = runPlimsoll(
+        "simulate '" + writeProject("bad", R"({"panels": 100})").string() + "' --seconds 0.1");
     EXPECT_EQ(unknown.exitCode, 1);
     EXPECT_NE(unknown.err.find("bodies[0].radiation.panels"), std::string::npos) << unknown.err;
     const CommandOutput tiny =
-        runPlimsoll("simulate '" + writeProject("bad", R"({"panel_edge": 0.0001})").string() + "' --seconds 0.1");
+        runPlimsoll("simulate '" + writeProject("bad", R"({"panel_edge": 0.0001})").string() +
+                    "' --seconds 0.1");
     EXPECT_EQ(tiny.exitCode, 1);
     EXPECT_NE(tiny.err.find("bodies[0].radiation"), std::string::npos) << tiny.err;
     EXPECT_NE(tiny.err.find("kMaxRadiationPanels"), std::string::npos) << tiny.err;

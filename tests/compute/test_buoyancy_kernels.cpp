@@ -45,7 +45,8 @@ std::vector<WaterModel> waterModels() {
     WaterModel waves;
     waves.kind = WaterModel::Kind::Gerstner;
     waves.level = 0.05;
-    waves.waves = {{0.08, 3.0, {1.0, 0.3}, 0.6, 0.2}, {0.05, 1.3, {-0.4, 1.0}, 0.5, 1.1},
+    waves.waves = {{0.08, 3.0, {1.0, 0.3}, 0.6, 0.2},
+                   {0.05, 1.3, {-0.4, 1.0}, 0.5, 1.1},
                    {0.02, 0.7, {0.1, -1.0}, 0.8, 2.5}};
     WaterModel grid;
     grid.kind = WaterModel::Kind::HeightField;
@@ -95,7 +96,8 @@ TEST(BuoyancyKernels, EveryDeviceMatchesTheReference) {
     for (auto& backend : backends) {
         SCOPED_TRACE(backend->deviceName());
         std::vector<std::size_t> ids;
-        for (const Body& b : bodies) ids.push_back(backend->addBody(b.textures, b.props.centerOfMass));
+        for (const Body& b : bodies)
+            ids.push_back(backend->addBody(b.textures, b.props.centerOfMass));
         for (const WaterModel& water : waterModels()) {
             for (int trial = 0; trial < 12; ++trial) {
                 const std::size_t which = trial % bodies.size();
@@ -115,7 +117,8 @@ TEST(BuoyancyKernels, EveryDeviceMatchesTheReference) {
                 const BuoyancyResult expected =
                     evaluateBuoyancyReference(body.textures, request.frame, water, fluid);
                 const double speed = request.frame.motion.linear.norm() +
-                                     request.frame.motion.angular.norm() * body.boundingRadius + 1.0;
+                                     request.frame.motion.angular.norm() * body.boundingRadius +
+                                     1.0;
                 expectAgree(result, expected, body, fluid, speed, 1e-5);
             }
         }
@@ -134,7 +137,8 @@ TEST(BuoyancyKernels, EveryDeviceMatchesTheReference) {
             expectAgree(result, evaluateBuoyancyReference(body.textures, request.frame, water, {}),
                         body, {}, 1.0, 1e-5);
             EXPECT_EQ(result.submergedSamples,
-                      evaluateBuoyancyReference(body.textures, request.frame, water, {}).submergedSamples);
+                      evaluateBuoyancyReference(body.textures, request.frame, water, {})
+                          .submergedSamples);
         }
         // Texels exactly at the water surface: a flat level through entries' own heights.
         const Body& sphere = bodies[0];
@@ -145,7 +149,8 @@ TEST(BuoyancyKernels, EveryDeviceMatchesTheReference) {
             const WaterModel water = WaterModel::flat(sphere.textures.position[entry].y());
             BuoyancyResult result;
             ASSERT_TRUE(backend->evaluate({&request, 1}, water, {&result, 1}).ok());
-            expectAgree(result, evaluateBuoyancyReference(sphere.textures, request.frame, water, {}),
+            expectAgree(result,
+                        evaluateBuoyancyReference(sphere.textures, request.frame, water, {}),
                         sphere, {}, 1.0, 1e-5);
         }
     }
@@ -156,7 +161,9 @@ TEST(BuoyancyKernels, EveryDeviceMatchesTheReference) {
 TEST(BuoyancyKernels, ABrokenKernelIsReportedWithItsBuildLog) {
     const std::vector<ComputeDevice> devices = listComputeDevices();
     if (devices.empty()) GTEST_SKIP() << test::noOpenClDeviceReason();
-    EXPECT_TRUE(detail::compileKernelSource(devices[0].index, "__kernel void fine(__global float* x) { x[0] = 1.0f; }").ok());
+    EXPECT_TRUE(detail::compileKernelSource(
+                    devices[0].index, "__kernel void fine(__global float* x) { x[0] = 1.0f; }")
+                    .ok());
     const Status broken = detail::compileKernelSource(
         devices[0].index, "__kernel void broken(__global float* x) { x[0] = undeclared_thing; }");
     ASSERT_FALSE(broken.ok());
@@ -235,7 +242,8 @@ TEST(BuoyancyKernels, PrecisionHoldsOverMillionsOfEntries) {
         request.body = backend->addBody(sphere.textures, sphere.props.centerOfMass);
         BuoyancyResult result;
         ASSERT_TRUE(backend->evaluate({&request, 1}, water, {&result, 1}).ok());
-        EXPECT_NEAR(result.submergedVolume, expected.submergedVolume, 1e-6 * expected.submergedVolume);
+        EXPECT_NEAR(result.submergedVolume, expected.submergedVolume,
+                    1e-6 * expected.submergedVolume);
         EXPECT_LT((result.pressureForce - expected.pressureForce).norm(),
                   1e-6 * expected.pressureForce.norm());
         EXPECT_LT((result.dragForce - expected.dragForce).norm(), 1e-6 * expected.dragForce.norm());
@@ -303,9 +311,11 @@ struct WorstErrors {
              const FluidSettings& fluid, double speed) {
         const double F = fluid.density * fluid.gravity * body.props.volume;
         const double S = body.textures.surfaceArea(), D = fluid.density * speed * speed * S;
-        pressureForce = std::max(pressureForce, (got.pressureForce - want.pressureForce).norm() / F);
-        pressureTorque = std::max(pressureTorque,
-                                  (got.pressureTorque - want.pressureTorque).norm() / (F * body.boundingRadius));
+        pressureForce =
+            std::max(pressureForce, (got.pressureForce - want.pressureForce).norm() / F);
+        pressureTorque =
+            std::max(pressureTorque,
+                     (got.pressureTorque - want.pressureTorque).norm() / (F * body.boundingRadius));
         drag = std::max(drag, (got.dragForce - want.dragForce).norm() / D);
         wetted = std::max(wetted, std::abs(got.wettedArea - want.wettedArea) / S);
     }
@@ -325,10 +335,12 @@ TEST(BuoyancyKernels, WaitAndTimingsLeaveTheSumsAlone) {
         std::vector<Variant> variants;
         for (OpenClWait wait : {OpenClWait::block, OpenClWait::spin, OpenClWait::automatic}) {
             for (bool timed : {false, true}) {
-                auto made = createBuoyancyBackend(std::to_string(device.index), nullptr,
-                                                  OpenClOptions{.wait = wait, .deviceTimings = timed});
+                auto made =
+                    createBuoyancyBackend(std::to_string(device.index), nullptr,
+                                          OpenClOptions{.wait = wait, .deviceTimings = timed});
                 ASSERT_TRUE(made.ok()) << made.error().message;
-                for (int i = 0; i < 3; ++i) (*made)->addBody(sphere.textures, sphere.props.centerOfMass);
+                for (int i = 0; i < 3; ++i)
+                    (*made)->addBody(sphere.textures, sphere.props.centerOfMass);
                 variants.push_back({std::move(*made), timed});
             }
         }
@@ -337,7 +349,8 @@ TEST(BuoyancyKernels, WaitAndTimingsLeaveTheSumsAlone) {
             for (std::size_t b = 0; b < variants.size(); ++b) {
                 BuoyancyBackend& backend = *variants[b].backend;
                 std::vector<BodyRequest> requests;
-                for (int i = 0; i < 3; ++i) requests.push_back(movingRequest(i, sphere, 0.1 * i, i + 1));
+                for (int i = 0; i < 3; ++i)
+                    requests.push_back(movingRequest(i, sphere, 0.1 * i, i + 1));
                 std::vector<BuoyancyResult> results(requests.size());
                 ASSERT_TRUE(backend.evaluate(requests, water, results).ok());
                 const FrameTimings t = backend.lastTimings();
@@ -377,8 +390,9 @@ TEST(BuoyancyKernels, ItemsPerThreadChangeTheTilesNotTheAnswer) {
         std::size_t tilesBefore = 0;
         for (int items : {16, 8, 4, 2, 1}) {
             SCOPED_TRACE(items);
-            auto made = createBuoyancyBackend(std::to_string(device.index), nullptr,
-                                              OpenClOptions{.waveTolerance = 0.0, .itemsPerThread = items});
+            auto made =
+                createBuoyancyBackend(std::to_string(device.index), nullptr,
+                                      OpenClOptions{.waveTolerance = 0.0, .itemsPerThread = items});
             ASSERT_TRUE(made.ok()) << made.error().message;
             BuoyancyBackend& backend = **made;
             const std::size_t id = backend.addBody(sphere.textures, sphere.props.centerOfMass);
@@ -388,16 +402,20 @@ TEST(BuoyancyKernels, ItemsPerThreadChangeTheTilesNotTheAnswer) {
                     request.fluid = fluid;
                     BuoyancyResult result;
                     ASSERT_TRUE(backend.evaluate({&request, 1}, water, {&result, 1}).ok());
-                    const double speed = request.frame.motion.linear.norm() +
-                                         request.frame.motion.angular.norm() * sphere.boundingRadius + 1.0;
-                    expectAgree(result, evaluateBuoyancyReference(sphere.textures, request.frame, water, fluid),
-                                sphere, fluid, speed, 1e-5);
+                    const double speed =
+                        request.frame.motion.linear.norm() +
+                        request.frame.motion.angular.norm() * sphere.boundingRadius + 1.0;
+                    expectAgree(
+                        result,
+                        evaluateBuoyancyReference(sphere.textures, request.frame, water, fluid),
+                        sphere, fluid, speed, 1e-5);
                 }
             }
             // At most kOpenClWorkGroupSize x items entries a tile, in blocks of the texture:
             // halving the items at least doubles the tiles, less the blocks' ragged edges.
             const std::size_t tiles = backend.lastTileCounts().tiles;
-            const std::size_t floor = sphere.textures.coveredCount() / (kOpenClWorkGroupSize * items);
+            const std::size_t floor =
+                sphere.textures.coveredCount() / (kOpenClWorkGroupSize * items);
             EXPECT_GE(tiles, floor);
             if (tilesBefore) EXPECT_GT(tiles, tilesBefore * 3 / 2);
             tilesBefore = tiles;
@@ -407,7 +425,8 @@ TEST(BuoyancyKernels, ItemsPerThreadChangeTheTilesNotTheAnswer) {
     for (int items : {-1, kMaxOpenClItemsPerThread + 1}) {
         auto made = createBuoyancyBackend("0", nullptr, OpenClOptions{.itemsPerThread = items});
         ASSERT_FALSE(made.ok());
-        EXPECT_NE(made.error().message.find("items per thread"), std::string::npos) << made.error().message;
+        EXPECT_NE(made.error().message.find("items per thread"), std::string::npos)
+            << made.error().message;
     }
 }
 
@@ -429,11 +448,13 @@ TEST(BuoyancyKernels, TilesUnderFlatWaterTakeExactClosedForms) {
                 BuoyancyResult result;
                 ASSERT_TRUE(backend->evaluate({&request, 1}, water, {&result, 1}).ok());
                 const TileCounts counts = backend->lastTileCounts();
-                expectAgree(result,
-                            evaluateBuoyancyReference(sphere.textures, request.frame, water, request.fluid),
-                            sphere, request.fluid, speed, 1e-5);
+                expectAgree(
+                    result,
+                    evaluateBuoyancyReference(sphere.textures, request.frame, water, request.fluid),
+                    sphere, request.fluid, speed, 1e-5);
                 EXPECT_EQ(result.submergedSamples,
-                          evaluateBuoyancyReference(sphere.textures, request.frame, water, {}).submergedSamples);
+                          evaluateBuoyancyReference(sphere.textures, request.frame, water, {})
+                              .submergedSamples);
                 if (depth > 1) {
                     EXPECT_EQ(counts.closedForm, counts.tiles);
                     EXPECT_GT(counts.dragClosedForm, counts.tiles / 2);
@@ -485,22 +506,28 @@ TEST(BuoyancyKernels, TilesUnderWavesStayWithinTheirStatedError) {
                 const BuoyancyResult expected =
                     evaluateBuoyancyReference(sphere.textures, request.frame, water, fluid);
                 const double wetted = expected.wettedArea;
-                const double bound = fluid.density * fluid.gravity * tolerance * radius * wetted + 1e-5 * F;
+                const double bound =
+                    fluid.density * fluid.gravity * tolerance * radius * wetted + 1e-5 * F;
                 EXPECT_LT((result.pressureForce - expected.pressureForce).norm(), bound);
                 EXPECT_LT((result.pressureTorque - expected.pressureTorque).norm(), bound * radius);
-                EXPECT_NEAR(result.submergedVolume, expected.submergedVolume, bound / (fluid.density * fluid.gravity));
+                EXPECT_NEAR(result.submergedVolume, expected.submergedVolume,
+                            bound / (fluid.density * fluid.gravity));
                 EXPECT_NEAR(result.wettedArea, expected.wettedArea,
                             (tolerance + 1e-5) * sphere.textures.surfaceArea());
                 worst.add(result, expected, sphere, fluid, speed);
                 // The drag of a closed-form tile takes the water's velocity as linear over it.
-                EXPECT_LT((result.dragForce - expected.dragForce).norm(), (tolerance > 0 ? 1e-3 : 1e-5) * D);
-                EXPECT_LT((result.dragTorque - expected.dragTorque).norm(), (tolerance > 0 ? 1e-3 : 1e-5) * D * radius);
+                EXPECT_LT((result.dragForce - expected.dragForce).norm(),
+                          (tolerance > 0 ? 1e-3 : 1e-5) * D);
+                EXPECT_LT((result.dragTorque - expected.dragTorque).norm(),
+                          (tolerance > 0 ? 1e-3 : 1e-5) * D * radius);
             }
-            std::printf("  %s, tolerance %.0e: of %zu tiles in 4 frames %zu dry, %zu closed-form "
-                        "(%zu with drag); pressure force error %.2e of rho g V, drag %.2e of rho u^2 S, wetted "
-                        "area %.2e of S\n",
-                        model == 0 ? "Gerstner" : "height field", tolerance, tiles, dry, closed,
-                        dragClosed, worst.pressureForce, worst.drag, worst.wetted);
+            std::printf(
+                "  %s, tolerance %.0e: of %zu tiles in 4 frames %zu dry, %zu closed-form "
+                "(%zu with drag); pressure force error %.2e of rho g V, drag %.2e of rho u^2 S, "
+                "wetted "
+                "area %.2e of S\n",
+                model == 0 ? "Gerstner" : "height field", tolerance, tiles, dry, closed, dragClosed,
+                worst.pressureForce, worst.drag, worst.wetted);
             if (tolerance == 0) {
                 EXPECT_EQ(closed, 0u);
             } else if (model == 0) {
@@ -551,12 +578,16 @@ TEST(BuoyancyKernels, WhereTheWaterIsNearlyQuadraticTilesGiveTheReferencesAnswer
             ASSERT_TRUE((*backend)->evaluate({&request, 1}, water, {&result, 1}).ok());
             closed += (*backend)->lastTileCounts().closedForm;
             perEntry += (*backend)->lastTileCounts().perEntry();
-            const BuoyancyResult expected = evaluateBuoyancyReference(sphere.textures, request.frame, water, fluid);
+            const BuoyancyResult expected =
+                evaluateBuoyancyReference(sphere.textures, request.frame, water, fluid);
             worst.add(result, expected, sphere, fluid, speed);
         }
-        std::printf("  %s: %zu tiles closed-form, %zu entry by entry; pressure force error %.2e of rho g V, "
-                    "torque %.2e, drag %.2e of rho u^2 S, wetted area %.2e of S\n",
-                    c.name, closed, perEntry, worst.pressureForce, worst.pressureTorque, worst.drag, worst.wetted);
+        std::printf(
+            "  %s: %zu tiles closed-form, %zu entry by entry; pressure force error %.2e of rho g "
+            "V, "
+            "torque %.2e, drag %.2e of rho u^2 S, wetted area %.2e of S\n",
+            c.name, closed, perEntry, worst.pressureForce, worst.pressureTorque, worst.drag,
+            worst.wetted);
         EXPECT_GT(closed, 0u);
         EXPECT_GT(perEntry, 0u);
         EXPECT_LT(worst.pressureForce, 1e-5);
@@ -584,7 +615,8 @@ double sphereSweepError(int size) {
             const BuoyancyResult textured =
                 evaluateBuoyancyReference(textures, frame, WaterModel::flat(level), {});
             const BuoyancyResult exact = evaluateBuoyancyExact(sphere, frame, level, {});
-            worst = std::max(worst, std::abs(textured.submergedVolume - exact.submergedVolume) / volume);
+            worst = std::max(worst,
+                             std::abs(textured.submergedVolume - exact.submergedVolume) / volume);
         }
     }
     return worst;
@@ -611,7 +643,8 @@ TEST(BuoyancyAccuracy, FullySubmergedGivesArchimedes) {
     // texture volume sum A_y y less h times the closure, so they agree to rounding. Turned,
     // the world y of each area vector mixes the object axes, and they agree to the volume's
     // discretisation error.
-    for (const Eigen::Vector3d& degrees : {Eigen::Vector3d(0, 0, 0), Eigen::Vector3d(25, -40, 10)}) {
+    for (const Eigen::Vector3d& degrees :
+         {Eigen::Vector3d(0, 0, 0), Eigen::Vector3d(25, -40, 10)}) {
         SCOPED_TRACE(degrees.transpose());
         const bool upright = degrees.isZero();
         BodyFrame frame;
@@ -625,7 +658,8 @@ TEST(BuoyancyAccuracy, FullySubmergedGivesArchimedes) {
         EXPECT_EQ(r.submergedSamples, buoy.textures.coveredCount());
         // The pressure integral gives the same force within the volume error, and its
         // horizontal part is discretisation error only.
-        EXPECT_NEAR(r.pressureForce.y(), r.force.y(), std::max(volumeError, 1e-9) * 2 * r.force.y());
+        EXPECT_NEAR(r.pressureForce.y(), r.force.y(),
+                    std::max(volumeError, 1e-9) * 2 * r.force.y());
         EXPECT_LT(std::hypot(r.pressureForce.x(), r.pressureForce.z()), 1e-3 * r.pressureForce.y());
         // Fully under water the centre of buoyancy is the centre of volume.
         EXPECT_LT((r.centerOfBuoyancy - frame.pose.apply(buoy.props.centerOfMass)).norm(),
@@ -668,7 +702,8 @@ TEST(BuoyancyExtremes, ResultsStayFiniteAndContinuous) {
                 request.frame.motion.linear = {1.0, 0.0, 0.0};
                 request.frame.centerOfMass = body.props.centerOfMass;
                 BuoyancyResult result;
-                ASSERT_TRUE(backend->evaluate({&request, 1}, WaterModel::flat(c.level), {&result, 1}).ok());
+                ASSERT_TRUE(
+                    backend->evaluate({&request, 1}, WaterModel::flat(c.level), {&result, 1}).ok());
                 EXPECT_TRUE(std::isfinite(result.submergedVolume));
                 EXPECT_TRUE(result.centerOfBuoyancy.allFinite());
                 EXPECT_TRUE(result.force.allFinite() && result.torque.allFinite());
@@ -686,8 +721,9 @@ TEST(BuoyancyExtremes, ResultsStayFiniteAndContinuous) {
                 request.body = id;
                 request.frame.centerOfMass = body.props.centerOfMass;
                 BuoyancyResult result;
-                ASSERT_TRUE(backend->evaluate({&request, 1}, WaterModel::flat(-0.2 * r + i * step),
-                                              {&result, 1})
+                ASSERT_TRUE(backend
+                                ->evaluate({&request, 1}, WaterModel::flat(-0.2 * r + i * step),
+                                           {&result, 1})
                                 .ok());
                 const double bound = 1.5 * 1000 * 9.81 * std::numbers::pi * r * r * step;
                 if (i > 0) EXPECT_LE(std::abs(result.pressureForce.y() - previous), bound) << i;

@@ -21,7 +21,8 @@ using namespace fast_test;
 /// counts its calls.
 struct CountingTasks {
     std::atomic<int> enqueued{0}, finished{0};
-    static void* enqueue(ev::TaskCallback* task, int count, int minRange, void* context, void* user) {
+    static void* enqueue(ev::TaskCallback* task, int count, int minRange, void* context,
+                         void* user) {
         auto* self = static_cast<CountingTasks*>(user);
         ++self->enqueued;
         for (int begin = 0; begin < count; begin += std::max(1, minRange))

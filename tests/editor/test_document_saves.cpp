@@ -30,9 +30,10 @@ using test::openOrFail;
 /// The box asset with its permeability map at `map` (relative to the project's folder).
 fs::path writeProject(const fs::path& dir, const std::string& map = "perm.png") {
     const fs::path path = dir / "box.plim.json";
-    std::ofstream(path) << R"({"schema_version": 1, "name": "box", "bodies": [{"name": "box", "mesh": ")"
-                        << test::assetPath("box.obj").string() << R"(", "texture_size": 16, "permeability_map": ")"
-                        << map << R"(", "material": {"density": 500}}]})";
+    std::ofstream(path)
+        << R"({"schema_version": 1, "name": "box", "bodies": [{"name": "box", "mesh": ")"
+        << test::assetPath("box.obj").string() << R"(", "texture_size": 16, "permeability_map": ")"
+        << map << R"(", "material": {"density": 500}}]})";
     EXPECT_TRUE(savePaintedMap(PaintedMap{16, 16, std::vector<float>(256, 0.25f)}, dir / map).ok());
     return path;
 }
@@ -49,7 +50,8 @@ TEST(DocumentSaves, AFailedSaveAsKeepsTheAutosaveAndTheDocument) {
     ASSERT_TRUE(d->autosave().ok());
     const fs::path autosave = d->autosavePath();
     ASSERT_TRUE(fs::exists(autosave));
-    for (const fs::path target : {fs::path("/proc/plimsoll/elsewhere.plim.json"), fs::path("/proc/version")}) {
+    for (const fs::path target :
+         {fs::path("/proc/plimsoll/elsewhere.plim.json"), fs::path("/proc/version")}) {
         SCOPED_TRACE(target.string());
         EXPECT_FALSE(d->saveAs(target, true).ok());
         EXPECT_TRUE(fs::exists(autosave)) << "the autosave of the unsaved edits is gone";
@@ -97,9 +99,11 @@ TEST(DocumentSaves, ARecoveredAutosaveSavesToTheProjectItLiesBeside) {
     const fs::path autosave = d->autosavePath();
     std::string text = test::readFile(autosave);
     for (const std::string& from : {path.string(), path.parent_path().string()}) {
-        for (std::size_t at = text.find(from); at != std::string::npos; at = text.find(from, at + 1))
-            text.replace(at, from.size(), from == path.string() ? (dir / "theirs" / "victim.plim.json").string()
-                                                                  : (dir / "theirs").string());
+        for (std::size_t at = text.find(from); at != std::string::npos;
+             at = text.find(from, at + 1))
+            text.replace(at, from.size(),
+                         from == path.string() ? (dir / "theirs" / "victim.plim.json").string()
+                                               : (dir / "theirs").string());
     }
     std::ofstream(autosave, std::ios::trunc) << text;
     Result<std::unique_ptr<Document>> recovered = Document::recover(autosave);
@@ -115,20 +119,25 @@ TEST(DocumentSaves, AMapFromOutsideTheFolderIsSavedIntoItAndTheSourceIsUntouched
     const fs::path dir = test::freshFolder("document_saves", "outside");
     fs::create_directories(dir / "photos");
     fs::create_directories(dir / "project");
-    ASSERT_TRUE(savePaintedMap(PaintedMap{16, 16, std::vector<float>(256, 0.25f)}, dir / "photos" / "photo.png").ok());
+    ASSERT_TRUE(savePaintedMap(PaintedMap{16, 16, std::vector<float>(256, 0.25f)},
+                               dir / "photos" / "photo.png")
+                    .ok());
     const std::string photo = test::readFile(dir / "photos" / "photo.png");
-    for (const std::string& map : {std::string("../photos/photo.png"), (dir / "photos" / "photo.png").string()}) {
+    for (const std::string& map :
+         {std::string("../photos/photo.png"), (dir / "photos" / "photo.png").string()}) {
         SCOPED_TRACE(map);
         const fs::path path = dir / "project" / "box.plim.json";
         std::ofstream(path, std::ios::trunc)
             << R"({"schema_version": 1, "name": "box", "bodies": [{"name": "box", "mesh": ")"
-            << test::assetPath("box.obj").string() << R"(", "texture_size": 16, "permeability_map": ")" << map
+            << test::assetPath("box.obj").string()
+            << R"(", "texture_size": 16, "permeability_map": ")" << map
             << R"(", "material": {"density": 500}}]})";
         auto d = openOrFail(path);
         ASSERT_NE(d->map(0, MapChannel::Permeability), nullptr);
         executeOrFail(*d, makeFillAllCommand(*d, 0, MapChannel::Permeability, 0.75));
         ASSERT_TRUE(d->save().ok());
-        EXPECT_EQ(test::readFile(dir / "photos" / "photo.png"), photo) << "the source was overwritten";
+        EXPECT_EQ(test::readFile(dir / "photos" / "photo.png"), photo)
+            << "the source was overwritten";
         Result<Project> saved = loadProject(path);
         ASSERT_TRUE(saved.ok()) << saved.error().message;
         const std::string now = saved->bodies[0].permeabilityMap;
@@ -143,7 +152,8 @@ TEST(DocumentSaves, AMapFromOutsideTheFolderIsSavedIntoItAndTheSourceIsUntouched
 std::map<std::string, std::string> snapshot(const fs::path& dir) {
     std::map<std::string, std::string> files;
     for (const auto& entry : fs::recursive_directory_iterator(dir)) {
-        if (entry.is_regular_file()) files[fs::relative(entry.path(), dir).generic_string()] = test::readFile(entry.path());
+        if (entry.is_regular_file())
+            files[fs::relative(entry.path(), dir).generic_string()] = test::readFile(entry.path());
     }
     return files;
 }

@@ -43,9 +43,10 @@ using test::openOrFail;
 /// A project with one body on `mesh` (solid + shell, so every channel can be painted).
 fs::path writeProject(const fs::path& dir, const std::string& mesh) {
     const fs::path path = dir / "test.plim.json";
-    std::ofstream(path) << R"({"schema_version": 1, "name": "t", "bodies": [{"name": "ball", "mesh": ")"
-                        << test::assetPath(mesh).string()
-                        << R"(", "material": {"density": 500, "shell": {"surface_density": 10}}}]})";
+    std::ofstream(path)
+        << R"({"schema_version": 1, "name": "t", "bodies": [{"name": "ball", "mesh": ")"
+        << test::assetPath(mesh).string()
+        << R"(", "material": {"density": 500, "shell": {"surface_density": 10}}}]})";
     return path;
 }
 
@@ -164,7 +165,8 @@ TEST(EditorPaint, StrokeAlongPointsIsOneUndoStepAndMirrorPaintsTheOtherSide) {
         };
         const Eigen::Vector3d m(-1, 1, 1);
         const double d1 = segDist(p.point, hitA->point, hitB->point);
-        const double d2 = segDist(p.point, hitA->point.cwiseProduct(m), hitB->point.cwiseProduct(m));
+        const double d2 =
+            segDist(p.point, hitA->point.cwiseProduct(m), hitB->point.cwiseProduct(m));
         const double d = std::min(d1, d2);
         if (d > brush.radius + 0.03) EXPECT_EQ(v[p.pixel], 0.0f);
         if (d < brush.radius - 0.03) {
@@ -188,10 +190,12 @@ TEST(EditorPaint, FalloffPresetsFollowBlendersCurves) {
         const Falloff f = static_cast<Falloff>(i);
         EXPECT_EQ(parseFalloff(falloffName(f)), f);
         EXPECT_DOUBLE_EQ(falloffWeight(f, 0.0, r), 1.0) << falloffName(f);
-        EXPECT_DOUBLE_EQ(falloffWeight(f, r, r), f == Falloff::Constant ? 1.0 : 0.0) << falloffName(f);
+        EXPECT_DOUBLE_EQ(falloffWeight(f, r, r), f == Falloff::Constant ? 1.0 : 0.0)
+            << falloffName(f);
         EXPECT_EQ(falloffWeight(f, 1.01 * r, r), 0.0);
         for (double d = 0.05; d <= r; d += 0.05) {
-            EXPECT_LE(falloffWeight(f, d, r), falloffWeight(f, d - 0.05, r) + 1e-15) << falloffName(f);
+            EXPECT_LE(falloffWeight(f, d, r), falloffWeight(f, d - 0.05, r) + 1e-15)
+                << falloffName(f);
         }
     }
     EXPECT_FALSE(parseFalloff("gaussian"));
@@ -324,7 +328,8 @@ TEST(EditorPaint, SpacingLeavesGapsBetweenDabsOrJoinsThem) {
     brush.falloff = Falloff::Constant;
     auto paintedPixels = [&](const PixelChange& change) {
         std::vector<char> painted(blank.values.size(), 0);
-        for (std::size_t i = 0; i < change.pixels.size(); ++i) painted[change.pixels[i]] = change.after[i] > 0;
+        for (std::size_t i = 0; i < change.pixels.size(); ++i)
+            painted[change.pixels[i]] = change.after[i] > 0;
         return painted;
     };
     auto segmentDistance = [&](const Eigen::Vector3d& q) {
@@ -340,17 +345,20 @@ TEST(EditorPaint, SpacingLeavesGapsBetweenDabsOrJoinsThem) {
     std::vector<double> nearest(blank.values.size(), 1e9);
     for (std::size_t i = 0; i < surface->sampleCount(); ++i) {
         const Eigen::Vector3d q = surface->position[i].cast<double>();
-        const Eigen::Vector3d hu = surface->halfU[i].cast<double>(), hv = surface->halfV[i].cast<double>();
+        const Eigen::Vector3d hu = surface->halfU[i].cast<double>(),
+                              hv = surface->halfV[i].cast<double>();
         for (int k = 0; k <= 3; ++k) {
             const Eigen::Vector3d dab = a->point + (b->point - a->point) * (k / 3.0);
             double& n = nearest[surface->pixel[i]];
-            const double far = (q - dab).norm() - (hu.norm() + hv.norm());  // nearest the piece can be
+            const double far =
+                (q - dab).norm() - (hu.norm() + hv.norm());  // nearest the piece can be
             if (far > 2 * brush.radius) {
                 n = std::min(n, far);
                 continue;
             }
             for (int x = -20; x <= 20; ++x) {
-                for (int y = -20; y <= 20; ++y) n = std::min(n, (q + hu * (x / 20.0) + hv * (y / 20.0) - dab).norm());
+                for (int y = -20; y <= 20; ++y)
+                    n = std::min(n, (q + hu * (x / 20.0) + hv * (y / 20.0) - dab).norm());
             }
         }
     }
@@ -360,7 +368,8 @@ TEST(EditorPaint, SpacingLeavesGapsBetweenDabsOrJoinsThem) {
     int bareOnTheLine = 0, paintedCount = 0;
     for (std::size_t i = 0; i < surface->sampleCount(); ++i) {
         const std::uint32_t pixel = surface->pixel[i];
-        if (std::abs(nearest[pixel] - brush.radius) < 1e-4 + side / 40) continue;  // the grid, rounding
+        if (std::abs(nearest[pixel] - brush.radius) < 1e-4 + side / 40)
+            continue;  // the grid, rounding
         EXPECT_EQ(dotted[pixel] != 0, nearest[pixel] < brush.radius) << "pixel " << pixel;
         paintedCount += dotted[pixel] != 0;
         const Eigen::Vector3d q = surface->position[i].cast<double>();
@@ -387,8 +396,8 @@ TEST(EditorPaint, LazyMouseTrailsTheCursorOnItsString) {
     LazyMouse lazy(20.0);
     EXPECT_EQ(lazy.follow({100, 100}), Eigen::Vector2d(100, 100));  // starts under the cursor
     // A shaky hand within 20 px: the brush does not move.
-    for (const Eigen::Vector2d& jitter : {Eigen::Vector2d(110, 95), Eigen::Vector2d(88, 104),
-                                          Eigen::Vector2d(100, 119.5)}) {
+    for (const Eigen::Vector2d& jitter :
+         {Eigen::Vector2d(110, 95), Eigen::Vector2d(88, 104), Eigen::Vector2d(100, 119.5)}) {
         EXPECT_EQ(lazy.follow(jitter), Eigen::Vector2d(100, 100));
     }
     // Pulled 50 px right: 30 px along, 20 behind the cursor; then on along the string.
@@ -424,7 +433,8 @@ TEST(EditorPaint, LineStrokeSamplesTheScreenLineAndPaintsAlongIt) {
     const TriangleMesh& mesh = *d->assets(0).mesh;
     std::vector<Eigen::Vector3d> points;
     for (const Eigen::Vector2d& p : lineSamples({-30, 10}, {35, -20}, 3.0)) {
-        if (auto hit = raycast(mesh, {p.x() / 100, p.y() / 100, 2}, {0, 0, -1})) points.push_back(hit->point);
+        if (auto hit = raycast(mesh, {p.x() / 100, p.y() / 100, 2}, {0, 0, -1}))
+            points.push_back(hit->point);
     }
     ASSERT_GT(points.size(), 20u);
     Brush brush;
@@ -438,7 +448,8 @@ TEST(EditorPaint, LineStrokeSamplesTheScreenLineAndPaintsAlongIt) {
         double best = 1e300;
         for (std::size_t i = 1; i < points.size(); ++i) {
             const Eigen::Vector3d a = points[i - 1], b = points[i];
-            const double t = std::clamp((q - a).dot(b - a) / std::max((b - a).squaredNorm(), 1e-30), 0.0, 1.0);
+            const double t =
+                std::clamp((q - a).dot(b - a) / std::max((b - a).squaredNorm(), 1e-30), 0.0, 1.0);
             best = std::min(best, (q - (a + t * (b - a))).norm());
         }
         return best;
@@ -471,7 +482,7 @@ TEST(EditorPaint, AlphaImageScalesEachDabAndIsUprightAcrossItsAxis) {
     EXPECT_NEAR(dabWeight(brush, {0.099, 0, 0}), 0.0, 1e-9);
     EXPECT_NEAR(dabWeight(brush, {0, 0.05, 0}), 0.5, 1e-9);
     EXPECT_NEAR(dabWeight(brush, {0, 0, 0.05}), 0.5, 1e-9);  // along the axis: the centre column
-    EXPECT_EQ(dabWeight(brush, {-0.11, 0, 0}), 0.0);           // outside the radius
+    EXPECT_EQ(dabWeight(brush, {-0.11, 0, 0}), 0.0);         // outside the radius
     // Top white, bottom black: up is +y across +z.
     alpha->values = {1, 1, 0, 0};
     EXPECT_NEAR(dabWeight(brush, {0, 0.099, 0}), 1.0, 1e-9);
@@ -497,7 +508,8 @@ TEST(EditorPaint, AlphaImageScalesEachDabAndIsUprightAcrossItsAxis) {
     brush.alpha = alpha;
     brush.falloff = Falloff::Constant;
     brush.radius = 0.15;
-    executeOrFail(*d, makeStrokeCommand(*d, 0, MapChannel::Density, brush, std::vector<Eigen::Vector3d>{hit->point}));
+    executeOrFail(*d, makeStrokeCommand(*d, 0, MapChannel::Density, brush,
+                                        std::vector<Eigen::Vector3d>{hit->point}));
     const std::vector<float>& v = d->map(0, MapChannel::Density)->values;
     int left = 0, right = 0;
     for (const PixelPoint& p : pixelPoints(mesh, kMap, kMap)) {
@@ -513,7 +525,8 @@ TEST(EditorPaint, AlphaImageScalesEachDabAndIsUprightAcrossItsAxis) {
     std::ofstream(bogus) << "hello";
     const Status bad = loadBrushAlpha(brush, bogus);
     ASSERT_FALSE(bad.ok());
-    EXPECT_NE(bad.error().message.find("not_an_image.png"), std::string::npos) << bad.error().message;
+    EXPECT_NE(bad.error().message.find("not_an_image.png"), std::string::npos)
+        << bad.error().message;
     EXPECT_EQ(brush.alpha, alpha);
 }
 
@@ -583,8 +596,8 @@ TEST(EditorPaint, FillIslandFillsOnlyTheChartUnderThePoint) {
     executeOrFail(*d, makeNewMapCommand(*d, 0, MapChannel::Permeability, 96, 64, 0.0, ""));
     const TriangleMesh& mesh = *d->assets(0).mesh;
     // The box is 1.0 x 0.5 x 0.25: the +x face is at x = 0.5.
-    executeOrFail(*d, makeFillIslandCommand(*d, 0, MapChannel::Permeability, {0.5, 0.1, 0.05},
-                                            1.0, /*mirrorX=*/false));
+    executeOrFail(*d, makeFillIslandCommand(*d, 0, MapChannel::Permeability, {0.5, 0.1, 0.05}, 1.0,
+                                            /*mirrorX=*/false));
     const PaintedMap* map = d->map(0, MapChannel::Permeability);
     int onFace = 0;
     for (const PixelPoint& p : pixelPoints(mesh, 96, 64)) {
@@ -599,8 +612,8 @@ TEST(EditorPaint, FillIslandFillsOnlyTheChartUnderThePoint) {
     }
     EXPECT_GT(onFace, 10);
     // Mirrored, the -x face fills too.
-    executeOrFail(*d, makeFillIslandCommand(*d, 0, MapChannel::Permeability, {0.5, 0.1, 0.05},
-                                            0.25, /*mirrorX=*/true));
+    executeOrFail(*d, makeFillIslandCommand(*d, 0, MapChannel::Permeability, {0.5, 0.1, 0.05}, 0.25,
+                                            /*mirrorX=*/true));
     for (const PixelPoint& p : pixelPoints(mesh, 96, 64)) {
         if (std::abs(std::abs(p.point.x()) - 0.5) < 1e-9) {
             EXPECT_EQ(map->values[p.pixel], 0.25f);
@@ -679,7 +692,8 @@ TEST(EditorProject, HistoryJumpsUndoAndRedoToExactlyEachStepsState) {
     };
     auto now = [&] {
         const PaintedMap* map = d->map(0, MapChannel::Density);
-        return State{map ? std::optional(map->values) : std::nullopt, *d->project().bodies[0].material.density};
+        return State{map ? std::optional(map->values) : std::nullopt,
+                     *d->project().bodies[0].material.density};
     };
     std::vector<State> states{now()};
     std::vector<std::string> names;
@@ -695,7 +709,8 @@ TEST(EditorProject, HistoryJumpsUndoAndRedoToExactlyEachStepsState) {
     ASSERT_TRUE(hitA && hitB);
     step(makeNewMapCommand(*d, 0, MapChannel::Density, kMap, kMap, 0.0, ""));
     brush.value = 0.75;
-    step(makeStrokeCommand(*d, 0, MapChannel::Density, brush, std::vector<Eigen::Vector3d>{hitA->point}));
+    step(makeStrokeCommand(*d, 0, MapChannel::Density, brush,
+                           std::vector<Eigen::Vector3d>{hitA->point}));
     step(makeSetPropertyCommand(*d, "/bodies/0/material/density", 700.0));
     brush.value = 0.3;
     step(makeStrokeCommand(*d, 0, MapChannel::Density, brush,
@@ -837,9 +852,10 @@ TEST(EditorProject, SaveAsNeverWritesOutsideTheNewFolder) {
     ASSERT_TRUE(savePaintedMap(original, dir / "maps" / "ball.png").ok());
     const std::string before = test::readFile(dir / "maps" / "ball.png");
     const fs::path path = dir / "a" / "test.plim.json";
-    std::ofstream(path) << R"({"schema_version": 1, "name": "t", "bodies": [{"name": "ball", "mesh": ")"
-                        << test::assetPath("sphere.obj").string()
-                        << R"(", "permeability_map": "../maps/ball.png", "material": {"density": 500}}]})";
+    std::ofstream(path)
+        << R"({"schema_version": 1, "name": "t", "bodies": [{"name": "ball", "mesh": ")"
+        << test::assetPath("sphere.obj").string()
+        << R"(", "permeability_map": "../maps/ball.png", "material": {"density": 500}}]})";
     auto d = openOrFail(path);
     ASSERT_TRUE(d);
     executeOrFail(*d, makeFillAllCommand(*d, 0, MapChannel::Permeability, 0.25));
@@ -883,7 +899,8 @@ TEST(EditorLayout, PanelsTileTheWindowAndComeBackAfterItShrinksAndGrows) {
     const WindowLayout small = windowLayout(layout, 300, 200, 19, 23);
     check(small, 300, 200, 19, 23);
     EXPECT_FLOAT_EQ(small.panels[0].w, 180);
-    for (const PanelRect& p : small.panels) EXPECT_GE(p.h, std::min(kMinPanelHeight, 158.0f / 4) - 1e-3);
+    for (const PanelRect& p : small.panels)
+        EXPECT_GE(p.h, std::min(kMinPanelHeight, 158.0f / 4) - 1e-3);
     const WindowLayout again = windowLayout(layout, 1024, 640, 19, 23);
     for (int i = 0; i < 4; ++i) {
         EXPECT_EQ(again.panels[i].y, big.panels[i].y);
@@ -954,7 +971,8 @@ TEST(EditorSettings, LayoutAndBrushAreKeptBetweenSessions) {
     EXPECT_FALSE(back.brush.mirrorY);
     EXPECT_EQ(back.brush.radial, 6);
     // Nonsense in the file: the defaults for those fields, not a brush the panel cannot show.
-    std::ofstream(dir / "settings.json") << R"({"brush": {"radius": -1, "strength": 7, "radial": 900,
+    std::ofstream(dir / "settings.json")
+        << R"({"brush": {"radius": -1, "strength": 7, "radial": 900,
         "falloff": "wobbly"}})";
     const Settings odd = Settings::load(dir);
     EXPECT_EQ(odd.brush.radius, Brush{}.radius);
@@ -1164,7 +1182,8 @@ TEST(EditorOverlay, LabelsKeepClearOfTheLivePreviewWindowAndEachOther) {
     // The lower-right corner mirrors it.
     EXPECT_EQ(place({}, ViewCorner::LowerRight), Eigen::Vector2f(1024 - 10 - 200, corner.y()));
     const Eigen::AlignedBox2f tallRight = box(700, 40, 1016, 652);
-    EXPECT_EQ(place({tallRight}, ViewCorner::LowerRight), Eigen::Vector2f(700 - 6 - 200, corner.y()));
+    EXPECT_EQ(place({tallRight}, ViewCorner::LowerRight),
+              Eigen::Vector2f(700 - 6 - 200, corner.y()));
     // A narrow view (300 wide) with the preview and the legend above it both in its corner:
     // above the two, clear of both.
     const Eigen::AlignedBox2f narrow(Eigen::Vector2f(0, 20), Eigen::Vector2f(300, 660));
@@ -1187,7 +1206,8 @@ TEST(EditorOverlay, LegendGivesTheDensityMapItsShellScale) {
     EXPECT_FALSE(overlayLegend(Overlay::Position, &body).ramp);
     EXPECT_TRUE(overlayLegend(Overlay::None, &body).meaning.empty());
     for (Overlay o : kOverlays) {
-        if (o != Overlay::None) EXPECT_FALSE(overlayLegend(o, &body).meaning.empty()) << overlayName(o);
+        if (o != Overlay::None)
+            EXPECT_FALSE(overlayLegend(o, &body).meaning.empty()) << overlayName(o);
     }
 }
 
@@ -1195,8 +1215,8 @@ TEST(EditorOverlay, HoverReadoutGivesDepthPressureAndTheNodeFed) {
     // Beside the map's value, the physics at the point under the
     // cursor. The damaged boat floats 0.15 m up, unrotated, on flat water at 0, in fresh water;
     // its four compartments run along z (stern at -2.25, forepeak at +2.25).
-    Result<std::unique_ptr<Document>> opened =
-        Document::open(std::filesystem::path(PLIMSOLL_SOURCE_DIR) / "projects" / "damaged_boat.plim.json");
+    Result<std::unique_ptr<Document>> opened = Document::open(
+        std::filesystem::path(PLIMSOLL_SOURCE_DIR) / "projects" / "damaged_boat.plim.json");
     ASSERT_TRUE(opened.ok()) << opened.error().message;
     const Document& boat = **opened;
     // 0.35 m below the body's origin: 0.2 m under water, rho g h = 1000 * 9.81 * 0.2 Pa.
@@ -1211,7 +1231,6 @@ TEST(EditorOverlay, HoverReadoutGivesDepthPressureAndTheNodeFed) {
     EXPECT_EQ(line.find('\n'), std::string::npos) << line;
     EXPECT_EQ(line.find("feeds"), std::string::npos) << line;
 }
-
 
 /// Two bodies (ball on sphere.obj, box on box.obj at x = 3), each with a blank kMap map of
 /// permeability and then a stroke on it, unsaved: what a remove or an insert must carry along.
@@ -1233,7 +1252,8 @@ std::unique_ptr<Document> twoPaintedBodies(const std::string& name) {
         executeOrFail(*d, makeStrokeCommand(*d, b, MapChannel::Permeability, brush,
                                             std::vector<Eigen::Vector3d>{mesh.positions[b * 7]}));
         const std::vector<float>& v = d->map(b, MapChannel::Permeability)->values;
-        EXPECT_GT(std::count_if(v.begin(), v.end(), [](float x) { return x > 0.5f; }), 0) << "body " << b;
+        EXPECT_GT(std::count_if(v.begin(), v.end(), [](float x) { return x > 0.5f; }), 0)
+            << "body " << b;
     }
     return d;
 }
@@ -1311,7 +1331,8 @@ TEST(EditorBodies, DuplicatePutsAUniquelyNamedCopyBesideTheOriginal) {
     EXPECT_EQ(copy.position.y(), 0.0);
     EXPECT_EQ(copy.permeabilityMap, "maps/two_ball_copy_permeability.png");
     ASSERT_TRUE(d->map(1, MapChannel::Permeability));
-    EXPECT_TRUE(d->map(1, MapChannel::Permeability)->values == *before.maps[0]) << "the ball's paint";
+    EXPECT_TRUE(d->map(1, MapChannel::Permeability)->values == *before.maps[0])
+        << "the ball's paint";
     ASSERT_TRUE(copy.waterGraph);
     EXPECT_EQ(copy.waterGraph->graph, "two_ball_copy.graph.json");
     ASSERT_TRUE(d->graph(1));
@@ -1357,7 +1378,8 @@ TEST(EditorBodies, DuplicatePutsAUniquelyNamedCopyBesideTheOriginal) {
     EXPECT_TRUE(reopened->map(1, MapChannel::Permeability)->values ==
                 reopened->map(0, MapChannel::Permeability)->values);
     EXPECT_FALSE(reopened->map(2, MapChannel::Permeability)->values ==
-                 reopened->map(0, MapChannel::Permeability)->values) << "the painted copy";
+                 reopened->map(0, MapChannel::Permeability)->values)
+        << "the painted copy";
 }
 
 TEST(EditorBodies, TransformEditMovesAndRotatesTheBodyAsOneStep) {
@@ -1367,12 +1389,15 @@ TEST(EditorBodies, TransformEditMovesAndRotatesTheBodyAsOneStep) {
     auto d = twoPaintedBodies("bodies_transform");
     ASSERT_TRUE(d);
     const DocumentState before = stateOf(*d);
-    executeOrFail(*d, makeSetBodyTransformCommand(*d, 1, Eigen::Vector3d(3, 0.25, -1), Eigen::Vector3d::Zero()));
+    executeOrFail(*d, makeSetBodyTransformCommand(*d, 1, Eigen::Vector3d(3, 0.25, -1),
+                                                  Eigen::Vector3d::Zero()));
     EXPECT_EQ(d->undoName(), "Move box");
-    executeOrFail(*d, makeSetBodyTransformCommand(*d, 1, Eigen::Vector3d(3, 0.25, -1), Eigen::Vector3d(0, 90, 0)));
+    executeOrFail(*d, makeSetBodyTransformCommand(*d, 1, Eigen::Vector3d(3, 0.25, -1),
+                                                  Eigen::Vector3d(0, 90, 0)));
     EXPECT_EQ(d->undoName(), "Rotate box");
     const DocumentState after = stateOf(*d);
-    EXPECT_NEAR(d->bodyPose(1).apply(Eigen::Vector3d(1, 0, 0)).z(), -1 - 1.0, 1e-9) << "Ry(90) turns +x to -z";
+    EXPECT_NEAR(d->bodyPose(1).apply(Eigen::Vector3d(1, 0, 0)).z(), -1 - 1.0, 1e-9)
+        << "Ry(90) turns +x to -z";
     d->undo();
     d->undo();
     EXPECT_TRUE(stateOf(*d) == before);
@@ -1384,7 +1409,8 @@ TEST(EditorBodies, TransformEditMovesAndRotatesTheBodyAsOneStep) {
     ASSERT_TRUE(saved.ok()) << saved.error().message;
     EXPECT_EQ(saved->bodies[1].position, Eigen::Vector3d(3, 0.25, -1));
     EXPECT_EQ(saved->bodies[1].rotationDegrees, Eigen::Vector3d(0, 90, 0));
-    auto bad = makeSetBodyTransformCommand(*d, 1, Eigen::Vector3d(std::nan(""), 0, 0), Eigen::Vector3d::Zero());
+    auto bad = makeSetBodyTransformCommand(*d, 1, Eigen::Vector3d(std::nan(""), 0, 0),
+                                           Eigen::Vector3d::Zero());
     ASSERT_FALSE(bad.ok());
     EXPECT_NE(bad.error().message.find("finite"), std::string::npos);
 }
@@ -1418,7 +1444,8 @@ FacingCase paintFacing(const Brush& settings) {
     const std::vector<Eigen::Vector3d> dab{Eigen::Vector3d(0, 0, 0.5)};
     const PixelChange change = strokeChange(blank, out.surface, brush, dab);
     out.painted = blank.values;
-    for (std::size_t k = 0; k < change.pixels.size(); ++k) out.painted[change.pixels[k]] = change.after[k];
+    for (std::size_t k = 0; k < change.pixels.size(); ++k)
+        out.painted[change.pixels[k]] = change.after[k];
     out.maxNormalZ.assign(64 * 64, -2.0f);
     out.samples.assign(64 * 64, 0);
     for (std::size_t i = 0; i < out.surface.sampleCount(); ++i) {
@@ -1448,7 +1475,8 @@ TEST(EditorPaint, FrontFacesOnlyLeavesTheFarSideOfTheBodyUnpainted) {
             EXPECT_EQ(front.painted[p], 1.0f) << "pixel " << p << " faces the viewer";
         } else if (front.maxNormalZ[p] < -0.01f) {
             ++away;
-            EXPECT_EQ(front.painted[p], 0.0f) << "pixel " << p << " faces away (normal z " << front.maxNormalZ[p] << ")";
+            EXPECT_EQ(front.painted[p], 0.0f)
+                << "pixel " << p << " faces away (normal z " << front.maxNormalZ[p] << ")";
         }
     }
     EXPECT_GT(facing, 500);
@@ -1472,7 +1500,8 @@ TEST(EditorPaint, NormalFalloffFadesTexelsTurnedFromTheView) {
     int full = 0, partial = 0, none = 0;
     for (std::size_t p = 0; p < c.painted.size(); ++p) {
         if (c.samples[p] != 1) continue;
-        const double angle = std::acos(std::clamp<double>(c.maxNormalZ[p], -1, 1)) * 180 / std::numbers::pi;
+        const double angle =
+            std::acos(std::clamp<double>(c.maxNormalZ[p], -1, 1)) * 180 / std::numbers::pi;
         const double expected = angle <= 30 ? 1.0 : angle >= 60 ? 0.0 : (60 - angle) / 30;
         EXPECT_NEAR(c.painted[p], expected, 1e-5) << "pixel " << p << " at " << angle << " degrees";
         full += expected == 1.0;
@@ -1482,10 +1511,12 @@ TEST(EditorPaint, NormalFalloffFadesTexelsTurnedFromTheView) {
     EXPECT_GT(full, 50);
     EXPECT_GT(partial, 50);
     EXPECT_GT(none, 500);
-    EXPECT_DOUBLE_EQ(facingWeight(Brush{}, Eigen::Vector3d(0, 0, -1), Eigen::Vector3d::UnitZ()), 1.0);
+    EXPECT_DOUBLE_EQ(facingWeight(Brush{}, Eigen::Vector3d(0, 0, -1), Eigen::Vector3d::UnitZ()),
+                     1.0);
     brush.normalAngle = 60.0;
-    EXPECT_NEAR(facingWeight(brush, Eigen::Vector3d(std::sin(0.25 * std::numbers::pi), 0,
-                                                    std::cos(0.25 * std::numbers::pi)),
+    EXPECT_NEAR(facingWeight(brush,
+                             Eigen::Vector3d(std::sin(0.25 * std::numbers::pi), 0,
+                                             std::cos(0.25 * std::numbers::pi)),
                              Eigen::Vector3d::UnitZ()),
                 0.5, 1e-12);
 }
@@ -1523,7 +1554,8 @@ TEST(EditorPaint, OcclusionLeavesTexelsHiddenBehindOtherSurfaceUnpainted) {
     auto paint = [&] {
         std::vector<float> values = blank.values;
         const PixelChange change = strokeChange(blank, *surface, brush, dab);
-        for (std::size_t k = 0; k < change.pixels.size(); ++k) values[change.pixels[k]] = change.after[k];
+        for (std::size_t k = 0; k < change.pixels.size(); ++k)
+            values[change.pixels[k]] = change.after[k];
         return values;
     };
     const std::vector<float> open = paint();

@@ -103,13 +103,15 @@ TEST(EditorGraphSchematic, BoxesKeepTheProfilesOrderAndNeverOverlap) {
     }
     // Clicks find the box under them; empty canvas finds none.
     for (std::size_t i = 0; i < c.size(); ++i) {
-        EXPECT_EQ(schematicNodeAt(layout, c[i] + Eigen::Vector2f(30, -12)), int(i)) << g.nodes[i].id;
+        EXPECT_EQ(schematicNodeAt(layout, c[i] + Eigen::Vector2f(30, -12)), int(i))
+            << g.nodes[i].id;
     }
     EXPECT_EQ(schematicNodeAt(layout, Eigen::Vector2f(200, 190)), -1);
     // A hull modelled along z (the sample damaged boat's four tanks, stern at -z): the side
     // view runs along z, stern to bow left to right, all on one level.
     WaterGraph boat;
-    for (const auto& [id, z] : {std::pair{"stern", -2.25}, {"aft", -0.75}, {"fore", 0.75}, {"bow", 2.25}}) {
+    for (const auto& [id, z] :
+         {std::pair{"stern", -2.25}, {"aft", -0.75}, {"fore", 0.75}, {"bow", 2.25}}) {
         GraphNode n;
         n.id = id;
         n.position = Eigen::Vector3d(0.0, 0.0, z);
@@ -159,7 +161,8 @@ TEST(EditorGraph, ThreeNodeGraphBuiltByCommandsFloodsAndSinksTheBoatAndUndoesExa
     }
     // The project floods over two minutes; a hole twenty times the size sinks it within the
     // 10 s of the check (a project edit, undone with the rest).
-    executeOrFail(*doc, makeSetPropertyCommand(*doc, "/bodies/0/water_graph/inflow_rate", 6.0)), ++edits;
+    executeOrFail(*doc, makeSetPropertyCommand(*doc, "/bodies/0/water_graph/inflow_rate", 6.0)),
+        ++edits;
     ASSERT_EQ(doc->graph(0)->nodes.size(), 3u);
     ASSERT_EQ(doc->graph(0)->pipes.size(), 2u);
     const GraphReport report = validateGraph(*doc->graph(0), doc->assets(0).mesh.get());
@@ -225,10 +228,11 @@ TEST(EditorGraph, ThreeNodeGraphBuiltByCommandsFloodsAndSinksTheBoatAndUndoesExa
     EXPECT_GT(filledAt[2], filledAt[1]);
     // The boat sank: well below where it started, and (nearly) all of it under water.
     const SimulatedBody& boat = world.bodies()[0];
-    std::printf("[ figures ] after 10 s: water stern %.4f mid %.4f bow %.4f m^3 (entered %.4f, "
-                "left %.4f), height %.4f -> %.4f m, submerged %.4f of %.4f m^3\n",
-                g.nodes[0].water, g.nodes[1].water, g.nodes[2].water, totals.entered, totals.left,
-                startHeight, boat.state.position.y(), boat.buoyancy.submergedVolume, volume);
+    std::printf(
+        "[ figures ] after 10 s: water stern %.4f mid %.4f bow %.4f m^3 (entered %.4f, "
+        "left %.4f), height %.4f -> %.4f m, submerged %.4f of %.4f m^3\n",
+        g.nodes[0].water, g.nodes[1].water, g.nodes[2].water, totals.entered, totals.left,
+        startHeight, boat.state.position.y(), boat.buoyancy.submergedVolume, volume);
     EXPECT_LT(boat.state.position.y(), startHeight - 0.5);
     EXPECT_GT(boat.buoyancy.submergedVolume, 0.99 * volume);
     EXPECT_GT(underAt, 0.0);
@@ -458,7 +462,8 @@ TEST(EditorGraph, ScriptVerbsEditTheGraph) {
     EXPECT_EQ(graphToJson(*doc->graph(0)), original);
 
     // A failing verb names its index and what is wrong.
-    Result<Json> bad = runEditScript(*doc, Json::parse(R"([{"op": "graph_connect", "a": "aft", "b": "aft"}])"));
+    Result<Json> bad =
+        runEditScript(*doc, Json::parse(R"([{"op": "graph_connect", "a": "aft", "b": "aft"}])"));
     ASSERT_FALSE(bad.ok());
     EXPECT_NE(bad.error().message.find("command 0"), std::string::npos) << bad.error().message;
     // graph_replace takes a graph in graph.json's format.
@@ -474,7 +479,8 @@ TEST(EditorGraph, AutoGenerateVerbReplacesTheGraphInOneUndoStep) {
     auto doc = openOrFail(projectPath);
     ASSERT_TRUE(doc);
     const std::string original = graphToJson(*doc->graph(0));
-    Result<Json> done = runEditScript(*doc, Json::parse(R"([{"op": "graph_auto", "segments": 3}])"));
+    Result<Json> done =
+        runEditScript(*doc, Json::parse(R"([{"op": "graph_auto", "segments": 3}])"));
     ASSERT_TRUE(done.ok()) << done.error().message;
     const WaterGraph& g = *doc->graph(0);
     EXPECT_EQ(g.nodes.size(), 3u);
@@ -525,7 +531,8 @@ TEST(EditorGraphPick, CameraRayPicksTheNodeUnderThePixel) {
     // Node a seen from the front: the ray enters its sphere 0.5 m before its centre.
     const auto centre = camera.toPixel(pose.apply(g.nodes[0].position), w, h);
     camera.rayThrough(centre->x(), centre->y(), w, h, o, d);
-    EXPECT_NEAR(pickNode(g, pose, o, d)->distance, (pose.apply(g.nodes[0].position) - o).norm() - 0.5, 1e-9);
+    EXPECT_NEAR(pickNode(g, pose, o, d)->distance,
+                (pose.apply(g.nodes[0].position) - o).norm() - 0.5, 1e-9);
     // Just outside node b's projected radius: nothing; just inside: b.
     const Eigen::Vector3d bWorld = pose.apply(g.nodes[1].position);
     for (double k : {0.9, 1.2}) {
@@ -551,7 +558,8 @@ TEST(EditorGraphPick, CameraRayPicksTheNodeUnderThePixel) {
 
 TEST(EditorGraphPick, BoxSelectTakesTheNodesProjectedInsideTheRectangle) {
     WaterGraph g;
-    for (int i = 0; i < 5; ++i) g.nodes.push_back(node("n" + std::to_string(i), {i - 2.0, 0, 0}, 0.01));
+    for (int i = 0; i < 5; ++i)
+        g.nodes.push_back(node("n" + std::to_string(i), {i - 2.0, 0, 0}, 0.01));
     Camera camera;  // looking down -z from +z: world x is screen right
     camera.distance = 10;
     const int w = 800, h = 600;
@@ -581,7 +589,8 @@ TEST(EditorGraphPick, AxisAndPlaneDragFollowTheMouseRay) {
     EXPECT_NEAR((p - onRay).x(), 0.0, 1e-12);
     for (double ds : {-0.01, 0.01}) EXPECT_LT(gapToRay(p), gapToRay(p + Eigen::Vector3d(ds, 0, 0)));
     // The plane y = 1 under a ray going down.
-    const auto hit = rayPlane({0, 3, 0}, Eigen::Vector3d(1, -1, 0).normalized(), {0, 1, 0}, {0, 1, 0});
+    const auto hit =
+        rayPlane({0, 3, 0}, Eigen::Vector3d(1, -1, 0).normalized(), {0, 1, 0}, {0, 1, 0});
     ASSERT_TRUE(hit);
     EXPECT_TRUE(hit->isApprox(Eigen::Vector3d(2, 1, 0)));
     EXPECT_FALSE(rayPlane({0, 3, 0}, {1, 0, 0}, {0, 1, 0}, {0, 1, 0}));  // parallel
@@ -635,19 +644,22 @@ TEST(EditorGraphView, RenderedGraphShowsNodeColoursWhereNodesProject) {
     const fs::path projectPath = copyDamagedBoat("render");
     const fs::path dir = projectPath.parent_path();
     // Half fill the stern compartment (through the CLI's edit script, which saves).
-    std::ofstream(dir / "fill.json") << R"([{"op": "graph_set_node", "node": "stern", "water": 1.36}])";
+    std::ofstream(dir / "fill.json")
+        << R"([{"op": "graph_set_node", "node": "stern", "water": 1.36}])";
     const test::CommandOutput edit = test::runPlimsoll(
         "edit '" + projectPath.string() + "' --script '" + (dir / "fill.json").string() + "'");
     ASSERT_EQ(edit.exitCode, 0) << edit.err;
     const int w = 480, h = 240;
     const fs::path shot = dir / "graph.png", plain = dir / "plain.png";
     const std::string common = " --view side --size 480x240 --no-water --no-grid";
-    const test::CommandOutput r = test::runPlimsoll("render '" + projectPath.string() + "' --out '" +
-                                                    shot.string() + "' --graph" + common);
+    const test::CommandOutput r = test::runPlimsoll(
+        "render '" + projectPath.string() + "' --out '" + shot.string() + "' --graph" + common);
     if (test::cannotRender(r)) GTEST_SKIP() << "no EGL OpenGL 4.5 here: " << r.err;
     ASSERT_EQ(r.exitCode, 0) << r.err;
     ASSERT_EQ(test::runPlimsoll("render '" + projectPath.string() + "' --out '" + plain.string() +
-                                "'" + common).exitCode, 0);
+                                "'" + common)
+                  .exitCode,
+              0);
     auto load = [&](const fs::path& p) {
         int iw = 0, ih = 0, ch = 0;
         unsigned char* data = stbi_load(p.c_str(), &iw, &ih, &ch, 3);
@@ -738,8 +750,8 @@ TEST(EditorGraphView, BoxTopsInTheDecksPlaneShowNoZFighting) {
             }
         }
         ASSERT_GT(samples, 40) << node.id << ": its top should be in the picture";
-        EXPECT_LE((hi - lo).maxCoeff(), 12) << node.id << ": top from " << lo.transpose() << " to "
-                                            << hi.transpose();
+        EXPECT_LE((hi - lo).maxCoeff(), 12)
+            << node.id << ": top from " << lo.transpose() << " to " << hi.transpose();
     }
 }
 

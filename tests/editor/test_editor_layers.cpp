@@ -35,9 +35,10 @@ fs::path sphereProject(const std::string& name) {
     fs::remove_all(dir);
     fs::create_directories(dir);
     const fs::path path = dir / "layers.plim.json";
-    std::ofstream(path) << R"({"schema_version": 1, "name": "t", "bodies": [{"name": "ball", "mesh": ")"
-                        << test::assetPath("sphere.obj").string()
-                        << R"(", "material": {"density": 500, "shell": {"surface_density": 10}}}]})";
+    std::ofstream(path)
+        << R"({"schema_version": 1, "name": "t", "bodies": [{"name": "ball", "mesh": ")"
+        << test::assetPath("sphere.obj").string()
+        << R"(", "material": {"density": 500, "shell": {"surface_density": 10}}}]})";
     return path;
 }
 
@@ -62,9 +63,9 @@ TEST(EditorLayers, BlendModesMatchTheirFormulas) {
     const float c = 0.6f, v = 0.5f;
     EXPECT_FLOAT_EQ(blendValue(BlendMode::Normal, c, v), 0.5f);
     EXPECT_FLOAT_EQ(blendValue(BlendMode::Multiply, c, v), 0.3f);
-    EXPECT_FLOAT_EQ(blendValue(BlendMode::Add, c, v), 1.0f);        // 1.1 clamped
+    EXPECT_FLOAT_EQ(blendValue(BlendMode::Add, c, v), 1.0f);  // 1.1 clamped
     EXPECT_FLOAT_EQ(blendValue(BlendMode::Subtract, c, v), 0.1f);
-    EXPECT_FLOAT_EQ(blendValue(BlendMode::Screen, c, v), 0.8f);     // 1 - 0.4 * 0.5
+    EXPECT_FLOAT_EQ(blendValue(BlendMode::Screen, c, v), 0.8f);  // 1 - 0.4 * 0.5
     EXPECT_FLOAT_EQ(blendValue(BlendMode::Lighten, c, v), 0.6f);
     EXPECT_FLOAT_EQ(blendValue(BlendMode::Darken, c, v), 0.5f);
     EXPECT_FLOAT_EQ(blendValue(BlendMode::Subtract, 0.2f, 0.5f), 0.0f);  // clamped
@@ -118,15 +119,16 @@ TEST(EditorLayers, EveryOperationUndoesAndRedoesByteForByte) {
     auto step = [&](Result<std::unique_ptr<Command>> command) {
         executeOrFail(*d, std::move(command));
         states.push_back(snapshot(*d));
-        EXPECT_TRUE(states.back() != states[states.size() - 2]) << d->undoName() << " changed nothing";
+        EXPECT_TRUE(states.back() != states[states.size() - 2])
+            << d->undoName() << " changed nothing";
     };
     Brush brush;
     brush.radius = 0.3;
     brush.value = 0.9;
-    step(makeAddLayerCommand(*d, 0, kPerm, LayerKind::Fill, "wet", 0.75));        // 2 layers
-    step(makeAddMaskCommand(*d, 0, kPerm, 1, 0.0));                               // fill hidden
+    step(makeAddLayerCommand(*d, 0, kPerm, LayerKind::Fill, "wet", 0.75));  // 2 layers
+    step(makeAddMaskCommand(*d, 0, kPerm, 1, 0.0));                         // fill hidden
     step(makeStrokeCommand(*d, 0, kPerm, brush, poleStroke(), {1, LayerPart::Mask}));
-    step(makeAddLayerCommand(*d, 0, kPerm, LayerKind::Paint, "", 1.0));            // clear: same map
+    step(makeAddLayerCommand(*d, 0, kPerm, LayerKind::Paint, "", 1.0));  // clear: same map
     step(makeStrokeCommand(*d, 0, kPerm, brush, poleStroke(), {2, LayerPart::Pixels}));
     LayerEdit edit;
     edit.opacity = 0.5;
@@ -231,7 +233,8 @@ TEST(EditorLayers, HistoryNamesMaskStrokesAndPropertiesAsAPersonWould) {
     EXPECT_EQ(d->undoName(), "Set ball density");
     executeOrFail(*d, makeSetPropertyCommand(*d, "/bodies/0/material/shell/surface_density", 12.0));
     EXPECT_EQ(d->undoName(), "Set ball shell surface density");
-    executeOrFail(*d, makeSetPropertyCommand(*d, "/bodies/0/position", nlohmann::json::array({0, 1, 0})));
+    executeOrFail(
+        *d, makeSetPropertyCommand(*d, "/bodies/0/position", nlohmann::json::array({0, 1, 0})));
     EXPECT_EQ(d->undoName(), "Set ball position");
     executeOrFail(*d, makeSetPropertyCommand(*d, "/bodies/0/position/1", 2.0));
     EXPECT_EQ(d->undoName(), "Set ball position y");
@@ -267,7 +270,8 @@ TEST(EditorLayers, ResizingAMapKeepsItsContentAndItsSurfaceIntegral) {
     brush.radius = 0.1;
     brush.falloff = Falloff::Constant;
     brush.value = 0.8;
-    executeOrFail(*d, makeStrokeCommand(*d, 0, kPerm, brush, std::vector<Eigen::Vector3d>{{0, 0.5, 0}}));
+    executeOrFail(
+        *d, makeStrokeCommand(*d, 0, kPerm, brush, std::vector<Eigen::Vector3d>{{0, 0.5, 0}}));
     const TriangleMesh& mesh = *d->assets(0).mesh;
     const PaintedMap original = *d->map(0, kPerm);
     const double integral = surfaceIntegral(mesh, original);
@@ -284,7 +288,8 @@ TEST(EditorLayers, ResizingAMapKeepsItsContentAndItsSurfaceIntegral) {
     // Up then down by the same factor: each pixel near where it was (the sharp stroke's edge
     // is softened by the linear growth, by at most a third of the step there).
     double worst = 0;
-    for (std::size_t i = 0; i < back.values.size(); ++i) worst = std::max(worst, double(std::abs(back.values[i] - original.values[i])));
+    for (std::size_t i = 0; i < back.values.size(); ++i)
+        worst = std::max(worst, double(std::abs(back.values[i] - original.values[i])));
     EXPECT_LT(worst, 0.35);
     executeOrFail(*d, makeResizeMapCommand(*d, 0, kPerm, 40, 40));
     EXPECT_NEAR(surfaceIntegral(mesh, *d->map(0, kPerm)), integral, 0.005 * integral);
@@ -377,7 +382,8 @@ TEST(EditorLayers, AutosaveRecoversTheStack) {
     Result<std::unique_ptr<Document>> recovered = Document::recover(d->autosavePath());
     ASSERT_TRUE(recovered.ok()) << recovered.error().message;
     ASSERT_TRUE((*recovered)->layers(0, kPerm));
-    EXPECT_EQ(layerStackToJson(*(*recovered)->layers(0, kPerm)), layerStackToJson(*d->layers(0, kPerm)));
+    EXPECT_EQ(layerStackToJson(*(*recovered)->layers(0, kPerm)),
+              layerStackToJson(*d->layers(0, kPerm)));
     d->discardAutosave();
 }
 
@@ -411,7 +417,8 @@ TEST(EditorLayers, EditScriptRunsLayerOps) {
     const nlohmann::json bad = nlohmann::json::parse(R"([{"op": "layer_remove", "layer": 7}])");
     Result<nlohmann::json> refused = runEditScript(*d, bad);
     ASSERT_FALSE(refused.ok());
-    EXPECT_NE(refused.error().message.find("no layer 7"), std::string::npos) << refused.error().message;
+    EXPECT_NE(refused.error().message.find("no layer 7"), std::string::npos)
+        << refused.error().message;
 }
 
 TEST(EditorLayers, RenameIsOneStepUndoneByteForByteAndKeptBySaving) {
@@ -601,23 +608,28 @@ TEST(EditorLayers, FillsMoveByStrengthAndSayWhenTheMeshIsOneIsland) {
 TEST(EditorLayers, LayerCountAndSizeAreRefusedBeforeAllocating) {
     // A side file declaring 65 fill layers: refused by count.
     std::string many = R"({"plimsoll_map_layers": 1, "width": 4, "height": 4, "layers": [)";
-    for (int i = 0; i < 65; ++i) many += std::string(i ? "," : "") + R"({"kind": "fill", "value": 0.5})";
+    for (int i = 0; i < 65; ++i)
+        many += std::string(i ? "," : "") + R"({"kind": "fill", "value": 0.5})";
     many += "]}";
     Result<LayerStack> parsed = parseLayerStack(many, "map.layers.json");
     ASSERT_FALSE(parsed.ok());
-    EXPECT_NE(parsed.error().message.find("map.layers.json: 65 layers, more than the limit kMaxMapLayers"),
-              std::string::npos) << parsed.error().message;
+    EXPECT_NE(parsed.error().message.find(
+                  "map.layers.json: 65 layers, more than the limit kMaxMapLayers"),
+              std::string::npos)
+        << parsed.error().message;
     // A 4096^2 map declaring nine paint layers (pixels and coverage each): 18 images of 16.7M
     // samples, more than kMaxLayerSamples, refused before a single image is decoded (the
     // images here are not even valid PNGs).
     std::string big = R"({"plimsoll_map_layers": 1, "width": 4096, "height": 4096, "layers": [)";
     for (int i = 0; i < 9; ++i)
-        big += std::string(i ? "," : "") + R"({"pixels_png_base64": "AAAA", "coverage_png_base64": "AAAA"})";
+        big += std::string(i ? "," : "") +
+               R"({"pixels_png_base64": "AAAA", "coverage_png_base64": "AAAA"})";
     big += "]}";
     parsed = parseLayerStack(big, "big.layers.json");
     ASSERT_FALSE(parsed.ok());
     EXPECT_NE(parsed.error().message.find("big.layers.json: 18 layer images of 4096 x 4096"),
-              std::string::npos) << parsed.error().message;
+              std::string::npos)
+        << parsed.error().message;
     EXPECT_EQ(parsed.error().kind, ErrorKind::limit);
     // Adding layers: the budget of a 4096^2 stack with seven paint layers holds one more, not two.
     LayerStack stack;
@@ -631,7 +643,8 @@ TEST(EditorLayers, LayerCountAndSizeAreRefusedBeforeAllocating) {
     EXPECT_TRUE(checkLayerBudget(stack, 1, 2).ok());
     const Status two = checkLayerBudget(stack, 2, 4);
     ASSERT_FALSE(two.ok());
-    EXPECT_NE(two.error().message.find("kMaxLayerSamples"), std::string::npos) << two.error().message;
+    EXPECT_NE(two.error().message.find("kMaxLayerSamples"), std::string::npos)
+        << two.error().message;
     EXPECT_TRUE(checkLayerBudget(stack, 56, 0).ok());  // fill layers cost no images: 63 layers
     EXPECT_FALSE(checkLayerBudget(stack, 58, 0).ok());
 }

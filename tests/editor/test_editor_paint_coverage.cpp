@@ -139,7 +139,8 @@ TEST(EditorPaintCoverage, FillAndStrokeLeaveNoUnpaintedPixelInsideThePaintedRegi
         const TriangleMesh& mesh = *d->assets(0).mesh;
         if (!mesh.hasUvs()) continue;
         ++checked;
-        executeOrFail(*d, makeNewMapCommand(*d, 0, MapChannel::Permeability, kSide, kSide, 0.0, ""));
+        executeOrFail(*d,
+                      makeNewMapCommand(*d, 0, MapChannel::Permeability, kSide, kSide, 0.0, ""));
         const std::vector<CoveredPixel> covered = coveredPixels(mesh, kSide, kSide);
         const std::vector<std::uint32_t> islands = uvIslands(mesh);
 
@@ -156,7 +157,8 @@ TEST(EditorPaintCoverage, FillAndStrokeLeaveNoUnpaintedPixelInsideThePaintedRegi
         std::optional<std::uint32_t> fillIsland;
         for (const auto& [island, pixels] : pixelsOfIsland) {
             if (shared.contains(island) || pixels.size() < 50) continue;
-            if (!fillIsland || pixels.size() > pixelsOfIsland[*fillIsland].size()) fillIsland = island;
+            if (!fillIsland || pixels.size() > pixelsOfIsland[*fillIsland].size())
+                fillIsland = island;
         }
         if (fillIsland) {
             // A point inside the island: the surface point of one of its covered pixels that
@@ -179,12 +181,15 @@ TEST(EditorPaintCoverage, FillAndStrokeLeaveNoUnpaintedPixelInsideThePaintedRegi
                 }
             }
             ASSERT_NE(inside, nullptr);
-            executeOrFail(*d, makeFillIslandCommand(*d, 0, MapChannel::Permeability, inside->point, 1.0, false));
+            executeOrFail(*d, makeFillIslandCommand(*d, 0, MapChannel::Permeability, inside->point,
+                                                    1.0, false));
             std::optional<PaintedMap> map = savedMap(*d);
             ASSERT_TRUE(map);
             std::size_t holes = 0;
-            for (std::uint32_t pixel : pixelsOfIsland[*fillIsland]) holes += map->values[pixel] != 1.0f;
-            EXPECT_EQ(holes, 0u) << "of " << pixelsOfIsland[*fillIsland].size() << " pixels of the filled island";
+            for (std::uint32_t pixel : pixelsOfIsland[*fillIsland])
+                holes += map->values[pixel] != 1.0f;
+            EXPECT_EQ(holes, 0u) << "of " << pixelsOfIsland[*fillIsland].size()
+                                 << " pixels of the filled island";
             ASSERT_TRUE(d->undo());
         }
 
@@ -202,7 +207,8 @@ TEST(EditorPaintCoverage, FillAndStrokeLeaveNoUnpaintedPixelInsideThePaintedRegi
         brush.falloff = Falloff::Constant;
         const Eigen::Vector3d from = covered[covered.size() / 2].point;
         const auto far = std::find_if(covered.begin(), covered.end(), [&](const CoveredPixel& c) {
-            return (c.point - from).norm() > 2 * brush.radius && (c.point - from).norm() < 4 * brush.radius;
+            return (c.point - from).norm() > 2 * brush.radius &&
+                   (c.point - from).norm() < 4 * brush.radius;
         });
         const Eigen::Vector3d to = far != covered.end() ? far->point : from;
         const std::vector<Eigen::Vector3d> points{from, to};
@@ -213,9 +219,10 @@ TEST(EditorPaintCoverage, FillAndStrokeLeaveNoUnpaintedPixelInsideThePaintedRegi
         for (const CoveredPixel& c : covered) {
             if (c.extent > brush.radius / 2) continue;  // a pixel stretched over much surface
             const Eigen::Vector3d segment = to - from;
-            const double t = segment.squaredNorm() > 0
-                                 ? std::clamp((c.point - from).dot(segment) / segment.squaredNorm(), 0.0, 1.0)
-                                 : 0.0;
+            const double t =
+                segment.squaredNorm() > 0
+                    ? std::clamp((c.point - from).dot(segment) / segment.squaredNorm(), 0.0, 1.0)
+                    : 0.0;
             if ((c.point - (from + t * segment)).norm() > brush.radius / 2) continue;
             ++region;
             holes += map->values[c.pixel] != 1.0f;

@@ -50,7 +50,8 @@ protected:
         // A texture a panel shows, whose version the test sets.
         glGenTextures(1, &image_);
         glBindTexture(GL_TEXTURE_2D, image_);
-        const unsigned char texels[16] = {255, 0, 0, 255, 0, 255, 0, 255, 0, 0, 255, 255, 255, 255, 255, 255};
+        const unsigned char texels[16] = {255, 0, 0,   255, 0,   255, 0,   255,
+                                          0,   0, 255, 255, 255, 255, 255, 255};
         glTexImage2D(GL_TEXTURE_2D, 0, GL_RGBA8, 2, 2, 0, GL_RGBA, GL_UNSIGNED_BYTE, texels);
         glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
         glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
@@ -73,7 +74,8 @@ protected:
         ImGui_ImplOpenGL3_NewFrame();
         ImGui::NewFrame();
         const ImGuiWindowFlags fixed = ImGuiWindowFlags_NoMove | ImGuiWindowFlags_NoResize |
-                                       ImGuiWindowFlags_NoCollapse | ImGuiWindowFlags_NoSavedSettings;
+                                       ImGuiWindowFlags_NoCollapse |
+                                       ImGuiWindowFlags_NoSavedSettings;
         // Begun first, so that on the first frame it is behind the panels.
         ImGui::SetNextWindowPos(frame.floatingAt);
         ImGui::SetNextWindowSize(ImVec2(120, 80));
@@ -90,7 +92,8 @@ protected:
         ImGui::SetNextWindowPos(ImVec2(column_.x, 120.5f));
         ImGui::SetNextWindowSize(ImVec2(column_.z - column_.x, 119.5f));
         ImGui::Begin("UV view", nullptr, fixed);
-        ImGui::Image(reinterpret_cast<ImTextureID>(static_cast<std::intptr_t>(image_)), ImVec2(64, 64));
+        ImGui::Image(reinterpret_cast<ImTextureID>(static_cast<std::intptr_t>(image_)),
+                     ImVec2(64, 64));
         ImGui::End();
         ImGui::PopStyleVar();
         if (frame.tooltipOverColumn) {

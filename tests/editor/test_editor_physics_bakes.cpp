@@ -27,14 +27,15 @@ using test::executeOrFail;
 using test::openOrFail;
 
 fs::path sphereProject(const std::string& name, int textureSize) {
-    const fs::path dir = fs::temp_directory_path() / "plimsoll_tests" /
-                         (name + "_" + std::to_string(::getpid()));
+    const fs::path dir =
+        fs::temp_directory_path() / "plimsoll_tests" / (name + "_" + std::to_string(::getpid()));
     fs::remove_all(dir);
     fs::create_directories(dir);
     const fs::path path = dir / "bakes.plim.json";
-    std::ofstream(path) << R"({"schema_version": 1, "name": "t", "bodies": [{"name": "ball", "mesh": ")"
-                        << test::assetPath("sphere.obj").string() << R"(", "texture_size": )"
-                        << textureSize << R"(, "material": {"density": 500}}]})";
+    std::ofstream(path)
+        << R"({"schema_version": 1, "name": "t", "bodies": [{"name": "ball", "mesh": ")"
+        << test::assetPath("sphere.obj").string() << R"(", "texture_size": )" << textureSize
+        << R"(, "material": {"density": 500}}]})";
     return path;
 }
 
@@ -88,7 +89,8 @@ TEST(EditorPhysicsBakes, NewSizeBakesOnAWorkerWhileTheOldSizeStaysInUse) {
     const auto at64 = bakes.texturesFor(*d, 0);
     ASSERT_TRUE(at64);
     // Exactly what the synchronous bake gives.
-    Result<SurfaceTextures> direct = bakeSurfaceTextures(*d->assets(0).mesh, d->physicsBakeSettings(0));
+    Result<SurfaceTextures> direct =
+        bakeSurfaceTextures(*d->assets(0).mesh, d->physicsBakeSettings(0));
     ASSERT_TRUE(direct.ok()) << direct.error().message;
     expectSameTextures(*at64, *direct);
     EXPECT_EQ(at64->size, 64);

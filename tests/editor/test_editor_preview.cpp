@@ -1,7 +1,7 @@
 // The editor's live preview session, headless: play / pause / step / reset and the time scale
 // in frames, the grab spring (the body moves toward the target; momentum change = gravity's
-// impulse + the spring's), settings changed while running, CSV export read back, and the live submerged-volume error
-// against what `plimsoll buoyancy --compare-exact` prints for the same pose.
+// impulse + the spring's), settings changed while running, CSV export read back, and the live
+// submerged-volume error against what `plimsoll buoyancy --compare-exact` prints for the same pose.
 #include "document/document.h"
 #include "document/preview.h"
 #include "view/force_overlay.h"
@@ -36,7 +36,8 @@ namespace fs = std::filesystem;
 using test::ballProject;
 
 std::unique_ptr<PreviewSession> makeSession(const Project& project) {
-    Result<std::unique_ptr<PreviewSession>> s = PreviewSession::create(test::sceneOrFail(project), "reference");
+    Result<std::unique_ptr<PreviewSession>> s =
+        PreviewSession::create(test::sceneOrFail(project), "reference");
     EXPECT_TRUE(s.ok()) << (s.ok() ? "" : s.error().message);
     return s.ok() ? std::move(*s) : nullptr;
 }
@@ -94,7 +95,8 @@ TEST(PreviewSession, PlayPauseStepResetAndTimeScaleCountFrames) {
     ASSERT_TRUE(session->reset().ok());
     EXPECT_EQ(session->world().time(), 0.0);
     EXPECT_LT((session->world().bodies()[0].state.position - start.position).norm(), 1e-12);
-    EXPECT_LT((session->world().bodies()[0].state.linearMomentum - start.linearMomentum).norm(), 1e-12);
+    EXPECT_LT((session->world().bodies()[0].state.linearMomentum - start.linearMomentum).norm(),
+              1e-12);
     EXPECT_TRUE(session->history().time.empty());
 }
 
@@ -132,7 +134,9 @@ TEST(PreviewSession, GrabSpringPullsTheBodyTowardTheTargetAndItsImpulseIsTheMome
     const Eigen::Vector3d p0 = session->world().bodies()[0].state.linearMomentum;
     ASSERT_TRUE(session->step().ok());
     EXPECT_LT((session->world().bodies()[0].state.linearMomentum - p0 -
-               m * g * session->scene().simulation.timeStep).norm(), 1e-9);
+               m * g * session->scene().simulation.timeStep)
+                  .norm(),
+              1e-9);
 }
 
 TEST(PreviewSession, OffCentreGrabTurnsTheBody) {
@@ -256,7 +260,8 @@ TEST(PreviewSession, FirstHistoryRowHoldsTheFirstFramesBuoyancyNotZero) {
     // Within a frame the ball sinks ~1 mm; the faceted sphere and the 64^2 bake a few %.
     EXPECT_NEAR(volume->values[0], cap, 0.06 * cap);
     EXPECT_GT(h.find("ball buoyancy")->values[0], 0.5 * 1000 * 9.81 * cap);
-    const fs::path path = fs::temp_directory_path() / ("first_row_" + std::to_string(::getpid()) + ".csv");
+    const fs::path path =
+        fs::temp_directory_path() / ("first_row_" + std::to_string(::getpid()) + ".csv");
     ASSERT_TRUE(writeHistoryCsv(h, {"ball submerged volume"}, path).ok());
     std::ifstream in(path);
     std::string header, first;
@@ -281,7 +286,8 @@ TEST(PreviewSession, HistoryExportsAsCsvThatReadsBack) {
     const PlotSeries* volume = h.find("ball submerged volume");
     ASSERT_TRUE(volume);
     ASSERT_TRUE(h.find("ball heel") && h.find("ball trim") && h.find("ball buoyancy"));
-    const fs::path path = fs::temp_directory_path() / ("preview_" + std::to_string(::getpid()) + ".csv");
+    const fs::path path =
+        fs::temp_directory_path() / ("preview_" + std::to_string(::getpid()) + ".csv");
     ASSERT_TRUE(writeHistoryCsv(h, {"ball submerged volume", "ball height"}, path).ok());
     std::ifstream in(path);
     std::string line;
@@ -320,7 +326,8 @@ TEST(PreviewSession, HeelAndTrimOfKnownRotations) {
 }
 
 TEST(PreviewSession, LiveVolumeErrorEqualsWhatPlimsollBuoyancyPrints) {
-    Result<Project> project = loadProject(fs::path(PLIMSOLL_SOURCE_DIR) / "projects/buoy.plim.json");
+    Result<Project> project =
+        loadProject(fs::path(PLIMSOLL_SOURCE_DIR) / "projects/buoy.plim.json");
     ASSERT_TRUE(project.ok()) << project.error().message;
     // Dropped from above and tilted: a pose out of equilibrium, partly submerged.
     project->bodies[0].position = Eigen::Vector3d(0.1, 0.6, -0.2);
@@ -340,9 +347,9 @@ TEST(PreviewSession, LiveVolumeErrorEqualsWhatPlimsollBuoyancyPrints) {
                   "--position=%.17g,%.17g,%.17g --rotation-deg=%.17g,%.17g,%.17g "
                   "--fluid-density %.17g --compare-exact --json",
                   (fs::path(PLIMSOLL_SOURCE_DIR) / "assets/buoy.obj").c_str(),
-                  project->bodies[0].textureSize, project->water.level,
-                  pose.translation.x(), pose.translation.y(), pose.translation.z(), degrees.x(),
-                  degrees.y(), degrees.z(), project->medium.density);
+                  project->bodies[0].textureSize, project->water.level, pose.translation.x(),
+                  pose.translation.y(), pose.translation.z(), degrees.x(), degrees.y(), degrees.z(),
+                  project->medium.density);
     const test::CommandOutput cli = test::runPlimsoll(args);
     ASSERT_EQ(cli.exitCode, 0) << cli.err;
     const nlohmann::json printed = nlohmann::json::parse(cli.out);
@@ -350,7 +357,8 @@ TEST(PreviewSession, LiveVolumeErrorEqualsWhatPlimsollBuoyancyPrints) {
     EXPECT_NEAR(printed["submerged_volume"].get<double>(), live->texture, tolerance);
     EXPECT_NEAR(printed["exact_submerged_volume"].get<double>(), live->exact, tolerance);
     EXPECT_NEAR(printed["submerged_volume_error"].get<double>(), live->error, tolerance);
-    EXPECT_NEAR(printed["submerged_volume_relative_error"].get<double>(), live->relativeError, 1e-9);
+    EXPECT_NEAR(printed["submerged_volume_relative_error"].get<double>(), live->relativeError,
+                1e-9);
     // And the figure means something: a 128^2 bake is within a few percent of exact.
     EXPECT_LT(std::abs(live->relativeError), 0.05);
     std::cout << "buoy 128^2 submerged volume " << live->texture << " m^3, exact " << live->exact
@@ -404,7 +412,8 @@ TEST(PreviewSession, TheDocumentAsEditedGoesToTheWorldInMemory) {
 TEST(ForceOverlay, WaterlineOfABoxIsItsPerimeterAtTheWaterHeight) {
     const TriangleMesh box = makeBox(Eigen::Vector3d(1.0, 0.6, 2.0));
     // Turned about y (the waterline stays a 1 x 2 rectangle), raised so the water at 0.1 cuts it.
-    const Pose pose = Pose::fromEulerDegrees(Eigen::Vector3d(3, 0.05, -1), Eigen::Vector3d(0, 35, 0));
+    const Pose pose =
+        Pose::fromEulerDegrees(Eigen::Vector3d(3, 0.05, -1), Eigen::Vector3d(0, 35, 0));
     const std::vector<OverlaySegment> line = waterlineOf(box, pose, WaterModel::flat(0.1), 0.0);
     double length = 0;
     for (const OverlaySegment& s : line) {
@@ -433,7 +442,9 @@ TEST(ForceOverlay, ArrowsAreWeightAtTheCentreOfMassAndBuoyancyInProportion) {
     ASSERT_TRUE(weight && buoyancy);
     EXPECT_LT((weight->from - body.state.position).norm(), 1e-12);
     // The weight's arrow is half the bounding radius long, straight down.
-    EXPECT_LT((weight->to - weight->from - Eigen::Vector3d(0, -0.5 * body.boundingRadius, 0)).norm(), 1e-9);
+    EXPECT_LT(
+        (weight->to - weight->from - Eigen::Vector3d(0, -0.5 * body.boundingRadius, 0)).norm(),
+        1e-9);
     EXPECT_LT((buoyancy->from - body.buoyancy.centerOfBuoyancy).norm(), 1e-12);
     const double ratio = body.buoyancy.force.norm() / (body.mass.mass * 9.81);
     EXPECT_NEAR((buoyancy->to - buoyancy->from).norm(), 0.5 * ratio * body.boundingRadius, 1e-9);
@@ -445,7 +456,7 @@ TEST(ForceOverlay, WetTexelsAreTheSubmergedShareOfTheSurface) {
     auto session = makeSession(ballProject(0.0, Eigen::Vector3d(0, -9.81, 0)));
     ASSERT_TRUE(session);
     SimulatedBody body = session->world().bodies()[0];  // a copy to place by hand
-    body.state.position = body.mass.centerOfMass;      // the sphere's centre on the water
+    body.state.position = body.mass.centerOfMass;       // the sphere's centre on the water
     body.state.orientation = Eigen::Quaterniond::Identity();
     const OverlayImage image = wetTexelOverlay(body, WaterModel::flat(0.0), 0.0);
     ASSERT_EQ(image.width, body.textures.size);
@@ -453,8 +464,8 @@ TEST(ForceOverlay, WetTexelsAreTheSubmergedShareOfTheSurface) {
     const Eigen::Vector3i wetColour = (kWetColour * 255.0f).array().round().cast<int>();
     for (std::size_t i = 0; i < body.textures.coveredCount(); ++i) {
         const std::size_t texel = body.textures.texelIndex[i];
-        const bool isWet = image.rgba[4 * texel] == wetColour.x() &&
-                           image.rgba[4 * texel + 1] == wetColour.y();
+        const bool isWet =
+            image.rgba[4 * texel] == wetColour.x() && image.rgba[4 * texel + 1] == wetColour.y();
         total += body.textures.area[i];
         wet += isWet ? body.textures.area[i] : 0.0;
     }
@@ -494,8 +505,8 @@ TEST(ForceOverlay, WetTexelsOfALargeTextureAreShownAtTheCappedSize) {
         const std::size_t texel = (index / 512 / 2) * kWetOverlayMaxSize + (index % 512) / 2;
         if (firstEntry[texel] < 0) firstEntry[texel] = static_cast<int>(i);
     }
-    const auto shownTexels = static_cast<std::size_t>(std::count_if(
-        firstEntry.begin(), firstEntry.end(), [](int e) { return e >= 0; }));
+    const auto shownTexels = static_cast<std::size_t>(
+        std::count_if(firstEntry.begin(), firstEntry.end(), [](int e) { return e >= 0; }));
     ASSERT_EQ(samples.entries.size(), shownTexels);
     ASSERT_EQ(samples.texels.size(), shownTexels);
     for (std::size_t k = 0; k < samples.entries.size(); ++k) {

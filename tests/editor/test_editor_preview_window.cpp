@@ -54,8 +54,8 @@ Eigen::Vector3d vec(const nlohmann::json& j) {
 /// The sample buoy project in a fresh folder `name`, its files made absolute, dropped from
 /// 0.3 m above where the project starts it.
 fs::path buoyProject(const std::string& name) {
-    const fs::path dir = fs::temp_directory_path() / "plimsoll_tests" /
-                         (name + "_" + std::to_string(::getpid()));
+    const fs::path dir =
+        fs::temp_directory_path() / "plimsoll_tests" / (name + "_" + std::to_string(::getpid()));
     fs::remove_all(dir);
     fs::create_directories(dir);
     const fs::path source = fs::path(PLIMSOLL_SOURCE_DIR) / "projects";
@@ -91,9 +91,10 @@ std::optional<nlohmann::json> rebakeRun(const std::string& name, const std::stri
     }
     const fs::path file = buoyProject(name);
     const test::CommandOutput run = test::runPlimsoll(
-        "edit '" + file.string() + "' --frames " + std::to_string(kMaxRebakeFrames) + " --preview " + option +
-            " " + std::to_string(kNewSize) + " "
-        "--window-size 1024x640 --view front --overlay coverage",
+        "edit '" + file.string() + "' --frames " + std::to_string(kMaxRebakeFrames) +
+            " --preview " + option + " " + std::to_string(kNewSize) +
+            " "
+            "--window-size 1024x640 --view front --overlay coverage",
         test::xvfbRun(file.parent_path()));
     if (run.exitCode != 0 && run.err.find("built without the editor window") != std::string::npos) {
         skip = run.err;
@@ -103,9 +104,10 @@ std::optional<nlohmann::json> rebakeRun(const std::string& name, const std::stri
     if (run.exitCode != 0) return std::nullopt;
     nlohmann::json report = nlohmann::json::parse(run.out);
     const nlohmann::json& rebake = report["rebake"];
-    std::cout << option << " " << kNewSize << ": " << rebake["frames_while_baking"] << " frames drawn while it baked, "
-              << "the longest " << rebake["frame_ms_max_while_baking"] << " ms (" << report["gl_renderer"]
-              << ")\n";
+    std::cout << option << " " << kNewSize << ": " << rebake["frames_while_baking"]
+              << " frames drawn while it baked, "
+              << "the longest " << rebake["frame_ms_max_while_baking"] << " ms ("
+              << report["gl_renderer"] << ")\n";
     EXPECT_EQ(rebake["error"], "");
     EXPECT_EQ(rebake["texture_size"], kNewSize) << "the preview never swapped the new size in";
     EXPECT_GE(rebake["frames_while_baking"].get<int>(), 3);
@@ -124,7 +126,8 @@ TEST(EditorPreviewWindow, InspectorTextureSizeBakesOnAWorkerWhileFramesKeepComin
     // inspector's own path with the preview running, the document's textures bake on a worker
     // and the preview rebakes the body in the background, the old size running meanwhile.
     std::string skip;
-    const std::optional<nlohmann::json> report = rebakeRun("inspector_rebake", "--inspector-texture-size", skip);
+    const std::optional<nlohmann::json> report =
+        rebakeRun("inspector_rebake", "--inspector-texture-size", skip);
     if (!report && !skip.empty()) GTEST_SKIP() << skip;
     ASSERT_TRUE(report);
     const nlohmann::json& rebake = (*report)["rebake"];
@@ -186,7 +189,8 @@ TEST(EditorPreviewWindow, BuoyMovesAndForceArrowsShowUnderXvfb) {
     // differ around the buoy, more than elsewhere in the view.
     const Eigen::Vector3d comEarly = vec(first["bodies"][0]["center_of_mass"]);
     const Eigen::Vector3d comLate = vec(second["bodies"][0]["center_of_mass"]);
-    EXPECT_GT((comEarly - comLate).norm(), 0.02) << comEarly.transpose() << " / " << comLate.transpose();
+    EXPECT_GT((comEarly - comLate).norm(), 0.02)
+        << comEarly.transpose() << " / " << comLate.transpose();
     auto differing = [&](const Eigen::Vector2d& centre, double half) {
         int n = 0;
         for (int y = int(centre.y() - half); y < int(centre.y() + half); ++y) {
@@ -197,7 +201,8 @@ TEST(EditorPreviewWindow, BuoyMovesAndForceArrowsShowUnderXvfb) {
         }
         return n;
     };
-    const double halfBuoy = (pixelOf(comEarly + Eigen::Vector3d(0.5, 0, 0)) - pixelOf(comEarly)).norm();
+    const double halfBuoy =
+        (pixelOf(comEarly + Eigen::Vector3d(0.5, 0, 0)) - pixelOf(comEarly)).norm();
     const int nearBuoy = differing(pixelOf(0.5 * (comEarly + comLate)), halfBuoy);
     EXPECT_GT(nearBuoy, 300) << "the screenshots should differ where the buoy moved";
 
@@ -220,7 +225,8 @@ TEST(EditorPreviewWindow, BuoyMovesAndForceArrowsShowUnderXvfb) {
             for (double t = 0.15; t <= 0.75; t += 0.05) {
                 const Eigen::Vector2d m = p + t * (q - p);
                 // Drawn over the panels too, but clipped to the view.
-                if (m.x() < vx + 6 || m.y() < vy + 6 || m.x() > vx + vw - 6 || m.y() > vy + vh - 6) continue;
+                if (m.x() < vx + 6 || m.y() < vy + 6 || m.x() > vx + vw - 6 || m.y() > vy + vh - 6)
+                    continue;
                 ++samples;
                 bool hit = false;
                 // The weight drawn 3 px wide on top, buoyancy 9 px wide below it.
@@ -234,9 +240,8 @@ TEST(EditorPreviewWindow, BuoyMovesAndForceArrowsShowUnderXvfb) {
                 found += hit;
             }
             EXPECT_GE(samples, 5) << "the arrow should be in the view";
-            EXPECT_GE(found, samples - 1)
-                << (weight ? "weight" : "buoyancy") << " arrow from " << p.transpose() << " to "
-                << q.transpose();
+            EXPECT_GE(found, samples - 1) << (weight ? "weight" : "buoyancy") << " arrow from "
+                                          << p.transpose() << " to " << q.transpose();
             (weight ? red : green) += 1;
         }
         EXPECT_EQ(red, 1);

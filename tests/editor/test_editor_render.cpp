@@ -41,14 +41,15 @@ Image loadRgb(const fs::path& path) {
 }
 
 TEST(EditorRender, OverlayColoursWhereThePaintedRegionProjects) {
-    const fs::path dir = fs::temp_directory_path() / "plimsoll_tests" /
-                         ("render_" + std::to_string(::getpid()));
+    const fs::path dir =
+        fs::temp_directory_path() / "plimsoll_tests" / ("render_" + std::to_string(::getpid()));
     fs::remove_all(dir);
     fs::create_directories(dir);
     const fs::path project = dir / "ball.plim.json";
-    std::ofstream(project) << R"({"schema_version": 1, "name": "ball", "bodies": [{"name": "ball", "mesh": ")"
-                           << test::assetPath("sphere.obj").string()
-                           << R"(", "material": {"density": 500}, "position": [0.2, 0.1, 0]}]})";
+    std::ofstream(project)
+        << R"({"schema_version": 1, "name": "ball", "bodies": [{"name": "ball", "mesh": ")"
+        << test::assetPath("sphere.obj").string()
+        << R"(", "material": {"density": 500}, "position": [0.2, 0.1, 0]}]})";
     // Paint a spot of radius 0.2 m around the point of the sphere nearest the front camera.
     const fs::path script = dir / "paint.json";
     std::ofstream(script) << R"([
@@ -101,12 +102,12 @@ TEST(EditorRender, OverlayColoursWhereThePaintedRegionProjects) {
     }
     EXPECT_GT(checked, 10);
     // Outside it (more than 0.25 m away, still facing the camera): the colour for 0 (blue).
-    for (const Eigen::Vector3d& p : {onSphere(0.35, 0.2), onSphere(-0.35, -0.2), onSphere(0.0, 0.4),
-                                     onSphere(-0.4, 0.1)}) {
+    for (const Eigen::Vector3d& p :
+         {onSphere(0.35, 0.2), onSphere(-0.35, -0.2), onSphere(0.0, 0.4), onSphere(-0.4, 0.1)}) {
         ASSERT_GT((p - Eigen::Vector3d(0, 0, 0.5)).norm(), 0.25);
         const Eigen::Vector3i c = image.at(pixelOf(p));
-        EXPECT_GT(c.z(), c.x() + 60) << "bare point " << p.transpose() << " colour "
-                                     << c.transpose();
+        EXPECT_GT(c.z(), c.x() + 60)
+            << "bare point " << p.transpose() << " colour " << c.transpose();
     }
     // Beyond the silhouette (0.55 m from the centre on screen): the background.
     for (const Eigen::Vector3d& p : {Eigen::Vector3d(0.55, 0, 0), Eigen::Vector3d(-0.4, 0.4, 0),
@@ -127,9 +128,9 @@ TEST(EditorRender, WritesTheRequestedSizeForEveryViewAndOverlay) {
     const std::string project = std::string(PLIMSOLL_SOURCE_DIR) + "/projects/buoy.plim.json";
     for (const char* view : {"side", "top", "persp"}) {
         const fs::path shot = dir / (std::string(view) + ".png");
-        const test::CommandOutput r = test::runPlimsoll(
-            "render '" + project + "' --out '" + shot.string() + "' --view " + view +
-            " --overlay area --size 64x48");
+        const test::CommandOutput r =
+            test::runPlimsoll("render '" + project + "' --out '" + shot.string() + "' --view " +
+                              view + " --overlay area --size 64x48");
         if (test::cannotRender(r)) {
             GTEST_SKIP() << r.err;
         }
@@ -138,8 +139,8 @@ TEST(EditorRender, WritesTheRequestedSizeForEveryViewAndOverlay) {
         EXPECT_EQ(image.width, 64);
         EXPECT_EQ(image.height, 48);
     }
-    const test::CommandOutput bad = test::runPlimsoll(
-        "render '" + project + "' --out '" + (dir / "x.png").string() + "' --size 12by3");
+    const test::CommandOutput bad = test::runPlimsoll("render '" + project + "' --out '" +
+                                                      (dir / "x.png").string() + "' --size 12by3");
     EXPECT_EQ(bad.exitCode, 2);
 }
 

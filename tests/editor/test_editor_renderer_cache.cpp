@@ -27,8 +27,8 @@ namespace test_editor_renderer_cache {
 namespace {
 
 struct Difference {
-    std::size_t pixels = 0;     ///< pixels with any channel off by more than `tolerance`
-    int largest = 0;            ///< the largest channel difference anywhere
+    std::size_t pixels = 0;  ///< pixels with any channel off by more than `tolerance`
+    int largest = 0;         ///< the largest channel difference anywhere
 };
 
 Difference compare(const std::vector<std::uint8_t>& a, const std::vector<std::uint8_t>& b,
@@ -36,7 +36,8 @@ Difference compare(const std::vector<std::uint8_t>& a, const std::vector<std::ui
     Difference d;
     for (std::size_t p = 0; p + 3 < a.size(); p += 4) {
         int worst = 0;
-        for (int c = 0; c < 3; ++c) worst = std::max(worst, std::abs(int(a[p + c]) - int(b[p + c])));
+        for (int c = 0; c < 3; ++c)
+            worst = std::max(worst, std::abs(int(a[p + c]) - int(b[p + c])));
         d.largest = std::max(d.largest, worst);
         if (worst > tolerance) ++d.pixels;
     }
@@ -97,9 +98,9 @@ TEST_F(EditorRenderer, KeptSceneCopiesTheSamePixelsTheRightWayUp) {
         renderer->draw(scene, camera, width, height);
         return target->readRgba();
     };
-    const std::vector<std::uint8_t> direct = drawOnce();   // a new scene: drawn
-    const std::vector<std::uint8_t> kept = drawOnce();     // the same again: kept and copied
-    const std::vector<std::uint8_t> copied = drawOnce();   // and again: copied only
+    const std::vector<std::uint8_t> direct = drawOnce();  // a new scene: drawn
+    const std::vector<std::uint8_t> kept = drawOnce();    // the same again: kept and copied
+    const std::vector<std::uint8_t> copied = drawOnce();  // and again: copied only
     EXPECT_EQ(renderer->framesDrawn(), 2u);
     EXPECT_EQ(renderer->framesCopied(), 1u);
 
@@ -167,7 +168,8 @@ TEST_F(EditorRenderer, OpaqueClosedSolidsLoseOnlyTheBackFacesNoOneSees) {
             // The same scene again is kept: drawn upside down, where the winding turns.
             target->bind();
             renderer->draw(scene, camera, width, height);
-            EXPECT_LT(compare(target->readRgba(), image, 8).pixels, std::size_t(width * height / 200));
+            EXPECT_LT(compare(target->readRgba(), image, 8).pixels,
+                      std::size_t(width * height / 200));
         }
         return image;
     };
@@ -217,8 +219,9 @@ TEST_F(EditorRenderer, WaterTintsExactlyWhatTheCppTwinSeesThroughIt) {
         const WaterModel* water;
         double pitch, targetY;
     };
-    for (const Case& c : {Case{"flat, from above", &flat, 0.2, 0.0}, Case{"waves, from above", &waves, 0.25, 0.0},
-                          Case{"waves, from below", &waves, -0.2, -0.6}}) {
+    for (const Case& c :
+         {Case{"flat, from above", &flat, 0.2, 0.0}, Case{"waves, from above", &waves, 0.25, 0.0},
+          Case{"waves, from below", &waves, -0.2, -0.6}}) {
         SCOPED_TRACE(c.name);
         Camera camera;
         camera.distance = 3.0;
@@ -248,7 +251,8 @@ TEST_F(EditorRenderer, WaterTintsExactlyWhatTheCppTwinSeesThroughIt) {
                 const double b = o.dot(direction), disc = b * b - (o.squaredNorm() - 0.25);
                 Answer& a = answer[std::size_t(y) * width + x];
                 if (disc >= 0 && -b - std::sqrt(disc) > 0) {
-                    a = view.seenThrough(origin + direction * (-b - std::sqrt(disc))) ? BodyThrough : BodyPlain;
+                    a = view.seenThrough(origin + direction * (-b - std::sqrt(disc))) ? BodyThrough
+                                                                                      : BodyPlain;
                 } else {
                     a = view.backgroundSeenThrough(origin, direction) ? SkyThrough : SkyPlain;
                 }
@@ -267,7 +271,8 @@ TEST_F(EditorRenderer, WaterTintsExactlyWhatTheCppTwinSeesThroughIt) {
                 if (!settled) continue;
                 ++counted[a];
                 const std::size_t p = (std::size_t(y) * width + x) * 4;
-                const Eigen::Vector3f plain(dry[p] / 255.0f, dry[p + 1] / 255.0f, dry[p + 2] / 255.0f);
+                const Eigen::Vector3f plain(dry[p] / 255.0f, dry[p + 1] / 255.0f,
+                                            dry[p + 2] / 255.0f);
                 const Eigen::Vector3f expected =
                     (a == SkyThrough || a == BodyThrough)
                         ? throughWater(plain, Renderer::kWaterColour, Renderer::kWaterOpacity)

@@ -15,7 +15,8 @@ WaterModel waves() {
     WaterModel w;
     w.kind = WaterModel::Kind::Gerstner;
     w.level = 0.2;
-    w.waves = {GerstnerWave{0.3, 7.0, {1.0, 0.4}, 0.5, 0.3}, GerstnerWave{0.1, 3.0, {-0.2, 1.0}, 0.3, 1.0}};
+    w.waves = {GerstnerWave{0.3, 7.0, {1.0, 0.4}, 0.5, 0.3},
+               GerstnerWave{0.1, 3.0, {-0.2, 1.0}, 0.3, 1.0}};
     return w;
 }
 
@@ -65,7 +66,8 @@ TEST(WaterView, TheBackdropSplitsAtTheHorizon) {
         ASSERT_FALSE(view.below(camera.eye()));
         // Seen from above the water, the horizon is tan(pitch) / tan(fov / 2) of the half
         // height above the centre: the sky above it, the water below.
-        const double horizonRow = 0.5 * height * (1.0 - std::tan(pitch) / std::tan(camera.fovY / 2));
+        const double horizonRow =
+            0.5 * height * (1.0 - std::tan(pitch) / std::tan(camera.fovY / 2));
         const WaterView::Backdrop b = view.backdrop(width, height);
         EXPECT_FALSE(b.topSeenThrough);
         EXPECT_NEAR(b.split, horizonRow, 1.0) << "pitch " << pitch;

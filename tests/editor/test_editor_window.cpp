@@ -34,15 +34,16 @@ TEST(EditorWindow, ScreenshotUnderXvfbShowsUiAndMeshWhereTheCameraPutsIt) {
     if (std::system("command -v xvfb-run >/dev/null 2>&1") != 0) {
         GTEST_SKIP() << "xvfb-run is not installed";
     }
-    const fs::path dir = fs::temp_directory_path() / "plimsoll_tests" /
-                         ("window_" + std::to_string(::getpid()));
+    const fs::path dir =
+        fs::temp_directory_path() / "plimsoll_tests" / ("window_" + std::to_string(::getpid()));
     fs::remove_all(dir);
     fs::create_directories(dir);
     const fs::path project = dir / "window.plim.json";
     // The water far below, so that the front view sees it edge-on outside the picture.
     std::ofstream(project) << R"({"schema_version": 1, "name": "window",
         "water": {"model": "flat", "level": -5},
-        "bodies": [{"name": "ball", "mesh": ")" << test::assetPath("sphere.obj").string()
+        "bodies": [{"name": "ball", "mesh": ")"
+                           << test::assetPath("sphere.obj").string()
                            << R"(", "material": {"density": 500}, "position": [0.3, 1.0, 0]}]})";
     const fs::path shot = dir / "window.png";
     const std::string environment = test::xvfbRun(dir);
@@ -67,7 +68,8 @@ TEST(EditorWindow, ScreenshotUnderXvfbShowsUiAndMeshWhereTheCameraPutsIt) {
     ASSERT_EQ(width, 1024);
     ASSERT_EQ(height, 640);
     auto at = [&](double x, double y) {
-        const std::size_t i = 3 * (static_cast<std::size_t>(y) * width + static_cast<std::size_t>(x));
+        const std::size_t i =
+            3 * (static_cast<std::size_t>(y) * width + static_cast<std::size_t>(x));
         return Eigen::Vector3i(rgb[i], rgb[i + 1], rgb[i + 2]);
     };
 
@@ -89,18 +91,21 @@ TEST(EditorWindow, ScreenshotUnderXvfbShowsUiAndMeshWhereTheCameraPutsIt) {
     // On the ball (inside its outline, 0.4 m from the centre at most): the selected body's
     // colour (0.80, 0.78, 0.72) times its lighting.
     for (const Eigen::Vector3d& offset :
-         {Eigen::Vector3d(0, 0, 0.5), Eigen::Vector3d(0.35, 0.2, 0.3), Eigen::Vector3d(-0.3, -0.25, 0.3),
-          Eigen::Vector3d(0.1, 0.4, 0.25), Eigen::Vector3d(-0.4, 0.0, 0.3)}) {
+         {Eigen::Vector3d(0, 0, 0.5), Eigen::Vector3d(0.35, 0.2, 0.3),
+          Eigen::Vector3d(-0.3, -0.25, 0.3), Eigen::Vector3d(0.1, 0.4, 0.25),
+          Eigen::Vector3d(-0.4, 0.0, 0.3)}) {
         const Eigen::Vector2d p = pixelOf(centre + offset);
         const Eigen::Vector3i c = at(p.x(), p.y());
-        EXPECT_GT(c.x(), 85) << "mesh expected at " << p.transpose() << ", colour " << c.transpose();
+        EXPECT_GT(c.x(), 85) << "mesh expected at " << p.transpose() << ", colour "
+                             << c.transpose();
         EXPECT_NEAR(c.y(), c.x() * 0.78 / 0.80, 4);
         EXPECT_NEAR(c.z(), c.x() * 0.72 / 0.80, 4);
     }
     // Just outside its outline (0.6 m from the centre, off the grid line and the y axis): the
     // view's background.
-    for (const Eigen::Vector3d& offset : {Eigen::Vector3d(0.62, 0.0, 0), Eigen::Vector3d(-0.62, 0.1, 0),
-                                          Eigen::Vector3d(0.0, 0.62, 0), Eigen::Vector3d(0.45, -0.45, 0)}) {
+    for (const Eigen::Vector3d& offset :
+         {Eigen::Vector3d(0.62, 0.0, 0), Eigen::Vector3d(-0.62, 0.1, 0),
+          Eigen::Vector3d(0.0, 0.62, 0), Eigen::Vector3d(0.45, -0.45, 0)}) {
         const Eigen::Vector2d p = pixelOf(centre + offset);
         const Eigen::Vector3i c = at(p.x(), p.y());
         EXPECT_NEAR(c.x(), 51, 3) << "background expected at " << p.transpose();
@@ -128,13 +133,14 @@ TEST(EditorWindow, ScreenshotUnderXvfbShowsUiAndMeshWhereTheCameraPutsIt) {
 /// A project of one ball in a fresh folder, for the interactive runs below; `height` above its
 /// floating place (it falls and bobs in a preview).
 fs::path ballProject(const std::string& name, double height = 0.0) {
-    const fs::path dir = fs::temp_directory_path() / "plimsoll_tests" /
-                         (name + "_" + std::to_string(::getpid()));
+    const fs::path dir =
+        fs::temp_directory_path() / "plimsoll_tests" / (name + "_" + std::to_string(::getpid()));
     fs::remove_all(dir);
     fs::create_directories(dir);
     const fs::path project = dir / "ball.plim.json";
     std::ofstream(project) << R"({"schema_version": 1, "name": "ball",
-        "bodies": [{"name": "ball", "mesh": ")" << test::assetPath("sphere.obj").string()
+        "bodies": [{"name": "ball", "mesh": ")"
+                           << test::assetPath("sphere.obj").string()
                            << R"(", "material": {"density": 500}, "position": [0, )" << height
                            << R"(, 0]}]})";
     return project;
@@ -180,8 +186,9 @@ TEST(EditorWindow, IdleEditorSleepsInsteadOfRedrawing) {
     // events: over 2 s after start-up it draws no frame and uses next to no CPU.
     if (!haveWindowTools(false)) GTEST_SKIP() << "xvfb-run is not installed";
     const fs::path project = ballProject("window_idle");
-    const std::string out = runUnderXvfb(project.parent_path(),
-                                         "$PLIMSOLL edit ball.plim.json --run-seconds 3 --window-size 800x500");
+    const std::string out =
+        runUnderXvfb(project.parent_path(),
+                     "$PLIMSOLL edit ball.plim.json --run-seconds 3 --window-size 800x500");
     if (out.empty()) GTEST_SKIP() << "no editor window in this build or no X server";
     const nlohmann::json report = nlohmann::json::parse(out);
     EXPECT_LE(report["frames_after_first_second"].get<int>(), 2);
@@ -195,8 +202,9 @@ TEST(EditorWindow, AnimatingEditorIsPacedToTheDisplayWithoutVsync) {
     // about 120 in 2 s (a loaded machine draws fewer, never more), and still animates.
     if (!haveWindowTools(false)) GTEST_SKIP() << "xvfb-run is not installed";
     const fs::path project = ballProject("window_paced", 0.3);
-    const std::string out = runUnderXvfb(project.parent_path(),
-                                         "$PLIMSOLL edit ball.plim.json --preview --run-seconds 3 --window-size 800x500");
+    const std::string out = runUnderXvfb(
+        project.parent_path(),
+        "$PLIMSOLL edit ball.plim.json --preview --run-seconds 3 --window-size 800x500");
     if (out.empty()) GTEST_SKIP() << "no editor window in this build or no X server";
     const nlohmann::json report = nlohmann::json::parse(out);
     ASSERT_TRUE(report["preview_running"].get<bool>());
@@ -257,14 +265,16 @@ std::string dragAlong(int y, std::initializer_list<int> xs) {
 /// released at the last; the caller waits for what the release does.
 std::string dragThrough(const std::vector<std::pair<int, int>>& points) {
     std::string drag = pressAt(points.front().first, points.front().second);
-    for (std::size_t i = 1; i < points.size(); ++i) drag += moveTo(points[i].first, points[i].second);
+    for (std::size_t i = 1; i < points.size(); ++i)
+        drag += moveTo(points[i].first, points[i].second);
     return drag + "xdotool mouseup 1; ";
 }
 
 /// A fresh copy of the damaged boat sample (its mesh and map in assets/, the project and its
 /// graph in projects/) under a folder of the temporary directory; the project file.
 fs::path damagedBoatCopy(const std::string& name) {
-    const fs::path root = fs::temp_directory_path() / "plimsoll_tests" / (name + "_" + std::to_string(::getpid()));
+    const fs::path root =
+        fs::temp_directory_path() / "plimsoll_tests" / (name + "_" + std::to_string(::getpid()));
     fs::remove_all(root);
     const fs::path source = PLIMSOLL_SOURCE_DIR;
     fs::create_directories(root / "assets");
@@ -323,18 +333,18 @@ TEST(EditorWindow, XWithTheWaterGraphOpenLeavesTheBrushMirrorAlone) {
     for (const char* file : {"damaged_boat.plim.json", "boat.graph.json"})
         fs::copy_file(source / "projects" / file, root / "projects" / file);
     // 800 x 500: the Water graph panel's title bar, collapsed, spans (17..355, 41..57).
-    const std::string out = runUnderXvfb(
-        root / "projects",
-        "$PLIMSOLL edit damaged_boat.plim.json --run-seconds 60 --window-size 800x500 "
-        "--state-file state.json & " +
-            kWaitForState + clickAt(28, 49) + waitFor("\"name\":\"Water graph\"") +
-            "xdotool key --window $w --delay 0 x b; " + waitFor("\"tool\":1") +
-            "xdotool key --window $w ctrl+q; wait");
+    const std::string out =
+        runUnderXvfb(root / "projects",
+                     "$PLIMSOLL edit damaged_boat.plim.json --run-seconds 60 --window-size 800x500 "
+                     "--state-file state.json & " +
+                         kWaitForState + clickAt(28, 49) + waitFor("\"name\":\"Water graph\"") +
+                         "xdotool key --window $w --delay 0 x b; " + waitFor("\"tool\":1") +
+                         "xdotool key --window $w ctrl+q; wait");
     if (out.empty()) GTEST_SKIP() << "no editor window in this build or no X server";
     const nlohmann::json report = nlohmann::json::parse(out);
     EXPECT_LT(report["seconds"].get<double>(), 59.0) << "Ctrl+Q was not seen";
-    EXPECT_EQ(report["tool"], 1);           // b: Brush, after x
-    EXPECT_EQ(report["mirror_x"], false);   // x went to the graph
+    EXPECT_EQ(report["tool"], 1);          // b: Brush, after x
+    EXPECT_EQ(report["mirror_x"], false);  // x went to the graph
 }
 
 TEST(EditorWindow, KeyTapsShorterThanAFrameAllCount) {
@@ -353,11 +363,11 @@ TEST(EditorWindow, KeyTapsShorterThanAFrameAllCount) {
     if (out.empty()) GTEST_SKIP() << "no editor window in this build or no X server";
     const nlohmann::json report = nlohmann::json::parse(out);
     EXPECT_LT(report["seconds"].get<double>(), 29.0) << "Ctrl+Q was not seen";
-    EXPECT_EQ(report["view"], "Side (orthographic)");   // 3
-    EXPECT_EQ(report["tool"], 1);                       // b: Brush
-    EXPECT_EQ(report["mirror_x"], true);                // x (the graph panel is closed)
-    EXPECT_EQ(report["preview_running"], true);         // p: started
-    EXPECT_EQ(report["preview_playing"], false);        // space: paused
+    EXPECT_EQ(report["view"], "Side (orthographic)");  // 3
+    EXPECT_EQ(report["tool"], 1);                      // b: Brush
+    EXPECT_EQ(report["mirror_x"], true);               // x (the graph panel is closed)
+    EXPECT_EQ(report["preview_running"], true);        // p: started
+    EXPECT_EQ(report["preview_playing"], false);       // space: paused
 }
 
 TEST(EditorWindow, StrokeFromOffTheMeshPaintsAndThePreviewGrabDoesNot) {
@@ -369,17 +379,19 @@ TEST(EditorWindow, StrokeFromOffTheMeshPaintsAndThePreviewGrabDoesNot) {
     const fs::path project = ballProject("window_stroke");
     // 800 x 500: the 3D view is the left 480 px; the ball (front view, framed) at its centre.
     // Each step waits for a frame to have seen it (the state file), not a fixed time.
-    const std::string drag = dragAlong(250, {15, 60, 120, 180, 240, 280}) + waitFor("\"mouse_down\":false");
+    const std::string drag =
+        dragAlong(250, {15, 60, 120, 180, 240, 280}) + waitFor("\"mouse_down\":false");
     const std::string out = runUnderXvfb(
         project.parent_path(),
         "$PLIMSOLL edit ball.plim.json --run-seconds 60 --window-size 800x500 --view front "
         "--state-file state.json & " +
             kWaitForState + "xdotool key --window $w b p; " + waitFor("\"preview_running\":true") +
             waitFor("\"tool\":1") + drag + "xdotool key --window $w p; " +
-            waitFor("\"preview_running\":false") + drag + waitFor("\"undo\":\"Paint permeability\"") +
+            waitFor("\"preview_running\":false") + drag +
+            waitFor("\"undo\":\"Paint permeability\"") +
             // Saved before Ctrl+Q, which would otherwise ask about the unsaved paint.
-            "cp state.json painted.json; xdotool key --window $w ctrl+s; " + waitFor("\"dirty\":false") +
-            "xdotool key --window $w ctrl+q; wait");
+            "cp state.json painted.json; xdotool key --window $w ctrl+s; " +
+            waitFor("\"dirty\":false") + "xdotool key --window $w ctrl+q; wait");
     if (out.empty()) GTEST_SKIP() << "no editor window in this build or no X server";
     const nlohmann::json report = nlohmann::json::parse(out);
     EXPECT_LT(report["seconds"].get<double>(), 59.0) << "Ctrl+Q was not seen";
@@ -387,7 +399,8 @@ TEST(EditorWindow, StrokeFromOffTheMeshPaintsAndThePreviewGrabDoesNot) {
     EXPECT_EQ(report["preview_running"], false);
     EXPECT_EQ(report["undo"], "Paint permeability");
     EXPECT_EQ(report["undo_steps"], 1) << "the drag during the preview painted too";
-    const nlohmann::json painted = nlohmann::json::parse(test::readFile(project.parent_path() / "painted.json"));
+    const nlohmann::json painted =
+        nlohmann::json::parse(test::readFile(project.parent_path() / "painted.json"));
     EXPECT_EQ(painted["title"], "*ball.plim.json - Plimsoll");
 }
 
@@ -399,16 +412,18 @@ TEST(EditorWindow, BrushDragDuringThePreviewSaysWhyItPullsAndStopClearsThePrevie
     const fs::path project = ballProject("window_brush_preview");
     const fs::path dir = project.parent_path();
     const std::string out = runUnderXvfb(
-        dir, "$PLIMSOLL edit ball.plim.json --run-seconds 60 --window-size 800x500 --view front "
-             "--state-file state.json & " +
-                 kWaitForState + "xdotool key --window $w b p; " + waitFor("\"preview_running\":true") +
-                 waitFor("\"tool\":1") + "cp state.json started.json; " +
-                 dragAlong(250, {200, 230, 260, 290}) + waitFor("\"mouse_down\":false") +
-                 "cp state.json pulled.json; xdotool key --window $w p; " +
-                 waitFor("\"preview_running\":false") + "xdotool key --window $w ctrl+q; wait");
+        dir,
+        "$PLIMSOLL edit ball.plim.json --run-seconds 60 --window-size 800x500 --view front "
+        "--state-file state.json & " +
+            kWaitForState + "xdotool key --window $w b p; " + waitFor("\"preview_running\":true") +
+            waitFor("\"tool\":1") + "cp state.json started.json; " +
+            dragAlong(250, {200, 230, 260, 290}) + waitFor("\"mouse_down\":false") +
+            "cp state.json pulled.json; xdotool key --window $w p; " +
+            waitFor("\"preview_running\":false") + "xdotool key --window $w ctrl+q; wait");
     if (out.empty()) GTEST_SKIP() << "no editor window in this build or no X server";
     const nlohmann::json started = nlohmann::json::parse(test::readFile(dir / "started.json"));
-    EXPECT_EQ(started["status"].get<std::string>().rfind("Live preview on ", 0), 0u) << started["status"];
+    EXPECT_EQ(started["status"].get<std::string>().rfind("Live preview on ", 0), 0u)
+        << started["status"];
     const nlohmann::json pulled = nlohmann::json::parse(test::readFile(dir / "pulled.json"));
     EXPECT_NE(pulled["status"].get<std::string>().find("Stop it (P) to paint"), std::string::npos)
         << pulled["status"];
@@ -424,11 +439,12 @@ TEST(EditorWindow, AClickOnTheWaterGraphsTitleOpensIt) {
     if (!haveWindowTools(true)) GTEST_SKIP() << "xvfb-run or xdotool is not installed";
     const fs::path project = damagedBoatCopy("window_graph_title");
     const fs::path dir = project.parent_path();
-    const std::string out = runUnderXvfb(
-        dir, "$PLIMSOLL edit damaged_boat.plim.json --run-seconds 60 --window-size 800x500 "
-             "--state-file state.json & " +
-                 kWaitForState + clickAt(200, 49) + waitFor("\"name\":\"Water graph\"") +
-                 "cp state.json opened.json; xdotool key --window $w ctrl+q; wait");
+    const std::string out =
+        runUnderXvfb(dir,
+                     "$PLIMSOLL edit damaged_boat.plim.json --run-seconds 60 --window-size 800x500 "
+                     "--state-file state.json & " +
+                         kWaitForState + clickAt(200, 49) + waitFor("\"name\":\"Water graph\"") +
+                         "cp state.json opened.json; xdotool key --window $w ctrl+q; wait");
     if (out.empty()) GTEST_SKIP() << "no editor window in this build or no X server";
     const nlohmann::json opened = nlohmann::json::parse(test::readFile(dir / "opened.json"));
     bool open = false;
@@ -445,13 +461,15 @@ TEST(EditorWindow, EscClosesAMenuAndTheUvViewZoomsUnderAnOpenMenu) {
     const fs::path project = ballProject("window_menu_esc");
     const fs::path dir = project.parent_path();
     const std::string out = runUnderXvfb(
-        dir, "$PLIMSOLL edit ball.plim.json --run-seconds 60 --window-size 800x500 --view front "
-             "--state-file state.json & " +
-                 kWaitForState + clickAt(25, 9) + waitFor("\"popup\":\"##Menu_00\"") +
-                 "cp state.json opened.json; xdotool key --window $w Escape; " + waitFor("\"popup\":\"\"") +
-                 "cp state.json closed.json; " + clickAt(25, 9) + waitFor("\"popup\":\"##Menu_00\"") +
-                 moveTo(539, 417) + "xdotool click 4; " + waitFor("\"uv_zoom\":1.25") +
-                 "cp state.json zoomed.json; xdotool key --window $w ctrl+q; wait");
+        dir,
+        "$PLIMSOLL edit ball.plim.json --run-seconds 60 --window-size 800x500 --view front "
+        "--state-file state.json & " +
+            kWaitForState + clickAt(25, 9) + waitFor("\"popup\":\"##Menu_00\"") +
+            "cp state.json opened.json; xdotool key --window $w Escape; " +
+            waitFor("\"popup\":\"\"") + "cp state.json closed.json; " + clickAt(25, 9) +
+            waitFor("\"popup\":\"##Menu_00\"") + moveTo(539, 417) + "xdotool click 4; " +
+            waitFor("\"uv_zoom\":1.25") +
+            "cp state.json zoomed.json; xdotool key --window $w ctrl+q; wait");
     if (out.empty()) GTEST_SKIP() << "no editor window in this build or no X server";
     const nlohmann::json opened = nlohmann::json::parse(test::readFile(dir / "opened.json"));
     EXPECT_EQ(opened["popup"], "##Menu_00");
@@ -478,15 +496,17 @@ TEST(EditorWindow, EnterTappedRightAfterTypingANumberCommitsIt) {
         << R"({"layout": {"column_width": 400, "shares": [0.1, 0.1, 0.7, 0.1]}})";
     std::string typing;
     for (const char* value : {"0.25", "0.5", "0.75"}) {
-        typing += clickAt(520, 263) + "xdotool key --window $w ctrl+a; xdotool type --window $w --delay 0 " + value +
+        typing += clickAt(520, 263) +
+                  "xdotool key --window $w ctrl+a; xdotool type --window $w --delay 0 " + value +
                   "; xdotool key --window $w --delay 0 Return; " +
                   waitFor(std::string("\"undo\":\"Move ball\"")) + "sleep 0.3; ";
     }
     const std::string out = runUnderXvfb(
-        dir, "$PLIMSOLL edit ball.plim.json --run-seconds 60 --window-size 800x500 --view front "
-             "--state-file state.json & " +
-                 kWaitForState + typing + "xdotool key --window $w ctrl+s; " + waitFor("\"dirty\":false") +
-                 "xdotool key --window $w ctrl+q; wait");
+        dir,
+        "$PLIMSOLL edit ball.plim.json --run-seconds 60 --window-size 800x500 --view front "
+        "--state-file state.json & " +
+            kWaitForState + typing + "xdotool key --window $w ctrl+s; " +
+            waitFor("\"dirty\":false") + "xdotool key --window $w ctrl+q; wait");
     if (out.empty()) GTEST_SKIP() << "no editor window in this build or no X server";
     const nlohmann::json report = nlohmann::json::parse(out);
     EXPECT_LT(report["seconds"].get<double>(), 59.0) << "Ctrl+Q was not seen (unsaved?)";
@@ -514,11 +534,15 @@ TEST(EditorWindow, LivePreviewPanelStaysInTheViewCornerWhenTheWindowShrinksAndGr
     const fs::path project = ballProject("window_preview_corner", 0.3);
     const fs::path dir = project.parent_path();
     const std::string out = runUnderXvfb(
-        dir, "$PLIMSOLL edit ball.plim.json --preview --run-seconds 60 --window-size 1000x650 "
-             "--state-file state.json & " +
-                 kWaitForState + waitFor("\"name\":\"Live preview\"") + "sleep 0.5; cp state.json small.json; "
-                 "xdotool windowsize $w 1200 780; " + waitFor("\"window\":[1200,780]") + "sleep 0.5; "
-                 "cp state.json large.json; xdotool key --window $w ctrl+q; wait");
+        dir,
+        "$PLIMSOLL edit ball.plim.json --preview --run-seconds 60 --window-size 1000x650 "
+        "--state-file state.json & " +
+            kWaitForState + waitFor("\"name\":\"Live preview\"") +
+            "sleep 0.5; cp state.json small.json; "
+            "xdotool windowsize $w 1200 780; " +
+            waitFor("\"window\":[1200,780]") +
+            "sleep 0.5; "
+            "cp state.json large.json; xdotool key --window $w ctrl+q; wait");
     if (out.empty()) GTEST_SKIP() << "no editor window in this build or no X server";
     for (const char* file : {"small.json", "large.json"}) {
         SCOPED_TRACE(file);
@@ -543,13 +567,15 @@ TEST(EditorWindow, HydrostaticsFromTheMenuWithoutAPreviewPlotsBothCurvesAgainstD
     const fs::path project = damagedBoatCopy("window_hydrostatics");
     const fs::path dir = project.parent_path();
     const std::string out = runUnderXvfb(
-        dir, "$PLIMSOLL edit damaged_boat.plim.json --run-seconds 90 --window-size 1200x780 "
-             "--state-file state.json & " +
-                 kWaitForState + clickAt(170, 9) + waitFor("\"popup\":\"##Menu_00\"") + clickAt(190, 95) +
-                 waitFor("\"name\":\"Hydrostatics\"") + clickAt(57, 227) +
-                 "i=0; until grep -q \"textures: GZ\" state.json || [ $i -gt 600 ]; do i=$((i+1)); "
-                 "xdotool mousemove --window $w 200 575; sleep 0.1; xdotool mousemove --window $w 201 575; done; "
-                 "cp state.json hovered.json; xdotool key --window $w ctrl+q; wait");
+        dir,
+        "$PLIMSOLL edit damaged_boat.plim.json --run-seconds 90 --window-size 1200x780 "
+        "--state-file state.json & " +
+            kWaitForState + clickAt(170, 9) + waitFor("\"popup\":\"##Menu_00\"") +
+            clickAt(190, 95) + waitFor("\"name\":\"Hydrostatics\"") + clickAt(57, 227) +
+            "i=0; until grep -q \"textures: GZ\" state.json || [ $i -gt 600 ]; do i=$((i+1)); "
+            "xdotool mousemove --window $w 200 575; sleep 0.1; xdotool mousemove --window $w 201 "
+            "575; done; "
+            "cp state.json hovered.json; xdotool key --window $w ctrl+q; wait");
     if (out.empty()) GTEST_SKIP() << "no editor window in this build or no X server";
     const nlohmann::json report = nlohmann::json::parse(out);
     EXPECT_EQ(report["preview_running"], false);
@@ -573,15 +599,17 @@ TEST(EditorWindow, ShiftClickDrawsALineStrokeFromTheLastStrokesEnd) {
     if (!haveWindowTools(true)) GTEST_SKIP() << "xvfb-run or xdotool is not installed";
     const fs::path project = ballProject("window_line");
     const std::string stroke = "xdotool key --window $w b; " + waitFor("\"tool\":1") +
-                               dragAlong(250, {220, 230, 240, 250, 260}) + waitFor("\"undo\":\"Paint permeability\"");
-    const std::string line = moveTo(240, 190) + "xdotool keydown shift; " + waitFor("\"shift\":true") +
-                             "xdotool mousedown 1; " + waitFor("\"mouse_down\":true") +
-                             "xdotool mouseup 1; " + waitFor("\"mouse_down\":false") +
-                             "xdotool keyup shift; " + waitFor("\"shift\":false");
+                               dragAlong(250, {220, 230, 240, 250, 260}) +
+                               waitFor("\"undo\":\"Paint permeability\"");
+    const std::string line =
+        moveTo(240, 190) + "xdotool keydown shift; " + waitFor("\"shift\":true") +
+        "xdotool mousedown 1; " + waitFor("\"mouse_down\":true") + "xdotool mouseup 1; " +
+        waitFor("\"mouse_down\":false") + "xdotool keyup shift; " + waitFor("\"shift\":false");
     const std::string out = runUnderXvfb(
         project.parent_path(),
         "$PLIMSOLL edit ball.plim.json --run-seconds 90 --window-size 800x500 --view front "
-        "--state-file state.json & " + kWaitForState + stroke + line + "xdotool key --window $w ctrl+s; " +
+        "--state-file state.json & " +
+            kWaitForState + stroke + line + "xdotool key --window $w ctrl+s; " +
             waitFor("\"dirty\":false") + "xdotool key --window $w ctrl+q; wait");
     if (out.empty()) GTEST_SKIP() << "no editor window in this build or no X server";
     const nlohmann::json report = nlohmann::json::parse(out);
@@ -601,15 +629,17 @@ TEST(EditorWindow, ColumnSplitterDragsAndPanelsComeBackAfterShrinkAndGrow) {
     // come in the same frame as the last move, or the run end before the window grew back.
     if (!haveWindowTools(true)) GTEST_SKIP() << "xvfb-run or xdotool is not installed";
     const fs::path project = ballProject("window_splitter");
-    std::string drag = moveTo(480, 300) + "xdotool mousedown 1; " + waitFor("\"held\":\"##split_column\"");
+    std::string drag =
+        moveTo(480, 300) + "xdotool mousedown 1; " + waitFor("\"held\":\"##split_column\"");
     for (int x : {500, 530, 560, 580}) drag += moveTo(x, 300);
     drag += "xdotool mouseup 1; " + waitFor("\"held\":\"\"");
-    const std::string out = runUnderXvfb(
-        project.parent_path(),
-        "$PLIMSOLL edit ball.plim.json --run-seconds 90 --window-size 800x500 --state-file state.json & " +
-            kWaitForState + drag + "xdotool windowsize $w 300 200; " + waitFor("\"window\":[300,200]") +
-            "xdotool windowsize $w 800 500; " + waitFor("\"window\":[800,500]") +
-            "xdotool key --window $w ctrl+q; wait");
+    const std::string out =
+        runUnderXvfb(project.parent_path(),
+                     "$PLIMSOLL edit ball.plim.json --run-seconds 90 --window-size 800x500 "
+                     "--state-file state.json & " +
+                         kWaitForState + drag + "xdotool windowsize $w 300 200; " +
+                         waitFor("\"window\":[300,200]") + "xdotool windowsize $w 800 500; " +
+                         waitFor("\"window\":[800,500]") + "xdotool key --window $w ctrl+q; wait");
     if (out.empty()) GTEST_SKIP() << "no editor window in this build or no X server";
     const nlohmann::json report = nlohmann::json::parse(out);
     EXPECT_LT(report["seconds"].get<double>(), 89.0) << "Ctrl+Q was not seen";
@@ -628,10 +658,11 @@ TEST(EditorWindow, HoveringAControlShowsItsTooltip) {
     const fs::path project = ballProject("window_tooltip");
     const fs::path dir = project.parent_path();
     const std::string out = runUnderXvfb(
-        dir, "$PLIMSOLL edit ball.plim.json --run-seconds 90 --window-size 800x500 "
-             "--state-file state.json --screenshot shot.png & " +
-                 kWaitForState + moveTo(200, 250) + "cp state.json before.json; " + moveTo(504, 52) +
-                 waitFor("\"tooltip_rect\"") + "xdotool key --window $w ctrl+q; wait");
+        dir,
+        "$PLIMSOLL edit ball.plim.json --run-seconds 90 --window-size 800x500 "
+        "--state-file state.json --screenshot shot.png & " +
+            kWaitForState + moveTo(200, 250) + "cp state.json before.json; " + moveTo(504, 52) +
+            waitFor("\"tooltip_rect\"") + "xdotool key --window $w ctrl+q; wait");
     if (out.empty()) GTEST_SKIP() << "no editor window in this build or no X server";
     const nlohmann::json report = nlohmann::json::parse(out);
     const nlohmann::json before = nlohmann::json::parse(test::readFile(dir / "before.json"));
@@ -692,13 +723,15 @@ TEST(EditorWindow, AnOpenedPlotWindowDrawsItsCurveAcrossItsWidth) {
     // 800 x 500: the plot windows stack, collapsed, from (150, 49) down the view's right edge.
     const std::string frameNow = "$(sed \"s/.*\\\"frame\\\":\\([0-9]*\\).*/\\1/\" state.json)";
     const std::string out = runUnderXvfb(
-        dir, "$PLIMSOLL edit ball.plim.json --preview --run-seconds 90 --window-size 800x500 "
-             "--state-file state.json --screenshot shot.png & " +
-                 kWaitForState + waitFor("\"name\":\"Live preview\"") + clickAt(162, 58) +
-                 waitFor("\"name\":\"Submerged volume: ball\"") + moveTo(700, 480) +
-                 // 90 more frames (one simulated frame each, at most): rows for the curve.
-                 "f0=" + frameNow + "; i=0; until [ " + frameNow + " -ge $((f0 + 90)) ] || [ $i -gt 600 ]; "
-                 "do i=$((i+1)); sleep 0.05; done; xdotool key --window $w ctrl+q; wait");
+        dir,
+        "$PLIMSOLL edit ball.plim.json --preview --run-seconds 90 --window-size 800x500 "
+        "--state-file state.json --screenshot shot.png & " +
+            kWaitForState + waitFor("\"name\":\"Live preview\"") + clickAt(162, 58) +
+            waitFor("\"name\":\"Submerged volume: ball\"") + moveTo(700, 480) +
+            // 90 more frames (one simulated frame each, at most): rows for the curve.
+            "f0=" + frameNow + "; i=0; until [ " + frameNow +
+            " -ge $((f0 + 90)) ] || [ $i -gt 600 ]; "
+            "do i=$((i+1)); sleep 0.05; done; xdotool key --window $w ctrl+q; wait");
     if (out.empty()) GTEST_SKIP() << "no editor window in this build or no X server";
     const nlohmann::json report = nlohmann::json::parse(out);
     EXPECT_TRUE(report["preview_running"].get<bool>());
@@ -745,19 +778,22 @@ TEST(EditorWindow, UvViewZoomsAtTheCursorAndPans) {
     const fs::path project = ballProject("window_uv");
     const fs::path dir = project.parent_path();
     const std::string out = runUnderXvfb(
-        dir, "$PLIMSOLL edit ball.plim.json --run-seconds 90 --window-size 800x500 --state-file state.json & " +
-                 kWaitForState + moveTo(513, 391) + waitFor("\"tooltip_rect\"") + "cp state.json before.json; " +
-                 "xdotool click 4; " + waitFor("\"uv_zoom\":1.25") + "xdotool click 4; " +
-                 waitFor("\"uv_zoom\":1.5625") + "cp state.json zoomed.json; " +
-                 "xdotool mousedown 2; " + moveTo(493, 391) + moveTo(473, 391) + "xdotool mouseup 2; " +
-                 moveTo(513, 391) + "cp state.json panned.json; xdotool key --window $w ctrl+q; wait");
+        dir,
+        "$PLIMSOLL edit ball.plim.json --run-seconds 90 --window-size 800x500 --state-file "
+        "state.json & " +
+            kWaitForState + moveTo(513, 391) + waitFor("\"tooltip_rect\"") +
+            "cp state.json before.json; " + "xdotool click 4; " + waitFor("\"uv_zoom\":1.25") +
+            "xdotool click 4; " + waitFor("\"uv_zoom\":1.5625") + "cp state.json zoomed.json; " +
+            "xdotool mousedown 2; " + moveTo(493, 391) + moveTo(473, 391) + "xdotool mouseup 2; " +
+            moveTo(513, 391) + "cp state.json panned.json; xdotool key --window $w ctrl+q; wait");
     if (out.empty()) GTEST_SKIP() << "no editor window in this build or no X server";
     const nlohmann::json report = nlohmann::json::parse(out);
     EXPECT_LT(report["seconds"].get<double>(), 89.0) << "Ctrl+Q was not seen";
     const nlohmann::json before = nlohmann::json::parse(test::readFile(dir / "before.json"));
     const nlohmann::json zoomed = nlohmann::json::parse(test::readFile(dir / "zoomed.json"));
     const nlohmann::json panned = nlohmann::json::parse(test::readFile(dir / "panned.json"));
-    ASSERT_TRUE(before.contains("uv_under_mouse")) << "the point is not over the UV view: " << before.dump();
+    ASSERT_TRUE(before.contains("uv_under_mouse"))
+        << "the point is not over the UV view: " << before.dump();
     EXPECT_EQ(before["uv_zoom"].get<double>(), 1.0);
     // The view's long tooltip is up, wrapped inside the window (one line of it was 1109 px).
     ASSERT_TRUE(before.contains("tooltip_rect")) << before.dump();
@@ -766,11 +802,14 @@ TEST(EditorWindow, UvViewZoomsAtTheCursorAndPans) {
     EXPECT_NEAR(before["uv_under_mouse"][0].get<double>(), 25.0 / 102, 0.02);
     EXPECT_NEAR(before["uv_under_mouse"][1].get<double>(), 1 - 25.0 / 102, 0.02);
     EXPECT_EQ(zoomed["uv_zoom"].get<double>(), 1.5625);
-    EXPECT_NEAR(zoomed["uv_under_mouse"][0].get<double>(), before["uv_under_mouse"][0].get<double>(), 1e-4);
-    EXPECT_NEAR(zoomed["uv_under_mouse"][1].get<double>(), before["uv_under_mouse"][1].get<double>(), 1e-4);
+    EXPECT_NEAR(zoomed["uv_under_mouse"][0].get<double>(),
+                before["uv_under_mouse"][0].get<double>(), 1e-4);
+    EXPECT_NEAR(zoomed["uv_under_mouse"][1].get<double>(),
+                before["uv_under_mouse"][1].get<double>(), 1e-4);
     EXPECT_NEAR(panned["uv_under_mouse"][0].get<double>(),
                 before["uv_under_mouse"][0].get<double>() + 40.0 / (102 * 1.5625), 0.01);
-    EXPECT_NEAR(panned["uv_under_mouse"][1].get<double>(), before["uv_under_mouse"][1].get<double>(), 1e-4);
+    EXPECT_NEAR(panned["uv_under_mouse"][1].get<double>(),
+                before["uv_under_mouse"][1].get<double>(), 1e-4);
     EXPECT_EQ(report["undo_steps"], 0);  // navigation edits nothing
 }
 
@@ -783,12 +822,13 @@ TEST(EditorWindow, CameraFollowsTheBodyInThePreview) {
     const fs::path dir = project.parent_path();
     const std::string frameNow = "$(sed \"s/.*\\\"frame\\\":\\([0-9]*\\).*/\\1/\" state.json)";
     const std::string out = runUnderXvfb(
-        dir, "$PLIMSOLL edit ball.plim.json --preview --run-seconds 90 --window-size 800x500 "
-             "--state-file state.json & " +
-                 kWaitForState + waitFor("\"name\":\"Live preview\"") + "cp state.json before.json; " +
-                 "xdotool key --window $w c; f0=" + frameNow + "; i=0; until [ " + frameNow +
-                 " -ge $((f0 + 30)) ] || [ $i -gt 600 ]; do i=$((i+1)); sleep 0.05; done; "
-                 "xdotool key --window $w ctrl+q; wait");
+        dir,
+        "$PLIMSOLL edit ball.plim.json --preview --run-seconds 90 --window-size 800x500 "
+        "--state-file state.json & " +
+            kWaitForState + waitFor("\"name\":\"Live preview\"") + "cp state.json before.json; " +
+            "xdotool key --window $w c; f0=" + frameNow + "; i=0; until [ " + frameNow +
+            " -ge $((f0 + 30)) ] || [ $i -gt 600 ]; do i=$((i+1)); sleep 0.05; done; "
+            "xdotool key --window $w ctrl+q; wait");
     if (out.empty()) GTEST_SKIP() << "no editor window in this build or no X server";
     const nlohmann::json report = nlohmann::json::parse(out);
     EXPECT_LT(report["seconds"].get<double>(), 89.0) << "Ctrl+Q was not seen";
@@ -796,7 +836,8 @@ TEST(EditorWindow, CameraFollowsTheBodyInThePreview) {
     const nlohmann::json before = nlohmann::json::parse(test::readFile(dir / "before.json"));
     const nlohmann::json& target = report["preview"]["camera"]["target"];
     const nlohmann::json& com = report["preview"]["bodies"][0]["center_of_mass"];
-    for (int k = 0; k < 3; ++k) EXPECT_DOUBLE_EQ(target[k].get<double>(), com[k].get<double>()) << k;
+    for (int k = 0; k < 3; ++k)
+        EXPECT_DOUBLE_EQ(target[k].get<double>(), com[k].get<double>()) << k;
     // Framed before (the ball's place in the project, 0.3 m up), on the moving ball after.
     EXPECT_NEAR(before["camera_target"][1].get<double>(), 0.3, 1e-6);
     EXPECT_GT(std::abs(com[1].get<double>() - 0.3), 1e-3) << "the ball should have moved";
@@ -812,15 +853,16 @@ TEST(EditorWindow, WaterChangedInThePreviewIsKeptInTheProject) {
     const fs::path project = ballProject("window_keep_water", 0.3);
     const fs::path dir = project.parent_path();
     const std::string out = runUnderXvfb(
-        dir, "$PLIMSOLL edit ball.plim.json --preview --run-seconds 90 --window-size 800x500 "
-             "--state-file state.json & " +
-                 kWaitForState + waitFor("\"name\":\"Live preview\"") + clickAt(60, 388) +
-                 moveTo(125, 434) + waitFor("\"tooltip\":\"The still-water height") +
-                 "xdotool mousedown 1; " + waitFor("\"held\":\"Live preview\"") + moveTo(135, 434) +
-                 moveTo(145, 434) + "xdotool mouseup 1; " + waitFor("\"held\":\"\"") +
-                 moveTo(72, 457) + waitFor("\"tooltip\":\"Write these water") + clickAt(72, 457) +
-                 waitFor("\"undo\":\"Keep the preview") + "xdotool key --window $w ctrl+s; " +
-                 waitFor("\"dirty\":false") + "xdotool key --window $w ctrl+q; wait");
+        dir,
+        "$PLIMSOLL edit ball.plim.json --preview --run-seconds 90 --window-size 800x500 "
+        "--state-file state.json & " +
+            kWaitForState + waitFor("\"name\":\"Live preview\"") + clickAt(60, 388) +
+            moveTo(125, 434) + waitFor("\"tooltip\":\"The still-water height") +
+            "xdotool mousedown 1; " + waitFor("\"held\":\"Live preview\"") + moveTo(135, 434) +
+            moveTo(145, 434) + "xdotool mouseup 1; " + waitFor("\"held\":\"\"") + moveTo(72, 457) +
+            waitFor("\"tooltip\":\"Write these water") + clickAt(72, 457) +
+            waitFor("\"undo\":\"Keep the preview") + "xdotool key --window $w ctrl+s; " +
+            waitFor("\"dirty\":false") + "xdotool key --window $w ctrl+q; wait");
     if (out.empty()) GTEST_SKIP() << "no editor window in this build or no X server";
     const nlohmann::json report = nlohmann::json::parse(out);
     EXPECT_LT(report["seconds"].get<double>(), 89.0) << "Ctrl+Q was not seen (unsaved?)";
@@ -841,19 +883,22 @@ TEST(EditorWindow, SaveAsTakesATypedNameAndLeavesTheOriginalAsItWas) {
     const std::string original = test::readFile(project);
     const std::string out = runUnderXvfb(
         project.parent_path(),
-        "$PLIMSOLL edit ball.plim.json --run-seconds 60 --window-size 800x500 --state-file state.json & " +
+        "$PLIMSOLL edit ball.plim.json --run-seconds 60 --window-size 800x500 --state-file "
+        "state.json & " +
             kWaitForState + "xdotool key --window $w ctrl+shift+s; " +
             waitFor("\"popup\":\"Save project as\"") +
             // ImGui 1.86 has no input queue (a frame sees all its keys and characters at once):
             // a pause lets the last letters reach the field in a frame before Enter's.
             "xdotool type --window $w --delay 40 copy.plim.json; sleep 0.3; "
             "xdotool key --window $w Return; " +
-            waitFor("\"title\":\"copy.plim.json - Plimsoll\"") + "xdotool key --window $w ctrl+q; wait");
+            waitFor("\"title\":\"copy.plim.json - Plimsoll\"") +
+            "xdotool key --window $w ctrl+q; wait");
     if (out.empty()) GTEST_SKIP() << "no editor window in this build or no X server";
     const nlohmann::json report = nlohmann::json::parse(out);
     const fs::path copy = project.parent_path() / "copy.plim.json";
     EXPECT_EQ(report["title"], "copy.plim.json - Plimsoll") << report.dump();
-    EXPECT_NE(report["status"].get<std::string>().find("Saved"), std::string::npos) << report["status"];
+    EXPECT_NE(report["status"].get<std::string>().find("Saved"), std::string::npos)
+        << report["status"];
     ASSERT_TRUE(fs::exists(copy)) << report.dump();
     Result<Project> saved = loadProject(copy);
     ASSERT_TRUE(saved.ok()) << saved.error().message;
@@ -862,7 +907,6 @@ TEST(EditorWindow, SaveAsTakesATypedNameAndLeavesTheOriginalAsItWas) {
     EXPECT_EQ(test::readFile(project), original);
 }
 
-
 TEST(EditorWindow, SaveAsOfANewProjectNamesItAfterTheFile) {
     // Save As kept a new project's name "untitled". Started with no project, Ctrl+Shift+S and
     // "harbour.plim.json": the saved project is called harbour.
@@ -870,9 +914,12 @@ TEST(EditorWindow, SaveAsOfANewProjectNamesItAfterTheFile) {
     const fs::path dir = ballProject("window_save_as_new").parent_path();
     const std::string out = runUnderXvfb(
         dir, "$PLIMSOLL edit --run-seconds 60 --window-size 800x500 --state-file state.json & " +
-                 kWaitForState + "xdotool key --window $w ctrl+shift+s; " + waitFor("\"popup\":\"Save project as\"") +
-                 "xdotool type --window $w --delay 40 harbour.plim.json; sleep 0.3; xdotool key --window $w Return; " +
-                 waitFor("\"title\":\"harbour.plim.json - Plimsoll\"") + "xdotool key --window $w ctrl+q; wait");
+                 kWaitForState + "xdotool key --window $w ctrl+shift+s; " +
+                 waitFor("\"popup\":\"Save project as\"") +
+                 "xdotool type --window $w --delay 40 harbour.plim.json; sleep 0.3; xdotool key "
+                 "--window $w Return; " +
+                 waitFor("\"title\":\"harbour.plim.json - Plimsoll\"") +
+                 "xdotool key --window $w ctrl+q; wait");
     if (out.empty()) GTEST_SKIP() << "no editor window in this build or no X server";
     // A project of no bodies, which loadProject refuses to simulate: its JSON read as it is.
     ASSERT_TRUE(fs::exists(dir / "harbour.plim.json")) << out;
@@ -887,8 +934,9 @@ TEST(EditorWindow, SaveAsOfANewProjectNamesItAfterTheFile) {
 fs::path ballWithSavedPaint(const std::string& name, double value) {
     const fs::path project = ballProject(name);
     const fs::path script = project.parent_path() / "paint.json";
-    std::ofstream(script) << R"([{"op": "new_map", "channel": "permeability", "size": 64, "value": )"
-                          << value << "}]";
+    std::ofstream(script)
+        << R"([{"op": "new_map", "channel": "permeability", "size": 64, "value": )" << value
+        << "}]";
     const test::CommandOutput run =
         test::runPlimsoll("edit '" + project.string() + "' --script '" + script.string() + "'");
     EXPECT_EQ(run.exitCode, 0) << run.err;
@@ -910,9 +958,9 @@ PaintedMap savedPermeability(const fs::path& project) {
 
 /// How many of the map's values are within `tolerance` of `value`.
 std::size_t countNear(const PaintedMap& map, double value, double tolerance) {
-    return static_cast<std::size_t>(std::count_if(map.values.begin(), map.values.end(), [&](float v) {
-        return std::abs(v - value) <= tolerance;
-    }));
+    return static_cast<std::size_t>(
+        std::count_if(map.values.begin(), map.values.end(),
+                      [&](float v) { return std::abs(v - value) <= tolerance; }));
 }
 
 TEST(EditorWindow, StrokeSmallerThanAPixelPaintsAContinuousLine) {
@@ -923,19 +971,21 @@ TEST(EditorWindow, StrokeSmallerThanAPixelPaintsAContinuousLine) {
     if (!haveWindowTools(true)) GTEST_SKIP() << "xvfb-run or xdotool is not installed";
     const fs::path project = damagedBoatCopy("window_thin_stroke");
     const fs::path dir = project.parent_path();
-    Result<PaintedMap> original = loadPaintedMap(dir.parent_path() / "assets" / "hull_stern_damage.png");
+    Result<PaintedMap> original =
+        loadPaintedMap(dir.parent_path() / "assets" / "hull_stern_damage.png");
     ASSERT_TRUE(original.ok()) << original.error().message;
     // 1200 x 780, the default perspective view: the hull's near side runs from the bow at
     // about (200, 505) up to the stern at (560, 370); the drag follows its middle.
     std::vector<std::pair<int, int>> path;
     for (int i = 0; i <= 10; ++i) path.emplace_back(220 + 20 * i, 500 - 15 * i / 2);
     const std::string out = runUnderXvfb(
-        dir, "$PLIMSOLL edit damaged_boat.plim.json --run-seconds 60 --window-size 1200x780 "
-             "--state-file state.json & " +
-                 kWaitForState + "xdotool key --window $w b; " + waitFor("\"tool\":1") +
-                 dragThrough(path) + waitFor("\"undo\":\"Paint permeability\"") +
-                 "xdotool key --window $w ctrl+s; " + waitFor("\"dirty\":false") +
-                 "xdotool key --window $w ctrl+q; wait");
+        dir,
+        "$PLIMSOLL edit damaged_boat.plim.json --run-seconds 60 --window-size 1200x780 "
+        "--state-file state.json & " +
+            kWaitForState + "xdotool key --window $w b; " + waitFor("\"tool\":1") +
+            dragThrough(path) + waitFor("\"undo\":\"Paint permeability\"") +
+            "xdotool key --window $w ctrl+s; " + waitFor("\"dirty\":false") +
+            "xdotool key --window $w ctrl+q; wait");
     if (out.empty()) GTEST_SKIP() << "no editor window in this build or no X server";
     const nlohmann::json report = nlohmann::json::parse(out);
     EXPECT_LT(report["seconds"].get<double>(), 59.0) << "Ctrl+Q was not seen (unsaved?)";
@@ -968,7 +1018,8 @@ TEST(EditorWindow, NewMapOverSavedPaintAsksAndUndoBringsTheSavedPaintBack) {
     // The ball's centre is at (400, 388) of the 1200 x 780 window in the front view, 178 px
     // across its radius: the stroke runs over its middle.
     const std::string stroke = "xdotool key --window $w b; " + waitFor("\"tool\":1") +
-                               dragAlong(388, {340, 370, 400, 430, 460}) + waitFor("\"undo\":\"Paint permeability\"");
+                               dragAlong(388, {340, 370, 400, 430, 460}) +
+                               waitFor("\"undo\":\"Paint permeability\"");
     const std::string out = runUnderXvfb(
         dir,
         "$PLIMSOLL edit ball.plim.json --run-seconds 90 --window-size 1200x780 --view front "
@@ -1056,17 +1107,20 @@ TEST(EditorWindow, ExportWithUnsavedPaintAsksAndSaveAndExportWritesWhatIsOnScree
     fs::remove(dir / "config" / "plimsoll" / "settings.json");  // the default layout
     // The ball at (240, 248) of the 800 x 500 front view, about 110 px across its radius.
     const std::string stroke = "xdotool key --window $w b; " + waitFor("\"tool\":1") +
-                               dragAlong(248, {200, 220, 240, 260, 280}) + waitFor("\"undo\":\"Paint permeability\"");
+                               dragAlong(248, {200, 220, 240, 260, 280}) +
+                               waitFor("\"undo\":\"Paint permeability\"");
     const std::string out = runUnderXvfb(
-        dir, "$PLIMSOLL edit ball.plim.json --run-seconds 90 --window-size 800x500 --view front "
-             "--state-file state.json & " +
-                 kWaitForState + stroke + clickAt(25, 9) + clickAt(60, 140) +
-                 waitFor("\"popup\":\"Export to folder\"") + clickAt(130, 425) +
-                 waitFor("\"popup\":\"Export unsaved changes?\"") + "cp state.json asked.json; " +
-                 moveTo(193, 267) + waitFor("\"tooltip\":\"Saves the project, then exports") +
-                 clickAt(193, 267) + waitFor("\"dirty\":false") +
-                 "i=0; until [ -s ball/ball/manifest.json ] || [ $i -gt 600 ]; do i=$((i+1)); sleep 0.05; done; "
-                 "xdotool key --window $w ctrl+q; wait");
+        dir,
+        "$PLIMSOLL edit ball.plim.json --run-seconds 90 --window-size 800x500 --view front "
+        "--state-file state.json & " +
+            kWaitForState + stroke + clickAt(25, 9) + clickAt(60, 140) +
+            waitFor("\"popup\":\"Export to folder\"") + clickAt(130, 425) +
+            waitFor("\"popup\":\"Export unsaved changes?\"") + "cp state.json asked.json; " +
+            moveTo(193, 267) + waitFor("\"tooltip\":\"Saves the project, then exports") +
+            clickAt(193, 267) + waitFor("\"dirty\":false") +
+            "i=0; until [ -s ball/ball/manifest.json ] || [ $i -gt 600 ]; do i=$((i+1)); sleep "
+            "0.05; done; "
+            "xdotool key --window $w ctrl+q; wait");
     if (out.empty()) GTEST_SKIP() << "no editor window in this build or no X server";
     const nlohmann::json report = nlohmann::json::parse(out);
     EXPECT_LT(report["seconds"].get<double>(), 89.0) << "Ctrl+Q was not seen (unsaved?)";
@@ -1077,13 +1131,15 @@ TEST(EditorWindow, ExportWithUnsavedPaintAsksAndSaveAndExportWritesWhatIsOnScree
     // The saved map and the bundle's image both hold the stroke: texels near 1 beside the 0.6.
     EXPECT_GT(countNear(savedPermeability(project), 0.85, 0.15), 0u);
     int width = 0, height = 0, channels = 0;
-    unsigned char* data =
-        stbi_load((dir / "ball" / "ball" / "permeability.png").c_str(), &width, &height, &channels, 1);
+    unsigned char* data = stbi_load((dir / "ball" / "ball" / "permeability.png").c_str(), &width,
+                                    &height, &channels, 1);
     ASSERT_TRUE(data) << stbi_failure_reason();
     std::vector<unsigned char> grey(data, data + static_cast<std::size_t>(width) * height);
     stbi_image_free(data);
-    const auto painted = std::count_if(grey.begin(), grey.end(), [](unsigned char v) { return v >= 0.7 * 255; });
-    const auto base = std::count_if(grey.begin(), grey.end(), [](unsigned char v) { return std::abs(v - 153) <= 1; });
+    const auto painted =
+        std::count_if(grey.begin(), grey.end(), [](unsigned char v) { return v >= 0.7 * 255; });
+    const auto base = std::count_if(grey.begin(), grey.end(),
+                                    [](unsigned char v) { return std::abs(v - 153) <= 1; });
     EXPECT_GT(painted, 0) << "the bundle was made from the last save, without the stroke";
     EXPECT_GT(base, static_cast<long>(grey.size()) / 10) << "the saved 0.6 is not in the bundle";
 }
@@ -1097,12 +1153,13 @@ TEST(EditorWindow, ExportWindowShowsTheResultWithoutInputAndTheExportsOwnDuratio
     const fs::path project = ballProject("window_export_done");
     const fs::path dir = project.parent_path();
     const std::string out = runUnderXvfb(
-        dir, "$PLIMSOLL edit ball.plim.json --run-seconds 60 --window-size 800x500 --view front "
-             "--state-file state.json & " +
-                 kWaitForState + clickAt(25, 9) + clickAt(60, 140) +
-                 waitFor("\"popup\":\"Export to folder\"") + clickAt(130, 425) +
-                 "sleep 2; " + waitFor("\"export\":\"Done: 1 bundle in") +
-                 "cp state.json done.json; xdotool key --window $w ctrl+q; wait");
+        dir,
+        "$PLIMSOLL edit ball.plim.json --run-seconds 60 --window-size 800x500 --view front "
+        "--state-file state.json & " +
+            kWaitForState + clickAt(25, 9) + clickAt(60, 140) +
+            waitFor("\"popup\":\"Export to folder\"") + clickAt(130, 425) + "sleep 2; " +
+            waitFor("\"export\":\"Done: 1 bundle in") +
+            "cp state.json done.json; xdotool key --window $w ctrl+q; wait");
     if (out.empty()) GTEST_SKIP() << "no editor window in this build or no X server";
     ASSERT_TRUE(fs::exists(dir / "ball" / "ball" / "manifest.json"));
     const nlohmann::json done = nlohmann::json::parse(test::readFile(dir / "done.json"));
@@ -1123,12 +1180,14 @@ TEST(EditorWindow, OpenedPlotWindowsPushTheOnesBelowDownInsteadOfHidingUnderThem
     const fs::path project = ballProject("window_plot_stack", 0.3);
     const fs::path dir = project.parent_path();
     const std::string out = runUnderXvfb(
-        dir, "$PLIMSOLL edit ball.plim.json --preview --run-seconds 60 --window-size 800x500 "
-             "--state-file state.json & " +
-                 kWaitForState + waitFor("\"name\":\"Live preview\"") + "sleep 0.5; " + clickAt(162, 81) +
-                 waitFor("\"name\":\"Heel and trim: ball\"") + clickAt(162, 58) +
-                 waitFor("\"name\":\"Submerged volume: ball\"") + "sleep 0.3; cp state.json both.json; "
-                 "xdotool key --window $w ctrl+q; wait");
+        dir,
+        "$PLIMSOLL edit ball.plim.json --preview --run-seconds 60 --window-size 800x500 "
+        "--state-file state.json & " +
+            kWaitForState + waitFor("\"name\":\"Live preview\"") + "sleep 0.5; " +
+            clickAt(162, 81) + waitFor("\"name\":\"Heel and trim: ball\"") + clickAt(162, 58) +
+            waitFor("\"name\":\"Submerged volume: ball\"") +
+            "sleep 0.3; cp state.json both.json; "
+            "xdotool key --window $w ctrl+q; wait");
     if (out.empty()) GTEST_SKIP() << "no editor window in this build or no X server";
     const nlohmann::json both = nlohmann::json::parse(test::readFile(dir / "both.json"));
     const std::vector<int> volume = windowRect(both, "Submerged volume: ball");
@@ -1149,13 +1208,15 @@ TEST(EditorWindow, PlotCsvExportedFromTheWindowStartsWithTheFirstFramesVolume) {
     const fs::path dir = project.parent_path();
     const fs::path csv = dir / "Submerged_volume__ball.csv";
     const std::string out = runUnderXvfb(
-        dir, "$PLIMSOLL edit ball.plim.json --preview --run-seconds 90 --window-size 800x500 "
-             "--state-file state.json & " +
-                 kWaitForState + waitFor("\"name\":\"Live preview\"") + clickAt(162, 58) +
-                 waitFor("\"name\":\"Submerged volume: ball\"") + moveTo(196, 149) +
-                 waitFor("\"tooltip\":\"Writes these series") + clickAt(196, 149) +
-                 "i=0; until [ -s Submerged_volume__ball.csv ] || [ $i -gt 600 ]; do i=$((i+1)); sleep 0.05; done; "
-                 "xdotool key --window $w ctrl+q; wait");
+        dir,
+        "$PLIMSOLL edit ball.plim.json --preview --run-seconds 90 --window-size 800x500 "
+        "--state-file state.json & " +
+            kWaitForState + waitFor("\"name\":\"Live preview\"") + clickAt(162, 58) +
+            waitFor("\"name\":\"Submerged volume: ball\"") + moveTo(196, 149) +
+            waitFor("\"tooltip\":\"Writes these series") + clickAt(196, 149) +
+            "i=0; until [ -s Submerged_volume__ball.csv ] || [ $i -gt 600 ]; do i=$((i+1)); sleep "
+            "0.05; done; "
+            "xdotool key --window $w ctrl+q; wait");
     if (out.empty()) GTEST_SKIP() << "no editor window in this build or no X server";
     const nlohmann::json report = nlohmann::json::parse(out);
     EXPECT_LT(report["seconds"].get<double>(), 89.0) << "Ctrl+Q was not seen";
@@ -1195,22 +1256,27 @@ TEST(EditorWindow, FAndShiftFDragTheBrushRadiusAndStrengthAsInBlender) {
     const fs::path project = ballProject("window_radial");
     const fs::path dir = project.parent_path();
     const std::string out = runUnderXvfb(
-        dir, "$PLIMSOLL edit ball.plim.json --run-seconds 90 --window-size 800x500 --view front "
-             "--state-file state.json & " +
-                 kWaitForState + moveTo(200, 250) + "xdotool key --window $w f b; " + waitFor("\"tool\":1") +
-                 "cp state.json before.json; xdotool key --window $w f; " +
-                 waitFor("\"radial_control\":\"radius\"") + moveTo(250, 250) + "cp state.json radius_live.json; " +
-                 "xdotool click 1; " + waitFor("\"radial_control\":\"\"") + "cp state.json radius.json; " +
-                 "xdotool key --window $w shift+f; " + waitFor("\"radial_control\":\"strength\"") +
-                 moveTo(150, 250) + "cp state.json strength_live.json; xdotool key --window $w Escape; " +
-                 waitFor("\"radial_control\":\"\"") + "cp state.json cancelled.json; " +
-                 "xdotool key --window $w shift+f; " + waitFor("\"radial_control\":\"strength\"") +
-                 moveTo(50, 250) + "xdotool key --window $w Return; " + waitFor("\"radial_control\":\"\"") +
-                 "xdotool key --window $w ctrl+q; wait");
+        dir,
+        "$PLIMSOLL edit ball.plim.json --run-seconds 90 --window-size 800x500 --view front "
+        "--state-file state.json & " +
+            kWaitForState + moveTo(200, 250) + "xdotool key --window $w f b; " +
+            waitFor("\"tool\":1") + "cp state.json before.json; xdotool key --window $w f; " +
+            waitFor("\"radial_control\":\"radius\"") + moveTo(250, 250) +
+            "cp state.json radius_live.json; " + "xdotool click 1; " +
+            waitFor("\"radial_control\":\"\"") + "cp state.json radius.json; " +
+            "xdotool key --window $w shift+f; " + waitFor("\"radial_control\":\"strength\"") +
+            moveTo(150, 250) +
+            "cp state.json strength_live.json; xdotool key --window $w Escape; " +
+            waitFor("\"radial_control\":\"\"") + "cp state.json cancelled.json; " +
+            "xdotool key --window $w shift+f; " + waitFor("\"radial_control\":\"strength\"") +
+            moveTo(50, 250) + "xdotool key --window $w Return; " +
+            waitFor("\"radial_control\":\"\"") + "xdotool key --window $w ctrl+q; wait");
     if (out.empty()) GTEST_SKIP() << "no editor window in this build or no X server";
     const nlohmann::json report = nlohmann::json::parse(out);
     EXPECT_LT(report["seconds"].get<double>(), 89.0) << "Ctrl+Q was not seen";
-    auto state = [&](const char* name) { return nlohmann::json::parse(test::readFile(dir / name)); };
+    auto state = [&](const char* name) {
+        return nlohmann::json::parse(test::readFile(dir / name));
+    };
     const nlohmann::json before = state("before.json");
     EXPECT_EQ(before["radial_control"], "") << "F with Navigate opened the brush control";
     const double radius = before["brush_radius"].get<double>();
@@ -1239,23 +1305,27 @@ TEST(EditorWindow, AddBodyFromTheInspectorIsOneUndoStep) {
     const fs::path dir = project.parent_path();
     const std::string box = test::assetPath("box.obj").string();
     const std::string out = runUnderXvfb(
-        dir, "$PLIMSOLL edit ball.plim.json --run-seconds 90 --window-size 1200x780 "
-             "--state-file state.json & " +
-                 kWaitForState + moveTo(kAddBodyX, kAddBodyY) + waitFor("\"tooltip\":\"Adds a body") +
-                 clickAt(kAddBodyX, kAddBodyY) + waitFor("\"popup\":\"Import mesh\"") +
-                 waitFor("\"held\":\"Import mesh\"") +  // the name field has the keys
-                 "xdotool type --window $w --delay 20 " + box + "; " +
-                 // Enter held until a frame has taken it: ImGui 1.86 misses a shorter tap.
-                 "xdotool keydown --window $w Return; " + waitFor("\"bodies\":2") +
-                 "xdotool keyup --window $w Return; " + waitFor("\"popup\":\"\"") +
-                 "cp state.json added.json; xdotool key --window $w ctrl+z; " +
-                 waitFor("\"bodies\":1") + "cp state.json undone.json; xdotool key --window $w ctrl+shift+z; " +
-                 waitFor("\"bodies\":2") + "cp state.json redone.json; xdotool key --window $w ctrl+z; " +
-                 waitFor("\"bodies\":1") + "xdotool key --window $w ctrl+q; wait");
+        dir,
+        "$PLIMSOLL edit ball.plim.json --run-seconds 90 --window-size 1200x780 "
+        "--state-file state.json & " +
+            kWaitForState + moveTo(kAddBodyX, kAddBodyY) + waitFor("\"tooltip\":\"Adds a body") +
+            clickAt(kAddBodyX, kAddBodyY) + waitFor("\"popup\":\"Import mesh\"") +
+            waitFor("\"held\":\"Import mesh\"") +  // the name field has the keys
+            "xdotool type --window $w --delay 20 " + box + "; " +
+            // Enter held until a frame has taken it: ImGui 1.86 misses a shorter tap.
+            "xdotool keydown --window $w Return; " + waitFor("\"bodies\":2") +
+            "xdotool keyup --window $w Return; " + waitFor("\"popup\":\"\"") +
+            "cp state.json added.json; xdotool key --window $w ctrl+z; " + waitFor("\"bodies\":1") +
+            "cp state.json undone.json; xdotool key --window $w ctrl+shift+z; " +
+            waitFor("\"bodies\":2") +
+            "cp state.json redone.json; xdotool key --window $w ctrl+z; " +
+            waitFor("\"bodies\":1") + "xdotool key --window $w ctrl+q; wait");
     if (out.empty()) GTEST_SKIP() << "no editor window in this build or no X server";
     const nlohmann::json report = nlohmann::json::parse(out);
     EXPECT_LT(report["seconds"].get<double>(), 89.0) << "Ctrl+Q was not seen (unsaved?)";
-    auto state = [&](const char* name) { return nlohmann::json::parse(test::readFile(dir / name)); };
+    auto state = [&](const char* name) {
+        return nlohmann::json::parse(test::readFile(dir / name));
+    };
     const nlohmann::json added = state("added.json");
     EXPECT_EQ(added["undo"], "Import box.obj");
     EXPECT_EQ(added["selected_body"], 1);
@@ -1279,17 +1349,19 @@ TEST(EditorWindow, InspectorPositionFieldMovesTheBodyAsOneUndoStep) {
     const fs::path project = ballProject("window_move_body");
     const fs::path dir = project.parent_path();
     const std::string out = runUnderXvfb(
-        dir, "$PLIMSOLL edit ball.plim.json --run-seconds 90 --window-size 1200x780 "
-             "--state-file state.json & " +
-                 kWaitForState + moveTo(870, 521) + waitFor("\"tooltip\":\"Where the body starts") +
-                 clickAt(870, 521) + waitFor("\"held\":\"Inspector\"") +
-                 // Enter held until a frame has taken it: ImGui 1.86 misses a shorter tap.
-                 "xdotool type --window $w 5; xdotool keydown --window $w Return; " +
-                 waitFor("\"undo\":\"Move ball\"") + "xdotool keyup --window $w Return; " +
-                 "cp state.json moved.json; xdotool key --window $w ctrl+z; " + waitFor("\"dirty\":false") +
-                 "cp state.json undone.json; xdotool key --window $w ctrl+shift+z; " +
-                 waitFor("\"undo\":\"Move ball\"") + "xdotool key --window $w ctrl+s; " +
-                 waitFor("\"dirty\":false") + "xdotool key --window $w ctrl+q; wait");
+        dir,
+        "$PLIMSOLL edit ball.plim.json --run-seconds 90 --window-size 1200x780 "
+        "--state-file state.json & " +
+            kWaitForState + moveTo(870, 521) + waitFor("\"tooltip\":\"Where the body starts") +
+            clickAt(870, 521) + waitFor("\"held\":\"Inspector\"") +
+            // Enter held until a frame has taken it: ImGui 1.86 misses a shorter tap.
+            "xdotool type --window $w 5; xdotool keydown --window $w Return; " +
+            waitFor("\"undo\":\"Move ball\"") + "xdotool keyup --window $w Return; " +
+            "cp state.json moved.json; xdotool key --window $w ctrl+z; " +
+            waitFor("\"dirty\":false") +
+            "cp state.json undone.json; xdotool key --window $w ctrl+shift+z; " +
+            waitFor("\"undo\":\"Move ball\"") + "xdotool key --window $w ctrl+s; " +
+            waitFor("\"dirty\":false") + "xdotool key --window $w ctrl+q; wait");
     if (out.empty()) GTEST_SKIP() << "no editor window in this build or no X server";
     const nlohmann::json report = nlohmann::json::parse(out);
     EXPECT_LT(report["seconds"].get<double>(), 89.0) << "Ctrl+Q was not seen (unsaved?)";

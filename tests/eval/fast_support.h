@@ -29,7 +29,8 @@ inline Body makeBody(const TriangleMesh& mesh, int size) {
     Body b;
     b.textures = test::bakeOrFail(mesh, size);
     b.props = textureSolidMassProperties(b.textures, 1.0);
-    for (const auto& p : b.textures.position) b.radius = std::max(b.radius, (p - b.props.centerOfMass).norm());
+    for (const auto& p : b.textures.position)
+        b.radius = std::max(b.radius, (p - b.props.centerOfMass).norm());
     b.fast = makeFastBody(b.textures, b.props.centerOfMass);
     return b;
 }
@@ -38,8 +39,9 @@ inline BodyFrame randomFrame(std::mt19937& random, const Body& body, int kind) {
     std::uniform_real_distribution<double> unit(-1.0, 1.0);
     BodyFrame frame;
     frame.centerOfMass = body.props.centerOfMass;
-    frame.pose = Pose::fromEulerDegrees({2 * unit(random), 1.2 * body.radius * unit(random), 2 * unit(random)},
-                                        {180 * unit(random), 90 * unit(random), 180 * unit(random)});
+    frame.pose = Pose::fromEulerDegrees(
+        {2 * unit(random), 1.2 * body.radius * unit(random), 2 * unit(random)},
+        {180 * unit(random), 90 * unit(random), 180 * unit(random)});
     if (kind >= 1) frame.motion.linear = {unit(random), 0.5 * unit(random), unit(random)};
     if (kind >= 2) frame.motion.angular = {2 * unit(random), 2 * unit(random), unit(random)};
     frame.time = 5.0 * (1.0 + unit(random));

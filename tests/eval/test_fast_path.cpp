@@ -34,9 +34,13 @@ struct Errors {
         dragTorque = std::max(dragTorque, (got.dragTorque - ref.dragTorque).norm() / (D * R));
         wetted = std::max(wetted, std::abs(got.wettedArea - ref.wettedArea) / S);
         // The centre of buoyancy weighed by the volume (it is undefined when nothing is wet).
-        center = std::max(center, ((got.centerOfBuoyancy - ref.centerOfBuoyancy) * ref.submergedVolume).norm() / (V * R));
+        center = std::max(
+            center,
+            ((got.centerOfBuoyancy - ref.centerOfBuoyancy) * ref.submergedVolume).norm() / (V * R));
     }
-    double worst() const { return std::max({volume, force, torque, drag, dragTorque, wetted, center}); }
+    double worst() const {
+        return std::max({volume, force, torque, drag, dragTorque, wetted, center});
+    }
 };
 
 double speedOf(const BodyFrame& frame, const Body& body) {
@@ -59,8 +63,10 @@ TEST(FastPath, MatchesTheReferenceOnFlatWaterOverRandomPoses) {
             for (int trial = 0; trial < 150; ++trial) {
                 const BodyFrame frame = randomFrame(random, body, trial % 3);
                 const WaterModel water = WaterModel::flat(0.3 * std::sin(trial));
-                const BuoyancyResult ref = evaluateBuoyancyReference(body.textures, frame, water, fluid);
-                const BuoyancyResult got = evaluateBuoyancyFast(body.fast, frame, water, fluid, scratch);
+                const BuoyancyResult ref =
+                    evaluateBuoyancyReference(body.textures, frame, water, fluid);
+                const BuoyancyResult got =
+                    evaluateBuoyancyFast(body.fast, frame, water, fluid, scratch);
                 errors.add(got, ref, body, fluid, speedOf(frame, body));
                 // A count differs only where an entry sits within rounding of the surface.
                 EXPECT_NEAR(double(got.submergedSamples), double(ref.submergedSamples), 2.0);
@@ -68,9 +74,9 @@ TEST(FastPath, MatchesTheReferenceOnFlatWaterOverRandomPoses) {
             }
             EXPECT_GT(wet, 50);  // the poses cross the waterline
             EXPECT_LE(errors.worst(), 1e-5)
-                << "volume " << errors.volume << " force " << errors.force << " torque " << errors.torque
-                << " drag " << errors.drag << " drag torque " << errors.dragTorque << " wetted "
-                << errors.wetted << " centre " << errors.center;
+                << "volume " << errors.volume << " force " << errors.force << " torque "
+                << errors.torque << " drag " << errors.drag << " drag torque " << errors.dragTorque
+                << " wetted " << errors.wetted << " centre " << errors.center;
         }
     }
 }
@@ -94,10 +100,11 @@ TEST(FastPath, OnTheSampleWavesStaysWithinTheStatedError) {
                        evaluateBuoyancyReference(body.textures, frame, water, fluid), body, fluid,
                        speedOf(frame, body) + 1.0);
         }
-        std::printf("  waves, %zu entries: volume %.1e, force %.1e, torque %.1e, drag %.1e, "
-                    "drag torque %.1e of scale\n",
-                    body.textures.coveredCount(), errors.volume, errors.force, errors.torque,
-                    errors.drag, errors.dragTorque);
+        std::printf(
+            "  waves, %zu entries: volume %.1e, force %.1e, torque %.1e, drag %.1e, "
+            "drag torque %.1e of scale\n",
+            body.textures.coveredCount(), errors.volume, errors.force, errors.torque, errors.drag,
+            errors.dragTorque);
         EXPECT_LE(errors.force, 1e-3);
         EXPECT_LE(errors.volume, 1e-3);
         EXPECT_LE(errors.torque, 1e-3);
@@ -116,7 +123,8 @@ TEST(FastPath, DryTilesCostNothingAndSubmergedTilesTakeTheClosedForm) {
     frame.pose = Pose::fromEulerDegrees({0, 0, 0}, {20, 30, 40});
     const FluidSettings fluid;
     // Clear of the water: nothing at all.
-    BuoyancyResult r = evaluateBuoyancyFast(sphere.fast, frame, WaterModel::flat(-1.0), fluid, scratch, &stats);
+    BuoyancyResult r =
+        evaluateBuoyancyFast(sphere.fast, frame, WaterModel::flat(-1.0), fluid, scratch, &stats);
     EXPECT_EQ(r.submergedVolume, 0.0);
     EXPECT_EQ(stats.perEntry + stats.closedForm, 0u);
     // Deep under, at rest: every tile in closed form, equal to the per-entry sums in double,
@@ -124,10 +132,12 @@ TEST(FastPath, DryTilesCostNothingAndSubmergedTilesTakeTheClosedForm) {
     r = evaluateBuoyancyFast(sphere.fast, frame, WaterModel::flat(5.0), fluid, scratch, &stats);
     EXPECT_EQ(stats.perEntry, 0u);
     EXPECT_GT(stats.closedForm, 0u);
-    const BuoyancyResult deep = evaluateBuoyancyReference(sphere.textures, frame, WaterModel::flat(5.0), fluid);
+    const BuoyancyResult deep =
+        evaluateBuoyancyReference(sphere.textures, frame, WaterModel::flat(5.0), fluid);
     EXPECT_NEAR(r.submergedVolume, deep.submergedVolume, 1e-6 * sphere.props.volume);
     EXPECT_LT((r.pressureForce - deep.pressureForce).norm(), 1e-6 * r.force.norm());
-    EXPECT_LT((r.pressureTorque - deep.pressureTorque).norm(), 1e-6 * r.force.norm() * sphere.radius);
+    EXPECT_LT((r.pressureTorque - deep.pressureTorque).norm(),
+              1e-6 * r.force.norm() * sphere.radius);
     EXPECT_LT((r.centerOfBuoyancy - deep.centerOfBuoyancy).norm(), 1e-6 * sphere.radius);
     EXPECT_EQ(r.submergedSamples, sphere.textures.coveredCount());
     EXPECT_NEAR(r.submergedVolume, sphere.props.volume, 1e-3 * sphere.props.volume);
@@ -138,7 +148,8 @@ TEST(FastPath, DryTilesCostNothingAndSubmergedTilesTakeTheClosedForm) {
     r = evaluateBuoyancyFast(sphere.fast, frame, deepWaves, fluid, scratch, &stats);
     EXPECT_GT(stats.closedForm, stats.perEntry);
     EXPECT_GT(stats.waterSamples, 0u);
-    const BuoyancyResult underWaves = evaluateBuoyancyReference(sphere.textures, frame, deepWaves, fluid);
+    const BuoyancyResult underWaves =
+        evaluateBuoyancyReference(sphere.textures, frame, deepWaves, fluid);
     EXPECT_LT((r.pressureForce - underWaves.pressureForce).norm(), 1e-4 * r.force.norm());
     // Moving and spinning deep under: the drag of tiles whose normals keep their sign against
     // the flow is summed from the moments, and equals the reference's per-entry sum.
@@ -146,13 +157,14 @@ TEST(FastPath, DryTilesCostNothingAndSubmergedTilesTakeTheClosedForm) {
     frame.motion.angular = {0.1, 0.2, -0.1};
     r = evaluateBuoyancyFast(sphere.fast, frame, WaterModel::flat(5.0), fluid, scratch, &stats);
     EXPECT_GT(stats.closedForm, stats.perEntry);
-    const BuoyancyResult ref = evaluateBuoyancyReference(sphere.textures, frame, WaterModel::flat(5.0), fluid);
+    const BuoyancyResult ref =
+        evaluateBuoyancyReference(sphere.textures, frame, WaterModel::flat(5.0), fluid);
     EXPECT_LT((r.dragForce - ref.dragForce).norm(), 1e-5 * ref.dragForce.norm());
     EXPECT_LT((r.dragTorque - ref.dragTorque).norm(), 1e-5 * ref.dragForce.norm() * sphere.radius);
     // Half under at rest: only leaves (8 entries) near the waterline take per-entry work.
     r = evaluateBuoyancyFast(sphere.fast, {frame.pose, {}, frame.centerOfMass, 0.0},
-                             WaterModel::flat(frame.pose.apply(sphere.props.centerOfMass).y()), fluid,
-                             scratch, &stats);
+                             WaterModel::flat(frame.pose.apply(sphere.props.centerOfMass).y()),
+                             fluid, scratch, &stats);
     EXPECT_LT(stats.perEntry * 8, sphere.textures.coveredCount() / 4);
     EXPECT_GT(stats.dry, 0u);
     EXPECT_GT(stats.closedForm, 0u);
@@ -177,13 +189,15 @@ TEST(FastPath, DepthIntegralsEqualTheSumsOverEntries) {
                 moments.n1[k][j] += a[k] * s[j];
                 for (int l = j; l < 3; ++l) {
                     moments.n2[k][ev::kPair[j][l]] += a[k] * s[j] * s[l];
-                    for (int n = l; n < 3; ++n) moments.n3[k][ev::kTriple[j][l][n]] += a[k] * s[j] * s[l] * s[n];
+                    for (int n = l; n < 3; ++n)
+                        moments.n3[k][ev::kTriple[j][l][n]] += a[k] * s[j] * s[l] * s[n];
                 }
             }
         }
     }
     const ev::Vec3 p{0.3, -0.7, 0.45};
-    const Eigen::Matrix3d R = Eigen::AngleAxisd(0.8, Eigen::Vector3d(1, 2, -1).normalized()).toRotationMatrix();
+    const Eigen::Matrix3d R =
+        Eigen::AngleAxisd(0.8, Eigen::Vector3d(1, 2, -1).normalized()).toRotationMatrix();
     ev::Mat3 r;
     for (int i = 0; i < 3; ++i)
         for (int j = 0; j < 3; ++j) r.m[i][j] = R(i, j);
@@ -213,7 +227,8 @@ TEST(FastPath, DepthIntegralsEqualTheSumsOverEntries) {
         }
         for (int k = 0; k < 3; ++k) {
             EXPECT_NEAR(got.d0[k], direct.d0[k], 1e-12) << "curved " << curved << ", u " << k;
-            for (int j = 0; j < 3; ++j) EXPECT_NEAR(got.d1[k][j], direct.d1[k][j], 1e-12) << "u " << k << ", j " << j;
+            for (int j = 0; j < 3; ++j)
+                EXPECT_NEAR(got.d1[k][j], direct.d1[k][j], 1e-12) << "u " << k << ", j " << j;
             EXPECT_NEAR(got.e[k], direct.e[k], 1e-12) << "curved " << curved << ", u " << k;
         }
         if (!curved) continue;

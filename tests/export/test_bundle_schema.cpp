@@ -50,7 +50,9 @@ private:
         if (type == "number") return v.is_number();
         if (type == "integer")
             return v.is_number_integer() ||
-                   (v.is_number_float() && v.get<double>() == static_cast<double>(static_cast<long long>(v.get<double>())));
+                   (v.is_number_float() &&
+                    v.get<double>() ==
+                        static_cast<double>(static_cast<long long>(v.get<double>())));
         throw std::runtime_error("unknown type " + type);
     }
 
@@ -63,7 +65,9 @@ private:
         return ok;
     }
 
-    void fail(const std::string& path, const std::string& what) { problems_.push_back(path + ": " + what); }
+    void fail(const std::string& path, const std::string& what) {
+        problems_.push_back(path + ": " + what);
+    }
 
     void visit(const json& schema, const json& v, const std::string& path) {
         if (schema.is_boolean()) {
@@ -75,58 +79,76 @@ private:
             const json& t = schema["type"];
             bool any = false;
             if (t.is_string()) any = hasType(v, t.get<std::string>());
-            for (const json& one : t.is_array() ? t : json::array()) any = any || hasType(v, one.get<std::string>());
-            if (!any) return fail(path, "is " + std::string(v.type_name()) + ", the schema wants " + t.dump());
+            for (const json& one : t.is_array() ? t : json::array())
+                any = any || hasType(v, one.get<std::string>());
+            if (!any)
+                return fail(path,
+                            "is " + std::string(v.type_name()) + ", the schema wants " + t.dump());
         }
-        if (schema.contains("const") && v != schema["const"]) fail(path, "is " + v.dump() + ", not " + schema["const"].dump());
+        if (schema.contains("const") && v != schema["const"])
+            fail(path, "is " + v.dump() + ", not " + schema["const"].dump());
         if (schema.contains("enum")) {
             const json& e = schema["enum"];
-            if (std::find(e.begin(), e.end(), v) == e.end()) fail(path, v.dump() + " is not one of " + e.dump());
+            if (std::find(e.begin(), e.end(), v) == e.end())
+                fail(path, v.dump() + " is not one of " + e.dump());
         }
         if (v.is_number()) {
             const double x = v.get<double>();
-            if (schema.contains("minimum") && x < schema["minimum"].get<double>()) fail(path, "below minimum");
-            if (schema.contains("maximum") && x > schema["maximum"].get<double>()) fail(path, "above maximum");
-            if (schema.contains("exclusiveMinimum") && x <= schema["exclusiveMinimum"].get<double>())
+            if (schema.contains("minimum") && x < schema["minimum"].get<double>())
+                fail(path, "below minimum");
+            if (schema.contains("maximum") && x > schema["maximum"].get<double>())
+                fail(path, "above maximum");
+            if (schema.contains("exclusiveMinimum") &&
+                x <= schema["exclusiveMinimum"].get<double>())
                 fail(path, "not above exclusiveMinimum");
         }
         if (v.is_string()) {
             const std::string s = v.get<std::string>();
-            if (schema.contains("minLength") && s.size() < schema["minLength"].get<std::size_t>()) fail(path, "too short");
-            if (schema.contains("pattern") && !std::regex_search(s, std::regex(schema["pattern"].get<std::string>())))
+            if (schema.contains("minLength") && s.size() < schema["minLength"].get<std::size_t>())
+                fail(path, "too short");
+            if (schema.contains("pattern") &&
+                !std::regex_search(s, std::regex(schema["pattern"].get<std::string>())))
                 fail(path, "does not match " + schema["pattern"].dump());
         }
         if (v.is_object()) {
             for (const json& key : schema.value("required", json::array()))
-                if (!v.contains(key.get<std::string>())) fail(path, "required key " + key.dump() + " missing");
+                if (!v.contains(key.get<std::string>()))
+                    fail(path, "required key " + key.dump() + " missing");
             const json properties = schema.value("properties", json::object());
             for (const auto& [key, item] : v.items()) {
                 if (properties.contains(key)) {
                     visit(properties[key], item, path + "." + key);
                 } else if (schema.contains("additionalProperties")) {
                     const json& extra = schema["additionalProperties"];
-                    if (extra.is_boolean() && !extra.get<bool>()) fail(path, "key \"" + key + "\" is not in the schema");
-                    else if (extra.is_object()) visit(extra, item, path + "." + key);
+                    if (extra.is_boolean() && !extra.get<bool>())
+                        fail(path, "key \"" + key + "\" is not in the schema");
+                    else if (extra.is_object())
+                        visit(extra, item, path + "." + key);
                 }
             }
         }
         if (v.is_array()) {
-            if (schema.contains("minItems") && v.size() < schema["minItems"].get<std::size_t>()) fail(path, "too few items");
-            if (schema.contains("maxItems") && v.size() > schema["maxItems"].get<std::size_t>()) fail(path, "too many items");
+            if (schema.contains("minItems") && v.size() < schema["minItems"].get<std::size_t>())
+                fail(path, "too few items");
+            if (schema.contains("maxItems") && v.size() > schema["maxItems"].get<std::size_t>())
+                fail(path, "too many items");
             if (schema.contains("items"))
-                for (std::size_t i = 0; i < v.size(); ++i) visit(schema["items"], v[i], path + "[" + std::to_string(i) + "]");
+                for (std::size_t i = 0; i < v.size(); ++i)
+                    visit(schema["items"], v[i], path + "[" + std::to_string(i) + "]");
         }
         if (schema.contains("oneOf")) {
             int count = 0;
             for (const json& s : schema["oneOf"]) count += matches(s, v);
-            if (count != 1) fail(path, "matches " + std::to_string(count) + " of oneOf's schemas, not 1");
+            if (count != 1)
+                fail(path, "matches " + std::to_string(count) + " of oneOf's schemas, not 1");
         }
         if (schema.contains("anyOf")) {
             bool any = false;
             for (const json& s : schema["anyOf"]) any = any || matches(s, v);
             if (!any) fail(path, "matches none of anyOf's schemas");
         }
-        if (schema.contains("not") && matches(schema["not"], v)) fail(path, "matches a \"not\" schema");
+        if (schema.contains("not") && matches(schema["not"], v))
+            fail(path, "matches a \"not\" schema");
     }
 
     json root_;
@@ -145,7 +167,8 @@ std::string joined(const std::vector<std::string>& lines) {
 
 /// Exports body 0 of a sample project into a scratch folder.
 fs::path exportSample(const std::string& stem) {
-    Result<Project> project = loadProject(fs::path(PLIMSOLL_SOURCE_DIR) / "projects" / (stem + ".plim.json"));
+    Result<Project> project =
+        loadProject(fs::path(PLIMSOLL_SOURCE_DIR) / "projects" / (stem + ".plim.json"));
     EXPECT_TRUE(project.ok()) << project.error().message;
     const fs::path folder = test::scratchFolder("bundle_schema") / stem;
     Result<BundleReport> report = writeBodyBundle(*project, 0, folder);
@@ -162,7 +185,8 @@ TEST(BundleSchema, ExportedManifestsAndGraphsFollowTheirSchemas) {
         const json manifest = json::parse(readFile(folder / "manifest.json"));
         EXPECT_EQ(joined(manifestSchema.check(manifest)), "");
         if (manifest["water_graph"].is_object()) {
-            const json graph = json::parse(readFile(folder / manifest["water_graph"]["path"].get<std::string>()));
+            const json graph =
+                json::parse(readFile(folder / manifest["water_graph"]["path"].get<std::string>()));
             EXPECT_EQ(joined(graphSchema.check(graph)), "");
             // The sample graph as written by hand follows it too.
         }
@@ -171,10 +195,12 @@ TEST(BundleSchema, ExportedManifestsAndGraphsFollowTheirSchemas) {
         // path leaving the bundle and a newer major.
         json spoiled = manifest;
         spoiled.erase("files");
-        EXPECT_NE(joined(manifestSchema.check(spoiled)).find("\"files\" missing"), std::string::npos);
+        EXPECT_NE(joined(manifestSchema.check(spoiled)).find("\"files\" missing"),
+                  std::string::npos);
         spoiled = manifest;
         spoiled["texture_size"] = "128";
-        EXPECT_NE(joined(manifestSchema.check(spoiled)).find("$.texture_size: is string"), std::string::npos);
+        EXPECT_NE(joined(manifestSchema.check(spoiled)).find("$.texture_size: is string"),
+                  std::string::npos);
         spoiled = manifest;
         spoiled["files"][0]["path"] = "../x";
         EXPECT_FALSE(manifestSchema.check(spoiled).empty());
@@ -187,7 +213,8 @@ TEST(BundleSchema, ExportedManifestsAndGraphsFollowTheirSchemas) {
         EXPECT_EQ(joined(graphSchema.check(graph)), "") << file;
         json spoiled = graph;
         spoiled["nodes"][0].erase("capacity");
-        EXPECT_NE(joined(graphSchema.check(spoiled)).find("$.nodes[0]: required key \"capacity\""), std::string::npos);
+        EXPECT_NE(joined(graphSchema.check(spoiled)).find("$.nodes[0]: required key \"capacity\""),
+                  std::string::npos);
         spoiled = graph;
         spoiled["pipes"][0]["open"] = 1;
         EXPECT_FALSE(graphSchema.check(spoiled).empty()) << file;
@@ -236,7 +263,8 @@ TEST(BundleSchema, SampleProjectsAndSavedProjectsFollowTheProjectSchema) {
         ++checked;
         json spoiled = original;
         spoiled["bodies"][0]["an_unknown_key"] = 1;
-        EXPECT_NE(joined(schema.check(spoiled)).find("\"an_unknown_key\" is not in the schema"), std::string::npos);
+        EXPECT_NE(joined(schema.check(spoiled)).find("\"an_unknown_key\" is not in the schema"),
+                  std::string::npos);
     }
     EXPECT_GE(checked, 5u);
 }

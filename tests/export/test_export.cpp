@@ -41,7 +41,8 @@ std::string shell(const std::string& command, int* exitCode = nullptr) {
     FILE* pipe = ::popen(command.c_str(), "r");
     if (!pipe) return out;
     std::array<char, 4096> buffer;
-    while (std::size_t n = std::fread(buffer.data(), 1, buffer.size(), pipe)) out.append(buffer.data(), n);
+    while (std::size_t n = std::fread(buffer.data(), 1, buffer.size(), pipe))
+        out.append(buffer.data(), n);
     const int status = ::pclose(pipe);
     if (exitCode) *exitCode = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
     return out;
@@ -64,7 +65,8 @@ fs::path copyProject(const std::string& test, const std::string& stem) {
     fs::copy(source / "projects" / "maps", root / "projects" / "maps", fs::copy_options::recursive);
     for (const char* file : {"boat.graph.json", "plush.graph.json"})
         fs::copy_file(source / "projects" / file, root / "projects" / file);
-    fs::copy_file(source / "projects" / (stem + ".plim.json"), root / "projects" / (stem + ".plim.json"));
+    fs::copy_file(source / "projects" / (stem + ".plim.json"),
+                  root / "projects" / (stem + ".plim.json"));
     return root;
 }
 
@@ -103,7 +105,8 @@ TEST(ExportCli, HelpAndUsage) {
     const test::CommandOutput help = runPlimsoll("export --help");
     EXPECT_EQ(help.exitCode, 0);
     EXPECT_NE(help.out.find("--check"), std::string::npos) << help.out;
-    const test::CommandOutput noOut = runPlimsoll("export " + (fs::path(PLIMSOLL_SOURCE_DIR) / "projects" / "buoy.plim.json").string());
+    const test::CommandOutput noOut = runPlimsoll(
+        "export " + (fs::path(PLIMSOLL_SOURCE_DIR) / "projects" / "buoy.plim.json").string());
     EXPECT_NE(noOut.exitCode, 0);
     EXPECT_NE(noOut.err.find("--out"), std::string::npos) << noOut.err;
 }
@@ -127,7 +130,8 @@ TEST(Export, BundleHoldsWhatWorldSimulates) {
         const fs::path folder = root / "out" / bundleFolderName(*project, 0);
         Result<BundleReport> report = writeBodyBundle(*project, 0, folder);
         ASSERT_TRUE(report.ok()) << report.error().message;
-        Result<std::unique_ptr<World>> world = World::create(test::sceneOrFail(*project), createReferenceBackend(), {});
+        Result<std::unique_ptr<World>> world =
+            World::create(test::sceneOrFail(*project), createReferenceBackend(), {});
         ASSERT_TRUE(world.ok()) << world.error().message;
         const SimulatedBody& body = (*world)->bodies().at(0);
         const nlohmann::json manifest = nlohmann::json::parse(readFile(folder / "manifest.json"));
@@ -138,7 +142,8 @@ TEST(Export, BundleHoldsWhatWorldSimulates) {
         if (stem != "damaged_boat") {  // sealed: World's mass is the body's own
             EXPECT_DOUBLE_EQ(mass["mass"].get<double>(), body.mass.mass);
             for (int k = 0; k < 3; ++k)
-                EXPECT_DOUBLE_EQ(mass["center_of_mass"][k].get<double>(), body.mass.centerOfMass[k]);
+                EXPECT_DOUBLE_EQ(mass["center_of_mass"][k].get<double>(),
+                                 body.mass.centerOfMass[k]);
         }
         if (stem == "buoy") {
             EXPECT_TRUE(manifest["mass_properties"]["exact"].is_null());  // painted shell
@@ -150,7 +155,8 @@ TEST(Export, BundleHoldsWhatWorldSimulates) {
         ASSERT_EQ(samples->texelIndex, body.textures.texelIndex);
         for (std::size_t i = 0; i < body.textures.coveredCount(); i += 97) {
             EXPECT_NEAR(samples->position[i].x(), body.textures.position[i].x(), 1e-6);
-            EXPECT_NEAR(samples->area[i], body.textures.area[i], 1e-6 * body.textures.area[i] + 1e-12);
+            EXPECT_NEAR(samples->area[i], body.textures.area[i],
+                        1e-6 * body.textures.area[i] + 1e-12);
         }
     }
 }
@@ -245,10 +251,12 @@ TEST(Export, TexelNodeMapHoldsTheNearestNodeOfEveryCoveredTexel) {
         ASSERT_TRUE(project.ok()) << project.error().message;
         const fs::path folder = root / "out" / bundleFolderName(*project, 0);
         ASSERT_TRUE(writeBodyBundle(*project, 0, folder).ok());
-        Result<std::unique_ptr<World>> world = World::create(test::sceneOrFail(*project), createReferenceBackend(), {});
+        Result<std::unique_ptr<World>> world =
+            World::create(test::sceneOrFail(*project), createReferenceBackend(), {});
         ASSERT_TRUE(world.ok()) << world.error().message;
         const SurfaceTextures& t = (*world)->bodies().at(0).textures;
-        Result<WaterGraph> graph = loadGraph(project->resolvePath(project->bodies[0].waterGraph->graph));
+        Result<WaterGraph> graph =
+            loadGraph(project->resolvePath(project->bodies[0].waterGraph->graph));
         ASSERT_TRUE(graph.ok()) << graph.error().message;
         ASSERT_GE(graph->nodes.size(), 2u);
 
@@ -271,12 +279,14 @@ TEST(Export, TexelNodeMapHoldsTheNearestNodeOfEveryCoveredTexel) {
         std::vector<std::size_t> fed(graph->nodes.size(), 0);
         for (std::size_t first = 0, last; first < t.coveredCount(); first = last) {
             std::size_t largest = first;
-            for (last = first; last < t.coveredCount() && t.texelIndex[last] == t.texelIndex[first]; ++last)
+            for (last = first; last < t.coveredCount() && t.texelIndex[last] == t.texelIndex[first];
+                 ++last)
                 if (t.area[last] > t.area[largest]) largest = last;
             shared += last - first > 1;
             const std::size_t x = t.texelIndex[first] % t.size, y = t.texelIndex[first] / t.size;
             const std::uint32_t value = map->pixels[(t.size - 1 - y) * t.size + x];
-            ASSERT_EQ(value, static_cast<std::uint32_t>(nearestNode(*graph, t.position[largest]) + 1))
+            ASSERT_EQ(value,
+                      static_cast<std::uint32_t>(nearestNode(*graph, t.position[largest]) + 1))
                 << "texel " << x << ", " << y;
             ++fed[value - 1];
         }
@@ -295,11 +305,13 @@ TEST(Export, TexelNodeMapHoldsTheNearestNodeOfEveryCoveredTexel) {
 
         if (haveTool("exrheader")) {
             int rc = 1;
-            const std::string header = shell("exrheader " + quoted(folder / "texel_nodes.exr") + " 2>&1", &rc);
+            const std::string header =
+                shell("exrheader " + quoted(folder / "texel_nodes.exr") + " 2>&1", &rc);
             EXPECT_EQ(rc, 0) << header;
             EXPECT_NE(header.find("node, 32-bit unsigned integer"), std::string::npos) << header;
             const std::string last = std::to_string(t.size - 1);
-            EXPECT_NE(header.find("(0 0) - (" + last + " " + last + ")"), std::string::npos) << header;
+            EXPECT_NE(header.find("(0 0) - (" + last + " " + last + ")"), std::string::npos)
+                << header;
         }
     }
     // The refined boat's texels hold several entries: the largest-entry rule is exercised.
@@ -310,10 +322,12 @@ TEST(ExportCli, DamagedBoatBundleIsCompleteDeterministicAndChecksummed) {
     const fs::path root = copyProject("boat", "damaged_boat");
     const fs::path project = root / "projects" / "damaged_boat.plim.json";
     const fs::path outA = root / "outA", outB = root / "outB";
-    const test::CommandOutput a = runPlimsoll("export " + quoted(project) + " --out " + quoted(outA) +
-                                              " --summary " + quoted(root / "summary.json"));
+    const test::CommandOutput a =
+        runPlimsoll("export " + quoted(project) + " --out " + quoted(outA) + " --summary " +
+                    quoted(root / "summary.json"));
     ASSERT_EQ(a.exitCode, 0) << a.err;
-    const test::CommandOutput b = runPlimsoll("export " + quoted(project) + " --out " + quoted(outB) + " --quiet");
+    const test::CommandOutput b =
+        runPlimsoll("export " + quoted(project) + " --out " + quoted(outB) + " --quiet");
     ASSERT_EQ(b.exitCode, 0) << b.err;
     EXPECT_TRUE(b.err.empty()) << b.err;
 
@@ -321,18 +335,19 @@ TEST(ExportCli, DamagedBoatBundleIsCompleteDeterministicAndChecksummed) {
     const auto first = contents(bundle);
     std::vector<std::string> names;
     for (const auto& [name, bytes] : first) names.push_back(name);
-    EXPECT_EQ(names, (std::vector<std::string>{"area.exr", "boat.bin", "boat.gltf",
-                                               "coverage.exr", "graph.json",
-                                               "manifest.json", "permeability.png",
-                                               "position.exr", "samples.exr",
-                                               "texel_nodes.exr"}));
+    EXPECT_EQ(names, (std::vector<std::string>{"area.exr", "boat.bin", "boat.gltf", "coverage.exr",
+                                               "graph.json", "manifest.json", "permeability.png",
+                                               "position.exr", "samples.exr", "texel_nodes.exr"}));
     // Two exports into different folders, and a third over the first: byte-identical.
     EXPECT_EQ(contents(outB / "damaged_boat" / "boat"), first);
-    ASSERT_EQ(runPlimsoll("export " + quoted(project) + " --out " + quoted(outA) + " --quiet").exitCode, 0);
+    ASSERT_EQ(
+        runPlimsoll("export " + quoted(project) + " --out " + quoted(outA) + " --quiet").exitCode,
+        0);
     EXPECT_EQ(contents(bundle), first);
     // Nothing left beside the bundle (temporary or old folders).
     std::vector<std::string> siblings;
-    for (const auto& e : fs::directory_iterator(outA / "damaged_boat")) siblings.push_back(e.path().filename());
+    for (const auto& e : fs::directory_iterator(outA / "damaged_boat"))
+        siblings.push_back(e.path().filename());
     EXPECT_EQ(siblings, std::vector<std::string>{"boat"});
 
     // The summary: stdout and --summary agree; every body written.
@@ -412,14 +427,20 @@ TEST(Export, VerifyAcceptsABundleAndNamesWhatIsWrongWithABadOne) {
         return r.ok() ? std::string() : r.error().message;
     };
     EXPECT_NE(broken("missing", [](const fs::path& f) { fs::remove(f / "area.exr"); })
-                  .find("area.exr: missing"), std::string::npos);
-    EXPECT_NE(broken("truncated", [](const fs::path& f) { fs::resize_file(f / "position.exr", 100); })
-                  .find("position.exr: 100 bytes, the manifest says"), std::string::npos);
-    EXPECT_NE(broken("changed", [](const fs::path& f) {
-                  std::string bytes = readFile(f / "samples.exr");
-                  bytes[bytes.size() / 2] ^= 1;
-                  std::ofstream(f / "samples.exr", std::ios::binary) << bytes;
-              }).find("samples.exr: SHA-256"), std::string::npos);
+                  .find("area.exr: missing"),
+              std::string::npos);
+    EXPECT_NE(
+        broken("truncated", [](const fs::path& f) { fs::resize_file(f / "position.exr", 100); })
+            .find("position.exr: 100 bytes, the manifest says"),
+        std::string::npos);
+    EXPECT_NE(broken("changed",
+                     [](const fs::path& f) {
+                         std::string bytes = readFile(f / "samples.exr");
+                         bytes[bytes.size() / 2] ^= 1;
+                         std::ofstream(f / "samples.exr", std::ios::binary) << bytes;
+                     })
+                  .find("samples.exr: SHA-256"),
+              std::string::npos);
     auto withManifest = [](const std::function<void(nlohmann::json&)>& edit) {
         return [edit](const fs::path& f) {
             nlohmann::json m = nlohmann::json::parse(readFile(f / "manifest.json"));
@@ -427,21 +448,32 @@ TEST(Export, VerifyAcceptsABundleAndNamesWhatIsWrongWithABadOne) {
             std::ofstream(f / "manifest.json") << m.dump(2);
         };
     };
-    EXPECT_NE(broken("newer_major", withManifest([](nlohmann::json& m) { m["schema_version"] = 2; m["schema_minor"] = 0; }))
-                  .find("bundle schema 2.0 is newer than this reader's 1.x"), std::string::npos);
+    EXPECT_NE(broken("newer_major", withManifest([](nlohmann::json& m) {
+                         m["schema_version"] = 2;
+                         m["schema_minor"] = 0;
+                     }))
+                  .find("bundle schema 2.0 is newer than this reader's 1.x"),
+              std::string::npos);
     // A newer minor only adds: accepted.
     {
         const fs::path folder = root / "newer_minor";
         fs::copy(good, folder, fs::copy_options::recursive);
-        withManifest([](nlohmann::json& m) { m["schema_minor"] = 7; m["a_later_field"] = true; })(folder);
+        withManifest([](nlohmann::json& m) {
+            m["schema_minor"] = 7;
+            m["a_later_field"] = true;
+        })(folder);
         Result<BundleManifestInfo> r = verifyBundle(folder);
         ASSERT_TRUE(r.ok()) << r.error().message;
         EXPECT_EQ(r->schemaMinor, 7);
     }
-    EXPECT_NE(broken("escape", withManifest([](nlohmann::json& m) { m["files"][0]["path"] = "../x"; }))
-                  .find("leaves the folder"), std::string::npos);
-    EXPECT_NE(broken("not_json", [](const fs::path& f) { std::ofstream(f / "manifest.json") << "{"; })
-                  .find("malformed manifest"), std::string::npos);
+    EXPECT_NE(
+        broken("escape", withManifest([](nlohmann::json& m) { m["files"][0]["path"] = "../x"; }))
+            .find("leaves the folder"),
+        std::string::npos);
+    EXPECT_NE(
+        broken("not_json", [](const fs::path& f) { std::ofstream(f / "manifest.json") << "{"; })
+            .find("malformed manifest"),
+        std::string::npos);
     // Nested past the limit: refused before parsing, the manifest named.
     EXPECT_NE(broken("deep",
                      [](const fs::path& f) {
@@ -486,9 +518,10 @@ TEST(Export, VerifyAcceptsCurrentAndPreviousMinorsAndRefusesANewerMajor) {
         nlohmann::json m = nlohmann::json::parse(readFile(folder / "manifest.json"));
         m["schema_version"] = major;
         m["schema_minor"] = minor;
-        if (minor == 0) m.erase("gltf");  // 1.0 had no glTF
+        if (minor == 0) m.erase("gltf");      // 1.0 had no glTF
         if (minor < 3) m.erase("radiation");  // nor did 1.2 radiation
-        if (minor < 4) m.erase("world");  // nor did 1.3 the world
+        if (minor < 4)
+            m.erase("world");  // nor did 1.3 the world
         else if (minor < 5)
             m["world"]["simulation"].erase("sleep");  // nor 1.4 sleeping
         if (minor < 6) m.erase("levels");             // nor 1.5 levels
@@ -500,8 +533,10 @@ TEST(Export, VerifyAcceptsCurrentAndPreviousMinorsAndRefusesANewerMajor) {
         } else {
             ASSERT_FALSE(r.ok());
             EXPECT_NE(r.error().message.find("bundle schema 2.0 is newer than this reader's 1.x"),
-                      std::string::npos) << r.error().message;
-            EXPECT_NE(r.error().message.find((folder / "manifest.json").string()), std::string::npos);
+                      std::string::npos)
+                << r.error().message;
+            EXPECT_NE(r.error().message.find((folder / "manifest.json").string()),
+                      std::string::npos);
         }
     }
 }
@@ -560,14 +595,15 @@ TEST(Export, TruncatedExrGivesAnErrorNamingTheFile) {
 // manifest's per-frame mass properties say the same.
 TEST(Export, DeformingBodyExportsEveryFrame) {
     const fs::path root = test::scratchFolder("export_deforming");
-    Result<Project> project = loadProject(fs::path(PLIMSOLL_SOURCE_DIR) / "projects" / "balloon.plim.json");
+    Result<Project> project =
+        loadProject(fs::path(PLIMSOLL_SOURCE_DIR) / "projects" / "balloon.plim.json");
     ASSERT_TRUE(project.ok()) << project.error().message;
     const BodyDesc& desc = project->bodies.at(0);
     ASSERT_TRUE(desc.deforms());
     const fs::path folder = root / "balloon";
     std::vector<std::string> notices;
-    Result<BundleReport> report =
-        writeBodyBundle(*project, 0, folder, [&](const std::string& line) { notices.push_back(line); });
+    Result<BundleReport> report = writeBodyBundle(
+        *project, 0, folder, [&](const std::string& line) { notices.push_back(line); });
     ASSERT_TRUE(report.ok()) << report.error().message;
     ASSERT_TRUE(verifyBundle(folder).ok());
     const nlohmann::json manifest = nlohmann::json::parse(readFile(folder / "manifest.json"));
@@ -588,11 +624,13 @@ TEST(Export, DeformingBodyExportsEveryFrame) {
         for (const char* file : {"position.exr", "area.exr", "samples.exr"})
             EXPECT_TRUE(fs::is_regular_file(frameFolder / file)) << file;
         // The exact volume of this frame's mesh (per triangle, Mirtich), not via textures.
-        Result<TriangleMesh> mesh = loadMesh(project->resolvePath(k == 0 ? desc.mesh : desc.meshFrames[k - 1]));
+        Result<TriangleMesh> mesh =
+            loadMesh(project->resolvePath(k == 0 ? desc.mesh : desc.meshFrames[k - 1]));
         ASSERT_TRUE(mesh.ok()) << mesh.error().message;
         const double exact = exactSolidMassProperties(*mesh, 1.0).volume;
         // The frame's sample list (float32): V = sum A_y y about the first sample's point.
-        Result<detail::FloatImage> list = detail::readExr(frameFolder / "samples.exr", {"py", "ay"});
+        Result<detail::FloatImage> list =
+            detail::readExr(frameFolder / "samples.exr", {"py", "ay"});
         ASSERT_TRUE(list.ok()) << list.error().message;
         ASSERT_GE(list->pixels.size(), 2 * samples);
         double volume = 0;
@@ -606,7 +644,8 @@ TEST(Export, DeformingBodyExportsEveryFrame) {
         lastVolume = exact;
     }
     EXPECT_GT(lastVolume, 1.5 * firstVolume);  // the balloon inflates: the frames differ
-    EXPECT_NEAR(manifest["mass_properties"]["texture"]["volume"].get<double>(), firstVolume, 1e-9 * firstVolume);
+    EXPECT_NEAR(manifest["mass_properties"]["texture"]["volume"].get<double>(), firstVolume,
+                1e-9 * firstVolume);
     const bool said = std::any_of(notices.begin(), notices.end(), [&](const std::string& line) {
         return line.find(std::to_string(frames) + " frames exported") != std::string::npos;
     });
@@ -617,18 +656,20 @@ TEST(ExportCli, ExrFilesReadBackWithOpenExrTools) {
     if (!haveTool("exrheader")) GTEST_SKIP() << "exrheader (package openexr) is not installed";
     const fs::path root = copyProject("exr", "box_half_draft");
     const fs::path out = root / "out";
-    const test::CommandOutput r = runPlimsoll("export " + quoted(root / "projects" / "box_half_draft.plim.json") +
-                                              " --out " + quoted(out) + " --quiet");
+    const test::CommandOutput r =
+        runPlimsoll("export " + quoted(root / "projects" / "box_half_draft.plim.json") + " --out " +
+                    quoted(out) + " --quiet");
     ASSERT_EQ(r.exitCode, 0) << r.err;
     const fs::path bundle = out / "box_half_draft" / "box";
     for (const char* file : {"position.exr", "area.exr"}) {
         int rc = 1;
         const std::string header = shell("exrheader " + quoted(bundle / file) + " 2>&1", &rc);
         EXPECT_EQ(rc, 0) << header;
-        for (const char* expected : {"R, 32-bit floating-point", "G, 32-bit floating-point",
-                                     "B, 32-bit floating-point", "A, 32-bit floating-point",
-                                     "zip, multi-scanline blocks", "(0 0) - (127 127)"}) {
-            EXPECT_NE(header.find(expected), std::string::npos) << file << ": " << expected << "\n" << header;
+        for (const char* expected :
+             {"R, 32-bit floating-point", "G, 32-bit floating-point", "B, 32-bit floating-point",
+              "A, 32-bit floating-point", "zip, multi-scanline blocks", "(0 0) - (127 127)"}) {
+            EXPECT_NE(header.find(expected), std::string::npos) << file << ": " << expected << "\n"
+                                                                << header;
         }
     }
     const std::string coverage = shell("exrheader " + quoted(bundle / "coverage.exr") + " 2>&1");
@@ -641,9 +682,12 @@ TEST(ExportCli, CheckNamesAChangedPaintedMapAndAChangedGraph) {
     const fs::path out = root / "out";
     const fs::path bundle = out / "damaged_boat" / "boat";
     // No bundle yet: out of date.
-    test::CommandOutput r = runPlimsoll("export " + project + " --out " + quoted(out) + " --check --quiet");
+    test::CommandOutput r =
+        runPlimsoll("export " + project + " --out " + quoted(out) + " --check --quiet");
     EXPECT_EQ(r.exitCode, 1);
-    EXPECT_NE(r.err.find("out of date: " + (bundle / "manifest.json").generic_string()), std::string::npos) << r.err;
+    EXPECT_NE(r.err.find("out of date: " + (bundle / "manifest.json").generic_string()),
+              std::string::npos)
+        << r.err;
     ASSERT_EQ(runPlimsoll("export " + project + " --out " + quoted(out) + " --quiet").exitCode, 0);
     const auto exported = contents(bundle);
     r = runPlimsoll("export " + project + " --out " + quoted(out) + " --check");
@@ -659,7 +703,9 @@ TEST(ExportCli, CheckNamesAChangedPaintedMapAndAChangedGraph) {
     ASSERT_TRUE(savePaintedMap(*map, mapPath).ok());
     r = runPlimsoll("export " + project + " --out " + quoted(out) + " --check --quiet");
     EXPECT_EQ(r.exitCode, 1);
-    EXPECT_NE(r.err.find("out of date: " + (bundle / "permeability.png").generic_string()), std::string::npos) << r.err;
+    EXPECT_NE(r.err.find("out of date: " + (bundle / "permeability.png").generic_string()),
+              std::string::npos)
+        << r.err;
     EXPECT_EQ(r.err.find("graph.json"), std::string::npos) << r.err;
     const nlohmann::json summary = nlohmann::json::parse(r.out);
     EXPECT_FALSE(summary["ok"].get<bool>());
@@ -676,13 +722,17 @@ TEST(ExportCli, CheckNamesAChangedPaintedMapAndAChangedGraph) {
     ASSERT_TRUE(saveGraph(*graph, graphPath).ok());
     r = runPlimsoll("export " + project + " --out " + quoted(out) + " --check --quiet");
     EXPECT_EQ(r.exitCode, 1);
-    EXPECT_NE(r.err.find("out of date: " + (bundle / "graph.json").generic_string()), std::string::npos) << r.err;
+    EXPECT_NE(r.err.find("out of date: " + (bundle / "graph.json").generic_string()),
+              std::string::npos)
+        << r.err;
     EXPECT_EQ(r.err.find("permeability.png"), std::string::npos) << r.err;
     EXPECT_EQ(contents(bundle), exported);
 
     // Exported again: up to date once more.
     ASSERT_EQ(runPlimsoll("export " + project + " --out " + quoted(out) + " --quiet").exitCode, 0);
-    EXPECT_EQ(runPlimsoll("export " + project + " --out " + quoted(out) + " --check --quiet").exitCode, 0);
+    EXPECT_EQ(
+        runPlimsoll("export " + project + " --out " + quoted(out) + " --check --quiet").exitCode,
+        0);
 }
 
 TEST(ExportCli, FailedExportLeavesThePreviousBundle) {
@@ -693,13 +743,15 @@ TEST(ExportCli, FailedExportLeavesThePreviousBundle) {
     const auto before = contents(out / "damaged_boat" / "boat");
     // The graph now fails to load: the export fails, naming it, and the bundle stays.
     { std::ofstream(root / "projects" / "boat.graph.json") << "{ not json"; }
-    const test::CommandOutput r = runPlimsoll("export " + project + " --out " + quoted(out) + " --quiet");
+    const test::CommandOutput r =
+        runPlimsoll("export " + project + " --out " + quoted(out) + " --quiet");
     EXPECT_EQ(r.exitCode, 1);
     EXPECT_NE(r.err.find("water graph"), std::string::npos) << r.err;
     EXPECT_EQ(nlohmann::json::parse(r.out)["bodies"][0]["status"], "failed");
     EXPECT_EQ(contents(out / "damaged_boat" / "boat"), before);
     std::vector<std::string> siblings;
-    for (const auto& e : fs::directory_iterator(out / "damaged_boat")) siblings.push_back(e.path().filename());
+    for (const auto& e : fs::directory_iterator(out / "damaged_boat"))
+        siblings.push_back(e.path().filename());
     EXPECT_EQ(siblings, std::vector<std::string>{"boat"});
 }
 
@@ -709,8 +761,10 @@ TEST(ExportCli, SeveralProjectsInParallelMatchOneAtATime) {
                   root / "projects" / "box_half_draft.plim.json");
     const std::string projects = quoted(root / "projects" / "damaged_boat.plim.json") + " " +
                                  quoted(root / "projects" / "box_half_draft.plim.json");
-    const test::CommandOutput serial = runPlimsoll("export " + projects + " --out " + quoted(root / "serial") + " --quiet");
-    const test::CommandOutput parallel = runPlimsoll("export " + projects + " --out " + quoted(root / "parallel") + " --jobs 2 --quiet");
+    const test::CommandOutput serial =
+        runPlimsoll("export " + projects + " --out " + quoted(root / "serial") + " --quiet");
+    const test::CommandOutput parallel = runPlimsoll(
+        "export " + projects + " --out " + quoted(root / "parallel") + " --jobs 2 --quiet");
     ASSERT_EQ(serial.exitCode, 0) << serial.err;
     ASSERT_EQ(parallel.exitCode, 0) << parallel.err;
     EXPECT_EQ(nlohmann::json::parse(parallel.out)["jobs"], 2);
@@ -761,8 +815,9 @@ TEST(ExportCli, ShardsCoverEveryBodyOnceAndARepeatRewritesNothing) {
     const fs::path root = projects.front().parent_path().parent_path(), out = root / "out";
     std::map<std::string, int> exported;
     for (int k = 1; k <= 3; ++k) {
-        const test::CommandOutput r = runPlimsoll("export" + quotedAll(projects) + " --out " + quoted(out) +
-                                                  " --jobs 2 --shard " + std::to_string(k) + "/3");
+        const test::CommandOutput r =
+            runPlimsoll("export" + quotedAll(projects) + " --out " + quoted(out) +
+                        " --jobs 2 --shard " + std::to_string(k) + "/3");
         ASSERT_EQ(r.exitCode, 0) << r.err;
         const nlohmann::json summary = nlohmann::json::parse(r.out);
         EXPECT_EQ(summary["shard"]["index"], k);
@@ -778,8 +833,10 @@ TEST(ExportCli, ShardsCoverEveryBodyOnceAndARepeatRewritesNothing) {
     for (const auto& [body, count] : exported) EXPECT_EQ(count, 1) << body;
 
     std::map<std::string, fs::file_time_type> times;
-    for (const auto& e : fs::recursive_directory_iterator(out)) times[e.path().string()] = e.last_write_time();
-    const test::CommandOutput again = runPlimsoll("export" + quotedAll(projects) + " --out " + quoted(out));
+    for (const auto& e : fs::recursive_directory_iterator(out))
+        times[e.path().string()] = e.last_write_time();
+    const test::CommandOutput again =
+        runPlimsoll("export" + quotedAll(projects) + " --out " + quoted(out));
     ASSERT_EQ(again.exitCode, 0) << again.err;
     const std::map<std::string, std::string> second = statuses(again.out, out);
     EXPECT_EQ(second.size(), bodies);
@@ -788,26 +845,34 @@ TEST(ExportCli, ShardsCoverEveryBodyOnceAndARepeatRewritesNothing) {
         EXPECT_EQ(exported.count(body), 1u) << body;
     }
     EXPECT_EQ(nlohmann::json::parse(again.out)["unchanged"], bodies);
-    EXPECT_NE(again.err.find("all " + std::to_string(bodies) + " bundles unchanged, nothing rewritten"),
-              std::string::npos) << again.err;
-    EXPECT_EQ(again.err.find("[1/"), std::string::npos) << "progress lines off a terminal: " << again.err;
+    EXPECT_NE(
+        again.err.find("all " + std::to_string(bodies) + " bundles unchanged, nothing rewritten"),
+        std::string::npos)
+        << again.err;
+    EXPECT_EQ(again.err.find("[1/"), std::string::npos)
+        << "progress lines off a terminal: " << again.err;
     for (const auto& e : fs::recursive_directory_iterator(out))
         EXPECT_EQ(e.last_write_time(), times[e.path().string()]) << e.path();
 
     // The box's mesh gains a comment: its bytes, so its input hash, change; only it is written.
     { std::ofstream(root / "assets" / "box.obj", std::ios::app) << "# changed\n"; }
-    const test::CommandOutput changed = runPlimsoll("export" + quotedAll(projects) + " --out " + quoted(out) + " --progress");
+    const test::CommandOutput changed =
+        runPlimsoll("export" + quotedAll(projects) + " --out " + quoted(out) + " --progress");
     ASSERT_EQ(changed.exitCode, 0) << changed.err;
-    EXPECT_NE(changed.err.find(": unchanged"), std::string::npos) << changed.err;  // --progress lines
+    EXPECT_NE(changed.err.find(": unchanged"), std::string::npos)
+        << changed.err;  // --progress lines
     for (const auto& [body, status] : statuses(changed.out, out))
         EXPECT_EQ(status, body.rfind("box_half_draft/", 0) == 0 ? "written" : "unchanged") << body;
-    const test::CommandOutput forced = runPlimsoll("export" + quotedAll(projects) + " --out " + quoted(out) + " --force --quiet");
+    const test::CommandOutput forced =
+        runPlimsoll("export" + quotedAll(projects) + " --out " + quoted(out) + " --force --quiet");
     ASSERT_EQ(forced.exitCode, 0) << forced.err;
     EXPECT_TRUE(forced.err.empty()) << forced.err;
-    for (const auto& [body, status] : statuses(forced.out, out)) EXPECT_EQ(status, "written") << body;
+    for (const auto& [body, status] : statuses(forced.out, out))
+        EXPECT_EQ(status, "written") << body;
 
     for (const char* bad : {"0/3", "4/3", "1/0", "x/3", "1/3/4", "/3", "-1/3"}) {
-        const test::CommandOutput r = runPlimsoll("export" + quotedAll(projects) + " --out " + quoted(out) + " --shard " + bad);
+        const test::CommandOutput r = runPlimsoll("export" + quotedAll(projects) + " --out " +
+                                                  quoted(out) + " --shard " + bad);
         EXPECT_EQ(r.exitCode, 2) << bad;
         EXPECT_NE(r.err.find("expected K/N"), std::string::npos) << r.err;
     }
@@ -824,7 +889,8 @@ TEST(ExportCli, TheAtlasCacheIsPartOfTheInputs) {
     { std::ofstream(project) << text.dump(2); }
     const fs::path out = root / "out", cache = root / "projects" / "box_half_draft.cache";
     auto status = [&] {
-        const test::CommandOutput r = runPlimsoll("export " + quoted(project) + " --out " + quoted(out) + " --quiet");
+        const test::CommandOutput r =
+            runPlimsoll("export " + quoted(project) + " --out " + quoted(out) + " --quiet");
         EXPECT_EQ(r.exitCode, 0) << r.err;
         return statuses(r.out, out)["box_half_draft/box"];
     };
@@ -842,25 +908,30 @@ TEST(ExportCli, TheAtlasCacheIsPartOfTheInputs) {
 // <failure> carrying the export's message, the others pass.
 TEST(ExportCli, JunitReportHasOneCasePerBodyAndMarksABrokenOneAsFailed) {
     const fs::path root = copyProject("junit", "damaged_boat");
-    fs::copy_file(fs::path(PLIMSOLL_SOURCE_DIR) / "projects" / "buoy.plim.json", root / "projects" / "buoy.plim.json");
+    fs::copy_file(fs::path(PLIMSOLL_SOURCE_DIR) / "projects" / "buoy.plim.json",
+                  root / "projects" / "buoy.plim.json");
     { std::ofstream(root / "projects" / "boat.graph.json") << "{ not json"; }
     const fs::path junit = root / "report.xml";
     const test::CommandOutput r =
         runPlimsoll("export " + quoted(root / "projects" / "damaged_boat.plim.json") + " " +
-                    quoted(root / "projects" / "buoy.plim.json") + " --out " + quoted(root / "out") +
-                    " --quiet --junit " + quoted(junit));
+                    quoted(root / "projects" / "buoy.plim.json") + " --out " +
+                    quoted(root / "out") + " --quiet --junit " + quoted(junit));
     EXPECT_EQ(r.exitCode, 1);
     ASSERT_TRUE(fs::exists(junit)) << r.err;
     const std::string xml = readFile(junit);
     if (!haveTool("xmllint")) GTEST_SKIP() << "xmllint (package libxml2-utils) is not installed";
     int rc = 1;
-    const fs::path schema = fs::path(PLIMSOLL_SOURCE_DIR) / "tests" / "data" / "junit" / "junit.xsd";
-    const std::string check = shell("xmllint --noout --schema " + quoted(schema) + " " + quoted(junit) + " 2>&1", &rc);
+    const fs::path schema =
+        fs::path(PLIMSOLL_SOURCE_DIR) / "tests" / "data" / "junit" / "junit.xsd";
+    const std::string check =
+        shell("xmllint --noout --schema " + quoted(schema) + " " + quoted(junit) + " 2>&1", &rc);
     EXPECT_EQ(rc, 0) << check << "\n" << xml;
     auto xpath = [&](const std::string& expression) {
         // Double quotes: the expressions hold single-quoted XPath strings.
-        std::string value = shell("xmllint --xpath \"" + expression + "\" " + quoted(junit) + " 2>/dev/null");
-        while (!value.empty() && std::isspace(static_cast<unsigned char>(value.back()))) value.pop_back();
+        std::string value =
+            shell("xmllint --xpath \"" + expression + "\" " + quoted(junit) + " 2>/dev/null");
+        while (!value.empty() && std::isspace(static_cast<unsigned char>(value.back())))
+            value.pop_back();
         return value;
     };
     EXPECT_EQ(xpath("count(//testcase)"), "2");
@@ -872,13 +943,19 @@ TEST(ExportCli, JunitReportHasOneCasePerBodyAndMarksABrokenOneAsFailed) {
     EXPECT_NE(message.find("boat.graph.json"), std::string::npos) << message;
 
     // A project that does not load: one failed case for it, still schema-valid.
-    { std::ofstream(root / "projects" / "buoy.plim.json") << "{ \"schema_version\": 1, \"bodies\": 3 }"; }
-    const test::CommandOutput broken = runPlimsoll("export " + quoted(root / "projects" / "buoy.plim.json") +
-                                                   " --out " + quoted(root / "out") + " --quiet --junit " + quoted(junit));
+    {
+        std::ofstream(root / "projects" / "buoy.plim.json")
+            << "{ \"schema_version\": 1, \"bodies\": 3 }";
+    }
+    const test::CommandOutput broken =
+        runPlimsoll("export " + quoted(root / "projects" / "buoy.plim.json") + " --out " +
+                    quoted(root / "out") + " --quiet --junit " + quoted(junit));
     EXPECT_EQ(broken.exitCode, 1);
-    const std::string recheck = shell("xmllint --noout --schema " + quoted(schema) + " " + quoted(junit) + " 2>&1", &rc);
+    const std::string recheck =
+        shell("xmllint --noout --schema " + quoted(schema) + " " + quoted(junit) + " 2>&1", &rc);
     EXPECT_EQ(rc, 0) << recheck << "\n" << readFile(junit);
-    EXPECT_EQ(xpath("count(//testsuite[@name='buoy.plim.json']/testcase[@name='project']/failure)"), "1");
+    EXPECT_EQ(xpath("count(//testsuite[@name='buoy.plim.json']/testcase[@name='project']/failure)"),
+              "1");
 }
 
 }  // namespace

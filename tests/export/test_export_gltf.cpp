@@ -39,11 +39,16 @@ double metaNumber(const aiMetadata& meta, const std::string& key) {
         if (std::string(meta.mKeys[i].C_Str()) != key) continue;
         const void* d = meta.mValues[i].mData;
         switch (meta.mValues[i].mType) {
-            case AI_INT32: return *static_cast<const std::int32_t*>(d);
-            case AI_UINT64: return static_cast<double>(*static_cast<const std::uint64_t*>(d));
-            case AI_FLOAT: return *static_cast<const float*>(d);
-            case AI_DOUBLE: return *static_cast<const double*>(d);
-            default: break;
+            case AI_INT32:
+                return *static_cast<const std::int32_t*>(d);
+            case AI_UINT64:
+                return static_cast<double>(*static_cast<const std::uint64_t*>(d));
+            case AI_FLOAT:
+                return *static_cast<const float*>(d);
+            case AI_DOUBLE:
+                return *static_cast<const double*>(d);
+            default:
+                break;
         }
     }
     ADD_FAILURE() << "no number '" << key << "' in the node's metadata";
@@ -53,7 +58,8 @@ double metaNumber(const aiMetadata& meta, const std::string& key) {
 TEST(ExportGltf, MeshReadsBackWithAssimpAsTheBakedMeshWithTheBundleInExtras) {
     for (const std::string stem : {"box_half_draft", "damaged_boat", "heavy_side_ball"}) {
         SCOPED_TRACE(stem);
-        Result<Project> project = loadProject(fs::path(PLIMSOLL_SOURCE_DIR) / "projects" / (stem + ".plim.json"));
+        Result<Project> project =
+            loadProject(fs::path(PLIMSOLL_SOURCE_DIR) / "projects" / (stem + ".plim.json"));
         ASSERT_TRUE(project.ok()) << project.error().message;
         const fs::path folder = test::scratchFolder("export_gltf") / stem;
         Result<BundleReport> report = writeBodyBundle(*project, 0, folder);
@@ -162,9 +168,9 @@ TEST(GltfPhysics, PrincipalInertiaRebuildsTheTensorWithAProperRotation) {
     const double m = 12.0, a = 1.0, b = 2.0, c = 3.0;  // box of sides a, b, c
     const Eigen::Vector3d box(m * (b * b + c * c) / 12, m * (a * a + c * c) / 12,
                               m * (a * a + b * b) / 12);
-    const Eigen::Matrix3d turn =
-        (Eigen::AngleAxisd(0.7, Eigen::Vector3d(1, 2, 3).normalized()) *
-         Eigen::AngleAxisd(-1.9, Eigen::Vector3d::UnitY())).toRotationMatrix();
+    const Eigen::Matrix3d turn = (Eigen::AngleAxisd(0.7, Eigen::Vector3d(1, 2, 3).normalized()) *
+                                  Eigen::AngleAxisd(-1.9, Eigen::Vector3d::UnitY()))
+                                     .toRotationMatrix();
     const Eigen::Matrix3d sphere = Eigen::Matrix3d::Identity() * (0.4 * m * 0.25);
     for (const Eigen::Matrix3d& tensor :
          {Eigen::Matrix3d(turn * box.asDiagonal() * turn.transpose()), sphere,
@@ -173,7 +179,8 @@ TEST(GltfPhysics, PrincipalInertiaRebuildsTheTensorWithAProperRotation) {
         const Eigen::Matrix3d r = p.orientation.toRotationMatrix();
         EXPECT_NEAR(r.determinant(), 1.0, 1e-12);
         EXPECT_GE(p.orientation.w(), 0.0);
-        EXPECT_LT((r * p.moments.asDiagonal() * r.transpose() - tensor).norm(), 1e-12 * tensor.norm());
+        EXPECT_LT((r * p.moments.asDiagonal() * r.transpose() - tensor).norm(),
+                  1e-12 * tensor.norm());
         std::vector<double> expected{tensor.trace() / 3, tensor.trace() / 3, tensor.trace() / 3};
         if (tensor != sphere) expected = {box.x(), box.y(), box.z()};
         std::sort(expected.begin(), expected.end());
@@ -191,7 +198,8 @@ TEST(GltfPhysics, PrincipalInertiaRebuildsTheTensorWithAProperRotation) {
 TEST(GltfPhysics, ExportedGltfCarriesTheManifestsExactMassProperties) {
     for (const std::string stem : {"box_half_draft", "damaged_boat", "buoy"}) {
         SCOPED_TRACE(stem);
-        Result<Project> project = loadProject(fs::path(PLIMSOLL_SOURCE_DIR) / "projects" / (stem + ".plim.json"));
+        Result<Project> project =
+            loadProject(fs::path(PLIMSOLL_SOURCE_DIR) / "projects" / (stem + ".plim.json"));
         ASSERT_TRUE(project.ok()) << project.error().message;
         const fs::path folder = test::scratchFolder("gltf_physics") / stem;
         Result<BundleReport> report = writeBodyBundle(*project, 0, folder);
@@ -205,7 +213,8 @@ TEST(GltfPhysics, ExportedGltfCarriesTheManifestsExactMassProperties) {
         const nlohmann::json& exact = manifest.at("mass_properties").at(source);
 
         const std::vector<std::string> used = gltf.at("extensionsUsed");
-        for (const char* name : {"KHR_physics_rigid_bodies", "OMI_physics_body", "PLIMSOLL_buoyancy_bundle"})
+        for (const char* name :
+             {"KHR_physics_rigid_bodies", "OMI_physics_body", "PLIMSOLL_buoyancy_bundle"})
             EXPECT_NE(std::find(used.begin(), used.end(), name), used.end()) << name;
         EXPECT_FALSE(gltf.contains("extensionsRequired"));  // a plain glTF reader still loads it
 

@@ -29,7 +29,8 @@ std::vector<fs::path> realAssets() {
     if (!fs::exists(test::realAssetsDir())) return files;
     for (const auto& entry : fs::recursive_directory_iterator(test::realAssetsDir())) {
         const std::string ext = entry.path().extension().string();
-        if (ext == ".fbx" || ext == ".glb" || ext == ".obj" || ext == ".stl") files.push_back(entry.path());
+        if (ext == ".fbx" || ext == ".glb" || ext == ".obj" || ext == ".stl")
+            files.push_back(entry.path());
     }
     std::sort(files.begin(), files.end());
     return files;
@@ -81,7 +82,8 @@ const std::map<std::string, Box>& blenderBounds() {
 std::optional<double> asciiUnitScaleFactor(const fs::path& file) {
     const std::string all = test::readFile(file);
     std::smatch match;
-    if (!std::regex_search(all, match, std::regex("\"UnitScaleFactor\"[^\\n]*?,\\s*([0-9.eE+-]+)\\s*\\n")))
+    if (!std::regex_search(all, match,
+                           std::regex("\"UnitScaleFactor\"[^\\n]*?,\\s*([0-9.eE+-]+)\\s*\\n")))
         return std::nullopt;
     return std::stod(match[1].str());
 }
@@ -128,7 +130,8 @@ TEST(RealAssets, SizesInMetresMatchBlender) {
 TEST(RealAssets, FbxUnitsAndTheUnitOption) {
     const fs::path boat = test::realAssetsDir() / "quaternius" / "Boat.fbx";
     const fs::path crate = test::realAssetsDir() / "kenney" / "crate.stl";
-    if (!fs::exists(boat) || !fs::exists(crate)) GTEST_SKIP() << "../shared/real-assets not present";
+    if (!fs::exists(boat) || !fs::exists(crate))
+        GTEST_SKIP() << "../shared/real-assets not present";
     MeshFileFacts facts;
     Result<TriangleMesh> inFile = loadMesh(boat, {}, &facts);
     ASSERT_TRUE(inFile.ok());
@@ -141,10 +144,12 @@ TEST(RealAssets, FbxUnitsAndTheUnitOption) {
     // STL has no unit: metres unless told; "mm" makes it a thousand times smaller.
     MeshFileFacts stlFacts;
     Result<TriangleMesh> metres = loadMesh(crate, {}, &stlFacts);
-    Result<TriangleMesh> millimetres = loadMesh(crate, MeshLoadOptions{.unitScale = *parseLengthUnit("mm")});
+    Result<TriangleMesh> millimetres =
+        loadMesh(crate, MeshLoadOptions{.unitScale = *parseLengthUnit("mm")});
     ASSERT_TRUE(metres.ok() && millimetres.ok());
     EXPECT_EQ(stlFacts.unitScale, 1.0);
-    EXPECT_NEAR(computeBounds(*millimetres).diagonal(), 1e-3 * computeBounds(*metres).diagonal(), 1e-12);
+    EXPECT_NEAR(computeBounds(*millimetres).diagonal(), 1e-3 * computeBounds(*metres).diagonal(),
+                1e-12);
     EXPECT_EQ(parseLengthUnit("cm"), 0.01);
     EXPECT_EQ(parseLengthUnit("0.3048"), 0.3048);
     EXPECT_FALSE(parseLengthUnit("-1").has_value());
@@ -165,8 +170,10 @@ TEST(RealAssets, UvsAreKeptPerPart) {
         double uvArea = 0;
         for (std::size_t t = part.firstTriangle; t < part.firstTriangle + part.triangleCount; ++t)
             uvArea += std::abs(triangleUvArea(*mesh, mesh->triangles[t]));
-        if (part.hasUvs) EXPECT_GT(uvArea, 0) << part.name;
-        else EXPECT_EQ(uvArea, 0) << part.name;
+        if (part.hasUvs)
+            EXPECT_GT(uvArea, 0) << part.name;
+        else
+            EXPECT_EQ(uvArea, 0) << part.name;
     }
 }
 
@@ -235,13 +242,15 @@ namespace {
 /// vertex (so its bake is byte-identical to a bake of the mesh without the repair step).
 TEST(RealAssets, ClosedMeshesAreUsedUnchanged) {
     std::vector<fs::path> files;
-    for (const char* name : {"box.obj", "buoy.obj", "cylinder.obj", "hull.obj", "plush.obj", "sphere.obj"})
+    for (const char* name :
+         {"box.obj", "buoy.obj", "cylinder.obj", "hull.obj", "plush.obj", "sphere.obj"})
         files.push_back(test::assetPath(name));
-    for (const char* name : {"blub_triangulated.obj", "boat.obj", "bunny.obj", "cube.obj", "sphere.obj",
-                             "spot.obj", "torus.obj"})
+    for (const char* name : {"blub_triangulated.obj", "boat.obj", "bunny.obj", "cube.obj",
+                             "sphere.obj", "spot.obj", "torus.obj"})
         if (std::optional<fs::path> shared = test::sharedMesh(name)) files.push_back(*shared);
-    for (const char* name : {"keenan-crane/spot_triangulated.obj", "keenan-crane/blub_triangulated.obj",
-                             "kenney/crate.glb", "kenney/crate.stl"})
+    for (const char* name :
+         {"keenan-crane/spot_triangulated.obj", "keenan-crane/blub_triangulated.obj",
+          "kenney/crate.glb", "kenney/crate.stl"})
         if (fs::exists(test::realAssetsDir() / name)) files.push_back(test::realAssetsDir() / name);
     for (const fs::path& file : files) {
         SCOPED_TRACE(file.string());

@@ -308,7 +308,7 @@ TEST(Validate, UvsOverSeveralTilesAreCountedByTile) {
     for (const Problem& p : report.problems) {
         if (p.kind != ProblemKind::UvMultipleTiles) continue;
         EXPECT_EQ(p.severity, Severity::Warning);
-        EXPECT_EQ(p.count, 3u);                       // tiles (0,0), (1,0), (0,1)
+        EXPECT_EQ(p.count, 3u);                      // tiles (0,0), (1,0), (0,1)
         EXPECT_NEAR(p.surfaceFraction, 0.5, 1e-12);  // 3 of 6 faces outside tile (0,0)
     }
 }
@@ -394,8 +394,8 @@ TEST(Validate, NegligibleUvFoldOverIsAWarning) {
     cube.uvs[faceVertex(1, 3)] = cellOrigin(1) + Eigen::Vector2d(0.1 + 1e-7, 0.1 - 1e-7);
     const ValidationReport report = validateMesh(cube);
     // The sliver also squeezes half a face into no UV area: a distortion warning beside it.
-    EXPECT_EQ(kinds(report), (std::vector<ProblemKind>{ProblemKind::UvOverlap,
-                                                       ProblemKind::UvDistortion}))
+    EXPECT_EQ(kinds(report),
+              (std::vector<ProblemKind>{ProblemKind::UvOverlap, ProblemKind::UvDistortion}))
         << report.format();
     const Problem& problem = report.problems.front();
     EXPECT_EQ(problem.severity, Severity::Warning);

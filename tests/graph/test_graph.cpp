@@ -28,13 +28,16 @@ using test::pipe;
 using test::threeNodes;
 
 WaterGraphSimulation simulationOf(const WaterGraph& g, GraphSettings settings = {}) {
-    Result<WaterGraphSimulation> sim = WaterGraphSimulation::create(g, SurfaceTextures{}, {}, settings);
+    Result<WaterGraphSimulation> sim =
+        WaterGraphSimulation::create(g, SurfaceTextures{}, {}, settings);
     EXPECT_TRUE(sim.ok()) << (sim.ok() ? "" : sim.error().message);
     return std::move(sim).value();
 }
 
 /// Sphere of volume C: radius.
-double sphereRadius(double capacity) { return std::cbrt(3.0 * capacity / (4.0 * std::numbers::pi)); }
+double sphereRadius(double capacity) {
+    return std::cbrt(3.0 * capacity / (4.0 * std::numbers::pi));
+}
 
 // --- validation ----------------------------------------------------------------------------
 
@@ -53,7 +56,11 @@ TEST(GraphValidation, EachErrorHasItsClass) {
         {"duplicate id", [](WaterGraph& g) { g.nodes[2].id = "a"; }, GraphProblemKind::DuplicateId},
         {"dangling pipe", [](WaterGraph& g) { g.pipes[1].b = "nowhere"; },
          GraphProblemKind::DanglingPipe},
-        {"zero capacity", [](WaterGraph& g) { g.nodes[1].capacity = 0; g.nodes[1].water = 0; },
+        {"zero capacity",
+         [](WaterGraph& g) {
+             g.nodes[1].capacity = 0;
+             g.nodes[1].water = 0;
+         },
          GraphProblemKind::BadCapacity},
         {"negative capacity", [](WaterGraph& g) { g.nodes[0].capacity = -1; },
          GraphProblemKind::BadCapacity},
@@ -61,7 +68,11 @@ TEST(GraphValidation, EachErrorHasItsClass) {
         {"water above capacity", [](WaterGraph& g) { g.nodes[0].water = 2; },
          GraphProblemKind::WaterOutOfRange},
         {"zero radius", [](WaterGraph& g) { g.pipes[0].radius = 0; }, GraphProblemKind::BadPipe},
-        {"no nodes", [](WaterGraph& g) { g.nodes.clear(); g.pipes.clear(); },
+        {"no nodes",
+         [](WaterGraph& g) {
+             g.nodes.clear();
+             g.pipes.clear();
+         },
          GraphProblemKind::Empty},
     };
     for (const Case& c : cases) {
@@ -119,7 +130,8 @@ TEST(GraphValidation, NodesOutsideTheMeshAreTheExactWindingNumbersOnes) {
         // Within the box around the buoy, 10% beyond each side.
         const Eigen::Vector3d p = lo - 0.1 * (hi - lo) + 1.2 * t.cwiseProduct(hi - lo);
         g.nodes.push_back(node("n" + std::to_string(i), p, 1e-3));
-        if (i > 0) g.pipes.push_back(pipe("n" + std::to_string(i - 1), "n" + std::to_string(i), 0.01));
+        if (i > 0)
+            g.pipes.push_back(pipe("n" + std::to_string(i - 1), "n" + std::to_string(i), 0.01));
         outside += windingNumber(buoy, p) < 0.5;
     }
     ASSERT_GT(outside, 100u);
@@ -129,7 +141,8 @@ TEST(GraphValidation, NodesOutsideTheMeshAreTheExactWindingNumbersOnes) {
     for (const GraphProblem& p : r.problems) flagged += p.kind == GraphProblemKind::NodeOutsideMesh;
     EXPECT_EQ(flagged, outside);
     for (std::size_t i = 0; i < g.nodes.size(); ++i) {
-        const bool warned = r.format().find("node " + std::to_string(i) + " 'n" + std::to_string(i) + "' at") != std::string::npos;
+        const bool warned = r.format().find("node " + std::to_string(i) + " 'n" +
+                                            std::to_string(i) + "' at") != std::string::npos;
         EXPECT_EQ(warned, windingNumber(buoy, g.nodes[i].position) < 0.5) << "node " << i;
     }
 }
@@ -165,7 +178,7 @@ TEST(GraphFlow, FigureSevenWaterReachesTheLowNodeThroughTheFullOne) {
         }
     }
     const auto& n = sim.graph().nodes;
-    EXPECT_GT(n[2].water, 0.5);       // C received A's water and more
+    EXPECT_GT(n[2].water, 0.5);  // C received A's water and more
     EXPECT_NEAR(n[0].water + n[1].water + n[2].water, 1.5, 1e-12);
     // Everything ran down as far as it can: A empty, C full, B holding the rest.
     EXPECT_NEAR(n[0].water, 0.0, 1e-12);
@@ -228,8 +241,8 @@ TEST(GraphFlow, PoiseuilleRateMatchesTheFormulaForOnePipe) {
     EXPECT_NEAR(sim.graph().nodes[0].water, capacity / 2 - expected, 1e-12);
     EXPECT_NEAR(WaterGraphSimulation::poiseuilleRate(1000 * 9.81 * dh, radius, 1e-3, length) * dt,
                 expected, 1e-12 * expected);
-    std::printf("  Poiseuille: %.6e m^3 in %.2f s (formula %.6e)\n", sim.graph().nodes[1].water,
-                dt, expected);
+    std::printf("  Poiseuille: %.6e m^3 in %.2f s (formula %.6e)\n", sim.graph().nodes[1].water, dt,
+                expected);
 }
 
 TEST(GraphFlow, NeverOvershootsConnectedLevelsNeverSwap) {
@@ -257,7 +270,8 @@ TEST(GraphFlow, NeverOvershootsConnectedLevelsNeverSwap) {
         for (const auto& [i, j] : {std::pair{0, 1}, std::pair{1, 2}}) {
             const double was = before[i] - before[j], is = after[i] - after[j];
             // The higher one stays higher (or they meet).
-            if (std::abs(was) > 1e-9) EXPECT_GE(is * (was > 0 ? 1.0 : -1.0), -1e-9) << "step " << step;
+            if (std::abs(was) > 1e-9)
+                EXPECT_GE(is * (was > 0 ? 1.0 : -1.0), -1e-9) << "step " << step;
         }
         before = after;
     }
@@ -295,12 +309,15 @@ TEST(GraphFlow, DeterministicForASeed) {
         g.nodes.push_back(node("n" + std::to_string(i), {double(i % 3), double(i / 3), 0.3 * i},
                                0.5 + 0.1 * i, 0.05 * i));
     }
-    for (int i = 0; i + 1 < 6; ++i) g.pipes.push_back(pipe("n" + std::to_string(i), "n" + std::to_string(i + 1), 0.02 + 0.01 * i));
+    for (int i = 0; i + 1 < 6; ++i)
+        g.pipes.push_back(
+            pipe("n" + std::to_string(i), "n" + std::to_string(i + 1), 0.02 + 0.01 * i));
     g.pipes.push_back(pipe("n0", "n5", 0.03));
     GraphSettings s;
     s.seed = 42;
     WaterGraphSimulation x = simulationOf(g, s), y = simulationOf(g, s);
-    const Eigen::Matrix3d r = Eigen::AngleAxisd(0.3, Eigen::Vector3d(1, 0, 1).normalized()).toRotationMatrix();
+    const Eigen::Matrix3d r =
+        Eigen::AngleAxisd(0.3, Eigen::Vector3d(1, 0, 1).normalized()).toRotationMatrix();
     for (int i = 0; i < 300; ++i) {
         x.flowInside(r, 0.05);
         y.flowInside(r, 0.05);
@@ -390,11 +407,15 @@ TEST(GraphExchange, TheTexelMapsTreeGivesTheScansNodeTiesIncluded) {
     };
     for (int i = 0; i < 6; ++i)
         for (int j = 0; j < 6; ++j)
-            for (int k = 0; k < 6; ++k) g.nodes.push_back(node("g" + std::to_string(g.nodes.size()), {0.1 * i, 0.1 * j, 0.1 * k}, 1e-4));
-    for (int i = 0; i < 40; ++i) g.nodes.push_back(node("c" + std::to_string(i), {0.2, 0.2, 0.2}, 1e-4));
+            for (int k = 0; k < 6; ++k)
+                g.nodes.push_back(
+                    node("g" + std::to_string(g.nodes.size()), {0.1 * i, 0.1 * j, 0.1 * k}, 1e-4));
+    for (int i = 0; i < 40; ++i)
+        g.nodes.push_back(node("c" + std::to_string(i), {0.2, 0.2, 0.2}, 1e-4));
     for (int i = 0; i < 400; ++i) {
         GraphNode n = node("r" + std::to_string(i), {uniform(), uniform(), uniform()}, 1e-4);
-        if (i % 3 == 0) n.boxSize = {0.01 + 0.2 * uniform(), 0.01 + 0.1 * uniform(), 0.01 + 0.05 * uniform()};
+        if (i % 3 == 0)
+            n.boxSize = {0.01 + 0.2 * uniform(), 0.01 + 0.1 * uniform(), 0.01 + 0.05 * uniform()};
         g.nodes.push_back(n);
     }
     SurfaceTextures t;
@@ -511,8 +532,8 @@ TEST(GraphExchange, ConservationOverARunInAndOut) {
         s.inflow = torricelli ? InflowModel::Torricelli : InflowModel::Linear;
         s.inflowRate = 0.8;
         s.freeSurface = torricelli;
-        Result<WaterGraphSimulation> sim = WaterGraphSimulation::create(
-            g, t, std::vector<double>(t.coveredCount(), 0.3), s);
+        Result<WaterGraphSimulation> sim =
+            WaterGraphSimulation::create(g, t, std::vector<double>(t.coveredCount(), 0.3), s);
         ASSERT_TRUE(sim.ok()) << sim.error().message;
         double worst = 0;
         const int steps = 1200;
@@ -521,8 +542,8 @@ TEST(GraphExchange, ConservationOverARunInAndOut) {
             // Down to 0.8 m under, then up to 2 m above, heeling and pitching.
             const double y = phase < 0.5 ? -0.8 * std::sin(phase * 2 * std::numbers::pi)
                                          : 2.0 * std::sin((phase - 0.5) * 2 * std::numbers::pi);
-            const Pose pose = Pose::fromEulerDegrees({0, y, 0}, {20 * std::sin(9 * phase), 0,
-                                                                 25 * std::sin(5 * phase)});
+            const Pose pose = Pose::fromEulerDegrees(
+                {0, y, 0}, {20 * std::sin(9 * phase), 0, 25 * std::sin(5 * phase)});
             sim->step(pose, WaterModel::flat(0.0), 0.0, 1.0 / 60.0);
             worst = std::max(worst, sim->conservationError());
             for (const GraphNode& n : sim->graph().nodes) {
@@ -535,10 +556,10 @@ TEST(GraphExchange, ConservationOverARunInAndOut) {
         EXPECT_GT(tot.left, 0.1);
         EXPECT_GT(tot.moved, 0.0);
         EXPECT_LT(worst, 1e-9);
-        std::printf("  %s: entered %.6f m^3, left %.6f, stored %.6f, moved %.6f; worst "
-                    "conservation error %.2e\n",
-                    inflowModelName(s.inflow), tot.entered, tot.left, sim->storedWater(),
-                    tot.moved, worst);
+        std::printf(
+            "  %s: entered %.6f m^3, left %.6f, stored %.6f, moved %.6f; worst "
+            "conservation error %.2e\n",
+            inflowModelName(s.inflow), tot.entered, tot.left, sim->storedWater(), tot.moved, worst);
     }
 }
 
@@ -551,9 +572,10 @@ TEST(GraphMass, PointMassesComposeByTheParallelAxisTheorem) {
     s.density = 1000;
     WaterGraphSimulation sim = simulationOf(g, s);
     const MassProperties w = sim.waterMassProperties(Eigen::Matrix3d::Identity());
-    EXPECT_DOUBLE_EQ(w.mass, 700.0);                                       // eq. 15
-    const Eigen::Vector3d c = (200.0 * Eigen::Vector3d(1, 0, 0) + 500.0 * Eigen::Vector3d(0, 2, -1)) / 700.0;
-    EXPECT_NEAR((w.centerOfMass - c).norm(), 0.0, 1e-14);                  // eq. 16
+    EXPECT_DOUBLE_EQ(w.mass, 700.0);  // eq. 15
+    const Eigen::Vector3d c =
+        (200.0 * Eigen::Vector3d(1, 0, 0) + 500.0 * Eigen::Vector3d(0, 2, -1)) / 700.0;
+    EXPECT_NEAR((w.centerOfMass - c).norm(), 0.0, 1e-14);  // eq. 16
     // Eq. 17 about the origin, then moved to the centre of mass.
     Eigen::Matrix3d origin = Eigen::Matrix3d::Zero();
     for (const auto& [m, p] : {std::pair{200.0, Eigen::Vector3d(1, 0, 0)},
@@ -579,8 +601,9 @@ TEST(GraphMass, PointMassesComposeByTheParallelAxisTheorem) {
     EXPECT_LT((total.centerOfMass - ct).norm(), 1e-14);
     const Eigen::Vector3d d = body.centerOfMass - ct, e = c - ct;
     const Eigen::Matrix3d expected =
-        body.inertia + body.mass * (d.squaredNorm() * Eigen::Matrix3d::Identity() - d * d.transpose()) +
-        aboutC + 700.0 * (e.squaredNorm() * Eigen::Matrix3d::Identity() - e * e.transpose());
+        body.inertia +
+        body.mass * (d.squaredNorm() * Eigen::Matrix3d::Identity() - d * d.transpose()) + aboutC +
+        700.0 * (e.squaredNorm() * Eigen::Matrix3d::Identity() - e * e.transpose());
     EXPECT_LT((total.inertia - expected).norm(), 1e-10 * expected.norm());
     EXPECT_DOUBLE_EQ(total.volume, body.volume);
 }

@@ -40,10 +40,11 @@ void expectGoodGraph(const TriangleMesh& mesh, int k) {
     // The grid that shares the volume out covers it (independent of the exact sum).
     const double grid = std::abs(report.sampledVolume - exact) / exact;
     EXPECT_LT(grid, 0.05);
-    std::printf("  %-26s k=%d: %zu pipes, capacity sum error %.2e, interior grid %.2e, SDF "
-                "%.2f s, total %.2f s\n",
-                fs::path(mesh.source).filename().c_str(), k, graph->pipes.size(), error, grid,
-                report.segmentation.sdfSeconds, report.totalSeconds);
+    std::printf(
+        "  %-26s k=%d: %zu pipes, capacity sum error %.2e, interior grid %.2e, SDF "
+        "%.2f s, total %.2f s\n",
+        fs::path(mesh.source).filename().c_str(), k, graph->pipes.size(), error, grid,
+        report.segmentation.sdfSeconds, report.totalSeconds);
 }
 
 TEST(AutoGraph, SharedMeshes) {
@@ -139,7 +140,8 @@ TEST(GraphCli, HelpOnEverySubcommand) {
         EXPECT_NE(r.out.find("Usage"), std::string::npos) << sub;
     }
     // A missing mesh: a failure naming it, no graph written.
-    const test::CommandOutput r = test::runPlimsoll("graph auto /no/such/mesh.obj --out /tmp/x.json");
+    const test::CommandOutput r =
+        test::runPlimsoll("graph auto /no/such/mesh.obj --out /tmp/x.json");
     EXPECT_EQ(r.exitCode, 1);
     EXPECT_NE(r.err.find("/no/such/mesh.obj"), std::string::npos) << r.err;
 }

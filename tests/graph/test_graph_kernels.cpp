@@ -47,8 +47,8 @@ TEST(GraphKernels, ExchangeMatchesTheReferenceOnEveryDevice) {
     std::vector<ExchangeSample> samples;
     for (std::size_t i = 0; i < t.coveredCount(); ++i) {
         if (unit(random) < 0.4) continue;
-        samples.push_back({t.position[i], unit(random) * t.area[i],
-                           static_cast<std::uint32_t>(random() % 7)});
+        samples.push_back(
+            {t.position[i], unit(random) * t.area[i], static_cast<std::uint32_t>(random() % 7)});
     }
     ASSERT_NE(samples.size() % 128, 0u);  // not a multiple of the work-group size
     const double inf = std::numeric_limits<double>::infinity();
@@ -62,15 +62,16 @@ TEST(GraphKernels, ExchangeMatchesTheReferenceOnEveryDevice) {
         const std::size_t set = device->addExchangeSet(samples, 7);
         for (const WaterModel& water : waterModels()) {
             for (bool torricelli : {false, true}) {
-                for (const auto& [depth, roll] : {std::pair{0.3, 0.0}, std::pair{-0.2, 25.0},
-                                                  std::pair{1e5, 10.0}}) {
+                for (const auto& [depth, roll] :
+                     {std::pair{0.3, 0.0}, std::pair{-0.2, 25.0}, std::pair{1e5, 10.0}}) {
                     // A pose far away (1e5 m) keeps its digits: positions go relative.
-                    const Pose pose = Pose::fromEulerDegrees({depth > 1e4 ? 1e5 : 0.3, depth > 1e4 ? -0.1 : -depth, depth > 1e4 ? -1e5 : 0.2},
-                                                             {4.0, 30.0, roll});
-                    const std::vector<double> surface = {pose.translation.y() - 0.2, -inf,
-                                                         pose.translation.y() + 0.1, -inf,
-                                                         pose.translation.y() - 0.45, -inf,
-                                                         pose.translation.y()};
+                    const Pose pose = Pose::fromEulerDegrees(
+                        {depth > 1e4 ? 1e5 : 0.3, depth > 1e4 ? -0.1 : -depth,
+                         depth > 1e4 ? -1e5 : 0.2},
+                        {4.0, 30.0, roll});
+                    const std::vector<double> surface = {
+                        pose.translation.y() - 0.2,  -inf, pose.translation.y() + 0.1, -inf,
+                        pose.translation.y() - 0.45, -inf, pose.translation.y()};
                     ExchangeFrame frame;
                     frame.pose = pose;
                     frame.time = 1.7;
@@ -84,7 +85,8 @@ TEST(GraphKernels, ExchangeMatchesTheReferenceOnEveryDevice) {
                     ASSERT_TRUE(device->evaluateExchange(set, frame, water, got).ok());
                     // Scale: all the flow of the pass.
                     double scale = 0;
-                    for (std::size_t n = 0; n < 7; ++n) scale += expected.inflow[n] + expected.outflow[n];
+                    for (std::size_t n = 0; n < 7; ++n)
+                        scale += expected.inflow[n] + expected.outflow[n];
                     ASSERT_GT(scale, 0.0);
                     for (std::size_t n = 0; n < 7; ++n) {
                         const double e = std::max(std::abs(got.inflow[n] - expected.inflow[n]),

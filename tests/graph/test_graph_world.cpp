@@ -81,7 +81,7 @@ TEST(GraphWorld, DamagedBoatFloodsByTheSternAndSinks) {
     const SimulatedBody& boat = world->bodies()[0];
     const double hullMass = boat.mass.mass;  // no water at the start
     const double startY = boat.state.position.y();
-    const double height = 1.0;               // keel to deck (HullShape)
+    const double height = 1.0;  // keel to deck (HullShape)
     const double level = project.water.level;
     double sinkTime = -1, maxTrimAfloat = 0, firstWaterTime = -1;
     bool sternFirst = false;
@@ -115,11 +115,12 @@ TEST(GraphWorld, DamagedBoatFloodsByTheSternAndSinks) {
     EXPECT_GT(maxTrimAfloat, std::sin(5.0 * std::numbers::pi / 180)) << "trims by the stern";
     ASSERT_GT(sinkTime, 0.0) << "still afloat after 40 s";
     const WaterGraphSimulation& g = *world->waterGraph(0);
-    std::printf("  first water %.2f s, largest trim by the stern afloat %.1f deg, mean y below "
-                "the water by more than the hull's height at %.2f s; water %.3f m^3 (entered "
-                "%.3f, left %.3f), conservation error %.1e\n",
-                firstWaterTime, std::asin(maxTrimAfloat) * 180 / std::numbers::pi, sinkTime,
-                g.storedWater(), g.totals().entered, g.totals().left, g.conservationError());
+    std::printf(
+        "  first water %.2f s, largest trim by the stern afloat %.1f deg, mean y below "
+        "the water by more than the hull's height at %.2f s; water %.3f m^3 (entered "
+        "%.3f, left %.3f), conservation error %.1e\n",
+        firstWaterTime, std::asin(maxTrimAfloat) * 180 / std::numbers::pi, sinkTime,
+        g.storedWater(), g.totals().entered, g.totals().left, g.conservationError());
 }
 
 TEST(GraphWorld, BoatWithItsPermeabilityClearedFloatsTheWholeRun) {
@@ -180,7 +181,8 @@ double largestHeel(bool freeSurface) {
     std::unique_ptr<World> world = makeWorld(project);
     if (!world) return 0;
     double largest = 0;
-    const double hullMass = world->bodies()[0].mass.mass - 1000.0 * world->waterGraph(0)->storedWater();
+    const double hullMass =
+        world->bodies()[0].mass.mass - 1000.0 * world->waterGraph(0)->storedWater();
     for (int f = 0; f < static_cast<int>(8.0 / project.simulation.timeStep); ++f) {
         EXPECT_TRUE(world->advanceFrame().ok());
         expectConsistent(*world, hullMass);
@@ -220,9 +222,10 @@ TEST(GraphWorld, AFloodedBoatRadiatesOverABoundedLid) {
 TEST(GraphWorld, FreeSurfaceHeelsAFloodedBoatMore) {
     const double fixed = largestHeel(false);
     const double free = largestHeel(true);
-    std::printf("  largest heel in 8 s after a 0.25 rad/s roll, holds 40%% flooded: water at "
-                "the nodes %.2f deg, free surface %.2f deg\n",
-                fixed, free);
+    std::printf(
+        "  largest heel in 8 s after a 0.25 rad/s roll, holds 40%% flooded: water at "
+        "the nodes %.2f deg, free surface %.2f deg\n",
+        fixed, free);
     EXPECT_GT(fixed, 0.5);
     EXPECT_GT(free, 1.2 * fixed);
 }
@@ -254,10 +257,11 @@ TEST(GraphWorld, PlushSoaksUpWaterAndSettles) {
     // The water spread to every node, the head included (diffusion, against gravity).
     for (const GraphNode& n : g.graph().nodes) EXPECT_GT(n.water, 0.0) << n.id;
     EXPECT_GT(submergedLate, 1.5 * submergedEarly);
-    std::printf("  plush after 20 s: %.4f m^3 of water (%.0f%% of its capacity), submerged "
-                "volume %.4f -> %.4f m^3\n",
-                g.storedWater(), 100 * g.storedWater() / g.graph().totalCapacity(),
-                submergedEarly, submergedLate);
+    std::printf(
+        "  plush after 20 s: %.4f m^3 of water (%.0f%% of its capacity), submerged "
+        "volume %.4f -> %.4f m^3\n",
+        g.storedWater(), 100 * g.storedWater() / g.graph().totalCapacity(), submergedEarly,
+        submergedLate);
 }
 
 TEST(GraphWorld, SealedBodyComputesNoGraph) {

@@ -64,7 +64,8 @@ std::string loaderError(const Case& c, const fs::path& path) {
     if (c.loader == "simulate") {
         // Loads, but no simulation of it can run: plimsoll simulate must refuse it.
         if (Result<Project> project = loadProject(path); !project) return project.error().message;
-        const test::CommandOutput run = test::runPlimsoll("simulate '" + path.string() + "' --seconds 0.1");
+        const test::CommandOutput run =
+            test::runPlimsoll("simulate '" + path.string() + "' --seconds 0.1");
         return run.exitCode == 1 ? run.err : std::string();
     }
     if (c.loader == "runtime") {
@@ -110,8 +111,12 @@ TEST(BadInput, EveryCorpusFileIsRefusedWithItsClassAndName) {
             const std::string all = run.out + run.err;
             // A mesh with problems a generated atlas or a physics solid gets round is usable
             // (exit 0, saying how); one that loads or solidifies not at all is refused (exit 1).
-            if (c.loader == "mesh") EXPECT_EQ(run.exitCode, 1) << all;
-            else EXPECT_TRUE(run.exitCode == 1 || (run.exitCode == 0 && all.find("usable through") != std::string::npos)) << all;
+            if (c.loader == "mesh")
+                EXPECT_EQ(run.exitCode, 1) << all;
+            else
+                EXPECT_TRUE(run.exitCode == 1 ||
+                            (run.exitCode == 0 && all.find("usable through") != std::string::npos))
+                    << all;
             EXPECT_NE(all.find(name), std::string::npos) << all;
             EXPECT_NE(all.find(c.loader == "mesh" ? c.contains : c.kind), std::string::npos) << all;
         }
@@ -124,16 +129,17 @@ TEST(BadInput, EveryCorpusFileIsRefusedWithItsClassAndName) {
     }
 }
 
-
 /// Every regular file under `dir` (relative path -> bytes), `skip` (a folder under it) excepted.
 std::map<std::string, std::string> snapshot(const fs::path& dir, const fs::path& skip = {}) {
     std::map<std::string, std::string> files;
-    for (auto it = fs::recursive_directory_iterator(dir); it != fs::recursive_directory_iterator(); ++it) {
+    for (auto it = fs::recursive_directory_iterator(dir); it != fs::recursive_directory_iterator();
+         ++it) {
         if (!skip.empty() && it->path() == skip) {
             it.disable_recursion_pending();
             continue;
         }
-        if (it->is_regular_file()) files[fs::relative(it->path(), dir).string()] = test::readFile(it->path());
+        if (it->is_regular_file())
+            files[fs::relative(it->path(), dir).string()] = test::readFile(it->path());
     }
     return files;
 }
@@ -147,7 +153,8 @@ TEST(BadInput, EveryCommandOverTheCorpusFailsCleanlyWithinTimeAndMemory) {
     const std::map<std::string, std::string> corpusBefore = snapshot(kCorpus);
     // timeout kills a hang; prlimit caps the address space a loader may take. The reference
     // backend: no OpenCL driver reserving address space of its own.
-    const std::string limits = "PLIMSOLL_OPENCL_DEVICE=reference timeout -k 2 10 " + test::memoryCap(1ull << 30);
+    const std::string limits =
+        "PLIMSOLL_OPENCL_DEVICE=reference timeout -k 2 10 " + test::memoryCap(1ull << 30);
     int runs = 0;
     for (const Case& c : corpusCases()) {
         const std::string file = "'" + (kCorpus / c.file).string() + "'";
@@ -155,7 +162,8 @@ TEST(BadInput, EveryCommandOverTheCorpusFailsCleanlyWithinTimeAndMemory) {
         if (c.loader == "mesh") {
             for (const std::string command :
                  {"validate " + file, "massprops " + file + " --size 16",
-                  "buoyancy " + file + " --exact --water-level 0 --position 0,0,0 --rotation-deg 0,0,0",
+                  "buoyancy " + file +
+                      " --exact --water-level 0 --position 0,0,0 --rotation-deg 0,0,0",
                   "bake " + file + " --size 16 --out '" + out.string() + "'",
                   "graph auto " + file + " --out '" + (out / "g.graph.json").string() + "'",
                   "simulate --mesh " + file + " --size 16 --seconds 0.1",
@@ -165,7 +173,8 @@ TEST(BadInput, EveryCommandOverTheCorpusFailsCleanlyWithinTimeAndMemory) {
             commands = {"simulate " + file + " --seconds 0.1",
                         "export " + file + " --out '" + out.string() + "' --quiet"};
         } else if (c.loader == "simulate") {
-            commands = {"simulate " + file + " --seconds 0.1", "simulate " + file + " --seconds 0.1 --integrator rk4"};
+            commands = {"simulate " + file + " --seconds 0.1",
+                        "simulate " + file + " --seconds 0.1 --integrator rk4"};
         } else if (c.loader == "graph") {
             commands = {"graph validate " + file};
         } else if (c.loader == "map") {
@@ -181,7 +190,8 @@ TEST(BadInput, EveryCommandOverTheCorpusFailsCleanlyWithinTimeAndMemory) {
             const test::CommandOutput run = test::runPlimsoll(command, limits);
             ++runs;
             const std::string all = run.out + run.err;
-            EXPECT_TRUE(run.exitCode == 1 || run.exitCode == 2) << "exit " << run.exitCode << "\n" << all;
+            EXPECT_TRUE(run.exitCode == 1 || run.exitCode == 2) << "exit " << run.exitCode << "\n"
+                                                                << all;
             EXPECT_NE(all.find(c.file), std::string::npos) << all;
             EXPECT_NE(all.find(c.contains), std::string::npos) << all;
             EXPECT_TRUE(snapshot(work, out) == workBefore) << "a file beside the output changed";

@@ -96,7 +96,8 @@ TEST(FaultInjection, PaintedMapSaveKeepsThePreviousMap) {
     const fs::path dir = test::freshFolder("fault", "map");
     const fs::path path = dir / "map.png";
     ASSERT_TRUE(savePaintedMap(gradient(32, 1.0f), path).ok());
-    const int steps = interruptAtEveryStep(dir, [&] { return savePaintedMap(gradient(32, 0.5f), path); });
+    const int steps =
+        interruptAtEveryStep(dir, [&] { return savePaintedMap(gradient(32, 0.5f), path); });
     EXPECT_EQ(steps, 2);  // the temporary file, the rename
     EXPECT_NEAR(loadPaintedMap(path)->values.back(), 0.5f * (1023.0f / 1024.0f), 1e-4);
 }
@@ -112,7 +113,8 @@ TEST(FaultInjection, BakeOutputIsReplacedAsAWhole) {
     settings.size = 32;
     Result<SurfaceTextures> second = bakeSurfaceTextures(box, settings);
     ASSERT_TRUE(second.ok());
-    const int steps = interruptAtEveryStep(dir, [&] { return writeBakedTextures(*second, dir, "box"); });
+    const int steps =
+        interruptAtEveryStep(dir, [&] { return writeBakedTextures(*second, dir, "box"); });
     EXPECT_EQ(steps, 12);  // five files written, the journal written and committed, five renamed
     Result<SurfaceTextures> read = readBakedTextures(dir);
     ASSERT_TRUE(read.ok()) << read.error().message;
@@ -123,10 +125,12 @@ TEST(FaultInjection, BakeOutputIsReplacedAsAWhole) {
 /// A project on the box asset, beside its own copy of a painted map.
 fs::path writeBoxProject(const fs::path& dir, double density) {
     const fs::path path = dir / "box.plim.json";
-    std::ofstream(path) << R"({"schema_version": 1, "name": "box", "bodies": [{"name": "box", "mesh": ")"
-                        << test::assetPath("box.obj").string()
-                        << R"(", "texture_size": 16, "permeability_map": "perm.png",
-                           "material": {"density": )" << density << "}}]}";
+    std::ofstream(path)
+        << R"({"schema_version": 1, "name": "box", "bodies": [{"name": "box", "mesh": ")"
+        << test::assetPath("box.obj").string()
+        << R"(", "texture_size": 16, "permeability_map": "perm.png",
+                           "material": {"density": )"
+        << density << "}}]}";
     EXPECT_TRUE(savePaintedMap(gradient(16, 1.0f), dir / "perm.png").ok());
     return path;
 }
@@ -168,7 +172,8 @@ TEST(FaultInjection, ProjectSaveWithItsMapsKeepsThePreviousFiles) {
     ASSERT_TRUE(rename.ok());
     ASSERT_TRUE(d.execute(std::move(rename).value()).ok());
     const int steps = interruptAtEveryStep(dir, [&] { return d.save(); });
-    EXPECT_EQ(steps, 6);  // map and project written, the journal written and committed, both renamed
+    EXPECT_EQ(steps,
+              6);  // map and project written, the journal written and committed, both renamed
     EXPECT_EQ(loadProject(path)->name, "changed");
     EXPECT_NEAR(loadPaintedMap(dir / "perm.png")->values[0], 0.25f, 1e-4);
 }
@@ -198,7 +203,8 @@ TEST(FaultInjection, AutosaveKeepsThePreviousAutosave) {
 
 /// The box project on the water (box_half_draft), a few frames' worth of buoyancy evaluations.
 Project boxProject() {
-    Result<Project> p = loadProject(fs::path(PLIMSOLL_SOURCE_DIR) / "projects" / "box_half_draft.plim.json");
+    Result<Project> p =
+        loadProject(fs::path(PLIMSOLL_SOURCE_DIR) / "projects" / "box_half_draft.plim.json");
     EXPECT_TRUE(p.ok()) << p.error().message;
     return p.ok() ? *p : Project{};
 }
@@ -264,20 +270,20 @@ TEST_P(OpenClFaults, WorldFallsBackToTheReferenceOnceAndMatchesIt) {
     ASSERT_EQ(fellBack.states.size(), reference.states.size());
     for (std::size_t i = 0; i < reference.states.size(); ++i) {
         EXPECT_EQ(fellBack.states[i].position, reference.states[i].position);
-        EXPECT_EQ(fellBack.states[i].orientation.coeffs(), reference.states[i].orientation.coeffs());
+        EXPECT_EQ(fellBack.states[i].orientation.coeffs(),
+                  reference.states[i].orientation.coeffs());
         EXPECT_EQ(fellBack.states[i].linearMomentum, reference.states[i].linearMomentum);
     }
 }
 
 INSTANTIATE_TEST_SUITE_P(
     Kinds, OpenClFaults,
-    ::testing::Values(
-        OpenClFaultCase{detail::OpenClFault::BufferAllocation, "clCreateBuffer",
-                        "CL_MEM_OBJECT_ALLOCATION_FAILURE (-4)"},
-        OpenClFaultCase{detail::OpenClFault::Launch, "clEnqueueNDRangeKernel",
-                        "CL_OUT_OF_RESOURCES (-5)"},
-        OpenClFaultCase{detail::OpenClFault::LostDevice, "clEnqueueReadBuffer",
-                        "CL_DEVICE_NOT_AVAILABLE (-2)"}),
+    ::testing::Values(OpenClFaultCase{detail::OpenClFault::BufferAllocation, "clCreateBuffer",
+                                      "CL_MEM_OBJECT_ALLOCATION_FAILURE (-4)"},
+                      OpenClFaultCase{detail::OpenClFault::Launch, "clEnqueueNDRangeKernel",
+                                      "CL_OUT_OF_RESOURCES (-5)"},
+                      OpenClFaultCase{detail::OpenClFault::LostDevice, "clEnqueueReadBuffer",
+                                      "CL_DEVICE_NOT_AVAILABLE (-2)"}),
     [](const ::testing::TestParamInfo<OpenClFaultCase>& info) {
         return std::string(info.param.call);
     });
@@ -302,7 +308,8 @@ TEST(OpenClFaultsBuild, BuildFailureNamesTheCallAndCodeAndAutomaticChoiceFallsBa
     if (std::getenv("PLIMSOLL_OPENCL_DEVICE")) GTEST_SKIP() << "device chosen by the environment";
     ASSERT_TRUE(automatic.ok()) << automatic.error().message;
     EXPECT_EQ((*automatic)->kind(), BackendKind::fastCpu) << (*automatic)->deviceName();
-    const bool gpu = std::any_of(devices.begin(), devices.end(), [](const ComputeDevice& d) { return d.isGpu; });
+    const bool gpu =
+        std::any_of(devices.begin(), devices.end(), [](const ComputeDevice& d) { return d.isGpu; });
     if (gpu) {
         EXPECT_NE(notice.find("CL_BUILD_PROGRAM_FAILURE"), std::string::npos) << notice;
         EXPECT_NE(notice.find("fast CPU path"), std::string::npos) << notice;
@@ -317,15 +324,18 @@ TEST(OpenClFaultsBuild, BuffersBeyondTheDeviceLimitsAreRefusedBeforeAllocation) 
     const std::vector<ComputeDevice> devices = listComputeDevices();
     if (devices.empty()) GTEST_SKIP() << test::noOpenClDeviceReason();
     for (const auto& [maxAlloc, global, phrase] :
-         {std::tuple{std::uint64_t{1024}, std::uint64_t{0}, "CL_DEVICE_MAX_MEM_ALLOC_SIZE (1.0 KB)"},
-          std::tuple{std::uint64_t{0}, std::uint64_t{4096}, "CL_DEVICE_GLOBAL_MEM_SIZE (4.0 KB)"}}) {
+         {std::tuple{std::uint64_t{1024}, std::uint64_t{0},
+                     "CL_DEVICE_MAX_MEM_ALLOC_SIZE (1.0 KB)"},
+          std::tuple{std::uint64_t{0}, std::uint64_t{4096},
+                     "CL_DEVICE_GLOBAL_MEM_SIZE (4.0 KB)"}}) {
         auto opencl = createBuoyancyBackend(std::to_string(devices[0].index));
         ASSERT_TRUE(opencl.ok()) << opencl.error().message;
         detail::setOpenClMemoryLimitsForTesting(maxAlloc, global);
         const SimulationRun run = simulate(std::move(*opencl), 1);
         detail::setOpenClMemoryLimitsForTesting(0, 0);
         bool named = false;
-        for (const std::string& line : run.log) named = named || line.find(phrase) != std::string::npos;
+        for (const std::string& line : run.log)
+            named = named || line.find(phrase) != std::string::npos;
         EXPECT_TRUE(named) << phrase;
         EXPECT_EQ(run.backend, BackendKind::reference);
     }

@@ -40,7 +40,9 @@ TEST(GraphJson, ReportsEveryStructuralProblemWithItsPath) {
     Result<WaterGraph> g = parseGraph(text, "bad.json");
     ASSERT_FALSE(g.ok());
     const std::string& m = g.error().message;
-    EXPECT_NE(m.find("bad.json: nodes[0].position: must be an array of 3 numbers"), std::string::npos) << m;
+    EXPECT_NE(m.find("bad.json: nodes[0].position: must be an array of 3 numbers"),
+              std::string::npos)
+        << m;
     EXPECT_NE(m.find("nodes[0].capacity: must be a number"), std::string::npos) << m;
     EXPECT_NE(m.find("nodes[1].colour: unknown key"), std::string::npos) << m;
     EXPECT_NE(m.find("pipes[0].b: required"), std::string::npos) << m;

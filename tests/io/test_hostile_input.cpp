@@ -90,8 +90,10 @@ TEST(HostileFiles, AFifoIsRefusedByEveryLoaderWithoutBlocking) {
         << R"({"schema_version": 1, "name": "box", "bodies": [{"name": "b", "mesh": "box.obj",)"
         << R"( "texture_size": 16, "material": {"density": 500}}]})";
     const std::pair<std::string, std::string> commands[] = {
-        {"simulate '" + (dir / "uses_fifo.plim.json").string() + "' --seconds 0.1", "fifo_mesh.obj: is a FIFO"},
-        {"edit '" + (dir / "box.plim.json").string() + "' --script '" + (dir / "script.json").string() + "' --no-save",
+        {"simulate '" + (dir / "uses_fifo.plim.json").string() + "' --seconds 0.1",
+         "fifo_mesh.obj: is a FIFO"},
+        {"edit '" + (dir / "box.plim.json").string() + "' --script '" +
+             (dir / "script.json").string() + "' --no-save",
          "script.json: is a FIFO"},
     };
     for (const auto& [args, message] : commands) {
@@ -121,7 +123,8 @@ TEST(HostileFiles, ALinkToADeviceIsRefusedAndAPathWithANulByteIsNotCutShort) {
 // --- paths that leave their folder ---------------------------------------------------------------
 
 TEST(HostilePaths, SafeFileNamesAndPathsInsideNeverLeaveTheirFolder) {
-    for (const std::string name : {"", ".", "..", "...", "../x", "a/b", "/etc", ".hidden", "a\\b", "é"}) {
+    for (const std::string name :
+         {"", ".", "..", "...", "../x", "a/b", "/etc", ".hidden", "a\\b", "é"}) {
         const std::string safe = safeFileName(name, "body0");
         SCOPED_TRACE("'" + name + "' -> '" + safe + "'");
         EXPECT_FALSE(safe.empty());
@@ -134,7 +137,7 @@ TEST(HostilePaths, SafeFileNamesAndPathsInsideNeverLeaveTheirFolder) {
     EXPECT_EQ(safeFileName("..", "project"), "project..");
     EXPECT_EQ(*pathInside("/b", "frames/000/a.exr", "file"), fs::path("/b/frames/000/a.exr"));
     for (const std::string& bad : std::vector<std::string>{"../x", "a/../../x", "/etc/passwd", "",
-                                                            "a\\..\\x", std::string("a\0b", 3)}) {
+                                                           "a\\..\\x", std::string("a\0b", 3)}) {
         EXPECT_FALSE(pathInside("/b", bad, "file").ok()) << bad;
     }
     EXPECT_CONTAINS(test::messageOf(pathInside("/b", "../x", "manifest.json: file path")),
@@ -144,9 +147,10 @@ TEST(HostilePaths, SafeFileNamesAndPathsInsideNeverLeaveTheirFolder) {
 /// A one-body project on the box asset, named `file` in `dir`.
 fs::path writeBoxProjectAs(const fs::path& dir, const std::string& file) {
     const fs::path path = dir / file;
-    std::ofstream(path) << R"({"schema_version": 1, "name": "box", "bodies": [{"name": "../../box", "mesh": ")"
-                        << test::assetPath("box.obj").string()
-                        << R"(", "texture_size": 16, "material": {"density": 500}}]})";
+    std::ofstream(path)
+        << R"({"schema_version": 1, "name": "box", "bodies": [{"name": "../../box", "mesh": ")"
+        << test::assetPath("box.obj").string()
+        << R"(", "texture_size": 16, "material": {"density": 500}}]})";
     return path;
 }
 
@@ -165,7 +169,8 @@ TEST(HostilePaths, ExportOfAProjectNamedDotDotStaysInsideOut) {
     EXPECT_EQ(test::readFile(dir / "keep" / "precious.txt"), "do not delete");
     std::vector<fs::path> bundles;
     for (const auto& entry : fs::recursive_directory_iterator(out)) {
-        if (entry.path().filename() == "manifest.json") bundles.push_back(entry.path().parent_path());
+        if (entry.path().filename() == "manifest.json")
+            bundles.push_back(entry.path().parent_path());
     }
     ASSERT_EQ(bundles.size(), 1u);
     EXPECT_EQ(bundles[0].parent_path().parent_path(), out);  // OUT/<project>/<body>
@@ -179,7 +184,8 @@ std::string triangleGltf(const std::string& uri) {
       "accessors": [{"bufferView": 0, "componentType": 5126, "count": 3, "type": "VEC3",
                      "min": [0, 0, 0], "max": [1, 1, 0]}],
       "bufferViews": [{"buffer": 0, "byteLength": 36}],
-      "buffers": [{"uri": ")" + uri + R"(", "byteLength": 36}]})";
+      "buffers": [{"uri": ")" +
+           uri + R"(", "byteLength": 36}]})";
 }
 std::string triangleBin() {
     const float p[9] = {0, 0, 0, 1, 0, 0, 0, 1, 0};
@@ -230,10 +236,10 @@ std::string asciiPly(const std::string& faces, int count) {
 
 /// A binary little-endian PLY of the 4 vertices above and faces of int indices.
 std::string binaryPly(const std::vector<std::vector<std::int32_t>>& faces) {
-    std::string s = "ply\nformat binary_little_endian 1.0\nelement vertex 4\nproperty float x\n"
-                    "property float y\nproperty float z\nelement face " +
-                    std::to_string(faces.size()) +
-                    "\nproperty list uchar int vertex_indices\nend_header\n";
+    std::string s =
+        "ply\nformat binary_little_endian 1.0\nelement vertex 4\nproperty float x\n"
+        "property float y\nproperty float z\nelement face " +
+        std::to_string(faces.size()) + "\nproperty list uchar int vertex_indices\nend_header\n";
     const float v[12] = {0, 0, 0, 1, 0, 0, 0, 1, 0, 0, 0, 1};
     s.append(reinterpret_cast<const char*>(v), sizeof v);
     for (const auto& f : faces) {
@@ -257,7 +263,8 @@ TEST(AssimpGuards, PlyFacesAreCheckedBeforeAssimpReadsThem) {
 
     const std::pair<std::string, std::string> cases[] = {
         // Each of these crashed assimp (SIGSEGV or an abort in its triangulation).
-        {asciiPly("3 0 2 1\n3 0 1 9\n", 2), "PLY face 1 (line 15): vertex index 9 out of range (the file declares 4 vertices)"},
+        {asciiPly("3 0 2 1\n3 0 1 9\n", 2),
+         "PLY face 1 (line 15): vertex index 9 out of range (the file declares 4 vertices)"},
         {asciiPly("3 0 2 -1\n", 1), "vertex index -1 out of range"},
         {binaryPly({{0, 2, 1}, {0, 1, 1000000}}), "PLY face 1: vertex index 1000000 out of range"},
         {binaryPly({{0, 2, -7}}), "vertex index -7 out of range"},
@@ -291,11 +298,12 @@ TEST(AssimpGuards, APlyReachesAssimpOnlyAsTheCanonicalPlyItsReaderWrites) {
     const double st[6][2] = {{0, 0}, {0.25, 0}, {0.5, 0}, {0, 0.75}, {0.25, 0.75}, {0.5, 0.75}};
     const int quads[2][4] = {{0, 1, 4, 3}, {1, 2, 5, 4}};
 
-    std::string ascii = "ply\nformat ascii 1.0\ncomment made by hand\nelement vertex 6\n"
-                        "property float x\nproperty float y\nproperty float z\nproperty uchar red\n"
-                        "property float nx\nproperty float s\nproperty float t\nelement edge 1\n"
-                        "property int vertex1\nproperty int vertex2\nelement face 2\n"
-                        "property uchar flags\nproperty list uchar int vertex_indices\nend_header\n";
+    std::string ascii =
+        "ply\nformat ascii 1.0\ncomment made by hand\nelement vertex 6\n"
+        "property float x\nproperty float y\nproperty float z\nproperty uchar red\n"
+        "property float nx\nproperty float s\nproperty float t\nelement edge 1\n"
+        "property int vertex1\nproperty int vertex2\nelement face 2\n"
+        "property uchar flags\nproperty list uchar int vertex_indices\nend_header\n";
     for (int v = 0; v < 6; ++v)
         ascii += std::to_string(xyz[v][0]) + " " + std::to_string(xyz[v][1]) + " 0 200 1 " +
                  std::to_string(st[v][0]) + " " + std::to_string(st[v][1]) + "\n";
@@ -304,10 +312,11 @@ TEST(AssimpGuards, APlyReachesAssimpOnlyAsTheCanonicalPlyItsReaderWrites) {
         ascii += "7 4 " + std::to_string(q[0]) + " " + std::to_string(q[1]) + " " +
                  std::to_string(q[2]) + " " + std::to_string(q[3]) + "\n";
 
-    std::string big = "ply\nformat binary_big_endian 1.0\nelement face 2\n"
-                      "property list ushort uint vertex_index\nelement vertex 6\nproperty double x\n"
-                      "property double y\nproperty double z\nproperty list uchar float extra\n"
-                      "property double texture_u\nproperty double texture_v\nend_header\n";
+    std::string big =
+        "ply\nformat binary_big_endian 1.0\nelement face 2\n"
+        "property list ushort uint vertex_index\nelement vertex 6\nproperty double x\n"
+        "property double y\nproperty double z\nproperty list uchar float extra\n"
+        "property double texture_u\nproperty double texture_v\nend_header\n";
     for (const auto& q : quads) {
         appendBigEndian<std::uint16_t>(big, 4);
         for (int c : q) appendBigEndian<std::uint32_t>(big, static_cast<std::uint32_t>(c));
@@ -320,7 +329,8 @@ TEST(AssimpGuards, APlyReachesAssimpOnlyAsTheCanonicalPlyItsReaderWrites) {
         appendBigEndian(big, st[v][1]);
     }
 
-    for (const auto& [name, bytes] : {std::pair<std::string, std::string>{"ascii.ply", ascii}, {"big.ply", big}}) {
+    for (const auto& [name, bytes] :
+         {std::pair<std::string, std::string>{"ascii.ply", ascii}, {"big.ply", big}}) {
         test::writeFile(dir / name, bytes);
         Result<TriangleMesh> mesh = loadMesh(dir / name, {.joinIdenticalVertices = false});
         ASSERT_TRUE(mesh.ok()) << mesh.error().message;
@@ -328,7 +338,8 @@ TEST(AssimpGuards, APlyReachesAssimpOnlyAsTheCanonicalPlyItsReaderWrites) {
         ASSERT_EQ(mesh->uvs.size(), 6u) << name;
         ASSERT_EQ(mesh->triangles.size(), 4u) << name;
         for (int v = 0; v < 6; ++v) {
-            EXPECT_EQ(mesh->positions[v], Eigen::Vector3d(xyz[v][0], xyz[v][1], xyz[v][2])) << name << " " << v;
+            EXPECT_EQ(mesh->positions[v], Eigen::Vector3d(xyz[v][0], xyz[v][1], xyz[v][2]))
+                << name << " " << v;
             EXPECT_EQ(mesh->uvs[v], Eigen::Vector2d(st[v][0], st[v][1])) << name << " " << v;
         }
         // The quads' triangles cover the square once: their areas add up to 1.
@@ -343,17 +354,24 @@ TEST(AssimpGuards, APlyReachesAssimpOnlyAsTheCanonicalPlyItsReaderWrites) {
     const std::pair<std::string, std::string> refused[] = {
         // The PLY fuzzer's eighth finding: no vertex element, a corner list under another
         // name; assimp allocated 15 GB for it.
-        {"ply\nformat ascii 1.0\nelement vex 3\nproperty float x\nproperty float y\nproperty float z\n"
-         "element face 1\nproperty list uint uint vertex_i~dices\nend_header\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n",
+        {"ply\nformat ascii 1.0\nelement vex 3\nproperty float x\nproperty float y\nproperty float "
+         "z\n"
+         "element face 1\nproperty list uint uint vertex_i~dices\nend_header\n0 0 0\n1 0 0\n0 1 "
+         "0\n3 0 1 2\n",
          "PLY header has no vertex element"},
         {asciiPly("", 0), "PLY file has no faces (a point cloud is not a surface)"},
-        {"ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\nproperty float z\n"
-         "element face 1\nproperty list uchar int corners\nend_header\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n",
+        {"ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\nproperty "
+         "float z\n"
+         "element face 1\nproperty list uchar int corners\nend_header\n0 0 0\n1 0 0\n0 1 0\n3 0 1 "
+         "2\n",
          "PLY face element has no vertex_indices list"},
-        {"ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\nproperty float z\n"
-         "element tristrips 1\nproperty list int int vertex_indices\nend_header\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n",
+        {"ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\nproperty "
+         "float z\n"
+         "element tristrips 1\nproperty list int int vertex_indices\nend_header\n0 0 0\n1 0 0\n0 1 "
+         "0\n3 0 1 2\n",
          "triangle strips (element tristrips) are not read"},
-        {"ply\nformat ascii 1.0\nelement vertex 1\nproperty float x\nproperty float y\nproperty float z\n"
+        {"ply\nformat ascii 1.0\nelement vertex 1\nproperty float x\nproperty float y\nproperty "
+         "float z\n"
          "element vertex 1\nproperty float x\nend_header\n0 0 0\n0\n",
          "a second vertex element"},
     };
@@ -395,7 +413,8 @@ TEST(AssimpGuards, PolygonsBeyondTheCornerLimitAreRefusedInObjAndPly) {
     std::string obj;
     const int n = static_cast<int>(kMaxFaceCorners) + 1;
     for (int i = 0; i < n; ++i)
-        obj += "v " + std::to_string(std::cos(i * 0.001)) + " " + std::to_string(std::sin(i * 0.001)) + " 0\n";
+        obj += "v " + std::to_string(std::cos(i * 0.001)) + " " +
+               std::to_string(std::sin(i * 0.001)) + " 0\n";
     obj += "f";
     for (int i = 1; i <= n; ++i) obj += " " + std::to_string(i);
     test::writeFile(dir / "fan.obj", obj + "\n");
@@ -418,8 +437,10 @@ TEST(AssimpGuards, DeepOrCyclicGltfNodeTreesAreRefused) {
         nlohmann::json nodes = nlohmann::json::array();
         for (int i = 0; i < depth; ++i) {
             nlohmann::json node = nlohmann::json::object();
-            if (i + 1 < depth) node["children"] = {i + 1};
-            else node["mesh"] = 0;
+            if (i + 1 < depth)
+                node["children"] = {i + 1};
+            else
+                node["mesh"] = 0;
             nodes.push_back(node);
         }
         return nodes;
@@ -506,9 +527,10 @@ TEST(ClearMessages, FailuresNameTheFileTheFieldAndTheRealCause) {
     // Not in the sanitized build: AddressSanitizer's operator new reports and aborts where the
     // normal one throws std::bad_alloc, so there is no exception to turn into the message.
     if (!test::kSanitizedBuild) {
-        const test::CommandOutput starved = test::runPlimsoll(
-            "bake '" + test::assetPath("box.obj").string() + "' --size 4096 --out '" + (dir / "big").string() + "'",
-            test::memoryCap(300ull << 20));
+        const test::CommandOutput starved =
+            test::runPlimsoll("bake '" + test::assetPath("box.obj").string() +
+                                  "' --size 4096 --out '" + (dir / "big").string() + "'",
+                              test::memoryCap(300ull << 20));
         EXPECT_EQ(starved.exitCode, 1) << starved.err;
         EXPECT_CONTAINS(starved.err, "out of memory");
     }
@@ -523,7 +545,8 @@ TEST(ClearMessages, FailuresNameTheFileTheFieldAndTheRealCause) {
     EXPECT_EQ(cut.find("IEN\""), std::string::npos) << cut;
 }
 
-// --- work at the documented limits ------------------------------------------------------------------
+// --- work at the documented limits
+// ------------------------------------------------------------------
 
 // A graph of kMaxGraphNodes nodes in a chain: each id was looked up by a scan of every node, for
 // every node and pipe (minutes); by hash it validates at once. The duplicate of node 0 is found.
@@ -570,7 +593,8 @@ TEST(Limits, AGraphOfTheMaximumNodeCountExportsAndLoadsInTheRuntime) {
         if (i > 0) graph.pipes.push_back({"n" + std::to_string(i - 1), node.id, 0.001, 0, true});
     }
     ASSERT_TRUE(saveGraph(graph, dir / "big.graph.json").ok());
-    ASSERT_TRUE(savePaintedMap(PaintedMap{16, 16, std::vector<float>(256, 1.0f)}, dir / "perm.png").ok());
+    ASSERT_TRUE(
+        savePaintedMap(PaintedMap{16, 16, std::vector<float>(256, 1.0f)}, dir / "perm.png").ok());
     std::ofstream(dir / "big.plim.json")
         << R"({"schema_version": 1, "name": "big graph", "bodies": [{"name": "box", "mesh": "box.obj",)"
         << R"( "texture_size": 64, "material": {"density": 500}, "permeability_map": "perm.png",)"
@@ -600,7 +624,8 @@ TEST(Limits, AGraphOfTheMaximumNodeCountExportsAndLoadsInTheRuntime) {
     }
 }
 
-// --- decompression bombs --------------------------------------------------------------------------
+// --- decompression bombs
+// --------------------------------------------------------------------------
 
 std::uint32_t crc32(const std::string& bytes) {
     std::uint32_t c = 0xFFFFFFFFu;
@@ -616,7 +641,8 @@ std::string pngDeclaring(std::uint32_t side) {
     PaintedMap map{16, 16, std::vector<float>(256, 0.5f)};
     std::string png = encodePaintedMapPng16(map);
     for (int k = 0; k < 2; ++k) {
-        for (int b = 0; b < 4; ++b) png[16 + 4 * k + b] = static_cast<char>((side >> (24 - 8 * b)) & 0xFF);
+        for (int b = 0; b < 4; ++b)
+            png[16 + 4 * k + b] = static_cast<char>((side >> (24 - 8 * b)) & 0xFF);
     }
     const std::uint32_t crc = crc32(png.substr(12, 17));
     for (int b = 0; b < 4; ++b) png[29 + b] = static_cast<char>((crc >> (24 - 8 * b)) & 0xFF);
@@ -629,8 +655,9 @@ TEST(Bombs, APaintedMapDeclaringAHugeImageIsRefusedBeforeDecoding) {
     const auto start = std::chrono::steady_clock::now();
     const std::string message = test::messageOf(loadPaintedMap(dir / "bomb.png"));
     EXPECT_LT(std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count(), 2.0);
-    EXPECT_CONTAINS(message, "bomb.png: painted map declares 16384 x 16384 pixels, outside 1..8192 "
-                             "(kMaxPaintedMapSide");
+    EXPECT_CONTAINS(message,
+                    "bomb.png: painted map declares 16384 x 16384 pixels, outside 1..8192 "
+                    "(kMaxPaintedMapSide");
     // The real image still decodes.
     test::writeFile(dir / "ok.png", pngDeclaring(16));
     Result<PaintedMap> ok = loadPaintedMap(dir / "ok.png");
@@ -638,7 +665,8 @@ TEST(Bombs, APaintedMapDeclaringAHugeImageIsRefusedBeforeDecoding) {
     EXPECT_NEAR(ok->values[0], 0.5f, 1e-4);
 }
 
-// --- saves: temporaries, kills at every step, a full disk -----------------------------------------
+// --- saves: temporaries, kills at every step, a full disk
+// -----------------------------------------
 
 TEST(AtomicSaves, PlantedLinksAtTemporaryNamesAreNeverFollowed) {
     const fs::path dir = test::freshFolder("hostile", "planted");
@@ -646,9 +674,11 @@ TEST(AtomicSaves, PlantedLinksAtTemporaryNamesAreNeverFollowed) {
     fs::create_directories(target.parent_path());
     test::writeFile(outside, "someone else's file");
     // The names the writers used to take (".NAME.tmp<pid>"), each a link to the file elsewhere.
-    for (const std::string& suffix : std::vector<std::string>{".tmp" + std::to_string(::getpid()), ".tmp-XXXXXX"})
+    for (const std::string& suffix :
+         std::vector<std::string>{".tmp" + std::to_string(::getpid()), ".tmp-XXXXXX"})
         fs::create_symlink(outside, target.parent_path() / (".map.png" + suffix));
-    ASSERT_TRUE(writeFileAtomically(target, [](std::ostream& out) { return bool(out << "new"); }).ok());
+    ASSERT_TRUE(
+        writeFileAtomically(target, [](std::ostream& out) { return bool(out << "new"); }).ok());
     ASSERT_TRUE(replaceFilesTogether({bytesFileWriter(target, "newer")}).ok());
     EXPECT_EQ(test::readFile(outside), "someone else's file");
     EXPECT_EQ(test::readFile(target), "newer");
@@ -679,11 +709,14 @@ TEST(AtomicSaves, ExrImagesAreWrittenThroughTheTemporaryNeverAFileSwappedIn) {
         Result<fs::path> temp = createTemporaryFor(target);
         ASSERT_TRUE(temp.ok());
         fs::remove(*temp);
-        if (hard) fs::create_hard_link(outside, *temp);
-        else fs::create_symlink(outside, *temp);
+        if (hard)
+            fs::create_hard_link(outside, *temp);
+        else
+            fs::create_symlink(outside, *temp);
         EXPECT_CONTAINS(test::messageOf(detail::writeExrFile(*temp, image, target)),
                         "position.exr: ");
-        EXPECT_EQ(test::readFile(outside), "someone else's file") << (hard ? "hard link" : "symlink");
+        EXPECT_EQ(test::readFile(outside), "someone else's file")
+            << (hard ? "hard link" : "symlink");
         fs::remove(*temp);
     }
     ASSERT_TRUE(detail::writeExr(target, image).ok());
@@ -700,10 +733,12 @@ TEST(AtomicSaves, ExrImagesAreWrittenThroughTheTemporaryNeverAFileSwappedIn) {
 /// A project with a painted map beside it (the box asset, 16^2 texture).
 fs::path writeMappedProject(const fs::path& dir) {
     const fs::path path = dir / "box.plim.json";
-    std::ofstream(path) << R"({"schema_version": 1, "name": "before", "bodies": [{"name": "box", "mesh": ")"
-                        << test::assetPath("box.obj").string()
-                        << R"(", "texture_size": 16, "permeability_map": "perm.png", "material": {"density": 500}}]})";
-    EXPECT_TRUE(savePaintedMap(PaintedMap{16, 16, std::vector<float>(256, 0.25f)}, dir / "perm.png").ok());
+    std::ofstream(path)
+        << R"({"schema_version": 1, "name": "before", "bodies": [{"name": "box", "mesh": ")"
+        << test::assetPath("box.obj").string()
+        << R"(", "texture_size": 16, "permeability_map": "perm.png", "material": {"density": 500}}]})";
+    EXPECT_TRUE(
+        savePaintedMap(PaintedMap{16, 16, std::vector<float>(256, 0.25f)}, dir / "perm.png").ok());
     return path;
 }
 
@@ -744,7 +779,8 @@ TEST(AtomicSaves, AProjectSaveKilledAtAnyStepLoadsTheOldOrTheNewSetNeverAMix) {
         Result<PaintedMap> map = loadPaintedMap(dir / "perm.png");
         ASSERT_TRUE(map.ok()) << map.error().message;
         const bool isNew = loaded->name == "after";
-        EXPECT_NEAR(map->values[0], isNew ? 1.0f : 0.25f, 1e-4) << "project and map of different saves";
+        EXPECT_NEAR(map->values[0], isNew ? 1.0f : 0.25f, 1e-4)
+            << "project and map of different saves";
         ++outcomes[isNew];
         if (code == 0) break;  // the save ran to its end: every step was interrupted once
     }
@@ -788,8 +824,9 @@ TEST(AtomicSaves, AFullDiskFailsTheSaveAndKeepsThePreviousFile) {
 fs::path writeBoxProject(const fs::path& dir) {
     fs::copy_file(test::assetPath("box.obj"), dir / "box.obj");
     const fs::path path = dir / "box.plim.json";
-    std::ofstream(path) << R"({"schema_version": 1, "name": "box", "bodies": [{"name": "box",)"
-                        << R"( "mesh": "box.obj", "texture_size": 16, "material": {"density": 500}}]})";
+    std::ofstream(path)
+        << R"({"schema_version": 1, "name": "box", "bodies": [{"name": "box",)"
+        << R"( "mesh": "box.obj", "texture_size": 16, "material": {"density": 500}}]})";
     return path;
 }
 
@@ -839,11 +876,15 @@ TEST(AtomicSaves, ScriptAndCommandLineSaveAsNeedForceToReplaceAFile) {
     };
     const std::string other = (dir / "other.plim.json").string();
     const std::pair<std::string, std::string> refused[] = {
-        {script(R"([{"op": "save_as", "path": ")" + other + R"("}])") + " --no-save", "other.plim.json: already exists"},
+        {script(R"([{"op": "save_as", "path": ")" + other + R"("}])") + " --no-save",
+         "other.plim.json: already exists"},
         {script("[]") + " --save-as '" + other + "'", "other.plim.json: already exists"},
-        {script("[]") + " --save-as '" + (dir / "box.obj").string() + "' --force", "box.obj: is the mesh of body 'box'"},
-        {script(R"([{"op": "save_as", "path": ")" + (dir / "box.obj").string() + R"(", "force": true}])") +
-             " --no-save", "box.obj: is the mesh of body 'box'"},
+        {script("[]") + " --save-as '" + (dir / "box.obj").string() + "' --force",
+         "box.obj: is the mesh of body 'box'"},
+        {script(R"([{"op": "save_as", "path": ")" + (dir / "box.obj").string() +
+                R"(", "force": true}])") +
+             " --no-save",
+         "box.obj: is the mesh of body 'box'"},
     };
     for (const auto& [args, message] : refused) {
         const test::CommandOutput run = test::runPlimsoll(args);
@@ -852,7 +893,8 @@ TEST(AtomicSaves, ScriptAndCommandLineSaveAsNeedForceToReplaceAFile) {
         EXPECT_EQ(test::readFile(dir / "other.plim.json"), "someone's project");
         EXPECT_EQ(test::readFile(dir / "box.obj"), mesh);
     }
-    const test::CommandOutput forced = test::runPlimsoll(script("[]") + " --save-as '" + other + "' --force");
+    const test::CommandOutput forced =
+        test::runPlimsoll(script("[]") + " --save-as '" + other + "' --force");
     EXPECT_EQ(forced.exitCode, 0) << forced.err;
     EXPECT_TRUE(loadProject(dir / "other.plim.json").ok());
 }
@@ -861,14 +903,18 @@ TEST(HostileScripts, EditScriptValuesOutsideTheirRangeAreRefused) {
     const fs::path dir = test::freshFolder("hostile", "script");
     const fs::path path = writeMappedProject(dir);
     const std::pair<const char*, const char*> cases[] = {
-        {R"([{"op": "fill_all", "channel": "permeability", "value": 7}])", "value must be in 0..1, not 7"},
-        {R"([{"op": "fill_all", "channel": "permeability", "value": -1e308}])", "value must be in 0..1"},
-        {R"([{"op": "new_map", "channel": "permeability", "size": 100000}])", "is outside 1..kMaxPaintedMapSide = 8192"},
+        {R"([{"op": "fill_all", "channel": "permeability", "value": 7}])",
+         "value must be in 0..1, not 7"},
+        {R"([{"op": "fill_all", "channel": "permeability", "value": -1e308}])",
+         "value must be in 0..1"},
+        {R"([{"op": "new_map", "channel": "permeability", "size": 100000}])",
+         "is outside 1..kMaxPaintedMapSide = 8192"},
     };
     for (const auto& [script, expected] : cases) {
         test::writeFile(dir / "script.json", script);
-        const test::CommandOutput run = test::runPlimsoll(
-            "edit '" + path.string() + "' --script '" + (dir / "script.json").string() + "' --no-save");
+        const test::CommandOutput run =
+            test::runPlimsoll("edit '" + path.string() + "' --script '" +
+                              (dir / "script.json").string() + "' --no-save");
         EXPECT_EQ(run.exitCode, 1) << script << "\n" << run.err;
         EXPECT_CONTAINS(run.err, "script.json");
         EXPECT_CONTAINS(run.err, expected);
@@ -881,7 +927,8 @@ TEST(HostileScripts, EditScriptValuesOutsideTheirRangeAreRefused) {
     EXPECT_CONTAINS(fifo.err, "fifo.json: is a FIFO, not a regular file");
 }
 
-// --- the runtime ------------------------------------------------------------------------------------
+// --- the runtime
+// ------------------------------------------------------------------------------------
 
 namespace rt = plimsoll_runtime;
 
@@ -915,7 +962,8 @@ protected:
         EXPECT_FALSE(rt::loadBundle(folder.string(), error, options)) << folder;
         return error;
     }
-    static void editManifest(const fs::path& folder, const std::function<void(nlohmann::json&)>& edit) {
+    static void editManifest(const fs::path& folder,
+                             const std::function<void(nlohmann::json&)>& edit) {
         nlohmann::json m = nlohmann::json::parse(test::readFile(folder / "manifest.json"));
         edit(m);
         test::writeFile(folder / "manifest.json", m.dump(2));
@@ -936,15 +984,19 @@ TEST_F(HostileBundle, ManifestPathsStayInsideTheBundleAndLinksOrFifosAreRefused)
     }
     {
         const fs::path b = copy("map_path");
-        editManifest(b, [](nlohmann::json& m) { m["painted_maps"]["permeability"]["path"] = "../../x.png"; });
+        editManifest(b, [](nlohmann::json& m) {
+            m["painted_maps"]["permeability"]["path"] = "../../x.png";
+        });
         EXPECT_CONTAINS(loadError(b, false), "leaves the bundle");
     }
     for (const bool verify : {true, false}) {
         const fs::path b = copy("linked");
-        fs::copy_file(b / "samples.exr", *root_ / "samples_elsewhere.exr", fs::copy_options::overwrite_existing);
+        fs::copy_file(b / "samples.exr", *root_ / "samples_elsewhere.exr",
+                      fs::copy_options::overwrite_existing);
         fs::remove(b / "samples.exr");
         fs::create_symlink(*root_ / "samples_elsewhere.exr", b / "samples.exr");
-        EXPECT_CONTAINS(loadError(b, verify), "samples.exr: is (or passes through) a symbolic link");
+        EXPECT_CONTAINS(loadError(b, verify),
+                        "samples.exr: is (or passes through) a symbolic link");
         fs::remove(b / "samples.exr");
         ASSERT_EQ(::mkfifo((b / "samples.exr").c_str(), 0600), 0);
         EXPECT_CONTAINS(loadError(b, verify), "samples.exr: not a regular file");
@@ -984,8 +1036,10 @@ TEST_F(HostileBundle, APaintedMapCutInItsEndChunkSaysTruncated) {
 void editSamples(const fs::path& folder, const std::function<void(std::vector<float>&)>& edit,
                  bool compact = false) {
     const fs::path file = folder / "samples.exr";
-    static const std::vector<std::string> kFloat = {"x", "y", "px", "py", "pz", "ax", "ay", "az", "area", "coverage"};
-    static const std::vector<std::string> kCompact = {"x", "y", "hpx", "hpy", "hpz", "hax", "hay", "haz", "harea", "coverage"};
+    static const std::vector<std::string> kFloat = {"x",  "y",  "px", "py",   "pz",
+                                                    "ax", "ay", "az", "area", "coverage"};
+    static const std::vector<std::string> kCompact = {"x",   "y",   "hpx", "hpy",   "hpz",
+                                                      "hax", "hay", "haz", "harea", "coverage"};
     const std::vector<std::string>& kChannels = compact ? kCompact : kFloat;
     int width = 0, height = 0;
     std::vector<float> pixels;
@@ -993,8 +1047,9 @@ void editSamples(const fs::path& folder, const std::function<void(std::vector<fl
         Imf::FrameBuffer buffer;
         const std::size_t stride = sizeof(float) * kChannels.size();
         for (std::size_t c = 0; c < kChannels.size(); ++c)
-            buffer.insert(kChannels[c], Imf::Slice(Imf::FLOAT, reinterpret_cast<char*>(pixels.data() + c),
-                                                   stride, stride * width));
+            buffer.insert(kChannels[c],
+                          Imf::Slice(Imf::FLOAT, reinterpret_cast<char*>(pixels.data() + c), stride,
+                                     stride * width));
         return buffer;
     };
     {
@@ -1010,7 +1065,8 @@ void editSamples(const fs::path& folder, const std::function<void(std::vector<fl
     Imf::Header header(width, height);
     header.compression() = Imf::ZIP_COMPRESSION;
     for (std::size_t c = 0; c < kChannels.size(); ++c)
-        header.channels().insert(kChannels[c], Imf::Channel(compact && c >= 2 ? Imf::HALF : Imf::FLOAT));
+        header.channels().insert(kChannels[c],
+                                 Imf::Channel(compact && c >= 2 ? Imf::HALF : Imf::FLOAT));
     Imf::OutputFile out(file.c_str(), header);
     // OpenEXR converts only when reading: HALF channels are written from half pixels.
     Imf::FrameBuffer buffer = frame();
@@ -1045,11 +1101,13 @@ TEST_F(HostileBundle, CompactSamplesWithNonFiniteHalvesOrScalesAreRefused) {
         std::string error;
         ASSERT_TRUE(rt::loadBundle(good.string(), error)) << error;
     }
-    const float nan = std::numeric_limits<float>::quiet_NaN(), inf = std::numeric_limits<float>::infinity();
+    const float nan = std::numeric_limits<float>::quiet_NaN(),
+                inf = std::numeric_limits<float>::infinity();
     const std::pair<int, float> halves[] = {{2, nan}, {4, inf}, {6, -inf}, {8, nan}};
     for (const auto& [channel, value] : halves) {
         const fs::path b = copyCompact("compact_nonfinite");
-        editSamples(b, [&](std::vector<float>& p) { p[10 * 5 + channel] = value; }, true);
+        editSamples(
+            b, [&](std::vector<float>& p) { p[10 * 5 + channel] = value; }, true);
         EXPECT_CONTAINS(loadError(b, false), "samples.exr: sample 5 holds a NaN or infinite half");
     }
     // Scales: zero, negative, overflowing to infinity (1e999 in the JSON text).
@@ -1059,12 +1117,14 @@ TEST_F(HostileBundle, CompactSamplesWithNonFiniteHalvesOrScalesAreRefused) {
             std::string text = test::readFile(b / "manifest.json");
             const std::size_t at = text.find(std::string("\"") + key + "\": ");
             ASSERT_NE(at, std::string::npos);
-            const std::size_t begin = text.find(": ", at) + 2, end = text.find_first_of(",\n", begin);
+            const std::size_t begin = text.find(": ", at) + 2,
+                              end = text.find_first_of(",\n", begin);
             text.replace(begin, end - begin, value);
             test::writeFile(b / "manifest.json", text);
             const std::string error = loadError(b, false);
             EXPECT_CONTAINS(error, "manifest.json");
-            EXPECT_TRUE(error.find(std::string("sample_encoding.") + key + ": must be finite and > 0") != std::string::npos ||
+            EXPECT_TRUE(error.find(std::string("sample_encoding.") + key +
+                                   ": must be finite and > 0") != std::string::npos ||
                         error.find("malformed manifest") != std::string::npos)
                 << error;
         }
@@ -1083,17 +1143,21 @@ TEST_F(HostileBundle, CompactSamplesWithNonFiniteHalvesOrScalesAreRefused) {
 }
 
 TEST_F(HostileBundle, NonFiniteOrNegativeSampleDataAndBombsAreRefused) {
-    const float nan = std::numeric_limits<float>::quiet_NaN(), inf = std::numeric_limits<float>::infinity();
+    const float nan = std::numeric_limits<float>::quiet_NaN(),
+                inf = std::numeric_limits<float>::infinity();
     const std::pair<int, float> cases[] = {{2, nan}, {6, inf}, {8, -1.0f}, {8, nan}};
     for (const auto& [channel, value] : cases) {
         const fs::path b = copy("nonfinite");
         editSamples(b, [&](std::vector<float>& p) { p[10 * 3 + channel] = value; });
-        EXPECT_CONTAINS(loadError(b, false), "samples.exr: sample 3 has a non-finite position or area vector, a negative area");
+        EXPECT_CONTAINS(
+            loadError(b, false),
+            "samples.exr: sample 3 has a non-finite position or area vector, a negative area");
     }
     {
         const fs::path b = copy("png_bomb");
         std::string file;
-        editManifest(b, [&](nlohmann::json& m) { file = m["painted_maps"]["permeability"]["path"]; });
+        editManifest(b,
+                     [&](nlohmann::json& m) { file = m["painted_maps"]["permeability"]["path"]; });
         test::writeFile(b / file, pngDeclaring(8192));  // within the side limit, but 1 KB of data
         EXPECT_CONTAINS(loadError(b, false), "more than its");
         test::writeFile(b / file, pngDeclaring(16384));
@@ -1109,32 +1173,41 @@ TEST_F(HostileBundle, EveryCApiCallRefusesNonFiniteAndNullArguments) {
     const plimsoll_water water = {0.0, nullptr, nullptr, nullptr};
     const plimsoll_fluid fluid = plimsoll_bundle_default_fluid(b);
     plimsoll_forces f{};
-    ASSERT_EQ(plimsoll_bundle_evaluate(b, &pose, nullptr, &water, &fluid, 0.0, &f), 1) << plimsoll_runtime_last_error();
+    ASSERT_EQ(plimsoll_bundle_evaluate(b, &pose, nullptr, &water, &fluid, 0.0, &f), 1)
+        << plimsoll_runtime_last_error();
     auto refused = [&](int result, int failure, const std::string& expected) {
         EXPECT_EQ(result, failure);
         EXPECT_CONTAINS(plimsoll_runtime_last_error(), expected);
     };
     plimsoll_pose bad = pose;
     bad.position[1] = nan;
-    refused(plimsoll_bundle_evaluate(b, &bad, nullptr, &water, &fluid, 0.0, &f), 0, "pose position has a NaN or Inf");
+    refused(plimsoll_bundle_evaluate(b, &bad, nullptr, &water, &fluid, 0.0, &f), 0,
+            "pose position has a NaN or Inf");
     bad = pose;
     bad.orientation[0] = 0;
-    refused(plimsoll_bundle_evaluate(b, &bad, nullptr, &water, &fluid, 0.0, &f), 0, "zero quaternion");
+    refused(plimsoll_bundle_evaluate(b, &bad, nullptr, &water, &fluid, 0.0, &f), 0,
+            "zero quaternion");
     bad = pose;
     bad.orientation[2] = inf;
-    refused(plimsoll_bundle_evaluate(b, &bad, nullptr, &water, &fluid, 0.0, &f), 0, "orientation has a NaN or Inf");
+    refused(plimsoll_bundle_evaluate(b, &bad, nullptr, &water, &fluid, 0.0, &f), 0,
+            "orientation has a NaN or Inf");
     const plimsoll_water nanWater = {nan, nullptr, nullptr, nullptr};
-    refused(plimsoll_bundle_evaluate(b, &pose, nullptr, &nanWater, &fluid, 0.0, &f), 0, "water level");
-    refused(plimsoll_bundle_evaluate(b, &pose, nullptr, &water, &fluid, inf, &f), 0, "time is NaN or Inf");
+    refused(plimsoll_bundle_evaluate(b, &pose, nullptr, &nanWater, &fluid, 0.0, &f), 0,
+            "water level");
+    refused(plimsoll_bundle_evaluate(b, &pose, nullptr, &water, &fluid, inf, &f), 0,
+            "time is NaN or Inf");
     plimsoll_fluid badFluid = fluid;
     badFluid.density = nan;
-    refused(plimsoll_bundle_evaluate(b, &pose, nullptr, &water, &badFluid, 0.0, &f), 0, "density must be finite");
+    refused(plimsoll_bundle_evaluate(b, &pose, nullptr, &water, &badFluid, 0.0, &f), 0,
+            "density must be finite");
     const plimsoll_velocity nanVelocity = {{0, nan, 0}, {0, 0, 0}};
-    refused(plimsoll_bundle_evaluate(b, &pose, &nanVelocity, &water, &fluid, 0.0, &f), 0, "velocity");
+    refused(plimsoll_bundle_evaluate(b, &pose, &nanVelocity, &water, &fluid, 0.0, &f), 0,
+            "velocity");
     refused(plimsoll_bundle_evaluate(b, nullptr, nullptr, &water, &fluid, 0.0, &f), 0, "NULL");
     refused(plimsoll_bundle_evaluate(b, &pose, nullptr, &water, &fluid, 0.0, nullptr), 0, "NULL");
     // A height callback that returns NaN: the result is refused, not passed on as success.
-    const plimsoll_water nanHeight = {0.0, [](void*, double, double, double) { return std::nan(""); }, nullptr, nullptr};
+    const plimsoll_water nanHeight = {
+        0.0, [](void*, double, double, double) { return std::nan(""); }, nullptr, nullptr};
     refused(plimsoll_bundle_evaluate(b, &pose, nullptr, &nanHeight, &fluid, 0.0, &f), 0,
             "the water height or velocity callback returned NaN or Inf");
 
@@ -1152,7 +1225,8 @@ TEST_F(HostileBundle, EveryCApiCallRefusesNonFiniteAndNullArguments) {
     const double zero[4] = {0, 0, 0, 0};
     plimsoll_graph_water_mass(b, zero);
     EXPECT_CONTAINS(plimsoll_runtime_last_error(), "zero quaternion");
-    EXPECT_EQ(plimsoll_graph_step(b, &pose, &water, 0.0, 0.01) >= 0, true) << plimsoll_runtime_last_error();
+    EXPECT_EQ(plimsoll_graph_step(b, &pose, &water, 0.0, 0.01) >= 0, true)
+        << plimsoll_runtime_last_error();
     plimsoll_bundle_free(b);
     EXPECT_STREQ(plimsoll_bundle_body(nullptr), "");
 }
@@ -1172,7 +1246,8 @@ TEST(HostileCli, NonFiniteNumbersAndOverflowingDurationsAreRefused) {
     const test::CommandOutput empty = test::runPlimsoll("bake '" + mesh + "' --size 16 --out ''");
     EXPECT_EQ(empty.exitCode, 2) << empty.err;
     EXPECT_CONTAINS(empty.err, "an empty path");
-    const test::CommandOutput run = test::runPlimsoll("simulate --mesh '" + mesh + "' --size 16 --seconds 1e300");
+    const test::CommandOutput run =
+        test::runPlimsoll("simulate --mesh '" + mesh + "' --size 16 --seconds 1e300");
     EXPECT_EQ(run.exitCode, 1) << run.err;
     EXPECT_CONTAINS(run.err, "more than the limit kMaxSimulationFrames");
 }
@@ -1211,7 +1286,8 @@ TEST(HostileCli, ABodyNoStepCanResolveIsRefusedBeforeItRuns) {
         double x, y, z;
         if (std::sscanf(line.c_str(), "v %lf %lf %lf", &x, &y, &z) == 3) {
             char scaled[128];
-            std::snprintf(scaled, sizeof scaled, "v %.17g %.17g %.17g", x * 1e-40, y * 1e-40, z * 1e-40);
+            std::snprintf(scaled, sizeof scaled, "v %.17g %.17g %.17g", x * 1e-40, y * 1e-40,
+                          z * 1e-40);
             line = scaled;
         }
         tiny << line << "\n";
@@ -1221,24 +1297,28 @@ TEST(HostileCli, ABodyNoStepCanResolveIsRefusedBeforeItRuns) {
     int written = 0;
     auto project = [&](const std::string& mesh, const std::string& spin) {
         const fs::path path = dir / ("spun" + std::to_string(written++) + ".plim.json");
-        std::ofstream(path) << R"({"schema_version": 1, "name": "spun", "bodies": [{"name": "b", "mesh": ")"
-                            << mesh << R"(.obj", "texture_size": 16, "material": {"density": 500},)"
-                            << R"( "angular_velocity": [0, )" << spin << "]}]}";
+        std::ofstream(path)
+            << R"({"schema_version": 1, "name": "spun", "bodies": [{"name": "b", "mesh": ")" << mesh
+            << R"(.obj", "texture_size": 16, "material": {"density": 500},)"
+            << R"( "angular_velocity": [0, )" << spin << "]}]}";
         return path.string();
     };
-    for (const auto& [mesh, spin, why] :
-         {std::tuple{"tiny", "1e50", "spin 1e+50 rad/s"}, std::tuple{"tiny", "0", "hydrostatic frequency"},
-          std::tuple{"box", "1e50", "spin 1e+50 rad/s"}, std::tuple{"box", "1e6", "spin 1e+06 rad/s"}}) {
+    for (const auto& [mesh, spin, why] : {std::tuple{"tiny", "1e50", "spin 1e+50 rad/s"},
+                                          std::tuple{"tiny", "0", "hydrostatic frequency"},
+                                          std::tuple{"box", "1e50", "spin 1e+50 rad/s"},
+                                          std::tuple{"box", "1e6", "spin 1e+06 rad/s"}}) {
         const fs::path out = dir / "trajectory.csv";
         const test::CommandOutput run =
-            test::runPlimsoll("simulate '" + project(mesh, std::string("0, ") + spin) + "' --seconds 0.1 --out '" + out.string() + "'");
+            test::runPlimsoll("simulate '" + project(mesh, std::string("0, ") + spin) +
+                              "' --seconds 0.1 --out '" + out.string() + "'");
         EXPECT_EQ(run.exitCode, 1) << mesh << " " << spin << "\n" << run.err;
         EXPECT_CONTAINS(run.err, "body 'b': a stable step needs");
         EXPECT_CONTAINS(run.err, "more than the limit World::kMaxSubSteps = 20000");
         EXPECT_CONTAINS(run.err, why);
         EXPECT_FALSE(fs::exists(out));
     }
-    const test::CommandOutput ok = test::runPlimsoll("simulate '" + project("box", "0, 300") + "' --seconds 0.1");
+    const test::CommandOutput ok =
+        test::runPlimsoll("simulate '" + project("box", "0, 300") + "' --seconds 0.1");
     EXPECT_EQ(ok.exitCode, 0) << ok.err;
 }
 

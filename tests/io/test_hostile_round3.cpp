@@ -39,11 +39,14 @@ namespace fs = std::filesystem;
 /// The box asset with a painted map beside it, at `density`.
 fs::path writeBoxProject(const fs::path& dir, double density) {
     const fs::path path = dir / "box.plim.json";
-    std::ofstream(path) << R"({"schema_version": 1, "name": "box", "bodies": [{"name": "box", "mesh": ")"
-                        << test::assetPath("box.obj").string()
-                        << R"(", "texture_size": 16, "permeability_map": "perm.png",
-                           "material": {"density": )" << density << "}}]}";
-    EXPECT_TRUE(savePaintedMap(PaintedMap{16, 16, std::vector<float>(256, 0.5f)}, dir / "perm.png").ok());
+    std::ofstream(path)
+        << R"({"schema_version": 1, "name": "box", "bodies": [{"name": "box", "mesh": ")"
+        << test::assetPath("box.obj").string()
+        << R"(", "texture_size": 16, "permeability_map": "perm.png",
+                           "material": {"density": )"
+        << density << "}}]}";
+    EXPECT_TRUE(
+        savePaintedMap(PaintedMap{16, 16, std::vector<float>(256, 0.5f)}, dir / "perm.png").ok());
     return path;
 }
 
@@ -83,8 +86,8 @@ TEST(HostileJournal, AJournalNamingFilesElsewhereIsRefusedAndMovesNothing) {
     EXPECT_CONTAINS(test::messageOf(loadProject(path)), "not a folder (a link?)");
     EXPECT_EQ(test::readFile(other / "photo.jpg"), "a photograph");
     // A set of files reaching outside the last one's folder is refused before it is written.
-    const Status outside = replaceFilesTogether({bytesFileWriter(other / "photo.jpg", "map"),
-                                                 bytesFileWriter(project / "x.json", "{}")});
+    const Status outside = replaceFilesTogether(
+        {bytesFileWriter(other / "photo.jpg", "map"), bytesFileWriter(project / "x.json", "{}")});
     EXPECT_CONTAINS(test::messageOf(outside), "outside");
     EXPECT_EQ(test::readFile(other / "photo.jpg"), "a photograph");
     EXPECT_FALSE(fs::exists(project / "x.json"));
@@ -100,12 +103,14 @@ TEST(HostileOutput, ALinkADeviceOrAFifoNamedAsOutputIsNotReplaced) {
     ASSERT_EQ(::mkfifo((dir / "fifo.csv").c_str(), 0600), 0);
     std::vector<std::string> names{"link.csv", "stdout.csv", "fifo.csv"};
     // A copy of /dev/null, where the test may make device nodes (as root).
-    if (::mknod((dir / "null.csv").c_str(), S_IFCHR | 0666, makedev(1, 3)) == 0) names.push_back("null.csv");
+    if (::mknod((dir / "null.csv").c_str(), S_IFCHR | 0666, makedev(1, 3)) == 0)
+        names.push_back("null.csv");
     for (const std::string& name : names) {
         SCOPED_TRACE(name);
         struct stat before {};
         ASSERT_EQ(::lstat((dir / name).c_str(), &before), 0);
-        const Status s = writeFileAtomically(dir / name, [](std::ostream& out) { return bool(out << "t,x\n"); });
+        const Status s =
+            writeFileAtomically(dir / name, [](std::ostream& out) { return bool(out << "t,x\n"); });
         EXPECT_CONTAINS(test::messageOf(s), name + ": is a");
         EXPECT_CONTAINS(test::messageOf(s), "not replaced");
         struct stat after {};
@@ -116,7 +121,8 @@ TEST(HostileOutput, ALinkADeviceOrAFifoNamedAsOutputIsNotReplaced) {
     EXPECT_EQ(test::readFile(dir / "real.csv"), "kept");
     // The CLI says so and exits 1.
     const test::CommandOutput run = test::runPlimsoll(
-        "simulate '" + (fs::path(PLIMSOLL_SOURCE_DIR) / "projects" / "box_half_draft.plim.json").string() +
+        "simulate '" +
+        (fs::path(PLIMSOLL_SOURCE_DIR) / "projects" / "box_half_draft.plim.json").string() +
         "' --seconds 0.05 --out '" + (dir / "link.csv").string() + "'");
     EXPECT_EQ(run.exitCode, 1) << run.err;
     EXPECT_CONTAINS(run.err, "link.csv: is a symbolic link");
@@ -140,8 +146,10 @@ TEST(HostileExport, ALoaderDuringReExportsAlwaysFindsACompleteBundle) {
     std::thread loader([&] {
         while (!done) {
             plimsoll_bundle* bundle = plimsoll_bundle_load((out / "box").c_str(), 0);
-            if (bundle) plimsoll_bundle_free(bundle);
-            else if (failures++ == 0) firstFailure = plimsoll_runtime_last_error();
+            if (bundle)
+                plimsoll_bundle_free(bundle);
+            else if (failures++ == 0)
+                firstFailure = plimsoll_runtime_last_error();
             ++loads;
         }
     });
@@ -212,7 +220,8 @@ TEST(HostileExport, AReExportKilledAtAnyStepLeavesACompleteBundle) {
     }
 }
 
-// --- painted maps are PNG by content --------------------------------------------------------------
+// --- painted maps are PNG by content
+// --------------------------------------------------------------
 
 TEST(HostileImages, AMapThatIsNotAPngIsRefusedNamingItsRealType) {
     const std::string png = encodePaintedMapPng16(PaintedMap{4, 3, std::vector<float>(12, 0.25f)});
@@ -274,7 +283,9 @@ TEST(HostileJson, DeepNestingIsRefusedBeforeAnyParser) {
                                         "}]}");
     EXPECT_CONTAINS(test::messageOf(loadMesh(dir / "g.gltf")), "JSON nested more than 128");
     EXPECT_EQ(boundedExcerpt(std::string(500, 'x') + "\xff", 10), "xxxxxxxxxx...");
-    EXPECT_EQ(boundedExcerpt("a\xff" "b"), "a?b");
+    EXPECT_EQ(boundedExcerpt("a\xff"
+                             "b"),
+              "a?b");
 }
 
 // A value quoted in a message is written only as far as the excerpt goes: dump() recursed

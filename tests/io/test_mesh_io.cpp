@@ -33,7 +33,8 @@ TEST(MeshIo, ObjRoundTripKeepsEveryDouble) {
             const auto& a = box.positions[box.triangles[t][k]];
             const auto& b = loaded->positions[loaded->triangles[t][k]];
             EXPECT_LT((a - b).norm(), 1e-7);
-            EXPECT_LT((box.uvs[box.triangles[t][k]] - loaded->uvs[loaded->triangles[t][k]]).norm(), 1e-7);
+            EXPECT_LT((box.uvs[box.triangles[t][k]] - loaded->uvs[loaded->triangles[t][k]]).norm(),
+                      1e-7);
         }
     }
 }
@@ -92,7 +93,8 @@ TEST(ObjWriter, WritesFacesWithoutUvsAndFullPrecision) {
 
 TEST(ObjWriter, FailsForAMissingFolder) {
     const TriangleMesh box = makeBox({1.0, 1.0, 1.0});
-    const Status written = writeObj(box, test::scratchFolder("plimsoll_test_primitives") / "no such folder" / "box.obj");
+    const Status written = writeObj(
+        box, test::scratchFolder("plimsoll_test_primitives") / "no such folder" / "box.obj");
     ASSERT_FALSE(written.ok());
     EXPECT_NE(written.error().message.find("box.obj"), std::string::npos);
 }

@@ -116,11 +116,10 @@ TEST(PoseFromEulerDegrees, RotatesAboutXThenYThenZAndTranslates) {
     const Vector3d stepwise = about(2, 70) * (about(1, -50) * (about(0, 30) * v));
     EXPECT_LT((pose.rotation * v - stepwise).norm(), 1e-14);
     EXPECT_LT((pose.apply(v) - (stepwise + position)).norm(), 1e-14);
-    const Eigen::Matrix3d composed =
-        (Eigen::AngleAxisd(70 * kPi / 180, Vector3d::UnitZ()) *
-         Eigen::AngleAxisd(-50 * kPi / 180, Vector3d::UnitY()) *
-         Eigen::AngleAxisd(30 * kPi / 180, Vector3d::UnitX()))
-            .toRotationMatrix();
+    const Eigen::Matrix3d composed = (Eigen::AngleAxisd(70 * kPi / 180, Vector3d::UnitZ()) *
+                                      Eigen::AngleAxisd(-50 * kPi / 180, Vector3d::UnitY()) *
+                                      Eigen::AngleAxisd(30 * kPi / 180, Vector3d::UnitX()))
+                                         .toRotationMatrix();
     EXPECT_LT((pose.rotation - composed).norm(), 1e-14);
     // The other order is a different rotation, so the test above does tell them apart.
     const Vector3d reversed = about(0, 30) * (about(1, -50) * (about(2, 70) * v));
@@ -163,9 +162,10 @@ TEST(BuoyancyExact, SphereCapsMatchTheAnalyticCap) {
         EXPECT_NEAR(result.force.y(), rhoG() * result.submergedVolume, 1e-12 * result.force.y());
         expectPressureMatchesArchimedes(result, r);
     }
-    std::printf("  uv sphere 256x128 vs analytic caps: volume %.2e of the ball, C_B height %.2e "
-                "of r\n",
-                worstVolume, worstHeight);
+    std::printf(
+        "  uv sphere 256x128 vs analytic caps: volume %.2e of the ball, C_B height %.2e "
+        "of r\n",
+        worstVolume, worstHeight);
 }
 
 TEST(BuoyancyExact, WaterAboveTheTopGivesTheExactSolid) {
@@ -197,8 +197,8 @@ TEST(BuoyancyExact, PartBelowPlusPartAboveIsTheWhole) {
                     1e-12 * solid.volume);
         Vector3d aboveCentroid = above.centerOfBuoyancy;
         aboveCentroid.y() = -aboveCentroid.y();
-        const Vector3d moment = below.submergedVolume * below.centerOfBuoyancy +
-                                above.submergedVolume * aboveCentroid;
+        const Vector3d moment =
+            below.submergedVolume * below.centerOfBuoyancy + above.submergedVolume * aboveCentroid;
         EXPECT_LT((moment - solid.volume * solid.centerOfMass).norm(), 1e-12 * solid.volume);
         // An off-centre lever arm: still the same physics.
         expectPressureMatchesArchimedes(evaluate(sphere, identity, {0.2, 0.1, -0.3}, h), 0.8);
@@ -218,8 +218,7 @@ TEST(BuoyancyExact, AxisAlignedBoxIsWidthTimesDepthTimesLength) {
         const double depth = h + 0.25;  // m
         const double volume = 1.0 * depth * 0.25;
         EXPECT_NEAR(result.submergedVolume, volume, 1e-12 * volume);
-        EXPECT_LT((result.centerOfBuoyancy - Vector3d(10, -3 + 0.5 * (h - 0.25), 5)).norm(),
-                  1e-12);
+        EXPECT_LT((result.centerOfBuoyancy - Vector3d(10, -3 + 0.5 * (h - 0.25), 5)).norm(), 1e-12);
         const double wetted = 1.0 * 0.25 + 2 * (1.0 + 0.25) * depth;  // bottom and sides, m^2
         EXPECT_NEAR(result.wettedArea, wetted, 1e-12 * wetted);
         expectPressureMatchesArchimedes(result, 1.0);
@@ -315,22 +314,28 @@ TEST(BuoyancyExact, FarFromTheOriginKeepsItsDigits) {
 
 struct HalfSubmerged {
     const char* file;
-    double level;                ///< h = (ymin + ymax) / 2
-    double volume;               ///< V(y <= h)
-    Vector3d centerOfBuoyancy;   ///< centroid of that part
+    double level;               ///< h = (ymin + ymax) / 2
+    double volume;              ///< V(y <= h)
+    Vector3d centerOfBuoyancy;  ///< centroid of that part
 };
 
 const HalfSubmerged kReadme[] = {
     {"spot.obj", 0.108431, 0.46435262988465942, {-7.23091e-08, -0.225612705226, 0.383032175339}},
-    {"blub_triangulated.obj", 0.204129, 0.85885116825822416,
+    {"blub_triangulated.obj",
+     0.204129,
+     0.85885116825822416,
      {3.81363e-07, -0.104133125446, 0.00617192763813}},
-    {"boat.obj", 1.865340891531311, 8.7716909555334777,
+    {"boat.obj",
+     1.865340891531311,
+     8.7716909555334777,
      {-3.25601229497, 1.47417032154, -1.11037150555}},
     {"cube.obj", 0.0, 4.0, {0, -0.5, 0}},
     {"sphere.obj", 0.0, 2.0763424267454926, {0, -0.37393608131, 0}},
     {"torus.obj", 0.0, 0.60939224759569532, {0, -0.105496478564, 0}},
-    {"bunny.obj", -0.0009195, 0.58134172605348466, {0.0293704429997, -0.357395570104,
-                                                    0.125275202802}},
+    {"bunny.obj",
+     -0.0009195,
+     0.58134172605348466,
+     {0.0293704429997, -0.357395570104, 0.125275202802}},
 };
 
 TEST(BuoyancyExact, SharedMeshesHalfSubmergedMatchTheReadme) {

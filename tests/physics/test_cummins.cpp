@@ -27,12 +27,12 @@ constexpr double kGravity = 9.81, kDensity = 1025;
 /// restHeight above the calm surface) and its hydrostatics in closed form.
 struct HeaveCase {
     const char* name;
-    double mass;                            ///< kg
-    double restHeight;                      ///< centre height at equilibrium, m
-    std::function<double(double)> buoyancy;  ///< N, of the centre height
+    double mass;                              ///< kg
+    double restHeight;                        ///< centre height at equilibrium, m
+    std::function<double(double)> buoyancy;   ///< N, of the centre height
     std::function<double(double)> potential;  ///< J: gravity + buoyancy potential, of the height
-    double lengthScale;                     ///< m, for the frequency grid
-    std::vector<RadiationPanel> panels;     ///< wetted surface at rest
+    double lengthScale;                       ///< m, for the frequency grid
+    std::vector<RadiationPanel> panels;       ///< wetted surface at rest
 };
 
 HeaveCase hemisphere() {
@@ -46,7 +46,8 @@ HeaveCase hemisphere() {
     const double m = c.mass;
     c.potential = [a, m](double y) {
         const double d = std::clamp(a - y, 0.0, 2 * a);
-        return m * kGravity * y + kDensity * kGravity * kPi / 3 * (a * d * d * d - d * d * d * d / 4);
+        return m * kGravity * y +
+               kDensity * kGravity * kPi / 3 * (a * d * d * d - d * d * d * d / 4);
     };
     c.panels = wettedPanels(makeUvSphere(a, 16, 12), Eigen::Affine3d::Identity());
     return c;
@@ -91,13 +92,14 @@ struct Decay {
     /// integrator's O(dt) exchange with the kinetic energy is gone: the largest rise from one
     /// turning point to the next, over E_0 (<= 0 when energy never grows).
     double worstEnergyGain = -1;
-    double finalEnergy = 0;      ///< E_end / E_0
-    double settleTime = -1;      ///< s, last time |v| was >= 1 mm/s (-1: never settled)
+    double finalEnergy = 0;  ///< E_end / E_0
+    double settleTime = -1;  ///< s, last time |v| was >= 1 mm/s (-1: never settled)
 };
 
 /// Release from rest `offset` above equilibrium and integrate `duration` s with the rigid body
 /// (semi-implicit Euler, the product's integrator), with or without the Cummins model.
-Decay simulate(const HeaveCase& c, const CumminsModel* model, double offset, double duration, double dt) {
+Decay simulate(const HeaveCase& c, const CumminsModel* model, double offset, double duration,
+               double dt) {
     MassDistribution mass;
     mass.mass = c.mass;
     mass.inertia = Eigen::Matrix3d::Identity() * c.mass;
@@ -106,10 +108,12 @@ Decay simulate(const HeaveCase& c, const CumminsModel* model, double offset, dou
     MemoryState memory = model ? memoryStateFor(*model) : MemoryState{};
     const double restVolume = c.mass / kDensity;
     auto energy = [&] {
-        return kineticEnergy(state, mass) + c.potential(state.position.y()) - c.potential(c.restHeight) +
-               (model ? memoryEnergy(*model, memory) : 0.0);
+        return kineticEnergy(state, mass) + c.potential(state.position.y()) -
+               c.potential(c.restHeight) + (model ? memoryEnergy(*model, memory) : 0.0);
     };
-    auto shareNow = [&] { return entrainedShare(c.buoyancy(state.position.y()) / (kDensity * kGravity), restVolume); };
+    auto shareNow = [&] {
+        return entrainedShare(c.buoyancy(state.position.y()) / (kDensity * kGravity), restVolume);
+    };
     if (model) applyAddedMass(*model, shareNow(), mass, state);
     const double initial = energy();
     Decay out;
@@ -121,8 +125,11 @@ Decay simulate(const HeaveCase& c, const CumminsModel* model, double offset, dou
         const double share = model ? shareNow() : 0.0;
         if (model) applyAddedMass(*model, share, mass, state);
         const double memoryHeave = model ? share * memoryForce(*model, memory)(kHeaveY) : 0.0;
-        const Wrench w{{0, -c.mass * kGravity + c.buoyancy(state.position.y()) + memoryHeave, 0}, {0, 0, 0}};
-        state = step(state, mass, [&](const RigidBodyState&, double) { return w; }, t, dt, Integrator::SemiImplicitEuler);
+        const Wrench w{{0, -c.mass * kGravity + c.buoyancy(state.position.y()) + memoryHeave, 0},
+                       {0, 0, 0}};
+        state = step(
+            state, mass, [&](const RigidBodyState&, double) { return w; }, t, dt,
+            Integrator::SemiImplicitEuler);
         const Eigen::Vector3d v = linearVelocity(state, mass);
         if (model) {
             Vector6d generalised = Vector6d::Zero();
@@ -144,28 +151,35 @@ Decay simulate(const HeaveCase& c, const CumminsModel* model, double offset, dou
     out.finalEnergy = energy() / initial;
     if (upCrossings.size() >= 3) out.period = (upCrossings[2] - upCrossings[0]) / 2;
     // Peaks one period apart (same sign), from the second extreme on (past the release).
-    if (extremes.size() >= 4) out.logDecrement = 0.5 * (std::log(extremes[0] / extremes[2]) + std::log(extremes[1] / extremes[3]));
+    if (extremes.size() >= 4)
+        out.logDecrement =
+            0.5 * (std::log(extremes[0] / extremes[2]) + std::log(extremes[1] / extremes[3]));
     return out;
 }
 
 /// The decay A and B predict (decay_support.h) against the rigid body's.
 void expectDecayFollowsCoefficients(const HeaveCase& c, double offset) {
-    const RadiationSolver solver(c.panels, Eigen::Vector3d(0, c.restHeight, 0), {kGravity, kDensity});
+    const RadiationSolver solver(c.panels, Eigen::Vector3d(0, c.restHeight, 0),
+                                 {kGravity, kDensity});
     const Baked baked = bake(solver, c.lengthScale);
-    const double stiffness = (c.buoyancy(c.restHeight - 1e-4) - c.buoyancy(c.restHeight + 1e-4)) / 2e-4;
+    const double stiffness =
+        (c.buoyancy(c.restHeight - 1e-4) - c.buoyancy(c.restHeight + 1e-4)) / 2e-4;
     double omega = 0;
-    const test::DecayFigures predicted = test::predictedHeaveDecay(solver, c.mass, stiffness, &omega);
+    const test::DecayFigures predicted =
+        test::predictedHeaveDecay(solver, c.mass, stiffness, &omega);
     const double period = predicted.period, decrement = predicted.logDecrement;
     const RadiationCoefficients at = solver.at(omega);
-    const double zeta = at.damping(kHeaveY, kHeaveY) / (2 * (c.mass + at.addedMass(kHeaveY, kHeaveY)) * omega);
+    const double zeta =
+        at.damping(kHeaveY, kHeaveY) / (2 * (c.mass + at.addedMass(kHeaveY, kHeaveY)) * omega);
     // Three periods in the sanitized build (numeric loops about twenty times slower there): still
     // the two periods the measured period and decrement need.
     const int periods = test::kSanitizedBuild ? 3 : 6;
     const Decay d = simulate(c, &baked.model, offset, periods * period, 1e-3);
-    std::printf("  %s: %zu memory terms; natural w %.3f rad/s, zeta %.4f; period %.4f s (predicted %.4f), "
-                "log decrement %.4f (predicted %.4f); worst energy step %+.2e, final energy %.3f\n",
-                c.name, baked.model.memory[kHeaveY].size(), omega, zeta, d.period, period, d.logDecrement, decrement,
-                d.worstEnergyGain, d.finalEnergy);
+    std::printf(
+        "  %s: %zu memory terms; natural w %.3f rad/s, zeta %.4f; period %.4f s (predicted %.4f), "
+        "log decrement %.4f (predicted %.4f); worst energy step %+.2e, final energy %.3f\n",
+        c.name, baked.model.memory[kHeaveY].size(), omega, zeta, d.period, period, d.logDecrement,
+        decrement, d.worstEnergyGain, d.finalEnergy);
     EXPECT_NEAR(d.period, period, 0.05 * period);
     EXPECT_NEAR(d.logDecrement, decrement, 0.05 * decrement);
     // Energy (body + water's stored share) never grows from one turning point to the next.
@@ -187,7 +201,8 @@ TEST(CumminsDecay, DroppedLightBoxSettles) {
     // water (the added mass and memory follow the submerged share), energy must still only
     // fall, and it must settle (|v| < 1 mm/s), which bare hydrostatics never does.
     const HeaveCase c = box(250);
-    const RadiationSolver solver(c.panels, Eigen::Vector3d(0, c.restHeight, 0), {kGravity, kDensity});
+    const RadiationSolver solver(c.panels, Eigen::Vector3d(0, c.restHeight, 0),
+                                 {kGravity, kDensity});
     const Baked baked = bake(solver, c.lengthScale);
     // The sanitized build (about twenty times slower) runs the drop for 5 s with radiation and
     // checks the energy only; where it settles is left to the normal build.
@@ -197,8 +212,10 @@ TEST(CumminsDecay, DroppedLightBoxSettles) {
     }
     const Decay with = simulate(c, &baked.model, 0.35, 60, 1e-3);
     const Decay without = simulate(c, nullptr, 0.35, 60, 1e-3);
-    std::printf("  settles (|v| < 1 mm/s) after %.2f s with radiation; without: %s (energy left %.3f)\n",
-                with.settleTime, without.settleTime < 0 ? "settled" : "still moving at 60 s", without.finalEnergy);
+    std::printf(
+        "  settles (|v| < 1 mm/s) after %.2f s with radiation; without: %s (energy left %.3f)\n",
+        with.settleTime, without.settleTime < 0 ? "settled" : "still moving at 60 s",
+        without.finalEnergy);
     EXPECT_LT(with.worstEnergyGain, 1e-6);
     EXPECT_GT(with.settleTime, 0.0);
     EXPECT_LT(with.settleTime, 30.0);
@@ -221,10 +238,12 @@ TEST(CumminsAddedMass, InTheMassMatrixAndEnergySafe) {
     EXPECT_LT((angularVelocity(state, mass) - motion.angular).norm(), 1e-12);
     // Kinetic energy with the water's share: 1/2 v (m + R A R^T) v + 1/2 w (I + R A_r R^T) w.
     const Eigen::Matrix3d r = pose.rotation;
-    const Eigen::Matrix3d translational = mass.mass * Eigen::Matrix3d::Identity() + r * mass.addedMass * r.transpose();
+    const Eigen::Matrix3d translational =
+        mass.mass * Eigen::Matrix3d::Identity() + r * mass.addedMass * r.transpose();
     const Eigen::Matrix3d rotational = r * (mass.inertia + mass.addedInertia) * r.transpose();
     EXPECT_NEAR(kineticEnergy(state, mass),
-                0.5 * motion.linear.dot(translational * motion.linear) + 0.5 * motion.angular.dot(rotational * motion.angular),
+                0.5 * motion.linear.dot(translational * motion.linear) +
+                    0.5 * motion.angular.dot(rotational * motion.angular),
                 1e-12);
     // Leaving the water and coming back never makes energy.
     double energy = kineticEnergy(state, mass);
@@ -249,11 +268,13 @@ TEST(CumminsMemory, FitIsPassiveAndFollowsTheSamples) {
     const std::vector<MemoryTerm> fit = fitMemory(omega, damping);
     ASSERT_FALSE(fit.empty());
     for (std::size_t k = 0; k < omega.size(); ++k) {
-        EXPECT_NEAR(fittedDamping(fit, omega[k]), damping[k], 0.08 * *std::max_element(damping.begin(), damping.end()));
+        EXPECT_NEAR(fittedDamping(fit, omega[k]), damping[k],
+                    0.08 * *std::max_element(damping.begin(), damping.end()));
     }
     for (const MemoryTerm& t : fit) EXPECT_GT(t.gain, 0.0);
     // Kramers-Kronig through the fit: its added mass follows from the damping alone.
-    EXPECT_NEAR(fittedAddedMass(fit, 1.0), fittedAddedMass({{100.0, 2.0, 0.4}}, 1.0), 0.1 * 100.0 / 4.0);
+    EXPECT_NEAR(fittedAddedMass(fit, 1.0), fittedAddedMass({{100.0, 2.0, 0.4}}, 1.0),
+                0.1 * 100.0 / 4.0);
 }
 
 }  // namespace

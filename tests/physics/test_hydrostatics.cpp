@@ -206,9 +206,9 @@ TEST(Hydrostatics, SceneBodyFloatsWithItsGraphWater) {
     desc.textureSize = 64;
     desc.material.density = kBox.density;
     desc.waterGraph = WaterGraphDesc{.graph = "tank.graph.json"};
-    Result<SceneBody> body = bakeSceneBody(
-        desc, {.mesh = std::make_shared<const TriangleMesh>(makeBox(kBox.size())),
-               .waterGraph = std::make_shared<const WaterGraph>(graph)});
+    Result<SceneBody> body =
+        bakeSceneBody(desc, {.mesh = std::make_shared<const TriangleMesh>(makeBox(kBox.size())),
+                             .waterGraph = std::make_shared<const WaterGraph>(graph)});
     ASSERT_TRUE(body.ok()) << body.error().message;
     Result<FloatingBody> floating = floatingBodyOf(*body, MediumDesc{});
     ASSERT_TRUE(floating.ok()) << floating.error().message;

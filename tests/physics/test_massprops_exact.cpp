@@ -40,7 +40,8 @@ TEST(ExactMassProperties, MirtichTetrahedron) {
     second = (10.0 / 20.0) * (second + s * s.transpose());
     const Eigen::Vector3d c = s / 4.0;
     const Eigen::Matrix3d central = second - 10.0 * c * c.transpose();
-    const Eigen::Matrix3d expected = 2.0 * (central.trace() * Eigen::Matrix3d::Identity() - central);
+    const Eigen::Matrix3d expected =
+        2.0 * (central.trace() * Eigen::Matrix3d::Identity() - central);
     EXPECT_LT((p.inertia - expected).norm(), 1e-10 * expected.norm());
 }
 
@@ -59,9 +60,9 @@ TEST(ExactMassProperties, BoxMatchesAnalyticAndTransformsAsATensor) {
     EXPECT_LT((p.inertia - expected).norm(), 1e-12 * expected.norm());
 
     // Rotated and moved far away: the centre follows, the inertia becomes R I R^T.
-    const Eigen::Matrix3d R =
-        (Eigen::AngleAxisd(0.3, Eigen::Vector3d::UnitX()) *
-         Eigen::AngleAxisd(-1.1, Eigen::Vector3d(1, 2, 3).normalized())).toRotationMatrix();
+    const Eigen::Matrix3d R = (Eigen::AngleAxisd(0.3, Eigen::Vector3d::UnitX()) *
+                               Eigen::AngleAxisd(-1.1, Eigen::Vector3d(1, 2, 3).normalized()))
+                                  .toRotationMatrix();
     const Eigen::Vector3d t(1e5, -2e4, 3e5);
     for (auto& x : box.positions) x = R * x + t;
     const MassProperties moved = exactSolidMassProperties(box, density);
@@ -91,7 +92,8 @@ TEST(ExactMassProperties, FineSphereConvergesToTheBall) {
     const double ball = 4.0 / 3.0 * std::numbers::pi * r * r * r;
     double previous = 1.0;
     for (int segments : {32, 64, 256}) {
-        const MassProperties p = exactSolidMassProperties(makeUvSphere(r, segments, segments / 2), 1.0);
+        const MassProperties p =
+            exactSolidMassProperties(makeUvSphere(r, segments, segments / 2), 1.0);
         // An inscribed polyhedron: below the ball by its tessellation error, O(1/n^2).
         const double error = (ball - p.volume) / ball;
         EXPECT_GT(error, 0.0);
@@ -100,7 +102,8 @@ TEST(ExactMassProperties, FineSphereConvergesToTheBall) {
         previous = error;
         EXPECT_LT(p.centerOfMass.norm(), 1e-12);
         const double expectedI = 0.4 * p.mass * r * r;
-        for (int k = 0; k < 3; ++k) EXPECT_NEAR(p.inertia(k, k), expectedI, 30.0 / (segments * segments) * expectedI);
+        for (int k = 0; k < 3; ++k)
+            EXPECT_NEAR(p.inertia(k, k), expectedI, 30.0 / (segments * segments) * expectedI);
     }
     EXPECT_LT(previous, 3e-4);  // 256 x 128: within 3e-4 of 4/3 pi r^3
 }
@@ -111,7 +114,8 @@ TEST(ExactMassProperties, SphericalShellHasTwoThirdsMrSquared) {
     const double area = 4 * std::numbers::pi * r * r;
     EXPECT_NEAR(p.mass, sigma * area, 1e-3 * sigma * area);
     EXPECT_LT(p.centerOfMass.norm(), 1e-12);
-    for (int k = 0; k < 3; ++k) EXPECT_NEAR(p.inertia(k, k), 2.0 / 3.0 * p.mass * r * r, 1e-3 * p.mass * r * r);
+    for (int k = 0; k < 3; ++k)
+        EXPECT_NEAR(p.inertia(k, k), 2.0 / 3.0 * p.mass * r * r, 1e-3 * p.mass * r * r);
 }
 
 TEST(ExactMassProperties, SumUsesTheParallelAxisTheorem) {

@@ -95,8 +95,8 @@ TEST(TextureMassProperties, PaintedMapFileGivesAHemisphericalShell) {
     std::vector<std::uint8_t> pixels(w * h);
     for (int row = 0; row < h; ++row)
         for (int x = 0; x < w; ++x) pixels[row * w + x] = row < h / 2 ? 255 : 0;  // row 0: v = 1
-    const std::filesystem::path path =
-        std::filesystem::temp_directory_path() / ("hemisphere_" + std::to_string(::getpid()) + ".png");
+    const std::filesystem::path path = std::filesystem::temp_directory_path() /
+                                       ("hemisphere_" + std::to_string(::getpid()) + ".png");
     ASSERT_TRUE(stbi_write_png(path.c_str(), w, h, 1, pixels.data(), w));
     Result<PaintedMap> map = loadPaintedMap(path);
     std::filesystem::remove(path);

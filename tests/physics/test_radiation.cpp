@@ -50,14 +50,16 @@ template <class G>
 double principalValue(G&& g, double Y) {
     const double g1 = g(1.0);
     const double near = integrate([&](double m) { return (g(m) - g1) / (m - 1.0); }, 0.0, 2.0, 64);
-    const double far = integrate([&](double m) { return g(m) / (m - 1.0); }, 2.0, 2.0 + 45.0 / Y, 400);
+    const double far =
+        integrate([&](double m) { return g(m) / (m - 1.0); }, 2.0, 2.0 + 45.0 / Y, 400);
     return near + far;
 }
 
 TEST(RadiationGreen, WaveTermMatchesItsIntegralDefinition) {
     // (X, Y) pairs across the regimes the solver meets: near the vertical, near the surface,
     // far, deep, and past the Struve series' switch at X = 16.
-    const double points[][2] = {{0.5, 0.3}, {2.0, 1.0}, {1e-3, 1.5}, {5.0, 0.5}, {20.0, 3.0}, {3.0, 8.0}};
+    const double points[][2] = {{0.5, 0.3}, {2.0, 1.0},  {1e-3, 1.5},
+                                {5.0, 0.5}, {20.0, 3.0}, {3.0, 8.0}};
     for (const auto& p : points) {
         const double X = p[0], Y = p[1];
         const WaveGreen w = waveGreen(X, Y);
@@ -81,22 +83,26 @@ TEST(RadiationGreen, StruveFunctions) {
     // switch from the series to the asymptotic expansion.
     for (const double x : {15.9, 16.1, 30.0}) {
         const double h0 =
-            2.0 / kPi * integrate([&](double t) { return std::sin(x * std::cos(t)); }, 0.0, kPi / 2, 40);
+            2.0 / kPi *
+            integrate([&](double t) { return std::sin(x * std::cos(t)); }, 0.0, kPi / 2, 40);
         EXPECT_NEAR(struveH0(x), h0, 1e-8) << x;
         // H1(x) = (2x/pi) int_0^{pi/2} sin(x cos t) sin^2 t dt (A&S 12.1.7)
-        const double h1 = 2.0 * x / kPi * integrate([&](double t) {
-            return std::sin(x * std::cos(t)) * std::sin(t) * std::sin(t);
-        }, 0.0, kPi / 2, 40);
+        const double h1 =
+            2.0 * x / kPi *
+            integrate(
+                [&](double t) { return std::sin(x * std::cos(t)) * std::sin(t) * std::sin(t); },
+                0.0, kPi / 2, 40);
         EXPECT_NEAR(struveH1(x), h1, 1e-7) << x;
     }
 }
 
 TEST(RadiationGreen, RankineTriangleMatchesQuadrature) {
-    const std::array<Eigen::Vector3d, 3> triangle = {Eigen::Vector3d(0, 0, 0), Eigen::Vector3d(1, 0.2, 0),
-                                                     Eigen::Vector3d(0.3, 1, 0.4)};
+    const std::array<Eigen::Vector3d, 3> triangle = {
+        Eigen::Vector3d(0, 0, 0), Eigen::Vector3d(1, 0.2, 0), Eigen::Vector3d(0.3, 1, 0.4)};
     const double area = 0.5 * (triangle[1] - triangle[0]).cross(triangle[2] - triangle[0]).norm();
-    for (const Eigen::Vector3d& r : {Eigen::Vector3d(0.5, 0.5, 2), Eigen::Vector3d(0.4, 0.4, 0.2),
-                                     Eigen::Vector3d(2, 0.3, 0.1), Eigen::Vector3d(-0.5, -0.4, -0.3)}) {
+    for (const Eigen::Vector3d& r :
+         {Eigen::Vector3d(0.5, 0.5, 2), Eigen::Vector3d(0.4, 0.4, 0.2),
+          Eigen::Vector3d(2, 0.3, 0.1), Eigen::Vector3d(-0.5, -0.4, -0.3)}) {
         // Midpoint rule on n^2 sub-triangles.
         const int n = 400;
         double potential = 0;
@@ -104,9 +110,10 @@ TEST(RadiationGreen, RankineTriangleMatchesQuadrature) {
         for (int i = 0; i < n; ++i) {
             for (int j = 0; i + j < n; ++j) {
                 for (int up = 0; up < (i + j < n - 1 ? 2 : 1); ++up) {
-                    const double u = (i + (up ? 2.0 : 1.0) / 3) / n, v = (j + (up ? 2.0 : 1.0) / 3) / n;
-                    const Eigen::Vector3d d =
-                        r - (triangle[0] + u * (triangle[1] - triangle[0]) + v * (triangle[2] - triangle[0]));
+                    const double u = (i + (up ? 2.0 : 1.0) / 3) / n,
+                                 v = (j + (up ? 2.0 : 1.0) / 3) / n;
+                    const Eigen::Vector3d d = r - (triangle[0] + u * (triangle[1] - triangle[0]) +
+                                                   v * (triangle[2] - triangle[0]));
                     const double w = area / (double(n) * n), dist = d.norm();
                     potential += w / dist;
                     gradient -= w * d / (dist * dist * dist);
@@ -154,18 +161,24 @@ const double kHemisphereMass = kDensity * 2.0 / 3.0 * kPi * kRadius * kRadius * 
 TriangleMesh gradedSphere(int segments, int bands, double ratio) {
     const double first = 0.5 * kPi * (ratio - 1.0) / (std::pow(ratio, bands) - 1.0);
     std::vector<double> latitudes = {0.0};  // equator down to the pole
-    for (int k = 0; k < bands; ++k) latitudes.push_back(latitudes.back() - first * std::pow(ratio, k));
+    for (int k = 0; k < bands; ++k)
+        latitudes.push_back(latitudes.back() - first * std::pow(ratio, k));
     latitudes.back() = -0.5 * kPi;
     std::vector<ProfilePoint> profile;
-    for (int k = bands; k >= 0; --k) profile.push_back({k == bands ? 0.0 : kRadius * std::cos(latitudes[k]), kRadius * std::sin(latitudes[k])});
-    for (int k = 1; k <= bands; ++k) profile.push_back({k == bands ? 0.0 : kRadius * std::cos(latitudes[k]), -kRadius * std::sin(latitudes[k])});
+    for (int k = bands; k >= 0; --k)
+        profile.push_back({k == bands ? 0.0 : kRadius * std::cos(latitudes[k]),
+                           kRadius * std::sin(latitudes[k])});
+    for (int k = 1; k <= bands; ++k)
+        profile.push_back({k == bands ? 0.0 : kRadius * std::cos(latitudes[k]),
+                           -kRadius * std::sin(latitudes[k])});
     return makeLathe(profile, segments);
 }
 
 RadiationSolver hemisphereSolver(const TriangleMesh& sphere, bool lid = true) {
     RadiationSettings settings{kGravity, kDensity};
     settings.irregularFrequencyLid = lid;
-    return RadiationSolver(wettedPanels(sphere, Eigen::Affine3d::Identity()), Eigen::Vector3d::Zero(), settings);
+    return RadiationSolver(wettedPanels(sphere, Eigen::Affine3d::Identity()),
+                           Eigen::Vector3d::Zero(), settings);
 }
 
 /// The lower half of a graded sphere: 16 segments, 8 bands shrinking by 1.3 towards the
@@ -179,7 +192,8 @@ const RadiationSolver& hemisphere() {
 const RadiationCoefficients& hemisphereAt(double ka) {
     static std::map<double, RadiationCoefficients> solved;
     auto found = solved.find(ka);
-    if (found == solved.end()) found = solved.emplace(ka, hemisphere().at(std::sqrt(ka * kGravity / kRadius))).first;
+    if (found == solved.end())
+        found = solved.emplace(ka, hemisphere().at(std::sqrt(ka * kGravity / kRadius))).first;
     return found->second;
 }
 
@@ -200,31 +214,39 @@ void compareWithHulme(const std::vector<HulmeRow>& rows, int mode, double tolera
         EXPECT_LT(errorA, tolerance) << "K a " << row.ka;
         worstA = std::max(worstA, errorA);
         if (std::isfinite(row.damping)) {
-            const double errorB = std::abs(b - row.damping) <= 5e-4 ? 0.0 : std::abs(b - row.damping) / row.damping;
-            std::printf(" (Hulme %.4f, %+.1f%%)", row.damping, 100 * (b - row.damping) / row.damping);
+            const double errorB =
+                std::abs(b - row.damping) <= 5e-4 ? 0.0 : std::abs(b - row.damping) / row.damping;
+            std::printf(" (Hulme %.4f, %+.1f%%)", row.damping,
+                        100 * (b - row.damping) / row.damping);
             EXPECT_LT(errorB, tolerance) << "K a " << row.ka;
             worstB = std::max(worstB, errorB);
         }
         std::printf("\n");
         ++compared;
     }
-    std::printf("  worst: A %.1f%%, B %.1f%% over %d frequencies\n", 100 * worstA, 100 * worstB, compared);
+    std::printf("  worst: A %.1f%%, B %.1f%% over %d frequencies\n", 100 * worstA, 100 * worstB,
+                compared);
     EXPECT_GE(compared, 17);
 }
 
 // Over Hulme's whole range 0.1..3, through the first irregular frequency (K a ~ 2.5, which the
 // lid removes: RadiationHemisphere.LidRemovesTheIrregularFrequency).
-TEST(RadiationHemisphere, HeaveAgainstHulme) { compareWithHulme(hulmeTables()["heave"], kHeaveY, 0.05); }
+TEST(RadiationHemisphere, HeaveAgainstHulme) {
+    compareWithHulme(hulmeTables()["heave"], kHeaveY, 0.05);
+}
 
-TEST(RadiationHemisphere, SurgeAgainstHulme) { compareWithHulme(hulmeTables()["surge"], kSurgeX, 0.05); }
+TEST(RadiationHemisphere, SurgeAgainstHulme) {
+    compareWithHulme(hulmeTables()["surge"], kSurgeX, 0.05);
+}
 
 TEST(RadiationHemisphere, InfiniteFrequencyAddedMass) {
     const Matrix6d a = hemisphere().infiniteFrequencyAddedMass() / kHemisphereMass;
-    for (const auto& [mode, index] : {std::pair{"heave", int(kHeaveY)}, std::pair{"surge", int(kSurgeX)}}) {
+    for (const auto& [mode, index] :
+         {std::pair{"heave", int(kHeaveY)}, std::pair{"surge", int(kSurgeX)}}) {
         const HulmeRow limit = hulmeTables()[mode].back();
         ASSERT_TRUE(std::isinf(limit.ka));
-        std::printf("  %s A(inf) %.4f (reference %.4f, %+.1f%%)\n", mode, a(index, index), limit.addedMass,
-                    100 * (a(index, index) / limit.addedMass - 1));
+        std::printf("  %s A(inf) %.4f (reference %.4f, %+.1f%%)\n", mode, a(index, index),
+                    limit.addedMass, 100 * (a(index, index) / limit.addedMass - 1));
         // Heave: the exact 1/2 (the data file says why; Storti & D'Elia 2004's very-high-
         // frequency limit); surge: Hulme's 0.2732.
         EXPECT_NEAR(a(index, index), limit.addedMass, 0.02 * limit.addedMass);
@@ -237,7 +259,8 @@ TEST(RadiationHemisphere, LidRemovesTheIrregularFrequency) {
     const double ka = 2.5, omega = std::sqrt(ka * kGravity / kRadius), hulme = 0.0674;
     const double withLid = hemisphereAt(ka).damping(kHeaveY, kHeaveY) / (kHemisphereMass * omega);
     const double without =
-        hemisphereSolver(gradedSphere(16, 8, 1.3), false).at(omega).damping(kHeaveY, kHeaveY) / (kHemisphereMass * omega);
+        hemisphereSolver(gradedSphere(16, 8, 1.3), false).at(omega).damping(kHeaveY, kHeaveY) /
+        (kHemisphereMass * omega);
     std::printf("  K a 2.5 heave B: lid %.4f, no lid %.4f (Hulme %.4f)\n", withLid, without, hulme);
     EXPECT_NEAR(withLid, hulme, 0.05 * hulme);
     EXPECT_GT(std::abs(without - hulme), 0.2 * hulme);
@@ -329,7 +352,8 @@ TEST(RadiationLid, StaysSmallOnAFinelyCutHull) {
     const std::vector<RadiationPanel> wetted =
         wettedPanels(makeHull(), Eigen::Affine3d(Eigen::Translation3d(0, 0.2, 0)));  // draft 0.3 m
     const std::vector<RadiationPanel> lid = waterplaneLid(wetted);
-    std::printf("  hull: %zu panels below the surface, %zu on the lid\n", wetted.size(), lid.size());
+    std::printf("  hull: %zu panels below the surface, %zu on the lid\n", wetted.size(),
+                lid.size());
     ASSERT_FALSE(lid.empty());
     EXPECT_LE(lid.size(), wetted.size() / 2);
     for (const RadiationPanel& p : lid) {
@@ -343,11 +367,14 @@ TEST(RadiationHemisphere, ErrorFallsAsPanelsAreRefined) {
     double lastInfinite = INFINITY, lastFinite = INFINITY;
     for (const auto [segments, rings] : {std::pair{12, 8}, std::pair{16, 12}, std::pair{24, 16}}) {
         const RadiationSolver solver = hemisphereSolver(makeUvSphere(kRadius, segments, rings));
-        const double infinite = solver.infiniteFrequencyAddedMass()(kHeaveY, kHeaveY) / kHemisphereMass;
-        const double finite = solver.at(std::sqrt(kGravity / kRadius)).addedMass(kHeaveY, kHeaveY) / kHemisphereMass;
-        const double errorInfinite = std::abs(infinite - 0.5) / 0.5, errorFinite = std::abs(finite - 0.4284) / 0.4284;
-        std::printf("  %zu panels: A33(inf) %.4f (%.1f%%), A33(K a 1) %.4f (%.1f%%)\n", solver.panelCount(), infinite,
-                    100 * errorInfinite, finite, 100 * errorFinite);
+        const double infinite =
+            solver.infiniteFrequencyAddedMass()(kHeaveY, kHeaveY) / kHemisphereMass;
+        const double finite =
+            solver.at(std::sqrt(kGravity / kRadius)).addedMass(kHeaveY, kHeaveY) / kHemisphereMass;
+        const double errorInfinite = std::abs(infinite - 0.5) / 0.5,
+                     errorFinite = std::abs(finite - 0.4284) / 0.4284;
+        std::printf("  %zu panels: A33(inf) %.4f (%.1f%%), A33(K a 1) %.4f (%.1f%%)\n",
+                    solver.panelCount(), infinite, 100 * errorInfinite, finite, 100 * errorFinite);
         EXPECT_LT(errorInfinite, lastInfinite);
         EXPECT_LT(errorFinite, lastFinite);
         lastInfinite = errorInfinite;
@@ -361,7 +388,8 @@ TEST(RadiationHemisphere, SymmetricMatricesAndPositiveDamping) {
     const RadiationCoefficients& c = hemisphereAt(0.8);
     const double scale = c.addedMass.cwiseAbs().maxCoeff();
     EXPECT_LT((c.addedMass - c.addedMass.transpose()).cwiseAbs().maxCoeff(), 0.02 * scale);
-    EXPECT_LT((c.damping - c.damping.transpose()).cwiseAbs().maxCoeff(), 0.02 * c.damping.cwiseAbs().maxCoeff());
+    EXPECT_LT((c.damping - c.damping.transpose()).cwiseAbs().maxCoeff(),
+              0.02 * c.damping.cwiseAbs().maxCoeff());
     // Radiated power is positive: B is positive semi-definite.
     const Eigen::SelfAdjointEigenSolver<Matrix6d> eigen(0.5 * (c.damping + c.damping.transpose()));
     EXPECT_GT(eigen.eigenvalues().minCoeff(), -1e-3 * c.damping.cwiseAbs().maxCoeff());

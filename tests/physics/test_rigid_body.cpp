@@ -84,10 +84,10 @@ TEST(RigidBody, WorldInertiaIsRotatedBodyInertia) {
     EXPECT_NEAR((inertia - inertia.transpose()).norm(), 0.0, 1e-15);
     EXPECT_NEAR((inertia - r * mass.inertia * r.transpose()).norm(), 0.0, 1e-15);
     // Rotation does not change the principal moments.
-    const Eigen::Vector3d world = Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d>(inertia)
-                                      .eigenvalues();
-    const Eigen::Vector3d body = Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d>(mass.inertia)
-                                     .eigenvalues();
+    const Eigen::Vector3d world =
+        Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d>(inertia).eigenvalues();
+    const Eigen::Vector3d body =
+        Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d>(mass.inertia).eigenvalues();
     EXPECT_NEAR((world - body).norm(), 0.0, 1e-15);
 }
 
@@ -118,8 +118,8 @@ TEST(RigidBody, TorqueFreeTumblingBox) {
         EXPECT_LT(minBodySpin, -4.0) << integratorName(integrator) << ": the box never flipped";
         EXPECT_NEAR(state.angularMomentum.norm() / start.angularMomentum.norm(), 1.0, 1e-6)
             << integratorName(integrator);
-        const Eigen::Vector3d expectedPosition = start.position + kSteps * kDt *
-                                                                      linearVelocity(start, mass);
+        const Eigen::Vector3d expectedPosition =
+            start.position + kSteps * kDt * linearVelocity(start, mass);
         EXPECT_NEAR((state.position - expectedPosition).norm(), 0.0, 1e-9);
         if (integrator == Integrator::SemiImplicitEuler) {
             EXPECT_LE(maxEnergy, startEnergy * (1.0 + 1e-6));
@@ -214,8 +214,8 @@ TEST(RigidBody, SpringSemiImplicitEnergyIsBounded) {
     const double startEnergy = spring.energy(state);
     double firstPeriodMax = 0, lastPeriodMax = 0, worst = 0;
     for (int i = 0; i < stepsPerPeriod * periods; ++i) {
-        state = step(state, spring.mass, spring.wrench(), i * dt, dt,
-                     Integrator::SemiImplicitEuler);
+        state =
+            step(state, spring.mass, spring.wrench(), i * dt, dt, Integrator::SemiImplicitEuler);
         const double energy = spring.energy(state);
         worst = std::max(worst, std::abs(energy / startEnergy - 1.0));
         if (i < stepsPerPeriod) firstPeriodMax = std::max(firstPeriodMax, energy);

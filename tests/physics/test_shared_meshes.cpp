@@ -38,7 +38,8 @@ TEST(SharedMeshes, ExactMassPropertiesMatchTheReadme) {
         EXPECT_TRUE(report.closedSolid()) << report.format();
         const MassProperties p = exactSolidMassProperties(*mesh, 1.0);
         EXPECT_NEAR(p.volume, expected.volume, 5e-8 * expected.volume);
-        EXPECT_LT((p.centerOfMass - expected.centroid).norm(), 1e-6 * computeBounds(*mesh).diagonal());
+        EXPECT_LT((p.centerOfMass - expected.centroid).norm(),
+                  1e-6 * computeBounds(*mesh).diagonal());
         ++checked;
     }
     if (checked == 0) GTEST_SKIP() << "../shared/meshes not present";
@@ -66,7 +67,8 @@ TEST(SharedMeshes, BoatUvsAreOutOfRangeAndOverlapSoTheTexturePathRefusesIt) {
     EXPECT_FALSE(report.usableForTexture());
     EXPECT_TRUE(report.closedSolid());  // the exact path still works
     for (const Problem& p : report.problems) {
-        const bool expected = p.kind == ProblemKind::UvOutOfRange || p.kind == ProblemKind::UvOverlap;
+        const bool expected =
+            p.kind == ProblemKind::UvOutOfRange || p.kind == ProblemKind::UvOverlap;
         EXPECT_TRUE(expected) << "unexpected problem: " << p.message;
     }
 }

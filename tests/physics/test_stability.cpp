@@ -30,13 +30,15 @@ enum class Start { OutOfWater, AtSurface, Deep };
 struct Case {
     double ratio, size, step;
     Start start;
-    bool dissipation;  // drag and damping on
+    bool dissipation;        // drag and damping on
     bool radiation = false;  // Cummins' equation on (scene_radiation.h)
     bool lod = false;        // a level ladder (16^2, 32^2), switching every second
 };
 
 std::string describe(const Case& r) {
-    const char* start = r.start == Start::OutOfWater ? "out" : r.start == Start::AtSurface ? "surface" : "deep";
+    const char* start = r.start == Start::OutOfWater  ? "out"
+                        : r.start == Start::AtSurface ? "surface"
+                                                      : "deep";
     return "ratio " + std::to_string(r.ratio) + ", size " + std::to_string(r.size) + " m, dt " +
            std::to_string(r.step) + " s, start " + start +
            (r.dissipation ? ", drag on" : ", drag off") + (r.radiation ? ", radiation on" : "") +
@@ -50,8 +52,9 @@ Scene sceneFor(const Case& r) {
     body.textureSize = 32;
     body.material.density = 1000.0 * r.ratio;
     const double radius = 0.5 * r.size;
-    const double y = r.start == Start::OutOfWater ? 2 * radius : r.start == Start::AtSurface ? 0.0
-                                                                                           : -3 * radius;
+    const double y = r.start == Start::OutOfWater  ? 2 * radius
+                     : r.start == Start::AtSurface ? 0.0
+                                                   : -3 * radius;
     body.position = Eigen::Vector3d(0, y, 0);
     body.rotationDegrees = Eigen::Vector3d(10, 0, 5);
     if (!r.dissipation) {
@@ -66,7 +69,9 @@ Scene sceneFor(const Case& r) {
         Result<BodyRadiation> radiation =
             computeBodyRadiation(scene.bodies[0], {}, scene.medium, scene.simulation.gravity);
         EXPECT_TRUE(radiation.ok()) << (radiation.ok() ? "" : radiation.error().message);
-        if (radiation) scene.bodies[0].radiation = std::make_shared<const BodyRadiation>(std::move(*radiation));
+        if (radiation)
+            scene.bodies[0].radiation =
+                std::make_shared<const BodyRadiation>(std::move(*radiation));
     }
     scene.water = WaterModel::flat(0.0);
     scene.simulation.timeStep = r.step;
@@ -201,8 +206,7 @@ TEST_P(StabilityEnergy, WithoutDragEnergyNeverGrows) {
             // water's weight, times its radius, so that a start at height zero
             // (energy near zero) is not held to zero, nor a light body to its own
             // tiny weight when the water's potential dominates.
-            const double scale =
-                std::max(b.mass.mass, 1000.0 * b.volume) * 9.81 * 0.5 * size;
+            const double scale = std::max(b.mass.mass, 1000.0 * b.volume) * 9.81 * 0.5 * size;
             const double initial = world.mechanicalEnergy(0);
             double worst = -1e300;
             for (int f = 0; f < framesFor(step); ++f) {

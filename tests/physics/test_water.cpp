@@ -78,7 +78,8 @@ TEST(Water, GerstnerDispersionAndOrbitalVelocity) {
     const double dhdt = (water.height(x, 0, t + dt) - water.height(x, 0, t - dt)) / (2 * dt);
     EXPECT_NEAR(water.velocity({x, 0.0, 0.0}, t).y(), dhdt, 1e-6);
     // Decays as e^(k d) with depth d below the mean level.
-    const double deep = water.velocity({x, -5.0, 0.0}, t).y() / water.velocity({x, 0.0, 0.0}, t).y();
+    const double deep =
+        water.velocity({x, -5.0, 0.0}, t).y() / water.velocity({x, 0.0, 0.0}, t).y();
     EXPECT_NEAR(deep, std::exp(-k * 5.0), 1e-9);
 }
 
@@ -95,7 +96,7 @@ TEST(Water, HeightGridIsBilinearAndClampedAtItsEdges) {
         for (int i = 0; i < 4; ++i) water.grid.heights.push_back(0.1f * i + 0.2f * j);
     const double x = -1.0 + 2.0 * 1.3, z = 5.0 + 2.0 * 0.6;
     EXPECT_NEAR(water.height(x, z, 0), 1.0 + 0.1 * 1.3 + 0.2 * 0.6, 1e-6);
-    EXPECT_NEAR(water.height(-1e6, -1e6, 0), 1.0, 1e-6);          // corner (0, 0)
+    EXPECT_NEAR(water.height(-1e6, -1e6, 0), 1.0, 1e-6);            // corner (0, 0)
     EXPECT_NEAR(water.height(1e6, 1e6, 0), 1.0 + 0.3 + 0.4, 1e-6);  // corner (3, 2)
     EXPECT_NEAR(water.maxHeight(), 1.7, 1e-6);
     EXPECT_NEAR(water.minHeight(), 1.0, 1e-6);
@@ -114,15 +115,19 @@ void expectBatchesEqualTheReference() {
     WaterModel water = twoWaves();
     for (int waves : {2, kMaxGerstnerWaves + 1}) {
         while (static_cast<int>(water.waves.size()) < waves)
-            water.waves.push_back({0.02, 1.5 + 0.3 * static_cast<double>(water.waves.size()),
-                                   {std::cos(1.0 * water.waves.size()), std::sin(1.0 * water.waves.size())},
-                                   0.3, 0.1 * static_cast<double>(water.waves.size())});
+            water.waves.push_back(
+                {0.02,
+                 1.5 + 0.3 * static_cast<double>(water.waves.size()),
+                 {std::cos(1.0 * water.waves.size()), std::sin(1.0 * water.waves.size())},
+                 0.3,
+                 0.1 * static_cast<double>(water.waves.size())});
         double amplitudes = 0, speeds = 0;
         for (const GerstnerWave& w : water.waves) {
             amplitudes += w.amplitude;
             speeds += w.amplitude * std::sqrt(water.gravity * 2 * std::numbers::pi / w.wavelength);
         }
-        for (std::size_t n : {std::size_t(1), std::size_t(7), std::size_t(8), std::size_t(16), std::size_t(37)}) {
+        for (std::size_t n :
+             {std::size_t(1), std::size_t(7), std::size_t(8), std::size_t(16), std::size_t(37)}) {
             for (double offset : {0.0, 2500.0}) {
                 for (double t : {0.0, 1.3, 86400.0}) {
                     std::vector<double> x(n), y(n), z(n), h(n), v(3 * n);
@@ -137,8 +142,10 @@ void expectBatchesEqualTheReference() {
                         EXPECT_NEAR(h[i], water.height(x[i], z[i], t), 2e-6 * amplitudes)
                             << "point " << i << " of " << n << ", t " << t << ", offset " << offset;
                         const Eigen::Vector3d reference = water.velocity({x[i], y[i], z[i]}, t);
-                        EXPECT_LT((Eigen::Vector3d(v[3 * i], v[3 * i + 1], v[3 * i + 2]) - reference).norm(),
-                                  2e-6 * speeds)
+                        EXPECT_LT(
+                            (Eigen::Vector3d(v[3 * i], v[3 * i + 1], v[3 * i + 2]) - reference)
+                                .norm(),
+                            2e-6 * speeds)
                             << "point " << i << " of " << n << ", t " << t << ", offset " << offset;
                     }
                 }

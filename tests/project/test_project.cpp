@@ -108,7 +108,8 @@ void expectProblems(const std::string& text, const std::vector<std::string>& exp
     for (const std::string& line : expected) {
         EXPECT_NE(std::find(reported.begin(), reported.end(), "scene.plim.json: " + line),
                   reported.end())
-            << "missing: " << line << "\nreported:\n" << joined(reported);
+            << "missing: " << line << "\nreported:\n"
+            << joined(reported);
     }
     EXPECT_EQ(reported.size(), expected.size()) << joined(reported);
 }
@@ -218,23 +219,19 @@ TEST(Project, EqualityIgnoresTheFolder) {
 }
 
 TEST(Project, ReportsWrongTypesWithTheirPaths) {
-    expectProblems(withBody(R"({"name": 3, "mesh": ["a.obj"], "material": {"density": "600"},
+    expectProblems(
+        withBody(R"({"name": 3, "mesh": ["a.obj"], "material": {"density": "600"},
                                 "position": [1, 2], "velocity": [1, "2", 3],
                                 "texture_size": 256.5, "mesh_frames": "b.obj"})",
-                            R"("name": null, "medium": [], "simulation": {"sub_steps": "4",
+                 R"("name": null, "medium": [], "simulation": {"sub_steps": "4",
                                "integrator": 4}, "water": {"waves": {}}, )"),
-                   {"name: must be a string",
-                    "medium: must be an object",
-                    "water.waves: must be an array",
-                    "simulation.sub_steps: must be an integer",
-                    "simulation.integrator: must be a string",
-                    "bodies[0].name: must be a string",
-                    "bodies[0].mesh: must be a string",
-                    "bodies[0].mesh_frames: must be an array",
-                    "bodies[0].texture_size: must be an integer",
-                    "bodies[0].material.density: must be a number",
-                    "bodies[0].position: must be an array of 3 numbers",
-                    "bodies[0].velocity[1]: must be a number"});
+        {"name: must be a string", "medium: must be an object", "water.waves: must be an array",
+         "simulation.sub_steps: must be an integer", "simulation.integrator: must be a string",
+         "bodies[0].name: must be a string", "bodies[0].mesh: must be a string",
+         "bodies[0].mesh_frames: must be an array", "bodies[0].texture_size: must be an integer",
+         "bodies[0].material.density: must be a number",
+         "bodies[0].position: must be an array of 3 numbers",
+         "bodies[0].velocity[1]: must be a number"});
 }
 
 TEST(Project, ReportsValuesOutOfRange) {
@@ -243,32 +240,28 @@ TEST(Project, ReportsValuesOutOfRange) {
                                   "max_texel_stretch": -1, "drag_coefficient": -0.5})";
     const std::string body1 = R"({"mesh": "b.obj", "texture_size": 8193,
                                   "material": {"density": -1, "shell": {"surface_density": 0}}})";
-    expectProblems(withBody(body0 + ", " + body1,
-                            R"("medium": {"density": 0, "viscosity": -1},
+    expectProblems(
+        withBody(body0 + ", " + body1,
+                 R"("medium": {"density": 0, "viscosity": -1},
                                "simulation": {"time_step": 0, "sub_steps": 0, "duration": -1},
                                "water": {"gravity": 0}, )"),
-                   {"medium.density: must be > 0",
-                    "medium.viscosity: must be >= 0",
-                    "water.gravity: must be > 0",
-                    "simulation.time_step: must be > 0",
-                    "simulation.sub_steps: must be in 1..20000",
-                    "simulation.duration: must be >= 0",
-                    "bodies[0].frames_per_second: must be > 0",
-                    "bodies[0].texture_size: must be in 16..8192",
-                    "bodies[0].max_texel_stretch: must be >= 0",
-                    "bodies[0].drag_coefficient: must be >= 0",
-                    "bodies[1].texture_size: must be in 16..8192: 8193 is more than the limit "
-                    "kMaxTextureSize (limits.h); its texels would need up to 4.5 GB",
-                    "bodies[1].material.density: must be > 0",
-                    "bodies[1].material.shell.surface_density: must be > 0"});
+        {"medium.density: must be > 0", "medium.viscosity: must be >= 0",
+         "water.gravity: must be > 0", "simulation.time_step: must be > 0",
+         "simulation.sub_steps: must be in 1..20000", "simulation.duration: must be >= 0",
+         "bodies[0].frames_per_second: must be > 0", "bodies[0].texture_size: must be in 16..8192",
+         "bodies[0].max_texel_stretch: must be >= 0", "bodies[0].drag_coefficient: must be >= 0",
+         "bodies[1].texture_size: must be in 16..8192: 8193 is more than the limit "
+         "kMaxTextureSize (limits.h); its texels would need up to 4.5 GB",
+         "bodies[1].material.density: must be > 0",
+         "bodies[1].material.shell.surface_density: must be > 0"});
 }
 
 TEST(Project, RadiationSettingsRoundTripAndAreChecked) {
-    const Project project = loaded(parseProject(
-        withBody(R"({"mesh": "a.obj", "material": {"density": 600},
+    const Project project =
+        loaded(parseProject(withBody(R"({"mesh": "a.obj", "material": {"density": 600},
                      "radiation": {"enabled": false, "panel_edge": 0.25, "frequencies": 12,
                                    "min_frequency": 0.5, "max_frequency": 9}})"),
-        "scene", "/scenes"));
+                            "scene", "/scenes"));
     ASSERT_TRUE(project.bodies[0].radiation);
     const RadiationDesc& r = *project.bodies[0].radiation;
     EXPECT_FALSE(r.enabled);
@@ -279,8 +272,8 @@ TEST(Project, RadiationSettingsRoundTripAndAreChecked) {
     EXPECT_EQ(r.maxFrequency, 9.0);
     EXPECT_EQ(loaded(parseProject(projectToJson(project), "again", "/scenes")), project);
     // An empty object is radiation on with the automatic settings.
-    const Project automatic = loaded(
-        parseProject(withBody(R"({"mesh": "a.obj", "material": {"density": 600}, "radiation": {}})"), "s", "/"));
+    const Project automatic = loaded(parseProject(
+        withBody(R"({"mesh": "a.obj", "material": {"density": 600}, "radiation": {}})"), "s", "/"));
     EXPECT_TRUE(automatic.bodies[0].radiates());
     EXPECT_TRUE(automatic.bodies[0].radiationRequired());
     EXPECT_EQ(*automatic.bodies[0].radiation, RadiationDesc{});
@@ -379,22 +372,20 @@ TEST(Project, ReportsBadWater) {
     std::string waves;
     for (int i = 0; i < kMaxGerstnerWaves + 1; ++i) waves += R"({"amplitude": 0.1},)";
     waves += R"({"wavelength": 0, "steepness": 1.5, "direction": [0, 0], "amplitude": -1})";
-    expectProblems(withBody(R"({"mesh": "a.obj", "material": {"density": 600}})",
-                            R"("water": {"model": "heightfield", "waves": [)" + waves + "]}, "),
-                   {"water.waves: at most 16",
-                    "water.waves[17].amplitude: must be >= 0",
-                    "water.waves[17].wavelength: must be > 0",
-                    "water.waves[17].direction: must not be [0, 0]",
-                    "water.waves[17].steepness: must be in 0..1",
-                    "water.grid: required for model 'heightfield'"});
-    expectProblems(withBody(R"({"mesh": "a.obj", "material": {"density": 600}})",
-                            R"("water": {"model": "gerstner", "grid": {"count": [2, 0],
+    expectProblems(
+        withBody(R"({"mesh": "a.obj", "material": {"density": 600}})",
+                 R"("water": {"model": "heightfield", "waves": [)" + waves + "]}, "),
+        {"water.waves: at most 16", "water.waves[17].amplitude: must be >= 0",
+         "water.waves[17].wavelength: must be > 0", "water.waves[17].direction: must not be [0, 0]",
+         "water.waves[17].steepness: must be in 0..1",
+         "water.grid: required for model 'heightfield'"});
+    expectProblems(
+        withBody(R"({"mesh": "a.obj", "material": {"density": 600}})",
+                 R"("water": {"model": "gerstner", "grid": {"count": [2, 0],
                                "spacing": -1, "heights": [1, "x", 3, null, null]}}, )"),
-                   {"water.waves: model 'gerstner' needs at least one wave",
-                    "water.grid.count[1]: must be >= 1",
-                    "water.grid.spacing: must be > 0",
-                    "water.grid.heights[1]: must be a number",
-                    "water.grid.heights: 2 more invalid values"});
+        {"water.waves: model 'gerstner' needs at least one wave",
+         "water.grid.count[1]: must be >= 1", "water.grid.spacing: must be > 0",
+         "water.grid.heights[1]: must be a number", "water.grid.heights: 2 more invalid values"});
     expectProblems(withBody(R"({"mesh": "a.obj", "material": {"density": 600}})",
                             R"("water": {"model": "swell", "grid": {"count": [2, 3],
                                "heights": [1, 2, 3, 4, 1e39]}}, )"),
@@ -404,22 +395,19 @@ TEST(Project, ReportsBadWater) {
 }
 
 TEST(Project, ReportsMissingAndUnknownKeys) {
-    expectProblems(R"({"nmae": "typo", "simulation": {"integrator": "leapfrog", "dt": 0.1},
+    expectProblems(
+        R"({"nmae": "typo", "simulation": {"integrator": "leapfrog", "dt": 0.1},
                        "bodies": [{"material": {"densty": 5}},
                                   {"mesh": "", "material": {}, "mesh_frames": ["a", ""]},
                                   {"mesh": "c.obj"}]})",
-                   {"schema_version: required",
-                    "nmae: unknown key",
-                    "simulation.dt: unknown key",
-                    "simulation.integrator: unknown 'leapfrog' (explicit-euler, "
-                    "semi-implicit-euler, rk4)",
-                    "bodies[0].mesh: required",
-                    "bodies[0].material.densty: unknown key",
-                    "bodies[0].material: needs density or shell",
-                    "bodies[1].mesh: must not be empty",
-                    "bodies[1].mesh_frames[1]: must not be empty",
-                    "bodies[1].material: needs density or shell",
-                    "bodies[2].material: required (density or shell)"});
+        {"schema_version: required", "nmae: unknown key", "simulation.dt: unknown key",
+         "simulation.integrator: unknown 'leapfrog' (explicit-euler, "
+         "semi-implicit-euler, rk4)",
+         "bodies[0].mesh: required", "bodies[0].material.densty: unknown key",
+         "bodies[0].material: needs density or shell", "bodies[1].mesh: must not be empty",
+         "bodies[1].mesh_frames[1]: must not be empty",
+         "bodies[1].material: needs density or shell",
+         "bodies[2].material: required (density or shell)"});
     expectProblems(R"({"schema_version": 1, "bodies": []})",
                    {"bodies: at least one body required"});
     expectProblems(R"({"schema_version": 0})",
@@ -438,8 +426,7 @@ TEST(Project, ReportsBadShells) {
                     {"mesh": "e.obj", "material": {"shell": {}}})"),
         {"bodies[0].material.shell.material_density: required with thickness",
          "bodies[1].material.shell: surface_density, or thickness and material_density, not both",
-         "bodies[2].material.shell.thickness: must be > 0",
-         "bodies[3].material.map: needs a shell",
+         "bodies[2].material.shell.thickness: must be > 0", "bodies[3].material.map: needs a shell",
          "bodies[4].material.shell: needs surface_density, or thickness and material_density"});
 }
 

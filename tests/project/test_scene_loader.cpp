@@ -49,7 +49,9 @@ TEST(SceneLoader, NamesTheFileAndTheJsonPathOfEveryBodysProblem) {
     std::vector<std::string> starts;
     for (std::string line; std::getline(lines, line);) starts.push_back(line);
     ASSERT_EQ(starts.size(), 3u) << message;
-    EXPECT_EQ(starts[0].rfind("harbour.plim.json: bodies[0].mesh: body 'ghost' (no_such_mesh.obj): ", 0), 0u)
+    EXPECT_EQ(
+        starts[0].rfind("harbour.plim.json: bodies[0].mesh: body 'ghost' (no_such_mesh.obj): ", 0),
+        0u)
         << message;
     EXPECT_NE(starts[0].find("no_such_mesh.obj"), std::string::npos) << message;
     EXPECT_EQ(starts[1].rfind("harbour.plim.json: bodies[1].material.map: body 'ball' (", 0), 0u)

@@ -34,7 +34,6 @@ namespace {
 
 namespace fs = std::filesystem;
 
-
 /// Adds quad p0 p1 p2 p3 (two triangles), turned to face `normal`.
 void addQuad(TriangleMesh& mesh, std::array<Eigen::Vector3d, 4> p, const Eigen::Vector3d& normal) {
     if ((p[1] - p[0]).cross(p[2] - p[0]).dot(normal) < 0) std::swap(p[1], p[3]);
@@ -45,7 +44,7 @@ void addQuad(TriangleMesh& mesh, std::array<Eigen::Vector3d, 4> p, const Eigen::
 }
 
 struct Cup {
-    double outer = 0.5, inner = 0.4;  ///< half widths, m
+    double outer = 0.5, inner = 0.4;   ///< half widths, m
     double height = 0.5, floor = 0.1;  ///< m
     double materialVolume() const {
         return 4 * outer * outer * height - 4 * inner * inner * (height - floor);
@@ -57,8 +56,9 @@ TriangleMesh makeCup(const Cup& cup) {
     TriangleMesh mesh;
     mesh.source = "cup";
     const auto ring = [](double half, double y) {
-        return std::array<Eigen::Vector3d, 4>{Eigen::Vector3d(-half, y, -half), Eigen::Vector3d(half, y, -half),
-                                              Eigen::Vector3d(half, y, half), Eigen::Vector3d(-half, y, half)};
+        return std::array<Eigen::Vector3d, 4>{
+            Eigen::Vector3d(-half, y, -half), Eigen::Vector3d(half, y, -half),
+            Eigen::Vector3d(half, y, half), Eigen::Vector3d(-half, y, half)};
     };
     const auto o0 = ring(cup.outer, 0), o1 = ring(cup.outer, cup.height);
     const auto i0 = ring(cup.inner, cup.floor), i1 = ring(cup.inner, cup.height);
@@ -112,7 +112,8 @@ TEST(Openings, AThickWalledCupIsCappedAtItsRim) {
     EXPECT_TRUE(validateSurface(solid.mesh).closedSolid());
     EXPECT_NEAR(exactSolidMassProperties(solid.mesh, 1.0).volume, solid.displacementVolume, 1e-9);
     // Its walls, the sealed body less the hold, weigh what the artist's cup weighs.
-    const MassProperties walls = withoutHollow(exactSolidMassProperties(solid.mesh, 700.0), opening.cavity, 700.0);
+    const MassProperties walls =
+        withoutHollow(exactSolidMassProperties(solid.mesh, 700.0), opening.cavity, 700.0);
     const MassProperties artist = exactSolidMassProperties(mesh, 700.0);
     EXPECT_NEAR(walls.mass, artist.mass, 1e-7 * artist.mass);
     EXPECT_LT((walls.centerOfMass - artist.centerOfMass).norm(), 1e-7);
@@ -122,7 +123,8 @@ TEST(Openings, AThickWalledCupIsCappedAtItsRim) {
 TEST(Openings, ATiltedCupHoldsWaterUpToTheLowestPointOfItsRim) {
     SKIP_WITHOUT_REPAIR();
     const Cup cup;
-    const Eigen::Matrix3d tilt = Eigen::AngleAxisd(10 * std::numbers::pi / 180, Eigen::Vector3d::UnitX()).matrix();
+    const Eigen::Matrix3d tilt =
+        Eigen::AngleAxisd(10 * std::numbers::pi / 180, Eigen::Vector3d::UnitX()).matrix();
     TriangleMesh mesh = makeCup(cup);
     for (Eigen::Vector3d& p : mesh.positions) p = tilt * p;
     const PhysicsSolid solid = solidOf(mesh);
@@ -130,13 +132,16 @@ TEST(Openings, ATiltedCupHoldsWaterUpToTheLowestPointOfItsRim) {
     // Water spills over the inner edge of the rim where it is lowest.
     double spill = 1e300;
     for (double x : {-cup.inner, cup.inner})
-        for (double z : {-cup.inner, cup.inner}) spill = std::min(spill, (tilt * Eigen::Vector3d(x, cup.height, z)).y());
+        for (double z : {-cup.inner, cup.inner})
+            spill = std::min(spill, (tilt * Eigen::Vector3d(x, cup.height, z)).y());
     EXPECT_NEAR(solid.openings[0].capHeight, spill, 1e-5);
     // The hold: the tilted inner box below that level, by the exact clip of a box mesh.
     TriangleMesh hold = makeBox({2 * cup.inner, cup.height - cup.floor, 2 * cup.inner});
-    for (Eigen::Vector3d& p : hold.positions) p = tilt * (p + Eigen::Vector3d(0, 0.5 * (cup.height + cup.floor), 0));
+    for (Eigen::Vector3d& p : hold.positions)
+        p = tilt * (p + Eigen::Vector3d(0, 0.5 * (cup.height + cup.floor), 0));
     BodyFrame frame;
-    const double expected = evaluateBuoyancyExact(hold, frame, solid.openings[0].capHeight, {}).submergedVolume;
+    const double expected =
+        evaluateBuoyancyExact(hold, frame, solid.openings[0].capHeight, {}).submergedVolume;
     EXPECT_NEAR(solid.openings[0].cavity.volume, expected, 1e-9);
     EXPECT_NEAR(solid.displacementVolume - solid.materialVolume, expected, 1e-9);
 }
@@ -147,7 +152,8 @@ TEST(Openings, ClosedSolidsAndShallowDentsHaveNone) {
     // 5% of its material (a dent, not a container).
     Cup dent;
     dent.floor = 0.48;
-    for (const TriangleMesh& mesh : {makeBox({1, 2, 3}), makeUvSphere(0.5, 32, 16), makeCup(dent)}) {
+    for (const TriangleMesh& mesh :
+         {makeBox({1, 2, 3}), makeUvSphere(0.5, 32, 16), makeCup(dent)}) {
         SCOPED_TRACE(mesh.source);
         const PhysicsSolid solid = solidOf(mesh);
         EXPECT_TRUE(solid.openings.empty());
@@ -170,8 +176,8 @@ TEST(Openings, ClosedSolidsAndShallowDentsHaveNone) {
 // --- The shared open boats and bucket -------------------------------------------------------
 
 /// Möller-Trumbore: whether the ray from `origin` along `direction` hits triangle (a, b, c).
-bool rayHits(const Eigen::Vector3d& origin, const Eigen::Vector3d& direction, const Eigen::Vector3d& a,
-             const Eigen::Vector3d& b, const Eigen::Vector3d& c) {
+bool rayHits(const Eigen::Vector3d& origin, const Eigen::Vector3d& direction,
+             const Eigen::Vector3d& a, const Eigen::Vector3d& b, const Eigen::Vector3d& c) {
     const Eigen::Vector3d e1 = b - a, e2 = c - a, p = direction.cross(e2);
     const double det = e1.dot(p);
     if (std::abs(det) < 1e-300) return false;
@@ -200,7 +206,9 @@ double sealedVolumeByRayCasting(const TriangleMesh& mesh, int samples) {
     std::uniform_real_distribution<double> unit(0, 1);
     int counted = 0;
     for (int i = 0; i < samples; ++i) {
-        const Eigen::Vector3d p = box.min + (box.max - box.min).cwiseProduct(Eigen::Vector3d(unit(random), unit(random), unit(random)));
+        const Eigen::Vector3d p =
+            box.min + (box.max - box.min)
+                          .cwiseProduct(Eigen::Vector3d(unit(random), unit(random), unit(random)));
         if (windingNumber(mesh, p) > 0.5) {
             ++counted;
             continue;
@@ -209,7 +217,8 @@ double sealedVolumeByRayCasting(const TriangleMesh& mesh, int samples) {
         for (const Eigen::Vector3d& d : directions) {
             bool hit = false;
             for (const Triangle& t : mesh.triangles) {
-                if (rayHits(p, d, mesh.positions[t[0]], mesh.positions[t[1]], mesh.positions[t[2]])) {
+                if (rayHits(p, d, mesh.positions[t[0]], mesh.positions[t[1]],
+                            mesh.positions[t[2]])) {
                     hit = true;
                     break;
                 }
@@ -227,7 +236,8 @@ double sealedVolumeByRayCasting(const TriangleMesh& mesh, int samples) {
 TEST(Openings, OpenBoatsAndTheBucketDisplaceTheirSealedHull) {
     SKIP_WITHOUT_REPAIR();
     if (!fs::exists(test::realAssetsDir())) GTEST_SKIP() << "../shared/real-assets not present";
-    for (const char* name : {"quaternius/Boat.fbx", "quaternius/BoatWSail.fbx", "quaternius/Bucket.fbx"}) {
+    for (const char* name :
+         {"quaternius/Boat.fbx", "quaternius/BoatWSail.fbx", "quaternius/Bucket.fbx"}) {
         SCOPED_TRACE(name);
         Result<TriangleMesh> mesh = loadMesh(test::realAssetsDir() / name);
         ASSERT_TRUE(mesh.ok()) << mesh.error().message;
@@ -235,14 +245,16 @@ TEST(Openings, OpenBoatsAndTheBucketDisplaceTheirSealedHull) {
         ASSERT_FALSE(solid.openings.empty());
         EXPECT_FALSE(solid.openings[0].capTriangles.empty());
         EXPECT_GT(solid.openings[0].capArea, 0);
-        EXPECT_TRUE(validateSurface(solid.mesh).closedSolid()) << validateSurface(solid.mesh).format();
+        EXPECT_TRUE(validateSurface(solid.mesh).closedSolid())
+            << validateSurface(solid.mesh).format();
         const double estimate = sealedVolumeByRayCasting(*mesh, 6000);
         const double ratio = solid.displacementVolume / solid.materialVolume;
         const double expected = estimate / solid.materialVolume;
         std::cout << name << ": material " << solid.materialVolume << " m^3, displacement "
                   << solid.displacementVolume << " m^3 (ratio " << ratio << "), ray-cast estimate "
-                  << estimate << " m^3 (ratio " << expected << "), cap at y = " << solid.openings[0].capHeight
-                  << " m, " << describeRepairs(solid.repairs) << "\n";
+                  << estimate << " m^3 (ratio " << expected
+                  << "), cap at y = " << solid.openings[0].capHeight << " m, "
+                  << describeRepairs(solid.repairs) << "\n";
         EXPECT_NEAR(ratio, expected, 0.15 * expected);
     }
 }
@@ -251,7 +263,8 @@ TEST(Openings, MasspropsWeighsTheWallsAndReportsBothVolumes) {
     SKIP_WITHOUT_REPAIR();
     const fs::path boat = test::realAssetsDir() / "quaternius" / "Boat.fbx";
     if (!fs::exists(boat)) GTEST_SKIP() << "../shared/real-assets not present";
-    const test::CommandOutput run = test::runPlimsoll("massprops --exact --json --density 600 '" + boat.string() + "'");
+    const test::CommandOutput run =
+        test::runPlimsoll("massprops --exact --json --density 600 '" + boat.string() + "'");
     ASSERT_EQ(run.exitCode, 0) << run.err;
     const nlohmann::json j = nlohmann::json::parse(run.out);
     const double material = j.at("material_volume").get<double>();
@@ -261,7 +274,9 @@ TEST(Openings, MasspropsWeighsTheWallsAndReportsBothVolumes) {
     EXPECT_NEAR(j.at("mass").get<double>(), 600 * material, 1e-6 * 600 * material);
     bool capped = false;
     for (const nlohmann::json& r : j.at("repairs"))
-        if (r.at("kind") == "cap") capped = r.at("count") == 1 && std::abs(r.at("volume_change").get<double>() - (displacement - material)) < 1e-9;
+        if (r.at("kind") == "cap")
+            capped = r.at("count") == 1 && std::abs(r.at("volume_change").get<double>() -
+                                                    (displacement - material)) < 1e-9;
     EXPECT_TRUE(capped) << j.at("repairs").dump();
 }
 
@@ -653,12 +668,14 @@ TEST(Openings, TheDinghyRidesHighThenSwampsWhenPushedUnderAndSinksWhenOverloaded
 
     // Set down on the water: it rides high, rim above the water, dry inside.
     std::vector<std::string> log;
-    std::unique_ptr<World> calm = test::fastWorldOrFail(test::sceneOrFail(project(0.0)), [&](const std::string& l) { log.push_back(l); });
+    std::unique_ptr<World> calm = test::fastWorldOrFail(
+        test::sceneOrFail(project(0.0)), [&](const std::string& l) { log.push_back(l); });
     ASSERT_TRUE(calm);
     ASSERT_NE(calm->waterGraph(0), nullptr) << "the opening is a compartment";
     EXPECT_EQ(calm->waterGraph(0)->graph().nodes.size(), 1u);
     // Walls of wood: the mass is the material's, not the sealed hull's.
-    EXPECT_NEAR(calm->bodies()[0].mass.mass, kWood * solid.materialVolume, 0.02 * kWood * solid.materialVolume);
+    EXPECT_NEAR(calm->bodies()[0].mass.mass, kWood * solid.materialVolume,
+                0.02 * kWood * solid.materialVolume);
     Reading afloat;
     run(calm, 10.0, [&](double, const Reading& r) { afloat = r; });
     EXPECT_GT(afloat.capHeight, 0.01) << "freeboard";
@@ -670,13 +687,18 @@ TEST(Openings, TheDinghyRidesHighThenSwampsWhenPushedUnderAndSinksWhenOverloaded
     ASSERT_TRUE(pushed);
     bool holding = true;
     const double push = 3 * 1000.0 * solid.displacementVolume * 9.81;
-    ASSERT_TRUE(pushed->setExternalForce(0, [&](const SimulatedBody& body, const RigidBodyState& state) {
-                          Wrench w;
-                          // A hand on the hull: holds it 0.4 m under, no further.
-                          if (holding) w.force = Eigen::Vector3d(0, state.position.y() > -0.3 ? -push : 0.0, 0);
-                          (void)body;
-                          return w;
-                      }).ok());
+    ASSERT_TRUE(pushed
+                    ->setExternalForce(0,
+                                       [&](const SimulatedBody& body, const RigidBodyState& state) {
+                                           Wrench w;
+                                           // A hand on the hull: holds it 0.4 m under, no further.
+                                           if (holding)
+                                               w.force = Eigen::Vector3d(
+                                                   0, state.position.y() > -0.3 ? -push : 0.0, 0);
+                                           (void)body;
+                                           return w;
+                                       })
+                    .ok());
     double capUnder = -1, halfFull = -1;
     Reading swamped;
     run(pushed, 20.0, [&](double t, const Reading& r) {
@@ -697,11 +719,14 @@ TEST(Openings, TheDinghyRidesHighThenSwampsWhenPushedUnderAndSinksWhenOverloaded
     ASSERT_TRUE(loaded);
     const double reserve = 1000.0 * solid.displacementVolume - kWood * solid.materialVolume;  // kg
     const double load = 1.2 * reserve * 9.81;
-    ASSERT_TRUE(loaded->setExternalForce(0, [load](const SimulatedBody&, const RigidBodyState&) {
-                           Wrench w;
-                           w.force = Eigen::Vector3d(0, -load, 0);
-                           return w;
-                       }).ok());
+    ASSERT_TRUE(loaded
+                    ->setExternalForce(0,
+                                       [load](const SimulatedBody&, const RigidBodyState&) {
+                                           Wrench w;
+                                           w.force = Eigen::Vector3d(0, -load, 0);
+                                           return w;
+                                       })
+                    .ok());
     capUnder = halfFull = -1;
     Reading sunk;
     run(loaded, 15.0, [&](double t, const Reading& r) {

@@ -34,7 +34,8 @@ TriangleMesh joined(const TriangleMesh& a, const TriangleMesh& b) {
     const auto base = static_cast<std::uint32_t>(out.positions.size());
     out.positions.insert(out.positions.end(), b.positions.begin(), b.positions.end());
     out.uvs.insert(out.uvs.end(), b.uvs.begin(), b.uvs.end());
-    for (const Triangle& t : b.triangles) out.triangles.push_back({base + t[0], base + t[1], base + t[2]});
+    for (const Triangle& t : b.triangles)
+        out.triangles.push_back({base + t[0], base + t[1], base + t[2]});
     return out;
 }
 
@@ -55,7 +56,6 @@ PhysicsSolid solidOf(const TriangleMesh& mesh) {
     return std::move(*solid);
 }
 
-
 TEST(PhysicsSolid, AClosedMeshIsUsedAsItIs) {
     const TriangleMesh box = makeBox({1, 2, 3});
     const PhysicsSolid solid = solidOf(box);
@@ -69,8 +69,10 @@ TEST(PhysicsSolid, AClosedMeshIsUsedAsItIs) {
 TEST(PhysicsSolid, OverlappingBoxesCountTheirOverlapOnce) {
     SKIP_WITHOUT_REPAIR();
     // Two unit cubes overlapping by half along x: the union is 1.5 m^3, the sum 2.
-    const TriangleMesh mesh = joined(makeBox({1, 1, 1}), translated(makeBox({1, 1, 1}), {0.5, 0.2, 0.1}));
-    ASSERT_FALSE(validateSurface(mesh).closedSolid() && exactSolidMassProperties(mesh, 1).volume < 1.9);
+    const TriangleMesh mesh =
+        joined(makeBox({1, 1, 1}), translated(makeBox({1, 1, 1}), {0.5, 0.2, 0.1}));
+    ASSERT_FALSE(validateSurface(mesh).closedSolid() &&
+                 exactSolidMassProperties(mesh, 1).volume < 1.9);
     const PhysicsSolid solid = solidOf(mesh);
     const double overlap = 0.5 * 0.8 * 0.9;
     EXPECT_NEAR(solid.materialVolume, 2.0 - overlap, 1e-9);
@@ -122,7 +124,8 @@ TEST(PhysicsSolid, ACrackWithinTheToleranceIsWelded) {
     for (const Triangle& t : box.triangles) {
         const auto base = static_cast<std::uint32_t>(cracked.positions.size());
         for (std::uint32_t v : t)
-            cracked.positions.push_back(box.positions[v] + Eigen::Vector3d(jitter(random), jitter(random), jitter(random)));
+            cracked.positions.push_back(
+                box.positions[v] + Eigen::Vector3d(jitter(random), jitter(random), jitter(random)));
         cracked.triangles.push_back({base, base + 1, base + 2});
     }
     ASSERT_FALSE(validateSurface(cracked).closedSolid());
@@ -303,7 +306,8 @@ TEST(PhysicsSolid, TheBarrelsVolumeIsItsUnionsByMonteCarlo) {
     const int samples = 80000;
     int inside = 0;
     for (int i = 0; i < samples; ++i) {
-        const Eigen::Vector3d p = box.min + size.cwiseProduct(Eigen::Vector3d(unit(random), unit(random), unit(random)));
+        const Eigen::Vector3d p =
+            box.min + size.cwiseProduct(Eigen::Vector3d(unit(random), unit(random), unit(random)));
         if (windingNumber(*barrel, p) >= 0.5) ++inside;
     }
     const double share = double(inside) / samples;

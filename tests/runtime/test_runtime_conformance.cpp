@@ -90,8 +90,8 @@ rt::Water runtimeWater(const WaterModel& water) {
     w.heights = [&water](std::size_t n, const double* x, const double* z, double t, double* out) {
         water.heights(n, x, z, t, out);
     };
-    w.velocities = [&water](std::size_t n, const double* x, const double* y, const double* z, double t,
-                            double* out) { water.velocities(n, x, y, z, t, out); };
+    w.velocities = [&water](std::size_t n, const double* x, const double* y, const double* z,
+                            double t, double* out) { water.velocities(n, x, y, z, t, out); };
     return w;
 }
 
@@ -116,7 +116,8 @@ protected:
         std::vector<fs::path> files;
         for (const auto& entry : fs::directory_iterator(*root_ / "projects")) {
             const std::string name = entry.path().filename().string();
-            if (name.size() > 10 && name.substr(name.size() - 10) == ".plim.json") files.push_back(entry.path());
+            if (name.size() > 10 && name.substr(name.size() - 10) == ".plim.json")
+                files.push_back(entry.path());
         }
         std::sort(files.begin(), files.end());
         for (const fs::path& file : files) {
@@ -128,7 +129,8 @@ protected:
                 const fs::path folder = *root_ / "out" / p.fileStem / bundleFolderName(p, i);
                 Result<BundleReport> report = writeBodyBundle(p, i, folder);
                 ASSERT_TRUE(report.ok()) << file << ": " << report.error().message;
-                bundles_->push_back({p.fileStem + "/" + p.bodies[i].name, folder, &p.bodies[i], &p});
+                bundles_->push_back(
+                    {p.fileStem + "/" + p.bodies[i].name, folder, &p.bodies[i], &p});
             }
         }
     }
@@ -180,7 +182,8 @@ TEST_F(RuntimeConformance, ForcesEqualTheEngineBitForBit) {
                                   mass["center_of_mass"][1].get<double>(),
                                   mass["center_of_mass"][2].get<double>());
         double reach = 0;
-        for (const Eigen::Vector3d& p : textures->position) reach = std::max(reach, (p - com).norm());
+        for (const Eigen::Vector3d& p : textures->position)
+            reach = std::max(reach, (p - com).norm());
         // The engine's CPU evaluation of the same entries.
         const plimsoll_eval::FastBody engine = makeFastBody(*textures, com);
         plimsoll_eval::FastScratch scratch;
@@ -206,7 +209,8 @@ TEST_F(RuntimeConformance, ForcesEqualTheEngineBitForBit) {
             const WaterModel water = k % 2 ? waves : WaterModel::flat(0.1 * uniform(rng));
             rt::Water rtWater = runtimeWater(water);
             if (water.kind == WaterModel::Kind::Flat)
-                rtWater.height = nullptr, rtWater.velocity = nullptr, rtWater.heights = nullptr, rtWater.velocities = nullptr;
+                rtWater.height = nullptr, rtWater.velocity = nullptr, rtWater.heights = nullptr,
+                rtWater.velocities = nullptr;
             rtWater.minHeight = water.minHeight();
             rtWater.maxHeight = water.maxHeight();
             fluid.frictionCoefficient = rtFluid.frictionCoefficient = k % 3 ? 0.01 : 0.0;
@@ -230,7 +234,8 @@ TEST_F(RuntimeConformance, ForcesEqualTheEngineBitForBit) {
                              frame.pose.translation.z()};
             pose.orientation = {q.w(), q.x(), q.y(), q.z()};
             rt::Velocity velocity;
-            velocity.linear = {frame.motion.linear.x(), frame.motion.linear.y(), frame.motion.linear.z()};
+            velocity.linear = {frame.motion.linear.x(), frame.motion.linear.y(),
+                               frame.motion.linear.z()};
             velocity.angular = {frame.motion.angular.x(), frame.motion.angular.y(),
                                 frame.motion.angular.z()};
             const rt::Forces got = bundle->evaluate(pose, velocity, rtWater, rtFluid, frame.time);
@@ -263,7 +268,8 @@ TEST_F(RuntimeConformance, ForcesEqualTheEngineBitForBit) {
                         return rt::Vec3{out[0], out[1], out[2]};
                     };
                 }
-                const rt::Forces again = bundle->evaluate(pose, velocity, single, rtFluid, frame.time);
+                const rt::Forces again =
+                    bundle->evaluate(pose, velocity, single, rtFluid, frame.time);
                 EXPECT_EQ(again.submergedVolume, got.submergedVolume) << k;
                 EXPECT_EQ(eig(again.dragTorque), eig(got.dragTorque)) << k;
             }
@@ -435,9 +441,10 @@ TEST_F(RuntimeConformance, WaterGraphStepsEqualTheEngine) {
     EXPECT_GT(sim->totals().moved, 0.1);
     EXPECT_NEAR(graph->entered(), sim->totals().entered, 1e-6 * capacity);
     EXPECT_NEAR(graph->left(), sim->totals().left, 1e-6 * capacity);
-    std::printf("  water graph (damaged_boat, %d steps): max inflow diff %.2e, max water diff "
-                "%.2e of capacity; entered %.4f m^3, moved %.4f m^3\n",
-                steps, worstInflow, worstWater, sim->totals().entered, sim->totals().moved);
+    std::printf(
+        "  water graph (damaged_boat, %d steps): max inflow diff %.2e, max water diff "
+        "%.2e of capacity; entered %.4f m^3, moved %.4f m^3\n",
+        steps, worstInflow, worstWater, sim->totals().entered, sim->totals().moved);
     EXPECT_LE(worstInflow, 1e-6);
     EXPECT_LE(worstWater, 1e-6);
     std::printf(
@@ -472,7 +479,8 @@ TEST_F(RuntimeConformance, CApiMatchesAndReportsErrors) {
     std::string error;
     auto bundle = rt::loadBundle(e.folder.string(), error);
     ASSERT_TRUE(bundle);
-    const plimsoll_pose pose = {{0.1, -0.05, 0.2}, {0.9238795325112867, 0.0, 0.0, 0.3826834323650898}};
+    const plimsoll_pose pose = {{0.1, -0.05, 0.2},
+                                {0.9238795325112867, 0.0, 0.0, 0.3826834323650898}};
     const plimsoll_velocity velocity = {{0.3, -0.2, 0.1}, {0.0, 0.5, 0.1}};
     const plimsoll_water water = {0.02, nullptr, nullptr, nullptr};
     const plimsoll_fluid fluid = plimsoll_bundle_default_fluid(b);
@@ -481,7 +489,8 @@ TEST_F(RuntimeConformance, CApiMatchesAndReportsErrors) {
     rt::Pose p{{0.1, -0.05, 0.2}, {0.9238795325112867, 0.0, 0.0, 0.3826834323650898}};
     rt::Water w;
     w.level = 0.02;
-    const rt::Forces ref = bundle->evaluate(p, {{0.3, -0.2, 0.1}, {0.0, 0.5, 0.1}}, w, bundle->fluid());
+    const rt::Forces ref =
+        bundle->evaluate(p, {{0.3, -0.2, 0.1}, {0.0, 0.5, 0.1}}, w, bundle->fluid());
     EXPECT_GT(ref.submergedVolume, 0);
     EXPECT_EQ(f.submerged_volume, ref.submergedVolume);
     EXPECT_EQ(f.force[1], ref.force.y);
@@ -490,7 +499,8 @@ TEST_F(RuntimeConformance, CApiMatchesAndReportsErrors) {
     plimsoll_bundle_free(b);
 
     EXPECT_EQ(plimsoll_bundle_load((e.folder / "nowhere").string().c_str(), 1), nullptr);
-    EXPECT_NE(std::string(plimsoll_runtime_last_error()).find("manifest.json: missing"), std::string::npos)
+    EXPECT_NE(std::string(plimsoll_runtime_last_error()).find("manifest.json: missing"),
+              std::string::npos)
         << plimsoll_runtime_last_error();
     EXPECT_EQ(plimsoll_bundle_load(nullptr, 1), nullptr);
     EXPECT_EQ(plimsoll_bundle_evaluate(nullptr, &pose, &velocity, &water, &fluid, 0.0, &f), 0);
@@ -531,7 +541,8 @@ TEST_F(RuntimeConformance, BadBundlesGiveClearErrors) {
     }
     {
         const fs::path b = copyBundle(good, "newer_minor");  // a newer minor only adds: read
-        replaceInFile(b / "manifest.json", "\"schema_minor\": ", "\"an_unknown_field\": [1, {\"x\": null}],\n  \"schema_minor\": 7");
+        replaceInFile(b / "manifest.json", "\"schema_minor\": ",
+                      "\"an_unknown_field\": [1, {\"x\": null}],\n  \"schema_minor\": 7");
         std::string error;
         EXPECT_TRUE(rt::loadBundle(b.string(), error)) << error;
     }
@@ -553,10 +564,13 @@ TEST_F(RuntimeConformance, BadBundlesGiveClearErrors) {
     {
         const fs::path b = copyBundle(good, "truncated_exr");
         const std::string bytes = test::readFile(b / "samples.exr");
-        std::ofstream(b / "samples.exr", std::ios::binary | std::ios::trunc) << bytes.substr(0, bytes.size() / 2);
+        std::ofstream(b / "samples.exr", std::ios::binary | std::ios::trunc)
+            << bytes.substr(0, bytes.size() / 2);
         std::string error = loadError(b);
-        EXPECT_NE(error.find("samples.exr: " + std::to_string(bytes.size() / 2) + " bytes, the manifest says"),
-                  std::string::npos) << error;
+        EXPECT_NE(error.find("samples.exr: " + std::to_string(bytes.size() / 2) +
+                             " bytes, the manifest says"),
+                  std::string::npos)
+            << error;
         // Without checksums the EXR reader itself must refuse it.
         error = loadError(b, false);
         EXPECT_NE(error.find("samples.exr: cannot read EXR"), std::string::npos) << error;
@@ -565,7 +579,8 @@ TEST_F(RuntimeConformance, BadBundlesGiveClearErrors) {
         const fs::path b = copyBundle(good, "not_json");
         replaceInFile(b / "manifest.json", "\"format\"", "\"format\" ,");
         const std::string error = loadError(b);
-        EXPECT_NE(error.find("manifest.json: malformed manifest: line "), std::string::npos) << error;
+        EXPECT_NE(error.find("manifest.json: malformed manifest: line "), std::string::npos)
+            << error;
     }
     {
         const fs::path b = copyBundle(good, "escaping_path");
@@ -604,8 +619,10 @@ void addTexelNodes(const fs::path& folder, const std::vector<std::uint32_t>& pix
         header.compression() = Imf::ZIP_COMPRESSION;
         Imf::OutputFile file((folder / "texel_nodes.exr").c_str(), header);
         Imf::FrameBuffer frame;
-        frame.insert("node", Imf::Slice(Imf::UINT, reinterpret_cast<char*>(const_cast<std::uint32_t*>(pixels.data())),
-                                        sizeof(std::uint32_t), sizeof(std::uint32_t) * size));
+        frame.insert("node",
+                     Imf::Slice(Imf::UINT,
+                                reinterpret_cast<char*>(const_cast<std::uint32_t*>(pixels.data())),
+                                sizeof(std::uint32_t), sizeof(std::uint32_t) * size));
         file.setFrameBuffer(frame);
         file.writePixels(size);
     }
@@ -636,7 +653,8 @@ TEST_F(RuntimeConformance, ReadsTheTexelNodeMap) {
     std::vector<std::uint32_t> pixels(static_cast<std::size_t>(size) * size, 0u);
     for (std::size_t i = 0; i < nodes.size(); ++i) {
         const std::uint32_t x = textures->texelIndex[i] % size, y = textures->texelIndex[i] / size;
-        pixels[(static_cast<std::size_t>(size) - 1 - y) * size + x] = static_cast<std::uint32_t>(nodes[i] + 1);
+        pixels[(static_cast<std::size_t>(size) - 1 - y) * size + x] =
+            static_cast<std::uint32_t>(nodes[i] + 1);
     }
     const fs::path good = copyBundle(it->folder, "texel_nodes");
     addTexelNodes(good, pixels, size);
@@ -645,7 +663,8 @@ TEST_F(RuntimeConformance, ReadsTheTexelNodeMap) {
     ASSERT_TRUE(bundle) << error;
     EXPECT_TRUE(bundle->texelNodesFromFile());
     ASSERT_EQ(bundle->graph()->sampleNodes().size(), nodes.size());
-    for (std::size_t i = 0; i < nodes.size(); ++i) ASSERT_EQ(bundle->graph()->sampleNodes()[i], nodes[i]) << i;
+    for (std::size_t i = 0; i < nodes.size(); ++i)
+        ASSERT_EQ(bundle->graph()->sampleNodes()[i], nodes[i]) << i;
 
     const fs::path bad = copyBundle(it->folder, "texel_nodes_bad");
     // A texel with one sample (the map decides it; shared texels follow the per-sample rule).
@@ -654,13 +673,15 @@ TEST_F(RuntimeConformance, ReadsTheTexelNodeMap) {
            ((single > 0 && textures->texelIndex[single - 1] == textures->texelIndex[single]) ||
             textures->texelIndex[single + 1] == textures->texelIndex[single]))
         ++single;
-    const std::uint32_t x = textures->texelIndex[single] % size, y = textures->texelIndex[single] / size;
+    const std::uint32_t x = textures->texelIndex[single] % size,
+                        y = textures->texelIndex[single] / size;
     pixels[(static_cast<std::size_t>(size) - 1 - y) * size + x] = 0;
     addTexelNodes(bad, pixels, size);
     const std::string message = loadError(bad);
-    EXPECT_NE(message.find("texel_nodes.exr: texel (" + std::to_string(x) + ", " + std::to_string(y) +
-                           ") is covered but maps to 0"),
-              std::string::npos) << message;
+    EXPECT_NE(message.find("texel_nodes.exr: texel (" + std::to_string(x) + ", " +
+                           std::to_string(y) + ") is covered but maps to 0"),
+              std::string::npos)
+        << message;
 }
 
 }  // namespace

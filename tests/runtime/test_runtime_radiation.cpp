@@ -98,7 +98,8 @@ TEST_F(RuntimeRadiation, TheBundleCarriesTheEnginesCumminsModelExactly) {
     ASSERT_TRUE(r);
     EXPECT_EQ(r->restVolume, body->radiation->restVolume);
     for (int i = 0; i < 6; ++i)
-        for (int j = 0; j < 6; ++j) EXPECT_EQ(r->addedMassInfinity[i][j], model.addedMassInfinity(i, j)) << i << j;
+        for (int j = 0; j < 6; ++j)
+            EXPECT_EQ(r->addedMassInfinity[i][j], model.addedMassInfinity(i, j)) << i << j;
     EXPECT_FALSE(model.memory[kHeaveY].empty());
     for (int mode = 0; mode < 6; ++mode) {
         ASSERT_EQ(r->memory[mode].size(), model.memory[mode].size()) << "mode " << mode;
@@ -119,7 +120,7 @@ TEST_F(RuntimeRadiation, AReleasedBoxDecaysWithThePeriodAndDecrementOfItsAAndB) 
     const rt::Radiation& r = *bundle->radiation();
     const double mass = bundle->mass().mass;
     const double stiffness = kWaterDensity * kGravity * 4.0;  // the 4 m^2 waterplane
-    rt::Water water;  // flat at 0
+    rt::Water water;                                          // flat at 0
     rt::Fluid fluid;
     fluid.density = kWaterDensity;
     fluid.gravity = kGravity;
@@ -131,13 +132,15 @@ TEST_F(RuntimeRadiation, AReleasedBoxDecaysWithThePeriodAndDecrementOfItsAAndB) 
         const double mid = 0.5 * (low + high);
         rt::Pose pose;
         pose.position = {0, mid, 0};
-        const double lift = kWaterDensity * bundle->evaluate(pose, {}, water, fluid).submergedVolume;
+        const double lift =
+            kWaterDensity * bundle->evaluate(pose, {}, water, fluid).submergedVolume;
         (lift > mass ? low : high) = mid;
     }
     const double restHeight = 0.5 * (low + high);
     EXPECT_NEAR(restHeight, 0.5 - mass / (4 * kWaterDensity), 1e-3);
     std::vector<MemoryTerm> heave;
-    for (const rt::RadiationTerm& t : r.memory[kHeaveY]) heave.push_back({t.gain, t.frequency, t.dampingRatio});
+    for (const rt::RadiationTerm& t : r.memory[kHeaveY])
+        heave.push_back({t.gain, t.frequency, t.dampingRatio});
     const test::HeaveCoefficients fitted = [&](double omega) {
         return std::pair{r.addedMassInfinity[kHeaveY][kHeaveY] + fittedAddedMass(heave, omega),
                          fittedDamping(heave, omega)};
@@ -160,8 +163,9 @@ TEST_F(RuntimeRadiation, AReleasedBoxDecaysWithThePeriodAndDecrementOfItsAAndB) 
         if (n > 0 && (v > 0) != (previousVelocity > 0)) {
             // At a turning point: the body's energy (its share of the added mass moves with
             // it) plus what the memory holds.
-            const double energy = 0.5 * (mass + memory.share() * r.addedMassInfinity[kHeaveY][kHeaveY]) * v * v +
-                                  0.5 * stiffness * y * y + memory.energy();
+            const double energy =
+                0.5 * (mass + memory.share() * r.addedMassInfinity[kHeaveY][kHeaveY]) * v * v +
+                0.5 * stiffness * y * y + memory.energy();
             worstRise = std::max(worstRise, (energy - previousEnergy) / scale);
 
             previousEnergy = energy;
@@ -169,11 +173,13 @@ TEST_F(RuntimeRadiation, AReleasedBoxDecaysWithThePeriodAndDecrementOfItsAAndB) 
         previousVelocity = v;
     }
     const test::DecayFigures measured = test::measuredDecay(offset, dt);
-    std::printf("  runtime box: period %.4f s (predicted %.4f, %+.2f%%), log decrement %.4f (predicted %.4f, "
-                "%+.2f%%), worst energy rise %+.2e\n",
-                measured.period, predicted.period, 100 * (measured.period / predicted.period - 1),
-                measured.logDecrement, predicted.logDecrement,
-                100 * (measured.logDecrement / predicted.logDecrement - 1), worstRise);
+    std::printf(
+        "  runtime box: period %.4f s (predicted %.4f, %+.2f%%), log decrement %.4f (predicted "
+        "%.4f, "
+        "%+.2f%%), worst energy rise %+.2e\n",
+        measured.period, predicted.period, 100 * (measured.period / predicted.period - 1),
+        measured.logDecrement, predicted.logDecrement,
+        100 * (measured.logDecrement / predicted.logDecrement - 1), worstRise);
     EXPECT_NEAR(measured.period, predicted.period, 0.05 * predicted.period);
     EXPECT_NEAR(measured.logDecrement, predicted.logDecrement, 0.05 * predicted.logDecrement);
     EXPECT_LT(worstRise, 0.0);
@@ -196,7 +202,8 @@ TEST_F(RuntimeRadiation, TheCApiStepsBitForBitAsTheCppOneAndRefusesWhatItMust) {
     EXPECT_EQ(info.rest_volume, r.restVolume);
     EXPECT_EQ(info.added_mass_infinity[1][1], r.addedMassInfinity[1][1]);
     EXPECT_EQ(info.added_mass_infinity[3][5], r.addedMassInfinity[3][5]);
-    for (int mode = 0; mode < 6; ++mode) EXPECT_EQ(info.memory_terms[mode], static_cast<int>(r.memory[mode].size()));
+    for (int mode = 0; mode < 6; ++mode)
+        EXPECT_EQ(info.memory_terms[mode], static_cast<int>(r.memory[mode].size()));
 
     plimsoll_radiation_memory* memory = plimsoll_radiation_memory_create(bundle);
     ASSERT_TRUE(memory) << plimsoll_runtime_last_error();
@@ -226,7 +233,8 @@ TEST_F(RuntimeRadiation, TheCApiStepsBitForBitAsTheCppOneAndRefusesWhatItMust) {
     const double dt = 1.0 / 240;
     double lowestShare = 1;
     for (int n = 0; n < 480; ++n) {
-        ASSERT_EQ(plimsoll_body_step_radiating(bundle, &state, memory, &water, &fluid, n * dt, dt), 1)
+        ASSERT_EQ(plimsoll_body_step_radiating(bundle, &state, memory, &water, &fluid, n * dt, dt),
+                  1)
             << plimsoll_runtime_last_error();
         rt::stepBody(referenceBody, s, cppWater, cppFluid, n * dt, dt);
         ASSERT_EQ(state.pose.position[0], s.pose.position.x) << "step " << n;

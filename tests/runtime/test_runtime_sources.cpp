@@ -47,7 +47,8 @@ std::map<std::string, std::string> readTree(const fs::path& folder) {
     std::map<std::string, std::string> files;
     for (const auto& entry : fs::recursive_directory_iterator(folder)) {
         if (entry.is_regular_file())
-            files[fs::relative(entry.path(), folder).generic_string()] = test::readFile(entry.path());
+            files[fs::relative(entry.path(), folder).generic_string()] =
+                test::readFile(entry.path());
     }
     return files;
 }
@@ -78,8 +79,9 @@ struct Pak {
         };
         c.size = [](void* user, void* file) -> int64_t {
             const Pak& pak = *static_cast<Pak*>(user);
-            return pak.reportedSize >= 0 ? pak.reportedSize
-                                         : static_cast<int64_t>(static_cast<Handle*>(file)->bytes->size());
+            return pak.reportedSize >= 0
+                       ? pak.reportedSize
+                       : static_cast<int64_t>(static_cast<Handle*>(file)->bytes->size());
         };
         // Small reads (at most 4096 bytes), as a streaming archive gives them.
         c.read = [](void*, void* file, uint64_t offset, void* buffer, size_t bytes) -> int64_t {
@@ -99,7 +101,8 @@ struct Pak {
 
 std::vector<plimsoll_memory_file> memoryList(const std::map<std::string, std::string>& files) {
     std::vector<plimsoll_memory_file> list;
-    for (const auto& [path, bytes] : files) list.push_back({path.c_str(), bytes.data(), bytes.size()});
+    for (const auto& [path, bytes] : files)
+        list.push_back({path.c_str(), bytes.data(), bytes.size()});
     return list;
 }
 
@@ -143,12 +146,13 @@ protected:
         fs::copy(source / "projects", *root_ / "projects", fs::copy_options::recursive);
         // The damaged boat has every kind of file: water graph, permeability map, texel nodes.
         for (const char* name : {"damaged_boat", "buoy"}) {
-            Result<Project> project = loadProject(*root_ / "projects" / (std::string(name) + ".plim.json"));
+            Result<Project> project =
+                loadProject(*root_ / "projects" / (std::string(name) + ".plim.json"));
             ASSERT_TRUE(project.ok()) << project.error().message;
             Result<BundleReport> report = writeBodyBundle(*project, 0, *root_ / name);
             ASSERT_TRUE(report.ok()) << report.error().message;
-            Result<BundleReport> compact =
-                writeBodyBundle(*project, 0, *root_ / (std::string(name) + "_compact"), {}, BundleOptions{true});
+            Result<BundleReport> compact = writeBodyBundle(
+                *project, 0, *root_ / (std::string(name) + "_compact"), {}, BundleOptions{true});
             ASSERT_TRUE(compact.ok()) << compact.error().message;
         }
     }
@@ -177,10 +181,11 @@ constexpr double kCompactForceError = 1e-3;
 constexpr double kCompactTorqueError = 4e-4;
 constexpr double kCompactSaving = 0.45;
 
-void expectSameForces(const plimsoll_forces& a, const plimsoll_forces& b, const std::string& where) {
+void expectSameForces(const plimsoll_forces& a, const plimsoll_forces& b,
+                      const std::string& where) {
     // Bit for bit: the same bytes decoded the same way.
-    EXPECT_EQ(std::memcmp(&a, &b, sizeof(a)), 0) << where << ": V " << a.submerged_volume << " vs "
-                                                 << b.submerged_volume;
+    EXPECT_EQ(std::memcmp(&a, &b, sizeof(a)), 0)
+        << where << ": V " << a.submerged_volume << " vs " << b.submerged_volume;
 }
 
 TEST_F(RuntimeSources, MemoryAndCallbacksGiveTheFolderResultsBitForBit) {
@@ -209,22 +214,27 @@ TEST_F(RuntimeSources, MemoryAndCallbacksGiveTheFolderResultsBitForBit) {
     const plimsoll_water water = {0.05, nullptr, nullptr, nullptr};
     for (int i = 0; i < 40; ++i) {
         const double a = 0.07 * i, s = std::sin(0.5 * a), c = std::cos(0.5 * a);
-        const plimsoll_pose pose = {{0.01 * i, -0.3 + 0.015 * i, -0.02 * i}, {c, s * 0.6, s * 0.0, s * 0.8}};
+        const plimsoll_pose pose = {{0.01 * i, -0.3 + 0.015 * i, -0.02 * i},
+                                    {c, s * 0.6, s * 0.0, s * 0.8}};
         const plimsoll_velocity v = {{0.2, -0.1 * i, 0.05}, {0.1, 0.02 * i, -0.3}};
         plimsoll_forces f[3];
         for (int k = 0; k < 3; ++k)
-            ASSERT_EQ(plimsoll_bundle_evaluate(three[k], &pose, &v, &water, &fluid, 0.01 * i, &f[k]), 1)
+            ASSERT_EQ(
+                plimsoll_bundle_evaluate(three[k], &pose, &v, &water, &fluid, 0.01 * i, &f[k]), 1)
                 << plimsoll_runtime_last_error();
         expectSameForces(f[0], f[1], "memory, pose " + std::to_string(i));
         expectSameForces(f[0], f[2], "callbacks, pose " + std::to_string(i));
         for (plimsoll_bundle* b : three)
-            ASSERT_GE(plimsoll_graph_step(b, &pose, &water, 0.01 * i, 0.01), 0) << plimsoll_runtime_last_error();
+            ASSERT_GE(plimsoll_graph_step(b, &pose, &water, 0.01 * i, 0.01), 0)
+                << plimsoll_runtime_last_error();
     }
     double flooded = 0;
     for (std::size_t n = 0; n < plimsoll_graph_node_count(l.folder); ++n) {
         flooded += plimsoll_graph_node_water(l.folder, n);
-        EXPECT_EQ(plimsoll_graph_node_water(l.memory, n), plimsoll_graph_node_water(l.folder, n)) << n;
-        EXPECT_EQ(plimsoll_graph_node_water(l.callbacks, n), plimsoll_graph_node_water(l.folder, n)) << n;
+        EXPECT_EQ(plimsoll_graph_node_water(l.memory, n), plimsoll_graph_node_water(l.folder, n))
+            << n;
+        EXPECT_EQ(plimsoll_graph_node_water(l.callbacks, n), plimsoll_graph_node_water(l.folder, n))
+            << n;
     }
     EXPECT_GT(flooded, 0.0) << "the boat took no water: the graph comparison proved nothing";
 }
@@ -237,7 +247,8 @@ TEST_F(RuntimeSources, ADamagedBundleFailsTheSameWayOnEachPath) {
     };
     auto truncate = [](const fs::path& file) {
         const std::string bytes = test::readFile(file);
-        std::ofstream(file, std::ios::binary | std::ios::trunc) << bytes.substr(0, bytes.size() / 2);
+        std::ofstream(file, std::ios::binary | std::ios::trunc)
+            << bytes.substr(0, bytes.size() / 2);
     };
     auto editManifest = [](const fs::path& dir, const std::function<void(nlohmann::json&)>& edit) {
         nlohmann::json m = nlohmann::json::parse(test::readFile(dir / "manifest.json"));
@@ -261,8 +272,9 @@ TEST_F(RuntimeSources, ADamagedBundleFailsTheSameWayOnEachPath) {
                 channels.emplace_back(std::size_t(width) * height);
             }
             for (std::size_t c = 0; c < names.size(); ++c)
-                frame.insert(names[c], Imf::Slice(Imf::FLOAT, reinterpret_cast<char*>(channels[c].data()),
-                                                  sizeof(float), sizeof(float) * width));
+                frame.insert(names[c],
+                             Imf::Slice(Imf::FLOAT, reinterpret_cast<char*>(channels[c].data()),
+                                        sizeof(float), sizeof(float) * width));
             in.setFrameBuffer(frame);
             in.readPixels(0, height - 1);
         }
@@ -274,8 +286,9 @@ TEST_F(RuntimeSources, ADamagedBundleFailsTheSameWayOnEachPath) {
         Imf::FrameBuffer frame;
         for (std::size_t c = 0; c < names.size(); ++c) {
             header.channels().insert(names[c], Imf::Channel(Imf::FLOAT));
-            frame.insert(names[c], Imf::Slice(Imf::FLOAT, reinterpret_cast<char*>(channels[c].data()),
-                                              sizeof(float), sizeof(float) * width));
+            frame.insert(names[c],
+                         Imf::Slice(Imf::FLOAT, reinterpret_cast<char*>(channels[c].data()),
+                                    sizeof(float), sizeof(float) * width));
         }
         Imf::OutputFile out(file.c_str(), header);
         out.setFrameBuffer(frame);
@@ -355,7 +368,8 @@ TEST_F(RuntimeSources, ADamagedBundleFailsTheSameWayOnEachPath) {
         EXPECT_CONTAINS(l.folderError, damage.expected);
         EXPECT_EQ(l.memoryError, l.folderError) << damage.name;
         EXPECT_EQ(l.callbacksError, l.folderError) << damage.name;
-        for (const std::string& path : l.pak.asked) EXPECT_EQ(path.find(".."), std::string::npos) << path;
+        for (const std::string& path : l.pak.asked)
+            EXPECT_EQ(path.find(".."), std::string::npos) << path;
         EXPECT_EQ(std::count(l.pak.asked.begin(), l.pak.asked.end(), "/etc/passwd"), 0);
     }
 }
@@ -377,33 +391,41 @@ TEST_F(RuntimeSources, MemoryAndCallbackArgumentsAreChecked) {
     const size_t full = samples->size;
     samples->size = full / 3;
     refused(plimsoll_bundle_load_memory(list.data(), list.size(), "pak", 1),
-            "pak/samples.exr: " + std::to_string(full / 3) + " bytes, the manifest says " + std::to_string(full));
-    refused(plimsoll_bundle_load_memory(list.data(), list.size(), "pak", 0), "pak/samples.exr: cannot read EXR");
+            "pak/samples.exr: " + std::to_string(full / 3) + " bytes, the manifest says " +
+                std::to_string(full));
+    refused(plimsoll_bundle_load_memory(list.data(), list.size(), "pak", 0),
+            "pak/samples.exr: cannot read EXR");
     samples->size = full;
     samples->data = nullptr;
-    refused(plimsoll_bundle_load_memory(list.data(), list.size(), "pak", 0), "no bytes (data is null)");
+    refused(plimsoll_bundle_load_memory(list.data(), list.size(), "pak", 0),
+            "no bytes (data is null)");
     samples->data = files.at("samples.exr").data();
 
     for (const char* bad : {"../samples.exr", "/samples.exr", "maps\\x.png", ""}) {
         std::vector<plimsoll_memory_file> withBad = list;
         withBad.push_back({bad, "x", 1});
-        refused(plimsoll_bundle_load_memory(withBad.data(), withBad.size(), "pak", 1), "the path leaves the bundle");
+        refused(plimsoll_bundle_load_memory(withBad.data(), withBad.size(), "pak", 1),
+                "the path leaves the bundle");
     }
     std::vector<plimsoll_memory_file> twice = list;
     twice.push_back(list.front());
-    refused(plimsoll_bundle_load_memory(twice.data(), twice.size(), "pak", 1), "the path comes twice");
+    refused(plimsoll_bundle_load_memory(twice.data(), twice.size(), "pak", 1),
+            "the path comes twice");
     std::vector<plimsoll_memory_file> nullPath = list;
     nullPath[0].path = nullptr;
-    refused(plimsoll_bundle_load_memory(nullPath.data(), nullPath.size(), "pak", 1), "file 0: path is NULL");
+    refused(plimsoll_bundle_load_memory(nullPath.data(), nullPath.size(), "pak", 1),
+            "file 0: path is NULL");
     refused(plimsoll_bundle_load_memory(nullptr, 3, "pak", 1), "files is NULL");
-    refused(plimsoll_bundle_load_memory(list.data(), 0, nullptr, 1), "memory/manifest.json: missing");
+    refused(plimsoll_bundle_load_memory(list.data(), 0, nullptr, 1),
+            "memory/manifest.json: missing");
 
     // Callbacks: a size the limits refuse is refused before anything is allocated.
     Pak pak;
     pak.files = files;
     pak.reportedSize = 1ll << 40;
     plimsoll_file_callbacks c = pak.callbacks();
-    refused(plimsoll_bundle_load_callbacks(&c, "pak", 1), "pak/manifest.json: 1099511627776 bytes, more than the");
+    refused(plimsoll_bundle_load_callbacks(&c, "pak", 1),
+            "pak/manifest.json: 1099511627776 bytes, more than the");
     EXPECT_TRUE(pak.open.empty());
     pak.reportedSize = -1;
     c.struct_size = sizeof(c) - 8;
@@ -415,9 +437,11 @@ TEST_F(RuntimeSources, MemoryAndCallbackArgumentsAreChecked) {
     // A read error and a file that ends before its size are reported, and the file is closed.
     c = pak.callbacks();
     c.read = [](void*, void*, uint64_t, void*, size_t) -> int64_t { return -1; };
-    refused(plimsoll_bundle_load_callbacks(&c, "pak", 1), "pak/manifest.json: the file callbacks report a read error");
+    refused(plimsoll_bundle_load_callbacks(&c, "pak", 1),
+            "pak/manifest.json: the file callbacks report a read error");
     c.read = [](void*, void*, uint64_t, void*, size_t) -> int64_t { return 0; };
-    refused(plimsoll_bundle_load_callbacks(&c, "pak", 1), "pak/manifest.json: read error (the file shrank");
+    refused(plimsoll_bundle_load_callbacks(&c, "pak", 1),
+            "pak/manifest.json: read error (the file shrank");
     EXPECT_TRUE(pak.open.empty());
 }
 
@@ -445,7 +469,8 @@ TEST_F(RuntimeSources, VersionsAndTheSizeOfABody) {
         // What ships: the manifest and the files it lists, as the file system counts them.
         const nlohmann::json m = nlohmann::json::parse(test::readFile(dir / "manifest.json"));
         std::uint64_t shipped = fs::file_size(dir / "manifest.json");
-        for (const auto& f : m["files"]) shipped += fs::file_size(dir / f["path"].get<std::string>());
+        for (const auto& f : m["files"])
+            shipped += fs::file_size(dir / f["path"].get<std::string>());
         plimsoll_bundle_size size{};
         size.struct_size = sizeof(size);
         ASSERT_EQ(plimsoll_bundle_size_query(b, &size), 1) << plimsoll_runtime_last_error();
@@ -456,7 +481,8 @@ TEST_F(RuntimeSources, VersionsAndTheSizeOfABody) {
         EXPECT_GE(size.memory_bytes, size.samples * (4 + 8 * 8));
         EXPECT_LE(size.memory_bytes, size.samples * 200 + (1u << 20));
         std::printf("[ size     ] %s: %zu samples, %llu bytes shipped, %llu bytes in memory\n",
-                    dir.filename().c_str(), size.samples, static_cast<unsigned long long>(size.file_bytes),
+                    dir.filename().c_str(), size.samples,
+                    static_cast<unsigned long long>(size.file_bytes),
                     static_cast<unsigned long long>(size.memory_bytes));
         size.struct_size = 4;
         EXPECT_EQ(plimsoll_bundle_size_query(b, &size), 0);
@@ -494,16 +520,20 @@ TEST_F(RuntimeSources, CompactBundleIsSmallerAndKeepsForcesWithinItsStatedError)
             // The centre of mass from 1.2 L above the water to 1.2 L below, axes all round.
             const double depth = L * (1.2 - 2.4 * i / 99.0), angle = 0.37 * i;
             const double s = std::sin(0.5 * angle), k = std::cos(0.5 * angle);
-            const Eigen::Vector3d axis = Eigen::Vector3d(std::sin(1.3 * i), 1.0, std::cos(0.7 * i)).normalized();
+            const Eigen::Vector3d axis =
+                Eigen::Vector3d(std::sin(1.3 * i), 1.0, std::cos(0.7 * i)).normalized();
             const Eigen::Quaterniond q(k, s * axis.x(), s * axis.y(), s * axis.z());
-            const Eigen::Vector3d com(mass.center_of_mass[0], mass.center_of_mass[1], mass.center_of_mass[2]);
+            const Eigen::Vector3d com(mass.center_of_mass[0], mass.center_of_mass[1],
+                                      mass.center_of_mass[2]);
             const Eigen::Vector3d origin = Eigen::Vector3d(0.05 * L * i / 99.0, depth, 0) - q * com;
-            const plimsoll_pose pose = {{origin.x(), origin.y(), origin.z()}, {q.w(), q.x(), q.y(), q.z()}};
+            const plimsoll_pose pose = {{origin.x(), origin.y(), origin.z()},
+                                        {q.w(), q.x(), q.y(), q.z()}};
             plimsoll_forces a{}, b{};
             ASSERT_EQ(plimsoll_bundle_evaluate(f, &pose, &still, &water, &fluid, 0.0, &a), 1);
             ASSERT_EQ(plimsoll_bundle_evaluate(c, &pose, &still, &water, &fluid, 0.0, &b), 1);
             if (a.submerged_volume > 0.01 * V && a.submerged_volume < 0.99 * V) ++partly;
-            volumeError = std::max(volumeError, std::abs(a.submerged_volume - b.submerged_volume) / V);
+            volumeError =
+                std::max(volumeError, std::abs(a.submerged_volume - b.submerged_volume) / V);
             double dF = 0, dT = 0;
             for (int j = 0; j < 3; ++j) {
                 dF += (a.force[j] - b.force[j]) * (a.force[j] - b.force[j]);
@@ -515,11 +545,12 @@ TEST_F(RuntimeSources, CompactBundleIsSmallerAndKeepsForcesWithinItsStatedError)
         // The poses cross the waterline: most of them cut the body, none is trivially equal.
         EXPECT_GE(partly, 40) << full;
         const double saving = 1.0 - double(compactSize.file_bytes) / double(fullSize.file_bytes);
-        std::printf("[ compact  ] %s: %llu -> %llu bytes shipped (%.1f%% smaller); largest error over "
-                    "100 poses: volume %.2e V, force %.2e rho g V, torque %.2e rho g V L\n",
-                    full.filename().c_str(), static_cast<unsigned long long>(fullSize.file_bytes),
-                    static_cast<unsigned long long>(compactSize.file_bytes), 100 * saving, volumeError,
-                    forceError, torqueError);
+        std::printf(
+            "[ compact  ] %s: %llu -> %llu bytes shipped (%.1f%% smaller); largest error over "
+            "100 poses: volume %.2e V, force %.2e rho g V, torque %.2e rho g V L\n",
+            full.filename().c_str(), static_cast<unsigned long long>(fullSize.file_bytes),
+            static_cast<unsigned long long>(compactSize.file_bytes), 100 * saving, volumeError,
+            forceError, torqueError);
         EXPECT_LE(volumeError, kCompactVolumeError) << full;
         EXPECT_LE(forceError, kCompactForceError) << full;
         EXPECT_LE(torqueError, kCompactTorqueError) << full;
@@ -546,7 +577,8 @@ TEST_F(RuntimeSources, WaterHeightsInOneCallAndBoundsGiveTheSameForces) {
     };
     plimsoll_water many{};
     many.user = &calls;
-    many.heights = [](void* user, size_t n, const double* x, const double* z, double t, double* out) {
+    many.heights = [](void* user, size_t n, const double* x, const double* z, double t,
+                      double* out) {
         auto& c = *static_cast<Calls*>(user);
         ++c.batched;
         c.points += n;
@@ -555,12 +587,15 @@ TEST_F(RuntimeSources, WaterHeightsInOneCallAndBoundsGiveTheSameForces) {
     const plimsoll_fluid fluid = plimsoll_bundle_default_fluid(b);
     const plimsoll_pose pose = {{0.3, -0.1, 0.2}, {0.98, 0.1, 0.1, std::sqrt(1 - 0.9604 - 0.02)}};
     plimsoll_forces a{}, c{};
-    ASSERT_EQ(plimsoll_bundle_evaluate(b, &pose, nullptr, &one, &fluid, 0.7, &a), 1) << plimsoll_runtime_last_error();
+    ASSERT_EQ(plimsoll_bundle_evaluate(b, &pose, nullptr, &one, &fluid, 0.7, &a), 1)
+        << plimsoll_runtime_last_error();
     const int singleCalls = calls.single;
-    ASSERT_EQ(plimsoll_bundle_evaluate(b, &pose, nullptr, &many, &fluid, 0.7, &c), 1) << plimsoll_runtime_last_error();
+    ASSERT_EQ(plimsoll_bundle_evaluate(b, &pose, nullptr, &many, &fluid, 0.7, &c), 1)
+        << plimsoll_runtime_last_error();
     EXPECT_GT(a.submerged_volume, 0.0);
     expectSameForces(a, c, "heights in one call");
-    EXPECT_EQ(calls.single, singleCalls) << "the per-point callback was used although heights was given";
+    EXPECT_EQ(calls.single, singleCalls)
+        << "the per-point callback was used although heights was given";
     EXPECT_GT(calls.batched, 0);
     EXPECT_GE(calls.points, std::size_t(calls.batched));
 
@@ -599,7 +634,8 @@ Eigen::Vector3d angularMomentum(const plimsoll_mass& m, const plimsoll_body_stat
     for (int r = 0; r < 3; ++r)
         for (int c = 0; c < 3; ++c) I(r, c) = m.inertia[r][c];
     const Eigen::Matrix3d R = quat(s.pose.orientation).toRotationMatrix();
-    return R * I * R.transpose() * Eigen::Vector3d(s.velocity.angular[0], s.velocity.angular[1], s.velocity.angular[2]);
+    return R * I * R.transpose() *
+           Eigen::Vector3d(s.velocity.angular[0], s.velocity.angular[1], s.velocity.angular[2]);
 }
 
 // plimsoll_body_step far above the water: no load, so the centre of mass falls exactly as
@@ -612,24 +648,30 @@ TEST_F(RuntimeSources, BodyStepFallsAndKeepsAngularMomentumInTheAir) {
     const plimsoll_mass m = plimsoll_bundle_mass(b);
     const plimsoll_fluid fluid = plimsoll_bundle_default_fluid(b);
     const plimsoll_water water = {0.0, nullptr, nullptr, nullptr};
-    plimsoll_body_state s = {{{0.0, 500.0, 0.0}, {1.0, 0.0, 0.0, 0.0}}, {{0.0, 0.0, 0.0}, {0.9, 0.4, -1.3}}};
+    plimsoll_body_state s = {{{0.0, 500.0, 0.0}, {1.0, 0.0, 0.0, 0.0}},
+                             {{0.0, 0.0, 0.0}, {0.9, 0.4, -1.3}}};
     const double dt = 1.0 / 240.0, g = fluid.gravity;
     const Eigen::Vector3d L0 = angularMomentum(m, s);
     auto comHeight = [&] {
-        return (quat(s.pose.orientation) * Eigen::Vector3d(m.center_of_mass[0], m.center_of_mass[1], m.center_of_mass[2]))
-                   .y() + s.pose.position[1];
+        return (quat(s.pose.orientation) *
+                Eigen::Vector3d(m.center_of_mass[0], m.center_of_mass[1], m.center_of_mass[2]))
+                   .y() +
+               s.pose.position[1];
     };
     const double y0 = comHeight();
     double worstL = 0, turned = 0;
     const int n = 480;
     for (int i = 0; i < n; ++i) {
-        ASSERT_EQ(plimsoll_body_step(b, &s, &water, &fluid, i * dt, dt), 1) << plimsoll_runtime_last_error();
+        ASSERT_EQ(plimsoll_body_step(b, &s, &water, &fluid, i * dt, dt), 1)
+            << plimsoll_runtime_last_error();
         worstL = std::max(worstL, (angularMomentum(m, s) - L0).norm() / L0.norm());
-        turned = std::max(turned, quat(s.pose.orientation).angularDistance(Eigen::Quaterniond::Identity()));
+        turned = std::max(turned,
+                          quat(s.pose.orientation).angularDistance(Eigen::Quaterniond::Identity()));
     }
     EXPECT_NEAR(s.velocity.linear[1], -g * n * dt, 1e-9);
     EXPECT_NEAR(comHeight(), y0 - g * dt * dt * n * (n + 1) / 2.0, 1e-7);
-    std::printf("[ motion   ] in the air: angular momentum drift %.1e relative, turned %.2f rad\n", worstL, turned);
+    std::printf("[ motion   ] in the air: angular momentum drift %.1e relative, turned %.2f rad\n",
+                worstL, turned);
     EXPECT_LT(worstL, 1e-12) << "angular momentum drifted";
     EXPECT_GT(turned, 1.0) << "the body hardly turned: the check proved nothing";
     EXPECT_EQ(plimsoll_graph_node_water(b, 0), 0.0);  // in the air it takes no water
@@ -645,7 +687,8 @@ TEST_F(RuntimeSources, BodyStepFallsAndKeepsAngularMomentumInTheAir) {
     EXPECT_EQ(plimsoll_body_step(b, nullptr, &water, &fluid, 0.0, dt), 0);
     EXPECT_EQ(std::memcmp(&kept, &s, sizeof(s)), 0);
     plimsoll_load load{};
-    EXPECT_EQ(plimsoll_bundle_water_load(b, &s.pose, &s.velocity, &water, nullptr, 0.0, dt, &load), 0);
+    EXPECT_EQ(plimsoll_bundle_water_load(b, &s.pose, &s.velocity, &water, nullptr, 0.0, dt, &load),
+              0);
     EXPECT_CONTAINS(plimsoll_runtime_last_error(), "NULL");
     double lo[3], hi[3];
     ASSERT_EQ(plimsoll_bundle_bounds(b, lo, hi), 1);
@@ -663,19 +706,23 @@ TEST_F(RuntimeSources, BodyStepSettlesAtArchimedesEquilibrium) {
     const plimsoll_mass m = plimsoll_bundle_mass(b);
     const plimsoll_fluid fluid = plimsoll_bundle_default_fluid(b);
     const plimsoll_water water = {0.0, nullptr, nullptr, nullptr};
-    plimsoll_body_state s = {{{0.0, 0.2, 0.0}, {1.0, 0.0, 0.0, 0.0}}, {{0.0, 0.0, 0.0}, {0.0, 0.0, 0.0}}};
+    plimsoll_body_state s = {{{0.0, 0.2, 0.0}, {1.0, 0.0, 0.0, 0.0}},
+                             {{0.0, 0.0, 0.0}, {0.0, 0.0, 0.0}}};
     const double dt = 1.0 / 240.0;
     double volume = 0;
     const int n = 20 * 240, last = 2 * 240;
     for (int i = 0; i < n; ++i) {
-        ASSERT_EQ(plimsoll_body_step(b, &s, &water, &fluid, i * dt, dt), 1) << plimsoll_runtime_last_error();
+        ASSERT_EQ(plimsoll_body_step(b, &s, &water, &fluid, i * dt, dt), 1)
+            << plimsoll_runtime_last_error();
         if (i >= n - last) {
             plimsoll_forces f{};
-            ASSERT_EQ(plimsoll_bundle_evaluate(b, &s.pose, &s.velocity, &water, &fluid, i * dt, &f), 1);
+            ASSERT_EQ(plimsoll_bundle_evaluate(b, &s.pose, &s.velocity, &water, &fluid, i * dt, &f),
+                      1);
             volume += f.submerged_volume / last;
         }
     }
-    std::printf("[ motion   ] buoy at rest: submerged %.6f m^3, m / rho %.6f m^3\n", volume, m.mass / fluid.density);
+    std::printf("[ motion   ] buoy at rest: submerged %.6f m^3, m / rho %.6f m^3\n", volume,
+                m.mass / fluid.density);
     EXPECT_NEAR(volume, m.mass / fluid.density, 5e-3 * m.mass / fluid.density);
     plimsoll_bundle_free(b);
 }
@@ -689,14 +736,16 @@ struct CallerTasks {
     struct Job {
         std::vector<std::thread> threads;
     };
-    static void* enqueue(plimsoll_task_fn* task, int count, int minRange, void* taskContext, void* user) {
+    static void* enqueue(plimsoll_task_fn* task, int count, int minRange, void* taskContext,
+                         void* user) {
         auto* self = static_cast<CallerTasks*>(user);
         ++self->enqueued;
         auto* job = new Job;
         const int range = std::max(minRange, (count + 2) / 3);
         uint32_t worker = 0;
         for (int begin = 0; begin < count; begin += range)
-            job->threads.emplace_back(task, begin, std::min(count, begin + range), worker++, taskContext);
+            job->threads.emplace_back(task, begin, std::min(count, begin + range), worker++,
+                                      taskContext);
         return job;
     }
     static void finish(void* userTask, void*) {
@@ -722,12 +771,15 @@ TEST_F(RuntimeSources, BatchEvaluationEqualsOneCallPerBody) {
     }
     // A wave, called from several threads at once: it must be (and is) thread-safe.
     const plimsoll_water water = {
-        0.0, [](void*, double x, double z, double t) { return 0.1 * std::sin(0.7 * x + 0.3 * z - t); },
+        0.0,
+        [](void*, double x, double z, double t) { return 0.1 * std::sin(0.7 * x + 0.3 * z - t); },
         nullptr, nullptr};
     std::vector<plimsoll_forces> single(kBodies);
     for (std::size_t i = 0; i < kBodies; ++i) {
         const plimsoll_fluid fluid = plimsoll_bundle_default_fluid(bodies[i]);
-        ASSERT_EQ(plimsoll_bundle_evaluate(bodies[i], &poses[i], &velocities[i], &water, &fluid, 0.5, &single[i]), 1);
+        ASSERT_EQ(plimsoll_bundle_evaluate(bodies[i], &poses[i], &velocities[i], &water, &fluid,
+                                           0.5, &single[i]),
+                  1);
     }
     EXPECT_GT(single[0].submerged_volume, 0.0);
 
@@ -745,53 +797,69 @@ TEST_F(RuntimeSources, BatchEvaluationEqualsOneCallPerBody) {
         plimsoll_batch* batch = plimsoll_batch_create(desc);
         ASSERT_NE(batch, nullptr) << plimsoll_runtime_last_error();
         std::vector<plimsoll_forces> out(kBodies);
-        ASSERT_EQ(plimsoll_batch_evaluate(batch, kBodies, bodies.data(), poses.data(), velocities.data(),
-                                          &water, nullptr, 0.5, out.data()), 1)
+        ASSERT_EQ(plimsoll_batch_evaluate(batch, kBodies, bodies.data(), poses.data(),
+                                          velocities.data(), &water, nullptr, 0.5, out.data()),
+                  1)
             << plimsoll_runtime_last_error();
-        for (std::size_t i = 0; i < kBodies; ++i) expectSameForces(out[i], single[i], "body " + std::to_string(i));
+        for (std::size_t i = 0; i < kBodies; ++i)
+            expectSameForces(out[i], single[i], "body " + std::to_string(i));
 
         // Every argument checked before the work, the first bad body named.
         std::vector<plimsoll_pose> bad = poses;
         bad[7].orientation[0] = std::nan("");
         bad[9].position[0] = HUGE_VAL;
-        EXPECT_EQ(plimsoll_batch_evaluate(batch, kBodies, bodies.data(), bad.data(), nullptr, &water, nullptr,
-                                          0.5, out.data()), 0);
-        EXPECT_CONTAINS(plimsoll_runtime_last_error(), "plimsoll_batch_evaluate: body 7: orientation has a NaN");
+        EXPECT_EQ(plimsoll_batch_evaluate(batch, kBodies, bodies.data(), bad.data(), nullptr,
+                                          &water, nullptr, 0.5, out.data()),
+                  0);
+        EXPECT_CONTAINS(plimsoll_runtime_last_error(),
+                        "plimsoll_batch_evaluate: body 7: orientation has a NaN");
         std::vector<const plimsoll_bundle*> withNull = bodies;
         withNull[4] = nullptr;
-        EXPECT_EQ(plimsoll_batch_evaluate(batch, kBodies, withNull.data(), poses.data(), nullptr, &water,
-                                          nullptr, 0.5, out.data()), 0);
+        EXPECT_EQ(plimsoll_batch_evaluate(batch, kBodies, withNull.data(), poses.data(), nullptr,
+                                          &water, nullptr, 0.5, out.data()),
+                  0);
         EXPECT_CONTAINS(plimsoll_runtime_last_error(), "body 4: bundle is NULL");
-        EXPECT_EQ(plimsoll_batch_evaluate(batch, kBodies, bodies.data(), poses.data(), nullptr, &water,
-                                          nullptr, 0.5, nullptr), 0);
+        EXPECT_EQ(plimsoll_batch_evaluate(batch, kBodies, bodies.data(), poses.data(), nullptr,
+                                          &water, nullptr, 0.5, nullptr),
+                  0);
         EXPECT_CONTAINS(plimsoll_runtime_last_error(), "is NULL");
-        EXPECT_EQ(plimsoll_batch_evaluate(batch, kBodies, bodies.data(), poses.data(), nullptr, &water,
-                                          nullptr, std::nan(""), out.data()), 0);
+        EXPECT_EQ(plimsoll_batch_evaluate(batch, kBodies, bodies.data(), poses.data(), nullptr,
+                                          &water, nullptr, std::nan(""), out.data()),
+                  0);
         EXPECT_CONTAINS(plimsoll_runtime_last_error(), "time is NaN");
         // A water callback that fails for some bodies only (x > 205 m: body 21 on, the bodies
         // being 10 m apart and smaller): the first of them named.
         const plimsoll_water partly = {
-            0.0, [](void*, double x, double, double) { return x > 205.0 ? std::nan("") : 0.0; }, nullptr, nullptr};
-        EXPECT_EQ(plimsoll_batch_evaluate(batch, kBodies, bodies.data(), poses.data(), nullptr, &partly,
-                                          nullptr, 0.5, out.data()), 0);
-        EXPECT_CONTAINS(plimsoll_runtime_last_error(), "body 21: the water height or velocity callback");
-        EXPECT_EQ(plimsoll_batch_evaluate(batch, 0, nullptr, nullptr, nullptr, nullptr, nullptr, 0.0, nullptr), 1);
+            0.0, [](void*, double x, double, double) { return x > 205.0 ? std::nan("") : 0.0; },
+            nullptr, nullptr};
+        EXPECT_EQ(plimsoll_batch_evaluate(batch, kBodies, bodies.data(), poses.data(), nullptr,
+                                          &partly, nullptr, 0.5, out.data()),
+                  0);
+        EXPECT_CONTAINS(plimsoll_runtime_last_error(),
+                        "body 21: the water height or velocity callback");
+        EXPECT_EQ(plimsoll_batch_evaluate(batch, 0, nullptr, nullptr, nullptr, nullptr, nullptr,
+                                          0.0, nullptr),
+                  1);
 
         // The loads a physics engine applies, in one call, equal plimsoll_bundle_water_load's.
         std::vector<plimsoll_load> loads(kBodies);
-        ASSERT_EQ(plimsoll_batch_water_load(batch, kBodies, bodies.data(), poses.data(), velocities.data(), &water,
-                                            nullptr, 0.5, 1.0 / 240.0, loads.data()), 1)
+        ASSERT_EQ(plimsoll_batch_water_load(batch, kBodies, bodies.data(), poses.data(),
+                                            velocities.data(), &water, nullptr, 0.5, 1.0 / 240.0,
+                                            loads.data()),
+                  1)
             << plimsoll_runtime_last_error();
         for (std::size_t i = 0; i < kBodies; ++i) {
             const plimsoll_fluid fluid = plimsoll_bundle_default_fluid(bodies[i]);
             plimsoll_load one{};
-            ASSERT_EQ(plimsoll_bundle_water_load(bodies[i], &poses[i], &velocities[i], &water, &fluid, 0.5,
-                                                 1.0 / 240.0, &one), 1);
+            ASSERT_EQ(plimsoll_bundle_water_load(bodies[i], &poses[i], &velocities[i], &water,
+                                                 &fluid, 0.5, 1.0 / 240.0, &one),
+                      1);
             EXPECT_EQ(std::memcmp(&one, &loads[i], sizeof(one)), 0) << "body " << i;
             expectSameForces(loads[i].forces, single[i], "load of body " + std::to_string(i));
         }
-        EXPECT_EQ(plimsoll_batch_water_load(batch, kBodies, bodies.data(), poses.data(), nullptr, &water, nullptr,
-                                            0.5, 0.0, loads.data()), 0);
+        EXPECT_EQ(plimsoll_batch_water_load(batch, kBodies, bodies.data(), poses.data(), nullptr,
+                                            &water, nullptr, 0.5, 0.0, loads.data()),
+                  0);
         EXPECT_CONTAINS(plimsoll_runtime_last_error(), "dt must be finite and > 0");
         plimsoll_batch_free(batch);
     }
@@ -969,8 +1037,10 @@ TEST_F(RuntimeSources, BatchGraphStepEqualsOneStepPerBody) {
     ASSERT_NE(batch, nullptr);
     std::vector<int> moved(kBoats, -1);
     for (int step = 0; step < 50; ++step) {
-        ASSERT_EQ(plimsoll_batch_graph_step(batch, kBoats, batched.data(), poses.data(), &water, 0.02 * step,
-                                            0.02, moved.data()), 1) << plimsoll_runtime_last_error();
+        ASSERT_EQ(plimsoll_batch_graph_step(batch, kBoats, batched.data(), poses.data(), &water,
+                                            0.02 * step, 0.02, moved.data()),
+                  1)
+            << plimsoll_runtime_last_error();
         for (int i = 0; i < kBoats; ++i) {
             const int one = plimsoll_graph_step(alone[i], &poses[i], &water, 0.02 * step, 0.02);
             EXPECT_EQ(moved[i], one) << "boat " << i << ", step " << step;
@@ -979,15 +1049,20 @@ TEST_F(RuntimeSources, BatchGraphStepEqualsOneStepPerBody) {
     double water0 = 0;
     for (int i = 0; i < kBoats; ++i) {
         for (std::size_t n = 0; n < plimsoll_graph_node_count(alone[i]); ++n) {
-            EXPECT_EQ(plimsoll_graph_node_water(batched[i], n), plimsoll_graph_node_water(alone[i], n));
+            EXPECT_EQ(plimsoll_graph_node_water(batched[i], n),
+                      plimsoll_graph_node_water(alone[i], n));
             water0 += plimsoll_graph_node_water(alone[i], n);
         }
     }
     EXPECT_GT(water0, 0.0);
     std::vector<plimsoll_bundle*> twice = {batched[0], batched[1], batched[0]};
-    EXPECT_EQ(plimsoll_batch_graph_step(batch, 3, twice.data(), poses.data(), &water, 0.0, 0.02, nullptr), 0);
+    EXPECT_EQ(
+        plimsoll_batch_graph_step(batch, 3, twice.data(), poses.data(), &water, 0.0, 0.02, nullptr),
+        0);
     EXPECT_CONTAINS(plimsoll_runtime_last_error(), "a bundle appears twice");
-    EXPECT_EQ(plimsoll_batch_graph_step(batch, 2, batched.data(), poses.data(), &water, 0.0, -1.0, nullptr), 0);
+    EXPECT_EQ(plimsoll_batch_graph_step(batch, 2, batched.data(), poses.data(), &water, 0.0, -1.0,
+                                        nullptr),
+              0);
     EXPECT_CONTAINS(plimsoll_runtime_last_error(), "dt must be finite");
     plimsoll_batch_free(batch);
     for (int i = 0; i < kBoats; ++i) {

@@ -45,7 +45,7 @@ namespace rt = plimsoll_runtime;
 /// twenty times slower and checks their memory, which the first seconds exercise as fully.
 constexpr double kSeconds = test::kSanitizedBuild ? 4.0 : 20.0;
 /// A rigid body: the two step sequences differ by rounding only.
-constexpr double kRigidBound = 1e-6;     // m
+constexpr double kRigidBound = 1e-6;  // m
 /// A flooding body: the water exchange's own differences (about 1e-6 of the flow) move it.
 constexpr double kFloodingBound = 5e-4;  // m
 
@@ -76,8 +76,8 @@ rt::Water engineWater(const WaterModel& water) {
     w.heights = [&water](std::size_t n, const double* x, const double* z, double t, double* out) {
         water.heights(n, x, z, t, out);
     };
-    w.velocities = [&water](std::size_t n, const double* x, const double* y, const double* z, double t,
-                            double* out) { water.velocities(n, x, y, z, t, out); };
+    w.velocities = [&water](std::size_t n, const double* x, const double* y, const double* z,
+                            double t, double* out) { water.velocities(n, x, y, z, t, out); };
     w.minHeight = water.minHeight();
     w.maxHeight = water.maxHeight();
     return w;
@@ -135,7 +135,8 @@ Gap compare(const std::vector<Frame>& a, const std::vector<Frame>& b) {
         EXPECT_EQ(a[i].asleep, b[i].asleep) << "frame " << i;
         g.sleptFrames += a[i].asleep && b[i].asleep;
         g.position = std::max(g.position, (a[i].center - b[i].center).norm());
-        g.orientation = std::max(g.orientation, std::min((a[i].q - b[i].q).norm(), (a[i].q + b[i].q).norm()));
+        g.orientation =
+            std::max(g.orientation, std::min((a[i].q - b[i].q).norm(), (a[i].q + b[i].q).norm()));
         g.mass = std::max(g.mass, std::abs(a[i].mass - b[i].mass) / a[i].mass);
         g.travel = std::max(g.travel, (a[i].center - a.front().center).norm());
     }
@@ -147,11 +148,14 @@ class RuntimeTrajectory : public testing::Test {
 protected:
     static fs::path root() {
         static const fs::path r = [] {
-            const fs::path p = test::scratchFolder("runtime_trajectory-" + std::to_string(::getpid()));
+            const fs::path p =
+                test::scratchFolder("runtime_trajectory-" + std::to_string(::getpid()));
             fs::remove_all(p);
             fs::create_directories(p);
-            fs::copy(fs::path(PLIMSOLL_SOURCE_DIR) / "assets", p / "assets", fs::copy_options::recursive);
-            fs::copy(fs::path(PLIMSOLL_SOURCE_DIR) / "projects", p / "projects", fs::copy_options::recursive);
+            fs::copy(fs::path(PLIMSOLL_SOURCE_DIR) / "assets", p / "assets",
+                     fs::copy_options::recursive);
+            fs::copy(fs::path(PLIMSOLL_SOURCE_DIR) / "projects", p / "projects",
+                     fs::copy_options::recursive);
             return p;
         }();
         return r;
@@ -163,7 +167,8 @@ protected:
         std::vector<fs::path> files;
         for (const auto& entry : fs::directory_iterator(root() / "projects")) {
             const std::string name = entry.path().filename().string();
-            if (name.size() > 10 && name.substr(name.size() - 10) == ".plim.json") files.push_back(entry.path());
+            if (name.size() > 10 && name.substr(name.size() - 10) == ".plim.json")
+                files.push_back(entry.path());
         }
         std::sort(files.begin(), files.end());
         std::vector<Project> out;
@@ -215,7 +220,8 @@ TEST_F(RuntimeTrajectory, EverySampleProjectFollowsTheWorld) {
     const std::vector<Project> projects = cases();
     ASSERT_GE(projects.size(), 8u);
     bool sawFlooding = false, sawWaves = false;
-    const long frames = static_cast<long>(std::ceil(kSeconds / projects.front().simulation.timeStep - 1e-9));
+    const long frames =
+        static_cast<long>(std::ceil(kSeconds / projects.front().simulation.timeStep - 1e-9));
     for (const Project& project : projects) {
         SCOPED_TRACE(project.fileStem);
         const fs::path folder = exported(project);
@@ -399,7 +405,8 @@ TEST_F(RuntimeTrajectory, CApiReportsMisuseAndClearsTheError) {
     std::vector<unsigned char> bytes(size);
     EXPECT_EQ(plimsoll_simulation_save(sa, bytes.data(), size - 1, &size), 0);
     ASSERT_EQ(plimsoll_simulation_save(sa, bytes.data(), size, &size), 1);
-    ASSERT_EQ(plimsoll_simulation_restore(sb, bytes.data(), bytes.size()), 1) << plimsoll_runtime_last_error();
+    ASSERT_EQ(plimsoll_simulation_restore(sb, bytes.data(), bytes.size()), 1)
+        << plimsoll_runtime_last_error();
     for (int f = 0; f < 30; ++f) {
         ASSERT_EQ(plimsoll_simulation_advance_frame(sa, nullptr), 1);
         ASSERT_EQ(plimsoll_simulation_advance_frame(sb, nullptr), 1);
@@ -423,13 +430,15 @@ TEST_F(RuntimeTrajectory, FloatBodyWritesTheSimulateColumns) {
     const fs::path folder = root() / "out" / "csv_boat";
     ASSERT_TRUE(writeBodyBundle(*project, 0, folder).ok());
     const fs::path csv = root() / "boat.csv";
-    const std::string command = std::string(PLIMSOLL_FLOAT_BODY) + " " + folder.string() + " 20 --csv " + csv.string();
+    const std::string command =
+        std::string(PLIMSOLL_FLOAT_BODY) + " " + folder.string() + " 20 --csv " + csv.string();
     ASSERT_EQ(std::system(command.c_str()), 0) << command;
     std::ifstream in(csv);
     std::string header;
     std::getline(in, header);
-    EXPECT_EQ(header, "time,body,x,y,z,qw,qx,qy,qz,vx,vy,vz,wx,wy,wz,submerged_volume,fx,fy,fz,mass,com_x,"
-                      "com_y,com_z");
+    EXPECT_EQ(header,
+              "time,body,x,y,z,qw,qx,qy,qz,vx,vy,vz,wx,wy,wz,submerged_volume,fx,fy,fz,mass,com_x,"
+              "com_y,com_z");
     const long frames = static_cast<long>(std::ceil(20.0 / project->simulation.timeStep - 1e-9));
     const std::vector<Frame> world = worldRun(*project, frames);
     std::string line;
@@ -455,8 +464,9 @@ TEST_F(RuntimeTrajectory, FloatBodyWritesTheSimulateColumns) {
         ++rows;
     }
     EXPECT_EQ(rows, frames);
-    std::printf("  float_body --csv, damaged_boat, %ld rows: centre of mass within %.2e m of the World's\n", rows,
-                worst);
+    std::printf(
+        "  float_body --csv, damaged_boat, %ld rows: centre of mass within %.2e m of the World's\n",
+        rows, worst);
     // The flooding bound of EverySampleProjectFollowsTheWorld (2.0e-4 m measured here).
     EXPECT_LE(worst, kFloodingBound);
 }

@@ -208,7 +208,6 @@ void expectWellFormed(const TriangleMesh& mesh) {
     EXPECT_GT(signedVolume(mesh), 0.0) << mesh.source << ": normals point inward";
 }
 
-
 /// The committed asset equals what writeObj makes of the generated mesh, byte for byte.
 void expectMatchesAsset(const TriangleMesh& mesh, const std::string& file) {
     const fs::path written = test::scratchFolder("plimsoll_test_primitives") / file;
@@ -372,8 +371,8 @@ TEST(Assets, CommittedSamplesAreExactlyTheGeneratorsOutput) {
 }
 
 TEST(Assets, SamplesHaveUvsAndNoNegativeZero) {
-    for (const char* file : {"sphere.obj", "box.obj", "cylinder.obj", "buoy.obj", "hull.obj",
-                             "plush.obj"}) {
+    for (const char* file :
+         {"sphere.obj", "box.obj", "cylinder.obj", "buoy.obj", "hull.obj", "plush.obj"}) {
         const std::string text = test::readFile(fs::path(PLIMSOLL_ASSETS_DIR) / file);
         EXPECT_NE(text.find("\nvt "), std::string::npos) << file;
         EXPECT_EQ(text.find(" -0 "), std::string::npos) << file;

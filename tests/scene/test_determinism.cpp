@@ -48,8 +48,8 @@ struct TrajectoryHash {
 };
 
 std::uint64_t trajectoryHash(const std::string& name) {
-    Result<Project> project =
-        loadProject(std::filesystem::path(PLIMSOLL_SOURCE_DIR) / "projects" / (name + ".plim.json"));
+    Result<Project> project = loadProject(std::filesystem::path(PLIMSOLL_SOURCE_DIR) / "projects" /
+                                          (name + ".plim.json"));
     EXPECT_TRUE(project.ok()) << project.error().message;
     if (!project) return 0;
     std::unique_ptr<World> world = test::worldOrFail(test::sceneOrFail(*project));

@@ -16,13 +16,13 @@ namespace fs = std::filesystem;
 
 struct Row {
     double time;
-    Eigen::Vector3d position;       // centre of mass, world
+    Eigen::Vector3d position;  // centre of mass, world
     Eigen::Quaterniond orientation;
     Eigen::Vector3d velocity, angularVelocity;
     double submergedVolume;
     Eigen::Vector3d buoyantForce;
     double mass;
-    Eigen::Vector3d centerOfMass;   // object space
+    Eigen::Vector3d centerOfMass;  // object space
 };
 
 /// Runs the project for `seconds` and reads its trajectory CSV.
@@ -30,9 +30,9 @@ std::vector<Row> simulate(const std::string& project, double seconds) {
     const fs::path csv = fs::temp_directory_path() / "plimsoll_tests" /
                          (project + "_" + std::to_string(::getpid()) + ".csv");
     const fs::path file = fs::path(PLIMSOLL_SOURCE_DIR) / "projects" / (project + ".plim.json");
-    const test::CommandOutput r = test::runPlimsoll(
-        "simulate '" + file.string() + "' --seconds " + std::to_string(seconds) + " --out '" +
-        csv.string() + "'");
+    const test::CommandOutput r =
+        test::runPlimsoll("simulate '" + file.string() + "' --seconds " + std::to_string(seconds) +
+                          " --out '" + csv.string() + "'");
     EXPECT_EQ(r.exitCode, 0) << r.err;
     std::vector<Row> rows;
     std::ifstream in(csv);
@@ -103,7 +103,8 @@ TEST(SampleProjects, UniformBallIsNeutral) {
     // its centre, 0.34 N m of torque by the textures and by the exact clip alike, so it drifts
     // a few degrees towards a facet's rest, not the ninety a ball with a heavy side turns.
     EXPECT_LT(last.angularVelocity.norm(), 0.1);
-    const double turned = 2 * std::acos(std::min(1.0, std::abs(last.orientation.dot(rows.front().orientation))));
+    const double turned =
+        2 * std::acos(std::min(1.0, std::abs(last.orientation.dot(rows.front().orientation))));
     EXPECT_LT(turned, 15.0 * 3.141592653589793 / 180.0);
 }
 
@@ -115,8 +116,8 @@ TEST(SampleProjects, HeavySideTurnsDown) {
         return Eigen::Vector3d(r.orientation * r.centerOfMass);
     };
     const Eigen::Vector3d start = offsetOf(rows.front()), end = offsetOf(rows.back());
-    EXPECT_LT(std::abs(start.y()), 0.1 * start.norm());   // starts sideways
-    EXPECT_LT(end.y(), -0.95 * end.norm());               // ends pointing down
+    EXPECT_LT(std::abs(start.y()), 0.1 * start.norm());  // starts sideways
+    EXPECT_LT(end.y(), -0.95 * end.norm());              // ends pointing down
 }
 
 TEST(SampleProjects, FlatBoxSettlesAtHalfDraft) {

@@ -66,15 +66,16 @@ TEST(SceneGravity, ZeroGravityIsAllowedAndLeavesABodyAtRest) {
 }
 
 TEST(SceneGravity, ATiltedOrUpwardGravityIsRefusedClearly) {
-    for (const Eigen::Vector3d g : {Eigen::Vector3d(0.5, -9.8, 0), Eigen::Vector3d(0, -9.8, 1e-3),
-                                    Eigen::Vector3d(0, 9.81, 0),
-                                    Eigen::Vector3d(0, -std::nan(""), 0)}) {
+    for (const Eigen::Vector3d g :
+         {Eigen::Vector3d(0.5, -9.8, 0), Eigen::Vector3d(0, -9.8, 1e-3),
+          Eigen::Vector3d(0, 9.81, 0), Eigen::Vector3d(0, -std::nan(""), 0)}) {
         SCOPED_TRACE(g.transpose());
         Result<std::unique_ptr<World>> world =
             World::create(cubeScene(2.0, g), createReferenceBackend());
         ASSERT_FALSE(world.ok());
         EXPECT_EQ(world.error().kind, ErrorKind::unsupported);
-        EXPECT_NE(world.error().message.find("does not point straight down (-y)"), std::string::npos)
+        EXPECT_NE(world.error().message.find("does not point straight down (-y)"),
+                  std::string::npos)
             << world.error().message;
     }
     // From a project, the adapter names the file and the JSON path.
@@ -84,7 +85,8 @@ TEST(SceneGravity, ATiltedOrUpwardGravityIsRefusedClearly) {
     Result<Scene> scene = loadScene(project);
     ASSERT_FALSE(scene.ok());
     EXPECT_EQ(scene.error().kind, ErrorKind::unsupported);
-    EXPECT_EQ(scene.error().message.rfind("tilted.plim.json: simulation.gravity: gravity (1, -9.81, 0)", 0),
+    EXPECT_EQ(scene.error().message.rfind(
+                  "tilted.plim.json: simulation.gravity: gravity (1, -9.81, 0)", 0),
               0u)
         << scene.error().message;
 }
@@ -135,7 +137,8 @@ TEST(SceneBodies, PartsThatDoNotFitTheDescriptionAreRefused) {
     desc.meshFrames = {"odd_001.obj"};
     Result<SceneBody> noFrames = bakeSceneBody(desc, {.mesh = box});
     ASSERT_FALSE(noFrames.ok());
-    EXPECT_EQ(noFrames.error().message, "body 'odd' (odd.obj): mesh_frames named but no frames given");
+    EXPECT_EQ(noFrames.error().message,
+              "body 'odd' (odd.obj): mesh_frames named but no frames given");
 }
 
 }  // namespace

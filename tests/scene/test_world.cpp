@@ -45,7 +45,8 @@ void run(World& world, double seconds) {
 /// Depth of the lowest point of the body's mesh below the water after settling.
 double settledDraft(const TriangleMesh& mesh, double density, const Eigen::Vector3d& rotationDeg,
                     double seconds, double* speed) {
-    std::unique_ptr<World> world = test::fastWorldOrFail(oneBody(mesh, density, 1000.0, rotationDeg));
+    std::unique_ptr<World> world =
+        test::fastWorldOrFail(oneBody(mesh, density, 1000.0, rotationDeg));
     run(*world, seconds);
     const SimulatedBody& body = world->bodies().front();
     *speed = linearVelocity(body.state, body.mass).norm();
@@ -78,7 +79,8 @@ TEST(WorldEquilibrium, SphereAtQuarterAndThreeQuarterDensity) {
             (v < ratio * volume ? lo : hi) = mid;
         }
         double speed = 0;
-        const double draft = settledDraft(sphere, 1000.0 * ratio, Eigen::Vector3d::Zero(), 20.0, &speed);
+        const double draft =
+            settledDraft(sphere, 1000.0 * ratio, Eigen::Vector3d::Zero(), 20.0, &speed);
         EXPECT_NEAR(draft, lo, 0.005 * lo) << ratio;
         EXPECT_LT(speed, 1e-4) << ratio;
         std::printf("  sphere at %.2f: draft %.6f m, exact clip %.6f m (%.2e), speed %.1e m/s\n",
@@ -122,7 +124,8 @@ TEST(WorldSkips, BodiesOutOfTheWaterSkipTheKernels) {
     EXPECT_EQ((*world)->statistics().skippedOutOfWater, (*world)->statistics().steps);
     EXPECT_EQ((*world)->statistics().massRecomputations, 0u);  // rigid: computed once
     bool said = false;
-    for (const auto& line : log) said = said || line.find("skips the buoyancy kernels") != std::string::npos;
+    for (const auto& line : log)
+        said = said || line.find("skips the buoyancy kernels") != std::string::npos;
     EXPECT_TRUE(said);
     // Free fall meanwhile: v = g t.
     const SimulatedBody& body = (*world)->bodies().front();
@@ -130,7 +133,8 @@ TEST(WorldSkips, BodiesOutOfTheWaterSkipTheKernels) {
 }
 
 TEST(WorldMaterials, RepaintingRecomputesTheMassOnceAndTheBodyStaysPut) {
-    std::unique_ptr<World> world = test::worldOrFail(oneBody(makeUvSphere(0.5, 24, 12), 500.0, 1000.0));
+    std::unique_ptr<World> world =
+        test::worldOrFail(oneBody(makeUvSphere(0.5, 24, 12), 500.0, 1000.0));
     run(*world, 0.2);
     EXPECT_EQ(world->statistics().massRecomputations, 0u);
     const Eigen::Vector3d before = world->bodies()[0].state.position;

@@ -25,10 +25,13 @@ TEST(WorldExternalForce, AddsItsImpulseToTheMomentaAndCanBeRemoved) {
     const double T = world.scene().simulation.timeStep;
     const Eigen::Vector3d force(3.0, 40.0, -7.0), torque(0.5, -0.25, 2.0);
     int calls = 0;
-    ASSERT_TRUE(world.setExternalForce(0, [&](const SimulatedBody&, const RigidBodyState&) {
-        ++calls;
-        return Wrench{force, torque};
-    }).ok());
+    ASSERT_TRUE(world
+                    .setExternalForce(0,
+                                      [&](const SimulatedBody&, const RigidBodyState&) {
+                                          ++calls;
+                                          return Wrench{force, torque};
+                                      })
+                    .ok());
     const RigidBodyState before = world.bodies()[0].state;
     ASSERT_TRUE(world.advanceFrame().ok());
     const RigidBodyState after = world.bodies()[0].state;
@@ -40,7 +43,8 @@ TEST(WorldExternalForce, AddsItsImpulseToTheMomentaAndCanBeRemoved) {
     ASSERT_TRUE(world.setExternalForce(0, {}).ok());
     const RigidBodyState again = world.bodies()[0].state;
     ASSERT_TRUE(world.advanceFrame().ok());
-    EXPECT_LT((world.bodies()[0].state.linearMomentum - again.linearMomentum - m * g * T).norm(), 1e-9);
+    EXPECT_LT((world.bodies()[0].state.linearMomentum - again.linearMomentum - m * g * T).norm(),
+              1e-9);
     EXPECT_FALSE(world.setExternalForce(5, {}).ok());
 }
 

@@ -51,8 +51,8 @@ Floating floating(const TriangleMesh& mesh, double density, bool withRadiation,
     out.scene.water = WaterModel::flat(0.0);
     out.scene.simulation.gravity = {0, -kGravity, 0};
     out.scene.bodies.push_back(test::bodyOrFail(body, mesh));
-    Result<BodyRadiation> radiation =
-        computeBodyRadiation(out.scene.bodies[0], desc, out.scene.medium, out.scene.simulation.gravity);
+    Result<BodyRadiation> radiation = computeBodyRadiation(
+        out.scene.bodies[0], desc, out.scene.medium, out.scene.simulation.gravity);
     EXPECT_TRUE(radiation.ok()) << (radiation.ok() ? "" : radiation.error().message);
     if (radiation) out.radiation = std::make_shared<const BodyRadiation>(std::move(*radiation));
     if (withRadiation) out.scene.bodies[0].radiation = out.radiation;
@@ -108,10 +108,12 @@ void expectWorldDecayFollowsCoefficients(const char* name, const TriangleMesh& m
     const RadiationSolver& solver = *surface->solver;
     // The mesh's own waterplane (a polygon, not the circle): rho g dV/dh at rest.
     auto displaced = [&](double h) {
-        return wettedVolume(wettedPanels(mesh, Eigen::Affine3d(Eigen::Translation3d(0, radiation.restHeight + h, 0))));
+        return wettedVolume(wettedPanels(
+            mesh, Eigen::Affine3d(Eigen::Translation3d(0, radiation.restHeight + h, 0))));
     };
     const double stiffness = kDensity * kGravity * (displaced(-1e-4) - displaced(1e-4)) / 2e-4;
-    EXPECT_NEAR(stiffness, kDensity * kGravity * waterplaneArea, 0.03 * kDensity * kGravity * waterplaneArea);
+    EXPECT_NEAR(stiffness, kDensity * kGravity * waterplaneArea,
+                0.03 * kDensity * kGravity * waterplaneArea);
     double omega = 0;
     const test::DecayFigures predicted = test::predictedHeaveDecay(solver, mass, stiffness, &omega);
     std::unique_ptr<World> world = test::fastWorldOrFail(f.scene);
@@ -120,12 +122,16 @@ void expectWorldDecayFollowsCoefficients(const char* name, const TriangleMesh& m
     // measured period and decrement need.
     const Record r = run(*world, restCentre, (test::kSanitizedBuild ? 3 : 6) * predicted.period,
                          0.5 * stiffness * 0.02 * 0.02);
-    const test::DecayFigures measured = test::measuredDecay(r.offset, world->scene().simulation.timeStep);
-    std::printf("  %s through the World: %zu panels, period %.4f s (predicted %.4f, %+.2f%%), log decrement %.4f "
-                "(predicted %.4f, %+.2f%%), worst energy rise %+.2e\n",
-                name, radiation.panelCount, measured.period, predicted.period,
-                100 * (measured.period / predicted.period - 1), measured.logDecrement, predicted.logDecrement,
-                100 * (measured.logDecrement / predicted.logDecrement - 1), r.worstEnergyRise);
+    const test::DecayFigures measured =
+        test::measuredDecay(r.offset, world->scene().simulation.timeStep);
+    std::printf(
+        "  %s through the World: %zu panels, period %.4f s (predicted %.4f, %+.2f%%), log "
+        "decrement %.4f "
+        "(predicted %.4f, %+.2f%%), worst energy rise %+.2e\n",
+        name, radiation.panelCount, measured.period, predicted.period,
+        100 * (measured.period / predicted.period - 1), measured.logDecrement,
+        predicted.logDecrement, 100 * (measured.logDecrement / predicted.logDecrement - 1),
+        r.worstEnergyRise);
     EXPECT_NEAR(measured.period, predicted.period, 0.05 * predicted.period);
     EXPECT_NEAR(measured.logDecrement, predicted.logDecrement, 0.05 * predicted.logDecrement);
     EXPECT_LT(r.worstEnergyRise, 0.0);
@@ -134,7 +140,8 @@ void expectWorldDecayFollowsCoefficients(const char* name, const TriangleMesh& m
 TEST(WorldRadiation, HemisphereHeaveDecayFollowsAAndB) {
     // A sphere of radius 1 at half the water's density floats with its centre on the surface.
     // The default panel edge keeps the sphere's own 176 panels.
-    expectWorldDecayFollowsCoefficients("hemisphere", makeUvSphere(1.0, 16, 12), kDensity / 2, kPi, {});
+    expectWorldDecayFollowsCoefficients("hemisphere", makeUvSphere(1.0, 16, 12), kDensity / 2, kPi,
+                                        {});
 }
 
 TEST(WorldRadiation, BoxHeaveDecayFollowsAAndB) {
@@ -152,26 +159,30 @@ TEST(WorldRadiation, TheDecayTestButtonsRunMeasuresWhatAAndBPredict) {
     ASSERT_TRUE(decay.ok()) << decay.error().message;
     EXPECT_NEAR(decay->stiffness, kDensity * kGravity, 0.01 * kDensity * kGravity);
     // Interpolated in 12 stored frequencies against the panel solution itself.
-    Result<RestRadiationSurface> surface =
-        restRadiationSurface(f.scene.bodies[0], kCoarseBox, f.scene.medium, f.scene.simulation.gravity);
+    Result<RestRadiationSurface> surface = restRadiationSurface(
+        f.scene.bodies[0], kCoarseBox, f.scene.medium, f.scene.simulation.gravity);
     ASSERT_TRUE(surface.ok());
-    const test::DecayFigures panels =
-        test::predictedHeaveDecay(*surface->solver, f.radiation->restVolume * kDensity, decay->stiffness);
-    std::printf("  decay test: period %.4f s (predicted %.4f, panels %.4f), log decrement %.4f (predicted %.4f, "
-                "panels %.4f)\n",
-                decay->measured.period, decay->predicted.period, panels.period, decay->measured.logDecrement,
-                decay->predicted.logDecrement, panels.logDecrement);
+    const test::DecayFigures panels = test::predictedHeaveDecay(
+        *surface->solver, f.radiation->restVolume * kDensity, decay->stiffness);
+    std::printf(
+        "  decay test: period %.4f s (predicted %.4f, panels %.4f), log decrement %.4f (predicted "
+        "%.4f, "
+        "panels %.4f)\n",
+        decay->measured.period, decay->predicted.period, panels.period,
+        decay->measured.logDecrement, decay->predicted.logDecrement, panels.logDecrement);
     EXPECT_NEAR(decay->predicted.period, panels.period, 0.01 * panels.period);
     EXPECT_NEAR(decay->predicted.logDecrement, panels.logDecrement, 0.05 * panels.logDecrement);
     EXPECT_NEAR(decay->measured.period, decay->predicted.period, 0.05 * decay->predicted.period);
-    EXPECT_NEAR(decay->measured.logDecrement, decay->predicted.logDecrement, 0.06 * decay->predicted.logDecrement);
+    EXPECT_NEAR(decay->measured.logDecrement, decay->predicted.logDecrement,
+                0.06 * decay->predicted.logDecrement);
     EXPECT_NEAR(decay->offset.front(), -0.02, 1e-3);  // released 2 cm below rest
 
     Scene plain = f.scene;
     plain.bodies[0].radiation.reset();
     Result<HeaveDecayTest> refused = runHeaveDecayTest(plain, 0);
     ASSERT_FALSE(refused.ok());
-    EXPECT_NE(refused.error().message.find("no radiation computed"), std::string::npos) << refused.error().message;
+    EXPECT_NE(refused.error().message.find("no radiation computed"), std::string::npos)
+        << refused.error().message;
 }
 
 TEST(WorldRadiation, DroppedLightBoxSettlesSoonerThanWithoutIt) {
@@ -203,9 +214,11 @@ TEST(WorldRadiation, DroppedLightBoxSettlesSoonerThanWithoutIt) {
     const Record r = run(*radiating, rest, 60, scale);
     // The issue measured about 60 s without: 90 s to see it happen.
     const Record b = run(*bare, rest, 90, scale);
-    std::printf("  dropped density-250 cube settles (|v| < 1 mm/s) after %.2f s with radiation, %.2f s without "
-                "(speed at the end: %.2e m/s at 60 s, %.2e m/s at 90 s)\n",
-                r.settleTime, b.settleTime, r.finalSpeed, b.finalSpeed);
+    std::printf(
+        "  dropped density-250 cube settles (|v| < 1 mm/s) after %.2f s with radiation, %.2f s "
+        "without "
+        "(speed at the end: %.2e m/s at 60 s, %.2e m/s at 90 s)\n",
+        r.settleTime, b.settleTime, r.finalSpeed, b.finalSpeed);
     EXPECT_LT(r.worstEnergyRise, 1e-9);
     EXPECT_GT(r.settleTime, 1.0);
     // Measured: 53.8 s against 72 s; the roll and drift after capsizing, which radiation computed
@@ -229,10 +242,12 @@ TEST(WorldRadiation, AddedMassIsInTheMassMatrixAndOffWithoutIt) {
         std::unique_ptr<World> world = test::fastWorldOrFail(f.scene);
         ASSERT_TRUE(world);
         const SimulatedBody& b = world->bodies()[0];
-        EXPECT_LT((linearVelocity(b.state, b.mass) - Eigen::Vector3d(0.1, -0.2, 0.05)).norm(), 1e-12);
+        EXPECT_LT((linearVelocity(b.state, b.mass) - Eigen::Vector3d(0.1, -0.2, 0.05)).norm(),
+                  1e-12);
         if (on) {
             ASSERT_NE(world->radiation(0), nullptr);
-            EXPECT_NEAR(b.mass.addedMass(1, 1), f.radiation->addedMassInfinity(kHeaveY, kHeaveY), 1e-9);
+            EXPECT_NEAR(b.mass.addedMass(1, 1), f.radiation->addedMassInfinity(kHeaveY, kHeaveY),
+                        1e-9);
             EXPECT_GT(b.mass.addedMass(1, 1), 0.1 * b.mass.mass);
         } else {
             EXPECT_EQ(world->radiation(0), nullptr);
@@ -247,7 +262,8 @@ TEST(WorldRadiation, OnWithoutComputedCoefficientsIsRefused) {
     Result<std::unique_ptr<World>> world = World::create(f.scene, createReferenceBackend());
     ASSERT_FALSE(world.ok());
     EXPECT_NE(world.error().message.find("radiation"), std::string::npos) << world.error().message;
-    EXPECT_NE(world.error().message.find("body 'body'"), std::string::npos) << world.error().message;
+    EXPECT_NE(world.error().message.find("body 'body'"), std::string::npos)
+        << world.error().message;
 }
 
 TEST(WorldRadiation, ABodyThatDoesNotFloatIsRefused) {
@@ -267,7 +283,8 @@ TEST(WorldRadiation, ABodyThatDoesNotFloatIsRefused) {
     Result<BodyRadiation> many = computeBodyRadiation(box, tiny, MediumDesc{}, {0, -kGravity, 0});
     ASSERT_FALSE(many.ok());
     EXPECT_EQ(many.error().kind, ErrorKind::limit);
-    EXPECT_NE(many.error().message.find("kMaxRadiationPanels"), std::string::npos) << many.error().message;
+    EXPECT_NE(many.error().message.find("kMaxRadiationPanels"), std::string::npos)
+        << many.error().message;
 }
 
 }  // namespace

@@ -38,7 +38,8 @@ void expectSameSurface(const TriangleMesh& mesh, const PhysicsAtlas& atlas) {
     for (std::size_t t = 0; t < mesh.triangleCount(); ++t) {
         for (int k = 0; k < 3; ++k) {
             const std::uint32_t v = atlas.mesh.triangles[t][static_cast<std::size_t>(k)];
-            ASSERT_EQ(atlas.mesh.positions[v], mesh.positions[mesh.triangles[t][static_cast<std::size_t>(k)]]);
+            ASSERT_EQ(atlas.mesh.positions[v],
+                      mesh.positions[mesh.triangles[t][static_cast<std::size_t>(k)]]);
             ASSERT_EQ(atlas.mesh.positions[v], mesh.positions[atlas.sourceVertex[v]]);
         }
     }
@@ -66,7 +67,8 @@ TEST(Atlas, EveryClosedSharedMeshBakesThroughAGeneratedAtlasWithinTheTextureTole
         // sanitized one, where they took most of this test's two minutes: the smaller meshes
         // run the same code.
         const std::string_view file = name;
-        if (test::kSanitizedBuild && (file == "blub_triangulated.obj" || file == "boat.obj")) continue;
+        if (test::kSanitizedBuild && (file == "blub_triangulated.obj" || file == "boat.obj"))
+            continue;
         const auto path = test::sharedMesh(name);
         if (!path) continue;
         SCOPED_TRACE(name);
@@ -102,8 +104,8 @@ TEST(Atlas, IsDeterministic) {
 TEST(Atlas, ChartsNeverOverlapEvenWhereTheSurfaceFoldsBackOverItself) {
     // A lathe with an overhang (a mushroom): rings of triangles facing up at two heights
     // project onto each other along y; the charts must split them.
-    const TriangleMesh mushroom = makeLathe(
-        {{0.0, -0.5}, {0.2, -0.5}, {0.2, 0.0}, {0.6, 0.05}, {0.5, 0.3}, {0.0, 0.4}}, 48);
+    const TriangleMesh mushroom =
+        makeLathe({{0.0, -0.5}, {0.2, -0.5}, {0.2, 0.0}, {0.6, 0.05}, {0.5, 0.3}, {0.0, 0.4}}, 48);
     const PhysicsAtlas atlas = generateOrFail(mushroom);
     expectSameSurface(mushroom, atlas);
     expectBijective(atlas);
@@ -136,15 +138,15 @@ TEST(Atlas, GuttersSeparateTheCharts) {
         EXPECT_GE(boxes[a].min().minCoeff(), 2.0 - 1e-9);
         EXPECT_LE(boxes[a].max().maxCoeff(), 62.0 + 1e-9);
         for (std::size_t b = a + 1; b < boxes.size(); ++b) {
-            const Eigen::Vector2d gap = (boxes[b].min() - boxes[a].max())
-                                            .cwiseMax(boxes[a].min() - boxes[b].max());
+            const Eigen::Vector2d gap =
+                (boxes[b].min() - boxes[a].max()).cwiseMax(boxes[a].min() - boxes[b].max());
             EXPECT_GE(gap.maxCoeff(), 4.0 - 1e-9) << a << " " << b;
         }
     }
     // One scale for all charts: UV area over world area is the same on every face.
     for (const Triangle& t : atlas.mesh.triangles) {
-        const double ratio = std::abs(triangleUvArea(atlas.mesh, t)) /
-                             triangleAreaVector(atlas.mesh, t).norm();
+        const double ratio =
+            std::abs(triangleUvArea(atlas.mesh, t)) / triangleAreaVector(atlas.mesh, t).norm();
         EXPECT_NEAR(ratio, atlas.uvPerMetre * atlas.uvPerMetre, 1e-9 * ratio);
     }
 }

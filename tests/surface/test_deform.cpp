@@ -77,7 +77,7 @@ TriangleMesh deformedBuoy() {
     for (Eigen::Vector3d& p : mesh.positions) {
         const Eigen::Vector3d q(1.3 * p.x(), 0.8 * p.y(), 1.1 * p.z());
         p = q + 0.04 * Eigen::Vector3d(std::sin(3 * q.y()), std::cos(2 * q.x()) * q.z(),
-                                        std::sin(2 * q.z() + q.x()));
+                                       std::sin(2 * q.z() + q.x()));
     }
     return mesh;
 }
@@ -97,16 +97,14 @@ std::vector<fs::path> balloonFramePaths() {
 /// Radius of balloon frame k, as `plimsoll samples` generates it.
 double balloonRadius(int k) { return 0.3 * std::pow(2.0, k / (kBalloonFrames - 1.0)); }
 
-
 TEST(PieceTable, RecordingChangesNoEntry) {
     // Shared texels (box charts at N = 16), sub-texel cells (stretch limit 1) and the plain case.
     const struct {
         TriangleMesh mesh;
         int size;
         double maxTexelStretch;
-    } cases[] = {{makeBox({1.0, 0.5, 0.25}), 16, 4.0},
-                 {makeBuoy(), 64, 1.0},
-                 {makeBuoy(), 256, 4.0}};
+    } cases[] = {
+        {makeBox({1.0, 0.5, 0.25}), 16, 4.0}, {makeBuoy(), 64, 1.0}, {makeBuoy(), 256, 4.0}};
     for (const auto& c : cases) {
         SCOPED_TRACE(c.mesh.source + " at " + std::to_string(c.size));
         const BakeWithPieces with = bakeWithPieces(c.mesh, c.size, c.maxTexelStretch);
@@ -231,8 +229,7 @@ TEST(MeshFrames, OtherTopologyOrUvsAreRefusedNamingTheFile) {
         << frames.error().message;
     EXPECT_NE(frames.error().message.find("720 triangles"), std::string::npos)
         << frames.error().message;
-    EXPECT_NE(frames.error().message.find("has 960"), std::string::npos)
-        << frames.error().message;
+    EXPECT_NE(frames.error().message.find("has 960"), std::string::npos) << frames.error().message;
 
     TriangleMesh shifted = makeUvSphere(0.4, 32, 16);
     for (Eigen::Vector2d& uv : shifted.uvs) uv.x() = 0.5 * uv.x();

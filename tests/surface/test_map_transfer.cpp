@@ -39,12 +39,17 @@ PaintedMap paint(const TriangleMesh& mesh, const Field& field, int size) {
             const Eigen::Vector2d& uv = mesh.uvs[t[static_cast<std::size_t>(k)]];
             p[static_cast<std::size_t>(k)] = {uv.x() * size - 0.5, (1.0 - uv.y()) * size - 0.5};
         }
-        const double area = (p[1] - p[0]).x() * (p[2] - p[0]).y() - (p[1] - p[0]).y() * (p[2] - p[0]).x();
+        const double area =
+            (p[1] - p[0]).x() * (p[2] - p[0]).y() - (p[1] - p[0]).y() * (p[2] - p[0]).x();
         if (area == 0) continue;
-        const int x0 = std::max(0, static_cast<int>(std::floor(std::min({p[0].x(), p[1].x(), p[2].x()}))));
-        const int x1 = std::min(size - 1, static_cast<int>(std::ceil(std::max({p[0].x(), p[1].x(), p[2].x()}))));
-        const int y0 = std::max(0, static_cast<int>(std::floor(std::min({p[0].y(), p[1].y(), p[2].y()}))));
-        const int y1 = std::min(size - 1, static_cast<int>(std::ceil(std::max({p[0].y(), p[1].y(), p[2].y()}))));
+        const int x0 =
+            std::max(0, static_cast<int>(std::floor(std::min({p[0].x(), p[1].x(), p[2].x()}))));
+        const int x1 = std::min(
+            size - 1, static_cast<int>(std::ceil(std::max({p[0].x(), p[1].x(), p[2].x()}))));
+        const int y0 =
+            std::max(0, static_cast<int>(std::floor(std::min({p[0].y(), p[1].y(), p[2].y()}))));
+        const int y1 = std::min(
+            size - 1, static_cast<int>(std::ceil(std::max({p[0].y(), p[1].y(), p[2].y()}))));
         for (int y = y0; y <= y1; ++y) {
             for (int x = x0; x <= x1; ++x) {
                 const Eigen::Vector2d q(x, y);
@@ -105,14 +110,14 @@ double exactIntegral(const TriangleMesh& mesh, const Field& field) {
     return sum;
 }
 
-void expectRoundTripKeepsTheIntegral(const TriangleMesh& mesh, const Field& field,
-                                     bool linear) {
+void expectRoundTripKeepsTheIntegral(const TriangleMesh& mesh, const Field& field, bool linear) {
     SCOPED_TRACE(mesh.source);
     constexpr int kMapSize = 512;
     const PaintedMap original = paint(mesh, field, kMapSize);
     Result<PhysicsAtlas> atlas = generatePhysicsAtlas(mesh, {});
     ASSERT_TRUE(atlas.ok()) << atlas.error().message;
-    Result<PaintedMap> onAtlas = transferPaintedMap(original, mesh, atlas->mesh, kMapSize, kMapSize);
+    Result<PaintedMap> onAtlas =
+        transferPaintedMap(original, mesh, atlas->mesh, kMapSize, kMapSize);
     ASSERT_TRUE(onAtlas.ok()) << onAtlas.error().message;
     Result<PaintedMap> back = transferPaintedMap(*onAtlas, atlas->mesh, mesh, kMapSize, kMapSize);
     ASSERT_TRUE(back.ok()) << back.error().message;
@@ -139,7 +144,8 @@ TEST(MapTransfer, RoundTripThroughAGeneratedAtlasKeepsTheIntegral) {
     expectRoundTripKeepsTheIntegral(sphere, patch, false);
     // A real mesh's generated atlas too; left to the normal build in the sanitized one (14k
     // triangles: most of this test's minute there, through the same code as the sphere's).
-    const auto blub = test::kSanitizedBuild ? std::nullopt : test::sharedMesh("blub_triangulated.obj");
+    const auto blub =
+        test::kSanitizedBuild ? std::nullopt : test::sharedMesh("blub_triangulated.obj");
     if (blub) {
         Result<TriangleMesh> mesh = loadMesh(*blub);
         ASSERT_TRUE(mesh.ok());
@@ -174,9 +180,10 @@ TEST(MapTransfer, NearestSurfacePointMatchesBruteForce) {
         for (const Triangle& t : mesh.triangles) {
             for (int a = 0; a <= 12; ++a) {
                 for (int b = 0; a + b <= 12; ++b) {
-                    const Eigen::Vector3d p = mesh.positions[t[0]] +
-                                              a / 12.0 * (mesh.positions[t[1]] - mesh.positions[t[0]]) +
-                                              b / 12.0 * (mesh.positions[t[2]] - mesh.positions[t[0]]);
+                    const Eigen::Vector3d p =
+                        mesh.positions[t[0]] +
+                        a / 12.0 * (mesh.positions[t[1]] - mesh.positions[t[0]]) +
+                        b / 12.0 * (mesh.positions[t[2]] - mesh.positions[t[0]]);
                     best = std::min(best, (p - q).norm());
                 }
             }
@@ -234,9 +241,9 @@ TEST(MapTransfer, CommandLineGeneratesAnAtlasAndMovesAMapOntoIt) {
     const double before = surfaceIntegral(painted, *mesh);
     EXPECT_NEAR(surfaceIntegral(*onAtlas, *atlasMesh), before, 0.01 * before);
     // Bad input names the file.
-    const CommandOutput bad = runPlimsoll("atlas transfer-map /no/such.png --from '" + sphere +
-                                          "' --to '" + atlas + "' --out '" +
-                                          (dir / "x.png").string() + "'");
+    const CommandOutput bad =
+        runPlimsoll("atlas transfer-map /no/such.png --from '" + sphere + "' --to '" + atlas +
+                    "' --out '" + (dir / "x.png").string() + "'");
     EXPECT_NE(bad.exitCode, 0);
     EXPECT_NE(bad.err.find("/no/such.png"), std::string::npos) << bad.err;
 }

@@ -67,13 +67,13 @@ typedef struct plimsoll_bundle plimsoll_bundle;
 typedef struct plimsoll_instance plimsoll_instance;
 
 typedef struct plimsoll_pose {
-    double position[3];     /* world position of the object's origin, m */
-    double orientation[4];  /* unit quaternion w, x, y, z */
+    double position[3];    /* world position of the object's origin, m */
+    double orientation[4]; /* unit quaternion w, x, y, z */
 } plimsoll_pose;
 
 typedef struct plimsoll_velocity {
-    double linear[3];       /* of the centre of mass, m/s */
-    double angular[3];      /* rad/s */
+    double linear[3];  /* of the centre of mass, m/s */
+    double angular[3]; /* rad/s */
 } plimsoll_velocity;
 
 /* Water height y at world (x, z) and time t (s). */
@@ -100,7 +100,7 @@ typedef struct plimsoll_water {
      * and a body wholly above max_height costs nothing. */
     plimsoll_heights_fn heights;
     int has_bounds;
-    double min_height, max_height;       /* m */
+    double min_height, max_height; /* m */
     /* Since 2.0 (zero: as before). Every point one evaluation needs the water's velocity at
      * (one per wet tile, for drag) in one call after its traversal; used instead of `velocity`
      * when set. */
@@ -108,30 +108,30 @@ typedef struct plimsoll_water {
 } plimsoll_water;
 
 typedef struct plimsoll_fluid {
-    double density;                /* kg/m^3 */
-    double gravity;                /* m/s^2, along -y */
-    double drag_coefficient;       /* C_d */
-    double friction_coefficient;   /* C_f, 0 = off */
+    double density;              /* kg/m^3 */
+    double gravity;              /* m/s^2, along -y */
+    double drag_coefficient;     /* C_d */
+    double friction_coefficient; /* C_f, 0 = off */
 } plimsoll_fluid;
 
 typedef struct plimsoll_forces {
-    double submerged_volume;       /* m^3 */
-    double center_of_buoyancy[3];  /* world, m */
-    double force[3];               /* Archimedes, N */
-    double torque[3];              /* about the centre of mass, N m */
+    double submerged_volume;      /* m^3 */
+    double center_of_buoyancy[3]; /* world, m */
+    double force[3];              /* Archimedes, N */
+    double torque[3];             /* about the centre of mass, N m */
     double pressure_force[3];
     double pressure_torque[3];
     double drag_force[3];
     double drag_torque[3];
-    double wetted_area;            /* m^2 */
+    double wetted_area; /* m^2 */
     size_t submerged_samples;
 } plimsoll_forces;
 
 typedef struct plimsoll_mass {
-    double mass;                   /* kg */
-    double volume;                 /* m^3 */
-    double center_of_mass[3];      /* object space, m */
-    double inertia[3][3];          /* about the centre of mass, object axes, kg m^2 */
+    double mass;              /* kg */
+    double volume;            /* m^3 */
+    double center_of_mass[3]; /* object space, m */
+    double inertia[3][3];     /* about the centre of mass, object axes, kg m^2 */
 } plimsoll_mass;
 
 /* The message of the last failure on this thread: every other call clears it when it succeeds
@@ -201,11 +201,11 @@ PLIMSOLL_RUNTIME_API plimsoll_bundle* plimsoll_bundle_load_callbacks(
 /* What one body costs. Set struct_size to sizeof(plimsoll_bundle_size) before the call. */
 typedef struct plimsoll_bundle_size {
     size_t struct_size;
-    uint64_t file_bytes;    /* what ships: the manifest and every file it lists */
-    uint64_t memory_bytes;  /* what the loaded asset holds: sample list, water graph layout and,
-                               once the first evaluation built them, the evaluation tiles */
-    size_t samples;         /* entries of the sample list */
-    size_t graph_nodes;     /* water graph nodes (0: none) */
+    uint64_t file_bytes;   /* what ships: the manifest and every file it lists */
+    uint64_t memory_bytes; /* what the loaded asset holds: sample list, water graph layout and,
+                              once the first evaluation built them, the evaluation tiles */
+    size_t samples;        /* entries of the sample list */
+    size_t graph_nodes;    /* water graph nodes (0: none) */
 } plimsoll_bundle_size;
 
 PLIMSOLL_RUNTIME_API int plimsoll_bundle_size_query(const plimsoll_bundle* bundle,
@@ -267,10 +267,10 @@ PLIMSOLL_RUNTIME_API int plimsoll_bundle_bounds(const plimsoll_bundle* bundle, d
  * inside, at the water's centre of mass. Forces at the centre of mass, world axes; torques
  * about it. */
 typedef struct plimsoll_load {
-    double force[3];          /* N */
-    double torque[3];         /* N m */
-    double water_mass;        /* kg of water inside (its weight is in force) */
-    plimsoll_forces forces;   /* the evaluation the load was made of */
+    double force[3];        /* N */
+    double torque[3];       /* N m */
+    double water_mass;      /* kg of water inside (its weight is in force) */
+    plimsoll_forces forces; /* the evaluation the load was made of */
 } plimsoll_load;
 
 PLIMSOLL_RUNTIME_DEPRECATED("plimsoll_instance_water_load")
@@ -283,8 +283,8 @@ PLIMSOLL_RUNTIME_API int plimsoll_bundle_water_load(const plimsoll_bundle* bundl
 
 /* A body on its own (no contacts). */
 typedef struct plimsoll_body_state {
-    plimsoll_pose pose;          /* the object origin's world pose */
-    plimsoll_velocity velocity;  /* of the centre of mass */
+    plimsoll_pose pose;         /* the object origin's world pose */
+    plimsoll_velocity velocity; /* of the centre of mass */
 } plimsoll_body_state;
 
 /* One semi-implicit Euler step of dt: the water graph steps, then gravity (fluid->gravity
@@ -396,9 +396,9 @@ PLIMSOLL_RUNTIME_API size_t plimsoll_simulation_level(const plimsoll_simulation*
  * filters per mode. Body axes about the centre of mass; modes surge x, heave y, sway z, roll x,
  * yaw y, pitch z. */
 typedef struct plimsoll_radiation_info {
-    double rest_volume;                /* m^3 displaced at rest */
-    double added_mass_infinity[6][6];  /* kg, kg m, kg m^2 */
-    int memory_terms[6];               /* filters per mode */
+    double rest_volume;               /* m^3 displaced at rest */
+    double added_mass_infinity[6][6]; /* kg, kg m, kg m^2 */
+    int memory_terms[6];              /* filters per mode */
 } plimsoll_radiation_info;
 
 /* 1 and `out` filled when the body was exported with radiation; 0 otherwise (the last error
@@ -420,12 +420,12 @@ PLIMSOLL_RUNTIME_API void plimsoll_radiation_memory_destroy(plimsoll_radiation_m
  * of mass) to apply; when share > previous_share keep the body's momentum across the change,
  * otherwise its velocity. After the step, advance() with the new pose and velocity. */
 typedef struct plimsoll_radiation_load {
-    double share;                /* 0..1: 1 while half the resting displacement is under water */
-    double previous_share;       /* the previous begin()'s share; -1 on the first call */
-    double added_mass[3][3];     /* kg, body axes */
-    double added_inertia[3][3];  /* kg m^2, body axes */
-    double force[3];             /* N, world axes */
-    double torque[3];            /* N m, world axes */
+    double share;               /* 0..1: 1 while half the resting displacement is under water */
+    double previous_share;      /* the previous begin()'s share; -1 on the first call */
+    double added_mass[3][3];    /* kg, body axes */
+    double added_inertia[3][3]; /* kg m^2, body axes */
+    double force[3];            /* N, world axes */
+    double torque[3];           /* N m, world axes */
 } plimsoll_radiation_load;
 PLIMSOLL_RUNTIME_DEPRECATED("plimsoll_instance_radiation_begin")
 PLIMSOLL_RUNTIME_API int plimsoll_radiation_memory_begin(plimsoll_radiation_memory* memory,
@@ -549,13 +549,13 @@ PLIMSOLL_RUNTIME_API int plimsoll_instance_wake(plimsoll_instance* instance);
 typedef void plimsoll_task_fn(int begin, int end, uint32_t worker, void* task_context);
 
 typedef struct plimsoll_batch_desc {
-    size_t struct_size;     /* sizeof(plimsoll_batch_desc) */
-    int thread_count;       /* own pool: 0 = the machine's hardware threads, 1 = the caller only */
+    size_t struct_size; /* sizeof(plimsoll_batch_desc) */
+    int thread_count;   /* own pool: 0 = the machine's hardware threads, 1 = the caller only */
     void* (*enqueue)(plimsoll_task_fn* task, int item_count, int min_range, void* task_context,
-                     void* user_context);       /* NULL: the own pool */
+                     void* user_context); /* NULL: the own pool */
     void (*finish)(void* user_task, void* user_context);
     void* user_context;
-    int worker_count;       /* workers the caller's task system may run at once */
+    int worker_count; /* workers the caller's task system may run at once */
 } plimsoll_batch_desc;
 
 typedef struct plimsoll_batch plimsoll_batch;

@@ -82,8 +82,8 @@ std::string normalPath(const std::string& path) {
 }
 
 std::string tooLarge(const std::string& full, std::uint64_t bytes, std::uint64_t maxBytes) {
-    return full + ": " + std::to_string(bytes) + " bytes, more than the " + std::to_string(maxBytes) +
-           " a bundle file may have";
+    return full + ": " + std::to_string(bytes) + " bytes, more than the " +
+           std::to_string(maxBytes) + " a bundle file may have";
 }
 const char* const kShrank = ": read error (the file shrank while read?)";
 
@@ -99,14 +99,16 @@ bool readInside(const std::string& folder, const std::string& relative, std::uin
     }
     int dir = ::open(folder.c_str(), O_RDONLY | O_DIRECTORY | O_CLOEXEC);
     if (dir < 0) {
-        error = errno == ENOENT ? full + ": missing (there is no folder " + folder + ")"
-                                : folder + ": cannot open the bundle folder: " + std::strerror(errno);
+        error = errno == ENOENT
+                    ? full + ": missing (there is no folder " + folder + ")"
+                    : folder + ": cannot open the bundle folder: " + std::strerror(errno);
         return false;
     }
     int fd = -1;
     for (std::size_t start = 0;;) {
         const std::size_t slash = relative.find('/', start);
-        const std::string part = relative.substr(start, slash == std::string::npos ? slash : slash - start);
+        const std::string part =
+            relative.substr(start, slash == std::string::npos ? slash : slash - start);
         const bool last = slash == std::string::npos;
         const int next = ::openat(dir, part.c_str(),
                                   last ? O_RDONLY | O_NONBLOCK | O_NOFOLLOW | O_CLOEXEC | O_NOCTTY
@@ -114,10 +116,11 @@ bool readInside(const std::string& folder, const std::string& relative, std::uin
         const int openError = errno;
         ::close(dir);
         if (next < 0) {
-            error = full + (openError == ENOENT ? ": missing"
-                            : openError == ELOOP || openError == ENOTDIR
-                                ? ": is (or passes through) a symbolic link, not a file of the bundle"
-                                : std::string(": cannot be opened: ") + std::strerror(openError));
+            error =
+                full + (openError == ENOENT ? ": missing"
+                        : openError == ELOOP || openError == ENOTDIR
+                            ? ": is (or passes through) a symbolic link, not a file of the bundle"
+                            : std::string(": cannot be opened: ") + std::strerror(openError));
             return false;
         }
         if (last) {
@@ -159,7 +162,9 @@ BundleSource folderSource(std::string folder) {
     BundleSource source;
     source.name = folder;
     source.read = [folder](const std::string& relative, std::uint64_t maxBytes, std::string& bytes,
-                           std::string& error) { return readInside(folder, relative, maxBytes, bytes, error); };
+                           std::string& error) {
+        return readInside(folder, relative, maxBytes, bytes, error);
+    };
     return source;
 }
 
@@ -228,11 +233,13 @@ public:
         if (!v && required) fail(path, "missing required member \"" + key + "\"");
         return v;
     }
-    bool number(const Value& object, const std::string& path, const std::string& key,
-                double& out, bool required = true) {
+    bool number(const Value& object, const std::string& path, const std::string& key, double& out,
+                bool required = true) {
         const Value* v = member(object, path, key, required);
         if (!v) return !required;
-        if (!v->isNumber()) return fail(path + "." + key, std::string("expected a number, got ") + json::kindName(v->kind));
+        if (!v->isNumber())
+            return fail(path + "." + key,
+                        std::string("expected a number, got ") + json::kindName(v->kind));
         out = v->number;
         return true;
     }
@@ -241,7 +248,8 @@ public:
         double d = 0;
         if (!number(object, path, key, d, required)) return false;
         if (!object.find(key)) return true;
-        if (d != std::floor(d) || std::abs(d) > 9.0e15) return fail(path + "." + key, "expected an integer");
+        if (d != std::floor(d) || std::abs(d) > 9.0e15)
+            return fail(path + "." + key, "expected an integer");
         out = static_cast<long long>(d);
         return true;
     }
@@ -249,7 +257,9 @@ public:
                 std::string& out, bool required = true) {
         const Value* v = member(object, path, key, required);
         if (!v) return !required;
-        if (!v->isString()) return fail(path + "." + key, std::string("expected a string, got ") + json::kindName(v->kind));
+        if (!v->isString())
+            return fail(path + "." + key,
+                        std::string("expected a string, got ") + json::kindName(v->kind));
         out = v->string;
         return true;
     }
@@ -257,7 +267,9 @@ public:
                  bool required = true) {
         const Value* v = member(object, path, key, required);
         if (!v) return !required;
-        if (!v->isBool()) return fail(path + "." + key, std::string("expected true or false, got ") + json::kindName(v->kind));
+        if (!v->isBool())
+            return fail(path + "." + key,
+                        std::string("expected true or false, got ") + json::kindName(v->kind));
         out = v->boolean;
         return true;
     }
@@ -288,10 +300,12 @@ bool readRadiation(Reader& r, const Value& v, const std::string& path, Radiation
     const Value* added = r.member(v, path, "added_mass_infinity");
     if (!added) return false;
     const std::string addedPath = path + ".added_mass_infinity";
-    if (!added->isArray() || added->array.size() != 6) return r.fail(addedPath, "expected 6 rows of 6 numbers");
+    if (!added->isArray() || added->array.size() != 6)
+        return r.fail(addedPath, "expected 6 rows of 6 numbers");
     for (int i = 0; i < 6; ++i) {
         const Value& row = added->array[i];
-        if (!row.isArray() || row.array.size() != 6) return r.fail(addedPath, "expected 6 rows of 6 numbers");
+        if (!row.isArray() || row.array.size() != 6)
+            return r.fail(addedPath, "expected 6 rows of 6 numbers");
         for (int j = 0; j < 6; ++j) {
             if (!row.array[j].isNumber() || !std::isfinite(row.array[j].number))
                 return r.fail(addedPath + "[" + std::to_string(i) + "][" + std::to_string(j) + "]",
@@ -305,7 +319,8 @@ bool readRadiation(Reader& r, const Value& v, const std::string& path, Radiation
     for (int i = 0; i < 6; ++i) largest = std::max(largest, std::abs(out.addedMassInfinity[i][i]));
     for (int i = 0; i < 6; ++i) {
         if (out.addedMassInfinity[i][i] < -1e-6 * largest)
-            return r.fail(addedPath + "[" + std::to_string(i) + "][" + std::to_string(i) + "]", "must be >= 0");
+            return r.fail(addedPath + "[" + std::to_string(i) + "][" + std::to_string(i) + "]",
+                          "must be >= 0");
         for (int j = 0; j < i; ++j) {
             const double a = out.addedMassInfinity[i][j], b = out.addedMassInfinity[j][i];
             if (std::abs(a - b) > 1e-9 * (std::abs(a) + std::abs(b)) + 1e-300)
@@ -321,17 +336,20 @@ bool readRadiation(Reader& r, const Value& v, const std::string& path, Radiation
         const Value& terms = memory->array[mode];
         if (!terms.isArray()) return r.fail(modePath, "expected a list of filters");
         if (terms.array.size() > format::kMaxMemoryTerms)
-            return r.fail(modePath, std::to_string(terms.array.size()) + " filters, more than the limit " +
+            return r.fail(modePath, std::to_string(terms.array.size()) +
+                                        " filters, more than the limit " +
                                         std::to_string(format::kMaxMemoryTerms));
         for (std::size_t k = 0; k < terms.array.size(); ++k) {
             const std::string termPath = modePath + "[" + std::to_string(k) + "]";
             const Value& term = terms.array[k];
             if (!term.isObject()) return r.fail(termPath, "expected an object");
             RadiationTerm t;
-            if (!r.number(term, termPath, "gain", t.gain) || !r.number(term, termPath, "frequency", t.frequency) ||
+            if (!r.number(term, termPath, "gain", t.gain) ||
+                !r.number(term, termPath, "frequency", t.frequency) ||
                 !r.number(term, termPath, "damping_ratio", t.dampingRatio))
                 return false;
-            if (!(t.gain >= 0) || !std::isfinite(t.gain)) return r.fail(termPath + ".gain", "must be finite and >= 0");
+            if (!(t.gain >= 0) || !std::isfinite(t.gain))
+                return r.fail(termPath + ".gain", "must be finite and >= 0");
             if (!(t.frequency > 0) || !std::isfinite(t.frequency))
                 return r.fail(termPath + ".frequency", "must be finite and > 0");
             if (!(t.dampingRatio > 0) || !std::isfinite(t.dampingRatio))
@@ -386,13 +404,14 @@ bool readGraph(const std::string& path, const std::string& text, std::vector<Gra
     const Value* nodeList = r.member(root, "$", "nodes");
     const Value* pipeList = r.member(root, "$", "pipes");
     if (!nodeList || !pipeList) return false;
-    if (!nodeList->isArray() || nodeList->array.empty()) return r.fail("$.nodes", "expected a non-empty array");
+    if (!nodeList->isArray() || nodeList->array.empty())
+        return r.fail("$.nodes", "expected a non-empty array");
     if (!pipeList->isArray()) return r.fail("$.pipes", "expected an array");
     if (nodeList->array.size() > kMaxGraphNodes || pipeList->array.size() > kMaxGraphPipes)
         return r.fail("$", std::to_string(nodeList->array.size()) + " nodes and " +
                                std::to_string(pipeList->array.size()) + " pipes, more than the " +
-                               std::to_string(kMaxGraphNodes) + " and " + std::to_string(kMaxGraphPipes) +
-                               " a graph may have");
+                               std::to_string(kMaxGraphNodes) + " and " +
+                               std::to_string(kMaxGraphPipes) + " a graph may have");
     // Ids to indices: a lookup per pipe, not a scan (100000 nodes must load in seconds).
     std::unordered_map<std::string, int> index;
     for (std::size_t i = 0; i < nodeList->array.size(); ++i) {
@@ -402,17 +421,20 @@ bool readGraph(const std::string& path, const std::string& text, std::vector<Gra
         GraphNode n;
         if (!r.string(v, at, "id", n.id) || !r.string(v, at, "name", n.name, false) ||
             !r.vec3(v, at, "position", n.position) || !r.number(v, at, "capacity", n.capacity) ||
-            !r.number(v, at, "water", n.water, false) || !r.boolean(v, at, "sealed", n.sealed, false) ||
-            !r.vec3(v, at, "box", n.box, false))
+            !r.number(v, at, "water", n.water, false) ||
+            !r.boolean(v, at, "sealed", n.sealed, false) || !r.vec3(v, at, "box", n.box, false))
             return false;
         if (n.id.empty()) return r.fail(at + ".id", "must not be empty");
         if (!index.emplace(n.id, static_cast<int>(nodes.size())).second)
             return r.fail(at + ".id", "\"" + n.id + "\" is used twice");
-        if (!(n.capacity > 0) || !std::isfinite(n.capacity)) return r.fail(at + ".capacity", "must be > 0");
-        if (!(n.water >= 0) || !(n.water <= n.capacity)) return r.fail(at + ".water", "must be in 0..capacity");
+        if (!(n.capacity > 0) || !std::isfinite(n.capacity))
+            return r.fail(at + ".capacity", "must be > 0");
+        if (!(n.water >= 0) || !(n.water <= n.capacity))
+            return r.fail(at + ".water", "must be in 0..capacity");
         if (!finite(n.position)) return r.fail(at + ".position", "must be finite");
         const bool zeroBox = n.box.x == 0 && n.box.y == 0 && n.box.z == 0;
-        if (!zeroBox && !(n.isBox() && finite(n.box))) return r.fail(at + ".box", "edges must all be > 0");
+        if (!zeroBox && !(n.isBox() && finite(n.box)))
+            return r.fail(at + ".box", "edges must all be > 0");
         nodes.push_back(std::move(n));
     }
     for (std::size_t i = 0; i < pipeList->array.size(); ++i) {
@@ -421,15 +443,16 @@ bool readGraph(const std::string& path, const std::string& text, std::vector<Gra
         if (!v.isObject()) return r.fail(at, "expected an object");
         GraphPipe p;
         if (!r.string(v, at, "a", p.a) || !r.string(v, at, "b", p.b) ||
-            !r.number(v, at, "radius", p.radius, false) || !r.number(v, at, "length", p.length, false) ||
-            !r.boolean(v, at, "open", p.open, false))
+            !r.number(v, at, "radius", p.radius, false) ||
+            !r.number(v, at, "length", p.length, false) || !r.boolean(v, at, "open", p.open, false))
             return false;
         if (const auto a = index.find(p.a); a != index.end()) p.nodeA = a->second;
         if (const auto b = index.find(p.b); b != index.end()) p.nodeB = b->second;
         if (p.nodeA < 0 || p.nodeB < 0)
             return r.fail(at, "no node \"" + (p.nodeA < 0 ? p.a : p.b) + "\"");
         if (p.nodeA == p.nodeB) return r.fail(at, "joins a node to itself");
-        if (!(p.radius > 0) || !std::isfinite(p.radius) || !(p.length >= 0) || !std::isfinite(p.length))
+        if (!(p.radius > 0) || !std::isfinite(p.radius) || !(p.length >= 0) ||
+            !std::isfinite(p.length))
             return r.fail(at, "radius must be > 0 and length >= 0");
         if (!(p.length > 0) && !(norm(nodes[p.nodeA].position - nodes[p.nodeB].position) > 0))
             return r.fail(at, "its nodes coincide, so it needs a length > 0");
@@ -876,7 +899,8 @@ private:
             return r_.fail(at + ".flow", "unknown flow model \"" + flow + "\"");
         if (!(seed >= 0) || !(seed <= 9.0e15))
             return r_.fail(at + ".seed", "must be an integer in 0..9e15");
-        for (const double v : {gs.permeability, gs.inflowRate, gs.dischargeCoefficient, gs.diffusionPressure}) {
+        for (const double v :
+             {gs.permeability, gs.inflowRate, gs.dischargeCoefficient, gs.diffusionPressure}) {
             if (!(v >= 0) || !std::isfinite(v))
                 return r_.fail(at,
                                "permeability, inflow_rate, discharge_coefficient and "
@@ -924,7 +948,8 @@ private:
         const std::size_t nodeCount = graph.nodes_.size();
         std::vector<plimsoll_eval::NodeShape> shapes;
         for (const GraphNode& n : graph.nodes_)
-            shapes.push_back({{n.position.x, n.position.y, n.position.z}, {n.box.x, n.box.y, n.box.z}});
+            shapes.push_back(
+                {{n.position.x, n.position.y, n.position.z}, {n.box.x, n.box.y, n.box.z}});
         const plimsoll_eval::NearestNodeIndex nearest(std::move(shapes));
         const std::vector<Sample>& samples = b_.samples_;
         graph.sampleNodes_.resize(samples.size());
@@ -936,7 +961,8 @@ private:
             if (!texelNodes.empty() && !shared) {
                 const auto size = static_cast<std::uint32_t>(size_);
                 const std::uint32_t x = s.texel % size, y = s.texel / size;
-                const std::uint32_t v = texelNodes[(static_cast<std::size_t>(size) - 1 - y) * size + x];
+                const std::uint32_t v =
+                    texelNodes[(static_cast<std::size_t>(size) - 1 - y) * size + x];
                 if (v == 0 || v > nodeCount) {
                     error_ = folder_ + "/" + texelNodesFile + ": texel (" + std::to_string(x) +
                              ", " + std::to_string(y) + ") is covered but maps to " +
@@ -1021,7 +1047,8 @@ private:
 
 namespace {
 
-std::unique_ptr<Bundle> loadFrom(const BundleSource& source, std::string& error, const LoadOptions& options) {
+std::unique_ptr<Bundle> loadFrom(const BundleSource& source, std::string& error,
+                                 const LoadOptions& options) {
     auto bundle = std::make_unique<Bundle>();
     error.clear();
     try {
@@ -1099,8 +1126,11 @@ std::unique_ptr<Bundle> loadBundleFromMemory(const std::vector<MemoryFile>& file
         const auto found = byPath.find(path);
         return found == byPath.end() ? nullptr : new Cursor{found->second};
     };
-    callbacks.size = [](void* c) { return static_cast<long long>(static_cast<Cursor*>(c)->file->size); };
-    callbacks.read = [](void* c, std::uint64_t offset, void* buffer, std::size_t bytes) -> long long {
+    callbacks.size = [](void* c) {
+        return static_cast<long long>(static_cast<Cursor*>(c)->file->size);
+    };
+    callbacks.read = [](void* c, std::uint64_t offset, void* buffer,
+                        std::size_t bytes) -> long long {
         const MemoryFile& f = *static_cast<Cursor*>(c)->file;
         if (offset >= f.size) return 0;
         const std::size_t n = std::min<std::uint64_t>(bytes, f.size - offset);
@@ -1122,10 +1152,13 @@ std::uint64_t Bundle::memoryBytes() const {
     return bytes + fastBytes();
 }
 
-Version bundleSchemaVersion() { return {format::kBundleSchemaMajor, format::kBundleSchemaMinor, 0}; }
+Version bundleSchemaVersion() {
+    return {format::kBundleSchemaMajor, format::kBundleSchemaMinor, 0};
+}
 
 Version runtimeVersion() {
-    return {PLIMSOLL_RUNTIME_VERSION_MAJOR, PLIMSOLL_RUNTIME_VERSION_MINOR, PLIMSOLL_RUNTIME_VERSION_PATCH};
+    return {PLIMSOLL_RUNTIME_VERSION_MAJOR, PLIMSOLL_RUNTIME_VERSION_MINOR,
+            PLIMSOLL_RUNTIME_VERSION_PATCH};
 }
 
 }  // namespace plimsoll_runtime

@@ -82,7 +82,8 @@ Water toWater(const plimsoll_water* w, bool* nonFinite = nullptr) {
     if (w->heights) {
         const plimsoll_heights_fn fn = w->heights;
         void* user = w->user;
-        water.heights = [fn, user, nonFinite](std::size_t n, const double* x, const double* z, double t, double* out) {
+        water.heights = [fn, user, nonFinite](std::size_t n, const double* x, const double* z,
+                                              double t, double* out) {
             fn(user, n, x, z, t, out);
             for (std::size_t i = 0; i < n && nonFinite; ++i) {
                 if (!std::isfinite(out[i])) *nonFinite = true;
@@ -190,7 +191,8 @@ bool checkOrientation(const char* call, const double q[4]) {
 }
 bool checkPose(const char* call, const plimsoll_pose* pose) {
     if (!pose) return refuse(call, "pose is NULL");
-    if (!allFinite(pose->position, 3)) return refuse(call, "pose position has a NaN or Inf component");
+    if (!allFinite(pose->position, 3))
+        return refuse(call, "pose position has a NaN or Inf component");
     return checkOrientation(call, pose->orientation);
 }
 bool checkWater(const char* call, const plimsoll_water* water) {
@@ -207,12 +209,14 @@ bool checkTime(const char* call, double time) {
 }
 
 bool checkFluid(const char* call, const plimsoll_fluid* fluid) {
-    if (fluid && (!(fluid->density > 0) || !std::isfinite(fluid->density) || !(fluid->gravity >= 0) ||
-                  !std::isfinite(fluid->gravity) || !(fluid->drag_coefficient >= 0) ||
-                  !std::isfinite(fluid->drag_coefficient) || !(fluid->friction_coefficient >= 0) ||
-                  !std::isfinite(fluid->friction_coefficient)))
-        return refuse(call, "fluid: density must be finite and > 0, gravity and the "
-                            "coefficients finite and >= 0");
+    if (fluid &&
+        (!(fluid->density > 0) || !std::isfinite(fluid->density) || !(fluid->gravity >= 0) ||
+         !std::isfinite(fluid->gravity) || !(fluid->drag_coefficient >= 0) ||
+         !std::isfinite(fluid->drag_coefficient) || !(fluid->friction_coefficient >= 0) ||
+         !std::isfinite(fluid->friction_coefficient)))
+        return refuse(call,
+                      "fluid: density must be finite and > 0, gravity and the "
+                      "coefficients finite and >= 0");
     return true;
 }
 
@@ -231,12 +235,12 @@ plimsoll_fluid defaultFluid(const Bundle& bundle) {
 
 /// Forces for checked arguments into `out`: null, or why the result is refused. Sets no
 /// error, so that batch workers on other threads can call it.
-const char* computeForces(const Bundle& bundle, const plimsoll_pose& pose, const plimsoll_velocity* velocity,
-                          const plimsoll_water* water, const plimsoll_fluid& fluid, double time,
-                          plimsoll_forces& out) {
+const char* computeForces(const Bundle& bundle, const plimsoll_pose& pose,
+                          const plimsoll_velocity* velocity, const plimsoll_water* water,
+                          const plimsoll_fluid& fluid, double time, plimsoll_forces& out) {
     bool nonFiniteWater = false;
-    const Forces r = bundle.evaluate(toPose(pose), toVelocity(velocity), toWater(water, &nonFiniteWater),
-                                     toFluid(fluid), time);
+    const Forces r = bundle.evaluate(toPose(pose), toVelocity(velocity),
+                                     toWater(water, &nonFiniteWater), toFluid(fluid), time);
     if (nonFiniteWater) return "the water height or velocity callback returned NaN or Inf";
     toC(r, out);
     const double* sums[] = {out.center_of_buoyancy, out.force, out.torque};
@@ -305,8 +309,10 @@ bool checkBatch(const char* call, const plimsoll_batch* batch, std::size_t count
                 const plimsoll_fluid* fluid, double time) {
     if (!batch || (count > 0 && (!bodies || !poses || !out)))
         return refuse(call, "batch, bodies, poses or out is NULL");
-    if (count > static_cast<std::size_t>(INT32_MAX)) return refuse(call, "more than 2^31 - 1 bodies");
-    if (!checkWater(call, water) || !checkTime(call, time) || !checkFluid(call, fluid)) return false;
+    if (count > static_cast<std::size_t>(INT32_MAX))
+        return refuse(call, "more than 2^31 - 1 bodies");
+    if (!checkWater(call, water) || !checkTime(call, time) || !checkFluid(call, fluid))
+        return false;
     return checkBodies(call, count, bodies, poses, velocities);
 }
 
@@ -345,7 +351,8 @@ bool runBatch(plimsoll_batch& batch, const char* call, std::size_t count, Body&&
         }
         if (failures[i]) {
             std::size_t seen = firstFailure.load();
-            while (static_cast<std::size_t>(i) < seen && !firstFailure.compare_exchange_weak(seen, i)) {
+            while (static_cast<std::size_t>(i) < seen &&
+                   !firstFailure.compare_exchange_weak(seen, i)) {
             }
         }
     };
@@ -469,7 +476,8 @@ plimsoll_bundle* plimsoll_bundle_load_memory(const plimsoll_memory_file* files, 
         list[i] = {files[i].path, files[i].data, files[i].size};
     }
     return loadHandle(kCall, [&](std::string& error) {
-        return loadBundleFromMemory(list, name ? name : "memory", error, loadOptions(verify_checksums));
+        return loadBundleFromMemory(list, name ? name : "memory", error,
+                                    loadOptions(verify_checksums));
     });
 }
 
@@ -477,10 +485,11 @@ plimsoll_bundle* plimsoll_bundle_load_callbacks(const plimsoll_file_callbacks* c
                                                 const char* name, int verify_checksums) {
     lastError.clear();
     constexpr const char* kCall = "plimsoll_bundle_load_callbacks";
-    if (!callbacks || callbacks->struct_size < sizeof(plimsoll_file_callbacks) || !callbacks->open ||
-        !callbacks->size || !callbacks->read || !callbacks->close) {
-        refuse(kCall, "callbacks is NULL, its struct_size is not sizeof(plimsoll_file_callbacks) "
-                      "or open, size, read or close is NULL");
+    if (!callbacks || callbacks->struct_size < sizeof(plimsoll_file_callbacks) ||
+        !callbacks->open || !callbacks->size || !callbacks->read || !callbacks->close) {
+        refuse(kCall,
+               "callbacks is NULL, its struct_size is not sizeof(plimsoll_file_callbacks) "
+               "or open, size, read or close is NULL");
         return nullptr;
     }
     const plimsoll_file_callbacks c = *callbacks;
@@ -492,15 +501,17 @@ plimsoll_bundle* plimsoll_bundle_load_callbacks(const plimsoll_file_callbacks* c
     };
     cpp.close = [c](void* file) { c.close(c.user, file); };
     return loadHandle(kCall, [&](std::string& error) {
-        return loadBundleWithCallbacks(cpp, name ? name : "callbacks", error, loadOptions(verify_checksums));
+        return loadBundleWithCallbacks(cpp, name ? name : "callbacks", error,
+                                       loadOptions(verify_checksums));
     });
 }
 
 int plimsoll_bundle_size_query(const plimsoll_bundle* bundle, plimsoll_bundle_size* out) {
     lastError.clear();
     if (!bundle || !out || out->struct_size < sizeof(plimsoll_bundle_size))
-        return refuse("plimsoll_bundle_size_query",
-                      "bundle or out is NULL, or out->struct_size is not sizeof(plimsoll_bundle_size)");
+        return refuse(
+            "plimsoll_bundle_size_query",
+            "bundle or out is NULL, or out->struct_size is not sizeof(plimsoll_bundle_size)");
     const Bundle& b = *bundle->bundle;
     out->file_bytes = b.fileBytes();
     out->memory_bytes = b.memoryBytes();
@@ -560,7 +571,8 @@ int plimsoll_bundle_evaluate(const plimsoll_bundle* bundle, const plimsoll_pose*
         if (!checkEvaluation(kCall, pose, velocity, fluid) || !checkWater(kCall, water) ||
             !checkTime(kCall, time))
             return 0;
-        const char* failure = computeForces(*bundle->bundle, *pose, velocity, water, *fluid, time, *out);
+        const char* failure =
+            computeForces(*bundle->bundle, *pose, velocity, water, *fluid, time, *out);
         return failure ? refuse(kCall, failure) : 1;
     } catch (const std::exception& e) {
         setError(std::string("plimsoll_bundle_evaluate: ") + e.what());
@@ -755,8 +767,10 @@ int plimsoll_bundle_bounds(const plimsoll_bundle* bundle, double min[3], double 
     if (samples.empty()) return refuse("plimsoll_bundle_bounds", "the bundle has no samples");
     Vec3 lo = samples.front().position, hi = lo;
     for (const Sample& s : samples) {
-        lo = {std::min(lo.x, s.position.x), std::min(lo.y, s.position.y), std::min(lo.z, s.position.z)};
-        hi = {std::max(hi.x, s.position.x), std::max(hi.y, s.position.y), std::max(hi.z, s.position.z)};
+        lo = {std::min(lo.x, s.position.x), std::min(lo.y, s.position.y),
+              std::min(lo.z, s.position.z)};
+        hi = {std::max(hi.x, s.position.x), std::max(hi.y, s.position.y),
+              std::max(hi.z, s.position.z)};
     }
     copy(lo, min);
     copy(hi, max);
@@ -907,8 +921,8 @@ int stepChecked(const char* call, plimsoll_instance* instance, plimsoll_body_sta
                 double time, double dt, bool sleeps) {
     try {
         if (!instance || !state || !fluid) return refuse(call, "a required argument is NULL");
-        if (!checkEvaluation(call, &state->pose, &state->velocity, fluid) || !checkWater(call, water) ||
-            !checkTime(call, time))
+        if (!checkEvaluation(call, &state->pose, &state->velocity, fluid) ||
+            !checkWater(call, water) || !checkTime(call, time))
             return 0;
         if (!(dt > 0) || !std::isfinite(dt)) return refuse(call, "dt must be finite and > 0");
         const char* refused =
@@ -1036,7 +1050,8 @@ plimsoll_batch* plimsoll_batch_create(const plimsoll_batch_desc* desc) {
             batch->tasks.workerCount = std::max(1, desc->worker_count);
             threads = 1;  // the pool is not used
         }
-        if (threads == 0) threads = static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
+        if (threads == 0)
+            threads = static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
         batch->pool = std::make_unique<plimsoll_eval::ThreadPool>(threads);
         return batch.release();
     } catch (const std::exception& e) {
@@ -1059,12 +1074,17 @@ int plimsoll_batch_evaluate(plimsoll_batch* batch, size_t count,
     lastError.clear();
     constexpr const char* kCall = "plimsoll_batch_evaluate";
     try {
-        if (!checkBatch(kCall, batch, count, bodies, poses, velocities, out, water, fluid, time)) return 0;
-        return runBatch(*batch, kCall, count, [&](std::size_t i) {
-            const Bundle& b = *bodies[i]->bundle;
-            const plimsoll_fluid f = fluid ? *fluid : defaultFluid(b);
-            return computeForces(b, poses[i], velocities ? &velocities[i] : nullptr, water, f, time, out[i]);
-        }) ? 1 : 0;
+        if (!checkBatch(kCall, batch, count, bodies, poses, velocities, out, water, fluid, time))
+            return 0;
+        return runBatch(*batch, kCall, count,
+                        [&](std::size_t i) {
+                            const Bundle& b = *bodies[i]->bundle;
+                            const plimsoll_fluid f = fluid ? *fluid : defaultFluid(b);
+                            return computeForces(b, poses[i], velocities ? &velocities[i] : nullptr,
+                                                 water, f, time, out[i]);
+                        })
+                   ? 1
+                   : 0;
     } catch (const std::exception& e) {
         return refuse(kCall, e.what());
     }
@@ -1073,11 +1093,13 @@ int plimsoll_batch_evaluate(plimsoll_batch* batch, size_t count,
 int plimsoll_batch_water_load(plimsoll_batch* batch, size_t count,
                               const plimsoll_bundle* const* bodies, const plimsoll_pose* poses,
                               const plimsoll_velocity* velocities, const plimsoll_water* water,
-                              const plimsoll_fluid* fluid, double time, double dt, plimsoll_load* out) {
+                              const plimsoll_fluid* fluid, double time, double dt,
+                              plimsoll_load* out) {
     lastError.clear();
     constexpr const char* kCall = "plimsoll_batch_water_load";
     try {
-        if (!checkBatch(kCall, batch, count, bodies, poses, velocities, out, water, fluid, time)) return 0;
+        if (!checkBatch(kCall, batch, count, bodies, poses, velocities, out, water, fluid, time))
+            return 0;
         if (!(dt > 0) || !std::isfinite(dt)) return refuse(kCall, "dt must be finite and > 0");
         return runBatch(*batch, kCall, count,
                         [&](std::size_t i) {
@@ -1103,7 +1125,8 @@ int plimsoll_batch_graph_step(plimsoll_batch* batch, size_t count, plimsoll_bund
     try {
         if (!batch || (count > 0 && (!bodies || !poses)))
             return refuse(kCall, "batch, bodies or poses is NULL");
-        if (count > static_cast<size_t>(INT32_MAX)) return refuse(kCall, "more than 2^31 - 1 bodies");
+        if (count > static_cast<size_t>(INT32_MAX))
+            return refuse(kCall, "more than 2^31 - 1 bodies");
         if (!checkWater(kCall, water) || !checkTime(kCall, time)) return 0;
         if (!(dt >= 0) || !std::isfinite(dt)) return refuse(kCall, "dt must be finite and >= 0");
         if (!checkBodies(kCall, count, bodies, poses, nullptr) ||
@@ -1243,7 +1266,8 @@ plimsoll_simulation* plimsoll_simulation_create(const plimsoll_bundle* bundle) {
             return nullptr;
         }
         lastError.clear();
-        return new plimsoll_simulation{std::move(simulation), bundle->bundle->world().water.water()};
+        return new plimsoll_simulation{std::move(simulation),
+                                       bundle->bundle->world().water.water()};
     } catch (const std::exception& e) {
         refuse(kCall, e.what());
         return nullptr;
@@ -1255,7 +1279,8 @@ void plimsoll_simulation_destroy(plimsoll_simulation* simulation) {
     delete simulation;
 }
 
-int plimsoll_simulation_advance_frame(plimsoll_simulation* simulation, const plimsoll_water* water) {
+int plimsoll_simulation_advance_frame(plimsoll_simulation* simulation,
+                                      const plimsoll_water* water) {
     lastError.clear();
     constexpr const char* kCall = "plimsoll_simulation_advance_frame";
     try {
@@ -1273,7 +1298,8 @@ int plimsoll_simulation_advance_frame(plimsoll_simulation* simulation, const pli
     }
 }
 
-int plimsoll_simulation_state_query(const plimsoll_simulation* simulation, plimsoll_simulation_state* out) {
+int plimsoll_simulation_state_query(const plimsoll_simulation* simulation,
+                                    plimsoll_simulation_state* out) {
     lastError.clear();
     constexpr const char* kCall = "plimsoll_simulation_state_query";
     if (!simulation || !out) return refuse(kCall, "a required argument is NULL");
@@ -1283,7 +1309,8 @@ int plimsoll_simulation_state_query(const plimsoll_simulation* simulation, plims
     out->frame_time = 0;
     put(out->center_of_mass, s.centerOfMass());
     const Quat& q = s.orientation();
-    out->orientation[0] = q.w, out->orientation[1] = q.x, out->orientation[2] = q.y, out->orientation[3] = q.z;
+    out->orientation[0] = q.w, out->orientation[1] = q.x, out->orientation[2] = q.y,
+    out->orientation[3] = q.z;
     put(out->velocity, s.linearVelocity());
     put(out->angular_velocity, s.angularVelocity());
     out->submerged_volume = s.forces().submergedVolume;
@@ -1295,7 +1322,8 @@ int plimsoll_simulation_state_query(const plimsoll_simulation* simulation, plims
     return 1;
 }
 
-int plimsoll_simulation_save(const plimsoll_simulation* simulation, void* buffer, size_t capacity, size_t* size) {
+int plimsoll_simulation_save(const plimsoll_simulation* simulation, void* buffer, size_t capacity,
+                             size_t* size) {
     lastError.clear();
     constexpr const char* kCall = "plimsoll_simulation_save";
     try {

@@ -21,12 +21,18 @@ const Value* Value::find(const std::string& key) const {
 
 const char* kindName(Value::Kind kind) {
     switch (kind) {
-        case Value::Kind::Null: return "null";
-        case Value::Kind::Bool: return "a boolean";
-        case Value::Kind::Number: return "a number";
-        case Value::Kind::String: return "a string";
-        case Value::Kind::Array: return "an array";
-        case Value::Kind::Object: return "an object";
+        case Value::Kind::Null:
+            return "null";
+        case Value::Kind::Bool:
+            return "a boolean";
+        case Value::Kind::Number:
+            return "a number";
+        case Value::Kind::String:
+            return "a string";
+        case Value::Kind::Array:
+            return "an array";
+        case Value::Kind::Object:
+            return "an object";
     }
     return "?";
 }
@@ -89,7 +95,8 @@ private:
                 ++column;
             }
         }
-        error_ = "line " + std::to_string(line) + ", column " + std::to_string(column) + ": " + what;
+        error_ =
+            "line " + std::to_string(line) + ", column " + std::to_string(column) + ": " + what;
         return false;
     }
 
@@ -114,12 +121,24 @@ private:
             return fail("nested more than " + std::to_string(kMaxDepth) +
                         " deep, more than the limit kMaxJsonDepth");
         switch (c) {
-            case '{': return object(out, depth);
-            case '[': return array(out, depth);
-            case '"': out.kind = Value::Kind::String; return string(out.string);
-            case 't': out.kind = Value::Kind::Bool; out.boolean = true; return literal("true");
-            case 'f': out.kind = Value::Kind::Bool; out.boolean = false; return literal("false");
-            case 'n': out.kind = Value::Kind::Null; return literal("null");
+            case '{':
+                return object(out, depth);
+            case '[':
+                return array(out, depth);
+            case '"':
+                out.kind = Value::Kind::String;
+                return string(out.string);
+            case 't':
+                out.kind = Value::Kind::Bool;
+                out.boolean = true;
+                return literal("true");
+            case 'f':
+                out.kind = Value::Kind::Bool;
+                out.boolean = false;
+                return literal("false");
+            case 'n':
+                out.kind = Value::Kind::Null;
+                return literal("null");
             default:
                 if (c == '-' || (c >= '0' && c <= '9')) return number(out);
                 return fail(std::string("unexpected character '") + c + "'");
@@ -224,10 +243,14 @@ private:
         for (int i = 0; i < 4; ++i) {
             const char c = s_[pos_++];
             out <<= 4;
-            if (c >= '0' && c <= '9') out |= static_cast<std::uint32_t>(c - '0');
-            else if (c >= 'a' && c <= 'f') out |= static_cast<std::uint32_t>(c - 'a' + 10);
-            else if (c >= 'A' && c <= 'F') out |= static_cast<std::uint32_t>(c - 'A' + 10);
-            else return fail("invalid \\u escape");
+            if (c >= '0' && c <= '9')
+                out |= static_cast<std::uint32_t>(c - '0');
+            else if (c >= 'a' && c <= 'f')
+                out |= static_cast<std::uint32_t>(c - 'a' + 10);
+            else if (c >= 'A' && c <= 'F')
+                out |= static_cast<std::uint32_t>(c - 'A' + 10);
+            else
+                return fail("invalid \\u escape");
         }
         return true;
     }
@@ -246,14 +269,30 @@ private:
             if (pos_ >= s_.size()) break;
             const char e = s_[pos_++];
             switch (e) {
-                case '"': out += '"'; break;
-                case '\\': out += '\\'; break;
-                case '/': out += '/'; break;
-                case 'b': out += '\b'; break;
-                case 'f': out += '\f'; break;
-                case 'n': out += '\n'; break;
-                case 'r': out += '\r'; break;
-                case 't': out += '\t'; break;
+                case '"':
+                    out += '"';
+                    break;
+                case '\\':
+                    out += '\\';
+                    break;
+                case '/':
+                    out += '/';
+                    break;
+                case 'b':
+                    out += '\b';
+                    break;
+                case 'f':
+                    out += '\f';
+                    break;
+                case 'n':
+                    out += '\n';
+                    break;
+                case 'r':
+                    out += '\r';
+                    break;
+                case 't':
+                    out += '\t';
+                    break;
                 case 'u': {
                     std::uint32_t cp = 0;
                     if (!hex4(cp)) return false;
@@ -270,7 +309,8 @@ private:
                     appendUtf8(out, cp);
                     break;
                 }
-                default: return fail(std::string("invalid escape '\\") + e + "'");
+                default:
+                    return fail(std::string("invalid escape '\\") + e + "'");
             }
         }
         return fail("unterminated string");
@@ -290,13 +330,15 @@ private:
         }
         if (pos_ < s_.size() && s_[pos_] == '.') {
             ++pos_;
-            if (pos_ >= s_.size() || !(s_[pos_] >= '0' && s_[pos_] <= '9')) return fail("invalid number");
+            if (pos_ >= s_.size() || !(s_[pos_] >= '0' && s_[pos_] <= '9'))
+                return fail("invalid number");
             while (pos_ < s_.size() && s_[pos_] >= '0' && s_[pos_] <= '9') ++pos_;
         }
         if (pos_ < s_.size() && (s_[pos_] == 'e' || s_[pos_] == 'E')) {
             ++pos_;
             if (pos_ < s_.size() && (s_[pos_] == '+' || s_[pos_] == '-')) ++pos_;
-            if (pos_ >= s_.size() || !(s_[pos_] >= '0' && s_[pos_] <= '9')) return fail("invalid number");
+            if (pos_ >= s_.size() || !(s_[pos_] >= '0' && s_[pos_] <= '9'))
+                return fail("invalid number");
             while (pos_ < s_.size() && s_[pos_] >= '0' && s_[pos_] <= '9') ++pos_;
         }
         const char* first = s_.data() + start;

@@ -31,10 +31,12 @@ Vec3 worldInertiaSolve(const double R[3][3], const double I[3][3], const Vec3& v
     const double c02 = I[1][0] * I[2][1] - I[1][1] * I[2][0];
     const double det = I[0][0] * c00 + I[0][1] * c01 + I[0][2] * c02;
     if (!(std::abs(det) > 0)) return {};
-    const double inv[3][3] = {
-        {c00 / det, (I[0][2] * I[2][1] - I[0][1] * I[2][2]) / det, (I[0][1] * I[1][2] - I[0][2] * I[1][1]) / det},
-        {c01 / det, (I[0][0] * I[2][2] - I[0][2] * I[2][0]) / det, (I[0][2] * I[1][0] - I[0][0] * I[1][2]) / det},
-        {c02 / det, (I[0][1] * I[2][0] - I[0][0] * I[2][1]) / det, (I[0][0] * I[1][1] - I[0][1] * I[1][0]) / det}};
+    const double inv[3][3] = {{c00 / det, (I[0][2] * I[2][1] - I[0][1] * I[2][2]) / det,
+                               (I[0][1] * I[1][2] - I[0][2] * I[1][1]) / det},
+                              {c01 / det, (I[0][0] * I[2][2] - I[0][2] * I[2][0]) / det,
+                               (I[0][2] * I[1][0] - I[0][0] * I[1][2]) / det},
+                              {c02 / det, (I[0][1] * I[2][0] - I[0][0] * I[2][1]) / det,
+                               (I[0][0] * I[1][1] - I[0][1] * I[1][0]) / det}};
     return worldInertiaTimes(R, inv, v);
 }
 
@@ -46,12 +48,13 @@ Vec3 limited(const Vec3& loss, const Vec3& momentum, double dt) {
 
 /// Semi-implicit Euler's second half: the orientation turns with `w` and the centre of mass at
 /// `center` moves with `v` for dt; R becomes the new orientation's matrix.
-void moveWith(Pose& pose, const Vec3& center, const Vec3& v, const Vec3& w, const Vec3& centerOfMass,
-              double dt, double R[3][3]) {
+void moveWith(Pose& pose, const Vec3& center, const Vec3& v, const Vec3& w,
+              const Vec3& centerOfMass, double dt, double R[3][3]) {
     Quat& q = pose.orientation;
     const Quat dq{-w.x * q.x - w.y * q.y - w.z * q.z, w.x * q.w + w.y * q.z - w.z * q.y,
                   w.y * q.w + w.z * q.x - w.x * q.z, w.z * q.w + w.x * q.y - w.y * q.x};
-    q = {q.w + 0.5 * dt * dq.w, q.x + 0.5 * dt * dq.x, q.y + 0.5 * dt * dq.y, q.z + 0.5 * dt * dq.z};
+    q = {q.w + 0.5 * dt * dq.w, q.x + 0.5 * dt * dq.x, q.y + 0.5 * dt * dq.y,
+         q.z + 0.5 * dt * dq.z};
     const double n = std::sqrt(q.w * q.w + q.x * q.x + q.y * q.y + q.z * q.z);
     q = {q.w / n, q.x / n, q.y / n, q.z / n};
     rotationMatrix(q, R);
@@ -92,11 +95,13 @@ WaterLoad waterLoad(const Body& instance, const Pose& pose, const Velocity& velo
             const double dd = dot(d, d), dv[3] = {d.x, d.y, d.z};
             for (int i = 0; i < 3; ++i)
                 for (int j = 0; j < 3; ++j)
-                    inertia[i][j] += inside.inertia[i][j] + inside.mass * ((i == j ? dd : 0.0) - dv[i] * dv[j]);
+                    inertia[i][j] +=
+                        inside.inertia[i][j] + inside.mass * ((i == j ? dd : 0.0) - dv[i] * dv[j]);
             mass += inside.mass;
         }
     }
-    const double wet = body.volume > 0 ? std::clamp(f.submergedVolume / body.volume, 0.0, 1.0) : 0.0;
+    const double wet =
+        body.volume > 0 ? std::clamp(f.submergedVolume / body.volume, 0.0, 1.0) : 0.0;
     const Vec3 P = mass * velocity.linear;
     const Vec3 L = worldInertiaTimes(R, inertia, velocity.angular);
     Vec3 loss = f.dragForce - (wet * bundle.linearDamping()) * P;
@@ -121,7 +126,8 @@ bool stepRigid(Body& instance, BodyState& state, const Water& water, const Fluid
     rotationMatrix(state.pose.orientation, R);
     const Vec3 center = mul(R, body.centerOfMass) + state.pose.position;
     // Momenta first ...
-    const Vec3 P = body.mass * state.velocity.linear + dt * (load.force + Vec3{0, -body.mass * fluid.gravity, 0});
+    const Vec3 P = body.mass * state.velocity.linear +
+                   dt * (load.force + Vec3{0, -body.mass * fluid.gravity, 0});
     const Vec3 L = worldInertiaTimes(R, body.inertia, state.velocity.angular) + dt * load.torque;
     const Vec3 v = (1.0 / body.mass) * P;
     const Vec3 w = worldInertiaSolve(R, body.inertia, L);
@@ -137,11 +143,14 @@ bool stepRigid(Body& instance, BodyState& state, const Water& water, const Fluid
 
 RadiationMemory::RadiationMemory(const Radiation* radiation) : radiation_(radiation) {
     if (!radiation_) return;
-    for (int mode = 0; mode < 6; ++mode) filters_[mode].assign(radiation_->memory[mode].size(), Filter{});
+    for (int mode = 0; mode < 6; ++mode)
+        filters_[mode].assign(radiation_->memory[mode].size(), Filter{});
 }
 
 namespace {
-plimsoll_eval::MemoryTerm coreTerm(const RadiationTerm& t) { return {t.gain, t.frequency, t.dampingRatio}; }
+plimsoll_eval::MemoryTerm coreTerm(const RadiationTerm& t) {
+    return {t.gain, t.frequency, t.dampingRatio};
+}
 }  // namespace
 
 RadiationLoad RadiationMemory::begin(const Pose& pose, double submergedVolume) {
@@ -179,7 +188,8 @@ void RadiationMemory::advance(const Pose& pose, const Velocity& velocity, double
     for (int mode = 0; mode < 6; ++mode) {
         for (std::size_t k = 0; k < filters_[mode].size(); ++k) {
             plimsoll_eval::MemoryFilter filter{filters_[mode][k].x, filters_[mode][k].rate};
-            plimsoll_eval::advanceFilter(coreTerm(radiation_->memory[mode][k]), filter, share_ * v[mode], dt);
+            plimsoll_eval::advanceFilter(coreTerm(radiation_->memory[mode][k]), filter,
+                                         share_ * v[mode], dt);
             filters_[mode][k] = {filter.x, filter.rate};
         }
     }

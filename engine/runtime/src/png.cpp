@@ -90,12 +90,21 @@ bool decodePng(const std::string& bytes, GreyImage& out, std::string& error) {
     }
     int channels = 0;
     switch (colour) {
-        case 0: channels = 1; break;
-        case 2: channels = 3; break;
-        case 4: channels = 2; break;
-        case 6: channels = 4; break;
+        case 0:
+            channels = 1;
+            break;
+        case 2:
+            channels = 3;
+            break;
+        case 4:
+            channels = 2;
+            break;
+        case 6:
+            channels = 4;
+            break;
         default:
-            error = "PNG colour type " + std::to_string(colour) + " is not supported (grey, "
+            error = "PNG colour type " + std::to_string(colour) +
+                    " is not supported (grey, "
                     "grey+alpha, RGB or RGBA)";
             return false;
     }
@@ -103,8 +112,8 @@ bool decodePng(const std::string& bytes, GreyImage& out, std::string& error) {
         width > kMaxPngSide || height > kMaxPngSide) {
         error = "PNG is " + std::to_string(width) + " x " + std::to_string(height) + ", " +
                 std::to_string(depth) + " bits" + (interlace ? ", interlaced" : "") +
-                ": it must be non-interlaced, 8 or 16 bits, at most " + std::to_string(kMaxPngSide) +
-                " x " + std::to_string(kMaxPngSide);
+                ": it must be non-interlaced, 8 or 16 bits, at most " +
+                std::to_string(kMaxPngSide) + " x " + std::to_string(kMaxPngSide);
         return false;
     }
     const std::size_t bpp = static_cast<std::size_t>(channels) * (depth / 8);
@@ -151,11 +160,21 @@ bool decodePng(const std::string& bytes, GreyImage& out, std::string& error) {
             const int c = i >= bpp ? previous[i - bpp] : 0;
             int v = 0;
             switch (filter) {
-                case 0: v = x; break;
-                case 1: v = x + a; break;
-                case 2: v = x + b; break;
-                case 3: v = x + (a + b) / 2; break;
-                case 4: v = x + paeth(a, b, c); break;
+                case 0:
+                    v = x;
+                    break;
+                case 1:
+                    v = x + a;
+                    break;
+                case 2:
+                    v = x + b;
+                    break;
+                case 3:
+                    v = x + (a + b) / 2;
+                    break;
+                case 4:
+                    v = x + paeth(a, b, c);
+                    break;
                 default:
                     error = "PNG row " + std::to_string(y) + " has an unknown filter " +
                             std::to_string(filter);
@@ -169,7 +188,8 @@ bool decodePng(const std::string& bytes, GreyImage& out, std::string& error) {
             const unsigned char* p = row.data() + x * bpp;
             // 8-bit values widen to 16 bits as v * 257 (stb's stbi_load_16 does the same).
             const unsigned v16 = depth == 16 ? (unsigned(p[0]) << 8) | p[1] : unsigned(p[0]) * 257u;
-            out.values[static_cast<std::size_t>(y) * width + x] = static_cast<float>(v16) / 65535.0f;
+            out.values[static_cast<std::size_t>(y) * width + x] =
+                static_cast<float>(v16) / 65535.0f;
         }
         previous.swap(row);
     }

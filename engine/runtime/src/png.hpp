@@ -13,7 +13,7 @@ constexpr unsigned kMaxPngSide = 8192;
 
 struct GreyImage {
     int width = 0, height = 0;
-    std::vector<float> values;   ///< row 0 at the top (v = 1), 0..1 (v / 65535 or v / 255)
+    std::vector<float> values;  ///< row 0 at the top (v = 1), 0..1 (v / 65535 or v / 255)
 };
 
 /// Decodes `bytes`; on failure returns false with `error` saying why (no file name).

@@ -48,8 +48,14 @@ void compress(std::uint32_t h[8], const unsigned char* block) {
         b = a;
         a = t1 + t2;
     }
-    h[0] += a; h[1] += b; h[2] += c; h[3] += d;
-    h[4] += e; h[5] += f; h[6] += g; h[7] += k;
+    h[0] += a;
+    h[1] += b;
+    h[2] += c;
+    h[3] += d;
+    h[4] += e;
+    h[5] += f;
+    h[6] += g;
+    h[7] += k;
 }
 
 }  // namespace
@@ -67,7 +73,8 @@ std::string sha256Hex(const void* data, std::size_t size) {
     tail[rest] = 0x80;
     const std::size_t blocks = rest + 1 + 8 <= 64 ? 1 : 2;
     const std::uint64_t bits = static_cast<std::uint64_t>(size) * 8;
-    for (int i = 0; i < 8; ++i) tail[64 * blocks - 1 - i] = static_cast<unsigned char>(bits >> (8 * i));
+    for (int i = 0; i < 8; ++i)
+        tail[64 * blocks - 1 - i] = static_cast<unsigned char>(bits >> (8 * i));
     for (std::size_t i = 0; i < blocks; ++i) compress(h, tail + 64 * i);
     static constexpr char kDigits[] = "0123456789abcdef";
     std::string hex;

@@ -39,8 +39,10 @@ Vec3 rotate(const Quat& q, const Vec3& v) {
 }
 
 Quat multiply(const Quat& a, const Quat& b) {
-    return {a.w * b.w - a.x * b.x - a.y * b.y - a.z * b.z, a.w * b.x + a.x * b.w + a.y * b.z - a.z * b.y,
-            a.w * b.y + a.y * b.w + a.z * b.x - a.x * b.z, a.w * b.z + a.z * b.w + a.x * b.y - a.y * b.x};
+    return {a.w * b.w - a.x * b.x - a.y * b.y - a.z * b.z,
+            a.w * b.x + a.x * b.w + a.y * b.z - a.z * b.y,
+            a.w * b.y + a.y * b.w + a.z * b.x - a.x * b.z,
+            a.w * b.z + a.z * b.w + a.x * b.y - a.y * b.x};
 }
 
 Quat normalized(const Quat& q) {
@@ -78,7 +80,8 @@ Quat fromMatrix(const double m[3][3]) {
 }
 
 Vec3 times(const double I[3][3], const Vec3& v) {
-    return {I[0][0] * v.x + I[0][1] * v.y + I[0][2] * v.z, I[1][0] * v.x + I[1][1] * v.y + I[1][2] * v.z,
+    return {I[0][0] * v.x + I[0][1] * v.y + I[0][2] * v.z,
+            I[1][0] * v.x + I[1][1] * v.y + I[1][2] * v.z,
             I[2][0] * v.x + I[2][1] * v.y + I[2][2] * v.z};
 }
 
@@ -90,7 +93,8 @@ Vec3 solve(const double I[3][3], const Vec3& v) {
     const double l21 = (I[2][1] - l20 * l10) / l11;
     const double l22 = std::sqrt(I[2][2] - l20 * l20 - l21 * l21);
     if (!(l00 > 0) || !(l11 > 0) || !(l22 > 0)) return {};
-    const double y0 = v.x / l00, y1 = (v.y - l10 * y0) / l11, y2 = (v.z - l20 * y0 - l21 * y1) / l22;
+    const double y0 = v.x / l00, y1 = (v.y - l10 * y0) / l11,
+                 y2 = (v.z - l20 * y0 - l21 * y1) / l22;
     const double x2 = y2 / l22, x1 = (y1 - l21 * x2) / l11, x0 = (y0 - l10 * x1 - l20 * x2) / l00;
     return {x0, x1, x2};
 }
@@ -105,7 +109,8 @@ Quat rotationBy(const Vec3& w, double dt) {
 
 /// The orientation after dt with the world angular momentum L fixed: the implicit midpoint
 /// rule for Euler's equations, as rigid_body.cpp's energyConservingRotation.
-Quat energyConservingRotation(const Quat& q, const Vec3& angularMomentum, const double I[3][3], double dt) {
+Quat energyConservingRotation(const Quat& q, const Vec3& angularMomentum, const double I[3][3],
+                              double dt) {
     constexpr int kMaxIterations = 16;
     constexpr double kTolerance = 1e-15;
     const Vec3 before = rotate(conjugate(q), angularMomentum);
@@ -154,7 +159,8 @@ MassProperties combined(const MassProperties& a, const MassProperties& b) {
         const double dd = dot(d, d), dv[3] = {d.x, d.y, d.z};
         for (int i = 0; i < 3; ++i)
             for (int j = 0; j < 3; ++j)
-                sum.inertia[i][j] += part.inertia[i][j] + part.mass * ((i == j ? dd : 0.0) - dv[i] * dv[j]);
+                sum.inertia[i][j] +=
+                    part.inertia[i][j] + part.mass * ((i == j ? dd : 0.0) - dv[i] * dv[j]);
     };
     add(a);
     add(b);
@@ -172,7 +178,9 @@ bool isApprox(const double a[3][3], const double b[3][3], double precision) {
     return diff <= precision * precision * std::min(na, nb);
 }
 
-bool wavy(const Water& water) { return static_cast<bool>(water.height) || static_cast<bool>(water.heights); }
+bool wavy(const Water& water) {
+    return static_cast<bool>(water.height) || static_cast<bool>(water.heights);
+}
 double highest(const Water& water) { return wavy(water) ? water.maxHeight : water.level; }
 
 /// f += w d, field by field (what a level's blend adds).
@@ -336,7 +344,8 @@ double Simulation::stiffestFrequency() const {
 int Simulation::subStepsFor(double frameTime) const {
     const BundleWorld& world = bundle_.world();
     const double spin = norm(angularVelocity());
-    const double needed = std::ceil(std::max(stiffestFrequency(), spin) * frameTime / world.maxPhaseStep);
+    const double needed =
+        std::ceil(std::max(stiffestFrequency(), spin) * frameTime / world.maxPhaseStep);
     if (!(needed <= kMaxSubSteps)) return -1;
     return static_cast<int>(std::max(static_cast<double>(world.subSteps), needed));
 }
@@ -382,7 +391,8 @@ void Simulation::evaluate(const Water& water, double dt) {
     Wrench w;
     w.force = mass_.mass * world.gravity + (flat ? forces_.force : forces_.pressureForce);
     w.torque = flat ? forces_.torque : forces_.pressureTorque;
-    const double wet = hull_.volume > 0 ? std::clamp(forces_.submergedVolume / hull_.volume, 0.0, 1.0) : 0.0;
+    const double wet =
+        hull_.volume > 0 ? std::clamp(forces_.submergedVolume / hull_.volume, 0.0, 1.0) : 0.0;
     Vec3 loss = forces_.dragForce - (wet * bundle_.linearDamping()) * linearMomentum_;
     if (bundle_.verticalDamping() != bundle_.linearDamping()) {
         // Along gravity its own rate (radiation damps a radiating body's heave).
@@ -393,7 +403,8 @@ void Simulation::evaluate(const Water& water, double dt) {
                           up;
     }
     w.force += limited(loss, linearMomentum_, dt);
-    w.torque += limited(forces_.dragTorque - (wet * bundle_.angularDamping()) * angularMomentum_, angularMomentum_, dt);
+    w.torque += limited(forces_.dragTorque - (wet * bundle_.angularDamping()) * angularMomentum_,
+                        angularMomentum_, dt);
     // The radiation memory is passive by construction: not capped either.
     if (body_.radiation()) {
         w.force += memoryForce_;
@@ -449,7 +460,8 @@ bool Simulation::stepGraph(const Water& water, double frameTime) {
     moved = graph->flowInside(orientation_, frameTime) || moved;
     double C[3][3];
     rotationMatrix(composedAt_, C);
-    const bool turned = graph->settings().freeSurface && graph->storedWater() > 0 && !isApprox(R, C, 1e-12);
+    const bool turned =
+        graph->settings().freeSurface && graph->storedWater() > 0 && !isApprox(R, C, 1e-12);
     if (moved || turned) composeWater(orientation_);
     return moved;
 }
@@ -567,7 +579,8 @@ bool Simulation::advanceFrame(const Water& water, std::string& error) {
     const bool changed = stepGraph(water, frameTime);
     if (!finite(position_) || !finite(linearMomentum_) || !finite(angularMomentum_) ||
         !std::isfinite(orientation_.w + orientation_.x + orientation_.y + orientation_.z)) {
-        error = bundle_.folder() + ": the body left the finite numbers at t = " + std::to_string(time_) + " s";
+        error = bundle_.folder() +
+                ": the body left the finite numbers at t = " + std::to_string(time_) + " s";
         return false;
     }
     surfaceAbove(water, position_, time_, height, speed);

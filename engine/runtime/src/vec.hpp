@@ -26,7 +26,9 @@ inline Vec3 operator*(double s, const Vec3& a) { return fromEval(s * toEval(a));
 inline Vec3& operator+=(Vec3& a, const Vec3& b) { return a = a + b; }
 inline Vec3& operator-=(Vec3& a, const Vec3& b) { return a = a - b; }
 inline double dot(const Vec3& a, const Vec3& b) { return plimsoll_eval::dot(toEval(a), toEval(b)); }
-inline Vec3 cross(const Vec3& a, const Vec3& b) { return fromEval(plimsoll_eval::cross(toEval(a), toEval(b))); }
+inline Vec3 cross(const Vec3& a, const Vec3& b) {
+    return fromEval(plimsoll_eval::cross(toEval(a), toEval(b)));
+}
 inline double norm(const Vec3& a) { return plimsoll_eval::norm(toEval(a)); }
 inline bool finite(const Vec3& v) { return plimsoll_eval::finite(toEval(v)); }
 /// R v and R^T v.

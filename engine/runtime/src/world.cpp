@@ -21,7 +21,8 @@ ev::WaterModelDesc describe(const WaterModel& w) {
     d.level = w.level;
     d.gravity = w.gravity;
     for (const WaterModel::Wave& v : w.waves)
-        d.waves.push_back({v.amplitude, v.wavelength, v.direction[0], v.direction[1], v.steepness, v.phase});
+        d.waves.push_back(
+            {v.amplitude, v.wavelength, v.direction[0], v.direction[1], v.steepness, v.phase});
     d.grid.countX = w.countX;
     d.grid.countZ = w.countZ;
     d.grid.spacing = w.spacing;
@@ -39,17 +40,21 @@ public:
         error_ = file_ + ": " + at + ": " + what;
         return false;
     }
-    bool number(const json::Value& o, const std::string& at, const char* key, double& out, bool required = true) {
+    bool number(const json::Value& o, const std::string& at, const char* key, double& out,
+                bool required = true) {
         const json::Value* v = o.find(key);
         if (!v) return !required || fail(at + "." + key, "missing");
-        if (!v->isNumber() || !std::isfinite(v->number)) return fail(at + "." + key, "expected a finite number");
+        if (!v->isNumber() || !std::isfinite(v->number))
+            return fail(at + "." + key, "expected a finite number");
         out = v->number;
         return true;
     }
-    bool numbers(const json::Value& o, const std::string& at, const char* key, double* out, std::size_t n) {
+    bool numbers(const json::Value& o, const std::string& at, const char* key, double* out,
+                 std::size_t n) {
         const json::Value* v = o.find(key);
         if (!v) return fail(at + "." + key, "missing");
-        if (!v->isArray() || v->array.size() != n) return fail(at + "." + key, "expected " + std::to_string(n) + " numbers");
+        if (!v->isArray() || v->array.size() != n)
+            return fail(at + "." + key, "expected " + std::to_string(n) + " numbers");
         for (std::size_t i = 0; i < n; ++i) {
             if (!v->array[i].isNumber() || !std::isfinite(v->array[i].number))
                 return fail(at + "." + key, "expected " + std::to_string(n) + " finite numbers");
@@ -84,7 +89,8 @@ bool readGrid(Members& r, const json::Value& g, const std::string& at, WaterMode
         !r.number(g, at, "spacing", w.spacing) || !r.numbers(g, at, "origin", origin, 2))
         return false;
     constexpr double kMaxSide = 8192;
-    if (cx != std::floor(cx) || cz != std::floor(cz) || cx < 1 || cz < 1 || cx > kMaxSide || cz > kMaxSide)
+    if (cx != std::floor(cx) || cz != std::floor(cz) || cx < 1 || cz < 1 || cx > kMaxSide ||
+        cz > kMaxSide)
         return r.fail(at, "count_x and count_z must be integers in 1..8192");
     if (!(w.spacing > 0)) return r.fail(at + ".spacing", "must be > 0");
     w.countX = static_cast<int>(cx);
@@ -92,12 +98,15 @@ bool readGrid(Members& r, const json::Value& g, const std::string& at, WaterMode
     w.originX = origin[0];
     w.originZ = origin[1];
     const json::Value* h = g.find("heights");
-    const std::size_t count = static_cast<std::size_t>(w.countX) * static_cast<std::size_t>(w.countZ);
+    const std::size_t count =
+        static_cast<std::size_t>(w.countX) * static_cast<std::size_t>(w.countZ);
     if (!h || !h->isArray() || h->array.size() != count)
-        return r.fail(at + ".heights", "expected count_x * count_z = " + std::to_string(count) + " numbers");
+        return r.fail(at + ".heights",
+                      "expected count_x * count_z = " + std::to_string(count) + " numbers");
     w.heights.reserve(count);
     for (const json::Value& v : h->array) {
-        if (!v.isNumber() || !std::isfinite(v.number)) return r.fail(at + ".heights", "expected finite numbers");
+        if (!v.isNumber() || !std::isfinite(v.number))
+            return r.fail(at + ".heights", "expected finite numbers");
         w.heights.push_back(static_cast<float>(v.number));
     }
     return true;
@@ -105,7 +114,8 @@ bool readGrid(Members& r, const json::Value& g, const std::string& at, WaterMode
 
 bool readWater(Members& r, const json::Value& o, const std::string& at, WaterModel& w) {
     const json::Value* model = o.find("model");
-    if (!model || !model->isString()) return r.fail(at + ".model", "expected \"flat\", \"gerstner\" or \"height_grid\"");
+    if (!model || !model->isString())
+        return r.fail(at + ".model", "expected \"flat\", \"gerstner\" or \"height_grid\"");
     if (!r.number(o, at, "level", w.level)) return false;
     if (model->string == "flat") {
         w.kind = WaterModel::Kind::Flat;
@@ -120,8 +130,10 @@ bool readWater(Members& r, const json::Value& o, const std::string& at, WaterMod
             const std::string wat = at + ".waves[" + std::to_string(i) + "]";
             if (!v.isObject()) return r.fail(wat, "expected an object");
             WaterModel::Wave wave;
-            if (!r.number(v, wat, "amplitude", wave.amplitude) || !r.number(v, wat, "wavelength", wave.wavelength) ||
-                !r.numbers(v, wat, "direction", wave.direction, 2) || !r.number(v, wat, "steepness", wave.steepness) ||
+            if (!r.number(v, wat, "amplitude", wave.amplitude) ||
+                !r.number(v, wat, "wavelength", wave.wavelength) ||
+                !r.numbers(v, wat, "direction", wave.direction, 2) ||
+                !r.number(v, wat, "steepness", wave.steepness) ||
                 !r.number(v, wat, "phase", wave.phase))
                 return false;
             if (!(wave.wavelength > 0)) return r.fail(wat + ".wavelength", "must be > 0");
@@ -132,19 +144,22 @@ bool readWater(Members& r, const json::Value& o, const std::string& at, WaterMod
         const json::Value* grid = r.object(o, at, "grid");
         if (!grid || !readGrid(r, *grid, at + ".grid", w)) return false;
     } else {
-        return r.fail(at + ".model", "unknown \"" + model->string + "\" (flat, gerstner, height_grid)");
+        return r.fail(at + ".model",
+                      "unknown \"" + model->string + "\" (flat, gerstner, height_grid)");
     }
     return true;
 }
 
 bool readStart(Members& r, const json::Value& o, const std::string& at, BundleWorld& out) {
     double q[4];
-    if (!r.vec3(o, at, "position", out.startPose.position) || !r.numbers(o, at, "orientation_wxyz", q, 4) ||
+    if (!r.vec3(o, at, "position", out.startPose.position) ||
+        !r.numbers(o, at, "orientation_wxyz", q, 4) ||
         !r.vec3(o, at, "velocity", out.startVelocity.linear) ||
         !r.vec3(o, at, "angular_velocity", out.startVelocity.angular))
         return false;
     const double n = std::sqrt(q[0] * q[0] + q[1] * q[1] + q[2] * q[2] + q[3] * q[3]);
-    if (!(std::abs(n - 1.0) < 1e-6)) return r.fail(at + ".orientation_wxyz", "not a unit quaternion");
+    if (!(std::abs(n - 1.0) < 1e-6))
+        return r.fail(at + ".orientation_wxyz", "not a unit quaternion");
     out.startPose.orientation = {q[0], q[1], q[2], q[3]};
     return true;
 }
@@ -196,8 +211,11 @@ Water WaterModel::water() const {
     // The model's constants once, shared by the callbacks (which may run on several threads:
     // they only read them).
     auto d = std::make_shared<const ev::WaterModelDesc>(describe(*this));
-    auto terms = std::make_shared<const std::vector<ev::water_detail::WaveTerms>>(ev::waveTerms(*d));
-    w.height = [d, terms](double x, double z, double t) { return ev::waterHeight(*d, *terms, x, z, t); };
+    auto terms =
+        std::make_shared<const std::vector<ev::water_detail::WaveTerms>>(ev::waveTerms(*d));
+    w.height = [d, terms](double x, double z, double t) {
+        return ev::waterHeight(*d, *terms, x, z, t);
+    };
     w.heights = [d, terms](std::size_t n, const double* x, const double* z, double t, double* out) {
         for (std::size_t i = 0; i < n; ++i) out[i] = ev::waterHeight(*d, *terms, x[i], z[i], t);
     };
@@ -207,9 +225,10 @@ Water WaterModel::water() const {
             ev::waterVelocity(*d, *terms, p.x, p.y, p.z, t, out);
             return Vec3{out[0], out[1], out[2]};
         };
-        w.velocities = [d, terms](std::size_t n, const double* x, const double* y, const double* z, double t,
-                                  double* out) {
-            for (std::size_t i = 0; i < n; ++i) ev::waterVelocity(*d, *terms, x[i], y[i], z[i], t, out + 3 * i);
+        w.velocities = [d, terms](std::size_t n, const double* x, const double* y, const double* z,
+                                  double t, double* out) {
+            for (std::size_t i = 0; i < n; ++i)
+                ev::waterVelocity(*d, *terms, x[i], y[i], z[i], t, out + 3 * i);
         };
     }
     w.minHeight = ev::waterMinHeight(*d);
@@ -217,7 +236,8 @@ Water WaterModel::water() const {
     return w;
 }
 
-bool readBundleWorld(const json::Value& manifest, const std::string& file, BundleWorld& out, std::string& error) {
+bool readBundleWorld(const json::Value& manifest, const std::string& file, BundleWorld& out,
+                     std::string& error) {
     const json::Value* world = manifest.find("world");
     if (!world || world->isNull()) return true;  // a bundle before 1.4: the defaults
     Members r(file, error);
@@ -227,7 +247,8 @@ bool readBundleWorld(const json::Value& manifest, const std::string& file, Bundl
     if (!medium || !r.number(*medium, at + ".medium", "density", out.density) ||
         !r.number(*medium, at + ".medium", "viscosity", out.viscosity))
         return false;
-    if (!(out.density > 0) || !(out.viscosity >= 0)) return r.fail(at + ".medium", "density must be > 0, viscosity >= 0");
+    if (!(out.density > 0) || !(out.viscosity >= 0))
+        return r.fail(at + ".medium", "density must be > 0, viscosity >= 0");
     if (!r.vec3(*world, at, "gravity", out.gravity)) return false;
     const json::Value* water = r.object(*world, at, "water");
     if (!water || !readWater(r, *water, at + ".water", out.water)) return false;
@@ -238,11 +259,13 @@ bool readBundleWorld(const json::Value& manifest, const std::string& file, Bundl
         !r.number(*sim, at + ".simulation", "sub_steps", subSteps) ||
         !r.number(*sim, at + ".simulation", "max_phase_step", out.maxPhaseStep))
         return false;
-    if (!(out.timeStep > 0) || subSteps != std::floor(subSteps) || subSteps < 1 || subSteps > 1000 ||
-        !(out.maxPhaseStep > 0))
-        return r.fail(at + ".simulation", "time_step and max_phase_step must be > 0, sub_steps in 1..1000");
+    if (!(out.timeStep > 0) || subSteps != std::floor(subSteps) || subSteps < 1 ||
+        subSteps > 1000 || !(out.maxPhaseStep > 0))
+        return r.fail(at + ".simulation",
+                      "time_step and max_phase_step must be > 0, sub_steps in 1..1000");
     out.subSteps = static_cast<int>(subSteps);
-    if (const json::Value* integrator = sim->find("integrator"); integrator && integrator->isString())
+    if (const json::Value* integrator = sim->find("integrator");
+        integrator && integrator->isString())
         out.integrator = integrator->string;
     if (const json::Value* sleep = sim->find("sleep"); sleep && !sleep->isNull()) {
         const std::string path = at + ".simulation.sleep";

@@ -12,6 +12,7 @@ namespace plimsoll_runtime {
 
 /// Fills `out` from the manifest's "world" (left at its defaults, present false, when the
 /// manifest has none); false with `error` naming `file` and the JSON path on a bad value.
-bool readBundleWorld(const json::Value& manifest, const std::string& file, BundleWorld& out, std::string& error);
+bool readBundleWorld(const json::Value& manifest, const std::string& file, BundleWorld& out,
+                     std::string& error);
 
 }  // namespace plimsoll_runtime

@@ -103,16 +103,16 @@ AreaCentroid areaAndCentroid(const Polygon& poly) {
 /// grid is the texel grid, or a finer one (`subdivision` cells per texel side) for a triangle
 /// whose texels would span too much surface.
 struct PreparedTriangle {
-    std::array<Vec2, 3> corner;     ///< grid coordinates (uv * N * subdivision)
-    Vec2 edge1, edge2;              ///< corner[1] - corner[0], corner[2] - corner[0]
-    double twiceUvArea = 0;         ///< signed, grid units
+    std::array<Vec2, 3> corner;            ///< grid coordinates (uv * N * subdivision)
+    Vec2 edge1, edge2;                     ///< corner[1] - corner[0], corner[2] - corner[0]
+    double twiceUvArea = 0;                ///< signed, grid units
     Eigen::Vector3d origin, side1, side2;  ///< p0, p1 - p0, p2 - p0
-    Eigen::Vector3d areaVector;     ///< m^2
-    double area = 0;                ///< m^2
-    int rowLo = 0, rowHi = -1;      ///< grid rows touched, clamped to the texture
-    std::uint32_t island = 0;       ///< UV island (see uvIslands)
-    std::uint32_t index = 0;        ///< in the mesh's triangles
-    int subdivision = 1;            ///< grid cells per texel side
+    Eigen::Vector3d areaVector;            ///< m^2
+    double area = 0;                       ///< m^2
+    int rowLo = 0, rowHi = -1;             ///< grid rows touched, clamped to the texture
+    std::uint32_t island = 0;              ///< UV island (see uvIslands)
+    std::uint32_t index = 0;               ///< in the mesh's triangles
+    int subdivision = 1;                   ///< grid cells per texel side
 
     /// (b1, b2) of grid point q: q = corner0 + b1 edge1 + b2 edge2.
     Vec2 barycentric(const Vec2& q) const {
@@ -177,8 +177,10 @@ struct BandResult {
 class BandBaker {
 public:
     BandBaker(int size, int bandRows, bool recordPieces)
-        : size_(size), recordPieces_(recordPieces),
-          cells_(static_cast<std::size_t>(size) * bandRows), touched_(cells_.size()) {}
+        : size_(size),
+          recordPieces_(recordPieces),
+          cells_(static_cast<std::size_t>(size) * bandRows),
+          touched_(cells_.size()) {}
 
     BandResult bake(const std::vector<PreparedTriangle>& triangles,
                     const std::vector<std::uint32_t>& ids, int rowBegin, int rowEnd) {
@@ -340,7 +342,7 @@ private:
     std::map<std::tuple<std::uint32_t, std::uint32_t, std::uint32_t, std::uint32_t>,
              TexelAccumulator>
         sideEntries_;
-    std::vector<PieceRecord> records_;         ///< in accumulation order
+    std::vector<PieceRecord> records_;  ///< in accumulation order
     std::uint32_t recordCount_ = 0;
     std::vector<std::uint32_t> recordEntry_;  ///< record -> entry in the band, or kDropped
     std::vector<std::uint32_t> cursor_;
@@ -400,8 +402,8 @@ std::vector<PreparedTriangle> prepareTriangles(const TriangleMesh& mesh,
         for (PreparedTriangle& tri : prepared) {
             if (tri.rowHi < tri.rowLo || tri.area == 0) continue;
             const double stretch = longestTexelSide(tri) / typicalTexelSide;
-            tri.subdivision = std::clamp(static_cast<int>(std::ceil(stretch / maxTexelStretch)),
-                                         1, kMaxSubdivision);
+            tri.subdivision = std::clamp(static_cast<int>(std::ceil(stretch / maxTexelStretch)), 1,
+                                         kMaxSubdivision);
         }
     }
     return prepared;
@@ -475,10 +477,9 @@ Result<SurfaceTextures> bakeSurfaceTextures(const TriangleMesh& mesh, const Bake
                                             const CancelRequested& cancelled) {
     const int size = settings.size;
     if (size < kMinTextureSize || size > kMaxTextureSize) {
-        return makeError(ErrorKind::limit,
-                         mesh.source + ": texture size " + std::to_string(size) + " is outside " +
-                             std::to_string(kMinTextureSize) + ".." +
-                             std::to_string(kMaxTextureSize));
+        return makeError(ErrorKind::limit, mesh.source + ": texture size " + std::to_string(size) +
+                                               " is outside " + std::to_string(kMinTextureSize) +
+                                               ".." + std::to_string(kMaxTextureSize));
     }
     if (!mesh.hasUvs()) {
         return makeError(ErrorKind::invalidArgument,
@@ -491,8 +492,8 @@ Result<SurfaceTextures> bakeSurfaceTextures(const TriangleMesh& mesh, const Bake
     const std::vector<PreparedTriangle> triangles =
         prepareTriangles(mesh, out.placement, size, settings.maxTexelStretch);
 
-    const unsigned threads = std::max(1u, settings.threads ? settings.threads
-                                                           : std::thread::hardware_concurrency());
+    const unsigned threads =
+        std::max(1u, settings.threads ? settings.threads : std::thread::hardware_concurrency());
     // Sixteen or more bands balance the threads; at most 2^20 texels a band keep an
     // accumulator near 64 MB at the largest size. The split must not depend on the thread
     // count: a triangle cut at a band edge rounds differently, and results are bit-identical
@@ -543,10 +544,12 @@ Result<SurfaceTextures> bakeSurfaceTextures(const TriangleMesh& mesh, const Bake
     worker();
     for (auto& t : pool) t.join();
     if (outOfMemory) {
-        return makeError(ErrorKind::limit, mesh.source + ": out of memory baking " + std::to_string(size) +
-                                               "^2 texels: bake a smaller texture (texture_size, --size)");
+        return makeError(ErrorKind::limit,
+                         mesh.source + ": out of memory baking " + std::to_string(size) +
+                             "^2 texels: bake a smaller texture (texture_size, --size)");
     }
-    if (stopped) return makeError(ErrorKind::invalidArgument, mesh.source + ": " + kBakeCancelledMessage);
+    if (stopped)
+        return makeError(ErrorKind::invalidArgument, mesh.source + ": " + kBakeCancelledMessage);
 
     std::size_t total = 0, totalPieces = 0;
     for (const auto& band : bands) {

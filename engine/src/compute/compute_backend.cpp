@@ -43,9 +43,9 @@ public:
             results[i] = evaluateBuoyancyReference(bodies_[request.body].textures, frame, water,
                                                    request.fluid);
         }
-        timings_.totalMs = std::chrono::duration<double, std::milli>(
-                               std::chrono::steady_clock::now() - start)
-                               .count();
+        timings_.totalMs =
+            std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start)
+                .count();
         return Ok{};
     }
 

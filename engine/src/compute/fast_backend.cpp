@@ -17,8 +17,8 @@ namespace {
 ev::Vec3 toEval(const Eigen::Vector3d& v) { return {v.x(), v.y(), v.z()}; }
 Eigen::Vector3d toEigen(const ev::Vec3& v) { return {v.x, v.y, v.z}; }
 
-void waterHeights(const void* context, std::size_t n, const double* x, const double* z,
-                  double time, double* out) {
+void waterHeights(const void* context, std::size_t n, const double* x, const double* z, double time,
+                  double* out) {
     static_cast<const WaterModel*>(context)->heights(n, x, z, time, out);
 }
 
@@ -31,11 +31,13 @@ class FastBackend final : public BuoyancyBackend {
 public:
     explicit FastBackend(const FastBackendOptions& options)
         : options_(options),
-          pool_(options.tasks.given() ? 1
-                                      : (options.threads > 0
-                                             ? options.threads
-                                             : static_cast<int>(std::max(1u, std::thread::hardware_concurrency())))) {
-        const int workers = options.tasks.given() ? std::max(1, options.tasks.workerCount) : pool_.threads();
+          pool_(options.tasks.given()
+                    ? 1
+                    : (options.threads > 0
+                           ? options.threads
+                           : static_cast<int>(std::max(1u, std::thread::hardware_concurrency())))) {
+        const int workers =
+            options.tasks.given() ? std::max(1, options.tasks.workerCount) : pool_.threads();
         scratch_.resize(static_cast<std::size_t>(workers));
     }
 
@@ -77,9 +79,9 @@ public:
                                      scratch_[worker % scratch_.size()]);
         };
         ev::parallelFor(static_cast<int>(requests.size()), 4, options_.tasks, pool_, one);
-        timings_.totalMs = std::chrono::duration<double, std::milli>(
-                               std::chrono::steady_clock::now() - start)
-                               .count();
+        timings_.totalMs =
+            std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start)
+                .count();
         return Ok{};
     }
 
@@ -121,7 +123,8 @@ private:
         mix(centerOfMass.data(), sizeof(double) * 3);
         for (const SharedBody& shared : shared_)
             if (shared.key == key && shared.count == textures.coveredCount()) return shared.body;
-        auto body = std::make_shared<const ev::FastBody>(makeFastBody(textures, centerOfMass, options_.evaluation));
+        auto body = std::make_shared<const ev::FastBody>(
+            makeFastBody(textures, centerOfMass, options_.evaluation));
         shared_.push_back({key, textures.coveredCount(), body});
         return body;
     }
@@ -184,8 +187,8 @@ BuoyancyResult evaluateBuoyancyFast(const ev::FastBody& body, const BodyFrame& f
     k.rhoG = fluid.density * fluid.gravity;
     k.halfRhoCd = 0.5 * fluid.density * fluid.dragCoefficient;
     k.halfRhoCf = 0.5 * fluid.density * fluid.frictionCoefficient;
-    const ev::Forces f =
-        ev::finish(body.evaluate(state, fastWaterSurface(water), k, scratch, stats), state.center, k.rhoG);
+    const ev::Forces f = ev::finish(
+        body.evaluate(state, fastWaterSurface(water), k, scratch, stats), state.center, k.rhoG);
     BuoyancyResult r;
     r.submergedVolume = f.submergedVolume;
     r.centerOfBuoyancy = toEigen(f.centerOfBuoyancy);

@@ -7,7 +7,7 @@
 
 #include "physics/buoyancy_sums.h"
 #include "plimsoll_shared.h"
-#include "plimsoll_eval/fast.hpp"  // kPair, kTriple: PlTileMoments' slots
+#include "plimsoll_eval/fast.hpp"   // kPair, kTriple: PlTileMoments' slots
 #include "plimsoll_eval/graph.hpp"  // kExchangeLatticeSpacing
 
 #include <CL/opencl.hpp>
@@ -125,9 +125,12 @@ void faultPoint(detail::OpenClFault kind, const char* call) {
     switch (kind) {
         case detail::OpenClFault::BufferAllocation:
             throw cl::Error(CL_MEM_OBJECT_ALLOCATION_FAILURE, call);
-        case detail::OpenClFault::Launch: throw cl::Error(CL_OUT_OF_RESOURCES, call);
-        case detail::OpenClFault::Build: throw cl::Error(CL_BUILD_PROGRAM_FAILURE, call);
-        case detail::OpenClFault::LostDevice: throw cl::Error(CL_DEVICE_NOT_AVAILABLE, call);
+        case detail::OpenClFault::Launch:
+            throw cl::Error(CL_OUT_OF_RESOURCES, call);
+        case detail::OpenClFault::Build:
+            throw cl::Error(CL_BUILD_PROGRAM_FAILURE, call);
+        case detail::OpenClFault::LostDevice:
+            throw cl::Error(CL_DEVICE_NOT_AVAILABLE, call);
     }
 }
 
@@ -153,12 +156,13 @@ double eventMs(const cl::Event& event) {
 }
 
 /// Compiles the embedded kernels for a device, with the build log in the error.
-Result<cl::Program> buildProgram(const cl::Context& context, const cl::Device& device,
-                                 bool fp64, int itemsPerThread,
+Result<cl::Program> buildProgram(const cl::Context& context, const cl::Device& device, bool fp64,
+                                 int itemsPerThread,
                                  const std::string& source = detail::kBuoyancyKernelSource) {
     cl::Program program(context, source);
-    const std::string options = "-cl-std=CL1.2 -DPL_ITEMS_PER_THREAD=" +
-                                std::to_string(itemsPerThread) + (fp64 ? " -DPL_ACC_DOUBLE" : "");
+    const std::string options =
+        "-cl-std=CL1.2 -DPL_ITEMS_PER_THREAD=" + std::to_string(itemsPerThread) +
+        (fp64 ? " -DPL_ACC_DOUBLE" : "");
     try {
         faultPoint(detail::OpenClFault::Build, "clBuildProgram");
         program.build({device}, options.c_str());
@@ -168,9 +172,9 @@ Result<cl::Program> buildProgram(const cl::Context& context, const cl::Device& d
             log = program.getBuildInfo<CL_PROGRAM_BUILD_LOG>(device);
         } catch (const cl::Error&) {
         }
-        return makeError(ErrorKind::kernelBuild,
-                         "OpenCL kernels failed to build on " + device.getInfo<CL_DEVICE_NAME>() +
-                             " (" + clError(e) + "):\n" + log);
+        return makeError(ErrorKind::kernelBuild, "OpenCL kernels failed to build on " +
+                                                     device.getInfo<CL_DEVICE_NAME>() + " (" +
+                                                     clError(e) + "):\n" + log);
     }
     return program;
 }
@@ -222,12 +226,13 @@ private:
 
 class OpenClBackend final : public BuoyancyBackend {
 public:
-    OpenClBackend(const DeviceHandle& handle, cl::Context context, cl::Program program,
-                  bool fp64, std::size_t tileSize, const OpenClOptions& options)
+    OpenClBackend(const DeviceHandle& handle, cl::Context context, cl::Program program, bool fp64,
+                  std::size_t tileSize, const OpenClOptions& options)
         : device_(handle.device),
           context_(std::move(context)),
-          queue_(context_, device_,
-                 options.deviceTimings ? cl_command_queue_properties{CL_QUEUE_PROFILING_ENABLE} : 0),
+          queue_(
+              context_, device_,
+              options.deviceTimings ? cl_command_queue_properties{CL_QUEUE_PROFILING_ENABLE} : 0),
           program_(std::move(program)),
           tilesKernels_{{{cl::Kernel(program_, "buoyancy_tiles_flat"),
                           cl::Kernel(program_, "buoyancy_tiles_flat_still")},
@@ -320,17 +325,17 @@ public:
         try {
             const std::size_t entries = body.order.size();
             const std::size_t tiles = body.tileEnd - body.tileBegin;
-            queue_.enqueueWriteBuffer(positionsBuffer_, CL_FALSE, body.firstEntry * sizeof(pl_float4),
+            queue_.enqueueWriteBuffer(positionsBuffer_, CL_FALSE,
+                                      body.firstEntry * sizeof(pl_float4),
                                       entries * sizeof(pl_float4), &positions_[body.firstEntry]);
             queue_.enqueueWriteBuffer(areaVectorsBuffer_, CL_FALSE,
                                       body.firstEntry * sizeof(pl_float4),
                                       entries * sizeof(pl_float4), &areaVectors_[body.firstEntry]);
             queue_.enqueueWriteBuffer(tilesBuffer_, CL_FALSE, body.tileBegin * sizeof(gpu::PlTile),
                                       tiles * sizeof(gpu::PlTile), &tiles_[body.tileBegin]);
-            queue_.enqueueWriteBuffer(tileMomentsBuffer_, CL_TRUE,
-                                      body.tileBegin * sizeof(gpu::PlTileMoments),
-                                      tiles * sizeof(gpu::PlTileMoments),
-                                      &tileMoments_[body.tileBegin]);
+            queue_.enqueueWriteBuffer(
+                tileMomentsBuffer_, CL_TRUE, body.tileBegin * sizeof(gpu::PlTileMoments),
+                tiles * sizeof(gpu::PlTileMoments), &tileMoments_[body.tileBegin]);
         } catch (const cl::Error& e) {
             drainQueue();
             return makeError(ErrorKind::device, name_ + ": " + clError(e));
@@ -373,9 +378,9 @@ public:
             drainQueue();
             return makeError(ErrorKind::limit, name_ + ": " + e.what());
         }
-        timings_.totalMs = std::chrono::duration<double, std::milli>(
-                               std::chrono::steady_clock::now() - start)
-                               .count();
+        timings_.totalMs =
+            std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start)
+                .count();
         return Ok{};
     }
 
@@ -409,7 +414,8 @@ public:
         const std::size_t accSize = fp64_ ? sizeof(double) : sizeof(float);
         set.partialsHost.assign(std::max<std::size_t>(1, groups * nodes * 3) * accSize, 0);
         set.partials = cl::Buffer(context_, CL_MEM_WRITE_ONLY, set.partialsHost.size());
-        set.surfaces = cl::Buffer(context_, CL_MEM_READ_ONLY, std::max<std::size_t>(1, nodes) * sizeof(float));
+        set.surfaces =
+            cl::Buffer(context_, CL_MEM_READ_ONLY, std::max<std::size_t>(1, nodes) * sizeof(float));
         exchangeSets_.push_back(std::move(set));
         return exchangeSets_.size() - 1;
     }
@@ -445,11 +451,13 @@ public:
             }
             if (!exchangeFrame_()) {
                 exchangeFrame_ = cl::Buffer(context_, CL_MEM_READ_ONLY, sizeof(gpu::PlBody));
-                exchangeWaves_ = cl::Buffer(context_, CL_MEM_READ_ONLY,
-                                            PL_MAX_WAVES * sizeof(gpu::PlWave));
+                exchangeWaves_ =
+                    cl::Buffer(context_, CL_MEM_READ_ONLY, PL_MAX_WAVES * sizeof(gpu::PlWave));
             }
-            if (water.kind == WaterModel::Kind::HeightField) uploadGrid(water.grid);
-            else if (!gridBuffer_()) gridBuffer_ = cl::Buffer(context_, CL_MEM_READ_ONLY, sizeof(float));
+            if (water.kind == WaterModel::Kind::HeightField)
+                uploadGrid(water.grid);
+            else if (!gridBuffer_())
+                gridBuffer_ = cl::Buffer(context_, CL_MEM_READ_ONLY, sizeof(float));
             queue_.enqueueWriteBuffer(exchangeFrame_, CL_FALSE, 0, sizeof(gpu::PlBody), &p);
             queue_.enqueueWriteBuffer(exchangeWaves_, CL_FALSE, 0,
                                       PL_MAX_WAVES * sizeof(gpu::PlWave), waves.data());
@@ -493,13 +501,15 @@ public:
                 for (std::size_t n = 0; n < set.nodes; ++n) {
                     const std::size_t at = (g * set.nodes + n) * 3;
                     auto value = [&](std::size_t k) {
-                        return fp64_ ? reinterpret_cast<const double*>(set.partialsHost.data())[at + k]
-                                     : static_cast<double>(
-                                           reinterpret_cast<const float*>(set.partialsHost.data())[at + k]);
+                        return fp64_ ? reinterpret_cast<const double*>(
+                                           set.partialsHost.data())[at + k]
+                                     : static_cast<double>(reinterpret_cast<const float*>(
+                                           set.partialsHost.data())[at + k]);
                     };
                     sums.inflow[n] += value(0);
                     sums.outflow[n] += value(1);
-                    if (value(0) > 0) sums.outsideTop[n] = std::max(sums.outsideTop[n], value(2) + c.y());
+                    if (value(0) > 0)
+                        sums.outsideTop[n] = std::max(sums.outsideTop[n], value(2) + c.y());
                 }
             }
         } catch (const cl::Error& e) {
@@ -520,9 +530,9 @@ private:
 
     struct Body {
         Eigen::Vector3d centerOfMass;
-        std::size_t firstEntry = 0;            ///< in positions_ / areaVectors_
-        std::vector<std::uint32_t> order;      ///< texture entry of each device entry
-        std::vector<std::size_t> tileEnds;     ///< end (in `order`) of each of its tiles
+        std::size_t firstEntry = 0;         ///< in positions_ / areaVectors_
+        std::vector<std::uint32_t> order;   ///< texture entry of each device entry
+        std::vector<std::size_t> tileEnds;  ///< end (in `order`) of each of its tiles
         std::uint32_t tileBegin = 0, tileEnd = 0;
         std::uint32_t chunkBegin = 0, chunkEnd = 0;  ///< in chunks_: its tiles' sums
         double radius = 0;  ///< largest distance of an entry from c (m): the tolerances' scale
@@ -644,7 +654,8 @@ private:
         }
         gpu::PlTileMoments m{};
         m.sum = toFloat4(Eigen::Vector3d(n0[0], n0[1], n0[2]), area);
-        for (int i = 0; i < 3; ++i) m.first[i] = toFloat4(Eigen::Vector3d(n1[i][0], n1[i][1], n1[i][2]));
+        for (int i = 0; i < 3; ++i)
+            m.first[i] = toFloat4(Eigen::Vector3d(n1[i][0], n1[i][1], n1[i][2]));
         m.first[0].w = static_cast<float>(entries.size());
         for (int i = 0; i < 3; ++i) {
             for (int k = 0; k < 6; ++k) m.second[6 * i + k] = static_cast<float>(n2[i][k]);
@@ -657,8 +668,9 @@ private:
     /// oversized body is an error naming the buffer, its size and the limit, not a failure
     /// deep in the driver.
     cl::Buffer makeBuffer(cl_mem_flags flags, std::size_t bytes, void* host, const char* what) {
-        const cl_ulong maxAlloc = testMaxAlloc.load() ? testMaxAlloc.load()
-                                                    : device_.getInfo<CL_DEVICE_MAX_MEM_ALLOC_SIZE>();
+        const cl_ulong maxAlloc = testMaxAlloc.load()
+                                      ? testMaxAlloc.load()
+                                      : device_.getInfo<CL_DEVICE_MAX_MEM_ALLOC_SIZE>();
         if (bytes > maxAlloc) {
             throw std::length_error(std::string(what) + " buffer of " + formatBytes(double(bytes)) +
                                     " is more than the device's CL_DEVICE_MAX_MEM_ALLOC_SIZE (" +
@@ -679,10 +691,10 @@ private:
     void rebuildBuffers() {
         const std::size_t accSize = fp64_ ? sizeof(double) : sizeof(float);
         // The whole set must fit the device's memory: checked before anything is allocated.
-        const double total = double(positions_.size() + areaVectors_.size()) * sizeof(pl_float4) +
-                             double(tiles_.size()) * (sizeof(gpu::PlTile) +
-                                                      sizeof(gpu::PlTileMoments) +
-                                                      PL_SUM_SLOTS * accSize);
+        const double total =
+            double(positions_.size() + areaVectors_.size()) * sizeof(pl_float4) +
+            double(tiles_.size()) *
+                (sizeof(gpu::PlTile) + sizeof(gpu::PlTileMoments) + PL_SUM_SLOTS * accSize);
         const cl_ulong globalMemory = testGlobalMemory.load()
                                           ? testGlobalMemory.load()
                                           : device_.getInfo<CL_DEVICE_GLOBAL_MEM_SIZE>();
@@ -696,8 +708,9 @@ private:
         tilesBuffer_ = upload(tiles_, "tiles");
         tileMomentsBuffer_ = upload(tileMoments_, "tile moments");
         allocateFrameParams();
-        partialsBuffer_ = cl::Buffer(context_, CL_MEM_READ_WRITE,
-                                     std::max<std::size_t>(1, tiles_.size()) * PL_SUM_SLOTS * accSize);
+        partialsBuffer_ =
+            cl::Buffer(context_, CL_MEM_READ_WRITE,
+                       std::max<std::size_t>(1, tiles_.size()) * PL_SUM_SLOTS * accSize);
         // The second launch sums each body's tile partials in chunks of kTilesPerChunk, one
         // work-group each, and the host adds a body's chunks: one group for all of a 2048^2
         // body's 4096 tiles took 43 us on an H200, most of a frame.
@@ -715,9 +728,11 @@ private:
             body.chunkEnd = static_cast<std::uint32_t>(chunks_.size());
         }
         chunksBuffer_ = upload(chunks_, "chunks");
-        totalsBuffer_ = cl::Buffer(context_, CL_MEM_WRITE_ONLY,
-                                   std::max<std::size_t>(1, chunks_.size()) * PL_SUM_SLOTS * accSize);
-        totalsHost_.allocate(context_, queue_, std::max<std::size_t>(1, chunks_.size()) * PL_SUM_SLOTS * accSize);
+        totalsBuffer_ =
+            cl::Buffer(context_, CL_MEM_WRITE_ONLY,
+                       std::max<std::size_t>(1, chunks_.size()) * PL_SUM_SLOTS * accSize);
+        totalsHost_.allocate(context_, queue_,
+                             std::max<std::size_t>(1, chunks_.size()) * PL_SUM_SLOTS * accSize);
         gridHeights_.clear();
         gridBuffer_ = cl::Buffer(context_, CL_MEM_READ_ONLY, sizeof(float));
         buffersStale_ = false;
@@ -729,16 +744,18 @@ private:
     /// H200's 57-60 us for one body of 2048^2; docs/design.md).
     void allocateFrameParams() {
         const std::size_t count = std::max<std::size_t>(1, bodies_.size());
-        const std::size_t align =
-            std::max<std::size_t>(alignof(gpu::PlWave), device_.getInfo<CL_DEVICE_MEM_BASE_ADDR_ALIGN>() / 8);
+        const std::size_t align = std::max<std::size_t>(
+            alignof(gpu::PlWave), device_.getInfo<CL_DEVICE_MEM_BASE_ADDR_ALIGN>() / 8);
         bodiesBytes_ = count * sizeof(gpu::PlBody);
         wavesOffset_ = (bodiesBytes_ + align - 1) / align * align;
         const std::size_t wavesBytes = count * PL_MAX_WAVES * sizeof(gpu::PlWave);
         frameParams_.allocate(context_, queue_, wavesOffset_ + wavesBytes);
         frameBuffer_ = cl::Buffer(context_, CL_MEM_READ_ONLY, frameParams_.size());
         cl_buffer_region bodies{0, bodiesBytes_}, waves{wavesOffset_, wavesBytes};
-        bodiesBuffer_ = frameBuffer_.createSubBuffer(CL_MEM_READ_ONLY, CL_BUFFER_CREATE_TYPE_REGION, &bodies);
-        wavesBuffer_ = frameBuffer_.createSubBuffer(CL_MEM_READ_ONLY, CL_BUFFER_CREATE_TYPE_REGION, &waves);
+        bodiesBuffer_ =
+            frameBuffer_.createSubBuffer(CL_MEM_READ_ONLY, CL_BUFFER_CREATE_TYPE_REGION, &bodies);
+        wavesBuffer_ =
+            frameBuffer_.createSubBuffer(CL_MEM_READ_ONLY, CL_BUFFER_CREATE_TYPE_REGION, &waves);
     }
 
     gpu::PlBody* bodyParams() { return reinterpret_cast<gpu::PlBody*>(frameParams_.data()); }
@@ -762,7 +779,8 @@ private:
             const BodyFrame& frame = request.frame;
             const Eigen::Vector3d c = frame.pose.apply(body.centerOfMass);
             gpu::PlBody& p = bodyParams()[request.body];
-            for (int k = 0; k < 3; ++k) p.rotation[k] = toFloat4(frame.pose.rotation.row(k).transpose());
+            for (int k = 0; k < 3; ++k)
+                p.rotation[k] = toFloat4(frame.pose.rotation.row(k).transpose());
             p.velocity = toFloat4(frame.motion.linear);
             p.spin = toFloat4(frame.motion.angular);
             const FluidSettings& fluid = request.fluid;
@@ -779,8 +797,8 @@ private:
     }
 
     /// The water model as seen from a point c (world): model, level, waves or grid cell.
-    void fillWater(gpu::PlBody& p, const WaterModel& water, const Eigen::Vector3d& c,
-                   double time, gpu::PlWave* waves) {
+    void fillWater(gpu::PlBody& p, const WaterModel& water, const Eigen::Vector3d& c, double time,
+                   gpu::PlWave* waves) {
         p.water = {static_cast<float>(water.level - c.y()),
                    static_cast<float>(water.maxHeight() - c.y()), 0.0f, 0.0f};
         switch (water.kind) {
@@ -816,20 +834,20 @@ private:
             const double k = 2.0 * std::numbers::pi / wave.wavelength;
             const double omega = std::sqrt(water.gravity * k);
             const double n = wave.direction.norm();
-            const Eigen::Vector2d d = n > 0 ? Eigen::Vector2d(wave.direction / n)
-                                            : Eigen::Vector2d(1.0, 0.0);
+            const Eigen::Vector2d d =
+                n > 0 ? Eigen::Vector2d(wave.direction / n) : Eigen::Vector2d(1.0, 0.0);
             // The phase at the centre of mass, in double and reduced, so float keeps it.
-            const double phase = std::remainder(
-                k * (d.x() * c.x() + d.y() * c.z()) - omega * time + wave.phase,
-                2.0 * std::numbers::pi);
+            const double phase =
+                std::remainder(k * (d.x() * c.x() + d.y() * c.z()) - omega * time + wave.phase,
+                               2.0 * std::numbers::pi);
             gpu::PlWave& out = waves[w];
             out.amplitude = static_cast<float>(wave.amplitude);
             out.wavenumber = static_cast<float>(k);
             out.omega = static_cast<float>(omega);
-            out.q = static_cast<float>(wave.amplitude > 0
-                                           ? wave.steepness / (k * wave.amplitude *
-                                                               static_cast<double>(water.waves.size()))
-                                           : 0.0);
+            out.q = static_cast<float>(
+                wave.amplitude > 0 ? wave.steepness / (k * wave.amplitude *
+                                                       static_cast<double>(water.waves.size()))
+                                   : 0.0);
             out.directionX = static_cast<float>(d.x());
             out.directionZ = static_cast<float>(d.y());
             out.phase = static_cast<float>(phase);
@@ -879,18 +897,16 @@ private:
         tilesKernel.setArg(9, partialsBuffer_);
         faultPoint(detail::OpenClFault::Launch, "clEnqueueNDRangeKernel");
         if (!tiles_.empty()) {
-            queue_.enqueueNDRangeKernel(tilesKernel, cl::NullRange,
-                                        cl::NDRange(tiles_.size() * PL_WORKGROUP_SIZE),
-                                        cl::NDRange(PL_WORKGROUP_SIZE), nullptr,
-                                        timed ? &tilesDone : nullptr);
+            queue_.enqueueNDRangeKernel(
+                tilesKernel, cl::NullRange, cl::NDRange(tiles_.size() * PL_WORKGROUP_SIZE),
+                cl::NDRange(PL_WORKGROUP_SIZE), nullptr, timed ? &tilesDone : nullptr);
         }
         reduceKernel_.setArg(0, partialsBuffer_);
         reduceKernel_.setArg(1, chunksBuffer_);
         reduceKernel_.setArg(2, totalsBuffer_);
-        queue_.enqueueNDRangeKernel(reduceKernel_, cl::NullRange,
-                                    cl::NDRange(chunks_.size() * PL_WORKGROUP_SIZE),
-                                    cl::NDRange(PL_WORKGROUP_SIZE), nullptr,
-                                    timed ? &reduceDone : nullptr);
+        queue_.enqueueNDRangeKernel(
+            reduceKernel_, cl::NullRange, cl::NDRange(chunks_.size() * PL_WORKGROUP_SIZE),
+            cl::NDRange(PL_WORKGROUP_SIZE), nullptr, timed ? &reduceDone : nullptr);
         faultPoint(detail::OpenClFault::LostDevice, "clEnqueueReadBuffer");
         queue_.enqueueReadBuffer(totalsBuffer_, spinWait_ ? CL_FALSE : CL_TRUE, 0,
                                  totalsHost_.size(), totalsHost_.data(), nullptr,
@@ -937,8 +953,8 @@ private:
     std::vector<gpu::PlTile> tiles_;
     std::vector<gpu::PlTileMoments> tileMoments_;
     bool buffersStale_ = true;
-    cl::Buffer positionsBuffer_, areaVectorsBuffer_, tilesBuffer_, tileMomentsBuffer_, bodiesBuffer_, wavesBuffer_,
-        gridBuffer_, partialsBuffer_, totalsBuffer_, chunksBuffer_;
+    cl::Buffer positionsBuffer_, areaVectorsBuffer_, tilesBuffer_, tileMomentsBuffer_,
+        bodiesBuffer_, wavesBuffer_, gridBuffer_, partialsBuffer_, totalsBuffer_, chunksBuffer_;
     std::vector<cl_uint2> chunks_;  ///< tile ranges [s[0], s[1]) the second launch sums
     /// The frame's parameters, in one block so that a frame uploads them in one write: the
     /// bodies from 0, then the waves (PL_MAX_WAVES a body) from wavesOffset_. frameBuffer_ is
@@ -996,7 +1012,8 @@ void setOpenClMemoryLimitsForTesting(std::uint64_t maxAllocation, std::uint64_t 
     testGlobalMemory = globalMemory;
 }
 
-Result<std::unique_ptr<BuoyancyBackend>> createOpenClBackend(int index, const OpenClOptions& options) {
+Result<std::unique_ptr<BuoyancyBackend>> createOpenClBackend(int index,
+                                                             const OpenClOptions& options) {
     const std::vector<DeviceHandle> handles = enumerateDevices();
     if (index < 0 || index >= static_cast<int>(handles.size())) {
         return makeError(ErrorKind::device, "no OpenCL device " + std::to_string(index));
@@ -1011,8 +1028,8 @@ Result<std::unique_ptr<BuoyancyBackend>> createOpenClBackend(int index, const Op
                                  std::to_string(kMaxOpenClItemsPerThread) + ", not " +
                                  std::to_string(options.itemsPerThread));
         }
-        const int items = options.itemsPerThread > 0 ? options.itemsPerThread
-                                                     : itemsPerThreadFor(handle.device);
+        const int items =
+            options.itemsPerThread > 0 ? options.itemsPerThread : itemsPerThreadFor(handle.device);
         Result<cl::Program> program = buildProgram(context, handle.device, fp64, items);
         if (!program) return program.error();
         return std::unique_ptr<BuoyancyBackend>(std::make_unique<OpenClBackend>(

@@ -8,7 +8,8 @@
 namespace plimsoll::detail {
 
 /// Builds the embedded kernels for device `index` of listComputeDevices().
-Result<std::unique_ptr<BuoyancyBackend>> createOpenClBackend(int index, const OpenClOptions& options = {});
+Result<std::unique_ptr<BuoyancyBackend>> createOpenClBackend(int index,
+                                                             const OpenClOptions& options = {});
 
 /// Compiles `source` (after the shared header) for device `index`, as the backend compiles
 /// its kernels: Ok, or an error carrying the device's build log. Lets tests check that a

@@ -119,7 +119,8 @@ json radiationJson(const SceneBody& body) {
     for (const std::vector<MemoryTerm>& mode : model.memory) {
         json terms = json::array();
         for (const MemoryTerm& t : mode)
-            terms.push_back({{"gain", t.gain}, {"frequency", t.frequency}, {"damping_ratio", t.dampingRatio}});
+            terms.push_back(
+                {{"gain", t.gain}, {"frequency", t.frequency}, {"damping_ratio", t.dampingRatio}});
         memory.push_back(terms);
     }
     return {{"modes", {"surge_x", "heave_y", "sway_z", "roll_x", "yaw_y", "pitch_z"}},
@@ -141,13 +142,17 @@ json worldJson(const Project& project, const BodyDesc& desc) {
                   {"level", w.level}};
     json waves = json::array();
     for (const GerstnerWave& g : w.waves)
-        waves.push_back({{"amplitude", g.amplitude}, {"wavelength", g.wavelength},
+        waves.push_back({{"amplitude", g.amplitude},
+                         {"wavelength", g.wavelength},
                          {"direction", {g.direction.x(), g.direction.y()}},
-                         {"steepness", g.steepness}, {"phase", g.phase}});
+                         {"steepness", g.steepness},
+                         {"phase", g.phase}});
     if (w.kind == WaterModel::Kind::Gerstner) water["waves"] = waves;
     if (w.kind == WaterModel::Kind::HeightField)
-        water["grid"] = {{"count_x", w.grid.countX}, {"count_z", w.grid.countZ},
-                         {"spacing", w.grid.spacing}, {"origin", {w.grid.origin.x(), w.grid.origin.y()}},
+        water["grid"] = {{"count_x", w.grid.countX},
+                         {"count_z", w.grid.countZ},
+                         {"spacing", w.grid.spacing},
+                         {"origin", {w.grid.origin.x(), w.grid.origin.y()}},
                          {"heights", w.grid.heights}};
     const Pose start = Pose::fromEulerDegrees(desc.position, desc.rotationDegrees);
     const Eigen::Quaterniond q = Eigen::Quaterniond(start.rotation).normalized();
@@ -239,7 +244,8 @@ std::vector<std::string> filesUnder(const fs::path& folder) {
     std::error_code ec;
     if (!fs::is_directory(folder, ec)) return files;
     for (fs::recursive_directory_iterator it(folder, ec), end; !ec && it != end; it.increment(ec)) {
-        if (it->is_regular_file(ec)) files.push_back(fs::relative(it->path(), folder).generic_string());
+        if (it->is_regular_file(ec))
+            files.push_back(fs::relative(it->path(), folder).generic_string());
     }
     std::sort(files.begin(), files.end());
     return files;
@@ -249,8 +255,7 @@ std::vector<std::string> filesUnder(const fs::path& folder) {
 fs::path siblingFor(const fs::path& folder, const std::string& kind) {
     static std::atomic<unsigned> counter{0};
     return folder.parent_path() / ("." + folder.filename().string() + "." + kind + "-" +
-                                   std::to_string(::getpid()) + "-" +
-                                   std::to_string(counter++));
+                                   std::to_string(::getpid()) + "-" + std::to_string(counter++));
 }
 
 /// The texel-to-node map as an N x N image (row 0 at the top, as the other images): 1 + the
@@ -480,10 +485,10 @@ json materialJson(const MaterialDesc& m, const json& maps) {
     material["density"] = m.density ? json(*m.density) : json(nullptr);
     material["shell_surface_density"] =
         m.shellSurfaceDensity ? json(*m.shellSurfaceDensity) : json(nullptr);
-    material["shell_density_map"] = maps.contains("shell_density") ? json("shell_density.png")
-                                                                    : json(nullptr);
-    material["shell_thickness_map"] = maps.contains("shell_thickness")
-                                          ? json("shell_thickness.png") : json(nullptr);
+    material["shell_density_map"] =
+        maps.contains("shell_density") ? json("shell_density.png") : json(nullptr);
+    material["shell_thickness_map"] =
+        maps.contains("shell_thickness") ? json("shell_thickness.png") : json(nullptr);
     return material;
 }
 
@@ -712,7 +717,8 @@ Result<std::string> bundleInputHash(const Project& project, std::size_t index,
 }
 
 std::optional<BundleReport> unchangedBodyBundle(const Project& project, std::size_t index,
-                                                const fs::path& folder, const BundleOptions& options) {
+                                                const fs::path& folder,
+                                                const BundleOptions& options) {
     Result<std::string> hash = bundleInputHash(project, index, options);
     if (!hash) return std::nullopt;  // the export itself reports the unreadable source
     Result<BundleManifestInfo> info = verifyBundle(folder);
@@ -741,16 +747,22 @@ Result<BundleReport> writeBodyBundle(const Project& project, std::size_t index,
                                      const fs::path& folder,
                                      const std::function<void(const std::string&)>& log,
                                      const BundleOptions& options) {
-    if (index >= project.bodies.size()) return makeError(ErrorKind::invalidArgument, "no body " + std::to_string(index));
+    if (index >= project.bodies.size())
+        return makeError(ErrorKind::invalidArgument, "no body " + std::to_string(index));
     const fs::path target = folder.filename().empty() ? folder.parent_path() : folder;
     std::error_code ec;
     if (!target.parent_path().empty()) fs::create_directories(target.parent_path(), ec);
-    if (ec) return makeError(ErrorKind::io, target.parent_path().string() + ": cannot create folder: " + ec.message());
-    if (Status restored = restoreInterruptedFolderSwap(target); !restored.ok()) return restored.error();
+    if (ec)
+        return makeError(ErrorKind::io,
+                         target.parent_path().string() + ": cannot create folder: " + ec.message());
+    if (Status restored = restoreInterruptedFolderSwap(target); !restored.ok())
+        return restored.error();
     const fs::path staging = siblingFor(target, "tmp");
     fs::remove_all(staging, ec);
     fs::create_directories(staging, ec);
-    if (ec) return makeError(ErrorKind::io, staging.string() + ": cannot create folder: " + ec.message());
+    if (ec)
+        return makeError(ErrorKind::io,
+                         staging.string() + ": cannot create folder: " + ec.message());
     Result<BundleReport> report = buildBundle(project, index, staging, log, options);
     if (!report) {
         fs::remove_all(staging, ec);
@@ -773,19 +785,22 @@ Result<BundleManifestInfo> parseBundleManifest(const std::string& text, const st
         const json manifest = json::parse(text);
         field = "format";
         if (manifest.value(field, std::string()) != plimsoll_eval::kBundleFormat)
-            return makeError(ErrorKind::format, where + "not a Plimsoll runtime bundle (\"format\" is not \"" +
-                                                    plimsoll_eval::kBundleFormat + "\")");
+            return makeError(ErrorKind::format,
+                             where + "not a Plimsoll runtime bundle (\"format\" is not \"" +
+                                 plimsoll_eval::kBundleFormat + "\")");
         field = "schema_version";
         info.schemaMajor = manifest.at(field).get<int>();
         field = "schema_minor";
         info.schemaMinor = manifest.at(field).get<int>();
         if (info.schemaMajor != kBundleSchemaMajor) {
-            return makeError(ErrorKind::format, where + "bundle schema " + std::to_string(info.schemaMajor) + "." +
-                             std::to_string(info.schemaMinor) +
-                             (info.schemaMajor > kBundleSchemaMajor ? " is newer than" : " is older than") +
-                             " this reader's " + std::to_string(kBundleSchemaMajor) +
-                             ".x: export the bundle again with this version of plimsoll" +
-                             (info.schemaMajor > kBundleSchemaMajor ? " or update the reader" : ""));
+            return makeError(
+                ErrorKind::format,
+                where + "bundle schema " + std::to_string(info.schemaMajor) + "." +
+                    std::to_string(info.schemaMinor) +
+                    (info.schemaMajor > kBundleSchemaMajor ? " is newer than" : " is older than") +
+                    " this reader's " + std::to_string(kBundleSchemaMajor) +
+                    ".x: export the bundle again with this version of plimsoll" +
+                    (info.schemaMajor > kBundleSchemaMajor ? " or update the reader" : ""));
         }
         field = "body";
         info.body = manifest.value(field, std::string());
@@ -795,21 +810,24 @@ Result<BundleManifestInfo> parseBundleManifest(const std::string& text, const st
         for (std::size_t i = 0; i < files.size(); ++i) {
             field = "files[" + std::to_string(i) + "]";
             const json& f = files[i];
-            info.files.push_back({f.at("path").get<std::string>(), f.at("sha256").get<std::string>(),
+            info.files.push_back({f.at("path").get<std::string>(),
+                                  f.at("sha256").get<std::string>(),
                                   f.at("bytes").get<std::uintmax_t>()});
         }
     } catch (const std::exception& e) {
         std::string what = boundedExcerpt(e.what(), 200);
-        if (const std::size_t tag = what.find("] "); tag != std::string::npos) what.erase(0, tag + 2);
-        return makeError(ErrorKind::format,
-                         where + "malformed manifest: " + (field.empty() ? "" : field + ": ") + what);
+        if (const std::size_t tag = what.find("] "); tag != std::string::npos)
+            what.erase(0, tag + 2);
+        return makeError(ErrorKind::format, where + "malformed manifest: " +
+                                                (field.empty() ? "" : field + ": ") + what);
     }
     // Each file once: a repeated entry (or one spelled again, "./a") would be read and hashed
     // again for every listing.
     std::map<fs::path, std::size_t> firstListing;
     for (std::size_t i = 0; i < info.files.size(); ++i) {
         const BundleFile& f = info.files[i];
-        Result<fs::path> inside = pathInside(fs::path(source).parent_path(), f.path, where + "file path");
+        Result<fs::path> inside =
+            pathInside(fs::path(source).parent_path(), f.path, where + "file path");
         if (!inside) return inside.error();
         if (const auto [first, added] = firstListing.emplace(inside->lexically_normal(), i); !added)
             return makeError(ErrorKind::format, where + "files[" + std::to_string(i) + "]: \"" +
@@ -831,19 +849,21 @@ Result<BundleManifestInfo> verifyBundle(const fs::path& folder) {
         std::error_code ec;
         // A link could name any file of the system; a bundle's files are its own.
         if (fs::is_symlink(path, ec))
-            return makeError(ErrorKind::format, path.string() + ": is a symbolic link, not a file of the bundle");
+            return makeError(ErrorKind::format,
+                             path.string() + ": is a symbolic link, not a file of the bundle");
         if (!fs::exists(path, ec)) return makeError(ErrorKind::io, path.string() + ": missing");
         Result<std::string> bytes = readBytes(path);
         if (!bytes) return bytes.error();
         if (bytes->size() != f.bytes) {
-            return makeError(ErrorKind::format, path.string() + ": " + std::to_string(bytes->size()) +
-                             " bytes, the manifest says " + std::to_string(f.bytes) +
-                             " (truncated or replaced)");
+            return makeError(ErrorKind::format,
+                             path.string() + ": " + std::to_string(bytes->size()) +
+                                 " bytes, the manifest says " + std::to_string(f.bytes) +
+                                 " (truncated or replaced)");
         }
         const std::string sha = sha256Hex(*bytes);
         if (sha != f.sha256) {
-            return makeError(ErrorKind::format, path.string() + ": SHA-256 " + sha + " does not match the manifest's " +
-                             f.sha256);
+            return makeError(ErrorKind::format, path.string() + ": SHA-256 " + sha +
+                                                    " does not match the manifest's " + f.sha256);
         }
     }
     return info;
@@ -851,7 +871,8 @@ Result<BundleManifestInfo> verifyBundle(const fs::path& folder) {
 
 Result<BundleReport> checkBodyBundle(const Project& project, std::size_t index,
                                      const fs::path& folder, const BundleOptions& options) {
-    if (index >= project.bodies.size()) return makeError(ErrorKind::invalidArgument, "no body " + std::to_string(index));
+    if (index >= project.bodies.size())
+        return makeError(ErrorKind::invalidArgument, "no body " + std::to_string(index));
     const fs::path target = folder.filename().empty() ? folder.parent_path() : folder;
     // Built beside the temporary directory's other files, not in the bundle's folder, which
     // a check must not touch.
@@ -860,7 +881,8 @@ Result<BundleReport> checkBodyBundle(const Project& project, std::size_t index,
     std::error_code ec;
     std::string pattern = (fs::temp_directory_path(ec) / "plimsoll-check-XXXXXX").string();
     if (::mkdtemp(pattern.data()) == nullptr)
-        return makeError(ErrorKind::io, pattern + ": cannot create folder: " + std::strerror(errno));
+        return makeError(ErrorKind::io,
+                         pattern + ": cannot create folder: " + std::strerror(errno));
     const fs::path staging = pattern;
     Result<BundleReport> report = buildBundle(project, index, staging, {}, options);
     if (!report) {

@@ -19,8 +19,7 @@ TriangleMesh makeBox(const Eigen::Vector3d& size) {
     const Eigen::Vector3d Z = Eigen::Vector3d::UnitZ();
     // Top row of the grid: +x, +y, +z; bottom row: -x, -y, -z. A column holds one axis, so its
     // two faces have the same size.
-    const Face faces[6] = {{X, -Z, Y}, {Y, X, -Z}, {Z, X, Y},
-                           {-X, Z, Y}, {-Y, X, Z}, {-Z, -X, Y}};
+    const Face faces[6] = {{X, -Z, Y}, {Y, X, -Z}, {Z, X, Y}, {-X, Z, Y}, {-Y, X, Z}, {-Z, -X, Y}};
 
     // One scale (UV units per metre) for all faces: uniform texel density.
     double columnWidth[3];
@@ -33,8 +32,9 @@ TriangleMesh makeBox(const Eigen::Vector3d& size) {
         widthSum += columnWidth[c];
         heightMax = std::max(heightMax, columnHeight[c]);
     }
-    const double scale = std::min((1.0 - 2.0 * kGeneratedChartMargin - 2.0 * kGeneratedChartGutter) / widthSum,
-                                  (1.0 - 2.0 * kGeneratedChartMargin - kGeneratedChartGutter) / (2.0 * heightMax));
+    const double scale =
+        std::min((1.0 - 2.0 * kGeneratedChartMargin - 2.0 * kGeneratedChartGutter) / widthSum,
+                 (1.0 - 2.0 * kGeneratedChartMargin - kGeneratedChartGutter) / (2.0 * heightMax));
 
     // Chart corners in (u, v) order, counter-clockwise.
     constexpr std::pair<int, int> kCorners[4] = {{0, 0}, {1, 0}, {1, 1}, {0, 1}};
@@ -44,9 +44,9 @@ TriangleMesh makeBox(const Eigen::Vector3d& size) {
     for (int c = 0; c < 3; ++c) {
         for (int row = 0; row < 2; ++row) {
             const Face& f = faces[c + 3 * row];
-            const Eigen::Vector2d origin(columnLeft,
-                                         row == 0 ? 1.0 - kGeneratedChartMargin - scale * columnHeight[c]
-                                                  : kGeneratedChartMargin);
+            const Eigen::Vector2d origin(
+                columnLeft, row == 0 ? 1.0 - kGeneratedChartMargin - scale * columnHeight[c]
+                                     : kGeneratedChartMargin);
             const std::uint32_t first = static_cast<std::uint32_t>(mesh.positions.size());
             for (const auto& [a, b] : kCorners) {
                 // Each coordinate is exactly +-half: corners shared by three faces weld.

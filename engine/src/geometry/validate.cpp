@@ -27,9 +27,9 @@ namespace plimsoll {
 
 namespace {
 
+using uvclip::intersectionArea;
 using uvclip::Point2;
 using uvclip::UvTriangle;
-using uvclip::intersectionArea;
 
 // Zero 3D area, relative to the squared bounding-box diagonal: scale-free, and far above the
 // rounding of the cross product for any triangle that is not a sliver.
@@ -164,8 +164,8 @@ void checkDegenerateUv(const TriangleMesh& mesh, const TriangleFacts& facts,
     const double threshold = kDegenerateUvArea * uvBoxArea(mesh);
     std::vector<bool> lost(mesh.triangleCount(), false);
     for (std::size_t t = 0; t < mesh.triangleCount(); ++t) {
-        lost[t] = !facts.degenerate[t] &&
-                  std::abs(triangleUvArea(mesh, mesh.triangles[t])) <= threshold;
+        lost[t] =
+            !facts.degenerate[t] && std::abs(triangleUvArea(mesh, mesh.triangles[t])) <= threshold;
     }
     const std::size_t count = countMarked(lost);
     if (count == 0) return;
@@ -180,9 +180,9 @@ void checkDegenerateUv(const TriangleMesh& mesh, const TriangleFacts& facts,
 // adjacent.
 
 struct EdgeUse {
-    std::uint64_t key;        // (smaller vertex id << 32) | larger vertex id
+    std::uint64_t key;  // (smaller vertex id << 32) | larger vertex id
     std::uint32_t triangle;
-    bool forward;             // walked from the smaller id to the larger one
+    bool forward;  // walked from the smaller id to the larger one
 };
 
 // Edge uses of the triangles under the vertex ids `id` (a welding). Triangles with a repeated
@@ -245,8 +245,7 @@ struct EdgeDefects {
     }
 };
 
-void checkTopology(const TriangleMesh& mesh, const TriangleFacts& facts,
-                   ValidationReport& report) {
+void checkTopology(const TriangleMesh& mesh, const TriangleFacts& facts, ValidationReport& report) {
     EdgeDefects open(mesh.triangleCount()), nonManifold(mesh.triangleCount()),
         inconsistent(mesh.triangleCount());
     forEachEdge(sortedEdgeUses(mesh, weldByPosition(mesh)), [&](std::span<const EdgeUse> edge) {
@@ -355,12 +354,8 @@ public:
     int cellOf(const Point2& p) const { return column(p.x()) + nx_ * row(p.y()); }
 
 private:
-    int column(double u) const {
-        return clampedCell((u - origin_.x()) / cell_, nx_ - 1);
-    }
-    int row(double v) const {
-        return clampedCell((v - origin_.y()) / cell_, ny_ - 1);
-    }
+    int column(double u) const { return clampedCell((u - origin_.x()) / cell_, nx_ - 1); }
+    int row(double v) const { return clampedCell((v - origin_.y()) / cell_, ny_ - 1); }
 
     template <class Visit>
     void forCellsOf(const Eigen::AlignedBox2d& box, Visit visit) const {
@@ -392,9 +387,9 @@ private:
 };
 
 struct OverlapResult {
-    double area = 0;                 // summed pairwise intersection area (UV units)
-    std::vector<bool> overlapping;   // per mesh triangle
-    bool truncated = false;          // pair budget exhausted: area is a lower bound
+    double area = 0;                // summed pairwise intersection area (UV units)
+    std::vector<bool> overlapping;  // per mesh triangle
+    bool truncated = false;         // pair budget exhausted: area is a lower bound
     std::size_t pairsClipped = 0;
 };
 
@@ -494,17 +489,21 @@ void checkUvOverlap(const TriangleMesh& mesh, const TriangleFacts& facts,
 
 // ---------------------------------------------------------------------------------------------
 // UV tiles: a map spread over several unit squares (UDIM tiles, or a texture repeated along a
-// long part), so wider than one unit. One physics texture holds them all, each tile at a fraction of the resolution.
+// long part), so wider than one unit. One physics texture holds them all, each tile at a fraction
+// of the resolution.
 
 void checkUvTiles(const TriangleMesh& mesh, const TriangleFacts& facts, ValidationReport& report) {
     std::vector<std::pair<long long, long long>> tileOf(mesh.triangleCount());
     std::vector<std::pair<long long, long long>> tiles;
     for (std::size_t t = 0; t < mesh.triangleCount(); ++t) {
         const Triangle& tri = mesh.triangles[t];
-        const Eigen::Vector2d centre = (mesh.uvs[tri[0]] + mesh.uvs[tri[1]] + mesh.uvs[tri[2]]) / 3.0;
+        const Eigen::Vector2d centre =
+            (mesh.uvs[tri[0]] + mesh.uvs[tri[1]] + mesh.uvs[tri[2]]) / 3.0;
         // Clamped before the conversion (undefined beyond long long's range; a centre of
         // UVs near 1e308 is Inf): every tile past 1e15 is "far away", which is all that counts.
-        auto tile = [](double c) { return static_cast<long long>(std::floor(std::clamp(c, -1e15, 1e15))); };
+        auto tile = [](double c) {
+            return static_cast<long long>(std::floor(std::clamp(c, -1e15, 1e15)));
+        };
         tileOf[t] = {tile(centre.x()), tile(centre.y())};
         tiles.push_back(tileOf[t]);
     }
@@ -515,7 +514,8 @@ void checkUvTiles(const TriangleMesh& mesh, const TriangleFacts& facts, Validati
     for (const Eigen::Vector2d& uv : mesh.uvs) box.extend(uv);
     if (tiles.size() <= 1 || box.sizes().maxCoeff() <= 1.0) return;
     std::vector<bool> outsideFirst(mesh.triangleCount(), false);
-    for (std::size_t t = 0; t < mesh.triangleCount(); ++t) outsideFirst[t] = tileOf[t] != std::pair<long long, long long>{0, 0};
+    for (std::size_t t = 0; t < mesh.triangleCount(); ++t)
+        outsideFirst[t] = tileOf[t] != std::pair<long long, long long>{0, 0};
     add(report, ProblemKind::UvMultipleTiles, Severity::Warning, tiles.size(),
         areaShare(outsideFirst, facts),
         printed("the UVs spread over %zu unit tiles (%zu triangles outside tile 0,0): they share "
@@ -607,21 +607,36 @@ void checkUvMirrored(const TriangleMesh& mesh, const TriangleFacts& facts,
 
 const char* problemCode(ProblemKind kind) {
     switch (kind) {
-        case ProblemKind::EmptyMesh: return "empty-mesh";
-        case ProblemKind::NonFinite: return "non-finite";
-        case ProblemKind::MissingUvs: return "missing-uvs";
-        case ProblemKind::DegenerateTriangle: return "degenerate-triangle";
-        case ProblemKind::DegenerateUvTriangle: return "degenerate-uv-triangle";
-        case ProblemKind::OpenSurface: return "open-surface";
-        case ProblemKind::NonManifoldEdge: return "non-manifold-edge";
-        case ProblemKind::InconsistentOrientation: return "inconsistent-orientation";
-        case ProblemKind::InwardNormals: return "inward-normals";
-        case ProblemKind::UvOutOfRange: return "uv-out-of-range";
-        case ProblemKind::UvOverlap: return "uv-overlap";
-        case ProblemKind::UvMirrored: return "uv-mirrored";
-        case ProblemKind::UvMultipleTiles: return "uv-multiple-tiles";
-        case ProblemKind::UvDistortion: return "uv-distortion";
-        case ProblemKind::IndexOutOfRange: return "index-out-of-range";
+        case ProblemKind::EmptyMesh:
+            return "empty-mesh";
+        case ProblemKind::NonFinite:
+            return "non-finite";
+        case ProblemKind::MissingUvs:
+            return "missing-uvs";
+        case ProblemKind::DegenerateTriangle:
+            return "degenerate-triangle";
+        case ProblemKind::DegenerateUvTriangle:
+            return "degenerate-uv-triangle";
+        case ProblemKind::OpenSurface:
+            return "open-surface";
+        case ProblemKind::NonManifoldEdge:
+            return "non-manifold-edge";
+        case ProblemKind::InconsistentOrientation:
+            return "inconsistent-orientation";
+        case ProblemKind::InwardNormals:
+            return "inward-normals";
+        case ProblemKind::UvOutOfRange:
+            return "uv-out-of-range";
+        case ProblemKind::UvOverlap:
+            return "uv-overlap";
+        case ProblemKind::UvMirrored:
+            return "uv-mirrored";
+        case ProblemKind::UvMultipleTiles:
+            return "uv-multiple-tiles";
+        case ProblemKind::UvDistortion:
+            return "uv-distortion";
+        case ProblemKind::IndexOutOfRange:
+            return "index-out-of-range";
     }
     return "unknown";
 }
@@ -653,9 +668,9 @@ bool ValidationReport::hasErrors() const {
 
 bool ValidationReport::closedSolid() const {
     return !has(ProblemKind::EmptyMesh) && !has(ProblemKind::IndexOutOfRange) &&
-           !has(ProblemKind::NonFinite) &&
-           !has(ProblemKind::OpenSurface) && !has(ProblemKind::NonManifoldEdge) &&
-           !has(ProblemKind::InconsistentOrientation) && !has(ProblemKind::InwardNormals);
+           !has(ProblemKind::NonFinite) && !has(ProblemKind::OpenSurface) &&
+           !has(ProblemKind::NonManifoldEdge) && !has(ProblemKind::InconsistentOrientation) &&
+           !has(ProblemKind::InwardNormals);
 }
 
 std::string ValidationReport::format() const {

@@ -69,15 +69,24 @@ double WaterGraph::pipeLength(const GraphPipe& pipe) const {
 
 const char* graphProblemCode(GraphProblemKind kind) {
     switch (kind) {
-        case GraphProblemKind::Empty: return "empty-graph";
-        case GraphProblemKind::DuplicateId: return "duplicate-id";
-        case GraphProblemKind::BadCapacity: return "bad-capacity";
-        case GraphProblemKind::WaterOutOfRange: return "water-out-of-range";
-        case GraphProblemKind::DanglingPipe: return "dangling-pipe";
-        case GraphProblemKind::SelfLoop: return "self-loop";
-        case GraphProblemKind::BadPipe: return "bad-pipe";
-        case GraphProblemKind::NodeOutsideMesh: return "node-outside-mesh";
-        case GraphProblemKind::Disconnected: return "disconnected";
+        case GraphProblemKind::Empty:
+            return "empty-graph";
+        case GraphProblemKind::DuplicateId:
+            return "duplicate-id";
+        case GraphProblemKind::BadCapacity:
+            return "bad-capacity";
+        case GraphProblemKind::WaterOutOfRange:
+            return "water-out-of-range";
+        case GraphProblemKind::DanglingPipe:
+            return "dangling-pipe";
+        case GraphProblemKind::SelfLoop:
+            return "self-loop";
+        case GraphProblemKind::BadPipe:
+            return "bad-pipe";
+        case GraphProblemKind::NodeOutsideMesh:
+            return "node-outside-mesh";
+        case GraphProblemKind::Disconnected:
+            return "disconnected";
     }
     return "unknown";
 }
@@ -99,8 +108,8 @@ std::string GraphReport::format() const {
             if (p.error != errors) continue;
             if (!out.empty()) out += '\n';
             out += (source.empty() ? std::string() : source + ": ") +
-                   (p.error ? "error [" : "warning [") + graphProblemCode(p.kind) + "]: " +
-                   p.message;
+                   (p.error ? "error [" : "warning [") + graphProblemCode(p.kind) +
+                   "]: " + p.message;
         }
     }
     return out;
@@ -144,10 +153,11 @@ private:
     static constexpr double kFar = 2.5;
     static constexpr std::uint32_t kLeafSize = 8;
     struct Cell {
-        Eigen::Vector3d centre = Eigen::Vector3d::Zero();  ///< area-weighted, of the triangles below
+        Eigen::Vector3d centre =
+            Eigen::Vector3d::Zero();  ///< area-weighted, of the triangles below
         Eigen::Vector3d dipole = Eigen::Vector3d::Zero();  ///< sum of their area vectors
         double radius = 0;                                 ///< of every vertex below, about centre
-        std::uint32_t begin = 0, end = 0, left = 0;        ///< order_[begin, end); children; 0: leaf
+        std::uint32_t begin = 0, end = 0, left = 0;  ///< order_[begin, end); children; 0: leaf
     };
 
     Eigen::Vector3d corner(std::uint32_t triangle, int k) const {
@@ -160,7 +170,8 @@ private:
         Eigen::Vector3d hi = -lo;
         double area = 0;
         for (std::uint32_t k = begin; k < end; ++k) {
-            const Eigen::Vector3d a = corner(order_[k], 0), b = corner(order_[k], 1), c = corner(order_[k], 2);
+            const Eigen::Vector3d a = corner(order_[k], 0), b = corner(order_[k], 1),
+                                  c = corner(order_[k], 2);
             const Eigen::Vector3d n = 0.5 * (b - a).cross(c - a);
             const Eigen::Vector3d centroid = (a + b + c) / 3.0;
             weighted += n.norm() * centroid;
@@ -170,10 +181,12 @@ private:
             hi = hi.cwiseMax(centroid);
         }
         Cell cell;
-        cell.centre = area > 0 ? Eigen::Vector3d(weighted / area) : Eigen::Vector3d(0.5 * (lo + hi));
+        cell.centre =
+            area > 0 ? Eigen::Vector3d(weighted / area) : Eigen::Vector3d(0.5 * (lo + hi));
         cell.dipole = dipole;
         for (std::uint32_t k = begin; k < end; ++k)
-            for (int j = 0; j < 3; ++j) cell.radius = std::max(cell.radius, (corner(order_[k], j) - cell.centre).norm());
+            for (int j = 0; j < 3; ++j)
+                cell.radius = std::max(cell.radius, (corner(order_[k], j) - cell.centre).norm());
         cell.begin = begin;
         cell.end = end;
         cells_[self] = cell;
@@ -205,7 +218,8 @@ private:
                 total += d.dot(cell.dipole) / (distance * distance * distance);
             } else if (cell.left == 0) {
                 for (std::uint32_t k = cell.begin; k < cell.end; ++k)
-                    total += solidAngle(corner(order_[k], 0) - q, corner(order_[k], 1) - q, corner(order_[k], 2) - q);
+                    total += solidAngle(corner(order_[k], 0) - q, corner(order_[k], 1) - q,
+                                        corner(order_[k], 2) - q);
             } else {
                 stack.push_back(cell.left);
                 stack.push_back(cell.left + 1);
@@ -305,7 +319,8 @@ GraphReport validateGraph(const WaterGraph& graph, const TriangleMesh* mesh,
             if (a >= 0 && b >= 0 && p.open) parent[root(a)] = root(b);
         }
         std::size_t groups = 0;
-        for (std::size_t i = 0; i < parent.size(); ++i) groups += root(static_cast<int>(i)) == static_cast<int>(i);
+        for (std::size_t i = 0; i < parent.size(); ++i)
+            groups += root(static_cast<int>(i)) == static_cast<int>(i);
         if (groups > 1) {
             add(GraphProblemKind::Disconnected, false,
                 std::to_string(groups) + " groups of nodes that no open pipe joins");
@@ -380,7 +395,8 @@ namespace {
 std::vector<plimsoll_eval::NodeShape> nodeShapes(const WaterGraph& graph) {
     std::vector<plimsoll_eval::NodeShape> shapes;
     shapes.reserve(graph.nodes.size());
-    for (const GraphNode& n : graph.nodes) shapes.push_back({toEval(n.position), toEval(n.boxSize)});
+    for (const GraphNode& n : graph.nodes)
+        shapes.push_back({toEval(n.position), toEval(n.boxSize)});
     return shapes;
 }
 
@@ -393,7 +409,8 @@ int nearestNode(const WaterGraph& graph, const Eigen::Vector3d& point) {
 std::vector<std::int32_t> texelNodeMap(const WaterGraph& graph, const SurfaceTextures& textures) {
     const plimsoll_eval::NearestNodeIndex index(nodeShapes(graph));
     std::vector<std::int32_t> nodes(textures.position.size());
-    for (std::size_t i = 0; i < nodes.size(); ++i) nodes[i] = index.nearest(toEval(textures.position[i]));
+    for (std::size_t i = 0; i < nodes.size(); ++i)
+        nodes[i] = index.nearest(toEval(textures.position[i]));
     return nodes;
 }
 
@@ -496,9 +513,9 @@ bool WaterGraphSimulation::exchange(const Pose& pose, const WaterModel& water, d
 bool WaterGraphSimulation::applyExchange(const Pose& pose, double dt, const ExchangeSums& rates) {
     const std::size_t n = graph_.nodes.size();
     if (samples_.empty() || rates.inflow.size() != n) return false;
-    const bool moved = flow_.applyExchange(pose.translation.y(), toEval(pose.rotation), dt,
-                                           rates.inflow.data(), rates.outflow.data(),
-                                           rates.outsideTop.data());
+    const bool moved =
+        flow_.applyExchange(pose.translation.y(), toEval(pose.rotation), dt, rates.inflow.data(),
+                            rates.outflow.data(), rates.outsideTop.data());
     syncWater();
     return moved;
 }
@@ -513,8 +530,7 @@ bool WaterGraphSimulation::flowInside(const Eigen::Matrix3d& rotation, double dt
     return moved;
 }
 
-bool WaterGraphSimulation::step(const Pose& pose, const WaterModel& water, double time,
-                                double dt) {
+bool WaterGraphSimulation::step(const Pose& pose, const WaterModel& water, double time, double dt) {
     const bool exchanged = exchange(pose, water, time, dt);
     const bool flowed = flowInside(pose.rotation, dt);
     return exchanged || flowed;

@@ -111,14 +111,15 @@ void splitSegments(const TriangleMesh& mesh, MeshSegmentation& s, int target) {
     std::vector<double> area(count);
     for (std::size_t t = 0; t < count; ++t) {
         const Triangle& tri = mesh.triangles[t];
-        centre[t] = (mesh.positions[tri[0]] + mesh.positions[tri[1]] + mesh.positions[tri[2]]) / 3.0;
+        centre[t] =
+            (mesh.positions[tri[0]] + mesh.positions[tri[1]] + mesh.positions[tri[2]]) / 3.0;
         area[t] = triangleAreaVector(mesh, tri).norm();
     }
     while (s.segmentCount < target) {
         std::vector<double> segArea(s.segmentCount, 0.0);
         for (std::size_t t = 0; t < count; ++t) segArea[s.triangleSegment[t]] += area[t];
-        const int largest = static_cast<int>(
-            std::max_element(segArea.begin(), segArea.end()) - segArea.begin());
+        const int largest =
+            static_cast<int>(std::max_element(segArea.begin(), segArea.end()) - segArea.begin());
         Eigen::Vector3d mean = Eigen::Vector3d::Zero();
         std::size_t members = 0;
         for (std::size_t t = 0; t < count; ++t) {
@@ -166,9 +167,12 @@ std::vector<Eigen::Vector3d> interiorPoints(const TriangleMesh& mesh, int sample
             x0 = std::min(x0, mesh.positions[v].x()), x1 = std::max(x1, mesh.positions[v].x());
             z0 = std::min(z0, mesh.positions[v].z()), z1 = std::max(z1, mesh.positions[v].z());
         }
-        for (int i = cell(x0, b.min.x(), nx); i <= std::min(nx - 1, cell(x1, b.min.x(), nx) + 1); ++i) {
-            for (int k = cell(z0, b.min.z(), nz); k <= std::min(nz - 1, cell(z1, b.min.z(), nz) + 1); ++k) {
-                columns[static_cast<std::size_t>(k) * nx + i].push_back(static_cast<std::uint32_t>(t));
+        for (int i = cell(x0, b.min.x(), nx); i <= std::min(nx - 1, cell(x1, b.min.x(), nx) + 1);
+             ++i) {
+            for (int k = cell(z0, b.min.z(), nz);
+                 k <= std::min(nz - 1, cell(z1, b.min.z(), nz) + 1); ++k) {
+                columns[static_cast<std::size_t>(k) * nx + i].push_back(
+                    static_cast<std::uint32_t>(t));
             }
         }
     }
@@ -185,17 +189,21 @@ std::vector<Eigen::Vector3d> interiorPoints(const TriangleMesh& mesh, int sample
                 const Eigen::Vector3d& p1 = mesh.positions[mesh.triangles[t][1]];
                 const Eigen::Vector3d& p2 = mesh.positions[mesh.triangles[t][2]];
                 // Barycentric coordinates of (x, z) in the triangle's xz projection.
-                const double d = (p1.x() - p0.x()) * (p2.z() - p0.z()) - (p2.x() - p0.x()) * (p1.z() - p0.z());
+                const double d =
+                    (p1.x() - p0.x()) * (p2.z() - p0.z()) - (p2.x() - p0.x()) * (p1.z() - p0.z());
                 if (d == 0) continue;
-                const double u = ((x - p0.x()) * (p2.z() - p0.z()) - (p2.x() - p0.x()) * (z - p0.z())) / d;
-                const double v = ((p1.x() - p0.x()) * (z - p0.z()) - (x - p0.x()) * (p1.z() - p0.z())) / d;
+                const double u =
+                    ((x - p0.x()) * (p2.z() - p0.z()) - (p2.x() - p0.x()) * (z - p0.z())) / d;
+                const double v =
+                    ((p1.x() - p0.x()) * (z - p0.z()) - (x - p0.x()) * (p1.z() - p0.z())) / d;
                 if (u < 0 || v < 0 || u + v > 1) continue;
                 crossings.push_back(p0.y() + u * (p1.y() - p0.y()) + v * (p2.y() - p0.y()));
             }
             std::sort(crossings.begin(), crossings.end());
             for (int j = 0; j < ny; ++j) {
                 const double y = b.min.y() + (j + 0.5) * h;
-                const auto below = std::lower_bound(crossings.begin(), crossings.end(), y) - crossings.begin();
+                const auto below =
+                    std::lower_bound(crossings.begin(), crossings.end(), y) - crossings.begin();
                 if (below % 2 == 1) points.emplace_back(x, y, z);
             }
         }
@@ -266,7 +274,8 @@ Result<WaterGraph> buildAutomaticGraph(const TriangleMesh& mesh, const AutoGraph
     std::vector<Eigen::Vector3d> centroid(mesh.triangles.size());
     for (std::size_t t = 0; t < mesh.triangles.size(); ++t) {
         const Triangle& tri = mesh.triangles[t];
-        centroid[t] = (mesh.positions[tri[0]] + mesh.positions[tri[1]] + mesh.positions[tri[2]]) / 3.0;
+        centroid[t] =
+            (mesh.positions[tri[0]] + mesh.positions[tri[1]] + mesh.positions[tri[2]]) / 3.0;
     }
     const int n = seg.segmentCount;
     std::vector<double> cells(n, 0.0);
@@ -310,8 +319,10 @@ Result<WaterGraph> buildAutomaticGraph(const TriangleMesh& mesh, const AutoGraph
         Eigen::Vector3d mean = Eigen::Vector3d::Zero();
         for (const Eigen::Vector3d& p : vertices[s]) mean += p;
         mean /= std::max<std::size_t>(1, vertices[s].size());
-        const Eigen::Vector3d fallback = cellSum[s].isZero(0.0) ? mean : Eigen::Vector3d(cellSum[s] / cells[s]);
-        node.position = vertices[s].size() >= 4 ? leastSquaresSphereCentre(vertices[s], mean) : fallback;
+        const Eigen::Vector3d fallback =
+            cellSum[s].isZero(0.0) ? mean : Eigen::Vector3d(cellSum[s] / cells[s]);
+        node.position =
+            vertices[s].size() >= 4 ? leastSquaresSphereCentre(vertices[s], mean) : fallback;
         // A flat patch fits a huge sphere whose centre lies far outside: use the centroid of
         // the segment's share of the volume instead.
         if (!node.position.allFinite() || windingNumber(mesh, node.position) < 0.5) {

@@ -40,8 +40,8 @@ Result<MeshSegmentation> segmentMeshSdf(const TriangleMesh& input, int clusters,
     }
     for (std::size_t t = 0; t < input.triangles.size(); ++t) {
         const Triangle& tri = input.triangles[t];
-        const Face f = mesh.add_face(vertexOf[weld[tri[0]]], vertexOf[weld[tri[1]]],
-                                     vertexOf[weld[tri[2]]]);
+        const Face f =
+            mesh.add_face(vertexOf[weld[tri[0]]], vertexOf[weld[tri[1]]], vertexOf[weld[tri[2]]]);
         if (f == Mesh::null_face()) {
             return makeError(ErrorKind::invalidArgument,
                              input.source + ": triangle " + std::to_string(t) +

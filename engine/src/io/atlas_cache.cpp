@@ -87,7 +87,8 @@ Status writeCache(const PhysicsAtlas& atlas, const TriangleMesh& mesh,
         uv.push_back(p.y());
     }
     std::vector<std::uint32_t> triangles;
-    for (const Triangle& t : atlas.mesh.triangles) triangles.insert(triangles.end(), t.begin(), t.end());
+    for (const Triangle& t : atlas.mesh.triangles)
+        triangles.insert(triangles.end(), t.begin(), t.end());
     nlohmann::json j = {{"format", "plimsoll-physics-atlas"},
                         {"mesh", mesh.source},
                         {"mesh_hash", meshHash(mesh)},

@@ -30,8 +30,8 @@ constexpr const char* kCoverageFile = "coverage.exr";
 constexpr const char* kSamplesFile = plimsoll_eval::kSamplesFile;
 // The sample list as an image: rows of kSamplesWidth entries, one channel per field.
 constexpr int kSamplesWidth = 1024;
-const std::vector<std::string> kSampleChannels = {"x", "y", "px", "py", "pz", "ax", "ay", "az",
-                                                  "area", "coverage"};
+const std::vector<std::string> kSampleChannels = {"x",  "y",  "px", "py",   "pz",
+                                                  "ax", "ay", "az", "area", "coverage"};
 constexpr const char* kManifestFile = plimsoll_eval::kManifestFile;
 
 nlohmann::json manifestFor(const SurfaceTextures& t, const std::string& sourceMesh) {
@@ -43,23 +43,28 @@ nlohmann::json manifestFor(const SurfaceTextures& t, const std::string& sourceMe
         {"conventions",
          {{"units", "SI: positions in m, area vectors and areas in m^2 (mesh units)"},
           {"space", "object space of the source mesh, y up"},
-          {"texel", "texel (x, y) covers texture uv [x/N,(x+1)/N] x [y/N,(y+1)/N]; "
-                    "texture uv = scale * mesh uv + offset"},
+          {"texel",
+           "texel (x, y) covers texture uv [x/N,(x+1)/N] x [y/N,(y+1)/N]; "
+           "texture uv = scale * mesh uv + offset"},
           {"image_rows", "row 0 of each image is the top of the texture (v = 1)"}}},
         {"files",
-         {{"position", {{"path", kPositionFile},
-                        {"channels", "RGB = area centroid of the texel's surface, "
-                                     "A = 1 if covered"}}},
-          {"area_vector", {{"path", kAreaVectorFile},
-                           {"channels", "RGB = integral of n dS, A = surface area"}}},
-          {"coverage", {{"path", kCoverageFile},
-                        {"channels", "Y = covered share of the texel's UV square"}}},
-          {"samples", {{"path", kSamplesFile},
-                       {"channels", "x, y = texel; px, py, pz = point (m); ax, ay, az = area "
-                                    "vector (m^2); area (m^2); coverage. One entry per texel "
-                                    "and surface piece, rows of 1024, unused entries have "
-                                    "coverage 0: the exact list the physics sums run over; "
-                                    "the images above merge a texel's entries"}}}}}};
+         {{"position",
+           {{"path", kPositionFile},
+            {"channels",
+             "RGB = area centroid of the texel's surface, "
+             "A = 1 if covered"}}},
+          {"area_vector",
+           {{"path", kAreaVectorFile}, {"channels", "RGB = integral of n dS, A = surface area"}}},
+          {"coverage",
+           {{"path", kCoverageFile}, {"channels", "Y = covered share of the texel's UV square"}}},
+          {"samples",
+           {{"path", kSamplesFile},
+            {"channels",
+             "x, y = texel; px, py, pz = point (m); ax, ay, az = area "
+             "vector (m^2); area (m^2); coverage. One entry per texel "
+             "and surface piece, rows of 1024, unused entries have "
+             "coverage 0: the exact list the physics sums run over; "
+             "the images above merge a texel's entries"}}}}}};
     manifest.update(textureFactsJson(t));
     return manifest;
 }
@@ -67,14 +72,15 @@ nlohmann::json manifestFor(const SurfaceTextures& t, const std::string& sourceMe
 }  // namespace
 
 // The compact channel names are the runtime's (plimsoll_eval/format.hpp: one source).
-const std::vector<std::string> kCompactSampleChannels(std::begin(plimsoll_eval::kCompactSampleChannels),
-                                                      std::end(plimsoll_eval::kCompactSampleChannels));
+const std::vector<std::string> kCompactSampleChannels(
+    std::begin(plimsoll_eval::kCompactSampleChannels),
+    std::end(plimsoll_eval::kCompactSampleChannels));
 // The largest finite half float: a value beyond it would be stored as infinity.
 constexpr double kHalfMax = 65504.0;
 
 /// writeBakedTextures, float32 or (with `compact`) in the compact encoding.
-static Status writeTextures(const SurfaceTextures& t, const fs::path& folder, const std::string& sourceMesh,
-                     const CompactSamples* compact) {
+static Status writeTextures(const SurfaceTextures& t, const fs::path& folder,
+                            const std::string& sourceMesh, const CompactSamples* compact) {
     std::error_code ec;
     fs::create_directories(folder, ec);
     if (ec)
@@ -101,7 +107,8 @@ static Status writeTextures(const SurfaceTextures& t, const fs::path& folder, co
             for (std::size_t begin = rowStart[y], last; begin < rowStart[y + 1]; begin = last) {
                 Merged m{Eigen::Vector3d::Zero(), Eigen::Vector3d::Zero(), 0.0, 0.0};
                 Eigen::Vector3d weighted = Eigen::Vector3d::Zero();
-                for (last = begin; last < rowStart[y + 1] && t.texelIndex[last] == t.texelIndex[begin]; ++last) {
+                for (last = begin;
+                     last < rowStart[y + 1] && t.texelIndex[last] == t.texelIndex[begin]; ++last) {
                     m.areaVector += t.areaVector[last];
                     weighted += t.area[last] * t.position[last];
                     m.area += t.area[last];
@@ -114,22 +121,27 @@ static Status writeTextures(const SurfaceTextures& t, const fs::path& folder, co
         }
     };
     detail::FloatRows position{n, n, {"R", "G", "B", "A"}, [&](float* rows, int first, int count) {
-        forEachTexel(first, count, [&](const Merged& m, std::size_t pixel) {
-            for (int k = 0; k < 3; ++k) rows[4 * pixel + k] = static_cast<float>(m.point[k]);
-            rows[4 * pixel + 3] = 1.0f;
-        });
-    }};
-    detail::FloatRows areaVector{n, n, {"R", "G", "B", "A"}, [&](float* rows, int first, int count) {
-        forEachTexel(first, count, [&](const Merged& m, std::size_t pixel) {
-            for (int k = 0; k < 3; ++k) rows[4 * pixel + k] = static_cast<float>(m.areaVector[k]);
-            rows[4 * pixel + 3] = static_cast<float>(m.area);
-        });
-    }};
+                                   forEachTexel(
+                                       first, count, [&](const Merged& m, std::size_t pixel) {
+                                           for (int k = 0; k < 3; ++k)
+                                               rows[4 * pixel + k] = static_cast<float>(m.point[k]);
+                                           rows[4 * pixel + 3] = 1.0f;
+                                       });
+                               }};
+    detail::FloatRows areaVector{
+        n, n, {"R", "G", "B", "A"}, [&](float* rows, int first, int count) {
+            forEachTexel(first, count, [&](const Merged& m, std::size_t pixel) {
+                for (int k = 0; k < 3; ++k)
+                    rows[4 * pixel + k] = static_cast<float>(m.areaVector[k]);
+                rows[4 * pixel + 3] = static_cast<float>(m.area);
+            });
+        }};
     detail::FloatRows coverage{n, n, {"Y"}, [&](float* rows, int first, int count) {
-        forEachTexel(first, count, [&](const Merged& m, std::size_t pixel) {
-            rows[pixel] = static_cast<float>(m.coverage);
-        });
-    }};
+                                   forEachTexel(first, count,
+                                                [&](const Merged& m, std::size_t pixel) {
+                                                    rows[pixel] = static_cast<float>(m.coverage);
+                                                });
+                               }};
     // A compact bundle stores points about `origin` and everything but the texel indices as
     // half floats in [-1, 1] (docs/bundle.md "Compact bundles").
     const Eigen::Vector3d origin = compact ? compact->origin : Eigen::Vector3d::Zero();
@@ -140,7 +152,8 @@ static Status writeTextures(const SurfaceTextures& t, const fs::path& folder, co
         std::max<int>(1, static_cast<int>((t.coveredCount() + kSamplesWidth - 1) / kSamplesWidth)),
         compact ? kCompactSampleChannels : kSampleChannels, [&](float* rows, int first, int count) {
             const std::size_t begin = static_cast<std::size_t>(first) * kSamplesWidth;
-            const std::size_t end = std::min(t.coveredCount(), begin + static_cast<std::size_t>(count) * kSamplesWidth);
+            const std::size_t end =
+                std::min(t.coveredCount(), begin + static_cast<std::size_t>(count) * kSamplesWidth);
             for (std::size_t i = begin; i < end; ++i) {
                 float* out = &rows[(i - begin) * kSampleChannels.size()];
                 out[0] = static_cast<float>(t.texelIndex[i] % n);
@@ -158,14 +171,15 @@ static Status writeTextures(const SurfaceTextures& t, const fs::path& folder, co
         // a half's range: checked before anything is written.
         double worst = 0;
         forEachTexel(0, n, [&](const Merged& m, std::size_t) {
-            for (int k = 0; k < 3; ++k) worst = std::max({worst, std::abs(m.point[k]), std::abs(m.areaVector[k])});
+            for (int k = 0; k < 3; ++k)
+                worst = std::max({worst, std::abs(m.point[k]), std::abs(m.areaVector[k])});
             worst = std::max({worst, m.area, m.coverage});
         });
         if (!(worst <= kHalfMax))
-            return makeError(ErrorKind::limit,
-                             (folder / kPositionFile).string() + ": a point or area of " +
-                                 std::to_string(worst) + " does not fit a half float (|v| <= " +
-                                 "65504): export this body without --compact");
+            return makeError(ErrorKind::limit, (folder / kPositionFile).string() +
+                                                   ": a point or area of " + std::to_string(worst) +
+                                                   " does not fit a half float (|v| <= " +
+                                                   "65504): export this body without --compact");
         samples.half.assign(samples.channels.size(), true);
         samples.half[0] = samples.half[1] = false;
         for (detail::FloatRows* image : {&position, &areaVector, &coverage})
@@ -176,10 +190,9 @@ static Status writeTextures(const SurfaceTextures& t, const fs::path& folder, co
     // previous bake as it was, never new images beside an old manifest.
     const std::string manifest = manifestFor(t, sourceMesh).dump(2) + "\n";
     std::vector<FileWriter> files;
-    for (const auto& [name, image] : {std::pair{kPositionFile, &position},
-                                      std::pair{kAreaVectorFile, &areaVector},
-                                      std::pair{kCoverageFile, &coverage},
-                                      std::pair{kSamplesFile, &samples}}) {
+    for (const auto& [name, image] :
+         {std::pair{kPositionFile, &position}, std::pair{kAreaVectorFile, &areaVector},
+          std::pair{kCoverageFile, &coverage}, std::pair{kSamplesFile, &samples}}) {
         const fs::path target = folder / name;
         const detail::FloatRows* pixels = image;
         files.emplace_back(target, [pixels, target](const fs::path& temp) {
@@ -229,7 +242,8 @@ Result<SurfaceTextures> readBakedTextures(const fs::path& folder) {
         return finished.error();
     Result<std::string> text = readWholeFile(manifestPath, kMaxJsonFileBytes, "kMaxJsonFileBytes");
     if (!text) return text.error();
-    if (Status depth = checkJsonDepth(*text, manifestPath.string()); !depth.ok()) return depth.error();
+    if (Status depth = checkJsonDepth(*text, manifestPath.string()); !depth.ok())
+        return depth.error();
     nlohmann::json manifest;
     try {
         manifest = nlohmann::json::parse(*text);
@@ -244,9 +258,9 @@ Result<SurfaceTextures> readBakedTextures(const fs::path& folder) {
     std::string field = "schema_version";
     try {
         if (manifest.value(field, 0) != kBakeSchemaVersion) {
-            return makeError(ErrorKind::format,
-                             manifestPath.string() + ": unsupported schema_version (expected " +
-                                 std::to_string(kBakeSchemaVersion) + ")");
+            return makeError(ErrorKind::format, manifestPath.string() +
+                                                    ": unsupported schema_version (expected " +
+                                                    std::to_string(kBakeSchemaVersion) + ")");
         }
         field = "texture_size";
         t.size = manifest.at(field).get<int>();
@@ -254,36 +268,39 @@ Result<SurfaceTextures> readBakedTextures(const fs::path& folder) {
         t.placement.scale = manifest.at("uv_placement").at("scale").get<double>();
         field = "uv_placement.offset";
         const auto& offset = manifest.at("uv_placement").at("offset");
-        t.placement.offset = Eigen::Vector2d(offset.at(0).get<double>(), offset.at(1).get<double>());
+        t.placement.offset =
+            Eigen::Vector2d(offset.at(0).get<double>(), offset.at(1).get<double>());
         field = "texel_samples";
         count = manifest.value(field, std::size_t{0});
     } catch (const std::exception& e) {
         std::string what = boundedExcerpt(e.what(), 200);
-        if (const std::size_t tag = what.find("] "); tag != std::string::npos) what.erase(0, tag + 2);
+        if (const std::size_t tag = what.find("] "); tag != std::string::npos)
+            what.erase(0, tag + 2);
         return makeError(ErrorKind::format, manifestPath.string() + ": " + field + ": " + what);
     }
     if (t.size < kMinTextureSize || t.size > kMaxTextureSize) {
-        return makeError(ErrorKind::limit,
-                         manifestPath.string() + ": texture_size " + std::to_string(t.size) +
-                             " is outside " + std::to_string(kMinTextureSize) + ".." +
-                             std::to_string(kMaxTextureSize) +
-                             " (the limit kMaxTextureSize, limits.h)");
+        return makeError(ErrorKind::limit, manifestPath.string() + ": texture_size " +
+                                               std::to_string(t.size) + " is outside " +
+                                               std::to_string(kMinTextureSize) + ".." +
+                                               std::to_string(kMaxTextureSize) +
+                                               " (the limit kMaxTextureSize, limits.h)");
     }
 
     auto samples = detail::readExr(folder / kSamplesFile, kSampleChannels);
     if (!samples) return samples.error();
     if (count > static_cast<std::size_t>(samples->width) * samples->height) {
-        return makeError(ErrorKind::format,
-                         (folder / kSamplesFile).string() + ": holds fewer samples than the "
-                             "manifest's texel_samples (" + std::to_string(count) + ")");
+        return makeError(ErrorKind::format, (folder / kSamplesFile).string() +
+                                                ": holds fewer samples than the "
+                                                "manifest's texel_samples (" +
+                                                std::to_string(count) + ")");
     }
     for (std::size_t i = 0; i < count; ++i) {
         const float* in = &samples->pixels[i * kSampleChannels.size()];
         const int x = static_cast<int>(in[0]), y = static_cast<int>(in[1]);
         if (x < 0 || y < 0 || x >= t.size || y >= t.size || in[9] <= 0.0f) {
-            return makeError(ErrorKind::format,
-                             (folder / kSamplesFile).string() + ": sample " + std::to_string(i) +
-                                 " is not a covered texel of the texture");
+            return makeError(ErrorKind::format, (folder / kSamplesFile).string() + ": sample " +
+                                                    std::to_string(i) +
+                                                    " is not a covered texel of the texture");
         }
         t.texelIndex.push_back(static_cast<std::uint32_t>(y) * t.size + x);
         t.position.emplace_back(in[2], in[3], in[4]);

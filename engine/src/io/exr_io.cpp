@@ -31,14 +31,15 @@ namespace {
 /// could ask for terabytes. Baked images are N x N (N <= kMaxTextureSize) and the sample list
 /// holds a few entries per texel.
 Status checkExrSize(const fs::path& path, int width, int height) {
-    const std::uint64_t pixels = std::uint64_t(std::max(width, 0)) * std::uint64_t(std::max(height, 0));
+    const std::uint64_t pixels =
+        std::uint64_t(std::max(width, 0)) * std::uint64_t(std::max(height, 0));
     constexpr std::uint64_t kMaxPixels = 4ull * kMaxTextureSize * kMaxTextureSize;
     if (width <= 0 || height <= 0 || pixels > kMaxPixels) {
-        return makeError(ErrorKind::limit,
-                         path.string() + ": EXR of " + std::to_string(width) + " x " +
-                             std::to_string(height) + " pixels: more than the limit of " +
-                             std::to_string(kMaxPixels) +
-                             " (4 x kMaxTextureSize^2, limits.h), or empty");
+        return makeError(ErrorKind::limit, path.string() + ": EXR of " + std::to_string(width) +
+                                               " x " + std::to_string(height) +
+                                               " pixels: more than the limit of " +
+                                               std::to_string(kMaxPixels) +
+                                               " (4 x kMaxTextureSize^2, limits.h), or empty");
     }
     return Ok{};
 }
@@ -84,7 +85,8 @@ private:
 
 /// Writes an EXR with `header` into the temporary `file` for `target`: `write` hands OpenEXR
 /// the pixels.
-Status writeExrThroughDescriptor(const fs::path& file, const fs::path& target, const Imf::Header& header,
+Status writeExrThroughDescriptor(const fs::path& file, const fs::path& target,
+                                 const Imf::Header& header,
                                  const std::function<void(Imf::OutputFile&)>& write) {
     Result<int> fd = openTemporaryForWriting(file, target);
     if (!fd) return fd.error();
@@ -101,8 +103,9 @@ Status writeExrThroughDescriptor(const fs::path& file, const fs::path& target, c
     return Ok{};
 }
 
-Status writeExrThroughDescriptor(const fs::path& file, const fs::path& target, const Imf::Header& header,
-                                 const Imf::FrameBuffer& buffer, int rows) {
+Status writeExrThroughDescriptor(const fs::path& file, const fs::path& target,
+                                 const Imf::Header& header, const Imf::FrameBuffer& buffer,
+                                 int rows) {
     return writeExrThroughDescriptor(file, target, header, [&](Imf::OutputFile& out) {
         out.setFrameBuffer(buffer);
         out.writePixels(rows);
@@ -139,7 +142,8 @@ Status writeExrFile(const fs::path& file, const FloatRows& image, const fs::path
     Imf::Header header(image.width, image.height);
     header.compression() = Imf::ZIP_COMPRESSION;
     for (std::size_t c = 0; c < channels; ++c)
-        header.channels().insert(image.channels[c], Imf::Channel(isHalf(c) ? Imf::HALF : Imf::FLOAT));
+        header.channels().insert(image.channels[c],
+                                 Imf::Channel(isHalf(c) ? Imf::HALF : Imf::FLOAT));
     const std::size_t stride = channels * sizeof(float);
     // Blocks of rows a multiple of ZIP's 16-line chunks, about 8 MB at the widest texture.
     constexpr int kBlockRows = 64;
@@ -155,15 +159,17 @@ Status writeExrFile(const fs::path& file, const FloatRows& image, const fs::path
             for (std::size_t c = 0; c < channels; ++c) {
                 // The block holds rows first.. first + count: its origin is (0, first).
                 if (!isHalf(c)) {
-                    buffer.insert(image.channels[c],
-                                  Imf::Slice::Make(Imf::FLOAT, block.data() + c, Imath::V2i(0, first),
-                                                   image.width, count, stride, stride * image.width));
+                    buffer.insert(
+                        image.channels[c],
+                        Imf::Slice::Make(Imf::FLOAT, block.data() + c, Imath::V2i(0, first),
+                                         image.width, count, stride, stride * image.width));
                     continue;
                 }
                 // OpenEXR converts pixel types when reading, not when writing: a HALF channel
                 // is given half pixels of its own (rounded to nearest, as Imath's half does).
                 halves[c].resize(pixels);
-                for (std::size_t i = 0; i < pixels; ++i) halves[c][i] = Imath::half(block[i * channels + c]);
+                for (std::size_t i = 0; i < pixels; ++i)
+                    halves[c][i] = Imath::half(block[i * channels + c]);
                 buffer.insert(image.channels[c],
                               Imf::Slice::Make(Imf::HALF, halves[c].data(), Imath::V2i(0, first),
                                                image.width, count, sizeof(Imath::half),
@@ -220,9 +226,10 @@ Result<UintImage> readExrUint(const fs::path& path, const std::string& channel) 
             return size.error();
         image.pixels.assign(static_cast<std::size_t>(image.width) * image.height, 0u);
         Imf::FrameBuffer buffer;
-        buffer.insert(channel, Imf::Slice(Imf::UINT, reinterpret_cast<char*>(image.pixels.data()),
-                                          sizeof(std::uint32_t),
-                                          sizeof(std::uint32_t) * static_cast<std::size_t>(image.width)));
+        buffer.insert(channel,
+                      Imf::Slice(Imf::UINT, reinterpret_cast<char*>(image.pixels.data()),
+                                 sizeof(std::uint32_t),
+                                 sizeof(std::uint32_t) * static_cast<std::size_t>(image.width)));
         file.setFrameBuffer(buffer);
         file.readPixels(window.min.y, window.max.y);
         return image;
@@ -252,8 +259,8 @@ Result<FloatImage> readExr(const fs::path& path, const std::vector<std::string>&
         }
         if (Status size = checkExrSize(path, image.width, image.height); !size.ok())
             return size.error();
-        image.pixels.assign(static_cast<std::size_t>(image.width) * image.height *
-                                channels.size(), 0.0f);
+        image.pixels.assign(static_cast<std::size_t>(image.width) * image.height * channels.size(),
+                            0.0f);
         file.setFrameBuffer(frameBufferFor(image));
         file.readPixels(window.min.y, window.max.y);
         return image;

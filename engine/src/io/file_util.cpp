@@ -37,7 +37,9 @@ FileStepHook& fileStepHook() {
     return hook;
 }
 
-std::string systemMessage(int error) { return std::error_code(error, std::generic_category()).message(); }
+std::string systemMessage(int error) {
+    return std::error_code(error, std::generic_category()).message();
+}
 
 /// What a file that is not a regular one is, for messages.
 const char* fileTypeName(mode_t mode) {
@@ -54,8 +56,8 @@ const char* fileTypeName(mode_t mode) {
 Result<std::pair<int, std::uint64_t>> openRegular(const fs::path& path) {
     const std::string name = path.string();
     if (name.find('\0') != std::string::npos)
-        return makeError(ErrorKind::invalidArgument, "'" + std::string(name.c_str()) +
-                                                         "...': the path holds a NUL byte");
+        return makeError(ErrorKind::invalidArgument,
+                         "'" + std::string(name.c_str()) + "...': the path holds a NUL byte");
     const int fd = ::open(path.c_str(), O_RDONLY | O_NONBLOCK | O_CLOEXEC | O_NOCTTY);
     if (fd < 0) {
         const int error = errno;
@@ -70,7 +72,8 @@ Result<std::pair<int, std::uint64_t>> openRegular(const fs::path& path) {
     }
     if (!S_ISREG(st.st_mode)) {
         ::close(fd);
-        if (S_ISDIR(st.st_mode)) return makeError(ErrorKind::io, name + ": is a folder, not a file");
+        if (S_ISDIR(st.st_mode))
+            return makeError(ErrorKind::io, name + ": is a folder, not a file");
         return makeError(ErrorKind::io,
                          name + ": is " + fileTypeName(st.st_mode) + ", not a regular file");
     }
@@ -170,7 +173,8 @@ Status checkReplaceable(const fs::path& target) {
     if (::lstat(target.c_str(), &st) != 0) {
         const int error = errno;
         if (error == ENOENT) return Ok{};
-        return makeError(ErrorKind::io, target.string() + ": cannot write: " + systemMessage(error));
+        return makeError(ErrorKind::io,
+                         target.string() + ": cannot write: " + systemMessage(error));
     }
     if (S_ISREG(st.st_mode)) return Ok{};
     // A rename over a link, a device node or a FIFO replaces the node itself (run as root,
@@ -210,8 +214,9 @@ Status restoreInterruptedFolderSwap(const fs::path& target) {
     // The fallback swap moved the previous folder aside and died before the new one took its
     // place: the previous one goes back.
     if (::rename(aside.back().c_str(), target.c_str()) != 0)
-        return makeError(ErrorKind::io, target.string() + ": cannot restore " + aside.back().string() +
-                                            " after an interrupted replace: " + systemMessage(errno));
+        return makeError(ErrorKind::io,
+                         target.string() + ": cannot restore " + aside.back().string() +
+                             " after an interrupted replace: " + systemMessage(errno));
     return Ok{};
 }
 
@@ -219,13 +224,15 @@ Status replaceFolder(const fs::path& staging, const fs::path& target, const fs::
     struct stat st {};
     const bool hadOld = ::lstat(target.c_str(), &st) == 0;
     if (hadOld && (S_ISLNK(st.st_mode) || !S_ISDIR(st.st_mode)))
-        return makeError(ErrorKind::io, target.string() + ": is " +
-                                            (S_ISLNK(st.st_mode) ? "a symbolic link" : fileTypeName(st.st_mode)) +
-                                            ", not a folder: not replaced");
+        return makeError(ErrorKind::io,
+                         target.string() + ": is " +
+                             (S_ISLNK(st.st_mode) ? "a symbolic link" : fileTypeName(st.st_mode)) +
+                             ", not a folder: not replaced");
     if (Status step = fileStep("renaming", target); !step.ok()) return step;
     if (!hadOld) {
         if (::rename(staging.c_str(), target.c_str()) != 0)
-            return makeError(ErrorKind::io, target.string() + ": cannot create: " + systemMessage(errno));
+            return makeError(ErrorKind::io,
+                             target.string() + ": cannot create: " + systemMessage(errno));
         return Ok{};
     }
     // One exchange: readers see the old folder or the new one at the path, never none, and a
@@ -238,15 +245,18 @@ Status replaceFolder(const fs::path& staging, const fs::path& target, const fs::
     }
     const int error = exchangeDisabled ? EINVAL : errno;
     if (error != EINVAL && error != ENOSYS && error != ENOTSUP)
-        return makeError(ErrorKind::io, target.string() + ": cannot replace: " + systemMessage(error));
+        return makeError(ErrorKind::io,
+                         target.string() + ": cannot replace: " + systemMessage(error));
     // Fallback where the file system has no exchange: two renames. Between them the path is
     // missing for a moment; a process killed there leaves the previous folder aside, and
     // restoreInterruptedFolderSwap (run by the next replace or check) puts it back.
     if (::rename(target.c_str(), aside.c_str()) != 0)
-        return makeError(ErrorKind::io, target.string() + ": cannot replace: " + systemMessage(errno));
+        return makeError(ErrorKind::io,
+                         target.string() + ": cannot replace: " + systemMessage(errno));
     Status moved = fileStep("renaming", staging);
     if (moved.ok() && ::rename(staging.c_str(), target.c_str()) != 0)
-        moved = makeError(ErrorKind::io, target.string() + ": cannot replace: " + systemMessage(errno));
+        moved =
+            makeError(ErrorKind::io, target.string() + ": cannot replace: " + systemMessage(errno));
     std::error_code ec;
     if (!moved.ok()) {
         ::rename(aside.c_str(), target.c_str());
@@ -300,7 +310,8 @@ Result<std::string> readWholeFile(const fs::path& path, std::uint64_t maxBytes,
         if (n < 0) {
             const int error = errno;
             ::close(fd);
-            return makeError(ErrorKind::io, path.string() + ": read error: " + systemMessage(error));
+            return makeError(ErrorKind::io,
+                             path.string() + ": read error: " + systemMessage(error));
         }
         if (n == 0) break;
         done += static_cast<std::size_t>(n);
@@ -333,8 +344,8 @@ Result<fs::path> pathInside(const fs::path& folder, const std::string& relative,
                             const std::string& what) {
     auto leaves = [&](const std::string& why) {
         return makeError(ErrorKind::format, what + " \"" + std::string(relative.c_str()) +
-                                                "\" leaves the folder " + folder.string() +
-                                                " (" + why + ")");
+                                                "\" leaves the folder " + folder.string() + " (" +
+                                                why + ")");
     };
     if (relative.empty()) return makeError(ErrorKind::format, what + " is empty");
     if (relative.find('\0') != std::string::npos) return leaves("a NUL byte");
@@ -455,9 +466,9 @@ Status rollForward(const std::vector<JournalEntry>& entries, const fs::path& jou
         if (!fs::exists(fs::symlink_status(e.temp, ec))) continue;  // renamed before the crash
         if (::rename(e.temp.c_str(), e.target.c_str()) != 0) {
             const int error = errno;
-            return makeError(ErrorKind::io, e.target.string() +
-                                                ": cannot complete an interrupted save: " +
-                                                systemMessage(error));
+            return makeError(ErrorKind::io,
+                             e.target.string() +
+                                 ": cannot complete an interrupted save: " + systemMessage(error));
         }
     }
     for (const JournalEntry& e : entries) {
@@ -483,8 +494,9 @@ Status finishInterruptedReplace(const fs::path& lastTarget) {
         if (j.at("format").get<std::string>() != kJournalFormat) throw std::runtime_error("format");
         for (const nlohmann::json& f : j.at("files")) {
             JournalEntry entry;
-            for (auto [key, into] : {std::pair{"temp", &entry.temp}, std::pair{"target", &entry.target},
-                                     std::pair{"backup", &entry.backup}}) {
+            for (auto [key, into] :
+                 {std::pair{"temp", &entry.temp}, std::pair{"target", &entry.target},
+                  std::pair{"backup", &entry.backup}}) {
                 const std::string p = f.at(key).get<std::string>();
                 if (p.empty() && into == &entry.backup) continue;  // no previous version
                 // A journal names files of its own folder only: anything else (an absolute
@@ -511,7 +523,8 @@ Status finishInterruptedReplace(const fs::path& lastTarget) {
                file.filename().string().rfind(prefix, 0) == 0;
     };
     for (const JournalEntry& e : entries) {
-        if (!madeFor(e.temp, e.target, "") || (!e.backup.empty() && !madeFor(e.backup, e.target, ".previous")))
+        if (!madeFor(e.temp, e.target, "") ||
+            (!e.backup.empty() && !madeFor(e.backup, e.target, ".previous")))
             return makeError(ErrorKind::format, journal.string() + ": names " + e.temp.string() +
                                                     ", not a temporary of " + e.target.string());
     }
@@ -531,14 +544,16 @@ Status replaceFilesTogether(const std::vector<FileWriter>& files) {
     for (const auto& [target, write] : files) {
         if (relativeTo(target, setFolder).empty())
             return makeError(ErrorKind::invalidArgument,
-                             target.string() + ": outside " + (setFolder.empty() ? fs::path(".") : setFolder).string() +
+                             target.string() + ": outside " +
+                                 (setFolder.empty() ? fs::path(".") : setFolder).string() +
                                  ", the folder of the files it is saved with: not written");
     }
     // Phase 1: every temporary file; the targets are not touched yet.
     for (const auto& [target, write] : files) {
         Status written = fileStep("writing", target);
         if (written.ok()) written = checkReplaceable(target);
-        Result<fs::path> temp = written.ok() ? createTemporaryFor(target) : Result<fs::path>(written.error());
+        Result<fs::path> temp =
+            written.ok() ? createTemporaryFor(target) : Result<fs::path>(written.error());
         if (!temp) {
             removeTemps();
             return temp.error();
@@ -565,7 +580,8 @@ Status replaceFilesTogether(const std::vector<FileWriter>& files) {
         if (!backup || ec) {
             removeTemps();
             removeBackups();
-            return makeError(ErrorKind::io, e.target.string() + ": cannot keep the previous version: " +
+            return makeError(ErrorKind::io, e.target.string() +
+                                                ": cannot keep the previous version: " +
                                                 (backup ? ec.message() : backup.error().message));
         }
         e.backup = *backup;
@@ -575,18 +591,18 @@ Status replaceFilesTogether(const std::vector<FileWriter>& files) {
     const fs::path journal = journalPathFor(last);
     nlohmann::json list = nlohmann::json::array();
     for (const JournalEntry& e : entries) {
-        list.push_back({{"temp", relativeTo(e.temp, last.parent_path())},
-                        {"target", relativeTo(e.target, last.parent_path())},
-                        {"backup", e.backup.empty() ? "" : relativeTo(e.backup, last.parent_path())}});
+        list.push_back(
+            {{"temp", relativeTo(e.temp, last.parent_path())},
+             {"target", relativeTo(e.target, last.parent_path())},
+             {"backup", e.backup.empty() ? "" : relativeTo(e.backup, last.parent_path())}});
     }
     const std::string journalText =
         nlohmann::json{{"format", kJournalFormat}, {"files", list}}.dump(1) + "\n";
     Status committed = replaceFileAtomically(journal, [&](const fs::path& temp) -> Status {
         Result<int> fd = openTemporaryForWriting(temp, journal);
         if (!fd) return fd.error();
-        return writeThroughDescriptor(*fd, journal, [&](std::ostream& out) {
-            return bool(out << journalText);
-        });
+        return writeThroughDescriptor(*fd, journal,
+                                      [&](std::ostream& out) { return bool(out << journalText); });
     });
     if (!committed.ok()) {
         removeTemps();
@@ -601,8 +617,9 @@ Status replaceFilesTogether(const std::vector<FileWriter>& files) {
         if (beforeReplaceHook()) beforeReplaceHook()(e.temp, e.target);
         if (failure = fileStep("renaming", e.target); !failure.ok()) break;
         if (::rename(e.temp.c_str(), e.target.c_str()) != 0) {
-            failure = makeError(ErrorKind::io,
-                                e.target.string() + ": cannot replace file: " + systemMessage(errno));
+            failure =
+                makeError(ErrorKind::io,
+                          e.target.string() + ": cannot replace file: " + systemMessage(errno));
             break;
         }
     }
@@ -612,7 +629,8 @@ Status replaceFilesTogether(const std::vector<FileWriter>& files) {
         for (std::size_t i = 0; i < replaced; ++i) {
             if (!entries[i].backup.empty())
                 fs::rename(entries[i].backup, entries[i].target, ignored);
-            else fs::remove(entries[i].target, ignored);
+            else
+                fs::remove(entries[i].target, ignored);
         }
         removeTemps();
         removeBackups();
@@ -625,8 +643,8 @@ FileWriter bytesFileWriter(const fs::path& target, std::string bytes) {
     return {target, [target, bytes = std::move(bytes)](const fs::path& temp) -> Status {
                 Result<int> fd = openTemporaryForWriting(temp, target);
                 if (!fd) return fd.error();
-                return writeThroughDescriptor(*fd, target,
-                                              [&](std::ostream& out) { return bool(out << bytes); });
+                return writeThroughDescriptor(
+                    *fd, target, [&](std::ostream& out) { return bool(out << bytes); });
             }};
 }
 

@@ -34,21 +34,25 @@ json gltfQuaternion(const Eigen::Quaterniond& q) {
 
 json physicsNodeExtensions(const MassProperties& p) {
     const PrincipalInertia principal = principalInertia(p.inertia);
-    const json centerOfMass = json::array({p.centerOfMass.x(), p.centerOfMass.y(), p.centerOfMass.z()});
-    const json moments = json::array({principal.moments.x(), principal.moments.y(), principal.moments.z()});
+    const json centerOfMass =
+        json::array({p.centerOfMass.x(), p.centerOfMass.y(), p.centerOfMass.z()});
+    const json moments =
+        json::array({principal.moments.x(), principal.moments.y(), principal.moments.z()});
     const json orientation = gltfQuaternion(principal.orientation);
     // KHR: a node with `motion` is dynamic unless isKinematic. OMI: `type` is required.
     return json{{"KHR_physics_rigid_bodies",
-                 {{"motion", {{"mass", p.mass},
-                              {"centerOfMass", centerOfMass},
-                              {"inertiaDiagonal", moments},
-                              {"inertiaOrientation", orientation}}}}},
+                 {{"motion",
+                   {{"mass", p.mass},
+                    {"centerOfMass", centerOfMass},
+                    {"inertiaDiagonal", moments},
+                    {"inertiaOrientation", orientation}}}}},
                 {"OMI_physics_body",
-                 {{"motion", {{"type", "dynamic"},
-                              {"mass", p.mass},
-                              {"centerOfMass", centerOfMass},
-                              {"inertiaDiagonal", moments},
-                              {"inertiaOrientation", orientation}}}}}};
+                 {{"motion",
+                   {{"type", "dynamic"},
+                    {"mass", p.mass},
+                    {"centerOfMass", centerOfMass},
+                    {"inertiaDiagonal", moments},
+                    {"inertiaOrientation", orientation}}}}}};
 }
 
 }  // namespace plimsoll::detail

@@ -13,10 +13,10 @@ using nlohmann::json;
 
 namespace {
 
-constexpr int kFloat = 5126;            // accessor componentType FLOAT
-constexpr int kUnsignedInt = 5125;      // UNSIGNED_INT
-constexpr int kArrayBuffer = 34962;     // bufferView target: vertex attributes
-constexpr int kElementBuffer = 34963;   // indices
+constexpr int kFloat = 5126;           // accessor componentType FLOAT
+constexpr int kUnsignedInt = 5125;     // UNSIGNED_INT
+constexpr int kArrayBuffer = 34962;    // bufferView target: vertex attributes
+constexpr int kElementBuffer = 34963;  // indices
 constexpr int kTriangles = 4;
 
 template <typename T>
@@ -29,8 +29,8 @@ void append(std::string& bytes, const std::vector<T>& values) {
 }  // namespace
 
 GltfFiles encodeGltf(const TriangleMesh& mesh, const UvPlacement& placement,
-                     const std::string& binName, const std::string& nodeName,
-                     const json& extras, const json& nodeExtensions) {
+                     const std::string& binName, const std::string& nodeName, const json& extras,
+                     const json& nodeExtensions) {
     const std::size_t n = mesh.vertexCount();
     std::vector<float> positions, normals, texcoords;
     std::vector<std::uint32_t> indices;
@@ -57,10 +57,11 @@ GltfFiles encodeGltf(const TriangleMesh& mesh, const UvPlacement& placement,
         }
         const double length = normalSum[v].norm();
         // A vertex only on degenerate triangles has no normal; glTF requires unit length.
-        const Eigen::Vector3d normal = length > 0 ? Eigen::Vector3d(normalSum[v] / length)
-                                                  : Eigen::Vector3d::UnitY();
+        const Eigen::Vector3d normal =
+            length > 0 ? Eigen::Vector3d(normalSum[v] / length) : Eigen::Vector3d::UnitY();
         for (int k = 0; k < 3; ++k) normals.push_back(static_cast<float>(normal[k]));
-        const Eigen::Vector2d uv = mesh.hasUvs() ? placement.apply(mesh.uvs[v]) : Eigen::Vector2d::Zero();
+        const Eigen::Vector2d uv =
+            mesh.hasUvs() ? placement.apply(mesh.uvs[v]) : Eigen::Vector2d::Zero();
         texcoords.push_back(static_cast<float>(uv.x()));
         texcoords.push_back(static_cast<float>(1.0 - uv.y()));
     }
@@ -69,28 +70,36 @@ GltfFiles encodeGltf(const TriangleMesh& mesh, const UvPlacement& placement,
     GltfFiles files;
     json views = json::array(), accessors = json::array();
     auto addView = [&](std::size_t offset, std::size_t length, int target) {
-        views.push_back({{"buffer", 0}, {"byteOffset", offset}, {"byteLength", length},
-                         {"target", target}});
+        views.push_back(
+            {{"buffer", 0}, {"byteOffset", offset}, {"byteLength", length}, {"target", target}});
         return views.size() - 1;
     };
     // Every block is a whole number of 4-byte values, so each view starts 4-byte aligned.
     std::size_t offset = files.bin.size();
     append(files.bin, positions);
     accessors.push_back({{"bufferView", addView(offset, files.bin.size() - offset, kArrayBuffer)},
-                         {"componentType", kFloat}, {"count", n}, {"type", "VEC3"},
-                         {"min", {lo[0], lo[1], lo[2]}}, {"max", {hi[0], hi[1], hi[2]}}});
+                         {"componentType", kFloat},
+                         {"count", n},
+                         {"type", "VEC3"},
+                         {"min", {lo[0], lo[1], lo[2]}},
+                         {"max", {hi[0], hi[1], hi[2]}}});
     offset = files.bin.size();
     append(files.bin, normals);
     accessors.push_back({{"bufferView", addView(offset, files.bin.size() - offset, kArrayBuffer)},
-                         {"componentType", kFloat}, {"count", n}, {"type", "VEC3"}});
+                         {"componentType", kFloat},
+                         {"count", n},
+                         {"type", "VEC3"}});
     offset = files.bin.size();
     append(files.bin, texcoords);
     accessors.push_back({{"bufferView", addView(offset, files.bin.size() - offset, kArrayBuffer)},
-                         {"componentType", kFloat}, {"count", n}, {"type", "VEC2"}});
+                         {"componentType", kFloat},
+                         {"count", n},
+                         {"type", "VEC2"}});
     offset = files.bin.size();
     append(files.bin, indices);
     accessors.push_back({{"bufferView", addView(offset, files.bin.size() - offset, kElementBuffer)},
-                         {"componentType", kUnsignedInt}, {"count", indices.size()},
+                         {"componentType", kUnsignedInt},
+                         {"count", indices.size()},
                          {"type", "SCALAR"}});
 
     json node = {{"name", nodeName}, {"mesh", 0}};
@@ -100,12 +109,13 @@ GltfFiles encodeGltf(const TriangleMesh& mesh, const UvPlacement& placement,
         {"scene", 0},
         {"scenes", json::array({{{"nodes", json::array({0})}}})},
         {"nodes", json::array({node})},
-        {"meshes", json::array({{{"name", nodeName},
-                                 {"primitives", json::array({{{"attributes", {{"POSITION", 0},
-                                                                              {"NORMAL", 1},
-                                                                              {"TEXCOORD_0", 2}}},
-                                                              {"indices", 3},
-                                                              {"mode", kTriangles}}})}}})},
+        {"meshes",
+         json::array(
+             {{{"name", nodeName},
+               {"primitives",
+                json::array({{{"attributes", {{"POSITION", 0}, {"NORMAL", 1}, {"TEXCOORD_0", 2}}},
+                              {"indices", 3},
+                              {"mode", kTriangles}}})}}})},
         {"accessors", accessors},
         {"bufferViews", views},
         {"buffers", json::array({{{"uri", binName}, {"byteLength", files.bin.size()}}})}};

@@ -40,8 +40,8 @@ public:
                 problem("schema_version", "must be an integer >= 1");
             } else if (v->get<long long>() > kGraphSchemaVersion) {
                 return makeError(ErrorKind::unsupported,
-                                 source() + ": schema_version: " +
-                                     std::to_string(v->get<long long>()) +
+                                 source() +
+                                     ": schema_version: " + std::to_string(v->get<long long>()) +
                                      " is newer than this Plimsoll reads (" +
                                      std::to_string(kGraphSchemaVersion) + ")");
             }
@@ -55,8 +55,8 @@ public:
         } else if (!nodes->is_array()) {
             problem("nodes", "must be an array");
         } else if (nodes->size() > kMaxGraphNodes) {
-            return makeError(ErrorKind::limit, source() + ": nodes: " +
-                                                   std::to_string(nodes->size()) +
+            return makeError(ErrorKind::limit, source() +
+                                                   ": nodes: " + std::to_string(nodes->size()) +
                                                    ", more than the limit kMaxGraphNodes = " +
                                                    std::to_string(kMaxGraphNodes) + " (limits.h)");
         } else {
@@ -68,11 +68,10 @@ public:
             if (!pipes->is_array()) {
                 problem("pipes", "must be an array");
             } else if (pipes->size() > kMaxGraphPipes) {
-                return makeError(ErrorKind::limit, source() + ": pipes: " +
-                                                       std::to_string(pipes->size()) +
-                                                       ", more than the limit kMaxGraphPipes = " +
-                                                       std::to_string(kMaxGraphPipes) +
-                                                       " (limits.h)");
+                return makeError(ErrorKind::limit,
+                                 source() + ": pipes: " + std::to_string(pipes->size()) +
+                                     ", more than the limit kMaxGraphPipes = " +
+                                     std::to_string(kMaxGraphPipes) + " (limits.h)");
             } else {
                 for (std::size_t i = 0; i < pipes->size(); ++i) {
                     readPipe((*pipes)[i], detail::element("pipes", i), graph.pipes.emplace_back());
@@ -146,8 +145,8 @@ Result<WaterGraph> loadGraph(const std::filesystem::path& path, const TriangleMe
 
 std::string graphToJson(const WaterGraph& graph) {
     // One node or pipe a line: graphs are read and edited by people.
-    std::string out = "{\n  \"schema_version\": " + std::to_string(kGraphSchemaVersion) +
-                      ",\n  \"nodes\": [";
+    std::string out =
+        "{\n  \"schema_version\": " + std::to_string(kGraphSchemaVersion) + ",\n  \"nodes\": [";
     for (std::size_t i = 0; i < graph.nodes.size(); ++i) {
         const GraphNode& n = graph.nodes[i];
         Json j;

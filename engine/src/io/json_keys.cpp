@@ -67,8 +67,10 @@ private:
         std::string p;
         for (std::size_t i = 0; i + 1 < frames_.size(); ++i) {
             const Frame& f = frames_[i];
-            if (f.object) p += (p.empty() ? "" : ".") + f.key;
-            else p += "[" + std::to_string(f.index) + "]";
+            if (f.object)
+                p += (p.empty() ? "" : ".") + f.key;
+            else
+                p += "[" + std::to_string(f.index) + "]";
         }
         return p.empty() ? "the top level" : p;
     }

@@ -13,10 +13,14 @@ namespace {
 /// The bound `value` breaks, as words for "must be ...", or nullptr.
 const char* brokenLimit(double value, Limit limit) {
     switch (limit) {
-        case Limit::Any: return nullptr;
-        case Limit::Positive: return value > 0 ? nullptr : "> 0";
-        case Limit::NonNegative: return value >= 0 ? nullptr : ">= 0";
-        case Limit::Fraction: return value >= 0 && value <= 1 ? nullptr : "in 0..1";
+        case Limit::Any:
+            return nullptr;
+        case Limit::Positive:
+            return value > 0 ? nullptr : "> 0";
+        case Limit::NonNegative:
+            return value >= 0 ? nullptr : ">= 0";
+        case Limit::Fraction:
+            return value >= 0 && value <= 1 ? nullptr : "in 0..1";
     }
     return nullptr;
 }
@@ -32,8 +36,9 @@ Result<Json> parseJson(const std::string& text, const std::string& source) {
     } catch (const Json::exception& e) {
         const std::string what = boundedExcerpt(e.what(), 200);
         const std::size_t tagEnd = what.find("] ");
-        return makeError(ErrorKind::format,
-                         source + ": " + (tagEnd == std::string::npos ? what : what.substr(tagEnd + 2)));
+        return makeError(
+            ErrorKind::format,
+            source + ": " + (tagEnd == std::string::npos ? what : what.substr(tagEnd + 2)));
     }
 }
 
@@ -74,8 +79,7 @@ bool JsonReader::expectObject(const Json& value, const std::string& path,
     return true;
 }
 
-bool JsonReader::numberValue(const Json& value, const std::string& path, double& out,
-                             Limit limit) {
+bool JsonReader::numberValue(const Json& value, const std::string& path, double& out, Limit limit) {
     // JSON has no NaN or infinity, and the parser rejects numbers that overflow a double, so
     // every number here is finite.
     if (!value.is_number()) {
@@ -91,8 +95,8 @@ bool JsonReader::numberValue(const Json& value, const std::string& path, double&
     return true;
 }
 
-void JsonReader::number(const Json& object, const std::string& path, const char* key,
-                        double& out, Limit limit, Presence presence) {
+void JsonReader::number(const Json& object, const std::string& path, const char* key, double& out,
+                        Limit limit, Presence presence) {
     if (const Json* value = find(object, key)) {
         numberValue(*value, member(path, key), out, limit);
     } else if (presence == Presence::Required) {
@@ -110,8 +114,7 @@ bool JsonReader::integerValue(const Json& value, const std::string& path, int& o
     const double number = value.get<double>();
     if (number < min || number > max) {
         const bool unbounded = max == std::numeric_limits<int>::max();
-        problem(path, !unbounded      ? "must be in " + std::to_string(min) + ".." +
-                                            std::to_string(max)
+        problem(path, !unbounded ? "must be in " + std::to_string(min) + ".." + std::to_string(max)
                       : number < min ? "must be >= " + std::to_string(min)
                                      : std::string("too large"));
         return false;
@@ -122,7 +125,8 @@ bool JsonReader::integerValue(const Json& value, const std::string& path, int& o
 
 void JsonReader::integer(const Json& object, const std::string& path, const char* key, int& out,
                          int min, int max) {
-    if (const Json* value = find(object, key)) integerValue(*value, member(path, key), out, min, max);
+    if (const Json* value = find(object, key))
+        integerValue(*value, member(path, key), out, min, max);
 }
 
 bool JsonReader::stringValue(const Json& value, const std::string& path, std::string& out) {
@@ -139,8 +143,7 @@ void JsonReader::string(const Json& object, const std::string& path, const char*
     if (const Json* value = find(object, key)) stringValue(*value, member(path, key), out);
 }
 
-void JsonReader::boolean(const Json& object, const std::string& path, const char* key,
-                         bool& out) {
+void JsonReader::boolean(const Json& object, const std::string& path, const char* key, bool& out) {
     const Json* value = find(object, key);
     if (!value) return;
     if (!value->is_boolean()) {

@@ -20,7 +20,8 @@ bool startsWith(std::string_view bytes, std::string_view prefix) {
 /// The bytes after a UTF-8 byte-order mark and leading white space.
 std::string_view trimmedStart(std::string_view bytes) {
     if (startsWith(bytes, "\xEF\xBB\xBF")) bytes.remove_prefix(3);
-    while (!bytes.empty() && (bytes[0] == ' ' || bytes[0] == '\t' || bytes[0] == '\r' || bytes[0] == '\n'))
+    while (!bytes.empty() &&
+           (bytes[0] == ' ' || bytes[0] == '\t' || bytes[0] == '\r' || bytes[0] == '\n'))
         bytes.remove_prefix(1);
     return bytes;
 }
@@ -43,7 +44,8 @@ bool looksLikeObj(std::string_view bytes) {
     const std::string_view head = bytes.substr(0, 1 << 16);
     if (head.find('\0') != std::string_view::npos) return false;
     static const std::array<std::string_view, 16> keywords{
-        "v", "vt", "vn", "vp", "f", "l", "p", "o", "g", "s", "usemtl", "mtllib", "#", "curv", "surf", "cstype"};
+        "v", "vt", "vn",     "vp",     "f", "l",    "p",    "o",
+        "g", "s",  "usemtl", "mtllib", "#", "curv", "surf", "cstype"};
     bool vertex = false;
     int statements = 0;
     std::size_t at = 0;
@@ -53,7 +55,8 @@ bool looksLikeObj(std::string_view bytes) {
         std::string_view line = trimmedStart(head.substr(at, end - at));
         at = end + 1;
         if (line.empty()) continue;
-        const std::string_view word = line.substr(0, std::min(line.find_first_of(" \t\r"), line.size()));
+        const std::string_view word =
+            line.substr(0, std::min(line.find_first_of(" \t\r"), line.size()));
         if (word.front() == '#') continue;
         if (std::find(keywords.begin(), keywords.end(), word) == keywords.end()) return false;
         vertex = vertex || word == "v";
@@ -68,7 +71,8 @@ std::string allowedByContent(std::string_view bytes) {
     if (startsWith(bytes, "ply\n") || startsWith(bytes, "ply\r\n")) return "ply";
     if (startsWith(bytes, "Kaydara FBX Binary  ")) return "fbx";
     const std::string_view text = trimmedStart(bytes);
-    if (startsWith(text, "; FBX") || (startsWith(text, ";") && containsNear(bytes, "FBXHeaderExtension", 4096)))
+    if (startsWith(text, "; FBX") ||
+        (startsWith(text, ";") && containsNear(bytes, "FBXHeaderExtension", 4096)))
         return "fbx";
     if (startsWith(text, "FBXHeaderExtension:")) return "fbx";
     if (startsWith(text, "{") && containsNear(bytes, "\"asset\"", 1 << 20)) return "gltf";
@@ -93,7 +97,8 @@ std::string refusedByContent(std::string_view bytes) {
     if (startsWith(bytes, "AC3D")) return "AC3D";
     if (startsWith(text, "*3DSMAX_ASCIIEXPORT")) return "3ds Max ASCII (ASE)";
     if (startsWith(text, "MD5Version")) return "MD5";
-    if (startsWith(text, "OFF") || startsWith(text, "COFF") || startsWith(text, "NOFF")) return "OFF";
+    if (startsWith(text, "OFF") || startsWith(text, "COFF") || startsWith(text, "NOFF"))
+        return "OFF";
     if (startsWith(text, "version 1") && containsNear(bytes, "nodes", 256)) return "Valve SMD";
     if (startsWith(text, "Metric") || containsNear(bytes, "GeometryNode", 4096)) return "OpenGEX";
     if (startsWith(bytes, "MM") && bytes.size() > 6) return "3DS";
@@ -108,13 +113,15 @@ bool allowedName(const std::string& format) {
 
 }  // namespace
 
-Result<std::string> meshFormat(std::string_view bytes, const std::string& format, const std::string& file) {
+Result<std::string> meshFormat(std::string_view bytes, const std::string& format,
+                               const std::string& file) {
     const std::string content = allowedByContent(bytes);
     if (!content.empty()) return content;  // the content decides, whatever the name says
     const std::string refused = refusedByContent(bytes);
     const std::string allowed = "Plimsoll reads OBJ, PLY, STL, FBX, glTF and GLB meshes only";
     if (!refused.empty())
-        return makeError(ErrorKind::format, file + ": is a " + refused + " file (by its content): " + allowed);
+        return makeError(ErrorKind::format,
+                         file + ": is a " + refused + " file (by its content): " + allowed);
     // Unrecognised content named .obj goes to the OBJ checks, which keep only the statements
     // they understand (assimp never sees the file itself). Every other allowed format is
     // recognised by its content or not read: assimp, given a name whose reader declines the
@@ -125,10 +132,12 @@ Result<std::string> meshFormat(std::string_view bytes, const std::string& format
     // the size against the count).
     if (format == "stl" && bytes.size() >= 84) return format;
     if (allowedName(format))
-        return makeError(ErrorKind::format, file + ": named ." + format + " but its content is not " +
+        return makeError(ErrorKind::format, file + ": named ." + format +
+                                                " but its content is not " +
                                                 "that format's (by its first bytes)");
     return makeError(ErrorKind::format,
-                     file + ": " + (format.empty() ? std::string("no extension") : "\"." + format + "\"") +
+                     file + ": " +
+                         (format.empty() ? std::string("no extension") : "\"." + format + "\"") +
                          " and content of no allowed format: " + allowed);
 }
 

@@ -27,17 +27,17 @@ Status compareFrames(const TriangleMesh& reference, const TriangleMesh& frame) {
     };
     for (std::size_t i = 0; i < frame.triangleCount(); ++i) {
         if (frame.triangles[i] != reference.triangles[i]) {
-            return makeError(ErrorKind::invalidArgument,
-                             frame.source + ": triangle " + std::to_string(i) + " has vertices " +
-                                 text(frame.triangles[i]) + against +
-                                 text(reference.triangles[i]) + ")");
+            return makeError(ErrorKind::invalidArgument, frame.source + ": triangle " +
+                                                             std::to_string(i) + " has vertices " +
+                                                             text(frame.triangles[i]) + against +
+                                                             text(reference.triangles[i]) + ")");
         }
     }
     if (frame.hasUvs() != reference.hasUvs()) {
-        return makeError(ErrorKind::invalidArgument,
-                         frame.source + (frame.hasUvs() ? ": has" : ": has no") +
-                             " texture coordinates" + against +
-                             (reference.hasUvs() ? "them)" : "none)"));
+        return makeError(ErrorKind::invalidArgument, frame.source +
+                                                         (frame.hasUvs() ? ": has" : ": has no") +
+                                                         " texture coordinates" + against +
+                                                         (reference.hasUvs() ? "them)" : "none)"));
     }
     // The piece table is baked from the first frame's UVs: other UVs would regather silently
     // wrong textures.

@@ -26,16 +26,16 @@ namespace {
 
 std::string limitError(const std::string& file, const std::string& what, std::uint64_t count,
                        const char* limitName, std::uint64_t limit) {
-    return file + ": " + what + " " + std::to_string(count) + ", more than the limit " +
-           limitName + " = " + std::to_string(limit) + " (limits.h)";
+    return file + ": " + what + " " + std::to_string(count) + ", more than the limit " + limitName +
+           " = " + std::to_string(limit) + " (limits.h)";
 }
 
 /// Bytes of one PLY scalar in a binary body; 0 for an unknown type name.
 int plyTypeBytes(const std::string& type) {
     if (type == "char" || type == "uchar" || type == "int8" || type == "uint8") return 1;
     if (type == "short" || type == "ushort" || type == "int16" || type == "uint16") return 2;
-    if (type == "int" || type == "uint" || type == "int32" || type == "uint32" ||
-        type == "float" || type == "float32")
+    if (type == "int" || type == "uint" || type == "int32" || type == "uint32" || type == "float" ||
+        type == "float32")
         return 4;
     if (type == "double" || type == "float64") return 8;
     return 0;
@@ -100,16 +100,22 @@ public:
         for (const PlyElement& e : elements) {
             if (e.name == "vertex" || e.name == "face") {
                 const PlyElement*& slot = e.name == "vertex" ? vertex : face;
-                if (slot) return makeError(ErrorKind::format, file_ + ": PLY header: a second " + e.name + " element");
+                if (slot)
+                    return makeError(ErrorKind::format,
+                                     file_ + ": PLY header: a second " + e.name + " element");
                 slot = &e;
             }
             if (e.name == "tristrips" && e.count > 0)
-                return makeError(ErrorKind::format, file_ + ": PLY triangle strips (element tristrips) are not "
-                                                            "read; export the mesh with faces");
+                return makeError(ErrorKind::format,
+                                 file_ +
+                                     ": PLY triangle strips (element tristrips) are not "
+                                     "read; export the mesh with faces");
         }
-        if (!vertex) return makeError(ErrorKind::format, file_ + ": PLY header has no vertex element");
+        if (!vertex)
+            return makeError(ErrorKind::format, file_ + ": PLY header has no vertex element");
         if (!face || face->count == 0)
-            return makeError(ErrorKind::format, file_ + ": PLY file has no faces (a point cloud is not a surface)");
+            return makeError(ErrorKind::format,
+                             file_ + ": PLY file has no faces (a point cloud is not a surface)");
         vertices_ = vertex->count;
 
         // Which property of a vertex is which coordinate (the first of each name), and which
@@ -117,21 +123,25 @@ public:
         std::vector<int> role(vertex->properties.size(), -1);
         bool taken[5] = {false, false, false, false, false};
         for (std::size_t j = 0; j < role.size(); ++j) {
-            const int r = vertex->properties[j].list ? -1 : plyVertexRole(vertex->properties[j].name);
+            const int r =
+                vertex->properties[j].list ? -1 : plyVertexRole(vertex->properties[j].name);
             if (r >= 0 && !taken[r]) role[j] = r, taken[r] = true;
         }
         for (int axis = 0; axis < 3; ++axis)
             if (!taken[axis])
-                return makeError(ErrorKind::format, file_ + ": PLY vertex element has no property " +
-                                                        std::string(1, static_cast<char>('x' + axis)));
+                return makeError(ErrorKind::format,
+                                 file_ + ": PLY vertex element has no property " +
+                                     std::string(1, static_cast<char>('x' + axis)));
         const bool uvs = taken[3] || taken[4];
         std::size_t cornerList = face->properties.size();
-        for (std::size_t j = 0; j < face->properties.size() && cornerList == face->properties.size(); ++j) {
+        for (std::size_t j = 0;
+             j < face->properties.size() && cornerList == face->properties.size(); ++j) {
             const PlyProperty& p = face->properties[j];
             if (p.list && (p.name == "vertex_indices" || p.name == "vertex_index")) cornerList = j;
         }
         if (cornerList == face->properties.size())
-            return makeError(ErrorKind::format, file_ + ": PLY face element has no vertex_indices list");
+            return makeError(ErrorKind::format,
+                             file_ + ": PLY face element has no vertex_indices list");
 
         std::string positions, corners;
         positions.reserve(vertex->count * (uvs ? 21 : 13));
@@ -151,14 +161,17 @@ public:
                     const bool indices = isFace && j == cornerList;
                     std::int64_t count = 0;
                     if (!integer(p.countType, e, i, count)) return error_;
-                    if (count < 0) return fail(e, i, "list count " + std::to_string(count) + " is negative");
+                    if (count < 0)
+                        return fail(e, i, "list count " + std::to_string(count) + " is negative");
                     // A face of 0, 1 or 2 corners has no surface (assimp aborted on one).
                     if (indices && count < 3)
-                        return fail(e, i, "a face of " + std::to_string(count) + " corners (at least 3)");
+                        return fail(e, i,
+                                    "a face of " + std::to_string(count) + " corners (at least 3)");
                     if (static_cast<std::uint64_t>(count) > kMaxFaceCorners)
-                        return fail(e, i, "a list of " + std::to_string(count) +
-                                              " values, more than the limit kMaxFaceCorners = " +
-                                              std::to_string(kMaxFaceCorners) + " (limits.h)");
+                        return fail(e, i,
+                                    "a list of " + std::to_string(count) +
+                                        " values, more than the limit kMaxFaceCorners = " +
+                                        std::to_string(kMaxFaceCorners) + " (limits.h)");
                     if (indices) appendLittle32(corners, static_cast<std::uint32_t>(count));
                     for (std::int64_t k = 0; k < count; ++k) {
                         if (!indices) {
@@ -168,9 +181,10 @@ public:
                         std::int64_t index = 0;
                         if (!integer(p.type, e, i, index)) return error_;
                         if (index < 0 || static_cast<std::uint64_t>(index) >= vertices_)
-                            return fail(e, i, "vertex index " + std::to_string(index) +
-                                                  " out of range (the file declares " +
-                                                  std::to_string(vertices_) + " vertices)");
+                            return fail(e, i,
+                                        "vertex index " + std::to_string(index) +
+                                            " out of range (the file declares " +
+                                            std::to_string(vertices_) + " vertices)");
                         appendLittle32(corners, static_cast<std::uint32_t>(index));
                     }
                 }
@@ -190,8 +204,8 @@ public:
                                 std::to_string(vertex->count) +
                                 "\nproperty uchar marker\nproperty float x\nproperty float y\n"
                                 "property float z\n" +
-                                (uvs ? "property float u\nproperty float v\n" : "") + "element face " +
-                                std::to_string(face->count) +
+                                (uvs ? "property float u\nproperty float v\n" : "") +
+                                "element face " + std::to_string(face->count) +
                                 "\nproperty list uint uint vertex_indices\nend_header\n";
         canonical.reserve(canonical.size() + positions.size() + corners.size());
         return canonical + positions + corners;
@@ -253,7 +267,8 @@ private:
             const std::string_view t = token();
             if (t.empty()) return failed(e, i, "fewer values than its properties declare");
             const std::string_view unsignedText = t.substr(t[0] == '+' ? 1 : 0);
-            const auto [end, ec] = std::from_chars(unsignedText.data(), unsignedText.data() + unsignedText.size(), out);
+            const auto [end, ec] = std::from_chars(unsignedText.data(),
+                                                   unsignedText.data() + unsignedText.size(), out);
             if (ec == std::errc::result_out_of_range && end == t.data() + t.size()) {
                 out = std::strtof(std::string(t).c_str(), nullptr);  // +-HUGE_VALF or 0, as written
             } else if (ec != std::errc() || end != t.data() + t.size()) {
@@ -317,7 +332,7 @@ private:
     int format_;
     std::uint64_t vertices_ = 0;
     std::size_t at_ = 0;
-    std::uint64_t line_;  // the file's line (an ASCII body)
+    std::uint64_t line_;                  // the file's line (an ASCII body)
     Error error_{"", ErrorKind::format};  ///< the last problem found (fail() sets it)
 };
 
@@ -334,7 +349,8 @@ Result<std::string> readPly(const std::string& file, std::string_view bytes) {
         std::string line(bytes.substr(at, end - at));
         at = end + 1;
         ++headerLines;
-        if (at > kMaxHeaderBytes) return makeError(ErrorKind::format, file + ": PLY header longer than 64 KB");
+        if (at > kMaxHeaderBytes)
+            return makeError(ErrorKind::format, file + ": PLY header longer than 64 KB");
         if (!line.empty() && line.back() == '\r') line.pop_back();
         std::istringstream words(line);
         std::string keyword;
@@ -346,13 +362,12 @@ Result<std::string> readPly(const std::string& file, std::string_view bytes) {
         // only the known keywords.
         const bool comment = keyword == "comment" || keyword == "obj_info";
         const bool known = comment || keyword == "ply" || keyword == "format" ||
-                           keyword == "element" || keyword == "property" ||
-                           keyword == "end_header";
-        const bool printable = std::all_of(line.begin(), line.end(), [](char c) {
-            return c == '\t' || (c >= 0x20 && c <= 0x7E);
-        });
+                           keyword == "element" || keyword == "property" || keyword == "end_header";
+        const bool printable = std::all_of(
+            line.begin(), line.end(), [](char c) { return c == '\t' || (c >= 0x20 && c <= 0x7E); });
         if (!known || (!comment && !printable))
-            return makeError(ErrorKind::format, file + ": PLY header line " + std::to_string(headerLines) +
+            return makeError(ErrorKind::format, file + ": PLY header line " +
+                                                    std::to_string(headerLines) +
                                                     ": not a PLY header line (unknown keyword or a "
                                                     "byte that is not printable ASCII)");
         if (keyword == "end_header") {
@@ -362,13 +377,15 @@ Result<std::string> readPly(const std::string& file, std::string_view bytes) {
         if (keyword == "format") {
             // One format: assimp and this check would read a second one differently.
             if (format >= 0)
-                return makeError(ErrorKind::format, file + ": PLY header line " + std::to_string(headerLines) +
+                return makeError(ErrorKind::format, file + ": PLY header line " +
+                                                        std::to_string(headerLines) +
                                                         ": a second format line");
             std::string name;
             words >> name;
-            format = name == "ascii" ? PlyBody::kAscii
+            format = name == "ascii"                  ? PlyBody::kAscii
                      : name == "binary_little_endian" ? PlyBody::kLittle
-                     : name == "binary_big_endian" ? PlyBody::kBig : -1;
+                     : name == "binary_big_endian"    ? PlyBody::kBig
+                                                      : -1;
             if (format < 0)
                 return makeError(ErrorKind::format, file + ": PLY header: unknown format '" +
                                                         boundedExcerpt(name) + "'");
@@ -378,17 +395,21 @@ Result<std::string> readPly(const std::string& file, std::string_view bytes) {
             // A name is a word that starts with a letter: assimp reads a leading number of a
             // name such as "9999999999999face" as a count and allocated 6.6 GB for it (the PLY
             // fuzzer's seventh finding).
-            const bool word = !name.empty() && (std::isalpha(static_cast<unsigned char>(name[0])) || name[0] == '_') &&
-                              std::all_of(name.begin(), name.end(), [](char c) {
-                                  return std::isalnum(static_cast<unsigned char>(c)) || c == '_' || c == '-';
-                              });
+            const bool word =
+                !name.empty() &&
+                (std::isalpha(static_cast<unsigned char>(name[0])) || name[0] == '_') &&
+                std::all_of(name.begin(), name.end(), [](char c) {
+                    return std::isalnum(static_cast<unsigned char>(c)) || c == '_' || c == '-';
+                });
             if (!word || (words >> extra))
-                return makeError(ErrorKind::format, file + ": PLY header line " + std::to_string(headerLines) +
-                                                        ": an element is a name (a word starting with a letter) and a count");
+                return makeError(
+                    ErrorKind::format,
+                    file + ": PLY header line " + std::to_string(headerLines) +
+                        ": an element is a name (a word starting with a letter) and a count");
             PlyElement e;
             e.name = name;
-            const auto [end, ec] = std::from_chars(countText.data(),
-                                                   countText.data() + countText.size(), e.count);
+            const auto [end, ec] =
+                std::from_chars(countText.data(), countText.data() + countText.size(), e.count);
             if (ec != std::errc() || end != countText.data() + countText.size()) {
                 return makeError(ErrorKind::format, file + ": PLY header: element " + name +
                                                         " has count '" + boundedExcerpt(countText) +
@@ -397,7 +418,8 @@ Result<std::string> readPly(const std::string& file, std::string_view bytes) {
             elements.push_back(e);
         } else if (keyword == "property") {
             if (elements.empty())
-                return makeError(ErrorKind::format, file + ": PLY header: a property before any element");
+                return makeError(ErrorKind::format,
+                                 file + ": PLY header: a property before any element");
             PlyProperty p;
             std::string type;
             words >> type;
@@ -412,7 +434,8 @@ Result<std::string> readPly(const std::string& file, std::string_view bytes) {
             }
             std::string extra;
             if (!(words >> p.name) || (words >> extra))
-                return makeError(ErrorKind::format, file + ": PLY header line " + std::to_string(headerLines) +
+                return makeError(ErrorKind::format, file + ": PLY header line " +
+                                                        std::to_string(headerLines) +
                                                         ": a property is a type and one name");
             if (!plyTypeBytes(p.type))
                 return makeError(ErrorKind::format, file + ": PLY header: unknown type '" +
@@ -420,26 +443,30 @@ Result<std::string> readPly(const std::string& file, std::string_view bytes) {
             elements.back().properties.push_back(p);
         }
     }
-    if (!ended) return makeError(ErrorKind::format, file + ": PLY header has no end_header (truncated?)");
+    if (!ended)
+        return makeError(ErrorKind::format, file + ": PLY header has no end_header (truncated?)");
     if (format < 0) return makeError(ErrorKind::format, file + ": PLY header has no format line");
     std::uint64_t bodyNeeds = 0;
     for (const PlyElement& e : elements) {
         if (e.name == "face" && e.count > kMaxTriangles)
-            return makeError(ErrorKind::limit, limitError(file, "PLY header declares faces:", e.count,
-                                                          "kMaxTriangles", kMaxTriangles));
+            return makeError(ErrorKind::limit, limitError(file, "PLY header declares faces:",
+                                                          e.count, "kMaxTriangles", kMaxTriangles));
         if (e.name == "vertex" && e.count > kMaxVertices)
-            return makeError(ErrorKind::limit, limitError(file, "PLY header declares vertices:", e.count,
-                                                          "kMaxVertices", kMaxVertices));
-        if (e.count > kMaxVertices)  // other elements (edges, materials): as many as vertices
-            return makeError(ErrorKind::limit, limitError(file, "PLY header declares " + e.name + " elements:",
+            return makeError(ErrorKind::limit, limitError(file, "PLY header declares vertices:",
                                                           e.count, "kMaxVertices", kMaxVertices));
+        if (e.count > kMaxVertices)  // other elements (edges, materials): as many as vertices
+            return makeError(ErrorKind::limit,
+                             limitError(file, "PLY header declares " + e.name + " elements:",
+                                        e.count, "kMaxVertices", kMaxVertices));
         // An ASCII element takes at least two bytes ("0\n"), a binary one its properties.
         std::uint64_t minBytes = 0;
         for (const PlyProperty& p : e.properties)
             minBytes += plyTypeBytes(p.list ? p.countType : p.type);
-        bodyNeeds += e.count * (format != PlyBody::kAscii ? std::max<std::uint64_t>(1, minBytes) : 2);
+        bodyNeeds +=
+            e.count * (format != PlyBody::kAscii ? std::max<std::uint64_t>(1, minBytes) : 2);
     }
-    if (format == PlyBody::kAscii && bodyNeeds > 0) --bodyNeeds;  // the last line may lack its newline
+    if (format == PlyBody::kAscii && bodyNeeds > 0)
+        --bodyNeeds;  // the last line may lack its newline
     const std::string_view body = bytes.substr(std::min(at, bytes.size()));
     if (bodyNeeds > body.size()) {
         return makeError(ErrorKind::format,
@@ -452,7 +479,8 @@ Result<std::string> readPly(const std::string& file, std::string_view bytes) {
 
 std::uint64_t littleEndian32(std::string_view bytes, std::size_t at) {
     std::uint64_t v = 0;
-    for (int b = 0; b < 4; ++b) v |= std::uint64_t(static_cast<unsigned char>(bytes[at + b])) << (8 * b);
+    for (int b = 0; b < 4; ++b)
+        v |= std::uint64_t(static_cast<unsigned char>(bytes[at + b])) << (8 * b);
     return v;
 }
 
@@ -465,19 +493,19 @@ Status checkBinaryStl(const std::string& file, std::string_view bytes) {
     const std::uint64_t needed = 84 + 50 * count;
     if (needed == fileBytes) {
         if (count > kMaxTriangles)
-            return makeError(ErrorKind::limit, limitError(file, "binary STL holds triangles:", count,
-                                                          "kMaxTriangles", kMaxTriangles));
+            return makeError(ErrorKind::limit, limitError(file, "binary STL holds triangles:",
+                                                          count, "kMaxTriangles", kMaxTriangles));
         return Ok{};
     }
     if (bytes.substr(0, 5) == "solid") return Ok{};  // ASCII
-    if (needed < fileBytes) return Ok{};  // trailing bytes: the importer decides
+    if (needed < fileBytes) return Ok{};             // trailing bytes: the importer decides
     if (count > kMaxTriangles)
-        return makeError(ErrorKind::limit, limitError(file, "binary STL header declares triangles:", count,
-                                                      "kMaxTriangles", kMaxTriangles));
-    return makeError(ErrorKind::format,
-                     file + ": binary STL header declares " + std::to_string(count) +
-                         " triangles (" + std::to_string(needed) + " bytes), the file has " +
-                         std::to_string(fileBytes) + " bytes (truncated?)");
+        return makeError(ErrorKind::limit, limitError(file, "binary STL header declares triangles:",
+                                                      count, "kMaxTriangles", kMaxTriangles));
+    return makeError(ErrorKind::format, file + ": binary STL header declares " +
+                                            std::to_string(count) + " triangles (" +
+                                            std::to_string(needed) + " bytes), the file has " +
+                                            std::to_string(fileBytes) + " bytes (truncated?)");
 }
 
 /// A glTF's node tree, checked before assimp walks it recursively: children name nodes that
@@ -538,8 +566,8 @@ Status checkGltfNodes(const std::string& file, std::string_view jsonText) {
     }
     for (std::size_t i = 0; i < n; ++i) {
         if (state[i] == 0)
-            return makeError(ErrorKind::format, file + ": glTF node " + std::to_string(i) +
-                                                    " is in a cycle of nodes");
+            return makeError(ErrorKind::format,
+                             file + ": glTF node " + std::to_string(i) + " is in a cycle of nodes");
     }
     return Ok{};
 }
@@ -603,10 +631,14 @@ Result<std::string> objGeometry(std::istream& text, const std::string& file) {
         if (at == std::string::npos) continue;
         const std::size_t end = line.find_first_of(" \t\r", at);
         const std::string keyword = line.substr(at, end == std::string::npos ? end : end - at);
-        if (keyword == "v") ++defined[0];
-        else if (keyword == "vt") ++defined[1];
-        else if (keyword == "vn") ++defined[2];
-        else if (keyword != "f") continue;
+        if (keyword == "v")
+            ++defined[0];
+        else if (keyword == "vt")
+            ++defined[1];
+        else if (keyword == "vn")
+            ++defined[2];
+        else if (keyword != "f")
+            continue;
         if (!line.empty() && line.back() == '\r') line.pop_back();
         if (keyword != "f") {
             // Every field of v / vt / vn a whole number: assimp's reader read past its buffer
@@ -617,7 +649,8 @@ Result<std::string> objGeometry(std::istream& text, const std::string& file) {
             while (fields >> field) {
                 const char* first = field.data() + (field[0] == '+' ? 1 : 0);
                 double value = 0;
-                const auto [ptr, error] = std::from_chars(first, field.data() + field.size(), value);
+                const auto [ptr, error] =
+                    std::from_chars(first, field.data() + field.size(), value);
                 if (error == std::errc::invalid_argument || ptr != field.data() + field.size()) {
                     return makeError(ErrorKind::format, file + ": line " + std::to_string(number) +
                                                             ": '" + boundedExcerpt(field) +
@@ -665,10 +698,11 @@ Result<std::string> objGeometry(std::istream& text, const std::string& file) {
                 if (index < 0) {
                     const std::uint64_t back = static_cast<std::uint64_t>(-(index + 1)) + 1;
                     if (back > defined[kind]) {
-                        return makeError(ErrorKind::format, file + ": line " + std::to_string(number) + ": " +
-                                         kinds[kind] + " index out of range: " +
-                                         std::to_string(index) + " (" +
-                                         std::to_string(defined[kind]) + " defined before it)");
+                        return makeError(
+                            ErrorKind::format,
+                            file + ": line " + std::to_string(number) + ": " + kinds[kind] +
+                                " index out of range: " + std::to_string(index) + " (" +
+                                std::to_string(defined[kind]) + " defined before it)");
                     }
                 } else if (static_cast<std::uint64_t>(index) > largest[kind]) {
                     largest[kind] = static_cast<std::uint64_t>(index);
@@ -679,10 +713,11 @@ Result<std::string> objGeometry(std::istream& text, const std::string& file) {
     }
     for (int kind = 0; kind < 3; ++kind) {
         if (largest[kind] > defined[kind]) {
-            return makeError(ErrorKind::format, file + ": line " + std::to_string(largestLine[kind]) + ": " +
-                             kinds[kind] + " index out of range: " +
-                             std::to_string(largest[kind]) + " (the file defines " +
-                             std::to_string(defined[kind]) + ")");
+            return makeError(ErrorKind::format,
+                             file + ": line " + std::to_string(largestLine[kind]) + ": " +
+                                 kinds[kind] +
+                                 " index out of range: " + std::to_string(largest[kind]) +
+                                 " (the file defines " + std::to_string(defined[kind]) + ")");
         }
     }
     return geometry;
@@ -693,7 +728,8 @@ bool isPly(std::string_view bytes, const std::string& format) {
 }
 
 Result<std::string> plyGeometry(std::string_view bytes, const std::string& file) {
-    if (bytes.substr(0, 4) == "ply\n" || bytes.substr(0, 5) == "ply\r\n") return readPly(file, bytes);
+    if (bytes.substr(0, 4) == "ply\n" || bytes.substr(0, 5) == "ply\r\n")
+        return readPly(file, bytes);
     // A .ply (or anything starting "ply") without that first line: assimp's reader looped
     // forever on one (the PLY fuzzer's third finding).
     return makeError(ErrorKind::format, file + ": not a PLY file (its first line is not \"ply\")");

@@ -30,7 +30,8 @@ Status checkFbx(const std::string& file, std::string_view bytes);
 /// by the bytes' content first (an OBJ named ".OBJ.bak" is read, and checked, as OBJ) and by
 /// `format` (the lower-case extension) where the content is not recognised. Every other format
 /// (COLLADA, X, 3MF, OFF, ...) is refused naming what it is, before assimp sees it.
-Result<std::string> meshFormat(std::string_view bytes, const std::string& format, const std::string& file);
+Result<std::string> meshFormat(std::string_view bytes, const std::string& format,
+                               const std::string& file);
 
 /// Whether a mesh file is read as PLY: format "ply", or bytes that start "ply" whatever the
 /// extension (assimp would pick its PLY reader by that signature).

@@ -40,7 +40,9 @@ public:
     }
     size_t Write(const void*, size_t, size_t) override { return 0; }
     aiReturn Seek(size_t offset, aiOrigin origin) override {
-        const size_t base = origin == aiOrigin_SET ? 0 : origin == aiOrigin_CUR ? at_ : bytes_.size();
+        const size_t base = origin == aiOrigin_SET   ? 0
+                            : origin == aiOrigin_CUR ? at_
+                                                     : bytes_.size();
         if (offset > bytes_.size() - base) return aiReturn_FAILURE;
         at_ = base + offset;
         return aiReturn_SUCCESS;
@@ -83,8 +85,9 @@ public:
 
 private:
     Result<fs::path> resolve(const char* file) const {
-        if (!folder_) return makeError(ErrorKind::io, mesh_ + ": refers to \"" + std::string(file) +
-                                                          "\", which is not read from memory");
+        if (!folder_)
+            return makeError(ErrorKind::io, mesh_ + ": refers to \"" + std::string(file) +
+                                                "\", which is not read from memory");
         return pathInside(*folder_, file, mesh_ + ": a file it refers to");
     }
     Assimp::IOStream* refuse(const char* file, const std::string& why) {
@@ -123,10 +126,14 @@ std::optional<double> metadataNumber(const aiScene* scene, const char* key) {
         if (std::strcmp(data->mKeys[k].C_Str(), key) != 0 || !data->mValues[k].mData) continue;
         const aiMetadataEntry& value = data->mValues[k];
         switch (value.mType) {
-            case AI_DOUBLE: return *static_cast<const double*>(value.mData);
-            case AI_FLOAT: return *static_cast<const float*>(value.mData);
-            case AI_INT32: return *static_cast<const std::int32_t*>(value.mData);
-            default: return std::nullopt;
+            case AI_DOUBLE:
+                return *static_cast<const double*>(value.mData);
+            case AI_FLOAT:
+                return *static_cast<const float*>(value.mData);
+            case AI_INT32:
+                return *static_cast<const std::int32_t*>(value.mData);
+            default:
+                return std::nullopt;
         }
     }
     return std::nullopt;
@@ -137,7 +144,8 @@ std::string metadataString(const aiScene* scene, const char* key) {
     if (!data) return {};
     for (unsigned k = 0; k < data->mNumProperties; ++k) {
         const aiMetadataEntry& value = data->mValues[k];
-        if (std::strcmp(data->mKeys[k].C_Str(), key) == 0 && value.mType == AI_AISTRING && value.mData)
+        if (std::strcmp(data->mKeys[k].C_Str(), key) == 0 && value.mType == AI_AISTRING &&
+            value.mData)
             return static_cast<const aiString*>(value.mData)->C_Str();
     }
     return {};
@@ -153,15 +161,18 @@ Result<std::pair<double, std::string>> fileUnit(const aiScene* scene, const std:
     const std::string format = metadataString(scene, "SourceAsset_Format");
     if (format.find("FBX") != std::string::npos) {
         const std::optional<double> factor = metadataNumber(scene, "UnitScaleFactor");
-        if (!factor) return std::pair{0.01, std::string("FBX without UnitScaleFactor: centimetres")};
+        if (!factor)
+            return std::pair{0.01, std::string("FBX without UnitScaleFactor: centimetres")};
         if (!std::isfinite(*factor) || *factor <= 0 || *factor > 1e8)
-            return makeError(ErrorKind::format, name + ": FBX UnitScaleFactor " + std::to_string(*factor) +
-                                                    " is not a usable length unit (centimetres per unit)");
+            return makeError(ErrorKind::format,
+                             name + ": FBX UnitScaleFactor " + std::to_string(*factor) +
+                                 " is not a usable length unit (centimetres per unit)");
         std::ostringstream source;
         source << "FBX UnitScaleFactor " << *factor;
         return std::pair{*factor / 100.0, source.str()};
     }
-    if (format.find("glTF") != std::string::npos) return std::pair{1.0, std::string("glTF (metres)")};
+    if (format.find("glTF") != std::string::npos)
+        return std::pair{1.0, std::string("glTF (metres)")};
     if (format.find("Collada") != std::string::npos || format.find("COLLADA") != std::string::npos)
         return std::pair{1.0, std::string("COLLADA <unit>, applied by the reader")};
     return std::pair{1.0, std::string("no unit in the file: metres")};
@@ -172,7 +183,8 @@ Result<TriangleMesh> fromScene(const aiScene* scene, const Assimp::Importer& imp
                                MeshFileFacts* facts, const std::string& refusal = {}) {
     if (!scene || !scene->mRootNode) {
         if (!refusal.empty()) return makeError(ErrorKind::io, refusal);
-        return makeError(ErrorKind::format, name + ": cannot read mesh: " + importer.GetErrorString());
+        return makeError(ErrorKind::format,
+                         name + ": cannot read mesh: " + importer.GetErrorString());
     }
 
     // Formats without a count in a header (OBJ, glTF) are counted once read, before copying.
@@ -182,12 +194,13 @@ Result<TriangleMesh> fromScene(const aiScene* scene, const Assimp::Importer& imp
         vertices += scene->mMeshes[m]->mNumVertices;
     }
     if (triangles > kMaxTriangles || vertices > kMaxVertices) {
-        return makeError(ErrorKind::limit, name + ": " + std::to_string(triangles) + " triangles, " +
-                         std::to_string(vertices) + " vertices: more than the limit " +
-                         (triangles > kMaxTriangles
-                              ? "kMaxTriangles = " + std::to_string(kMaxTriangles)
-                              : "kMaxVertices = " + std::to_string(kMaxVertices)) +
-                         " (limits.h)");
+        return makeError(
+            ErrorKind::limit,
+            name + ": " + std::to_string(triangles) + " triangles, " + std::to_string(vertices) +
+                " vertices: more than the limit " +
+                (triangles > kMaxTriangles ? "kMaxTriangles = " + std::to_string(kMaxTriangles)
+                                           : "kMaxVertices = " + std::to_string(kMaxVertices)) +
+                " (limits.h)");
     }
     Result<std::pair<double, std::string>> unit = fileUnit(scene, name, options);
     if (!unit) return unit.error();
@@ -199,7 +212,8 @@ Result<TriangleMesh> fromScene(const aiScene* scene, const Assimp::Importer& imp
     bool anyUvs = false;
     for (unsigned m = 0; m < scene->mNumMeshes; ++m) {
         const aiMesh* part = scene->mMeshes[m];
-        if (part->mPrimitiveTypes & aiPrimitiveType_TRIANGLE) anyUvs = anyUvs || part->HasTextureCoords(0);
+        if (part->mPrimitiveTypes & aiPrimitiveType_TRIANGLE)
+            anyUvs = anyUvs || part->HasTextureCoords(0);
     }
 
     MeshFileFacts found;
@@ -214,8 +228,11 @@ Result<TriangleMesh> fromScene(const aiScene* scene, const Assimp::Importer& imp
         for (unsigned v = 0; v < part->mNumVertices; ++v) {
             const aiVector3D& p = part->mVertices[v];
             // Exactly the file's numbers when no unit applies (bakes stay byte-identical).
-            if (scale == 1.0) mesh.positions.emplace_back(p.x, p.y, p.z);
-            else mesh.positions.emplace_back(scale * double(p.x), scale * double(p.y), scale * double(p.z));
+            if (scale == 1.0)
+                mesh.positions.emplace_back(p.x, p.y, p.z);
+            else
+                mesh.positions.emplace_back(scale * double(p.x), scale * double(p.y),
+                                            scale * double(p.z));
             if (anyUvs) {
                 const aiVector3D t = partUvs ? part->mTextureCoords[0][v] : aiVector3D(0, 0, 0);
                 mesh.uvs.emplace_back(t.x, t.y);
@@ -231,18 +248,20 @@ Result<TriangleMesh> fromScene(const aiScene* scene, const Assimp::Importer& imp
         record.triangleCount = mesh.triangles.size() - record.firstTriangle;
         if (record.triangleCount > 0) found.parts.push_back(std::move(record));
     }
-    if (mesh.triangles.empty()) return makeError(ErrorKind::format, name + ": the file holds no triangles");
+    if (mesh.triangles.empty())
+        return makeError(ErrorKind::format, name + ": the file holds no triangles");
     if (facts) *facts = std::move(found);
     return mesh;
 }
 
 /// An OBJ's text through detail::objGeometry (v / vt / vn / f only, every index checked), and
 /// only that checked geometry through assimp: its OBJ reader crashes on what the check refuses.
-Result<TriangleMesh> loadObj(std::istream& text, const std::string& source,
-                             MeshLoadOptions options, MeshFileFacts* facts) {
+Result<TriangleMesh> loadObj(std::istream& text, const std::string& source, MeshLoadOptions options,
+                             MeshFileFacts* facts) {
     Result<std::string> geometry = detail::objGeometry(text, source);
     if (!geometry) return geometry.error();
-    if (geometry->empty()) return makeError(ErrorKind::format, source + ": no triangles (no v or f lines)");
+    if (geometry->empty())
+        return makeError(ErrorKind::format, source + ": no triangles (no v or f lines)");
     Assimp::Importer importer;
     configure(importer);
     const aiScene* scene = importer.ReadFileFromMemory(geometry->data(), geometry->size(),
@@ -251,8 +270,8 @@ Result<TriangleMesh> loadObj(std::istream& text, const std::string& source,
 }
 
 /// A PLY file through detail::plyGeometry, and only the canonical PLY it writes through assimp.
-Result<TriangleMesh> loadPly(std::string_view bytes, const std::string& source, MeshLoadOptions options,
-                             MeshFileFacts* facts) {
+Result<TriangleMesh> loadPly(std::string_view bytes, const std::string& source,
+                             MeshLoadOptions options, MeshFileFacts* facts) {
     Result<std::string> geometry = detail::plyGeometry(bytes, source);
     if (!geometry) return geometry.error();
     Assimp::Importer importer;
@@ -264,9 +283,9 @@ Result<TriangleMesh> loadPly(std::string_view bytes, const std::string& source, 
 
 /// A mesh file's bytes through the checks assimp needs and then assimp; `folder` is where the
 /// files it refers to may be read from (none for a mesh from memory).
-Result<TriangleMesh> importBytes(std::string_view bytes, std::string format, const std::string& source,
-                                 std::optional<fs::path> folder, MeshLoadOptions options,
-                                 MeshFileFacts* facts) {
+Result<TriangleMesh> importBytes(std::string_view bytes, std::string format,
+                                 const std::string& source, std::optional<fs::path> folder,
+                                 MeshLoadOptions options, MeshFileFacts* facts) {
     for (char& c : format) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
     if (bytes.empty()) return makeError(ErrorKind::format, source + ": empty file");
     // Allowed formats only, chosen by content: nothing else reaches assimp.
@@ -284,8 +303,8 @@ Result<TriangleMesh> importBytes(std::string_view bytes, std::string format, con
     configure(importer);
     auto* files = new ConfinedFileSystem(std::move(folder), source);
     importer.SetIOHandler(files);  // the importer owns it
-    const aiScene* scene =
-        importer.ReadFileFromMemory(bytes.data(), bytes.size(), importFlags(options), format.c_str());
+    const aiScene* scene = importer.ReadFileFromMemory(bytes.data(), bytes.size(),
+                                                       importFlags(options), format.c_str());
     return fromScene(scene, importer, source, options, facts, files->refusal());
 }
 
@@ -319,21 +338,22 @@ bool MeshFileFacts::someUvsMissing() const {
 
 std::optional<double> parseLengthUnit(const std::string& text) {
     static const std::pair<const char*, double> kNames[] = {
-        {"m", 1.0}, {"cm", 0.01}, {"mm", 0.001}, {"km", 1000.0},
+        {"m", 1.0},     {"cm", 0.01},   {"mm", 0.001}, {"km", 1000.0},
         {"in", 0.0254}, {"ft", 0.3048}, {"yd", 0.9144}};
     for (const auto& [unit, metres] : kNames)
         if (text == unit) return metres;
     if (text.empty()) return std::nullopt;
     char* end = nullptr;
     const double value = std::strtod(text.c_str(), &end);
-    if (end != text.c_str() + text.size() || !std::isfinite(value) || value <= 0) return std::nullopt;
+    if (end != text.c_str() + text.size() || !std::isfinite(value) || value <= 0)
+        return std::nullopt;
     return value;
 }
 
 std::string lengthUnitName(double metresPerUnit) {
     static const std::pair<double, const char*> kNames[] = {
-        {1.0, "metres"}, {0.01, "centimetres"}, {0.001, "millimetres"}, {1000.0, "kilometres"},
-        {0.0254, "inches"}, {0.3048, "feet"}, {0.9144, "yards"}};
+        {1.0, "metres"},    {0.01, "centimetres"}, {0.001, "millimetres"}, {1000.0, "kilometres"},
+        {0.0254, "inches"}, {0.3048, "feet"},      {0.9144, "yards"}};
     for (const auto& [metres, name] : kNames)
         if (std::abs(metresPerUnit - metres) <= 1e-12 * metres) return name;
     std::ostringstream text;

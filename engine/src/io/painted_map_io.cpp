@@ -16,7 +16,7 @@
 // Debian's libstb exports stb_image_write's deflate; PNG's own chunking is done here because
 // stbi_write_png writes 8 bits per channel only.
 extern "C" unsigned char* stbi_zlib_compress(unsigned char* data, int dataLength, int* outLength,
-                                            int quality);
+                                             int quality);
 
 #include <zlib.h>
 
@@ -37,7 +37,8 @@ void appendChunk(std::string& out, const char type[4], const std::string& data) 
     appendBigEndian(out, static_cast<std::uint32_t>(data.size()));
     const std::string typed = std::string(type, 4) + data;
     out += typed;
-    appendBigEndian(out, pngCrc(reinterpret_cast<const unsigned char*>(typed.data()), typed.size()));
+    appendBigEndian(out,
+                    pngCrc(reinterpret_cast<const unsigned char*>(typed.data()), typed.size()));
 }
 
 }  // namespace
@@ -49,8 +50,8 @@ std::string encodePaintedMapPng16(const PaintedMap& map) {
     for (int y = 0; y < map.height; ++y) {
         raw += '\0';
         for (int x = 0; x < map.width; ++x) {
-            const float v = std::clamp(map.values[static_cast<std::size_t>(y) * map.width + x],
-                                       0.0f, 1.0f);
+            const float v =
+                std::clamp(map.values[static_cast<std::size_t>(y) * map.width + x], 0.0f, 1.0f);
             const auto q = static_cast<std::uint16_t>(std::lround(v * 65535.0f));
             raw += static_cast<char>(q >> 8);
             raw += static_cast<char>(q & 0xFF);
@@ -64,8 +65,8 @@ std::string encodePaintedMapPng16(const PaintedMap& map) {
     std::string header;
     appendBigEndian(header, static_cast<std::uint32_t>(map.width));
     appendBigEndian(header, static_cast<std::uint32_t>(map.height));
-    header += '\x10';  // bit depth 16
-    header += '\0';    // colour type 0: greyscale
+    header += '\x10';                // bit depth 16
+    header += '\0';                  // colour type 0: greyscale
     header += std::string(3, '\0');  // deflate, adaptive filtering, no interlace
     appendChunk(png, "IHDR", header);
     appendChunk(png, "IDAT", std::string(reinterpret_cast<char*>(compressed), compressedLength));
@@ -102,7 +103,8 @@ Result<PaintedMap> decodePaintedMap(std::string_view png, const std::string& sou
     map.width = decoded->width;
     map.height = decoded->height;
     map.values.resize(decoded->samples.size());
-    for (std::size_t i = 0; i < map.values.size(); ++i) map.values[i] = decoded->samples[i] / 65535.0f;
+    for (std::size_t i = 0; i < map.values.size(); ++i)
+        map.values[i] = decoded->samples[i] / 65535.0f;
     return map;
 }
 

@@ -50,16 +50,23 @@ bool startsWith(std::string_view bytes, std::string_view prefix) {
 /// Bits per pixel of a valid (colour type, bit depth) pair; 0 for an invalid one.
 int bitsPerPixel(int colourType, int depth) {
     auto depthIn = [&](std::initializer_list<int> allowed) {
-        for (int d : allowed) if (d == depth) return true;
+        for (int d : allowed)
+            if (d == depth) return true;
         return false;
     };
     switch (colourType) {
-    case 0: return depthIn({1, 2, 4, 8, 16}) ? depth : 0;      // grey
-    case 2: return depthIn({8, 16}) ? 3 * depth : 0;           // RGB
-    case 3: return depthIn({1, 2, 4, 8}) ? depth : 0;          // palette
-    case 4: return depthIn({8, 16}) ? 2 * depth : 0;           // grey and alpha
-    case 6: return depthIn({8, 16}) ? 4 * depth : 0;           // RGBA
-    default: return 0;
+        case 0:
+            return depthIn({1, 2, 4, 8, 16}) ? depth : 0;  // grey
+        case 2:
+            return depthIn({8, 16}) ? 3 * depth : 0;  // RGB
+        case 3:
+            return depthIn({1, 2, 4, 8}) ? depth : 0;  // palette
+        case 4:
+            return depthIn({8, 16}) ? 2 * depth : 0;  // grey and alpha
+        case 6:
+            return depthIn({8, 16}) ? 4 * depth : 0;  // RGBA
+        default:
+            return 0;
     }
 }
 
@@ -67,7 +74,8 @@ int bitsPerPixel(int colourType, int depth) {
 
 std::string imageTypeByContent(std::string_view b) {
     using namespace std::string_view_literals;
-    if (startsWith(b, std::string_view(reinterpret_cast<const char*>(kPngSignature), 8))) return "a PNG image";
+    if (startsWith(b, std::string_view(reinterpret_cast<const char*>(kPngSignature), 8)))
+        return "a PNG image";
     if (startsWith(b, "#?RADIANCE"sv) || startsWith(b, "#?RGBE"sv)) return "a Radiance HDR image";
     if (startsWith(b, "\xFF\xD8\xFF"sv)) return "a JPEG image";
     if (startsWith(b, "GIF87a"sv) || startsWith(b, "GIF89a"sv)) return "a GIF image";
@@ -75,7 +83,8 @@ std::string imageTypeByContent(std::string_view b) {
     if (startsWith(b, "\x53\x80\xF6\x34"sv)) return "a Softimage PIC image";
     if (startsWith(b, "\x76\x2F\x31\x01"sv)) return "an OpenEXR image";
     if (startsWith(b, "II*\0"sv) || startsWith(b, "MM\0*"sv)) return "a TIFF image";
-    if (startsWith(b, "RIFF"sv) && b.size() >= 12 && b.substr(8, 4) == "WEBP"sv) return "a WebP image";
+    if (startsWith(b, "RIFF"sv) && b.size() >= 12 && b.substr(8, 4) == "WEBP"sv)
+        return "a WebP image";
     if (startsWith(b, "qoif"sv)) return "a QOI image";
     if (startsWith(b, "BM"sv)) return "a BMP image";
     if (b.size() >= 3 && b[0] == 'P' && b[1] >= '1' && b[1] <= '7' &&
@@ -105,7 +114,8 @@ Status checkPngContent(std::string_view bytes, const std::string& source, int ma
                        " bytes, past the end of the file");
         const unsigned char* type = p + at + 4;
         for (int i = 0; i < 4; ++i) {
-            const bool letter = (type[i] >= 'A' && type[i] <= 'Z') || (type[i] >= 'a' && type[i] <= 'z');
+            const bool letter =
+                (type[i] >= 'A' && type[i] <= 'Z') || (type[i] >= 'a' && type[i] <= 'z');
             if (!letter) return bad("chunk " + std::to_string(chunks) + " has no valid type");
         }
         const std::string name(reinterpret_cast<const char*>(type), 4);
@@ -122,8 +132,9 @@ Status checkPngContent(std::string_view bytes, const std::string& source, int ma
                                      std::to_string(h) + " pixels, outside 1.." +
                                      std::to_string(maxSide) + " (kMaxPaintedMapSide, limits.h)");
             const int bits = bitsPerPixel(colour, depth);
-            if (bits == 0) return bad("bit depth " + std::to_string(depth) + " with colour type " +
-                                      std::to_string(colour) + " is not PNG");
+            if (bits == 0)
+                return bad("bit depth " + std::to_string(depth) + " with colour type " +
+                           std::to_string(colour) + " is not PNG");
             if (data[10] != 0 || data[11] != 0 || data[12] > 1)
                 return bad("unknown compression, filter or interlace method");
             rawBytes = std::uint64_t(h) * (1 + (std::uint64_t(w) * bits + 7) / 8);
@@ -135,7 +146,8 @@ Status checkPngContent(std::string_view bytes, const std::string& source, int ma
             idatBytes += length;
         } else {
             if (sawIdat) idatEnded = true;
-            if (name == "IEND") sawEnd = true;
+            if (name == "IEND")
+                sawEnd = true;
             else if ((type[0] & 0x20) == 0 && name != "PLTE")
                 return bad("unknown critical chunk " + name);
         }
@@ -150,14 +162,16 @@ Status checkPngContent(std::string_view bytes, const std::string& source, int ma
 }
 
 Result<Png16> decodePng16(std::string_view bytes, const std::string& source) {
-    if (bytes.size() > 0x7FFFFFFFu) return makeError(ErrorKind::limit, source + ": larger than 2 GB");
+    if (bytes.size() > 0x7FFFFFFFu)
+        return makeError(ErrorKind::limit, source + ": larger than 2 GB");
     int width = 0, height = 0, channels = 0;
     std::unique_ptr<stbi_us, void (*)(void*)> pixels(
         stbi_load_16_from_memory(reinterpret_cast<const stbi_uc*>(bytes.data()),
                                  static_cast<int>(bytes.size()), &width, &height, &channels, 1),
         stbi_image_free);
     if (!pixels)
-        return makeError(ErrorKind::format, source + ": cannot read the PNG: " + stbi_failure_reason());
+        return makeError(ErrorKind::format,
+                         source + ": cannot read the PNG: " + stbi_failure_reason());
     Png16 png;
     png.width = width;
     png.height = height;

@@ -15,8 +15,8 @@ void failFileStepForTesting(int k);
 /// Called after a temporary file is complete and before it is renamed over its target (a test
 /// can end the process there to prove that an interrupted save keeps the previous file). Empty
 /// by default.
-using BeforeReplaceHook = std::function<void(const std::filesystem::path& temp,
-                                             const std::filesystem::path& target)>;
+using BeforeReplaceHook =
+    std::function<void(const std::filesystem::path& temp, const std::filesystem::path& target)>;
 void setBeforeReplaceHookForTesting(BeforeReplaceHook hook);
 
 /// Called at every fileStep before it runs (a test in a child process ends the process at the

@@ -15,8 +15,9 @@ inline nlohmann::json textureFactsJson(const SurfaceTextures& t) {
             {"uv_coverage", t.uvCoverage()},
             {"surface_area", t.surfaceArea()},
             {"closure_error", t.closureError()},
-            {"uv_placement", {{"scale", t.placement.scale},
-                              {"offset", {t.placement.offset.x(), t.placement.offset.y()}}}}};
+            {"uv_placement",
+             {{"scale", t.placement.scale},
+              {"offset", {t.placement.offset.x(), t.placement.offset.y()}}}}};
 }
 
 }  // namespace plimsoll

@@ -21,11 +21,11 @@ namespace {
 
 /// Integrals over the wetted pieces, with positions relative to the body's centre of mass.
 struct WettedSums {
-    double volume = 0;                                   ///< m^3
-    Eigen::Vector3d moment = Eigen::Vector3d::Zero();     ///< first moment of volume, m^4
+    double volume = 0;                                         ///< m^3
+    Eigen::Vector3d moment = Eigen::Vector3d::Zero();          ///< first moment of volume, m^4
     Eigen::Vector3d pressureForce = Eigen::Vector3d::Zero();   ///< N
     Eigen::Vector3d pressureTorque = Eigen::Vector3d::Zero();  ///< N m
-    double wettedArea = 0;                               ///< m^2
+    double wettedArea = 0;                                     ///< m^2
 };
 
 /// Adds the wetted triangle (a, b, c) (m, relative to the centre of mass, all at or below the
@@ -33,11 +33,10 @@ struct WettedSums {
 void addPiece(const Eigen::Vector3d& a, const Eigen::Vector3d& b, const Eigen::Vector3d& c,
               double h, double rhoG, WettedSums& sums) {
     const Eigen::Vector3d area = 0.5 * (b - a).cross(c - a);  // outward, m^2
-    const std::array<Eigen::Vector3d, 3> midpoints = {0.5 * (a + b), 0.5 * (b + c),
-                                                      0.5 * (c + a)};
-    double height = 0;                                   // mean of y - h, m (<= 0)
-    Eigen::Vector3d field = Eigen::Vector3d::Zero();     // mean of the moment fields' y parts, m^2
-    double pressure = 0;                                 // mean of p, Pa
+    const std::array<Eigen::Vector3d, 3> midpoints = {0.5 * (a + b), 0.5 * (b + c), 0.5 * (c + a)};
+    double height = 0;                                // mean of y - h, m (<= 0)
+    Eigen::Vector3d field = Eigen::Vector3d::Zero();  // mean of the moment fields' y parts, m^2
+    double pressure = 0;                              // mean of p, Pa
     Eigen::Vector3d pressureLever = Eigen::Vector3d::Zero();  // mean of p r, Pa m
     for (const Eigen::Vector3d& m : midpoints) {
         const double below = m.y() - h;
@@ -63,8 +62,7 @@ void addPiece(const Eigen::Vector3d& a, const Eigen::Vector3d& b, const Eigen::V
 
 /// Clips the triangle (p[0], p[1], p[2]) to y <= h and adds the kept part (none, a triangle or a
 /// quadrilateral split in two, same winding) to the sums.
-void addClipped(const std::array<Eigen::Vector3d, 3>& p, double h, double rhoG,
-                WettedSums& sums) {
+void addClipped(const std::array<Eigen::Vector3d, 3>& p, double h, double rhoG, WettedSums& sums) {
     std::array<Eigen::Vector3d, 4> polygon;  // a half-plane cuts at most one corner off
     int count = 0;
     for (int i = 0; i < 3; ++i) {

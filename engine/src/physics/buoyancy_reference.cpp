@@ -16,7 +16,9 @@ namespace detail {
 
 BuoyancyResult finishBuoyancy(const BuoyancySums& sums, const Eigen::Vector3d& centerOfMass,
                               const FluidSettings& fluid) {
-    auto vec = [&](int slot) { return Eigen::Vector3d(sums[slot], sums[slot + 1], sums[slot + 2]); };
+    auto vec = [&](int slot) {
+        return Eigen::Vector3d(sums[slot], sums[slot + 1], sums[slot + 2]);
+    };
     BuoyancyResult r;
     r.submergedVolume = sums[PL_SUM_VOLUME];
     r.centerOfBuoyancy = centerOfMass;

@@ -14,7 +14,8 @@ namespace {
 // K(i w) of one filter: c i w / (w_m^2 - w^2 + 2 i zeta w_m w).
 std::complex<double> response(const MemoryTerm& t, double omega) {
     const std::complex<double> iw(0.0, omega);
-    return t.gain * iw / (t.frequency * t.frequency - omega * omega + 2.0 * t.dampingRatio * t.frequency * iw);
+    return t.gain * iw /
+           (t.frequency * t.frequency - omega * omega + 2.0 * t.dampingRatio * t.frequency * iw);
 }
 
 }  // namespace
@@ -43,7 +44,8 @@ Eigen::VectorXd nonNegativeFit(const Eigen::MatrixXd& columns, const Eigen::Vect
         double change = 0;
         for (Eigen::Index j = 0; j < c.size(); ++j) {
             if (normal(j, j) <= 0) continue;
-            const double next = std::max(0.0, c(j) + (rhs(j) - normal.row(j).dot(c)) / normal(j, j));
+            const double next =
+                std::max(0.0, c(j) + (rhs(j) - normal.row(j).dot(c)) / normal(j, j));
             change = std::max(change, std::abs(next - c(j)) * std::sqrt(normal(j, j)));
             c(j) = next;
         }
@@ -54,7 +56,8 @@ Eigen::VectorXd nonNegativeFit(const Eigen::MatrixXd& columns, const Eigen::Vect
 
 }  // namespace
 
-std::vector<MemoryTerm> fitMemory(const std::vector<double>& omega, const std::vector<double>& damping) {
+std::vector<MemoryTerm> fitMemory(const std::vector<double>& omega,
+                                  const std::vector<double>& damping) {
     assert(omega.size() == damping.size());
     std::vector<MemoryTerm> basis;
     if (omega.size() < 2) return basis;
@@ -73,7 +76,8 @@ std::vector<MemoryTerm> fitMemory(const std::vector<double>& omega, const std::v
     auto fitOn = [&](const std::vector<MemoryTerm>& terms) {
         Eigen::MatrixXd columns(samples, static_cast<Eigen::Index>(terms.size()));
         for (Eigen::Index s = 0; s < samples; ++s)
-            for (std::size_t j = 0; j < terms.size(); ++j) columns(s, j) = fittedDamping({terms[j]}, omega[s]);
+            for (std::size_t j = 0; j < terms.size(); ++j)
+                columns(s, j) = fittedDamping({terms[j]}, omega[s]);
         const Eigen::VectorXd c = nonNegativeFit(columns, target);
         // Keep the terms that carry at least 2% of the peak damping somewhere: the fit stays
         // low-order (each term is two states per mode).
@@ -101,8 +105,10 @@ CumminsModel cumminsModel(const std::vector<RadiationCoefficients>& coefficients
             damping.push_back(std::max(0.0, c.damping(mode, mode)));
         }
         // A mode the body cannot radiate in (a sphere's yaw) keeps no filter.
-        const double peak = damping.empty() ? 0.0 : *std::max_element(damping.begin(), damping.end());
-        const double scale = std::max(1.0, model.addedMassInfinity.diagonal().cwiseAbs().maxCoeff());
+        const double peak =
+            damping.empty() ? 0.0 : *std::max_element(damping.begin(), damping.end());
+        const double scale =
+            std::max(1.0, model.addedMassInfinity.diagonal().cwiseAbs().maxCoeff());
         if (peak > 1e-9 * scale) model.memory[mode] = fitMemory(omega, damping);
     }
     return model;
@@ -118,14 +124,17 @@ Vector6d memoryForce(const CumminsModel& model, const MemoryState& state) {
     Vector6d force = Vector6d::Zero();
     for (int mode = 0; mode < 6; ++mode)
         for (std::size_t m = 0; m < model.memory[mode].size(); ++m)
-            force(mode) += plimsoll_eval::filterForce(model.memory[mode][m], state.filters[mode][m]);
+            force(mode) +=
+                plimsoll_eval::filterForce(model.memory[mode][m], state.filters[mode][m]);
     return force;
 }
 
-void advanceMemory(const CumminsModel& model, MemoryState& state, const Vector6d& velocity, double dt) {
+void advanceMemory(const CumminsModel& model, MemoryState& state, const Vector6d& velocity,
+                   double dt) {
     for (int mode = 0; mode < 6; ++mode)
         for (std::size_t m = 0; m < model.memory[mode].size(); ++m)
-            plimsoll_eval::advanceFilter(model.memory[mode][m], state.filters[mode][m], velocity(mode), dt);
+            plimsoll_eval::advanceFilter(model.memory[mode][m], state.filters[mode][m],
+                                         velocity(mode), dt);
 }
 
 double memoryEnergy(const CumminsModel& model, const MemoryState& state) {
@@ -140,19 +149,22 @@ double entrainedShare(double submergedVolume, double restVolume) {
     return plimsoll_eval::entrainedShare(submergedVolume, restVolume);
 }
 
-void applyAddedMass(const CumminsModel& model, double share, MassDistribution& mass, RigidBodyState& state) {
+void applyAddedMass(const CumminsModel& model, double share, MassDistribution& mass,
+                    RigidBodyState& state) {
     share = std::clamp(share, 0.0, 1.0);
     const Eigen::Matrix3d translational = share * model.addedMassInfinity.topLeftCorner<3, 3>();
     const Eigen::Matrix3d rotational = share * model.addedMassInfinity.bottomRightCorner<3, 3>();
     if (translational == mass.addedMass && rotational == mass.addedInertia) return;
     const Eigen::Vector3d v = linearVelocity(state, mass);
     const Eigen::Vector3d w = angularVelocity(state, mass);
-    const bool shrinks = translational.trace() + rotational.trace() < mass.addedMass.trace() + mass.addedInertia.trace();
+    const bool shrinks = translational.trace() + rotational.trace() <
+                         mass.addedMass.trace() + mass.addedInertia.trace();
     mass.addedMass = translational;
     mass.addedInertia = rotational;
     if (shrinks) {
         const Eigen::Matrix3d r = state.orientation.toRotationMatrix();
-        state.linearMomentum = r * (mass.mass * Eigen::Matrix3d::Identity() + translational) * r.transpose() * v;
+        state.linearMomentum =
+            r * (mass.mass * Eigen::Matrix3d::Identity() + translational) * r.transpose() * v;
         state.angularMomentum = r * (mass.inertia + rotational) * r.transpose() * w;
     }
 }

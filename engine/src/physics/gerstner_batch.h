@@ -31,16 +31,19 @@ struct GerstnerBatch {
 };
 
 /// n heights into out[i].
-void gerstnerHeightsBaseline(const GerstnerBatch& g, std::size_t n, const double* x, const double* z, double* out);
-void gerstnerHeightsAvx2(const GerstnerBatch& g, std::size_t n, const double* x, const double* z, double* out);
-void gerstnerHeightsAvx512(const GerstnerBatch& g, std::size_t n, const double* x, const double* z, double* out);
+void gerstnerHeightsBaseline(const GerstnerBatch& g, std::size_t n, const double* x,
+                             const double* z, double* out);
+void gerstnerHeightsAvx2(const GerstnerBatch& g, std::size_t n, const double* x, const double* z,
+                         double* out);
+void gerstnerHeightsAvx512(const GerstnerBatch& g, std::size_t n, const double* x, const double* z,
+                           double* out);
 /// n velocities into out[3 i + 0..2].
-void gerstnerVelocitiesBaseline(const GerstnerBatch& g, std::size_t n, const double* x, const double* y,
-                                const double* z, double* out);
+void gerstnerVelocitiesBaseline(const GerstnerBatch& g, std::size_t n, const double* x,
+                                const double* y, const double* z, double* out);
 void gerstnerVelocitiesAvx2(const GerstnerBatch& g, std::size_t n, const double* x, const double* y,
                             const double* z, double* out);
-void gerstnerVelocitiesAvx512(const GerstnerBatch& g, std::size_t n, const double* x, const double* y,
-                              const double* z, double* out);
+void gerstnerVelocitiesAvx512(const GerstnerBatch& g, std::size_t n, const double* x,
+                              const double* y, const double* z, double* out);
 
 /// The builds, narrowest first.
 enum class GerstnerIsa { baseline, avx2, avx512 };
@@ -59,7 +62,8 @@ void setGerstnerBatchIsa(GerstnerIsa isa);
 
 /// One build's entry points (the functions above of one suffix).
 struct GerstnerBatchBuild {
-    void (*heights)(const GerstnerBatch& g, std::size_t n, const double* x, const double* z, double* out);
+    void (*heights)(const GerstnerBatch& g, std::size_t n, const double* x, const double* z,
+                    double* out);
     void (*velocities)(const GerstnerBatch& g, std::size_t n, const double* x, const double* y,
                        const double* z, double* out);
 };

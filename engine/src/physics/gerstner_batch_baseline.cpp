@@ -22,7 +22,8 @@ GerstnerIsa gerstnerBatchWidest() {
             return GerstnerIsa::avx512;
 #endif
 #ifdef PLIMSOLL_GERSTNER_AVX2
-        if (__builtin_cpu_supports("avx2") && __builtin_cpu_supports("fma")) return GerstnerIsa::avx2;
+        if (__builtin_cpu_supports("avx2") && __builtin_cpu_supports("fma"))
+            return GerstnerIsa::avx2;
 #endif
         return GerstnerIsa::baseline;
     }();
@@ -43,7 +44,8 @@ GerstnerIsa gerstnerBatchIsa() {
 }
 
 void setGerstnerBatchIsa(GerstnerIsa isa) {
-    chosenIsa.store(static_cast<int>(std::min(isa, gerstnerBatchWidest())), std::memory_order_relaxed);
+    chosenIsa.store(static_cast<int>(std::min(isa, gerstnerBatchWidest())),
+                    std::memory_order_relaxed);
 }
 
 const GerstnerBatchBuild& gerstnerBatchBuild() {

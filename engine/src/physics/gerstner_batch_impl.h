@@ -66,9 +66,11 @@ inline void basePhases(const GerstnerBatchWave& w, const double* x, const double
     alignas(64) double reduced[kBlock];
     const Doubles kdx(w.k * w.dx), kdz(w.k * w.dz), phase0(w.phase0);
     for (std::size_t l = 0; l < kBlock; l += Doubles::size) {
-        const Doubles theta = xsimd::fma(kdx, Doubles::load_aligned(x + l), xsimd::fma(kdz, Doubles::load_aligned(z + l), phase0));
-        const Doubles turns = (theta * Doubles(0.15915494309189533576888376337251) + Doubles(6755399441055744.0)) -
-                              Doubles(6755399441055744.0);
+        const Doubles theta = xsimd::fma(kdx, Doubles::load_aligned(x + l),
+                                         xsimd::fma(kdz, Doubles::load_aligned(z + l), phase0));
+        const Doubles turns =
+            (theta * Doubles(0.15915494309189533576888376337251) + Doubles(6755399441055744.0)) -
+            Doubles(6755399441055744.0);
         const Doubles angle = xsimd::fnma(turns, Doubles(6.283185307179586476925286766559), theta);
         xsimd::min(Doubles(4.0), xsimd::max(Doubles(-4.0), angle)).store_aligned(reduced + l);
     }
@@ -91,14 +93,17 @@ struct BlockSearch {
         if (i >= kKeptWaves) basePhases(w, x, z, spare);
         const float* phase = i < kKeptWaves ? base[i] : spare;
         const Lanes kdx(static_cast<float>(w.k * w.dx)), kdz(static_cast<float>(w.k * w.dz));
-        return xsimd::fma(kdx, Lanes::load_aligned(sx), xsimd::fma(kdz, Lanes::load_aligned(sz), Lanes::load_aligned(phase)));
+        return xsimd::fma(kdx, Lanes::load_aligned(sx),
+                          xsimd::fma(kdz, Lanes::load_aligned(sz), Lanes::load_aligned(phase)));
     }
 };
 
 /// The undisplaced points of a block (WaterModel's undisplaced: three fixed-point steps
 /// x0 <- x + sum Q A D sin(theta(x0))).
-inline void undisplacedBlock(const GerstnerBatch& g, const double* x, const double* z, BlockSearch& search) {
-    for (std::size_t i = 0; i < std::min(g.count, kKeptWaves); ++i) basePhases(g.waves[i], x, z, search.base[i]);
+inline void undisplacedBlock(const GerstnerBatch& g, const double* x, const double* z,
+                             BlockSearch& search) {
+    for (std::size_t i = 0; i < std::min(g.count, kKeptWaves); ++i)
+        basePhases(g.waves[i], x, z, search.base[i]);
     Lanes(0.0f).store_aligned(search.sx);
     Lanes(0.0f).store_aligned(search.sz);
     for (int iteration = 0; iteration < 3; ++iteration) {
@@ -131,66 +136,73 @@ void forBlocks(std::size_t n, const double* x, const double* y, const double* z,
     }
 }
 
-inline void heightsImpl(const GerstnerBatch& g, std::size_t n, const double* x, const double* z, double* out) {
-    forBlocks(n, x, nullptr, z, [&](std::size_t first, std::size_t count, const double* bx, const double*,
-                                    const double* bz) {
-        BlockSearch search;
-        undisplacedBlock(g, bx, bz, search);
-        // The height about the level in single precision (the waves' sum, a few metres at most,
-        // to 1e-7 of it), the level added in double.
-        Lanes height(0.0f);
-        alignas(64) float above[kBlock];
-        for (std::size_t i = 0; i < g.count; ++i)
-            height = xsimd::fma(Lanes(static_cast<float>(g.waves[i].amplitude)),
-                                FoldedPhase(search.angleAt(g, i, bx, bz)).cos(), height);
-        height.store_aligned(above);
-        for (std::size_t l = 0; l < count; ++l) out[first + l] = g.level + above[l];
-    });
+inline void heightsImpl(const GerstnerBatch& g, std::size_t n, const double* x, const double* z,
+                        double* out) {
+    forBlocks(n, x, nullptr, z,
+              [&](std::size_t first, std::size_t count, const double* bx, const double*,
+                  const double* bz) {
+                  BlockSearch search;
+                  undisplacedBlock(g, bx, bz, search);
+                  // The height about the level in single precision (the waves' sum, a few metres at
+                  // most, to 1e-7 of it), the level added in double.
+                  Lanes height(0.0f);
+                  alignas(64) float above[kBlock];
+                  for (std::size_t i = 0; i < g.count; ++i)
+                      height = xsimd::fma(Lanes(static_cast<float>(g.waves[i].amplitude)),
+                                          FoldedPhase(search.angleAt(g, i, bx, bz)).cos(), height);
+                  height.store_aligned(above);
+                  for (std::size_t l = 0; l < count; ++l) out[first + l] = g.level + above[l];
+              });
 }
 
 inline void velocitiesImpl(const GerstnerBatch& g, std::size_t n, const double* x, const double* y,
                            const double* z, double* out) {
-    forBlocks(n, x, y, z, [&](std::size_t first, std::size_t count, const double* bx, const double* by,
-                              const double* bz) {
-        BlockSearch search;
-        undisplacedBlock(g, bx, bz, search);
-        // The depth below the level (none above it), in single precision: clamped first, as a
-        // point far below would not fit a float (e^(k d) is 0 in single precision long before).
-        alignas(64) float depth[kBlock];
-        for (std::size_t l = 0; l < kBlock; ++l)
-            depth[l] = static_cast<float>(std::max(-1e6, std::min(0.0, by[l] - g.level)));
-        const Lanes below = Lanes::load_aligned(depth);
-        // The velocity in single precision (the waves' sum, a few m/s, to 1e-7 of it).
-        Lanes vx(0.0f), vy(0.0f), vz(0.0f);
-        for (std::size_t i = 0; i < g.count; ++i) {
-            const GerstnerBatchWave& w = g.waves[i];
-            const FoldedPhase phase(search.angleAt(g, i, bx, bz));  // folded once for both
-            // Orbital motion decays as e^(k d) below the mean level.
-            const Lanes decay = xsimd::exp(xsimd::max(Lanes(-80.0f), Lanes(static_cast<float>(w.k)) * below));
-            const Lanes horizontal = Lanes(static_cast<float>(w.qa * w.omega)) * phase.cos() * decay;
-            vx = xsimd::fma(horizontal, Lanes(static_cast<float>(w.dx)), vx);
-            vy = xsimd::fma(Lanes(static_cast<float>(w.amplitude * w.omega)) * phase.sin(), decay, vy);
-            vz = xsimd::fma(horizontal, Lanes(static_cast<float>(w.dz)), vz);
-        }
-        alignas(64) float v[3][kBlock];
-        vx.store_aligned(v[0]);
-        vy.store_aligned(v[1]);
-        vz.store_aligned(v[2]);
-        for (std::size_t l = 0; l < count; ++l)
-            for (int c = 0; c < 3; ++c) out[3 * (first + l) + c] = v[c][l];
-    });
+    forBlocks(
+        n, x, y, z,
+        [&](std::size_t first, std::size_t count, const double* bx, const double* by,
+            const double* bz) {
+            BlockSearch search;
+            undisplacedBlock(g, bx, bz, search);
+            // The depth below the level (none above it), in single precision: clamped first, as a
+            // point far below would not fit a float (e^(k d) is 0 in single precision long before).
+            alignas(64) float depth[kBlock];
+            for (std::size_t l = 0; l < kBlock; ++l)
+                depth[l] = static_cast<float>(std::max(-1e6, std::min(0.0, by[l] - g.level)));
+            const Lanes below = Lanes::load_aligned(depth);
+            // The velocity in single precision (the waves' sum, a few m/s, to 1e-7 of it).
+            Lanes vx(0.0f), vy(0.0f), vz(0.0f);
+            for (std::size_t i = 0; i < g.count; ++i) {
+                const GerstnerBatchWave& w = g.waves[i];
+                const FoldedPhase phase(search.angleAt(g, i, bx, bz));  // folded once for both
+                // Orbital motion decays as e^(k d) below the mean level.
+                const Lanes decay =
+                    xsimd::exp(xsimd::max(Lanes(-80.0f), Lanes(static_cast<float>(w.k)) * below));
+                const Lanes horizontal =
+                    Lanes(static_cast<float>(w.qa * w.omega)) * phase.cos() * decay;
+                vx = xsimd::fma(horizontal, Lanes(static_cast<float>(w.dx)), vx);
+                vy = xsimd::fma(Lanes(static_cast<float>(w.amplitude * w.omega)) * phase.sin(),
+                                decay, vy);
+                vz = xsimd::fma(horizontal, Lanes(static_cast<float>(w.dz)), vz);
+            }
+            alignas(64) float v[3][kBlock];
+            vx.store_aligned(v[0]);
+            vy.store_aligned(v[1]);
+            vz.store_aligned(v[2]);
+            for (std::size_t l = 0; l < count; ++l)
+                for (int c = 0; c < 3; ++c) out[3 * (first + l) + c] = v[c][l];
+        });
 }
 
 }  // namespace
 
 /// The exported entry points of one build (Suffix: Baseline or Avx2), outside the anonymous
 /// namespace the body above lives in.
-#define PLIMSOLL_GERSTNER_BATCH_ENTRY_POINTS(Suffix)                                                     \
-    void gerstnerHeights##Suffix(const GerstnerBatch& g, std::size_t n, const double* x, const double* z, \
-                                 double* out) {                                                         \
-        heightsImpl(g, n, x, z, out);                                                                   \
-    }                                                                                                   \
-    void gerstnerVelocities##Suffix(const GerstnerBatch& g, std::size_t n, const double* x,              \
-                                    const double* y, const double* z, double* out) {                    \
-        velocitiesImpl(g, n, x, y, z, out);                                                             \
+#define PLIMSOLL_GERSTNER_BATCH_ENTRY_POINTS(Suffix)                                        \
+    void gerstnerHeights##Suffix(const GerstnerBatch& g, std::size_t n, const double* x,    \
+                                 const double* z, double* out) {                            \
+        heightsImpl(g, n, x, z, out);                                                       \
+    }                                                                                       \
+    void gerstnerVelocities##Suffix(const GerstnerBatch& g, std::size_t n, const double* x, \
+                                    const double* y, const double* z, double* out) {        \
+        velocitiesImpl(g, n, x, y, z, out);                                                 \
     }

@@ -32,8 +32,8 @@ constexpr double kDegree = std::numbers::pi / 180.0;
 
 /// The water the body displaces at one attitude.
 struct Displaced {
-    double volume = 0;                                  ///< m^3
-    Eigen::Vector3d offset = Eigen::Vector3d::Zero();   ///< B - G, world axes, m
+    double volume = 0;                                 ///< m^3
+    Eigen::Vector3d offset = Eigen::Vector3d::Zero();  ///< B - G, world axes, m
 };
 
 /// Integrals over the waterplane, world axes relative to G, m^2, m^3 and m^4.
@@ -110,8 +110,8 @@ public:
         Floating best{hi, m_.displaced(rotation, hi)};
         int side = 0;
         for (int i = 0; i < 200 && hi - lo > 1e-15 * reach_; ++i) {
-            const double h = (fHi - fLo) > 0 ? lo + (hi - lo) * (-fLo) / (fHi - fLo)
-                                             : 0.5 * (lo + hi);
+            const double h =
+                (fHi - fLo) > 0 ? lo + (hi - lo) * (-fLo) / (fHi - fLo) : 0.5 * (lo + hi);
             const Displaced d = m_.displaced(rotation, h);
             const double f = d.volume - target_;
             best = {h, d};
@@ -141,8 +141,8 @@ public:
             if (std::abs(f0.water.offset.x()) <= 1e-13 * reach_) break;
             const double slope = (f1.water.offset.x() - f0.water.offset.x()) / (t1 - t0);
             if (!(std::abs(slope) > 0)) break;
-            const double step = std::clamp(-f0.water.offset.x() / slope, -20 * kDegree,
-                                           20 * kDegree);
+            const double step =
+                std::clamp(-f0.water.offset.x() / slope, -20 * kDegree, 20 * kDegree);
             if (std::abs(step) < 1e-14) break;
             t1 = t0 + step;
             f1 = pitchArm(t1);
@@ -484,7 +484,8 @@ Result<HydrostaticsResult> solveHydrostatics(DisplacementMeasure measure,
         r.waterplaneArea = (above.volume - below.volume) / (2 * dh);
         const Eigen::Vector3d moment =
             (above.volume * above.offset - below.volume * below.offset) / (2 * dh);
-        if (r.waterplaneArea > 0) flotation = Eigen::Vector2d(moment.x(), moment.z()) / r.waterplaneArea;
+        if (r.waterplaneArea > 0)
+            flotation = Eigen::Vector2d(moment.x(), moment.z()) / r.waterplaneArea;
         const double delta = settings.derivativeStepDegrees * kDegree;
         r.gmTransverse = metacentricHeight(solver, upright, Eigen::Vector3d::UnitX(), delta);
         r.gmLongitudinal = metacentricHeight(solver, upright, Eigen::Vector3d::UnitZ(), delta);
@@ -567,8 +568,8 @@ Waterplane textureWaterplane(const SurfaceTextures& textures, const Eigen::Matri
         const double tilt = std::max(0.0, 1.0 - a.y() * a.y() / std::max(a.squaredNorm(), 1e-300));
         const double height = std::sqrt(textures.area[i] * tilt);  // vertical extent, m
         const double depth = h - p.y();
-        const double wet = height > 0 ? std::clamp(0.5 + depth / height, 0.0, 1.0)
-                                      : (depth > 0 ? 1.0 : 0.0);
+        const double wet =
+            height > 0 ? std::clamp(0.5 + depth / height, 0.0, 1.0) : (depth > 0 ? 1.0 : 0.0);
         if (wet <= 0) continue;
         const double projected = -wet * a.y();  // share of the cap under this entry, m^2
         const double own = projected * std::abs(projected) / 12;
@@ -672,8 +673,8 @@ Result<HydrostaticsResult> hydrostaticsFromTextures(const SurfaceTextures& textu
     DisplacementMeasure measure;
     measure.points = relativeTo(textures.position, body.centerOfMass);
     measure.displaced = [&textures, &body, fluid](const Eigen::Matrix3d& rotation, double h) {
-        return displacedOf(evaluateBuoyancyReference(
-            textures, frameAt(rotation, body.centerOfMass), WaterModel::flat(h), fluid));
+        return displacedOf(evaluateBuoyancyReference(textures, frameAt(rotation, body.centerOfMass),
+                                                     WaterModel::flat(h), fluid));
     };
     measure.waterplane = [&textures, &body](const Eigen::Matrix3d& rotation, double h) {
         return textureWaterplane(textures, rotation, body.centerOfMass, h);

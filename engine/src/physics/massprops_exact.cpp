@@ -29,8 +29,7 @@ MassProperties toMassProperties(const BodyIntegrals& integrals, double density, 
     const Eigen::Matrix3d central =
         integrals.second - integrals.zeroth * offset * offset.transpose();
     result.centerOfMass = integrals.reference + offset;
-    result.inertia =
-        density * (central.trace() * Eigen::Matrix3d::Identity() - central);
+    result.inertia = density * (central.trace() * Eigen::Matrix3d::Identity() - central);
     return result;
 }
 
@@ -103,9 +102,9 @@ MassProperties operator+(const MassProperties& a, const MassProperties& b) {
     // Parallel-axis theorem: I_c = I_own + m (|d|^2 Id - d d^T), d from the new centre.
     auto shifted = [&](const MassProperties& part) {
         const Eigen::Vector3d d = part.centerOfMass - sum.centerOfMass;
-        return Eigen::Matrix3d(part.inertia + part.mass * (d.squaredNorm() *
-                                                               Eigen::Matrix3d::Identity() -
-                                                           d * d.transpose()));
+        return Eigen::Matrix3d(
+            part.inertia +
+            part.mass * (d.squaredNorm() * Eigen::Matrix3d::Identity() - d * d.transpose()));
     };
     sum.inertia = shifted(a) + shifted(b);
     return sum;
@@ -120,7 +119,8 @@ MassProperties operator-(const MassProperties& a, const MassProperties& b) {
     return difference;
 }
 
-MassProperties withoutHollow(const MassProperties& solid, const MassProperties& hollow, double density) {
+MassProperties withoutHollow(const MassProperties& solid, const MassProperties& hollow,
+                             double density) {
     if (!(hollow.mass > 0)) return solid;
     MassProperties filled = hollow;
     filled.mass *= density;

@@ -9,7 +9,8 @@
 //   -(i omega A + B) = i omega rho int phi_j n_k dS.
 //
 // The wave part (Wehausen & Laitone 1960, eq. 13.17; Newman 1985, J. Eng. Math. 19):
-//   G_wave = 2 K PV int_0^inf e^{k (y + eta)} J0(k R) / (k - K) dk - i 2 pi K e^{K (y + eta)} J0(K R),
+//   G_wave = 2 K PV int_0^inf e^{k (y + eta)} J0(k R) / (k - K) dk - i 2 pi K e^{K (y + eta)} J0(K
+//   R),
 // the imaginary sign being the outgoing wave for e^{i omega t}. With X = K R, Y = -K (y + eta),
 // F(X, Y) = PV int e^{-m Y} J0(m X) / (m - 1) dm obeys dF/dY + F = -1 / sqrt(X^2 + Y^2), so
 //   F(X, Y) = -(pi/2) e^{-Y} (H0(X) + Y0(X)) - int_0^Y e^{t - Y} / sqrt(X^2 + t^2) dt
@@ -59,7 +60,8 @@ template <class F>
 void gaussPiece(double a, double b, F&& f) {
     const double half = 0.5 * (b - a);
     const double mid = 0.5 * (a + b);
-    for (std::size_t q = 0; q < kGaussNodes.size(); ++q) f(mid + half * kGaussNodes[q], half * kGaussWeights[q]);
+    for (std::size_t q = 0; q < kGaussNodes.size(); ++q)
+        f(mid + half * kGaussNodes[q], half * kGaussWeights[q]);
 }
 
 // (H_nu - Y_nu)(x) for large x (Abramowitz & Stegun 12.1.29):
@@ -87,7 +89,8 @@ double struveSeries(int nu, double x) {
     double term = nu == 0 ? x : x2 / 3.0;
     double sum = term;
     for (int k = 0; k < 200; ++k) {
-        term *= nu == 0 ? -x2 / ((2.0 * k + 3) * (2.0 * k + 3)) : -x2 / ((2.0 * k + 3) * (2.0 * k + 5));
+        term *=
+            nu == 0 ? -x2 / ((2.0 * k + 3) * (2.0 * k + 3)) : -x2 / ((2.0 * k + 3) * (2.0 * k + 5));
         sum += term;
         if (std::abs(term) < 1e-17 * std::abs(sum) && k > x) break;
     }
@@ -155,7 +158,8 @@ void subdivide(const std::array<Eigen::Vector3d, 3>& t, int levels, F&& f) {
         f(t, 0.5 * (t[1] - t[0]).cross(t[2] - t[0]).norm());
         return;
     }
-    const Eigen::Vector3d m01 = 0.5 * (t[0] + t[1]), m12 = 0.5 * (t[1] + t[2]), m20 = 0.5 * (t[2] + t[0]);
+    const Eigen::Vector3d m01 = 0.5 * (t[0] + t[1]), m12 = 0.5 * (t[1] + t[2]),
+                          m20 = 0.5 * (t[2] + t[0]);
     subdivide({t[0], m01, m20}, levels - 1, f);
     subdivide({m01, t[1], m12}, levels - 1, f);
     subdivide({m20, m12, t[2]}, levels - 1, f);
@@ -167,8 +171,10 @@ void subdivide(const std::array<Eigen::Vector3d, 3>& t, int levels, F&& f) {
 // the matrices are bit-identical for any thread count.
 template <class F>
 void forEachRow(Eigen::Index n, unsigned threads, F&& rowWork) {
-    const unsigned available = threads ? threads : std::max(1u, std::thread::hardware_concurrency());
-    const unsigned count = static_cast<unsigned>(std::min<Eigen::Index>(available, std::max<Eigen::Index>(n, 1)));
+    const unsigned available =
+        threads ? threads : std::max(1u, std::thread::hardware_concurrency());
+    const unsigned count =
+        static_cast<unsigned>(std::min<Eigen::Index>(available, std::max<Eigen::Index>(n, 1)));
     std::atomic<Eigen::Index> next{0};
     auto worker = [&] {
         for (Eigen::Index i = next++; i < n; i = next++) rowWork(i);
@@ -413,8 +419,9 @@ RankineIntegral rankineTriangle(const std::array<Eigen::Vector3d, 3>& triangle,
         const double rPlus = (r - b).norm();
         const double r0Squared = t0 * t0 + h * h;
         // ln((R+ + s+)/(R- + s-)) = ln((R- - s-)/(R+ - s+)); take the better-conditioned form.
-        const double logTerm = (sMinus + sPlus >= 0) ? std::log((rPlus + sPlus) / (rMinus + sMinus))
-                                                     : std::log((rMinus - sMinus) / (rPlus - sPlus));
+        const double logTerm = (sMinus + sPlus >= 0)
+                                   ? std::log((rPlus + sPlus) / (rMinus + sMinus))
+                                   : std::log((rMinus - sMinus) / (rPlus - sPlus));
         // On the edge's line (t0 = 0) the edge subtends no solid angle; the guard keeps a
         // point in the panel's plane (coplanar neighbours) from dividing 0 by 0.
         const double beta = t0 == 0.0 ? 0.0
@@ -430,8 +437,8 @@ RankineIntegral rankineTriangle(const std::array<Eigen::Vector3d, 3>& triangle,
     return out;
 }
 
-std::vector<RadiationPanel> wettedPanels(const TriangleMesh& surface, const Eigen::Affine3d& toWater,
-                                         double minArea) {
+std::vector<RadiationPanel> wettedPanels(const TriangleMesh& surface,
+                                         const Eigen::Affine3d& toWater, double minArea) {
     std::vector<RadiationPanel> panels;
     auto emit = [&](const Eigen::Vector3d& a, const Eigen::Vector3d& b, const Eigen::Vector3d& c) {
         const Eigen::Vector3d areaVector = 0.5 * (b - a).cross(c - a);
@@ -494,7 +501,8 @@ double refinedCount(const std::vector<RadiationPanel>& panels, double maxEdge) {
 
 }  // namespace
 
-std::vector<RadiationPanel> refinedPanels(const std::vector<RadiationPanel>& panels, double maxEdge) {
+std::vector<RadiationPanel> refinedPanels(const std::vector<RadiationPanel>& panels,
+                                          double maxEdge) {
     std::vector<RadiationPanel> out;
     for (const RadiationPanel& p : panels) {
         subdivide(p.vertices, refinementLevels(p, maxEdge),
@@ -685,8 +693,9 @@ std::vector<std::vector<Eigen::Vector3d>> waterlineLoops(const std::vector<Radia
 
 // Triangles covering a loop of positive orientation: rings about its centroid when every fan
 // triangle from there turns the right way (a star-shaped loop), else ear clipping.
-std::vector<std::array<Eigen::Vector3d, 3>> coverLoop(const std::vector<Eigen::Vector3d>& loop, double edge,
-                                                      double gap, int maxRings, bool& star) {
+std::vector<std::array<Eigen::Vector3d, 3>> coverLoop(const std::vector<Eigen::Vector3d>& loop,
+                                                      double edge, double gap, int maxRings,
+                                                      bool& star) {
     const std::size_t m = loop.size();
     const double area = signedAreaXz(loop);
     Eigen::Vector3d centroid = Eigen::Vector3d::Zero();
@@ -705,7 +714,8 @@ std::vector<std::array<Eigen::Vector3d, 3>> coverLoop(const std::vector<Eigen::V
     }
     std::vector<std::array<Eigen::Vector3d, 3>> out;
     if (star) {
-        const int rings = std::clamp(static_cast<int>(std::ceil((reach - gap) / edge)), 1, std::max(1, maxRings));
+        const int rings =
+            std::clamp(static_cast<int>(std::ceil((reach - gap) / edge)), 1, std::max(1, maxRings));
         // Each ray from the centroid stops `gap` short of the waterline (at most halfway).
         auto ring = [&](int l, std::size_t k) -> Eigen::Vector3d {
             const Eigen::Vector3d ray = loop[k % m] - centroid;
@@ -732,7 +742,8 @@ std::vector<std::array<Eigen::Vector3d, 3>> coverLoop(const std::vector<Eigen::V
             bool empty = true;
             for (const Eigen::Vector3d& p : rest) {
                 if (&p == &a || &p == &b || &p == &c) continue;
-                if (crossXz(a, b, p) >= 0 && crossXz(b, c, p) >= 0 && crossXz(c, a, p) >= 0) empty = false;
+                if (crossXz(a, b, p) >= 0 && crossXz(b, c, p) >= 0 && crossXz(c, a, p) >= 0)
+                    empty = false;
             }
             if (!empty) continue;
             out.push_back({a, b, c});
@@ -747,10 +758,12 @@ std::vector<std::array<Eigen::Vector3d, 3>> coverLoop(const std::vector<Eigen::V
 
 }  // namespace
 
-std::vector<RadiationPanel> waterplaneLid(const std::vector<RadiationPanel>& wetted, double maxEdge) {
+std::vector<RadiationPanel> waterplaneLid(const std::vector<RadiationPanel>& wetted,
+                                          double maxEdge) {
     double extent = 0;
     for (const RadiationPanel& p : wetted) {
-        for (const Eigen::Vector3d& v : p.vertices) extent = std::max(extent, v.cwiseAbs().maxCoeff());
+        for (const Eigen::Vector3d& v : p.vertices)
+            extent = std::max(extent, v.cwiseAbs().maxCoeff());
     }
     const auto loops = waterlineLoops(wetted, 1e-9 * std::max(extent, 1e-300));
     double waterplaneArea = 0;
@@ -760,7 +773,8 @@ std::vector<RadiationPanel> waterplaneLid(const std::vector<RadiationPanel>& wet
         const double loopArea = signedAreaXz(loop);
         if (loopArea <= 0) continue;  // an opening in the waterplane
         double perimeter = 0;
-        for (std::size_t k = 0; k < loop.size(); ++k) perimeter += (loop[(k + 1) % loop.size()] - loop[k]).norm();
+        for (std::size_t k = 0; k < loop.size(); ++k)
+            perimeter += (loop[(k + 1) % loop.size()] - loop[k]).norm();
         const double meanEdge = perimeter / static_cast<double>(loop.size());
         const double edge = maxEdge > 0 ? maxEdge : 1.5 * meanEdge;
         std::vector<RadiationPanel> cover;
@@ -768,12 +782,15 @@ std::vector<RadiationPanel> waterplaneLid(const std::vector<RadiationPanel>& wet
         // Every ring repeats the loop's vertices (2 rings - 1 triangles per loop edge): at most
         // half as many lid panels as the body has, so that a long, finely cut waterline (a
         // hull's) does not multiply the unknowns.
-        const int maxRings = static_cast<int>((0.5 * static_cast<double>(wetted.size()) / loop.size() + 1) / 2);
+        const int maxRings =
+            static_cast<int>((0.5 * static_cast<double>(wetted.size()) / loop.size() + 1) / 2);
         for (const auto& t : coverLoop(loop, edge, 0.5 * meanEdge, std::min(maxRings, 16), star)) {
             // Reordered so that the normal points up.
             const std::array<Eigen::Vector3d, 3> up = {t[0], t[2], t[1]};
             const double area = 0.5 * (up[1] - up[0]).cross(up[2] - up[0]).norm();
-            if (area > 0) cover.push_back({up, (up[0] + up[1] + up[2]) / 3.0, Eigen::Vector3d::UnitY(), area});
+            if (area > 0)
+                cover.push_back(
+                    {up, (up[0] + up[1] + up[2]) / 3.0, Eigen::Vector3d::UnitY(), area});
         }
         if (!star) {
             // Split to `edge` (the rings are sized already), within the loop's share by area of
@@ -800,7 +817,8 @@ double wettedVolume(const std::vector<RadiationPanel>& panels) {
     return volume;
 }
 
-double equilibriumHeight(const TriangleMesh& surface, const Eigen::Affine3d& toWater, double volume) {
+double equilibriumHeight(const TriangleMesh& surface, const Eigen::Affine3d& toWater,
+                         double volume) {
     const Bounds3 bounds = [&] {
         Bounds3 b;
         for (const Eigen::Vector3d& p : surface.positions) {
@@ -815,14 +833,16 @@ double equilibriumHeight(const TriangleMesh& surface, const Eigen::Affine3d& toW
     for (int iteration = 0; iteration < 60; ++iteration) {
         const double mid = 0.5 * (low + high);
         const Eigen::Affine3d raised = Eigen::Translation3d(0, mid, 0) * toWater;
-        if (wettedVolume(wettedPanels(surface, raised)) > volume) low = mid;
-        else high = mid;
+        if (wettedVolume(wettedPanels(surface, raised)) > volume)
+            low = mid;
+        else
+            high = mid;
     }
     return 0.5 * (low + high);
 }
 
-RadiationSolver::RadiationSolver(std::vector<RadiationPanel> panels, const Eigen::Vector3d& reference,
-                                 RadiationSettings settings)
+RadiationSolver::RadiationSolver(std::vector<RadiationPanel> panels,
+                                 const Eigen::Vector3d& reference, RadiationSettings settings)
     : panels_(std::move(panels)), settings_(settings) {
     if (settings_.irregularFrequencyLid) lid_ = waterplaneLid(panels_);
     sources_ = panels_;
@@ -912,8 +932,8 @@ bool RadiationSolver::isFar(Eigen::Index i, Eigen::Index j) const {
            (x - source.centroid).norm() >= settings_.nearFactor * size;
 }
 
-Eigen::Matrix<std::complex<double>, 6, 6> RadiationSolver::forces(const Eigen::MatrixXcd& potential,
-                                                                  const Eigen::MatrixXcd& system) const {
+Eigen::Matrix<std::complex<double>, 6, 6> RadiationSolver::forces(
+    const Eigen::MatrixXcd& potential, const Eigen::MatrixXcd& system) const {
     const auto bodyCount = static_cast<Eigen::Index>(panels_.size());
     Eigen::MatrixXcd rhs = Eigen::MatrixXcd::Zero(system.rows(), 6);
     rhs.topRows(bodyCount) = modeNormals_.cast<std::complex<double>>();
@@ -932,7 +952,8 @@ RadiationCoefficients RadiationSolver::at(double omega) const {
     const auto n = static_cast<Eigen::Index>(sources_.size());
     Eigen::MatrixXcd potential = (directPotential_ + imagePotential_).cast<std::complex<double>>();
     Eigen::MatrixXcd system(n, n);
-    system.topRows(bodyCount) = (directNormal_ + imageNormal_).topRows(bodyCount).cast<std::complex<double>>();
+    system.topRows(bodyCount) =
+        (directNormal_ + imageNormal_).topRows(bodyCount).cast<std::complex<double>>();
     // The wave part at the field panel's centroid: smooth on the panel's scale there (averaging
     // it over three points, like the Rankine part, changed the hemisphere's A and B by < 0.3%).
     //
@@ -961,8 +982,9 @@ RadiationCoefficients RadiationSolver::at(double omega) const {
     };
     // Adds `weight` times the kernel at (x, s) to one matrix element's potential `g` and, on a
     // body row, to the gradient at x that its normal-velocity entry takes.
-    auto accumulate = [&](const Kernel& k, const Eigen::Vector3d& x, const Eigen::Vector3d& s, double weight,
-                          bool onBody, std::complex<double>& g, Eigen::Vector3cd& gradient) {
+    auto accumulate = [&](const Kernel& k, const Eigen::Vector3d& x, const Eigen::Vector3d& s,
+                          double weight, bool onBody, std::complex<double>& g,
+                          Eigen::Vector3cd& gradient) {
         g += weight * std::complex<double>(2.0 * K * k.w.value, -2.0 * kPi * K * k.decay * k.j0);
         if (!onBody) return;  // the lid's rows need the potential only
         const double dx = x.x() - s.x();
@@ -978,9 +1000,11 @@ RadiationCoefficients RadiationSolver::at(double omega) const {
     // far away; near, the singular part (a logarithm and a cone) integrated once per body on
     // subdivided 3-point rules as the image comes close (near_), and the smooth rest on the
     // panel's own three points.
-    auto store = [&](Eigen::Index i, Eigen::Index j, const std::complex<double>& g, const Eigen::Vector3cd& gradient) {
+    auto store = [&](Eigen::Index i, Eigen::Index j, const std::complex<double>& g,
+                     const Eigen::Vector3cd& gradient) {
         potential(i, j) += g;
-        if (i < bodyCount) system(i, j) += sources_[i].normal.cast<std::complex<double>>().dot(gradient);
+        if (i < bodyCount)
+            system(i, j) += sources_[i].normal.cast<std::complex<double>>().dot(gradient);
     };
     // Two far panels use one point each, their centroids, whichever is the field point: the
     // kernel is evaluated once per pair for both elements (i, j) and (j, i), which is exact (X
@@ -1005,7 +1029,8 @@ RadiationCoefficients RadiationSolver::at(double omega) const {
                 if (j > i && farBack) {
                     std::complex<double> gBack = 0;
                     Eigen::Vector3cd gradientBack = Eigen::Vector3cd::Zero();
-                    accumulate(k, source.centroid, x, sources_[i].area, backOnBody, gBack, gradientBack);
+                    accumulate(k, source.centroid, x, sources_[i].area, backOnBody, gBack,
+                               gradientBack);
                     store(j, i, gBack, gradientBack);
                 }
                 continue;
@@ -1054,8 +1079,9 @@ RadiationCoefficients RadiationSolver::at(double omega) const {
 // lid's rows degenerate): the body's panels alone.
 Matrix6d RadiationSolver::infiniteFrequencyAddedMass() const {
     const auto b = static_cast<Eigen::Index>(panels_.size());
-    const auto f = forces((directPotential_ - imagePotential_).topLeftCorner(b, b).cast<std::complex<double>>(),
-                          (directNormal_ - imageNormal_).topLeftCorner(b, b).cast<std::complex<double>>());
+    const auto f = forces(
+        (directPotential_ - imagePotential_).topLeftCorner(b, b).cast<std::complex<double>>(),
+        (directNormal_ - imageNormal_).topLeftCorner(b, b).cast<std::complex<double>>());
     return -settings_.density * f.real();
 }
 

@@ -57,7 +57,9 @@ Eigen::Quaterniond energyConservingRotation(const Eigen::Quaterniond& q,
 }
 
 /// The inertia the rotation sees: the body's plus the water's (MassDistribution::addedInertia).
-Eigen::Matrix3d rotationalInertia(const MassDistribution& mass) { return mass.inertia + mass.addedInertia; }
+Eigen::Matrix3d rotationalInertia(const MassDistribution& mass) {
+    return mass.inertia + mass.addedInertia;
+}
 
 RigidBodyState explicitEulerStep(const RigidBodyState& state, const MassDistribution& mass,
                                  const WrenchFunction& wrench, double time, double dt) {
@@ -79,8 +81,8 @@ RigidBodyState semiImplicitEulerStep(const RigidBodyState& state, const MassDist
     next.linearMomentum += dt * w.force;
     next.angularMomentum += dt * w.torque;
     next.position += dt * linearVelocity(next, mass);
-    next.orientation =
-        energyConservingRotation(state.orientation, next.angularMomentum, rotationalInertia(mass), dt);
+    next.orientation = energyConservingRotation(state.orientation, next.angularMomentum,
+                                                rotationalInertia(mass), dt);
     return next;
 }
 
@@ -123,10 +125,12 @@ RigidBodyState unnormalisedStep(const RigidBodyState& state, const MassDistribut
                                 const WrenchFunction& wrench, double time, double dt,
                                 Integrator integrator) {
     switch (integrator) {
-        case Integrator::ExplicitEuler: return explicitEulerStep(state, mass, wrench, time, dt);
+        case Integrator::ExplicitEuler:
+            return explicitEulerStep(state, mass, wrench, time, dt);
         case Integrator::SemiImplicitEuler:
             return semiImplicitEulerStep(state, mass, wrench, time, dt);
-        case Integrator::RK4: return rk4Step(state, mass, wrench, time, dt);
+        case Integrator::RK4:
+            return rk4Step(state, mass, wrench, time, dt);
     }
     return state;
 }
@@ -135,9 +139,12 @@ RigidBodyState unnormalisedStep(const RigidBodyState& state, const MassDistribut
 
 const char* integratorName(Integrator integrator) {
     switch (integrator) {
-        case Integrator::ExplicitEuler: return "explicit-euler";
-        case Integrator::SemiImplicitEuler: return "semi-implicit-euler";
-        case Integrator::RK4: return "rk4";
+        case Integrator::ExplicitEuler:
+            return "explicit-euler";
+        case Integrator::SemiImplicitEuler:
+            return "semi-implicit-euler";
+        case Integrator::RK4:
+            return "rk4";
     }
     return "unknown";
 }
@@ -158,7 +165,8 @@ Eigen::Vector3d linearVelocity(const RigidBodyState& state, const MassDistributi
     if (mass.addedMass.isZero(0)) return state.linearMomentum / mass.mass;
     // In object axes the translational mass is m + A, constant.
     const Eigen::Matrix3d translational = mass.mass * Eigen::Matrix3d::Identity() + mass.addedMass;
-    return state.orientation * translational.ldlt().solve(state.orientation.conjugate() * state.linearMomentum);
+    return state.orientation *
+           translational.ldlt().solve(state.orientation.conjugate() * state.linearMomentum);
 }
 
 // R I_body^-1 R^T L, solved in body axes rather than inverting I_world.

@@ -4,9 +4,8 @@
 namespace plimsoll {
 
 Result<SubmergedVolumeCheck> checkSubmergedVolume(BuoyancyBackend& backend, std::size_t bodyId,
-                                                  const TriangleMesh& mesh,
-                                                  const BodyFrame& frame, double waterLevel,
-                                                  const FluidSettings& fluid) {
+                                                  const TriangleMesh& mesh, const BodyFrame& frame,
+                                                  double waterLevel, const FluidSettings& fluid) {
     const BodyRequest request{bodyId, frame, fluid};
     BuoyancyResult texture;
     if (Status s = backend.evaluate({&request, 1}, WaterModel::flat(waterLevel), {&texture, 1});

@@ -90,7 +90,9 @@ public:
             waves_.data()[i] = {t.amplitude, t.k, t.omega, t.q * t.amplitude, t.dx, t.dz, phase0};
         }
     }
-    detail::GerstnerBatch batch(double level) const { return {waves_.data(), waves_.size(), level}; }
+    detail::GerstnerBatch batch(double level) const {
+        return {waves_.data(), waves_.size(), level};
+    }
 
 private:
     PerWave<detail::GerstnerBatchWave> waves_;
@@ -98,7 +100,8 @@ private:
 
 }  // namespace
 
-void WaterModel::heights(std::size_t n, const double* x, const double* z, double time, double* out) const {
+void WaterModel::heights(std::size_t n, const double* x, const double* z, double time,
+                         double* out) const {
     if (kind != Kind::Gerstner || waves.empty()) {
         for (std::size_t i = 0; i < n; ++i) out[i] = height(x[i], z[i], time);
         return;
@@ -108,8 +111,8 @@ void WaterModel::heights(std::size_t n, const double* x, const double* z, double
     detail::gerstnerBatchBuild().heights(batch, n, x, z, out);
 }
 
-void WaterModel::velocities(std::size_t n, const double* x, const double* y, const double* z, double time,
-                            double* out) const {
+void WaterModel::velocities(std::size_t n, const double* x, const double* y, const double* z,
+                            double time, double* out) const {
     if (kind != Kind::Gerstner || waves.empty()) {
         for (std::size_t i = 0; i < 3 * n; ++i) out[i] = 0.0;
         return;

@@ -79,12 +79,11 @@ public:
         // rather than a list of "unknown key" lines that would hide the real problem.
         int version = 0;
         if (const Json* v = find(root, "schema_version")) {
-            if (integerValue(*v, "schema_version", version, 1) &&
-                version > kProjectSchemaVersion) {
+            if (integerValue(*v, "schema_version", version, 1) && version > kProjectSchemaVersion) {
                 return makeError(ErrorKind::unsupported,
                                  source() + ": schema_version: " + std::to_string(version) +
-                                 " is newer than this Plimsoll reads (" +
-                                 std::to_string(kProjectSchemaVersion) + ")");
+                                     " is newer than this Plimsoll reads (" +
+                                     std::to_string(kProjectSchemaVersion) + ")");
             }
         } else {
             problem("schema_version", "required");
@@ -183,8 +182,8 @@ private:
                 problem(countPath, "must be an array of 2 integers");
             } else {
                 countValid = integerValue((*count)[0], element(countPath, 0), grid.countX, 1);
-                countValid = integerValue((*count)[1], element(countPath, 1), grid.countZ, 1) &&
-                             countValid;
+                countValid =
+                    integerValue((*count)[1], element(countPath, 1), grid.countZ, 1) && countValid;
             }
         } else {
             problem(countPath, "required");
@@ -320,11 +319,17 @@ private:
         if (const Json* unit = find(value, "unit")) {
             // A name ("cm") or metres per file unit (0.01); absent: the file's own unit.
             std::optional<double> metres;
-            if (unit->is_string()) metres = parseLengthUnit(unit->get<std::string>());
-            else if (unit->is_number() && unit->get<double>() > 0 && std::isfinite(unit->get<double>()))
+            if (unit->is_string())
+                metres = parseLengthUnit(unit->get<std::string>());
+            else if (unit->is_number() && unit->get<double>() > 0 &&
+                     std::isfinite(unit->get<double>()))
                 metres = unit->get<double>();
-            if (metres) body.unitScale = *metres;
-            else problem(member(path, "unit"), "expected m, cm, mm, km, in, ft, yd or metres per file unit (a number > 0)");
+            if (metres)
+                body.unitScale = *metres;
+            else
+                problem(
+                    member(path, "unit"),
+                    "expected m, cm, mm, km, in, ft, yd or metres per file unit (a number > 0)");
         }
         if (const Json* mesh = find(value, "mesh")) {
             if (stringValue(*mesh, member(path, "mesh"), body.mesh) && body.mesh.empty()) {
@@ -353,7 +358,8 @@ private:
                     "must be in " + std::to_string(kMinTextureSize) + ".." +
                         std::to_string(kMaxTextureSize) + ": " + printedInteger(n) +
                         " is more than the limit kMaxTextureSize (limits.h); its texels would "
-                        "need up to " + formatBytes(n * n * 72.0));
+                        "need up to " +
+                        formatBytes(n * n * 72.0));
         } else {
             integer(value, path, "texture_size", body.textureSize, kMinTextureSize,
                     kMaxTextureSize);
@@ -373,7 +379,8 @@ private:
         std::string atlas;
         const Json* atlasValue = find(value, "atlas");
         if (atlasValue && stringValue(*atlasValue, member(path, "atlas"), atlas)) {
-            if (const auto mode = parseAtlasMode(atlas)) body.atlas = *mode;
+            if (const auto mode = parseAtlasMode(atlas))
+                body.atlas = *mode;
             else
                 problem(member(path, "atlas"),
                         "unknown '" + boundedExcerpt(atlas) + "' (mesh, auto, generate)");
@@ -381,7 +388,8 @@ private:
         std::string openings;
         const Json* openingsValue = find(value, "openings");
         if (openingsValue && stringValue(*openingsValue, member(path, "openings"), openings)) {
-            if (const auto mode = parseOpeningsMode(openings)) body.openings = *mode;
+            if (const auto mode = parseOpeningsMode(openings))
+                body.openings = *mode;
             else
                 problem(member(path, "openings"),
                         "unknown '" + boundedExcerpt(openings) + "' (open, sealed, none)");
@@ -397,8 +405,7 @@ private:
         vector(value, path, "velocity", body.velocity);
         vector(value, path, "angular_velocity", body.angularVelocity);
         number(value, path, "drag_coefficient", body.dragCoefficient, Limit::NonNegative);
-        number(value, path, "friction_coefficient", body.frictionCoefficient,
-               Limit::NonNegative);
+        number(value, path, "friction_coefficient", body.frictionCoefficient, Limit::NonNegative);
         optionalNumber(value, path, "linear_damping", body.linearDamping);
         optionalNumber(value, path, "angular_damping", body.angularDamping);
         string(value, path, "permeability_map", body.permeabilityMap);
@@ -469,9 +476,9 @@ private:
             radiation.enabled = value.get<bool>();
             return;
         }
-        if (!expectObject(value, path,
-                          {"enabled", "panel_edge", "frequencies", "min_frequency",
-                           "max_frequency"})) {
+        if (!expectObject(
+                value, path,
+                {"enabled", "panel_edge", "frequencies", "min_frequency", "max_frequency"})) {
             return;
         }
         boolean(value, path, "enabled", radiation.enabled);
@@ -489,10 +496,10 @@ private:
     }
 
     void readWaterGraph(const Json& value, const std::string& path, WaterGraphDesc& graph) {
-        if (!expectObject(value, path,
-                          {"graph", "permeability", "inflow", "inflow_rate",
-                           "discharge_coefficient", "flow", "diffusion_pressure",
-                           "free_surface", "seed"})) {
+        if (!expectObject(
+                value, path,
+                {"graph", "permeability", "inflow", "inflow_rate", "discharge_coefficient", "flow",
+                 "diffusion_pressure", "free_surface", "seed"})) {
             return;
         }
         if (const Json* file = find(value, "graph")) {
@@ -581,11 +588,10 @@ private:
         const bool thicknessValid =
             thickness && numberValue(*thickness, member(path, "thickness"), t, Limit::Positive);
         const bool densityValid =
-            materialDensity && numberValue(*materialDensity, member(path, "material_density"),
-                                           rho, Limit::Positive);
+            materialDensity &&
+            numberValue(*materialDensity, member(path, "material_density"), rho, Limit::Positive);
         if (thicknessValid && densityValid) material.shellSurfaceDensity = t * rho;
     }
-
 };
 
 /// As dump(2), except that arrays of numbers and strings stay on one line ("position": [1.0,
@@ -595,8 +601,8 @@ void writeIndented(const Json& value, int level, std::string& out) {
         out += '\n';
         out.append(2 * static_cast<std::size_t>(indent), ' ');
     };
-    const bool nested = std::any_of(value.begin(), value.end(),
-                                    [](const Json& v) { return v.is_structured(); });
+    const bool nested =
+        std::any_of(value.begin(), value.end(), [](const Json& v) { return v.is_structured(); });
     if (value.is_object() && !value.empty()) {
         out += '{';
         for (auto it = value.begin(); it != value.end(); ++it) {
@@ -796,7 +802,8 @@ Result<Project> loadProject(const fs::path& path) {
     const std::string& text = *read;
     // Absolute, so that the project's paths stay valid if the working directory changes.
     const fs::path absolute = fs::absolute(path, ec);
-    Result<Project> project = parseProject(text, path.string(), (ec ? path : absolute).parent_path());
+    Result<Project> project =
+        parseProject(text, path.string(), (ec ? path : absolute).parent_path());
     if (project) {
         std::string stem = path.filename().string();
         for (const char* suffix : {".plim.json", ".json"}) {

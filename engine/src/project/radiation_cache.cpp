@@ -50,12 +50,14 @@ Result<std::optional<BodyRadiation>> readRadiationCache(const std::filesystem::p
     Result<std::string> text = readWholeFile(file, kMaxJsonFileBytes, "kMaxJsonFileBytes");
     if (!text) return text.error();
     const auto damaged = [&](const std::string& why) {
-        return makeError(ErrorKind::format, file.string() + ": not a readable radiation cache: " + why);
+        return makeError(ErrorKind::format,
+                         file.string() + ": not a readable radiation cache: " + why);
     };
     if (Status depth = checkJsonDepth(*text, file.string()); !depth.ok()) return depth.error();
     try {
         const nlohmann::json j = nlohmann::json::parse(*text);
-        if (!j.is_object() || j.value("format", "") != kFormat) return damaged("no \"format\": \"" + std::string(kFormat) + "\"");
+        if (!j.is_object() || j.value("format", "") != kFormat)
+            return damaged("no \"format\": \"" + std::string(kFormat) + "\"");
         if (j.at("key").get<std::string>() != key) return std::optional<BodyRadiation>{};
         BodyRadiation r;
         r.restVolume = finiteFrom(j.at("rest_volume"), "rest_volume");
@@ -70,7 +72,8 @@ Result<std::optional<BodyRadiation>> readRadiationCache(const std::filesystem::p
         for (const nlohmann::json& s : samples) {
             RadiationCoefficients c;
             c.omega = finiteFrom(s.at("omega"), "omega");
-            if (!(c.omega > previous)) return damaged("coefficients: frequencies not positive and increasing");
+            if (!(c.omega > previous))
+                return damaged("coefficients: frequencies not positive and increasing");
             previous = c.omega;
             c.addedMass = matrixFrom(s.at("added_mass"), "added_mass");
             c.damping = matrixFrom(s.at("damping"), "damping");
@@ -88,7 +91,9 @@ Status writeRadiationCache(const std::filesystem::path& file, const std::string&
                            const BodyRadiation& radiation) {
     nlohmann::json samples = nlohmann::json::array();
     for (const RadiationCoefficients& c : radiation.coefficients) {
-        samples.push_back({{"omega", c.omega}, {"added_mass", matrixJson(c.addedMass)}, {"damping", matrixJson(c.damping)}});
+        samples.push_back({{"omega", c.omega},
+                           {"added_mass", matrixJson(c.addedMass)},
+                           {"damping", matrixJson(c.damping)}});
     }
     const nlohmann::json j = {{"format", kFormat},
                               {"key", key},
@@ -124,13 +129,15 @@ Result<std::shared_ptr<const BodyRadiation>> cachedBodyRadiation(
     const auto start = std::chrono::steady_clock::now();
     Result<BodyRadiation> computed = computeBodyRadiation(body, desc, medium, gravity, progress);
     if (!computed) return computed.error();
-    const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    const double seconds =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     std::ostringstream line;
     line << body.label << ": radiation computed over " << computed->panelCount << " panels at "
          << computed->coefficients.size() << " frequencies in " << seconds << " s";
     if (!cacheFile.empty()) {
         if (Status saved = writeRadiationCache(cacheFile, key, *computed); !saved) {
-            return withContext(body.label + ": could not cache the radiation coefficients: ", saved.error());
+            return withContext(body.label + ": could not cache the radiation coefficients: ",
+                               saved.error());
         }
         line << ", cached in " << cacheFile.string();
     }

@@ -62,8 +62,8 @@ Result<PreparedBodyMesh> prepareBodyMesh(const Project& project, std::size_t ind
     return prepareLoadedBodyMesh(project, index, std::move(*loaded));
 }
 
-Result<PreparedBodyMesh> prepareLoadedBodyMesh(const Project& project, std::size_t index, TriangleMesh loaded,
-                                               bool uvsChosen) {
+Result<PreparedBodyMesh> prepareLoadedBodyMesh(const Project& project, std::size_t index,
+                                               TriangleMesh loaded, bool uvsChosen) {
     if (index >= project.bodies.size()) {
         return makeError(ErrorKind::invalidArgument, "no body " + std::to_string(index));
     }
@@ -115,8 +115,8 @@ Result<std::shared_ptr<const std::vector<TriangleMesh>>> loadBodyFrames(const Pr
     return std::make_shared<const std::vector<TriangleMesh>>(std::move(*frames));
 }
 
-Result<BodyParts> assembleBodyParts(BodyDesc& desc, PreparedBodyMesh prepared, const BodyPaint& paint,
-                                    const LogFunction& log) {
+Result<BodyParts> assembleBodyParts(BodyDesc& desc, PreparedBodyMesh prepared,
+                                    const BodyPaint& paint, const LogFunction& log) {
     const std::string label = bodyLabel(desc);
     const auto say = [&](const std::string& line) {
         if (log) log(line);
@@ -127,7 +127,8 @@ Result<BodyParts> assembleBodyParts(BodyDesc& desc, PreparedBodyMesh prepared, c
     parts.generatedAtlas = prepared.atlas.generated;
     parts.atlasCharts = prepared.atlas.chartCount;
     // Maps painted over the artist's UVs, moved onto the physics solid through the surface.
-    const TriangleMesh* paintedOver = paint.paintedOver ? paint.paintedOver.get() : prepared.artist.get();
+    const TriangleMesh* paintedOver =
+        paint.paintedOver ? paint.paintedOver.get() : prepared.artist.get();
     const bool moved = !prepared.repairs.empty();
     const auto onSolid = [&](const std::shared_ptr<const PaintedMap>& map,
                              std::shared_ptr<const PaintedMap>& into) -> Status {
@@ -136,8 +137,10 @@ Result<BodyParts> assembleBodyParts(BodyDesc& desc, PreparedBodyMesh prepared, c
             return Ok{};
         }
         if (!paintedOver || !paintedOver->hasUvs())
-            return makeError(ErrorKind::schema, label + ": a painted map needs the mesh's own UVs, and it has none");
-        Result<PaintedMap> onto = transferPaintedMap(*map, *paintedOver, *mesh, map->width, map->height);
+            return makeError(ErrorKind::schema,
+                             label + ": a painted map needs the mesh's own UVs, and it has none");
+        Result<PaintedMap> onto =
+            transferPaintedMap(*map, *paintedOver, *mesh, map->width, map->height);
         if (!onto) return withContext(label + ": ", onto.error());
         into = std::make_shared<const PaintedMap>(std::move(*onto));
         return Ok{};
@@ -173,7 +176,8 @@ Result<BodyParts> assembleBodyParts(BodyDesc& desc, PreparedBodyMesh prepared, c
             permeability = *parts.permeabilityMap;
         } else {
             permeability.width = permeability.height = kOpeningMapSize;
-            permeability.values.assign(static_cast<std::size_t>(kOpeningMapSize) * kOpeningMapSize, 0.0f);
+            permeability.values.assign(static_cast<std::size_t>(kOpeningMapSize) * kOpeningMapSize,
+                                       0.0f);
         }
         if (Status s = paintTriangles(permeability, *mesh, openCaps, 1.0f); !s)
             return withContext(label + ": ", s.error());
@@ -221,7 +225,8 @@ Result<SceneBody> loadSceneBody(const Project& project, std::size_t index, const
     if (!prepared) return fail(".mesh", prepared.error());
     if (!prepared->atlas.notice.empty()) say(label + ": " + prepared->atlas.notice);
     if (!prepared->repairs.empty())
-        say(label + ": not one closed solid as it is, or an open hull: its physics solid is baked (" +
+        say(label +
+            ": not one closed solid as it is, or an open hull: its physics solid is baked (" +
             describeRepairs(prepared->repairs) + ")");
     if (const std::string cost = describeBakeCost(prepared->mesh, desc.textureSize);
         !cost.empty() && !desc.tolerance)
@@ -230,9 +235,11 @@ Result<SceneBody> loadSceneBody(const Project& project, std::size_t index, const
     paint.paintedOver = prepared->artist;
     if (desc.waterGraph) {
         std::string warnings;
-        Result<WaterGraph> graph = loadGraph(project.resolvePath(desc.waterGraph->graph), &prepared->mesh, &warnings);
+        Result<WaterGraph> graph =
+            loadGraph(project.resolvePath(desc.waterGraph->graph), &prepared->mesh, &warnings);
         if (!graph) {
-            return fail(".water_graph.graph", withContext(label + ": water graph: ", graph.error()));
+            return fail(".water_graph.graph",
+                        withContext(label + ": water graph: ", graph.error()));
         }
         if (!warnings.empty()) say(warnings);
         paint.waterGraph = std::make_shared<const WaterGraph>(std::move(*graph));
@@ -247,16 +254,20 @@ Result<SceneBody> loadSceneBody(const Project& project, std::size_t index, const
     };
     if (Status s = loadMap(desc.permeabilityMap, ".permeability_map", paint.permeabilityMap); !s)
         return s.error();
-    if (Status s = loadMap(desc.material.shellDensityMap, ".material.map", paint.shellDensityMap); !s)
+    if (Status s = loadMap(desc.material.shellDensityMap, ".material.map", paint.shellDensityMap);
+        !s)
         return s.error();
-    if (Status s = loadMap(desc.material.shellThicknessMap, ".material.thickness_map", paint.shellThicknessMap); !s)
+    if (Status s = loadMap(desc.material.shellThicknessMap, ".material.thickness_map",
+                           paint.shellThicknessMap);
+        !s)
         return s.error();
 
     BodyDesc bodyDesc = desc;
     Result<BodyParts> parts = assembleBodyParts(bodyDesc, std::move(*prepared), paint, log);
     if (!parts) return fail("", parts.error());
     if (desc.deforms()) {
-        Result<std::shared_ptr<const std::vector<TriangleMesh>>> frames = loadBodyFrames(project, index);
+        Result<std::shared_ptr<const std::vector<TriangleMesh>>> frames =
+            loadBodyFrames(project, index);
         if (!frames) return fail(".mesh_frames", frames.error());
         parts->frames = std::move(*frames);
     }

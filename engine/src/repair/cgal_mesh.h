@@ -1,5 +1,6 @@
 // The CGAL types the repair's translation units share, the conversions between CGAL's
-// Surface_mesh and Plimsoll's TriangleMesh, the alpha wrap, and how repair details print numbers. Included only by the repair's CGAL files.
+// Surface_mesh and Plimsoll's TriangleMesh, the alpha wrap, and how repair details print numbers.
+// Included only by the repair's CGAL files.
 #pragma once
 
 #include "plimsoll/geometry/mesh.h"
@@ -60,7 +61,8 @@ inline Mesh toCgalMesh(const TriangleMesh& mesh) {
     for (std::size_t v = 0; v < mesh.positions.size(); ++v) {
         if (id[v] == v) {
             index[v] = points.size();
-            points.emplace_back(mesh.positions[v].x(), mesh.positions[v].y(), mesh.positions[v].z());
+            points.emplace_back(mesh.positions[v].x(), mesh.positions[v].y(),
+                                mesh.positions[v].z());
         }
     }
     std::vector<std::vector<std::size_t>> polygons;
@@ -85,8 +87,10 @@ inline Mesh wrap(const std::vector<const Mesh*>& meshes, double alpha, double of
         }
         for (Mesh::Face_index f : mesh->faces()) {
             std::vector<std::size_t> ring;
-            for (Mesh::Vertex_index v : CGAL::vertices_around_face(mesh->halfedge(f), *mesh)) ring.push_back(of[v]);
-            for (std::size_t k = 1; k + 1 < ring.size(); ++k) triangles.push_back({ring[0], ring[k], ring[k + 1]});
+            for (Mesh::Vertex_index v : CGAL::vertices_around_face(mesh->halfedge(f), *mesh))
+                ring.push_back(of[v]);
+            for (std::size_t k = 1; k + 1 < ring.size(); ++k)
+                triangles.push_back({ring[0], ring[k], ring[k + 1]});
         }
     }
     Mesh wrapped;

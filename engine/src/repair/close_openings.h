@@ -19,6 +19,7 @@ namespace plimsoll {
 /// Adds the openings, the "cap" repair and the displacement volume.
 /// Where the surgery leaves a seam open, the solid and the spaces are wrapped together
 /// (settings.wrapAlpha, wrapOffset) and a "wrap" repair says so.
-Status closeOpenings(PhysicsSolid& solid, const std::vector<Basin>& basins, const RepairSettings& settings);
+Status closeOpenings(PhysicsSolid& solid, const std::vector<Basin>& basins,
+                     const RepairSettings& settings);
 
 }  // namespace plimsoll

@@ -56,12 +56,17 @@ void markInside(const TriangleMesh& mesh, const Grid& g, std::vector<std::uint8_
             z0 = std::min(z0, mesh.positions[v].z());
             z1 = std::max(z1, mesh.positions[v].z());
         }
-        const int i0 = std::max(0, static_cast<int>(std::floor((x0 - g.origin.x()) / g.cell - offsetX)));
-        const int i1 = std::min(g.nx - 1, static_cast<int>(std::ceil((x1 - g.origin.x()) / g.cell - offsetX)));
-        const int k0 = std::max(0, static_cast<int>(std::floor((z0 - g.origin.z()) / g.cell - offsetZ)));
-        const int k1 = std::min(g.nz - 1, static_cast<int>(std::ceil((z1 - g.origin.z()) / g.cell - offsetZ)));
+        const int i0 =
+            std::max(0, static_cast<int>(std::floor((x0 - g.origin.x()) / g.cell - offsetX)));
+        const int i1 =
+            std::min(g.nx - 1, static_cast<int>(std::ceil((x1 - g.origin.x()) / g.cell - offsetX)));
+        const int k0 =
+            std::max(0, static_cast<int>(std::floor((z0 - g.origin.z()) / g.cell - offsetZ)));
+        const int k1 =
+            std::min(g.nz - 1, static_cast<int>(std::ceil((z1 - g.origin.z()) / g.cell - offsetZ)));
         for (int k = k0; k <= k1; ++k)
-            for (int i = i0; i <= i1; ++i) columns[static_cast<std::size_t>(k) * g.nx + i].push_back(t);
+            for (int i = i0; i <= i1; ++i)
+                columns[static_cast<std::size_t>(k) * g.nx + i].push_back(t);
     }
     std::vector<std::pair<double, int>> crossings;
     for (int k = 0; k < g.nz; ++k)
@@ -91,7 +96,8 @@ void markInside(const TriangleMesh& mesh, const Grid& g, std::vector<std::uint8_
             std::size_t next = 0;
             for (int j = 0; j < g.ny; ++j) {
                 const double y = g.origin.y() + (j + 0.5) * g.cell;
-                while (next < crossings.size() && crossings[next].first <= y) winding += crossings[next++].second;
+                while (next < crossings.size() && crossings[next].first <= y)
+                    winding += crossings[next++].second;
                 if (winding > 0) wall[g.index(i, j, k)] = 1;
             }
         }
@@ -124,7 +130,8 @@ void markSurface(const TriangleMesh& mesh, const Grid& g, std::vector<std::uint8
 
 }  // namespace
 
-std::vector<Basin> findBasins(const TriangleMesh& solid, double solidVolume, const BasinSettings& settings) {
+std::vector<Basin> findBasins(const TriangleMesh& solid, double solidVolume,
+                              const BasinSettings& settings) {
     std::vector<Basin> basins;
     if (solid.triangles.empty() || !(solidVolume > 0)) return basins;
     const Bounds3 bounds = computeBounds(solid);
@@ -135,9 +142,7 @@ std::vector<Basin> findBasins(const TriangleMesh& solid, double solidVolume, con
     Grid g;
     // Two cells of border all round, so that the outside surrounds the solid.
     g.cell = extent.maxCoeff() / std::max(settings.resolution, 8);
-    const auto cellsFor = [&](double cell) {
-        return ((extent.array() / cell).ceil() + 4).prod();
-    };
+    const auto cellsFor = [&](double cell) { return ((extent.array() / cell).ceil() + 4).prod(); };
     while (cellsFor(g.cell) > static_cast<double>(settings.maxCells)) g.cell *= 1.1;
     g.origin = bounds.min - Eigen::Vector3d::Constant(2 * g.cell);
     g.nx = static_cast<int>(std::ceil(extent.x() / g.cell)) + 4;
@@ -157,7 +162,8 @@ std::vector<Basin> findBasins(const TriangleMesh& solid, double solidVolume, con
     for (int k = 0; k < g.nz; ++k)
         for (int j = 0; j < g.ny; ++j)
             for (int i = 0; i < g.nx; ++i) {
-                if (i != 0 && j != 0 && k != 0 && i != g.nx - 1 && j != g.ny - 1 && k != g.nz - 1) continue;
+                if (i != 0 && j != 0 && k != 0 && i != g.nx - 1 && j != g.ny - 1 && k != g.nz - 1)
+                    continue;
                 const std::size_t c = g.index(i, j, k);
                 if (wall[c]) continue;
                 level[c] = j;
@@ -196,7 +202,8 @@ std::vector<Basin> findBasins(const TriangleMesh& solid, double solidVolume, con
     for (std::size_t start = 0; start < g.size(); ++start) {
         int i, j, k;
         coords(start, i, j, k);
-        if (wall[start] || level[start] == unreached || level[start] <= j || lake[start] >= 0) continue;
+        if (wall[start] || level[start] == unreached || level[start] <= j || lake[start] >= 0)
+            continue;
         Basin basin;
         const int id = static_cast<int>(basins.size()) + 1000000;  // not kept unless it counts
         std::size_t count = 0;

@@ -33,7 +33,8 @@ namespace {
 Mesh boxMesh(const Eigen::Vector3d& lo, const Eigen::Vector3d& hi) {
     std::vector<Point> points;
     for (int k = 0; k < 8; ++k)
-        points.emplace_back(k & 1 ? hi.x() : lo.x(), k & 2 ? hi.y() : lo.y(), k & 4 ? hi.z() : lo.z());
+        points.emplace_back(k & 1 ? hi.x() : lo.x(), k & 2 ? hi.y() : lo.y(),
+                            k & 4 ? hi.z() : lo.z());
     const std::vector<std::vector<std::size_t>> faces{
         {0, 2, 3}, {0, 3, 1}, {4, 5, 7}, {4, 7, 6},   // z = lo, z = hi
         {0, 1, 5}, {0, 5, 4}, {2, 6, 7}, {2, 7, 3},   // y = lo, y = hi
@@ -98,7 +99,8 @@ std::optional<Cavity> cavityBelow(const Mesh& solid, const Bounds3& bounds, cons
     cavity.height = h;
     Mesh box = boxMesh(lo, hi), difference;
     try {
-        if (!PMP::corefine_and_compute_difference(box, cavity.walls, difference)) return std::nullopt;
+        if (!PMP::corefine_and_compute_difference(box, cavity.walls, difference))
+            return std::nullopt;
     } catch (const std::exception&) {
         return std::nullopt;
     }
@@ -145,11 +147,13 @@ std::optional<Cavity> cavityBelow(const Mesh& solid, const Bounds3& bounds, cons
 /// Whether face f of `mesh` is level at height h (every corner within `tolerance`) and looks up.
 bool levelUpFace(const Mesh& mesh, Mesh::Face_index f, double h, double tolerance) {
     std::vector<Eigen::Vector3d> corners;
-    for (Mesh::Vertex_index v : CGAL::vertices_around_face(mesh.halfedge(f), mesh)) corners.push_back(vec(mesh.point(v)));
+    for (Mesh::Vertex_index v : CGAL::vertices_around_face(mesh.halfedge(f), mesh))
+        corners.push_back(vec(mesh.point(v)));
     for (const Eigen::Vector3d& c : corners)
         if (std::abs(c.y() - h) > tolerance) return false;
     Eigen::Vector3d normal = Eigen::Vector3d::Zero();
-    for (std::size_t k = 1; k + 1 < corners.size(); ++k) normal += (corners[k] - corners[0]).cross(corners[k + 1] - corners[0]);
+    for (std::size_t k = 1; k + 1 < corners.size(); ++k)
+        normal += (corners[k] - corners[0]).cross(corners[k + 1] - corners[0]);
     return normal.y() > 0.9 * normal.norm();
 }
 
@@ -178,20 +182,25 @@ TriangleMesh sealedBy(const Cavity& cavity, const std::string& source, double di
     out.source = source;
     std::map<std::array<double, 3>, std::uint32_t> index;
     const auto vertex = [&](const Point& p) {
-        const auto [it, added] = index.try_emplace({p.x(), p.y(), p.z()}, static_cast<std::uint32_t>(out.positions.size()));
+        const auto [it, added] = index.try_emplace(
+            {p.x(), p.y(), p.z()}, static_cast<std::uint32_t>(out.positions.size()));
         if (added) out.positions.emplace_back(p.x(), p.y(), p.z());
         return it->second;
     };
     const auto addFace = [&](const Mesh& mesh, Mesh::Face_index f) {
         std::vector<std::uint32_t> ring;
-        for (Mesh::Vertex_index v : CGAL::vertices_around_face(mesh.halfedge(f), mesh)) ring.push_back(vertex(mesh.point(v)));
-        for (std::size_t k = 1; k + 1 < ring.size(); ++k) out.triangles.push_back({ring[0], ring[k], ring[k + 1]});
+        for (Mesh::Vertex_index v : CGAL::vertices_around_face(mesh.halfedge(f), mesh))
+            ring.push_back(vertex(mesh.point(v)));
+        for (std::size_t k = 1; k + 1 < ring.size(); ++k)
+            out.triangles.push_back({ring[0], ring[k], ring[k + 1]});
     };
     std::vector<Mesh::Face_index> cap;
     std::set<FaceKey> shared;
     for (Mesh::Face_index f : cavity.space.faces()) {
-        if (levelUpFace(cavity.space, f, cavity.height, 1e-9 * diagonal)) cap.push_back(f);
-        else shared.insert(faceKey(cavity.space, f));
+        if (levelUpFace(cavity.space, f, cavity.height, 1e-9 * diagonal))
+            cap.push_back(f);
+        else
+            shared.insert(faceKey(cavity.space, f));
     }
     for (Mesh::Face_index f : cavity.walls.faces())
         if (!shared.count(faceKey(cavity.walls, f))) addFace(cavity.walls, f);
@@ -231,7 +240,8 @@ Status moveCap(Cavity& cavity, const Mesh& current, const Bounds3& bounds, const
 
 }  // namespace
 
-Status closeOpenings(PhysicsSolid& solid, const std::vector<Basin>& basins, const RepairSettings& settings) {
+Status closeOpenings(PhysicsSolid& solid, const std::vector<Basin>& basins,
+                     const RepairSettings& settings) {
     if (basins.empty()) return Ok{};
     const Bounds3 bounds = computeBounds(solid.mesh);
     const double diagonal = bounds.diagonal();
@@ -263,7 +273,8 @@ Status closeOpenings(PhysicsSolid& solid, const std::vector<Basin>& basins, cons
         }
         std::vector<double> heights;
         for (Mesh::Vertex_index v : current.vertices())
-            if (current.point(v).y() > holds && current.point(v).y() <= spills) heights.push_back(current.point(v).y());
+            if (current.point(v).y() > holds && current.point(v).y() <= spills)
+                heights.push_back(current.point(v).y());
         std::sort(heights.begin(), heights.end());
         heights.erase(std::unique(heights.begin(), heights.end()), heights.end());
         // Between two neighbouring vertex heights nothing changes: test in the middle of each
@@ -277,15 +288,18 @@ Status closeOpenings(PhysicsSolid& solid, const std::vector<Basin>& basins, cons
         std::size_t low = 0, high = heights.size();
         while (high - low > 1) {
             const std::size_t mid = (low + high) / 2;
-            if (cavityBelow(current, bounds, basin, middle(mid), diagonal)) low = mid;
-            else high = mid;
+            if (cavityBelow(current, bounds, basin, middle(mid), diagonal))
+                low = mid;
+            else
+                high = mid;
         }
         // The rim's lowest point is the vertex height between the two: the cap goes just under it.
         double rim = spills;
         if (high > 0) {
             rim = heights[high - 1];
             const double at = std::max(middle(low), rim - 1e-4 * cell);
-            if (std::optional<Cavity> capped = cavityBelow(current, bounds, basin, at, diagonal)) cavity = std::move(capped);
+            if (std::optional<Cavity> capped = cavityBelow(current, bounds, basin, at, diagonal))
+                cavity = std::move(capped);
         }
         cavity->rim = rim;
         cavity->bottom = std::numeric_limits<double>::max();
@@ -299,8 +313,10 @@ Status closeOpenings(PhysicsSolid& solid, const std::vector<Basin>& basins, cons
                 return s;
         }
         TriangleMesh joined = sealedBy(*cavity, solid.mesh.source, diagonal);
-        if (validateSurface(joined).closedSolid()) sealed = std::move(joined);
-        else surgery = false;
+        if (validateSurface(joined).closedSolid())
+            sealed = std::move(joined);
+        else
+            surgery = false;
         found.push_back(std::move(*cavity));
     }
     if (found.empty()) return Ok{};
@@ -314,15 +330,18 @@ Status closeOpenings(PhysicsSolid& solid, const std::vector<Basin>& basins, cons
         std::vector<const Mesh*> parts{&walls};
         for (const Cavity& c : found) parts.push_back(&c.space);
         const double offset = settings.wrapOffset * diagonal;
-        sealed = toTriangleMesh(wrap(parts, settings.wrapAlpha * diagonal, offset), solid.mesh.source);
+        sealed =
+            toTriangleMesh(wrap(parts, settings.wrapAlpha * diagonal, offset), solid.mesh.source);
         if (!validateSurface(sealed).closedSolid())
-            return makeError(ErrorKind::invalidArgument,
-                             solid.mesh.source + ": the caps of its openings could not be joined to the solid");
+            return makeError(
+                ErrorKind::invalidArgument,
+                solid.mesh.source + ": the caps of its openings could not be joined to the solid");
         capTolerance = 3 * offset;
         after = exactSolidMassProperties(sealed, 1.0).volume;
-        solid.repairs.push_back({"wrap", 1 + found.size(), after - before,
-                                 "the solid and the spaces behind its caps wrapped together (the caps "
-                                 "could not be joined to it exactly)"});
+        solid.repairs.push_back(
+            {"wrap", 1 + found.size(), after - before,
+             "the solid and the spaces behind its caps wrapped together (the caps "
+             "could not be joined to it exactly)"});
     }
 
     std::vector<Opening> openings;
@@ -342,11 +361,14 @@ Status closeOpenings(PhysicsSolid& solid, const std::vector<Basin>& basins, cons
         for (std::uint32_t t = 0; t < sealed.triangles.size(); ++t) {
             const Triangle& tri = sealed.triangles[t];
             bool level = true;
-            for (std::uint32_t v : tri) level = level && std::abs(sealed.positions[v].y() - c.height) <= capTolerance;
+            for (std::uint32_t v : tri)
+                level = level && std::abs(sealed.positions[v].y() - c.height) <= capTolerance;
             const Eigen::Vector3d area = triangleAreaVector(sealed, tri);
             if (!level || !(area.y() > 0.9 * area.norm())) continue;
-            const Eigen::Vector3d below = (sealed.positions[tri[0]] + sealed.positions[tri[1]] + sealed.positions[tri[2]]) / 3.0 -
-                                          Eigen::Vector3d(0, 1e-6 * diagonal + capTolerance, 0);
+            const Eigen::Vector3d below =
+                (sealed.positions[tri[0]] + sealed.positions[tri[1]] + sealed.positions[tri[2]]) /
+                    3.0 -
+                Eigen::Vector3d(0, 1e-6 * diagonal + capTolerance, 0);
             if (side(Point(below.x(), below.y(), below.z())) != CGAL::ON_BOUNDED_SIDE) continue;
             opening.capTriangles.push_back(t);
             opening.capArea += area.norm();

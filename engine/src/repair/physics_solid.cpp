@@ -29,7 +29,8 @@ bool hasOverlappingSolidParts(const TriangleMesh& surface) {
     std::vector<std::uint32_t> vertexId(surface.positions.size());
     for (std::size_t v = 0; v < surface.positions.size(); ++v) {
         const Eigen::Vector3d& p = surface.positions[v];
-        vertexId[v] = idOf.try_emplace({p.x(), p.y(), p.z()}, std::uint32_t(idOf.size())).first->second;
+        vertexId[v] =
+            idOf.try_emplace({p.x(), p.y(), p.z()}, std::uint32_t(idOf.size())).first->second;
     }
     std::vector<std::uint32_t> parent(idOf.size());
     std::iota(parent.begin(), parent.end(), 0u);
@@ -76,7 +77,8 @@ Result<PhysicsSolid> physicsSolidFor(const TriangleMesh& surface, const Validati
                                      const RepairSettings& settings) {
     bool solidAsIs = true;
     for (const Problem& p : report.problems)
-        if (p.severity == Severity::Error && !isUvProblem(p.kind) && p.kind != ProblemKind::MissingUvs)
+        if (p.severity == Severity::Error && !isUvProblem(p.kind) &&
+            p.kind != ProblemKind::MissingUvs)
             solidAsIs = false;
     PhysicsSolid solid;
     if (!solidAsIs || hasOverlappingSolidParts(surface)) {
@@ -89,7 +91,8 @@ Result<PhysicsSolid> physicsSolidFor(const TriangleMesh& surface, const Validati
         solid.displacementVolume = solid.materialVolume;
     }
     if (settings.closeOpenings && repairAvailable()) {
-        const std::vector<Basin> basins = findBasins(solid.mesh, solid.materialVolume, settings.basins);
+        const std::vector<Basin> basins =
+            findBasins(solid.mesh, solid.materialVolume, settings.basins);
         if (Status s = closeOpenings(solid, basins, settings); !s) return s.error();
     }
     return solid;
@@ -97,7 +100,8 @@ Result<PhysicsSolid> physicsSolidFor(const TriangleMesh& surface, const Validati
 
 MassProperties hollowSpace(const std::vector<Opening>& openings) {
     MassProperties hollow;
-    for (const Opening& opening : openings) hollow = hollow.mass > 0 ? hollow + opening.cavity : opening.cavity;
+    for (const Opening& opening : openings)
+        hollow = hollow.mass > 0 ? hollow + opening.cavity : opening.cavity;
     return hollow;
 }
 

@@ -100,7 +100,8 @@ std::array<Point, 3> corners(const Soup& soup, const Polygon& f) {
     std::size_t first = 0;
     for (std::size_t k = 1; k < 3; ++k)
         if (soup.points[f[k]] < soup.points[f[first]]) first = k;
-    return {soup.points[f[first]], soup.points[f[(first + 1) % 3]], soup.points[f[(first + 2) % 3]]};
+    return {soup.points[f[first]], soup.points[f[(first + 1) % 3]],
+            soup.points[f[(first + 2) % 3]]};
 }
 
 double volumeOf(const Mesh& mesh) { return PMP::volume(mesh); }
@@ -149,7 +150,8 @@ std::pair<std::size_t, double> fillSmallHoles(Parts& parts, double maxPatchShare
         std::vector<Mesh::Face_index> patch;
         bool ok = true;
         try {
-            for (Mesh::Halfedge_index h : borders) PMP::triangulate_hole(part, h, std::back_inserter(patch));
+            for (Mesh::Halfedge_index h : borders)
+                PMP::triangulate_hole(part, h, std::back_inserter(patch));
         } catch (const std::exception&) {
             ok = false;
         }
@@ -347,7 +349,8 @@ std::pair<Mesh, std::size_t> unite(std::vector<Mesh>& closed, std::vector<Mesh>&
 /// The soup of the artist's surface, with exactly equal points joined (UV seams).
 Soup soupOf(const TriangleMesh& surface) {
     Soup soup;
-    for (const Eigen::Vector3d& p : surface.positions) soup.points.emplace_back(p.x(), p.y(), p.z());
+    for (const Eigen::Vector3d& p : surface.positions)
+        soup.points.emplace_back(p.x(), p.y(), p.z());
     for (const Triangle& t : surface.triangles) soup.polygons.push_back({t[0], t[1], t[2]});
     return soup;
 }
@@ -356,7 +359,8 @@ Soup soupOf(const TriangleMesh& surface) {
 
 bool repairAvailable() { return true; }
 
-Result<PhysicsSolid> buildPhysicsSolid(const TriangleMesh& surface, const RepairSettings& settings) {
+Result<PhysicsSolid> buildPhysicsSolid(const TriangleMesh& surface,
+                                       const RepairSettings& settings) {
     const std::string& name = surface.source;
     if (surface.triangles.empty())
         return makeError(ErrorKind::invalidArgument, name + ": no triangles: no solid can be made");
@@ -366,19 +370,23 @@ Result<PhysicsSolid> buildPhysicsSolid(const TriangleMesh& surface, const Repair
                              name + ": NaN or infinite coordinates: no solid can be made");
     const double diagonal = computeBounds(surface).diagonal();
     if (!(diagonal > 0))
-        return makeError(ErrorKind::invalidArgument, name + ": every vertex at one point: no solid can be made");
+        return makeError(ErrorKind::invalidArgument,
+                         name + ": every vertex at one point: no solid can be made");
 
     PhysicsSolid solid;
-    auto report = [&](const char* kind, std::size_t count, double volumeChange, std::string detail) {
+    auto report = [&](const char* kind, std::size_t count, double volumeChange,
+                      std::string detail) {
         if (count > 0) solid.repairs.push_back({kind, count, volumeChange, std::move(detail)});
     };
 
     Soup soup = soupOf(surface);
     const std::size_t welded = weld(soup, settings.weldTolerance * diagonal);
-    report("weld", welded, 0, std::to_string(welded) + " vertices within " +
-                                  describeNumber(settings.weldTolerance * diagonal) + " m joined");
+    report("weld", welded, 0,
+           std::to_string(welded) + " vertices within " +
+               describeNumber(settings.weldTolerance * diagonal) + " m joined");
     const std::size_t degenerate = dropDegenerate(soup);
-    report("degenerate-faces", degenerate, 0, std::to_string(degenerate) + " faces without area dropped");
+    report("degenerate-faces", degenerate, 0,
+           std::to_string(degenerate) + " faces without area dropped");
     const std::size_t duplicates = PMP::merge_duplicate_polygons_in_polygon_soup(
         soup.points, soup.polygons,
         CGAL::parameters::erase_all_duplicates(false).require_same_orientation(false));
@@ -386,7 +394,8 @@ Result<PhysicsSolid> buildPhysicsSolid(const TriangleMesh& surface, const Repair
            std::to_string(duplicates) + " repeated or back-to-back faces dropped");
     PMP::remove_isolated_points_in_polygon_soup(soup.points, soup.polygons);
     if (soup.polygons.empty())
-        return makeError(ErrorKind::invalidArgument, name + ": no face with area: no solid can be made");
+        return makeError(ErrorKind::invalidArgument,
+                         name + ": no face with area: no solid can be made");
 
     std::vector<std::array<Point, 3>> before;
     for (const Polygon& f : soup.polygons) before.push_back(corners(soup, f));
@@ -401,7 +410,8 @@ Result<PhysicsSolid> buildPhysicsSolid(const TriangleMesh& surface, const Repair
     Parts parts = splitParts(whole);
     const auto [holes, holeVolume] = fillSmallHoles(parts, 0.05);
     report("fill-holes", holes, holeVolume,
-           std::to_string(holes) + " small holes of nearly closed parts filled; those parts count in the volume");
+           std::to_string(holes) +
+               " small holes of nearly closed parts filled; those parts count in the volume");
 
     std::size_t outward = 0;
     for (Mesh& part : parts.closed) {
@@ -411,7 +421,8 @@ Result<PhysicsSolid> buildPhysicsSolid(const TriangleMesh& surface, const Repair
         }
     }
     report("orient", flipped + outward, 0,
-           std::to_string(flipped + outward) + " faces turned to agree with their neighbours and face out");
+           std::to_string(flipped + outward) +
+               " faces turned to agree with their neighbours and face out");
     double otherVolume = 0;
     for (const std::vector<Mesh>* group : {&parts.closed, &parts.broken})
         for (const Mesh& part : *group) otherVolume += std::abs(volumeOf(part));
@@ -491,15 +502,18 @@ Result<PhysicsSolid> buildPhysicsSolid(const TriangleMesh& surface, const Repair
         volume = after;
     }
     if (result.is_empty() || !(volume > 0))
-        return makeError(ErrorKind::invalidArgument,
-                         name + ": no closed solid could be made from the surface (every part open or "
-                                "without volume): close the hull or give it thickness in the modelling tool");
+        return makeError(
+            ErrorKind::invalidArgument,
+            name +
+                ": no closed solid could be made from the surface (every part open or "
+                "without volume): close the hull or give it thickness in the modelling tool");
 
     solid.mesh = toTriangleMesh(result, name);
     const ValidationReport check = validateSurface(solid.mesh);
     if (!check.closedSolid())
-        return makeError(ErrorKind::invalidArgument,
-                         name + ": the repaired solid is still not closed and oriented: " + check.format());
+        return makeError(
+            ErrorKind::invalidArgument,
+            name + ": the repaired solid is still not closed and oriented: " + check.format());
     solid.materialVolume = volume;
     solid.displacementVolume = volume;
     return solid;

@@ -61,8 +61,8 @@ std::uint32_t addVertex(TriangleMesh& mesh, const Eigen::Vector3d& p, const Eige
 
 /// Appends profile points on an arc about (cr, cy) of radius `radius` (m), from `fromDeg` to
 /// `toDeg` (whole degrees, counter-clockwise in the (r, y) plane) in `stepDeg` steps.
-void appendArc(std::vector<ProfilePoint>& profile, double cr, double cy, double radius,
-               int fromDeg, int toDeg, int stepDeg) {
+void appendArc(std::vector<ProfilePoint>& profile, double cr, double cy, double radius, int fromDeg,
+               int toDeg, int stepDeg) {
     for (int deg = fromDeg; deg <= toDeg; deg += stepDeg) {
         const Eigen::Vector2d cs = unitCircle(deg, 360);
         profile.push_back({cr + radius * cs.x(), cy + radius * cs.y()});
@@ -270,8 +270,8 @@ TriangleMesh makeHull(const HullShape& shape) {
     // Adds a triangle turned so that its normal points along `outward`.
     auto addTriangle = [&](std::uint32_t a, std::uint32_t b, std::uint32_t c,
                            const Eigen::Vector3d& outward) {
-        const Eigen::Vector3d n = (mesh.positions[b] - mesh.positions[a])
-                                      .cross(mesh.positions[c] - mesh.positions[a]);
+        const Eigen::Vector3d n =
+            (mesh.positions[b] - mesh.positions[a]).cross(mesh.positions[c] - mesh.positions[a]);
         if (n.dot(outward) < 0) std::swap(b, c);
         mesh.triangles.push_back({a, b, c});
     };
@@ -344,8 +344,8 @@ TriangleMesh makeHull(const HullShape& shape) {
     }
     // Every chart counter-clockwise in UV (not mirrored): mirror a chart's u where needed.
     for (std::size_t k = 0; k < charts.size(); ++k) {
-        const std::size_t end = k + 1 < charts.size() ? charts[k + 1].firstTriangle
-                                                      : mesh.triangles.size();
+        const std::size_t end =
+            k + 1 < charts.size() ? charts[k + 1].firstTriangle : mesh.triangles.size();
         if (triangleUvArea(mesh, mesh.triangles[charts[k].firstTriangle]) > 0) continue;
         std::vector<char> flipped(mesh.positions.size(), 0);
         for (std::size_t t = charts[k].firstTriangle; t < end; ++t) {

@@ -11,9 +11,12 @@ namespace plimsoll {
 
 const char* openingsModeName(OpeningsMode mode) {
     switch (mode) {
-    case OpeningsMode::Open: return "open";
-    case OpeningsMode::Sealed: return "sealed";
-    case OpeningsMode::None: return "none";
+        case OpeningsMode::Open:
+            return "open";
+        case OpeningsMode::Sealed:
+            return "sealed";
+        case OpeningsMode::None:
+            return "none";
     }
     return "open";
 }

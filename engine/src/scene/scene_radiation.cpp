@@ -57,8 +57,10 @@ std::string radiationKey(const SceneBody& body, const RadiationDesc& desc, const
     auto add = [&h](double v) { h = fnv1a(h, &v, sizeof v); };
     add(kRadiationVersion);
     if (body.parts.mesh) {
-        for (const Eigen::Vector3d& p : body.parts.mesh->positions) h = fnv1a(h, p.data(), 3 * sizeof(double));
-        for (const Triangle& t : body.parts.mesh->triangles) h = fnv1a(h, t.data(), sizeof(Triangle));
+        for (const Eigen::Vector3d& p : body.parts.mesh->positions)
+            h = fnv1a(h, p.data(), 3 * sizeof(double));
+        for (const Triangle& t : body.parts.mesh->triangles)
+            h = fnv1a(h, t.data(), sizeof(Triangle));
     }
     if (Result<RestInput> rest = restInput(body, medium)) {
         add(rest->mass);
@@ -97,7 +99,8 @@ Result<RestRadiationSurface> restRadiationSurface(const SceneBody& body, const R
                                                   unsigned threads) {
     const std::string label = body.label + ": radiation: ";
     const double g = gravity.norm();
-    if (!(g > 0)) return makeError(ErrorKind::invalidArgument, label + "without gravity nothing floats");
+    if (!(g > 0))
+        return makeError(ErrorKind::invalidArgument, label + "without gravity nothing floats");
     Result<RestInput> rest = restInput(body, medium);
     if (!rest) return withContext(label, rest.error());
     RestRadiationSurface out;
@@ -106,8 +109,8 @@ Result<RestRadiationSurface> restRadiationSurface(const SceneBody& body, const R
     // The enclosed volume: the wetted volume with the whole body under water.
     double highest = -std::numeric_limits<double>::infinity();
     for (const Eigen::Vector3d& p : mesh.positions) highest = std::max(highest, p.y());
-    const double enclosed =
-        wettedVolume(wettedPanels(mesh, Eigen::Affine3d(Eigen::Translation3d(0, -highest - 1.0, 0))));
+    const double enclosed = wettedVolume(
+        wettedPanels(mesh, Eigen::Affine3d(Eigen::Translation3d(0, -highest - 1.0, 0))));
     if (!(out.restVolume > 0) || !(out.restVolume < enclosed)) {
         std::ostringstream m;
         m << label << "the body does not float (displacement at rest " << out.restVolume
@@ -170,7 +173,8 @@ Result<BodyRadiation> computeBodyRadiation(const SceneBody& body, const Radiatio
     const int n = resolved.frequencies;
     for (int k = 0; k < n; ++k) {
         const double omega =
-            resolved.minFrequency * std::pow(resolved.maxFrequency / resolved.minFrequency, k / double(n - 1));
+            resolved.minFrequency *
+            std::pow(resolved.maxFrequency / resolved.minFrequency, k / double(n - 1));
         out.coefficients.push_back(solver.at(omega));
         if (progress) progress((k + 1.0) / (n + 1.0));
     }

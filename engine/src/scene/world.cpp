@@ -30,19 +30,19 @@ struct World::Deformation {
 /// The water graph of a hollow or permeable body (graph.h) and the body's own mass without it.
 struct World::Flooding {
     WaterGraphSimulation graph;
-    MassProperties hull;             ///< the body without its water
-    double hullRadius = 0;           ///< bounding radius about hull.centerOfMass, m
+    MassProperties hull;    ///< the body without its water
+    double hullRadius = 0;  ///< bounding radius about hull.centerOfMass, m
     Eigen::Matrix3d composedAt = Eigen::Matrix3d::Identity();  ///< rotation last composed at
-    std::size_t exchangeSet = 0;     ///< the permeable samples' id in the backend
-    ExchangeSums rates;              ///< the last exchange pass, per node
+    std::size_t exchangeSet = 0;  ///< the permeable samples' id in the backend
+    ExchangeSums rates;           ///< the last exchange pass, per node
 };
 
 /// A body with radiation: its model, the memory's filters, and what the current step uses.
 struct World::Radiating {
     std::shared_ptr<const BodyRadiation> radiation;
     MemoryState memory;
-    double share = 0;      ///< entrainedShare at the start of the step
-    Wrench memoryWrench;   ///< world axes, about the centre of mass, for the current step
+    double share = 0;     ///< entrainedShare at the start of the step
+    Wrench memoryWrench;  ///< world axes, about the centre of mass, for the current step
 };
 
 /// The level ladder of a body (level_ladder.h): every level registered with the backend, the
@@ -81,8 +81,8 @@ double boundingRadiusAbout(const SurfaceTextures& textures, const Eigen::Vector3
     double radius = 0;
     for (std::size_t i = 0; i < textures.coveredCount(); ++i) {
         // Half a texel's extent beyond its centroid: the surface it stands for.
-        radius = std::max(radius, (textures.position[i] - centre).norm() +
-                                      0.5 * std::sqrt(textures.area[i]));
+        radius = std::max(
+            radius, (textures.position[i] - centre).norm() + 0.5 * std::sqrt(textures.area[i]));
     }
     return radius;
 }
@@ -115,16 +115,16 @@ Status World::withBackend(const std::function<Status(BuoyancyBackend&)>& call) {
         }
     }
     for (const std::unique_ptr<Flooding>& f : floodings_) {
-        if (f) f->exchangeSet = reference->addExchangeSet(f->graph.samples(),
-                                                          f->graph.graph().nodes.size());
+        if (f)
+            f->exchangeSet =
+                reference->addExchangeSet(f->graph.samples(), f->graph.graph().nodes.size());
     }
     backend_ = std::move(reference);
     fellBack_ = true;
     return call(*backend_);
 }
 
-Result<std::unique_ptr<World>> World::create(Scene scene,
-                                             std::unique_ptr<BuoyancyBackend> backend,
+Result<std::unique_ptr<World>> World::create(Scene scene, std::unique_ptr<BuoyancyBackend> backend,
                                              LogFunction log) {
     if (Status s = checkGravity(scene.simulation.gravity); !s) return s.error();
     // The waves' dispersion relation takes the scene's one gravity, as everything else does.
@@ -214,19 +214,21 @@ Status World::addBody(const SceneBody& scene) {
         const double submerged =
             outOfWater(body, body.state)
                 ? 0.0
-                : evaluateBuoyancyReference(*scene.textures, frame, scene_.water, body.fluid).submergedVolume;
+                : evaluateBuoyancyReference(*scene.textures, frame, scene_.water, body.fluid)
+                      .submergedVolume;
         radiating->share = entrainedShare(submerged, scene.radiation->restVolume);
         applyAddedMass(model, radiating->share, body.mass, body.state);
         body.state = stateAt(start, body.mass, motion);
         std::size_t states = 0;
         for (const auto& mode : model.memory) states += 2 * mode.size();
         std::ostringstream note;
-        note << label << ": radiation over " << scene.radiation->panelCount << " panels, heave added mass "
-             << model.addedMassInfinity(kHeaveY, kHeaveY) << " kg at infinite frequency, " << states
-             << " memory states" << (body.linearDamping > 0 || body.angularDamping > 0
-                                         ? "; linear_damping and angular_damping still apply (0 leaves "
-                                           "the damping to radiation and drag)"
-                                         : "");
+        note << label << ": radiation over " << scene.radiation->panelCount
+             << " panels, heave added mass " << model.addedMassInfinity(kHeaveY, kHeaveY)
+             << " kg at infinite frequency, " << states << " memory states"
+             << (body.linearDamping > 0 || body.angularDamping > 0
+                     ? "; linear_damping and angular_damping still apply (0 leaves "
+                       "the damping to radiation and drag)"
+                     : "");
         say(note.str());
     }
     body.backendId = backend_->addBody(body.textures, body.backendCenter);
@@ -254,10 +256,10 @@ Status World::addBody(const SceneBody& scene) {
             "^2): a deforming body or one with a water graph does not switch levels");
     }
     std::ostringstream line;
-    line << label << ": " << body.textures.coveredCount() << " samples at "
-         << desc.textureSize << "^2, mass " << body.mass.mass << " kg, volume " << body.volume
-         << " m^3" << (body.deforms ? ", deforming: mass recomputed as it changes"
-                                    : ", rigid: mass properties computed once");
+    line << label << ": " << body.textures.coveredCount() << " samples at " << desc.textureSize
+         << "^2, mass " << body.mass.mass << " kg, volume " << body.volume << " m^3"
+         << (body.deforms ? ", deforming: mass recomputed as it changes"
+                          : ", rigid: mass properties computed once");
     say(line.str());
     bodies_.push_back(std::move(body));
     deformations_.push_back(std::move(deformation));
@@ -298,22 +300,24 @@ Result<std::unique_ptr<World::Flooding>> World::makeFlooding(const SceneBody& bo
         WaterGraphSimulation::create(graph, *body.textures, permeability, settings);
     if (!sim) return withContext(label + ": water graph: ", sim.error());
     std::ostringstream line;
-    line << label << ": water graph " << (g.graph.empty() ? "of its openings" : g.graph) << ": " << graph.nodes.size() << " nodes, "
-         << graph.pipes.size() << " pipes, capacity " << graph.totalCapacity() << " m^3, "
-         << sim->samples().size() << " permeable samples, " << flowModelName(settings.flow)
-         << " flow" << (settings.freeSurface ? ", free surface" : "");
+    line << label << ": water graph " << (g.graph.empty() ? "of its openings" : g.graph) << ": "
+         << graph.nodes.size() << " nodes, " << graph.pipes.size() << " pipes, capacity "
+         << graph.totalCapacity() << " m^3, " << sim->samples().size() << " permeable samples, "
+         << flowModelName(settings.flow) << " flow"
+         << (settings.freeSurface ? ", free surface" : "");
     say(line.str());
     if (graph.nodes.size() > kMaxExchangeNodes) {
-        return makeError(ErrorKind::limit, label + ": water graph: " +
-                                               std::to_string(graph.nodes.size()) +
-                                               " nodes; at most " + std::to_string(kMaxExchangeNodes));
+        return makeError(ErrorKind::limit,
+                         label + ": water graph: " + std::to_string(graph.nodes.size()) +
+                             " nodes; at most " + std::to_string(kMaxExchangeNodes));
     }
-    return std::make_unique<Flooding>(Flooding{std::move(*sim), *body.mass, 0.0,
-                                               Eigen::Matrix3d::Identity(), 0, {}});
+    return std::make_unique<Flooding>(
+        Flooding{std::move(*sim), *body.mass, 0.0, Eigen::Matrix3d::Identity(), 0, {}});
 }
 
 const BodyRadiation* World::radiation(std::size_t body) const {
-    return body < radiatings_.size() && radiatings_[body] ? radiatings_[body]->radiation.get() : nullptr;
+    return body < radiatings_.size() && radiatings_[body] ? radiatings_[body]->radiation.get()
+                                                          : nullptr;
 }
 
 void World::startRadiationStep(std::size_t i, double submergedVolume) {
@@ -336,7 +340,8 @@ void World::finishRadiationStep(std::size_t i, double dt) {
     const SimulatedBody& body = bodies_[i];
     const Eigen::Matrix3d toBody = body.state.orientation.toRotationMatrix().transpose();
     Vector6d velocity;
-    velocity << toBody * linearVelocity(body.state, body.mass), toBody * angularVelocity(body.state, body.mass);
+    velocity << toBody * linearVelocity(body.state, body.mass),
+        toBody * angularVelocity(body.state, body.mass);
     advanceMemory(r->radiation->model, r->memory, r->share * velocity, dt);
 }
 
@@ -420,7 +425,8 @@ Status World::stepWaterGraphs(double frameTime) {
         if (!moved && !turned) continue;
         f->composedAt = pose.rotation;
         replaceMass(i, f->graph.compose(f->hull, pose.rotation));
-        body.boundingRadius = f->hullRadius + (body.mass.centerOfMass - f->hull.centerOfMass).norm();
+        body.boundingRadius =
+            f->hullRadius + (body.mass.centerOfMass - f->hull.centerOfMass).norm();
         body.water = f->graph.storedWater();
         ++statistics_.waterCompositions;
     }
@@ -452,9 +458,8 @@ Status World::evaluateAll(double time) {
     if (requests.empty()) return Ok{};
     std::vector<BuoyancyResult>& results = scratchResults_;
     results.resize(requests.size());
-    if (Status s = withBackend([&](BuoyancyBackend& b) {
-            return b.evaluate(requests, scene_.water, results);
-        });
+    if (Status s = withBackend(
+            [&](BuoyancyBackend& b) { return b.evaluate(requests, scene_.water, results); });
         !s.ok())
         return s;
     for (std::size_t k = 0; k < which.size(); ++k) {
@@ -481,9 +486,8 @@ Wrench World::wrenchOf(const SimulatedBody& body, const RigidBodyState& state,
     // body is in the fluid) may at most stop the body within one step, never reverse it: an
     // explicit step of a stiff drag (a fast, light or spinning body, a long step) would
     // otherwise overshoot and blow up.
-    const double wet = body.volume > 0
-                           ? std::clamp(buoyancy.submergedVolume / body.volume, 0.0, 1.0)
-                           : 0.0;
+    const double wet =
+        body.volume > 0 ? std::clamp(buoyancy.submergedVolume / body.volume, 0.0, 1.0) : 0.0;
     auto limited = [dt](const Eigen::Vector3d& loss, const Eigen::Vector3d& momentum) {
         const double impulse = loss.norm() * dt;
         const double cap = momentum.norm();
@@ -547,7 +551,8 @@ Result<int> World::subStepsFor(double frameTime) const {
             m << "body '" << body.name << "': a stable step needs " << needed
               << " sub-steps a frame (hydrostatic frequency " << stiffness << " rad/s, spin "
               << spin << " rad/s, time_step " << frameTime << " s, max_phase_step " << maxPhase
-              << "), more than the limit World::kMaxSubSteps = " << kMaxSubSteps << ": the body is too "
+              << "), more than the limit World::kMaxSubSteps = " << kMaxSubSteps
+              << ": the body is too "
               << "small or too light for its medium (mass " << body.mass.mass << " kg, radius "
               << body.boundingRadius << " m) or spins too fast";
             return makeError(ErrorKind::invalidArgument, m.str());
@@ -561,8 +566,8 @@ Status World::updateDeformingBodies(double time) {
     for (std::size_t i = 0; i < bodies_.size(); ++i) {
         Deformation* d = deformations_[i].get();
         if (!d) continue;
-        const auto frame = static_cast<std::size_t>(std::floor(time * d->framesPerSecond)) %
-                           d->frames->size();
+        const auto frame =
+            static_cast<std::size_t>(std::floor(time * d->framesPerSecond)) % d->frames->size();
         if (frame == d->currentFrame) continue;
         d->currentFrame = frame;
         SimulatedBody& body = bodies_[i];
@@ -634,7 +639,8 @@ Status World::advanceFrame() {
     const int subSteps = *needed;
     if (subSteps > sim.subSteps && subSteps != reportedSubSteps_) {
         say("taking " + std::to_string(subSteps) + " sub-steps a frame instead of " +
-            std::to_string(sim.subSteps) + ": a body's hydrostatic stiffness needs them for a "
+            std::to_string(sim.subSteps) +
+            ": a body's hydrostatic stiffness needs them for a "
             "stable step");
         reportedSubSteps_ = subSteps;
     }
@@ -692,9 +698,9 @@ Status World::advanceFrame() {
                 if (body.asleep) continue;
                 startRadiationStep(i, body.buoyancy.submergedVolume);
                 const Wrench w = wrenchOf(body, body.state, body.buoyancy, dt);
-                body.state = step(body.state, body.mass,
-                                  [&](const RigidBodyState&, double) { return w; }, time_, dt,
-                                  sim.integrator);
+                body.state = step(
+                    body.state, body.mass, [&](const RigidBodyState&, double) { return w; }, time_,
+                    dt, sim.integrator);
                 finishRadiationStep(i, dt);
             }
         }
@@ -799,7 +805,8 @@ Status World::wake(std::size_t i) {
 
 Status World::setExternalForce(std::size_t i, ExternalForce force) {
     if (i >= bodies_.size()) {
-        return makeError(ErrorKind::invalidArgument, "setExternalForce: no body " + std::to_string(i));
+        return makeError(ErrorKind::invalidArgument,
+                         "setExternalForce: no body " + std::to_string(i));
     }
     externalForces_.resize(bodies_.size());
     externalForces_[i] = std::move(force);
@@ -953,17 +960,19 @@ void World::advanceBlends() {
 double World::mechanicalEnergy(std::size_t i) const {
     const SimulatedBody& body = bodies_[i];
     const double g = scene_.simulation.gravity.norm();
-    double energy = kineticEnergy(body.state, body.mass) + body.mass.mass * g * body.state.position.y();
+    double energy =
+        kineticEnergy(body.state, body.mass) + body.mass.mass * g * body.state.position.y();
     if (scene_.water.kind == WaterModel::Kind::Flat && !outOfWater(body, body.state)) {
         BodyFrame frame;
         frame.pose = body.pose();
         frame.centerOfMass = body.mass.centerOfMass;
-        const BuoyancyResult r = evaluateBuoyancyReference(body.textures, frame, scene_.water,
-                                                           body.fluid);
+        const BuoyancyResult r =
+            evaluateBuoyancyReference(body.textures, frame, scene_.water, body.fluid);
         energy += body.fluid.density * g * r.submergedVolume *
                   (scene_.water.level - r.centerOfBuoyancy.y());
     }
-    if (const Radiating* r = radiatings_[i].get()) energy += memoryEnergy(r->radiation->model, r->memory);
+    if (const Radiating* r = radiatings_[i].get())
+        energy += memoryEnergy(r->radiation->model, r->memory);
     return energy;
 }
 

@@ -57,7 +57,7 @@ constexpr int kMaxSplits = 12;
 struct SurfaceFacts {
     std::vector<Eigen::Vector3d> normal;  // unit, or zero for a degenerate triangle
     std::vector<double> area;
-    std::vector<std::uint32_t> welded;    // per vertex
+    std::vector<std::uint32_t> welded;  // per vertex
     // Neighbours across edges: neighbours[firstNeighbour[t] .. firstNeighbour[t + 1]).
     std::vector<std::uint32_t> firstNeighbour, neighbours;
     double totalArea = 0;
@@ -273,8 +273,9 @@ Charting buildCharts(const TriangleMesh& mesh, const SurfaceFacts& facts,
     // Seeds: the largest unassigned triangle first; flat regions then become big charts.
     std::vector<std::uint32_t> order(n);
     std::iota(order.begin(), order.end(), 0u);
-    std::stable_sort(order.begin(), order.end(),
-                     [&](std::uint32_t a, std::uint32_t b) { return facts.area[a] > facts.area[b]; });
+    std::stable_sort(order.begin(), order.end(), [&](std::uint32_t a, std::uint32_t b) {
+        return facts.area[a] > facts.area[b];
+    });
     std::size_t assigned = 0, lastReported = 0;
     for (std::uint32_t seed : order) {
         if (c.chartOf[seed] != kUnassigned) continue;
@@ -289,11 +290,12 @@ Charting buildCharts(const TriangleMesh& mesh, const SurfaceFacts& facts,
         c.chartOf[seed] = id;
         // The reach grows with the seed, so that charts of big triangles get more than one.
         double seedReach = 0;
-        for (std::uint32_t v : tri) seedReach = std::max(seedReach, (mesh.positions[v] - centre).norm());
+        for (std::uint32_t v : tri)
+            seedReach = std::max(seedReach, (mesh.positions[v] - centre).norm());
         grow(mesh, facts, c, id, {seed}, minDot, rounding, nullptr,
              maxRadius > 0 ? maxRadius + 2.0 * seedReach : 0.0);
-        assigned = static_cast<std::size_t>(
-            std::count_if(c.chartOf.begin(), c.chartOf.end(), [](auto x) { return x != kUnassigned; }));
+        assigned = static_cast<std::size_t>(std::count_if(c.chartOf.begin(), c.chartOf.end(),
+                                                          [](auto x) { return x != kUnassigned; }));
         if (settings.progress && assigned - lastReported > n / 50) {
             settings.progress(0.6 * static_cast<double>(assigned) / static_cast<double>(n));
             lastReported = assigned;
@@ -369,10 +371,10 @@ std::vector<Point2> convexHull(std::vector<Point2> points) {
 }
 
 struct ChartLayout {
-    std::vector<std::uint32_t> vertices;  // atlas vertex ids of the chart
-    std::vector<Point2> local;            // their coordinates, m, from 0
+    std::vector<std::uint32_t> vertices;                  // atlas vertex ids of the chart
+    std::vector<Point2> local;                            // their coordinates, m, from 0
     std::vector<std::array<std::uint32_t, 3>> triangles;  // indices into `local`
-    double area = 0;                      // projected, m^2
+    double area = 0;                                      // projected, m^2
 };
 
 // Rotation (cos, sin) that puts the hull's minimal-area bounding rectangle on the axes: one of
@@ -408,10 +410,14 @@ Eigen::Matrix2d minimalRectangleRotation(const std::vector<Point2>& points) {
 
 Point2 quarterTurn(const Point2& p, int turns) {
     switch (turns & 3) {
-        case 1: return {-p.y(), p.x()};
-        case 2: return {-p.x(), -p.y()};
-        case 3: return {p.y(), -p.x()};
-        default: return p;
+        case 1:
+            return {-p.y(), p.x()};
+        case 2:
+            return {-p.x(), -p.y()};
+        case 3:
+            return {p.y(), -p.x()};
+        default:
+            return p;
     }
 }
 
@@ -419,7 +425,9 @@ Point2 quarterTurn(const Point2& p, int turns) {
 class BitRows {
 public:
     BitRows(int width, int height)
-        : width_(width), height_(height), words_((width + 63) / 64 + 1),
+        : width_(width),
+          height_(height),
+          words_((width + 63) / 64 + 1),
           bits_(static_cast<std::size_t>(words_) * height, 0) {}
 
     int width() const { return width_; }
@@ -468,13 +476,13 @@ Footprint footprintOf(const ChartLayout& chart, double scale, int turns, int dil
     for (const auto& tri : chart.triangles) {
         uvclip::ClipPolygon polygon;
         for (std::uint32_t v : tri) polygon.push(texel[v]);
-        const auto [xLo, xHi] = std::minmax({polygon.points[0].x(), polygon.points[1].x(),
-                                             polygon.points[2].x()});
+        const auto [xLo, xHi] =
+            std::minmax({polygon.points[0].x(), polygon.points[1].x(), polygon.points[2].x()});
         const int c0 = std::max(0, static_cast<int>(std::floor(xLo)));
         const int c1 = std::min(width - 1, static_cast<int>(std::floor(xHi)));
         if (c0 == c1) {  // within one column (most triangles at physics-texture sizes)
-            const auto [yLo, yHi] = std::minmax({polygon.points[0].y(), polygon.points[1].y(),
-                                                 polygon.points[2].y()});
+            const auto [yLo, yHi] =
+                std::minmax({polygon.points[0].y(), polygon.points[1].y(), polygon.points[2].y()});
             const int r0 = std::clamp(static_cast<int>(std::floor(yLo)), 0, height - 1);
             const int r1 = std::clamp(static_cast<int>(std::floor(yHi)), 0, height - 1);
             for (int r = r0; r <= r1; ++r) touched.set(c0, r);
@@ -501,7 +509,8 @@ Footprint footprintOf(const ChartLayout& chart, double scale, int turns, int dil
         for (int x = 0; x < width; ++x) {
             if (!touched.get(x, y)) continue;
             for (int dy = std::max(0, y - dilation); dy <= std::min(height - 1, y + dilation); ++dy)
-                for (int dx = std::max(0, x - dilation); dx <= std::min(width - 1, x + dilation); ++dx)
+                for (int dx = std::max(0, x - dilation); dx <= std::min(width - 1, x + dilation);
+                     ++dx)
                     f.mask.set(dx, dy);
         }
     }
@@ -525,8 +534,7 @@ std::vector<int> probeOrder(int height) {
     return order;
 }
 
-bool fitsAt(const BitRows& taken, const BitRows& mask, const std::vector<int>& rows, int x,
-            int y) {
+bool fitsAt(const BitRows& taken, const BitRows& mask, const std::vector<int>& rows, int x, int y) {
     for (int r : rows) {
         for (int j = 0; j < mask.wordsUsed(); ++j) {
             if (taken.bitsAt(x + 64 * j, y + r) & mask.word(j, r)) return false;
@@ -665,8 +673,10 @@ std::optional<Packing> pack(const std::vector<ChartLayout>& charts, const AtlasS
     if (hint > 0 && hint < high && fits(0.9 * hint)) {
         // After a cut the scale moves little: bracket it near the last one.
         low = 0.9 * hint;
-        if (fits(std::min(high, 1.1 * hint))) low = std::min(high, 1.1 * hint);
-        else high = 1.1 * hint;
+        if (fits(std::min(high, 1.1 * hint)))
+            low = std::min(high, 1.1 * hint);
+        else
+            high = 1.1 * hint;
         steps = kBisections - 3;
     } else {
         int halvings = 0;
@@ -678,8 +688,10 @@ std::optional<Packing> pack(const std::vector<ChartLayout>& charts, const AtlasS
     }
     for (int i = 0; i < steps; ++i) {
         const double middle = 0.5 * (low + high);
-        if (fits(middle)) low = middle;
-        else high = middle;
+        if (fits(middle))
+            low = middle;
+        else
+            high = middle;
     }
     fits(low);
     packing.scale = low;
@@ -717,8 +729,10 @@ void splitLongestChart(const std::vector<ChartLayout>& charts, std::vector<std::
     std::vector<std::pair<double, std::uint32_t>> along;  // centroid coordinate, member index
     for (std::uint32_t i = 0; i < members.size(); ++i) {
         const auto& tri = chart.triangles[i];
-        along.emplace_back((chart.local[tri[0]][axis] + chart.local[tri[1]][axis] +
-                            chart.local[tri[2]][axis]) / 3.0, i);
+        along.emplace_back(
+            (chart.local[tri[0]][axis] + chart.local[tri[1]][axis] + chart.local[tri[2]][axis]) /
+                3.0,
+            i);
     }
     std::sort(along.begin(), along.end());
     const auto next = static_cast<std::uint32_t>(projectionOf.size());
@@ -734,9 +748,12 @@ void splitLongestChart(const std::vector<ChartLayout>& charts, std::vector<std::
 
 const char* atlasModeName(AtlasMode mode) {
     switch (mode) {
-        case AtlasMode::Mesh: return "mesh";
-        case AtlasMode::Auto: return "auto";
-        case AtlasMode::Generate: return "generate";
+        case AtlasMode::Mesh:
+            return "mesh";
+        case AtlasMode::Auto:
+            return "auto";
+        case AtlasMode::Generate:
+            return "generate";
     }
     return "auto";
 }
@@ -822,7 +839,8 @@ Result<PhysicsAtlas> generatePhysicsAtlas(const TriangleMesh& mesh, const AtlasS
         const ChartLayout& chart = best->charts[k];
         const Placement& placement = bestPacking->placements[k];
         for (std::size_t i = 0; i < chart.vertices.size(); ++i) {
-            const Point2 texel = quarterTurn(chart.local[i], placement.turns) * low + placement.corner;
+            const Point2 texel =
+                quarterTurn(chart.local[i], placement.turns) * low + placement.corner;
             atlas.mesh.uvs[chart.vertices[i]] = texel / size;
         }
     }

@@ -6,7 +6,6 @@
 // regather itself at N = 512.
 #include "plimsoll/surface/deform.h"
 
-
 #include <Eigen/Geometry>
 
 #include <algorithm>

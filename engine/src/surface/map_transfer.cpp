@@ -72,16 +72,20 @@ bool sameSurface(const TriangleMesh& a, const TriangleMesh& b) {
 /// (the partly covered texels and a ring around them). Texel (x, row) has its centre at uv
 /// ((x + 0.5) / width, 1 - (row + 0.5) / height).
 template <class Visit>
-void forTexelsNear(const TriangleMesh& mesh, std::uint32_t t, int width, int height, Visit&& visit) {
+void forTexelsNear(const TriangleMesh& mesh, std::uint32_t t, int width, int height,
+                   Visit&& visit) {
     const auto toTexels = [&](const Eigen::Vector2d& uv) {
         return Vec3(uv.x() * width - 0.5, (1.0 - uv.y()) * height - 0.5, 0.0);
     };
     const Triangle& tri = mesh.triangles[t];
-    const Vec3 a = toTexels(mesh.uvs[tri[0]]), b = toTexels(mesh.uvs[tri[1]]), c = toTexels(mesh.uvs[tri[2]]);
+    const Vec3 a = toTexels(mesh.uvs[tri[0]]), b = toTexels(mesh.uvs[tri[1]]),
+               c = toTexels(mesh.uvs[tri[2]]);
     const int x0 = std::max(0, static_cast<int>(std::floor(std::min({a.x(), b.x(), c.x()}))) - 1);
-    const int x1 = std::min(width - 1, static_cast<int>(std::ceil(std::max({a.x(), b.x(), c.x()}))) + 1);
+    const int x1 =
+        std::min(width - 1, static_cast<int>(std::ceil(std::max({a.x(), b.x(), c.x()}))) + 1);
     const int y0 = std::max(0, static_cast<int>(std::floor(std::min({a.y(), b.y(), c.y()}))) - 1);
-    const int y1 = std::min(height - 1, static_cast<int>(std::ceil(std::max({a.y(), b.y(), c.y()}))) + 1);
+    const int y1 =
+        std::min(height - 1, static_cast<int>(std::ceil(std::max({a.y(), b.y(), c.y()}))) + 1);
     for (int y = y0; y <= y1; ++y) {
         for (int x = x0; x <= x1; ++x) {
             const Vec3 q(x, y, 0.0);
@@ -283,13 +287,16 @@ Result<PaintedMap> transferPaintedMap(const PaintedMap& map, const TriangleMesh&
 
 Status paintTriangles(PaintedMap& map, const TriangleMesh& mesh,
                       const std::vector<std::uint32_t>& triangles, float value) {
-    if (!mesh.hasUvs()) return makeError(ErrorKind::invalidArgument, mesh.source + ": cannot paint a mesh without UVs");
+    if (!mesh.hasUvs())
+        return makeError(ErrorKind::invalidArgument,
+                         mesh.source + ": cannot paint a mesh without UVs");
     if (map.width <= 0 || map.height <= 0 ||
         map.values.size() != static_cast<std::size_t>(map.width) * map.height)
         return makeError(ErrorKind::invalidArgument, "cannot paint an empty or malformed map");
     for (std::uint32_t t : triangles) {
         if (t >= mesh.triangleCount())
-            return makeError(ErrorKind::invalidArgument, mesh.source + ": no triangle " + std::to_string(t));
+            return makeError(ErrorKind::invalidArgument,
+                             mesh.source + ": no triangle " + std::to_string(t));
         forTexelsNear(mesh, t, map.width, map.height,
                       [&](std::size_t i, const Vec3&, double) { map.values[i] = value; });
     }

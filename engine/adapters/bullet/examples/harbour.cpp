@@ -45,8 +45,10 @@ int main(int argc, char** argv) {
         shapes.push_back(std::make_unique<btBoxShape>(half));
         btVector3 inertia(0, 0, 0);
         if (mass > 0) shapes.back()->calculateLocalInertia(btScalar(mass), inertia);
-        motions.push_back(std::make_unique<btDefaultMotionState>(btTransform(btQuaternion::getIdentity(), at)));
-        bodies.push_back(std::make_unique<btRigidBody>(btScalar(mass), motions.back().get(), shapes.back().get(), inertia));
+        motions.push_back(
+            std::make_unique<btDefaultMotionState>(btTransform(btQuaternion::getIdentity(), at)));
+        bodies.push_back(std::make_unique<btRigidBody>(btScalar(mass), motions.back().get(),
+                                                       shapes.back().get(), inertia));
         bodies.back()->setActivationState(DISABLE_DEACTIVATION);
         world.addRigidBody(bodies.back().get());
         return bodies.back().get();
@@ -59,19 +61,24 @@ int main(int argc, char** argv) {
     const float crate = 0.25f;
     std::vector<btRigidBody*> crates;
     for (int i = 0; i < 3; ++i)
-        crates.push_back(addBox(btVector3(crate, crate, crate), btVector3(dockX, 0.6f + crate + 0.01f, -2.0f + 2.0f * i), 40));
+        crates.push_back(addBox(btVector3(crate, crate, crate),
+                                btVector3(dockX, 0.6f + crate + 0.01f, -2.0f + 2.0f * i), 40));
     for (int i = 0; i < 2; ++i)
-        crates.push_back(addBox(btVector3(crate, crate, crate), btVector3(0, float(hi[1]) + crate + 0.05f, -1.0f + 2.0f * i), 40));
+        crates.push_back(addBox(btVector3(crate, crate, crate),
+                                btVector3(0, float(hi[1]) + crate + 0.05f, -1.0f + 2.0f * i), 40));
 
     const double dt = 1.0 / 240.0;
     const int steps = static_cast<int>(seconds / dt + 0.5);
     for (int step = 0; step <= steps; ++step) {
         if (step % 240 == 0) {
             const btTransform& t = boat.rigidBody()->getCenterOfMassTransform();
-            const double heel = std::acos(std::fmin(1.0, std::fabs(double(t.getBasis()[1][1])))) * 180.0 / M_PI;
-            std::printf("t %5.1f s  boat height %+.3f m  heel %5.2f deg  water inside %7.1f kg  crates y:",
-                        harbour.time(), double(t.getOrigin().y()), heel, boat.lastLoad().water_mass);
-            for (btRigidBody* c : crates) std::printf(" %+.2f", double(c->getCenterOfMassPosition().y()));
+            const double heel =
+                std::acos(std::fmin(1.0, std::fabs(double(t.getBasis()[1][1])))) * 180.0 / M_PI;
+            std::printf(
+                "t %5.1f s  boat height %+.3f m  heel %5.2f deg  water inside %7.1f kg  crates y:",
+                harbour.time(), double(t.getOrigin().y()), heel, boat.lastLoad().water_mass);
+            for (btRigidBody* c : crates)
+                std::printf(" %+.2f", double(c->getCenterOfMassPosition().y()));
             std::printf("\n");
         }
         if (!harbour.error().empty()) {

@@ -48,7 +48,8 @@ public:
 
 private:
     friend class Harbour;
-    Harbour* harbour_ = nullptr;  // the one it was added to: it leaves it (and its world) when destroyed
+    Harbour* harbour_ =
+        nullptr;  // the one it was added to: it leaves it (and its world) when destroyed
     const plimsoll_bundle* bundle_;
     plimsoll_instance* instance_;
     btTransform bodyInObject_;
@@ -67,8 +68,8 @@ private:
 /// bodies' evaluations.
 class Harbour {
 public:
-    Harbour(btDiscreteDynamicsWorld* world, const plimsoll_water& water, const plimsoll_fluid& fluid,
-            const plimsoll_batch_desc* batch = nullptr);
+    Harbour(btDiscreteDynamicsWorld* world, const plimsoll_water& water,
+            const plimsoll_fluid& fluid, const plimsoll_batch_desc* batch = nullptr);
     ~Harbour();
     Harbour(const Harbour&) = delete;
     Harbour& operator=(const Harbour&) = delete;

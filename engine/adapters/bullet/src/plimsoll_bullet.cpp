@@ -9,14 +9,17 @@ namespace plimsoll_bullet {
 
 namespace {
 
-btVector3 vec(const double v[3]) { return btVector3(btScalar(v[0]), btScalar(v[1]), btScalar(v[2])); }
+btVector3 vec(const double v[3]) {
+    return btVector3(btScalar(v[0]), btScalar(v[1]), btScalar(v[2]));
+}
 
 /// The centre of mass and the principal axes of inertia (a proper rotation) in object space,
 /// and the principal moments.
 btTransform principalFrame(const plimsoll_mass& m, btVector3& moments) {
-    btMatrix3x3 inertia(btScalar(m.inertia[0][0]), btScalar(m.inertia[0][1]), btScalar(m.inertia[0][2]),
-                        btScalar(m.inertia[1][0]), btScalar(m.inertia[1][1]), btScalar(m.inertia[1][2]),
-                        btScalar(m.inertia[2][0]), btScalar(m.inertia[2][1]), btScalar(m.inertia[2][2]));
+    btMatrix3x3 inertia(
+        btScalar(m.inertia[0][0]), btScalar(m.inertia[0][1]), btScalar(m.inertia[0][2]),
+        btScalar(m.inertia[1][0]), btScalar(m.inertia[1][1]), btScalar(m.inertia[1][2]),
+        btScalar(m.inertia[2][0]), btScalar(m.inertia[2][1]), btScalar(m.inertia[2][2]));
     btMatrix3x3 axes;
     // inertia becomes diag(moments) with original = axes * diag * axes^T.
     inertia.diagonalize(axes, btScalar(1e-12), 32);
@@ -31,7 +34,8 @@ btTransform principalFrame(const plimsoll_mass& m, btVector3& moments) {
 /// for: a pointer to the member, formed in a derived class, reads it on any world.
 struct PreTickPeek : btDynamicsWorld {
     static btInternalTickCallback of(const btDynamicsWorld& world) {
-        constexpr btInternalTickCallback btDynamicsWorld::*member = &PreTickPeek::m_internalPreTickCallback;
+        constexpr btInternalTickCallback btDynamicsWorld::*member =
+            &PreTickPeek::m_internalPreTickCallback;
         return world.*member;
     }
 };
@@ -55,20 +59,24 @@ FloatingBody::FloatingBody(const plimsoll_bundle* bundle, const btTransform& obj
     if (!objectShape) {
         double lo[3] = {0, 0, 0}, hi[3] = {0, 0, 0};
         plimsoll_bundle_bounds(bundle, lo, hi);
-        const double half[3] = {0.5 * (hi[0] - lo[0]), 0.5 * (hi[1] - lo[1]), 0.5 * (hi[2] - lo[2])};
+        const double half[3] = {0.5 * (hi[0] - lo[0]), 0.5 * (hi[1] - lo[1]),
+                                0.5 * (hi[2] - lo[2])};
         const double mid[3] = {0.5 * (hi[0] + lo[0]), 0.5 * (hi[1] + lo[1]), 0.5 * (hi[2] + lo[2])};
         defaultShape_ = std::make_unique<btBoxShape>(vec(half));
         defaultShape_->setMargin(0);
         objectShape = defaultShape_.get();
         // The box's own frame sits at its middle.
         shape_ = std::make_unique<btCompoundShape>();
-        shape_->addChildShape(bodyInObject_.inverse() * btTransform(btMatrix3x3::getIdentity(), vec(mid)), objectShape);
+        shape_->addChildShape(
+            bodyInObject_.inverse() * btTransform(btMatrix3x3::getIdentity(), vec(mid)),
+            objectShape);
     } else {
         shape_ = std::make_unique<btCompoundShape>();
         shape_->addChildShape(bodyInObject_.inverse(), objectShape);
     }
     motion_ = std::make_unique<btDefaultMotionState>(objectPose * bodyInObject_);
-    btRigidBody::btRigidBodyConstructionInfo info(btScalar(m.mass), motion_.get(), shape_.get(), moments);
+    btRigidBody::btRigidBodyConstructionInfo info(btScalar(m.mass), motion_.get(), shape_.get(),
+                                                  moments);
     body_ = std::make_unique<btRigidBody>(info);
     // Angular momentum, not angular velocity, is what a free body keeps.
     body_->setFlags(body_->getFlags() | BT_ENABLE_GYROSCOPIC_FORCE_IMPLICIT_BODY);
@@ -96,8 +104,8 @@ plimsoll_velocity FloatingBody::velocity() const {
     return {{v.x(), v.y(), v.z()}, {w.x(), w.y(), w.z()}};
 }
 
-Harbour::Harbour(btDiscreteDynamicsWorld* world, const plimsoll_water& water, const plimsoll_fluid& fluid,
-                 const plimsoll_batch_desc* batch)
+Harbour::Harbour(btDiscreteDynamicsWorld* world, const plimsoll_water& water,
+                 const plimsoll_fluid& fluid, const plimsoll_batch_desc* batch)
     : world_(world), water_(water), fluid_(fluid), batch_(plimsoll_batch_create(batch)) {
     if (!batch_) error_ = plimsoll_runtime_last_error();
     {

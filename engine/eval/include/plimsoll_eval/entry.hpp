@@ -18,9 +18,9 @@ namespace plimsoll_eval {
 
 /// The fluid constants the sums need.
 struct Coefficients {
-    double rhoG = 1000.0 * 9.81;   ///< rho g, N/m^3
-    double halfRhoCd = 500.0;      ///< rho C_d / 2, kg/m^3
-    double halfRhoCf = 0.0;        ///< rho C_f / 2 (skin friction; 0 = off)
+    double rhoG = 1000.0 * 9.81;  ///< rho g, N/m^3
+    double halfRhoCd = 500.0;     ///< rho C_d / 2, kg/m^3
+    double halfRhoCf = 0.0;       ///< rho C_f / 2 (skin friction; 0 = off)
 };
 
 /// One body's sums (double: they add thousands of entries of either sign).
@@ -100,8 +100,8 @@ inline void entryDrag(const T r[3], const T a[3], T area, T inverseLength, T wet
 /// Branch-free: every term is selected.
 template <class T, bool Friction>
 inline EntryTerms<T> entryTerms(const T r[3], T ay, const T q[3], const T b[3], T area,
-                                        T inverseLength2, T inverseLength, T f, const T v[3], T rhoG,
-                                        T halfRhoCd, T halfRhoCf) {
+                                T inverseLength2, T inverseLength, T f, const T v[3], T rhoG,
+                                T halfRhoCd, T halfRhoCf) {
     EntryTerms<T> e;
     const T depth = f - r[1];
     const T wet = wetShare(depth, ay, area, inverseLength2);
@@ -125,12 +125,12 @@ inline EntryTerms<T> entryTerms(const T r[3], T ay, const T q[3], const T b[3], 
 
 /// A body's forces from its sums: world axes, torques about c.
 struct Forces {
-    double submergedVolume = 0;   ///< m^3
-    Vec3 centerOfBuoyancy;        ///< world, m (= c when dry)
-    Vec3 force;                   ///< Archimedes: rho g V up, N
-    Vec3 torque;                  ///< (C_B - c) x force, N m
+    double submergedVolume = 0;  ///< m^3
+    Vec3 centerOfBuoyancy;       ///< world, m (= c when dry)
+    Vec3 force;                  ///< Archimedes: rho g V up, N
+    Vec3 torque;                 ///< (C_B - c) x force, N m
     Vec3 pressureForce, pressureTorque, dragForce, dragTorque;
-    double wettedArea = 0;        ///< m^2
+    double wettedArea = 0;  ///< m^2
     std::size_t submergedSamples = 0;
 };
 

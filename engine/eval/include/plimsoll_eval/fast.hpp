@@ -76,8 +76,8 @@ inline bool cpuHasAvx2Fma() {
 }
 
 struct FastOptions {
-    std::size_t tileSize = 32;        ///< entries per tile (rounded up to a power of two, 8 to 64)
-    int waveGrid = 9;                 ///< water samples per side of the footprint grid (>= 3)
+    std::size_t tileSize = 32;  ///< entries per tile (rounded up to a power of two, 8 to 64)
+    int waveGrid = 9;           ///< water samples per side of the footprint grid (>= 3)
 };
 
 /// The water as the fast path sees it: flat at `level` when `heights` is null.
@@ -117,7 +117,7 @@ struct BodyState {
 /// How the tiles of the last evaluation were treated (for the benchmark and tests).
 struct FastStats {
     std::size_t dry = 0, closedForm = 0, perEntry = 0, waterSamples = 0;
-    std::size_t dragPerEntry = 0;  ///< leaves of submerged nodes whose drag alone is per entry
+    std::size_t dragPerEntry = 0;     ///< leaves of submerged nodes whose drag alone is per entry
     std::size_t velocitySamples = 0;  ///< points of the water-velocity batch
 };
 
@@ -126,14 +126,14 @@ struct FastStats {
 struct FastTile {
     std::uint32_t begin = 0, end = 0;
     std::uint32_t firstChild = 0, children = 0;  ///< sub-tiles of kLanes entries (top tiles)
-    Vec3 center;               ///< object space, relative to c
-    Vec3 halfSize;             ///< of the box of the entry positions about center
-    double radius = 0;         ///< of the entry positions about center
-    double halfExtent = 0;     ///< half the largest entry's side sqrt(area)
-    Vec3 axis;                 ///< mean normal direction
-    double cosSpread = -1;     ///< cosine of the largest angle of a normal from axis
+    Vec3 center;                                 ///< object space, relative to c
+    Vec3 halfSize;                               ///< of the box of the entry positions about center
+    double radius = 0;                           ///< of the entry positions about center
+    double halfExtent = 0;                       ///< half the largest entry's side sqrt(area)
+    Vec3 axis;                                   ///< mean normal direction
+    double cosSpread = -1;  ///< cosine of the largest angle of a normal from axis
     double areaSum = 0;
-    double count = 0;          ///< entries (padding left out)
+    double count = 0;  ///< entries (padding left out)
 };
 
 /// Slot of the symmetric index pair (j, l) and triple (j, l, m) in FastMoments' packed arrays.
@@ -160,10 +160,15 @@ struct FastMoments {
     /// outer loop over the terms, so that its running sum stays in registers and every term is
     /// read once (adding them two at a time into memory read and wrote the sum once a term).
     void setSum(const FastMoments* const* terms, std::size_t count, int order = 3) {
-        sumOf(terms, count, [](const FastMoments& m) -> const auto& { return m.n0; }, n0);
-        sumOf(terms, count, [](const FastMoments& m) -> const auto& { return m.n1; }, n1);
-        sumOf(terms, count, [](const FastMoments& m) -> const auto& { return m.n2; }, n2);
-        if (order >= 3) sumOf(terms, count, [](const FastMoments& m) -> const auto& { return m.n3; }, n3);
+        sumOf(
+            terms, count, [](const FastMoments& m) -> const auto& { return m.n0; }, n0);
+        sumOf(
+            terms, count, [](const FastMoments& m) -> const auto& { return m.n1; }, n1);
+        sumOf(
+            terms, count, [](const FastMoments& m) -> const auto& { return m.n2; }, n2);
+        if (order >= 3)
+            sumOf(
+                terms, count, [](const FastMoments& m) -> const auto& { return m.n3; }, n3);
     }
 
 private:
@@ -183,7 +188,8 @@ private:
             for (std::size_t c = 0; c < Columns; ++c) out[r][c] = sum[r * Columns + c];
     }
     template <class Member, std::size_t Rows>
-    static void sumOf(const FastMoments* const* terms, std::size_t count, Member member, double (&out)[Rows]) {
+    static void sumOf(const FastMoments* const* terms, std::size_t count, Member member,
+                      double (&out)[Rows]) {
         double sum[Rows];
         for (std::size_t r = 0; r < Rows; ++r) sum[r] = member(*terms[0])[r];
         for (std::size_t t = 1; t < count; ++t)
@@ -266,8 +272,8 @@ struct FastDepthIntegrals {
 inline void objectHessian(const Mat3& R, double hxx, double hxz, double hzz, double H[3][3]) {
     for (int i = 0; i < 3; ++i)
         for (int j = 0; j < 3; ++j)
-            H[i][j] = R.m[0][i] * hxx * R.m[0][j] + R.m[0][i] * hxz * R.m[2][j] + R.m[2][i] * hxz * R.m[0][j] +
-                      R.m[2][i] * hzz * R.m[2][j];
+            H[i][j] = R.m[0][i] * hxx * R.m[0][j] + R.m[0][i] * hxz * R.m[2][j] +
+                      R.m[2][i] * hxz * R.m[0][j] + R.m[2][i] * hzz * R.m[2][j];
 }
 
 /// The depth integrals of entries whose moments about c are m (orders 0 to 2, and 3 where H is
@@ -283,8 +289,8 @@ inline void objectHessian(const Mat3& R, double hxx, double hxz, double hzz, dou
 ///                     + 2 (p.beta)(n1 Hp) - n0 (p.beta) pHp
 /// (the contraction with beta of n3 shifted by p, its terms the binomial expansion of
 /// (s + p)(s + p)(s + p) against H). One pass over the moments: what a stencil's bucket costs.
-inline FastDepthIntegrals depthIntegrals(const FastMoments& m, const Vec3& p, double alpha, const Vec3& beta,
-                                         const double H[3][3]) {
+inline FastDepthIntegrals depthIntegrals(const FastMoments& m, const Vec3& p, double alpha,
+                                         const Vec3& beta, const double H[3][3]) {
     bool curved = false;
     for (int i = 0; i < 3; ++i)
         for (int j = 0; j < 3; ++j) curved = curved || H[i][j] != 0;
@@ -307,27 +313,32 @@ inline FastDepthIntegrals depthIntegrals(const FastMoments& m, const Vec3& p, do
         double n2b[3], n2Hp[3] = {}, n3H[3] = {};
         for (int j = 0; j < 3; ++j) {
             n1b += m.n1[u][j] * bv[j];
-            n2b[j] = m.n2[u][kPair[j][0]] * bv[0] + m.n2[u][kPair[j][1]] * bv[1] + m.n2[u][kPair[j][2]] * bv[2];
+            n2b[j] = m.n2[u][kPair[j][0]] * bv[0] + m.n2[u][kPair[j][1]] * bv[1] +
+                     m.n2[u][kPair[j][2]] * bv[2];
             n2bb += n2b[j] * bv[j];
         }
         if (curved) {
             for (int j = 0; j < 3; ++j) {
                 n1Hp += m.n1[u][j] * Hp[j];
-                n2Hp[j] = m.n2[u][kPair[j][0]] * Hp[0] + m.n2[u][kPair[j][1]] * Hp[1] + m.n2[u][kPair[j][2]] * Hp[2];
+                n2Hp[j] = m.n2[u][kPair[j][0]] * Hp[0] + m.n2[u][kPair[j][1]] * Hp[1] +
+                          m.n2[u][kPair[j][2]] * Hp[2];
                 n2bHp += bv[j] * n2Hp[j];
                 double c = 0;
-                for (int l = 0; l < 6; ++l) c += m.n3[u][kTriple[j][kPairFirst[l]][kPairSecond[l]]] * Hs[l];
+                for (int l = 0; l < 6; ++l)
+                    c += m.n3[u][kTriple[j][kPairFirst[l]][kPairSecond[l]]] * Hs[l];
                 n3H[j] = c;
                 bn3H += bv[j] * c;
             }
             for (int l = 0; l < 6; ++l) n2H += m.n2[u][l] * Hs[l];
         }
         out.d0[u] = alphaC * n0 + n1b - n1Hp + 0.5 * n2H;
-        for (int j = 0; j < 3; ++j) out.d1[u][j] = alphaC * m.n1[u][j] + n2b[j] - n2Hp[j] + 0.5 * n3H[j];
+        for (int j = 0; j < 3; ++j)
+            out.d1[u][j] = alphaC * m.n1[u][j] + n2b[j] - n2Hp[j] + 0.5 * n3H[j];
         const double n1bP = n1b - n0 * pb;
         const double n2bbP = n2bb - 2 * n1b * pb + n0 * pb * pb;
         const double n2HP = n2H - 2 * n1Hp + n0 * pHp;
-        const double bn3HP = bn3H - 2 * n2bHp - pb * n2H + n1b * pHp + 2 * pb * n1Hp - n0 * pb * pHp;
+        const double bn3HP =
+            bn3H - 2 * n2bHp - pb * n2H + n1b * pHp + 2 * pb * n1Hp - n0 * pb * pHp;
         out.e[u] = alpha * alpha * n0 + 2 * alpha * n1bP + n2bbP + alpha * n2HP + bn3HP;
     }
     return out;
@@ -354,7 +365,7 @@ struct FastStencil {
 /// sum of their centres' heights weighed by their entries, for the point they are expanded about.
 struct FastStencilBucket {
     FastMomentSum moments;
-    int node = 0;               ///< j * G + i
+    int node = 0;  ///< j * G + i
     double heightSum = 0, entries = 0;
 };
 
@@ -362,21 +373,22 @@ struct FastScratch {
     std::vector<double> x, z, h;
     std::vector<FastStencil> stencilQuadratics;  ///< per grid node (inner nodes only)
     std::vector<FastLeafWork> leaves;
-    std::vector<FastLeafWork> dragLeaves;  ///< wholly wet: only the entries and the velocity are set
+    std::vector<FastLeafWork>
+        dragLeaves;  ///< wholly wet: only the entries and the velocity are set
     std::vector<FastDeferredDrag> drags;
     /// The velocity batch: its points, then 3 per point, the water's velocity there as the batch
     /// gives it and, once read, the body's velocity relative to it in the body's axes.
     std::vector<double> px, py, pz, velocity;
-    FastMomentSum flatHydrostatics;            ///< flat water: every submerged node's moments
+    FastMomentSum flatHydrostatics;  ///< flat water: every submerged node's moments
     /// Waves: submerged nodes' moments per grid node; the first `stencilCount` are this call's
     /// (entries are reused, not cleared, from call to call).
     std::vector<FastStencilBucket> stencils;
     std::size_t stencilCount = 0;
-    std::vector<std::int32_t> stencilBucket;   ///< index into stencils by grid node; -1: none
+    std::vector<std::int32_t> stencilBucket;  ///< index into stencils by grid node; -1: none
     /// One per velocity slot in use: the first `dragBucketCount` (reused as `stencils`).
     std::vector<FastBucket> dragBuckets;
     std::size_t dragBucketCount = 0;
-    std::vector<std::int32_t> bucketOfSlot;    ///< index into dragBuckets by slot + 1; -1: none
+    std::vector<std::int32_t> bucketOfSlot;  ///< index into dragBuckets by slot + 1; -1: none
 };
 
 /// A body's entries in tile order (single precision, structure of arrays) and its tiles.
@@ -385,7 +397,8 @@ public:
     /// `entry(i, p, a, area)` fills entry i's position and area vector (object space) and area;
     /// `center` is the body's centre c.
     template <class Entry>
-    void build(std::size_t count, Entry entry, const Vec3& center, const FastOptions& options = {}) {
+    void build(std::size_t count, Entry entry, const Vec3& center,
+               const FastOptions& options = {}) {
         options_ = options;
         center_ = center;
         std::vector<Vec3> p(count), a(count);
@@ -470,7 +483,8 @@ public:
             sinSpread_.push_back(std::sqrt(std::max(0.0, 1.0 - t.cosSpread * t.cosSpread)));
         }
         radius_ = 0;
-        for (const FastTile& t : tiles) radius_ = std::max(radius_, norm(t.center) + t.radius + t.halfExtent);
+        for (const FastTile& t : tiles)
+            radius_ = std::max(radius_, norm(t.center) + t.radius + t.halfExtent);
     }
 
     std::size_t size() const { return qx_.size(); }  ///< entries, padded to whole lanes
@@ -515,7 +529,8 @@ private:
     }
 
     /// The moments of entries [begin, end) about `point` (object space, relative to c).
-    void momentsAbout(std::size_t begin, std::size_t end, const Vec3& point, FastMoments& mo) const {
+    void momentsAbout(std::size_t begin, std::size_t end, const Vec3& point,
+                      FastMoments& mo) const {
         for (std::size_t i = begin; i < end; ++i) {
             if (valid_[i] == 0) continue;
             const double b[3] = {bx_[i], by_[i], bz_[i]};
@@ -526,7 +541,8 @@ private:
                     mo.n1[u][j] += b[u] * d[j];
                     for (int l = j; l < 3; ++l) {
                         mo.n2[u][kPair[j][l]] += b[u] * d[j] * d[l];
-                        for (int n = l; n < 3; ++n) mo.n3[u][kTriple[j][l][n]] += b[u] * d[j] * d[l] * d[n];
+                        for (int n = l; n < 3; ++n)
+                            mo.n3[u][kTriple[j][l][n]] += b[u] * d[j] * d[l] * d[n];
                     }
                 }
             }
@@ -563,7 +579,8 @@ private:
             const Vec3 qv = position(i), bv = areaVector(i);
             t.radius = std::max(t.radius, norm(qv - t.center));
             const double length = norm(bv);
-            if (length > 0 && axisLength > 0) t.cosSpread = std::min(t.cosSpread, dot(bv, t.axis) / length);
+            if (length > 0 && axisLength > 0)
+                t.cosSpread = std::min(t.cosSpread, dot(bv, t.axis) / length);
             t.areaSum += area_[i];
             t.count += 1;
         }
@@ -587,12 +604,12 @@ private:
     /// the water at c, wo its spin, spinRate = |wo|): all turned away (no pressure drag), all
     /// facing it (the drag is a polynomial of their moments), or mixed (its children decide).
     enum class DragSign { away, facing, mixed };
-    DragSign dragSign(const FastTile& t, double sinSpread, const Vec3& uo, const Vec3& wo, double spinRate,
-                      const Coefficients& k) const;
+    DragSign dragSign(const FastTile& t, double sinSpread, const Vec3& uo, const Vec3& wo,
+                      double spinRate, const Coefficients& k) const;
     /// The pressure drag of entries that all face the flow, from their moments about `center`
     /// (object axes; torque about c).
-    static void dragFromMoments(const FastMoments& mo, const Vec3& center, const Vec3& uo, const Vec3& wo,
-                                const Coefficients& k, Vec3& force, Vec3& torque);
+    static void dragFromMoments(const FastMoments& mo, const Vec3& center, const Vec3& uo,
+                                const Vec3& wo, const Coefficients& k, Vec3& force, Vec3& torque);
     /// The hydrostatic sums of wholly wet entries from their depth integrals.
     static void hydrostaticsFromDepthIntegrals(const FastDepthIntegrals& in, const Mat3& R,
                                                const Coefficients& k, Sums& sum);
@@ -607,10 +624,10 @@ private:
         std::size_t done = 0;
         for (const FastLeafWork& w : records) {
             for (std::size_t first = w.begin; first < w.begin + w.leaves * kLanes; first += kLanes)
-                leaf(w, LeafColumns{qx_.data() + first, qy_.data() + first, qz_.data() + first, bx_.data() + first,
-                                    by_.data() + first, bz_.data() + first, area_.data() + first,
-                                    inverseLength2_.data() + first, inverseLength_.data() + first,
-                                    valid_.data() + first});
+                leaf(w, LeafColumns{qx_.data() + first, qy_.data() + first, qz_.data() + first,
+                                    bx_.data() + first, by_.data() + first, bz_.data() + first,
+                                    area_.data() + first, inverseLength2_.data() + first,
+                                    inverseLength_.data() + first, valid_.data() + first});
             sums.leavesDone(done, w.leaves);
         }
         sums.flush();
@@ -639,13 +656,15 @@ private:
         return evaluateOn(state, water, k, scratch, stats);
     }
     template <bool Friction>
-    PLIMSOLL_EVAL_AVX2_TARGET void dragLeavesAvx2(const std::vector<FastLeafWork>& leaves, const Mat3& R,
-                                                  const BodyState& s, const Coefficients& k, Sums& sum) const {
+    PLIMSOLL_EVAL_AVX2_TARGET void dragLeavesAvx2(const std::vector<FastLeafWork>& leaves,
+                                                  const Mat3& R, const BodyState& s,
+                                                  const Coefficients& k, Sums& sum) const {
         dragLeaves<Friction>(leaves, R, s, k, sum);
     }
     template <bool Friction, bool SkipDry>
-    PLIMSOLL_EVAL_AVX2_TARGET void perEntryLeavesAvx2(const std::vector<FastLeafWork>& leaves, const Mat3& R,
-                                                      const BodyState& s, const Coefficients& k, Sums& sum) const {
+    PLIMSOLL_EVAL_AVX2_TARGET void perEntryLeavesAvx2(const std::vector<FastLeafWork>& leaves,
+                                                      const Mat3& R, const BodyState& s,
+                                                      const Coefficients& k, Sums& sum) const {
         perEntryLeaves<Friction, SkipDry>(leaves, R, s, k, sum);
     }
 #endif
@@ -656,13 +675,15 @@ private:
     std::vector<float> qx_, qy_, qz_, bx_, by_, bz_, area_, inverseLength2_, inverseLength_, valid_;
     std::vector<FastTile> nodes_;
     std::vector<FastMoments> centerMoments_;
-    std::vector<double> sinSpread_;  ///< sine of each node's cosSpread (same index; the drag's sign)
+    std::vector<double>
+        sinSpread_;  ///< sine of each node's cosSpread (same index; the drag's sign)
     std::uint32_t roots_ = 0;
     std::size_t tileCount_ = 0;
 };
 
 inline FastBody::DragSign FastBody::dragSign(const FastTile& t, double sinSpread, const Vec3& uo,
-                                             const Vec3& wo, double spinRate, const Coefficients& k) const {
+                                             const Vec3& wo, double spinRate,
+                                             const Coefficients& k) const {
     if (k.halfRhoCf > 0) return DragSign::mixed;  // skin friction has no polynomial form
     // t_i = b_i.v_i with v_i = vc + wo x s_i (vc the velocity at the node's centre): its sign
     // over the node from the normal cone against vc, widened by the spin over the radius.
@@ -696,7 +717,8 @@ inline FastBody::DragSign FastBody::dragSign(const FastTile& t, double sinSpread
 }
 
 inline void FastBody::dragFromMoments(const FastMoments& mo, const Vec3& center, const Vec3& uo,
-                                      const Vec3& wo, const Coefficients& k, Vec3& force, Vec3& torque) {
+                                      const Vec3& wo, const Coefficients& k, Vec3& force,
+                                      Vec3& torque) {
     // Every entry faces the flow: D = -k sum (b.v) v with v = vc + wo x s, a polynomial in s
     // (file comment). b.(wo x s) = wo.(s x b), so a moment X[u][...] (u the area vector's axis,
     // the first index s's) contracts with the spin as spin(X) = wo.x (X[z][y] - X[y][z]) +
@@ -733,10 +755,12 @@ inline void FastBody::hydrostaticsFromDepthIntegrals(const FastDepthIntegrals& i
     // and, vertically, -sum (d q.y + d^2 / 2) b.y in world axes; pressure -rho g d b.
     const Vec3 rowY = R.row(1);
     const Vec3 d0{in.d0[0], in.d0[1], in.d0[2]};
-    const Vec3 torque{in.d1[2][1] - in.d1[1][2], in.d1[0][2] - in.d1[2][0], in.d1[1][0] - in.d1[0][1]};
+    const Vec3 torque{in.d1[2][1] - in.d1[1][2], in.d1[0][2] - in.d1[2][0],
+                      in.d1[1][0] - in.d1[0][1]};
     // rowY^T d1, then against each row of R.
     double y[3];
-    for (int j = 0; j < 3; ++j) y[j] = rowY.x * in.d1[0][j] + rowY.y * in.d1[1][j] + rowY.z * in.d1[2][j];
+    for (int j = 0; j < 3; ++j)
+        y[j] = rowY.x * in.d1[0][j] + rowY.y * in.d1[1][j] + rowY.z * in.d1[2][j];
     const Vec3 yD1{y[0], y[1], y[2]};
     sum.volume -= dot(rowY, d0);
     sum.moment.x -= dot(yD1, R.row(0));
@@ -757,7 +781,8 @@ inline void withFlag(bool flag, F f) {
 }
 
 inline void FastBody::perEntry(const std::vector<FastLeafWork>& leaves, const Mat3& R,
-                               const BodyState& s, const Coefficients& k, bool skipDry, Sums& sum) const {
+                               const BodyState& s, const Coefficients& k, bool skipDry,
+                               Sums& sum) const {
     if (leaves.empty()) return;
     withFlag(k.halfRhoCf > 0, [&](auto friction) {
         withFlag(skipDry, [&](auto skip) {
@@ -805,7 +830,8 @@ struct FloatRotation {
     float R[3][3];
     float wx, wy, wz;
     FloatRotation(const Mat3& rotation, const Vec3& bodyAngular)
-        : wx(static_cast<float>(bodyAngular.x)), wy(static_cast<float>(bodyAngular.y)),
+        : wx(static_cast<float>(bodyAngular.x)),
+          wy(static_cast<float>(bodyAngular.y)),
           wz(static_cast<float>(bodyAngular.z)) {
         for (int i = 0; i < 3; ++i)
             for (int j = 0; j < 3; ++j) R[i][j] = static_cast<float>(rotation.m[i][j]);
@@ -815,7 +841,9 @@ struct FloatRotation {
         for (int m = 0; m < 3; ++m) r[m] = R[m][0] * q[0] + R[m][1] * q[1] + R[m][2] * q[2];
     }
     /// The vertical (world y) component of a vector given in the body's axes.
-    float vertical(const float b[3]) const { return R[1][0] * b[0] + R[1][1] * b[1] + R[1][2] * b[2]; }
+    float vertical(const float b[3]) const {
+        return R[1][0] * b[0] + R[1][1] * b[1] + R[1][2] * b[2];
+    }
     /// An entry's velocity relative to the water, body axes: u (the body's, at c, relative to
     /// the water; body axes) plus the spin's part at q.
     void velocity(float ux, float uy, float uz, const float q[3], float v[3]) const {
@@ -835,9 +863,10 @@ inline void FastBody::perEntryLeaves(const std::vector<FastLeafWork>& leaves, co
     auto& lanes = sums.lanes;
     const double* total = sums.total;
     forEachLeaf(leaves, sums, [&](const FastLeafWork& w, const LeafColumns& column) {
-        const float *qx = column.qx, *qy = column.qy, *qz = column.qz, *bx = column.bx, *by = column.by,
-                    *bz = column.bz, *area = column.area, *inverseLength2 = column.inverseLength2,
-                    *inverseLength = column.inverseLength, *valid = column.valid;
+        const float *qx = column.qx, *qy = column.qy, *qz = column.qz, *bx = column.bx,
+                    *by = column.by, *bz = column.bz, *area = column.area,
+                    *inverseLength2 = column.inverseLength2, *inverseLength = column.inverseLength,
+                    *valid = column.valid;
         // First the entries' places and the water over them: a leaf whose entries are all
         // clear above the water adds nothing (no depth, no wetted share) and is skipped. At
         // the waterline of a tile on waves a quarter of the leaves are.
@@ -846,7 +875,8 @@ inline void FastBody::perEntryLeaves(const std::vector<FastLeafWork>& leaves, co
         auto waterAt = [&](const float q[3], float r[3]) {
             rotation.place(q, r);
             const float dx = r[0] - w.cx, dz = r[2] - w.cz;
-            return w.f + w.gx * dx + w.gz * dz + w.hxx * dx * dx + w.hxz * dx * dz + w.hzz * dz * dz;
+            return w.f + w.gx * dx + w.gz * dz + w.hxx * dx * dx + w.hxz * dx * dz +
+                   w.hzz * dz * dz;
         };
         alignas(32) float rx[kLanes], ry[kLanes], rz[kLanes], height[kLanes];
         if constexpr (SkipDry) {
@@ -878,8 +908,8 @@ inline void FastBody::perEntryLeaves(const std::vector<FastLeafWork>& leaves, co
             rotation.velocity(w.ux, w.uy, w.uz, q, v);
             // Depth, volume and moments in world axes; forces and torques in the body's.
             const EntryTerms<float> e = entryTerms<float, Friction>(
-                r, rotation.vertical(b), q, b, area[i], inverseLength2[i], inverseLength[i], f, v, rhoG,
-                halfRhoCd, halfRhoCf);
+                r, rotation.vertical(b), q, b, area[i], inverseLength2[i], inverseLength[i], f, v,
+                rhoG, halfRhoCd, halfRhoCf);
             lanes[0][i] += e.volume;
             for (int m = 0; m < 3; ++m) {
                 lanes[1 + m][i] += e.moment[m];
@@ -919,14 +949,15 @@ inline void FastBody::dragLeaves(const std::vector<FastLeafWork>& leaves, const 
                                  const BodyState& s, const Coefficients& k, Sums& sum) const {
     // All in the body's axes (FloatRotation): no entry is rotated.
     const FloatRotation rotation(R, transposeTimes(R, s.angular));
-    const float halfRhoCd = static_cast<float>(k.halfRhoCd), halfRhoCf = static_cast<float>(k.halfRhoCf);
+    const float halfRhoCd = static_cast<float>(k.halfRhoCd),
+                halfRhoCf = static_cast<float>(k.halfRhoCf);
     LeafLaneSums<6, kLanes> sums;
     auto& lanes = sums.lanes;
     const double* total = sums.total;
     forEachLeaf(leaves, sums, [&](const FastLeafWork& w, const LeafColumns& column) {
-        const float *qx = column.qx, *qy = column.qy, *qz = column.qz, *bx = column.bx, *by = column.by,
-                    *bz = column.bz, *area = column.area, *inverseLength = column.inverseLength,
-                    *valid = column.valid;
+        const float *qx = column.qx, *qy = column.qy, *qz = column.qz, *bx = column.bx,
+                    *by = column.by, *bz = column.bz, *area = column.area,
+                    *inverseLength = column.inverseLength, *valid = column.valid;
         for (std::size_t i = 0; i < kLanes; ++i) {
             const float q[3] = {qx[i], qy[i], qz[i]};
             const float b[3] = {bx[i], by[i], bz[i]};
@@ -953,8 +984,9 @@ inline Sums FastBody::evaluate(const BodyState& s, const WaterSurface& water, co
     return evaluateOn(s, water, k, scratch, stats);
 }
 
-inline Sums FastBody::evaluateOn(const BodyState& s, const WaterSurface& water, const Coefficients& k,
-                                 FastScratch& scratch, FastStats* stats) const {
+inline Sums FastBody::evaluateOn(const BodyState& s, const WaterSurface& water,
+                                 const Coefficients& k, FastScratch& scratch,
+                                 FastStats* stats) const {
     FastStats counted;
     Sums sum;
     const Mat3& R = s.rotation;
@@ -979,7 +1011,8 @@ inline Sums FastBody::evaluateOn(const BodyState& s, const WaterSurface& water, 
                 scratch.x[j * G + i] = x0 + i * h;
                 scratch.z[j * G + i] = z0 + j * h;
             }
-        water.heights(water.context, n, scratch.x.data(), scratch.z.data(), s.time, scratch.h.data());
+        water.heights(water.context, n, scratch.x.data(), scratch.z.data(), s.time,
+                      scratch.h.data());
         counted.waterSamples = n;
         // Each inner node's quadratic once, rather than once per node of the body that takes it.
         scratch.stencilQuadratics.resize(n);
@@ -1012,9 +1045,9 @@ inline Sums FastBody::evaluateOn(const BodyState& s, const WaterSurface& water, 
     // it (below).
     enum class Wetness : std::uint8_t { dry, submerged, waterline };
     struct NodeWater {
-        Vec3 rc;       // its centre about c, world axes
-        TileWater w;   // the water over it, about its centre
-        int stencil;   // on waves: the grid node whose 3 x 3 quadratic it takes
+        Vec3 rc;      // its centre about c, world axes
+        TileWater w;  // the water over it, about its centre
+        int stencil;  // on waves: the grid node whose 3 x 3 quadratic it takes
         Wetness wetness;
     };
     auto classify = [&](const FastTile& t, NodeWater& n) {
@@ -1025,7 +1058,8 @@ inline Sums FastBody::evaluateOn(const BodyState& s, const WaterSurface& water, 
         double curvature = 0, slope2 = 0;
         n.stencil = -1;
         if (waves) {
-            const double fx = (s.center.x + n.rc.x - x0) * inverseH, fz = (s.center.z + n.rc.z - z0) * inverseH;
+            const double fx = (s.center.x + n.rc.x - x0) * inverseH,
+                         fz = (s.center.z + n.rc.z - z0) * inverseH;
             // The nearest inner grid node (clamped before the conversion; a NaN goes to the edge).
             const int i = static_cast<int>(std::max(1.0, std::min(fx, G - 2.0)) + 0.5);
             const int j = static_cast<int>(std::max(1.0, std::min(fz, G - 2.0)) + 0.5);
@@ -1067,7 +1101,8 @@ inline Sums FastBody::evaluateOn(const BodyState& s, const WaterSurface& water, 
     // classifications are independent chains of arithmetic that the processor overlaps; one
     // node at a time, each waited for the last (the traversal took a third of the call).
     constexpr std::uint32_t kSiblings = 8;
-    auto visit = [&](std::uint32_t first, std::uint32_t count, std::int32_t inherited, auto& self) -> void {
+    auto visit = [&](std::uint32_t first, std::uint32_t count, std::int32_t inherited,
+                     auto& self) -> void {
         for (std::uint32_t from = first; from < first + count; from += kSiblings) {
             const std::uint32_t m = std::min(kSiblings, first + count - from);
             NodeWater found[kSiblings];
@@ -1127,10 +1162,12 @@ inline Sums FastBody::evaluateOn(const BodyState& s, const WaterSurface& water, 
                 if (waves) {
                     // Every node of one stencil has the same quadratic: their moments about c add
                     // up in the stencil's bucket, evaluated once about the stencil's point (below).
-                    std::int32_t& bucket = scratch.stencilBucket[static_cast<std::size_t>(n.stencil)];
+                    std::int32_t& bucket =
+                        scratch.stencilBucket[static_cast<std::size_t>(n.stencil)];
                     if (bucket < 0) {
                         bucket = static_cast<std::int32_t>(scratch.stencilCount);
-                        FastStencilBucket& fresh = nextBucket(scratch.stencils, scratch.stencilCount);
+                        FastStencilBucket& fresh =
+                            nextBucket(scratch.stencils, scratch.stencilCount);
                         fresh.moments.clear();
                         fresh.node = n.stencil;
                         fresh.heightSum = fresh.entries = 0;
@@ -1173,12 +1210,14 @@ inline Sums FastBody::evaluateOn(const BodyState& s, const WaterSurface& water, 
         objectHessian(R, w.hxx, w.hxz, w.hzz, H);
         // The depth about p: the height above the node less p's, falling with the slope.
         const Vec3 beta = transposeTimes(R, Vec3{w.gx, -1.0, w.gz});
-        hydrostaticsFromDepthIntegrals(depthIntegrals(bucket.moments.moments(), p, w.f - rp.y, beta, H), R, k, sum);
+        hydrostaticsFromDepthIntegrals(
+            depthIntegrals(bucket.moments.moments(), p, w.f - rp.y, beta, H), R, k, sum);
     }
     if (!waves && !scratch.drags.empty()) {
         const double none[3][3] = {};
-        const FastDepthIntegrals flat = depthIntegrals(scratch.flatHydrostatics.moments(2), Vec3{}, water.level - cy,
-                                                       transposeTimes(R, Vec3{0, -1, 0}), none);
+        const FastDepthIntegrals flat =
+            depthIntegrals(scratch.flatHydrostatics.moments(2), Vec3{}, water.level - cy,
+                           transposeTimes(R, Vec3{0, -1, 0}), none);
         hydrostaticsFromDepthIntegrals(flat, R, k, sum);
     }
     // The water's velocity at every slot, in one batch.
@@ -1186,11 +1225,12 @@ inline Sums FastBody::evaluateOn(const BodyState& s, const WaterSurface& water, 
     scratch.velocity.assign(3 * points, 0.0);
     if (points > 0) {
         if (water.velocities) {
-            water.velocities(water.context, points, scratch.px.data(), scratch.py.data(), scratch.pz.data(),
-                             s.time, scratch.velocity.data());
+            water.velocities(water.context, points, scratch.px.data(), scratch.py.data(),
+                             scratch.pz.data(), s.time, scratch.velocity.data());
         } else {
             for (std::size_t i = 0; i < points; ++i) {
-                const Vec3 v = water.velocity(water.context, {scratch.px[i], scratch.py[i], scratch.pz[i]}, s.time);
+                const Vec3 v = water.velocity(
+                    water.context, {scratch.px[i], scratch.py[i], scratch.pz[i]}, s.time);
                 scratch.velocity[3 * i] = v.x;
                 scratch.velocity[3 * i + 1] = v.y;
                 scratch.velocity[3 * i + 2] = v.z;
@@ -1234,25 +1274,30 @@ inline Sums FastBody::evaluateOn(const BodyState& s, const WaterSurface& water, 
             const std::size_t index = static_cast<std::size_t>(&node - nodes_.data());
             // A leaf's 8 entries, one by one in one vectorised pass, cost less than its sign
             // test (and than adding its moments): leaves never take the test.
-            switch (node.children == 0 ? DragSign::mixed : dragSign(node, sinSpread_[index], uo, wo, spinRate, k)) {
+            switch (node.children == 0 ? DragSign::mixed
+                                       : dragSign(node, sinSpread_[index], uo, wo, spinRate, k)) {
                 case DragSign::away:
                     return;
                 case DragSign::facing: {
-                    std::int32_t& bucket = scratch.bucketOfSlot[static_cast<std::size_t>(deferred.slot + 1)];
+                    std::int32_t& bucket =
+                        scratch.bucketOfSlot[static_cast<std::size_t>(deferred.slot + 1)];
                     if (bucket < 0) {
                         bucket = static_cast<std::int32_t>(scratch.dragBucketCount);
-                        FastBucket& fresh = nextBucket(scratch.dragBuckets, scratch.dragBucketCount);
+                        FastBucket& fresh =
+                            nextBucket(scratch.dragBuckets, scratch.dragBucketCount);
                         fresh.moments.clear();
                         fresh.slot = deferred.slot;
                     }
-                    scratch.dragBuckets[static_cast<std::size_t>(bucket)].moments.add(centerMoments_[index]);
+                    scratch.dragBuckets[static_cast<std::size_t>(bucket)].moments.add(
+                        centerMoments_[index]);
                     return;
                 }
                 case DragSign::mixed:
                     break;
             }
             if (isGroup(node)) {
-                for (std::uint32_t c = 0; c < node.children; ++c) again(nodes_[node.firstChild + c], again);
+                for (std::uint32_t c = 0; c < node.children; ++c)
+                    again(nodes_[node.firstChild + c], again);
                 return;
             }
             // A tile's leaves (or a leaf) in one record: their entries are consecutive.

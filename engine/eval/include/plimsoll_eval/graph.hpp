@@ -69,8 +69,8 @@ struct GraphNodeState {
     Vec3 position;
     double capacity = 0;
     double water = 0;
-    bool sealed = false;   ///< takes and passes no water
-    Vec3 box;              ///< box edges; all zero: a sphere of the capacity
+    bool sealed = false;  ///< takes and passes no water
+    Vec3 box;             ///< box edges; all zero: a sphere of the capacity
     bool isBox() const { return box.x > 0 && box.y > 0 && box.z > 0; }
 };
 
@@ -559,18 +559,18 @@ inline void exchangePass(const std::vector<ExchangePoint>& points, const double*
 /// Mass properties of the water (object space; inertia about its centre of mass, products
 /// with the minus sign).
 struct WaterMass {
-    double mass = 0;     ///< kg
-    double volume = 0;   ///< m^3
+    double mass = 0;    ///< kg
+    double volume = 0;  ///< m^3
     Vec3 centerOfMass;
     double inertia[3][3] = {{0, 0, 0}, {0, 0, 0}, {0, 0, 0}};
 };
 
 /// Water bookkeeping since the start (m^3): entered + initial = stored + left, to rounding.
 struct GraphFlowTotals {
-    double entered = 0;   ///< through the surface, into nodes
-    double left = 0;      ///< through the surface, out of nodes
-    double initial = 0;   ///< in the nodes at the start
-    double moved = 0;     ///< between nodes (not a balance term)
+    double entered = 0;  ///< through the surface, into nodes
+    double left = 0;     ///< through the surface, out of nodes
+    double initial = 0;  ///< in the nodes at the start
+    double moved = 0;    ///< between nodes (not a balance term)
 };
 
 /// A body's water graph and its state, stepped with the body's rotation R (object -> world).
@@ -786,7 +786,8 @@ public:
             // Water entering a flooded stern compartment goes on into the holds.
             double excess = node.water + gain - loss - node.capacity;
             while (excess > 0) {
-                const Path path = findPath(static_cast<int>(i), R, levels_, outsideTop[i] - originY);
+                const Path path =
+                    findPath(static_cast<int>(i), R, levels_, outsideTop[i] - originY);
                 if (path.node < 0) break;
                 GraphNodeState& target = nodes_[path.node];
                 const double before = target.water;
@@ -807,8 +808,10 @@ public:
             const double change = node.water - before;
             const double booked = gain - loss;
             if (change != booked) {
-                if (change > booked) gain += change - booked;
-                else loss += booked - change;
+                if (change > booked)
+                    gain += change - booked;
+                else
+                    loss += booked - change;
             }
             totals_.entered += gain;
             totals_.left += loss;
@@ -911,8 +914,8 @@ private:
     };
     struct Path {
         int node = -1;
-        double radius = 0;   ///< narrowest pipe on the way, m
-        double length = 0;   ///< along the way, m
+        double radius = 0;  ///< narrowest pipe on the way, m
+        double length = 0;  ///< along the way, m
     };
 
     double levelOffset(const NodeVolume& volume, std::size_t node, double water,
@@ -974,7 +977,8 @@ private:
     /// Algorithm 1 with an explicit stack (deep graphs cannot overflow). sourceLevel: the
     /// height the water comes from (the source's level, or the outside surface pushing
     /// through a full node), relative to the body's origin.
-    Path findPath(int source, const Mat3& R, const std::vector<double>& levels, double sourceLevel) {
+    Path findPath(int source, const Mat3& R, const std::vector<double>& levels,
+                  double sourceLevel) {
         Path none;
         if (nodes_[source].sealed) return none;
         // Visited marks by epoch: no O(nodes) clear per search (a Poiseuille step searches
@@ -1101,7 +1105,8 @@ private:
             const double rate = poiseuilleRate(s.diffusionPressure * (ca - cb), pipe.radius,
                                                s.viscosity, std::max(length_[p], 1e-9));
             const double equalise = (ca - cb) / (1.0 / full->capacity + 1.0 / empty->capacity);
-            double amount = std::min({rate * dt, equalise, full->water, empty->capacity - empty->water});
+            double amount =
+                std::min({rate * dt, equalise, full->water, empty->capacity - empty->water});
             if (!(amount > 0)) continue;
             const double before = empty->water;
             empty->water = std::min(empty->capacity, empty->water + amount);
@@ -1115,17 +1120,17 @@ private:
 
     std::vector<GraphNodeState> nodes_;
     std::vector<GraphPipeState> pipes_;
-    std::vector<double> length_;                ///< per pipe, m (resolved)
-    std::vector<std::vector<Link>> links_;      ///< open pipes per node
-    std::vector<double> radius_;                ///< sphere radius per node, m
-    std::vector<Vec3> scaledBox_;               ///< box nodes' edges scaled to the capacity
-    std::vector<double> levels_;                ///< per node, reused by applyExchange
-    std::vector<double> flowLevels_;            ///< per node, reused by flowPoiseuille
-    std::vector<std::size_t> order_;            ///< random visiting order, reused by the flows
-    std::vector<std::uint32_t> visitMark_;      ///< findPath's visited marks (== visitEpoch_)
-    std::vector<Link> pathOrder_;               ///< findPath's shuffled neighbours, reused
-    std::vector<PathFrame> pathStack_;          ///< findPath's stack, reused
-    std::vector<LevelMemo> memo_;               ///< levels found at memoR_ (memoLevel)
+    std::vector<double> length_;            ///< per pipe, m (resolved)
+    std::vector<std::vector<Link>> links_;  ///< open pipes per node
+    std::vector<double> radius_;            ///< sphere radius per node, m
+    std::vector<Vec3> scaledBox_;           ///< box nodes' edges scaled to the capacity
+    std::vector<double> levels_;            ///< per node, reused by applyExchange
+    std::vector<double> flowLevels_;        ///< per node, reused by flowPoiseuille
+    std::vector<std::size_t> order_;        ///< random visiting order, reused by the flows
+    std::vector<std::uint32_t> visitMark_;  ///< findPath's visited marks (== visitEpoch_)
+    std::vector<Link> pathOrder_;           ///< findPath's shuffled neighbours, reused
+    std::vector<PathFrame> pathStack_;      ///< findPath's stack, reused
+    std::vector<LevelMemo> memo_;           ///< levels found at memoR_ (memoLevel)
     Mat3 memoR_;
     std::uint32_t visitEpoch_ = 0;
     GraphFlowTotals totals_;

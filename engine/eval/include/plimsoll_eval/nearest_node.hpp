@@ -23,8 +23,8 @@ namespace plimsoll_eval {
 
 /// A node's compartment as the rule sees it.
 struct NodeShape {
-    Vec3 centre;   ///< object space, m
-    Vec3 box;      ///< box edge lengths (m); unless all are > 0 the node is its centre
+    Vec3 centre;  ///< object space, m
+    Vec3 box;     ///< box edge lengths (m); unless all are > 0 the node is its centre
     bool isBox() const { return box.x > 0 && box.y > 0 && box.z > 0; }
 };
 
@@ -109,7 +109,8 @@ public:
             // skipped; between equally near children, the one of nearer centres.
             std::uint32_t nearer = cell.left, farther = cell.left + 1;
             const double dn = lowerBound(cells_[nearer], p), df = lowerBound(cells_[farther], p);
-            if (df < dn || (df == dn && centreBound(cells_[farther], p) < centreBound(cells_[nearer], p)))
+            if (df < dn ||
+                (df == dn && centreBound(cells_[farther], p) < centreBound(cells_[nearer], p)))
                 std::swap(nearer, farther);
             stack[top++] = farther;
             stack[top++] = nearer;
@@ -121,10 +122,11 @@ public:
 
 private:
     struct Cell {
-        Vec3 lo, hi;              ///< bounds of every compartment below, padded outwards
-        Vec3 centreLo, centreHi;  ///< bounds of their centres, padded outwards
+        Vec3 lo, hi;                       ///< bounds of every compartment below, padded outwards
+        Vec3 centreLo, centreHi;           ///< bounds of their centres, padded outwards
         std::uint32_t begin = 0, end = 0;  ///< the cell's nodes: order_[begin, end)
-        std::uint32_t left = 0;   ///< first of two children (cells_[left], cells_[left + 1]); 0: a leaf
+        std::uint32_t left =
+            0;  ///< first of two children (cells_[left], cells_[left + 1]); 0: a leaf
     };
     static constexpr std::uint32_t kLeafSize = 8;
 
@@ -152,12 +154,14 @@ private:
     std::vector<std::uint32_t> distinctShapes() const {
         auto key = [&](std::uint32_t i) {
             const NodeShape& n = nodes_[i];
-            return std::array<double, 6>{n.centre.x, n.centre.y, n.centre.z, n.box.x, n.box.y, n.box.z};
+            return std::array<double, 6>{n.centre.x, n.centre.y, n.centre.z,
+                                         n.box.x,    n.box.y,    n.box.z};
         };
         std::vector<std::uint32_t> ordered, kept;
         for (std::size_t i = 0; i < nodes_.size(); ++i) {
             const auto k = key(static_cast<std::uint32_t>(i));
-            const bool hasNaN = std::any_of(k.begin(), k.end(), [](double v) { return std::isnan(v); });
+            const bool hasNaN =
+                std::any_of(k.begin(), k.end(), [](double v) { return std::isnan(v); });
             (hasNaN ? kept : ordered).push_back(static_cast<std::uint32_t>(i));
         }
         std::stable_sort(ordered.begin(), ordered.end(),
@@ -168,7 +172,9 @@ private:
         return kept;
     }
 
-    static double component(const Vec3& v, int axis) { return axis == 0 ? v.x : (axis == 1 ? v.y : v.z); }
+    static double component(const Vec3& v, int axis) {
+        return axis == 0 ? v.x : (axis == 1 ? v.y : v.z);
+    }
 
     /// Fills cells_[self] for order_[begin, end), then its two children (side by side).
     /// Median splits keep the depth at log2(n / kLeafSize), so the recursion and the query's
@@ -200,11 +206,13 @@ private:
         cell.end = end;
         if (end - begin <= kLeafSize) return;
         const Vec3 extent = centreHi - centreLo;
-        const int axis = extent.x >= extent.y && extent.x >= extent.z ? 0 : (extent.y >= extent.z ? 1 : 2);
+        const int axis =
+            extent.x >= extent.y && extent.x >= extent.z ? 0 : (extent.y >= extent.z ? 1 : 2);
         const std::uint32_t middle = begin + (end - begin) / 2;
         std::nth_element(order_.begin() + begin, order_.begin() + middle, order_.begin() + end,
                          [&](std::uint32_t a, std::uint32_t b) {
-                             return component(nodes_[a].centre, axis) < component(nodes_[b].centre, axis);
+                             return component(nodes_[a].centre, axis) <
+                                    component(nodes_[b].centre, axis);
                          });
         const auto left = static_cast<std::uint32_t>(cells_.size());
         cells_.resize(cells_.size() + 2);  // `cell` may dangle from here on

@@ -25,6 +25,9 @@
 #include <cstdint>
 #include <cstring>
 
+// The functions below keep musl's layout, so that they can be compared line by line with the
+// source they are ported from.
+// clang-format off
 namespace plimsoll_eval::math {
 
 #if defined(PLIMSOLL_EVAL_PORTABLE_MATH)
@@ -674,4 +677,5 @@ inline double exp(double x) { return std::exp(x); }
 
 #endif
 
+// clang-format on
 }  // namespace plimsoll_eval::math

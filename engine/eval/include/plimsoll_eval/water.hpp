@@ -18,18 +18,18 @@
 namespace plimsoll_eval {
 
 struct GerstnerWaveDesc {
-    double amplitude = 0.1;    ///< m
-    double wavelength = 10.0;  ///< m
+    double amplitude = 0.1;                     ///< m
+    double wavelength = 10.0;                   ///< m
     double directionX = 1.0, directionZ = 0.0;  ///< normalised on use
-    double steepness = 0.5;    ///< Q in 0..1
-    double phase = 0.0;        ///< rad
+    double steepness = 0.5;                     ///< Q in 0..1
+    double phase = 0.0;                         ///< rad
 };
 
 struct HeightGridDesc {
     int countX = 0, countZ = 0;
-    double spacing = 1.0;               ///< m
+    double spacing = 1.0;  ///< m
     double originX = 0.0, originZ = 0.0;
-    std::vector<float> heights;         ///< countX * countZ, row j = fixed z, relative to level
+    std::vector<float> heights;  ///< countX * countZ, row j = fixed z, relative to level
 };
 
 struct WaterModelDesc {
@@ -38,7 +38,7 @@ struct WaterModelDesc {
     double level = 0.0;
     std::vector<GerstnerWaveDesc> waves;
     HeightGridDesc grid;
-    double gravity = 9.81;              ///< for the dispersion relation, m/s^2
+    double gravity = 9.81;  ///< for the dispersion relation, m/s^2
 };
 
 namespace water_detail {
@@ -202,8 +202,9 @@ inline std::vector<water_detail::WaveTerms> waveTerms(const WaterModelDesc& wate
 }
 
 /// Surface height at (x, z) and time t; `terms` from waveTerms(water).
-inline double waterHeight(const WaterModelDesc& water, const std::vector<water_detail::WaveTerms>& terms,
-                          double x, double z, double time) {
+inline double waterHeight(const WaterModelDesc& water,
+                          const std::vector<water_detail::WaveTerms>& terms, double x, double z,
+                          double time) {
     switch (water.kind) {
         case WaterModelDesc::Kind::Flat:
             return water.level;
@@ -218,8 +219,9 @@ inline double waterHeight(const WaterModelDesc& water, const std::vector<water_d
 
 /// The water's velocity at a point: Gerstner orbital velocity decaying as e^(k d) below the
 /// mean level; zero for the plane and the grid.
-inline void waterVelocity(const WaterModelDesc& water, const std::vector<water_detail::WaveTerms>& terms,
-                          double px, double py, double pz, double time, double out[3]) {
+inline void waterVelocity(const WaterModelDesc& water,
+                          const std::vector<water_detail::WaveTerms>& terms, double px, double py,
+                          double pz, double time, double out[3]) {
     out[0] = out[1] = out[2] = 0.0;
     if (water.kind != WaterModelDesc::Kind::Gerstner) return;
     water_detail::gerstnerVelocity(terms.data(), terms.size(), water.level, px, py, pz, time, out);
@@ -235,7 +237,8 @@ inline double waterMaxHeight(const WaterModelDesc& water) {
         case WaterModelDesc::Kind::HeightGrid:
             return water.grid.heights.empty()
                        ? water.level
-                       : water.level + *std::max_element(water.grid.heights.begin(), water.grid.heights.end());
+                       : water.level + *std::max_element(water.grid.heights.begin(),
+                                                         water.grid.heights.end());
     }
     return water.level;
 }
@@ -249,7 +252,8 @@ inline double waterMinHeight(const WaterModelDesc& water) {
         case WaterModelDesc::Kind::HeightGrid:
             return water.grid.heights.empty()
                        ? water.level
-                       : water.level + *std::min_element(water.grid.heights.begin(), water.grid.heights.end());
+                       : water.level + *std::min_element(water.grid.heights.begin(),
+                                                         water.grid.heights.end());
     }
     return water.level;
 }

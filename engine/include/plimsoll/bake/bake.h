@@ -23,8 +23,8 @@ namespace plimsoll {
 using ProgressCallback = std::function<void(double fraction)>;
 
 struct BakeSettings {
-    int size = 512;          ///< texels per side, kMinTextureSize..kMaxTextureSize
-    unsigned threads = 0;    ///< worker threads; 0 = all hardware threads
+    int size = 512;        ///< texels per side, kMinTextureSize..kMaxTextureSize
+    unsigned threads = 0;  ///< worker threads; 0 = all hardware threads
     /// Sub-texel refinement: a triangle whose texels span, in their longest direction on the
     /// surface, more than this many times the mesh's typical texel side is cut on a finer grid
     /// (up to 64 x 64 cells a texel), each cell its own entry. Lower is more accurate on
@@ -42,9 +42,9 @@ struct BakeSettings {
 /// order the islands reached it), so every entry's point and area vector describe one connected
 /// piece of surface. All per-entry vectors have the same length.
 struct SurfaceTextures {
-    int size = 0;              ///< N, texels per side
-    UvPlacement placement;     ///< mesh uv -> texture uv used by the bake
-    std::vector<std::uint32_t> texelIndex;   ///< y * N + x, ascending (repeated for shared texels)
+    int size = 0;                           ///< N, texels per side
+    UvPlacement placement;                  ///< mesh uv -> texture uv used by the bake
+    std::vector<std::uint32_t> texelIndex;  ///< y * N + x, ascending (repeated for shared texels)
     /// PT: area centroid of the surface that maps into the texel, object space, m.
     std::vector<Eigen::Vector3d> position;
     /// AVT: integral of n dS over that surface, m^2 (outward normal).

@@ -49,13 +49,15 @@ inline BakeCost estimateBakeCost(const TriangleMesh& mesh, int size) {
 
 /// "a 8192^2 bake of about 19.2M texel entries needs about 2.0 GB of memory and 37 s": said
 /// for bakes that need more than `threshold` bytes; empty below it.
-inline std::string describeBakeCost(const TriangleMesh& mesh, int size, double threshold = 512.0 * (1 << 20)) {
+inline std::string describeBakeCost(const TriangleMesh& mesh, int size,
+                                    double threshold = 512.0 * (1 << 20)) {
     const BakeCost cost = estimateBakeCost(mesh, size);
     if (cost.bytes <= threshold) return {};
     std::ostringstream line;
     line.precision(3);
-    line << "a " << size << "^2 bake of about " << cost.entries / 1e6 << "M texel entries needs about "
-         << formatBytes(cost.bytes) << " of memory and " << std::ceil(cost.seconds)
+    line << "a " << size << "^2 bake of about " << cost.entries / 1e6
+         << "M texel entries needs about " << formatBytes(cost.bytes) << " of memory and "
+         << std::ceil(cost.seconds)
          << " s on one core (measured on the box asset; more cores bake faster)";
     return line.str();
 }

@@ -23,7 +23,7 @@ struct ComputeDevice {
     std::string platform;
     std::string name;
     bool isGpu = false;
-    bool hasFp64 = false;        ///< sums accumulate in double when true
+    bool hasFp64 = false;          ///< sums accumulate in double when true
     std::size_t globalMemory = 0;  ///< bytes
 };
 

@@ -25,14 +25,22 @@ enum class ErrorKind {
 /// The kind's name as messages and JSON print it ("io", "kernel-build", ...).
 constexpr const char* errorKindName(ErrorKind kind) {
     switch (kind) {
-        case ErrorKind::io: return "io";
-        case ErrorKind::format: return "format";
-        case ErrorKind::schema: return "schema";
-        case ErrorKind::limit: return "limit";
-        case ErrorKind::device: return "device";
-        case ErrorKind::kernelBuild: return "kernel-build";
-        case ErrorKind::invalidArgument: return "invalid-argument";
-        case ErrorKind::unsupported: return "unsupported";
+        case ErrorKind::io:
+            return "io";
+        case ErrorKind::format:
+            return "format";
+        case ErrorKind::schema:
+            return "schema";
+        case ErrorKind::limit:
+            return "limit";
+        case ErrorKind::device:
+            return "device";
+        case ErrorKind::kernelBuild:
+            return "kernel-build";
+        case ErrorKind::invalidArgument:
+            return "invalid-argument";
+        case ErrorKind::unsupported:
+            return "unsupported";
     }
     return "error";
 }

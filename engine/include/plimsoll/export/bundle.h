@@ -44,16 +44,16 @@ Result<std::string> sha256OfFile(const std::filesystem::path& path);
 
 /// One file of a bundle as the manifest lists it.
 struct BundleFile {
-    std::string path;      ///< relative to the bundle folder
+    std::string path;  ///< relative to the bundle folder
     std::string sha256;
     std::uintmax_t bytes = 0;
 };
 
 /// What writing or checking one body's bundle did.
 struct BundleReport {
-    std::string body;                    ///< the body's name
-    std::filesystem::path folder;        ///< the bundle folder
-    std::vector<BundleFile> files;       ///< every file, manifest.json last
+    std::string body;               ///< the body's name
+    std::filesystem::path folder;   ///< the bundle folder
+    std::vector<BundleFile> files;  ///< every file, manifest.json last
     std::size_t coveredTexels = 0;
     int textureSize = 0;
     /// Where the body gives a tolerance instead of a size: the tolerance and the measured
@@ -115,7 +115,7 @@ struct BundleManifestInfo {
     int schemaMajor = 0;
     int schemaMinor = 0;
     std::string body;
-    std::vector<BundleFile> files;       ///< as the manifest lists them
+    std::vector<BundleFile> files;  ///< as the manifest lists them
 };
 
 /// Reads `folder`/manifest.json and checks it the way a runtime loader must: the format name,

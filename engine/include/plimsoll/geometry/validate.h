@@ -15,21 +15,21 @@ enum class Severity { Warning, Error };
 /// One class of problem. Stable: tests and scripts match on these, and problemCode() gives the
 /// kebab-case name printed in reports.
 enum class ProblemKind {
-    EmptyMesh,               ///< no triangles                                        (error)
-    NonFinite,               ///< NaN or Inf in a position or UV                      (error)
-    MissingUvs,              ///< no texture coordinates                              (error)
-    DegenerateTriangle,      ///< zero 3D area: contributes nothing                   (warning)
-    DegenerateUvTriangle,    ///< positive 3D area but zero UV area: area is lost     (error)
-    OpenSurface,             ///< boundary edges (used by one face), after welding    (error)
-    NonManifoldEdge,         ///< edges used by more than two faces, after welding    (error)
-    InconsistentOrientation, ///< an edge used twice in the same direction            (error)
-    InwardNormals,           ///< closed, consistent, but negative signed volume      (error)
-    UvOutOfRange,            ///< UVs outside [0,1]: remapped into the texture        (warning)
-    UvOverlap,               ///< UV triangles overlap: the map is not bijective      (error)
-    UvMirrored,              ///< UV islands with flipped orientation (no overlap)    (warning)
-    UvMultipleTiles,         ///< UVs spread over several unit tiles (UDIM-like)       (warning)
-    UvDistortion,            ///< world area per UV area varies more than kMaxUvAreaSpread (warning)
-    IndexOutOfRange,         ///< a triangle names a vertex the mesh does not have    (error)
+    EmptyMesh,                ///< no triangles                                        (error)
+    NonFinite,                ///< NaN or Inf in a position or UV                      (error)
+    MissingUvs,               ///< no texture coordinates                              (error)
+    DegenerateTriangle,       ///< zero 3D area: contributes nothing                   (warning)
+    DegenerateUvTriangle,     ///< positive 3D area but zero UV area: area is lost     (error)
+    OpenSurface,              ///< boundary edges (used by one face), after welding    (error)
+    NonManifoldEdge,          ///< edges used by more than two faces, after welding    (error)
+    InconsistentOrientation,  ///< an edge used twice in the same direction            (error)
+    InwardNormals,            ///< closed, consistent, but negative signed volume      (error)
+    UvOutOfRange,             ///< UVs outside [0,1]: remapped into the texture        (warning)
+    UvOverlap,                ///< UV triangles overlap: the map is not bijective      (error)
+    UvMirrored,               ///< UV islands with flipped orientation (no overlap)    (warning)
+    UvMultipleTiles,          ///< UVs spread over several unit tiles (UDIM-like)       (warning)
+    UvDistortion,     ///< world area per UV area varies more than kMaxUvAreaSpread (warning)
+    IndexOutOfRange,  ///< a triangle names a vertex the mesh does not have    (error)
 };
 
 /// Texel world-area spread above this is reported: a texel then stands for up to this many
@@ -44,9 +44,9 @@ bool isUvProblem(ProblemKind kind);
 struct Problem {
     ProblemKind kind;
     Severity severity;
-    std::size_t count = 0;        ///< how many elements (triangles, edges, islands) are affected
-    double surfaceFraction = 0;   ///< share of the 3D surface area affected, 0..1 (0 if n/a)
-    std::string message;          ///< one line, no file name (the report adds it)
+    std::size_t count = 0;       ///< how many elements (triangles, edges, islands) are affected
+    double surfaceFraction = 0;  ///< share of the 3D surface area affected, 0..1 (0 if n/a)
+    std::string message;         ///< one line, no file name (the report adds it)
 };
 
 struct ValidationReport {

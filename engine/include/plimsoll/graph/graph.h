@@ -32,11 +32,11 @@ inline constexpr int kGraphSchemaVersion = 1;
 
 /// A compartment.
 struct GraphNode {
-    std::string id;            ///< unique within the graph; pipes name nodes by it
-    std::string name;          ///< for people (may be empty)
+    std::string id;    ///< unique within the graph; pipes name nodes by it
+    std::string name;  ///< for people (may be empty)
     Eigen::Vector3d position = Eigen::Vector3d::Zero();  ///< object space, m
-    double capacity = 0;       ///< m^3, > 0
-    double water = 0;          ///< m^3, 0..capacity (the starting amount in a file)
+    double capacity = 0;                                 ///< m^3, > 0
+    double water = 0;  ///< m^3, 0..capacity (the starting amount in a file)
     /// A sealed node takes no water from outside and exchanges none through pipes: its water
     /// stays as it is (a sealed room in a damaged boat).
     bool sealed = false;
@@ -51,10 +51,10 @@ struct GraphNode {
 };
 
 struct GraphPipe {
-    std::string a, b;          ///< node ids
-    double radius = 0.01;      ///< m, > 0
-    double length = 0;         ///< m; 0 = the distance between the two nodes
-    bool open = true;          ///< a closed pipe passes nothing
+    std::string a, b;      ///< node ids
+    double radius = 0.01;  ///< m, > 0
+    double length = 0;     ///< m; 0 = the distance between the two nodes
+    bool open = true;      ///< a closed pipe passes nothing
 
     bool operator==(const GraphPipe&) const = default;
 };
@@ -77,27 +77,27 @@ struct WaterGraph {
 
 /// Classes of problems; stable (tests and scripts match on them, graphProblemCode prints them).
 enum class GraphProblemKind {
-    Empty,                 ///< no nodes                                           (error)
-    DuplicateId,           ///< two nodes with one id, or an empty id              (error)
-    BadCapacity,           ///< capacity <= 0 or not finite                        (error)
-    WaterOutOfRange,       ///< starting water < 0 or > capacity                   (error)
-    DanglingPipe,          ///< a pipe names a node that does not exist            (error)
-    SelfLoop,              ///< a pipe from a node to itself                       (error)
-    BadPipe,               ///< radius <= 0, length < 0, or not finite             (error)
-    NodeOutsideMesh,       ///< a node's position lies outside the body's surface  (warning)
-    Disconnected,          ///< more than one group of nodes joined by open pipes  (warning)
+    Empty,            ///< no nodes                                           (error)
+    DuplicateId,      ///< two nodes with one id, or an empty id              (error)
+    BadCapacity,      ///< capacity <= 0 or not finite                        (error)
+    WaterOutOfRange,  ///< starting water < 0 or > capacity                   (error)
+    DanglingPipe,     ///< a pipe names a node that does not exist            (error)
+    SelfLoop,         ///< a pipe from a node to itself                       (error)
+    BadPipe,          ///< radius <= 0, length < 0, or not finite             (error)
+    NodeOutsideMesh,  ///< a node's position lies outside the body's surface  (warning)
+    Disconnected,     ///< more than one group of nodes joined by open pipes  (warning)
 };
 
 const char* graphProblemCode(GraphProblemKind kind);
 
 struct GraphProblem {
     GraphProblemKind kind;
-    bool error = true;     ///< false: a warning
-    std::string message;   ///< one line naming the node or pipe, no file name
+    bool error = true;    ///< false: a warning
+    std::string message;  ///< one line naming the node or pipe, no file name
 };
 
 struct GraphReport {
-    std::string source;    ///< the graph's file, named in every formatted line
+    std::string source;  ///< the graph's file, named in every formatted line
     std::vector<GraphProblem> problems;
 
     bool has(GraphProblemKind kind) const;
@@ -243,7 +243,7 @@ private:
     plimsoll_eval::GraphFlow flow_;                  ///< the state and the step (graph.hpp)
     std::vector<ExchangeSample> samples_;
     ExchangeSums scratchSums_;
-    std::vector<double> scratchSurface_;             ///< per node, reused every step
+    std::vector<double> scratchSurface_;  ///< per node, reused every step
 };
 
 }  // namespace plimsoll

@@ -16,7 +16,7 @@ namespace plimsoll {
 struct MeshSegmentation {
     std::vector<int> triangleSegment;  ///< per triangle of the input mesh, 0..segmentCount-1
     int segmentCount = 0;
-    double sdfSeconds = 0;             ///< time spent in CGAL
+    double sdfSeconds = 0;  ///< time spent in CGAL
 };
 
 /// Segments a closed mesh into at most `clusters` SDF clusters, then connected segments;
@@ -29,11 +29,11 @@ Result<MeshSegmentation> segmentMeshSdf(const TriangleMesh& mesh, int clusters,
 bool meshSegmentationAvailable();
 
 struct AutoGraphSettings {
-    int segments = 0;            ///< k nodes; 0 = chosen from the mesh (defaultSegmentCount)
+    int segments = 0;  ///< k nodes; 0 = chosen from the mesh (defaultSegmentCount)
     /// Shell thickness (m): the capacities sum to the enclosed volume minus the shell's own
     /// volume (area x thickness). 0 = the whole enclosed volume.
     double shellThickness = 0;
-    int volumeSamples = 48;      ///< grid cells along the longest side for the volume shares
+    int volumeSamples = 48;  ///< grid cells along the longest side for the volume shares
     std::function<void(double)> progress;
 };
 

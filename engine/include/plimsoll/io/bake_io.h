@@ -32,8 +32,8 @@ Status writeBakedTextures(const SurfaceTextures& textures, const std::filesystem
 /// to 2048).
 struct CompactSamples {
     Eigen::Vector3d origin = Eigen::Vector3d::Zero();  ///< the centre of the points' bounding box
-    double positionScale = 1;  ///< the largest |p - origin| component (m)
-    double areaScale = 1;      ///< the largest area-vector component or area (m^2)
+    double positionScale = 1;                          ///< the largest |p - origin| component (m)
+    double areaScale = 1;  ///< the largest area-vector component or area (m^2)
 };
 /// The encoding that fits `textures`' samples into [-1, 1].
 CompactSamples compactSamplesFor(const SurfaceTextures& textures);
@@ -42,8 +42,9 @@ CompactSamples compactSamplesFor(const SurfaceTextures& textures);
 const std::vector<std::string>& compactSampleChannels();
 /// As writeBakedTextures, with samples.exr in `compact`'s encoding and the three images stored
 /// as half floats (same channels and meaning, about 3 significant digits).
-Status writeCompactBakedTextures(const SurfaceTextures& textures, const std::filesystem::path& folder,
-                                 const std::string& sourceMesh, const CompactSamples& compact);
+Status writeCompactBakedTextures(const SurfaceTextures& textures,
+                                 const std::filesystem::path& folder, const std::string& sourceMesh,
+                                 const CompactSamples& compact);
 
 /// Reads the sample list of a folder written by writeBakedTextures (float32 precision).
 /// Checks the manifest's schema version and the samples' texels.

@@ -38,8 +38,8 @@ Status replaceFileAtomically(const std::filesystem::path& target,
 /// killed after the commit leaves the journal, and
 /// finishInterruptedReplace (called by the loaders of the last target) completes the set; one
 /// killed before leaves the previous set. Each writer fills the temporary path it is given.
-using FileWriter = std::pair<std::filesystem::path,
-                             std::function<Status(const std::filesystem::path&)>>;
+using FileWriter =
+    std::pair<std::filesystem::path, std::function<Status(const std::filesystem::path&)>>;
 Status replaceFilesTogether(const std::vector<FileWriter>& files);
 /// Completes a replaceFilesTogether whose process died after its commit: `lastTarget` is the
 /// last file of that set (the project file, a bake manifest). Ok when there was nothing to do.

@@ -21,34 +21,34 @@ struct SurfaceTextures;
 
 /// The fluid around the body and how it acts.
 struct FluidSettings {
-    double density = 1000.0;                    ///< kg/m^3 (fresh water; sea 1025, air 1.225)
-    double gravity = kStandardGravity;          ///< m/s^2, acting along -y
-    double dragCoefficient = 1.0;               ///< C_d of pressure drag, dimensionless
-    double frictionCoefficient = 0.0;           ///< C_f of skin friction; 0 = off
+    double density = 1000.0;            ///< kg/m^3 (fresh water; sea 1025, air 1.225)
+    double gravity = kStandardGravity;  ///< m/s^2, acting along -y
+    double dragCoefficient = 1.0;       ///< C_d of pressure drag, dimensionless
+    double frictionCoefficient = 0.0;   ///< C_f of skin friction; 0 = off
 };
 
 /// Everything a frame needs from the water: forces in world axes, torques about the body's
 /// centre of mass.
 struct BuoyancyResult {
-    double submergedVolume = 0;                              ///< m^3
+    double submergedVolume = 0;                                  ///< m^3
     Eigen::Vector3d centerOfBuoyancy = Eigen::Vector3d::Zero();  ///< world, m (= centre of
                                                                  ///< mass when dry)
-    Eigen::Vector3d force = Eigen::Vector3d::Zero();         ///< Archimedes: rho g V_s up, N
-    Eigen::Vector3d torque = Eigen::Vector3d::Zero();        ///< (C_B - c) x force, N m
-    Eigen::Vector3d pressureForce = Eigen::Vector3d::Zero();   ///< -sum p_i A_i, N
-    Eigen::Vector3d pressureTorque = Eigen::Vector3d::Zero();  ///< N m
-    Eigen::Vector3d dragForce = Eigen::Vector3d::Zero();     ///< N
-    Eigen::Vector3d dragTorque = Eigen::Vector3d::Zero();    ///< N m
-    double wettedArea = 0;                                   ///< m^2
-    std::size_t submergedSamples = 0;                        ///< texel entries under water
+    Eigen::Vector3d force = Eigen::Vector3d::Zero();             ///< Archimedes: rho g V_s up, N
+    Eigen::Vector3d torque = Eigen::Vector3d::Zero();            ///< (C_B - c) x force, N m
+    Eigen::Vector3d pressureForce = Eigen::Vector3d::Zero();     ///< -sum p_i A_i, N
+    Eigen::Vector3d pressureTorque = Eigen::Vector3d::Zero();    ///< N m
+    Eigen::Vector3d dragForce = Eigen::Vector3d::Zero();         ///< N
+    Eigen::Vector3d dragTorque = Eigen::Vector3d::Zero();        ///< N m
+    double wettedArea = 0;                                       ///< m^2
+    std::size_t submergedSamples = 0;                            ///< texel entries under water
 };
 
 /// The state of one body for one evaluation.
 struct BodyFrame {
-    Pose pose;                                  ///< object -> world
-    Motion motion;                              ///< of the centre of mass
+    Pose pose;                                               ///< object -> world
+    Motion motion;                                           ///< of the centre of mass
     Eigen::Vector3d centerOfMass = Eigen::Vector3d::Zero();  ///< object space, m
-    double time = 0;                            ///< s, for moving water
+    double time = 0;                                         ///< s, for moving water
 };
 
 /// The C++ reference (double precision, every entry, no culling): the oracle the kernels are

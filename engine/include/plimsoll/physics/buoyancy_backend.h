@@ -28,8 +28,8 @@ struct BodyRequest {
 /// much passes through it, and the node it feeds.
 struct ExchangeSample {
     Eigen::Vector3d position = Eigen::Vector3d::Zero();  ///< object space, m
-    double weight = 0;           ///< permeability (0..1) x area, m^2
-    std::uint32_t node = 0;      ///< the node it feeds
+    double weight = 0;                                   ///< permeability (0..1) x area, m^2
+    std::uint32_t node = 0;                              ///< the node it feeds
 };
 
 /// One body's exchange pass for one frame. At a sample with outside depth d_out (below the
@@ -37,17 +37,17 @@ struct ExchangeSample {
 /// h = d_out - d_in drives |q| = factor w |h| (linear) or factor w sqrt|h| (Torricelli, factor
 /// = C_d sqrt(2 g)); h > 0 flows in, h < 0 out.
 struct ExchangeFrame {
-    Pose pose;                              ///< object -> world
-    double time = 0;                        ///< s, for moving water
-    std::span<const double> nodeSurface;    ///< world height of each node's water, m (-inf: none)
+    Pose pose;                            ///< object -> world
+    double time = 0;                      ///< s, for moving water
+    std::span<const double> nodeSurface;  ///< world height of each node's water, m (-inf: none)
     bool torricelli = false;
-    double factor = 1.0;                    ///< 1/s (linear) or m^0.5/s (Torricelli)
+    double factor = 1.0;  ///< 1/s (linear) or m^0.5/s (Torricelli)
 };
 
 /// Per-node sums of an exchange pass.
 struct ExchangeSums {
-    std::vector<double> inflow;      ///< m^3/s into each node
-    std::vector<double> outflow;     ///< m^3/s out of each node
+    std::vector<double> inflow;   ///< m^3/s into each node
+    std::vector<double> outflow;  ///< m^3/s out of each node
     /// Highest outside surface over the samples flowing into the node (world m; -inf: none).
     std::vector<double> outsideTop;
 };
@@ -100,10 +100,14 @@ enum class BackendKind {
 /// "reference", "fast-cpu", "opencl-cpu", "opencl-gpu": the kind as JSON and logs print it.
 constexpr const char* backendKindName(BackendKind kind) {
     switch (kind) {
-        case BackendKind::reference: return "reference";
-        case BackendKind::fastCpu: return "fast-cpu";
-        case BackendKind::openClCpu: return "opencl-cpu";
-        case BackendKind::openClGpu: return "opencl-gpu";
+        case BackendKind::reference:
+            return "reference";
+        case BackendKind::fastCpu:
+            return "fast-cpu";
+        case BackendKind::openClCpu:
+            return "opencl-cpu";
+        case BackendKind::openClGpu:
+            return "opencl-gpu";
     }
     return "reference";
 }

@@ -1,6 +1,7 @@
 // Time-domain radiation (Cummins 1962, "The impulse response function and ship motions"):
 //
-//   (M + A_inf) v' + int_0^t K(t - s) v(s) ds + C x = F,   K(t) = (2/pi) int_0^inf B(w) cos(w t) dw.
+//   (M + A_inf) v' + int_0^t K(t - s) v(s) ds + C x = F,   K(t) = (2/pi) int_0^inf B(w) cos(w t)
+//   dw.
 //
 // A_inf goes into the rigid body's mass matrix (MassDistribution::addedMass), never into a
 // force: an added-mass force computed from the acceleration is unstable for light bodies. The
@@ -37,7 +38,8 @@ double fittedAddedMass(const std::vector<MemoryTerm>& terms, double omega);
 /// Non-negative least-squares fit of the damping samples (omega rad/s, B > 0 expected) on a
 /// fixed basis of filters: frequencies log-spaced over the samples' range, damping ratios
 /// 0.25, 0.5 and 1; terms with no weight are dropped (typically 2-4 remain).
-std::vector<MemoryTerm> fitMemory(const std::vector<double>& omega, const std::vector<double>& damping);
+std::vector<MemoryTerm> fitMemory(const std::vector<double>& omega,
+                                  const std::vector<double>& damping);
 
 /// What the simulation needs of a body's radiation: body axes, about the centre of mass.
 struct CumminsModel {
@@ -59,7 +61,8 @@ MemoryState memoryStateFor(const CumminsModel& model);
 Vector6d memoryForce(const CumminsModel& model, const MemoryState& state);
 /// Advance every filter by dt with the body's generalised velocity over the step (body axes),
 /// backward Euler: unconditionally stable and dissipative, so the storage never grows either.
-void advanceMemory(const CumminsModel& model, MemoryState& state, const Vector6d& velocity, double dt);
+void advanceMemory(const CumminsModel& model, MemoryState& state, const Vector6d& velocity,
+                   double dt);
 /// Energy held in the filters (J): sum c/2 (x'^2 + w^2 x^2). Body energy plus this never grows.
 double memoryEnergy(const CumminsModel& model, const MemoryState& state);
 
@@ -77,6 +80,7 @@ double entrainedShare(double submergedVolume, double restVolume);
 /// grows the momentum is kept (the body drags the water along); the kinetic energy can only
 /// fall. The caller scales the memory's input and output by the same share, which keeps it
 /// passive.
-void applyAddedMass(const CumminsModel& model, double share, MassDistribution& mass, RigidBodyState& state);
+void applyAddedMass(const CumminsModel& model, double share, MassDistribution& mass,
+                    RigidBodyState& state);
 
 }  // namespace plimsoll

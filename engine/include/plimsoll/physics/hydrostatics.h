@@ -38,16 +38,16 @@ struct WaterGraph;
 /// A free surface inside the body: the water of a partly filled compartment, which moves to
 /// the low side as the body heels and so lowers the effective GM by rho_t i / (rho V).
 struct FreeSurface {
-    double density = 1000.0;     ///< of the liquid in the compartment, kg/m^3
-    double inertiaAboutX = 0;    ///< second moment of the surface about its own x axis, m^4
-    double inertiaAboutZ = 0;    ///< about its own z axis, m^4
+    double density = 1000.0;   ///< of the liquid in the compartment, kg/m^3
+    double inertiaAboutX = 0;  ///< second moment of the surface about its own x axis, m^4
+    double inertiaAboutZ = 0;  ///< about its own z axis, m^4
 };
 
 /// What floats: its mass and where it acts, the water it carries included.
 struct HydrostaticBody {
-    double mass = 0;                                       ///< kg, > 0
+    double mass = 0;                                         ///< kg, > 0
     Eigen::Vector3d centerOfMass = Eigen::Vector3d::Zero();  ///< object space, m
-    std::vector<FreeSurface> freeSurfaces;                 ///< partly filled compartments
+    std::vector<FreeSurface> freeSurfaces;                   ///< partly filled compartments
     /// Where water gets in: object-space points of the body's openings (the permeable texels
     /// of its water graph, an open hull's caps among them), m. Empty: the body is sealed and
     /// has no downflooding angle.
@@ -55,9 +55,9 @@ struct HydrostaticBody {
 };
 
 struct HydrostaticsSettings {
-    double density = 1000.0;             ///< of the water the body floats in, kg/m^3
-    double gravity = kStandardGravity;   ///< m/s^2 (enters only through the weight)
-    double gzStepDegrees = 5.0;          ///< spacing of the GZ curve, 0 < step <= 90
+    double density = 1000.0;            ///< of the water the body floats in, kg/m^3
+    double gravity = kStandardGravity;  ///< m/s^2 (enters only through the weight)
+    double gzStepDegrees = 5.0;         ///< spacing of the GZ curve, 0 < step <= 90
     /// Heel and trim step of the exact clip's metacentric derivatives: Richardson's
     /// extrapolation over this step and twice it cancels the tan^2 term of the wall-sided
     /// curve.
@@ -78,8 +78,8 @@ const char* hydrostaticsMethodName(HydrostaticsMethod method);
 /// One point of the righting-arm curve.
 struct RightingArm {
     double heelDegrees = 0;
-    double arm = 0;           ///< GZ, m: positive rights the body
-    double trimDegrees = 0;   ///< the free trim at that heel
+    double arm = 0;          ///< GZ, m: positive rights the body
+    double trimDegrees = 0;  ///< the free trim at that heel
 };
 
 /// KN = GZ + KG sin(phi) against heel at one displacement: the righting arm about the keel
@@ -114,20 +114,20 @@ struct StabilityCriteria {
 
 struct HydrostaticsResult {
     HydrostaticsMethod method = HydrostaticsMethod::Exact;
-    double displacement = 0;        ///< displaced volume at equilibrium, m^3 (= mass / rho)
-    double draft = 0;               ///< depth of the lowest point below the water, m
-    double trimDegrees = 0;         ///< equilibrium rotation about z
-    double heelDegrees = 0;         ///< equilibrium rotation about x
-    double waterplaneArea = 0;      ///< m^2
+    double displacement = 0;    ///< displaced volume at equilibrium, m^3 (= mass / rho)
+    double draft = 0;           ///< depth of the lowest point below the water, m
+    double trimDegrees = 0;     ///< equilibrium rotation about z
+    double heelDegrees = 0;     ///< equilibrium rotation about x
+    double waterplaneArea = 0;  ///< m^2
     Eigen::Vector3d centerOfFlotation = Eigen::Vector3d::Zero();  ///< object space, m
     /// Heights above the keel (the lowest point), along the vertical at equilibrium, m.
     double kb = 0, kg = 0;
-    double bmTransverse = 0, bmLongitudinal = 0;   ///< I_wp / V about x and about z, m
-    double gmTransverse = 0, gmLongitudinal = 0;   ///< KB + BM - KG, water held as solid, m
+    double bmTransverse = 0, bmLongitudinal = 0;  ///< I_wp / V about x and about z, m
+    double gmTransverse = 0, gmLongitudinal = 0;  ///< KB + BM - KG, water held as solid, m
     /// GM lost to the free surfaces, rho_t i / (rho V) summed, m; the effective GM is
     /// gm - loss.
     double freeSurfaceLossTransverse = 0, freeSurfaceLossLongitudinal = 0;
-    std::vector<RightingArm> gz;    ///< 0 .. 180 degrees of heel, free trim
+    std::vector<RightingArm> gz;  ///< 0 .. 180 degrees of heel, free trim
     /// First heel above the equilibrium where GZ turns from righting to capsizing: the
     /// equilibrium heel itself when no heel beyond it rights (negative GM, or neutral as a
     /// sphere), 180 when it rights all the way.

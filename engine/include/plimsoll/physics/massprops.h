@@ -18,8 +18,8 @@ namespace plimsoll {
 struct SurfaceTextures;
 
 struct MassProperties {
-    double mass = 0;                                       ///< kg
-    double volume = 0;                                     ///< enclosed volume, m^3
+    double mass = 0;                                         ///< kg
+    double volume = 0;                                       ///< enclosed volume, m^3
     Eigen::Vector3d centerOfMass = Eigen::Vector3d::Zero();  ///< object space, m
     /// Inertia tensor about the centre of mass, object axes, kg m^2 (products of inertia
     /// carry the minus sign: I = integral of (r.r Id - r r^T) dm).
@@ -37,7 +37,8 @@ MassProperties operator-(const MassProperties& a, const MassProperties& b);
 /// A solid of uniform `density` less the part `hollow` of its space that holds no material
 /// (given at density 1: mass = volume): an open hull's walls from its sealed body. `solid`
 /// unchanged when `hollow` has no mass.
-MassProperties withoutHollow(const MassProperties& solid, const MassProperties& hollow, double density);
+MassProperties withoutHollow(const MassProperties& solid, const MassProperties& hollow,
+                             double density);
 
 /// Solid of uniform density (kg/m^3) bounded by a closed, outward-oriented triangle mesh.
 MassProperties exactSolidMassProperties(const TriangleMesh& mesh, double density);

@@ -31,7 +31,14 @@ namespace plimsoll {
 using Matrix6d = Eigen::Matrix<double, 6, 6>;
 
 /// Mode indices of the 6 x 6 matrices.
-enum RadiationMode : int { kSurgeX = 0, kHeaveY = 1, kSwayZ = 2, kRollX = 3, kYawY = 4, kPitchZ = 5 };
+enum RadiationMode : int {
+    kSurgeX = 0,
+    kHeaveY = 1,
+    kSwayZ = 2,
+    kRollX = 3,
+    kYawY = 4,
+    kPitchZ = 5
+};
 
 /// One flat source panel of the wetted surface (a triangle below y = 0).
 struct RadiationPanel {
@@ -44,12 +51,13 @@ struct RadiationPanel {
 /// The part of `surface` (object space placed by `toWater`: water frame, y up, free surface
 /// y = 0) strictly below the free surface: every triangle clipped at y = 0, the part below kept.
 /// Triangles thinner than `minArea` (m^2) after clipping are dropped (they carry no force).
-std::vector<RadiationPanel> wettedPanels(const TriangleMesh& surface, const Eigen::Affine3d& toWater,
-                                         double minArea = 1e-12);
+std::vector<RadiationPanel> wettedPanels(const TriangleMesh& surface,
+                                         const Eigen::Affine3d& toWater, double minArea = 1e-12);
 
 /// The panels split at edge midpoints until no edge is longer than maxEdge (m): a coarse
 /// mesh (a box of 12 triangles) needs it before it resolves any flow.
-std::vector<RadiationPanel> refinedPanels(const std::vector<RadiationPanel>& panels, double maxEdge);
+std::vector<RadiationPanel> refinedPanels(const std::vector<RadiationPanel>& panels,
+                                          double maxEdge);
 
 /// The panels halved at their longest edge's midpoint until no edge is longer than maxEdge (m):
 /// a long thin face (the 1 x 0.25 m side of a box) is cut across its length only, where
@@ -78,7 +86,8 @@ TriangleMesh clusteredMesh(const TriangleMesh& mesh, double cell);
 /// bound (longer panels, down to the ear-clipped triangles themselves). A
 /// loop that runs the other way round (an opening in the waterplane, a moonpool) or a waterline
 /// that does not close gets none. Empty when no panel edge lies on y = 0.
-std::vector<RadiationPanel> waterplaneLid(const std::vector<RadiationPanel>& wetted, double maxEdge = 0);
+std::vector<RadiationPanel> waterplaneLid(const std::vector<RadiationPanel>& wetted,
+                                          double maxEdge = 0);
 
 /// Volume below y = 0 enclosed by the wetted panels and the waterplane (m^3): the divergence
 /// theorem on (0, y, 0), whose flux through the waterplane vanishes.
@@ -87,11 +96,12 @@ double wettedVolume(const std::vector<RadiationPanel>& panels);
 /// The height to raise (or lower, negative) `surface`, placed by `toWater`, so that it
 /// displaces `volume` (m^3): bisection on wettedVolume (orientation kept: upright trim and
 /// heel as placed). `volume` must lie between 0 and the enclosed volume.
-double equilibriumHeight(const TriangleMesh& surface, const Eigen::Affine3d& toWater, double volume);
+double equilibriumHeight(const TriangleMesh& surface, const Eigen::Affine3d& toWater,
+                         double volume);
 
 struct RadiationSettings {
-    double gravity = 9.81;   ///< m/s^2
-    double density = 1025;   ///< kg/m^3
+    double gravity = 9.81;  ///< m/s^2
+    double density = 1025;  ///< kg/m^3
     /// Source panels closer than this many times their longest edge to the field point (or to
     /// its mirror image in the free surface) get subdivided 3-point rules for the wave part;
     /// farther ones one point.

@@ -19,7 +19,7 @@ namespace plimsoll {
 
 /// What the integrators need of a body's mass properties (same conventions as MassProperties).
 struct MassDistribution {
-    double mass = 0;                                         ///< kg, > 0
+    double mass = 0;  ///< kg, > 0
     /// Inertia tensor about the centre of mass, object (body) axes, kg m^2; symmetric positive
     /// definite.
     Eigen::Matrix3d inertia = Eigen::Matrix3d::Zero();
@@ -37,7 +37,7 @@ struct RigidBodyState {
     Eigen::Vector3d position = Eigen::Vector3d::Zero();  ///< centre of mass, world, m
     /// Object -> world rotation, unit quaternion.
     Eigen::Quaterniond orientation = Eigen::Quaterniond::Identity();
-    Eigen::Vector3d linearMomentum = Eigen::Vector3d::Zero();   ///< world, kg m/s
+    Eigen::Vector3d linearMomentum = Eigen::Vector3d::Zero();  ///< world, kg m/s
     /// World axes, about the centre of mass, kg m^2/s.
     Eigen::Vector3d angularMomentum = Eigen::Vector3d::Zero();
 };

@@ -24,8 +24,7 @@ struct SubmergedVolumeCheck {
 /// mesh those textures were baked from) at the same pose. The exact reference exists only for
 /// flat water: for waves, pass the mean level.
 Result<SubmergedVolumeCheck> checkSubmergedVolume(BuoyancyBackend& backend, std::size_t bodyId,
-                                                  const TriangleMesh& mesh,
-                                                  const BodyFrame& frame, double waterLevel,
-                                                  const FluidSettings& fluid);
+                                                  const TriangleMesh& mesh, const BodyFrame& frame,
+                                                  double waterLevel, const FluidSettings& fluid);
 
 }  // namespace plimsoll

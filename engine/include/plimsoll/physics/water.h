@@ -15,11 +15,11 @@ inline constexpr double kStandardGravity = 9.81;  ///< m/s^2
 
 /// One Gerstner wave. Phase speed from deep-water dispersion: omega^2 = g k.
 struct GerstnerWave {
-    double amplitude = 0.1;                      ///< m
-    double wavelength = 10.0;                    ///< m (k = 2 pi / wavelength)
-    Eigen::Vector2d direction{1.0, 0.0};         ///< (x, z), normalised on use
-    double steepness = 0.5;                      ///< Q in 0..1: 0 = sine wave, 1 = sharp crests
-    double phase = 0.0;                          ///< rad
+    double amplitude = 0.1;               ///< m
+    double wavelength = 10.0;             ///< m (k = 2 pi / wavelength)
+    Eigen::Vector2d direction{1.0, 0.0};  ///< (x, z), normalised on use
+    double steepness = 0.5;               ///< Q in 0..1: 0 = sine wave, 1 = sharp crests
+    double phase = 0.0;                   ///< rad
 
     bool operator==(const GerstnerWave&) const = default;
 };
@@ -28,9 +28,9 @@ struct GerstnerWave {
 /// i along x, j along z; clamped at the edges. The water does not move horizontally.
 struct HeightGrid {
     int countX = 0, countZ = 0;
-    double spacing = 1.0;                        ///< m
+    double spacing = 1.0;                              ///< m
     Eigen::Vector2d origin = Eigen::Vector2d::Zero();  ///< (x, z) of sample (0, 0), m
-    std::vector<float> heights;                  ///< countX * countZ, row j = fixed z, m
+    std::vector<float> heights;                        ///< countX * countZ, row j = fixed z, m
 
     bool operator==(const HeightGrid&) const = default;
 };
@@ -38,10 +38,10 @@ struct HeightGrid {
 struct WaterModel {
     enum class Kind { Flat, Gerstner, HeightField };
     Kind kind = Kind::Flat;
-    double level = 0.0;                          ///< mean surface height, m (all kinds)
-    std::vector<GerstnerWave> waves;             ///< Gerstner: up to kMaxGerstnerWaves
-    HeightGrid grid;                             ///< HeightField: heights relative to `level`
-    double gravity = kStandardGravity;           ///< for the dispersion relation, m/s^2
+    double level = 0.0;                 ///< mean surface height, m (all kinds)
+    std::vector<GerstnerWave> waves;    ///< Gerstner: up to kMaxGerstnerWaves
+    HeightGrid grid;                    ///< HeightField: heights relative to `level`
+    double gravity = kStandardGravity;  ///< for the dispersion relation, m/s^2
 
     static WaterModel flat(double level) { return WaterModel{Kind::Flat, level, {}, {}}; }
     bool operator==(const WaterModel&) const = default;

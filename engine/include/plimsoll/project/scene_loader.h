@@ -22,8 +22,8 @@ namespace plimsoll {
 
 /// A body's mesh with the UVs it is baked with.
 struct PreparedBodyMesh {
-    TriangleMesh mesh;          ///< the first frame for a deforming body; atlas applied
-    AtlasChoice atlas;          ///< atlas.mesh is moved into `mesh` (left empty here)
+    TriangleMesh mesh;  ///< the first frame for a deforming body; atlas applied
+    AtlasChoice atlas;  ///< atlas.mesh is moved into `mesh` (left empty here)
     /// The repairs of the physics solid when the surface was not one closed solid as it is:
     /// `mesh` is then the solid, and `artist` the mesh as loaded (for its painted maps).
     std::vector<Repair> repairs;
@@ -43,8 +43,8 @@ Result<PreparedBodyMesh> prepareBodyMesh(const Project& project, std::size_t ind
 /// prepareBodyMesh for a mesh already loaded (in metres, as prepareBodyMesh loads it): an
 /// editor's. With `uvsChosen` the mesh already has the UVs the body bakes with (the atlas
 /// applied), and is used as it is unless it is repaired.
-Result<PreparedBodyMesh> prepareLoadedBodyMesh(const Project& project, std::size_t index, TriangleMesh loaded,
-                                               bool uvsChosen = false);
+Result<PreparedBodyMesh> prepareLoadedBodyMesh(const Project& project, std::size_t index,
+                                               TriangleMesh loaded, bool uvsChosen = false);
 
 /// What the artist painted and built for a body, in memory (read from the project's files, or
 /// an editor's edits): maps over the UVs of `paintedOver` (the artist's mesh with the UVs it is
@@ -63,8 +63,8 @@ struct BodyPaint {
 /// sealed ones impermeable, the space behind every cap kept out of a solid material
 /// (BodyParts::hollow) and the caps out of a shell (BodyParts::capTriangles). Frames are the
 /// caller's.
-Result<BodyParts> assembleBodyParts(BodyDesc& desc, PreparedBodyMesh prepared, const BodyPaint& paint,
-                                    const LogFunction& log = {});
+Result<BodyParts> assembleBodyParts(BodyDesc& desc, PreparedBodyMesh prepared,
+                                    const BodyPaint& paint, const LogFunction& log = {});
 
 /// The frames of deforming body `index` (mesh, then mesh_frames), checked against each other.
 Result<std::shared_ptr<const std::vector<TriangleMesh>>> loadBodyFrames(const Project& project,

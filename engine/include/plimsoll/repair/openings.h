@@ -44,6 +44,7 @@ struct BasinSettings {
 /// first (equal volumes by their seeds' x, then z, then y: an order of the mesh alone). Walls are
 /// the cells inside the solid and every cell its surface passes through, so thin walls hold water
 /// too. Enclosed voids (not reachable from outside) are not basins.
-std::vector<Basin> findBasins(const TriangleMesh& solid, double solidVolume, const BasinSettings& settings = {});
+std::vector<Basin> findBasins(const TriangleMesh& solid, double solidVolume,
+                              const BasinSettings& settings = {});
 
 }  // namespace plimsoll

@@ -106,7 +106,8 @@ struct RepairSettings {
 /// Builds the physics solid of `surface` (positions only; UVs are ignored). Fails, naming the
 /// mesh and saying why, when no solid can be made (no triangles, no area, everything open and
 /// nothing to wrap) or when the build has no CGAL.
-Result<PhysicsSolid> buildPhysicsSolid(const TriangleMesh& surface, const RepairSettings& settings = {});
+Result<PhysicsSolid> buildPhysicsSolid(const TriangleMesh& surface,
+                                       const RepairSettings& settings = {});
 
 /// The solid to bake for a validated surface: the surface itself, UVs and all, with no repairs,
 /// when its report shows a closed solid (UV problems aside; a mesh that needs no repair is

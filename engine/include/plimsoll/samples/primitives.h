@@ -38,10 +38,10 @@ TriangleMesh makeBuoy();
 /// the half-beam w is beam/2 aft of amidships and narrows to a fifth of it at the bow; the
 /// stern is a flat transom. Four UV charts: bottom and sides, deck, transom, bow.
 struct HullShape {
-    double length = 6.0;   ///< m, along z
-    double beam = 2.0;     ///< m, along x (aft of amidships)
-    double depth = 1.0;    ///< m, keel to deck
-    int stations = 48;     ///< sections along the length
+    double length = 6.0;       ///< m, along z
+    double beam = 2.0;         ///< m, along x (aft of amidships)
+    double depth = 1.0;        ///< m, keel to deck
+    int stations = 48;         ///< sections along the length
     int sectionSegments = 24;  ///< segments of each section's bottom curve
 };
 TriangleMesh makeHull(const HullShape& shape = {});

@@ -29,8 +29,8 @@ using HeaveCoefficients = std::function<std::pair<double, double>(double omega)>
 /// differences). The slope matters: the decaying oscillation samples A and B a little off the
 /// real axis, and for a hemisphere that adds 13% to the damping that B(w_n) alone would give.
 /// `naturalFrequency`, if given, receives w_n (rad/s).
-DecayFigures predictedHeaveDecay(const HeaveCoefficients& coefficients, double mass, double stiffness,
-                                 double* naturalFrequency = nullptr);
+DecayFigures predictedHeaveDecay(const HeaveCoefficients& coefficients, double mass,
+                                 double stiffness, double* naturalFrequency = nullptr);
 
 /// Period and decrement of a heave record (offsets from rest at equal steps dt): the period
 /// from the first three up-crossings (interpolated), the decrement from the extremes after the
@@ -51,7 +51,7 @@ struct HeaveDecayTest {
 /// its rest waterline, released `release` m below it at rest, with its radiation on
 /// (body.radiation must be computed) and drag and the damping stand-ins off so that radiation
 /// alone damps it; `periods` predicted periods at 1 ms steps on the fast CPU path.
-Result<HeaveDecayTest> runHeaveDecayTest(const Scene& scene, std::size_t body, double release = 0.02,
-                                         double periods = 6);
+Result<HeaveDecayTest> runHeaveDecayTest(const Scene& scene, std::size_t body,
+                                         double release = 0.02, double periods = 6);
 
 }  // namespace plimsoll

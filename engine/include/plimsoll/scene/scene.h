@@ -68,7 +68,7 @@ struct SceneBody {
     std::shared_ptr<const SurfaceTextures> textures;  ///< at desc.textureSize
     /// The bake's pieces, from which a deforming body's frames are regathered; null if rigid.
     std::shared_ptr<const SurfacePieceTable> pieces;
-    std::shared_ptr<const MassProperties> mass;       ///< of desc.material on `textures`
+    std::shared_ptr<const MassProperties> mass;  ///< of desc.material on `textures`
     /// Its wave radiation (scene_radiation.h), required when desc.radiates(); null otherwise.
     std::shared_ptr<const BodyRadiation> radiation;
     /// Its level ladder (level_ladder.h), coarsest first, the last `textures` itself at

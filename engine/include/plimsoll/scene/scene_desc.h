@@ -39,16 +39,16 @@ struct MaterialDesc {
 /// The water graph of a hollow or permeable body (graph.h; "water_graph" in a body). A body
 /// without one is sealed: no graph is computed for it.
 struct WaterGraphDesc {
-    std::string graph;                     ///< graph.json ("graph"), required
+    std::string graph;  ///< graph.json ("graph"), required
     /// Scale of the body's permeability_map ("permeability", 0..1): white is this value.
     double permeability = 1.0;
     InflowModel inflow = InflowModel::Linear;  ///< "inflow": "linear" or "torricelli"
-    double inflowRate = 1.0;               ///< "inflow_rate": linear factor, 1/s
-    double dischargeCoefficient = 0.6;     ///< "discharge_coefficient": Torricelli's C_d
-    FlowMode flow = FlowMode::Poiseuille;  ///< "flow": "poiseuille" or "diffusion"
-    double diffusionPressure = 1000.0;     ///< "diffusion_pressure": Pa at a full difference
-    bool freeSurface = false;              ///< "free_surface": water at each node's low side
-    int seed = 1;                          ///< "seed": findDischargeNode's neighbour order
+    double inflowRate = 1.0;                   ///< "inflow_rate": linear factor, 1/s
+    double dischargeCoefficient = 0.6;         ///< "discharge_coefficient": Torricelli's C_d
+    FlowMode flow = FlowMode::Poiseuille;      ///< "flow": "poiseuille" or "diffusion"
+    double diffusionPressure = 1000.0;         ///< "diffusion_pressure": Pa at a full difference
+    bool freeSurface = false;                  ///< "free_surface": water at each node's low side
+    int seed = 1;                              ///< "seed": findDischargeNode's neighbour order
 
     bool operator==(const WaterGraphDesc&) const = default;
 };
@@ -61,11 +61,11 @@ struct WaterGraphDesc {
 /// absent); `"radiation": false` or `{"enabled": false}` turns it off (the body then runs as
 /// before radiation existed, with the old linear_damping stand-in).
 struct RadiationDesc {
-    bool enabled = true;          ///< "enabled": false keeps the settings but runs without
+    bool enabled = true;  ///< "enabled": false keeps the settings but runs without
     /// "panel_edge": longest panel edge of the wetted surface, m (0: the cube root of the rest
     /// displacement over 2, resolvedRadiationDesc).
     double panelEdge = 0;
-    int frequencies = 16;         ///< "frequencies": samples of A(omega), B(omega)
+    int frequencies = 16;  ///< "frequencies": samples of A(omega), B(omega)
     /// "min_frequency", "max_frequency": rad/s (0: K L from 0.05 to 5, L half the cube root of
     /// the rest displacement).
     double minFrequency = 0;
@@ -140,12 +140,12 @@ struct BodyDesc {
     /// played at framesPerSecond and looped. Empty for a rigid body.
     std::vector<std::string> meshFrames;
     double framesPerSecond = 24.0;
-    int textureSize = 256;                 ///< physics texture, texels per side
+    int textureSize = 256;  ///< physics texture, texels per side
     /// An accuracy budget instead of a size ("tolerance"): the largest force error allowed
     /// against the exact clip, a share of rho g V. The bake picks the smallest texture size
     /// that meets it (level_ladder.h, chooseLevelForTolerance) and textureSize becomes it.
     std::optional<double> tolerance;
-    double maxTexelStretch = 4.0;          ///< sub-texel refinement (BakeSettings)
+    double maxTexelStretch = 4.0;  ///< sub-texel refinement (BakeSettings)
     /// Which UVs are baked ("atlas": "mesh", "auto" or "generate"). A generated atlas has the
     /// default AtlasSettings whatever textureSize is (so changing the physics texture size
     /// keeps the maps painted over it) and is cached beside the project (atlasCacheFile).
@@ -161,12 +161,12 @@ struct BodyDesc {
         return index < caps.size() && caps[index].mode ? *caps[index].mode : openings;
     }
     MaterialDesc material;
-    Eigen::Vector3d position = Eigen::Vector3d::Zero();          ///< R p + t: t, m
-    Eigen::Vector3d rotationDegrees = Eigen::Vector3d::Zero();   ///< Rz Ry Rx, degrees
-    Eigen::Vector3d velocity = Eigen::Vector3d::Zero();          ///< centre of mass, m/s
-    Eigen::Vector3d angularVelocity = Eigen::Vector3d::Zero();   ///< world, rad/s
-    double dragCoefficient = 1.0;          ///< C_d
-    double frictionCoefficient = 0.0;      ///< C_f (0: no skin friction)
+    Eigen::Vector3d position = Eigen::Vector3d::Zero();         ///< R p + t: t, m
+    Eigen::Vector3d rotationDegrees = Eigen::Vector3d::Zero();  ///< Rz Ry Rx, degrees
+    Eigen::Vector3d velocity = Eigen::Vector3d::Zero();         ///< centre of mass, m/s
+    Eigen::Vector3d angularVelocity = Eigen::Vector3d::Zero();  ///< world, rad/s
+    double dragCoefficient = 1.0;                               ///< C_d
+    double frictionCoefficient = 0.0;                           ///< C_f (0: no skin friction)
     /// Hydrodynamic damping standing in for wave radiation, which the pressure and drag terms
     /// do not model: -m lambda v and -lambda I w, scaled by the submerged share of the volume
     /// (1/s). Quadratic drag alone lets small bobbing die out only as 1/t; 0 turns it off.
@@ -217,24 +217,24 @@ inline double BodyDesc::standInAngularDamping(bool radiating) const {
 
 /// The fluid the bodies are in (below the surface) — water, or air for a balloon.
 struct MediumDesc {
-    std::string name = "water";            ///< "water" or "air" (informative)
-    double density = 1000.0;               ///< kg/m^3
-    double viscosity = 1.0e-3;             ///< dynamic viscosity, Pa s
+    std::string name = "water";  ///< "water" or "air" (informative)
+    double density = 1000.0;     ///< kg/m^3
+    double viscosity = 1.0e-3;   ///< dynamic viscosity, Pa s
 
     bool operator==(const MediumDesc&) const = default;
 };
 
 struct SimulationDesc {
     Eigen::Vector3d gravity{0.0, -9.81, 0.0};  ///< m/s^2
-    double timeStep = 1.0 / 60.0;          ///< s, one frame
-    int subSteps = 4;                      ///< integration steps per frame (at least)
+    double timeStep = 1.0 / 60.0;              ///< s, one frame
+    int subSteps = 4;                          ///< integration steps per frame (at least)
     /// More sub-steps are taken where a body's hydrostatic natural frequency omega (bounded
     /// from its bounding sphere) would make omega dt exceed this (rad). 0.5 keeps the
     /// symplectic step stable and its energy error within several percent; 0.025 keeps it
     /// within 1%, at 20 times the steps.
     double maxPhaseStep = 0.5;
     Integrator integrator = Integrator::SemiImplicitEuler;
-    double duration = 10.0;                ///< s, for headless runs
+    double duration = 10.0;  ///< s, for headless runs
     /// When a body at rest on calm water stops being computed (plimsoll_eval/sleep.hpp).
     plimsoll_eval::SleepSettings sleep;
 

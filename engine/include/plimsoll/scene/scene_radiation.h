@@ -31,13 +31,13 @@ inline constexpr std::size_t kMaxRadiationPanels = 2000;
 /// What the simulation and the `hydro` command need of a body's radiation. Object axes, the
 /// body upright as its mesh is modelled (heel and trim zero), moments about its centre of mass.
 struct BodyRadiation {
-    double restVolume = 0;        ///< displaced at rest, m^3 (mass / density)
-    double restHeight = 0;        ///< height of the object-space origin above the water at rest, m
-    double panelEdge = 0;         ///< the longest panel edge asked for, m
+    double restVolume = 0;  ///< displaced at rest, m^3 (mass / density)
+    double restHeight = 0;  ///< height of the object-space origin above the water at rest, m
+    double panelEdge = 0;   ///< the longest panel edge asked for, m
     std::size_t panelCount = 0;
     std::vector<RadiationCoefficients> coefficients;  ///< increasing omega
     Matrix6d addedMassInfinity = Matrix6d::Zero();
-    CumminsModel model;           ///< fitted to the above
+    CumminsModel model;  ///< fitted to the above
 };
 
 /// The settings with their automatic values filled in for a body that displaces `restVolume`:
@@ -51,9 +51,9 @@ std::string radiationKey(const SceneBody& body, const RadiationDesc& desc, const
 
 /// The body's wetted surface at rest as the panel method takes it, the settings resolved.
 struct RestRadiationSurface {
-    double restVolume = 0;   ///< m^3
-    double restHeight = 0;   ///< as BodyRadiation::restHeight
-    RadiationDesc resolved;  ///< resolvedRadiationDesc of the settings asked for
+    double restVolume = 0;                  ///< m^3
+    double restHeight = 0;                  ///< as BodyRadiation::restHeight
+    RadiationDesc resolved;                 ///< resolvedRadiationDesc of the settings asked for
     std::optional<RadiationSolver> solver;  ///< always set on success
 };
 

@@ -42,23 +42,23 @@ namespace plimsoll {
 /// A body as the simulation holds it.
 struct SimulatedBody {
     std::string name;
-    MassDistribution mass;          ///< current (changes for deforming bodies)
-    double volume = 0;              ///< enclosed volume, m^3 (texture)
+    MassDistribution mass;  ///< current (changes for deforming bodies)
+    double volume = 0;      ///< enclosed volume, m^3 (texture)
     RigidBodyState state;
-    SurfaceTextures textures;       ///< current surface samples, object space
-    double boundingRadius = 0;      ///< about the centre of mass, m
+    SurfaceTextures textures;   ///< current surface samples, object space
+    double boundingRadius = 0;  ///< about the centre of mass, m
     FluidSettings fluid;
-    double linearDamping = 0;       ///< 1/s, at full submersion, horizontal (BodyDesc)
-    double verticalDamping = 0;     ///< 1/s, the same along gravity
-    double angularDamping = 0;      ///< 1/s
-    BuoyancyResult buoyancy;        ///< at the start of the last step
+    double linearDamping = 0;    ///< 1/s, at full submersion, horizontal (BodyDesc)
+    double verticalDamping = 0;  ///< 1/s, the same along gravity
+    double angularDamping = 0;   ///< 1/s
+    BuoyancyResult buoyancy;     ///< at the start of the last step
     std::size_t backendId = 0;
     /// The object-space point the backend's entries are relative to: the centre of mass of
     /// the body without its water (= mass.centerOfMass for a body without a water graph).
     Eigen::Vector3d backendCenter = Eigen::Vector3d::Zero();
     bool deforms = false;
-    double water = 0;               ///< m^3 in the water graph now (0 without one)
-    bool asleep = false;            ///< at rest on calm water: not computed (world.h)
+    double water = 0;     ///< m^3 in the water graph now (0 without one)
+    bool asleep = false;  ///< at rest on calm water: not computed (world.h)
     /// Texels per side of the level its buoyancy is evaluated at now (the texture size for a
     /// body without a level ladder).
     int levelSize = 0;
@@ -109,16 +109,16 @@ struct LevelPolicy {
 
 /// Counters of what the world did and did not compute (for logs, tests and the editor).
 struct WorldStatistics {
-    std::size_t steps = 0;                 ///< integration steps (sub-steps)
-    std::size_t buoyancyEvaluations = 0;   ///< body evaluations sent to the backend
-    std::size_t skippedOutOfWater = 0;     ///< body-steps skipped by the bounding-sphere test
-    std::size_t massRecomputations = 0;    ///< mass properties computed after creation
-    std::size_t graphSteps = 0;            ///< water-graph steps (body-frames)
-    std::size_t waterCompositions = 0;     ///< body + water mass properties composed again
-    std::size_t sleepingBodyFrames = 0;    ///< body-frames a body slept through
-    std::size_t fallsAsleep = 0;           ///< times a body fell asleep
-    std::size_t wakeUps = 0;               ///< times a sleeping body woke
-    std::size_t levelSwitches = 0;         ///< times a body changed its level of detail
+    std::size_t steps = 0;                ///< integration steps (sub-steps)
+    std::size_t buoyancyEvaluations = 0;  ///< body evaluations sent to the backend
+    std::size_t skippedOutOfWater = 0;    ///< body-steps skipped by the bounding-sphere test
+    std::size_t massRecomputations = 0;   ///< mass properties computed after creation
+    std::size_t graphSteps = 0;           ///< water-graph steps (body-frames)
+    std::size_t waterCompositions = 0;    ///< body + water mass properties composed again
+    std::size_t sleepingBodyFrames = 0;   ///< body-frames a body slept through
+    std::size_t fallsAsleep = 0;          ///< times a body fell asleep
+    std::size_t wakeUps = 0;              ///< times a sleeping body woke
+    std::size_t levelSwitches = 0;        ///< times a body changed its level of detail
 };
 
 class World {
@@ -268,15 +268,15 @@ private:
     LevelPolicy levelPolicy_;
     std::vector<MaterialDesc> materials_;
     std::vector<std::shared_ptr<const PaintedMap>> shellDensityMaps_;  ///< per body, null: uniform
-    std::vector<ExternalForce> externalForces_;               ///< per body, empty if none
-    std::vector<plimsoll_eval::SleepState> sleep_;            ///< per body
+    std::vector<ExternalForce> externalForces_;                        ///< per body, empty if none
+    std::vector<plimsoll_eval::SleepState> sleep_;                     ///< per body
     std::vector<char> changedLastFrame_;        ///< per body: its graph moved water, or it deforms
     std::vector<Motion> frameStartVelocities_;  ///< per body, at the start of the frame
     WorldStatistics statistics_;
     double time_ = 0;
     bool reportedSkip_ = false;
     int reportedSubSteps_ = 0;
-    std::vector<BodyRequest> scratchRequests_;    ///< evaluateAll's per-step lists
+    std::vector<BodyRequest> scratchRequests_;  ///< evaluateAll's per-step lists
     std::vector<std::size_t> scratchBodies_;
     std::vector<BuoyancyResult> scratchResults_;
 };

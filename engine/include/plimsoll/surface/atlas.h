@@ -73,17 +73,16 @@ std::string meshUvRefusal(const ValidationReport& report);
 
 /// The UVs a body is baked with.
 struct AtlasChoice {
-    TriangleMesh mesh;       ///< the input, or the input with a generated atlas
+    TriangleMesh mesh;  ///< the input, or the input with a generated atlas
     bool generated = false;
-    std::size_t chartCount = 0;   ///< of a generated atlas
+    std::size_t chartCount = 0;  ///< of a generated atlas
     /// What the user should know ("" when the mesh's own UVs are used as they are).
     std::string notice;
 };
 
 /// Where a generated atlas comes from: generatePhysicsAtlas, or a cache of it
 /// (io/atlas_cache.h), so that painted maps stay attached to one atlas.
-using AtlasSource =
-    std::function<Result<PhysicsAtlas>(const TriangleMesh&, const AtlasSettings&)>;
+using AtlasSource = std::function<Result<PhysicsAtlas>(const TriangleMesh&, const AtlasSettings&)>;
 
 /// Applies `mode` to a validated mesh. Only UV problems matter here; whether the mesh is a
 /// closed solid is the caller's concern. A generated atlas comes from `source`

@@ -18,9 +18,9 @@ namespace plimsoll {
 ///
 /// Precondition (asserted): `deformed` has the triangles (vertex indices) and UVs of the mesh
 /// the table was baked from, and `textures` is that bake or an earlier regather of it. The
-/// asserts check the triangle and entry counts; loadMeshFrames (io/mesh_io.h) is what checks files a user
-/// gave. The vertices may move anywhere. The entries stay those of the bake: the islands and the
-/// sub-texel refinement chosen for the baked shape are kept, where a fresh bake of a strongly
+/// asserts check the triangle and entry counts; loadMeshFrames (io/mesh_io.h) is what checks files
+/// a user gave. The vertices may move anywhere. The entries stay those of the bake: the islands and
+/// the sub-texel refinement chosen for the baked shape are kept, where a fresh bake of a strongly
 /// stretched frame might refine other triangles.
 ///
 /// Meant to run every frame: it allocates nothing, and large tables are split over worker

@@ -23,12 +23,14 @@ static double now_seconds(void) {
 }
 
 /* World height of the centre of mass and the heel (angle of the object's y axis from up). */
-static void describe(const plimsoll_body_state* s, const plimsoll_mass* m, double* height, double* heel) {
+static void describe(const plimsoll_body_state* s, const plimsoll_mass* m, double* height,
+                     double* heel) {
     const double w = s->pose.orientation[0], x = s->pose.orientation[1], y = s->pose.orientation[2],
                  z = s->pose.orientation[3];
     const double* c = m->center_of_mass;
     /* Row 1 of the rotation matrix gives the world y of an object-space vector. */
-    const double r10 = 2 * (x * y + w * z), r11 = 1 - 2 * (x * x + z * z), r12 = 2 * (y * z - w * x);
+    const double r10 = 2 * (x * y + w * z), r11 = 1 - 2 * (x * x + z * z),
+                 r12 = 2 * (y * z - w * x);
     *height = s->pose.position[1] + r10 * c[0] + r11 * c[1] + r12 * c[2];
     *heel = acos(fmin(1.0, fmax(-1.0, r11))) * 180.0 / 3.14159265358979323846;
 }
@@ -46,7 +48,9 @@ static int replay(plimsoll_bundle* bundle, double seconds, const char* path) {
         plimsoll_simulation_destroy(simulation);
         return 1;
     }
-    fprintf(out, "time,body,x,y,z,qw,qx,qy,qz,vx,vy,vz,wx,wy,wz,submerged_volume,fx,fy,fz,mass,com_x,com_y,com_z\n");
+    fprintf(out,
+            "time,body,x,y,z,qw,qx,qy,qz,vx,vy,vz,wx,wy,wz,submerged_volume,fx,fy,fz,mass,com_x,"
+            "com_y,com_z\n");
     plimsoll_simulation_state s;
     plimsoll_simulation_state_query(simulation, &s);
     /* As plimsoll simulate counts its frames: ceil(seconds / time_step), less a hair. */
@@ -59,13 +63,16 @@ static int replay(plimsoll_bundle* bundle, double seconds, const char* path) {
             break;
         }
         plimsoll_simulation_state_query(simulation, &s);
-        fprintf(out, "%.10g,%s,%.10g,%.10g,%.10g,%.10g,%.10g,%.10g,%.10g,%.10g,%.10g,%.10g,%.10g,%.10g,%.10g,"
-                     "%.10g,%.10g,%.10g,%.10g,%.10g,%.10g,%.10g,%.10g\n",
+        fprintf(out,
+                "%.10g,%s,%.10g,%.10g,%.10g,%.10g,%.10g,%.10g,%.10g,%.10g,%.10g,%.10g,%.10g,%.10g,%"
+                ".10g,"
+                "%.10g,%.10g,%.10g,%.10g,%.10g,%.10g,%.10g,%.10g\n",
                 s.time, plimsoll_bundle_body(bundle), s.center_of_mass[0], s.center_of_mass[1],
-                s.center_of_mass[2], s.orientation[0], s.orientation[1], s.orientation[2], s.orientation[3],
-                s.velocity[0], s.velocity[1], s.velocity[2], s.angular_velocity[0], s.angular_velocity[1],
-                s.angular_velocity[2], s.submerged_volume, s.buoyant_force[0], s.buoyant_force[1],
-                s.buoyant_force[2], s.mass, s.local_center_of_mass[0], s.local_center_of_mass[1],
+                s.center_of_mass[2], s.orientation[0], s.orientation[1], s.orientation[2],
+                s.orientation[3], s.velocity[0], s.velocity[1], s.velocity[2],
+                s.angular_velocity[0], s.angular_velocity[1], s.angular_velocity[2],
+                s.submerged_volume, s.buoyant_force[0], s.buoyant_force[1], s.buoyant_force[2],
+                s.mass, s.local_center_of_mass[0], s.local_center_of_mass[1],
                 s.local_center_of_mass[2]);
     }
     if (fclose(out) != 0 && status == 0) {
@@ -115,14 +122,17 @@ int main(int argc, char** argv) {
     const plimsoll_fluid fluid = plimsoll_bundle_default_fluid(bundle);
     plimsoll_bundle_size size = {sizeof(plimsoll_bundle_size)};
     plimsoll_bundle_size_query(bundle, &size);
-    printf("runtime %d.%d.%d, bundle schema %s; body '%s': %zu samples, %.0f kB shipped, mass %.3f kg, "
-           "volume %.4f m^3, %zu water graph nodes\n",
-           major, minor, patch, plimsoll_runtime_schema_version(), plimsoll_bundle_body(bundle),
-           size.samples, size.file_bytes / 1024.0, body.mass, body.volume, size.graph_nodes);
+    printf(
+        "runtime %d.%d.%d, bundle schema %s; body '%s': %zu samples, %.0f kB shipped, mass %.3f "
+        "kg, "
+        "volume %.4f m^3, %zu water graph nodes\n",
+        major, minor, patch, plimsoll_runtime_schema_version(), plimsoll_bundle_body(bundle),
+        size.samples, size.file_bytes / 1024.0, body.mass, body.volume, size.graph_nodes);
 
     /* Let go with the object origin on the water and a 10 degree heel about z. */
     const double heel0 = 10.0 * 3.14159265358979323846 / 180.0;
-    plimsoll_body_state state = {{{0, 0, 0}, {cos(heel0 / 2), 0, 0, sin(heel0 / 2)}}, {{0, 0, 0}, {0, 0, 0}}};
+    plimsoll_body_state state = {{{0, 0, 0}, {cos(heel0 / 2), 0, 0, sin(heel0 / 2)}},
+                                 {{0, 0, 0}, {0, 0, 0}}};
     const plimsoll_water water = {0.0, NULL, NULL, NULL};
     const double dt = 1.0 / 240.0;
     const int steps = (int)(seconds / dt + 0.5);
@@ -142,7 +152,8 @@ int main(int argc, char** argv) {
             plimsoll_bundle_destroy(bundle);
             return 1;
         }
-        if (step % 120 == 0) printf("t %6.2f s  height %+.4f m  heel %6.2f deg\n", step * dt, height, heel);
+        if (step % 120 == 0)
+            printf("t %6.2f s  height %+.4f m  heel %6.2f deg\n", step * dt, height, heel);
         if (step == steps) break;
         const double before = now_seconds();
         if (!plimsoll_instance_step(instance, &state, &water, &fluid, step * dt, dt)) {
@@ -154,8 +165,8 @@ int main(int argc, char** argv) {
         stepSeconds += now_seconds() - before;
     }
     /* Wall clock, for orientation only (plimsoll bench is where speed is measured). */
-    printf("step: %.1f us wall per call over %d calls (%zu samples)\n", 1e6 * stepSeconds / (steps > 0 ? steps : 1),
-           steps, size.samples);
+    printf("step: %.1f us wall per call over %d calls (%zu samples)\n",
+           1e6 * stepSeconds / (steps > 0 ? steps : 1), steps, size.samples);
     plimsoll_instance_destroy(instance);
     plimsoll_bundle_destroy(bundle);
     return 0;

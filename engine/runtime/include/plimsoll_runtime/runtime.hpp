@@ -47,14 +47,14 @@ struct Quat {
 };
 
 struct Pose {
-    Vec3 position;        ///< world position of the object's origin, m
+    Vec3 position;  ///< world position of the object's origin, m
     Quat orientation;
 };
 
 /// Velocity of the body's centre of mass and its angular velocity, world axes.
 struct Velocity {
-    Vec3 linear;          ///< m/s
-    Vec3 angular;         ///< rad/s
+    Vec3 linear;   ///< m/s
+    Vec3 angular;  ///< rad/s
 };
 
 /// The water surface y = height(x, z, t) and, optionally, the water's own velocity at a point
@@ -72,8 +72,8 @@ struct Water {
     /// Many velocities in one call, out[3 i + 0..2] the water's velocity at (x[i], y[i], z[i]):
     /// evaluate() asks for every point it needs (one per wet tile) at once. When set it is used
     /// instead of `velocity`.
-    std::function<void(std::size_t n, const double* x, const double* y, const double* z, double time,
-                       double* out)>
+    std::function<void(std::size_t n, const double* x, const double* y, const double* z,
+                       double time, double* out)>
         velocities;
 
     double heightAt(double x, double z, double time) const {
@@ -89,41 +89,41 @@ struct Water {
 /// The fluid and the drag model's coefficients. loadBundle fills dragCoefficient and
 /// frictionCoefficient from the manifest's `hydrodynamics`; the rest is the caller's world.
 struct Fluid {
-    double density = 1000.0;             ///< kg/m^3
-    double gravity = 9.81;               ///< m/s^2, along -y
-    double dragCoefficient = 1.0;        ///< C_d of pressure drag
-    double frictionCoefficient = 0.0;    ///< C_f of skin friction (0 = off)
+    double density = 1000.0;           ///< kg/m^3
+    double gravity = 9.81;             ///< m/s^2, along -y
+    double dragCoefficient = 1.0;      ///< C_d of pressure drag
+    double frictionCoefficient = 0.0;  ///< C_f of skin friction (0 = off)
 };
 
 /// What evaluate() returns: the engine's BuoyancyResult (plimsoll/physics/buoyancy.h).
 struct Forces {
-    double submergedVolume = 0;          ///< m^3
-    Vec3 centerOfBuoyancy;               ///< world, m (the centre of mass when dry)
-    Vec3 force;                          ///< Archimedes: (0, rho g V, 0), N
-    Vec3 torque;                         ///< (C_B - c) x force, N m
-    Vec3 pressureForce;                  ///< -sum p_i A_i, N
-    Vec3 pressureTorque;                 ///< N m
-    Vec3 dragForce;                      ///< N
-    Vec3 dragTorque;                     ///< N m
-    double wettedArea = 0;               ///< m^2
+    double submergedVolume = 0;  ///< m^3
+    Vec3 centerOfBuoyancy;       ///< world, m (the centre of mass when dry)
+    Vec3 force;                  ///< Archimedes: (0, rho g V, 0), N
+    Vec3 torque;                 ///< (C_B - c) x force, N m
+    Vec3 pressureForce;          ///< -sum p_i A_i, N
+    Vec3 pressureTorque;         ///< N m
+    Vec3 dragForce;              ///< N
+    Vec3 dragTorque;             ///< N m
+    double wettedArea = 0;       ///< m^2
     std::size_t submergedSamples = 0;
 };
 
 /// Mass properties (about the centre of mass, object axes; products of inertia with the minus
 /// sign: I = integral of (r.r Id - r r^T) dm).
 struct MassProperties {
-    double mass = 0;                     ///< kg
-    double volume = 0;                   ///< m^3
-    Vec3 centerOfMass;                   ///< object space, m
+    double mass = 0;                                           ///< kg
+    double volume = 0;                                         ///< m^3
+    Vec3 centerOfMass;                                         ///< object space, m
     double inertia[3][3] = {{0, 0, 0}, {0, 0, 0}, {0, 0, 0}};  ///< kg m^2
 };
 
 /// One entry of samples.exr: the list every sum runs over.
 struct Sample {
-    std::uint32_t texel = 0;             ///< y * N + x
-    Vec3 position;                       ///< object space, m
-    Vec3 areaVector;                     ///< outward, m^2
-    double area = 0;                     ///< m^2
+    std::uint32_t texel = 0;  ///< y * N + x
+    Vec3 position;            ///< object space, m
+    Vec3 areaVector;          ///< outward, m^2
+    double area = 0;          ///< m^2
     double coverage = 0;
 };
 
@@ -132,43 +132,43 @@ struct Sample {
 
 struct GraphNode {
     std::string id, name;
-    Vec3 position;                       ///< object space, m
-    double capacity = 0;                 ///< m^3
-    double water = 0;                    ///< m^3
+    Vec3 position;        ///< object space, m
+    double capacity = 0;  ///< m^3
+    double water = 0;     ///< m^3
     bool sealed = false;
-    Vec3 box;                            ///< box edges (m); all zero: a sphere of the capacity
+    Vec3 box;  ///< box edges (m); all zero: a sphere of the capacity
     bool isBox() const { return box.x > 0 && box.y > 0 && box.z > 0; }
 };
 
 struct GraphPipe {
     std::string a, b;
-    int nodeA = -1, nodeB = -1;          ///< indices of a and b
-    double radius = 0.01;                ///< m
-    double length = 0;                   ///< m; 0 = distance between the nodes
+    int nodeA = -1, nodeB = -1;  ///< indices of a and b
+    double radius = 0.01;        ///< m
+    double length = 0;           ///< m; 0 = distance between the nodes
     bool open = true;
 };
 
 /// The simulation's settings: the manifest's `water_graph` (inflow, flow, seed, ...); the
 /// medium (density, viscosity, gravity) is the caller's world, as for Fluid.
 struct GraphSettings {
-    bool torricelli = false;             ///< inflow model: false = linear
-    double inflowRate = 1.0;             ///< linear: 1/s
-    double dischargeCoefficient = 0.6;   ///< Torricelli: C_d
-    bool diffusion = false;              ///< flow model: false = Poiseuille
-    double diffusionPressure = 1000.0;   ///< Pa
+    bool torricelli = false;            ///< inflow model: false = linear
+    double inflowRate = 1.0;            ///< linear: 1/s
+    double dischargeCoefficient = 0.6;  ///< Torricelli: C_d
+    bool diffusion = false;             ///< flow model: false = Poiseuille
+    double diffusionPressure = 1000.0;  ///< Pa
     bool freeSurface = false;
     std::uint64_t seed = 1;
-    double permeability = 1.0;           ///< scale of the permeability map
-    double density = 1000.0;             ///< kg/m^3
-    double viscosity = 1.0e-3;           ///< Pa s
-    double gravity = 9.81;               ///< m/s^2
+    double permeability = 1.0;  ///< scale of the permeability map
+    double density = 1000.0;    ///< kg/m^3
+    double viscosity = 1.0e-3;  ///< Pa s
+    double gravity = 9.81;      ///< m/s^2
 };
 
 /// Per-node water flow through the surface for one pose (m^3/s), before any limiting.
 struct NodeInflow {
     std::vector<double> inflow;
     std::vector<double> outflow;
-    std::vector<double> outsideTop;      ///< highest outside surface feeding in (-inf: none)
+    std::vector<double> outsideTop;  ///< highest outside surface feeding in (-inf: none)
 };
 
 class Bundle;
@@ -266,7 +266,7 @@ public:
 private:
     const GraphLayout* layout_;
     GraphSettings settings_;
-    struct Step;                  ///< the evaluation core's state (graph.cpp)
+    struct Step;  ///< the evaluation core's state (graph.cpp)
     std::unique_ptr<Step> step_;
 };
 
@@ -307,19 +307,19 @@ struct Radiation {
 struct WaterModel {
     enum class Kind { Flat, Gerstner, HeightGrid };
     struct Wave {
-        double amplitude = 0.1;              ///< m
-        double wavelength = 10.0;            ///< m
-        double direction[2] = {1.0, 0.0};    ///< (x, z), normalised on use
-        double steepness = 0.5;              ///< 0..1
-        double phase = 0.0;                  ///< rad
+        double amplitude = 0.1;            ///< m
+        double wavelength = 10.0;          ///< m
+        double direction[2] = {1.0, 0.0};  ///< (x, z), normalised on use
+        double steepness = 0.5;            ///< 0..1
+        double phase = 0.0;                ///< rad
     };
     Kind kind = Kind::Flat;
-    double level = 0.0;                      ///< mean height, m
-    std::vector<Wave> waves;                 ///< Gerstner
-    int countX = 0, countZ = 0;              ///< HeightGrid: samples along x and z
+    double level = 0.0;          ///< mean height, m
+    std::vector<Wave> waves;     ///< Gerstner
+    int countX = 0, countZ = 0;  ///< HeightGrid: samples along x and z
     double spacing = 1.0, originX = 0.0, originZ = 0.0;
-    std::vector<float> heights;              ///< countX * countZ, row = fixed z, relative to level
-    double gravity = 9.81;                   ///< for the waves' dispersion, m/s^2
+    std::vector<float> heights;  ///< countX * countZ, row = fixed z, relative to level
+    double gravity = 9.81;       ///< for the waves' dispersion, m/s^2
 
     double height(double x, double z, double time) const;
     Vec3 velocity(const Vec3& point, double time) const;
@@ -333,16 +333,16 @@ struct WaterModel {
 /// World simulates it in. `present` is false for a bundle before 1.4 (the defaults below).
 struct BundleWorld {
     bool present = false;
-    double density = 1000.0;                 ///< the medium's, kg/m^3
-    double viscosity = 1.0e-3;               ///< Pa s
-    Vec3 gravity{0, -9.81, 0};               ///< m/s^2
+    double density = 1000.0;    ///< the medium's, kg/m^3
+    double viscosity = 1.0e-3;  ///< Pa s
+    Vec3 gravity{0, -9.81, 0};  ///< m/s^2
     WaterModel water;
-    double timeStep = 1.0 / 60.0;            ///< s, one frame
-    int subSteps = 4;                        ///< at least, per frame
-    double maxPhaseStep = 0.5;               ///< rad (World's rule for more sub-steps)
+    double timeStep = 1.0 / 60.0;  ///< s, one frame
+    int subSteps = 4;              ///< at least, per frame
+    double maxPhaseStep = 0.5;     ///< rad (World's rule for more sub-steps)
     std::string integrator = "semi-implicit-euler";
-    Pose startPose;                          ///< the object origin's world pose
-    Velocity startVelocity;                  ///< of the centre of mass (with its water)
+    Pose startPose;          ///< the object origin's world pose
+    Velocity startVelocity;  ///< of the centre of mass (with its water)
     /// When a body at rest on calm water sleeps (manifest "world.simulation.sleep", schema 1.5;
     /// docs/design.md "Sleeping bodies"). Off for a bundle before 1.5, whose editor had no
     /// sleeping bodies.
@@ -488,7 +488,8 @@ struct FileCallbacks {
     std::function<long long(void* file)> size;
     /// Reads up to `bytes` bytes at `offset` into `buffer`: how many were read, 0 at the end,
     /// negative on an error.
-    std::function<long long(void* file, std::uint64_t offset, void* buffer, std::size_t bytes)> read;
+    std::function<long long(void* file, std::uint64_t offset, void* buffer, std::size_t bytes)>
+        read;
     /// Closes a file open() returned (called once for each).
     std::function<void(void* file)> close;
 };
@@ -504,9 +505,9 @@ std::unique_ptr<Bundle> loadBundleWithCallbacks(const FileCallbacks& callbacks,
 /// What the water does to a body in one step, to add to the physics engine's gravity: forces
 /// at the centre of mass (world axes) and torques about it.
 struct WaterLoad {
-    Vec3 force;        ///< buoyancy + drag + damping + the weight of water inside, N
-    Vec3 torque;       ///< N m
-    Forces forces;     ///< evaluate()'s result the load was made of
+    Vec3 force;            ///< buoyancy + drag + damping + the weight of water inside, N
+    Vec3 torque;           ///< N m
+    Forces forces;         ///< evaluate()'s result the load was made of
     double waterMass = 0;  ///< kg of water inside (its weight is in `force`)
 };
 
