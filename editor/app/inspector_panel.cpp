@@ -453,6 +453,92 @@ void capsSection(EditorState& s, std::size_t b, const BodyDesc& body) {
     }
 }
 
+/// The body's material: preset, density, shell, drag, openings and caps, and its maps.
+void materialSection(EditorState& s, std::size_t b, const std::string& base, const BodyDesc& body,
+                     const BodyAssets& assets) {
+    materialPresetCombo(s, b, body.material);
+    if (body.material.density) {
+        numberField(s, "Density (kg/m3)", base + "/material/density", *body.material.density,
+                    "%.4g", "Mass per volume of the solid body.");
+    }
+    if (body.material.shellSurfaceDensity) {
+        numberField(s, "Shell (kg/m2)", base + "/material/shell/surface_density",
+                    *body.material.shellSurfaceDensity, "%.4g",
+                    "Mass per area of the hull's skin (scaled by the density and thickness maps).");
+    } else {
+        const bool add = ImGui::Button("Add shell (1 kg/m2)");
+        tooltip(
+            "Give the body a hull skin of 1 kg/m2: its density and thickness maps can then be "
+            "painted");
+        if (add) {
+            s.inspector->deferred.push_back([&s, base] {
+                s.execute(makeSetPropertyCommand(*s.document, base + "/material/shell",
+                                                 nlohmann::json{{"surface_density", 1.0}}));
+            });
+        }
+    }
+    numberField(s, "Drag Cd", base + "/drag_coefficient", body.dragCoefficient, "%.4g",
+                "Drag coefficient of the wetted surface (dimensionless).");
+    // An open hull's or container's openings: capped and flooding, sealed, or left open.
+    int openings = static_cast<int>(body.openings);
+    if (ImGui::Combo("Openings", &openings,
+                     "open (caps let water in)\0sealed (a deck)\0none (as modelled)\0")) {
+        const char* name = openingsModeName(static_cast<OpeningsMode>(openings));
+        s.inspector->deferred.push_back([&s, base, name] {
+            s.execute(
+                makeSetPropertyCommand(*s.document, base + "/openings", nlohmann::json(name)));
+        });
+    }
+    tooltip(
+        "What becomes of the openings of an open hull or container (space that holds water "
+        "poured in "
+        "from above), for caps not set below: a level cap at the rim's lowest point that lets "
+        "water into "
+        "a compartment behind it, a cap that lets none in, or the surface as it is (floats "
+        "swamped)");
+    if (body.openings != OpeningsMode::None) capsSection(s, b, body);
+    for (MapChannel c : kMapChannels) {
+        const std::string& path = channelPath(body, c);
+        const PaintedMap* map = s.document->map(b, c);
+        if (map) {
+            ImGui::Text("%s map: %s (%dx%d%s)", channelName(c), path.c_str(), map->width,
+                        map->height, assets.maps[int(c)].dirty ? ", unsaved" : "");
+        } else {
+            ImGui::TextDisabled("%s map: none", channelName(c));
+        }
+    }
+}
+
+/// The texture's mass properties beside the exact ones.
+void massPropertiesSection(const BodyInfo& info) {
+    if (!ImGui::CollapsingHeader("Mass properties", ImGuiTreeNodeFlags_DefaultOpen) ||
+        !info.hasFigures || !info.figures.texture)
+        return;
+    const MassProperties& t = *info.figures.texture;
+    const MassProperties& e = *info.figures.exact;
+    if (info.ofSolid)
+        ImGui::TextDisabled(
+            "Of the physics solid the simulation uses: walls only, caps and the space behind "
+            "them no mass");
+    ImGui::Text("Volume  %.6f m3 (exact %.6f, %.2e rel)", t.volume, e.volume,
+                std::abs(t.volume - e.volume) / std::max(e.volume, 1e-300));
+    ImGui::Text("Mass    %.4f kg", t.mass);
+    if (info.figures.exactApplies) {
+        ImGui::Text("        exact %.4f kg (%.2e rel)", e.mass,
+                    std::abs(t.mass - e.mass) / std::max(e.mass, 1e-300));
+    } else {
+        ImGui::TextDisabled("        painted shell: no exact reference");
+    }
+    ImGui::Text("CoM     %.4f %.4f %.4f m", t.centerOfMass.x(), t.centerOfMass.y(),
+                t.centerOfMass.z());
+    ImGui::Text("        exact %.4f %.4f %.4f (|d| %.2e m)", e.centerOfMass.x(), e.centerOfMass.y(),
+                e.centerOfMass.z(), (t.centerOfMass - e.centerOfMass).norm());
+    ImGui::Text("Inertia diag %.4g %.4g %.4g kg m2", t.inertia(0, 0), t.inertia(1, 1),
+                t.inertia(2, 2));
+    ImGui::Text("        rel. difference %.2e",
+                (t.inertia - e.inertia).norm() / std::max(e.inertia.norm(), 1e-300));
+}
+
 }  // namespace
 
 void drawInspectorPanel(EditorState& s, const Rect& area) {
@@ -525,87 +611,9 @@ void drawInspectorPanel(EditorState& s, const Rect& area) {
             ImGui::TextDisabled("Covered texels: computing...");
         }
     }
-    if (ImGui::CollapsingHeader("Material", ImGuiTreeNodeFlags_DefaultOpen)) {
-        materialPresetCombo(s, b, body.material);
-        if (body.material.density) {
-            numberField(s, "Density (kg/m3)", base + "/material/density", *body.material.density,
-                        "%.4g", "Mass per volume of the solid body.");
-        }
-        if (body.material.shellSurfaceDensity) {
-            numberField(
-                s, "Shell (kg/m2)", base + "/material/shell/surface_density",
-                *body.material.shellSurfaceDensity, "%.4g",
-                "Mass per area of the hull's skin (scaled by the density and thickness maps).");
-        } else {
-            const bool add = ImGui::Button("Add shell (1 kg/m2)");
-            tooltip(
-                "Give the body a hull skin of 1 kg/m2: its density and thickness maps can then be "
-                "painted");
-            if (add) {
-                s.inspector->deferred.push_back([&s, base] {
-                    s.execute(makeSetPropertyCommand(*s.document, base + "/material/shell",
-                                                     nlohmann::json{{"surface_density", 1.0}}));
-                });
-            }
-        }
-        numberField(s, "Drag Cd", base + "/drag_coefficient", body.dragCoefficient, "%.4g",
-                    "Drag coefficient of the wetted surface (dimensionless).");
-        // An open hull's or container's openings: capped and flooding, sealed, or left open.
-        int openings = static_cast<int>(body.openings);
-        if (ImGui::Combo("Openings", &openings,
-                         "open (caps let water in)\0sealed (a deck)\0none (as modelled)\0")) {
-            const char* name = openingsModeName(static_cast<OpeningsMode>(openings));
-            s.inspector->deferred.push_back([&s, base, name] {
-                s.execute(
-                    makeSetPropertyCommand(*s.document, base + "/openings", nlohmann::json(name)));
-            });
-        }
-        tooltip(
-            "What becomes of the openings of an open hull or container (space that holds water "
-            "poured in "
-            "from above), for caps not set below: a level cap at the rim's lowest point that lets "
-            "water into "
-            "a compartment behind it, a cap that lets none in, or the surface as it is (floats "
-            "swamped)");
-        if (body.openings != OpeningsMode::None) capsSection(s, b, body);
-        for (MapChannel c : kMapChannels) {
-            const std::string& path = channelPath(body, c);
-            const PaintedMap* map = s.document->map(b, c);
-            if (map) {
-                ImGui::Text("%s map: %s (%dx%d%s)", channelName(c), path.c_str(), map->width,
-                            map->height, assets.maps[int(c)].dirty ? ", unsaved" : "");
-            } else {
-                ImGui::TextDisabled("%s map: none", channelName(c));
-            }
-        }
-    }
-    if (ImGui::CollapsingHeader("Mass properties", ImGuiTreeNodeFlags_DefaultOpen) &&
-        info.hasFigures && info.figures.texture) {
-        const MassProperties& t = *info.figures.texture;
-        const MassProperties& e = *info.figures.exact;
-        if (info.ofSolid)
-            ImGui::TextDisabled(
-                "Of the physics solid the simulation uses: walls only, caps and the space behind "
-                "them no mass");
-        ImGui::Text("Volume  %.6f m3 (exact %.6f, %.2e rel)", t.volume, e.volume,
-                    std::abs(t.volume - e.volume) / std::max(e.volume, 1e-300));
-        ImGui::Text("Mass    %.4f kg", t.mass);
-        if (info.figures.exactApplies) {
-            ImGui::Text("        exact %.4f kg (%.2e rel)", e.mass,
-                        std::abs(t.mass - e.mass) / std::max(e.mass, 1e-300));
-        } else {
-            ImGui::TextDisabled("        painted shell: no exact reference");
-        }
-        ImGui::Text("CoM     %.4f %.4f %.4f m", t.centerOfMass.x(), t.centerOfMass.y(),
-                    t.centerOfMass.z());
-        ImGui::Text("        exact %.4f %.4f %.4f (|d| %.2e m)", e.centerOfMass.x(),
-                    e.centerOfMass.y(), e.centerOfMass.z(),
-                    (t.centerOfMass - e.centerOfMass).norm());
-        ImGui::Text("Inertia diag %.4g %.4g %.4g kg m2", t.inertia(0, 0), t.inertia(1, 1),
-                    t.inertia(2, 2));
-        ImGui::Text("        rel. difference %.2e",
-                    (t.inertia - e.inertia).norm() / std::max(e.inertia.norm(), 1e-300));
-    }
+    if (ImGui::CollapsingHeader("Material", ImGuiTreeNodeFlags_DefaultOpen))
+        materialSection(s, b, base, body, assets);
+    massPropertiesSection(info);
     ImGui::End();
 }
 

@@ -38,19 +38,22 @@ int paeth(int a, int b, int c) {
     return pb <= pc ? b : c;
 }
 
-}  // namespace
+/// What IHDR declares.
+struct PngHeader {
+    std::uint32_t width = 0, height = 0;
+    int depth = 0, colour = -1, interlace = 0;
+};
 
-bool decodePng(const std::string& bytes, GreyImage& out, std::string& error) {
+/// Walks the chunks from the signature to IEND: each inside the file with its CRC, IHDR first
+/// and 13 bytes long; IHDR read into `header`, the IDAT chunks' data joined into `idat`.
+bool readChunks(const std::string& bytes, PngHeader& header, std::string& idat,
+                std::string& error) {
     static const char kSignature[] = "\x89PNG\r\n\x1a\n";
     if (bytes.size() < 8 || bytes.compare(0, 8, kSignature, 8) != 0) {
         error = "not a PNG file";
         return false;
     }
     std::size_t at = 8;
-    std::uint32_t width = 0, height = 0;
-    int depth = 0, colour = -1, interlace = 0;
-    std::string idat;
-    bool sawEnd = false;
     while (at + 12 <= bytes.size()) {
         const std::uint32_t length = be32(bytes, at);
         const std::string type = chunkName(bytes.substr(at + 4, 4));
@@ -71,25 +74,27 @@ bool decodePng(const std::string& bytes, GreyImage& out, std::string& error) {
             return false;
         }
         if (type == "IHDR") {
-            width = be32(bytes, data);
-            height = be32(bytes, data + 4);
-            depth = static_cast<unsigned char>(bytes[data + 8]);
-            colour = static_cast<unsigned char>(bytes[data + 9]);
-            interlace = static_cast<unsigned char>(bytes[data + 12]);
+            header.width = be32(bytes, data);
+            header.height = be32(bytes, data + 4);
+            header.depth = static_cast<unsigned char>(bytes[data + 8]);
+            header.colour = static_cast<unsigned char>(bytes[data + 9]);
+            header.interlace = static_cast<unsigned char>(bytes[data + 12]);
         } else if (type == "IDAT") {
             idat.append(bytes, data, length);
         } else if (type == "IEND") {
-            sawEnd = true;
-            break;
+            return true;
         }
         at = data + length + 4;
     }
-    if (!sawEnd) {
-        error = "PNG has no IEND chunk (truncated)";
-        return false;
-    }
+    error = "PNG has no IEND chunk (truncated)";
+    return false;
+}
+
+/// Bytes per pixel of an image this reader takes (grey, grey+alpha, RGB or RGBA; 8 or 16 bits;
+/// not interlaced; at most kMaxPngSide a side); 0, with `error`, for any other.
+std::size_t bytesPerPixel(const PngHeader& h, std::string& error) {
     int channels = 0;
-    switch (colour) {
+    switch (h.colour) {
         case 0:
             channels = 1;
             break;
@@ -103,20 +108,67 @@ bool decodePng(const std::string& bytes, GreyImage& out, std::string& error) {
             channels = 4;
             break;
         default:
-            error = "PNG colour type " + std::to_string(colour) +
-                    " is not supported (grey, "
-                    "grey+alpha, RGB or RGBA)";
-            return false;
+            error = "PNG colour type " + std::to_string(h.colour) +
+                    " is not supported (grey, grey+alpha, RGB or RGBA)";
+            return 0;
     }
-    if ((depth != 8 && depth != 16) || interlace != 0 || width == 0 || height == 0 ||
-        width > kMaxPngSide || height > kMaxPngSide) {
-        error = "PNG is " + std::to_string(width) + " x " + std::to_string(height) + ", " +
-                std::to_string(depth) + " bits" + (interlace ? ", interlaced" : "") +
+    if ((h.depth != 8 && h.depth != 16) || h.interlace != 0 || h.width == 0 || h.height == 0 ||
+        h.width > kMaxPngSide || h.height > kMaxPngSide) {
+        error = "PNG is " + std::to_string(h.width) + " x " + std::to_string(h.height) + ", " +
+                std::to_string(h.depth) + " bits" + (h.interlace ? ", interlaced" : "") +
                 ": it must be non-interlaced, 8 or 16 bits, at most " +
                 std::to_string(kMaxPngSide) + " x " + std::to_string(kMaxPngSide);
+        return 0;
+    }
+    return static_cast<std::size_t>(channels) * (h.depth / 8);
+}
+
+/// Row y's bytes from its filtered line (the filter type, then the bytes), `previous` the row
+/// above (zeros for the first).
+bool unfilterRow(const std::vector<unsigned char>& line, const std::vector<unsigned char>& previous,
+                 std::size_t bpp, std::uint32_t y, std::vector<unsigned char>& row,
+                 std::string& error) {
+    const int filter = line[0];
+    if (filter > 4) {
+        error = "PNG row " + std::to_string(y) + " has an unknown filter " + std::to_string(filter);
         return false;
     }
-    const std::size_t bpp = static_cast<std::size_t>(channels) * (depth / 8);
+    for (std::size_t i = 0; i < row.size(); ++i) {
+        const int x = line[1 + i];
+        const int a = i >= bpp ? row[i - bpp] : 0;
+        const int b = previous[i];
+        const int c = i >= bpp ? previous[i - bpp] : 0;
+        int v = x;
+        switch (filter) {
+            case 1:
+                v = x + a;
+                break;
+            case 2:
+                v = x + b;
+                break;
+            case 3:
+                v = x + (a + b) / 2;
+                break;
+            case 4:
+                v = x + paeth(a, b, c);
+                break;
+            default:
+                break;
+        }
+        row[i] = static_cast<unsigned char>(v & 0xFF);
+    }
+    return true;
+}
+
+}  // namespace
+
+bool decodePng(const std::string& bytes, GreyImage& out, std::string& error) {
+    PngHeader header;
+    std::string idat;
+    if (!readChunks(bytes, header, idat, error)) return false;
+    const std::size_t bpp = bytesPerPixel(header, error);
+    if (bpp == 0) return false;
+    const std::uint32_t width = header.width, height = header.height;
     const std::size_t stride = bpp * width;
     // Deflate shrinks at most ~1032:1, so compressed data too short for the declared image is
     // refused before anything of the image's size is allocated (a 0.5 MB file declaring
@@ -151,43 +203,12 @@ bool decodePng(const std::string& bytes, GreyImage& out, std::string& error) {
             ok = false;
             break;
         }
-        if (!ok) break;
-        const int filter = line[0];
-        for (std::size_t i = 0; i < stride; ++i) {
-            const int x = line[1 + i];
-            const int a = i >= bpp ? row[i - bpp] : 0;
-            const int b = previous[i];
-            const int c = i >= bpp ? previous[i - bpp] : 0;
-            int v = 0;
-            switch (filter) {
-                case 0:
-                    v = x;
-                    break;
-                case 1:
-                    v = x + a;
-                    break;
-                case 2:
-                    v = x + b;
-                    break;
-                case 3:
-                    v = x + (a + b) / 2;
-                    break;
-                case 4:
-                    v = x + paeth(a, b, c);
-                    break;
-                default:
-                    error = "PNG row " + std::to_string(y) + " has an unknown filter " +
-                            std::to_string(filter);
-                    ok = false;
-            }
-            if (!ok) break;
-            row[i] = static_cast<unsigned char>(v & 0xFF);
-        }
-        if (!ok) break;
+        if (!ok || !(ok = unfilterRow(line, previous, bpp, y, row, error))) break;
         for (std::uint32_t x = 0; x < width; ++x) {
             const unsigned char* p = row.data() + x * bpp;
             // 8-bit values widen to 16 bits as v * 257 (stb's stbi_load_16 does the same).
-            const unsigned v16 = depth == 16 ? (unsigned(p[0]) << 8) | p[1] : unsigned(p[0]) * 257u;
+            const unsigned v16 =
+                header.depth == 16 ? (unsigned(p[0]) << 8) | p[1] : unsigned(p[0]) * 257u;
             out.values[static_cast<std::size_t>(y) * width + x] =
                 static_cast<float>(v16) / 65535.0f;
         }

@@ -355,12 +355,8 @@ Soup soupOf(const TriangleMesh& surface) {
     return soup;
 }
 
-}  // namespace
-
-bool repairAvailable() { return true; }
-
-Result<PhysicsSolid> buildPhysicsSolid(const TriangleMesh& surface,
-                                       const RepairSettings& settings) {
+/// The length of the surface's bounding box diagonal, or why no solid can be made of it.
+Result<double> usableDiagonal(const TriangleMesh& surface) {
     const std::string& name = surface.source;
     if (surface.triangles.empty())
         return makeError(ErrorKind::invalidArgument, name + ": no triangles: no solid can be made");
@@ -372,18 +368,20 @@ Result<PhysicsSolid> buildPhysicsSolid(const TriangleMesh& surface,
     if (!(diagonal > 0))
         return makeError(ErrorKind::invalidArgument,
                          name + ": every vertex at one point: no solid can be made");
+    return diagonal;
+}
 
-    PhysicsSolid solid;
-    auto report = [&](const char* kind, std::size_t count, double volumeChange,
-                      std::string detail) {
-        if (count > 0) solid.repairs.push_back({kind, count, volumeChange, std::move(detail)});
-    };
-
+/// The surface as a soup of faces with area, welded, without repeats, oriented consistently
+/// where it can be; `flipped` counts the faces the orientation turned. `report(kind, count,
+/// volume change, detail)` records each repair.
+template <class Report>
+Result<Soup> cleanSoup(const TriangleMesh& surface, double weldDistance, Report& report,
+                       std::size_t& flipped) {
     Soup soup = soupOf(surface);
-    const std::size_t welded = weld(soup, settings.weldTolerance * diagonal);
-    report("weld", welded, 0,
-           std::to_string(welded) + " vertices within " +
-               describeNumber(settings.weldTolerance * diagonal) + " m joined");
+    const std::size_t welded = weld(soup, weldDistance);
+    report(
+        "weld", welded, 0,
+        std::to_string(welded) + " vertices within " + describeNumber(weldDistance) + " m joined");
     const std::size_t degenerate = dropDegenerate(soup);
     report("degenerate-faces", degenerate, 0,
            std::to_string(degenerate) + " faces without area dropped");
@@ -395,16 +393,107 @@ Result<PhysicsSolid> buildPhysicsSolid(const TriangleMesh& surface,
     PMP::remove_isolated_points_in_polygon_soup(soup.points, soup.polygons);
     if (soup.polygons.empty())
         return makeError(ErrorKind::invalidArgument,
-                         name + ": no face with area: no solid can be made");
-
+                         surface.source + ": no face with area: no solid can be made");
     std::vector<std::array<Point, 3>> before;
     for (const Polygon& f : soup.polygons) before.push_back(corners(soup, f));
     PMP::orient_polygon_soup(soup.points, soup.polygons);
-    std::size_t flipped = 0;
+    flipped = 0;
     for (std::size_t i = 0; i < soup.polygons.size(); ++i)
         if (corners(soup, soup.polygons[i]) != before[i]) ++flipped;
+    return soup;
+}
 
-    Mesh whole = soupMesh(soup);
+/// Records the open parts: hulls kept as thin walls, sheets left out.
+template <class Report>
+void reportOpenParts(const std::vector<Mesh>& hulls, const Parts& parts, Report& report) {
+    if (!hulls.empty()) {
+        std::size_t faces = 0;
+        for (const Mesh& part : hulls) faces += part.number_of_faces();
+        report("open-hulls", hulls.size(), 0,
+               std::to_string(hulls.size()) + " open parts (" + std::to_string(faces) +
+                   " faces) that hold water poured in from above, hulls or containers without "
+                   "thickness, kept as thin walls (their wrap)");
+    }
+    if (!parts.open.empty()) {
+        std::size_t faces = 0;
+        for (const Mesh& part : parts.open) faces += part.number_of_faces();
+        report("open-sheets", parts.open.size(), 0,
+               std::to_string(parts.open.size()) + " open parts (" + std::to_string(faces) +
+                   " faces: sails, planks, eyes, open shells) left out of the volume");
+    }
+}
+
+/// Where nothing closed and sound remains (broken parts, open hulls, or a surface all open: a
+/// thin shell, a single sheet), `result` (the union of the closed parts) joined with the alpha
+/// wrap of those parts; `volume` becomes the result's.
+template <class Report>
+Mesh addWrapOfWhatIsNotSound(Mesh result, std::size_t closedCount, const Parts& parts,
+                             const std::vector<Mesh>& hulls, std::size_t pieces,
+                             const RepairSettings& settings, double diagonal, double& volume,
+                             Report& report) {
+    if (parts.broken.empty() && hulls.empty() && !(closedCount == 0 && !parts.open.empty()))
+        return result;
+    std::vector<const Mesh*> toWrap;
+    for (const Mesh& part : parts.broken) toWrap.push_back(&part);
+    for (const Mesh& part : hulls) toWrap.push_back(&part);
+    if (closedCount == 0 && parts.broken.empty() && hulls.empty())
+        for (const Mesh& part : parts.open) toWrap.push_back(&part);
+    const std::size_t wrappedParts = toWrap.size();
+    Mesh wrapped = wrap(toWrap, settings.wrapAlpha * diagonal, settings.wrapOffset * diagonal);
+    const double wrappedVolume = volumeOf(wrapped);
+    if (closedCount == 0 || result.is_empty()) {
+        result = std::move(wrapped);
+    } else {
+        Mesh joined, left = result;
+        bool ok = false;
+        try {
+            ok = PMP::corefine_and_compute_union(left, wrapped, joined);
+        } catch (const std::exception&) {
+            ok = false;
+        }
+        if (!ok) {
+            std::vector<const Mesh*> all{&result};
+            for (const Mesh& part : parts.broken) all.push_back(&part);
+            for (const Mesh& part : hulls) all.push_back(&part);
+            joined = wrap(all, settings.wrapAlpha * diagonal, settings.wrapOffset * diagonal);
+        }
+        result = std::move(joined);
+    }
+    const double after = volumeOf(result);
+    report(
+        "wrap", wrappedParts, after - volume,
+        std::to_string(wrappedParts) +
+            " parts that are not closed sound solids replaced by their alpha wrap (" +
+            describeNumber(wrappedVolume) + " m^3" +
+            (pieces > 0 ? ", " + std::to_string(pieces) + " of them open pieces of one closed solid"
+                        : "") +
+            (hulls.empty() ? "" : ", " + std::to_string(hulls.size()) + " of them open hulls") +
+            ")");
+    volume = after;
+    return result;
+}
+
+}  // namespace
+
+bool repairAvailable() { return true; }
+
+Result<PhysicsSolid> buildPhysicsSolid(const TriangleMesh& surface,
+                                       const RepairSettings& settings) {
+    const std::string& name = surface.source;
+    const Result<double> usable = usableDiagonal(surface);
+    if (!usable) return usable.error();
+    const double diagonal = *usable;
+
+    PhysicsSolid solid;
+    auto report = [&](const char* kind, std::size_t count, double volumeChange,
+                      std::string detail) {
+        if (count > 0) solid.repairs.push_back({kind, count, volumeChange, std::move(detail)});
+    };
+    std::size_t flipped = 0;
+    Result<Soup> soup = cleanSoup(surface, settings.weldTolerance * diagonal, report, flipped);
+    if (!soup) return soup.error();
+
+    Mesh whole = soupMesh(*soup);
     const std::size_t stitched = PMP::stitch_borders(whole);
     report("stitch", stitched, 0, std::to_string(stitched) + " border edge pairs stitched");
     Parts parts = splitParts(whole);
@@ -431,22 +520,7 @@ Result<PhysicsSolid> buildPhysicsSolid(const TriangleMesh& surface,
         takeHullsAndPieces(parts, settings.basins.minVolumeShare, otherVolume,
                            1e3 * settings.weldTolerance * diagonal);
     const std::size_t pieces = parts.broken.size() - brokenBefore;
-    if (!hulls.empty()) {
-        std::size_t faces = 0;
-        for (const Mesh& part : hulls) faces += part.number_of_faces();
-        report("open-hulls", hulls.size(), 0,
-               std::to_string(hulls.size()) + " open parts (" + std::to_string(faces) +
-                   " faces) that hold water poured in from above, hulls or containers without "
-                   "thickness, "
-                   "kept as thin walls (their wrap)");
-    }
-    if (!parts.open.empty()) {
-        std::size_t faces = 0;
-        for (const Mesh& part : parts.open) faces += part.number_of_faces();
-        report("open-sheets", parts.open.size(), 0,
-               std::to_string(parts.open.size()) + " open parts (" + std::to_string(faces) +
-                   " faces: sails, planks, eyes, open shells) left out of the volume");
-    }
+    reportOpenParts(hulls, parts, report);
 
     double partsVolume = 0;
     for (const Mesh& part : parts.closed) partsVolume += volumeOf(part);
@@ -457,50 +531,8 @@ Result<PhysicsSolid> buildPhysicsSolid(const TriangleMesh& surface,
     report("union", overlapping, volume - partsVolume,
            std::to_string(overlapping) + " overlapping closed parts joined; their overlap, " +
                describeNumber(partsVolume - volume) + " m^3, counts once");
-
-    Mesh result = std::move(united);
-    if (!parts.broken.empty() || !hulls.empty() || (closedCount == 0 && !parts.open.empty())) {
-        // Nothing closed and sound: the wrap of the broken parts and the open hulls, or of
-        // everything when the surface is all open (a thin shell, a single sheet).
-        std::vector<const Mesh*> toWrap;
-        for (const Mesh& part : parts.broken) toWrap.push_back(&part);
-        for (const Mesh& part : hulls) toWrap.push_back(&part);
-        if (closedCount == 0 && parts.broken.empty() && hulls.empty())
-            for (const Mesh& part : parts.open) toWrap.push_back(&part);
-        const std::size_t wrappedParts = toWrap.size();
-        Mesh wrapped = wrap(toWrap, settings.wrapAlpha * diagonal, settings.wrapOffset * diagonal);
-        const double wrappedVolume = volumeOf(wrapped);
-        if (closedCount == 0 || result.is_empty()) {
-            result = std::move(wrapped);
-        } else {
-            Mesh joined, left = result;
-            bool ok = false;
-            try {
-                ok = PMP::corefine_and_compute_union(left, wrapped, joined);
-            } catch (const std::exception&) {
-                ok = false;
-            }
-            if (!ok) {
-                std::vector<const Mesh*> all{&result};
-                for (const Mesh& part : parts.broken) all.push_back(&part);
-                for (const Mesh& part : hulls) all.push_back(&part);
-                joined = wrap(all, settings.wrapAlpha * diagonal, settings.wrapOffset * diagonal);
-            }
-            result = std::move(joined);
-        }
-        const double after = volumeOf(result);
-        report(
-            "wrap", wrappedParts, after - volume,
-            std::to_string(wrappedParts) +
-                " parts that are not closed sound solids replaced by their alpha wrap (" +
-                describeNumber(wrappedVolume) + " m^3" +
-                (pieces > 0
-                     ? ", " + std::to_string(pieces) + " of them open pieces of one closed solid"
-                     : "") +
-                (hulls.empty() ? "" : ", " + std::to_string(hulls.size()) + " of them open hulls") +
-                ")");
-        volume = after;
-    }
+    const Mesh result = addWrapOfWhatIsNotSound(std::move(united), closedCount, parts, hulls,
+                                                pieces, settings, diagonal, volume, report);
     if (result.is_empty() || !(volume > 0))
         return makeError(
             ErrorKind::invalidArgument,
