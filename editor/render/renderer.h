@@ -151,6 +151,9 @@ private:
     std::map<unsigned, std::uint64_t> textureVersions_;  ///< see textureVersion
     std::uint64_t framesCopied_ = 0, framesDrawn_ = 0;
     void drawLines(const std::vector<float>& vertices, const Eigen::Matrix4f& viewProj);
+    /// The scene's lines: the grid (on waves the water's surface) and the axes.
+    void drawLinesOf(const RenderScene& scene, const Camera& camera, const WaterView* water,
+                     const Eigen::Matrix4f& viewProj);
 
     unsigned meshProgram_ = 0, lineProgram_ = 0;
     unsigned lineVao_ = 0, lineVbo_ = 0;
