@@ -67,6 +67,7 @@ bool startPreview(EditorState& s, bool play) {
         return false;
     }
     p.session = std::move(*made);
+    p.session->setSeaFloor(s.settings.seaFloor);
     for (int i = 0; i < 3; ++i) {
         if (kIntegrators[i] == p.session->scene().simulation.integrator) p.integrator = i;
     }
@@ -234,6 +235,29 @@ void keepInsideView(const Rect& view) {
     if (to.x != at.x || to.y != at.y) ImGui::SetWindowPos(to);
 }
 
+/// The sea floor's switch and depth; a change goes to the session and the settings.
+void drawSeaFloorControls(EditorState& s, PreviewSession& session) {
+    SeaFloor floor = session.seaFloor();
+    bool changed = ImGui::Checkbox("sea floor", &floor.enabled);
+    tooltip("A floor the bodies rest on, so that a sinking body stays in view");
+    ImGui::BeginDisabled(!floor.enabled);
+    float depth = static_cast<float>(floor.depth);
+    if (ImGui::DragFloat("depth", &depth, 0.05f, 0.1f, 1000.0f, "%.2f m",
+                         ImGuiSliderFlags_AlwaysClamp)) {
+        floor.depth = depth;
+        changed = true;
+    }
+    const bool done = ImGui::IsItemDeactivatedAfterEdit();
+    tooltip("How far below the still-water level the floor lies (kept in the settings)");
+    ImGui::EndDisabled();
+    if (changed) {
+        session.setSeaFloor(floor);
+        s.settings.seaFloor = session.seaFloor();
+    }
+    // Written when a change is finished, not at every step of a drag.
+    if ((changed && !ImGui::IsItemActive()) || done) (void)s.settings.save();
+}
+
 }  // namespace
 
 void drawPreviewPanel(EditorState& s) {
@@ -329,6 +353,7 @@ void drawPreviewPanel(EditorState& s) {
         tooltip(differs ? "Write these water and wave settings into the project (undoable)"
                         : "The project's water is the same");
     }
+    if (ImGui::CollapsingHeader("Sea floor")) drawSeaFloorControls(s, session);
     if (ImGui::CollapsingHeader("Speed and accuracy")) {
         if (ImGui::Combo("integrator", &p.integrator, kIntegratorNames, 3)) {
             session.setIntegrator(kIntegrators[p.integrator]);
@@ -536,6 +561,7 @@ void applyPreviewToScene(EditorState& s, RenderScene& scene) {
     const World& world = p.session->world();
     scene.time = world.time();
     scene.water = s.showWater ? &world.scene().water : nullptr;
+    scene.floor = p.session->floorHeight();
     if (p.followBody && s.selectedBody >= 0 &&
         static_cast<std::size_t>(s.selectedBody) < world.bodies().size()) {
         // Before the scene is drawn: the camera looks at where the body is this frame.

@@ -14,6 +14,8 @@
 //    `plimsoll buoyancy --compare-exact` uses (volume_check.h).
 #pragma once
 
+#include "document/sea_floor.h"
+
 #include "plimsoll/project/project.h"
 #include "plimsoll/scene/scene.h"
 #include "plimsoll/core/result.h"
@@ -35,6 +37,18 @@ namespace plimsoll::editor {
 Wrench springWrench(const SimulatedBody& body, const RigidBodyState& state,
                     const Eigen::Vector3d& objectPoint, const Eigen::Vector3d& target,
                     double stiffness, double damping);
+
+/// The floor's contact on a body: a penalty contact on the body's points below `floorY`
+/// (`objectPoints`, object space: the hull's vertices). The push is the stiffness times the
+/// deepest point's depth, shared among the points below in proportion to their depths (a body
+/// touching with one corner is pushed there and turns onto its side), less a damping of each
+/// point's sinking speed, never a pull; along the floor each point's sliding is damped, up to
+/// `friction` times its push (Coulomb). The stiffness is the body's mass times (2 pi 4 Hz)^2
+/// (a resting body sinks into the floor its weight over that: at most 1.6 cm), the damping
+/// critical for it. Returned about the centre of mass; zero when no point is below.
+Wrench floorContactWrench(const SimulatedBody& body, const RigidBodyState& state,
+                          const std::vector<Eigen::Vector3d>& objectPoints, double floorY,
+                          double friction);
 
 /// Heel and trim of an orientation, degrees: heel is the object z axis's rise (rotation about
 /// the object x axis, starboard = +z down positive), trim the object x axis's rise (bow = +x up
@@ -132,6 +146,14 @@ public:
     /// The texture size the running bodies have (of body 0).
     int textureSize() const;
 
+    /// The sea floor from the next step on (a body already below it is pushed up).
+    void setSeaFloor(const SeaFloor& floor);
+    const SeaFloor& seaFloor() const { return seaFloor_; }
+    /// The floor's height, world y (nothing when it is off).
+    std::optional<double> floorHeight() const;
+    /// Body i's lowest point now, world y (its hull's lowest vertex).
+    double lowestPoint(std::size_t body) const;
+
     /// Grabs body `body` at `objectPoint` (object space) and pulls it toward `target` (world)
     /// with a spring of `stiffness` (N/m; <= 0: the body's mass times (2 pi 1.5 Hz)^2) and
     /// critical damping for that stiffness.
@@ -169,7 +191,12 @@ private:
     static Result<Built> build(const Scene& scene, const std::string& device);
     Status advance();
     void record();
-    void installGrab();
+    /// Gives every body its external force: the floor's contact and, for the grabbed body,
+    /// the spring (World has one external force a body).
+    void installForces();
+    SeaFloor seaFloor_;
+    /// Per body, the hull's vertices (object space, without repeats): the floor's contacts.
+    std::vector<std::vector<Eigen::Vector3d>> hullPoints_;
     Status swapIn(Built built);
 
     Scene scene_;  ///< as the world was last built (settings changed since kept)

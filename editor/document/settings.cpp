@@ -139,6 +139,12 @@ Settings Settings::load(const fs::path& folder) {
             // The image itself is loaded by the window (a missing file: no alpha).
             brush.alphaPath = b.value("alpha", brush.alphaPath);
         }
+        if (j.contains("sea_floor")) {
+            const nlohmann::json& f = j["sea_floor"];
+            settings.seaFloor.enabled = f.value("enabled", settings.seaFloor.enabled);
+            const double depth = f.value("depth", settings.seaFloor.depth);
+            if (depth > 0 && std::isfinite(depth)) settings.seaFloor.depth = depth;
+        }
         if (const auto presets = j.find("brush_presets");
             presets != j.end() && presets->is_array()) {
             // A preset the panel could not show, a second of one name (a built-in's too), or
@@ -185,6 +191,7 @@ Status Settings::save(const fs::path& folder) const {
                   {"front_faces_only", brush.frontFacesOnly},
                   {"occlusion", brush.occlusion},
                   {"falloff_curve", falloffCurveJson(brush.curve)}};
+    j["sea_floor"] = {{"enabled", seaFloor.enabled}, {"depth", seaFloor.depth}};
     j["brush_presets"] = nlohmann::json::array();
     for (const BrushPreset& p : brushPresets) j["brush_presets"].push_back(brushPresetJson(p));
     std::error_code ec;

@@ -341,6 +341,7 @@ Renderer::SceneKey Renderer::keyOf(const RenderScene& scene, const Camera& camer
               double(camera.orthographic), scene.time, double(scene.grid), double(scene.axes),
               scene.background.x(), scene.background.y(), scene.background.z()});
     n.push_back(scene.water ? double(waterGeneration(*scene.water)) : -1.0);
+    n.insert(n.end(), {scene.floor ? 1.0 : 0.0, scene.floor.value_or(0.0)});
     for (const RenderBody& body : scene.bodies) {
         key.meshes.push_back(body.mesh.get());
         n.insert(n.end(), body.pose.rotation.data(), body.pose.rotation.data() + 9);
@@ -500,6 +501,30 @@ void Renderer::drawLinesOf(const RenderScene& scene, const Camera& camera, const
             if (i == 0 && scene.axes) continue;
             pushPieces({float(i), 0, -extent}, {float(i), 0, extent}, grey);
             pushPieces({-extent, 0, float(i)}, {extent, 0, float(i)}, grey);
+        }
+    }
+    if (scene.floor) {
+        // The sea floor: a 2 m grid straight below the view's centre.
+        const Eigen::Vector4f sand(0.62f, 0.55f, 0.40f, 1.0f);
+        const float y = static_cast<float>(*scene.floor);
+        const float cx = 2 * std::round(float(camera.target.x()) / 2);
+        const float cz = 2 * std::round(float(camera.target.z()) / 2);
+        const int n = static_cast<int>(extent / 2);
+        // A floor below the lowest trough is wholly on one side of the water: whole lines, not
+        // pieces of a cell (half the floor's cost on llvmpipe).
+        const bool below = !scene.water || *scene.floor < scene.water->minHeight();
+        for (int i = -n; i <= n; ++i) {
+            const Eigen::Vector3f a(cx + 2.0f * i, y, cz - extent),
+                b(cx + 2.0f * i, y, cz + extent);
+            const Eigen::Vector3f c(cx - extent, y, cz + 2.0f * i),
+                d(cx + extent, y, cz + 2.0f * i);
+            if (below) {
+                pushLine(lines, a, b, sand);
+                pushLine(lines, c, d, sand);
+            } else {
+                pushPieces(a, b, sand);
+                pushPieces(c, d, sand);
+            }
         }
     }
     if (scene.axes) {

@@ -152,6 +152,90 @@ TEST(PreviewSession, OffCentreGrabTurnsTheBody) {
     EXPECT_GT(session->world().bodies()[0].state.linearMomentum.x(), 0.0);
 }
 
+/// A steel-dense box (assets/box.obj, 1 x 0.5 x 0.25 m) that sinks in flat water at 0, tipped
+/// 25 degrees about x and 10 about z so that it meets the floor with one corner.
+Project sinkingBox() {
+    Project project = ballProject(0.0, Eigen::Vector3d(0, -9.81, 0));
+    project.bodies[0].name = "box";
+    project.bodies[0].mesh = test::assetPath("box.obj").string();
+    project.bodies[0].material.density = 3000.0;
+    project.bodies[0].rotationDegrees = Eigen::Vector3d(25.0, 0.0, 10.0);
+    return project;
+}
+
+TEST(PreviewSession, SinkingBoxComesToRestOnTheSeaFloor) {
+    auto session = makeSession(sinkingBox());
+    ASSERT_TRUE(session);
+    ASSERT_FALSE(session->floorHeight());  // off unless asked for
+    session->setSeaFloor(SeaFloor{.enabled = true, .depth = 2.0});
+    ASSERT_TRUE(session->floorHeight());
+    EXPECT_DOUBLE_EQ(*session->floorHeight(), -2.0);
+    for (int i = 0; i < 600; ++i) ASSERT_TRUE(session->step().ok());  // 10 s
+    const SimulatedBody& box = session->world().bodies()[0];
+    // Resting on the floor: its lowest corner at the floor's depth (pressed into it by its
+    // weight less its buoyancy over the contact's stiffness, about a centimetre)...
+    EXPECT_NEAR(session->lowestPoint(0), -2.0, 0.02);
+    // ...still, and turned flat onto a face (a corner first met the floor): one of the box's
+    // axes vertical, its centre half the box's size along that axis above the floor.
+    EXPECT_LT(linearVelocity(box.state, box.mass).norm(), 0.01);
+    EXPECT_LT(angularVelocity(box.state, box.mass).norm(), 0.02);
+    const Eigen::Matrix3d r = box.pose().rotation;
+    Eigen::Index up = 0;
+    EXPECT_GT(r.row(1).cwiseAbs().maxCoeff(&up), 0.999) << r;
+    const double halfSizes[] = {0.5, 0.25, 0.125};
+    EXPECT_NEAR(box.state.position.y(), -2.0 + halfSizes[up], 0.02) << "on axis " << up;
+    // Moved up, the floor carries it again.
+    session->setSeaFloor(SeaFloor{.enabled = true, .depth = 1.5});
+    for (int i = 0; i < 300; ++i) ASSERT_TRUE(session->step().ok());
+    EXPECT_NEAR(session->lowestPoint(0), -1.5, 0.02);
+}
+
+TEST(PreviewSession, WithoutTheSeaFloorTheBoxKeepsSinking) {
+    auto session = makeSession(sinkingBox());
+    ASSERT_TRUE(session);
+    for (int i = 0; i < 600; ++i) ASSERT_TRUE(session->step().ok());
+    const double after10 = session->lowestPoint(0);
+    EXPECT_LT(after10, -5.0);
+    for (int i = 0; i < 60; ++i) ASSERT_TRUE(session->step().ok());
+    EXPECT_LT(session->lowestPoint(0), after10 - 0.5);  // still going down, fast
+    // Switched on below the box, it stops there; switched off, the box sinks on.
+    session->setSeaFloor(SeaFloor{.enabled = true, .depth = -session->lowestPoint(0) + 1.0});
+    const double floorY = *session->floorHeight();
+    for (int i = 0; i < 600; ++i) ASSERT_TRUE(session->step().ok());
+    EXPECT_NEAR(session->lowestPoint(0), floorY, 0.02);
+    session->setSeaFloor(SeaFloor{.enabled = false});
+    for (int i = 0; i < 120; ++i) ASSERT_TRUE(session->step().ok());
+    EXPECT_LT(session->lowestPoint(0), floorY - 1.0);
+}
+
+TEST(PreviewSession, DamagedBoatFloodsSinksAndRestsOnTheSeaFloor) {
+    Result<std::unique_ptr<Document>> opened =
+        Document::open(fs::path(PLIMSOLL_SOURCE_DIR) / "projects" / "damaged_boat.plim.json");
+    ASSERT_TRUE(opened.ok()) << opened.error().message;
+    Result<Scene> scene = (*opened)->simulationScene();
+    ASSERT_TRUE(scene.ok()) << scene.error().message;
+    Result<std::unique_ptr<PreviewSession>> made = PreviewSession::create(std::move(*scene), "");
+    ASSERT_TRUE(made.ok()) << made.error().message;
+    PreviewSession& session = **made;
+    session.setSeaFloor(SeaFloor{.enabled = true, .depth = 3.0});
+    // It floods through the stern and goes down within two minutes (the stern meets the
+    // floor first, the bow swings down after it); then it lies still for two seconds.
+    int still = 0;
+    for (int frame = 0; frame < 120 * 60 && still < 120; ++frame) {
+        ASSERT_TRUE(session.step().ok());
+        const SimulatedBody& b = session.world().bodies()[0];
+        still = session.lowestPoint(0) < -2.9 && linearVelocity(b.state, b.mass).norm() < 0.01 &&
+                        angularVelocity(b.state, b.mass).norm() < 0.02
+                    ? still + 1
+                    : 0;
+    }
+    EXPECT_EQ(still, 120) << "t = " << session.world().time() << " s, lowest point "
+                          << session.lowestPoint(0);
+    EXPECT_NEAR(session.lowestPoint(0), -3.0, 0.02);
+    const SimulatedBody& boat = session.world().bodies()[0];
+    EXPECT_LT(linearVelocity(boat.state, boat.mass).norm(), 0.01);
+}
+
 TEST(PreviewSession, WaterIntegratorAndTextureSizeChangeWhileRunning) {
     auto session = makeSession(ballProject(0.0, Eigen::Vector3d(0, -9.81, 0)));
     ASSERT_TRUE(session);
