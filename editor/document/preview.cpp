@@ -1,6 +1,7 @@
 // The live preview session (preview.h).
 #include "document/preview.h"
 
+#include "document/document.h"
 #include "document/physics_bakes.h"  // lowerThisThreadsPriority
 
 #include "plimsoll/io/file_util.h"
@@ -474,6 +475,84 @@ void PreviewSession::installForces() {
             return w;
         });
     }
+}
+
+namespace {
+
+bool samePixels(const PaintedMap* a, const PaintedMap* b) {
+    if (!a || !b) return a == b;
+    return a->width == b->width && a->height == b->height && a->values == b->values;
+}
+
+}  // namespace
+
+Status PreviewSession::setBodyPaint(std::size_t body, const MaterialDesc& material,
+                                    std::shared_ptr<const PaintedMap> permeability,
+                                    std::shared_ptr<const PaintedMap> shellDensity) {
+    if (body >= scene_.bodies.size() || body >= world_->bodies().size()) {
+        return makeError(ErrorKind::invalidArgument,
+                         "setBodyPaint: no body " + std::to_string(body));
+    }
+    SceneBody& b = scene_.bodies[body];
+    const bool seeps = !samePixels(b.parts.permeabilityMap.get(), permeability.get());
+    b.desc.material = material;
+    b.parts.shellDensityMap = shellDensity;
+    b.parts.permeabilityMap = std::move(permeability);
+    if (!seeps) return world_->setMaterial(body, material, std::move(shellDensity));
+    // The graphs as they are now: the new world starts with the water the running one holds.
+    Scene now = scene_;
+    for (std::size_t i = 0; i < now.bodies.size() && i < world_->bodies().size(); ++i) {
+        if (const WaterGraphSimulation* graph = world_->waterGraph(i); graph)
+            now.bodies[i].parts.waterGraph = std::make_shared<const WaterGraph>(graph->graph());
+    }
+    Result<Built> built = build(now, device_);
+    if (!built) return built.error();
+    built->world->setWater(scene_.water);
+    built->world->setIntegrator(scene_.simulation.integrator);
+    return swapIn(std::move(*built));
+}
+
+Result<std::vector<std::size_t>> PreviewSession::followDocument(const Document& document) {
+    std::vector<std::size_t> changed;
+    const std::size_t count = std::min(document.bodyCount(), scene_.bodies.size());
+    auto copyOf = [](const PaintedMap* map) {
+        return map ? std::make_shared<const PaintedMap>(*map) : nullptr;
+    };
+    const bool first = paintSeen_.empty();
+    paintSeen_.resize(count);
+    std::string stale;
+    for (std::size_t b = 0; b < count; ++b) {
+        PaintSeen& seen = paintSeen_[b];
+        const MaterialDesc& material = document.project().bodies[b].material;
+        const PaintedMap* permeability = document.map(b, MapChannel::Permeability);
+        const PaintedMap* density = document.map(b, MapChannel::Density);
+        if (!first && seen.material == material &&
+            samePixels(seen.permeability.get(), permeability) &&
+            samePixels(seen.shellDensity.get(), density)) {
+            continue;
+        }
+        // The scene took the document's pixels as they were (not moved onto a repaired solid)
+        // when its maps are the ones last seen.
+        const SceneBody& body = scene_.bodies[b];
+        const bool direct = samePixels(body.parts.permeabilityMap.get(), seen.permeability.get()) &&
+                            samePixels(body.parts.shellDensityMap.get(), seen.shellDensity.get());
+        seen = {material, copyOf(permeability), copyOf(density)};
+        if (first) continue;
+        if (!direct) {
+            stale += (stale.empty() ? "" : ", ") + body.label;
+            continue;
+        }
+        if (Status s = setBodyPaint(b, material, seen.permeability, seen.shellDensity); !s.ok())
+            return s.error();
+        changed.push_back(b);
+    }
+    if (!stale.empty()) {
+        return makeError(ErrorKind::invalidArgument,
+                         stale +
+                             ": painted over a repaired solid; restart the preview to use "
+                             "the new paint");
+    }
+    return changed;
 }
 
 void PreviewSession::setSeaFloor(const SeaFloor& floor) {

@@ -32,6 +32,8 @@
 
 namespace plimsoll::editor {
 
+class Document;
+
 /// The grab spring: F = k (target - p) - c v_p at the grabbed point p (world), torque
 /// (p - c.o.m.) x F. Returned as a wrench about the centre of mass.
 Wrench springWrench(const SimulatedBody& body, const RigidBodyState& state,
@@ -154,6 +156,22 @@ public:
     /// Body i's lowest point now, world y (its hull's lowest vertex).
     double lowestPoint(std::size_t body) const;
 
+    /// Body i's material and painted maps (over the scene's own UVs) from the next step on,
+    /// while it runs: the material and the shell density map at once (World::setMaterial: the
+    /// mass properties recomputed, the centre of mass's place and the momenta kept); a changed
+    /// permeability map rebuilds the world from the scene, its baked textures kept (no bake),
+    /// carrying every body's state, the time and the water in each graph, so water seeps
+    /// through the new texels from the next frame.
+    Status setBodyPaint(std::size_t body, const MaterialDesc& material,
+                        std::shared_ptr<const PaintedMap> permeability,
+                        std::shared_ptr<const PaintedMap> shellDensity);
+    /// Takes the document's edits of the bodies' materials and permeability and density maps
+    /// since the last call (the first call only notes them: the preview started from them)
+    /// through setBodyPaint; returns the bodies changed. A body whose maps the scene moved
+    /// onto a repaired solid (its maps are not the document's pixels) is left as it is, and
+    /// named in the error: a restart of the preview takes its new paint.
+    Result<std::vector<std::size_t>> followDocument(const Document& document);
+
     /// Grabs body `body` at `objectPoint` (object space) and pulls it toward `target` (world)
     /// with a spring of `stiffness` (N/m; <= 0: the body's mass times (2 pi 1.5 Hz)^2) and
     /// critical damping for that stiffness.
@@ -195,6 +213,13 @@ private:
     /// the spring (World has one external force a body).
     void installForces();
     SeaFloor seaFloor_;
+    /// What followDocument last saw of the document, per body: the material and the
+    /// permeability and shell density images (null: no map).
+    struct PaintSeen {
+        MaterialDesc material;
+        std::shared_ptr<const PaintedMap> permeability, shellDensity;
+    };
+    std::vector<PaintSeen> paintSeen_;
     /// Per body, the hull's vertices (object space, without repeats): the floor's contacts.
     std::vector<std::vector<Eigen::Vector3d>> hullPoints_;
     Status swapIn(Built built);

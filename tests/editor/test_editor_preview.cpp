@@ -2,11 +2,13 @@
 // in frames, the grab spring (the body moves toward the target; momentum change = gravity's
 // impulse + the spring's), settings changed while running, CSV export read back, and the live
 // submerged-volume error against what `plimsoll buoyancy --compare-exact` prints for the same pose.
+#include "document/command.h"
 #include "document/document.h"
 #include "document/preview.h"
 #include "view/force_overlay.h"
 
 #include "cli_runner.h"
+#include "document_test_support.h"
 #include "test_support.h"
 #include "world_support.h"
 
@@ -234,6 +236,83 @@ TEST(PreviewSession, DamagedBoatFloodsSinksAndRestsOnTheSeaFloor) {
     EXPECT_NEAR(session.lowestPoint(0), -3.0, 0.02);
     const SimulatedBody& boat = session.world().bodies()[0];
     EXPECT_LT(linearVelocity(boat.state, boat.mass).norm(), 0.01);
+}
+
+/// A preview of the document as it is now, on the default device (the editor's).
+std::unique_ptr<PreviewSession> sessionOf(const Document& document) {
+    Result<Scene> scene = document.simulationScene();
+    EXPECT_TRUE(scene.ok()) << scene.error().message;
+    if (!scene) return nullptr;
+    Result<std::unique_ptr<PreviewSession>> made = PreviewSession::create(std::move(*scene), "");
+    EXPECT_TRUE(made.ok()) << made.error().message;
+    return made ? std::move(*made) : nullptr;
+}
+
+TEST(PreviewSession, PaintedDensityChangesTheMassOnTheNextFrame) {
+    std::unique_ptr<Document> doc =
+        test::openOrFail(fs::path(PLIMSOLL_SOURCE_DIR) / "projects" / "buoy.plim.json");
+    ASSERT_TRUE(doc);
+    auto session = sessionOf(*doc), twin = sessionOf(*doc);
+    ASSERT_TRUE(session && twin);
+    Result<std::vector<std::size_t>> seen = session->followDocument(*doc);
+    ASSERT_TRUE(seen.ok()) << seen.error().message;
+    EXPECT_TRUE(seen->empty());  // the first call notes what the preview started from
+    for (int i = 0; i < 30; ++i) ASSERT_TRUE(session->step().ok() && twin->step().ok());
+    const double before = session->world().bodies()[0].mass.mass;
+    // The ballast painted over the whole shell, at full density, while the preview runs.
+    test::executeOrFail(*doc, makeFillAllCommand(*doc, 0, MapChannel::Density, 1.0));
+    seen = session->followDocument(*doc);
+    ASSERT_TRUE(seen.ok()) << seen.error().message;
+    EXPECT_EQ(*seen, std::vector<std::size_t>{0});
+    // The mass is the edited document's, at once: that of a preview started from it.
+    auto fresh = sessionOf(*doc);
+    ASSERT_TRUE(fresh);
+    const double after = session->world().bodies()[0].mass.mass;
+    EXPECT_GT(after, before * 1.05);
+    EXPECT_NEAR(after, fresh->world().bodies()[0].mass.mass, 1e-9 * after);
+    // The next frame's forces differ from those of the twin that did not follow.
+    const Eigen::Vector3d p0 = session->world().bodies()[0].state.linearMomentum;
+    const Eigen::Vector3d q0 = twin->world().bodies()[0].state.linearMomentum;
+    EXPECT_LT((p0 - q0).norm(), 1e-12);  // the same state until then
+    ASSERT_TRUE(session->step().ok() && twin->step().ok());
+    const double dt = session->scene().simulation.timeStep;
+    const Eigen::Vector3d force = (session->world().bodies()[0].state.linearMomentum - p0) / dt;
+    const Eigen::Vector3d twinForce = (twin->world().bodies()[0].state.linearMomentum - q0) / dt;
+    // Heavier by (after - before): that much more weight.
+    EXPECT_NEAR(force.y() - twinForce.y(), -(after - before) * 9.81,
+                0.05 * (after - before) * 9.81);
+    // Nothing changed since: nothing to take.
+    seen = session->followDocument(*doc);
+    ASSERT_TRUE(seen.ok());
+    EXPECT_TRUE(seen->empty());
+}
+
+TEST(PreviewSession, PaintedPermeabilityStopsTheFloodingFromTheNextFrame) {
+    std::unique_ptr<Document> doc =
+        test::openOrFail(fs::path(PLIMSOLL_SOURCE_DIR) / "projects" / "damaged_boat.plim.json");
+    ASSERT_TRUE(doc);
+    auto session = sessionOf(*doc), twin = sessionOf(*doc);
+    ASSERT_TRUE(session && twin);
+    ASSERT_TRUE(session->followDocument(*doc).ok());
+    for (int i = 0; i < 180; ++i) ASSERT_TRUE(session->step().ok() && twin->step().ok());
+    const double water = session->world().bodies()[0].water;
+    ASSERT_GT(water, 1e-3) << "the boat should be flooding through its stern";
+    const RigidBodyState state = session->world().bodies()[0].state;
+    // The damage sealed while it floods: permeability 0 everywhere.
+    test::executeOrFail(*doc, makeFillAllCommand(*doc, 0, MapChannel::Permeability, 0.0));
+    Result<std::vector<std::size_t>> seen = session->followDocument(*doc);
+    ASSERT_TRUE(seen.ok()) << seen.error().message;
+    EXPECT_EQ(*seen, std::vector<std::size_t>{0});
+    // The rebuilt world carries on: the same water, place and momenta, and time.
+    EXPECT_NEAR(session->world().bodies()[0].water, water, 1e-12);
+    EXPECT_LT((session->world().bodies()[0].state.position - state.position).norm(), 1e-9);
+    EXPECT_LT((session->world().bodies()[0].state.linearMomentum - state.linearMomentum).norm(),
+              1e-9);
+    EXPECT_NEAR(session->world().time(), twin->world().time(), 1e-12);
+    // From the next frame on no water enters; the twin keeps flooding.
+    for (int i = 0; i < 60; ++i) ASSERT_TRUE(session->step().ok() && twin->step().ok());
+    EXPECT_NEAR(session->world().bodies()[0].water, water, 1e-9);
+    EXPECT_GT(twin->world().bodies()[0].water, water + 1e-4);
 }
 
 TEST(PreviewSession, WaterIntegratorAndTextureSizeChangeWhileRunning) {
