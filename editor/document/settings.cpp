@@ -104,6 +104,7 @@ Settings Settings::load(const fs::path& folder) {
             const nlohmann::json& l = j["layout"];
             settings.layout.columnWidth = l.value("column_width", settings.layout.columnWidth);
             settings.layout.shares = l.value("shares", settings.layout.shares);
+            settings.layout.uvBesideView = l.value("uv_beside_view", false);
             settings.layout = sanitised(settings.layout);
         }
         if (j.contains("brush")) {
@@ -175,7 +176,9 @@ Status Settings::save(const fs::path& folder) const {
     j["autosave_seconds"] = autosaveSeconds;
     j["blender_navigation"] = blenderNavigation;
     j["ui_scale"] = uiScale;
-    j["layout"] = {{"column_width", layout.columnWidth}, {"shares", layout.shares}};
+    j["layout"] = {{"column_width", layout.columnWidth},
+                   {"shares", layout.shares},
+                   {"uv_beside_view", layout.uvBesideView}};
     j["brush"] = {{"radius", brush.radius},
                   {"strength", brush.strength},
                   {"value", brush.value},
