@@ -1008,10 +1008,16 @@ TEST(EditorSettings, LayoutAndBrushAreKeptBetweenSessions) {
     EXPECT_FALSE(back.brush.mirrorY);
     EXPECT_EQ(back.brush.radial, 6);
     EXPECT_FALSE(back.layout.uvBesideView);
-    // The UV view as a main view is kept between sessions.
+    EXPECT_TRUE(back.seaFloor.enabled);  // the preview's floor: on, 5 m down, by default
+    EXPECT_EQ(back.seaFloor.depth, SeaFloor::kDefaultDepth);
+    // The UV view as a main view and the sea floor are kept between sessions.
     s.layout.uvBesideView = true;
+    s.seaFloor = SeaFloor{.enabled = false, .depth = 12.5};
     ASSERT_TRUE(s.save(dir).ok());
-    EXPECT_TRUE(Settings::load(dir).layout.uvBesideView);
+    const Settings kept = Settings::load(dir);
+    EXPECT_TRUE(kept.layout.uvBesideView);
+    EXPECT_FALSE(kept.seaFloor.enabled);
+    EXPECT_EQ(kept.seaFloor.depth, 12.5);
     // Nonsense in the file: the defaults for those fields, not a brush the panel cannot show.
     std::ofstream(dir / "settings.json")
         << R"({"brush": {"radius": -1, "strength": 7, "radial": 900,
