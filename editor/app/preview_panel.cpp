@@ -471,10 +471,11 @@ bool previewInput(EditorState& s) {
     if (!session.grab(best->first, best->second, world).ok()) return false;
     s.selectedBody = static_cast<int>(best->first);
     grabDrag = {true, world};
-    // A painter with the Brush up learns why the drag pulled instead of painting.
+    // A painter with a fill or the picker up learns why the drag pulled (the Brush paints).
     if (s.tool != Tool::Navigate) {
         s.status =
-            "The live preview is running: the left mouse pulls the body. Stop it (P) to paint";
+            "The live preview is running: the left mouse pulls the body. The Brush (B) "
+            "paints on it, or stop the preview (P)";
     }
     return true;
 }

@@ -370,11 +370,10 @@ TEST(EditorWindow, KeyTapsShorterThanAFrameAllCount) {
     EXPECT_EQ(report["preview_playing"], false);       // space: paused
 }
 
-TEST(EditorWindow, StrokeFromOffTheMeshPaintsAndThePreviewGrabDoesNot) {
-    // A stroke that started off the mesh and crossed it painted nothing;
-    // the Brush painted the hull during a preview that promises "left-drag a body to pull it".
-    // Here a drag across the ball during the preview pulls it (no edit); after the preview
-    // stops, the same drag from empty space paints: one undo step.
+TEST(EditorWindow, StrokeFromOffTheMeshPaintsDuringThePreviewAndAfterIt) {
+    // A stroke that started off the mesh and crossed it painted nothing. With the Brush a drag
+    // paints on the body where the preview has floated it (the preview takes the stroke at
+    // once); after the preview stops, the same drag from empty space paints again: two steps.
     if (!haveWindowTools(true)) GTEST_SKIP() << "xvfb-run or xdotool is not installed";
     const fs::path project = ballProject("window_stroke");
     // 800 x 500: the 3D view is the left 480 px; the ball (front view, framed) at its centre.
@@ -386,9 +385,12 @@ TEST(EditorWindow, StrokeFromOffTheMeshPaintsAndThePreviewGrabDoesNot) {
         "$PLIMSOLL edit ball.plim.json --run-seconds 60 --window-size 800x500 --view front "
         "--state-file state.json & " +
             kWaitForState + "xdotool key --window $w b p; " + waitFor("\"preview_running\":true") +
-            waitFor("\"tool\":1") + drag + "xdotool key --window $w p; " +
-            waitFor("\"preview_running\":false") + drag +
-            waitFor("\"undo\":\"Paint permeability\"") +
+            waitFor("\"tool\":1") + drag + waitFor("\"undo\":\"Paint permeability\"") +
+            waitFor("\"status\":\"Live preview: the new paint is simulated\"") +
+            // Saved, so that the second stroke shows as the document turning dirty again.
+            "cp state.json floating.json; xdotool key --window $w ctrl+s; " +
+            waitFor("\"dirty\":false") + "xdotool key --window $w p; " +
+            waitFor("\"preview_running\":false") + drag + waitFor("\"dirty\":true") +
             // Saved before Ctrl+Q, which would otherwise ask about the unsaved paint.
             "cp state.json painted.json; xdotool key --window $w ctrl+s; " +
             waitFor("\"dirty\":false") + "xdotool key --window $w ctrl+q; wait");
@@ -398,16 +400,20 @@ TEST(EditorWindow, StrokeFromOffTheMeshPaintsAndThePreviewGrabDoesNot) {
     EXPECT_EQ(report["tool"], 1);
     EXPECT_EQ(report["preview_running"], false);
     EXPECT_EQ(report["undo"], "Paint permeability");
-    EXPECT_EQ(report["undo_steps"], 1) << "the drag during the preview painted too";
+    EXPECT_EQ(report["undo_steps"], 2) << "one stroke during the preview, one after it";
+    const nlohmann::json floating =
+        nlohmann::json::parse(test::readFile(project.parent_path() / "floating.json"));
+    EXPECT_EQ(floating["preview_running"], true);
+    EXPECT_EQ(floating["status"], "Live preview: the new paint is simulated");
     const nlohmann::json painted =
         nlohmann::json::parse(test::readFile(project.parent_path() / "painted.json"));
     EXPECT_EQ(painted["title"], "*ball.plim.json - Plimsoll");
 }
 
-TEST(EditorWindow, BrushDragDuringThePreviewSaysWhyItPullsAndStopClearsThePreviewsStatus) {
-    // With the Brush up during the preview a left drag pulled the body and painted nothing,
+TEST(EditorWindow, FillDragDuringThePreviewSaysWhyItPullsAndStopClearsThePreviewsStatus) {
+    // With a paint tool up during the preview a left drag pulled the body and painted nothing,
     // without a word; after Stop the status bar still said "Live preview on fast CPU". Now
-    // the drag says why it pulls, and Stop says the preview stopped.
+    // a fill's drag says why it pulls (the Brush paints), and Stop says the preview stopped.
     if (!haveWindowTools(true)) GTEST_SKIP() << "xvfb-run or xdotool is not installed";
     const fs::path project = ballProject("window_brush_preview");
     const fs::path dir = project.parent_path();
@@ -415,8 +421,8 @@ TEST(EditorWindow, BrushDragDuringThePreviewSaysWhyItPullsAndStopClearsThePrevie
         dir,
         "$PLIMSOLL edit ball.plim.json --run-seconds 60 --window-size 800x500 --view front "
         "--state-file state.json & " +
-            kWaitForState + "xdotool key --window $w b p; " + waitFor("\"preview_running\":true") +
-            waitFor("\"tool\":1") + "cp state.json started.json; " +
+            kWaitForState + "xdotool key --window $w g p; " + waitFor("\"preview_running\":true") +
+            waitFor("\"tool\":2") + "cp state.json started.json; " +
             dragAlong(250, {200, 230, 260, 290}) + waitFor("\"mouse_down\":false") +
             "cp state.json pulled.json; xdotool key --window $w p; " +
             waitFor("\"preview_running\":false") + "xdotool key --window $w ctrl+q; wait");
@@ -425,7 +431,8 @@ TEST(EditorWindow, BrushDragDuringThePreviewSaysWhyItPullsAndStopClearsThePrevie
     EXPECT_EQ(started["status"].get<std::string>().rfind("Live preview on ", 0), 0u)
         << started["status"];
     const nlohmann::json pulled = nlohmann::json::parse(test::readFile(dir / "pulled.json"));
-    EXPECT_NE(pulled["status"].get<std::string>().find("Stop it (P) to paint"), std::string::npos)
+    EXPECT_NE(pulled["status"].get<std::string>().find("The Brush (B) paints on it"),
+              std::string::npos)
         << pulled["status"];
     EXPECT_EQ(pulled["undo"], "") << "the drag painted during the preview";
     const nlohmann::json report = nlohmann::json::parse(out);
