@@ -55,7 +55,7 @@ struct AutoJob {
 /// The radius of a schematic box's port (the dot on its right edge a pipe is dragged from).
 constexpr float kPortRadius = 6.0f;
 /// The width a schematic box's label wraps at, pixels.
-constexpr float kLabelWidth = 110.0f;
+constexpr float kLabelWidth = 90.0f;
 
 /// A drag begun on the schematic: moving nodes (from a box) or connecting (from a port).
 struct SchematicDrag {
@@ -470,8 +470,11 @@ void drawSchematic(EditorState& s, GraphUi& ui, std::size_t body, const WaterGra
         left = std::min(left, c.x() - 0.5f * box.x());
         top = std::min(top, c.y() - 0.5f * box.y());
     }
-    const ImVec2 origin = ImGui::GetCursorScreenPos();
     const ImVec2 size(right - left, bottom - top);
+    // Wider than the panel (whole names on many boxes): the canvas scrolls sideways.
+    ImGui::BeginChild("##schematic_scroll", ImVec2(0, size.y + ImGui::GetStyle().ScrollbarSize),
+                      false, ImGuiWindowFlags_HorizontalScrollbar);
+    const ImVec2 origin = ImGui::GetCursorScreenPos();
     ImGui::InvisibleButton("##schematic", size);
     const bool hovered = ImGui::IsItemHovered();
     const bool clicked = ImGui::IsItemClicked(0);
@@ -525,6 +528,7 @@ void drawSchematic(EditorState& s, GraphUi& ui, std::size_t body, const WaterGra
         ui.selected.clear();
         ui.selectedPipe.reset();
     }
+    ImGui::EndChild();
 }
 
 /// How the graph shows and is edited in the 3D view.
@@ -715,7 +719,8 @@ void drawGraphPanel(EditorState& s) {
     pruneSelection(ui, g);
     const ImVec2 display = ImGui::GetIO().DisplaySize;
     ImGui::SetNextWindowPos(ImVec2(display.x * 0.02f, display.y * 0.08f), ImGuiCond_FirstUseEver);
-    ImGui::SetNextWindowSize(ImVec2(340, 520), ImGuiCond_FirstUseEver);
+    // Wide enough for the schematic of a four-compartment hull with its whole names.
+    ImGui::SetNextWindowSize(ImVec2(460, 560), ImGuiCond_FirstUseEver);
     // Collapsed at first: a title bar over the view's corner until someone opens it.
     ImGui::SetNextWindowCollapsed(true, ImGuiCond_FirstUseEver);
     ui.panelOpen = ImGui::Begin("Water graph");

@@ -332,7 +332,7 @@ TEST(EditorWindow, XWithTheWaterGraphOpenLeavesTheBrushMirrorAlone) {
         fs::copy_file(source / "assets" / file, root / "assets" / file);
     for (const char* file : {"damaged_boat.plim.json", "boat.graph.json"})
         fs::copy_file(source / "projects" / file, root / "projects" / file);
-    // 800 x 500: the Water graph panel's title bar, collapsed, spans (17..355, 41..57).
+    // 800 x 500: the Water graph panel's title bar, collapsed, spans (17..475, 41..57).
     const std::string out =
         runUnderXvfb(root / "projects",
                      "$PLIMSOLL edit damaged_boat.plim.json --run-seconds 60 --window-size 800x500 "
@@ -442,7 +442,7 @@ TEST(EditorWindow, FillDragDuringThePreviewSaysWhyItPullsAndStopClearsThePreview
 TEST(EditorWindow, AClickOnTheWaterGraphsTitleOpensIt) {
     // The folded Water graph panel opened only from its arrow (or a double-click); a click on
     // its title, as on any folded header, did nothing. At 800 x 500 its title bar spans
-    // (17..355, 41..57): a click at (200, 49), clear of the arrow, opens it.
+    // (17..475, 41..57): a click at (200, 49), clear of the arrow, opens it.
     if (!haveWindowTools(true)) GTEST_SKIP() << "xvfb-run or xdotool is not installed";
     const fs::path project = damagedBoatCopy("window_graph_title");
     const fs::path dir = project.parent_path();
@@ -457,6 +457,35 @@ TEST(EditorWindow, AClickOnTheWaterGraphsTitleOpensIt) {
     bool open = false;
     for (const auto& w : opened["windows"]) open = open || w["name"] == "Water graph";
     EXPECT_TRUE(open) << "the click on the title left the panel folded";
+}
+
+TEST(EditorWindow, SchematicDragsConnectAndMoveNodesAsUndoSteps) {
+    // The schematic only selected. At 1280 x 720, with the Water graph panel opened, its
+    // schematic shows the damaged boat's four boxes in a row at y = 491, the stern's port
+    // (the dot on its right edge) at x = 121 and the fore hold's box around x = 305: a drag
+    // from the port onto that box connects them; a drag of the aft hold's box (x = 190) up
+    // moves it. Each is one undo step, undone by Ctrl+Z.
+    if (!haveWindowTools(true)) GTEST_SKIP() << "xvfb-run or xdotool is not installed";
+    const fs::path project = damagedBoatCopy("window_schematic");
+    const fs::path dir = project.parent_path();
+    const std::string out = runUnderXvfb(
+        dir,
+        "$PLIMSOLL edit damaged_boat.plim.json --run-seconds 60 --window-size 1280x720 "
+        "--state-file state.json & " +
+            kWaitForState + clickAt(70, 66) + waitFor("\"name\":\"Water graph\"") +
+            dragAlong(491, {121, 200, 300}) + waitFor("\"undo\":\"Connect stern-fore\"") +
+            "cp state.json connected.json; " + dragThrough({{190, 480}, {190, 440}, {192, 430}}) +
+            waitFor("\"undo\":\"Move 1 node\"") + "cp state.json moved.json; " +
+            "xdotool key --window $w ctrl+z ctrl+z; " + waitFor("\"undo\":\"\"") +
+            "xdotool key --window $w ctrl+q; wait");
+    if (out.empty()) GTEST_SKIP() << "no editor window in this build or no X server";
+    const nlohmann::json connected = nlohmann::json::parse(test::readFile(dir / "connected.json"));
+    EXPECT_EQ(connected["undo"], "Connect stern-fore");
+    const nlohmann::json moved = nlohmann::json::parse(test::readFile(dir / "moved.json"));
+    EXPECT_EQ(moved["undo"], "Move 1 node");
+    const nlohmann::json report = nlohmann::json::parse(out);
+    EXPECT_LT(report["seconds"].get<double>(), 59.0) << "Ctrl+Q was not seen";
+    EXPECT_EQ(report["undo"], "");  // both undone
 }
 
 TEST(EditorWindow, EscClosesAMenuAndTheUvViewZoomsUnderAnOpenMenu) {
