@@ -881,7 +881,7 @@ TEST(EditorWindow, CameraFollowsTheBodyInThePreview) {
 
 TEST(EditorWindow, WaterChangedInThePreviewIsKeptInTheProject) {
     // Water and wave edits made in the preview could not be kept. At 800 x 500
-    // the Live preview window's Water section opens at (60, 388); its "level (m)" field, dragged
+    // the Live preview window's Water section opens at (60, 365); its "level (m)" field, dragged
     // 20 px right (0.01 m a pixel), raises the preview's water 0.2 m; "Keep in project" makes
     // that one undoable project edit, and Ctrl+S saves it. (The script's text has no
     // apostrophe: it runs inside sh -c '...'.)
@@ -892,11 +892,11 @@ TEST(EditorWindow, WaterChangedInThePreviewIsKeptInTheProject) {
         dir,
         "$PLIMSOLL edit ball.plim.json --preview --run-seconds 90 --window-size 800x500 "
         "--state-file state.json & " +
-            kWaitForState + waitFor("\"name\":\"Live preview\"") + clickAt(60, 388) +
-            moveTo(125, 434) + waitFor("\"tooltip\":\"The still-water height") +
-            "xdotool mousedown 1; " + waitFor("\"held\":\"Live preview\"") + moveTo(135, 434) +
-            moveTo(145, 434) + "xdotool mouseup 1; " + waitFor("\"held\":\"\"") + moveTo(72, 457) +
-            waitFor("\"tooltip\":\"Write these water") + clickAt(72, 457) +
+            kWaitForState + waitFor("\"name\":\"Live preview\"") + clickAt(60, 365) +
+            moveTo(125, 411) + waitFor("\"tooltip\":\"The still-water height") +
+            "xdotool mousedown 1; " + waitFor("\"held\":\"Live preview\"") + moveTo(135, 411) +
+            moveTo(145, 411) + "xdotool mouseup 1; " + waitFor("\"held\":\"\"") + moveTo(72, 434) +
+            waitFor("\"tooltip\":\"Write these water") + clickAt(72, 434) +
             waitFor("\"undo\":\"Keep the preview") + "xdotool key --window $w ctrl+s; " +
             waitFor("\"dirty\":false") + "xdotool key --window $w ctrl+q; wait");
     if (out.empty()) GTEST_SKIP() << "no editor window in this build or no X server";
