@@ -156,15 +156,20 @@ void drawSplitters(EditorState& s, const WindowLayout& layout) {
     };
     const PanelRect& view = layout.view;
     const ImVec2 display = ImGui::GetIO().DisplaySize;
-    splitter("##split_column", ImVec2(view.x + view.w - kGrip / 2, view.y), ImVec2(kGrip, view.h),
+    splitter("##split_column", ImVec2(layout.column.x - kGrip / 2, view.y), ImVec2(kGrip, view.h),
              ImGuiMouseCursor_ResizeEW,
              [&](ImVec2 delta) { dragColumnSplitter(s.settings.layout, delta.x, display.x); });
-    for (int i = 0; i < 3; ++i) {
+    for (int i = 0; i < layout.columnPanels - 1; ++i) {
         const PanelRect& p = layout.panels[i];
         const std::string id = "##split_row" + std::to_string(i);
         splitter(id.c_str(), ImVec2(p.x, p.y + p.h - kGrip / 2), ImVec2(p.w, kGrip),
-                 ImGuiMouseCursor_ResizeNS,
-                 [&](ImVec2 delta) { dragRowSplitter(s.settings.layout, i, delta.y, view.h); });
+                 ImGuiMouseCursor_ResizeNS, [&](ImVec2 delta) {
+                     // The shares are of the four panels' column: three of them fill it when
+                     // the UV view lies beside the 3D view.
+                     const float uvShare =
+                         layout.columnPanels == 4 ? 0.0f : sanitised(s.settings.layout).shares[3];
+                     dragRowSplitter(s.settings.layout, i, delta.y, view.h / (1.0f - uvShare));
+                 });
     }
 }
 
@@ -507,6 +512,13 @@ void drawMenus(EditorState& s) {
         ImGui::MenuItem("Water", nullptr, &s.showWater);
         ImGui::MenuItem("Grid and axes", nullptr, &s.showGrid);
         ImGui::MenuItem("Show physics solid / caps", nullptr, &s.showPhysicsSolid);
+        ImGui::Separator();
+        // Kept in the settings with the rest of the layout.
+        if (ImGui::MenuItem("UV view beside the 3D view", nullptr,
+                            s.settings.layout.uvBesideView)) {
+            s.settings.layout.uvBesideView = !s.settings.layout.uvBesideView;
+            (void)s.settings.save();
+        }
         ImGui::EndMenu();
     }
     if (ImGui::BeginMenu("Simulate")) {

@@ -225,8 +225,12 @@ std::optional<EditorState::SurfacePick> EditorState::pickSurface(float x, float 
                                   .cross(mesh.positions[t[2]] - mesh.positions[t[0]]);
     const Eigen::Vector3d normal =
         n.norm() > 0 ? Eigen::Vector3d(n.normalized()) : Eigen::Vector3d::UnitY();
-    const Pose pose = document->bodyPose(hit->first);
+    const Pose pose = shownPose(hit->first);
     return SurfacePick{hit->first, pose.apply(hit->second.point), pose.rotation * normal};
+}
+
+Pose EditorState::shownPose(std::size_t body) const {
+    return body < previewPoses.size() ? previewPoses[body] : document->bodyPose(body);
 }
 
 std::optional<std::pair<std::size_t, Eigen::Vector3d>> EditorState::pick(float x, float y) const {
@@ -245,7 +249,7 @@ std::optional<std::pair<std::size_t, SurfaceHit>> EditorState::pickHit(float x, 
     for (std::size_t b = 0; b < document->bodyCount(); ++b) {
         const auto& mesh = document->assets(b).mesh;
         if (!mesh) continue;
-        const Pose pose = document->bodyPose(b);
+        const Pose pose = shownPose(b);
         // Into object space: p = R^T (w - t).
         const Eigen::Vector3d o = pose.rotation.transpose() * (origin - pose.translation);
         const Eigen::Vector3d d = pose.rotation.transpose() * direction;

@@ -205,6 +205,14 @@ struct EditorState {
         Eigen::Vector3d normal;  ///< world, unit
     };
     std::optional<SurfacePick> pickSurface(float x, float y) const;
+    /// The bodies' poses as the view showed them last: the simulated ones while the live
+    /// preview runs (set as its scene is drawn), none otherwise.
+    std::vector<Pose> previewPoses;
+    /// The depth at which a "by depth" smart mask reaches 1, m (the Layers panel's menu).
+    float smartMaskDepth = 1.0f;
+    /// Body b's pose as the view shows it (the preview's, else its starting pose): what the
+    /// picks, the brush and its cursor work with, so that one paints on a floating body.
+    Pose shownPose(std::size_t body) const;
 
 private:
     /// The body and the ray's hit (object space, with its triangle) under (x, y).

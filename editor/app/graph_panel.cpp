@@ -21,6 +21,7 @@
 #include <algorithm>
 #include <atomic>
 #include <cstring>
+#include <functional>
 #include <future>
 #include <set>
 
@@ -51,7 +52,20 @@ struct AutoJob {
 }  // namespace
 
 /// The panel's state (EditorState::graphUi): selection, tools, the automatic graph's job.
+/// The radius of a schematic box's port (the dot on its right edge a pipe is dragged from).
+constexpr float kPortRadius = 6.0f;
+/// The width a schematic box's label wraps at, pixels.
+constexpr float kLabelWidth = 90.0f;
+
+/// A drag begun on the schematic: moving nodes (from a box) or connecting (from a port).
+struct SchematicDrag {
+    int node = -1;  ///< the node it began on; -1: none
+    bool connect = false;
+    Eigen::Vector2f from{0, 0};  ///< the mouse where it began, screen pixels
+};
+
 struct GraphUi {
+    SchematicDrag schematicDrag;
     bool editInView = true;  ///< the left mouse edits the graph (else the paint tools)
     bool panelOpen = false;  ///< not collapsed: only then does the graph take the mouse
     bool showGraph = true;
@@ -360,51 +374,31 @@ void updateOverlay(EditorState& s) {
 
 namespace {
 
-/// The schematic beside the 3D view (graph_view.h): boxes at the nodes' profile places, filled
-/// to their water level, pipes between them (closed ones grey); click to select (shift adds),
-/// hover for the node's numbers.
-void drawSchematic(GraphUi& ui, const WaterGraph& g) {
-    const float width = std::max(120.0f, ImGui::GetContentRegionAvail().x);
-    const Eigen::Vector2f box(64, 26);
-    const SchematicLayout layout = schematicLayout(g, width, 200.0f, box);
-    // A crowded profile grows past the canvas: the canvas grows with it.
-    float right = width, bottom = 200.0f;
-    for (const Eigen::Vector2f& c : layout.centre) {
-        right = std::max(right, c.x() + 0.5f * box.x());
-        bottom = std::max(bottom, c.y() + 0.5f * box.y());
-    }
-    float left = 0, top = 0;
-    for (const Eigen::Vector2f& c : layout.centre) {
-        left = std::min(left, c.x() - 0.5f * box.x());
-        top = std::min(top, c.y() - 0.5f * box.y());
-    }
-    const ImVec2 origin = ImGui::GetCursorScreenPos();
-    const ImVec2 size(right - left, bottom - top);
-    ImGui::InvisibleButton("##schematic", size);
-    const bool hovered = ImGui::IsItemHovered();
-    const bool clicked = ImGui::IsItemClicked(0);
-    ImDrawList* draw = ImGui::GetWindowDrawList();
-    draw->AddRectFilled(origin, ImVec2(origin.x + size.x, origin.y + size.y),
-                        IM_COL32(30, 32, 36, 255));
-    auto at = [&](const Eigen::Vector2f& c) {
-        return ImVec2(origin.x + c.x() - left, origin.y + c.y() - top);
-    };
+/// The nodes a drag from node `index` moves: the selection when the node is in it, else the
+/// node alone.
+std::vector<std::string> draggedNodes(const GraphUi& ui, const WaterGraph& g, int index) {
+    const std::string& id = g.nodes[index].id;
+    if (!ui.selected.count(id)) return {id};
+    return std::vector<std::string>(ui.selected.begin(), ui.selected.end());
+}
+
+/// The schematic's pipes and boxes with their ports, each box at `centre` (canvas pixels).
+void drawSchematicGraph(ImDrawList* draw, const GraphUi& ui, const WaterGraph& g,
+                        const std::vector<Eigen::Vector2f>& centre, const Eigen::Vector2f& box,
+                        const std::function<ImVec2(const Eigen::Vector2f&)>& at, int hot) {
     for (const GraphPipe& pipe : g.pipes) {
         const int a = g.indexOf(pipe.a), b = g.indexOf(pipe.b);
         if (a < 0 || b < 0) continue;
         const bool selected = ui.selectedPipe == std::pair(pipe.a, pipe.b);
-        draw->AddLine(at(layout.centre[a]), at(layout.centre[b]),
+        draw->AddLine(at(centre[a]), at(centre[b]),
                       selected    ? IM_COL32(255, 255, 255, 255)
                       : pipe.open ? IM_COL32(90, 170, 255, 255)
                                   : IM_COL32(120, 120, 120, 255),
                       selected ? 3.0f : 2.0f);
     }
-    const ImVec2 mouse = ImGui::GetIO().MousePos;
-    const Eigen::Vector2f local(mouse.x - origin.x + left, mouse.y - origin.y + top);
-    const int under = hovered ? schematicNodeAt(layout, local) : -1;
     for (std::size_t i = 0; i < g.nodes.size(); ++i) {
         const GraphNode& node = g.nodes[i];
-        const ImVec2 c = at(layout.centre[i]);
+        const ImVec2 c = at(centre[i]);
         const ImVec2 lo(c.x - 0.5f * box.x(), c.y - 0.5f * box.y()),
             hi(c.x + 0.5f * box.x(), c.y + 0.5f * box.y());
         draw->AddRectFilled(lo, hi, IM_COL32(20, 22, 26, 255));
@@ -414,31 +408,127 @@ void drawSchematic(GraphUi& ui, const WaterGraph& g) {
             draw->AddRectFilled(ImVec2(lo.x, hi.y - fill * box.y()), hi,
                                 IM_COL32(40, 110, 200, 255));
         const Eigen::Vector3f colour = nodeColour(i);
+        const ImU32 edge =
+            IM_COL32(int(255 * colour.x()), int(255 * colour.y()), int(255 * colour.z()), 255);
         const bool selected = ui.selected.count(node.id) > 0;
-        draw->AddRect(lo, hi,
-                      selected ? IM_COL32(255, 255, 255, 255)
-                               : IM_COL32(int(255 * colour.x()), int(255 * colour.y()),
-                                          int(255 * colour.z()), 255),
-                      0.0f, 0, selected || int(i) == under ? 2.5f : 1.5f);
-        const std::string& label = node.name.empty() ? node.id : node.name;
-        draw->PushClipRect(lo, hi, true);
-        draw->AddText(ImVec2(lo.x + 3, lo.y + 5), IM_COL32(235, 235, 235, 255), label.c_str());
-        draw->PopClipRect();
+        draw->AddRect(lo, hi, selected ? IM_COL32(255, 255, 255, 255) : edge, 0.0f, 0,
+                      selected || int(i) == hot ? 2.5f : 1.5f);
+        // The whole name, wrapped: every box holds the largest (schematicBoxFor).
+        draw->AddText(
+            nullptr, 0.0f, ImVec2(lo.x + kSchematicMargin.x(), lo.y + kSchematicMargin.y()),
+            IM_COL32(235, 235, 235, 255), schematicLabel(node).c_str(), nullptr, kLabelWidth);
+        draw->AddCircleFilled(ImVec2(hi.x, c.y), kPortRadius - 1.5f, edge);
     }
-    if (under >= 0) {
+}
+
+/// The end of a drag on the schematic: a pipe from the drag's node to the one dropped on, or
+/// the dragged nodes moved by `moved` pixels (one command each); a press without a move
+/// selects the node alone.
+void dropSchematicDrag(EditorState& s, GraphUi& ui, std::size_t body, const WaterGraph& g,
+                       const SchematicLayout& layout, int target,
+                       const std::vector<std::string>& moving, const Eigen::Vector2f& moved) {
+    const SchematicDrag& drag = ui.schematicDrag;
+    const std::string& id = g.nodes[drag.node].id;
+    if (drag.connect) {
+        if (target < 0 || target == drag.node) return;
+        GraphPipe pipe;
+        pipe.a = id;
+        pipe.b = g.nodes[target].id;
+        if (s.execute(makeAddPipeCommand(*s.document, body, pipe)))
+            ui.selectedPipe = {pipe.a, pipe.b};
+        return;
+    }
+    if (moved.norm() >= 2.0f) {
+        s.execute(
+            makeMoveNodesCommand(*s.document, body, moving, schematicDragOffset(layout, moved)));
+    } else if (!ImGui::GetIO().KeyShift && !ImGui::GetIO().KeyCtrl) {
+        ui.selected = {id};
+    }
+}
+
+/// The schematic beside the 3D view (graph_view.h), a node editor: boxes at the nodes' profile
+/// places, wide enough for their whole names, filled to their water level, pipes between them
+/// (closed ones grey). Click to select (Shift adds); drag a box to move the selected nodes
+/// across the profile and up or down; drag from a box's port (the dot on its right edge) onto
+/// another box to connect the two with a pipe. Each drop is one command (one undo step).
+void drawSchematic(EditorState& s, GraphUi& ui, std::size_t body, const WaterGraph& g) {
+    const float width = std::max(120.0f, ImGui::GetContentRegionAvail().x);
+    // Whole names, wrapped at kLabelWidth: "stern compartment (engine room)" on two lines.
+    const Eigen::Vector2f box = schematicBoxFor(
+        g,
+        [](const std::string& text) {
+            const ImVec2 size = ImGui::CalcTextSize(text.c_str(), nullptr, false, kLabelWidth);
+            return Eigen::Vector2f(size.x, size.y);
+        },
+        Eigen::Vector2f(64, 26));
+    const SchematicLayout layout = schematicLayout(g, width, 200.0f, box);
+    // A crowded profile grows past the canvas: the canvas grows with it.
+    float right = width, bottom = 200.0f, left = 0, top = 0;
+    for (const Eigen::Vector2f& c : layout.centre) {
+        right = std::max(right, c.x() + 0.5f * box.x() + kPortRadius);
+        bottom = std::max(bottom, c.y() + 0.5f * box.y());
+        left = std::min(left, c.x() - 0.5f * box.x());
+        top = std::min(top, c.y() - 0.5f * box.y());
+    }
+    const ImVec2 size(right - left, bottom - top);
+    // Wider than the panel (whole names on many boxes): the canvas scrolls sideways.
+    ImGui::BeginChild("##schematic_scroll", ImVec2(0, size.y + ImGui::GetStyle().ScrollbarSize),
+                      false, ImGuiWindowFlags_HorizontalScrollbar);
+    const ImVec2 origin = ImGui::GetCursorScreenPos();
+    ImGui::InvisibleButton("##schematic", size);
+    const bool hovered = ImGui::IsItemHovered();
+    const bool clicked = ImGui::IsItemClicked(0);
+    ImDrawList* draw = ImGui::GetWindowDrawList();
+    draw->AddRectFilled(origin, ImVec2(origin.x + size.x, origin.y + size.y),
+                        IM_COL32(30, 32, 36, 255));
+    const ImVec2 mouse = ImGui::GetIO().MousePos;
+    const Eigen::Vector2f local(mouse.x - origin.x + left, mouse.y - origin.y + top);
+    const int under = hovered ? schematicNodeAt(layout, local) : -1;
+    const int port = hovered ? schematicPortAt(layout, local, kPortRadius) : -1;
+    SchematicDrag& drag = ui.schematicDrag;
+    if (clicked && (port >= 0 || under >= 0))
+        drag = {port >= 0 ? port : under, port >= 0, Eigen::Vector2f(mouse.x, mouse.y)};
+    // Where each box is drawn: moved with the mouse while its node is dragged.
+    const Eigen::Vector2f moved =
+        drag.node >= 0 && !drag.connect
+            ? Eigen::Vector2f(Eigen::Vector2f(mouse.x, mouse.y) - drag.from)
+            : Eigen::Vector2f(Eigen::Vector2f::Zero());
+    const std::vector<std::string> moving = drag.node >= 0 && !drag.connect
+                                                ? draggedNodes(ui, g, drag.node)
+                                                : std::vector<std::string>{};
+    std::vector<Eigen::Vector2f> centre = layout.centre;
+    for (const std::string& id : moving) centre[g.indexOf(id)] += moved;
+    auto at = [&](const Eigen::Vector2f& c) {
+        return ImVec2(origin.x + c.x() - left, origin.y + c.y() - top);
+    };
+    drawSchematicGraph(draw, ui, g, centre, box, at, port >= 0 ? port : under);
+    if (drag.node >= 0 && drag.connect) {
+        const Eigen::Vector2f from = centre[drag.node] + Eigen::Vector2f(0.5f * box.x(), 0);
+        draw->AddLine(at(from), mouse, IM_COL32(255, 220, 120, 255), 2.0f);
+    }
+    if (drag.node >= 0 && !ImGui::IsMouseDown(0)) {
+        dropSchematicDrag(s, ui, body, g, layout, schematicNodeAt(layout, local), moving, moved);
+        drag = {};
+    } else if (under >= 0 && drag.node < 0) {
         const GraphNode& node = g.nodes[under];
-        ImGui::SetTooltip("%s%s%s\nwater %.4g of %.4g m^3%s", node.id.c_str(),
-                          node.name.empty() ? "" : ": ", node.name.c_str(), node.water,
-                          node.capacity, node.sealed ? "\nsealed" : "");
-        if (clicked) {
-            if (!ImGui::GetIO().KeyShift && !ImGui::GetIO().KeyCtrl) ui.selected.clear();
-            if (!ui.selected.insert(node.id).second) ui.selected.erase(node.id);
-            ui.selectedPipe.reset();
+        ImGui::SetTooltip("%s%s%s\nwater %.4g of %.4g m^3%s\ndrag to move, from the dot to connect",
+                          node.id.c_str(), node.name.empty() ? "" : ": ", node.name.c_str(),
+                          node.water, node.capacity, node.sealed ? "\nsealed" : "");
+    }
+    if (clicked && under >= 0 && port < 0) {
+        const std::string& id = g.nodes[under].id;
+        if (ImGui::GetIO().KeyShift || ImGui::GetIO().KeyCtrl) {
+            if (!ui.selected.insert(id).second) ui.selected.erase(id);
+        } else if (!ui.selected.count(id)) {
+            // A press on a selected node keeps the selection: a drag moves all of it.
+            ui.selected = {id};
         }
-    } else if (clicked && !ImGui::GetIO().KeyShift) {
+        ui.selectedPipe.reset();
+    } else if (clicked && under < 0 && port < 0 && !ImGui::GetIO().KeyShift) {
         ui.selected.clear();
         ui.selectedPipe.reset();
     }
+    ImGui::EndChild();
 }
 
 /// How the graph shows and is edited in the 3D view.
@@ -567,7 +657,7 @@ void drawGraphContents(EditorState& s, GraphUi& ui, std::size_t body, const Wate
         ImGui::EndListBox();
     }
     if (ImGui::CollapsingHeader("Schematic (side view)", ImGuiTreeNodeFlags_DefaultOpen)) {
-        drawSchematic(ui, *g);
+        drawSchematic(s, ui, body, *g);
     }
     if (ui.selected.size() == 1) {
         nodeInspector(s, g->nodes[g->indexOf(*ui.selected.begin())]);
@@ -629,7 +719,8 @@ void drawGraphPanel(EditorState& s) {
     pruneSelection(ui, g);
     const ImVec2 display = ImGui::GetIO().DisplaySize;
     ImGui::SetNextWindowPos(ImVec2(display.x * 0.02f, display.y * 0.08f), ImGuiCond_FirstUseEver);
-    ImGui::SetNextWindowSize(ImVec2(340, 520), ImGuiCond_FirstUseEver);
+    // Wide enough for the schematic of a four-compartment hull with its whole names.
+    ImGui::SetNextWindowSize(ImVec2(460, 560), ImGuiCond_FirstUseEver);
     // Collapsed at first: a title bar over the view's corner until someone opens it.
     ImGui::SetNextWindowCollapsed(true, ImGuiCond_FirstUseEver);
     ui.panelOpen = ImGui::Begin("Water graph");

@@ -9,6 +9,7 @@
 #include <imgui.h>
 
 #include <cstdio>
+#include <optional>
 #include <string>
 
 namespace plimsoll::editor {
@@ -152,6 +153,41 @@ bool drawLayerList(EditorState& s, std::size_t body, const LayerStack& stack, in
     return renameNow;
 }
 
+/// "Smart mask": a mask for the active layer worked out from the physics and the shape (one
+/// undo step), the body where the view shows it (as the live preview left it, or its start)
+/// against the still water.
+void drawSmartMaskMenu(EditorState& s, std::size_t body, int active) {
+    if (ImGui::Button("Smart mask...")) ImGui::OpenPopup("##smart_mask");
+    tooltip(
+        "A mask from the physics and the shape: below the waterline, by depth, or by the\n"
+        "way the surface faces, for the body where the view shows it.");
+    if (!ImGui::BeginPopup("##smart_mask")) return;
+    SmartMask mask;
+    mask.pose = s.shownPose(body);
+    mask.waterLevel = s.document->project().water.level;
+    std::optional<SmartMask::Kind> chosen;
+    if (ImGui::MenuItem("Below the waterline")) chosen = SmartMask::Kind::BelowWaterline;
+    if (ImGui::MenuItem("By depth")) chosen = SmartMask::Kind::Depth;
+    ImGui::SetNextItemWidth(120);
+    ImGui::DragFloat("full at depth", &s.smartMaskDepth, 0.05f, 0.05f, 100.0f, "%.2f m",
+                     ImGuiSliderFlags_AlwaysClamp);
+    if (ImGui::MenuItem("Facing up (decks)")) {
+        chosen = SmartMask::Kind::Facing;
+    }
+    if (ImGui::MenuItem("Facing down (bottom)")) {
+        chosen = SmartMask::Kind::Facing;
+        mask.direction = -Eigen::Vector3d::UnitY();
+    }
+    if (chosen) {
+        mask.kind = *chosen;
+        mask.depth = s.smartMaskDepth;
+        if (s.execute(makeSmartMaskCommand(*s.document, body, s.channel, active, mask)))
+            s.paintMask = true;
+        ImGui::CloseCurrentPopup();
+    }
+    ImGui::EndPopup();
+}
+
 /// The active layer's settings: blend mode, opacity, a fill's value and its mask.
 void drawActiveLayerSettings(EditorState& s, std::size_t body, const MapLayer& layer, int active,
                              float width) {
@@ -213,6 +249,8 @@ void drawActiveLayerSettings(EditorState& s, std::size_t body, const MapLayer& l
         }
         tooltip("Removes the mask: the whole layer shows again.");
     }
+    ImGui::SameLine();
+    drawSmartMaskMenu(s, body, active);
 }
 
 }  // namespace

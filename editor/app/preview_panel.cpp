@@ -67,6 +67,10 @@ bool startPreview(EditorState& s, bool play) {
         return false;
     }
     p.session = std::move(*made);
+    p.session->setSeaFloor(s.settings.seaFloor);
+    // Notes the paint the preview starts from; later edits go in as they are made.
+    (void)p.session->followDocument(*s.document);
+    p.followedState = s.document->stateId();
     for (int i = 0; i < 3; ++i) {
         if (kIntegrators[i] == p.session->scene().simulation.integrator) p.integrator = i;
     }
@@ -81,6 +85,7 @@ void stopPreview(EditorState& s) {
     PreviewUi& p = ui(s);
     const bool wasRunning = static_cast<bool>(p.session);
     p.session.reset();
+    s.previewPoses.clear();
     s.overlaysDirty = true;  // the document's overlays back on the bodies
     // The status line said where the preview ran; it no longer does.
     if (wasRunning) s.status = "Live preview stopped";
@@ -90,6 +95,15 @@ void updatePreview(EditorState& s, double wallSeconds) {
     if (!s.preview || !s.preview->session) return;
     PreviewUi& p = *s.preview;
     PreviewSession& session = *p.session;
+    if (s.document->stateId() != p.followedState) {
+        // An edit (a stroke, a fill, an undo) while it runs: the next frame simulates it.
+        p.followedState = s.document->stateId();
+        Result<std::vector<std::size_t>> taken = session.followDocument(*s.document);
+        if (!taken)
+            s.status = "Live preview: " + taken.error().message;
+        else if (!taken->empty())
+            s.status = "Live preview: the new paint is simulated";
+    }
     Status done = Ok{};
     if (p.fixedStep) {
         if (session.playing()) done = session.step();
@@ -234,6 +248,29 @@ void keepInsideView(const Rect& view) {
     if (to.x != at.x || to.y != at.y) ImGui::SetWindowPos(to);
 }
 
+/// The sea floor's switch and depth; a change goes to the session and the settings.
+void drawSeaFloorControls(EditorState& s, PreviewSession& session) {
+    SeaFloor floor = session.seaFloor();
+    bool changed = ImGui::Checkbox("sea floor", &floor.enabled);
+    tooltip("A floor the bodies rest on, so that a sinking body stays in view");
+    ImGui::BeginDisabled(!floor.enabled);
+    float depth = static_cast<float>(floor.depth);
+    if (ImGui::DragFloat("depth", &depth, 0.05f, 0.1f, 1000.0f, "%.2f m",
+                         ImGuiSliderFlags_AlwaysClamp)) {
+        floor.depth = depth;
+        changed = true;
+    }
+    const bool done = ImGui::IsItemDeactivatedAfterEdit();
+    tooltip("How far below the still-water level the floor lies (kept in the settings)");
+    ImGui::EndDisabled();
+    if (changed) {
+        session.setSeaFloor(floor);
+        s.settings.seaFloor = session.seaFloor();
+    }
+    // Written when a change is finished, not at every step of a drag.
+    if ((changed && !ImGui::IsItemActive()) || done) (void)s.settings.save();
+}
+
 }  // namespace
 
 void drawPreviewPanel(EditorState& s) {
@@ -329,6 +366,7 @@ void drawPreviewPanel(EditorState& s) {
         tooltip(differs ? "Write these water and wave settings into the project (undoable)"
                         : "The project's water is the same");
     }
+    if (ImGui::CollapsingHeader("Sea floor")) drawSeaFloorControls(s, session);
     if (ImGui::CollapsingHeader("Speed and accuracy")) {
         if (ImGui::Combo("integrator", &p.integrator, kIntegratorNames, 3)) {
             session.setIntegrator(kIntegrators[p.integrator]);
@@ -364,7 +402,10 @@ void drawPreviewPanel(EditorState& s) {
         ImGui::Checkbox("camera follows the body", &p.followBody);
         tooltip("The view's centre stays on the selected body's centre of mass as it moves (C)");
     }
-    ImGui::TextDisabled("Left-drag a body to pull it (a spring).");
+    ImGui::TextDisabled(s.tool == Tool::Brush
+                            ? "The Brush paints on the floating body; the simulation takes each "
+                              "stroke at once. Another tool: left-drag a body to pull it."
+                            : "Left-drag a body to pull it (a spring).");
     if (!p.error.empty()) ImGui::TextWrapped("%s", p.error.c_str());
     ImGui::End();
 }
@@ -404,8 +445,9 @@ bool previewInput(EditorState& s) {
         return true;
     }
     const ImVec2 mouse = io.MousePos;
+    // With the Brush the left mouse paints, on the body where it floats now (viewportInput).
     if (io.WantCaptureMouse || io.KeyAlt || !s.viewport.contains(mouse.x, mouse.y) ||
-        !ImGui::IsMouseClicked(0)) {
+        !ImGui::IsMouseClicked(0) || s.tool == Tool::Brush) {
         return false;
     }
     Eigen::Vector3d origin, direction;
@@ -429,10 +471,11 @@ bool previewInput(EditorState& s) {
     if (!session.grab(best->first, best->second, world).ok()) return false;
     s.selectedBody = static_cast<int>(best->first);
     grabDrag = {true, world};
-    // A painter with the Brush up learns why the drag pulled instead of painting.
+    // A painter with a fill or the picker up learns why the drag pulled (the Brush paints).
     if (s.tool != Tool::Navigate) {
         s.status =
-            "The live preview is running: the left mouse pulls the body. Stop it (P) to paint";
+            "The live preview is running: the left mouse pulls the body. The Brush (B) "
+            "paints on it, or stop the preview (P)";
     }
     return true;
 }
@@ -536,14 +579,18 @@ void applyPreviewToScene(EditorState& s, RenderScene& scene) {
     const World& world = p.session->world();
     scene.time = world.time();
     scene.water = s.showWater ? &world.scene().water : nullptr;
+    scene.floor = p.session->floorHeight();
     if (p.followBody && s.selectedBody >= 0 &&
         static_cast<std::size_t>(s.selectedBody) < world.bodies().size()) {
         // Before the scene is drawn: the camera looks at where the body is this frame.
         s.camera.target = world.bodies()[static_cast<std::size_t>(s.selectedBody)].state.position;
     }
+    s.previewPoses.clear();
+    for (const SimulatedBody& body : world.bodies()) s.previewPoses.push_back(body.pose());
     for (std::size_t b = 0; b < scene.bodies.size() && b < world.bodies().size(); ++b) {
         scene.bodies[b].pose = world.bodies()[b].pose();
-        if (p.showWetTexels) {
+        // With the Brush the hull shows the map being painted, not the wet texels.
+        if (p.showWetTexels && s.tool != Tool::Brush) {
             const int slot = kWetSlotBase + static_cast<int>(b);
             const SimulatedBody& body = world.bodies()[b];
             if (p.wetSamples.size() <= b) p.wetSamples.resize(b + 1);

@@ -53,6 +53,8 @@ struct PreviewUi {
     std::string plotStatus;     ///< last CSV export result
     unsigned overlayGeneration = 0;
     GrabDrag grabDrag;
+    /// The document's state the session last took its paint from (followDocument).
+    std::uint64_t followedState = 0;
     /// The window sits in the view's lower-left corner, growing upward, until the user drags
     /// it elsewhere; wherever it is, it stays inside the view when the window shrinks.
     bool anchored = true;

@@ -31,7 +31,7 @@ void addStrokePoint(EditorState& s, const Eigen::Vector3d& p) {
 /// in a perspective view the camera's place there, which occlusion and the normal falloff
 /// see from.
 void orientAlpha(EditorState& s, std::size_t body) {
-    const auto& pose = s.document->bodyPose(body);
+    const Pose pose = s.shownPose(body);
     s.brush.alphaAxis = pose.rotation.transpose() * -s.camera.forward();
     s.brush.eye.reset();
     if (!s.camera.orthographic)
@@ -43,8 +43,8 @@ void orientAlpha(EditorState& s, std::size_t body) {
 void lineStroke(EditorState& s, const Eigen::Vector2d& to) {
     const auto [body, end] = *s.lastStrokeEnd;
     if (body >= s.document->bodyCount()) return;
-    const auto from = s.camera.toPixel(s.document->bodyPose(body).apply(end), int(s.viewport.w),
-                                       int(s.viewport.h));
+    const auto from =
+        s.camera.toPixel(s.shownPose(body).apply(end), int(s.viewport.w), int(s.viewport.h));
     if (!from) return;
     const Eigen::Vector2d origin(s.viewport.x, s.viewport.y);
     constexpr double kLineStepPixels = 3.0;
@@ -115,9 +115,8 @@ bool radialControlKey(EditorState& s, int key, bool shift) {
             return false;
         return true;
     }
-    // F in paint mode (the Brush, no preview grabbing the mouse); elsewhere F frames.
-    if (key != GLFW_KEY_F || s.tool != Tool::Brush || (s.preview && s.preview->session))
-        return false;
+    // F in paint mode (the Brush); elsewhere F frames.
+    if (key != GLFW_KEY_F || s.tool != Tool::Brush) return false;
     const ImGuiIO& io = ImGui::GetIO();
     const Eigen::Vector2d mouse =
         ImGui::IsMousePosValid(&io.MousePos)
@@ -175,10 +174,10 @@ void viewportInput(EditorState& s) {
     }
     if (navHovered && io.MouseWheel != 0) s.camera.zoom(io.MouseWheel);
 
-    // Tools with the left mouse. While the live preview runs the bodies shown are the
-    // simulated ones and the left mouse grabs them (previewInput): the paint tools rest.
+    // Tools with the left mouse. While the live preview runs they work on the bodies where
+    // the view shows them (EditorState::shownPose); a click that previewInput took to grab a
+    // body (any tool but the Brush) does not reach here.
     if (navigating || io.KeyAlt) return;
-    if (s.preview && s.preview->session) return;
     if (s.tool == Tool::Brush) {
         if (hovered && ImGui::IsMouseClicked(0) && io.KeyShift && s.lastStrokeEnd) {
             lineStroke(s, Eigen::Vector2d(mouse.x, mouse.y));

@@ -666,6 +666,35 @@ Result<std::unique_ptr<Command>> makeRemoveMaskCommand(const Document& document,
     });
 }
 
+Result<std::unique_ptr<Command>> makeSmartMaskCommand(Document& document, std::size_t body,
+                                                      MapChannel channel, int layer,
+                                                      const SmartMask& mask) {
+    if (mask.kind == SmartMask::Kind::Depth && !(mask.depth > 0))
+        return makeError(ErrorKind::invalidArgument, "a depth mask needs a depth above 0");
+    if (body >= document.bodyCount() || !document.map(body, channel)) {
+        return makeError(ErrorKind::invalidArgument, "body " + std::to_string(body) + " has no " +
+                                                         channelName(channel) + " map");
+    }
+    Result<std::shared_ptr<const PaintSurface>> surface = document.paintSurface(body, channel);
+    if (!surface) return surface.error();
+    const PaintSurface& grid = **surface;
+    return layerEdit(document, body, channel, "Smart mask: " + smartMaskName(mask.kind),
+                     [&](LayerStack& stack) -> Status {
+                         if (Status ok = checkLayerIndex(stack, layer); !ok) return ok;
+                         if (grid.width != stack.width || grid.height != stack.height)
+                             return makeError(ErrorKind::invalidArgument,
+                                              "the map's paint surface is not its size");
+                         MapLayer& l = stack.layers[static_cast<std::size_t>(layer)];
+                         if (!l.mask) {
+                             if (Status ok = checkLayerBudget(stack, 0, 1); !ok) return ok;
+                         }
+                         PaintedMap image = smartMaskImage(grid, mask);
+                         for (float& v : image.values) v = quantize16(v);
+                         l.mask = std::make_shared<PaintedMap>(std::move(image));
+                         return Ok{};
+                     });
+}
+
 std::string propertyLabel(const Project& project, const std::string& pointer) {
     std::vector<std::string> parts;
     for (std::size_t at = 0; at < pointer.size();) {

@@ -4,6 +4,7 @@
 
 #include "document/document.h"
 #include "document/paint.h"
+#include "document/smart_mask.h"
 
 #include <nlohmann/json.hpp>
 
@@ -154,6 +155,12 @@ Result<std::unique_ptr<Command>> makeAddMaskCommand(const Document& document, st
                                                     double value = 1.0);
 Result<std::unique_ptr<Command>> makeRemoveMaskCommand(const Document& document, std::size_t body,
                                                        MapChannel channel, int layer);
+/// Gives the layer a smart mask (smart_mask.h), replacing its mask if it has one: one step
+/// called "Smart mask: below the waterline", undone to the mask it had. Worked out over the
+/// map's own pixel grid (the document's paint surface of the map).
+Result<std::unique_ptr<Command>> makeSmartMaskCommand(Document& document, std::size_t body,
+                                                      MapChannel channel, int layer,
+                                                      const SmartMask& mask);
 
 /// What a project edit at `pointer` is called in the history: "/bodies/0/material/density" of
 /// a body named boat is "boat density", "/bodies/0/position/1" "boat position y",

@@ -237,9 +237,11 @@ public:
     /// stem of the files the document creates for a body (maps, water graph).
     std::string assetFileStem(std::size_t body) const;
     std::string assetFileStem(std::string bodyName) const;
+    /// Names the document's state: it changes with every command executed, undone or redone
+    /// (the live preview takes the paint of a new state).
+    std::uint64_t stateId() const { return done_.empty() ? 0 : done_.back().id; }
 
 private:
-    std::uint64_t stateId() const { return done_.empty() ? 0 : done_.back().id; }
     void syncAssets(DetachedAssets& detached);
     /// Writes the changed (or all) maps and water graphs, each atomically.
     Status writeMaps(bool all);

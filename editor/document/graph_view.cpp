@@ -184,6 +184,18 @@ SchematicLayout schematicLayout(const WaterGraph& graph, float width, float heig
         return b - a > 1e-12 ? to0 + static_cast<float>((v - a) / (b - a)) * (to1 - to0)
                              : 0.5f * (to0 + to1);
     };
+    layout.along = along;
+    {
+        // Metres per pixel of the mapping (before the boxes are pushed apart).
+        const auto scale = [](double range, float pixels) {
+            return range > 1e-12 && pixels > 0 ? static_cast<float>(range / pixels) : 0.0f;
+        };
+        float across = scale(hi.x() - lo.x(), max.x() - min.x());
+        float up = scale(hi.y() - lo.y(), max.y() - min.y());
+        if (across == 0) across = up;
+        if (up == 0) up = across;
+        if (across > 0) layout.metresPerPixel = {across, up};
+    }
     for (const GraphNode& node : graph.nodes) {
         // y up in the body, down on the canvas.
         const Eigen::Vector2d p = profile(node);
@@ -214,6 +226,34 @@ SchematicLayout schematicLayout(const WaterGraph& graph, float width, float heig
         if (!moved) break;
     }
     return layout;
+}
+
+const std::string& schematicLabel(const GraphNode& node) {
+    return node.name.empty() ? node.id : node.name;
+}
+
+Eigen::Vector2f schematicBoxFor(const WaterGraph& graph,
+                                const std::function<Eigen::Vector2f(const std::string&)>& textSize,
+                                const Eigen::Vector2f& minimum) {
+    Eigen::Vector2f box = minimum;
+    for (const GraphNode& node : graph.nodes)
+        box = box.cwiseMax(textSize(schematicLabel(node)) + 2 * kSchematicMargin);
+    return box;
+}
+
+Eigen::Vector3d schematicDragOffset(const SchematicLayout& layout, const Eigen::Vector2f& pixels) {
+    Eigen::Vector3d offset = Eigen::Vector3d::Zero();
+    offset[layout.along] = double(pixels.x()) * layout.metresPerPixel.x();
+    offset.y() = -double(pixels.y()) * layout.metresPerPixel.y();  // the canvas's y is down
+    return offset;
+}
+
+int schematicPortAt(const SchematicLayout& layout, const Eigen::Vector2f& p, float radius) {
+    for (std::size_t k = layout.centre.size(); k-- > 0;) {
+        const Eigen::Vector2f port = layout.centre[k] + Eigen::Vector2f(0.5f * layout.box.x(), 0);
+        if ((p - port).norm() <= radius) return static_cast<int>(k);
+    }
+    return -1;
 }
 
 int schematicNodeAt(const SchematicLayout& layout, const Eigen::Vector2f& p) {

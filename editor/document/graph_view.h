@@ -41,9 +41,31 @@ OverlayImage segmentOverlay(const std::vector<int>& texelSegment, const SurfaceT
 struct SchematicLayout {
     std::vector<Eigen::Vector2f> centre;  ///< per node, canvas pixels
     Eigen::Vector2f box{0, 0};            ///< every box's width and height
+    int along = 0;                        ///< the object axis across the canvas: 0 (x) or 2 (z)
+    /// Metres of the profile per canvas pixel, across and up (one axis along which the nodes
+    /// do not spread takes the other's; 1 cm where neither spreads).
+    Eigen::Vector2f metresPerPixel{0.01f, 0.01f};
 };
 SchematicLayout schematicLayout(const WaterGraph& graph, float width, float height,
                                 const Eigen::Vector2f& box);
+
+/// The box every node's label fits in whole (its name, or its id where it has none): the
+/// largest label's `textSize` in pixels as drawn (wrapped by the caller) plus a margin each
+/// side (kSchematicMargin), and at least `minimum`.
+inline const Eigen::Vector2f kSchematicMargin{6.0f, 5.0f};
+Eigen::Vector2f schematicBoxFor(const WaterGraph& graph,
+                                const std::function<Eigen::Vector2f(const std::string&)>& textSize,
+                                const Eigen::Vector2f& minimum);
+/// The label a schematic box shows: the node's name, or its id.
+const std::string& schematicLabel(const GraphNode& node);
+
+/// Where a node dragged by `pixels` on the schematic (x right, y down) moves, object space:
+/// across the profile along the layout's axis and up, at the layout's scale.
+Eigen::Vector3d schematicDragOffset(const SchematicLayout& layout, const Eigen::Vector2f& pixels);
+
+/// The node whose port (the dot at the middle of its box's right edge) lies within `radius`
+/// of canvas point `p` (the last drawn first), or -1.
+int schematicPortAt(const SchematicLayout& layout, const Eigen::Vector2f& p, float radius);
 
 /// The node whose box holds canvas point `p` (the last drawn, on top, first), or -1.
 int schematicNodeAt(const SchematicLayout& layout, const Eigen::Vector2f& p);

@@ -26,25 +26,33 @@ WindowLayout windowLayout(const PanelLayout& wanted, float width, float height, 
         std::clamp(layout.columnWidth, std::min(kMinColumnWidth, width),
                    std::max(std::min(kMinColumnWidth, width), kMaxColumnShare * width));
     const float below = std::max(0.0f, height - menu - status);
-    out.view = {0, menu, std::max(0.0f, width - column), below};
+    const float left = std::max(0.0f, width - column);
+    const int count = layout.uvBesideView ? 3 : 4;
+    out.columnPanels = count;
+    const float uv = layout.uvBesideView ? std::min(below, 0.5f * left) : 0.0f;
+    out.view = {0, menu, left - uv, below};
     out.column = {width - column, menu, column, below};
-    // Each panel its share, raised to the minimum where the column has room for all four,
+    if (layout.uvBesideView) out.panels[3] = {left - uv, menu, uv, below};
+    // Each panel its share, raised to the minimum where the column has room for all of them,
     // the others giving up height in proportion to what they have above it.
     std::array<float, 4> h{};
-    for (int i = 0; i < 4; ++i) h[i] = layout.shares[i] * below;
-    const float minimum = std::min(kMinPanelHeight, below / 4);
+    float shares = 0;
+    for (int i = 0; i < count; ++i) shares += layout.shares[i];
+    for (int i = 0; i < count; ++i) h[i] = layout.shares[i] / shares * below;
+    const float minimum = std::min(kMinPanelHeight, below / count);
     float deficit = 0, spare = 0;
-    for (float v : h) {
-        deficit += std::max(0.0f, minimum - v);
-        spare += std::max(0.0f, v - minimum);
+    for (int i = 0; i < count; ++i) {
+        deficit += std::max(0.0f, minimum - h[i]);
+        spare += std::max(0.0f, h[i] - minimum);
     }
     if (deficit > 0 && spare > 0) {
-        for (float& v : h) v = v < minimum ? minimum : v - (v - minimum) * deficit / spare;
+        for (int i = 0; i < count; ++i)
+            h[i] = h[i] < minimum ? minimum : h[i] - (h[i] - minimum) * deficit / spare;
     }
     float y = menu;
-    for (int i = 0; i < 4; ++i) {
+    for (int i = 0; i < count; ++i) {
         // The last panel ends where the column does: no rounding gap above the status line.
-        const float panelHeight = i == 3 ? menu + below - y : h[i];
+        const float panelHeight = i == count - 1 ? menu + below - y : h[i];
         out.panels[i] = {width - column, y, column, panelHeight};
         y += h[i];
     }

@@ -14,6 +14,10 @@ struct PanelLayout {
     float columnWidth = 400.0f;
     /// Shares of the column's height: Tools, Layers, Inspector and UV view; they sum to 1.
     std::array<float, 4> shares{0.26f, 0.22f, 0.22f, 0.30f};
+    /// The UV view as a main view, beside the 3D view (View > UV view beside the 3D view):
+    /// a square as tall as the view (at most half the width left of the column), and the
+    /// column holds the other three panels, in their shares of it.
+    bool uvBesideView = false;
 };
 
 /// Panels never shrink below this many pixels while the window has room for them.
@@ -31,6 +35,9 @@ struct WindowLayout {
     PanelRect view;
     PanelRect column;                 ///< right of the view: the four panels together
     std::array<PanelRect, 4> panels;  ///< Tools, Layers, Inspector, UV view
+    /// The column's panels (4, or 3 with the UV view beside the 3D view: panels[3] then lies
+    /// between the view and the column).
+    int columnPanels = 4;
 };
 WindowLayout windowLayout(const PanelLayout& layout, float width, float height, float menu,
                           float status);

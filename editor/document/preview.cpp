@@ -1,6 +1,7 @@
 // The live preview session (preview.h).
 #include "document/preview.h"
 
+#include "document/document.h"
 #include "document/physics_bakes.h"  // lowerThisThreadsPriority
 
 #include "plimsoll/io/file_util.h"
@@ -13,6 +14,7 @@
 #include <chrono>
 #include <cmath>
 #include <iomanip>
+#include <limits>
 #include <numbers>
 #include <sstream>
 #include <thread>
@@ -24,6 +26,9 @@ constexpr double kDegrees = 180.0 / std::numbers::pi;
 /// The grab spring's default natural frequency: firm enough to drag a body through the water,
 /// slow enough for a 60 Hz frame with a few sub-steps.
 constexpr double kGrabFrequencyHz = 1.5;
+/// The sea floor's contact frequency (floorContactWrench): stiff enough that a resting body
+/// sinks into it at most 1.6 cm, slow enough for a 60 Hz frame of a few sub-steps.
+constexpr double kFloorFrequencyHz = 4.0;
 }  // namespace
 
 Wrench springWrench(const SimulatedBody& body, const RigidBodyState& state,
@@ -37,6 +42,42 @@ Wrench springWrench(const SimulatedBody& body, const RigidBodyState& state,
     Wrench w;
     w.force = stiffness * (target - point) - damping * velocity;
     w.torque = arm.cross(w.force);
+    return w;
+}
+
+Wrench floorContactWrench(const SimulatedBody& body, const RigidBodyState& state,
+                          const std::vector<Eigen::Vector3d>& objectPoints, double floorY,
+                          double friction) {
+    Wrench w;
+    const Pose pose = poseOf(state, body.mass);
+    double deepest = 0, depthSum = 0;
+    for (const Eigen::Vector3d& q : objectPoints) {
+        const double depth = floorY - (pose.rotation.row(1).dot(q) + pose.translation.y());
+        if (depth > 0) {
+            deepest = std::max(deepest, depth);
+            depthSum += depth;
+        }
+    }
+    if (depthSum <= 0) return w;
+    const double omega = 2 * std::numbers::pi * kFloorFrequencyHz;
+    const double stiffness = body.mass.mass * omega * omega, damping = 2 * body.mass.mass * omega;
+    const Eigen::Vector3d v = linearVelocity(state, body.mass);
+    const Eigen::Vector3d spin = angularVelocity(state, body.mass);
+    for (const Eigen::Vector3d& q : objectPoints) {
+        const Eigen::Vector3d p = pose.apply(q);
+        const double depth = floorY - p.y();
+        if (depth <= 0) continue;
+        const double share = depth / depthSum;
+        const Eigen::Vector3d arm = p - state.position;
+        const Eigen::Vector3d velocity = v + spin.cross(arm);
+        const double push = std::max(0.0, share * (stiffness * deepest - damping * velocity.y()));
+        Eigen::Vector3d force(0, push, 0);
+        const Eigen::Vector3d sliding(velocity.x(), 0, velocity.z());
+        const double speed = sliding.norm();
+        if (speed > 0) force -= sliding * std::min(share * damping, friction * push / speed);
+        w.force += force;
+        w.torque += arm.cross(force);
+    }
     return w;
 }
 
@@ -272,7 +313,7 @@ Status PreviewSession::swapIn(Built built) {
     kernelTotalMs_ = std::move(built.kernelTotalMs);
     checkBackend_.reset();
     checkIds_.clear();
-    if (grabbedBody_) installGrab();
+    installForces();
     return Ok{};
 }
 
@@ -370,6 +411,7 @@ Status PreviewSession::reset() {
     accumulator_ = 0;
     grabbedBody_.reset();
     grabImpulse_ = Eigen::Vector3d::Zero();
+    installForces();  // the floor's contact
     history_.time.clear();
     history_.series.clear();
     timings_ = {};
@@ -389,23 +431,157 @@ Status PreviewSession::grab(std::size_t body, const Eigen::Vector3d& objectPoint
     grabObjectPoint_ = objectPoint;
     grabTarget_ = target;
     grabImpulse_ = Eigen::Vector3d::Zero();
-    installGrab();
+    installForces();
     return Ok{};
 }
 
-void PreviewSession::installGrab() {
-    const std::size_t body = *grabbedBody_;
-    (void)world_->setExternalForce(body, [this](const SimulatedBody& b, const RigidBodyState& s) {
-        const Wrench w =
-            springWrench(b, s, grabObjectPoint_, grabTarget_, grabStiffness_, grabDamping_);
-        grabForceSum_ += w.force;
-        return w;
-    });
+void PreviewSession::installForces() {
+    const std::optional<double> floor = floorHeight();
+    if (floor && hullPoints_.size() != scene_.bodies.size()) {
+        // The hull's vertices once, without repeats (a flat-shaded mesh repeats each corner).
+        hullPoints_.assign(scene_.bodies.size(), {});
+        for (std::size_t b = 0; b < scene_.bodies.size(); ++b) {
+            const auto& mesh = scene_.bodies[b].parts.mesh;
+            if (!mesh) continue;
+            std::vector<Eigen::Vector3d> points(mesh->positions.begin(), mesh->positions.end());
+            std::sort(points.begin(), points.end(), [](const auto& a, const auto& c) {
+                return std::lexicographical_compare(a.data(), a.data() + 3, c.data(), c.data() + 3);
+            });
+            points.erase(std::unique(points.begin(), points.end()), points.end());
+            hullPoints_[b] = std::move(points);
+        }
+    }
+    for (std::size_t body = 0; body < world_->bodies().size(); ++body) {
+        const bool grabbed = grabbedBody_ == body;
+        if (!floor && !grabbed) {
+            (void)world_->setExternalForce(body, {});
+            continue;
+        }
+        const std::vector<Eigen::Vector3d>* hull =
+            floor && body < hullPoints_.size() ? &hullPoints_[body] : nullptr;
+        (void)world_->setExternalForce(body, [this, grabbed, hull, floorY = floor.value_or(0.0),
+                                              friction = seaFloor_.friction](
+                                                 const SimulatedBody& b, const RigidBodyState& s) {
+            Wrench w;
+            if (grabbed) {
+                w = springWrench(b, s, grabObjectPoint_, grabTarget_, grabStiffness_, grabDamping_);
+                grabForceSum_ += w.force;
+            }
+            if (hull) {
+                const Wrench contact = floorContactWrench(b, s, *hull, floorY, friction);
+                w.force += contact.force;
+                w.torque += contact.torque;
+            }
+            return w;
+        });
+    }
+}
+
+namespace {
+
+bool samePixels(const PaintedMap* a, const PaintedMap* b) {
+    if (!a || !b) return a == b;
+    return a->width == b->width && a->height == b->height && a->values == b->values;
+}
+
+}  // namespace
+
+Status PreviewSession::setBodyPaint(std::size_t body, const MaterialDesc& material,
+                                    std::shared_ptr<const PaintedMap> permeability,
+                                    std::shared_ptr<const PaintedMap> shellDensity) {
+    if (body >= scene_.bodies.size() || body >= world_->bodies().size()) {
+        return makeError(ErrorKind::invalidArgument,
+                         "setBodyPaint: no body " + std::to_string(body));
+    }
+    SceneBody& b = scene_.bodies[body];
+    const bool seeps = !samePixels(b.parts.permeabilityMap.get(), permeability.get());
+    b.desc.material = material;
+    b.parts.shellDensityMap = shellDensity;
+    b.parts.permeabilityMap = std::move(permeability);
+    if (!seeps) return world_->setMaterial(body, material, std::move(shellDensity));
+    // The graphs as they are now: the new world starts with the water the running one holds.
+    Scene now = scene_;
+    for (std::size_t i = 0; i < now.bodies.size() && i < world_->bodies().size(); ++i) {
+        if (const WaterGraphSimulation* graph = world_->waterGraph(i); graph)
+            now.bodies[i].parts.waterGraph = std::make_shared<const WaterGraph>(graph->graph());
+    }
+    Result<Built> built = build(now, device_);
+    if (!built) return built.error();
+    built->world->setWater(scene_.water);
+    built->world->setIntegrator(scene_.simulation.integrator);
+    return swapIn(std::move(*built));
+}
+
+Result<std::vector<std::size_t>> PreviewSession::followDocument(const Document& document) {
+    std::vector<std::size_t> changed;
+    const std::size_t count = std::min(document.bodyCount(), scene_.bodies.size());
+    auto copyOf = [](const PaintedMap* map) {
+        return map ? std::make_shared<const PaintedMap>(*map) : nullptr;
+    };
+    const bool first = paintSeen_.empty();
+    paintSeen_.resize(count);
+    std::string stale;
+    for (std::size_t b = 0; b < count; ++b) {
+        PaintSeen& seen = paintSeen_[b];
+        const MaterialDesc& material = document.project().bodies[b].material;
+        const PaintedMap* permeability = document.map(b, MapChannel::Permeability);
+        const PaintedMap* density = document.map(b, MapChannel::Density);
+        if (!first && seen.material == material &&
+            samePixels(seen.permeability.get(), permeability) &&
+            samePixels(seen.shellDensity.get(), density)) {
+            continue;
+        }
+        // The scene took the document's pixels as they were (not moved onto a repaired solid)
+        // when its maps are the ones last seen.
+        const SceneBody& body = scene_.bodies[b];
+        const bool direct = samePixels(body.parts.permeabilityMap.get(), seen.permeability.get()) &&
+                            samePixels(body.parts.shellDensityMap.get(), seen.shellDensity.get());
+        seen = {material, copyOf(permeability), copyOf(density)};
+        if (first) continue;
+        if (!direct) {
+            stale += (stale.empty() ? "" : ", ") + body.label;
+            continue;
+        }
+        if (Status s = setBodyPaint(b, material, seen.permeability, seen.shellDensity); !s.ok())
+            return s.error();
+        changed.push_back(b);
+    }
+    if (!stale.empty()) {
+        return makeError(ErrorKind::invalidArgument,
+                         stale +
+                             ": painted over a repaired solid; restart the preview to use "
+                             "the new paint");
+    }
+    return changed;
+}
+
+void PreviewSession::setSeaFloor(const SeaFloor& floor) {
+    seaFloor_ = floor;
+    if (!(seaFloor_.depth > 0) || !std::isfinite(seaFloor_.depth))
+        seaFloor_.depth = SeaFloor::kDefaultDepth;
+    installForces();
+}
+
+std::optional<double> PreviewSession::floorHeight() const {
+    if (!seaFloor_.enabled) return std::nullopt;
+    return scene_.water.level - seaFloor_.depth;
+}
+
+double PreviewSession::lowestPoint(std::size_t body) const {
+    const SimulatedBody& b = world_->bodies().at(body);
+    const auto& mesh = scene_.bodies.at(body).parts.mesh;
+    const Pose pose = b.pose();
+    double lowest = std::numeric_limits<double>::infinity();
+    if (mesh) {
+        for (const Eigen::Vector3d& q : mesh->positions)
+            lowest = std::min(lowest, pose.rotation.row(1).dot(q) + pose.translation.y());
+    }
+    return lowest;
 }
 
 void PreviewSession::release() {
-    if (grabbedBody_) (void)world_->setExternalForce(*grabbedBody_, {});
     grabbedBody_.reset();
+    installForces();
 }
 
 Eigen::Vector3d PreviewSession::grabPoint() const {

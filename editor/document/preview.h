@@ -14,6 +14,8 @@
 //    `plimsoll buoyancy --compare-exact` uses (volume_check.h).
 #pragma once
 
+#include "document/sea_floor.h"
+
 #include "plimsoll/project/project.h"
 #include "plimsoll/scene/scene.h"
 #include "plimsoll/core/result.h"
@@ -30,11 +32,25 @@
 
 namespace plimsoll::editor {
 
+class Document;
+
 /// The grab spring: F = k (target - p) - c v_p at the grabbed point p (world), torque
 /// (p - c.o.m.) x F. Returned as a wrench about the centre of mass.
 Wrench springWrench(const SimulatedBody& body, const RigidBodyState& state,
                     const Eigen::Vector3d& objectPoint, const Eigen::Vector3d& target,
                     double stiffness, double damping);
+
+/// The floor's contact on a body: a penalty contact on the body's points below `floorY`
+/// (`objectPoints`, object space: the hull's vertices). The push is the stiffness times the
+/// deepest point's depth, shared among the points below in proportion to their depths (a body
+/// touching with one corner is pushed there and turns onto its side), less a damping of each
+/// point's sinking speed, never a pull; along the floor each point's sliding is damped, up to
+/// `friction` times its push (Coulomb). The stiffness is the body's mass times (2 pi 4 Hz)^2
+/// (a resting body sinks into the floor its weight over that: at most 1.6 cm), the damping
+/// critical for it. Returned about the centre of mass; zero when no point is below.
+Wrench floorContactWrench(const SimulatedBody& body, const RigidBodyState& state,
+                          const std::vector<Eigen::Vector3d>& objectPoints, double floorY,
+                          double friction);
 
 /// Heel and trim of an orientation, degrees: heel is the object z axis's rise (rotation about
 /// the object x axis, starboard = +z down positive), trim the object x axis's rise (bow = +x up
@@ -132,6 +148,30 @@ public:
     /// The texture size the running bodies have (of body 0).
     int textureSize() const;
 
+    /// The sea floor from the next step on (a body already below it is pushed up).
+    void setSeaFloor(const SeaFloor& floor);
+    const SeaFloor& seaFloor() const { return seaFloor_; }
+    /// The floor's height, world y (nothing when it is off).
+    std::optional<double> floorHeight() const;
+    /// Body i's lowest point now, world y (its hull's lowest vertex).
+    double lowestPoint(std::size_t body) const;
+
+    /// Body i's material and painted maps (over the scene's own UVs) from the next step on,
+    /// while it runs: the material and the shell density map at once (World::setMaterial: the
+    /// mass properties recomputed, the centre of mass's place and the momenta kept); a changed
+    /// permeability map rebuilds the world from the scene, its baked textures kept (no bake),
+    /// carrying every body's state, the time and the water in each graph, so water seeps
+    /// through the new texels from the next frame.
+    Status setBodyPaint(std::size_t body, const MaterialDesc& material,
+                        std::shared_ptr<const PaintedMap> permeability,
+                        std::shared_ptr<const PaintedMap> shellDensity);
+    /// Takes the document's edits of the bodies' materials and permeability and density maps
+    /// since the last call (the first call only notes them: the preview started from them)
+    /// through setBodyPaint; returns the bodies changed. A body whose maps the scene moved
+    /// onto a repaired solid (its maps are not the document's pixels) is left as it is, and
+    /// named in the error: a restart of the preview takes its new paint.
+    Result<std::vector<std::size_t>> followDocument(const Document& document);
+
     /// Grabs body `body` at `objectPoint` (object space) and pulls it toward `target` (world)
     /// with a spring of `stiffness` (N/m; <= 0: the body's mass times (2 pi 1.5 Hz)^2) and
     /// critical damping for that stiffness.
@@ -169,7 +209,19 @@ private:
     static Result<Built> build(const Scene& scene, const std::string& device);
     Status advance();
     void record();
-    void installGrab();
+    /// Gives every body its external force: the floor's contact and, for the grabbed body,
+    /// the spring (World has one external force a body).
+    void installForces();
+    SeaFloor seaFloor_;
+    /// What followDocument last saw of the document, per body: the material and the
+    /// permeability and shell density images (null: no map).
+    struct PaintSeen {
+        MaterialDesc material;
+        std::shared_ptr<const PaintedMap> permeability, shellDensity;
+    };
+    std::vector<PaintSeen> paintSeen_;
+    /// Per body, the hull's vertices (object space, without repeats): the floor's contacts.
+    std::vector<std::vector<Eigen::Vector3d>> hullPoints_;
     Status swapIn(Built built);
 
     Scene scene_;  ///< as the world was last built (settings changed since kept)

@@ -106,8 +106,8 @@ PaintTarget targetOf(const Json& j) {
 }
 
 /// Layer ops ("layer_add", ...): their command, or nothing for another op.
-std::optional<Result<std::unique_ptr<Command>>> layerCommand(const Document& document,
-                                                             std::size_t body, MapChannel channel,
+std::optional<Result<std::unique_ptr<Command>>> layerCommand(Document& document, std::size_t body,
+                                                             MapChannel channel,
                                                              const std::string& op, const Json& c) {
     if (op == "layer_add") {
         const std::string kindName = c.value("kind", std::string("paint"));
@@ -141,6 +141,29 @@ std::optional<Result<std::unique_ptr<Command>>> layerCommand(const Document& doc
         return makeAddMaskCommand(document, body, channel, c.at("layer"), c.value("value", 1.0));
     }
     if (op == "mask_remove") return makeRemoveMaskCommand(document, body, channel, c.at("layer"));
+    if (op == "smart_mask") {
+        // The body at its starting pose against the project's still water.
+        SmartMask mask;
+        mask.pose = document.bodyPose(body);
+        mask.waterLevel = document.project().water.level;
+        const std::string kind = c.value("kind", std::string("below_waterline"));
+        if (kind == "below_waterline")
+            mask.kind = SmartMask::Kind::BelowWaterline;
+        else if (kind == "depth")
+            mask.kind = SmartMask::Kind::Depth;
+        else if (kind == "facing")
+            mask.kind = SmartMask::Kind::Facing;
+        else
+            throw std::invalid_argument("kind: below_waterline, depth or facing, not " + kind);
+        mask.depth = c.value("depth", 1.0);
+        if (c.contains("direction")) {
+            const Json& d = c["direction"];
+            mask.direction = Eigen::Vector3d(d.at(0), d.at(1), d.at(2));
+            if (!(mask.direction.norm() > 0))
+                throw std::invalid_argument("direction: not a direction");
+        }
+        return makeSmartMaskCommand(document, body, channel, c.at("layer"), mask);
+    }
     return std::nullopt;
 }
 

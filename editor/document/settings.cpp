@@ -104,6 +104,7 @@ Settings Settings::load(const fs::path& folder) {
             const nlohmann::json& l = j["layout"];
             settings.layout.columnWidth = l.value("column_width", settings.layout.columnWidth);
             settings.layout.shares = l.value("shares", settings.layout.shares);
+            settings.layout.uvBesideView = l.value("uv_beside_view", false);
             settings.layout = sanitised(settings.layout);
         }
         if (j.contains("brush")) {
@@ -139,6 +140,12 @@ Settings Settings::load(const fs::path& folder) {
             // The image itself is loaded by the window (a missing file: no alpha).
             brush.alphaPath = b.value("alpha", brush.alphaPath);
         }
+        if (j.contains("sea_floor")) {
+            const nlohmann::json& f = j["sea_floor"];
+            settings.seaFloor.enabled = f.value("enabled", settings.seaFloor.enabled);
+            const double depth = f.value("depth", settings.seaFloor.depth);
+            if (depth > 0 && std::isfinite(depth)) settings.seaFloor.depth = depth;
+        }
         if (const auto presets = j.find("brush_presets");
             presets != j.end() && presets->is_array()) {
             // A preset the panel could not show, a second of one name (a built-in's too), or
@@ -169,7 +176,9 @@ Status Settings::save(const fs::path& folder) const {
     j["autosave_seconds"] = autosaveSeconds;
     j["blender_navigation"] = blenderNavigation;
     j["ui_scale"] = uiScale;
-    j["layout"] = {{"column_width", layout.columnWidth}, {"shares", layout.shares}};
+    j["layout"] = {{"column_width", layout.columnWidth},
+                   {"shares", layout.shares},
+                   {"uv_beside_view", layout.uvBesideView}};
     j["brush"] = {{"radius", brush.radius},
                   {"strength", brush.strength},
                   {"value", brush.value},
@@ -185,6 +194,7 @@ Status Settings::save(const fs::path& folder) const {
                   {"front_faces_only", brush.frontFacesOnly},
                   {"occlusion", brush.occlusion},
                   {"falloff_curve", falloffCurveJson(brush.curve)}};
+    j["sea_floor"] = {{"enabled", seaFloor.enabled}, {"depth", seaFloor.depth}};
     j["brush_presets"] = nlohmann::json::array();
     for (const BrushPreset& p : brushPresets) j["brush_presets"].push_back(brushPresetJson(p));
     std::error_code ec;

@@ -4,6 +4,7 @@
 
 #include "document/brush_presets.h"
 #include "document/paint.h"
+#include "document/sea_floor.h"
 #include "document/panel_layout.h"
 #include "plimsoll/core/result.h"
 
@@ -35,6 +36,8 @@ struct Settings {
     /// The painter's own brush presets ("brush_presets"), in the order saved; the built-in
     /// ones (builtinBrushPresets) are not stored.
     std::vector<BrushPreset> brushPresets;
+    /// The live preview's sea floor ("sea_floor"): on, 5 m down, unless the user changed it.
+    SeaFloor seaFloor{.enabled = true};
 
     static constexpr std::size_t kMaxRecent = 10;
     void addRecent(const std::filesystem::path& file);

@@ -341,6 +341,7 @@ Renderer::SceneKey Renderer::keyOf(const RenderScene& scene, const Camera& camer
               double(camera.orthographic), scene.time, double(scene.grid), double(scene.axes),
               scene.background.x(), scene.background.y(), scene.background.z()});
     n.push_back(scene.water ? double(waterGeneration(*scene.water)) : -1.0);
+    n.insert(n.end(), {scene.floor ? 1.0 : 0.0, scene.floor.value_or(0.0)});
     for (const RenderBody& body : scene.bodies) {
         key.meshes.push_back(body.mesh.get());
         n.insert(n.end(), body.pose.rotation.data(), body.pose.rotation.data() + 9);
@@ -451,6 +452,89 @@ void Renderer::draw(const RenderScene& scene, const Camera& camera, int width, i
     glBindFramebuffer(GL_READ_FRAMEBUFFER, read);
 }
 
+void Renderer::drawLinesOf(const RenderScene& scene, const Camera& camera, const WaterView* water,
+                           const Eigen::Matrix4f& viewProj) {
+    // Grid (1 m, on y = 0; on waves the water's surface instead) and axes. On waves, in pieces of
+    // at most a cell of the water's heights: a line's side of the water is worked out at its
+    // vertices (water_view.vert).
+    std::vector<float> lines;
+    const float extent =
+        static_cast<float>(std::clamp(std::ceil(camera.distance * 2.0), 2.0, 200.0));
+    const float piece = water && scene.water->kind != WaterModel::Kind::Flat
+                            ? static_cast<float>(water->step)
+                            : 2 * extent;
+    auto pushPieces = [&](const Eigen::Vector3f& a, const Eigen::Vector3f& b,
+                          const Eigen::Vector4f& colour) {
+        const int pieces = std::max(1, static_cast<int>(std::ceil((b - a).norm() / piece)));
+        for (int k = 0; k < pieces; ++k) {
+            pushLine(lines, a + (b - a) * (float(k) / pieces),
+                     a + (b - a) * (float(k + 1) / pieces), colour);
+        }
+    };
+    // On waves the grid is the water's surface, a net of the view's height samples, each
+    // vertex at the wave function's height there (WaterView::surfaceSegments): lighter toward
+    // the crests. Lines cost llvmpipe next to nothing where a filled sheet cost 5 ms a frame.
+    const bool waves = water && scene.water->kind != WaterModel::Kind::Flat;
+    if (scene.grid && waves) {
+        const auto [low, high] = std::minmax_element(water->heights.begin(), water->heights.end());
+        const float range = std::max(*high - *low, 1e-6f);
+        // A millimetre toward the eye's side: the net is not tinted as seen through itself.
+        const float lift = water->below(camera.eye()) ? -1e-3f : 1e-3f;
+        const std::vector<Eigen::Vector3f> net = water->surfaceSegments(lift);
+        lines.reserve(net.size() * 7);
+        const Eigen::Vector4f trough(0.16f, 0.42f, 0.62f, 1.0f), crest(0.70f, 0.88f, 0.97f, 1.0f);
+        // Out to the grid's own reach around the view's centre (the heights reach further).
+        const Eigen::Vector2f centre(float(camera.target.x()), float(camera.target.z()));
+        auto near = [&](const Eigen::Vector3f& p) {
+            return (Eigen::Vector2f(p.x(), p.z()) - centre).cwiseAbs().maxCoeff() <= extent;
+        };
+        for (std::size_t k = 0; k + 1 < net.size(); k += 2) {
+            if (!near(net[k]) && !near(net[k + 1])) continue;
+            const float t = std::clamp((0.5f * (net[k].y() + net[k + 1].y()) - lift - *low) / range,
+                                       0.0f, 1.0f);
+            pushLine(lines, net[k], net[k + 1], trough + t * (crest - trough));
+        }
+    } else if (scene.grid) {
+        const Eigen::Vector4f grey(0.45f, 0.45f, 0.45f, 1.0f);
+        const int n = static_cast<int>(extent);
+        for (int i = -n; i <= n; ++i) {
+            if (i == 0 && scene.axes) continue;
+            pushPieces({float(i), 0, -extent}, {float(i), 0, extent}, grey);
+            pushPieces({-extent, 0, float(i)}, {extent, 0, float(i)}, grey);
+        }
+    }
+    if (scene.floor) {
+        // The sea floor: a 2 m grid straight below the view's centre.
+        const Eigen::Vector4f sand(0.62f, 0.55f, 0.40f, 1.0f);
+        const float y = static_cast<float>(*scene.floor);
+        const float cx = 2 * std::round(float(camera.target.x()) / 2);
+        const float cz = 2 * std::round(float(camera.target.z()) / 2);
+        const int n = static_cast<int>(extent / 2);
+        // A floor below the lowest trough is wholly on one side of the water: whole lines, not
+        // pieces of a cell (half the floor's cost on llvmpipe).
+        const bool below = !scene.water || *scene.floor < scene.water->minHeight();
+        for (int i = -n; i <= n; ++i) {
+            const Eigen::Vector3f a(cx + 2.0f * i, y, cz - extent),
+                b(cx + 2.0f * i, y, cz + extent);
+            const Eigen::Vector3f c(cx - extent, y, cz + 2.0f * i),
+                d(cx + extent, y, cz + 2.0f * i);
+            if (below) {
+                pushLine(lines, a, b, sand);
+                pushLine(lines, c, d, sand);
+            } else {
+                pushPieces(a, b, sand);
+                pushPieces(c, d, sand);
+            }
+        }
+    }
+    if (scene.axes) {
+        pushPieces({-extent, 0, 0}, {extent, 0, 0}, {0.85f, 0.25f, 0.25f, 1});
+        pushPieces({0, 0, -extent}, {0, 0, extent}, {0.25f, 0.45f, 0.90f, 1});
+        pushPieces({0, 0, 0}, {0, 1, 0}, {0.35f, 0.80f, 0.35f, 1});
+    }
+    drawLines(lines, viewProj);
+}
+
 void Renderer::drawScene(const RenderScene& scene, const Camera& camera, int width, int height,
                          bool upsideDown) {
     glEnable(GL_DEPTH_TEST);
@@ -557,37 +641,7 @@ void Renderer::drawScene(const RenderScene& scene, const Camera& camera, int wid
     glDepthMask(GL_TRUE);
     glDisable(GL_BLEND);
 
-    // Grid (1 m, on y = 0) and axes. On waves, in pieces of at most a cell of the water's
-    // heights: a line's side of the water is worked out at its vertices (water_view.vert).
-    std::vector<float> lines;
-    const float extent =
-        static_cast<float>(std::clamp(std::ceil(camera.distance * 2.0), 2.0, 200.0));
-    const float piece = water && scene.water->kind != WaterModel::Kind::Flat
-                            ? static_cast<float>(water->step)
-                            : 2 * extent;
-    auto pushPieces = [&](const Eigen::Vector3f& a, const Eigen::Vector3f& b,
-                          const Eigen::Vector4f& colour) {
-        const int pieces = std::max(1, static_cast<int>(std::ceil((b - a).norm() / piece)));
-        for (int k = 0; k < pieces; ++k) {
-            pushLine(lines, a + (b - a) * (float(k) / pieces),
-                     a + (b - a) * (float(k + 1) / pieces), colour);
-        }
-    };
-    if (scene.grid) {
-        const Eigen::Vector4f grey(0.45f, 0.45f, 0.45f, 1.0f);
-        const int n = static_cast<int>(extent);
-        for (int i = -n; i <= n; ++i) {
-            if (i == 0 && scene.axes) continue;
-            pushPieces({float(i), 0, -extent}, {float(i), 0, extent}, grey);
-            pushPieces({-extent, 0, float(i)}, {extent, 0, float(i)}, grey);
-        }
-    }
-    if (scene.axes) {
-        pushPieces({-extent, 0, 0}, {extent, 0, 0}, {0.85f, 0.25f, 0.25f, 1});
-        pushPieces({0, 0, -extent}, {0, 0, extent}, {0.25f, 0.45f, 0.90f, 1});
-        pushPieces({0, 0, 0}, {0, 1, 0}, {0.35f, 0.80f, 0.35f, 1});
-    }
-    drawLines(lines, viewProj);
+    drawLinesOf(scene, camera, water, viewProj);
 
     glBindVertexArray(0);
     glUseProgram(0);

@@ -40,6 +40,8 @@ struct RenderScene {
     const WaterModel* water = nullptr;  ///< nullptr: no water surface
     double time = 0.0;                  ///< s, for waves
     bool grid = true;
+    /// The preview's sea floor, world y: drawn as a sand-coloured grid (nothing when unset).
+    std::optional<double> floor;
     bool axes = true;
     Eigen::Vector3f background{0.20f, 0.21f, 0.23f};
     /// Drawn after the opaque bodies and before the see-through ones (what is inside a hull:
@@ -151,6 +153,9 @@ private:
     std::map<unsigned, std::uint64_t> textureVersions_;  ///< see textureVersion
     std::uint64_t framesCopied_ = 0, framesDrawn_ = 0;
     void drawLines(const std::vector<float>& vertices, const Eigen::Matrix4f& viewProj);
+    /// The scene's lines: the grid (on waves the water's surface), the sea floor and the axes.
+    void drawLinesOf(const RenderScene& scene, const Camera& camera, const WaterView* water,
+                     const Eigen::Matrix4f& viewProj);
 
     unsigned meshProgram_ = 0, lineProgram_ = 0;
     unsigned lineVao_ = 0, lineVbo_ = 0;

@@ -37,6 +37,26 @@ double WaterView::heightAt(double x, double z) const {
     return at(0, 0) + fz * (at(0, 1) - at(0, 0)) + fx * (at(1, 1) - at(0, 1));
 }
 
+std::vector<Eigen::Vector3f> WaterView::surfaceSegments(float lift) const {
+    constexpr int n = kCells + 1;
+    std::vector<Eigen::Vector3f> points;
+    if (heights.size() != std::size_t(n) * n) return points;
+    points.reserve(std::size_t(4) * kCells * n);
+    auto at = [&](int i, int j) {
+        return Eigen::Vector3f(float(x0 + i * step), heights[std::size_t(j) * n + i] + lift,
+                               float(z0 + j * step));
+    };
+    for (int j = 0; j < n; ++j) {
+        for (int i = 0; i < kCells; ++i) {
+            points.push_back(at(i, j));  // along x
+            points.push_back(at(i + 1, j));
+            points.push_back(at(j, i));  // along z
+            points.push_back(at(j, i + 1));
+        }
+    }
+    return points;
+}
+
 bool WaterView::seenThrough(const Eigen::Vector3d& p) const {
     const Eigen::Vector3d eye = camera.eye();
     const Eigen::Vector3d forward = camera.forward();

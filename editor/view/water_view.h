@@ -62,6 +62,13 @@ public:
     };
     Backdrop backdrop(int width, int height) const;
 
+    /// The surface drawn as a net on waves (Renderer): the samples joined to their
+    /// neighbours along x and along z, two points a segment, each at its sample's height (the
+    /// water model's height there). `lift` moves every point up by that much (m): the
+    /// renderer lifts the net a millimetre toward the eye, so that the tint test sees it on
+    /// the eye's side of the surface it lies on.
+    std::vector<Eigen::Vector3f> surfaceSegments(float lift = 0.0f) const;
+
     /// The samples, row j (along z) after row j - 1, kCells + 1 to a row, from (x0, z0) in
     /// steps of `step` m.
     std::vector<float> heights;

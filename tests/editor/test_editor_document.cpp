@@ -912,6 +912,43 @@ TEST(EditorLayout, PanelsTileTheWindowAndComeBackAfterItShrinksAndGrows) {
     EXPECT_GE(none.view.w, 0);
 }
 
+TEST(EditorLayout, UvViewBesideTheViewIsASquareAndTheColumnKeepsThreePanels) {
+    PanelLayout layout;
+    layout.uvBesideView = true;
+    // A wide window: the UV view is a square as tall as the view.
+    const float width = 2560, height = 1000, menu = 19, status = 23, below = height - menu - status;
+    const WindowLayout l = windowLayout(layout, width, height, menu, status);
+    EXPECT_EQ(l.columnPanels, 3);
+    // The 3D view, then the UV view as tall as it (a square), then the column: side by side,
+    // tiling the width.
+    const PanelRect& uv = l.panels[3];
+    EXPECT_FLOAT_EQ(l.view.x, 0);
+    EXPECT_FLOAT_EQ(uv.x, l.view.w);
+    EXPECT_FLOAT_EQ(uv.y, menu);
+    EXPECT_FLOAT_EQ(uv.h, below);
+    EXPECT_FLOAT_EQ(uv.w, below);
+    EXPECT_FLOAT_EQ(l.column.x, uv.x + uv.w);
+    EXPECT_FLOAT_EQ(l.column.x + l.column.w, width);
+    EXPECT_GT(l.view.w, uv.w);
+    // The other three panels fill the column top to bottom in their shares.
+    float y = menu;
+    for (int i = 0; i < 3; ++i) {
+        EXPECT_FLOAT_EQ(l.panels[i].x, l.column.x);
+        EXPECT_NEAR(l.panels[i].y, y, 1e-3);
+        y += l.panels[i].h;
+    }
+    EXPECT_NEAR(y, menu + below, 1e-3);
+    EXPECT_NEAR(l.panels[0].h / l.panels[1].h, layout.shares[0] / layout.shares[1], 1e-4);
+    // 1600 x 900: the UV view takes at most half of what the column leaves.
+    const WindowLayout narrow = windowLayout(layout, 1600, 900, menu, status);
+    EXPECT_FLOAT_EQ(narrow.panels[3].w, 600);
+    EXPECT_FLOAT_EQ(narrow.view.w, 600);
+    EXPECT_FLOAT_EQ(narrow.panels[3].h, 900 - menu - status);
+    // Off: the four panels in the column as before.
+    layout.uvBesideView = false;
+    EXPECT_EQ(windowLayout(layout, width, height, menu, status).columnPanels, 4);
+}
+
 TEST(EditorLayout, SplittersTradeHeightBetweenNeighboursDownToTheMinimum) {
     PanelLayout layout;
     const float column = 598;
@@ -970,6 +1007,17 @@ TEST(EditorSettings, LayoutAndBrushAreKeptBetweenSessions) {
     EXPECT_TRUE(back.brush.mirrorZ);
     EXPECT_FALSE(back.brush.mirrorY);
     EXPECT_EQ(back.brush.radial, 6);
+    EXPECT_FALSE(back.layout.uvBesideView);
+    EXPECT_TRUE(back.seaFloor.enabled);  // the preview's floor: on, 5 m down, by default
+    EXPECT_EQ(back.seaFloor.depth, SeaFloor::kDefaultDepth);
+    // The UV view as a main view and the sea floor are kept between sessions.
+    s.layout.uvBesideView = true;
+    s.seaFloor = SeaFloor{.enabled = false, .depth = 12.5};
+    ASSERT_TRUE(s.save(dir).ok());
+    const Settings kept = Settings::load(dir);
+    EXPECT_TRUE(kept.layout.uvBesideView);
+    EXPECT_FALSE(kept.seaFloor.enabled);
+    EXPECT_EQ(kept.seaFloor.depth, 12.5);
     // Nonsense in the file: the defaults for those fields, not a brush the panel cannot show.
     std::ofstream(dir / "settings.json")
         << R"({"brush": {"radius": -1, "strength": 7, "radial": 900,

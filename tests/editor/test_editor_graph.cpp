@@ -133,6 +133,56 @@ TEST(EditorGraphSchematic, BoxesKeepTheProfilesOrderAndNeverOverlap) {
     EXPECT_NEAR(one.centre[0].y(), 100, 1e-3);
 }
 
+TEST(EditorGraphSchematic, BoxesHoldWholeNamesAndDragsMoveAndConnectNodesAsCommands) {
+    const fs::path projectPath = copyDamagedBoat("schematic_edit");
+    auto doc = openOrFail(projectPath);
+    ASSERT_TRUE(doc);
+    ASSERT_NE(doc->graph(0), nullptr) << doc->assets(0).graph.error;
+    const WaterGraph before = *doc->graph(0);
+    // Whole names: a label of 7 px a character, wrapped at 15 characters a line, fits its box
+    // ("stern compartment (engine room)" is 31 characters: three lines).
+    auto textSize = [](const std::string& label) {
+        const float chars = float(label.size());
+        return Eigen::Vector2f(7.0f * std::min(chars, 15.0f), 14.0f * std::ceil(chars / 15.0f));
+    };
+    const Eigen::Vector2f box = schematicBoxFor(before, textSize, Eigen::Vector2f(64, 26));
+    for (const GraphNode& n : before.nodes) {
+        EXPECT_GE(box.x(), textSize(schematicLabel(n)).x() + 2 * kSchematicMargin.x()) << n.id;
+        EXPECT_GE(box.y(), textSize(schematicLabel(n)).y() + 2 * kSchematicMargin.y()) << n.id;
+    }
+    EXPECT_EQ(schematicLabel(before.nodes[0]), "stern compartment (engine room)");
+    EXPECT_FLOAT_EQ(box.y(), 3 * 14.0f + 2 * kSchematicMargin.y());
+
+    // The scale: boxes far enough apart to keep their mapped places are as many pixels apart
+    // as their nodes are metres apart, over metresPerPixel.
+    const SchematicLayout layout = schematicLayout(before, 1200, 200, box);
+    ASSERT_EQ(layout.along, 2);  // the boat is modelled along z
+    const float pixels = layout.centre[3].x() - layout.centre[0].x();
+    EXPECT_NEAR(pixels * layout.metresPerPixel.x(),
+                before.nodes[3].position.z() - before.nodes[0].position.z(), 1e-4);
+
+    // A drag of the aft hold 40 px right and 20 px up moves it along z and up by that many
+    // pixels at the layout's scale, as one undoable command.
+    const Eigen::Vector3d offset = schematicDragOffset(layout, Eigen::Vector2f(40, -20));
+    EXPECT_NEAR(offset.z(), 40 * layout.metresPerPixel.x(), 1e-6);
+    EXPECT_NEAR(offset.y(), 20 * layout.metresPerPixel.y(), 1e-6);
+    EXPECT_EQ(offset.x(), 0.0);
+    executeOrFail(*doc, makeMoveNodesCommand(*doc, 0, {"aft"}, offset));
+    EXPECT_LT((doc->graph(0)->nodes[1].position - before.nodes[1].position - offset).norm(), 1e-12);
+    // A drop from the stern's port onto the fore hold: a pipe between them.
+    EXPECT_EQ(schematicPortAt(layout, layout.centre[0] + Eigen::Vector2f(0.5f * box.x(), 3), 6), 0);
+    EXPECT_EQ(schematicPortAt(layout, layout.centre[0], 6), -1);
+    GraphPipe joined;
+    joined.a = "stern";
+    joined.b = "fore";
+    executeOrFail(*doc, makeAddPipeCommand(*doc, 0, joined));
+    EXPECT_GE(findPipe(*doc->graph(0), "stern", "fore"), 0);
+    // Both undo back to the graph as it was.
+    ASSERT_TRUE(doc->undo());
+    ASSERT_TRUE(doc->undo());
+    EXPECT_EQ(graphToJson(*doc->graph(0)), graphToJson(before));
+}
+
 TEST(EditorGraph, ThreeNodeGraphBuiltByCommandsFloodsAndSinksTheBoatAndUndoesExactly) {
     const fs::path projectPath = copyDamagedBoat("scripted");
     auto doc = openOrFail(projectPath);

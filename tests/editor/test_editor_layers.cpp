@@ -209,6 +209,82 @@ TEST(EditorLayers, PaintLayerIsClearUntilPaintedAndMasksHide) {
     }
 }
 
+TEST(EditorLayers, SmartMasksFollowTheWaterlineTheDepthAndTheFacing) {
+    // The sphere (radius 0.5) at its starting pose, raised 0.2 m: the water at 0 cuts it
+    // 0.2 m below its centre.
+    auto d = openOrFail(sphereProject("smart"));
+    ASSERT_TRUE(d);
+    executeOrFail(*d, makeNewMapCommand(*d, 0, kPerm, kSize, kSize, 0.0, ""));
+    executeOrFail(*d, makeAddLayerCommand(*d, 0, kPerm, LayerKind::Fill, "wet", 1.0));
+    Result<std::shared_ptr<const PaintSurface>> surface = d->paintSurface(0, kPerm);
+    ASSERT_TRUE(surface.ok()) << surface.error().message;
+    const PaintSurface& grid = **surface;
+    SmartMask mask;
+    mask.pose.translation = Eigen::Vector3d(0, 0.2, 0);
+    const std::string before = snapshot(*d);
+    executeOrFail(*d, makeSmartMaskCommand(*d, 0, kPerm, 1, mask));
+    EXPECT_EQ(d->undoName(), "Smart mask: below the waterline");
+    const PaintedMap& below = *d->layers(0, kPerm)->layers[1].mask;
+    // Every pixel whose pieces of surface all lie well below the water is 1, well above 0:
+    // the fill shows exactly on the wet part of the hull.
+    std::vector<double> lowest(below.values.size(), 1e9), highest(below.values.size(), -1e9);
+    for (std::size_t k = 0; k < grid.sampleCount(); ++k) {
+        const double y = grid.position[k].y() + 0.2;
+        lowest[grid.pixel[k]] = std::min(lowest[grid.pixel[k]], y);
+        highest[grid.pixel[k]] = std::max(highest[grid.pixel[k]], y);
+    }
+    std::size_t wet = 0, dry = 0;
+    for (std::size_t i = 0; i < below.values.size(); ++i) {
+        if (highest[i] < -1e-3) {
+            EXPECT_EQ(below.values[i], 1.0f) << i;
+            ++wet;
+        } else if (lowest[i] > 1e-3 && lowest[i] < 1e9) {
+            EXPECT_EQ(below.values[i], 0.0f) << i;
+            ++dry;
+        }
+        EXPECT_NEAR(d->map(0, kPerm)->values[i], below.values[i], 1e-6);  // 0 under the fill
+    }
+    EXPECT_GT(wet, 100u);
+    EXPECT_GT(dry, 100u);
+
+    // By depth: 0 at the water, 1 from 0.5 m down, linear between (the pixel's mean).
+    mask.kind = SmartMask::Kind::Depth;
+    mask.depth = 0.5;
+    executeOrFail(*d, makeSmartMaskCommand(*d, 0, kPerm, 1, mask));
+    const PaintedMap& depth = *d->layers(0, kPerm)->layers[1].mask;
+    for (std::size_t k = 0; k < grid.sampleCount(); ++k) {
+        const std::size_t i = grid.pixel[k];
+        if (highest[i] - lowest[i] > 1e-6 || highest[i] > 0) continue;  // one depth, wet
+        EXPECT_NEAR(depth.values[i], std::min(1.0, -lowest[i] / 0.5), 1e-4) << i;
+    }
+    // Facing up: the normal's rise, 0 on every face turned down.
+    mask.kind = SmartMask::Kind::Facing;
+    executeOrFail(*d, makeSmartMaskCommand(*d, 0, kPerm, 1, mask));
+    const PaintedMap& up = *d->layers(0, kPerm)->layers[1].mask;
+    for (std::size_t k = 0; k < grid.sampleCount(); ++k) {
+        if (grid.normal[k].y() < -0.05f) EXPECT_EQ(up.values[grid.pixel[k]], 0.0f);
+    }
+    EXPECT_FALSE(makeSmartMaskCommand(*d, 0, kPerm, 7, mask).ok());  // no such layer
+    // Three steps, undone back to the layer without a mask.
+    for (int i = 0; i < 3; ++i) ASSERT_TRUE(d->undo());
+    EXPECT_EQ(snapshot(*d), before);
+    // The script verb: the body at its starting pose (0.2 m up in the test's pose, at the
+    // origin in the project) against the project's still water at 0.
+    const nlohmann::json script = nlohmann::json::parse(
+        R"([{"op": "smart_mask", "layer": 1, "kind": "facing", "direction": [0, -1, 0]}])");
+    Result<nlohmann::json> ran = runEditScript(*d, script);
+    ASSERT_TRUE(ran.ok()) << ran.error().message;
+    SmartMask down;
+    down.kind = SmartMask::Kind::Facing;
+    down.direction = -Eigen::Vector3d::UnitY();
+    PaintedMap expected = smartMaskImage(grid, down);
+    for (float& v : expected.values) v = quantize16(v);
+    EXPECT_EQ(d->layers(0, kPerm)->layers[1].mask->values, expected.values);
+    EXPECT_FALSE(runEditScript(*d, nlohmann::json::parse(
+                                       R"([{"op": "smart_mask", "layer": 1, "kind": "wet"}])"))
+                     .ok());
+}
+
 TEST(EditorLayers, HistoryNamesMaskStrokesAndPropertiesAsAPersonWould) {
     // The history said "Paint permeability" for a stroke on a mask and "Set
     // /bodies/0/material/density" for the inspector's density: a mask's strokes and fills now

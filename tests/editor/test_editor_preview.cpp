@@ -2,11 +2,13 @@
 // in frames, the grab spring (the body moves toward the target; momentum change = gravity's
 // impulse + the spring's), settings changed while running, CSV export read back, and the live
 // submerged-volume error against what `plimsoll buoyancy --compare-exact` prints for the same pose.
+#include "document/command.h"
 #include "document/document.h"
 #include "document/preview.h"
 #include "view/force_overlay.h"
 
 #include "cli_runner.h"
+#include "document_test_support.h"
 #include "test_support.h"
 #include "world_support.h"
 
@@ -150,6 +152,167 @@ TEST(PreviewSession, OffCentreGrabTurnsTheBody) {
     // A pull along +x above the centre: torque (0, 0.4, 0) x (F, 0, 0) = -0.4 F z.
     EXPECT_LT(session->world().bodies()[0].state.angularMomentum.z(), 0.0);
     EXPECT_GT(session->world().bodies()[0].state.linearMomentum.x(), 0.0);
+}
+
+/// A steel-dense box (assets/box.obj, 1 x 0.5 x 0.25 m) that sinks in flat water at 0, tipped
+/// 25 degrees about x and 10 about z so that it meets the floor with one corner.
+Project sinkingBox() {
+    Project project = ballProject(0.0, Eigen::Vector3d(0, -9.81, 0));
+    project.bodies[0].name = "box";
+    project.bodies[0].mesh = test::assetPath("box.obj").string();
+    project.bodies[0].material.density = 3000.0;
+    project.bodies[0].rotationDegrees = Eigen::Vector3d(25.0, 0.0, 10.0);
+    return project;
+}
+
+TEST(PreviewSession, SinkingBoxComesToRestOnTheSeaFloor) {
+    auto session = makeSession(sinkingBox());
+    ASSERT_TRUE(session);
+    ASSERT_FALSE(session->floorHeight());  // off unless asked for
+    session->setSeaFloor(SeaFloor{.enabled = true, .depth = 2.0});
+    ASSERT_TRUE(session->floorHeight());
+    EXPECT_DOUBLE_EQ(*session->floorHeight(), -2.0);
+    for (int i = 0; i < 600; ++i) ASSERT_TRUE(session->step().ok());  // 10 s
+    const SimulatedBody& box = session->world().bodies()[0];
+    // Resting on the floor: its lowest corner at the floor's depth (pressed into it by its
+    // weight less its buoyancy over the contact's stiffness, about a centimetre)...
+    EXPECT_NEAR(session->lowestPoint(0), -2.0, 0.02);
+    // ...still, and turned flat onto a face (a corner first met the floor): one of the box's
+    // axes vertical, its centre half the box's size along that axis above the floor.
+    EXPECT_LT(linearVelocity(box.state, box.mass).norm(), 0.01);
+    EXPECT_LT(angularVelocity(box.state, box.mass).norm(), 0.02);
+    const Eigen::Matrix3d r = box.pose().rotation;
+    Eigen::Index up = 0;
+    EXPECT_GT(r.row(1).cwiseAbs().maxCoeff(&up), 0.999) << r;
+    const double halfSizes[] = {0.5, 0.25, 0.125};
+    EXPECT_NEAR(box.state.position.y(), -2.0 + halfSizes[up], 0.02) << "on axis " << up;
+    // Moved up, the floor carries it again.
+    session->setSeaFloor(SeaFloor{.enabled = true, .depth = 1.5});
+    for (int i = 0; i < 300; ++i) ASSERT_TRUE(session->step().ok());
+    EXPECT_NEAR(session->lowestPoint(0), -1.5, 0.02);
+}
+
+TEST(PreviewSession, WithoutTheSeaFloorTheBoxKeepsSinking) {
+    auto session = makeSession(sinkingBox());
+    ASSERT_TRUE(session);
+    for (int i = 0; i < 600; ++i) ASSERT_TRUE(session->step().ok());
+    const double after10 = session->lowestPoint(0);
+    EXPECT_LT(after10, -5.0);
+    for (int i = 0; i < 60; ++i) ASSERT_TRUE(session->step().ok());
+    EXPECT_LT(session->lowestPoint(0), after10 - 0.5);  // still going down, fast
+    // Switched on below the box, it stops there; switched off, the box sinks on.
+    session->setSeaFloor(SeaFloor{.enabled = true, .depth = -session->lowestPoint(0) + 1.0});
+    const double floorY = *session->floorHeight();
+    for (int i = 0; i < 600; ++i) ASSERT_TRUE(session->step().ok());
+    EXPECT_NEAR(session->lowestPoint(0), floorY, 0.02);
+    session->setSeaFloor(SeaFloor{.enabled = false});
+    for (int i = 0; i < 120; ++i) ASSERT_TRUE(session->step().ok());
+    EXPECT_LT(session->lowestPoint(0), floorY - 1.0);
+}
+
+TEST(PreviewSession, DamagedBoatFloodsSinksAndRestsOnTheSeaFloor) {
+    Result<std::unique_ptr<Document>> opened =
+        Document::open(fs::path(PLIMSOLL_SOURCE_DIR) / "projects" / "damaged_boat.plim.json");
+    ASSERT_TRUE(opened.ok()) << opened.error().message;
+    Result<Scene> scene = (*opened)->simulationScene();
+    ASSERT_TRUE(scene.ok()) << scene.error().message;
+    Result<std::unique_ptr<PreviewSession>> made = PreviewSession::create(std::move(*scene), "");
+    ASSERT_TRUE(made.ok()) << made.error().message;
+    PreviewSession& session = **made;
+    session.setSeaFloor(SeaFloor{.enabled = true, .depth = 3.0});
+    // It floods through the stern and goes down within two minutes (the stern meets the
+    // floor first, the bow swings down after it); then it lies still for two seconds.
+    int still = 0;
+    for (int frame = 0; frame < 120 * 60 && still < 120; ++frame) {
+        ASSERT_TRUE(session.step().ok());
+        const SimulatedBody& b = session.world().bodies()[0];
+        still = session.lowestPoint(0) < -2.9 && linearVelocity(b.state, b.mass).norm() < 0.01 &&
+                        angularVelocity(b.state, b.mass).norm() < 0.02
+                    ? still + 1
+                    : 0;
+    }
+    EXPECT_EQ(still, 120) << "t = " << session.world().time() << " s, lowest point "
+                          << session.lowestPoint(0);
+    EXPECT_NEAR(session.lowestPoint(0), -3.0, 0.02);
+    const SimulatedBody& boat = session.world().bodies()[0];
+    EXPECT_LT(linearVelocity(boat.state, boat.mass).norm(), 0.01);
+}
+
+/// A preview of the document as it is now, on the default device (the editor's).
+std::unique_ptr<PreviewSession> sessionOf(const Document& document) {
+    Result<Scene> scene = document.simulationScene();
+    EXPECT_TRUE(scene.ok()) << scene.error().message;
+    if (!scene) return nullptr;
+    Result<std::unique_ptr<PreviewSession>> made = PreviewSession::create(std::move(*scene), "");
+    EXPECT_TRUE(made.ok()) << made.error().message;
+    return made ? std::move(*made) : nullptr;
+}
+
+TEST(PreviewSession, PaintedDensityChangesTheMassOnTheNextFrame) {
+    std::unique_ptr<Document> doc =
+        test::openOrFail(fs::path(PLIMSOLL_SOURCE_DIR) / "projects" / "buoy.plim.json");
+    ASSERT_TRUE(doc);
+    auto session = sessionOf(*doc), twin = sessionOf(*doc);
+    ASSERT_TRUE(session && twin);
+    Result<std::vector<std::size_t>> seen = session->followDocument(*doc);
+    ASSERT_TRUE(seen.ok()) << seen.error().message;
+    EXPECT_TRUE(seen->empty());  // the first call notes what the preview started from
+    for (int i = 0; i < 30; ++i) ASSERT_TRUE(session->step().ok() && twin->step().ok());
+    const double before = session->world().bodies()[0].mass.mass;
+    // The ballast painted over the whole shell, at full density, while the preview runs.
+    test::executeOrFail(*doc, makeFillAllCommand(*doc, 0, MapChannel::Density, 1.0));
+    seen = session->followDocument(*doc);
+    ASSERT_TRUE(seen.ok()) << seen.error().message;
+    EXPECT_EQ(*seen, std::vector<std::size_t>{0});
+    // The mass is the edited document's, at once: that of a preview started from it.
+    auto fresh = sessionOf(*doc);
+    ASSERT_TRUE(fresh);
+    const double after = session->world().bodies()[0].mass.mass;
+    EXPECT_GT(after, before * 1.05);
+    EXPECT_NEAR(after, fresh->world().bodies()[0].mass.mass, 1e-9 * after);
+    // The next frame's forces differ from those of the twin that did not follow.
+    const Eigen::Vector3d p0 = session->world().bodies()[0].state.linearMomentum;
+    const Eigen::Vector3d q0 = twin->world().bodies()[0].state.linearMomentum;
+    EXPECT_LT((p0 - q0).norm(), 1e-12);  // the same state until then
+    ASSERT_TRUE(session->step().ok() && twin->step().ok());
+    const double dt = session->scene().simulation.timeStep;
+    const Eigen::Vector3d force = (session->world().bodies()[0].state.linearMomentum - p0) / dt;
+    const Eigen::Vector3d twinForce = (twin->world().bodies()[0].state.linearMomentum - q0) / dt;
+    // Heavier by (after - before): that much more weight.
+    EXPECT_NEAR(force.y() - twinForce.y(), -(after - before) * 9.81,
+                0.05 * (after - before) * 9.81);
+    // Nothing changed since: nothing to take.
+    seen = session->followDocument(*doc);
+    ASSERT_TRUE(seen.ok());
+    EXPECT_TRUE(seen->empty());
+}
+
+TEST(PreviewSession, PaintedPermeabilityStopsTheFloodingFromTheNextFrame) {
+    std::unique_ptr<Document> doc =
+        test::openOrFail(fs::path(PLIMSOLL_SOURCE_DIR) / "projects" / "damaged_boat.plim.json");
+    ASSERT_TRUE(doc);
+    auto session = sessionOf(*doc), twin = sessionOf(*doc);
+    ASSERT_TRUE(session && twin);
+    ASSERT_TRUE(session->followDocument(*doc).ok());
+    for (int i = 0; i < 180; ++i) ASSERT_TRUE(session->step().ok() && twin->step().ok());
+    const double water = session->world().bodies()[0].water;
+    ASSERT_GT(water, 1e-3) << "the boat should be flooding through its stern";
+    const RigidBodyState state = session->world().bodies()[0].state;
+    // The damage sealed while it floods: permeability 0 everywhere.
+    test::executeOrFail(*doc, makeFillAllCommand(*doc, 0, MapChannel::Permeability, 0.0));
+    Result<std::vector<std::size_t>> seen = session->followDocument(*doc);
+    ASSERT_TRUE(seen.ok()) << seen.error().message;
+    EXPECT_EQ(*seen, std::vector<std::size_t>{0});
+    // The rebuilt world carries on: the same water, place and momenta, and time.
+    EXPECT_NEAR(session->world().bodies()[0].water, water, 1e-12);
+    EXPECT_LT((session->world().bodies()[0].state.position - state.position).norm(), 1e-9);
+    EXPECT_LT((session->world().bodies()[0].state.linearMomentum - state.linearMomentum).norm(),
+              1e-9);
+    EXPECT_NEAR(session->world().time(), twin->world().time(), 1e-12);
+    // From the next frame on no water enters; the twin keeps flooding.
+    for (int i = 0; i < 60; ++i) ASSERT_TRUE(session->step().ok() && twin->step().ok());
+    EXPECT_NEAR(session->world().bodies()[0].water, water, 1e-9);
+    EXPECT_GT(twin->world().bodies()[0].water, water + 1e-4);
 }
 
 TEST(PreviewSession, WaterIntegratorAndTextureSizeChangeWhileRunning) {

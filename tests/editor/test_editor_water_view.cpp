@@ -29,6 +29,31 @@ Camera lookingDown(double pitch) {
     return c;
 }
 
+TEST(WaterView, SurfaceNetJoinsTheSamplesAtTheModelsHeights) {
+    // The net the renderer draws on waves: each sample joined to its neighbours along x and
+    // z, every point at the wave function's height there (plus the lift asked for).
+    const WaterModel water = waves();
+    const double time = 0.6;
+    const WaterView view = WaterView::of(water, time, lookingDown(0.4));
+    const float lift = 0.25f;
+    const std::vector<Eigen::Vector3f> net = view.surfaceSegments(lift);
+    constexpr int n = WaterView::kCells + 1;
+    ASSERT_EQ(net.size(), std::size_t(4) * WaterView::kCells * n);
+    for (std::size_t k = 0; k < net.size(); ++k) {
+        const Eigen::Vector3f& p = net[k];
+        EXPECT_NEAR(p.y() - lift, water.height(p.x(), p.z(), time), 4e-6) << k;
+        // On the sample grid.
+        const double i = (p.x() - view.x0) / view.step, j = (p.z() - view.z0) / view.step;
+        EXPECT_NEAR(i, std::round(i), 1e-4);
+        EXPECT_NEAR(j, std::round(j), 1e-4);
+    }
+    for (std::size_t k = 0; k + 1 < net.size(); k += 2) {
+        // Neighbours: one step apart along x or z.
+        EXPECT_NEAR((net[k + 1] - net[k]).head<1>().norm() + std::abs(net[k + 1].z() - net[k].z()),
+                    view.step, 1e-4);
+    }
+}
+
 TEST(WaterView, HeightsAreTheModelsAtTheSamplesAndLinearBetween) {
     const WaterModel water = waves();
     const double time = 1.3;

@@ -332,7 +332,7 @@ TEST(EditorWindow, XWithTheWaterGraphOpenLeavesTheBrushMirrorAlone) {
         fs::copy_file(source / "assets" / file, root / "assets" / file);
     for (const char* file : {"damaged_boat.plim.json", "boat.graph.json"})
         fs::copy_file(source / "projects" / file, root / "projects" / file);
-    // 800 x 500: the Water graph panel's title bar, collapsed, spans (17..355, 41..57).
+    // 800 x 500: the Water graph panel's title bar, collapsed, spans (17..475, 41..57).
     const std::string out =
         runUnderXvfb(root / "projects",
                      "$PLIMSOLL edit damaged_boat.plim.json --run-seconds 60 --window-size 800x500 "
@@ -370,11 +370,10 @@ TEST(EditorWindow, KeyTapsShorterThanAFrameAllCount) {
     EXPECT_EQ(report["preview_playing"], false);       // space: paused
 }
 
-TEST(EditorWindow, StrokeFromOffTheMeshPaintsAndThePreviewGrabDoesNot) {
-    // A stroke that started off the mesh and crossed it painted nothing;
-    // the Brush painted the hull during a preview that promises "left-drag a body to pull it".
-    // Here a drag across the ball during the preview pulls it (no edit); after the preview
-    // stops, the same drag from empty space paints: one undo step.
+TEST(EditorWindow, StrokeFromOffTheMeshPaintsDuringThePreviewAndAfterIt) {
+    // A stroke that started off the mesh and crossed it painted nothing. With the Brush a drag
+    // paints on the body where the preview has floated it (the preview takes the stroke at
+    // once); after the preview stops, the same drag from empty space paints again: two steps.
     if (!haveWindowTools(true)) GTEST_SKIP() << "xvfb-run or xdotool is not installed";
     const fs::path project = ballProject("window_stroke");
     // 800 x 500: the 3D view is the left 480 px; the ball (front view, framed) at its centre.
@@ -386,9 +385,12 @@ TEST(EditorWindow, StrokeFromOffTheMeshPaintsAndThePreviewGrabDoesNot) {
         "$PLIMSOLL edit ball.plim.json --run-seconds 60 --window-size 800x500 --view front "
         "--state-file state.json & " +
             kWaitForState + "xdotool key --window $w b p; " + waitFor("\"preview_running\":true") +
-            waitFor("\"tool\":1") + drag + "xdotool key --window $w p; " +
-            waitFor("\"preview_running\":false") + drag +
-            waitFor("\"undo\":\"Paint permeability\"") +
+            waitFor("\"tool\":1") + drag + waitFor("\"undo\":\"Paint permeability\"") +
+            waitFor("\"status\":\"Live preview: the new paint is simulated\"") +
+            // Saved, so that the second stroke shows as the document turning dirty again.
+            "cp state.json floating.json; xdotool key --window $w ctrl+s; " +
+            waitFor("\"dirty\":false") + "xdotool key --window $w p; " +
+            waitFor("\"preview_running\":false") + drag + waitFor("\"dirty\":true") +
             // Saved before Ctrl+Q, which would otherwise ask about the unsaved paint.
             "cp state.json painted.json; xdotool key --window $w ctrl+s; " +
             waitFor("\"dirty\":false") + "xdotool key --window $w ctrl+q; wait");
@@ -398,16 +400,20 @@ TEST(EditorWindow, StrokeFromOffTheMeshPaintsAndThePreviewGrabDoesNot) {
     EXPECT_EQ(report["tool"], 1);
     EXPECT_EQ(report["preview_running"], false);
     EXPECT_EQ(report["undo"], "Paint permeability");
-    EXPECT_EQ(report["undo_steps"], 1) << "the drag during the preview painted too";
+    EXPECT_EQ(report["undo_steps"], 2) << "one stroke during the preview, one after it";
+    const nlohmann::json floating =
+        nlohmann::json::parse(test::readFile(project.parent_path() / "floating.json"));
+    EXPECT_EQ(floating["preview_running"], true);
+    EXPECT_EQ(floating["status"], "Live preview: the new paint is simulated");
     const nlohmann::json painted =
         nlohmann::json::parse(test::readFile(project.parent_path() / "painted.json"));
     EXPECT_EQ(painted["title"], "*ball.plim.json - Plimsoll");
 }
 
-TEST(EditorWindow, BrushDragDuringThePreviewSaysWhyItPullsAndStopClearsThePreviewsStatus) {
-    // With the Brush up during the preview a left drag pulled the body and painted nothing,
+TEST(EditorWindow, FillDragDuringThePreviewSaysWhyItPullsAndStopClearsThePreviewsStatus) {
+    // With a paint tool up during the preview a left drag pulled the body and painted nothing,
     // without a word; after Stop the status bar still said "Live preview on fast CPU". Now
-    // the drag says why it pulls, and Stop says the preview stopped.
+    // a fill's drag says why it pulls (the Brush paints), and Stop says the preview stopped.
     if (!haveWindowTools(true)) GTEST_SKIP() << "xvfb-run or xdotool is not installed";
     const fs::path project = ballProject("window_brush_preview");
     const fs::path dir = project.parent_path();
@@ -415,8 +421,8 @@ TEST(EditorWindow, BrushDragDuringThePreviewSaysWhyItPullsAndStopClearsThePrevie
         dir,
         "$PLIMSOLL edit ball.plim.json --run-seconds 60 --window-size 800x500 --view front "
         "--state-file state.json & " +
-            kWaitForState + "xdotool key --window $w b p; " + waitFor("\"preview_running\":true") +
-            waitFor("\"tool\":1") + "cp state.json started.json; " +
+            kWaitForState + "xdotool key --window $w g p; " + waitFor("\"preview_running\":true") +
+            waitFor("\"tool\":2") + "cp state.json started.json; " +
             dragAlong(250, {200, 230, 260, 290}) + waitFor("\"mouse_down\":false") +
             "cp state.json pulled.json; xdotool key --window $w p; " +
             waitFor("\"preview_running\":false") + "xdotool key --window $w ctrl+q; wait");
@@ -425,7 +431,8 @@ TEST(EditorWindow, BrushDragDuringThePreviewSaysWhyItPullsAndStopClearsThePrevie
     EXPECT_EQ(started["status"].get<std::string>().rfind("Live preview on ", 0), 0u)
         << started["status"];
     const nlohmann::json pulled = nlohmann::json::parse(test::readFile(dir / "pulled.json"));
-    EXPECT_NE(pulled["status"].get<std::string>().find("Stop it (P) to paint"), std::string::npos)
+    EXPECT_NE(pulled["status"].get<std::string>().find("The Brush (B) paints on it"),
+              std::string::npos)
         << pulled["status"];
     EXPECT_EQ(pulled["undo"], "") << "the drag painted during the preview";
     const nlohmann::json report = nlohmann::json::parse(out);
@@ -435,7 +442,7 @@ TEST(EditorWindow, BrushDragDuringThePreviewSaysWhyItPullsAndStopClearsThePrevie
 TEST(EditorWindow, AClickOnTheWaterGraphsTitleOpensIt) {
     // The folded Water graph panel opened only from its arrow (or a double-click); a click on
     // its title, as on any folded header, did nothing. At 800 x 500 its title bar spans
-    // (17..355, 41..57): a click at (200, 49), clear of the arrow, opens it.
+    // (17..475, 41..57): a click at (200, 49), clear of the arrow, opens it.
     if (!haveWindowTools(true)) GTEST_SKIP() << "xvfb-run or xdotool is not installed";
     const fs::path project = damagedBoatCopy("window_graph_title");
     const fs::path dir = project.parent_path();
@@ -450,6 +457,35 @@ TEST(EditorWindow, AClickOnTheWaterGraphsTitleOpensIt) {
     bool open = false;
     for (const auto& w : opened["windows"]) open = open || w["name"] == "Water graph";
     EXPECT_TRUE(open) << "the click on the title left the panel folded";
+}
+
+TEST(EditorWindow, SchematicDragsConnectAndMoveNodesAsUndoSteps) {
+    // The schematic only selected. At 1280 x 720, with the Water graph panel opened, its
+    // schematic shows the damaged boat's four boxes in a row at y = 491, the stern's port
+    // (the dot on its right edge) at x = 121 and the fore hold's box around x = 305: a drag
+    // from the port onto that box connects them; a drag of the aft hold's box (x = 190) up
+    // moves it. Each is one undo step, undone by Ctrl+Z.
+    if (!haveWindowTools(true)) GTEST_SKIP() << "xvfb-run or xdotool is not installed";
+    const fs::path project = damagedBoatCopy("window_schematic");
+    const fs::path dir = project.parent_path();
+    const std::string out = runUnderXvfb(
+        dir,
+        "$PLIMSOLL edit damaged_boat.plim.json --run-seconds 60 --window-size 1280x720 "
+        "--state-file state.json & " +
+            kWaitForState + clickAt(70, 66) + waitFor("\"name\":\"Water graph\"") +
+            dragAlong(491, {121, 200, 300}) + waitFor("\"undo\":\"Connect stern-fore\"") +
+            "cp state.json connected.json; " + dragThrough({{190, 480}, {190, 440}, {192, 430}}) +
+            waitFor("\"undo\":\"Move 1 node\"") + "cp state.json moved.json; " +
+            "xdotool key --window $w ctrl+z ctrl+z; " + waitFor("\"undo\":\"\"") +
+            "xdotool key --window $w ctrl+q; wait");
+    if (out.empty()) GTEST_SKIP() << "no editor window in this build or no X server";
+    const nlohmann::json connected = nlohmann::json::parse(test::readFile(dir / "connected.json"));
+    EXPECT_EQ(connected["undo"], "Connect stern-fore");
+    const nlohmann::json moved = nlohmann::json::parse(test::readFile(dir / "moved.json"));
+    EXPECT_EQ(moved["undo"], "Move 1 node");
+    const nlohmann::json report = nlohmann::json::parse(out);
+    EXPECT_LT(report["seconds"].get<double>(), 59.0) << "Ctrl+Q was not seen";
+    EXPECT_EQ(report["undo"], "");  // both undone
 }
 
 TEST(EditorWindow, EscClosesAMenuAndTheUvViewZoomsUnderAnOpenMenu) {
@@ -845,7 +881,7 @@ TEST(EditorWindow, CameraFollowsTheBodyInThePreview) {
 
 TEST(EditorWindow, WaterChangedInThePreviewIsKeptInTheProject) {
     // Water and wave edits made in the preview could not be kept. At 800 x 500
-    // the Live preview window's Water section opens at (60, 388); its "level (m)" field, dragged
+    // the Live preview window's Water section opens at (60, 365); its "level (m)" field, dragged
     // 20 px right (0.01 m a pixel), raises the preview's water 0.2 m; "Keep in project" makes
     // that one undoable project edit, and Ctrl+S saves it. (The script's text has no
     // apostrophe: it runs inside sh -c '...'.)
@@ -856,11 +892,11 @@ TEST(EditorWindow, WaterChangedInThePreviewIsKeptInTheProject) {
         dir,
         "$PLIMSOLL edit ball.plim.json --preview --run-seconds 90 --window-size 800x500 "
         "--state-file state.json & " +
-            kWaitForState + waitFor("\"name\":\"Live preview\"") + clickAt(60, 388) +
-            moveTo(125, 434) + waitFor("\"tooltip\":\"The still-water height") +
-            "xdotool mousedown 1; " + waitFor("\"held\":\"Live preview\"") + moveTo(135, 434) +
-            moveTo(145, 434) + "xdotool mouseup 1; " + waitFor("\"held\":\"\"") + moveTo(72, 457) +
-            waitFor("\"tooltip\":\"Write these water") + clickAt(72, 457) +
+            kWaitForState + waitFor("\"name\":\"Live preview\"") + clickAt(60, 365) +
+            moveTo(125, 411) + waitFor("\"tooltip\":\"The still-water height") +
+            "xdotool mousedown 1; " + waitFor("\"held\":\"Live preview\"") + moveTo(135, 411) +
+            moveTo(145, 411) + "xdotool mouseup 1; " + waitFor("\"held\":\"\"") + moveTo(72, 434) +
+            waitFor("\"tooltip\":\"Write these water") + clickAt(72, 434) +
             waitFor("\"undo\":\"Keep the preview") + "xdotool key --window $w ctrl+s; " +
             waitFor("\"dirty\":false") + "xdotool key --window $w ctrl+q; wait");
     if (out.empty()) GTEST_SKIP() << "no editor window in this build or no X server";
