@@ -152,6 +152,31 @@ TEST(HostileGltf, OffsetsThatWrapAroundAreRefused) {
     }
 }
 
+// Assimp looks for the BIN chunk after the JSON chunk padded to 4 bytes and allocates its
+// stated length before reading it; a chunk walk without the padding found an empty chunk there
+// and let a 4 GB BIN chunk through.
+TEST(HostileGltf, TheBinChunkIsCheckedWhereAssimpFindsIt) {
+    const fs::path dir = test::freshFolder("hostile_gltf", "bin");
+    std::string text = triangle().dump();
+    while (text.size() % 4 != 1) text += ' ';
+    std::string body;
+    auto u32 = [&](std::uint32_t v) { body.append(reinterpret_cast<const char*>(&v), 4); };
+    u32(static_cast<std::uint32_t>(text.size()));
+    u32(0x4E4F534Au);
+    body += text + std::string(3, '\0');  // padding to 4 bytes
+    u32(0xFFFFFF00u);                     // BIN: 4 GB stated, 4 bytes there
+    u32(0x004E4942u);
+    body += std::string(4, '\0');
+    std::string file = "glTF";
+    const std::uint32_t header[2] = {2, static_cast<std::uint32_t>(12 + body.size())};
+    file.append(reinterpret_cast<const char*>(header), 8);
+    test::writeFile(dir / "bin.glb", file + body);
+    const std::string message = test::messageOf(loadMesh(dir / "bin.glb"));
+    EXPECT_CONTAINS(message, (dir / "bin.glb").string() + ": GLB BIN chunk at byte " +
+                                 std::to_string(20 + text.size() + 3) +
+                                 " says 4294967040 bytes, the file has 4 after it");
+}
+
 // A Draco-compressed POSITION of 16 components overflowed the 4-element array assimp decodes
 // each point into, on the stack: Draco-compressed primitives are refused.
 TEST(HostileGltf, DracoCompressedPrimitivesAreRefused) {
@@ -224,6 +249,14 @@ TEST(HostileGltf, SparseAccessorsAreCheckedBeforeAssimpPatchesThem) {
     many["count"] = 4;
     expectRefused(dir, "many", views(withSparse(3, many)), bin,
                   {"accessors[1].sparse.count: 4 (1 to the accessor's count, 3)"});
+    // On a strided view: assimp copies the elements packed and reads the copy strided.
+    json strided = views(withSparse(3, good));
+    strided["bufferViews"][0]["byteStride"] = 16;
+    strided["bufferViews"][0]["byteLength"] = 36;
+    strided["accessors"][0]["count"] = 2;
+    strided["accessors"][1]["count"] = 2;
+    expectRefused(dir, "strided", strided, bin,
+                  {"accessors[1]: a sparse accessor on bufferViews[0], whose byteStride 16"});
     json floatIndices = good;
     floatIndices["indices"]["componentType"] = 5126;
     expectRefused(dir, "float_indices", views(withSparse(3, floatIndices)), bin,
@@ -338,9 +371,52 @@ TEST(HostileGltf, DataUrisWithLongHeadersOrBadBase64AreRefused) {
     test::writeFile(dir / "image.gltf", image.dump());
     EXPECT_CONTAINS(test::messageOf(loadMesh(dir / "image.gltf")),
                     "images[0].uri: a data URI whose");
+    // A URI starting with byte 0x10 is one assimp believes it has parsed already.
+    test::writeFile(dir / "parsed.gltf",
+                    triangle(std::string("\x10\x01\x01\x01") + "\xC2\x80" + data).dump());
+    EXPECT_CONTAINS(test::messageOf(loadMesh(dir / "parsed.gltf")),
+                    "buffers[0].uri: a URI with a control character");
     test::writeFile(dir / "base64.gltf", triangle("data:;base64,AA=A").dump());
     EXPECT_CONTAINS(test::messageOf(loadMesh(dir / "base64.gltf")),
                     "buffers[0].uri: a data URI whose base64 data is not well formed");
+}
+
+// Assimp reads two elements of a texture transform's offset and scale whatever their size.
+TEST(HostileGltf, TextureTransformsHoldTwoNumbers) {
+    const fs::path dir = test::freshFolder("hostile_gltf", "transform");
+    json g = triangle();
+    g["extensionsUsed"] = {"KHR_texture_transform"};
+    g["materials"] = json::parse(R"([{"pbrMetallicRoughness": {"baseColorTexture": {"index": 0,
+        "extensions": {"KHR_texture_transform": {"offset": [], "scale": [1, 1]}}}}}])");
+    g["meshes"][0]["primitives"][0]["material"] = 0;
+    expectRefused(dir, "transform", g, triangleBytes(),
+                  {"materials[0].pbrMetallicRoughness.baseColorTexture.extensions."
+                   "KHR_texture_transform.offset: not two numbers: []"});
+}
+
+// Assimp reads an output element for each key of an animation's input (three for a cubic
+// spline) without comparing the counts: a read past the output's copy.
+TEST(HostileGltf, AnimationOutputsHoldAnElementForEveryKey) {
+    const fs::path dir = test::freshFolder("hostile_gltf", "animation");
+    json g = triangle();
+    // Accessor 1: 3 key times (the triangle's x coordinates as floats); accessor 2: 1 VEC3.
+    g["accessors"].push_back(
+        {{"bufferView", 0}, {"componentType", 5126}, {"count", 3}, {"type", "SCALAR"}});
+    g["accessors"].push_back(
+        {{"bufferView", 0}, {"componentType", 5126}, {"count", 1}, {"type", "VEC3"}});
+    g["animations"] = json::parse(R"([{"samplers": [{"input": 1, "output": 2}],
+        "channels": [{"sampler": 0, "target": {"node": 0, "path": "translation"}}]}])");
+    expectRefused(dir, "short", g, triangleBytes(),
+                  {"animations[0].samplers[0].output: accessors[2] has 1 elements, fewer than 1 "
+                   "for each of the input's 3 keys"});
+    g["accessors"][2]["count"] = 3;
+    g["animations"][0]["samplers"][0]["interpolation"] = "CUBICSPLINE";
+    expectRefused(dir, "cubic", g, triangleBytes(),
+                  {"fewer than 3 for each of the input's 3 keys"});
+    g["animations"][0]["channels"][0]["sampler"] = 1;
+    g["animations"][0]["samplers"][0].erase("interpolation");
+    expectRefused(dir, "sampler", g, triangleBytes(),
+                  {"animations[0].channels[0].sampler: 1 names no element of samplers"});
 }
 
 // nlohmann keeps the last of two members of one name, assimp's reader the first: the checked

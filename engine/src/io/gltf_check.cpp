@@ -173,6 +173,7 @@ public:
         checkBufferViews();
         checkAccessors();
         checkImages();
+        checkMaterials();
         checkNodes();
         checkMeshes();
         checkSkins();
@@ -274,6 +275,13 @@ private:
         std::uint64_t size = 0;
         bool base64 = false;
     };
+    /// A URI without control characters: assimp takes one starting with byte 0x10 for a data
+    /// URI it has already parsed and reads the offsets of its parts from the next four bytes.
+    void checkUriText(std::string_view uri, const std::string& path) const {
+        for (const char c : uri)
+            if (static_cast<unsigned char>(c) < 0x20)
+                refuse(path, "a URI with a control character: " + boundedExcerpt(uri));
+    }
     DataUri dataUri(std::string_view uri, const std::string& path) const {
         const std::size_t comma = uri.find(',');
         if (comma == std::string_view::npos)
@@ -305,6 +313,7 @@ private:
             const json* uri = member(buffer, "uri");
             if (uri && !uri->is_string())
                 refuse(at(path, "uri"), "not a string: " + jsonExcerpt(*uri));
+            if (uri) checkUriText(uri->get_ref<const std::string&>(), at(path, "uri"));
             const std::string what = at(path, "byteLength");
             std::uint64_t has = 0;
             if (glbBin_ && i == 0) {
@@ -445,8 +454,16 @@ private:
                                 "accessors without a bufferView (zeros) need bytes:", zeroFilled,
                                 "kMaxGltfZeroFilledBytes", kMaxGltfZeroFilledBytes);
             }
-            if (const json* sparse = objectMember(accessor, "sparse", path))
+            if (const json* sparse = objectMember(accessor, "sparse", path)) {
+                // Assimp copies a sparse accessor's elements packed, then reads the copy with
+                // the view's stride: past its end where the stride is larger.
+                if (view && views_[*view].stride != 0 &&
+                    views_[*view].stride != info.components * size)
+                    refuse(path, "a sparse accessor on bufferViews[" + std::to_string(*view) +
+                                     "], whose byteStride " + std::to_string(views_[*view].stride) +
+                                     " is not its element's size (assimp reads it packed)");
                 checkSparse(*sparse, at(path, "sparse"), info);
+            }
             accessors_.push_back(std::move(info));
         }
     }
@@ -520,10 +537,37 @@ private:
             const json* uri = member(images[i], "uri");
             if (uri && !uri->is_string())
                 refuse(at(path, "uri"), "not a string: " + jsonExcerpt(*uri));
+            if (uri) checkUriText(uri->get_ref<const std::string&>(), at(path, "uri"));
             if (uri && uri->get_ref<const std::string&>().starts_with("data:"))
                 dataUri(uri->get_ref<const std::string&>(), at(path, "uri"));
         }
     }
+
+    /// Texture transforms anywhere in the materials: assimp reads the first two elements of
+    /// their offset and scale arrays without looking at their size (an empty array: a read
+    /// through a null pointer). The document nests at most kMaxJsonDepth deep, so this
+    /// recursion is bounded.
+    void checkTextureTransforms(const json& value, const std::string& path) const {
+        if (value.is_array()) {
+            for (std::size_t i = 0; i < value.size(); ++i)
+                checkTextureTransforms(value[i], at(path, i));
+            return;
+        }
+        if (!value.is_object()) return;
+        for (auto it = value.begin(); it != value.end(); ++it) {
+            const std::string inner = path + "." + boundedExcerpt(it.key());
+            if (it.key() == "KHR_texture_transform" && it->is_object()) {
+                for (const char* key : {"offset", "scale"}) {
+                    const json* pair = member(*it, key);
+                    if (pair && (!pair->is_array() || pair->size() != 2 ||
+                                 !(*pair)[0].is_number() || !(*pair)[1].is_number()))
+                        refuse(at(inner, key), "not two numbers: " + jsonExcerpt(*pair));
+                }
+            }
+            checkTextureTransforms(*it, inner);
+        }
+    }
+    void checkMaterials() { checkTextureTransforms(topArray("materials"), "materials"); }
 
     /// The node tree: children and meshes exist, no node is its own ancestor, no chain is
     /// deeper than kMaxGltfNodeDepth (assimp walks the tree recursively), each node has at most
@@ -737,8 +781,9 @@ private:
         checkCopied("skins");
     }
 
-    /// Animations: channels name samplers of their animation, samplers name accessors; assimp
-    /// copies a sampler's input and output once per channel that uses it.
+    /// Animations: channels name samplers of their animation, samplers name accessors, an
+    /// output holds an element for each input key; assimp copies a sampler's input and output
+    /// once per channel that uses it.
     void checkAnimations() {
         const json& animations = topArray("animations");
         for (std::size_t a = 0; a < animations.size(); ++a) {
@@ -753,6 +798,18 @@ private:
                                                               "accessors", accessors_.size());
                     const std::uint64_t output = requiredIndex(
                         (*samplers)[s], "output", samplerPath, "accessors", accessors_.size());
+                    // Assimp reads an output element for each input key (three for a cubic
+                    // spline's in-tangent, value and out-tangent) without comparing counts.
+                    const json* interpolation = member((*samplers)[s], "interpolation");
+                    const std::uint64_t each =
+                        interpolation && *interpolation == "CUBICSPLINE" ? 3 : 1;
+                    if (accessors_[output].count < each * accessors_[input].count)
+                        refuse(at(samplerPath, "output"),
+                               "accessors[" + std::to_string(output) + "] has " +
+                                   std::to_string(accessors_[output].count) +
+                                   " elements, fewer than " + std::to_string(each) +
+                                   " for each of the input's " +
+                                   std::to_string(accessors_[input].count) + " keys");
                     keys.push_back(accessors_[input].count + accessors_[output].count);
                 }
             }
