@@ -344,6 +344,14 @@ TEST(HostileGltf, PrimitivesWithTooFewElementsForTheirModeAreRefused) {
         expectRefused(dir, "mode" + std::to_string(mode), g, bin,
                       {"meshes[0].primitives[0]: ", "vertices for mode " + std::to_string(mode)});
     }
+    // Assimp resizes a list to the number after a target's attribute name and writes there.
+    for (const char* name : {"POSITION_-1", "NORMAL_2000000000"}) {
+        json target = triangle();
+        target["meshes"][0]["primitives"][0]["targets"] = json::array({{{name, 0}}});
+        expectRefused(dir, "target", target, triangleBytes(),
+                      {std::string("meshes[0].primitives[0].targets[0].") + name +
+                       ": a morph target attribute named after"});
+    }
     json bad = triangle();
     bad["meshes"][0]["primitives"][0]["mode"] = 7;
     expectRefused(dir, "mode7", bad, triangleBytes(),

@@ -708,6 +708,15 @@ private:
                     for (std::size_t t = 0; t < list->size(); ++t) {
                         const std::string targetPath = at(at(path, "targets"), t);
                         if (!(*list)[t].is_object()) refuse(targetPath, "not an object");
+                        // Assimp takes the number after "POSITION_" (NORMAL_, TANGENT_) in a
+                        // target as the index of a list it resizes to hold it: "POSITION_-1"
+                        // wrote far outside it, "POSITION_2000000000" asked for 32 GB.
+                        for (auto it = (*list)[t].begin(); it != (*list)[t].end(); ++it)
+                            for (const char* name : {"POSITION", "NORMAL", "TANGENT"})
+                                if (it.key().starts_with(name) && it.key() != name)
+                                    refuse(targetPath + "." + boundedExcerpt(it.key()),
+                                           "a morph target attribute named after " +
+                                               std::string(name) + " but not " + name);
                         sameCount((*list)[t], targetPath);
                     }
                 }
