@@ -352,6 +352,13 @@ TEST(HostileGltf, PrimitivesWithTooFewElementsForTheirModeAreRefused) {
                       {std::string("meshes[0].primitives[0].targets[0].") + name +
                        ": a morph target attribute named after"});
     }
+    // No POSITION: assimp counts no vertices, and a fan of no vertices has 2^32 - 2 faces (the
+    // glTF fuzzer's first finding).
+    json unnamed = triangle();
+    unnamed["meshes"][0]["primitives"][0]["attributes"] = {{"NORMAL", 0}};
+    unnamed["meshes"][0]["primitives"][0]["mode"] = 6;
+    expectRefused(dir, "unnamed", unnamed, triangleBytes(),
+                  {"meshes[0].primitives[0].attributes.POSITION: missing"});
     json bad = triangle();
     bad["meshes"][0]["primitives"][0]["mode"] = 7;
     expectRefused(dir, "mode7", bad, triangleBytes(),

@@ -700,6 +700,11 @@ private:
                                                       " (a primitive's attributes have one count)");
                     }
                 };
+                // Assimp counts a primitive's vertices by its POSITION alone: a fan or strip
+                // of none made it allocate 2^32 - 2 faces (the glTF fuzzer's first finding).
+                if (!attributes->contains("POSITION"))
+                    refuse(at(at(path, "attributes"), "POSITION"),
+                           "missing (a primitive without positions has no surface)");
                 sameCount(*attributes, at(path, "attributes"));
                 std::uint64_t targets = 0;
                 if (const json* list = member(primitive, "targets")) {
@@ -734,7 +739,7 @@ private:
                 }
                 // Points 1, lines and line strips or loops 2, triangles of any kind 3.
                 const std::uint64_t least = mode == 0 ? 1 : mode <= 3 ? 2 : 3;
-                if ((count || member(primitive, "indices")) && elements < least)
+                if (elements < least)
                     refuse(path, std::to_string(elements) + " vertices for mode " +
                                      std::to_string(mode) + ", which needs at least " +
                                      std::to_string(least));
