@@ -26,6 +26,7 @@
 #include <cstdio>
 #include <algorithm>
 #include <map>
+#include <sys/stat.h>
 
 namespace plimsoll {
 namespace test_export {
@@ -733,6 +734,38 @@ TEST(ExportCli, CheckNamesAChangedPaintedMapAndAChangedGraph) {
     EXPECT_EQ(
         runPlimsoll("export " + project + " --out " + quoted(out) + " --check --quiet").exitCode,
         0);
+}
+
+// export --check builds the bundle in a temporary folder to compare it: a folder mkdtemp makes
+// (a new one, of a random name), so a link planted in the temporary directory under the fixed
+// name once used (TMPDIR/plimsoll-check, to a folder of the victim's) is never written through.
+TEST(ExportCli, CheckNeverWritesThroughALinkPlantedInTheTemporaryDirectory) {
+    const fs::path root = copyProject("check_link", "box_half_draft");
+    const std::string project = quoted(root / "projects" / "box_half_draft.plim.json");
+    const fs::path tmp = root / "tmp", victim = root / "victim";
+    fs::create_directories(tmp);
+    fs::create_directories(victim);
+    test::writeFile(victim / "precious.txt", "keep");
+    fs::create_directory_symlink(victim, tmp / "plimsoll-check");
+    struct stat before {};
+    ASSERT_EQ(::stat(victim.c_str(), &before), 0);
+    const test::CommandOutput r =
+        runPlimsoll("export " + project + " --out " + quoted(root / "out") + " --check --quiet",
+                    "TMPDIR=" + quoted(tmp));
+    EXPECT_EQ(r.exitCode, 1) << r.err;  // no bundle yet: out of date
+    EXPECT_NE(r.err.find("out of date"), std::string::npos) << r.err;
+    // Nothing was made or removed in the victim's folder (its time of change is the same) and
+    // the check left nothing in the temporary directory but the link.
+    struct stat after {};
+    ASSERT_EQ(::stat(victim.c_str(), &after), 0);
+    EXPECT_EQ(after.st_mtim.tv_sec, before.st_mtim.tv_sec);
+    EXPECT_EQ(after.st_mtim.tv_nsec, before.st_mtim.tv_nsec);
+    EXPECT_EQ(contents(victim), (std::map<std::string, std::string>{{"precious.txt", "keep"}}));
+    std::vector<std::string> left;
+    for (const auto& entry : fs::directory_iterator(tmp)) left.push_back(entry.path().filename());
+    EXPECT_EQ(left, std::vector<std::string>{"plimsoll-check"});
+    EXPECT_TRUE(fs::is_symlink(tmp / "plimsoll-check"));
+    EXPECT_FALSE(fs::exists(root / "out"));
 }
 
 TEST(ExportCli, FailedExportLeavesThePreviousBundle) {

@@ -508,74 +508,13 @@ Status checkBinaryStl(const std::string& file, std::string_view bytes) {
                                             std::to_string(fileBytes) + " bytes (truncated?)");
 }
 
-/// A glTF's node tree, checked before assimp walks it recursively: children name nodes that
-/// exist, no node is its own ancestor, and no chain is deeper than kMaxGltfNodeDepth. Text
-/// that is not JSON is left to assimp (its message names the parse error).
-Status checkGltfNodes(const std::string& file, std::string_view jsonText) {
-    // Deep nesting anywhere (a node's extras 200000 arrays deep) overflows assimp's recursive
-    // JSON reader: refused before either parser runs.
-    if (Status depth = checkJsonDepth(jsonText, file); !depth.ok()) return depth;
-    const nlohmann::json root = nlohmann::json::parse(jsonText, nullptr, false);
-    if (root.is_discarded() || !root.is_object()) return Ok{};
-    const auto nodes = root.find("nodes");
-    if (nodes == root.end() || !nodes->is_array()) return Ok{};
-    const std::size_t n = nodes->size();
-    std::vector<std::vector<std::size_t>> children(n);
-    std::vector<int> parents(n, 0);
-    for (std::size_t i = 0; i < n; ++i) {
-        const nlohmann::json& node = (*nodes)[i];
-        if (!node.is_object()) continue;
-        const auto list = node.find("children");
-        if (list == node.end() || !list->is_array()) continue;
-        for (const nlohmann::json& c : *list) {
-            if (!c.is_number_unsigned() || c.get<std::uint64_t>() >= n)
-                return makeError(ErrorKind::format, file + ": glTF node " + std::to_string(i) +
-                                                        " names child " + jsonExcerpt(c) +
-                                                        ", not a node of the file");
-            children[i].push_back(c.get<std::size_t>());
-            ++parents[c.get<std::size_t>()];
-        }
-    }
-    // Depth-first from every root, iteratively (a recursive walk is what overflows).
-    std::vector<int> state(n, 0);  // 0: unseen, 1: on the current path, 2: done
-    std::vector<std::pair<std::size_t, std::size_t>> path;  // node, next child
-    for (std::size_t r = 0; r < n; ++r) {
-        if (state[r] != 0 || parents[r] != 0) continue;
-        path.push_back({r, 0});
-        state[r] = 1;
-        while (!path.empty()) {
-            auto& [node, next] = path.back();
-            if (next == children[node].size()) {
-                state[node] = 2;
-                path.pop_back();
-                continue;
-            }
-            const std::size_t child = children[node][next++];
-            if (state[child] == 1)
-                return makeError(ErrorKind::format, file + ": glTF node " + std::to_string(child) +
-                                                        " is its own ancestor (a cycle)");
-            if (state[child] == 2) continue;  // shared subtree, already checked
-            if (path.size() >= kMaxGltfNodeDepth)
-                return makeError(ErrorKind::limit,
-                                 file + ": glTF nodes nested more than " +
-                                     std::to_string(kMaxGltfNodeDepth) +
-                                     " deep, more than the limit kMaxGltfNodeDepth (limits.h)");
-            state[child] = 1;
-            path.push_back({child, 0});
-        }
-    }
-    for (std::size_t i = 0; i < n; ++i) {
-        if (state[i] == 0)
-            return makeError(ErrorKind::format,
-                             file + ": glTF node " + std::to_string(i) + " is in a cycle of nodes");
-    }
-    return Ok{};
-}
-
 /// Binary glTF: magic, version, total length, then chunks (length, type, data): every length
-/// inside the file (a 1 KB file claiming a 4 GB JSON chunk made assimp allocate it), then the
-/// JSON chunk's node tree.
-Status checkGlb(const std::string& file, std::string_view bytes) {
+/// inside the file (a 1 KB file claiming a 4 GB JSON chunk made assimp allocate it); then the
+/// BIN chunk where assimp looks for it (after the JSON chunk padded to 4 bytes, whatever the
+/// walk above found there) inside the file too, since assimp allocates its stated length
+/// before reading; then the JSON chunk as glTF (checkGltf) with that BIN chunk as buffer 0.
+Status checkGlb(const std::string& file, std::string_view bytes,
+                const ReadReferencedFile& readReferenced) {
     const std::uint64_t size = bytes.size();
     const std::uint64_t length = size >= 12 ? littleEndian32(bytes, 8) : 0;
     if (size < 12 || length > size) {
@@ -592,23 +531,28 @@ Status checkGlb(const std::string& file, std::string_view bytes) {
                              " bytes; a GLB starts with its JSON chunk within them");
     }
     std::uint64_t at = 12;
-    bool first = true;
     while (at + 8 <= length) {
         const std::uint64_t chunk = littleEndian32(bytes, at);
-        const std::uint64_t type = littleEndian32(bytes, at + 4);
         if (chunk > length - at - 8)
             return makeError(ErrorKind::format, file + ": GLB chunk at byte " + std::to_string(at) +
                                                     " says " + std::to_string(chunk) +
                                                     " bytes, the file has " +
                                                     std::to_string(length - at - 8) + " after it");
-        if (first && type == 0x4E4F534Au) {  // "JSON"
-            if (Status nodes = checkGltfNodes(file, bytes.substr(at + 8, chunk)); !nodes.ok())
-                return nodes;
-        }
-        first = false;
         at += 8 + chunk;
     }
-    return Ok{};
+    const std::uint64_t jsonLength = littleEndian32(bytes, 12);  // inside `length`, checked
+    const std::uint64_t binHeader = 20 + (jsonLength + 3) / 4 * 4;
+    std::optional<std::string_view> bin = std::string_view{};
+    if (length >= binHeader + 8 && littleEndian32(bytes, binHeader + 4) == 0x004E4942u) {  // BIN
+        const std::uint64_t binLength = littleEndian32(bytes, binHeader);
+        if (binLength > length - binHeader - 8)
+            return makeError(ErrorKind::format,
+                             file + ": GLB BIN chunk at byte " + std::to_string(binHeader) +
+                                 " says " + std::to_string(binLength) + " bytes, the file has " +
+                                 std::to_string(length - binHeader - 8) + " after it");
+        bin = bytes.substr(binHeader + 8, binLength);
+    }
+    return checkGltf(file, bytes.substr(20, jsonLength), bin, readReferenced);
 }
 
 }  // namespace
@@ -911,14 +855,15 @@ Status checkFbx(const std::string& file, std::string_view bytes) {
     return checkAsciiFbxDepth(file, bytes);
 }
 
-Status checkMeshBytes(std::string_view bytes, const std::string& file, const std::string& format) {
-    if (bytes.substr(0, 4) == "glTF") return checkGlb(file, bytes);
+Status checkMeshBytes(std::string_view bytes, const std::string& file, const std::string& format,
+                      const ReadReferencedFile& readReferenced) {
+    if (bytes.substr(0, 4) == "glTF") return checkGlb(file, bytes, readReferenced);
     // A .glb without the magic: assimp then tries its other readers on the bytes, and its OBJ
     // reader read past the buffer on one (the GLB fuzzer's first finding).
     if (format == "glb")
         return makeError(ErrorKind::format,
                          file + ": not a binary glTF (it does not start with \"glTF\")");
-    if (format == "gltf") return checkGltfNodes(file, bytes);
+    if (format == "gltf") return checkGltf(file, bytes, std::nullopt, readReferenced);
     if (format == "stl") return checkBinaryStl(file, bytes);
     if (format == "fbx") return checkFbx(file, bytes);
     return Ok{};

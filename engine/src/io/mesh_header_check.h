@@ -5,20 +5,42 @@
 #include "plimsoll/core/result.h"
 
 #include <filesystem>
+#include <functional>
 #include <istream>
+#include <memory>
+#include <optional>
 #include <string>
 #include <string_view>
 
 namespace plimsoll::detail {
 
+/// The bytes of a file a mesh refers to (a glTF's external buffer), by the URI the mesh gives,
+/// read through the importer's confined file system; empty for a mesh read from memory.
+using ReadReferencedFile =
+    std::function<Result<std::shared_ptr<const std::string>>(const std::string& uri)>;
+
 /// What assimp's importers trust, checked on a mesh file's bytes before they see it. GLB (any
-/// extension, by its magic): the declared chunk sizes against the file's size; glTF (format
-/// "gltf" or a GLB's JSON chunk): the node tree's depth and cycles; binary STL (format "stl"):
-/// the triangle count; FBX (format "fbx"): the scopes' nesting and the binary arrays
-/// (checkFbx). Ok, or an
-/// error naming the file and the problem. PLY goes through
-/// plyGeometry and OBJ through objGeometry instead: Ok.
-Status checkMeshBytes(std::string_view bytes, const std::string& file, const std::string& format);
+/// extension, by its magic): the declared chunk sizes against the file's size, then its JSON
+/// chunk as glTF; glTF (format "gltf" or a GLB's JSON chunk): checkGltf; binary STL (format
+/// "stl"): the triangle count; FBX (format "fbx"): the scopes' nesting and the binary arrays
+/// (checkFbx). Ok, or an error naming the file and the problem. PLY goes through plyGeometry
+/// and OBJ through objGeometry instead: Ok. `readReferenced` reads a glTF's external buffers.
+Status checkMeshBytes(std::string_view bytes, const std::string& file, const std::string& format,
+                      const ReadReferencedFile& readReferenced = {});
+
+/// A glTF's JSON text (a .gltf file or a GLB's JSON chunk) checked for everything assimp's
+/// glTF 2 reader trusts, before it runs: nesting depth (checkJsonDepth), a JSON text both
+/// parsers read alike (no repeated member names), the node tree (children exist, one parent
+/// each, no cycles, depth up to kMaxGltfNodeDepth, scene roots listed once), every buffer's
+/// byteLength against the bytes it really has (`glbBin`: a GLB's BIN chunk as assimp finds it,
+/// for buffer 0; a data URI's decoded size; an external file's size through `readReferenced`),
+/// every bufferView, accessor and sparse accessor inside its buffer with 64-bit arithmetic that
+/// cannot wrap, sparse indices naming elements of their accessor, mesh primitives naming
+/// accessors that fit their use, no Draco-compressed primitive, and what assimp would copy out
+/// of the accessors (vertices per instance, sparse zeros) against limits.h. Errors name the
+/// file and the JSON path of the value ("accessors[3].sparse.indices.bufferView: missing").
+Status checkGltf(const std::string& file, std::string_view jsonText,
+                 std::optional<std::string_view> glbBin, const ReadReferencedFile& readReferenced);
 
 /// An FBX file's scopes (ASCII braces outside strings and comments, binary nested node
 /// records) nested no deeper than kMaxFbxDepth: one linear pass, no recursion. In a binary

@@ -17,6 +17,8 @@
 #include <cstdint>
 #include <cstdlib>
 #include <cstring>
+#include <map>
+#include <memory>
 #include <optional>
 #include <sstream>
 #include <string>
@@ -27,14 +29,14 @@ namespace fs = std::filesystem;
 
 namespace {
 
-/// A file's bytes, for assimp to read.
+/// A file's bytes, for assimp to read (shared with the checks that read them first).
 class BytesStream : public Assimp::IOStream {
 public:
-    explicit BytesStream(std::string bytes) : bytes_(std::move(bytes)) {}
+    explicit BytesStream(std::shared_ptr<const std::string> bytes) : bytes_(std::move(bytes)) {}
     size_t Read(void* buffer, size_t size, size_t count) override {
         if (size == 0) return 0;
-        const size_t items = std::min(count, (bytes_.size() - at_) / size);
-        std::memcpy(buffer, bytes_.data() + at_, items * size);
+        const size_t items = std::min(count, (bytes_->size() - at_) / size);
+        std::memcpy(buffer, bytes_->data() + at_, items * size);
         at_ += items * size;
         return items;
     }
@@ -42,17 +44,17 @@ public:
     aiReturn Seek(size_t offset, aiOrigin origin) override {
         const size_t base = origin == aiOrigin_SET   ? 0
                             : origin == aiOrigin_CUR ? at_
-                                                     : bytes_.size();
-        if (offset > bytes_.size() - base) return aiReturn_FAILURE;
+                                                     : bytes_->size();
+        if (offset > bytes_->size() - base) return aiReturn_FAILURE;
         at_ = base + offset;
         return aiReturn_SUCCESS;
     }
     size_t Tell() const override { return at_; }
-    size_t FileSize() const override { return bytes_.size(); }
+    size_t FileSize() const override { return bytes_->size(); }
     void Flush() override {}
 
 private:
-    std::string bytes_;
+    std::shared_ptr<const std::string> bytes_;
     size_t at_ = 0;
 };
 
@@ -60,7 +62,8 @@ private:
 /// through here: only inside the mesh's folder (a buffer URI "../../x" or "/dev/zero" is
 /// refused), only regular files, at most kMaxMeshFileBytes, read-only. Without a folder (a mesh
 /// from memory) nothing is opened. The first refusal is kept for the error message, since
-/// assimp's own says only "could not open".
+/// assimp's own says only "could not open". Each file is read once (`load`): the checks before
+/// assimp and assimp itself see the same bytes, even if the file is replaced in between.
 class ConfinedFileSystem : public Assimp::IOSystem {
 public:
     ConfinedFileSystem(std::optional<fs::path> folder, std::string mesh)
@@ -73,15 +76,29 @@ public:
     char getOsSeparator() const override { return '/'; }
     Assimp::IOStream* Open(const char* file, const char* mode) override {
         if (mode && std::strpbrk(mode, "wa+")) return refuse(file, "assimp asked to write it");
-        Result<fs::path> path = resolve(file);
-        if (!path) return remember(path.error().message);
-        Result<std::string> bytes = readWholeFile(*path, kMaxMeshFileBytes, "kMaxMeshFileBytes");
-        if (!bytes) return remember(mesh_ + ": a file it refers to: " + bytes.error().message);
+        Result<std::shared_ptr<const std::string>> bytes = load(file);
+        if (!bytes) return remember(bytes.error().message);
         return new BytesStream(std::move(bytes).value());
+    }
+
+    /// The bytes of the file `file` names, read the first time it is asked for.
+    Result<std::shared_ptr<const std::string>> load(const std::string& file) {
+        Result<fs::path> path = resolve(file.c_str());
+        if (!path) return path.error();
+        const auto known = read_.find(path->string());
+        if (known != read_.end()) return known->second;
+        Result<std::string> bytes = readWholeFile(*path, kMaxMeshFileBytes, "kMaxMeshFileBytes");
+        if (!bytes)
+            return makeError(bytes.error().kind,
+                             mesh_ + ": a file it refers to: " + bytes.error().message);
+        auto shared = std::make_shared<const std::string>(std::move(bytes).value());
+        read_.emplace(path->string(), shared);
+        return shared;
     }
     void Close(Assimp::IOStream* stream) override { delete stream; }
 
     const std::string& refusal() const { return refusal_; }
+    bool hasFolder() const { return folder_.has_value(); }
 
 private:
     Result<fs::path> resolve(const char* file) const {
@@ -101,6 +118,7 @@ private:
     std::optional<fs::path> folder_;
     std::string mesh_;
     std::string refusal_;
+    std::map<std::string, std::shared_ptr<const std::string>> read_;
 };
 
 void configure(Assimp::Importer& importer) {
@@ -297,12 +315,18 @@ Result<TriangleMesh> importBytes(std::string_view bytes, std::string format,
         return loadObj(text, source, options, facts);
     }
     if (detail::isPly(bytes, format)) return loadPly(bytes, source, options, facts);
-    if (Status checked = detail::checkMeshBytes(bytes, source, format); !checked.ok())
-        return checked.error();
     Assimp::Importer importer;
     configure(importer);
     auto* files = new ConfinedFileSystem(std::move(folder), source);
     importer.SetIOHandler(files);  // the importer owns it
+    // A glTF's external buffers are read for the checks through the same file system, and
+    // only from a mesh read from a folder.
+    detail::ReadReferencedFile readReferenced;
+    if (files->hasFolder())
+        readReferenced = [files](const std::string& uri) { return files->load(uri); };
+    if (Status checked = detail::checkMeshBytes(bytes, source, format, readReferenced);
+        !checked.ok())
+        return checked.error();
     const aiScene* scene = importer.ReadFileFromMemory(bytes.data(), bytes.size(),
                                                        importFlags(options), format.c_str());
     return fromScene(scene, importer, source, options, facts, files->refusal());

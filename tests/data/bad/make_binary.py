@@ -1,6 +1,7 @@
 #!/usr/bin/env python3
 """Writes the binary files of the bad-input corpus (text files are committed as they are).
 Run from this folder; the outputs are committed too, so the tests need no Python."""
+import json
 import struct
 
 TRIANGLE = struct.pack("<12f", 0, 0, 1, 0, 0, 0, 1, 0, 0, 0, 1, 0) + b"\0\0"  # 50 bytes
@@ -39,6 +40,23 @@ with open("glb_huge_chunk.glb", "wb") as f:
     body = b'{"asset":{"version":"2.0"}}    '
     f.write(b"glTF" + struct.pack("<II", 2, 12 + 8 + len(body)))
     f.write(struct.pack("<II", 0xFFFFFFF0, 0x4E4F534A) + body)
+
+# GLB whose JSON chunk (1 byte past a multiple of 4) is followed by 3 bytes of padding and a BIN
+# chunk claiming 4 GB with 4 bytes there: assimp looks for BIN after the padding and allocates
+# its stated length; a chunk walk without the padding saw an empty chunk there.
+with open("glb_bin_after_padding.glb", "wb") as f:
+    gltf = json.dumps({"asset": {"version": "2.0"}, "scene": 0, "scenes": [{"nodes": [0]}],
+                       "nodes": [{"mesh": 0}],
+                       "meshes": [{"primitives": [{"attributes": {"POSITION": 0}}]}],
+                       "accessors": [{"bufferView": 0, "componentType": 5126, "count": 3,
+                                      "type": "VEC3", "min": [0, 0, 0], "max": [1, 1, 0]}],
+                       "bufferViews": [{"buffer": 0, "byteLength": 36}],
+                       "buffers": [{"byteLength": 36}]}).encode()
+    while len(gltf) % 4 != 1:
+        gltf += b" "
+    body = struct.pack("<II", len(gltf), 0x4E4F534A) + gltf + b"\0" * 3
+    body += struct.pack("<II", 0xFFFFFF00, 0x004E4942) + b"\0" * 4
+    f.write(b"glTF" + struct.pack("<II", 2, 12 + len(body)) + body)
 
 # A 16-bit grey PNG of 16 x 16 pixels whose header declares 16384 x 16384 (512 MB decoded).
 import zlib

@@ -43,6 +43,12 @@ inline constexpr std::uint64_t kMaxMeshFileBytes = 2ull << 30;
 /// nested nodes overflows its stack; real scenes nest a few levels (rigs: tens).
 inline constexpr std::uint64_t kMaxGltfNodeDepth = 256;
 
+/// Bytes of glTF accessors that have no bufferView, all together: such an accessor is all zeros
+/// (with its sparse values patched in), and assimp allocates it whole, count times element
+/// size, from a few bytes of JSON (a 1.7 KB file asked for 1.2 GB). Real files use them for
+/// morph targets: a position target of a 1M-vertex mesh is 12 MB; 256 MB holds one of 22M.
+inline constexpr std::uint64_t kMaxGltfZeroFilledBytes = 256ull << 20;
+
 /// Nesting depth of any JSON document read (projects, graphs, scripts, manifests, caches,
 /// layer files, autosaves, glTF): checked by a linear scan before parsing (json_depth.h),
 /// since the recursive readers and printers (nlohmann's dump(), assimp's glTF reader) overflow
