@@ -879,12 +879,15 @@ private:
         return true;
     }
 
+    /// The manifest's `water_graph`: the graph's file, the simulation's models and the scale of
+    /// the permeability map (permeability_, which readExchangePoints applies).
     bool readGraphSettings(const Value& info, GraphSettings& gs, std::string& graphFile) {
         const std::string at = "$.water_graph";
-        std::string inflow = "linear", flow = "poiseuille";
+        std::string inflow = plimsoll_eval::inflowModelName(gs.inflow),
+                    flow = plimsoll_eval::flowModelName(gs.flow);
         double seed = 1;
         if (!r_.string(info, at, "path", graphFile) ||
-            !r_.number(info, at, "permeability", gs.permeability, false) ||
+            !r_.number(info, at, "permeability", permeability_, false) ||
             !r_.string(info, at, "inflow", inflow, false) ||
             !r_.number(info, at, "inflow_rate", gs.inflowRate, false) ||
             !r_.number(info, at, "discharge_coefficient", gs.dischargeCoefficient, false) ||
@@ -893,21 +896,19 @@ private:
             !r_.boolean(info, at, "free_surface", gs.freeSurface, false) ||
             !r_.number(info, at, "seed", seed, false))
             return false;
-        if (inflow != "linear" && inflow != "torricelli")
+        if (!plimsoll_eval::inflowModelFromName(inflow, gs.inflow))
             return r_.fail(at + ".inflow", "unknown inflow model \"" + inflow + "\"");
-        if (flow != "poiseuille" && flow != "diffusion")
+        if (!plimsoll_eval::flowModeFromName(flow, gs.flow))
             return r_.fail(at + ".flow", "unknown flow model \"" + flow + "\"");
         if (!(seed >= 0) || !(seed <= 9.0e15))
             return r_.fail(at + ".seed", "must be an integer in 0..9e15");
         for (const double v :
-             {gs.permeability, gs.inflowRate, gs.dischargeCoefficient, gs.diffusionPressure}) {
+             {permeability_, gs.inflowRate, gs.dischargeCoefficient, gs.diffusionPressure}) {
             if (!(v >= 0) || !std::isfinite(v))
                 return r_.fail(at,
                                "permeability, inflow_rate, discharge_coefficient and "
                                "diffusion_pressure must be finite and >= 0");
         }
-        gs.torricelli = inflow == "torricelli";
-        gs.diffusion = flow == "diffusion";
         gs.seed = static_cast<std::uint64_t>(seed);
         if (!staysInside(graphFile))
             return r_.fail(at + ".path",
@@ -1004,8 +1005,7 @@ private:
             const std::uint32_t texel = b_.samples_[i].texel;
             const double tu = (texel % size_ + 0.5) / n, tv = (texel / size_ + 0.5) / n;
             const double u = (tu - uvOffset_.x) / uvScale_, v = (tv - uvOffset_.y) / uvScale_;
-            const double k =
-                std::clamp(graph.settings_.permeability * bilinear(map, u, v), 0.0, 1.0);
+            const double k = std::clamp(permeability_ * bilinear(map, u, v), 0.0, 1.0);
             if (!(k > 0)) continue;
             const int node = graph.sampleNodes_[i];
             if (node < 0 || graph.nodes_[node].sealed) continue;
@@ -1043,6 +1043,7 @@ private:
     long long size_ = 0, count_ = 0;  ///< texture_size, texel_samples
     double uvScale_ = 1;
     Vec3 uvOffset_;
+    double permeability_ = 1;  ///< water_graph.permeability: the scale of the permeability map
 };
 
 namespace {
