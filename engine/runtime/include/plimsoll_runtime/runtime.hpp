@@ -494,6 +494,33 @@ std::unique_ptr<Bundle> loadBundleWithCallbacks(const FileCallbacks& callbacks,
                                                 const std::string& name, std::string& error,
                                                 const LoadOptions& options = {});
 
+/// What a bundle's manifest says of the bundle as a whole (readBundleManifest).
+struct BundleManifest {
+    int schemaMajor = 0, schemaMinor = 0;
+    std::string body;  ///< "body"; empty when absent
+    struct File {
+        std::string path;    ///< inside the bundle, as the manifest spells it
+        std::string sha256;  ///< as the manifest gives it (lower-case hex)
+        std::uint64_t bytes = 0;
+    };
+    std::vector<File> files;  ///< the manifest's `files`, in its order
+};
+
+/// The checks every load begins with (docs/bundle.md, "Reading a bundle"), and nothing else:
+/// `folder`/manifest.json read (at most 256 MiB, no link followed) and parsed; its `format`
+/// a Plimsoll runtime bundle; its schema major bundleSchemaVersion().major (any minor); every
+/// path it names inside the bundle and every file of `files` listed once; then, with
+/// `verifyFiles`, each listed file opened inside the folder without following links, with the
+/// listed size and SHA-256. On failure returns false and sets `error` to a message naming the
+/// file and the problem, as loadBundle would; else fills `out`.
+bool readBundleManifest(const std::string& folder, BundleManifest& out, std::string& error,
+                        bool verifyFiles = true);
+
+/// The checks of readBundleManifest that need no file but the manifest, on its text;
+/// `manifestName` names it in messages ("folder/manifest.json").
+bool parseBundleManifest(const std::string& text, const std::string& manifestName,
+                         BundleManifest& out, std::string& error);
+
 // ---------------------------------------------------------------------------------------
 // Motion: what a physics engine applies each step, and an integrator for a body on its own
 
