@@ -23,6 +23,8 @@ set(folders_document  "document")
 set(folders_view      "view")
 set(folders_render    "render")
 set(folders_executable "app;cli")
+# The runtime library (engine/runtime, its own build): its public headers, outside the engine.
+set(folders_runtime   "plimsoll_runtime")
 
 # layer: the layers below it that it may include (transitively closed by hand: each line lists
 # everything the layer sees)
@@ -35,15 +37,15 @@ set(sees_samples    "core")
 set(sees_io         "core;surface")
 set(sees_scene      "core;compute;surface")
 set(sees_project    "core;compute;surface;graph_auto;repair;io;scene")
-set(sees_export     "core;compute;surface;graph_auto;repair;io;scene;project")
+set(sees_export     "core;compute;surface;graph_auto;repair;io;scene;project;runtime")
 set(engine_layers   "core;compute;graph_auto;repair;surface;samples;io;scene;project;export")
 set(sees_document   "${engine_layers}")
 set(sees_view       "${engine_layers};document")
 set(sees_render     "${engine_layers};document;view")
-set(sees_executable "${engine_layers};document;view;render")
+set(sees_executable "${engine_layers};document;view;render;runtime")
 
 set(layers core compute graph_auto repair surface samples io scene project export
-           document view render executable)
+           document view render executable runtime)
 foreach(layer IN LISTS layers)
   foreach(folder IN LISTS folders_${layer})
     set(layer_of_${folder} ${layer})

@@ -26,6 +26,7 @@ cmake -S engine/runtime -B "$work/runtime-build" "${generator[@]}" "${launcher[@
 cmake --build "$work/runtime-build" --parallel 2
 cmake --install "$work/runtime-build" --prefix "$work/prefix" >/dev/null
 for f in include/plimsoll_runtime.h include/plimsoll_runtime/runtime.hpp \
+         include/plimsoll_eval/graph_settings.hpp \
          lib/cmake/PlimsollRuntime/PlimsollRuntimeConfig.cmake \
          lib/cmake/PlimsollRuntime/PlimsollRuntimeConfigVersion.cmake lib/pkgconfig/plimsoll_runtime.pc; do
   [[ -f "$work/prefix/$f" ]] || { echo "test-runtime-install: $f not installed" >&2; exit 1; }

@@ -461,12 +461,165 @@ bool readGraph(const std::string& path, const std::string& text, std::vector<Gra
     return true;
 }
 
+/// The manifest's header: a JSON object, a Plimsoll runtime bundle of this reader's major
+/// schema version (any minor), and the body's name.
+bool readManifestHeader(Reader& r, const std::string& text, const std::string& manifestPath,
+                        Value& m, BundleManifest& out, std::string& error) {
+    std::string parseError;
+    if (!json::parse(text, m, parseError)) {
+        error = manifestPath + ": malformed manifest: " + parseError;
+        return false;
+    }
+    if (!m.isObject()) return r.fail("$", "malformed manifest: expected an object");
+    const Value* formatName = m.find("format");
+    if (!formatName || !formatName->isString() || formatName->string != format::kBundleFormat) {
+        error = manifestPath + ": not a Plimsoll runtime bundle (\"format\" is not \"" +
+                format::kBundleFormat + "\")";
+        return false;
+    }
+    long long major = 0, minor = 0;
+    if (!r.integer(m, "$", "schema_version", major) || !r.integer(m, "$", "schema_minor", minor))
+        return false;
+    out.schemaMajor = static_cast<int>(major);
+    out.schemaMinor = static_cast<int>(minor);
+    constexpr int kMajor = format::kBundleSchemaMajor;
+    if (major != kMajor) {
+        const std::string version = std::to_string(major) + "." + std::to_string(minor);
+        error = manifestPath + ": bundle schema " + version +
+                (major > kMajor ? " is newer than" : " is older than") + " this reader's " +
+                std::to_string(kMajor) +
+                ".x: export the bundle again with this version of plimsoll" +
+                (major > kMajor ? " or update the runtime" : "");
+        return false;
+    }
+    return r.string(m, "$", "body", out.body, false);
+}
+
+/// The manifest's `files`: each entry inside the bundle, listed once, its size >= 0.
+bool readFileList(Reader& r, const Value& m, BundleManifest& out) {
+    const Value* files = r.member(m, "$", "files");
+    if (!files) return false;
+    if (!files->isArray()) return r.fail("$.files", "expected an array");
+    // Each file once: an entry repeated (or spelled again with "." or empty components) would
+    // be read and hashed again for every listing, 2000 entries of one large file taking
+    // minutes.
+    std::unordered_map<std::string, std::size_t> firstListing;
+    for (std::size_t i = 0; i < files->array.size(); ++i) {
+        const Value& f = files->array[i];
+        const std::string at = "$.files[" + std::to_string(i) + "]";
+        if (!f.isObject()) return r.fail(at, "expected an object");
+        std::string path, sha;
+        long long bytes = 0;
+        if (!r.string(f, at, "path", path) || !r.string(f, at, "sha256", sha) ||
+            !r.integer(f, at, "bytes", bytes))
+            return false;
+        if (!staysInside(path))
+            return r.fail(at + ".path",
+                          "file path \"" + std::string(path.c_str()) + "\" leaves the bundle");
+        if (const auto [first, added] = firstListing.emplace(normalPath(path), i); !added)
+            return r.fail(at + ".path", "\"" + std::string(path.c_str()) +
+                                            "\" is listed twice (also $.files[" +
+                                            std::to_string(first->second) + "])");
+        if (bytes < 0) return r.fail(at + ".bytes", "must be >= 0");
+        out.files.push_back({std::move(path), std::move(sha), static_cast<std::uint64_t>(bytes)});
+    }
+    return true;
+}
+
+/// Every other path the manifest names (the water graph's, the painted maps'), inside the
+/// bundle.
+bool checkNamedPaths(Reader& r, const Value& m) {
+    if (const Value* g = m.find("water_graph"); g && g->isObject()) {
+        const Value* path = g->find("path");
+        if (path && path->isString() && !staysInside(path->string))
+            return r.fail("$.water_graph.path",
+                          "\"" + std::string(path->string.c_str()) + "\" leaves the bundle");
+    }
+    if (const Value* maps = m.find("painted_maps"); maps && maps->isObject()) {
+        for (const auto& [role, map] : maps->object) {
+            const Value* path = map.isObject() ? map.find("path") : nullptr;
+            if (path && path->isString() && !staysInside(path->string))
+                return r.fail("$.painted_maps." + role + ".path",
+                              "\"" + std::string(path->string.c_str()) + "\" leaves the bundle");
+        }
+    }
+    return true;
+}
+
+/// The checks of a manifest's text (parseBundleManifest, and the first of every load), in
+/// this order: its header, its file list, the other paths it names. `m` is the parsed
+/// manifest.
+bool checkManifest(const std::string& text, const std::string& manifestPath, Value& m,
+                   BundleManifest& out, std::string& error) {
+    Reader r(manifestPath, error);
+    return readManifestHeader(r, text, manifestPath, m, out, error) && readFileList(r, m, out) &&
+           checkNamedPaths(r, m);
+}
+
+/// A manifest as readManifest leaves it: the parsed JSON, what it says of the bundle, its own
+/// size, and the verified bytes of the files the caller keeps.
+struct ManifestRead {
+    Value json;
+    BundleManifest manifest;
+    std::uint64_t manifestBytes = 0;
+    std::map<std::string, std::string> kept;
+};
+
+/// The manifest read through `source` and checked whole (checkManifest) before any other
+/// file is read; then, with `verify`, each listed file in the manifest's order with its size
+/// and SHA-256, the bytes of those `keep` names (given the manifest and the path) kept in
+/// `out.kept`. readBundleManifest, and the first step of every load.
+bool readManifest(const BundleSource& source, bool verify,
+                  const std::function<bool(const Value&, const std::string&)>& keep,
+                  ManifestRead& out, std::string& error) {
+    std::string text;
+    if (!source.read(format::kManifestFile, kMaxJsonBytes, text, error)) return false;
+    out.manifestBytes = text.size();
+    const std::string manifestPath = source.name + "/" + format::kManifestFile;
+    if (!checkManifest(text, manifestPath, out.json, out.manifest, error)) return false;
+    if (!verify) return true;
+    for (const BundleManifest::File& f : out.manifest.files) {
+        const std::string full = source.name + "/" + f.path;
+        std::string bytes;
+        if (!source.read(f.path, kMaxFileBytes, bytes, error)) return false;
+        if (bytes.size() != f.bytes) {
+            error = full + ": " + std::to_string(bytes.size()) + " bytes, the manifest says " +
+                    std::to_string(f.bytes) + " (truncated or replaced)";
+            return false;
+        }
+        const std::string actual = sha256Hex(bytes.data(), bytes.size());
+        if (actual != f.sha256) {
+            error = full + ": SHA-256 " + actual + " does not match the manifest's " + f.sha256;
+            return false;
+        }
+        if (keep && keep(out.json, f.path)) out.kept.emplace(f.path, std::move(bytes));
+    }
+    return true;
+}
+
+/// Whether the loader decodes `path` after verifying it, so that its verified bytes are kept:
+/// the sample list, the texel-to-node map, and the graph and painted maps the manifest names.
+bool decodedAfterVerifying(const Value& m, const std::string& path) {
+    if (path == format::kSamplesFile || path == format::kTexelNodesFile) return true;
+    const auto names = [&path](const Value* v) { return v && v->isString() && v->string == path; };
+    if (const Value* g = m.find("water_graph"); g && g->isObject()) {
+        if (names(g->find("path")) || names(g->find("texel_nodes"))) return true;
+    }
+    if (const Value* maps = m.find("painted_maps"); maps && maps->isObject()) {
+        for (const auto& entry : maps->object) {
+            if (entry.second.isObject() && names(entry.second.find("path"))) return true;
+        }
+    }
+    return false;
+}
+
 }  // namespace
 
 /// Loads one bundle into a Bundle in named steps, each of which returns false with the error
-/// set: the manifest's header, its file list (sizes and checksums), the body's facts, its
-/// sample lists and level ladder, and the water graph with the node and permeability of each
-/// sample. Each file is read once, through the source, and what was checked is what is decoded.
+/// set: the manifest (readManifest: its checks, each listed file's size and checksum), the
+/// body's facts, its sample lists and level ladder, and the water graph with the node and
+/// permeability of each sample. Each file is read once, through the source, and what was
+/// checked is what is decoded.
 class BundleLoader {
 public:
     BundleLoader(const BundleSource& source, Bundle& b, std::string& error, bool verify)
@@ -480,7 +633,7 @@ public:
 
     bool load() {
         b_.folder_ = folder_;
-        return readHeader() && verifyFiles() && checkNamedPaths() && readBody() &&
+        return readHeader() && readBody() &&
                readSampleList(format::kSamplesFile, m_.find("sample_encoding"), "$.sample_encoding",
                               size_, count_, b_.samples_) &&
                readLevels() && readWaterGraph();
@@ -501,127 +654,22 @@ private:
         return &contents_.emplace(relative, std::move(bytes)).first->second;
     }
 
-    /// The manifest parsed, a Plimsoll bundle of this reader's major schema version; the files
-    /// decoded below noted, so that verifying keeps their bytes.
+    /// The manifest's checks (readManifest: all of readBundleManifest), the bytes of the files
+    /// decoded below kept from the checksum pass.
     bool readHeader() {
-        std::string text;
-        if (!source_.read(format::kManifestFile, kMaxJsonBytes, text, error_)) return false;
-        b_.fileBytes_ = text.size();
-        std::string parseError;
-        if (!json::parse(text, m_, parseError)) {
-            error_ = manifestPath_ + ": malformed manifest: " + parseError;
-            return false;
-        }
-        if (!m_.isObject()) return r_.fail("$", "malformed manifest: expected an object");
-        const Value* formatName = m_.find("format");
-        if (!formatName || !formatName->isString() || formatName->string != format::kBundleFormat) {
-            error_ = manifestPath_ + ": not a Plimsoll runtime bundle (\"format\" is not \"" +
-                     format::kBundleFormat + "\")";
-            return false;
-        }
-        long long major = 0, minor = 0;
-        if (!r_.integer(m_, "$", "schema_version", major) ||
-            !r_.integer(m_, "$", "schema_minor", minor))
-            return false;
-        b_.schemaMajor_ = static_cast<int>(major);
-        b_.schemaMinor_ = static_cast<int>(minor);
-        constexpr int kMajor = format::kBundleSchemaMajor;
-        if (major != kMajor) {
-            const std::string version = std::to_string(major) + "." + std::to_string(minor);
-            error_ = manifestPath_ + ": bundle schema " + version +
-                     (major > kMajor ? " is newer than" : " is older than") + " this reader's " +
-                     std::to_string(kMajor) +
-                     ".x: export the bundle again with this version of plimsoll" +
-                     (major > kMajor ? " or update the runtime" : "");
-            return false;
-        }
-        // The files decoded below stay in memory once verified; the others are only checked.
-        decoded_ = {format::kSamplesFile, format::kTexelNodesFile};
-        if (const Value* g = m_.find("water_graph"); g && g->isObject()) {
-            for (const char* key : {"path", "texel_nodes"}) {
-                if (const Value* v = g->find(key); v && v->isString())
-                    decoded_.push_back(v->string);
-            }
-        }
-        if (const Value* maps = m_.find("painted_maps"); maps && maps->isObject()) {
-            for (const auto& entry : maps->object) {
-                const Value* v = entry.second.isObject() ? entry.second.find("path") : nullptr;
-                if (v && v->isString()) decoded_.push_back(v->string);
-            }
-        }
-        return true;
-    }
-
-    /// Files: every one inside the folder, listed once, with its size and (when verifying)
-    /// its checksum.
-    bool verifyFiles() {
-        const Value* files = r_.member(m_, "$", "files");
-        if (!files) return false;
-        if (!files->isArray()) return r_.fail("$.files", "expected an array");
-        // Each file once: an entry repeated (or spelled again with "." or empty components)
-        // would be read and hashed again for every listing, 2000 entries of one large file
-        // taking minutes.
-        std::unordered_map<std::string, std::size_t> firstListing;
-        for (std::size_t i = 0; i < files->array.size(); ++i) {
-            const Value& f = files->array[i];
-            const std::string at = "$.files[" + std::to_string(i) + "]";
-            if (!f.isObject()) return r_.fail(at, "expected an object");
-            std::string path, sha;
-            long long bytes = 0;
-            if (!r_.string(f, at, "path", path) || !r_.string(f, at, "sha256", sha) ||
-                !r_.integer(f, at, "bytes", bytes))
-                return false;
-            if (!staysInside(path))
-                return r_.fail(at + ".path",
-                               "file path \"" + std::string(path.c_str()) + "\" leaves the bundle");
-            if (const auto [first, added] = firstListing.emplace(normalPath(path), i); !added)
-                return r_.fail(at + ".path", "\"" + std::string(path.c_str()) +
-                                                 "\" is listed twice (also $.files[" +
-                                                 std::to_string(first->second) + "])");
-            if (path == format::kTexelNodesFile) hasTexelNodes_ = true;
-            listed_.push_back(path);
-            if (bytes < 0) return r_.fail(at + ".bytes", "must be >= 0");
-            b_.fileBytes_ += static_cast<std::uint64_t>(bytes);
-            if (verify_ && !verifyFile(path, bytes, sha)) return false;
-        }
-        return true;
-    }
-
-    bool verifyFile(const std::string& path, long long bytes, const std::string& sha) {
-        const std::string full = folder_ + "/" + path;
-        const std::string* content = read(path, kMaxFileBytes);
-        if (!content) return false;
-        if (static_cast<long long>(content->size()) != bytes) {
-            error_ = full + ": " + std::to_string(content->size()) + " bytes, the manifest says " +
-                     std::to_string(bytes) + " (truncated or replaced)";
-            return false;
-        }
-        const std::string actual = sha256Hex(content->data(), content->size());
-        if (actual != sha) {
-            error_ = full + ": SHA-256 " + actual + " does not match the manifest's " + sha;
-            return false;
-        }
-        if (std::find(decoded_.begin(), decoded_.end(), path) == decoded_.end())
-            contents_.erase(path);
-        return true;
-    }
-
-    /// Every other path the manifest names, checked before anything is read.
-    bool checkNamedPaths() {
-        if (const Value* g = m_.find("water_graph"); g && g->isObject()) {
-            const Value* path = g->find("path");
-            if (path && path->isString() && !staysInside(path->string))
-                return r_.fail("$.water_graph.path",
-                               "\"" + std::string(path->string.c_str()) + "\" leaves the bundle");
-        }
-        if (const Value* maps = m_.find("painted_maps"); maps && maps->isObject()) {
-            for (const auto& [role, map] : maps->object) {
-                const Value* path = map.isObject() ? map.find("path") : nullptr;
-                if (path && path->isString() && !staysInside(path->string))
-                    return r_.fail(
-                        "$.painted_maps." + role + ".path",
-                        "\"" + std::string(path->string.c_str()) + "\" leaves the bundle");
-            }
+        ManifestRead read;
+        if (!readManifest(source_, verify_, decodedAfterVerifying, read, error_)) return false;
+        m_ = std::move(read.json);
+        contents_ = std::move(read.kept);
+        const BundleManifest& manifest = read.manifest;
+        b_.schemaMajor_ = manifest.schemaMajor;
+        b_.schemaMinor_ = manifest.schemaMinor;
+        b_.body_ = manifest.body;
+        b_.fileBytes_ = read.manifestBytes;
+        for (const BundleManifest::File& f : manifest.files) {
+            if (f.path == format::kTexelNodesFile) hasTexelNodes_ = true;
+            listed_.push_back(f.path);
+            b_.fileBytes_ += f.bytes;
         }
         return true;
     }
@@ -629,7 +677,6 @@ private:
     /// The body's name, texture, UV placement, mass properties, hydrodynamic coefficients, the
     /// project's world and the radiation model.
     bool readBody() {
-        r_.string(m_, "$", "body", b_.body_, false);
         if (!r_.integer(m_, "$", "texture_size", size_) ||
             !r_.integer(m_, "$", "texel_samples", count_))
             return false;
@@ -879,12 +926,15 @@ private:
         return true;
     }
 
+    /// The manifest's `water_graph`: the graph's file, the simulation's models and the scale of
+    /// the permeability map (permeability_, which readExchangePoints applies).
     bool readGraphSettings(const Value& info, GraphSettings& gs, std::string& graphFile) {
         const std::string at = "$.water_graph";
-        std::string inflow = "linear", flow = "poiseuille";
+        std::string inflow = plimsoll_eval::inflowModelName(gs.inflow),
+                    flow = plimsoll_eval::flowModelName(gs.flow);
         double seed = 1;
         if (!r_.string(info, at, "path", graphFile) ||
-            !r_.number(info, at, "permeability", gs.permeability, false) ||
+            !r_.number(info, at, "permeability", permeability_, false) ||
             !r_.string(info, at, "inflow", inflow, false) ||
             !r_.number(info, at, "inflow_rate", gs.inflowRate, false) ||
             !r_.number(info, at, "discharge_coefficient", gs.dischargeCoefficient, false) ||
@@ -893,21 +943,19 @@ private:
             !r_.boolean(info, at, "free_surface", gs.freeSurface, false) ||
             !r_.number(info, at, "seed", seed, false))
             return false;
-        if (inflow != "linear" && inflow != "torricelli")
+        if (!plimsoll_eval::inflowModelFromName(inflow, gs.inflow))
             return r_.fail(at + ".inflow", "unknown inflow model \"" + inflow + "\"");
-        if (flow != "poiseuille" && flow != "diffusion")
+        if (!plimsoll_eval::flowModeFromName(flow, gs.flow))
             return r_.fail(at + ".flow", "unknown flow model \"" + flow + "\"");
         if (!(seed >= 0) || !(seed <= 9.0e15))
             return r_.fail(at + ".seed", "must be an integer in 0..9e15");
         for (const double v :
-             {gs.permeability, gs.inflowRate, gs.dischargeCoefficient, gs.diffusionPressure}) {
+             {permeability_, gs.inflowRate, gs.dischargeCoefficient, gs.diffusionPressure}) {
             if (!(v >= 0) || !std::isfinite(v))
                 return r_.fail(at,
                                "permeability, inflow_rate, discharge_coefficient and "
                                "diffusion_pressure must be finite and >= 0");
         }
-        gs.torricelli = inflow == "torricelli";
-        gs.diffusion = flow == "diffusion";
         gs.seed = static_cast<std::uint64_t>(seed);
         if (!staysInside(graphFile))
             return r_.fail(at + ".path",
@@ -1004,8 +1052,7 @@ private:
             const std::uint32_t texel = b_.samples_[i].texel;
             const double tu = (texel % size_ + 0.5) / n, tv = (texel / size_ + 0.5) / n;
             const double u = (tu - uvOffset_.x) / uvScale_, v = (tv - uvOffset_.y) / uvScale_;
-            const double k =
-                std::clamp(graph.settings_.permeability * bilinear(map, u, v), 0.0, 1.0);
+            const double k = std::clamp(permeability_ * bilinear(map, u, v), 0.0, 1.0);
             if (!(k > 0)) continue;
             const int node = graph.sampleNodes_[i];
             if (node < 0 || graph.nodes_[node].sealed) continue;
@@ -1037,12 +1084,12 @@ private:
     Reader r_;
     Value m_;
     std::map<std::string, std::string> contents_;  ///< bytes read, kept while decoded
-    std::vector<std::string> decoded_;             ///< files decoded after verifying
     std::vector<std::string> listed_;              ///< the manifest's files
     bool hasTexelNodes_ = false;
     long long size_ = 0, count_ = 0;  ///< texture_size, texel_samples
     double uvScale_ = 1;
     Vec3 uvOffset_;
+    double permeability_ = 1;  ///< water_graph.permeability: the scale of the permeability map
 };
 
 namespace {
@@ -1139,6 +1186,34 @@ std::unique_ptr<Bundle> loadBundleFromMemory(const std::vector<MemoryFile>& file
     };
     callbacks.close = [](void* c) { delete static_cast<Cursor*>(c); };
     return loadFrom(callbackSource(callbacks, name), error, options);
+}
+
+bool readBundleManifest(const std::string& folder, BundleManifest& out, std::string& error,
+                        bool verifyFiles) {
+    const BundleSource source = folderSource(folder);
+    ManifestRead read;
+    try {
+        if (!readManifest(source, verifyFiles, nullptr, read, error)) return false;
+    } catch (const std::exception& e) {
+        error = source.name + ": " + e.what();
+        return false;
+    }
+    out = std::move(read.manifest);
+    return true;
+}
+
+bool parseBundleManifest(const std::string& text, const std::string& manifestName,
+                         BundleManifest& out, std::string& error) {
+    Value m;
+    BundleManifest manifest;
+    try {
+        if (!checkManifest(text, manifestName, m, manifest, error)) return false;
+    } catch (const std::exception& e) {
+        error = manifestName + ": " + e.what();
+        return false;
+    }
+    out = std::move(manifest);
+    return true;
 }
 
 std::uint64_t Bundle::memoryBytes() const {

@@ -31,20 +31,6 @@ namespace {
 
 ev::Mat3 rotation(const Quat& q) { return ev::rotationMatrix({q.w, q.x, q.y, q.z}); }
 
-ev::GraphFlowSettings flowSettings(const GraphSettings& s) {
-    ev::GraphFlowSettings f;
-    f.torricelli = s.torricelli;
-    f.inflowRate = s.inflowRate;
-    f.dischargeCoefficient = s.dischargeCoefficient;
-    f.diffusion = s.diffusion;
-    f.diffusionPressure = s.diffusionPressure;
-    f.freeSurface = s.freeSurface;
-    f.density = s.density;
-    f.viscosity = s.viscosity;
-    f.gravity = s.gravity;
-    return f;
-}
-
 }  // namespace
 
 GraphLayout::GraphLayout() = default;
@@ -164,8 +150,7 @@ namespace {
 /// one point at a time); on flat water only the points' heights.
 void exchangeRates(const std::vector<ev::ExchangePoint>& points, const Pose& pose,
                    const ev::Mat3& R, const Water& water, double time, std::size_t nodes,
-                   const double* nodeSurface, const ev::GraphFlowSettings& s,
-                   ev::ExchangeRates& rates) {
+                   const double* nodeSurface, const GraphSettings& s, ev::ExchangeRates& rates) {
     // Per thread: sized on a thread's first call, reused after.
     thread_local std::vector<ev::Vec3> world;
     thread_local std::vector<double> ys, surface;
@@ -176,7 +161,7 @@ void exchangeRates(const std::vector<ev::ExchangePoint>& points, const Pose& pos
         const double level = water.level;
         ev::exchangePass(
             points, ys.data(), [level](std::size_t) { return level; }, nodes, nodeSurface,
-            s.torricelli, s.exchangeFactor(), rates);
+            s.inflow == InflowModel::Torricelli, s.exchangeFactor(), rates);
         return;
     }
     ev::exchangePositions(points, R, toEval(pose.position), world);
@@ -195,8 +180,8 @@ void exchangeRates(const std::vector<ev::ExchangePoint>& points, const Pose& pos
         lattice, surface);
     const double* f = surface.data();
     ev::exchangePass(
-        points, ys.data(), [f](std::size_t i) { return f[i]; }, nodes, nodeSurface, s.torricelli,
-        s.exchangeFactor(), rates);
+        points, ys.data(), [f](std::size_t i) { return f[i]; }, nodes, nodeSurface,
+        s.inflow == InflowModel::Torricelli, s.exchangeFactor(), rates);
 }
 
 }  // namespace
@@ -207,7 +192,7 @@ NodeInflow WaterGraph::inflow(const Pose& pose, const Water& water, double time)
     step_->flow.nodeSurfaces(pose.position.y, R, nodeSurface);
     ev::ExchangeRates rates;
     exchangeRates(layout_->prepared_->points, pose, R, water, time, nodeCount(), nodeSurface.data(),
-                  flowSettings(settings_), rates);
+                  settings_, rates);
     NodeInflow out;
     out.inflow = std::move(rates.inflow);
     out.outflow = std::move(rates.outflow);
@@ -225,13 +210,13 @@ bool WaterGraph::exchange(const Pose& pose, const Water& water, double time, dou
     thread_local ev::ExchangeRates rates;
     flow.nodeSurfaces(pose.position.y, R, nodeSurface);
     exchangeRates(layout_->prepared_->points, pose, R, water, time, nodeCount(), nodeSurface.data(),
-                  flowSettings(settings_), rates);
+                  settings_, rates);
     return flow.applyExchange(pose.position.y, R, dt, rates.inflow.data(), rates.outflow.data(),
                               rates.outsideTop.data());
 }
 
 bool WaterGraph::flowInside(const Quat& orientation, double dt) {
-    return step_->flow.flowInside(rotation(orientation), dt, flowSettings(settings_));
+    return step_->flow.flowInside(rotation(orientation), dt, settings_);
 }
 
 bool WaterGraph::step(const Pose& pose, const Water& water, double time, double dt) {
@@ -241,7 +226,7 @@ bool WaterGraph::step(const Pose& pose, const Water& water, double time, double 
 }
 
 MassProperties WaterGraph::waterMass(const Quat& orientation) const {
-    const ev::WaterMass w = step_->flow.waterMass(rotation(orientation), flowSettings(settings_));
+    const ev::WaterMass w = step_->flow.waterMass(rotation(orientation), settings_);
     MassProperties p;
     p.mass = w.mass;
     p.volume = w.volume;

@@ -23,6 +23,8 @@
 #include "io/gltf_writer.h"
 #include "io/texture_facts_json.h"
 
+#include "plimsoll_runtime/runtime.hpp"
+
 #include <nlohmann/json.hpp>
 #include <openssl/evp.h>
 
@@ -36,7 +38,6 @@
 #include <fcntl.h>
 #include <fstream>
 #include <iterator>
-#include <map>
 #include <optional>
 #include <set>
 #include <stdexcept>
@@ -776,97 +777,37 @@ Result<BundleReport> writeBodyBundle(const Project& project, std::size_t index,
     return report;
 }
 
-Result<BundleManifestInfo> parseBundleManifest(const std::string& text, const std::string& source) {
-    const std::string where = source + ": ";
+namespace {
+
+/// What the runtime's manifest reader (the one games load with) returned, in the engine's
+/// types. Its messages name the file and the problem; it gives no kind, so every refusal is a
+/// format error.
+Result<BundleManifestInfo> manifestInfo(bool ok, const plimsoll_runtime::BundleManifest& manifest,
+                                        const std::string& error) {
+    if (!ok) return makeError(ErrorKind::format, error);
     BundleManifestInfo info;
-    std::string field;  // the member being read, named in the error (nlohmann's message does not)
-    if (Status depth = checkJsonDepth(text, source); !depth.ok()) return depth.error();
-    try {
-        const json manifest = json::parse(text);
-        field = "format";
-        if (manifest.value(field, std::string()) != plimsoll_eval::kBundleFormat)
-            return makeError(ErrorKind::format,
-                             where + "not a Plimsoll runtime bundle (\"format\" is not \"" +
-                                 plimsoll_eval::kBundleFormat + "\")");
-        field = "schema_version";
-        info.schemaMajor = manifest.at(field).get<int>();
-        field = "schema_minor";
-        info.schemaMinor = manifest.at(field).get<int>();
-        if (info.schemaMajor != kBundleSchemaMajor) {
-            return makeError(
-                ErrorKind::format,
-                where + "bundle schema " + std::to_string(info.schemaMajor) + "." +
-                    std::to_string(info.schemaMinor) +
-                    (info.schemaMajor > kBundleSchemaMajor ? " is newer than" : " is older than") +
-                    " this reader's " + std::to_string(kBundleSchemaMajor) +
-                    ".x: export the bundle again with this version of plimsoll" +
-                    (info.schemaMajor > kBundleSchemaMajor ? " or update the reader" : ""));
-        }
-        field = "body";
-        info.body = manifest.value(field, std::string());
-        field = "files";
-        const json& files = manifest.at(field);
-        if (!files.is_array()) throw std::runtime_error("expected an array");
-        for (std::size_t i = 0; i < files.size(); ++i) {
-            field = "files[" + std::to_string(i) + "]";
-            const json& f = files[i];
-            info.files.push_back({f.at("path").get<std::string>(),
-                                  f.at("sha256").get<std::string>(),
-                                  f.at("bytes").get<std::uintmax_t>()});
-        }
-    } catch (const std::exception& e) {
-        std::string what = boundedExcerpt(e.what(), 200);
-        if (const std::size_t tag = what.find("] "); tag != std::string::npos)
-            what.erase(0, tag + 2);
-        return makeError(ErrorKind::format, where + "malformed manifest: " +
-                                                (field.empty() ? "" : field + ": ") + what);
-    }
-    // Each file once: a repeated entry (or one spelled again, "./a") would be read and hashed
-    // again for every listing.
-    std::map<fs::path, std::size_t> firstListing;
-    for (std::size_t i = 0; i < info.files.size(); ++i) {
-        const BundleFile& f = info.files[i];
-        Result<fs::path> inside =
-            pathInside(fs::path(source).parent_path(), f.path, where + "file path");
-        if (!inside) return inside.error();
-        if (const auto [first, added] = firstListing.emplace(inside->lexically_normal(), i); !added)
-            return makeError(ErrorKind::format, where + "files[" + std::to_string(i) + "]: \"" +
-                                                    boundedExcerpt(f.path) +
-                                                    "\" is listed twice (also files[" +
-                                                    std::to_string(first->second) + "])");
-    }
+    info.schemaMajor = manifest.schemaMajor;
+    info.schemaMinor = manifest.schemaMinor;
+    info.body = manifest.body;
+    for (const plimsoll_runtime::BundleManifest::File& f : manifest.files)
+        info.files.push_back({f.path, f.sha256, f.bytes});
     return info;
 }
 
+}  // namespace
+
+Result<BundleManifestInfo> parseBundleManifest(const std::string& text, const std::string& source) {
+    plimsoll_runtime::BundleManifest manifest;
+    std::string error;
+    const bool ok = plimsoll_runtime::parseBundleManifest(text, source, manifest, error);
+    return manifestInfo(ok, manifest, error);
+}
+
 Result<BundleManifestInfo> verifyBundle(const fs::path& folder) {
-    const fs::path manifestPath = folder / kManifestFile;
-    Result<std::string> text = readWholeFile(manifestPath, kMaxJsonFileBytes, "kMaxJsonFileBytes");
-    if (!text) return text.error();
-    Result<BundleManifestInfo> info = parseBundleManifest(*text, manifestPath.string());
-    if (!info) return info.error();
-    for (const BundleFile& f : info->files) {
-        const fs::path path = folder / f.path;
-        std::error_code ec;
-        // A link could name any file of the system; a bundle's files are its own.
-        if (fs::is_symlink(path, ec))
-            return makeError(ErrorKind::format,
-                             path.string() + ": is a symbolic link, not a file of the bundle");
-        if (!fs::exists(path, ec)) return makeError(ErrorKind::io, path.string() + ": missing");
-        Result<std::string> bytes = readBytes(path);
-        if (!bytes) return bytes.error();
-        if (bytes->size() != f.bytes) {
-            return makeError(ErrorKind::format,
-                             path.string() + ": " + std::to_string(bytes->size()) +
-                                 " bytes, the manifest says " + std::to_string(f.bytes) +
-                                 " (truncated or replaced)");
-        }
-        const std::string sha = sha256Hex(*bytes);
-        if (sha != f.sha256) {
-            return makeError(ErrorKind::format, path.string() + ": SHA-256 " + sha +
-                                                    " does not match the manifest's " + f.sha256);
-        }
-    }
-    return info;
+    plimsoll_runtime::BundleManifest manifest;
+    std::string error;
+    const bool ok = plimsoll_runtime::readBundleManifest(folder.string(), manifest, error);
+    return manifestInfo(ok, manifest, error);
 }
 
 Result<BundleReport> checkBodyBundle(const Project& project, std::size_t index,

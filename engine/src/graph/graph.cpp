@@ -348,14 +348,6 @@ GraphReport validateGraph(const WaterGraph& graph, const TriangleMesh* mesh,
 
 namespace ev = plimsoll_eval;
 
-const char* inflowModelName(InflowModel model) {
-    return model == InflowModel::Torricelli ? "torricelli" : "linear";
-}
-
-const char* flowModelName(FlowMode mode) {
-    return mode == FlowMode::Diffusion ? "diffusion" : "poiseuille";
-}
-
 double WaterGraphSimulation::poiseuilleRate(double dp, double radius, double viscosity,
                                             double length) {
     return ev::GraphFlow::poiseuilleRate(dp, radius, viscosity, length);
@@ -372,24 +364,6 @@ ev::Mat3 toEval(const Eigen::Matrix3d& R) {
         for (int j = 0; j < 3; ++j) m.m[i][j] = R(i, j);
     return m;
 }
-
-ev::GraphFlowSettings flowSettings(const GraphSettings& s) {
-    ev::GraphFlowSettings f;
-    f.torricelli = s.inflow == InflowModel::Torricelli;
-    f.inflowRate = s.inflowRate;
-    f.dischargeCoefficient = s.dischargeCoefficient;
-    f.diffusion = s.flow == FlowMode::Diffusion;
-    f.diffusionPressure = s.diffusionPressure;
-    f.freeSurface = s.freeSurface;
-    f.density = s.density;
-    f.viscosity = s.viscosity;
-    f.gravity = s.gravity;
-    return f;
-}
-
-}  // namespace
-
-namespace {
 
 /// The nodes as the shared nearest-node rule sees them.
 std::vector<plimsoll_eval::NodeShape> nodeShapes(const WaterGraph& graph) {
@@ -432,7 +406,6 @@ Result<WaterGraphSimulation> WaterGraphSimulation::create(const WaterGraph& grap
     WaterGraphSimulation sim;
     sim.graph_ = graph;
     sim.settings_ = settings;
-    sim.flowSettings_ = flowSettings(settings);
     std::vector<ev::GraphNodeState> nodes;
     nodes.reserve(graph.nodes.size());
     for (const GraphNode& n : graph.nodes) {
@@ -497,8 +470,8 @@ ExchangeFrame WaterGraphSimulation::exchangeFrame(const Pose& pose, double time)
     frame.pose = pose;
     frame.time = time;
     frame.nodeSurface = scratchSurface_;
-    frame.torricelli = flowSettings_.torricelli;
-    frame.factor = flowSettings_.exchangeFactor();
+    frame.torricelli = settings_.inflow == InflowModel::Torricelli;
+    frame.factor = settings_.exchangeFactor();
     return frame;
 }
 
@@ -525,7 +498,7 @@ int WaterGraphSimulation::findDischargeNode(int source, const Eigen::Matrix3d& r
 }
 
 bool WaterGraphSimulation::flowInside(const Eigen::Matrix3d& rotation, double dt) {
-    const bool moved = flow_.flowInside(toEval(rotation), dt, flowSettings_);
+    const bool moved = flow_.flowInside(toEval(rotation), dt, settings_);
     syncWater();
     return moved;
 }
@@ -537,7 +510,7 @@ bool WaterGraphSimulation::step(const Pose& pose, const WaterModel& water, doubl
 }
 
 MassProperties WaterGraphSimulation::waterMassProperties(const Eigen::Matrix3d& rotation) const {
-    const ev::WaterMass w = flow_.waterMass(toEval(rotation), flowSettings_);
+    const ev::WaterMass w = flow_.waterMass(toEval(rotation), settings_);
     MassProperties p;
     if (!(w.mass > 0)) return p;
     p.mass = w.mass;  // the water's volume is not the body's: left out, as before

@@ -512,28 +512,18 @@ private:
         number(value, path, "permeability", graph.permeability, Limit::Fraction);
         std::string name;
         const Json* inflow = find(value, "inflow");
-        if (inflow && stringValue(*inflow, member(path, "inflow"), name)) {
-            if (name == inflowModelName(InflowModel::Linear)) {
-                graph.inflow = InflowModel::Linear;
-            } else if (name == inflowModelName(InflowModel::Torricelli)) {
-                graph.inflow = InflowModel::Torricelli;
-            } else {
-                problem(member(path, "inflow"),
-                        "unknown '" + boundedExcerpt(name) + "' (linear, torricelli)");
-            }
+        if (inflow && stringValue(*inflow, member(path, "inflow"), name) &&
+            !plimsoll_eval::inflowModelFromName(name, graph.inflow)) {
+            problem(member(path, "inflow"),
+                    "unknown '" + boundedExcerpt(name) + "' (linear, torricelli)");
         }
         number(value, path, "inflow_rate", graph.inflowRate, Limit::NonNegative);
         number(value, path, "discharge_coefficient", graph.dischargeCoefficient, Limit::Fraction);
         const Json* flow = find(value, "flow");
-        if (flow && stringValue(*flow, member(path, "flow"), name)) {
-            if (name == flowModelName(FlowMode::Poiseuille)) {
-                graph.flow = FlowMode::Poiseuille;
-            } else if (name == flowModelName(FlowMode::Diffusion)) {
-                graph.flow = FlowMode::Diffusion;
-            } else {
-                problem(member(path, "flow"),
-                        "unknown '" + boundedExcerpt(name) + "' (poiseuille, diffusion)");
-            }
+        if (flow && stringValue(*flow, member(path, "flow"), name) &&
+            !plimsoll_eval::flowModeFromName(name, graph.flow)) {
+            problem(member(path, "flow"),
+                    "unknown '" + boundedExcerpt(name) + "' (poiseuille, diffusion)");
         }
         number(value, path, "diffusion_pressure", graph.diffusionPressure, Limit::NonNegative);
         boolean(value, path, "free_surface", graph.freeSurface);

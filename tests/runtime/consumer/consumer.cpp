@@ -42,8 +42,14 @@ int main(int argc, char** argv) {
         return 1;
     }
     plimsoll_runtime::Body body(*cpp);
-    std::printf("; C++ API: %zu samples, instance %llu bytes", cpp->samples().size(),
-                static_cast<unsigned long long>(body.memoryBytes()));
+    plimsoll_runtime::BundleManifest manifest;
+    if (!plimsoll_runtime::readBundleManifest(argv[1], manifest, error)) {
+        std::fprintf(stderr, "\nconsumer: %s\n", error.c_str());
+        return 1;
+    }
+    std::printf("; C++ API: %zu samples, instance %llu bytes, %zu files verified",
+                cpp->samples().size(), static_cast<unsigned long long>(body.memoryBytes()),
+                manifest.files.size());
 #endif
     std::printf("\n");
     return 0;

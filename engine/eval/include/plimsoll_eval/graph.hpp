@@ -14,6 +14,7 @@
 // and row 2 as a strided dot, R^T v and norms as (a0 b0 + a1 b1) + a2 b2.
 #pragma once
 
+#include "plimsoll_eval/graph_settings.hpp"
 #include "plimsoll_eval/vec.hpp"
 
 #include <algorithm>
@@ -80,24 +81,6 @@ struct GraphPipeState {
     double radius = 0.01;  ///< m
     double length = 0;     ///< m; 0 = the distance between the nodes
     bool open = true;
-};
-
-/// The step's settings (inflow and flow models, and the medium).
-struct GraphFlowSettings {
-    bool torricelli = false;            ///< inflow: false = linear, rate k |A| h
-    double inflowRate = 1.0;            ///< linear: 1/s
-    double dischargeCoefficient = 0.6;  ///< Torricelli: C_d
-    bool diffusion = false;             ///< flow: false = Poiseuille along the downhill path
-    double diffusionPressure = 1000.0;  ///< diffusion: Pa at a full fill difference
-    bool freeSurface = false;           ///< water at each node's lowest side, not its position
-    double density = 1000.0;            ///< kg/m^3
-    double viscosity = 1.0e-3;          ///< Pa s
-    double gravity = 9.81;              ///< m/s^2, along -y
-
-    /// The exchange's factor: 1/s (linear) or C_d sqrt(2 g) in m^0.5/s (Torricelli).
-    double exchangeFactor() const {
-        return torricelli ? dischargeCoefficient * std::sqrt(2.0 * gravity) : inflowRate;
-    }
 };
 
 /// Volume and first moment (about the box centre, world axes) of the part of a box below the
@@ -831,14 +814,14 @@ public:
     }
 
     /// Flow between nodes over dt (Poiseuille along the downhill path, or diffusion).
-    bool flowInside(const Mat3& R, double dt, const GraphFlowSettings& s) {
-        return s.diffusion ? flowDiffusion(dt, s) : flowPoiseuille(R, dt, s);
+    bool flowInside(const Mat3& R, double dt, const GraphSettings& s) {
+        return s.flow == FlowMode::Diffusion ? flowDiffusion(dt, s) : flowPoiseuille(R, dt, s);
     }
 
     /// Where node i's water sits (object space): its position, or with the free-surface model
     /// the centroid of the water at its lowest side along gravity.
     Vec3 waterCentroid(std::size_t node, double water, const Mat3& R,
-                       const GraphFlowSettings& s) const {
+                       const GraphSettings& s) const {
         const GraphNodeState& n = nodes_[node];
         if (!s.freeSurface || water >= n.capacity) return n.position;
         if (!n.isBox()) {
@@ -863,7 +846,7 @@ public:
     }
 
     /// The water's mass properties (paper eqs. 15-17: point masses rho v at waterCentroid).
-    WaterMass waterMass(const Mat3& R, const GraphFlowSettings& s) const {
+    WaterMass waterMass(const Mat3& R, const GraphSettings& s) const {
         WaterMass p;
         Vec3 moment;
         // The point masses: on the stack for up to kLocal wet nodes (no allocation a step).
@@ -1029,7 +1012,7 @@ private:
 
     /// Every node in random order sends Q dt (Q = pi rho g dh r^4 / (8 mu L)) to its discharge
     /// node, at most what brings both levels together, so that nothing oscillates.
-    bool flowPoiseuille(const Mat3& R, double dt, const GraphFlowSettings& s) {
+    bool flowPoiseuille(const Mat3& R, double dt, const GraphSettings& s) {
         const std::size_t n = nodes_.size();
         std::vector<double>& levels = flowLevels_;
         levels.resize(n);
@@ -1083,7 +1066,7 @@ private:
 
     /// Along every open pipe, in random order, from the fuller node (water / capacity) to the
     /// emptier, at most until both are equally full.
-    bool flowDiffusion(double dt, const GraphFlowSettings& s) {
+    bool flowDiffusion(double dt, const GraphSettings& s) {
         const std::size_t count = pipes_.size();
         std::vector<std::size_t>& order = order_;
         order.resize(count);

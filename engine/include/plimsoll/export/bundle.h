@@ -118,15 +118,18 @@ struct BundleManifestInfo {
     std::vector<BundleFile> files;  ///< as the manifest lists them
 };
 
-/// Reads `folder`/manifest.json and checks it the way a runtime loader must: the format name,
-/// a major version this reader knows (kBundleSchemaMajor; any minor: newer minors only add),
-/// and every listed file present with its size and SHA-256. Errors name the file and what is
-/// wrong ("bundle schema 2.0 is newer than this reader's 1.x", "area.exr: missing",
-/// "area.exr: SHA-256 ... does not match the manifest's ...").
+/// Reads `folder`/manifest.json and checks it as the runtime loader does, with the runtime's own
+/// reader (plimsoll_runtime::readBundleManifest): the format name, a major version this reader
+/// knows (kBundleSchemaMajor; any minor: newer minors only add), every path inside the bundle
+/// and listed once, and every listed file present inside the folder (no link followed) with
+/// its size and SHA-256. Errors name the file and what is wrong ("bundle schema 2.0 is newer
+/// than this reader's 1.x", "area.exr: missing", "area.exr: SHA-256 ... does not match the
+/// manifest's ...").
 Result<BundleManifestInfo> verifyBundle(const std::filesystem::path& folder);
 
-/// The manifest checks of verifyBundle that need no files: format, schema version, the file
-/// list, and every listed path inside the bundle. `source` names the manifest in messages.
+/// The manifest checks of verifyBundle that need no files (plimsoll_runtime::parseBundleManifest):
+/// format, schema version, the file list, and every path inside the bundle. `source` names the
+/// manifest in messages.
 Result<BundleManifestInfo> parseBundleManifest(const std::string& text, const std::string& source);
 
 }  // namespace plimsoll

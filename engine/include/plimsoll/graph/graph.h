@@ -15,6 +15,7 @@
 #include "plimsoll/physics/water.h"
 
 #include "plimsoll_eval/graph.hpp"
+#include "plimsoll_eval/graph_settings.hpp"
 
 #include <Eigen/Core>
 
@@ -116,46 +117,13 @@ double windingNumber(const TriangleMesh& mesh, const Eigen::Vector3d& point);
 // ---------------------------------------------------------------------------------------
 // Simulation
 
-/// How water comes in through a permeable texel (per texel i, permeability k_i in 0..1,
-/// |A_i| its area, head h = outside depth - inside head, both >= 0; negative h flows out).
-enum class InflowModel {
-    /// The paper's constant factor: q_i = rate k_i |A_i| h (m^3/s; rate in 1/s).
-    Linear,
-    /// Hydrostatic head (Torricelli): q_i = C_d k_i |A_i| sqrt(2 g |h|), signed as h.
-    Torricelli,
-};
-
-/// How water moves between nodes.
-enum class FlowMode {
-    /// Downhill along open pipes: findDischargeNode (paper Algorithm 1) and Poiseuille's law
-    /// Q = pi dp r^4 / (8 mu L), dp = rho g dh (paper eq. 14).
-    Poiseuille,
-    /// Absorbent materials (paper figure 16): along every open pipe from the fuller node
-    /// (water / capacity) to the emptier, Q = pi dp r^4 / (8 mu L) with
-    /// dp = diffusionPressure * (fill difference), whatever the heights.
-    Diffusion,
-};
-
-const char* inflowModelName(InflowModel model);
-const char* flowModelName(FlowMode mode);
-
-struct GraphSettings {
-    InflowModel inflow = InflowModel::Linear;
-    double inflowRate = 1.0;            ///< Linear: 1/s, >= 0
-    double dischargeCoefficient = 0.6;  ///< Torricelli: C_d, 0..1
-    FlowMode flow = FlowMode::Poiseuille;
-    double diffusionPressure = 1000.0;  ///< Diffusion: Pa at a full fill difference, >= 0
-    /// Water in a partly filled node sits at its lowest side along gravity (a sphere cap, or
-    /// the part of the box below a level plane), so its centre of mass moves as the body
-    /// heels. Off: the water sits at the node's position (paper eq. 16).
-    bool freeSurface = false;
-    std::uint64_t seed = 1;             ///< neighbour order of findDischargeNode
-    double density = 1000.0;            ///< of the water, kg/m^3
-    double viscosity = 1.0e-3;          ///< of the water, Pa s (> 0 for Poiseuille)
-    double gravity = kStandardGravity;  ///< m/s^2, along -y
-
-    bool operator==(const GraphSettings&) const = default;
-};
+/// The simulation's settings, its models and their names: the evaluation core's
+/// (plimsoll_eval/graph_settings.hpp), one struct for the engine, the step and the runtime.
+using InflowModel = plimsoll_eval::InflowModel;
+using FlowMode = plimsoll_eval::FlowMode;
+using GraphSettings = plimsoll_eval::GraphSettings;
+using plimsoll_eval::flowModelName;
+using plimsoll_eval::inflowModelName;
 
 /// Water bookkeeping since the simulation started (m^3): entered, left, initial (in the nodes
 /// at the start) and moved (between nodes, not a balance term). The step's own type: it lives
@@ -239,8 +207,7 @@ private:
 
     WaterGraph graph_;
     GraphSettings settings_;
-    plimsoll_eval::GraphFlowSettings flowSettings_;  ///< settings_ as the step reads them
-    plimsoll_eval::GraphFlow flow_;                  ///< the state and the step (graph.hpp)
+    plimsoll_eval::GraphFlow flow_;  ///< the state and the step (graph.hpp)
     std::vector<ExchangeSample> samples_;
     ExchangeSums scratchSums_;
     std::vector<double> scratchSurface_;  ///< per node, reused every step

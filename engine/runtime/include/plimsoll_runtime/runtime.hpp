@@ -1,7 +1,9 @@
 // Plimsoll runtime: what a game engine embeds to float a body exported by `plimsoll export`
 // (docs/bundle.md, "Runtime library"). Depends only on the C++17 standard library and zlib (the
 // bundle's EXR images and 16-bit PNG painted maps). For static linking: the shared library
-// exports the C ABI only (plimsoll_runtime.h).
+// exports the C ABI only (plimsoll_runtime.h). It includes one header of the evaluation core,
+// plimsoll_eval/graph_settings.hpp (the water graph's settings, the engine's own), installed
+// beside it.
 //
 // Conventions are the bundle's: SI units, object space of the source mesh, +y up,
 // right-handed. A pose maps an object-space point p to R(q) p + position (position is the
@@ -10,6 +12,8 @@
 //
 // Errors: functions that can fail return bool and fill an std::string; nothing throws.
 #pragma once
+
+#include "plimsoll_eval/graph_settings.hpp"
 
 #include <cmath>
 #include <cstddef>
@@ -148,21 +152,12 @@ struct GraphPipe {
     bool open = true;
 };
 
-/// The simulation's settings: the manifest's `water_graph` (inflow, flow, seed, ...); the
-/// medium (density, viscosity, gravity) is the caller's world, as for Fluid.
-struct GraphSettings {
-    bool torricelli = false;            ///< inflow model: false = linear
-    double inflowRate = 1.0;            ///< linear: 1/s
-    double dischargeCoefficient = 0.6;  ///< Torricelli: C_d
-    bool diffusion = false;             ///< flow model: false = Poiseuille
-    double diffusionPressure = 1000.0;  ///< Pa
-    bool freeSurface = false;
-    std::uint64_t seed = 1;
-    double permeability = 1.0;  ///< scale of the permeability map
-    double density = 1000.0;    ///< kg/m^3
-    double viscosity = 1.0e-3;  ///< Pa s
-    double gravity = 9.81;      ///< m/s^2
-};
+/// The simulation's settings: the manifest's `water_graph` (inflow, flow, seed, ...) and the
+/// medium (density, viscosity, gravity: the caller's world, as for Fluid). The engine's own
+/// struct (plimsoll_eval/graph_settings.hpp, installed with this header).
+using GraphSettings = plimsoll_eval::GraphSettings;
+using InflowModel = plimsoll_eval::InflowModel;
+using FlowMode = plimsoll_eval::FlowMode;
 
 /// Per-node water flow through the surface for one pose (m^3/s), before any limiting.
 struct NodeInflow {
@@ -498,6 +493,33 @@ struct FileCallbacks {
 std::unique_ptr<Bundle> loadBundleWithCallbacks(const FileCallbacks& callbacks,
                                                 const std::string& name, std::string& error,
                                                 const LoadOptions& options = {});
+
+/// What a bundle's manifest says of the bundle as a whole (readBundleManifest).
+struct BundleManifest {
+    int schemaMajor = 0, schemaMinor = 0;
+    std::string body;  ///< "body"; empty when absent
+    struct File {
+        std::string path;    ///< inside the bundle, as the manifest spells it
+        std::string sha256;  ///< as the manifest gives it (lower-case hex)
+        std::uint64_t bytes = 0;
+    };
+    std::vector<File> files;  ///< the manifest's `files`, in its order
+};
+
+/// The checks every load begins with (docs/bundle.md, "Reading a bundle"), and nothing else:
+/// `folder`/manifest.json read (at most 256 MiB, no link followed) and parsed; its `format`
+/// a Plimsoll runtime bundle; its schema major bundleSchemaVersion().major (any minor); every
+/// path it names inside the bundle and every file of `files` listed once; then, with
+/// `verifyFiles`, each listed file opened inside the folder without following links, with the
+/// listed size and SHA-256. On failure returns false and sets `error` to a message naming the
+/// file and the problem, as loadBundle would; else fills `out`.
+bool readBundleManifest(const std::string& folder, BundleManifest& out, std::string& error,
+                        bool verifyFiles = true);
+
+/// The checks of readBundleManifest that need no file but the manifest, on its text;
+/// `manifestName` names it in messages ("folder/manifest.json").
+bool parseBundleManifest(const std::string& text, const std::string& manifestName,
+                         BundleManifest& out, std::string& error);
 
 // ---------------------------------------------------------------------------------------
 // Motion: what a physics engine applies each step, and an integrator for a body on its own
