@@ -654,7 +654,7 @@ inline void FastBody::drag(const BodyState& s, const Coefficients& k, FastScratc
         const Vec3 uo = relativeVelocityAt(deferred.slot);
         if (dot(uo, uo) == 0 && dot(wo, wo) == 0) continue;  // no flow: no drag (nor friction)
         DragVisitor visitor(tree_, uo, wo, spinRate, k, scratch, counted);
-        tree_.walk(deferred.node, 1, deferred.slot, visitor);
+        tree_.walkFrom(tree_.nodes()[deferred.node], deferred.slot, visitor);
     }
     for (std::size_t b = 0; b < scratch.dragBucketCount; ++b) {
         FastBucket& bucket = scratch.dragBuckets[b];

@@ -240,6 +240,15 @@ public:
         }
     }
 
+    /// walk from one node: it, then the children its visit asks for (no loop over siblings).
+    template <class Visitor>
+    void walkFrom(const FastTile& node, std::int32_t inherited, Visitor& visitor) const {
+        typename Visitor::Found found;
+        visitor.classify(node, found);
+        const FastWalkStep step = visitor.visit(node, found, inherited);
+        if (step.descend) walk(node.firstChild, node.children, step.inherited, visitor);
+    }
+
 private:
     static std::uint64_t interleave(std::uint64_t v) {
         v &= 0x3ff;
