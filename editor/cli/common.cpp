@@ -2,6 +2,7 @@
 
 #include "plimsoll/bake/bake_cost.h"
 #include "plimsoll/core/limits.h"
+#include "plimsoll/io/json_depth.h"
 #include "plimsoll/io/mesh_io.h"
 
 #include <algorithm>
@@ -268,6 +269,38 @@ Result<SurfaceTextures> bakeTextures(const TriangleMesh& mesh, const BakeOptions
 std::optional<SurfaceTextures> bakeWithProgress(const TriangleMesh& mesh,
                                                 const BakeOptions& options) {
     return printingError(bakeTextures(mesh, options, stderrReporter()));
+}
+
+std::string xmlEscaped(const std::string& text) {
+    std::string out;
+    // A name or a message from any file may hold bytes that are not UTF-8 (the document says
+    // it is): each becomes U+FFFD.
+    for (const char c : validUtf8(text)) {
+        switch (c) {
+            case '&':
+                out += "&amp;";
+                break;
+            case '<':
+                out += "&lt;";
+                break;
+            case '>':
+                out += "&gt;";
+                break;
+            case '"':
+                out += "&quot;";
+                break;
+            case '\'':
+                out += "&apos;";
+                break;
+            default:
+                // XML 1.0 admits no control characters but tab, newline and carriage return.
+                if (static_cast<unsigned char>(c) < 0x20 && c != '\t' && c != '\n' && c != '\r')
+                    out += ' ';
+                else
+                    out += c;
+        }
+    }
+    return out;
 }
 
 }  // namespace plimsoll::cli

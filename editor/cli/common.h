@@ -137,4 +137,9 @@ Result<SurfaceTextures> bakeTextures(const TriangleMesh& mesh, const BakeOptions
 std::optional<SurfaceTextures> bakeWithProgress(const TriangleMesh& mesh,
                                                 const BakeOptions& options);
 
+/// `text` for an XML attribute or element (JUnit reports, SVG plots): the five markup
+/// characters as entities, bytes that are not UTF-8 as U+FFFD, and control characters XML 1.0
+/// does not admit as spaces.
+std::string xmlEscaped(const std::string& text);
+
 }  // namespace plimsoll::cli

@@ -101,38 +101,6 @@ std::string junitTime(double seconds) {
     return out.str();
 }
 
-std::string xmlEscaped(const std::string& text) {
-    std::string out;
-    // A name or a message from any file may hold bytes that are not UTF-8 (the document says
-    // it is): each becomes U+FFFD.
-    for (const char c : validUtf8(text)) {
-        switch (c) {
-            case '&':
-                out += "&amp;";
-                break;
-            case '<':
-                out += "&lt;";
-                break;
-            case '>':
-                out += "&gt;";
-                break;
-            case '"':
-                out += "&quot;";
-                break;
-            case '\'':
-                out += "&apos;";
-                break;
-            default:
-                // XML 1.0 admits no control characters but tab, newline and carriage return.
-                if (static_cast<unsigned char>(c) < 0x20 && c != '\t' && c != '\n' && c != '\r')
-                    out += ' ';
-                else
-                    out += c;
-        }
-    }
-    return out;
-}
-
 /// JUnit XML as Jenkins, GitLab and GitHub's test reporters read it: one <testsuite> per
 /// project, one <testcase> per body (classname = the project's folder, name = the body's),
 /// a <failure> with the error message for a body that failed (or, with --check, is out of

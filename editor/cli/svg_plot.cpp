@@ -1,5 +1,7 @@
 #include "cli/svg_plot.h"
 
+#include "cli/common.h"
+
 #include <algorithm>
 #include <array>
 #include <cmath>
@@ -16,29 +18,6 @@ constexpr double kLeft = 90, kTop = 50, kRight = kWidth - 280, kBottom = kHeight
 constexpr std::array<const char*, 10> kColours = {"#4e79a7", "#f28e2b", "#e15759", "#76b7b2",
                                                   "#59a14f", "#edc948", "#b07aa1", "#ff9da7",
                                                   "#9c755f", "#bab0ac"};
-
-std::string escape(const std::string& text) {
-    std::string out;
-    for (char c : text) {
-        switch (c) {
-            case '&':
-                out += "&amp;";
-                break;
-            case '<':
-                out += "&lt;";
-                break;
-            case '>':
-                out += "&gt;";
-                break;
-            case '"':
-                out += "&quot;";
-                break;
-            default:
-                out += c;
-        }
-    }
-    return out;
-}
 
 std::string num(double v) {
     char buffer[32];
@@ -78,7 +57,7 @@ void openDocument(std::ostream& out, const std::string& title) {
         << "\" font-family=\"sans-serif\" font-size=\"12\">\n"
         << "<rect width=\"100%\" height=\"100%\" fill=\"white\"/>\n"
         << "<text x=\"" << num((kLeft + kRight) / 2) << "\" y=\"28\" text-anchor=\"middle\" "
-        << "font-size=\"15\">" << escape(title) << "</text>\n";
+        << "font-size=\"15\">" << xmlEscaped(title) << "</text>\n";
 }
 
 /// The plot area's frame and the axis labels.
@@ -86,9 +65,9 @@ void drawFrame(std::ostream& out, const std::string& xLabel, const std::string& 
     out << "<rect x=\"" << kLeft << "\" y=\"" << kTop << "\" width=\"" << kRight - kLeft
         << "\" height=\"" << kBottom - kTop << "\" fill=\"none\" stroke=\"#333\"/>\n"
         << "<text x=\"" << num((kLeft + kRight) / 2) << "\" y=\"" << kHeight - 22
-        << "\" text-anchor=\"middle\">" << escape(xLabel) << "</text>\n"
+        << "\" text-anchor=\"middle\">" << xmlEscaped(xLabel) << "</text>\n"
         << "<text transform=\"translate(24 " << num((kTop + kBottom) / 2)
-        << ") rotate(-90)\" text-anchor=\"middle\">" << escape(yLabel) << "</text>\n";
+        << ") rotate(-90)\" text-anchor=\"middle\">" << xmlEscaped(yLabel) << "</text>\n";
 }
 
 /// A dashed vertical line at pixel column x, labelled along it.
@@ -96,8 +75,8 @@ void drawMarker(std::ostream& out, double x, const std::string& label) {
     out << "<line x1=\"" << num(x) << "\" y1=\"" << kTop << "\" x2=\"" << num(x) << "\" y2=\""
         << kBottom << "\" stroke=\"#555\" stroke-dasharray=\"6 4\"/>\n"
         << "<text transform=\"translate(" << num(x - 4) << ' ' << kTop + 6
-        << ") rotate(-90)\" text-anchor=\"end\" font-size=\"11\" fill=\"#555\">" << escape(label)
-        << "</text>\n";
+        << ") rotate(-90)\" text-anchor=\"end\" font-size=\"11\" fill=\"#555\">"
+        << xmlEscaped(label) << "</text>\n";
 }
 
 /// A series' legend line at height y, in the colour of the enclosing group.
@@ -105,7 +84,7 @@ void drawLegendEntry(std::ostream& out, double y, const std::string& name) {
     out << "<line x1=\"" << kRight + 16 << "\" y1=\"" << y << "\" x2=\"" << kRight + 40
         << "\" y2=\"" << y << "\" stroke-width=\"2\"/>\n"
         << "<text x=\"" << kRight + 46 << "\" y=\"" << y + 4 << "\" stroke=\"none\" "
-        << "fill=\"#222\">" << escape(name) << "</text>\n";
+        << "fill=\"#222\">" << xmlEscaped(name) << "</text>\n";
 }
 
 /// Opens a series' group in its colour and draws its line through the points `keep` accepts
@@ -179,7 +158,7 @@ bool writeSvg(const LogLogPlot& plot, std::ostream& out) {
             out << "<circle cx=\"" << num(px(p.x)) << "\" cy=\"" << num(py(p.y))
                 << "\" r=\"3.5\"/>\n"
                 << "<text x=\"" << num(px(p.x) + 5) << "\" y=\"" << num(py(p.y) - 5)
-                << "\" stroke=\"none\" font-size=\"10\">" << escape(p.label) << "</text>\n";
+                << "\" stroke=\"none\" font-size=\"10\">" << xmlEscaped(p.label) << "</text>\n";
         }
         drawLegendEntry(out, legendY, s.name);
         out << "</g>\n";

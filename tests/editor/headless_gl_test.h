@@ -3,6 +3,7 @@
 #pragma once
 
 #include "render/headless_context.h"
+#include "render/renderer.h"
 
 #include "plimsoll/core/result.h"
 
@@ -23,6 +24,19 @@ protected:
     }
     /// Made first, so gone last: a derived fixture's GL objects go while it is current.
     std::unique_ptr<editor::HeadlessContext> context;
+};
+
+/// A renderer in the headless context (skipped where there is none).
+class HeadlessRendererTest : public HeadlessGlTest {
+protected:
+    void SetUp() override {
+        HeadlessGlTest::SetUp();
+        if (IsSkipped()) return;
+        Result<std::unique_ptr<editor::Renderer>> r = editor::Renderer::create();
+        ASSERT_TRUE(r.ok()) << r.error().message;
+        renderer = std::move(r).value();
+    }
+    std::unique_ptr<editor::Renderer> renderer;
 };
 
 }  // namespace plimsoll::test

@@ -45,15 +45,8 @@ Difference compare(const std::vector<std::uint8_t>& a, const std::vector<std::ui
 }
 
 /// A renderer in a headless OpenGL 4.5 context; the test is skipped where there is none.
-class EditorRenderer : public test::HeadlessGlTest {
+class EditorRenderer : public test::HeadlessRendererTest {
 protected:
-    void SetUp() override {
-        HeadlessGlTest::SetUp();
-        if (IsSkipped()) return;
-        Result<std::unique_ptr<Renderer>> r = Renderer::create();
-        ASSERT_TRUE(r.ok()) << r.error().message;
-        renderer = std::move(r).value();
-    }
     std::unique_ptr<OffscreenTarget> makeTarget(int width, int height) {
         Result<std::unique_ptr<OffscreenTarget>> t = OffscreenTarget::create(width, height);
         EXPECT_TRUE(t.ok()) << t.error().message;
@@ -65,7 +58,6 @@ protected:
         EXPECT_TRUE(mesh.ok()) << mesh.error().message;
         return mesh ? std::make_shared<const TriangleMesh>(std::move(mesh).value()) : nullptr;
     }
-    std::unique_ptr<Renderer> renderer;
 };
 
 TEST_F(EditorRenderer, KeptSceneCopiesTheSamePixelsTheRightWayUp) {

@@ -16,17 +16,7 @@ namespace plimsoll::editor {
 namespace test_editor_water_surface {
 namespace {
 
-class EditorWaterSurface : public test::HeadlessGlTest {
-protected:
-    void SetUp() override {
-        HeadlessGlTest::SetUp();
-        if (IsSkipped()) return;
-        Result<std::unique_ptr<Renderer>> r = Renderer::create();
-        ASSERT_TRUE(r.ok()) << r.error().message;
-        renderer = std::move(r).value();
-    }
-    std::unique_ptr<Renderer> renderer;
-};
+using EditorWaterSurface = test::HeadlessRendererTest;
 
 /// A wave along x alone: every line of the net along x has the same profile, so a front view
 /// shows that profile.
