@@ -457,7 +457,8 @@ void Renderer::drawLinesOf(const RenderScene& scene, const Camera& camera, const
     // Grid (1 m, on y = 0; on waves the water's surface instead) and axes. On waves, in pieces of
     // at most a cell of the water's heights: a line's side of the water is worked out at its
     // vertices (water_view.vert).
-    std::vector<float> lines;
+    std::vector<float>& lines = frameLines_;
+    lines.clear();
     const float extent =
         static_cast<float>(std::clamp(std::ceil(camera.distance * 2.0), 2.0, 200.0));
     const float piece = water && scene.water->kind != WaterModel::Kind::Flat
@@ -480,7 +481,8 @@ void Renderer::drawLinesOf(const RenderScene& scene, const Camera& camera, const
         const float range = std::max(*high - *low, 1e-6f);
         // A millimetre toward the eye's side: the net is not tinted as seen through itself.
         const float lift = water->below(camera.eye()) ? -1e-3f : 1e-3f;
-        const std::vector<Eigen::Vector3f> net = water->surfaceSegments(lift);
+        std::vector<Eigen::Vector3f>& net = frameNet_;
+        water->surfaceSegments(lift, net);
         lines.reserve(net.size() * 7);
         const Eigen::Vector4f trough(0.16f, 0.42f, 0.62f, 1.0f), crest(0.70f, 0.88f, 0.97f, 1.0f);
         // Out to the grid's own reach around the view's centre (the heights reach further).

@@ -156,6 +156,9 @@ private:
     /// The scene's lines: the grid (on waves the water's surface), the sea floor and the axes.
     void drawLinesOf(const RenderScene& scene, const Camera& camera, const WaterView* water,
                      const Eigen::Matrix4f& viewProj);
+    /// drawLinesOf's vertices and the water's net, kept between frames (no allocation a frame).
+    std::vector<float> frameLines_;
+    std::vector<Eigen::Vector3f> frameNet_;
 
     unsigned meshProgram_ = 0, lineProgram_ = 0;
     unsigned lineVao_ = 0, lineVbo_ = 0;

@@ -38,9 +38,15 @@ double WaterView::heightAt(double x, double z) const {
 }
 
 std::vector<Eigen::Vector3f> WaterView::surfaceSegments(float lift) const {
-    constexpr int n = kCells + 1;
     std::vector<Eigen::Vector3f> points;
-    if (heights.size() != std::size_t(n) * n) return points;
+    surfaceSegments(lift, points);
+    return points;
+}
+
+void WaterView::surfaceSegments(float lift, std::vector<Eigen::Vector3f>& points) const {
+    constexpr int n = kCells + 1;
+    points.clear();
+    if (heights.size() != std::size_t(n) * n) return;
     points.reserve(std::size_t(4) * kCells * n);
     auto at = [&](int i, int j) {
         return Eigen::Vector3f(float(x0 + i * step), heights[std::size_t(j) * n + i] + lift,
@@ -54,7 +60,6 @@ std::vector<Eigen::Vector3f> WaterView::surfaceSegments(float lift) const {
             points.push_back(at(j, i + 1));
         }
     }
-    return points;
 }
 
 bool WaterView::seenThrough(const Eigen::Vector3d& p) const {

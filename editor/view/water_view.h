@@ -68,6 +68,8 @@ public:
     /// renderer lifts the net a millimetre toward the eye, so that the tint test sees it on
     /// the eye's side of the surface it lies on.
     std::vector<Eigen::Vector3f> surfaceSegments(float lift = 0.0f) const;
+    /// The same into `points` (its storage reused: the renderer calls this every frame).
+    void surfaceSegments(float lift, std::vector<Eigen::Vector3f>& points) const;
 
     /// The samples, row j (along z) after row j - 1, kCells + 1 to a row, from (x0, z0) in
     /// steps of `step` m.
