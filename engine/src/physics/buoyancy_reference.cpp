@@ -4,6 +4,7 @@
 #include "plimsoll/physics/buoyancy.h"
 
 #include "physics/buoyancy_sums.h"
+#include "plimsoll_eval/entry.hpp"
 
 #include <Eigen/Geometry>
 
@@ -41,19 +42,6 @@ BuoyancyResult finishBuoyancy(const BuoyancySums& sums, const Eigen::Vector3d& c
 
 }  // namespace detail
 
-namespace {
-
-/// kernels/buoyancy.cl wetShare: the share of an entry under water, for drag and wetted area.
-double wetShare(double depth, const Eigen::Vector3d& areaVector, double area) {
-    const double length2 = areaVector.squaredNorm();
-    const double upright = length2 > 0 ? areaVector.y() * areaVector.y() / length2 : 1.0;
-    const double extent = std::sqrt(area * std::max(0.0, 1.0 - upright));
-    if (extent <= 0) return depth > 0 ? 1.0 : 0.0;
-    return std::clamp(0.5 + depth / extent, 0.0, 1.0);
-}
-
-}  // namespace
-
 BuoyancyResult evaluateBuoyancyReference(const SurfaceTextures& textures, const BodyFrame& frame,
                                          const WaterModel& water, const FluidSettings& fluid) {
     const Eigen::Matrix3d& R = frame.pose.rotation;
@@ -68,7 +56,9 @@ BuoyancyResult evaluateBuoyancyReference(const SurfaceTextures& textures, const 
         const double f = water.height(world.x(), world.z(), frame.time) - c.y();
         const double depth = f - r.y();
         const Eigen::Vector3d a = R * textures.areaVector[i];
-        const double wet = wetShare(depth, a, textures.area[i]);
+        const double length2 = a.squaredNorm();
+        const double wet = plimsoll_eval::wetShareOfUpright(
+            depth, length2 > 0 ? a.y() * a.y() / length2 : 1.0, textures.area[i]);
         if (wet <= 0) continue;
         if (depth > 0) {
             sum[PL_SUM_VOLUME] -= a.y() * depth;

@@ -49,16 +49,23 @@ struct Sums {
 
 /// The share of an entry under water, for drag and wetted area: the entry is taken as a flat
 /// patch of side sqrt(area) tilted like its area vector, cut by the surface at `depth` below
-/// it; an upright (horizontal) patch is wholly in or out. `inverseLength2` is 1 / |A|^2 (0
-/// for a zero area vector). Written without branches, so that a loop over entries vectorises.
+/// it; an upright (horizontal) patch is wholly in or out. `upright` is A_y^2 / |A|^2 (1 for a
+/// zero area vector), which each caller computes in its own way (wetShare below multiplies by
+/// a stored 1 / |A|^2; the double-precision reference divides). Written without branches, so
+/// that a loop over entries vectorises.
 template <class T>
-inline T wetShare(T depth, T ay, T area, T inverseLength2) {
-    const T upright = inverseLength2 > 0 ? ay * ay * inverseLength2 : T(1);
+inline T wetShareOfUpright(T depth, T upright, T area) {
     const T tilt = T(1) - upright;
     const T extent = std::sqrt(area * (tilt > 0 ? tilt : T(0)));
     const T share = T(0.5) + depth / (extent > 0 ? extent : T(1));
     const T partial = share < T(0) ? T(0) : (share > T(1) ? T(1) : share);
     return extent > 0 ? partial : (depth > 0 ? T(1) : T(0));
+}
+
+/// wetShare with `inverseLength2` = 1 / |A|^2 (0 for a zero area vector).
+template <class T>
+inline T wetShare(T depth, T ay, T area, T inverseLength2) {
+    return wetShareOfUpright(depth, inverseLength2 > 0 ? ay * ay * inverseLength2 : T(1), area);
 }
 
 /// What one entry adds to each sum (the slots of Sums, flat; its forces and torques in the
