@@ -226,7 +226,7 @@ TEST(EditorGraph, ThreeNodeGraphBuiltByCommandsFloodsAndSinksTheBoatAndUndoesExa
     ASSERT_TRUE(scene->bodies[0].desc.waterGraph);
     ASSERT_TRUE(scene->bodies[0].parts.waterGraph);
     EXPECT_EQ(*scene->bodies[0].parts.waterGraph, *doc->graph(0));
-    EXPECT_DOUBLE_EQ(scene->bodies[0].desc.waterGraph->inflowRate, 6.0);
+    EXPECT_DOUBLE_EQ(scene->bodies[0].desc.waterGraph->settings.inflowRate, 6.0);
     EXPECT_EQ(test::readFile(projectPath.parent_path() / "boat.graph.json"), originalFile);
 
     // On the fast CPU path, as the preview runs it by default (10 s of flooding).

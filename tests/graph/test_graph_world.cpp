@@ -172,7 +172,7 @@ Project floodedBoat(const std::string& graphFile) {
 double largestHeel(bool freeSurface) {
     Project project = floodedBoat(freeSurface ? "flooded_fs.graph.json" : "flooded.graph.json");
     BodyDesc& body = project.bodies[0];
-    body.waterGraph->freeSurface = freeSurface;
+    body.waterGraph->settings.freeSurface = freeSurface;
     body.angularVelocity = {0.0, 0.0, 0.25};  // roll, rad/s
     // The free surface against water held at the nodes, without radiation's damping of the
     // roll, which would shrink both heels.

@@ -302,14 +302,7 @@ TEST_F(RuntimeConformance, WaterGraphStepsEqualTheEngine) {
     Result<PaintedMap> map = loadPaintedMap(e.folder / "permeability.png");
     ASSERT_TRUE(map.ok()) << map.error().message;
     const WaterGraphDesc& g = *e.desc->waterGraph;
-    GraphSettings settings;
-    settings.inflow = g.inflow;
-    settings.inflowRate = g.inflowRate;
-    settings.dischargeCoefficient = g.dischargeCoefficient;
-    settings.flow = g.flow;
-    settings.diffusionPressure = g.diffusionPressure;
-    settings.freeSurface = g.freeSurface;
-    settings.seed = static_cast<std::uint64_t>(g.seed);
+    GraphSettings settings = g.settings;
     settings.density = e.project->medium.density;
     settings.viscosity = e.project->medium.viscosity;
     settings.gravity = 9.81;

@@ -21,6 +21,7 @@
 #include "io/exr_io.h"
 #include "io/gltf_physics.h"
 #include "io/gltf_writer.h"
+#include "io/graph_settings_json.h"
 #include "io/texture_facts_json.h"
 
 #include "plimsoll_runtime/runtime.hpp"
@@ -422,19 +423,14 @@ Result<json> writeWaterGraph(const SceneBody& body, const fs::path& staging,
                                     texelNodeImage(*graph, *body.textures));
         !s.ok())
         return s.error();
-    return json{{"path", plimsoll_eval::kGraphFile},
-                {"texel_nodes", plimsoll_eval::kTexelNodesFile},
-                {"nodes", graph->nodes.size()},
-                {"pipes", graph->pipes.size()},
-                {"total_capacity", graph->totalCapacity()},
-                {"permeability", g.permeability},
-                {"inflow", inflowModelName(g.inflow)},
-                {"inflow_rate", g.inflowRate},
-                {"discharge_coefficient", g.dischargeCoefficient},
-                {"flow", flowModelName(g.flow)},
-                {"diffusion_pressure", g.diffusionPressure},
-                {"free_surface", g.freeSurface},
-                {"seed", g.seed}};
+    json entry{{"path", plimsoll_eval::kGraphFile},
+               {"texel_nodes", plimsoll_eval::kTexelNodesFile},
+               {"nodes", graph->nodes.size()},
+               {"pipes", graph->pipes.size()},
+               {"total_capacity", graph->totalCapacity()},
+               {"permeability", g.permeability}};
+    writeGraphModels(g.settings, entry);
+    return entry;
 }
 
 /// The mesh as glTF 2.0 over the baked UVs, its node pointing back at this manifest (the glTF

@@ -12,6 +12,7 @@
 #include "plimsoll/bake/bake.h"
 #include "plimsoll/io/file_util.h"
 
+#include "io/graph_settings_json.h"
 #include "io/json_reader.h"
 #include "plimsoll/io/json_depth.h"
 
@@ -513,21 +514,25 @@ private:
         std::string name;
         const Json* inflow = find(value, "inflow");
         if (inflow && stringValue(*inflow, member(path, "inflow"), name) &&
-            !plimsoll_eval::inflowModelFromName(name, graph.inflow)) {
+            !plimsoll_eval::inflowModelFromName(name, graph.settings.inflow)) {
             problem(member(path, "inflow"),
                     "unknown '" + boundedExcerpt(name) + "' (linear, torricelli)");
         }
-        number(value, path, "inflow_rate", graph.inflowRate, Limit::NonNegative);
-        number(value, path, "discharge_coefficient", graph.dischargeCoefficient, Limit::Fraction);
+        GraphSettings& settings = graph.settings;
+        number(value, path, "inflow_rate", settings.inflowRate, Limit::NonNegative);
+        number(value, path, "discharge_coefficient", settings.dischargeCoefficient,
+               Limit::Fraction);
         const Json* flow = find(value, "flow");
         if (flow && stringValue(*flow, member(path, "flow"), name) &&
-            !plimsoll_eval::flowModeFromName(name, graph.flow)) {
+            !plimsoll_eval::flowModeFromName(name, settings.flow)) {
             problem(member(path, "flow"),
                     "unknown '" + boundedExcerpt(name) + "' (poiseuille, diffusion)");
         }
-        number(value, path, "diffusion_pressure", graph.diffusionPressure, Limit::NonNegative);
-        boolean(value, path, "free_surface", graph.freeSurface);
-        integer(value, path, "seed", graph.seed, 0);
+        number(value, path, "diffusion_pressure", settings.diffusionPressure, Limit::NonNegative);
+        boolean(value, path, "free_surface", settings.freeSurface);
+        int seed = static_cast<int>(settings.seed);
+        integer(value, path, "seed", seed, 0);
+        settings.seed = static_cast<std::uint64_t>(seed);
     }
 
     void readMaterial(const Json& value, const std::string& path, MaterialDesc& material) {
@@ -725,13 +730,7 @@ Json toJson(const BodyDesc& body) {
         Json graph;
         graph["graph"] = g.graph;
         graph["permeability"] = g.permeability;
-        graph["inflow"] = inflowModelName(g.inflow);
-        graph["inflow_rate"] = g.inflowRate;
-        graph["discharge_coefficient"] = g.dischargeCoefficient;
-        graph["flow"] = flowModelName(g.flow);
-        graph["diffusion_pressure"] = g.diffusionPressure;
-        graph["free_surface"] = g.freeSurface;
-        graph["seed"] = g.seed;
+        writeGraphModels(g.settings, graph);
         json["water_graph"] = std::move(graph);
     }
     if (body.lod) json["lod"] = {{"levels", body.lod->levels}};

@@ -168,7 +168,7 @@ Result<BodyParts> assembleBodyParts(BodyDesc& desc, PreparedBodyMesh prepared,
             // An opening is an orifice, not a seeping surface: Torricelli's law, so a hull
             // pushed under fills in a moment as a real one does.
             desc.waterGraph.emplace();
-            desc.waterGraph->inflow = InflowModel::Torricelli;
+            desc.waterGraph->settings.inflow = InflowModel::Torricelli;
         }
         // The caps let water in: permeability 1 over their triangles, on top of what is painted.
         PaintedMap permeability;

@@ -12,9 +12,8 @@ Result<FloatingBody> floatingBodyOf(const SceneBody& body, const MediumDesc& med
     FloatingBody out;
     out.body = {body.mass->mass, body.mass->centerOfMass, {}, {}};
     if (!body.desc.waterGraph || !body.parts.waterGraph) return out;
-    GraphSettings settings;
+    GraphSettings settings = body.desc.waterGraph->settings;
     settings.density = medium.density;  // the graph holds the medium's water, as World's does
-    settings.freeSurface = body.desc.waterGraph->freeSurface;
     // The permeability as World samples it (World::makeFlooding): the graph's permeable
     // samples are where water gets in, the body's openings.
     std::vector<double> permeability;

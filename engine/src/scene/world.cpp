@@ -285,14 +285,7 @@ Result<std::unique_ptr<World::Flooding>> World::makeFlooding(const SceneBody& bo
     if (body.parts.permeabilityMap) {
         permeability = sampleAtTexels(*body.parts.permeabilityMap, *body.textures, g.permeability);
     }
-    GraphSettings settings;
-    settings.inflow = g.inflow;
-    settings.inflowRate = g.inflowRate;
-    settings.dischargeCoefficient = g.dischargeCoefficient;
-    settings.flow = g.flow;
-    settings.diffusionPressure = g.diffusionPressure;
-    settings.freeSurface = g.freeSurface;
-    settings.seed = static_cast<std::uint64_t>(g.seed);
+    GraphSettings settings = g.settings;
     settings.density = scene_.medium.density;
     settings.viscosity = scene_.medium.viscosity;
     settings.gravity = scene_.simulation.gravity.norm();

@@ -42,13 +42,10 @@ struct WaterGraphDesc {
     std::string graph;  ///< graph.json ("graph"), required
     /// Scale of the body's permeability_map ("permeability", 0..1): white is this value.
     double permeability = 1.0;
-    InflowModel inflow = InflowModel::Linear;  ///< "inflow": "linear" or "torricelli"
-    double inflowRate = 1.0;                   ///< "inflow_rate": linear factor, 1/s
-    double dischargeCoefficient = 0.6;         ///< "discharge_coefficient": Torricelli's C_d
-    FlowMode flow = FlowMode::Poiseuille;      ///< "flow": "poiseuille" or "diffusion"
-    double diffusionPressure = 1000.0;         ///< "diffusion_pressure": Pa at a full difference
-    bool freeSurface = false;                  ///< "free_surface": water at each node's low side
-    int seed = 1;                              ///< "seed": findDischargeNode's neighbour order
+    /// The graph's models: "inflow", "inflow_rate", "discharge_coefficient", "flow",
+    /// "diffusion_pressure", "free_surface" and "seed". The water inside (density, viscosity,
+    /// gravity) is not the body's to give: the World takes it from the scene's medium.
+    GraphSettings settings;
 
     bool operator==(const WaterGraphDesc&) const = default;
 };
