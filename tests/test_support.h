@@ -9,8 +9,11 @@
 #include <gtest/gtest.h>
 #include <unistd.h>
 
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <mutex>
+#include <set>
 #include <sstream>
 #include <optional>
 #include <string>
@@ -82,6 +85,36 @@ inline std::string readFile(const std::filesystem::path& path) {
     return text.str();
 }
 
+/// The scratch folders a test process made, removed when it exits: a suite run leaves nothing
+/// in the temporary folder. They stay for a look where a test of the process failed or
+/// PLIMSOLL_KEEP_TEST_FILES is set. A child the test forked leaves them to its parent.
+class ScratchFolders {
+public:
+    void add(const std::filesystem::path& dir) {
+        const std::lock_guard<std::mutex> lock(mutex_);
+        folders_.insert(dir);
+    }
+    ~ScratchFolders() {
+        if (::getpid() != owner_ || std::getenv("PLIMSOLL_KEEP_TEST_FILES")) return;
+        const testing::UnitTest* run = testing::UnitTest::GetInstance();
+        if (run && run->failed_test_count() > 0) return;
+        for (const std::filesystem::path& dir : folders_) {
+            std::error_code ignored;
+            std::filesystem::remove_all(dir, ignored);
+        }
+    }
+
+private:
+    const pid_t owner_ = ::getpid();
+    std::mutex mutex_;
+    std::set<std::filesystem::path> folders_;
+};
+
+inline ScratchFolders& scratchFolders() {
+    static ScratchFolders folders;
+    return folders;
+}
+
 /// A folder of the test's own under the temporary folder, created on first use.
 inline std::filesystem::path scratchFolder(const std::string& name) {
     // One folder per process: ctest runs the suite's tests as parallel processes, and two
@@ -89,6 +122,7 @@ inline std::filesystem::path scratchFolder(const std::string& name) {
     const std::filesystem::path dir =
         std::filesystem::path(testing::TempDir()) / (name + "_" + std::to_string(::getpid()));
     std::filesystem::create_directories(dir);
+    scratchFolders().add(dir);
     return dir;
 }
 
