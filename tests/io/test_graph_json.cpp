@@ -3,6 +3,7 @@
 #include "plimsoll/io/graph_json.h"
 
 #include "plimsoll/graph/graph.h"
+#include "plimsoll_runtime/runtime.hpp"
 
 #include "graph_support.h"
 #include "test_support.h"
@@ -40,16 +41,62 @@ TEST(GraphJson, ReportsEveryStructuralProblemWithItsPath) {
     Result<WaterGraph> g = parseGraph(text, "bad.json");
     ASSERT_FALSE(g.ok());
     const std::string& m = g.error().message;
-    EXPECT_NE(m.find("bad.json: nodes[0].position: must be an array of 3 numbers"),
+    EXPECT_NE(m.find("bad.json: $.nodes[0].position: expected an array of 3 numbers"),
               std::string::npos)
         << m;
-    EXPECT_NE(m.find("nodes[0].capacity: must be a number"), std::string::npos) << m;
-    EXPECT_NE(m.find("nodes[1].colour: unknown key"), std::string::npos) << m;
-    EXPECT_NE(m.find("pipes[0].b: required"), std::string::npos) << m;
+    EXPECT_NE(m.find("bad.json: $.nodes[0].capacity: expected a number"), std::string::npos) << m;
+    EXPECT_NE(m.find("bad.json: $.nodes[1].colour: unknown member"), std::string::npos) << m;
+    EXPECT_NE(m.find("bad.json: $.pipes[0]: missing required member \"b\""), std::string::npos)
+        << m;
+    EXPECT_EQ(g.error().kind, ErrorKind::schema);
     EXPECT_FALSE(parseGraph(R"({"nodes": []})", "v.json").ok());  // no schema_version
     Result<WaterGraph> newer = parseGraph(R"({"schema_version": 99, "nodes": []})", "v.json");
     ASSERT_FALSE(newer.ok());
     EXPECT_NE(newer.error().message.find("newer"), std::string::npos);
+    EXPECT_EQ(newer.error().kind, ErrorKind::unsupported);
+}
+
+// One reader reads the format for projects and bundles (plimsoll_runtime::readGraphJson); its
+// two forms differ only where the docs say.
+TEST(GraphJson, TheBundleFormIsTheSameReaderWithTheGraphsRules) {
+    using plimsoll_runtime::GraphJsonMode;
+    using plimsoll_runtime::GraphJsonProblem;
+    const auto read = [](const std::string& text, GraphJsonMode mode, std::string& error) {
+        std::vector<plimsoll_runtime::GraphNode> nodes;
+        std::vector<plimsoll_runtime::GraphPipe> pipes;
+        GraphJsonProblem problem{};
+        const bool ok =
+            plimsoll_runtime::readGraphJson("g.json", text, mode, nodes, pipes, problem, error);
+        EXPECT_EQ(ok, problem == GraphJsonProblem::None);
+        return std::make_pair(ok, nodes.size() + pipes.size());
+    };
+    std::string error;
+    // What the engine writes reads back whole in both forms.
+    const std::string written = graphToJson(threeNodes());
+    EXPECT_EQ(read(written, GraphJsonMode::Bundle, error), std::make_pair(true, std::size_t{5}))
+        << error;
+    EXPECT_EQ(read(written, GraphJsonMode::Authoring, error), std::make_pair(true, std::size_t{5}))
+        << error;
+    // A member neither knows: ignored in a bundle (a newer minor's), refused from a person.
+    const std::string extra =
+        R"({"schema_version": 1, "nodes": [{"id": "a", "position": [0, 0, 0], "capacity": 1,
+            "colour": "red"}], "pipes": []})";
+    EXPECT_TRUE(read(extra, GraphJsonMode::Bundle, error).first) << error;
+    EXPECT_FALSE(read(extra, GraphJsonMode::Authoring, error).first);
+    EXPECT_NE(error.find("g.json: $.nodes[0].colour: unknown member"), std::string::npos) << error;
+    // The graph's rules: the bundle form checks them itself, the first problem only; the
+    // authoring form leaves them to validateGraph, which names each with its class.
+    const std::string twice =
+        R"({"schema_version": 1, "nodes": [{"id": "a", "position": [0, 0, 0], "capacity": 1},
+            {"id": "a", "position": [1, 0, 0], "capacity": -1}], "pipes": []})";
+    EXPECT_FALSE(read(twice, GraphJsonMode::Bundle, error).first);
+    EXPECT_EQ(error, "g.json: $.nodes[1].capacity: must be > 0");
+    EXPECT_TRUE(read(twice, GraphJsonMode::Authoring, error).first) << error;
+    Result<WaterGraph> parsed = parseGraph(twice, "g.json");
+    ASSERT_TRUE(parsed.ok()) << parsed.error().message;
+    const std::string report = validateGraph(*parsed).format();
+    EXPECT_NE(report.find("[duplicate-id]"), std::string::npos) << report;
+    EXPECT_NE(report.find("[bad-capacity]"), std::string::npos) << report;
 }
 
 TEST(GraphJson, LoadRefusesAnInvalidGraphWithTheClass) {

@@ -213,10 +213,24 @@ TEST(HostilePaths, GltfBufferUrisCannotLeaveTheMeshFolder) {
         EXPECT_CONTAINS(message, std::string("leaves the folder"));
         EXPECT_CONTAINS(message, why);
     }
-    // A buffer that is a link to a device inside the folder is not a regular file.
+    // Links are never followed, whatever they name (a device, a file outside, a folder on the
+    // way), and a FIFO inside the folder is not a regular file.
     fs::create_symlink("/dev/zero", dir / "mesh" / "zero.bin");
-    test::writeFile(dir / "mesh" / "zero.gltf", triangleGltf("zero.bin"));
-    EXPECT_CONTAINS(test::messageOf(loadMesh(dir / "mesh" / "zero.gltf")), "not a regular file");
+    fs::create_symlink(dir / "outside.bin", dir / "mesh" / "out.bin");
+    fs::create_directory_symlink(dir, dir / "mesh" / "up");
+    ASSERT_EQ(::mkfifo((dir / "mesh" / "fifo.bin").c_str(), 0600), 0);
+    const std::pair<const char*, const char*> refused[] = {
+        {"zero.bin", "zero.bin: is (or passes through) a symbolic link, which is not followed"},
+        {"out.bin", "out.bin: is (or passes through) a symbolic link, which is not followed"},
+        {"up/outside.bin", "up/outside.bin: is (or passes through) a symbolic link"},
+        {"fifo.bin", "fifo.bin: not a regular file"},
+    };
+    for (const auto& [uri, why] : refused) {
+        test::writeFile(dir / "mesh" / "linked.gltf", triangleGltf(uri));
+        const std::string message = test::messageOf(loadMesh(dir / "mesh" / "linked.gltf"));
+        EXPECT_CONTAINS(message, "linked.gltf: a file it refers to: ");
+        EXPECT_CONTAINS(message, why);
+    }
     // From memory nothing is opened at all.
     EXPECT_FALSE(loadMeshFromMemory(triangleGltf("inside.bin"), "gltf", "memory.gltf").ok());
 }

@@ -26,7 +26,7 @@
  * plimsoll_runtime_version() to find a library older than the header. CMake's project version
  * is read from these lines: they are the one source. */
 #define PLIMSOLL_RUNTIME_VERSION_MAJOR 2
-#define PLIMSOLL_RUNTIME_VERSION_MINOR 1
+#define PLIMSOLL_RUNTIME_VERSION_MINOR 2
 #define PLIMSOLL_RUNTIME_VERSION_PATCH 0
 
 /* Every function is PLIMSOLL_RUNTIME_API: exported from the shared library (built with

@@ -83,25 +83,27 @@ std::string normalPath(const std::string& path) {
 
 std::string tooLarge(const std::string& full, std::uint64_t bytes, std::uint64_t maxBytes) {
     return full + ": " + std::to_string(bytes) + " bytes, more than the " +
-           std::to_string(maxBytes) + " a bundle file may have";
+           std::to_string(maxBytes) + " allowed";
 }
 const char* const kShrank = ": read error (the file shrank while read?)";
 
-/// Reads `relative` inside `folder`: every component opened without following links (a link
-/// could name any file of the system), the file opened without blocking (a FIFO) and read only
-/// if it is a regular file of at most `maxBytes`.
-bool readInside(const std::string& folder, const std::string& relative, std::uint64_t maxBytes,
-                std::string& bytes, std::string& error) {
+}  // namespace
+
+bool readFileInside(const std::string& folder, const std::string& relative, std::uint64_t maxBytes,
+                    std::string& bytes, std::string& error, FileReadProblem* problem) {
+    FileReadProblem ignored = FileReadProblem::None;
+    FileReadProblem& why = problem ? *problem : ignored;
     const std::string full = folder + "/" + relative;
     if (!staysInside(relative)) {
-        error = full + ": the path leaves the bundle";
+        why = FileReadProblem::Outside;
+        error = full + ": the path leaves its folder";
         return false;
     }
     int dir = ::open(folder.c_str(), O_RDONLY | O_DIRECTORY | O_CLOEXEC);
     if (dir < 0) {
-        error = errno == ENOENT
-                    ? full + ": missing (there is no folder " + folder + ")"
-                    : folder + ": cannot open the bundle folder: " + std::strerror(errno);
+        why = errno == ENOENT ? FileReadProblem::Missing : FileReadProblem::Unreadable;
+        error = errno == ENOENT ? full + ": missing (there is no folder " + folder + ")"
+                                : folder + ": cannot open the folder: " + std::strerror(errno);
         return false;
     }
     int fd = -1;
@@ -116,11 +118,14 @@ bool readInside(const std::string& folder, const std::string& relative, std::uin
         const int openError = errno;
         ::close(dir);
         if (next < 0) {
+            const bool link = openError == ELOOP || openError == ENOTDIR;
+            why = openError == ENOENT ? FileReadProblem::Missing
+                  : link              ? FileReadProblem::Link
+                                      : FileReadProblem::Unreadable;
             error =
                 full + (openError == ENOENT ? ": missing"
-                        : openError == ELOOP || openError == ENOTDIR
-                            ? ": is (or passes through) a symbolic link, not a file of the bundle"
-                            : std::string(": cannot be opened: ") + std::strerror(openError));
+                        : link ? ": is (or passes through) a symbolic link, which is not followed"
+                               : std::string(": cannot be opened: ") + std::strerror(openError));
             return false;
         }
         if (last) {
@@ -133,11 +138,13 @@ bool readInside(const std::string& folder, const std::string& relative, std::uin
     struct stat st {};
     if (::fstat(fd, &st) != 0 || !S_ISREG(st.st_mode)) {
         ::close(fd);
+        why = FileReadProblem::NotRegular;
         error = full + ": not a regular file (a FIFO, a device or a folder)";
         return false;
     }
     if (static_cast<std::uint64_t>(st.st_size) > maxBytes) {
         ::close(fd);
+        why = FileReadProblem::TooLarge;
         error = tooLarge(full, static_cast<std::uint64_t>(st.st_size), maxBytes);
         return false;
     }
@@ -151,11 +158,15 @@ bool readInside(const std::string& folder, const std::string& relative, std::uin
     }
     ::close(fd);
     if (done != bytes.size()) {
+        why = FileReadProblem::Unreadable;
         error = full + kShrank;
         return false;
     }
+    why = FileReadProblem::None;
     return true;
 }
+
+namespace {
 
 BundleSource folderSource(std::string folder) {
     while (folder.size() > 1 && folder.back() == '/') folder.pop_back();
@@ -163,7 +174,7 @@ BundleSource folderSource(std::string folder) {
     source.name = folder;
     source.read = [folder](const std::string& relative, std::uint64_t maxBytes, std::string& bytes,
                            std::string& error) {
-        return readInside(folder, relative, maxBytes, bytes, error);
+        return readFileInside(folder, relative, maxBytes, bytes, error);
     };
     return source;
 }
@@ -221,11 +232,30 @@ BundleSource callbackSource(const FileCallbacks& callbacks, const std::string& n
 /// Typed access to JSON members with errors naming the file and the member's path.
 class Reader {
 public:
-    Reader(std::string file, std::string& error) : file_(std::move(file)), error_(error) {}
+    /// `every`: each fail adds a line to `error` (a reader that reports every problem);
+    /// otherwise the last fail is the message.
+    Reader(std::string file, std::string& error, bool every = false)
+        : file_(std::move(file)), error_(error), every_(every) {}
 
     bool fail(const std::string& path, const std::string& what) {
-        error_ = file_ + ": " + path + ": " + what;
+        std::string line = file_ + ": " + path + ": " + what;
+        if (every_ && !error_.empty()) {
+            error_ += "\n" + line;
+        } else {
+            error_ = std::move(line);
+        }
         return false;
+    }
+    /// Fails once for each member of `object` that is not one of `known`.
+    bool knownMembers(const Value& object, const std::string& path,
+                      std::initializer_list<std::string_view> known) {
+        bool ok = true;
+        for (const auto& [key, value] : object.object) {
+            (void)value;
+            if (std::find(known.begin(), known.end(), key) == known.end())
+                ok = fail(path + "." + key, "unknown member");
+        }
+        return ok;
     }
     const Value* member(const Value& object, const std::string& path, const std::string& key,
                         bool required = true) {
@@ -287,6 +317,7 @@ public:
 private:
     std::string file_;
     std::string& error_;
+    bool every_ = false;
 };
 
 /// The manifest's "radiation" (schema 1.3): every number finite, the rest volume > 0, A_inf
@@ -386,80 +417,179 @@ bool readMass(Reader& r, const Value& v, const std::string& path, MassProperties
     return true;
 }
 
-bool readGraph(const std::string& path, const std::string& text, std::vector<GraphNode>& nodes,
-               std::vector<GraphPipe>& pipes, std::string& error) {
+/// Runs `checks` in order: every one where every problem is wanted, up to the first that
+/// fails otherwise. True when all passed.
+template <class... Checks>
+bool checkEach(bool every, Checks&&... checks) {
+    bool ok = true;
+    ((ok = (ok || every) ? checks() && ok : false), ...);
+    return ok;
+}
+
+/// A node's or pipe's id: a string, or in authoring an integer too (kept as its decimal text).
+bool readId(Reader& r, const Value& v, const std::string& at, const char* key, bool integers,
+            std::string& out) {
+    const Value* id = v.find(key);
+    if (integers && id && id->isNumber() && id->number == std::floor(id->number) &&
+        std::abs(id->number) < 9.0e15) {
+        out = std::to_string(static_cast<long long>(id->number));
+        return true;
+    }
+    return r.string(v, at, key, out);
+}
+
+bool readGraphNode(Reader& r, const Value& v, const std::string& at, bool authoring, GraphNode& n) {
+    if (!v.isObject()) return r.fail(at, "expected an object");
+    return checkEach(
+        authoring,
+        [&] {
+            return !authoring ||
+                   r.knownMembers(v, at,
+                                  {"id", "name", "position", "capacity", "water", "sealed", "box"});
+        },
+        [&] { return readId(r, v, at, "id", authoring, n.id); },
+        [&] { return r.string(v, at, "name", n.name, false); },
+        [&] { return r.vec3(v, at, "position", n.position); },
+        [&] { return r.number(v, at, "capacity", n.capacity); },
+        [&] { return r.number(v, at, "water", n.water, false); },
+        [&] { return r.boolean(v, at, "sealed", n.sealed, false); },
+        [&] { return r.vec3(v, at, "box", n.box, false); });
+}
+
+bool readGraphPipe(Reader& r, const Value& v, const std::string& at, bool authoring, GraphPipe& p) {
+    if (!v.isObject()) return r.fail(at, "expected an object");
+    return checkEach(
+        authoring,
+        [&] {
+            return !authoring || r.knownMembers(v, at, {"a", "b", "radius", "length", "open"});
+        },
+        [&] { return readId(r, v, at, "a", authoring, p.a); },
+        [&] { return readId(r, v, at, "b", authoring, p.b); },
+        [&] { return r.number(v, at, "radius", p.radius, authoring); },
+        [&] { return r.number(v, at, "length", p.length, false); },
+        [&] { return r.boolean(v, at, "open", p.open, false); });
+}
+
+/// The graph's own rules for one node (a bundle's graph; authoring leaves them to the engine).
+bool checkGraphNode(Reader& r, const std::string& at, const GraphNode& n) {
+    if (n.id.empty()) return r.fail(at + ".id", "must not be empty");
+    if (!(n.capacity > 0) || !std::isfinite(n.capacity))
+        return r.fail(at + ".capacity", "must be > 0");
+    if (!(n.water >= 0) || !(n.water <= n.capacity))
+        return r.fail(at + ".water", "must be in 0..capacity");
+    if (!finite(n.position)) return r.fail(at + ".position", "must be finite");
+    const bool zeroBox = n.box.x == 0 && n.box.y == 0 && n.box.z == 0;
+    if (!zeroBox && !(n.isBox() && finite(n.box)))
+        return r.fail(at + ".box", "edges must all be > 0");
+    return true;
+}
+
+/// The graph's own rules for one pipe whose node indices are set (a bundle's graph).
+bool checkGraphPipe(Reader& r, const std::string& at, const GraphPipe& p,
+                    const std::vector<GraphNode>& nodes) {
+    if (p.nodeA < 0 || p.nodeB < 0)
+        return r.fail(at, "no node \"" + (p.nodeA < 0 ? p.a : p.b) + "\"");
+    if (p.nodeA == p.nodeB) return r.fail(at, "joins a node to itself");
+    if (!(p.radius > 0) || !std::isfinite(p.radius) || !(p.length >= 0) || !std::isfinite(p.length))
+        return r.fail(at, "radius must be > 0 and length >= 0");
+    if (!(p.length > 0) && !(norm(nodes[p.nodeA].position - nodes[p.nodeB].position) > 0))
+        return r.fail(at, "its nodes coincide, so it needs a length > 0");
+    return true;
+}
+
+/// graph.json's root: its schema version, and its node and pipe lists within the limits.
+bool readGraphRoot(Reader& r, const Value& root, bool authoring, const Value*& nodeList,
+                   const Value*& pipeList, GraphJsonProblem& problem) {
+    problem = GraphJsonProblem::Content;
+    if (!root.isObject()) return r.fail("$", "expected an object");
+    long long version = 0;
+    const bool knownOk =
+        !authoring || r.knownMembers(root, "$", {"schema_version", "name", "nodes", "pipes"});
+    if (!r.integer(root, "$", "schema_version", version)) return false;
+    if (version > format::kGraphSchemaVersion) {
+        problem = GraphJsonProblem::NewerSchema;
+        return r.fail("$.schema_version", std::to_string(version) +
+                                              " is newer than this reader knows (" +
+                                              std::to_string(format::kGraphSchemaVersion) + ")");
+    }
+    if (version < 1) return r.fail("$.schema_version", "must be 1 or more");
+    nodeList = r.member(root, "$", "nodes");
+    pipeList = r.member(root, "$", "pipes", !authoring);
+    if (!nodeList || (!pipeList && !authoring)) return false;
+    if (!nodeList->isArray() || (nodeList->array.empty() && !authoring))
+        return r.fail("$.nodes", authoring ? "expected an array" : "expected a non-empty array");
+    if (pipeList && !pipeList->isArray()) return r.fail("$.pipes", "expected an array");
+    const std::size_t pipeCount = pipeList ? pipeList->array.size() : 0;
+    if (nodeList->array.size() > kMaxGraphNodes || pipeCount > kMaxGraphPipes) {
+        problem = GraphJsonProblem::Limit;
+        return r.fail("$", std::to_string(nodeList->array.size()) + " nodes and " +
+                               std::to_string(pipeCount) + " pipes, more than the limits " +
+                               "kMaxGraphNodes = " + std::to_string(kMaxGraphNodes) +
+                               " and kMaxGraphPipes = " + std::to_string(kMaxGraphPipes));
+    }
+    return knownOk;
+}
+
+}  // namespace
+
+bool readGraphJson(const std::string& source, const std::string& text, GraphJsonMode mode,
+                   std::vector<GraphNode>& nodes, std::vector<GraphPipe>& pipes,
+                   GraphJsonProblem& problem, std::string& error) {
+    const bool authoring = mode == GraphJsonMode::Authoring;
+    nodes.clear();
+    pipes.clear();
+    error.clear();
     Value root;
     std::string parseError;
     if (!json::parse(text, root, parseError)) {
-        error = path + ": malformed JSON: " + parseError;
+        // The parser's one refusal of a size: nesting past kMaxJsonDepth, which it names.
+        problem = parseError.find("kMaxJsonDepth") != std::string::npos ? GraphJsonProblem::Limit
+                                                                        : GraphJsonProblem::Syntax;
+        error = source + ": malformed JSON: " + parseError;
         return false;
     }
-    Reader r(path, error);
-    if (!root.isObject()) return r.fail("$", "expected an object");
-    long long version = 0;
-    if (!r.integer(root, "$", "schema_version", version)) return false;
-    if (version != 1)
-        return r.fail("$.schema_version", "graph schema " + std::to_string(version) +
-                                              " is not supported (this reader knows 1)");
-    const Value* nodeList = r.member(root, "$", "nodes");
-    const Value* pipeList = r.member(root, "$", "pipes");
-    if (!nodeList || !pipeList) return false;
-    if (!nodeList->isArray() || nodeList->array.empty())
-        return r.fail("$.nodes", "expected a non-empty array");
-    if (!pipeList->isArray()) return r.fail("$.pipes", "expected an array");
-    if (nodeList->array.size() > kMaxGraphNodes || pipeList->array.size() > kMaxGraphPipes)
-        return r.fail("$", std::to_string(nodeList->array.size()) + " nodes and " +
-                               std::to_string(pipeList->array.size()) + " pipes, more than the " +
-                               std::to_string(kMaxGraphNodes) + " and " +
-                               std::to_string(kMaxGraphPipes) + " a graph may have");
+    Reader r(source, error, authoring);
+    const Value* nodeList = nullptr;
+    const Value* pipeList = nullptr;
+    bool ok = readGraphRoot(r, root, authoring, nodeList, pipeList, problem);
+    if (!nodeList || !nodeList->isArray() || (pipeList && !pipeList->isArray()) ||
+        problem != GraphJsonProblem::Content || (!ok && !authoring))
+        return false;
     // Ids to indices: a lookup per pipe, not a scan (100000 nodes must load in seconds).
     std::unordered_map<std::string, int> index;
-    for (std::size_t i = 0; i < nodeList->array.size(); ++i) {
-        const Value& v = nodeList->array[i];
+    for (std::size_t i = 0; i < nodeList->array.size() && (ok || authoring); ++i) {
         const std::string at = "$.nodes[" + std::to_string(i) + "]";
-        if (!v.isObject()) return r.fail(at, "expected an object");
         GraphNode n;
-        if (!r.string(v, at, "id", n.id) || !r.string(v, at, "name", n.name, false) ||
-            !r.vec3(v, at, "position", n.position) || !r.number(v, at, "capacity", n.capacity) ||
-            !r.number(v, at, "water", n.water, false) ||
-            !r.boolean(v, at, "sealed", n.sealed, false) || !r.vec3(v, at, "box", n.box, false))
-            return false;
-        if (n.id.empty()) return r.fail(at + ".id", "must not be empty");
-        if (!index.emplace(n.id, static_cast<int>(nodes.size())).second)
-            return r.fail(at + ".id", "\"" + n.id + "\" is used twice");
-        if (!(n.capacity > 0) || !std::isfinite(n.capacity))
-            return r.fail(at + ".capacity", "must be > 0");
-        if (!(n.water >= 0) || !(n.water <= n.capacity))
-            return r.fail(at + ".water", "must be in 0..capacity");
-        if (!finite(n.position)) return r.fail(at + ".position", "must be finite");
-        const bool zeroBox = n.box.x == 0 && n.box.y == 0 && n.box.z == 0;
-        if (!zeroBox && !(n.isBox() && finite(n.box)))
-            return r.fail(at + ".box", "edges must all be > 0");
+        if (!readGraphNode(r, nodeList->array[i], at, authoring, n) ||
+            (!authoring && !checkGraphNode(r, at, n))) {
+            ok = false;
+            continue;
+        }
+        const bool first = index.emplace(n.id, static_cast<int>(nodes.size())).second;
+        if (!first && !authoring) ok = r.fail(at + ".id", "\"" + n.id + "\" is used twice");
         nodes.push_back(std::move(n));
     }
-    for (std::size_t i = 0; i < pipeList->array.size(); ++i) {
-        const Value& v = pipeList->array[i];
+    const std::size_t pipeCount = pipeList ? pipeList->array.size() : 0;
+    for (std::size_t i = 0; i < pipeCount && (ok || authoring); ++i) {
         const std::string at = "$.pipes[" + std::to_string(i) + "]";
-        if (!v.isObject()) return r.fail(at, "expected an object");
         GraphPipe p;
-        if (!r.string(v, at, "a", p.a) || !r.string(v, at, "b", p.b) ||
-            !r.number(v, at, "radius", p.radius, false) ||
-            !r.number(v, at, "length", p.length, false) || !r.boolean(v, at, "open", p.open, false))
-            return false;
+        if (!readGraphPipe(r, pipeList->array[i], at, authoring, p)) {
+            ok = false;
+            continue;
+        }
         if (const auto a = index.find(p.a); a != index.end()) p.nodeA = a->second;
         if (const auto b = index.find(p.b); b != index.end()) p.nodeB = b->second;
-        if (p.nodeA < 0 || p.nodeB < 0)
-            return r.fail(at, "no node \"" + (p.nodeA < 0 ? p.a : p.b) + "\"");
-        if (p.nodeA == p.nodeB) return r.fail(at, "joins a node to itself");
-        if (!(p.radius > 0) || !std::isfinite(p.radius) || !(p.length >= 0) ||
-            !std::isfinite(p.length))
-            return r.fail(at, "radius must be > 0 and length >= 0");
-        if (!(p.length > 0) && !(norm(nodes[p.nodeA].position - nodes[p.nodeB].position) > 0))
-            return r.fail(at, "its nodes coincide, so it needs a length > 0");
+        if (!authoring && !checkGraphPipe(r, at, p, nodes)) {
+            ok = false;
+            continue;
+        }
         pipes.push_back(std::move(p));
     }
-    return true;
+    if (ok) problem = GraphJsonProblem::None;
+    return ok;
 }
+
+namespace {
 
 /// The manifest's header: a JSON object, a Plimsoll runtime bundle of this reader's major
 /// schema version (any minor), and the body's name.
@@ -912,7 +1042,9 @@ private:
         if (!readGraphSettings(*graphInfo, graph->settings_, graphFile)) return false;
         const std::string* graphText = read(graphFile, kMaxJsonBytes);
         if (!graphText) return false;
-        if (!readGraph(folder_ + "/" + graphFile, *graphText, graph->nodes_, graph->pipes_, error_))
+        GraphJsonProblem problem = GraphJsonProblem::None;
+        if (!readGraphJson(folder_ + "/" + graphFile, *graphText, GraphJsonMode::Bundle,
+                           graph->nodes_, graph->pipes_, problem, error_))
             return false;
         std::vector<std::uint32_t> texelNodes;
         std::string texelNodesFile;

@@ -1,6 +1,7 @@
-// graph.json (graph.h, docs/formats.md): JSON text <-> WaterGraph. Reading reports every
-// structural problem with its JSON path; the graph's own rules (dangling pipes, capacities,
-// ...) are validateGraph's, applied by loadGraph.
+// graph.json (graph.h, docs/formats.md): JSON text <-> WaterGraph. Reading is the runtime's
+// reader of the format (readGraphJson) in its authoring form: every problem of form with its
+// JSON path; the graph's own rules (dangling pipes, capacities, ...) are validateGraph's,
+// applied by loadGraph.
 #include "plimsoll/graph/graph.h"
 #include "plimsoll/io/graph_json.h"
 
@@ -8,127 +9,66 @@
 #include "plimsoll/core/limits.h"
 
 #include "io/json_reader.h"
+#include "plimsoll_runtime/runtime.hpp"
 
 #include <nlohmann/json.hpp>
 
-#include <cmath>
-#include <fstream>
-#include <iterator>
-#include <string_view>
+#include <vector>
 
 namespace plimsoll {
 
 namespace {
 
-using detail::find;
 using detail::Json;
-using detail::Limit;
-using detail::member;
-using detail::Presence;
 
-class GraphReader : public detail::JsonReader {
-public:
-    explicit GraphReader(std::string source) : JsonReader(std::move(source)) {}
-
-    Result<WaterGraph> read(const Json& root) {
-        WaterGraph graph;
-        if (!root.is_object()) {
-            return makeError(ErrorKind::schema, source() + ": must be a JSON object");
-        }
-        if (const Json* v = find(root, "schema_version")) {
-            if (!v->is_number_integer() || v->get<long long>() < 1) {
-                problem("schema_version", "must be an integer >= 1");
-            } else if (v->get<long long>() > kGraphSchemaVersion) {
-                return makeError(ErrorKind::unsupported,
-                                 source() +
-                                     ": schema_version: " + std::to_string(v->get<long long>()) +
-                                     " is newer than this Plimsoll reads (" +
-                                     std::to_string(kGraphSchemaVersion) + ")");
-            }
-        } else {
-            problem("schema_version", "required");
-        }
-        expectObject(root, "", {"schema_version", "name", "nodes", "pipes"});
-        const Json* nodes = find(root, "nodes");
-        if (!nodes) {
-            problem("nodes", "required");
-        } else if (!nodes->is_array()) {
-            problem("nodes", "must be an array");
-        } else if (nodes->size() > kMaxGraphNodes) {
-            return makeError(ErrorKind::limit, source() +
-                                                   ": nodes: " + std::to_string(nodes->size()) +
-                                                   ", more than the limit kMaxGraphNodes = " +
-                                                   std::to_string(kMaxGraphNodes) + " (limits.h)");
-        } else {
-            for (std::size_t i = 0; i < nodes->size(); ++i) {
-                readNode((*nodes)[i], detail::element("nodes", i), graph.nodes.emplace_back());
-            }
-        }
-        if (const Json* pipes = find(root, "pipes")) {
-            if (!pipes->is_array()) {
-                problem("pipes", "must be an array");
-            } else if (pipes->size() > kMaxGraphPipes) {
-                return makeError(ErrorKind::limit,
-                                 source() + ": pipes: " + std::to_string(pipes->size()) +
-                                     ", more than the limit kMaxGraphPipes = " +
-                                     std::to_string(kMaxGraphPipes) + " (limits.h)");
-            } else {
-                for (std::size_t i = 0; i < pipes->size(); ++i) {
-                    readPipe((*pipes)[i], detail::element("pipes", i), graph.pipes.emplace_back());
-                }
-            }
-        }
-        if (hasProblems()) return problems();
-        return graph;
+ErrorKind errorKindOf(plimsoll_runtime::GraphJsonProblem problem) {
+    using Problem = plimsoll_runtime::GraphJsonProblem;
+    switch (problem) {
+        case Problem::Syntax:
+            return ErrorKind::format;
+        case Problem::Limit:
+            return ErrorKind::limit;
+        case Problem::NewerSchema:
+            return ErrorKind::unsupported;
+        default:
+            return ErrorKind::schema;
     }
+}
 
-private:
-    /// Ids are strings; integers are accepted and kept as their decimal text.
-    void id(const Json& object, const std::string& path, const char* key, std::string& out) {
-        const Json* v = find(object, key);
-        if (!v) {
-            problem(member(path, key), "required");
-        } else if (v->is_string()) {
-            out = v->get<std::string>();
-        } else if (v->is_number_integer()) {
-            out = std::to_string(v->get<long long>());
-        } else {
-            problem(member(path, key), "must be a string (or an integer)");
-        }
-    }
-
-    void readNode(const Json& value, const std::string& path, GraphNode& node) {
-        if (!expectObject(value, path,
-                          {"id", "name", "position", "capacity", "water", "sealed", "box"})) {
-            return;
-        }
-        id(value, path, "id", node.id);
-        string(value, path, "name", node.name);
-        vector(value, path, "position", node.position, Presence::Required);
-        number(value, path, "capacity", node.capacity, Limit::Any, Presence::Required);
-        number(value, path, "water", node.water);
-        boolean(value, path, "sealed", node.sealed);
-        vector(value, path, "box", node.boxSize);
-    }
-
-    void readPipe(const Json& value, const std::string& path, GraphPipe& pipe) {
-        if (!expectObject(value, path, {"a", "b", "radius", "length", "open"})) return;
-        id(value, path, "a", pipe.a);
-        id(value, path, "b", pipe.b);
-        number(value, path, "radius", pipe.radius, Limit::Any, Presence::Required);
-        number(value, path, "length", pipe.length);
-        boolean(value, path, "open", pipe.open);
-    }
-};
+Eigen::Vector3d eigen(const plimsoll_runtime::Vec3& v) { return {v.x, v.y, v.z}; }
 
 Json array3(const Eigen::Vector3d& v) { return Json::array({v.x(), v.y(), v.z()}); }
 
 }  // namespace
 
 Result<WaterGraph> parseGraph(const std::string& text, const std::string& source) {
-    Result<Json> root = detail::parseJson(text, source);
-    if (!root) return root.error();
-    return GraphReader(source).read(*root);
+    // The runtime's reader of the format, in the form people's files need: every problem, no
+    // unknown member; the graph's own rules are validateGraph's, each with its class.
+    std::vector<plimsoll_runtime::GraphNode> nodes;
+    std::vector<plimsoll_runtime::GraphPipe> pipes;
+    plimsoll_runtime::GraphJsonProblem problem{};
+    std::string error;
+    if (!plimsoll_runtime::readGraphJson(source, text, plimsoll_runtime::GraphJsonMode::Authoring,
+                                         nodes, pipes, problem, error)) {
+        return makeError(errorKindOf(problem), error);
+    }
+    WaterGraph graph;
+    graph.nodes.reserve(nodes.size());
+    for (const plimsoll_runtime::GraphNode& n : nodes) {
+        graph.nodes.push_back({.id = n.id,
+                               .name = n.name,
+                               .position = eigen(n.position),
+                               .capacity = n.capacity,
+                               .water = n.water,
+                               .sealed = n.sealed,
+                               .boxSize = eigen(n.box)});
+    }
+    graph.pipes.reserve(pipes.size());
+    for (const plimsoll_runtime::GraphPipe& p : pipes) {
+        graph.pipes.push_back(
+            {.a = p.a, .b = p.b, .radius = p.radius, .length = p.length, .open = p.open});
+    }
+    return graph;
 }
 
 Result<WaterGraph> loadGraph(const std::filesystem::path& path, const TriangleMesh* mesh,

@@ -4,6 +4,7 @@
 #include "io/mesh_header_check.h"
 #include "plimsoll/core/limits.h"
 #include "plimsoll/io/file_util.h"
+#include "plimsoll_runtime/runtime.hpp"
 
 #include <assimp/IOStream.hpp>
 #include <assimp/IOSystem.hpp>
@@ -87,11 +88,21 @@ public:
         if (!path) return path.error();
         const auto known = read_.find(path->string());
         if (known != read_.end()) return known->second;
-        Result<std::string> bytes = readWholeFile(*path, kMaxMeshFileBytes, "kMaxMeshFileBytes");
-        if (!bytes)
-            return makeError(bytes.error().kind,
-                             mesh_ + ": a file it refers to: " + bytes.error().message);
-        auto shared = std::make_shared<const std::string>(std::move(bytes).value());
+        // Opened as the runtime opens a bundle's files: component by component from the
+        // folder's descriptor, never through a link, so nothing swapped in after the check
+        // above is followed out of the folder.
+        std::string bytes;
+        std::string error;
+        plimsoll_runtime::FileReadProblem problem{};
+        if (!plimsoll_runtime::readFileInside(folder_->string(),
+                                              fs::path(file).lexically_normal().generic_string(),
+                                              kMaxMeshFileBytes, bytes, error, &problem)) {
+            const bool tooLarge = problem == plimsoll_runtime::FileReadProblem::TooLarge;
+            return makeError(tooLarge ? ErrorKind::limit : ErrorKind::io,
+                             mesh_ + ": a file it refers to: " + error +
+                                 (tooLarge ? " (kMaxMeshFileBytes)" : ""));
+        }
+        auto shared = std::make_shared<const std::string>(std::move(bytes));
         read_.emplace(path->string(), shared);
         return shared;
     }

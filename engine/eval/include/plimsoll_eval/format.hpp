@@ -13,6 +13,7 @@ inline constexpr int kBundleSchemaMinor =
 inline constexpr const char* kManifestFile = "manifest.json";
 inline constexpr const char* kSamplesFile = "samples.exr";
 inline constexpr const char* kGraphFile = "graph.json";
+inline constexpr int kGraphSchemaVersion = 1;  ///< graph.json's "schema_version" (docs/formats.md)
 inline constexpr const char* kTexelNodesFile = "texel_nodes.exr";
 
 /// A compact bundle's manifest `sample_encoding.type` and its samples.exr channels (x, y

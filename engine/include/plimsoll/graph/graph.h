@@ -14,6 +14,7 @@
 #include "plimsoll/core/result.h"
 #include "plimsoll/physics/water.h"
 
+#include "plimsoll_eval/format.hpp"
 #include "plimsoll_eval/graph.hpp"
 #include "plimsoll_eval/graph_settings.hpp"
 
@@ -29,7 +30,7 @@ namespace plimsoll {
 
 struct SurfaceTextures;
 
-inline constexpr int kGraphSchemaVersion = 1;
+inline constexpr int kGraphSchemaVersion = plimsoll_eval::kGraphSchemaVersion;
 
 /// A compartment.
 struct GraphNode {

@@ -152,6 +152,56 @@ struct GraphPipe {
     bool open = true;
 };
 
+// ---------------------------------------------------------------------------------------
+// Files inside a folder
+
+/// What stopped readFileInside.
+enum class FileReadProblem { None, Outside, Missing, Link, NotRegular, TooLarge, Unreadable };
+
+/// Reads the file `relative` names inside `folder` into `bytes`, as every file of a bundle is
+/// read (and the engine reads the files a mesh refers to): the path stays inside (not empty,
+/// not absolute, no "..", backslash or NUL byte); each component is opened relative to its
+/// folder's descriptor without following a link (openat with O_NOFOLLOW: a link could name any
+/// file of the system, and a check of the path before opening it could be raced); the file is
+/// opened without blocking and read only if it is a regular file (not a FIFO or a device) of at
+/// most `maxBytes`. False with `error` naming the file and the problem, `problem` its kind.
+bool readFileInside(const std::string& folder, const std::string& relative, std::uint64_t maxBytes,
+                    std::string& bytes, std::string& error, FileReadProblem* problem = nullptr);
+
+// ---------------------------------------------------------------------------------------
+// graph.json
+
+/// How readGraphJson reads a graph.json (docs/formats.md): the format has one reader, which
+/// reads it as each of its two uses needs.
+enum class GraphJsonMode {
+    /// A bundle's graph, written by the engine: the first problem ends the reading, a member
+    /// this reader does not know (a newer minor schema's) is ignored, and the graph's own rules
+    /// are checked here: a node at least, ids used once, pipes between two different nodes
+    /// that exist, capacities > 0, water in 0..capacity, radii > 0, lengths >= 0.
+    Bundle,
+    /// A graph as people write and edit it: every problem of form is reported, one a line; a
+    /// member this reader does not know is refused (a misspelt key is a mistake); an id may be
+    /// an integer (kept as its decimal text); "pipes" may be left out. The graph's own rules
+    /// are the caller's (the engine's validateGraph names each with its class).
+    Authoring,
+};
+
+/// What ended a failed readGraphJson.
+enum class GraphJsonProblem {
+    None,
+    Syntax,       ///< not JSON (the message gives line and column)
+    Limit,        ///< nested deeper than JSON may be, or more nodes or pipes than a graph may have
+    NewerSchema,  ///< a schema_version newer than this reader knows
+    Content,      ///< valid JSON that is not a graph (each problem with its JSON path)
+};
+
+/// Reads graph.json's `text` (called `source` in messages) into `nodes` and `pipes`, with each
+/// pipe's node indices set where its ids name a node. False on a problem: `problem` says what
+/// kind, `error` gives the message(s), each "source: $.json.path: what".
+bool readGraphJson(const std::string& source, const std::string& text, GraphJsonMode mode,
+                   std::vector<GraphNode>& nodes, std::vector<GraphPipe>& pipes,
+                   GraphJsonProblem& problem, std::string& error);
+
 /// The simulation's settings: the manifest's `water_graph` (inflow, flow, seed, ...) and the
 /// medium (density, viscosity, gravity: the caller's world, as for Fluid). The engine's own
 /// struct (plimsoll_eval/graph_settings.hpp, installed with this header).
