@@ -415,6 +415,34 @@ TEST(HostileFbx, ArraysThatDoNotInflateToTheirCountAreRefusedBeforeAssimp) {
     EXPECT_CONTAINS(run.err, "kMaxFbxInflatedBytes");
 }
 
+// Assimp adds a record's 64-bit property length to a pointer before comparing it with the
+// record's end: a length near 2^64 wrapped past that check into an assertion (abort; the PLY
+// fuzzer's finding, a file whose content was binary FBX). Assimp also reads a file as binary
+// FBX from its first 18 bytes, "Kaydara FBX Binary", whatever the two that usually follow.
+TEST(HostileFbx, APropertyLengthPastItsRecordIsRefusedBeforeAssimp) {
+    const fs::path dir = test::freshFolder("hostile3", "fbx_lengths");
+    for (const std::string magic : {std::string("Kaydara FBX Binary  \0\x1a\0", 23),
+                                    std::string("Kaydara FBX Binary\xff\xff\xff\xff\xff", 23)}) {
+        std::string bytes = magic;
+        const auto u64 = [&](std::uint64_t v) {
+            for (int k = 0; k < 8; ++k) bytes += static_cast<char>(v >> (8 * k));
+        };
+        for (int k = 0; k < 4; ++k) bytes += '\xff';  // version 2^32-1: 64-bit fields
+        u64(27 + 25 + 1 + 64);                        // the record ends after 64 more bytes
+        u64(1);                                       // one property
+        u64(~std::uint64_t{0});                       // of 2^64 - 1 bytes
+        bytes +=
+            "\x01"
+            "A";
+        bytes += std::string(64, '\0');
+        test::writeFile(dir / "wrap.ply", bytes);  // the content decides, not the name
+        const std::string message = test::messageOf(loadMesh(dir / "wrap.ply"));
+        EXPECT_CONTAINS(message,
+                        "wrap.ply: the FBX record at byte 27 declares "
+                        "18446744073709551615 bytes of properties, past its end");
+    }
+}
+
 TEST(HostileMeshFormats, OtherFormatsAreRefusedByContentAndOBJIsReadWhateverItsName) {
     const fs::path dir = test::freshFolder("hostile3", "formats");
     const std::pair<std::string, std::string> refused[] = {

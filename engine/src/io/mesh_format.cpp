@@ -69,7 +69,7 @@ bool looksLikeObj(std::string_view bytes) {
 std::string allowedByContent(std::string_view bytes) {
     if (startsWith(bytes, "glTF")) return "glb";
     if (startsWith(bytes, "ply\n") || startsWith(bytes, "ply\r\n")) return "ply";
-    if (startsWith(bytes, "Kaydara FBX Binary  ")) return "fbx";
+    if (startsWith(bytes, "Kaydara FBX Binary")) return "fbx";  // all assimp compares
     const std::string_view text = trimmedStart(bytes);
     if (startsWith(text, "; FBX") ||
         (startsWith(text, ";") && containsNear(bytes, "FBXHeaderExtension", 4096)))

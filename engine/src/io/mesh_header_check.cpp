@@ -829,7 +829,16 @@ Status checkBinaryFbx(const std::string& file, std::string_view bytes) {
         const std::uint64_t propertyCount = readLittleEndian(bytes, at + field, field);
         const std::uint64_t propertyBytes = readLittleEndian(bytes, at + 2 * field, field);
         const std::uint64_t nameBytes = static_cast<unsigned char>(bytes[at + 3 * field]);
-        if (end <= at || end > ends.back() || propertyBytes > end - at) return Ok{};
+        if (end <= at || end > ends.back()) return Ok{};  // assimp compares these as numbers
+        // assimp adds the property length to a pointer before comparing it with the record's
+        // end: a 64-bit length near 2^64 wraps past that check into an assertion (abort). A
+        // length past the record's end is refused here, whatever it is.
+        if (propertyBytes > end - at)
+            return makeError(ErrorKind::format, file + ": the FBX record at byte " +
+                                                    std::to_string(at) + " declares " +
+                                                    std::to_string(propertyBytes) +
+                                                    " bytes of properties, past its end at byte " +
+                                                    std::to_string(end));
         const std::uint64_t properties = at + header + nameBytes;
         if (properties + propertyBytes <= end) {
             Status arrays = checkFbxProperties(file, bytes, properties, propertyCount,
@@ -851,7 +860,8 @@ Status checkBinaryFbx(const std::string& file, std::string_view bytes) {
 /// FBX scopes nested deeper than kMaxFbxDepth, in either form, before assimp's recursive
 /// parsers see them; in the binary form also the arrays (checkFbxProperties).
 Status checkFbx(const std::string& file, std::string_view bytes) {
-    if (bytes.substr(0, 20) == "Kaydara FBX Binary  ") return checkBinaryFbx(file, bytes);
+    // assimp reads a file as binary FBX when its first 18 bytes say so, whatever follows.
+    if (bytes.substr(0, 18) == "Kaydara FBX Binary") return checkBinaryFbx(file, bytes);
     return checkAsciiFbxDepth(file, bytes);
 }
 
