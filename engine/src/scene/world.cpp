@@ -268,6 +268,7 @@ Status World::addBody(const SceneBody& scene) {
     details_.push_back(std::move(detail));
     materials_.push_back(desc.material);
     shellDensityMaps_.push_back(scene.parts.shellDensityMap);
+    shellThicknessMaps_.push_back(scene.parts.shellThicknessMap);
     sleep_.emplace_back();
     changedLastFrame_.push_back(0);
     return Ok{};
@@ -581,9 +582,9 @@ Status World::recomputeMass(std::size_t i) {
     SimulatedBody& body = bodies_[i];
     // The caps' share and the hollow are those of the body's mesh as it was baked.
     const SceneBody& baked = scene_.bodies[i];
-    Result<MassProperties> props =
-        bodyMassProperties(body.textures, materials_[i], shellDensityMaps_[i].get(),
-                           baked.wallShare.get(), baked.parts.hollow, "body '" + body.name + "'");
+    Result<MassProperties> props = bodyMassProperties(
+        body.textures, materials_[i], shellDensityMaps_[i].get(), baked.wallShare.get(),
+        baked.parts.hollow, "body '" + body.name + "'", shellThicknessMaps_[i].get());
     if (!props) return props.error();
     // Keep the body where it is in the world and its momenta as they are: the mesh or the
     // paint changed, the body did not jump.
@@ -620,12 +621,14 @@ Status World::recomputeMass(std::size_t i) {
 }
 
 Status World::setMaterial(std::size_t i, const MaterialDesc& material,
-                          std::shared_ptr<const PaintedMap> shellDensityMap) {
+                          std::shared_ptr<const PaintedMap> shellDensityMap,
+                          std::shared_ptr<const PaintedMap> shellThicknessMap) {
     if (i >= bodies_.size()) {
         return makeError(ErrorKind::invalidArgument, "setMaterial: no body " + std::to_string(i));
     }
     materials_[i] = material;
     shellDensityMaps_[i] = std::move(shellDensityMap);
+    shellThicknessMaps_[i] = std::move(shellThicknessMap);
     say("body '" + bodies_[i].name + "': material changed, mass properties recomputed");
     wakeBody(i);
     return recomputeMass(i);
