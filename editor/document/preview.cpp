@@ -452,28 +452,27 @@ void PreviewSession::installForces() {
         }
     }
     for (std::size_t body = 0; body < world_->bodies().size(); ++body) {
-        const bool grabbed = grabbedBody_ == body;
-        if (!floor && !grabbed) {
-            (void)world_->setExternalForce(body, {});
-            continue;
-        }
+        // The floor is a resting contact (a body lying on it may sleep), the spring a push.
         const std::vector<Eigen::Vector3d>* hull =
             floor && body < hullPoints_.size() ? &hullPoints_[body] : nullptr;
-        (void)world_->setExternalForce(body, [this, grabbed, hull, floorY = floor.value_or(0.0),
-                                              friction = seaFloor_.friction](
-                                                 const SimulatedBody& b, const RigidBodyState& s) {
-            Wrench w;
-            if (grabbed) {
-                w = springWrench(b, s, grabObjectPoint_, grabTarget_, grabStiffness_, grabDamping_);
+        ExternalForce contact;
+        if (hull) {
+            contact = [hull, floorY = *floor, friction = seaFloor_.friction](
+                          const SimulatedBody& b, const RigidBodyState& s) {
+                return floorContactWrench(b, s, *hull, floorY, friction);
+            };
+        }
+        (void)world_->setContactForce(body, std::move(contact));
+        ExternalForce spring;
+        if (grabbedBody_ == body) {
+            spring = [this](const SimulatedBody& b, const RigidBodyState& s) {
+                const Wrench w =
+                    springWrench(b, s, grabObjectPoint_, grabTarget_, grabStiffness_, grabDamping_);
                 grabForceSum_ += w.force;
-            }
-            if (hull) {
-                const Wrench contact = floorContactWrench(b, s, *hull, floorY, friction);
-                w.force += contact.force;
-                w.torque += contact.torque;
-            }
-            return w;
-        });
+                return w;
+            };
+        }
+        (void)world_->setExternalForce(body, std::move(spring));
     }
 }
 

@@ -209,8 +209,9 @@ private:
     static Result<Built> build(const Scene& scene, const std::string& device);
     Status advance();
     void record();
-    /// Gives every body its external force: the floor's contact and, for the grabbed body,
-    /// the spring (World has one external force a body).
+    /// Gives every body its forces: the floor as its resting contact (World::setContactForce:
+    /// a body lying still on it may sleep) and, for the grabbed body, the spring as its
+    /// external force (a push: it wakes the body and keeps it awake).
     void installForces();
     SeaFloor seaFloor_;
     /// What followDocument last saw of the document, per body: the material and the

@@ -192,6 +192,46 @@ TEST(PreviewSession, SinkingBoxComesToRestOnTheSeaFloor) {
     EXPECT_NEAR(session->lowestPoint(0), -1.5, 0.02);
 }
 
+TEST(PreviewSession, BoxAtRestOnTheSeaFloorSleepsAndAGrabWakesIt) {
+    // The floor holds the box up with a force that never vanishes; it is a resting contact,
+    // not a push: once the box lies still on it for the rest time it sleeps, and asleep it
+    // holds its pose exactly. A grab wakes it and lifts it; let go, it settles and sleeps again.
+    auto session = makeSession(sinkingBox());
+    ASSERT_TRUE(session);
+    session->setSeaFloor(SeaFloor{.enabled = true, .depth = 2.0});
+    const auto asleep = [&] { return session->world().bodies()[0].asleep; };
+    int frames = 0;
+    for (; frames < 20 * 60 && !asleep(); ++frames) ASSERT_TRUE(session->step().ok());
+    ASSERT_TRUE(asleep()) << "not asleep after 20 s; lowest point " << session->lowestPoint(0);
+    const double sleptAt = session->world().time();
+    EXPECT_LT(sleptAt, 12.0);  // sinks (about 3 s), tips flat, then rests the rest time (2 s)
+    EXPECT_NEAR(session->lowestPoint(0), -2.0, 0.02);
+    const RigidBodyState rest = session->world().bodies()[0].state;
+    const std::size_t sleeping = session->world().statistics().sleepingBodyFrames;
+    for (int i = 0; i < 60; ++i) ASSERT_TRUE(session->step().ok());
+    EXPECT_TRUE(asleep());
+    EXPECT_EQ(session->world().bodies()[0].state.position, rest.position);
+    EXPECT_EQ(session->world().statistics().sleepingBodyFrames, sleeping + 60);
+    // Grabbed at its centre and pulled 1 m up: awake from the next frame, and rising.
+    const Eigen::Vector3d centre = session->world().bodies()[0].state.position;
+    ASSERT_TRUE(session
+                    ->grab(0, session->world().bodies()[0].mass.centerOfMass,
+                           centre + Eigen::Vector3d(0, 1, 0))
+                    .ok());
+    ASSERT_TRUE(session->step().ok());
+    EXPECT_FALSE(asleep());
+    for (int i = 0; i < 60; ++i) ASSERT_TRUE(session->step().ok());
+    EXPECT_GT(session->world().bodies()[0].state.position.y(), centre.y() + 0.2);
+    session->release();
+    for (frames = 0; frames < 20 * 60 && !asleep(); ++frames) ASSERT_TRUE(session->step().ok());
+    EXPECT_TRUE(asleep());
+    EXPECT_NEAR(session->lowestPoint(0), -2.0, 0.02);
+    // New water wakes it too.
+    session->setWater(WaterModel::flat(0.5));
+    ASSERT_TRUE(session->step().ok());
+    EXPECT_FALSE(asleep());
+}
+
 TEST(PreviewSession, WithoutTheSeaFloorTheBoxKeepsSinking) {
     auto session = makeSession(sinkingBox());
     ASSERT_TRUE(session);
@@ -236,6 +276,9 @@ TEST(PreviewSession, DamagedBoatFloodsSinksAndRestsOnTheSeaFloor) {
     EXPECT_NEAR(session.lowestPoint(0), -3.0, 0.02);
     const SimulatedBody& boat = session.world().bodies()[0];
     EXPECT_LT(linearVelocity(boat.state, boat.mass).norm(), 0.01);
+    // Lying there, its flooding over, it sleeps within 10 s, the floor holding it up.
+    for (int frame = 0; frame < 10 * 60 && !boat.asleep; ++frame) ASSERT_TRUE(session.step().ok());
+    EXPECT_TRUE(session.world().bodies()[0].asleep) << "water " << boat.water;
 }
 
 /// A preview of the document as it is now, on the default device (the editor's).

@@ -518,6 +518,11 @@ Wrench World::wrenchOf(const SimulatedBody& body, const RigidBodyState& state,
         w.force += external.force;
         w.torque += external.torque;
     }
+    if (index < contactForces_.size() && contactForces_[index]) {
+        const Wrench contact = contactForces_[index](body, state);
+        w.force += contact.force;
+        w.torque += contact.torque;
+    }
     return w;
 }
 
@@ -813,6 +818,17 @@ Status World::setExternalForce(std::size_t i, ExternalForce force) {
     }
     externalForces_.resize(bodies_.size());
     externalForces_[i] = std::move(force);
+    wakeBody(i);
+    return Ok{};
+}
+
+Status World::setContactForce(std::size_t i, ExternalForce contact) {
+    if (i >= bodies_.size()) {
+        return makeError(ErrorKind::invalidArgument,
+                         "setContactForce: no body " + std::to_string(i));
+    }
+    contactForces_.resize(bodies_.size());
+    contactForces_[i] = std::move(contact);
     wakeBody(i);
     return Ok{};
 }
