@@ -210,6 +210,8 @@ struct EditorState {
     std::vector<Pose> previewPoses;
     /// The depth at which a "by depth" smart mask reaches 1, m (the Layers panel's menu).
     float smartMaskDepth = 1.0f;
+    float smartMaskRadius = 0.05f;        ///< m: the curvature's ball
+    float smartMaskFullCurvature = 5.0f;  ///< 1/m: where a curvature or cavity mask is 1
     /// Body b's pose as the view shows it (the preview's, else its starting pose): what the
     /// picks, the brush and its cursor work with, so that one paints on a floating body.
     Pose shownPose(std::size_t body) const;

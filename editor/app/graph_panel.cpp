@@ -66,8 +66,14 @@ struct SchematicDrag {
 
 struct GraphUi {
     SchematicDrag schematicDrag;
-    bool editInView = true;  ///< the left mouse edits the graph (else the paint tools)
-    bool panelOpen = false;  ///< not collapsed: only then does the graph take the mouse
+    /// The schematic's mapping of the profile, kept while the nodes move (a drop rescales
+    /// nothing), and while the panel's width changes (a warning line that brings a scrollbar),
+    /// until "Frame" is pressed or another body is shown.
+    std::optional<SchematicFrame> schematicFrame;
+    std::size_t schematicBody = ~std::size_t{0};
+    bool schematicEmpty = true;  ///< framed with no nodes: the first ones reframe it
+    bool editInView = true;      ///< the left mouse edits the graph (else the paint tools)
+    bool panelOpen = false;      ///< not collapsed: only then does the graph take the mouse
     bool showGraph = true;
     bool showFeeds = false;
     float hullAlpha = 0.3f;
@@ -461,7 +467,12 @@ void drawSchematic(EditorState& s, GraphUi& ui, std::size_t body, const WaterGra
             return Eigen::Vector2f(size.x, size.y);
         },
         Eigen::Vector2f(64, 26));
-    const SchematicLayout layout = schematicLayout(g, width, 200.0f, box);
+    if (!ui.schematicFrame || ui.schematicBody != body || (ui.schematicEmpty && !g.nodes.empty())) {
+        ui.schematicFrame = schematicFrame(g, width, 200.0f, box);
+        ui.schematicEmpty = g.nodes.empty();
+        ui.schematicBody = body;
+    }
+    const SchematicLayout layout = schematicLayout(g, *ui.schematicFrame, box);
     // A crowded profile grows past the canvas: the canvas grows with it.
     float right = width, bottom = 200.0f, left = 0, top = 0;
     for (const Eigen::Vector2f& c : layout.centre) {
@@ -529,6 +540,9 @@ void drawSchematic(EditorState& s, GraphUi& ui, std::size_t body, const WaterGra
         ui.selectedPipe.reset();
     }
     ImGui::EndChild();
+    // Below the canvas, so that it moves nothing: the next frame fits every node again.
+    if (ImGui::SmallButton("Frame##schematic")) ui.schematicFrame.reset();
+    tooltip("Fit every node into the schematic again (moving nodes keeps its scale).");
 }
 
 /// How the graph shows and is edited in the 3D view.

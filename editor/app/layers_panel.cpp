@@ -159,8 +159,9 @@ bool drawLayerList(EditorState& s, std::size_t body, const LayerStack& stack, in
 void drawSmartMaskMenu(EditorState& s, std::size_t body, int active) {
     if (ImGui::Button("Smart mask...")) ImGui::OpenPopup("##smart_mask");
     tooltip(
-        "A mask from the physics and the shape: below the waterline, by depth, or by the\n"
-        "way the surface faces, for the body where the view shows it.");
+        "A mask from the physics and the shape: below the waterline, by depth, by the\n"
+        "way the surface faces (for the body where the view shows it), or by the shape's\n"
+        "curvature: its convex edges or its hollows.");
     if (!ImGui::BeginPopup("##smart_mask")) return;
     SmartMask mask;
     mask.pose = s.shownPose(body);
@@ -178,9 +179,22 @@ void drawSmartMaskMenu(EditorState& s, std::size_t body, int active) {
         chosen = SmartMask::Kind::Facing;
         mask.direction = -Eigen::Vector3d::UnitY();
     }
+    ImGui::Separator();
+    if (ImGui::MenuItem("Curvature (convex edges)")) chosen = SmartMask::Kind::Curvature;
+    if (ImGui::MenuItem("Cavity (hollows)")) chosen = SmartMask::Kind::Cavity;
+    ImGui::SetNextItemWidth(120);
+    ImGui::DragFloat("over radius", &s.smartMaskRadius, 0.005f, 0.005f, 10.0f, "%.3f m",
+                     ImGuiSliderFlags_AlwaysClamp);
+    tooltip("The ball the mean curvature is measured over: a crease marks a band this wide.");
+    ImGui::SetNextItemWidth(120);
+    ImGui::DragFloat("full at", &s.smartMaskFullCurvature, 0.1f, 0.01f, 1000.0f, "%.2f 1/m",
+                     ImGuiSliderFlags_AlwaysClamp);
+    tooltip("The mean curvature that masks fully (a sphere of radius R has 1/R).");
     if (chosen) {
         mask.kind = *chosen;
         mask.depth = s.smartMaskDepth;
+        mask.radius = s.smartMaskRadius;
+        mask.fullCurvature = s.smartMaskFullCurvature;
         if (s.execute(makeSmartMaskCommand(*s.document, body, s.channel, active, mask)))
             s.paintMask = true;
         ImGui::CloseCurrentPopup();

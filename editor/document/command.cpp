@@ -671,6 +671,12 @@ Result<std::unique_ptr<Command>> makeSmartMaskCommand(Document& document, std::s
                                                       const SmartMask& mask) {
     if (mask.kind == SmartMask::Kind::Depth && !(mask.depth > 0))
         return makeError(ErrorKind::invalidArgument, "a depth mask needs a depth above 0");
+    const bool byCurvature =
+        mask.kind == SmartMask::Kind::Curvature || mask.kind == SmartMask::Kind::Cavity;
+    if (byCurvature && !(mask.radius > 0 && mask.fullCurvature > 0 && std::isfinite(mask.radius) &&
+                         std::isfinite(mask.fullCurvature)))
+        return makeError(ErrorKind::invalidArgument,
+                         "a curvature or cavity mask needs a radius and a full curvature above 0");
     if (body >= document.bodyCount() || !document.map(body, channel)) {
         return makeError(ErrorKind::invalidArgument, "body " + std::to_string(body) + " has no " +
                                                          channelName(channel) + " map");
@@ -678,6 +684,10 @@ Result<std::unique_ptr<Command>> makeSmartMaskCommand(Document& document, std::s
     Result<std::shared_ptr<const PaintSurface>> surface = document.paintSurface(body, channel);
     if (!surface) return surface.error();
     const PaintSurface& grid = **surface;
+    // The mesh the paint surface was built over: curvature is measured on it.
+    const std::shared_ptr<const TriangleMesh> mesh = document.assets(body).mesh;
+    if (byCurvature && !mesh)
+        return makeError(ErrorKind::invalidArgument, "the body's mesh did not load");
     return layerEdit(document, body, channel, "Smart mask: " + smartMaskName(mask.kind),
                      [&](LayerStack& stack) -> Status {
                          if (Status ok = checkLayerIndex(stack, layer); !ok) return ok;
@@ -688,7 +698,7 @@ Result<std::unique_ptr<Command>> makeSmartMaskCommand(Document& document, std::s
                          if (!l.mask) {
                              if (Status ok = checkLayerBudget(stack, 0, 1); !ok) return ok;
                          }
-                         PaintedMap image = smartMaskImage(grid, mask);
+                         PaintedMap image = smartMaskImage(grid, mask, mesh.get());
                          for (float& v : image.values) v = quantize16(v);
                          l.mask = std::make_shared<PaintedMap>(std::move(image));
                          return Ok{};

@@ -150,12 +150,14 @@ OverlayImage segmentOverlay(const std::vector<int>& texelSegment, const SurfaceT
     return image;
 }
 
-SchematicLayout schematicLayout(const WaterGraph& graph, float width, float height,
-                                const Eigen::Vector2f& box) {
-    SchematicLayout layout;
-    layout.box = box;
-    const std::size_t n = graph.nodes.size();
-    if (n == 0) return layout;
+SchematicFrame schematicFrame(const WaterGraph& graph, float width, float height,
+                              const Eigen::Vector2f& box) {
+    SchematicFrame frame;
+    const Eigen::Vector2f min(0.5f * box.x(), 0.5f * box.y());
+    const Eigen::Vector2f max(std::max(min.x(), width - 0.5f * box.x()),
+                              std::max(min.y(), height - 0.5f * box.y()));
+    frame.pixel = 0.5f * (min + max);
+    if (graph.nodes.empty()) return frame;
     // The side view looks across the hull's length: along object x or z, whichever the nodes
     // spread over more (hulls are modelled either way; with x alone, a boat built along z had
     // all its tanks at one place, pushed apart out of order).
@@ -166,41 +168,49 @@ SchematicLayout schematicLayout(const WaterGraph& graph, float width, float heig
         zLo = std::min(zLo, node.position.z());
         zHi = std::max(zHi, node.position.z());
     }
-    const int along = zHi - zLo > xHi - xLo ? 2 : 0;
-    auto profile = [along](const GraphNode& node) {
-        return Eigen::Vector2d(node.position[along], node.position.y());
-    };
+    frame.along = zHi - zLo > xHi - xLo ? 2 : 0;
     // The profile's extent, mapped onto the canvas inside half a box of margin.
     Eigen::Vector2d lo(std::numeric_limits<double>::max(), std::numeric_limits<double>::max());
     Eigen::Vector2d hi = -lo;
     for (const GraphNode& node : graph.nodes) {
-        lo = lo.cwiseMin(profile(node));
-        hi = hi.cwiseMax(profile(node));
+        const Eigen::Vector2d p(node.position[frame.along], node.position.y());
+        lo = lo.cwiseMin(p);
+        hi = hi.cwiseMax(p);
     }
-    const Eigen::Vector2f min(0.5f * box.x(), 0.5f * box.y());
-    const Eigen::Vector2f max(std::max(min.x(), width - 0.5f * box.x()),
-                              std::max(min.y(), height - 0.5f * box.y()));
-    auto place = [&](double v, double a, double b, float to0, float to1) {
-        return b - a > 1e-12 ? to0 + static_cast<float>((v - a) / (b - a)) * (to1 - to0)
-                             : 0.5f * (to0 + to1);
+    // Metres per pixel of the mapping (before the boxes are pushed apart).
+    const auto scale = [](double range, float pixels) {
+        return range > 1e-12 && pixels > 0 ? static_cast<float>(range / pixels) : 0.0f;
     };
-    layout.along = along;
-    {
-        // Metres per pixel of the mapping (before the boxes are pushed apart).
-        const auto scale = [](double range, float pixels) {
-            return range > 1e-12 && pixels > 0 ? static_cast<float>(range / pixels) : 0.0f;
-        };
-        float across = scale(hi.x() - lo.x(), max.x() - min.x());
-        float up = scale(hi.y() - lo.y(), max.y() - min.y());
-        if (across == 0) across = up;
-        if (up == 0) up = across;
-        if (across > 0) layout.metresPerPixel = {across, up};
-    }
+    float across = scale(hi.x() - lo.x(), max.x() - min.x());
+    float up = scale(hi.y() - lo.y(), max.y() - min.y());
+    if (across == 0) across = up;
+    if (up == 0) up = across;
+    if (across > 0) frame.metresPerPixel = {across, up};
+    // The extent's centre at the canvas's: an axis the nodes do not spread along is centred.
+    frame.profile = 0.5 * (lo + hi);
+    return frame;
+}
+
+SchematicLayout schematicLayout(const WaterGraph& graph, float width, float height,
+                                const Eigen::Vector2f& box) {
+    return schematicLayout(graph, schematicFrame(graph, width, height, box), box);
+}
+
+SchematicLayout schematicLayout(const WaterGraph& graph, const SchematicFrame& frame,
+                                const Eigen::Vector2f& box) {
+    SchematicLayout layout;
+    layout.box = box;
+    layout.along = frame.along;
+    layout.metresPerPixel = frame.metresPerPixel;
+    const std::size_t n = graph.nodes.size();
+    if (n == 0) return layout;
     for (const GraphNode& node : graph.nodes) {
         // y up in the body, down on the canvas.
-        const Eigen::Vector2d p = profile(node);
-        layout.centre.emplace_back(place(p.x(), lo.x(), hi.x(), min.x(), max.x()),
-                                   place(p.y(), lo.y(), hi.y(), max.y(), min.y()));
+        const Eigen::Vector2d d =
+            Eigen::Vector2d(node.position[frame.along], node.position.y()) - frame.profile;
+        layout.centre.emplace_back(
+            frame.pixel.x() + static_cast<float>(d.x() / frame.metresPerPixel.x()),
+            frame.pixel.y() - static_cast<float>(d.y() / frame.metresPerPixel.y()));
     }
     // Overlapping boxes pushed apart along the axis they overlap least on, half each way,
     // the lower index to the left or top where they coincide; a few sweeps settle a graph of

@@ -46,6 +46,27 @@ struct SchematicLayout {
     /// do not spread takes the other's; 1 cm where neither spreads).
     Eigen::Vector2f metresPerPixel{0.01f, 0.01f};
 };
+
+/// How the profile maps onto the canvas: a node at profile point q (across, up; m) is placed at
+/// pixel + (q - profile) / metresPerPixel, up flipped to the canvas's y down. The schematic
+/// keeps one while nodes are dragged, so that a move rescales nothing (a node moved up from a
+/// row of tanks at one height no longer stretches the height to the whole canvas).
+struct SchematicFrame {
+    int along = 0;                                 ///< as SchematicLayout::along
+    Eigen::Vector2d profile{0, 0};                 ///< a profile point, m
+    Eigen::Vector2f pixel{0, 0};                   ///< where it lies on the canvas
+    Eigen::Vector2f metresPerPixel{0.01f, 0.01f};  ///< across and up
+    bool operator==(const SchematicFrame&) const = default;
+};
+
+/// The frame that fits every node's box into the width x height canvas (the axis the nodes
+/// spread over more across it).
+SchematicFrame schematicFrame(const WaterGraph& graph, float width, float height,
+                              const Eigen::Vector2f& box);
+/// The nodes placed by `frame`, then pushed apart.
+SchematicLayout schematicLayout(const WaterGraph& graph, const SchematicFrame& frame,
+                                const Eigen::Vector2f& box);
+/// schematicLayout in the frame that fits the graph now (schematicFrame).
 SchematicLayout schematicLayout(const WaterGraph& graph, float width, float height,
                                 const Eigen::Vector2f& box);
 

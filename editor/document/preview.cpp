@@ -452,28 +452,27 @@ void PreviewSession::installForces() {
         }
     }
     for (std::size_t body = 0; body < world_->bodies().size(); ++body) {
-        const bool grabbed = grabbedBody_ == body;
-        if (!floor && !grabbed) {
-            (void)world_->setExternalForce(body, {});
-            continue;
-        }
+        // The floor is a resting contact (a body lying on it may sleep), the spring a push.
         const std::vector<Eigen::Vector3d>* hull =
             floor && body < hullPoints_.size() ? &hullPoints_[body] : nullptr;
-        (void)world_->setExternalForce(body, [this, grabbed, hull, floorY = floor.value_or(0.0),
-                                              friction = seaFloor_.friction](
-                                                 const SimulatedBody& b, const RigidBodyState& s) {
-            Wrench w;
-            if (grabbed) {
-                w = springWrench(b, s, grabObjectPoint_, grabTarget_, grabStiffness_, grabDamping_);
+        ExternalForce contact;
+        if (hull) {
+            contact = [hull, floorY = *floor, friction = seaFloor_.friction](
+                          const SimulatedBody& b, const RigidBodyState& s) {
+                return floorContactWrench(b, s, *hull, floorY, friction);
+            };
+        }
+        (void)world_->setContactForce(body, std::move(contact));
+        ExternalForce spring;
+        if (grabbedBody_ == body) {
+            spring = [this](const SimulatedBody& b, const RigidBodyState& s) {
+                const Wrench w =
+                    springWrench(b, s, grabObjectPoint_, grabTarget_, grabStiffness_, grabDamping_);
                 grabForceSum_ += w.force;
-            }
-            if (hull) {
-                const Wrench contact = floorContactWrench(b, s, *hull, floorY, friction);
-                w.force += contact.force;
-                w.torque += contact.torque;
-            }
-            return w;
-        });
+                return w;
+            };
+        }
+        (void)world_->setExternalForce(body, std::move(spring));
     }
 }
 
@@ -488,7 +487,8 @@ bool samePixels(const PaintedMap* a, const PaintedMap* b) {
 
 Status PreviewSession::setBodyPaint(std::size_t body, const MaterialDesc& material,
                                     std::shared_ptr<const PaintedMap> permeability,
-                                    std::shared_ptr<const PaintedMap> shellDensity) {
+                                    std::shared_ptr<const PaintedMap> shellDensity,
+                                    std::shared_ptr<const PaintedMap> shellThickness) {
     if (body >= scene_.bodies.size() || body >= world_->bodies().size()) {
         return makeError(ErrorKind::invalidArgument,
                          "setBodyPaint: no body " + std::to_string(body));
@@ -497,19 +497,79 @@ Status PreviewSession::setBodyPaint(std::size_t body, const MaterialDesc& materi
     const bool seeps = !samePixels(b.parts.permeabilityMap.get(), permeability.get());
     b.desc.material = material;
     b.parts.shellDensityMap = shellDensity;
+    b.parts.shellThicknessMap = shellThickness;
     b.parts.permeabilityMap = std::move(permeability);
-    if (!seeps) return world_->setMaterial(body, material, std::move(shellDensity));
+    if (!seeps)
+        return world_->setMaterial(body, material, std::move(shellDensity),
+                                   std::move(shellThickness));
+    return rebuildCarryingWater(std::nullopt, nullptr);
+}
+
+Status PreviewSession::rebuildCarryingWater(std::optional<std::size_t> body,
+                                            std::shared_ptr<const WaterGraph> graphNow) {
     // The graphs as they are now: the new world starts with the water the running one holds.
-    Scene now = scene_;
-    for (std::size_t i = 0; i < now.bodies.size() && i < world_->bodies().size(); ++i) {
-        if (const WaterGraphSimulation* graph = world_->waterGraph(i); graph)
-            now.bodies[i].parts.waterGraph = std::make_shared<const WaterGraph>(graph->graph());
+    Scene next = scene_;
+    for (std::size_t i = 0; i < next.bodies.size() && i < world_->bodies().size(); ++i) {
+        if (body && i == *body) {
+            next.bodies[i].parts.waterGraph = graphNow;
+        } else if (const WaterGraphSimulation* graph = world_->waterGraph(i); graph) {
+            next.bodies[i].parts.waterGraph = std::make_shared<const WaterGraph>(graph->graph());
+        }
     }
-    Result<Built> built = build(now, device_);
+    Result<Built> built = build(next, device_);
     if (!built) return built.error();
     built->world->setWater(scene_.water);
     built->world->setIntegrator(scene_.simulation.integrator);
     return swapIn(std::move(*built));
+}
+
+Status PreviewSession::setBodyGraph(std::size_t body, const std::optional<WaterGraph>& before,
+                                    const std::optional<WaterGraph>& after,
+                                    const std::optional<WaterGraphDesc>& settings) {
+    if (body >= scene_.bodies.size() || body >= world_->bodies().size()) {
+        return makeError(ErrorKind::invalidArgument,
+                         "setBodyGraph: no body " + std::to_string(body));
+    }
+    SceneBody& b = scene_.bodies[body];
+    // The nodes the scene added to the document's graph (the spaces behind an open hull's
+    // caps) stay as they are: the document never had them.
+    const auto ownNode = [&](const std::string& id) { return before && before->indexOf(id) >= 0; };
+    std::vector<GraphNode> added;
+    if (b.parts.waterGraph) {
+        for (const GraphNode& node : b.parts.waterGraph->nodes)
+            if (!ownNode(node.id)) added.push_back(node);
+    }
+    std::optional<WaterGraph> start = after;
+    if (!added.empty()) {
+        if (!start) start.emplace();
+        start->nodes.insert(start->nodes.end(), added.begin(), added.end());
+    }
+    // What each node holds now: the running world's water for a node it has, unless the edit
+    // set the node's water (then the new value), within the node's new capacity.
+    std::shared_ptr<const WaterGraph> now;
+    if (start) {
+        WaterGraph running = *start;
+        const WaterGraphSimulation* sim = world_->waterGraph(body);
+        for (GraphNode& node : running.nodes) {
+            const int was = sim ? sim->graph().indexOf(node.id) : -1;
+            if (was < 0) continue;
+            const int doc = before ? before->indexOf(node.id) : -1;
+            const bool waterEdited = doc >= 0 && after && after->indexOf(node.id) >= 0 &&
+                                     before->nodes[std::size_t(doc)].water != node.water;
+            if (waterEdited) continue;
+            node.water = std::min(sim->graph().nodes[std::size_t(was)].water, node.capacity);
+        }
+        now = std::make_shared<const WaterGraph>(std::move(running));
+    }
+    // Reset starts from the edited graph: the scene keeps it with its starting water.
+    b.parts.waterGraph = start ? std::make_shared<const WaterGraph>(std::move(*start)) : nullptr;
+    if (settings)
+        b.desc.waterGraph = settings;
+    else if (!b.parts.waterGraph)
+        b.desc.waterGraph.reset();
+    else if (!b.desc.waterGraph)
+        b.desc.waterGraph.emplace();
+    return rebuildCarryingWater(body, std::move(now));
 }
 
 Result<std::vector<std::size_t>> PreviewSession::followDocument(const Document& document) {
@@ -523,28 +583,52 @@ Result<std::vector<std::size_t>> PreviewSession::followDocument(const Document& 
     std::string stale;
     for (std::size_t b = 0; b < count; ++b) {
         PaintSeen& seen = paintSeen_[b];
-        const MaterialDesc& material = document.project().bodies[b].material;
+        const BodyDesc& desc = document.project().bodies[b];
+        const WaterGraph* graph = document.graph(b);
+        const bool graphSame = seen.graph.has_value() == (graph != nullptr) &&
+                               (!graph || *seen.graph == *graph) &&
+                               seen.graphSettings == desc.waterGraph;
+        if (first || !graphSame) {
+            const std::optional<WaterGraph> before = std::move(seen.graph);
+            seen.graph = graph ? std::optional<WaterGraph>(*graph) : std::nullopt;
+            seen.graphSettings = desc.waterGraph;
+            if (!first) {
+                if (Status s = setBodyGraph(b, before, seen.graph, desc.waterGraph); !s.ok())
+                    return s.error();
+                changed.push_back(b);
+            }
+        }
+        const MaterialDesc& material = desc.material;
         const PaintedMap* permeability = document.map(b, MapChannel::Permeability);
         const PaintedMap* density = document.map(b, MapChannel::Density);
+        const PaintedMap* thickness = document.map(b, MapChannel::Thickness);
         if (!first && seen.material == material &&
             samePixels(seen.permeability.get(), permeability) &&
-            samePixels(seen.shellDensity.get(), density)) {
+            samePixels(seen.shellDensity.get(), density) &&
+            samePixels(seen.shellThickness.get(), thickness)) {
             continue;
         }
         // The scene took the document's pixels as they were (not moved onto a repaired solid)
         // when its maps are the ones last seen.
         const SceneBody& body = scene_.bodies[b];
-        const bool direct = samePixels(body.parts.permeabilityMap.get(), seen.permeability.get()) &&
-                            samePixels(body.parts.shellDensityMap.get(), seen.shellDensity.get());
-        seen = {material, copyOf(permeability), copyOf(density)};
+        const bool direct =
+            samePixels(body.parts.permeabilityMap.get(), seen.permeability.get()) &&
+            samePixels(body.parts.shellDensityMap.get(), seen.shellDensity.get()) &&
+            samePixels(body.parts.shellThicknessMap.get(), seen.shellThickness.get());
+        seen.material = material;
+        seen.permeability = copyOf(permeability);
+        seen.shellDensity = copyOf(density);
+        seen.shellThickness = copyOf(thickness);
         if (first) continue;
         if (!direct) {
             stale += (stale.empty() ? "" : ", ") + body.label;
             continue;
         }
-        if (Status s = setBodyPaint(b, material, seen.permeability, seen.shellDensity); !s.ok())
+        if (Status s = setBodyPaint(b, material, seen.permeability, seen.shellDensity,
+                                    seen.shellThickness);
+            !s.ok())
             return s.error();
-        changed.push_back(b);
+        if (changed.empty() || changed.back() != b) changed.push_back(b);
     }
     if (!stale.empty()) {
         return makeError(ErrorKind::invalidArgument,

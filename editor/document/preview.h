@@ -157,19 +157,32 @@ public:
     double lowestPoint(std::size_t body) const;
 
     /// Body i's material and painted maps (over the scene's own UVs) from the next step on,
-    /// while it runs: the material and the shell density map at once (World::setMaterial: the
-    /// mass properties recomputed, the centre of mass's place and the momenta kept); a changed
-    /// permeability map rebuilds the world from the scene, its baked textures kept (no bake),
-    /// carrying every body's state, the time and the water in each graph, so water seeps
-    /// through the new texels from the next frame.
+    /// while it runs: the material and the shell density and thickness maps at once
+    /// (World::setMaterial: the mass properties recomputed, the centre of mass's place and the
+    /// momenta kept); a changed permeability map rebuilds the world from the scene, its baked
+    /// textures kept (no bake), carrying every body's state, the time and the water in each
+    /// graph, so water seeps through the new texels from the next frame.
     Status setBodyPaint(std::size_t body, const MaterialDesc& material,
                         std::shared_ptr<const PaintedMap> permeability,
-                        std::shared_ptr<const PaintedMap> shellDensity);
-    /// Takes the document's edits of the bodies' materials and permeability and density maps
-    /// since the last call (the first call only notes them: the preview started from them)
-    /// through setBodyPaint; returns the bodies changed. A body whose maps the scene moved
-    /// onto a repaired solid (its maps are not the document's pixels) is left as it is, and
-    /// named in the error: a restart of the preview takes its new paint.
+                        std::shared_ptr<const PaintedMap> shellDensity,
+                        std::shared_ptr<const PaintedMap> shellThickness = nullptr);
+    /// Body i's water graph from the next step on, while it runs: `after` is the document's
+    /// graph as edited (none: the body has no graph), `before` the document's graph the
+    /// running one was made from, `settings` the body's water-graph settings. The world is
+    /// rebuilt from the scene, its baked textures kept (no bake), carrying every body's state
+    /// and the time. Every node keeps the water it holds now (within its new capacity) unless
+    /// the edit set its water; a new node starts with its own; the nodes the scene added to
+    /// the document's (the spaces behind an open hull's caps) stay; the other bodies' graphs
+    /// keep their water. Reset starts from the edited graph.
+    Status setBodyGraph(std::size_t body, const std::optional<WaterGraph>& before,
+                        const std::optional<WaterGraph>& after,
+                        const std::optional<WaterGraphDesc>& settings);
+    /// Takes the document's edits of the bodies' materials, permeability, density and
+    /// thickness maps and water graphs (nodes, pipes, their settings) since the last call (the
+    /// first call only notes them: the preview started from them) through setBodyPaint and
+    /// setBodyGraph; returns the bodies changed. A body whose maps the scene moved onto a repaired
+    /// solid (its maps are not the document's pixels) keeps its paint as it is, and is named in the
+    /// error: a restart of the preview takes its new paint.
     Result<std::vector<std::size_t>> followDocument(const Document& document);
 
     /// Grabs body `body` at `objectPoint` (object space) and pulls it toward `target` (world)
@@ -209,20 +222,28 @@ private:
     static Result<Built> build(const Scene& scene, const std::string& device);
     Status advance();
     void record();
-    /// Gives every body its external force: the floor's contact and, for the grabbed body,
-    /// the spring (World has one external force a body).
+    /// Gives every body its forces: the floor as its resting contact (World::setContactForce:
+    /// a body lying still on it may sleep) and, for the grabbed body, the spring as its
+    /// external force (a push: it wakes the body and keeps it awake).
     void installForces();
     SeaFloor seaFloor_;
-    /// What followDocument last saw of the document, per body: the material and the
-    /// permeability and shell density images (null: no map).
+    /// What followDocument last saw of the document, per body: the material, the
+    /// permeability, shell density and thickness images (null: no map) and the water graph
+    /// with its settings (none: no graph).
     struct PaintSeen {
         MaterialDesc material;
-        std::shared_ptr<const PaintedMap> permeability, shellDensity;
+        std::shared_ptr<const PaintedMap> permeability, shellDensity, shellThickness;
+        std::optional<WaterGraph> graph;
+        std::optional<WaterGraphDesc> graphSettings;
     };
     std::vector<PaintSeen> paintSeen_;
     /// Per body, the hull's vertices (object space, without repeats): the floor's contacts.
     std::vector<std::vector<Eigen::Vector3d>> hullPoints_;
     Status swapIn(Built built);
+    /// Rebuilds the world from scene_ (no bake), every body's graph holding the water it holds
+    /// now, except `body`'s, which gets `graphNow` (null: none); carries states and time.
+    Status rebuildCarryingWater(std::optional<std::size_t> body,
+                                std::shared_ptr<const WaterGraph> graphNow);
 
     Scene scene_;  ///< as the world was last built (settings changed since kept)
     std::string device_;

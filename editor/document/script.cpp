@@ -153,9 +153,16 @@ std::optional<Result<std::unique_ptr<Command>>> layerCommand(Document& document,
             mask.kind = SmartMask::Kind::Depth;
         else if (kind == "facing")
             mask.kind = SmartMask::Kind::Facing;
+        else if (kind == "curvature")
+            mask.kind = SmartMask::Kind::Curvature;
+        else if (kind == "cavity")
+            mask.kind = SmartMask::Kind::Cavity;
         else
-            throw std::invalid_argument("kind: below_waterline, depth or facing, not " + kind);
+            throw std::invalid_argument(
+                "kind: below_waterline, depth, facing, curvature or cavity, not " + kind);
         mask.depth = c.value("depth", 1.0);
+        mask.radius = c.value("radius", mask.radius);
+        mask.fullCurvature = c.value("full_curvature", mask.fullCurvature);
         if (c.contains("direction")) {
             const Json& d = c["direction"];
             mask.direction = Eigen::Vector3d(d.at(0), d.at(1), d.at(2));

@@ -183,6 +183,38 @@ TEST(EditorGraphSchematic, BoxesHoldWholeNamesAndDragsMoveAndConnectNodesAsComma
     EXPECT_EQ(graphToJson(*doc->graph(0)), graphToJson(before));
 }
 
+TEST(EditorGraphSchematic, AVerticalDragMovesOnlyTheDraggedBoxInTheKeptFrame) {
+    // The boat's four compartments all lie at y = 0: framed to fit, the up axis takes the
+    // across scale. The aft hold dragged 30 px up and dropped, in the frame the schematic
+    // keeps: the aft box is 30 px higher and every other box stays on its pixel.
+    const fs::path projectPath = copyDamagedBoat("schematic_frame");
+    auto doc = openOrFail(projectPath);
+    ASSERT_TRUE(doc);
+    ASSERT_NE(doc->graph(0), nullptr) << doc->assets(0).graph.error;
+    const WaterGraph before = *doc->graph(0);
+    const Eigen::Vector2f box(80, 40);
+    const SchematicFrame frame = schematicFrame(before, 1200, 200, box);
+    const SchematicLayout shown = schematicLayout(before, frame, box);
+    // The kept frame places the graph it was made for as the fitted layout does.
+    const SchematicLayout fitted = schematicLayout(before, 1200, 200, box);
+    for (std::size_t i = 0; i < before.nodes.size(); ++i)
+        EXPECT_LT((shown.centre[i] - fitted.centre[i]).norm(), 1e-3f) << i;
+    const Eigen::Vector2f drag(0, -30);
+    executeOrFail(*doc, makeMoveNodesCommand(*doc, 0, {"aft"}, schematicDragOffset(shown, drag)));
+    const WaterGraph& after = *doc->graph(0);
+    ASSERT_GT(after.nodes[1].position.y(), 0.0);
+    const SchematicLayout kept = schematicLayout(after, frame, box);
+    for (std::size_t i = 0; i < after.nodes.size(); ++i) {
+        const Eigen::Vector2f expected =
+            shown.centre[i] + (i == 1 ? drag : Eigen::Vector2f::Zero());
+        EXPECT_LT((kept.centre[i] - expected).norm(), 1e-3f) << after.nodes[i].id;
+    }
+    // Fitted again ("Frame"), the one raised node stretches the height over the canvas: the
+    // others move, which is why a drop does not refit.
+    const SchematicLayout refitted = schematicLayout(after, 1200, 200, box);
+    EXPECT_GT(std::abs(refitted.centre[0].y() - shown.centre[0].y()), 20.0f);
+}
+
 TEST(EditorGraph, ThreeNodeGraphBuiltByCommandsFloodsAndSinksTheBoatAndUndoesExactly) {
     const fs::path projectPath = copyDamagedBoat("scripted");
     auto doc = openOrFail(projectPath);

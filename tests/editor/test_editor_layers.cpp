@@ -10,8 +10,10 @@
 #include "document/document.h"
 #include "document/layers.h"
 #include "document/script.h"
+#include "document/smart_mask.h"
 
 #include "plimsoll/surface/painted_map.h"
+#include "plimsoll/io/mesh_io.h"
 #include "plimsoll/io/painted_map_io.h"
 #include "plimsoll/bake/bake.h"
 
@@ -283,6 +285,212 @@ TEST(EditorLayers, SmartMasksFollowTheWaterlineTheDepthAndTheFacing) {
     EXPECT_FALSE(runEditScript(*d, nlohmann::json::parse(
                                        R"([{"op": "smart_mask", "layer": 1, "kind": "wet"}])"))
                      .ok());
+}
+
+/// A project with one solid body of the mesh at `mesh` in a fresh folder, its surface as it is
+/// (no cap closes a hollow that would hold water: the dent below is one).
+fs::path meshProject(const std::string& name, const fs::path& mesh) {
+    const fs::path dir = test::freshFolder("layers", name);
+    const fs::path path = dir / "mesh.plim.json";
+    std::ofstream(path)
+        << R"({"schema_version": 1, "name": "t", "bodies": [{"name": "b", "mesh": ")"
+        << mesh.string() << R"(", "openings": "none", "material": {"density": 500}}]})";
+    return path;
+}
+
+/// Distance from p to the segment a..b.
+double segmentDistance(const Eigen::Vector3d& p, const Eigen::Vector3d& a,
+                       const Eigen::Vector3d& b) {
+    const double t = std::clamp((p - a).dot(b - a) / (b - a).squaredNorm(), 0.0, 1.0);
+    return (a + t * (b - a) - p).norm();
+}
+
+TEST(EditorLayers, CurvatureIsOneOverTheRadiusOnASphere) {
+    // The sample sphere (radius 0.5, edges about 0.05 m long) measured over balls of 0.15 m:
+    // the mean curvature 1/R = 2 at every sample, and the curvature mask one value everywhere.
+    auto d = openOrFail(meshProject("curv_sphere", test::assetPath("sphere.obj")));
+    ASSERT_TRUE(d);
+    executeOrFail(*d, makeNewMapCommand(*d, 0, kPerm, kSize, kSize, 0.0, ""));
+    executeOrFail(*d, makeAddLayerCommand(*d, 0, kPerm, LayerKind::Fill, "edges", 1.0));
+    Result<std::shared_ptr<const PaintSurface>> surface = d->paintSurface(0, kPerm);
+    ASSERT_TRUE(surface.ok()) << surface.error().message;
+    const PaintSurface& grid = **surface;
+    const std::vector<double> h = meanCurvatureAt(*d->assets(0).mesh, grid.position, 0.15);
+    ASSERT_EQ(h.size(), grid.sampleCount());
+    for (std::size_t k = 0; k < h.size(); ++k) ASSERT_NEAR(h[k], 2.0, 0.1) << k;
+
+    SmartMask mask;
+    mask.kind = SmartMask::Kind::Curvature;
+    mask.radius = 0.15;
+    mask.fullCurvature = 4;  // 2 / 4: every covered pixel 0.5
+    executeOrFail(*d, makeSmartMaskCommand(*d, 0, kPerm, 1, mask));
+    EXPECT_EQ(d->undoName(), "Smart mask: curvature");
+    const PaintedMap& m = *d->layers(0, kPerm)->layers[1].mask;
+    std::vector<bool> covered(m.values.size(), false);
+    for (std::uint32_t i : grid.pixel) covered[i] = true;
+    for (std::size_t i = 0; i < m.values.size(); ++i) {
+        if (covered[i]) ASSERT_NEAR(m.values[i], 0.5, 0.025) << i;
+    }
+    // A convex mesh has no cavity.
+    mask.kind = SmartMask::Kind::Cavity;
+    executeOrFail(*d, makeSmartMaskCommand(*d, 0, kPerm, 1, mask));
+    for (float v : d->layers(0, kPerm)->layers[1].mask->values) ASSERT_EQ(v, 0.0f);
+    ASSERT_TRUE(d->undo());
+    ASSERT_TRUE(d->undo());
+    EXPECT_FALSE(d->layers(0, kPerm)->layers[1].mask);
+    mask.radius = 0;
+    EXPECT_FALSE(makeSmartMaskCommand(*d, 0, kPerm, 1, mask).ok());
+}
+
+TEST(EditorLayers, CurvatureMarksABoxsEdgesAndNotItsFaces) {
+    // The sample box (1 x 0.5 x 0.25 m). A right-angle edge turns pi/2; a point at distance
+    // s < r from it, farther than r from the corners, has the edge's chord 2 sqrt(r^2 - s^2)
+    // inside the ball, so the edge gives H = (pi/2) sqrt(r^2 - s^2) / (pi r^2) (near a corner
+    // two edges may reach the ball: their shares add); a point farther than r from every edge
+    // has 0.
+    const double r = 0.05;
+    auto d = openOrFail(meshProject("curv_box", test::assetPath("box.obj")));
+    ASSERT_TRUE(d);
+    executeOrFail(*d, makeNewMapCommand(*d, 0, kPerm, kSize, kSize, 0.0, ""));
+    executeOrFail(*d, makeAddLayerCommand(*d, 0, kPerm, LayerKind::Fill, "edges", 1.0));
+    Result<std::shared_ptr<const PaintSurface>> surface = d->paintSurface(0, kPerm);
+    ASSERT_TRUE(surface.ok()) << surface.error().message;
+    const PaintSurface& grid = **surface;
+    const Eigen::Vector3d half(0.5, 0.25, 0.125);
+    std::vector<std::pair<Eigen::Vector3d, Eigen::Vector3d>> edges;
+    std::vector<Eigen::Vector3d> corners;
+    for (int i = 0; i < 8; ++i) {
+        const Eigen::Vector3d c((i & 1 ? 1 : -1) * half.x(), (i & 2 ? 1 : -1) * half.y(),
+                                (i & 4 ? 1 : -1) * half.z());
+        corners.push_back(c);
+        for (int axis = 0; axis < 3; ++axis) {
+            if (!(i & (1 << axis))) continue;
+            Eigen::Vector3d o = c;
+            o[axis] = -o[axis];
+            edges.emplace_back(o, c);
+        }
+    }
+    ASSERT_EQ(edges.size(), 12u);
+    const std::vector<double> h = meanCurvatureAt(*d->assets(0).mesh, grid.position, r);
+    std::size_t onEdges = 0, onFaces = 0;
+    for (std::size_t k = 0; k < h.size(); ++k) {
+        const Eigen::Vector3d p = grid.position[k].cast<double>();
+        double edge = 1e9, corner = 1e9, expected = 0;
+        for (const auto& [a, b] : edges) {
+            const double s = segmentDistance(p, a, b);
+            edge = std::min(edge, s);
+            expected += std::sqrt(std::max(0.0, r * r - s * s)) / (2 * r * r);
+        }
+        for (const Eigen::Vector3d& c : corners) corner = std::min(corner, (p - c).norm());
+        if (edge > r + 1e-6) {
+            ASSERT_EQ(h[k], 0.0) << k;
+            ++onFaces;
+        } else if (corner > r + 1e-6) {
+            ASSERT_NEAR(h[k], expected, 1e-4) << k;
+            ++onEdges;
+        }
+    }
+    EXPECT_GT(onEdges, 100u);
+    EXPECT_GT(onFaces, 100u);
+    // The mask: full on the edges' lines, empty on the faces, nothing for the cavity.
+    SmartMask mask;
+    mask.kind = SmartMask::Kind::Curvature;
+    mask.radius = r;
+    mask.fullCurvature = 2.5;
+    executeOrFail(*d, makeSmartMaskCommand(*d, 0, kPerm, 1, mask));
+    const PaintedMap& m = *d->layers(0, kPerm)->layers[1].mask;
+    PaintedMap expected = smartMaskImage(grid, mask, d->assets(0).mesh.get());
+    for (float& v : expected.values) v = quantize16(v);
+    EXPECT_EQ(m.values, expected.values);
+    std::size_t full = 0, empty = 0;
+    for (float v : m.values) {
+        full += v == 1.0f;
+        empty += v == 0.0f;
+    }
+    EXPECT_GT(full, 20u);
+    EXPECT_GT(empty, 100u);
+    const nlohmann::json script = nlohmann::json::parse(
+        R"([{"op": "smart_mask", "layer": 1, "kind": "cavity", "radius": 0.05}])");
+    Result<nlohmann::json> ran = runEditScript(*d, script);
+    ASSERT_TRUE(ran.ok()) << ran.error().message;
+    EXPECT_EQ(d->undoName(), "Smart mask: cavity");
+    for (float v : d->layers(0, kPerm)->layers[1].mask->values) ASSERT_EQ(v, 0.0f);
+}
+
+TEST(EditorLayers, CavityMarksADentAndNothingElse) {
+    // The sample sphere (R = 0.5) with its vertices above y = 0.3 mirrored in that plane: a
+    // dimple, a sphere of radius R turned inside out (mean curvature -1/R = -2), inside the
+    // ball. Its rim is a ridge (the surface rises to it from both sides): between the last ring
+    // kept and the first mirrored one the surface turns convex by about 100 degrees.
+    Result<TriangleMesh> loaded = loadMesh(test::assetPath("sphere.obj"));
+    ASSERT_TRUE(loaded.ok()) << loaded.error().message;
+    TriangleMesh dented = std::move(loaded).value();
+    // The ridge's two rings in the profile (radius from the axis, height).
+    Eigen::Vector2d kept(0, -1), mirrored(0, 1);
+    for (Eigen::Vector3d& v : dented.positions) {
+        const Eigen::Vector2d profile(std::hypot(v.x(), v.z()), v.y());
+        if (v.y() > 0.3) {
+            if (v.y() < mirrored.y()) mirrored = profile;
+            v.y() = 0.6 - v.y();
+        } else if (v.y() > kept.y()) {
+            kept = profile;
+        }
+    }
+    mirrored.y() = 0.6 - mirrored.y();
+    const fs::path dir = test::freshFolder("layers", "dent_mesh");
+    ASSERT_TRUE(writeObj(dented, dir / "dented.obj").ok());
+    auto d = openOrFail(meshProject("dent", dir / "dented.obj"));
+    ASSERT_TRUE(d);
+    executeOrFail(*d, makeNewMapCommand(*d, 0, kPerm, kSize, kSize, 0.0, ""));
+    executeOrFail(*d, makeAddLayerCommand(*d, 0, kPerm, LayerKind::Fill, "dirt", 1.0));
+    Result<std::shared_ptr<const PaintSurface>> surface = d->paintSurface(0, kPerm);
+    ASSERT_TRUE(surface.ok()) << surface.error().message;
+    const PaintSurface& grid = **surface;
+    const double r = 0.1;
+    const std::vector<double> h = meanCurvatureAt(*d->assets(0).mesh, grid.position, r);
+    // Where a sample lies: 1 in the dimple, 2 on the sphere, both farther than r from the
+    // ridge; 3 on the ridge; 0 near it.
+    const auto placeOf = [&](const Eigen::Vector3d& p) {
+        const Eigen::Vector2d profile(std::hypot(p.x(), p.z()), p.y());
+        const double ridge = std::min((profile - kept).norm(), (profile - mirrored).norm());
+        if (ridge < 0.01) return 3;
+        if (ridge < r + 0.005) return 0;
+        return p.norm() < 0.49 ? 1 : 2;
+    };
+    std::size_t counts[4] = {0, 0, 0, 0};
+    for (std::size_t k = 0; k < h.size(); ++k) {
+        const int place = placeOf(grid.position[k].cast<double>());
+        ++counts[place];
+        if (place == 1) ASSERT_NEAR(h[k], -2.0, 0.15) << k;
+        if (place == 2) ASSERT_NEAR(h[k], 2.0, 0.15) << k;
+        if (place == 3) ASSERT_GT(h[k], 3.0) << k;  // the ridge: curvature, not cavity
+    }
+    EXPECT_GT(counts[1], 20u);
+    EXPECT_GT(counts[2], 200u);
+    EXPECT_GT(counts[3], 5u);
+    SmartMask mask;
+    mask.kind = SmartMask::Kind::Cavity;
+    mask.radius = r;
+    mask.fullCurvature = 1;
+    executeOrFail(*d, makeSmartMaskCommand(*d, 0, kPerm, 1, mask));
+    const PaintedMap& m = *d->layers(0, kPerm)->layers[1].mask;
+    // Each pixel's places as bits: the dimple's pixels are full, the sphere's (convex
+    // everywhere, far from the ridge) empty.
+    std::vector<int> where(m.values.size(), 0);
+    for (std::size_t k = 0; k < grid.sampleCount(); ++k)
+        where[grid.pixel[k]] |= 1 << placeOf(grid.position[k].cast<double>());
+    std::size_t full = 0, empty = 0;
+    for (std::size_t i = 0; i < m.values.size(); ++i) {
+        if (where[i] == 1 << 1) {
+            ASSERT_EQ(m.values[i], 1.0f) << i;
+            ++full;
+        } else if (where[i] == 1 << 2) {
+            ASSERT_EQ(m.values[i], 0.0f) << i;
+            ++empty;
+        }
+    }
+    EXPECT_GT(full, 5u);
+    EXPECT_GT(empty, 100u);
 }
 
 TEST(EditorLayers, HistoryNamesMaskStrokesAndPropertiesAsAPersonWould) {

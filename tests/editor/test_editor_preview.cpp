@@ -4,6 +4,7 @@
 // submerged-volume error against what `plimsoll buoyancy --compare-exact` prints for the same pose.
 #include "document/command.h"
 #include "document/document.h"
+#include "document/graph_edit.h"
 #include "document/preview.h"
 #include "view/force_overlay.h"
 
@@ -25,6 +26,7 @@
 #include <cmath>
 #include <cstdio>
 #include <fstream>
+#include <map>
 #include <numbers>
 #include <thread>
 #include <unistd.h>
@@ -192,6 +194,46 @@ TEST(PreviewSession, SinkingBoxComesToRestOnTheSeaFloor) {
     EXPECT_NEAR(session->lowestPoint(0), -1.5, 0.02);
 }
 
+TEST(PreviewSession, BoxAtRestOnTheSeaFloorSleepsAndAGrabWakesIt) {
+    // The floor holds the box up with a force that never vanishes; it is a resting contact,
+    // not a push: once the box lies still on it for the rest time it sleeps, and asleep it
+    // holds its pose exactly. A grab wakes it and lifts it; let go, it settles and sleeps again.
+    auto session = makeSession(sinkingBox());
+    ASSERT_TRUE(session);
+    session->setSeaFloor(SeaFloor{.enabled = true, .depth = 2.0});
+    const auto asleep = [&] { return session->world().bodies()[0].asleep; };
+    int frames = 0;
+    for (; frames < 20 * 60 && !asleep(); ++frames) ASSERT_TRUE(session->step().ok());
+    ASSERT_TRUE(asleep()) << "not asleep after 20 s; lowest point " << session->lowestPoint(0);
+    const double sleptAt = session->world().time();
+    EXPECT_LT(sleptAt, 12.0);  // sinks (about 3 s), tips flat, then rests the rest time (2 s)
+    EXPECT_NEAR(session->lowestPoint(0), -2.0, 0.02);
+    const RigidBodyState rest = session->world().bodies()[0].state;
+    const std::size_t sleeping = session->world().statistics().sleepingBodyFrames;
+    for (int i = 0; i < 60; ++i) ASSERT_TRUE(session->step().ok());
+    EXPECT_TRUE(asleep());
+    EXPECT_EQ(session->world().bodies()[0].state.position, rest.position);
+    EXPECT_EQ(session->world().statistics().sleepingBodyFrames, sleeping + 60);
+    // Grabbed at its centre and pulled 1 m up: awake from the next frame, and rising.
+    const Eigen::Vector3d centre = session->world().bodies()[0].state.position;
+    ASSERT_TRUE(session
+                    ->grab(0, session->world().bodies()[0].mass.centerOfMass,
+                           centre + Eigen::Vector3d(0, 1, 0))
+                    .ok());
+    ASSERT_TRUE(session->step().ok());
+    EXPECT_FALSE(asleep());
+    for (int i = 0; i < 60; ++i) ASSERT_TRUE(session->step().ok());
+    EXPECT_GT(session->world().bodies()[0].state.position.y(), centre.y() + 0.2);
+    session->release();
+    for (frames = 0; frames < 20 * 60 && !asleep(); ++frames) ASSERT_TRUE(session->step().ok());
+    EXPECT_TRUE(asleep());
+    EXPECT_NEAR(session->lowestPoint(0), -2.0, 0.02);
+    // New water wakes it too.
+    session->setWater(WaterModel::flat(0.5));
+    ASSERT_TRUE(session->step().ok());
+    EXPECT_FALSE(asleep());
+}
+
 TEST(PreviewSession, WithoutTheSeaFloorTheBoxKeepsSinking) {
     auto session = makeSession(sinkingBox());
     ASSERT_TRUE(session);
@@ -236,6 +278,9 @@ TEST(PreviewSession, DamagedBoatFloodsSinksAndRestsOnTheSeaFloor) {
     EXPECT_NEAR(session.lowestPoint(0), -3.0, 0.02);
     const SimulatedBody& boat = session.world().bodies()[0];
     EXPECT_LT(linearVelocity(boat.state, boat.mass).norm(), 0.01);
+    // Lying there, its flooding over, it sleeps within 10 s, the floor holding it up.
+    for (int frame = 0; frame < 10 * 60 && !boat.asleep; ++frame) ASSERT_TRUE(session.step().ok());
+    EXPECT_TRUE(session.world().bodies()[0].asleep) << "water " << boat.water;
 }
 
 /// A preview of the document as it is now, on the default device (the editor's).
@@ -287,6 +332,47 @@ TEST(PreviewSession, PaintedDensityChangesTheMassOnTheNextFrame) {
     EXPECT_TRUE(seen->empty());
 }
 
+TEST(PreviewSession, PaintedThicknessChangesTheMassOnTheNextFrame) {
+    // The buoy: a solid of 150 kg/m^3 and a ballasted shell (its density map). A thickness map
+    // filled at one half while the preview runs halves the shell: the mass becomes the solid's
+    // plus half the shell's, at once, and the next frame's weight is lighter by the difference.
+    std::unique_ptr<Document> doc =
+        test::openOrFail(fs::path(PLIMSOLL_SOURCE_DIR) / "projects" / "buoy.plim.json");
+    ASSERT_TRUE(doc);
+    auto session = sessionOf(*doc), twin = sessionOf(*doc);
+    ASSERT_TRUE(session && twin);
+    ASSERT_TRUE(session->followDocument(*doc).ok());
+    for (int i = 0; i < 30; ++i) ASSERT_TRUE(session->step().ok() && twin->step().ok());
+    const SimulatedBody& buoy = session->world().bodies()[0];
+    const double before = buoy.mass.mass;
+    const double solid = 150.0 * buoy.volume;
+    ASSERT_GT(before - solid, 1.0);  // a shell to thin
+    test::executeOrFail(*doc, makeFillAllCommand(*doc, 0, MapChannel::Thickness, 0.5));
+    Result<std::vector<std::size_t>> seen = session->followDocument(*doc);
+    ASSERT_TRUE(seen.ok()) << seen.error().message;
+    EXPECT_EQ(*seen, std::vector<std::size_t>{0});
+    // The map's value, one at every pixel.
+    const PaintedMap* thickness = doc->map(0, MapChannel::Thickness);
+    ASSERT_NE(thickness, nullptr);
+    const double half = thickness->values.at(0);
+    ASSERT_NEAR(half, 0.5, 1e-4);
+    for (float v : thickness->values) ASSERT_EQ(v, thickness->values[0]);
+    const double after = session->world().bodies()[0].mass.mass;
+    EXPECT_NEAR(after, solid + half * (before - solid), 1e-9 * before);
+    // As a preview started from the edited document (the thickness enters the bake's mass).
+    auto fresh = sessionOf(*doc);
+    ASSERT_TRUE(fresh);
+    EXPECT_NEAR(after, fresh->world().bodies()[0].mass.mass, 1e-9 * after);
+    const Eigen::Vector3d p0 = session->world().bodies()[0].state.linearMomentum;
+    const Eigen::Vector3d q0 = twin->world().bodies()[0].state.linearMomentum;
+    EXPECT_LT((p0 - q0).norm(), 1e-12);
+    ASSERT_TRUE(session->step().ok() && twin->step().ok());
+    const double dt = session->scene().simulation.timeStep;
+    const Eigen::Vector3d force = (session->world().bodies()[0].state.linearMomentum - p0) / dt;
+    const Eigen::Vector3d twinForce = (twin->world().bodies()[0].state.linearMomentum - q0) / dt;
+    EXPECT_NEAR(force.y() - twinForce.y(), (before - after) * 9.81, 0.05 * (before - after) * 9.81);
+}
+
 TEST(PreviewSession, PaintedPermeabilityStopsTheFloodingFromTheNextFrame) {
     std::unique_ptr<Document> doc =
         test::openOrFail(fs::path(PLIMSOLL_SOURCE_DIR) / "projects" / "damaged_boat.plim.json");
@@ -313,6 +399,78 @@ TEST(PreviewSession, PaintedPermeabilityStopsTheFloodingFromTheNextFrame) {
     for (int i = 0; i < 60; ++i) ASSERT_TRUE(session->step().ok() && twin->step().ok());
     EXPECT_NEAR(session->world().bodies()[0].water, water, 1e-9);
     EXPECT_GT(twin->world().bodies()[0].water, water + 1e-4);
+}
+
+/// The water in each node of body 0's running graph, by id.
+std::map<std::string, double> nodeWater(const PreviewSession& session) {
+    std::map<std::string, double> water;
+    const WaterGraphSimulation* graph = session.world().waterGraph(0);
+    if (graph) {
+        for (const GraphNode& node : graph->graph().nodes) water[node.id] = node.water;
+    }
+    return water;
+}
+
+TEST(PreviewSession, GraphEditsChangeTheFloodingOnTheNextFrameKeepingStateAndWater) {
+    // The damaged boat floods through its stern; the stern compartment's pipe to the aft hold
+    // carries water on. The pipe removed while it floods: from the next frame on the aft,
+    // fore and bow compartments (no damage over them) take no more water, while the twin that
+    // did not follow keeps passing it on.
+    std::unique_ptr<Document> doc =
+        test::openOrFail(fs::path(PLIMSOLL_SOURCE_DIR) / "projects" / "damaged_boat.plim.json");
+    ASSERT_TRUE(doc);
+    auto session = sessionOf(*doc), twin = sessionOf(*doc);
+    ASSERT_TRUE(session && twin);
+    ASSERT_TRUE(session->followDocument(*doc).ok());
+    for (int i = 0; i < 240; ++i) ASSERT_TRUE(session->step().ok() && twin->step().ok());
+    const std::map<std::string, double> before = nodeWater(*session);
+    ASSERT_EQ(before.size(), 4u);
+    ASSERT_GT(before.at("stern"), 1e-3) << "the stern should be flooding";
+    const RigidBodyState state = session->world().bodies()[0].state;
+    const auto downstream = [](const std::map<std::string, double>& w) {
+        return w.at("aft") + w.at("fore") + w.at("bow");
+    };
+    test::executeOrFail(*doc, makeRemovePipeCommand(*doc, 0, "stern", "aft"));
+    Result<std::vector<std::size_t>> seen = session->followDocument(*doc);
+    ASSERT_TRUE(seen.ok()) << seen.error().message;
+    EXPECT_EQ(*seen, std::vector<std::size_t>{0});
+    ASSERT_EQ(session->world().waterGraph(0)->graph().pipes.size(), 2u);
+    // The rebuilt world carries on: every node's water, the place, the momenta and the time.
+    EXPECT_EQ(nodeWater(*session), before);
+    EXPECT_LT((session->world().bodies()[0].state.position - state.position).norm(), 1e-9);
+    EXPECT_LT((session->world().bodies()[0].state.linearMomentum - state.linearMomentum).norm(),
+              1e-9);
+    EXPECT_NEAR(session->world().time(), twin->world().time(), 1e-12);
+    for (int i = 0; i < 30; ++i) ASSERT_TRUE(session->step().ok() && twin->step().ok());
+    const std::map<std::string, double> cut = nodeWater(*session), joined = nodeWater(*twin);
+    EXPECT_NEAR(downstream(cut), downstream(before), 1e-12);
+    EXPECT_GT(downstream(joined), downstream(before) + 1e-4);
+    EXPECT_GT(cut.at("stern"), joined.at("stern"));  // what no longer leaves the stern
+
+    // A node's water set by hand takes its new value; the others keep theirs.
+    NodeEdit edit;
+    edit.water = 0.5;
+    test::executeOrFail(*doc, makeSetNodeCommand(*doc, 0, "bow", edit));
+    seen = session->followDocument(*doc);
+    ASSERT_TRUE(seen.ok()) << seen.error().message;
+    std::map<std::string, double> expected = cut;
+    expected["bow"] = 0.5;
+    EXPECT_EQ(nodeWater(*session), expected);
+    // Undone: the pipe is back and carries the stern's water on again from the next frame.
+    ASSERT_TRUE(doc->undo());
+    ASSERT_TRUE(doc->undo());
+    seen = session->followDocument(*doc);
+    ASSERT_TRUE(seen.ok()) << seen.error().message;
+    EXPECT_EQ(session->world().waterGraph(0)->graph().pipes.size(), 3u);
+    EXPECT_EQ(nodeWater(*session).at("bow"), 0.0);  // the undone edit's water: the file's
+    const double stern = nodeWater(*session).at("stern");
+    const double aft = nodeWater(*session).at("aft");
+    ASSERT_TRUE(session->step().ok());
+    EXPECT_GT(nodeWater(*session).at("aft"), aft);
+    EXPECT_GT(stern, 0);
+    // Reset starts from the document's graph as edited (all empty: the project's file).
+    ASSERT_TRUE(session->reset().ok());
+    for (const auto& [id, water] : nodeWater(*session)) EXPECT_EQ(water, 0.0) << id;
 }
 
 TEST(PreviewSession, WaterIntegratorAndTextureSizeChangeWhileRunning) {

@@ -488,6 +488,34 @@ TEST(EditorWindow, SchematicDragsConnectAndMoveNodesAsUndoSteps) {
     EXPECT_EQ(report["undo"], "");  // both undone
 }
 
+TEST(EditorWindow, ASchematicDropMovesNoOtherBox) {
+    // The damaged boat's compartments all lie at one height. The aft hold's box (x = 190, in
+    // the row at y = 491 as above) dragged 20 px up (0.26 m, still inside the hull: no warning
+    // line above the schematic) and dropped: the other boxes stay on their pixels, so a drag from
+    // the stern's port (121, 491) onto the fore hold's box (300, 491) still connects them. The
+    // schematic used to refit its view to the raised node on the drop, which sent the rest of the
+    // row to the canvas's bottom edge.
+    if (!haveWindowTools(true)) GTEST_SKIP() << "xvfb-run or xdotool is not installed";
+    const fs::path project = damagedBoatCopy("window_schematic_frame");
+    const fs::path dir = project.parent_path();
+    const std::string out = runUnderXvfb(
+        dir,
+        "$PLIMSOLL edit damaged_boat.plim.json --run-seconds 60 --window-size 1280x720 "
+        "--state-file state.json & " +
+            kWaitForState + clickAt(70, 66) + waitFor("\"name\":\"Water graph\"") +
+            dragThrough({{190, 480}, {190, 470}, {190, 460}}) +
+            waitFor("\"undo\":\"Move 1 node\"") + dragAlong(491, {121, 200, 300}) +
+            waitFor("\"undo\":\"Connect stern-fore\"") + "cp state.json connected.json; " +
+            "xdotool key --window $w ctrl+z ctrl+z; " + waitFor("\"undo\":\"\"") +
+            "xdotool key --window $w ctrl+q; wait");
+    if (out.empty()) GTEST_SKIP() << "no editor window in this build or no X server";
+    const nlohmann::json connected = nlohmann::json::parse(test::readFile(dir / "connected.json"));
+    EXPECT_EQ(connected["undo"], "Connect stern-fore") << "the stern's port moved";
+    const nlohmann::json report = nlohmann::json::parse(out);
+    EXPECT_LT(report["seconds"].get<double>(), 59.0) << "Ctrl+Q was not seen";
+    EXPECT_EQ(report["undo"], "");  // both undone
+}
+
 TEST(EditorWindow, EscClosesAMenuAndTheUvViewZoomsUnderAnOpenMenu) {
     // Esc did not close an open menu, and while one was open the UV view ignored the wheel.
     // At 800 x 500 the File menu's title is at (25, 9) and the UV view's square spans

@@ -5,10 +5,13 @@
 #include "plimsoll/bake/bake.h"
 #include "plimsoll/compute/compute.h"
 #include "plimsoll/graph/graph.h"
+#include "plimsoll/project/project.h"
 #include "plimsoll/samples/primitives.h"
+#include "plimsoll/scene/world.h"
 
 #include "cli_runner.h"
 #include "test_support.h"
+#include "world_support.h"
 
 #include <Eigen/Geometry>
 #include <nlohmann/json.hpp>
@@ -132,6 +135,41 @@ TEST(GraphKernels, DamagedBoatSinksOnTheDefaultDevice) {
     ASSERT_EQ(r.exitCode, 0) << r.err;
     const nlohmann::json j = nlohmann::json::parse(r.out);
     EXPECT_LT(j.at("position").at(1).get<double>(), -1.0) << r.out;
+}
+
+TEST(GraphKernels, AHullSealedEverywhereBuildsAndStepsOnEveryDevice) {
+    // The damaged boat without its damage map: permeability 0 everywhere and no openings, so
+    // its graph has no permeable sample. Such a world once failed to build on PoCL's CPU device
+    // (clCreateBuffer: a copy from an empty vector's null data).
+    const std::vector<std::unique_ptr<BuoyancyBackend>> probe = test::openClBackends();
+    if (probe.empty()) GTEST_SKIP() << test::noOpenClDeviceReason();
+    const std::filesystem::path source = std::filesystem::path(PLIMSOLL_SOURCE_DIR) / "projects";
+    Result<Project> project = loadProject(source / "damaged_boat.plim.json");
+    ASSERT_TRUE(project.ok()) << project.error().message;
+    project->bodies.at(0).permeabilityMap.clear();
+    // The empty set on its own: no flow in or out, and no error.
+    for (const std::unique_ptr<BuoyancyBackend>& backend : probe) {
+        const std::size_t set = backend->addExchangeSet({}, 4);
+        const std::vector<double> surfaces(4, 0.0);
+        ExchangeFrame frame;
+        frame.nodeSurface = surfaces;
+        ExchangeSums sums;
+        ASSERT_TRUE(backend->evaluateExchange(set, frame, WaterModel::flat(0), sums).ok())
+            << backend->deviceName();
+        EXPECT_EQ(sums.inflow, std::vector<double>(4, 0.0));
+        EXPECT_EQ(sums.outflow, std::vector<double>(4, 0.0));
+    }
+    for (const ComputeDevice& device : listComputeDevices()) {
+        Result<std::unique_ptr<BuoyancyBackend>> backend =
+            createBuoyancyBackend(std::to_string(device.index));
+        ASSERT_TRUE(backend.ok()) << backend.error().message;
+        Result<std::unique_ptr<World>> world =
+            World::create(test::sceneOrFail(*project), std::move(*backend));
+        ASSERT_TRUE(world.ok()) << device.name << ": " << world.error().message;
+        for (int i = 0; i < 30; ++i) ASSERT_TRUE((*world)->advanceFrame().ok()) << device.name;
+        ASSERT_NE((*world)->waterGraph(0), nullptr);
+        EXPECT_EQ((*world)->waterGraph(0)->graph().totalWater(), 0.0) << device.name;
+    }
 }
 
 }  // namespace

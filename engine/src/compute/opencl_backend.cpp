@@ -680,10 +680,16 @@ private:
         return cl::Buffer(context_, flags, bytes, host);
     }
 
+    /// The data as a read-only buffer. An empty vector (a body sealed everywhere has no
+    /// permeable samples) gets one zero element: OpenCL refuses a buffer of size 0, and a copy
+    /// from the null pointer an empty vector's data() may be (CL_INVALID_HOST_PTR).
     template <class T>
     cl::Buffer upload(const std::vector<T>& data, const char* what = "input") {
-        return makeBuffer(CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR,
-                          std::max<std::size_t>(1, data.size()) * sizeof(T),
+        if (data.empty()) {
+            T zero{};
+            return makeBuffer(CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR, sizeof(T), &zero, what);
+        }
+        return makeBuffer(CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR, data.size() * sizeof(T),
                           const_cast<T*>(data.data()), what);
     }
 

@@ -360,7 +360,8 @@ Result<json> writeDeformingFrames(const BodyDesc& desc, const SceneBody& body,
         if (!ec) fs::remove(folder / kManifestFile, ec);
         if (ec) return makeError(ErrorKind::io, folder.string() + ": " + ec.message());
         Result<MassProperties> mass =
-            materialMassProperties(frame, desc.material, body.parts.shellDensityMap.get(), label);
+            materialMassProperties(frame, desc.material, body.parts.shellDensityMap.get(), label,
+                                   body.parts.shellThicknessMap.get());
         if (!mass) return mass.error();
         frameMass.push_back(massJson(*mass));
     }

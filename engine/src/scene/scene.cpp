@@ -50,9 +50,10 @@ Status checkGravity(const Eigen::Vector3d& g) {
 Result<MassProperties> materialMassProperties(const SurfaceTextures& textures,
                                               const MaterialDesc& material,
                                               const PaintedMap* shellDensityMap,
-                                              const std::string& label) {
-    return bodyMassProperties(textures, material, shellDensityMap, nullptr, MassProperties{},
-                              label);
+                                              const std::string& label,
+                                              const PaintedMap* shellThicknessMap) {
+    return bodyMassProperties(textures, material, shellDensityMap, nullptr, MassProperties{}, label,
+                              shellThicknessMap);
 }
 
 std::vector<double> wallShares(const TriangleMesh& mesh, const SurfaceTextures& textures,
@@ -80,7 +81,8 @@ Result<MassProperties> bodyMassProperties(const SurfaceTextures& textures,
                                           const MaterialDesc& material,
                                           const PaintedMap* shellDensityMap,
                                           const std::vector<double>* wallShare,
-                                          const MassProperties& hollow, const std::string& label) {
+                                          const MassProperties& hollow, const std::string& label,
+                                          const PaintedMap* shellThicknessMap) {
     MassProperties total;
     bool any = false;
     if (material.density) {
@@ -91,6 +93,13 @@ Result<MassProperties> bodyMassProperties(const SurfaceTextures& textures,
         std::vector<double> painted;
         if (shellDensityMap) {
             painted = sampleAtTexels(*shellDensityMap, textures, *material.shellSurfaceDensity);
+        }
+        // The relative thickness multiplies the painted (or uniform) surface density.
+        if (shellThicknessMap) {
+            const std::vector<double> thickness = sampleAtTexels(*shellThicknessMap, textures, 1.0);
+            if (painted.empty()) painted.assign(thickness.size(), *material.shellSurfaceDensity);
+            for (std::size_t i = 0; i < painted.size() && i < thickness.size(); ++i)
+                painted[i] *= thickness[i];
         }
         // The caps are no material: the shell lies on the walls only.
         if (wallShare && wallShare->size() == textures.coveredCount()) {
@@ -170,9 +179,9 @@ Result<SceneBody> bakeSceneBody(BodyDesc desc, BodyParts parts, const BakeContro
     if (sharesNeeded)
         body.wallShare = std::make_shared<const std::vector<double>>(
             wallShares(*parts.mesh, *chosen, *recorded, parts.capTriangles));
-    Result<MassProperties> mass =
-        bodyMassProperties(*chosen, desc.material, parts.shellDensityMap.get(),
-                           body.wallShare.get(), parts.hollow, body.label);
+    Result<MassProperties> mass = bodyMassProperties(
+        *chosen, desc.material, parts.shellDensityMap.get(), body.wallShare.get(), parts.hollow,
+        body.label, parts.shellThicknessMap.get());
     if (!mass) return mass.error();
 
     body.textures = std::move(chosen);

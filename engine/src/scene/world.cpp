@@ -268,6 +268,7 @@ Status World::addBody(const SceneBody& scene) {
     details_.push_back(std::move(detail));
     materials_.push_back(desc.material);
     shellDensityMaps_.push_back(scene.parts.shellDensityMap);
+    shellThicknessMaps_.push_back(scene.parts.shellThicknessMap);
     sleep_.emplace_back();
     changedLastFrame_.push_back(0);
     return Ok{};
@@ -510,6 +511,11 @@ Wrench World::wrenchOf(const SimulatedBody& body, const RigidBodyState& state,
         w.force += external.force;
         w.torque += external.torque;
     }
+    if (index < contactForces_.size() && contactForces_[index]) {
+        const Wrench contact = contactForces_[index](body, state);
+        w.force += contact.force;
+        w.torque += contact.torque;
+    }
     return w;
 }
 
@@ -574,9 +580,9 @@ Status World::recomputeMass(std::size_t i) {
     SimulatedBody& body = bodies_[i];
     // The caps' share and the hollow are those of the body's mesh as it was baked.
     const SceneBody& baked = scene_.bodies[i];
-    Result<MassProperties> props =
-        bodyMassProperties(body.textures, materials_[i], shellDensityMaps_[i].get(),
-                           baked.wallShare.get(), baked.parts.hollow, "body '" + body.name + "'");
+    Result<MassProperties> props = bodyMassProperties(
+        body.textures, materials_[i], shellDensityMaps_[i].get(), baked.wallShare.get(),
+        baked.parts.hollow, "body '" + body.name + "'", shellThicknessMaps_[i].get());
     if (!props) return props.error();
     // Keep the body where it is in the world and its momenta as they are: the mesh or the
     // paint changed, the body did not jump.
@@ -613,12 +619,14 @@ Status World::recomputeMass(std::size_t i) {
 }
 
 Status World::setMaterial(std::size_t i, const MaterialDesc& material,
-                          std::shared_ptr<const PaintedMap> shellDensityMap) {
+                          std::shared_ptr<const PaintedMap> shellDensityMap,
+                          std::shared_ptr<const PaintedMap> shellThicknessMap) {
     if (i >= bodies_.size()) {
         return makeError(ErrorKind::invalidArgument, "setMaterial: no body " + std::to_string(i));
     }
     materials_[i] = material;
     shellDensityMaps_[i] = std::move(shellDensityMap);
+    shellThicknessMaps_[i] = std::move(shellThicknessMap);
     say("body '" + bodies_[i].name + "': material changed, mass properties recomputed");
     wakeBody(i);
     return recomputeMass(i);
@@ -803,6 +811,17 @@ Status World::setExternalForce(std::size_t i, ExternalForce force) {
     }
     externalForces_.resize(bodies_.size());
     externalForces_[i] = std::move(force);
+    wakeBody(i);
+    return Ok{};
+}
+
+Status World::setContactForce(std::size_t i, ExternalForce contact) {
+    if (i >= bodies_.size()) {
+        return makeError(ErrorKind::invalidArgument,
+                         "setContactForce: no body " + std::to_string(i));
+    }
+    contactForces_.resize(bodies_.size());
+    contactForces_[i] = std::move(contact);
     wakeBody(i);
     return Ok{};
 }

@@ -113,12 +113,14 @@ Result<std::shared_ptr<const std::vector<BuoyancyLevel>>> bakeBodyLevels(const S
                                                                          unsigned threads = 0);
 
 /// Mass properties of `material` on `textures`: a solid of uniform density (V = sum A_y y) and
-/// a shell of point masses, its surface density scaled by `shellDensityMap` where one is given
-/// (null: uniform). `label` starts messages.
+/// a shell of point masses, its surface density scaled by `shellDensityMap` and by the relative
+/// thickness `shellThicknessMap` where they are given (the two multiply; null: uniform).
+/// `label` starts messages.
 Result<MassProperties> materialMassProperties(const SurfaceTextures& textures,
                                               const MaterialDesc& material,
                                               const PaintedMap* shellDensityMap,
-                                              const std::string& label);
+                                              const std::string& label,
+                                              const PaintedMap* shellThicknessMap = nullptr);
 
 /// A body's own mass properties (no water in it): materialMassProperties with the shell scaled
 /// by `wallShare` (per entry, null: 1) and the solid material kept out of `hollow` (the space
@@ -127,7 +129,8 @@ Result<MassProperties> bodyMassProperties(const SurfaceTextures& textures,
                                           const MaterialDesc& material,
                                           const PaintedMap* shellDensityMap,
                                           const std::vector<double>* wallShare,
-                                          const MassProperties& hollow, const std::string& label);
+                                          const MassProperties& hollow, const std::string& label,
+                                          const PaintedMap* shellThicknessMap = nullptr);
 
 /// Per entry of `textures` (baked from `mesh` with `pieces` recorded), the share of its area
 /// on triangles not in `caps`: 1 on walls, 0 on a cap, between where an entry holds both.

@@ -141,15 +141,24 @@ public:
     /// hydrostatic stiffness needs them (a 1 mm body, a long time step): the log says so.
     Status advanceFrame();
 
-    /// Changes a body's material (a repainted density map, a new density): its mass
-    /// properties are recomputed now, once, keeping its centre of mass's place and momenta.
-    /// `shellDensityMap` is the painted shell density (null: uniform).
+    /// Changes a body's material (a repainted density or thickness map, a new density): its
+    /// mass properties are recomputed now, once, keeping its centre of mass's place and
+    /// momenta. `shellDensityMap` is the painted shell density and `shellThicknessMap` the
+    /// painted relative shell thickness (null: uniform).
     Status setMaterial(std::size_t body, const MaterialDesc& material,
-                       std::shared_ptr<const PaintedMap> shellDensityMap = nullptr);
+                       std::shared_ptr<const PaintedMap> shellDensityMap = nullptr,
+                       std::shared_ptr<const PaintedMap> shellThicknessMap = nullptr);
 
     /// Body i's external force (world.h ExternalForce); an empty function removes it. The body
     /// wakes, and stays awake while the force is not zero.
     Status setExternalForce(std::size_t body, ExternalForce force);
+
+    /// Body i's resting contact (a sea floor it lies on): added to its forces as the external
+    /// force is, but never a push. A body at rest on it (every speed and acceleration under
+    /// the sleep thresholds, calm water, no water moving in its graph) falls asleep although
+    /// the contact holds it up, and asleep it is not asked; the water, an external force, a
+    /// wake() or a new state wakes it. An empty function removes it. The body wakes.
+    Status setContactForce(std::size_t body, ExternalForce contact);
 
     /// Replaces the medium's surface (level, waves) from the next step on: an editor changes
     /// the water while the simulation runs. Every sleeping body wakes.
@@ -270,6 +279,9 @@ private:
     std::vector<std::shared_ptr<const PaintedMap>> shellDensityMaps_;  ///< per body, null: uniform
     std::vector<ExternalForce> externalForces_;                        ///< per body, empty if none
     std::vector<plimsoll_eval::SleepState> sleep_;                     ///< per body
+    /// Per body: the painted shell thickness (null: uniform), the resting contact (empty: none).
+    std::vector<std::shared_ptr<const PaintedMap>> shellThicknessMaps_;
+    std::vector<ExternalForce> contactForces_;
     std::vector<char> changedLastFrame_;        ///< per body: its graph moved water, or it deforms
     std::vector<Motion> frameStartVelocities_;  ///< per body, at the start of the frame
     WorldStatistics statistics_;
