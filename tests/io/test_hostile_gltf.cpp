@@ -369,6 +369,32 @@ TEST(HostileGltf, PrimitivesWithTooFewElementsForTheirModeAreRefused) {
                   {"meshes[0].primitives[0].attributes.NORMAL: 5 names no element of accessors"});
 }
 
+// Assimp logs an index past a primitive's vertices and leaves that face unwritten; its line
+// loops and strips then read the face before the first through a null pointer (the GLB
+// fuzzer's finding: a crate whose indices were mutated, drawn as a line loop). Every index is
+// checked against the vertices, in every mode; the indices in range still load.
+TEST(HostileGltf, IndicesPastTheVerticesAreRefused) {
+    const fs::path dir = test::freshFolder("hostile_gltf", "indices");
+    for (const std::uint16_t past : {std::uint16_t{3}, std::uint16_t{65535}}) {
+        for (int mode : {2, 3, 4}) {
+            json g = triangle();
+            g["bufferViews"].push_back({{"buffer", 0}, {"byteOffset", 36}, {"byteLength", 6}});
+            g["buffers"][0]["byteLength"] = 42;
+            g["accessors"].push_back(
+                {{"bufferView", 1}, {"componentType", 5123}, {"count", 3}, {"type", "SCALAR"}});
+            g["meshes"][0]["primitives"][0]["indices"] = 1;
+            g["meshes"][0]["primitives"][0]["mode"] = mode;
+            expectRefused(dir, "past" + std::to_string(mode), g,
+                          triangleBytes() + integers<std::uint16_t>({past, 1, 2}),
+                          {"meshes[0].primitives[0].indices: index 0 is " + std::to_string(past) +
+                           ", past the primitive's 3 vertices"});
+            const Messages fine = loadBoth(dir, "fine" + std::to_string(mode), g,
+                                           triangleBytes() + integers<std::uint16_t>({2, 1, 0}));
+            if (mode == 4) EXPECT_EQ(fine.gltf + fine.glb, "");
+        }
+    }
+}
+
 // Assimp keeps the offsets of a data URI's header in a signed char: past 127 bytes they are
 // negative and it read before the string.
 TEST(HostileGltf, DataUrisWithLongHeadersOrBadBase64AreRefused) {

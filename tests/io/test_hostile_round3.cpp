@@ -443,6 +443,30 @@ TEST(HostileFbx, APropertyLengthPastItsRecordIsRefusedBeforeAssimp) {
     }
 }
 
+// Assimp's FBX converter splits a rotation curve into a key per 180 degrees of change: six bytes
+// changed in the values of the shared shark's swim cycle asked for more than 2 GB (the FBX
+// fuzzer's finding). Plimsoll reads shapes: animations are not converted, and the changed shark
+// reads as the shark.
+TEST(HostileFbx, AnimationsAreNotConvertedSoTheirKeysCannotAskForGigabytes) {
+    const fs::path shark = test::realAssetsDir() / "quaternius" / "Shark.fbx";
+    if (!fs::exists(shark)) GTEST_SKIP() << "../shared/real-assets not present";
+    const std::string original = test::readFile(shark);
+    // The finding's change, at its place in the first KeyValueFloat array of rotations.
+    const std::size_t at = 90775;
+    const std::string was("\x3f\xe6\x15\x23\x3f\x72\x14", 7),
+        now("\x72\x23\x3f\x15\x3f\x14\xe6", 7);
+    if (original.size() != 101804 || original.compare(at, was.size(), was) != 0)
+        GTEST_SKIP() << "Shark.fbx is not the version the finding was made on";
+    std::string changed = original;
+    changed.replace(at, now.size(), now);
+    Result<TriangleMesh> a = loadMeshFromMemory(original, "fbx", "Shark.fbx");
+    Result<TriangleMesh> b = loadMeshFromMemory(changed, "fbx", "changed.fbx");
+    ASSERT_TRUE(a.ok()) << a.error().message;
+    ASSERT_TRUE(b.ok()) << b.error().message;
+    EXPECT_EQ(a->triangles, b->triangles);
+    EXPECT_EQ(a->positions, b->positions);
+}
+
 TEST(HostileMeshFormats, OtherFormatsAreRefusedByContentAndOBJIsReadWhateverItsName) {
     const fs::path dir = test::freshFolder("hostile3", "formats");
     const std::pair<std::string, std::string> refused[] = {

@@ -159,6 +159,8 @@ struct AccessorInfo {
     std::uint64_t count = 0, componentType = 0, components = 0, elementBytes = 0;
     std::string type;
     bool hasView = false;
+    std::uint64_t view = 0, offset = 0, stride = 0;  ///< where its elements are, with a view
+    bool sparse = false;
 };
 
 class GltfChecker {
@@ -438,9 +440,13 @@ private:
             const std::optional<std::uint64_t> view =
                 optionalIndex(accessor, "bufferView", path, "bufferViews", views_.size());
             info.hasView = view.has_value();
+            info.sparse = accessor.contains("sparse");
             if (view) {
                 const std::uint64_t stride =
                     views_[*view].stride ? views_[*view].stride : info.elementBytes;
+                info.view = *view;
+                info.offset = offset;
+                info.stride = stride;
                 if (stride < info.elementBytes)
                     refuse(path, "bufferViews[" + std::to_string(*view) + "].byteStride " +
                                      std::to_string(stride) + " is less than an element (" +
@@ -736,6 +742,7 @@ private:
                                "accessors[" + std::to_string(indices->get<std::uint64_t>()) +
                                    "] is not SCALAR of an unsigned integer type");
                     elements = accessor.count;
+                    checkIndexValues(accessor, count.value_or(0), at(path, "indices"));
                 }
                 // Points 1, lines and line strips or loops 2, triangles of any kind 3.
                 const std::uint64_t least = mode == 0 ? 1 : mode <= 3 ? 2 : 3;
@@ -754,6 +761,32 @@ private:
         if (corners > 3 * kMaxTriangles)
             refuseLimit("meshes", "triangle corners over every instance:", corners,
                         "3 * kMaxTriangles", 3 * kMaxTriangles);
+    }
+
+    /// Every index a primitive's vertices: assimp logs an index past them and leaves the face
+    /// unwritten, and its line loops and strips then read the face before the first (a null
+    /// pointer: the GLB fuzzer's finding).
+    void checkIndexValues(const AccessorInfo& accessor, std::uint64_t vertices,
+                          const std::string& path) {
+        if (accessor.sparse)
+            refuse(path,
+                   "a sparse accessor of indices is not read (its patched values cannot be "
+                   "checked before assimp uses them)");
+        if (!accessor.hasView) return;  // all zeros: vertex 0, which every primitive has
+        const ViewInfo& view = views_[accessor.view];
+        const std::string_view bytes = bufferBytes(view.buffer);
+        const std::uint64_t start = view.offset + accessor.offset;  // inside, checked
+        const std::uint64_t bytesEach = componentBytes(accessor.componentType);
+        for (std::uint64_t k = 0; k < accessor.count; ++k) {
+            std::uint64_t index = 0;
+            const std::uint64_t at = start + k * accessor.stride;
+            for (std::uint64_t b = bytesEach; b-- > 0;)
+                index = index << 8 | static_cast<unsigned char>(bytes[at + b]);
+            if (index >= vertices)
+                refuse(path, "index " + std::to_string(k) + " is " + std::to_string(index) +
+                                 ", past the primitive's " + std::to_string(vertices) +
+                                 " vertices");
+        }
     }
 
     /// Skins: joints that are nodes, inverse bind matrices (MAT4 of floats) for each of them;

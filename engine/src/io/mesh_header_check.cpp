@@ -688,12 +688,21 @@ Status fbxTooDeep(const std::string& file, std::uint64_t at) {
                                            "), more than the limit kMaxFbxDepth (limits.h)");
 }
 
+/// The FBX object that holds an animation (in either form, a record's or a key's name).
+constexpr std::string_view kAnimationStack = "AnimationStack";
+
 /// ASCII FBX: braces outside strings ("...", no escapes) and comments (';' to the line's end),
 /// as assimp's tokenizer sees them.
-Status checkAsciiFbxDepth(const std::string& file, std::string_view text) {
+Status checkAsciiFbxDepth(const std::string& file, std::string_view text,
+                          std::vector<std::uint64_t>* stacks) {
     std::uint64_t depth = 0;
+    bool lineStart = true;  // only blanks so far on this line: a key may start here
     for (std::size_t i = 0; i < text.size(); ++i) {
         const char c = text[i];
+        if (lineStart && stacks &&
+            text.substr(i, kAnimationStack.size() + 1) == std::string(kAnimationStack) + ":")
+            stacks->push_back(i);
+        lineStart = c == '\n' || ((c == ' ' || c == '\t' || c == '\r') && lineStart);
         if (c == '"') {
             const std::size_t end = text.find('"', i + 1);
             if (end == std::string_view::npos) break;
@@ -702,6 +711,7 @@ Status checkAsciiFbxDepth(const std::string& file, std::string_view text) {
             const std::size_t end = text.find('\n', i);
             if (end == std::string_view::npos) break;
             i = end;
+            lineStart = true;
         } else if (c == '{') {
             if (++depth > kMaxFbxDepth) return fbxTooDeep(file, i);
         } else if (c == '}' && depth > 0) {
@@ -804,7 +814,8 @@ Status checkFbxProperties(const std::string& file, std::string_view bytes, std::
 /// (kMaxFbxDepth) and every record's arrays (checkFbxProperties). A record whose offsets do not
 /// fit its parent ends the walk: assimp's reader, which meets the records in the same order,
 /// stops at the same record with an error, no deeper than the walk went.
-Status checkBinaryFbx(const std::string& file, std::string_view bytes) {
+Status checkBinaryFbx(const std::string& file, std::string_view bytes,
+                      std::vector<std::uint64_t>* stacks) {
     constexpr std::size_t kStart = 27;  // magic (23 bytes) and the version
     if (bytes.size() < kStart) return Ok{};
     const bool wide = readLittleEndian(bytes, 23, 4) >= 7500;  // 64-bit offsets from 7.5
@@ -840,6 +851,8 @@ Status checkBinaryFbx(const std::string& file, std::string_view bytes) {
                                                     " bytes of properties, past its end at byte " +
                                                     std::to_string(end));
         const std::uint64_t properties = at + header + nameBytes;
+        if (stacks && bytes.substr(at + header, nameBytes) == kAnimationStack)
+            stacks->push_back(at + header);
         if (properties + propertyBytes <= end) {
             Status arrays = checkFbxProperties(file, bytes, properties, propertyCount,
                                                properties + propertyBytes, inflated);
@@ -859,14 +872,24 @@ Status checkBinaryFbx(const std::string& file, std::string_view bytes) {
 
 /// FBX scopes nested deeper than kMaxFbxDepth, in either form, before assimp's recursive
 /// parsers see them; in the binary form also the arrays (checkFbxProperties).
-Status checkFbx(const std::string& file, std::string_view bytes) {
+Status checkFbx(const std::string& file, std::string_view bytes, std::string* forAssimp) {
+    std::vector<std::uint64_t> stacks;
     // assimp reads a file as binary FBX when its first 18 bytes say so, whatever follows.
-    if (bytes.substr(0, 18) == "Kaydara FBX Binary") return checkBinaryFbx(file, bytes);
-    return checkAsciiFbxDepth(file, bytes);
+    Status checked = bytes.substr(0, 18) == "Kaydara FBX Binary"
+                         ? checkBinaryFbx(file, bytes, &stacks)
+                         : checkAsciiFbxDepth(file, bytes, &stacks);
+    if (!checked.ok() || stacks.empty() || !forAssimp) return checked;
+    // Plimsoll reads shapes. Assimp converts every animation stack whatever its settings say,
+    // and splits a rotation curve into a key per 180 degrees of change: one changed key value
+    // of a shark's swim cycle asked for gigabytes (the FBX fuzzer's finding). Its copy names
+    // the stacks otherwise, at the same length, so that nothing else moves and assimp sees none.
+    *forAssimp = std::string(bytes);
+    for (const std::uint64_t at : stacks) (*forAssimp)[at + kAnimationStack.size() - 1] = '_';
+    return checked;
 }
 
 Status checkMeshBytes(std::string_view bytes, const std::string& file, const std::string& format,
-                      const ReadReferencedFile& readReferenced) {
+                      const ReadReferencedFile& readReferenced, std::string* forAssimp) {
     if (bytes.substr(0, 4) == "glTF") return checkGlb(file, bytes, readReferenced);
     // A .glb without the magic: assimp then tries its other readers on the bytes, and its OBJ
     // reader read past the buffer on one (the GLB fuzzer's first finding).
@@ -875,7 +898,7 @@ Status checkMeshBytes(std::string_view bytes, const std::string& file, const std
                          file + ": not a binary glTF (it does not start with \"glTF\")");
     if (format == "gltf") return checkGltf(file, bytes, std::nullopt, readReferenced);
     if (format == "stl") return checkBinaryStl(file, bytes);
-    if (format == "fbx") return checkFbx(file, bytes);
+    if (format == "fbx") return checkFbx(file, bytes, forAssimp);
     return Ok{};
 }
 

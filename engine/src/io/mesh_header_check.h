@@ -25,8 +25,11 @@ using ReadReferencedFile =
 /// "stl"): the triangle count; FBX (format "fbx"): the scopes' nesting and the binary arrays
 /// (checkFbx). Ok, or an error naming the file and the problem. PLY goes through plyGeometry
 /// and OBJ through objGeometry instead: Ok. `readReferenced` reads a glTF's external buffers.
+/// Where assimp must be given other bytes than the file's (an FBX with animations: checkFbx),
+/// they are put in `forAssimp`, which stays empty otherwise.
 Status checkMeshBytes(std::string_view bytes, const std::string& file, const std::string& format,
-                      const ReadReferencedFile& readReferenced = {});
+                      const ReadReferencedFile& readReferenced = {},
+                      std::string* forAssimp = nullptr);
 
 /// A glTF's JSON text (a .gltf file or a GLB's JSON chunk) checked for everything assimp's
 /// glTF 2 reader trusts, before it runs: nesting depth (checkJsonDepth), a JSON text both
@@ -45,8 +48,10 @@ Status checkGltf(const std::string& file, std::string_view jsonText,
 /// An FBX file's scopes (ASCII braces outside strings and comments, binary nested node
 /// records) nested no deeper than kMaxFbxDepth: one linear pass, no recursion. In a binary
 /// file every array property also holds exactly its elements, raw or as zlib data that
-/// inflates to them, and all together no more than kMaxFbxInflatedBytes.
-Status checkFbx(const std::string& file, std::string_view bytes);
+/// inflates to them, and all together no more than kMaxFbxInflatedBytes. Where the file has
+/// animation stacks and `forAssimp` is given, it receives the bytes assimp is to read: the same,
+/// with each stack's name changed at its last letter, so that assimp converts no animation.
+Status checkFbx(const std::string& file, std::string_view bytes, std::string* forAssimp = nullptr);
 
 /// The format a mesh file is read as: one of "obj", "ply", "stl", "fbx", "gltf", "glb", chosen
 /// by the bytes' content first (an OBJ named ".OBJ.bak" is read, and checked, as OBJ) and by

@@ -136,6 +136,11 @@ void configure(Assimp::Importer& importer) {
     // Points and lines carry no surface: drop them instead of failing on mixed files.
     importer.SetPropertyInteger(AI_CONFIG_PP_SBP_REMOVE,
                                 aiPrimitiveType_POINT | aiPrimitiveType_LINE);
+    // Plimsoll reads shapes: an FBX's cameras and lights are not converted (its animations are
+    // hidden from assimp by the check, which assimp's setting for them does not do: checkFbx).
+    importer.SetPropertyBool(AI_CONFIG_IMPORT_FBX_READ_ANIMATIONS, false);
+    importer.SetPropertyBool(AI_CONFIG_IMPORT_FBX_READ_CAMERAS, false);
+    importer.SetPropertyBool(AI_CONFIG_IMPORT_FBX_READ_LIGHTS, false);
 }
 
 unsigned importFlags(MeshLoadOptions options) {
@@ -335,10 +340,12 @@ Result<TriangleMesh> importBytes(std::string_view bytes, std::string format,
     detail::ReadReferencedFile readReferenced;
     if (files->hasFolder())
         readReferenced = [files](const std::string& uri) { return files->load(uri); };
-    if (Status checked = detail::checkMeshBytes(bytes, source, format, readReferenced);
+    std::string forAssimp;
+    if (Status checked = detail::checkMeshBytes(bytes, source, format, readReferenced, &forAssimp);
         !checked.ok())
         return checked.error();
-    const aiScene* scene = importer.ReadFileFromMemory(bytes.data(), bytes.size(),
+    const std::string_view given = forAssimp.empty() ? bytes : std::string_view(forAssimp);
+    const aiScene* scene = importer.ReadFileFromMemory(given.data(), given.size(),
                                                        importFlags(options), format.c_str());
     return fromScene(scene, importer, source, options, facts, files->refusal());
 }
