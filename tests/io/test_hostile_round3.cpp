@@ -440,6 +440,13 @@ TEST(HostileFbx, APropertyLengthPastItsRecordIsRefusedBeforeAssimp) {
         EXPECT_CONTAINS(message,
                         "wrap.ply: the FBX record at byte 27 declares "
                         "18446744073709551615 bytes of properties, past its end");
+        // The same record ending one byte past the file, where assimp's copy has a NUL.
+        for (int k = 0; k < 8; ++k)
+            bytes[27 + k] = static_cast<char>((bytes.size() + 1) >> (8 * k));
+        test::writeFile(dir / "past.ply", bytes);
+        EXPECT_CONTAINS(test::messageOf(loadMesh(dir / "past.ply")),
+                        "past.ply: the FBX record at byte 27 ends at byte " +
+                            std::to_string(bytes.size() + 1) + ", outside the file");
     }
 }
 

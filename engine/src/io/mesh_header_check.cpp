@@ -840,7 +840,14 @@ Status checkBinaryFbx(const std::string& file, std::string_view bytes,
         const std::uint64_t propertyCount = readLittleEndian(bytes, at + field, field);
         const std::uint64_t propertyBytes = readLittleEndian(bytes, at + 2 * field, field);
         const std::uint64_t nameBytes = static_cast<unsigned char>(bytes[at + 3 * field]);
-        if (end <= at || end > ends.back()) return Ok{};  // assimp compares these as numbers
+        // assimp compares a record's end with its parent's as numbers, but the file's own end
+        // is one byte further for it (it appends a NUL): a record ending on that byte passed
+        // into reads past the file (the PLY fuzzer's second finding, FBX by content).
+        if (end <= at || end > ends.back())
+            return makeError(ErrorKind::format, file + ": the FBX record at byte " +
+                                                    std::to_string(at) + " ends at byte " +
+                                                    std::to_string(end) + ", outside " +
+                                                    (ends.size() == 1 ? "the file" : "its parent"));
         // assimp adds the property length to a pointer before comparing it with the record's
         // end: a 64-bit length near 2^64 wraps past that check into an assertion (abort). A
         // length past the record's end is refused here, whatever it is.
