@@ -505,16 +505,14 @@ Wrench World::wrenchOf(const SimulatedBody& body, const RigidBodyState& state,
         w.force += r->memoryWrench.force;
         w.torque += r->memoryWrench.torque;
     }
-    // An outside push is neither dissipation nor capped: it is what the user asked for.
-    if (index < externalForces_.size() && externalForces_[index]) {
-        const Wrench external = externalForces_[index](body, state);
-        w.force += external.force;
-        w.torque += external.torque;
-    }
-    if (index < contactForces_.size() && contactForces_[index]) {
-        const Wrench contact = contactForces_[index](body, state);
-        w.force += contact.force;
-        w.torque += contact.torque;
+    // An outside push and a resting contact are neither dissipation nor capped: they are what
+    // the user asked for.
+    for (const std::vector<ExternalForce>* forces : {&externalForces_, &contactForces_}) {
+        if (index < forces->size() && (*forces)[index]) {
+            const Wrench added = (*forces)[index](body, state);
+            w.force += added.force;
+            w.torque += added.torque;
+        }
     }
     return w;
 }
@@ -804,26 +802,24 @@ Status World::wake(std::size_t i) {
     return Ok{};
 }
 
-Status World::setExternalForce(std::size_t i, ExternalForce force) {
+Status World::setForceOf(std::vector<ExternalForce>& forces, std::size_t i, ExternalForce force,
+                         const char* what) {
     if (i >= bodies_.size()) {
         return makeError(ErrorKind::invalidArgument,
-                         "setExternalForce: no body " + std::to_string(i));
+                         std::string(what) + ": no body " + std::to_string(i));
     }
-    externalForces_.resize(bodies_.size());
-    externalForces_[i] = std::move(force);
+    forces.resize(bodies_.size());
+    forces[i] = std::move(force);
     wakeBody(i);
     return Ok{};
 }
 
+Status World::setExternalForce(std::size_t i, ExternalForce force) {
+    return setForceOf(externalForces_, i, std::move(force), "setExternalForce");
+}
+
 Status World::setContactForce(std::size_t i, ExternalForce contact) {
-    if (i >= bodies_.size()) {
-        return makeError(ErrorKind::invalidArgument,
-                         "setContactForce: no body " + std::to_string(i));
-    }
-    contactForces_.resize(bodies_.size());
-    contactForces_[i] = std::move(contact);
-    wakeBody(i);
-    return Ok{};
+    return setForceOf(contactForces_, i, std::move(contact), "setContactForce");
 }
 
 void World::setWater(const WaterModel& water) {

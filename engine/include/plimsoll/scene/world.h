@@ -207,6 +207,9 @@ public:
     double mechanicalEnergy(std::size_t body) const;
 
 private:
+    /// Sets body i's entry of `forces` (external or contact) and wakes it; `what` names the call.
+    Status setForceOf(std::vector<ExternalForce>& forces, std::size_t i, ExternalForce force,
+                      const char* what);
     World(Scene scene, std::unique_ptr<BuoyancyBackend> backend, LogFunction log);
 
     struct Deformation;  // frames and piece table of a deforming body
