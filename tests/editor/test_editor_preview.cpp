@@ -293,6 +293,31 @@ std::unique_ptr<PreviewSession> sessionOf(const Document& document) {
     return made ? std::move(*made) : nullptr;
 }
 
+/// A sample project open in a document, a session that follows the document and a twin that
+/// does not, both stepped `frames` frames: what each edit-during-preview test starts from.
+struct Twins {
+    std::unique_ptr<Document> doc;
+    std::unique_ptr<PreviewSession> session, twin;
+    explicit operator bool() const { return doc && session && twin; }
+};
+Twins twinsOf(const std::string& project, int frames) {
+    Twins t;
+    t.doc = test::openOrFail(fs::path(PLIMSOLL_SOURCE_DIR) / "projects" / project);
+    if (!t.doc) return t;
+    t.session = sessionOf(*t.doc);
+    t.twin = sessionOf(*t.doc);
+    if (!t.session || !t.twin) return t;
+    EXPECT_TRUE(t.session->followDocument(*t.doc).ok());
+    for (int i = 0; i < frames; ++i) {
+        if (!t.session->step().ok() || !t.twin->step().ok()) {
+            ADD_FAILURE() << project << ": step " << i << " failed";
+            t.twin.reset();
+            return t;
+        }
+    }
+    return t;
+}
+
 TEST(PreviewSession, PaintedDensityChangesTheMassOnTheNextFrame) {
     std::unique_ptr<Document> doc =
         test::openOrFail(fs::path(PLIMSOLL_SOURCE_DIR) / "projects" / "buoy.plim.json");
@@ -336,13 +361,10 @@ TEST(PreviewSession, PaintedThicknessChangesTheMassOnTheNextFrame) {
     // The buoy: a solid of 150 kg/m^3 and a ballasted shell (its density map). A thickness map
     // filled at one half while the preview runs halves the shell: the mass becomes the solid's
     // plus half the shell's, at once, and the next frame's weight is lighter by the difference.
-    std::unique_ptr<Document> doc =
-        test::openOrFail(fs::path(PLIMSOLL_SOURCE_DIR) / "projects" / "buoy.plim.json");
-    ASSERT_TRUE(doc);
-    auto session = sessionOf(*doc), twin = sessionOf(*doc);
-    ASSERT_TRUE(session && twin);
-    ASSERT_TRUE(session->followDocument(*doc).ok());
-    for (int i = 0; i < 30; ++i) ASSERT_TRUE(session->step().ok() && twin->step().ok());
+    Twins t = twinsOf("buoy.plim.json", 30);
+    ASSERT_TRUE(t);
+    std::unique_ptr<Document>& doc = t.doc;
+    std::unique_ptr<PreviewSession>&session = t.session, &twin = t.twin;
     const SimulatedBody& buoy = session->world().bodies()[0];
     const double before = buoy.mass.mass;
     const double solid = 150.0 * buoy.volume;
@@ -374,13 +396,10 @@ TEST(PreviewSession, PaintedThicknessChangesTheMassOnTheNextFrame) {
 }
 
 TEST(PreviewSession, PaintedPermeabilityStopsTheFloodingFromTheNextFrame) {
-    std::unique_ptr<Document> doc =
-        test::openOrFail(fs::path(PLIMSOLL_SOURCE_DIR) / "projects" / "damaged_boat.plim.json");
-    ASSERT_TRUE(doc);
-    auto session = sessionOf(*doc), twin = sessionOf(*doc);
-    ASSERT_TRUE(session && twin);
-    ASSERT_TRUE(session->followDocument(*doc).ok());
-    for (int i = 0; i < 180; ++i) ASSERT_TRUE(session->step().ok() && twin->step().ok());
+    Twins t = twinsOf("damaged_boat.plim.json", 180);
+    ASSERT_TRUE(t);
+    std::unique_ptr<Document>& doc = t.doc;
+    std::unique_ptr<PreviewSession>&session = t.session, &twin = t.twin;
     const double water = session->world().bodies()[0].water;
     ASSERT_GT(water, 1e-3) << "the boat should be flooding through its stern";
     const RigidBodyState state = session->world().bodies()[0].state;
@@ -416,13 +435,10 @@ TEST(PreviewSession, GraphEditsChangeTheFloodingOnTheNextFrameKeepingStateAndWat
     // carries water on. The pipe removed while it floods: from the next frame on the aft,
     // fore and bow compartments (no damage over them) take no more water, while the twin that
     // did not follow keeps passing it on.
-    std::unique_ptr<Document> doc =
-        test::openOrFail(fs::path(PLIMSOLL_SOURCE_DIR) / "projects" / "damaged_boat.plim.json");
-    ASSERT_TRUE(doc);
-    auto session = sessionOf(*doc), twin = sessionOf(*doc);
-    ASSERT_TRUE(session && twin);
-    ASSERT_TRUE(session->followDocument(*doc).ok());
-    for (int i = 0; i < 240; ++i) ASSERT_TRUE(session->step().ok() && twin->step().ok());
+    Twins t = twinsOf("damaged_boat.plim.json", 240);
+    ASSERT_TRUE(t);
+    std::unique_ptr<Document>& doc = t.doc;
+    std::unique_ptr<PreviewSession>&session = t.session, &twin = t.twin;
     const std::map<std::string, double> before = nodeWater(*session);
     ASSERT_EQ(before.size(), 4u);
     ASSERT_GT(before.at("stern"), 1e-3) << "the stern should be flooding";
