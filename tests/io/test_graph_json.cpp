@@ -56,6 +56,35 @@ TEST(GraphJson, ReportsEveryStructuralProblemWithItsPath) {
     EXPECT_EQ(newer.error().kind, ErrorKind::unsupported);
 }
 
+// JSON text is UTF-8: names in any script load and save back unchanged; a byte sequence that is
+// not UTF-8 (a stray Latin-1 byte, an overlong form, an encoded surrogate) is refused by the
+// reader with its position, since a graph that loaded could not be written again.
+TEST(GraphJson, NamesAreUtf8AndMalformedBytesAreRefused) {
+    WaterGraph g = threeNodes();
+    g.nodes[0].name =
+        "K\xc3\xbc"
+        "che \xe8\x88\xb9\xe5\xba\x95 \xf0\x9f\x9a\xa2";  // Küche 船底 🚢
+    const std::string text = graphToJson(g);
+    Result<WaterGraph> back = parseGraph(text, "g.json");
+    ASSERT_TRUE(back.ok()) << back.error().message;
+    EXPECT_EQ(back->nodes[0].name, g.nodes[0].name);
+    for (const std::string bad :
+         {"\xe9"
+          "t"
+          "\xe9",
+          "\xc0\xaf", "\xed\xa0\x80", "\xf4\x90\x80\x80", "\xe8\x88", "\x80"}) {
+        std::string mutated = text;
+        const std::size_t at = mutated.find(g.nodes[0].name);
+        ASSERT_NE(at, std::string::npos);
+        mutated.replace(at, g.nodes[0].name.size(), bad);
+        Result<WaterGraph> refused = parseGraph(mutated, "latin1.json");
+        ASSERT_FALSE(refused.ok()) << "accepted " << bad.size() << " bytes";
+        EXPECT_NE(refused.error().message.find("latin1.json"), std::string::npos);
+        EXPECT_NE(refused.error().message.find("invalid UTF-8"), std::string::npos)
+            << refused.error().message;
+    }
+}
+
 // One reader reads the format for projects and bundles (plimsoll_runtime::readGraphJson); its
 // two forms differ only where the docs say.
 TEST(GraphJson, TheBundleFormIsTheSameReaderWithTheGraphsRules) {

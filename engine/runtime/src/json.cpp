@@ -255,6 +255,36 @@ private:
         return true;
     }
 
+    // One well-formed UTF-8 sequence (RFC 3629: no overlong forms, no surrogates, at most
+    // U+10FFFF) copied to out. JSON text is UTF-8, and what a reader accepts here is written
+    // back by other JSON libraries that refuse anything else.
+    bool utf8Sequence(std::string& out) {
+        const auto byte = [&](std::size_t i) { return static_cast<unsigned char>(s_[i]); };
+        const unsigned char lead = byte(pos_);
+        std::size_t length = 0;
+        unsigned char low = 0x80, high = 0xBF;  // allowed range of the second byte
+        if (lead >= 0xC2 && lead <= 0xDF) {
+            length = 2;
+        } else if (lead >= 0xE0 && lead <= 0xEF) {
+            length = 3;
+            if (lead == 0xE0) low = 0xA0;
+            if (lead == 0xED) high = 0x9F;
+        } else if (lead >= 0xF0 && lead <= 0xF4) {
+            length = 4;
+            if (lead == 0xF0) low = 0x90;
+            if (lead == 0xF4) high = 0x8F;
+        } else {
+            return false;
+        }
+        if (pos_ + length > s_.size()) return false;
+        if (byte(pos_ + 1) < low || byte(pos_ + 1) > high) return false;
+        for (std::size_t i = 2; i < length; ++i)
+            if (byte(pos_ + i) < 0x80 || byte(pos_ + i) > 0xBF) return false;
+        out.append(s_, pos_, length);
+        pos_ += length;
+        return true;
+    }
+
     bool string(std::string& out) {
         ++pos_;  // opening quote
         out.clear();
@@ -262,6 +292,11 @@ private:
             const char c = s_[pos_++];
             if (c == '"') return true;
             if (static_cast<unsigned char>(c) < 0x20) return fail("control character in a string");
+            if (static_cast<unsigned char>(c) >= 0x80) {
+                --pos_;
+                if (!utf8Sequence(out)) return fail("invalid UTF-8 in a string");
+                continue;
+            }
             if (c != '\\') {
                 out += c;
                 continue;
