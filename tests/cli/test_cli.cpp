@@ -69,6 +69,23 @@ TEST(Cli, BakeWritesTexturesAndManifest) {
     EXPECT_NE(r.out.find("closure error"), std::string::npos);
 }
 
+// A file name is bytes and JSON is UTF-8: a mesh named in Latin-1 still bakes, and its name in
+// the manifest (a note for people) shows the byte it cannot hold as U+FFFD.
+TEST(Cli, BakeOfAMeshWhoseNameIsNotUtf8) {
+    const fs::path out = fs::temp_directory_path() / "plimsoll_tests" / "cli_bake_latin1";
+    fs::remove_all(out);
+    fs::create_directories(out);
+    const fs::path mesh = out / "caf\xe9.obj";
+    fs::copy_file(kSphere, mesh);
+    const CommandOutput r = runPlimsoll("bake '" + mesh.string() + "' --size 32 --out '" +
+                                        (out / "textures").string() + "'");
+    ASSERT_EQ(r.exitCode, 0) << r.err;
+    const nlohmann::json manifest =
+        nlohmann::json::parse(test::readFile(out / "textures" / "manifest.json"));
+    EXPECT_EQ(manifest.at("source_mesh").get<std::string>(),
+              (out / "caf\xef\xbf\xbd.obj").string());
+}
+
 TEST(Cli, BadInputGivesAClearErrorAndNonZeroExit) {
     const CommandOutput missing = runPlimsoll("massprops /no/such/mesh.obj --json");
     EXPECT_NE(missing.exitCode, 0);

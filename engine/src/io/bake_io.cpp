@@ -188,7 +188,11 @@ static Status writeTextures(const SurfaceTextures& t, const fs::path& folder,
 
     // The images and the manifest are replaced together: a failure at any step leaves the
     // previous bake as it was, never new images beside an old manifest.
-    const std::string manifest = manifestFor(t, sourceMesh).dump(2) + "\n";
+    // The source mesh's name is only a note for people, and a file name need not be UTF-8 (as
+    // JSON is): a byte that is not is written as U+FFFD rather than refusing the bake.
+    const std::string manifest =
+        manifestFor(t, sourceMesh).dump(2, ' ', false, nlohmann::json::error_handler_t::replace) +
+        "\n";
     std::vector<FileWriter> files;
     for (const auto& [name, image] :
          {std::pair{kPositionFile, &position}, std::pair{kAreaVectorFile, &areaVector},
