@@ -474,6 +474,128 @@ TEST(HostileFbx, AnimationsAreNotConvertedSoTheirKeysCannotAskForGigabytes) {
     EXPECT_EQ(a->positions, b->positions);
 }
 
+/// A 2 m cube in ASCII FBX 7.4, in metres: one mesh of two materials (three faces each), its
+/// model and the materials.
+std::string asciiFbxCube() {
+    return R"(; FBX 7.4.0 project file
+FBXHeaderExtension:  {
+	FBXHeaderVersion: 1003
+	FBXVersion: 7400
+}
+GlobalSettings:  {
+	Version: 1000
+	Properties70:  {
+		P: "UnitScaleFactor", "double", "Number", "",100
+	}
+}
+Objects:  {
+	Geometry: 1000, "Geometry::cube", "Mesh" {
+		Vertices: *24 {
+			a: -1,-1,-1,1,-1,-1,1,1,-1,-1,1,-1,-1,-1,1,1,-1,1,1,1,1,-1,1,1
+		}
+		PolygonVertexIndex: *24 {
+			a: 0,3,2,-2,4,5,6,-8,0,1,5,-5,2,3,7,-7,1,2,6,-6,3,0,4,-8
+		}
+		GeometryVersion: 124
+		LayerElementMaterial: 0 {
+			Version: 101
+			Name: ""
+			MappingInformationType: "ByPolygon"
+			ReferenceInformationType: "IndexToDirect"
+			Materials: *6 {
+				a: 0,0,0,1,1,1
+			}
+		}
+		Layer: 0 {
+			Version: 100
+			LayerElement:  {
+				Type: "LayerElementMaterial"
+				TypedIndex: 0
+			}
+		}
+	}
+	Model: 2000, "Model::cube", "Mesh" {
+		Version: 232
+	}
+	Material: 3000, "Material::steel", "" {
+		Version: 102
+	}
+	Material: 3001, "Material::wood", "" {
+		Version: 102
+	}
+}
+Connections:  {
+	C: "OO",2000,0
+	C: "OO",1000,2000
+	C: "OO",3000,2000
+	C: "OO",3001,2000
+})";
+}
+
+std::string replaced(std::string text, const std::string& from, const std::string& to) {
+    const std::size_t at = text.find(from);
+    EXPECT_NE(at, std::string::npos) << from;
+    if (at != std::string::npos) text.replace(at, from.size(), to);
+    return text;
+}
+
+// What assimp's FBX document and converter read without looking: a layer with no index (read
+// from an empty list: SIGSEGV), a negative layer-element index (written before its array), a
+// per-polygon material list longer than the polygons under a mapping assimp does not resize
+// (the converter walks past the faces: SIGSEGV), and a model that is its own ancestor (endless
+// recursion: SIGSEGV). Each is refused, naming the element and its byte.
+TEST(HostileFbx, WhatAssimpReadsWithoutLookingIsRefusedBeforeIt) {
+    Result<TriangleMesh> cube = loadMeshFromMemory(asciiFbxCube(), "fbx", "cube.fbx");
+    ASSERT_TRUE(cube.ok()) << cube.error().message;
+    EXPECT_EQ(cube->triangleCount(), 12u);
+    const std::pair<std::string, std::string> cases[] = {
+        {replaced(asciiFbxCube(), "Layer: 0 {", "Layer: 0: {"), "'Layer' at byte"},
+        {replaced(asciiFbxCube(), "TypedIndex: 0", "TypedIndex: -1"), "a negative index"},
+        {replaced(asciiFbxCube(), "LayerElementMaterial: 0 {", "LayerElementMaterial: -1 {"),
+         "a negative index"},
+        {replaced(replaced(replaced(asciiFbxCube(), "Materials: *6 {", "Materials: *9 {"),
+                           "a: 0,0,0,1,1,1", "a: 0,0,0,1,1,1,1,1,1"),
+                  "\"ByPolygon\"", "\"ByPolygonVertex\""),
+         "9 materials for 6 polygons"},
+        {replaced(asciiFbxCube(), "C: \"OO\",2000,0", "C: \"OO\",2000,0\n\tC: \"OO\",2000,2000"),
+         "model 2000 is its own ancestor"},
+    };
+    for (const auto& [text, expected] : cases) {
+        const std::string message = test::messageOf(loadMeshFromMemory(text, "fbx", "mutated.fbx"));
+        EXPECT_CONTAINS(message, "mutated.fbx: the FBX ");
+        EXPECT_CONTAINS(message, expected);
+    }
+    EXPECT_CONTAINS(test::messageOf(loadMeshFromMemory(replaced(asciiFbxCube(), "a: -1", "a: \"-1"),
+                                                       "fbx", "quote.fbx")),
+                    "quote.fbx: not a well-formed FBX file: a quote inside a token");
+}
+
+// Plimsoll reads shapes: every object but models, materials and polygon meshes is renamed in
+// assimp's copy, so that their converters, which trust their files, never run. A layered
+// texture fed by a material (assimp takes every source of a layered texture for a texture and
+// read through a null pointer: SIGSEGV) reads as the plain cube.
+TEST(HostileFbx, ObjectsPlimsollDoesNotReadAreNotGivenToAssimp) {
+    std::string layered = replaced(asciiFbxCube(), "\tMaterial: 3001,",
+                                   "\tLayeredTexture: 4000, \"LayeredTexture::layers\", \"\" {\n"
+                                   "\t\tLayeredTexture: 100\n\t}\n"
+                                   "\tTexture: 4001, \"Texture::t\", \"\" {\n"
+                                   "\t\tFileName: \"t.png\"\n\t}\n\tMaterial: 3001,");
+    layered = replaced(layered, "C: \"OO\",3001,2000",
+                       "C: \"OO\",3001,2000\n\tC: \"OP\",4000,3000, \"DiffuseColor\"\n"
+                       "\tC: \"OO\",3001,4000\n\tC: \"OO\",4001,4000");
+    std::string forAssimp;
+    ASSERT_TRUE(detail::checkFbx("layered.fbx", layered, &forAssimp).ok());
+    EXPECT_EQ(forAssimp.size(), layered.size());
+    EXPECT_CONTAINS(forAssimp, "LayeredTextur_: 4000");
+    EXPECT_CONTAINS(forAssimp, "Textur_: 4001");
+    EXPECT_CONTAINS(forAssimp, "Material: 3001");
+    Result<TriangleMesh> read = loadMeshFromMemory(layered, "fbx", "layered.fbx");
+    Result<TriangleMesh> plain = loadMeshFromMemory(asciiFbxCube(), "fbx", "cube.fbx");
+    ASSERT_TRUE(read.ok()) << read.error().message;
+    EXPECT_EQ(read->positions, plain->positions);
+    EXPECT_EQ(read->triangles, plain->triangles);
+}
+
 TEST(HostileMeshFormats, OtherFormatsAreRefusedByContentAndOBJIsReadWhateverItsName) {
     const fs::path dir = test::freshFolder("hostile3", "formats");
     const std::pair<std::string, std::string> refused[] = {

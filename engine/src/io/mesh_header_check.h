@@ -48,9 +48,12 @@ Status checkGltf(const std::string& file, std::string_view jsonText,
 /// An FBX file's scopes (ASCII braces outside strings and comments, binary nested node
 /// records) nested no deeper than kMaxFbxDepth: one linear pass, no recursion. In a binary
 /// file every array property also holds exactly its elements, raw or as zlib data that
-/// inflates to them, and all together no more than kMaxFbxInflatedBytes. Where the file has
-/// animation stacks and `forAssimp` is given, it receives the bytes assimp is to read: the same,
-/// with each stack's name changed at its last letter, so that assimp converts no animation.
+/// inflates to them, and all together no more than kMaxFbxInflatedBytes. Then the element tree
+/// as assimp's parser builds it, checked for what assimp reads without looking (fbx_check.cpp:
+/// layer indices, per-polygon material lists, models that are their own ancestors). Where the
+/// file has objects Plimsoll does not read (anything but models, materials and polygon meshes)
+/// and `forAssimp` is given, it receives the bytes assimp is to read: the same, with each such
+/// object's name changed at its last letter, so that assimp reads none of them.
 Status checkFbx(const std::string& file, std::string_view bytes, std::string* forAssimp = nullptr);
 
 /// The format a mesh file is read as: one of "obj", "ply", "stl", "fbx", "gltf", "glb", chosen
