@@ -227,17 +227,7 @@ public:
     template <class Visitor>
     void walk(std::uint32_t first, std::uint32_t count, std::int32_t inherited,
               Visitor& visitor) const {
-        constexpr std::uint32_t kSiblings = 8;
-        for (std::uint32_t from = first; from < first + count; from += kSiblings) {
-            const std::uint32_t m = std::min(kSiblings, first + count - from);
-            typename Visitor::Found found[kSiblings];
-            for (std::uint32_t c = 0; c < m; ++c) visitor.classify(nodes_[from + c], found[c]);
-            for (std::uint32_t c = 0; c < m; ++c) {
-                const FastTile& t = nodes_[from + c];
-                const FastWalkStep step = visitor.visit(t, found[c], inherited);
-                if (step.descend) walk(t.firstChild, t.children, step.inherited, visitor);
-            }
-        }
+        walkLevel<0>(first, count, inherited, visitor);
     }
 
     /// walk from one node: it, then the children its visit asks for (no loop over siblings).
@@ -246,10 +236,36 @@ public:
         typename Visitor::Found found;
         visitor.classify(node, found);
         const FastWalkStep step = visitor.visit(node, found, inherited);
-        if (step.descend) walk(node.firstChild, node.children, step.inherited, visitor);
+        if (step.descend) walkLevel<1>(node.firstChild, node.children, step.inherited, visitor);
     }
 
 private:
+    /// The tree's levels below a walk's first nodes: groups, tiles, leaves (which have no
+    /// children).
+    static constexpr int kLevels = 3;
+
+    /// walk at one depth. A function per depth rather than recursion: the evaluation's
+    /// instruction-set builds (fast_isa.hpp) inline every call of their body, and a recursive
+    /// call would stay one function built for the baseline.
+    template <int Level, class Visitor>
+    void walkLevel(std::uint32_t first, std::uint32_t count, std::int32_t inherited,
+                   Visitor& visitor) const {
+        constexpr std::uint32_t kSiblings = 8;
+        for (std::uint32_t from = first; from < first + count; from += kSiblings) {
+            const std::uint32_t m = std::min(kSiblings, first + count - from);
+            typename Visitor::Found found[kSiblings];
+            for (std::uint32_t c = 0; c < m; ++c) visitor.classify(nodes_[from + c], found[c]);
+            for (std::uint32_t c = 0; c < m; ++c) {
+                const FastTile& t = nodes_[from + c];
+                const FastWalkStep step = visitor.visit(t, found[c], inherited);
+                if constexpr (Level + 1 < kLevels) {
+                    if (step.descend)
+                        walkLevel<Level + 1>(t.firstChild, t.children, step.inherited, visitor);
+                }
+            }
+        }
+    }
+
     static std::uint64_t interleave(std::uint64_t v) {
         v &= 0x3ff;
         v = (v | v << 16) & 0x30000ff;
