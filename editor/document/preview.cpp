@@ -427,12 +427,29 @@ Status PreviewSession::grab(std::size_t body, const Eigen::Vector3d& objectPoint
     const double omega = 2.0 * std::numbers::pi * kGrabFrequencyHz;
     grabStiffness_ = stiffness > 0 ? stiffness : mass * omega * omega;
     grabDamping_ = 2.0 * std::sqrt(grabStiffness_ * mass);  // critical for the body's mass
+    const std::optional<std::size_t> previous = grabbedBody_;
     grabbedBody_ = body;
     grabObjectPoint_ = objectPoint;
     grabTarget_ = target;
     grabImpulse_ = Eigen::Vector3d::Zero();
-    installForces();
+    // Setting a body's force wakes it: only the bodies whose spring changes are told, so that
+    // a grab wakes the grabbed body and leaves every other sleeper asleep.
+    if (previous && *previous != body) installSpring(*previous);
+    installSpring(body);
     return Ok{};
+}
+
+void PreviewSession::installSpring(std::size_t body) {
+    ExternalForce spring;
+    if (grabbedBody_ == body) {
+        spring = [this](const SimulatedBody& b, const RigidBodyState& s) {
+            const Wrench w =
+                springWrench(b, s, grabObjectPoint_, grabTarget_, grabStiffness_, grabDamping_);
+            grabForceSum_ += w.force;
+            return w;
+        };
+    }
+    (void)world_->setExternalForce(body, std::move(spring));
 }
 
 void PreviewSession::installForces() {
@@ -463,16 +480,7 @@ void PreviewSession::installForces() {
             };
         }
         (void)world_->setContactForce(body, std::move(contact));
-        ExternalForce spring;
-        if (grabbedBody_ == body) {
-            spring = [this](const SimulatedBody& b, const RigidBodyState& s) {
-                const Wrench w =
-                    springWrench(b, s, grabObjectPoint_, grabTarget_, grabStiffness_, grabDamping_);
-                grabForceSum_ += w.force;
-                return w;
-            };
-        }
-        (void)world_->setExternalForce(body, std::move(spring));
+        installSpring(body);
     }
 }
 
@@ -664,8 +672,10 @@ double PreviewSession::lowestPoint(std::size_t body) const {
 }
 
 void PreviewSession::release() {
+    if (!grabbedBody_) return;
+    const std::size_t body = *grabbedBody_;
     grabbedBody_.reset();
-    installForces();
+    installSpring(body);  // the others keep sleeping
 }
 
 Eigen::Vector3d PreviewSession::grabPoint() const {

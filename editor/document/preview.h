@@ -226,6 +226,9 @@ private:
     /// a body lying still on it may sleep) and, for the grabbed body, the spring as its
     /// external force (a push: it wakes the body and keeps it awake).
     void installForces();
+    /// Body `body`'s grab spring: the spring while it is grabbed, none otherwise (the body
+    /// wakes; no other does).
+    void installSpring(std::size_t body);
     SeaFloor seaFloor_;
     /// What followDocument last saw of the document, per body: the material, the
     /// permeability, shell density and thickness images (null: no map) and the water graph

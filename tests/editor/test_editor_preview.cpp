@@ -234,6 +234,39 @@ TEST(PreviewSession, BoxAtRestOnTheSeaFloorSleepsAndAGrabWakesIt) {
     EXPECT_FALSE(asleep());
 }
 
+TEST(PreviewSession, AGrabWakesTheGrabbedBodyAndNoOther) {
+    // Two boxes 4 m apart at rest on the sea floor, both asleep. Grabbing one wakes it alone:
+    // the other keeps its pose exactly and sleeps on, through the grab and the release.
+    Project project = sinkingBox();
+    project.bodies.push_back(project.bodies[0]);
+    project.bodies[1].name = "box 2";
+    project.bodies[1].position = project.bodies[0].position + Eigen::Vector3d(4.0, 0, 0);
+    auto session = makeSession(project);
+    ASSERT_TRUE(session);
+    session->setSeaFloor(SeaFloor{.enabled = true, .depth = 2.0});
+    const auto asleep = [&](std::size_t i) { return session->world().bodies()[i].asleep; };
+    for (int f = 0; f < 20 * 60 && !(asleep(0) && asleep(1)); ++f)
+        ASSERT_TRUE(session->step().ok());
+    ASSERT_TRUE(asleep(0) && asleep(1)) << "not both asleep after 20 s";
+    const RigidBodyState rest = session->world().bodies()[1].state;
+    const std::size_t wakeUps = session->world().statistics().wakeUps;
+    const Eigen::Vector3d centre = session->world().bodies()[0].state.position;
+    ASSERT_TRUE(session
+                    ->grab(0, session->world().bodies()[0].mass.centerOfMass,
+                           centre + Eigen::Vector3d(0, 1, 0))
+                    .ok());
+    for (int i = 0; i < 30; ++i) ASSERT_TRUE(session->step().ok());
+    EXPECT_FALSE(asleep(0));
+    EXPECT_GT(session->world().bodies()[0].state.position.y(), centre.y() + 0.05);
+    EXPECT_TRUE(asleep(1)) << "the grab woke the other box";
+    EXPECT_EQ(session->world().statistics().wakeUps, wakeUps + 1);
+    session->release();
+    ASSERT_TRUE(session->step().ok());
+    EXPECT_TRUE(asleep(1)) << "the release woke the other box";
+    EXPECT_EQ(session->world().bodies()[1].state.position, rest.position);
+    EXPECT_EQ(session->world().statistics().wakeUps, wakeUps + 1);
+}
+
 TEST(PreviewSession, WithoutTheSeaFloorTheBoxKeepsSinking) {
     auto session = makeSession(sinkingBox());
     ASSERT_TRUE(session);
