@@ -522,6 +522,44 @@ TEST(PreviewSession, GraphEditsChangeTheFloodingOnTheNextFrameKeepingStateAndWat
     for (const auto& [id, water] : nodeWater(*session)) EXPECT_EQ(water, 0.0) << id;
 }
 
+TEST(PreviewSession, AnInvalidGraphEditIsSaidAndHeldBackUntilValidAgain) {
+    // A pipe of the flooding boat's graph turned toward a node that does not exist: the preview
+    // says so, naming the body and the node, and runs on with the graph it had (as the twin
+    // that did not follow); a later edit that makes the graph valid again is taken.
+    Twins t = twinsOf("damaged_boat.plim.json", 120);
+    ASSERT_TRUE(t);
+    std::unique_ptr<Document>& doc = t.doc;
+    std::unique_ptr<PreviewSession>&session = t.session, &twin = t.twin;
+    WaterGraph graph = *doc->graph(0);
+    ASSERT_EQ(graph.pipes.size(), 3u);
+    graph.pipes[0].b = "nowhere";
+    test::executeOrFail(*doc, makeReplaceGraphCommand(*doc, 0, graph, "Broken pipe"));
+    Result<std::vector<std::size_t>> seen = session->followDocument(*doc);
+    ASSERT_FALSE(seen.ok());
+    const std::string& said = seen.error().message;
+    EXPECT_NE(said.find(session->scene().bodies[0].label), std::string::npos) << said;
+    EXPECT_NE(said.find("no node 'nowhere'"), std::string::npos) << said;
+    EXPECT_NE(said.find("not simulated"), std::string::npos) << said;
+    EXPECT_NE(session->graphProblem(0).find("no node 'nowhere'"), std::string::npos);
+    // Asked again (another edit, or none), it still says so: the problem stays until fixed.
+    EXPECT_FALSE(session->followDocument(*doc).ok());
+    for (int i = 0; i < 60; ++i) ASSERT_TRUE(session->step().ok() && twin->step().ok());
+    EXPECT_EQ(nodeWater(*session), nodeWater(*twin));
+    EXPECT_EQ(session->world().waterGraph(0)->graph().pipes[0].b, "aft");  // as it ran
+    // The scene keeps the graph that runs: a reset (a rebuild from it) works.
+    ASSERT_TRUE(session->reset().ok());
+    EXPECT_EQ(session->world().waterGraph(0)->graph().pipes.size(), 3u);
+
+    // Valid again (the broken pipe removed): taken from the next frame, the problem gone.
+    graph.pipes.erase(graph.pipes.begin());
+    test::executeOrFail(*doc, makeReplaceGraphCommand(*doc, 0, graph, "Pipe removed"));
+    seen = session->followDocument(*doc);
+    ASSERT_TRUE(seen.ok()) << seen.error().message;
+    EXPECT_EQ(*seen, std::vector<std::size_t>{0});
+    EXPECT_EQ(session->graphProblem(0), "");
+    EXPECT_EQ(session->world().waterGraph(0)->graph().pipes.size(), 2u);
+}
+
 TEST(PreviewSession, WaterIntegratorAndTextureSizeChangeWhileRunning) {
     auto session = makeSession(ballProject(0.0, Eigen::Vector3d(0, -9.81, 0)));
     ASSERT_TRUE(session);
