@@ -14,6 +14,7 @@
 
 #include <memory>
 #include <optional>
+#include <set>
 #include <string>
 #include <vector>
 
@@ -105,6 +106,9 @@ struct EditorState {
     bool paintMask = false;
     LayerSliders layerSliders;
     LayerRename layerRename;
+    /// The Layers panel's folders shown closed, as "body/channel/name" (a view setting, not
+    /// an edit: no undo step, not saved).
+    std::set<std::string> collapsedFolders;
     int newMapSize = 1024;       ///< the Tools panel's "New map" size, px
     bool confirmNewMap = false;  ///< "replace the map?" question to open
     /// Key presses since the last frame, in order, from the key callback: a tap shorter than a

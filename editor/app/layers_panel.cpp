@@ -9,6 +9,7 @@
 #include <imgui.h>
 
 #include <cstdio>
+#include <functional>
 #include <optional>
 #include <string>
 
@@ -58,9 +59,27 @@ bool renameField(EditorState& s, int i, const LayerStack& stack) {
     return false;
 }
 
-/// The stack's buttons: add a paint or fill layer above the active one, delete it, move it up
-/// or down; each one command.
-void drawLayerButtons(EditorState& s, std::size_t body, const LayerStack* stack, int count) {
+/// The index of the layer named `name` (names are unique within a map), or -1.
+int layerNamed(const EditorState& s, std::size_t body, const std::string& name) {
+    const LayerStack* stack = s.document->layers(body, s.channel);
+    if (!stack) return -1;
+    for (std::size_t i = 0; i < stack->layers.size(); ++i) {
+        if (stack->layers[i].name == name) return static_cast<int>(i);
+    }
+    return -1;
+}
+
+/// Runs a layer command that keeps the active layer's name, and follows that layer to where
+/// the command put it (a move, a folder's change).
+void executeFollowing(EditorState& s, std::size_t body, const std::string& active,
+                      Result<std::unique_ptr<Command>> command) {
+    if (!s.execute(std::move(command))) return;
+    if (const int i = layerNamed(s, body, active); i >= 0) s.activeLayer = i;
+}
+
+/// Adds a paint / fill layer above the active one, or a folder above the active item (the
+/// active layer's folder, where it is in one: folders do not nest).
+void drawAddButtons(EditorState& s, std::size_t body, const LayerStack* stack) {
     const int active = s.activeLayer;
     if (ImGui::Button("+ Paint")) {
         if (s.execute(makeAddLayerCommand(*s.document, body, s.channel, LayerKind::Paint, "", 1.0,
@@ -79,75 +98,162 @@ void drawLayerButtons(EditorState& s, std::size_t body, const LayerStack* stack,
     }
     tooltip("A layer of one value (the brush value); give it a mask to place it.");
     ImGui::SameLine();
-    ImGui::BeginDisabled(count < 2);
-    if (ImGui::Button("Delete")) {
-        if (s.execute(makeRemoveLayerCommand(*s.document, body, s.channel, active))) {
-            s.activeLayer = std::max(0, active - 1);
-        }
+    if (ImGui::Button("+ Folder")) {
+        const int folder = stack ? folderOf(*stack, active) : -1;
+        const int at = (folder >= 0 ? folder : active) + 1;
+        if (s.execute(
+                makeAddLayerCommand(*s.document, body, s.channel, LayerKind::Folder, "", 1.0, at)))
+            s.activeLayer = at;
     }
-    tooltip("Removes the active layer (the bottom one stays: a map has at least one).");
-    ImGui::EndDisabled();
-    ImGui::SameLine();
-    ImGui::BeginDisabled(!stack || active + 1 >= count);
-    if (ImGui::ArrowButton("##up", ImGuiDir_Up)) {
-        if (s.execute(makeMoveLayerCommand(*s.document, body, s.channel, active, active + 1))) {
-            s.activeLayer = active + 1;
-        }
-    }
-    tooltip("Moves the active layer up, over the one above it.");
-    ImGui::EndDisabled();
-    ImGui::SameLine();
-    ImGui::BeginDisabled(!stack || active <= 0);
-    if (ImGui::ArrowButton("##down", ImGuiDir_Down)) {
-        if (s.execute(makeMoveLayerCommand(*s.document, body, s.channel, active, active - 1))) {
-            s.activeLayer = active - 1;
-        }
-    }
-    tooltip("Moves the active layer down, under the one below it.");
-    ImGui::EndDisabled();
+    tooltip(
+        "A new folder above the active layer: right-click a layer > Move into folder to fill it.\n"
+        "Its layers are composited together, then shown with the folder's opacity and blend.");
 }
 
-/// The list, top first: visibility, the active layer, rename in place. True when a rename was
-/// confirmed this frame (carried out by the caller, after everything that reads the stack).
-bool drawLayerList(EditorState& s, std::size_t body, const LayerStack& stack, int count,
-                   int active) {
+/// Deletes the active layer (or folder with its layers) and moves it up or down among the
+/// items of its folder; each one command.
+void drawStackButtons(EditorState& s, std::size_t body, const LayerStack* stack, int count) {
+    // Read before any button runs: a command replaces the stack.
+    const int active = s.activeLayer;
+    const int start = stack ? blockStart(*stack, active) : active;
+    const std::string name = stack ? stack->layers[std::size_t(active)].name : std::string();
+    const int above = stack ? siblingAbove(*stack, active) : -1;
+    const int below = stack ? siblingBelow(*stack, active) : -1;
+    ImGui::SameLine();
+    ImGui::BeginDisabled(count - (active - start + 1) < 1);
+    if (ImGui::Button("Delete")) {
+        if (s.execute(makeRemoveLayerCommand(*s.document, body, s.channel, active))) {
+            s.activeLayer = std::max(0, start - 1);
+        }
+    }
+    tooltip(
+        "Removes the active layer, or the active folder with its layers (a map keeps one "
+        "layer).");
+    ImGui::EndDisabled();
+    for (const bool up : {true, false}) {
+        const int to = up ? above : below;
+        ImGui::SameLine();
+        ImGui::BeginDisabled(to < 0);
+        if (ImGui::ArrowButton(up ? "##up" : "##down", up ? ImGuiDir_Up : ImGuiDir_Down))
+            executeFollowing(s, body, name,
+                             makeMoveLayerCommand(*s.document, body, s.channel, active, to));
+        tooltip(up ? "Moves the active layer (or folder) up, over the one above it in its folder."
+                   : "Moves the active layer (or folder) down, under the one below it in its "
+                     "folder.");
+        ImGui::EndDisabled();
+    }
+}
+
+/// The panel's key of a folder shown closed.
+std::string collapseKey(const EditorState& s, std::size_t body, const std::string& name) {
+    return std::to_string(body) + "/" + channelName(s.channel) + "/" + name;
+}
+
+/// Layer `i`'s right-click menu: rename, into or out of a folder. The move is returned, to run
+/// once nothing reads the stack.
+std::function<void()> layerMenu(EditorState& s, std::size_t body, const LayerStack& stack, int i) {
+    std::function<void()> action;
+    const MapLayer& layer = stack.layers[std::size_t(i)];
+    if (ImGui::MenuItem("Rename")) startRename(s, body, i, layer.name);
+    if (layer.isFolder()) return action;
+    const int holder = folderOf(stack, i);
+    if (ImGui::BeginMenu("Move into folder", stack.hasFolders())) {
+        for (int f = 0; f < static_cast<int>(stack.layers.size()); ++f) {
+            const MapLayer& folder = stack.layers[std::size_t(f)];
+            if (!folder.isFolder() || f == holder || !ImGui::MenuItem(folder.name.c_str()))
+                continue;
+            action = [&s, body, i, f, name = layer.name] {
+                executeFollowing(s, body, name,
+                                 makeMoveIntoFolderCommand(*s.document, body, s.channel, i, f));
+            };
+        }
+        ImGui::EndMenu();
+    }
+    if (ImGui::MenuItem("Move out of folder", nullptr, false, holder >= 0)) {
+        action = [&s, body, i, name = layer.name] {
+            executeFollowing(s, body, name,
+                             makeMoveOutOfFolderCommand(*s.document, body, s.channel, i));
+        };
+    }
+    return action;
+}
+
+/// A folder's open / closed arrow before its row.
+void folderArrow(EditorState& s, std::size_t body, const MapLayer& folder) {
+    const std::string key = collapseKey(s, body, folder.name);
+    const bool closed = s.collapsedFolders.count(key) > 0;
+    if (ImGui::ArrowButton("##open", closed ? ImGuiDir_Right : ImGuiDir_Down)) {
+        if (closed)
+            s.collapsedFolders.erase(key);
+        else
+            s.collapsedFolders.insert(key);
+    }
+    tooltip(closed ? "Shows the folder's layers." : "Hides the folder's layers in this list.");
+    ImGui::SameLine();
+}
+
+std::string layerLabel(const LayerStack& stack, int i) {
+    const MapLayer& layer = stack.layers[std::size_t(i)];
+    const std::string held =
+        layer.isFolder() ? ", " + std::to_string(i - blockStart(stack, i)) + " layers" : "";
+    return layer.name + "  (" + layerKindName(layer.kind) + ", " + blendModeName(layer.blend) +
+           ", " + std::to_string(static_cast<int>(layer.opacity * 100 + 0.5f)) + "%" +
+           (layer.mask ? ", mask" : "") + held + ")";
+}
+
+/// Layer `i`'s row: visibility, the active layer, rename in place, its menu. True when a
+/// rename was confirmed; a change to make is left in `action`.
+bool drawLayerRow(EditorState& s, std::size_t body, const LayerStack& stack, int i, int active,
+                  std::function<void()>& action) {
+    const MapLayer& layer = stack.layers[static_cast<std::size_t>(i)];
+    if (layer.isFolder()) folderArrow(s, body, layer);
+    bool visible = layer.visible;
+    if (ImGui::Checkbox("##visible", &visible)) {
+        action = [&s, body, i, visible] {
+            LayerEdit e;
+            e.visible = visible;
+            s.execute(makeSetLayerCommand(*s.document, body, s.channel, i, e));
+        };
+    }
+    tooltip(layer.isFolder() ? "Show or hide the folder with its layers."
+                             : "Show or hide the layer.");
+    ImGui::SameLine();
+    if (s.layerRename.layer == i) return renameField(s, i, stack);
+    if (ImGui::Selectable(layerLabel(stack, i).c_str(), i == active,
+                          ImGuiSelectableFlags_AllowDoubleClick)) {
+        s.activeLayer = i;
+        if (!layer.mask) s.paintMask = false;
+        if (ImGui::IsMouseDoubleClicked(ImGuiMouseButton_Left)) startRename(s, body, i, layer.name);
+    }
+    tooltip(
+        "Click to make it the active layer: strokes, fills and the settings below act on it.\n"
+        "Double-click (or right-click > Rename) to rename it; right-click to move it into or\n"
+        "out of a folder.");
+    if (ImGui::BeginPopupContextItem("##layer_menu")) {
+        if (std::function<void()> moved = layerMenu(s, body, stack, i)) action = std::move(moved);
+        ImGui::EndPopup();
+    }
+    return false;
+}
+
+/// The list, top first, a folder's layers indented under it (hidden while it is closed). True
+/// when a rename was confirmed this frame; a change asked for is left in `action` (both are
+/// carried out by the caller, after everything that reads the stack).
+bool drawLayerList(EditorState& s, std::size_t body, const LayerStack& stack, int count, int active,
+                   std::function<void()>& action) {
     // A rename ends with its map (another body or channel) or its layer (an undo took it).
     LayerRename& rename = s.layerRename;
     if (rename.layer >= count || rename.body != body || rename.channel != s.channel) rename = {};
     bool renameNow = false;
     for (int i = count - 1; i >= 0; --i) {
-        const MapLayer& layer = stack.layers[static_cast<std::size_t>(i)];
-        ImGui::PushID(i);
-        bool visible = layer.visible;
-        if (ImGui::Checkbox("##visible", &visible)) {
-            LayerEdit e;
-            e.visible = visible;
-            s.execute(makeSetLayerCommand(*s.document, body, s.channel, i, e));
-        }
-        tooltip("Show or hide the layer.");
-        ImGui::SameLine();
-        const std::string label = layer.name + "  (" + layerKindName(layer.kind) + ", " +
-                                  blendModeName(layer.blend) + ", " +
-                                  std::to_string(static_cast<int>(layer.opacity * 100 + 0.5f)) +
-                                  "%" + (layer.mask ? ", mask" : "") + ")";
-        if (rename.layer == i) {
-            if (renameField(s, i, stack)) renameNow = true;
-            ImGui::PopID();
+        const int holder = folderOf(stack, i);
+        if (holder >= 0 &&
+            s.collapsedFolders.count(collapseKey(s, body, stack.layers[std::size_t(holder)].name)))
             continue;
-        }
-        if (ImGui::Selectable(label.c_str(), i == active, ImGuiSelectableFlags_AllowDoubleClick)) {
-            s.activeLayer = i;
-            if (!layer.mask) s.paintMask = false;
-            if (ImGui::IsMouseDoubleClicked(ImGuiMouseButton_Left))
-                startRename(s, body, i, layer.name);
-        }
-        tooltip(
-            "Click to make it the active layer: strokes, fills and the settings below act on it.\n"
-            "Double-click (or right-click > Rename) to rename it.");
-        if (ImGui::BeginPopupContextItem("##layer_menu")) {
-            if (ImGui::MenuItem("Rename")) startRename(s, body, i, layer.name);
-            ImGui::EndPopup();
-        }
+        ImGui::PushID(i);
+        if (holder >= 0) ImGui::Indent();
+        if (drawLayerRow(s, body, stack, i, active, action)) renameNow = true;
+        if (holder >= 0) ImGui::Unindent();
         ImGui::PopID();
     }
     return renameNow;
@@ -284,7 +390,8 @@ void drawLayersPanel(EditorState& s, const Rect& area) {
     const int count = stack ? static_cast<int>(stack->layers.size()) : 1;
     if (s.activeLayer >= count || s.activeLayer < 0) s.activeLayer = count - 1;
     const int active = s.activeLayer;
-    drawLayerButtons(s, body, stack, count);
+    drawAddButtons(s, body, stack);
+    drawStackButtons(s, body, stack, count);
     if (!stack) {
         ImGui::TextDisabled("Base (the map; add a layer to stack more)");
         ImGui::End();
@@ -295,9 +402,12 @@ void drawLayersPanel(EditorState& s, const Rect& area) {
     const float listHeight = std::max(
         40.0f, ImGui::GetContentRegionAvail().y - settingRows * ImGui::GetFrameHeightWithSpacing());
     ImGui::BeginChild("##layers", ImVec2(0, listHeight), true);
-    const bool renameNow = drawLayerList(s, body, *stack, count, active);
+    std::function<void()> action;
+    const bool renameNow = drawLayerList(s, body, *stack, count, active, action);
     ImGui::EndChild();
     drawActiveLayerSettings(s, body, activeLayer, active, area.w);
+    // Then: a change asked for in the list replaces the stack the list and the settings read.
+    if (action) action();
     // Last: the rename replaces the stack that `activeLayer` and the list read.
     LayerRename& rename = s.layerRename;
     if (renameNow) {

@@ -81,6 +81,19 @@ bool startPreview(EditorState& s, bool play) {
     return true;
 }
 
+/// A line per body whose edited water graph the preview holds back, in red, for as long as
+/// it does: the status line's message is replaced by the next one, this stays.
+static void drawHeldGraphs(const PreviewSession& session) {
+    for (std::size_t b = 0; b < session.scene().bodies.size(); ++b) {
+        const std::string problem = session.graphProblem(b);
+        if (problem.empty()) continue;
+        ImGui::PushStyleColor(ImGuiCol_Text, ImVec4(1, 0.45f, 0.4f, 1));
+        ImGui::TextWrapped("%s: water graph not simulated (%s); the last valid one runs",
+                           session.scene().bodies[b].label.c_str(), problem.c_str());
+        ImGui::PopStyleColor();
+    }
+}
+
 void stopPreview(EditorState& s) {
     PreviewUi& p = ui(s);
     const bool wasRunning = static_cast<bool>(p.session);
@@ -343,6 +356,7 @@ void drawPreviewPanel(EditorState& s) {
     }
     ImGui::SameLine();
     ImGui::Text("t = %.2f s", session.world().time());
+    drawHeldGraphs(session);
     float scale = static_cast<float>(session.timeScale());
     if (ImGui::SliderFloat("time scale", &scale, 0.05f, 4.0f, "%.2fx",
                            ImGuiSliderFlags_Logarithmic)) {

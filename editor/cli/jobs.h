@@ -54,7 +54,10 @@ Result<Validation> validateJob(const std::string& path, double unitScale);
 // --- massprops -----------------------------------------------------------------------------
 
 struct MassPropsJob {
+    /// A mesh, or a project (*.plim.json): then body `body` of it (empty: the first) with its
+    /// own material, painted maps, openings and texture size, as the World weighs it.
     std::string mesh;
+    std::string body;
     BakeOptions bake;
     bool exact = false;
     double density = 1000.0;

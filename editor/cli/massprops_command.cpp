@@ -1,11 +1,13 @@
 // plimsoll massprops MESH [--size N | --exact] [--density RHO] [--shell-density SIGMA
 //                    [--shell-density-map PNG]] --json
+// plimsoll massprops PROJECT [--body NAME] --json
 #include "cli/commands.h"
 
 #include "cli/common.h"
 #include "cli/jobs.h"
 #include "plimsoll/physics/massprops.h"
 #include "plimsoll/io/painted_map_io.h"
+#include "plimsoll/project/scene_loader.h"
 #include "plimsoll/surface/painted_map.h"
 
 #include <nlohmann/json.hpp>
@@ -33,6 +35,14 @@ int runMassProps(const MassPropsOptions& options) {
     const MeshReport& report = outcome->report;
     if (options.json) {
         std::cout << reportJson(out) << "\n";
+    } else if (out.contains("project")) {
+        std::cout << options.job.mesh << ", body '" << out["body"].get<std::string>()
+                  << "' (texture " << out["texture_size"].get<int>() << "^2)\n"
+                  << "  volume          " << props.volume << " m^3\n"
+                  << "  mass            " << props.mass << " kg\n"
+                  << "  centre of mass  " << props.centerOfMass.transpose() << " m\n"
+                  << "  inertia (kg m^2, about the centre of mass)\n"
+                  << props.inertia << "\n";
     } else {
         std::cout << options.job.mesh << " (" << out["method"].get<std::string>() << ", "
                   << lengthUnitName(report.facts.unitScale) << ": " << report.facts.unitSource
@@ -48,7 +58,65 @@ int runMassProps(const MassPropsOptions& options) {
 }
 }  // namespace
 
+namespace {
+
+bool isProjectPath(const std::string& path) { return path.ends_with(".plim.json"); }
+
+/// The mass properties of a project's body as the World has them: the body loaded and baked by
+/// loadSceneBody, whose bake weighs it (bodyMassProperties: the solid, the shell scaled by the
+/// painted density and thickness maps, the caps and the space behind them). Its radiation is
+/// not computed: it does not change the mass.
+Result<MassPropsOutcome> projectMassPropsJob(const MassPropsJob& o, const Reporter& reporter) {
+    if (o.exact || o.densityGiven || o.shellDensity > 0 || !o.shellDensityMap.empty())
+        return makeError(ErrorKind::invalidArgument,
+                         o.mesh +
+                             ": a project's body has its own material and texture size "
+                             "(--exact, --density, --shell-density and their maps are for "
+                             "meshes)");
+    Result<Project> project = loadProject(o.mesh);
+    if (!project) return project.error();
+    Result<std::size_t> index = bodyIndexOf(*project, o.body, o.mesh);
+    if (!index) return index.error();
+    project->bodies[*index].radiation = RadiationDesc{.enabled = false};
+    Result<SceneBody> body = loadSceneBody(
+        *project, *index, [&](const std::string& line) { reporter.note("note: " + line + "\n"); });
+    if (!body) return body.error();
+    MassPropsOutcome outcome;
+    outcome.props = *body->mass;
+    const MaterialDesc& material = body->desc.material;
+    nlohmann::json& out = outcome.json;
+    out = {{"method", "texture"},
+           {"project", o.mesh},
+           {"body", body->desc.name},
+           {"mesh", body->desc.mesh},
+           {"texture_size", body->desc.textureSize},
+           {"covered_texels", body->textures->distinctTexelCount()},
+           {"density", material.density.value_or(0.0)},
+           {"shell_density", material.shellSurfaceDensity.value_or(0.0)},
+           {"shell_density_map", material.shellDensityMap},
+           {"shell_thickness_map", material.shellThicknessMap}};
+    return outcome;
+}
+
+void putMassProperties(nlohmann::json& out, const MassProperties& props) {
+    out["volume"] = props.volume;
+    out["mass"] = props.mass;
+    out["center_of_mass"] = vectorJson(props.centerOfMass);
+    out["inertia"] = {vectorJson(props.inertia.row(0)), vectorJson(props.inertia.row(1)),
+                      vectorJson(props.inertia.row(2))};
+}
+
+}  // namespace
+
 Result<MassPropsOutcome> massPropsJob(const MassPropsJob& o, const Reporter& reporter) {
+    if (isProjectPath(o.mesh)) {
+        Result<MassPropsOutcome> outcome = projectMassPropsJob(o, reporter);
+        if (outcome) putMassProperties(outcome->json, outcome->props);
+        return outcome;
+    }
+    if (!o.body.empty())
+        return makeError(ErrorKind::invalidArgument,
+                         "--body names a body of a project (*.plim.json), not of a mesh");
     MassPropsOutcome outcome;
     MeshReport& report = outcome.report;
     std::optional<TriangleMesh> mesh;
@@ -105,11 +173,7 @@ Result<MassPropsOutcome> massPropsJob(const MassPropsJob& o, const Reporter& rep
     out["displacement_volume"] = report.displacementVolume;
     out["density"] = solidDensity;
     out["shell_density"] = o.shellDensity;
-    out["volume"] = props.volume;
-    out["mass"] = props.mass;
-    out["center_of_mass"] = vectorJson(props.centerOfMass);
-    out["inertia"] = {vectorJson(props.inertia.row(0)), vectorJson(props.inertia.row(1)),
-                      vectorJson(props.inertia.row(2))};
+    putMassProperties(out, props);
     return outcome;
 }
 
@@ -118,8 +182,11 @@ void addMassPropsCommand(CLI::App& root, CommandRunner& selected) {
     CLI::App* cmd = root.add_subcommand(
         "massprops", "Volume, mass, centre of mass and inertia, from textures or exactly");
     cmd->add_option("MESH", o->job.mesh,
-                    "Mesh file (a surface that is not one closed solid gives its physics solid)")
+                    "Mesh file (a surface that is not one closed solid gives its physics "
+                    "solid), or a project (*.plim.json): its body as the World weighs it, with "
+                    "its material and painted density and thickness maps")
         ->required();
+    cmd->add_option("--body", o->job.body, "A project's body by name (default: the first)");
     CLI::Option* size = addBakeOptions(*cmd, o->job.bake);
     addUnitOption(*cmd, o->job.bake.unitScale);
     CLI::Option* exact = cmd->add_flag("--exact", o->job.exact,

@@ -224,9 +224,10 @@ Result<PaintTarget> layerTarget(const LayerStack& stack, PaintTarget target) {
                          "layer '" + layer.name + "' has no mask (add one)");
     }
     if (target.part == LayerPart::Pixels && !layer.pixels) {
-        return makeError(
-            ErrorKind::invalidArgument,
-            "layer '" + layer.name + "' is a fill layer: paint its mask, or a paint layer");
+        return makeError(ErrorKind::invalidArgument, "layer '" + layer.name + "' is a " +
+                                                         layerKindName(layer.kind) +
+                                                         (layer.isFolder() ? " " : " layer") +
+                                                         ": paint its mask, or a paint layer");
     }
     return target;
 }
@@ -520,53 +521,84 @@ Status checkUnit(double value, const char* what) {
 
 }  // namespace
 
+namespace {
+
+const char* defaultNameStem(LayerKind kind) {
+    return kind == LayerKind::Fill ? "Fill" : kind == LayerKind::Folder ? "Folder" : "Layer";
+}
+
+/// Inserts `layer` at `index` (clamped; -1: on top). It is in a folder where the layer below
+/// it is, and right below a folder's entry (an empty folder is filled this way); a folder is
+/// never in one, and refused between a folder's layers.
+Status insertLayer(LayerStack& stack, MapLayer layer, int index) {
+    const int count = static_cast<int>(stack.layers.size());
+    const int at = index < 0 || index > count ? count : index;
+    const bool betweenLayers = at > 0 && stack.layers[std::size_t(at - 1)].inFolder;
+    const bool underEntry = at < count && stack.layers[std::size_t(at)].isFolder();
+    if (betweenLayers && layer.isFolder())
+        return makeError(ErrorKind::invalidArgument,
+                         "a folder cannot go inside folder '" +
+                             stack.layers[std::size_t(folderOf(stack, at - 1))].name +
+                             "' (folders do not nest)");
+    layer.inFolder = !layer.isFolder() && (betweenLayers || underEntry);
+    stack.layers.insert(stack.layers.begin() + at, std::move(layer));
+    return Ok{};
+}
+
+}  // namespace
+
 Result<std::unique_ptr<Command>> makeAddLayerCommand(const Document& document, std::size_t body,
                                                      MapChannel channel, LayerKind kind,
                                                      std::string name, double fillValue,
                                                      int index) {
     if (Status ok = checkUnit(fillValue, "a fill layer's value"); !ok) return ok.error();
-    return layerEdit(
-        document, body, channel, std::string("Add ") + layerKindName(kind) + " layer",
-        [&](LayerStack& stack) -> Status {
-            if (Status ok = checkLayerBudget(stack, 1, kind == LayerKind::Paint ? 2 : 0); !ok)
-                return ok;
-            MapLayer layer;
-            layer.kind = kind;
-            // The default names count up from the stack's size, past any taken
-            // (a removed layer's number is not reused while a layer has it).
-            if (name.empty()) {
-                layer.name = unusedLayerName(stack, kind == LayerKind::Fill ? "Fill" : "Layer",
-                                             stack.layers.size());
-            } else if (Status ok = checkLayerName(stack, -1, name); !ok) {
-                return ok;
-            } else {
-                layer.name = trimmedLayerName(name);
-            }
-            if (kind == LayerKind::Paint) {
-                layer.pixels =
-                    std::make_shared<PaintedMap>(uniformMap(stack.width, stack.height, 0.0f));
-                layer.coverage =
-                    std::make_shared<PaintedMap>(uniformMap(stack.width, stack.height, 0.0f));
-            } else {
-                layer.fillValue = static_cast<float>(fillValue);
-            }
-            const int count = static_cast<int>(stack.layers.size());
-            const int at = index < 0 || index > count ? count : index;
-            stack.layers.insert(stack.layers.begin() + at, std::move(layer));
-            return Ok{};
-        });
+    const std::string label = kind == LayerKind::Folder
+                                  ? std::string("Add folder")
+                                  : std::string("Add ") + layerKindName(kind) + " layer";
+    return layerEdit(document, body, channel, label, [&](LayerStack& stack) -> Status {
+        if (Status ok = checkLayerBudget(stack, 1, kind == LayerKind::Paint ? 2 : 0); !ok)
+            return ok;
+        MapLayer layer;
+        layer.kind = kind;
+        // The default names count up from the stack's size, past any taken
+        // (a removed layer's number is not reused while a layer has it).
+        if (name.empty()) {
+            layer.name = unusedLayerName(stack, defaultNameStem(kind), stack.layers.size());
+        } else if (Status ok = checkLayerName(stack, -1, name); !ok) {
+            return ok;
+        } else {
+            layer.name = trimmedLayerName(name);
+        }
+        if (kind == LayerKind::Paint) {
+            layer.pixels =
+                std::make_shared<PaintedMap>(uniformMap(stack.width, stack.height, 0.0f));
+            layer.coverage =
+                std::make_shared<PaintedMap>(uniformMap(stack.width, stack.height, 0.0f));
+        } else if (kind == LayerKind::Fill) {
+            layer.fillValue = static_cast<float>(fillValue);
+        }
+        return insertLayer(stack, std::move(layer), index);
+    });
 }
 
 Result<std::unique_ptr<Command>> makeRemoveLayerCommand(const Document& document, std::size_t body,
                                                         MapChannel channel, int layer) {
-    return layerEdit(document, body, channel, "Remove layer", [&](LayerStack& stack) -> Status {
-        if (Status ok = checkLayerIndex(stack, layer); !ok) return ok;
-        if (stack.layers.size() == 1) {
-            return makeError(ErrorKind::invalidArgument, "the map's last layer cannot go");
-        }
-        stack.layers.erase(stack.layers.begin() + layer);
-        return Ok{};
-    });
+    const LayerStack* current =
+        body < document.bodyCount() ? document.layers(body, channel) : nullptr;
+    const bool folder = current && layer >= 0 && std::size_t(layer) < current->layers.size() &&
+                        current->layers[std::size_t(layer)].isFolder();
+    return layerEdit(
+        document, body, channel, folder ? "Remove folder" : "Remove layer",
+        [&](LayerStack& stack) -> Status {
+            if (Status ok = checkLayerIndex(stack, layer); !ok) return ok;
+            // A folder goes with the layers it holds.
+            const int start = blockStart(stack, layer);
+            if (layer - start + 1 == static_cast<int>(stack.layers.size())) {
+                return makeError(ErrorKind::invalidArgument, "the map's last layer cannot go");
+            }
+            stack.layers.erase(stack.layers.begin() + start, stack.layers.begin() + layer + 1);
+            return Ok{};
+        });
 }
 
 Result<std::unique_ptr<Command>> makeMoveLayerCommand(const Document& document, std::size_t body,
@@ -574,11 +606,66 @@ Result<std::unique_ptr<Command>> makeMoveLayerCommand(const Document& document, 
     return layerEdit(document, body, channel, "Move layer", [&](LayerStack& stack) -> Status {
         if (Status ok = checkLayerIndex(stack, from); !ok) return ok;
         if (Status ok = checkLayerIndex(stack, to); !ok) return ok;
-        MapLayer moved = std::move(stack.layers[static_cast<std::size_t>(from)]);
-        stack.layers.erase(stack.layers.begin() + from);
-        stack.layers.insert(stack.layers.begin() + to, std::move(moved));
+        if (from == to) return Ok{};
+        // Among the items of one folder (or of the top level); a folder moves with its layers.
+        if (folderOf(stack, from) != folderOf(stack, to)) {
+            return makeError(ErrorKind::invalidArgument,
+                             "layers " + std::to_string(from) + " and " + std::to_string(to) +
+                                 " are not in the same folder: move the layer into or out "
+                                 "of the folder");
+        }
+        moveItem(stack, from, to);
         return Ok{};
     });
+}
+
+Result<std::unique_ptr<Command>> makeMoveIntoFolderCommand(const Document& document,
+                                                           std::size_t body, MapChannel channel,
+                                                           int layer, int folder) {
+    return layerEdit(
+        document, body, channel, "Move layer into folder", [&](LayerStack& stack) -> Status {
+            if (Status ok = checkLayerIndex(stack, layer); !ok) return ok;
+            if (Status ok = checkLayerIndex(stack, folder); !ok) return ok;
+            const MapLayer& l = stack.layers[std::size_t(layer)];
+            const MapLayer& f = stack.layers[std::size_t(folder)];
+            if (!f.isFolder())
+                return makeError(ErrorKind::invalidArgument,
+                                 "layer '" + f.name + "' is not a folder");
+            if (l.isFolder())
+                return makeError(
+                    ErrorKind::invalidArgument,
+                    "folder '" + l.name + "' cannot go into a folder (folders do not nest)");
+            if (folderOf(stack, layer) == folder)
+                return makeError(ErrorKind::invalidArgument,
+                                 "layer '" + l.name + "' is in folder '" + f.name + "' already");
+            // On top of the folder's layers, as a drop on a folder puts it.
+            MapLayer moved = std::move(stack.layers[std::size_t(layer)]);
+            stack.layers.erase(stack.layers.begin() + layer);
+            moved.inFolder = true;
+            const int at = layer < folder ? folder - 1 : folder;
+            stack.layers.insert(stack.layers.begin() + at, std::move(moved));
+            return Ok{};
+        });
+}
+
+Result<std::unique_ptr<Command>> makeMoveOutOfFolderCommand(const Document& document,
+                                                            std::size_t body, MapChannel channel,
+                                                            int layer) {
+    return layerEdit(
+        document, body, channel, "Move layer out of folder", [&](LayerStack& stack) -> Status {
+            if (Status ok = checkLayerIndex(stack, layer); !ok) return ok;
+            const int folder = folderOf(stack, layer);
+            if (folder < 0)
+                return makeError(
+                    ErrorKind::invalidArgument,
+                    "layer '" + stack.layers[std::size_t(layer)].name + "' is in no folder");
+            // Right above the folder it leaves.
+            MapLayer moved = std::move(stack.layers[std::size_t(layer)]);
+            stack.layers.erase(stack.layers.begin() + layer);
+            moved.inFolder = false;
+            stack.layers.insert(stack.layers.begin() + folder, std::move(moved));
+            return Ok{};
+        });
 }
 
 Result<std::unique_ptr<Command>> makeRenameLayerCommand(const Document& document, std::size_t body,

@@ -121,17 +121,32 @@ Result<std::unique_ptr<Command>> makeResizeMapCommand(Document& document, std::s
 
 /// A new layer at `index` (clamped; -1: on top). A map without layers first becomes a stack
 /// with the map as its "Base" layer. A paint layer starts transparent-black (value 0, and
-/// Normal blend at its opacity); a fill layer holds `fillValue`. An empty `name` gives the
-/// first free "Layer N" / "Fill N"; a name another layer has is refused (checkLayerName).
+/// Normal blend at its opacity); a fill layer holds `fillValue`; a folder starts empty. An
+/// empty `name` gives the first free "Layer N" / "Fill N" / "Folder N"; a name another layer
+/// has is refused (checkLayerName). A layer put right above one of a folder's layers, or right
+/// below a folder's entry, goes into that folder; a folder between a folder's layers is
+/// refused (folders do not nest).
 Result<std::unique_ptr<Command>> makeAddLayerCommand(const Document& document, std::size_t body,
                                                      MapChannel channel, LayerKind kind,
                                                      std::string name, double fillValue = 1.0,
                                                      int index = -1);
+/// Removes a layer, or a folder with the layers it holds ("Remove folder"); the map keeps one
+/// layer at least.
 Result<std::unique_ptr<Command>> makeRemoveLayerCommand(const Document& document, std::size_t body,
                                                         MapChannel channel, int layer);
-/// Moves layer `from` to position `to` (the others keep their order).
+/// Moves layer `from` to position `to` (the others keep their order). With folders, `from`
+/// and `to` are items of one folder (or both at the top level), a folder moving with its
+/// layers next to `to` (above it when `to` is above); into and out of a folder below.
 Result<std::unique_ptr<Command>> makeMoveLayerCommand(const Document& document, std::size_t body,
                                                       MapChannel channel, int from, int to);
+/// Moves layer `layer` (not a folder) into folder `folder`, on top of its layers.
+Result<std::unique_ptr<Command>> makeMoveIntoFolderCommand(const Document& document,
+                                                           std::size_t body, MapChannel channel,
+                                                           int layer, int folder);
+/// Moves layer `layer` out of its folder, right above the folder.
+Result<std::unique_ptr<Command>> makeMoveOutOfFolderCommand(const Document& document,
+                                                            std::size_t body, MapChannel channel,
+                                                            int layer);
 /// Settings of a layer to change; unset ones stay.
 struct LayerEdit {
     std::optional<std::string> name;  ///< checked as makeRenameLayerCommand checks it

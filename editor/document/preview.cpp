@@ -4,6 +4,7 @@
 #include "document/document.h"
 #include "document/physics_bakes.h"  // lowerThisThreadsPriority
 
+#include "plimsoll/graph/graph.h"
 #include "plimsoll/io/file_util.h"
 #include "plimsoll/scene/controlled_bake.h"
 
@@ -427,12 +428,29 @@ Status PreviewSession::grab(std::size_t body, const Eigen::Vector3d& objectPoint
     const double omega = 2.0 * std::numbers::pi * kGrabFrequencyHz;
     grabStiffness_ = stiffness > 0 ? stiffness : mass * omega * omega;
     grabDamping_ = 2.0 * std::sqrt(grabStiffness_ * mass);  // critical for the body's mass
+    const std::optional<std::size_t> previous = grabbedBody_;
     grabbedBody_ = body;
     grabObjectPoint_ = objectPoint;
     grabTarget_ = target;
     grabImpulse_ = Eigen::Vector3d::Zero();
-    installForces();
+    // Setting a body's force wakes it: only the bodies whose spring changes are told, so that
+    // a grab wakes the grabbed body and leaves every other sleeper asleep.
+    if (previous && *previous != body) installSpring(*previous);
+    installSpring(body);
     return Ok{};
+}
+
+void PreviewSession::installSpring(std::size_t body) {
+    ExternalForce spring;
+    if (grabbedBody_ == body) {
+        spring = [this](const SimulatedBody& b, const RigidBodyState& s) {
+            const Wrench w =
+                springWrench(b, s, grabObjectPoint_, grabTarget_, grabStiffness_, grabDamping_);
+            grabForceSum_ += w.force;
+            return w;
+        };
+    }
+    (void)world_->setExternalForce(body, std::move(spring));
 }
 
 void PreviewSession::installForces() {
@@ -463,16 +481,7 @@ void PreviewSession::installForces() {
             };
         }
         (void)world_->setContactForce(body, std::move(contact));
-        ExternalForce spring;
-        if (grabbedBody_ == body) {
-            spring = [this](const SimulatedBody& b, const RigidBodyState& s) {
-                const Wrench w =
-                    springWrench(b, s, grabObjectPoint_, grabTarget_, grabStiffness_, grabDamping_);
-                grabForceSum_ += w.force;
-                return w;
-            };
-        }
-        (void)world_->setExternalForce(body, std::move(spring));
+        installSpring(body);
     }
 }
 
@@ -523,6 +532,20 @@ Status PreviewSession::rebuildCarryingWater(std::optional<std::size_t> body,
     return swapIn(std::move(*built));
 }
 
+Status PreviewSession::checkEditedGraph(std::size_t body, const std::optional<WaterGraph>& graph) {
+    std::string& problem = graphProblems_[body];
+    problem.clear();
+    if (!graph) return Ok{};
+    const GraphReport report = validateGraph(*graph);
+    for (const GraphProblem& p : report.problems) {
+        if (p.error) problem += (problem.empty() ? "" : "; ") + p.message;
+    }
+    if (problem.empty()) return Ok{};
+    return makeError(ErrorKind::invalidArgument,
+                     scene_.bodies[body].label + ": the edited water graph is not simulated (" +
+                         problem + "); the preview runs the last valid one until it is fixed");
+}
+
 Status PreviewSession::setBodyGraph(std::size_t body, const std::optional<WaterGraph>& before,
                                     const std::optional<WaterGraph>& after,
                                     const std::optional<WaterGraphDesc>& settings) {
@@ -530,6 +553,10 @@ Status PreviewSession::setBodyGraph(std::size_t body, const std::optional<WaterG
         return makeError(ErrorKind::invalidArgument,
                          "setBodyGraph: no body " + std::to_string(body));
     }
+    // A graph the World cannot run (a pipe to a missing node, no nodes, ...) is held back, and
+    // said: the running graph stays until the edits make a valid one.
+    graphProblems_.resize(scene_.bodies.size());
+    if (Status valid = checkEditedGraph(body, after); !valid) return valid;
     SceneBody& b = scene_.bodies[body];
     // The nodes the scene added to the document's graph (the spaces behind an open hull's
     // caps) stay as they are: the document never had them.
@@ -581,6 +608,7 @@ Result<std::vector<std::size_t>> PreviewSession::followDocument(const Document& 
     const bool first = paintSeen_.empty();
     paintSeen_.resize(count);
     std::string stale;
+    std::string held;  // the graphs held back, why
     for (std::size_t b = 0; b < count; ++b) {
         PaintSeen& seen = paintSeen_[b];
         const BodyDesc& desc = document.project().bodies[b];
@@ -589,14 +617,19 @@ Result<std::vector<std::size_t>> PreviewSession::followDocument(const Document& 
                                (!graph || *seen.graph == *graph) &&
                                seen.graphSettings == desc.waterGraph;
         if (first || !graphSame) {
-            const std::optional<WaterGraph> before = std::move(seen.graph);
-            seen.graph = graph ? std::optional<WaterGraph>(*graph) : std::nullopt;
-            seen.graphSettings = desc.waterGraph;
+            // The graph seen is the one running: one held back is tried again at each edit.
+            std::optional<WaterGraph> edited =
+                graph ? std::optional<WaterGraph>(*graph) : std::nullopt;
             if (!first) {
-                if (Status s = setBodyGraph(b, before, seen.graph, desc.waterGraph); !s.ok())
-                    return s.error();
-                changed.push_back(b);
+                if (Status s = setBodyGraph(b, seen.graph, edited, desc.waterGraph); !s.ok()) {
+                    held += (held.empty() ? "" : "\n") + s.error().message;
+                    edited = seen.graph;
+                } else {
+                    changed.push_back(b);
+                }
             }
+            seen.graph = std::move(edited);
+            seen.graphSettings = desc.waterGraph;
         }
         const MaterialDesc& material = desc.material;
         const PaintedMap* permeability = document.map(b, MapChannel::Permeability);
@@ -631,11 +664,10 @@ Result<std::vector<std::size_t>> PreviewSession::followDocument(const Document& 
         if (changed.empty() || changed.back() != b) changed.push_back(b);
     }
     if (!stale.empty()) {
-        return makeError(ErrorKind::invalidArgument,
-                         stale +
-                             ": painted over a repaired solid; restart the preview to use "
-                             "the new paint");
+        held += (held.empty() ? "" : "\n") + stale +
+                ": painted over a repaired solid; restart the preview to use the new paint";
     }
+    if (!held.empty()) return makeError(ErrorKind::invalidArgument, held);
     return changed;
 }
 
@@ -664,8 +696,10 @@ double PreviewSession::lowestPoint(std::size_t body) const {
 }
 
 void PreviewSession::release() {
+    if (!grabbedBody_) return;
+    const std::size_t body = *grabbedBody_;
     grabbedBody_.reset();
-    installForces();
+    installSpring(body);  // the others keep sleeping
 }
 
 Eigen::Vector3d PreviewSession::grabPoint() const {

@@ -174,15 +174,24 @@ public:
     /// the edit set its water; a new node starts with its own; the nodes the scene added to
     /// the document's (the spaces behind an open hull's caps) stay; the other bodies' graphs
     /// keep their water. Reset starts from the edited graph.
+    /// A graph the World cannot run (validateGraph's errors: a pipe naming a missing node, no
+    /// nodes, ...) is not taken: the error names the body and the problems, the running graph
+    /// stays, and graphProblem(body) says why until a valid graph is taken.
     Status setBodyGraph(std::size_t body, const std::optional<WaterGraph>& before,
                         const std::optional<WaterGraph>& after,
                         const std::optional<WaterGraphDesc>& settings);
+    /// Why body i's edited water graph is not the one simulated ("pipe ... names a node that
+    /// does not exist"), or empty when the edited graph runs.
+    std::string graphProblem(std::size_t body) const {
+        return body < graphProblems_.size() ? graphProblems_[body] : std::string();
+    }
     /// Takes the document's edits of the bodies' materials, permeability, density and
     /// thickness maps and water graphs (nodes, pipes, their settings) since the last call (the
     /// first call only notes them: the preview started from them) through setBodyPaint and
     /// setBodyGraph; returns the bodies changed. A body whose maps the scene moved onto a repaired
     /// solid (its maps are not the document's pixels) keeps its paint as it is, and is named in the
-    /// error: a restart of the preview takes its new paint.
+    /// error: a restart of the preview takes its new paint. A graph setBodyGraph holds back is
+    /// named in the error too (the other edits are taken), and tried again at the next call.
     Result<std::vector<std::size_t>> followDocument(const Document& document);
 
     /// Grabs body `body` at `objectPoint` (object space) and pulls it toward `target` (world)
@@ -226,6 +235,9 @@ private:
     /// a body lying still on it may sleep) and, for the grabbed body, the spring as its
     /// external force (a push: it wakes the body and keeps it awake).
     void installForces();
+    /// Body `body`'s grab spring: the spring while it is grabbed, none otherwise (the body
+    /// wakes; no other does).
+    void installSpring(std::size_t body);
     SeaFloor seaFloor_;
     /// What followDocument last saw of the document, per body: the material, the
     /// permeability, shell density and thickness images (null: no map) and the water graph
@@ -237,6 +249,8 @@ private:
         std::optional<WaterGraphDesc> graphSettings;
     };
     std::vector<PaintSeen> paintSeen_;
+    std::vector<std::string> graphProblems_;  ///< per body: why its edited graph is held back
+    Status checkEditedGraph(std::size_t body, const std::optional<WaterGraph>& graph);
     /// Per body, the hull's vertices (object space, without repeats): the floor's contacts.
     std::vector<std::vector<Eigen::Vector3d>> hullPoints_;
     Status swapIn(Built built);

@@ -112,13 +112,19 @@ std::optional<Result<std::unique_ptr<Command>>> layerCommand(Document& document,
     if (op == "layer_add") {
         const std::string kindName = c.value("kind", std::string("paint"));
         const std::optional<LayerKind> kind = parseLayerKind(kindName);
-        if (!kind) throw std::invalid_argument("kind: paint or fill, not " + kindName);
+        if (!kind) throw std::invalid_argument("kind: paint, fill or folder, not " + kindName);
         return makeAddLayerCommand(document, body, channel, *kind, c.value("name", std::string()),
                                    c.value("value", 1.0), c.value("index", -1));
     }
     if (op == "layer_remove") return makeRemoveLayerCommand(document, body, channel, c.at("layer"));
     if (op == "layer_move") {
         return makeMoveLayerCommand(document, body, channel, c.at("layer"), c.at("to"));
+    }
+    if (op == "layer_into_folder") {
+        return makeMoveIntoFolderCommand(document, body, channel, c.at("layer"), c.at("folder"));
+    }
+    if (op == "layer_out_of_folder") {
+        return makeMoveOutOfFolderCommand(document, body, channel, c.at("layer"));
     }
     if (op == "layer_set") {
         LayerEdit e;

@@ -176,9 +176,10 @@ py::dict bake(const std::string& mesh, int size, const Unit& unit, const std::st
 py::dict massprops(const std::string& mesh, int size, bool exact, std::optional<double> density,
                    double shellDensity, const std::string& shellDensityMap, const Unit& unit,
                    const std::string& atlas, std::optional<double> maxTexelStretch,
-                   const py::object& notes) {
+                   const std::string& body, const py::object& notes) {
     cli::MassPropsJob job;
     job.mesh = mesh;
+    job.body = body;
     job.bake = bakeOptions(size, unit, atlas, maxTexelStretch);
     job.exact = exact;
     job.densityGiven = density.has_value();
@@ -444,9 +445,11 @@ PYBIND11_MODULE(plimsoll, m) {
     m.def("massprops", &massprops, "mesh"_a, "size"_a = 512, "exact"_a = false,
           "density"_a = py::none(), "shell_density"_a = 0.0, "shell_density_map"_a = "",
           "unit"_a = py::none(), "atlas"_a = "auto", "max_texel_stretch"_a = py::none(),
-          "notes"_a = py::none(),
-          "The facts of `plimsoll massprops MESH [--size N | --exact] --json`; center_of_mass and "
-          "inertia as arrays.");
+          "body"_a = "", "notes"_a = py::none(),
+          "The facts of `plimsoll massprops MESH [--size N | --exact] --json`, or of "
+          "`plimsoll massprops PROJECT [--body NAME] --json` (the body as the World weighs it: "
+          "its material and painted density and thickness maps); center_of_mass and inertia as "
+          "arrays.");
     m.def("buoyancy", &buoyancy, "mesh"_a, "position"_a, "rotation_deg"_a, "water_level"_a = 0.0,
           "velocity"_a = py::none(), "angular_velocity"_a = py::none(), "size"_a = 512,
           "exact"_a = false, "device"_a = "", "fluid_density"_a = 1000.0,

@@ -98,6 +98,38 @@ def test_simulate_gives_the_cli_trajectory(plimsoll, cli, sample_projects, tmp_p
         assert line == ",".join(values[:1] + [run["body"][i]] + values[1:])
 
 
+def grey_png(path, rows):
+    """An 8-bit grey PNG of `rows` (lists of 0..255), written by hand: no imaging library."""
+    import struct
+    import zlib
+
+    def chunk(kind, data):
+        return struct.pack(">I", len(data)) + kind + data + struct.pack(
+            ">I", zlib.crc32(kind + data) & 0xFFFFFFFF)
+    raw = b"".join(b"\0" + bytes(row) for row in rows)
+    header = struct.pack(">IIBBBBB", len(rows[0]), len(rows), 8, 0, 0, 0, 0)
+    path.write_bytes(b"\x89PNG\r\n\x1a\n" + chunk(b"IHDR", header) +
+                     chunk(b"IDAT", zlib.compress(raw)) + chunk(b"IEND", b""))
+
+
+def test_massprops_of_a_project_body_weighs_its_thickness_map(plimsoll, cli, tmp_path):
+    # A shell painted 1 thick over half the UV square and 0.2 over the other half: the module,
+    # the command line and the World (simulate's mass at the first frame) give one mass.
+    grey_png(tmp_path / "thick.png", [[255] * 16 + [51] * 16 for _ in range(32)])
+    body = {"name": "ball", "mesh": asset("sphere.obj"), "texture_size": 64, "radiation": False,
+            "material": {"density": 300, "shell": {"surface_density": 10},
+                         "thickness_map": "thick.png"}}
+    project = tmp_path / "shell.plim.json"
+    project.write_text(json.dumps({"schema_version": 1, "name": "t", "bodies": [body]}))
+    reference = json.loads(cli("massprops", project, "--json").stdout)
+    weighed = plimsoll.massprops(str(project))
+    same(weighed, reference)
+    assert weighed["mass"] == plimsoll.simulate(str(project), seconds=0.1)["mass"][0]
+    del body["material"]["thickness_map"]
+    project.write_text(json.dumps({"schema_version": 1, "name": "t", "bodies": [body]}))
+    assert plimsoll.massprops(str(project), body="ball")["mass"] > weighed["mass"] + 1.0
+
+
 def test_simulate_one_body_from_flags(plimsoll, cli, tmp_path):
     cli("simulate", "--mesh", MESH, "--density", 400, "--size", 32, "--no-radiation",
         "--position=0,0.3,0", "--seconds", 0.5, "--out", tmp_path / "t.json")

@@ -2,9 +2,11 @@
 #include "plimsoll/physics/massprops.h"
 #include "plimsoll/io/json_depth.h"
 #include "plimsoll/io/mesh_io.h"
+#include "plimsoll/io/painted_map_io.h"
 
 #include "cli_runner.h"
 #include "test_support.h"
+#include "world_support.h"
 
 #include <nlohmann/json.hpp>
 
@@ -277,6 +279,66 @@ TEST(CliExportWeb, WritesTheViewerBesideTheBundlesAndListsThem) {
     EXPECT_NE(check.exitCode, 0);
     EXPECT_CONTAINS(check.err, "--web");
 }
+
+/// A project of the sphere with a solid of 300 kg/m^3 and a shell of 10 kg/m^2 whose painted
+/// thickness is 1 over half the UV square (u < 0.5) and 0.2 over the other half; without
+/// `thickness`, the same shell unpainted.
+fs::path thickShellProject(const std::string& name, bool thickness) {
+    const fs::path dir = test::scratchFolder("massprops_" + name);
+    fs::create_directories(dir);
+    PaintedMap map;
+    map.width = map.height = 32;
+    for (int y = 0; y < 32; ++y)
+        for (int x = 0; x < 32; ++x) map.values.push_back(x < 16 ? 1.0f : 0.2f);
+    EXPECT_TRUE(savePaintedMap(map, dir / "thick.png").ok());
+    const fs::path path = dir / "shell.plim.json";
+    std::ofstream(path)
+        << R"({"schema_version": 1, "name": "t", "bodies": [{"name": "ball", "mesh": ")" << kSphere
+        << R"(", "texture_size": 64, "radiation": false,)"
+        << R"("material": {"density": 300, "shell": {"surface_density": 10})"
+        << (thickness ? R"(, "thickness_map": "thick.png")" : "") << "}}]}";
+    return path;
+}
+
+TEST(Cli, MassPropsOfAProjectBodyWeighsItsThicknessMapAsTheWorldDoes) {
+    const fs::path project = thickShellProject("thick", true);
+    const CommandOutput r = runPlimsoll("massprops '" + project.string() + "' --json");
+    ASSERT_EQ(r.exitCode, 0) << r.err;
+    const nlohmann::json j = nlohmann::json::parse(r.out);
+    EXPECT_EQ(j.at("body"), "ball");
+    EXPECT_EQ(j.at("shell_thickness_map"), "thick.png");
+
+    Result<Project> loaded = loadProject(project);
+    ASSERT_TRUE(loaded.ok()) << loaded.error().message;
+    std::unique_ptr<World> world = test::worldOrFail(test::sceneOrFail(*loaded));
+    ASSERT_TRUE(world);
+    const MassDistribution& m = world->bodies().at(0).mass;
+    EXPECT_NEAR(j.at("mass").get<double>(), m.mass, 1e-9 * m.mass);
+    for (int a = 0; a < 3; ++a) {
+        EXPECT_NEAR(j["center_of_mass"][a].get<double>(), m.centerOfMass[a], 1e-9);
+        for (int b = 0; b < 3; ++b)
+            EXPECT_NEAR(j["inertia"][a][b].get<double>(), m.inertia(a, b), 1e-9 * m.inertia.norm());
+    }
+    // The map counts: the same shell unpainted is heavier, and centred.
+    const CommandOutput plain =
+        runPlimsoll("massprops '" + thickShellProject("plain", false).string() + "' --json");
+    ASSERT_EQ(plain.exitCode, 0) << plain.err;
+    const nlohmann::json jp = nlohmann::json::parse(plain.out);
+    const double sphereShell = 10.0 * M_PI;  // 10 kg/m^2 over a sphere of radius 0.5
+    EXPECT_NEAR(jp.at("mass").get<double>() - j.at("mass").get<double>(), 0.4 * sphereShell,
+                0.02 * sphereShell);
+    EXPECT_GT(
+        (Eigen::Vector3d(j["center_of_mass"][0], j["center_of_mass"][1], j["center_of_mass"][2]))
+            .norm(),
+        1e-3);
+
+    // A project's body has its own material: mesh flags are refused.
+    const CommandOutput mixed =
+        runPlimsoll("massprops '" + project.string() + "' --density 500 --json");
+    EXPECT_NE(mixed.exitCode, 0);
+    EXPECT_NE(mixed.err.find("has its own material"), std::string::npos) << mixed.err;
+}
+
 }  // namespace
 }  // namespace test_cli
 }  // namespace plimsoll

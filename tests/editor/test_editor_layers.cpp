@@ -933,6 +933,233 @@ TEST(EditorLayers, LayerCountAndSizeAreRefusedBeforeAllocating) {
     EXPECT_FALSE(checkLayerBudget(stack, 58, 0).ok());
 }
 
+// --- folders --------------------------------------------------------------------------------
+
+/// Two pixels: a Base [0.5, 0.5], then folder "group" over a paint layer A of 0.8 with coverage
+/// [1, 0.5] and a fill B of 0.4 at opacity 0.5 in multiply.
+LayerStack folderStack(BlendMode folderBlend, float folderOpacity) {
+    LayerStack stack;
+    stack.width = 2;
+    stack.height = 1;
+    MapLayer base;
+    base.name = "Base";
+    base.pixels = std::make_shared<PaintedMap>(uniformMap(2, 1, 0.5f));
+    MapLayer a;
+    a.name = "A";
+    a.pixels = std::make_shared<PaintedMap>(uniformMap(2, 1, 0.8f));
+    a.coverage = std::make_shared<PaintedMap>(uniformMap(2, 1, 1.0f));
+    a.coverage->values = {1.0f, 0.5f};
+    a.inFolder = true;
+    MapLayer b;
+    b.name = "B";
+    b.kind = LayerKind::Fill;
+    b.fillValue = 0.4f;
+    b.opacity = 0.5f;
+    b.blend = BlendMode::Multiply;
+    b.inFolder = true;
+    MapLayer folder;
+    folder.name = "group";
+    folder.kind = LayerKind::Folder;
+    folder.blend = folderBlend;
+    folder.opacity = folderOpacity;
+    stack.layers = {base, a, b, folder};
+    return stack;
+}
+
+TEST(EditorLayers, FolderFlattensAsItsLayersCompositedThenBlendedAsOne) {
+    // The group alone, by hand (a over a backdrop of alpha ab: source (1 - ab) v + ab blend,
+    // alpha a + ab (1 - a), value (a source + ab c (1 - a)) / alpha).
+    // Pixel 0: A covers it (0.8, alpha 1); B multiplies half way: 0.5 * 0.32 + 0.5 * 0.8 = 0.56.
+    // Pixel 1: A at alpha 0.5 (0.8); B: source 0.5 * 0.4 + 0.5 * 0.32 = 0.36, alpha 0.75,
+    // value (0.5 * 0.36 + 0.5 * 0.8 * 0.5) / 0.75 = 0.38 / 0.75.
+    const float group0 = 0.56f, group1 = 0.38f / 0.75f, alpha1 = 0.75f;
+    LayerStack normal = folderStack(BlendMode::Normal, 0.5f);
+    ASSERT_TRUE(checkStack(normal).ok());
+    PaintedMap flat = flattenLayers(normal);
+    EXPECT_NEAR(flat.values[0], 0.5f + (group0 - 0.5f) * 0.5f, 1e-6);           // 0.53
+    EXPECT_NEAR(flat.values[1], 0.5f + (group1 - 0.5f) * 0.5f * alpha1, 1e-6);  // 0.5025
+    // Not each layer at half its opacity: that gives 0.65, then 0.5525 at pixel 0.
+    EXPECT_GT(std::abs(flat.values[0] - 0.5525f), 0.02f);
+
+    LayerStack multiply = folderStack(BlendMode::Multiply, 1.0f);
+    flat = flattenLayers(multiply);
+    EXPECT_NEAR(flat.values[0], 0.5f * group0, 1e-6);                           // 0.28
+    EXPECT_NEAR(flat.values[1], 0.5f + (0.5f * group1 - 0.5f) * alpha1, 1e-6);  // 0.315
+
+    // A hidden folder hides its layers; a layer hidden inside counts for nothing.
+    LayerStack hidden = folderStack(BlendMode::Normal, 1.0f);
+    hidden.layers[3].visible = false;
+    flat = flattenLayers(hidden);
+    EXPECT_FLOAT_EQ(flat.values[0], 0.5f);
+    EXPECT_FLOAT_EQ(flat.values[1], 0.5f);
+    LayerStack inner = folderStack(BlendMode::Normal, 1.0f);
+    inner.layers[2].visible = false;
+    flat = flattenLayers(inner);
+    EXPECT_NEAR(flat.values[0], 0.8f, 1e-6);
+    EXPECT_NEAR(flat.values[1], 0.5f + (0.8f - 0.5f) * 0.5f, 1e-6);
+
+    // A folder's layer needs its folder right above it.
+    LayerStack stray = folderStack(BlendMode::Normal, 1.0f);
+    stray.layers.pop_back();
+    EXPECT_FALSE(checkStack(stray).ok());
+}
+
+TEST(EditorLayers, FolderOperationsUndoAndRedoByteForByte) {
+    auto d = openOrFail(sphereProject("folders_undo"));
+    ASSERT_TRUE(d);
+    executeOrFail(*d, makeNewMapCommand(*d, 0, kPerm, kSize, kSize, 0.25, ""));
+    std::vector<std::string> states{snapshot(*d)};
+    auto step = [&](Result<std::unique_ptr<Command>> command) {
+        executeOrFail(*d, std::move(command));
+        states.push_back(snapshot(*d));
+        EXPECT_TRUE(states.back() != states[states.size() - 2])
+            << d->undoName() << " changed nothing";
+        ASSERT_TRUE(d->layers(0, kPerm));
+        EXPECT_EQ(encodePaintedMapPng16(*d->map(0, kPerm)),
+                  encodePaintedMapPng16(flattenLayers(*d->layers(0, kPerm))));
+    };
+    step(makeAddLayerCommand(*d, 0, kPerm, LayerKind::Fill, "wet", 0.75));  // 1
+    step(makeAddLayerCommand(*d, 0, kPerm, LayerKind::Folder, "", 1.0));    // 2
+    EXPECT_EQ(d->undoName(), "Add folder");
+    EXPECT_EQ(d->layers(0, kPerm)->layers[2].name, "Folder 2");
+    step(makeMoveIntoFolderCommand(*d, 0, kPerm, 1, 2));  // wet 0 -> in, folder at 2
+    ASSERT_EQ(folderOf(*d->layers(0, kPerm), 1), 2);
+    step(makeAddLayerCommand(*d, 0, kPerm, LayerKind::Fill, "dry", 0.0, 2));  // under the entry
+    EXPECT_TRUE(d->layers(0, kPerm)->layers[2].inFolder) << "added right below the entry";
+    LayerEdit edit;
+    edit.opacity = 0.5;
+    edit.blend = BlendMode::Screen;
+    step(makeSetLayerCommand(*d, 0, kPerm, 3, edit));
+    step(makeMoveLayerCommand(*d, 0, kPerm, 3, 0));  // the folder and its two layers to the bottom
+    const LayerStack& moved = *d->layers(0, kPerm);
+    ASSERT_EQ(moved.layers.size(), 4u);
+    EXPECT_EQ(moved.layers[0].name, "wet");
+    EXPECT_EQ(moved.layers[1].name, "dry");
+    EXPECT_EQ(moved.layers[2].name, "Folder 2");
+    EXPECT_EQ(moved.layers[3].name, "Base");
+    step(makeMoveOutOfFolderCommand(*d, 0, kPerm, 0));  // wet leaves, above the folder
+    EXPECT_EQ(d->layers(0, kPerm)->layers[2].name, "wet");
+    EXPECT_EQ(folderOf(*d->layers(0, kPerm), 2), -1);
+    step(makeRemoveLayerCommand(*d, 0, kPerm, 1));  // the folder, with "dry"
+    EXPECT_EQ(d->undoName(), "Remove folder");
+    ASSERT_EQ(d->layers(0, kPerm)->layers.size(), 2u);
+    EXPECT_FALSE(d->layers(0, kPerm)->hasFolders());
+
+    for (std::size_t i = states.size() - 1; i > 0; --i) {
+        ASSERT_TRUE(d->undo());
+        EXPECT_TRUE(snapshot(*d) == states[i - 1]) << "undo to state " << i - 1;
+    }
+    for (std::size_t i = 1; i < states.size(); ++i) {
+        ASSERT_TRUE(d->redo());
+        EXPECT_TRUE(snapshot(*d) == states[i]) << "redo to state " << i;
+    }
+    // Folders do not nest, and a layer moves among the items of its own folder.
+    executeOrFail(*d, makeAddLayerCommand(*d, 0, kPerm, LayerKind::Folder, "outer", 1.0));
+    executeOrFail(*d, makeAddLayerCommand(*d, 0, kPerm, LayerKind::Folder, "inner", 1.0));
+    const int outer = 2, inner = 3;
+    EXPECT_FALSE(makeMoveIntoFolderCommand(*d, 0, kPerm, inner, outer).ok());
+    executeOrFail(*d, makeMoveIntoFolderCommand(*d, 0, kPerm, 0, outer));  // wet in "outer"
+    EXPECT_FALSE(makeMoveLayerCommand(*d, 0, kPerm, 1, inner).ok());
+    EXPECT_FALSE(makeAddLayerCommand(*d, 0, kPerm, LayerKind::Folder, "x", 1.0, 2).ok());
+}
+
+TEST(EditorLayers, FoldersSaveAndReopenAndOldSideFilesStillLoad) {
+    const fs::path project = sphereProject("folders_save");
+    auto d = openOrFail(project);
+    ASSERT_TRUE(d);
+    executeOrFail(*d, makeNewMapCommand(*d, 0, kPerm, kSize, kSize, 0.1, ""));
+    // A layer stack without folders is written as version 1, which older editors read.
+    executeOrFail(*d, makeAddLayerCommand(*d, 0, kPerm, LayerKind::Fill, "tint", 0.9));
+    EXPECT_EQ(nlohmann::json::parse(layerStackToJson(*d->layers(0, kPerm)))["plimsoll_map_layers"],
+              1);
+    executeOrFail(*d, makeAddLayerCommand(*d, 0, kPerm, LayerKind::Folder, "rust", 1.0));
+    executeOrFail(*d, makeMoveIntoFolderCommand(*d, 0, kPerm, 1, 2));
+    LayerEdit edit;
+    edit.opacity = 0.4;
+    edit.blend = BlendMode::Multiply;
+    edit.visible = true;
+    executeOrFail(*d, makeSetLayerCommand(*d, 0, kPerm, 2, edit));
+    executeOrFail(*d, makeAddMaskCommand(*d, 0, kPerm, 2, 0.5));
+    ASSERT_TRUE(d->save().ok());
+    const fs::path mapFile = d->assets(0).maps[0].path;
+    const std::string side = test::readFile(layersPathFor(mapFile));
+    EXPECT_EQ(nlohmann::json::parse(side)["plimsoll_map_layers"], 2);
+
+    auto reopened = openOrFail(project);
+    ASSERT_TRUE(reopened);
+    const LayerStack* stack = reopened->layers(0, kPerm);
+    ASSERT_TRUE(stack) << reopened->assets(0).maps[0].error;
+    EXPECT_TRUE(*stack == *d->layers(0, kPerm));
+    ASSERT_EQ(stack->layers.size(), 3u);
+    EXPECT_TRUE(stack->layers[1].inFolder);
+    EXPECT_EQ(stack->layers[2].kind, LayerKind::Folder);
+    EXPECT_FLOAT_EQ(stack->layers[2].opacity, 0.4f);
+    EXPECT_TRUE(stack->layers[2].mask);
+    EXPECT_EQ(layerStackToJson(*stack), side);
+    // Base 0.1 (at 16 bits), the folder's tint 0.9 multiplied at 0.4 x mask 0.5.
+    const float base = quantize16(0.1f), a = 0.4f * quantize16(0.5f);
+    Result<PaintedMap> onDisk = loadPaintedMap(mapFile);
+    ASSERT_TRUE(onDisk.ok());
+    EXPECT_NEAR(onDisk->values[0], base + (base * 0.9f - base) * a, 1.0 / 65535);
+
+    // A version 1 file (before folders) loads as it did.
+    const std::string png = base64Encode(encodePaintedMapPng16(uniformMap(2, 1, 0.5f)));
+    Result<LayerStack> old = parseLayerStack(
+        R"({"plimsoll_map_layers": 1, "width": 2, "height": 1, "layers": [)"
+        R"({"name": "Base", "kind": "paint", "pixels_png_base64": ")" +
+            png + R"("}, {"name": "f", "kind": "fill", "value": 0.25, "blend": "add"}]})",
+        "old.layers.json");
+    ASSERT_TRUE(old.ok()) << old.error().message;
+    ASSERT_EQ(old->layers.size(), 2u);
+    EXPECT_FALSE(old->hasFolders());
+    EXPECT_NEAR(flattenLayers(*old).values[1], quantize16(0.5f) + 0.25f, 1e-6);
+    // A folder inside a folder is refused with its name.
+    Result<LayerStack> nested = parseLayerStack(
+        R"({"plimsoll_map_layers": 2, "width": 2, "height": 1, "layers": [)"
+        R"({"name": "Base", "pixels_png_base64": ")" +
+            png +
+            R"("}, {"name": "a", "kind": "folder", "layers": [{"name": "b", "kind": "folder"}]}]})",
+        "nested.layers.json");
+    ASSERT_FALSE(nested.ok());
+    EXPECT_NE(nested.error().message.find("folder 'b' is in a folder"), std::string::npos)
+        << nested.error().message;
+}
+
+TEST(EditorLayers, EditScriptRunsFolderOps) {
+    auto d = openOrFail(sphereProject("folders_script"));
+    ASSERT_TRUE(d);
+    const nlohmann::json script = nlohmann::json::parse(R"([
+        {"op": "new_map", "size": 16, "value": 0.5},
+        {"op": "layer_add", "kind": "fill", "name": "one", "value": 1.0},
+        {"op": "layer_add", "kind": "fill", "name": "zero", "value": 0.0},
+        {"op": "layer_add", "kind": "folder", "name": "group"},
+        {"op": "layer_into_folder", "layer": 1, "folder": 3},
+        {"op": "layer_into_folder", "layer": 1, "folder": 3},
+        {"op": "layer_set", "layer": 3, "opacity": 0.5},
+        {"op": "layer_out_of_folder", "layer": 2}
+    ])");
+    Result<nlohmann::json> ran = runEditScript(*d, script);
+    ASSERT_TRUE(ran.ok()) << ran.error().message;
+    const LayerStack* stack = d->layers(0, kPerm);
+    ASSERT_TRUE(stack);
+    // Base, group{one}, zero: "zero" left the folder, above it, and covers everything.
+    ASSERT_EQ(stack->layers.size(), 4u);
+    EXPECT_EQ(stack->layers[1].name, "one");
+    EXPECT_TRUE(stack->layers[1].inFolder);
+    EXPECT_EQ(stack->layers[2].name, "group");
+    EXPECT_EQ(stack->layers[3].name, "zero");
+    for (float v : d->map(0, kPerm)->values) ASSERT_FLOAT_EQ(v, 0.0f);
+    const nlohmann::json hide = nlohmann::json::parse(R"([
+        {"op": "layer_remove", "layer": 3}
+    ])");
+    ASSERT_TRUE(runEditScript(*d, hide).ok());
+    // 0.5 under the folder's "one" at 0.5: 0.75.
+    for (float v : d->map(0, kPerm)->values) ASSERT_NEAR(v, quantize16(0.5f) * 0.5f + 0.5f, 1e-6);
+    const nlohmann::json drop = nlohmann::json::parse(R"([{"op": "layer_remove", "layer": 2}])");
+    ASSERT_TRUE(runEditScript(*d, drop).ok());
+    ASSERT_EQ(d->layers(0, kPerm)->layers.size(), 1u) << "the folder went with its layer";
+}
+
 }  // namespace
 }  // namespace test_editor_layers
 }  // namespace plimsoll::editor

@@ -234,6 +234,39 @@ TEST(PreviewSession, BoxAtRestOnTheSeaFloorSleepsAndAGrabWakesIt) {
     EXPECT_FALSE(asleep());
 }
 
+TEST(PreviewSession, AGrabWakesTheGrabbedBodyAndNoOther) {
+    // Two boxes 4 m apart at rest on the sea floor, both asleep. Grabbing one wakes it alone:
+    // the other keeps its pose exactly and sleeps on, through the grab and the release.
+    Project project = sinkingBox();
+    project.bodies.push_back(project.bodies[0]);
+    project.bodies[1].name = "box 2";
+    project.bodies[1].position = project.bodies[0].position + Eigen::Vector3d(4.0, 0, 0);
+    auto session = makeSession(project);
+    ASSERT_TRUE(session);
+    session->setSeaFloor(SeaFloor{.enabled = true, .depth = 2.0});
+    const auto asleep = [&](std::size_t i) { return session->world().bodies()[i].asleep; };
+    for (int f = 0; f < 20 * 60 && !(asleep(0) && asleep(1)); ++f)
+        ASSERT_TRUE(session->step().ok());
+    ASSERT_TRUE(asleep(0) && asleep(1)) << "not both asleep after 20 s";
+    const RigidBodyState rest = session->world().bodies()[1].state;
+    const std::size_t wakeUps = session->world().statistics().wakeUps;
+    const Eigen::Vector3d centre = session->world().bodies()[0].state.position;
+    ASSERT_TRUE(session
+                    ->grab(0, session->world().bodies()[0].mass.centerOfMass,
+                           centre + Eigen::Vector3d(0, 1, 0))
+                    .ok());
+    for (int i = 0; i < 30; ++i) ASSERT_TRUE(session->step().ok());
+    EXPECT_FALSE(asleep(0));
+    EXPECT_GT(session->world().bodies()[0].state.position.y(), centre.y() + 0.05);
+    EXPECT_TRUE(asleep(1)) << "the grab woke the other box";
+    EXPECT_EQ(session->world().statistics().wakeUps, wakeUps + 1);
+    session->release();
+    ASSERT_TRUE(session->step().ok());
+    EXPECT_TRUE(asleep(1)) << "the release woke the other box";
+    EXPECT_EQ(session->world().bodies()[1].state.position, rest.position);
+    EXPECT_EQ(session->world().statistics().wakeUps, wakeUps + 1);
+}
+
 TEST(PreviewSession, WithoutTheSeaFloorTheBoxKeepsSinking) {
     auto session = makeSession(sinkingBox());
     ASSERT_TRUE(session);
@@ -487,6 +520,44 @@ TEST(PreviewSession, GraphEditsChangeTheFloodingOnTheNextFrameKeepingStateAndWat
     // Reset starts from the document's graph as edited (all empty: the project's file).
     ASSERT_TRUE(session->reset().ok());
     for (const auto& [id, water] : nodeWater(*session)) EXPECT_EQ(water, 0.0) << id;
+}
+
+TEST(PreviewSession, AnInvalidGraphEditIsSaidAndHeldBackUntilValidAgain) {
+    // A pipe of the flooding boat's graph turned toward a node that does not exist: the preview
+    // says so, naming the body and the node, and runs on with the graph it had (as the twin
+    // that did not follow); a later edit that makes the graph valid again is taken.
+    Twins t = twinsOf("damaged_boat.plim.json", 120);
+    ASSERT_TRUE(t);
+    std::unique_ptr<Document>& doc = t.doc;
+    std::unique_ptr<PreviewSession>&session = t.session, &twin = t.twin;
+    WaterGraph graph = *doc->graph(0);
+    ASSERT_EQ(graph.pipes.size(), 3u);
+    graph.pipes[0].b = "nowhere";
+    test::executeOrFail(*doc, makeReplaceGraphCommand(*doc, 0, graph, "Broken pipe"));
+    Result<std::vector<std::size_t>> seen = session->followDocument(*doc);
+    ASSERT_FALSE(seen.ok());
+    const std::string& said = seen.error().message;
+    EXPECT_NE(said.find(session->scene().bodies[0].label), std::string::npos) << said;
+    EXPECT_NE(said.find("no node 'nowhere'"), std::string::npos) << said;
+    EXPECT_NE(said.find("not simulated"), std::string::npos) << said;
+    EXPECT_NE(session->graphProblem(0).find("no node 'nowhere'"), std::string::npos);
+    // Asked again (another edit, or none), it still says so: the problem stays until fixed.
+    EXPECT_FALSE(session->followDocument(*doc).ok());
+    for (int i = 0; i < 60; ++i) ASSERT_TRUE(session->step().ok() && twin->step().ok());
+    EXPECT_EQ(nodeWater(*session), nodeWater(*twin));
+    EXPECT_EQ(session->world().waterGraph(0)->graph().pipes[0].b, "aft");  // as it ran
+    // The scene keeps the graph that runs: a reset (a rebuild from it) works.
+    ASSERT_TRUE(session->reset().ok());
+    EXPECT_EQ(session->world().waterGraph(0)->graph().pipes.size(), 3u);
+
+    // Valid again (the broken pipe removed): taken from the next frame, the problem gone.
+    graph.pipes.erase(graph.pipes.begin());
+    test::executeOrFail(*doc, makeReplaceGraphCommand(*doc, 0, graph, "Pipe removed"));
+    seen = session->followDocument(*doc);
+    ASSERT_TRUE(seen.ok()) << seen.error().message;
+    EXPECT_EQ(*seen, std::vector<std::size_t>{0});
+    EXPECT_EQ(session->graphProblem(0), "");
+    EXPECT_EQ(session->world().waterGraph(0)->graph().pipes.size(), 2u);
 }
 
 TEST(PreviewSession, WaterIntegratorAndTextureSizeChangeWhileRunning) {
