@@ -55,6 +55,39 @@ std::string snapshot(const Document& d) {
     return bytes;
 }
 
+/// The document's bytes after each step of a test: every step must change them, and the map
+/// stays the flattening of its stack; undoAll walks back through them, redoAll forward again.
+class UndoTrail {
+public:
+    explicit UndoTrail(Document& d) : d_(d), states_{snapshot(d)} {}
+
+    void step(Result<std::unique_ptr<Command>> command) {
+        executeOrFail(d_, std::move(command));
+        states_.push_back(snapshot(d_));
+        EXPECT_TRUE(states_.back() != states_[states_.size() - 2])
+            << d_.undoName() << " changed nothing";
+        ASSERT_TRUE(d_.layers(0, kPerm));
+        EXPECT_EQ(encodePaintedMapPng16(*d_.map(0, kPerm)),
+                  encodePaintedMapPng16(flattenLayers(*d_.layers(0, kPerm))));
+    }
+    void undoAll() {
+        for (std::size_t i = states_.size() - 1; i > 0; --i) {
+            ASSERT_TRUE(d_.undo());
+            EXPECT_TRUE(snapshot(d_) == states_[i - 1]) << "undo to state " << i - 1;
+        }
+    }
+    void redoAll() {
+        for (std::size_t i = 1; i < states_.size(); ++i) {
+            ASSERT_TRUE(d_.redo());
+            EXPECT_TRUE(snapshot(d_) == states_[i]) << "redo to state " << i;
+        }
+    }
+
+private:
+    Document& d_;
+    std::vector<std::string> states_;
+};
+
 /// A stroke on the sphere (radius 0.5) through its +x pole (object space).
 std::vector<Eigen::Vector3d> poleStroke() {
     return {{0.5, 0, 0}, Eigen::Vector3d(0.95, 0.3, 0).normalized() * 0.5};
@@ -117,12 +150,9 @@ TEST(EditorLayers, EveryOperationUndoesAndRedoesByteForByte) {
     auto d = openOrFail(sphereProject("undo"));
     ASSERT_TRUE(d);
     executeOrFail(*d, makeNewMapCommand(*d, 0, kPerm, kSize, kSize, 0.25, ""));
-    std::vector<std::string> states{snapshot(*d)};
-    auto step = [&](Result<std::unique_ptr<Command>> command) {
-        executeOrFail(*d, std::move(command));
-        states.push_back(snapshot(*d));
-        EXPECT_TRUE(states.back() != states[states.size() - 2])
-            << d->undoName() << " changed nothing";
+    UndoTrail trail(*d);
+    const auto step = [&](Result<std::unique_ptr<Command>> command) {
+        trail.step(std::move(command));
     };
     Brush brush;
     brush.radius = 0.3;
@@ -142,20 +172,10 @@ TEST(EditorLayers, EveryOperationUndoesAndRedoesByteForByte) {
     step(makeSetLayerCommand(*d, 0, kPerm, 1, hide));
     step(makeRemoveMaskCommand(*d, 0, kPerm, 2));
     step(makeRemoveLayerCommand(*d, 0, kPerm, 0));
-    // The map is always the flattening of its stack.
-    ASSERT_TRUE(d->layers(0, kPerm));
-    EXPECT_EQ(encodePaintedMapPng16(*d->map(0, kPerm)),
-              encodePaintedMapPng16(flattenLayers(*d->layers(0, kPerm))));
 
-    for (std::size_t i = states.size() - 1; i > 0; --i) {
-        ASSERT_TRUE(d->undo());
-        EXPECT_TRUE(snapshot(*d) == states[i - 1]) << "undo to state " << i - 1;
-    }
+    trail.undoAll();
     EXPECT_FALSE(d->layers(0, kPerm)) << "the first layer's undo gives back the plain map";
-    for (std::size_t i = 1; i < states.size(); ++i) {
-        ASSERT_TRUE(d->redo());
-        EXPECT_TRUE(snapshot(*d) == states[i]) << "redo to state " << i;
-    }
+    trail.redoAll();
 }
 
 TEST(EditorLayers, PaintLayerIsClearUntilPaintedAndMasksHide) {
@@ -1008,15 +1028,9 @@ TEST(EditorLayers, FolderOperationsUndoAndRedoByteForByte) {
     auto d = openOrFail(sphereProject("folders_undo"));
     ASSERT_TRUE(d);
     executeOrFail(*d, makeNewMapCommand(*d, 0, kPerm, kSize, kSize, 0.25, ""));
-    std::vector<std::string> states{snapshot(*d)};
-    auto step = [&](Result<std::unique_ptr<Command>> command) {
-        executeOrFail(*d, std::move(command));
-        states.push_back(snapshot(*d));
-        EXPECT_TRUE(states.back() != states[states.size() - 2])
-            << d->undoName() << " changed nothing";
-        ASSERT_TRUE(d->layers(0, kPerm));
-        EXPECT_EQ(encodePaintedMapPng16(*d->map(0, kPerm)),
-                  encodePaintedMapPng16(flattenLayers(*d->layers(0, kPerm))));
+    UndoTrail trail(*d);
+    const auto step = [&](Result<std::unique_ptr<Command>> command) {
+        trail.step(std::move(command));
     };
     step(makeAddLayerCommand(*d, 0, kPerm, LayerKind::Fill, "wet", 0.75));  // 1
     step(makeAddLayerCommand(*d, 0, kPerm, LayerKind::Folder, "", 1.0));    // 2
@@ -1045,14 +1059,8 @@ TEST(EditorLayers, FolderOperationsUndoAndRedoByteForByte) {
     ASSERT_EQ(d->layers(0, kPerm)->layers.size(), 2u);
     EXPECT_FALSE(d->layers(0, kPerm)->hasFolders());
 
-    for (std::size_t i = states.size() - 1; i > 0; --i) {
-        ASSERT_TRUE(d->undo());
-        EXPECT_TRUE(snapshot(*d) == states[i - 1]) << "undo to state " << i - 1;
-    }
-    for (std::size_t i = 1; i < states.size(); ++i) {
-        ASSERT_TRUE(d->redo());
-        EXPECT_TRUE(snapshot(*d) == states[i]) << "redo to state " << i;
-    }
+    trail.undoAll();
+    trail.redoAll();
     // Folders do not nest, and a layer moves among the items of its own folder.
     executeOrFail(*d, makeAddLayerCommand(*d, 0, kPerm, LayerKind::Folder, "outer", 1.0));
     executeOrFail(*d, makeAddLayerCommand(*d, 0, kPerm, LayerKind::Folder, "inner", 1.0));
