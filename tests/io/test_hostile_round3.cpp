@@ -570,6 +570,32 @@ TEST(HostileFbx, WhatAssimpReadsWithoutLookingIsRefusedBeforeIt) {
                     "quote.fbx: not a well-formed FBX file: a quote inside a token");
 }
 
+// A chain of models as deep as the limit reads; one deeper is refused before assimp's recursive
+// conversion of the tree (a few hundred bytes of stack a model) sees it.
+TEST(HostileFbx, ModelChainsPastTheLimitAreRefused) {
+    const auto chain = [](std::uint64_t depth) {
+        std::string models, links;
+        for (std::uint64_t k = 1; k <= depth; ++k) {
+            const std::string id = std::to_string(5000 + k);
+            models += "\tModel: " + id + ", \"Model::m" + id + "\", \"Null\" {\n\t}\n";
+            links +=
+                "\tC: \"OO\"," + id + "," + (k == 1 ? "2000" : std::to_string(4999 + k)) + "\n";
+        }
+        std::string text =
+            replaced(asciiFbxCube(), "\tMaterial: 3000,", models + "\tMaterial: 3000,");
+        return replaced(text, "\tC: \"OO\",2000,0", "\tC: \"OO\",2000,0\n" + links);
+    };
+    // The cube's model is the chain's first: depth + 1 models in all.
+    const Result<TriangleMesh> deepest =
+        loadMeshFromMemory(chain(kMaxFbxModelDepth - 1), "fbx", "ok.fbx");
+    ASSERT_TRUE(deepest.ok()) << deepest.error().message;
+    EXPECT_EQ(deepest->triangleCount(), 12u);
+    const std::string message =
+        test::messageOf(loadMeshFromMemory(chain(kMaxFbxModelDepth), "fbx", "deep.fbx"));
+    EXPECT_CONTAINS(message, "deep.fbx: FBX models nested more than 1024 deep");
+    EXPECT_CONTAINS(message, "kMaxFbxModelDepth");
+}
+
 // Plimsoll reads shapes: every object but models, materials and polygon meshes is renamed in
 // assimp's copy, so that their converters, which trust their files, never run. A layered
 // texture fed by a material (assimp takes every source of a layered texture for a texture and

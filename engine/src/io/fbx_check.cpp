@@ -8,6 +8,7 @@
 
 #include <algorithm>
 #include <charconv>
+#include <functional>
 #include <cstdint>
 #include <map>
 #include <optional>
@@ -63,7 +64,10 @@ std::uint64_t readLittleEndian(std::string_view bytes, std::size_t at, int size)
 /// parser needs: it inflates into a buffer of that size and, on any other outcome, throws
 /// between zlib's inflateInit and inflateEnd, leaking zlib's state (the FBX fuzzer's first
 /// finding). Inflated here through a small window, so that nothing of `expected` is allocated.
-bool inflatesToExactly(std::string_view compressed, std::uint64_t expected) {
+/// `each`, where given, sees the inflated bytes a window at a time.
+bool inflatesToExactly(
+    std::string_view compressed, std::uint64_t expected,
+    const std::function<void(const unsigned char*, std::size_t)>& each = nullptr) {
     z_stream stream{};
     if (inflateInit(&stream) != Z_OK) return false;
     stream.next_in = reinterpret_cast<Bytef*>(const_cast<char*>(compressed.data()));
@@ -76,6 +80,7 @@ bool inflatesToExactly(std::string_view compressed, std::uint64_t expected) {
         stream.avail_out = sizeof window;
         status = inflate(&stream, Z_NO_FLUSH);
         produced += sizeof window - stream.avail_out;
+        if (each) each(window, sizeof window - stream.avail_out);
         if (status == Z_BUF_ERROR && stream.avail_in == 0) break;  // the data ends early
     }
     inflateEnd(&stream);
@@ -472,41 +477,37 @@ private:
     int field_;
 };
 
-/// The integers of an array element: a binary 'i' or 'l' array (inflated where stored so; its
-/// size was checked by checkFbxProperties), or the ASCII values of its "a" child.
-std::optional<std::vector<std::int64_t>> integerArray(const FbxElement& e) {
-    std::vector<std::int64_t> values;
+/// How many values of an integer array element are negative: a binary 'i' or 'l' array, raw or
+/// inflated through a small window (its size was checked by checkFbxProperties), or the ASCII
+/// values of its "a" child; nothing where a value is not an integer. Counted as the bytes go by,
+/// so that an array that inflates to gigabytes is never held here.
+std::optional<std::uint64_t> negativeCount(const FbxElement& e) {
+    std::uint64_t negatives = 0;
     if (!e.properties.empty() && (e.properties[0].type == 'i' || e.properties[0].type == 'l')) {
         const FbxProperty& p = e.properties[0];
-        const int size = p.type == 'i' ? 4 : 8;
-        std::string raw(p.data);
-        if (p.encoding == 1) {
-            raw.assign(p.length * size, '\0');
-            uLongf produced = static_cast<uLongf>(raw.size());
-            if (uncompress(reinterpret_cast<Bytef*>(raw.data()), &produced,
-                           reinterpret_cast<const Bytef*>(p.data.data()),
-                           static_cast<uLong>(p.data.size())) != Z_OK ||
-                produced != raw.size())
-                return std::nullopt;
-        }
-        if (raw.size() != p.length * size) return std::nullopt;
-        values.reserve(p.length);
-        for (std::uint64_t k = 0; k < p.length; ++k) {
-            const std::uint64_t v = readLittleEndian(raw, k * size, size);
-            values.push_back(size == 4 ? static_cast<std::int32_t>(v)
-                                       : static_cast<std::int64_t>(v));
-        }
-        return values;
+        const std::uint64_t size = p.type == 'i' ? 4 : 8;
+        std::uint64_t seen = 0;
+        // Little-endian: a value's sign is the top bit of its last byte.
+        const auto count = [&](const unsigned char* bytes, std::size_t n) {
+            for (std::size_t k = 0; k < n; ++k, ++seen)
+                if (seen % size == size - 1 && (bytes[k] & 0x80) != 0) ++negatives;
+        };
+        const std::string_view data = p.data;
+        if (p.encoding == 0)
+            count(reinterpret_cast<const unsigned char*>(data.data()), data.size());
+        else if (!inflatesToExactly(data, p.length * size, count))
+            return std::nullopt;
+        if (seen != p.length * size) return std::nullopt;
+        return negatives;
     }
     const FbxElement* a = e.child("a");
-    if (!a) return values;
-    values.reserve(a->properties.size());
+    if (!a) return negatives;
     for (const FbxProperty& p : a->properties) {
         const std::optional<std::int64_t> v = integerOf(p);
         if (!v) return std::nullopt;
-        values.push_back(*v);
+        negatives += *v < 0 ? 1 : 0;
     }
-    return values;
+    return negatives;
 }
 
 /// Elements in an array element: a binary array's count, or the ASCII "a" child's values.
@@ -598,53 +599,69 @@ private:
     Status materials(const FbxElement& geometry, const FbxElement& layer) const {
         const FbxElement* list = layer.child("Materials");
         if (!list || firstString(layer.child("MappingInformationType")) == "AllSame") return Ok{};
+        // A polygon ends at a negative (bit-inverted) vertex index.
         const FbxElement* indices = geometry.child("PolygonVertexIndex");
-        const std::optional<std::vector<std::int64_t>> corners =
-            indices ? integerArray(*indices) : std::optional<std::vector<std::int64_t>>();
-        if (!corners) return refuse(geometry, "polygon vertex indices that cannot be read");
-        const auto polygons = static_cast<std::uint64_t>(
-            std::count_if(corners->begin(), corners->end(), [](std::int64_t i) { return i < 0; }));
+        const std::optional<std::uint64_t> polygons =
+            indices ? negativeCount(*indices) : std::optional<std::uint64_t>(0);
+        if (!polygons) return refuse(geometry, "polygon vertex indices that cannot be read");
         const std::uint64_t listed = arrayLength(*list);
-        if (listed != polygons)
+        if (listed != *polygons)
             return refuse(*list, std::to_string(listed) + " materials for " +
-                                     std::to_string(polygons) + " polygons");
+                                     std::to_string(*polygons) + " polygons");
         return Ok{};
     }
 
-    /// Assimp converts a model's children recursively without remembering where it has been:
-    /// a model that is its own ancestor (parent links "OO" between models) recurses forever.
+    /// Assimp converts a model's children recursively (every connection whose source and
+    /// destination are models, of any type) without remembering where it has been: a model that
+    /// is its own ancestor recurses forever, and a chain of kMaxFbxModelDepth models exhausts
+    /// the stack as surely.
     Status modelTree(const FbxElement& connections, const std::set<std::int64_t>& models) const {
         std::map<std::int64_t, std::vector<std::int64_t>> children;
         for (const FbxElement& c : connections.children) {
-            if (c.name != "C" || c.properties.size() < 3 || firstString(&c) != "OO") continue;
+            if (c.name != "C" || c.properties.size() < 3) continue;
             const std::optional<std::int64_t> child = integerOf(c.properties[1]);
             const std::optional<std::int64_t> parent = integerOf(c.properties[2]);
             if (child && parent && models.count(*child) && models.count(*parent))
                 children[*parent].push_back(*child);
         }
-        // Depth-first with an explicit stack: 0 unseen, 1 on the path, 2 done.
-        std::map<std::int64_t, int> state;
+        // Depth-first with an explicit stack: on the path, or done with the height of the
+        // model's subtree (1: a leaf).
+        std::set<std::int64_t> onPath;
+        std::map<std::int64_t, std::uint64_t> height;
         for (const auto& [root, unused] : children) {
-            if (state[root] != 0) continue;
+            if (height.count(root)) continue;
             std::vector<std::pair<std::int64_t, std::size_t>> path{{root, 0}};
-            state[root] = 1;
+            onPath.insert(root);
             while (!path.empty()) {
-                auto& [node, next] = path.back();
+                const std::int64_t node = path.back().first;
                 const auto found = children.find(node);
-                if (found == children.end() || next >= found->second.size()) {
-                    state[node] = 2;
-                    path.pop_back();
+                const std::size_t next = path.back().second++;
+                if (found != children.end() && next < found->second.size()) {
+                    const std::int64_t child = found->second[next];
+                    if (onPath.count(child))
+                        return makeError(ErrorKind::format,
+                                         file_ + ": the FBX model " + std::to_string(child) +
+                                             " is its own ancestor (its parent links form a "
+                                             "cycle)");
+                    if (!height.count(child)) {
+                        onPath.insert(child);
+                        path.push_back({child, 0});
+                    }
                     continue;
                 }
-                const std::int64_t child = found->second[next++];
-                if (state[child] == 1)
-                    return makeError(ErrorKind::format,
-                                     file_ + ": the FBX model " + std::to_string(child) +
-                                         " is its own ancestor (its parent links form a cycle)");
-                if (state[child] == 0) {
-                    state[child] = 1;
-                    path.push_back({child, 0});
-                }
+                std::uint64_t h = 1;
+                if (found != children.end())
+                    for (const std::int64_t child : found->second)
+                        h = std::max(h, height[child] + 1);
+                if (h > kMaxFbxModelDepth)
+                    return makeError(ErrorKind::limit,
+                                     file_ + ": FBX models nested more than " +
+                                         std::to_string(kMaxFbxModelDepth) + " deep (under model " +
+                                         std::to_string(node) +
+                                         "), more than the limit kMaxFbxModelDepth (limits.h)");
+                height[node] = h;
+                onPath.erase(node);
+                path.pop_back();
             }
         }
         return Ok{};

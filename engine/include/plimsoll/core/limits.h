@@ -61,6 +61,11 @@ inline constexpr std::uint64_t kMaxJsonDepth = 128;
 /// stack; real files nest under ten levels.
 inline constexpr std::uint64_t kMaxFbxDepth = 128;
 
+/// Models nested in an FBX file's model tree (parent links between models). Assimp converts the
+/// tree recursively, a few hundred bytes of stack per model; real skeletons and scene
+/// hierarchies are under a hundred deep.
+inline constexpr std::uint64_t kMaxFbxModelDepth = 1024;
+
 /// A binary FBX file's arrays inflated, all together. Assimp allocates each array whole from
 /// the count the file states before inflating it, so a few bytes could ask for gigabytes; real
 /// files' arrays add up to about the size of the uncompressed file, under kMaxMeshFileBytes.
