@@ -543,7 +543,8 @@ std::string replaced(std::string text, const std::string& from, const std::strin
 // from an empty list: SIGSEGV), a negative layer-element index (written before its array), a
 // per-polygon material list longer than the polygons under a mapping assimp does not resize
 // (the converter walks past the faces: SIGSEGV), and a model that is its own ancestor (endless
-// recursion: SIGSEGV). Each is refused, naming the element and its byte.
+// recursion: SIGSEGV), and a material property's name longer than assimp's 1024-byte keys
+// (an assertion: SIGABRT). Each is refused, naming the element and its byte.
 TEST(HostileFbx, WhatAssimpReadsWithoutLookingIsRefusedBeforeIt) {
     Result<TriangleMesh> cube = loadMeshFromMemory(asciiFbxCube(), "fbx", "cube.fbx");
     ASSERT_TRUE(cube.ok()) << cube.error().message;
@@ -559,6 +560,10 @@ TEST(HostileFbx, WhatAssimpReadsWithoutLookingIsRefusedBeforeIt) {
          "9 materials for 6 polygons"},
         {replaced(asciiFbxCube(), "C: \"OO\",2000,0", "C: \"OO\",2000,0\n\tC: \"OO\",2000,2000"),
          "model 2000 is its own ancestor"},
+        {replaced(asciiFbxCube(), "\t\tVersion: 102\n",
+                  "\t\tVersion: 102\n\t\tProperties70:  {\n\t\t\tP: \"" + std::string(600, 'k') +
+                      "\", \"double\", \"Number\", \"\",1\n\t\t}\n"),
+         "a property name of 600 bytes, more than the limit kMaxFbxPropertyName"},
     };
     for (const auto& [text, expected] : cases) {
         const std::string message = test::messageOf(loadMeshFromMemory(text, "fbx", "mutated.fbx"));

@@ -545,6 +545,7 @@ public:
             if (e.name == "Objects" && !objects) objects = &e;
             if (e.name == "Connections" && !connections) connections = &e;
         }
+        if (Status s = propertyNames(top); !s.ok()) return s;
         if (!objects) return Ok{};
         std::set<std::int64_t> models;
         for (const FbxElement& object : objects->children) {
@@ -569,6 +570,24 @@ private:
         return makeError(ErrorKind::format, file_ + ": the FBX element '" +
                                                 std::string(at.name.substr(0, 64)) + "' at byte " +
                                                 std::to_string(at.nameAt) + " has " + why);
+    }
+
+    /// Assimp keeps every property of a material (its own and its template's, a "P" element of
+    /// any Properties70) under the key "$raw." + its name, in a fixed buffer of 1024 bytes that
+    /// it asserts (abort) the name fits.
+    Status propertyNames(const std::vector<FbxElement>& elements) const {
+        for (const FbxElement& e : elements) {
+            if (e.name == "P" && !e.properties.empty()) {
+                const FbxProperty& name = e.properties[0];
+                const std::size_t bytes = stringOf(name).value_or(name.data).size();
+                if (bytes > kMaxFbxPropertyName)
+                    return refuse(e, "a property name of " + std::to_string(bytes) +
+                                         " bytes, more than the limit kMaxFbxPropertyName (" +
+                                         std::to_string(kMaxFbxPropertyName) + ")");
+            }
+            if (Status s = propertyNames(e.children); !s.ok()) return s;
+        }
+        return Ok{};
     }
 
     /// A polygon mesh's layers: assimp reads a layer's index and a layer element's index without

@@ -66,6 +66,11 @@ inline constexpr std::uint64_t kMaxFbxDepth = 128;
 /// hierarchies are under a hundred deep.
 inline constexpr std::uint64_t kMaxFbxModelDepth = 1024;
 
+/// Bytes of an FBX property's name (a "P" element's first value). Assimp keeps a material's
+/// properties under "$raw." + the name in a 1024-byte key and aborts on a longer one; real
+/// names are a few tens of bytes.
+inline constexpr std::uint64_t kMaxFbxPropertyName = 512;
+
 /// A binary FBX file's arrays inflated, all together. Assimp allocates each array whole from
 /// the count the file states before inflating it, so a few bytes could ask for gigabytes; real
 /// files' arrays add up to about the size of the uncompressed file, under kMaxMeshFileBytes.
