@@ -1,7 +1,7 @@
-// FBX before assimp: the scopes' nesting and the binary arrays (one linear pass each), then the
-// element tree as assimp's parser builds it, checked against what assimp's document and
-// converter read without looking, and the objects Plimsoll does not read renamed in assimp's
-// copy (docs/security.md, "Mesh files").
+// FBX before assimp: a binary file's records and arrays in one linear pass, then the element
+// tree of either form as assimp's parser builds it (no deeper than kMaxFbxDepth), checked against
+// what assimp's document and converter read without looking, and the objects Plimsoll does not read
+// renamed in assimp's copy (docs/security.md, "Mesh files").
 #include "io/mesh_header_check.h"
 
 #include "plimsoll/core/limits.h"
@@ -29,29 +29,6 @@ Status fbxTooDeep(const std::string& file, std::uint64_t at) {
                                            std::to_string(kMaxFbxDepth) + " deep (at byte " +
                                            std::to_string(at) +
                                            "), more than the limit kMaxFbxDepth (limits.h)");
-}
-
-/// ASCII FBX: braces outside strings ("...", no escapes) and comments (';' to the line's end),
-/// as assimp's tokenizer sees them.
-Status checkAsciiFbxDepth(const std::string& file, std::string_view text) {
-    std::uint64_t depth = 0;
-    for (std::size_t i = 0; i < text.size(); ++i) {
-        const char c = text[i];
-        if (c == '"') {
-            const std::size_t end = text.find('"', i + 1);
-            if (end == std::string_view::npos) break;
-            i = end;
-        } else if (c == ';') {
-            const std::size_t end = text.find('\n', i);
-            if (end == std::string_view::npos) break;
-            i = end;
-        } else if (c == '{') {
-            if (++depth > kMaxFbxDepth) return fbxTooDeep(file, i);
-        } else if (c == '}' && depth > 0) {
-            --depth;
-        }
-    }
-    return Ok{};
 }
 
 std::uint64_t readLittleEndian(std::string_view bytes, std::size_t at, int size) {
@@ -239,6 +216,7 @@ struct FbxElement {
 struct FbxSyntaxError {
     std::uint64_t at = 0;
     std::string what;
+    bool tooDeep = false;  ///< scopes nested past kMaxFbxDepth
 };
 
 std::optional<std::int64_t> integerOf(const FbxProperty& p) {
@@ -354,7 +332,8 @@ private:
             ++i_;
             if (t.kind == FbxToken::comma) continue;
             if (t.kind == FbxToken::open) {
-                if (depth + 1 > kMaxFbxDepth) return FbxSyntaxError{t.at, "scopes nested too deep"};
+                if (depth + 1 > kMaxFbxDepth)
+                    return FbxSyntaxError{t.at, "scopes nested too deep", true};
                 if (auto error = scope(e.children, depth + 1)) return error;
                 if (i_ >= tokens_.size()) return FbxSyntaxError{t.at, "a scope not closed"};
                 ++i_;  // its '}'
@@ -416,7 +395,8 @@ private:
         if (auto error = readProperties(properties, properties + length, count, e)) return error;
         std::uint64_t nested = properties + length;
         if (nested < end) {
-            if (depth + 1 > kMaxFbxDepth) return FbxSyntaxError{at, "records nested too deep"};
+            if (depth + 1 > kMaxFbxDepth)
+                return FbxSyntaxError{at, "records nested too deep", true};
             if (end - nested < sentinel()) return FbxSyntaxError{at, "a record without its end"};
             while (nested < end - sentinel()) {
                 bool childEnded = false;
@@ -690,6 +670,7 @@ private:
 };
 
 Status fbxSyntax(const std::string& file, const FbxSyntaxError& error) {
+    if (error.tooDeep) return fbxTooDeep(file, error.at);
     return makeError(ErrorKind::format, file + ": not a well-formed FBX file: " + error.what +
                                             " (at byte " + std::to_string(error.at) + ")");
 }
@@ -714,8 +695,10 @@ Status checkFbx(const std::string& file, std::string_view bytes, std::string* fo
     // assimp reads a file as binary FBX when its first 18 bytes say so, whatever follows.
     const bool binary = bytes.substr(0, 18) == "Kaydara FBX Binary";
     if (binary && bytes.size() < 27) return Ok{};  // assimp refuses it
-    Status scanned = binary ? checkBinaryFbx(file, bytes) : checkAsciiFbxDepth(file, bytes);
-    if (!scanned.ok()) return scanned;
+    // The binary form's records and arrays in one linear pass first; the tree below refuses
+    // either form nested past kMaxFbxDepth before its recursion goes deeper.
+    if (binary)
+        if (Status scanned = checkBinaryFbx(file, bytes); !scanned.ok()) return scanned;
     auto tree = fbxTree(bytes, binary);
     if (auto* error = std::get_if<FbxSyntaxError>(&tree)) return fbxSyntax(file, *error);
     std::vector<std::uint64_t> renamed;

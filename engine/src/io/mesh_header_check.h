@@ -46,8 +46,9 @@ Status checkGltf(const std::string& file, std::string_view jsonText,
                  std::optional<std::string_view> glbBin, const ReadReferencedFile& readReferenced);
 
 /// An FBX file's scopes (ASCII braces outside strings and comments, binary nested node
-/// records) nested no deeper than kMaxFbxDepth: one linear pass, no recursion. In a binary
-/// file every array property also holds exactly its elements, raw or as zlib data that
+/// records) nested no deeper than kMaxFbxDepth, found before any recursion goes deeper (a
+/// binary file's in one linear pass). In a binary file every array property also holds exactly
+/// its elements, raw or as zlib data that
 /// inflates to them, and all together no more than kMaxFbxInflatedBytes. Then the element tree
 /// as assimp's parser builds it, checked for what assimp reads without looking (fbx_check.cpp:
 /// layer indices, per-polygon material lists, models that are their own ancestors). Where the
