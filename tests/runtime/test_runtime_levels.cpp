@@ -5,6 +5,7 @@
 // never jumps in acceleration beyond the coarser level's stated force error over the mass; a
 // snapshot taken inside a blend continues bit for bit; the C API sets the policy.
 #include "test_support.h"
+#include "world_support.h"
 
 #include "plimsoll/export/bundle.h"
 #include "plimsoll/io/mesh_io.h"
@@ -14,6 +15,7 @@
 #include "plimsoll/project/scene_loader.h"
 #include "plimsoll/geometry/box.h"
 #include "plimsoll/scene/level_ladder.h"
+#include "plimsoll/scene/world.h"
 
 #include "plimsoll_runtime.h"
 #include "plimsoll_runtime/runtime.hpp"
@@ -24,6 +26,7 @@
 #include <Eigen/Geometry>
 
 #include <cmath>
+#include <cstddef>
 #include <cstdio>
 #include <cstring>
 #include <fstream>
@@ -67,15 +70,8 @@ protected:
         p.bodies.push_back(body);
         Result<BundleReport> flat = writeBodyBundle(p, 0, *root_ / "flat");
         ASSERT_TRUE(flat.ok()) << flat.error().message;
-        Project waves = p;
-        waves.water.kind = WaterModel::Kind::Gerstner;
-        GerstnerWave wave;
-        wave.amplitude = 0.05;
-        wave.wavelength = 12.0;
-        wave.steepness = 0.3;
-        waves.water.waves.push_back(wave);
-        Result<BundleReport> wavy = writeBodyBundle(waves, 0, *root_ / "waves");
-        ASSERT_TRUE(wavy.ok()) << wavy.error().message;
+        Result<BundleReport> onWaves = writeBodyBundle(wavy(p), 0, *root_ / "waves");
+        ASSERT_TRUE(onWaves.ok()) << onWaves.error().message;
         // The manifest is not among the files it lists: only it changes.
         fs::copy(*root_ / "flat", *root_ / "older", fs::copy_options::recursive);
         const fs::path manifest = *root_ / "older" / "manifest.json";
@@ -83,6 +79,16 @@ protected:
         m.erase("levels");
         m["schema_minor"] = 5;
         std::ofstream(manifest) << m.dump(2);
+    }
+    /// `p` on gentle waves.
+    static Project wavy(Project p) {
+        p.water.kind = WaterModel::Kind::Gerstner;
+        GerstnerWave wave;
+        wave.amplitude = 0.05;
+        wave.wavelength = 12.0;
+        wave.steepness = 0.3;
+        p.water.waves.push_back(wave);
+        return p;
     }
     static void TearDownTestSuite() {
         fs::remove_all(*root_);
@@ -323,6 +329,76 @@ TEST_F(RuntimeLevels, TheDistancePolicyCoarsensWithHysteresisAndASnapshotInsideA
     EXPECT_NE(error.find("nearDistance"), std::string::npos);
 }
 
+TEST_F(RuntimeLevels, AtACoarserLevelTheSimulationStepsAsTheWorldWithFewerSteps) {
+    // The box held at its coarsest level for 10 s on waves (importance 0 in the World, level 0
+    // in the runtime), switched to it on the first frame: one step a frame where the finest
+    // takes the project's four (the box's stable step needs one), in the World and the runtime
+    // alike, which stay together (the blend of the switch included) as they do at the finest
+    // level (test_runtime_trajectory.cpp's 1e-6 m). With fewerStepsWhenCoarser off both take
+    // every sub-step; the longer step moves the box by less than the coarse level itself does
+    // against the finest.
+    std::unique_ptr<rt::Bundle> bundle = load("waves");
+    ASSERT_TRUE(bundle);
+    const rt::Water water = bundle->world().water.water();
+    constexpr int kFrames = 600;
+    struct Run {
+        std::vector<Eigen::Vector3d> world, runtime;
+        std::size_t evaluations = 0;
+    };
+    const auto run = [&](bool coarse, bool fewer) {
+        Run r;
+        std::unique_ptr<World> world = test::fastWorldOrFail(test::sceneOrFail(wavy(*project_)));
+        std::unique_ptr<rt::Simulation> s = simulate(*bundle);
+        if (!world || !s) return r;
+        LevelPolicy policy;
+        policy.kind = LevelPolicy::Kind::importance;
+        policy.importance = {coarse ? 0.0 : 1.0};
+        policy.fewerStepsWhenCoarser = fewer;
+        EXPECT_TRUE(world->setLevelPolicy(policy).ok());
+        rt::LevelPolicy fixed;
+        fixed.kind = rt::LevelPolicy::Kind::fixed;
+        fixed.level = coarse ? 0 : 2;
+        fixed.fewerStepsWhenCoarser = fewer;
+        std::string error;
+        EXPECT_TRUE(s->setLevelPolicy(fixed, error)) << error;
+        for (int f = 0; f < kFrames; ++f) {
+            EXPECT_TRUE(world->advanceFrame().ok());
+            EXPECT_TRUE(s->advanceFrame(water, error)) << error;
+            r.world.push_back(world->bodies()[0].state.position);
+            r.runtime.push_back(eigen(s->centerOfMass()));
+        }
+        EXPECT_EQ(world->bodies()[0].levelSize, coarse ? 16 : 64);
+        EXPECT_EQ(s->level(), coarse ? 0u : 2u);
+        r.evaluations = world->statistics().buoyancyEvaluations;
+        return r;
+    };
+    const auto largestGap = [](const std::vector<Eigen::Vector3d>& a,
+                               const std::vector<Eigen::Vector3d>& b) {
+        double gap = 0;
+        for (std::size_t i = 0; i < std::min(a.size(), b.size()); ++i)
+            gap = std::max(gap, (a[i] - b[i]).norm());
+        return gap;
+    };
+    const Run fewer = run(true, true), every = run(true, false), finest = run(false, true);
+    ASSERT_EQ(fewer.world.size(), static_cast<std::size_t>(kFrames));
+    ASSERT_EQ(every.world.size(), static_cast<std::size_t>(kFrames));
+    ASSERT_EQ(finest.world.size(), static_cast<std::size_t>(kFrames));
+    // The switch on the first frame evaluates both levels once.
+    EXPECT_EQ(fewer.evaluations, static_cast<std::size_t>(kFrames + 2));
+    EXPECT_EQ(every.evaluations, static_cast<std::size_t>(4 * kFrames + 2));
+    EXPECT_EQ(finest.evaluations, static_cast<std::size_t>(4 * kFrames));
+    const double worldRuntime = largestGap(fewer.world, fewer.runtime);
+    const double steps = largestGap(fewer.world, every.world);
+    const double level = largestGap(every.world, finest.world);
+    std::printf("  World and runtime at one step a frame %.2e m apart (%.2e at four); one step "
+                "against four %.2e m, 16^2 against 64^2 %.2e m\n",
+                worldRuntime, largestGap(every.world, every.runtime), steps, level);
+    EXPECT_LE(worldRuntime, 1e-6);
+    EXPECT_LE(largestGap(every.world, every.runtime), 1e-6);
+    EXPECT_GT(steps, 1e-6);
+    EXPECT_LT(steps, 0.5 * level);
+}
+
 TEST_F(RuntimeLevels, TheCApiReadsTheLevelsAndSetsThePolicy) {
     plimsoll_bundle* bundle = plimsoll_bundle_load((*root_ / "flat").string().c_str(), 1);
     ASSERT_TRUE(bundle) << plimsoll_runtime_last_error();
@@ -350,6 +426,29 @@ TEST_F(RuntimeLevels, TheCApiReadsTheLevelsAndSetsThePolicy) {
     EXPECT_FALSE(plimsoll_simulation_set_level_policy(simulation, &policy));
     EXPECT_NE(std::string(plimsoll_runtime_last_error()).find("kind 7"), std::string::npos);
     plimsoll_simulation_destroy(simulation);
+    // Fewer steps at coarser levels by default; a caller built before the field (its
+    // struct_size ends before it) gets the default, and 0 takes every sub-step.
+    EXPECT_EQ(plimsoll_level_policy_default().fewer_steps_when_coarser, 1);
+    const auto hashAfter = [&](std::size_t structSize, int fewer) {
+        plimsoll_simulation* s = plimsoll_simulation_create(bundle);
+        plimsoll_level_policy p = plimsoll_level_policy_default();
+        p.struct_size = structSize;
+        p.kind = PLIMSOLL_LEVEL_FIXED;
+        p.level = 0;
+        p.hold_frames = 0;
+        p.fewer_steps_when_coarser = fewer;
+        EXPECT_TRUE(plimsoll_simulation_set_level_policy(s, &p)) << plimsoll_runtime_last_error();
+        for (int f = 0; f < 60; ++f) EXPECT_TRUE(plimsoll_simulation_advance_frame(s, nullptr));
+        const std::uint64_t hash = plimsoll_simulation_state_hash(s);
+        plimsoll_simulation_destroy(s);
+        return hash;
+    };
+    const std::uint64_t fewer = hashAfter(sizeof(plimsoll_level_policy), 1);
+    const std::uint64_t older =
+        hashAfter(offsetof(plimsoll_level_policy, fewer_steps_when_coarser), 0);
+    const std::uint64_t every = hashAfter(sizeof(plimsoll_level_policy), 0);
+    EXPECT_EQ(older, fewer);
+    EXPECT_NE(every, fewer);
     plimsoll_bundle_destroy(bundle);
 }
 

@@ -6,6 +6,8 @@
 #include "plimsoll/scene/level_ladder.h"
 #include "plimsoll/scene/world.h"
 
+#include "plimsoll_eval/levels.hpp"
+
 #include "test_support.h"
 #include "world_support.h"
 
@@ -100,6 +102,61 @@ TEST(LevelLadder, CoarsenessFollowsTheDistanceWithHysteresis) {
     EXPECT_EQ(coarsenessAt(45.0, 10.0, 0.15, 1, 3), 2);
 }
 
+TEST(LevelLadder, CoarserLevelsTakeHalfTheStepsButNeverFewerThanAStableStep) {
+    using plimsoll_eval::stepsAtLevel;
+    using plimsoll_eval::strideFor;
+    // Four sub-steps at the finest of three levels, two one level down, one at the coarsest.
+    EXPECT_EQ(stepsAtLevel(4, 1, 2, 2), 4);
+    EXPECT_EQ(stepsAtLevel(4, 1, 1, 2), 2);
+    EXPECT_EQ(stepsAtLevel(4, 1, 0, 2), 1);
+    EXPECT_EQ(stepsAtLevel(4, 0, 0, 2), 1);  // never none
+    EXPECT_EQ(stepsAtLevel(4, 3, 0, 2), 3);  // what a stable step needs
+    EXPECT_EQ(stepsAtLevel(4, 1, 0, 40), 1);
+    // Strides divide the frame and give at least the steps asked for.
+    EXPECT_EQ(strideFor(4, 1), 4);
+    EXPECT_EQ(strideFor(4, 2), 2);
+    EXPECT_EQ(strideFor(4, 3), 1);
+    EXPECT_EQ(strideFor(6, 2), 3);
+    EXPECT_EQ(strideFor(6, 4), 1);
+    EXPECT_EQ(strideFor(5, 2), 1);  // 5 sub-steps split only into 5
+    EXPECT_EQ(strideFor(8, 3), 2);
+    for (int frame = 1; frame <= 24; ++frame) {
+        for (int steps = 1; steps <= frame; ++steps) {
+            const int stride = strideFor(frame, steps);
+            EXPECT_EQ(frame % stride, 0) << frame << " " << steps;
+            EXPECT_GE(frame / stride, steps) << frame << " " << steps;
+        }
+    }
+}
+
+TEST(WorldLod, ABodyAtACoarserLevelTakesFewerStepsButAStableStepStill) {
+    // A box far from the point of interest, at its coarsest level: one step a frame against
+    // the project's four; a body whose stable step needs more keeps them.
+    const auto evaluationsPerFrame = [](bool fewer, double maxPhaseStep) {
+        Scene scene = sceneOf({boxBody(64, {16, 32}, 0.0, 4.0)}, gentleWaves());
+        scene.simulation.maxPhaseStep = maxPhaseStep;
+        std::unique_ptr<World> world = test::fastWorldOrFail(std::move(scene));
+        if (!world) return 0.0;
+        LevelPolicy policy;
+        policy.kind = LevelPolicy::Kind::distance;
+        policy.pointOfInterest = Eigen::Vector3d(1000.0, 0.0, 0.0);
+        policy.fewerStepsWhenCoarser = fewer;
+        EXPECT_TRUE(world->setLevelPolicy(policy).ok());
+        EXPECT_TRUE(world->advanceFrame().ok());  // the switch evaluates both levels once
+        const std::size_t before = world->statistics().buoyancyEvaluations;
+        for (int f = 0; f < 10; ++f) EXPECT_TRUE(world->advanceFrame().ok());
+        EXPECT_EQ(world->bodies()[0].levelSize, 16);
+        return (world->statistics().buoyancyEvaluations - before) / 10.0;
+    };
+    EXPECT_EQ(evaluationsPerFrame(true, 0.5), 1.0);
+    EXPECT_EQ(evaluationsPerFrame(false, 0.5), 4.0);
+    // maxPhaseStep 0.05: the box's stiffness needs more than the project's 4 steps a frame,
+    // and it takes them at the coarsest level too.
+    const double stiff = evaluationsPerFrame(false, 0.05);
+    EXPECT_GT(stiff, 4.0);
+    EXPECT_EQ(evaluationsPerFrame(true, 0.05), stiff);
+}
+
 TEST(WorldLod, TheLevelFollowsTheDistancePolicyAndDoesNotFlipWithinTheMargin) {
     std::unique_ptr<World> world =
         test::fastWorldOrFail(sceneOf({boxBody(64, {16, 32}, 9.0, 4.0)}));
@@ -155,12 +212,19 @@ TEST(WorldLod, TheBudgetPolicyGivesTheNearestBodiesTheFinestLevelItPaysFor) {
     ASSERT_TRUE(world);
     const std::vector<BuoyancyLevel>& levels = *world->levels(0);
     const int subSteps = world->scene().simulation.subSteps;
+    // A level's cost a frame is its cost per evaluation times the steps it takes: the box's
+    // stable step needs one a frame, so the coarsest takes one, the finest the project's four.
+    const auto frameCost = [&](int level) {
+        const int steps = plimsoll_eval::stepsAtLevel(subSteps, 1, level, 2);
+        return levels[static_cast<std::size_t>(level)].evaluationUs *
+               (subSteps / plimsoll_eval::strideFor(subSteps, steps));
+    };
+    EXPECT_EQ(frameCost(0), levels[0].evaluationUs);
+    EXPECT_EQ(frameCost(2), subSteps * levels[2].evaluationUs);
     LevelPolicy policy;
     policy.kind = LevelPolicy::Kind::budget;
     // All at the coarsest, and the finest for one body (the nearest, body 0).
-    policy.budgetUs =
-        subSteps *
-        (4 * levels[0].evaluationUs + (levels[2].evaluationUs - levels[0].evaluationUs)) * 1.001;
+    policy.budgetUs = (4 * frameCost(0) + (frameCost(2) - frameCost(0))) * 1.001;
     ASSERT_TRUE(world->setLevelPolicy(policy).ok());
     ASSERT_TRUE(world->advanceFrame().ok());
     EXPECT_EQ(world->bodies()[0].levelSize, 64);

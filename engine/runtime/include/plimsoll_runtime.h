@@ -381,6 +381,10 @@ typedef struct plimsoll_level_policy {
     size_t level;                /* PLIMSOLL_LEVEL_FIXED: index, clamped to the finest */
     int hold_frames;             /* >= 0 (30) */
     int blend_frames;            /* >= 1 (8) */
+    /* 1 (the default): the world's sub-steps at the finest level, half as many at each coarser
+     * one, never fewer than a stable step needs; 0: every sub-step at every level. Read only
+     * when struct_size covers it (older callers get 1). */
+    int fewer_steps_when_coarser;
 } plimsoll_level_policy;
 /* The defaults above, kind PLIMSOLL_LEVEL_FINEST, struct_size set. */
 PLIMSOLL_RUNTIME_API plimsoll_level_policy plimsoll_level_policy_default(void);

@@ -11,6 +11,7 @@
 #include <algorithm>
 #include <atomic>
 #include <cmath>
+#include <cstddef>
 #include <cstring>
 #include <memory>
 #include <mutex>
@@ -1387,6 +1388,7 @@ plimsoll_level_policy plimsoll_level_policy_default(void) {
     p.level = d.level;
     p.hold_frames = d.holdFrames;
     p.blend_frames = d.blendFrames;
+    p.fewer_steps_when_coarser = d.fewerStepsWhenCoarser ? 1 : 0;
     return p;
 }
 
@@ -1394,7 +1396,9 @@ int plimsoll_simulation_set_level_policy(plimsoll_simulation* simulation,
                                          const plimsoll_level_policy* policy) {
     lastError.clear();
     constexpr const char* kCall = "plimsoll_simulation_set_level_policy";
-    if (!simulation || !policy || policy->struct_size < sizeof(plimsoll_level_policy))
+    // A caller built against a header before fewer_steps_when_coarser passes the size up to it.
+    constexpr std::size_t kFirstSize = offsetof(plimsoll_level_policy, fewer_steps_when_coarser);
+    if (!simulation || !policy || policy->struct_size < kFirstSize)
         return refuse(kCall,
                       "simulation or policy is NULL, or policy->struct_size is not "
                       "sizeof(plimsoll_level_policy)");
@@ -1424,6 +1428,8 @@ int plimsoll_simulation_set_level_policy(plimsoll_simulation* simulation,
     p.level = policy->level;
     p.holdFrames = policy->hold_frames;
     p.blendFrames = policy->blend_frames;
+    if (policy->struct_size >= sizeof(plimsoll_level_policy))
+        p.fewerStepsWhenCoarser = policy->fewer_steps_when_coarser != 0;
     std::string error;
     if (!simulation->simulation->setLevelPolicy(p, error)) return refuse(kCall, error);
     return 1;

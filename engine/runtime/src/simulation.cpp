@@ -341,13 +341,24 @@ double Simulation::stiffestFrequency() const {
     return std::sqrt(std::max(heave, roll));
 }
 
-int Simulation::subStepsFor(double frameTime) const {
-    const BundleWorld& world = bundle_.world();
+int Simulation::stableSteps(double frameTime) const {
     const double spin = norm(angularVelocity());
-    const double needed =
-        std::ceil(std::max(stiffestFrequency(), spin) * frameTime / world.maxPhaseStep);
-    if (!(needed <= kMaxSubSteps)) return -1;
-    return static_cast<int>(std::max(static_cast<double>(world.subSteps), needed));
+    const double needed = std::ceil(std::max(stiffestFrequency(), spin) * frameTime /
+                                    bundle_.world().maxPhaseStep);
+    return needed <= kMaxSubSteps ? static_cast<int>(needed) : -1;
+}
+
+int Simulation::subStepsFor(double frameTime) const {
+    const int needed = stableSteps(frameTime);
+    return needed < 0 ? -1 : std::max(bundle_.world().subSteps, needed);
+}
+
+int Simulation::stepStride(double frameTime) const {
+    const int finest = static_cast<int>(bundle_.levels().size()) - 1;
+    if (!levelPolicy_.fewerStepsWhenCoarser || lod_.level >= finest) return 1;
+    const int steps = plimsoll_eval::stepsAtLevel(bundle_.world().subSteps,
+                                                  stableSteps(frameTime), lod_.level, finest);
+    return plimsoll_eval::strideFor(subSteps_, steps);
 }
 
 Forces Simulation::forcesAt(std::size_t level, const Water& water) const {
@@ -528,7 +539,7 @@ void Simulation::chooseLevel(const Water& water) {
         offset.centerOfBuoyancy = {0, 0, 0};
         if (carried > 0) addScaled(offset, lod_.offset, carried);
         addScaled(offset, forcesAt(from, water), 1.0);
-        addScaled(offset, forcesAt(level(), water), -1.0);
+        addScaled(offset, forcesAt(static_cast<std::size_t>(sw.level), water), -1.0);
         lod_.offset = offset;
         sw.startBlend(p.blendFrames, subSteps_);
     }
@@ -568,12 +579,17 @@ bool Simulation::advanceFrame(const Water& water, std::string& error) {
         return false;
     }
     chooseLevel(water);
+    const int stride = stepStride(frameTime);
     const double dt = frameTime / subSteps_;
+    const double bodyDt = dt * stride;
     for (int sub = 0; sub < subSteps_; ++sub) {
-        evaluate(water, dt);
-        step(dt);
+        // The World's sub-steps, the body's steps on every stride-th of them.
+        if (sub % stride == 0) {
+            evaluate(water, bodyDt);
+            step(bodyDt);
+            finishRadiation(bodyDt);
+        }
         if (lod_.blendLeft > 0) --lod_.blendLeft;
-        finishRadiation(dt);
         time_ += dt;
     }
     const bool changed = stepGraph(water, frameTime);
@@ -583,15 +599,18 @@ bool Simulation::advanceFrame(const Water& water, std::string& error) {
                 ": the body left the finite numbers at t = " + std::to_string(time_) + " s";
         return false;
     }
-    surfaceAbove(water, position_, time_, height, speed);
     plimsoll_eval::RestSample sample;
     const Vec3 linear = linearVelocity(), angular = angularVelocity();
     sample.speed = norm(linear);
     sample.spin = norm(angular);
     sample.acceleration = norm(linear - startLinear) / frameTime;
     sample.angularAcceleration = norm(angular - startAngular) / frameTime;
-    sample.waterSpeed = speed;
-    sample.waterHeight = height;
+    // The water above a moving body does not matter: it is not at rest either way.
+    if (plimsoll_eval::bodyStill(sleep, sample)) {
+        surfaceAbove(water, position_, time_, height, speed);
+        sample.waterSpeed = speed;
+        sample.waterHeight = height;
+    }
     sample.changing = changed;
     rest = {false, restedFor_, sleepHeight_};
     if (plimsoll_eval::countRest(rest, sleep, sample, frameTime)) {

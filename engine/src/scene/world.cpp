@@ -431,7 +431,7 @@ bool World::outOfWater(const SimulatedBody& body, const RigidBodyState& state) c
     return state.position.y() - body.boundingRadius > scene_.water.maxHeight();
 }
 
-Status World::evaluateAll(double time) {
+Status World::evaluateAll(double time, int subStep) {
     // Reused every step: no allocation once the first step has sized them.
     std::vector<BodyRequest>& requests = scratchRequests_;
     std::vector<std::size_t>& which = scratchBodies_;
@@ -440,6 +440,7 @@ Status World::evaluateAll(double time) {
     for (std::size_t i = 0; i < bodies_.size(); ++i) {
         SimulatedBody& body = bodies_[i];
         if (body.asleep) continue;  // keeps the load it fell asleep with
+        if (subStep % stepStrides_[i] != 0) continue;  // keeps the load of its step
         if (outOfWater(body, body.state)) {
             body.buoyancy = BuoyancyResult{};
             body.buoyancy.centerOfBuoyancy = body.state.position;
@@ -523,40 +524,78 @@ double World::stiffestFrequency(const SimulatedBody& body) const {
     const double rhoG = body.fluid.density * body.fluid.gravity;
     const double R = body.boundingRadius;
     const double heave = rhoG * std::numbers::pi * R * R / body.mass.mass;
-    const double smallestInertia =
-        Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d>(body.mass.inertia).eigenvalues().minCoeff();
+    const auto i = static_cast<std::size_t>(&body - bodies_.data());
+    if (smallestInertia_.size() != bodies_.size()) {
+        smallestInertia_.resize(bodies_.size(),
+                                {Eigen::Matrix3d::Constant(std::numeric_limits<double>::quiet_NaN()),
+                                 0.0});
+    }
+    std::pair<Eigen::Matrix3d, double>& cached = smallestInertia_[i];
+    if (cached.first != body.mass.inertia || !(cached.second > 0)) {
+        cached.first = body.mass.inertia;
+        cached.second = Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d>(body.mass.inertia)
+                            .eigenvalues()
+                            .minCoeff();
+    }
+    const double smallestInertia = cached.second;
     const double roll = rhoG * std::numbers::pi * std::pow(R, 4) / 4.0 / smallestInertia;
     return std::sqrt(std::max(heave, roll));
 }
 
-Result<int> World::subStepsFor(double frameTime) const {
+Result<int> World::stableStepsOf(const SimulatedBody& body, double frameTime) const {
     // Symplectic Euler is stable below omega dt = 2, and its energy error shrinks with
-    // omega dt: at least the project's sub-steps, and enough that omega dt stays under
-    // simulation.maxPhaseStep for the stiffest body and for the fastest spin (|w| dt is the
-    // angle a step turns the body through; beyond about pi a step cannot tell the spin from a
-    // slower one). A body needing more than kMaxSubSteps is refused: clamping its steps made a
-    // 1e-40 m body, or one spun to 1e50 rad/s, run into garbage or NaN with exit 0.
+    // omega dt: enough steps that omega dt stays under simulation.maxPhaseStep for the body's
+    // stiffness and for its spin (|w| dt is the angle a step turns the body through; beyond
+    // about pi a step cannot tell the spin from a slower one). A body needing more than
+    // kMaxSubSteps is refused: clamping its steps made a 1e-40 m body, or one spun to
+    // 1e50 rad/s, run into garbage or NaN with exit 0.
     const double maxPhase = scene_.simulation.maxPhaseStep;
-    double most = scene_.simulation.subSteps;
-    for (const SimulatedBody& body : bodies_) {
-        if (body.asleep) continue;  // not integrated: its stiffness asks for no step
-        const double stiffness = stiffestFrequency(body);
-        const double spin = angularVelocity(body.state, body.mass).norm();
-        const double needed = std::ceil(std::max(stiffness, spin) * frameTime / maxPhase);
-        if (!(needed <= kMaxSubSteps)) {
-            std::ostringstream m;
-            m << "body '" << body.name << "': a stable step needs " << needed
-              << " sub-steps a frame (hydrostatic frequency " << stiffness << " rad/s, spin "
-              << spin << " rad/s, time_step " << frameTime << " s, max_phase_step " << maxPhase
-              << "), more than the limit World::kMaxSubSteps = " << kMaxSubSteps
-              << ": the body is too "
-              << "small or too light for its medium (mass " << body.mass.mass << " kg, radius "
-              << body.boundingRadius << " m) or spins too fast";
-            return makeError(ErrorKind::invalidArgument, m.str());
-        }
-        most = std::max(most, needed);
+    const double stiffness = stiffestFrequency(body);
+    const double spin = angularVelocity(body.state, body.mass).norm();
+    const double needed = std::ceil(std::max(stiffness, spin) * frameTime / maxPhase);
+    if (!(needed <= kMaxSubSteps)) {
+        std::ostringstream m;
+        m << "body '" << body.name << "': a stable step needs " << needed
+          << " sub-steps a frame (hydrostatic frequency " << stiffness << " rad/s, spin " << spin
+          << " rad/s, time_step " << frameTime << " s, max_phase_step " << maxPhase
+          << "), more than the limit World::kMaxSubSteps = " << kMaxSubSteps
+          << ": the body is too "
+          << "small or too light for its medium (mass " << body.mass.mass << " kg, radius "
+          << body.boundingRadius << " m) or spins too fast";
+        return makeError(ErrorKind::invalidArgument, m.str());
     }
-    return static_cast<int>(most);
+    return static_cast<int>(needed);
+}
+
+Result<int> World::subStepsFor(double frameTime, std::vector<int>* perBody) const {
+    int most = scene_.simulation.subSteps;
+    if (perBody) perBody->assign(bodies_.size(), 1);
+    for (std::size_t i = 0; i < bodies_.size(); ++i) {
+        if (bodies_[i].asleep) continue;  // not integrated: its stiffness asks for no step
+        const Result<int> needed = stableStepsOf(bodies_[i], frameTime);
+        if (!needed) return needed.error();
+        if (perBody) (*perBody)[i] = *needed;
+        most = std::max(most, *needed);
+    }
+    return most;
+}
+
+int World::stepStride(std::size_t i, int level, int subSteps) const {
+    const Detail* d = details_[i].get();
+    if (!levelPolicy_.fewerStepsWhenCoarser || !d) return 1;
+    const int finest = static_cast<int>(d->levels->size()) - 1;
+    if (level >= finest) return 1;
+    const int steps =
+        plimsoll_eval::stepsAtLevel(scene_.simulation.subSteps, stableSteps_[i], level, finest);
+    return plimsoll_eval::strideFor(subSteps, steps);
+}
+
+void World::chooseStepStrides(int subSteps) {
+    stepStrides_.assign(bodies_.size(), 1);
+    for (std::size_t i = 0; i < bodies_.size(); ++i) {
+        if (details_[i] && !bodies_[i].asleep)
+            stepStrides_[i] = stepStride(i, details_[i]->lod.level, subSteps);
+    }
 }
 
 Status World::updateDeformingBodies(double time) {
@@ -633,7 +672,7 @@ Status World::setMaterial(std::size_t i, const MaterialDesc& material,
 Status World::advanceFrame() {
     const SimulationDesc& sim = scene_.simulation;
     wakeWhereNeeded();
-    const Result<int> needed = subStepsFor(sim.timeStep);
+    const Result<int> needed = subStepsFor(sim.timeStep, &stableSteps_);
     if (!needed) return needed.error();
     const int subSteps = *needed;
     if (subSteps > sim.subSteps && subSteps != reportedSubSteps_) {
@@ -653,6 +692,7 @@ Status World::advanceFrame() {
                                     angularVelocity(body.state, body.mass)};
     }
     if (Status s = chooseLevels(subSteps); !s.ok()) return s;
+    chooseStepStrides(subSteps);
     for (int sub = 0; sub < subSteps; ++sub) {
         if (Status s = updateDeformingBodies(time_); !s.ok()) return s;
         const std::size_t skippedBefore = statistics_.skippedOutOfWater;
@@ -662,12 +702,14 @@ Status World::advanceFrame() {
             // body.buoyancy), and holds its memory force over the stages.
             for (std::size_t i = 0; i < bodies_.size(); ++i) {
                 SimulatedBody& body = bodies_[i];
-                if (body.asleep) continue;
+                if (body.asleep || sub % stepStrides_[i] != 0) continue;
+                const double bodyDt = dt * stepStrides_[i];
                 startRadiationStep(i, body.buoyancy.submergedVolume);
                 Status failure = Ok{};
                 bool firstStage = true;
                 const WrenchFunction wrench = [&](const RigidBodyState& state, double t) {
-                    if (outOfWater(body, state)) return wrenchOf(body, state, BuoyancyResult{}, dt);
+                    if (outOfWater(body, state))
+                        return wrenchOf(body, state, BuoyancyResult{}, bodyDt);
                     const BodyRequest request = requestFor(body, state, t);
                     BuoyancyResult result;
                     if (Status s = withBackend([&](BuoyancyBackend& b) {
@@ -682,25 +724,26 @@ Status World::advanceFrame() {
                     if (firstStage) body.buoyancy = result;
                     firstStage = false;
                     ++statistics_.buoyancyEvaluations;
-                    return wrenchOf(body, state, result, dt);
+                    return wrenchOf(body, state, result, bodyDt);
                 };
-                body.state = step(body.state, body.mass, wrench, time_, dt, sim.integrator);
+                body.state = step(body.state, body.mass, wrench, time_, bodyDt, sim.integrator);
                 if (!failure.ok()) return failure;
-                finishRadiationStep(i, dt);
+                finishRadiationStep(i, bodyDt);
             }
         } else {
             // Euler integrators take the wrench at the start of the step only: one batch for
-            // every body.
-            if (Status s = evaluateAll(time_); !s.ok()) return s;
+            // every body whose step starts now.
+            if (Status s = evaluateAll(time_, sub); !s.ok()) return s;
             for (std::size_t i = 0; i < bodies_.size(); ++i) {
                 SimulatedBody& body = bodies_[i];
-                if (body.asleep) continue;
+                if (body.asleep || sub % stepStrides_[i] != 0) continue;
+                const double bodyDt = dt * stepStrides_[i];
                 startRadiationStep(i, body.buoyancy.submergedVolume);
-                const Wrench w = wrenchOf(body, body.state, body.buoyancy, dt);
+                const Wrench w = wrenchOf(body, body.state, body.buoyancy, bodyDt);
                 body.state = step(
                     body.state, body.mass, [&](const RigidBodyState&, double) { return w; }, time_,
-                    dt, sim.integrator);
-                finishRadiationStep(i, dt);
+                    bodyDt, sim.integrator);
+                finishRadiationStep(i, bodyDt);
             }
         }
         advanceBlends();
@@ -758,7 +801,6 @@ void World::sleepWhereRested(double frameTime) {
     for (std::size_t i = 0; i < bodies_.size(); ++i) {
         SimulatedBody& body = bodies_[i];
         if (body.asleep) continue;
-        const SurfaceAbove surface = surfaceAbove(scene_.water, body.state.position, time_);
         plimsoll_eval::RestSample sample;
         const Eigen::Vector3d v = linearVelocity(body.state, body.mass);
         const Eigen::Vector3d w = angularVelocity(body.state, body.mass);
@@ -766,8 +808,12 @@ void World::sleepWhereRested(double frameTime) {
         sample.spin = w.norm();
         sample.acceleration = (v - frameStartVelocities_[i].linear).norm() / frameTime;
         sample.angularAcceleration = (w - frameStartVelocities_[i].angular).norm() / frameTime;
-        sample.waterSpeed = surface.speed;
-        sample.waterHeight = surface.height;
+        // The water above a moving body does not matter: it is not at rest either way.
+        if (plimsoll_eval::bodyStill(scene_.simulation.sleep, sample)) {
+            const SurfaceAbove surface = surfaceAbove(scene_.water, body.state.position, time_);
+            sample.waterSpeed = surface.speed;
+            sample.waterHeight = surface.height;
+        }
         // The outside force is the caller's function: asked only of a body otherwise at rest.
         sample.pushed =
             plimsoll_eval::stillOnCalmWater(scene_.simulation.sleep, sample) && pushed(i);
@@ -894,11 +940,15 @@ Status World::chooseLevels(int subSteps) {
         for (std::size_t i = 0; i < bodies_.size(); ++i) {
             const Detail* d = details_[i].get();
             if (!d || bodies_[i].asleep) continue;
-            for (const BuoyancyLevel& level : *d->levels) costs[i].push_back(level.evaluationUs);
+            // A level's cost a frame: its cost per evaluation times the steps it takes.
+            for (std::size_t k = 0; k < d->levels->size(); ++k) {
+                const int steps = subSteps / stepStride(i, static_cast<int>(k), subSteps);
+                costs[i].push_back((*d->levels)[k].evaluationUs * steps);
+            }
             entries[i] = {(bodies_[i].state.position - p.pointOfInterest).norm(), costs[i].data(),
                           costs[i].size()};
         }
-        plimsoll_eval::budgetLevels(entries, subSteps, p.budgetUs, budgetLevels);
+        plimsoll_eval::budgetLevels(entries, 1.0, p.budgetUs, budgetLevels);
     }
     struct Switch {
         std::size_t body;

@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstddef>
+#include <initializer_list>
 #include <limits>
 #include <utility>
 #include <vector>
@@ -56,6 +57,26 @@ inline int levelOfImportance(double importance, double nearDistance, double marg
     const double distance = importance > 0 ? nearDistance / (importance * kSqrt2)
                                            : std::numeric_limits<double>::infinity();
     return levelAtDistance(distance, nearDistance, margin, current, finest);
+}
+
+/// Temporal level of detail: the integration steps a frame a body takes at `level`. At its
+/// finest level the project's `subSteps`; each coarser level half as many, since a body far
+/// enough away to be evaluated coarsely gains nothing from a finer step than its forces, but
+/// never fewer than `stableSteps` (what its hydrostatic stiffness and spin need for a stable
+/// step, World::subStepsFor) nor fewer than one.
+inline int stepsAtLevel(int subSteps, int stableSteps, int level, int finest) {
+    const int coarseness = std::clamp(finest - level, 0, 30);
+    return std::max({1, stableSteps, subSteps >> coarseness});
+}
+
+/// On a frame of `frameSteps` sub-steps, how many sub-steps each of a body's steps spans when
+/// it needs at least `steps` a frame: the longest stride that divides the frame evenly and
+/// still gives that many, so that its steps fall on the frame's sub-steps 0, stride, 2 stride...
+inline int strideFor(int frameSteps, int steps) {
+    for (int stride = frameSteps / std::max(1, steps); stride > 1; --stride) {
+        if (frameSteps % stride == 0) return stride;
+    }
+    return 1;
 }
 
 /// One body's part in the budget's greedy pass: its distance to the point of interest and each

@@ -54,15 +54,20 @@ struct RestSample {
     bool changing = false;           ///< its water graph moved water or its mesh deforms
 };
 
+/// The body's own motion is still enough to count as rest (sleeping on), whatever the water:
+/// a caller asks for the water above the body (a height query on waves) only when this holds.
+inline bool bodyStill(const SleepSettings& settings, const RestSample& sample) {
+    return settings.enabled && sample.speed <= settings.linearSpeed &&
+           sample.spin <= settings.angularSpeed &&
+           sample.acceleration <= settings.linearAcceleration &&
+           sample.angularAcceleration <= settings.angularAcceleration;
+}
+
 /// The body and the water above it are still enough to count as rest (sleeping on): what
 /// needs no outside force to be asked (a caller asks for that, which may cost a game's
 /// callback, only when this holds).
 inline bool stillOnCalmWater(const SleepSettings& settings, const RestSample& sample) {
-    return settings.enabled && sample.speed <= settings.linearSpeed &&
-           sample.spin <= settings.angularSpeed &&
-           sample.acceleration <= settings.linearAcceleration &&
-           sample.angularAcceleration <= settings.angularAcceleration &&
-           sample.waterSpeed <= settings.linearSpeed;
+    return bodyStill(settings, sample) && sample.waterSpeed <= settings.linearSpeed;
 }
 
 /// Counts an awake body's rest; true when it falls asleep now (the caller then zeroes its

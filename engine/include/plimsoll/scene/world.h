@@ -99,12 +99,17 @@ struct LevelPolicy {
     /// band), 0 the coarsest. Missing entries count as 1.
     std::vector<double> importance;
     /// Microseconds a frame for every body with a ladder, summing each level's measured cost
-    /// per evaluation (BuoyancyLevel::evaluationUs, one thread) times the sub-steps: every body
+    /// per evaluation (BuoyancyLevel::evaluationUs, one thread) times the steps it takes a
+    /// frame at that level (fewerStepsWhenCoarser): every body
     /// starts at its coarsest level, then the bodies nearest pointOfInterest take the finest
     /// level the rest of the budget pays for, one after the other (greedy).
     double budgetUs = 0;
     int holdFrames = 30;  ///< at least this many frames between two switches of a body
     int blendFrames = 8;  ///< frames over which a switch's force is blended, >= 1
+    /// Temporal level of detail: a body takes the project's sub-steps at its finest level and
+    /// half as many at each coarser one, never fewer than a stable step needs
+    /// (plimsoll_eval::stepsAtLevel). False: every body takes every sub-step.
+    bool fewerStepsWhenCoarser = true;
 };
 
 /// Counters of what the world did and did not compute (for logs, tests and the editor).
@@ -242,14 +247,23 @@ private:
     /// Sets body i's mass to `mass`, keeping its pose and its velocities.
     void replaceMass(std::size_t i, const MassProperties& mass);
     Status addBody(const SceneBody& desc);
-    Status evaluateAll(double time);
+    /// Evaluates every awake body in the water whose step falls on sub-step `subStep`
+    /// (stepStrides_) in one backend batch.
+    Status evaluateAll(double time, int subStep);
+    /// Sub-steps of a frame of `subSteps` each step of body i spans at `level`.
+    int stepStride(std::size_t i, int level, int subSteps) const;
+    /// Sets stepStrides_ from each body's level this frame.
+    void chooseStepStrides(int subSteps);
     Wrench wrenchOf(const SimulatedBody& body, const RigidBodyState& state,
                     const BuoyancyResult& buoyancy, double dt) const;
     /// Upper bound of the body's hydrostatic natural frequency (rad/s).
     double stiffestFrequency(const SimulatedBody& body) const;
-    /// Sub-steps a frame needs for a stable step of every body; an error naming the body when
+    /// Steps a frame `body` needs for a stable step on its own; an error naming the body when
     /// that is more than kMaxSubSteps.
-    Result<int> subStepsFor(double frameTime) const;
+    Result<int> stableStepsOf(const SimulatedBody& body, double frameTime) const;
+    /// Sub-steps a frame needs for a stable step of every body (and at least the project's);
+    /// each awake body's own stableStepsOf into `perBody` where given.
+    Result<int> subStepsFor(double frameTime, std::vector<int>* perBody = nullptr) const;
     Status updateDeformingBodies(double time);
     /// Recomputes body i's mass properties from its current textures and material.
     Status recomputeMass(std::size_t i);
@@ -287,6 +301,12 @@ private:
     std::vector<ExternalForce> contactForces_;
     std::vector<char> changedLastFrame_;        ///< per body: its graph moved water, or it deforms
     std::vector<Motion> frameStartVelocities_;  ///< per body, at the start of the frame
+    /// Per body: the sub-steps of this frame each of its steps spans (1: every sub-step), and
+    /// the steps a frame its stable step needs (subStepsFor, this frame).
+    std::vector<int> stepStrides_, stableSteps_;
+    /// Per body: the inertia tensor whose smallest eigenvalue stiffestFrequency last took, and
+    /// that eigenvalue (the mass changes only with water or material).
+    mutable std::vector<std::pair<Eigen::Matrix3d, double>> smallestInertia_;
     WorldStatistics statistics_;
     double time_ = 0;
     bool reportedSkip_ = false;

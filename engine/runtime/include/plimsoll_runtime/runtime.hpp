@@ -742,6 +742,10 @@ struct LevelPolicy {
     std::size_t level = 0;    ///< index in levels(), clamped to the finest (fixed policy)
     int holdFrames = 30;      ///< at least this many frames between two switches
     int blendFrames = 8;      ///< frames a switch's force is blended over, >= 1
+    /// Temporal level of detail, as the World: the world's sub-steps at the finest level, half
+    /// as many at each coarser one, never fewer than a stable step needs. False: every
+    /// sub-step at every level.
+    bool fewerStepsWhenCoarser = true;
 };
 
 /// One body stepped as the editor's World steps it (engine/src/scene/world.cpp), for a game
@@ -820,7 +824,12 @@ private:
     bool stepGraph(const Water& water, double frameTime);
     void composeWater(const Quat& at);
     void setMass(const MassProperties& mass);
+    /// Steps a frame a stable step needs (stiffness and spin); -1 beyond kMaxSubSteps.
+    int stableSteps(double frameTime) const;
+    /// The frame's sub-steps: at least the world's, and stableSteps.
     int subStepsFor(double frameTime) const;
+    /// Sub-steps of this frame each step spans at the level in use (fewerStepsWhenCoarser).
+    int stepStride(double frameTime) const;
     double stiffestFrequency() const;
     /// The policy's level for this frame; at a switch evaluates both levels and starts the blend.
     void chooseLevel(const Water& water);
