@@ -390,9 +390,10 @@ TEST_F(RuntimeLevels, AtACoarserLevelTheSimulationStepsAsTheWorldWithFewerSteps)
     const double worldRuntime = largestGap(fewer.world, fewer.runtime);
     const double steps = largestGap(fewer.world, every.world);
     const double level = largestGap(every.world, finest.world);
-    std::printf("  World and runtime at one step a frame %.2e m apart (%.2e at four); one step "
-                "against four %.2e m, 16^2 against 64^2 %.2e m\n",
-                worldRuntime, largestGap(every.world, every.runtime), steps, level);
+    std::printf(
+        "  World and runtime at one step a frame %.2e m apart (%.2e at four); one step "
+        "against four %.2e m, 16^2 against 64^2 %.2e m\n",
+        worldRuntime, largestGap(every.world, every.runtime), steps, level);
     EXPECT_LE(worldRuntime, 1e-6);
     EXPECT_LE(largestGap(every.world, every.runtime), 1e-6);
     EXPECT_GT(steps, 1e-6);

@@ -343,8 +343,8 @@ double Simulation::stiffestFrequency() const {
 
 int Simulation::stableSteps(double frameTime) const {
     const double spin = norm(angularVelocity());
-    const double needed = std::ceil(std::max(stiffestFrequency(), spin) * frameTime /
-                                    bundle_.world().maxPhaseStep);
+    const double needed =
+        std::ceil(std::max(stiffestFrequency(), spin) * frameTime / bundle_.world().maxPhaseStep);
     return needed <= kMaxSubSteps ? static_cast<int>(needed) : -1;
 }
 
@@ -356,8 +356,8 @@ int Simulation::subStepsFor(double frameTime) const {
 int Simulation::stepStride(double frameTime) const {
     const int finest = static_cast<int>(bundle_.levels().size()) - 1;
     if (!levelPolicy_.fewerStepsWhenCoarser || lod_.level >= finest) return 1;
-    const int steps = plimsoll_eval::stepsAtLevel(bundle_.world().subSteps,
-                                                  stableSteps(frameTime), lod_.level, finest);
+    const int steps = plimsoll_eval::stepsAtLevel(bundle_.world().subSteps, stableSteps(frameTime),
+                                                  lod_.level, finest);
     return plimsoll_eval::strideFor(subSteps_, steps);
 }
 

@@ -439,7 +439,7 @@ Status World::evaluateAll(double time, int subStep) {
     which.clear();
     for (std::size_t i = 0; i < bodies_.size(); ++i) {
         SimulatedBody& body = bodies_[i];
-        if (body.asleep) continue;  // keeps the load it fell asleep with
+        if (body.asleep) continue;                     // keeps the load it fell asleep with
         if (subStep % stepStrides_[i] != 0) continue;  // keeps the load of its step
         if (outOfWater(body, body.state)) {
             body.buoyancy = BuoyancyResult{};
@@ -526,9 +526,9 @@ double World::stiffestFrequency(const SimulatedBody& body) const {
     const double heave = rhoG * std::numbers::pi * R * R / body.mass.mass;
     const auto i = static_cast<std::size_t>(&body - bodies_.data());
     if (smallestInertia_.size() != bodies_.size()) {
-        smallestInertia_.resize(bodies_.size(),
-                                {Eigen::Matrix3d::Constant(std::numeric_limits<double>::quiet_NaN()),
-                                 0.0});
+        smallestInertia_.resize(
+            bodies_.size(),
+            {Eigen::Matrix3d::Constant(std::numeric_limits<double>::quiet_NaN()), 0.0});
     }
     std::pair<Eigen::Matrix3d, double>& cached = smallestInertia_[i];
     if (cached.first != body.mass.inertia || !(cached.second > 0)) {
@@ -558,8 +558,7 @@ Result<int> World::stableStepsOf(const SimulatedBody& body, double frameTime) co
         m << "body '" << body.name << "': a stable step needs " << needed
           << " sub-steps a frame (hydrostatic frequency " << stiffness << " rad/s, spin " << spin
           << " rad/s, time_step " << frameTime << " s, max_phase_step " << maxPhase
-          << "), more than the limit World::kMaxSubSteps = " << kMaxSubSteps
-          << ": the body is too "
+          << "), more than the limit World::kMaxSubSteps = " << kMaxSubSteps << ": the body is too "
           << "small or too light for its medium (mass " << body.mass.mass << " kg, radius "
           << body.boundingRadius << " m) or spins too fast";
         return makeError(ErrorKind::invalidArgument, m.str());
