@@ -87,6 +87,11 @@ public:
 
     FrameTimings lastTimings() const override { return timings_; }
 
+    void forEach(std::size_t count, const std::function<void(std::size_t)>& work) override {
+        auto one = [&](int i, std::uint32_t) { work(static_cast<std::size_t>(i)); };
+        ev::parallelFor(static_cast<int>(count), 16, options_.tasks, pool_, one);
+    }
+
     // The exchange pass of water graphs is the reference's (its samples are few).
     std::size_t addExchangeSet(std::span<const ExchangeSample> samples,
                                std::size_t nodes) override {

@@ -733,9 +733,8 @@ Status World::advanceFrame() {
             // Euler integrators take the wrench at the start of the step only: one batch for
             // every body whose step starts now.
             if (Status s = evaluateAll(time_, sub); !s.ok()) return s;
-            for (std::size_t i = 0; i < bodies_.size(); ++i) {
+            const auto stepBody = [&](std::size_t i) {
                 SimulatedBody& body = bodies_[i];
-                if (body.asleep || sub % stepStrides_[i] != 0) continue;
                 const double bodyDt = dt * stepStrides_[i];
                 startRadiationStep(i, body.buoyancy.submergedVolume);
                 const Wrench w = wrenchOf(body, body.state, body.buoyancy, bodyDt);
@@ -743,7 +742,20 @@ Status World::advanceFrame() {
                     body.state, body.mass, [&](const RigidBodyState&, double) { return w; }, time_,
                     bodyDt, sim.integrator);
                 finishRadiationStep(i, bodyDt);
+            };
+            // Each body's step touches only its own state: those without a caller's force
+            // function are stepped on the backend's workers, the others here, so that the
+            // caller's functions are only ever called on this thread. The same bits either way.
+            std::vector<std::size_t>& onWorkers = scratchStepping_;
+            onWorkers.clear();
+            for (std::size_t i = 0; i < bodies_.size(); ++i) {
+                if (bodies_[i].asleep || sub % stepStrides_[i] != 0) continue;
+                if (hasForceFunction(i))
+                    stepBody(i);
+                else
+                    onWorkers.push_back(i);
             }
+            backend_->forEach(onWorkers.size(), [&](std::size_t k) { stepBody(onWorkers[k]); });
         }
         advanceBlends();
         if (statistics_.skippedOutOfWater > skippedBefore && !reportedSkip_) {
@@ -757,6 +769,11 @@ Status World::advanceFrame() {
     if (Status s = stepWaterGraphs(sim.timeStep); !s.ok()) return s;
     sleepWhereRested(sim.timeStep);
     return Ok{};
+}
+
+bool World::hasForceFunction(std::size_t i) const {
+    return (i < externalForces_.size() && externalForces_[i]) ||
+           (i < contactForces_.size() && contactForces_[i]);
 }
 
 bool World::pushed(std::size_t i) const {

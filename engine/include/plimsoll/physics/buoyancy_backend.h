@@ -9,6 +9,7 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <functional>
 #include <span>
 #include <string>
 #include <vector>
@@ -144,6 +145,15 @@ public:
     virtual FrameTimings lastTimings() const = 0;
 
     virtual TileCounts lastTileCounts() const { return {}; }
+
+    /// Runs work(i) for every i in [0, count), each once, and returns when all are done: on
+    /// the backend's CPU workers where it has them (the fast path's threads, or the caller's
+    /// task system), in order on the calling thread otherwise. For the caller's per-body work
+    /// between evaluations (integrating independent bodies); `work` must not touch what
+    /// another i touches.
+    virtual void forEach(std::size_t count, const std::function<void(std::size_t)>& work) {
+        for (std::size_t i = 0; i < count; ++i) work(i);
+    }
 
     /// Registers the permeable samples of a body's water graph, feeding `nodes` nodes (at most
     /// kMaxExchangeNodes). Returns the set's id for evaluateExchange.

@@ -271,6 +271,8 @@ private:
     bool outOfWater(const SimulatedBody& body, const RigidBodyState& state) const;
     /// The outside force on body i in its state is not zero.
     bool pushed(std::size_t i) const;
+    /// Body i has a caller's force function (an outside force or a resting contact).
+    bool hasForceFunction(std::size_t i) const;
     /// Wakes the sleeping bodies the water or a force wakes, before a frame.
     void wakeWhereNeeded();
     /// Counts each awake body's rest after a frame; puts those that rested long enough to sleep.
@@ -313,6 +315,7 @@ private:
     int reportedSubSteps_ = 0;
     std::vector<BodyRequest> scratchRequests_;  ///< evaluateAll's per-step lists
     std::vector<std::size_t> scratchBodies_;
+    std::vector<std::size_t> scratchStepping_;  ///< the bodies a sub-step integrates on workers
     std::vector<BuoyancyResult> scratchResults_;
 };
 
