@@ -224,16 +224,27 @@ TEST(CliBench, SceneQuickRunSleepsEveryRestingBody) {
     EXPECT_EQ(rows[1].at("asleep"), rows[1].at("bodies"));
     EXPECT_EQ(std::stod(rows[1].at("evaluations_per_frame")), 0.0);
     EXPECT_GT(std::stoi(rows[1].at("frames_to_sleep")), 0);
-    // Level of detail: the same bodies on waves all at 64^2, then by distance; those within
-    // 50 m at 64^2 exactly, the rest coarser, fewer entries evaluated.
+    // Level of detail: the same bodies on waves all at 64^2, then by distance with every
+    // sub-step and with fewer steps at coarser levels; those within 50 m at 64^2 exactly, the
+    // rest coarser, fewer entries evaluated, and with fewer steps fewer evaluations.
     const std::vector<CsvRow> lod = parseCsv(test::readFile(out / "bench_scene_lod.csv"));
-    ASSERT_EQ(lod.size(), 2u);
+    ASSERT_EQ(lod.size(), 3u);
     EXPECT_EQ(lod[0].at("at_64"), lod[0].at("bodies"));
     EXPECT_EQ(std::stod(lod[0].at("error_beyond")), 0.0);
-    EXPECT_GT(std::stoi(lod[1].at("bodies_50m")), 0);
-    EXPECT_EQ(std::stod(lod[1].at("error_50m")), 0.0);
-    EXPECT_GT(std::stoi(lod[1].at("at_16")), std::stoi(lod[1].at("at_64")));
-    EXPECT_GT(std::stod(lod[1].at("error_beyond")), 0.0);
+    const double bodies = std::stod(lod[0].at("bodies"));
+    EXPECT_EQ(std::stod(lod[0].at("evaluations_per_frame")), 4.0 * bodies);
+    // (a late switch evaluates both levels once more)
+    EXPECT_GE(std::stod(lod[1].at("evaluations_per_frame")), 4.0 * bodies);
+    EXPECT_LT(std::stod(lod[1].at("evaluations_per_frame")), 4.1 * bodies);
+    for (std::size_t k : {1u, 2u}) {
+        SCOPED_TRACE(k);
+        EXPECT_GT(std::stoi(lod[k].at("bodies_50m")), 0);
+        EXPECT_EQ(std::stod(lod[k].at("error_50m")), 0.0);
+        EXPECT_GT(std::stoi(lod[k].at("at_16")), std::stoi(lod[k].at("at_64")));
+        EXPECT_GT(std::stod(lod[k].at("error_beyond")), 0.0);
+    }
+    EXPECT_LT(std::stod(lod[2].at("evaluations_per_frame")), 2.0 * bodies);
+    EXPECT_GE(std::stod(lod[2].at("evaluations_per_frame")), bodies);
     fs::remove_all(out);
 }
 
