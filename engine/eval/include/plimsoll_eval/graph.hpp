@@ -435,7 +435,11 @@ inline double latticeInterpolate(double f00, double f10, double f01, double f11,
 
 /// Scratch of exchangeSurfaces, kept between steps (no allocation once sized).
 struct ExchangeLattice {
-    std::vector<LatticeCell> cells;      ///< per point
+    /// Per point, its cell (latticeCell) a field an array: a point's two 8-byte indices written
+    /// as one 16-byte copy made every next read of them wait for the store (a store-forwarding
+    /// stall that was a quarter of the runtime's exchange pass).
+    std::vector<std::int64_t> cellI, cellJ;
+    std::vector<double> cellX, cellZ;
     std::vector<std::uint32_t> corners;  ///< per point, its four nodes' indices in x, z
     std::vector<std::int32_t> slot;      ///< per node of the cells' bounding box; -1: not asked
     std::map<std::pair<std::int64_t, std::int64_t>, std::int32_t> sparse;  ///< beyond: node, slot
@@ -453,13 +457,24 @@ void exchangeSurfaces(const std::vector<Vec3>& world, double spacing, Heights&& 
     lattice.x.clear();
     lattice.z.clear();
     if (n == 0) return;
-    lattice.cells.resize(n);
+    lattice.cellI.resize(n);
+    lattice.cellJ.resize(n);
+    lattice.cellX.resize(n);
+    lattice.cellZ.resize(n);
     lattice.corners.resize(4 * n);
-    lattice.cells[0] = latticeCell(world[0].x, world[0].z, spacing);
-    std::int64_t i0 = lattice.cells[0].i, i1 = i0, j0 = lattice.cells[0].j, j1 = j0;
-    for (std::size_t p = 1; p < n; ++p) {
+    std::int64_t* cellI = lattice.cellI.data();
+    std::int64_t* cellJ = lattice.cellJ.data();
+    std::int64_t i0 = 0, i1 = 0, j0 = 0, j1 = 0;
+    for (std::size_t p = 0; p < n; ++p) {
         const LatticeCell c = latticeCell(world[p].x, world[p].z, spacing);
-        lattice.cells[p] = c;
+        cellI[p] = c.i;
+        cellJ[p] = c.j;
+        lattice.cellX[p] = c.tx;
+        lattice.cellZ[p] = c.tz;
+        if (p == 0) {
+            i0 = i1 = c.i;
+            j0 = j1 = c.j;
+        }
         i0 = std::min(i0, c.i), i1 = std::max(i1, c.i);
         j0 = std::min(j0, c.j), j1 = std::max(j1, c.j);
     }
@@ -486,18 +501,19 @@ void exchangeSurfaces(const std::vector<Vec3>& world, double spacing, Heights&& 
         lattice.z.push_back(double(j) * spacing);
         return static_cast<std::uint32_t>(lattice.x.size() - 1);
     };
+    // Neighbouring points mostly share a cell: its nodes as the previous point found them,
+    // kept here rather than read back from the point's just-written corners.
+    std::uint32_t last[4] = {0, 0, 0, 0};
     for (std::size_t p = 0; p < n; ++p) {
-        const LatticeCell& c = lattice.cells[p];
-        std::uint32_t* k = &lattice.corners[4 * p];
-        // Neighbouring points mostly share a cell: its nodes as the previous point found them.
-        if (p > 0 && c.i == lattice.cells[p - 1].i && c.j == lattice.cells[p - 1].j) {
-            for (int m = 0; m < 4; ++m) k[m] = k[m - 4];
-            continue;
+        const std::int64_t i = cellI[p], j = cellJ[p];
+        if (p == 0 || i != cellI[p - 1] || j != cellJ[p - 1]) {
+            last[0] = node(i, j);
+            last[1] = node(i + 1, j);
+            last[2] = node(i, j + 1);
+            last[3] = node(i + 1, j + 1);
         }
-        k[0] = node(c.i, c.j);
-        k[1] = node(c.i + 1, c.j);
-        k[2] = node(c.i, c.j + 1);
-        k[3] = node(c.i + 1, c.j + 1);
+        std::uint32_t* k = &lattice.corners[4 * p];
+        for (int m = 0; m < 4; ++m) k[m] = last[m];
     }
     const std::size_t asked = lattice.x.size();
     lattice.height.resize(asked);
@@ -505,8 +521,8 @@ void exchangeSurfaces(const std::vector<Vec3>& world, double spacing, Heights&& 
     const double* f = lattice.height.data();
     for (std::size_t p = 0; p < n; ++p) {
         const std::uint32_t* k = &lattice.corners[4 * p];
-        surface[p] = latticeInterpolate(f[k[0]], f[k[1]], f[k[2]], f[k[3]], lattice.cells[p].tx,
-                                        lattice.cells[p].tz);
+        surface[p] = latticeInterpolate(f[k[0]], f[k[1]], f[k[2]], f[k[3]], lattice.cellX[p],
+                                        lattice.cellZ[p]);
     }
 }
 
@@ -521,8 +537,27 @@ inline void exchangePass(const std::vector<ExchangePoint>& points, const double*
     rates.inflow.assign(nodes, 0.0);
     rates.outflow.assign(nodes, 0.0);
     rates.outsideTop.assign(nodes, -std::numeric_limits<double>::infinity());
+    // The points of one node come in runs: a run's sums are kept in registers and stored when
+    // the node changes (adding to what the node already holds, in the same order: the same
+    // bits as adding into the arrays point by point, without each add waiting on the last
+    // one's store).
+    std::size_t node = points.empty() ? 0 : points[0].node;
+    double in = 0, out = 0, top = -std::numeric_limits<double>::infinity();
+    if (!points.empty()) in = rates.inflow[node], out = rates.outflow[node];
+    const auto store = [&] {
+        rates.inflow[node] = in;
+        rates.outflow[node] = out;
+        rates.outsideTop[node] = top;
+    };
     for (std::size_t i = 0; i < points.size(); ++i) {
         const ExchangePoint& s = points[i];
+        if (s.node != node) {
+            store();
+            node = s.node;
+            in = rates.inflow[node];
+            out = rates.outflow[node];
+            top = rates.outsideTop[node];
+        }
         const double f = surface(i);
         const double outside = std::max(0.0, f - y[i]);
         const double inside = std::max(0.0, nodeSurface[s.node] - y[i]);
@@ -531,12 +566,13 @@ inline void exchangePass(const std::vector<ExchangePoint>& points, const double*
         const double q = torricelli ? factor * s.weight * std::sqrt(std::abs(head))
                                     : factor * s.weight * std::abs(head);
         if (head > 0) {
-            rates.inflow[s.node] += q;
-            rates.outsideTop[s.node] = std::max(rates.outsideTop[s.node], f);
+            in += q;
+            top = std::max(top, f);
         } else {
-            rates.outflow[s.node] += q;
+            out += q;
         }
     }
+    if (!points.empty()) store();
 }
 
 /// Mass properties of the water (object space; inertia about its centre of mass, products
