@@ -751,7 +751,9 @@ struct LevelPolicy {
 /// One body stepped as the editor's World steps it (engine/src/scene/world.cpp), for a game
 /// without a physics engine, a server, and the conformance test against `plimsoll simulate`:
 /// frames of world().timeStep split into the World's sub-steps (at least world().subSteps, more
-/// where the hydrostatic stiffness or the spin needs them), semi-implicit Euler on the momenta
+/// where the hydrostatic stiffness or the spin needs them; at a coarser level of detail the body
+/// steps on every second, fourth... of them, LevelPolicy::fewerStepsWhenCoarser), semi-implicit
+/// Euler on the momenta
 /// with the energy-conserving rotation, Archimedes' force on flat water and the pressure
 /// integral on waves (their horizontal push), drag and damping on the momenta of the body with
 /// its water, the water graph stepped once a frame and its water composed into the mass by the
