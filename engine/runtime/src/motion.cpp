@@ -310,12 +310,12 @@ void stepBody(Body& body, BodyState& state, const Water& water, const Fluid& flu
         rotationMatrix(pose.orientation, R);
         return mul(R, mass.centerOfMass) + pose.position;
     };
-    double height = 0, speed = 0;
     if (sleep.asleep) {
         // The game moved it or set it going: awake. Otherwise the water decides.
         const Velocity& v = state.velocity;
         const bool moved =
             !samePose(state.pose, sleep.pose) || norm(v.linear) > 0 || norm(v.angular) > 0;
+        double height = 0, speed = 0;
         surfaceAbove(water, centerOf(state.pose), time, height, speed);
         plimsoll_eval::SleepState rest{true, sleep.restedFor, sleep.waterHeight};
         if (!moved && !plimsoll_eval::mustWake(rest, settings, speed, height, false)) return;
@@ -323,14 +323,14 @@ void stepBody(Body& body, BodyState& state, const Water& water, const Fluid& flu
     }
     const Velocity before = state.velocity;
     const bool changing = stepBodyWith(body, state, body.radiation(), water, fluid, time, dt);
-    surfaceAbove(water, centerOf(state.pose), time + dt, height, speed);
     plimsoll_eval::RestSample sample;
     sample.speed = norm(state.velocity.linear);
     sample.spin = norm(state.velocity.angular);
     sample.acceleration = norm(state.velocity.linear - before.linear) / dt;
     sample.angularAcceleration = norm(state.velocity.angular - before.angular) / dt;
-    sample.waterSpeed = speed;
-    sample.waterHeight = height;
+    plimsoll_eval::sampleWaterIfStill(settings, sample, [&](double& height, double& speed) {
+        surfaceAbove(water, centerOf(state.pose), time + dt, height, speed);
+    });
     sample.changing = changing;
     plimsoll_eval::SleepState rest{false, sleep.restedFor, sleep.waterHeight};
     if (plimsoll_eval::countRest(rest, settings, sample, dt)) {

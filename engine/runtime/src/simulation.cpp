@@ -348,19 +348,6 @@ int Simulation::stableSteps(double frameTime) const {
     return needed <= kMaxSubSteps ? static_cast<int>(needed) : -1;
 }
 
-int Simulation::subStepsFor(double frameTime) const {
-    const int needed = stableSteps(frameTime);
-    return needed < 0 ? -1 : std::max(bundle_.world().subSteps, needed);
-}
-
-int Simulation::stepStride(double frameTime) const {
-    const int finest = static_cast<int>(bundle_.levels().size()) - 1;
-    if (!levelPolicy_.fewerStepsWhenCoarser || lod_.level >= finest) return 1;
-    const int steps = plimsoll_eval::stepsAtLevel(bundle_.world().subSteps, stableSteps(frameTime),
-                                                  lod_.level, finest);
-    return plimsoll_eval::strideFor(subSteps_, steps);
-}
-
 Forces Simulation::forcesAt(std::size_t level, const Water& water) const {
     double R[3][3];
     rotationMatrix(orientation_, R);
@@ -558,8 +545,8 @@ bool Simulation::advanceFrame(const Water& water, std::string& error) {
     const double frameTime = bundle_.world().timeStep;
     const plimsoll_eval::SleepSettings sleep = sleepSettingsOf(bundle_.world().sleep);
     plimsoll_eval::SleepState rest{asleep_, restedFor_, sleepHeight_};
-    double height = 0, speed = 0;
     if (asleep_) {
+        double height = 0, speed = 0;
         surfaceAbove(water, position_, time_, height, speed);
         if (plimsoll_eval::mustWake(rest, sleep, speed, height, false)) {
             wake();
@@ -573,13 +560,16 @@ bool Simulation::advanceFrame(const Water& water, std::string& error) {
         }
     }
     const Vec3 startLinear = linearVelocity(), startAngular = angularVelocity();
-    subSteps_ = subStepsFor(frameTime);
-    if (subSteps_ < 0) {
+    const int stable = stableSteps(frameTime);
+    if (stable < 0) {
         error = bundle_.folder() + ": a stable step needs more than 1000 sub-steps a frame";
         return false;
     }
+    subSteps_ = std::max(bundle_.world().subSteps, stable);
     chooseLevel(water);
-    const int stride = stepStride(frameTime);
+    const int stride = plimsoll_eval::stepStride(levelPolicy_.fewerStepsWhenCoarser, subSteps_,
+                                                 bundle_.world().subSteps, stable, lod_.level,
+                                                 static_cast<int>(bundle_.levels().size()) - 1);
     const double dt = frameTime / subSteps_;
     const double bodyDt = dt * stride;
     for (int sub = 0; sub < subSteps_; ++sub) {
@@ -605,12 +595,9 @@ bool Simulation::advanceFrame(const Water& water, std::string& error) {
     sample.spin = norm(angular);
     sample.acceleration = norm(linear - startLinear) / frameTime;
     sample.angularAcceleration = norm(angular - startAngular) / frameTime;
-    // The water above a moving body does not matter: it is not at rest either way.
-    if (plimsoll_eval::bodyStill(sleep, sample)) {
+    plimsoll_eval::sampleWaterIfStill(sleep, sample, [&](double& height, double& speed) {
         surfaceAbove(water, position_, time_, height, speed);
-        sample.waterSpeed = speed;
-        sample.waterHeight = height;
-    }
+    });
     sample.changing = changed;
     rest = {false, restedFor_, sleepHeight_};
     if (plimsoll_eval::countRest(rest, sleep, sample, frameTime)) {

@@ -581,12 +581,10 @@ Result<int> World::subStepsFor(double frameTime, std::vector<int>* perBody) cons
 
 int World::stepStride(std::size_t i, int level, int subSteps) const {
     const Detail* d = details_[i].get();
-    if (!levelPolicy_.fewerStepsWhenCoarser || !d) return 1;
-    const int finest = static_cast<int>(d->levels->size()) - 1;
-    if (level >= finest) return 1;
-    const int steps =
-        plimsoll_eval::stepsAtLevel(scene_.simulation.subSteps, stableSteps_[i], level, finest);
-    return plimsoll_eval::strideFor(subSteps, steps);
+    if (!d) return 1;
+    return plimsoll_eval::stepStride(levelPolicy_.fewerStepsWhenCoarser, subSteps,
+                                     scene_.simulation.subSteps, stableSteps_[i], level,
+                                     static_cast<int>(d->levels->size()) - 1);
 }
 
 void World::chooseStepStrides(int subSteps) {
@@ -824,12 +822,12 @@ void World::sleepWhereRested(double frameTime) {
         sample.spin = w.norm();
         sample.acceleration = (v - frameStartVelocities_[i].linear).norm() / frameTime;
         sample.angularAcceleration = (w - frameStartVelocities_[i].angular).norm() / frameTime;
-        // The water above a moving body does not matter: it is not at rest either way.
-        if (plimsoll_eval::bodyStill(scene_.simulation.sleep, sample)) {
-            const SurfaceAbove surface = surfaceAbove(scene_.water, body.state.position, time_);
-            sample.waterSpeed = surface.speed;
-            sample.waterHeight = surface.height;
-        }
+        plimsoll_eval::sampleWaterIfStill(
+            scene_.simulation.sleep, sample, [&](double& height, double& speed) {
+                const SurfaceAbove surface = surfaceAbove(scene_.water, body.state.position, time_);
+                height = surface.height;
+                speed = surface.speed;
+            });
         // The outside force is the caller's function: asked only of a body otherwise at rest.
         sample.pushed =
             plimsoll_eval::stillOnCalmWater(scene_.simulation.sleep, sample) && pushed(i);

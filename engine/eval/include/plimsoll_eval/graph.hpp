@@ -541,9 +541,9 @@ inline void exchangePass(const std::vector<ExchangePoint>& points, const double*
     // the node changes (adding to what the node already holds, in the same order: the same
     // bits as adding into the arrays point by point, without each add waiting on the last
     // one's store).
-    std::size_t node = points.empty() ? 0 : points[0].node;
-    double in = 0, out = 0, top = -std::numeric_limits<double>::infinity();
-    if (!points.empty()) in = rates.inflow[node], out = rates.outflow[node];
+    if (points.empty()) return;
+    std::size_t node = points[0].node;
+    double in = 0, out = 0, top = -std::numeric_limits<double>::infinity();  // as assigned
     const auto store = [&] {
         rates.inflow[node] = in;
         rates.outflow[node] = out;
@@ -560,7 +560,7 @@ inline void exchangePass(const std::vector<ExchangePoint>& points, const double*
         }
         const double f = surface(i);
         const double outside = std::max(0.0, f - y[i]);
-        const double inside = std::max(0.0, nodeSurface[s.node] - y[i]);
+        const double inside = std::max(0.0, nodeSurface[node] - y[i]);
         const double head = outside - inside;
         if (head == 0) continue;
         const double q = torricelli ? factor * s.weight * std::sqrt(std::abs(head))
@@ -572,7 +572,7 @@ inline void exchangePass(const std::vector<ExchangePoint>& points, const double*
             out += q;
         }
     }
-    if (!points.empty()) store();
+    store();
 }
 
 /// Mass properties of the water (object space; inertia about its centre of mass, products

@@ -79,6 +79,16 @@ inline int strideFor(int frameSteps, int steps) {
     return 1;
 }
 
+/// The stride of a body's steps on a frame of `frameSteps` sub-steps when it is at `level`:
+/// 1 at its finest level or with temporal level of detail off (`fewer`), so that it takes every
+/// sub-step of the frame as a body without a ladder does; otherwise
+/// strideFor(frameSteps, stepsAtLevel(subSteps, stableSteps, level, finest)).
+inline int stepStride(bool fewer, int frameSteps, int subSteps, int stableSteps, int level,
+                      int finest) {
+    if (!fewer || level >= finest) return 1;
+    return strideFor(frameSteps, stepsAtLevel(subSteps, stableSteps, level, finest));
+}
+
 /// One body's part in the budget's greedy pass: its distance to the point of interest and each
 /// level's cost per evaluation (us, coarsest first).
 struct BudgetEntry {

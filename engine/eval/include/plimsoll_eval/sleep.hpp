@@ -63,6 +63,14 @@ inline bool bodyStill(const SleepSettings& settings, const RestSample& sample) {
            sample.angularAcceleration <= settings.angularAcceleration;
 }
 
+/// Fills the sample's water (the height and speed of the surface above the body) with
+/// ask(height, speed), only where they can matter: when the body's own motion is still. A
+/// moving body is not at rest whatever the water does, and asking is a height query on waves.
+template <class Ask>
+void sampleWaterIfStill(const SleepSettings& settings, RestSample& sample, Ask&& ask) {
+    if (bodyStill(settings, sample)) ask(sample.waterHeight, sample.waterSpeed);
+}
+
 /// The body and the water above it are still enough to count as rest (sleeping on): what
 /// needs no outside force to be asked (a caller asks for that, which may cost a game's
 /// callback, only when this holds).

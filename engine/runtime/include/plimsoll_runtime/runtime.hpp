@@ -826,12 +826,9 @@ private:
     bool stepGraph(const Water& water, double frameTime);
     void composeWater(const Quat& at);
     void setMass(const MassProperties& mass);
-    /// Steps a frame a stable step needs (stiffness and spin); -1 beyond kMaxSubSteps.
+    /// Steps a frame a stable step needs (stiffness and spin); -1 beyond kMaxSubSteps. The
+    /// frame's sub-steps are at least the world's and these.
     int stableSteps(double frameTime) const;
-    /// The frame's sub-steps: at least the world's, and stableSteps.
-    int subStepsFor(double frameTime) const;
-    /// Sub-steps of this frame each step spans at the level in use (fewerStepsWhenCoarser).
-    int stepStride(double frameTime) const;
     double stiffestFrequency() const;
     /// The policy's level for this frame; at a switch evaluates both levels and starts the blend.
     void chooseLevel(const Water& water);
